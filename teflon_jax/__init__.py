@@ -1,0 +1,52 @@
+"""teflon-jax: differentiable simulation of PTFE sliding bearings for seismic isolation.
+
+Implements and extends Constantinou, Mokha & Reinhorn (1990), "Teflon bearings in base
+isolation II: Modeling", J. Struct. Eng. 116(2). SI units throughout (m, s, N, Pa).
+"""
+
+from ._bearing import (
+    BREAKAWAY_THRESHOLD as BREAKAWAY_THRESHOLD,
+    DEFAULT_YIELD_DISP as DEFAULT_YIELD_DISP,
+    SlidingBearing as SlidingBearing,
+    check_bearing as check_bearing,
+    paper_bearing as paper_bearing,
+)
+from ._bearing_test import (
+    BearingTestResult as BearingTestResult,
+    BearingTestSystem as BearingTestSystem,
+    simulate_bearing_test as simulate_bearing_test,
+)
+from ._friction import (
+    FrictionParameters as FrictionParameters,
+    anisotropic_friction as anisotropic_friction,
+    coulomb_friction as coulomb_friction,
+    sliding_friction as sliding_friction,
+)
+from ._hysteresis import (
+    BoucWen as BoucWen,
+    bouc_wen_exact_update as bouc_wen_exact_update,
+    bouc_wen_rate as bouc_wen_rate,
+    park_rate as park_rate,
+)
+from ._motion import (
+    AbstractMotion as AbstractMotion,
+    FigureEightMotion as FigureEightMotion,
+    Signal as Signal,
+    SineMotion as SineMotion,
+    TabulatedMotion as TabulatedMotion,
+    TriangleMotion as TriangleMotion,
+    as_signal as as_signal,
+    tabulated_motion as tabulated_motion,
+)
+from ._solver import AbstractSteppedSystem as AbstractSteppedSystem, RiccatiNewmark as RiccatiNewmark
+from ._tables import (
+    BuildingData as BuildingData,
+    FrictionTable as FrictionTable,
+    Interface as Interface,
+    friction_table as friction_table,
+    interface_parameters as interface_parameters,
+    load_table1 as load_table1,
+    load_table2 as load_table2,
+    table1_parameters as table1_parameters,
+)
+from . import _units as units
