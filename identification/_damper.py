@@ -1,11 +1,12 @@
 """Reader for the measured banded rotary friction damper tests of the ARTS Laboratory.
 
-The data set (Coble, Huggins, Cao, Ricles & Downey, "Dataset-Friction-Damper-with-Backlash",
-GitHub, 2022, CC BY-SA 4.0) holds force-displacement tests of a banded rotary friction device
-(BRFD; Downey et al., Engineering Structures 113:287-298, 2016) under imposed sinusoidal
-displacement. It is real measured friction with backlash and a strong asymmetry between the two
-sliding directions -- a band brake, not a PTFE slider -- so it serves to try the identification
-tools on laboratory data, not to obtain PTFE friction constants.
+The data set (Coble, Huggins, Cao, Ricles & Downey, "Dataset-Friction-Damper-with-
+Backlash", GitHub, 2022, CC BY-SA 4.0) holds force-displacement tests of a banded rotary
+friction device (BRFD; Downey et al., Engineering Structures 113:287-298, 2016) under
+imposed sinusoidal displacement. It is real measured friction with backlash and a strong
+asymmetry between the two sliding directions -- a band brake, not a PTFE slider -- so it
+serves to try the identification tools on laboratory data, not to obtain PTFE friction
+constants.
 """
 
 import json
@@ -26,12 +27,19 @@ DAMPER_SOURCE = (
 
 DAMPER_NORMAL_LOAD_NOTE = (
     "no normal load: a band brake has no contact force to divide by; fit the force with a "
-    "unit normal load (normal_load = 1 N), so that friction coefficients come out in newtons"
+    "unit normal load (normal_load = 1 N), so that friction coefficients come out in "
+    "newtons"
 )
 
 # Columns of each row of `data`, in order, and the key of the unit of each.
-_ROW = ("time", "displacement", "friction force", "velocity", "actuator force 1",
-        "actuator force 2")
+_ROW = (
+    "time",
+    "displacement",
+    "friction force",
+    "velocity",
+    "actuator force 1",
+    "actuator force 2",
+)
 _UNIT_KEYS = {
     "time units": "time",
     "displacement units": "length",
@@ -51,20 +59,21 @@ def read_friction_damper_json(path) -> TestRecord:
     The JSON object holds `data`, a list of rows `[time, displacement, friction force,
     velocity, actuator force 1, actuator force 2]`, the sampling step `dt` [s], the
     `sampling freq` [Hz], and the units in `time units` (s), `displacement units` (in),
-    `friction force units` (kip) and `actuator force units` (lb). The velocity has no unit key;
-    it is in displacement units per time unit (in/s), as the repository's README states.
+    `friction force units` (kip) and `actuator force units` (lb). The velocity has no unit
+    key; it is in displacement units per time unit (in/s), as the repository's README
+    states.
 
     Everything is converted to SI: `ux` [m] is the displacement, `fx` [N] the friction force
     (positive while moving in +x, as the project's format asks; the energy dissipated,
     `integral fx dux`, is positive). The velocity [m/s] and the two actuator forces [N] are
     kept in `extra_columns` as `velocity`, `actuator_force_1` and `actuator_force_2`.
 
-    **Normal load.** A band brake has no normal load to divide the friction force by: the band
-    tension sets the friction, and the clamping force along the drum is not measured. The
-    record therefore has `normal_load=None`, and `metadata["note"]` says so. To fit a friction
-    model to it, pass a unit normal load (1 N) to the fitter: the model's `F = mu W Z` then
-    fits the force itself, and the fitted "coefficients" `f_max` and `delta_f` are forces in
-    newtons rather than ratios.
+    **Normal load.** A band brake has no normal load to divide the friction force by: the
+    band tension sets the friction, and the clamping force along the drum is not measured.
+    The record therefore has `normal_load=None`, and `metadata["note"]` says so. To fit a
+    friction model to it, pass a unit normal load (1 N) to the fitter: the model's
+    `F = mu W Z` then fits the force itself, and the fitted "coefficients" `f_max` and
+    `delta_f` are forces in newtons rather than ratios.
 
     When the file name follows the data set's convention
     (`<f>Hz<T>lbtension<A>amplitude.json`), `metadata["protocol"]` is the sine of amplitude
@@ -74,8 +83,8 @@ def read_friction_damper_json(path) -> TestRecord:
 
     - `path`: the JSON file.
 
-    **Returns:** a `TestRecord` (SI). Raises `ValueError` naming the key, row or value that is
-    missing or wrong.
+    **Returns:** a `TestRecord` (SI). Raises `ValueError` naming the key, row or value that
+    is missing or wrong.
     """
     path = pathlib.Path(path)
     try:

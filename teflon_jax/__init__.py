@@ -50,3 +50,37 @@ from ._tables import (
     table1_parameters as table1_parameters,
 )
 from . import _units as units
+from ._structure import (
+    FRICTION_MODELS as FRICTION_MODELS,
+    StructureOnSliders as StructureOnSliders,
+    StructureResponse as StructureResponse,
+    initial_state as initial_state,
+    simulate_structure as simulate_structure,
+    structure_on_sliders as structure_on_sliders,
+)
+from ._records import (
+    Protocol as Protocol,
+    TestRecord as TestRecord,
+    parse_protocol as parse_protocol,
+    read_test_record as read_test_record,
+    test_record_from_arrays as test_record_from_arrays,
+    write_test_record as write_test_record,
+)
+from ._ground_motion import (
+    GroundMotion as GroundMotion,
+    IntensityMeasures as IntensityMeasures,
+    integrate_motion as integrate_motion,
+    intensity_measures as intensity_measures,
+)
+from ._ground_motion_io import (
+    external_data_dir as external_data_dir,
+    load_record as load_record,
+    read_at2 as read_at2,
+    read_single_column as read_single_column,
+    read_two_column as read_two_column,
+)
+from ._spectra import (
+    ResponseSpectrum as ResponseSpectrum,
+    fourier_amplitude as fourier_amplitude,
+    response_spectrum as response_spectrum,
+)

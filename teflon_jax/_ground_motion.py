@@ -11,7 +11,6 @@ import math
 
 import numpy as np
 
-
 _TIME_TOLERANCE = 1.0e-6  # fraction of a time step within which a time is "on" a sample
 
 
@@ -44,21 +43,30 @@ class GroundMotion:
         where = f"GroundMotion '{self.name}'"
         time_step = float(self.time_step)
         if not (math.isfinite(time_step) and time_step > 0.0):
-            raise ValueError(f"{where}: time_step must be a positive number of seconds, got {self.time_step!r}.")
+            raise ValueError(
+                f"{where}: time_step must be a positive number of seconds, "
+                f"got {self.time_step!r}."
+            )
         start_time = float(self.start_time)
         if not math.isfinite(start_time):
-            raise ValueError(f"{where}: start_time must be finite, got {self.start_time!r}.")
+            raise ValueError(
+                f"{where}: start_time must be finite, got {self.start_time!r}."
+            )
         acceleration = np.array(self.acceleration, dtype=np.float64)
         if acceleration.ndim != 1:
             raise ValueError(
-                f"{where}: acceleration must be a 1-D array of samples, got shape {acceleration.shape}."
+                f"{where}: acceleration must be a 1-D array of samples, "
+                f"got shape {acceleration.shape}."
             )
         if acceleration.size < 2:
-            raise ValueError(f"{where}: a record needs at least 2 samples, got {acceleration.size}.")
+            raise ValueError(
+                f"{where}: a record needs at least 2 samples, got {acceleration.size}."
+            )
         bad = np.flatnonzero(~np.isfinite(acceleration))
         if bad.size:
             raise ValueError(
-                f"{where}: acceleration sample {bad[0]} (t = {start_time + bad[0] * time_step:g} s) "
+                f"{where}: acceleration sample {bad[0]} "
+                f"(t = {start_time + bad[0] * time_step:g} s) "
                 f"is {acceleration[bad[0]]}; {bad.size} sample(s) are not finite."
             )
         acceleration.setflags(write=False)
@@ -115,13 +123,15 @@ class GroundMotion:
         if t_start < t0 - tol or t_end > t1 + tol:
             raise ValueError(
                 f"window [{t_start:g}, {t_end:g}] s reaches outside record '{self.name}' "
-                f"({self.source}), which runs from {t0:g} s to {t1:g} s; choose times inside that range."
+                f"({self.source}), which runs from {t0:g} s to {t1:g} s; "
+                "choose times inside that range."
             )
         first = math.ceil((t_start - t0) / self.time_step - _TIME_TOLERANCE)
         last = math.floor((t_end - t0) / self.time_step + _TIME_TOLERANCE)
         if last - first < 1:
             raise ValueError(
-                f"window [{t_start:g}, {t_end:g}] s of record '{self.name}' ({self.source}) holds "
+                f"window [{t_start:g}, {t_end:g}] s of record '{self.name}' "
+                f"({self.source}) holds "
                 f"fewer than 2 samples at time_step {self.time_step:g} s."
             )
         return dataclasses.replace(
@@ -135,7 +145,9 @@ class GroundMotion:
         """The record with every acceleration multiplied by `factor` (dimensionless, finite)."""
         factor = float(factor)
         if not math.isfinite(factor):
-            raise ValueError(f"scaled: factor for record '{self.name}' must be finite, got {factor}.")
+            raise ValueError(
+                f"scaled: factor for record '{self.name}' must be finite, got {factor}."
+            )
         return dataclasses.replace(
             self, acceleration=factor * self.acceleration, name=f"{self.name} x {factor:g}"
         )
@@ -238,7 +250,7 @@ def integrate_motion(
                 f"record '{motion.name}': time_step {dt:g} s is too coarse for a "
                 f"{_HIGHPASS_CORNER} Hz high-pass filter."
             )
-        pad = int(round(_HIGHPASS_PADDING / dt))
+        pad = round(_HIGHPASS_PADDING / dt)
         padded = np.concatenate([np.zeros(pad), acceleration, np.zeros(pad)])
         sos = signal.butter(
             _HIGHPASS_ORDER, _HIGHPASS_CORNER, btype="highpass", fs=1.0 / dt, output="sos"

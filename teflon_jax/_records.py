@@ -1,8 +1,8 @@
 """Bearing test records: the test-record CSV of the project (read, write, build).
 
-A test record is one test of one bearing (or of a stack of sliding interfaces tested together):
-the imposed displacement, the measured friction force and, where known, the normal load. The
-file format is the one in the project's `FORMATS.md`:
+A test record is one test of one bearing (or of a stack of sliding interfaces tested
+together): the imposed displacement, the measured friction force and, where known, the
+normal load. The file format is the one in the project's `FORMATS.md`:
 
 ```
 # specimen: PTFE-steel flat slider, unfilled sheet PTFE
@@ -13,12 +13,13 @@ time [s],ux [in],fx [kip],N [kip]
 0.01,0.0025,1.204,78.5
 ```
 
-Everything in a `TestRecord` is SI (m, s, N, Pa, m^2, degC); the file may use the units of the
-paper (in, kip, psi) or any unit listed in `teflon_jax._units.UNITS`. This module does file I/O
-and is not meant to be traced by JAX; the arrays it returns are plain numpy arrays.
+Everything in a `TestRecord` is SI (m, s, N, Pa, m^2, degC); the file may use the units
+of the paper (in, kip, psi) or any unit listed in `teflon_jax._units.UNITS`. This module
+does file I/O and is not meant to be traced by JAX; it returns plain numpy arrays.
 """
 
 import dataclasses
+import itertools
 import math
 import pathlib
 import re
@@ -81,6 +82,7 @@ _HEADER_CELL = re.compile(r"^\s*(?P<name>[^\[\]]*?)\s*(?:\[(?P<unit>[^\[\]]*)\])
 _METADATA_LINE = re.compile(
     r"^#\s*(?P<key>[^\[\]:]*?)\s*(?:\[(?P<unit>[^\[\]]*)\])?\s*:\s*(?P<value>.*?)\s*$"
 )
+_METADATA_KEY = re.compile(r"[^\[\]:\n#]*[^\[\]:\n\s#](?: \[[^\[\]:\n]*\])?")
 _PROTOCOL_KEY = re.compile(r"(?:^|\s)([A-Za-z_]\w*)\s*=")
 
 
@@ -135,7 +137,9 @@ class Protocol:
         for name in ("amplitude", "frequency"):
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
-                raise ValueError(f"protocol: {name} must be a positive number, got {value!r}.")
+                raise ValueError(
+                    f"protocol: {name} must be a positive number, got {value!r}."
+                )
             object.__setattr__(self, name, float(value))
         if self.cycles is not None:
             if not (
@@ -164,7 +168,7 @@ class Protocol:
         if self.pattern == "triangle":
             # Triangle wave of unit amplitude, phase-aligned with sin(w t).
             phase = (self.frequency * t + 0.25) % 1.0
-            ux = self.amplitude * (4.0 * np.abs(phase - 0.5) - 1.0)
+            ux = self.amplitude * (1.0 - 4.0 * np.abs(phase - 0.5))
             return ux, None
         ux = self.amplitude * np.sin(omega * t)
         if self.pattern == "eight":
@@ -251,8 +255,8 @@ def _as_array(value, name: str, where: str) -> np.ndarray:
     bad = np.flatnonzero(~np.isfinite(array))
     if bad.size:
         raise ValueError(
-            f"{where}: '{name}' has a non-finite value ({array[bad[0]]}) at index {bad[0]}; "
-            f"remove or repair the sample, it is not filled in for you."
+            f"{where}: '{name}' has a non-finite value ({array[bad[0]]}) at index "
+            f"{bad[0]}; remove or repair the sample, it is not filled in for you."
         )
     array.setflags(write=False)
     return array
@@ -262,8 +266,11 @@ def _check_metadata(metadata: Mapping[str, Any], where: str) -> dict[str, Any]:
     """Validate the known keys of `metadata` (values in SI) and return a copy."""
     checked: dict[str, Any] = {}
     for key, value in metadata.items():
-        if not isinstance(key, str) or not key or "\n" in key or ":" in key:
-            raise ValueError(f"{where}: metadata key {key!r} is not a valid key.")
+        if not isinstance(key, str) or _METADATA_KEY.fullmatch(key) is None:
+            raise ValueError(
+                f"{where}: metadata key {key!r} is not a valid key; use a name without "
+                f"':', '[', ']' or line breaks, optionally followed by ' [unit]'."
+            )
         if key in _QUANTITY_KEYS:
             if not (
                 isinstance(value, (int, float, np.floating, np.integer))
@@ -278,11 +285,15 @@ def _check_metadata(metadata: Mapping[str, Any], where: str) -> dict[str, Any]:
         elif key == "direction":
             if value not in _DIRECTIONS:
                 raise ValueError(
-                    f"{where}: metadata 'direction' must be 'P' (parallel to the lay of the "
-                    f"steel) or 'T' (perpendicular), got {value!r}."
+                    f"{where}: metadata 'direction' must be 'P' (parallel to the lay of "
+                    f"the steel) or 'T' (perpendicular), got {value!r}."
                 )
         elif key == "interfaces":
-            if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
+            if (
+                isinstance(value, bool)
+                or not isinstance(value, (int, np.integer))
+                or value < 1
+            ):
                 raise ValueError(
                     f"{where}: metadata 'interfaces' must be a whole number >= 1, "
                     f"got {value!r}."
@@ -297,8 +308,8 @@ def _check_metadata(metadata: Mapping[str, Any], where: str) -> dict[str, Any]:
         elif key == "protocol":
             if not isinstance(value, Protocol):
                 raise ValueError(
-                    f"{where}: metadata 'protocol' must be a Protocol (see parse_protocol), "
-                    f"got {value!r}."
+                    f"{where}: metadata 'protocol' must be a Protocol (see "
+                    f"parse_protocol), got {value!r}."
                 )
         else:
             if not isinstance(value, str):
@@ -308,12 +319,16 @@ def _check_metadata(metadata: Mapping[str, Any], where: str) -> dict[str, Any]:
                     f"other types."
                 )
             if "\n" in value and key != _COMMENT_KEY:
-                raise ValueError(f"{where}: metadata '{key}' must be a single line of text.")
+                raise ValueError(
+                    f"{where}: metadata '{key}' must be a single line of text."
+                )
         checked[key] = value
     return checked
 
 
-def _normal_load_from_metadata(metadata: Mapping[str, Any], length: int) -> np.ndarray | None:
+def _normal_load_from_metadata(
+    metadata: Mapping[str, Any], length: int
+) -> np.ndarray | None:
     """Constant normal load [N] from `normal_load` or `contact_area * contact_pressure`."""
     if "normal_load" in metadata:
         value = metadata["normal_load"]
@@ -339,16 +354,18 @@ class TestRecord:
     - `ux`, `fx`: displacement [m] and friction force [N] along x. `fx` is the force the
       bearing resists with, positive while sliding in +x (loops run clockwise).
     - `uy`, `fy`: the same along y for biaxial tests, else `None`.
-    - `normal_load`: normal load history [N], positive in compression; from the `N` column, or
-      the constant `normal_load` metadata, or `contact_area * contact_pressure`; `None` when the
-      record states none of these.
+    - `normal_load`: normal load history [N], positive in compression; from the `N` column,
+      or the constant `normal_load` metadata, or `contact_area * contact_pressure`; `None`
+      when the record states none of these.
     - `temperature`: temperature history [degC] or `None`.
     - `metadata`: known keys in SI: `contact_area` [m^2], `normal_load` [N],
-      `contact_pressure` [Pa] (the file may call it `pressure`), `direction` (`"P"` or `"T"`),
+      `contact_pressure` [Pa] (the file may call it `pressure`), `direction` (`"P"` or
+      `"T"`),
       `interfaces` (int), `ptfe` (`"UF"`, `"15GF"`, `"25GF"`), `specimen`, `source` (text),
       `protocol` (`Protocol`), `comment` (text, lines joined by newlines). Unknown keys are
       kept as text; a unit they were written with stays in the key (`"speed [in/s]"`).
-    - `extra_columns`: other columns, name -> array; converted to SI when their unit is known.
+    - `extra_columns`: other columns, name -> array; converted to SI when their unit is
+      known.
     - `extra_units`: name -> unit of each extra column (the SI unit after conversion, or the
       unit as written when it is not a known one).
     - `path`: the file the record was read from, or `None`.
@@ -429,7 +446,9 @@ class TestRecord:
                 f"{where}: extra_units names {sorted(unused)}, which are not extra columns."
             )
         object.__setattr__(self, "extra_columns", extra)
-        object.__setattr__(self, "extra_units", {k: str(self.extra_units[k]) for k in extra})
+        object.__setattr__(
+            self, "extra_units", {k: str(self.extra_units[k]) for k in extra}
+        )
         if self.path is not None:
             object.__setattr__(self, "path", pathlib.Path(self.path))
 
@@ -505,7 +524,7 @@ def test_record_from_arrays(
 test_record_from_arrays.__test__ = False  # a constructor, not a pytest test
 
 
-# ---------------------------------------------------------------------------------------------
+# ----------------------------------------------------------------------------------------
 # Reading
 
 
@@ -527,11 +546,16 @@ def _parse_metadata_line(line: str, where: str, metadata: dict[str, Any]) -> Non
     if key == _COMMENT_KEY and unit is None:
         _add_comment(metadata, value)
         return
-    known = key in _QUANTITY_KEYS or key in _TEXT_KEYS or key in (
-        "direction",
-        "interfaces",
-        "ptfe",
-        "protocol",
+    known = (
+        key in _QUANTITY_KEYS
+        or key in _TEXT_KEYS
+        or key
+        in (
+            "direction",
+            "interfaces",
+            "ptfe",
+            "protocol",
+        )
     )
     stored_key = key if known or unit is None else f"{key} [{unit}]"
     if stored_key in metadata:
@@ -557,14 +581,15 @@ def _parse_metadata_line(line: str, where: str, metadata: dict[str, Any]) -> Non
     elif key == "direction":
         if value.upper() not in _DIRECTIONS:
             raise ValueError(
-                f"{where}: metadata 'direction' must be P (sliding parallel to the lay of the "
-                f"steel) or T (perpendicular), got '{value}'."
+                f"{where}: metadata 'direction' must be P (sliding parallel to the lay of "
+                f"the steel) or T (perpendicular), got '{value}'."
             )
         metadata[key] = value.upper()
     elif key == "interfaces":
         if not re.fullmatch(r"\d+", value) or int(value) < 1:
             raise ValueError(
-                f"{where}: metadata 'interfaces' must be a whole number >= 1, got '{value}'."
+                f"{where}: metadata 'interfaces' must be a whole number >= 1, "
+                f"got '{value}'."
             )
         metadata[key] = int(value)
     elif key == "ptfe":
@@ -625,9 +650,7 @@ def _parse_header(line: str, where: str) -> list[tuple[str, str]]:
             hint = (
                 f"'{name} [{PAPER_UNITS[dimension]}]'" if dimension else f"'{name} [unit]'"
             )
-            raise ValueError(
-                f"{where}: column '{name}' has no unit; write it as {hint}."
-            )
+            raise ValueError(f"{where}: column '{name}' has no unit; write it as {hint}.")
         if any(name == other for other, _ in columns):
             raise ValueError(f"{where}: column '{name}' appears twice.")
         columns.append((name, unit.strip()))
@@ -648,8 +671,8 @@ def read_test_record(path) -> TestRecord:
     - `path`: the CSV file.
 
     **Returns:** a `TestRecord` in SI units. The normal load comes from the `N` column, else
-    from `# normal_load`, else from `# contact_area` times `# pressure`; with none of these it
-    is `None`.
+    from `# normal_load`, else from `# contact_area` times `# pressure`; with none of these
+    it is `None`.
 
     Raises `ValueError` naming the file, line and column for: a missing or unknown unit, a
     unit of the wrong dimension, empty cells, NaN or non-numeric cells, rows with the wrong
@@ -692,9 +715,10 @@ def read_test_record(path) -> TestRecord:
         )
     if digitised and "protocol" not in metadata:
         raise ValueError(
-            f"{path}: no 'time' column, so the file is read as a digitised loop, which needs "
-            f"the imposed motion on a metadata line before the header, e.g. "
-            f"'# protocol: sine amplitude=1 in frequency=0.16 Hz cycles=3'."
+            f"{path}: no 'time' column, so the file is read as a digitised loop, which "
+            f"needs the imposed motion on a metadata line before the header, e.g. "
+            f"'# protocol: sine amplitude=1 in frequency=0.16 Hz cycles=3'; if the test "
+            f"has a time history, add a 'time [s]' column instead."
         )
 
     factors = []
@@ -770,7 +794,7 @@ def read_test_record(path) -> TestRecord:
     )
 
 
-# ---------------------------------------------------------------------------------------------
+# ----------------------------------------------------------------------------------------
 # Writing
 
 
@@ -804,8 +828,8 @@ def write_test_record(path, record: TestRecord, *, units=None, digits: int = 9) 
     - `path`: the file to write (overwritten).
     - `record`: a `TestRecord` (SI inside).
     - `units`: `None` or `"paper"` for the units of Constantinou, Mokha & Reinhorn (1990):
-      in, kip, s, in^2, psi; `"SI"` for m, N, s, m^2, Pa; or a mapping dimension -> unit that
-      overrides the paper's units (e.g. `{"length": "mm", "force": "kN"}`).
+      in, kip, s, in^2, psi; `"SI"` for m, N, s, m^2, Pa; or a mapping dimension -> unit
+      that overrides the paper's units (e.g. `{"length": "mm", "force": "kN"}`).
     - `digits`: significant digits written for every number (`%.{digits}g`).
 
     **Returns:** nothing. Reading the file back gives the record again to `digits`
@@ -813,7 +837,7 @@ def write_test_record(path, record: TestRecord, *, units=None, digits: int = 9) 
     the metadata (`normal_load`, or `contact_area` times `contact_pressure`) already states.
     """
     if not isinstance(record, TestRecord):
-        raise ValueError(f"record: expected a TestRecord, got {type(record).__name__}.")
+        raise TypeError(f"record: expected a TestRecord, got {type(record).__name__}.")
     chosen = _resolve_units(units)
     fmt = f"{{:.{digits}g}}".format
 
@@ -860,7 +884,7 @@ def write_test_record(path, record: TestRecord, *, units=None, digits: int = 9) 
     text_columns = [[fmt(v) for v in values] for values in scaled]
     if record.time is not None:
         times = [float(t) for t in text_columns[0]]
-        if any(b <= a for a, b in zip(times, times[1:])):
+        if any(b <= a for a, b in itertools.pairwise(times)):
             raise ValueError(
                 f"record: time written with {digits} significant digits no longer "
                 f"increases strictly; pass a larger `digits`."

@@ -12,7 +12,9 @@ import numpy as np
 from ._ground_motion import GroundMotion
 
 
-def fourier_amplitude(signal, time_step: float) -> tuple[np.ndarray, np.ndarray]:
+def fourier_amplitude(
+    signal, time_step: float | None = None
+) -> tuple[np.ndarray, np.ndarray]:
     """One-sided Fourier amplitude spectrum of a uniformly sampled signal.
 
     `A(f_k) = dt |sum_n x_n exp(-2 pi i k n / N)|`, the discrete approximation of the
@@ -23,8 +25,8 @@ def fourier_amplitude(signal, time_step: float) -> tuple[np.ndarray, np.ndarray]
 
     **Arguments:**
 
-    - `signal`: 1-D array of samples (or a `GroundMotion`, whose acceleration is used; then
-      `time_step` may be `None`).
+    - `signal`: 1-D array of samples (or a `GroundMotion`, whose acceleration and time step are
+      used when `time_step` is `None`).
     - `time_step`: sampling interval [s].
 
     **Returns:** `(frequency [Hz], amplitude [signal unit x s])`, both of length N // 2 + 1.
@@ -36,14 +38,19 @@ def fourier_amplitude(signal, time_step: float) -> tuple[np.ndarray, np.ndarray]
     values = np.asarray(signal, dtype=np.float64)
     if values.ndim != 1 or values.size < 2:
         raise ValueError(
-            f"fourier_amplitude: signal must be a 1-D array of at least 2 samples, got shape {values.shape}."
+            "fourier_amplitude: signal must be a 1-D array of at least 2 samples, "
+            f"got shape {values.shape}."
         )
     if not np.all(np.isfinite(values)):
         raise ValueError(
-            f"fourier_amplitude: signal sample {int(np.flatnonzero(~np.isfinite(values))[0])} is not finite."
+            "fourier_amplitude: signal sample "
+            f"{int(np.flatnonzero(~np.isfinite(values))[0])} is not finite."
         )
     if time_step is None or not (math.isfinite(time_step) and time_step > 0.0):
-        raise ValueError(f"fourier_amplitude: time_step must be a positive number of seconds, got {time_step!r}.")
+        raise ValueError(
+            "fourier_amplitude: time_step must be a positive number of seconds, "
+            f"got {time_step!r}."
+        )
     frequency = np.fft.rfftfreq(values.size, d=time_step)
     amplitude = time_step * np.abs(np.fft.rfft(values))
     return frequency, amplitude
@@ -67,11 +74,18 @@ class ResponseSpectrum:
     @property
     def pseudo_velocity(self) -> np.ndarray:
         """PSV = (2 pi / T) SD [m/s] (zero at T = 0)."""
-        omega = np.divide(2.0 * np.pi, self.periods, out=np.zeros_like(self.periods), where=self.periods > 0)
+        omega = np.divide(
+            2.0 * np.pi,
+            self.periods,
+            out=np.zeros_like(self.periods),
+            where=self.periods > 0,
+        )
         return omega * self.displacement
 
 
-def response_spectrum(motion: GroundMotion, periods, *, damping: float = 0.05) -> ResponseSpectrum:
+def response_spectrum(
+    motion: GroundMotion, periods, *, damping: float = 0.05
+) -> ResponseSpectrum:
     """Elastic displacement and pseudo-acceleration spectra, computed exactly.
 
     Each oscillator obeys `u'' + 2 zeta omega u' + omega^2 u = -a_g(t)` from rest, with
@@ -99,12 +113,17 @@ def response_spectrum(motion: GroundMotion, periods, *, damping: float = 0.05) -
     """
     periods = np.atleast_1d(np.asarray(periods, dtype=np.float64))
     if periods.ndim != 1 or periods.size == 0:
-        raise ValueError(f"response_spectrum: periods must be a non-empty 1-D array, got shape {periods.shape}.")
+        raise ValueError(
+            "response_spectrum: periods must be a non-empty 1-D array, "
+            f"got shape {periods.shape}."
+        )
     if not np.all(np.isfinite(periods) & (periods >= 0.0)):
         raise ValueError("response_spectrum: periods must be finite and >= 0 [s].")
     damping = float(damping)
     if not (0.0 <= damping < 1.0):
-        raise ValueError(f"response_spectrum: damping ratio must satisfy 0 <= damping < 1, got {damping}.")
+        raise ValueError(
+            f"response_spectrum: damping ratio must satisfy 0 <= damping < 1, got {damping}."
+        )
     rigid = periods == 0.0
     omega = 2.0 * np.pi / np.where(rigid, 1.0, periods)
     coefficients = _nigam_jennings(omega, damping, motion.time_step)
@@ -127,13 +146,56 @@ def response_spectrum(motion: GroundMotion, periods, *, damping: float = 0.05) -
     )
 
 
+_SERIES_BELOW = 0.1  # omega * dt under which the coefficients come from a power series
+_SERIES_TERMS = 20
+
+
 def _nigam_jennings(omega: np.ndarray, zeta: float, dt: float):
     """Coefficients of the exact step for unit mass, `k = omega^2`, piecewise-linear force.
 
     u_{i+1}  = A u_i + B v_i + C p_i + D p_{i+1}
     v_{i+1}  = A' u_i + B' v_i + C' p_i + D' p_{i+1}
-    (Chopra, Dynamics of Structures, Table 5.2.1.)
+
+    For `omega dt >= 0.1` the closed forms of Chopra, Dynamics of Structures, Table 5.2.1. Below
+    that, those closed forms lose digits to cancellation (C and D are O(dt^2) differences of
+    O(1 / (omega^3 dt)) terms), so the same coefficients are taken from the power series of the
+    exponential of the augmented system matrix (state u, v, p, dp/dt), which is exact to
+    round-off there.
     """
+    closed = _closed_form(omega, zeta, dt)
+    small = omega * dt < _SERIES_BELOW
+    if not np.any(small):
+        return closed
+    series = _series(omega, zeta, dt)
+    return tuple(np.where(small, s, c) for s, c in zip(series, closed))
+
+
+def _series(omega: np.ndarray, zeta: float, dt: float):
+    count = omega.size
+    system = np.zeros((count, 4, 4))
+    system[:, 0, 1] = dt
+    system[:, 1, 0] = -(omega**2) * dt
+    system[:, 1, 1] = -2.0 * zeta * omega * dt
+    system[:, 1, 2] = dt
+    system[:, 2, 3] = dt
+    identity = np.broadcast_to(np.eye(4), system.shape)
+    exponential = identity.copy()
+    for k in range(_SERIES_TERMS, 0, -1):  # Horner: I + M (I + M/2 (I + M/3 (...)))
+        exponential = identity + system @ exponential / k
+    e = exponential
+    return (
+        e[:, 0, 0],
+        e[:, 0, 1],
+        e[:, 0, 2] - e[:, 0, 3] / dt,
+        e[:, 0, 3] / dt,
+        e[:, 1, 0],
+        e[:, 1, 1],
+        e[:, 1, 2] - e[:, 1, 3] / dt,
+        e[:, 1, 3] / dt,
+    )
+
+
+def _closed_form(omega: np.ndarray, zeta: float, dt: float):
     k = omega**2
     root = math.sqrt(1.0 - zeta**2)
     omega_d = omega * root
@@ -153,7 +215,8 @@ def _nigam_jennings(omega: np.ndarray, zeta: float, dt: float):
     d = (
         1.0
         - 2.0 * zeta / (omega * dt)
-        + decay * ((2.0 * zeta**2 - 1.0) / (omega_d * dt) * sin + 2.0 * zeta / (omega * dt) * cos)
+        + decay
+        * ((2.0 * zeta**2 - 1.0) / (omega_d * dt) * sin + 2.0 * zeta / (omega * dt) * cos)
     ) / k
     a1 = -decay * omega / root * sin
     b1 = decay * (cos - zeta / root * sin)

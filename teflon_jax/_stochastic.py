@@ -166,6 +166,7 @@ def sample_times(model: StochasticGroundMotion) -> Float[Array, " nt"]:
     return jnp.arange(num_time_steps(model), dtype=jnp.result_type(float)) * model.time_step
 
 
+@eqx.filter_jit
 def envelope(model: StochasticGroundMotion, t: Float[Array, "*shape"]) -> Float[Array, "*shape"]:
     """Jennings-Housner-Tsai (1968) time-modulating envelope.
 
@@ -250,6 +251,7 @@ def _variance_per_unit_intensity(model: StochasticGroundMotion) -> Array:
     return c @ covariance @ c
 
 
+@eqx.filter_jit
 def stationary_variance(model: StochasticGroundMotion) -> Float[Array, ""]:
     """Variance of the stationary ground acceleration [m^2/s^4].
 
@@ -263,6 +265,7 @@ def stationary_variance(model: StochasticGroundMotion) -> Float[Array, ""]:
     return (model.peak_ground_acceleration / model.peak_factor) ** 2
 
 
+@eqx.filter_jit
 def white_noise_intensity(model: StochasticGroundMotion) -> Float[Array, ""]:
     """Two-sided intensity `S0` of the bedrock white noise [m^2/s^3].
 
@@ -273,6 +276,7 @@ def white_noise_intensity(model: StochasticGroundMotion) -> Float[Array, ""]:
     return stationary_variance(model) / _variance_per_unit_intensity(model)
 
 
+@eqx.filter_jit
 def power_spectral_density(
     model: StochasticGroundMotion,
     omega: Float[Array, "*shape"],

@@ -13,7 +13,6 @@ import pytest
 
 from teflon_jax._units import INCH, STANDARD_GRAVITY
 
-
 _PATH = pathlib.Path(__file__).resolve().parents[1] / "benchmarks" / "_opensees_models.py"
 _spec = importlib.util.spec_from_file_location("_opensees_models", _PATH)
 om = importlib.util.module_from_spec(_spec)
@@ -41,8 +40,9 @@ def test_constant_friction_step_acceleration_closed_form():
     assert out["n_failed"] == 0
     t = out["time"]
     sliding = t > 0.05
-    np.testing.assert_allclose(out["total_acceleration"][sliding], mu * G, rtol=1e-9)
-    np.testing.assert_allclose(out["friction_force"][sliding], -mu * WEIGHT, rtol=1e-9)
+    # rtol 1e-6: the iterations stop at a displacement increment of 1e-6 Y.
+    np.testing.assert_allclose(out["total_acceleration"][sliding], mu * G, rtol=1e-6)
+    np.testing.assert_allclose(out["friction_force"][sliding], -mu * WEIGHT, rtol=1e-6)
     slope = np.diff(out["velocity"][sliding]) / dt
     np.testing.assert_allclose(slope, -(amp - mu * G), rtol=1e-7)
     # Displacement: the stick phase (a few ms) only delays the closed form slightly.
@@ -65,12 +65,14 @@ def test_velocity_dependent_friction_follows_eq1_in_si_units():
     v, force = out["velocity"], out["friction_force"]
     sliding = np.abs(v) > 0.05
     assert sliding.mean() > 0.5
-    mu_eq1 = f_max - delta_f * np.exp(-rate_a * np.abs(v[sliding]))
-    np.testing.assert_allclose(np.abs(force[sliding]) / WEIGHT, mu_eq1, rtol=1e-8)
-    assert np.all(np.sign(force[sliding]) == np.sign(v[sliding]))
-    np.testing.assert_allclose(
-        MASS * out["total_acceleration"], -force, atol=1e-9 * WEIGHT
-    )
+    # The force never exceeds Eq. 1 and equals it except in the short elastic transitions
+    # that follow each reversal of the sliding direction.
+    mu_eq1 = f_max - delta_f * np.exp(-rate_a * np.abs(v))
+    assert np.all(np.abs(force) / WEIGHT <= mu_eq1 * (1 + 1e-9))
+    on_law = np.isclose(np.abs(force) / WEIGHT, mu_eq1, rtol=1e-9, atol=0.0) & sliding
+    assert on_law.sum() > 0.95 * sliding.sum()
+    assert np.all(np.sign(force[on_law]) == np.sign(v[on_law]))
+    np.testing.assert_allclose(MASS * out["total_acceleration"], -force, atol=1e-6 * WEIGHT)
     # Both ends of the friction law are reached: slow sliding near f_min, fast near f_max.
     assert np.abs(force).max() / WEIGHT > f_max - 0.01
 
@@ -82,8 +84,15 @@ def test_linear_sdof_matches_harmonic_solution():
     dt = 1.0e-3
     t = np.arange(0.0, 5.0, dt)
     out = om.rigid_mass_on_slider(
-        amp * np.sin(big_omega * t), dt, weight=WEIGHT, f_max=1e-9, delta_f=0.0,
-        rate_a=0.0, yield_disp=Y, spring_stiffness=MASS * omega**2, damping_ratio=zeta,
+        amp * np.sin(big_omega * t),
+        dt,
+        weight=WEIGHT,
+        f_max=1e-9,
+        delta_f=0.0,
+        rate_a=0.0,
+        yield_disp=Y,
+        spring_stiffness=MASS * omega**2,
+        damping_ratio=zeta,
     )
     # u'' + 2 zeta omega u' + omega^2 u = -A sin(W t)
     h = -amp / (omega**2 - big_omega**2 + 2j * zeta * omega * big_omega)
@@ -92,11 +101,15 @@ def test_linear_sdof_matches_harmonic_solution():
     du_p0 = np.imag(1j * big_omega * h)
     omega_d = omega * np.sqrt(1 - zeta**2)
     c2 = (-du_p0 + zeta * omega * c1) / omega_d
-    u = u_p + np.exp(-zeta * omega * t) * (c1 * np.cos(omega_d * t) + c2 * np.sin(omega_d * t))
+    u = u_p + np.exp(-zeta * omega * t) * (
+        c1 * np.cos(omega_d * t) + c2 * np.sin(omega_d * t)
+    )
     peak = np.abs(u).max()
     np.testing.assert_allclose(out["displacement"], u, atol=2e-3 * peak)
     a_tot = -(2 * zeta * omega * out["velocity"] + omega**2 * out["displacement"])
-    np.testing.assert_allclose(out["total_acceleration"], a_tot, atol=1e-6 * np.abs(a_tot).max())
+    np.testing.assert_allclose(
+        out["total_acceleration"], a_tot, atol=1e-6 * np.abs(a_tot).max()
+    )
 
 
 def test_building_full_condensed_matrices_match_state_space():
@@ -120,8 +133,17 @@ def test_building_full_condensed_matrices_match_state_space():
     t = np.arange(0.0, 3.0, dt)
     acc = 0.3 * G * np.sin(2 * np.pi * 0.8 * t) * np.exp(-0.5 * t)
     out = om.building_on_sliders(
-        acc, dt, floor_masses=masses, stiffness=stiff, damping=damp, base_mass=base_mass,
-        f_max=1e-9, delta_f=0.0, rate_a=0.0, yield_disp=Y, rubber_stiffness=k_b,
+        acc,
+        dt,
+        floor_masses=masses,
+        stiffness=stiff,
+        damping=damp,
+        base_mass=base_mass,
+        f_max=1e-9,
+        delta_f=0.0,
+        rate_a=0.0,
+        yield_disp=Y,
+        rubber_stiffness=k_b,
     )
     assert out["n_failed"] == 0
     # q = [u_b, u_1..u_n]: A q'' + B q' + D q = -e a_g
@@ -137,7 +159,9 @@ def test_building_full_condensed_matrices_match_state_space():
     d_mat[0, 0], d_mat[0, 1:], d_mat[1:, 1:] = k_b, -r @ stiff, stiff
     e = np.concatenate([[base_mass], masses])
     a_inv = np.linalg.inv(a_mat)
-    sys_a = np.block([[np.zeros((n + 1, n + 1)), np.eye(n + 1)], [-a_inv @ d_mat, -a_inv @ b_mat]])
+    sys_a = np.block(
+        [[np.zeros((n + 1, n + 1)), np.eye(n + 1)], [-a_inv @ d_mat, -a_inv @ b_mat]]
+    )
     sys_b = np.concatenate([np.zeros(n + 1), -a_inv @ e])[:, None]
     sys_c = np.eye(2 * n + 2)
     _, _, x = signal.lsim((sys_a, sys_b, sys_c, np.zeros((2 * n + 2, 1))), acc, t)
@@ -151,14 +175,20 @@ def test_building_full_condensed_matrices_match_state_space():
 @pytest.mark.parametrize(
     "kwargs, name",
     [
-        (dict(delta_f=0.2), "delta_f"),
-        (dict(yield_disp=0.0), "yield_disp"),
-        (dict(damping_ratio=0.05), "damping_ratio"),
-        (dict(n_sub=0), "n_sub"),
+        ({"delta_f": 0.2}, "delta_f"),
+        ({"yield_disp": 0.0}, "yield_disp"),
+        ({"damping_ratio": 0.05}, "damping_ratio"),
+        ({"n_sub": 0}, "n_sub"),
     ],
 )
 def test_bad_inputs_name_the_parameter(kwargs, name):
-    args = dict(weight=WEIGHT, f_max=0.1, delta_f=0.05, rate_a=20.0, yield_disp=Y)
+    args = {
+        "weight": WEIGHT,
+        "f_max": 0.1,
+        "delta_f": 0.05,
+        "rate_a": 20.0,
+        "yield_disp": Y,
+    }
     args.update(kwargs)
     with pytest.raises(ValueError, match=name):
         om.rigid_mass_on_slider(np.zeros(10), 0.01, **args)

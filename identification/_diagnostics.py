@@ -1,0 +1,341 @@
+"""Diagnostics of a fit: where the residual sits and what it correlates with; plots; report.
+
+The residual here is *measured minus model* force. Dividing it by N Z (on samples where the
+model slides, |Z| > 0.5) gives the *friction residual* d_mu: the correction the friction
+coefficient would need there. A missing multiplicative effect mu -> mu (1 + theta g) leaves
+d_mu = mu theta g, so d_mu correlates with the effect's regressor g:
+
+| effect | regressor |
+|---|---|
+| velocity_dependence, interfaces | speed |v| |
+| breakaway | first mobilisation (indicator of max|Z| < 0.999, and the next sample) |
+| pressure_dependence | log(N / N_ref) |
+| heating | surface temperature rise dT at heat_scale = 1 (heat-flux history) |
+| asymmetry | sliding direction sign(v) |
+| wear | accumulated travel |
+
+Plotting and report writing live here (not in the simulation modules); they use matplotlib's
+Agg backend and write files only.
+"""
+
+import pathlib
+
+import numpy as np
+
+from ._effects import EFFECTS
+
+EFFECT_REGRESSOR = {
+    "velocity_dependence": "speed",
+    "interfaces": "speed",
+    "breakaway": "first_mobilisation",
+    "pressure_dependence": "load",
+    "heating": "heat",
+    "asymmetry": "direction",
+    "wear": "travel",
+    "anisotropy": None,
+}
+"""The regressor each effect's signature follows."""
+
+REGRESSOR_LABELS = {
+    "speed": "speed |v| [m/s]",
+    "first_mobilisation": "first mobilisation [0/1]",
+    "load": "log(N / N_ref) [-]",
+    "heat": "temperature-rise index dT [K]",
+    "direction": "sliding direction sign(v)",
+    "travel": "accumulated travel / total [-]",
+    "time": "time [s]",
+    "half_cycle": "half-cycle index",
+}
+
+
+def half_cycle_index(ux, *, hysteresis: float = 0.05) -> np.ndarray:
+    """Index (0, 1, 2, ...) of the half-cycle, the stroke between reversals, of each sample.
+
+    A reversal is a displacement extremum followed by a retreat of more than `hysteresis`
+    times the displacement range, so measurement noise creates no reversals.
+    """
+    ux = np.asarray(ux, float)
+    tol = hysteresis * max(float(np.ptp(ux)), 1e-300)
+    reversals = []
+    direction, ext_value, ext_at = 0, ux[0], 0
+    for i, u in enumerate(ux):
+        if direction == 0:
+            if abs(u - ux[0]) > tol:
+                direction = 1 if u > ux[0] else -1
+                ext_value, ext_at = u, i
+        elif direction * (u - ext_value) > 0:
+            ext_value, ext_at = u, i
+        elif direction * (ext_value - u) > tol:
+            reversals.append(ext_at)
+            direction, ext_value, ext_at = -direction, u, i
+    index = np.zeros(ux.size, dtype=int)
+    for at in reversals:
+        index[at + 1:] += 1
+    return index
+
+
+def regressors(data, sim, half_cycles) -> dict:
+    """Regressors of the candidate effects, one array per name (see `REGRESSOR_LABELS`).
+
+    **Arguments:** `data` (`AugmentedData`), `sim` the simulation outputs of the current model
+    (`simulate_augmented`, one record), `half_cycles` from `half_cycle_index`.
+    """
+    z_peak = np.asarray(sim["z_peak"])
+    first = z_peak < 0.999
+    first[1:] |= first[:-1]
+    return {
+        "speed": np.abs(np.asarray(data.velocity)),
+        "first_mobilisation": first.astype(float),
+        "load": np.asarray(data.log_load_ratio),
+        "heat": np.asarray(sim["heat_index"]),
+        "direction": np.sign(np.asarray(data.velocity)),
+        "travel": np.asarray(data.travel_fraction),
+        "time": np.asarray(data.time) - float(data.time[0]),
+        "half_cycle": np.asarray(half_cycles, float),
+    }
+
+
+def friction_residual(data, sim, model_force):
+    """(d_mu, sliding mask): (measured - model) / (N Z) where |Z| > 0.5, else 0."""
+    z = np.asarray(sim["z"])
+    sliding = np.abs(z) > 0.5
+    safe = np.where(sliding, z, 1.0) * np.asarray(data.normal)
+    d_mu = np.where(sliding, (np.asarray(data.force) - model_force) / safe, 0.0)
+    return d_mu, sliding
+
+
+def residual_correlation(model_minus_measured, model_force, regress, effect, data, sim=None):
+    """Pearson correlation of the friction residual with the effect's regressor (sliding samples).
+
+    Positive: friction is under-predicted where the regressor is large. `nan`-free: 0 when the
+    regressor is constant or the effect has no regressor.
+    """
+    key = EFFECT_REGRESSOR.get(effect)
+    if key is None or sim is None:
+        return 0.0
+    d_mu, sliding = friction_residual(data, sim, model_force)
+    if key == "first_mobilisation":
+        sliding = sliding | (regress[key] > 0)
+        z = np.asarray(sim["z"])
+        d_mu = np.where(sliding, (np.asarray(data.force) - model_force)
+                        / (np.asarray(data.normal) * np.where(np.abs(z) > 1e-3, z, 1e-3)), 0.0)
+    g = regress[key][sliding]
+    y = d_mu[sliding]
+    if g.size < 3 or np.std(g) == 0 or np.std(y) == 0:
+        return 0.0
+    return float(np.corrcoef(g, y)[0, 1])
+
+
+def locate_residual(data, sim, model_force, half_cycles) -> dict:
+    """Where the residual energy sits, by region of the test.
+
+    Regions: first excursion (half-cycle 0), near reversals (model |Z| < 0.95: sticking and
+    re-mobilisation), high and low speed (|v| above / below the median sliding speed), early
+    and late thirds of the record, sliding in +x and in -x.
+
+    **Returns:** region -> {"share_of_samples", "share_of_residual", "concentration"}, where
+    concentration = share_of_residual / share_of_samples (> 1: the residual gathers there).
+    """
+    r2 = (np.asarray(data.force) - model_force) ** 2
+    total = max(float(r2.sum()), 1e-300)
+    speed = np.abs(np.asarray(data.velocity))
+    z = np.abs(np.asarray(sim["z"]))
+    sliding = z >= 0.95
+    v_med = float(np.median(speed[sliding])) if sliding.any() else float(np.median(speed))
+    t = np.asarray(data.time)
+    third = (t[-1] - t[0]) / 3
+    v = np.asarray(data.velocity)
+    regions = {
+        "first excursion": half_cycles == 0,
+        "near reversals": ~sliding,
+        "high speed": sliding & (speed > v_med),
+        "low speed": sliding & (speed <= v_med),
+        "early cycles (first third)": t < t[0] + third,
+        "late cycles (last third)": t > t[-1] - third,
+        "sliding +x": v > 0,
+        "sliding -x": v < 0,
+    }
+    out = {}
+    n = r2.size
+    for name, mask in regions.items():
+        share_n = float(mask.sum()) / n
+        share_r = float(r2[mask].sum()) / total
+        out[name] = {
+            "share_of_samples": share_n,
+            "share_of_residual": share_r,
+            "concentration": share_r / share_n if share_n > 0 else 0.0,
+        }
+    return out
+
+
+def write_plots(result, directory) -> dict:
+    """Write the diagnostic figures of a `DiscoveryResult` into `directory`.
+
+    **Returns:** figure name -> file name (relative to `directory`).
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from ._augmented import PARAMETER_NAMES, active_mask, simulate_augmented
+    from ._effects import BASELINES
+
+    directory = pathlib.Path(directory)
+    directory.mkdir(parents=True, exist_ok=True)
+    data = result.data
+    t = np.asarray(data.time)
+    ux = np.asarray(data.ux)
+    measured = np.asarray(data.force)
+    normal = np.asarray(data.normal)
+    base, final = result.forces["baseline"], result.forces["final"]
+    files = {}
+
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2), sharey=True)
+    for ax, model, title in (
+        (axes[0], base, f"baseline ({result.baseline}): nrmse {result.nrmse_initial:.3f}"),
+        (axes[1], final, f"final (+{', '.join(result.effects_added) or 'nothing'}): "
+                         f"nrmse {result.nrmse_final:.3f}"),
+    ):
+        ax.plot(ux * 1e3, measured / normal, color="0.6", lw=1.2, label="measured")
+        ax.plot(ux * 1e3, model / normal, color="C3", lw=1.0, label="model")
+        ax.set_xlabel("displacement ux [mm]")
+        ax.set_title(title, fontsize=9)
+        ax.grid(alpha=0.3)
+    axes[0].set_ylabel("friction force / normal load [-]")
+    axes[0].legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(directory / "loops.png", dpi=110)
+    plt.close(fig)
+    files["loops"] = "loops.png"
+
+    fig, axes = plt.subplots(2, 1, figsize=(11, 5.5), sharex=True)
+    axes[0].plot(t, measured / normal, color="0.6", lw=1.0, label="measured")
+    axes[0].plot(t, base / normal, color="C0", lw=0.9, label="baseline")
+    axes[0].plot(t, final / normal, color="C3", lw=0.9, label="final")
+    axes[0].set_ylabel("F / N [-]")
+    axes[0].legend(fontsize=8, ncol=3)
+    axes[1].plot(t, (measured - base) / normal, color="C0", lw=0.8, label="baseline")
+    axes[1].plot(t, (measured - final) / normal, color="C3", lw=0.8, label="final")
+    axes[1].set_ylabel("(measured - model) / N [-]")
+    axes[1].set_xlabel("time [s]")
+    axes[1].legend(fontsize=8)
+    for ax in axes:
+        ax.grid(alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(directory / "history.png", dpi=110)
+    plt.close(fig)
+    files["history"] = "history.png"
+
+    values = np.array([result.baseline_parameters.get(n, 0.0) for n in PARAMETER_NAMES])
+    from ._augmented import PARAMETERS
+
+    values = np.array([result.baseline_parameters.get(p.name, p.initial) for p in PARAMETERS])
+    params = {name: values[i] for i, name in enumerate(PARAMETER_NAMES)}
+    sim = {k: np.asarray(v) for k, v in simulate_augmented(
+        params, data, active_mask(BASELINES[result.baseline])).items()}
+    hc = half_cycle_index(ux)
+    reg = regressors(data, sim, hc)
+    d_mu, sliding = friction_residual(data, sim, base)
+    keys = ["speed", "load", "heat", "travel", "time", "half_cycle"]
+    fig, axes = plt.subplots(2, 3, figsize=(12, 6.5))
+    v = np.asarray(data.velocity)
+    for ax, key in zip(axes.ravel(), keys):
+        for mask, colour, label in ((sliding & (v > 0), "C0", "+x"), (sliding & (v < 0), "C1", "-x")):
+            ax.plot(reg[key][mask], d_mu[mask], ".", ms=2, color=colour, label=label)
+        ax.axhline(0, color="k", lw=0.6)
+        ax.set_xlabel(REGRESSOR_LABELS[key], fontsize=8)
+        ax.grid(alpha=0.3)
+    axes[0, 0].set_ylabel("friction residual d_mu (baseline) [-]")
+    axes[1, 0].set_ylabel("friction residual d_mu (baseline) [-]")
+    axes[0, 0].legend(fontsize=8, markerscale=4)
+    fig.suptitle("Baseline friction residual (measured - model) / (N Z) while sliding, "
+                 "against the regressors of the candidate effects", fontsize=9)
+    fig.tight_layout()
+    fig.savefig(directory / "residual_maps.png", dpi=110)
+    plt.close(fig)
+    files["residual_maps"] = "residual_maps.png"
+    return files
+
+
+def write_report(result, directory, *, record_name: str = "record") -> pathlib.Path:
+    """Write `directory/report.md` (with the figures of `write_plots`) for a `DiscoveryResult`."""
+    from ._augmented import PARAMETER_NAMES, PARAMETERS, active_mask, simulate_augmented
+    from ._effects import BASELINES
+
+    directory = pathlib.Path(directory)
+    files = write_plots(result, directory)
+    data = result.data
+    values = np.array([result.baseline_parameters.get(p.name, p.initial) for p in PARAMETERS])
+    params = {name: values[i] for i, name in enumerate(PARAMETER_NAMES)}
+    sim = {k: np.asarray(v) for k, v in simulate_augmented(
+        params, data, active_mask(BASELINES[result.baseline])).items()}
+    where = locate_residual(data, sim, result.forces["baseline"], half_cycle_index(np.asarray(data.ux)))
+    units = {p.name: p.unit for p in PARAMETERS}
+
+    lines = [f"# Model discovery: {record_name}", ""]
+    lines += [
+        f"- baseline: `{result.baseline}`; samples used: {data.n_samples} "
+        f"(every {result.info.decimation}. sample)",
+        f"- conclusion: **{'no missing effect' if not result.effects_added else ', '.join(result.effects_added)}**",
+        f"- nrmse: {result.nrmse_initial:.4f} (baseline) -> {result.nrmse_final:.4f} (final)",
+        f"- runtime: {result.runtime_s:.1f} s (including compilation)",
+        "",
+        "nrmse = RMS(model - measured force) / RMS(measured force).",
+        "",
+        "## Decision rule",
+        "",
+        "Each round refits the model with every candidate effect added. A candidate is accepted "
+        "when its BIC drop (charged with ln(n_eff) per parameter, n_eff the effective number of "
+        "independent residual samples) exceeds 10 ('very strong' on the Kass & Raftery scale) and "
+        "its prediction error on held-out half-cycles falls (two-fold blocked cross-validation).",
+        "",
+        "## Steps",
+        "",
+    ]
+    if not result.steps:
+        lines.append("No candidate earned its parameters: no missing effect.")
+    for k, step in enumerate(result.steps, start=1):
+        e = step.evidence
+        lines += [
+            f"### {k}. {step.effect} — {e['confidence']} evidence",
+            "",
+            f"{EFFECTS[step.effect].equation}",
+            "",
+            f"nrmse {step.nrmse_before:.4f} -> {step.nrmse_after:.4f}; delta_bic {e['delta_bic']:.1f} "
+            f"(n_eff {e['n_eff']:.0f}); held-out gain {100 * e['holdout_gain']:.1f} %; "
+            f"residual correlation with its regressor {e['residual_correlation']:+.2f}",
+            "",
+        ]
+        lines += _candidate_table(step.candidates)
+    if result.final_round:
+        lines += ["", "### Candidates refused in the last round", ""]
+        lines += _candidate_table(result.final_round)
+    if result.skipped:
+        lines += ["", "Not considered: " + "; ".join(f"{k} ({v})" for k, v in result.skipped.items())]
+    lines += ["", "## Fitted parameters (SI)", "", "| parameter | value | unit |", "|---|---|---|"]
+    lines += [f"| {k} | {v:.6g} | {units.get(k, '-')} |" for k, v in result.parameters.items()]
+    lines += ["", "## Where the baseline residual sits", "",
+              "| region | share of samples | share of residual energy | concentration |",
+              "|---|---|---|---|"]
+    lines += [f"| {k} | {v['share_of_samples']:.2f} | {v['share_of_residual']:.2f} | "
+              f"{v['concentration']:.2f} |" for k, v in where.items()]
+    lines += ["", "## Figures", ""]
+    lines += [f"![{name}]({fname})" for name, fname in files.items()]
+    if result.info.contact_area_assumed:
+        lines += ["", "Note: the record states no contact area; the heating candidate assumed a "
+                      "contact pressure of 1000 psi (its heat_scale absorbs the difference)."]
+    path = directory / "report.md"
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+def _candidate_table(evidence: dict) -> list:
+    lines = ["| candidate | delta_bic | confidence | held-out gain | nrmse after | corr |",
+             "|---|---|---|---|---|---|"]
+    for name, e in sorted(evidence.items(), key=lambda kv: -kv[1]["delta_bic"]):
+        lines.append(
+            f"| {name} | {e['delta_bic']:.1f} | {e['confidence']} | {100 * e['holdout_gain']:.1f} % | "
+            f"{e['nrmse_after']:.4f} | {e['residual_correlation']:+.2f} |"
+        )
+    return lines

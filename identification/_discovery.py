@@ -1,0 +1,414 @@
+"""Model discovery: fit a baseline, find the missing effect, add it, refit, repeat.
+
+The workflow an experimentalist follows with a new bearing test, made explicit:
+
+1. Fit the baseline model (`paper1990`: Eq. 1 + Bouc-Wen; or `coulomb`: constant friction +
+   Bouc-Wen) to the whole record.
+2. For every candidate effect not yet in the model, refit the model with that effect added
+   (a) to the whole record and (b) in two folds of alternate half-cycles (fit on the odd
+   half-cycles and predict the even ones, and the reverse).
+3. Evidence for each candidate:
+   - `delta_bic`: the drop of the Bayesian information criterion,
+         delta_bic = n_eff ln(SSR_before / SSR_after) - k_added ln(n_eff),
+     where n_eff = n (1 - rho) / (1 + rho) is the effective number of independent samples of
+     the candidate's residual (rho its lag-1 autocorrelation, AR(1) approximation; Bretherton
+     et al. 1999), so correlated residuals do not buy evidence they do not carry.
+     delta_bic approximates 2 ln(Bayes factor) and is read on the scale of Kass & Raftery
+     (1995): > 10 "very strong", 6-10 "strong", 2-6 "positive", < 2 "not worth more than a
+     bare mention".
+   - `holdout_gain`: 1 - CV_after / CV_before, with CV the root-mean-square prediction error
+     on the half-cycles left out of each fold's fit (blocked cross-validation).
+4. The candidate with the largest delta_bic among those with a positive held-out gain is
+   added if its delta_bic exceeds `bic_threshold` (10, "very strong"); otherwise the model is
+   declared complete ("no missing effect").
+
+Every fit of one round (current model and every candidate, full record and both folds) is a
+single vmapped, compiled call of `fit_least_squares_batch`: effects are switched by a 0/1
+mask, so the model is compiled once per record.
+"""
+
+import dataclasses
+import math
+import time as _time
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from ._augmented import (
+    PARAMETER_EFFECT,
+    PARAMETER_NAMES,
+    PARAMETERS,
+    AugmentedData,
+    RecordInfo,
+    active_mask,
+    prepare_record,
+    simulate_augmented,
+)
+from ._diagnostics import half_cycle_index, regressors, residual_correlation
+from ._effects import BASELINES, EFFECT_NAMES, EFFECTS
+from ._fit import fit_least_squares_batch
+
+DEFAULT_BIC_THRESHOLD = 10.0
+"""Smallest delta_bic that adds an effect: "very strong" evidence on Kass & Raftery's scale."""
+
+
+def confidence_wording(delta_bic: float) -> str:
+    """Kass & Raftery (1995) wording for 2 ln(Bayes factor) ~ delta_bic."""
+    if not math.isfinite(delta_bic) or delta_bic < 0:
+        return "against (the data prefer the model without it)"
+    if delta_bic < 2:
+        return "not worth more than a bare mention"
+    if delta_bic < 6:
+        return "positive"
+    if delta_bic < 10:
+        return "strong"
+    return "very strong"
+
+
+@dataclasses.dataclass
+class DiscoveryStep:
+    """One accepted effect: its name, the evidence, and the error before and after.
+
+    `evidence` holds `delta_bic`, `holdout_gain`, `n_eff`, `nrmse_before`, `nrmse_after`,
+    `residual_correlation`, `confidence`; `candidates` the evidence of every candidate of the
+    round (name -> dict), `parameters` the fitted model after the step.
+    """
+
+    effect: str
+    evidence: dict
+    nrmse_before: float
+    nrmse_after: float
+    candidates: dict
+    parameters: dict
+
+
+@dataclasses.dataclass
+class DiscoveryResult:
+    """Outcome of `discover_effects`.
+
+    - `baseline`, `effects_added` (in order), `steps` (`DiscoveryStep`s), `final_round`
+      (evidence of the candidates that were refused, name -> dict; empty if none were left),
+    - `nrmse_initial`, `nrmse_final`: normalised RMS error of the baseline and final fits,
+      sqrt(mean((F_model - F_meas)^2)) / sqrt(mean(F_meas^2)),
+    - `parameters`: fitted parameters of the final model (SI, active ones only),
+    - `baseline_parameters`, `data`, `info` (the prepared record), `forces`: model force of the
+      baseline and final fits, `runtime_s`, `applicable` candidates and `skipped` ones with why.
+    """
+
+    baseline: str
+    effects_added: list
+    steps: list
+    final_round: dict
+    nrmse_initial: float
+    nrmse_final: float
+    parameters: dict
+    baseline_parameters: dict
+    data: AugmentedData
+    info: RecordInfo
+    forces: dict
+    runtime_s: float
+    applicable: list
+    skipped: dict
+
+    def to_json(self) -> dict:
+        """The JSON document of the `diagnose` command (plain Python types)."""
+        return {
+            "baseline": self.baseline,
+            "steps": [
+                {
+                    "effect": s.effect,
+                    "evidence": s.evidence,
+                    "nrmse_before": s.nrmse_before,
+                    "nrmse_after": s.nrmse_after,
+                    "parameters": s.parameters,
+                    "candidates": s.candidates,
+                }
+                for s in self.steps
+            ],
+            "effects_added": list(self.effects_added),
+            "nrmse_initial": self.nrmse_initial,
+            "nrmse_final": self.nrmse_final,
+            "parameters": self.parameters,
+            "baseline_parameters": self.baseline_parameters,
+            "conclusion": (
+                "no missing effect" if not self.effects_added
+                else "added: " + ", ".join(self.effects_added)
+            ),
+            "refused_candidates": self.final_round,
+            "skipped_candidates": self.skipped,
+            "runtime_s": self.runtime_s,
+            "record": {
+                "source": self.info.source,
+                "samples_used": int(self.data.n_samples),
+                "decimation": self.info.decimation,
+                "interfaces_recorded": self.info.n_interfaces_recorded,
+                "contact_area_assumed": self.info.contact_area_assumed,
+            },
+        }
+
+
+def _residual(params, args):
+    data, active, weight, scale = args
+    model = simulate_augmented(params, data, active)["force"]
+    return weight * (model - data.force) / scale
+
+
+@jax.jit
+def _simulate_batch(values, data, actives):
+    def one(v, active):
+        params = {name: v[i] for i, name in enumerate(PARAMETER_NAMES)}
+        return simulate_augmented(params, data, active)
+
+    return jax.vmap(one)(values, actives)
+
+
+def _fold_weights(n: int, hc) -> tuple[np.ndarray, np.ndarray]:
+    """Two complementary 0/1 masks: alternate half-cycles (or alternate eighths of the record
+    when it has fewer than 4 half-cycles)."""
+    if hc.max() + 1 >= 4:
+        a = (hc % 2 == 0).astype(float)
+    else:
+        a = ((np.arange(n) * 8 // n) % 2 == 0).astype(float)
+    return a, 1.0 - a
+
+
+def _lag1(r) -> float:
+    r = np.asarray(r, float) - np.mean(r)
+    denominator = float(r @ r)
+    if denominator <= 0:
+        return 0.0
+    return float(np.clip((r[1:] @ r[:-1]) / denominator, 0.0, 0.999))
+
+
+def effective_samples(residual) -> float:
+    """n_eff = n (1 - rho) / (1 + rho) with rho the lag-1 autocorrelation (>= 0) of `residual`."""
+    rho = _lag1(residual)
+    return max(float(len(residual)) * (1.0 - rho) / (1.0 + rho), 2.0)
+
+
+def _applicable(info: RecordInfo):
+    applicable, skipped = [], {}
+    for name, effect in EFFECTS.items():
+        if effect.requires == "varying_normal_load" and not info.varying_normal_load:
+            skipped[name] = "normal load constant in this record (no contrast to identify it)"
+        elif effect.requires == "biaxial":
+            skipped[name] = (
+                "needs a biaxial record; the augmented simulator is uniaxial"
+                if info.biaxial else "uniaxial record (one sliding direction only)"
+            )
+        else:
+            applicable.append(name)
+    return applicable, skipped
+
+
+def _start_values(data: AugmentedData) -> dict:
+    mu = np.abs(np.asarray(data.force) / np.asarray(data.normal))
+    start = {p.name: p.initial for p in PARAMETERS}
+    start["f_max"] = float(np.clip(np.percentile(mu, 90), 0.003, 0.45))
+    start["delta_f"] = 0.5 * start["f_max"]
+    return start
+
+
+def _inside(values: np.ndarray) -> np.ndarray:
+    lower = np.array([p.lower for p in PARAMETERS])
+    upper = np.array([p.upper for p in PARAMETERS])
+    margin = 1e-4 * (upper - lower)
+    return np.clip(values, lower + margin, upper - margin)
+
+
+def discover_effects(
+    record,
+    *,
+    baseline: str = "paper1990",
+    candidates=None,
+    bic_threshold: float = DEFAULT_BIC_THRESHOLD,
+    max_effects: int = 4,
+    max_samples: int = 3000,
+    max_steps: int = 60,
+    callback=None,
+) -> DiscoveryResult:
+    """Find the effects a test record shows beyond a baseline model, one at a time.
+
+    **Arguments:**
+
+    - `record`: a `TestRecord` (uniaxial, with time and normal load).
+    - `baseline`: `"paper1990"` (Eq. 1 + Bouc-Wen, default) or `"coulomb"`.
+    - `candidates`: names from `EFFECT_NAMES` to consider (default: all that the record can
+      identify).
+    - `bic_threshold`: smallest delta_bic that adds an effect (default 10: "very strong").
+    - `max_effects`: at most this many effects are added.
+    - `max_samples`: longer records are decimated to about this many samples.
+    - `max_steps`: Levenberg-Marquardt steps per fit.
+    - `callback`: called with a line of progress text (for a CLI), or `None`.
+
+    **Returns:** a `DiscoveryResult`.
+    """
+    if baseline not in BASELINES:
+        raise ValueError(f"baseline: unknown '{baseline}'; use one of {', '.join(BASELINES)}.")
+    if bic_threshold < 0:
+        raise ValueError(f"bic_threshold: must be >= 0, got {bic_threshold}.")
+    started = _time.perf_counter()
+    say = callback or (lambda text: None)
+    data, info = prepare_record(record, max_samples=max_samples)
+    applicable, skipped = _applicable(info)
+    if candidates is not None:
+        unknown = [c for c in candidates if c not in EFFECTS]
+        if unknown:
+            raise ValueError(f"candidates: unknown {unknown}; choose from {list(EFFECT_NAMES)}.")
+        for name in applicable:
+            if name not in candidates:
+                skipped[name] = "not among the requested candidates"
+        applicable = [c for c in applicable if c in candidates]
+    current = list(BASELINES[baseline])
+    pool = [c for c in applicable if c not in current]
+
+    n = data.n_samples
+    force = np.asarray(data.force)
+    scale = float(np.sqrt(np.mean(force**2)))
+    if not scale > 0:
+        raise ValueError(f"{info.source}: the measured force is zero throughout.")
+    half_cycles = half_cycle_index(np.asarray(data.ux))
+    fold_a, fold_b = _fold_weights(n, half_cycles)
+    ones = np.ones(n)
+    n_members = 3 * (1 + len(pool))
+    bounds = {p.name: (p.lower, p.upper) for p in PARAMETERS}
+
+    def run_batch(starts, actives, weights):
+        """Fit B configurations; pads to `n_members` so the solve compiles once."""
+        b = len(starts)
+        pad = n_members - b
+        starts = list(starts) + [starts[0]] * pad
+        actives = list(actives) + [actives[0]] * pad
+        weights = list(weights) + [weights[0]] * pad
+        values = _inside(np.array([[s[name] for name in PARAMETER_NAMES] for s in starts]))
+        initial = {name: values[:, i] for i, name in enumerate(PARAMETER_NAMES)}
+        data_b = jax.tree_util.tree_map(lambda x: jnp.broadcast_to(x, (n_members,) + x.shape), data)
+        args = (data_b, jnp.asarray(np.array(actives)), jnp.asarray(np.array(weights)),
+                jnp.full((n_members,), scale))
+        fits = fit_least_squares_batch(
+            _residual, initial, bounds, args=args, max_steps=max_steps, rtol=1e-7, atol=1e-9
+        )
+        fitted = np.array([[f.parameters[name] for name in PARAMETER_NAMES] for f in fits])
+        sims = _simulate_batch(jnp.asarray(fitted), data, jnp.asarray(np.array(actives)))
+        return fits[:b], fitted[:b], {k: np.asarray(v)[:b] for k, v in sims.items()}
+
+    # Baseline: several starts of the rate and of the yield displacement, keep the best.
+    start0 = _start_values(data)
+    starts = []
+    for k in range(n_members):
+        s = dict(start0)
+        s["rate_a"] = PARAMETERS[PARAMETER_NAMES.index("rate_a")].initial * 10.0 ** ((k % 3) - 1)
+        s["yield_disp"] = start0["yield_disp"] * 4.0 ** ((k // 3) % 3 - 1)
+        starts.append(s)
+    mask = np.asarray(active_mask(current))
+    _, fitted, sims = run_batch(starts, [mask] * n_members, [ones] * n_members)
+    sse = np.sum((sims["force"] - force) ** 2, axis=1)
+    best = int(np.argmin(sse))
+    values = fitted[best]
+    model_force = sims["force"][best]
+    say(f"baseline {baseline}: nrmse {np.sqrt(sse[best] / n) / scale:.4f}")
+    baseline_values, baseline_force = values.copy(), model_force.copy()
+    nrmse_initial = float(np.sqrt(sse[best] / n) / scale)
+
+    steps, final_round = [], {}
+    while pool and len(steps) < max_effects:
+        configs = [list(current)] + [list(current) + [c] for c in pool]
+        starts, actives, weights = [], [], []
+        for config in configs:
+            s = {name: float(values[i]) for i, name in enumerate(PARAMETER_NAMES)}
+            for name in config:
+                if name not in current:
+                    s.update({p.name: p.initial for p in EFFECTS[name].parameters})
+            for w in (ones, fold_a, fold_b):
+                starts.append(s)
+                actives.append(np.asarray(active_mask(config)))
+                weights.append(w)
+        _, fitted, sims = run_batch(starts, actives, weights)
+        err = sims["force"] - force[None, :]
+        evid = {}
+        ref_full = err[0]
+        ref_cv = math.sqrt((np.sum((err[1] ** 2) * fold_b) + np.sum((err[2] ** 2) * fold_a)) / n)
+        ref_sse = float(np.sum(ref_full**2))
+        nrmse_before = math.sqrt(ref_sse / n) / scale
+        regress = regressors(data, sims_row(sims, 0), half_cycles)
+        for j, name in enumerate(pool, start=1):
+            full = err[3 * j]
+            sse_c = float(np.sum(full**2))
+            cv = math.sqrt((np.sum((err[3 * j + 1] ** 2) * fold_b)
+                            + np.sum((err[3 * j + 2] ** 2) * fold_a)) / n)
+            n_eff = effective_samples(full)
+            k = len(EFFECTS[name].parameters)
+            delta_bic = n_eff * math.log(ref_sse / max(sse_c, 1e-300)) - k * math.log(n_eff)
+            evid[name] = {
+                "delta_bic": float(delta_bic),
+                "holdout_gain": float(1.0 - cv / ref_cv) if ref_cv > 0 else 0.0,
+                "n_eff": float(n_eff),
+                "nrmse_before": float(nrmse_before),
+                "nrmse_after": float(math.sqrt(sse_c / n) / scale),
+                "residual_correlation": residual_correlation(
+                    ref_full, sims["force"][0], regress, name, data, sims_row(sims, 0)
+                ),
+                "confidence": confidence_wording(delta_bic),
+                "parameters": {
+                    p.name: float(fitted[3 * j][PARAMETER_NAMES.index(p.name)])
+                    for p in EFFECTS[name].parameters
+                },
+            }
+        eligible = [c for c in pool if evid[c]["holdout_gain"] > 0]
+        ranked = sorted(eligible, key=lambda c: -evid[c]["delta_bic"])
+        summary = ", ".join(f"{c} {evid[c]['delta_bic']:.1f}" for c in pool)
+        say(f"round {len(steps) + 1}: delta_bic {summary}")
+        if not ranked or evid[ranked[0]]["delta_bic"] <= bic_threshold:
+            final_round = evid
+            break
+        chosen = ranked[0]
+        j = pool.index(chosen) + 1
+        values = fitted[3 * j]
+        model_force = sims["force"][3 * j]
+        current.append(chosen)
+        pool.remove(chosen)
+        steps.append(
+            DiscoveryStep(
+                effect=chosen,
+                evidence={k: v for k, v in evid[chosen].items() if k != "parameters"},
+                nrmse_before=float(nrmse_before),
+                nrmse_after=evid[chosen]["nrmse_after"],
+                candidates=evid,
+                parameters=_active_parameters(values, current),
+            )
+        )
+        say(f"added {chosen}: nrmse {nrmse_before:.4f} -> {evid[chosen]['nrmse_after']:.4f}")
+
+    nrmse_final = float(np.sqrt(np.mean((model_force - force) ** 2)) / scale)
+    return DiscoveryResult(
+        baseline=baseline,
+        effects_added=[s.effect for s in steps],
+        steps=steps,
+        final_round=final_round,
+        nrmse_initial=nrmse_initial,
+        nrmse_final=nrmse_final,
+        parameters=_active_parameters(values, current),
+        baseline_parameters=_active_parameters(baseline_values, list(BASELINES[baseline])),
+        data=data,
+        info=info,
+        forces={"baseline": baseline_force, "final": model_force},
+        runtime_s=float(_time.perf_counter() - started),
+        applicable=applicable,
+        skipped=skipped,
+    )
+
+
+def sims_row(sims: dict, i: int) -> dict:
+    """Row `i` of a batch of simulation outputs."""
+    return {k: v[i] for k, v in sims.items()}
+
+
+def _active_parameters(values, effects) -> dict:
+    out = {}
+    for i, name in enumerate(PARAMETER_NAMES):
+        owner = PARAMETER_EFFECT[i]
+        if owner == "baseline" or owner in effects:
+            out[name] = float(values[i])
+    return out
+
