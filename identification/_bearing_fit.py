@@ -6,9 +6,10 @@ The model is the one of Constantinou, Mokha & Reinhorn (1990): the force is
                   mu = breakaway_ratio (f_max - delta_f)            (Eq. 17, before max|Z| >= 0.999)
 
 with Z from Bouc-Wen (Eq. 3; A = 1, beta = 0.1, gamma = 0.9, eta = 2, yield displacement
-`yield_disp`). The fitter minimises the force residual, sample by sample, of the core simulator
-(`BearingTestSystem` stepped by `RiccatiNewmark` at the record's own samples, the same solve as
-`teflon_jax.simulate_bearing_test` with a `tabulated_motion`), divided by the RMS measured force
+`yield_disp`). The fitter minimises the force residual, sample by sample, of the core model (the exact Riccati
+update of Z at the record's own samples, the computation of `teflon_jax.simulate_bearing_test`
+with a `tabulated_motion` and its default `RiccatiNewmark` solver; see `simulate_record_force`),
+divided by the RMS measured force
 of each record, with optimistix Levenberg-Marquardt and forward-mode Jacobians
 (`identification._fit.fit_least_squares`).
 
@@ -28,19 +29,15 @@ import math
 from collections.abc import Mapping, Sequence
 from typing import Any
 
-import diffrax
 import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
 
 from teflon_jax._bearing import DEFAULT_YIELD_DISP, SlidingBearing
-from teflon_jax._bearing_test import BearingTestSystem
 from teflon_jax._friction import FrictionParameters
-from teflon_jax._hysteresis import BoucWen
-from teflon_jax._motion import TabulatedMotion
+from teflon_jax._hysteresis import BoucWen, bouc_wen_exact_update
 from teflon_jax._records import TestRecord
-from teflon_jax._solver import RiccatiNewmark
 
 from ._fit import (
     LeastSquaresResult,
@@ -277,10 +274,13 @@ def simulate_record_force(values: Mapping[str, Any], time, ux, load, *, z0=0.0, 
     """Force [N] of the model at the samples of a record (jit/vmap/grad-safe).
 
     Same computation as `teflon_jax.simulate_bearing_test(bearing, tabulated_motion(time, ux),
-    load)` (Z advanced exactly by `RiccatiNewmark` between the samples; friction from the
-    forward slope of the displacement), written so that `time` and `ux` may be traced and the
-    initial state (`z0`, running peak `z_peak0`) may be set for records that do not start from
-    rest.
+    load)` with its default `RiccatiNewmark` solver: Z advanced between the samples by the
+    closed-form update `bouc_wen_exact_update` (exact for Bouc-Wen with eta = 2), the running
+    peak of |Z| switching Eq. 17 to Eq. 1, friction from the forward slope of the displacement.
+    Written as a `lax.scan` so that `time` and `ux` may be traced (batches of records), forward
+    mode differentiation is cheap, and the initial state (`z0`, running peak `z_peak0`) may be
+    set for records that do not start from rest. `tests/test_fit.py` checks it against
+    `simulate_bearing_test`.
 
     **Arguments:** `values` with `f_max`, `delta_f`, `rate_a` [s/m], `yield_disp` [m],
     `breakaway_ratio`; `time` [s], `ux` [m], `load` [N] arrays of the samples.
@@ -295,19 +295,23 @@ def simulate_record_force(values: Mapping[str, Any], time, ux, load, *, z0=0.0, 
     )
     time = jnp.asarray(time)
     ux = jnp.asarray(ux)
-    motion = TabulatedMotion(times=time, ux=ux, uy=jnp.zeros_like(ux), biaxial=False)
-    system = BearingTestSystem(bearing=bearing, motion=motion)
-    y0 = {"z": jnp.reshape(jnp.asarray(z0, dtype=float), (1,)),
-          "z_peak": jnp.asarray(z_peak0, dtype=float)}
-    solution = diffrax.diffeqsolve(
-        diffrax.ODETerm(system), RiccatiNewmark(), t0=time[0], t1=time[-1], dt0=None, y0=y0,
-        saveat=diffrax.SaveAt(ts=time), stepsize_controller=diffrax.StepTo(ts=time),
-        max_steps=time.shape[0], throw=False,
-    )
+    hysteresis = bearing.hysteresis
+
+    def step(carry, du):
+        z, z_peak = carry
+        z1 = bouc_wen_exact_update(hysteresis, z, du)
+        z_peak1 = jnp.maximum(z_peak, jnp.abs(z1))
+        return (z1, z_peak1), (z1, z_peak1)
+
+    z0 = jnp.asarray(z0, dtype=float)
+    z_peak0 = jnp.asarray(z_peak0, dtype=float)
+    _, (z, z_peak) = jax.lax.scan(step, (z0, z_peak0), jnp.diff(ux))
+    z = jnp.concatenate([z0[None], z])
+    z_peak = jnp.concatenate([z_peak0[None], z_peak])
     velocity = jnp.diff(ux) / jnp.diff(time)
     velocity = jnp.concatenate([velocity, velocity[-1:]])
-    mu = bearing.coefficient(velocity, 0.0, solution.ys["z_peak"])
-    return mu * load * solution.ys["z"][:, 0]
+    mu = bearing.coefficient(velocity, 0.0, z_peak)
+    return mu * load * z
 
 
 class BearingModel(eqx.Module):
@@ -646,8 +650,8 @@ def _finish(prepared, model_user, free, values, raw: LeastSquaresResult, args, w
     x = jnp.asarray([estimate[n] for n in free])
     jac, forces = _user_jacobian(model_user, x, free, args)
     jac = np.asarray(jac)
-    residual = raw.residual
-    cov, notes = covariance_from_jacobian(jac, residual)
+    used = np.concatenate([np.asarray(rec["weight"]) > 0 for rec in args["records"]])
+    cov, notes = covariance_from_jacobian(jac[used], raw.residual[used])
     std = np.sqrt(np.abs(np.diag(cov)))
     warnings = list(warnings)
     for i, name in enumerate(free):
@@ -753,6 +757,10 @@ def fit_bearing_test(
     prepared = [prepare_record(r, index=i, normal_load=normal_load, yield_ref=yield_ref)
                 for i, r in enumerate(records)]
     free, values, start, warnings, use_breakaway = _plan(prepared, free, fixed, initial, bounds)
+    if normal_load is not None and any(r.normal_load is None for r in records):
+        warnings.append(
+            f"normal load: records without one were fitted with normal_load = {normal_load} N; "
+            "f_max and delta_f are then force / normal_load, in newtons for normal_load = 1.")
     names, internal_bounds, to_internal, ratio = _internal(free, values, start, bounds)
     kinds = tuple(p.kind for p in prepared)
     n_int = tuple(p.n_interfaces for p in prepared)

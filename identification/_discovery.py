@@ -23,11 +23,13 @@ The workflow an experimentalist follows with a new bearing test, made explicit:
    declared complete ("no missing effect").
 
 Every fit of one round (current model and every candidate, full record and both folds) is a
-single vmapped, compiled call of `fit_least_squares_batch`: effects are switched by a 0/1
-mask, so the model is compiled once per record.
+single vmapped, compiled call of a masked Levenberg-Marquardt solver (`fit_batch`): effects are
+switched by a 0/1 mask and the parameters of effects that are off are frozen, so the model is
+compiled once per record.
 """
 
 import dataclasses
+import functools
 import math
 import time as _time
 
@@ -47,7 +49,7 @@ from ._augmented import (
 )
 from ._diagnostics import half_cycle_index, regressors, residual_correlation
 from ._effects import BASELINES, EFFECT_NAMES, EFFECTS
-from ._fit import fit_least_squares_batch
+from ._fit import covariance_from_jacobian
 
 DEFAULT_BIC_THRESHOLD = 10.0
 """Smallest delta_bic that adds an effect: "very strong" evidence on Kass & Raftery's scale."""
@@ -148,10 +150,81 @@ class DiscoveryResult:
         }
 
 
-def _residual(params, args):
-    data, active, weight, scale = args
-    model = simulate_augmented(params, data, active)["force"]
-    return weight * (model - data.force) / scale
+_LOWER = np.array([p.lower for p in PARAMETERS])
+_UPPER = np.array([p.upper for p in PARAMETERS])
+_LOG = np.array([p.log_scale for p in PARAMETERS])
+_LO = np.array([math.log(p.lower) if p.log_scale else p.lower for p in PARAMETERS])
+_HI = np.array([math.log(p.upper) if p.log_scale else p.upper for p in PARAMETERS])
+
+
+def to_physical(u):
+    """Unconstrained vector -> physical parameters: x = lo + (hi - lo) sigmoid(u), in log
+    space for the parameters marked `log_scale` (bounds are never left)."""
+    y = _LO + (_HI - _LO) * jax.nn.sigmoid(u)
+    return jnp.where(_LOG, jnp.exp(y), y)
+
+
+def to_unconstrained(x) -> np.ndarray:
+    """Inverse of `to_physical` (numpy; x strictly inside the bounds)."""
+    x = np.asarray(x, float)
+    y = np.where(_LOG, np.log(np.maximum(x, 1e-300)), x)
+    p = np.clip((y - _LO) / (_HI - _LO), 1e-9, 1 - 1e-9)
+    return np.log(p) - np.log1p(-p)
+
+
+def _free_mask(active) -> np.ndarray:
+    """1 for the parameters of the baseline and of the active effects."""
+    on = {name: active[i] > 0 for i, name in enumerate(EFFECT_NAMES)}
+    return np.array([1.0 if owner == "baseline" or on[owner] else 0.0 for owner in PARAMETER_EFFECT])
+
+
+@functools.partial(jax.jit, static_argnames=("n_iter",))
+def fit_batch(u0, free, actives, weights, data, scale, *, n_iter: int = 40):
+    """Masked, bounded Levenberg-Marquardt fits of B model configurations in one call.
+
+    Minimises sum((w (F_model - F_meas) / scale)^2) over the unconstrained parameters u
+    (`to_physical`), with the parameters where `free` is 0 held at their start. Steps:
+    (J^T J + lam diag(J^T J)) du = -J^T r (Marquardt 1963), lam divided by 3 after a success
+    and multiplied by 4 after a failure; `n_iter` iterations.
+
+    **Arguments:** `u0`, `free` (B, P); `actives` (B, E) effect masks; `weights` (B, n) sample
+    weights (0 leaves a sample out); `data` (`AugmentedData`); `scale` force scale [N].
+
+    **Returns:** `(u, cost, jacobian)`: final unconstrained parameters (B, P), cost
+    0.5 sum r^2 (B,), and the Jacobian of r in u at the end (B, n, P).
+    """
+
+    def one(u_start, free_i, active, weight):
+        def residual(u):
+            params = {name: x for name, x in zip(PARAMETER_NAMES, to_physical(u))}
+            r = weight * (simulate_augmented(params, data, active)["force"] - data.force) / scale
+            return r, r
+
+        def cost_of(u):
+            return 0.5 * jnp.sum(residual(u)[0] ** 2)
+
+        def body(_, carry):
+            u, lam, cost = carry
+            jac, r = jax.jacfwd(residual, has_aux=True)(u)
+            jac = jac * free_i
+            grad = jac.T @ r
+            hess = jac.T @ jac
+            diag = jnp.diag(hess)
+            system = hess + jnp.diag(lam * (diag + 1e-12) + (1.0 - free_i))
+            step = -jnp.linalg.solve(system, grad) * free_i
+            trial = u + jnp.clip(step, -4.0, 4.0)
+            trial_cost = cost_of(trial)
+            better = jnp.isfinite(trial_cost) & (trial_cost < cost)
+            u = jnp.where(better, trial, u)
+            cost = jnp.where(better, trial_cost, cost)
+            lam = jnp.clip(jnp.where(better, lam / 3.0, lam * 4.0), 1e-9, 1e9)
+            return u, lam, cost
+
+        u, _, cost = jax.lax.fori_loop(0, n_iter, body, (u_start, 1e-2, cost_of(u_start)))
+        jac = jax.jacfwd(lambda v: residual(v)[0])(u) * free_i
+        return u, cost, jac
+
+    return jax.vmap(one)(u0, free, actives, weights)
 
 
 @jax.jit
@@ -187,10 +260,15 @@ def effective_samples(residual) -> float:
     return max(float(len(residual)) * (1.0 - rho) / (1.0 + rho), 2.0)
 
 
-def _applicable(info: RecordInfo):
+def _applicable(info: RecordInfo, known):
     applicable, skipped = [], {}
     for name, effect in EFFECTS.items():
-        if effect.requires == "varying_normal_load" and not info.varying_normal_load:
+        if name == "interfaces" and "rate_a" not in known:
+            skipped[name] = (
+                "Eq. 1 at |v| / n only rescales rate_a, which is fitted: n is identifiable only "
+                "with rate_a known (e.g. from Table 1, `known={'rate_a': ...}`)"
+            )
+        elif effect.requires == "varying_normal_load" and not info.varying_normal_load:
             skipped[name] = "normal load constant in this record (no contrast to identify it)"
         elif effect.requires == "biaxial":
             skipped[name] = (
@@ -225,7 +303,8 @@ def discover_effects(
     bic_threshold: float = DEFAULT_BIC_THRESHOLD,
     max_effects: int = 4,
     max_samples: int = 3000,
-    max_steps: int = 60,
+    max_steps: int = 40,
+    known=None,
     callback=None,
 ) -> DiscoveryResult:
     """Find the effects a test record shows beyond a baseline model, one at a time.
@@ -240,6 +319,8 @@ def discover_effects(
     - `max_effects`: at most this many effects are added.
     - `max_samples`: longer records are decimated to about this many samples.
     - `max_steps`: Levenberg-Marquardt steps per fit.
+    - `known`: parameters held at given values (SI), e.g. `{"rate_a": 23.6}` from Table 1;
+      with `rate_a` known the `interfaces` candidate becomes identifiable.
     - `callback`: called with a line of progress text (for a CLI), or `None`.
 
     **Returns:** a `DiscoveryResult`.
@@ -250,8 +331,18 @@ def discover_effects(
         raise ValueError(f"bic_threshold: must be >= 0, got {bic_threshold}.")
     started = _time.perf_counter()
     say = callback or (lambda text: None)
+    known = dict(known or {})
+    for name, value in known.items():
+        if name not in PARAMETER_NAMES:
+            raise ValueError(f"known: unknown parameter '{name}'; choose from {list(PARAMETER_NAMES)}.")
+        p = PARAMETERS[PARAMETER_NAMES.index(name)]
+        if not p.lower < float(value) < p.upper:
+            raise ValueError(
+                f"known['{name}']: {value} is outside the range ({p.lower}, {p.upper}) [{p.unit}]."
+            )
+    fixed = np.array([0.0 if name in known else 1.0 for name in PARAMETER_NAMES])
     data, info = prepare_record(record, max_samples=max_samples)
-    applicable, skipped = _applicable(info)
+    applicable, skipped = _applicable(info, known)
     if candidates is not None:
         unknown = [c for c in candidates if c not in EFFECTS]
         if unknown:
@@ -272,33 +363,33 @@ def discover_effects(
     fold_a, fold_b = _fold_weights(n, half_cycles)
     ones = np.ones(n)
     n_members = 3 * (1 + len(pool))
-    bounds = {p.name: (p.lower, p.upper) for p in PARAMETERS}
 
     def run_batch(starts, actives, weights):
         """Fit B configurations; pads to `n_members` so the solve compiles once."""
         b = len(starts)
         pad = n_members - b
         starts = list(starts) + [starts[0]] * pad
-        actives = list(actives) + [actives[0]] * pad
-        weights = list(weights) + [weights[0]] * pad
+        actives = np.array(list(actives) + [actives[0]] * pad)
+        weights = np.array(list(weights) + [weights[0]] * pad)
         values = _inside(np.array([[s[name] for name in PARAMETER_NAMES] for s in starts]))
-        initial = {name: values[:, i] for i, name in enumerate(PARAMETER_NAMES)}
-        data_b = jax.tree_util.tree_map(lambda x: jnp.broadcast_to(x, (n_members,) + x.shape), data)
-        args = (data_b, jnp.asarray(np.array(actives)), jnp.asarray(np.array(weights)),
-                jnp.full((n_members,), scale))
-        fits = fit_least_squares_batch(
-            _residual, initial, bounds, args=args, max_steps=max_steps, rtol=1e-7, atol=1e-9
+        free = np.array([_free_mask(a) * fixed for a in actives])
+        u, _, jac = fit_batch(
+            jnp.asarray(to_unconstrained(values)), jnp.asarray(free), jnp.asarray(actives),
+            jnp.asarray(weights), data, scale, n_iter=max_steps,
         )
-        fitted = np.array([[f.parameters[name] for name in PARAMETER_NAMES] for f in fits])
-        sims = _simulate_batch(jnp.asarray(fitted), data, jnp.asarray(np.array(actives)))
-        return fits[:b], fitted[:b], {k: np.asarray(v)[:b] for k, v in sims.items()}
+        fitted = np.asarray(to_physical(u))
+        sims = _simulate_batch(jnp.asarray(fitted), data, jnp.asarray(actives))
+        extra = {"u": np.asarray(u)[:b], "jacobian": np.asarray(jac)[:b]}
+        return extra, fitted[:b], {k: np.asarray(v)[:b] for k, v in sims.items()}
 
     # Baseline: several starts of the rate and of the yield displacement, keep the best.
     start0 = _start_values(data)
+    start0.update({name: float(v) for name, v in known.items()})
     starts = []
     for k in range(n_members):
         s = dict(start0)
-        s["rate_a"] = PARAMETERS[PARAMETER_NAMES.index("rate_a")].initial * 10.0 ** ((k % 3) - 1)
+        if "rate_a" not in known:
+            s["rate_a"] = PARAMETERS[PARAMETER_NAMES.index("rate_a")].initial * 10.0 ** ((k % 3) - 1)
         s["yield_disp"] = start0["yield_disp"] * 4.0 ** ((k // 3) % 3 - 1)
         starts.append(s)
     mask = np.asarray(active_mask(current))
@@ -319,7 +410,15 @@ def discover_effects(
             s = {name: float(values[i]) for i, name in enumerate(PARAMETER_NAMES)}
             for name in config:
                 if name not in current:
-                    s.update({p.name: p.initial for p in EFFECTS[name].parameters})
+                    s.update({p.name: p.initial for p in EFFECTS[name].parameters
+                              if p.name not in known})
+                    if name == "velocity_dependence":
+                        # Keep the low-speed friction where the constant friction was.
+                        f_now = s["f_max"]
+                        if "f_max" not in known:
+                            s["f_max"] = 1.5 * f_now
+                        if "delta_f" not in known:
+                            s["delta_f"] = s["f_max"] - f_now
             for w in (ones, fold_a, fold_b):
                 starts.append(s)
                 actives.append(np.asarray(active_mask(config)))
@@ -338,7 +437,7 @@ def discover_effects(
             cv = math.sqrt((np.sum((err[3 * j + 1] ** 2) * fold_b)
                             + np.sum((err[3 * j + 2] ** 2) * fold_a)) / n)
             n_eff = effective_samples(full)
-            k = len(EFFECTS[name].parameters)
+            k = max(sum(p.name not in known for p in EFFECTS[name].parameters), 1)
             delta_bic = n_eff * math.log(ref_sse / max(sse_c, 1e-300)) - k * math.log(n_eff)
             evid[name] = {
                 "delta_bic": float(delta_bic),

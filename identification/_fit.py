@@ -34,6 +34,7 @@ Contract (other parts of `identification` build on it):
 vmapped, compiled call (e.g. one record per bearing, or several starts of one problem).
 """
 
+import functools
 import math
 from collections.abc import Callable, Mapping
 from typing import Any, NamedTuple
@@ -203,7 +204,9 @@ def _make_transform(names, lower, upper, x0) -> _Transform:
     )
 
 
+@functools.cache
 def _make_solver(solver: str, rtol: float, atol: float):
+    # Cached: a new solver object would change the compiled function's static key.
     if solver == "levenberg_marquardt":
         return optx.LevenbergMarquardt(rtol=rtol, atol=atol)
     if solver == "gauss_newton":

@@ -49,7 +49,7 @@ from ._tables import (
     load_table2 as load_table2,
     table1_parameters as table1_parameters,
 )
-from . import _units as units
+from . import units as units
 from ._structure import (
     FRICTION_MODELS as FRICTION_MODELS,
     StructureOnSliders as StructureOnSliders,

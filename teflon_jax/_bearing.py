@@ -5,7 +5,9 @@ Reference: Constantinou, Mokha & Reinhorn (1990), Eqs. 1, 3, 8-9, 17; MODEL.md S
 
 import equinox as eqx
 import jax.numpy as jnp
+import numpy as np
 
+from ._checks import require, require_positive
 from ._friction import (
     FrictionParameters,
     anisotropic_friction,
@@ -83,32 +85,18 @@ def check_bearing(bearing: SlidingBearing) -> None:
 
     Traced values (inside jit/vmap/grad) are not checked here.
     """
-    def concrete(x):
-        try:
-            return jnp.asarray(x).tolist()
-        except Exception:  # tracer
-            return None
-
-    def all_true(x, test):
-        value = concrete(x)
-        if value is None:
-            return True
-        arr = jnp.asarray(value)
-        return bool(jnp.all(test(arr)))
-
     f = bearing.friction
-    checks = [
-        (f.f_max, lambda x: x > 0, "f_max", "must be > 0 (a friction coefficient, e.g. 0.1193)"),
-        (f.delta_f, lambda x: x >= 0, "delta_f", "must be >= 0"),
-        (f.f_max - f.delta_f, lambda x: x > 0, "delta_f", "must be smaller than f_max"),
-        (f.rate_a, lambda x: x >= 0, "rate_a", "must be >= 0 [s/m]"),
-        (bearing.hysteresis.yield_disp, lambda x: x > 0, "yield_disp", "must be > 0 [m] (paper: 0.005 in)"),
-    ]
+    require_positive(f.f_max, "f_max", " (a friction coefficient, e.g. 0.1193)")
+    require(f.delta_f, lambda x: np.isfinite(x) & (x >= 0), "delta_f", "must be >= 0")
+    require(f.f_max - f.delta_f, lambda x: x > 0, "delta_f", "must be smaller than f_max")
+    require(f.rate_a, lambda x: np.isfinite(x) & (x >= 0), "rate_a", "must be >= 0 [s/m]")
+    require_positive(bearing.hysteresis.yield_disp, "yield_disp", " [m] (paper: 0.005 in)")
     if bearing.breakaway_ratio is not None:
-        checks.append((bearing.breakaway_ratio, lambda x: x >= 1, "breakaway_ratio",
-                       "must be >= 1 (Table 1: 1.3-4.4), or None for no breakaway"))
-    if bearing.n_interfaces < 1:
+        require(
+            bearing.breakaway_ratio,
+            lambda x: np.isfinite(x) & (x >= 1),
+            "breakaway_ratio",
+            "must be >= 1 (Table 1: 1.3-4.4), or None for no breakaway",
+        )
+    if int(bearing.n_interfaces) != bearing.n_interfaces or bearing.n_interfaces < 1:
         raise ValueError(f"n_interfaces: must be an integer >= 1, got {bearing.n_interfaces}.")
-    for value, test, name, rule in checks:
-        if not all_true(value, test):
-            raise ValueError(f"{name}: {rule}; got {concrete(value)}.")

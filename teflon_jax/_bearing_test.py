@@ -8,7 +8,8 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 
-from ._bearing import SlidingBearing
+from ._bearing import SlidingBearing, check_bearing
+from ._checks import require_positive
 from ._hysteresis import bouc_wen_exact_update, bouc_wen_rate, park_rate
 from ._motion import AbstractMotion, Signal, as_signal
 from ._solver import AbstractSteppedSystem, RiccatiNewmark, require_riccati_form
@@ -115,15 +116,16 @@ def simulate_bearing_test(
 
     **Returns:** a `BearingTestResult`.
     """
+    check_bearing(bearing)
+    motion.check()
     normal_load = as_signal(normal_load)
+    require_positive(normal_load.values, "normal_load", " [N] (compression positive)")
     if duration is None:
         duration = motion.duration
     if solver is None:
         solver = diffrax.Tsit5() if motion.biaxial else RiccatiNewmark()
     times = _save_times(motion, duration, samples_per_cycle)
     system = BearingTestSystem(bearing=bearing, motion=motion)
-    z_dim = 2 if motion.biaxial else 1
-    y0 = {"z": jnp.zeros(z_dim), "z_peak": jnp.zeros(())}
     if isinstance(solver, RiccatiNewmark):
         require_riccati_form(bearing.hysteresis)
         controller = diffrax.StepTo(ts=_refine(times, steps_per_sample))
@@ -134,6 +136,13 @@ def simulate_bearing_test(
     else:
         controller = diffrax.StepTo(ts=_refine(times, steps_per_sample))
         dt0 = None
+    return _solve(system, solver, controller, dt0, times, normal_load, max_steps, throw)
+
+
+@eqx.filter_jit
+def _solve(system, solver, controller, dt0, times, normal_load, max_steps, throw):
+    z_dim = 2 if system.motion.biaxial else 1
+    y0 = {"z": jnp.zeros(z_dim), "z_peak": jnp.zeros(())}
     solution = diffrax.diffeqsolve(
         diffrax.ODETerm(system),
         solver,
@@ -146,7 +155,7 @@ def simulate_bearing_test(
         max_steps=max_steps,
         throw=throw,
     )
-    return _result(bearing, motion, normal_load, solution)
+    return _result(system.bearing, system.motion, normal_load, solution)
 
 
 def _is_adaptive(solver) -> bool:

@@ -12,6 +12,8 @@ import equinox as eqx
 import jax.numpy as jnp
 from jaxtyping import ArrayLike
 
+from ._checks import require_positive
+
 
 class AbstractMotion(eqx.Module):
     """Imposed displacement u(t) = (ux, uy) [m] and its velocity [m/s]."""
@@ -30,6 +32,13 @@ class AbstractMotion(eqx.Module):
     @abc.abstractmethod
     def duration(self) -> float:
         """Natural end time [s] of the protocol."""
+
+    def check(self) -> None:
+        """Raise `ValueError` naming the parameter for a non-physical (concrete) protocol."""
+        for name in ("amplitude", "frequency", "angular_frequency", "cycles"):
+            if hasattr(self, name):
+                unit = {"amplitude": " [m]", "frequency": " [Hz]", "angular_frequency": " [rad/s]"}
+                require_positive(getattr(self, name), name, unit.get(name, ""))
 
     def reversal_times(self) -> tuple[float, ...]:
         """Times [s] where the x velocity changes sign (steps are aligned to them)."""

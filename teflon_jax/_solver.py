@@ -22,7 +22,9 @@ from typing import ClassVar
 
 import diffrax
 import equinox as eqx
-import jax.numpy as jnp
+import numpy as np
+
+from ._checks import concrete
 
 
 class AbstractSteppedSystem(eqx.Module):
@@ -96,18 +98,11 @@ def require_riccati_form(h) -> None:
             )
 
 
-def _concrete(x):
-    try:
-        return jnp.asarray(x).tolist()
-    except Exception:  # traced value: cannot be checked at trace time
-        return None
-
-
 def _maybe_equal(x, value):
-    c = _concrete(x)
-    return None if c is None else bool(jnp.all(jnp.asarray(c) == value))
+    c = concrete(x)
+    return None if c is None else bool(np.all(c == value))
 
 
 def _maybe_greater(x, y):
-    cx, cy = _concrete(x), _concrete(y)
-    return None if cx is None or cy is None else bool(jnp.all(jnp.asarray(cx) > jnp.asarray(cy)))
+    cx, cy = concrete(x), concrete(y)
+    return None if cx is None or cy is None else bool(np.all(cx > cy))

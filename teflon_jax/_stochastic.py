@@ -25,6 +25,7 @@ Samples are drawn with the spectral representation method (Shinozuka & Deodatis 
 Reviews 44(4)), evaluated with one inverse FFT per record.
 """
 
+import functools
 import math
 import operator
 
@@ -60,17 +61,22 @@ class StochasticGroundMotion(eqx.Module):
     """Clough-Penzien (or Kanai-Tajimi) filtered white noise with a Jennings-Housner-Tsai
     envelope.
 
+    The physical parameters are scalar arrays (differentiable; `vmap` over models to
+    batch them); `duration`, `time_step` and `high_pass_filter` are static Python values.
+
     **Fields:**
 
-    - `peak_ground_acceleration`: expected peak of the record's strong phase [m/s^2].
-      It sets the stationary standard deviation `sigma = peak_ground_acceleration /
-      peak_factor`, and from it the white-noise intensity `S0` (see
-      `white_noise_intensity`).
-    - `peak_factor`: ratio of the expected peak to the standard deviation of the
-      stationary process [-]. The default 3.0 is the usual value for earthquake records
-      with a strong phase of about ten seconds (Davenport's peak factor
-      `sqrt(2 ln(nu T)) + 0.5772 / sqrt(2 ln(nu T))` is about 3 for `nu T` of 50 to 100
-      zero up-crossings).
+    - `peak_ground_acceleration`: nominal expected peak of a record [m/s^2]. It fixes
+      the stationary standard deviation `sigma = peak_ground_acceleration / peak_factor`,
+      and through it the white-noise intensity `S0` (see `white_noise_intensity`), so
+      changing the site parameters reshapes the spectrum at constant `sigma`.
+    - `peak_factor`: ratio of the expected peak to `sigma` [-]. The default 3.0 is the
+      usual value for records with a strong phase of about ten seconds: Davenport's
+      (1964) peak factor `sqrt(2 ln(nu T)) + 0.5772 / sqrt(2 ln(nu T))` is 3.0 to 3.2
+      for `nu T` = 50 to 100 zero up-crossings. The realised mean peak depends on the
+      envelope and `time_step`; with the defaults it is about 7 % above
+      `peak_ground_acceleration` (between about 0 and +14 % for strong phases of 5 to
+      20 s). Set `peak_factor` to calibrate; `sigma` is the exact scale.
     - `site_frequency`: Kanai-Tajimi predominant frequency `omega_g` [rad/s]. Default
       15.6 rad/s (firm soil, the values usually quoted after Kanai and Tajimi).
     - `site_damping`: Kanai-Tajimi damping ratio `zeta_g` [-]. Default 0.6.
@@ -80,7 +86,8 @@ class StochasticGroundMotion(eqx.Module):
     - `rise_time`: end of the parabolic rise `t1` of the envelope [s].
     - `strong_motion_duration`: length `t2 - t1` of the constant strong phase [s].
     - `decay_rate`: `c` of the exponential decay `exp(-c (t - t2))` [1/s].
-    - `duration`: length of the record [s] (static: it fixes the array shape).
+    - `duration`: length of the record [s] (static: it fixes the array shape); the
+      samples are `t_j = j time_step` for `t_j <= duration`.
     - `time_step`: sampling interval [s] (static). The samples cover frequencies up to
       the Nyquist frequency `pi / time_step` [rad/s].
     - `high_pass_filter`: `True` for Clough-Penzien, `False` for plain Kanai-Tajimi
@@ -91,15 +98,15 @@ class StochasticGroundMotion(eqx.Module):
     references.
     """
 
-    peak_ground_acceleration: Float[Array, "..."] = eqx.field(converter=_float)
-    peak_factor: Float[Array, "..."] = eqx.field(converter=_float, default=3.0)
-    site_frequency: Float[Array, "..."] = eqx.field(converter=_float, default=15.6)
-    site_damping: Float[Array, "..."] = eqx.field(converter=_float, default=0.6)
-    high_pass_frequency: Float[Array, "..."] = eqx.field(converter=_float, default=1.56)
-    high_pass_damping: Float[Array, "..."] = eqx.field(converter=_float, default=0.6)
-    rise_time: Float[Array, "..."] = eqx.field(converter=_float, default=2.0)
-    strong_motion_duration: Float[Array, "..."] = eqx.field(converter=_float, default=10.0)
-    decay_rate: Float[Array, "..."] = eqx.field(converter=_float, default=0.3)
+    peak_ground_acceleration: Float[Array, ""] = eqx.field(converter=_float)
+    peak_factor: Float[Array, ""] = eqx.field(converter=_float, default=3.0)
+    site_frequency: Float[Array, ""] = eqx.field(converter=_float, default=15.6)
+    site_damping: Float[Array, ""] = eqx.field(converter=_float, default=0.6)
+    high_pass_frequency: Float[Array, ""] = eqx.field(converter=_float, default=1.56)
+    high_pass_damping: Float[Array, ""] = eqx.field(converter=_float, default=0.6)
+    rise_time: Float[Array, ""] = eqx.field(converter=_float, default=2.0)
+    strong_motion_duration: Float[Array, ""] = eqx.field(converter=_float, default=10.0)
+    decay_rate: Float[Array, ""] = eqx.field(converter=_float, default=0.3)
     duration: float = eqx.field(static=True, default=25.0)
     time_step: float = eqx.field(static=True, default=0.01)
     high_pass_filter: bool = eqx.field(static=True, default=True)
@@ -157,7 +164,7 @@ class StochasticGroundMotion(eqx.Module):
 
 
 def num_time_steps(model: StochasticGroundMotion) -> int:
-    """Number of samples `nt = floor(duration / time_step) + 1` in one record (a Python int)."""
+    """Samples per record, `nt = floor(duration / time_step) + 1` (a Python int)."""
     return int(math.floor(model.duration / model.time_step + 1e-9)) + 1
 
 
@@ -166,8 +173,10 @@ def sample_times(model: StochasticGroundMotion) -> Float[Array, " nt"]:
     return jnp.arange(num_time_steps(model), dtype=jnp.result_type(float)) * model.time_step
 
 
-@eqx.filter_jit
-def envelope(model: StochasticGroundMotion, t: Float[Array, "*shape"]) -> Float[Array, "*shape"]:
+@jax.jit
+def envelope(
+    model: StochasticGroundMotion, t: Float[Array, "*shape"]
+) -> Float[Array, "*shape"]:
     """Jennings-Housner-Tsai (1968) time-modulating envelope.
 
         e(t) = (t / t1)^2          for 0 <= t < t1,
@@ -245,17 +254,18 @@ def _variance_per_unit_intensity(model: StochasticGroundMotion) -> Array:
     n = a.shape[0]
     eye = jnp.eye(n, dtype=a.dtype)
     # Row-major vec: vec(A P) = (A kron I) vec(P), vec(P A^T) = (I kron A) vec(P).
-    operator = jnp.kron(a, eye) + jnp.kron(eye, a)
+    lyapunov = jnp.kron(a, eye) + jnp.kron(eye, a)
     rhs = -2.0 * math.pi * jnp.outer(b, b).reshape(-1)
-    covariance = jnp.linalg.solve(operator, rhs).reshape(n, n)
+    covariance = jnp.linalg.solve(lyapunov, rhs).reshape(n, n)
     return c @ covariance @ c
 
 
-@eqx.filter_jit
+@jax.jit
 def stationary_variance(model: StochasticGroundMotion) -> Float[Array, ""]:
     """Variance of the stationary ground acceleration [m^2/s^4].
 
-        sigma^2 = integral_{-inf}^{inf} S(omega) d omega = (peak_ground_acceleration / peak_factor)^2.
+        sigma^2 = integral_{-inf}^{inf} S(omega) d omega
+                = (peak_ground_acceleration / peak_factor)^2.
 
     The sampled records miss the part of the spectrum above the Nyquist frequency
     `pi / time_step`; with the Kanai-Tajimi tail `S ~ 4 S0 zeta_g^2 omega_g^2 / omega^2`
@@ -265,7 +275,7 @@ def stationary_variance(model: StochasticGroundMotion) -> Float[Array, ""]:
     return (model.peak_ground_acceleration / model.peak_factor) ** 2
 
 
-@eqx.filter_jit
+@jax.jit
 def white_noise_intensity(model: StochasticGroundMotion) -> Float[Array, ""]:
     """Two-sided intensity `S0` of the bedrock white noise [m^2/s^3].
 
@@ -276,7 +286,7 @@ def white_noise_intensity(model: StochasticGroundMotion) -> Float[Array, ""]:
     return stationary_variance(model) / _variance_per_unit_intensity(model)
 
 
-@eqx.filter_jit
+@functools.partial(jax.jit, static_argnames=("quantity",))
 def power_spectral_density(
     model: StochasticGroundMotion,
     omega: Float[Array, "*shape"],
@@ -321,6 +331,15 @@ def power_spectral_density(
     return s0 * gain / omega ** (2 * order)
 
 
+def _is_prng_key(key) -> bool:
+    """A new-style typed key of shape `()` or a legacy `uint32[2]` key."""
+    if not isinstance(key, jax.Array):
+        return False
+    if jnp.issubdtype(key.dtype, jax.dtypes.prng_key):
+        return key.shape == ()
+    return key.dtype == jnp.uint32 and key.shape == (2,)
+
+
 @eqx.filter_jit
 def _sample(
     model: StochasticGroundMotion,
@@ -334,16 +353,17 @@ def _sample(
     delta_omega = 2.0 * math.pi / (nt * model.time_step)
     n_components = (nt - 1) // 2  # k = 1 .. K; the mean (k = 0) and Nyquist bins stay 0
     omega = delta_omega * jnp.arange(1, n_components + 1, dtype=dtype)
-    amplitude = jnp.sqrt(2.0 * power_spectral_density(model, omega) * delta_omega)
+    amplitude = jnp.sqrt(power_spectral_density(model, omega) * delta_omega)[None, :]
+    shape = (n, n_components)
     if random_amplitudes:
         real_key, imag_key = jax.random.split(key)
-        shape = (n, n_components)
-        coefficient = (
-            jax.random.normal(real_key, shape, dtype) + 1j * jax.random.normal(imag_key, shape, dtype)
-        ) * amplitude
+        real = amplitude * jax.random.normal(real_key, shape, dtype)
+        imag = amplitude * jax.random.normal(imag_key, shape, dtype)
     else:
-        phase = jax.random.uniform(key, (n, n_components), dtype, 0.0, 2.0 * math.pi)
-        coefficient = math.sqrt(2.0) * amplitude * jnp.exp(1j * phase)
+        phase = jax.random.uniform(key, shape, dtype, 0.0, 2.0 * math.pi)
+        real = math.sqrt(2.0) * amplitude * jnp.cos(phase)
+        imag = math.sqrt(2.0) * amplitude * jnp.sin(phase)
+    coefficient = jax.lax.complex(real, imag)
     # irfft(X)_j = (1 / nt) [X_0 + 2 Re sum_k X_k exp(2 pi i k j / nt)], so X_k = nt c_k / 2
     # gives x_j = Re sum_k c_k exp(i omega_k t_j).
     spectrum = jnp.zeros((n, nt // 2 + 1), coefficient.dtype)
@@ -351,7 +371,7 @@ def _sample(
     record = jnp.fft.irfft(spectrum, n=nt, axis=-1)
     if stationary:
         return record
-    return record * envelope(model, sample_times(model))
+    return record * envelope(model, sample_times(model))[None, :]
 
 
 def sample(
@@ -398,5 +418,12 @@ def sample(
     except TypeError:
         count = None
     if isinstance(n, bool) or count is None or count <= 0:
-        raise ValueError(f"sample: `n` (number of records) must be a positive int, got {n!r}.")
+        raise ValueError(
+            f"sample: `n` (number of records) must be a positive int, got {n!r}."
+        )
+    if not _is_prng_key(key):
+        raise ValueError(
+            f"sample: `key` must be a JAX PRNG key such as `jax.random.key(seed)`, got "
+            f"{type(key).__name__} {getattr(key, 'dtype', '')}{getattr(key, 'shape', '')}."
+        )
     return _sample(model, key, count, bool(stationary), bool(random_amplitudes))

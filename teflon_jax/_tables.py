@@ -14,6 +14,7 @@ import equinox as eqx
 import jax.numpy as jnp
 import numpy as np
 
+from ._checks import concrete
 from ._friction import FrictionParameters
 from ._units import FOOT, INCH, KIP, PSI
 
@@ -138,9 +139,11 @@ class FrictionTable(eqx.Module):
         pressure = jnp.asarray(pressure, dtype=self.pressures.dtype)
         lo, hi = self.pressures[0], self.pressures[-1]
         if not self.extrapolate:
+            known = concrete(self.pressures)
+            span = "" if known is None else f" {known[0] / PSI:.0f}-{known[-1] / PSI:.0f} psi"
             message = (
-                f"pressure outside Table 1's range {float(lo) / PSI:.0f}-{float(hi) / PSI:.0f} psi; "
-                "pass extrapolate=True to extend the nearest segment"
+                f"pressure outside Table 1's range{span}; pass extrapolate=True to extend the "
+                "nearest segment"
             )
             pressure = eqx.error_if(pressure, (pressure < lo * (1 - 1e-9)) | (pressure > hi * (1 + 1e-9)), message)
 

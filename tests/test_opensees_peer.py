@@ -30,8 +30,8 @@ Y = 0.005 * INCH
 
 
 def test_constant_friction_step_acceleration_closed_form():
-    # Constant ground acceleration A > mu g: after a brief elastic stick phase the mass slides
-    # with total acceleration +mu g, so the relative velocity is -(A - mu g) t exactly.
+    # Constant ground acceleration A > mu g: after a brief elastic stick phase the mass
+    # slides with total acceleration +mu g, so the relative velocity is -(A - mu g) t.
     mu, amp, dt = 0.1, 0.5 * G, 1.0e-3
     acc = np.full(1001, amp)
     out = om.rigid_mass_on_slider(
