@@ -104,14 +104,14 @@ def friction_residual(data, sim, model_force):
     return d_mu, sliding
 
 
-def residual_correlation(model_minus_measured, model_force, regress, effect, data, sim=None):
+def residual_correlation(model_force, regress, effect, data, sim) -> float:
     """Pearson correlation of the friction residual with the effect's regressor (sliding samples).
 
     Positive: friction is under-predicted where the regressor is large. `nan`-free: 0 when the
     regressor is constant or the effect has no regressor.
     """
     key = EFFECT_REGRESSOR.get(effect)
-    if key is None or sim is None:
+    if key is None:
         return 0.0
     d_mu, sliding = friction_residual(data, sim, model_force)
     if key == "first_mobilisation":

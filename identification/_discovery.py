@@ -446,7 +446,7 @@ def discover_effects(
                 "nrmse_before": float(nrmse_before),
                 "nrmse_after": float(math.sqrt(sse_c / n) / scale),
                 "residual_correlation": residual_correlation(
-                    ref_full, sims["force"][0], regress, name, data, sims_row(sims, 0)
+                    sims["force"][0], regress, name, data, sims_row(sims, 0)
                 ),
                 "confidence": confidence_wording(delta_bic),
                 "parameters": {

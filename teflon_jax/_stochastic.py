@@ -255,7 +255,7 @@ def _variance_per_unit_intensity(model: StochasticGroundMotion) -> Array:
     eye = jnp.eye(n, dtype=a.dtype)
     # Row-major vec: vec(A P) = (A kron I) vec(P), vec(P A^T) = (I kron A) vec(P).
     lyapunov = jnp.kron(a, eye) + jnp.kron(eye, a)
-    rhs = -2.0 * math.pi * jnp.outer(b, b).reshape(-1)
+    rhs = -math.pi * jnp.outer(b, b).reshape(-1)
     covariance = jnp.linalg.solve(lyapunov, rhs).reshape(n, n)
     return c @ covariance @ c
 
@@ -353,7 +353,7 @@ def _sample(
     delta_omega = 2.0 * math.pi / (nt * model.time_step)
     n_components = (nt - 1) // 2  # k = 1 .. K; the mean (k = 0) and Nyquist bins stay 0
     omega = delta_omega * jnp.arange(1, n_components + 1, dtype=dtype)
-    amplitude = jnp.sqrt(power_spectral_density(model, omega) * delta_omega)[None, :]
+    amplitude = jnp.sqrt(2.0 * power_spectral_density(model, omega) * delta_omega)[None, :]
     shape = (n, n_components)
     if random_amplitudes:
         real_key, imag_key = jax.random.split(key)
