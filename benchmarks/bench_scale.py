@@ -31,8 +31,10 @@ def _rss_bytes():
 
 
 def _motions(duration=40.0):
+    strong = min(10.0, 0.5 * duration)
     return StochasticGroundMotion(peak_ground_acceleration=0.3 * STANDARD_GRAVITY,
-                                  duration=duration, time_step=0.01)
+                                  duration=duration, time_step=0.01, rise_time=min(2.0, 0.1 * duration),
+                                  strong_motion_duration=strong)
 
 
 def _throughput(kind, sizes, chunk_size, time_step):
@@ -102,9 +104,10 @@ def _gradient_cost(kind, n, duration, time_step):
     return out
 
 
-def run_scale_benchmark(quick: bool) -> dict:
+def run_scale_benchmark(quick: bool, sizes=None) -> dict:
     """B3 and B5. quick=True: N = 20, 100 and a short gradient case (minutes on 2 CPU cores)."""
-    sizes = (20, 100) if quick else (100, 1000, 10000)
+    if sizes is None:
+        sizes = (20, 100) if quick else (100, 1000, 10000)
     chunk = 50 if quick else 250
     result = {
         "hardware": {"devices": [str(d) for d in jax.devices()], "platform": platform.platform(),

@@ -59,8 +59,8 @@ RESPONSE_NAMES = ("base_disp", "base_shear_ratio")
 
 
 class UniformSignal(eqx.Module):
-    """A uniformly sampled signal a(t), linear between samples, zero before t = 0 is not
-    assumed: the first and last values are held outside the record (as `Signal`).
+    """A uniformly sampled signal a(t), linear between samples; outside the record the
+    first and last values are held (as `Signal` does).
 
     Same call as `Signal(times, values)` with `times = start + time_step * arange(nt)`, but
     the interval is found by division instead of a search, which is about twice as fast
@@ -520,6 +520,22 @@ class _Source(eqx.Module):
         return UniformSignal(values, self.time_step)
 
 
+def _put(array: np.ndarray, sharding):
+    """A host array as a global array laid out by `sharding` (each process fills only its
+    own devices' shards, so this also works across hosts)."""
+    array = np.asarray(array)
+    return jax.make_array_from_callback(array.shape, sharding, lambda index: array[index])
+
+
+def _get(tree):
+    """Fetch a (possibly multi-host) sharded result to NumPy on every process."""
+    if jax.process_count() > 1:
+        from jax.experimental import multihost_utils
+
+        return multihost_utils.process_allgather(tree, tiled=True)
+    return jax.device_get(tree)
+
+
 def monte_carlo(
     structure: Callable,
     motions: StochasticGroundMotion | RecordSet,
@@ -620,7 +636,9 @@ def monte_carlo(
     estimate = chunk * per_motion
     if memory_limit_bytes is None:
         free = available_memory_bytes(devices[0])
-        memory_limit_bytes = None if free is None else free // 2 * n_devices
+        # devices with their own memory (GPUs) each hold 1 / n_devices of a chunk
+        own_memory = devices[0].platform != "cpu"
+        memory_limit_bytes = None if free is None else free // 2 * (n_devices if own_memory else 1)
     if memory_limit_bytes is not None and estimate > memory_limit_bytes:
         largest = max(memory_limit_bytes // per_motion, 1)
         raise ValueError(
@@ -664,22 +682,18 @@ def monte_carlo(
             values = motions.acceleration[indices]
         else:
             values = np.zeros((chunk, 1))
-        args = (
-            jax.device_put(jnp.asarray(indices, jnp.int32), batched),
-            jax.device_put(jnp.asarray(values), batched),
-            design_arrays,
-        )
+        args = (_put(indices.astype(np.int32), batched), _put(values, batched), design_arrays)
         if c == 0:
             tic = time.perf_counter()
             compiled = compiled.lower(*args).compile()
             compile_s = time.perf_counter() - tic
         result = compiled(*args)
         if pending is not None:
-            outputs.append(jax.device_get(pending))
+            outputs.append(_get(pending))
             if progress is not None:
                 progress(min(c * chunk, n_total), n_total)
         pending = result
-    outputs.append(jax.device_get(pending))
+    outputs.append(_get(pending))
     if progress is not None:
         progress(n_total, n_total)
 

@@ -196,7 +196,7 @@ def envelope(
     t = _float(t)
     t1 = model.rise_time
     t2 = model.rise_time + model.strong_motion_duration
-    rise = (jnp.clip(t, 0.0, None) / t1) ** 2
+    rise = (jnp.clip(t, 0.0, None) / t1)
     decay = jnp.exp(-model.decay_rate * jnp.clip(t - t2, 0.0, None))
     return jnp.where(t < 0.0, 0.0, jnp.where(t < t1, rise, decay))
 
@@ -255,7 +255,7 @@ def _variance_per_unit_intensity(model: StochasticGroundMotion) -> Array:
     eye = jnp.eye(n, dtype=a.dtype)
     # Row-major vec: vec(A P) = (A kron I) vec(P), vec(P A^T) = (I kron A) vec(P).
     lyapunov = jnp.kron(a, eye) + jnp.kron(eye, a)
-    rhs = -math.pi * jnp.outer(b, b).reshape(-1)
+    rhs = -2.0 * math.pi * jnp.outer(b, b).reshape(-1)
     covariance = jnp.linalg.solve(lyapunov, rhs).reshape(n, n)
     return c @ covariance @ c
 
