@@ -196,7 +196,7 @@ def envelope(
     t = _float(t)
     t1 = model.rise_time
     t2 = model.rise_time + model.strong_motion_duration
-    rise = (jnp.clip(t, 0.0, None) / t1)
+    rise = (jnp.clip(t, 0.0, None) / t1) ** 2
     decay = jnp.exp(-model.decay_rate * jnp.clip(t - t2, 0.0, None))
     return jnp.where(t < 0.0, 0.0, jnp.where(t < t1, rise, decay))
 
