@@ -84,3 +84,12 @@ from ._spectra import (
     fourier_amplitude as fourier_amplitude,
     response_spectrum as response_spectrum,
 )
+from ._stochastic import (
+    StochasticGroundMotion as StochasticGroundMotion,
+    envelope as envelope,
+    power_spectral_density as power_spectral_density,
+    sample as sample_ground_motions,
+    sample_times as sample_times,
+    stationary_variance as stationary_variance,
+    white_noise_intensity as white_noise_intensity,
+)
