@@ -142,8 +142,9 @@ def test_sharded_equals_unsharded():
     two = _run("shard", 2)
     assert two["devices"] == 2
     assert single.base_disp.shape == (2, 7)
-    np.testing.assert_allclose(two["disp"], single.base_disp, rtol=1e-12)
-    np.testing.assert_allclose(two["shear"], single.base_shear_ratio, rtol=1e-12)
+    np.testing.assert_allclose(two["disp"], single.base_disp, rtol=1e-8)
+    np.testing.assert_allclose(two["shear"], single.base_shear_ratio, rtol=1e-8)
+    # (chunk layouts differ: 3 vs 4 motions; round-off is all that may differ)
     # and the variants differ (the comparison is not trivially equal)
     assert np.all(np.abs(single.base_disp[0] - single.base_disp[1]) > 1e-6)
 
