@@ -36,6 +36,7 @@ from ._motion import (
     TabulatedMotion as TabulatedMotion,
     TriangleMotion as TriangleMotion,
     as_signal as as_signal,
+    uniform_signal as uniform_signal,
     tabulated_motion as tabulated_motion,
 )
 from ._solver import AbstractSteppedSystem as AbstractSteppedSystem, RiccatiNewmark as RiccatiNewmark
@@ -93,3 +94,26 @@ from ._stochastic import (
     stationary_variance as stationary_variance,
     white_noise_intensity as white_noise_intensity,
 )
+from ._models import (
+    BuildingResponse as BuildingResponse,
+    building_response_quantities as building_response_quantities,
+    rigid_mass as rigid_mass,
+    signal_from_motion as signal_from_motion,
+    six_storey_building as six_storey_building,
+    superstructure_matrices as superstructure_matrices,
+)
+from ._batch import (
+    SweepResult as SweepResult,
+    building_sweep as building_sweep,
+    pad_signals as pad_signals,
+    simulate_batch as simulate_batch,
+    stack_systems as stack_systems,
+)
+from ._reproduce import reproduce as reproduce
+from ._montecarlo import (
+    MonteCarloResult as MonteCarloResult,
+    isolated_structure as isolated_structure,
+    monte_carlo as monte_carlo,
+    record_set as record_set,
+)
+from ._design import optimise_design as optimise_design, gradient_check as gradient_check

@@ -14,6 +14,7 @@ Reference: Constantinou, Mokha & Reinhorn (1990), Fig. 11.
 """
 
 import dataclasses
+import functools
 from collections.abc import Mapping, Sequence
 
 import jax
@@ -79,7 +80,9 @@ def pad_signals(signals: Sequence[Signal], duration: float | None = None) -> tup
         extra = n - len(times)
         times_out.append(np.concatenate([times, times[-1] + dt * np.arange(1, extra + 1)]))
         values_out.append(np.concatenate([values, np.zeros(extra)]))
-    batched = Signal(times=jnp.asarray(np.stack(times_out)), values=jnp.asarray(np.stack(values_out)))
+    batched = Signal(
+        times=jnp.asarray(np.stack(times_out)), values=jnp.asarray(np.stack(values_out)), uniform=True
+    )
     return batched, ends
 
 
@@ -115,6 +118,35 @@ def building_peaks(system: StructureOnSliders, duration: float, own_duration):
         "max_friction_ratio": _masked_peak(quantities.friction_force, mask) / system.bearing_load,
         "succeeded": response.succeeded,
     }
+
+
+@functools.lru_cache(maxsize=8)
+def _sweep_functions(duration, time_step, breakaway_ratio, isolation_damping, linear_damping):
+    """Jitted, vmapped peak functions of the sweep, compiled once per set of settings."""
+
+    def sliding(times, values, own_duration, friction, period):
+        bearing = paper_bearing(friction, breakaway_ratio=breakaway_ratio)
+        system = six_storey_building(
+            bearing=bearing,
+            ground_acceleration=Signal(times, values, uniform=True),
+            time_step=time_step,
+            isolation_period=period,
+            isolation_damping=isolation_damping,
+        )
+        return building_peaks(system, duration, own_duration)
+
+    def linear(times, values, own_duration, period):
+        system = six_storey_building(
+            bearing=None,
+            ground_acceleration=Signal(times, values, uniform=True),
+            time_step=time_step,
+            isolation_period=period,
+            isolation_damping=linear_damping,
+            friction_model="none",
+        )
+        return building_peaks(system, duration, own_duration)
+
+    return jax.jit(jax.vmap(sliding)), jax.jit(jax.vmap(linear))
 
 
 @dataclasses.dataclass(frozen=True)
@@ -201,32 +233,14 @@ def building_sweep(
     delta_f = np.array([float(f.delta_f) for f in frictions])
     rate_a = np.array([float(f.rate_a) for f in frictions])
 
-    def sliding(times, values, own_duration, friction, period):
-        bearing = paper_bearing(friction, breakaway_ratio=breakaway_ratio)
-        system = six_storey_building(
-            bearing=bearing,
-            ground_acceleration=Signal(times, values),
-            time_step=time_step,
-            isolation_period=period,
-            isolation_damping=isolation_damping,
-        )
-        return building_peaks(system, duration, own_duration)
-
-    def linear(times, values, own_duration, period):
-        system = six_storey_building(
-            bearing=None,
-            ground_acceleration=Signal(times, values),
-            time_step=time_step,
-            isolation_period=period,
-            isolation_damping=linear_damping,
-            friction_model="none",
-        )
-        return building_peaks(system, duration, own_duration)
+    sliding, linear = _sweep_functions(
+        float(duration), float(time_step), breakaway_ratio, isolation_damping, linear_damping
+    )
 
     n_r, n_p, n_t = len(labels), len(pressures), len(periods)
     grid_r, grid_p, grid_t = np.meshgrid(np.arange(n_r), np.arange(n_p), np.arange(n_t), indexing="ij")
     grid_r, grid_p, grid_t = grid_r.ravel(), grid_p.ravel(), grid_t.ravel()
-    out = jax.jit(jax.vmap(sliding))(
+    out = sliding(
         batched.times[grid_r],
         batched.values[grid_r],
         jnp.asarray(own[grid_r]),
@@ -244,7 +258,7 @@ def building_sweep(
     if include_linear:
         lr, lt = np.meshgrid(np.arange(n_r), np.arange(n_t), indexing="ij")
         lr, lt = lr.ravel(), lt.ravel()
-        lin = jax.jit(jax.vmap(linear))(
+        lin = linear(
             batched.times[lr], batched.values[lr], jnp.asarray(own[lr]), jnp.asarray(periods[lt])
         )
         for name in PEAK_NAMES:

@@ -14,7 +14,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ._bearing import SlidingBearing
-from ._motion import Signal
+from ._motion import Signal, uniform_signal
 from ._structure import FRICTION_MODELS, StructureOnSliders, StructureResponse, structure_on_sliders
 from ._tables import BuildingData, load_table2
 from ._units import STANDARD_GRAVITY
@@ -45,8 +45,7 @@ def _check_friction_model(friction_model: str) -> None:
 def signal_from_motion(motion) -> Signal:
     """A `GroundMotion` as a `Signal` of ground acceleration [m/s^2] with its clock restarted
     at 0 (a windowed record such as SCT 25-75 s starts at t = 0)."""
-    times = np.asarray(motion.time, dtype=float) - float(motion.start_time)
-    return Signal(times=jnp.asarray(times), values=jnp.asarray(motion.acceleration, dtype=float))
+    return uniform_signal(np.asarray(motion.acceleration, dtype=float), float(motion.time_step))
 
 
 def rigid_mass(

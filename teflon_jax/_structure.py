@@ -23,6 +23,8 @@ from ._motion import Signal
 from ._solver import AbstractSteppedSystem, require_riccati_form
 
 FRICTION_MODELS = ("hysteretic", "coulomb", "none")
+NEWTON_ITERATIONS = 6
+"""Fixed number of bracketed Newton iterations per step (a fixed count keeps reverse-mode AD)."""
 
 
 class StructureOnSliders(AbstractSteppedSystem):
@@ -42,6 +44,8 @@ class StructureOnSliders(AbstractSteppedSystem):
       `newmark_inverse` = K_eff^-1 is prefactored for it).
     - `friction_model` (static): "hysteretic" (Bouc-Wen, the paper's model), "coulomb"
       (Eq. 2, stick-slip) or "none" (a linear isolation system).
+    - `newton_iterations` (static): bracketed Newton iterations per step; a step whose
+      residual is still above tolerance after them is reported as not converged.
     """
 
     mass: jnp.ndarray
@@ -53,6 +57,7 @@ class StructureOnSliders(AbstractSteppedSystem):
     newmark_inverse: jnp.ndarray
     time_step: float = eqx.field(static=True)
     friction_model: str = eqx.field(static=True, default="hysteretic")
+    newton_iterations: int = eqx.field(static=True, default=NEWTON_ITERATIONS)
 
     def friction_force(self, velocity, z, z_peak):
         """F = mu W Z [N] at isolator `velocity` [m/s]."""
@@ -156,7 +161,7 @@ class StructureOnSliders(AbstractSteppedSystem):
             inside = (step >= lo) & (step <= hi) & (dr > 0)
             return jnp.where(inside, step, 0.5 * (lo + hi)), lo, hi
 
-        x, _, _ = jax.lax.fori_loop(0, 16, newton, (x0, lo, hi))
+        x, _, _ = jax.lax.fori_loop(0, self.newton_iterations, newton, (x0, lo, hi))
         force, z1 = force_at(x)
         eps = jnp.finfo(jnp.result_type(x)).eps
         tolerance = jnp.maximum(1e-6 * h.yield_disp, 1e3 * eps * (jnp.abs(x) + jnp.abs(ub_linear)))
@@ -174,6 +179,7 @@ def structure_on_sliders(
     ground_acceleration: Signal,
     time_step: float,
     friction_model: str = "hysteretic",
+    newton_iterations: int = NEWTON_ITERATIONS,
 ) -> StructureOnSliders:
     """Build a `StructureOnSliders`, checking shapes and prefactoring Newmark's matrix.
 
@@ -212,6 +218,7 @@ def structure_on_sliders(
         time_step=float(time_step),
         newmark_inverse=jnp.linalg.inv(k_eff),
         friction_model=friction_model,
+        newton_iterations=int(newton_iterations),
     )
 
 
