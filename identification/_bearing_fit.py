@@ -195,7 +195,7 @@ def _features_time(time, ux, fx, load, n_interfaces, name, yield_ref):
         if positive.size == 0 or f_seg[0] >= 0:
             continue
         j = positive[0]
-        if j == 0:
+        if j < 2:  # crossing not resolved by the sampling
             continue
         d0 = d_seg[j - 1] + (d_seg[j] - d_seg[j - 1]) * (-f_seg[j - 1]) / (f_seg[j] - f_seg[j - 1])
         y_estimates.append(d0 / _ZERO_CROSSING)
@@ -350,10 +350,20 @@ class BearingModel(eqx.Module):
         return out
 
     def __call__(self, params, args):
-        forces = self.forces(params, args)
-        return jnp.concatenate([
-            (f - rec["fx"]) * rec["weight"] for f, rec in zip(forces, args["records"])
-        ])
+        values = self.values(params, args["fixed"])
+        out = []
+        for kind, n, rec in zip(self.kinds, self.n_interfaces, args["records"]):
+            if kind == "time":
+                f = simulate_record_force(
+                    values, rec["time"], rec["ux"], rec["load"], z0=rec["z0"],
+                    z_peak0=rec["z_peak0"], use_breakaway=self.use_breakaway, n_interfaces=n)
+                out.append((f - rec["fx"]) * rec["weight"])
+            else:
+                from ._digitised import digitised_residual
+
+                out.append(digitised_residual(values, rec, use_breakaway=self.use_breakaway,
+                                              n_interfaces=n))
+        return jnp.concatenate(out)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -729,7 +739,7 @@ def fit_bearing_test(
     initial: Mapping[str, float] | None = None,
     bounds: Mapping[str, tuple[float, float]] | None = None,
     normal_load: float | None = None,
-    n_starts: int = 6,
+    n_starts: int = 8,
     max_steps: int = 200,
     rtol: float = 1e-8,
     atol: float = 1e-8,

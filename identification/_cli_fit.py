@@ -25,7 +25,7 @@ def add_fit_parser(subparsers) -> argparse.ArgumentParser:
                         help="values of parameters held fixed, SI (e.g. yield_disp=1.27e-4)")
     parser.add_argument("--normal-load", type=float, default=None, metavar="N",
                         help="normal load [N] for records without one (1 fits the force)")
-    parser.add_argument("--starts", type=int, default=6, help="number of starts (default 6)")
+    parser.add_argument("--starts", type=int, default=8, help="number of starts (default 8)")
     parser.add_argument("--json", required=True, metavar="OUT.json", help="JSON report (SI)")
     parser.add_argument("--plot", default=None, metavar="OUT.png",
                         help="plot of measured and fitted loops with the residual")
@@ -79,7 +79,7 @@ def run_fit(args) -> int:
         records = [read_record(p) for p in args.records]
         fit = fit_bearing_test(records, free=free, fixed=fixed,
                                normal_load=getattr(args, "normal_load", None),
-                               n_starts=getattr(args, "starts", 6))
+                               n_starts=getattr(args, "starts", 8))
     except ValueError as error:
         print(f"teflon-jax fit: error: {error}", file=sys.stderr)
         return 2

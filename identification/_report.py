@@ -9,6 +9,7 @@ breakaway -- is visible rather than averaged away in one number.
 import json
 import math
 import pathlib
+import textwrap
 
 import numpy as np
 
@@ -61,7 +62,7 @@ def plot_fit(path, fit: BearingFit, *, force_unit: str = "kN", length_unit: str 
         f"{name} = {_fmt(fit.parameters[name])}" for name in fit.free
     )
     status = "converged" if fit.converged else "NOT CONVERGED"
-    fig.suptitle(f"{text}  ({status})", fontsize=9)
+    fig.suptitle(textwrap.fill(f"{text}  ({status})", width=int(90 * n)), fontsize=9)
     fig.tight_layout()
     fig.savefig(pathlib.Path(path), dpi=110)
     plt.close(fig)

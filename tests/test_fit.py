@@ -31,8 +31,11 @@ def _truth(row, yield_disp=Y_PAPER):
                 yield_disp=yield_disp, breakaway_ratio=row.breakaway_ratio)
 
 
-def _protocol(fs=500.0, amplitude=4 * INCH, frequency=0.6, cycles=3):
-    """Sine of test No. 75 (4 in, 0.6 Hz, peak 15 in/s), started from rest at one end."""
+def _protocol(fs=1000.0, amplitude=4 * INCH, frequency=0.6, cycles=3):
+    """Sine of test No. 75 (4 in, 0.6 Hz, peak 15 in/s), started from rest at one end.
+
+    Sampled at 1 kHz so that the breakaway branch (about 4 Y of travel) holds ~10 samples.
+    """
     t = np.arange(0.0, cycles / frequency + 1e-9, 1.0 / fs)
     u = amplitude * (1.0 - np.cos(2 * np.pi * frequency * t))
     return t, u
@@ -162,6 +165,7 @@ def test_all_table1_interfaces_in_one_batch():
         _assert_recovered(fit, _truth(row))
 
 
+@pytest.mark.slow
 def test_joint_fit_of_two_protocols():
     row = tj.load_table1()[4]
     fast = _synthetic(row, seed=3)
@@ -207,7 +211,7 @@ def _independent_record(row, seed, fs=1000.0, amplitude=4 * INCH, frequency=0.6,
 
 def test_independent_integration_is_fitted():
     row = tj.load_table1()[1]
-    fit = fit_bearing_test(_independent_record(row, seed=7), n_starts=3)
+    fit = fit_bearing_test(_independent_record(row, seed=7))
     _assert_recovered(fit, _truth(row))
 
 
@@ -297,4 +301,4 @@ def test_identifiability_warnings():
     record = test_record_from_arrays(np.asarray(result.ux), np.asarray(result.fx),
                                      time=np.asarray(result.time), normal_load=NORMAL_LOAD)
     fit = fit_bearing_test(record, n_starts=1)
-    assert any(w.startswith("rate_a, delta_f: not identifiable") for w in fit.warnings)
+    assert any("rate_a" in w and "identifiable" in w for w in fit.warnings), fit.warnings
