@@ -96,6 +96,7 @@ def simulate_bearing_test(
     rtol: float = 1e-8,
     atol: float = 1e-10,
     max_steps: int = 1_000_000,
+    adjoint: diffrax.AbstractAdjoint | None = None,
     throw: bool = True,
 ) -> BearingTestResult:
     """Simulate a bearing test under an imposed motion.
@@ -112,6 +113,8 @@ def simulate_bearing_test(
     - `solver`: `RiccatiNewmark()` (default for uniaxial motion: exact Z along each step) or
       any diffrax solver; an adaptive one (default for biaxial motion: `Tsit5` with a PID
       controller at `rtol`, `atol`) is used with adaptive steps.
+    - `adjoint`: diffrax adjoint; default reverse mode (`RecursiveCheckpointAdjoint`), or
+      `diffrax.ForwardMode()` for `jax.jvp`/`jax.jacfwd`.
     - `throw`: raise on solver failure; with `False` the failure is in `result`.
 
     **Returns:** a `BearingTestResult`.
@@ -136,11 +139,12 @@ def simulate_bearing_test(
     else:
         controller = diffrax.StepTo(ts=_refine(times, steps_per_sample))
         dt0 = None
-    return _solve(system, solver, controller, dt0, times, normal_load, max_steps, throw)
+    adjoint = diffrax.RecursiveCheckpointAdjoint() if adjoint is None else adjoint
+    return _solve(system, solver, controller, dt0, times, normal_load, max_steps, adjoint, throw)
 
 
 @eqx.filter_jit
-def _solve(system, solver, controller, dt0, times, normal_load, max_steps, throw):
+def _solve(system, solver, controller, dt0, times, normal_load, max_steps, adjoint, throw):
     z_dim = 2 if system.motion.biaxial else 1
     y0 = {"z": jnp.zeros(z_dim), "z_peak": jnp.zeros(())}
     solution = diffrax.diffeqsolve(
@@ -153,6 +157,7 @@ def _solve(system, solver, controller, dt0, times, normal_load, max_steps, throw
         saveat=diffrax.SaveAt(ts=times),
         stepsize_controller=controller,
         max_steps=max_steps,
+        adjoint=adjoint,
         throw=throw,
     )
     return _result(system.bearing, system.motion, normal_load, solution)

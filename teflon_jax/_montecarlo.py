@@ -344,7 +344,7 @@ def check_design(structure: IsolatedStructure, design: Mapping) -> None:
             continue
         array = np.asarray(value, dtype=float)
         lo, hi = ranges[name]
-        tolerance = 1e-9 * max(abs(lo), abs(hi) if math.isfinite(hi) else 0.0, 1.0)
+        tolerance = 1e-6 * max(abs(lo), abs(hi) if math.isfinite(hi) else 0.0, 1.0)  # float32 rounding
         bad = ~np.isfinite(array) | (array < lo - tolerance) | (array > hi + tolerance)
         if np.any(bad):
             if name == "pressure":
