@@ -23,8 +23,9 @@ def add_fit_parser(subparsers) -> argparse.ArgumentParser:
                              "from rest)")
     parser.add_argument("--fixed", default=None, metavar="NAME=VALUE,...",
                         help="values of parameters held fixed, SI (e.g. yield_disp=1.27e-4)")
-    parser.add_argument("--normal-load", type=float, default=None, metavar="N",
-                        help="normal load [N] for records without one (1 fits the force)")
+    parser.add_argument("--normal-load", default=None, metavar="LOAD",
+                        help="normal load with its unit (e.g. 78.5kip, 350kN) for records without "
+                             "one; '1N' fits the force itself (f_max, delta_f in newtons)")
     parser.add_argument("--starts", type=int, default=8, help="number of starts (default 8)")
     parser.add_argument("--json", required=True, metavar="OUT.json", help="JSON report (SI)")
     parser.add_argument("--plot", default=None, metavar="OUT.png",
@@ -77,8 +78,14 @@ def run_fit(args) -> int:
         free = parse_free(args.free) if args.free is not None else None
         fixed = _parse_fixed(getattr(args, "fixed", None))
         records = [read_record(p) for p in args.records]
-        fit = fit_bearing_test(records, free=free, fixed=fixed,
-                               normal_load=getattr(args, "normal_load", None),
+        normal_load = getattr(args, "normal_load", None)
+        if normal_load is not None:
+            from teflon_jax._units import parse_quantity
+
+            normal_load = parse_quantity(normal_load, "force", where="--normal-load")
+            if not normal_load > 0:
+                raise ValueError(f"--normal-load: must be > 0, got {args.normal_load}.")
+        fit = fit_bearing_test(records, free=free, fixed=fixed, normal_load=normal_load,
                                n_starts=getattr(args, "starts", 8))
     except ValueError as error:
         print(f"teflon-jax fit: error: {error}", file=sys.stderr)
