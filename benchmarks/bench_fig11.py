@@ -56,39 +56,17 @@ def run_fig11_benchmark(quick: bool) -> dict:
 
 
 def _opensees_subset(records, periods, quick):
-    import importlib.util
-    import pathlib
+    from _peer import building, load_peer
 
-    from teflon_jax._models import superstructure_matrices
-    from teflon_jax._tables import interface_parameters, load_table2
-    from teflon_jax.units import INCH, PSI, STANDARD_GRAVITY
-
-    spec = importlib.util.spec_from_file_location(
-        "_opensees_models", pathlib.Path(__file__).with_name("_opensees_models.py"))
-    peer = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(peer)
     try:
-        peer.import_opensees()
+        peer = load_peer()
     except ImportError as error:
         return {"skipped": str(error)}
-    building = load_table2()
-    floor_masses, stiffness, damping, _ = superstructure_matrices(building)
-    base_mass = building.base_weight / STANDARD_GRAVITY
-    total_mass = building.total_weight / STANDARD_GRAVITY
-    friction, _ = interface_parameters("UF", 1000 * PSI, "P")
     subset = [("elcentro", 2.0)] if quick else [("elcentro", 1.0), ("elcentro", 3.0), ("sct", 2.0)]
     walls = []
     for name, period in subset:
         motion = records[name]
-        rubber = total_mass * (2 * np.pi / period) ** 2
-        result = peer.building_on_sliders(
-            np.asarray(motion.acceleration), float(motion.time_step),
-            floor_masses=floor_masses, stiffness=np.asarray(stiffness),
-            damping=np.asarray(damping), base_mass=base_mass, f_max=float(friction.f_max),
-            delta_f=float(friction.delta_f), rate_a=float(friction.rate_a),
-            yield_disp=0.005 * INCH, rubber_stiffness=rubber, rubber_damping_ratio=0.05,
-            n_sub=int(round(float(motion.time_step) / 0.005)),
-        )
+        result = building(peer, motion.acceleration, float(motion.time_step), period=period)
         walls.append(result["wall_s"])
     return {
         "model": "flatSliderBearing + VelDependent, full 6x6 K and C, Newmark + modified Newton, 5 ms steps",

@@ -109,43 +109,20 @@ def _gradient_cost(kind, n, duration, time_step):
 
 def _opensees_throughput(kind, n, time_step):
     """Records per second of the OpenSees peer on the same stochastic motions (a subset)."""
-    import importlib.util
-    import pathlib
+    from _peer import building, load_peer, rigid_mass
 
-    spec = importlib.util.spec_from_file_location(
-        "_opensees_models", pathlib.Path(__file__).with_name("_opensees_models.py"))
-    peer = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(peer)
     try:
-        peer.import_opensees()
+        peer = load_peer()
     except ImportError as error:
         return {"skipped": str(error)}
-    from teflon_jax._models import superstructure_matrices
-    from teflon_jax._tables import interface_parameters, load_table2
-
     model = _motions()
     records = np.asarray(sample(model, jax.random.key(1), n))
-    friction, _ = interface_parameters("UF", 1000 * PSI, "P")
-    common = dict(f_max=float(friction.f_max), delta_f=float(friction.delta_f),
-                  rate_a=float(friction.rate_a), yield_disp=0.005 * INCH,
-                  n_sub=int(round(model.time_step / time_step)))
     walls = []
     for acc in records:
         if kind == "rigid":
-            weight = 1.0e6
-            mass = weight / STANDARD_GRAVITY
-            k = mass * (2 * np.pi / 2.0) ** 2
-            r = peer.rigid_mass_on_slider(acc, model.time_step, weight=weight, spring_stiffness=k,
-                                          damping_ratio=0.05, **common)
+            r = rigid_mass(peer, acc, model.time_step, time_step=time_step, period=2.0, damping_ratio=0.05)
         else:
-            building = load_table2()
-            masses, stiffness, damping, _ = superstructure_matrices(building)
-            total_mass = building.total_weight / STANDARD_GRAVITY
-            r = peer.building_on_sliders(
-                acc, model.time_step, floor_masses=masses, stiffness=stiffness, damping=damping,
-                base_mass=building.base_weight / STANDARD_GRAVITY,
-                rubber_stiffness=total_mass * (2 * np.pi / 2.0) ** 2, rubber_damping_ratio=0.05,
-                **common)
+            r = building(peer, acc, model.time_step, period=2.0, time_step=time_step)
         walls.append(r["wall_s"])
     return {"n_motions": n, "s_per_record": float(np.mean(walls)), "records_per_s": n / float(np.sum(walls)),
             "time_step_s": time_step, "note": "same stochastic motions (key 1), Newmark + modified Newton"}

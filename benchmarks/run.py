@@ -26,6 +26,7 @@ import sys
 import time
 
 HERE = pathlib.Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))  # the benchmark helpers (_peer, bench_*) sit beside this file
 
 
 def _load(name):
@@ -126,16 +127,11 @@ def bench_b1(quick: bool) -> dict:
         },
     }
     try:
-        peer = _load("_opensees_models")
-        peer.import_opensees()
-        runs = [
-            peer.rigid_mass_on_slider(
-                ag, float(motion.time_step), weight=weight, f_max=float(friction.f_max),
-                delta_f=float(friction.delta_f), rate_a=float(friction.rate_a),
-                yield_disp=0.005 * INCH, n_sub=int(round(float(motion.time_step) / step)),
-            )
-            for _ in range(1 if quick else 3)
-        ]
+        from _peer import load_peer, rigid_mass
+
+        peer = load_peer()
+        runs = [rigid_mass(peer, ag, float(motion.time_step), time_step=step, weight=weight)
+                for _ in range(1 if quick else 3)]
         best = min(runs, key=lambda r: r["wall_s"])
         n = int(round(duration / float(motion.time_step))) + 1
         os_peak = float(np.max(np.abs(best["displacement"][:n])))

@@ -1,0 +1,49 @@
+"""The OpenSees peer as the benchmarks call it: the paper's UF/1000 psi bearings, 5 ms steps."""
+
+import importlib.util
+import pathlib
+
+import numpy as np
+
+from teflon_jax._models import superstructure_matrices
+from teflon_jax._tables import interface_parameters, load_table2
+from teflon_jax._units import INCH, PSI, STANDARD_GRAVITY
+
+
+def load_peer():
+    """`benchmarks/_opensees_models.py` with OpenSees imported; ImportError if it cannot be."""
+    spec = importlib.util.spec_from_file_location(
+        "_opensees_models", pathlib.Path(__file__).with_name("_opensees_models.py"))
+    peer = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(peer)
+    peer.import_opensees()
+    return peer
+
+
+def _bearing(record_time_step, time_step):
+    friction, _ = interface_parameters("UF", 1000 * PSI, "P")
+    return dict(f_max=float(friction.f_max), delta_f=float(friction.delta_f),
+                rate_a=float(friction.rate_a), yield_disp=0.005 * INCH,
+                n_sub=int(round(record_time_step / time_step)))
+
+
+def rigid_mass(peer, acc, record_time_step, *, time_step=0.005, period=None, damping_ratio=0.0,
+               weight=1.0e6):
+    """Rigid mass on UF/1000 psi sliders (optionally a spring of `period` and damping)."""
+    mass = weight / STANDARD_GRAVITY
+    k = 0.0 if period is None else mass * (2 * np.pi / period) ** 2
+    return peer.rigid_mass_on_slider(np.asarray(acc), record_time_step, weight=weight,
+                                     spring_stiffness=k, damping_ratio=damping_ratio,
+                                     **_bearing(record_time_step, time_step))
+
+
+def building(peer, acc, record_time_step, *, period, time_step=0.005):
+    """The Table 2 building on UF/1000 psi sliders and rubber springs of period `period`."""
+    data = load_table2()
+    masses, stiffness, damping, _ = superstructure_matrices(data)
+    total_mass = data.total_weight / STANDARD_GRAVITY
+    return peer.building_on_sliders(
+        np.asarray(acc), record_time_step, floor_masses=masses, stiffness=stiffness,
+        damping=damping, base_mass=data.base_weight / STANDARD_GRAVITY,
+        rubber_stiffness=total_mass * (2 * np.pi / period) ** 2, rubber_damping_ratio=0.05,
+        **_bearing(record_time_step, time_step))
