@@ -27,3 +27,18 @@ from ._fit import (
 from ._report import plot_fit as plot_fit, write_fit_json as write_fit_json
 
 # model discovery
+from ._discovery import (
+    DiscoveryResult as DiscoveryResult,
+    DiscoveryStep as DiscoveryStep,
+    discover_effects as discover_effects,
+)
+from ._effects import (
+    BASELINES as BASELINES,
+    EFFECT_NAMES as EFFECT_NAMES,
+    EFFECTS as EFFECTS,
+    Effect as Effect,
+    EffectParameter as EffectParameter,
+    kumar_temperature_factor as kumar_temperature_factor,
+)
+from ._augmented import simulate_augmented as simulate_augmented
+from ._diagnostics import locate_residual as locate_residual, regressors as regressors

@@ -56,7 +56,10 @@ class AugmentedData(eqx.Module):
     interval ending at each sample [m/s], `normal` effective normal force [N] (normal load
     times the number of interfaces recorded together), `pressure` contact pressure [Pa],
     `log_load_ratio` log(N / mean N), `travel_fraction` accumulated |du| over its final value,
-    `heat_rates`, `heat_weights`: the exponential approximation of the 1/sqrt(t) kernel.
+    `heat_rates`, `heat_weights`: the exponential approximation of the 1/sqrt(t) kernel;
+    for biaxial records also `uy`, `force_y`, `du_y`, `velocity_y` and the sliding-angle
+    weight `angle_weight` (0 along x, parallel to the lay; 1 along y), zeros otherwise, and the
+    static flag `biaxial`. Speeds and travel are those of the path in the plane.
     """
 
     time: jnp.ndarray
@@ -71,6 +74,12 @@ class AugmentedData(eqx.Module):
     travel_fraction: jnp.ndarray
     heat_rates: jnp.ndarray
     heat_weights: jnp.ndarray
+    uy: jnp.ndarray
+    force_y: jnp.ndarray
+    du_y: jnp.ndarray
+    velocity_y: jnp.ndarray
+    angle_weight: jnp.ndarray
+    biaxial: bool = eqx.field(static=True, default=False)
 
     @property
     def n_samples(self) -> int:
@@ -118,7 +127,9 @@ def prepare_record(record, *, max_samples: int = 3000, heat_terms_per_decade: fl
             "'# normal_load [kip]: ...' line (friction coefficient = force / normal load)."
         )
     if record.ux.size < 20:
-        raise ValueError(f"{where}: only {record.ux.size} samples; diagnose needs at least 20.")
+        raise ValueError(
+            f"{where}: only {record.ux.size} samples; diagnose needs at least 20."
+        )
     if max_samples < 20:
         raise ValueError(f"max_samples: must be >= 20, got {max_samples}.")
     step = int(np.ceil(record.ux.size / max_samples))
@@ -129,13 +140,40 @@ def prepare_record(record, *, max_samples: int = 3000, heat_terms_per_decade: fl
     load = np.asarray(record.normal_load, float)[keep]
     if np.any(load <= 0):
         raise ValueError(f"{where}: normal load must be > 0 (compression) at every sample.")
+    work = float(np.sum(0.5 * (fx[1:] + fx[:-1]) * np.diff(ux)))
+    if record.uy is not None and record.fy is not None:
+        fy_k, uy_k = np.asarray(record.fy, float)[keep], np.asarray(record.uy, float)[keep]
+        work += float(np.sum(0.5 * (fy_k[1:] + fy_k[:-1]) * np.diff(uy_k)))
+    if work < 0:
+        raise ValueError(
+            f"{where}: the friction force does negative work over the test (loops run "
+            "counter-clockwise): 'fx' must be the force the bearing resists with, positive "
+            "while sliding in +x (FORMATS.md); flip the sign of the force column."
+        )
     n_rec = int(record.metadata.get("interfaces", 1) or 1)
     normal = load * n_rec
 
+    biaxial = record.uy is not None
+    if biaxial and record.fy is None:
+        raise ValueError(
+            f"{where}: the record has 'uy' but no 'fy'; a biaxial test needs both."
+        )
+    uy = np.asarray(record.uy, float)[keep] if biaxial else np.zeros_like(ux)
+    fy = np.asarray(record.fy, float)[keep] if biaxial else np.zeros_like(ux)
     du = np.concatenate([[0.0], np.diff(ux)])
+    du_y = np.concatenate([[0.0], np.diff(uy)])
     dt = np.concatenate([[np.inf], np.diff(time)])
-    mean_speed = np.abs(du) / dt
+    step_length = np.hypot(du, du_y)
+    mean_speed = step_length / dt
     velocity = np.gradient(ux, time)
+    velocity_y = np.gradient(uy, time) if biaxial else np.zeros_like(ux)
+    if biaxial:
+        angle = np.arctan2(np.abs(velocity_y), np.abs(velocity))
+        angle_weight = np.where(
+            np.hypot(velocity, velocity_y) > 0, angle / (np.pi / 2), 0.0
+        )
+    else:
+        angle_weight = np.zeros_like(ux)
     if "contact_area" in record.metadata:
         pressure = load / float(record.metadata["contact_area"])
         assumed = False
@@ -145,7 +183,7 @@ def prepare_record(record, *, max_samples: int = 3000, heat_terms_per_decade: fl
     else:
         pressure = load / np.mean(load) * NOMINAL_CONTACT_PRESSURE
         assumed = True
-    travel = np.cumsum(np.abs(du))
+    travel = np.cumsum(step_length)
     travel_fraction = travel / max(travel[-1], 1e-300)
     duration = time[-1] - time[0]
     rates, weights = heat_kernel_exponentials(
@@ -164,13 +202,19 @@ def prepare_record(record, *, max_samples: int = 3000, heat_terms_per_decade: fl
         travel_fraction=jnp.asarray(travel_fraction),
         heat_rates=jnp.asarray(rates),
         heat_weights=jnp.asarray(weights),
+        uy=jnp.asarray(uy),
+        force_y=jnp.asarray(fy),
+        du_y=jnp.asarray(du_y),
+        velocity_y=jnp.asarray(velocity_y),
+        angle_weight=jnp.asarray(angle_weight),
+        biaxial=biaxial,
     )
     info = RecordInfo(
         decimation=step,
         n_interfaces_recorded=n_rec,
         contact_area_assumed=assumed,
         varying_normal_load=bool(np.std(load) > 0.01 * np.mean(load)),
-        biaxial=record.uy is not None,
+        biaxial=biaxial,
         source=where,
     )
     return data, info
@@ -189,7 +233,9 @@ def default_parameters() -> dict[str, float]:
     return {p.name: p.initial for p in PARAMETERS}
 
 
-def simulate_augmented(params, data: AugmentedData, active, *, conductivity=None, diffusivity=None):
+def simulate_augmented(
+    params, data: AugmentedData, active, *, conductivity=None, diffusivity=None
+):
     """Friction force of the augmented model along the record's imposed displacement.
 
     Friction coefficient (each factor is 1 while its effect is off):
@@ -210,7 +256,11 @@ def simulate_augmented(params, data: AugmentedData, active, *, conductivity=None
     - `active`: 0/1 array over `EFFECT_NAMES` (see `active_mask`).
     - `conductivity` [W/(m K)], `diffusivity` [m^2/s] of the steel (defaults: stainless steel).
 
-    **Returns:** dict of arrays over the samples: `force` [N], `coefficient` mu [-], `z` [-],
+    Biaxial records: Z is a vector updated by `planar_exact_update`, mu uses the speed of the
+    path in the plane and F = mu N Z per component.
+
+    **Returns:** dict of arrays over the samples: `force` [N] along x, `force_y` [N] (zeros for
+    uniaxial records), `coefficient` mu [-], `z` [-] (x component), `z_y`,
     `z_peak` [-], `temperature_rise` dT [K] (with the fitted heat_scale; 0 when heating is off),
     `heat_index` dT at heat_scale = 1 [K] (a regressor for diagnostics).
     """
@@ -224,7 +274,7 @@ def simulate_augmented(params, data: AugmentedData, active, *, conductivity=None
 
     n_stack = jnp.where(on["interfaces"] > 0, p["n_interfaces"], 1.0)
     delta_f = on["velocity_dependence"] * p["delta_f"]
-    speed = jnp.abs(data.velocity)
+    speed = jnp.sqrt(data.velocity**2 + data.velocity_y**2)
     mu_v = p["f_max"] - delta_f * jnp.exp(-p["rate_a"] * speed / n_stack)
     f_min = p["f_max"] - delta_f
     mu_static = p["breakaway_ratio"] * f_min
@@ -232,6 +282,7 @@ def simulate_augmented(params, data: AugmentedData, active, *, conductivity=None
         jnp.exp(-on["pressure_dependence"] * p["pressure_exponent"] * data.log_load_ratio)
         * (1.0 + on["asymmetry"] * p["asymmetry"] * jnp.sign(data.velocity))
         * (1.0 + on["wear"] * p["wear_change"] * data.travel_fraction)
+        * (1.0 + on["anisotropy"] * (p["perpendicular_ratio"] - 1.0) * data.angle_weight)
     )
     heat_on = on["heating"]
     breakaway_on = on["breakaway"] > 0
@@ -241,8 +292,12 @@ def simulate_augmented(params, data: AugmentedData, active, *, conductivity=None
     def step(carry, x):
         z, z_peak, heat, mu_prev = carry
         du, dt, mean_speed, pressure, mu_v_i, factor_i, normal = x
-        z = bouc_wen_exact_update(hyst, z, du)
-        z_peak = jnp.maximum(z_peak, jnp.abs(z))
+        if data.biaxial:
+            z = planar_exact_update(hyst, z, du)
+            z_peak = jnp.maximum(z_peak, jnp.sqrt(jnp.sum(z**2)))
+        else:
+            z = bouc_wen_exact_update(hyst, z, du)
+            z_peak = jnp.maximum(z_peak, jnp.abs(z))
         decay = jnp.exp(-rates * dt)
         flux = mu_prev * pressure * mean_speed
         heat = decay * heat + flux * (1.0 - decay) / rates
@@ -252,14 +307,70 @@ def simulate_augmented(params, data: AugmentedData, active, *, conductivity=None
         mu = jnp.maximum(base * factor_i * heating_factor(rise), 0.0)
         return (z, z_peak, heat, mu), (mu * normal * z, mu, z, z_peak, rise, heat_index)
 
-    init = (jnp.zeros(()), jnp.zeros(()), jnp.zeros_like(rates), jnp.zeros(()))
-    xs = (data.du, dts, data.mean_speed, data.pressure, mu_v, factor, data.normal)
+    z0 = jnp.zeros(2) if data.biaxial else jnp.zeros(())
+    du = jnp.stack([data.du, data.du_y], axis=-1) if data.biaxial else data.du
+    init = (z0, jnp.zeros(()), jnp.zeros_like(rates), jnp.zeros(()))
+    xs = (du, dts, data.mean_speed, data.pressure, mu_v, factor, data.normal)
     _, (force, mu, z, z_peak, rise, heat_index) = jax.lax.scan(step, init, xs)
+    if data.biaxial:
+        force_y, force, z_y, z = force[:, 1], force[:, 0], z[:, 1], z[:, 0]
+    else:
+        force_y, z_y = jnp.zeros_like(force), jnp.zeros_like(z)
     return {
         "force": force,
+        "force_y": force_y,
+        "z_y": z_y,
         "coefficient": mu,
         "z": z,
         "z_peak": z_peak,
         "temperature_rise": rise,
         "heat_index": heat_index,
     }
+
+
+def planar_exact_update(h: BoucWen, z, displacement_increment):
+    """Z = (Zx, Zy) after a straight displacement increment, in closed form (eta = 2).
+
+    Along a straight increment of length s in direction e, write Z = w e + p e_perp. With the
+    plane-isotropic form of the biaxial model,
+        Y dZ = A du - (gamma |du . Z| + beta du . Z) Z,
+    w obeys the uniaxial Riccati equation of Bouc-Wen (so `bouc_wen_exact_update` gives it
+    exactly) and p decays as d ln p / dx = -(gamma |w| + beta w), x = s / Y, which integrates to
+        p1 / p0 = 1 / (cosh(k+ x) + (w0 / w+) sinh(k+ x))                     (w0 >= 0)
+        p1 / p0 = 1 / (cos(k- x) - (w0 / w-) sin(k- x)), then the first form    (w0 < 0)
+    with w+- = sqrt(A / (gamma +- beta)), k+- = sqrt(A (gamma +- beta)), continuing on the
+    positive branch after w crosses zero. Park, Wen & Ang (1986) write the gamma term as
+    |du_x Z_x| + |du_y Z_y|; the two agree in uniaxial motion and while sliding (Z parallel to
+    the velocity) and differ only in the short transitions after a change of direction.
+
+    **Arguments:** `h` Bouc-Wen constants (gamma > beta), `z` (2,), `displacement_increment` (2,) [m].
+
+    **Returns:** Z (2,) at the end of the increment.
+    """
+    du = displacement_increment
+    length_sq = du[0] ** 2 + du[1] ** 2
+    moving = length_sq > 0
+    length = jnp.sqrt(jnp.where(moving, length_sq, 1.0))
+    e = jnp.where(moving, du / length, jnp.array([1.0, 0.0]))
+    length = jnp.where(moving, length, 0.0)
+    e_perp = jnp.array([-e[1], e[0]])
+    w0 = jnp.dot(z, e)
+    p0 = jnp.dot(z, e_perp)
+    w1 = bouc_wen_exact_update(h, w0, length)
+    x = length / h.yield_disp
+    c_plus, c_minus = h.gamma + h.beta, h.gamma - h.beta
+    w_plus, k_plus = jnp.sqrt(h.A / c_plus), jnp.sqrt(h.A * c_plus)
+    w_minus, k_minus = jnp.sqrt(h.A / c_minus), jnp.sqrt(h.A * c_minus)
+    negative = w0 < 0
+    w0_neg = jnp.where(negative, w0, -1.0)
+    x_to_zero = jnp.where(negative, -jnp.arctan(w0_neg / w_minus) / k_minus, 0.0)
+    x_neg = jnp.minimum(x, x_to_zero)
+    ratio_neg = 1.0 / (
+        jnp.cos(k_minus * x_neg) - (w0_neg / w_minus) * jnp.sin(k_minus * x_neg)
+    )
+    ratio_neg = jnp.where(negative, ratio_neg, 1.0)
+    w_start = jnp.where(negative, 0.0, w0)
+    kx = jnp.minimum(k_plus * jnp.maximum(x - x_to_zero, 0.0), 50.0)
+    ratio_pos = 1.0 / (jnp.cosh(kx) + (w_start / w_plus) * jnp.sinh(kx))
+    p1 = p0 * ratio_neg * ratio_pos
+    return jnp.where(moving, w1 * e + p1 * e_perp, z)

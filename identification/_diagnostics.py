@@ -12,6 +12,7 @@ d_mu = mu theta g, so d_mu correlates with the effect's regressor g:
 | pressure_dependence | log(N / N_ref) |
 | heating | surface temperature rise dT at heat_scale = 1 (heat-flux history) |
 | asymmetry | sliding direction sign(v) |
+| anisotropy | sliding-angle weight |theta| / (pi/2) (biaxial records) |
 | wear | accumulated travel |
 
 Plotting and report writing live here (not in the simulation modules); they use matplotlib's
@@ -32,7 +33,7 @@ EFFECT_REGRESSOR = {
     "heating": "heat",
     "asymmetry": "direction",
     "wear": "travel",
-    "anisotropy": None,
+    "anisotropy": "angle",
 }
 """The regressor each effect's signature follows."""
 
@@ -43,6 +44,7 @@ REGRESSOR_LABELS = {
     "heat": "temperature-rise index dT [K]",
     "direction": "sliding direction sign(v)",
     "travel": "accumulated travel / total [-]",
+    "angle": "sliding-angle weight |theta| / (pi/2) [-]",
     "time": "time [s]",
     "half_cycle": "half-cycle index",
 }
@@ -70,7 +72,7 @@ def half_cycle_index(ux, *, hysteresis: float = 0.05) -> np.ndarray:
             direction, ext_value, ext_at = -direction, u, i
     index = np.zeros(ux.size, dtype=int)
     for at in reversals:
-        index[at + 1:] += 1
+        index[at + 1 :] += 1
     return index
 
 
@@ -90,6 +92,7 @@ def regressors(data, sim, half_cycles) -> dict:
         "heat": np.asarray(sim["heat_index"]),
         "direction": np.sign(np.asarray(data.velocity)),
         "travel": np.asarray(data.travel_fraction),
+        "angle": np.asarray(data.angle_weight),
         "time": np.asarray(data.time) - float(data.time[0]),
         "half_cycle": np.asarray(half_cycles, float),
     }
@@ -117,8 +120,12 @@ def residual_correlation(model_force, regress, effect, data, sim) -> float:
     if key == "first_mobilisation":
         sliding = sliding | (regress[key] > 0)
         z = np.asarray(sim["z"])
-        d_mu = np.where(sliding, (np.asarray(data.force) - model_force)
-                        / (np.asarray(data.normal) * np.where(np.abs(z) > 1e-3, z, 1e-3)), 0.0)
+        d_mu = np.where(
+            sliding,
+            (np.asarray(data.force) - model_force)
+            / (np.asarray(data.normal) * np.where(np.abs(z) > 1e-3, z, 1e-3)),
+            0.0,
+        )
     g = regress[key][sliding]
     y = d_mu[sliding]
     if g.size < 3 or np.std(g) == 0 or np.std(y) == 0:
@@ -194,8 +201,14 @@ def write_plots(result, directory) -> dict:
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.2), sharey=True)
     for ax, model, title in (
         (axes[0], base, f"baseline ({result.baseline}): nrmse {result.nrmse_initial:.3f}"),
-        (axes[1], final, f"final (+{', '.join(result.effects_added) or 'nothing'}): "
-                         f"nrmse {result.nrmse_final:.3f}"),
+        (
+            axes[1],
+            final,
+            (
+                f"final (+{', '.join(result.effects_added) or 'nothing'}): "
+                f"nrmse {result.nrmse_final:.3f}"
+            ),
+        ),
     ):
         ax.plot(ux * 1e3, measured / normal, color="0.6", lw=1.2, label="measured")
         ax.plot(ux * 1e3, model / normal, color="C3", lw=1.0, label="model")
@@ -230,18 +243,31 @@ def write_plots(result, directory) -> dict:
     values = np.array([result.baseline_parameters.get(n, 0.0) for n in PARAMETER_NAMES])
     from ._augmented import PARAMETERS
 
-    values = np.array([result.baseline_parameters.get(p.name, p.initial) for p in PARAMETERS])
+    values = np.array(
+        [result.baseline_parameters.get(p.name, p.initial) for p in PARAMETERS]
+    )
     params = {name: values[i] for i, name in enumerate(PARAMETER_NAMES)}
-    sim = {k: np.asarray(v) for k, v in simulate_augmented(
-        params, data, active_mask(BASELINES[result.baseline])).items()}
+    sim = {
+        k: np.asarray(v)
+        for k, v in simulate_augmented(
+            params, data, active_mask(BASELINES[result.baseline])
+        ).items()
+    }
     hc = half_cycle_index(ux)
     reg = regressors(data, sim, hc)
     d_mu, sliding = friction_residual(data, sim, base)
     keys = ["speed", "load", "heat", "travel", "time", "half_cycle"]
+    if np.ptp(reg["load"]) == 0:  # constant normal load: show the sliding direction instead
+        keys[1] = "direction"
+        jitter = np.random.default_rng(0).uniform(-0.15, 0.15, reg["direction"].size)
+        reg = dict(reg, direction=reg["direction"] + jitter)
     fig, axes = plt.subplots(2, 3, figsize=(12, 6.5))
     v = np.asarray(data.velocity)
     for ax, key in zip(axes.ravel(), keys):
-        for mask, colour, label in ((sliding & (v > 0), "C0", "+x"), (sliding & (v < 0), "C1", "-x")):
+        for mask, colour, label in (
+            (sliding & (v > 0), "C0", "+x"),
+            (sliding & (v < 0), "C1", "-x"),
+        ):
             ax.plot(reg[key][mask], d_mu[mask], ".", ms=2, color=colour, label=label)
         ax.axhline(0, color="k", lw=0.6)
         ax.set_xlabel(REGRESSOR_LABELS[key], fontsize=8)
@@ -249,8 +275,11 @@ def write_plots(result, directory) -> dict:
     axes[0, 0].set_ylabel("friction residual d_mu (baseline) [-]")
     axes[1, 0].set_ylabel("friction residual d_mu (baseline) [-]")
     axes[0, 0].legend(fontsize=8, markerscale=4)
-    fig.suptitle("Baseline friction residual (measured - model) / (N Z) while sliding, "
-                 "against the regressors of the candidate effects", fontsize=9)
+    fig.suptitle(
+        "Baseline friction residual (measured - model) / (N Z) while sliding, "
+        "against the regressors of the candidate effects",
+        fontsize=9,
+    )
     fig.tight_layout()
     fig.savefig(directory / "residual_maps.png", dpi=110)
     plt.close(fig)
@@ -266,29 +295,46 @@ def write_report(result, directory, *, record_name: str = "record") -> pathlib.P
     directory = pathlib.Path(directory)
     files = write_plots(result, directory)
     data = result.data
-    values = np.array([result.baseline_parameters.get(p.name, p.initial) for p in PARAMETERS])
+    values = np.array(
+        [result.baseline_parameters.get(p.name, p.initial) for p in PARAMETERS]
+    )
     params = {name: values[i] for i, name in enumerate(PARAMETER_NAMES)}
-    sim = {k: np.asarray(v) for k, v in simulate_augmented(
-        params, data, active_mask(BASELINES[result.baseline])).items()}
-    where = locate_residual(data, sim, result.forces["baseline"], half_cycle_index(np.asarray(data.ux)))
+    sim = {
+        k: np.asarray(v)
+        for k, v in simulate_augmented(
+            params, data, active_mask(BASELINES[result.baseline])
+        ).items()
+    }
+    where = locate_residual(
+        data, sim, result.forces["baseline"], half_cycle_index(np.asarray(data.ux))
+    )
     units = {p.name: p.unit for p in PARAMETERS}
 
     lines = [f"# Model discovery: {record_name}", ""]
     lines += [
         f"- baseline: `{result.baseline}`; samples used: {data.n_samples} "
-        f"(every {result.info.decimation}. sample)",
+        + (
+            "(all samples)"
+            if result.info.decimation == 1
+            else f"(one in {result.info.decimation} of the record's samples)"
+        ),
         f"- conclusion: **{'no missing effect' if not result.effects_added else ', '.join(result.effects_added)}**",
         f"- nrmse: {result.nrmse_initial:.4f} (baseline) -> {result.nrmse_final:.4f} (final)",
         f"- runtime: {result.runtime_s:.1f} s (including compilation)",
         "",
         "nrmse = RMS(model - measured force) / RMS(measured force).",
         "",
+        _remaining_residual_note(result),
+        "",
         "## Decision rule",
         "",
-        "Each round refits the model with every candidate effect added. A candidate is accepted "
-        "when its BIC drop (charged with ln(n_eff) per parameter, n_eff the effective number of "
-        "independent residual samples) exceeds 10 ('very strong' on the Kass & Raftery scale) and "
-        "its prediction error on held-out half-cycles falls (two-fold blocked cross-validation).",
+        (
+            "Each round refits the model with every candidate effect added. A candidate is "
+            "accepted when its BIC drop (charged with ln(n_eff) per parameter, n_eff the "
+            "effective number of independent residual samples) exceeds 10 ('very strong' on the "
+            "Kass & Raftery scale) and its prediction error on held-out cycles falls (two-fold "
+            "blocked cross-validation)."
+        ),
         "",
         "## Steps",
         "",
@@ -302,9 +348,18 @@ def write_report(result, directory, *, record_name: str = "record") -> pathlib.P
             "",
             f"{EFFECTS[step.effect].equation}",
             "",
-            f"nrmse {step.nrmse_before:.4f} -> {step.nrmse_after:.4f}; delta_bic {e['delta_bic']:.1f} "
-            f"(n_eff {e['n_eff']:.0f}); held-out gain {100 * e['holdout_gain']:.1f} %; "
-            f"residual correlation with its regressor {e['residual_correlation']:+.2f}",
+            (
+                f"nrmse {step.nrmse_before:.4f} -> {step.nrmse_after:.4f}; "
+                f"delta_bic {e['delta_bic']:.1f} (n_eff {e['n_eff']:.0f}); "
+                f"held-out gain {100 * e['holdout_gain']:.1f} %; "
+                f"residual correlation with its regressor {e['residual_correlation']:+.2f}"
+            ),
+            "",
+            (
+                f"Naming: {e['naming_confidence']} evidence that it is {step.effect} rather "
+                f"than {e['runner_up'] or 'nothing'} "
+                f"(delta_bic margin {e['margin_over_runner_up']:.1f})."
+            ),
             "",
         ]
         lines += _candidate_table(step.candidates)
@@ -312,30 +367,94 @@ def write_report(result, directory, *, record_name: str = "record") -> pathlib.P
         lines += ["", "### Candidates refused in the last round", ""]
         lines += _candidate_table(result.final_round)
     if result.skipped:
-        lines += ["", "Not considered: " + "; ".join(f"{k} ({v})" for k, v in result.skipped.items())]
-    lines += ["", "## Fitted parameters (SI)", "", "| parameter | value | unit |", "|---|---|---|"]
-    lines += [f"| {k} | {v:.6g} | {units.get(k, '-')} |" for k, v in result.parameters.items()]
-    lines += ["", "## Where the baseline residual sits", "",
-              "| region | share of samples | share of residual energy | concentration |",
-              "|---|---|---|---|"]
-    lines += [f"| {k} | {v['share_of_samples']:.2f} | {v['share_of_residual']:.2f} | "
-              f"{v['concentration']:.2f} |" for k, v in where.items()]
+        lines += [
+            "",
+            "Not considered: " + "; ".join(f"{k} ({v})" for k, v in result.skipped.items()),
+        ]
+    lines += [
+        "",
+        "## Fitted parameters (SI)",
+        "",
+        "| parameter | value | standard error | unit |",
+        "|---|---|---|---|",
+    ]
+    lines += [
+        f"| {k} | {v:.6g} | {result.std_errors.get(k, float('nan')):.2g} | "
+        f"{units.get(k, '-')} |"
+        for k, v in result.parameters.items()
+    ]
+    lines += [
+        "",
+        (
+            "Standard errors: asymptotic, sigma^2 (J^T J)^-1 inflated by n / n_eff for "
+            "correlated residuals; 0 marks a parameter held at a known value."
+        ),
+    ]
+    lines += [
+        "",
+        "## Where the baseline residual sits",
+        "",
+        "| region | share of samples | share of residual energy | concentration |",
+        "|---|---|---|---|",
+    ]
+    lines += [
+        f"| {k} | {v['share_of_samples']:.2f} | {v['share_of_residual']:.2f} | "
+        f"{v['concentration']:.2f} |"
+        for k, v in where.items()
+    ]
     lines += ["", "## Figures", ""]
     lines += [f"![{name}]({fname})" for name, fname in files.items()]
     if result.info.contact_area_assumed:
-        lines += ["", "Note: the record states no contact area; the heating candidate assumed a "
-                      "contact pressure of 1000 psi (its heat_scale absorbs the difference)."]
+        lines += [
+            "",
+            (
+                "Note: the record states no contact area; the heating candidate assumed a "
+                "contact pressure of 1000 psi (its heat_scale absorbs the difference)."
+            ),
+        ]
     path = directory / "report.md"
     path.write_text("\n".join(lines) + "\n")
     return path
 
 
 def _candidate_table(evidence: dict) -> list:
-    lines = ["| candidate | delta_bic | confidence | held-out gain | nrmse after | corr |",
-             "|---|---|---|---|---|---|"]
+    lines = [
+        "| candidate | delta_bic | confidence | held-out gain | nrmse after | corr |",
+        "|---|---|---|---|---|---|",
+    ]
     for name, e in sorted(evidence.items(), key=lambda kv: -kv[1]["delta_bic"]):
         lines.append(
             f"| {name} | {e['delta_bic']:.1f} | {e['confidence']} | {100 * e['holdout_gain']:.1f} % | "
             f"{e['nrmse_after']:.4f} | {e['residual_correlation']:+.2f} |"
         )
     return lines
+
+
+def noise_estimate(residual) -> float:
+    """RMS of the sample-to-sample scatter of a residual, std(diff(r)) / sqrt(2).
+
+    For white measurement noise on top of a smooth misfit this estimates the noise alone.
+    """
+    r = np.asarray(residual, float)
+    return float(np.std(np.diff(r)) / np.sqrt(2.0))
+
+
+def _remaining_residual_note(result) -> str:
+    from ._discovery import effective_samples
+
+    residual = np.asarray(result.data.force) - result.forces["final"]
+    scale = float(np.sqrt(np.mean(np.asarray(result.data.force) ** 2)))
+    noise = noise_estimate(residual) / scale
+    n_eff = effective_samples(residual)
+    n = residual.size
+    if result.nrmse_final < 1.5 * noise or n_eff > 0.5 * n:
+        return (
+            f"Remaining residual: nrmse {result.nrmse_final:.4f} against a scatter of "
+            f"{noise:.4f} from sample to sample, n_eff {n_eff:.0f} of {n}: it looks like "
+            "measurement noise."
+        )
+    return (
+        f"Remaining residual: nrmse {result.nrmse_final:.4f} is well above the sample-to-"
+        f"sample scatter {noise:.4f} and is correlated (n_eff {n_eff:.0f} of {n}): the final "
+        "model still misses something that no candidate describes (see the residual maps)."
+    )

@@ -5,8 +5,8 @@ The workflow an experimentalist follows with a new bearing test, made explicit:
 1. Fit the baseline model (`paper1990`: Eq. 1 + Bouc-Wen; or `coulomb`: constant friction +
    Bouc-Wen) to the whole record.
 2. For every candidate effect not yet in the model, refit the model with that effect added
-   (a) to the whole record and (b) in two folds of alternate half-cycles (fit on the odd
-   half-cycles and predict the even ones, and the reverse).
+   (a) to the whole record and (b) in two folds of alternate cycles (fit on the odd cycles
+   and predict the even ones, and the reverse).
 3. Evidence for each candidate:
    - `delta_bic`: the drop of the Bayesian information criterion,
          delta_bic = n_eff ln(SSR_before / SSR_after) - k_added ln(n_eff),
@@ -17,10 +17,11 @@ The workflow an experimentalist follows with a new bearing test, made explicit:
      (1995): > 10 "very strong", 6-10 "strong", 2-6 "positive", < 2 "not worth more than a
      bare mention".
    - `holdout_gain`: 1 - CV_after / CV_before, with CV the root-mean-square prediction error
-     on the half-cycles left out of each fold's fit (blocked cross-validation).
+     on the cycles left out of each fold's fit (blocked cross-validation).
 4. The candidate with the largest delta_bic among those with a positive held-out gain is
    added if its delta_bic exceeds `bic_threshold` (10, "very strong"); otherwise the model is
-   declared complete ("no missing effect").
+   declared complete ("no missing effect"). How sure the *naming* is (this effect rather than
+   the runner-up) is the margin of its delta_bic over the runner-up's, read on the same scale.
 
 Every fit of one round (current model and every candidate, full record and both folds) is a
 single vmapped, compiled call of a masked Levenberg-Marquardt solver (`fit_batch`): effects are
@@ -73,7 +74,10 @@ class DiscoveryStep:
     """One accepted effect: its name, the evidence, and the error before and after.
 
     `evidence` holds `delta_bic`, `holdout_gain`, `n_eff`, `nrmse_before`, `nrmse_after`,
-    `residual_correlation`, `confidence`; `candidates` the evidence of every candidate of the
+    `residual_correlation`, `confidence` (that the effect is there), `runner_up`,
+    `margin_over_runner_up` (its delta_bic minus the runner-up's, or minus 0 when that is
+    negative) and `naming_confidence` (Kass & Raftery wording of that margin: that it is this
+    effect rather than the next best); `candidates` the evidence of every candidate of the
     round (name -> dict), `parameters` the fitted model after the step.
     """
 
@@ -94,6 +98,7 @@ class DiscoveryResult:
     - `nrmse_initial`, `nrmse_final`: normalised RMS error of the baseline and final fits,
       sqrt(mean((F_model - F_meas)^2)) / sqrt(mean(F_meas^2)),
     - `parameters`: fitted parameters of the final model (SI, active ones only),
+    - `std_errors`: their standard errors (see `_std_errors`; 0 for parameters held known),
     - `baseline_parameters`, `data`, `info` (the prepared record), `forces`: model force of the
       baseline and final fits, `runtime_s`, `applicable` candidates and `skipped` ones with why.
     """
@@ -105,6 +110,7 @@ class DiscoveryResult:
     nrmse_initial: float
     nrmse_final: float
     parameters: dict
+    std_errors: dict
     baseline_parameters: dict
     data: AugmentedData
     info: RecordInfo
@@ -114,40 +120,55 @@ class DiscoveryResult:
     skipped: dict
 
     def to_json(self) -> dict:
-        """The JSON document of the `diagnose` command (plain Python types)."""
-        return {
-            "baseline": self.baseline,
-            "steps": [
-                {
-                    "effect": s.effect,
-                    "evidence": s.evidence,
-                    "nrmse_before": s.nrmse_before,
-                    "nrmse_after": s.nrmse_after,
-                    "parameters": s.parameters,
-                    "candidates": s.candidates,
-                }
-                for s in self.steps
-            ],
-            "effects_added": list(self.effects_added),
-            "nrmse_initial": self.nrmse_initial,
-            "nrmse_final": self.nrmse_final,
-            "parameters": self.parameters,
-            "baseline_parameters": self.baseline_parameters,
-            "conclusion": (
-                "no missing effect" if not self.effects_added
-                else "added: " + ", ".join(self.effects_added)
-            ),
-            "refused_candidates": self.final_round,
-            "skipped_candidates": self.skipped,
-            "runtime_s": self.runtime_s,
-            "record": {
-                "source": self.info.source,
-                "samples_used": int(self.data.n_samples),
-                "decimation": self.info.decimation,
-                "interfaces_recorded": self.info.n_interfaces_recorded,
-                "contact_area_assumed": self.info.contact_area_assumed,
-            },
-        }
+        """The JSON document of the `diagnose` command (plain Python types; a non-finite
+        number, e.g. the standard error of an unidentifiable parameter, becomes `null`)."""
+        return _finite_or_null(
+            {
+                "baseline": self.baseline,
+                "steps": [
+                    {
+                        "effect": s.effect,
+                        "evidence": s.evidence,
+                        "nrmse_before": s.nrmse_before,
+                        "nrmse_after": s.nrmse_after,
+                        "parameters": s.parameters,
+                        "candidates": s.candidates,
+                    }
+                    for s in self.steps
+                ],
+                "effects_added": list(self.effects_added),
+                "nrmse_initial": self.nrmse_initial,
+                "nrmse_final": self.nrmse_final,
+                "parameters": self.parameters,
+                "std_errors": self.std_errors,
+                "baseline_parameters": self.baseline_parameters,
+                "conclusion": (
+                    "no missing effect"
+                    if not self.effects_added
+                    else "added: " + ", ".join(self.effects_added)
+                ),
+                "refused_candidates": self.final_round,
+                "skipped_candidates": self.skipped,
+                "runtime_s": self.runtime_s,
+                "record": {
+                    "source": self.info.source,
+                    "samples_used": int(self.data.n_samples),
+                    "decimation": self.info.decimation,
+                    "interfaces_recorded": self.info.n_interfaces_recorded,
+                    "contact_area_assumed": self.info.contact_area_assumed,
+                },
+            }
+        )
+
+
+def _finite_or_null(value):
+    if isinstance(value, dict):
+        return {k: _finite_or_null(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_finite_or_null(v) for v in value]
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    return value
 
 
 _LOWER = np.array([p.lower for p in PARAMETERS])
@@ -175,7 +196,9 @@ def to_unconstrained(x) -> np.ndarray:
 def _free_mask(active) -> np.ndarray:
     """1 for the parameters of the baseline and of the active effects."""
     on = {name: active[i] > 0 for i, name in enumerate(EFFECT_NAMES)}
-    return np.array([1.0 if owner == "baseline" or on[owner] else 0.0 for owner in PARAMETER_EFFECT])
+    return np.array(
+        [1.0 if owner == "baseline" or on[owner] else 0.0 for owner in PARAMETER_EFFECT]
+    )
 
 
 @functools.partial(jax.jit, static_argnames=("n_iter",))
@@ -197,7 +220,10 @@ def fit_batch(u0, free, actives, weights, data, scale, *, n_iter: int = 40):
     def one(u_start, free_i, active, weight):
         def residual(u):
             params = {name: x for name, x in zip(PARAMETER_NAMES, to_physical(u))}
-            r = weight * (simulate_augmented(params, data, active)["force"] - data.force) / scale
+            sim = simulate_augmented(params, data, active)
+            r = weight * (sim["force"] - data.force) / scale
+            if data.biaxial:
+                r = jnp.concatenate([r, weight * (sim["force_y"] - data.force_y) / scale])
             return r, r
 
         def cost_of(u):
@@ -237,13 +263,24 @@ def _simulate_batch(values, data, actives):
 
 
 def _fold_weights(n: int, hc) -> tuple[np.ndarray, np.ndarray]:
-    """Two complementary 0/1 masks: alternate half-cycles (or alternate eighths of the record
-    when it has fewer than 4 half-cycles)."""
-    if hc.max() + 1 >= 4:
-        a = (hc % 2 == 0).astype(float)
+    """Two complementary 0/1 masks over the samples: alternate cycles.
+
+    A cycle here is a pair of consecutive strokes (half-cycles 1-2, 3-4, ...; the stroke from
+    rest, 0, is a cycle of its own), so each fold holds sliding in both directions and an
+    effect that differs between them (asymmetry) stays identifiable in every fold. Records
+    with fewer than two cycles are split into alternate eighths of their length instead.
+    """
+    cycle = (np.asarray(hc) + 1) // 2
+    if cycle.max() >= 2:
+        a = (cycle % 2 == 0).astype(float)
     else:
         a = ((np.arange(n) * 8 // n) % 2 == 0).astype(float)
     return a, 1.0 - a
+
+
+def _stacked(x, y, biaxial: bool):
+    """x and y components one after the other along the last axis (biaxial), else x."""
+    return np.concatenate([x, y], axis=-1) if biaxial else x
 
 
 def _lag1(r) -> float:
@@ -269,19 +306,20 @@ def _applicable(info: RecordInfo, known):
                 "with rate_a known (e.g. from Table 1, `known={'rate_a': ...}`)"
             )
         elif effect.requires == "varying_normal_load" and not info.varying_normal_load:
-            skipped[name] = "normal load constant in this record (no contrast to identify it)"
-        elif effect.requires == "biaxial":
             skipped[name] = (
-                "needs a biaxial record; the augmented simulator is uniaxial"
-                if info.biaxial else "uniaxial record (one sliding direction only)"
+                "normal load constant in this record (no contrast to identify it)"
             )
+        elif effect.requires == "biaxial" and not info.biaxial:
+            skipped[name] = "uniaxial record (one sliding direction only)"
         else:
             applicable.append(name)
     return applicable, skipped
 
 
 def _start_values(data: AugmentedData) -> dict:
-    mu = np.abs(np.asarray(data.force) / np.asarray(data.normal))
+    mu = np.hypot(np.asarray(data.force), np.asarray(data.force_y)) / np.asarray(
+        data.normal
+    )
     start = {p.name: p.initial for p in PARAMETERS}
     start["f_max"] = float(np.clip(np.percentile(mu, 90), 0.003, 0.45))
     start["delta_f"] = 0.5 * start["f_max"]
@@ -326,15 +364,23 @@ def discover_effects(
     **Returns:** a `DiscoveryResult`.
     """
     if baseline not in BASELINES:
-        raise ValueError(f"baseline: unknown '{baseline}'; use one of {', '.join(BASELINES)}.")
-    if bic_threshold < 0:
+        raise ValueError(
+            f"baseline: unknown '{baseline}'; use one of {', '.join(BASELINES)}."
+        )
+    if not bic_threshold >= 0:
         raise ValueError(f"bic_threshold: must be >= 0, got {bic_threshold}.")
+    if max_effects < 0:
+        raise ValueError(f"max_effects: must be >= 0, got {max_effects}.")
+    if max_steps < 1:
+        raise ValueError(f"max_steps: must be >= 1, got {max_steps}.")
     started = _time.perf_counter()
     say = callback or (lambda text: None)
     known = dict(known or {})
     for name, value in known.items():
         if name not in PARAMETER_NAMES:
-            raise ValueError(f"known: unknown parameter '{name}'; choose from {list(PARAMETER_NAMES)}.")
+            raise ValueError(
+                f"known: unknown parameter '{name}'; choose from {list(PARAMETER_NAMES)}."
+            )
         p = PARAMETERS[PARAMETER_NAMES.index(name)]
         if not p.lower < float(value) < p.upper:
             raise ValueError(
@@ -346,7 +392,9 @@ def discover_effects(
     if candidates is not None:
         unknown = [c for c in candidates if c not in EFFECTS]
         if unknown:
-            raise ValueError(f"candidates: unknown {unknown}; choose from {list(EFFECT_NAMES)}.")
+            raise ValueError(
+                f"candidates: unknown {unknown}; choose from {list(EFFECT_NAMES)}."
+            )
         for name in applicable:
             if name not in candidates:
                 skipped[name] = "not among the requested candidates"
@@ -355,12 +403,14 @@ def discover_effects(
     pool = [c for c in applicable if c not in current]
 
     n = data.n_samples
-    force = np.asarray(data.force)
+    force = _stacked(np.asarray(data.force), np.asarray(data.force_y), data.biaxial)
+    n_total = force.size
     scale = float(np.sqrt(np.mean(force**2)))
     if not scale > 0:
         raise ValueError(f"{info.source}: the measured force is zero throughout.")
     half_cycles = half_cycle_index(np.asarray(data.ux))
     fold_a, fold_b = _fold_weights(n, half_cycles)
+    held_a, held_b = (_stacked(w, w, data.biaxial) for w in (fold_a, fold_b))
     ones = np.ones(n)
     n_members = 3 * (1 + len(pool))
 
@@ -374,8 +424,13 @@ def discover_effects(
         values = _inside(np.array([[s[name] for name in PARAMETER_NAMES] for s in starts]))
         free = np.array([_free_mask(a) * fixed for a in actives])
         u, _, jac = fit_batch(
-            jnp.asarray(to_unconstrained(values)), jnp.asarray(free), jnp.asarray(actives),
-            jnp.asarray(weights), data, scale, n_iter=max_steps,
+            jnp.asarray(to_unconstrained(values)),
+            jnp.asarray(free),
+            jnp.asarray(actives),
+            jnp.asarray(weights),
+            data,
+            scale,
+            n_iter=max_steps,
         )
         fitted = np.asarray(to_physical(u))
         sims = _simulate_batch(jnp.asarray(fitted), data, jnp.asarray(actives))
@@ -389,18 +444,22 @@ def discover_effects(
     for k in range(n_members):
         s = dict(start0)
         if "rate_a" not in known:
-            s["rate_a"] = PARAMETERS[PARAMETER_NAMES.index("rate_a")].initial * 10.0 ** ((k % 3) - 1)
+            s["rate_a"] = PARAMETERS[PARAMETER_NAMES.index("rate_a")].initial * 10.0 ** (
+                (k % 3) - 1
+            )
         s["yield_disp"] = start0["yield_disp"] * 4.0 ** ((k // 3) % 3 - 1)
         starts.append(s)
     mask = np.asarray(active_mask(current))
-    _, fitted, sims = run_batch(starts, [mask] * n_members, [ones] * n_members)
-    sse = np.sum((sims["force"] - force) ** 2, axis=1)
+    extra, fitted, sims = run_batch(starts, [mask] * n_members, [ones] * n_members)
+    sims["stacked"] = _stacked(sims["force"], sims["force_y"], data.biaxial)
+    sse = np.sum((sims["stacked"] - force) ** 2, axis=1)
     best = int(np.argmin(sse))
     values = fitted[best]
-    model_force = sims["force"][best]
-    say(f"baseline {baseline}: nrmse {np.sqrt(sse[best] / n) / scale:.4f}")
+    final_u, final_jac = extra["u"][best], extra["jacobian"][best]
+    model_force = sims["stacked"][best]
+    nrmse_initial = float(np.sqrt(sse[best] / n_total) / scale)
+    say(f"baseline {baseline}: nrmse {nrmse_initial:.4f}")
     baseline_values, baseline_force = values.copy(), model_force.copy()
-    nrmse_initial = float(np.sqrt(sse[best] / n) / scale)
 
     steps, final_round = [], {}
     while pool and len(steps) < max_effects:
@@ -410,8 +469,13 @@ def discover_effects(
             s = {name: float(values[i]) for i, name in enumerate(PARAMETER_NAMES)}
             for name in config:
                 if name not in current:
-                    s.update({p.name: p.initial for p in EFFECTS[name].parameters
-                              if p.name not in known})
+                    s.update(
+                        {
+                            p.name: p.initial
+                            for p in EFFECTS[name].parameters
+                            if p.name not in known
+                        }
+                    )
                     if name == "velocity_dependence":
                         # Keep the low-speed friction where the constant friction was.
                         f_now = s["f_max"]
@@ -423,19 +487,26 @@ def discover_effects(
                 starts.append(s)
                 actives.append(np.asarray(active_mask(config)))
                 weights.append(w)
-        _, fitted, sims = run_batch(starts, actives, weights)
-        err = sims["force"] - force[None, :]
+        extra, fitted, sims = run_batch(starts, actives, weights)
+        err = _stacked(sims["force"], sims["force_y"], data.biaxial) - force[None, :]
         evid = {}
         ref_full = err[0]
-        ref_cv = math.sqrt((np.sum((err[1] ** 2) * fold_b) + np.sum((err[2] ** 2) * fold_a)) / n)
+        ref_cv = math.sqrt(
+            (np.sum((err[1] ** 2) * held_b) + np.sum((err[2] ** 2) * held_a)) / n_total
+        )
         ref_sse = float(np.sum(ref_full**2))
-        nrmse_before = math.sqrt(ref_sse / n) / scale
+        nrmse_before = math.sqrt(ref_sse / n_total) / scale
         regress = regressors(data, sims_row(sims, 0), half_cycles)
         for j, name in enumerate(pool, start=1):
             full = err[3 * j]
             sse_c = float(np.sum(full**2))
-            cv = math.sqrt((np.sum((err[3 * j + 1] ** 2) * fold_b)
-                            + np.sum((err[3 * j + 2] ** 2) * fold_a)) / n)
+            cv = math.sqrt(
+                (
+                    np.sum((err[3 * j + 1] ** 2) * held_b)
+                    + np.sum((err[3 * j + 2] ** 2) * held_a)
+                )
+                / n_total
+            )
             n_eff = effective_samples(full)
             k = max(sum(p.name not in known for p in EFFECTS[name].parameters), 1)
             delta_bic = n_eff * math.log(ref_sse / max(sse_c, 1e-300)) - k * math.log(n_eff)
@@ -444,7 +515,7 @@ def discover_effects(
                 "holdout_gain": float(1.0 - cv / ref_cv) if ref_cv > 0 else 0.0,
                 "n_eff": float(n_eff),
                 "nrmse_before": float(nrmse_before),
-                "nrmse_after": float(math.sqrt(sse_c / n) / scale),
+                "nrmse_after": float(math.sqrt(sse_c / n_total) / scale),
                 "residual_correlation": residual_correlation(
                     sims["force"][0], regress, name, data, sims_row(sims, 0)
                 ),
@@ -462,9 +533,21 @@ def discover_effects(
             final_round = evid
             break
         chosen = ranked[0]
+        others = sorted(
+            (c for c in pool if c != chosen), key=lambda c: -evid[c]["delta_bic"]
+        )
+        if others:
+            margin = evid[chosen]["delta_bic"] - max(evid[others[0]]["delta_bic"], 0.0)
+            evid[chosen]["runner_up"] = others[0]
+        else:
+            margin = evid[chosen]["delta_bic"]
+            evid[chosen]["runner_up"] = None
+        evid[chosen]["margin_over_runner_up"] = float(margin)
+        evid[chosen]["naming_confidence"] = confidence_wording(margin)
         j = pool.index(chosen) + 1
         values = fitted[3 * j]
-        model_force = sims["force"][3 * j]
+        final_u, final_jac = extra["u"][3 * j], extra["jacobian"][3 * j]
+        model_force = err[3 * j] + force
         current.append(chosen)
         pool.remove(chosen)
         steps.append(
@@ -477,9 +560,14 @@ def discover_effects(
                 parameters=_active_parameters(values, current),
             )
         )
-        say(f"added {chosen}: nrmse {nrmse_before:.4f} -> {evid[chosen]['nrmse_after']:.4f}")
+        say(
+            f"added {chosen}: nrmse {nrmse_before:.4f} -> {evid[chosen]['nrmse_after']:.4f}"
+        )
 
     nrmse_final = float(np.sqrt(np.mean((model_force - force) ** 2)) / scale)
+    std_errors = _std_errors(
+        final_u, final_jac, (model_force - force) / scale, current, known
+    )
     return DiscoveryResult(
         baseline=baseline,
         effects_added=[s.effect for s in steps],
@@ -488,10 +576,11 @@ def discover_effects(
         nrmse_initial=nrmse_initial,
         nrmse_final=nrmse_final,
         parameters=_active_parameters(values, current),
+        std_errors=std_errors,
         baseline_parameters=_active_parameters(baseline_values, list(BASELINES[baseline])),
         data=data,
         info=info,
-        forces={"baseline": baseline_force, "final": model_force},
+        forces={"baseline": baseline_force[:n], "final": model_force[:n]},
         runtime_s=float(_time.perf_counter() - started),
         applicable=applicable,
         skipped=skipped,
@@ -503,6 +592,28 @@ def sims_row(sims: dict, i: int) -> dict:
     return {k: v[i] for k, v in sims.items()}
 
 
+def _std_errors(u, jac_u, residual, effects, known) -> dict:
+    """Standard errors of the fitted parameters at the optimum, in SI.
+
+    The Jacobian in the unconstrained parameters u is mapped to the physical ones through
+    dx/du of `to_physical`; the covariance is sigma^2 (J^T J)^-1 (`covariance_from_jacobian`),
+    inflated by n / n_eff for residuals correlated from sample to sample (n_eff as in the
+    evidence), since n correlated samples carry the information of n_eff independent ones.
+    """
+    u = np.asarray(u, float)
+    s = 1.0 / (1.0 + np.exp(-u))
+    x = np.asarray(to_physical(jnp.asarray(u)))
+    dxdu = (_HI - _LO) * s * (1 - s) * np.where(_LOG, x, 1.0)
+    names = [n for n in _active_parameters(x, effects) if n not in known]
+    cols = [PARAMETER_NAMES.index(n) for n in names]
+    jac_x = np.asarray(jac_u)[:, cols] / dxdu[cols]
+    cov, _ = covariance_from_jacobian(jac_x, np.asarray(residual))
+    inflation = len(residual) / effective_samples(residual)
+    out = {n: float(np.sqrt(abs(cov[i, i]) * inflation)) for i, n in enumerate(names)}
+    out.update({n: 0.0 for n in known})
+    return out
+
+
 def _active_parameters(values, effects) -> dict:
     out = {}
     for i, name in enumerate(PARAMETER_NAMES):
@@ -510,4 +621,3 @@ def _active_parameters(values, effects) -> dict:
         if owner == "baseline" or owner in effects:
             out[name] = float(values[i])
     return out
-

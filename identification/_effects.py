@@ -83,7 +83,13 @@ class Effect:
 BASELINE_PARAMETERS = (
     EffectParameter("f_max", 0.1, 0.1, 0.002, 0.5, unit="-"),
     EffectParameter(
-        "yield_disp", 0.005 * INCH, 0.005 * INCH, 0.0002 * INCH, 0.2 * INCH, log_scale=True, unit="m"
+        "yield_disp",
+        0.005 * INCH,
+        0.005 * INCH,
+        0.0002 * INCH,
+        0.2 * INCH,
+        log_scale=True,
+        unit="m",
     ),
 )
 """Parameters every model has: friction at large velocity (or the constant friction) and the
@@ -96,8 +102,15 @@ EFFECTS: dict[str, Effect] = {
             "velocity_dependence",
             (
                 EffectParameter("delta_f", 0.05, 0.0, 0.0, 0.45),
-                EffectParameter("rate_a", 1.0 / INCH, 1.0 / INCH, 0.005 / INCH, 50.0 / INCH,
-                                log_scale=True, unit="s/m"),
+                EffectParameter(
+                    "rate_a",
+                    1.0 / INCH,
+                    1.0 / INCH,
+                    0.005 / INCH,
+                    50.0 / INCH,
+                    log_scale=True,
+                    unit="s/m",
+                ),
             ),
             "mu = f_max - delta_f exp(-rate_a |v|)  (Eq. 1)",
             "speed |v| [m/s]",
@@ -128,10 +141,10 @@ EFFECTS: dict[str, Effect] = {
         ),
         Effect(
             "anisotropy",
-            (
-                EffectParameter("f_max_perpendicular", 0.1, 0.1, 0.002, 0.5),
-            ),
-            "Eq. 1 constants interpolated linearly in the sliding angle between lay directions",
+            (EffectParameter("perpendicular_ratio", 1.2, 1.0, 0.3, 3.0),),
+            "mu *= 1 + (perpendicular_ratio - 1) w, w = |theta| / (pi/2) the sliding angle to the "
+            "lay: the paper's linear interpolation of f_max and delta_f between parallel (P) "
+            "and perpendicular (T) constants, with T = perpendicular_ratio x P",
             "sliding angle weight |theta| / (pi/2) [-]",
             requires="biaxial",
             reference="Constantinou, Mokha & Reinhorn (1990), anisotropic biaxial model",
@@ -183,7 +196,9 @@ def kumar_temperature_factor(temperature):
 
 def heating_factor(temperature_rise, ambient=AMBIENT_TEMPERATURE):
     """Friction factor k_T(T0 + dT) / k_T(T0) for a surface temperature rise `dT` [K]; 1 at dT = 0."""
-    return kumar_temperature_factor(ambient + temperature_rise) / kumar_temperature_factor(ambient)
+    return kumar_temperature_factor(ambient + temperature_rise) / kumar_temperature_factor(
+        ambient
+    )
 
 
 def heat_kernel_exponentials(t_min: float, t_max: float, *, per_decade: float = 3.0):
@@ -210,7 +225,9 @@ def heat_kernel_exponentials(t_min: float, t_max: float, *, per_decade: float = 
     return np.exp(x), h * np.exp(x / 2) / np.sqrt(np.pi)
 
 
-def surface_temperature_coefficient(conductivity=STEEL_CONDUCTIVITY, diffusivity=STEEL_DIFFUSIVITY):
+def surface_temperature_coefficient(
+    conductivity=STEEL_CONDUCTIVITY, diffusivity=STEEL_DIFFUSIVITY
+):
     """C in dT(t) = C int q(s) (t - s)^(-1/2) ds, C = sqrt(kappa / pi) / k [K m^2 / (W s^1/2)].
 
     Surface temperature of a semi-infinite solid heated by a surface flux q(t) [W/m^2]
