@@ -21,7 +21,7 @@ import numpy as np
 from teflon_jax._design import expected_response, forward_mode_gradient
 from teflon_jax._montecarlo import isolated_structure, monte_carlo
 from teflon_jax._stochastic import StochasticGroundMotion, sample
-from teflon_jax._units import INCH, PSI, STANDARD_GRAVITY
+from teflon_jax._units import PSI, STANDARD_GRAVITY
 
 TIME_STEP = 0.005  # structure step [s]; records are sampled at 0.01 s
 

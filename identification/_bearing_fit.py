@@ -873,7 +873,7 @@ def fit_bearing_tests_batch(
         max_steps=max_steps, rtol=rtol, atol=atol)
     fits = []
     k = 0
-    for i, (p, (fr, values, warnings, starts)) in enumerate(zip(prepared, meta)):
+    for p, (fr, values, warnings, starts) in zip(prepared, meta):
         group = results[k: k + len(starts)]
         best = _best(group)
         args_i = _tree_index(args, k + best)

@@ -86,7 +86,12 @@ def run_montecarlo(args) -> int:
     import jax
     from tqdm import tqdm
 
-    from ._montecarlo import isolated_structure, monte_carlo, plot_montecarlo, save_montecarlo
+    from ._montecarlo import (
+        isolated_structure,
+        monte_carlo,
+        plot_montecarlo,
+        save_montecarlo,
+    )
 
     jax.config.update("jax_enable_x64", True)
     period = args.isolation_period if args.isolation_period > 0 else None

@@ -1,11 +1,10 @@
 """`teflon-jax simulate-test`: simulate a bearing test and write it as a test-record CSV."""
 
-import argparse
 import pathlib
 
 import numpy as np
 
-from ._units import INCH, PSI, parse_quantity
+from ._units import INCH, parse_quantity
 
 DEFAULT_DIAMETER = 10 * INCH  # specimens of the paper's tests: 10 in diameter
 
@@ -131,6 +130,7 @@ def _motion(args):
 
 def _read_motion_file(path: pathlib.Path):
     import teflon_jax as tj
+
     from ._units import unit_factor
 
     if not path.is_file():

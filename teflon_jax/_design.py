@@ -20,7 +20,7 @@ Reference: Constantinou, Mokha & Reinhorn (1990), J. Struct. Eng. 116(2), Fig. 1
 import dataclasses
 import math
 import time
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 
 import jax
 import jax.numpy as jnp

@@ -15,7 +15,12 @@ import numpy as np
 
 from ._bearing import SlidingBearing
 from ._motion import Signal, uniform_signal
-from ._structure import FRICTION_MODELS, StructureOnSliders, StructureResponse, structure_on_sliders
+from ._structure import (
+    FRICTION_MODELS,
+    StructureOnSliders,
+    StructureResponse,
+    structure_on_sliders,
+)
 from ._tables import BuildingData, load_table2
 from ._units import STANDARD_GRAVITY
 

@@ -723,7 +723,7 @@ def read_test_record(path) -> TestRecord:
 
     factors = []
     extra_units: dict[str, str] = {}
-    for position, (name, unit) in enumerate(columns):
+    for name, unit in columns:
         where = f"{path}, line {header_index + 1}, column '{name}'"
         if name in _COLUMN_DIMENSIONS:
             factors.append(unit_factor(unit, _COLUMN_DIMENSIONS[name], where=where))

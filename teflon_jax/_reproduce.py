@@ -23,7 +23,12 @@ from ._bearing_test import simulate_bearing_test
 from ._friction import coulomb_friction
 from ._ground_motion import intensity_measures
 from ._ground_motion_io import load_record
-from ._models import building_response_quantities, rigid_mass, signal_from_motion, six_storey_building
+from ._models import (
+    building_response_quantities,
+    rigid_mass,
+    signal_from_motion,
+    six_storey_building,
+)
 from ._motion import FigureEightMotion, Signal, SineMotion
 from ._spectra import fourier_amplitude
 from ._structure import simulate_structure

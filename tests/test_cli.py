@@ -7,7 +7,7 @@ import pytest
 
 import teflon_jax as tj
 from teflon_jax._cli import _parser, main
-from teflon_jax.units import INCH, KIP
+from teflon_jax.units import KIP
 
 
 def test_all_subcommands_are_wired():

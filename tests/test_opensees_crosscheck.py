@@ -13,8 +13,13 @@ import numpy as np
 import pytest
 
 import teflon_jax as tj
-from teflon_jax._models import building_response_quantities, rigid_mass, signal_from_motion, six_storey_building
-from teflon_jax._models import superstructure_matrices
+from teflon_jax._models import (
+    building_response_quantities,
+    rigid_mass,
+    signal_from_motion,
+    six_storey_building,
+    superstructure_matrices,
+)
 
 sys.path.insert(0, str(tj.__file__).rsplit("/teflon_jax/", 1)[0])
 G = tj.units.STANDARD_GRAVITY

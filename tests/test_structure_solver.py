@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import teflon_jax as tj
-from teflon_jax.units import INCH, PSI, STANDARD_GRAVITY
+from teflon_jax.units import PSI, STANDARD_GRAVITY
 
 FRICTION, _ = tj.interface_parameters("UF", 1000 * PSI, "P")
 WEIGHT = 1.0e6

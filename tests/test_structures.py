@@ -8,7 +8,13 @@ import pytest
 import scipy.linalg
 
 import teflon_jax as tj
-from teflon_jax._batch import building_peaks, building_sweep, pad_signals, simulate_batch, stack_systems
+from teflon_jax._batch import (
+    building_peaks,
+    building_sweep,
+    pad_signals,
+    simulate_batch,
+    stack_systems,
+)
 from teflon_jax._models import (
     building_response_quantities,
     rigid_mass,
