@@ -288,7 +288,7 @@ def read_two_column(
     line_numbers = [line_no for line_no, _ in rows]
     time = np.array(
         [
-            _to_float(f[time_column], path, n, f"time (column {time_column})")
+            _to_float(f[time_column], path, n, f"time (column {time_column + 1})")
             for n, f in rows
         ]
     )
@@ -298,7 +298,7 @@ def read_two_column(
                 f[acceleration_column],
                 path,
                 n,
-                f"acceleration (column {acceleration_column})",
+                f"acceleration (column {acceleration_column + 1})",
             )
             for n, f in rows
         ]
@@ -308,7 +308,7 @@ def read_two_column(
         time_step=time_step,
         acceleration=factor * acceleration,
         name=path.stem,
-        source=f"{path} (column {acceleration_column}, {units})",
+        source=f"{path} (column {acceleration_column + 1} counting from 1, {units})",
         start_time=float(time[0]),
     )
 
