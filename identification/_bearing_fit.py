@@ -35,8 +35,9 @@ import jax.numpy as jnp
 import numpy as np
 
 from teflon_jax._bearing import DEFAULT_YIELD_DISP, SlidingBearing
+from teflon_jax._bearing_test import force_along_path
 from teflon_jax._friction import FrictionParameters
-from teflon_jax._hysteresis import BoucWen, bouc_wen_exact_update
+from teflon_jax._hysteresis import BoucWen
 from teflon_jax._records import TestRecord
 
 from ._fit import (
@@ -273,14 +274,9 @@ def simulate_record_force(values: Mapping[str, Any], time, ux, load, *, z0=0.0, 
                           use_breakaway: bool = True, n_interfaces: int = 1):
     """Force [N] of the model at the samples of a record (jit/vmap/grad-safe).
 
-    Same computation as `teflon_jax.simulate_bearing_test(bearing, tabulated_motion(time, ux),
-    load)` with its default `RiccatiNewmark` solver: Z advanced between the samples by the
-    closed-form update `bouc_wen_exact_update` (exact for Bouc-Wen with eta = 2), the running
-    peak of |Z| switching Eq. 17 to Eq. 1, friction from the forward slope of the displacement.
-    Written as a `lax.scan` so that `time` and `ux` may be traced (batches of records), forward
-    mode differentiation is cheap, and the initial state (`z0`, running peak `z_peak0`) may be
-    set for records that do not start from rest. `tests/test_fit.py` checks it against
-    `simulate_bearing_test`.
+    The core's `teflon_jax.force_along_path` (a `lax.scan` of the exact Z update, the same
+    computation as `simulate_bearing_test` with `RiccatiNewmark`) for a parameter dict;
+    `tests/test_fit.py` checks it against `simulate_bearing_test`.
 
     **Arguments:** `values` with `f_max`, `delta_f`, `rate_a` [s/m], `yield_disp` [m],
     `breakaway_ratio`; `time` [s], `ux` [m], `load` [N] arrays of the samples.
@@ -293,25 +289,7 @@ def simulate_record_force(values: Mapping[str, Any], time, ux, load, *, z0=0.0, 
         breakaway_ratio=values["breakaway_ratio"] if use_breakaway else None,
         n_interfaces=n_interfaces,
     )
-    time = jnp.asarray(time)
-    ux = jnp.asarray(ux)
-    hysteresis = bearing.hysteresis
-
-    def step(carry, du):
-        z, z_peak = carry
-        z1 = bouc_wen_exact_update(hysteresis, z, du)
-        z_peak1 = jnp.maximum(z_peak, jnp.abs(z1))
-        return (z1, z_peak1), (z1, z_peak1)
-
-    z0 = jnp.asarray(z0, dtype=float)
-    z_peak0 = jnp.asarray(z_peak0, dtype=float)
-    _, (z, z_peak) = jax.lax.scan(step, (z0, z_peak0), jnp.diff(ux))
-    z = jnp.concatenate([z0[None], z])
-    z_peak = jnp.concatenate([z_peak0[None], z_peak])
-    velocity = jnp.diff(ux) / jnp.diff(time)
-    velocity = jnp.concatenate([velocity, velocity[-1:]])
-    mu = bearing.coefficient(velocity, 0.0, z_peak)
-    return mu * load * z
+    return force_along_path(bearing, time, ux, load, z0=z0, z_peak0=z_peak0)[0]
 
 
 class BearingModel(eqx.Module):

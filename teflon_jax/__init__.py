@@ -42,6 +42,9 @@ from ._bearing_test import (
     BearingTestSystem as BearingTestSystem,
 )
 from ._bearing_test import (
+    force_along_path as force_along_path,
+)
+from ._bearing_test import (
     simulate_bearing_test as simulate_bearing_test,
 )
 from ._design import gradient_check as gradient_check

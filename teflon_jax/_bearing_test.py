@@ -226,3 +226,39 @@ def _result(bearing, motion, normal_load: Signal, solution) -> BearingTestResult
         z_peak=z_peak,
         result=solution.result,
     )
+
+
+def force_along_path(bearing: SlidingBearing, time, ux, normal_load, *, z0=0.0, z_peak0=0.0):
+    """Friction force [N] of a bearing driven along sampled displacements, as one `lax.scan`.
+
+    The same computation as `simulate_bearing_test(bearing, tabulated_motion(time, ux),
+    normal_load)` with `RiccatiNewmark` (Z advanced exactly between samples, running max |Z|
+    switching Eq. 17 to Eq. 1, velocity = forward slope of the displacement), written so that
+    `time`, `ux` and `normal_load` may be traced: batches of records under `vmap`, fits under
+    `optimistix`, cheap forward-mode derivatives. `z0` and `z_peak0` set the initial state for
+    records that do not start from rest.
+
+    **Arguments:** `bearing` (uniaxial; eta = 2), `time` [s] (n,), `ux` [m] (n,),
+    `normal_load` [N] scalar or (n,).
+
+    **Returns:** `(force [N], z [-], z_peak [-])`, each of shape (n,).
+    """
+    time, ux = jnp.asarray(time), jnp.asarray(ux)
+    hysteresis = bearing.hysteresis
+
+    def step(carry, du):
+        z, z_peak = carry
+        z1 = bouc_wen_exact_update(hysteresis, z, du)
+        z_peak1 = jnp.maximum(z_peak, jnp.abs(z1))
+        return (z1, z_peak1), (z1, z_peak1)
+
+    z0 = jnp.asarray(z0, dtype=ux.dtype)
+    z_peak0 = jnp.asarray(z_peak0, dtype=ux.dtype)
+    du = jnp.diff(ux)
+    _, (z, z_peak) = jax.lax.scan(step, (z0, z_peak0), du)
+    z = jnp.concatenate([z0[None], z])
+    z_peak = jnp.concatenate([z_peak0[None], z_peak])
+    velocity = du / jnp.diff(time)
+    velocity = jnp.concatenate([velocity, velocity[-1:]])
+    mu = bearing.coefficient(velocity, 0.0, z_peak)
+    return mu * normal_load * z, z, z_peak
