@@ -28,11 +28,11 @@ import numpy as np
 
 from ._montecarlo import (
     IsolatedStructure,
-    UniformSignal,
     check_design,
     design_ranges,
     peak_response,
 )
+from ._motion import uniform_signal
 
 
 def _records_array(records, time_step):
@@ -77,7 +77,7 @@ def expected_response(
     duration = (records.shape[1] - 1) * record_time_step if duration is None else duration
 
     def one(values):
-        system = structure(UniformSignal(values, record_time_step), design)
+        system = structure(uniform_signal(values, record_time_step), design)
         return peak_response(system, duration, disp_width=disp_width, shear_width=shear_width)
 
     peaks = jax.vmap(one)(records)

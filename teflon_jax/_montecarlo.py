@@ -36,6 +36,7 @@ import numpy as np
 from ._bearing import paper_bearing
 from ._friction import FrictionParameters
 from ._models import rigid_mass, six_storey_building
+from ._motion import uniform_signal
 from ._stochastic import StochasticGroundMotion, num_time_steps, sample
 from ._structure import StructureOnSliders, initial_state
 from ._tables import friction_table
@@ -56,33 +57,6 @@ Table 1 at that pressure), zeta_b [-], and Eq. 1 / Eq. 17 constants overriding T
 
 RESPONSE_NAMES = ("base_disp", "base_shear_ratio")
 """Peak |base displacement| [m] and peak |base shear| / weight above the isolators [-]."""
-
-
-class UniformSignal(eqx.Module):
-    """A uniformly sampled signal a(t), linear between samples; outside the record the
-    first and last values are held (as `Signal` does).
-
-    Same call as `Signal(times, values)` with `times = start + time_step * arange(nt)`, but
-    the interval is found by division instead of a search, which is about twice as fast
-    inside the time-stepping loop.
-
-    **Fields:** `values` (nt,) [m/s^2]; `time_step` [s] (static); `start` [s] (static).
-    """
-
-    values: jnp.ndarray
-    time_step: float = eqx.field(static=True)
-    start: float = eqx.field(static=True, default=0.0)
-
-    @property
-    def times(self):
-        return self.start + self.time_step * jnp.arange(self.values.shape[-1])
-
-    def __call__(self, t):
-        position = (jnp.asarray(t) - self.start) / self.time_step
-        last = self.values.shape[-1] - 1
-        index = jnp.clip(jnp.floor(position), 0, last - 1).astype(jnp.int32)
-        weight = jnp.clip(position - index, 0.0, 1.0)
-        return self.values[index] * (1 - weight) + self.values[index + 1] * weight
 
 
 class PeakResponse(eqx.Module):
@@ -517,7 +491,7 @@ class _Source(eqx.Module):
     def signal(self, index, values):
         if self.model is not None:
             values = sample(self.model, jax.random.fold_in(self.key, index), 1)[0]
-        return UniformSignal(values, self.time_step)
+        return uniform_signal(values, self.time_step)
 
 
 def _put(array: np.ndarray, sharding):
@@ -563,7 +537,7 @@ def monte_carlo(
     **Arguments:**
 
     - `structure`: callable `(ground_acceleration, design) -> StructureOnSliders`, e.g.
-      `isolated_structure("building", ...)`; `ground_acceleration` is a `UniformSignal`.
+      `isolated_structure("building", ...)`; `ground_acceleration` is a uniform `Signal`.
     - `motions`: a `StochasticGroundMotion` (with `n_motions` and `key`) or a `RecordSet`.
     - `n_motions`: N > 0 (stochastic; for a `RecordSet` defaults to all its records).
     - `key`: JAX PRNG key (stochastic motions); default `jax.random.key(0)`.
@@ -628,7 +602,7 @@ def monte_carlo(
     # Shapes of one system, without computing it: degrees of freedom for the memory estimate.
     probe_design = None if design_arrays is None else {k: v[0] for k, v in design_arrays.items()}
     probe = jax.eval_shape(
-        lambda v: structure(UniformSignal(v, source.time_step), probe_design),
+        lambda v: structure(uniform_signal(v, source.time_step), probe_design),
         jax.ShapeDtypeStruct((source.samples,), jnp.result_type(float)),
     )
     n_dof = probe.mass.shape[-1]

@@ -16,11 +16,10 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
-from teflon_jax import simulate_structure
+from teflon_jax import simulate_structure, uniform_signal
 from teflon_jax._montecarlo import (
     MonteCarloResult,
     RecordSet,
-    UniformSignal,
     isolated_structure,
     monte_carlo,
     peak_response,
@@ -42,7 +41,7 @@ def _model(duration=4.0):
 
 def test_uniform_signal_matches_linear_interpolation():
     values = jnp.asarray(np.random.default_rng(0).normal(size=50))
-    signal = UniformSignal(values, 0.02)
+    signal = uniform_signal(values, 0.02)
     t = jnp.linspace(-0.1, 1.1, 301)
     np.testing.assert_allclose(signal(t), np.interp(t, 0.02 * np.arange(50), values), atol=1e-14)
 
@@ -52,7 +51,7 @@ def test_peaks_match_full_history(kind):
     model = _model()
     record = sample(model, jax.random.key(3), 1)[0]
     structure = isolated_structure(kind, time_step=0.005, pressure=2000 * PSI, isolation_period=1.5)
-    system = structure(UniformSignal(record, 0.01))
+    system = structure(uniform_signal(record, 0.01))
     peaks = peak_response(system, 4.0, disp_width=1e-4, shear_width=1e-3)
     history = simulate_structure(system, 4.0)
     disp = np.abs(np.asarray(history.displacement[:, 0]))
@@ -162,7 +161,7 @@ def test_record_set_runs_like_generated_motions():
     structure = isolated_structure("rigid", time_step=0.01, isolation_period=1.5)
     result = monte_carlo(structure, RecordSet(records, 0.01, ("a", "b", "c")), chunk_size=2)
     for i in range(3):
-        system = structure(UniformSignal(jnp.asarray(records[i]), 0.01))
+        system = structure(uniform_signal(jnp.asarray(records[i]), 0.01))
         assert result.base_disp[i] == pytest.approx(float(peak_response(system, 4.0).base_disp), rel=1e-12)
     np.testing.assert_allclose(result.pga, np.abs(records).max(axis=1))
 
