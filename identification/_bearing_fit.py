@@ -311,34 +311,30 @@ class BearingModel(eqx.Module):
             values["delta_f"] = params["delta_ratio"] * values["f_max"]
         return values
 
-    def forces(self, params, args):
-        values = self.values(params, args["fixed"])
-        out = []
-        for kind, n, rec in zip(self.kinds, self.n_interfaces, args["records"]):
-            if kind == "time":
-                f = simulate_record_force(
-                    values, rec["time"], rec["ux"], rec["load"], z0=rec["z0"],
-                    z_peak0=rec["z_peak0"], use_breakaway=self.use_breakaway, n_interfaces=n)
-            else:
-                from ._digitised import digitised_model_force
+    def _time_force(self, values, n, rec):
+        return simulate_record_force(
+            values, rec["time"], rec["ux"], rec["load"], z0=rec["z0"],
+            z_peak0=rec["z_peak0"], use_breakaway=self.use_breakaway, n_interfaces=n)
 
-                f = digitised_model_force(values, rec, use_breakaway=self.use_breakaway,
-                                          n_interfaces=n)
-            out.append(f)
-        return out
+    def forces(self, params, args):
+        from ._digitised import digitised_model_force
+
+        values = self.values(params, args["fixed"])
+        return [
+            self._time_force(values, n, rec) if kind == "time"
+            else digitised_model_force(values, rec, use_breakaway=self.use_breakaway, n_interfaces=n)
+            for kind, n, rec in zip(self.kinds, self.n_interfaces, args["records"])
+        ]
 
     def __call__(self, params, args):
+        from ._digitised import digitised_residual
+
         values = self.values(params, args["fixed"])
         out = []
         for kind, n, rec in zip(self.kinds, self.n_interfaces, args["records"]):
             if kind == "time":
-                f = simulate_record_force(
-                    values, rec["time"], rec["ux"], rec["load"], z0=rec["z0"],
-                    z_peak0=rec["z_peak0"], use_breakaway=self.use_breakaway, n_interfaces=n)
-                out.append((f - rec["fx"]) * rec["weight"])
+                out.append((self._time_force(values, n, rec) - rec["fx"]) * rec["weight"])
             else:
-                from ._digitised import digitised_residual
-
                 out.append(digitised_residual(values, rec, use_breakaway=self.use_breakaway,
                                               n_interfaces=n))
         return jnp.concatenate(out)

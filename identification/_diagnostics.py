@@ -185,8 +185,6 @@ def write_plots(result, directory) -> dict:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from ._augmented import PARAMETER_NAMES, active_mask, simulate_augmented
-    from ._effects import BASELINES
 
     directory = pathlib.Path(directory)
     directory.mkdir(parents=True, exist_ok=True)
@@ -240,19 +238,7 @@ def write_plots(result, directory) -> dict:
     plt.close(fig)
     files["history"] = "history.png"
 
-    values = np.array([result.baseline_parameters.get(n, 0.0) for n in PARAMETER_NAMES])
-    from ._augmented import PARAMETERS
-
-    values = np.array(
-        [result.baseline_parameters.get(p.name, p.initial) for p in PARAMETERS]
-    )
-    params = {name: values[i] for i, name in enumerate(PARAMETER_NAMES)}
-    sim = {
-        k: np.asarray(v)
-        for k, v in simulate_augmented(
-            params, data, active_mask(BASELINES[result.baseline])
-        ).items()
-    }
+    sim = _baseline_simulation(result)
     hc = half_cycle_index(ux)
     reg = regressors(data, sim, hc)
     d_mu, sliding = friction_residual(data, sim, base)
@@ -287,24 +273,24 @@ def write_plots(result, directory) -> dict:
     return files
 
 
+def _baseline_simulation(result) -> dict:
+    """The baseline model's histories (numpy) at the fitted baseline parameters."""
+    from ._augmented import PARAMETERS, active_mask, simulate_augmented
+    from ._effects import BASELINES
+
+    params = {p.name: result.baseline_parameters.get(p.name, p.initial) for p in PARAMETERS}
+    simulated = simulate_augmented(params, result.data, active_mask(BASELINES[result.baseline]))
+    return {k: np.asarray(v) for k, v in simulated.items()}
+
+
 def write_report(result, directory, *, record_name: str = "record") -> pathlib.Path:
     """Write `directory/report.md` (with the figures of `write_plots`) for a `DiscoveryResult`."""
-    from ._augmented import PARAMETER_NAMES, PARAMETERS, active_mask, simulate_augmented
-    from ._effects import BASELINES
+    from ._augmented import PARAMETERS
 
     directory = pathlib.Path(directory)
     files = write_plots(result, directory)
     data = result.data
-    values = np.array(
-        [result.baseline_parameters.get(p.name, p.initial) for p in PARAMETERS]
-    )
-    params = {name: values[i] for i, name in enumerate(PARAMETER_NAMES)}
-    sim = {
-        k: np.asarray(v)
-        for k, v in simulate_augmented(
-            params, data, active_mask(BASELINES[result.baseline])
-        ).items()
-    }
+    sim = _baseline_simulation(result)
     where = locate_residual(
         data, sim, result.forces["baseline"], half_cycle_index(np.asarray(data.ux))
     )
