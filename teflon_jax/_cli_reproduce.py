@@ -25,7 +25,7 @@ def run_reproduce(args) -> int:
     """Run `reproduce` for parsed `args`; returns the exit status (0 = done)."""
     import jax
 
-    jax.config.update("jax_enable_x64", True)
+    jax.config.update("jax_enable_x64", not getattr(args, "float32", False))
     from ._reproduce import reproduce
 
     try:

@@ -93,7 +93,7 @@ def run_montecarlo(args) -> int:
         save_montecarlo,
     )
 
-    jax.config.update("jax_enable_x64", True)
+    jax.config.update("jax_enable_x64", not getattr(args, "float32", False))
     period = args.isolation_period if args.isolation_period > 0 else None
     structure = isolated_structure(
         args.structure,
@@ -179,7 +179,7 @@ def run_design(args) -> int:
     from ._montecarlo import isolated_structure
     from ._stochastic import sample
 
-    jax.config.update("jax_enable_x64", True)
+    jax.config.update("jax_enable_x64", not getattr(args, "float32", False))
     tic = time.perf_counter()
     disp_limit = parse_quantity(args.disp_limit, "length", where="--disp-limit", default_unit="in")
     low_p, high_p = (p * PSI for p in args.pressure_range)
