@@ -7,13 +7,13 @@ Reference: Constantinou, Mokha & Reinhorn (1990), "Teflon bearings in base isola
 Modeling", J. Struct. Eng. 116(2), Figs. 7-11 and Table 2 (MODEL.md Section 8).
 """
 
-import math
 
 import equinox as eqx
 import jax.numpy as jnp
 import numpy as np
 
 from ._bearing import SlidingBearing
+from ._checks import concrete, require
 from ._motion import Signal, uniform_signal
 from ._structure import (
     FRICTION_MODELS,
@@ -25,18 +25,9 @@ from ._tables import BuildingData, load_table2
 from ._units import STANDARD_GRAVITY
 
 
-def _concrete(value):
-    """`float(value)` for a concrete scalar, `None` for a tracer (checks are skipped then)."""
-    try:
-        return float(value)
-    except Exception:  # a tracer inside jit/vmap/grad
-        return None
-
-
 def _check(value, name: str, rule, text: str) -> None:
-    number = _concrete(value)
-    if number is not None and not (math.isfinite(number) and rule(number)):
-        raise ValueError(f"{name}: {text}; got {number!r}.")
+    """`require` with the finiteness test every physical input here needs."""
+    require(value, lambda x: np.isfinite(x) & rule(x), name, text)
 
 
 def _check_friction_model(friction_model: str) -> None:
@@ -97,8 +88,8 @@ def rigid_mass(
         _check(radius, "radius", lambda x: x > 0, "must be > 0 [m], or None for a flat sliding surface")
         stiffness = stiffness + jnp.asarray(weight, dtype=float) / jnp.asarray(radius, dtype=float)
     if isolation_period is None and radius is None:
-        zeta = _concrete(damping_ratio)
-        if zeta is None or zeta > 0:
+        zeta = concrete(damping_ratio)
+        if zeta is None or np.any(zeta > 0):
             raise ValueError(
                 "damping_ratio: the rigid-body mode has no frequency without a restoring spring; "
                 "give isolation_period or radius, or damping_ratio=0."
