@@ -34,6 +34,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ._bearing import paper_bearing
+from ._checks import concrete
 from ._friction import FrictionParameters
 from ._models import rigid_mass, six_storey_building
 from ._motion import uniform_signal
@@ -313,10 +314,10 @@ def check_design(structure: IsolatedStructure, design: Mapping) -> None:
             raise ValueError(
                 f"design: unknown variable {name!r}; accepted: {', '.join(DESIGN_VARIABLES)}."
             )
-        leaves = jax.tree_util.tree_leaves(value)
-        if any(isinstance(leaf, jax.core.Tracer) for leaf in leaves):
+        array = concrete(value)
+        if array is None:  # traced: checked by the caller's bounds instead
             continue
-        array = np.asarray(value, dtype=float)
+        array = array.astype(float)
         lo, hi = ranges[name]
         tolerance = 1e-6 * max(abs(lo), abs(hi) if math.isfinite(hi) else 0.0, 1.0)  # float32 rounding
         bad = ~np.isfinite(array) | (array < lo - tolerance) | (array > hi + tolerance)

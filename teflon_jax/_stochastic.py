@@ -32,7 +32,10 @@ import operator
 import equinox as eqx
 import jax
 import jax.numpy as jnp
+import numpy as np
 from jaxtyping import Array, Float, PRNGKeyArray
+
+from ._checks import concrete
 
 _QUANTITY_ORDER = {"acceleration": 0, "velocity": 1, "displacement": 2}
 
@@ -46,11 +49,11 @@ def _check_value(name: str, value, *, allow_zero: bool = False) -> None:
 
     Traced values (a model built inside `jit` or `vmap`) cannot be checked here.
     """
-    if isinstance(value, jax.core.Tracer):
+    array = concrete(value)
+    if array is None:
         return
-    array = jnp.asarray(value)
-    bad = ~jnp.isfinite(array) | ((array < 0) if allow_zero else (array <= 0))
-    if bool(jnp.any(bad)):
+    bad = ~np.isfinite(array) | ((array < 0) if allow_zero else (array <= 0))
+    if bool(np.any(bad)):
         sign = "non-negative" if allow_zero else "positive"
         raise ValueError(
             f"StochasticGroundMotion: `{name}` must be {sign} and finite, got {value}."
