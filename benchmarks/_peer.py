@@ -1,6 +1,8 @@
 """The OpenSees peer as the benchmarks call it: the paper's UF/1000 psi bearings, 5 ms steps."""
 
+import functools
 import importlib.util
+import os
 import pathlib
 
 import numpy as np
@@ -10,6 +12,7 @@ from teflon_jax._tables import interface_parameters, load_table2
 from teflon_jax._units import INCH, PSI, STANDARD_GRAVITY
 
 
+@functools.cache
 def load_peer():
     """`benchmarks/_opensees_models.py` with OpenSees imported; ImportError if it cannot be."""
     spec = importlib.util.spec_from_file_location(
@@ -47,3 +50,32 @@ def building(peer, acc, record_time_step, *, period, time_step=0.005):
         damping=damping, base_mass=data.base_weight / STANDARD_GRAVITY,
         rubber_stiffness=total_mass * (2 * np.pi / period) ** 2, rubber_damping_ratio=0.05,
         **_bearing(record_time_step, time_step))
+
+
+def peaks_and_wall(args):
+    """One OpenSees analysis of `(kind, acc, record_time_step, time_step)` with kind "rigid"
+    (spring of 2 s, 5 % damping) or "building" (T_b = 2 s), as B3 runs them (also in worker
+    processes): (wall s of the analysis, peak |base displacement| m, peak |base shear| / W_s,
+    failed steps, process id)."""
+    kind, acc, record_time_step, time_step = args
+    peer = load_peer()
+    if kind == "rigid":
+        r = rigid_mass(peer, acc, record_time_step, time_step=time_step, period=2.0, damping_ratio=0.05)
+        disp, shear = r["displacement"], r["total_acceleration"] / STANDARD_GRAVITY
+    else:
+        r = building(peer, acc, record_time_step, period=2.0, time_step=time_step)
+        floor_masses = superstructure_matrices(load_table2())[0]
+        disp = r["base_displacement"]
+        shear = r["base_shear"] / (np.sum(floor_masses) * STANDARD_GRAVITY)
+    return (r["wall_s"], float(np.max(np.abs(disp))), float(np.max(np.abs(shear))), int(r["n_failed"]),
+            os.getpid())
+
+
+def ready(_):
+    """Pool warm-up: import and load OpenSees in a worker before timing starts (double
+    precision for the Table 1 lookups, as in the parent)."""
+    import jax
+
+    jax.config.update("jax_enable_x64", True)
+    load_peer()
+    return True

@@ -7,7 +7,9 @@ B1  one rigid mass on UF/1000 psi bearings under El Centro (40 s): seconds per r
     Newmark + modified Newton, the same 5 ms steps), and each one's peak-displacement error
     against a converged reference (diffrax Tsit5, rtol 1e-10, on the same Bouc-Wen model).
 B2  the whole Fig. 11 set (2 records x Tb 0.2-4.0 s x 3 pressures + the linear system).
-B3  Monte Carlo throughput of stochastic 40 s motions (benchmarks/bench_scale.py).
+B3  Monte Carlo throughput of stochastic 40 s motions (benchmarks/bench_scale.py), sharded
+    over one JAX CPU device per core (`--cpu-devices`), against OpenSees in one process and in
+    one process per core.
 B4  fit time of one record and of a batch of 16 (benchmarks/bench_fit.py).
 B5  gradient cost relative to the forward run (benchmarks/bench_scale.py).
 
@@ -180,9 +182,15 @@ def main(argv=None) -> int:
     parser.add_argument("--json", default=None, help="write all results to this JSON file")
     parser.add_argument("--skip", default="", help="comma-separated cases to skip, e.g. B3,B4")
     parser.add_argument("--float32", action="store_true", help="single precision (default double)")
+    parser.add_argument("--cpu-devices", type=int, default=os.cpu_count() or 1,
+                        help="JAX CPU devices to split the processor into (default: one per core); "
+                             "Monte Carlo shards its motions over them")
     args = parser.parse_args(argv)
+    if args.cpu_devices < 1:
+        parser.error(f"--cpu-devices: must be >= 1, got {args.cpu_devices}")
     import jax
 
+    jax.config.update("jax_num_cpu_devices", args.cpu_devices)
     jax.config.update("jax_enable_x64", not args.float32)
     skip = {s.strip().upper() for s in args.skip.split(",") if s.strip()}
     results = {"machine": machine_info(), "quick": args.quick,

@@ -98,6 +98,9 @@ from ._hysteresis import (
     bouc_wen_rate as bouc_wen_rate,
 )
 from ._hysteresis import (
+    bouc_wen_reversal_length as bouc_wen_reversal_length,
+)
+from ._hysteresis import (
     park_rate as park_rate,
 )
 from ._models import (
@@ -126,6 +129,9 @@ from ._montecarlo import (
 )
 from ._montecarlo import (
     monte_carlo as monte_carlo,
+)
+from ._montecarlo import (
+    monte_carlo_motion as monte_carlo_motion,
 )
 from ._montecarlo import (
     record_set as record_set,

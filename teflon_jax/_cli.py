@@ -1,6 +1,7 @@
 """The `teflon-jax` command: simulate-test, reproduce, fit, diagnose, montecarlo, design."""
 
 import argparse
+import os
 import sys
 
 
@@ -14,6 +15,10 @@ def _parser() -> argparse.ArgumentParser:
     )
     parser.add_argument("--float32", action="store_true", help="compute in single precision "
                         "(default: double precision)")
+    parser.add_argument("--cpu-devices", type=int, default=None, metavar="N",
+                        help="split the processor into N JAX devices; Monte Carlo and design runs "
+                        "shard their motions over them (default: one per core, unless XLA_FLAGS "
+                        "sets --xla_force_host_platform_device_count)")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     add_simulate_parser(sub)
     for module, adders in (
@@ -38,10 +43,30 @@ _RUNNERS = {
 }
 
 
+def _split_cpu(jax, requested: int | None) -> None:
+    """One JAX CPU device per core (or `requested`), set before JAX's first computation."""
+    if requested is None and "xla_force_host_platform_device_count" in os.environ.get("XLA_FLAGS", ""):
+        return
+    count = os.cpu_count() or 1 if requested is None else requested
+    try:
+        jax.config.update("jax_num_cpu_devices", count)
+    except RuntimeError as error:  # JAX already ran in this process (e.g. main() from Python)
+        if requested is not None:
+            raise ValueError(f"--cpu-devices: {error}") from None
+
+
 def main(argv=None) -> int:
-    args = _parser().parse_args(argv)
+    parser = _parser()
+    args = parser.parse_args(argv)
+    if args.cpu_devices is not None and args.cpu_devices < 1:
+        parser.error(f"--cpu-devices: must be >= 1, got {args.cpu_devices}")
     import jax
 
+    try:
+        _split_cpu(jax, args.cpu_devices)
+    except ValueError as error:
+        print(f"teflon-jax: error: {error}", file=sys.stderr)
+        return 2
     jax.config.update("jax_enable_x64", not args.float32)
     module, name = _RUNNERS[args.command]
     runner = getattr(__import__(module, fromlist=[name]), name)

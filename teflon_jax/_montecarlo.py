@@ -5,8 +5,9 @@ a `RecordSet` of recorded motions, scaled and zero-padded) is run through one st
 through D design variants of it, in chunks of `chunk_size` motions: one jit-compiled,
 vmapped function per chunk, compiled once (the last chunk is padded), so memory is bounded
 by the chunk and not by N. Each chunk is sharded along its batch axis over all JAX devices
-(`jax.sharding.NamedSharding` over a 1-D mesh), so the same call runs on one CPU, a GPU or
-several devices; a chunk is rounded up to a multiple of the device count.
+(`jax.shard_map` over a 1-D mesh, each device with its own time stepping and Newton loops),
+so the same call runs on one CPU, one device per CPU core, a GPU or several devices; a chunk
+is rounded up to a multiple of the device count.
 
 The structure is integrated with the `RiccatiNewmark` step of `StructureOnSliders`
 (`exact_step`) inside a `lax.scan` that keeps only running peaks and smooth maxima, never
@@ -56,6 +57,12 @@ DESIGN_VARIABLES = (
 """Names a design dict may set: T_b [s], contact pressure [Pa] (Eq. 1 constants and b from
 Table 1 at that pressure), zeta_b [-], and Eq. 1 / Eq. 17 constants overriding Table 1."""
 
+RECOMMENDED_TIME_STEPS = {"rigid": 0.005, "building": 0.0025}
+"""Structure step [s] per structure: with it the peak base displacement and base shear of
+every one of 100 forty-second Clough-Penzien motions (records at 0.01 s) lie within 0.5 % of
+0.5 ms steps (benchmarks/bench_scale.py, B3 accuracy). Twice these steps gave up to 1.0 %
+(rigid mass, 10 ms) and 1.6 % (building, 5 ms: its storey modes and stick-slip switches)."""
+
 RESPONSE_NAMES = ("base_disp", "base_shear_ratio")
 """Peak |base displacement| [m] and peak |base shear| / weight above the isolators [-]."""
 
@@ -98,9 +105,9 @@ def smooth_max(x, width, axis=-1):
     return jnp.squeeze(top, axis) + width * jnp.log(jnp.sum(terms, axis=axis) / n)
 
 
-def _shear_ratio(system: StructureOnSliders, y, t):
-    """|V| / W_s at state y, time t (see `PeakResponse`)."""
-    total = system._acceleration(t, y) + system.ground_acceleration(t)
+def _shear_ratio(system: StructureOnSliders, relative_acceleration, t):
+    """|V| / W_s for the relative accelerations [m/s^2] at time t (see `PeakResponse`)."""
+    total = relative_acceleration + system.ground_acceleration(t)
     mass = system.mass if system.mass.shape[-1] == 1 else system.mass[1:]
     acc = total if system.mass.shape[-1] == 1 else total[1:]
     return jnp.sum(mass * acc) / (jnp.sum(mass) * STANDARD_GRAVITY)
@@ -147,20 +154,22 @@ def peak_response(
         return new_top, total
 
     def body(carry, step):
-        y, peaks, tops, totals, ok = carry
+        y, a, peaks, tops, totals, ok = carry
         t0 = step * dt
-        y1, converged = system.exact_step(t0, t0 + dt, y, None)
-        values = (y1["u"][0], _shear_ratio(system, y1, t0 + dt))
+        y1, converged = system.newmark_step(t0, t0 + dt, y, a)
+        a1 = system._acceleration(t0 + dt, y1)
+        values = (y1["u"][0], _shear_ratio(system, a1, t0 + dt))
         peaks = tuple(jnp.maximum(p, jnp.abs(v)) for p, v in zip(peaks, values))
         updated = [lse_update(a, s, v, w) for a, s, v, w in zip(tops, totals, values, widths)]
         tops = tuple(u[0] for u in updated)
         totals = tuple(u[1] for u in updated)
-        return (y1, peaks, tops, totals, ok & converged), None
+        return (y1, a1, peaks, tops, totals, ok & converged), None
 
     zero = jnp.zeros((), dtype)
     one = jnp.ones((), dtype)
-    carry = (initial_state(system), (zero, zero), (zero, zero), (one, one), jnp.array(True))
-    (_, peaks, tops, totals, ok), _ = jax.lax.scan(body, carry, jnp.arange(n_steps))
+    y0 = initial_state(system)
+    carry = (y0, system._acceleration(0.0, y0), (zero, zero), (zero, zero), (one, one), jnp.array(True))
+    (_, _, peaks, tops, totals, ok), _ = jax.lax.scan(body, carry, jnp.arange(n_steps))
     smooth = [a + w * jnp.log(s / (n_steps + 1)) for a, s, w in zip(tops, totals, widths)]
     return PeakResponse(
         base_disp=peaks[0],
@@ -257,16 +266,18 @@ def isolated_structure(
     isolation_damping=0.05,
     breakaway: bool = True,
     friction_model: str = "hysteretic",
-    time_step: float = 0.005,
+    time_step: float | None = None,
 ) -> IsolatedStructure:
     """An `IsolatedStructure` with its inputs checked (`ValueError` naming the parameter).
 
     **Arguments:** see `IsolatedStructure`; `pressure` [Pa] must lie inside the Table 1 rows
     of `ptfe`/`direction` (1000-6500 psi for UF, P), `isolation_period` [s] > 0 (or `None`
-    for a rigid mass on flat sliders), `isolation_damping` >= 0, `time_step` > 0 [s].
+    for a rigid mass on flat sliders), `isolation_damping` >= 0, `time_step` > 0 [s]
+    (default `RECOMMENDED_TIME_STEPS[kind]`).
     """
     if kind not in STRUCTURES:
         raise ValueError(f"structure: unknown {kind!r}; accepted: {', '.join(STRUCTURES)}.")
+    time_step = RECOMMENDED_TIME_STEPS[kind] if time_step is None else time_step
     if not (isinstance(time_step, (int, float)) and time_step > 0):
         raise ValueError(f"time_step: must be a positive number of seconds, got {time_step!r}.")
     structure = IsolatedStructure(
@@ -483,6 +494,12 @@ def bytes_per_motion(record_samples: int, n_dof: int, n_designs: int) -> int:
     return 8 * (8 * record_samples + max(n_designs, 1) * (4 * n_dof**2 + 64))
 
 
+def monte_carlo_motion(model: StochasticGroundMotion, key, index):
+    """The `index`-th motion [m/s^2] that `monte_carlo(structure, model, n, key=key)` draws
+    (one sample from `jax.random.fold_in(key, index)`), e.g. to run it through another program."""
+    return sample(model, jax.random.fold_in(key, index), 1)[0]
+
+
 class _Source(eqx.Module):
     model: StochasticGroundMotion | None
     key: jax.Array | None
@@ -491,7 +508,7 @@ class _Source(eqx.Module):
 
     def signal(self, index, values):
         if self.model is not None:
-            values = sample(self.model, jax.random.fold_in(self.key, index), 1)[0]
+            values = monte_carlo_motion(self.model, self.key, index)
         return uniform_signal(values, self.time_step)
 
 
@@ -519,7 +536,7 @@ def monte_carlo(
     key=None,
     duration: float | None = None,
     design: Mapping | None = None,
-    chunk_size: int = 128,
+    chunk_size: int = 512,
     devices: Sequence | None = None,
     progress: Callable[[int, int], None] | None = None,
     disp_width=None,
@@ -531,9 +548,14 @@ def monte_carlo(
     Motion i of a stochastic set is `sample(model, fold_in(key, i), 1)[0]`, so a run's
     numbers do not depend on the chunk size or the number of devices. The batch runs in
     chunks of `chunk_size` motions through one compiled function (vmap over motions and
-    design variants, `peak_response` inside); each chunk's batch axis is sharded over
-    `devices` (`NamedSharding` on a 1-D mesh "batch"). Multi-host: see the module docstring
-    (`jax.distributed.initialize()` first).
+    design variants, `peak_response` inside); each chunk's batch axis is split over
+    `devices` (`shard_map` on a 1-D mesh "batch": every device steps its own motions).
+    Multi-host: see the module docstring (`jax.distributed.initialize()` first).
+
+    On a CPU, JAX makes one device of the whole processor, and a batch of small per-motion
+    operations then uses about one core. `jax.config.update("jax_num_cpu_devices",
+    os.cpu_count())` right after `import jax` (the `teflon-jax` command does this) gives one
+    device per core; on 2 cores this ran 2.3x faster (benchmarks B3).
 
     **Arguments:**
 
@@ -639,8 +661,18 @@ def monte_carlo(
 
         return jax.vmap(per_motion)(indices, values)
 
+    # shard_map, not automatic partitioning: every device steps its own motions with its own
+    # Newton loops; partitioned automatically, the batched while loop's "any member not
+    # converged" test would become a cross-device reduction in every iteration of every step.
+    spec = jax.sharding.PartitionSpec
     compiled = jax.jit(
-        run_chunk,
+        jax.shard_map(
+            run_chunk,
+            mesh=mesh,
+            in_specs=(spec("batch"), spec("batch"), spec()),
+            out_specs=spec("batch"),
+            check_vma=False,
+        ),
         in_shardings=(batched, batched, replicated),
         out_shardings=batched,
     )

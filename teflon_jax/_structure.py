@@ -20,7 +20,7 @@ import jax.numpy as jnp
 
 from ._bearing import SlidingBearing
 from ._bearing_test import running_peak_rate
-from ._hysteresis import bouc_wen_exact_update, bouc_wen_rate
+from ._hysteresis import bouc_wen_exact_update, bouc_wen_rate, bouc_wen_reversal_length
 from ._motion import Signal
 from ._solver import AbstractSteppedSystem, require_riccati_form
 
@@ -92,6 +92,11 @@ class StructureOnSliders(AbstractSteppedSystem):
         }
 
     def exact_step(self, t0, t1, y0, args):
+        return self.newmark_step(t0, t1, y0, self._acceleration(t0, y0))
+
+    def newmark_step(self, t0, t1, y0, a0):
+        """`exact_step` given the relative acceleration a0 [m/s^2] at (t0, y0), which a loop
+        that also needs the acceleration at the end of each step can carry along."""
         dt = self.time_step
         t0, t1 = jnp.asarray(t0), jnp.asarray(t1)
         eps = jnp.finfo(jnp.result_type(t1, float)).eps
@@ -100,7 +105,6 @@ class StructureOnSliders(AbstractSteppedSystem):
             t1, jnp.abs((t1 - t0) - dt) > slack, "step differs from the structure's time_step"
         )
         m, u0, v0 = self.mass, y0["u"], y0["v"]
-        a0 = self._acceleration(t0, y0)
         rhs = (
             self._load(t1)
             + m * (4 / dt**2 * u0 + 4 / dt * v0 + a0)
@@ -150,17 +154,18 @@ class StructureOnSliders(AbstractSteppedSystem):
         eps = jnp.finfo(jnp.result_type(x0)).eps
         tolerance = jnp.maximum(1e-6 * h.yield_disp, 1e3 * eps * (jnp.abs(x0) + jnp.abs(ub_linear)))
         p = {"bearing": self.bearing, "W": W, "z0": z0, "z_peak0": z_peak0, "ub0": ub0,
-             "vb0": vb0, "g0": g0, "ub_linear": ub_linear}
+             "vb0": vb0, "g0": g0, "ub_linear": ub_linear,
+             "reversal_length": bouc_wen_reversal_length(h, z0)}  # the same for every iterate
         x = _isolator_root(dt, self.newton_iterations, p, x0, lo, hi, tolerance)
         force, z1 = _bearing_force(x, p, dt)
-        converged = jnp.abs(_isolator_residual(x, p, dt)) <= tolerance
+        converged = jnp.abs(x - ub_linear + g0 * force) <= tolerance  # `_isolator_residual`
         return force, z1, converged
 
 
 def _bearing_force(x, p, dt):
     """F(x) = mu(v) W Z with Z updated exactly along x - ub0 and v from Newmark's rule."""
     bearing = p["bearing"]
-    z = bouc_wen_exact_update(bearing.hysteresis, p["z0"], x - p["ub0"])
+    z = bouc_wen_exact_update(bearing.hysteresis, p["z0"], x - p["ub0"], p["reversal_length"])
     velocity = 2 / dt * (x - p["ub0"]) - p["vb0"]
     return bearing.coefficient(velocity, 0.0, p["z_peak0"]) * p["W"] * z, z
 

@@ -256,3 +256,27 @@ def test_pressure_interpolation_between_rows_and_gradient():
     for p in (1000, 2000, 3000):
         r = rows[f"UF {p}psi P"]
         assert r.f_max / (r.f_max - r.delta_f) > 4.4
+
+
+def test_reversal_length_is_where_z_crosses_zero():
+    h = tj.BoucWen(yield_disp=jnp.asarray(0.005 * INCH))
+    for z0 in (-1.0, -0.6, 0.05, 0.9):
+        length = float(tj.bouc_wen_reversal_length(h, jnp.asarray(z0)))
+        du = -np.sign(z0) * length * float(h.yield_disp)  # against Z, exactly to Z = 0
+        assert abs(float(tj.bouc_wen_exact_update(h, jnp.asarray(z0), jnp.asarray(du)))) < 1e-12
+        beyond = float(tj.bouc_wen_exact_update(h, jnp.asarray(z0), jnp.asarray(1.5 * du)))
+        assert np.sign(beyond) == -np.sign(z0)  # past it, Z has changed sign
+        # the precomputed length (as the Newton loop passes it) gives the same update
+        for scale in (0.3, 1.0, 4.0):
+            np.testing.assert_array_equal(
+                tj.bouc_wen_exact_update(h, jnp.asarray(z0), jnp.asarray(scale * du), jnp.asarray(length)),
+                tj.bouc_wen_exact_update(h, jnp.asarray(z0), jnp.asarray(scale * du)))
+
+
+def test_series_sine_and_cosine_of_the_reversal_branch():
+    from teflon_jax._hysteresis import _sin_cos
+
+    angle = np.linspace(0.0, np.pi / 2, 20001)
+    sin, cos = _sin_cos(jnp.asarray(angle))
+    np.testing.assert_allclose(np.asarray(sin), np.sin(angle), rtol=0, atol=1e-15)
+    np.testing.assert_allclose(np.asarray(cos), np.cos(angle), rtol=0, atol=1e-15)

@@ -60,3 +60,32 @@ def test_bad_options_exit_with_a_message_naming_the_option(argv, message, capsys
     status = main(argv + ["--out", str(tmp_path / "x.csv")])
     assert status == 2
     assert message in capsys.readouterr().err
+
+
+def test_cpu_devices_option_is_checked(capsys):
+    with pytest.raises(SystemExit):
+        main(["--cpu-devices", "0", "montecarlo", "--motions", "2"])
+    assert "--cpu-devices: must be >= 1" in capsys.readouterr().err
+    # JAX already runs in this process: an explicit device count can no longer be applied,
+    # and the command says so instead of running on a different layout than asked for.
+    import jax
+
+    jax.devices()
+    assert main(["--cpu-devices", "2", "montecarlo", "--motions", "2"]) == 2
+    assert "--cpu-devices" in capsys.readouterr().err
+
+
+def test_montecarlo_command_uses_one_device_per_core(tmp_path):
+    import os
+    import subprocess
+    import sys
+
+    env = {k: v for k, v in os.environ.items() if k != "XLA_FLAGS"}
+    out = subprocess.run(
+        [sys.executable, "-m", "teflon_jax._cli", "--cpu-devices", "2", "montecarlo", "--motions", "4",
+         "--duration", "4", "--strong-motion", "1", "--no-progress", "--json", str(tmp_path / "mc.json")],
+        env=dict(env, JAX_PLATFORMS="cpu"), capture_output=True, text=True, timeout=600)
+    assert out.returncode == 0, out.stderr[-2000:]
+    payload = json.loads((tmp_path / "mc.json").read_text())
+    assert payload["devices"] == 2
+    assert payload["n_motions"] == 4
