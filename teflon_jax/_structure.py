@@ -165,7 +165,8 @@ class StructureOnSliders(AbstractSteppedSystem):
 def _bearing_force(x, p, dt):
     """F(x) = mu(v) W Z with Z updated exactly along x - ub0 and v from Newmark's rule."""
     bearing = p["bearing"]
-    z = bouc_wen_exact_update(bearing.hysteresis, p["z0"], x - p["ub0"], p["reversal_length"])
+    z = bouc_wen_exact_update(bearing.hysteresis, p["z0"], x - p["ub0"], p["reversal_length"],
+                              tangent="series")  # cheaper in batches of structures
     velocity = 2 / dt * (x - p["ub0"]) - p["vb0"]
     return bearing.coefficient(velocity, 0.0, p["z_peak0"]) * p["W"] * z, z
 

@@ -280,3 +280,18 @@ def test_series_sine_and_cosine_of_the_reversal_branch():
     sin, cos = _sin_cos(jnp.asarray(angle))
     np.testing.assert_allclose(np.asarray(sin), np.sin(angle), rtol=0, atol=1e-15)
     np.testing.assert_allclose(np.asarray(cos), np.cos(angle), rtol=0, atol=1e-15)
+    # the update with the series (Monte Carlo) and with jnp.tan (fits) agree, gradients too
+    h = tj.BoucWen(yield_disp=jnp.asarray(0.005 * INCH))
+    rng = np.random.default_rng(3)
+    z0 = jnp.asarray(rng.uniform(-1.0, 1.0, 2000))
+    du = jnp.asarray(rng.normal(0.0, 2e-4, 2000))
+    for argnums in (None, 1, 2):
+        results = []
+        for tangent in ("library", "series"):
+            def update(z, d, tangent=tangent):
+                return tj.bouc_wen_exact_update(h, z, d, tangent=tangent)
+            f = update if argnums is None else jax.grad(update, argnums=argnums - 1)
+            results.append(np.asarray(jax.vmap(f)(z0, du)))
+        np.testing.assert_allclose(results[1], results[0], rtol=1e-12, atol=1e-12)
+    with pytest.raises(ValueError, match="tangent"):
+        tj.bouc_wen_exact_update(h, z0, du, tangent="cordic")

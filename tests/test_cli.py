@@ -89,3 +89,26 @@ def test_montecarlo_command_uses_one_device_per_core(tmp_path):
     payload = json.loads((tmp_path / "mc.json").read_text())
     assert payload["devices"] == 2
     assert payload["n_motions"] == 4
+
+
+def test_montecarlo_command_reports_runs_that_did_not_converge(tmp_path, capsys, monkeypatch):
+    # A run with a step whose Newton solve failed must make the command fail (status 1) with
+    # a message, not print its untrustworthy peaks as a success; the results are still written.
+    import dataclasses
+
+    import teflon_jax._montecarlo as mc
+
+    real = mc.monte_carlo
+
+    def one_failure(*args, **kwargs):
+        result = real(*args, **kwargs)
+        converged = np.asarray(result.converged).copy()
+        converged[1] = False
+        return dataclasses.replace(result, converged=converged)
+
+    monkeypatch.setattr(mc, "monte_carlo", one_failure)
+    status = main(["montecarlo", "--motions", "3", "--duration", "4", "--strong-motion", "1",
+                   "--no-progress", "--json", str(tmp_path / "mc.json")])
+    assert status == 1
+    assert "1 of 3 runs" in capsys.readouterr().err
+    assert json.loads((tmp_path / "mc.json").read_text())["all_converged"] is False
