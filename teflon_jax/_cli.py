@@ -16,9 +16,9 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--float32", action="store_true", help="compute in single precision "
                         "(default: double precision)")
     parser.add_argument("--cpu-devices", type=int, default=None, metavar="N",
-                        help="split the processor into N JAX devices; Monte Carlo and design runs "
-                        "shard their motions over them (default: one per core, unless XLA_FLAGS "
-                        "sets --xla_force_host_platform_device_count)")
+                        help="split the processor into N JAX devices; `montecarlo` shares its "
+                        "motions out over them (default: one per core, unless XLA_FLAGS sets "
+                        "--xla_force_host_platform_device_count)")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     add_simulate_parser(sub)
     for module, adders in (
