@@ -124,7 +124,8 @@ def _step_accuracy(kind, n, time_step, peer=None):
 
 def _opensees_throughput(kind, n, time_step):
     """Records per second of the OpenSees peer on the first n benchmark motions, at the same
-    step: in this process, and in a pool of one process per core (wall time of the batch)."""
+    step: in this process, and in a pool of one process per core running at once (the busiest
+    process's analysis time), with each analysis's peaks for the accuracy comparison."""
     from _peer import load_peer, peaks_and_wall, ready
 
     try:
