@@ -1,4 +1,4 @@
-"""The OpenSees peer as the benchmarks call it: the paper's UF/1000 psi bearings, 5 ms steps."""
+"""The OpenSees peer as the benchmarks call it: the paper's UF/1000 psi bearings, at the steps each benchmark gives."""
 
 import functools
 import importlib.util
