@@ -189,6 +189,15 @@ def _add_slider(
     )
 
 
+def _initial_stiffness(given, f_min, normal_load, yield_disp):
+    """k_init [N/m] of the slider: `given` (checked > 0), or f_min W / Y by default."""
+    if given is None:
+        return f_min * normal_load / yield_disp
+    if not (math.isfinite(given) and given > 0):
+        raise ValueError(f"initial_stiffness: must be a positive stiffness [N/m], got {given!r}.")
+    return given
+
+
 def _apply_gravity(ops, node, normal_load, tol):
     ops.timeSeries("Linear", 1)
     ops.pattern("Plain", 1, 1)
@@ -329,13 +338,7 @@ def rigid_mass_on_slider(
             "define "
             "the mode it refers to; set damping_ratio=0 or give spring_stiffness."
         )
-    if initial_stiffness is None:
-        initial_stiffness = (f_max - delta_f) * weight / yield_disp
-    elif not (math.isfinite(initial_stiffness) and initial_stiffness > 0):
-        raise ValueError(
-            "initial_stiffness: must be a positive stiffness [N/m], got "
-            f"{initial_stiffness!r}."
-        )
+    initial_stiffness = _initial_stiffness(initial_stiffness, f_max - delta_f, weight, yield_disp)
 
     ops = import_opensees()
     mass = weight / STANDARD_GRAVITY
@@ -504,13 +507,7 @@ def building_on_sliders(
         normal_load = STANDARD_GRAVITY * total_mass
     elif not (math.isfinite(normal_load) and normal_load > 0):
         raise ValueError(f"normal_load: must be a positive force [N], got {normal_load!r}.")
-    if initial_stiffness is None:
-        initial_stiffness = (f_max - delta_f) * normal_load / yield_disp
-    elif not (math.isfinite(initial_stiffness) and initial_stiffness > 0):
-        raise ValueError(
-            "initial_stiffness: must be a positive stiffness [N/m], got "
-            f"{initial_stiffness!r}."
-        )
+    initial_stiffness = _initial_stiffness(initial_stiffness, f_max - delta_f, normal_load, yield_disp)
 
     ops = import_opensees()
     tol = 1.0e-6 * yield_disp

@@ -40,10 +40,17 @@ def rigid_mass(peer, acc, record_time_step, *, time_step=0.005, period=None, dam
                                      **_bearing(record_time_step, time_step))
 
 
-def building(peer, acc, record_time_step, *, period, time_step=0.005):
-    """The Table 2 building on UF/1000 psi sliders and rubber springs of period `period`."""
+@functools.cache
+def _table2_building():
+    """Table 2 and its superstructure matrices (masses, stiffness, damping), read once."""
     data = load_table2()
     masses, stiffness, damping, _ = superstructure_matrices(data)
+    return data, masses, stiffness, damping
+
+
+def building(peer, acc, record_time_step, *, period, time_step=0.005):
+    """The Table 2 building on UF/1000 psi sliders and rubber springs of period `period`."""
+    data, masses, stiffness, damping = _table2_building()
     total_mass = data.total_weight / STANDARD_GRAVITY
     return peer.building_on_sliders(
         np.asarray(acc), record_time_step, floor_masses=masses, stiffness=stiffness,
@@ -64,7 +71,7 @@ def peaks_and_wall(args):
         disp, shear = r["displacement"], r["total_acceleration"] / STANDARD_GRAVITY
     else:
         r = building(peer, acc, record_time_step, period=2.0, time_step=time_step)
-        floor_masses = superstructure_matrices(load_table2())[0]
+        floor_masses = _table2_building()[1]
         disp = r["base_displacement"]
         shear = r["base_shear"] / (np.sum(floor_masses) * STANDARD_GRAVITY)
     return (r["wall_s"], float(np.max(np.abs(disp))), float(np.max(np.abs(shear))), int(r["n_failed"]),
