@@ -57,7 +57,7 @@ import time
 
 import numpy as np
 
-from teflon_jax._units import STANDARD_GRAVITY
+from teflon_jax.units import STANDARD_GRAVITY
 
 # The shared libraries shipped in `openseespylinux/lib`, in dependency order.
 _BUNDLED_LIBS = (

@@ -7,9 +7,9 @@ import pathlib
 
 import numpy as np
 
-from teflon_jax._models import superstructure_matrices
-from teflon_jax._tables import interface_parameters, load_table2
-from teflon_jax._units import INCH, PSI, STANDARD_GRAVITY
+from teflon_jax.systems import superstructure_matrices
+from teflon_jax.tables import interface_parameters, load_table2
+from teflon_jax.units import INCH, PSI, STANDARD_GRAVITY
 
 
 @functools.cache

@@ -13,7 +13,7 @@ def run_fig11_benchmark(quick: bool) -> dict:
     import jax
 
     import teflon_jax as tj
-    from teflon_jax._batch import building_sweep
+    from teflon_jax.studies import building_sweep
 
     periods = np.round(np.arange(0.2, 4.0 + 1e-9, 0.1), 10)
     if quick:

@@ -15,8 +15,8 @@ import numpy as np
 
 def _records(quick: bool):
     import teflon_jax as tj
-    from teflon_jax._records import test_record_from_arrays
-    from teflon_jax._units import INCH, KIP
+    from teflon_jax.formats import test_record_from_arrays
+    from teflon_jax.units import INCH, KIP
 
     fs = 500.0 if quick else 1000.0
     t = np.arange(0.0, 3 / 0.6 + 1e-9, 1.0 / fs)

@@ -24,15 +24,15 @@ import time
 import jax
 import numpy as np
 
-from teflon_jax._design import expected_response, forward_mode_gradient
-from teflon_jax._montecarlo import (
-    RECOMMENDED_TIME_STEPS,
-    isolated_structure,
+from teflon_jax.excitation import StochasticGroundMotion, sample
+from teflon_jax.studies import (
+    expected_response,
+    forward_mode_gradient,
     monte_carlo,
     monte_carlo_motion,
 )
-from teflon_jax._stochastic import StochasticGroundMotion, sample
-from teflon_jax._units import PSI, STANDARD_GRAVITY
+from teflon_jax.systems import RECOMMENDED_TIME_STEPS, isolated_structure
+from teflon_jax.units import PSI, STANDARD_GRAVITY
 
 TIME_STEPS = dict(RECOMMENDED_TIME_STEPS)
 """Structure step [s] per structure, as `teflon-jax montecarlo` uses by default: 2.5 ms, the

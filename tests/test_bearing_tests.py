@@ -274,7 +274,7 @@ def test_reversal_length_is_where_z_crosses_zero():
 
 
 def test_series_sine_and_cosine_of_the_reversal_branch():
-    from teflon_jax._hysteresis import _sin_cos
+    from teflon_jax.bearing._hysteresis import _sin_cos
 
     angle = np.linspace(0.0, np.pi / 2, 20001)
     sin, cos = _sin_cos(jnp.asarray(angle))

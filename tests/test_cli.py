@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import teflon_jax as tj
-from teflon_jax._cli import _parser, main
+from teflon_jax.cli._main import _parser, main
 from teflon_jax.units import KIP
 
 
@@ -82,7 +82,7 @@ def test_montecarlo_command_uses_one_device_per_core(tmp_path):
 
     env = {k: v for k, v in os.environ.items() if k != "XLA_FLAGS"}
     out = subprocess.run(
-        [sys.executable, "-m", "teflon_jax._cli", "--cpu-devices", "2", "montecarlo", "--motions", "4",
+        [sys.executable, "-m", "teflon_jax.cli", "--cpu-devices", "2", "montecarlo", "--motions", "4",
          "--duration", "4", "--strong-motion", "1", "--no-progress", "--json", str(tmp_path / "mc.json")],
         env=dict(env, JAX_PLATFORMS="cpu"), capture_output=True, text=True, timeout=600)
     assert out.returncode == 0, out.stderr[-2000:]
@@ -96,7 +96,7 @@ def test_montecarlo_command_reports_runs_that_did_not_converge(tmp_path, capsys,
     # a message, not print its untrustworthy peaks as a success; the results are still written.
     import dataclasses
 
-    import teflon_jax._montecarlo as mc
+    import teflon_jax.studies as mc
 
     real = mc.monte_carlo
 

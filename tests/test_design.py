@@ -6,7 +6,8 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
-from teflon_jax._design import (
+from teflon_jax.excitation import StochasticGroundMotion, sample
+from teflon_jax.studies import (
     design_bounds,
     design_sweep,
     expected_response,
@@ -15,9 +16,8 @@ from teflon_jax._design import (
     penalised_objective,
     sweep_start,
 )
-from teflon_jax._montecarlo import isolated_structure
-from teflon_jax._stochastic import StochasticGroundMotion, sample
-from teflon_jax._units import PSI
+from teflon_jax.systems import isolated_structure
+from teflon_jax.units import PSI
 
 DT = 0.01
 
@@ -50,7 +50,7 @@ def test_gradients_match_central_differences(records):
 
 def test_smooth_max_gradient_matches_central_differences():
     """Fast check of the gradient path of the statistics (the full chain is a slow test)."""
-    from teflon_jax._montecarlo import smooth_max
+    from teflon_jax.systems import smooth_max
 
     t = jnp.linspace(0.0, 10.0, 501)
 
@@ -122,7 +122,7 @@ def test_forward_mode_gradient_equals_reverse_mode_on_a_simulation():
     import numpy as np
 
     import teflon_jax as tj
-    from teflon_jax._design import forward_mode_gradient
+    from teflon_jax.studies import forward_mode_gradient
     from teflon_jax.units import PSI, STANDARD_GRAVITY
 
     t = np.linspace(0.0, 4.0, 401)

@@ -5,13 +5,13 @@ import pytest
 
 import teflon_jax as tj
 from identification import fit_bearing_test, point_branches
-from teflon_jax._records import (
+from teflon_jax.formats import (
     Protocol,
     read_test_record,
     test_record_from_arrays,
     write_test_record,
 )
-from teflon_jax._units import INCH, KIP
+from teflon_jax.units import INCH, KIP
 
 Y_PAPER = 0.005 * INCH
 NORMAL_LOAD = 78.5 * KIP

@@ -11,21 +11,22 @@ import math
 import numpy as np
 import pytest
 
-from identification._augmented import active_mask, prepare_record, simulate_augmented
-from identification._diagnostics import half_cycle_index, locate_residual
-from identification._discovery import (
+from identification.discovery import (
+    AMBIENT_TEMPERATURE,
+    active_mask,
     confidence_wording,
     discover_effects,
     effective_samples,
-)
-from identification._effects import (
-    AMBIENT_TEMPERATURE,
+    half_cycle_index,
     heat_kernel_exponentials,
     kumar_temperature_factor,
+    locate_residual,
+    prepare_record,
+    simulate_augmented,
     surface_temperature_coefficient,
 )
-from teflon_jax._records import test_record_from_arrays
-from teflon_jax._units import INCH, KIP
+from teflon_jax.formats import test_record_from_arrays
+from teflon_jax.units import INCH, KIP
 
 UF_1000_P = {"f_max": 0.1193, "delta_f": 0.0927, "rate_a": 0.60 / INCH}  # Table 1
 UF_1000_T = {
@@ -152,7 +153,7 @@ def test_constant_flux_temperature_matches_carslaw_jaeger():
     params.update(f_max=0.1, yield_disp=1e-6, heat_scale=1.0)
     out = simulate_augmented(params, data, active_mask(()))
     q0 = 0.1 * 1.0e5 / 0.01 * speed
-    from identification._effects import STEEL_CONDUCTIVITY, STEEL_DIFFUSIVITY
+    from identification.discovery import STEEL_CONDUCTIVITY, STEEL_DIFFUSIVITY
 
     exact = 2 * q0 * np.sqrt(STEEL_DIFFUSIVITY * t / np.pi) / STEEL_CONDUCTIVITY
     got = np.asarray(out["heat_index"])
@@ -160,7 +161,7 @@ def test_constant_flux_temperature_matches_carslaw_jaeger():
 
 
 def _defaults():
-    from identification._augmented import default_parameters
+    from identification.discovery import default_parameters
 
     return default_parameters()
 
@@ -334,8 +335,8 @@ def test_coulomb_baseline_rediscovers_the_paper_model():
 
 
 def test_diagnose_cli_writes_json_and_report(tmp_path, capsys):
-    from identification._cli_diagnose import main
-    from teflon_jax._records import write_test_record
+    from teflon_jax.cli import main
+    from teflon_jax.formats import write_test_record
 
     path = tmp_path / "hidden_asymmetry.csv"
     write_test_record(path, generate_record(**HIDDEN["asymmetry"], seed=3))
@@ -362,7 +363,7 @@ def test_diagnose_cli_writes_json_and_report(tmp_path, capsys):
 
 
 def test_diagnose_cli_reports_bad_record(tmp_path, capsys):
-    from identification._cli_diagnose import main
+    from teflon_jax.cli import main
 
     path = tmp_path / "bad.csv"
     path.write_text("time [s],ux [in],fx [kip]\n0,0,0\n1,0.1,nan\n")
@@ -389,8 +390,11 @@ def test_interfaces_without_known_rate_is_absorbed_by_rate_a():
 
 
 def test_diagnostics_locate_and_correlate_the_missing_effect():
-    from identification._augmented import default_parameters
-    from identification._diagnostics import regressors, residual_correlation
+    from identification.discovery import (
+        default_parameters,
+        regressors,
+        residual_correlation,
+    )
 
     def baseline_sim(record, friction):
         data, _ = prepare_record(record)
@@ -506,7 +510,7 @@ def generate_biaxial_record(
 def test_planar_update_matches_direct_integration():
     import jax.numpy as jnp
 
-    from identification._augmented import planar_exact_update
+    from identification.discovery import planar_exact_update
     from teflon_jax import BoucWen
 
     y = 1e-3
@@ -566,7 +570,7 @@ def test_isotropic_figure_eight_adds_nothing():
 def test_real_friction_damper_shows_its_asymmetry(external_data):
     # A real laboratory test (banded rotary friction damper, ARTS Lab): its friction is known
     # to differ between the two sliding directions (+v about 2.6 kip, -v about 1.9 kip).
-    from identification._damper import read_friction_damper_json
+    from teflon_jax.formats import read_friction_damper_json
 
     path = external_data / "friction_damper_brfd_arts_lab" / "1Hz30lbtension1amplitude.json"
     measured = read_friction_damper_json(path)

@@ -10,16 +10,15 @@ from scipy.integrate import solve_ivp
 
 import teflon_jax as tj
 from identification import fit_least_squares
-from identification._bearing_fit import (
+from identification.bearing_fit import (
     fit_bearing_test,
     fit_bearing_tests_batch,
     parse_free,
     simulate_record_force,
 )
-from identification._cli_fit import add_fit_parser
-from identification._damper import read_friction_damper_json
-from teflon_jax._records import test_record_from_arrays
-from teflon_jax._units import INCH, KIP
+from teflon_jax.cli._fit import add_fit_parser
+from teflon_jax.formats import read_friction_damper_json, test_record_from_arrays
+from teflon_jax.units import INCH, KIP
 
 Y_PAPER = 0.005 * INCH
 NORMAL_LOAD = 78.5 * KIP
@@ -239,7 +238,7 @@ def test_friction_damper_fit_shows_model_limits(external_data, tmp_path):
     neg = residual[v < -0.05 * np.abs(v).max()].mean()
     force_level = np.sqrt(np.mean(record.fx**2))
     assert abs((-pos) - (-neg)) > 0.05 * force_level or np.sign(pos) != np.sign(neg)
-    from identification._report import plot_fit, write_fit_json
+    from identification.bearing_fit import plot_fit, write_fit_json
 
     write_fit_json(tmp_path / "fit.json", fit)
     plot_fit(tmp_path / "fit.png", fit)

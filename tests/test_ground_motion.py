@@ -11,16 +11,21 @@ import re
 import numpy as np
 import pytest
 
-from teflon_jax._ground_motion import GroundMotion, integrate_motion, intensity_measures
-from teflon_jax._ground_motion_io import (
+from teflon_jax.excitation import (
+    GroundMotion,
+    fourier_amplitude,
+    integrate_motion,
+    intensity_measures,
+    response_spectrum,
+)
+from teflon_jax.formats import (
     external_data_dir,
     load_record,
     read_at2,
     read_single_column,
     read_two_column,
 )
-from teflon_jax._spectra import fourier_amplitude, response_spectrum
-from teflon_jax._units import CM, STANDARD_GRAVITY
+from teflon_jax.units import CM, STANDARD_GRAVITY
 
 G = STANDARD_GRAVITY
 

@@ -1,4 +1,4 @@
-"""Tests of the chunked, sharded Monte Carlo (teflon_jax._montecarlo).
+"""Tests of the chunked, sharded Monte Carlo (teflon_jax.studies).
 
 References: the full response histories of `simulate_structure` (peaks taken with NumPy),
 NumPy percentiles, a second process with two host CPU devices, and the process's peak
@@ -17,17 +17,10 @@ import numpy as np
 import pytest
 
 from teflon_jax import simulate_structure, uniform_signal
-from teflon_jax._montecarlo import (
-    MonteCarloResult,
-    RecordSet,
-    isolated_structure,
-    monte_carlo,
-    peak_response,
-    save_montecarlo,
-    smooth_max,
-)
-from teflon_jax._stochastic import StochasticGroundMotion, sample
-from teflon_jax._units import PSI, STANDARD_GRAVITY
+from teflon_jax.excitation import StochasticGroundMotion, sample
+from teflon_jax.studies import MonteCarloResult, RecordSet, monte_carlo, save_montecarlo
+from teflon_jax.systems import isolated_structure, peak_response, smooth_max
+from teflon_jax.units import PSI, STANDARD_GRAVITY
 
 REPO = pathlib.Path(__file__).resolve().parent.parent
 
@@ -102,8 +95,9 @@ _SHARDED = """
 import json, resource, sys
 import jax, numpy as np
 jax.config.update("jax_enable_x64", True)
-from teflon_jax._montecarlo import isolated_structure, monte_carlo
-from teflon_jax._stochastic import StochasticGroundMotion
+from teflon_jax.studies import monte_carlo
+from teflon_jax.systems import isolated_structure
+from teflon_jax.excitation import StochasticGroundMotion
 mode = sys.argv[1]
 if mode == "shard":
     model = StochasticGroundMotion(peak_ground_acceleration=3.0, duration=4.0, time_step=0.01,

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 import teflon_jax as tj
-from teflon_jax._models import (
+from teflon_jax.systems import (
     building_response_quantities,
     rigid_mass,
     signal_from_motion,

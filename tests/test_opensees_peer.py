@@ -11,7 +11,7 @@ import pathlib
 import numpy as np
 import pytest
 
-from teflon_jax._units import INCH, STANDARD_GRAVITY
+from teflon_jax.units import INCH, STANDARD_GRAVITY
 
 _PATH = pathlib.Path(__file__).resolve().parents[1] / "benchmarks" / "_opensees_models.py"
 _spec = importlib.util.spec_from_file_location("_opensees_models", _PATH)

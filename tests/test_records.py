@@ -5,11 +5,11 @@ import json
 import numpy as np
 import pytest
 
-import teflon_jax._records as records
-from identification._damper import read_friction_damper_json
-from teflon_jax._records import (
+import teflon_jax.formats as records
+from teflon_jax.formats import (
     Protocol,
     parse_protocol,
+    read_friction_damper_json,
     read_test_record,
     write_test_record,
 )

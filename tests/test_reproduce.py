@@ -6,7 +6,7 @@ import json
 
 import pytest
 
-from teflon_jax._cli_reproduce import add_reproduce_parser
+from teflon_jax.cli._reproduce import add_reproduce_parser
 
 
 def test_cli_parser_requires_out_and_reads_flags():
@@ -20,10 +20,10 @@ def test_cli_parser_requires_out_and_reads_flags():
 
 @pytest.fixture(scope="module")
 def quick_run(tmp_path_factory, external_data):
-    from teflon_jax._reproduce import reproduce
+    from teflon_jax.paper import reproduce
 
     out = tmp_path_factory.mktemp("reproduce")
-    summary = reproduce(out, quick=True, progress=False)
+    summary = reproduce(out, quick=True)
     return out, summary
 
 

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 from scipy import integrate, signal
 
-from teflon_jax._stochastic import (
+from teflon_jax.excitation import (
     StochasticGroundMotion,
     envelope,
     num_time_steps,

@@ -8,14 +8,14 @@ import pytest
 import scipy.linalg
 
 import teflon_jax as tj
-from teflon_jax._batch import (
+from teflon_jax.studies import (
     building_peaks,
     building_sweep,
     pad_signals,
     simulate_batch,
     stack_systems,
 )
-from teflon_jax._models import (
+from teflon_jax.systems import (
     building_response_quantities,
     rigid_mass,
     signal_from_motion,

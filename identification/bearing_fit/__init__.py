@@ -1,0 +1,12 @@
+"""Fitting the 1990 model's constants to bearing test records (measured or digitised)."""
+
+from ._digitised import point_branches as point_branches
+from ._fit import fit_bearing_test as fit_bearing_test
+from ._fit import fit_bearing_tests_batch as fit_bearing_tests_batch
+from ._model import PARAMETER_NAMES as PARAMETER_NAMES
+from ._plan import BearingFit as BearingFit
+from ._plan import RecordResidual as RecordResidual
+from ._plan import parse_free as parse_free
+from ._record_force import simulate_record_force as simulate_record_force
+from ._report import plot_fit as plot_fit
+from ._report import write_fit_json as write_fit_json

@@ -1,0 +1,88 @@
+"""Loop features shared by the time-history and digitised fits: reversals, first friction estimate."""
+
+import dataclasses
+import math
+
+import numpy as np
+
+# x at which Z crosses 0 after a reversal from Z = -1 (Bouc-Wen, A = 1, gamma - beta = 0.8):
+# x = atan(sqrt(gamma - beta)) / sqrt(gamma - beta), in units of Y.
+_ZERO_CROSSING = math.atan(math.sqrt(0.8)) / math.sqrt(0.8)
+
+
+_MIN_ELASTIC_SAMPLES = 3
+
+
+# ---------------------------------------------------------------------------------------------
+# Data prepared for the residual
+
+
+@dataclasses.dataclass
+class PreparedRecord:
+    """A record ready for fitting (numpy, SI): what the residual needs and what was detected.
+
+    - `name`: the file name or `record <i>`.
+    - `kind`: `"time"` (a time history) or `"digitised"` (points of a loop plus a protocol).
+    - `arrays`: the pytree of arrays passed to the residual.
+    - `first_motion`: whether the record starts from rest (contains the first excursion).
+    - `start`: feature-based start values of all five parameters.
+    - `warnings`: identifiability and data warnings.
+    - `elastic_samples`: median number of samples within 2 Y after a reversal.
+    """
+
+    name: str
+    kind: str
+    arrays: dict
+    first_motion: bool
+    start: dict
+    warnings: list
+    elastic_samples: float
+    n_interfaces: int
+    measured: np.ndarray
+    ux: np.ndarray
+    time: np.ndarray | None
+
+
+def _forward_velocity(time, ux):
+    v = np.diff(ux) / np.diff(time)
+    return np.concatenate([v, v[-1:]])
+
+
+def _reversals(ux) -> np.ndarray:
+    """Indices where the direction of motion changes (the sample at the extreme)."""
+    du = np.diff(ux)
+    sign = np.sign(du)
+    # carry the last non-zero direction over pauses
+    for i in range(1, sign.size):
+        if sign[i] == 0:
+            sign[i] = sign[i - 1]
+    change = np.flatnonzero(sign[1:] * sign[:-1] < 0) + 1
+    return change
+
+
+def _excursion(ux, reversals) -> np.ndarray:
+    """|u - u at the last reversal (or at the start)| for each sample."""
+    anchors = np.zeros(ux.size, dtype=int)
+    for r in reversals:
+        anchors[r:] = r
+    return np.abs(ux - ux[anchors])
+
+
+def _friction_law_start(speed, mu_sliding):
+    """Start values of (f_max, delta_f, rate_a) by a grid over rate_a and linear least squares."""
+    v_ref = np.median(speed)
+    best = None
+    for a in np.geomspace(0.01, 30.0, 80) / max(v_ref, 1e-12):
+        e = np.exp(-a * speed)
+        design = np.stack([np.ones_like(e), -e], axis=1)
+        coef, *_ = np.linalg.lstsq(design, mu_sliding, rcond=None)
+        cost = np.sum((design @ coef - mu_sliding) ** 2)
+        if coef[0] > 0 and 0 < coef[1] < coef[0] and (best is None or cost < best[0]):
+            best = (cost, coef[0], coef[1], a)
+    if best is None:
+        f = float(np.median(mu_sliding))
+        return f, 0.5 * f, 3.0 / max(v_ref, 1e-12)
+    _, f_max, delta_f, a = best
+    delta_f = float(np.clip(delta_f, 0.05 * f_max, 0.95 * f_max))
+    return float(f_max), delta_f, float(a)
+

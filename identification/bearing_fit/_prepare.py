@@ -1,0 +1,148 @@
+"""Checks a test record and extracts the loop features the fitter starts from."""
+
+
+import numpy as np
+
+from teflon_jax.bearing import DEFAULT_YIELD_DISP
+from teflon_jax.formats import TestRecord
+
+from ._loop_features import (
+    _ZERO_CROSSING,
+    PreparedRecord,
+    _excursion,
+    _forward_velocity,
+    _friction_law_start,
+    _reversals,
+)
+
+
+def _record_name(record: TestRecord, index: int) -> str:
+    return record.path.name if record.path is not None else f"record {index}"
+
+
+def _normal_load(record: TestRecord, name: str, normal_load) -> np.ndarray:
+    if record.normal_load is not None:
+        return np.asarray(record.normal_load, dtype=float)
+    if normal_load is None:
+        raise ValueError(
+            f"{name}: no normal load (no 'N' column and no 'normal_load' or 'contact_area' and "
+            f"'contact_pressure' metadata); add one to the record, or pass normal_load=<N> to "
+            f"the fitter (normal_load=1.0 fits the force itself, e.g. for the friction damper)."
+        )
+    value = np.asarray(normal_load, dtype=float)
+    if value.ndim != 0 or not np.isfinite(value) or value <= 0:
+        raise ValueError(f"normal_load: must be one positive number [N], got {normal_load!r}.")
+    return np.full(record.ux.shape, float(value))
+
+
+def _features_time(time, ux, fx, load, n_interfaces, name, yield_ref):
+    """Loop features of a time history: starts, first motion, identifiability numbers."""
+    v = _forward_velocity(time, ux)
+    speed = np.abs(v) / n_interfaces
+    reversals = _reversals(ux)
+    excursion = _excursion(ux, reversals)
+    stroke = float(np.ptp(ux))
+    if excursion.max() < 3.0 * yield_ref:
+        raise ValueError(
+            f"{name}: the bearing never slides: the largest excursion between reversals "
+            f"({excursion.max():.3g} m) is below 3 Y = {3 * yield_ref:.3g} m, so friction "
+            f"and yield displacement cannot be told apart; use a test with a larger amplitude."
+        )
+    mu = fx / load
+    sliding = (excursion > max(0.02 * stroke, 4.0 * yield_ref)) & (speed > 0)
+    if np.count_nonzero(sliding) < 10:
+        raise ValueError(
+            f"{name}: fewer than 10 samples while sliding; the record is too short or the "
+            f"amplitude too small to fit a friction law."
+        )
+    mu_s = mu[sliding] * np.sign(v[sliding])
+    f_max, delta_f, rate_a = _friction_law_start(speed[sliding], mu_s)
+    level = float(np.median(np.abs(mu[sliding])))
+
+    # First excursion from rest: the record starts with (almost) no force and the first
+    # reversal comes after the bearing has slid.
+    first_end = reversals[0] if reversals.size else ux.size
+    first_motion = bool(
+        abs(mu[0]) < 0.2 * level and excursion[:first_end].max() > 4.0 * yield_ref
+    )
+
+    # Yield displacement from where the force changes sign after each reversal.
+    y_estimates, counts = [], []
+    for r in reversals:
+        s_new = np.sign(v[r])
+        seg = slice(r, min(r + 2000, ux.size))
+        f_seg = fx[seg] * s_new
+        d_seg = excursion[seg]
+        positive = np.flatnonzero(f_seg > 0)
+        if positive.size == 0 or f_seg[0] >= 0:
+            continue
+        j = positive[0]
+        if j < 2:  # crossing not resolved by the sampling
+            continue
+        d0 = d_seg[j - 1] + (d_seg[j] - d_seg[j - 1]) * (-f_seg[j - 1]) / (f_seg[j] - f_seg[j - 1])
+        y_estimates.append(d0 / _ZERO_CROSSING)
+    yield_disp = float(np.median(y_estimates)) if y_estimates else float(DEFAULT_YIELD_DISP)
+    if not np.isfinite(yield_disp) or yield_disp <= 0:
+        yield_disp = float(DEFAULT_YIELD_DISP)
+    for r in reversals:
+        seg = excursion[r + 1: r + 2000]
+        counts.append(int(np.count_nonzero(seg < 2.0 * yield_disp)))
+    elastic = float(np.median(counts)) if counts else 0.0
+
+    breakaway = 1.5
+    if first_motion:
+        early = excursion[:first_end] < 6.0 * yield_disp
+        peak = float(np.max(np.abs(mu[:first_end][early]))) if early.any() else 0.0
+        breakaway = float(np.clip(peak / (f_max - delta_f), 1.05, 20.0))
+    return dict(
+        start=dict(f_max=f_max, delta_f=delta_f, rate_a=rate_a, yield_disp=yield_disp,
+                   breakaway_ratio=breakaway),
+        first_motion=first_motion,
+        elastic=elastic,
+        speed_low=float(np.percentile(speed[sliding], 5)),
+        speed_high=float(np.percentile(speed[sliding], 95)),
+        level=level,
+        z0=0.0 if first_motion else float(np.clip(mu[0] / max(level, 1e-300), -1.0, 1.0)),
+    )
+
+
+def prepare_record(record: TestRecord, *, index: int = 0, normal_load=None,
+                   yield_ref: float | None = None) -> PreparedRecord:
+    """Check a record and extract its loop features (see `PreparedRecord`)."""
+    from ._digitised import prepare_digitised
+
+    name = _record_name(record, index)
+    if record.is_biaxial:
+        raise ValueError(
+            f"{name}: biaxial records (with 'uy') are not supported by the fitter yet; "
+            f"fit a uniaxial test (ux, fx)."
+        )
+    n_interfaces = int(record.metadata.get("interfaces", 1))
+    load = _normal_load(record, name, normal_load)
+    if np.any(load <= 0):
+        i = int(np.argmax(load <= 0))
+        raise ValueError(f"{name}: normal load must be positive (compression); sample {i} is "
+                         f"{load[i]} N.")
+    yield_ref = float(DEFAULT_YIELD_DISP) if yield_ref is None else float(yield_ref)
+    if record.is_digitised:
+        return prepare_digitised(record, name=name, load=load, n_interfaces=n_interfaces,
+                                 yield_ref=yield_ref)
+    if record.ux.size < 10:
+        raise ValueError(f"{name}: only {record.ux.size} samples; a fit needs a full loop.")
+    time, ux, fx = (np.asarray(x, dtype=float) for x in (record.time, record.ux, record.fx))
+    feats = _features_time(time, ux, fx, load, n_interfaces, name, yield_ref)
+    scale = float(np.sqrt(np.mean(fx**2)))
+    arrays = dict(
+        time=time, ux=ux, fx=fx, load=load, weight=np.ones_like(time) / scale,
+        z0=np.asarray(feats["z0"]), z_peak0=np.asarray(0.0 if feats["first_motion"] else 1.0),
+    )
+    warnings = []
+    prepared = PreparedRecord(
+        name=name, kind="time", arrays=arrays, first_motion=feats["first_motion"],
+        start=feats["start"], warnings=warnings, elastic_samples=feats["elastic"],
+        n_interfaces=n_interfaces, measured=fx, ux=ux, time=time,
+    )
+    prepared.speed_low = feats["speed_low"]
+    prepared.speed_high = feats["speed_high"]
+    return prepared
+

@@ -1,0 +1,29 @@
+"""Model discovery: candidate physical effects, the augmented simulator, residual diagnostics
+and forward selection."""
+
+from ._augmented import active_mask as active_mask
+from ._augmented import default_parameters as default_parameters
+from ._augmented import planar_exact_update as planar_exact_update
+from ._augmented import prepare_record as prepare_record
+from ._augmented import simulate_augmented as simulate_augmented
+from ._diagnostics import effective_samples as effective_samples
+from ._diagnostics import half_cycle_index as half_cycle_index
+from ._diagnostics import locate_residual as locate_residual
+from ._diagnostics import regressors as regressors
+from ._diagnostics import residual_correlation as residual_correlation
+from ._discovery import discover_effects as discover_effects
+from ._effects import AMBIENT_TEMPERATURE as AMBIENT_TEMPERATURE
+from ._effects import BASELINES as BASELINES
+from ._effects import EFFECT_NAMES as EFFECT_NAMES
+from ._effects import EFFECTS as EFFECTS
+from ._effects import STEEL_CONDUCTIVITY as STEEL_CONDUCTIVITY
+from ._effects import STEEL_DIFFUSIVITY as STEEL_DIFFUSIVITY
+from ._effects import Effect as Effect
+from ._effects import EffectParameter as EffectParameter
+from ._effects import heat_kernel_exponentials as heat_kernel_exponentials
+from ._effects import kumar_temperature_factor as kumar_temperature_factor
+from ._effects import surface_temperature_coefficient as surface_temperature_coefficient
+from ._report import write_report as write_report
+from ._result import DiscoveryResult as DiscoveryResult
+from ._result import DiscoveryStep as DiscoveryStep
+from ._result import confidence_wording as confidence_wording

@@ -1,0 +1,398 @@
+"""Model discovery: fit a baseline, find the missing effect, add it, refit, repeat.
+
+The workflow an experimentalist follows with a new bearing test, made explicit:
+
+1. Fit the baseline model (`paper1990`: Eq. 1 + Bouc-Wen; or `coulomb`: constant friction +
+   Bouc-Wen) to the whole record.
+2. For every candidate effect not yet in the model, refit the model with that effect added
+   (a) to the whole record and (b) in two folds of alternate cycles (fit on the odd cycles
+   and predict the even ones, and the reverse).
+3. Evidence for each candidate:
+   - `delta_bic`: the drop of the Bayesian information criterion,
+         delta_bic = n_eff ln(SSR_before / SSR_after) - k_added ln(n_eff),
+     where n_eff = n (1 - rho) / (1 + rho) is the effective number of independent samples of
+     the candidate's residual (rho its lag-1 autocorrelation, AR(1) approximation; Bretherton
+     et al. 1999), so correlated residuals do not buy evidence they do not carry.
+     delta_bic approximates 2 ln(Bayes factor) and is read on the scale of Kass & Raftery
+     (1995): > 10 "very strong", 6-10 "strong", 2-6 "positive", < 2 "not worth more than a
+     bare mention".
+   - `holdout_gain`: 1 - CV_after / CV_before, with CV the root-mean-square prediction error
+     on the cycles left out of each fold's fit (blocked cross-validation).
+4. The candidate with the largest delta_bic among those with a positive held-out gain is
+   added if its delta_bic exceeds `bic_threshold` (10, "very strong"); otherwise the model is
+   declared complete ("no missing effect"). How sure the *naming* is (this effect rather than
+   the runner-up) is the margin of its delta_bic over the runner-up's, read on the same scale.
+
+Every fit of one round (current model and every candidate, full record and both folds) is a
+single vmapped, compiled call of a masked Levenberg-Marquardt solver (`fit_batch`): effects are
+switched by a 0/1 mask and the parameters of effects that are off are frozen, so the model is
+compiled once per record.
+"""
+
+import math
+import time as _time
+
+import jax.numpy as jnp
+import numpy as np
+
+from ..least_squares import covariance_from_jacobian
+from ._augmented import (
+    PARAMETER_EFFECT,
+    PARAMETER_NAMES,
+    PARAMETERS,
+    AugmentedData,
+    RecordInfo,
+    active_mask,
+    prepare_record,
+)
+from ._batch_fit import (
+    _HI,
+    _LO,
+    _LOG,
+    _fold_weights,
+    _free_mask,
+    _simulate_batch,
+    _stacked,
+    fit_batch,
+    to_physical,
+    to_unconstrained,
+)
+from ._diagnostics import (
+    effective_samples,
+    half_cycle_index,
+    regressors,
+    residual_correlation,
+)
+from ._effects import BASELINES, EFFECT_NAMES, EFFECTS
+from ._result import (
+    DEFAULT_BIC_THRESHOLD,
+    DiscoveryResult,
+    DiscoveryStep,
+    confidence_wording,
+)
+
+
+def _applicable(info: RecordInfo, known):
+    applicable, skipped = [], {}
+    for name, effect in EFFECTS.items():
+        if name == "interfaces" and "rate_a" not in known:
+            skipped[name] = (
+                "Eq. 1 at |v| / n only rescales rate_a, which is fitted: n is identifiable only "
+                "with rate_a known (e.g. from Table 1, `known={'rate_a': ...}`)"
+            )
+        elif effect.requires == "varying_normal_load" and not info.varying_normal_load:
+            skipped[name] = (
+                "normal load constant in this record (no contrast to identify it)"
+            )
+        elif effect.requires == "biaxial" and not info.biaxial:
+            skipped[name] = "uniaxial record (one sliding direction only)"
+        else:
+            applicable.append(name)
+    return applicable, skipped
+
+
+def _start_values(data: AugmentedData) -> dict:
+    mu = np.hypot(np.asarray(data.force), np.asarray(data.force_y)) / np.asarray(
+        data.normal
+    )
+    start = {p.name: p.initial for p in PARAMETERS}
+    start["f_max"] = float(np.clip(np.percentile(mu, 90), 0.003, 0.45))
+    start["delta_f"] = 0.5 * start["f_max"]
+    return start
+
+
+def _inside(values: np.ndarray) -> np.ndarray:
+    lower = np.array([p.lower for p in PARAMETERS])
+    upper = np.array([p.upper for p in PARAMETERS])
+    margin = 1e-4 * (upper - lower)
+    return np.clip(values, lower + margin, upper - margin)
+
+
+def discover_effects(
+    record,
+    *,
+    baseline: str = "paper1990",
+    candidates=None,
+    bic_threshold: float = DEFAULT_BIC_THRESHOLD,
+    max_effects: int = 4,
+    max_samples: int = 3000,
+    max_steps: int = 40,
+    known=None,
+    callback=None,
+) -> DiscoveryResult:
+    """Find the effects a test record shows beyond a baseline model, one at a time.
+
+    **Arguments:**
+
+    - `record`: a `TestRecord` (uniaxial, with time and normal load).
+    - `baseline`: `"paper1990"` (Eq. 1 + Bouc-Wen, default) or `"coulomb"`.
+    - `candidates`: names from `EFFECT_NAMES` to consider (default: all that the record can
+      identify).
+    - `bic_threshold`: smallest delta_bic that adds an effect (default 10: "very strong").
+    - `max_effects`: at most this many effects are added.
+    - `max_samples`: longer records are decimated to about this many samples.
+    - `max_steps`: Levenberg-Marquardt steps per fit.
+    - `known`: parameters held at given values (SI), e.g. `{"rate_a": 23.6}` from Table 1;
+      with `rate_a` known the `interfaces` candidate becomes identifiable.
+    - `callback`: called with a line of progress text (for a CLI), or `None`.
+
+    **Returns:** a `DiscoveryResult`.
+    """
+    if baseline not in BASELINES:
+        raise ValueError(
+            f"baseline: unknown '{baseline}'; use one of {', '.join(BASELINES)}."
+        )
+    if not bic_threshold >= 0:
+        raise ValueError(f"bic_threshold: must be >= 0, got {bic_threshold}.")
+    if max_effects < 0:
+        raise ValueError(f"max_effects: must be >= 0, got {max_effects}.")
+    if max_steps < 1:
+        raise ValueError(f"max_steps: must be >= 1, got {max_steps}.")
+    started = _time.perf_counter()
+    say = callback or (lambda text: None)
+    known = dict(known or {})
+    for name, value in known.items():
+        if name not in PARAMETER_NAMES:
+            raise ValueError(
+                f"known: unknown parameter '{name}'; choose from {list(PARAMETER_NAMES)}."
+            )
+        p = PARAMETERS[PARAMETER_NAMES.index(name)]
+        if not p.lower < float(value) < p.upper:
+            raise ValueError(
+                f"known['{name}']: {value} is outside the range ({p.lower}, {p.upper}) [{p.unit}]."
+            )
+    fixed = np.array([0.0 if name in known else 1.0 for name in PARAMETER_NAMES])
+    data, info = prepare_record(record, max_samples=max_samples)
+    applicable, skipped = _applicable(info, known)
+    if candidates is not None:
+        unknown = [c for c in candidates if c not in EFFECTS]
+        if unknown:
+            raise ValueError(
+                f"candidates: unknown {unknown}; choose from {list(EFFECT_NAMES)}."
+            )
+        for name in applicable:
+            if name not in candidates:
+                skipped[name] = "not among the requested candidates"
+        applicable = [c for c in applicable if c in candidates]
+    current = list(BASELINES[baseline])
+    pool = [c for c in applicable if c not in current]
+
+    n = data.n_samples
+    force = _stacked(np.asarray(data.force), np.asarray(data.force_y), data.biaxial)
+    n_total = force.size
+    scale = float(np.sqrt(np.mean(force**2)))
+    if not scale > 0:
+        raise ValueError(f"{info.source}: the measured force is zero throughout.")
+    half_cycles = half_cycle_index(np.asarray(data.ux))
+    fold_a, fold_b = _fold_weights(n, half_cycles)
+    held_a, held_b = (_stacked(w, w, data.biaxial) for w in (fold_a, fold_b))
+    ones = np.ones(n)
+    n_members = 3 * (1 + len(pool))
+
+    def run_batch(starts, actives, weights):
+        """Fit B configurations; pads to `n_members` so the solve compiles once."""
+        b = len(starts)
+        pad = n_members - b
+        starts = list(starts) + [starts[0]] * pad
+        actives = np.array(list(actives) + [actives[0]] * pad)
+        weights = np.array(list(weights) + [weights[0]] * pad)
+        values = _inside(np.array([[s[name] for name in PARAMETER_NAMES] for s in starts]))
+        free = np.array([_free_mask(a) * fixed for a in actives])
+        u, _, jac = fit_batch(
+            jnp.asarray(to_unconstrained(values)),
+            jnp.asarray(free),
+            jnp.asarray(actives),
+            jnp.asarray(weights),
+            data,
+            scale,
+            n_iter=max_steps,
+        )
+        fitted = np.asarray(to_physical(u))
+        sims = _simulate_batch(jnp.asarray(fitted), data, jnp.asarray(actives))
+        extra = {"u": np.asarray(u)[:b], "jacobian": np.asarray(jac)[:b]}
+        return extra, fitted[:b], {k: np.asarray(v)[:b] for k, v in sims.items()}
+
+    # Baseline: several starts of the rate and of the yield displacement, keep the best.
+    start0 = _start_values(data)
+    start0.update({name: float(v) for name, v in known.items()})
+    starts = []
+    for k in range(n_members):
+        s = dict(start0)
+        if "rate_a" not in known:
+            s["rate_a"] = PARAMETERS[PARAMETER_NAMES.index("rate_a")].initial * 10.0 ** (
+                (k % 3) - 1
+            )
+        s["yield_disp"] = start0["yield_disp"] * 4.0 ** ((k // 3) % 3 - 1)
+        starts.append(s)
+    mask = np.asarray(active_mask(current))
+    extra, fitted, sims = run_batch(starts, [mask] * n_members, [ones] * n_members)
+    sims["stacked"] = _stacked(sims["force"], sims["force_y"], data.biaxial)
+    sse = np.sum((sims["stacked"] - force) ** 2, axis=1)
+    best = int(np.argmin(sse))
+    values = fitted[best]
+    final_u, final_jac = extra["u"][best], extra["jacobian"][best]
+    model_force = sims["stacked"][best]
+    nrmse_initial = float(np.sqrt(sse[best] / n_total) / scale)
+    say(f"baseline {baseline}: nrmse {nrmse_initial:.4f}")
+    baseline_values, baseline_force = values.copy(), model_force.copy()
+
+    steps, final_round = [], {}
+    while pool and len(steps) < max_effects:
+        configs = [list(current)] + [list(current) + [c] for c in pool]
+        starts, actives, weights = [], [], []
+        for config in configs:
+            s = {name: float(values[i]) for i, name in enumerate(PARAMETER_NAMES)}
+            for name in config:
+                if name not in current:
+                    s.update(
+                        {
+                            p.name: p.initial
+                            for p in EFFECTS[name].parameters
+                            if p.name not in known
+                        }
+                    )
+                    if name == "velocity_dependence":
+                        # Keep the low-speed friction where the constant friction was.
+                        f_now = s["f_max"]
+                        if "f_max" not in known:
+                            s["f_max"] = 1.5 * f_now
+                        if "delta_f" not in known:
+                            s["delta_f"] = s["f_max"] - f_now
+            for w in (ones, fold_a, fold_b):
+                starts.append(s)
+                actives.append(np.asarray(active_mask(config)))
+                weights.append(w)
+        extra, fitted, sims = run_batch(starts, actives, weights)
+        err = _stacked(sims["force"], sims["force_y"], data.biaxial) - force[None, :]
+        evid = {}
+        ref_full = err[0]
+        ref_cv = math.sqrt(
+            (np.sum((err[1] ** 2) * held_b) + np.sum((err[2] ** 2) * held_a)) / n_total
+        )
+        ref_sse = float(np.sum(ref_full**2))
+        nrmse_before = math.sqrt(ref_sse / n_total) / scale
+        regress = regressors(data, sims_row(sims, 0), half_cycles)
+        for j, name in enumerate(pool, start=1):
+            full = err[3 * j]
+            sse_c = float(np.sum(full**2))
+            cv = math.sqrt(
+                (
+                    np.sum((err[3 * j + 1] ** 2) * held_b)
+                    + np.sum((err[3 * j + 2] ** 2) * held_a)
+                )
+                / n_total
+            )
+            n_eff = effective_samples(full)
+            k = max(sum(p.name not in known for p in EFFECTS[name].parameters), 1)
+            delta_bic = n_eff * math.log(ref_sse / max(sse_c, 1e-300)) - k * math.log(n_eff)
+            evid[name] = {
+                "delta_bic": float(delta_bic),
+                "holdout_gain": float(1.0 - cv / ref_cv) if ref_cv > 0 else 0.0,
+                "n_eff": float(n_eff),
+                "nrmse_before": float(nrmse_before),
+                "nrmse_after": float(math.sqrt(sse_c / n_total) / scale),
+                "residual_correlation": residual_correlation(
+                    sims["force"][0], regress, name, data, sims_row(sims, 0)
+                ),
+                "confidence": confidence_wording(delta_bic),
+                "parameters": {
+                    p.name: float(fitted[3 * j][PARAMETER_NAMES.index(p.name)])
+                    for p in EFFECTS[name].parameters
+                },
+            }
+        eligible = [c for c in pool if evid[c]["holdout_gain"] > 0]
+        ranked = sorted(eligible, key=lambda c: -evid[c]["delta_bic"])
+        summary = ", ".join(f"{c} {evid[c]['delta_bic']:.1f}" for c in pool)
+        say(f"round {len(steps) + 1}: delta_bic {summary}")
+        if not ranked or evid[ranked[0]]["delta_bic"] <= bic_threshold:
+            final_round = evid
+            break
+        chosen = ranked[0]
+        others = sorted(
+            (c for c in pool if c != chosen), key=lambda c: -evid[c]["delta_bic"]
+        )
+        if others:
+            margin = evid[chosen]["delta_bic"] - max(evid[others[0]]["delta_bic"], 0.0)
+            evid[chosen]["runner_up"] = others[0]
+        else:
+            margin = evid[chosen]["delta_bic"]
+            evid[chosen]["runner_up"] = None
+        evid[chosen]["margin_over_runner_up"] = float(margin)
+        evid[chosen]["naming_confidence"] = confidence_wording(margin)
+        j = pool.index(chosen) + 1
+        values = fitted[3 * j]
+        final_u, final_jac = extra["u"][3 * j], extra["jacobian"][3 * j]
+        model_force = err[3 * j] + force
+        current.append(chosen)
+        pool.remove(chosen)
+        steps.append(
+            DiscoveryStep(
+                effect=chosen,
+                evidence={k: v for k, v in evid[chosen].items() if k != "parameters"},
+                nrmse_before=float(nrmse_before),
+                nrmse_after=evid[chosen]["nrmse_after"],
+                candidates=evid,
+                parameters=_active_parameters(values, current),
+            )
+        )
+        say(
+            f"added {chosen}: nrmse {nrmse_before:.4f} -> {evid[chosen]['nrmse_after']:.4f}"
+        )
+
+    nrmse_final = float(np.sqrt(np.mean((model_force - force) ** 2)) / scale)
+    std_errors = _std_errors(
+        final_u, final_jac, (model_force - force) / scale, current, known
+    )
+    return DiscoveryResult(
+        baseline=baseline,
+        effects_added=[s.effect for s in steps],
+        steps=steps,
+        final_round=final_round,
+        nrmse_initial=nrmse_initial,
+        nrmse_final=nrmse_final,
+        parameters=_active_parameters(values, current),
+        std_errors=std_errors,
+        baseline_parameters=_active_parameters(baseline_values, list(BASELINES[baseline])),
+        data=data,
+        info=info,
+        forces={"baseline": baseline_force[:n], "final": model_force[:n]},
+        runtime_s=float(_time.perf_counter() - started),
+        applicable=applicable,
+        skipped=skipped,
+    )
+
+
+def sims_row(sims: dict, i: int) -> dict:
+    """Row `i` of a batch of simulation outputs."""
+    return {k: v[i] for k, v in sims.items()}
+
+
+def _std_errors(u, jac_u, residual, effects, known) -> dict:
+    """Standard errors of the fitted parameters at the optimum, in SI.
+
+    The Jacobian in the unconstrained parameters u is mapped to the physical ones through
+    dx/du of `to_physical`; the covariance is sigma^2 (J^T J)^-1 (`covariance_from_jacobian`),
+    inflated by n / n_eff for residuals correlated from sample to sample (n_eff as in the
+    evidence), since n correlated samples carry the information of n_eff independent ones.
+    """
+    u = np.asarray(u, float)
+    s = 1.0 / (1.0 + np.exp(-u))
+    x = np.asarray(to_physical(jnp.asarray(u)))
+    dxdu = (_HI - _LO) * s * (1 - s) * np.where(_LOG, x, 1.0)
+    names = [n for n in _active_parameters(x, effects) if n not in known]
+    cols = [PARAMETER_NAMES.index(n) for n in names]
+    jac_x = np.asarray(jac_u)[:, cols] / dxdu[cols]
+    cov, _ = covariance_from_jacobian(jac_x, np.asarray(residual))
+    inflation = len(residual) / effective_samples(residual)
+    out = {n: float(np.sqrt(abs(cov[i, i]) * inflation)) for i, n in enumerate(names)}
+    out.update({n: 0.0 for n in known})
+    return out
+
+
+def _active_parameters(values, effects) -> dict:
+    out = {}
+    for i, name in enumerate(PARAMETER_NAMES):
+        owner = PARAMETER_EFFECT[i]
+        if owner == "baseline" or owner in effects:
+            out[name] = float(values[i])
+    return out

@@ -1,0 +1,277 @@
+"""The diagnosis report: plots of residuals and candidate effects, and report.md."""
+
+import pathlib
+
+import numpy as np
+
+from ._diagnostics import (
+    REGRESSOR_LABELS,
+    friction_residual,
+    half_cycle_index,
+    locate_residual,
+    noise_estimate,
+    regressors,
+)
+from ._effects import EFFECTS
+
+
+def write_plots(result, directory) -> dict:
+    """Write the diagnostic figures of a `DiscoveryResult` into `directory`.
+
+    **Returns:** figure name -> file name (relative to `directory`).
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+
+    directory = pathlib.Path(directory)
+    directory.mkdir(parents=True, exist_ok=True)
+    data = result.data
+    t = np.asarray(data.time)
+    ux = np.asarray(data.ux)
+    measured = np.asarray(data.force)
+    normal = np.asarray(data.normal)
+    base, final = result.forces["baseline"], result.forces["final"]
+    files = {}
+
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2), sharey=True)
+    for ax, model, title in (
+        (axes[0], base, f"baseline ({result.baseline}): nrmse {result.nrmse_initial:.3f}"),
+        (
+            axes[1],
+            final,
+            (
+                f"final (+{', '.join(result.effects_added) or 'nothing'}): "
+                f"nrmse {result.nrmse_final:.3f}"
+            ),
+        ),
+    ):
+        ax.plot(ux * 1e3, measured / normal, color="0.6", lw=1.2, label="measured")
+        ax.plot(ux * 1e3, model / normal, color="C3", lw=1.0, label="model")
+        ax.set_xlabel("displacement ux [mm]")
+        ax.set_title(title, fontsize=9)
+        ax.grid(alpha=0.3)
+    axes[0].set_ylabel("friction force / normal load [-]")
+    axes[0].legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(directory / "loops.png", dpi=110)
+    plt.close(fig)
+    files["loops"] = "loops.png"
+
+    fig, axes = plt.subplots(2, 1, figsize=(11, 5.5), sharex=True)
+    axes[0].plot(t, measured / normal, color="0.6", lw=1.0, label="measured")
+    axes[0].plot(t, base / normal, color="C0", lw=0.9, label="baseline")
+    axes[0].plot(t, final / normal, color="C3", lw=0.9, label="final")
+    axes[0].set_ylabel("F / N [-]")
+    axes[0].legend(fontsize=8, ncol=3)
+    axes[1].plot(t, (measured - base) / normal, color="C0", lw=0.8, label="baseline")
+    axes[1].plot(t, (measured - final) / normal, color="C3", lw=0.8, label="final")
+    axes[1].set_ylabel("(measured - model) / N [-]")
+    axes[1].set_xlabel("time [s]")
+    axes[1].legend(fontsize=8)
+    for ax in axes:
+        ax.grid(alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(directory / "history.png", dpi=110)
+    plt.close(fig)
+    files["history"] = "history.png"
+
+    sim = _baseline_simulation(result)
+    hc = half_cycle_index(ux)
+    reg = regressors(data, sim, hc)
+    d_mu, sliding = friction_residual(data, sim, base)
+    keys = ["speed", "load", "heat", "travel", "time", "half_cycle"]
+    if np.ptp(reg["load"]) == 0:  # constant normal load: show the sliding direction instead
+        keys[1] = "direction"
+        jitter = np.random.default_rng(0).uniform(-0.15, 0.15, reg["direction"].size)
+        reg = dict(reg, direction=reg["direction"] + jitter)
+    fig, axes = plt.subplots(2, 3, figsize=(12, 6.5))
+    v = np.asarray(data.velocity)
+    for ax, key in zip(axes.ravel(), keys):
+        for mask, colour, label in (
+            (sliding & (v > 0), "C0", "+x"),
+            (sliding & (v < 0), "C1", "-x"),
+        ):
+            ax.plot(reg[key][mask], d_mu[mask], ".", ms=2, color=colour, label=label)
+        ax.axhline(0, color="k", lw=0.6)
+        ax.set_xlabel(REGRESSOR_LABELS[key], fontsize=8)
+        ax.grid(alpha=0.3)
+    axes[0, 0].set_ylabel("friction residual d_mu (baseline) [-]")
+    axes[1, 0].set_ylabel("friction residual d_mu (baseline) [-]")
+    axes[0, 0].legend(fontsize=8, markerscale=4)
+    fig.suptitle(
+        "Baseline friction residual (measured - model) / (N Z) while sliding, "
+        "against the regressors of the candidate effects",
+        fontsize=9,
+    )
+    fig.tight_layout()
+    fig.savefig(directory / "residual_maps.png", dpi=110)
+    plt.close(fig)
+    files["residual_maps"] = "residual_maps.png"
+    return files
+
+
+def _baseline_simulation(result) -> dict:
+    """The baseline model's histories (numpy) at the fitted baseline parameters."""
+    from ._augmented import PARAMETERS, active_mask, simulate_augmented
+    from ._effects import BASELINES
+
+    params = {p.name: result.baseline_parameters.get(p.name, p.initial) for p in PARAMETERS}
+    simulated = simulate_augmented(params, result.data, active_mask(BASELINES[result.baseline]))
+    return {k: np.asarray(v) for k, v in simulated.items()}
+
+
+def write_report(result, directory, *, record_name: str = "record") -> pathlib.Path:
+    """Write `directory/report.md` (with the figures of `write_plots`) for a `DiscoveryResult`."""
+    from ._augmented import PARAMETERS
+
+    directory = pathlib.Path(directory)
+    files = write_plots(result, directory)
+    data = result.data
+    sim = _baseline_simulation(result)
+    where = locate_residual(
+        data, sim, result.forces["baseline"], half_cycle_index(np.asarray(data.ux))
+    )
+    units = {p.name: p.unit for p in PARAMETERS}
+
+    lines = [f"# Model discovery: {record_name}", ""]
+    lines += [
+        f"- baseline: `{result.baseline}`; samples used: {data.n_samples} "
+        + (
+            "(all samples)"
+            if result.info.decimation == 1
+            else f"(one in {result.info.decimation} of the record's samples)"
+        ),
+        f"- conclusion: **{'no missing effect' if not result.effects_added else ', '.join(result.effects_added)}**",
+        f"- nrmse: {result.nrmse_initial:.4f} (baseline) -> {result.nrmse_final:.4f} (final)",
+        f"- runtime: {result.runtime_s:.1f} s (including compilation)",
+        "",
+        "nrmse = RMS(model - measured force) / RMS(measured force).",
+        "",
+        _remaining_residual_note(result),
+        "",
+        "## Decision rule",
+        "",
+        (
+            "Each round refits the model with every candidate effect added. A candidate is "
+            "accepted when its BIC drop (charged with ln(n_eff) per parameter, n_eff the "
+            "effective number of independent residual samples) exceeds 10 ('very strong' on the "
+            "Kass & Raftery scale) and its prediction error on held-out cycles falls (two-fold "
+            "blocked cross-validation)."
+        ),
+        "",
+        "## Steps",
+        "",
+    ]
+    if not result.steps:
+        lines.append("No candidate earned its parameters: no missing effect.")
+    for k, step in enumerate(result.steps, start=1):
+        e = step.evidence
+        lines += [
+            f"### {k}. {step.effect} — {e['confidence']} evidence",
+            "",
+            f"{EFFECTS[step.effect].equation}",
+            "",
+            (
+                f"nrmse {step.nrmse_before:.4f} -> {step.nrmse_after:.4f}; "
+                f"delta_bic {e['delta_bic']:.1f} (n_eff {e['n_eff']:.0f}); "
+                f"held-out gain {100 * e['holdout_gain']:.1f} %; "
+                f"residual correlation with its regressor {e['residual_correlation']:+.2f}"
+            ),
+            "",
+            (
+                f"Naming: {e['naming_confidence']} evidence that it is {step.effect} rather "
+                f"than {e['runner_up'] or 'nothing'} "
+                f"(delta_bic margin {e['margin_over_runner_up']:.1f})."
+            ),
+            "",
+        ]
+        lines += _candidate_table(step.candidates)
+    if result.final_round:
+        lines += ["", "### Candidates refused in the last round", ""]
+        lines += _candidate_table(result.final_round)
+    if result.skipped:
+        lines += [
+            "",
+            "Not considered: " + "; ".join(f"{k} ({v})" for k, v in result.skipped.items()),
+        ]
+    lines += [
+        "",
+        "## Fitted parameters (SI)",
+        "",
+        "| parameter | value | standard error | unit |",
+        "|---|---|---|---|",
+    ]
+    lines += [
+        f"| {k} | {v:.6g} | {result.std_errors.get(k, float('nan')):.2g} | "
+        f"{units.get(k, '-')} |"
+        for k, v in result.parameters.items()
+    ]
+    lines += [
+        "",
+        (
+            "Standard errors: asymptotic, sigma^2 (J^T J)^-1 inflated by n / n_eff for "
+            "correlated residuals; 0 marks a parameter held at a known value."
+        ),
+    ]
+    lines += [
+        "",
+        "## Where the baseline residual sits",
+        "",
+        "| region | share of samples | share of residual energy | concentration |",
+        "|---|---|---|---|",
+    ]
+    lines += [
+        f"| {k} | {v['share_of_samples']:.2f} | {v['share_of_residual']:.2f} | "
+        f"{v['concentration']:.2f} |"
+        for k, v in where.items()
+    ]
+    lines += ["", "## Figures", ""]
+    lines += [f"![{name}]({fname})" for name, fname in files.items()]
+    if result.info.contact_area_assumed:
+        lines += [
+            "",
+            (
+                "Note: the record states no contact area; the heating candidate assumed a "
+                "contact pressure of 1000 psi (its heat_scale absorbs the difference)."
+            ),
+        ]
+    path = directory / "report.md"
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+def _candidate_table(evidence: dict) -> list:
+    lines = [
+        "| candidate | delta_bic | confidence | held-out gain | nrmse after | corr |",
+        "|---|---|---|---|---|---|",
+    ]
+    for name, e in sorted(evidence.items(), key=lambda kv: -kv[1]["delta_bic"]):
+        lines.append(
+            f"| {name} | {e['delta_bic']:.1f} | {e['confidence']} | {100 * e['holdout_gain']:.1f} % | "
+            f"{e['nrmse_after']:.4f} | {e['residual_correlation']:+.2f} |"
+        )
+    return lines
+
+
+def _remaining_residual_note(result) -> str:
+    from ._diagnostics import effective_samples
+
+    residual = np.asarray(result.data.force) - result.forces["final"]
+    scale = float(np.sqrt(np.mean(np.asarray(result.data.force) ** 2)))
+    noise = noise_estimate(residual) / scale
+    n_eff = effective_samples(residual)
+    n = residual.size
+    if result.nrmse_final < 1.5 * noise or n_eff > 0.5 * n:
+        return (
+            f"Remaining residual: nrmse {result.nrmse_final:.4f} against a scatter of "
+            f"{noise:.4f} from sample to sample, n_eff {n_eff:.0f} of {n}: it looks like "
+            "measurement noise."
+        )
+    return (
+        f"Remaining residual: nrmse {result.nrmse_final:.4f} is well above the sample-to-"
+        f"sample scatter {noise:.4f} and is correlated (n_eff {n_eff:.0f} of {n}): the final "
+        "model still misses something that no candidate describes (see the residual maps)."
+    )

@@ -1,0 +1,115 @@
+"""Results of model discovery: each step of the forward selection and the final verdict."""
+
+import dataclasses
+import math
+
+from ._augmented import AugmentedData, RecordInfo
+from ._batch_fit import _finite_or_null
+
+DEFAULT_BIC_THRESHOLD = 10.0
+"""Smallest delta_bic that adds an effect: "very strong" evidence on Kass & Raftery's scale."""
+
+
+def confidence_wording(delta_bic: float) -> str:
+    """Kass & Raftery (1995) wording for 2 ln(Bayes factor) ~ delta_bic."""
+    if not math.isfinite(delta_bic) or delta_bic < 0:
+        return "against (the data prefer the model without it)"
+    if delta_bic < 2:
+        return "not worth more than a bare mention"
+    if delta_bic < 6:
+        return "positive"
+    if delta_bic < 10:
+        return "strong"
+    return "very strong"
+
+
+@dataclasses.dataclass
+class DiscoveryStep:
+    """One accepted effect: its name, the evidence, and the error before and after.
+
+    `evidence` holds `delta_bic`, `holdout_gain`, `n_eff`, `nrmse_before`, `nrmse_after`,
+    `residual_correlation`, `confidence` (that the effect is there), `runner_up`,
+    `margin_over_runner_up` (its delta_bic minus the runner-up's, or minus 0 when that is
+    negative) and `naming_confidence` (Kass & Raftery wording of that margin: that it is this
+    effect rather than the next best); `candidates` the evidence of every candidate of the
+    round (name -> dict), `parameters` the fitted model after the step.
+    """
+
+    effect: str
+    evidence: dict
+    nrmse_before: float
+    nrmse_after: float
+    candidates: dict
+    parameters: dict
+
+
+@dataclasses.dataclass
+class DiscoveryResult:
+    """Outcome of `discover_effects`.
+
+    - `baseline`, `effects_added` (in order), `steps` (`DiscoveryStep`s), `final_round`
+      (evidence of the candidates that were refused, name -> dict; empty if none were left),
+    - `nrmse_initial`, `nrmse_final`: normalised RMS error of the baseline and final fits,
+      sqrt(mean((F_model - F_meas)^2)) / sqrt(mean(F_meas^2)),
+    - `parameters`: fitted parameters of the final model (SI, active ones only),
+    - `std_errors`: their standard errors (see `_std_errors`; 0 for parameters held known),
+    - `baseline_parameters`, `data`, `info` (the prepared record), `forces`: model force of the
+      baseline and final fits, `runtime_s`, `applicable` candidates and `skipped` ones with why.
+    """
+
+    baseline: str
+    effects_added: list
+    steps: list
+    final_round: dict
+    nrmse_initial: float
+    nrmse_final: float
+    parameters: dict
+    std_errors: dict
+    baseline_parameters: dict
+    data: AugmentedData
+    info: RecordInfo
+    forces: dict
+    runtime_s: float
+    applicable: list
+    skipped: dict
+
+    def to_json(self) -> dict:
+        """The JSON document of the `diagnose` command (plain Python types; a non-finite
+        number, e.g. the standard error of an unidentifiable parameter, becomes `null`)."""
+        return _finite_or_null(
+            {
+                "baseline": self.baseline,
+                "steps": [
+                    {
+                        "effect": s.effect,
+                        "evidence": s.evidence,
+                        "nrmse_before": s.nrmse_before,
+                        "nrmse_after": s.nrmse_after,
+                        "parameters": s.parameters,
+                        "candidates": s.candidates,
+                    }
+                    for s in self.steps
+                ],
+                "effects_added": list(self.effects_added),
+                "nrmse_initial": self.nrmse_initial,
+                "nrmse_final": self.nrmse_final,
+                "parameters": self.parameters,
+                "std_errors": self.std_errors,
+                "baseline_parameters": self.baseline_parameters,
+                "conclusion": (
+                    "no missing effect"
+                    if not self.effects_added
+                    else "added: " + ", ".join(self.effects_added)
+                ),
+                "refused_candidates": self.final_round,
+                "skipped_candidates": self.skipped,
+                "runtime_s": self.runtime_s,
+                "record": {
+                    "source": self.info.source,
+                    "samples_used": int(self.data.n_samples),
+                    "decimation": self.info.decimation,
+                    "interfaces_recorded": self.info.n_interfaces_recorded,
+                    "contact_area_assumed": self.info.contact_area_assumed,
+                },
+            }
+        )

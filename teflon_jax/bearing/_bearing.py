@@ -1,0 +1,102 @@
+"""A PTFE sliding bearing: friction law + hysteretic variable + breakaway + anisotropy + stacks.
+
+Reference: Constantinou, Mokha & Reinhorn (1990), Eqs. 1, 3, 8-9, 17; MODEL.md Sections 1-5.
+"""
+
+import equinox as eqx
+import jax.numpy as jnp
+import numpy as np
+
+from ..units import INCH
+from ..validation import require, require_positive
+from ._friction import (
+    FrictionParameters,
+    anisotropic_friction,
+    sliding_angle_weight,
+    sliding_friction,
+)
+from ._hysteresis import BoucWen
+
+BREAKAWAY_THRESHOLD = 0.999
+"""|Z| at which the breakaway (static) friction of Eq. 17 gives way to Eq. 1 for good."""
+
+DEFAULT_YIELD_DISP = 0.005 * INCH
+"""Y of the paper's simulations [m]."""
+
+
+class SlidingBearing(eqx.Module):
+    """Model of one PTFE bearing (or stack of interfaces) carrying a normal load.
+
+    Friction coefficient (Eq. 1, with Eq. 17 before the first full mobilisation):
+        mu = b (f_max - delta_f)                       while max|Z| so far < 0.999
+        mu = f_max - delta_f exp(-rate_a |v| / n)       afterwards
+    Force: F = mu N Z, with Z from Bouc-Wen (uniaxial) or Park et al. (biaxial).
+
+    **Fields:**
+
+    - `friction`: Eq. 1 constants along x (for anisotropic bearings: parallel to lay).
+    - `hysteresis`: `BoucWen` constants (Y, A, beta, gamma, eta).
+    - `breakaway_ratio` b [-] of Eq. 17, or `None` for no breakaway.
+    - `friction_perpendicular`: Eq. 1 constants for sliding along y (perpendicular to lay),
+      or `None` for an isotropic bearing. Biaxial motion interpolates linearly in the angle.
+    - `n_interfaces` (static int): number of interfaces in series sharing the motion.
+    """
+
+    friction: FrictionParameters
+    hysteresis: BoucWen
+    breakaway_ratio: object = None
+    friction_perpendicular: FrictionParameters | None = None
+    n_interfaces: int = eqx.field(static=True, default=1)
+
+    def coefficient(self, velocity_x, velocity_y=0.0, z_peak=1.0):
+        """Friction coefficient mu [-] for a sliding velocity [m/s] and the largest |Z| so far."""
+        params = self.friction
+        if self.friction_perpendicular is not None:
+            weight = sliding_angle_weight(velocity_x, velocity_y)
+            params = anisotropic_friction(params, self.friction_perpendicular, weight)
+        speed = jnp.sqrt(velocity_x**2 + velocity_y**2 + 1e-300)
+        mu = sliding_friction(params, speed, self.n_interfaces)
+        if self.breakaway_ratio is None:
+            return mu
+        static = self.breakaway_ratio * params.f_min
+        return jnp.where(z_peak < BREAKAWAY_THRESHOLD, static, mu)
+
+
+def paper_bearing(
+    friction: FrictionParameters,
+    *,
+    yield_disp=DEFAULT_YIELD_DISP,
+    breakaway_ratio=None,
+    friction_perpendicular: FrictionParameters | None = None,
+    n_interfaces: int = 1,
+) -> SlidingBearing:
+    """A `SlidingBearing` with the paper's Bouc-Wen constants A = 1, beta = 0.1, gamma = 0.9, eta = 2."""
+    return SlidingBearing(
+        friction=friction,
+        hysteresis=BoucWen(yield_disp=jnp.asarray(yield_disp, dtype=float)),
+        breakaway_ratio=None if breakaway_ratio is None else jnp.asarray(breakaway_ratio, dtype=float),
+        friction_perpendicular=friction_perpendicular,
+        n_interfaces=n_interfaces,
+    )
+
+
+def check_bearing(bearing: SlidingBearing) -> None:
+    """Raise `ValueError` naming the parameter when a concrete bearing has invalid values.
+
+    Traced values (inside jit/vmap/grad) are not checked here.
+    """
+    f = bearing.friction
+    require_positive(f.f_max, "f_max", " (a friction coefficient, e.g. 0.1193)")
+    require(f.delta_f, lambda x: np.isfinite(x) & (x >= 0), "delta_f", "must be >= 0")
+    require(f.f_max - f.delta_f, lambda x: x > 0, "delta_f", "must be smaller than f_max")
+    require(f.rate_a, lambda x: np.isfinite(x) & (x >= 0), "rate_a", "must be >= 0 [s/m]")
+    require_positive(bearing.hysteresis.yield_disp, "yield_disp", " [m] (paper: 0.005 in)")
+    if bearing.breakaway_ratio is not None:
+        require(
+            bearing.breakaway_ratio,
+            lambda x: np.isfinite(x) & (x >= 1),
+            "breakaway_ratio",
+            "must be >= 1 (Table 1: 1.3-4.4), or None for no breakaway",
+        )
+    if int(bearing.n_interfaces) != bearing.n_interfaces or bearing.n_interfaces < 1:
+        raise ValueError(f"n_interfaces: must be an integer >= 1, got {bearing.n_interfaces}.")

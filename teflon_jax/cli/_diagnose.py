@@ -1,0 +1,152 @@
+"""`teflon-jax diagnose RECORD --json OUT.json --report DIR [--baseline paper1990|coulomb]`.
+
+Fits the baseline model to a test record, names the missing effects one at a time (see
+`identification._discovery`), and writes the JSON summary and a Markdown report with figures.
+"""
+
+import argparse
+import json
+import pathlib
+import sys
+
+from identification.discovery import BASELINES, EFFECT_NAMES
+
+
+def add_diagnose_parser(subparsers) -> argparse.ArgumentParser:
+    """Add the `diagnose` sub-command to an `argparse` sub-parser collection."""
+    parser = subparsers.add_parser(
+        "diagnose",
+        help="find the effects a bearing test shows beyond the 1990 model",
+        description=(
+            "Fit a baseline model to a test record (test-record CSV), rank candidate effects "
+            "("
+            + ", ".join(EFFECT_NAMES)
+            + ") by evidence (BIC drop with an effective sample "
+            "size, and the gain on held-out cycles), add the best while it earns its "
+            "parameters, and report each step."
+        ),
+    )
+    parser.add_argument("record", type=pathlib.Path, help="test-record CSV file")
+    parser.add_argument(
+        "--json",
+        type=pathlib.Path,
+        required=True,
+        dest="json_path",
+        metavar="OUT.json",
+        help="where to write the JSON summary",
+    )
+    parser.add_argument(
+        "--report",
+        type=pathlib.Path,
+        required=True,
+        metavar="DIR",
+        help="folder for report.md and the figures",
+    )
+    parser.add_argument(
+        "--baseline",
+        choices=tuple(BASELINES),
+        default="paper1990",
+        help="model to start from (default: paper1990 = Eq. 1 + Bouc-Wen)",
+    )
+    parser.add_argument(
+        "--candidates",
+        default=None,
+        help="comma-separated effects to consider (default: all applicable)",
+    )
+    parser.add_argument(
+        "--bic-threshold",
+        type=float,
+        default=10.0,
+        help="smallest BIC drop that adds an effect (default 10, 'very strong')",
+    )
+    parser.add_argument(
+        "--max-effects",
+        type=int,
+        default=4,
+        help="at most this many effects are added (default 4)",
+    )
+    parser.add_argument(
+        "--max-samples",
+        type=int,
+        default=3000,
+        help="longer records are decimated to about this many samples",
+    )
+    parser.add_argument(
+        "--known",
+        action="append",
+        default=[],
+        metavar="NAME=VALUE",
+        help="hold a parameter at a value in SI units, e.g. rate_a=23.6 "
+        "(repeatable; with rate_a known, 'interfaces' can be identified)",
+    )
+    parser.add_argument("--quiet", action="store_true", help="no progress lines")
+    parser.set_defaults(func=run_diagnose)
+    return parser
+
+
+def run_diagnose(args) -> int:
+    """Run `diagnose` for parsed arguments; returns the exit status (0 ok, 2 bad input)."""
+    from identification.discovery import discover_effects, write_report
+
+    from ..formats import read_test_record
+
+    def say(text):
+        if not args.quiet:
+            print(text, file=sys.stderr)
+
+    candidates = None
+    if args.candidates:
+        candidates = [c.strip() for c in args.candidates.split(",") if c.strip()]
+    try:
+        known = _parse_known(args.known)
+        record = read_test_record(args.record)
+        result = discover_effects(
+            record,
+            baseline=args.baseline,
+            candidates=candidates,
+            bic_threshold=args.bic_threshold,
+            max_effects=args.max_effects,
+            max_samples=args.max_samples,
+            known=known,
+            callback=say,
+        )
+    except (ValueError, FileNotFoundError) as error:
+        print(f"teflon-jax diagnose: {error}", file=sys.stderr)
+        return 2
+    document = result.to_json()
+    args.json_path.parent.mkdir(parents=True, exist_ok=True)
+    args.json_path.write_text(json.dumps(document, indent=2) + "\n")
+    report = write_report(result, args.report, record_name=args.record.name)
+    say(
+        f"{document['conclusion']}; nrmse {result.nrmse_initial:.4f} -> {result.nrmse_final:.4f}; "
+        f"{result.runtime_s:.1f} s. Wrote {args.json_path} and {report}."
+    )
+    return 0
+
+
+def _parse_known(items) -> dict:
+    known = {}
+    for item in items:
+        name, sep, value = item.partition("=")
+        try:
+            known[name.strip()] = float(value)
+        except ValueError:
+            sep = ""
+        if not sep:
+            raise ValueError(
+                f"--known: expected NAME=VALUE in SI units (e.g. rate_a=23.6), got '{item}'."
+            )
+    return known
+
+
+def main(argv=None) -> int:
+    """Stand-alone entry point (`python -m identification._cli_diagnose ...`)."""
+    parser = argparse.ArgumentParser(prog="teflon-jax")
+    subparsers = parser.add_subparsers(dest="command", required=True)
+    add_diagnose_parser(subparsers)
+    args = parser.parse_args(argv)
+    return args.func(args)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

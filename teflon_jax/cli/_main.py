@@ -1,0 +1,82 @@
+"""The `teflon-jax` command: simulate-test, reproduce, fit, diagnose, montecarlo, design."""
+
+import argparse
+import os
+import sys
+
+
+def _parser() -> argparse.ArgumentParser:
+    from ._simulate import add_simulate_parser
+
+    parser = argparse.ArgumentParser(
+        prog="teflon-jax",
+        description="Differentiable simulation of PTFE sliding bearings (Constantinou, Mokha & "
+        "Reinhorn 1990) on JAX.",
+    )
+    parser.add_argument("--float32", action="store_true", help="compute in single precision "
+                        "(default: double precision)")
+    parser.add_argument("--cpu-devices", type=int, default=None, metavar="N",
+                        help="split the processor into N JAX devices; `montecarlo` shares its "
+                        "motions out over them (default: one per core, unless XLA_FLAGS sets "
+                        "--xla_force_host_platform_device_count)")
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    add_simulate_parser(sub)
+    for module, adders in (
+        ("teflon_jax.cli._reproduce", ("add_reproduce_parser",)),
+        ("teflon_jax.cli._fit", ("add_fit_parser",)),
+        ("teflon_jax.cli._diagnose", ("add_diagnose_parser",)),
+        ("teflon_jax.cli._montecarlo", ("add_montecarlo_parser",)),
+        ("teflon_jax.cli._design", ("add_design_parser",)),
+    ):
+        imported = __import__(module, fromlist=list(adders))
+        for adder in adders:
+            getattr(imported, adder)(sub)
+    return parser
+
+
+_RUNNERS = {
+    "simulate-test": ("teflon_jax.cli._simulate", "run_simulate"),
+    "reproduce": ("teflon_jax.cli._reproduce", "run_reproduce"),
+    "fit": ("teflon_jax.cli._fit", "run_fit"),
+    "diagnose": ("teflon_jax.cli._diagnose", "run_diagnose"),
+    "montecarlo": ("teflon_jax.cli._montecarlo", "run_montecarlo"),
+    "design": ("teflon_jax.cli._design", "run_design"),
+}
+
+
+def _split_cpu(jax, requested: int | None) -> None:
+    """One JAX CPU device per core (or `requested`), set before JAX's first computation."""
+    if requested is None and "xla_force_host_platform_device_count" in os.environ.get("XLA_FLAGS", ""):
+        return
+    count = os.cpu_count() or 1 if requested is None else requested
+    try:
+        jax.config.update("jax_num_cpu_devices", count)
+    except RuntimeError as error:  # JAX already ran in this process (e.g. main() from Python)
+        if requested is not None:
+            raise ValueError(f"--cpu-devices: {error}") from None
+
+
+def main(argv=None) -> int:
+    parser = _parser()
+    args = parser.parse_args(argv)
+    if args.cpu_devices is not None and args.cpu_devices < 1:
+        parser.error(f"--cpu-devices: must be >= 1, got {args.cpu_devices}")
+    import jax
+
+    try:
+        _split_cpu(jax, args.cpu_devices)
+    except ValueError as error:
+        print(f"teflon-jax: error: {error}", file=sys.stderr)
+        return 2
+    jax.config.update("jax_enable_x64", not args.float32)
+    module, name = _RUNNERS[args.command]
+    runner = getattr(__import__(module, fromlist=[name]), name)
+    try:
+        return runner(args)
+    except (ValueError, FileNotFoundError) as error:
+        print(f"teflon-jax {args.command}: error: {error}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())

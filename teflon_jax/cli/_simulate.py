@@ -1,0 +1,204 @@
+"""`teflon-jax simulate-test`: simulate a bearing test and write it as a test-record CSV."""
+
+import pathlib
+
+import numpy as np
+
+from ..report import plot_loop
+from ..units import INCH, parse_quantity
+
+DEFAULT_DIAMETER = 10 * INCH  # specimens of the paper's tests: 10 in diameter
+
+
+def add_simulate_parser(subparsers) -> None:
+    p = subparsers.add_parser(
+        "simulate-test",
+        help="simulate an imposed-motion bearing test (Table 1 interface) and write the record",
+        description=(
+            "Simulate a PTFE bearing driven along a prescribed path with the model of "
+            "Constantinou, Mokha & Reinhorn (1990): Eq. 1 friction, Bouc-Wen/Park hysteresis, "
+            "optional breakaway (Eq. 17), anisotropy and stacks. Values carry units "
+            "(e.g. 1000psi, 6.9MPa, 4in, 0.6Hz, 78.5kip). Defaults: test No. 75."
+        ),
+    )
+    p.add_argument("--ptfe", default="UF", help="PTFE type of Table 1: UF, 15GF or 25GF (default UF)")
+    p.add_argument("--pressure", default="1000psi", help="contact pressure, e.g. 1000psi or 6.9MPa; "
+                   "Table 1 is interpolated linearly between 1000, 2000, 3000 and 6500 psi")
+    p.add_argument("--extrapolate", action="store_true",
+                   help="allow pressures outside Table 1's range (extends the nearest segment)")
+    p.add_argument("--direction", default="P", help="sliding direction to the lay: P (parallel) or T")
+    p.add_argument("--pattern", default="sine", help="sine, triangle (constant velocity) or eight "
+                   "(figure-eight, Eq. 16: ux = U0 sin wt, uy = U0 sin 2wt)")
+    p.add_argument("--motion-file", default=None, help="CSV with columns 'time [s]', 'ux [unit]' "
+                   "(and optionally 'uy [unit]'): any displacement history; replaces --pattern")
+    p.add_argument("--amplitude", default="4in", help="displacement amplitude U0, e.g. 4in (default)")
+    p.add_argument("--frequency", default="0.6Hz", help="frequency, e.g. 0.6Hz or 2.77rad/s (default 0.6Hz)")
+    p.add_argument("--cycles", type=float, default=3.0, help="number of cycles (default 3)")
+    p.add_argument("--normal-load", default=None, help="normal load, e.g. 78.5kip (default: pressure "
+                   "x area of a 10 in diameter contact)")
+    p.add_argument("--breakaway", default=None, help="breakaway ratio b of Eq. 17 (>= 1), or 'table' "
+                   "for Table 1's b (default: no breakaway)")
+    p.add_argument("--interfaces", type=int, default=1, help="number of interfaces in the stack (default 1)")
+    p.add_argument("--yield-disp", default="0.005in", help="Bouc-Wen Y (default 0.005in)")
+    p.add_argument("--anisotropic", action="store_true", help="eight pattern: use the T row of "
+                   "Table 1 for sliding along y and interpolate in the sliding angle")
+    p.add_argument("--samples-per-cycle", type=int, default=400, help="saved samples per cycle (default 400)")
+    p.add_argument("--out", default="test_record.csv", help="output test-record CSV (default test_record.csv)")
+    p.add_argument("--units", default="paper", help="units of the CSV: paper (in, kip) or SI")
+    p.add_argument("--plot", default=None, help="write the force-displacement loop to this PNG")
+
+
+def build_test(args):
+    """Turn parsed options into (bearing, motion, normal_load, metadata); ValueErrors name the option."""
+    import teflon_jax as tj
+
+    ptfe = args.ptfe.upper()
+    direction = args.direction.upper()
+    pressure = parse_quantity(args.pressure, "pressure", where="--pressure")
+    if not pressure > 0:
+        raise ValueError(f"--pressure: must be > 0, got {args.pressure}.")
+    try:
+        friction, table_b = tj.interface_parameters(ptfe, pressure, direction, extrapolate=args.extrapolate)
+    except ValueError as error:
+        raise ValueError(f"--{error}") from None
+    perpendicular = None
+    if args.anisotropic:
+        if args.pattern != "eight":
+            raise ValueError("--anisotropic: only meaningful with --pattern eight (biaxial motion).")
+        try:
+            perpendicular, _ = tj.interface_parameters(ptfe, pressure, "T", extrapolate=args.extrapolate)
+        except ValueError as error:
+            raise ValueError(f"--anisotropic: {error}") from None
+    breakaway = None
+    if args.breakaway is not None:
+        if args.breakaway == "table":
+            breakaway = table_b
+        else:
+            try:
+                breakaway = float(args.breakaway)
+            except ValueError:
+                raise ValueError(f"--breakaway: expected a number >= 1 or 'table', got {args.breakaway!r}.") from None
+            if not breakaway >= 1:
+                raise ValueError(f"--breakaway: must be >= 1 (Table 1: 1.3-4.4), got {breakaway}.")
+    yield_disp = parse_quantity(args.yield_disp, "length", where="--yield-disp")
+    if not yield_disp > 0:
+        raise ValueError(f"--yield-disp: must be > 0, got {args.yield_disp}.")
+    if args.interfaces < 1:
+        raise ValueError(f"--interfaces: must be an integer >= 1, got {args.interfaces}.")
+    bearing = tj.paper_bearing(friction, yield_disp=yield_disp, breakaway_ratio=breakaway,
+                               friction_perpendicular=perpendicular, n_interfaces=args.interfaces)
+    area = np.pi * DEFAULT_DIAMETER**2 / 4
+    if args.normal_load is None:
+        normal_load = pressure * area
+    else:
+        normal_load = parse_quantity(args.normal_load, "force", where="--normal-load")
+        if not normal_load > 0:
+            raise ValueError(f"--normal-load: must be > 0 (compression), got {args.normal_load}.")
+        area = normal_load / pressure
+    motion = _motion(args)
+    metadata = {
+        "specimen": f"PTFE-steel flat slider, {ptfe} sheet PTFE (simulated by teflon-jax)",
+        "ptfe": ptfe,
+        "direction": direction,
+        "contact_area": area,
+        "interfaces": args.interfaces,
+        "source": "teflon-jax simulate-test; model of Constantinou, Mokha & Reinhorn (1990)",
+    }
+    return bearing, motion, normal_load, metadata
+
+
+def _motion(args):
+    import teflon_jax as tj
+
+    if args.motion_file is not None:
+        return _read_motion_file(pathlib.Path(args.motion_file))
+    amplitude = parse_quantity(args.amplitude, "length", where="--amplitude")
+    frequency = parse_quantity(args.frequency, "frequency", where="--frequency")
+    if not amplitude > 0:
+        raise ValueError(f"--amplitude: must be > 0, got {args.amplitude}.")
+    if not frequency > 0:
+        raise ValueError(f"--frequency: must be > 0, got {args.frequency}.")
+    if not args.cycles > 0:
+        raise ValueError(f"--cycles: must be > 0, got {args.cycles}.")
+    if args.pattern == "sine":
+        return tj.SineMotion(amplitude, frequency, cycles=args.cycles)
+    if args.pattern == "triangle":
+        return tj.TriangleMotion(amplitude, frequency, cycles=args.cycles)
+    if args.pattern == "eight":
+        return tj.FigureEightMotion(amplitude, 2 * np.pi * frequency, cycles=args.cycles)
+    raise ValueError(f"--pattern: unknown pattern {args.pattern!r}; accepted values: sine, triangle, eight.")
+
+
+def _read_motion_file(path: pathlib.Path):
+    import teflon_jax as tj
+
+    from ..units import unit_factor
+
+    if not path.is_file():
+        raise ValueError(f"--motion-file: {path} does not exist.")
+    lines = path.read_text().splitlines()
+    body = [(n, line) for n, line in enumerate(lines, start=1) if line.strip() and not line.startswith("#")]
+    if len(body) < 3:
+        raise ValueError(f"{path}: needs a header line and at least two samples.")
+    header_line, header = body[0]
+    names, factors = [], []
+    for column, cell in enumerate(header.split(","), start=1):
+        cell = cell.strip()
+        if "[" not in cell or not cell.endswith("]"):
+            raise ValueError(f"{path}:{header_line}: column {column} '{cell}' needs a unit, e.g. 'ux [in]'.")
+        name, unit = cell[:-1].split("[", 1)
+        name = name.strip()
+        dimension = "time" if name == "time" else "length"
+        factors.append(unit_factor(unit.strip(), dimension, where=f"{path}:{header_line}: column {name}"))
+        names.append(name)
+    for required in ("time", "ux"):
+        if required not in names:
+            raise ValueError(f"{path}:{header_line}: missing column '{required}'.")
+    rows = []
+    for n, line in body[1:]:
+        cells = line.split(",")
+        if len(cells) != len(names):
+            raise ValueError(f"{path}:{n}: expected {len(names)} values, found {len(cells)}.")
+        try:
+            values = [float(c) for c in cells]
+        except ValueError:
+            raise ValueError(f"{path}:{n}: a value is not a number: {line.strip()!r}.") from None
+        if not np.all(np.isfinite(values)):
+            raise ValueError(f"{path}:{n}: NaN or inf value.")
+        rows.append(values)
+    data = np.asarray(rows) * np.asarray(factors)
+    columns = dict(zip(names, data.T))
+    try:
+        return tj.tabulated_motion(columns["time"], columns["ux"], columns.get("uy"))
+    except ValueError as error:
+        raise ValueError(f"{path}: {error}") from None
+
+
+def run_simulate(args) -> int:
+    import teflon_jax as tj
+
+    bearing, motion, normal_load, metadata = build_test(args)
+    result = tj.simulate_bearing_test(bearing, motion, normal_load,
+                                      samples_per_cycle=args.samples_per_cycle, throw=False)
+    if not bool(result.succeeded):
+        import diffrax
+
+        raise RuntimeError(f"the solver failed: {diffrax.RESULTS[result.result]}")
+    biaxial = motion.biaxial
+    record = tj.test_record_from_arrays(
+        np.asarray(result.ux),
+        np.asarray(result.fx),
+        time=np.asarray(result.time),
+        uy=np.asarray(result.uy) if biaxial else None,
+        fy=np.asarray(result.fy) if biaxial else None,
+        normal_load=np.asarray(result.normal_load),
+        metadata=metadata,
+    )
+    units = None if args.units.lower() == "paper" else args.units
+    tj.write_test_record(args.out, record, units=units)
+    peak = float(np.max(np.abs(np.asarray(result.fx) / np.asarray(result.normal_load))))
+    print(f"wrote {args.out}: {len(record)} samples, peak |fx|/N = {peak:.4f}")
+    if args.plot:
+        plot_loop(result, args.plot, title=f"{metadata['ptfe']} {args.pressure} {metadata['direction']}")
+        print(f"wrote {args.plot}")
+    return 0

@@ -1,0 +1,15 @@
+"""File formats: the test-record CSV, the protocol line, PEER AT2 and column files, the friction-damper
+JSON, the bundled-record catalogue and study results. File I/O only; nothing here is traced."""
+
+from ._at2 import read_at2 as read_at2
+from ._columns import read_single_column as read_single_column
+from ._columns import read_two_column as read_two_column
+from ._damper import read_friction_damper_json as read_friction_damper_json
+from ._external import external_data_dir as external_data_dir
+from ._external import load_record as load_record
+from ._protocol import Protocol as Protocol
+from ._protocol import parse_protocol as parse_protocol
+from ._test_record import TestRecord as TestRecord
+from ._test_record import test_record_from_arrays as test_record_from_arrays
+from ._test_record_csv import read_test_record as read_test_record
+from ._test_record_csv import write_test_record as write_test_record

@@ -1,0 +1,34 @@
+"""Low-level text helpers shared by the record readers: lines and numbers with positions."""
+
+import math
+import pathlib
+
+_NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eEdD][-+]?\d+)?"
+
+
+def _read_lines(path) -> tuple[pathlib.Path, list[str]]:
+    path = pathlib.Path(path)
+    if not path.is_file():
+        raise FileNotFoundError(f"{path}: no such ground-motion file.")
+    text = path.read_text(encoding="utf-8", errors="replace")
+    lines = text.splitlines()
+    if not any(line.strip() for line in lines):
+        raise ValueError(
+            f"{path}, line 1: the file is empty; expected a ground-motion record."
+        )
+    return path, lines
+
+
+def _to_float(token: str, path, line_no: int, what: str) -> float:
+    try:
+        value = float(token.replace("D", "E").replace("d", "e"))
+    except ValueError:
+        raise ValueError(
+            f"{path}, line {line_no}: cannot read {what} '{token}' as a number."
+        ) from None
+    if not math.isfinite(value):
+        raise ValueError(
+            f"{path}, line {line_no}: {what} is '{token}'; every value must be a finite number "
+            "(gaps are not filled in, repair or cut the record)."
+        )
+    return value

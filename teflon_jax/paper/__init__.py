@@ -1,0 +1,3 @@
+"""The paper's Figs. 3-11 and report.md: `reproduce`."""
+
+from ._reproduce import reproduce as reproduce

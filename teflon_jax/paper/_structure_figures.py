@@ -1,0 +1,166 @@
+"""Figs. 7-11: the rigid mass and the six-storey building under El Centro and SCT."""
+
+import jax.numpy as jnp
+import numpy as np
+
+from ..bearing import coulomb_friction, paper_bearing
+from ..excitation import Signal, fourier_amplitude
+from ..studies import building_sweep
+from ..systems import rigid_mass, signal_from_motion, simulate_structure
+from ..tables import friction_table
+from ..units import INCH, PSI, STANDARD_GRAVITY
+from . import _figures as figures
+from ._constants import (
+    FIG7_DURATION,
+    FIG10_DURATION,
+    FIG10_EARLY,
+    FIG10_OMEGA,
+    FIG10_PEAK,
+    FIG11_ELCENTRO_DURATION,
+    HIGH_FREQUENCY,
+    STRUCTURE_TIME_STEP,
+    _columns,
+    _write_csv,
+)
+
+
+def _fig7_9(out, results, record):
+    """Figs. 7-9: rigid mass on UF/1000 psi bearings under El Centro, full model vs Coulomb."""
+    motion = record["motion"]
+    signal = signal_from_motion(motion)
+    friction, _ = friction_table("UF", "P").at(1000 * PSI)
+    f_max, f_min = float(friction.f_max), float(friction.f_min)
+    models = {
+        "exact": (paper_bearing(friction), "hysteretic"),
+        "coulomb_min": (paper_bearing(coulomb_friction(f_min)), "coulomb"),
+        "coulomb_avg": (paper_bearing(coulomb_friction(0.5 * (f_max + f_min))), "coulomb"),
+        "coulomb_max": (paper_bearing(coulomb_friction(f_max)), "coulomb"),
+    }
+    pga, pgd = record["pga_g"] * STANDARD_GRAVITY, record["pgd_in"] * INCH
+    histories, peaks, accel_peaks, high = {}, {}, {}, {}
+    spectra = []
+    for name, (bearing, model) in models.items():
+        system = rigid_mass(weight=1.0e6, bearing=bearing, ground_acceleration=signal,
+                            time_step=STRUCTURE_TIME_STEP, friction_model=model)
+        r = simulate_structure(system, FIG7_DURATION)
+        u = np.asarray(r.displacement[:, 0])
+        a = np.asarray(r.total_acceleration[:, 0])
+        histories[name] = (u, a)
+        peaks[name] = float(np.max(np.abs(u))) / INCH
+        accel_peaks[name] = float(np.max(np.abs(a))) / pga
+        frequency, amplitude = fourier_amplitude(a, STRUCTURE_TIME_STEP)
+        energy = amplitude**2
+        high[name] = float(energy[frequency > HIGH_FREQUENCY].sum() / energy.sum())
+        spectra.append((name, frequency, amplitude / INCH))
+    time = np.asarray(r.time)
+    _columns(out / "fig7_8_histories.csv", {"time_s": time, "ground_acc_g": np.asarray(r.ground_acceleration) / STANDARD_GRAVITY,
+              **{f"{n}_disp_over_pgd": h[0] / pgd for n, h in histories.items()},
+              **{f"{n}_acc_over_pga": h[1] / pga for n, h in histories.items()}})
+    figures.histories(out / "fig7_displacement.png", time,
+                      [(n, h[0] / pgd) for n, h in histories.items()],
+                      title=f"Fig. 7: rigid mass on UF/1000 psi bearings, {motion.name}",
+                      ylabel="sliding displacement / PGD")
+    figures.histories(out / "fig8_acceleration.png", time,
+                      [(n, h[1] / pga) for n, h in histories.items() if n in ("exact", "coulomb_min", "coulomb_max")],
+                      title=f"Fig. 8: total acceleration of the rigid mass, {motion.name}",
+                      ylabel="total acceleration / PGA")
+    figures.fourier(out / "fig9_fourier.png",
+                    [s for s in spectra if s[0] in ("exact", "coulomb_min", "coulomb_max")],
+                    title="Fig. 9: Fourier amplitude of the total acceleration (first 10 s)")
+    frequency = spectra[0][1]
+    _columns(out / "fig9_fourier.csv", {"frequency_hz": frequency, **{f"{n}_in_s": s for n, _, s in spectra}})
+    results["fig7"] = {
+        "peak_disp_in": peaks,
+        "peak_acc_over_pga": accel_peaks,
+        "high_frequency_energy_fraction": high,
+        "high_frequency_above_hz": HIGH_FREQUENCY,
+        "duration_s": FIG7_DURATION,
+        "f_max": f_max,
+        "f_min": f_min,
+    }
+
+
+def _fig10(out, results):
+    """Fig. 10: breakaway under a sinusoidal base acceleration (0.25 g, 3.14 rad/s)."""
+    dt = 1e-3
+    times = np.arange(0.0, FIG10_DURATION + dt / 2, dt)
+    pga = FIG10_PEAK * STANDARD_GRAVITY
+    signal = Signal(jnp.asarray(times), jnp.asarray(pga * np.sin(FIG10_OMEGA * times)))
+    cases = {
+        "UF 1000 psi": (friction_table("UF", "P").at(1000 * PSI)[0], 1),
+        "UF 3000 psi": (friction_table("UF", "P").at(3000 * PSI)[0], 1),
+        "25GF 6500 psi": (friction_table("25GF", "P").at(6500 * PSI)[0], 1),
+        "R-FBI (24 UF interfaces, 1000 psi)": (friction_table("UF", "P").at(1000 * PSI)[0], 24),
+    }
+    entries, panels, columns = [], [], {"time_s": None}
+    for case, (friction, n) in cases.items():
+        series, base = [], None
+        for b in (None, 2.0, 4.0, 6.0):
+            bearing = paper_bearing(friction, breakaway_ratio=b, n_interfaces=n)
+            system = rigid_mass(weight=1.0e6, bearing=bearing, ground_acceleration=signal, time_step=dt)
+            r = simulate_structure(system, FIG10_DURATION)
+            t = np.asarray(r.time)
+            a = np.asarray(r.total_acceleration[:, 0]) / pga
+            early = t <= FIG10_EARLY
+            peak = float(np.max(np.abs(a[early])))
+            entry = {"case": case, "b": b, "peak_acc_over_pga": peak,
+                     "f_max_over_f_min": float(friction.f_max / friction.f_min)}
+            if b is None:
+                mu = np.abs(np.asarray(r.friction_force)) / 1.0e6
+                k = int(np.argmax(mu[early]))
+                base = peak
+                experienced = float(mu[k])
+                entry.update({"max_sliding_friction": experienced, "time_of_max_s": float(t[k]),
+                              "velocity_at_max_in_s": float(abs(r.velocity[k, 0]) / INCH),
+                              "interface_velocity_at_max_in_s": float(abs(r.velocity[k, 0]) / INCH / n),
+                              "experienced_ratio": experienced / float(friction.f_min)})
+                ratio = experienced / float(friction.f_min)
+            else:
+                entry["experienced_ratio"] = ratio
+                entry["raises_peak"] = bool(peak > 1.02 * base)
+                entry["eq18_predicts_raise"] = bool(b > ratio)
+            entries.append(entry)
+            label = "no breakaway" if b is None else f"b = {b:g}"
+            series.append((label, a))
+            columns["time_s"] = t
+            columns[f"{case.split(' (')[0].replace(' ', '_')}_{label.replace(' ', '').replace('=', '')}"] = a
+        panels.append((case, series))
+    _columns(out / "fig10_acceleration.csv", columns)
+    figures.breakaway_grid(out / "fig10_breakaway.png", columns["time_s"], panels,
+                           title="Fig. 10: rigid mass on sliders, base acceleration 0.25 g sin(3.14 t)")
+    results["fig10"] = entries
+
+
+def _fig11(out, results, records, periods):
+    """Fig. 11: the Table 2 building on sliding and linear isolation systems."""
+    motions = {k: records[k]["motion"] for k in ("elcentro", "sct") if k in records}
+    if "elcentro" in motions and motions["elcentro"].duration > FIG11_ELCENTRO_DURATION:
+        m = motions["elcentro"]
+        motions["elcentro"] = m.window(m.start_time, m.start_time + FIG11_ELCENTRO_DURATION)
+    sweep = building_sweep(records=motions, periods=periods, time_step=STRUCTURE_TIME_STEP)
+    rows, entries = [], []
+    for i, record in enumerate(sweep.records):
+        pgd = records[record]["pgd_in"] * INCH
+        for j, system in enumerate(sweep.systems):
+            for k, period in enumerate(sweep.periods):
+                disp = float(sweep.peaks["base_disp"][i, j, k])
+                entry = {"record": record, "system": system, "Tb_s": float(period),
+                         "base_disp_in": disp / INCH, "base_disp_over_pgd": disp / pgd,
+                         "base_shear_ratio": float(sweep.peaks["base_shear_ratio"][i, j, k]),
+                         "max_drift_in": float(sweep.peaks["max_drift"][i, j, k]) / INCH,
+                         "succeeded": bool(sweep.succeeded[i, j, k])}
+                entries.append(entry)
+                rows.append([entry[c] for c in entry])
+    _write_csv(out / "fig11_spectra.csv", list(entries[0]), rows)
+    panels = []
+    for i, record in enumerate(sweep.records):
+        pgd = records[record]["pgd_in"] * INCH
+        name = records[record]["name"]
+        panels.append((f"{name}: base displacement", "peak base displacement / PGD",
+                       [(s, sweep.peaks["base_disp"][i, j] / pgd) for j, s in enumerate(sweep.systems)]))
+        panels.append((f"{name}: base shear", "peak first-storey shear / superstructure weight",
+                       [(s, sweep.peaks["base_shear_ratio"][i, j]) for j, s in enumerate(sweep.systems)]))
+    figures.spectra_panels(out / "fig11_spectra.png", sweep.periods, panels,
+                           title="Fig. 11: six-storey building, sliding (b = 4) and linear (10 %) isolation")
+    results["fig11"] = entries
+    results["_sweep"] = sweep

@@ -1,0 +1,5 @@
+"""`RiccatiNewmark`: the diffrax solver whose step is not bounded by the stiffness of Z."""
+
+from ._riccati_newmark import AbstractSteppedSystem as AbstractSteppedSystem
+from ._riccati_newmark import RiccatiNewmark as RiccatiNewmark
+from ._riccati_newmark import require_riccati_form as require_riccati_form

@@ -1,0 +1,23 @@
+"""Studies over many runs: the Fig. 11 sweep, record sets, Monte Carlo and gradient-based design."""
+
+from ._design import DesignResult as DesignResult
+from ._design import design_bounds as design_bounds
+from ._design import expected_response as expected_response
+from ._design import forward_mode_gradient as forward_mode_gradient
+from ._design import gradient_check as gradient_check
+from ._design import optimise_design as optimise_design
+from ._design import penalised_objective as penalised_objective
+from ._design_sweep import design_sweep as design_sweep
+from ._design_sweep import sweep_start as sweep_start
+from ._montecarlo import MonteCarloResult as MonteCarloResult
+from ._montecarlo import monte_carlo as monte_carlo
+from ._montecarlo import monte_carlo_motion as monte_carlo_motion
+from ._record_set import RecordSet as RecordSet
+from ._record_set import record_set as record_set
+from ._save import save_montecarlo as save_montecarlo
+from ._sweep import SweepResult as SweepResult
+from ._sweep import building_peaks as building_peaks
+from ._sweep import building_sweep as building_sweep
+from ._sweep import pad_signals as pad_signals
+from ._sweep import simulate_batch as simulate_batch
+from ._sweep import stack_systems as stack_systems

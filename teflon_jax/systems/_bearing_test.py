@@ -1,0 +1,269 @@
+"""Imposed-motion bearing tests: the friction force of a bearing driven along a known path.
+
+Reference: Constantinou, Mokha & Reinhorn (1990), tests No. 62, 75, 191 and Figs. 3-6.
+"""
+
+import diffrax
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+
+from ..bearing import (
+    SlidingBearing,
+    bouc_wen_exact_update,
+    bouc_wen_rate,
+    check_bearing,
+    park_rate,
+)
+from ..excitation import AbstractMotion, Signal, as_signal
+from ..solver import AbstractSteppedSystem, RiccatiNewmark, require_riccati_form
+from ..validation import require_positive
+
+
+def running_peak_rate(z_abs, z_peak, z_abs_rate):
+    """d(max |Z| so far)/dt: follows |Z| while |Z| is at its running maximum and growing.
+
+    This makes the breakaway switch of Eq. 17 part of the ODE state, so each member of a
+    vmapped batch switches on its own.
+    """
+    tracking = z_abs >= z_peak - 1e-12
+    return jnp.where(tracking, jnp.maximum(z_abs_rate, 0.0), 0.0)
+
+
+class BearingTestSystem(AbstractSteppedSystem):
+    """Z of a bearing driven by an imposed motion. State: {"z": (1,) or (2,), "z_peak": ()}."""
+
+    bearing: SlidingBearing
+    motion: AbstractMotion
+
+    def __call__(self, t, y, args):
+        h = self.bearing.hysteresis
+        v = self.motion.velocity(t)
+        z = y["z"]
+        if self.motion.biaxial:
+            dz = park_rate(h, z, v)
+            z_abs = jnp.sqrt(jnp.sum(z**2) + 1e-300)
+            z_abs_rate = jnp.dot(z, dz) / z_abs
+        else:
+            dz = bouc_wen_rate(h, z, v[0])
+            z_abs, z_abs_rate = jnp.abs(z[0]), jnp.sign(z[0]) * dz[0]
+        return {"z": dz, "z_peak": running_peak_rate(z_abs, y["z_peak"], z_abs_rate)}
+
+    def advance(self, t0, t1, y0, args):
+        if self.motion.biaxial:
+            raise ValueError(
+                "solver: RiccatiNewmark handles uniaxial tests; for biaxial motion use a general "
+                "diffrax solver (the default of simulate_bearing_test)."
+            )
+        h = self.bearing.hysteresis
+        du = self.motion.displacement(t1)[0] - self.motion.displacement(t0)[0]
+        z1 = bouc_wen_exact_update(h, y0["z"], du)
+        z_peak1 = jnp.maximum(y0["z_peak"], jnp.abs(z1[0]))
+        return {"z": z1, "z_peak": z_peak1}, jnp.array(True)
+
+
+class BearingTestResult(eqx.Module):
+    """Histories of a simulated bearing test (SI). Arrays have the save times as last axis.
+
+    - `time` [s]; `ux`, `uy` [m]; `vx`, `vy` [m/s]; `fx`, `fy` [N] (the force the bearing
+      resists with, positive while sliding in +x); `normal_load` [N];
+    - `z` (n, 2) hysteretic variable; `coefficient` mu [-]; `z_peak` running max |Z|;
+    - `result`: `diffrax.RESULTS` code of the solve (0 = successful).
+    """
+
+    time: jnp.ndarray
+    ux: jnp.ndarray
+    uy: jnp.ndarray
+    vx: jnp.ndarray
+    vy: jnp.ndarray
+    fx: jnp.ndarray
+    fy: jnp.ndarray
+    normal_load: jnp.ndarray
+    z: jnp.ndarray
+    coefficient: jnp.ndarray
+    z_peak: jnp.ndarray
+    result: diffrax.RESULTS
+
+    @property
+    def succeeded(self):
+        return self.result == diffrax.RESULTS.successful
+
+
+def simulate_bearing_test(
+    bearing: SlidingBearing,
+    motion: AbstractMotion,
+    normal_load,
+    *,
+    duration: float | None = None,
+    samples_per_cycle: int = 400,
+    steps_per_sample: int = 1,
+    solver: diffrax.AbstractSolver | None = None,
+    rtol: float = 1e-8,
+    atol: float = 1e-10,
+    max_steps: int = 1_000_000,
+    adjoint: diffrax.AbstractAdjoint | None = None,
+    throw: bool = True,
+) -> BearingTestResult:
+    """Simulate a bearing test under an imposed motion.
+
+    **Arguments:**
+
+    - `bearing`: the `SlidingBearing` (vmap this function over a batched bearing to run many).
+    - `motion`: an `AbstractMotion` (sine, triangle, figure-eight, tabulated).
+    - `normal_load` [N]: a constant or a `Signal` (time-varying normal load).
+    - `duration` [s]: defaults to `motion.duration`.
+    - `samples_per_cycle`: saved samples per cycle of the motion (tabulated: per input sample
+      interval the sample spacing of the table is used instead).
+    - `steps_per_sample`: solver steps between saved samples (fixed-step solvers).
+    - `solver`: `RiccatiNewmark()` (default for uniaxial motion: exact Z along each step) or
+      any diffrax solver; an adaptive one (default for biaxial motion: `Tsit5` with a PID
+      controller at `rtol`, `atol`) is used with adaptive steps.
+    - `adjoint`: diffrax adjoint; default reverse mode (`RecursiveCheckpointAdjoint`), or
+      `diffrax.ForwardMode()` for `jax.jvp`/`jax.jacfwd`.
+    - `throw`: raise on solver failure; with `False` the failure is in `result`.
+
+    **Returns:** a `BearingTestResult`.
+    """
+    check_bearing(bearing)
+    motion.check()
+    normal_load = as_signal(normal_load)
+    require_positive(normal_load.values, "normal_load", " [N] (compression positive)")
+    if duration is None:
+        duration = motion.duration
+    if solver is None:
+        solver = diffrax.Tsit5() if motion.biaxial else RiccatiNewmark()
+    times = _save_times(motion, duration, samples_per_cycle)
+    system = BearingTestSystem(bearing=bearing, motion=motion)
+    if isinstance(solver, RiccatiNewmark):
+        require_riccati_form(bearing.hysteresis)
+        controller = diffrax.StepTo(ts=_refine(times, steps_per_sample))
+        dt0 = None
+    elif _is_adaptive(solver):
+        controller = diffrax.PIDController(rtol=rtol, atol=atol, jump_ts=_jumps(motion, duration))
+        dt0 = float(times[1] - times[0]) / 10
+    else:
+        controller = diffrax.StepTo(ts=_refine(times, steps_per_sample))
+        dt0 = None
+    adjoint = diffrax.RecursiveCheckpointAdjoint() if adjoint is None else adjoint
+    return _solve(system, solver, controller, dt0, times, normal_load, max_steps, adjoint, throw)
+
+
+@eqx.filter_jit
+def _solve(system, solver, controller, dt0, times, normal_load, max_steps, adjoint, throw):
+    z_dim = 2 if system.motion.biaxial else 1
+    y0 = {"z": jnp.zeros(z_dim), "z_peak": jnp.zeros(())}
+    solution = diffrax.diffeqsolve(
+        diffrax.ODETerm(system),
+        solver,
+        t0=times[0],
+        t1=times[-1],
+        dt0=dt0,
+        y0=y0,
+        saveat=diffrax.SaveAt(ts=times),
+        stepsize_controller=controller,
+        max_steps=max_steps,
+        adjoint=adjoint,
+        throw=throw,
+    )
+    return _result(system.bearing, system.motion, normal_load, solution)
+
+
+def _is_adaptive(solver) -> bool:
+    try:
+        return solver.error_order(None) is not None or isinstance(solver, diffrax.AbstractAdaptiveSolver)
+    except Exception:
+        return isinstance(solver, diffrax.AbstractAdaptiveSolver)
+
+
+def _save_times(motion, duration, samples_per_cycle):
+    import numpy as np
+
+    if not duration > 0:
+        raise ValueError(f"duration: must be > 0 s, got {duration}.")
+    if hasattr(motion, "times"):
+        times = np.asarray(motion.times)
+        return jnp.asarray(times[times <= duration + 1e-12])
+    period = _period(motion)
+    n = max(int(round(duration / period * samples_per_cycle)), 2)
+    return jnp.linspace(0.0, duration, n + 1)
+
+
+def _period(motion) -> float:
+    if hasattr(motion, "frequency"):
+        return 1.0 / float(motion.frequency)
+    return 2 * float(jnp.pi) / float(motion.angular_frequency)
+
+
+def _refine(times, k):
+    if k == 1:
+        return times
+    fractions = jnp.arange(k) / k
+    inner = (times[:-1, None] + fractions[None, :] * jnp.diff(times)[:, None]).reshape(-1)
+    return jnp.concatenate([inner, times[-1:]])
+
+
+def _jumps(motion, duration):
+    jumps = [t for t in motion.reversal_times() if 0 < t < duration]
+    return jnp.asarray(jumps) if jumps else None
+
+
+def _result(bearing, motion, normal_load: Signal, solution) -> BearingTestResult:
+    t = solution.ts
+    u = jax.vmap(motion.displacement)(t)
+    v = jax.vmap(motion.velocity)(t)
+    z = solution.ys["z"]
+    if z.shape[-1] == 1:
+        z = jnp.concatenate([z, jnp.zeros_like(z)], axis=-1)
+    z_peak = solution.ys["z_peak"]
+    mu = bearing.coefficient(v[:, 0], v[:, 1], z_peak)
+    load = jax.vmap(normal_load)(t)
+    return BearingTestResult(
+        time=t,
+        ux=u[:, 0],
+        uy=u[:, 1],
+        vx=v[:, 0],
+        vy=v[:, 1],
+        fx=mu * load * z[:, 0],
+        fy=mu * load * z[:, 1],
+        normal_load=load,
+        z=z,
+        coefficient=mu,
+        z_peak=z_peak,
+        result=solution.result,
+    )
+
+
+def force_along_path(bearing: SlidingBearing, time, ux, normal_load, *, z0=0.0, z_peak0=0.0):
+    """Friction force [N] of a bearing driven along sampled displacements, as one `lax.scan`.
+
+    The same computation as `simulate_bearing_test(bearing, tabulated_motion(time, ux),
+    normal_load)` with `RiccatiNewmark` (Z advanced exactly between samples, running max |Z|
+    switching Eq. 17 to Eq. 1, velocity = forward slope of the displacement), written so that
+    `time`, `ux` and `normal_load` may be traced: batches of records under `vmap`, fits under
+    `optimistix`, cheap forward-mode derivatives. `z0` and `z_peak0` set the initial state for
+    records that do not start from rest.
+
+    **Arguments:** `bearing` (uniaxial; eta = 2), `time` [s] (n,), `ux` [m] (n,),
+    `normal_load` [N] scalar or (n,).
+
+    **Returns:** `(force [N], z [-], z_peak [-])`, each of shape (n,).
+    """
+    time, ux = jnp.asarray(time), jnp.asarray(ux)
+    hysteresis = bearing.hysteresis
+
+    def step(carry, du):
+        z, z_peak = carry
+        z1 = bouc_wen_exact_update(hysteresis, z, du)
+        z_peak1 = jnp.maximum(z_peak, jnp.abs(z1))
+        return (z1, z_peak1), (z1, z_peak1)
+
+    z0 = jnp.asarray(z0, dtype=ux.dtype)
+    z_peak0 = jnp.asarray(z_peak0, dtype=ux.dtype)
+    du = jnp.diff(ux)
+    _, (z, z_peak) = jax.lax.scan(step, (z0, z_peak0), du)
+    z = jnp.concatenate([z0[None], z])
+    z_peak = jnp.concatenate([z_peak0[None], z_peak])
+    velocity = du / jnp.diff(time)
+    velocity = jnp.concatenate([velocity, velocity[-1:]])
+    mu = bearing.coefficient(velocity, 0.0, z_peak)
+    return mu * normal_load * z, z, z_peak

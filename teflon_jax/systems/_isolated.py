@@ -1,0 +1,202 @@
+"""The isolated structures of the studies (rigid mass, building) built from design variables."""
+
+import math
+from collections.abc import Mapping
+
+import equinox as eqx
+import jax.numpy as jnp
+import numpy as np
+
+from ..bearing import FrictionParameters, paper_bearing
+from ..tables import friction_table
+from ..units import PSI
+from ..validation import concrete
+from ._models import rigid_mass, six_storey_building
+from ._structure import StructureOnSliders
+
+STRUCTURES = ("rigid", "building")
+
+
+DESIGN_VARIABLES = (
+    "isolation_period",
+    "pressure",
+    "isolation_damping",
+    "f_max",
+    "delta_f",
+    "rate_a",
+    "breakaway_ratio",
+)
+"""Names a design dict may set: T_b [s], contact pressure [Pa] (Eq. 1 constants and b from
+Table 1 at that pressure), zeta_b [-], and Eq. 1 / Eq. 17 constants overriding Table 1."""
+
+RECOMMENDED_TIME_STEPS = {"rigid": 0.0025, "building": 0.0025}
+"""Structure step [s] per structure: with it the peak base displacement and base shear of
+every one of 100 forty-second Clough-Penzien motions (records at 0.01 s) lie within 0.2 % of
+0.5 ms steps (benchmarks/bench_scale.py, B3 accuracy). At 5 ms the worst motions were off by
+0.51 % (rigid mass) and 1.6 % (building): the error gathers in the steps where the sliding
+velocity reverses under a strong pulse, and in the building's short storey modes."""
+
+
+# --------------------------------------------------------------------------- structures
+
+
+class IsolatedStructure(eqx.Module):
+    """Builds the rigid mass or the six-storey building for one motion and one design.
+
+    Call as `structure(ground_acceleration, design)` with `design` a dict of some of
+    `DESIGN_VARIABLES` (arrays, traced or not; missing ones take the defaults below).
+
+    **Fields:**
+
+    - `kind` (static): "rigid" (`rigid_mass`) or "building" (`six_storey_building`, Table 2).
+    - `ptfe`, `direction` (static): Table 1 rows, e.g. "UF", "P".
+    - `pressure` [Pa]: bearing contact pressure; Eq. 1 constants and the breakaway ratio b
+      are interpolated in Table 1 at it (differentiable).
+    - `isolation_period` T_b [s] of the restoring springs (`None` for a rigid mass on flat
+      sliders without springs).
+    - `isolation_damping` zeta_b [-] of the rigid-body mode.
+    - `breakaway` (static): use Table 1's b (Eq. 17) when True; no breakaway when False.
+    - `friction_model` (static): "hysteretic", "coulomb" or "none".
+    - `time_step` [s] (static): structure step; `weight` [N] of the rigid mass.
+    """
+
+    pressure: jnp.ndarray
+    isolation_period: jnp.ndarray | None
+    isolation_damping: jnp.ndarray
+    kind: str = eqx.field(static=True, default="rigid")
+    ptfe: str = eqx.field(static=True, default="UF")
+    direction: str = eqx.field(static=True, default="P")
+    breakaway: bool = eqx.field(static=True, default=True)
+    friction_model: str = eqx.field(static=True, default="hysteretic")
+    time_step: float = eqx.field(static=True, default=0.0025)
+    weight: float = eqx.field(static=True, default=100e3)
+
+    def table(self):
+        """The Table 1 rows (extrapolation switched off by our own range check)."""
+        return friction_table(self.ptfe, self.direction, extrapolate=True)
+
+    def __call__(self, ground_acceleration, design: Mapping | None = None) -> StructureOnSliders:
+        design = {} if design is None else dict(design)
+        unknown = sorted(set(design) - set(DESIGN_VARIABLES))
+        if unknown:
+            raise ValueError(
+                f"design: unknown variable(s) {unknown}; accepted: {', '.join(DESIGN_VARIABLES)}."
+            )
+        pressure = design.get("pressure", self.pressure)
+        params, b = self.table().at(pressure)
+        params = FrictionParameters(
+            f_max=design.get("f_max", params.f_max),
+            delta_f=design.get("delta_f", params.delta_f),
+            rate_a=design.get("rate_a", params.rate_a),
+        )
+        b = design.get("breakaway_ratio", b)
+        bearing = paper_bearing(params, breakaway_ratio=b if self.breakaway else None)
+        period = design.get("isolation_period", self.isolation_period)
+        damping = design.get("isolation_damping", self.isolation_damping)
+        if self.kind == "rigid":
+            return rigid_mass(
+                weight=self.weight,
+                bearing=bearing,
+                ground_acceleration=ground_acceleration,
+                time_step=self.time_step,
+                isolation_period=period,
+                damping_ratio=damping if period is not None else 0.0,
+                friction_model=self.friction_model,
+            )
+        return six_storey_building(
+            bearing=bearing,
+            ground_acceleration=ground_acceleration,
+            time_step=self.time_step,
+            isolation_period=period,
+            isolation_damping=damping,
+            friction_model=self.friction_model,
+        )
+
+
+def isolated_structure(
+    kind: str = "rigid",
+    *,
+    ptfe: str = "UF",
+    direction: str = "P",
+    pressure=1000 * PSI,
+    isolation_period=2.0,
+    isolation_damping=0.05,
+    breakaway: bool = True,
+    friction_model: str = "hysteretic",
+    time_step: float | None = None,
+) -> IsolatedStructure:
+    """An `IsolatedStructure` with its inputs checked (`ValueError` naming the parameter).
+
+    **Arguments:** see `IsolatedStructure`; `pressure` [Pa] must lie inside the Table 1 rows
+    of `ptfe`/`direction` (1000-6500 psi for UF, P), `isolation_period` [s] > 0 (or `None`
+    for a rigid mass on flat sliders), `isolation_damping` >= 0, `time_step` > 0 [s]
+    (default `RECOMMENDED_TIME_STEPS[kind]`).
+    """
+    if kind not in STRUCTURES:
+        raise ValueError(f"structure: unknown {kind!r}; accepted: {', '.join(STRUCTURES)}.")
+    time_step = RECOMMENDED_TIME_STEPS[kind] if time_step is None else time_step
+    if not (isinstance(time_step, (int, float)) and time_step > 0):
+        raise ValueError(f"time_step: must be a positive number of seconds, got {time_step!r}.")
+    structure = IsolatedStructure(
+        pressure=jnp.asarray(pressure, dtype=float),
+        isolation_period=None if isolation_period is None else jnp.asarray(isolation_period, float),
+        isolation_damping=jnp.asarray(isolation_damping, dtype=float),
+        kind=kind,
+        ptfe=ptfe,
+        direction=direction,
+        breakaway=breakaway,
+        friction_model=friction_model,
+        time_step=float(time_step),
+    )
+    check_design(structure, {"pressure": pressure})
+    if isolation_period is None and kind == "building":
+        raise ValueError("isolation_period: the building needs T_b [s] > 0 (Fig. 11: 0.2-4 s).")
+    if isolation_period is not None:
+        check_design(structure, {"isolation_period": isolation_period})
+    check_design(structure, {"isolation_damping": isolation_damping})
+    return structure
+
+
+def design_ranges(structure: IsolatedStructure) -> dict[str, tuple[float, float]]:
+    """Admissible range [low, high] of each design variable (SI): the pressure within the
+    Table 1 rows, positive periods, damping in [0, 1), friction constants in their physical
+    ranges."""
+    pressures = np.asarray(structure.table().pressures)
+    return {
+        "isolation_period": (1e-3, math.inf),
+        "pressure": (float(pressures[0]), float(pressures[-1])),
+        "isolation_damping": (0.0, 1.0),
+        "f_max": (1e-6, 1.0),
+        "delta_f": (0.0, 1.0),
+        "rate_a": (0.0, math.inf),
+        "breakaway_ratio": (1.0, math.inf),
+    }
+
+
+def check_design(structure: IsolatedStructure, design: Mapping) -> None:
+    """`ValueError` naming the variable when a concrete design value is outside its range
+    (`design_ranges`), e.g. a pressure outside Table 1's 1000-6500 psi for UF."""
+    ranges = design_ranges(structure)
+    for name, value in design.items():
+        if name not in ranges:
+            raise ValueError(
+                f"design: unknown variable {name!r}; accepted: {', '.join(DESIGN_VARIABLES)}."
+            )
+        array = concrete(value)
+        if array is None:  # traced: checked by the caller's bounds instead
+            continue
+        array = array.astype(float)
+        lo, hi = ranges[name]
+        tolerance = 1e-6 * max(abs(lo), abs(hi) if math.isfinite(hi) else 0.0, 1.0)  # float32 rounding
+        bad = ~np.isfinite(array) | (array < lo - tolerance) | (array > hi + tolerance)
+        if np.any(bad):
+            if name == "pressure":
+                text = (
+                    f"outside the Table 1 rows of {structure.ptfe}/{structure.direction}, "
+                    f"{lo / PSI:.0f}-{hi / PSI:.0f} psi ({lo:.4g}-{hi:.4g} Pa)"
+                )
+                shown = (array[bad] / PSI).tolist()
+                raise ValueError(f"pressure: {text}; got {shown} psi.")
+            raise ValueError(
+                f"{name}: must lie in [{lo}, {hi}]; got {array[bad].tolist()}."
+            )

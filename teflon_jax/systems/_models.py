@@ -1,0 +1,257 @@
+"""Model builders for the structural applications of the paper: a rigid mass and the
+six-storey building of Table 2, each on PTFE sliding bearings.
+
+Both return a `StructureOnSliders` (coordinates relative to the ground, degree of freedom 0 =
+the isolator / base slab), to be integrated by `simulate_structure`.
+Reference: Constantinou, Mokha & Reinhorn (1990), "Teflon bearings in base isolation II:
+Modeling", J. Struct. Eng. 116(2), Figs. 7-11 and Table 2 (MODEL.md Section 8).
+"""
+
+import equinox as eqx
+import jax.numpy as jnp
+import numpy as np
+
+from ..bearing import SlidingBearing
+from ..excitation import Signal, uniform_signal
+from ..tables import BuildingData, load_table2
+from ..units import STANDARD_GRAVITY
+from ..validation import concrete, require
+from ._structure import (
+    FRICTION_MODELS,
+    StructureOnSliders,
+    StructureResponse,
+    structure_on_sliders,
+)
+
+
+def _check(value, name: str, rule, text: str) -> None:
+    """`require` with the finiteness test every physical input here needs."""
+    require(value, lambda x: np.isfinite(x) & rule(x), name, text)
+
+
+def _check_friction_model(friction_model: str) -> None:
+    if friction_model not in FRICTION_MODELS:
+        raise ValueError(
+            f"friction_model: unknown {friction_model!r}; accepted values: "
+            f"{', '.join(repr(m) for m in FRICTION_MODELS)}."
+        )
+
+
+def signal_from_motion(motion) -> Signal:
+    """A `GroundMotion` as a `Signal` of ground acceleration [m/s^2] with its clock restarted
+    at 0 (a windowed record such as SCT 25-75 s starts at t = 0)."""
+    return uniform_signal(np.asarray(motion.acceleration, dtype=float), float(motion.time_step))
+
+
+def rigid_mass(
+    *,
+    weight,
+    bearing: SlidingBearing | None,
+    ground_acceleration: Signal,
+    time_step: float,
+    isolation_period=None,
+    damping_ratio=0.0,
+    radius=None,
+    friction_model: str = "hysteretic",
+) -> StructureOnSliders:
+    """A rigid mass W/g on sliding bearings (Figs. 7-10 of the paper; TASS-type system).
+
+    m u'' + c u' + (k + W/R) u + mu(u') W Z = -m a_g(t),   m = W/g,
+    k = m (2 pi / T)^2 from `isolation_period` T, c = 2 zeta m omega with omega the frequency of
+    the restoring spring(s). A spherical sliding surface of radius R (friction pendulum)
+    adds the restoring stiffness W/R.
+
+    **Arguments:**
+
+    - `weight` W [N] (> 0): weight of the mass, also the normal load on the bearings.
+    - `bearing`: a `SlidingBearing` (may be `None` with `friction_model="none"`).
+    - `ground_acceleration`: `Signal` of a_g(t) [m/s^2] (see `signal_from_motion`).
+    - `time_step` [s]: step of `RiccatiNewmark` (0.005 s recommended for 0.02 s records).
+    - `isolation_period` T [s] (> 0) of a linear restoring spring, or `None` for none.
+    - `damping_ratio` zeta [-] (>= 0) of viscous damping in the rigid-body mode; needs a
+      restoring stiffness (spring or radius) when > 0.
+    - `radius` R [m] (> 0) of a spherical sliding surface, or `None` for a flat one.
+    - `friction_model`: "hysteretic" (the paper's model), "coulomb" (Eq. 2) or "none".
+
+    **Returns:** a 1-degree-of-freedom `StructureOnSliders`.
+    """
+    _check_friction_model(friction_model)
+    _check(weight, "weight", lambda x: x > 0, "must be > 0 [N]")
+    _check(damping_ratio, "damping_ratio", lambda x: x >= 0, "must be >= 0")
+    mass = jnp.asarray(weight, dtype=float) / STANDARD_GRAVITY
+    stiffness = jnp.zeros(())
+    if isolation_period is not None:
+        _check(isolation_period, "isolation_period", lambda x: x > 0, "must be > 0 [s], or None for no spring")
+        stiffness = stiffness + mass * (2 * jnp.pi / jnp.asarray(isolation_period, dtype=float)) ** 2
+    if radius is not None:
+        _check(radius, "radius", lambda x: x > 0, "must be > 0 [m], or None for a flat sliding surface")
+        stiffness = stiffness + jnp.asarray(weight, dtype=float) / jnp.asarray(radius, dtype=float)
+    if isolation_period is None and radius is None:
+        zeta = concrete(damping_ratio)
+        if zeta is None or np.any(zeta > 0):
+            raise ValueError(
+                "damping_ratio: the rigid-body mode has no frequency without a restoring spring; "
+                "give isolation_period or radius, or damping_ratio=0."
+            )
+        damping = jnp.zeros(())
+    else:
+        omega = jnp.sqrt(stiffness / mass)
+        damping = 2 * jnp.asarray(damping_ratio, dtype=float) * mass * omega
+    return structure_on_sliders(
+        mass=mass[None],
+        stiffness=stiffness.reshape(1, 1),
+        damping=damping.reshape(1, 1),
+        bearing=bearing,
+        bearing_load=jnp.asarray(weight, dtype=float),
+        ground_acceleration=ground_acceleration,
+        time_step=time_step,
+        friction_model=friction_model,
+    )
+
+
+def superstructure_matrices(building: BuildingData | None = None):
+    """Fixed-base mass, stiffness and damping matrices of the Table 2 frame (6 floors, SI).
+
+    The published mode shapes Phi are rounded to three digits, so they are not exactly
+    M-orthogonal (largest off-diagonal of the normalised Phi^T M Phi is about 1e-2). They are
+    made M-orthonormal by the symmetric (Lowdin) orthogonalisation
+    Phi_o = Phi_n (Phi_n^T M Phi_n)^(-1/2), the M-orthonormal set closest to the published
+    one, and then
+
+        K_s = M Phi_o diag(omega^2) Phi_o^T M,   C_s = M Phi_o diag(2 zeta omega) Phi_o^T M,
+
+    whose fixed-base frequencies are exactly Table 2's and whose damping is zeta (2 %) in every
+    mode (classical damping).
+
+    **Returns:** `(floor_masses (6,) [kg], K_s (6, 6) [N/m], C_s (6, 6) [N s/m], Phi_o (6, 6))`.
+    """
+    building = load_table2() if building is None else building
+    m = np.full(6, building.floor_weight / STANDARD_GRAVITY)
+    M = np.diag(m)
+    phi = np.asarray(building.mode_shapes, dtype=float)
+    phi_n = phi / np.sqrt(np.einsum("im,i,im->m", phi, m, phi))
+    gram = phi_n.T @ M @ phi_n
+    values, vectors = np.linalg.eigh(gram)
+    phi_o = phi_n @ (vectors @ np.diag(values**-0.5) @ vectors.T)
+    omega = 2 * np.pi * np.asarray(building.frequencies, dtype=float)
+    zeta = building.modal_damping
+    K = M @ phi_o @ np.diag(omega**2) @ phi_o.T @ M
+    C = M @ phi_o @ np.diag(2 * zeta * omega) @ phi_o.T @ M
+    return m, 0.5 * (K + K.T), 0.5 * (C + C.T), phi_o
+
+
+def six_storey_building(
+    *,
+    bearing: SlidingBearing | None,
+    ground_acceleration: Signal,
+    time_step: float,
+    isolation_period,
+    isolation_damping=0.05,
+    friction_model: str = "hysteretic",
+    building: BuildingData | None = None,
+) -> StructureOnSliders:
+    """The six-storey frame of Table 2 on an isolation system (Fig. 11 of the paper).
+
+    Degrees of freedom, relative to the ground: 0 = base, 1-6 = floors. With the fixed-base
+    K_s, C_s of `superstructure_matrices` and the vector of ones 1,
+
+        K = [[k_b + 1^T K_s 1, -1^T K_s], [-K_s 1, K_s]],   C likewise with c_b and C_s,
+        M = diag(m_b, m_1 ... m_6),   m_b = (W - 6 W_floor) / g (42 kip for W = 672 kip),
+
+    k_b = (W/g)(2 pi / T_b)^2 (rubber springs carrying no vertical load) and
+    c_b = 2 zeta_b (2 pi / T_b) W / g (viscous damping zeta_b of the rigid-body mode). The
+    bearings carry the total weight W.
+
+    **Arguments:**
+
+    - `bearing`: the sliding bearing (paper: UF PTFE parallel to lay at 1000-3000 psi with
+      breakaway b = 4); `None` allowed with `friction_model="none"`.
+    - `ground_acceleration`: `Signal` of a_g(t) [m/s^2].
+    - `time_step` [s]: `RiccatiNewmark` step.
+    - `isolation_period` T_b [s] (> 0).
+    - `isolation_damping` zeta_b [-] (>= 0): 0.05 for the sliding system; pass 0.10 for the
+      paper's linear (high-damping rubber) system.
+    - `friction_model`: "hysteretic", "coulomb", or "none" (linear isolation system).
+    - `building`: `BuildingData` (default Table 2 from `load_table2()`).
+
+    **Returns:** a 7-degree-of-freedom `StructureOnSliders`.
+    """
+    _check_friction_model(friction_model)
+    _check(isolation_period, "isolation_period", lambda x: x > 0, "must be > 0 [s]")
+    _check(isolation_damping, "isolation_damping", lambda x: x >= 0, "must be >= 0")
+    building = load_table2() if building is None else building
+    m_floor, K_s, C_s, _ = superstructure_matrices(building)
+    total_mass = building.total_weight / STANDARD_GRAVITY
+    base_mass = building.base_weight / STANDARD_GRAVITY
+    if not base_mass > 0:
+        raise ValueError(
+            f"building: total_weight must exceed the six floor weights; base weight is "
+            f"{building.base_weight} N."
+        )
+    omega_b = 2 * jnp.pi / jnp.asarray(isolation_period, dtype=float)
+    k_b = total_mass * omega_b**2
+    c_b = 2 * jnp.asarray(isolation_damping, dtype=float) * omega_b * total_mass
+
+    def assemble(spring, matrix):
+        ones = np.ones(6)
+        top = np.concatenate([[ones @ matrix @ ones], -(ones @ matrix)])
+        full = np.vstack([top, np.column_stack([-(matrix @ ones), matrix])])
+        return jnp.asarray(full).at[0, 0].add(spring)
+
+    return structure_on_sliders(
+        mass=jnp.asarray(np.concatenate([[base_mass], m_floor])),
+        stiffness=assemble(k_b, K_s),
+        damping=assemble(c_b, C_s),
+        bearing=bearing,
+        bearing_load=jnp.asarray(building.total_weight, dtype=float),
+        ground_acceleration=ground_acceleration,
+        time_step=time_step,
+        friction_model=friction_model,
+    )
+
+
+class BuildingResponse(eqx.Module):
+    """Engineering quantities of a building response (SI; time along the first axis).
+
+    - `time` [s]; `base_displacement` (nt,) [m] relative to the ground;
+    - `storey_drifts` (nt, 6) [m]: floor j minus floor j-1 (floor 0 = base);
+    - `floor_accelerations` (nt, 6) [m/s^2]: total accelerations of floors 1-6;
+    - `base_shear_ratio` (nt,) [-]: first-storey shear / superstructure weight, with the
+      first-storey shear V_1 = sum_j m_j a_j^total over floors 1-6 (the inertia force of the
+      superstructure; positive when the floors accelerate in +x, so V_1 is the force the
+      first storey applies to the floors above with its sign reversed);
+    - `friction_force` (nt,) [N]; `z` (nt,) [-].
+    """
+
+    time: jnp.ndarray
+    base_displacement: jnp.ndarray
+    storey_drifts: jnp.ndarray
+    floor_accelerations: jnp.ndarray
+    base_shear_ratio: jnp.ndarray
+    friction_force: jnp.ndarray
+    z: jnp.ndarray
+
+
+def building_response_quantities(
+    system: StructureOnSliders, response: StructureResponse
+) -> BuildingResponse:
+    """Base displacement, drifts, floor accelerations, base shear ratio, friction force and Z.
+
+    Works for any `StructureOnSliders` whose DOF 0 is the base and DOFs 1.. are floors
+    stacked from the base up (e.g. `six_storey_building`). jit/vmap-safe.
+    """
+    floor_masses = system.mass[..., 1:]
+    floors = response.displacement[..., 1:]
+    below = response.displacement[..., :-1]
+    accelerations = response.total_acceleration[..., 1:]
+    shear = jnp.sum(floor_masses[..., None, :] * accelerations, axis=-1)
+    weight = jnp.sum(floor_masses, axis=-1)[..., None] * STANDARD_GRAVITY
+    return BuildingResponse(
+        time=response.time,
+        base_displacement=response.displacement[..., 0],
+        storey_drifts=floors - below,
+        floor_accelerations=accelerations,
+        base_shear_ratio=shear / weight,
+        friction_force=response.friction_force,
+        z=response.z,
+    )

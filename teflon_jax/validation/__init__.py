@@ -1,0 +1,5 @@
+"""Value checks shared by the model builders: concrete inputs are checked, traced ones pass."""
+
+from ._checks import concrete as concrete
+from ._checks import require as require
+from ._checks import require_positive as require_positive
