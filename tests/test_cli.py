@@ -48,7 +48,9 @@ def test_simulate_then_fit_round_trip(tmp_path):
         (["simulate-test", "--amplitude", "4Hz"], "--amplitude: 'Hz' is a unit of frequency"),
         (["simulate-test", "--ptfe", "PEEK"], "--ptfe: unknown PTFE type 'PEEK'"),
         (["simulate-test", "--pressure", "9000psi"], "--pressure: 9000 psi is outside"),
-        (["simulate-test", "--yield-disp", "0in"], "--yield-disp: must be > 0"),
+        (["simulate-test", "--yield-disp", "0in"], "--yield-disp: must be > 0in, got 0in."),
+        (["simulate-test", "--yield-disp", "0.005"], "--yield-disp: '0.005' has no unit; write e.g. '0.005in'"),
+        (["simulate-test", "--pressure", "-1000psi"], "--pressure: must be > 0psi, got -1000psi."),
         (["simulate-test", "--breakaway", "0.8"], "--breakaway: must be >= 1"),
         (["simulate-test", "--frequency", "0Hz"], "--frequency: must be > 0"),
         (["simulate-test", "--normal-load=-2kip"], "--normal-load: must be > 0"),
@@ -112,3 +114,46 @@ def test_montecarlo_command_reports_runs_that_did_not_converge(tmp_path, capsys,
     assert status == 1
     assert "1 of 3 runs" in capsys.readouterr().err
     assert json.loads((tmp_path / "mc.json").read_text())["all_converged"] is False
+
+
+def test_design_verdict_warns_on_bounds_and_fails_on_a_bad_gradient(capsys):
+    from types import SimpleNamespace
+
+    from teflon_jax.cli._design import GRADIENT_TOLERANCE, _verdict
+
+    good = SimpleNamespace(messages=(), at_bounds=(), simulation_converged=True, converged=True,
+                           gradient_rel_error=GRADIENT_TOLERANCE / 10)
+    assert _verdict(good, None) == 0
+    assert capsys.readouterr().err == ""
+    corner = SimpleNamespace(**{**vars(good), "at_bounds": ("isolation_period", "pressure")})
+    assert _verdict(corner, None) == 0
+    assert "optimum lies on a bound of isolation_period, pressure" in capsys.readouterr().err
+    steep = SimpleNamespace(**{**vars(good), "gradient_rel_error": 0.57})
+    assert _verdict(steep, None) == 1
+    assert "differs from central differences by 0.57" in capsys.readouterr().err
+    diverged = SimpleNamespace(**{**vars(good), "simulation_converged": False})
+    assert _verdict(diverged, None) == 1
+    assert "did not converge" in capsys.readouterr().err
+
+
+def test_compile_cache_goes_to_the_user_cache_folder(tmp_path, monkeypatch):
+    from teflon_jax.cli._main import compile_cache_dir
+
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
+    assert compile_cache_dir() == tmp_path / "xdg" / "teflon-jax" / "jax"
+    monkeypatch.setenv("XDG_CACHE_HOME", "")
+    monkeypatch.setenv("HOME", str(tmp_path / "home"))
+    assert compile_cache_dir() == tmp_path / "home" / ".cache" / "teflon-jax" / "jax"
+
+
+def test_no_compile_cache_flag_writes_no_cache(tmp_path):
+    import os
+    import subprocess
+    import sys
+
+    env = dict(os.environ, XDG_CACHE_HOME=str(tmp_path / "xdg"))
+    command = [sys.executable, "-m", "teflon_jax.cli", "--no-compile-cache", "simulate-test",
+               "--cycles", "0.5", "--samples-per-cycle", "40", "--out", str(tmp_path / "t.csv")]
+    done = subprocess.run(command, env=env, capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert not (tmp_path / "xdg" / "teflon-jax").exists()

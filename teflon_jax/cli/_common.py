@@ -1,7 +1,147 @@
-"""Small helpers shared by the sub-commands."""
+"""What the sub-commands share: quantity flags read through the one unit parser, the
+output-unit family (`--units si|us`), the progress bar and the JSON writer.
+
+A quantity flag is declared with `add_quantity(parser, "--pga", "acceleration", "0.3g", ...)`:
+its default is shown with its unit in `--help`, and after `argparse` the text is read by
+`teflon_jax.units.parse_quantity` (pint) into SI and range-checked, every error naming the flag
+as typed and echoing the value as the user wrote it. `QUANTITY_FLAGS` lists them all.
+"""
 
 import argparse
+import dataclasses
 import json
+import math
+import re
+
+from ..units import INCH, KIP, PSI, parse_quantity
+
+
+@dataclasses.dataclass(frozen=True)
+class QuantityFlag:
+    """A command-line flag that is a quantity: `dimension` (a key of `teflon_jax.units.UNITS`),
+    `default` (text with its unit, or `None`), `minimum` with `strict` (> or >=), `maximum`,
+    `nargs` (None or 2 for a LOW HIGH pair), `none` (a word that means 'not set', or None)."""
+
+    command: str
+    flag: str
+    dest: str
+    dimension: str
+    default: str | None
+    minimum: float | None = None
+    strict: bool = True
+    maximum: float | None = None
+    nargs: int | None = None
+    none: str | None = None
+
+
+QUANTITY_FLAGS: list[QuantityFlag] = []
+"""Every quantity flag of every sub-command, in the order they were declared."""
+
+_UNITS_OF = {
+    "length": "in, mm, cm, m, ft",
+    "force": "kip, lbf, N, kN",
+    "pressure": "psi, ksi, Pa, kPa, MPa",
+    "time": "s, ms, min",
+    "frequency": "Hz, rad/s, rpm",
+    "acceleration": "g, m/s^2, cm/s^2, in/s^2",
+    "slowness": "s/in, s/m",
+    "dimensionless": "a plain number or %",
+}
+
+
+# argparse takes '-0.3g' for an option; a number with a unit is a value (then range-checked)
+_NEGATIVE_QUANTITY = re.compile(r"^-(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?(?:\s*[A-Za-z%/^*()\d. ]*)?$")
+
+
+def add_quantity(parser, flag: str, dimension: str, default: str | None, help: str, *,
+                 minimum: float | None = None, strict: bool = True, maximum: float | None = None,
+                 nargs: int | None = None, none: str | None = None, required: bool = False):
+    """Declare a quantity flag on `parser` (see the module docstring)."""
+    spec = QuantityFlag(command=parser.prog.split()[-1], flag=flag, dest=flag.lstrip("-").replace("-", "_"),
+                        dimension=dimension, default=default, minimum=minimum, strict=strict,
+                        maximum=maximum, nargs=nargs, none=none)
+    QUANTITY_FLAGS[:] = [q for q in QUANTITY_FLAGS if (q.command, q.flag) != (spec.command, flag)]
+    QUANTITY_FLAGS.append(spec)
+    parser._negative_number_matcher = _NEGATIVE_QUANTITY
+    shown = " ".join(default) if isinstance(default, (tuple, list)) else default
+    text = f"{help} [{_UNITS_OF.get(dimension, dimension)}]"
+    if shown is not None:
+        text += f" (default {shown})"
+    metavar = ("LOW", "HIGH") if nargs == 2 else "Q"
+    parser.add_argument(flag, default=default, help=text.replace("%", "%%"), nargs=nargs,
+                        metavar=metavar, required=required)
+
+
+def read_quantities(args, command: str) -> None:
+    """Replace each quantity flag's text on `args` by its SI value; keep the text as
+    `args.<dest>_text`. Raises `ValueError` naming the flag and echoing the text. Reading
+    twice is harmless (the second call does nothing)."""
+    if getattr(args, "_quantities_read", False):
+        return
+    args._quantities_read = True
+    for spec in QUANTITY_FLAGS:
+        if spec.command != command or not hasattr(args, spec.dest):
+            continue
+        raw = getattr(args, spec.dest)
+        setattr(args, spec.dest + "_text", raw)
+        if raw is None:
+            continue
+        if spec.nargs == 2:
+            values = tuple(_one(spec, text) for text in raw)
+            if not values[0] < values[1]:
+                raise ValueError(f"{spec.flag}: LOW must be below HIGH, got {raw[0]} {raw[1]}.")
+            setattr(args, spec.dest, values)
+        else:
+            setattr(args, spec.dest, _one(spec, raw))
+
+
+def _one(spec: QuantityFlag, text: str):
+    if spec.none is not None and str(text).strip().lower() == spec.none:
+        return None
+    value = parse_quantity(text, spec.dimension, where=spec.flag)
+    if not math.isfinite(value):
+        raise ValueError(f"{spec.flag}: must be finite, got {text}.")
+    if spec.minimum is not None and not (value > spec.minimum if spec.strict else value >= spec.minimum):
+        bound = _in_units_of(spec.minimum, text, spec)
+        hint = f" (or '{spec.none}')" if spec.none else ""
+        raise ValueError(f"{spec.flag}: must be {'>' if spec.strict else '>='} {bound}{hint}, got {text}.")
+    if spec.maximum is not None and not value <= spec.maximum:
+        raise ValueError(f"{spec.flag}: must be <= {_in_units_of(spec.maximum, text, spec)}, got {text}.")
+    return value
+
+
+def _in_units_of(value: float, text: str, spec: QuantityFlag) -> str:
+    """`value` [SI] written in the unit the user typed in `text` (e.g. '0g', '1 in')."""
+    unit = re.sub(r"^\s*[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?\s*", "", str(text))
+    if value == 0 or not unit:
+        return f"{value:g}{unit}"
+    return f"{value / parse_quantity('1' + unit, spec.dimension, where=spec.flag):.6g}{unit}"
+
+
+def add_units_flag(parser, *, default: str = "us") -> None:
+    """`--units si|us`: the unit family of printed and plotted output (JSON keys name theirs)."""
+    parser.add_argument("--units", default=default, type=str.lower, choices=("si", "us"),
+                        help="units of printed and plotted output: si (m, N, Pa) or us (in, kip, "
+                        f"psi, as in the paper) (default {default})")
+
+
+@dataclasses.dataclass(frozen=True)
+class OutputUnits:
+    """The family chosen by `--units`: name and SI factor of a length, force and pressure."""
+
+    length: tuple[str, float]
+    force: tuple[str, float]
+    pressure: tuple[str, float]
+
+    def show(self, value: float, dimension: str, digits: int = 4) -> str:
+        name, factor = getattr(self, dimension)
+        return f"{value / factor:.{digits}g} {name}"
+
+
+def output_units(family: str) -> OutputUnits:
+    if family == "si":
+        return OutputUnits(length=("mm", 1e-3), force=("kN", 1e3), pressure=("MPa", 1e6))
+    return OutputUnits(length=("in", INCH), force=("kip", KIP), pressure=("psi", PSI))
 
 
 def _positive_int(text: str) -> int:

@@ -1,80 +1,85 @@
 """`teflon-jax design`: gradient-based design of the isolation system."""
 
 import argparse
-import json
-import math
+import sys
 import time
 
-from ..units import INCH, PSI, parse_quantity
-from ._common import _positive_int, _write_json
+from ..units import STANDARD_GRAVITY
+from ._common import _positive_int, _write_json, add_quantity, output_units
 from ._montecarlo import _add_common, _motion_model
+
+GRADIENT_TOLERANCE = 1e-4
+"""Largest relative error of the gradient at the optimum (against central differences) the
+command accepts; above it the optimum cannot be trusted and the command exits with status 1."""
 
 
 def add_design_parser(subparsers) -> argparse.ArgumentParser:
-    """`teflon-jax design --motions N --structure rigid|building --disp-limit 4in ...
+    """`teflon-jax design --motions N --structure rigid|building --disp-limit 3in ...
     --json OUT.json --plot OUT.png`: minimise the expected base shear over T_b and pressure
     subject to a base-displacement limit."""
     parser = subparsers.add_parser(
         "design",
         help="gradient-based design: minimise expected base shear under a displacement limit",
-        description="BFGS over the isolation period and bearing pressure (bounded), with a "
-        "gradient check against central differences and a grid sweep of the same objective.",
+        description="BFGS over the isolation period and bearing pressure (bounded), started from "
+        "the best point of a grid sweep of the same objective, with a gradient check at the "
+        "optimum against central differences. Exits with status 1 when a simulation did not "
+        "converge or the gradient check fails; warns when the optimum lies on a bound.",
     )
     parser.add_argument("--motions", type=_positive_int, default=16, help="motions in the set (default 16)")
     _add_common(parser)
-    parser.add_argument("--disp-limit", default="3in", help="limit on mean peak base displacement (e.g. 3in, 80mm)")
-    parser.add_argument("--period-range", type=float, nargs=2, default=(1.0, 4.0), metavar=("LOW", "HIGH"),
-                        help="T_b bounds [s]")
-    parser.add_argument("--pressure-range", type=float, nargs=2, default=(1000.0, 3000.0), metavar=("LOW", "HIGH"),
-                        help="pressure bounds [psi] (inside Table 1's rows)")
-    parser.add_argument("--isolation-damping", type=float, default=0.05, help="zeta_b [-]")
-    parser.add_argument("--penalty", type=float, default=100.0, help="penalty weight rho")
-    parser.add_argument("--grid", type=_positive_int, default=7, help="sweep points per variable")
+    add_quantity(parser, "--disp-limit", "length", "3in", "limit on the mean peak base displacement",
+                 minimum=0.0)
+    add_quantity(parser, "--period-range", "time", ("1s", "4s"), "bounds of the isolation period Tb",
+                 minimum=0.0, nargs=2)
+    add_quantity(parser, "--pressure-range", "pressure", ("1000psi", "3000psi"), "bounds of the "
+                 "bearing pressure (inside Table 1's rows)", minimum=0.0, nargs=2)
+    add_quantity(parser, "--isolation-damping", "dimensionless", "5%", "viscous damping ratio "
+                 "zeta_b of the isolation system", minimum=0.0, strict=False)
+    parser.add_argument("--penalty", type=float, default=100.0,
+                        help="weight rho of the displacement-limit penalty [-] (default 100)")
+    parser.add_argument("--grid", type=_positive_int, default=7, help="sweep points per variable (default 7)")
+    parser.add_argument("--no-progress", action="store_true", help="no progress bar")
     parser.set_defaults(command_function=run_design)
     return parser
 
 
 def run_design(args) -> int:
-    """Run `teflon-jax design`; returns the exit status (0)."""
+    """Run `teflon-jax design`; returns the exit status (0 ok; 1 when a simulation did not
+    converge or the gradient at the optimum disagrees with central differences)."""
     import jax
+    import numpy as np
+    from tqdm import tqdm
 
     from ..excitation import sample
     from ..report import plot_design
-    from ..studies import (
-        design_bounds,
-        design_sweep,
-        expected_response,
-        gradient_check,
-        optimise_design,
-        sweep_start,
-    )
+    from ..studies import design_bounds, design_sweep, optimise_design, sweep_start
     from ..systems import isolated_structure
 
-    jax.config.update("jax_enable_x64", not getattr(args, "float32", False))
+    units = output_units(args.units)
     tic = time.perf_counter()
-    disp_limit = parse_quantity(args.disp_limit, "length", where="--disp-limit", default_unit="in")
-    low_p, high_p = (p * PSI for p in args.pressure_range)
+    bar = tqdm(total=2, unit="stage", desc="design", disable=args.no_progress)
+    low_p, high_p = args.pressure_range
     structure = isolated_structure(
         args.structure, ptfe=args.ptfe, pressure=low_p, isolation_period=args.period_range[0],
         isolation_damping=args.isolation_damping, time_step=args.time_step,
     )
     variables = {"isolation_period": tuple(args.period_range), "pressure": (low_p, high_p)}
-    model = _motion_model(args)
-    records = sample(model, jax.random.key(args.seed), args.motions)
+    records = sample(_motion_model(args), jax.random.key(args.seed), args.motions)
     dt = args.record_step
-    grid = {"isolation_period": _linspace(*args.period_range, args.grid),
-            "pressure": _linspace(low_p, high_p, args.grid)}
-    sweep = design_sweep(structure, records, dt, grid=grid, disp_limit=disp_limit, penalty=args.penalty)
+    grid = {"isolation_period": np.linspace(*args.period_range, args.grid),
+            "pressure": np.linspace(low_p, high_p, args.grid)}
+    bar.set_postfix_str(f"grid sweep, {args.grid}x{args.grid} designs x {args.motions} motions")
+    sweep = design_sweep(structure, records, dt, grid=grid, disp_limit=args.disp_limit,
+                         penalty=args.penalty)
+    bar.update(1)
+    bar.set_postfix_str("BFGS from the best grid point")
     start = sweep_start(sweep, design_bounds(structure, variables))
-    result = optimise_design(structure, records, dt, variables=variables, disp_limit=disp_limit,
+    result = optimise_design(structure, records, dt, variables=variables, disp_limit=args.disp_limit,
                              penalty=args.penalty, start=start)
-
-    def shear(x):
-        return expected_response(structure, x, records, dt)["shear"]
-
-    # at the optimum; Table 1's interpolation has kinks at its tabulated pressures
-    _, _, grad_error = gradient_check(shear, result.optimum)
-    best = int(sweep["objective"].argmin())
+    bar.update(1)
+    bar.close()
+    length, pressure = units.length, units.pressure
+    best = int(np.asarray(sweep["objective"]).argmin())
     payload = {
         "n_motions": args.motions,
         "structure": args.structure,
@@ -82,36 +87,63 @@ def run_design(args) -> int:
         "wall_s": time.perf_counter() - tic,
         "optimum": {
             "isolation_period_s": result.optimum["isolation_period"],
-            "pressure_psi": result.optimum["pressure"] / PSI,
+            f"pressure_{pressure[0]}": result.optimum["pressure"] / pressure[1],
             "objective": result.objective,
             "mean_smooth_base_shear_ratio": result.mean_shear,
-            "mean_smooth_base_disp_m": result.mean_disp,
+            f"mean_smooth_base_disp_{length[0]}": result.mean_disp / length[1],
             "mean_peak_base_shear_ratio": result.peak_shear,
-            "mean_peak_base_disp_m": result.peak_disp,
+            f"mean_peak_base_disp_{length[0]}": result.peak_disp / length[1],
             "bfgs_steps": result.steps,
             "converged": result.converged,
+            "simulation_converged": result.simulation_converged,
+            "at_bounds": list(result.at_bounds),
         },
-        "disp_limit_m": disp_limit,
-        "disp_limit_in": disp_limit / INCH,
-        "grad_check_max_rel_err": grad_error,
+        f"disp_limit_{length[0]}": args.disp_limit / length[1],
+        "gradient_rel_error": result.gradient_rel_error,
+        "gradient_tolerance": GRADIENT_TOLERANCE,
+        "messages": list(result.messages),
         "grid_best": {
             "isolation_period_s": float(sweep["grid"]["isolation_period"].reshape(-1)[best]),
-            "pressure_psi": float(sweep["grid"]["pressure"].reshape(-1)[best] / PSI),
-            "objective": float(sweep["objective"].reshape(-1)[best]),
+            f"pressure_{pressure[0]}": float(sweep["grid"]["pressure"].reshape(-1)[best] / pressure[1]),
+            "objective": float(np.asarray(sweep["objective"]).reshape(-1)[best]),
         },
-        "grid_start": start,
-        "optimum_beats_grid": bool(result.objective <= sweep["objective"].min() * (1 + 1e-9)),
+        "optimum_beats_grid": bool(result.objective <= np.min(sweep["objective"]) * (1 + 1e-9)),
+        "motions": {"pga_g": args.pga / STANDARD_GRAVITY, "duration_s": args.duration, "seed": args.seed},
     }
     _write_json(args.json, payload)
     if args.plot is not None:
-        plot_design(sweep, result, args.plot, units={"isolation_period": (1.0, "s"), "pressure": (PSI, "psi")})
-    print(json.dumps({k: payload[k] for k in ("optimum", "grad_check_max_rel_err", "wall_s")}, indent=1))
-    return 0
+        stamp = (f"{args.structure}, {args.ptfe} PTFE, zeta_b = {args.isolation_damping_text}, "
+                 f"{args.motions} Clough-Penzien motions (PGA {args.pga_text}, {args.duration_text}, "
+                 f"seed {args.seed}), displacement limit {args.disp_limit_text}")
+        plot_design(sweep, result, args.plot, title=stamp, units={
+            "isolation_period": (1.0, "s"), "pressure": (pressure[1], pressure[0]),
+            "length": (length[1], length[0])})
+    print(f"optimum: Tb = {result.optimum['isolation_period']:.4g} s, pressure = "
+          f"{units.show(result.optimum['pressure'], 'pressure')}; mean peak base shear / weight "
+          f"{result.peak_shear:.4g}, mean peak base displacement {units.show(result.peak_disp, 'length')} "
+          f"(limit {args.disp_limit_text}); {result.steps} BFGS steps; gradient check "
+          f"{result.gradient_rel_error:.2g} relative; {payload['wall_s']:.1f} s")
+    return _verdict(result, args)
 
 
-def _linspace(low, high, n):
-    import numpy as np
-
-    if not (math.isfinite(low) and math.isfinite(high) and low < high):
-        raise ValueError(f"range: need finite LOW < HIGH, got ({low}, {high}).")
-    return np.linspace(low, high, n)
+def _verdict(result, args) -> int:
+    """Warnings and the exit status: 1 when the optimum cannot be trusted."""
+    for message in result.messages:
+        print(f"teflon-jax design: note: {message}", file=sys.stderr)
+    if result.at_bounds:
+        print(f"teflon-jax design: warning: the optimum lies on a bound of {', '.join(result.at_bounds)}; "
+              "the best design may lie outside the box: widen --period-range or --pressure-range, "
+              "or check --disp-limit.", file=sys.stderr)
+    failed = []
+    if not result.simulation_converged:
+        failed.append("a simulation of the motion set did not converge (a Newton step failed); try "
+                      "a smaller --time-step")
+    if not result.gradient_rel_error <= GRADIENT_TOLERANCE:
+        failed.append(f"the gradient at the reported optimum differs from central differences by "
+                      f"{result.gradient_rel_error:.2g} (relative), more than {GRADIENT_TOLERANCE:g}: "
+                      "the optimum is not a trustworthy stationary point")
+    if not result.converged:
+        failed.append("BFGS did not converge")
+    for reason in failed:
+        print(f"teflon-jax design: error: {reason}.", file=sys.stderr)
+    return 1 if failed else 0

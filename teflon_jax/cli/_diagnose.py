@@ -9,7 +9,11 @@ import json
 import pathlib
 import sys
 
-from identification.discovery import BASELINES, EFFECT_NAMES
+from identification.discovery import BASELINES, EFFECT_NAMES, EFFECTS
+
+from ..units import parse_quantity
+
+_DIMENSIONS = {"-": "dimensionless", "m": "length", "s/m": "slowness"}
 
 
 def add_diagnose_parser(subparsers) -> argparse.ArgumentParser:
@@ -76,8 +80,8 @@ def add_diagnose_parser(subparsers) -> argparse.ArgumentParser:
         action="append",
         default=[],
         metavar="NAME=VALUE",
-        help="hold a parameter at a value in SI units, e.g. rate_a=23.6 "
-        "(repeatable; with rate_a known, 'interfaces' can be identified)",
+        help="hold a parameter at a value, with its unit where it has one, e.g. rate_a=0.6s/in "
+        "or yield_disp=0.005in (repeatable; with rate_a known, 'interfaces' can be identified)",
     )
     parser.add_argument("--quiet", action="store_true", help="no progress lines")
     parser.set_defaults(func=run_diagnose)
@@ -125,17 +129,19 @@ def run_diagnose(args) -> int:
 
 
 def _parse_known(items) -> dict:
+    units = {"f_max": "-", "yield_disp": "m"}
+    units.update({p.name: p.unit for e in EFFECTS.values() for p in e.parameters})
     known = {}
     for item in items:
         name, sep, value = item.partition("=")
-        try:
-            known[name.strip()] = float(value)
-        except ValueError:
-            sep = ""
+        name = name.strip()
         if not sep:
-            raise ValueError(
-                f"--known: expected NAME=VALUE in SI units (e.g. rate_a=23.6), got '{item}'."
-            )
+            raise ValueError(f"--known: expected NAME=VALUE (e.g. rate_a=0.6s/in), got '{item}'.")
+        if name not in units:
+            raise ValueError(f"--known: unknown parameter '{name}'; the parameters are "
+                             f"{', '.join(units)}.")
+        known[name] = parse_quantity(value, _DIMENSIONS.get(units[name], "dimensionless"),
+                                     where=f"--known {name}")
     return known
 
 

@@ -1,12 +1,18 @@
 """`teflon-jax fit`: fit the bearing model to test records from the command line.
 
-The lead's `teflon_jax/_cli.py` wires `add_fit_parser` and `run_fit` into the `teflon-jax`
-command. Messages go to stderr; the JSON report and the plot are the outputs.
+Messages go to stderr; the JSON report (SI, with a "units" map) and the plot are the outputs.
 """
 
 import argparse
 import pathlib
 import sys
+
+from ..units import INCH, parse_quantity
+from ._common import add_quantity, add_units_flag, read_quantities
+
+PARAMETER_DIMENSIONS = {"f_max": "dimensionless", "delta_f": "dimensionless", "rate_a": "slowness",
+                        "yield_disp": "length", "breakaway_ratio": "dimensionless"}
+"""Dimension of each fitted parameter, for `--fixed NAME=VALUE` (e.g. yield_disp=0.005in)."""
 
 FIT_HELP = "fit f_max, delta_f, rate_a, yield_disp, breakaway_ratio to bearing test records"
 
@@ -22,14 +28,15 @@ def add_fit_parser(subparsers) -> argparse.ArgumentParser:
                              "rate_a, yield_disp, and breakaway_ratio when the record starts "
                              "from rest)")
     parser.add_argument("--fixed", default=None, metavar="NAME=VALUE,...",
-                        help="values of parameters held fixed, SI (e.g. yield_disp=1.27e-4)")
-    parser.add_argument("--normal-load", default=None, metavar="LOAD",
-                        help="normal load with its unit (e.g. 78.5kip, 350kN) for records without "
-                             "one; '1N' fits the force itself (f_max, delta_f in newtons)")
+                        help="values of parameters held fixed, with units where they have one "
+                             "(e.g. yield_disp=0.005in,rate_a=0.6s/in,breakaway_ratio=1.5)")
+    add_quantity(parser, "--normal-load", "force", None, "normal load for records without one; "
+                 "'1N' fits the force itself (f_max, delta_f in newtons)", minimum=0.0)
     parser.add_argument("--starts", type=int, default=8, help="number of starts (default 8)")
     parser.add_argument("--json", required=True, metavar="OUT.json", help="JSON report (SI)")
     parser.add_argument("--plot", default=None, metavar="OUT.png",
                         help="plot of measured and fitted loops with the residual")
+    add_units_flag(parser)
     parser.set_defaults(command_function=run_fit)
     return parser
 
@@ -48,10 +55,8 @@ def _parse_fixed(text):
         if name not in PARAMETER_NAMES:
             raise ValueError(f"--fixed: unknown parameter '{name}'; the parameters are "
                              f"{', '.join(PARAMETER_NAMES)}.")
-        try:
-            fixed[name] = float(value)
-        except ValueError:
-            raise ValueError(f"--fixed: value of {name} is not a number: '{value}'.") from None
+        fixed[name] = parse_quantity(value, PARAMETER_DIMENSIONS.get(name, "dimensionless"),
+                                     where=f"--fixed {name}")
     return fixed
 
 
@@ -79,27 +84,30 @@ def run_fit(args) -> int:
     )
 
     try:
+        read_quantities(args, "fit")
         free = parse_free(args.free) if args.free is not None else None
-        fixed = _parse_fixed(getattr(args, "fixed", None))
+        fixed = _parse_fixed(args.fixed)
         records = [read_record(p) for p in args.records]
-        normal_load = getattr(args, "normal_load", None)
-        if normal_load is not None:
-            from ..units import parse_quantity
-
-            normal_load = parse_quantity(normal_load, "force", where="--normal-load")
-            if not normal_load > 0:
-                raise ValueError(f"--normal-load: must be > 0, got {args.normal_load}.")
-        fit = fit_bearing_test(records, free=free, fixed=fixed, normal_load=normal_load,
-                               n_starts=getattr(args, "starts", 8))
+        fit = fit_bearing_test(records, free=free, fixed=fixed, normal_load=args.normal_load,
+                               n_starts=args.starts)
     except ValueError as error:
         print(f"teflon-jax fit: error: {error}", file=sys.stderr)
         return 2
     write_fit_json(args.json, fit)
+    us = args.units == "us"
     if args.plot:
-        plot_fit(args.plot, fit)
+        plot_fit(args.plot, fit, force_unit="kip" if us else "kN", length_unit="in" if us else "mm")
     for warning in fit.warnings:
         print(f"teflon-jax fit: warning: {warning}", file=sys.stderr)
-    summary = ", ".join(f"{k} = {fit.parameters[k]:.5g} +- {fit.std_errors[k]:.2g}"
-                        for k in fit.free)
-    print(f"{summary}; nrmse = {fit.nrmse:.4f}; {fit.message}", file=sys.stderr)
+    summary = ", ".join(_shown(k, fit.parameters[k], fit.std_errors[k], us) for k in fit.free)
+    print(f"{summary}; nrmse = {fit.nrmse:.4f} [-]; {fit.message}", file=sys.stderr)
     return 0 if fit.converged else 1
+
+
+def _shown(name, value, error, us):
+    """`name = value +- error unit` in the family chosen by --units."""
+    unit, factor = {"length": ("in", INCH) if us else ("mm", 1e-3),
+                    "slowness": ("s/in", 1 / INCH) if us else ("s/m", 1.0)}.get(
+        PARAMETER_DIMENSIONS.get(name), ("", 1.0))
+    error = float("nan") if error is None else error
+    return f"{name} = {value / factor:.5g} +- {error / factor:.2g}{' ' + unit if unit else ''}"

@@ -2,7 +2,10 @@
 
 import argparse
 import os
+import pathlib
 import sys
+
+from ._common import read_quantities
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -19,6 +22,9 @@ def _parser() -> argparse.ArgumentParser:
                         help="split the processor into N JAX devices; `montecarlo` shares its "
                         "motions out over them (default: one per core, unless XLA_FLAGS sets "
                         "--xla_force_host_platform_device_count)")
+    parser.add_argument("--no-compile-cache", action="store_true",
+                        help="do not keep compiled programs between runs (default: kept in "
+                        "$XDG_CACHE_HOME/teflon-jax/jax, else ~/.cache/teflon-jax/jax)")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     add_simulate_parser(sub)
     for module, adders in (
@@ -56,6 +62,29 @@ def _split_cpu(jax, requested: int | None) -> None:
             raise ValueError(f"--cpu-devices: {error}") from None
 
 
+def compile_cache_dir() -> pathlib.Path:
+    """Folder of the persistent JAX compilation cache: `$XDG_CACHE_HOME/teflon-jax/jax`, or
+    `~/.cache/teflon-jax/jax` when XDG_CACHE_HOME is unset or empty."""
+    base = os.environ.get("XDG_CACHE_HOME") or str(pathlib.Path.home() / ".cache")
+    return pathlib.Path(base) / "teflon-jax" / "jax"
+
+
+def _use_compile_cache(jax) -> None:
+    """Keep every compiled program (however small or quick to compile) in the user's cache,
+    so that a repeated job skips XLA's compilation; JAX keys the entries by program, options,
+    device and version."""
+    path = compile_cache_dir()
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+    except OSError as error:
+        print(f"teflon-jax: warning: no compilation cache ({error}); use --no-compile-cache "
+              "to silence this", file=sys.stderr)
+        return
+    jax.config.update("jax_compilation_cache_dir", str(path))
+    jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.0)
+    jax.config.update("jax_persistent_cache_min_entry_size_bytes", 0)
+
+
 def main(argv=None) -> int:
     parser = _parser()
     args = parser.parse_args(argv)
@@ -69,9 +98,12 @@ def main(argv=None) -> int:
         print(f"teflon-jax: error: {error}", file=sys.stderr)
         return 2
     jax.config.update("jax_enable_x64", not args.float32)
+    if not args.no_compile_cache:
+        _use_compile_cache(jax)
     module, name = _RUNNERS[args.command]
     runner = getattr(__import__(module, fromlist=[name]), name)
     try:
+        read_quantities(args, args.command)
         return runner(args)
     except (ValueError, FileNotFoundError) as error:
         print(f"teflon-jax {args.command}: error: {error}", file=sys.stderr)

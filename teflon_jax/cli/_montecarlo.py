@@ -1,35 +1,40 @@
 """Command-line layer of the Monte Carlo and design tools (`teflon-jax montecarlo`,
 `teflon-jax design`): argument parsing, progress bar, JSON summary, files and plots.
 
-Quantities on the command line are in paper units where an engineer expects them (pressure
-in psi, displacement limit in inches or with a unit, e.g. "4in", "100mm"); all computation is SI.
+Every quantity on the command line carries its unit (`--pga 0.3g`, `--pressure 1000psi`,
+`--duration 40s`), read by the one parser of `teflon_jax.units`; all computation is SI.
 """
 
 import argparse
-import json
+import math
 import pathlib
 import sys
 
-from ..units import PSI, STANDARD_GRAVITY
-from ._common import _positive_int, _write_json
+from ..units import STANDARD_GRAVITY
+from ._common import _positive_int, _write_json, add_quantity, add_units_flag, output_units
 
 
 def _add_common(parser):
     parser.add_argument("--structure", choices=("rigid", "building"), default="rigid",
                         help="rigid mass, or the six-storey building of Table 2 (default rigid)")
     parser.add_argument("--seed", type=int, default=0, help="PRNG seed of the stochastic motions")
-    parser.add_argument("--duration", type=float, default=40.0, help="motion length [s] (default 40)")
-    parser.add_argument("--record-step", type=float, default=0.01, help="motion sampling step [s]")
-    parser.add_argument("--time-step", type=float, default=None,
-                        help="structure step [s] (default 0.0025: peaks within 0.2 %% of "
-                        "converged ones on 100 test motions, see benchmarks B3)")
-    parser.add_argument("--pga", type=float, default=0.3, help="expected PGA [g] (default 0.3)")
-    parser.add_argument("--site-frequency", type=float, default=15.6, help="Kanai-Tajimi omega_g [rad/s]")
-    parser.add_argument("--site-damping", type=float, default=0.6, help="Kanai-Tajimi zeta_g [-]")
-    parser.add_argument("--strong-motion", type=float, default=10.0, help="strong-motion duration [s]")
+    add_quantity(parser, "--duration", "time", "40s", "length of each motion", minimum=0.0)
+    add_quantity(parser, "--record-step", "time", "0.01s", "sampling step of the motions", minimum=0.0)
+    add_quantity(parser, "--time-step", "time", None, "step of the structure solver (default 2.5ms: "
+                 "peaks within 0.2 % of converged ones on 100 test motions, see benchmarks B3)",
+                 minimum=0.0)
+    add_quantity(parser, "--pga", "acceleration", "0.3g", "expected peak ground acceleration",
+                 minimum=0.0)
+    add_quantity(parser, "--site-frequency", "frequency", "15.6rad/s", "Kanai-Tajimi site "
+                 "frequency omega_g", minimum=0.0)
+    add_quantity(parser, "--site-damping", "dimensionless", "0.6", "Kanai-Tajimi site damping "
+                 "ratio zeta_g", minimum=0.0)
+    add_quantity(parser, "--strong-motion", "time", "10s", "strong-motion duration of the envelope",
+                 minimum=0.0)
     parser.add_argument("--ptfe", default="UF", help="PTFE type of Table 1 (UF, 15GF, 25GF)")
     parser.add_argument("--json", type=pathlib.Path, help="write the summary JSON here")
     parser.add_argument("--plot", type=pathlib.Path, help="write a PNG plot here")
+    add_units_flag(parser)
 
 
 def add_montecarlo_parser(subparsers) -> argparse.ArgumentParser:
@@ -43,9 +48,13 @@ def add_montecarlo_parser(subparsers) -> argparse.ArgumentParser:
     )
     parser.add_argument("--motions", type=_positive_int, required=True, help="number of motions N")
     _add_common(parser)
-    parser.add_argument("--pressure", type=float, default=1000.0, help="bearing pressure [psi]")
-    parser.add_argument("--isolation-period", type=float, default=2.0, help="T_b [s] (<= 0: none, rigid only)")
-    parser.add_argument("--isolation-damping", type=float, default=0.05, help="zeta_b [-]")
+    add_quantity(parser, "--pressure", "pressure", "1000psi", "bearing contact pressure (Table 1 "
+                 "row of --ptfe)", minimum=0.0)
+    add_quantity(parser, "--isolation-period", "time", "2s", "isolation period Tb of the "
+                 "restoring spring ('none': friction only, rigid structure only)", minimum=0.0,
+                 none="none")
+    add_quantity(parser, "--isolation-damping", "dimensionless", "5%", "viscous damping ratio "
+                 "zeta_b of the isolation system", minimum=0.0, strict=False)
     parser.add_argument("--chunk-size", type=_positive_int, default=512, help="motions per compiled call "
                         "(split over the devices; about 260 kB each for 40 s motions at 0.01 s)")
     parser.add_argument("--out", type=pathlib.Path, help="results file (.nc with xarray, else .npz + .csv)")
@@ -58,10 +67,10 @@ def _motion_model(args, duration=None):
     from ..excitation import StochasticGroundMotion
 
     return StochasticGroundMotion(
-        peak_ground_acceleration=args.pga * STANDARD_GRAVITY,
-        site_frequency=args.site_frequency,
+        peak_ground_acceleration=args.pga,
+        site_frequency=2 * math.pi * args.site_frequency,
         site_damping=args.site_damping,
-        high_pass_frequency=args.site_frequency / 10,
+        high_pass_frequency=2 * math.pi * args.site_frequency / 10,
         strong_motion_duration=args.strong_motion,
         duration=args.duration if duration is None else duration,
         time_step=args.record_step,
@@ -70,7 +79,8 @@ def _motion_model(args, duration=None):
 
 def run_montecarlo(args) -> int:
     """Run `teflon-jax montecarlo`; returns the exit status (0; 1 when some run did not
-    converge: the results are written all the same, with their `converged` flags)."""
+    converge: the results are written all the same, with their `converged` flags, and the
+    statistics rest on the converged runs only)."""
     import jax
     import numpy as np
     from tqdm import tqdm
@@ -79,13 +89,12 @@ def run_montecarlo(args) -> int:
     from ..studies import monte_carlo, save_montecarlo
     from ..systems import isolated_structure
 
-    jax.config.update("jax_enable_x64", not getattr(args, "float32", False))
-    period = args.isolation_period if args.isolation_period > 0 else None
+    units = output_units(args.units)
     structure = isolated_structure(
         args.structure,
         ptfe=args.ptfe,
-        pressure=args.pressure * PSI,
-        isolation_period=period,
+        pressure=args.pressure,
+        isolation_period=args.isolation_period,
         isolation_damping=args.isolation_damping,
         time_step=args.time_step,
     )
@@ -101,8 +110,13 @@ def run_montecarlo(args) -> int:
     )
     bar.close()
     files = [] if args.out is None else [str(p) for p in save_montecarlo(result, args.out)]
+    converged = np.asarray(result.converged, bool).reshape(-1)
+    stats = _statistics(result, units)
+    length = units.length[0]
     payload = {
         "n_motions": result.n_motions,
+        "n_converged": int(converged.sum()),
+        "not_converged": np.flatnonzero(~converged).tolist(),
         "structure": args.structure,
         "devices": result.n_devices,
         "device_kind": jax.devices()[0].device_kind,
@@ -111,27 +125,48 @@ def run_montecarlo(args) -> int:
         "records_per_s": result.n_motions / max(result.wall_s - result.compile_s, 1e-9),
         "chunk_size": result.chunk_size,
         "time_step_s": structure.time_step,
-        "all_converged": bool(result.converged.all()),
-        "percentiles": result.percentiles(),
-        "design": {"pressure_psi": args.pressure, "isolation_period_s": period,
+        "all_converged": bool(converged.all()),
+        "statistics": stats,
+        "design": {f"pressure_{units.pressure[0]}": args.pressure / units.pressure[1],
+                   "isolation_period_s": args.isolation_period,
                    "isolation_damping": args.isolation_damping, "ptfe": args.ptfe},
-        "motions": {"model": "Clough-Penzien, Jennings-Housner-Tsai envelope", "pga_g": args.pga,
-                    "duration_s": args.duration, "seed": args.seed},
+        "motions": {"model": "Clough-Penzien, Jennings-Housner-Tsai envelope",
+                    "pga_g": args.pga / STANDARD_GRAVITY, "duration_s": args.duration,
+                    "seed": args.seed},
+        "units": {"base_disp": length, "base_shear_ratio": "-", "wall_s": "s"},
         "files": files,
     }
     _write_json(args.json, payload)
+    stamp = (f"{args.structure}, {args.ptfe} PTFE at {args.pressure_text}, Tb = "
+             f"{args.isolation_period_text}, zeta_b = {args.isolation_damping_text}; "
+             f"Clough-Penzien motions, PGA {args.pga_text}, {args.duration_text}, seed {args.seed}")
     if args.plot is not None:
-        plot_montecarlo(result, args.plot, title=f"{args.structure}: {result.n_motions} motions")
-    print(json.dumps({k: payload[k] for k in ("n_motions", "devices", "wall_s", "percentiles")}, indent=1))
-    failed = int(np.sum(~np.asarray(result.converged)))
-    if failed:
+        plot_montecarlo(result, args.plot, title=stamp, length=units.length)
+    print(f"{result.n_motions} motions on {result.n_devices} device(s) in {result.wall_s:.1f} s; "
+          f"statistics over the {int(converged.sum())} of {converged.size} runs that converged:")
+    for name, values in stats.items():
+        unit = f" {length}" if name.startswith("base_disp") else ""
+        print(f"  {name}: " + ", ".join(f"{k} {v:.4g}{unit}" for k, v in values.items()
+                                       if k != "n" and v is not None))
+    failed = np.flatnonzero(~converged)
+    if failed.size:
+        named = ", ".join(str(i) for i in failed[:20]) + (" ..." if failed.size > 20 else "")
         print(
-            f"teflon-jax montecarlo: {failed} of {np.asarray(result.converged).size} runs had a time "
-            "step whose Newton solve did not converge; their peaks cannot be trusted (column "
-            "'converged' of the results). "
+            f"teflon-jax montecarlo: {failed.size} of {converged.size} runs had a time step whose "
+            f"Newton solve did not converge (motion indices {named}); they are left out of the "
+            "statistics and flagged in the results ('converged'). "
             + ("Single precision is too coarse for the bearing's Newton solve: drop --float32."
                if getattr(args, "float32", False) else "Try a smaller --time-step."),
             file=sys.stderr,
         )
         return 1
     return 0
+
+
+def _statistics(result, units) -> dict:
+    """The converged runs' percentiles, mean and standard deviation (`result.percentiles()`,
+    each with the count `n` it rests on), the displacement in the output units."""
+    stats = result.percentiles()
+    factor = units.length[1]
+    disp = {k: (v if k == "n" or v is None else v / factor) for k, v in stats["base_disp_m"].items()}
+    return {f"base_disp_{units.length[0]}": disp, "base_shear_ratio": stats["base_shear_ratio"]}

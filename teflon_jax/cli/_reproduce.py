@@ -17,12 +17,16 @@ def add_reproduce_parser(subparsers) -> argparse.ArgumentParser:
     parser.add_argument("--out", required=True, metavar="DIR", help="output folder (created if missing)")
     parser.add_argument("--quick", action="store_true", help="coarse Tb grid, no convergence check")
     parser.add_argument("--no-progress", action="store_true", help="hide the progress bar")
+    parser.add_argument("--allow-missing", action="store_true",
+                        help="exit with status 0 even when a figure had to be skipped (a record "
+                        "could not be read); the skipped figures are still listed")
     parser.set_defaults(handler=run_reproduce)
     return parser
 
 
 def run_reproduce(args) -> int:
-    """Run `reproduce` for parsed `args`; returns the exit status (0 = done)."""
+    """Run `reproduce` for parsed `args`; returns the exit status: 0 when every figure was
+    made (or `--allow-missing`), 1 when a figure was skipped, 2 on bad input."""
     import jax
 
     jax.config.update("jax_enable_x64", not getattr(args, "float32", False))
@@ -46,4 +50,10 @@ def run_reproduce(args) -> int:
     failed = [s["figure"] for s in summary["statements"] if not s["holds"]]
     print(f"wrote {args.out}/report.md and summary.json; "
           f"{len(summary['statements']) - len(failed)} of {len(summary['statements'])} statements hold")
+    for skipped in summary["skipped"]:
+        print(f"teflon-jax reproduce: skipped {skipped['figure']}: {skipped['reason']}", file=sys.stderr)
+    if summary["skipped"] and not args.allow_missing:
+        print(f"teflon-jax reproduce: {len(summary['skipped'])} figure(s) or part(s) skipped; put the "
+              "records in place (see README) or pass --allow-missing to accept this.", file=sys.stderr)
+        return 1
     return 0

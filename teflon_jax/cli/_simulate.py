@@ -6,6 +6,7 @@ import numpy as np
 
 from ..report import plot_loop
 from ..units import INCH, parse_quantity
+from ._common import add_quantity, add_units_flag, output_units
 
 DEFAULT_DIAMETER = 10 * INCH  # specimens of the paper's tests: 10 in diameter
 
@@ -22,8 +23,8 @@ def add_simulate_parser(subparsers) -> None:
         ),
     )
     p.add_argument("--ptfe", default="UF", help="PTFE type of Table 1: UF, 15GF or 25GF (default UF)")
-    p.add_argument("--pressure", default="1000psi", help="contact pressure, e.g. 1000psi or 6.9MPa; "
-                   "Table 1 is interpolated linearly between 1000, 2000, 3000 and 6500 psi")
+    add_quantity(p, "--pressure", "pressure", "1000psi", "contact pressure; Table 1 is interpolated "
+                 "linearly between 1000, 2000, 3000 and 6500 psi", minimum=0.0)
     p.add_argument("--extrapolate", action="store_true",
                    help="allow pressures outside Table 1's range (extends the nearest segment)")
     p.add_argument("--direction", default="P", help="sliding direction to the lay: P (parallel) or T")
@@ -31,20 +32,21 @@ def add_simulate_parser(subparsers) -> None:
                    "(figure-eight, Eq. 16: ux = U0 sin wt, uy = U0 sin 2wt)")
     p.add_argument("--motion-file", default=None, help="CSV with columns 'time [s]', 'ux [unit]' "
                    "(and optionally 'uy [unit]'): any displacement history; replaces --pattern")
-    p.add_argument("--amplitude", default="4in", help="displacement amplitude U0, e.g. 4in (default)")
-    p.add_argument("--frequency", default="0.6Hz", help="frequency, e.g. 0.6Hz or 2.77rad/s (default 0.6Hz)")
+    add_quantity(p, "--amplitude", "length", "4in", "displacement amplitude U0", minimum=0.0)
+    add_quantity(p, "--frequency", "frequency", "0.6Hz", "frequency of the motion (cyclic or "
+                 "angular: 0.6Hz = 3.77rad/s)", minimum=0.0)
     p.add_argument("--cycles", type=float, default=3.0, help="number of cycles (default 3)")
-    p.add_argument("--normal-load", default=None, help="normal load, e.g. 78.5kip (default: pressure "
-                   "x area of a 10 in diameter contact)")
+    add_quantity(p, "--normal-load", "force", None, "normal load (compression) (default: pressure "
+                 "x area of a 10 in diameter contact)", minimum=0.0)
     p.add_argument("--breakaway", default=None, help="breakaway ratio b of Eq. 17 (>= 1), or 'table' "
                    "for Table 1's b (default: no breakaway)")
     p.add_argument("--interfaces", type=int, default=1, help="number of interfaces in the stack (default 1)")
-    p.add_argument("--yield-disp", default="0.005in", help="Bouc-Wen Y (default 0.005in)")
+    add_quantity(p, "--yield-disp", "length", "0.005in", "Bouc-Wen yield displacement Y", minimum=0.0)
     p.add_argument("--anisotropic", action="store_true", help="eight pattern: use the T row of "
                    "Table 1 for sliding along y and interpolate in the sliding angle")
     p.add_argument("--samples-per-cycle", type=int, default=400, help="saved samples per cycle (default 400)")
     p.add_argument("--out", default="test_record.csv", help="output test-record CSV (default test_record.csv)")
-    p.add_argument("--units", default="paper", help="units of the CSV: paper (in, kip) or SI")
+    add_units_flag(p)
     p.add_argument("--plot", default=None, help="write the force-displacement loop to this PNG")
 
 
@@ -54,9 +56,7 @@ def build_test(args):
 
     ptfe = args.ptfe.upper()
     direction = args.direction.upper()
-    pressure = parse_quantity(args.pressure, "pressure", where="--pressure")
-    if not pressure > 0:
-        raise ValueError(f"--pressure: must be > 0, got {args.pressure}.")
+    pressure = args.pressure
     try:
         friction, table_b = tj.interface_parameters(ptfe, pressure, direction, extrapolate=args.extrapolate)
     except ValueError as error:
@@ -74,15 +74,10 @@ def build_test(args):
         if args.breakaway == "table":
             breakaway = table_b
         else:
-            try:
-                breakaway = float(args.breakaway)
-            except ValueError:
-                raise ValueError(f"--breakaway: expected a number >= 1 or 'table', got {args.breakaway!r}.") from None
+            breakaway = parse_quantity(args.breakaway, "dimensionless", where="--breakaway")
             if not breakaway >= 1:
-                raise ValueError(f"--breakaway: must be >= 1 (Table 1: 1.3-4.4), got {breakaway}.")
-    yield_disp = parse_quantity(args.yield_disp, "length", where="--yield-disp")
-    if not yield_disp > 0:
-        raise ValueError(f"--yield-disp: must be > 0, got {args.yield_disp}.")
+                raise ValueError(f"--breakaway: must be >= 1 (Table 1: 1.3-4.4), got {args.breakaway}.")
+    yield_disp = args.yield_disp
     if args.interfaces < 1:
         raise ValueError(f"--interfaces: must be an integer >= 1, got {args.interfaces}.")
     bearing = tj.paper_bearing(friction, yield_disp=yield_disp, breakaway_ratio=breakaway,
@@ -91,9 +86,7 @@ def build_test(args):
     if args.normal_load is None:
         normal_load = pressure * area
     else:
-        normal_load = parse_quantity(args.normal_load, "force", where="--normal-load")
-        if not normal_load > 0:
-            raise ValueError(f"--normal-load: must be > 0 (compression), got {args.normal_load}.")
+        normal_load = args.normal_load
         area = normal_load / pressure
     motion = _motion(args)
     metadata = {
@@ -112,12 +105,7 @@ def _motion(args):
 
     if args.motion_file is not None:
         return _read_motion_file(pathlib.Path(args.motion_file))
-    amplitude = parse_quantity(args.amplitude, "length", where="--amplitude")
-    frequency = parse_quantity(args.frequency, "frequency", where="--frequency")
-    if not amplitude > 0:
-        raise ValueError(f"--amplitude: must be > 0, got {args.amplitude}.")
-    if not frequency > 0:
-        raise ValueError(f"--frequency: must be > 0, got {args.frequency}.")
+    amplitude, frequency = args.amplitude, args.frequency
     if not args.cycles > 0:
         raise ValueError(f"--cycles: must be > 0, got {args.cycles}.")
     if args.pattern == "sine":
@@ -194,11 +182,15 @@ def run_simulate(args) -> int:
         normal_load=np.asarray(result.normal_load),
         metadata=metadata,
     )
-    units = None if args.units.lower() == "paper" else args.units
-    tj.write_test_record(args.out, record, units=units)
+    tj.write_test_record(args.out, record, units=None if args.units == "us" else "SI")
     peak = float(np.max(np.abs(np.asarray(result.fx) / np.asarray(result.normal_load))))
     print(f"wrote {args.out}: {len(record)} samples, peak |fx|/N = {peak:.4f}")
     if args.plot:
-        plot_loop(result, args.plot, title=f"{metadata['ptfe']} {args.pressure} {metadata['direction']}")
+        units = output_units(args.units)
+        load = units.show(normal_load, "force")
+        stamp = (f"{metadata['ptfe']} PTFE, {args.pressure_text}, direction {metadata['direction']}"
+                 f"{' and T (anisotropic)' if args.anisotropic else ''}, {args.pattern} "
+                 f"{args.amplitude_text} at {args.frequency_text}, N = {load}, Y = {args.yield_disp_text}")
+        plot_loop(result, args.plot, title=stamp, length=units.length)
         print(f"wrote {args.plot}")
     return 0

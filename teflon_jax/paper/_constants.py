@@ -33,6 +33,9 @@ FIG10_OMEGA = 3.14  # [rad/s]
 FIG10_PEAK = 0.25  # [g]
 
 
+FIG9_SMOOTHING = 9  # frequency samples in the running mean of the Fig. 9 spectra (0.9 Hz at 10 s)
+
+
 HIGH_FREQUENCY = 5.0  # [Hz], split for the high-frequency content of Fig. 9
 
 

@@ -1,12 +1,30 @@
 """Matplotlib figures of `reproduce` (Figs. 3-11 of Constantinou, Mokha & Reinhorn 1990).
 
 Plotting only: every function takes NumPy arrays in the paper's units and writes one PNG.
-Uses `matplotlib.figure.Figure` directly (no pyplot state, no display needed).
+Uses `matplotlib.figure.Figure` directly (no pyplot state, no display needed). Lines are black
+and grey with distinct dash patterns, so that a figure survives black-and-white print; legends
+are in words with the values; `stamp` (the inputs: record, PTFE, pressure, Tb) is written at the
+foot of every figure.
 """
 
 import pathlib
+import textwrap
 
 import numpy as np
+
+STYLES = (
+    {"color": "k", "ls": "-", "lw": 1.2},
+    {"color": "k", "ls": "--", "lw": 1.2},
+    {"color": "0.45", "ls": "-", "lw": 1.2},
+    {"color": "k", "ls": ":", "lw": 1.4},
+    {"color": "0.45", "ls": "-.", "lw": 1.2},
+    {"color": "0.45", "ls": "--", "lw": 1.2},
+)
+"""Line styles in order of use: told apart by dash pattern and grey level, not by colour."""
+
+
+def style(i: int) -> dict:
+    return dict(STYLES[i % len(STYLES)])
 
 
 def _figure(rows=1, cols=1, size=(6.4, 4.2)):
@@ -17,107 +35,129 @@ def _figure(rows=1, cols=1, size=(6.4, 4.2)):
     return figure, axes
 
 
-def _save(figure, path) -> pathlib.Path:
+def _save(figure, path, stamp: str = "") -> pathlib.Path:
+    if stamp:
+        width = int(figure.get_figwidth() * 14)
+        figure.get_layout_engine().set(h_pad=0.06)
+        figure.supxlabel("\n".join(textwrap.wrap(stamp, width)), fontsize=7, color="0.25")
     path = pathlib.Path(path)
     figure.savefig(path, dpi=110)
     return path
 
 
-def loops(path, curves, *, title, xlabel="displacement [in]", ylabel="friction force / normal load"):
-    """Force-displacement loops; `curves`: list of (label, x, y)."""
-    figure, axes = _figure(1, len(curves), size=(4.2 * len(curves), 3.8))
+def _title(figure, title, cols):
+    figure.suptitle("\n".join(textwrap.wrap(title, int(55 * cols))), fontsize=10)
+
+
+def loops(path, curves, *, title, stamp="", xlabel="displacement [in]",
+          ylabel="friction force / normal load [-]"):
+    """Force-displacement loops, one panel each; `curves`: list of (label, x, y)."""
+    figure, axes = _figure(1, len(curves), size=(4.2 * len(curves), 4.0))
     for ax, (label, x, y) in zip(axes[0], curves):
-        ax.plot(x, y, lw=1.0)
-        ax.set_title(label, fontsize=9)
+        ax.plot(x, y, **style(0))
+        ax.set_title("\n".join(textwrap.wrap(label, 42)), fontsize=9)
         ax.set_xlabel(xlabel)
         ax.set_ylabel(ylabel)
         ax.grid(alpha=0.3)
-    figure.suptitle(title, fontsize=10)
-    return _save(figure, path)
+    _title(figure, title, len(curves))
+    return _save(figure, path, stamp)
 
 
-def biaxial_loops(path, cases, *, title):
-    """Figure-eight tests; `cases`: list of (label, ux, uy, fx, fy) [in, -]."""
-    figure, axes = _figure(len(cases), 3, size=(11.5, 3.2 * len(cases)))
-    for row, (label, ux, uy, fx, fy) in zip(axes, cases):
-        row[0].plot(ux, uy, lw=1.0)
-        row[0].set_xlabel("ux [in]")
-        row[0].set_ylabel("uy [in]")
-        row[0].set_title(f"{label}: path", fontsize=9)
-        row[1].plot(ux, fx, lw=1.0)
-        row[1].set_xlabel("ux [in]")
-        row[1].set_ylabel("Fx / N")
-        row[1].set_title(f"{label}: x loop", fontsize=9)
-        row[2].plot(uy, fy, lw=1.0)
-        row[2].set_xlabel("uy [in]")
-        row[2].set_ylabel("Fy / N")
-        row[2].set_title(f"{label}: y loop", fontsize=9)
-        for ax in row:
+def figure_eight(path, rows, *, title, stamp=""):
+    """Figs. 5-6: one row per motion, the isotropic (solid) and anisotropic (dashed) bearings on
+    the same axes. `rows`: list of (row title, [(label, ux, uy, fx, fy)]) [in, -]."""
+    figure, axes = _figure(len(rows), 3, size=(12, 3.6 * len(rows)))
+    for row, (heading, cases) in zip(axes, rows):
+        for i, (label, ux, uy, fx, fy) in enumerate(cases):
+            if i == 0:
+                row[0].plot(ux, uy, **style(0))
+            row[1].plot(ux, fx, label=label, **style(i))
+            row[2].plot(uy, fy, label=label, **style(i))
+        row[0].set_aspect("equal", adjustable="datalim")
+        for ax, (xlabel, ylabel, panel) in zip(row, (
+            ("ux [in]", "uy [in]", "imposed path"),
+            ("ux [in]", "Fx / N [-]", "x direction"),
+            ("uy [in]", "Fy / N [-]", "y direction"),
+        )):
+            ax.set_xlabel(xlabel)
+            ax.set_ylabel(ylabel)
+            ax.set_title(f"{heading}: {panel}", fontsize=9)
             ax.grid(alpha=0.3)
-    figure.suptitle(title, fontsize=10)
-    return _save(figure, path)
+        row[2].legend(fontsize=7, loc="lower right")
+    _title(figure, title, 3)
+    return _save(figure, path, stamp)
 
 
-def histories(path, time, series, *, title, ylabel, xlabel="time [s]"):
-    """Time histories; `series`: list of (label, values)."""
-    figure, axes = _figure(size=(7.5, 4.0))
+def histories(path, time, series, *, title, ylabel, stamp="", xlabel="time [s]"):
+    """Time histories on one axes; `series`: list of (label in words, values)."""
+    figure, axes = _figure(size=(7.5, 4.4))
     ax = axes[0, 0]
-    for label, values in series:
-        ax.plot(time, values, lw=1.0, label=label)
+    for i, (label, values) in enumerate(series):
+        ax.plot(time, values, label=label, **style(i))
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
-    ax.set_title(title, fontsize=10)
+    ax.set_title("\n".join(textwrap.wrap(title, 80)), fontsize=10)
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
-    return _save(figure, path)
+    ax.legend(fontsize=7)
+    return _save(figure, path, stamp)
 
 
-def spectra_panels(path, periods, panels, *, title):
+def spectra_panels(path, periods, panels, *, title, stamp=""):
     """Fig. 11 panels; `panels`: list of (panel title, ylabel, [(label, values)])."""
     cols = 2
     rows = (len(panels) + 1) // 2
-    figure, axes = _figure(rows, cols, size=(10, 3.6 * rows))
+    figure, axes = _figure(rows, cols, size=(10, 3.8 * rows))
+    markers = ("o", "s", "^", None)
     for ax, (panel, ylabel, series) in zip(axes.ravel(), panels):
-        for label, values in series:
-            ax.plot(periods, values, marker=".", lw=1.0, label=label)
+        for i, (label, values) in enumerate(series):
+            ax.plot(periods, values, marker=markers[i % len(markers)], ms=3, mfc="w", label=label,
+                    **style(i))
         ax.set_xlabel("isolation period Tb [s]")
         ax.set_ylabel(ylabel)
         ax.set_title(panel, fontsize=9)
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7)
-    figure.suptitle(title, fontsize=10)
-    return _save(figure, path)
+    _title(figure, title, cols)
+    return _save(figure, path, stamp)
 
 
-def breakaway_grid(path, time, cases, *, title):
+def breakaway_grid(path, time, cases, *, title, stamp=""):
     """Fig. 10; `cases`: list of (case title, [(label, acceleration / PGA)])."""
-    figure, axes = _figure(2, 2, size=(10, 7))
+    figure, axes = _figure(2, 2, size=(10, 7.4))
     for ax, (case, series) in zip(axes.ravel(), cases):
-        for label, values in series:
-            ax.plot(time, values, lw=1.0, label=label)
+        for i, (label, values) in enumerate(series):
+            ax.plot(time, values, label=label, **style(i))
         ax.set_title(case, fontsize=9)
         ax.set_xlabel("time [s]")
-        ax.set_ylabel("total acceleration / peak ground acc.")
+        ax.set_ylabel("total acceleration / peak ground acc. [-]")
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7)
-    figure.suptitle(title, fontsize=10)
-    return _save(figure, path)
+    _title(figure, title, 2)
+    return _save(figure, path, stamp)
 
 
-def fourier(path, series, *, title, max_frequency=25.0):
+def fourier(path, series, *, title, stamp="", max_frequency=25.0,
+            ylabel="Fourier amplitude / PGA [s]"):
     """Fourier amplitudes; `series`: list of (label, frequency [Hz], amplitude)."""
-    figure, axes = _figure(size=(7.5, 4.0))
+    figure, axes = _figure(size=(7.5, 4.4))
     ax = axes[0, 0]
-    for label, frequency, amplitude in series:
+    for i, (label, frequency, amplitude) in enumerate(series):
         keep = frequency <= max_frequency
-        ax.plot(frequency[keep], amplitude[keep], lw=1.0, label=label)
+        ax.plot(frequency[keep], amplitude[keep], label=label, **style(i))
     ax.set_xlabel("frequency [Hz]")
-    ax.set_ylabel("Fourier amplitude [in/s]")
+    ax.set_ylabel(ylabel)
     ax.set_yscale("log")
-    ax.set_title(title, fontsize=10)
-    ax.grid(alpha=0.3)
+    ax.set_title("\n".join(textwrap.wrap(title, 80)), fontsize=10)
+    ax.grid(alpha=0.3, which="both")
     ax.legend(fontsize=8)
-    return _save(figure, path)
+    return _save(figure, path, stamp)
+
+
+def smooth(values, width: int):
+    """Running mean over `width` samples (odd), same length; the ends average what they have."""
+    values = np.asarray(values, dtype=float)
+    kernel = np.ones(width)
+    return np.convolve(values, kernel, "same") / np.convolve(np.ones_like(values), kernel, "same")
 
 
 def as_numpy(x):

@@ -32,18 +32,19 @@ from ._statements import _convergence, _report, _statements
 from ._structure_figures import _fig7_9, _fig10, _fig11
 
 
-def _load_records(notes):
+def _load_records(missing):
+    """The El Centro and SCT records that can be read; `missing` gets key -> reason for the rest."""
     records = {}
     for key in ("elcentro", "sct"):
         try:
             motion = load_record(key, fallback=True)
-        except (FileNotFoundError, ValueError) as error:
-            notes.append(f"Record `{key}` is not available ({error}); the parts that need it were skipped.")
+        except (FileNotFoundError, ValueError, OSError) as error:
+            missing[key] = str(error)
             continue
         measures = intensity_measures(motion)
         records[key] = {
             "motion": motion,
-            "file": motion.source,
+            "file": pathlib.Path(str(motion.source)).name,
             "name": motion.name,
             "pga_g": motion.pga / STANDARD_GRAVITY,
             "pgv_in_s": measures.pgv / INCH,
@@ -83,9 +84,17 @@ def _loop_figures(out, results):
             "f_max": float(bearing.friction.f_max),
             "f_min": float(bearing.friction.f_min),
         }
-        curves.append((name.replace("test", "test No. "), u, f))
+        amplitude, frequency = float(motion.amplitude) / INCH, float(motion.frequency)
+        label = (f"test No. {name[4:]}: {amplitude:g} in at {frequency:g} Hz, "
+                 f"{'perpendicular' if name == 'test191' else 'parallel'} to lay"
+                 + (", b = 3" if name == "test191" else ""))
+        curves.append((label, u, f))
     figures.loops(out / "fig3_4_loops.png", curves,
-                  title="Figs. 3-4: uniaxial tests, UF PTFE at 1000 psi (Y = 0.005 in)")
+                  title="Figs. 3-4: uniaxial tests, UF PTFE at 1000 psi (Y = 0.005 in)",
+                  stamp=f"Imposed sinusoids; UF PTFE, 1000 psi, Table 1: parallel f_max = "
+                  f"{float(uf_p.f_max):.4f}, Df = {float(uf_p.delta_f):.4f}, a = {float(uf_p.rate_a) * INCH:.3g} s/in; "
+                  f"perpendicular f_max = {float(uf_t.f_max):.4f}; Bouc-Wen Y = 0.005 in, A = 1, beta = 0.1, "
+                  "gamma = 0.9.")
     results["fig3_4"] = stats
 
 
@@ -94,14 +103,15 @@ def _biaxial_figures(out, results):
     uf_p, _ = friction_table("UF", "P").at(1000 * PSI)
     uf_t, _ = friction_table("UF", "T").at(1000 * PSI)
     stats, rows = {}, []
-    for tag, perpendicular in (("isotropic", None), ("anisotropic", uf_t)):
-        bearing = paper_bearing(uf_p, friction_perpendicular=perpendicular)
+    for amplitude, omega in ((1.0, 1.0), (4.0, 2.77)):
         cases = []
-        for amplitude, omega in ((1.0, 1.0), (4.0, 2.77)):
+        for tag, perpendicular in (("isotropic", None), ("anisotropic", uf_t)):
+            bearing = paper_bearing(uf_p, friction_perpendicular=perpendicular)
             r = simulate_bearing_test(bearing, FigureEightMotion(amplitude * INCH, omega), 1.0)
             ux, uy = np.asarray(r.ux) / INCH, np.asarray(r.uy) / INCH
             fx, fy = np.asarray(r.fx), np.asarray(r.fy)
-            label = f"{tag}, U0 = {amplitude:g} in, w = {omega:g} rad/s"
+            label = ("isotropic (parallel constants in every direction)" if perpendicular is None else
+                     "anisotropic (parallel along x, perpendicular along y)")
             cases.append((label, ux, uy, fx, fy))
             key = f"{tag}_U0_{amplitude:g}in"
             _columns(out / f"fig5_6_{key}.csv", {"time_s": r.time, "ux_in": ux, "uy_in": uy,
@@ -111,12 +121,28 @@ def _biaxial_figures(out, results):
                 "max_fx": float(np.max(np.abs(fx))),
                 "max_fy": float(np.max(np.abs(fy))),
             }
-        figures.biaxial_loops(out / f"fig5_6_{tag}.png", cases,
-                              title=f"Figs. 5-6: figure-eight tests, {tag} UF PTFE at 1000 psi")
-        rows.extend(cases)
+        figure = "Fig. 5" if amplitude == 1.0 else "Fig. 6"
+        rows.append((f"{figure}, U0 = {amplitude:g} in, w = {omega:g} rad/s", cases))
+    figures.figure_eight(out / "fig5_6_figure_eight.png", rows,
+                         title="Figs. 5-6: figure-eight motion ux = U0 sin wt, uy = U0 sin 2wt; isotropic "
+                         "(solid) and anisotropic (dashed) UF PTFE bearing at 1000 psi",
+                         stamp=f"UF PTFE, 1000 psi; Table 1 parallel f_max = {float(uf_p.f_max):.4f}, "
+                         f"perpendicular f_max = {float(uf_t.f_max):.4f}; Y = 0.005 in, A = 1, beta = 0.1, "
+                         "gamma = 0.9; anisotropy interpolated linearly in the sliding angle.")
     stats["f_max_parallel"] = float(uf_p.f_max)
     stats["f_max_perpendicular"] = float(uf_t.f_max)
     results["fig5_6"] = stats
+
+
+def skipped_figures(missing: dict, *, quick: bool) -> list[dict]:
+    """The figures (or parts) that cannot be made without the records in `missing` (key ->
+    reason): [{"figure": ..., "record": ..., "reason": ...}], in the order of the paper."""
+    parts = {"elcentro": ["Figs. 7-9", "Fig. 11 (El Centro)"], "sct": ["Fig. 11 (SCT)"]}
+    if not quick:
+        parts["elcentro"].append("time-step convergence check (El Centro)")
+        parts["sct"].append("time-step convergence check (SCT)")
+    return [{"figure": figure, "record": key, "reason": reason}
+            for key, reason in missing.items() for figure in parts[key]]
 
 
 def reproduce(out_dir, *, progress=None, quick: bool = False) -> dict:
@@ -129,11 +155,12 @@ def reproduce(out_dir, *, progress=None, quick: bool = False) -> dict:
       8 stages (the command line draws a bar with it).
     - `quick`: coarse T_b grid for Fig. 11 and no time-step convergence check (for tests).
 
-    **Returns:** the summary dict written to `summary.json`.
+    **Returns:** the summary dict written to `summary.json`; its `"skipped"` lists each figure
+    (or part) that could not be made, with the reason (a record that could not be read).
     """
     out = pathlib.Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    notes: list[str] = []
+    missing: dict[str, str] = {}
     results: dict = {}
     stages = iter(range(1, 9))
 
@@ -142,7 +169,9 @@ def reproduce(out_dir, *, progress=None, quick: bool = False) -> dict:
         if progress is not None:
             progress(text, done, 8)
 
-    records = _load_records(notes)
+    records = _load_records(missing)
+    skipped = skipped_figures(missing, quick=quick)
+    notes = [f"{s['figure']} skipped: {s['reason']}" for s in skipped]
     steps("records")
     _loop_figures(out, results)
     steps("Figs. 3-4")
@@ -173,6 +202,7 @@ def reproduce(out_dir, *, progress=None, quick: bool = False) -> dict:
         "statements": statements,
         "time_step_s": STRUCTURE_TIME_STEP,
         "quick": quick,
+        "skipped": skipped,
         "notes": notes,
     }
     (out / "summary.json").write_text(json.dumps(summary, indent=1, default=_json_default))

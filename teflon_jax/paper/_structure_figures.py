@@ -12,6 +12,7 @@ from ..units import INCH, PSI, STANDARD_GRAVITY
 from . import _figures as figures
 from ._constants import (
     FIG7_DURATION,
+    FIG9_SMOOTHING,
     FIG10_DURATION,
     FIG10_EARLY,
     FIG10_OMEGA,
@@ -53,20 +54,33 @@ def _fig7_9(out, results, record):
         high[name] = float(energy[frequency > HIGH_FREQUENCY].sum() / energy.sum())
         spectra.append((name, frequency, amplitude / INCH))
     time = np.asarray(r.time)
+    words = {
+        "exact": f"full model (Eq. 1: f_max = {f_max:.3f}, f_min = {f_min:.3f})",
+        "coulomb_min": f"Coulomb, mu = {f_min:.3f} (minimum)",
+        "coulomb_avg": f"Coulomb, mu = {0.5 * (f_max + f_min):.3f} (average)",
+        "coulomb_max": f"Coulomb, mu = {f_max:.3f} (maximum)",
+    }
+    stamp = (f"Record: {motion.name}, PGA {record['pga_g']:.3f} g, PGD {record['pgd_in']:.2f} in; rigid mass on "
+             f"UF PTFE bearings at 1000 psi, parallel to lay (Table 1), Y = 0.005 in, no breakaway; "
+             f"RiccatiNewmark, step {STRUCTURE_TIME_STEP:g} s.")
     _columns(out / "fig7_8_histories.csv", {"time_s": time, "ground_acc_g": np.asarray(r.ground_acceleration) / STANDARD_GRAVITY,
               **{f"{n}_disp_over_pgd": h[0] / pgd for n, h in histories.items()},
               **{f"{n}_acc_over_pga": h[1] / pga for n, h in histories.items()}})
     figures.histories(out / "fig7_displacement.png", time,
-                      [(n, h[0] / pgd) for n, h in histories.items()],
-                      title=f"Fig. 7: rigid mass on UF/1000 psi bearings, {motion.name}",
-                      ylabel="sliding displacement / PGD")
+                      [(words[n], h[0] / pgd) for n, h in histories.items()],
+                      title="Fig. 7: sliding displacement of a rigid mass on UF/1000 psi bearings",
+                      ylabel="sliding displacement / PGD [-]", stamp=stamp)
     figures.histories(out / "fig8_acceleration.png", time,
-                      [(n, h[1] / pga) for n, h in histories.items() if n in ("exact", "coulomb_min", "coulomb_max")],
-                      title=f"Fig. 8: total acceleration of the rigid mass, {motion.name}",
-                      ylabel="total acceleration / PGA")
+                      [(words[n], h[1] / pga) for n, h in histories.items()
+                       if n in ("exact", "coulomb_min", "coulomb_max")],
+                      title="Fig. 8: total acceleration of the rigid mass",
+                      ylabel="total acceleration / PGA [-]", stamp=stamp)
     figures.fourier(out / "fig9_fourier.png",
-                    [s for s in spectra if s[0] in ("exact", "coulomb_min", "coulomb_max")],
-                    title="Fig. 9: Fourier amplitude of the total acceleration (first 10 s)")
+                    [(words[n], f, figures.smooth(a * INCH / pga, FIG9_SMOOTHING))
+                     for n, f, a in spectra if n in ("exact", "coulomb_max")],
+                    title=f"Fig. 9: Fourier amplitude of the total acceleration (first {FIG7_DURATION:g} s), "
+                    f"divided by the PGA, running mean over {FIG9_SMOOTHING} frequency samples",
+                    stamp=stamp)
     frequency = spectra[0][1]
     _columns(out / "fig9_fourier.csv", {"frequency_hz": frequency, **{f"{n}_in_s": s for n, _, s in spectra}})
     results["fig7"] = {
@@ -127,7 +141,11 @@ def _fig10(out, results):
         panels.append((case, series))
     _columns(out / "fig10_acceleration.csv", columns)
     figures.breakaway_grid(out / "fig10_breakaway.png", columns["time_s"], panels,
-                           title="Fig. 10: rigid mass on sliders, base acceleration 0.25 g sin(3.14 t)")
+                           title=f"Fig. 10: rigid mass on sliding bearings only, base acceleration "
+                           f"{FIG10_PEAK:g} g sin({FIG10_OMEGA:g} t); breakaway ratio b against none",
+                           stamp="PTFE and pressure per panel, parallel to lay (Table 1); Y = 0.005 in; "
+                           "R-FBI: 24 interfaces in series (Eq. 1 at the velocity per interface); "
+                           "time step 1 ms.")
     results["fig10"] = entries
 
 
@@ -157,10 +175,25 @@ def _fig11(out, results, records, periods):
         pgd = records[record]["pgd_in"] * INCH
         name = records[record]["name"]
         panels.append((f"{name}: base displacement", "peak base displacement / PGD",
-                       [(s, sweep.peaks["base_disp"][i, j] / pgd) for j, s in enumerate(sweep.systems)]))
+                       [(_system_words(s), sweep.peaks["base_disp"][i, j] / pgd) for j, s in enumerate(sweep.systems)]))
         panels.append((f"{name}: base shear", "peak first-storey shear / superstructure weight",
-                       [(s, sweep.peaks["base_shear_ratio"][i, j]) for j, s in enumerate(sweep.systems)]))
+                       [(_system_words(s), sweep.peaks["base_shear_ratio"][i, j]) for j, s in enumerate(sweep.systems)]))
+    names = ", ".join(f"{records[k]['name']} (PGA {records[k]['pga_g']:.2f} g, PGD {records[k]['pgd_in']:.2f} in)"
+                      for k in sweep.records)
     figures.spectra_panels(out / "fig11_spectra.png", sweep.periods, panels,
-                           title="Fig. 11: six-storey building, sliding (b = 4) and linear (10 %) isolation")
+                           title="Fig. 11: six-storey building (Table 2) on sliding and linear isolation "
+                           "systems, against the isolation period Tb",
+                           stamp=f"Records: {names}. Sliding: UF PTFE parallel to lay, breakaway b = 4, rubber "
+                           "springs of period Tb, 5 % damping; linear: period Tb, 10 % damping; step "
+                           f"{STRUCTURE_TIME_STEP:g} s.")
     results["fig11"] = entries
     results["_sweep"] = sweep
+
+
+def _system_words(name: str) -> str:
+    """'sliding_1000psi' -> 'sliding, UF at 1000 psi (b = 4)'; 'linear' -> 'linear, 10 % damping'."""
+    if name.startswith("sliding_"):
+        return f"sliding, UF at {name.removeprefix('sliding_').removesuffix('psi')} psi (b = 4)"
+    if name == "linear":
+        return "linear, 10 % damping"
+    return name.replace("_", " ")

@@ -1,45 +1,80 @@
 """Plot of a design sweep and the optimum found by gradients."""
 
+import textwrap
 from collections.abc import Mapping
+
+import numpy as np
 
 from ..studies import DesignResult
 
+_WORDS = {"isolation_period": "isolation period Tb", "pressure": "bearing pressure"}
 
-def plot_design(sweep: Mapping, result: DesignResult, path, *, units: Mapping | None = None) -> None:
-    """Sweep of the objective (1-D curve or 2-D contours) with the optimum marked, beside the
-    trade-off of mean base shear against mean base displacement (PNG)."""
+
+def plot_design(sweep: Mapping, result: DesignResult, path, *, units: Mapping | None = None,
+                title: str = "") -> None:
+    """Objective over the grid sweep (a curve for one variable, contours for two) with the
+    gradient optimum marked, beside the trade-off of mean base shear against mean base
+    displacement (PNG). `units` maps a variable name, and "length", to (SI factor, name);
+    `title` states the inputs."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    units = units or {}
+    units = dict(units or {})
     names = list(sweep["grid"])
     scale = {n: units.get(n, (1.0, ""))[0] for n in names}
-    label = {n: f"{n} [{units.get(n, (1.0, ''))[1]}]" for n in names}
-    fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.5))
+    label = {n: f"{_WORDS.get(n, n.replace('_', ' '))} [{units.get(n, (1.0, '-'))[1]}]" for n in names}
+    length_factor, length_name = units.get("length", (1e-3, "mm"))
+    fig, (left, right) = plt.subplots(1, 2, figsize=(11, 5))
     if len(names) == 1:
         n = names[0]
-        left.plot(sweep["grid"][n] / scale[n], sweep["objective"], "o-", label="grid sweep")
-        left.plot(result.optimum[n] / scale[n], result.objective, "r*", ms=14, label="BFGS optimum")
+        left.plot(sweep["grid"][n] / scale[n], sweep["objective"], "ko-", ms=3, label="grid sweep")
+        left.plot(result.optimum[n] / scale[n], result.objective, "k*", ms=14, mfc="w",
+                  label="gradient optimum", clip_on=False, zorder=5)
         left.set_xlabel(label[n])
-        left.set_ylabel("objective J")
-        left.legend()
+        left.set_ylabel("objective: mean base shear / weight + penalty [-]")
     else:
         a, b = names[:2]
-        contour = left.contourf(sweep["grid"][a] / scale[a], sweep["grid"][b] / scale[b], sweep["objective"], 20)
-        fig.colorbar(contour, ax=left, label="objective J")
-        left.plot(result.optimum[a] / scale[a], result.optimum[b] / scale[b], "r*", ms=14)
+        x, y = sweep["grid"][a] / scale[a], sweep["grid"][b] / scale[b]
+        contour = left.contourf(x, y, sweep["objective"], 20, cmap="Greys")
+        fig.colorbar(contour, ax=left, label="objective: mean base shear / weight + penalty [-]")
+        ox, oy = result.optimum[a] / scale[a], result.optimum[b] / scale[b]
+        left.plot(ox, oy, "*", color="w", mec="k", ms=16, label="gradient optimum",
+                  clip_on=False, zorder=5)
+        _frame(left, np.concatenate([np.ravel(x), [ox]]), np.concatenate([np.ravel(y), [oy]]))
         left.set_xlabel(label[a])
         left.set_ylabel(label[b])
-    feasible = sweep["disp"] <= result.disp_limit
-    right.scatter(sweep["disp"][~feasible] * 1e3, sweep["shear"][~feasible], c="0.6", s=12, label="grid, over limit")
-    right.scatter(sweep["disp"][feasible] * 1e3, sweep["shear"][feasible], c="C0", s=12, label="grid, within limit")
-    right.axvline(result.disp_limit * 1e3, color="k", ls="--", lw=0.8, label="displacement limit")
-    right.plot(result.mean_disp * 1e3, result.mean_shear, "r*", ms=14, label="optimum")
-    right.set_xlabel("mean smooth peak base displacement [mm]")
-    right.set_ylabel("mean smooth peak base shear ratio [-]")
+    left.legend(fontsize=8, loc="best")
+    disp = np.asarray(sweep["disp"]) / length_factor
+    shear = np.asarray(sweep["shear"])
+    feasible = np.asarray(sweep["disp"]) <= result.disp_limit
+    right.scatter(disp[~feasible], shear[~feasible], marker="x", c="0.5", s=18,
+                  label="grid designs over the limit")
+    right.scatter(disp[feasible], shear[feasible], marker="o", facecolors="none", edgecolors="k",
+                  s=18, label="grid designs within the limit")
+    right.axvline(result.disp_limit / length_factor, color="k", ls="--", lw=0.8,
+                  label=f"displacement limit = {result.disp_limit / length_factor:.3g} {length_name}")
+    ox, oy = result.mean_disp / length_factor, result.mean_shear
+    right.plot(ox, oy, "k*", ms=14, mfc="w", label="gradient optimum", clip_on=False, zorder=5)
+    _frame(right, np.append(disp, ox), np.append(shear, oy))
+    right.set_xlabel(f"mean peak base displacement (smoothed) [{length_name}]")
+    right.set_ylabel("mean peak base shear / weight (smoothed) [-]")
     right.legend(fontsize=8)
+    right.grid(alpha=0.3)
+    if title:
+        fig.suptitle("\n".join(textwrap.wrap(title, 120)), fontsize=9)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
+
+
+def _frame(ax, x, y, margin=0.06):
+    """Axis limits that hold every point of x and y with a margin (the optimum stays inside)."""
+    for values, setter in ((np.asarray(x, float), ax.set_xlim), (np.asarray(y, float), ax.set_ylim)):
+        values = values[np.isfinite(values)]
+        if values.size == 0:
+            continue
+        low, high = values.min(), values.max()
+        pad = margin * (high - low) if high > low else max(abs(high), 1.0) * margin
+        setter(low - pad, high + pad)
