@@ -67,7 +67,7 @@ def add_quantity(parser, flag: str, dimension: str, default: str | None, help: s
     text = f"{help} [{_UNITS_OF.get(dimension, dimension)}]"
     if shown is not None:
         text += f" (default {shown})"
-    metavar = ("LOW", "HIGH") if nargs == 2 else "Q"
+    metavar = ("LOW", "HIGH") if nargs == 2 else ("RATIO" if dimension == "dimensionless" else dimension.upper())
     parser.add_argument(flag, default=default, help=text.replace("%", "%%"), nargs=nargs,
                         metavar=metavar, required=required)
 
@@ -121,7 +121,7 @@ def _in_units_of(value: float, text: str, spec: QuantityFlag) -> str:
 def add_units_flag(parser, *, default: str = "us") -> None:
     """`--units si|us`: the unit family of printed and plotted output (JSON keys name theirs)."""
     parser.add_argument("--units", default=default, type=str.lower, choices=("si", "us"),
-                        help="units of printed and plotted output: si (m, N, Pa) or us (in, kip, "
+                        help="units of printed and plotted output: si (mm, kN, MPa) or us (in, kip, "
                         f"psi, as in the paper) (default {default})")
 
 

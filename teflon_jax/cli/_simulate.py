@@ -77,6 +77,8 @@ def build_test(args):
             breakaway = parse_quantity(args.breakaway, "dimensionless", where="--breakaway")
             if not breakaway >= 1:
                 raise ValueError(f"--breakaway: must be >= 1 (Table 1: 1.3-4.4), got {args.breakaway}.")
+    args.breakaway_shown = None if breakaway is None else (
+        f"{float(breakaway):.3g}" + (" (Table 1)" if args.breakaway == "table" else ""))
     yield_disp = args.yield_disp
     if args.interfaces < 1:
         raise ValueError(f"--interfaces: must be an integer >= 1, got {args.interfaces}.")
@@ -184,13 +186,17 @@ def run_simulate(args) -> int:
     )
     tj.write_test_record(args.out, record, units=None if args.units == "us" else "SI")
     peak = float(np.max(np.abs(np.asarray(result.fx) / np.asarray(result.normal_load))))
-    print(f"wrote {args.out}: {len(record)} samples, peak |fx|/N = {peak:.4f}")
+    print(f"wrote {args.out}: {len(record)} samples, peak |fx|/N = {peak:.4f} [-]")
     if args.plot:
         units = output_units(args.units)
         load = units.show(normal_load, "force")
-        stamp = (f"{metadata['ptfe']} PTFE, {args.pressure_text}, direction {metadata['direction']}"
-                 f"{' and T (anisotropic)' if args.anisotropic else ''}, {args.pattern} "
-                 f"{args.amplitude_text} at {args.frequency_text}, N = {load}, Y = {args.yield_disp_text}")
+        lay = ("parallel to lay along x, perpendicular along y (anisotropic)" if args.anisotropic
+               else f"{'parallel' if metadata['direction'] == 'P' else 'perpendicular'} to lay")
+        pattern = {"eight": "figure-eight", "sine": "sinusoid", "triangle": "triangle"}.get(args.pattern, args.pattern)
+        motion = ("motion from " + args.motion_file if args.motion_file else
+                  f"{pattern} {args.amplitude_text} at {args.frequency_text}")
+        stamp = (f"{metadata['ptfe']} PTFE at {args.pressure_text}, {lay}; {motion}; N = {load}, "
+                 f"Y = {args.yield_disp_text}" + (f", breakaway b = {args.breakaway_shown}" if args.breakaway_shown else ""))
         plot_loop(result, args.plot, title=stamp, length=units.length)
         print(f"wrote {args.plot}")
     return 0

@@ -127,7 +127,7 @@ def breakaway_grid(path, time, cases, *, title, stamp=""):
     for ax, (case, series) in zip(axes.ravel(), cases):
         for i, (label, values) in enumerate(series):
             ax.plot(time, values, label=label, **style(i))
-        ax.set_title(case, fontsize=9)
+        ax.set_title("\n".join(textwrap.wrap(case, 60)), fontsize=9)
         ax.set_xlabel("time [s]")
         ax.set_ylabel("total acceleration / peak ground acc. [-]")
         ax.grid(alpha=0.3)

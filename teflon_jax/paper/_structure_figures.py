@@ -135,10 +135,12 @@ def _fig10(out, results):
                 entry["eq18_predicts_raise"] = bool(b > ratio)
             entries.append(entry)
             label = "no breakaway" if b is None else f"b = {b:g}"
-            series.append((label, a))
+            series.append(("no breakaway" if b is None else f"breakaway, b = {b:g} (static friction "
+                           f"{b * float(friction.f_min):.3f})", a))
             columns["time_s"] = t
             columns[f"{case.split(' (')[0].replace(' ', '_')}_{label.replace(' ', '').replace('=', '')}"] = a
-        panels.append((case, series))
+        panels.append((f"{case}: f_max = {float(friction.f_max):.3f}, f_min = {float(friction.f_min):.3f}, "
+                       f"experienced ratio {ratio:.2f}", series))
     _columns(out / "fig10_acceleration.csv", columns)
     figures.breakaway_grid(out / "fig10_breakaway.png", columns["time_s"], panels,
                            title=f"Fig. 10: rigid mass on sliding bearings only, base acceleration "

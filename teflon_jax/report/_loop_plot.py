@@ -29,7 +29,8 @@ def plot_loop(result, path, *, title="", length=("in", INCH)):
         ax.plot(u, mu, color="k", lw=1.2)
         ax.set_xlabel(f"displacement u{axis} [{name}]")
         ax.set_ylabel(f"friction force F{axis} / normal load N [-]")
-        ax.set_title(f"{axis} loop", fontsize=9)
+        if biaxial:
+            ax.set_title(f"{axis} loop", fontsize=9)
         ax.grid(alpha=0.3)
     if biaxial:
         ax = axes[0, -1]
