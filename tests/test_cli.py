@@ -94,35 +94,30 @@ def test_montecarlo_command_uses_one_device_per_core(tmp_path):
     assert payload["n_motions"] == 4
 
 
-def test_montecarlo_command_reports_runs_that_did_not_converge(tmp_path, capsys, monkeypatch):
+def test_montecarlo_command_reports_runs_that_did_not_converge(tmp_path, capsys):
     # A run with a step whose Newton solve failed must make the command fail (status 1) with
-    # a message, not print its untrustworthy peaks as a success; the results are still written.
-    import dataclasses
-
-    import teflon_jax.studies as mc
-
-    real = mc.monte_carlo
-
-    def one_failure(*args, **kwargs):
-        result = real(*args, **kwargs)
-        converged = np.asarray(result.converged).copy()
-        converged[1] = False
-        return dataclasses.replace(result, converged=converged)
-
-    monkeypatch.setattr(mc, "monte_carlo", one_failure)
-    status = main(["montecarlo", "--motions", "3", "--duration", "4", "--strong-motion", "1",
-                   "--no-progress", "--json", str(tmp_path / "mc.json")])
+    # a message naming the runs, not print its untrustworthy peaks as a success; the results
+    # are still written and the statistics rest on the converged runs only (here none). The
+    # failure is real: one Newton iteration per step is too few for any sliding step.
+    status = main(["montecarlo", "--motions", "3", "--duration", "4s", "--strong-motion", "1s",
+                   "--newton-iterations", "1", "--no-progress", "--json", str(tmp_path / "mc.json")])
     assert status == 1
-    assert "1 of 3 runs" in capsys.readouterr().err
-    assert json.loads((tmp_path / "mc.json").read_text())["all_converged"] is False
+    err = capsys.readouterr().err
+    assert "3 of 3 runs" in err and "motion indices 0, 1, 2" in err
+    summary = json.loads((tmp_path / "mc.json").read_text())
+    assert summary["all_converged"] is False and summary["n_converged"] == 0
+    assert summary["not_converged"] == [0, 1, 2]
+    assert summary["statistics"]["base_disp_in"]["n"] == 0
 
 
 def test_design_verdict_warns_on_bounds_and_fails_on_a_bad_gradient(capsys):
     from types import SimpleNamespace
 
-    from teflon_jax.cli._design import GRADIENT_TOLERANCE, _verdict
+    from teflon_jax.cli._design import _verdict
+    from teflon_jax.studies import GRADIENT_TOLERANCE
 
-    good = SimpleNamespace(messages=(), at_bounds=(), simulation_converged=True, converged=True,
+    good = SimpleNamespace(messages=(), at_bounds=(), simulation_converged=True, optimiser_converged=True,
+                           n_failed_motions=0, steps=12, converged=True,
                            gradient_rel_error=GRADIENT_TOLERANCE / 10)
     assert _verdict(good, None) == 0
     assert capsys.readouterr().err == ""
@@ -131,10 +126,13 @@ def test_design_verdict_warns_on_bounds_and_fails_on_a_bad_gradient(capsys):
     assert "optimum lies on a bound of isolation_period, pressure" in capsys.readouterr().err
     steep = SimpleNamespace(**{**vars(good), "gradient_rel_error": 0.57})
     assert _verdict(steep, None) == 1
-    assert "differs from central differences by 0.57" in capsys.readouterr().err
-    diverged = SimpleNamespace(**{**vars(good), "simulation_converged": False})
+    assert "differs from finite differences by 0.57" in capsys.readouterr().err
+    diverged = SimpleNamespace(**{**vars(good), "simulation_converged": False, "n_failed_motions": 2})
     assert _verdict(diverged, None) == 1
-    assert "did not converge" in capsys.readouterr().err
+    assert "2 motion(s) of the set did not converge" in capsys.readouterr().err
+    stalled = SimpleNamespace(**{**vars(good), "optimiser_converged": False})
+    assert _verdict(stalled, None) == 1
+    assert "BFGS did not converge in 12 steps" in capsys.readouterr().err
 
 
 def test_compile_cache_goes_to_the_user_cache_folder(tmp_path, monkeypatch):

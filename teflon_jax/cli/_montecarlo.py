@@ -57,7 +57,12 @@ def add_montecarlo_parser(subparsers) -> argparse.ArgumentParser:
                  "zeta_b of the isolation system", minimum=0.0, strict=False)
     parser.add_argument("--chunk-size", type=_positive_int, default=512, help="motions per compiled call "
                         "(split over the devices; about 260 kB each for 40 s motions at 0.01 s)")
-    parser.add_argument("--out", type=pathlib.Path, help="results file (.nc with xarray, else .npz + .csv)")
+    parser.add_argument("--out", type=pathlib.Path, help="results file; its suffix picks the format: "
+                        ".nc (NetCDF), .zarr, .csv or .npz")
+    parser.add_argument("--newton-iterations", type=_positive_int, default=None, metavar="N",
+                        help="the most Newton iterations of the bearing's solve per step (default: "
+                        "the library's, enough for every step; 1 makes runs fail, to see how "
+                        "failures are reported)")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
     parser.set_defaults(command_function=run_montecarlo)
     return parser
@@ -90,6 +95,11 @@ def run_montecarlo(args) -> int:
     from ..systems import isolated_structure
 
     units = output_units(args.units)
+    if args.out is not None:
+        from ..studies import check_output_path
+
+        check_output_path(args.out)  # before the runs: a format that cannot be written
+    solver = {} if args.newton_iterations is None else {"newton_iterations": args.newton_iterations}
     structure = isolated_structure(
         args.structure,
         ptfe=args.ptfe,
@@ -97,6 +107,7 @@ def run_montecarlo(args) -> int:
         isolation_period=args.isolation_period,
         isolation_damping=args.isolation_damping,
         time_step=args.time_step,
+        **solver,
     )
     model = _motion_model(args)
     bar = tqdm(total=args.motions, unit="motion", disable=args.no_progress)
