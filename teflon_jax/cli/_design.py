@@ -8,6 +8,7 @@ from ..units import STANDARD_GRAVITY
 from ._common import _positive_int, _write_json, add_quantity, output_units
 from ._montecarlo import _add_common, _motion_model
 
+
 def add_design_parser(subparsers) -> argparse.ArgumentParser:
     """`teflon-jax design --motions N --structure rigid|building --disp-limit 3in ...
     --json OUT.json --plot OUT.png`: minimise the expected base shear over T_b and pressure
