@@ -121,7 +121,8 @@ def run_design(args) -> int:
     print(f"optimum: Tb = {result.optimum['isolation_period']:.4g} s, pressure = "
           f"{units.show(result.optimum['pressure'], 'pressure')}; mean peak base shear / weight "
           f"{result.peak_shear:.4g}, mean peak base displacement {units.show(result.peak_disp, 'length')} "
-          f"(limit {args.disp_limit_text}); {result.steps} BFGS steps; gradient check "
+          f"(smoothed, as the limit sees it: {units.show(result.mean_disp, 'length')}; limit "
+          f"{args.disp_limit_text}); {result.steps} BFGS steps; gradient check "
           f"{result.gradient_rel_error:.2g} relative; {payload['wall_s']:.1f} s")
     return _verdict(result, args)
 

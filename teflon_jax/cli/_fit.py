@@ -8,7 +8,7 @@ import pathlib
 import sys
 
 from ..units import INCH, parse_quantity
-from ._common import add_quantity, add_units_flag, read_quantities
+from ._common import add_quantity, add_units_flag, output_units, read_quantities
 
 PARAMETER_DIMENSIONS = {"f_max": "dimensionless", "delta_f": "dimensionless", "rate_a": "slowness",
                         "yield_disp": "length", "breakaway_ratio": "dimensionless"}
@@ -76,12 +76,9 @@ def read_record(path):
 
 def run_fit(args) -> int:
     """Run `teflon-jax fit`; returns the exit status (0 ok, 1 not converged, 2 bad input)."""
-    from identification.bearing_fit import (
-        fit_bearing_test,
-        parse_free,
-        plot_fit,
-        write_fit_json,
-    )
+    from identification.bearing_fit import fit_bearing_test, parse_free, write_fit_json
+
+    from ..report import plot_fit
 
     try:
         read_quantities(args, "fit")
@@ -96,7 +93,10 @@ def run_fit(args) -> int:
     write_fit_json(args.json, fit)
     us = args.units == "us"
     if args.plot:
-        plot_fit(args.plot, fit, force_unit="kip" if us else "kN", length_unit="in" if us else "mm")
+        units = output_units(args.units)
+        stamp = f"{', '.join(pathlib.Path(r).name for r in args.records)}" + (
+            f", normal load {args.normal_load_text}" if args.normal_load_text else "")
+        plot_fit(args.plot, fit, length=units.length, force=units.force, title=stamp)
     for warning in fit.warnings:
         print(f"teflon-jax fit: warning: {warning}", file=sys.stderr)
     summary = ", ".join(_shown(k, fit.parameters[k], fit.std_errors[k], us) for k in fit.free)

@@ -1,5 +1,6 @@
 """Plots of results (loops, Monte Carlo, design); matplotlib only, nothing traced."""
 
 from ._design_plot import plot_design as plot_design
+from ._fit_plot import plot_fit as plot_fit
 from ._loop_plot import plot_loop as plot_loop
 from ._montecarlo_plot import plot_montecarlo as plot_montecarlo

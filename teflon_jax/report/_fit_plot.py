@@ -1,0 +1,76 @@
+"""Plot of a bearing fit: measured and fitted loops with the residual below each."""
+
+import math
+import textwrap
+
+import numpy as np
+
+from ..units import INCH, KIP
+
+# parameter -> (symbol of the paper in words, dimension for the units family)
+_NAMES = {
+    "f_max": ("f_max", None),
+    "delta_f": ("Df", None),
+    "rate_a": ("a", "slowness"),
+    "yield_disp": ("Y", "length"),
+    "breakaway_ratio": ("b", None),
+}
+
+
+def plot_fit(path, fit, *, length=("in", INCH), force=("kip", KIP), title: str = "") -> None:
+    """Measured (grey, solid) and fitted (black, dashed) force-displacement loops of every
+    record of `fit` (a `BearingFit` of `identification.bearing_fit`: `records`, `parameters`,
+    `std_errors`, `free`, `converged`), with the residual against time below (PNG).
+
+    **Arguments:** `path`; `fit`; `length`, `force`: (name, SI factor) of the axes' units;
+    `title`: the inputs (records, normal load) to state above the fitted values.
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    n = len(fit.records)
+    fig, axes = plt.subplots(2, n, figsize=(max(6.0, 5.5 * n), 7.2), squeeze=False,
+                             gridspec_kw=dict(height_ratios=[2.2, 1.0]))
+    for k, rec in enumerate(fit.records):
+        top, bottom = axes[0, k], axes[1, k]
+        ux = np.asarray(rec.ux) / length[1]
+        top.plot(ux, np.asarray(rec.measured) / force[1], color="0.55", lw=1.6, label="measured")
+        top.plot(ux, np.asarray(rec.fitted) / force[1], color="k", ls="--", lw=1.0, label="fitted model")
+        top.set_xlabel(f"displacement [{length[0]}]")
+        top.set_ylabel(f"friction force [{force[0]}]")
+        top.set_title(f"{rec.name}: normalised RMS error {rec.nrmse:.3g}", fontsize=9)
+        top.legend(loc="best", fontsize=8)
+        top.grid(alpha=0.3)
+        x = rec.time if rec.time is not None else np.arange(np.size(rec.measured))
+        bottom.plot(x, (np.asarray(rec.fitted) - np.asarray(rec.measured)) / force[1], color="k", lw=0.7)
+        bottom.axhline(0.0, color="0.5", lw=0.6)
+        bottom.set_xlabel("time [s]" if rec.time is not None else "point")
+        bottom.set_ylabel(f"model - measured [{force[0]}]")
+        bottom.grid(alpha=0.3)
+    values = "; ".join(_value(name, fit, length) for name in fit.free)
+    status = "converged" if fit.converged else "NOT CONVERGED"
+    text = (f"{title}\n" if title else "") + f"fitted: {values} ({status})"
+    width = int(11 * fig.get_figwidth())  # characters of 9 pt text that fit across the figure
+    fig.suptitle("\n".join(line for part in text.split("\n") for line in textwrap.wrap(part, width)),
+                 fontsize=9)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def _value(name, fit, length) -> str:
+    symbol, dimension = _NAMES.get(name, (name, None))
+    unit, factor = "", 1.0
+    if dimension == "length":
+        unit, factor = f" {length[0]}", length[1]
+    elif dimension == "slowness":
+        unit, factor = f" s/{length[0]}", 1.0 / length[1]
+    value, error = fit.parameters[name], fit.std_errors.get(name)
+    if value is None or not math.isfinite(value):
+        return f"{symbol} = n/a"
+    shown = f"{symbol} = {value / factor:.4g}"
+    if error is not None and math.isfinite(error):
+        shown += f" +- {error / factor:.2g}"
+    return shown + unit
