@@ -86,7 +86,7 @@ def test_montecarlo_command_uses_one_device_per_core(tmp_path):
     env = {k: v for k, v in os.environ.items() if k != "XLA_FLAGS"}
     out = subprocess.run(
         [sys.executable, "-m", "teflon_jax.cli", "--cpu-devices", "2", "montecarlo", "--motions", "4",
-         "--duration", "4", "--strong-motion", "1", "--no-progress", "--json", str(tmp_path / "mc.json")],
+         "--duration", "4s", "--strong-motion", "1s", "--no-progress", "--json", str(tmp_path / "mc.json")],
         env=dict(env, JAX_PLATFORMS="cpu"), capture_output=True, text=True, timeout=600)
     assert out.returncode == 0, out.stderr[-2000:]
     payload = json.loads((tmp_path / "mc.json").read_text())

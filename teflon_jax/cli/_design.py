@@ -10,7 +10,7 @@ from ._montecarlo import _add_common, _motion_model
 
 
 def add_design_parser(subparsers) -> argparse.ArgumentParser:
-    """`teflon-jax design --motions N --structure rigid|building --disp-limit 3in ...
+    """`teflon-jax design --motions N --structure rigid|building --disp-limit 1.25in ...
     --json OUT.json --plot OUT.png`: minimise the expected base shear over T_b and pressure
     subject to a base-displacement limit."""
     parser = subparsers.add_parser(
