@@ -73,7 +73,7 @@ _EXAMPLES = {
     "area": "in^2",
     "velocity": "in/s",
     "acceleration": "g",
-    "slowness": "s/in",
+    "slowness": "s/m",
     "dimensionless": "",
 }
 
