@@ -29,7 +29,6 @@ from teflon_jax.formats import interface_counts
 from teflon_jax.units import PSI
 
 from ..bearing_fit import park_path_update, park_substeps, sample_velocity
-
 from ._effects import (
     BASELINE_PARAMETERS,
     EFFECT_NAMES,

@@ -16,17 +16,17 @@ from ._test_record import (
     _COLUMN_DIMENSIONS,
     _COMMENT_KEY,
     _KEY_ALIASES,
-    INTERFACE_KEYS,
     _QUANTITY_KEYS,
     _REQUIRED_COLUMNS,
     _TEXT_KEYS,
+    INTERFACE_KEYS,
     PAPER_UNITS,
     SI_UNITS,
     TestRecord,
-    ambiguous_interfaces_message,
     _dimension_of,
     _normal_load_from_metadata,
     _si_unit,
+    ambiguous_interfaces_message,
 )
 
 _HEADER_CELL = re.compile(r"^\s*(?P<name>[^\[\]]*?)\s*(?:\[(?P<unit>[^\[\]]*)\])?\s*$")
