@@ -6,7 +6,11 @@ import numpy as np
 import pytest
 
 import teflon_jax as tj
-from identification.bearing_fit import fit_bearing_test, sample_velocity, simulate_record_force
+from identification.bearing_fit import (
+    fit_bearing_test,
+    sample_velocity,
+    simulate_record_force,
+)
 from identification.discovery import discover_effects
 from teflon_jax.units import INCH, PSI
 
