@@ -221,6 +221,7 @@ def test_independent_integration_is_fitted():
 
 
 @pytest.mark.external
+@pytest.mark.slow
 def test_friction_damper_fit_shows_model_limits(external_data, tmp_path):
     path = external_data / "friction_damper_brfd_arts_lab" / "1Hz30lbtension1amplitude.json"
     record = read_friction_damper_json(path)
@@ -231,7 +232,16 @@ def test_friction_damper_fit_shows_model_limits(external_data, tmp_path):
     # Noise floor: sample-to-sample scatter of the measured force.
     noise = np.std(np.diff(record.fx)) / np.sqrt(2) / np.sqrt(np.mean(record.fx**2))
     assert np.isfinite(rec.nrmse)
-    assert rec.nrmse > 0.1 and rec.nrmse > 5 * noise
+    # The model follows the loop to within 30 % RMS (0.26 measured), but not to the noise.
+    assert 5 * noise < rec.nrmse < 0.30
+    # Friction level: SOURCE.md gives the median sliding force as 2.60 kip (+v) and 1.89 kip
+    # (-v); the symmetric model must sit between the two directions.
+    v = np.gradient(record.ux, record.time)
+    sliding = np.abs(v) > 0.05 * np.abs(v).max()
+    level = np.median(np.abs(rec.fitted[sliding])) / KIP
+    assert 1.89 < level < 2.60, level
+    # Eq. 1 cannot be separated into f_max, delta_f, rate_a here: never a clean success.
+    assert not fit.clean
     # The symmetric 1990 model cannot follow the self-energising direction: the mean
     # misfit differs between the two directions of sliding by a sizeable force.
     v = np.gradient(record.ux, record.time)

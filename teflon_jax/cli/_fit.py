@@ -16,7 +16,9 @@ def add_fit_parser(subparsers) -> argparse.ArgumentParser:
     parser = subparsers.add_parser("fit", help=FIT_HELP, description=FIT_HELP + (
         ". Several records are fitted jointly (one parameter set). Records are test-record "
         "CSV files (FORMATS.md) or friction-damper JSON files."))
-    parser.add_argument("records", nargs="+", metavar="RECORD", help="test record files")
+    parser.add_argument("records", nargs="+", metavar="RECORD",
+                        help="test record files (uniaxial, or biaxial ux, uy, fx, fy: then the "
+                             "constants perpendicular to the lay are fitted too)")
     parser.add_argument("--free", default=None,
                         help="comma-separated parameters to fit (default: f_max, delta_f, "
                              "rate_a, yield_disp, and breakaway_ratio when the record starts "
@@ -101,5 +103,7 @@ def run_fit(args) -> int:
         print(f"teflon-jax fit: warning: {warning}", file=sys.stderr)
     summary = ", ".join(f"{k} = {fit.parameters[k]:.5g} +- {fit.std_errors[k]:.2g}"
                         for k in fit.free)
-    print(f"{summary}; nrmse = {fit.nrmse:.4f}; {fit.message}", file=sys.stderr)
+    status = "clean" if fit.clean else (
+        f"NOT CLEAN ({len(fit.warnings)} warning(s) above)" if fit.converged else "NOT CONVERGED")
+    print(f"{summary}; nrmse = {fit.nrmse:.4f}; {fit.message}; {status}", file=sys.stderr)
     return 0 if fit.converged else 1
