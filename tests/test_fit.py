@@ -40,12 +40,35 @@ def _protocol(fs=1000.0, amplitude=4 * INCH, frequency=0.6, cycles=3):
     return t, u
 
 
-def _synthetic(row, seed, noise=0.02, **protocol):
-    t, u = _protocol(**protocol)
+class _FromRest(tj.AbstractMotion):
+    """u = amplitude (1 - cos(2 pi frequency t)): the sine of `_protocol` with its exact velocity."""
+
+    amplitude: float
+    frequency: float
+    cycles: float = 3.0
+    biaxial = False
+
+    def displacement(self, t):
+        w = 2 * jnp.pi * self.frequency
+        return jnp.stack([self.amplitude * (1.0 - jnp.cos(w * t)), jnp.zeros_like(t)])
+
+    def velocity(self, t):
+        w = 2 * jnp.pi * self.frequency
+        return jnp.stack([self.amplitude * w * jnp.sin(w * t), jnp.zeros_like(t)])
+
+    @property
+    def duration(self):
+        return self.cycles / self.frequency
+
+
+def _synthetic(row, seed, noise=0.02, fs=1000.0, amplitude=4 * INCH, frequency=0.6, cycles=3):
+    # The simulator on the analytic motion (as simulate-test runs it), sampled at fs.
     bearing = tj.paper_bearing(
         tj.FrictionParameters(row.f_max, row.delta_f, row.rate_a),
         yield_disp=Y_PAPER, breakaway_ratio=row.breakaway_ratio)
-    force = np.asarray(tj.simulate_bearing_test(bearing, tj.tabulated_motion(t, u), NORMAL_LOAD).fx)
+    result = tj.simulate_bearing_test(bearing, _FromRest(amplitude, frequency, cycles),
+                                      NORMAL_LOAD, samples_per_cycle=round(fs / frequency))
+    t, u, force = (np.asarray(x) for x in (result.time, result.ux, result.fx))
     rng = np.random.default_rng(seed)
     force = force + noise * np.sqrt(np.mean(force**2)) * rng.standard_normal(force.size)
     return test_record_from_arrays(u, force, time=t, normal_load=NORMAL_LOAD)
