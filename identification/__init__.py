@@ -1,7 +1,8 @@
 """Identification of PTFE bearing models from test records: fitting and model discovery.
 
-Fits the constants of Constantinou, Mokha & Reinhorn (1990) -- f_max, delta_f, rate_a of Eq. 1,
-yield_disp of Eq. 3 and breakaway_ratio of Eq. 17 -- to measured or digitised bearing tests
+Fits the constants of Constantinou, Mokha & Reinhorn (1990) -- f_max, delta_f, rate_a of Eq. 1
+(parallel and, from biaxial records, perpendicular to the lay), yield_disp of Eq. 3 and
+breakaway_ratio of Eq. 17 -- to measured or digitised bearing tests
 with optimistix least squares, with standard errors and identifiability warnings, and (model
 discovery) looks for the effects the 1990 model misses.
 """
@@ -19,6 +20,7 @@ from .bearing_fit import fit_bearing_tests_batch as fit_bearing_tests_batch
 from .bearing_fit import parse_free as parse_free
 from .bearing_fit import plot_fit as plot_fit
 from .bearing_fit import point_branches as point_branches
+from .bearing_fit import sample_velocity as sample_velocity
 from .bearing_fit import simulate_record_force as simulate_record_force
 from .bearing_fit import write_fit_json as write_fit_json
 from .discovery import BASELINES as BASELINES

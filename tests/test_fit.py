@@ -40,12 +40,35 @@ def _protocol(fs=1000.0, amplitude=4 * INCH, frequency=0.6, cycles=3):
     return t, u
 
 
-def _synthetic(row, seed, noise=0.02, **protocol):
-    t, u = _protocol(**protocol)
+class _FromRest(tj.AbstractMotion):
+    """u = amplitude (1 - cos(2 pi frequency t)): the sine of `_protocol` with its exact velocity."""
+
+    amplitude: float
+    frequency: float
+    cycles: float = 3.0
+    biaxial = False
+
+    def displacement(self, t):
+        w = 2 * jnp.pi * self.frequency
+        return jnp.stack([self.amplitude * (1.0 - jnp.cos(w * t)), jnp.zeros_like(t)])
+
+    def velocity(self, t):
+        w = 2 * jnp.pi * self.frequency
+        return jnp.stack([self.amplitude * w * jnp.sin(w * t), jnp.zeros_like(t)])
+
+    @property
+    def duration(self):
+        return self.cycles / self.frequency
+
+
+def _synthetic(row, seed, noise=0.02, fs=1000.0, amplitude=4 * INCH, frequency=0.6, cycles=3):
+    # The simulator on the analytic motion (as simulate-test runs it), sampled at fs.
     bearing = tj.paper_bearing(
         tj.FrictionParameters(row.f_max, row.delta_f, row.rate_a),
         yield_disp=Y_PAPER, breakaway_ratio=row.breakaway_ratio)
-    force = np.asarray(tj.simulate_bearing_test(bearing, tj.tabulated_motion(t, u), NORMAL_LOAD).fx)
+    result = tj.simulate_bearing_test(bearing, _FromRest(amplitude, frequency, cycles),
+                                      NORMAL_LOAD, samples_per_cycle=round(fs / frequency))
+    t, u, force = (np.asarray(x) for x in (result.time, result.ux, result.fx))
     rng = np.random.default_rng(seed)
     force = force + noise * np.sqrt(np.mean(force**2)) * rng.standard_normal(force.size)
     return test_record_from_arrays(u, force, time=t, normal_load=NORMAL_LOAD)
@@ -118,14 +141,16 @@ def test_unconverged_is_reported():
 
 
 def test_record_force_equals_core_simulator():
+    # Same Z update as the simulator; the velocity at a sample from central differences, so
+    # the force matches the simulator's (analytic velocity) to O(h^2): 1e-4 of the RMS.
     row = tj.load_table1()[12]
-    t, u = _protocol(fs=200.0)
-    u = u + 1e-3 * np.sin(7.0 * t)  # not a pure sine
     bearing = tj.paper_bearing(tj.FrictionParameters(row.f_max, row.delta_f, row.rate_a),
                                yield_disp=Y_PAPER, breakaway_ratio=row.breakaway_ratio)
-    core = tj.simulate_bearing_test(bearing, tj.tabulated_motion(t, u), NORMAL_LOAD).fx
-    mine = simulate_record_force(_truth(row), t, u, np.full(t.size, NORMAL_LOAD))
-    np.testing.assert_allclose(mine, core, rtol=1e-9, atol=1e-9 * NORMAL_LOAD)
+    core = tj.simulate_bearing_test(bearing, tj.SineMotion(1 * INCH, 0.16, cycles=2),
+                                    NORMAL_LOAD, samples_per_cycle=400)
+    t, u, f = (np.asarray(x) for x in (core.time, core.ux, core.fx))
+    mine = np.asarray(simulate_record_force(_truth(row), t, u, np.full(t.size, NORMAL_LOAD)))
+    assert np.sqrt(np.mean((mine - f) ** 2)) < 1e-4 * np.sqrt(np.mean(f**2))
 
 
 # ---------------------------------------------------------------------------------------------
@@ -219,6 +244,7 @@ def test_independent_integration_is_fitted():
 
 
 @pytest.mark.external
+@pytest.mark.slow
 def test_friction_damper_fit_shows_model_limits(external_data, tmp_path):
     path = external_data / "friction_damper_brfd_arts_lab" / "1Hz30lbtension1amplitude.json"
     record = read_friction_damper_json(path)
@@ -229,7 +255,16 @@ def test_friction_damper_fit_shows_model_limits(external_data, tmp_path):
     # Noise floor: sample-to-sample scatter of the measured force.
     noise = np.std(np.diff(record.fx)) / np.sqrt(2) / np.sqrt(np.mean(record.fx**2))
     assert np.isfinite(rec.nrmse)
-    assert rec.nrmse > 0.1 and rec.nrmse > 5 * noise
+    # The model follows the loop to within 30 % RMS (0.26 measured), but not to the noise.
+    assert 5 * noise < rec.nrmse < 0.30
+    # Friction level: SOURCE.md gives the median sliding force as 2.60 kip (+v) and 1.89 kip
+    # (-v); the symmetric model must sit between the two directions.
+    v = np.gradient(record.ux, record.time)
+    sliding = np.abs(v) > 0.05 * np.abs(v).max()
+    level = np.median(np.abs(rec.fitted[sliding])) / KIP
+    assert 1.89 < level < 2.60, level
+    # Eq. 1 cannot be separated into f_max, delta_f, rate_a here: never a clean success.
+    assert not fit.clean
     # The symmetric 1990 model cannot follow the self-energising direction: the mean
     # misfit differs between the two directions of sliding by a sizeable force.
     v = np.gradient(record.ux, record.time)

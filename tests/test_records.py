@@ -36,7 +36,8 @@ def _synthetic_record(*, biaxial=True, with_n=True):
         "contact_area": 0.0506,
         "normal_load": 3.49e5,
         "direction": "P",
-        "interfaces": 2,
+        "interfaces_in_parallel": 2,
+        "interfaces_in_series": 3,
         "ptfe": "UF",
         "source": "synthetic",
         "lab_id": "T-62 rerun",
@@ -126,7 +127,7 @@ def test_read_paper_units_against_hand_conversion(tmp_path):
         "# specimen: PTFE-steel flat slider\n"
         "# contact_area [in^2]: 78.5\n"
         "# direction: P\n"
-        "# interfaces: 2\n"
+        "# interfaces_in_parallel: 2\n"
         "# ptfe: UF\n"
         "# mystery_key [furlong]: 3\n"
         "# operator: A. N. Other\n"
@@ -144,7 +145,7 @@ def test_read_paper_units_against_hand_conversion(tmp_path):
     # 78.5 kip on 78.5 in^2 is 1000 psi, the pressure of test No. 62.
     np.testing.assert_allclose(record.contact_pressure, 1000.0 * PA_PER_PSI, rtol=1e-12)
     assert record.metadata["direction"] == "P"
-    assert record.metadata["interfaces"] == 2
+    assert record.metadata["interfaces_in_parallel"] == 2
     assert record.metadata["ptfe"] == "UF"
     assert record.metadata["mystery_key [furlong]"] == "3"
     assert record.metadata["operator"] == "A. N. Other"
@@ -200,8 +201,12 @@ _GOOD_HEADER = "time [s],ux [in],fx [kip]\n"
         ("# direction: Q\n" + _GOOD_HEADER + "0,0,0\n", ["line 1", "direction"]),
         ("# ptfe: PEEK\n" + _GOOD_HEADER + "0,0,0\n", ["line 1", "ptfe", "UF"]),
         (
-            "# x: 1\n# interfaces: two\n" + _GOOD_HEADER + "0,0,0\n",
-            ["line 2", "interfaces"],
+            "# x: 1\n# interfaces_in_series: two\n" + _GOOD_HEADER + "0,0,0\n",
+            ["line 2", "interfaces_in_series"],
+        ),
+        (
+            "# interfaces: 2\n" + _GOOD_HEADER + "0,0,0\n",
+            ["line 1", "ambiguous", "interfaces_in_parallel", "interfaces_in_series"],
         ),
         ("# contact_area: 78.5\n" + _GOOD_HEADER + "0,0,0\n", ["line 1", "no unit"]),
         ("# contact_area [kip]: 1\n" + _GOOD_HEADER + "0,0,0\n", ["line 1", "area"]),

@@ -2,7 +2,8 @@
 
 A digitised loop has no time. The model is simulated along the protocol of the record
 (`metadata["protocol"]`, e.g. `sine amplitude=1 in frequency=0.16 Hz cycles=3`) on a fine time
-grid, and each digitised point is compared with the model force at the same displacement on the
+grid (the protocol's `teflon_jax.excitation` motion, velocity by `sample_velocity` as for
+every record), and each digitised point is compared with the model force at the same displacement on the
 same branch of the last full cycle. The branch of a point (moving towards +x or -x) follows from
 the order of the points along the loop, as they are read off the figure.
 
@@ -27,6 +28,8 @@ import jax.numpy as jnp
 import numpy as np
 
 from teflon_jax.formats import Protocol
+
+from ._record_force import sample_velocity, simulate_record_force
 
 GRID_SAMPLES_PER_CYCLE = 2000
 """Time samples per cycle of the protocol on which the model is simulated."""
@@ -82,7 +85,7 @@ def point_branches(ux) -> np.ndarray:
     return branch
 
 
-def prepare_digitised(record, *, name, load, n_interfaces, yield_ref):
+def prepare_digitised(record, *, name, load, parallel, series, yield_ref):
     """Prepare a digitised loop for the bearing fit (see `_bearing_fit.PreparedRecord`)."""
     from ._loop_features import _ZERO_CROSSING, PreparedRecord, _friction_law_start
 
@@ -106,14 +109,12 @@ def prepare_digitised(record, *, name, load, n_interfaces, yield_ref):
     branch = point_branches(u)
     inc, dec = _last_branches(grid_ux)
     load_value = float(np.mean(load))
-    mu = f / load_value
+    mu = f / (load_value * parallel)
     distance = np.where(branch > 0, u + amplitude, amplitude - u)
-    omega = 2 * np.pi * protocol.frequency
-    if protocol.pattern == "sine":
-        speed = omega * np.sqrt(np.clip(amplitude**2 - u**2, 0.0, None))
-    else:
-        speed = np.full(u.shape, 4.0 * amplitude * protocol.frequency)
-    speed = speed / n_interfaces
+    grid_velocity = sample_velocity(time, grid_ux)
+    speed = np.where(branch > 0,
+                     np.interp(u, grid_ux[inc], np.abs(grid_velocity[inc])),
+                     np.interp(u, grid_ux[dec], np.abs(grid_velocity[dec]))) / series
     sliding = distance > max(0.04 * amplitude, 4.0 * yield_ref)
     if np.count_nonzero(sliding) < 6:
         raise ValueError(f"{name}: fewer than 6 digitised points while sliding.")
@@ -140,6 +141,7 @@ def prepare_digitised(record, *, name, load, n_interfaces, yield_ref):
     arrays = dict(
         sigma_u=np.asarray(sigma_u), sigma_f=np.asarray(sigma_f),
         grid_time=time, grid_ux=grid_ux, grid_load=np.full(time.shape, load_value),
+        grid_velocity=grid_velocity,
         inc=inc, dec=dec, ux=u, fx=f, branch=branch,
         weight=np.ones_like(u),
     )
@@ -147,7 +149,8 @@ def prepare_digitised(record, *, name, load, n_interfaces, yield_ref):
         name=name, kind="digitised", arrays=arrays, first_motion=False,
         start=dict(f_max=f_max, delta_f=delta_f, rate_a=rate_a, yield_disp=yield_disp,
                    breakaway_ratio=1.5),
-        warnings=[], elastic_samples=float(np.median(counts)), n_interfaces=n_interfaces,
+        warnings=[], elastic_samples=float(np.median(counts)),
+        interfaces_in_parallel=parallel, interfaces_in_series=series,
         measured=f, ux=u, time=None,
     )
     prepared.speed_low = float(np.percentile(speed[sliding], 5))
@@ -155,23 +158,23 @@ def prepare_digitised(record, *, name, load, n_interfaces, yield_ref):
     return prepared
 
 
-def _grid_force(values, arrays, use_breakaway, n_interfaces):
-    from ._record_force import simulate_record_force
-
+def _grid_force(values, arrays, use_breakaway, config):
     return simulate_record_force(
         values, arrays["grid_time"], arrays["grid_ux"], arrays["grid_load"],
-        use_breakaway=use_breakaway, n_interfaces=n_interfaces)
+        velocity=arrays["grid_velocity"], use_breakaway=use_breakaway,
+        interfaces_in_parallel=config.interfaces_in_parallel,
+        interfaces_in_series=config.interfaces_in_series)
 
 
-def digitised_model_force(values, arrays, *, use_breakaway, n_interfaces):
+def digitised_model_force(values, arrays, *, use_breakaway, config):
     """Model force [N] at the digitised points: the last cycle of the protocol, per branch."""
-    grid = _grid_force(values, arrays, use_breakaway, n_interfaces)
+    grid = _grid_force(values, arrays, use_breakaway, config)
     return _branch_force(arrays, grid, arrays["ux"])
 
 
-def digitised_residual(values, arrays, *, use_breakaway, n_interfaces):
+def digitised_residual(values, arrays, *, use_breakaway, config):
     """(model - digitised force) / sigma_i at each point (effective variance, module docstring)."""
-    grid = _grid_force(values, arrays, use_breakaway, n_interfaces)
+    grid = _grid_force(values, arrays, use_breakaway, config)
     u = arrays["ux"]
     force = _branch_force(arrays, grid, u)
     du = 0.25 * arrays["sigma_u"]

@@ -2,21 +2,26 @@
 
 The model is the one of Constantinou, Mokha & Reinhorn (1990): the force is
 
-    F = mu N Z,   mu = f_max - delta_f exp(-rate_a |v| / n)        (Eq. 1, n interfaces in series)
-                  mu = breakaway_ratio (f_max - delta_f)            (Eq. 17, before max|Z| >= 0.999)
+    F = m mu N Z,  mu = f_max - delta_f exp(-rate_a |v| / n)     (Eq. 1)
+                   mu = breakaway_ratio (f_max - delta_f)         (Eq. 17, before max|Z| >= 0.999)
 
-with Z from Bouc-Wen (Eq. 3; A = 1, beta = 0.1, gamma = 0.9, eta = 2, yield displacement
-`yield_disp`). The fitter minimises the force residual, sample by sample, of the core model (the exact Riccati
-update of Z at the record's own samples, the computation of `teflon_jax.simulate_bearing_test`
-with a `tabulated_motion` and its default `RiccatiNewmark` solver; see `simulate_record_force`),
-divided by the RMS measured force
-of each record, with optimistix Levenberg-Marquardt and forward-mode Jacobians
-(`identification._fit.fit_least_squares`).
+with m = `interfaces_in_parallel` and n = `interfaces_in_series` of the record (FORMATS.md), Z
+from Bouc-Wen (Eq. 3; A = 1, beta = 0.1, gamma = 0.9, eta = 2, yield displacement `yield_disp`)
+or, for a biaxial record (ux, uy, fx, fy), from Park et al. (Eqs. 8-9) with f_max, delta_f and
+rate_a interpolated linearly in the sliding angle between the parallel constants and the
+`*_perpendicular` ones. The force model and the velocity at the samples are those of
+`simulate_record_force` (see its module), the same as the diagnosis uses; on the simulator's own
+noise-free records the fit returns the simulator's constants. The fitter minimises the force
+residual, sample by sample, divided by the RMS measured force of each record, with optimistix
+Levenberg-Marquardt and forward-mode Jacobians (`identification.least_squares`).
 
 Parameters (SI): `f_max` [-], `delta_f` [-], `rate_a` [s/m], `yield_disp` [m],
-`breakaway_ratio` [-]. Inside the optimiser `delta_f` is written as `delta_ratio * f_max` with
+`breakaway_ratio` [-] (and `f_max_perpendicular`, `delta_f_perpendicular`,
+`rate_a_perpendicular`). Inside the optimiser `delta_f` is written as `delta_ratio * f_max` with
 `0 < delta_ratio < 1` (so that `f_max - delta_f > 0` always), `breakaway_ratio > 1`, the others
-`> 0`; standard errors are reported in the parameters above.
+`> 0`; standard errors are reported in the parameters above. A fit is `clean` only when it
+converged and no parameter is unidentifiable, poorly determined (standard error above 50 %) or
+at a bound; otherwise its `warnings` say why.
 
 Normal load: the `N` column of the record, else its constant `normal_load` (or
 `contact_area * contact_pressure`) metadata, else the `normal_load=` argument. A record with
@@ -78,8 +83,9 @@ def fit_bearing_test(
 
     - `records`: a `TestRecord` or a list of them (time histories and/or digitised loops).
     - `free`: names to fit among `PARAMETER_NAMES`. Default: f_max, delta_f, rate_a,
-      yield_disp (unless the sampling is too coarse to see the elastic branch), and
-      breakaway_ratio when a record starts from rest (contains the first excursion).
+      yield_disp (unless the sampling is too coarse to see the elastic branch),
+      breakaway_ratio when a record starts from rest (contains the first excursion), and the
+      three `*_perpendicular` constants when a record is biaxial.
     - `fixed`: values of parameters held fixed (SI). `yield_disp` defaults to 0.005 in;
       `breakaway_ratio` not free and not fixed means no breakaway (Eq. 1 throughout).
     - `initial`: start values overriding the loop features; `bounds`: name -> (lower, upper).
@@ -100,12 +106,12 @@ def fit_bearing_test(
             f"normal load: records without one were fitted with normal_load = {normal_load} N; "
             "f_max and delta_f are then force / normal_load, in newtons for normal_load = 1.")
     names, internal_bounds, to_internal, ratio = _internal(free, values, start, bounds)
-    kinds = tuple(p.kind for p in prepared)
-    n_int = tuple(p.n_interfaces for p in prepared)
-    model = BearingModel(free=names, kinds=kinds, n_interfaces=n_int,
-                         use_breakaway=use_breakaway, ratio=ratio)
-    model_user = BearingModel(free=free, kinds=kinds, n_interfaces=n_int,
-                              use_breakaway=use_breakaway, ratio=False)
+    configs = tuple(p.config for p in prepared)
+    anisotropic = values["anisotropic"]
+    model = BearingModel(free=names, configs=configs, use_breakaway=use_breakaway, ratio=ratio,
+                         anisotropic=anisotropic)
+    model_user = BearingModel(free=free, configs=configs, use_breakaway=use_breakaway,
+                              ratio=False, anisotropic=anisotropic)
     args = {"fixed": _fixed_tree(values), "records": [p.arrays for p in prepared]}
     starts = _multi_starts(start, free, n_starts) if not initial else [start]
     internal_starts = [to_internal(s) for s in starts]
@@ -156,9 +162,9 @@ def fit_bearing_tests_batch(
     yield_ref = (fixed or {}).get("yield_disp")
     prepared = [prepare_record(r, index=i, normal_load=normal_load, yield_ref=yield_ref)
                 for i, r in enumerate(records)]
-    if any(p.kind != "time" for p in prepared):
-        raise ValueError("records: the batch fit takes time histories; fit digitised loops "
-                         "with fit_bearing_test.")
+    if any(p.kind != "time" or p.biaxial for p in prepared):
+        raise ValueError("records: the batch fit takes uniaxial time histories; fit digitised "
+                         "loops and biaxial records with fit_bearing_test.")
     plans = [_plan([p], free, fixed, None, bounds) for p in prepared]
     common_free = plans[0][0] if free is None else tuple(free)
     plans = [_plan([p], common_free, fixed, None, bounds) for p in prepared]
@@ -166,9 +172,10 @@ def fit_bearing_tests_batch(
     if any(pl[4] != use_breakaway for pl in plans):
         raise ValueError("records: some records use breakaway and others not; fit them apart.")
     length = max(p.arrays["time"].size for p in prepared)
-    n_int = prepared[0].n_interfaces
-    if any(p.n_interfaces != n_int for p in prepared):
-        raise ValueError("records: all records of a batch need the same 'interfaces'.")
+    config = prepared[0].config
+    if any(p.config != config for p in prepared):
+        raise ValueError("records: all records of a batch need the same "
+                         "'interfaces_in_parallel' and 'interfaces_in_series'.")
     names = None
     initial_rows, trees, meta = [], [], []
     bounds_all = None
@@ -185,10 +192,9 @@ def fit_bearing_tests_batch(
             initial_rows.append(to_internal(s))
             trees.append(tree)
         meta.append((fr, values, warnings, starts))
-    kinds = ("time",)
-    model = BearingModel(free=names, kinds=kinds, n_interfaces=(n_int,),
-                         use_breakaway=use_breakaway, ratio=ratio)
-    model_user = BearingModel(free=common_free, kinds=kinds, n_interfaces=(n_int,),
+    model = BearingModel(free=names, configs=(config,), use_breakaway=use_breakaway,
+                         ratio=ratio)
+    model_user = BearingModel(free=common_free, configs=(config,),
                               use_breakaway=use_breakaway, ratio=False)
     batch_initial = {n: np.array([row[n] for row in initial_rows]) for n in names}
     for n, (lo, hi) in bounds_all.items():

@@ -17,6 +17,17 @@ _MIN_ELASTIC_SAMPLES = 3
 # Data prepared for the residual
 
 
+@dataclasses.dataclass(frozen=True)
+class RecordConfig:
+    """Static description of one record for the residual (hashable)."""
+
+    kind: str  # "time" or "digitised"
+    interfaces_in_parallel: int = 1
+    interfaces_in_series: int = 1
+    biaxial: bool = False
+    park_elements: int = 16
+
+
 @dataclasses.dataclass
 class PreparedRecord:
     """A record ready for fitting (numpy, SI): what the residual needs and what was detected.
@@ -28,6 +39,8 @@ class PreparedRecord:
     - `start`: feature-based start values of all five parameters.
     - `warnings`: identifiability and data warnings.
     - `elastic_samples`: median number of samples within 2 Y after a reversal.
+    - `interfaces_in_parallel`, `interfaces_in_series`: from the record's metadata.
+    - `biaxial`: a time history with `uy`, `fy`; `park_elements` per sample interval.
     """
 
     name: str
@@ -37,15 +50,21 @@ class PreparedRecord:
     start: dict
     warnings: list
     elastic_samples: float
-    n_interfaces: int
     measured: np.ndarray
     ux: np.ndarray
     time: np.ndarray | None
+    interfaces_in_parallel: int = 1
+    interfaces_in_series: int = 1
+    biaxial: bool = False
+    park_elements: int = 16
+    velocity: np.ndarray | None = None
+    speed_low: float | None = None
+    speed_high: float | None = None
 
-
-def _forward_velocity(time, ux):
-    v = np.diff(ux) / np.diff(time)
-    return np.concatenate([v, v[-1:]])
+    @property
+    def config(self) -> "RecordConfig":
+        return RecordConfig(self.kind, self.interfaces_in_parallel, self.interfaces_in_series,
+                            self.biaxial, self.park_elements)
 
 
 def _reversals(ux) -> np.ndarray:

@@ -1,57 +1,75 @@
 """The fitter's model as an equinox module: the simulated force of every record for one parameter set."""
 
-
 import equinox as eqx
 import jax.numpy as jnp
 
-from ._record_force import simulate_record_force
+from ._loop_features import RecordConfig as RecordConfig
+from ._record_force import PERPENDICULAR_NAMES, simulate_record_force
 
-PARAMETER_NAMES = ("f_max", "delta_f", "rate_a", "yield_disp", "breakaway_ratio")
-"""Parameters the fitter can free, in the order of the reports."""
+PARAMETER_NAMES = ("f_max", "delta_f", "rate_a", "yield_disp", "breakaway_ratio",
+                   *PERPENDICULAR_NAMES)
+"""Parameters the fitter can free, in the order of the reports. The `*_perpendicular`
+constants (Eq. 1 for sliding perpendicular to the lay, along y) are those of biaxial records;
+mu is interpolated linearly in the sliding angle between them and the parallel ones."""
 
 PARAMETER_UNITS = {
     "f_max": "-", "delta_f": "-", "rate_a": "s/m", "yield_disp": "m", "breakaway_ratio": "-",
+    "f_max_perpendicular": "-", "delta_f_perpendicular": "-", "rate_a_perpendicular": "s/m",
 }
 
-
-# ---------------------------------------------------------------------------------------------
-# The model and its residual
-
-
+RATIO_PAIRS = (("delta_f", "f_max", "delta_ratio"),
+               ("delta_f_perpendicular", "f_max_perpendicular", "delta_ratio_perpendicular"))
+"""(delta_f, f_max, internal name): inside the optimiser delta_f = ratio x f_max, 0 < ratio < 1."""
 
 
 class BearingModel(eqx.Module):
     """Residual of the bearing fit (static configuration only; data come in `args`).
 
-    `args = {"fixed": {name: value for all five}, "records": [arrays of each record]}`.
-    With `ratio=True` the free `delta_f` is the parameter `delta_ratio = delta_f / f_max`.
+    `args = {"fixed": {name: value for all parameters}, "records": [arrays of each record]}`.
+    With `ratio=True` a free `delta_f` is the parameter `delta_ratio = delta_f / f_max` (and
+    likewise for the perpendicular constants). `anisotropic`: the model has its own
+    perpendicular constants (else sliding along y follows the parallel ones).
     """
 
     free: tuple[str, ...] = eqx.field(static=True)
-    kinds: tuple[str, ...] = eqx.field(static=True)
-    n_interfaces: tuple[int, ...] = eqx.field(static=True)
+    configs: tuple[RecordConfig, ...] = eqx.field(static=True)
     use_breakaway: bool = eqx.field(static=True)
     ratio: bool = eqx.field(static=True)
+    anisotropic: bool = eqx.field(static=True, default=False)
 
     def values(self, params, fixed):
-        values = {name: params.get(name, fixed[name]) for name in PARAMETER_NAMES}
-        if self.ratio and "delta_ratio" in params:
-            values["delta_f"] = params["delta_ratio"] * values["f_max"]
+        names = PARAMETER_NAMES if self.anisotropic else PARAMETER_NAMES[:5]
+        values = {name: params.get(name, fixed[name]) for name in names}
+        if self.ratio:
+            for delta, f_max, internal in RATIO_PAIRS:
+                if internal in params:
+                    values[delta] = params[internal] * values[f_max]
         return values
 
-    def _time_force(self, values, n, rec):
+    def _time_force(self, values, c, rec):
+        if c.biaxial:
+            fx, fy = simulate_record_force(
+                values, rec["time"], rec["ux"], rec["load"], velocity=rec["velocity"],
+                uy=rec["uy"], velocity_y=rec["velocity_y"], use_breakaway=self.use_breakaway,
+                interfaces_in_parallel=c.interfaces_in_parallel,
+                interfaces_in_series=c.interfaces_in_series, park_elements=c.park_elements)
+            return jnp.concatenate([fx, fy])
         return simulate_record_force(
-            values, rec["time"], rec["ux"], rec["load"], z0=rec["z0"],
-            z_peak0=rec["z_peak0"], use_breakaway=self.use_breakaway, n_interfaces=n)
+            values, rec["time"], rec["ux"], rec["load"], velocity=rec["velocity"],
+            z0=rec["z0"], z_peak0=rec["z_peak0"], use_breakaway=self.use_breakaway,
+            interfaces_in_parallel=c.interfaces_in_parallel,
+            interfaces_in_series=c.interfaces_in_series)
 
     def forces(self, params, args):
+        """Model force of every record: fx (n,), (fx, fy) stacked (2n,) for biaxial ones, or
+        the force at the digitised points."""
         from ._digitised import digitised_model_force
 
         values = self.values(params, args["fixed"])
         return [
-            self._time_force(values, n, rec) if kind == "time"
-            else digitised_model_force(values, rec, use_breakaway=self.use_breakaway, n_interfaces=n)
-            for kind, n, rec in zip(self.kinds, self.n_interfaces, args["records"])
+            self._time_force(values, c, rec) if c.kind == "time"
+            else digitised_model_force(values, rec, use_breakaway=self.use_breakaway, config=c)
+            for c, rec in zip(self.configs, args["records"])
         ]
 
     def __call__(self, params, args):
@@ -59,10 +77,10 @@ class BearingModel(eqx.Module):
 
         values = self.values(params, args["fixed"])
         out = []
-        for kind, n, rec in zip(self.kinds, self.n_interfaces, args["records"]):
-            if kind == "time":
-                out.append((self._time_force(values, n, rec) - rec["fx"]) * rec["weight"])
+        for c, rec in zip(self.configs, args["records"]):
+            if c.kind == "time":
+                out.append((self._time_force(values, c, rec) - rec["fx"]) * rec["weight"])
             else:
                 out.append(digitised_residual(values, rec, use_breakaway=self.use_breakaway,
-                                              n_interfaces=n))
+                                              config=c))
         return jnp.concatenate(out)

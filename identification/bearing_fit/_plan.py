@@ -16,8 +16,13 @@ from ..least_squares import (
     correlation_from_covariance,
     covariance_from_jacobian,
 )
-from ._loop_features import _MIN_ELASTIC_SAMPLES, PreparedRecord, _forward_velocity
-from ._model import PARAMETER_NAMES, PARAMETER_UNITS
+from ._loop_features import _MIN_ELASTIC_SAMPLES, PreparedRecord
+from ._model import PARAMETER_NAMES, PARAMETER_UNITS, RATIO_PAIRS
+from ._record_force import PERPENDICULAR_NAMES
+
+RELATIVE_ERROR_LIMIT = 0.5
+"""A free parameter whose standard error exceeds this fraction of its value is reported as
+poorly determined, and the fit is not clean."""
 
 # ---------------------------------------------------------------------------------------------
 # Results
@@ -48,6 +53,10 @@ class BearingFit:
     - `converged`, `message`, `n_steps`: status of the optimistix solve.
     - `nrmse`: over all records; `records`: per-record metrics and loops.
     - `warnings`: identifiability and fit-quality warnings (text).
+    - `clean`: True only for a converged fit in which every free parameter is identifiable,
+      has a relative standard error at most `RELATIVE_ERROR_LIMIT` (50 %) and is off its
+      bounds, and no record or plan warning applies; high correlations alone (with small
+      standard errors) are reported in `warnings` but leave the fit clean.
     - `start`: the start that won the multi-start; `n_starts`.
     """
 
@@ -64,6 +73,7 @@ class BearingFit:
     warnings: list
     start: dict
     n_starts: int
+    clean: bool = False
 
     def to_json_dict(self) -> dict:
         """The JSON report of the CLI (SI units)."""
@@ -88,6 +98,7 @@ class BearingFit:
                 for r in self.records
             ],
             "converged": bool(self.converged),
+            "clean": self.clean,
             "message": self.message,
             "n_steps": int(self.n_steps),
             "warnings": list(self.warnings),
@@ -128,6 +139,7 @@ def _plan(prepared: Sequence[PreparedRecord], free, fixed, initial, bounds):
     _check_names(bounds, "bounds")
     warnings = []
     first_motion = any(p.first_motion for p in prepared)
+    biaxial = any(p.biaxial for p in prepared)
     coarse = all(p.elastic_samples < _MIN_ELASTIC_SAMPLES for p in prepared)
     explicit = free is not None
     if free is None:
@@ -143,6 +155,8 @@ def _plan(prepared: Sequence[PreparedRecord], free, fixed, initial, bounds):
                 free.append("yield_disp")
         if first_motion and "breakaway_ratio" not in fixed:
             free.append("breakaway_ratio")
+        if biaxial:
+            free += list(PERPENDICULAR_NAMES)
         free = [n for n in free if n not in fixed]
     free = tuple(free)
     _check_names(free, "free")
@@ -156,6 +170,11 @@ def _plan(prepared: Sequence[PreparedRecord], free, fixed, initial, bounds):
             warnings.append(
                 "breakaway_ratio: not identifiable; no record starts from rest (no first "
                 "excursion), and b of Eq. 17 acts only there.")
+        perpendicular = [n for n in PERPENDICULAR_NAMES if n in free]
+        if perpendicular and not biaxial:
+            raise ValueError(
+                f"free: {', '.join(perpendicular)} need a biaxial record (ux, uy, fx, fy); "
+                "uniaxial records slide along x only.")
         if "yield_disp" in free and coarse:
             warnings.append(
                 "yield_disp: not identifiable; the sampling is too coarse to see the elastic "
@@ -170,14 +189,25 @@ def _plan(prepared: Sequence[PreparedRecord], free, fixed, initial, bounds):
     values.update({k: float(v) for k, v in fixed.items()})
     if "breakaway_ratio" not in free and "breakaway_ratio" not in fixed:
         values["breakaway_ratio"] = None
+    anisotropic = any(n in free or n in fixed for n in PERPENDICULAR_NAMES)
+    if anisotropic:
+        missing = [n for n in PERPENDICULAR_NAMES if n not in free and n not in fixed]
+        if missing:
+            raise ValueError(
+                f"{', '.join(missing)}: the perpendicular constants go together; free or fix "
+                "all three (or none, for an isotropic bearing).")
+    for name in PERPENDICULAR_NAMES:
+        values.setdefault(name, values[name.removesuffix("_perpendicular")])
+        start.setdefault(name, start[name.removesuffix("_perpendicular")])
     if "yield_disp" not in free and "yield_disp" not in fixed:
         values["yield_disp"] = float(DEFAULT_YIELD_DISP)
     for key in ("f_max", "delta_f", "rate_a", "yield_disp"):
         if key not in free and key not in fixed and key != "yield_disp":
             raise ValueError(
                 f"{key}: not free, so give its value in fixed= (or --fixed).")
-    if "f_max" in free and "delta_f" not in free and values["delta_f"] >= start["f_max"]:
-        start["f_max"] = 1.5 * values["delta_f"]
+    for delta, f_max, _ in RATIO_PAIRS:
+        if f_max in free and delta not in free and values[delta] >= start[f_max]:
+            start[f_max] = 1.5 * values[delta]
 
     # identifiability of rate_a from the speeds of the time records
     rate = values["rate_a"] if "rate_a" not in free else start["rate_a"]
@@ -197,45 +227,51 @@ def _plan(prepared: Sequence[PreparedRecord], free, fixed, initial, bounds):
                 f"hardly varies ({v_low:.3g} to {v_high:.3g} m/s).")
 
     use_breakaway = values["breakaway_ratio"] is not None
+    values["anisotropic"] = anisotropic
     return free, values, start, warnings, use_breakaway
 
 
 _DEFAULT_BOUNDS = {
     "f_max": (0.0, math.inf), "rate_a": (0.0, math.inf), "yield_disp": (0.0, math.inf),
     "breakaway_ratio": (1.0, math.inf),
+    "f_max_perpendicular": (0.0, math.inf), "rate_a_perpendicular": (0.0, math.inf),
 }
 
 
 def _internal(free, values, start, bounds):
     """Internal names, bounds, and a function start -> internal start."""
     bounds = dict(bounds or {})
-    ratio = "delta_f" in free
+    ratio = any(delta in free for delta, _, _ in RATIO_PAIRS)
+    pairs = {delta: (f_max, internal) for delta, f_max, internal in RATIO_PAIRS}
     names, internal_bounds = [], {}
     for name in free:
-        if name == "delta_f":
-            names.append("delta_ratio")
+        if name in pairs:
+            f_max, internal = pairs[name]
+            names.append(internal)
             lo, hi = 0.0, 1.0
-            if "delta_f" in bounds:
-                if "f_max" in free:
+            if name in bounds:
+                if f_max in free:
                     raise ValueError(
-                        "bounds['delta_f']: cannot bound delta_f while f_max is free (delta_f "
-                        "is kept between 0 and f_max); bound f_max instead or fix it.")
-                f = values["f_max"]
-                lo, hi = max(bounds["delta_f"][0] / f, 0.0), min(bounds["delta_f"][1] / f, 1.0)
-            internal_bounds["delta_ratio"] = (lo, hi)
+                        f"bounds['{name}']: cannot bound {name} while {f_max} is free ({name} "
+                        f"is kept between 0 and {f_max}); bound {f_max} instead or fix it.")
+                f = values[f_max]
+                lo, hi = max(bounds[name][0] / f, 0.0), min(bounds[name][1] / f, 1.0)
+            internal_bounds[internal] = (lo, hi)
         else:
             names.append(name)
             lo, hi = bounds.get(name, _DEFAULT_BOUNDS[name])
-            if name == "f_max" and "delta_f" not in free:
-                lo = max(lo, values["delta_f"])
+            delta = name.replace("f_max", "delta_f")
+            if name in ("f_max", "f_max_perpendicular") and delta not in free:
+                lo = max(lo, values[delta])
             internal_bounds[name] = (lo, hi)
 
     def to_internal(s):
         out = {}
         for name in free:
-            if name == "delta_f":
-                f = s["f_max"] if "f_max" in free else values["f_max"]
-                out["delta_ratio"] = s["delta_f"] / f
+            if name in pairs:
+                f_max, internal = pairs[name]
+                f = s[f_max] if f_max in free else values[f_max]
+                out[internal] = s[name] / f
             else:
                 out[name] = s[name]
         return out
@@ -260,12 +296,18 @@ def _multi_starts(start, free, n_starts):
                 s[k] = s[k] * m
         if s["delta_f"] >= 0.97 * s["f_max"]:
             s["delta_f"] = 0.9 * s["f_max"]
+        for k, m in f.items():
+            if k in ("delta_f", "rate_a") and f"{k}_perpendicular" in s:
+                s[f"{k}_perpendicular"] = start[f"{k}_perpendicular"] * m
+        if s["delta_f_perpendicular"] >= 0.97 * s["f_max_perpendicular"]:
+            s["delta_f_perpendicular"] = 0.9 * s["f_max_perpendicular"]
         starts.append(s)
     return starts
 
 
 def _fixed_tree(values):
-    return {k: jnp.asarray(1.0 if v is None else v, dtype=float) for k, v in values.items()}
+    return {k: jnp.asarray(1.0 if v is None else v, dtype=float) for k, v in values.items()
+            if k in PARAMETER_NAMES}
 
 
 def _pad(arrays, length):
@@ -279,6 +321,7 @@ def _pad(arrays, length):
     out["time"] = np.concatenate([arrays["time"], arrays["time"][-1] + dt * np.arange(1, extra + 1)])
     for key in ("ux", "fx", "load"):
         out[key] = np.concatenate([arrays[key], np.full(extra, arrays[key][-1])])
+    out["velocity"] = np.concatenate([arrays["velocity"], np.zeros(extra)])
     out["weight"] = np.concatenate([arrays["weight"], np.zeros(extra)])
     return out
 
@@ -303,13 +346,18 @@ def _user_jacobian(model, x, names, args):
 def _finish(prepared, model_user, free, values, raw: LeastSquaresResult, args, warnings, start,
             n_starts):
     """Standard errors in the user's parameters, residual metrics and warnings."""
-    estimate = dict(values)
+    estimate = {k: v for k, v in values.items() if k in PARAMETER_NAMES}
+    pairs = {delta: (f_max, internal) for delta, f_max, internal in RATIO_PAIRS}
     for name in free:
-        if name == "delta_f":
-            estimate["delta_f"] = raw.parameters["delta_ratio"] * (
-                raw.parameters["f_max"] if "f_max" in free else values["f_max"])
+        if name in pairs:
+            f_max, internal = pairs[name]
+            estimate[name] = raw.parameters[internal] * (
+                raw.parameters[f_max] if f_max in free else values[f_max])
         else:
             estimate[name] = raw.parameters[name]
+    if not model_user.anisotropic:
+        for name in PERPENDICULAR_NAMES:
+            estimate.pop(name, None)
     x = jnp.asarray([estimate[n] for n in free])
     jac, forces = _user_jacobian(model_user, x, free, args)
     jac = np.asarray(jac)
@@ -320,15 +368,22 @@ def _finish(prepared, model_user, free, values, raw: LeastSquaresResult, args, w
     for i, name in enumerate(free):
         if not np.isfinite(std[i]):
             warnings.append(f"{name}: not identifiable from these records (singular Jacobian).")
+        elif std[i] > RELATIVE_ERROR_LIMIT * abs(estimate[name]):
+            warnings.append(
+                f"{name}: poorly determined; standard error {std[i]:.3g} is "
+                f"{std[i] / max(abs(estimate[name]), 1e-300):.0%} of the estimate "
+                f"{estimate[name]:.4g} (limit {RELATIVE_ERROR_LIMIT:.0%}).")
     corr = correlation_from_covariance(cov)
+    notes = []
     for i in range(len(free)):
         for j in range(i + 1, len(free)):
             if np.isfinite(corr[i, j]) and abs(corr[i, j]) > 0.99:
-                warnings.append(
+                notes.append(
                     f"{free[i]}, {free[j]}: correlation {corr[i, j]:.3f}; the records hardly "
                     "separate them.")
-    if "delta_f" in free and raw.parameters["delta_ratio"] > 0.995:
-        warnings.append("delta_f: at its bound (f_max - delta_f -> 0).")
+    for delta, f_max, internal in RATIO_PAIRS:
+        if delta in free and raw.parameters[internal] > 0.995:
+            warnings.append(f"{delta}: at its bound ({f_max} - {delta} -> 0).")
     if "breakaway_ratio" in free and estimate["breakaway_ratio"] < 1.005:
         warnings.append("breakaway_ratio: at its lower bound 1.")
     if not raw.converged:
@@ -341,7 +396,9 @@ def _finish(prepared, model_user, free, values, raw: LeastSquaresResult, args, w
         total_res += float(np.sum(r**2))
         total_meas += float(np.sum(p.measured**2))
         if p.kind == "time":
-            v = _forward_velocity(p.time, p.ux)
+            v = np.asarray(p.velocity)
+            if p.biaxial:
+                v = np.concatenate([v, np.asarray(p.arrays["velocity_y"])])
         else:
             v = p.arrays["branch"]
         pos, neg = r[v > 0], r[v < 0]
@@ -354,6 +411,7 @@ def _finish(prepared, model_user, free, values, raw: LeastSquaresResult, args, w
             mean_residual_negative=float(neg.mean()) if neg.size else float("nan"),
         ))
         warnings.extend(f"{p.name}: {w}" for w in p.warnings)
+    clean = bool(raw.converged and not warnings)
     message = raw.message
     return BearingFit(
         parameters={k: (None if v is None else float(v)) for k, v in estimate.items()},
@@ -366,7 +424,8 @@ def _finish(prepared, model_user, free, values, raw: LeastSquaresResult, args, w
         cost=raw.cost,
         nrmse=float(math.sqrt(total_res / total_meas)),
         records=records,
-        warnings=warnings,
+        warnings=warnings + notes,
         start=start,
         n_starts=n_starts,
+        clean=clean,
     )

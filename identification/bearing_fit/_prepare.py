@@ -4,16 +4,16 @@
 import numpy as np
 
 from teflon_jax.bearing import DEFAULT_YIELD_DISP
-from teflon_jax.formats import TestRecord
+from teflon_jax.formats import TestRecord, interface_counts
 
 from ._loop_features import (
     _ZERO_CROSSING,
     PreparedRecord,
     _excursion,
-    _forward_velocity,
     _friction_law_start,
     _reversals,
 )
+from ._record_force import PERPENDICULAR_NAMES, park_substeps, sample_velocity
 
 
 def _record_name(record: TestRecord, index: int) -> str:
@@ -35,10 +35,10 @@ def _normal_load(record: TestRecord, name: str, normal_load) -> np.ndarray:
     return np.full(record.ux.shape, float(value))
 
 
-def _features_time(time, ux, fx, load, n_interfaces, name, yield_ref):
-    """Loop features of a time history: starts, first motion, identifiability numbers."""
-    v = _forward_velocity(time, ux)
-    speed = np.abs(v) / n_interfaces
+def _features_time(time, ux, fx, load, velocity, series, name, yield_ref):
+    """Loop features of a time history (x direction): starts, first motion, identifiability."""
+    v = velocity
+    speed = np.abs(v) / series
     reversals = _reversals(ux)
     excursion = _excursion(ux, reversals)
     stroke = float(np.ptp(ux))
@@ -112,12 +112,7 @@ def prepare_record(record: TestRecord, *, index: int = 0, normal_load=None,
     from ._digitised import prepare_digitised
 
     name = _record_name(record, index)
-    if record.is_biaxial:
-        raise ValueError(
-            f"{name}: biaxial records (with 'uy') are not supported by the fitter yet; "
-            f"fit a uniaxial test (ux, fx)."
-        )
-    n_interfaces = int(record.metadata.get("interfaces", 1))
+    parallel, series = interface_counts(record.metadata)
     load = _normal_load(record, name, normal_load)
     if np.any(load <= 0):
         i = int(np.argmax(load <= 0))
@@ -125,24 +120,66 @@ def prepare_record(record: TestRecord, *, index: int = 0, normal_load=None,
                          f"{load[i]} N.")
     yield_ref = float(DEFAULT_YIELD_DISP) if yield_ref is None else float(yield_ref)
     if record.is_digitised:
-        return prepare_digitised(record, name=name, load=load, n_interfaces=n_interfaces,
-                                 yield_ref=yield_ref)
+        if record.is_biaxial:
+            raise ValueError(f"{name}: digitised biaxial loops are not supported; give the "
+                             "time history (time, ux, uy, fx, fy).")
+        return prepare_digitised(record, name=name, load=load, parallel=parallel,
+                                 series=series, yield_ref=yield_ref)
     if record.ux.size < 10:
         raise ValueError(f"{name}: only {record.ux.size} samples; a fit needs a full loop.")
+    if record.is_biaxial:
+        return _prepare_biaxial(record, name, load, parallel, series, yield_ref)
     time, ux, fx = (np.asarray(x, dtype=float) for x in (record.time, record.ux, record.fx))
-    feats = _features_time(time, ux, fx, load, n_interfaces, name, yield_ref)
+    velocity = sample_velocity(time, ux)
+    feats = _features_time(time, ux, fx / parallel, load, velocity, series, name, yield_ref)
     scale = float(np.sqrt(np.mean(fx**2)))
     arrays = dict(
-        time=time, ux=ux, fx=fx, load=load, weight=np.ones_like(time) / scale,
+        time=time, ux=ux, fx=fx, load=load, velocity=velocity, weight=np.ones_like(time) / scale,
         z0=np.asarray(feats["z0"]), z_peak0=np.asarray(0.0 if feats["first_motion"] else 1.0),
     )
-    warnings = []
-    prepared = PreparedRecord(
+    return PreparedRecord(
         name=name, kind="time", arrays=arrays, first_motion=feats["first_motion"],
-        start=feats["start"], warnings=warnings, elastic_samples=feats["elastic"],
-        n_interfaces=n_interfaces, measured=fx, ux=ux, time=time,
+        start=feats["start"], warnings=[], elastic_samples=feats["elastic"],
+        measured=fx, ux=ux, time=time, interfaces_in_parallel=parallel,
+        interfaces_in_series=series, velocity=velocity,
+        speed_low=feats["speed_low"], speed_high=feats["speed_high"],
     )
-    prepared.speed_low = feats["speed_low"]
-    prepared.speed_high = feats["speed_high"]
-    return prepared
+
+
+def _prepare_biaxial(record, name, load, parallel, series, yield_ref):
+    """A biaxial time history (ux, uy, fx, fy): the residual stacks fx and fy."""
+    if record.fy is None:
+        raise ValueError(f"{name}: the record has 'uy' but no 'fy'; a biaxial fit needs both.")
+    time, ux, uy, fx, fy = (np.asarray(x, dtype=float) for x in
+                            (record.time, record.ux, record.uy, record.fx, record.fy))
+    vx, vy = sample_velocity(time, ux), sample_velocity(time, uy)
+    # Start values from the x direction, then Eq. 1 fitted separately near each axis.
+    feats = _features_time(time, ux, fx / parallel, load, vx, series, name, yield_ref)
+    speed = np.hypot(vx, vy) / series
+    moving = speed > 0
+    along = np.where(moving, (fx * vx + fy * vy) / np.where(moving, np.hypot(vx, vy), 1.0), 0.0)
+    mu = along / (load * parallel)
+    weight = np.arctan2(np.abs(vy), np.abs(vx)) / (np.pi / 2)
+    start = dict(feats["start"])
+    sliding = moving & (np.hypot(fx, fy) > 0.5 * np.percentile(np.hypot(fx, fy), 90))
+    for names, near in ((("f_max", "delta_f", "rate_a"), weight < 0.35),
+                        (PERPENDICULAR_NAMES, weight > 0.65)):
+        use = sliding & near
+        if np.count_nonzero(use) >= 10:
+            start.update(zip(names, _friction_law_start(speed[use], mu[use])))
+        else:
+            start.update(zip(names, (start["f_max"], start["delta_f"], start["rate_a"])))
+    measured = np.concatenate([fx, fy])
+    scale = float(np.sqrt(np.mean(measured**2)))
+    arrays = dict(time=time, ux=ux, uy=uy, fx=measured, load=load, velocity=vx, velocity_y=vy,
+                  weight=np.ones_like(measured) / scale)
+    return PreparedRecord(
+        name=name, kind="time", arrays=arrays, first_motion=feats["first_motion"],
+        start=start, warnings=[], elastic_samples=feats["elastic"],
+        measured=measured, ux=ux, time=time, interfaces_in_parallel=parallel,
+        interfaces_in_series=series, biaxial=True,
+        park_elements=park_substeps(ux, uy, start["yield_disp"]), velocity=vx,
+        speed_low=float(np.percentile(speed[sliding], 5)),
+        speed_high=float(np.percentile(speed[sliding], 95)),
+    )
 

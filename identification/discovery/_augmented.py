@@ -1,8 +1,11 @@
 """The augmented bearing-test simulator: the 1990 model plus any set of candidate effects.
 
 The imposed displacement of a test record drives the model sample by sample (one step per
-record sample). Z follows the closed-form Riccati update of Bouc-Wen along each monotone
-increment (`bouc_wen_exact_update`, exact for rate-independent Z), the running max |Z| decides
+record sample), with the force model and the velocity convention of the fitter
+(`identification.bearing_fit.simulate_record_force`): Z follows the closed-form Riccati update
+of Bouc-Wen along each increment (`bouc_wen_exact_update`, the simulator's step), or for
+biaxial records Park et al.'s equations along the path (`park_path_update`); the velocity at a
+sample is `sample_velocity` (second-order central differences); the running max |Z| decides
 the breakaway switch of Eq. 17, and the surface temperature of the steel is carried as a sum
 of exponential states (see `identification._effects.heat_kernel_exponentials`). The whole
 simulation is one `jax.lax.scan`: jittable, vmappable and differentiable in every parameter.
@@ -21,8 +24,11 @@ import jax.numpy as jnp
 import numpy as np
 
 from teflon_jax import BoucWen, bouc_wen_exact_update
+from teflon_jax.bearing import DEFAULT_YIELD_DISP
+from teflon_jax.formats import interface_counts
 from teflon_jax.units import PSI
 
+from ..bearing_fit import park_path_update, park_substeps, sample_velocity
 from ._effects import (
     BASELINE_PARAMETERS,
     EFFECT_NAMES,
@@ -56,9 +62,11 @@ class AugmentedData(eqx.Module):
 
     Arrays have one entry per retained sample. Fields:
     `time` [s], `ux` [m], `force` measured fx [N], `du` increment from the previous sample [m]
-    (0 at the first), `velocity` [m/s] (central differences), `mean_speed` |du|/dt over the
-    interval ending at each sample [m/s], `normal` effective normal force [N] (normal load
-    times the number of interfaces recorded together), `pressure` contact pressure [Pa],
+    (0 at the first), `velocity` [m/s] (`sample_velocity`), `mean_speed` |du|/dt over the
+    interval ending at each sample [m/s] (the travel per interval, for the heat input only),
+    `normal` effective normal force [N] (normal load times `interfaces_in_parallel`),
+    `series` the record's `interfaces_in_series` (Eq. 1 at |v| / series while the
+    `interfaces` effect is off), `pressure` contact pressure [Pa],
     `log_load_ratio` log(N / mean N), `travel_fraction` accumulated |du| over its final value,
     `heat_rates`, `heat_weights`: the exponential approximation of the 1/sqrt(t) kernel;
     for biaxial records also `uy`, `force_y`, `du_y`, `velocity_y` and the sliding-angle
@@ -83,7 +91,9 @@ class AugmentedData(eqx.Module):
     du_y: jnp.ndarray
     velocity_y: jnp.ndarray
     angle_weight: jnp.ndarray
+    series: jnp.ndarray = 1.0
     biaxial: bool = eqx.field(static=True, default=False)
+    park_elements: int = eqx.field(static=True, default=16)
 
     @property
     def n_samples(self) -> int:
@@ -94,13 +104,15 @@ class AugmentedData(eqx.Module):
 class RecordInfo:
     """What `prepare_record` decided about a record (for reports).
 
-    `decimation` (every k-th sample kept), `n_interfaces_recorded` (forces added),
+    `decimation` (every k-th sample kept), `n_interfaces_recorded` (`interfaces_in_parallel`:
+    forces added), `n_interfaces_in_series` (`interfaces_in_series`),
     `contact_area_assumed` (True when the heating effect uses `NOMINAL_CONTACT_PRESSURE`),
     `varying_normal_load` (coefficient of variation of N above 1 %), `biaxial`, `source`.
     """
 
     decimation: int
     n_interfaces_recorded: int
+    n_interfaces_in_series: int
     contact_area_assumed: bool
     varying_normal_load: bool
     biaxial: bool
@@ -154,7 +166,7 @@ def prepare_record(record, *, max_samples: int = 3000, heat_terms_per_decade: fl
             "counter-clockwise): 'fx' must be the force the bearing resists with, positive "
             "while sliding in +x (FORMATS.md); flip the sign of the force column."
         )
-    n_rec = int(record.metadata.get("interfaces", 1) or 1)
+    n_rec, n_series = interface_counts(record.metadata)
     normal = load * n_rec
 
     biaxial = record.uy is not None
@@ -169,8 +181,8 @@ def prepare_record(record, *, max_samples: int = 3000, heat_terms_per_decade: fl
     dt = np.concatenate([[np.inf], np.diff(time)])
     step_length = np.hypot(du, du_y)
     mean_speed = step_length / dt
-    velocity = np.gradient(ux, time)
-    velocity_y = np.gradient(uy, time) if biaxial else np.zeros_like(ux)
+    velocity = sample_velocity(time, ux)
+    velocity_y = sample_velocity(time, uy) if biaxial else np.zeros_like(ux)
     if biaxial:
         angle = np.arctan2(np.abs(velocity_y), np.abs(velocity))
         angle_weight = np.where(
@@ -211,11 +223,14 @@ def prepare_record(record, *, max_samples: int = 3000, heat_terms_per_decade: fl
         du_y=jnp.asarray(du_y),
         velocity_y=jnp.asarray(velocity_y),
         angle_weight=jnp.asarray(angle_weight),
+        series=jnp.asarray(float(n_series)),
         biaxial=biaxial,
+        park_elements=park_substeps(ux, uy, DEFAULT_YIELD_DISP) if biaxial else 16,
     )
     info = RecordInfo(
         decimation=step,
         n_interfaces_recorded=n_rec,
+        n_interfaces_in_series=n_series,
         contact_area_assumed=assumed,
         varying_normal_load=bool(np.std(load) > 0.01 * np.mean(load)),
         biaxial=biaxial,
@@ -260,8 +275,8 @@ def simulate_augmented(
     - `active`: 0/1 array over `EFFECT_NAMES` (see `active_mask`).
     - `conductivity` [W/(m K)], `diffusivity` [m^2/s] of the steel (defaults: stainless steel).
 
-    Biaxial records: Z is a vector updated by `planar_exact_update`, mu uses the speed of the
-    path in the plane and F = mu N Z per component.
+    Biaxial records: Z is a vector following Park et al. along the path (`park_path_update`,
+    as in the fitter), mu uses the speed of the path in the plane and F = mu N Z per component.
 
     **Returns:** dict of arrays over the samples: `force` [N] along x, `force_y` [N] (zeros for
     uniaxial records), `coefficient` mu [-], `z` [-] (x component), `z_y`,
@@ -276,7 +291,7 @@ def simulate_augmented(
     )
     hyst = BoucWen(yield_disp=p["yield_disp"])
 
-    n_stack = jnp.where(on["interfaces"] > 0, p["n_interfaces"], 1.0)
+    n_stack = jnp.where(on["interfaces"] > 0, p["n_interfaces"], data.series)
     delta_f = on["velocity_dependence"] * p["delta_f"]
     speed = jnp.sqrt(data.velocity**2 + data.velocity_y**2)
     mu_v = p["f_max"] - delta_f * jnp.exp(-p["rate_a"] * speed / n_stack)
@@ -297,7 +312,8 @@ def simulate_augmented(
         z, z_peak, heat, mu_prev = carry
         du, dt, mean_speed, pressure, mu_v_i, factor_i, normal = x
         if data.biaxial:
-            z = planar_exact_update(hyst, z, du)
+            p0, p1, m0, m1 = du
+            z = park_path_update(hyst, z, p0, p1, m0, m1, data.park_elements)
             z_peak = jnp.maximum(z_peak, jnp.sqrt(jnp.sum(z**2)))
         else:
             z = bouc_wen_exact_update(hyst, z, du)
@@ -312,7 +328,15 @@ def simulate_augmented(
         return (z, z_peak, heat, mu), (mu * normal * z, mu, z, z_peak, rise, heat_index)
 
     z0 = jnp.zeros(2) if data.biaxial else jnp.zeros(())
-    du = jnp.stack([data.du, data.du_y], axis=-1) if data.biaxial else data.du
+    if data.biaxial:
+        # Path from the previous sample to this one (none before the first: dts[0] = 0).
+        position = jnp.stack([data.ux, data.uy], axis=-1)
+        velocity = jnp.stack([data.velocity, data.velocity_y], axis=-1)
+        previous = jnp.concatenate([position[:1], position[:-1]])
+        previous_velocity = jnp.concatenate([velocity[:1], velocity[:-1]])
+        du = (previous, position, previous_velocity * dts[:, None], velocity * dts[:, None])
+    else:
+        du = data.du
     init = (z0, jnp.zeros(()), jnp.zeros_like(rates), jnp.zeros(()))
     xs = (du, dts, data.mean_speed, data.pressure, mu_v, factor, data.normal)
     _, (force, mu, z, z_peak, rise, heat_index) = jax.lax.scan(step, init, xs)

@@ -22,7 +22,9 @@ def add_fit_parser(subparsers) -> argparse.ArgumentParser:
     parser = subparsers.add_parser("fit", help=FIT_HELP, description=FIT_HELP + (
         ". Several records are fitted jointly (one parameter set). Records are test-record "
         "CSV files (FORMATS.md) or friction-damper JSON files."))
-    parser.add_argument("records", nargs="+", metavar="RECORD", help="test record files")
+    parser.add_argument("records", nargs="+", metavar="RECORD",
+                        help="test record files (uniaxial, or biaxial ux, uy, fx, fy: then the "
+                             "constants perpendicular to the lay are fitted too)")
     parser.add_argument("--free", default=None,
                         help="comma-separated parameters to fit (default: f_max, delta_f, "
                              "rate_a, yield_disp, and breakaway_ratio when the record starts "
@@ -100,7 +102,9 @@ def run_fit(args) -> int:
     for warning in fit.warnings:
         print(f"teflon-jax fit: warning: {warning}", file=sys.stderr)
     summary = ", ".join(_shown(k, fit.parameters[k], fit.std_errors[k], us) for k in fit.free)
-    print(f"{summary}; nrmse = {fit.nrmse:.4f} [-]; {fit.message}", file=sys.stderr)
+    status = "clean" if fit.clean else (
+        f"NOT CLEAN ({len(fit.warnings)} warning(s) above)" if fit.converged else "NOT CONVERGED")
+    print(f"{summary}; nrmse = {fit.nrmse:.4f} [-]; {fit.message}; {status}", file=sys.stderr)
     return 0 if fit.converged else 1
 
 
@@ -108,6 +112,6 @@ def _shown(name, value, error, us):
     """`name = value +- error unit` in the family chosen by --units."""
     unit, factor = {"length": ("in", INCH) if us else ("mm", 1e-3),
                     "slowness": ("s/in", 1 / INCH) if us else ("s/m", 1.0)}.get(
-        PARAMETER_DIMENSIONS.get(name), ("", 1.0))
+        PARAMETER_DIMENSIONS.get(name.removesuffix("_perpendicular")), ("", 1.0))
     error = float("nan") if error is None else error
     return f"{name} = {value / factor:.5g} +- {error / factor:.2g}{' ' + unit if unit else ''}"

@@ -40,7 +40,8 @@ def add_simulate_parser(subparsers) -> None:
                  "x area of a 10 in diameter contact)", minimum=0.0)
     p.add_argument("--breakaway", default=None, help="breakaway ratio b of Eq. 17 (>= 1), or 'table' "
                    "for Table 1's b (default: no breakaway)")
-    p.add_argument("--interfaces", type=int, default=1, help="number of interfaces in the stack (default 1)")
+    p.add_argument("--interfaces-in-series", dest="interfaces", type=int, default=1,
+                   help="number of sliding interfaces stacked in series, sharing the motion (default 1)")
     add_quantity(p, "--yield-disp", "length", "0.005in", "Bouc-Wen yield displacement Y", minimum=0.0)
     p.add_argument("--anisotropic", action="store_true", help="eight pattern: use the T row of "
                    "Table 1 for sliding along y and interpolate in the sliding angle")
@@ -81,7 +82,7 @@ def build_test(args):
         f"{float(breakaway):.3g}" + (" (Table 1)" if args.breakaway == "table" else ""))
     yield_disp = args.yield_disp
     if args.interfaces < 1:
-        raise ValueError(f"--interfaces: must be an integer >= 1, got {args.interfaces}.")
+        raise ValueError(f"--interfaces-in-series: must be an integer >= 1, got {args.interfaces}.")
     bearing = tj.paper_bearing(friction, yield_disp=yield_disp, breakaway_ratio=breakaway,
                                friction_perpendicular=perpendicular, n_interfaces=args.interfaces)
     area = np.pi * DEFAULT_DIAMETER**2 / 4
@@ -96,7 +97,7 @@ def build_test(args):
         "ptfe": ptfe,
         "direction": direction,
         "contact_area": area,
-        "interfaces": args.interfaces,
+        "interfaces_in_series": args.interfaces,
         "source": "teflon-jax simulate-test; model of Constantinou, Mokha & Reinhorn (1990)",
     }
     return bearing, motion, normal_load, metadata

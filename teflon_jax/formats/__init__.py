@@ -9,7 +9,9 @@ from ._external import external_data_dir as external_data_dir
 from ._external import load_record as load_record
 from ._protocol import Protocol as Protocol
 from ._protocol import parse_protocol as parse_protocol
+from ._test_record import INTERFACE_KEYS as INTERFACE_KEYS
 from ._test_record import TestRecord as TestRecord
+from ._test_record import interface_counts as interface_counts
 from ._test_record import test_record_from_arrays as test_record_from_arrays
 from ._test_record_csv import read_test_record as read_test_record
 from ._test_record_csv import write_test_record as write_test_record

@@ -6,6 +6,7 @@ import re
 
 import numpy as np
 
+from ..excitation import FigureEightMotion, SineMotion, TriangleMotion
 from ..units import parse_quantity, unit_factor
 
 PROTOCOL_PATTERNS = ("sine", "triangle", "eight")
@@ -20,13 +21,14 @@ class Protocol:
 
     Text form: `<pattern> amplitude=<length> frequency=<frequency> [cycles=<number>]`, for
     example `sine amplitude=1 in frequency=0.16 Hz cycles=3` (test No. 62 of Constantinou,
-    Mokha & Reinhorn 1990). Patterns, with `w = 2 pi frequency` and `U0 = amplitude`:
+    Mokha & Reinhorn 1990). Each pattern is one of the simulator's imposed motions
+    (`Protocol.motion`), so a protocol line and a simulated test mean the same displacement:
 
-    - `sine`: `ux = U0 sin(w t)`;
-    - `triangle`: a triangular wave of the same amplitude and period, starting at zero and
-      moving towards +x (constant velocity `4 U0 frequency` between reversals);
-    - `eight`: the figure-eight orbit `ux = U0 sin(w t)`, `uy = U0 sin(2 w t)` (Figs. 5-6 of
-      the paper).
+    - `sine`: `teflon_jax.excitation.SineMotion`, `ux = U0 sin(2 pi frequency t)`;
+    - `triangle`: `TriangleMotion`, the triangular wave of the same amplitude and period,
+      starting at zero towards +x;
+    - `eight`: `FigureEightMotion`, `ux = U0 sin(w t)`, `uy = U0 sin(2 w t)` with
+      `w = 2 pi frequency` (Eq. 16; Figs. 5-6 of the paper).
 
     **Fields:**
 
@@ -73,22 +75,24 @@ class Protocol:
         """`cycles / frequency` [s], or `None` when the number of cycles is not stated."""
         return None if self.cycles is None else self.cycles / self.frequency
 
-    def displacement(self, time) -> tuple[np.ndarray, np.ndarray | None]:
-        """Imposed displacement at `time` [s].
+    def motion(self, *, default_cycles: float = 3.0):
+        """The protocol as the simulator's motion (`SineMotion`, `TriangleMotion` or
+        `FigureEightMotion`), with `default_cycles` when the line states no `cycles`."""
+        cycles = self.cycles if self.cycles is not None else float(default_cycles)
+        if self.pattern == "sine":
+            return SineMotion(self.amplitude, self.frequency, cycles=cycles)
+        if self.pattern == "triangle":
+            return TriangleMotion(self.amplitude, self.frequency, cycles=cycles)
+        return FigureEightMotion(self.amplitude, 2.0 * np.pi * self.frequency, cycles=cycles)
 
-        **Returns:** `(ux, uy)` [m]; `uy` is `None` except for the `eight` pattern.
+    def displacement(self, time) -> tuple[np.ndarray, np.ndarray | None]:
+        """Imposed displacement at `time` [s], from `Protocol.motion`.
+
+        **Returns:** `(ux, uy)` [m] as numpy arrays; `uy` is `None` except for `eight`.
         """
         t = np.asarray(time, dtype=float)
-        omega = 2.0 * np.pi * self.frequency
-        if self.pattern == "triangle":
-            # Triangle wave of unit amplitude, phase-aligned with sin(w t).
-            phase = (self.frequency * t + 0.25) % 1.0
-            ux = self.amplitude * (1.0 - 4.0 * np.abs(phase - 0.5))
-            return ux, None
-        ux = self.amplitude * np.sin(omega * t)
-        if self.pattern == "eight":
-            return ux, self.amplitude * np.sin(2.0 * omega * t)
-        return ux, None
+        u = np.asarray(self.motion().displacement(t), dtype=float)
+        return u[0], (u[1] if self.pattern == "eight" else None)
 
     def to_text(self, length_unit: str = "in", *, digits: int = 9) -> str:
         """The `# protocol:` value, with the amplitude in `length_unit`."""

@@ -27,6 +27,7 @@ from typing import Any
 
 import numpy as np
 
+from ..tables import DIRECTIONS, PTFE_TYPES
 from ..units import UNITS
 from ._protocol import Protocol
 
@@ -60,10 +61,26 @@ _KEY_ALIASES = {"pressure": "contact_pressure"}
 _TEXT_KEYS = ("specimen", "source")
 
 
-_PTFE_TYPES = ("UF", "15GF", "25GF")
+INTERFACE_KEYS = ("interfaces_in_parallel", "interfaces_in_series")
+"""Metadata keys of specimens with several sliding interfaces (FORMATS.md): n identical
+interfaces side by side whose forces are recorded together (fx = n mu(v) N Z), or a stack of n
+sharing the motion (fx = mu(v / n) N Z). Both default to 1."""
 
 
-_DIRECTIONS = ("P", "T")
+def ambiguous_interfaces_message(where: str) -> str:
+    """The error for the bare `interfaces` key, which meant opposite things to different tools."""
+    return (
+        f"{where}: metadata 'interfaces' is ambiguous and no longer accepted; write "
+        f"'interfaces_in_parallel' (n interfaces side by side, forces recorded together: "
+        f"fx = n mu(v) N Z, the paper's two-interface rig) or 'interfaces_in_series' (a stack "
+        f"of n sharing the motion: fx = mu(v / n) N Z)."
+    )
+
+
+def interface_counts(metadata: Mapping[str, Any]) -> tuple[int, int]:
+    """`(interfaces_in_parallel, interfaces_in_series)` of a record's metadata (1 when absent)."""
+    return (int(metadata.get("interfaces_in_parallel", 1)),
+            int(metadata.get("interfaces_in_series", 1)))
 
 
 _COMMENT_KEY = "comment"
@@ -146,26 +163,27 @@ def _check_metadata(metadata: Mapping[str, Any], where: str) -> dict[str, Any]:
                 )
             value = float(value)
         elif key == "direction":
-            if value not in _DIRECTIONS:
+            if value not in DIRECTIONS:
                 raise ValueError(
                     f"{where}: metadata 'direction' must be 'P' (parallel to the lay of "
                     f"the steel) or 'T' (perpendicular), got {value!r}."
                 )
         elif key == "interfaces":
+            raise ValueError(ambiguous_interfaces_message(where))
+        elif key in INTERFACE_KEYS:
             if (
                 isinstance(value, bool)
                 or not isinstance(value, (int, np.integer))
                 or value < 1
             ):
                 raise ValueError(
-                    f"{where}: metadata 'interfaces' must be a whole number >= 1, "
-                    f"got {value!r}."
+                    f"{where}: metadata '{key}' must be a whole number >= 1, got {value!r}."
                 )
             value = int(value)
         elif key == "ptfe":
-            if value not in _PTFE_TYPES:
+            if value not in PTFE_TYPES:
                 raise ValueError(
-                    f"{where}: metadata 'ptfe' must be one of {', '.join(_PTFE_TYPES)}, "
+                    f"{where}: metadata 'ptfe' must be one of {', '.join(PTFE_TYPES)}, "
                     f"got {value!r}."
                 )
         elif key == "protocol":
@@ -178,7 +196,8 @@ def _check_metadata(metadata: Mapping[str, Any], where: str) -> dict[str, Any]:
             if not isinstance(value, str):
                 raise ValueError(
                     f"{where}: metadata '{key}' must be text, got {type(value).__name__}; "
-                    f"only {', '.join(_QUANTITY_KEYS)}, interfaces and protocol hold "
+                    f"only {', '.join(_QUANTITY_KEYS)}, {', '.join(INTERFACE_KEYS)} and "
+                    f"protocol hold "
                     f"other types."
                 )
             if "\n" in value and key != _COMMENT_KEY:
@@ -224,7 +243,8 @@ class TestRecord:
     - `metadata`: known keys in SI: `contact_area` [m^2], `normal_load` [N],
       `contact_pressure` [Pa] (the file may call it `pressure`), `direction` (`"P"` or
       `"T"`),
-      `interfaces` (int), `ptfe` (`"UF"`, `"15GF"`, `"25GF"`), `specimen`, `source` (text),
+      `interfaces_in_parallel`, `interfaces_in_series` (int; see `INTERFACE_KEYS`; the
+      bare `interfaces` is refused as ambiguous), `ptfe` (`"UF"`, `"15GF"`, `"25GF"`), `specimen`, `source` (text),
       `protocol` (`Protocol`), `comment` (text, lines joined by newlines). Unknown keys are
       kept as text; a unit they were written with stays in the key (`"speed [in/s]"`).
     - `extra_columns`: other columns, name -> array; converted to SI when their unit is

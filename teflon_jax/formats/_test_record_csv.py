@@ -9,23 +9,24 @@ from typing import Any
 
 import numpy as np
 
+from ..tables import DIRECTIONS, PTFE_TYPES
 from ..units import UNITS, parse_quantity, unit_factor
 from ._protocol import parse_protocol
 from ._test_record import (
     _COLUMN_DIMENSIONS,
     _COMMENT_KEY,
-    _DIRECTIONS,
     _KEY_ALIASES,
-    _PTFE_TYPES,
     _QUANTITY_KEYS,
     _REQUIRED_COLUMNS,
     _TEXT_KEYS,
+    INTERFACE_KEYS,
     PAPER_UNITS,
     SI_UNITS,
     TestRecord,
     _dimension_of,
     _normal_load_from_metadata,
     _si_unit,
+    ambiguous_interfaces_message,
 )
 
 _HEADER_CELL = re.compile(r"^\s*(?P<name>[^\[\]]*?)\s*(?:\[(?P<unit>[^\[\]]*)\])?\s*$")
@@ -66,11 +67,13 @@ def _parse_metadata_line(line: str, where: str, metadata: dict[str, Any]) -> Non
         or key
         in (
             "direction",
-            "interfaces",
+            *INTERFACE_KEYS,
             "ptfe",
             "protocol",
         )
     )
+    if key == "interfaces":
+        raise ValueError(ambiguous_interfaces_message(where))
     stored_key = key if known or unit is None else f"{key} [{unit}]"
     if stored_key in metadata:
         raise ValueError(f"{where}: metadata key '{key}' is given twice.")
@@ -93,23 +96,22 @@ def _parse_metadata_line(line: str, where: str, metadata: dict[str, Any]) -> Non
             raise ValueError(f"{entry}: must be positive, got {value}.")
         metadata[key] = number
     elif key == "direction":
-        if value.upper() not in _DIRECTIONS:
+        if value.upper() not in DIRECTIONS:
             raise ValueError(
                 f"{where}: metadata 'direction' must be P (sliding parallel to the lay of "
                 f"the steel) or T (perpendicular), got '{value}'."
             )
         metadata[key] = value.upper()
-    elif key == "interfaces":
+    elif key in INTERFACE_KEYS:
         if not re.fullmatch(r"\d+", value) or int(value) < 1:
             raise ValueError(
-                f"{where}: metadata 'interfaces' must be a whole number >= 1, "
-                f"got '{value}'."
+                f"{where}: metadata '{key}' must be a whole number >= 1, got '{value}'."
             )
         metadata[key] = int(value)
     elif key == "ptfe":
-        if value.upper() not in _PTFE_TYPES:
+        if value.upper() not in PTFE_TYPES:
             raise ValueError(
-                f"{where}: metadata 'ptfe' must be one of {', '.join(_PTFE_TYPES)}, "
+                f"{where}: metadata 'ptfe' must be one of {', '.join(PTFE_TYPES)}, "
                 f"got '{value}'."
             )
         metadata[key] = value.upper()
