@@ -41,6 +41,7 @@ class RecordResidual:
     time: np.ndarray | None
     mean_residual_positive: float
     mean_residual_negative: float
+    uy: np.ndarray | None = None  # biaxial records: measured and fitted stack (fx, fy)
 
 
 @dataclasses.dataclass
@@ -409,6 +410,7 @@ def _finish(prepared, model_user, free, values, raw: LeastSquaresResult, args, w
             measured=p.measured, fitted=f, ux=p.ux, time=p.time,
             mean_residual_positive=float(pos.mean()) if pos.size else float("nan"),
             mean_residual_negative=float(neg.mean()) if neg.size else float("nan"),
+            uy=p.arrays["uy"] if p.kind == "time" and p.biaxial else None,
         ))
         warnings.extend(f"{p.name}: {w}" for w in p.warnings)
     clean = bool(raw.converged and not warnings)

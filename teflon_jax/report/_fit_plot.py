@@ -14,6 +14,9 @@ _NAMES = {
     "rate_a": ("a", "slowness"),
     "yield_disp": ("Y", "length"),
     "breakaway_ratio": ("b", None),
+    "f_max_perpendicular": ("f_max (T)", None),
+    "delta_f_perpendicular": ("Df (T)", None),
+    "rate_a_perpendicular": ("a (T)", "slowness"),
 }
 
 
@@ -30,24 +33,32 @@ def plot_fit(path, fit, *, length=("in", INCH), force=("kip", KIP), title: str =
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    n = len(fit.records)
-    fig, axes = plt.subplots(2, n, figsize=(max(6.0, 5.5 * n), 7.2), squeeze=False,
-                             gridspec_kw=dict(height_ratios=[2.2, 1.0]))
-    for k, rec in enumerate(fit.records):
+    panels = []  # (record, displacement, measured, fitted, axis name)
+    for rec in fit.records:
+        measured, fitted = np.asarray(rec.measured), np.asarray(rec.fitted)
+        uy = getattr(rec, "uy", None)
+        if uy is None:
+            panels.append((rec, np.asarray(rec.ux), measured, fitted, "x"))
+            continue
+        n = np.size(rec.ux)  # biaxial: the residual stacks fx and fy
+        panels.append((rec, np.asarray(rec.ux), measured[:n], fitted[:n], "x"))
+        panels.append((rec, np.asarray(uy), measured[n:], fitted[n:], "y"))
+    fig, axes = plt.subplots(2, len(panels), figsize=(max(6.0, 5.5 * len(panels)), 7.2),
+                             squeeze=False, gridspec_kw=dict(height_ratios=[2.2, 1.0]))
+    for k, (rec, u, measured, fitted, axis) in enumerate(panels):
         top, bottom = axes[0, k], axes[1, k]
-        ux = np.asarray(rec.ux) / length[1]
-        top.plot(ux, np.asarray(rec.measured) / force[1], color="0.55", lw=1.6, label="measured")
-        top.plot(ux, np.asarray(rec.fitted) / force[1], color="k", ls="--", lw=1.0, label="fitted model")
-        top.set_xlabel(f"displacement [{length[0]}]")
-        top.set_ylabel(f"friction force [{force[0]}]")
-        top.set_title(f"{rec.name}: normalised RMS error {rec.nrmse:.3g}", fontsize=9)
+        top.plot(u / length[1], measured / force[1], color="0.55", lw=1.6, label="measured")
+        top.plot(u / length[1], fitted / force[1], color="k", ls="--", lw=1.0, label="fitted model")
+        top.set_xlabel(f"displacement u{axis} [{length[0]}]")
+        top.set_ylabel(f"friction force F{axis} [{force[0]}]")
+        top.set_title(f"{rec.name} ({axis}): normalised RMS error {rec.nrmse:.3g}", fontsize=9)
         top.legend(loc="best", fontsize=8)
         top.grid(alpha=0.3)
-        x = rec.time if rec.time is not None else np.arange(np.size(rec.measured))
-        bottom.plot(x, (np.asarray(rec.fitted) - np.asarray(rec.measured)) / force[1], color="k", lw=0.7)
+        x = rec.time if rec.time is not None else np.arange(np.size(measured))
+        bottom.plot(x, (fitted - measured) / force[1], color="k", lw=0.7)
         bottom.axhline(0.0, color="0.5", lw=0.6)
         bottom.set_xlabel("time [s]" if rec.time is not None else "point")
-        bottom.set_ylabel(f"model - measured [{force[0]}]")
+        bottom.set_ylabel(f"model - measured, F{axis} [{force[0]}]")
         bottom.grid(alpha=0.3)
     values = "; ".join(_value(name, fit, length) for name in fit.free)
     status = "converged" if fit.converged else "NOT CONVERGED"
