@@ -94,21 +94,18 @@ def test_montecarlo_command_uses_one_device_per_core(tmp_path):
 def test_montecarlo_command_reports_runs_that_did_not_converge(tmp_path, capsys, monkeypatch):
     # A run with a step whose Newton solve failed must make the command fail (status 1) with
     # a message, not print its untrustworthy peaks as a success; the results are still written.
-    import dataclasses
+    # The failure is real: the structure the command builds gets one Newton iteration per
+    # step (isolated_structure's newton_iterations option), too few for any sliding step.
+    import functools
 
-    import teflon_jax.studies as mc
+    import teflon_jax.systems as systems
 
-    real = mc.monte_carlo
-
-    def one_failure(*args, **kwargs):
-        result = real(*args, **kwargs)
-        converged = np.asarray(result.converged).copy()
-        converged[1] = False
-        return dataclasses.replace(result, converged=converged)
-
-    monkeypatch.setattr(mc, "monte_carlo", one_failure)
+    monkeypatch.setattr(systems, "isolated_structure",
+                        functools.partial(systems.isolated_structure, newton_iterations=1))
     status = main(["montecarlo", "--motions", "3", "--duration", "4", "--strong-motion", "1",
                    "--no-progress", "--json", str(tmp_path / "mc.json")])
     assert status == 1
-    assert "1 of 3 runs" in capsys.readouterr().err
-    assert json.loads((tmp_path / "mc.json").read_text())["all_converged"] is False
+    assert "3 of 3 runs" in capsys.readouterr().err
+    summary = json.loads((tmp_path / "mc.json").read_text())
+    assert summary["all_converged"] is False
+    assert summary["percentiles"]["n_converged"] == 0 and summary["percentiles"]["base_disp_m"]["n"] == 0
