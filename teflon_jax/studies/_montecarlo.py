@@ -109,7 +109,8 @@ class ChunkRunner:
     returns their `PeakResponse` and peak |a_g|: compiled at the first call, reused after
     (a Dask worker keeps one per run, so it compiles once whatever the number of chunks)."""
 
-    def __init__(self, structure, source, duration, design_arrays, devices, chunk, disp_width, shear_width):
+    def __init__(self, structure, source, duration, design_arrays, devices, chunk, disp_width, shear_width,
+                 read_every=1):
         self.devices, self.chunk, self.compile_s = list(devices), int(chunk), 0.0
         mesh = jax.sharding.Mesh(np.array(self.devices), ("batch",))
         self.batched = jax.sharding.NamedSharding(mesh, jax.sharding.PartitionSpec("batch"))
@@ -121,7 +122,8 @@ class ChunkRunner:
 
                 def one(design_one):
                     system = structure(signal, design_one)
-                    return peak_response(system, duration, disp_width=disp_width, shear_width=shear_width)
+                    return peak_response(system, duration, disp_width=disp_width, shear_width=shear_width,
+                                         read_every=read_every)
 
                 peaks = one(None) if design_all is None else jax.vmap(one)(design_all)
                 return peaks, jnp.max(jnp.abs(signal.values))
@@ -174,6 +176,7 @@ def monte_carlo(
     shear_width=None,
     memory_limit_bytes: int | None = None,
     first_motion: int = 0,
+    peak_interval: float | None = None,
 ) -> MonteCarloResult:
     """Peak responses of `structure` under N ground motions (and D design variants).
 
@@ -205,6 +208,9 @@ def monte_carlo(
     - `memory_limit_bytes`: memory a chunk may use (default: half of the free memory).
     - `first_motion`: index of the first stochastic motion (motions `first_motion` ..
       `first_motion + N - 1` of the key are run; how `monte_carlo_distributed` splits a run).
+    - `peak_interval` [s]: read the peaks every `peak_interval` (a multiple of the structure's
+      step, e.g. the record step, to compare with a program that records there); default
+      every step.
 
     **Returns:** a `MonteCarloResult`.
     """
@@ -280,7 +286,15 @@ def monte_carlo(
             f"used; take chunk_size <= {largest}."
         )
 
-    runner = ChunkRunner(structure, source, duration, design_arrays, devices, chunk, disp_width, shear_width)
+    read_every = 1
+    if peak_interval is not None:
+        ratio = float(peak_interval) / probe.time_step
+        read_every = int(round(ratio))
+        if read_every < 1 or abs(ratio - read_every) > 1e-6 * ratio:
+            raise ValueError(f"peak_interval: must be a positive multiple of the structure's time step "
+                             f"{probe.time_step} s, got {peak_interval}.")
+    runner = ChunkRunner(structure, source, duration, design_arrays, devices, chunk, disp_width,
+                         shear_width, read_every)
     outputs = []
     pending = None
     for c in range(n_chunks):
