@@ -82,8 +82,14 @@ def _client(scheduler, connect_timeout: float, dtype: str, cache_dir):
         if cache_dir is not None:
             env["JAX_COMPILATION_CACHE_DIR"] = str(cache_dir)
             env["JAX_PERSISTENT_CACHE_MIN_COMPILE_TIME_SECS"] = "0"
-        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                               dashboard_address=None, env=env)
+        # set before the worker processes start: JAX reads them when it is first imported,
+        # which may be as soon as the worker unpickles the caller's main module
+        import dask
+
+        spawn_env = {**dask.config.get("distributed.nanny.pre-spawn-environ", {}), **env}
+        with dask.config.set({"distributed.nanny.pre-spawn-environ": spawn_env}):
+            cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                                   dashboard_address=None)
         return Client(cluster), cluster
     try:
         return Client(scheduler, timeout=connect_timeout), None
