@@ -112,3 +112,46 @@ def test_an_unwritable_output_fails_before_computing(tmp_path):
     assert time.perf_counter() - tic < 2.0  # no cluster was started, nothing computed
     with pytest.raises(ValueError, match="give a .nc file"):
         monte_carlo_distributed(_structure(), _model(), 4, out=tmp_path / "mc.csv", scheduler="local:2")
+
+
+_SCRIPT = """
+import jax  # imported by the main module before the workers start: they must still get float64
+import numpy as np
+from teflon_jax.excitation import StochasticGroundMotion
+from teflon_jax.studies import monte_carlo, monte_carlo_distributed
+from teflon_jax.systems import isolated_structure
+
+
+def main(out):
+    jax.config.update("jax_enable_x64", True)
+    model = StochasticGroundMotion(peak_ground_acceleration=3.0, duration=2.0, time_step=0.01,
+                                   rise_time=0.5, strong_motion_duration=1.0)
+    structure = isolated_structure("rigid", time_step=0.01, isolation_period=1.5)
+    result = monte_carlo_distributed(structure, model, 3, seed=2, out=out, scheduler="local:2",
+                                     chunk_size=2)
+    same = monte_carlo(structure, model, 3, key=jax.random.key(2), chunk_size=2,
+                       devices=jax.devices()[:1])
+    assert np.array_equal(result.base_disp, same.base_disp), (result.base_disp, same.base_disp)
+    print("ok", result.attrs["precision"])
+
+
+if __name__ == "__main__":
+    import sys
+
+    main(sys.argv[1])
+"""
+
+
+@pytest.mark.slow
+def test_local_scheduler_starts_workers_in_the_callers_precision(tmp_path):
+    import subprocess
+    import sys
+
+    script = tmp_path / "run.py"
+    script.write_text(_SCRIPT)
+    env = dict(os.environ, JAX_PLATFORMS="cpu")
+    env.pop("JAX_ENABLE_X64", None)
+    out = subprocess.run([sys.executable, str(script), str(tmp_path / "mc.nc")], env=env,
+                         capture_output=True, text=True, timeout=600)
+    assert out.returncode == 0, out.stderr[-3000:]
+    assert "ok float64" in out.stdout
