@@ -436,8 +436,12 @@ def building_on_sliders(
     n_sub=1,
     algorithm=("ModifiedNewton", "-initial"),
     quiet=True,
+    slider=True,
 ):
     """Condensed multi-storey building on flat sliders and rubber springs in OpenSees.
+
+    With `slider=False` the bearings are left out: the linear isolation system of Fig. 11
+    (rubber springs and dashpot only; the base is then held vertically).
 
     Equations of motion (u_b = base displacement relative to the ground, u = floor
     displacements relative to the base, r = vector of ones):
@@ -521,23 +525,24 @@ def building_on_sliders(
     for node in (ground, base, *floors):
         ops.node(node, 0.0, 0.0)
     ops.fix(ground, 1, 1, 1)
-    ops.fix(base, 0, 0, 1)
+    ops.fix(base, 0, 0 if slider else 1, 1)
     ops.mass(base, base_mass, 0.0, 0.0)
     for node, m in zip(floors, masses):
         ops.fix(node, 0, 1, 1)
         ops.mass(node, float(m), 0.0, 0.0)
-    _add_slider(
+    if slider:
+        _add_slider(
         ops,
-        tag=1,
-        i_node=ground,
-        j_node=base,
-        f_max=f_max,
-        delta_f=delta_f,
-        rate_a=rate_a,
-        k_init=initial_stiffness,
-        normal_load=normal_load,
-        yield_disp=yield_disp,
-    )
+            tag=1,
+            i_node=ground,
+            j_node=base,
+            f_max=f_max,
+            delta_f=delta_f,
+            rate_a=rate_a,
+            k_init=initial_stiffness,
+            normal_load=normal_load,
+            yield_disp=yield_disp,
+        )
     tag = 10
     if rubber_stiffness > 0:
         c_b = 2.0 * rubber_damping_ratio * math.sqrt(rubber_stiffness * total_mass)
@@ -556,7 +561,8 @@ def building_on_sliders(
         ops.uniaxialMaterial("Elastic", tag, float(k_ij), float(c_ij))
         ops.element("zeroLength", tag, i_node, j_node, "-mat", tag, "-dir", 1)
         tag += 1
-    _apply_gravity(ops, base, normal_load, tol)
+    if slider:
+        _apply_gravity(ops, base, normal_load, tol)
     _setup_transient(ops, acc, dt, tol, algorithm)
     build_s = time.perf_counter() - t0
 
@@ -574,7 +580,7 @@ def building_on_sliders(
             ops.nodeDisp(base, 1),
             ops.nodeVel(base, 1),
             ops.nodeAccel(base, 1),
-            ops.eleResponse(1, "force")[3],
+            ops.eleResponse(1, "force")[3] if slider else 0.0,
         )
         floor_disp[k] = [ops.nodeDisp(node, 1) for node in floors]
         floor_acc[k] = [ops.nodeAccel(node, 1) for node in floors]

@@ -48,15 +48,17 @@ def _table2_building():
     return data, masses, stiffness, damping
 
 
-def building(peer, acc, record_time_step, *, period, time_step=0.005):
-    """The Table 2 building on UF/1000 psi sliders and rubber springs of period `period`."""
+def building(peer, acc, record_time_step, *, period, time_step=0.005, slider=True, damping_ratio=0.05):
+    """The Table 2 building on UF/1000 psi sliders and rubber springs of period `period`
+    (damping ratio `damping_ratio` of the rigid-body mode); `slider=False`: the linear
+    isolation system of Fig. 11 (springs only; the paper gives it 10 % damping)."""
     data, masses, stiffness, damping = _table2_building()
     total_mass = data.total_weight / STANDARD_GRAVITY
     return peer.building_on_sliders(
         np.asarray(acc), record_time_step, floor_masses=masses, stiffness=stiffness,
         damping=damping, base_mass=data.base_weight / STANDARD_GRAVITY,
-        rubber_stiffness=total_mass * (2 * np.pi / period) ** 2, rubber_damping_ratio=0.05,
-        **_bearing(record_time_step, time_step))
+        rubber_stiffness=total_mass * (2 * np.pi / period) ** 2, rubber_damping_ratio=damping_ratio,
+        slider=slider, **_bearing(record_time_step, time_step))
 
 
 def peaks_and_wall(args):

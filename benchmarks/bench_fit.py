@@ -39,8 +39,8 @@ def _timed(fn):
 
 
 def run_fit_benchmark(quick: bool) -> dict:
-    """Time the fits; returns a dict of seconds, sizes and environment."""
-    jax.config.update("jax_enable_x64", True)
+    """Time the fits; returns a dict of seconds, sizes and environment, in the precision the
+    caller set (`run.py --float32` or not): "precision" says which ran."""
     from identification import fit_bearing_test, fit_bearing_tests_batch
 
     records = _records(quick)
@@ -62,6 +62,7 @@ def run_fit_benchmark(quick: bool) -> dict:
         "batch16_starts_per_record": fits[0].n_starts,
         "batch16_all_converged": all(f.converged for f in fits),
         "targets": {"single_record_run_s": 5.0, "batch16_run_s": 30.0},
+        "precision": "float64" if jax.config.jax_enable_x64 else "float32",
         "jax": jax.__version__,
         "backend": jax.default_backend(),
         "cpu": platform.processor() or platform.machine(),
@@ -73,4 +74,5 @@ if __name__ == "__main__":
     import json
     import sys
 
+    jax.config.update("jax_enable_x64", "--float32" not in sys.argv)
     print(json.dumps(run_fit_benchmark("--quick" in sys.argv), indent=2))

@@ -148,3 +148,73 @@ def test_forward_mode_gradient_equals_reverse_mode_on_a_simulation():
     for name in x:
         assert float(forward[name]) == pytest.approx(float(reverse[name]), rel=1e-9)
         assert float(forward[name]) != 0.0
+
+
+def test_gradient_check_at_a_table1_row_needs_one_sided_differences(records):
+    """Table 1 is interpolated linearly: at a tabulated pressure the friction constants have
+    a kink. A central difference straddling 2000 psi averages two slopes and cannot match the
+    derivative (the cause of the 57 % error of the old default design); on a bound at that
+    row the check differences inward and agrees."""
+    from teflon_jax.studies import GRADIENT_TOLERANCE, design_gradient_check
+
+    structure = isolated_structure("rigid", time_step=DT)
+
+    def response(x):
+        return expected_response(structure, x, records[:2], DT, duration=2.0)
+
+    x = {"pressure": 2000 * PSI}
+    across = design_gradient_check(structure, response, x, design_bounds(structure, {"pressure": (1000 * PSI, 3000 * PSI)}))
+    assert across["rel_error"] > 0.05
+    assert any("kink" in m for m in across["messages"])
+    assert across["at_bounds"] == ()
+    inward = design_gradient_check(structure, response, x, design_bounds(structure, {"pressure": (1000 * PSI, 2000 * PSI)}))
+    assert inward["rel_error"] <= GRADIENT_TOLERANCE, inward
+    assert inward["at_bounds"] == ("pressure",)
+    assert any("upper bound" in m for m in inward["messages"])
+
+
+@pytest.mark.slow  # three compilations (sweep, optimiser, gradient check): ~80 s on 2 busy cores
+def test_failed_simulations_make_the_design_fail(records):
+    # a real solver failure (one Newton iteration per step), not a patched flag
+    structure = isolated_structure("rigid", time_step=DT, newton_iterations=1)
+    variables = {"isolation_period": (1.0, 3.0)}
+    sweep = design_sweep(structure, records, DT, grid={"isolation_period": [1.5, 2.5]}, disp_limit=0.1,
+                         duration=1.5)
+    assert not sweep["converged"].any() and (sweep["n_failed"] == 3).all()
+    with pytest.raises(ValueError, match="no grid point converged"):
+        sweep_start(sweep, design_bounds(structure, variables))
+    result = optimise_design(structure, records, DT, variables=variables, disp_limit=0.1, max_steps=1,
+                             duration=1.5)
+    assert not result.simulation_converged and result.n_failed_motions == 3
+    assert not result.converged
+    assert any("3 of 3 motions" in m for m in result.messages)
+
+
+@pytest.mark.slow
+def test_default_design_problem_is_trustworthy():
+    """The default problem of `teflon-jax design`: the optimiser, every simulation and the
+    gradient check (<= 1e-4 at the optimum) succeed, and the displacement limit binds."""
+    from teflon_jax.studies import GRADIENT_TOLERANCE, default_design_problem
+    from teflon_jax.units import STANDARD_GRAVITY
+
+    problem = default_design_problem("rigid")
+    model = StochasticGroundMotion(
+        peak_ground_acceleration=problem["pga"], site_frequency=15.6, site_damping=0.6,
+        high_pass_frequency=1.56, strong_motion_duration=10.0, duration=problem["duration"],
+        time_step=problem["record_time_step"],
+    )
+    assert problem["pga"] == pytest.approx(0.3 * STANDARD_GRAVITY)
+    motions = sample(model, jax.random.key(0), problem["n_motions"])
+    low = {k: v[0] for k, v in problem["variables"].items()}
+    structure = isolated_structure("rigid", isolation_damping=problem["isolation_damping"], **low)
+    grid = {k: np.linspace(a, b, 5) for k, (a, b) in problem["variables"].items()}
+    sweep = design_sweep(structure, motions, problem["record_time_step"], grid=grid,
+                         disp_limit=problem["disp_limit"], penalty=problem["penalty"])
+    start = sweep_start(sweep, design_bounds(structure, problem["variables"]))
+    result = optimise_design(structure, motions, problem["record_time_step"],
+                             variables=problem["variables"], disp_limit=problem["disp_limit"],
+                             penalty=problem["penalty"], start=start)
+    assert result.converged, result.messages
+    assert result.gradient_rel_error <= GRADIENT_TOLERANCE
+    assert result.mean_disp == pytest.approx(problem["disp_limit"], rel=0.01)
+    assert result.objective <= sweep["objective"].min()

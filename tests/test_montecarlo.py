@@ -54,6 +54,10 @@ def test_peaks_match_full_history(kind):
         mass, acc = mass[1:], acc[:, 1:]
     shear = acc @ mass / (mass.sum() * STANDARD_GRAVITY)
     np.testing.assert_allclose(peaks.base_disp, disp.max(), rtol=1e-10)
+    # read at every 4th step only (as a program recording at a coarser interval would)
+    coarse = peak_response(system, 4.0, read_every=4)
+    np.testing.assert_allclose(coarse.base_disp, disp[4::4].max(), rtol=1e-10)
+    assert coarse.base_disp < peaks.base_disp or disp[4::4].max() == disp.max()
     np.testing.assert_allclose(peaks.base_shear_ratio, np.abs(shear).max(), rtol=1e-10)
     # log-mean-cosh of the whole history, in closed form
     n = len(disp)
@@ -83,12 +87,55 @@ def test_statistics_and_output(tmp_path):
     levels, probability = result.exceedance("base_disp")
     for level, p in zip(levels[::17], probability[::17]):
         assert p == pytest.approx(np.mean(disp > level))
+    # the format asked for is the format written (no silent .npz for .nc)
     written = save_montecarlo(result, tmp_path / "mc.nc")
-    stored = np.load(written[0])
-    np.testing.assert_array_equal(stored["base_disp"], disp)
-    assert json.loads(str(stored["metadata"]))["dims"] == ["motion"]
-    rows = np.loadtxt(written[1], delimiter=",", skiprows=1, usecols=(3, 4))
-    np.testing.assert_allclose(rows[:, 0], disp, rtol=1e-8)
+    assert written == [tmp_path / "mc.nc"]
+    assert (tmp_path / "mc.nc").read_bytes()[:4] in (b"CDF\x01", b"CDF\x02", b"\x89HDF")
+    assert not (tmp_path / "mc.npz").exists()
+    with pytest.raises(ValueError, match="unknown results format '.txt'"):
+        save_montecarlo(result, tmp_path / "mc.txt")
+    rows = np.loadtxt(result.to_csv(tmp_path / "mc.csv"), delimiter=",", skiprows=1, usecols=(3,))
+    np.testing.assert_allclose(rows, disp, rtol=1e-15)
+
+
+def test_statistics_leave_out_failed_runs():
+    # made-up peaks: the statistics must rest on the converged runs only, and say how many
+    disp = np.array([1.0, 2.0, 3.0, 100.0, 200.0])
+    ok = np.array([True, True, True, False, False])
+    result = MonteCarloResult(
+        base_disp=disp, base_shear_ratio=disp / 10, smooth_base_disp=disp,
+        smooth_base_shear_ratio=disp / 10, converged=ok, pga=np.ones(5), design={},
+        dims=("motion",), n_devices=1, chunk_size=5, wall_s=0.0, compile_s=0.0,
+        memory_estimate_bytes=0,
+    )
+    stats = result.percentiles((50,))
+    assert stats["base_disp_m"]["mean"] == pytest.approx(2.0)
+    assert stats["base_disp_m"]["p50"] == pytest.approx(2.0)
+    assert stats["base_disp_m"]["n"] == stats["n_converged"] == 3
+    assert stats["n_failed"] == 2
+    levels, probability = result.exceedance("base_disp")
+    np.testing.assert_array_equal(levels, [1.0, 2.0, 3.0])
+    np.testing.assert_allclose(probability, [2 / 3, 1 / 3, 0.0])
+
+
+def test_real_solver_failure_is_reported_per_motion_and_left_out_of_statistics():
+    # One Newton iteration per step cannot solve a sliding step: motions that make the
+    # bearing slide fail for real; a motionless record needs no iteration and converges.
+    records = np.asarray(sample(_model(), jax.random.key(9), 3))
+    quiet = np.zeros_like(records[0])
+    motions = RecordSet(np.stack([records[0], quiet, records[1], quiet, records[2]]), 0.01, tuple("abcde"))
+    short = isolated_structure("rigid", time_step=0.01, isolation_period=1.5, newton_iterations=1)
+    result = monte_carlo(short, motions, chunk_size=5)
+    np.testing.assert_array_equal(result.converged, [False, True, False, True, False])
+    full = monte_carlo(isolated_structure("rigid", time_step=0.01, isolation_period=1.5), motions, chunk_size=5)
+    assert full.converged.all()
+    stats = result.percentiles((50,))
+    assert (stats["n_converged"], stats["n_failed"], stats["base_disp_m"]["n"]) == (2, 3, 2)
+    # the failed runs' (untrusted, non-zero) peaks are left out: only the motionless runs count
+    assert np.all(result.base_disp[~result.converged] > 1e-3)
+    assert stats["base_disp_m"]["mean"] == 0.0 and stats["base_shear_ratio"]["p50"] == 0.0
+    with pytest.raises(ValueError, match="newton_iterations"):
+        isolated_structure("rigid", newton_iterations=0)
 
 
 _SHARDED = """

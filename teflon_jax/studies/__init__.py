@@ -1,19 +1,26 @@
 """Studies over many runs: the Fig. 11 sweep, record sets, Monte Carlo and gradient-based design."""
 
 from ._design import DesignResult as DesignResult
+from ._design import default_design_problem as default_design_problem
 from ._design import design_bounds as design_bounds
 from ._design import expected_response as expected_response
 from ._design import forward_mode_gradient as forward_mode_gradient
 from ._design import gradient_check as gradient_check
 from ._design import optimise_design as optimise_design
 from ._design import penalised_objective as penalised_objective
+from ._design_check import BOUND_TOLERANCE as BOUND_TOLERANCE
+from ._design_check import GRADIENT_TOLERANCE as GRADIENT_TOLERANCE
+from ._design_check import design_gradient_check as design_gradient_check
 from ._design_sweep import design_sweep as design_sweep
 from ._design_sweep import sweep_start as sweep_start
-from ._montecarlo import MonteCarloResult as MonteCarloResult
+from ._distributed import monte_carlo_distributed as monte_carlo_distributed
 from ._montecarlo import monte_carlo as monte_carlo
 from ._montecarlo import monte_carlo_motion as monte_carlo_motion
 from ._record_set import RecordSet as RecordSet
 from ._record_set import record_set as record_set
+from ._results import FORMATS as FORMATS
+from ._results import MonteCarloResult as MonteCarloResult
+from ._results import check_output_path as check_output_path
 from ._save import save_montecarlo as save_montecarlo
 from ._sweep import SweepResult as SweepResult
 from ._sweep import building_peaks as building_peaks

@@ -28,6 +28,7 @@ import numpy as np
 
 from ..excitation import uniform_signal
 from ..systems import IsolatedStructure, check_design, design_ranges, peak_response
+from ._design_check import GRADIENT_TOLERANCE, design_gradient_check
 
 
 def _records_array(records, time_step):
@@ -66,7 +67,8 @@ def expected_response(
     - `disp_width` [m], `shear_width` [-]: smoothing widths.
 
     **Returns:** {"shear": E[V_s], "disp": E[D_s], "peak_shear": mean true peak,
-    "peak_disp": mean true peak, "converged": all steps converged}.
+    "peak_disp": mean true peak, "converged": all steps of all motions converged,
+    "n_failed": motions with a step whose Newton solve did not converge}.
     """
     records = _records_array(records, record_time_step)
     duration = (records.shape[1] - 1) * record_time_step if duration is None else duration
@@ -82,6 +84,7 @@ def expected_response(
         "peak_shear": jnp.mean(peaks.base_shear_ratio),
         "peak_disp": jnp.mean(peaks.base_disp),
         "converged": jnp.all(peaks.converged),
+        "n_failed": jnp.sum(~peaks.converged),
     }
 
 
@@ -156,12 +159,22 @@ def gradient_check(fn, x: Mapping, *, relative_step=1e-5) -> tuple[dict, dict, f
 
 @dataclasses.dataclass
 class DesignResult:
-    """Optimum of `optimise_design` (SI units).
+    """Optimum of `optimise_design` (SI units) and the checks that say whether to trust it.
 
     - `optimum`: name -> value; `objective` J there; `mean_shear`, `mean_disp`: E[V_s],
       E[D_s]; `peak_shear`, `peak_disp`: means of the true peaks; `disp_limit` [m];
-    - `start`: the initial design; `steps`: BFGS iterations; `converged`: optimistix's verdict;
-    - `wall_s`: total time [s].
+    - `start`: the initial design; `steps`: BFGS iterations; `wall_s`: total time [s];
+    - `optimiser_converged`: optimistix's verdict (BFGS met rtol/atol);
+    - `simulation_converged`: every step of every motion's Newton solve converged at the
+      optimum; `n_failed_motions`: motions with a failed step there;
+    - `at_bounds`: design variables within `BOUND_TOLERANCE` of their range at the optimum
+      (the optimum is then the bound, not a stationary point: widen the range or accept it);
+    - `gradient_rel_error`: the largest relative difference, over E[V_s], E[D_s] and the
+      design variables, between the forward-mode derivative and finite differences at the
+      optimum (`design_gradient_check`); `gradient`, `finite_differences`: the two, as
+      {"shear": {name: ..}, "disp": {name: ..}};
+    - `converged`: optimiser, simulations and gradient check (<= `GRADIENT_TOLERANCE`) all
+      succeeded; `messages`: why not, and warnings (a bound, a kink of Table 1).
     """
 
     optimum: dict
@@ -173,7 +186,15 @@ class DesignResult:
     disp_limit: float
     start: dict
     steps: int
+    optimiser_converged: bool
+    simulation_converged: bool
+    n_failed_motions: int
+    at_bounds: tuple
+    gradient_rel_error: float
+    gradient: dict
+    finite_differences: dict
     converged: bool
+    messages: tuple
     wall_s: float
 
 
@@ -219,6 +240,7 @@ def optimise_design(
     rtol: float = 1e-7,
     atol: float = 1e-9,
     max_steps: int = 200,
+    relative_step: float = 1e-5,
 ) -> DesignResult:
     """Minimise the expected base shear subject to a base-displacement limit (BFGS).
 
@@ -232,8 +254,10 @@ def optimise_design(
     - `start`: initial design (default: the middle of the bounds).
     - `penalty` rho [-]: weight of the squared relative violation.
     - `rtol`, `atol`, `max_steps`: optimistix BFGS settings.
+    - `relative_step`: finite-difference step of the gradient check, relative to each
+      variable (`design_gradient_check`).
 
-    **Returns:** a `DesignResult`.
+    **Returns:** a `DesignResult`; check its `converged` and `messages` before using it.
     """
     import optimistix as optx
 
@@ -267,10 +291,25 @@ def optimise_design(
     solver = optx.BFGS(rtol=rtol, atol=atol)
     y0 = bounds.to_unconstrained(start)
     solution = optx.minimise(objective, solver, y0, max_steps=max_steps, throw=False)
-    x = bounds.to_physical(solution.value)
+    x = {k: float(v) for k, v in bounds.to_physical(solution.value).items()}
     final = jax.jit(response)(x)
+    optimiser_ok = bool(solution.result == optx.RESULTS.successful)
+    steps = int(solution.stats["num_steps"])
+    check = design_gradient_check(
+        structure, response, x, bounds, relative_step=relative_step
+    )
+    messages = list(check["messages"])
+    if not optimiser_ok:
+        messages.insert(0, f"BFGS did not converge after {steps} steps (max_steps={max_steps}, "
+                        f"rtol={rtol}, atol={atol}): the design is not an optimum.")
+    failed = int(final["n_failed"])
+    if failed:
+        messages.insert(0, f"{failed} of {records.shape[0]} motions had a time step whose Newton "
+                        "solve did not converge at the optimum: its responses cannot be trusted "
+                        "(try a smaller structure time step).")
+    gradient_ok = check["rel_error"] <= GRADIENT_TOLERANCE
     return DesignResult(
-        optimum={k: float(v) for k, v in x.items()},
+        optimum=x,
         objective=float(penalised_objective(final, disp_limit, penalty)),
         mean_shear=float(final["shear"]),
         mean_disp=float(final["disp"]),
@@ -278,7 +317,45 @@ def optimise_design(
         peak_disp=float(final["peak_disp"]),
         disp_limit=float(disp_limit),
         start={k: float(v) for k, v in start.items()},
-        steps=int(solution.stats["num_steps"]),
-        converged=bool(solution.result == optx.RESULTS.successful),
+        steps=steps,
+        optimiser_converged=optimiser_ok,
+        simulation_converged=failed == 0,
+        n_failed_motions=failed,
+        at_bounds=check["at_bounds"],
+        gradient_rel_error=check["rel_error"],
+        gradient=check["gradient"],
+        finite_differences=check["finite_differences"],
+        converged=optimiser_ok and failed == 0 and gradient_ok,
+        messages=tuple(messages),
         wall_s=time.perf_counter() - tic,
     )
+
+
+def default_design_problem(kind: str = "rigid") -> dict:
+    """The design problem `teflon-jax design` poses by default (SI units): minimise the mean
+    peak base shear of the `kind` structure on UF PTFE (parallel to lay) over the isolation
+    period T_b in [1, 4] s and the contact pressure in [1000, 2000] psi (one interval of
+    Table 1, so the friction constants are smooth in it), subject to a mean peak base
+    displacement of at most 1.25 in, under 16 forty-second Clough-Penzien motions of 0.3 g.
+
+    The limit binds there: at 2000 psi and T_b = 4 s the mean peak is 1.67 in, so the
+    optimum trades friction (pressure) against spring stiffness (T_b) along the limit.
+
+    **Returns:** {"kind", "variables": name -> (low, high), "disp_limit" [m], "penalty",
+    "n_motions", "isolation_damping", "pga" [m/s^2], "duration" [s], "record_time_step" [s]}.
+    """
+    from ..units import INCH, PSI, STANDARD_GRAVITY
+
+    if kind not in ("rigid", "building"):
+        raise ValueError(f"kind: unknown structure {kind!r}; accepted: rigid, building.")
+    return {
+        "kind": kind,
+        "variables": {"isolation_period": (1.0, 4.0), "pressure": (1000 * PSI, 2000 * PSI)},
+        "disp_limit": 1.25 * INCH,
+        "penalty": 100.0,
+        "n_motions": 16,
+        "isolation_damping": 0.05,
+        "pga": 0.3 * STANDARD_GRAVITY,
+        "duration": 40.0,
+        "record_time_step": 0.01,
+    }

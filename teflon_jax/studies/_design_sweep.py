@@ -26,7 +26,9 @@ def design_sweep(
     """The same objective on the tensor grid of `grid` (name -> 1-D values), vmapped over
     design points in batches of `batch_size` (one compilation).
 
-    **Returns:** {"grid": {name: (G...) mesh}, "objective", "shear", "disp": (G...) arrays}.
+    **Returns:** {"grid": {name: (G...) mesh}, "objective", "shear", "disp": (G...) arrays,
+    "converged": (G...) bool, every motion's solve converged at that point, "n_failed": (G...)
+    motions with a failed step, "n_motions"}. `sweep_start` skips points that did not converge.
     """
     names = list(grid)
     axes = [np.asarray(grid[n], dtype=float) for n in names]
@@ -42,7 +44,7 @@ def design_sweep(
                 structure, point, records, record_time_step, duration=duration,
                 disp_width=disp_width, shear_width=shear_width,
             )
-            return penalised_objective(r, disp_limit, penalty), r["shear"], r["disp"]
+            return penalised_objective(r, disp_limit, penalty), r["shear"], r["disp"], r["n_failed"]
 
         return jax.vmap(one)(points)
 
@@ -52,15 +54,24 @@ def design_sweep(
     for begin in range(0, total, batch):
         index = np.minimum(np.arange(begin, begin + batch), total - 1)
         outputs.append(jax.device_get(evaluate({n: jnp.asarray(v[index]) for n, v in flat.items()})))
-    objective, shear, disp = (np.concatenate(parts)[:total].reshape(mesh[0].shape) for parts in zip(*outputs))
-    return {"grid": dict(zip(names, mesh)), "objective": objective, "shear": shear, "disp": disp}
+    objective, shear, disp, failed = (
+        np.concatenate(parts)[:total].reshape(mesh[0].shape) for parts in zip(*outputs)
+    )
+    return {"grid": dict(zip(names, mesh)), "objective": objective, "shear": shear, "disp": disp,
+            "converged": failed == 0, "n_failed": failed.astype(int), "n_motions": int(records.shape[0])}
 
 
 def sweep_start(sweep: Mapping, bounds: Bounds, *, margin: float = 1e-3) -> dict:
-    """The grid point of `sweep` with the lowest objective, moved inside `bounds` by
+    """The converged grid point of `sweep` with the lowest objective, moved inside `bounds` by
     `margin` of each range (the bijection needs interior points): a start for BFGS on a
     non-convex objective (global look by the grid, local refinement by the gradient)."""
-    best = int(np.argmin(sweep["objective"]))
+    objective = np.asarray(sweep["objective"], dtype=float).reshape(-1)
+    if "converged" in sweep:
+        objective = np.where(np.asarray(sweep["converged"]).reshape(-1), objective, np.inf)
+    if not np.any(np.isfinite(objective)):
+        raise ValueError("sweep: no grid point converged for every motion; no start can be chosen "
+                         "(try a smaller structure time step).")
+    best = int(np.argmin(objective))
     start = {}
     for name, (lo, hi) in bounds.ranges.items():
         value = float(sweep["grid"][name].reshape(-1)[best])

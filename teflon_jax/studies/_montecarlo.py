@@ -23,7 +23,6 @@ Reference for the structures: Constantinou, Mokha & Reinhorn (1990), "Teflon bea
 isolation II: Modeling", J. Struct. Eng. 116(2), Figs. 7-11.
 """
 
-import dataclasses
 import os
 import time
 from collections.abc import Callable, Mapping, Sequence
@@ -34,63 +33,11 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..excitation import StochasticGroundMotion, num_time_steps, sample, uniform_signal
-from ..systems import RESPONSE_NAMES, IsolatedStructure, check_design, peak_response
+from ..systems import IsolatedStructure, check_design, peak_response
 from ._record_set import RecordSet
+from ._results import MonteCarloResult
 
 # --------------------------------------------------------------------------- batch runs
-
-
-@dataclasses.dataclass
-class MonteCarloResult:
-    """Peaks of a Monte Carlo run, as NumPy arrays labelled by `dims`.
-
-    - `base_disp` [m], `base_shear_ratio` [-]: shape (N,) or (D, N) with design variants;
-    - `smooth_base_disp`, `smooth_base_shear_ratio`: the smooth maxima (same shapes);
-    - `converged` (bool, same shape); `pga` (N,) [m/s^2]: peak |a_g| of each motion;
-    - `design`: dict name -> (D,) values (empty without variants);
-    - `dims`: axis names, ("motion",) or ("design", "motion");
-    - `n_devices`, `chunk_size`, `wall_s` (total), `compile_s` (first chunk's compile),
-      `memory_estimate_bytes` (one chunk); `attrs`: description of the run.
-    """
-
-    base_disp: np.ndarray
-    base_shear_ratio: np.ndarray
-    smooth_base_disp: np.ndarray
-    smooth_base_shear_ratio: np.ndarray
-    converged: np.ndarray
-    pga: np.ndarray
-    design: dict
-    dims: tuple
-    n_devices: int
-    chunk_size: int
-    wall_s: float
-    compile_s: float
-    memory_estimate_bytes: int
-    attrs: dict = dataclasses.field(default_factory=dict)
-
-    @property
-    def n_motions(self) -> int:
-        return int(self.pga.shape[0])
-
-    def percentiles(self, q: Sequence[float] = (5, 16, 50, 84, 95)) -> dict:
-        """{"base_disp_m": {"p50": .., "mean": ..}, "base_shear_ratio": {..}} over motions
-        (per design variant when there are several: lists)."""
-        out = {}
-        for key, values in (("base_disp_m", self.base_disp), ("base_shear_ratio", self.base_shear_ratio)):
-            stats = {f"p{g:g}": np.percentile(values, g, axis=-1).tolist() for g in q}
-            stats["mean"] = np.mean(values, axis=-1).tolist()
-            stats["std"] = np.std(values, axis=-1).tolist()
-            out[key] = stats
-        return out
-
-    def exceedance(self, name: str) -> tuple[np.ndarray, np.ndarray]:
-        """Empirical exceedance curve of `name` ("base_disp" or "base_shear_ratio"):
-        sorted levels x_(k) and P[X > x] estimated as (N - k) / N, k = 1..N (per variant)."""
-        if name not in RESPONSE_NAMES:
-            raise ValueError(f"name: unknown {name!r}; accepted: {', '.join(RESPONSE_NAMES)}.")
-        values = np.sort(getattr(self, name), axis=-1)
-        n = values.shape[-1]
-        return values, (n - np.arange(1, n + 1)) / n
 
 
 def available_memory_bytes(device=None) -> int | None:
@@ -157,6 +104,63 @@ def _get(tree):
     return jax.device_get(tree)
 
 
+class ChunkRunner:
+    """One compiled function that runs `chunk` motions (vmapped, sharded over `devices`) and
+    returns their `PeakResponse` and peak |a_g|: compiled at the first call, reused after
+    (a Dask worker keeps one per run, so it compiles once whatever the number of chunks)."""
+
+    def __init__(self, structure, source, duration, design_arrays, devices, chunk, disp_width, shear_width,
+                 read_every=1):
+        self.devices, self.chunk, self.compile_s = list(devices), int(chunk), 0.0
+        mesh = jax.sharding.Mesh(np.array(self.devices), ("batch",))
+        self.batched = jax.sharding.NamedSharding(mesh, jax.sharding.PartitionSpec("batch"))
+        replicated = jax.sharding.NamedSharding(mesh, jax.sharding.PartitionSpec())
+
+        def run_chunk(indices, values, design_all):
+            def per_motion(index, row):
+                signal = source.signal(index, row)
+
+                def one(design_one):
+                    system = structure(signal, design_one)
+                    return peak_response(system, duration, disp_width=disp_width, shear_width=shear_width,
+                                         read_every=read_every)
+
+                peaks = one(None) if design_all is None else jax.vmap(one)(design_all)
+                return peaks, jnp.max(jnp.abs(signal.values))
+
+            return jax.vmap(per_motion)(indices, values)
+
+        # shard_map, not automatic partitioning: every device steps its own motions with its
+        # own Newton loops; partitioned automatically, the batched while loop's "any member
+        # not converged" test would become a cross-device reduction in every iteration.
+        spec = jax.sharding.PartitionSpec
+        self.function = jax.jit(
+            jax.shard_map(
+                run_chunk,
+                mesh=mesh,
+                in_specs=(spec("batch"), spec("batch"), spec()),
+                out_specs=spec("batch"),
+                check_vma=False,
+            ),
+            in_shardings=(self.batched, self.batched, replicated),
+            out_shardings=self.batched,
+        )
+        self.design = None if design_arrays is None else jax.device_put(design_arrays, replicated)
+        self.compiled = None
+
+    def __call__(self, indices, values=None):
+        """Peaks of the motions `indices` (a chunk's worth; `values` (chunk, nt) [m/s^2] for
+        recorded motions, `None` for generated ones), as sharded device arrays."""
+        indices = np.asarray(indices)
+        values = np.zeros((indices.shape[0], 1)) if values is None else np.asarray(values)
+        args = (_put(indices.astype(np.int32), self.batched), _put(values, self.batched), self.design)
+        if self.compiled is None:
+            tic = time.perf_counter()
+            self.compiled = self.function.lower(*args).compile()
+            self.compile_s = time.perf_counter() - tic
+        return self.compiled(*args)
+
+
 def monte_carlo(
     structure: Callable,
     motions: StochasticGroundMotion | RecordSet,
@@ -171,6 +175,8 @@ def monte_carlo(
     disp_width=None,
     shear_width=None,
     memory_limit_bytes: int | None = None,
+    first_motion: int = 0,
+    peak_interval: float | None = None,
 ) -> MonteCarloResult:
     """Peak responses of `structure` under N ground motions (and D design variants).
 
@@ -200,6 +206,11 @@ def monte_carlo(
     - `progress`: called as `progress(done, total)` after each chunk (e.g. a tqdm update).
     - `disp_width` [m], `shear_width` [-]: widths of the smooth maxima (`peak_response`).
     - `memory_limit_bytes`: memory a chunk may use (default: half of the free memory).
+    - `first_motion`: index of the first stochastic motion (motions `first_motion` ..
+      `first_motion + N - 1` of the key are run; how `monte_carlo_distributed` splits a run).
+    - `peak_interval` [s]: read the peaks every `peak_interval` (a multiple of the structure's
+      step, e.g. the record step, to compare with a program that records there); default
+      every step.
 
     **Returns:** a `MonteCarloResult`.
     """
@@ -226,6 +237,8 @@ def monte_carlo(
         )
     if isinstance(chunk_size, bool) or not isinstance(chunk_size, (int, np.integer)) or chunk_size <= 0:
         raise ValueError(f"chunk_size: must be a positive integer, got {chunk_size!r}.")
+    if isinstance(first_motion, bool) or not isinstance(first_motion, (int, np.integer)) or first_motion < 0:
+        raise ValueError(f"first_motion: must be an integer >= 0, got {first_motion!r}.")
     record_duration = (source.samples - 1) * source.time_step
     duration = record_duration if duration is None else float(duration)
     if not duration > 0:
@@ -273,57 +286,22 @@ def monte_carlo(
             f"used; take chunk_size <= {largest}."
         )
 
-    mesh = jax.sharding.Mesh(np.array(devices), ("batch",))
-    batched = jax.sharding.NamedSharding(mesh, jax.sharding.PartitionSpec("batch"))
-    replicated = jax.sharding.NamedSharding(mesh, jax.sharding.PartitionSpec())
-
-    def run_chunk(indices, values, design_all):
-        def per_motion(index, row):
-            signal = source.signal(index, row)
-
-            def one(design_one):
-                system = structure(signal, design_one)
-                return peak_response(system, duration, disp_width=disp_width, shear_width=shear_width)
-
-            peaks = one(None) if design_all is None else jax.vmap(one)(design_all)
-            return peaks, jnp.max(jnp.abs(signal.values))
-
-        return jax.vmap(per_motion)(indices, values)
-
-    # shard_map, not automatic partitioning: every device steps its own motions with its own
-    # Newton loops; partitioned automatically, the batched while loop's "any member not
-    # converged" test would become a cross-device reduction in every iteration of every step.
-    spec = jax.sharding.PartitionSpec
-    compiled = jax.jit(
-        jax.shard_map(
-            run_chunk,
-            mesh=mesh,
-            in_specs=(spec("batch"), spec("batch"), spec()),
-            out_specs=spec("batch"),
-            check_vma=False,
-        ),
-        in_shardings=(batched, batched, replicated),
-        out_shardings=batched,
-    )
-    if design_arrays is not None:
-        design_arrays = jax.device_put(design_arrays, replicated)
-
+    read_every = 1
+    if peak_interval is not None:
+        ratio = float(peak_interval) / probe.time_step
+        read_every = int(round(ratio))
+        if read_every < 1 or abs(ratio - read_every) > 1e-6 * ratio:
+            raise ValueError(f"peak_interval: must be a positive multiple of the structure's time step "
+                             f"{probe.time_step} s, got {peak_interval}.")
+    runner = ChunkRunner(structure, source, duration, design_arrays, devices, chunk, disp_width,
+                         shear_width, read_every)
     outputs = []
-    compile_s = 0.0
     pending = None
     for c in range(n_chunks):
         indices = np.arange(c * chunk, (c + 1) * chunk)
         indices = np.minimum(indices, n_total - 1)  # pad the last chunk with copies
-        if isinstance(motions, RecordSet):
-            values = motions.acceleration[indices]
-        else:
-            values = np.zeros((chunk, 1))
-        args = (_put(indices.astype(np.int32), batched), _put(values, batched), design_arrays)
-        if c == 0:
-            tic = time.perf_counter()
-            compiled = compiled.lower(*args).compile()
-            compile_s = time.perf_counter() - tic
-        result = compiled(*args)
+        values = motions.acceleration[indices] if isinstance(motions, RecordSet) else None
+        result = runner(indices + first_motion, values)
         if pending is not None:
             outputs.append(_get(pending))
             if progress is not None:
@@ -332,6 +310,7 @@ def monte_carlo(
     outputs.append(_get(pending))
     if progress is not None:
         progress(n_total, n_total)
+    compile_s = runner.compile_s
 
     peaks = jax.tree_util.tree_map(lambda *xs: np.concatenate(xs, axis=0)[:n_total], *outputs)
     peak_response_, pga = peaks

@@ -1,5 +1,6 @@
 """The isolated structures of the studies (rigid mass, building) built from design variables."""
 
+import dataclasses
 import math
 from collections.abc import Mapping
 
@@ -12,7 +13,7 @@ from ..tables import friction_table
 from ..units import PSI
 from ..validation import concrete
 from ._models import rigid_mass, six_storey_building
-from ._structure import StructureOnSliders
+from ._structure import NEWTON_ITERATIONS, StructureOnSliders
 
 STRUCTURES = ("rigid", "building")
 
@@ -58,6 +59,10 @@ class IsolatedStructure(eqx.Module):
     - `breakaway` (static): use Table 1's b (Eq. 17) when True; no breakaway when False.
     - `friction_model` (static): "hysteretic", "coulomb" or "none".
     - `time_step` [s] (static): structure step; `weight` [N] of the rigid mass.
+    - `newton_iterations` (static): the most Newton iterations of the bearing's solve per
+      step (`StructureOnSliders.newton_iterations`); a run whose solve is cut short is reported
+      as not converged (its `PeakResponse.converged` is False), e.g. to check that failures
+      are reported and kept out of statistics.
     """
 
     pressure: jnp.ndarray
@@ -70,6 +75,7 @@ class IsolatedStructure(eqx.Module):
     friction_model: str = eqx.field(static=True, default="hysteretic")
     time_step: float = eqx.field(static=True, default=0.0025)
     weight: float = eqx.field(static=True, default=100e3)
+    newton_iterations: int = eqx.field(static=True, default=NEWTON_ITERATIONS)
 
     def table(self):
         """The Table 1 rows (extrapolation switched off by our own range check)."""
@@ -94,7 +100,7 @@ class IsolatedStructure(eqx.Module):
         period = design.get("isolation_period", self.isolation_period)
         damping = design.get("isolation_damping", self.isolation_damping)
         if self.kind == "rigid":
-            return rigid_mass(
+            system = rigid_mass(
                 weight=self.weight,
                 bearing=bearing,
                 ground_acceleration=ground_acceleration,
@@ -103,14 +109,18 @@ class IsolatedStructure(eqx.Module):
                 damping_ratio=damping if period is not None else 0.0,
                 friction_model=self.friction_model,
             )
-        return six_storey_building(
-            bearing=bearing,
-            ground_acceleration=ground_acceleration,
-            time_step=self.time_step,
-            isolation_period=period,
-            isolation_damping=damping,
-            friction_model=self.friction_model,
-        )
+        else:
+            system = six_storey_building(
+                bearing=bearing,
+                ground_acceleration=ground_acceleration,
+                time_step=self.time_step,
+                isolation_period=period,
+                isolation_damping=damping,
+                friction_model=self.friction_model,
+            )
+        if self.newton_iterations != system.newton_iterations:
+            system = dataclasses.replace(system, newton_iterations=self.newton_iterations)
+        return system
 
 
 def isolated_structure(
@@ -124,19 +134,24 @@ def isolated_structure(
     breakaway: bool = True,
     friction_model: str = "hysteretic",
     time_step: float | None = None,
+    newton_iterations: int = NEWTON_ITERATIONS,
 ) -> IsolatedStructure:
     """An `IsolatedStructure` with its inputs checked (`ValueError` naming the parameter).
 
     **Arguments:** see `IsolatedStructure`; `pressure` [Pa] must lie inside the Table 1 rows
     of `ptfe`/`direction` (1000-6500 psi for UF, P), `isolation_period` [s] > 0 (or `None`
     for a rigid mass on flat sliders), `isolation_damping` >= 0, `time_step` > 0 [s]
-    (default `RECOMMENDED_TIME_STEPS[kind]`).
+    (default `RECOMMENDED_TIME_STEPS[kind]`), `newton_iterations` a positive integer (the
+    default lets every step converge; 1 cuts the solve short: runs are then reported as not
+    converged).
     """
     if kind not in STRUCTURES:
         raise ValueError(f"structure: unknown {kind!r}; accepted: {', '.join(STRUCTURES)}.")
     time_step = RECOMMENDED_TIME_STEPS[kind] if time_step is None else time_step
     if not (isinstance(time_step, (int, float)) and time_step > 0):
         raise ValueError(f"time_step: must be a positive number of seconds, got {time_step!r}.")
+    if isinstance(newton_iterations, bool) or not isinstance(newton_iterations, int) or newton_iterations < 1:
+        raise ValueError(f"newton_iterations: must be a positive integer, got {newton_iterations!r}.")
     structure = IsolatedStructure(
         pressure=jnp.asarray(pressure, dtype=float),
         isolation_period=None if isolation_period is None else jnp.asarray(isolation_period, float),
@@ -147,6 +162,7 @@ def isolated_structure(
         breakaway=breakaway,
         friction_model=friction_model,
         time_step=float(time_step),
+        newton_iterations=int(newton_iterations),
     )
     check_design(structure, {"pressure": pressure})
     if isolation_period is None and kind == "building":

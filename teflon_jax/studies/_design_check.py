@@ -1,0 +1,124 @@
+"""Checks of a design optimum: which variables sit on a bound, and whether the derivative the
+optimiser used agrees with finite differences there.
+
+The derivative of the expected responses E[V_s], E[D_s] (`expected_response`) with respect
+to design variable x_k is compared with
+
+    central:   (f(x + h e_k) - f(x - h e_k)) / (2 h)                      (interior x_k)
+    one-sided: -/+ (3 f(x) - 4 f(x -/+ h e_k) + f(x -/+ 2 h e_k)) / (2 h)  (x_k on a bound)
+
+both second-order accurate, h = relative_step |x_k|. On a bound the stencil points inward:
+outside the box the problem is not defined, and where the bound is a tabulated pressure of
+Table 1 the friction constants, linearly interpolated, have a kink, so a central difference
+there averages two different slopes (the 57 % error of the old default design problem, whose
+optimum sat on 3000 psi, was exactly this). A kink inside the box (a Table 1 row strictly
+between the bounds) is reported when the optimum sits on it: the derivative is one-sided
+there and no gradient check can pass.
+Reference for the finite-difference formulas: Fornberg (1988), Math. Comp. 51(184).
+"""
+
+import jax
+import numpy as np
+
+from ..units import PSI
+
+GRADIENT_TOLERANCE = 1e-4
+"""Largest relative difference between forward-mode and finite-difference derivatives [-]."""
+
+BOUND_TOLERANCE = 1e-4
+"""A variable within this fraction of its range from a bound is reported as on the bound."""
+
+_OUTPUTS = ("shear", "disp")
+
+
+def _difference(value, x, name, h, side):
+    def at(offset):
+        return value(dict(x, **{name: x[name] + offset}))
+
+    if side == 0:
+        plus, minus = at(h), at(-h)
+        return {k: (plus[k] - minus[k]) / (2 * h) for k in _OUTPUTS}
+    centre, one, two = at(0.0), at(side * h), at(2 * side * h)
+    return {k: side * (-3 * centre[k] + 4 * one[k] - two[k]) / (2 * h) for k in _OUTPUTS}
+
+
+def design_gradient_check(structure, response, x: dict, bounds, *, relative_step=1e-5) -> dict:
+    """Compare the forward-mode derivatives of E[V_s] and E[D_s] with finite differences at
+    the design `x` (name -> float) inside `bounds` (`design_bounds`).
+
+    **Arguments:** `structure` (an `IsolatedStructure`, for its Table 1 rows); `response`:
+    x -> dict with "shear" and "disp" (e.g. `expected_response` with its records);
+    `relative_step`: h / |x_k|.
+
+    **Returns:** {"gradient", "finite_differences": {"shear": {name: ..}, "disp": {..}},
+    "rel_error": max over outputs and variables of |g - fd| / max(|g|, |fd|),
+    "at_bounds": names on a bound, "messages": warnings and reasons}.
+    """
+    names = tuple(bounds.ranges)
+    x = {k: float(x[k]) for k in names}
+    outputs = jax.jit(lambda z: {k: response(z)[k] for k in _OUTPUTS})
+    jacobian = jax.jit(jax.jacfwd(lambda z: {k: response(z)[k] for k in _OUTPUTS}))(x)
+
+    def value(z):
+        return {k: float(v) for k, v in outputs(z).items()}
+
+    gradient = {k: {n: float(jacobian[k][n]) for n in names} for k in _OUTPUTS}
+    differences = {k: {} for k in _OUTPUTS}
+    at_bounds, messages = [], []
+    knots = np.asarray(structure.table().pressures, dtype=float)
+    for name in names:
+        lo, hi = bounds.ranges[name]
+        h = relative_step * max(abs(x[name]), 1e-12)
+        side = 0
+        if x[name] - lo <= BOUND_TOLERANCE * (hi - lo):
+            side = 1
+        elif hi - x[name] <= BOUND_TOLERANCE * (hi - lo):
+            side = -1
+        if side:
+            bound = lo if side > 0 else hi
+            at_bounds.append(name)
+            messages.append(
+                f"{name} = {_show(name, x[name])} lies on its {'lower' if side > 0 else 'upper'} "
+                f"bound {_show(name, bound)}: the optimum is the bound, not a stationary point "
+                "(widen the range if it is admissible); the gradient check there uses one-sided "
+                "differences."
+            )
+        elif name == "pressure":
+            near = knots[(np.abs(knots - x[name]) <= 2 * h)]
+            if near.size:
+                messages.append(
+                    f"pressure = {_show(name, x[name])} sits on Table 1's row at "
+                    f"{_show(name, float(near[0]))}, where the linearly interpolated friction "
+                    "constants have a kink: the derivative is one-sided there; restrict the "
+                    "pressure range to one side of that row."
+                )
+        fd = _difference(value, x, name, h, side)
+        for k in _OUTPUTS:
+            differences[k][name] = float(fd[k])
+    errors = [
+        abs(gradient[k][n] - differences[k][n]) / max(abs(gradient[k][n]), abs(differences[k][n]), 1e-300)
+        for k in _OUTPUTS
+        for n in names
+    ]
+    rel_error = float(max(errors))
+    if not rel_error <= GRADIENT_TOLERANCE:
+        messages.append(
+            f"gradient check failed: the derivatives the optimiser used differ from finite "
+            f"differences by {rel_error:.3g} (relative; allowed {GRADIENT_TOLERANCE:g}) at the "
+            "optimum, so it may not be one."
+        )
+    return {
+        "gradient": gradient,
+        "finite_differences": differences,
+        "rel_error": rel_error,
+        "at_bounds": tuple(at_bounds),
+        "messages": tuple(messages),
+    }
+
+
+def _show(name, value):
+    if name == "pressure":
+        return f"{value / PSI:.6g} psi"
+    if name == "isolation_period":
+        return f"{value:.6g} s"
+    return f"{value:.6g}"

@@ -1,0 +1,294 @@
+"""Results of a Monte Carlo run: statistics over the runs whose solve converged, and the
+results as an xarray Dataset (NetCDF, Zarr, CSV) that reads back into the same object.
+
+Dataset layout: dimensions "motion" (index i of the motion: motion i of a stochastic run is
+drawn from `fold_in(key, i)`) and, with design variants, "design"; data variables the peaks
+(`base_disp` [m], `base_shear_ratio` [1], their smooth maxima), `converged` (bool) and `pga`
+[m s-2], each with `units` and `long_name` attributes (CF conventions); the design variables
+on the "design" dimension; the run's inputs and settings in the Dataset's attributes.
+"""
+
+import dataclasses
+import json
+import os
+import pathlib
+from collections.abc import Sequence
+
+import numpy as np
+
+from ..systems import RESPONSE_NAMES
+
+VARIABLES = {
+    "base_disp": ("m", "peak |base displacement| relative to the ground"),
+    "base_shear_ratio": ("1", "peak |base shear| / weight above the isolators"),
+    "smooth_base_disp": ("m", "smooth maximum (log-mean-cosh) of |base displacement|"),
+    "smooth_base_shear_ratio": ("1", "smooth maximum (log-mean-cosh) of |base shear| / weight"),
+    "converged": ("1", "every time step's Newton solve converged (False: peaks not trusted)"),
+}
+"""Peak variables of a `MonteCarloResult`: name -> (units, long name)."""
+
+DESIGN_UNITS = {
+    "isolation_period": ("s", "isolation period T_b"),
+    "pressure": ("Pa", "bearing contact pressure"),
+    "isolation_damping": ("1", "isolation damping ratio zeta_b"),
+    "f_max": ("1", "Eq. 1 friction coefficient at high velocity f_max"),
+    "delta_f": ("1", "Eq. 1 f_max - f_min"),
+    "rate_a": ("s m-1", "Eq. 1 rate parameter a"),
+    "breakaway_ratio": ("1", "Eq. 17 breakaway ratio b"),
+}
+
+FORMATS = (".nc", ".zarr", ".csv", ".npz")
+"""File suffixes `save` writes: NetCDF, Zarr (needs the zarr package), CSV, NumPy."""
+
+_SETTINGS = ("n_devices", "chunk_size", "wall_s", "compile_s", "memory_estimate_bytes")
+
+
+@dataclasses.dataclass
+class MonteCarloResult:
+    """Peaks of a Monte Carlo run, as NumPy arrays labelled by `dims`.
+
+    - `base_disp` [m], `base_shear_ratio` [-]: shape (N,) or (D, N) with design variants;
+    - `smooth_base_disp`, `smooth_base_shear_ratio`: the smooth maxima (same shapes);
+    - `converged` (bool, same shape); `pga` (N,) [m/s^2]: peak |a_g| of each motion;
+    - `design`: dict name -> (D,) values (empty without variants);
+    - `dims`: axis names, ("motion",) or ("design", "motion");
+    - `n_devices`, `chunk_size`, `wall_s` (total), `compile_s` (first chunk's compile),
+      `memory_estimate_bytes` (one chunk); `attrs`: description of the run.
+    """
+
+    base_disp: np.ndarray
+    base_shear_ratio: np.ndarray
+    smooth_base_disp: np.ndarray
+    smooth_base_shear_ratio: np.ndarray
+    converged: np.ndarray
+    pga: np.ndarray
+    design: dict
+    dims: tuple
+    n_devices: int
+    chunk_size: int
+    wall_s: float
+    compile_s: float
+    memory_estimate_bytes: int
+    attrs: dict = dataclasses.field(default_factory=dict)
+
+    @property
+    def n_motions(self) -> int:
+        return int(self.pga.shape[0])
+
+    @property
+    def n_converged(self) -> int | list:
+        """Runs whose every step's Newton solve converged: the runs the statistics rest on
+        (a list per design variant when there are several)."""
+        counts = np.sum(np.asarray(self.converged, bool), axis=-1)
+        return int(counts) if counts.ndim == 0 else counts.tolist()
+
+    @property
+    def n_failed(self) -> int:
+        """Runs (all variants together) left out of the statistics: their solve failed."""
+        return int(np.sum(~np.asarray(self.converged, bool)))
+
+    def converged_values(self, name: str, variant: int | None = None) -> np.ndarray:
+        """The peaks `name` of the converged runs only, for one design `variant` (index into
+        the "design" axis; required when there are variants, ignored otherwise)."""
+        if name not in RESPONSE_NAMES + ("smooth_base_disp", "smooth_base_shear_ratio"):
+            raise ValueError(f"name: unknown {name!r}; accepted: {', '.join(RESPONSE_NAMES)}.")
+        values = np.asarray(getattr(self, name))
+        ok = np.asarray(self.converged, bool)
+        if values.ndim == 2:
+            if variant is None:
+                raise ValueError("variant: this result has design variants; give the index of one.")
+            values, ok = values[variant], ok[variant]
+        return values[ok]
+
+    def percentiles(self, q: Sequence[float] = (5, 16, 50, 84, 95)) -> dict:
+        """{"base_disp_m": {"p50": .., "mean": .., "std": .., "n": ..}, "base_shear_ratio": {..},
+        "n_converged": .., "n_failed": ..} over the motions whose solve converged (runs with a
+        failed step are left out; "n" says how many runs each statistic rests on). Per design
+        variant (lists) when there are several. A statistic over no converged run is `None`."""
+        variants = [None] if np.ndim(self.converged) == 1 else list(range(np.shape(self.converged)[0]))
+        out = {}
+        for key, name in (("base_disp_m", "base_disp"), ("base_shear_ratio", "base_shear_ratio")):
+            per_variant = []
+            for variant in variants:
+                values = self.converged_values(name, variant)
+                stats = {f"p{g:g}": (float(np.percentile(values, g)) if values.size else None) for g in q}
+                stats["mean"] = float(np.mean(values)) if values.size else None
+                stats["std"] = float(np.std(values)) if values.size else None
+                stats["n"] = int(values.size)
+                per_variant.append(stats)
+            if variants == [None]:
+                out[key] = per_variant[0]
+            else:
+                out[key] = {k: [s[k] for s in per_variant] for k in per_variant[0]}
+        out["n_converged"] = self.n_converged
+        out["n_failed"] = self.n_failed
+        return out
+
+    def exceedance(self, name: str, variant: int | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """Empirical exceedance curve of `name` ("base_disp" or "base_shear_ratio") over the
+        n converged runs (of design `variant` when there are several): sorted levels x_(k) and
+        P[X > x] estimated as (n - k) / n, k = 1..n."""
+        if name not in RESPONSE_NAMES:
+            raise ValueError(f"name: unknown {name!r}; accepted: {', '.join(RESPONSE_NAMES)}.")
+        values = np.sort(self.converged_values(name, variant))
+        n = values.shape[-1]
+        return values, (n - np.arange(1, n + 1)) / max(n, 1)
+
+    # ----------------------------------------------------------------------- files
+
+    def to_dataset(self):
+        """The result as an `xarray.Dataset` (layout in the module docstring)."""
+        import xarray
+
+        dims = tuple(self.dims)
+        data = {}
+        for name, (units, long_name) in VARIABLES.items():
+            data[name] = (dims, np.asarray(getattr(self, name)), {"units": units, "long_name": long_name})
+        data["pga"] = (("motion",), np.asarray(self.pga),
+                       {"units": "m s-2", "long_name": "peak |ground acceleration| of the motion"})
+        for name, values in self.design.items():
+            units, long_name = DESIGN_UNITS.get(name, ("1", name))
+            data[f"design_{name}"] = (("design",), np.asarray(values), {"units": units, "long_name": long_name})
+        coords = {"motion": np.arange(self.n_motions)}
+        if "design" in dims:
+            coords["design"] = np.arange(np.shape(self.converged)[0])
+        attrs = {k: _attribute(v) for k, v in self.attrs.items()}
+        attrs.update({k: _attribute(getattr(self, k)) for k in _SETTINGS})
+        attrs["teflon_jax_attrs"] = json.dumps(self.attrs, default=str)
+        attrs["n_converged"] = np.asarray(self.n_converged, dtype=np.int64)
+        attrs["Conventions"] = "CF-1.8"
+        attrs["title"] = "teflon-jax Monte Carlo peak responses"
+        return xarray.Dataset(data, coords=coords, attrs=attrs)
+
+    @classmethod
+    def from_dataset(cls, dataset) -> "MonteCarloResult":
+        """The `MonteCarloResult` a `to_dataset` (or a file it was written to) holds."""
+        dims = tuple(dataset["base_disp"].dims)
+        design = {k[len("design_"):]: np.asarray(v.values) for k, v in dataset.data_vars.items()
+                  if k.startswith("design_")}
+        settings = {k: dataset.attrs[k] for k in _SETTINGS}
+        return cls(
+            **{name: np.asarray(dataset[name].values) for name in VARIABLES},
+            pga=np.asarray(dataset["pga"].values),
+            design=design,
+            dims=dims,
+            n_devices=int(settings["n_devices"]),
+            chunk_size=int(settings["chunk_size"]),
+            wall_s=float(settings["wall_s"]),
+            compile_s=float(settings["compile_s"]),
+            memory_estimate_bytes=int(settings["memory_estimate_bytes"]),
+            attrs=json.loads(dataset.attrs.get("teflon_jax_attrs", "{}")),
+        )
+
+    def to_csv(self, path) -> pathlib.Path:
+        """The peak table as CSV: one row per motion (and design variant), columns design,
+        motion, the design variables, pga_m_s2, base_disp_m, base_shear_ratio, the smooth
+        maxima and converged."""
+        path = pathlib.Path(path)
+        rows = np.asarray(self.base_disp).reshape(-1, self.n_motions)
+        n_designs = rows.shape[0]
+        columns = {"design": np.repeat(np.arange(n_designs), self.n_motions),
+                   "motion": np.tile(np.arange(self.n_motions), n_designs)}
+        for name, values in self.design.items():
+            columns[name] = np.repeat(np.asarray(values), self.n_motions)
+        columns["pga_m_s2"] = np.tile(np.asarray(self.pga), n_designs)
+        for name, label in (("base_disp", "base_disp_m"), ("base_shear_ratio", "base_shear_ratio"),
+                            ("smooth_base_disp", "smooth_base_disp_m"),
+                            ("smooth_base_shear_ratio", "smooth_base_shear_ratio"),
+                            ("converged", "converged")):
+            columns[label] = np.asarray(getattr(self, name)).reshape(-1)
+        with open(path, "w") as handle:
+            handle.write(",".join(columns) + "\n")
+            for i in range(columns["motion"].size):
+                handle.write(",".join(_cell(c[i]) for c in columns.values()) + "\n")
+        return path
+
+    def save(self, path) -> pathlib.Path:
+        """Write the result in the format its suffix names (`FORMATS`): ".nc" NetCDF, ".zarr"
+        Zarr, ".csv" the peak table, ".npz" NumPy arrays with the Dataset's attributes as JSON.
+        Any other suffix, a missing NetCDF/Zarr library or an unwritable place is a
+        `ValueError` saying so; nothing is written in another format than asked."""
+        path = check_output_path(path)
+        if path.suffix == ".csv":
+            return self.to_csv(path)
+        if path.suffix == ".npz":
+            dataset = self.to_dataset()
+            arrays = {k: v.values for k, v in dataset.data_vars.items()}
+            meta = {"dims": list(self.dims), "attrs": {k: _json(v) for k, v in dataset.attrs.items()},
+                    "units": {k: v.attrs["units"] for k, v in dataset.data_vars.items()}}
+            np.savez(path, metadata=json.dumps(meta), **arrays)
+            return path
+        if path.suffix == ".zarr":
+            self.to_dataset().to_zarr(path, mode="w")
+            return path
+        self.to_dataset().to_netcdf(path, engine=netcdf_engine())
+        return path
+
+    @classmethod
+    def open(cls, path) -> "MonteCarloResult":
+        """Read a result written by `save` (".nc" or ".zarr") or by `monte_carlo_distributed`."""
+        import xarray
+
+        path = pathlib.Path(path)
+        if not path.exists():
+            raise ValueError(f"{path}: no such results file.")
+        if path.suffix == ".zarr":
+            with xarray.open_zarr(path) as dataset:
+                return cls.from_dataset(dataset.load())
+        with xarray.open_dataset(path, engine=netcdf_engine()) as dataset:
+            return cls.from_dataset(dataset.load())
+
+
+def netcdf_engine() -> str:
+    """The xarray engine that writes NetCDF here ("netcdf4" or "h5netcdf"); `ValueError`
+    with the reason when neither library is installed."""
+    import importlib.util
+
+    for module, engine in (("netCDF4", "netcdf4"), ("h5netcdf", "h5netcdf")):
+        if importlib.util.find_spec(module) is not None:
+            return engine
+    raise ValueError("NetCDF output needs the netCDF4 or h5netcdf package: pip install netCDF4 "
+                     "(or write .csv / .npz).")
+
+
+def check_output_path(path) -> pathlib.Path:
+    """`path` as a `Path` once it is known that a result can be written there: a suffix of
+    `FORMATS`, its library installed, an existing writable folder. A `ValueError` naming the
+    path and the reason otherwise, before anything is computed."""
+    import importlib.util
+
+    path = pathlib.Path(path)
+    if path.suffix not in FORMATS:
+        raise ValueError(f"{path}: unknown results format {path.suffix!r}; accepted: {', '.join(FORMATS)}.")
+    if path.suffix == ".nc":
+        netcdf_engine()
+    if path.suffix == ".zarr" and importlib.util.find_spec("zarr") is None:
+        raise ValueError(f"{path}: Zarr output needs the zarr package (pip install zarr), or write .nc.")
+    folder = path.parent if str(path.parent) else pathlib.Path(".")
+    if not folder.is_dir():
+        raise ValueError(f"{path}: cannot write results, folder {folder} does not exist.")
+    if not os.access(folder, os.W_OK | os.X_OK) or (path.exists() and not os.access(path, os.W_OK)):
+        raise ValueError(f"{path}: cannot write results there (permission denied).")
+    return path
+
+
+def _attribute(value):
+    if value is None:
+        return "none"
+    if isinstance(value, (bool, np.bool_)):
+        return int(value)
+    if isinstance(value, (int, float, str, np.integer, np.floating)):
+        return value
+    return json.dumps(value, default=str)
+
+
+def _json(value):
+    return value.tolist() if isinstance(value, np.ndarray | np.generic) else value
+
+
+def _cell(value):
+    if isinstance(value, (bool, np.bool_)):
+        return str(bool(value))
+    if isinstance(value, (np.integer, int)):
+        return str(int(value))
+    return f"{float(value):.17g}"
