@@ -105,7 +105,7 @@ def main(argv=None) -> int:
     try:
         read_quantities(args, args.command)
         return runner(args)
-    except (ValueError, FileNotFoundError) as error:
+    except (ValueError, FileNotFoundError, ConnectionError) as error:
         print(f"teflon-jax {args.command}: error: {error}", file=sys.stderr)
         return 2
 

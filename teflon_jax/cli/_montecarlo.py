@@ -12,6 +12,7 @@ import sys
 
 from ..units import STANDARD_GRAVITY
 from ._common import _positive_int, _write_json, add_quantity, add_units_flag, output_units
+from ._main import compile_cache_dir
 
 
 def _add_common(parser):
@@ -63,6 +64,11 @@ def add_montecarlo_parser(subparsers) -> argparse.ArgumentParser:
                         help="the most Newton iterations of the bearing's solve per step (default: "
                         "the library's, enough for every step; 1 makes runs fail, to see how "
                         "failures are reported)")
+    parser.add_argument("--scheduler", default=None, metavar="local:N|ADDRESS",
+                        help="run the chunks as tasks on a Dask cluster: 'local:N' starts N worker "
+                        "processes here, an address (tcp://host:8786) uses a running scheduler "
+                        "(SLURM/PBS: see docs/distributed.md); needs --out FILE.nc, where results "
+                        "stream as chunks finish (default: this process)")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
     parser.set_defaults(command_function=run_montecarlo)
     return parser
@@ -115,12 +121,25 @@ def run_montecarlo(args) -> int:
     def progress(done, total):
         bar.update(done - bar.n)
 
-    result = monte_carlo(
-        structure, model, args.motions, key=jax.random.key(args.seed), chunk_size=args.chunk_size,
-        progress=progress,
-    )
+    if args.scheduler is None:
+        result = monte_carlo(
+            structure, model, args.motions, key=jax.random.key(args.seed),
+            chunk_size=args.chunk_size, progress=progress,
+        )
+        files = [] if args.out is None else [str(p) for p in save_montecarlo(result, args.out)]
+    else:
+        from ..studies import monte_carlo_distributed
+
+        if args.out is None:
+            raise ValueError("--scheduler: a distributed run streams its results to a file; "
+                             "add --out FILE.nc.")
+        result = monte_carlo_distributed(
+            structure, model, args.motions, out=args.out, seed=args.seed,
+            scheduler=args.scheduler, chunk_size=args.chunk_size, progress=progress,
+            compilation_cache=None if args.no_compile_cache else str(compile_cache_dir()),
+        )
+        files = [str(args.out)]
     bar.close()
-    files = [] if args.out is None else [str(p) for p in save_montecarlo(result, args.out)]
     converged = np.asarray(result.converged, bool).reshape(-1)
     stats = _statistics(result, units)
     length = units.length[0]
