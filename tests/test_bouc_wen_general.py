@@ -169,3 +169,19 @@ def test_check_bearing_names_each_bouc_wen_constant(shape, match):
         tj.check_bearing(bearing(full))
     with pytest.raises(ValueError, match=match):
         tj.simulate_bearing_test(bearing(full), tj.SineMotion(INCH, 1.0), 1.0)
+
+
+def test_newton_bracket_holds_a_step_that_saturates_z_above_one():
+    """One Newmark step from Z = 0 at 0.5 m/s with A = 1.5: Z reaches sqrt(1.5) within the step,
+    so |F| = mu W sqrt(1.5) > f_max W; the bracket must still contain the root."""
+    shape = dict(A=1.5, beta=0.1, gamma=0.9, eta=2.0)
+    system = rigid_mass(weight=1.0e5, bearing=bearing(shape), ground_acceleration=tj.as_signal(0.0, duration=1.0),
+                        time_step=1e-3)
+    y0 = {"u": jnp.zeros(1), "v": jnp.asarray([0.5]), "z": jnp.asarray(0.0), "z_peak": jnp.asarray(1.0)}
+    y1, converged = system.newmark_step(0.0, 1e-3, y0, system._acceleration(0.0, y0))
+    assert bool(converged)
+    force = system.friction_force(y1["v"][0], y1["z"], y1["z_peak"])
+    assert float(force) > 1.1 * float(FRICTION.f_max) * 1.0e5  # beyond the old bound f_max W
+    # Newmark's relations hold with that force: m (v1 - v0) = -dt/2 (F0 + F1), F0 = 0 (Z = 0)
+    m = float(system.mass[0])
+    assert float(m * (y1["v"][0] - 0.5)) == pytest.approx(-1e-3 / 2 * float(force), rel=1e-6)
