@@ -51,7 +51,7 @@ def test_rebuilt_building_has_table2_frequencies_and_damping():
     np.testing.assert_allclose(scaled, data.mode_shapes, atol=0.03)
     # Assembled system: base + six floors, total weight 672 kip on the bearings.
     system = six_storey_building(
-        bearing=None, ground_acceleration=tj.as_signal(0.0), time_step=0.01,
+        bearing=None, ground_acceleration=tj.as_signal(0.0, duration=1.0), time_step=0.01,
         isolation_period=2.0, friction_model="none",
     )
     assert system.mass.shape == (7,)
@@ -241,7 +241,7 @@ def test_batch_equals_separate_calls_and_padding_is_masked():
 
 def test_bad_input_raises_clear_value_errors():
     bearing = tj.paper_bearing(_uf(1000))
-    signal = tj.as_signal(0.0)
+    signal = tj.as_signal(0.0, duration=1.0)
     with pytest.raises(ValueError, match="isolation_period"):
         rigid_mass(weight=1.0, bearing=bearing, ground_acceleration=signal, time_step=0.01, isolation_period=0.0)
     with pytest.raises(ValueError, match="isolation_period"):

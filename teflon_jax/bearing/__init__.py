@@ -5,7 +5,9 @@ from ._bearing import BREAKAWAY_THRESHOLD as BREAKAWAY_THRESHOLD
 from ._bearing import DEFAULT_YIELD_DISP as DEFAULT_YIELD_DISP
 from ._bearing import SlidingBearing as SlidingBearing
 from ._bearing import check_bearing as check_bearing
+from ._bearing import check_hysteresis as check_hysteresis
 from ._bearing import paper_bearing as paper_bearing
+from ._bearing import sliding_speed as sliding_speed
 from ._friction import FrictionParameters as FrictionParameters
 from ._friction import anisotropic_friction as anisotropic_friction
 from ._friction import coulomb_friction as coulomb_friction

@@ -8,7 +8,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..units import INCH
-from ..validation import require, require_positive
+from ..validation import concrete, require, require_positive
 from ._friction import (
     FrictionParameters,
     anisotropic_friction,
@@ -54,12 +54,20 @@ class SlidingBearing(eqx.Module):
         if self.friction_perpendicular is not None:
             weight = sliding_angle_weight(velocity_x, velocity_y)
             params = anisotropic_friction(params, self.friction_perpendicular, weight)
-        speed = jnp.sqrt(velocity_x**2 + velocity_y**2 + 1e-300)
+        speed = sliding_speed(velocity_x, velocity_y)
         mu = sliding_friction(params, speed, self.n_interfaces)
         if self.breakaway_ratio is None:
             return mu
         static = self.breakaway_ratio * params.f_min
         return jnp.where(z_peak < BREAKAWAY_THRESHOLD, static, mu)
+
+
+def sliding_speed(velocity_x, velocity_y=0.0):
+    """|v| = sqrt(vx^2 + vy^2) [m/s], with a finite derivative (zero) at rest in float32 and
+    float64 alike: the square root is taken only of a positive argument (double-where)."""
+    square = jnp.asarray(velocity_x) ** 2 + jnp.asarray(velocity_y) ** 2
+    moving = square > 0
+    return jnp.where(moving, jnp.sqrt(jnp.where(moving, square, 1.0)), 0.0)
 
 
 def paper_bearing(
@@ -80,6 +88,27 @@ def paper_bearing(
     )
 
 
+def check_hysteresis(h: BoucWen) -> None:
+    """Raise `ValueError` naming the constant when concrete Bouc-Wen constants are invalid.
+
+    Rules: Y > 0; A > 0; gamma > 0 and -gamma <= beta <= gamma; eta >= 1 -- the range in
+    which Eq. 3 is bounded, dissipative and consistent with a hysteretic force (Ikhouane,
+    Manosa & Rodellar 2007, with their beta, gamma named gamma, beta here). The paper uses
+    A = 1, beta = 0.1, gamma = 0.9, eta = 2. Traced values are not checked here.
+    """
+    require_positive(h.yield_disp, "yield_disp", " [m] (paper: 0.005 in)")
+    require_positive(h.A, "A", " (Bouc-Wen amplitude; paper: 1)")
+    require_positive(h.gamma, "gamma", " (Bouc-Wen shape constant; paper: 0.9)")
+    require(h.beta, np.isfinite, "beta", "must be finite (Bouc-Wen shape constant; paper: 0.1)")
+    beta, gamma = concrete(h.beta), concrete(h.gamma)
+    if beta is not None and gamma is not None and not np.all(np.abs(beta) <= gamma):
+        raise ValueError(
+            "beta: must satisfy -gamma <= beta <= gamma (paper: beta = 0.1, gamma = 0.9); got "
+            f"beta = {np.asarray(beta).tolist()}, gamma = {np.asarray(gamma).tolist()}."
+        )
+    require(h.eta, lambda x: np.isfinite(x) & (x >= 1), "eta", "must be >= 1 (paper: 2)")
+
+
 def check_bearing(bearing: SlidingBearing) -> None:
     """Raise `ValueError` naming the parameter when a concrete bearing has invalid values.
 
@@ -90,7 +119,7 @@ def check_bearing(bearing: SlidingBearing) -> None:
     require(f.delta_f, lambda x: np.isfinite(x) & (x >= 0), "delta_f", "must be >= 0")
     require(f.f_max - f.delta_f, lambda x: x > 0, "delta_f", "must be smaller than f_max")
     require(f.rate_a, lambda x: np.isfinite(x) & (x >= 0), "rate_a", "must be >= 0 [s/m]")
-    require_positive(bearing.hysteresis.yield_disp, "yield_disp", " [m] (paper: 0.005 in)")
+    check_hysteresis(bearing.hysteresis)
     if bearing.breakaway_ratio is not None:
         require(
             bearing.breakaway_ratio,

@@ -38,7 +38,8 @@ def _abs_power(x, p):
 
 
 def bouc_wen_rate(h: BoucWen, z, velocity):
-    """dZ/dt [1/s] of Eq. 3 for sliding `velocity` [m/s]."""
+    """dZ/dt [1/s] of Eq. 3 for sliding `velocity` [m/s], for any A, beta, gamma, eta:
+    Y dZ/dt = A U' - gamma |U'| Z |Z|^(eta-1) - beta U' |Z|^eta."""
     z_eta_1 = _abs_power(z, h.eta - 1.0)
     return (
         h.A * velocity
@@ -47,15 +48,28 @@ def bouc_wen_rate(h: BoucWen, z, velocity):
     ) / h.yield_disp
 
 
-def park_rate(h: BoucWen, z, velocity):
-    """d(Zx, Zy)/dt [1/s] of the biaxial model of Park, Wen & Ang (1986), Eqs. 8-9 (eta = 2).
+def _norm(z):
+    """Euclidean norm of `z` (..., 2) with a finite (zero) derivative at z = 0 (double-where)."""
+    square = jnp.sum(z**2, axis=-1)
+    nonzero = square > 0
+    return jnp.where(nonzero, jnp.sqrt(jnp.where(nonzero, square, 1.0)), 0.0)
 
-    `z` and `velocity` have shape (..., 2). While sliding with A / (beta + gamma) = 1 the
-    solution is (Zx, Zy) = (cos theta, sin theta), theta the direction of the velocity.
+
+def park_rate(h: BoucWen, z, velocity):
+    """d(Zx, Zy)/dt [1/s] of the biaxial model of Park, Wen & Ang (1986), Eqs. 8-9, for any eta.
+
+        Y dZx/dt = A Ux' - Zx |Z|^(eta-2) [gamma (|Ux' Zx| + |Uy' Zy|) + beta (Ux' Zx + Uy' Zy)]
+        Y dZy/dt = A Uy' - Zy |Z|^(eta-2) [gamma (|Ux' Zx| + |Uy' Zy|) + beta (Ux' Zx + Uy' Zy)]
+
+    with |Z| = sqrt(Zx^2 + Zy^2); eta = 2 is the paper's form (the factor is 1), and with
+    Zy = Uy' = 0 it reduces to Eq. 3 for any eta. `z` and `velocity` have shape (..., 2).
+    While sliding with A / (beta + gamma) = 1 the solution is (Zx, Zy) = (cos theta, sin theta),
+    theta the direction of the velocity.
     """
     zx, zy = z[..., 0], z[..., 1]
     vx, vy = velocity[..., 0], velocity[..., 1]
     common = h.gamma * (jnp.abs(vx * zx) + jnp.abs(vy * zy)) + h.beta * (vx * zx + vy * zy)
+    common = common * _abs_power(_norm(z), h.eta - 2.0)
     dzx = (h.A * vx - common * zx) / h.yield_disp
     dzy = (h.A * vy - common * zy) / h.yield_disp
     return jnp.stack([dzx, dzy], axis=-1)

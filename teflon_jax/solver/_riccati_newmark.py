@@ -22,6 +22,7 @@ from typing import ClassVar
 
 import diffrax
 import equinox as eqx
+import jax.numpy as jnp
 import numpy as np
 
 from ..validation import concrete
@@ -87,22 +88,34 @@ def _unwrap(term):
     return getattr(term, "vector_field", None)
 
 
-def require_riccati_form(h) -> None:
-    """Trace-time check that Bouc-Wen constants admit the closed-form update (eta = 2, gamma > beta)."""
-    for name, ok in (("eta", _maybe_equal(h.eta, 2.0)), ("gamma", _maybe_greater(h.gamma, h.beta))):
-        if ok is False:
-            raise ValueError(
-                f"{name}: RiccatiNewmark needs eta = 2 and gamma > beta (paper: eta = 2, "
-                "gamma = 0.9, beta = 0.1); use a general diffrax solver (e.g. diffrax.Tsit5 "
-                "with a PIDController) for other Bouc-Wen shapes."
-            )
+RICCATI_FORM_MESSAGE = (
+    "RiccatiNewmark's closed-form Z update needs eta = 2 and gamma > beta (paper: eta = 2, "
+    "gamma = 0.9, beta = 0.1); for other Bouc-Wen shapes pass an adaptive diffrax solver, e.g. "
+    "solver=diffrax.Tsit5() (with rtol, atol: a PIDController)"
+)
 
 
-def _maybe_equal(x, value):
-    c = concrete(x)
-    return None if c is None else bool(np.all(c == value))
+def require_riccati_form(h):
+    """Check that Bouc-Wen constants admit the closed-form update (eta = 2, gamma > beta).
 
+    Concrete constants: a `ValueError` naming the offending constant, at trace time. Traced
+    constants (e.g. under `vmap` over stacked systems): an `eqx.error_if` runtime error. Any
+    A > 0 is admitted (the update holds for A != beta + gamma).
 
-def _maybe_greater(x, y):
-    cx, cy = concrete(x), concrete(y)
-    return None if cx is None or cy is None else bool(np.all(cx > cy))
+    **Returns:** `h`, carrying the runtime check when its constants are traced; use the
+    returned value so that the check is part of the computation.
+    """
+    eta, beta, gamma = concrete(h.eta), concrete(h.beta), concrete(h.gamma)
+    if eta is not None and not np.all(eta == 2.0):
+        raise ValueError(f"eta: {RICCATI_FORM_MESSAGE}; got eta = {np.asarray(eta).tolist()}.")
+    if beta is not None and gamma is not None and not np.all(gamma > beta):
+        raise ValueError(
+            f"gamma: {RICCATI_FORM_MESSAGE}; got gamma = {np.asarray(gamma).tolist()}, "
+            f"beta = {np.asarray(beta).tolist()}."
+        )
+    if eta is not None and beta is not None and gamma is not None:
+        return h
+    bad = jnp.any(jnp.asarray(h.eta) != 2.0) | jnp.any(jnp.asarray(h.gamma) <= jnp.asarray(h.beta))
+    return eqx.tree_at(
+        lambda x: x.yield_disp, h, eqx.error_if(jnp.asarray(h.yield_disp), bad, RICCATI_FORM_MESSAGE)
+    )

@@ -14,8 +14,9 @@ from ..bearing import (
     bouc_wen_rate,
     check_bearing,
     park_rate,
+    sliding_speed,
 )
-from ..excitation import AbstractMotion, Signal, as_signal
+from ..excitation import AbstractMotion, Signal, TabulatedMotion, as_signal
 from ..solver import AbstractSteppedSystem, RiccatiNewmark, require_riccati_form
 from ..validation import require_positive
 
@@ -42,8 +43,8 @@ class BearingTestSystem(AbstractSteppedSystem):
         z = y["z"]
         if self.motion.biaxial:
             dz = park_rate(h, z, v)
-            z_abs = jnp.sqrt(jnp.sum(z**2) + 1e-300)
-            z_abs_rate = jnp.dot(z, dz) / z_abs
+            z_abs = sliding_speed(z[0], z[1])  # |Z|, with a finite derivative at Z = 0
+            z_abs_rate = jnp.dot(z, dz) / jnp.where(z_abs > 0, z_abs, 1.0)
         else:
             dz = bouc_wen_rate(h, z, v[0])
             z_abs, z_abs_rate = jnp.abs(z[0]), jnp.sign(z[0]) * dz[0]
@@ -55,7 +56,7 @@ class BearingTestSystem(AbstractSteppedSystem):
                 "solver: RiccatiNewmark handles uniaxial tests; for biaxial motion use a general "
                 "diffrax solver (the default of simulate_bearing_test)."
             )
-        h = self.bearing.hysteresis
+        h = require_riccati_form(self.bearing.hysteresis)
         du = self.motion.displacement(t1)[0] - self.motion.displacement(t0)[0]
         z1 = bouc_wen_exact_update(h, y0["z"], du)
         z_peak1 = jnp.maximum(y0["z_peak"], jnp.abs(z1[0]))
@@ -110,13 +111,15 @@ def simulate_bearing_test(
 
     - `bearing`: the `SlidingBearing` (vmap this function over a batched bearing to run many).
     - `motion`: an `AbstractMotion` (sine, triangle, figure-eight, tabulated).
-    - `normal_load` [N]: a constant or a `Signal` (time-varying normal load).
+    - `normal_load` [N]: a constant or a `Signal` (time-varying normal load), which must
+      cover `duration` (a recorded load is not extended past its last sample).
     - `duration` [s]: defaults to `motion.duration`.
     - `samples_per_cycle`: saved samples per cycle of the motion (tabulated: per input sample
       interval the sample spacing of the table is used instead).
     - `steps_per_sample`: solver steps between saved samples (fixed-step solvers).
-    - `solver`: `RiccatiNewmark()` (default for uniaxial motion: exact Z along each step) or
-      any diffrax solver; an adaptive one (default for biaxial motion: `Tsit5` with a PID
+    - `solver`: `RiccatiNewmark()` (default for uniaxial motion with eta = 2, gamma > beta:
+      exact Z along each step; other Bouc-Wen shapes are refused by it) or any diffrax solver;
+      an adaptive one (default for biaxial motion and for other shapes: `Tsit5` with a PID
       controller at `rtol`, `atol`) is used with adaptive steps.
     - `adjoint`: diffrax adjoint; default reverse mode (`RecursiveCheckpointAdjoint`), or
       `diffrax.ForwardMode()` for `jax.jvp`/`jax.jacfwd`.
@@ -126,12 +129,12 @@ def simulate_bearing_test(
     """
     check_bearing(bearing)
     motion.check()
-    normal_load = as_signal(normal_load)
-    require_positive(normal_load.values, "normal_load", " [N] (compression positive)")
     if duration is None:
         duration = motion.duration
+    normal_load = _normal_load_signal(normal_load, duration)
     if solver is None:
-        solver = diffrax.Tsit5() if motion.biaxial else RiccatiNewmark()
+        riccati = not motion.biaxial and _riccati_admitted(bearing.hysteresis)
+        solver = RiccatiNewmark() if riccati else diffrax.Tsit5()
     times = _save_times(motion, duration, samples_per_cycle)
     system = BearingTestSystem(bearing=bearing, motion=motion)
     if isinstance(solver, RiccatiNewmark):
@@ -166,6 +169,27 @@ def _solve(system, solver, controller, dt0, times, normal_load, max_steps, adjoi
         throw=throw,
     )
     return _result(system.bearing, system.motion, normal_load, solution)
+
+
+def _normal_load_signal(normal_load, duration) -> Signal:
+    """The normal load as a `Signal` over [0, duration]: a constant load is constant over the
+    test; a recorded one must last as long as the test (`Signal` is zero past its end)."""
+    if isinstance(normal_load, Signal):
+        require_positive(normal_load.values, "normal_load", " [N] (compression positive)")
+        normal_load.require_covers(duration, "normal_load")
+        return normal_load
+    value = jnp.asarray(normal_load, dtype=float)
+    require_positive(value, "normal_load", " [N] (compression positive)")
+    return as_signal(value, duration=duration)
+
+
+def _riccati_admitted(h) -> bool:
+    """False when concrete Bouc-Wen constants rule out the closed-form update."""
+    try:
+        require_riccati_form(h)
+    except ValueError:
+        return False
+    return True
 
 
 def _is_adaptive(solver) -> bool:
@@ -233,37 +257,81 @@ def _result(bearing, motion, normal_load: Signal, solution) -> BearingTestResult
     )
 
 
-def force_along_path(bearing: SlidingBearing, time, ux, normal_load, *, z0=0.0, z_peak0=0.0):
-    """Friction force [N] of a bearing driven along sampled displacements, as one `lax.scan`.
+def force_along_path(
+    bearing: SlidingBearing,
+    time,
+    ux,
+    normal_load,
+    *,
+    z0=0.0,
+    z_peak0=0.0,
+    solver: diffrax.AbstractSolver | None = None,
+    rtol: float = 1e-8,
+    atol: float = 1e-10,
+    max_steps: int = 1_000_000,
+):
+    """Friction force [N] of a bearing driven along sampled displacements.
 
-    The same computation as `simulate_bearing_test(bearing, tabulated_motion(time, ux),
-    normal_load)` with `RiccatiNewmark` (Z advanced exactly between samples, running max |Z|
-    switching Eq. 17 to Eq. 1, velocity = forward slope of the displacement), written so that
-    `time`, `ux` and `normal_load` may be traced: batches of records under `vmap`, fits under
-    `optimistix`, cheap forward-mode derivatives. `z0` and `z_peak0` set the initial state for
-    records that do not start from rest.
+    The same model as `simulate_bearing_test(bearing, tabulated_motion(time, ux), normal_load)`
+    (velocity = forward slope of the displacement, running max |Z| switching Eq. 17 to
+    Eq. 1), written so that `time`, `ux` and `normal_load` may be traced: batches of records
+    under `vmap`, fits under `optimistix`, cheap forward-mode derivatives. `z0` and `z_peak0`
+    set the initial state for records that do not start from rest.
 
-    **Arguments:** `bearing` (uniaxial; eta = 2), `time` [s] (n,), `ux` [m] (n,),
+    With eta = 2 and gamma > beta (the paper's shape) Z is advanced exactly between samples
+    in one `lax.scan` (`bouc_wen_exact_update`; traced constants of another shape are a
+    runtime error). Any other A, beta, gamma, eta (or an explicit `solver`, e.g.
+    `diffrax.Tsit5()`) integrates Eq. 3 along the path with that diffrax solver, adaptive
+    steps at `rtol`, `atol`, stopping at every sample.
+
+    **Arguments:** `bearing` (uniaxial), `time` [s] (n,), `ux` [m] (n,),
     `normal_load` [N] scalar or (n,).
 
     **Returns:** `(force [N], z [-], z_peak [-])`, each of shape (n,).
     """
     time, ux = jnp.asarray(time), jnp.asarray(ux)
-    hysteresis = bearing.hysteresis
-
-    def step(carry, du):
-        z, z_peak = carry
-        z1 = bouc_wen_exact_update(hysteresis, z, du)
-        z_peak1 = jnp.maximum(z_peak, jnp.abs(z1))
-        return (z1, z_peak1), (z1, z_peak1)
-
     z0 = jnp.asarray(z0, dtype=ux.dtype)
     z_peak0 = jnp.asarray(z_peak0, dtype=ux.dtype)
     du = jnp.diff(ux)
-    _, (z, z_peak) = jax.lax.scan(step, (z0, z_peak0), du)
-    z = jnp.concatenate([z0[None], z])
-    z_peak = jnp.concatenate([z_peak0[None], z_peak])
+    if solver is None and _riccati_admitted(bearing.hysteresis):
+        hysteresis = require_riccati_form(bearing.hysteresis)
+
+        def step(carry, du):
+            z, z_peak = carry
+            z1 = bouc_wen_exact_update(hysteresis, z, du)
+            z_peak1 = jnp.maximum(z_peak, jnp.abs(z1))
+            return (z1, z_peak1), (z1, z_peak1)
+
+        _, (z, z_peak) = jax.lax.scan(step, (z0, z_peak0), du)
+        z = jnp.concatenate([z0[None], z])
+        z_peak = jnp.concatenate([z_peak0[None], z_peak])
+    else:
+        z, z_peak = _z_along_path(bearing, time, ux, z0, z_peak0, solver, rtol, atol, max_steps)
     velocity = du / jnp.diff(time)
     velocity = jnp.concatenate([velocity, velocity[-1:]])
     mu = bearing.coefficient(velocity, 0.0, z_peak)
     return mu * normal_load * z, z, z_peak
+
+
+def _z_along_path(bearing, time, ux, z0, z_peak0, solver, rtol, atol, max_steps):
+    """Z and its running peak at the samples, integrating Eq. 3 with a diffrax solver."""
+    solver = diffrax.Tsit5() if solver is None else solver
+    motion = TabulatedMotion(times=time, ux=ux, uy=jnp.zeros_like(ux), biaxial=False)
+    system = BearingTestSystem(bearing=bearing, motion=motion)
+    adaptive = _is_adaptive(solver)
+    solution = diffrax.diffeqsolve(
+        diffrax.ODETerm(system),
+        solver,
+        t0=time[0],
+        t1=time[-1],
+        dt0=(time[1] - time[0]) / 10 if adaptive else None,
+        y0={"z": z0[None], "z_peak": z_peak0},
+        saveat=diffrax.SaveAt(ts=time),
+        stepsize_controller=(
+            diffrax.PIDController(rtol=rtol, atol=atol, jump_ts=time)
+            if adaptive
+            else diffrax.StepTo(ts=time)
+        ),
+        max_steps=max_steps,
+    )
+    return solution.ys["z"][:, 0], solution.ys["z_peak"]

@@ -5,7 +5,7 @@ import jax
 import jax.numpy as jnp
 
 from ..units import STANDARD_GRAVITY
-from ._structure import StructureOnSliders, initial_state
+from ._structure import StructureOnSliders, check_duration, initial_state
 
 RESPONSE_NAMES = ("base_disp", "base_shear_ratio")
 """Peak |base displacement| [m] and peak |base shear| / weight above the isolators [-]."""
@@ -85,9 +85,7 @@ def peak_response(
     **Returns:** a `PeakResponse`.
     """
     dt = float(system.time_step)
-    n_steps = int(round(duration / dt + 1e-9))
-    if n_steps < 1:
-        raise ValueError(f"duration: must be at least one time step ({dt} s), got {duration}.")
+    n_steps = check_duration(system, duration)  # at least a step, within the record
     if isinstance(read_every, bool) or not isinstance(read_every, int) or read_every < 1:
         raise ValueError(f"read_every: must be a positive integer number of steps, got {read_every!r}.")
     dtype = system.mass.dtype

@@ -23,6 +23,7 @@ from ..bearing import (
     bouc_wen_exact_update,
     bouc_wen_rate,
     bouc_wen_reversal_length,
+    check_bearing,
 )
 from ..excitation import Signal
 from ..solver import AbstractSteppedSystem, require_riccati_form
@@ -39,7 +40,11 @@ class StructureOnSliders(AbstractSteppedSystem):
     """A linear structure isolated on sliding bearings, as a diffrax vector field.
 
     State: {"u": (n,) [m], "v": (n,) [m/s], "z": () [-], "z_peak": () [-]}, relative to the
-    ground; index 0 is the isolator.
+    ground; index 0 is the isolator. `z_peak` is the running max |Z| that switches breakaway
+    (Eq. 17) off: continuous for ODE solvers; for `RiccatiNewmark` the max up to the start of
+    each step, so that the force solved for and the force reported are one and the same.
+    Bouc-Wen in the vector field (`__call__`) takes any A, beta, gamma, eta; `advance`
+    (`RiccatiNewmark`) needs eta = 2 and gamma > beta and refuses other shapes.
 
     **Fields:**
 
@@ -120,7 +125,12 @@ class StructureOnSliders(AbstractSteppedSystem):
         compliance = self.newmark_inverse[:, 0]  # response to a unit force at the isolator
         g0 = compliance[0]
         ub0, vb0 = u0[0], v0[0]
-        z0, z_peak0 = y0["z"], y0["z_peak"]
+        z0 = y0["z"]
+        # Breakaway (Eq. 17) is decided by the largest |Z| reached up to the start of the step:
+        # the same running peak sets the force in the equilibrium below and the force reported
+        # at the end of the step (`friction_force` of the stored state), so the switch acts once,
+        # at one step, in both.
+        z_peak1 = jnp.maximum(y0["z_peak"], jnp.abs(z0))
 
         if self.friction_model == "none":
             force, z1, converged = jnp.zeros_like(z0), z0, jnp.array(True)
@@ -128,11 +138,10 @@ class StructureOnSliders(AbstractSteppedSystem):
             force, z1 = self._coulomb_force(u_linear[0] - ub0, vb0, g0, dt)
             converged = jnp.array(True)
         else:
-            force, z1, converged = self._hysteretic_force(u_linear[0], ub0, vb0, z0, z_peak0, g0, dt)
+            force, z1, converged = self._hysteretic_force(u_linear[0], ub0, vb0, z0, z_peak1, g0, dt)
 
         u1 = u_linear - compliance * force
         v1 = 2 / dt * (u1 - u0) - v0
-        z_peak1 = jnp.maximum(z_peak0, jnp.abs(z1))
         return {"u": u1, "v": v1, "z": z1, "z_peak": z_peak1}, converged
 
     def _coulomb_force(self, du_linear, vb0, g0, dt):
@@ -147,19 +156,23 @@ class StructureOnSliders(AbstractSteppedSystem):
         force = jnp.where(sticking, stick_force, capacity * jnp.sign(v_star))
         return force, force / capacity
 
-    def _hysteretic_force(self, ub_linear, ub0, vb0, z0, z_peak0, g0, dt):
-        h = self.bearing.hysteresis
+    def _hysteretic_force(self, ub_linear, ub0, vb0, z0, z_peak, g0, dt):
+        h = require_riccati_form(self.bearing.hysteresis)
+        bearing = eqx.tree_at(lambda b: b.hysteresis, self.bearing, h)
         W = self.bearing_load
         f = self.bearing.friction
         mu_bound = f.f_max
         if self.bearing.breakaway_ratio is not None:
             mu_bound = jnp.maximum(mu_bound, self.bearing.breakaway_ratio * f.f_min)
-        force_bound = mu_bound * W * jnp.maximum(1.0, jnp.abs(z0)) * (1 + 1e-9)
+        # Along a monotone increment |Z| stays below max(|z0|, its sliding value
+        # (A / (beta + gamma))^(1/eta)), whatever A is, so |F| <= mu_bound W that.
+        z_bound = jnp.maximum(jnp.abs(z0), (h.A / (h.beta + h.gamma)) ** (1 / h.eta))
+        force_bound = mu_bound * W * z_bound * (1 + 1e-9)
         lo, hi = ub_linear - g0 * force_bound, ub_linear + g0 * force_bound
         x0 = jnp.clip(ub0 + dt * vb0, lo, hi)  # constant-velocity predictor
         eps = jnp.finfo(jnp.result_type(x0)).eps
         tolerance = jnp.maximum(1e-6 * h.yield_disp, 1e3 * eps * (jnp.abs(x0) + jnp.abs(ub_linear)))
-        p = {"bearing": self.bearing, "W": W, "z0": z0, "z_peak0": z_peak0, "ub0": ub0,
+        p = {"bearing": bearing, "W": W, "z0": z0, "z_peak": z_peak, "ub0": ub0,
              "vb0": vb0, "g0": g0, "ub_linear": ub_linear,
              "reversal_length": bouc_wen_reversal_length(h, z0)}  # the same for every iterate
         x = _isolator_root(dt, self.newton_iterations, p, x0, lo, hi, tolerance)
@@ -174,7 +187,7 @@ def _bearing_force(x, p, dt):
     z = bouc_wen_exact_update(bearing.hysteresis, p["z0"], x - p["ub0"], p["reversal_length"],
                               tangent="series")  # cheaper in batches of structures
     velocity = 2 / dt * (x - p["ub0"]) - p["vb0"]
-    return bearing.coefficient(velocity, 0.0, p["z_peak0"]) * p["W"] * z, z
+    return bearing.coefficient(velocity, 0.0, p["z_peak"]) * p["W"] * z, z
 
 
 def _isolator_residual(x, p, dt):
@@ -250,8 +263,7 @@ def structure_on_sliders(
     if friction_model != "none":
         if bearing is None:
             raise ValueError("bearing: a SlidingBearing is needed unless friction_model='none'.")
-        if friction_model == "hysteretic":
-            require_riccati_form(bearing.hysteresis)
+        check_bearing(bearing)
     else:
         from ..bearing import coulomb_friction, paper_bearing
 
@@ -305,6 +317,18 @@ class StructureResponse(eqx.Module):
         return self.result == diffrax.RESULTS.successful
 
 
+def check_duration(system: StructureOnSliders, duration: float) -> int:
+    """Number of `time_step`s in `duration` [s] (rounded down), after checking that it is at
+    least one step and that the ground-acceleration record lasts that long (a `Signal` is zero
+    past its last sample; ask for a shorter duration or append zeros on purpose)."""
+    dt = float(system.time_step)
+    n_steps = int(round(duration / dt + 1e-9))
+    if n_steps < 1:
+        raise ValueError(f"duration: must be at least one time step ({dt} s), got {duration}.")
+    system.ground_acceleration.require_covers(n_steps * dt, "duration")
+    return n_steps
+
+
 def simulate_structure(
     system: StructureOnSliders,
     duration: float,
@@ -322,11 +346,12 @@ def simulate_structure(
     **Arguments:**
 
     - `system`: from `structure_on_sliders` or the model builders (rigid mass, building).
-    - `duration` [s]: end time; a multiple of `system.time_step` is used (rounded down).
+    - `duration` [s]: end time; a multiple of `system.time_step` is used (rounded down). It
+      may not exceed the ground-acceleration record (see `check_duration`).
     - `save_every`: keep every k-th step.
-    - `solver`: `RiccatiNewmark()` (default; fixed step `system.time_step`) or an adaptive
-      diffrax solver (e.g. `diffrax.Tsit5()` with `rtol`, `atol`), used for converged
-      reference solutions.
+    - `solver`: `RiccatiNewmark()` (default; fixed step `system.time_step`; Bouc-Wen with
+      eta = 2 and gamma > beta only) or an adaptive diffrax solver (e.g. `diffrax.Tsit5()` with
+      `rtol`, `atol`), for converged reference solutions and for any other Bouc-Wen shape.
     - `adjoint`: a diffrax adjoint; default `RecursiveCheckpointAdjoint()` (reverse mode);
       pass `diffrax.ForwardMode()` for `jax.jvp`/`jax.jacfwd` (cheaper with few parameters).
     - `throw`: raise on solver failure; with `False` (e.g. under vmap) the code is in `result`.
@@ -337,14 +362,14 @@ def simulate_structure(
 
     from ..solver import RiccatiNewmark
 
+    n_steps = check_duration(system, duration)
     dt = float(system.time_step)
-    n_steps = int(round(duration / dt + 1e-9))
-    if n_steps < 1:
-        raise ValueError(f"duration: must be at least one time step ({dt} s), got {duration}.")
     steps = jnp.arange(n_steps + 1) * dt
     save_times = steps[::save_every]
     solver = RiccatiNewmark() if solver is None else solver
     if isinstance(solver, RiccatiNewmark):
+        if system.friction_model == "hysteretic":
+            require_riccati_form(system.bearing.hysteresis)
         controller, dt0 = diffrax.StepTo(ts=steps), None
         max_steps = n_steps if max_steps is None else max_steps
     else:

@@ -1,0 +1,230 @@
+"""Hand-made mutation run over the physics modules (friction, hysteresis, bearing, tables,
+excitation signal, solver, structures).
+
+Each mutant changes one physical statement (a sign, a factor, a threshold, an interpolation
+rule) in a copy of the repository and runs the fast tests that guard it (`pytest -x -q`,
+slow tests deselected, a time limit per mutant). A mutant is *killed* when those tests fail,
+*survived* when they pass (a statement no test guards, or an equivalent mutant to explain),
+*timeout* when they run past the limit. The working tree is never modified.
+
+Usage (from the repository root):
+
+    python tools/mutants.py                 # all mutants
+    python tools/mutants.py --only F1 S2    # some of them
+    python tools/mutants.py --list          # what each mutant changes
+    python tools/mutants.py --timeout 900 --no-baseline
+
+Exit status: 0 when every mutant was killed, 1 otherwise.
+"""
+
+import argparse
+import dataclasses
+import os
+import pathlib
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+
+REPO = pathlib.Path(__file__).resolve().parent.parent
+BT = "tests/test_bearing_tests.py"
+BW = "tests/test_bouc_wen_general.py"
+BR = "tests/test_breakaway.py"
+SG = "tests/test_signal_and_speed.py"
+SS = "tests/test_structure_solver.py"
+
+
+@dataclasses.dataclass(frozen=True)
+class Mutant:
+    name: str
+    path: str
+    old: str
+    new: str
+    tests: tuple[str, ...]
+    statement: str
+
+
+MUTANTS = (
+    # Eq. 1 friction law
+    Mutant("F1", "teflon_jax/bearing/_friction.py",
+           "params.delta_f * jnp.exp(-params.rate_a * speed)", "params.delta_f * 1.0",
+           (f"{BT}::test_62_friction_at_peak_velocity",), "Eq. 1: exp(-a|v|) -> 1 (no velocity dependence)"),
+    Mutant("F2", "teflon_jax/bearing/_friction.py",
+           "speed = jnp.abs(speed) / n_interfaces", "speed = jnp.abs(speed)",
+           (f"{BT}::test_stack_of_24_interfaces_follows_eq1_at_v_over_n",), "stack: Eq. 1 at v instead of v/n"),
+    Mutant("F3", "teflon_jax/bearing/_friction.py",
+           "return theta / (jnp.pi / 2)", "return theta / jnp.pi",
+           (f"{BR}::test_anisotropy_at_45_degrees_is_the_mean_of_the_two_laws",),
+           "anisotropy: weight of the perpendicular constants theta/pi instead of theta/(pi/2)"),
+    Mutant("F4", "teflon_jax/bearing/_friction.py",
+           "return (1 - weight) * p + weight * q", "return weight * p + (1 - weight) * q",
+           (f"{BR}::test_anisotropy_at_45_degrees_is_the_mean_of_the_two_laws",
+            f"{BT}::test_figure_eight_anisotropic_high_speed_friction"),
+           "anisotropy: P and T constants swapped in the interpolation"),
+    # Eq. 3 and Eqs. 8-9 (hysteresis)
+    Mutant("H1", "teflon_jax/bearing/_hysteresis.py",
+           "- h.beta * velocity * z_eta_1 * jnp.abs(z)", "+ h.beta * velocity * z_eta_1 * jnp.abs(z)",
+           (f"{BW}::test_uniaxial_sine_test_matches_scipy",), "Eq. 3: sign of the beta term"),
+    Mutant("H2", "teflon_jax/bearing/_hysteresis.py",
+           "common = common * _abs_power(_norm(z), h.eta - 2.0)", "common = common * 1.0",
+           (f"{BW}::test_figure_eight_matches_scipy",), "Eqs. 8-9: the |Z|^(eta-2) factor dropped (eta ignored)"),
+    Mutant("H3", "teflon_jax/bearing/_hysteresis.py",
+           "common = h.gamma * (jnp.abs(vx * zx) + jnp.abs(vy * zy))",
+           "common = h.gamma * jnp.abs(vx * zx + vy * zy)",
+           (f"{BW}::test_figure_eight_matches_scipy", f"{BT}::test_figure_eight_isotropic_z_follows_velocity_direction"),
+           "Eqs. 8-9: gamma (|Ux Zx| + |Uy Zy|) -> gamma |U . Z|"),
+    Mutant("H4", "teflon_jax/bearing/_hysteresis.py",
+           "c_plus = h.gamma + h.beta", "c_plus = h.gamma + 0.5 * h.beta",
+           (f"{BT}::test_riccati_update_matches_the_ode_along_the_path",),
+           "closed-form Z: loading branch with a wrong beta + gamma"),
+    Mutant("H5", "teflon_jax/bearing/_hysteresis.py",
+           "w_plus, k_plus = jnp.sqrt(h.A / c_plus), jnp.sqrt(h.A * c_plus)",
+           "w_plus, k_plus = jnp.sqrt(1.0 / c_plus), jnp.sqrt(h.A * c_plus)",
+           (f"{BW}::test_riccati_newmark_with_a_above_beta_plus_gamma_agrees_with_tsit5",),
+           "closed-form Z: sliding value sqrt(1/(beta+gamma)) (assumes A = 1)"),
+    Mutant("H6", "teflon_jax/bearing/_hysteresis.py",
+           "+ h.beta * (vx * zx + vy * zy)", "- h.beta * (vx * zx + vy * zy)",
+           (f"{BW}::test_figure_eight_matches_scipy",), "Eqs. 8-9: sign of the beta term"),
+    Mutant("H7", "teflon_jax/bearing/_hysteresis.py",
+           "    c_minus = h.gamma - h.beta\n    return", "    c_minus = h.gamma + h.beta\n    return",
+           (f"{BT}::test_reversal_length_is_where_z_crosses_zero",), "closed-form Z: reversal length with gamma + beta"),
+    # Bearing: breakaway (Eq. 17), speed, checks
+    Mutant("B1", "teflon_jax/bearing/_bearing.py",
+           "jnp.where(z_peak < BREAKAWAY_THRESHOLD, static, mu)", "jnp.where(z_peak < 0.5, static, mu)",
+           (f"{BR}::test_191_breakaway_then_eq1_on_every_half_cycle",), "Eq. 17: breakaway threshold 0.5 instead of 0.999"),
+    Mutant("B2", "teflon_jax/bearing/_bearing.py",
+           "static = self.breakaway_ratio * params.f_min", "static = self.breakaway_ratio * params.f_max",
+           (f"{BR}::test_191_breakaway_then_eq1_on_every_half_cycle",), "Eq. 17: b f_max instead of b (f_max - Df)"),
+    Mutant("B3", "teflon_jax/bearing/_bearing.py",
+           "return jnp.where(moving, jnp.sqrt(jnp.where(moving, square, 1.0)), 0.0)",
+           "return jnp.sqrt(square + 1e-300)",
+           (f"{SG}::test_speed_and_friction_gradients_are_finite_at_rest",), "speed: sqrt(v^2 + 1e-300) (NaN gradient in float32)"),
+    Mutant("B4", "teflon_jax/bearing/_bearing.py",
+           'lambda x: np.isfinite(x) & (x >= 1), "eta"', 'lambda x: np.isfinite(x) & (x >= 0), "eta"',
+           (f"{BW}::test_check_bearing_names_each_bouc_wen_constant",), "check: eta < 1 accepted"),
+    Mutant("B5", "teflon_jax/bearing/_bearing.py",
+           "BREAKAWAY_THRESHOLD = 0.999", "BREAKAWAY_THRESHOLD = 0.99",
+           (f"{BR}::test_191_breakaway_then_eq1_on_every_half_cycle", f"{BR}::test_breakaway_acts_once_in_a_structure"),
+           "Eq. 17: threshold constant 0.99 instead of the paper's 0.999"),
+    # Table 1
+    Mutant("T1", "teflon_jax/tables/_table1.py",
+           "jnp.searchsorted(self.pressures, pressure) - 1", "jnp.searchsorted(self.pressures, pressure)",
+           (f"{BT}::test_pressure_interpolation_between_rows_and_gradient",), "Table 1: interpolation on the next segment"),
+    Mutant("T2", "teflon_jax/tables/_table1.py",
+           "return v0 + (v1 - v0) * (pressure - p0) / (p1 - p0)", "return v0 + (v1 - v0) * (pressure - p0) / (p1 - p0) / 2",
+           (f"{BT}::test_pressure_interpolation_between_rows_and_gradient",), "Table 1: interpolation slope halved"),
+    Mutant("T3", "teflon_jax/tables/_table1.py",
+           'rate_a=float(row["rate_a [s/in]"]) / INCH', 'rate_a=float(row["rate_a [s/in]"]) * INCH',
+           (f"{BT}::test_62_friction_at_peak_velocity",), "Table 1: a [s/in] converted with the wrong power of inch"),
+    # Signal past its end
+    Mutant("E1", "teflon_jax/excitation/_signal.py",
+           "return jnp.where(inside, value, 0.0)", "return value",
+           (f"{SG}::test_signal_is_zero_outside_its_record_and_exact_at_its_ends",), "Signal: last value held past the end"),
+    Mutant("E2", "teflon_jax/excitation/_signal.py",
+           "if not np.all(float(duration) <= ends", "if False and not np.all(float(duration) <= ends",
+           (f"{SG}::test_simulations_refuse_a_duration_longer_than_the_record",), "no duration check against the record"),
+    # Solver: closed-form restrictions
+    Mutant("R1", "teflon_jax/solver/_riccati_newmark.py",
+           "if eta is not None and not np.all(eta == 2.0):", "if False:",
+           (f"{BW}::test_closed_form_solver_refuses_other_shapes", f"{BW}::test_rigid_mass_with_eta_3_matches_scipy"),
+           "RiccatiNewmark accepts eta != 2 (concrete)"),
+    Mutant("R2", "teflon_jax/solver/_riccati_newmark.py",
+           "bad = jnp.any(jnp.asarray(h.eta) != 2.0) |", "bad = False |",
+           (f"{BW}::test_closed_form_solver_refuses_other_shapes",), "RiccatiNewmark accepts traced eta != 2"),
+    Mutant("R3", "teflon_jax/systems/_bearing_test.py",
+           "if solver is None and _riccati_admitted(bearing.hysteresis):", "if solver is None:",
+           (f"{BW}::test_eta_changes_the_force_along_a_path",), "force_along_path: closed form whatever eta"),
+    # Structures
+    Mutant("S6", "teflon_jax/systems/_structure.py",
+           "+ m * (4 / dt**2 * u0 + 4 / dt * v0 + a0)", "+ m * (4 / dt**2 * u0 + 4 / dt * v0 + 0.9 * a0)",
+           (f"{SS}::test_newmark_with_exact_z_converges_at_second_order",), "Newmark: beta != 1/4 in the predictor"),
+    Mutant("S7", "teflon_jax/systems/_structure.py",
+           "u1 = u_linear - compliance * force", "u1 = u_linear + compliance * force",
+           (f"{SS}::test_energy_balance_rigid_mass",), "Newmark: bearing force pushes the isolator"),
+    Mutant("S1", "teflon_jax/systems/_structure.py",
+           "v1 = 2 / dt * (u1 - u0) - v0", "v1 = 2.4 / dt * (u1 - u0) - 1.4 * v0",
+           (f"{SS}::test_energy_balance_rigid_mass", f"{BR}::test_breakaway_acts_once_in_a_structure"),
+           "Newmark: gamma = 0.6 in the velocity update"),
+    Mutant("S2", "teflon_jax/systems/_structure.py",
+           'return {"u": u1, "v": v1, "z": z1, "z_peak": z_peak1}, converged',
+           'return {"u": u1, "v": v1, "z": z1, "z_peak": jnp.maximum(z_peak1, jnp.abs(z1))}, converged',
+           (f"{BR}::test_breakaway_acts_once_in_a_structure",),
+           "breakaway: reported force switched one step before the equilibrium's (the old lag)"),
+    Mutant("S3", "teflon_jax/systems/_structure.py",
+           "z_bound = jnp.maximum(jnp.abs(z0), (h.A / (h.beta + h.gamma)) ** (1 / h.eta))",
+           "z_bound = jnp.maximum(jnp.abs(z0), 1.0)",
+           (f"{BW}::test_riccati_newmark_with_a_above_beta_plus_gamma_agrees_with_tsit5",
+            f"{BW}::test_newton_bracket_holds_a_step_that_saturates_z_above_one"),
+           "Newton bracket assumes A <= beta + gamma"),
+    Mutant("S4", "teflon_jax/systems/_structure.py",
+           'force = force.at[0].add(-self.friction_force(y["v"][0], y["z"], y["z_peak"]))',
+           'force = force.at[0].add(self.friction_force(y["v"][0], y["z"], y["z_peak"]))',
+           (f"{BW}::test_rigid_mass_with_eta_3_matches_scipy",), "vector field: friction pushes instead of resisting"),
+    Mutant("S5", "teflon_jax/systems/_structure.py",
+           "return -self.mass * self.ground_acceleration(t)", "return self.mass * self.ground_acceleration(t)",
+           (f"{SS}::test_coulomb_sliding_acceleration_closed_form",), "equation of motion: sign of the ground load"),
+)
+
+
+def run(mutant: Mutant, timeout: float, source: pathlib.Path) -> tuple[str, float, str]:
+    """Apply `mutant` in a fresh copy of `source`, run its tests, return (outcome, seconds, tail)."""
+    with tempfile.TemporaryDirectory(prefix=f"mutant-{mutant.name}-") as tmp:
+        root = pathlib.Path(tmp)
+        for part in ("teflon_jax", "tests", "data", "pyproject.toml"):
+            src = source / part
+            (shutil.copytree if src.is_dir() else shutil.copy)(src, root / part)
+        target = root / mutant.path
+        text = target.read_text()
+        if text.count(mutant.old) != 1:
+            return "stale", 0.0, f"{mutant.path}: the original text occurs {text.count(mutant.old)} times"
+        target.write_text(text.replace(mutant.old, mutant.new))
+        return pytest(root, mutant.tests, timeout)
+
+
+def pytest(root: pathlib.Path, tests, timeout: float) -> tuple[str, float, str]:
+    command = [sys.executable, "-m", "pytest", "-x", "-q", "-p", "no:cacheprovider", "-m", "not slow", *tests]
+    env = dict(os.environ, PYTHONPATH=str(root), JAX_PLATFORMS=os.environ.get("JAX_PLATFORMS", "cpu"))
+    start = time.monotonic()
+    try:
+        done = subprocess.run(command, cwd=root, env=env, capture_output=True, text=True, timeout=timeout)
+    except subprocess.TimeoutExpired:
+        return "timeout", time.monotonic() - start, ""
+    tail = (done.stdout + done.stderr).strip().splitlines()[-1:] or [""]
+    outcome = "survived" if done.returncode == 0 else "killed"
+    if done.returncode not in (0, 1):
+        outcome = f"error (pytest exit {done.returncode})"
+    return outcome, time.monotonic() - start, tail[0]
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--only", nargs="*", help="names of the mutants to run (default: all)")
+    parser.add_argument("--list", action="store_true", help="print the mutants and exit")
+    parser.add_argument("--timeout", type=float, default=900.0, help="seconds per mutant's tests")
+    parser.add_argument("--no-baseline", action="store_true", help="skip the unmutated run of all the tests")
+    args = parser.parse_args()
+    chosen = [m for m in MUTANTS if not args.only or m.name in args.only]
+    if args.list:
+        for m in chosen:
+            print(f"{m.name}  {m.path}: {m.statement}\n      tests: {', '.join(m.tests)}")
+        return 0
+    if not args.no_baseline:
+        tests = sorted({t for m in chosen for t in m.tests})
+        outcome, seconds, tail = pytest(REPO, tests, args.timeout * 2)
+        print(f"baseline (unmutated): {'pass' if outcome == 'survived' else outcome} in {seconds:.0f} s  {tail}",
+              flush=True)
+        if outcome != "survived":
+            print("the unmutated tests do not pass; fix them before reading mutants", file=sys.stderr)
+            return 2
+    killed = 0
+    for m in chosen:
+        outcome, seconds, tail = run(m, args.timeout, REPO)
+        killed += outcome == "killed"
+        print(f"{m.name:3} {outcome:9} {seconds:6.0f} s  {m.statement}  [{tail}]", flush=True)
+    print(f"killed {killed} / {len(chosen)}")
+    return 0 if killed == len(chosen) else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
