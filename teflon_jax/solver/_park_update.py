@@ -24,6 +24,7 @@ segments cover any increment exactly. For e = (1, 0) this is the uniaxial Riccat
 `bouc_wen_exact_update`.
 """
 
+import jax
 import jax.numpy as jnp
 
 _SEGMENTS = 3
@@ -70,43 +71,59 @@ def _first_positive_root(qa, qb, qc):
     return jnp.where(real, jnp.minimum(r1, r2), jnp.inf)
 
 
-def _segment(h, z, e, remaining):
-    gamma, beta, A = (jnp.asarray(p)[..., None] for p in (h.gamma, h.beta, h.A))
-    sign = jnp.where(e * z >= 0, 1.0, -1.0)
-    w = (gamma * sign + beta) * e
-    c = jnp.sum(w * z, axis=-1)
-    a = A * e
-    k2 = jnp.sum(w * a, axis=-1)
-    # numerator of Z_i: (2 a_i c - z_i k2) tau^2 + 2 a_i tau + z_i
-    tau_cross = _first_positive_root(2 * a * c[..., None] - z * k2[..., None], 2 * a, z)
-    opposing = sign < 0
-    tau_cross = jnp.where(opposing, tau_cross, jnp.inf)
-    x_cross = _length_of_tau(jnp.where(jnp.isfinite(tau_cross), tau_cross, 0.0), k2[..., None])
-    x_cross = jnp.where(jnp.isfinite(tau_cross), x_cross, jnp.inf)
-    x_seg = jnp.minimum(remaining, jnp.min(x_cross, axis=-1))
-    tau = _tau_of_length(x_seg, k2)[..., None]
-    k2_, c_ = k2[..., None], c[..., None]
-    z_new = (z * (1 - k2_ * tau**2) + 2 * a * tau * (1 + c_ * tau)) / (1 + k2_ * tau**2 + 2 * c_ * tau)
-    crossed = opposing & (x_cross <= x_seg[..., None])
-    return jnp.where(crossed, 0.0, z_new), remaining - x_seg
+def _crossing_length(z_i, a_i, c, k2):
+    """Path length [-] at which an opposing component z_i (e_i z_i < 0) reaches zero:
+    the first positive root of its numerator (2 a_i c - z_i k2) tau^2 + 2 a_i tau + z_i."""
+    tau = _first_positive_root(2 * a_i * c - z_i * k2, 2 * a_i, z_i)
+    finite = jnp.isfinite(tau)
+    x = _length_of_tau(jnp.where(finite, tau, 0.0), k2)
+    return jnp.where(finite & (a_i * z_i < 0), x, jnp.inf)
+
+
+def _segment(h, zx, zy, ex, ey, remaining):
+    """One stretch of the increment with fixed signs of e_i Z_i (all arrays elementwise)."""
+    sx = jnp.where(ex * zx >= 0, 1.0, -1.0)
+    sy = jnp.where(ey * zy >= 0, 1.0, -1.0)
+    wx = (h.gamma * sx + h.beta) * ex
+    wy = (h.gamma * sy + h.beta) * ey
+    c = wx * zx + wy * zy
+    ax, ay = h.A * ex, h.A * ey
+    k2 = wx * ax + wy * ay
+    x_cross_x = _crossing_length(zx, ax, c, k2)
+    x_cross_y = _crossing_length(zy, ay, c, k2)
+    x_seg = jnp.minimum(remaining, jnp.minimum(x_cross_x, x_cross_y))
+    tau = _tau_of_length(x_seg, k2)
+    k2t2 = k2 * tau * tau
+    denominator = 1 + k2t2 + 2 * c * tau
+    grow = 2 * tau * (1 + c * tau)
+    zx_new = (zx * (1 - k2t2) + ax * grow) / denominator
+    zy_new = (zy * (1 - k2t2) + ay * grow) / denominator
+    zx_new = jnp.where(x_cross_x <= x_seg, 0.0, zx_new)
+    zy_new = jnp.where(x_cross_y <= x_seg, 0.0, zy_new)
+    return zx_new, zy_new, remaining - x_seg
 
 
 def park_exact_update(h, z0, displacement_increment):
     """(Zx, Zy) after a straight displacement increment, exactly (Park's model, eta = 2).
 
     **Arguments:** `h`: `BoucWen` constants (Y [m], A, beta, gamma; eta must be 2, which the
-    caller checks, e.g. with `require_riccati_form`); `z0` (..., 2) [-] at the start;
-    `displacement_increment` (..., 2) [m], the straight increment (dUx, dUy).
+    caller checks, e.g. with `require_riccati_form`), scalars or arrays broadcasting with the
+    leading axes; `z0` (..., 2) [-] at the start; `displacement_increment` (..., 2) [m], the
+    straight increment (dUx, dUy).
 
     **Returns:** (Zx, Zy) (..., 2) [-] at the end of the increment.
     """
     du = jnp.asarray(displacement_increment)
-    z = jnp.asarray(z0) + jnp.zeros_like(du)
-    norm2 = jnp.sum(du * du, axis=-1)
+    z0 = jnp.asarray(z0)
+    zx, zy = z0[..., 0], z0[..., 1]
+    dx, dy = du[..., 0], du[..., 1]
+    norm2 = dx * dx + dy * dy
     moving = norm2 > 0
     norm = jnp.sqrt(jnp.where(moving, norm2, 1.0))
-    e = jnp.where(moving[..., None], du / norm[..., None], jnp.array([1.0, 0.0]))
+    ex = jnp.where(moving, dx / norm, 1.0)
+    ey = jnp.where(moving, dy / norm, 0.0)
     remaining = jnp.where(moving, norm, 0.0) / h.yield_disp
-    for _ in range(_SEGMENTS):
-        z, remaining = _segment(h, z, e, remaining)
-    return z
+    zx, zy, remaining = jax.lax.fori_loop(
+        0, _SEGMENTS, lambda _, c: _segment(h, *c[:2], ex, ey, c[2]), (zx, zy, remaining)
+    )
+    return jnp.stack([zx, zy], axis=-1)

@@ -142,7 +142,7 @@ class BidirectionalStructure(AbstractSteppedSystem):
         return d - p["d_linear"] + p["flexibility"] @ self._forces_at(d, p)[0]
 
     def _solve_bearings(self, p):
-        """Newton's method with backtracking on |r| for the bearing displacements at t1."""
+        """Newton's method with backtracking on max|r| for the bearing displacements at t1."""
         x0 = p["d0"] + self.time_step * p["vb0"]
         yield_disp = jnp.min(jnp.asarray(self.bearing.hysteresis.yield_disp))
         eps = jnp.finfo(jnp.result_type(x0)).eps
@@ -162,19 +162,16 @@ class BidirectionalStructure(AbstractSteppedSystem):
 
         def body(carry):
             x, r, k = carry
-            jacobian = jax.jacfwd(residual)(x)
-            step = -jnp.linalg.solve(jacobian, r)
+            step = -_solve_small(jax.jacfwd(residual)(x), r)
             step = jnp.where(jnp.all(jnp.isfinite(step)), step, -r)
 
             def shrink(c):
-                alpha, _, _ = c
-                alpha = 0.5 * alpha
+                alpha = 0.5 * c[0]
                 trial = x + alpha * step
                 return alpha, trial, residual(trial)
 
             def worse(c):
-                alpha, _, r_trial = c
-                return (size(r_trial) >= size(r)) & (alpha > 1.0 / 64)
+                return (size(c[2]) >= size(r)) & (c[0] > 1.0 / 64)
 
             trial = x + step
             _, x_new, r_new = jax.lax.while_loop(worse, shrink, (1.0, trial, residual(trial)))
@@ -182,6 +179,15 @@ class BidirectionalStructure(AbstractSteppedSystem):
 
         x, r, _ = jax.lax.while_loop(cond, body, (x0, residual(x0), 0))
         return x, size(r) <= tolerance
+
+
+def _solve_small(matrix, rhs):
+    """matrix^-1 rhs; in closed form for 2 x 2 (one bearing group), by LU otherwise."""
+    if matrix.shape == (2, 2):
+        (a, b), (c, d) = matrix
+        det = a * d - b * c
+        return jnp.stack([d * rhs[0] - b * rhs[1], a * rhs[1] - c * rhs[0]]) / det
+    return jnp.linalg.solve(matrix, rhs)
 
 
 def bidirectional_structure(
