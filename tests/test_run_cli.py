@@ -118,3 +118,25 @@ def test_run_writes_peaks_plot_and_histories(tmp_path, capsys):
         assert peak[key] > 0
     assert max(peak["corner_disp_resultant_m"]) > peak["base_disp_resultant_m"]
     assert (tmp_path / "out.png").stat().st_size > 0 and (tmp_path / "h.nc").stat().st_size > 0
+
+
+@pytest.mark.slow
+def test_suite_of_pairs_gives_per_pair_peaks_mean_and_max(tmp_path, capsys):
+    """Three pairs, one scaled by 2, in one call: the table holds every pair, and the mean and
+    max rows are those of the per-pair peaks; the scaled pair moves more."""
+    for i, (f, n) in enumerate(((1.0, 301), (0.7, 301), (0.9, 251))):
+        _two_column(tmp_path / f"x{i}.txt", n=n, frequency=f)
+        _two_column(tmp_path / f"y{i}.txt", n=n, frequency=f * 0.8, peak=0.2)
+    (tmp_path / "suite.csv").write_text(
+        "name,record_x,record_y,scale\na,x0.txt,y0.txt,1\nb,x1.txt,y1.txt,1\nc,x0.txt,y0.txt,2\n")
+    code, _ = _run(capsys, "--suite", tmp_path / "suite.csv", "--record-units", "g",
+                   "--isolation-period", "2.5s", "--isolation-damping", "5%", "--json", tmp_path / "s.json")
+    assert code == 0
+    payload = json.loads((tmp_path / "s.json").read_text())
+    disp = [payload["pairs"][k]["base_disp_resultant_m"] for k in "abc"]
+    assert disp[2] > disp[0] > 0
+    assert payload["summary"]["base_disp_resultant_m"]["max"] == pytest.approx(max(disp))
+    assert payload["summary"]["base_disp_resultant_m"]["mean"] == pytest.approx(np.mean(disp))
+    table = (tmp_path / "s.csv").read_text().splitlines()
+    assert len(table) == 1 + 3 + 2 and table[-1].startswith("max,")
+    assert (tmp_path / "s.nc").stat().st_size > 0

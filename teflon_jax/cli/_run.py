@@ -37,8 +37,10 @@ def add_run_parser(subparsers) -> None:
     p.add_argument("--isolation-damping", default=None, help="viscous damping of the isolation "
                    "mode, e.g. 5%% (default: none)")
     p.add_argument("--weight", default="100kN", help="weight of the rigid mass (default 100kN)")
-    p.add_argument("--record-x", required=True, help="x component: PEER .AT2 or a two-column "
-                   "(time, acceleration) file with --record-units")
+    p.add_argument("--record-x", default=None, help="x component: PEER .AT2 or a two-column "
+                   "(time, acceleration) file with --record-units (required unless --suite)")
+    p.add_argument("--suite", default=None, help="CSV of record pairs (record_x, record_y, scale, "
+                   "optional name) run in one call; writes <json stem>.csv and .nc (default suite.*)")
     p.add_argument("--record-y", default=None, help="y component (default: none)")
     p.add_argument("--record-units", default=None, help="acceleration unit of two-column files: "
                    "g, m/s^2, cm/s^2 or in/s^2 (required for them)")
@@ -386,6 +388,14 @@ def run_run(args) -> int:
 
     from ..systems import simulate_bidirectional
 
+    if args.suite is not None:
+        if args.record_x is not None or args.record_y is not None:
+            raise ValueError("--suite: give the records in the suite file, not with --record-x/--record-y.")
+        from ._run_suite import run_suite
+
+        return run_suite(args)
+    if args.record_x is None:
+        raise ValueError("--record-x: a record is needed (or a --suite file).")
     if args.histories is not None and pathlib.Path(args.histories).suffix not in (".nc", ".csv"):
         raise ValueError(f"--histories: {args.histories} must end in .nc or .csv.")
     ax, ay, dt, notes = load_components(args)

@@ -15,6 +15,9 @@ from ._montecarlo import monte_carlo_motion as monte_carlo_motion
 from ._record_set import RecordSet as RecordSet
 from ._record_set import record_set as record_set
 from ._save import save_montecarlo as save_montecarlo
+from ._suites import SuiteResult as SuiteResult
+from ._suites import save_suite as save_suite
+from ._suites import suite_peaks as suite_peaks
 from ._sweep import SweepResult as SweepResult
 from ._sweep import building_peaks as building_peaks
 from ._sweep import building_sweep as building_sweep
