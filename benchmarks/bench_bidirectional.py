@@ -204,6 +204,7 @@ def run_bidirectional_benchmark(quick: bool) -> dict:
 if __name__ == "__main__":
     parser = argparse.ArgumentParser()
     parser.add_argument("--quick", action="store_true")
+    jax.config.update("jax_enable_x64", True)  # a script, not library code
     result = run_bidirectional_benchmark(parser.parse_args().quick)
     for kind in ("rigid", "building"):
         r = result[kind]
