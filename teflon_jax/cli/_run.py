@@ -393,7 +393,7 @@ def run_run(args) -> int:
             raise ValueError("--suite: give the records in the suite file, not with --record-x/--record-y.")
         from ._run_suite import run_suite
 
-        return run_suite(args)
+        return run_suite(args, load_components, build_structure)
     if args.record_x is None:
         raise ValueError("--record-x: a record is needed (or a --suite file).")
     if args.histories is not None and pathlib.Path(args.histories).suffix not in (".nc", ".csv"):

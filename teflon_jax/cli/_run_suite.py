@@ -38,9 +38,9 @@ def read_suite(path_text):
     return pairs
 
 
-def run_suite(args) -> int:
+def run_suite(args, load_components, build_structure) -> int:
+    """Run the suite; `load_components` and `build_structure` are those of `teflon-jax run`."""
     from ..studies import save_suite, suite_peaks
-    from ._run import build_structure, load_components
 
     pairs = read_suite(args.suite)
     records, notes = [], []
