@@ -33,6 +33,7 @@ def _parser() -> argparse.ArgumentParser:
         ("teflon_jax.cli._diagnose", ("add_diagnose_parser",)),
         ("teflon_jax.cli._montecarlo", ("add_montecarlo_parser",)),
         ("teflon_jax.cli._design", ("add_design_parser",)),
+        ("teflon_jax.cli._run", ("add_run_parser",)),
     ):
         imported = __import__(module, fromlist=list(adders))
         for adder in adders:
@@ -47,6 +48,7 @@ _RUNNERS = {
     "diagnose": ("teflon_jax.cli._diagnose", "run_diagnose"),
     "montecarlo": ("teflon_jax.cli._montecarlo", "run_montecarlo"),
     "design": ("teflon_jax.cli._design", "run_design"),
+    "run": ("teflon_jax.cli._run", "run_run"),
 }
 
 

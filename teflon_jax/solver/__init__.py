@@ -1,5 +1,6 @@
 """`RiccatiNewmark`: the diffrax solver whose step is not bounded by the stiffness of Z."""
 
+from ._park_update import park_exact_update as park_exact_update
 from ._riccati_newmark import AbstractSteppedSystem as AbstractSteppedSystem
 from ._riccati_newmark import RiccatiNewmark as RiccatiNewmark
 from ._riccati_newmark import require_riccati_form as require_riccati_form

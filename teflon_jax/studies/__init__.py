@@ -22,6 +22,9 @@ from ._results import FORMATS as FORMATS
 from ._results import MonteCarloResult as MonteCarloResult
 from ._results import check_output_path as check_output_path
 from ._save import save_montecarlo as save_montecarlo
+from ._suites import SuiteResult as SuiteResult
+from ._suites import save_suite as save_suite
+from ._suites import suite_peaks as suite_peaks
 from ._sweep import SweepResult as SweepResult
 from ._sweep import building_peaks as building_peaks
 from ._sweep import building_sweep as building_sweep

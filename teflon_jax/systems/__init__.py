@@ -5,6 +5,13 @@ from ._bearing_test import BearingTestResult as BearingTestResult
 from ._bearing_test import BearingTestSystem as BearingTestSystem
 from ._bearing_test import force_along_path as force_along_path
 from ._bearing_test import simulate_bearing_test as simulate_bearing_test
+from ._bidirectional import BidirectionalResponse as BidirectionalResponse
+from ._bidirectional import BidirectionalStructure as BidirectionalStructure
+from ._bidirectional import bidirectional_initial_state as bidirectional_initial_state
+from ._bidirectional import bidirectional_structure as bidirectional_structure
+from ._bidirectional import simulate_bidirectional as simulate_bidirectional
+from ._bidirectional_models import bidirectional_building as bidirectional_building
+from ._bidirectional_models import bidirectional_rigid_mass as bidirectional_rigid_mass
 from ._isolated import RECOMMENDED_TIME_STEPS as RECOMMENDED_TIME_STEPS
 from ._isolated import IsolatedStructure as IsolatedStructure
 from ._isolated import check_design as check_design
@@ -19,6 +26,11 @@ from ._models import superstructure_matrices as superstructure_matrices
 from ._peaks import RESPONSE_NAMES as RESPONSE_NAMES
 from ._peaks import peak_response as peak_response
 from ._peaks import smooth_max as smooth_max
+from ._slab import check_plan as check_plan
+from ._slab import slab_corners as slab_corners
+from ._slab import slab_on_bearings as slab_on_bearings
+from ._slab import slab_point_displacement as slab_point_displacement
+from ._slab import stack_bearings as stack_bearings
 from ._structure import FRICTION_MODELS as FRICTION_MODELS
 from ._structure import StructureOnSliders as StructureOnSliders
 from ._structure import StructureResponse as StructureResponse

@@ -1,0 +1,431 @@
+"""`teflon-jax run`: a user's own ground-motion records (one or two horizontal components)
+through an isolated structure on PTFE sliding bearings: rigid mass, Table 2 building or a
+rigid slab on bearing groups. Peaks in JSON, plots, histories."""
+
+import json
+import pathlib
+
+import numpy as np
+
+from ..units import parse_quantity
+
+STRUCTURES = ("rigid", "building", "slab")
+DEFAULT_TIME_STEP = 0.0025  # [s], RECOMMENDED_TIME_STEPS of the uniaxial structures
+
+
+def add_run_parser(subparsers) -> None:
+    p = subparsers.add_parser(
+        "run",
+        help="run your own records (x and optional y) through an isolated structure",
+        description=(
+            "Simulate an isolated structure on PTFE sliding bearings (Constantinou, Mokha & "
+            "Reinhorn 1990: Eq. 1 at the resultant sliding speed, Park's biaxial Z, Eq. 17 "
+            "breakaway) under one or two horizontal ground components. Values carry units "
+            "(1000psi, 2.5s, 5%%, 100kN)."
+        ),
+    )
+    p.add_argument("--structure", default="rigid", choices=STRUCTURES, help="rigid mass, the Table 2 "
+                   "building in x and y, or a rigid slab on bearing groups (needs --plan)")
+    p.add_argument("--ptfe", default="UF", help="PTFE type of Table 1: UF, 15GF or 25GF (default UF)")
+    p.add_argument("--pressure", default="1000psi", help="contact pressure (default 1000psi)")
+    p.add_argument("--anisotropic", action="store_true", help="x parallel to the lay of the steel "
+                   "(Table 1 P row), y perpendicular (T row), interpolated in the sliding angle")
+    p.add_argument("--breakaway", default=None, help="breakaway ratio b of Eq. 17 (>= 1) or 'table' "
+                   "(default: no breakaway)")
+    p.add_argument("--isolation-period", default=None, help="period of the restoring springs, e.g. "
+                   "2.5s (default: none; the building needs it)")
+    p.add_argument("--isolation-damping", default=None, help="viscous damping of the isolation "
+                   "mode, e.g. 5%% (default: none)")
+    p.add_argument("--weight", default="100kN", help="weight of the rigid mass (default 100kN)")
+    p.add_argument("--record-x", default=None, help="x component: PEER .AT2 or a two-column "
+                   "(time, acceleration) file with --record-units (required unless --suite)")
+    p.add_argument("--suite", default=None, help="CSV of record pairs (record_x, record_y, scale, "
+                   "optional name) run in one call; writes <json stem>.csv and .nc (default suite.*)")
+    p.add_argument("--record-y", default=None, help="y component (default: none)")
+    p.add_argument("--record-units", default=None, help="acceleration unit of two-column files: "
+                   "g, m/s^2, cm/s^2 or in/s^2 (required for them)")
+    p.add_argument("--scale", type=float, default=1.0, help="scale factor on both components")
+    p.add_argument("--start", default="0s", help="start of the window, e.g. 25s (default 0s)")
+    p.add_argument("--duration", default=None, help="length of the window (default: the whole record)")
+    p.add_argument("--resample", action="store_true", help="allow components with different time "
+                   "steps or lengths: both are interpolated linearly to the finer step and the "
+                   "shorter is extended with zeros (reported in the JSON)")
+    p.add_argument("--time-step", default=f"{DEFAULT_TIME_STEP}s", help="solver step (default 0.0025s)")
+    p.add_argument("--plan", default=None, help="slab plan (JSON: length_x, length_y, weight, "
+                   "centre_of_mass, groups with x, y, load and optional ptfe, pressure, springs)")
+    p.add_argument("--json", default=None, help="write the peaks to this JSON file")
+    p.add_argument("--plot", default=None, help="write orbit, x/y loops and histories to this PNG")
+    p.add_argument("--histories", default=None, help="write histories to this .nc or .csv file")
+
+
+# --------------------------------------------------------------------------- records
+
+
+def _read_component(path_text, units, flag):
+    from ..formats import read_at2, read_two_column
+
+    path = pathlib.Path(path_text)
+    if not path.is_file():
+        raise ValueError(f"{flag}: {path} is not a file.")
+    if path.suffix.lower() == ".at2":
+        return read_at2(path)
+    if units is None:
+        raise ValueError(
+            f"{flag}: {path} is a column file, whose acceleration unit is not written in it; "
+            "give it with --record-units g (or m/s^2, cm/s^2, in/s^2)."
+        )
+    return read_two_column(path, units=units)
+
+
+def _resample(values, dt, new_dt):
+    t = dt * np.arange(values.size)
+    t_new = np.arange(0.0, t[-1] + 1e-9 * new_dt, new_dt)
+    return np.interp(t_new, t, values)
+
+
+def load_components(args):
+    """(ax, ay, dt, notes): the windowed, scaled components [m/s^2] on one time grid."""
+    x = _read_component(args.record_x, args.record_units, "--record-x")
+    y = None if args.record_y is None else _read_component(args.record_y, args.record_units, "--record-y")
+    ax, dt = np.asarray(x.acceleration, float), float(x.time_step)
+    notes = []
+    if y is None:
+        ay = np.zeros_like(ax)
+    else:
+        ay, dty = np.asarray(y.acceleration, float), float(y.time_step)
+        if abs(dty - dt) > 1e-9 * dt:
+            if not args.resample:
+                raise ValueError(
+                    f"--record-y: time step {dty:g} s differs from --record-x's {dt:g} s; "
+                    "resample one of them, or ask for --resample (linear interpolation to the finer step)."
+                )
+            new = min(dt, dty)
+            ax, ay = _resample(ax, dt, new), _resample(ay, dty, new)
+            notes.append(f"resampled from {dt:g} s and {dty:g} s to {new:g} s")
+            dt = new
+        if ax.size != ay.size:
+            length_x, length_y = (ax.size - 1) * dt, (ay.size - 1) * dt
+            shorter = min(ax.size, ay.size)
+            needed = None if args.duration is None else parse_quantity(args.duration, "time", where="--duration")
+            start = parse_quantity(args.start, "time", where="--start")
+            if needed is None or start + needed > (shorter - 1) * dt + 1e-9:
+                if not args.resample:
+                    raise ValueError(
+                        f"--record-y: the components last {length_x:g} s (x, {ax.size} samples) and "
+                        f"{length_y:g} s (y, {ay.size} samples); choose --duration within the "
+                        "shorter, or ask for --resample to extend the shorter with zeros."
+                    )
+                n = max(ax.size, ay.size)
+                ax, ay = np.pad(ax, (0, n - ax.size)), np.pad(ay, (0, n - ay.size))
+                notes.append(f"shorter component extended with zeros to {(n - 1) * dt:g} s")
+    total = (ax.size - 1) * dt
+    start = parse_quantity(args.start, "time", where="--start")
+    if not 0 <= start < total:
+        raise ValueError(f"--start: {args.start} is outside the record (0 to {total:g} s).")
+    if args.duration is None:
+        duration = total - start
+    else:
+        duration = parse_quantity(args.duration, "time", where="--duration")
+        if not duration > 0:
+            raise ValueError(f"--duration: must be > 0, got {args.duration}.")
+        if start + duration > total + 1e-9:
+            raise ValueError(
+                f"--duration: {args.duration} from --start {start:g} s runs past the end of the "
+                f"record ({total:g} s); the longest window is {total - start:g} s."
+            )
+    i0 = int(round(start / dt))
+    n = int(round(duration / dt)) + 1
+    scale = float(args.scale)
+    if not np.isfinite(scale):
+        raise ValueError(f"--scale: must be a finite number, got {args.scale}.")
+    return scale * ax[i0:i0 + n], scale * ay[i0:i0 + n], dt, notes
+
+
+# --------------------------------------------------------------------------- structure
+
+
+def _fraction(text, flag):
+    text = str(text).strip()
+    try:
+        value = float(text[:-1]) / 100 if text.endswith("%") else float(text)
+    except ValueError:
+        raise ValueError(f"{flag}: expected a ratio such as 5% or 0.05, got {text!r}.") from None
+    if not 0 <= value < 1:
+        raise ValueError(f"{flag}: must lie in [0, 100%), got {text!r}.")
+    return value
+
+
+def _bearing(args, ptfe, pressure_text, flag):
+    from ..bearing import paper_bearing
+    from ..tables import interface_parameters
+
+    pressure = parse_quantity(pressure_text, "pressure", where=flag)
+    try:
+        params, table_b = interface_parameters(ptfe.upper(), pressure, "P")
+        perpendicular = interface_parameters(ptfe.upper(), pressure, "T")[0] if args.anisotropic else None
+    except ValueError as error:
+        raise ValueError(f"{flag}: {error}") from None
+    breakaway = None
+    if args.breakaway == "table":
+        breakaway = table_b
+    elif args.breakaway is not None:
+        try:
+            breakaway = float(args.breakaway)
+        except ValueError:
+            raise ValueError(f"--breakaway: expected a number >= 1 or 'table', got {args.breakaway!r}.") from None
+        if not breakaway >= 1:
+            raise ValueError(f"--breakaway: must be >= 1 (Table 1: 1.3-4.4), got {args.breakaway}.")
+    return paper_bearing(params, breakaway_ratio=breakaway, friction_perpendicular=perpendicular)
+
+
+def read_plan(path_text):
+    """The slab plan in SI: dict with length_x, length_y, weight, centre_of_mass, groups."""
+    path = pathlib.Path(path_text)
+    if not path.is_file():
+        raise ValueError(f"--plan: {path} is not a file.")
+    try:
+        plan = json.loads(path.read_text())
+    except json.JSONDecodeError as error:
+        raise ValueError(f"--plan: {path}, line {error.lineno}: not valid JSON ({error.msg}).") from None
+    where = f"{path}"
+
+    def q(value, dimension, key):
+        return parse_quantity(value, dimension, where=f"{where}: {key}")
+
+    for key in ("length_x", "length_y", "weight", "groups"):
+        if key not in plan:
+            raise ValueError(f"--plan: {path} lacks '{key}'.")
+    out = {
+        "length_x": q(plan["length_x"], "length", "length_x"),
+        "length_y": q(plan["length_y"], "length", "length_y"),
+        "weight": q(plan["weight"], "force", "weight"),
+    }
+    com = plan.get("centre_of_mass")
+    out["centre_of_mass"] = (
+        (out["length_x"] / 2, out["length_y"] / 2) if com is None
+        else tuple(q(v, "length", "centre_of_mass") for v in com)
+    )
+    groups = []
+    for i, g in enumerate(plan["groups"]):
+        name = str(g.get("name", f"group {i + 1}"))
+        for key in ("x", "y", "load"):
+            if key not in g:
+                raise ValueError(f"--plan: {path}: {name} lacks '{key}'.")
+        groups.append({
+            "name": name,
+            "x": q(g["x"], "length", f"{name}.x"),
+            "y": q(g["y"], "length", f"{name}.y"),
+            "load": q(g["load"], "force", f"{name}.load"),
+            "ptfe": g.get("ptfe"),
+            "pressure": g.get("pressure"),
+            "springs": float(g.get("springs", 1.0)),
+        })
+    out["groups"] = groups
+    return out
+
+
+def build_structure(args, ax, ay, dt):
+    """(system, description) for the parsed options and the components [m/s^2]."""
+    from ..excitation import uniform_signal
+    from ..systems import bidirectional_building, bidirectional_rigid_mass, slab_on_bearings
+
+    gx, gy = uniform_signal(ax, dt), uniform_signal(ay, dt)
+    time_step = parse_quantity(args.time_step, "time", where="--time-step")
+    period = None if args.isolation_period is None else parse_quantity(
+        args.isolation_period, "time", where="--isolation-period")
+    if period is not None and not period > 0:
+        raise ValueError(f"--isolation-period: must be > 0, got {args.isolation_period}.")
+    damping = 0.0 if args.isolation_damping is None else _fraction(args.isolation_damping, "--isolation-damping")
+    if damping > 0 and period is None:
+        raise ValueError("--isolation-damping: dampers need springs; give --isolation-period too.")
+    if args.structure != "slab" and args.plan is not None:
+        raise ValueError("--plan: only used with --structure slab.")
+    if args.structure == "rigid":
+        weight = parse_quantity(args.weight, "force", where="--weight")
+        if not weight > 0:
+            raise ValueError(f"--weight: must be > 0, got {args.weight}.")
+        return bidirectional_rigid_mass(
+            weight=weight, bearing=_bearing(args, args.ptfe, args.pressure, "--pressure"),
+            ground_x=gx, ground_y=gy, time_step=time_step, isolation_period=period,
+            damping_ratio=damping), {}
+    if args.structure == "building":
+        if period is None:
+            raise ValueError("--isolation-period: the building needs its springs (Fig. 11: 0.2-4 s), e.g. 2.5s.")
+        return bidirectional_building(
+            bearing=_bearing(args, args.ptfe, args.pressure, "--pressure"), ground_x=gx,
+            ground_y=gy, time_step=time_step, isolation_period=period,
+            isolation_damping=damping), {}
+    if args.plan is None:
+        raise ValueError("--plan: --structure slab needs a plan file (bearing groups and loads).")
+    plan = read_plan(args.plan)
+    groups = plan["groups"]
+    bearings = [
+        _bearing(args, g["ptfe"] or args.ptfe, g["pressure"] or args.pressure, f"--plan {g['name']}")
+        for g in groups
+    ]
+    system = slab_on_bearings(
+        length_x=plan["length_x"], length_y=plan["length_y"], weight=plan["weight"],
+        centre_of_mass=plan["centre_of_mass"], positions=[(g["x"], g["y"]) for g in groups],
+        bearings=bearings, loads=[g["load"] for g in groups], ground_x=gx, ground_y=gy,
+        time_step=time_step, isolation_period=period, isolation_damping=damping,
+        spring_shares=[g["springs"] for g in groups], names=[g["name"] for g in groups])
+    return system, plan
+
+
+# --------------------------------------------------------------------------- outputs
+
+
+def _peak(values):
+    return float(np.max(np.abs(values)))
+
+
+def _resultant(x, y):
+    return np.hypot(np.asarray(x), np.asarray(y))
+
+
+def response_summary(args, system, response, plan):
+    """(peak dict, histories dict) in SI from a `BidirectionalResponse`."""
+    from ..units import STANDARD_GRAVITY
+
+    q = np.asarray(response.q)
+    m, R = np.asarray(system.mass), np.asarray(system.influence)
+    total_acc = np.asarray(response.acceleration) + np.asarray(response.ground) @ R.T
+    force = np.einsum("tn,n,nd->td", total_acc, m, R)  # on the structure above the bearings
+    weight = float(np.sum(m * R[:, 0])) * STANDARD_GRAVITY
+    n = q.shape[1] // 2
+    ix, iy = (0, 1) if args.structure == "slab" else (0, n)
+    base_x, base_y = q[:, ix], q[:, iy]
+    bearing_force = -np.asarray(response.friction_force).sum(axis=1)
+    peak = {
+        "base_disp_resultant_m": float(np.max(_resultant(base_x, base_y))),
+        "base_disp_x_m": _peak(base_x),
+        "base_disp_y_m": _peak(base_y),
+        "base_shear_ratio_resultant": float(np.max(_resultant(force[:, 0], force[:, 1]))) / weight,
+        "friction_force_ratio_resultant": float(np.max(_resultant(*bearing_force.T))) / weight,
+    }
+    if args.structure == "building":
+        drift = _resultant(q[:, 1:n] - q[:, 0:n - 1], q[:, n + 1:] - q[:, n:-1])
+        floor_acc = _resultant(total_acc[:, 1:n], total_acc[:, n + 1:])
+        floors = m[1:n]
+        storey = _resultant((floors * total_acc[:, 1:n]).sum(1), (floors * total_acc[:, n + 1:]).sum(1))
+        peak["storey_drift_resultant_m"] = [float(v) for v in drift.max(axis=0)]
+        peak["floor_acceleration_resultant_g"] = [float(v) for v in floor_acc.max(axis=0) / STANDARD_GRAVITY]
+        peak["first_storey_shear_ratio_resultant"] = float(storey.max()) / (float(floors.sum()) * STANDARD_GRAVITY)
+    if args.structure == "slab":
+        from ..systems import slab_corners, slab_point_displacement
+
+        corners = slab_corners(plan["length_x"], plan["length_y"])
+        corner = np.asarray(slab_point_displacement(q, corners, plan["centre_of_mass"]))
+        bearing = np.asarray(response.bearing_displacement)
+        peak["rotation_rad"] = _peak(q[:, 2])
+        peak["corner_disp_resultant_m"] = [float(v) for v in _resultant(corner[..., 0], corner[..., 1]).max(axis=0)]
+        peak["group_disp_resultant_m"] = {
+            g["name"]: float(v) for g, v in zip(plan["groups"], _resultant(bearing[..., 0], bearing[..., 1]).max(axis=0))
+        }
+    histories = {
+        "time_s": np.asarray(response.time),
+        "ground_x_mps2": np.asarray(response.ground)[:, 0],
+        "ground_y_mps2": np.asarray(response.ground)[:, 1],
+        "base_disp_x_m": base_x,
+        "base_disp_y_m": base_y,
+        "bearing_force_x_N": bearing_force[:, 0],
+        "bearing_force_y_N": bearing_force[:, 1],
+        "base_shear_ratio_x": force[:, 0] / weight,
+        "base_shear_ratio_y": force[:, 1] / weight,
+    }
+    if args.structure == "slab":
+        histories["rotation_rad"] = q[:, 2]
+    return peak, histories
+
+
+def write_histories(path, histories) -> None:
+    path = pathlib.Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    if path.suffix == ".csv":
+        names = list(histories)
+        table = np.column_stack([histories[k] for k in names])
+        np.savetxt(path, table, delimiter=",", header=",".join(names), comments="")
+    elif path.suffix == ".nc":
+        import xarray
+
+        time = histories["time_s"]
+        data = {k: ("time", v) for k, v in histories.items() if k != "time_s"}
+        xarray.Dataset(data, coords={"time": ("time", time, {"units": "s"})}).to_netcdf(path)
+    else:
+        raise ValueError(f"--histories: {path} must end in .nc or .csv.")
+
+
+def plot_run(path, histories, title) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    h = histories
+    fig, axes = plt.subplots(2, 2, figsize=(10, 8))
+    axes[0, 0].plot(100 * h["base_disp_x_m"], 100 * h["base_disp_y_m"], lw=0.8)
+    axes[0, 0].set(xlabel="base displacement x [cm]", ylabel="base displacement y [cm]", title="orbit")
+    axes[0, 0].set_aspect("equal", adjustable="datalim")
+    for ax, c in ((axes[0, 1], "x"), (axes[1, 0], "y")):
+        ax.plot(100 * h[f"base_disp_{c}_m"], h[f"bearing_force_{c}_N"] / 1e3, lw=0.8)
+        ax.set(xlabel=f"base displacement {c} [cm]", ylabel=f"friction force {c} [kN]", title=f"{c} loop")
+    t = h["time_s"]
+    axes[1, 1].plot(t, 100 * h["base_disp_x_m"], lw=0.8, label="x")
+    axes[1, 1].plot(t, 100 * h["base_disp_y_m"], lw=0.8, label="y")
+    axes[1, 1].plot(t, 100 * np.hypot(h["base_disp_x_m"], h["base_disp_y_m"]), lw=0.8, label="resultant")
+    axes[1, 1].set(xlabel="time [s]", ylabel="base displacement [cm]", title="histories")
+    axes[1, 1].legend()
+    fig.suptitle(title)
+    fig.tight_layout()
+    path = pathlib.Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def run_run(args) -> int:
+    import sys
+
+    from ..systems import simulate_bidirectional
+
+    if args.suite is not None:
+        if args.record_x is not None or args.record_y is not None:
+            raise ValueError("--suite: give the records in the suite file, not with --record-x/--record-y.")
+        from ._run_suite import run_suite
+
+        return run_suite(args, load_components, build_structure)
+    if args.record_x is None:
+        raise ValueError("--record-x: a record is needed (or a --suite file).")
+    if args.histories is not None and pathlib.Path(args.histories).suffix not in (".nc", ".csv"):
+        raise ValueError(f"--histories: {args.histories} must end in .nc or .csv.")
+    ax, ay, dt, notes = load_components(args)
+    system, plan = build_structure(args, ax, ay, dt)
+    duration = (ax.size - 1) * dt
+    response = simulate_bidirectional(system, duration, throw=False)
+    if not bool(response.succeeded):
+        print(f"teflon-jax run: error: the solver did not converge ({response.result}); try a "
+              "smaller --time-step.", file=sys.stderr)
+        return 1
+    peak, histories = response_summary(args, system, response, plan)
+    payload = {
+        "structure": args.structure,
+        "record_x": str(args.record_x),
+        "record_y": None if args.record_y is None else str(args.record_y),
+        "scale": float(args.scale),
+        "duration_s": duration,
+        "record_time_step_s": dt,
+        "solver_time_step_s": float(system.time_step),
+        "notes": notes,
+        "peak": peak,
+    }
+    print(json.dumps(payload["peak"], indent=2))
+    if args.json is not None:
+        path = pathlib.Path(args.json)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(json.dumps(payload, indent=2))
+    if args.histories is not None:
+        write_histories(args.histories, histories)
+    if args.plot is not None:
+        names = [pathlib.Path(r).name for r in (args.record_x, args.record_y) if r is not None]
+        plot_run(args.plot, histories, f"{args.structure}: {' + '.join(names)}")
+    return 0

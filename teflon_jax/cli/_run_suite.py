@@ -1,0 +1,79 @@
+"""`teflon-jax run --suite FILE`: record pairs with scale factors, listed in a small CSV
+(columns `record_x`, `record_y` (may be empty), `scale`; paths relative to the CSV), through one
+structure in one vmapped call; per-pair peaks, mean and maximum in one table and one NetCDF."""
+
+import argparse
+import csv
+import json
+import pathlib
+
+import equinox as eqx
+import numpy as np
+
+
+def read_suite(path_text):
+    """[(name, x path, y path or None, scale)] from the suite CSV; errors name file and line."""
+    path = pathlib.Path(path_text)
+    if not path.is_file():
+        raise ValueError(f"--suite: {path} is not a file.")
+    with path.open(newline="") as handle:
+        rows = list(csv.DictReader(handle))
+    if not rows or "record_x" not in rows[0]:
+        raise ValueError(f"--suite: {path}, line 1: expected the columns record_x, record_y, scale.")
+    pairs = []
+    for line, row in enumerate(rows, start=2):
+        x = (row.get("record_x") or "").strip()
+        if not x:
+            raise ValueError(f"--suite: {path}, line {line}: record_x is empty.")
+        y = (row.get("record_y") or "").strip() or None
+        try:
+            scale = float(row.get("scale") or 1.0)
+        except ValueError:
+            raise ValueError(f"--suite: {path}, line {line}: scale {row.get('scale')!r} is not a number.") from None
+        if not np.isfinite(scale):
+            raise ValueError(f"--suite: {path}, line {line}: scale must be finite.")
+        resolve = lambda p: str(p if pathlib.Path(p).is_absolute() else path.parent / p)  # noqa: E731
+        name = (row.get("name") or "").strip() or pathlib.Path(x).stem
+        pairs.append((name, resolve(x), None if y is None else resolve(y), scale))
+    return pairs
+
+
+def run_suite(args, load_components, build_structure) -> int:
+    """Run the suite; `load_components` and `build_structure` are those of `teflon-jax run`."""
+    from ..studies import save_suite, suite_peaks
+
+    pairs = read_suite(args.suite)
+    records, notes = [], []
+    for name, x, y, scale in pairs:
+        one = argparse.Namespace(**{**vars(args), "record_x": x, "record_y": y, "scale": scale * args.scale})
+        ax, ay, dt, pair_notes = load_components(one)
+        records.append((name, ax, ay, dt))
+        notes += [f"{name}: {n}" for n in pair_notes]
+    steps = {dt for *_, dt in records}
+    if len(steps) > 1:
+        listing = ", ".join(f"{name} {dt:g} s" for name, _, _, dt in records)
+        raise ValueError(f"--suite: the pairs have different time steps ({listing}); resample them first.")
+    dt = steps.pop()
+    n = max(ax.size for _, ax, _, _ in records)
+    if any(ax.size != n for _, ax, _, _ in records):
+        notes.append(f"pairs shorter than {(n - 1) * dt:g} s continue with zero ground acceleration")
+    ax = np.stack([np.pad(a, (0, n - a.size)) for _, a, _, _ in records])
+    ay = np.stack([np.pad(a, (0, n - a.size)) for _, _, a, _ in records])
+    template, _ = build_structure(args, ax[0], ay[0], dt)
+    half = template.mass.shape[0] // 2
+    base_index = (0, 1) if args.structure == "slab" else (0, half)
+
+    def build(gx, gy):  # the structure built once; only the ground motion changes per pair
+        return eqx.tree_at(lambda s: (s.ground_x, s.ground_y), template, (gx, gy))
+
+    result = suite_peaks(build, [r[0] for r in records], ax, ay, dt, (n - 1) * dt, base_index)
+    stem = pathlib.Path(args.json).with_suffix("") if args.json else pathlib.Path("suite")
+    save_suite(result, table_path=stem.with_suffix(".csv"), netcdf_path=stem.with_suffix(".nc"))
+    payload = {"structure": args.structure, "suite": str(args.suite), "notes": notes,
+               "pairs": {name: {k: float(v[i]) for k, v in result.peaks.items()} | {"converged": bool(result.converged[i])}
+                         for i, name in enumerate(result.names)},
+               "summary": result.summary, "failed": int(np.sum(~result.converged))}
+    print(json.dumps(payload["summary"], indent=2))
+    if args.json:
+        pathlib.Path(args.json).write_text(json.dumps(payload, indent=2))
+    return 0 if result.converged.all() else 1

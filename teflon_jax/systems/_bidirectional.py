@@ -1,0 +1,340 @@
+"""Linear structures on groups of sliding bearings under two horizontal ground components.
+
+Equations of motion in coordinates q (N,) relative to the ground (for example the x and y
+displacements of every floor, or the (x, y, rotation) of a rigid slab):
+
+    M q'' + C q' + K q + sum_g B_g^T F_g = -M R a_g(t),     a_g = (a_x, a_y),
+
+with R (N, 2) the influence of the two ground components and B_g (2, N) the kinematics of
+bearing group g: its sliding displacement is d_g = B_g q. Every group carries the normal load
+W_g and resists with F_g = mu_g W_g (Zx, Zy)_g: Park's biaxial Z (Eqs. 8-9), Eq. 1 at the
+resultant sliding speed (interpolated in the angle to the lay for anisotropic bearings) and the
+breakaway friction of Eq. 17 until the group's |Z| first reaches 0.999.
+Reference: Constantinou, Mokha & Reinhorn (1990), J. Struct. Eng. 116(2), Eqs. 1, 8-9, 17.
+
+`advance` (used by `RiccatiNewmark`) takes Newmark's average-acceleration rule for q and the
+bearing forces at the end of the step, with each group's Z updated exactly along its straight
+sliding increment (`park_exact_update`); the 2G bearing displacements solve
+d - d_lin + G_b F(d) = 0 (G_b = B K_eff^-1 B^T) by Newton's method with backtracking.
+"""
+
+import diffrax
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+
+from ..bearing import SlidingBearing, park_rate
+from ..excitation import Signal
+from ..solver import (
+    AbstractSteppedSystem,
+    RiccatiNewmark,
+    park_exact_update,
+    require_riccati_form,
+)
+from ._bearing_test import running_peak_rate
+
+NEWTON_ITERATIONS = 100
+"""Most Newton iterations per step (typically 2-5; the loop stops at tolerance)."""
+
+
+class BidirectionalStructure(AbstractSteppedSystem):
+    """A linear structure on G bearing groups under two ground components (module docstring).
+
+    State: {"q": (N,) [m or rad], "v": (N,), "z": (G, 2) [-], "z_peak": (G,) [-]} relative to
+    the ground; `z_peak` is the largest resultant |Z| of each group so far (Eq. 17 switch).
+
+    **Fields:** `mass` (N,) [kg or kg m^2], `stiffness` (N, N), `damping` (N, N);
+    `influence` R (N, 2) [-]; `bearing_map` B (G, 2, N); `bearing`: a `SlidingBearing` whose
+    array leaves have shape (G,) (one set of constants per group); `bearing_load` W_g (G,) [N];
+    `ground_x`, `ground_y`: `Signal`s of the ground acceleration [m/s^2]; `newmark_inverse`
+    K_eff^-1 for `time_step` [s] (static); `newton_iterations` (static).
+    """
+
+    mass: jnp.ndarray
+    stiffness: jnp.ndarray
+    damping: jnp.ndarray
+    influence: jnp.ndarray
+    bearing_map: jnp.ndarray
+    bearing: SlidingBearing
+    bearing_load: jnp.ndarray
+    ground_x: Signal
+    ground_y: Signal
+    newmark_inverse: jnp.ndarray
+    time_step: float = eqx.field(static=True)
+    newton_iterations: int = eqx.field(static=True, default=NEWTON_ITERATIONS)
+
+    def ground(self, t):
+        """(a_x, a_y) [m/s^2] at time t."""
+        return jnp.stack([self.ground_x(t), self.ground_y(t)])
+
+    def bearing_motion(self, q):
+        """Sliding displacement (or velocity) (G, 2) of every group for coordinates q."""
+        return jnp.einsum("gdn,n->gd", self.bearing_map, q)
+
+    def friction_forces(self, velocity, z, z_peak):
+        """F_g = mu_g W_g Z_g (G, 2) [N] at sliding velocities (G, 2) [m/s]."""
+        mu = self.bearing.coefficient(velocity[:, 0], velocity[:, 1], z_peak)
+        return (mu * self.bearing_load)[:, None] * z
+
+    def _load(self, t):
+        return -self.mass * (self.influence @ self.ground(t))
+
+    def _acceleration(self, t, y):
+        forces = self.friction_forces(self.bearing_motion(y["v"]), y["z"], y["z_peak"])
+        restoring = jnp.einsum("gdn,gd->n", self.bearing_map, forces)
+        total = self._load(t) - self.damping @ y["v"] - self.stiffness @ y["q"] - restoring
+        return total / self.mass
+
+    def __call__(self, t, y, args):
+        velocity = self.bearing_motion(y["v"])
+        dz = park_rate(self.bearing.hysteresis, y["z"], velocity)
+        z_abs = jnp.sqrt(jnp.sum(y["z"] ** 2, axis=-1) + 1e-300)
+        z_abs_rate = jnp.sum(y["z"] * dz, axis=-1) / z_abs
+        return {
+            "q": y["v"],
+            "v": self._acceleration(t, y),
+            "z": dz,
+            "z_peak": running_peak_rate(z_abs, y["z_peak"], z_abs_rate),
+        }
+
+    def advance(self, t0, t1, y0, args):
+        return self.newmark_step(t0, t1, y0, self._acceleration(t0, y0))
+
+    def newmark_step(self, t0, t1, y0, a0):
+        """`advance` given the acceleration a0 at (t0, y0)."""
+        dt = self.time_step
+        t0, t1 = jnp.asarray(t0), jnp.asarray(t1)
+        eps = jnp.finfo(jnp.result_type(t1, float)).eps
+        slack = jnp.maximum(1e-6 * dt, 16 * eps * jnp.abs(t1))
+        t1 = eqx.error_if(
+            t1, jnp.abs((t1 - t0) - dt) > slack, "step differs from the structure's time_step"
+        )
+        m, q0, v0 = self.mass, y0["q"], y0["v"]
+        rhs = self._load(t1) + m * (4 / dt**2 * q0 + 4 / dt * v0 + a0) + self.damping @ (2 / dt * q0 + v0)
+        q_linear = self.newmark_inverse @ rhs
+        n_groups = self.bearing_load.shape[0]
+        b_flat = self.bearing_map.reshape(2 * n_groups, -1)
+        compliance = self.newmark_inverse @ b_flat.T  # (N, 2G)
+        p = {
+            "d_linear": b_flat @ q_linear,
+            "flexibility": b_flat @ compliance,
+            "d0": self.bearing_motion(q0).reshape(-1),
+            "vb0": self.bearing_motion(v0).reshape(-1),
+            "z0": y0["z"],
+            "z_peak0": y0["z_peak"],
+        }
+        d1, converged = self._solve_bearings(p)
+        forces, z1 = self._forces_at(d1, p)
+        q1 = q_linear - compliance @ forces
+        v1 = 2 / dt * (q1 - q0) - v0
+        z_peak1 = jnp.maximum(y0["z_peak"], jnp.sqrt(jnp.sum(z1**2, axis=-1)))
+        return {"q": q1, "v": v1, "z": z1, "z_peak": z_peak1}, converged
+
+    def _forces_at(self, d, p):
+        """Flattened forces (2G,) and Z (G, 2) for flattened bearing displacements d at t1."""
+        n_groups = self.bearing_load.shape[0]
+        increment = (d - p["d0"]).reshape(n_groups, 2)
+        z = park_exact_update(self.bearing.hysteresis, p["z0"], increment)
+        velocity = (2 / self.time_step * (d - p["d0"]) - p["vb0"]).reshape(n_groups, 2)
+        return self.friction_forces(velocity, z, p["z_peak0"]).reshape(-1), z
+
+    def _residual(self, d, p):
+        return d - p["d_linear"] + p["flexibility"] @ self._forces_at(d, p)[0]
+
+    def _solve_bearings(self, p):
+        """Newton's method with an Armijo backtracking line search on |r| for the bearing
+        displacements at t1; converged when max|r| <= tolerance."""
+        x0 = p["d0"] + self.time_step * p["vb0"]
+        yield_disp = jnp.min(jnp.asarray(self.bearing.hysteresis.yield_disp))
+        eps = jnp.finfo(jnp.result_type(x0)).eps
+        tolerance = jnp.maximum(
+            1e-6 * yield_disp, 1e3 * eps * jnp.max(jnp.abs(x0) + jnp.abs(p["d_linear"]))
+        )
+
+        def residual(x):
+            return self._residual(x, p)
+
+        def size(r):
+            return jnp.max(jnp.abs(r))
+
+        def cond(carry):
+            x, r, k = carry
+            return (size(r) > tolerance) & (k < self.newton_iterations)
+
+        def body(carry):
+            x, r, k = carry
+            step = -_solve_small(jax.jacfwd(residual)(x), r)
+            step = jnp.where(jnp.all(jnp.isfinite(step)), step, -r)
+            norm = jnp.sqrt(jnp.sum(r * r))
+
+            def shrink(c):
+                alpha = 0.5 * c[0]
+                trial = x + alpha * step
+                return alpha, trial, residual(trial)
+
+            def worse(c):  # Armijo on |r|_2; below alpha = 2^-30 the step is taken as it is
+                alpha, _, r_trial = c
+                return (jnp.sqrt(jnp.sum(r_trial * r_trial)) > (1 - 1e-4 * alpha) * norm) & (alpha > 2.0**-30)
+
+            trial = x + step
+            _, x_new, r_new = jax.lax.while_loop(worse, shrink, (1.0, trial, residual(trial)))
+            return x_new, r_new, k + 1
+
+        x, r, _ = jax.lax.while_loop(cond, body, (x0, residual(x0), 0))
+        return x, size(r) <= tolerance
+
+
+def _solve_small(matrix, rhs):
+    """matrix^-1 rhs; in closed form for 2 x 2 (one bearing group), by LU otherwise."""
+    if matrix.shape == (2, 2):
+        (a, b), (c, d) = matrix
+        det = a * d - b * c
+        return jnp.stack([d * rhs[0] - b * rhs[1], a * rhs[1] - c * rhs[0]]) / det
+    return jnp.linalg.solve(matrix, rhs)
+
+
+def bidirectional_structure(
+    *,
+    mass,
+    stiffness,
+    damping,
+    influence,
+    bearing_map,
+    bearing: SlidingBearing,
+    bearing_load,
+    ground_x: Signal,
+    ground_y: Signal,
+    time_step: float,
+    newton_iterations: int = NEWTON_ITERATIONS,
+) -> BidirectionalStructure:
+    """Build a `BidirectionalStructure`, checking shapes and prefactoring Newmark's matrix
+    K_eff = K + (2/dt) C + (4/dt^2) M for `time_step` [s]. Bearing constants are broadcast to
+    one per group."""
+    mass = jnp.asarray(mass, dtype=float)
+    n = mass.shape[0]
+    bearing_map = jnp.asarray(bearing_map, dtype=float)
+    bearing_load = jnp.atleast_1d(jnp.asarray(bearing_load, dtype=float))
+    groups = bearing_load.shape[0]
+    if bearing_map.shape != (groups, 2, n):
+        raise ValueError(
+            f"bearing_map: shape {bearing_map.shape}, expected (groups, 2, dofs) = ({groups}, 2, {n})."
+        )
+    if not time_step > 0:
+        raise ValueError(f"time_step: must be > 0 s, got {time_step}.")
+    require_riccati_form(bearing.hysteresis)
+    bearing = jax.tree_util.tree_map(
+        lambda leaf: jnp.broadcast_to(jnp.asarray(leaf, dtype=float), (groups,)), bearing
+    )
+    stiffness = jnp.asarray(stiffness, dtype=float).reshape(n, n)
+    damping = jnp.asarray(damping, dtype=float).reshape(n, n)
+    k_eff = stiffness + 2 / time_step * damping + 4 / time_step**2 * jnp.diag(mass)
+    return BidirectionalStructure(
+        mass=mass,
+        stiffness=stiffness,
+        damping=damping,
+        influence=jnp.asarray(influence, dtype=float).reshape(n, 2),
+        bearing_map=bearing_map,
+        bearing=bearing,
+        bearing_load=bearing_load,
+        ground_x=ground_x,
+        ground_y=ground_y,
+        newmark_inverse=jnp.linalg.inv(k_eff),
+        time_step=float(time_step),
+        newton_iterations=int(newton_iterations),
+    )
+
+
+def bidirectional_initial_state(system: BidirectionalStructure) -> dict:
+    """At rest relative to the ground, Z = 0 in every group."""
+    n, groups = system.mass.shape[0], system.bearing_load.shape[0]
+    return {"q": jnp.zeros(n), "v": jnp.zeros(n), "z": jnp.zeros((groups, 2)), "z_peak": jnp.zeros(groups)}
+
+
+class BidirectionalResponse(eqx.Module):
+    """Histories of a `BidirectionalStructure` (SI; time along the first axis).
+
+    - `time` (nt,) [s]; `q`, `v` (nt, N) relative coordinates and velocities;
+    - `acceleration` (nt, N) relative accelerations; `ground` (nt, 2) [m/s^2];
+    - `bearing_displacement` (nt, G, 2) [m]; `friction_force` (nt, G, 2) [N];
+    - `z` (nt, G, 2) [-]; `z_peak` (nt, G) [-]; `result`: `diffrax.RESULTS` (0 = successful).
+    """
+
+    time: jnp.ndarray
+    q: jnp.ndarray
+    v: jnp.ndarray
+    acceleration: jnp.ndarray
+    ground: jnp.ndarray
+    bearing_displacement: jnp.ndarray
+    friction_force: jnp.ndarray
+    z: jnp.ndarray
+    z_peak: jnp.ndarray
+    result: object
+
+    @property
+    def succeeded(self):
+        return self.result == diffrax.RESULTS.successful
+
+
+def simulate_bidirectional(
+    system: BidirectionalStructure,
+    duration: float,
+    *,
+    save_every: int = 1,
+    solver=None,
+    rtol: float = 1e-8,
+    atol: float = 1e-10,
+    max_steps: int | None = None,
+    throw: bool = True,
+) -> BidirectionalResponse:
+    """Integrate a `BidirectionalStructure` from rest over `duration` [s].
+
+    **Arguments:** `solver`: `RiccatiNewmark()` (default, fixed step `system.time_step`) or an
+    adaptive diffrax solver (e.g. `diffrax.Tsit5()` with `rtol`, `atol`) for reference
+    solutions; `save_every`: keep every k-th step; `throw`: raise on solver failure (with
+    `False`, e.g. under `vmap`, the outcome of each member is in `result`).
+    """
+    dt = float(system.time_step)
+    n_steps = int(round(duration / dt + 1e-9))
+    if n_steps < 1:
+        raise ValueError(f"duration: must be at least one time step ({dt} s), got {duration}.")
+    steps = jnp.arange(n_steps + 1) * dt
+    save_times = steps[::save_every]
+    solver = RiccatiNewmark() if solver is None else solver
+    if isinstance(solver, RiccatiNewmark):
+        controller, dt0 = diffrax.StepTo(ts=steps), None
+        max_steps = n_steps if max_steps is None else max_steps
+    else:
+        jumps = jnp.concatenate([system.ground_x.times, system.ground_y.times])
+        controller = diffrax.PIDController(rtol=rtol, atol=atol, jump_ts=jnp.unique(jumps))
+        dt0 = dt / 10
+        max_steps = 200 * n_steps + 100_000 if max_steps is None else max_steps
+    solution = diffrax.diffeqsolve(
+        diffrax.ODETerm(system),
+        solver,
+        t0=steps[0],
+        t1=steps[-1],
+        dt0=dt0,
+        y0=bidirectional_initial_state(system),
+        saveat=diffrax.SaveAt(ts=save_times),
+        stepsize_controller=controller,
+        max_steps=max_steps,
+        throw=throw,
+    )
+    ys = solution.ys
+    ground = jax.vmap(system.ground)(save_times)
+    acceleration = jax.vmap(system._acceleration)(save_times, ys)
+    bearing_d = jax.vmap(system.bearing_motion)(ys["q"])
+    bearing_v = jax.vmap(system.bearing_motion)(ys["v"])
+    forces = jax.vmap(system.friction_forces)(bearing_v, ys["z"], ys["z_peak"])
+    return BidirectionalResponse(
+        time=save_times,
+        q=ys["q"],
+        v=ys["v"],
+        acceleration=acceleration,
+        ground=ground,
+        bearing_displacement=bearing_d,
+        friction_force=forces,
+        z=ys["z"],
+        z_peak=ys["z_peak"],
+        result=solution.result,
+    )

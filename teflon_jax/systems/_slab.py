@@ -1,0 +1,165 @@
+"""A rigid base slab with three degrees of freedom (x, y, rotation) on groups of sliding
+bearings at plan positions: torsion of plan-asymmetric isolated structures.
+
+Coordinates q = (u_x, u_y, theta) of the centre of mass C relative to the ground. A bearing
+group at plan position P, r = P - C, slides by (small rotations)
+
+    d = (u_x - theta r_y, u_y + theta r_x),    i.e. B = [[1, 0, -r_y], [0, 1, r_x]],
+
+and every group has its own PTFE constants, contact pressure and tributary load W_g (the
+normal load of Eq. 1, F_g = mu_g W_g Z_g). Linear springs (isolation period T of the whole
+slab, shared among the groups) and viscous dampers proportional to them (ratio zeta) sit at
+the bearing positions, so the centre of stiffness is the spring-weighted centroid of the
+groups; its offset from C (and any offset of the friction centroid) drives the torsion.
+Reference: Constantinou, Mokha & Reinhorn (1990), Eqs. 1, 8-9, 17 (bidirectional model);
+plan kinematics as in 3D-BASIS (Nagarajaiah, Reinhorn & Constantinou 1991).
+"""
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from ..bearing import SlidingBearing
+from ..excitation import Signal
+from ..units import STANDARD_GRAVITY
+from ._bidirectional import BidirectionalStructure, bidirectional_structure
+
+LOAD_TOLERANCE = 1e-3
+"""Relative mismatch allowed between the sum of the tributary loads and the weight."""
+
+
+def stack_bearings(bearings) -> SlidingBearing:
+    """One `SlidingBearing` whose array leaves hold the constants of every group (G,).
+
+    All groups must agree on the structure: all with or all without breakaway, all isotropic
+    or all anisotropic, the same number of interfaces."""
+    bearings = list(bearings)
+    structures = {jax.tree_util.tree_structure(b) for b in bearings}
+    if len(structures) != 1:
+        raise ValueError(
+            "bearings: the groups differ in kind (breakaway on some, anisotropy or stack height "
+            "on others); give every group the same options."
+        )
+    return jax.tree_util.tree_map(
+        lambda *leaves: jnp.stack([jnp.asarray(x, dtype=float) for x in leaves]), *bearings
+    )
+
+
+def check_plan(*, length_x, length_y, weight, centre_of_mass, positions, loads, names=None) -> None:
+    """Refuse a plan whose loads do not add up to the weight or whose points lie off the slab.
+
+    `ValueError` naming the group (or the centre of mass) and giving both numbers."""
+    positions = np.asarray(positions, dtype=float).reshape(-1, 2)
+    loads = np.asarray(loads, dtype=float).reshape(-1)
+    names = [f"group {i + 1}" for i in range(len(loads))] if names is None else list(names)
+    if not (length_x > 0 and length_y > 0):
+        raise ValueError(f"plan: slab dimensions must be > 0 m, got {length_x} x {length_y} m.")
+    if not weight > 0:
+        raise ValueError(f"plan: weight must be > 0 N, got {weight} N.")
+    if positions.shape[0] != loads.shape[0] or positions.shape[0] == 0:
+        raise ValueError("plan: give one position and one load per bearing group (at least one group).")
+    for name, (x, y) in zip(names + ["centre of mass"], [*positions, centre_of_mass]):
+        if not (-1e-9 <= x <= length_x + 1e-9 and -1e-9 <= y <= length_y + 1e-9):
+            raise ValueError(
+                f"plan: {name} at ({x:g}, {y:g}) m lies outside the slab, which spans "
+                f"0-{length_x:g} m in x and 0-{length_y:g} m in y."
+            )
+    for name, load in zip(names, loads):
+        if not load > 0:
+            raise ValueError(f"plan: {name} has load {load:g} N; tributary loads must be > 0.")
+    total = float(np.sum(loads))
+    if abs(total - weight) > LOAD_TOLERANCE * weight:
+        raise ValueError(
+            f"plan: the tributary loads add up to {total / 1e3:.6g} kN but the slab weighs "
+            f"{weight / 1e3:.6g} kN; they must agree within {LOAD_TOLERANCE:.1%}."
+        )
+
+
+def slab_on_bearings(
+    *,
+    length_x: float,
+    length_y: float,
+    weight: float,
+    centre_of_mass,
+    positions,
+    bearings,
+    loads,
+    ground_x: Signal,
+    ground_y: Signal,
+    time_step: float,
+    isolation_period=None,
+    isolation_damping=0.0,
+    spring_shares=None,
+    rotational_inertia=None,
+    names=None,
+) -> BidirectionalStructure:
+    """A rigid slab (x, y, rotation) on bearing groups (module docstring).
+
+    **Arguments:**
+
+    - `length_x`, `length_y` [m]: plan of the slab, spanning [0, length_x] x [0, length_y].
+    - `weight` W [N]; `centre_of_mass` (x, y) [m] in plan coordinates.
+    - `positions` (G, 2) [m]; `bearings`: a sequence of G `SlidingBearing`s (or one, used for
+      all groups); `loads` (G,) [N] tributary normal loads, adding up to W.
+    - `ground_x`, `ground_y`: `Signal`s [m/s^2]; `time_step` [s].
+    - `isolation_period` T [s] of the springs (`None`: none), `isolation_damping` zeta [-]
+      (damping proportional to the springs), `spring_shares` (G,) [-] relative spring
+      stiffness per group (default equal).
+    - `rotational_inertia` [kg m^2] about C (default m (Lx^2 + Ly^2) / 12, a uniform slab).
+
+    **Returns:** a `BidirectionalStructure` with q = (u_x [m], u_y [m], theta [rad]).
+    """
+    positions = np.asarray(positions, dtype=float).reshape(-1, 2)
+    loads = np.asarray(loads, dtype=float).reshape(-1)
+    centre = np.asarray(centre_of_mass, dtype=float).reshape(2)
+    check_plan(length_x=length_x, length_y=length_y, weight=weight, centre_of_mass=centre,
+               positions=positions, loads=loads, names=names)
+    groups = positions.shape[0]
+    if isinstance(bearings, SlidingBearing):
+        bearings = [bearings] * groups
+    if len(bearings) != groups:
+        raise ValueError(f"bearings: {len(bearings)} given for {groups} groups.")
+    mass = weight / STANDARD_GRAVITY
+    inertia = mass * (length_x**2 + length_y**2) / 12 if rotational_inertia is None else rotational_inertia
+    r = positions - centre
+    bearing_map = np.zeros((groups, 2, 3))
+    bearing_map[:, 0, 0] = 1.0
+    bearing_map[:, 1, 1] = 1.0
+    bearing_map[:, 0, 2] = -r[:, 1]
+    bearing_map[:, 1, 2] = r[:, 0]
+    stiffness = np.zeros((3, 3))
+    damping = np.zeros((3, 3))
+    if isolation_period is not None:
+        shares = np.ones(groups) if spring_shares is None else np.asarray(spring_shares, float)
+        if shares.shape != (groups,) or np.any(shares < 0) or not np.sum(shares) > 0:
+            raise ValueError("spring_shares: one share >= 0 per group, not all zero.")
+        omega = 2 * np.pi / float(isolation_period)
+        k = mass * omega**2 * shares / np.sum(shares)
+        stiffness = np.einsum("g,gdn,gdm->nm", k, bearing_map, bearing_map)
+        damping = 2 * float(isolation_damping) / omega * stiffness
+    elif float(isolation_damping) > 0:
+        raise ValueError("isolation_damping: needs springs (isolation_period), or 0.")
+    return bidirectional_structure(
+        mass=jnp.array([mass, mass, inertia]),
+        stiffness=stiffness,
+        damping=damping,
+        influence=np.array([[1.0, 0.0], [0.0, 1.0], [0.0, 0.0]]),
+        bearing_map=bearing_map,
+        bearing=stack_bearings(bearings),
+        bearing_load=loads,
+        ground_x=ground_x,
+        ground_y=ground_y,
+        time_step=time_step,
+    )
+
+
+def slab_point_displacement(q, points, centre_of_mass):
+    """Displacement (..., P, 2) [m] of plan points (P, 2) [m] for slab coordinates q (..., 3)."""
+    r = jnp.asarray(points) - jnp.asarray(centre_of_mass)
+    ux, uy, theta = q[..., 0:1], q[..., 1:2], q[..., 2:3]
+    return jnp.stack([ux - theta * r[:, 1], uy + theta * r[:, 0]], axis=-1)
+
+
+def slab_corners(length_x: float, length_y: float) -> np.ndarray:
+    """The four corners (4, 2) [m] of the slab, counter-clockwise from the origin."""
+    return np.array([[0.0, 0.0], [length_x, 0.0], [length_x, length_y], [0.0, length_y]])
