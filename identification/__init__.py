@@ -11,6 +11,7 @@ from teflon_jax.formats import read_friction_damper_json as read_friction_damper
 from . import bayes as bayes
 from . import bearing_fit as bearing_fit
 from . import discovery as discovery
+from . import hysteretic as hysteretic
 from . import least_squares as least_squares
 from .bayes import BayesResult as BayesResult
 from .bayes import fit_bayes as fit_bayes
