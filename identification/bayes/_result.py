@@ -118,9 +118,11 @@ class BayesResult:
         import matplotlib.pyplot as plt
 
         az = _arviz()
-        axes = az.plot_pair(self.inference_data(), var_names=list(self.free), kind="scatter",
-                            divergences=True, marginals=True,
-                            scatter_kwargs=dict(alpha=0.3, markersize=2))
+        with _warnings.catch_warnings():  # ArviZ 0.23 calls a deprecated matplotlib helper
+            _warnings.simplefilter("ignore", DeprecationWarning)
+            axes = az.plot_pair(self.inference_data(), var_names=list(self.free),
+                                kind="scatter", divergences=True, marginals=True,
+                                scatter_kwargs=dict(alpha=0.3, markersize=2))
         fig = np.asarray(axes).ravel()[0].get_figure()
         fig.suptitle("Posterior draws (Bayesian bearing fit)")
         fig.savefig(str(path), dpi=110)
