@@ -278,6 +278,10 @@ def test_noise_only_record_adds_nothing(seed):
     assert result.effects_added == [], result.to_json()["steps"]
     # The baseline already explains the record down to the noise (1.5 % of the RMS force).
     assert result.nrmse_final < 0.02
+    # every inner fit reports convergence, and these all converge before the limit
+    status = result.fit_convergence
+    assert status["fits"] > 0 and status["unconverged"] == 0, status
+    assert status["max_iterations_used"] < status["iteration_limit"], status
 
 
 def test_correlated_noise_adds_nothing():
