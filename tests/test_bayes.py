@@ -101,3 +101,24 @@ def test_coverage_over_twenty_seeds():
             hits += int(row["q05"] < TRUTH[name] < row["q95"])
             total += 1
     assert 0.8 <= hits / total <= 1.0, (hits, total)
+
+
+def test_draws_file_and_pair_plot(tmp_path):
+    import xarray as xr
+
+    from identification.bayes import BayesResult
+
+    rng = np.random.default_rng(0)
+    draws = {"f_max": rng.normal(0.12, 1e-3, (2, 50)), "rate_a": rng.normal(23.0, 0.3, (2, 50)),
+             "noise_level_0": rng.normal(800.0, 10.0, (2, 50))}
+    result = BayesResult(draws=draws, table={}, divergences=0, converged=True, messages=[],
+                         least_squares=None, prior="bounds", priors={}, free=("f_max", "rate_a"),
+                         num_chains=2, num_samples=50, elapsed_s=0.0,
+                         elapsed_least_squares_s=0.0, rhat_max=1.01, ess_min=200.0)
+    result._diverging = np.zeros((2, 50), dtype=bool)
+    result.to_netcdf(tmp_path / "draws.nc")
+    result.plot_pairs(tmp_path / "pairs.png")
+    with xr.open_dataset(tmp_path / "draws.nc", group="posterior") as ds:
+        assert ds["rate_a"].dims == ("chain", "draw")
+        np.testing.assert_allclose(ds["rate_a"].values, draws["rate_a"])
+    assert (tmp_path / "pairs.png").stat().st_size > 1000

@@ -121,8 +121,7 @@ class BayesResult:
         with _warnings.catch_warnings():  # ArviZ 0.23 calls a deprecated matplotlib helper
             _warnings.simplefilter("ignore", DeprecationWarning)
             axes = az.plot_pair(self.inference_data(), var_names=list(self.free),
-                                kind="scatter", divergences=True, marginals=True,
-                                scatter_kwargs=dict(alpha=0.3, markersize=2))
+                                kind="scatter", divergences=True, marginals=True)
         fig = np.asarray(axes).ravel()[0].get_figure()
         fig.suptitle("Posterior draws (Bayesian bearing fit)")
         fig.savefig(str(path), dpi=110)
