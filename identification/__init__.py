@@ -9,9 +9,13 @@ discovery) looks for the effects the 1990 model misses.
 
 from teflon_jax.formats import read_friction_damper_json as read_friction_damper_json
 
+from . import bayes as bayes
 from . import bearing_fit as bearing_fit
 from . import discovery as discovery
+from . import hysteretic as hysteretic
 from . import least_squares as least_squares
+from .bayes import BayesResult as BayesResult
+from .bayes import fit_bayes as fit_bayes
 from .bearing_fit import PARAMETER_NAMES as PARAMETER_NAMES
 from .bearing_fit import BearingFit as BearingFit
 from .bearing_fit import RecordResidual as RecordResidual

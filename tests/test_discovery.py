@@ -278,6 +278,10 @@ def test_noise_only_record_adds_nothing(seed):
     assert result.effects_added == [], result.to_json()["steps"]
     # The baseline already explains the record down to the noise (1.5 % of the RMS force).
     assert result.nrmse_final < 0.02
+    # every inner fit reports convergence, and these all converge before the limit
+    status = result.fit_convergence
+    assert status["fits"] > 0 and status["unconverged"] == 0, status
+    assert status["max_iterations_used"] < status["iteration_limit"], status
 
 
 def test_correlated_noise_adds_nothing():
@@ -583,3 +587,21 @@ def test_real_friction_damper_shows_its_asymmetry(external_data):
     assert result.effects_added[:1] == ["asymmetry"]
     # Stronger friction in +x, where the device is self-energising.
     assert result.parameters["asymmetry"] > 0.05
+
+
+def test_ljung_box_separates_white_from_structured_residuals():
+    from identification.discovery import ljung_box
+
+    rng = np.random.default_rng(7)
+    white = rng.standard_normal(3000)
+    assert ljung_box(white)["white"]
+    # AR(1) noise with rho = 0.3 and a smooth periodic error of a tenth of the noise level
+    ar = np.zeros(3000)
+    for i in range(1, ar.size):
+        ar[i] = 0.3 * ar[i - 1] + white[i]
+    assert not ljung_box(ar)["white"]
+    t = np.arange(3000) / 1000.0
+    assert not ljung_box(white + 0.3 * np.sin(2 * np.pi * 0.6 * t))["white"]
+    # the statistic: chi^2(h) for white noise, so p is uniform; the test rejects about 1 %
+    rejected = sum(not ljung_box(rng.standard_normal(500))["white"] for _ in range(200))
+    assert rejected <= 8

@@ -8,6 +8,7 @@ from ._augmented import prepare_record as prepare_record
 from ._augmented import simulate_augmented as simulate_augmented
 from ._diagnostics import effective_samples as effective_samples
 from ._diagnostics import half_cycle_index as half_cycle_index
+from ._diagnostics import ljung_box as ljung_box
 from ._diagnostics import locate_residual as locate_residual
 from ._diagnostics import regressors as regressors
 from ._diagnostics import residual_correlation as residual_correlation

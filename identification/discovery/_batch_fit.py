@@ -59,20 +59,27 @@ def _free_mask(active) -> np.ndarray:
     )
 
 
+FIT_RTOL = 1e-9
+"""A fit has converged when an accepted Levenberg-Marquardt step lowers the cost by less than
+this fraction of it, or when no step of any damping up to 1e8 lowers it (a minimum to the
+precision of the arithmetic)."""
+
+
 @functools.partial(jax.jit, static_argnames=("n_iter",))
-def fit_batch(u0, free, actives, weights, data, scale, *, n_iter: int = 40):
+def fit_batch(u0, free, actives, weights, data, scale, *, n_iter: int = 200):
     """Masked, bounded Levenberg-Marquardt fits of B model configurations in one call.
 
     Minimises sum((w (F_model - F_meas) / scale)^2) over the unconstrained parameters u
     (`to_physical`), with the parameters where `free` is 0 held at their start. Steps:
     (J^T J + lam diag(J^T J)) du = -J^T r (Marquardt 1963), lam divided by 3 after a success
-    and multiplied by 4 after a failure; `n_iter` iterations.
+    and multiplied by 4 after a failure; iterations until converged (`FIT_RTOL`) or `n_iter`.
 
     **Arguments:** `u0`, `free` (B, P); `actives` (B, E) effect masks; `weights` (B, n) sample
     weights (0 leaves a sample out); `data` (`AugmentedData`); `scale` force scale [N].
 
-    **Returns:** `(u, cost, jacobian)`: final unconstrained parameters (B, P), cost
-    0.5 sum r^2 (B,), and the Jacobian of r in u at the end (B, n, P).
+    **Returns:** `(u, cost, jacobian, converged, n_steps)`: final unconstrained parameters
+    (B, P), cost 0.5 sum r^2 (B,), the Jacobian of r in u at the end (B, n, P), whether each
+    fit met the convergence test (B,) and the iterations it took (B,).
     """
 
     def one(u_start, free_i, active, weight):
@@ -87,8 +94,8 @@ def fit_batch(u0, free, actives, weights, data, scale, *, n_iter: int = 40):
         def cost_of(u):
             return 0.5 * jnp.sum(residual(u)[0] ** 2)
 
-        def body(_, carry):
-            u, lam, cost = carry
+        def body(carry):
+            i, u, lam, cost, _ = carry
             jac, r = jax.jacfwd(residual, has_aux=True)(u)
             jac = jac * free_i
             grad = jac.T @ r
@@ -99,14 +106,21 @@ def fit_batch(u0, free, actives, weights, data, scale, *, n_iter: int = 40):
             trial = u + jnp.clip(step, -4.0, 4.0)
             trial_cost = cost_of(trial)
             better = jnp.isfinite(trial_cost) & (trial_cost < cost)
+            small = better & (cost - trial_cost <= FIT_RTOL * cost)
+            stuck = (~better) & (lam >= 1e8)
             u = jnp.where(better, trial, u)
-            cost = jnp.where(better, trial_cost, cost)
+            new_cost = jnp.where(better, trial_cost, cost)
             lam = jnp.clip(jnp.where(better, lam / 3.0, lam * 4.0), 1e-9, 1e9)
-            return u, lam, cost
+            return i + 1, u, lam, new_cost, small | stuck | (new_cost == 0.0)
 
-        u, _, cost = jax.lax.fori_loop(0, n_iter, body, (u_start, 1e-2, cost_of(u_start)))
+        def cond(carry):
+            i, *_, done = carry
+            return (i < n_iter) & ~done
+
+        init = (0, u_start, 1e-2, cost_of(u_start), False)
+        n, u, _, cost, done = jax.lax.while_loop(cond, body, init)
         jac = jax.jacfwd(lambda v: residual(v)[0])(u) * free_i
-        return u, cost, jac
+        return u, cost, jac, done, n
 
     return jax.vmap(one)(u0, free, actives, weights)
 

@@ -192,3 +192,34 @@ def effective_samples(residual) -> float:
     """n_eff = n (1 - rho) / (1 + rho) with rho the lag-1 autocorrelation (>= 0) of `residual`."""
     rho = _lag1(residual)
     return max(float(len(residual)) * (1.0 - rho) / (1.0 + rho), 2.0)
+
+
+WHITENESS_LEVEL = 0.01
+"""Significance level of the Ljung-Box test below which a residual is called structured."""
+
+
+def ljung_box(residual, lags: int | None = None) -> dict:
+    """Ljung-Box portmanteau test of whiteness of a residual series (time order).
+
+        Q = n (n + 2) sum_{k=1}^{h} rho_k^2 / (n - k),   Q ~ chi^2(h) for white noise
+
+    (Ljung & Box, "On a measure of lack of fit in time series models", Biometrika 65, 1978),
+    with rho_k the lag-k sample autocorrelation and h = min(20, n // 5) lags by default.
+
+    **Returns:** dict(q, lags, p_value, white) with `white = p_value >= WHITENESS_LEVEL`.
+    """
+    from jax.scipy.special import gammaincc
+
+    r = np.asarray(residual, dtype=float)
+    r = r - r.mean()
+    n = r.size
+    h = int(lags) if lags is not None else max(1, min(20, n // 5))
+    if n < 3 * h or h < 1:
+        raise ValueError(f"residual: {n} samples are too few for a Ljung-Box test with {h} lags.")
+    denom = float(r @ r)
+    if denom == 0.0:
+        return dict(q=0.0, lags=h, p_value=1.0, white=True)
+    rho = np.array([float(r[k:] @ r[:-k]) / denom for k in range(1, h + 1)])
+    q = float(n * (n + 2) * np.sum(rho**2 / (n - np.arange(1, h + 1))))
+    p = float(gammaincc(h / 2.0, q / 2.0))
+    return dict(q=q, lags=h, p_value=p, white=p >= WHITENESS_LEVEL)

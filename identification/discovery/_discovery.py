@@ -116,7 +116,7 @@ def discover_effects(
     bic_threshold: float = DEFAULT_BIC_THRESHOLD,
     max_effects: int = 4,
     max_samples: int = 3000,
-    max_steps: int = 40,
+    max_steps: int = 200,
     known=None,
     callback=None,
 ) -> DiscoveryResult:
@@ -131,7 +131,8 @@ def discover_effects(
     - `bic_threshold`: smallest delta_bic that adds an effect (default 10: "very strong").
     - `max_effects`: at most this many effects are added.
     - `max_samples`: longer records are decimated to about this many samples.
-    - `max_steps`: Levenberg-Marquardt steps per fit.
+    - `max_steps`: Levenberg-Marquardt iteration limit per fit; each fit stops when it
+      converges (`FIT_RTOL`) and reports whether it did (`DiscoveryResult.fit_convergence`).
     - `known`: parameters held at given values (SI), e.g. `{"rate_a": 23.6}` from Table 1;
       with `rate_a` known the `interfaces` candidate becomes identifiable.
     - `callback`: called with a line of progress text (for a CLI), or `None`.
@@ -189,6 +190,9 @@ def discover_effects(
     ones = np.ones(n)
     n_members = 3 * (1 + len(pool))
 
+    fit_log = {"fits": 0, "unconverged": 0, "max_iterations_used": 0,
+               "iteration_limit": int(max_steps)}
+
     def run_batch(starts, actives, weights):
         """Fit B configurations; pads to `n_members` so the solve compiles once."""
         b = len(starts)
@@ -198,7 +202,7 @@ def discover_effects(
         weights = np.array(list(weights) + [weights[0]] * pad)
         values = _inside(np.array([[s[name] for name in PARAMETER_NAMES] for s in starts]))
         free = np.array([_free_mask(a) * fixed for a in actives])
-        u, _, jac = fit_batch(
+        u, _, jac, conv, steps_taken = fit_batch(
             jnp.asarray(to_unconstrained(values)),
             jnp.asarray(free),
             jnp.asarray(actives),
@@ -209,7 +213,12 @@ def discover_effects(
         )
         fitted = np.asarray(to_physical(u))
         sims = _simulate_batch(jnp.asarray(fitted), data, jnp.asarray(actives))
-        extra = {"u": np.asarray(u)[:b], "jacobian": np.asarray(jac)[:b]}
+        conv = np.asarray(conv)[:b]
+        fit_log["fits"] += b
+        fit_log["unconverged"] += int(np.count_nonzero(~conv))
+        fit_log["max_iterations_used"] = max(fit_log["max_iterations_used"],
+                                             int(np.max(np.asarray(steps_taken)[:b])))
+        extra = {"u": np.asarray(u)[:b], "jacobian": np.asarray(jac)[:b], "converged": conv}
         return extra, fitted[:b], {k: np.asarray(v)[:b] for k, v in sims.items()}
 
     # Baseline: several starts of the rate and of the yield displacement, keep the best.
@@ -359,6 +368,7 @@ def discover_effects(
         runtime_s=float(_time.perf_counter() - started),
         applicable=applicable,
         skipped=skipped,
+        fit_convergence=fit_log,
     )
 
 

@@ -257,21 +257,28 @@ def _candidate_table(evidence: dict) -> list:
 
 
 def _remaining_residual_note(result) -> str:
-    from ._diagnostics import effective_samples
+    from ._diagnostics import ljung_box
 
     residual = np.asarray(result.data.force) - result.forces["final"]
     scale = float(np.sqrt(np.mean(np.asarray(result.data.force) ** 2)))
     noise = noise_estimate(residual) / scale
-    n_eff = effective_samples(residual)
-    n = residual.size
-    if result.nrmse_final < 1.5 * noise or n_eff > 0.5 * n:
+    test = ljung_box(residual)
+    status = getattr(result, "fit_convergence", {}) or {}
+    fits_note = ""
+    if status.get("unconverged"):
+        fits_note = (f" {status['unconverged']} of {status['fits']} inner fits did not converge "
+                     f"within {status['iteration_limit']} iterations; their evidence is weaker.")
+    stated = (f"Ljung-Box test of the residual over {test['lags']} lags: Q = {test['q']:.1f}, "
+              f"p = {test['p_value']:.3g}")
+    if test["white"]:
         return (
             f"Remaining residual: nrmse {result.nrmse_final:.4f} against a scatter of "
-            f"{noise:.4f} from sample to sample, n_eff {n_eff:.0f} of {n}: it looks like "
-            "measurement noise."
+            f"{noise:.4f} from sample to sample; {stated} (>= 0.01): no evidence of structure, "
+            "it is consistent with white measurement noise." + fits_note
         )
     return (
-        f"Remaining residual: nrmse {result.nrmse_final:.4f} is well above the sample-to-"
-        f"sample scatter {noise:.4f} and is correlated (n_eff {n_eff:.0f} of {n}): the final "
-        "model still misses something that no candidate describes (see the residual maps)."
+        f"Remaining residual: nrmse {result.nrmse_final:.4f} against a sample-to-sample scatter "
+        f"of {noise:.4f}; {stated} (< 0.01): the residual is structured (correlated in time), "
+        "so the final model still misses something that no candidate describes (see the "
+        "residual maps)." + fits_note
     )

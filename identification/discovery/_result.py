@@ -54,7 +54,9 @@ class DiscoveryResult:
     - `parameters`: fitted parameters of the final model (SI, active ones only),
     - `std_errors`: their standard errors (see `_std_errors`; 0 for parameters held known),
     - `baseline_parameters`, `data`, `info` (the prepared record), `forces`: model force of the
-      baseline and final fits, `runtime_s`, `applicable` candidates and `skipped` ones with why.
+      baseline and final fits, `runtime_s`, `applicable` candidates and `skipped` ones with why,
+    - `fit_convergence`: how many inner fits ran, how many did not meet the convergence test
+      within the iteration limit, the most iterations one took.
     """
 
     baseline: str
@@ -72,6 +74,7 @@ class DiscoveryResult:
     runtime_s: float
     applicable: list
     skipped: dict
+    fit_convergence: dict = dataclasses.field(default_factory=dict)
 
     def to_json(self) -> dict:
         """The JSON document of the `diagnose` command (plain Python types; a non-finite
@@ -104,6 +107,7 @@ class DiscoveryResult:
                 "refused_candidates": self.final_round,
                 "skipped_candidates": self.skipped,
                 "runtime_s": self.runtime_s,
+                "fit_convergence": dict(self.fit_convergence),
                 "record": {
                     "source": self.info.source,
                     "samples_used": int(self.data.n_samples),

@@ -1,0 +1,79 @@
+"""Benchmark of the Bayesian bearing fit beside the least-squares fit, for one record.
+
+Protocol: sine 4 in at 0.6 Hz (test No. 75 of Constantinou, Mokha & Reinhorn 1990), 3 cycles,
+started from rest at one end, sampled at 500 Hz (2501 samples; 200 Hz, 2 cycles in quick
+mode), 2 % force noise, interface UF 1000 psi P of Table 1; free parameters f_max, delta_f,
+rate_a, yield_disp, breakaway_ratio and the noise level. NUTS: 1,000 warm-up and 1,000 draws
+in each of 4 chains (vectorised on one device; 200 + 200 in quick mode).
+
+    python benchmarks/bench_bayes.py [--quick]
+
+Times include compilation (each fit compiles once per record shape); the least-squares time
+is that of `fit_bearing_test` with its default 8 starts, measured on its own.
+"""
+
+import platform
+import time
+
+import jax
+import numpy as np
+
+
+def _record(quick: bool):
+    import teflon_jax as tj
+    from teflon_jax.formats import test_record_from_arrays
+    from teflon_jax.units import INCH, KIP
+
+    fs, cycles = (200.0, 2) if quick else (500.0, 3)
+    t = np.arange(0.0, cycles / 0.6 + 1e-9, 1.0 / fs)
+    u = 4 * INCH * (1.0 - np.cos(2 * np.pi * 0.6 * t))
+    load = 78.5 * KIP
+    row = tj.load_table1()[0]
+    bearing = tj.paper_bearing(tj.FrictionParameters(row.f_max, row.delta_f, row.rate_a),
+                               breakaway_ratio=row.breakaway_ratio)
+    f = np.asarray(tj.simulate_bearing_test(bearing, tj.tabulated_motion(t, u), load).fx)
+    f = f + 0.02 * np.sqrt(np.mean(f**2)) * np.random.default_rng(0).standard_normal(f.size)
+    return test_record_from_arrays(u, f, time=t, normal_load=load)
+
+
+def run_bayes_benchmark(quick: bool) -> dict:
+    """Time the least-squares and the Bayesian fit of one record; returns a dict."""
+    jax.config.update("jax_enable_x64", True)
+    from identification.bayes import fit_bayes
+    from identification.bearing_fit import fit_bearing_test
+
+    record = _record(quick)
+    start = time.perf_counter()
+    fit = fit_bearing_test(record)
+    ls_s = time.perf_counter() - start
+    draws = 200 if quick else 1000
+    start = time.perf_counter()
+    result = fit_bayes(record, num_warmup=draws, num_samples=draws, num_chains=4,
+                       least_squares=fit)
+    bayes_s = time.perf_counter() - start
+    return {
+        "name": "bayes",
+        "samples_per_record": int(record.ux.size),
+        "least_squares_s": ls_s,
+        "bayes_total_s": bayes_s,
+        "bayes_sampling_s": result.elapsed_s,
+        "chains": result.num_chains,
+        "draws_per_chain": result.num_samples,
+        "warmup_per_chain": draws,
+        "divergences": result.divergences,
+        "converged": result.converged,
+        "max_rhat": max(r["rhat"] for r in result.table.values()),
+        "min_ess_bulk": min(r["ess_bulk"] for r in result.table.values()),
+        "posterior_sd_over_ls_se": result.compare_least_squares(),
+        "jax": jax.__version__,
+        "backend": jax.default_backend(),
+        "cpu": platform.processor() or platform.machine(),
+        "python": platform.python_version(),
+    }
+
+
+if __name__ == "__main__":
+    import json
+    import sys
+
+    print(json.dumps(run_bayes_benchmark("--quick" in sys.argv), indent=2))

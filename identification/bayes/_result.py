@@ -1,0 +1,210 @@
+"""Result of the Bayesian fit: posterior summary, convergence diagnostics, NetCDF draws, pair plot."""
+
+import dataclasses
+import math
+import warnings as _warnings
+
+import jax
+import numpy as np
+
+from ..bearing_fit import PARAMETER_NAMES
+from ._model import base_name, distribution, to_base, to_physical
+
+UNITS = {"f_max": "-", "delta_f": "-", "rate_a": "s/m", "yield_disp": "m",
+         "breakaway_ratio": "-", "noise_level": "N"}
+
+NOT_IDENTIFIED_RATIO = 0.5
+"""Posterior sd / prior sd (on the prior's log or logit scale) above which a constant is
+reported as not identified by the data: its posterior stays at the prior."""
+
+WEAK_RATIO = 0.2
+"""Above this ratio (and below `NOT_IDENTIFIED_RATIO`) the constant is weakly identified."""
+
+
+def _arviz():
+    with _warnings.catch_warnings():
+        _warnings.simplefilter("ignore", FutureWarning)
+        import arviz as az
+    return az
+
+
+@dataclasses.dataclass
+class BayesResult:
+    """Posterior of a Bayesian bearing fit (SI).
+
+    - `draws`: name -> (chains, draws) array of each free constant and of `noise_level_<i>`
+      [N] (one per record).
+    - `table`: name -> dict(mean, median, q05, q95, sd, rhat, ess_bulk, ess_tail,
+      identified, sd_ratio) (`sd_ratio`: posterior / prior spread on the prior's scale).
+    - `divergences`: number of divergent transitions after warm-up.
+    - `converged`: all R-hat < `rhat_max`, all ESS >= `ess_min`, no divergence.
+    - `messages`: why the run is not converged, which constants stay at the prior, notes.
+    - `least_squares`: the `BearingFit` used as warm start.
+    - `prior`: "bounds" or "table1"; `priors`: the `ParameterPrior` of each constant.
+    - `elapsed_s`, `elapsed_least_squares_s`: wall times of sampling and of the LS fit [s].
+    """
+
+    draws: dict
+    table: dict
+    divergences: int
+    converged: bool
+    messages: list
+    least_squares: object
+    prior: str
+    priors: dict
+    free: tuple
+    num_chains: int
+    num_samples: int
+    elapsed_s: float
+    elapsed_least_squares_s: float
+    rhat_max: float
+    ess_min: float
+
+    def summary(self) -> str:
+        """Text table: mean, median, 5-95 % interval, R-hat, ESS, identification (SI)."""
+        head = (f"{'parameter':<16}{'unit':>5}{'mean':>12}{'median':>12}{'5 %':>12}{'95 %':>12}"
+                f"{'LS est.':>12}{'LS s.e.':>11}{'R-hat':>7}{'ESS':>7}  identified")
+        lines = [head]
+        ls = self.least_squares
+        for name, row in self.table.items():
+            unit = UNITS.get(name.rsplit("_", 1)[0] if name.startswith("noise") else name, "-")
+            est = ls.parameters.get(name) if name in PARAMETER_NAMES else None
+            se = ls.std_errors.get(name) if name in PARAMETER_NAMES else None
+            lines.append(
+                f"{name:<16}{unit:>5}{row['mean']:>12.5g}{row['median']:>12.5g}"
+                f"{row['q05']:>12.5g}{row['q95']:>12.5g}"
+                f"{'' if est is None else format(est, '.5g'):>12}"
+                f"{'' if se is None else format(se, '.3g'):>11}"
+                f"{row['rhat']:>7.3f}{row['ess_bulk']:>7.0f}  {row['identified']}")
+        status = "converged" if self.converged else "NOT converged"
+        lines.append(f"{self.num_chains} chains x {self.num_samples} draws, {self.divergences} "
+                     f"divergences, {status} (R-hat < {self.rhat_max}, ESS >= {self.ess_min:.0f})")
+        lines.extend(self.messages)
+        return "\n".join(lines)
+
+    def to_json_dict(self) -> dict:
+        def clean(x):
+            return x if not isinstance(x, float) or math.isfinite(x) else None
+
+        return {
+            "posterior": {k: {kk: clean(vv) for kk, vv in v.items()} for k, v in self.table.items()},
+            "units": dict(UNITS), "prior": self.prior,
+            "prior_ranges": {k: [p.low, p.high] for k, p in self.priors.items()},
+            "divergences": int(self.divergences), "converged": bool(self.converged),
+            "messages": list(self.messages), "num_chains": self.num_chains,
+            "num_samples": self.num_samples, "elapsed_s": self.elapsed_s,
+            "least_squares": self.least_squares.to_json_dict(),
+        }
+
+    def inference_data(self):
+        """The draws as ArviZ `InferenceData` (groups `posterior`, `sample_stats`)."""
+        az = _arviz()
+        return az.from_dict(
+            posterior={k: np.asarray(v) for k, v in self.draws.items()},
+            sample_stats={"diverging": self._diverging},
+            attrs={"prior": self.prior, "units": str(UNITS),
+                   "model": "Constantinou, Mokha & Reinhorn (1990), Eq. 1, 3, 17"},
+        )
+
+    def to_netcdf(self, path) -> None:
+        """Write the draws to NetCDF (ArviZ conventions: dims chain, draw)."""
+        self.inference_data().to_netcdf(str(path))
+
+    def plot_pairs(self, path) -> None:
+        """Pair plot of the free constants (divergent draws marked) to an image file."""
+        import matplotlib
+
+        matplotlib.use("Agg", force=False)
+        import matplotlib.pyplot as plt
+
+        az = _arviz()
+        with _warnings.catch_warnings():  # ArviZ 0.23 calls a deprecated matplotlib helper
+            _warnings.simplefilter("ignore", DeprecationWarning)
+            axes = az.plot_pair(self.inference_data(), var_names=list(self.free),
+                                kind="scatter", divergences=True, marginals=True)
+        fig = np.asarray(axes).ravel()[0].get_figure()
+        fig.suptitle("Posterior draws (Bayesian bearing fit)")
+        fig.savefig(str(path), dpi=110)
+        plt.close(fig)
+
+    def compare_least_squares(self) -> dict:
+        """Posterior sd / least-squares standard error of each free constant."""
+        ls = self.least_squares.std_errors
+        return {n: self.table[n]["sd"] / ls[n] if ls.get(n, 0) and math.isfinite(ls[n])
+                else float("nan") for n in self.free}
+
+
+def _prior_sd(p, n=20000):
+    return float(np.std(np.asarray(distribution(p).sample(jax.random.PRNGKey(1), (n,)))))
+
+
+def diagnose_run(mcmc, priors, fit, data, *, rhat_max, ess_min, elapsed, elapsed_least_squares,
+                 prior) -> BayesResult:
+    """Summaries and convergence checks of a finished numpyro run."""
+    az = _arviz()
+    base = {k: np.asarray(v) for k, v in mcmc.get_samples(group_by_chain=True).items()}
+    samples = {name: np.asarray(to_physical(p, base[base_name(p)])) for name, p in priors.items()}
+    if "delta_f" in samples:
+        f_max = samples.get("f_max", fit.parameters["f_max"])
+        samples["delta_ratio"] = samples["delta_f"]
+        samples["delta_f"] = samples["delta_f"] * f_max
+    for i, rec in enumerate(data):
+        samples[f"noise_level_{i}"] = base["noise_rel"][..., i] * rec["scale"]
+    diverging = np.asarray(mcmc.get_extra_fields(group_by_chain=True)["diverging"])
+    free = tuple(n for n in PARAMETER_NAMES if n in priors)
+    draws = {n: samples[n] for n in free}
+    for i in range(len(data)):
+        draws[f"noise_level_{i}"] = samples[f"noise_level_{i}"]
+    idata = az.from_dict(posterior=draws)
+    rhat = az.rhat(idata)
+    ess_bulk = az.ess(idata, method="bulk")
+    ess_tail = az.ess(idata, method="tail")
+    table, messages = {}, []
+    for name, x in draws.items():
+        flat = x.reshape(-1)
+        row = dict(mean=float(flat.mean()), median=float(np.median(flat)),
+                   q05=float(np.quantile(flat, 0.05)), q95=float(np.quantile(flat, 0.95)),
+                   sd=float(flat.std(ddof=1)), rhat=float(rhat[name]),
+                   ess_bulk=float(ess_bulk[name]), ess_tail=float(ess_tail[name]),
+                   identified="yes", sd_ratio=float("nan"))
+        if name in priors:
+            p = priors[name]
+            site = samples["delta_ratio"] if name == "delta_f" else x
+            ratio = float(np.std(np.asarray(to_base(p, site))) / _prior_sd(p))
+            row["sd_ratio"] = ratio
+            if ratio > NOT_IDENTIFIED_RATIO:
+                row["identified"] = "no (posterior = prior)"
+                messages.append(
+                    f"{name}: not identified by these records; its posterior spread is "
+                    f"{ratio:.0%} of the prior's, so the interval reflects the prior "
+                    f"({p.low:.3g} to {p.high:.3g}), not the data.")
+            elif ratio > WEAK_RATIO:
+                row["identified"] = "weakly"
+                messages.append(f"{name}: weakly identified (posterior spread {ratio:.0%} of "
+                                "the prior's); the prior shapes its interval.")
+        table[name] = row
+    n_div = int(diverging.sum())
+    bad = []
+    if n_div:
+        bad.append(f"{n_div} divergent transitions (the sampler could not follow the posterior; "
+                   "raise target_accept or reparametrise)")
+    worst = max(table, key=lambda k: table[k]["rhat"])
+    if not table[worst]["rhat"] < rhat_max:
+        bad.append(f"R-hat of {worst} is {table[worst]['rhat']:.4f} >= {rhat_max} (chains disagree)")
+    low = [k for k in table if min(table[k]["ess_bulk"], table[k]["ess_tail"]) < ess_min]
+    if low:
+        bad.append(f"effective sample size below {ess_min:.0f} for {', '.join(low)} (run more "
+                   "draws)")
+    converged = not bad
+    if bad:
+        messages.insert(0, "NOT converged: " + "; ".join(bad) + ". Do not use these intervals.")
+    if not fit.converged:
+        messages.append(f"least-squares warm start did not converge: {fit.message}")
+    result = BayesResult(
+        draws=draws, table=table, divergences=n_div, converged=converged, messages=messages,
+        least_squares=fit, prior=prior, priors=priors, free=free,
+        num_chains=int(diverging.shape[0]), num_samples=int(diverging.shape[1]),
+        elapsed_s=float(elapsed), elapsed_least_squares_s=float(elapsed_least_squares),
+        rhat_max=float(rhat_max), ess_min=float(ess_min))
+    result._diverging = diverging
+    return result

@@ -1,0 +1,124 @@
+"""Bayesian identification (NUTS through the fitter's simulator): coverage, convergence, refusals."""
+
+import numpy as np
+import pytest
+
+import teflon_jax as tj
+from identification.bayes import fit_bayes
+from teflon_jax.formats import test_record_from_arrays
+from teflon_jax.units import INCH, KIP
+
+Y_PAPER = 0.005 * INCH
+NORMAL_LOAD = 78.5 * KIP
+ROW = tj.load_table1()[0]
+TRUTH = dict(f_max=ROW.f_max, delta_f=ROW.delta_f, rate_a=ROW.rate_a, yield_disp=Y_PAPER,
+             breakaway_ratio=ROW.breakaway_ratio)
+
+
+def _record(seed, *, fs=200.0, cycles=2, from_rest=True, noise=0.02, n=None):
+    t = np.arange(0.0, cycles / 0.6 + 1e-9, 1.0 / fs)
+    if n is not None:
+        t = t[:n]
+    phase = 2 * np.pi * 0.6 * t
+    u = 4 * INCH * ((1.0 - np.cos(phase)) if from_rest else np.sin(phase))
+    bearing = tj.paper_bearing(tj.FrictionParameters(ROW.f_max, ROW.delta_f, ROW.rate_a),
+                               yield_disp=Y_PAPER, breakaway_ratio=ROW.breakaway_ratio)
+    force = np.asarray(tj.simulate_bearing_test(bearing, tj.tabulated_motion(t, u), NORMAL_LOAD).fx)
+    rng = np.random.default_rng(seed)
+    force = force + noise * np.sqrt(np.mean(force**2)) * rng.standard_normal(force.size)
+    return test_record_from_arrays(u, force, time=t, normal_load=NORMAL_LOAD)
+
+
+def test_bad_input_is_refused_with_the_reason():
+    record = _record(0)
+    with pytest.raises(ValueError, match="outside the physical range"):
+        fit_bayes(record, bounds={"rate_a": (-1.0, 100.0)})
+    with pytest.raises(ValueError, match="outside the physical range"):
+        fit_bayes(record, bounds={"breakaway_ratio": (0.5, 3.0)})
+    with pytest.raises(ValueError, match="finite"):
+        fit_bayes(record, bounds={"f_max": (0.01, np.inf)})
+    short = _record(0, n=100, from_rest=False)
+    with pytest.raises(ValueError, match="need at least 20 per variable"):
+        fit_bayes(short, free=("f_max", "delta_f", "rate_a", "yield_disp", "breakaway_ratio"))
+    t = np.linspace(0.0, 2.0, 400)
+    ramp = test_record_from_arrays(0.05 * t, np.full(t.size, 1e4), time=t, normal_load=1e5)
+    with pytest.raises(ValueError, match="never reverses"):
+        fit_bayes(ramp)
+    with pytest.raises(ValueError, match="2 chains"):
+        fit_bayes(record, num_chains=1)
+
+
+def _check_covers(result, names):
+    for name in names:
+        row = result.table[name]
+        assert row["q05"] < TRUTH[name] < row["q95"], (name, row, TRUTH[name])
+
+
+@pytest.mark.slow
+def test_posterior_covers_truth_converges_and_matches_least_squares(tmp_path):
+    result = fit_bayes(_record(3, fs=300.0, cycles=3), num_warmup=500, num_samples=500,
+                       num_chains=4, seed=1)
+    assert result.converged, result.summary()
+    assert result.divergences == 0
+    assert all(row["rhat"] < 1.01 for row in result.table.values())
+    _check_covers(result, result.free)
+    # near-Gaussian posterior: posterior sd and least-squares s.e. agree within 30 %
+    for name, ratio in result.compare_least_squares().items():
+        assert 0.7 < ratio < 1.3, (name, ratio)
+    # noise level: 2 % of the RMS force
+    assert all(row["identified"] == "yes" for row in result.table.values())
+    result.to_netcdf(tmp_path / "draws.nc")
+    result.plot_pairs(tmp_path / "pairs.png")
+    import xarray as xr
+
+    with xr.open_dataset(tmp_path / "draws.nc", group="posterior") as ds:
+        assert ds["rate_a"].dims == ("chain", "draw")
+        assert ds["rate_a"].shape == (4, 500)
+    assert (tmp_path / "pairs.png").stat().st_size > 1000
+    assert "5 %" in result.summary()
+
+
+@pytest.mark.slow
+def test_parameter_without_information_stays_at_the_prior():
+    # steady cycling (no first excursion): Eq. 17 never acts, so b is not identifiable
+    record = _record(5, from_rest=False, fs=150.0)
+    free = ("f_max", "delta_f", "rate_a", "breakaway_ratio")
+    result = fit_bayes(record, free=free, fixed={"yield_disp": Y_PAPER}, num_warmup=300,
+                       num_samples=300, num_chains=2, seed=2)
+    assert result.table["breakaway_ratio"]["identified"].startswith("no")
+    assert any(m.startswith("breakaway_ratio: not identified") for m in result.messages)
+    assert result.table["rate_a"]["identified"] == "yes"
+
+
+@pytest.mark.slow
+def test_coverage_over_twenty_seeds():
+    hits, total = 0, 0
+    for seed in range(20):
+        result = fit_bayes(_record(100 + seed), num_warmup=300, num_samples=300, num_chains=2,
+                           seed=seed)
+        for name in result.free:
+            row = result.table[name]
+            hits += int(row["q05"] < TRUTH[name] < row["q95"])
+            total += 1
+    assert 0.8 <= hits / total <= 1.0, (hits, total)
+
+
+def test_draws_file_and_pair_plot(tmp_path):
+    import xarray as xr
+
+    from identification.bayes import BayesResult
+
+    rng = np.random.default_rng(0)
+    draws = {"f_max": rng.normal(0.12, 1e-3, (2, 50)), "rate_a": rng.normal(23.0, 0.3, (2, 50)),
+             "noise_level_0": rng.normal(800.0, 10.0, (2, 50))}
+    result = BayesResult(draws=draws, table={}, divergences=0, converged=True, messages=[],
+                         least_squares=None, prior="bounds", priors={}, free=("f_max", "rate_a"),
+                         num_chains=2, num_samples=50, elapsed_s=0.0,
+                         elapsed_least_squares_s=0.0, rhat_max=1.01, ess_min=200.0)
+    result._diverging = np.zeros((2, 50), dtype=bool)
+    result.to_netcdf(tmp_path / "draws.nc")
+    result.plot_pairs(tmp_path / "pairs.png")
+    with xr.open_dataset(tmp_path / "draws.nc", group="posterior") as ds:
+        assert ds["rate_a"].dims == ("chain", "draw")
+        np.testing.assert_allclose(ds["rate_a"].values, draws["rate_a"])
+    assert (tmp_path / "pairs.png").stat().st_size > 1000
