@@ -66,8 +66,10 @@ def to_physical(p: ParameterPrior, b):
 _ORDER = ("f_max", "delta_f", "rate_a", "yield_disp", "breakaway_ratio")
 
 
-def _forward_mode_force(n_interfaces: int, use_breakaway: bool):
+def _forward_mode_force(n_interfaces: tuple[int, int], use_breakaway: bool):
     """The record force with a vector-Jacobian product computed in forward mode.
+
+    `n_interfaces`: (interfaces in parallel, interfaces in series) of the record (FORMATS.md).
 
     NUTS asks for gradients (reverse mode); through a `lax.scan` over thousands of samples
     reverse mode stores and replays the whole history, while five forward tangents cost
@@ -78,7 +80,9 @@ def _forward_mode_force(n_interfaces: int, use_breakaway: bool):
         values = dict(zip(_ORDER, theta))
         return simulate_record_force(values, rec["time"], rec["ux"], rec["load"], z0=rec["z0"],
                                      z_peak0=rec["z_peak0"], use_breakaway=use_breakaway,
-                                     n_interfaces=n_interfaces)
+                                     velocity=rec["velocity"],
+                                     interfaces_in_parallel=n_interfaces[0],
+                                     interfaces_in_series=n_interfaces[1])
 
     @jax.custom_vjp
     def force(theta, rec):

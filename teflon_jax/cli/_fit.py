@@ -38,6 +38,18 @@ def add_fit_parser(subparsers) -> argparse.ArgumentParser:
     parser.add_argument("--json", required=True, metavar="OUT.json", help="JSON report (SI)")
     parser.add_argument("--plot", default=None, metavar="OUT.png",
                         help="plot of measured and fitted loops with the residual")
+    parser.add_argument("--bayes", default=None, metavar="DIR",
+                        help="also sample the posterior with NUTS (numpyro), warm-started from "
+                             "the least-squares fit, and write posterior.json (mean, median, "
+                             "5-95 %% interval, R-hat, ESS), posterior.nc (draws, ArviZ layout) "
+                             "and pairs.png into DIR; exits 1 when the chains did not converge")
+    parser.add_argument("--prior", choices=("bounds", "table1"), default="bounds",
+                        help="with --bayes: log-uniform over physical bounds, or Table 1 as an "
+                             "informative prior (default bounds)")
+    parser.add_argument("--draws", type=int, default=1000,
+                        help="with --bayes: warm-up steps and draws per chain (default 1000)")
+    parser.add_argument("--chains", type=int, default=4, help="with --bayes: chains (default 4)")
+    parser.add_argument("--seed", type=int, default=0, help="with --bayes: random seed")
     add_units_flag(parser)
     parser.set_defaults(command_function=run_fit)
     return parser
@@ -105,7 +117,38 @@ def run_fit(args) -> int:
     status = "clean" if fit.clean else (
         f"NOT CLEAN ({len(fit.warnings)} warning(s) above)" if fit.converged else "NOT CONVERGED")
     print(f"{summary}; nrmse = {fit.nrmse:.4f} [-]; {fit.message}; {status}", file=sys.stderr)
-    return 0 if fit.converged else 1
+    if args.bayes is None or not fit.converged:
+        return 0 if fit.converged else 1
+    return _run_bayes(args, records, free, fixed, fit)
+
+
+def _run_bayes(args, records, free, fixed, least_squares) -> int:
+    """`fit --bayes DIR`: the posterior, warm-started from `least_squares`; 1 unless converged."""
+    import json
+
+    from identification.bayes import fit_bayes
+
+    if args.draws < 10 or args.chains < 2:
+        print("teflon-jax fit: error: --draws must be >= 10 and --chains >= 2 (R-hat needs "
+              "two chains).", file=sys.stderr)
+        return 2
+    out = pathlib.Path(args.bayes)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+        result = fit_bayes(records, free=least_squares.free, fixed=fixed,
+                           normal_load=args.normal_load, prior=args.prior,
+                           num_warmup=args.draws, num_samples=args.draws, num_chains=args.chains,
+                           seed=args.seed, least_squares=least_squares)
+    except (ValueError, OSError) as error:
+        print(f"teflon-jax fit --bayes: error: {error}", file=sys.stderr)
+        return 2
+    (out / "posterior.json").write_text(json.dumps(result.to_json_dict(), indent=2))
+    result.to_netcdf(out / "posterior.nc")
+    result.plot_pairs(out / "pairs.png")
+    print(result.summary(), file=sys.stderr)
+    for message in result.messages:
+        print(f"teflon-jax fit --bayes: {message}", file=sys.stderr)
+    return 0 if result.converged else 1
 
 
 def _shown(name, value, error, us):
