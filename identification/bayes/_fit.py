@@ -20,10 +20,9 @@ import numpy as np
 from numpyro.distributions import biject_to, constraints
 from numpyro.infer import MCMC, NUTS
 
-from teflon_jax.formats import TestRecord
-
 from ..bearing_fit import (
     PARAMETER_NAMES,
+    as_records,
     fit_bearing_test,
     sample_velocity,
     simulate_record_force,
@@ -44,14 +43,8 @@ MIN_SAMPLES_PER_PARAMETER = 20
 
 
 def _as_records(records):
-    if isinstance(records, TestRecord):
-        return [records]
-    records = list(records)
-    if not records:
-        raise ValueError("records: give at least one test record.")
+    records = as_records(records)
     for i, r in enumerate(records):
-        if not isinstance(r, TestRecord):
-            raise ValueError(f"records[{i}]: expected a TestRecord, got {type(r).__name__}.")
         if r.is_digitised:
             raise ValueError(f"records[{i}]: the Bayesian fit takes time histories; a digitised "
                              "loop has no noise model (fit it with fit_bearing_test).")

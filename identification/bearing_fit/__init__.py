@@ -1,6 +1,7 @@
 """Fitting the 1990 model's constants to bearing test records (measured or digitised)."""
 
 from ._digitised import point_branches as point_branches
+from ._fit import as_records as as_records
 from ._fit import fit_bearing_test as fit_bearing_test
 from ._fit import fit_bearing_tests_batch as fit_bearing_tests_batch
 from ._model import PARAMETER_NAMES as PARAMETER_NAMES

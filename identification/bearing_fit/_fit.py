@@ -52,7 +52,8 @@ from ._plan import (
 from ._prepare import prepare_record
 
 
-def _as_records(records):
+def as_records(records) -> list:
+    """`records` (one `TestRecord` or several) as a non-empty list, each checked to be one."""
     if isinstance(records, TestRecord):
         return [records]
     records = list(records)
@@ -95,7 +96,7 @@ def fit_bearing_test(
 
     **Returns:** a `BearingFit`.
     """
-    records = _as_records(records)
+    records = as_records(records)
     _check_names(free or (), "free")
     yield_ref = (fixed or {}).get("yield_disp")
     prepared = [prepare_record(r, index=i, normal_load=normal_load, yield_ref=yield_ref)
@@ -157,7 +158,7 @@ def fit_bearing_tests_batch(
 
     **Returns:** one `BearingFit` per record, each with its own `converged` status.
     """
-    records = _as_records(records)
+    records = as_records(records)
     _check_names(free or (), "free")
     yield_ref = (fixed or {}).get("yield_disp")
     prepared = [prepare_record(r, index=i, normal_load=normal_load, yield_ref=yield_ref)

@@ -4,3 +4,4 @@ from ._park_update import park_exact_update as park_exact_update
 from ._riccati_newmark import AbstractSteppedSystem as AbstractSteppedSystem
 from ._riccati_newmark import RiccatiNewmark as RiccatiNewmark
 from ._riccati_newmark import require_riccati_form as require_riccati_form
+from ._solve import solve_on_grid as solve_on_grid

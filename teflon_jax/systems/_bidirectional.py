@@ -30,6 +30,7 @@ from ..solver import (
     RiccatiNewmark,
     park_exact_update,
     require_riccati_form,
+    solve_on_grid,
 )
 from ._bearing_test import running_peak_rate
 
@@ -300,25 +301,10 @@ def simulate_bidirectional(
     steps = jnp.arange(n_steps + 1) * dt
     save_times = steps[::save_every]
     solver = RiccatiNewmark() if solver is None else solver
-    if isinstance(solver, RiccatiNewmark):
-        controller, dt0 = diffrax.StepTo(ts=steps), None
-        max_steps = n_steps if max_steps is None else max_steps
-    else:
-        jumps = jnp.concatenate([system.ground_x.times, system.ground_y.times])
-        controller = diffrax.PIDController(rtol=rtol, atol=atol, jump_ts=jnp.unique(jumps))
-        dt0 = dt / 10
-        max_steps = 200 * n_steps + 100_000 if max_steps is None else max_steps
-    solution = diffrax.diffeqsolve(
-        diffrax.ODETerm(system),
-        solver,
-        t0=steps[0],
-        t1=steps[-1],
-        dt0=dt0,
-        y0=bidirectional_initial_state(system),
-        saveat=diffrax.SaveAt(ts=save_times),
-        stepsize_controller=controller,
-        max_steps=max_steps,
-        throw=throw,
+    solution = solve_on_grid(
+        system, solver, steps, save_times, bidirectional_initial_state(system),
+        jump_times=jnp.concatenate([system.ground_x.times, system.ground_y.times]),
+        rtol=rtol, atol=atol, max_steps=max_steps, throw=throw, adaptive_steps_per_step=200,
     )
     ys = solution.ys
     ground = jax.vmap(system.ground)(save_times)

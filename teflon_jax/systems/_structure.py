@@ -358,38 +358,20 @@ def simulate_structure(
 
     **Returns:** a `StructureResponse` sampled every `save_every` steps.
     """
-    import diffrax
 
-    from ..solver import RiccatiNewmark
+    from ..solver import RiccatiNewmark, solve_on_grid
 
     n_steps = check_duration(system, duration)
     dt = float(system.time_step)
     steps = jnp.arange(n_steps + 1) * dt
     save_times = steps[::save_every]
     solver = RiccatiNewmark() if solver is None else solver
-    if isinstance(solver, RiccatiNewmark):
-        if system.friction_model == "hysteretic":
-            require_riccati_form(system.bearing.hysteresis)
-        controller, dt0 = diffrax.StepTo(ts=steps), None
-        max_steps = n_steps if max_steps is None else max_steps
-    else:
-        controller = diffrax.PIDController(
-            rtol=rtol, atol=atol, jump_ts=system.ground_acceleration.times
-        )
-        dt0 = dt / 10
-        max_steps = 100 * n_steps + 100_000 if max_steps is None else max_steps
-    solution = diffrax.diffeqsolve(
-        diffrax.ODETerm(system),
-        solver,
-        t0=steps[0],
-        t1=steps[-1],
-        dt0=dt0,
-        y0=initial_state(system),
-        saveat=diffrax.SaveAt(ts=save_times),
-        stepsize_controller=controller,
-        max_steps=max_steps,
-        adjoint=diffrax.RecursiveCheckpointAdjoint() if adjoint is None else adjoint,
-        throw=throw,
+    if isinstance(solver, RiccatiNewmark) and system.friction_model == "hysteretic":
+        require_riccati_form(system.bearing.hysteresis)
+    solution = solve_on_grid(
+        system, solver, steps, save_times, initial_state(system),
+        jump_times=system.ground_acceleration.times, rtol=rtol, atol=atol, max_steps=max_steps,
+        adjoint=adjoint, throw=throw,
     )
     ys = solution.ys
     ag = jax.vmap(system.ground_acceleration)(save_times)
