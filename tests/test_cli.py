@@ -13,7 +13,7 @@ from teflon_jax.units import KIP
 def test_all_subcommands_are_wired():
     parser = _parser()
     sub = next(a for a in parser._actions if a.dest == "command")
-    assert set(sub.choices) == {"simulate-test", "reproduce", "fit", "diagnose", "montecarlo", "design"}
+    assert set(sub.choices) == {"simulate-test", "reproduce", "fit", "diagnose", "montecarlo", "design", "run"}
 
 
 @pytest.mark.slow
