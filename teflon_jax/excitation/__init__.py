@@ -25,3 +25,6 @@ from ._stochastic import sample as sample
 from ._stochastic import sample_times as sample_times
 from ._stochastic import stationary_variance as stationary_variance
 from ._stochastic import white_noise_intensity as white_noise_intensity
+from ._two_component import TwoComponentGroundMotion as TwoComponentGroundMotion
+from ._two_component import principal_covariance as principal_covariance
+from ._two_component import sample_two_components as sample_two_components
