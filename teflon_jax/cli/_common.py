@@ -46,6 +46,7 @@ _UNITS_OF = {
     "acceleration": "g, m/s^2, cm/s^2, in/s^2",
     "slowness": "s/in, s/m",
     "dimensionless": "a plain number or %",
+    "angle": "deg, rad",
 }
 
 

@@ -56,6 +56,15 @@ def add_montecarlo_parser(subparsers) -> argparse.ArgumentParser:
                  none="none")
     add_quantity(parser, "--isolation-damping", "dimensionless", "5%", "viscous damping ratio "
                  "zeta_b of the isolation system", minimum=0.0, strict=False)
+    parser.add_argument("--components", type=int, choices=(1, 2), default=1,
+                        help="horizontal ground components: 1 (along x, the uniaxial structures) or 2 "
+                        "(x and y on the bidirectional rigid mass or building: Park's biaxial Z; peaks "
+                        "are resultants) (default 1)")
+    add_quantity(parser, "--principal-angle", "angle", None, "two components: angle of the major "
+                 "principal axis from x towards y (Penzien & Watabe 1975) (default 0deg)")
+    add_quantity(parser, "--minor-ratio", "dimensionless", None, "two components: standard deviation "
+                 "of the minor component over the major's, in [0, 1] (default 1: two independent, "
+                 "equally strong components)", minimum=0.0, strict=False, maximum=1.0)
     parser.add_argument("--chunk-size", type=_positive_int, default=512, help="motions per compiled call "
                         "(split over the devices; about 260 kB each for 40 s motions at 0.01 s)")
     parser.add_argument("--out", type=pathlib.Path, help="results file; its suffix picks the format: "
@@ -96,8 +105,9 @@ def run_montecarlo(args) -> int:
     import numpy as np
     from tqdm import tqdm
 
+    from ..excitation import TwoComponentGroundMotion
     from ..report import plot_montecarlo
-    from ..studies import monte_carlo, save_montecarlo
+    from ..studies import bidirectional_isolated_structure, monte_carlo, save_montecarlo
     from ..systems import isolated_structure
 
     units = output_units(args.units)
@@ -106,7 +116,11 @@ def run_montecarlo(args) -> int:
 
         check_output_path(args.out)  # before the runs: a format that cannot be written
     solver = {} if args.newton_iterations is None else {"newton_iterations": args.newton_iterations}
-    structure = isolated_structure(
+    two = args.components == 2
+    for flag, value in (("--principal-angle", args.principal_angle), ("--minor-ratio", args.minor_ratio)):
+        if value is not None and not two:
+            raise ValueError(f"{flag}: describes the second ground component; add --components 2.")
+    structure = (bidirectional_isolated_structure if two else isolated_structure)(
         args.structure,
         ptfe=args.ptfe,
         pressure=args.pressure,
@@ -116,6 +130,10 @@ def run_montecarlo(args) -> int:
         **solver,
     )
     model = _motion_model(args)
+    if two:
+        model = TwoComponentGroundMotion(
+            model, principal_angle=0.0 if args.principal_angle is None else args.principal_angle,
+            minor_ratio=1.0 if args.minor_ratio is None else args.minor_ratio)
     bar = tqdm(total=args.motions, unit="motion", disable=args.no_progress)
 
     def progress(done, total):
@@ -162,14 +180,22 @@ def run_montecarlo(args) -> int:
                    "isolation_damping": args.isolation_damping, "ptfe": args.ptfe},
         "motions": {"model": "Clough-Penzien, Jennings-Housner-Tsai envelope",
                     "pga_g": args.pga / STANDARD_GRAVITY, "duration_s": args.duration,
-                    "seed": args.seed},
+                    "seed": args.seed, "components": args.components},
         "units": {"base_disp": length, "base_shear_ratio": "-", "wall_s": "s"},
         "files": files,
     }
+    if two:
+        payload["motions"].update({
+            "principal_angle_deg": math.degrees(float(model.principal_angle)),
+            "minor_ratio": float(model.minor_ratio),
+            "peaks": "resultants of the x and y components: |(d_x, d_y)| and |(V_x, V_y)| / W, V the "
+                     "force on the structure above the bearings"})
     _write_json(args.json, payload)
     stamp = (f"{args.structure}, {args.ptfe} PTFE at {args.pressure_text}, Tb = "
              f"{args.isolation_period_text}, zeta_b = {args.isolation_damping_text}; "
-             f"Clough-Penzien motions, PGA {args.pga_text}, {args.duration_text}, seed {args.seed}")
+             f"Clough-Penzien motions, PGA {args.pga_text}, {args.duration_text}, seed {args.seed}"
+             + (f"; 2 components, major at {math.degrees(float(model.principal_angle)):g} deg, minor "
+                f"ratio {float(model.minor_ratio):g}" if two else ""))
     if args.plot is not None:
         plot_montecarlo(result, args.plot, title=stamp, length=units.length)
     print(f"{result.n_motions} motions on {result.n_devices} device(s) in {result.wall_s:.1f} s; "

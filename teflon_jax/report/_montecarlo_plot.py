@@ -21,9 +21,10 @@ def plot_montecarlo(result: MonteCarloResult, path, *, title: str = "", length=(
     converged = np.asarray(result.converged, bool).reshape(-1)
     n = int(converged.sum())
     fig, axes = plt.subplots(2, 2, figsize=(10, 7.5))
+    resultant = "resultant " if result.attrs.get("components") == 2 else ""
     for column, (name, label, factor) in enumerate((
-        ("base_disp", f"peak base displacement [{length[0]}]", length[1]),
-        ("base_shear_ratio", "peak base shear / weight [-]", 1.0),
+        ("base_disp", f"peak {resultant}base displacement [{length[0]}]", length[1]),
+        ("base_shear_ratio", f"peak {resultant}base shear / weight [-]", 1.0),
     )):
         values = np.asarray(getattr(result, name)).reshape(-1)[converged] / factor
         top, bottom = axes[0, column], axes[1, column]

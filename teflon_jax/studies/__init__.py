@@ -1,5 +1,13 @@
 """Studies over many runs: the Fig. 11 sweep, record sets, Monte Carlo and gradient-based design."""
 
+from ._bidirectional_study import (
+    BidirectionalIsolatedStructure as BidirectionalIsolatedStructure,
+)
+from ._bidirectional_study import BidirectionalPeaks as BidirectionalPeaks
+from ._bidirectional_study import (
+    bidirectional_isolated_structure as bidirectional_isolated_structure,
+)
+from ._bidirectional_study import bidirectional_peak_response as bidirectional_peak_response
 from ._design import DesignResult as DesignResult
 from ._design import default_design_problem as default_design_problem
 from ._design import design_bounds as design_bounds

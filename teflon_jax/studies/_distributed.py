@@ -27,8 +27,16 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..excitation import StochasticGroundMotion, num_time_steps, uniform_signal
-from ._montecarlo import ChunkRunner, _get, _Source, bytes_per_motion
+from ..excitation import StochasticGroundMotion, TwoComponentGroundMotion
+from ._montecarlo import (
+    ChunkRunner,
+    _get,
+    _Source,
+    bytes_per_motion,
+    motion_attributes,
+    probe_structure,
+    stochastic_grid,
+)
 from ._record_set import RecordSet
 from ._results import DESIGN_UNITS, VARIABLES, MonteCarloResult, check_output_path
 
@@ -179,14 +187,15 @@ def monte_carlo_distributed(
     if isinstance(motions, RecordSet):
         n_total = motions.acceleration.shape[0] if n_motions is None else n_motions
         model, time_step, samples = None, motions.time_step, motions.acceleration.shape[1]
-    elif isinstance(motions, StochasticGroundMotion):
+    elif isinstance(motions, (StochasticGroundMotion, TwoComponentGroundMotion)):
         if n_motions is None:
             raise ValueError("n_motions: give the number of stochastic motions to draw (> 0).")
         n_total, model = n_motions, motions
-        time_step, samples = motions.time_step, num_time_steps(motions)
+        time_step, samples, _ = stochastic_grid(motions)
     else:
         raise ValueError(
-            f"motions: expected a StochasticGroundMotion or a RecordSet, got {type(motions).__name__}."
+            "motions: expected a StochasticGroundMotion, a TwoComponentGroundMotion or a RecordSet, "
+            f"got {type(motions).__name__}."
         )
     for name, value, low in (("n_motions", n_total, 1), ("chunk_size", chunk_size, 1), ("retries", retries, 0)):
         if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low:
@@ -208,13 +217,13 @@ def monte_carlo_distributed(
             "disp_width": disp_width, "shear_width": shear_width, "dtype": dtype,
             "token": uuid.uuid4().hex}
     probe_design = None if design_arrays is None else {k: v[0] for k, v in design_arrays.items()}
-    probe = jax.eval_shape(lambda v: structure(uniform_signal(v, time_step), probe_design),
-                           jax.ShapeDtypeStruct((samples,), jnp.result_type(float)))
+    probe_source = _Source(model, None if model is None else jax.random.key(0), time_step, samples)
+    probe = probe_structure(structure, probe_source, probe_design)
     n_dof = int(probe.mass.shape[-1])
     n_designs = 0 if design_arrays is None else len(next(iter(design_arrays.values())))
     client, cluster = _client(scheduler, connect_timeout, dtype, compilation_cache)
     attrs = {"duration_s": duration, "record_time_step_s": time_step, "n_dof": n_dof, "seed": int(seed),
-             "scheduler": scheduler, "n_motions": int(n_total), "precision": dtype}
+             "scheduler": scheduler, "n_motions": int(n_total), "precision": dtype, **motion_attributes(motions)}
     handle = _create_file(out, int(n_total), design_arrays, {
         "Conventions": "CF-1.8", "title": "teflon-jax Monte Carlo peak responses",
         "teflon_jax_attrs": json.dumps(attrs), **attrs,
@@ -248,7 +257,7 @@ def monte_carlo_distributed(
                 progress(done, n_total)
         n_workers = len(client.scheduler_info()["workers"])
         handle.setncatts({"n_devices": n_workers, "chunk_size": chunk, "compile_s": compile_s,
-                          "memory_estimate_bytes": chunk * bytes_per_motion(samples, n_dof, n_designs), "wall_s": time.perf_counter() - tic})
+                          "memory_estimate_bytes": chunk * bytes_per_motion(probe_source.components * samples, n_dof, n_designs), "wall_s": time.perf_counter() - tic})
     finally:
         handle.close()
         client.close()

@@ -32,8 +32,19 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..excitation import StochasticGroundMotion, num_time_steps, sample, uniform_signal
-from ..systems import IsolatedStructure, check_design, peak_response
+from ..excitation import (
+    StochasticGroundMotion,
+    TwoComponentGroundMotion,
+    num_time_steps,
+    sample,
+    sample_two_components,
+    uniform_signal,
+)
+from ..systems import BidirectionalStructure, IsolatedStructure, check_design, peak_response
+from ._bidirectional_study import (
+    BidirectionalIsolatedStructure,
+    bidirectional_peak_response,
+)
 from ._record_set import RecordSet
 from ._results import MonteCarloResult
 
@@ -70,22 +81,72 @@ def bytes_per_motion(record_samples: int, n_dof: int, n_designs: int) -> int:
     return 8 * (8 * record_samples + max(n_designs, 1) * (4 * n_dof**2 + 64))
 
 
-def monte_carlo_motion(model: StochasticGroundMotion, key, index):
+def monte_carlo_motion(model: StochasticGroundMotion | TwoComponentGroundMotion, key, index):
     """The `index`-th motion [m/s^2] that `monte_carlo(structure, model, n, key=key)` draws
-    (one sample from `jax.random.fold_in(key, index)`), e.g. to run it through another program."""
+    (one sample from `jax.random.fold_in(key, index)`), e.g. to run it through another program:
+    shape (nt,), or (2, nt) (x, y) for a `TwoComponentGroundMotion`, whose major component is
+    then the one-component motion `index` of `model.model`."""
+    if isinstance(model, TwoComponentGroundMotion):
+        return sample_two_components(model, jax.random.fold_in(key, index), 1)[0]
     return sample(model, jax.random.fold_in(key, index), 1)[0]
 
 
+def stochastic_grid(motions) -> tuple[float, int, int]:
+    """(time step [s], samples, components) of a stochastic motion model."""
+    model = motions.model if isinstance(motions, TwoComponentGroundMotion) else motions
+    return model.time_step, num_time_steps(model), 2 if model is not motions else 1
+
+
+def motion_attributes(motions) -> dict:
+    """What a results file says of two-component motions (empty for one component)."""
+    if not isinstance(motions, TwoComponentGroundMotion):
+        return {}
+    return {"components": 2, "principal_angle_rad": float(motions.principal_angle),
+            "minor_ratio": float(motions.minor_ratio),
+            "peaks": "resultants: base_disp = max |(d_x, d_y)|, base_shear_ratio = max |(V_x, V_y)| / W "
+                     "with V the force on the structure above the bearings; pga = max |(a_x, a_y)|"}
+
+
 class _Source(eqx.Module):
-    model: StochasticGroundMotion | None
+    model: StochasticGroundMotion | TwoComponentGroundMotion | None
     key: jax.Array | None
     time_step: float = eqx.field(static=True)
     samples: int = eqx.field(static=True)
 
+    @property
+    def components(self) -> int:
+        return 2 if isinstance(self.model, TwoComponentGroundMotion) else 1
+
     def signal(self, index, values):
+        """The motion's `Signal`, or its (x, y) pair of `Signal`s for two components."""
         if self.model is not None:
             values = monte_carlo_motion(self.model, self.key, index)
+        if self.components == 2:
+            return uniform_signal(values[0], self.time_step), uniform_signal(values[1], self.time_step)
         return uniform_signal(values, self.time_step)
+
+
+def probe_structure(structure, source: _Source, design):
+    """The shapes of one system `structure` builds for `source`'s motions (nothing computed);
+    `ValueError` naming `structure` when it does not take that number of components."""
+    two = source.components == 2
+    if two and isinstance(structure, IsolatedStructure):
+        raise ValueError("structure: two-component motions need bidirectional_isolated_structure(...), "
+                         "not isolated_structure(...).")
+    if not two and isinstance(structure, BidirectionalIsolatedStructure):
+        raise ValueError("structure: a bidirectional structure needs two-component motions "
+                         "(TwoComponentGroundMotion).")
+    shape = jax.ShapeDtypeStruct((source.samples,), jnp.result_type(float))
+
+    def build(values):
+        ground = uniform_signal(values, source.time_step)
+        return structure((ground, ground) if two else ground, design)
+
+    probe = jax.eval_shape(build, shape)
+    if two != isinstance(probe, BidirectionalStructure):
+        raise ValueError(f"structure: builds a {type(probe).__name__}, which does not take "
+                         f"{source.components}-component motions.")
+    return probe
 
 
 def _put(array: np.ndarray, sharding):
@@ -113,6 +174,7 @@ class ChunkRunner:
                  read_every=1):
         self.devices, self.chunk, self.compile_s = list(devices), int(chunk), 0.0
         mesh = jax.sharding.Mesh(np.array(self.devices), ("batch",))
+        peaks_of = bidirectional_peak_response if source.components == 2 else peak_response
         self.batched = jax.sharding.NamedSharding(mesh, jax.sharding.PartitionSpec("batch"))
         replicated = jax.sharding.NamedSharding(mesh, jax.sharding.PartitionSpec())
 
@@ -122,10 +184,12 @@ class ChunkRunner:
 
                 def one(design_one):
                     system = structure(signal, design_one)
-                    return peak_response(system, duration, disp_width=disp_width, shear_width=shear_width,
-                                         read_every=read_every)
+                    return peaks_of(system, duration, disp_width=disp_width, shear_width=shear_width,
+                                    read_every=read_every)
 
                 peaks = one(None) if design_all is None else jax.vmap(one)(design_all)
+                if source.components == 2:  # peak resultant |a_g|
+                    return peaks, jnp.max(jnp.hypot(signal[0].values, signal[1].values))
                 return peaks, jnp.max(jnp.abs(signal.values))
 
             return jax.vmap(per_motion)(indices, values)
@@ -218,15 +282,17 @@ def monte_carlo(
     if isinstance(motions, RecordSet):
         n_total = motions.acceleration.shape[0] if n_motions is None else n_motions
         source = _Source(None, None, motions.time_step, motions.acceleration.shape[1])
-    elif isinstance(motions, StochasticGroundMotion):
+    elif isinstance(motions, (StochasticGroundMotion, TwoComponentGroundMotion)):
         if n_motions is None:
             raise ValueError("n_motions: give the number of stochastic motions to draw (> 0).")
         n_total = n_motions
         key = jax.random.key(0) if key is None else key
-        source = _Source(motions, key, motions.time_step, num_time_steps(motions))
+        time_step, samples, _ = stochastic_grid(motions)
+        source = _Source(motions, key, time_step, samples)
     else:
         raise ValueError(
-            f"motions: expected a StochasticGroundMotion or a RecordSet, got {type(motions).__name__}."
+            "motions: expected a StochasticGroundMotion, a TwoComponentGroundMotion or a RecordSet, "
+            f"got {type(motions).__name__}."
         )
     if isinstance(n_total, bool) or not isinstance(n_total, (int, np.integer)) or n_total <= 0:
         raise ValueError(f"n_motions: must be a positive integer, got {n_total!r}.")
@@ -255,8 +321,8 @@ def monte_carlo(
                 f"{ {k: tuple(v.shape) for k, v in design_arrays.items()} }."
             )
         n_designs = sizes.pop()
-        if isinstance(structure, IsolatedStructure):
-            check_design(structure, design_arrays)
+        if isinstance(structure, (IsolatedStructure, BidirectionalIsolatedStructure)):
+            check_design(getattr(structure, "uniaxial", structure), design_arrays)
 
     devices = list(jax.devices() if devices is None else devices)
     n_devices = len(devices)
@@ -266,12 +332,9 @@ def monte_carlo(
 
     # Shapes of one system, without computing it: degrees of freedom for the memory estimate.
     probe_design = None if design_arrays is None else {k: v[0] for k, v in design_arrays.items()}
-    probe = jax.eval_shape(
-        lambda v: structure(uniform_signal(v, source.time_step), probe_design),
-        jax.ShapeDtypeStruct((source.samples,), jnp.result_type(float)),
-    )
+    probe = probe_structure(structure, source, probe_design)
     n_dof = probe.mass.shape[-1]
-    per_motion = bytes_per_motion(source.samples, n_dof, n_designs)
+    per_motion = bytes_per_motion(source.components * source.samples, n_dof, n_designs)
     estimate = chunk * per_motion
     if memory_limit_bytes is None:
         free = available_memory_bytes(devices[0])
@@ -333,5 +396,6 @@ def monte_carlo(
         wall_s=time.perf_counter() - start,
         compile_s=compile_s,
         memory_estimate_bytes=int(estimate),
-        attrs={"duration_s": duration, "record_time_step_s": source.time_step, "n_dof": int(n_dof)},
+        attrs={"duration_s": duration, "record_time_step_s": source.time_step, "n_dof": int(n_dof),
+               **motion_attributes(motions)},
     )

@@ -48,6 +48,7 @@ UNITS: dict[str, dict[str, float]] = {
     "slowness": {"s/m": 1.0, "s/in": 1.0 / INCH},
     "temperature": {"degC": 1.0},
     "dimensionless": {"": 1.0, "%": 0.01},
+    "angle": {"rad": 1.0, "deg": math.pi / 180.0},
 }
 
 # dimension -> pint dimensionality string and SI unit
@@ -75,6 +76,7 @@ _EXAMPLES = {
     "acceleration": "g",
     "slowness": "s/m",
     "dimensionless": "",
+    "angle": "deg",
 }
 
 # The words a unit may be built from (pint combines them: 'kN/m^2', 'in/s', 's/in').
