@@ -119,10 +119,9 @@ def bidirectional_peak_response(
     (`newmark_step`) in a `lax.scan` and keep the peaks of the resultant bearing displacement
     of group 0 and of the resultant base shear ratio (module docstring), and their smooth
     maxima `w log(mean cosh(x / w))` (`smooth_max`, widths `disp_width` [m] and `shear_width`
-    [-], default 1e-3 each). The acceleration at the end of a step is Newmark's,
-    a1 = 4 (q1 - q0 - dt v0) / dt^2 - a0, the equation of motion's at t1 to the bearing
-    solve's tolerance; at rest (q = v = Z = 0) it is -R a_g(0). `read_every`: peaks read every
-    k-th step (the smooth maxima see every step). jit/vmap-safe.
+    [-], default 1e-3 each). The accelerations are the equation of motion's (the system's
+    vector field) at the end of each step, as `simulate_bidirectional` saves them.
+    `read_every`: peaks read every k-th step (the smooth maxima see every step). jit/vmap-safe.
 
     **Returns:** a `BidirectionalPeaks`.
     """
@@ -153,7 +152,7 @@ def bidirectional_peak_response(
         y, a, peaks, tops, totals, ok = carry
         t0 = step * dt
         y1, converged = system.newmark_step(t0, t0 + dt, y, a)
-        a1 = 4 / dt**2 * (y1["q"] - y["q"] - dt * y["v"]) - a
+        a1 = system(t0 + dt, y1, None)["v"]
         now = values(t0 + dt, y1, a1)
         read = (step + 1) % read_every == 0
         peaks = tuple(jnp.where(read, jnp.maximum(p, v), p) for p, v in zip(peaks, now))
@@ -162,7 +161,7 @@ def bidirectional_peak_response(
                 ok & converged), None
 
     y0 = bidirectional_initial_state(system)
-    a0 = -(influence @ system.ground(0.0))
+    a0 = system(0.0, y0, None)["v"]
     zero, one = jnp.zeros((), dtype), jnp.ones((), dtype)
     carry = (y0, a0, (zero, zero), (zero, zero), (one, one), jnp.array(True))
     (_, _, peaks, tops, totals, ok), _ = jax.lax.scan(body, carry, jnp.arange(n_steps))
