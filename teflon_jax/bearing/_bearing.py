@@ -37,9 +37,13 @@ class SlidingBearing(eqx.Module):
     - `friction`: Eq. 1 constants along x (for anisotropic bearings: parallel to lay).
     - `hysteresis`: `BoucWen` constants (Y, A, beta, gamma, eta).
     - `breakaway_ratio` b [-] of Eq. 17, or `None` for no breakaway.
-    - `friction_perpendicular`: Eq. 1 constants for sliding along y (perpendicular to lay),
-      or `None` for an isotropic bearing. Biaxial motion interpolates linearly in the angle.
+    - `friction_perpendicular`: Eq. 1 constants for sliding across the lay (along y unless
+      `lay_angle` is given), or `None` for an isotropic bearing. Biaxial motion interpolates
+      linearly in the angle of the velocity to the lay (`sliding_angle_weight`).
     - `n_interfaces` (static int): number of interfaces in series sharing the motion.
+    - `lay_angle` phi [rad]: angle of the lay of the steel from x towards y, for an
+      anisotropic bearing; `None` (the default) puts the lay along x. Z (Park's, isotropic)
+      does not depend on it.
     """
 
     friction: FrictionParameters
@@ -47,12 +51,13 @@ class SlidingBearing(eqx.Module):
     breakaway_ratio: object = None
     friction_perpendicular: FrictionParameters | None = None
     n_interfaces: int = eqx.field(static=True, default=1)
+    lay_angle: object = None
 
     def coefficient(self, velocity_x, velocity_y=0.0, z_peak=1.0):
         """Friction coefficient mu [-] for a sliding velocity [m/s] and the largest |Z| so far."""
         params = self.friction
         if self.friction_perpendicular is not None:
-            weight = sliding_angle_weight(velocity_x, velocity_y)
+            weight = sliding_angle_weight(velocity_x, velocity_y, self.lay_angle)
             params = anisotropic_friction(params, self.friction_perpendicular, weight)
         speed = sliding_speed(velocity_x, velocity_y)
         mu = sliding_friction(params, speed, self.n_interfaces)
@@ -77,14 +82,20 @@ def paper_bearing(
     breakaway_ratio=None,
     friction_perpendicular: FrictionParameters | None = None,
     n_interfaces: int = 1,
+    lay_angle=None,
 ) -> SlidingBearing:
-    """A `SlidingBearing` with the paper's Bouc-Wen constants A = 1, beta = 0.1, gamma = 0.9, eta = 2."""
+    """A `SlidingBearing` with the paper's Bouc-Wen constants A = 1, beta = 0.1, gamma = 0.9, eta = 2
+    (`lay_angle` [rad]: see `SlidingBearing`; only with `friction_perpendicular`)."""
+    if lay_angle is not None and friction_perpendicular is None:
+        raise ValueError("lay_angle: the lay of the steel matters only for an anisotropic bearing; "
+                         "give friction_perpendicular too (or leave lay_angle out).")
     return SlidingBearing(
         friction=friction,
         hysteresis=BoucWen(yield_disp=jnp.asarray(yield_disp, dtype=float)),
         breakaway_ratio=None if breakaway_ratio is None else jnp.asarray(breakaway_ratio, dtype=float),
         friction_perpendicular=friction_perpendicular,
         n_interfaces=n_interfaces,
+        lay_angle=None if lay_angle is None else jnp.asarray(lay_angle, dtype=float),
     )
 
 
@@ -127,5 +138,10 @@ def check_bearing(bearing: SlidingBearing) -> None:
             "breakaway_ratio",
             "must be >= 1 (Table 1: 1.3-4.4), or None for no breakaway",
         )
+    if bearing.lay_angle is not None:
+        if bearing.friction_perpendicular is None:
+            raise ValueError("lay_angle: the lay of the steel matters only for an anisotropic bearing; "
+                             "give friction_perpendicular too (or leave lay_angle out).")
+        require(bearing.lay_angle, np.isfinite, "lay_angle", "must be finite [rad]")
     if int(bearing.n_interfaces) != bearing.n_interfaces or bearing.n_interfaces < 1:
         raise ValueError(f"n_interfaces: must be an integer >= 1, got {bearing.n_interfaces}.")

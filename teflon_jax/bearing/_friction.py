@@ -51,12 +51,18 @@ def sliding_friction(params: FrictionParameters, speed: ArrayLike, n_interfaces:
     return params.f_max - params.delta_f * jnp.exp(-params.rate_a * speed)
 
 
-def sliding_angle_weight(velocity_x: ArrayLike, velocity_y: ArrayLike):
+def sliding_angle_weight(velocity_x: ArrayLike, velocity_y: ArrayLike, lay_angle: ArrayLike | None = None):
     """Weight w in [0, 1] of the perpendicular-to-lay constants for a velocity direction.
 
-    w = |theta| / (pi / 2) with theta the angle of the velocity line to the lay (x axis),
-    folded into [0, pi/2]: 0 when sliding along x, 1 along y. Safe (finite gradient) at rest.
+    w = |theta| / (pi / 2) with theta the angle of the velocity line to the lay, folded into
+    [0, pi/2]: 0 when sliding along the lay, 1 across it. The lay is the x axis, or at
+    `lay_angle` phi [rad] from x towards y: the velocity is then taken in the lay's axes,
+    (v_par, v_perp) = (vx cos phi + vy sin phi, -vx sin phi + vy cos phi). Safe (finite
+    gradient) at rest.
     """
+    if lay_angle is not None:
+        c, s = jnp.cos(lay_angle), jnp.sin(lay_angle)
+        velocity_x, velocity_y = c * velocity_x + s * velocity_y, c * velocity_y - s * velocity_x
     ax, ay = jnp.abs(velocity_x), jnp.abs(velocity_y)
     moving = (ax + ay) > 0
     theta = jnp.arctan2(jnp.where(moving, ay, 0.0), jnp.where(moving, ax, 1.0))

@@ -28,8 +28,11 @@ def add_run_parser(subparsers) -> None:
                    "building in x and y, or a rigid slab on bearing groups (needs --plan)")
     p.add_argument("--ptfe", default="UF", help="PTFE type of Table 1: UF, 15GF or 25GF (default UF)")
     p.add_argument("--pressure", default="1000psi", help="contact pressure (default 1000psi)")
-    p.add_argument("--anisotropic", action="store_true", help="x parallel to the lay of the steel "
+    p.add_argument("--anisotropic", action="store_true", help="lay of the steel along x (or at --lay-angle) "
                    "(Table 1 P row), y perpendicular (T row), interpolated in the sliding angle")
+    p.add_argument("--lay-angle", default=None, help="with --anisotropic: angle of the lay of the steel "
+                   "from x towards y, with its unit, e.g. 30deg or 0.5rad (default 0deg: x parallel to "
+                   "the lay)")
     p.add_argument("--breakaway", default=None, help="breakaway ratio b of Eq. 17 (>= 1) or 'table' "
                    "(default: no breakaway)")
     p.add_argument("--isolation-period", default=None, help="period of the restoring springs, e.g. "
@@ -165,6 +168,14 @@ def _bearing(args, ptfe, pressure_text, flag):
         perpendicular = interface_parameters(ptfe.upper(), pressure, "T")[0] if args.anisotropic else None
     except ValueError as error:
         raise ValueError(f"{flag}: {error}") from None
+    lay_angle = None
+    if args.lay_angle is not None:
+        if not args.anisotropic:
+            raise ValueError("--lay-angle: the lay of the steel matters only for anisotropic bearings; "
+                             "add --anisotropic (or leave --lay-angle out).")
+        lay_angle = parse_quantity(args.lay_angle, "angle", where="--lay-angle")
+        if not np.isfinite(lay_angle):
+            raise ValueError(f"--lay-angle: must be finite, got {args.lay_angle}.")
     breakaway = None
     if args.breakaway == "table":
         breakaway = table_b
@@ -175,7 +186,8 @@ def _bearing(args, ptfe, pressure_text, flag):
             raise ValueError(f"--breakaway: expected a number >= 1 or 'table', got {args.breakaway!r}.") from None
         if not breakaway >= 1:
             raise ValueError(f"--breakaway: must be >= 1 (Table 1: 1.3-4.4), got {args.breakaway}.")
-    return paper_bearing(params, breakaway_ratio=breakaway, friction_perpendicular=perpendicular)
+    return paper_bearing(params, breakaway_ratio=breakaway, friction_perpendicular=perpendicular,
+                         lay_angle=lay_angle)
 
 
 def read_plan(path_text):
@@ -416,6 +428,9 @@ def run_run(args) -> int:
         "record_time_step_s": dt,
         "solver_time_step_s": float(system.time_step),
         "notes": notes,
+        "anisotropic": bool(args.anisotropic),
+        "lay_angle_deg": None if args.lay_angle is None else float(
+            np.degrees(parse_quantity(args.lay_angle, "angle", where="--lay-angle"))),
         "peak": peak,
     }
     print(json.dumps(payload["peak"], indent=2))
