@@ -153,8 +153,8 @@ def _run_bayes(args, records, free, fixed, least_squares) -> int:
 
 def _shown(name, value, error, us):
     """`name = value +- error unit` in the family chosen by --units."""
-    unit, factor = {"length": ("in", INCH) if us else ("mm", 1e-3),
-                    "slowness": ("s/in", 1 / INCH) if us else ("s/m", 1.0)}.get(
-        PARAMETER_DIMENSIONS.get(name.removesuffix("_perpendicular")), ("", 1.0))
+    from ..report import parameter_unit
+
+    unit, factor = parameter_unit(name, ("in", INCH) if us else ("mm", 1e-3))
     error = float("nan") if error is None else error
     return f"{name} = {value / factor:.5g} +- {error / factor:.2g}{' ' + unit if unit else ''}"

@@ -121,48 +121,11 @@ def _motion(args):
 
 
 def _read_motion_file(path: pathlib.Path):
-    import teflon_jax as tj
-
-    from ..units import unit_factor
+    from ..formats import read_motion_record
 
     if not path.is_file():
         raise ValueError(f"--motion-file: {path} does not exist.")
-    lines = path.read_text().splitlines()
-    body = [(n, line) for n, line in enumerate(lines, start=1) if line.strip() and not line.startswith("#")]
-    if len(body) < 3:
-        raise ValueError(f"{path}: needs a header line and at least two samples.")
-    header_line, header = body[0]
-    names, factors = [], []
-    for column, cell in enumerate(header.split(","), start=1):
-        cell = cell.strip()
-        if "[" not in cell or not cell.endswith("]"):
-            raise ValueError(f"{path}:{header_line}: column {column} '{cell}' needs a unit, e.g. 'ux [in]'.")
-        name, unit = cell[:-1].split("[", 1)
-        name = name.strip()
-        dimension = "time" if name == "time" else "length"
-        factors.append(unit_factor(unit.strip(), dimension, where=f"{path}:{header_line}: column {name}"))
-        names.append(name)
-    for required in ("time", "ux"):
-        if required not in names:
-            raise ValueError(f"{path}:{header_line}: missing column '{required}'.")
-    rows = []
-    for n, line in body[1:]:
-        cells = line.split(",")
-        if len(cells) != len(names):
-            raise ValueError(f"{path}:{n}: expected {len(names)} values, found {len(cells)}.")
-        try:
-            values = [float(c) for c in cells]
-        except ValueError:
-            raise ValueError(f"{path}:{n}: a value is not a number: {line.strip()!r}.") from None
-        if not np.all(np.isfinite(values)):
-            raise ValueError(f"{path}:{n}: NaN or inf value.")
-        rows.append(values)
-    data = np.asarray(rows) * np.asarray(factors)
-    columns = dict(zip(names, data.T))
-    try:
-        return tj.tabulated_motion(columns["time"], columns["ux"], columns.get("uy"))
-    except ValueError as error:
-        raise ValueError(f"{path}: {error}") from None
+    return read_motion_record(path)
 
 
 def run_simulate(args) -> int:

@@ -13,5 +13,6 @@ from ._test_record import INTERFACE_KEYS as INTERFACE_KEYS
 from ._test_record import TestRecord as TestRecord
 from ._test_record import interface_counts as interface_counts
 from ._test_record import test_record_from_arrays as test_record_from_arrays
+from ._test_record_csv import read_motion_record as read_motion_record
 from ._test_record_csv import read_test_record as read_test_record
 from ._test_record_csv import write_test_record as write_test_record

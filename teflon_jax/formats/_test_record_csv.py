@@ -9,6 +9,7 @@ from typing import Any
 
 import numpy as np
 
+from ..excitation import TabulatedMotion, tabulated_motion
 from ..tables import DIRECTIONS, PTFE_TYPES
 from ..units import UNITS, parse_quantity, unit_factor
 from ._protocol import parse_protocol
@@ -173,28 +174,11 @@ def _parse_header(line: str, where: str) -> list[tuple[str, str]]:
     return columns
 
 
-def read_test_record(path) -> TestRecord:
-    """Read a bearing test record in the project's CSV format (see `FORMATS.md`).
-
-    Metadata lines (`# key: value` or `# key [unit]: value`) come before the header; the
-    header names the columns as `name [unit]` in any order; `time`, `ux` and `fx` are
-    required, `uy`, `fy`, `N` and `temperature` optional, other columns are kept in
-    `extra_columns`. A file without a `time` column is a digitised loop and needs a
-    `# protocol:` line (e.g. `# protocol: sine amplitude=1 in frequency=0.16 Hz cycles=3`).
-
-    **Arguments:**
-
-    - `path`: the CSV file.
-
-    **Returns:** a `TestRecord` in SI units. The normal load comes from the `N` column, else
-    from `# normal_load`, else from `# contact_area` times `# pressure`; with none of these
-    it is `None`.
-
-    Raises `ValueError` naming the file, line and column for: a missing or unknown unit, a
-    unit of the wrong dimension, empty cells, NaN or non-numeric cells, rows with the wrong
-    number of cells, time that does not increase strictly, a missing required column, or a
-    digitised loop without a protocol. Nothing is dropped or filled in.
-    """
+def _read_columns(path, columns_required, digitised_columns):
+    """(path, metadata, by_name, extra_units) of a file in the test-record CSV format: the
+    metadata in SI, every column in SI by name, the units of the extra columns. A file without
+    a `time` column is a digitised loop (needing `digitised_columns` and a protocol) when
+    `digitised_columns` is not `None`, otherwise `time` is required like `columns_required`."""
     path = pathlib.Path(path)
     with open(path, encoding="utf-8-sig", newline=None) as file:
         lines = file.read().split("\n")
@@ -220,8 +204,8 @@ def read_test_record(path) -> TestRecord:
     columns = _parse_header(lines[header_index], f"{path}, line {header_index + 1}")
     names = [name for name, _ in columns]
 
-    digitised = "time" not in names
-    required = ("ux", "fx") if digitised else _REQUIRED_COLUMNS
+    digitised = "time" not in names and digitised_columns is not None
+    required = digitised_columns if digitised else columns_required
     missing = [name for name in required if name not in names]
     if missing:
         raise ValueError(
@@ -292,9 +276,36 @@ def read_test_record(path) -> TestRecord:
                 f"strictly, but {time[row]:.9g} s follows {time[row - 1]:.9g} s."
             )
 
+    return path, metadata, by_name, extra_units
+
+
+def read_test_record(path) -> TestRecord:
+    """Read a bearing test record in the project's CSV format (see `FORMATS.md`).
+
+    Metadata lines (`# key: value` or `# key [unit]: value`) come before the header; the
+    header names the columns as `name [unit]` in any order; `time`, `ux` and `fx` are
+    required, `uy`, `fy`, `N` and `temperature` optional, other columns are kept in
+    `extra_columns`. A file without a `time` column is a digitised loop and needs a
+    `# protocol:` line (e.g. `# protocol: sine amplitude=1 in frequency=0.16 Hz cycles=3`).
+
+    **Arguments:**
+
+    - `path`: the CSV file.
+
+    **Returns:** a `TestRecord` in SI units. The normal load comes from the `N` column, else
+    from `# normal_load`, else from `# contact_area` times `# pressure`; with none of these
+    it is `None`.
+
+    Raises `ValueError` naming the file, line and column for: a missing or unknown unit, a
+    unit of the wrong dimension, empty cells, NaN or non-numeric cells, rows with the wrong
+    number of cells, time that does not increase strictly, a missing required column, or a
+    digitised loop without a protocol. Nothing is dropped or filled in.
+    """
+    path, metadata, by_name, extra_units = _read_columns(path, _REQUIRED_COLUMNS, ("ux", "fx"))
+    n_rows = by_name["ux"].shape[0]
     normal_load = by_name.get("N")
     if normal_load is None:
-        normal_load = _normal_load_from_metadata(metadata, table.shape[0])
+        normal_load = _normal_load_from_metadata(metadata, n_rows)
     return TestRecord(
         time=by_name.get("time"),
         ux=by_name["ux"],
@@ -308,6 +319,22 @@ def read_test_record(path) -> TestRecord:
         extra_units=extra_units,
         path=path,
     )
+
+
+def read_motion_record(path) -> TabulatedMotion:
+    """Read an imposed displacement history in the test-record CSV format (`FORMATS.md`):
+    the same metadata lines, header (`name [unit]`) and checks as `read_test_record`, with
+    the columns `time` and `ux` required and `uy` optional (a biaxial path); force columns
+    are allowed and ignored by the motion.
+
+    **Returns:** a `TabulatedMotion` [m] (linear between samples); `ValueError` naming the
+    file, line and column for anything `read_test_record` refuses.
+    """
+    path, _, by_name, _ = _read_columns(path, ("time", "ux"), None)
+    try:
+        return tabulated_motion(by_name["time"], by_name["ux"], by_name.get("uy"))
+    except ValueError as error:
+        raise ValueError(f"{path}: {error}") from None
 
 
 # ----------------------------------------------------------------------------------------

@@ -6,18 +6,7 @@ import textwrap
 import numpy as np
 
 from ..units import INCH, KIP
-
-# parameter -> (symbol of the paper in words, dimension for the units family)
-_NAMES = {
-    "f_max": ("f_max", None),
-    "delta_f": ("Df", None),
-    "rate_a": ("a", "slowness"),
-    "yield_disp": ("Y", "length"),
-    "breakaway_ratio": ("b", None),
-    "f_max_perpendicular": ("f_max (T)", None),
-    "delta_f_perpendicular": ("Df (T)", None),
-    "rate_a_perpendicular": ("a (T)", "slowness"),
-}
+from ._parameter_units import PARAMETER_SYMBOLS, parameter_unit
 
 
 def plot_fit(path, fit, *, length=("in", INCH), force=("kip", KIP), title: str = "") -> None:
@@ -72,12 +61,9 @@ def plot_fit(path, fit, *, length=("in", INCH), force=("kip", KIP), title: str =
 
 
 def _value(name, fit, length) -> str:
-    symbol, dimension = _NAMES.get(name, (name, None))
-    unit, factor = "", 1.0
-    if dimension == "length":
-        unit, factor = f" {length[0]}", length[1]
-    elif dimension == "slowness":
-        unit, factor = f" s/{length[0]}", 1.0 / length[1]
+    symbol = PARAMETER_SYMBOLS.get(name, (name, None))[0]
+    unit, factor = parameter_unit(name, length)
+    unit = f" {unit}" if unit else ""
     value, error = fit.parameters[name], fit.std_errors.get(name)
     if value is None or not math.isfinite(value):
         return f"{symbol} = n/a"
