@@ -259,8 +259,12 @@ def monte_carlo(
     **Arguments:**
 
     - `structure`: callable `(ground_acceleration, design) -> StructureOnSliders`, e.g.
-      `isolated_structure("building", ...)`; `ground_acceleration` is a uniform `Signal`.
-    - `motions`: a `StochasticGroundMotion` (with `n_motions` and `key`) or a `RecordSet`.
+      `isolated_structure("building", ...)`; `ground_acceleration` is a uniform `Signal`. For
+      two-component motions a callable `((ground_x, ground_y), design) ->
+      BidirectionalStructure`, e.g. `bidirectional_isolated_structure("rigid", ...)`; the
+      peaks are then resultants (`bidirectional_peak_response`) and `pga` the peak |(a_x, a_y)|.
+    - `motions`: a `StochasticGroundMotion` or a `TwoComponentGroundMotion` (with `n_motions`
+      and `key`; motion i's major component is then the one-component motion i), or a `RecordSet`.
     - `n_motions`: N > 0 (stochastic; for a `RecordSet` defaults to all its records).
     - `key`: JAX PRNG key (stochastic motions); default `jax.random.key(0)`.
     - `duration` [s]: default the record length.
