@@ -75,6 +75,50 @@ def test_anisotropy_interpolates_all_three_constants_as_the_simulator():
     assert {p.name for p in EFFECTS["anisotropy"].parameters} == set(perpendicular)
 
 
+def noisy_figure_eight(noise=0.01, seed=0, cycles=1):
+    """The tour's anisotropic figure-eight test (Fig. 6: U0 = 4 in, w = 2.77 rad/s, UF at 1000
+    psi, P along x and T along y) from teflon_jax's simulator, with white Gaussian noise of
+    `noise` x RMS force on fx and fy. Returns (record, true-model nrmse, P and T truth)."""
+    import teflon_jax as tj
+    from teflon_jax.units import PSI
+
+    parallel, _ = tj.interface_parameters("UF", 1000 * PSI, "P")
+    perpendicular, _ = tj.interface_parameters("UF", 1000 * PSI, "T")
+    bearing = tj.paper_bearing(
+        parallel, yield_disp=0.005 * INCH, friction_perpendicular=perpendicular
+    )
+    load = 78.5e3 * PSI * INCH**2
+    run = tj.simulate_bearing_test(
+        bearing, tj.FigureEightMotion(4 * INCH, 2.77, cycles=cycles), load
+    )
+    fx, fy = np.asarray(run.fx), np.asarray(run.fy)
+    rms = np.sqrt(np.mean(np.concatenate([fx, fy]) ** 2))
+    nx, ny = noise * rms * np.random.default_rng(seed).standard_normal((2, fx.size))
+    record = test_record_from_arrays(
+        np.asarray(run.ux), fx + nx, time=np.asarray(run.time), uy=np.asarray(run.uy),
+        fy=fy + ny, normal_load=load,
+    )
+    measured = np.concatenate([record.fx, record.fy])
+    true_nrmse = np.sqrt(np.mean(np.concatenate([nx, ny]) ** 2) / np.mean(measured**2))
+    truth = {}
+    for suffix, constants in (("", parallel), ("_perpendicular", perpendicular)):
+        for name in ("f_max", "delta_f", "rate_a"):
+            truth[name + suffix] = float(getattr(constants, name))
+    return record, float(true_nrmse), truth
+
+
+@pytest.mark.slow
+def test_hidden_anisotropy_in_a_figure_eight_reaches_the_noise_level():
+    # Issue 14, point 1: the interpolation of all three constants takes nrmse to within 20 % of
+    # the true model's, and recovers the P and T constants within 5 %.
+    record, true_nrmse, truth = noisy_figure_eight()
+    result = discover_effects(record)
+    assert result.effects_added[:1] == ["anisotropy"], result.to_json()["steps"]
+    assert result.nrmse_final <= 1.2 * true_nrmse
+    for name, value in truth.items():
+        assert result.parameters[name] == pytest.approx(value, rel=0.05), name
+
+
 # ------------------------------------------------------------------------------- asymmetry
 
 
