@@ -323,6 +323,8 @@ def test_noise_only_record_adds_nothing(seed):
     record = generate_record(seed=seed)
     result = discover_effects(record)
     assert result.effects_added == [], result.to_json()["steps"]
+    # a single interface: its fitted rate_a lies in Table 1's range (no stack suspected)
+    assert result.stack_check["consistent_with_stated"], result.stack_check
     # The baseline already explains the record down to the noise (1.5 % of the RMS force).
     assert result.nrmse_final < 0.02
     # every inner fit reports convergence, and these all converge before the limit
