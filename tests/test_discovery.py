@@ -626,7 +626,7 @@ def test_isotropic_figure_eight_adds_nothing():
 
 @pytest.mark.slow
 @pytest.mark.external
-def test_real_friction_damper_shows_its_asymmetry(external_data):
+def test_real_friction_damper_shows_its_backlash_and_asymmetry(external_data):
     # A real laboratory test (banded rotary friction damper, ARTS Lab): its friction is known
     # to differ between the two sliding directions (+v about 2.6 kip, -v about 1.9 kip).
     from teflon_jax.formats import read_friction_damper_json
@@ -639,9 +639,13 @@ def test_real_friction_damper_shows_its_asymmetry(external_data):
         measured.ux, measured.fx, time=measured.time, normal_load=load
     )
     result = discover_effects(record)
-    assert result.effects_added[:1] == ["asymmetry"]
+    # The dataset is named for its backlash (play at reversals), visible in the loops; both
+    # effects are named in the first two rounds (measured: backlash, then asymmetry).
+    assert set(result.effects_added[:2]) == {"asymmetry", "backlash"}, result.effects_added
     # Stronger friction in +x, where the device is self-energising.
     assert result.parameters["asymmetry"] > 0.05
+    # a play of a few mm in a stroke of 2 in (measured 3.3 mm)
+    assert 0.5e-3 < result.parameters["backlash_gap"] < 0.2 * np.ptp(record.ux)
 
 
 def test_ljung_box_separates_white_from_structured_residuals():
