@@ -12,7 +12,9 @@ from ._diagnostics import ljung_box as ljung_box
 from ._diagnostics import locate_residual as locate_residual
 from ._diagnostics import regressors as regressors
 from ._diagnostics import residual_correlation as residual_correlation
+from ._discovery import TABLE1_RATE_RANGE as TABLE1_RATE_RANGE
 from ._discovery import discover_effects as discover_effects
+from ._discovery import stack_check as stack_check
 from ._effects import AMBIENT_TEMPERATURE as AMBIENT_TEMPERATURE
 from ._effects import BASELINES as BASELINES
 from ._effects import EFFECT_NAMES as EFFECT_NAMES
@@ -21,6 +23,7 @@ from ._effects import STEEL_CONDUCTIVITY as STEEL_CONDUCTIVITY
 from ._effects import STEEL_DIFFUSIVITY as STEEL_DIFFUSIVITY
 from ._effects import Effect as Effect
 from ._effects import EffectParameter as EffectParameter
+from ._effects import backlash_update as backlash_update
 from ._effects import heat_kernel_exponentials as heat_kernel_exponentials
 from ._effects import kumar_temperature_factor as kumar_temperature_factor
 from ._effects import surface_temperature_coefficient as surface_temperature_coefficient

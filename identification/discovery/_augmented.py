@@ -30,11 +30,13 @@ from teflon_jax.units import PSI
 
 from ..bearing_fit import park_path_update, park_substeps, sample_velocity
 from ._effects import (
+    AMBIENT_TEMPERATURE,
     BASELINE_PARAMETERS,
     EFFECT_NAMES,
     EFFECTS,
     STEEL_CONDUCTIVITY,
     STEEL_DIFFUSIVITY,
+    backlash_update,
     breakaway_switch,
     heat_kernel_exponentials,
     heating_factor,
@@ -69,6 +71,9 @@ class AugmentedData(eqx.Module):
     `interfaces` effect is off), `pressure` contact pressure [Pa],
     `log_load_ratio` log(N / mean N), `travel_fraction` accumulated |du| over its final value,
     `heat_rates`, `heat_weights`: the exponential approximation of the 1/sqrt(t) kernel;
+    `measured_rise` the measured temperature minus its first value [K] and
+    `reference_temperature` that first value [degC] with the static flag
+    `measured_temperature` (records with a `temperature` column; zeros and 20 degC otherwise);
     for biaxial records also `uy`, `force_y`, `du_y`, `velocity_y` and the sliding-angle
     weight `angle_weight` (0 along x, parallel to the lay; 1 along y), zeros otherwise, and the
     static flag `biaxial`. Speeds and travel are those of the path in the plane.
@@ -91,7 +96,10 @@ class AugmentedData(eqx.Module):
     du_y: jnp.ndarray
     velocity_y: jnp.ndarray
     angle_weight: jnp.ndarray
+    measured_rise: jnp.ndarray
+    reference_temperature: jnp.ndarray
     series: jnp.ndarray = 1.0
+    measured_temperature: bool = eqx.field(static=True, default=False)
     biaxial: bool = eqx.field(static=True, default=False)
     park_elements: int = eqx.field(static=True, default=16)
 
@@ -107,7 +115,8 @@ class RecordInfo:
     `decimation` (every k-th sample kept), `n_interfaces_recorded` (`interfaces_in_parallel`:
     forces added), `n_interfaces_in_series` (`interfaces_in_series`),
     `contact_area_assumed` (True when the heating effect uses `NOMINAL_CONTACT_PRESSURE`),
-    `varying_normal_load` (coefficient of variation of N above 1 %), `biaxial`, `source`.
+    `varying_normal_load` (coefficient of variation of N above 1 %), `biaxial`,
+    `measured_temperature` (the record has a `temperature` column), `source`.
     """
 
     decimation: int
@@ -117,6 +126,7 @@ class RecordInfo:
     varying_normal_load: bool
     biaxial: bool
     source: str
+    measured_temperature: bool = False
 
 
 def prepare_record(record, *, max_samples: int = 3000, heat_terms_per_decade: float = 3.0):
@@ -199,6 +209,12 @@ def prepare_record(record, *, max_samples: int = 3000, heat_terms_per_decade: fl
     else:
         pressure = load / np.mean(load) * NOMINAL_CONTACT_PRESSURE
         assumed = True
+    measured = getattr(record, "temperature", None) is not None
+    if measured:
+        temperature = np.asarray(record.temperature, float)[keep]
+        reference_temperature, measured_rise = temperature[0], temperature - temperature[0]
+    else:
+        reference_temperature, measured_rise = AMBIENT_TEMPERATURE, np.zeros_like(ux)
     travel = np.cumsum(step_length)
     travel_fraction = travel / max(travel[-1], 1e-300)
     duration = time[-1] - time[0]
@@ -223,7 +239,10 @@ def prepare_record(record, *, max_samples: int = 3000, heat_terms_per_decade: fl
         du_y=jnp.asarray(du_y),
         velocity_y=jnp.asarray(velocity_y),
         angle_weight=jnp.asarray(angle_weight),
+        measured_rise=jnp.asarray(measured_rise),
+        reference_temperature=jnp.asarray(float(reference_temperature)),
         series=jnp.asarray(float(n_series)),
+        measured_temperature=measured,
         biaxial=biaxial,
         park_elements=park_substeps(ux, uy, DEFAULT_YIELD_DISP) if biaxial else 16,
     )
@@ -235,6 +254,7 @@ def prepare_record(record, *, max_samples: int = 3000, heat_terms_per_decade: fl
         varying_normal_load=bool(np.std(load) > 0.01 * np.mean(load)),
         biaxial=biaxial,
         source=where,
+        measured_temperature=measured,
     )
     return data, info
 
@@ -259,14 +279,18 @@ def simulate_augmented(
 
     Friction coefficient (each factor is 1 while its effect is off):
 
-        mu_v   = f_max - delta_f exp(-rate_a |v| / n)        (Eq. 1; delta_f = 0 when off)
-        mu_0   = breakaway_ratio (f_max - delta_f)  while max|Z| < 0.999 (Eq. 17), else mu_v
-        mu     = mu_0 (N/N_ref)^(-pressure_exponent) (1 + asymmetry sign v)
-                      (1 + wear_change travel/travel_total) k_T(T0 + dT)/k_T(T0)
+        c(w)   = (1 - w) c_P + w c_T,  c = f_max, delta_f, rate_a   (anisotropy; c_T = c_P off)
+        mu_v   = f_max(w) - delta_f(w) exp(-rate_a(w) |v| / n)      (Eq. 1; delta_f = 0 when off)
+        mu_0   = breakaway_ratio (f_max(w) - delta_f(w))  while max|Z| < 0.999 (Eq. 17), else mu_v
+        mu     = mu_0 (N/N_ref)^(-pressure_exponent) (1 + asymmetry Z_x)
+                      (1 + wear_change travel/travel_total) k_T(T0 + heat_scale dT)/k_T(T0)
         F      = mu N Z,    Z from the exact Bouc-Wen update (A = 1, beta = 0.1, gamma = 0.9)
 
-    with dT the surface temperature rise of a semi-infinite steel body under the heat flux
-    q = mu p |v| (Carslaw & Jaeger), times `heat_scale`.
+    with w = |theta| / (pi/2) the sliding angle weight (0 along x, parallel to the lay), n the
+    interfaces in series, and dT the measured temperature rise (record with a `temperature`
+    column, T0 its first value) or else the surface temperature rise of a semi-infinite steel
+    body under the heat flux q = mu p |v| / n (Carslaw & Jaeger; T0 = 20 degC). With `backlash`
+    on (uniaxial records), Z follows `backlash_update`: a gap of `backlash_gap` [m] in series.
 
     **Arguments:**
 
@@ -280,8 +304,8 @@ def simulate_augmented(
 
     **Returns:** dict of arrays over the samples: `force` [N] along x, `force_y` [N] (zeros for
     uniaxial records), `coefficient` mu [-], `z` [-] (x component), `z_y`,
-    `z_peak` [-], `temperature_rise` dT [K] (with the fitted heat_scale; 0 when heating is off),
-    `heat_index` dT at heat_scale = 1 [K] (a regressor for diagnostics).
+    `z_peak` [-], `temperature_rise` heat_scale dT [K] (0 when heating is off),
+    `heat_index` dT at heat_scale = 1 [K] (a regressor for diagnostics), `gap_position` [m].
     """
     on = {name: active[i] for i, name in enumerate(EFFECT_NAMES)}
     p = params
@@ -292,40 +316,54 @@ def simulate_augmented(
     hyst = BoucWen(yield_disp=p["yield_disp"])
 
     n_stack = jnp.where(on["interfaces"] > 0, p["n_interfaces"], data.series)
-    delta_f = on["velocity_dependence"] * p["delta_f"]
+    w = on["anisotropy"] * data.angle_weight
+
+    def mix(parallel, perpendicular):
+        return (1.0 - w) * p[parallel] + w * p[perpendicular]
+
+    f_max = mix("f_max", "f_max_perpendicular")
+    delta_f = on["velocity_dependence"] * mix("delta_f", "delta_f_perpendicular")
+    rate_a = mix("rate_a", "rate_a_perpendicular")
     speed = jnp.sqrt(data.velocity**2 + data.velocity_y**2)
-    mu_v = p["f_max"] - delta_f * jnp.exp(-p["rate_a"] * speed / n_stack)
-    f_min = p["f_max"] - delta_f
-    mu_static = p["breakaway_ratio"] * f_min
+    mu_v = f_max - delta_f * jnp.exp(-rate_a * speed / n_stack)
+    mu_static = p["breakaway_ratio"] * (f_max - delta_f)
     factor = (
         jnp.exp(-on["pressure_dependence"] * p["pressure_exponent"] * data.log_load_ratio)
-        * (1.0 + on["asymmetry"] * p["asymmetry"] * jnp.sign(data.velocity))
         * (1.0 + on["wear"] * p["wear_change"] * data.travel_fraction)
-        * (1.0 + on["anisotropy"] * (p["perpendicular_ratio"] - 1.0) * data.angle_weight)
     )
+    asymmetry = on["asymmetry"] * p["asymmetry"]
+    gap = on["backlash"] * p["backlash_gap"]
     heat_on = on["heating"]
     breakaway_on = on["breakaway"] > 0
     rates, weights = data.heat_rates, data.heat_weights
     dts = jnp.concatenate([jnp.zeros(1), jnp.diff(data.time)])
+    flux_speed = data.mean_speed / n_stack
 
     def step(carry, x):
-        z, z_peak, heat, mu_prev = carry
-        du, dt, mean_speed, pressure, mu_v_i, factor_i, normal = x
+        z, z_peak, heat, mu_prev, s = carry
+        du, dt, speed_i, pressure, mu_v_i, mu_static_i, factor_i, normal, measured = x
         if data.biaxial:
             p0, p1, m0, m1 = du
             z = park_path_update(hyst, z, p0, p1, m0, m1, data.park_elements)
             z_peak = jnp.maximum(z_peak, jnp.sqrt(jnp.sum(z**2)))
+            z_x = z[0]
         else:
-            z = bouc_wen_exact_update(hyst, z, du)
+            z, s = backlash_update(hyst, z, s, du, gap)
             z_peak = jnp.maximum(z_peak, jnp.abs(z))
-        decay = jnp.exp(-rates * dt)
-        flux = mu_prev * pressure * mean_speed
-        heat = decay * heat + flux * (1.0 - decay) / rates
-        heat_index = coef * jnp.dot(weights, heat)
+            z_x = z
+        if data.measured_temperature:
+            heat_index = measured
+        else:
+            decay = jnp.exp(-rates * dt)
+            flux = mu_prev * pressure * speed_i
+            heat = decay * heat + flux * (1.0 - decay) / rates
+            heat_index = coef * jnp.dot(weights, heat)
         rise = heat_on * p["heat_scale"] * heat_index
-        base = jnp.where(breakaway_on & breakaway_switch(z_peak), mu_static, mu_v_i)
-        mu = jnp.maximum(base * factor_i * heating_factor(rise), 0.0)
-        return (z, z_peak, heat, mu), (mu * normal * z, mu, z, z_peak, rise, heat_index)
+        base = jnp.where(breakaway_on & breakaway_switch(z_peak), mu_static_i, mu_v_i)
+        k_heat = heating_factor(rise, data.reference_temperature)
+        mu = jnp.maximum(base * factor_i * (1.0 + asymmetry * z_x) * k_heat, 0.0)
+        out = (mu * normal * z, mu, z, z_peak, rise, heat_index, s)
+        return (z, z_peak, heat, mu, s), out
 
     z0 = jnp.zeros(2) if data.biaxial else jnp.zeros(())
     if data.biaxial:
@@ -337,9 +375,11 @@ def simulate_augmented(
         du = (previous, position, previous_velocity * dts[:, None], velocity * dts[:, None])
     else:
         du = data.du
-    init = (z0, jnp.zeros(()), jnp.zeros_like(rates), jnp.zeros(()))
-    xs = (du, dts, data.mean_speed, data.pressure, mu_v, factor, data.normal)
-    _, (force, mu, z, z_peak, rise, heat_index) = jax.lax.scan(step, init, xs)
+    mu_static = jnp.broadcast_to(mu_static, mu_v.shape)
+    init = (z0, jnp.zeros(()), jnp.zeros_like(rates), jnp.zeros(()), jnp.zeros(()))
+    xs = (du, dts, flux_speed, data.pressure, mu_v, mu_static, factor, data.normal,
+          data.measured_rise)
+    _, (force, mu, z, z_peak, rise, heat_index, s) = jax.lax.scan(step, init, xs)
     if data.biaxial:
         force_y, force, z_y, z = force[:, 1], force[:, 0], z[:, 1], z[:, 0]
     else:
@@ -353,6 +393,7 @@ def simulate_augmented(
         "z_peak": z_peak,
         "temperature_rise": rise,
         "heat_index": heat_index,
+        "gap_position": s,
     }
 
 

@@ -11,9 +11,10 @@ d_mu = mu theta g, so d_mu correlates with the effect's regressor g:
 | breakaway | first mobilisation (indicator of max|Z| < 0.999, and the next sample) |
 | pressure_dependence | log(N / N_ref) |
 | heating | surface temperature rise dT at heat_scale = 1 (heat-flux history) |
-| asymmetry | sliding direction sign(v) |
+| asymmetry | hysteretic variable Z (the sliding direction, continuous through reversals) |
 | anisotropy | sliding-angle weight |theta| / (pi/2) (biaxial records) |
 | wear | accumulated travel |
+| backlash | closeness to a reversal, 1 - |Z| (the force residual there, not d_mu) |
 
 Plotting and report writing live here (not in the simulation modules); they use matplotlib's
 Agg backend and write files only.
@@ -30,6 +31,7 @@ EFFECT_REGRESSOR = {
     "asymmetry": "direction",
     "wear": "travel",
     "anisotropy": "angle",
+    "backlash": "reversal",
 }
 """The regressor each effect's signature follows."""
 
@@ -38,9 +40,10 @@ REGRESSOR_LABELS = {
     "first_mobilisation": "first mobilisation [0/1]",
     "load": "log(N / N_ref) [-]",
     "heat": "temperature-rise index dT [K]",
-    "direction": "sliding direction sign(v)",
+    "direction": "hysteretic variable Z (sliding direction) [-]",
     "travel": "accumulated travel / total [-]",
     "angle": "sliding-angle weight |theta| / (pi/2) [-]",
+    "reversal": "closeness to a reversal 1 - |Z| [-]",
     "time": "time [s]",
     "half_cycle": "half-cycle index",
 }
@@ -86,7 +89,8 @@ def regressors(data, sim, half_cycles) -> dict:
         "first_mobilisation": first.astype(float),
         "load": np.asarray(data.log_load_ratio),
         "heat": np.asarray(sim["heat_index"]),
-        "direction": np.sign(np.asarray(data.velocity)),
+        "direction": np.asarray(sim["z"]),
+        "reversal": 1.0 - np.abs(np.asarray(sim["z"])),
         "travel": np.asarray(data.travel_fraction),
         "angle": np.asarray(data.angle_weight),
         "time": np.asarray(data.time) - float(data.time[0]),
@@ -122,6 +126,14 @@ def residual_correlation(model_force, regress, effect, data, sim) -> float:
             / (np.asarray(data.normal) * np.where(np.abs(z) > 1e-3, z, 1e-3)),
             0.0,
         )
+    if key == "reversal":
+        # Backlash: near reversals the measured force is smaller in magnitude than the
+        # model's; correlate (measured - model) with -model where |Z| < 0.95.
+        near = np.abs(np.asarray(sim["z"])) < 0.95
+        g, y = -model_force[near], (np.asarray(data.force) - model_force)[near]
+        if g.size < 3 or np.std(g) == 0 or np.std(y) == 0:
+            return 0.0
+        return float(np.corrcoef(g, y)[0, 1])
     g = regress[key][sliding]
     y = d_mu[sliding]
     if g.size < 3 or np.std(g) == 0 or np.std(y) == 0:

@@ -35,6 +35,9 @@ import time as _time
 import jax.numpy as jnp
 import numpy as np
 
+from teflon_jax.tables import load_table1
+from teflon_jax.units import INCH
+
 from ..least_squares import covariance_from_jacobian
 from ._augmented import (
     PARAMETER_EFFECT,
@@ -71,24 +74,63 @@ from ._result import (
     confidence_wording,
 )
 
+INTERFACES_NOT_SEPARABLE = (
+    "not separable from rate_a: Eq. 1 at |v| / n depends on rate_a and n only through "
+    "rate_a / n, at every speed, so no set of amplitudes or frequencies separates them; "
+    "the fitted rate_a is rate_a / n (see `stack_check`), and n is identified with rate_a "
+    "known (e.g. from Table 1, `known={'rate_a': ...}`)"
+)
+"""Why `interfaces` is not a candidate while rate_a is fitted."""
+
 
 def _applicable(info: RecordInfo, known):
     applicable, skipped = [], {}
     for name, effect in EFFECTS.items():
         if name == "interfaces" and "rate_a" not in known:
-            skipped[name] = (
-                "Eq. 1 at |v| / n only rescales rate_a, which is fitted: n is identifiable only "
-                "with rate_a known (e.g. from Table 1, `known={'rate_a': ...}`)"
-            )
+            skipped[name] = INTERFACES_NOT_SEPARABLE
         elif effect.requires == "varying_normal_load" and not info.varying_normal_load:
             skipped[name] = (
                 "normal load constant in this record (no contrast to identify it)"
             )
         elif effect.requires == "biaxial" and not info.biaxial:
             skipped[name] = "uniaxial record (one sliding direction only)"
+        elif effect.requires == "uniaxial" and info.biaxial:
+            skipped[name] = "modelled for uniaxial records only (a gap along one axis)"
         else:
             applicable.append(name)
     return applicable, skipped
+
+
+TABLE1_RATE_RANGE = (
+    min(row.rate_a for row in load_table1()),
+    max(row.rate_a for row in load_table1()),
+)
+"""Smallest and largest rate_a of Table 1 (16 single PTFE-steel interfaces; 0.32 and 0.90
+s/in) [s/m]."""
+
+
+def stack_check(rate_a: float, series: int = 1) -> dict:
+    """What a fitted rate_a says about a stack when n and rate_a are not separable.
+
+    Eq. 1 at |v| / n has the effective rate rate_a / n. If each interface has a rate within
+    Table 1's range [a_lo, a_hi] (0.32-0.90 s/in), a fitted effective rate r means
+        n in [a_lo / r, a_hi / r]
+    (times the `interfaces_in_series` already stated in the record, whose rate_a the fit
+    reports per interface). `consistent_with_stated` is False when the interval excludes the
+    stated count: a hint of a stack (or of a material outside Table 1), not a proof.
+
+    **Arguments:** `rate_a` fitted [s/m]; `series` interfaces in series stated in the record.
+
+    **Returns:** dict(rate_effective [s/m], n_low, n_high, consistent_with_stated).
+    """
+    lo, hi = TABLE1_RATE_RANGE
+    n_low, n_high = series * lo / rate_a, series * hi / rate_a
+    return {
+        "rate_effective": float(rate_a / series),
+        "n_low": float(n_low),
+        "n_high": float(n_high),
+        "consistent_with_stated": bool(n_low <= series <= n_high),
+    }
 
 
 def _start_values(data: AugmentedData) -> dict:
@@ -185,6 +227,7 @@ def discover_effects(
     if not scale > 0:
         raise ValueError(f"{info.source}: the measured force is zero throughout.")
     half_cycles = half_cycle_index(np.asarray(data.ux))
+    travel_range = float(np.ptp(np.asarray(data.ux)))
     fold_a, fold_b = _fold_weights(n, half_cycles)
     held_a, held_b = (_stacked(w, w, data.biaxial) for w in (fold_a, fold_b))
     ones = np.ones(n)
@@ -260,6 +303,12 @@ def discover_effects(
                             if p.name not in known
                         }
                     )
+                    for p in EFFECTS[name].parameters:
+                        # Start at the value for which the effect vanishes (isotropy: T = P).
+                        if p.neutral_of is not None and p.name not in known:
+                            s[p.name] = s[p.neutral_of]
+                    if name == "backlash" and "backlash_gap" not in known:
+                        s["backlash_gap"] = 0.02 * travel_range
                     if name == "velocity_dependence":
                         # Keep the low-speed friction where the constant friction was.
                         f_now = s["f_max"]
@@ -349,6 +398,18 @@ def discover_effects(
         )
 
     nrmse_final = float(np.sqrt(np.mean((model_force - force) ** 2)) / scale)
+    stack = {}
+    if skipped.get("interfaces") == INTERFACES_NOT_SEPARABLE and "velocity_dependence" in current:
+        stack = stack_check(float(values[PARAMETER_NAMES.index("rate_a")]),
+                            info.n_interfaces_in_series)
+        skipped["interfaces"] += (
+            f"; here rate_a / n = {stack['rate_effective'] * INCH:.3g} s/in, so with a rate_a "
+            f"per interface in Table 1's range n is in [{stack['n_low']:.1f}, "
+            f"{stack['n_high']:.1f}]"
+            + ("" if stack["consistent_with_stated"] else
+               f", not the {info.n_interfaces_in_series} stated: a stack of interfaces in "
+               "series (or a material outside Table 1)")
+        )
     std_errors = _std_errors(
         final_u, final_jac, (model_force - force) / scale, current, known
     )
@@ -368,6 +429,7 @@ def discover_effects(
         runtime_s=float(_time.perf_counter() - started),
         applicable=applicable,
         skipped=skipped,
+        stack_check=stack,
         fit_convergence=fit_log,
     )
 

@@ -2,12 +2,15 @@
 
 The friction coefficient of the augmented model is built from a base law and factors:
 
-    mu(t) = mu_base(|v|, z_peak) * k_pressure * k_heat * k_asym * k_wear
+    mu(t) = mu_base(|v|, theta, z_peak) * k_pressure * k_heat * k_asym(Z) * k_wear
 
 - `mu_base` is constant friction `f_max` (Coulomb baseline), Eq. 1 when `velocity_dependence`
-  is on, evaluated at |v| / n when `interfaces` is on, and replaced by Eq. 17 before the first
-  full mobilisation when `breakaway` is on.
+  is on, evaluated at |v| / n when `interfaces` is on, with its three constants interpolated
+  between the parallel and perpendicular values in the sliding angle theta when `anisotropy` is
+  on, and replaced by Eq. 17 before the first full mobilisation when `breakaway` is on.
 - Each factor is exactly 1 while its effect is off, so effects compose freely.
+- `backlash` changes the hysteretic variable Z instead (a gap in series, see
+  `identification.discovery.backlash_update`).
 
 Each `Effect` lists its parameters with bounds, the value it starts a fit from and its
 *neutral* value (the value for which the effect vanishes, or nearly so). The functions in this
@@ -52,6 +55,9 @@ class EffectParameter:
     - `lower`, `upper`: bounds of the fit.
     - `log_scale`: fit in log space (positive quantities spanning decades).
     - `unit`: unit in brackets for reports.
+    - `neutral_of`: name of the parameter whose value is neutral for this one (the effect
+      vanishes when they are equal, e.g. `f_max_perpendicular` = `f_max`); a fit adding the
+      effect starts there. `None`: `neutral` is the neutral value.
     """
 
     name: str
@@ -61,6 +67,7 @@ class EffectParameter:
     upper: float
     log_scale: bool = False
     unit: str = "-"
+    neutral_of: str | None = None
 
 
 @dataclasses.dataclass(frozen=True)
@@ -72,7 +79,7 @@ class Effect:
     - `equation`: the law it adds, in one line.
     - `regressor`: the measured or simulated quantity its signature follows (diagnostics).
     - `requires`: what the record must contain for the effect to be identifiable:
-      `"varying_normal_load"`, `"biaxial"` or `None`.
+      `"varying_normal_load"`, `"biaxial"`, `"uniaxial"` or `None`.
     - `reference`: where the law comes from.
     """
 
@@ -138,27 +145,47 @@ EFFECTS: dict[str, Effect] = {
         Effect(
             "heating",
             (EffectParameter("heat_scale", 1.0, 0.0, 0.0, 20.0),),
-            "mu *= k_T(T0 + dT) / k_T(T0), k_T(T) = 0.79 (0.70^(T/50) + 0.40), "
-            "dT = heat_scale sqrt(kappa/pi)/k int q(s) (t-s)^(-1/2) ds, q = mu p |v|",
-            "surface temperature rise dT [K] (heat-flux history)",
-            reference="Carslaw & Jaeger (1959) Sec. 2.9; Kumar, Whittaker & Constantinou (2015)",
+            "mu *= k_T(T0 + heat_scale dT) / k_T(T0), k_T(T) = 0.79 (0.70^(T/50) + 0.40); "
+            "dT = T_measured - T_measured(0) and T0 = T_measured(0) when the record has a "
+            "'temperature' column, else dT = sqrt(kappa/pi)/k int q(s) (t-s)^(-1/2) ds with "
+            "q = mu p |v| / n_series (heat flux into each sliding surface) and T0 = 20 degC",
+            "temperature rise dT [K] (measured, or from the heat-flux history)",
+            reference="Kumar, Whittaker & Constantinou (2015), k_T; Carslaw & Jaeger (1959) "
+            "Sec. 2.9 when no temperature is measured",
         ),
         Effect(
             "anisotropy",
-            (EffectParameter("perpendicular_ratio", 1.2, 1.0, 0.3, 3.0),),
-            "mu *= 1 + (perpendicular_ratio - 1) w, w = |theta| / (pi/2) the sliding angle to the "
-            "lay: the paper's linear interpolation of f_max and delta_f between parallel (P) "
-            "and perpendicular (T) constants, with T = perpendicular_ratio x P",
+            (
+                EffectParameter("f_max_perpendicular", 0.1, 0.1, 0.002, 0.5, neutral_of="f_max"),
+                EffectParameter("delta_f_perpendicular", 0.05, 0.05, 0.0, 0.45,
+                                neutral_of="delta_f"),
+                EffectParameter(
+                    "rate_a_perpendicular",
+                    1.0 / INCH,
+                    1.0 / INCH,
+                    0.005 / INCH,
+                    50.0 / INCH,
+                    log_scale=True,
+                    unit="s/m",
+                    neutral_of="rate_a",
+                ),
+            ),
+            "c(w) = (1 - w) c_P + w c_T for c = f_max, delta_f, rate_a; mu = f_max(w) - delta_f(w) "
+            "exp(-rate_a(w) |v|); w = |theta| / (pi/2), theta the sliding angle to the lay (x); "
+            "f_max, delta_f, rate_a are the parallel (P) constants, *_perpendicular the T ones",
             "sliding angle weight |theta| / (pi/2) [-]",
             requires="biaxial",
-            reference="Constantinou, Mokha & Reinhorn (1990), anisotropic biaxial model",
+            reference="Constantinou, Mokha & Reinhorn (1990), anisotropic biaxial model "
+            "(linear interpolation of all three constants of Eq. 1 between P and T)",
         ),
         Effect(
             "asymmetry",
             (EffectParameter("asymmetry", 0.05, 0.0, -0.6, 0.6),),
-            "mu *= 1 + asymmetry sign(v)",
-            "sliding direction sign(v) [-]",
-            reference="direction-dependent friction, e.g. a tilted or misaligned specimen",
+            "mu *= 1 + asymmetry Z_x: +asymmetry while sliding in +x (Z = 1), -asymmetry in -x "
+            "(Z = -1), passing through 1 with Z at a reversal, so the force has no step",
+            "hysteretic variable Z_x [-] (the sliding direction, smoothed)",
+            reference="direction-dependent friction, e.g. a tilted or misaligned specimen or a "
+            "self-energising band brake; tied to Z so that F = mu N Z stays continuous",
         ),
         Effect(
             "wear",
@@ -170,9 +197,24 @@ EFFECTS: dict[str, Effect] = {
         Effect(
             "interfaces",
             (EffectParameter("n_interfaces", 4.0, 1.0, 1.0, 60.0, log_scale=True),),
-            "Eq. 1 evaluated at |v| / n_interfaces (n interfaces in series share the motion)",
+            "Eq. 1 evaluated at |v| / n_interfaces (n interfaces in series share the motion); "
+            "only rate_a / n enters Eq. 1, so n is separable only with rate_a known",
             "speed |v| [m/s]",
             reference="Constantinou, Mokha & Reinhorn (1990), R-FBI stack (n = 24)",
+        ),
+        Effect(
+            "backlash",
+            (
+                EffectParameter(
+                    "backlash_gap", 0.02 * INCH, 1e-6, 1e-6, 0.1, log_scale=True, unit="m"
+                ),
+            ),
+            "a gap g in series: after each reversal Z unloads to 0 along Bouc-Wen, stays at 0 "
+            "(F = 0) while the drive crosses the gap g, then loads again (Z continuous in u and g)",
+            "force near zero after reversals (indicator of |Z| < 0.5) [-]",
+            requires="uniaxial",
+            reference="play (backlash) operator in series with the friction element, as in bolted "
+            "friction dampers with oversized holes; Krasnosel'skii & Pokrovskii (1989) play operator",
         ),
     )
 }
@@ -243,3 +285,42 @@ def surface_temperature_coefficient(
 def breakaway_switch(z_peak):
     """True while the interface has not yet been fully mobilised (Eq. 17)."""
     return z_peak < BREAKAWAY_THRESHOLD
+
+
+def backlash_update(h, z0, gap_position, displacement_increment, gap):
+    """Z and the gap position after a monotone increment of a gap in series with Bouc-Wen.
+
+    The drive moves by du = sigma |du|. The friction element (Bouc-Wen, Eq. 3) and a gap of
+    width g [m] act in series, and the force through an open gap is zero: so after a reversal
+    Z first unloads to 0 along Bouc-Wen (travel Y x0, x0 = `bouc_wen_reversal_length`), then the
+    drive crosses the gap with Z = 0 (the gap position s [m] moves from -sigma g/2 towards
+    sigma g/2; F = mu N Z = 0 over that travel), then Z loads again from 0 with the travel
+    left. Invariant: s = sign(Z) g/2 whenever Z != 0 (the gap is closed on the loaded side);
+    a record starts with Z = 0 and s = 0 (centred in the gap). With g = 0 this is
+    `bouc_wen_exact_update`. Z is continuous in the displacement and in g, so the force is
+    continuous and a fit can differentiate in g.
+
+    **Arguments:** `h` Bouc-Wen constants, `z0` [-], `gap_position` s [m],
+    `displacement_increment` du [m], `gap` g [m] (>= 0).
+
+    **Returns:** `(z1, s1)`.
+
+    Reference: the play operator of Krasnosel'skii & Pokrovskii (1989), "Systems with
+    Hysteresis", here placed where the transmitted force vanishes.
+    """
+    from teflon_jax import bouc_wen_exact_update, bouc_wen_reversal_length
+
+    du = displacement_increment
+    sigma = jnp.where(du >= 0, 1.0, -1.0)
+    travel = jnp.abs(du)
+    unloading = sigma * z0 < 0
+    to_zero = jnp.where(unloading, bouc_wen_reversal_length(h, z0) * h.yield_disp, 0.0)
+    reached = travel >= to_zero
+    z_part = bouc_wen_exact_update(h, z0, sigma * jnp.minimum(travel, to_zero))
+    left = jnp.maximum(travel - to_zero, 0.0)
+    available = jnp.maximum(0.5 * gap - sigma * gap_position, 0.0)
+    in_gap = jnp.minimum(left, available)
+    s1 = jnp.where(reached, gap_position + sigma * in_gap, gap_position)
+    z_start = jnp.where(reached & unloading, 0.0, z_part)
+    z1 = jnp.where(reached, bouc_wen_exact_update(h, z_start, sigma * (left - in_gap)), z_part)
+    return z1, s1

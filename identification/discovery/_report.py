@@ -230,7 +230,16 @@ def write_report(result, directory, *, record_name: str = "record") -> pathlib.P
     ]
     lines += ["", "## Figures", ""]
     lines += [f"![{name}]({fname})" for name, fname in files.items()]
-    if result.info.contact_area_assumed:
+    if result.info.measured_temperature:
+        lines += [
+            "",
+            (
+                "Heating: the record has a temperature column; the heating candidate uses the "
+                "measured temperature (k_T of Kumar et al. 2015 relative to its first value) "
+                "instead of the heat-flux model."
+            ),
+        ]
+    elif result.info.contact_area_assumed:
         lines += [
             "",
             (

@@ -56,7 +56,9 @@ class DiscoveryResult:
     - `baseline_parameters`, `data`, `info` (the prepared record), `forces`: model force of the
       baseline and final fits, `runtime_s`, `applicable` candidates and `skipped` ones with why,
     - `fit_convergence`: how many inner fits ran, how many did not meet the convergence test
-      within the iteration limit, the most iterations one took.
+      within the iteration limit, the most iterations one took,
+    - `stack_check`: while `interfaces` is not separable (rate_a fitted), the interval of
+      interfaces in series that the fitted rate_a implies (`stack_check` of `_discovery`).
     """
 
     baseline: str
@@ -75,6 +77,7 @@ class DiscoveryResult:
     applicable: list
     skipped: dict
     fit_convergence: dict = dataclasses.field(default_factory=dict)
+    stack_check: dict = dataclasses.field(default_factory=dict)
 
     def to_json(self) -> dict:
         """The JSON document of the `diagnose` command (plain Python types; a non-finite
@@ -108,6 +111,7 @@ class DiscoveryResult:
                 "skipped_candidates": self.skipped,
                 "runtime_s": self.runtime_s,
                 "fit_convergence": dict(self.fit_convergence),
+                "stack_check": dict(self.stack_check),
                 "record": {
                     "source": self.info.source,
                     "samples_used": int(self.data.n_samples),

@@ -11,7 +11,7 @@ import sys
 
 from identification.discovery import BASELINES, EFFECT_NAMES, EFFECTS
 
-from ..units import parse_quantity
+from ..units import INCH, parse_quantity
 
 _DIMENSIONS = {"-": "dimensionless", "m": "length", "s/m": "slowness"}
 
@@ -121,6 +121,14 @@ def run_diagnose(args) -> int:
     args.json_path.parent.mkdir(parents=True, exist_ok=True)
     args.json_path.write_text(json.dumps(document, indent=2) + "\n")
     report = write_report(result, args.report, record_name=args.record.name)
+    stack = result.stack_check
+    if stack and not stack["consistent_with_stated"]:
+        say(
+            f"stack check: the fitted rate_a is rate_a / n = {stack['rate_effective'] * INCH:.3g} "
+            f"s/in; with a single-interface rate_a within Table 1's range, n is in "
+            f"[{stack['n_low']:.1f}, {stack['n_high']:.1f}] interfaces in series (not separable "
+            "from rate_a; give --known rate_a=... to identify n)."
+        )
     say(
         f"{document['conclusion']}; nrmse {result.nrmse_initial:.4f} -> {result.nrmse_final:.4f}; "
         f"{result.runtime_s:.1f} s. Wrote {args.json_path} and {report}."
