@@ -2,10 +2,10 @@
 
 `design_sweep` evaluates the grid in this process, `design_sweep_distributed` as chunks of
 design points on a Dask cluster (`_cluster`), streaming each chunk into a NetCDF file of the
-layout `sweep_dataset` writes. Every batch of design points is padded to at least
-`MIN_POINTS` points with copies of its last one: a batch of one point takes XLA's scalar code
-path, which rounds the last digits differently from the vectorised one; with the padding a
-point's results are the same, bit for bit, whatever the batch or chunk size.
+layout `sweep_dataset` writes. A point's values depend on the width of the vmapped call that
+computed it only in the last digits (XLA's vectorised CPU code rounds differently for another
+batch width; seen: 3e-16 relative): with `chunk_size` equal to the in-process `batch_size` they
+are the same bit for bit, whatever the number of workers and whichever worker ran a chunk.
 """
 
 import json
@@ -31,7 +31,6 @@ from ._cluster import (
 from ._design import Bounds, _records_array, expected_response, penalised_objective
 from ._results import DESIGN_UNITS
 
-MIN_POINTS = 2
 SWEEP_VARIABLES = {
     "objective": ("1", "penalised objective E[V_s] + rho max(0, E[D_s] / limit - 1)^2"),
     "shear": ("1", "mean smooth peak base shear / weight E[V_s] over the motions"),
@@ -101,7 +100,7 @@ def design_sweep(
     evaluate = _evaluator(structure, records, record_time_step, disp_limit, penalty, duration,
                           disp_width, shear_width)
     total = mesh[0].size
-    batch = max(min(batch_size, total), MIN_POINTS)
+    batch = min(check_count("batch_size", batch_size, 1), total)
     outputs = []
     for begin in range(0, total, batch):
         index = lanes(begin, min(begin + batch, total), batch)
@@ -151,14 +150,15 @@ def design_sweep_distributed(
     of the file (the run's inputs).
 
     **Returns:** the dict of `design_sweep`, read back from `out` (`open_sweep`): every design
-    point's values equal those of `design_sweep`, bit for bit, whatever the chunk size.
+    point's values are those of `design_sweep(..., batch_size=chunk_size)` bit for bit,
+    whatever the number of workers (module docstring).
     """
     tic = time.perf_counter()
     out = check_netcdf_output(out)
     names, axes, mesh, flat = _grid(structure, grid)
     records = np.asarray(_records_array(records, record_time_step))
     total = mesh[0].size
-    chunk = max(min(check_count("chunk_size", chunk_size, 1), total), MIN_POINTS)
+    chunk = min(check_count("chunk_size", chunk_size, 1), total)
     retries = check_count("retries", retries, 0)
     dtype = run_dtype()
     spec = {"structure": structure, "records": records, "record_time_step": float(record_time_step),

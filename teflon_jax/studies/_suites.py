@@ -3,11 +3,12 @@ each with its scale factor) through one bidirectional structure in one vmapped c
 peaks of every pair, their mean and maximum (failed runs kept out of both and reported).
 
 `suite_peaks_distributed` runs the same pairs as chunks on a Dask cluster (`_cluster`),
-streaming each chunk's peaks into a NetCDF file of the layout `suite_dataset` writes.
-Every batch (in-process or a chunk) is padded to at least `MIN_LANES` pairs with copies of its
-last pair: a batch of one pair takes XLA's scalar code path, which rounds the last digits
-differently from the vectorised one, so padding makes a pair's peaks the same, bit for bit,
-whatever the chunk size.
+streaming each chunk's peaks into a NetCDF file of the layout `suite_dataset` writes. A pair's
+peaks depend on the width of the vmapped call that computed it only in the last digits (XLA's
+vectorised CPU code rounds differently for another batch width; seen: 3e-16 relative): with
+`chunk_size` equal to the in-process `batch_size` they are the same bit for bit, whatever the
+number of workers and whichever worker ran a chunk (every call of a run has the same width:
+the last chunk is padded with copies of its last pair).
 """
 
 import dataclasses
@@ -43,8 +44,6 @@ SUITE_UNITS = {
     "converged": ("1", "every time step's Newton solve converged (False: peaks not trusted)"),
 }
 """Variables of a suite's NetCDF file on the "pair" dimension: name -> (units, long name)."""
-
-MIN_LANES = 2
 
 
 @dataclasses.dataclass(frozen=True)
@@ -87,8 +86,10 @@ def _summary(peaks: dict, ok: np.ndarray) -> dict:
     }
 
 
-def suite_peaks(build, names, ax, ay, time_step: float, duration: float, base_index=(0, 1)) -> SuiteResult:
-    """Run P record pairs through the structure `build(ground_x, ground_y)` in one vmapped call.
+def suite_peaks(build, names, ax, ay, time_step: float, duration: float, base_index=(0, 1),
+                batch_size: int | None = None) -> SuiteResult:
+    """Run P record pairs through the structure `build(ground_x, ground_y)` in one vmapped call
+    (or in calls of `batch_size` pairs, the last padded: one compilation).
 
     **Arguments:** `build`: a function of two `Signal`s returning a `BidirectionalStructure`;
     `names` (P,); `ax`, `ay` (P, n) ground accelerations [m/s^2] (already scaled, common step);
@@ -100,11 +101,15 @@ def suite_peaks(build, names, ax, ay, time_step: float, duration: float, base_in
     """
     names = tuple(names)
     count = len(names)
-    index = lanes(0, count, max(count, MIN_LANES))
+    width = count if batch_size is None else min(check_count("batch_size", batch_size, 1), count)
+    ax, ay = np.asarray(ax), np.asarray(ay)
     function = _suite_function(build, time_step, duration, base_index)
-    peaks, ok = function(jnp.asarray(np.asarray(ax)[index]), jnp.asarray(np.asarray(ay)[index]))
-    peaks = {k: np.asarray(v)[:count] for k, v in peaks.items()}
-    ok = np.asarray(ok, dtype=bool)[:count]
+    parts = []
+    for start in range(0, count, width):
+        index = lanes(start, min(start + width, count), width)
+        parts.append(jax.device_get(function(jnp.asarray(ax[index]), jnp.asarray(ay[index]))))
+    peaks = {k: np.concatenate([p[0][k] for p in parts])[:count] for k in SUITE_PEAKS}
+    ok = np.concatenate([np.asarray(p[1], dtype=bool) for p in parts])[:count]
     return SuiteResult(names=names, peaks=peaks, converged=ok, summary=_summary(peaks, ok))
 
 
@@ -148,8 +153,9 @@ def suite_peaks_distributed(
     persistent compilation cache (local workers); `progress(done, total)` after each chunk;
     `attrs`: more attributes of the file (the run's inputs).
 
-    **Returns:** the `SuiteResult` read back from `out` (`open_suite`): each pair's peaks equal
-    those of `suite_peaks`, bit for bit, whatever the chunk size and number of workers.
+    **Returns:** the `SuiteResult` read back from `out` (`open_suite`): each pair's peaks are
+    those of `suite_peaks(..., batch_size=chunk_size)` bit for bit, whatever the number of
+    workers (module docstring).
     `ConnectionError` naming the address when no scheduler answers.
     """
     tic = time.perf_counter()
@@ -159,7 +165,7 @@ def suite_peaks_distributed(
     count = len(names)
     if count < 1 or ax.shape != ay.shape or ax.ndim != 2 or ax.shape[0] != count:
         raise ValueError(f"ax, ay: need two (P, n) arrays for the {count} pair names, got {ax.shape} and {ay.shape}.")
-    chunk = max(min(check_count("chunk_size", chunk_size, 1), count), MIN_LANES)
+    chunk = min(check_count("chunk_size", chunk_size, 1), count)
     retries = check_count("retries", retries, 0)
     dtype = run_dtype()
     spec = {"build": build, "time_step": float(time_step), "duration": float(duration),
