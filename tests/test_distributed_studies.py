@@ -260,3 +260,15 @@ def test_cli_suite_on_the_cluster_writes_what_the_in_process_run_writes(dask_clu
     _assert_suite_equal(there, here)
     assert here.peaks["base_disp_resultant_m"][2] > here.peaks["base_disp_resultant_m"][0] > 0
     assert (tmp_path / "here.csv").read_text() == (tmp_path / "there.csv").read_text()
+
+
+@pytest.mark.slow
+def test_a_chunk_that_keeps_failing_stops_the_run_naming_its_pairs(dask_cluster, tmp_path):
+    # a builder that returns no structure fails on the worker as it traces (a real error)
+    names, ax, ay = _pairs()
+    out = tmp_path / "suite.nc"
+    with pytest.raises(RuntimeError, match=r"pairs \d\.\.\d failed on the cluster after 1 retries"):
+        suite_peaks_distributed(lambda gx, gy: None, names, ax, ay, DT, (SAMPLES - 1) * DT, out=out,
+                                scheduler=dask_cluster.scheduler_address, chunk_size=2, retries=1)
+    with pytest.raises(ValueError, match="did not finish"):
+        open_suite(out)  # the file says it is incomplete

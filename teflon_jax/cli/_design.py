@@ -46,8 +46,9 @@ def add_design_parser(subparsers) -> argparse.ArgumentParser:
     parser.add_argument("--out", type=pathlib.Path, default=None, metavar="FILE.nc",
                         help="write the grid sweep (objective, mean smooth peaks, convergence on the "
                         "grid of Tb x pressure) as NetCDF; with --scheduler it streams there")
-    parser.add_argument("--chunk-size", type=_positive_int, default=4, metavar="N",
-                        help="design points per compiled call (per task with --scheduler; default 4)")
+    parser.add_argument("--chunk-size", type=_positive_int, default=16, metavar="N",
+                        help="design points per compiled call, a task with --scheduler (default 16); "
+                        "the same N gives the same sweep bit for bit here and on a cluster")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
     parser.set_defaults(command_function=run_design)
     return parser

@@ -183,7 +183,7 @@ def design_sweep_distributed(
             run_chunks(client, _sweep_task, spec, chunks, write, retries=retries, progress=progress,
                        what="design points (flat grid index)")
             handle.setncatts({"n_workers": len(client.scheduler_info()["workers"]),
-                              "wall_s": time.perf_counter() - tic})
+                              "wall_s": time.perf_counter() - tic, "complete": 1})
         finally:
             handle.close()
     return open_sweep(out)
@@ -195,7 +195,7 @@ def _create_sweep_file(path, names, axes, attrs: dict):
                  for name, (units, long_name) in SWEEP_VARIABLES.items()}
     coords = {n: (n, a, *DESIGN_UNITS.get(n, ("1", n))) for n, a in zip(names, axes)}
     attrs = {"Conventions": "CF-1.8", "title": "teflon-jax design sweep",
-             "teflon_jax_attrs": json.dumps(attrs), **attrs}
+             "teflon_jax_attrs": json.dumps(attrs), **attrs, "complete": 0}  # 1 once every chunk is in
     return create_netcdf(path, {n: a.size for n, a in zip(names, axes)}, coords, variables, attrs)
 
 
@@ -228,6 +228,9 @@ def open_sweep(path) -> dict:
 
     with xarray.open_dataset(path) as dataset:
         dataset = dataset.load()
+    if dataset.attrs.get("complete", 1) != 1:
+        raise ValueError(f"{path}: the run that wrote this file did not finish (a chunk failed or the run "
+                         "was stopped); the items it lacks hold fill values. Run it again.")
     names = list(dataset["objective"].dims)
     mesh = np.meshgrid(*[np.asarray(dataset[n].values, dtype=float) for n in names], indexing="ij")
     values = [np.asarray(dataset[k].values) for k in ("objective", "shear", "disp", "n_failed")]

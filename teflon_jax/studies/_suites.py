@@ -186,7 +186,7 @@ def suite_peaks_distributed(
             run_chunks(client, _suite_task, spec, chunks, write, retries=retries, progress=progress,
                        what="pairs")
             handle.setncatts({"n_workers": len(client.scheduler_info()["workers"]),
-                              "wall_s": time.perf_counter() - tic})
+                              "wall_s": time.perf_counter() - tic, "complete": 1})
         finally:
             handle.close()
     result = open_suite(out)
@@ -205,7 +205,7 @@ def _create_suite_file(path, names, attrs: dict):
     variables = {name: (("pair",), units, long_name, "bool" if name == "converged" else "f8")
                  for name, (units, long_name) in SUITE_UNITS.items()}
     attrs = {"Conventions": "CF-1.8", "title": "teflon-jax record suite peak responses",
-             "teflon_jax_attrs": json.dumps(attrs), **attrs}
+             "teflon_jax_attrs": json.dumps(attrs), **attrs, "complete": 0}  # 1 once every chunk is in
     return create_netcdf(path, {"pair": len(names)}, {"pair": ("pair", np.array(names, dtype=str), None,
                                                               "record pair")}, variables, attrs)
 
@@ -232,6 +232,9 @@ def open_suite(path) -> SuiteResult:
 
     with xarray.open_dataset(path) as dataset:
         dataset = dataset.load()
+    if dataset.attrs.get("complete", 1) != 1:
+        raise ValueError(f"{path}: the run that wrote this file did not finish (a chunk failed or the run "
+                         "was stopped); the items it lacks hold fill values. Run it again.")
     peaks = {k: np.asarray(dataset[k].values, dtype=float) for k in SUITE_PEAKS}
     ok = np.asarray(dataset["converged"].values, dtype=bool)
     names = tuple(str(n) for n in dataset["pair"].values)
