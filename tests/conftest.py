@@ -27,3 +27,16 @@ def external_data() -> pathlib.Path:
             pytest.fail(message)
         pytest.skip(message)
     return path
+
+
+@pytest.fixture(scope="session")
+def dask_cluster(tmp_path_factory):
+    """One LocalCluster of 2 single-threaded worker processes in float64, shared by the tests of
+    the distributed studies (its workers keep a persistent compilation cache folder)."""
+    distributed = pytest.importorskip("distributed")
+    env = {"JAX_ENABLE_X64": "1", "JAX_PLATFORMS": "cpu",
+           "JAX_COMPILATION_CACHE_DIR": str(tmp_path_factory.mktemp("jax-cache")),
+           "JAX_PERSISTENT_CACHE_MIN_COMPILE_TIME_SECS": "0"}
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  dashboard_address=None, env=env) as local:
+        yield local

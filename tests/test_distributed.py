@@ -32,13 +32,8 @@ def _structure():
 
 
 @pytest.fixture(scope="module")
-def cluster(tmp_path_factory):
-    env = {"JAX_ENABLE_X64": "1", "JAX_PLATFORMS": "cpu",
-           "JAX_COMPILATION_CACHE_DIR": str(tmp_path_factory.mktemp("jax-cache")),
-           "JAX_PERSISTENT_CACHE_MIN_COMPILE_TIME_SECS": "0"}
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                  dashboard_address=None, env=env) as local:
-        yield local
+def cluster(dask_cluster):
+    return dask_cluster  # one LocalCluster for all the distributed tests (tests/conftest.py)
 
 
 def _in_process(chunk_size):

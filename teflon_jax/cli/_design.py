@@ -1,6 +1,9 @@
-"""`teflon-jax design`: gradient-based design of the isolation system."""
+"""`teflon-jax design`: gradient-based design of the isolation system. Its grid sweep runs in
+this process, or with `--scheduler local:N|ADDRESS` as chunks of design points on a Dask
+cluster (`teflon_jax.studies.design_sweep_distributed`); `--out FILE.nc` keeps the sweep."""
 
 import argparse
+import pathlib
 import sys
 import time
 
@@ -36,6 +39,16 @@ def add_design_parser(subparsers) -> argparse.ArgumentParser:
     parser.add_argument("--penalty", type=float, default=100.0,
                         help="weight rho of the displacement-limit penalty [-] (default 100)")
     parser.add_argument("--grid", type=_positive_int, default=7, help="sweep points per variable (default 7)")
+    parser.add_argument("--scheduler", default=None, metavar="local:N|ADDRESS",
+                        help="evaluate the grid sweep as tasks on a Dask cluster: 'local:N' starts N "
+                        "worker processes here, an address (tcp://host:8786) uses a running scheduler "
+                        "(SLURM/PBS: see docs/distributed.md); needs --out FILE.nc (default: this process)")
+    parser.add_argument("--out", type=pathlib.Path, default=None, metavar="FILE.nc",
+                        help="write the grid sweep (objective, mean smooth peaks, convergence on the "
+                        "grid of Tb x pressure) as NetCDF; with --scheduler it streams there")
+    parser.add_argument("--chunk-size", type=_positive_int, default=16, metavar="N",
+                        help="design points per compiled call, a task with --scheduler (default 16); "
+                        "the same N gives the same sweep bit for bit here and on a cluster")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
     parser.set_defaults(command_function=run_design)
     return parser
@@ -50,10 +63,22 @@ def run_design(args) -> int:
 
     from ..excitation import sample
     from ..report import plot_design
-    from ..studies import design_bounds, design_sweep, optimise_design, sweep_start
+    from ..studies import (
+        check_netcdf_output,
+        design_bounds,
+        design_sweep,
+        design_sweep_distributed,
+        optimise_design,
+        sweep_dataset,
+        sweep_start,
+    )
     from ..systems import isolated_structure
 
     units = output_units(args.units)
+    if args.scheduler is not None and args.out is None:
+        raise ValueError("--scheduler: a distributed sweep streams its results to a file; add --out FILE.nc.")
+    if args.out is not None:
+        check_netcdf_output(args.out, "--out")  # before anything is computed
     tic = time.perf_counter()
     bar = tqdm(total=2, unit="stage", desc="design", disable=args.no_progress)
     low_p, high_p = args.pressure_range
@@ -67,8 +92,21 @@ def run_design(args) -> int:
     grid = {"isolation_period": np.linspace(*args.period_range, args.grid),
             "pressure": np.linspace(low_p, high_p, args.grid)}
     bar.set_postfix_str(f"grid sweep, {args.grid}x{args.grid} designs x {args.motions} motions")
-    sweep = design_sweep(structure, records, dt, grid=grid, disp_limit=args.disp_limit,
-                         penalty=args.penalty)
+    attrs = {"structure": args.structure, "ptfe": args.ptfe, "seed": args.seed, "pga_m_s2": args.pga,
+             "motion_duration_s": args.duration, "isolation_damping": args.isolation_damping}
+    if args.scheduler is None:
+        sweep = design_sweep(structure, records, dt, grid=grid, disp_limit=args.disp_limit,
+                             penalty=args.penalty, batch_size=args.chunk_size)
+        if args.out is not None:
+            sweep_dataset(sweep, attrs={**attrs, "disp_limit_m": args.disp_limit,
+                                        "penalty": args.penalty}).to_netcdf(args.out)
+    else:
+        from ._main import compile_cache_dir
+
+        sweep = design_sweep_distributed(
+            structure, records, dt, grid=grid, disp_limit=args.disp_limit, penalty=args.penalty,
+            out=args.out, scheduler=args.scheduler, chunk_size=args.chunk_size, attrs=attrs,
+            compilation_cache=None if args.no_compile_cache else str(compile_cache_dir()))
     bar.update(1)
     bar.set_postfix_str("BFGS from the best grid point")
     start = sweep_start(sweep, design_bounds(structure, variables))
@@ -109,6 +147,7 @@ def run_design(args) -> int:
         },
         "optimum_beats_grid": bool(result.objective <= np.min(sweep["objective"]) * (1 + 1e-9)),
         "motions": {"pga_g": args.pga / STANDARD_GRAVITY, "duration_s": args.duration, "seed": args.seed},
+        "sweep_file": None if args.out is None else str(args.out),
     }
     _write_json(args.json, payload)
     if args.plot is not None:

@@ -8,6 +8,7 @@ import pathlib
 import numpy as np
 
 from ..units import parse_quantity
+from ._run_suite import add_suite_arguments, check_suite_flags
 
 STRUCTURES = ("rigid", "building", "slab")
 DEFAULT_TIME_STEP = 0.0025  # [s], RECOMMENDED_TIME_STEPS of the uniaxial structures
@@ -44,6 +45,7 @@ def add_run_parser(subparsers) -> None:
                    "(time, acceleration) file with --record-units (required unless --suite)")
     p.add_argument("--suite", default=None, help="CSV of record pairs (record_x, record_y, scale, "
                    "optional name) run in one call; writes <json stem>.csv and .nc (default suite.*)")
+    add_suite_arguments(p)
     p.add_argument("--record-y", default=None, help="y component (default: none)")
     p.add_argument("--record-units", default=None, help="acceleration unit of two-column files: "
                    "g, m/s^2, cm/s^2 or in/s^2 (required for them)")
@@ -400,6 +402,7 @@ def run_run(args) -> int:
 
     from ..systems import simulate_bidirectional
 
+    check_suite_flags(args)
     if args.suite is not None:
         if args.record_x is not None or args.record_y is not None:
             raise ValueError("--suite: give the records in the suite file, not with --record-x/--record-y.")

@@ -1,14 +1,39 @@
 """`teflon-jax run --suite FILE`: record pairs with scale factors, listed in a small CSV
 (columns `record_x`, `record_y` (may be empty), `scale`; paths relative to the CSV), through one
-structure in one vmapped call; per-pair peaks, mean and maximum in one table and one NetCDF."""
+structure in one vmapped call; per-pair peaks, mean and maximum in one table and one NetCDF.
+With `--scheduler local:N|ADDRESS` the pairs run as chunks of `--chunk-size` on a Dask cluster,
+their peaks streamed to `--out FILE.nc` (`teflon_jax.studies.suite_peaks_distributed`)."""
 
 import argparse
 import csv
 import json
 import pathlib
 
-import equinox as eqx
 import numpy as np
+
+from ._common import _positive_int
+
+
+def add_suite_arguments(parser) -> None:
+    """The flags of a suite run on a Dask cluster (`teflon-jax run --suite`)."""
+    parser.add_argument("--scheduler", default=None, metavar="local:N|ADDRESS",
+                        help="with --suite: run chunks of pairs as tasks on a Dask cluster: 'local:N' "
+                        "starts N worker processes here, an address (tcp://host:8786) uses a running "
+                        "scheduler (SLURM/PBS: see docs/distributed.md); needs --out FILE.nc")
+    parser.add_argument("--out", type=pathlib.Path, default=None, metavar="FILE.nc",
+                        help="with --suite: the NetCDF file of the per-pair peaks (default <json stem>.nc)")
+    parser.add_argument("--chunk-size", type=_positive_int, default=None, metavar="N",
+                        help="with --suite: record pairs per compiled call, a task with --scheduler "
+                        "(default: all in one call here, 8 per task on a cluster); the same N gives the "
+                        "same peaks bit for bit here and on a cluster")
+
+
+def check_suite_flags(args) -> None:
+    """The cluster flags are only for suites: refuse them on a single-record run."""
+    if args.suite is None:
+        for flag, value in (("--scheduler", args.scheduler), ("--out", args.out), ("--chunk-size", args.chunk_size)):
+            if value is not None:
+                raise ValueError(f"{flag}: only used with --suite FILE (a single record runs here).")
 
 
 def read_suite(path_text):
@@ -40,8 +65,19 @@ def read_suite(path_text):
 
 def run_suite(args, load_components, build_structure) -> int:
     """Run the suite; `load_components` and `build_structure` are those of `teflon-jax run`."""
-    from ..studies import save_suite, suite_peaks
+    import equinox as eqx
 
+    from ..studies import (
+        check_netcdf_output,
+        save_suite,
+        suite_peaks,
+        suite_peaks_distributed,
+    )
+
+    if args.scheduler is not None and args.out is None:
+        raise ValueError("--scheduler: a distributed suite streams its results to a file; add --out FILE.nc.")
+    if args.out is not None:
+        check_netcdf_output(args.out, "--out")  # before any record is read or run
     pairs = read_suite(args.suite)
     records, notes = [], []
     for name, x, y, scale in pairs:
@@ -66,10 +102,22 @@ def run_suite(args, load_components, build_structure) -> int:
     def build(gx, gy):  # the structure built once; only the ground motion changes per pair
         return eqx.tree_at(lambda s: (s.ground_x, s.ground_y), template, (gx, gy))
 
-    result = suite_peaks(build, [r[0] for r in records], ax, ay, dt, (n - 1) * dt, base_index)
+    names = [r[0] for r in records]
     stem = pathlib.Path(args.json).with_suffix("") if args.json else pathlib.Path("suite")
-    save_suite(result, table_path=stem.with_suffix(".csv"), netcdf_path=stem.with_suffix(".nc"))
-    payload = {"structure": args.structure, "suite": str(args.suite), "notes": notes,
+    netcdf = stem.with_suffix(".nc") if args.out is None else args.out
+    attrs = {"structure": args.structure, "suite": str(args.suite)}
+    if args.scheduler is None:
+        result = suite_peaks(build, names, ax, ay, dt, (n - 1) * dt, base_index, batch_size=args.chunk_size)
+        save_suite(result, table_path=stem.with_suffix(".csv"), netcdf_path=netcdf, attrs=attrs)
+    else:
+        from ._main import compile_cache_dir
+
+        result = suite_peaks_distributed(
+            build, names, ax, ay, dt, (n - 1) * dt, base_index, out=args.out, scheduler=args.scheduler,
+            chunk_size=8 if args.chunk_size is None else args.chunk_size, attrs=attrs,
+            compilation_cache=None if getattr(args, "no_compile_cache", False) else str(compile_cache_dir()))
+        save_suite(result, table_path=stem.with_suffix(".csv"))
+    payload = {"structure": args.structure, "suite": str(args.suite), "notes": notes, "netcdf": str(netcdf),
                "pairs": {name: {k: float(v[i]) for k, v in result.peaks.items()} | {"converged": bool(result.converged[i])}
                          for i, name in enumerate(result.names)},
                "summary": result.summary, "failed": int(np.sum(~result.converged))}

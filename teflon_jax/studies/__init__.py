@@ -8,6 +8,7 @@ from ._bidirectional_study import (
     bidirectional_isolated_structure as bidirectional_isolated_structure,
 )
 from ._bidirectional_study import bidirectional_peak_response as bidirectional_peak_response
+from ._cluster import check_netcdf_output as check_netcdf_output
 from ._design import DesignResult as DesignResult
 from ._design import default_design_problem as default_design_problem
 from ._design import design_bounds as design_bounds
@@ -20,6 +21,9 @@ from ._design_check import BOUND_TOLERANCE as BOUND_TOLERANCE
 from ._design_check import GRADIENT_TOLERANCE as GRADIENT_TOLERANCE
 from ._design_check import design_gradient_check as design_gradient_check
 from ._design_sweep import design_sweep as design_sweep
+from ._design_sweep import design_sweep_distributed as design_sweep_distributed
+from ._design_sweep import open_sweep as open_sweep
+from ._design_sweep import sweep_dataset as sweep_dataset
 from ._design_sweep import sweep_start as sweep_start
 from ._distributed import monte_carlo_distributed as monte_carlo_distributed
 from ._montecarlo import monte_carlo as monte_carlo
@@ -31,8 +35,11 @@ from ._results import MonteCarloResult as MonteCarloResult
 from ._results import check_output_path as check_output_path
 from ._save import save_montecarlo as save_montecarlo
 from ._suites import SuiteResult as SuiteResult
+from ._suites import open_suite as open_suite
 from ._suites import save_suite as save_suite
+from ._suites import suite_dataset as suite_dataset
 from ._suites import suite_peaks as suite_peaks
+from ._suites import suite_peaks_distributed as suite_peaks_distributed
 from ._sweep import SweepResult as SweepResult
 from ._sweep import building_peaks as building_peaks
 from ._sweep import building_sweep as building_sweep

@@ -1,5 +1,16 @@
-"""Sweeps of the design variables over a grid, for plots and starting points."""
+"""Sweeps of the design variables over a grid, for plots and starting points.
 
+`design_sweep` evaluates the grid in this process, `design_sweep_distributed` as chunks of
+design points on a Dask cluster (`_cluster`), streaming each chunk into a NetCDF file of the
+layout `sweep_dataset` writes. A point's values depend on the width of the vmapped call that
+computed it only in the last digits (XLA's vectorised CPU code rounds differently for another
+batch width; seen: 3e-16 relative): with `chunk_size` equal to the in-process `batch_size` they
+are the same bit for bit, whatever the number of workers and whichever worker ran a chunk.
+"""
+
+import json
+import time
+import uuid
 from collections.abc import Mapping
 
 import jax
@@ -7,7 +18,61 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..systems import IsolatedStructure, check_design
+from ._cluster import (
+    check_count,
+    check_netcdf_output,
+    cluster_client,
+    create_netcdf,
+    lanes,
+    run_chunks,
+    run_dtype,
+    worker_cached,
+)
 from ._design import Bounds, _records_array, expected_response, penalised_objective
+from ._results import DESIGN_UNITS
+
+SWEEP_VARIABLES = {
+    "objective": ("1", "penalised objective E[V_s] + rho max(0, E[D_s] / limit - 1)^2"),
+    "shear": ("1", "mean smooth peak base shear / weight E[V_s] over the motions"),
+    "disp": ("m", "mean smooth peak base displacement E[D_s] over the motions"),
+    "converged": ("1", "every motion's solve converged at this design point"),
+    "n_failed": ("1", "motions with a time step whose Newton solve did not converge"),
+}
+"""Variables of a sweep's NetCDF file on the grid dimensions: name -> (units, long name)."""
+
+
+def _evaluator(structure, records, record_time_step, disp_limit, penalty, duration, disp_width, shear_width):
+    """The jitted function {name: (B,) design values} -> (objective, shear, disp, n_failed) (B,)."""
+
+    @jax.jit
+    def evaluate(points):
+        def one(point):
+            r = expected_response(
+                structure, point, records, record_time_step, duration=duration,
+                disp_width=disp_width, shear_width=shear_width,
+            )
+            return penalised_objective(r, disp_limit, penalty), r["shear"], r["disp"], r["n_failed"]
+
+        return jax.vmap(one)(points)
+
+    return evaluate
+
+
+def _grid(structure, grid: Mapping):
+    names = list(grid)
+    axes = [np.atleast_1d(np.asarray(grid[n], dtype=float)) for n in names]
+    if not names or any(a.ndim != 1 or a.size < 1 for a in axes):
+        raise ValueError("grid: give each design variable a 1-D array of at least one value.")
+    check_design(structure, dict(zip(names, axes)))
+    mesh = np.meshgrid(*axes, indexing="ij")
+    return names, axes, mesh, {n: m.reshape(-1) for n, m in zip(names, mesh)}
+
+
+def _sweep_dict(names, mesh, objective, shear, disp, failed, n_motions) -> dict:
+    shape = mesh[0].shape
+    objective, shear, disp, failed = (np.asarray(a).reshape(shape) for a in (objective, shear, disp, failed))
+    return {"grid": dict(zip(names, mesh)), "objective": objective, "shear": shear, "disp": disp,
+            "converged": failed == 0, "n_failed": failed.astype(int), "n_motions": int(n_motions)}
 
 
 def design_sweep(
@@ -30,35 +95,146 @@ def design_sweep(
     "converged": (G...) bool, every motion's solve converged at that point, "n_failed": (G...)
     motions with a failed step, "n_motions"}. `sweep_start` skips points that did not converge.
     """
-    names = list(grid)
-    axes = [np.asarray(grid[n], dtype=float) for n in names]
-    check_design(structure, dict(zip(names, axes)))
-    mesh = np.meshgrid(*axes, indexing="ij")
-    flat = {n: m.reshape(-1) for n, m in zip(names, mesh)}
+    names, _, mesh, flat = _grid(structure, grid)
     records = _records_array(records, record_time_step)
-
-    @jax.jit
-    def evaluate(points):
-        def one(point):
-            r = expected_response(
-                structure, point, records, record_time_step, duration=duration,
-                disp_width=disp_width, shear_width=shear_width,
-            )
-            return penalised_objective(r, disp_limit, penalty), r["shear"], r["disp"], r["n_failed"]
-
-        return jax.vmap(one)(points)
-
+    evaluate = _evaluator(structure, records, record_time_step, disp_limit, penalty, duration,
+                          disp_width, shear_width)
     total = mesh[0].size
-    batch = min(batch_size, total)
+    batch = min(check_count("batch_size", batch_size, 1), total)
     outputs = []
     for begin in range(0, total, batch):
-        index = np.minimum(np.arange(begin, begin + batch), total - 1)
+        index = lanes(begin, min(begin + batch, total), batch)
         outputs.append(jax.device_get(evaluate({n: jnp.asarray(v[index]) for n, v in flat.items()})))
-    objective, shear, disp, failed = (
-        np.concatenate(parts)[:total].reshape(mesh[0].shape) for parts in zip(*outputs)
-    )
-    return {"grid": dict(zip(names, mesh)), "objective": objective, "shear": shear, "disp": disp,
-            "converged": failed == 0, "n_failed": failed.astype(int), "n_motions": int(records.shape[0])}
+    parts = [np.concatenate(p)[:total] for p in zip(*outputs)]
+    return _sweep_dict(names, mesh, *parts, records.shape[0])
+
+
+def _sweep_task(spec: dict, start: int, stop: int, payload):
+    """(objective, shear, disp, n_failed) of design points start..stop-1 (a Dask task)."""
+    evaluate = worker_cached(spec, lambda s: _evaluator(
+        s["structure"], jnp.asarray(s["records"]), s["record_time_step"], s["disp_limit"], s["penalty"],
+        s["duration"], s["disp_width"], s["shear_width"]))
+    index = lanes(0, stop - start, spec["chunk"])
+    values = jax.device_get(evaluate({n: jnp.asarray(np.asarray(v)[index]) for n, v in payload.items()}))
+    return [np.asarray(v)[: stop - start] for v in values]
+
+
+def design_sweep_distributed(
+    structure: IsolatedStructure,
+    records,
+    record_time_step: float,
+    *,
+    grid: Mapping,
+    disp_limit: float,
+    out,
+    penalty: float = 100.0,
+    duration: float | None = None,
+    disp_width=1e-3,
+    shear_width=1e-3,
+    scheduler: str = "local:2",
+    chunk_size: int = 4,
+    retries: int = 2,
+    connect_timeout: float = 10.0,
+    compilation_cache=None,
+    progress=None,
+    attrs: dict | None = None,
+) -> dict:
+    """`design_sweep` on a Dask cluster: chunks of `chunk_size` design points (each evaluated
+    over all the motions) are tasks; the results stream to the NetCDF file `out` (checked
+    writable before anything starts) at each point's place on the grid.
+
+    **Arguments** (as `design_sweep` otherwise): `scheduler` "local:N" or a scheduler address;
+    `retries`: runs again of a task that raised (a dead worker's tasks are rerun whatever this
+    is); `connect_timeout` [s]; `compilation_cache`: folder of JAX's persistent compilation
+    cache (local workers); `progress(done, total)` after each chunk; `attrs`: more attributes
+    of the file (the run's inputs).
+
+    **Returns:** the dict of `design_sweep`, read back from `out` (`open_sweep`): every design
+    point's values are those of `design_sweep(..., batch_size=chunk_size)` bit for bit,
+    whatever the number of workers (module docstring).
+    """
+    tic = time.perf_counter()
+    out = check_netcdf_output(out)
+    names, axes, mesh, flat = _grid(structure, grid)
+    records = np.asarray(_records_array(records, record_time_step))
+    total = mesh[0].size
+    chunk = min(check_count("chunk_size", chunk_size, 1), total)
+    retries = check_count("retries", retries, 0)
+    dtype = run_dtype()
+    spec = {"structure": structure, "records": records, "record_time_step": float(record_time_step),
+            "disp_limit": disp_limit, "penalty": penalty, "duration": duration, "disp_width": disp_width,
+            "shear_width": shear_width, "chunk": chunk, "dtype": dtype, "token": uuid.uuid4().hex}
+    settings = {"n_motions": int(records.shape[0]), "record_time_step_s": float(record_time_step),
+                "disp_limit_m": float(disp_limit), "penalty": float(penalty), "scheduler": scheduler,
+                "chunk_size": chunk, "precision": dtype}
+    with cluster_client(scheduler, connect_timeout, dtype, compilation_cache) as client:
+        handle = _create_sweep_file(out, names, axes, {**settings, **(attrs or {})})
+        shape = mesh[0].shape
+        try:
+            def write(start, stop, part):
+                for flat_index in range(start, stop):
+                    place = np.unravel_index(flat_index, shape)
+                    for name, values in zip(("objective", "shear", "disp", "n_failed"), part):
+                        handle.variables[name][place] = values[flat_index - start]
+                    handle.variables["converged"][place] = np.int8(part[3][flat_index - start] == 0)
+
+            chunks = [(start, min(start + chunk, total), {n: v[start:start + chunk] for n, v in flat.items()})
+                      for start in range(0, total, chunk)]
+            run_chunks(client, _sweep_task, spec, chunks, write, retries=retries, progress=progress,
+                       what="design points (flat grid index)")
+            handle.setncatts({"n_workers": len(client.scheduler_info()["workers"]),
+                              "wall_s": time.perf_counter() - tic, "complete": 1})
+        finally:
+            handle.close()
+    return open_sweep(out)
+
+
+def _create_sweep_file(path, names, axes, attrs: dict):
+    dims = tuple(names)
+    variables = {name: (dims, units, long_name, {"converged": "bool", "n_failed": "i8"}.get(name, "f8"))
+                 for name, (units, long_name) in SWEEP_VARIABLES.items()}
+    coords = {n: (n, a, *DESIGN_UNITS.get(n, ("1", n))) for n, a in zip(names, axes)}
+    attrs = {"Conventions": "CF-1.8", "title": "teflon-jax design sweep",
+             "teflon_jax_attrs": json.dumps(attrs), **attrs, "complete": 0}  # 1 once every chunk is in
+    return create_netcdf(path, {n: a.size for n, a in zip(names, axes)}, coords, variables, attrs)
+
+
+def sweep_dataset(sweep: Mapping, attrs: dict | None = None):
+    """A `design_sweep` result as an `xarray.Dataset`: a dimension per design variable (its
+    values as coordinate, with units), `SWEEP_VARIABLES` on the grid, `attrs` added."""
+    import xarray
+
+    names = list(sweep["grid"])
+    dims = tuple(names)
+    coords = {}
+    for axis, name in enumerate(names):
+        index = [0] * len(names)
+        index[axis] = slice(None)
+        units, long_name = DESIGN_UNITS.get(name, ("1", name))
+        coords[name] = (name, np.asarray(sweep["grid"][name])[tuple(index)], {"units": units, "long_name": long_name})
+    data = {}
+    for name, (units, long_name) in SWEEP_VARIABLES.items():
+        values = np.asarray(sweep[name])
+        data[name] = (dims, values.astype(np.int64) if name == "n_failed" else values,
+                      {"units": units, "long_name": long_name})
+    file_attrs = {"Conventions": "CF-1.8", "title": "teflon-jax design sweep", "n_motions": sweep["n_motions"],
+                  "teflon_jax_attrs": json.dumps(attrs or {}), **(attrs or {})}
+    return xarray.Dataset(data, coords=coords, attrs=file_attrs)
+
+
+def open_sweep(path) -> dict:
+    """The `design_sweep` dict a sweep NetCDF file holds (`sweep_dataset`, `design_sweep_distributed`)."""
+    import xarray
+
+    with xarray.open_dataset(path) as dataset:
+        dataset = dataset.load()
+    if dataset.attrs.get("complete", 1) != 1:
+        raise ValueError(f"{path}: the run that wrote this file did not finish (a chunk failed or the run "
+                         "was stopped); the items it lacks hold fill values. Run it again.")
+    names = list(dataset["objective"].dims)
+    mesh = np.meshgrid(*[np.asarray(dataset[n].values, dtype=float) for n in names], indexing="ij")
+    values = [np.asarray(dataset[k].values) for k in ("objective", "shear", "disp", "n_failed")]
+    return _sweep_dict(names, mesh, *values, dataset.attrs["n_motions"])
 
 
 def sweep_start(sweep: Mapping, bounds: Bounds, *, margin: float = 1e-3) -> dict:

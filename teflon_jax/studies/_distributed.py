@@ -28,6 +28,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..excitation import StochasticGroundMotion, TwoComponentGroundMotion
+from ._cluster import start_client as _client
 from ._montecarlo import (
     ChunkRunner,
     _get,
@@ -71,41 +72,6 @@ def _chunk_task(spec: dict, start: int, stop: int, values):
     out["pga"] = np.asarray(pga)[:n]
     out["compile_s"] = runner.compile_s
     return out
-
-
-def _client(scheduler, connect_timeout: float, dtype: str, cache_dir):
-    """(Client, cluster or None) for "local:N" or a scheduler address."""
-    from distributed import Client, LocalCluster
-
-    if not isinstance(scheduler, str):
-        raise ValueError(f"scheduler: give 'local:N' or a scheduler address, got {scheduler!r}.")
-    if scheduler.startswith("local:"):
-        try:
-            workers = int(scheduler.split(":", 1)[1])
-        except ValueError:
-            workers = 0
-        if workers < 1:
-            raise ValueError(f"scheduler: 'local:N' needs a number of workers N >= 1, got {scheduler!r}.")
-        env = {"JAX_ENABLE_X64": "1" if dtype == "float64" else "0", "JAX_PLATFORMS": "cpu"}
-        if cache_dir is not None:
-            env["JAX_COMPILATION_CACHE_DIR"] = str(cache_dir)
-            env["JAX_PERSISTENT_CACHE_MIN_COMPILE_TIME_SECS"] = "0"
-        # set before the worker processes start: JAX reads them when it is first imported,
-        # which may be as soon as the worker unpickles the caller's main module
-        import dask
-
-        spawn_env = {**dask.config.get("distributed.nanny.pre-spawn-environ", {}), **env}
-        with dask.config.set({"distributed.nanny.pre-spawn-environ": spawn_env}):
-            cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                   dashboard_address=None)
-        return Client(cluster), cluster
-    try:
-        return Client(scheduler, timeout=connect_timeout), None
-    except (OSError, TimeoutError) as error:
-        raise ConnectionError(
-            f"scheduler: no Dask scheduler answered at {scheduler} within {connect_timeout:g} s "
-            f"({type(error).__name__}: {error}); check the address and that the scheduler runs."
-        ) from None
 
 
 def _create_file(path, n_motions: int, design: Mapping | None, attrs: dict):

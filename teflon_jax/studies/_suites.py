@@ -1,8 +1,20 @@
 """Record suites: many two-component record pairs (e.g. the 7 or 11 pairs of a design check,
 each with its scale factor) through one bidirectional structure in one vmapped call, with the
-peaks of every pair, their mean and maximum (failed runs kept out of both and reported)."""
+peaks of every pair, their mean and maximum (failed runs kept out of both and reported).
+
+`suite_peaks_distributed` runs the same pairs as chunks on a Dask cluster (`_cluster`),
+streaming each chunk's peaks into a NetCDF file of the layout `suite_dataset` writes. A pair's
+peaks depend on the width of the vmapped call that computed it only in the last digits (XLA's
+vectorised CPU code rounds differently for another batch width; seen: 3e-16 relative): with
+`chunk_size` equal to the in-process `batch_size` they are the same bit for bit, whatever the
+number of workers and whichever worker ran a chunk (every call of a run has the same width:
+the last chunk is padded with copies of its last pair).
+"""
 
 import dataclasses
+import json
+import time
+import uuid
 
 import diffrax
 import jax
@@ -12,8 +24,26 @@ import numpy as np
 from ..excitation import uniform_signal
 from ..systems import BidirectionalStructure, simulate_bidirectional
 from ..units import STANDARD_GRAVITY
+from ._cluster import (
+    check_count,
+    check_netcdf_output,
+    cluster_client,
+    create_netcdf,
+    lanes,
+    run_chunks,
+    run_dtype,
+    worker_cached,
+)
 
 SUITE_PEAKS = ("base_disp_resultant_m", "base_disp_x_m", "base_disp_y_m", "base_shear_ratio_resultant")
+SUITE_UNITS = {
+    "base_disp_resultant_m": ("m", "peak resultant base displacement sqrt(u_x^2 + u_y^2)"),
+    "base_disp_x_m": ("m", "peak |base displacement| in x"),
+    "base_disp_y_m": ("m", "peak |base displacement| in y"),
+    "base_shear_ratio_resultant": ("1", "peak resultant horizontal force above the bearings / weight"),
+    "converged": ("1", "every time step's Newton solve converged (False: peaks not trusted)"),
+}
+"""Variables of a suite's NetCDF file on the "pair" dimension: name -> (units, long name)."""
 
 
 @dataclasses.dataclass(frozen=True)
@@ -27,17 +57,8 @@ class SuiteResult:
     summary: dict
 
 
-def suite_peaks(build, names, ax, ay, time_step: float, duration: float, base_index=(0, 1)) -> SuiteResult:
-    """Run P record pairs through the structure `build(ground_x, ground_y)` in one vmapped call.
-
-    **Arguments:** `build`: a function of two `Signal`s returning a `BidirectionalStructure`;
-    `names` (P,); `ax`, `ay` (P, n) ground accelerations [m/s^2] (already scaled, common step);
-    `time_step` [s] of the records; `duration` [s]; `base_index`: the coordinates of the base in
-    x and y (rigid mass (0, 1), building (0, 7), slab (0, 1)).
-
-    **Returns:** a `SuiteResult`; the base shear ratio is the total horizontal force on the
-    structure above the bearings over its weight.
-    """
+def _suite_function(build, time_step: float, duration: float, base_index):
+    """The jitted function (ax (B, n), ay (B, n)) -> (peaks {name: (B,)}, converged (B,))."""
     ix, iy = base_index
 
     def one(x, y):
@@ -54,19 +75,175 @@ def suite_peaks(build, names, ax, ay, time_step: float, duration: float, base_in
             "base_shear_ratio_resultant": jnp.max(jnp.hypot(force[:, 0], force[:, 1])) / weight,
         }, r.result == diffrax.RESULTS.successful
 
-    peaks, ok = jax.jit(jax.vmap(one))(jnp.asarray(ax), jnp.asarray(ay))
-    peaks = {k: np.asarray(v) for k, v in peaks.items()}
-    ok = np.asarray(ok, dtype=bool)
-    summary = {
+    return jax.jit(jax.vmap(one))
+
+
+def _summary(peaks: dict, ok: np.ndarray) -> dict:
+    return {
         k: {"mean": float(np.mean(v[ok])) if ok.any() else float("nan"),
             "max": float(np.max(v[ok])) if ok.any() else float("nan")}
         for k, v in peaks.items()
     }
-    return SuiteResult(names=tuple(names), peaks=peaks, converged=ok, summary=summary)
 
 
-def save_suite(result: SuiteResult, table_path=None, netcdf_path=None) -> None:
-    """One CSV table (a row per pair, then mean and max rows) and one NetCDF file."""
+def suite_peaks(build, names, ax, ay, time_step: float, duration: float, base_index=(0, 1),
+                batch_size: int | None = None) -> SuiteResult:
+    """Run P record pairs through the structure `build(ground_x, ground_y)` in one vmapped call
+    (or in calls of `batch_size` pairs, the last padded: one compilation).
+
+    **Arguments:** `build`: a function of two `Signal`s returning a `BidirectionalStructure`;
+    `names` (P,); `ax`, `ay` (P, n) ground accelerations [m/s^2] (already scaled, common step);
+    `time_step` [s] of the records; `duration` [s]; `base_index`: the coordinates of the base in
+    x and y (rigid mass (0, 1), building (0, 7), slab (0, 1)).
+
+    **Returns:** a `SuiteResult`; the base shear ratio is the total horizontal force on the
+    structure above the bearings over its weight.
+    """
+    names = tuple(names)
+    count = len(names)
+    width = count if batch_size is None else min(check_count("batch_size", batch_size, 1), count)
+    ax, ay = np.asarray(ax), np.asarray(ay)
+    function = _suite_function(build, time_step, duration, base_index)
+    parts = []
+    for start in range(0, count, width):
+        index = lanes(start, min(start + width, count), width)
+        parts.append(jax.device_get(function(jnp.asarray(ax[index]), jnp.asarray(ay[index]))))
+    peaks = {k: np.concatenate([p[0][k] for p in parts])[:count] for k in SUITE_PEAKS}
+    ok = np.concatenate([np.asarray(p[1], dtype=bool) for p in parts])[:count]
+    return SuiteResult(names=names, peaks=peaks, converged=ok, summary=_summary(peaks, ok))
+
+
+def _suite_task(spec: dict, start: int, stop: int, payload):
+    """Peaks of pairs start..stop-1 (a Dask task; runs on a worker)."""
+    function = worker_cached(spec, lambda s: _suite_function(s["build"], s["time_step"], s["duration"],
+                                                             s["base_index"]))
+    ax, ay = payload
+    index = lanes(0, stop - start, spec["chunk"])
+    peaks, ok = function(jnp.asarray(ax[index]), jnp.asarray(ay[index]))
+    out = {k: np.asarray(v)[: stop - start] for k, v in peaks.items()}
+    out["converged"] = np.asarray(ok, dtype=bool)[: stop - start]
+    return out
+
+
+def suite_peaks_distributed(
+    build,
+    names,
+    ax,
+    ay,
+    time_step: float,
+    duration: float,
+    base_index=(0, 1),
+    *,
+    out,
+    scheduler: str = "local:2",
+    chunk_size: int = 8,
+    retries: int = 2,
+    connect_timeout: float = 10.0,
+    compilation_cache=None,
+    progress=None,
+    attrs: dict | None = None,
+) -> SuiteResult:
+    """`suite_peaks` on a Dask cluster, chunks of `chunk_size` pairs as tasks, the peaks
+    streamed to the NetCDF file `out` (checked writable before anything starts).
+
+    **Arguments** (as `suite_peaks` otherwise; `build` must pickle, e.g. a module-level
+    function or a closure over plain values and equinox modules): `scheduler` "local:N" or a
+    scheduler address; `retries`: runs again of a task that raised (a dead worker's tasks are
+    rerun whatever this is); `connect_timeout` [s]; `compilation_cache`: folder of JAX's
+    persistent compilation cache (local workers); `progress(done, total)` after each chunk;
+    `attrs`: more attributes of the file (the run's inputs).
+
+    **Returns:** the `SuiteResult` read back from `out` (`open_suite`): each pair's peaks are
+    those of `suite_peaks(..., batch_size=chunk_size)` bit for bit, whatever the number of
+    workers (module docstring).
+    `ConnectionError` naming the address when no scheduler answers.
+    """
+    tic = time.perf_counter()
+    out = check_netcdf_output(out)
+    names = tuple(str(n) for n in names)
+    ax, ay = np.asarray(ax, dtype=float), np.asarray(ay, dtype=float)
+    count = len(names)
+    if count < 1 or ax.shape != ay.shape or ax.ndim != 2 or ax.shape[0] != count:
+        raise ValueError(f"ax, ay: need two (P, n) arrays for the {count} pair names, got {ax.shape} and {ay.shape}.")
+    chunk = min(check_count("chunk_size", chunk_size, 1), count)
+    retries = check_count("retries", retries, 0)
+    dtype = run_dtype()
+    spec = {"build": build, "time_step": float(time_step), "duration": float(duration),
+            "base_index": tuple(int(i) for i in base_index), "chunk": chunk, "dtype": dtype,
+            "token": uuid.uuid4().hex}
+    settings = {"n_pairs": count, "record_time_step_s": float(time_step), "duration_s": float(duration),
+                "scheduler": scheduler, "chunk_size": chunk, "precision": dtype}
+    with cluster_client(scheduler, connect_timeout, dtype, compilation_cache) as client:
+        handle = _create_suite_file(out, names, {**settings, **(attrs or {})})
+        try:
+            def write(start, stop, part):
+                for name in SUITE_UNITS:
+                    values = part[name].astype(np.int8) if name == "converged" else part[name]
+                    handle.variables[name][start:stop] = values
+
+            chunks = [(start, min(start + chunk, count), (ax[start:start + chunk], ay[start:start + chunk]))
+                      for start in range(0, count, chunk)]
+            run_chunks(client, _suite_task, spec, chunks, write, retries=retries, progress=progress,
+                       what="pairs")
+            handle.setncatts({"n_workers": len(client.scheduler_info()["workers"]),
+                              "wall_s": time.perf_counter() - tic, "complete": 1})
+        finally:
+            handle.close()
+    result = open_suite(out)
+    import netCDF4
+
+    with netCDF4.Dataset(out, "a") as handle:
+        handle.setncatts(_summary_attrs(result.summary))
+    return result
+
+
+def _summary_attrs(summary: dict) -> dict:
+    return {f"{k}_{s}": v[s] for k, v in summary.items() for s in ("mean", "max")}
+
+
+def _create_suite_file(path, names, attrs: dict):
+    variables = {name: (("pair",), units, long_name, "bool" if name == "converged" else "f8")
+                 for name, (units, long_name) in SUITE_UNITS.items()}
+    attrs = {"Conventions": "CF-1.8", "title": "teflon-jax record suite peak responses",
+             "teflon_jax_attrs": json.dumps(attrs), **attrs, "complete": 0}  # 1 once every chunk is in
+    return create_netcdf(path, {"pair": len(names)}, {"pair": ("pair", np.array(names, dtype=str), None,
+                                                              "record pair")}, variables, attrs)
+
+
+def suite_dataset(result: SuiteResult, attrs: dict | None = None):
+    """The suite as an `xarray.Dataset`: the peaks and `converged` on the "pair" dimension
+    (labelled by the pair names) with units and long names, the mean and maximum over the
+    converged pairs in the attributes (`<peak>_mean`, `<peak>_max`), `attrs` added."""
+    import xarray
+
+    data = {k: ("pair", np.asarray(result.peaks[k]), {"units": u, "long_name": n})
+            for k, (u, n) in SUITE_UNITS.items() if k != "converged"}
+    units, long_name = SUITE_UNITS["converged"]
+    data["converged"] = ("pair", np.asarray(result.converged, bool), {"units": units, "long_name": long_name})
+    file_attrs = {"Conventions": "CF-1.8", "title": "teflon-jax record suite peak responses",
+                  "teflon_jax_attrs": json.dumps(attrs or {}), **(attrs or {}), **_summary_attrs(result.summary)}
+    coords = {"pair": ("pair", np.array(result.names, dtype=str), {"long_name": "record pair"})}
+    return xarray.Dataset(data, coords=coords, attrs=file_attrs)
+
+
+def open_suite(path) -> SuiteResult:
+    """The `SuiteResult` a suite NetCDF file holds (`save_suite`, `suite_peaks_distributed`)."""
+    import xarray
+
+    with xarray.open_dataset(path) as dataset:
+        dataset = dataset.load()
+    if dataset.attrs.get("complete", 1) != 1:
+        raise ValueError(f"{path}: the run that wrote this file did not finish (a chunk failed or the run "
+                         "was stopped); the items it lacks hold fill values. Run it again.")
+    peaks = {k: np.asarray(dataset[k].values, dtype=float) for k in SUITE_PEAKS}
+    ok = np.asarray(dataset["converged"].values, dtype=bool)
+    names = tuple(str(n) for n in dataset["pair"].values)
+    return SuiteResult(names=names, peaks=peaks, converged=ok, summary=_summary(peaks, ok))
+
+
+def save_suite(result: SuiteResult, table_path=None, netcdf_path=None, attrs: dict | None = None) -> None:
+    """One CSV table (a row per pair, then mean and max rows) and one NetCDF file
+    (`suite_dataset`, `attrs` the run's inputs)."""
     import pathlib
 
     if table_path is not None:
@@ -80,11 +257,6 @@ def save_suite(result: SuiteResult, table_path=None, netcdf_path=None) -> None:
             lines.append(f"{stat}," + ",".join(f"{result.summary[k][stat]:.6g}" for k in SUITE_PEAKS) + ",")
         path.write_text("\n".join(lines) + "\n")
     if netcdf_path is not None:
-        import xarray
-
-        data = {k: ("pair", v) for k, v in result.peaks.items()}
-        data["converged"] = ("pair", result.converged.astype(np.int8))
-        attrs = {f"{k}_{s}": v[s] for k, v in result.summary.items() for s in ("mean", "max")}
         path = pathlib.Path(netcdf_path)
         path.parent.mkdir(parents=True, exist_ok=True)
-        xarray.Dataset(data, coords={"pair": list(result.names)}, attrs=attrs).to_netcdf(path)
+        suite_dataset(result, attrs).to_netcdf(path)
