@@ -104,12 +104,17 @@ def main(argv=None) -> int:
         _use_compile_cache(jax)
     module, name = _RUNNERS[args.command]
     runner = getattr(__import__(module, fromlist=[name]), name)
+    from ..studies import ClusterRunError
+
     try:
         read_quantities(args, args.command)
         return runner(args)
     except (ValueError, FileNotFoundError, ConnectionError) as error:
         print(f"teflon-jax {args.command}: error: {error}", file=sys.stderr)
         return 2
+    except ClusterRunError as error:  # the input was fine; the cluster could not finish the run
+        print(f"teflon-jax {args.command}: error: {error}", file=sys.stderr)
+        return 1
 
 
 if __name__ == "__main__":

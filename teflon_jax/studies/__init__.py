@@ -8,6 +8,7 @@ from ._bidirectional_study import (
     bidirectional_isolated_structure as bidirectional_isolated_structure,
 )
 from ._bidirectional_study import bidirectional_peak_response as bidirectional_peak_response
+from ._cluster import ClusterRunError as ClusterRunError
 from ._cluster import check_netcdf_output as check_netcdf_output
 from ._design import DesignResult as DesignResult
 from ._design import default_design_problem as default_design_problem

@@ -35,6 +35,10 @@ def run_dtype() -> str:
     return str(jnp.result_type(float))
 
 
+class ClusterRunError(RuntimeError):
+    """A chunk of a distributed run failed on the cluster after its retries (the run stopped)."""
+
+
 def worker_cached(spec: Mapping, build: Callable):
     """The chunk function of the run `spec["token"]` on this worker, built by `build(spec)` on
     the first chunk and kept for the later ones (one run at a time per worker). Raises when
@@ -176,7 +180,7 @@ def run_chunks(
 
     A task that raises is run `retries` more times (a dead worker's tasks are rerun by the
     scheduler whatever this is); a chunk that still fails stops the run with a
-    `RuntimeError` naming its `what` start..stop-1 and the reason, the other tasks cancelled."""
+    `ClusterRunError` naming its `what` start..stop-1 and the reason, the other tasks cancelled."""
     from distributed import as_completed
 
     spec_future = client.scatter(spec, broadcast=True)
@@ -193,7 +197,7 @@ def run_chunks(
             try:
                 part = future.result()
             except Exception as error:
-                raise RuntimeError(
+                raise ClusterRunError(
                     f"{what} {start}..{stop - 1} failed on the cluster after {retries} retries: "
                     f"{type(error).__name__}: {error}"
                 ) from error
