@@ -10,7 +10,7 @@ structure-aware update:
 - structures: Newmark's average-acceleration rule (trapezoidal, unconditionally stable,
   second order) for the masses, with the friction force at the end of the step from the exact
   Z update along Newmark's path of the isolator (split at its turning point when the sliding
-  velocity reverses inside the step), solved by a bracketed Newton iteration on the isolator
+  velocity reverses inside the step, `split_at_turn`), solved by a bracketed Newton iteration on the isolator
   displacement.
 
 The step size then follows the record and the structure, not Y. The solver plugs into

@@ -66,8 +66,8 @@ class IsolatedStructure(eqx.Module):
       step (`StructureOnSliders.newton_iterations`); a run whose solve is cut short is reported
       as not converged (its `PeakResponse.converged` is False), e.g. to check that failures
       are reported and kept out of statistics.
-    - `split_at_turn` (static): `StructureOnSliders.split_at_turn` (False: the earlier update
-      along the net increment, e.g. to compare with it).
+    - `split_at_turn` (static): `StructureOnSliders.split_at_turn`, True by default here
+      (False: the update along the net increment, e.g. to compare with it).
     """
 
     pressure: jnp.ndarray

@@ -61,9 +61,11 @@ class StructureOnSliders(AbstractSteppedSystem):
       stops at tolerance); a step whose residual is still above tolerance after them is
       reported as not converged.
     - `split_at_turn` (static): in a step where the isolator's velocity changes sign, update
-      Z along the two monotone pieces of Newmark's path, to the turning point and back (True,
-      the default), or along the net increment (False: the update used before, and the one
-      the biaxial systems use; it needs about half the step for the same accuracy).
+      Z along the two monotone pieces of Newmark's path, to the turning point and back (True:
+      `isolated_structure`'s default, what its `RECOMMENDED_TIME_STEPS` rest on), or along the
+      net increment (False, the default here: the update the biaxial systems also use, so
+      that a biaxial system under a one-component record reproduces this one; it needs about
+      half the step for the same accuracy).
     """
 
     mass: jnp.ndarray
@@ -76,7 +78,7 @@ class StructureOnSliders(AbstractSteppedSystem):
     time_step: float = eqx.field(static=True)
     friction_model: str = eqx.field(static=True, default="hysteretic")
     newton_iterations: int = eqx.field(static=True, default=NEWTON_ITERATIONS)
-    split_at_turn: bool = eqx.field(static=True, default=True)
+    split_at_turn: bool = eqx.field(static=True, default=False)
 
     def friction_force(self, velocity, z, z_peak):
         """F = mu W Z [N] at isolator `velocity` [m/s]."""
@@ -277,7 +279,7 @@ def structure_on_sliders(
     time_step: float,
     friction_model: str = "hysteretic",
     newton_iterations: int = NEWTON_ITERATIONS,
-    split_at_turn: bool = True,
+    split_at_turn: bool = False,
 ) -> StructureOnSliders:
     """Build a `StructureOnSliders`, checking shapes and prefactoring Newmark's matrix.
 
