@@ -12,7 +12,15 @@ record samples, each program's time-step error against its own 0.5 ms run and th
 model-form difference (EPP slider vs Bouc-Wen) in separate columns. B5: wall time of `jax.grad` of the mean smooth peak base shear over a
 Monte Carlo set against the forward evaluation (compile times reported apart).
 
-Usage: `python benchmarks/bench_scale.py [--quick]`; `run_scale_benchmark(quick)` returns a dict.
+Speed against the previous method (`--speed`, `run_speed_comparison`): records/s and process
+CPU time per record for both structures with today's update (`TIME_STEPS`, Z split at the
+turning point of the isolator's path) and the previous one (`BASELINE`: 2.5 ms, Z along the
+net increment), in the same run, with the worst peak errors of both over 100 motions against
+0.5 ms steps and the load average of the machine (shared machines inflate wall times; CPU
+time per record is the steadier figure).
+
+Usage: `python benchmarks/bench_scale.py [--quick | --speed]`; `run_scale_benchmark(quick)` and
+`run_speed_comparison()` return dicts.
 """
 
 import json
@@ -37,9 +45,11 @@ from teflon_jax.systems import RECOMMENDED_TIME_STEPS, isolated_structure
 from teflon_jax.units import PSI, STANDARD_GRAVITY
 
 TIME_STEPS = dict(RECOMMENDED_TIME_STEPS)
-"""Structure step [s] per structure, as `teflon-jax montecarlo` uses by default: 2.5 ms, the
-largest divisor of the record step whose worst peak error over 100 motions is below 0.5 %
-(5 ms: 0.51 % rigid, 1.6 % building; the accuracy section reports all three steps)."""
+"""Structure step [s] per structure, as `teflon-jax montecarlo` uses by default: the largest
+divisor of the record step whose worst peak error over 100 motions is below 0.5 % (5 ms rigid,
+1/300 s building; the accuracy section reports twice the step too)."""
+BASELINE = {"rigid": 0.0025, "building": 0.0025}
+"""The previous method's step [s] (Z along the net increment, `split_at_turn=False`)."""
 REFERENCE_STEP = 0.0005  # [s] converged reference for the peak errors
 RECORD_STEP = 0.01  # [s] sampling of the stochastic motions
 MOTION_KEY = 1  # PRNG seed of the benchmark motions (monte_carlo and the peer draw the same)
@@ -57,18 +67,32 @@ def _motions(duration=40.0):
                                   rise_time=min(2.0, 0.1 * duration), strong_motion_duration=strong)
 
 
-def _structure(kind, time_step):
-    return isolated_structure(kind, time_step=time_step, pressure=1000 * PSI, isolation_period=2.0)
+def _structure(kind, time_step, split_at_turn=True):
+    return isolated_structure(kind, time_step=time_step, pressure=1000 * PSI, isolation_period=2.0,
+                              split_at_turn=split_at_turn)
 
 
-def _throughput(kind, sizes, chunk_size, time_step):
-    structure = _structure(kind, time_step)
+def _throughput(kind, sizes, chunk_size, time_step, split_at_turn=True):
+    structure = _structure(kind, time_step, split_at_turn)
     rows = []
     for n in sizes:
         before = _rss_bytes()
-        result = monte_carlo(structure, _motions(), n, key=jax.random.key(MOTION_KEY), chunk_size=chunk_size)
+        load = os.getloadavg()[0]
+        marks = []  # process CPU time and wall time after each chunk
+
+        def mark(done, total, marks=marks):
+            marks.append((time.process_time(), time.perf_counter()))
+
+        result = monte_carlo(structure, _motions(), n, key=jax.random.key(MOTION_KEY), chunk_size=chunk_size,
+                             progress=mark)
         run = result.wall_s - result.compile_s
+        # CPU and wall time of the chunks after the first (compiled by then), per motion run
+        # (the last chunk is padded to full size); None with a single chunk
+        after_first = (len(marks) - 1) * result.chunk_size
         rows.append({
+            "cpu_s_per_record": (marks[-1][0] - marks[0][0]) / after_first if after_first else None,
+            "wall_s_per_record_after_first_chunk": (marks[-1][1] - marks[0][1]) / after_first if after_first else None,
+            "load_average_1min": [load, os.getloadavg()[0]],
             "n_motions": n,
             "wall_s": result.wall_s,
             "compile_s": result.compile_s,
@@ -88,10 +112,10 @@ def _throughput(kind, sizes, chunk_size, time_step):
             "cost_exponent_in_n": slope}
 
 
-def _peaks(kind, n, time_step, at_record_samples=False):
+def _peaks(kind, n, time_step, at_record_samples=False, split_at_turn=True):
     """Peaks of the first n benchmark motions at `time_step`, read at every step or, with
     `at_record_samples`, at the record's samples (every 0.01 s, where OpenSees records)."""
-    result = monte_carlo(_structure(kind, time_step), _motions(), n, key=jax.random.key(MOTION_KEY),
+    result = monte_carlo(_structure(kind, time_step, split_at_turn), _motions(), n, key=jax.random.key(MOTION_KEY),
                          chunk_size=CHUNK, peak_interval=RECORD_STEP if at_record_samples else None)
     if not result.converged.all():
         raise RuntimeError(f"B3 accuracy: {kind} at {time_step} s did not converge on every motion")
@@ -228,16 +252,14 @@ def run_scale_benchmark(quick: bool, sizes=None) -> dict:
             b3[kind]["speedup_vs_opensees_one_process"] = (
                 ours[0]["records_per_s"] / peer["records_per_s_one_process"])
     result = {
-        "hardware": {"devices": [str(d) for d in jax.devices()], "platform": platform.platform(),
-                     "processor": platform.processor(), "cpu_count": os.cpu_count(),
-                     "python": sys.version.split()[0], "jax": jax.__version__,
-                     "precision": "float64" if jax.config.jax_enable_x64 else "float32"},
+        "hardware": _hardware(),
         "B3": b3,
         "B3_step_accuracy": {kind: _step_accuracy(kind, accuracy_n if quick else 100, TIME_STEPS[kind], peers[kind])
                              for kind in TIME_STEPS},
         "B5": [_gradient_cost(kind, 4 if quick else 16, 10.0 if quick else 40.0, TIME_STEPS[kind])
                for kind in TIME_STEPS],
     }
+    result["B3_vs_previous_method"] = run_speed_comparison(at, accuracy_n, 64 if quick else CHUNK)
     rows = []
     for kind in TIME_STEPS:
         entry = b3[kind]
@@ -262,7 +284,46 @@ def run_scale_benchmark(quick: bool, sizes=None) -> dict:
     return result
 
 
+def run_speed_comparison(n_motions: int = 1024, accuracy_n: int = 100, chunk_size: int = CHUNK) -> dict:
+    """Today's update at `TIME_STEPS` beside the previous one at `BASELINE`, in one run: B3
+    records/s and CPU s/record on `n_motions` motions, and the worst peak errors of both on the
+    first `accuracy_n` (>= 100 for the claim) against today's update at `REFERENCE_STEP`."""
+    out = {"hardware": _hardware(), "n_motions": n_motions, "accuracy_n_motions": accuracy_n}
+    for kind in TIME_STEPS:
+        reference = _peaks(kind, accuracy_n, REFERENCE_STEP)
+        previous_reference = _peaks(kind, accuracy_n, REFERENCE_STEP, split_at_turn=False)
+        entry = {"reference_step_s": REFERENCE_STEP,
+                 "references_differ": _errors(previous_reference, reference)}
+        for name, step, split in (("today", TIME_STEPS[kind], True), ("previous", BASELINE[kind], False)):
+            speed = _throughput(kind, (n_motions,), chunk_size, step, split)["runs"][0]
+            errors = _errors(_peaks(kind, accuracy_n, step, split_at_turn=split), reference)
+            entry[name] = {"time_step_s": step, "split_at_turn": split, **speed, "errors": errors,
+                           "worst_peak_error": max(v["max_rel"] for v in errors.values())}
+        entry["speedup_records_per_s"] = entry["today"]["records_per_s"] / entry["previous"]["records_per_s"]
+        entry["speedup_cpu_per_record"] = (entry["previous"]["cpu_s_per_record"]
+                                           / entry["today"]["cpu_s_per_record"])
+        out[kind] = entry
+    out["summary"] = "; ".join(
+        f"{kind}: {out[kind]['today']['records_per_s']:.0f} rec/s, "
+        f"{1e3 * out[kind]['today']['cpu_s_per_record']:.2f} ms CPU/rec at {out[kind]['today']['time_step_s']:.4g} s, "
+        f"worst {100 * out[kind]['today']['worst_peak_error']:.2f} % (previous: "
+        f"{out[kind]['previous']['records_per_s']:.0f} rec/s, {1e3 * out[kind]['previous']['cpu_s_per_record']:.2f} ms, "
+        f"worst {100 * out[kind]['previous']['worst_peak_error']:.2f} %)" for kind in TIME_STEPS)
+    return out
+
+
+def _hardware():
+    return {"devices": [str(d) for d in jax.devices()], "platform": platform.platform(),
+            "processor": platform.processor(), "cpu_count": os.cpu_count(),
+            "python": sys.version.split()[0], "jax": jax.__version__,
+            "precision": "float64" if jax.config.jax_enable_x64 else "float32",
+            "load_average": list(os.getloadavg())}
+
+
 if __name__ == "__main__":
     jax.config.update("jax_num_cpu_devices", os.cpu_count() or 1)
     jax.config.update("jax_enable_x64", "--float32" not in sys.argv)
-    print(json.dumps(run_scale_benchmark("--quick" in sys.argv), indent=1))
+    if "--speed" in sys.argv:
+        print(json.dumps(run_speed_comparison(), indent=1))
+    else:
+        print(json.dumps(run_scale_benchmark("--quick" in sys.argv), indent=1))

@@ -9,7 +9,9 @@ structure-aware update:
 - imposed-motion tests: Z updated exactly along the imposed increment;
 - structures: Newmark's average-acceleration rule (trapezoidal, unconditionally stable,
   second order) for the masses, with the friction force at the end of the step from the exact
-  Z update, solved by a bracketed Newton iteration on the isolator displacement.
+  Z update along Newmark's path of the isolator (split at its turning point when the sliding
+  velocity reverses inside the step, `split_at_turn`), solved by a bracketed Newton iteration on the isolator
+  displacement.
 
 The step size then follows the record and the structure, not Y. The solver plugs into
 `diffrax.diffeqsolve` with a constant step size; a step whose nonlinear equation does not

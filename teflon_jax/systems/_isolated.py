@@ -30,12 +30,15 @@ DESIGN_VARIABLES = (
 """Names a design dict may set: T_b [s], contact pressure [Pa] (Eq. 1 constants and b from
 Table 1 at that pressure), zeta_b [-], and Eq. 1 / Eq. 17 constants overriding Table 1."""
 
-RECOMMENDED_TIME_STEPS = {"rigid": 0.0025, "building": 0.0025}
-"""Structure step [s] per structure: with it the peak base displacement and base shear of
-every one of 100 forty-second Clough-Penzien motions (records at 0.01 s) lie within 0.2 % of
-0.5 ms steps (benchmarks/bench_scale.py, B3 accuracy). At 5 ms the worst motions were off by
-0.51 % (rigid mass) and 1.6 % (building): the error gathers in the steps where the sliding
-velocity reverses under a strong pulse, and in the building's short storey modes."""
+RECOMMENDED_TIME_STEPS = {"rigid": 0.005, "building": 0.01 / 3}
+"""Structure step [s] per structure, a divisor of the 0.01 s record step (a step that is not
+one puts the record's kinks inside steps). With Z updated along Newmark's path to the turning
+point and back in steps where the sliding velocity reverses (`split_at_turn`), the peak base
+displacement and base shear of every one of 100 forty-second Clough-Penzien motions lie within
+0.2 % (rigid mass, 5 ms) and 0.35 % (building, 3.33 ms) of 0.5 ms steps
+(benchmarks/bench_scale.py, B3 accuracy). Along the net increment instead, 5 ms left 0.52 %
+(rigid) and 1.7 % (building), and 2.5 ms was needed. The building's base shear at 5 ms (0.8 %)
+is limited by its storey modes, which the force reversals excite."""
 
 
 # --------------------------------------------------------------------------- structures
@@ -63,6 +66,8 @@ class IsolatedStructure(eqx.Module):
       step (`StructureOnSliders.newton_iterations`); a run whose solve is cut short is reported
       as not converged (its `PeakResponse.converged` is False), e.g. to check that failures
       are reported and kept out of statistics.
+    - `split_at_turn` (static): `StructureOnSliders.split_at_turn`, True by default here
+      (False: the update along the net increment, e.g. to compare with it).
     """
 
     pressure: jnp.ndarray
@@ -76,6 +81,7 @@ class IsolatedStructure(eqx.Module):
     time_step: float = eqx.field(static=True, default=0.0025)
     weight: float = eqx.field(static=True, default=100e3)
     newton_iterations: int = eqx.field(static=True, default=NEWTON_ITERATIONS)
+    split_at_turn: bool = eqx.field(static=True, default=True)
 
     def table(self):
         """The Table 1 rows (extrapolation switched off by our own range check)."""
@@ -118,8 +124,9 @@ class IsolatedStructure(eqx.Module):
                 isolation_damping=damping,
                 friction_model=self.friction_model,
             )
-        if self.newton_iterations != system.newton_iterations:
-            system = dataclasses.replace(system, newton_iterations=self.newton_iterations)
+        if (self.newton_iterations, self.split_at_turn) != (system.newton_iterations, system.split_at_turn):
+            system = dataclasses.replace(system, newton_iterations=self.newton_iterations,
+                                         split_at_turn=self.split_at_turn)
         return system
 
 
@@ -135,6 +142,7 @@ def isolated_structure(
     friction_model: str = "hysteretic",
     time_step: float | None = None,
     newton_iterations: int = NEWTON_ITERATIONS,
+    split_at_turn: bool = True,
 ) -> IsolatedStructure:
     """An `IsolatedStructure` with its inputs checked (`ValueError` naming the parameter).
 
@@ -163,6 +171,7 @@ def isolated_structure(
         friction_model=friction_model,
         time_step=float(time_step),
         newton_iterations=int(newton_iterations),
+        split_at_turn=bool(split_at_turn),
     )
     check_design(structure, {"pressure": pressure})
     if isolation_period is None and kind == "building":

@@ -49,9 +49,10 @@ def smooth_max(x, width, axis=-1):
     return jnp.squeeze(top, axis) + width * jnp.log(jnp.sum(terms, axis=axis) / n)
 
 
-def _shear_ratio(system: StructureOnSliders, relative_acceleration, t):
-    """|V| / W_s for the relative accelerations [m/s^2] at time t (see `PeakResponse`)."""
-    total = relative_acceleration + system.ground_acceleration(t)
+def _shear_ratio(system: StructureOnSliders, relative_acceleration, ground):
+    """|V| / W_s for the relative accelerations [m/s^2] under ground acceleration `ground`
+    [m/s^2] (see `PeakResponse`)."""
+    total = relative_acceleration + ground
     mass = system.mass if system.mass.shape[-1] == 1 else system.mass[1:]
     acc = total if system.mass.shape[-1] == 1 else total[1:]
     return jnp.sum(mass * acc) / (jnp.sum(mass) * STANDARD_GRAVITY)
@@ -101,12 +102,12 @@ def peak_response(
         )
         return new_top, total
 
-    def body(carry, step):
+    def body(carry, step_and_ground):
+        step, ground1 = step_and_ground
         y, a, peaks, tops, totals, ok = carry
-        t0 = step * dt
-        y1, converged = system.newmark_step(t0, t0 + dt, y, a)
-        a1 = system._acceleration(t0 + dt, y1)
-        values = (y1["u"][0], _shear_ratio(system, a1, t0 + dt))
+        y1, converged = system.newmark_update(y, a, ground1)
+        a1 = system.acceleration_at(ground1, y1)
+        values = (y1["u"][0], _shear_ratio(system, a1, ground1))
         read = (step + 1) % read_every == 0
         peaks = tuple(jnp.where(read, jnp.maximum(p, jnp.abs(v)), p) for p, v in zip(peaks, values))
         updated = [lse_update(a, s, v, w) for a, s, v, w in zip(tops, totals, values, widths)]
@@ -117,8 +118,11 @@ def peak_response(
     zero = jnp.zeros((), dtype)
     one = jnp.ones((), dtype)
     y0 = initial_state(system)
-    carry = (y0, system._acceleration(0.0, y0), (zero, zero), (zero, zero), (one, one), jnp.array(True))
-    (_, _, peaks, tops, totals, ok), _ = jax.lax.scan(body, carry, jnp.arange(n_steps))
+    # the record at every step's end, evaluated at once outside the loop
+    ground = jax.vmap(system.ground_acceleration)(jnp.arange(n_steps + 1) * dt)
+    carry = (y0, system.acceleration_at(ground[0], y0), (zero, zero), (zero, zero), (one, one),
+             jnp.array(True))
+    (_, _, peaks, tops, totals, ok), _ = jax.lax.scan(body, carry, (jnp.arange(n_steps), ground[1:]))
     smooth = [a + w * jnp.log(s / (n_steps + 1)) for a, s, w in zip(tops, totals, widths)]
     return PeakResponse(
         base_disp=peaks[0],
