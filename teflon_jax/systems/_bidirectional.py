@@ -132,8 +132,7 @@ class BidirectionalStructure(AbstractSteppedSystem):
             "z0": y0["z"],
             "z_peak0": z_peak,
         }
-        d1, converged = self._solve_bearings(p)
-        forces, z1 = self._forces_at(d1, p)
+        forces, z1, converged = self._solve_bearings(p)
         q1 = q_linear - compliance @ forces
         v1 = 2 / dt * (q1 - q0) - v0
         return {"q": q1, "v": v1, "z": z1, "z_peak": z_peak}, converged
@@ -147,7 +146,12 @@ class BidirectionalStructure(AbstractSteppedSystem):
         return self.friction_forces(velocity, z, p["z_peak0"]).reshape(-1), z
 
     def _residual(self, d, p):
-        return d - p["d_linear"] + p["flexibility"] @ self._forces_at(d, p)[0]
+        return self._residual_forces(d, p)[0]
+
+    def _residual_forces(self, d, p):
+        """(residual (2G,), forces (2G,), Z (G, 2)) at flattened bearing displacements d."""
+        forces, z = self._forces_at(d, p)
+        return d - p["d_linear"] + p["flexibility"] @ forces, forces, z
 
     def _tangent_jacobian(self, d, p):
         """Residual r (2G,) at d and an approximate Jacobian dr/dd (2G, 2G) built from the
@@ -181,9 +185,9 @@ class BidirectionalStructure(AbstractSteppedSystem):
         return r, jnp.eye(2 * n_groups) + p["flexibility"] @ full
 
     def _solve_bearings(self, p):
-        """Bearing displacements at t1: `FIXED_ITERATIONS` Newton iterations (unrolled, no
-        loop under `vmap`) with the tangent of Park's law at the end state, then, only for
-        members not yet within tolerance, Newton's method (Jacobian by forward differences) with
+        """Bearing forces (2G,), Z (G, 2) and convergence at t1: `FIXED_ITERATIONS`
+        Newton-Broyden iterations (unrolled, no loop under `vmap`) from the tangent of Park's
+        law at the end state, then, only for members not yet within tolerance, Newton's method (Jacobian by forward differences) with
         an Armijo backtracking line search on |r|. Converged when max|r| <= tolerance."""
         x = p["d0"] + self.time_step * p["vb0"]
         yield_disp = jnp.min(jnp.asarray(self.bearing.hysteresis.yield_disp))
@@ -192,11 +196,12 @@ class BidirectionalStructure(AbstractSteppedSystem):
             1e-6 * yield_disp, 1e3 * eps * jnp.max(jnp.abs(x) + jnp.abs(p["d_linear"]))
         )
         r, jacobian = self._tangent_jacobian(x, p)
+        forces, z = self._forces_at(x, p)  # replaced by the first iteration (no cost kept)
         for _ in range(FIXED_ITERATIONS):  # Newton-Broyden: secant updates of the Jacobian
             step = -_solve_small(jacobian, r)
             step = jnp.where(jnp.all(jnp.isfinite(step)), step, -r)
             x = x + step
-            r_new = self._residual(x, p)
+            r_new, forces, z = self._residual_forces(x, p)
             mismatch = r_new - r - jacobian @ step
             jacobian = jacobian + jnp.outer(mismatch, step) / jnp.maximum(step @ step, jnp.finfo(x.dtype).tiny)
             r = r_new
@@ -208,11 +213,11 @@ class BidirectionalStructure(AbstractSteppedSystem):
             return jnp.max(jnp.abs(r))
 
         def cond(carry):
-            x, r, k = carry
+            x, (r, _, _), k = carry
             return (size(r) > tolerance) & (k < self.newton_iterations)
 
         def body(carry):
-            x, r, k = carry
+            x, (r, _, _), k = carry
             step = -_solve_small(_difference_jacobian(residual, x, r, p["d0"], yield_disp), r)
             step = jnp.where(jnp.all(jnp.isfinite(step)), step, -r)
             norm = jnp.sqrt(jnp.sum(r * r))
@@ -220,18 +225,18 @@ class BidirectionalStructure(AbstractSteppedSystem):
             def shrink(c):
                 alpha = 0.5 * c[0]
                 trial = x + alpha * step
-                return alpha, trial, residual(trial)
+                return alpha, trial, self._residual_forces(trial, p)
 
             def worse(c):  # Armijo on |r|_2; below alpha = 2^-30 the step is taken as it is
-                alpha, _, r_trial = c
+                alpha, _, (r_trial, _, _) = c
                 return (jnp.sqrt(jnp.sum(r_trial * r_trial)) > (1 - 1e-4 * alpha) * norm) & (alpha > 2.0**-30)
 
             trial = x + step
-            _, x_new, r_new = jax.lax.while_loop(worse, shrink, (1.0, trial, residual(trial)))
-            return x_new, r_new, k + 1
+            _, x_new, out = jax.lax.while_loop(worse, shrink, (1.0, trial, self._residual_forces(trial, p)))
+            return x_new, out, k + 1
 
-        x, r, _ = jax.lax.while_loop(cond, body, (x, r, 0))
-        return x, size(r) <= tolerance
+        _, (r, forces, z), _ = jax.lax.while_loop(cond, body, (x, (r, forces, z), 0))
+        return forces, z, size(r) <= tolerance
 
 
 def _difference_jacobian(residual, x, r, x0, scale):
