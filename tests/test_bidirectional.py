@@ -108,7 +108,10 @@ def test_zero_y_record_gives_the_uniaxial_building():
     biaxial = simulate_bidirectional(plane, 4.0)
     uniaxial = simulate_structure(line, 4.0)
     peak = np.max(np.abs(uniaxial.displacement))
-    np.testing.assert_allclose(biaxial.q[:, :7], uniaxial.displacement, rtol=0, atol=1e-6 * peak)
+    # Measured 1.3e-8 of the peak: the uniaxial solver stops at |residual| <= 1e-6 Y (it keeps
+    # its predictor when that is already within tolerance), so rounding-level agreement would
+    # need its tolerance tightened; a breakaway switched one step apart gives 3e-5.
+    np.testing.assert_allclose(biaxial.q[:, :7], uniaxial.displacement, rtol=0, atol=1e-7 * peak)
     assert np.max(np.abs(biaxial.q[:, 7:])) == 0.0
 
 
