@@ -84,10 +84,12 @@ def test_motion_along_a_line_at_30_degrees_is_the_uniaxial_response():
     force = np.asarray(biaxial.friction_force[:, 0])
     cross = np.cos(angle) * force[:, 1] - np.sin(angle) * force[:, 0]
     assert np.max(np.abs(cross)) < 1e-6 * np.max(np.abs(force))
+    # Both solvers stop at |residual| <= 1e-6 Y per step, so Z (and the force) agree to a few
+    # 1e-6 of their peak; a wrong coupling of the components shows at the per-cent level.
     np.testing.assert_allclose(
         np.cos(angle) * force[:, 0] + np.sin(angle) * force[:, 1],
         np.asarray(uniaxial.friction_force),
-        atol=1e-6 * np.max(np.abs(force)),
+        atol=5e-6 * np.max(np.abs(force)),
     )
 
 
@@ -106,7 +108,10 @@ def test_zero_y_record_gives_the_uniaxial_building():
     biaxial = simulate_bidirectional(plane, 4.0)
     uniaxial = simulate_structure(line, 4.0)
     peak = np.max(np.abs(uniaxial.displacement))
-    np.testing.assert_allclose(biaxial.q[:, :7], uniaxial.displacement, rtol=0, atol=1e-6 * peak)
+    # Measured 1.3e-8 of the peak: the uniaxial solver stops at |residual| <= 1e-6 Y (it keeps
+    # its predictor when that is already within tolerance), so rounding-level agreement would
+    # need its tolerance tightened; a breakaway switched one step apart gives 3e-5.
+    np.testing.assert_allclose(biaxial.q[:, :7], uniaxial.displacement, rtol=0, atol=1e-7 * peak)
     assert np.max(np.abs(biaxial.q[:, 7:])) == 0.0
 
 

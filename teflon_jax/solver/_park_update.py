@@ -12,76 +12,93 @@ length x = |dU| / Y [-]) and while the signs s_i = sign(e_i Z_i) stay fixed it r
     dZ/dx = A e - Z (w . Z),      w_i = (gamma s_i + beta) e_i,
 
 a vector Riccati equation. It is linearised by Z = y / s with y' = A e s, s' = w . y, so that
-s'' = k2 s with k2 = A (w . e), and written with tau = tanh(k x / 2) / k (k2 > 0),
-tan(k x / 2) / k (k2 < 0) or x / 2 (k2 = 0) as one rational expression:
+s'' = k2 s with k2 = A (w . e), and written with tau = tanh(k x / 2) / k (k2 = k^2 > 0),
+tan(k x / 2) / k (k2 = -k^2 < 0) or x / 2 (k2 = 0) as one rational expression:
 
     Z(x) = [Z0 (1 - k2 tau^2) + 2 A e tau (1 + c tau)] / (1 + k2 tau^2 + 2 c tau),  c = w . Z0.
 
 A component opposing the motion (s_i = -1) can only cross zero upwards (at Z_i = 0,
-dZ_i/dx = A e_i), once per increment; its crossing, the root of the numerator (a quadratic
-in tau), ends the segment and the signs are re-evaluated. Two crossings at most, so three
-segments cover any increment exactly. For e = (1, 0) this is the uniaxial Riccati solution of
-`bouc_wen_exact_update`.
+dZ_i/dx = A e_i), once per increment; its crossing, the smallest positive root of the
+numerator (a quadratic in tau), ends the segment and the signs are re-evaluated. Two crossings
+at most (after its crossing a component runs with the motion), so three segments cover any
+increment exactly; the third has no crossing left to look for. For e = (1, 0) this is the
+uniaxial Riccati solution of `bouc_wen_exact_update`.
+
+Cost (the update sits inside every Newton iteration of every step): tau(x) is one entire
+function of q = k2 x^2 / 4 on both branches, tau = (x / 2) S(q) / C(q) with
+S(q) = sum q^n / (2n + 1)! and C(q) = sum q^n / (2n)! (sinh and cosh of sqrt(q), or sin and
+cos of sqrt(-q)), evaluated as polynomials for -pi^2/4 < q <= 1 and with tanh beyond; a
+crossing is compared with the end of the increment in tau (tau grows with x), so the inverse
+x(tau) (artanh or arctan) is needed only for the length left after a crossing. No float64
+tan, arctanh or branch evaluated twice, which on CPU costs more than the rest together.
 """
 
-import jax
+import math
+
 import jax.numpy as jnp
 
-_SEGMENTS = 3
-_SMALL = 1e-3  # |k2 x^2 / 4| or |k2 tau^2| below which the Taylor series are used
+_SERIES_Q = 1.0
+"""q = k2 x^2 / 4 above which tau uses tanh instead of the power series (|error| < 1e-17)."""
+_POLE_Q = -((math.pi / 2) ** 2)
+"""q of the pole of tan: the end of an increment past it lies beyond the crossing."""
+_SINH_TERMS = [1.0 / math.factorial(2 * n + 1) for n in range(12)]  # S(q), n = 0..11
+_COSH_TERMS = [1.0 / math.factorial(2 * n) for n in range(13)]  # C(q), n = 0..12
+_INVERSE_SERIES_V = 0.01
+"""|k2 tau^2| below which x(tau) = 2 tau sum v^n / (2n + 1) (8 terms, error < 1e-17)."""
+
+
+def _horner(coefficients, q):
+    out = jnp.full_like(q, coefficients[-1])
+    for c in coefficients[-2::-1]:
+        out = out * q + c
+    return out
 
 
 def _tau_of_length(x, k2):
-    """tau(x) = tanh(k x / 2) / k for k2 = k^2 > 0, tan(k x / 2) / k for k2 = -k^2 < 0."""
-    q = k2 * x * x / 4
-    small = jnp.abs(q) < _SMALL
-    series = 0.5 * x * (1 - q / 3 + 2 * q**2 / 15 - 17 * q**3 / 315 + 62 * q**4 / 2835)
-    k = jnp.sqrt(jnp.where(small, 1.0, jnp.abs(k2)))
-    angle = jnp.where(small, 0.0, k * x / 2)
-    hyperbolic = jnp.tanh(angle) / k
-    trigonometric = jnp.tan(jnp.minimum(angle, 1.5707963)) / k
-    return jnp.where(small, series, jnp.where(k2 > 0, hyperbolic, trigonometric))
+    """tau(x) [-]: tanh(k x / 2) / k for k2 = k^2 > 0, tan(k x / 2) / k for k2 = -k^2 < 0,
+    x / 2 for k2 = 0; inf past the pole of tan (x >= pi / k)."""
+    q = 0.25 * k2 * x * x
+    big = q > _SERIES_Q
+    q_series = jnp.where(big, 0.0, jnp.maximum(q, _POLE_Q))
+    cosine = _horner(_COSH_TERMS, q_series)
+    before_pole = (q > _POLE_Q) & (cosine > 0)
+    series = 0.5 * x * _horner(_SINH_TERMS, q_series) / jnp.where(before_pole, cosine, 1.0)
+    half_angle = jnp.sqrt(jnp.where(big, q, 1.0))  # k x / 2
+    hyperbolic = 0.5 * x * jnp.tanh(half_angle) / half_angle
+    return jnp.where(big, hyperbolic, jnp.where(before_pole, series, jnp.inf))
 
 
 def _length_of_tau(tau, k2):
-    """Inverse of `_tau_of_length` (inf where tau lies beyond the hyperbolic branch's 1/k)."""
-    v2 = k2 * tau * tau
-    small = jnp.abs(v2) < _SMALL
-    series = 2 * tau * (1 + v2 / 3 + v2**2 / 5 + v2**3 / 7 + v2**4 / 9)
-    k = jnp.sqrt(jnp.where(small, 1.0, jnp.abs(k2)))
-    v = jnp.where(small, 0.0, k * tau)
-    inside = v < 1.0
-    hyperbolic = jnp.where(inside, 2 * jnp.arctanh(jnp.where(inside, v, 0.0)) / k, jnp.inf)
-    trigonometric = 2 * jnp.arctan(v) / k
-    return jnp.where(small, series, jnp.where(k2 > 0, hyperbolic, trigonometric))
+    """Inverse of `_tau_of_length` for 0 <= tau < (1/k on the hyperbolic branch):
+    x = 2 artanh(k tau) / k (k2 > 0) or 2 arctan(k tau) / k (k2 < 0)."""
+    v = k2 * tau * tau
+    small = jnp.abs(v) < _INVERSE_SERIES_V
+    v_series = jnp.where(small, v, 0.0)
+    series = sum(v_series**n / (2 * n + 1) for n in range(8))
+    u = jnp.sqrt(jnp.where(small, 1.0, jnp.abs(v)))
+    hyperbolic_u = jnp.where(small | (v < 0), 0.5, jnp.minimum(u, 1.0 - 1e-16))
+    hyperbolic = 0.5 * jnp.log((1 + hyperbolic_u) / (1 - hyperbolic_u)) / hyperbolic_u
+    trigonometric = jnp.arctan(u) / u
+    return 2 * tau * jnp.where(small, series, jnp.where(v > 0, hyperbolic, trigonometric))
 
 
-def _first_positive_root(qa, qb, qc):
-    """Smallest positive root of qa t^2 + qb t + qc = 0 given qb qc < 0 (inf if none)."""
-    disc = qb * qb - 4 * qa * qc
-    real = disc >= 0
-    sq = jnp.sqrt(jnp.where(real, disc, 0.0))
-    q = -0.5 * (qb + jnp.where(qb >= 0, 1.0, -1.0) * sq)
-    q_safe = jnp.where(q == 0, 1.0, q)
-    r2 = jnp.where(q == 0, jnp.inf, qc / q_safe)
-    qa_safe = jnp.where(qa == 0, 1.0, qa)
-    r1 = jnp.where(qa == 0, jnp.inf, q / qa_safe)
-    r1 = jnp.where(r1 > 0, r1, jnp.inf)
-    r2 = jnp.where(r2 > 0, r2, jnp.inf)
-    return jnp.where(real, jnp.minimum(r1, r2), jnp.inf)
+def _crossing_tau(z_i, a_i, c, k2):
+    """tau [-] at which a component opposing the motion (a_i z_i < 0) reaches zero: the
+    smallest positive root of its numerator (2 a_i c - z_i k2) tau^2 + 2 a_i tau + z_i (inf
+    where none). With qb = 2 a_i and qc = z_i of opposite signs, it is qc / q with
+    q = -(qb + sign(qb) sqrt(qb^2 - 4 qa qc)) / 2 (the root of smaller magnitude, no
+    cancellation)."""
+    qa = 2 * a_i * c - z_i * k2
+    qb = 2 * a_i
+    disc = qb * qb - 4 * qa * z_i
+    opposing = (a_i * z_i < 0) & (disc >= 0)
+    q = -0.5 * (qb + jnp.where(qb >= 0, 1.0, -1.0) * jnp.sqrt(jnp.where(opposing, disc, 1.0)))
+    return jnp.where(opposing, z_i / jnp.where(opposing, q, 1.0), jnp.inf)
 
 
-def _crossing_length(z_i, a_i, c, k2):
-    """Path length [-] at which an opposing component z_i (e_i z_i < 0) reaches zero:
-    the first positive root of its numerator (2 a_i c - z_i k2) tau^2 + 2 a_i tau + z_i."""
-    tau = _first_positive_root(2 * a_i * c - z_i * k2, 2 * a_i, z_i)
-    finite = jnp.isfinite(tau)
-    x = _length_of_tau(jnp.where(finite, tau, 0.0), k2)
-    return jnp.where(finite & (a_i * z_i < 0), x, jnp.inf)
-
-
-def _segment(h, zx, zy, ex, ey, remaining):
-    """One stretch of the increment with fixed signs of e_i Z_i (all arrays elementwise)."""
+def _segment(h, zx, zy, ex, ey, remaining, last):
+    """One stretch of the increment with fixed signs of e_i Z_i (all arrays elementwise):
+    up to the first crossing of zero by an opposing component, or to the end."""
     sx = jnp.where(ex * zx >= 0, 1.0, -1.0)
     sy = jnp.where(ey * zy >= 0, 1.0, -1.0)
     wx = (h.gamma * sx + h.beta) * ex
@@ -89,18 +106,25 @@ def _segment(h, zx, zy, ex, ey, remaining):
     c = wx * zx + wy * zy
     ax, ay = h.A * ex, h.A * ey
     k2 = wx * ax + wy * ay
-    x_cross_x = _crossing_length(zx, ax, c, k2)
-    x_cross_y = _crossing_length(zy, ay, c, k2)
-    x_seg = jnp.minimum(remaining, jnp.minimum(x_cross_x, x_cross_y))
-    tau = _tau_of_length(x_seg, k2)
+    tau = _tau_of_length(remaining, k2)
+    if not last:
+        tau_x = _crossing_tau(zx, ax, c, k2)
+        tau_y = _crossing_tau(zy, ay, c, k2)
+        tau_cross = jnp.minimum(tau_x, tau_y)
+        crossing = tau_cross < tau
+        tau = jnp.where(crossing, tau_cross, tau)
     k2t2 = k2 * tau * tau
     denominator = 1 + k2t2 + 2 * c * tau
     grow = 2 * tau * (1 + c * tau)
     zx_new = (zx * (1 - k2t2) + ax * grow) / denominator
     zy_new = (zy * (1 - k2t2) + ay * grow) / denominator
-    zx_new = jnp.where(x_cross_x <= x_seg, 0.0, zx_new)
-    zy_new = jnp.where(x_cross_y <= x_seg, 0.0, zy_new)
-    return zx_new, zy_new, remaining - x_seg
+    if last:
+        return zx_new, zy_new, jnp.zeros_like(remaining)
+    zx_new = jnp.where(crossing & (tau_x <= tau_cross), 0.0, zx_new)
+    zy_new = jnp.where(crossing & (tau_y <= tau_cross), 0.0, zy_new)
+    used = _length_of_tau(jnp.where(crossing, tau_cross, 0.0), k2)
+    remaining = jnp.where(crossing, jnp.maximum(remaining - used, 0.0), 0.0)
+    return zx_new, zy_new, remaining
 
 
 def park_exact_update(h, z0, displacement_increment):
@@ -111,7 +135,9 @@ def park_exact_update(h, z0, displacement_increment):
     leading axes; `z0` (..., 2) [-] at the start; `displacement_increment` (..., 2) [m], the
     straight increment (dUx, dUy).
 
-    **Returns:** (Zx, Zy) (..., 2) [-] at the end of the increment.
+    **Returns:** (Zx, Zy) (..., 2) [-] at the end of the increment. Differentiable (forward
+    and reverse) in all arguments; at a zero increment the derivative with respect to it is
+    taken as zero (the update is only directionally differentiable there).
     """
     du = jnp.asarray(displacement_increment)
     z0 = jnp.asarray(z0)
@@ -123,7 +149,6 @@ def park_exact_update(h, z0, displacement_increment):
     ex = jnp.where(moving, dx / norm, 1.0)
     ey = jnp.where(moving, dy / norm, 0.0)
     remaining = jnp.where(moving, norm, 0.0) / h.yield_disp
-    zx, zy, remaining = jax.lax.fori_loop(
-        0, _SEGMENTS, lambda _, c: _segment(h, *c[:2], ex, ey, c[2]), (zx, zy, remaining)
-    )
+    for k in range(3):
+        zx, zy, remaining = _segment(h, zx, zy, ex, ey, remaining, last=k == 2)
     return jnp.stack([zx, zy], axis=-1)

@@ -15,7 +15,10 @@ Reference: Constantinou, Mokha & Reinhorn (1990), J. Struct. Eng. 116(2), Eqs. 1
 `advance` (used by `RiccatiNewmark`) takes Newmark's average-acceleration rule for q and the
 bearing forces at the end of the step, with each group's Z updated exactly along its straight
 sliding increment (`park_exact_update`); the 2G bearing displacements solve
-d - d_lin + G_b F(d) = 0 (G_b = B K_eff^-1 B^T) by Newton's method with backtracking.
+d - d_lin + G_b F(d) = 0 (G_b = B K_eff^-1 B^T): a fixed number of Newton-Broyden iterations
+from the tangent of Park's law (the same work for every member of a batch, no loop), then
+Newton's method with backtracking for the members still above tolerance (a loop that runs
+only while one of them is). A step that does not converge is reported per batch member.
 """
 
 import diffrax
@@ -35,7 +38,11 @@ from ..solver import (
 from ._bearing_test import running_peak_rate
 
 NEWTON_ITERATIONS = 100
-"""Most Newton iterations per step (typically 2-5; the loop stops at tolerance)."""
+"""Most iterations of the fallback Newton loop per step (it runs only for members that the
+fixed iterations left above tolerance)."""
+
+FIXED_ITERATIONS = 3
+"""Newton-Broyden iterations per step, unrolled (the same work for every batch member)."""
 
 
 class BidirectionalStructure(AbstractSteppedSystem):
@@ -116,20 +123,22 @@ class BidirectionalStructure(AbstractSteppedSystem):
         n_groups = self.bearing_load.shape[0]
         b_flat = self.bearing_map.reshape(2 * n_groups, -1)
         compliance = self.newmark_inverse @ b_flat.T  # (N, 2G)
+        # Breakaway (Eq. 17) is decided by the largest |Z| reached up to the start of the step,
+        # in the equilibrium solved here and in the force reported for the stored state alike
+        # (as in the uniaxial `StructureOnSliders`), so the switch acts once, at one step.
+        z_peak = jnp.maximum(y0["z_peak"], jnp.sqrt(jnp.sum(y0["z"] ** 2, axis=-1)))
         p = {
             "d_linear": b_flat @ q_linear,
             "flexibility": b_flat @ compliance,
             "d0": self.bearing_motion(q0).reshape(-1),
             "vb0": self.bearing_motion(v0).reshape(-1),
             "z0": y0["z"],
-            "z_peak0": y0["z_peak"],
+            "z_peak0": z_peak,
         }
-        d1, converged = self._solve_bearings(p)
-        forces, z1 = self._forces_at(d1, p)
+        forces, z1, converged = self._solve_bearings(p)
         q1 = q_linear - compliance @ forces
         v1 = 2 / dt * (q1 - q0) - v0
-        z_peak1 = jnp.maximum(y0["z_peak"], jnp.sqrt(jnp.sum(z1**2, axis=-1)))
-        return {"q": q1, "v": v1, "z": z1, "z_peak": z_peak1}, converged
+        return {"q": q1, "v": v1, "z": z1, "z_peak": z_peak}, converged
 
     def _forces_at(self, d, p):
         """Flattened forces (2G,) and Z (G, 2) for flattened bearing displacements d at t1."""
@@ -140,17 +149,65 @@ class BidirectionalStructure(AbstractSteppedSystem):
         return self.friction_forces(velocity, z, p["z_peak0"]).reshape(-1), z
 
     def _residual(self, d, p):
-        return d - p["d_linear"] + p["flexibility"] @ self._forces_at(d, p)[0]
+        return self._residual_forces(d, p)[0]
+
+    def _residual_forces(self, d, p):
+        """(residual (2G,), forces (2G,), Z (G, 2)) at flattened bearing displacements d."""
+        forces, z = self._forces_at(d, p)
+        return d - p["d_linear"] + p["flexibility"] @ forces, forces, z
+
+    def _tangent_jacobian(self, d, p):
+        """Residual r (2G,) at d and an approximate Jacobian dr/dd (2G, 2G) built from the
+        tangent of Park's law at the end of the increment, dZ/dU = (A I - Z w^T) / Y with
+        w_i = (gamma s_i + beta) Z_i (exact along the increment, too stiff across a long
+        one: the secant updates of `_solve_bearings` correct it), and dmu/dv of Eq. 1."""
+        n_groups = self.bearing_load.shape[0]
+        dt = self.time_step
+        h = self.bearing.hysteresis
+        increment = (d - p["d0"]).reshape(n_groups, 2)
+        z = park_exact_update(h, p["z0"], increment)
+        velocity = (2 / dt * (d - p["d0"]) - p["vb0"]).reshape(n_groups, 2)
+
+        def coefficient(vx, vy):
+            return self.bearing.coefficient(vx, vy, p["z_peak0"])
+
+        vx, vy = velocity[:, 0], velocity[:, 1]
+        mu, dmu_x = jax.jvp(coefficient, (vx, vy), (jnp.ones_like(vx), jnp.zeros_like(vy)))
+        _, dmu_y = jax.jvp(coefficient, (vx, vy), (jnp.zeros_like(vx), jnp.ones_like(vy)))
+        load = self.bearing_load
+        forces = ((mu * load)[:, None] * z).reshape(-1)
+        r = d - p["d_linear"] + p["flexibility"] @ forces
+        # dZ/dU at the end state along the increment: (A I - Z w^T) / Y, w_i = (gamma s_i + beta) Z_i
+        sign = jnp.where(increment * z >= 0, 1.0, -1.0)
+        w = (h.gamma[:, None] * sign + h.beta[:, None]) * z
+        eye = jnp.eye(2)
+        dz = (h.A[:, None, None] * eye - z[:, :, None] * w[:, None, :]) / h.yield_disp[:, None, None]
+        dmu = jnp.stack([dmu_x, dmu_y], axis=-1) * (2 / dt)  # (G, 2)
+        block = load[:, None, None] * (mu[:, None, None] * dz + z[:, :, None] * dmu[:, None, :])
+        full = jax.scipy.linalg.block_diag(*block) if n_groups > 1 else block[0]
+        return r, jnp.eye(2 * n_groups) + p["flexibility"] @ full
 
     def _solve_bearings(self, p):
-        """Newton's method with an Armijo backtracking line search on |r| for the bearing
-        displacements at t1; converged when max|r| <= tolerance."""
-        x0 = p["d0"] + self.time_step * p["vb0"]
+        """Bearing forces (2G,), Z (G, 2) and convergence at t1: `FIXED_ITERATIONS`
+        Newton-Broyden iterations (unrolled, no loop under `vmap`) from the tangent of Park's
+        law at the end state, then, only for members not yet within tolerance, Newton's method (Jacobian by forward differences) with
+        an Armijo backtracking line search on |r|. Converged when max|r| <= tolerance."""
+        x = p["d0"] + self.time_step * p["vb0"]
         yield_disp = jnp.min(jnp.asarray(self.bearing.hysteresis.yield_disp))
-        eps = jnp.finfo(jnp.result_type(x0)).eps
+        eps = jnp.finfo(jnp.result_type(x)).eps
         tolerance = jnp.maximum(
-            1e-6 * yield_disp, 1e3 * eps * jnp.max(jnp.abs(x0) + jnp.abs(p["d_linear"]))
+            1e-6 * yield_disp, 1e3 * eps * jnp.max(jnp.abs(x) + jnp.abs(p["d_linear"]))
         )
+        r, jacobian = self._tangent_jacobian(x, p)
+        forces, z = self._forces_at(x, p)  # replaced by the first iteration (no cost kept)
+        for _ in range(FIXED_ITERATIONS):  # Newton-Broyden: secant updates of the Jacobian
+            step = -_solve_small(jacobian, r)
+            step = jnp.where(jnp.all(jnp.isfinite(step)), step, -r)
+            x = x + step
+            r_new, forces, z = self._residual_forces(x, p)
+            mismatch = r_new - r - jacobian @ step
+            jacobian = jacobian + jnp.outer(mismatch, step) / jnp.maximum(step @ step, jnp.finfo(x.dtype).tiny)
+            r = r_new
 
         def residual(x):
             return self._residual(x, p)
@@ -159,30 +216,41 @@ class BidirectionalStructure(AbstractSteppedSystem):
             return jnp.max(jnp.abs(r))
 
         def cond(carry):
-            x, r, k = carry
+            x, (r, _, _), k = carry
             return (size(r) > tolerance) & (k < self.newton_iterations)
 
         def body(carry):
-            x, r, k = carry
-            step = -_solve_small(jax.jacfwd(residual)(x), r)
+            x, (r, _, _), k = carry
+            step = -_solve_small(_difference_jacobian(residual, x, r, p["d0"], yield_disp), r)
             step = jnp.where(jnp.all(jnp.isfinite(step)), step, -r)
             norm = jnp.sqrt(jnp.sum(r * r))
 
             def shrink(c):
                 alpha = 0.5 * c[0]
                 trial = x + alpha * step
-                return alpha, trial, residual(trial)
+                return alpha, trial, self._residual_forces(trial, p)
 
             def worse(c):  # Armijo on |r|_2; below alpha = 2^-30 the step is taken as it is
-                alpha, _, r_trial = c
+                alpha, _, (r_trial, _, _) = c
                 return (jnp.sqrt(jnp.sum(r_trial * r_trial)) > (1 - 1e-4 * alpha) * norm) & (alpha > 2.0**-30)
 
             trial = x + step
-            _, x_new, r_new = jax.lax.while_loop(worse, shrink, (1.0, trial, residual(trial)))
-            return x_new, r_new, k + 1
+            _, x_new, out = jax.lax.while_loop(worse, shrink, (1.0, trial, self._residual_forces(trial, p)))
+            return x_new, out, k + 1
 
-        x, r, _ = jax.lax.while_loop(cond, body, (x0, residual(x0), 0))
-        return x, size(r) <= tolerance
+        _, (r, forces, z), _ = jax.lax.while_loop(cond, body, (x, (r, forces, z), 0))
+        return forces, z, size(r) <= tolerance
+
+
+def _difference_jacobian(residual, x, r, x0, scale):
+    """dr/dx (n, n) by forward differences, steps 1e-7 max(scale, |x - x0|) [m] (relative
+    error about 1e-7: Newton's convergence is then quadratic down to far below the tolerance).
+    Forward-mode differentiation through the closed-form Park update would be exact, but XLA's
+    CPU fusion emitter recomputes its shared subexpressions, making it ~20x dearer than the
+    two extra residuals."""
+    h = 1e-7 * jnp.maximum(scale, jnp.abs(x - x0))
+    columns = [(residual(x.at[j].add(h[j])) - r) / h[j] for j in range(x.shape[0])]
+    return jnp.stack(columns, axis=1)
 
 
 def _solve_small(matrix, rhs):
