@@ -25,6 +25,7 @@ import jax.numpy as jnp
 
 from ..bearing import FrictionParameters, paper_bearing
 from ..systems import (
+    BIDIRECTIONAL_TIME_STEP,
     BidirectionalStructure,
     IsolatedStructure,
     bidirectional_building,
@@ -96,13 +97,16 @@ class BidirectionalIsolatedStructure(eqx.Module):
 
 def bidirectional_isolated_structure(kind: str = "rigid", **options) -> BidirectionalIsolatedStructure:
     """A `BidirectionalIsolatedStructure` with the inputs of `isolated_structure(kind,
-    **options)` (checked there, `ValueError` naming the parameter); only the hysteretic
+    **options)` (checked there, `ValueError` naming the parameter), stepped at
+    `BIDIRECTIONAL_TIME_STEP` unless `time_step` is given; only the hysteretic
     friction model has a two-component form."""
     if options.get("friction_model", "hysteretic") != "hysteretic":
         raise ValueError(
             f"friction_model: two ground components need the hysteretic model (Park's Z), got "
             f"{options['friction_model']!r}."
         )
+    if options.get("time_step") is None:  # the uniaxial default steps are not the bidirectional one
+        options = {**options, "time_step": BIDIRECTIONAL_TIME_STEP}
     newton_iterations = options.get("newton_iterations")
     return BidirectionalIsolatedStructure(isolated_structure(kind, **options), newton_iterations)
 

@@ -10,6 +10,7 @@ from ._bidirectional import BidirectionalStructure as BidirectionalStructure
 from ._bidirectional import bidirectional_initial_state as bidirectional_initial_state
 from ._bidirectional import bidirectional_structure as bidirectional_structure
 from ._bidirectional import simulate_bidirectional as simulate_bidirectional
+from ._bidirectional_models import BIDIRECTIONAL_TIME_STEP as BIDIRECTIONAL_TIME_STEP
 from ._bidirectional_models import bidirectional_building as bidirectional_building
 from ._bidirectional_models import bidirectional_rigid_mass as bidirectional_rigid_mass
 from ._isolated import RECOMMENDED_TIME_STEPS as RECOMMENDED_TIME_STEPS
