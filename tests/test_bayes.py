@@ -92,14 +92,22 @@ def test_parameter_without_information_stays_at_the_prior():
 
 @pytest.mark.slow
 def test_coverage_over_twenty_seeds():
-    hits, total = 0, 0
+    # 20 noisy records of one interface (2 % noise): every run must converge (no divergence,
+    # R-hat < 1.01, enough effective draws) and the 90 % intervals of the five constants must
+    # contain the truth 80-100 % of the time.
+    hits, total, rhats = 0, 0, []
     for seed in range(20):
-        result = fit_bayes(_record(100 + seed), num_warmup=300, num_samples=300, num_chains=2,
+        result = fit_bayes(_record(100 + seed), num_warmup=300, num_samples=300, num_chains=4,
                            seed=seed)
+        assert result.converged, (seed, result.summary())
+        assert result.divergences == 0, seed
+        rhats.append(max(row["rhat"] for row in result.table.values()))
         for name in result.free:
             row = result.table[name]
             hits += int(row["q05"] < TRUTH[name] < row["q95"])
             total += 1
+    print(f"coverage {hits}/{total} = {hits / total:.0%}; worst R-hat {max(rhats):.4f}")
+    assert max(rhats) < 1.01
     assert 0.8 <= hits / total <= 1.0, (hits, total)
 
 
@@ -122,3 +130,25 @@ def test_draws_file_and_pair_plot(tmp_path):
         assert ds["rate_a"].dims == ("chain", "draw")
         np.testing.assert_allclose(ds["rate_a"].values, draws["rate_a"])
     assert (tmp_path / "pairs.png").stat().st_size > 1000
+
+
+@pytest.mark.slow
+def test_unconverged_run_exits_non_zero(tmp_path, capsys):
+    # A real run that cannot converge: 10 warm-up steps (no step-size or mass adaptation to
+    # speak of) and 10 draws per chain. The CLI must say so and exit 1.
+    import argparse
+    import json
+
+    from teflon_jax.cli._fit import add_fit_parser
+
+    tj.write_test_record(tmp_path / "test.csv", _record(4, fs=100.0))
+    parser = argparse.ArgumentParser()
+    add_fit_parser(parser.add_subparsers())
+    args = parser.parse_args(["fit", str(tmp_path / "test.csv"), "--json", str(tmp_path / "f.json"),
+                              "--starts", "2", "--bayes", str(tmp_path / "bayes"), "--draws",
+                              "10", "--chains", "2"])
+    assert args.command_function(args) == 1
+    posterior = json.loads((tmp_path / "bayes" / "posterior.json").read_text())
+    assert posterior["converged"] is False
+    assert posterior["messages"][0].startswith("NOT converged")
+    assert "NOT converged" in capsys.readouterr().err
