@@ -365,7 +365,7 @@ def test_narrow_speed_range_fits_the_reduced_law():
     assert fit.parameters["delta_f"] == 0.0
     assert fit.parameters["f_max"] == pytest.approx(mu_v0, rel=0.01)
     assert set(fit.reduced) == {"delta_f", "rate_a"}
-    assert "sliding speeds 0.04" in fit.reduction and "correlate" in fit.reduction
+    assert "sliding speeds 0.04" in fit.reduction and "correlat" in fit.reduction
     assert "condition number" in fit.reduction
     assert fit.full_model["free"] == ["f_max", "delta_f", "rate_a"]
     report = fit.to_json_dict()

@@ -96,8 +96,8 @@ def fit_bearing_test(
     - `n_starts`: number of starts (the feature start and perturbations), solved in one
       vmapped call; the lowest converged cost wins.
     - `reduce`: with the default free set (`free=None`), when the records do not separate
-      f_max, delta_f and rate_a (a relative standard error above 50 % or a correlation
-      beyond 0.999 among them), fit the reduced friction law the records determine: rate_a
+      f_max, delta_f and rate_a (a relative standard error above 50 %, or no convergence
+      with a correlation beyond 0.999 among them), fit the reduced law the records determine: rate_a
       held, else Coulomb friction (delta_f = 0); the result's `reduced`, `reduction` and
       `full_model` say what and why (`identification.bearing_fit._reduce`). An explicit
       `free` set is always fitted as given.

@@ -12,8 +12,8 @@ The least-squares problem is then singular along a curve, the three estimates co
 at +-1, and the optimiser creeps along the valley until its step budget runs out.
 
 `fit_bearing_test` (default free set) therefore checks the full fit: when a friction-law
-constant has a relative standard error above `RELATIVE_ERROR_LIMIT` (50 %), or two of them
-correlate beyond `CORRELATION_LIMIT`, it refits, in order,
+constant has a relative standard error above `RELATIVE_ERROR_LIMIT` (50 %), or the fit did
+not converge while two of them correlate beyond `CORRELATION_LIMIT`, it refits, in order,
 
 1. `rate_a` held at the full fit's value, `f_max` and `delta_f` free (two numbers: the
    level and the slope of mu over the observed speeds);
@@ -21,7 +21,8 @@ correlate beyond `CORRELATION_LIMIT`, it refits, in order,
    has no effect,
 
 and keeps the first whose constants are determined (converged, every friction constant
-within the error limit, no correlation beyond the limit). The result says which constants
+within the error limit; a strong correlation with small standard errors is kept and noted,
+as the level and slope of a straight line correlate when the line is far from v = 0). The result says which constants
 were reduced (`BearingFit.reduced`) and why (`BearingFit.reduction`: the speed range,
 `exp(-rate_a v)` over it, the largest correlation, the condition number of the scaled
 Jacobian, and the nrmse of the full and the reduced model).
@@ -43,9 +44,11 @@ CORRELATION_LIMIT = 0.999
 def unresolved(fit: BearingFit) -> list[str]:
     """Why the fitted friction-law constants are not separately determined (empty if they are).
 
-    Looks at the free constants among `FRICTION_LAW`: a non-finite standard error, a
-    standard error above `RELATIVE_ERROR_LIMIT` of the estimate, or a correlation beyond
-    `CORRELATION_LIMIT` between two of them.
+    Looks at the free constants among `FRICTION_LAW`: a non-finite standard error or one
+    above `RELATIVE_ERROR_LIMIT` of the estimate; and, for a fit that did not converge, a
+    correlation beyond `CORRELATION_LIMIT` between two of them (the optimiser crept along a
+    valley). A converged fit whose constants correlate strongly but have small standard
+    errors is determined: the correlation alone is reported in its warnings, not reduced.
     """
     names = [n for n in FRICTION_LAW if n in fit.free]
     reasons = []
@@ -63,7 +66,7 @@ def unresolved(fit: BearingFit) -> list[str]:
             if math.isfinite(c) and abs(c) > CORRELATION_LIMIT and (
                     worst is None or abs(c) > abs(worst[2])):
                 worst = (a, b, c)
-    if worst is not None:
+    if worst is not None and (reasons or not fit.converged):
         reasons.append(f"{worst[0]} and {worst[1]} correlate at {worst[2]:+.4f}")
     return reasons
 
