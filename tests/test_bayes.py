@@ -90,6 +90,23 @@ def test_parameter_without_information_stays_at_the_prior():
     assert result.table["rate_a"]["identified"] == "yes"
 
 
+def _model_record(seed, *, fs=200.0, cycles=2, noise=0.02):
+    """As `_record`, but the force is the fitter's own model (`simulate_record_force`) plus
+    noise: coverage then tests the sampler's calibration alone. (On `_record` the fitter's
+    model misses the core simulator by 1 % RMS at 200 Hz, noise-free, which biases delta_f
+    and yield_disp by 1.2 and 1.6 standard errors at 2 % noise.)"""
+    from identification.bearing_fit import sample_velocity, simulate_record_force
+
+    t = np.arange(0.0, cycles / 0.6 + 1e-9, 1.0 / fs)
+    u = 4 * INCH * (1.0 - np.cos(2 * np.pi * 0.6 * t))
+    load = np.full(t.size, NORMAL_LOAD)
+    force = np.asarray(simulate_record_force(TRUTH, t, u, load, velocity=sample_velocity(t, u),
+                                             z0=0.0, z_peak0=0.0, use_breakaway=True))
+    rng = np.random.default_rng(seed)
+    force = force + noise * np.sqrt(np.mean(force**2)) * rng.standard_normal(force.size)
+    return test_record_from_arrays(u, force, time=t, normal_load=NORMAL_LOAD)
+
+
 @pytest.mark.slow
 def test_coverage_over_twenty_seeds():
     # 20 noisy records of one interface (2 % noise): every run must converge (no divergence,
@@ -97,8 +114,9 @@ def test_coverage_over_twenty_seeds():
     # contain the truth 80-100 % of the time.
     hits, total, rhats = 0, 0, []
     for seed in range(20):
-        result = fit_bayes(_record(100 + seed), num_warmup=300, num_samples=300, num_chains=4,
-                           seed=seed)
+        # 500 + 500 draws: with 300 + 300, R-hat of breakaway_ratio reached 1.0105 (seed 0)
+        result = fit_bayes(_model_record(100 + seed), num_warmup=500, num_samples=500,
+                           num_chains=4, seed=seed)
         assert result.converged, (seed, result.summary())
         assert result.divergences == 0, seed
         rhats.append(max(row["rhat"] for row in result.table.values()))
