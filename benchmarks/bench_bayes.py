@@ -6,12 +6,19 @@ mode), 2 % force noise, interface UF 1000 psi P of Table 1; free parameters f_ma
 rate_a, yield_disp, breakaway_ratio and the noise level. NUTS: 1,000 warm-up and 1,000 draws
 in each of 4 chains (vectorised on one device; 200 + 200 in quick mode).
 
-    python benchmarks/bench_bayes.py [--quick]
+    python benchmarks/bench_bayes.py [--quick] [--draws N] [--fs HZ] [--cycles C]
+                                     [--note TEXT] [--out results/NAME.json]
+
+`--draws`, `--fs`, `--cycles` override the size (e.g. a smaller run on a shared machine;
+the JSON records the size that ran). The JSON holds the machine (CPU count, load average
+before and after, platform) and `--note` (say there whether the machine was shared).
 
 Times include compilation (each fit compiles once per record shape); the least-squares time
 is that of `fit_bearing_test` with its default 8 starts, measured on its own.
 """
 
+import argparse
+import os
 import platform
 import time
 
@@ -19,12 +26,11 @@ import jax
 import numpy as np
 
 
-def _record(quick: bool):
+def _record(fs: float, cycles: float):
     import teflon_jax as tj
     from teflon_jax.formats import test_record_from_arrays
     from teflon_jax.units import INCH, KIP
 
-    fs, cycles = (200.0, 2) if quick else (500.0, 3)
     t = np.arange(0.0, cycles / 0.6 + 1e-9, 1.0 / fs)
     u = 4 * INCH * (1.0 - np.cos(2 * np.pi * 0.6 * t))
     load = 78.5 * KIP
@@ -36,27 +42,32 @@ def _record(quick: bool):
     return test_record_from_arrays(u, f, time=t, normal_load=load)
 
 
-def run_bayes_benchmark(quick: bool) -> dict:
+def run_bayes_benchmark(quick: bool, draws=None, fs=None, cycles=None) -> dict:
     """Time the least-squares and the Bayesian fit of one record; returns a dict."""
     jax.config.update("jax_enable_x64", True)
     from identification.bayes import fit_bayes
     from identification.bearing_fit import fit_bearing_test
 
-    record = _record(quick)
-    start = time.perf_counter()
+    fs = fs or (200.0 if quick else 500.0)
+    cycles = cycles or (2 if quick else 3)
+    draws = draws or (200 if quick else 1000)
+    load_before = os.getloadavg()
+    record = _record(fs, cycles)
+    start, cpu = time.perf_counter(), time.process_time()
     fit = fit_bearing_test(record)
-    ls_s = time.perf_counter() - start
-    draws = 200 if quick else 1000
-    start = time.perf_counter()
+    ls_s, ls_cpu = time.perf_counter() - start, time.process_time() - cpu
+    start, cpu = time.perf_counter(), time.process_time()
     result = fit_bayes(record, num_warmup=draws, num_samples=draws, num_chains=4,
                        least_squares=fit)
-    bayes_s = time.perf_counter() - start
+    bayes_s, bayes_cpu = time.perf_counter() - start, time.process_time() - cpu
     return {
         "name": "bayes",
         "samples_per_record": int(record.ux.size),
         "least_squares_s": ls_s,
         "bayes_total_s": bayes_s,
         "bayes_sampling_s": result.elapsed_s,
+        "least_squares_cpu_s": ls_cpu,
+        "bayes_total_cpu_s": bayes_cpu,
         "chains": result.num_chains,
         "draws_per_chain": result.num_samples,
         "warmup_per_chain": draws,
@@ -69,11 +80,31 @@ def run_bayes_benchmark(quick: bool) -> dict:
         "backend": jax.default_backend(),
         "cpu": platform.processor() or platform.machine(),
         "python": platform.python_version(),
+        "sampling_hz": fs,
+        "cycles": cycles,
+        "cpu_count": os.cpu_count(),
+        "load_average_1_5_15_min_before": list(load_before),
+        "load_average_1_5_15_min_after": list(os.getloadavg()),
+        "platform": platform.platform(),
+        "date_utc": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
     }
 
 
 if __name__ == "__main__":
     import json
-    import sys
+    import pathlib
 
-    print(json.dumps(run_bayes_benchmark("--quick" in sys.argv), indent=2))
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true")
+    parser.add_argument("--draws", type=int, default=None, help="warm-up = draws per chain")
+    parser.add_argument("--fs", type=float, default=None, help="sampling frequency [Hz]")
+    parser.add_argument("--cycles", type=float, default=None)
+    parser.add_argument("--note", default="", help="e.g. whether the machine was shared")
+    parser.add_argument("--out", default=None, help="also write the JSON here")
+    options = parser.parse_args()
+    out = run_bayes_benchmark(options.quick, options.draws, options.fs, options.cycles)
+    out["note"] = options.note
+    text = json.dumps(out, indent=2)
+    print(text)
+    if options.out:
+        pathlib.Path(options.out).write_text(text + "\n")

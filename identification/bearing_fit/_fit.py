@@ -50,6 +50,7 @@ from ._plan import (
     _tree_index,
 )
 from ._prepare import prepare_record
+from ._reduce import reduce_friction_law, unresolved
 
 
 def as_records(records) -> list:
@@ -77,6 +78,7 @@ def fit_bearing_test(
     max_steps: int = 200,
     rtol: float = 1e-8,
     atol: float = 1e-8,
+    reduce: bool = True,
 ) -> BearingFit:
     """Fit one parameter set to one record, or jointly to several records of one interface.
 
@@ -93,6 +95,12 @@ def fit_bearing_test(
     - `normal_load` [N]: for records without one (1.0 fits the force itself).
     - `n_starts`: number of starts (the feature start and perturbations), solved in one
       vmapped call; the lowest converged cost wins.
+    - `reduce`: with the default free set (`free=None`), when the records do not separate
+      f_max, delta_f and rate_a (a relative standard error above 50 %, or no convergence
+      with a correlation beyond 0.999 among them), fit the reduced law the records determine: rate_a
+      held, else Coulomb friction (delta_f = 0); the result's `reduced`, `reduction` and
+      `full_model` say what and why (`identification.bearing_fit._reduce`). An explicit
+      `free` set is always fitted as given.
 
     **Returns:** a `BearingFit`.
     """
@@ -101,6 +109,23 @@ def fit_bearing_test(
     yield_ref = (fixed or {}).get("yield_disp")
     prepared = [prepare_record(r, index=i, normal_load=normal_load, yield_ref=yield_ref)
                 for i, r in enumerate(records)]
+    settings = dict(initial=initial, bounds=bounds, normal_load=normal_load, n_starts=n_starts,
+                    max_steps=max_steps, rtol=rtol, atol=atol)
+    fit = _fit_prepared(records, prepared, free, fixed, **settings)
+    if not (reduce and free is None and unresolved(fit)):
+        return fit
+
+    def refit(free_reduced, fixed_reduced, start):
+        # one start: the full fit's estimates, carried to the reduced law
+        return _fit_prepared(records, prepared, free_reduced, fixed_reduced,
+                             **{**settings, "initial": {**(initial or {}), **start}})
+
+    return reduce_friction_law(fit, prepared, dict(fixed or {}), refit)
+
+
+def _fit_prepared(records, prepared, free, fixed, *, initial, bounds, normal_load, n_starts,
+                  max_steps, rtol, atol) -> BearingFit:
+    """One least-squares fit of prepared records (see `fit_bearing_test`)."""
     free, values, start, warnings, use_breakaway = _plan(prepared, free, fixed, initial, bounds)
     if normal_load is not None and any(r.normal_load is None for r in records):
         warnings.append(

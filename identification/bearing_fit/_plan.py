@@ -20,6 +20,10 @@ from ._loop_features import _MIN_ELASTIC_SAMPLES, PreparedRecord
 from ._model import PARAMETER_NAMES, PARAMETER_UNITS, RATIO_PAIRS
 from ._record_force import PERPENDICULAR_NAMES
 
+ASYMMETRY_LIMIT = 0.05
+"""A record whose mean residual while moving in +x and in -x differ by more than this fraction
+of its RMS force gets an asymmetric-misfit warning (the fit is then not clean)."""
+
 RELATIVE_ERROR_LIMIT = 0.5
 """A free parameter whose standard error exceeds this fraction of its value is reported as
 poorly determined, and the fit is not clean."""
@@ -57,8 +61,17 @@ class BearingFit:
     - `clean`: True only for a converged fit in which every free parameter is identifiable,
       has a relative standard error at most `RELATIVE_ERROR_LIMIT` (50 %) and is off its
       bounds, and no record or plan warning applies; high correlations alone (with small
-      standard errors) are reported in `warnings` but leave the fit clean.
+      standard errors) are reported in `warnings` but leave the fit clean. When the friction
+      law was reduced (below), `clean` refers to the reduced model that was fitted: the
+      reduction is what the records determine, so it alone does not make a fit unclean.
     - `start`: the start that won the multi-start; `n_starts`.
+    - `condition_number`: of the Jacobian with each column scaled to unit norm (the
+      conditioning of the fit independent of the parameters' units; 1 for orthogonal
+      directions, above ~1e4 for directions the records hardly separate).
+    - `reduced`: name -> what was done with a constant of Eq. 1 that the records do not
+      determine (held, or fixed for Coulomb friction); empty when nothing was reduced.
+      `reduction`: why, with the numbers; `full_model`: the full fit that showed it
+      (parameters, standard errors, nrmse, status). See `identification.bearing_fit._reduce`.
     """
 
     parameters: dict
@@ -75,6 +88,10 @@ class BearingFit:
     start: dict
     n_starts: int
     clean: bool = False
+    condition_number: float = math.nan
+    reduced: dict = dataclasses.field(default_factory=dict)
+    reduction: str = ""
+    full_model: dict | None = None
 
     def to_json_dict(self) -> dict:
         """The JSON report of the CLI (SI units)."""
@@ -103,6 +120,18 @@ class BearingFit:
             "message": self.message,
             "n_steps": int(self.n_steps),
             "warnings": list(self.warnings),
+            "condition_number": clean(self.condition_number),
+            "reduced": dict(self.reduced),
+            "reduction": self.reduction or None,
+            "full_model": None if self.full_model is None else {
+                "parameters": {k: clean(v) for k, v in self.full_model["parameters"].items()},
+                "free": list(self.full_model["free"]),
+                "std_errors": {k: clean(v) for k, v in self.full_model["std_errors"].items()},
+                "nrmse": clean(self.full_model["nrmse"]),
+                "converged": self.full_model["converged"],
+                "message": self.full_model["message"],
+                "condition_number": clean(self.full_model["condition_number"]),
+            },
         }
 
 
@@ -365,6 +394,7 @@ def _finish(prepared, model_user, free, values, raw: LeastSquaresResult, args, w
     used = np.concatenate([np.asarray(rec["weight"]) > 0 for rec in args["records"]])
     cov, notes = covariance_from_jacobian(jac[used], raw.residual[used])
     std = np.sqrt(np.abs(np.diag(cov)))
+    condition = _scaled_condition(jac[used])
     warnings = list(warnings)
     for i, name in enumerate(free):
         if not np.isfinite(std[i]):
@@ -413,6 +443,14 @@ def _finish(prepared, model_user, free, values, raw: LeastSquaresResult, args, w
             uy=p.arrays["uy"] if p.kind == "time" and p.biaxial else None,
         ))
         warnings.extend(f"{p.name}: {w}" for w in p.warnings)
+        scale = math.sqrt(float(np.mean(p.measured**2)))
+        if pos.size and neg.size and abs(pos.mean() - neg.mean()) > ASYMMETRY_LIMIT * scale:
+            warnings.append(
+                f"{p.name}: asymmetric misfit; the mean residual is {pos.mean():.4g} N while "
+                f"moving in +x and {neg.mean():.4g} N in -x, a difference of "
+                f"{abs(pos.mean() - neg.mean()) / scale:.0%} of the RMS force: the measured "
+                "friction differs between the two directions, which the symmetric model "
+                "cannot follow.")
     clean = bool(raw.converged and not warnings)
     message = raw.message
     return BearingFit(
@@ -430,4 +468,14 @@ def _finish(prepared, model_user, free, values, raw: LeastSquaresResult, args, w
         start=start,
         n_starts=n_starts,
         clean=clean,
+        condition_number=condition,
     )
+
+
+def _scaled_condition(jac) -> float:
+    """Condition number of `jac` with its columns scaled to unit norm (inf when singular)."""
+    norms = np.linalg.norm(jac, axis=0)
+    if not np.all(np.isfinite(jac)) or np.any(norms == 0):
+        return math.inf
+    s = np.linalg.svd(jac / norms, compute_uv=False)
+    return float(s[0] / s[-1]) if s[-1] > 0 else math.inf

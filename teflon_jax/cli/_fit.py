@@ -21,7 +21,15 @@ def add_fit_parser(subparsers) -> argparse.ArgumentParser:
     """Add the `fit` sub-command to an `argparse` sub-parser collection."""
     parser = subparsers.add_parser("fit", help=FIT_HELP, description=FIT_HELP + (
         ". Several records are fitted jointly (one parameter set). Records are test-record "
-        "CSV files (FORMATS.md) or friction-damper JSON files."))
+        "CSV files (FORMATS.md: time histories or digitised loops) or friction-damper JSON "
+        "files. When the records do not separate f_max, delta_f and rate_a (e.g. friction "
+        "that does not change over the tested speeds), the reduced law they determine is "
+        "fitted (rate_a held, else Coulomb friction, delta_f = 0) and the console and the "
+        "JSON ('reduced', 'reduction', 'full_model') say which constants and why. Exit "
+        "status: 0 when the fit converged, whether 'clean' or not (clean: every fitted "
+        "constant determined within 50 %%, none at a bound, no warning; the warnings "
+        "printed say why a fit is not clean); 1 when the fit, or with --bayes the sampler, "
+        "did not converge; 2 for bad input."))
     parser.add_argument("records", nargs="+", metavar="RECORD",
                         help="test record files (uniaxial, or biaxial ux, uy, fx, fy: then the "
                              "constants perpendicular to the lay are fitted too)")
@@ -35,6 +43,9 @@ def add_fit_parser(subparsers) -> argparse.ArgumentParser:
     add_quantity(parser, "--normal-load", "force", None, "normal load for records without one; "
                  "'1N' fits the force itself (f_max, delta_f in newtons)", minimum=0.0)
     parser.add_argument("--starts", type=int, default=8, help="number of starts (default 8)")
+    parser.add_argument("--full-model", action="store_true",
+                        help="fit the default constants even when the records do not separate "
+                             "them (no reduced friction law)")
     parser.add_argument("--json", required=True, metavar="OUT.json", help="JSON report (SI)")
     parser.add_argument("--plot", default=None, metavar="OUT.png",
                         help="plot of measured and fitted loops with the residual")
@@ -100,7 +111,7 @@ def run_fit(args) -> int:
         fixed = _parse_fixed(args.fixed)
         records = [read_record(p) for p in args.records]
         fit = fit_bearing_test(records, free=free, fixed=fixed, normal_load=args.normal_load,
-                               n_starts=args.starts)
+                               n_starts=args.starts, reduce=not args.full_model)
     except ValueError as error:
         print(f"teflon-jax fit: error: {error}", file=sys.stderr)
         return 2
@@ -113,6 +124,9 @@ def run_fit(args) -> int:
         plot_fit(args.plot, fit, length=units.length, force=units.force, title=stamp)
     for warning in fit.warnings:
         print(f"teflon-jax fit: warning: {warning}", file=sys.stderr)
+    if fit.reduced:
+        print(f"teflon-jax fit: reduced model: {fit.reduction} Reduced: " + "; ".join(
+            f"{k} {v}" for k, v in fit.reduced.items()) + ".", file=sys.stderr)
     summary = ", ".join(_shown(k, fit.parameters[k], fit.std_errors[k], us) for k in fit.free)
     status = "clean" if fit.clean else (
         f"NOT CLEAN ({len(fit.warnings)} warning(s) above)" if fit.converged else "NOT CONVERGED")
