@@ -434,6 +434,20 @@ def test_diagnose_cli_reports_bad_record(tmp_path, capsys):
     assert "bad.csv" in capsys.readouterr().err
 
 
+def test_diagnose_cli_asks_for_a_normal_load_the_record_lacks(tmp_path, capsys):
+    from teflon_jax.cli import main
+
+    path = tmp_path / "damper.csv"  # no N column, no normal_load metadata (as a friction damper)
+    t = np.arange(0.0, 2.0, 0.01)
+    rows = "".join(f"{a:.3f},{np.sin(a):.6f},{np.sign(np.cos(a)):.3f}\n" for a in t)
+    path.write_text("time [s],ux [in],fx [kip]\n" + rows)
+    status = main(["diagnose", str(path), "--json", str(tmp_path / "o.json"),
+                   "--report", str(tmp_path / "r"), "--quiet"])
+    assert status == 2
+    err = capsys.readouterr().err
+    assert "damper.csv" in err and "--normal-load" in err
+
+
 def test_interfaces_without_known_rate_is_absorbed_by_rate_a():
     # Eq. 1 at v / n equals Eq. 1 with rate_a / n: with rate_a fitted, n cannot be named,
     # and the fit shows it as a rate n times smaller; the stack check turns that rate into the

@@ -11,6 +11,7 @@ import argparse
 import dataclasses
 import json
 import math
+import pathlib
 import re
 
 from ..units import INCH, KIP, PSI, parse_quantity
@@ -159,3 +160,18 @@ def _write_json(path, payload):
     if path is not None:
         path.parent.mkdir(parents=True, exist_ok=True)
         path.write_text(json.dumps(payload, indent=2))
+
+
+def read_bearing_record(path):
+    """A `TestRecord` from a test-record CSV or a friction-damper JSON file: the one reader that
+    `fit` and `diagnose` share (errors name the file)."""
+    path = pathlib.Path(path)
+    if not path.is_file():
+        raise ValueError(f"{path}: no such file.")
+    if path.suffix.lower() == ".json":
+        from ..formats import read_friction_damper_json
+
+        return read_friction_damper_json(path)
+    from ..formats import read_test_record
+
+    return read_test_record(path)

@@ -5,6 +5,7 @@ Fits the baseline model to a test record, names the missing effects one at a tim
 """
 
 import argparse
+import dataclasses
 import json
 import pathlib
 import sys
@@ -12,6 +13,7 @@ import sys
 from identification.discovery import BASELINES, EFFECT_NAMES, EFFECTS
 
 from ..units import INCH, parse_quantity
+from ._common import add_quantity, read_bearing_record
 
 _DIMENSIONS = {"-": "dimensionless", "m": "length", "s/m": "slowness"}
 
@@ -30,7 +32,10 @@ def add_diagnose_parser(subparsers) -> argparse.ArgumentParser:
             "parameters, and report each step."
         ),
     )
-    parser.add_argument("record", type=pathlib.Path, help="test-record CSV file")
+    parser.add_argument("record", type=pathlib.Path,
+                        help="test-record CSV file or friction-damper JSON (the inputs of `fit`)")
+    add_quantity(parser, "--normal-load", "force", None, "normal load for records without one "
+                 "(e.g. a friction damper); '1N' fits the force itself", minimum=0.0)
     parser.add_argument(
         "--json",
         type=pathlib.Path,
@@ -90,9 +95,9 @@ def add_diagnose_parser(subparsers) -> argparse.ArgumentParser:
 
 def run_diagnose(args) -> int:
     """Run `diagnose` for parsed arguments; returns the exit status (0 ok, 2 bad input)."""
-    from identification.discovery import discover_effects, write_report
+    import numpy as np
 
-    from ..formats import read_test_record
+    from identification.discovery import discover_effects, write_report
 
     def say(text):
         if not args.quiet:
@@ -103,7 +108,13 @@ def run_diagnose(args) -> int:
         candidates = [c.strip() for c in args.candidates.split(",") if c.strip()]
     try:
         known = _parse_known(args.known)
-        record = read_test_record(args.record)
+        record = read_bearing_record(args.record)
+        if record.normal_load is None:
+            if args.normal_load is None:
+                raise ValueError(f"{args.record}: the record has no normal load; give one with "
+                                 "--normal-load (e.g. --normal-load 1N fits the force itself).")
+            record = dataclasses.replace(
+                record, normal_load=np.full(np.shape(record.ux), float(args.normal_load)))
         result = discover_effects(
             record,
             baseline=args.baseline,

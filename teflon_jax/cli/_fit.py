@@ -8,7 +8,13 @@ import pathlib
 import sys
 
 from ..units import INCH, parse_quantity
-from ._common import add_quantity, add_units_flag, output_units, read_quantities
+from ._common import (
+    add_quantity,
+    add_units_flag,
+    output_units,
+    read_bearing_record,
+    read_quantities,
+)
 
 PARAMETER_DIMENSIONS = {"f_max": "dimensionless", "delta_f": "dimensionless", "rate_a": "slowness",
                         "yield_disp": "length", "breakaway_ratio": "dimensionless"}
@@ -85,20 +91,6 @@ def _parse_fixed(text):
     return fixed
 
 
-def read_record(path):
-    """A `TestRecord` from a CSV test record or a friction-damper JSON file."""
-    path = pathlib.Path(path)
-    if not path.is_file():
-        raise ValueError(f"{path}: no such file.")
-    if path.suffix.lower() == ".json":
-        from ..formats import read_friction_damper_json
-
-        return read_friction_damper_json(path)
-    from ..formats import read_test_record
-
-    return read_test_record(path)
-
-
 def run_fit(args) -> int:
     """Run `teflon-jax fit`; returns the exit status (0 ok, 1 not converged, 2 bad input)."""
     from identification.bearing_fit import fit_bearing_test, parse_free, write_fit_json
@@ -109,7 +101,7 @@ def run_fit(args) -> int:
         read_quantities(args, "fit")
         free = parse_free(args.free) if args.free is not None else None
         fixed = _parse_fixed(args.fixed)
-        records = [read_record(p) for p in args.records]
+        records = [read_bearing_record(p) for p in args.records]
         fit = fit_bearing_test(records, free=free, fixed=fixed, normal_load=args.normal_load,
                                n_starts=args.starts, reduce=not args.full_model)
     except ValueError as error:
