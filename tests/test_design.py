@@ -206,7 +206,8 @@ def test_default_design_problem_is_trustworthy():
     assert problem["pga"] == pytest.approx(0.3 * STANDARD_GRAVITY)
     motions = sample(model, jax.random.key(0), problem["n_motions"])
     low = {k: v[0] for k, v in problem["variables"].items()}
-    structure = isolated_structure("rigid", isolation_damping=problem["isolation_damping"], **low)
+    structure = isolated_structure("rigid", isolation_damping=problem["isolation_damping"],
+                                   **problem["structure_options"], **low)
     grid = {k: np.linspace(a, b, 5) for k, (a, b) in problem["variables"].items()}
     sweep = design_sweep(structure, motions, problem["record_time_step"], grid=grid,
                          disp_limit=problem["disp_limit"], penalty=problem["penalty"])
