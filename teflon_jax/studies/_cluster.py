@@ -208,3 +208,16 @@ def run_chunks(
                 progress(done, total)
     finally:
         client.cancel([f for f, _, _ in spans.values()])
+
+
+def open_finished(path):
+    """The loaded xarray Dataset of a streamed results file, refused (`ValueError` naming the file)
+    while its `complete` attribute says a chunk is missing (files written in one piece lack it)."""
+    import xarray
+
+    with xarray.open_dataset(path) as dataset:
+        dataset = dataset.load()
+    if dataset.attrs.get("complete", 1) != 1:
+        raise ValueError(f"{path}: the run that wrote this file did not finish (a chunk failed or the run "
+                         "was stopped); the items it lacks hold fill values. Run it again.")
+    return dataset

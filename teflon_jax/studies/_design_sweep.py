@@ -24,6 +24,7 @@ from ._cluster import (
     cluster_client,
     create_netcdf,
     lanes,
+    open_finished,
     run_chunks,
     run_dtype,
     worker_cached,
@@ -224,13 +225,7 @@ def sweep_dataset(sweep: Mapping, attrs: dict | None = None):
 
 def open_sweep(path) -> dict:
     """The `design_sweep` dict a sweep NetCDF file holds (`sweep_dataset`, `design_sweep_distributed`)."""
-    import xarray
-
-    with xarray.open_dataset(path) as dataset:
-        dataset = dataset.load()
-    if dataset.attrs.get("complete", 1) != 1:
-        raise ValueError(f"{path}: the run that wrote this file did not finish (a chunk failed or the run "
-                         "was stopped); the items it lacks hold fill values. Run it again.")
+    dataset = open_finished(path)
     names = list(dataset["objective"].dims)
     mesh = np.meshgrid(*[np.asarray(dataset[n].values, dtype=float) for n in names], indexing="ij")
     values = [np.asarray(dataset[k].values) for k in ("objective", "shear", "disp", "n_failed")]

@@ -30,6 +30,7 @@ from ._cluster import (
     cluster_client,
     create_netcdf,
     lanes,
+    open_finished,
     run_chunks,
     run_dtype,
     worker_cached,
@@ -228,13 +229,7 @@ def suite_dataset(result: SuiteResult, attrs: dict | None = None):
 
 def open_suite(path) -> SuiteResult:
     """The `SuiteResult` a suite NetCDF file holds (`save_suite`, `suite_peaks_distributed`)."""
-    import xarray
-
-    with xarray.open_dataset(path) as dataset:
-        dataset = dataset.load()
-    if dataset.attrs.get("complete", 1) != 1:
-        raise ValueError(f"{path}: the run that wrote this file did not finish (a chunk failed or the run "
-                         "was stopped); the items it lacks hold fill values. Run it again.")
+    dataset = open_finished(path)
     peaks = {k: np.asarray(dataset[k].values, dtype=float) for k in SUITE_PEAKS}
     ok = np.asarray(dataset["converged"].values, dtype=bool)
     names = tuple(str(n) for n in dataset["pair"].values)
