@@ -33,8 +33,9 @@ from teflon_jax.systems import (
     simulate_bidirectional,
     simulate_structure,
     six_storey_building,
+    superstructure_matrices,
 )
-from teflon_jax.tables import interface_parameters
+from teflon_jax.tables import interface_parameters, load_table2
 from teflon_jax.units import PSI, STANDARD_GRAVITY
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
@@ -177,6 +178,130 @@ def opensees_rigid_mass_3d(ax, ay, dt, *, weight, f_max, delta_f, rate_a, yield_
     wall = time.perf_counter() - start
     ops.wipe()
     return disp, shear, wall
+
+
+def _slider_3d(ops, tag, i_node, j_node, *, f_max, delta_f, rate_a, yield_disp, normal_load):
+    """3D `flatSliderBearing` from i_node (ground) to j_node: local x (axial) = global Z,
+    shear in global X and Y, VelDependent friction, k_init = f_min W / Y, rigid axially
+    (shortens by Y / 1000 under W); rotations are fixed at both nodes."""
+    f_min = f_max - delta_f
+    ops.frictionModel("VelDependent", tag, f_min, f_max, rate_a)
+    ops.uniaxialMaterial("Elastic", tag, 1.0e3 * normal_load / yield_disp)
+    ops.uniaxialMaterial("Elastic", tag + 1, 1.0)
+    ops.element("flatSliderBearing", tag, i_node, j_node, tag, f_min * normal_load / yield_disp,
+                "-P", tag, "-T", tag + 1, "-My", tag + 1, "-Mz", tag + 1,
+                "-orient", 0.0, 0.0, 1.0, 1.0, 0.0, 0.0)
+
+
+def opensees_building_3d(ax, ay, dt, *, f_max, delta_f, rate_a, yield_disp, period, damping_ratio, time_step,
+                         histories=False):
+    """The Table 2 building in 3D on one `flatSliderBearing` (VelDependent friction, elastic-
+    perfectly-plastic with a circular slip surface, k_init = f_min W / Y) carrying the total
+    weight W, with rubber springs of period T_b and a dashpot of ratio zeta_b in x and y;
+    both components as UniformExcitation.
+
+    The superstructure is the one teflon-jax builds (`six_storey_building` in x and in y):
+    floor masses, fixed-base stiffness K_s and classically damped C_s (2 % in every mode) of
+    `superstructure_matrices(load_table2())`, reproduced exactly in each direction by
+    `zeroLength` elements between floors and from each floor to the base: -K_ij, -C_ij
+    between floors i and j, row sums sum_j K_ij, sum_j C_ij from floor i to the base (an
+    `Elastic` material with stiffness and damping coefficient, in directions 1 and 2).
+    The rubber springs k_b = M_tot (2 pi / T_b)^2 and dashpot c_b = 2 zeta_b (2 pi / T_b) M_tot
+    act between ground and base, as in `six_storey_building`; no Rayleigh damping. Floors are
+    held vertically; the base carries the vertical (gravity) load W, applied statically first.
+
+    Newmark average acceleration at `time_step` [s] (record `dt` [s] linearly interpolated
+    by the Path series), modified Newton with the initial tangent; a step that fails is
+    retried as `_opensees_models` does (Newton, Krylov-Newton, line search, ten sub-steps).
+
+    **Returns:** (peak resultant base displacement [m], peak resultant base shear ratio [-],
+    wall time of the transient analysis [s]), read after every step: the shear is the total
+    horizontal force on the structure above the bearings, |sum_j m_j a_j^total| over base and
+    floors, over its weight W. With `histories=True` a fourth item, a dict of the histories
+    `time`, `base` (n, 2) [m] and `force_ratio` (n, 2) [-].
+    """
+    from _opensees_models import _step, import_opensees  # beside this file
+
+    ops = import_opensees()
+    data = load_table2()
+    floor_masses, k_s, c_s, _ = superstructure_matrices(data)
+    base_mass = data.base_weight / STANDARD_GRAVITY
+    total_mass = data.total_weight / STANDARD_GRAVITY
+    weight = float(data.total_weight)
+    omega_b = 2 * math.pi / period
+    k_b, c_b = total_mass * omega_b**2, 2 * damping_ratio * omega_b * total_mass
+    n = floor_masses.size
+    ground, base, floors = 1, 2, [3 + j for j in range(n)]
+    masses = np.concatenate([[base_mass], floor_masses])
+    tol = 1.0e-6 * yield_disp
+    ops.wipe()
+    ops.logFile("/dev/null", "-noEcho")
+    ops.model("basic", "-ndm", 3, "-ndf", 6)
+    for node in (ground, base, *floors):
+        ops.node(node, 0.0, 0.0, 0.0)
+    ops.fix(ground, 1, 1, 1, 1, 1, 1)
+    ops.fix(base, 0, 0, 0, 1, 1, 1)
+    ops.mass(base, base_mass, base_mass, 0.0, 0.0, 0.0, 0.0)
+    for node, m in zip(floors, floor_masses):
+        ops.fix(node, 0, 0, 1, 1, 1, 1)
+        ops.mass(node, float(m), float(m), 0.0, 0.0, 0.0, 0.0)
+    _slider_3d(ops, 1, ground, base, f_max=f_max, delta_f=delta_f, rate_a=rate_a, yield_disp=yield_disp,
+               normal_load=weight)
+    links = [(ground, base, k_b, c_b)]
+    links += [(base, floors[i], k_s[i].sum(), c_s[i].sum()) for i in range(n)]
+    links += [(floors[i], floors[j], -k_s[i, j], -c_s[i, j]) for i in range(n) for j in range(i + 1, n)]
+    for tag, (i_node, j_node, k, c) in enumerate(links, start=10):
+        ops.uniaxialMaterial("Elastic", tag, float(k), float(c))
+        ops.element("zeroLength", tag, i_node, j_node, "-mat", tag, tag, "-dir", 1, 2)
+    ops.timeSeries("Linear", 1)
+    ops.pattern("Plain", 1, 1)
+    ops.load(base, 0.0, 0.0, -weight, 0.0, 0.0, 0.0)
+    ops.constraints("Plain")
+    ops.numberer("Plain")
+    ops.system("FullGeneral")
+    ops.test("NormDispIncr", tol, 50)
+    ops.algorithm("Newton")
+    ops.integrator("LoadControl", 1.0)
+    ops.analysis("Static")
+    if ops.analyze(1) != 0:
+        raise RuntimeError("OpenSees: gravity step did not converge.")
+    ops.loadConst("-time", 0.0)
+    ops.wipeAnalysis()
+    for tag, values in ((2, ax), (3, ay)):
+        ops.timeSeries("Path", tag, "-dt", float(dt), "-values", *np.append(values, values[-1]).tolist())
+    ops.pattern("UniformExcitation", 2, 1, "-accel", 2)
+    ops.pattern("UniformExcitation", 3, 2, "-accel", 3)
+    ops.constraints("Plain")
+    ops.numberer("Plain")
+    ops.system("FullGeneral")
+    ops.test("NormDispIncr", tol, 50)
+    algorithm = ("ModifiedNewton", "-initial")
+    ops.algorithm(*algorithm)
+    ops.integrator("Newmark", 0.5, 0.25)
+    ops.analysis("Transient")
+    n_steps = int(round((len(ax) - 1) * dt / time_step))
+    times = time_step * np.arange(n_steps + 1)
+    record_times = dt * np.arange(len(ax))
+    gx, gy = np.interp(times, record_times, ax), np.interp(times, record_times, ay)
+    nodes = (base, *floors)
+    disp = np.zeros((n_steps + 1, 2))
+    force = np.zeros((n_steps + 1, 2))
+    counts = {"fallback": 0, "failed": 0}
+    start = time.perf_counter()
+    for i in range(1, n_steps + 1):
+        _step(ops, time_step, tol, algorithm, counts)
+        disp[i] = ops.nodeDisp(base, 1), ops.nodeDisp(base, 2)
+        force[i] = (sum(m * ops.nodeAccel(node, 1) for m, node in zip(masses, nodes)) + total_mass * gx[i],
+                    sum(m * ops.nodeAccel(node, 2) for m, node in zip(masses, nodes)) + total_mass * gy[i])
+    wall = time.perf_counter() - start
+    ops.wipe()
+    if counts["failed"]:
+        raise RuntimeError(f"OpenSees: {counts['failed']} steps of the building did not converge.")
+    ratio = force / weight
+    peaks = (float(np.max(np.hypot(*disp.T))), float(np.max(np.hypot(*ratio.T))), wall)
+    if histories:
+        return (*peaks, {"time": times, "base": disp, "force_ratio": ratio})
+    return peaks
 
 
 def run_bidirectional_benchmark(quick: bool) -> dict:
