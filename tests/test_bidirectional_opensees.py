@@ -30,7 +30,11 @@ import pytest
 from teflon_jax.bearing import paper_bearing
 from teflon_jax.excitation import uniform_signal
 from teflon_jax.formats import read_at2
-from teflon_jax.systems import bidirectional_building, bidirectional_rigid_mass, simulate_bidirectional
+from teflon_jax.systems import (
+    bidirectional_building,
+    bidirectional_rigid_mass,
+    simulate_bidirectional,
+)
 from teflon_jax.tables import interface_parameters
 from teflon_jax.units import INCH, PSI, STANDARD_GRAVITY
 
