@@ -13,10 +13,23 @@ force on the structure above the bearings over its weight.
 
 Measured (UF / 1000 psi, T = 2.5 s springs, 5 % damping; ours minus OpenSees, relative):
 
-- rigid mass, stochastic 10 s pair: displacement 2.9 %, base shear 0.8 %;
+- rigid mass, stochastic 10 s pair: displacement -2.8 %, base shear -0.75 % (the same at a
+  0.5 ms step on both sides: -2.7 %, -0.73 %);
 - building, the same pair: displacement -0.96 %, base shear -0.45 %;
 - building, PEER RSN6 (180 + 270, first 30 s): displacement -0.17 %, base shear -0.20 %
   (the rigid mass on the same pair: -2.3 %, -0.56 %).
+
+The difference is the shape of the stick-slip transition, not the integration: both models
+tend to Coulomb friction with an elastic stick as Y -> 0, and with Y = 0.001 in instead of
+0.005 in on both sides the rigid mass's differences drop to -0.50 % and -0.13 % (-0.38 %,
+-0.10 % at 0.5 ms). The two loops differ over a few Y at each reversal: with the paper's
+constants (A = 1, beta = 0.1, gamma = 0.9, eta = 2) Bouc-Wen's tangent is (1 - Z^2) mu W / Y on
+loading and (1 + 0.8 Z^2) mu W / Y on unloading, and |Z| reaches 1 only asymptotically, where
+the elastic-perfectly-plastic slider has f_min W / Y up to the circle |F| = mu W and none beyond;
+in two directions the force also turns towards a new direction of motion differently. These
+act over lengths of order Y per excursion and add up over a record (2.8 % of the rigid mass's
+37 mm peak is about 8 Y); the building's peaks are set more by its springs and superstructure
+and differ less.
 
 The building tests can fail: with our f_max raised by 10 % both go red (displacement off by
 4.9 % on the stochastic pair and 3.3 % on RSN6; 15 % moved the peaks by 7-22 %)."""
@@ -117,3 +130,23 @@ def test_building_under_rsn6_pair_agrees_with_opensees_3d(external_data):
     assert disp > 0.02
     assert abs(disp - disp_os) < 0.03 * disp_os
     assert abs(shear - shear_os) < 0.03 * shear_os
+
+
+@pytest.mark.slow
+def test_rigid_mass_difference_from_opensees_shrinks_with_the_yield_displacement():
+    """The difference from OpenSees is that of Bouc-Wen vs elastic-perfectly-plastic stick-slip:
+    with Y five times smaller on both sides, the displacement difference falls below 1 %."""
+    ax, ay = bench._pairs(1, 10.0)
+    params, friction = _friction()
+    differences = []
+    for yield_disp in (0.005 * INCH, 0.001 * INCH):
+        friction["yield_disp"] = yield_disp
+        disp_os, _, _ = bench.opensees_rigid_mass_3d(
+            ax[0], ay[0], 0.01, weight=1.0e5, period=PERIOD, damping_ratio=ZETA, time_step=STEP, **friction)
+        system = bidirectional_rigid_mass(
+            weight=1.0e5, bearing=paper_bearing(params, yield_disp=yield_disp),
+            ground_x=uniform_signal(ax[0], 0.01), ground_y=uniform_signal(ay[0], 0.01), time_step=STEP,
+            isolation_period=PERIOD, damping_ratio=ZETA)
+        differences.append(abs(_peaks(system, 10.0)[0] / disp_os - 1))
+    assert differences[1] < 0.01
+    assert differences[1] < 0.3 * differences[0]
