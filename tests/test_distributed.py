@@ -161,20 +161,22 @@ def test_recorded_motions_equal_the_in_process_run(cluster, tmp_path):
 
 @pytest.mark.slow
 def test_failed_solves_are_flagged_and_left_out_on_the_cluster_as_in_process(cluster, tmp_path, capsys):
-    # a real failure: two Newton iterations per step are too few for some sliding steps; the
-    # command exits 1 naming the runs, the statistics rest on the converged runs only
+    # a real failure: two Newton iterations per 7.5 ms step are too few for some motions'
+    # sliding steps (here 3 of 4); the command exits 1 naming the runs, the statistics rest on
+    # the converged runs only
     from teflon_jax.cli import main
 
-    argv = ["montecarlo", "--motions", "4", "--duration", "3s", "--strong-motion", "1s", "--pga", "0.5g",
-            "--newton-iterations", "2", "--chunk-size", "2", "--no-progress"]
+    argv = ["montecarlo", "--motions", "4", "--duration", "4s", "--strong-motion", "1s", "--pga", "0.5g",
+            "--time-step", "7.5ms", "--newton-iterations", "2", "--chunk-size", "2", "--no-progress"]
     here = main(argv + ["--json", str(tmp_path / "here.json"), "--out", str(tmp_path / "here.nc")])
     there = main(argv + ["--json", str(tmp_path / "there.json"), "--out", str(tmp_path / "there.nc"),
                          "--scheduler", cluster.scheduler_address])
     assert here == there == 1
     assert capsys.readouterr().err.count("runs had a time step whose Newton solve did not converge") == 2
     here, there = (json.loads((tmp_path / f"{n}.json").read_text()) for n in ("here", "there"))
-    assert there["not_converged"] == here["not_converged"] and here["not_converged"]
-    assert there["statistics"] == here["statistics"]
+    assert there["not_converged"] == here["not_converged"] and 0 < len(here["not_converged"]) < 4
+    for name, stats in here["statistics"].items():  # the in-process command shards over 2 CPU
+        assert there["statistics"][name] == pytest.approx(stats, rel=1e-12), name  # devices: round-off
     stored = MonteCarloResult.open(tmp_path / "there.nc")
     assert np.flatnonzero(~stored.converged).tolist() == here["not_converged"]
     assert there["statistics"]["base_shear_ratio"]["n"] == 4 - len(here["not_converged"])
