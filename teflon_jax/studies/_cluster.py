@@ -8,7 +8,10 @@ chunk into a NetCDF file created beforehand with the full layout (`create_netcdf
 chunk's place, and forgets it: its memory holds the chunks in flight, not the run. A worker
 that dies takes only its running chunks with it; the scheduler runs them again elsewhere. A
 task that raises is run again `retries` times; after that the run stops with an error naming
-the chunk (its items) and the reason.
+the chunk (its items) and the reason. `stream_to_netcdf` is a whole run as the three studies
+(`monte_carlo_distributed`, `suite_peaks_distributed`, `design_sweep_distributed`) make it:
+client, file, chunks, and the `complete` attribute that `open_finished` (and
+`MonteCarloResult.open`) read before trusting a file.
 
 Schedulers (`start_client`): "local:N" starts a `LocalCluster` of N single-threaded worker
 processes on this machine, in the caller's precision (`JAX_ENABLE_X64`, set before the workers
