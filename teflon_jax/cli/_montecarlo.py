@@ -113,10 +113,18 @@ def run_montecarlo(args) -> int:
     from ..systems import isolated_structure
 
     units = output_units(args.units)
-    if args.out is not None:
+    # before the runs and before any cluster starts: an output that cannot be written
+    if args.scheduler is not None:
+        from ..studies import check_netcdf_output
+
+        if args.out is None:
+            raise ValueError("--scheduler: a distributed run streams its results to a file; "
+                             "add --out FILE.nc.")
+        check_netcdf_output(args.out, "--out")
+    elif args.out is not None:
         from ..studies import check_output_path
 
-        check_output_path(args.out)  # before the runs: a format that cannot be written
+        check_output_path(args.out)
     solver = {} if args.newton_iterations is None else {"newton_iterations": args.newton_iterations}
     two = args.components == 2
     for flag, value in (("--principal-angle", args.principal_angle), ("--minor-ratio", args.minor_ratio)):
@@ -150,9 +158,6 @@ def run_montecarlo(args) -> int:
     else:
         from ..studies import monte_carlo_distributed
 
-        if args.out is None:
-            raise ValueError("--scheduler: a distributed run streams its results to a file; "
-                             "add --out FILE.nc.")
         result = monte_carlo_distributed(
             structure, model, args.motions, out=args.out, seed=args.seed,
             scheduler=args.scheduler, chunk_size=args.chunk_size, progress=progress,

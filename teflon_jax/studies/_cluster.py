@@ -8,7 +8,10 @@ chunk into a NetCDF file created beforehand with the full layout (`create_netcdf
 chunk's place, and forgets it: its memory holds the chunks in flight, not the run. A worker
 that dies takes only its running chunks with it; the scheduler runs them again elsewhere. A
 task that raises is run again `retries` times; after that the run stops with an error naming
-the chunk (its items) and the reason.
+the chunk (its items) and the reason. `stream_to_netcdf` is a whole run as the three studies
+(`monte_carlo_distributed`, `suite_peaks_distributed`, `design_sweep_distributed`) make it:
+client, file, chunks, and the `complete` attribute that `open_finished` (and
+`MonteCarloResult.open`) read before trusting a file.
 
 Schedulers (`start_client`): "local:N" starts a `LocalCluster` of N single-threaded worker
 processes on this machine, in the caller's precision (`JAX_ENABLE_X64`, set before the workers
@@ -19,13 +22,15 @@ another precision than the driver fail their first task with an error naming `JA
 """
 
 import contextlib
+import json
 import pathlib
+import time
 from collections.abc import Callable, Mapping, Sequence
 
 import jax.numpy as jnp
 import numpy as np
 
-from ._results import check_output_path
+from ._results import check_complete, check_output_path
 
 _CACHE: dict = {}  # per worker process: run token -> compiled chunk function
 
@@ -133,7 +138,8 @@ def cluster_client(scheduler, connect_timeout: float, dtype: str, cache_dir=None
 def create_netcdf(path, dims: Mapping, coords: Mapping, variables: Mapping, attrs: Mapping):
     """An open NetCDF4 file with the full layout of a run, its data still unwritten.
 
-    `dims`: name -> size; `coords`: name -> (dim, values, units or None, long name or None);
+    `dims`: name -> size; `coords`: name -> (dim, values, units or None, long name or None), the
+    variables written now (coordinates, and inputs such as the design variables of each variant);
     `variables`: name -> (dims tuple, units, long name, kind) with kind "f8", "i8" or "bool"
     (stored as int8 with the `dtype: bool` attribute xarray decodes back to bool); `attrs`:
     the file's attributes (numbers, strings)."""
@@ -212,12 +218,61 @@ def run_chunks(
 
 def open_finished(path):
     """The loaded xarray Dataset of a streamed results file, refused (`ValueError` naming the file)
-    while its `complete` attribute says a chunk is missing (files written in one piece lack it)."""
+    while its `complete` attribute says a chunk is missing (`check_complete`)."""
     import xarray
 
     with xarray.open_dataset(path) as dataset:
         dataset = dataset.load()
-    if dataset.attrs.get("complete", 1) != 1:
-        raise ValueError(f"{path}: the run that wrote this file did not finish (a chunk failed or the run "
-                         "was stopped); the items it lacks hold fill values. Run it again.")
+    check_complete(dataset, path)
     return dataset
+
+
+def file_attributes(title: str, inputs: Mapping) -> dict:
+    """The attributes of a streamed results file: CF conventions, `title`, the run's `inputs`
+    (numbers and strings, also as JSON in `teflon_jax_attrs`) and `complete` = 0, set to 1 by
+    `stream_to_netcdf` once every chunk is in."""
+    return {"Conventions": "CF-1.8", "title": title, "teflon_jax_attrs": json.dumps(dict(inputs), default=str),
+            **inputs, "complete": 0}
+
+
+def stream_to_netcdf(
+    out,
+    layout: Mapping,
+    task: Callable,
+    spec: dict,
+    chunks: Sequence,
+    write: Callable,
+    *,
+    scheduler,
+    connect_timeout: float,
+    compilation_cache=None,
+    retries: int,
+    progress: Callable[[int, int], None] | None = None,
+    what: str = "items",
+    finish: Callable[[dict], Mapping] | None = None,
+) -> None:
+    """One distributed run from start to end: start the client of `scheduler` (`cluster_client`,
+    in the precision `spec["dtype"]`), create the NetCDF file `out` (`create_netcdf(out,
+    **layout)`, its attributes from `file_attributes`), run `chunks` (`run_chunks`) with
+    `write(handle, start, stop, result)` putting each finished chunk at its place, and close
+    the file with the attributes `n_workers`, `wall_s` [s] (from the start of this call),
+    those of `finish(those two)` and `complete` = 1. A run that stops (`ClusterRunError`, an
+    interrupt) leaves the file closed with `complete` = 0, which `open_finished` refuses."""
+    tic = time.perf_counter()
+    with cluster_client(scheduler, connect_timeout, spec["dtype"], compilation_cache) as client:
+        handle = create_netcdf(out, **layout)
+        try:
+            run_chunks(client, task, spec, chunks, lambda start, stop, part: write(handle, start, stop, part),
+                       retries=retries, progress=progress, what=what)
+            done = {"n_workers": len(client.scheduler_info()["workers"]), "wall_s": time.perf_counter() - tic}
+            handle.setncatts({**done, **(finish(done) if finish else {}), "complete": 1})
+        finally:
+            handle.close()
+
+
+def add_attributes(path, attrs: Mapping) -> None:
+    """Add (or replace) attributes of the NetCDF file `path`, e.g. statistics of the finished run."""
+    import netCDF4
+
+    with netCDF4.Dataset(path, "a") as handle:
+        handle.setncatts(dict(attrs))

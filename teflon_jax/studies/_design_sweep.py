@@ -9,7 +9,6 @@ are the same bit for bit, whatever the number of workers and whichever worker ra
 """
 
 import json
-import time
 import uuid
 from collections.abc import Mapping
 
@@ -21,12 +20,11 @@ from ..systems import IsolatedStructure, check_design
 from ._cluster import (
     check_count,
     check_netcdf_output,
-    cluster_client,
-    create_netcdf,
+    file_attributes,
     lanes,
     open_finished,
-    run_chunks,
     run_dtype,
+    stream_to_netcdf,
     worker_cached,
 )
 from ._design import Bounds, _records_array, expected_response, penalised_objective
@@ -154,7 +152,6 @@ def design_sweep_distributed(
     point's values are those of `design_sweep(..., batch_size=chunk_size)` bit for bit,
     whatever the number of workers (module docstring).
     """
-    tic = time.perf_counter()
     out = check_netcdf_output(out)
     names, axes, mesh, flat = _grid(structure, grid)
     records = np.asarray(_records_array(records, record_time_step))
@@ -168,36 +165,32 @@ def design_sweep_distributed(
     settings = {"n_motions": int(records.shape[0]), "record_time_step_s": float(record_time_step),
                 "disp_limit_m": float(disp_limit), "penalty": float(penalty), "scheduler": scheduler,
                 "chunk_size": chunk, "precision": dtype}
-    with cluster_client(scheduler, connect_timeout, dtype, compilation_cache) as client:
-        handle = _create_sweep_file(out, names, axes, {**settings, **(attrs or {})})
-        shape = mesh[0].shape
-        try:
-            def write(start, stop, part):
-                for flat_index in range(start, stop):
-                    place = np.unravel_index(flat_index, shape)
-                    for name, values in zip(("objective", "shear", "disp", "n_failed"), part):
-                        handle.variables[name][place] = values[flat_index - start]
-                    handle.variables["converged"][place] = np.int8(part[3][flat_index - start] == 0)
+    shape = mesh[0].shape
 
-            chunks = [(start, min(start + chunk, total), {n: v[start:start + chunk] for n, v in flat.items()})
-                      for start in range(0, total, chunk)]
-            run_chunks(client, _sweep_task, spec, chunks, write, retries=retries, progress=progress,
-                       what="design points (flat grid index)")
-            handle.setncatts({"n_workers": len(client.scheduler_info()["workers"]),
-                              "wall_s": time.perf_counter() - tic, "complete": 1})
-        finally:
-            handle.close()
+    def write(handle, start, stop, part):
+        for flat_index in range(start, stop):
+            place = np.unravel_index(flat_index, shape)
+            for name, values in zip(("objective", "shear", "disp", "n_failed"), part):
+                handle.variables[name][place] = values[flat_index - start]
+            handle.variables["converged"][place] = np.int8(part[3][flat_index - start] == 0)
+
+    chunks = [(start, min(start + chunk, total), {n: v[start:start + chunk] for n, v in flat.items()})
+              for start in range(0, total, chunk)]
+    stream_to_netcdf(out, _sweep_layout(names, axes, {**settings, **(attrs or {})}), _sweep_task, spec, chunks,
+                     write, scheduler=scheduler, connect_timeout=connect_timeout,
+                     compilation_cache=compilation_cache, retries=retries, progress=progress,
+                     what="design points (flat grid index)")
     return open_sweep(out)
 
 
-def _create_sweep_file(path, names, axes, attrs: dict):
+def _sweep_layout(names, axes, attrs: dict) -> dict:
+    """`create_netcdf`'s arguments for a sweep's file (the layout of `sweep_dataset`)."""
     dims = tuple(names)
     variables = {name: (dims, units, long_name, {"converged": "bool", "n_failed": "i8"}.get(name, "f8"))
                  for name, (units, long_name) in SWEEP_VARIABLES.items()}
     coords = {n: (n, a, *DESIGN_UNITS.get(n, ("1", n))) for n, a in zip(names, axes)}
-    attrs = {"Conventions": "CF-1.8", "title": "teflon-jax design sweep",
-             "teflon_jax_attrs": json.dumps(attrs), **attrs, "complete": 0}  # 1 once every chunk is in
-    return create_netcdf(path, {n: a.size for n, a in zip(names, axes)}, coords, variables, attrs)
+    return {"dims": {n: a.size for n, a in zip(names, axes)}, "coords": coords, "variables": variables,
+            "attrs": file_attributes("teflon-jax design sweep", attrs)}
 
 
 def sweep_dataset(sweep: Mapping, attrs: dict | None = None):

@@ -1,25 +1,24 @@
-"""Monte Carlo on a Dask cluster: chunks of motions are tasks, results stream to NetCDF.
+"""Monte Carlo on a Dask cluster: chunks of motions are tasks of the Dask engine (`_cluster`),
+their peaks streamed to a NetCDF file of the layout `MonteCarloResult.to_dataset` writes.
 
-The run of `monte_carlo` is cut into chunks of `chunk_size` motions; each chunk is a Dask
-task that a worker runs through one compiled, vmapped function (`ChunkRunner`), kept by the
-worker for the whole run, so a worker compiles once whatever the number of its chunks (and,
-with a persistent compilation cache folder shared by the workers, a restarted worker reads
-the compiled function back instead of compiling it). Motion i is drawn from
-`fold_in(key(seed), i)` (`monte_carlo_motion`), so each motion's peaks are the same whatever
-the number of workers or the chunk size. A worker that dies takes only its running chunks
-with it; the scheduler runs them again on another worker. The driver writes each finished
-chunk into the NetCDF file at its motions' place and forgets it: its memory holds the chunks
-in flight, not the run.
+The run of `monte_carlo` is cut into chunks of `chunk_size` consecutive motions; each chunk is
+one task that a worker runs through one compiled, vmapped function (`ChunkRunner`, kept by
+the worker for the whole run: `worker_cached`), so a worker compiles once whatever the number
+of its chunks (and, with a persistent compilation cache folder shared by the workers, a
+restarted worker reads the compiled function back). Motion i is drawn from
+`fold_in(key(seed), i)` (`monte_carlo_motion`), one or two components alike, so which motion a
+task draws does not depend on the number of workers or the chunk size; its peaks equal those
+of `monte_carlo` with the same chunk size bit for bit (every call of a run has the chunk's
+width: the last chunk is padded), and to round-off for another chunk size (XLA's vectorised
+CPU code rounds the last digits differently for another batch width).
 
-Schedulers: "local:N" starts a `LocalCluster` of N worker processes on this machine; any
-other string is the address of a running scheduler ("tcp://host:8786"), e.g. one started by
-`dask-jobqueue` on a SLURM or PBS queue (see docs/distributed.md), or a cloud pool. Workers
-run JAX in the precision of the caller: a LocalCluster inherits it; on remote workers a
-mismatch is an error naming `JAX_ENABLE_X64`.
+A worker that dies takes only its running chunks with it; the scheduler runs them again
+elsewhere. A chunk whose task raises is run again `retries` times; after that the run stops
+with a `ClusterRunError` naming its motions, the file left marked incomplete. Runs whose solve
+failed are kept, flagged `converged` = False, and left out of the statistics, as in
+`monte_carlo`.
 """
 
-import json
-import time
 import uuid
 from collections.abc import Callable, Mapping
 
@@ -28,7 +27,19 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..excitation import StochasticGroundMotion, TwoComponentGroundMotion
-from ._cluster import start_client as _client
+from ..systems import IsolatedStructure, check_design
+from ._bidirectional_study import BidirectionalIsolatedStructure
+from ._cluster import (
+    add_attributes,
+    check_count,
+    check_netcdf_output,
+    file_attributes,
+    lanes,
+    open_finished,
+    run_dtype,
+    stream_to_netcdf,
+    worker_cached,
+)
 from ._montecarlo import (
     ChunkRunner,
     _get,
@@ -39,76 +50,73 @@ from ._montecarlo import (
     stochastic_grid,
 )
 from ._record_set import RecordSet
-from ._results import DESIGN_UNITS, VARIABLES, MonteCarloResult, check_output_path
+from ._results import DESIGN_UNITS, VARIABLES, MonteCarloResult
 
-_RUNNERS: dict = {}  # per worker process: run token -> ChunkRunner
+PGA = ("m s-2", "peak |ground acceleration| of the motion")
+
+
+def _runner(spec: dict) -> ChunkRunner:
+    """The compiled chunk function of a run (built once per worker: `worker_cached`)."""
+    key = None if spec["model"] is None else jax.random.key(spec["seed"])
+    source = _Source(spec["model"], key, spec["time_step"], spec["samples"])
+    design = None if spec["design"] is None else {k: jnp.asarray(v) for k, v in spec["design"].items()}
+    return ChunkRunner(spec["structure"], source, spec["duration"], design, jax.devices()[:1], spec["chunk"],
+                       spec["disp_width"], spec["shear_width"])
 
 
 def _chunk_task(spec: dict, start: int, stop: int, values):
-    """Peaks of motions start..stop-1 (a Dask task; runs on a worker)."""
-    dtype = str(jnp.result_type(float))
-    if dtype != spec["dtype"]:
-        raise RuntimeError(
-            f"worker computes in {dtype} but the run asked for {spec['dtype']}: start the workers "
-            f"with JAX_ENABLE_X64={'1' if spec['dtype'] == 'float64' else '0'}."
-        )
-    runner = _RUNNERS.get(spec["token"])
-    if runner is None:
-        source = _Source(spec["model"], None if spec["model"] is None else jax.random.key(spec["seed"]),
-                         spec["time_step"], spec["samples"])
-        design = None if spec["design"] is None else {k: jnp.asarray(v) for k, v in spec["design"].items()}
-        runner = ChunkRunner(spec["structure"], source, spec["duration"], design, jax.devices()[:1],
-                             spec["chunk"], spec["disp_width"], spec["shear_width"])
-        _RUNNERS.clear()  # one run at a time per worker
-        _RUNNERS[spec["token"]] = runner
-    indices = np.minimum(np.arange(start, start + spec["chunk"]), stop - 1)  # pad with copies
+    """Peaks of motions start..stop-1 (a Dask task; runs on a worker); `values` the recorded
+    motions start..stop-1, or `None` for generated ones."""
+    runner = worker_cached(spec, _runner)
+    indices = lanes(start, stop, spec["chunk"])
     if values is not None:
         values = np.asarray(values)[indices - start]
     peaks, pga = _get(runner(indices, values))
     n = stop - start
     out = {name: np.asarray(getattr(peaks, name))[:n] for name in VARIABLES}
-    if spec["design"] is not None:
+    if spec["design"] is not None:  # (motion, design) -> (design, motion)
         out = {k: np.moveaxis(v, 0, 1) for k, v in out.items()}
     out["pga"] = np.asarray(pga)[:n]
     out["compile_s"] = runner.compile_s
     return out
 
 
-def _create_file(path, n_motions: int, design: Mapping | None, attrs: dict):
-    """An empty NetCDF file with the layout of `MonteCarloResult.to_dataset`."""
-    import netCDF4
-
-    handle = netCDF4.Dataset(path, "w", format="NETCDF4")
-    handle.createDimension("motion", n_motions)
-    dims = ("motion",)
-    motion = handle.createVariable("motion", "i8", ("motion",))
-    motion[:] = np.arange(n_motions)
+def _layout(n_motions: int, design: Mapping | None, inputs: dict) -> dict:
+    """`create_netcdf`'s arguments for a run's file (the layout of `MonteCarloResult.to_dataset`)."""
+    dims, peak_dims = {"motion": n_motions}, ("motion",)
+    coords = {"motion": ("motion", np.arange(n_motions), None, None)}
     if design is not None:
         n_designs = len(next(iter(design.values())))
-        handle.createDimension("design", n_designs)
-        handle.createVariable("design", "i8", ("design",))[:] = np.arange(n_designs)
-        dims = ("design", "motion")
-        for name, values in design.items():
-            units, long_name = DESIGN_UNITS.get(name, ("1", name))
-            variable = handle.createVariable(f"design_{name}", "f8", ("design",))
-            variable[:] = np.asarray(values)
-            variable.setncatts({"units": units, "long_name": long_name})
-    for name, (units, long_name) in VARIABLES.items():
-        if name == "converged":
-            variable = handle.createVariable(name, "i1", dims)
-            variable.setncatts({"units": units, "long_name": long_name, "dtype": "bool"})
-        else:
-            variable = handle.createVariable(name, "f8", dims)
-            variable.setncatts({"units": units, "long_name": long_name})
-    variable = handle.createVariable("pga", "f8", ("motion",))
-    variable.setncatts({"units": "m s-2", "long_name": "peak |ground acceleration| of the motion"})
-    handle.setncatts(attrs)
-    return handle
+        dims["design"], peak_dims = n_designs, ("design", "motion")
+        coords["design"] = ("design", np.arange(n_designs), None, None)
+        coords.update({f"design_{k}": ("design", v, *DESIGN_UNITS.get(k, ("1", k))) for k, v in design.items()})
+    variables = {name: (peak_dims, units, long_name, "bool" if name == "converged" else "f8")
+                 for name, (units, long_name) in VARIABLES.items()}
+    variables["pga"] = (("motion",), *PGA, "f8")
+    return {"dims": dims, "coords": coords, "variables": variables,
+            "attrs": file_attributes("teflon-jax Monte Carlo peak responses", inputs)}
+
+
+def _source_of(motions, n_motions):
+    """(number of motions, stochastic model or None, record step [s], samples) of `motions`."""
+    if isinstance(motions, RecordSet):
+        count = motions.acceleration.shape[0]
+        n_total = check_count("n_motions", count if n_motions is None else n_motions, 1)
+        if n_total > count:
+            raise ValueError(f"n_motions: {n_total} asked for but the RecordSet has {count} records.")
+        return n_total, None, motions.time_step, motions.acceleration.shape[1]
+    if isinstance(motions, (StochasticGroundMotion, TwoComponentGroundMotion)):
+        if n_motions is None:
+            raise ValueError("n_motions: give the number of stochastic motions to draw (> 0).")
+        time_step, samples, _ = stochastic_grid(motions)
+        return check_count("n_motions", n_motions, 1), motions, time_step, samples
+    raise ValueError("motions: expected a StochasticGroundMotion, a TwoComponentGroundMotion or a RecordSet, "
+                     f"got {type(motions).__name__}.")
 
 
 def monte_carlo_distributed(
     structure: Callable,
-    motions: StochasticGroundMotion | RecordSet,
+    motions: StochasticGroundMotion | TwoComponentGroundMotion | RecordSet,
     n_motions: int | None = None,
     *,
     out,
@@ -126,10 +134,12 @@ def monte_carlo_distributed(
 ) -> MonteCarloResult:
     """`monte_carlo` on a Dask cluster, streaming the peaks to the NetCDF file `out`.
 
-    **Arguments** (as `monte_carlo` otherwise):
+    **Arguments** (as `monte_carlo` otherwise; `structure` must pickle, e.g. an
+    `isolated_structure(...)` or `bidirectional_isolated_structure(...)`):
 
-    - `out`: the ".nc" results file (checked writable before anything is computed).
-    - `seed`: motion i is `sample(model, fold_in(jax.random.key(seed), i), 1)[0]`, the motion
+    - `out`: the ".nc" results file (checked writable before anything is computed or a
+      cluster is started).
+    - `seed`: motion i is `monte_carlo_motion(motions, jax.random.key(seed), i)`, the motion
       `monte_carlo(..., key=jax.random.key(seed))` runs as its i-th.
     - `scheduler`: "local:N" (a `LocalCluster` of N worker processes) or a scheduler address.
     - `chunk_size`: motions per task (per compiled call on a worker).
@@ -141,95 +151,51 @@ def monte_carlo_distributed(
 
     **Returns:** the `MonteCarloResult` read back from `out` (48 bytes per motion and design).
     `ConnectionError` naming the address when no scheduler answers; `ValueError` for bad
-    input or an output file that cannot be written.
+    input or an output file that cannot be written (before anything starts);
+    `ClusterRunError` naming the motions of a chunk that failed after its retries.
     """
-    import netCDF4
-    from distributed import as_completed
-
-    tic = time.perf_counter()
-    out = check_output_path(out)
-    if out.suffix != ".nc":
-        raise ValueError(f"out: {out}: the distributed run streams to NetCDF; give a .nc file.")
-    if isinstance(motions, RecordSet):
-        n_total = motions.acceleration.shape[0] if n_motions is None else n_motions
-        model, time_step, samples = None, motions.time_step, motions.acceleration.shape[1]
-    elif isinstance(motions, (StochasticGroundMotion, TwoComponentGroundMotion)):
-        if n_motions is None:
-            raise ValueError("n_motions: give the number of stochastic motions to draw (> 0).")
-        n_total, model = n_motions, motions
-        time_step, samples, _ = stochastic_grid(motions)
-    else:
-        raise ValueError(
-            "motions: expected a StochasticGroundMotion, a TwoComponentGroundMotion or a RecordSet, "
-            f"got {type(motions).__name__}."
-        )
-    for name, value, low in (("n_motions", n_total, 1), ("chunk_size", chunk_size, 1), ("retries", retries, 0)):
-        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low:
-            raise ValueError(f"{name}: must be an integer >= {low}, got {value!r}.")
-    if isinstance(motions, RecordSet) and n_total > motions.acceleration.shape[0]:
-        raise ValueError(f"n_motions: {n_total} asked for but the RecordSet has {motions.acceleration.shape[0]} records.")
+    out = check_netcdf_output(out)
+    n_total, model, time_step, samples = _source_of(motions, n_motions)
+    chunk = min(check_count("chunk_size", chunk_size, 1), n_total)
+    retries = check_count("retries", retries, 0)
     duration = (samples - 1) * time_step if duration is None else float(duration)
     if not duration > 0:
         raise ValueError(f"duration: must be > 0 s, got {duration}.")
-    design_arrays = None
+    design_arrays, n_designs = None, 0
     if design:
         design_arrays = {k: np.atleast_1d(np.asarray(v, dtype=float)) for k, v in design.items()}
         if len({v.shape for v in design_arrays.values()}) != 1 or any(v.ndim != 1 for v in design_arrays.values()):
             raise ValueError("design: every variable needs a 1-D array of the same length.")
-    dtype = str(jnp.result_type(float))
-    chunk = min(int(chunk_size), int(n_total))
+        n_designs = len(next(iter(design_arrays.values())))
+        if isinstance(structure, (IsolatedStructure, BidirectionalIsolatedStructure)):
+            check_design(getattr(structure, "uniaxial", structure), design_arrays)
+    probe_source = _Source(model, None if model is None else jax.random.key(0), time_step, samples)
+    probe_design = None if design_arrays is None else {k: v[0] for k, v in design_arrays.items()}
+    n_dof = int(probe_structure(structure, probe_source, probe_design).mass.shape[-1])
+    dtype = run_dtype()
     spec = {"structure": structure, "model": model, "seed": int(seed), "time_step": time_step,
             "samples": samples, "duration": duration, "design": design_arrays, "chunk": chunk,
-            "disp_width": disp_width, "shear_width": shear_width, "dtype": dtype,
-            "token": uuid.uuid4().hex}
-    probe_design = None if design_arrays is None else {k: v[0] for k, v in design_arrays.items()}
-    probe_source = _Source(model, None if model is None else jax.random.key(0), time_step, samples)
-    probe = probe_structure(structure, probe_source, probe_design)
-    n_dof = int(probe.mass.shape[-1])
-    n_designs = 0 if design_arrays is None else len(next(iter(design_arrays.values())))
-    client, cluster = _client(scheduler, connect_timeout, dtype, compilation_cache)
-    attrs = {"duration_s": duration, "record_time_step_s": time_step, "n_dof": n_dof, "seed": int(seed),
-             "scheduler": scheduler, "n_motions": int(n_total), "precision": dtype, **motion_attributes(motions)}
-    handle = _create_file(out, int(n_total), design_arrays, {
-        "Conventions": "CF-1.8", "title": "teflon-jax Monte Carlo peak responses",
-        "teflon_jax_attrs": json.dumps(attrs), **attrs,
-    })
-    try:
-        spec_future = client.scatter(spec, broadcast=True)
-        futures = []
-        for start in range(0, n_total, chunk):
-            stop = min(start + chunk, n_total)
-            values = None if model is not None else np.asarray(motions.acceleration[start:stop])
-            futures.append(client.submit(_chunk_task, spec_future, start, stop, values, retries=retries,
-                                         key=f"teflon-jax-chunk-{spec['token']}-{start}", pure=False))
-        spans = {f.key: (int(f.key.rsplit("-", 1)[1])) for f in futures}
-        done, compile_s = 0, 0.0
-        for future in as_completed(futures):
-            part = future.result()
-            start = spans[future.key]
-            stop = start + part["pga"].shape[0]
-            for name in VARIABLES:
-                target = handle.variables[name]
-                values = part[name].astype(np.int8) if name == "converged" else part[name]
-                if design_arrays is None:
-                    target[start:stop] = values
-                else:
-                    target[:, start:stop] = values
-            handle.variables["pga"][start:stop] = part["pga"]
-            compile_s = max(compile_s, float(part["compile_s"]))
-            future.release()
-            done += stop - start
-            if progress is not None:
-                progress(done, n_total)
-        n_workers = len(client.scheduler_info()["workers"])
-        handle.setncatts({"n_devices": n_workers, "chunk_size": chunk, "compile_s": compile_s,
-                          "memory_estimate_bytes": chunk * bytes_per_motion(probe_source.components * samples, n_dof, n_designs), "wall_s": time.perf_counter() - tic})
-    finally:
-        handle.close()
-        client.close()
-        if cluster is not None:
-            cluster.close()
-    result = MonteCarloResult.open(out)
-    with netCDF4.Dataset(out, "a") as handle:
-        handle.setncattr("n_converged", np.asarray(result.n_converged, dtype=np.int64))
+            "disp_width": disp_width, "shear_width": shear_width, "dtype": dtype, "token": uuid.uuid4().hex}
+    memory = chunk * bytes_per_motion(probe_source.components * samples, n_dof, n_designs)
+    inputs = {"duration_s": duration, "record_time_step_s": time_step, "n_dof": n_dof, "seed": int(seed),
+              "scheduler": scheduler, "n_motions": n_total, "precision": dtype, **motion_attributes(motions)}
+    chunks = [(start, min(start + chunk, n_total),
+               None if model is not None else np.asarray(motions.acceleration[start:start + chunk]))
+              for start in range(0, n_total, chunk)]
+    compile_s = [0.0]
+
+    def write(handle, start, stop, part):
+        for name in VARIABLES:
+            values = part[name].astype(np.int8) if name == "converged" else part[name]
+            handle.variables[name][..., start:stop] = values
+        handle.variables["pga"][start:stop] = part["pga"]
+        compile_s[0] = max(compile_s[0], float(part["compile_s"]))
+
+    stream_to_netcdf(out, _layout(n_total, design_arrays, inputs), _chunk_task, spec, chunks, write,
+                     scheduler=scheduler, connect_timeout=connect_timeout, compilation_cache=compilation_cache,
+                     retries=retries, progress=progress, what="motions",
+                     finish=lambda done: {"n_devices": done["n_workers"], "chunk_size": chunk,
+                                          "compile_s": compile_s[0], "memory_estimate_bytes": memory})
+    result = MonteCarloResult.from_dataset(open_finished(out))
+    add_attributes(out, {"n_converged": np.asarray(result.n_converged, dtype=np.int64)})
     return result

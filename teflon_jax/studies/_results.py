@@ -226,7 +226,8 @@ class MonteCarloResult:
 
     @classmethod
     def open(cls, path) -> "MonteCarloResult":
-        """Read a result written by `save` (".nc" or ".zarr") or by `monte_carlo_distributed`."""
+        """Read a result written by `save` (".nc" or ".zarr") or by `monte_carlo_distributed`
+        (refused, `ValueError`, when that run did not finish: `check_complete`)."""
         import xarray
 
         path = pathlib.Path(path)
@@ -234,9 +235,21 @@ class MonteCarloResult:
             raise ValueError(f"{path}: no such results file.")
         if path.suffix == ".zarr":
             with xarray.open_zarr(path) as dataset:
-                return cls.from_dataset(dataset.load())
-        with xarray.open_dataset(path, engine=netcdf_engine()) as dataset:
-            return cls.from_dataset(dataset.load())
+                dataset = dataset.load()
+        else:
+            with xarray.open_dataset(path, engine=netcdf_engine()) as dataset:
+                dataset = dataset.load()
+        check_complete(dataset, path)
+        return cls.from_dataset(dataset)
+
+
+def check_complete(dataset, path) -> None:
+    """`ValueError` naming `path` when the Dataset's `complete` attribute is not 1: the run that
+    streamed it chunk by chunk stopped before every chunk was in, and the items it lacks hold
+    fill values (files written in one piece have no such attribute)."""
+    if dataset.attrs.get("complete", 1) != 1:
+        raise ValueError(f"{path}: the run that wrote this file did not finish (a chunk failed or the run "
+                         "was stopped); the items it lacks hold fill values. Run it again.")
 
 
 def netcdf_engine() -> str:

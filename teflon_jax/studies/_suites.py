@@ -13,7 +13,6 @@ the last chunk is padded with copies of its last pair).
 
 import dataclasses
 import json
-import time
 import uuid
 
 import diffrax
@@ -25,14 +24,14 @@ from ..excitation import uniform_signal
 from ..systems import BidirectionalStructure, simulate_bidirectional
 from ..units import STANDARD_GRAVITY
 from ._cluster import (
+    add_attributes,
     check_count,
     check_netcdf_output,
-    cluster_client,
-    create_netcdf,
+    file_attributes,
     lanes,
     open_finished,
-    run_chunks,
     run_dtype,
+    stream_to_netcdf,
     worker_cached,
 )
 
@@ -159,7 +158,6 @@ def suite_peaks_distributed(
     workers (module docstring).
     `ConnectionError` naming the address when no scheduler answers.
     """
-    tic = time.perf_counter()
     out = check_netcdf_output(out)
     names = tuple(str(n) for n in names)
     ax, ay = np.asarray(ax, dtype=float), np.asarray(ay, dtype=float)
@@ -174,27 +172,19 @@ def suite_peaks_distributed(
             "token": uuid.uuid4().hex}
     settings = {"n_pairs": count, "record_time_step_s": float(time_step), "duration_s": float(duration),
                 "scheduler": scheduler, "chunk_size": chunk, "precision": dtype}
-    with cluster_client(scheduler, connect_timeout, dtype, compilation_cache) as client:
-        handle = _create_suite_file(out, names, {**settings, **(attrs or {})})
-        try:
-            def write(start, stop, part):
-                for name in SUITE_UNITS:
-                    values = part[name].astype(np.int8) if name == "converged" else part[name]
-                    handle.variables[name][start:stop] = values
 
-            chunks = [(start, min(start + chunk, count), (ax[start:start + chunk], ay[start:start + chunk]))
-                      for start in range(0, count, chunk)]
-            run_chunks(client, _suite_task, spec, chunks, write, retries=retries, progress=progress,
-                       what="pairs")
-            handle.setncatts({"n_workers": len(client.scheduler_info()["workers"]),
-                              "wall_s": time.perf_counter() - tic, "complete": 1})
-        finally:
-            handle.close()
+    def write(handle, start, stop, part):
+        for name in SUITE_UNITS:
+            values = part[name].astype(np.int8) if name == "converged" else part[name]
+            handle.variables[name][start:stop] = values
+
+    chunks = [(start, min(start + chunk, count), (ax[start:start + chunk], ay[start:start + chunk]))
+              for start in range(0, count, chunk)]
+    stream_to_netcdf(out, _suite_layout(names, {**settings, **(attrs or {})}), _suite_task, spec, chunks, write,
+                     scheduler=scheduler, connect_timeout=connect_timeout, compilation_cache=compilation_cache,
+                     retries=retries, progress=progress, what="pairs")
     result = open_suite(out)
-    import netCDF4
-
-    with netCDF4.Dataset(out, "a") as handle:
-        handle.setncatts(_summary_attrs(result.summary))
+    add_attributes(out, _summary_attrs(result.summary))
     return result
 
 
@@ -202,13 +192,13 @@ def _summary_attrs(summary: dict) -> dict:
     return {f"{k}_{s}": v[s] for k, v in summary.items() for s in ("mean", "max")}
 
 
-def _create_suite_file(path, names, attrs: dict):
+def _suite_layout(names, attrs: dict) -> dict:
+    """`create_netcdf`'s arguments for a suite's file (the layout of `suite_dataset`)."""
     variables = {name: (("pair",), units, long_name, "bool" if name == "converged" else "f8")
                  for name, (units, long_name) in SUITE_UNITS.items()}
-    attrs = {"Conventions": "CF-1.8", "title": "teflon-jax record suite peak responses",
-             "teflon_jax_attrs": json.dumps(attrs), **attrs, "complete": 0}  # 1 once every chunk is in
-    return create_netcdf(path, {"pair": len(names)}, {"pair": ("pair", np.array(names, dtype=str), None,
-                                                              "record pair")}, variables, attrs)
+    return {"dims": {"pair": len(names)},
+            "coords": {"pair": ("pair", np.array(names, dtype=str), None, "record pair")},
+            "variables": variables, "attrs": file_attributes("teflon-jax record suite peak responses", attrs)}
 
 
 def suite_dataset(result: SuiteResult, attrs: dict | None = None):
