@@ -105,7 +105,8 @@ def peak_response(
     The same `RiccatiNewmark` step as `simulate_structure` (Newmark average acceleration
     with the exact Bouc-Wen update), advanced in a `lax.scan` whose carry holds the state,
     the running maxima and a running log-sum-exp for `smooth_max` (the t = 0 rest state
-    included, as in `simulate_structure`'s saved times). jit/vmap/grad-safe.
+    included, as in `simulate_structure`'s saved times); for more than one degree of freedom
+    the linear part of the step is one (3n, 3n) product (`newmark_propagator`). jit/vmap/grad-safe.
 
     **Arguments:**
 
