@@ -151,3 +151,70 @@ def test_solver_failure_is_reported_not_hidden():
         diffrax.diffeqsolve(
             diffrax.ODETerm(system), tj.RiccatiNewmark(), 0.0, 1.0, 0.02, tj.initial_state(system)
         )
+
+
+@pytest.mark.parametrize("split_at_turn", [True, False])
+@pytest.mark.parametrize("breakaway", [None, 1.6])
+def test_newton_slope_is_the_derivative_of_the_residual(split_at_turn, breakaway):
+    """The slope written out for Newton's steps (flow derivatives of Bouc-Wen, with and without
+    a turn inside the step) equals the automatic derivative of the residual."""
+    from teflon_jax.systems._structure import _isolator_residual, _residual_and_slope
+
+    bearing = tj.paper_bearing(FRICTION, breakaway_ratio=breakaway)
+    rng = np.random.default_rng(1)
+    n = 4000
+    z0, vb0 = rng.uniform(-1.05, 1.05, n), 0.3 * rng.normal(size=n)
+    x = 0.01 + 3e-3 * rng.normal(size=n) * 10 ** rng.uniform(-4, 0, n)
+    z_peak = rng.uniform(0.99, 1.0, n)
+    rule = (0.005, split_at_turn)
+
+    def both(z0, vb0, x, z_peak):
+        p = {"bearing": bearing, "W": WEIGHT, "z0": z0, "z_peak": z_peak, "ub0": 0.01, "vb0": vb0,
+             "g0": 1e-8, "ub_linear": 0.01, "reversal_length": tj.bouc_wen_reversal_length(bearing.hysteresis, z0)}
+        r, slope = _residual_and_slope(x, p, rule)
+        r_auto, slope_auto = jax.jvp(lambda y: _isolator_residual(y, p, rule), (x,), (jnp.ones_like(x),))
+        return r, r_auto, slope, slope_auto
+
+    r, r_auto, slope, slope_auto = jax.jit(jax.vmap(both))(z0, vb0, x, z_peak)
+    np.testing.assert_allclose(r, r_auto, rtol=1e-12, atol=1e-17)
+    turning = vb0 * (2 / 0.005 * (x - 0.01) - vb0) < 0
+    assert turning.sum() > n // 10  # the turning branch is exercised
+    np.testing.assert_allclose(slope, slope_auto, rtol=1e-9)
+
+
+def test_newton_in_line_iterations_give_the_loop_iterates():
+    """Newton iterations written out in line (`newton_unrolled`) follow the loop's iterates;
+    a solve cut short is still reported as not converged, in line or in the loop."""
+    from teflon_jax.systems import peak_response
+
+    system = rigid_mass(0.01, sine_ground(duration=3.0))
+    loop = tj.simulate_structure(system, 3.0)
+    inline = tj.simulate_structure(dataclasses.replace(system, newton_unrolled=3), 3.0)
+    np.testing.assert_allclose(inline.displacement, loop.displacement, rtol=1e-12, atol=1e-15)
+    np.testing.assert_allclose(inline.z, loop.z, rtol=1e-12, atol=1e-14)
+    for unrolled in (0, 1):
+        short = dataclasses.replace(system, newton_iterations=1, newton_unrolled=unrolled)
+        assert not bool(peak_response(short, 3.0).converged)
+        assert bool(peak_response(dataclasses.replace(short, newton_iterations=3), 3.0).converged)
+
+
+def test_step_matrix_is_the_newmark_step():
+    """`newmark_propagator` (the building's peak loop) takes the step `newmark_update` takes."""
+    from teflon_jax.systems import newmark_propagator
+
+    system = tj.isolated_structure("building")(sine_ground())
+    n = system.mass.shape[0]
+    rng = np.random.default_rng(2)
+    y0 = {"u": jnp.asarray(1e-2 * rng.normal(size=n)), "v": jnp.asarray(0.1 * rng.normal(size=n)),
+          "z": jnp.asarray(0.4), "z_peak": jnp.asarray(1.0)}
+    a0, ground1 = jnp.asarray(rng.normal(size=n)), 2.0
+    y1, _ = system.newmark_update(y0, a0, ground1)
+    a1 = system.acceleration_at(ground1, y1)
+    matrix, ground_column, force_column = newmark_propagator(system)
+    x0 = jnp.concatenate([y0["u"], y0["v"], a0])
+    linear = matrix @ x0 + ground_column * ground1
+    force, z1, z_peak1, _ = system.isolator_force(linear[0], y0, a0[0])
+    x1 = linear + force_column * force
+    x1 = x1.at[2 * n].add(-system.friction_force(x1[n], z1, z_peak1) / system.mass[0])
+    np.testing.assert_allclose(x1, jnp.concatenate([y1["u"], y1["v"], a1]), rtol=1e-10, atol=1e-12)
+    assert abs(float(force)) > 0.1 * float(system.bearing_load) * 0.05  # the bearing force takes part

@@ -35,6 +35,12 @@ FRICTION_MODELS = ("hysteretic", "coulomb", "none")
 NEWTON_ITERATIONS = 40
 """Most bracketed Newton iterations per step (typically 2-4 are needed; the loop stops early)."""
 
+NEWTON_UNROLLED = 0
+"""Newton iterations written out in line before the loop (`StructureOnSliders.newton_unrolled`):
+none by default, as on a CPU XLA then recomputes the residual in each of its consumers (Monte
+Carlo of the rigid mass 1.6-2.5x slower with 3; devices where each kernel launch is costly may
+gain)."""
+
 
 class StructureOnSliders(AbstractSteppedSystem):
     """A linear structure isolated on sliding bearings, as a diffrax vector field.
@@ -66,6 +72,8 @@ class StructureOnSliders(AbstractSteppedSystem):
       net increment (False, the default here: the update the biaxial systems also use, so
       that a biaxial system under a one-component record reproduces this one; it needs about
       half the step for the same accuracy).
+    - `newton_unrolled` (static): how many of the Newton iterations are written out in line
+      before the loop (`NEWTON_UNROLLED`); the iterates, and so the results, do not depend on it.
     """
 
     mass: jnp.ndarray
@@ -79,6 +87,7 @@ class StructureOnSliders(AbstractSteppedSystem):
     friction_model: str = eqx.field(static=True, default="hysteretic")
     newton_iterations: int = eqx.field(static=True, default=NEWTON_ITERATIONS)
     split_at_turn: bool = eqx.field(static=True, default=False)
+    newton_unrolled: int = eqx.field(static=True, default=NEWTON_UNROLLED)
 
     def friction_force(self, velocity, z, z_peak):
         """F = mu W Z [N] at isolator `velocity` [m/s]."""
@@ -141,26 +150,33 @@ class StructureOnSliders(AbstractSteppedSystem):
         )
         u_linear = self.newmark_inverse @ rhs  # response with the bearing force removed
         compliance = self.newmark_inverse[:, 0]  # response to a unit force at the isolator
-        g0 = compliance[0]
-        ub0, vb0 = u0[0], v0[0]
+        force, z1, z_peak1, converged = self.isolator_force(u_linear[0], y0, a0[0])
+        u1 = u_linear - compliance * force
+        v1 = 2 / dt * (u1 - u0) - v0
+        return {"u": u1, "v": v1, "z": z1, "z_peak": z_peak1}, converged
+
+    def isolator_force(self, ub_linear, y0, ab0):
+        """The bearing force F [N] at the end of a step (and Z, the running peak of |Z| and
+        whether the solve converged), given the isolator's displacement `ub_linear` [m] at the
+        end of the step without the force, state `y0` and isolator acceleration `ab0` [m/s^2]
+        at its start: Newmark's isolator displacement is ub_linear - g0 F, with g0 = K_eff^-1[0, 0]."""
+        dt = self.time_step
+        g0 = self.newmark_inverse[0, 0]
+        ub0, vb0 = y0["u"][0], y0["v"][0]
         z0 = y0["z"]
         # Breakaway (Eq. 17) is decided by the largest |Z| reached up to the start of the step:
         # the same running peak sets the force in the equilibrium below and the force reported
         # at the end of the step (`friction_force` of the stored state), so the switch acts once,
         # at one step, in both.
         z_peak1 = jnp.maximum(y0["z_peak"], jnp.abs(z0))
-
         if self.friction_model == "none":
             force, z1, converged = jnp.zeros_like(z0), z0, jnp.array(True)
         elif self.friction_model == "coulomb":
-            force, z1 = self._coulomb_force(u_linear[0] - ub0, vb0, g0, dt)
+            force, z1 = self._coulomb_force(ub_linear - ub0, vb0, g0, dt)
             converged = jnp.array(True)
         else:
-            force, z1, converged = self._hysteretic_force(u_linear[0], ub0, vb0, a0[0], z0, z_peak1, g0, dt)
-
-        u1 = u_linear - compliance * force
-        v1 = 2 / dt * (u1 - u0) - v0
-        return {"u": u1, "v": v1, "z": z1, "z_peak": z_peak1}, converged
+            force, z1, converged = self._hysteretic_force(ub_linear, ub0, vb0, ab0, z0, z_peak1, g0, dt)
+        return force, z1, z_peak1, converged
 
     def _coulomb_force(self, du_linear, vb0, g0, dt):
         # Eq. 2 with an implicit (set-valued) friction force: the isolator velocity at the end of
@@ -194,7 +210,7 @@ class StructureOnSliders(AbstractSteppedSystem):
              "vb0": vb0, "g0": g0, "ub_linear": ub_linear,
              "reversal_length": bouc_wen_reversal_length(h, z0)}  # the same for every iterate
         rule = (dt, self.split_at_turn)
-        x = _isolator_root(rule, self.newton_iterations, p, x0, lo, hi, tolerance)
+        x = _isolator_root(rule, (self.newton_unrolled, self.newton_iterations), p, x0, lo, hi, tolerance)
         force, z1 = _bearing_force(x, p, rule)
         converged = jnp.abs(x - ub_linear + g0 * force) <= tolerance  # `_isolator_residual`
         return force, z1, converged
@@ -230,15 +246,67 @@ def _isolator_residual(x, p, rule):
     return x - p["ub_linear"] + p["g0"] * _bearing_force(x, p, rule)[0]
 
 
+def _bouc_wen_slope(h, z, increment):
+    """dZ/du [1/m] at Z along a monotone increment of the sign of `increment` (the same sign
+    convention as `bouc_wen_exact_update`: + for 0), Eq. 3 with eta = 2:
+    Y dZ/du = A - beta Z^2 - gamma sgn(du) Z |Z|."""
+    sign = jnp.where(increment >= 0, 1.0, -1.0)
+    return (h.A - h.beta * z**2 - h.gamma * sign * z * jnp.abs(z)) / h.yield_disp
+
+
+def _residual_and_slope(x, p, rule):
+    """`_isolator_residual` and its derivative in x, the latter written out (no automatic
+    differentiation, so that Newton's loop costs one evaluation of the exact Z update):
+
+        dr/dx = 1 + g0 W (mu'(v) (2 / dt) Z + mu dZ/dx).
+
+    Bouc-Wen is an autonomous equation in u along a monotone piece, Z' = G(Z), so the end value
+    Z(z_a, d) of a piece of length d from z_a has dZ/dd = G(Z) and dZ/dz_a = G(Z) / G(z_a).
+    Without a turn Z = Z(z0, du) and dZ/dx = G(Z). With a turn at u* (forth f = u* - ub0,
+    df/dx = vb0^2 / (4 c^2 dt^2), see `_bearing_force`) and back b = du - f:
+        dZ/dx = G_b(Z) / G_b(Z*) G_f(Z*) df/dx + G_b(Z) (1 - df/dx).
+    Only Newton's steps use this slope (a wrong slope would slow them, not move the root);
+    the derivatives of the root come from the custom JVP of `_isolator_root`."""
+    dt, split_at_turn = rule
+    h = p["bearing"].hysteresis
+    du = x - p["ub0"]
+    vb0 = p["vb0"]
+    velocity = 2 / dt * du - vb0
+    turning = (vb0 * velocity < 0) & split_at_turn
+    c = jnp.where(turning, (du - vb0 * dt) / dt**2, 1.0)
+    forth = jnp.where(turning, -(vb0**2) / (4 * c), du)
+    back = jnp.where(turning, du - forth, 0.0)
+    z_turn = bouc_wen_exact_update(h, p["z0"], forth, p["reversal_length"], tangent="series")
+    z = bouc_wen_exact_update(h, z_turn, back, tangent="series")
+    slope_forth = _bouc_wen_slope(h, z_turn, forth)
+    slope_end = _bouc_wen_slope(h, z, back)
+    slope_turn = _bouc_wen_slope(h, z_turn, back)
+    d_forth = vb0**2 / (4 * c**2 * dt**2)
+    ratio = slope_end / jnp.where(slope_turn != 0, slope_turn, 1.0)
+    dz = jnp.where(turning, ratio * slope_forth * d_forth + slope_end * (1 - d_forth), slope_forth)
+    mu, dmu = jax.jvp(lambda v: p["bearing"].coefficient(v, 0.0, p["z_peak"]), (velocity,),
+                      (jnp.ones_like(velocity),))
+    W, g0 = p["W"], p["g0"]
+    r = x - p["ub_linear"] + g0 * mu * W * z
+    return r, 1 + g0 * W * (dmu * (2 / dt) * z + mu * dz)
+
+
 @functools.partial(jax.custom_jvp, nondiff_argnums=(0, 1))
-def _isolator_root(rule, max_iterations, p, x0, lo, hi, tolerance):
+def _isolator_root(rule, iterations, p, x0, lo, hi, tolerance):
     """Root of `_isolator_residual` by Newton's method safeguarded by the bracket [lo, hi]
     (bisection when a Newton step leaves it), iterating until |residual| <= tolerance or
-    `max_iterations`. Differentiated implicitly (custom JVP: dx = -r_p dp / r_x), so forward
-    and reverse mode work and cost one linear solve whatever the number of iterations."""
+    `max_iterations`, with `iterations` = (unrolled, max_iterations): the first `unrolled`
+    iterations are written out in line (straight-line code that XLA fuses with the rest of
+    the step; a member already at tolerance keeps its iterate), the rest run in a
+    `lax.while_loop` that stops as soon as every member is at tolerance (in a batch, most
+    steps need no iteration there). The iterates are those of a plain loop that stops at
+    tolerance, whatever `unrolled` is. Differentiated implicitly (custom JVP: dx = -r_p dp /
+    r_x), so forward and reverse mode work and cost one linear solve whatever the number of
+    iterations."""
+    unrolled, max_iterations = iterations
 
     def evaluate(x):
-        return jax.jvp(lambda y: _isolator_residual(y, p, rule), (x,), (jnp.ones_like(x),))
+        return _residual_and_slope(x, p, rule)
 
     def cond(carry):
         x, lo, hi, r, dr, k = carry
@@ -246,23 +314,29 @@ def _isolator_root(rule, max_iterations, p, x0, lo, hi, tolerance):
 
     def body(carry):
         x, lo, hi, r, dr, k = carry
+        active = jnp.abs(r) > tolerance  # always True in the while loop's body
         lo = jnp.where(r < 0, x, lo)
         hi = jnp.where(r > 0, x, hi)
         step = x - r / jnp.where(dr > 0, dr, 1.0)
         inside = (step >= lo) & (step <= hi) & (dr > 0)
-        x = jnp.where(inside, step, 0.5 * (lo + hi))
-        r, dr = evaluate(x)
-        return x, lo, hi, r, dr, k + 1
+        x_new = jnp.where(inside, step, 0.5 * (lo + hi))
+        r_new, dr_new = evaluate(x_new)
+        return (jnp.where(active, x_new, x), lo, hi, jnp.where(active, r_new, r),
+                jnp.where(active, dr_new, dr), k + 1)
 
     r0, dr0 = evaluate(x0)
-    x, *_ = jax.lax.while_loop(cond, body, (x0, lo, hi, r0, dr0, 0))
-    return x
+    carry = (x0, lo, hi, r0, dr0, 0)
+    for _ in range(min(unrolled, max_iterations)):
+        carry = body(carry)
+    if max_iterations > unrolled:
+        carry = jax.lax.while_loop(cond, body, carry)
+    return carry[0]
 
 
 @_isolator_root.defjvp
-def _isolator_root_jvp(rule, max_iterations, primals, tangents):
+def _isolator_root_jvp(rule, iterations, primals, tangents):
     p, x0, lo, hi, tolerance = primals
-    x = _isolator_root(rule, max_iterations, p, x0, lo, hi, tolerance)
+    x = _isolator_root(rule, iterations, p, x0, lo, hi, tolerance)
     _, r_p = jax.jvp(lambda q: _isolator_residual(x, q, rule), (p,), (tangents[0],))
     _, r_x = jax.jvp(lambda y: _isolator_residual(y, p, rule), (x,), (jnp.ones_like(x),))
     return x, -r_p / r_x
