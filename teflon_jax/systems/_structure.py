@@ -79,6 +79,7 @@ class StructureOnSliders(AbstractSteppedSystem):
     friction_model: str = eqx.field(static=True, default="hysteretic")
     newton_iterations: int = eqx.field(static=True, default=NEWTON_ITERATIONS)
     split_at_turn: bool = eqx.field(static=True, default=False)
+    newton_tolerance: float = eqx.field(static=True, default=1e-6)  # |residual| <= this * Y (static)
 
     def friction_force(self, velocity, z, z_peak):
         """F = mu W Z [N] at isolator `velocity` [m/s]."""
@@ -189,7 +190,7 @@ class StructureOnSliders(AbstractSteppedSystem):
         lo, hi = ub_linear - g0 * force_bound, ub_linear + g0 * force_bound
         x0 = jnp.clip(ub0 + dt * vb0 + 0.5 * dt**2 * ab0, lo, hi)  # constant-acceleration predictor
         eps = jnp.finfo(jnp.result_type(x0)).eps
-        tolerance = jnp.maximum(1e-6 * h.yield_disp, 1e3 * eps * (jnp.abs(x0) + jnp.abs(ub_linear)))
+        tolerance = jnp.maximum(self.newton_tolerance * h.yield_disp, 1e3 * eps * (jnp.abs(x0) + jnp.abs(ub_linear)))
         p = {"bearing": bearing, "W": W, "z0": z0, "z_peak": z_peak, "ub0": ub0,
              "vb0": vb0, "g0": g0, "ub_linear": ub_linear,
              "reversal_length": bouc_wen_reversal_length(h, z0)}  # the same for every iterate
