@@ -140,12 +140,16 @@ class BidirectionalStructure(AbstractSteppedSystem):
         # in the equilibrium solved here and in the force reported for the stored state alike
         # (as in the uniaxial `StructureOnSliders`), so the switch acts once, at one step.
         z_peak = jnp.maximum(y0["z_peak"], jnp.sqrt(jnp.sum(y0["z"] ** 2, axis=-1)))
+        # one product for the bearing motions of all four vectors (fewer small kernels)
+        motion = jnp.stack([q_linear, q0, v0, a0]) @ jnp.concatenate([bx, by]).T  # (4, 2G)
+        n_groups = bx.shape[0]
+        d_linear, d0, vb0, ab0 = ((row[:n_groups], row[n_groups:]) for row in motion)
         p = {
-            "d_linear": (bx @ q_linear, by @ q_linear),
+            "d_linear": d_linear,
             "flexibility": ((bx @ cx, bx @ cy), (by @ cx, by @ cy)),
-            "d0": (bx @ q0, by @ q0),
-            "vb0": (bx @ v0, by @ v0),
-            "ab0": (bx @ a0, by @ a0),
+            "d0": d0,
+            "vb0": vb0,
+            "ab0": ab0,
             "z0": (y0["z"][:, 0], y0["z"][:, 1]),
             "z_peak0": z_peak,
         }
