@@ -40,8 +40,8 @@ from ..solver import (
 from ._bearing_test import running_peak_rate
 
 NEWTON_ITERATIONS = 100
-"""Most iterations of the fallback Newton loop per step (it runs only for members that the
-fixed iterations left above tolerance)."""
+"""Most iterations per step, all kinds together (fixed, Broyden loop, finite-difference Newton
+loop; the loops run only for members still above tolerance)."""
 
 FIXED_ITERATIONS = 3
 """Newton-Broyden iterations per step, unrolled (the same work for every batch member)."""
@@ -240,7 +240,8 @@ class BidirectionalStructure(AbstractSteppedSystem):
                         for i in range(2)]
             return x, r_new, jacobian, forces, z
 
-        for _ in range(FIXED_ITERATIONS):  # unrolled: the same work for every member
+        fixed = min(FIXED_ITERATIONS, self.newton_iterations)  # newton_iterations bounds them all
+        for _ in range(fixed):  # unrolled: the same work for every member
             x, r, jacobian, forces, z = broyden(x, r, jacobian)
 
         def broyden_body(carry):
@@ -248,8 +249,9 @@ class BidirectionalStructure(AbstractSteppedSystem):
             return (*broyden(x, r, jacobian), k + 1)
 
         # more secant iterations, one batch-wide residual each, while a member is off
-        x, r, _, forces, z, _ = jax.lax.while_loop(
-            lambda c: off(c[1]) & (c[5] < BROYDEN_ITERATIONS), broyden_body, (x, r, jacobian, forces, z, 0)
+        broyden_limit = fixed + min(BROYDEN_ITERATIONS, self.newton_iterations - fixed)
+        x, r, _, forces, z, done = jax.lax.while_loop(
+            lambda c: off(c[1]) & (c[5] < broyden_limit), broyden_body, (x, r, jacobian, forces, z, fixed)
         )
 
         def split(flat):
@@ -289,7 +291,7 @@ class BidirectionalStructure(AbstractSteppedSystem):
             _, x_new, out = jax.lax.while_loop(worse, shrink, (1.0, trial, residual_forces(trial)))
             return x_new, out, k + 1
 
-        start = (jnp.concatenate(x), (jnp.concatenate(r), forces, z), 0)
+        start = (jnp.concatenate(x), (jnp.concatenate(r), forces, z), done)
         _, (r, forces, z), _ = jax.lax.while_loop(cond, body, start)
         return forces, z, size(r) <= tolerance
 
