@@ -1,6 +1,8 @@
 """Bidirectional structures: Park's biaxial Z updated exactly along straight increments, the
 rigid mass and the Table 2 building under two ground components (issue 13)."""
 
+import dataclasses
+
 import diffrax
 import jax
 import jax.numpy as jnp
@@ -94,25 +96,35 @@ def test_motion_along_a_line_at_30_degrees_is_the_uniaxial_response():
 
 
 @pytest.mark.slow
-def test_zero_y_record_gives_the_uniaxial_building():
+@pytest.mark.parametrize("structure", ["rigid", "building"])
+def test_zero_y_record_gives_the_uniaxial_result_to_rounding(structure):
+    """A zero y record: the bidirectional system is the uniaxial one. Converged to rounding
+    (`newton_tolerance=0` in both), they agree to ~1e-12 of the peak (measured 7.7e-13 rigid,
+    1.5e-12 building); at the default tolerance (|residual| <= 1e-6 Y per step, where the two
+    Newton solvers stop at different iterates) only to 2e-10 and 2e-9: the gap is the
+    stopping rule, not the model."""
     record = _pulse(duration=4.0)
     bearing = _bearing()
     from teflon_jax.systems import six_storey_building
 
-    plane = bidirectional_building(
-        bearing=bearing, ground_x=uniform_signal(record, 0.01), time_step=0.0025, isolation_period=2.0
-    )
-    line = six_storey_building(
-        bearing=bearing, ground_acceleration=uniform_signal(record, 0.01), time_step=0.0025, isolation_period=2.0
-    )
-    biaxial = simulate_bidirectional(plane, 4.0)
-    uniaxial = simulate_structure(line, 4.0)
-    peak = np.max(np.abs(uniaxial.displacement))
-    # Measured 1.3e-8 of the peak: the uniaxial solver stops at |residual| <= 1e-6 Y (it keeps
-    # its predictor when that is already within tolerance), so rounding-level agreement would
-    # need its tolerance tightened; a breakaway switched one step apart gives 3e-5.
-    np.testing.assert_allclose(biaxial.q[:, :7], uniaxial.displacement, rtol=0, atol=1e-7 * peak)
-    assert np.max(np.abs(biaxial.q[:, 7:])) == 0.0
+    if structure == "rigid":
+        kwargs = dict(weight=1e5, bearing=bearing, time_step=0.0025, isolation_period=2.5, damping_ratio=0.05)
+        plane = bidirectional_rigid_mass(ground_x=uniform_signal(record, 0.01), **kwargs)
+        line = rigid_mass(ground_acceleration=uniform_signal(record, 0.01), **kwargs)
+    else:
+        kwargs = dict(bearing=bearing, time_step=0.0025, isolation_period=2.0)
+        plane = bidirectional_building(ground_x=uniform_signal(record, 0.01), **kwargs)
+        line = six_storey_building(ground_acceleration=uniform_signal(record, 0.01), **kwargs)
+    n = line.mass.shape[0]
+    errors = []
+    for tolerance in (1e-6, 0.0):
+        biaxial = simulate_bidirectional(dataclasses.replace(plane, newton_tolerance=tolerance), 4.0)
+        uniaxial = simulate_structure(dataclasses.replace(line, newton_tolerance=tolerance), 4.0)
+        peak = np.max(np.abs(uniaxial.displacement))
+        assert np.max(np.abs(biaxial.q[:, n:])) == 0.0  # nothing moves across
+        errors.append(np.max(np.abs(biaxial.q[:, :n] - uniaxial.displacement)) / peak)
+    assert errors[1] < 1e-11, errors
+    assert errors[0] < 1e-6, errors
 
 
 def energy_terms(system, response):

@@ -15,10 +15,12 @@ Reference: Constantinou, Mokha & Reinhorn (1990), J. Struct. Eng. 116(2), Eqs. 1
 `advance` (used by `RiccatiNewmark`) takes Newmark's average-acceleration rule for q and the
 bearing forces at the end of the step, with each group's Z updated exactly along its straight
 sliding increment (`park_exact_update`); the 2G bearing displacements solve
-d - d_lin + G_b F(d) = 0 (G_b = B K_eff^-1 B^T): a fixed number of Newton-Broyden iterations
-from the tangent of Park's law (the same work for every member of a batch, no loop), then
-Newton's method with backtracking for the members still above tolerance (a loop that runs
-only while one of them is). A step that does not converge is reported per batch member.
+d - d_lin + G_b F(d) = 0 (G_b = B K_eff^-1 B^T): from the constant-acceleration predictor, a
+fixed number of Newton-Broyden iterations from the tangent of Park's law (the same work for
+every member of a batch, no loop), further Broyden iterations while a member is above
+tolerance, then Newton's method with backtracking for the members still above it (loops that
+run only while one of them is). A member within tolerance keeps its iterate. A step that does
+not converge is reported per batch member.
 """
 
 import diffrax
@@ -38,11 +40,19 @@ from ..solver import (
 from ._bearing_test import running_peak_rate
 
 NEWTON_ITERATIONS = 100
-"""Most iterations of the fallback Newton loop per step (it runs only for members that the
-fixed iterations left above tolerance)."""
+"""Most iterations per step, all kinds together (fixed, Broyden loop, finite-difference Newton
+loop; the loops run only for members still above tolerance)."""
 
 FIXED_ITERATIONS = 3
 """Newton-Broyden iterations per step, unrolled (the same work for every batch member)."""
+
+NEWTON_TOLERANCE = 1e-6
+"""Default tolerance on the bearing equilibrium per step, max |residual| <= this * Y (or 1e3
+rounding units of the displacements, whichever is larger)."""
+
+BROYDEN_ITERATIONS = 8
+"""Most further Newton-Broyden iterations per step, in a loop that runs while a member is
+above tolerance (before the finite-difference Newton loop)."""
 
 
 class BidirectionalStructure(AbstractSteppedSystem):
@@ -55,7 +65,8 @@ class BidirectionalStructure(AbstractSteppedSystem):
     `influence` R (N, 2) [-]; `bearing_map` B (G, 2, N); `bearing`: a `SlidingBearing` whose
     array leaves have shape (G,) (one set of constants per group); `bearing_load` W_g (G,) [N];
     `ground_x`, `ground_y`: `Signal`s of the ground acceleration [m/s^2]; `newmark_inverse`
-    K_eff^-1 for `time_step` [s] (static); `newton_iterations` (static).
+    K_eff^-1 for `time_step` [s] (static); `newton_iterations`, `newton_tolerance` (static,
+    in units of Y; 0: to rounding).
     """
 
     mass: jnp.ndarray
@@ -70,6 +81,7 @@ class BidirectionalStructure(AbstractSteppedSystem):
     newmark_inverse: jnp.ndarray
     time_step: float = eqx.field(static=True)
     newton_iterations: int = eqx.field(static=True, default=NEWTON_ITERATIONS)
+    newton_tolerance: float = eqx.field(static=True, default=NEWTON_TOLERANCE)
 
     def ground(self, t):
         """(a_x, a_y) [m/s^2] at time t."""
@@ -120,97 +132,137 @@ class BidirectionalStructure(AbstractSteppedSystem):
         m, q0, v0 = self.mass, y0["q"], y0["v"]
         rhs = self._load(t1) + m * (4 / dt**2 * q0 + 4 / dt * v0 + a0) + self.damping @ (2 / dt * q0 + v0)
         q_linear = self.newmark_inverse @ rhs
-        n_groups = self.bearing_load.shape[0]
-        b_flat = self.bearing_map.reshape(2 * n_groups, -1)
-        compliance = self.newmark_inverse @ b_flat.T  # (N, 2G)
+        # Every vector over the bearings is kept as its x and y parts (G,) apart: under `vmap`
+        # an interleaved (G, 2) layout keeps XLA's CPU loops from vectorising (4x dearer).
+        bx, by = self.bearing_map[:, 0, :], self.bearing_map[:, 1, :]  # (G, N)
+        cx, cy = self.newmark_inverse @ bx.T, self.newmark_inverse @ by.T  # (N, G)
         # Breakaway (Eq. 17) is decided by the largest |Z| reached up to the start of the step,
         # in the equilibrium solved here and in the force reported for the stored state alike
         # (as in the uniaxial `StructureOnSliders`), so the switch acts once, at one step.
         z_peak = jnp.maximum(y0["z_peak"], jnp.sqrt(jnp.sum(y0["z"] ** 2, axis=-1)))
+        # one product for the bearing motions of all four vectors (fewer small kernels)
+        motion = jnp.stack([q_linear, q0, v0, a0]) @ jnp.concatenate([bx, by]).T  # (4, 2G)
+        n_groups = bx.shape[0]
+        d_linear, d0, vb0, ab0 = ((row[:n_groups], row[n_groups:]) for row in motion)
         p = {
-            "d_linear": b_flat @ q_linear,
-            "flexibility": b_flat @ compliance,
-            "d0": self.bearing_motion(q0).reshape(-1),
-            "vb0": self.bearing_motion(v0).reshape(-1),
-            "z0": y0["z"],
+            "d_linear": d_linear,
+            "flexibility": ((bx @ cx, bx @ cy), (by @ cx, by @ cy)),
+            "d0": d0,
+            "vb0": vb0,
+            "ab0": ab0,
+            "z0": (y0["z"][:, 0], y0["z"][:, 1]),
             "z_peak0": z_peak,
         }
-        forces, z1, converged = self._solve_bearings(p)
-        q1 = q_linear - compliance @ forces
+        (fx, fy), z1, converged = self._solve_bearings(p)
+        q1 = q_linear - _matvec(cx, fx) - _matvec(cy, fy)
         v1 = 2 / dt * (q1 - q0) - v0
         return {"q": q1, "v": v1, "z": z1, "z_peak": z_peak}, converged
 
     def _forces_at(self, d, p):
-        """Flattened forces (2G,) and Z (G, 2) for flattened bearing displacements d at t1."""
-        n_groups = self.bearing_load.shape[0]
-        increment = (d - p["d0"]).reshape(n_groups, 2)
-        z = park_exact_update(self.bearing.hysteresis, p["z0"], increment)
-        velocity = (2 / self.time_step * (d - p["d0"]) - p["vb0"]).reshape(n_groups, 2)
-        return self.friction_forces(velocity, z, p["z_peak0"]).reshape(-1), z
-
-    def _residual(self, d, p):
-        return self._residual_forces(d, p)[0]
+        """Forces (x, y parts, each (G,)) [N] and Z (G, 2) for bearing displacements d = (dx, dy)
+        at t1."""
+        increment = [d[i] - p["d0"][i] for i in range(2)]
+        z = park_exact_update(self.bearing.hysteresis, jnp.stack(p["z0"], -1), jnp.stack(increment, -1))
+        vx, vy = (2 / self.time_step * increment[i] - p["vb0"][i] for i in range(2))
+        capacity = self.bearing.coefficient(vx, vy, p["z_peak0"]) * self.bearing_load
+        return (capacity * z[:, 0], capacity * z[:, 1]), z
 
     def _residual_forces(self, d, p):
-        """(residual (2G,), forces (2G,), Z (G, 2)) at flattened bearing displacements d."""
+        """(residual, forces, Z) at bearing displacements d = (dx, dy): r = d - d_lin + G_b F(d)."""
         forces, z = self._forces_at(d, p)
-        return d - p["d_linear"] + p["flexibility"] @ forces, forces, z
+        return _affine(p["flexibility"], forces, d, p["d_linear"]), forces, z
 
     def _tangent_jacobian(self, d, p):
-        """Residual r (2G,) at d and an approximate Jacobian dr/dd (2G, 2G) built from the
-        tangent of Park's law at the end of the increment, dZ/dU = (A I - Z w^T) / Y with
-        w_i = (gamma s_i + beta) Z_i (exact along the increment, too stiff across a long
-        one: the secant updates of `_solve_bearings` correct it), and dmu/dv of Eq. 1."""
-        n_groups = self.bearing_load.shape[0]
+        """Residual r at d = (dx, dy) and an approximate Jacobian dr/dd (blocks ((xx, xy),
+        (yx, yy)), each (G, G)) built from the tangent of Park's law at the end of the
+        increment, dZ/dU = (A I - Z w^T) / Y with w_i = (gamma s_i + beta) Z_i (exact along
+        the increment, too stiff across a long one: the secant updates of `_solve_bearings`
+        correct it), and dmu/dv of Eq. 1."""
         dt = self.time_step
         h = self.bearing.hysteresis
-        increment = (d - p["d0"]).reshape(n_groups, 2)
-        z = park_exact_update(h, p["z0"], increment)
-        velocity = (2 / dt * (d - p["d0"]) - p["vb0"]).reshape(n_groups, 2)
+        increment = [d[i] - p["d0"][i] for i in range(2)]
+        z = park_exact_update(h, jnp.stack(p["z0"], -1), jnp.stack(increment, -1))
+        zs = (z[:, 0], z[:, 1])
+        vx, vy = (2 / dt * increment[i] - p["vb0"][i] for i in range(2))
 
         def coefficient(vx, vy):
             return self.bearing.coefficient(vx, vy, p["z_peak0"])
 
-        vx, vy = velocity[:, 0], velocity[:, 1]
         mu, dmu_x = jax.jvp(coefficient, (vx, vy), (jnp.ones_like(vx), jnp.zeros_like(vy)))
         _, dmu_y = jax.jvp(coefficient, (vx, vy), (jnp.zeros_like(vx), jnp.ones_like(vy)))
         load = self.bearing_load
-        forces = ((mu * load)[:, None] * z).reshape(-1)
-        r = d - p["d_linear"] + p["flexibility"] @ forces
-        # dZ/dU at the end state along the increment: (A I - Z w^T) / Y, w_i = (gamma s_i + beta) Z_i
-        sign = jnp.where(increment * z >= 0, 1.0, -1.0)
-        w = (h.gamma[:, None] * sign + h.beta[:, None]) * z
-        eye = jnp.eye(2)
-        dz = (h.A[:, None, None] * eye - z[:, :, None] * w[:, None, :]) / h.yield_disp[:, None, None]
-        dmu = jnp.stack([dmu_x, dmu_y], axis=-1) * (2 / dt)  # (G, 2)
-        block = load[:, None, None] * (mu[:, None, None] * dz + z[:, :, None] * dmu[:, None, :])
-        full = jax.scipy.linalg.block_diag(*block) if n_groups > 1 else block[0]
-        return r, jnp.eye(2 * n_groups) + p["flexibility"] @ full
+        forces = (mu * load * zs[0], mu * load * zs[1])
+        r = _affine(p["flexibility"], forces, d, p["d_linear"])
+        w = [(h.gamma * jnp.where(increment[i] * zs[i] >= 0, 1.0, -1.0) + h.beta) * zs[i] for i in range(2)]
+        dmu = (dmu_x * (2 / dt), dmu_y * (2 / dt))
+        # local 2 x 2 block per group: W (mu dZ/dU + Z dmu/dU^T)
+        local = [[load * (mu * ((h.A if i == j else 0.0) - zs[i] * w[j]) / h.yield_disp + zs[i] * dmu[j])
+                  for j in range(2)] for i in range(2)]
+        flex = p["flexibility"]
+        eye = jnp.eye(load.shape[0])
+        jacobian = [[(eye if i == j else 0.0) + sum(flex[i][k] * local[k][j][None, :] for k in range(2))
+                     for j in range(2)] for i in range(2)]
+        return r, jacobian
 
     def _solve_bearings(self, p):
-        """Bearing forces (2G,), Z (G, 2) and convergence at t1: `FIXED_ITERATIONS`
-        Newton-Broyden iterations (unrolled, no loop under `vmap`) from the tangent of Park's
-        law at the end state, then, only for members not yet within tolerance, Newton's method (Jacobian by forward differences) with
-        an Armijo backtracking line search on |r|. Converged when max|r| <= tolerance."""
-        x = p["d0"] + self.time_step * p["vb0"]
+        """Bearing forces (x, y parts), Z (G, 2) and convergence at t1: from the
+        constant-acceleration predictor, `FIXED_ITERATIONS` Newton-Broyden iterations
+        (unrolled, no loop under `vmap`) from the tangent of Park's law at the end state, up to
+        `BROYDEN_ITERATIONS` more while a member is above tolerance, then, for members still
+        above it, Newton's method (Jacobian by forward differences) with an Armijo
+        backtracking line search on |r|. Converged when max|r| <= tolerance."""
+        n_groups = self.bearing_load.shape[0]
+        dt = self.time_step  # constant-acceleration predictor
+        x = tuple(p["d0"][i] + dt * p["vb0"][i] + 0.5 * dt**2 * p["ab0"][i] for i in range(2))
         yield_disp = jnp.min(jnp.asarray(self.bearing.hysteresis.yield_disp))
-        eps = jnp.finfo(jnp.result_type(x)).eps
-        tolerance = jnp.maximum(
-            1e-6 * yield_disp, 1e3 * eps * jnp.max(jnp.abs(x) + jnp.abs(p["d_linear"]))
-        )
+        eps = jnp.finfo(jnp.result_type(x[0])).eps
+        scale = jnp.maximum(jnp.max(jnp.abs(x[0]) + jnp.abs(p["d_linear"][0])),
+                            jnp.max(jnp.abs(x[1]) + jnp.abs(p["d_linear"][1])))
+        tolerance = jnp.maximum(self.newton_tolerance * yield_disp, 1e3 * eps * scale)
         r, jacobian = self._tangent_jacobian(x, p)
-        forces, z = self._forces_at(x, p)  # replaced by the first iteration (no cost kept)
-        for _ in range(FIXED_ITERATIONS):  # Newton-Broyden: secant updates of the Jacobian
-            step = -_solve_small(jacobian, r)
-            step = jnp.where(jnp.all(jnp.isfinite(step)), step, -r)
-            x = x + step
-            r_new, forces, z = self._residual_forces(x, p)
-            mismatch = r_new - r - jacobian @ step
-            jacobian = jacobian + jnp.outer(mismatch, step) / jnp.maximum(step @ step, jnp.finfo(x.dtype).tiny)
-            r = r_new
+        tiny = jnp.finfo(x[0].dtype).tiny
 
-        def residual(x):
-            return self._residual(x, p)
+        def off(r):
+            return jnp.maximum(jnp.max(jnp.abs(r[0])), jnp.max(jnp.abs(r[1]))) > tolerance
+
+        def broyden(x, r, jacobian):
+            """One Newton step with the current Jacobian, then its secant (Broyden) update;
+            a member already within tolerance keeps its iterate (no step at round-off)."""
+            step = _solve_blocks(jacobian, r)
+            finite = jnp.isfinite(step[0]).all() & jnp.isfinite(step[1]).all() & off(r)
+            step = tuple(jnp.where(finite, -step[i], jnp.where(off(r), -r[i], 0.0)) for i in range(2))
+            x = (x[0] + step[0], x[1] + step[1])
+            r_new, forces, z = self._residual_forces(x, p)
+            predicted = _block_matvec(jacobian, step)
+            mismatch = [r_new[i] - r[i] - predicted[i] for i in range(2)]
+            norm2 = jnp.maximum(jnp.sum(step[0] ** 2) + jnp.sum(step[1] ** 2), tiny)
+            jacobian = [[jacobian[i][j] + jnp.outer(mismatch[i], step[j]) / norm2 for j in range(2)]
+                        for i in range(2)]
+            return x, r_new, jacobian, forces, z
+
+        fixed = min(FIXED_ITERATIONS, self.newton_iterations)  # newton_iterations bounds them all
+        for _ in range(fixed):  # unrolled: the same work for every member
+            x, r, jacobian, forces, z = broyden(x, r, jacobian)
+
+        def broyden_body(carry):
+            x, r, jacobian, _, _, k = carry
+            return (*broyden(x, r, jacobian), k + 1)
+
+        # more secant iterations, one batch-wide residual each, while a member is off
+        broyden_limit = fixed + min(BROYDEN_ITERATIONS, self.newton_iterations - fixed)
+        x, r, _, forces, z, done = jax.lax.while_loop(
+            lambda c: off(c[1]) & (c[5] < broyden_limit), broyden_body, (x, r, jacobian, forces, z, fixed)
+        )
+
+        def split(flat):
+            return flat[:n_groups], flat[n_groups:]
+
+        def residual(flat):
+            return jnp.concatenate(self._residual_forces(split(flat), p)[0])
+
+        def residual_forces(flat):
+            r, forces, z = self._residual_forces(split(flat), p)
+            return jnp.concatenate(r), forces, z
 
         def size(r):
             return jnp.max(jnp.abs(r))
@@ -221,25 +273,56 @@ class BidirectionalStructure(AbstractSteppedSystem):
 
         def body(carry):
             x, (r, _, _), k = carry
-            step = -_solve_small(_difference_jacobian(residual, x, r, p["d0"], yield_disp), r)
+            d0 = jnp.concatenate(p["d0"])
+            step = -jnp.linalg.solve(_difference_jacobian(residual, x, r, d0, yield_disp), r)
             step = jnp.where(jnp.all(jnp.isfinite(step)), step, -r)
             norm = jnp.sqrt(jnp.sum(r * r))
 
             def shrink(c):
                 alpha = 0.5 * c[0]
                 trial = x + alpha * step
-                return alpha, trial, self._residual_forces(trial, p)
+                return alpha, trial, residual_forces(trial)
 
             def worse(c):  # Armijo on |r|_2; below alpha = 2^-30 the step is taken as it is
                 alpha, _, (r_trial, _, _) = c
                 return (jnp.sqrt(jnp.sum(r_trial * r_trial)) > (1 - 1e-4 * alpha) * norm) & (alpha > 2.0**-30)
 
             trial = x + step
-            _, x_new, out = jax.lax.while_loop(worse, shrink, (1.0, trial, self._residual_forces(trial, p)))
+            _, x_new, out = jax.lax.while_loop(worse, shrink, (1.0, trial, residual_forces(trial)))
             return x_new, out, k + 1
 
-        _, (r, forces, z), _ = jax.lax.while_loop(cond, body, (x, (r, forces, z), 0))
+        start = (jnp.concatenate(x), (jnp.concatenate(r), forces, z), done)
+        _, (r, forces, z), _ = jax.lax.while_loop(cond, body, start)
         return forces, z, size(r) <= tolerance
+
+
+def _matvec(matrix, vector):
+    """matrix (m, G) @ vector (G,), as a product of elements for G = 1 (no dot kernel)."""
+    return matrix[:, 0] * vector if matrix.shape[1] == 1 else matrix @ vector
+
+
+def _block_matvec(blocks, vector):
+    """((xx, xy), (yx, yy)) @ (vx, vy), each block (G, G)."""
+    return tuple(_matvec(blocks[i][0], vector[0]) + _matvec(blocks[i][1], vector[1]) for i in range(2))
+
+
+def _affine(flexibility, forces, d, d_linear):
+    """d - d_linear + G_b F, in x and y parts."""
+    product = _block_matvec(flexibility, forces)
+    return tuple(d[i] - d_linear[i] + product[i] for i in range(2))
+
+
+def _solve_blocks(blocks, rhs):
+    """((xx, xy), (yx, yy))^-1 (rx, ry): in closed form for one bearing group (2 x 2), by LU
+    otherwise."""
+    if blocks[0][0].shape == (1, 1):
+        (a, b), (c, d) = ((blk[:, 0] for blk in row) for row in blocks)
+        det = a * d - b * c
+        return (d * rhs[0] - b * rhs[1]) / det, (a * rhs[1] - c * rhs[0]) / det
+    full = jnp.block(blocks)
+    flat = jnp.linalg.solve(full, jnp.concatenate(rhs))
+    n = rhs[0].shape[0]
+    return flat[:n], flat[n:]
 
 
 def _difference_jacobian(residual, x, r, x0, scale):
@@ -251,15 +334,6 @@ def _difference_jacobian(residual, x, r, x0, scale):
     h = 1e-7 * jnp.maximum(scale, jnp.abs(x - x0))
     columns = [(residual(x.at[j].add(h[j])) - r) / h[j] for j in range(x.shape[0])]
     return jnp.stack(columns, axis=1)
-
-
-def _solve_small(matrix, rhs):
-    """matrix^-1 rhs; in closed form for 2 x 2 (one bearing group), by LU otherwise."""
-    if matrix.shape == (2, 2):
-        (a, b), (c, d) = matrix
-        det = a * d - b * c
-        return jnp.stack([d * rhs[0] - b * rhs[1], a * rhs[1] - c * rhs[0]]) / det
-    return jnp.linalg.solve(matrix, rhs)
 
 
 def bidirectional_structure(

@@ -74,6 +74,8 @@ class StructureOnSliders(AbstractSteppedSystem):
       half the step for the same accuracy).
     - `newton_unrolled` (static): how many of the Newton iterations are written out in line
       before the loop (`NEWTON_UNROLLED`); the iterates, and so the results, do not depend on it.
+    - `newton_tolerance` (static) [-]: a step has converged when the equilibrium residual is
+      at most this times Y (default 1e-6; 0 iterates to rounding).
     """
 
     mass: jnp.ndarray
@@ -88,6 +90,7 @@ class StructureOnSliders(AbstractSteppedSystem):
     newton_iterations: int = eqx.field(static=True, default=NEWTON_ITERATIONS)
     split_at_turn: bool = eqx.field(static=True, default=False)
     newton_unrolled: int = eqx.field(static=True, default=NEWTON_UNROLLED)
+    newton_tolerance: float = eqx.field(static=True, default=1e-6)
 
     def friction_force(self, velocity, z, z_peak):
         """F = mu W Z [N] at isolator `velocity` [m/s]."""
@@ -205,7 +208,7 @@ class StructureOnSliders(AbstractSteppedSystem):
         lo, hi = ub_linear - g0 * force_bound, ub_linear + g0 * force_bound
         x0 = jnp.clip(ub0 + dt * vb0 + 0.5 * dt**2 * ab0, lo, hi)  # constant-acceleration predictor
         eps = jnp.finfo(jnp.result_type(x0)).eps
-        tolerance = jnp.maximum(1e-6 * h.yield_disp, 1e3 * eps * (jnp.abs(x0) + jnp.abs(ub_linear)))
+        tolerance = jnp.maximum(self.newton_tolerance * h.yield_disp, 1e3 * eps * (jnp.abs(x0) + jnp.abs(ub_linear)))
         p = {"bearing": bearing, "W": W, "z0": z0, "z_peak": z_peak, "ub0": ub0,
              "vb0": vb0, "g0": g0, "ub_linear": ub_linear,
              "reversal_length": bouc_wen_reversal_length(h, z0)}  # the same for every iterate
