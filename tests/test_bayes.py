@@ -15,15 +15,23 @@ TRUTH = dict(f_max=ROW.f_max, delta_f=ROW.delta_f, rate_a=ROW.rate_a, yield_disp
              breakaway_ratio=ROW.breakaway_ratio)
 
 
-def _record(seed, *, fs=200.0, cycles=2, from_rest=True, noise=0.02, n=None):
-    t = np.arange(0.0, cycles / 0.6 + 1e-9, 1.0 / fs)
-    if n is not None:
-        t = t[:n]
-    phase = 2 * np.pi * 0.6 * t
-    u = 4 * INCH * ((1.0 - np.cos(phase)) if from_rest else np.sin(phase))
+def _record(seed, *, fs=200.0, cycles=2, from_rest=True, noise=0.02, n=None, fine=20):
+    """A noisy test record of the core simulator, run on a motion tabulated `fine` times
+    finer than the record and read at the record's samples, as a test machine samples a
+    continuous test. (Run on the record's own samples, the simulator's segment-slope velocity
+    is first order in the sample spacing: 1.1 % RMS of the force at 200 Hz away from the
+    fitter's second-order sample velocity, enough to bias delta_f and yield_disp by more than
+    a standard error at 2 % noise; at 20x finer, 0.1 %.)"""
+    t_fine = np.arange(0.0, cycles / 0.6 + 1e-9, 1.0 / (fine * fs))
+    phase = 2 * np.pi * 0.6 * t_fine
+    u_fine = 4 * INCH * ((1.0 - np.cos(phase)) if from_rest else np.sin(phase))
     bearing = tj.paper_bearing(tj.FrictionParameters(ROW.f_max, ROW.delta_f, ROW.rate_a),
                                yield_disp=Y_PAPER, breakaway_ratio=ROW.breakaway_ratio)
-    force = np.asarray(tj.simulate_bearing_test(bearing, tj.tabulated_motion(t, u), NORMAL_LOAD).fx)
+    force = np.asarray(tj.simulate_bearing_test(bearing, tj.tabulated_motion(t_fine, u_fine),
+                                                NORMAL_LOAD).fx)[::fine]
+    t, u = t_fine[::fine], u_fine[::fine]
+    if n is not None:
+        t, u, force = t[:n], u[:n], force[:n]
     rng = np.random.default_rng(seed)
     force = force + noise * np.sqrt(np.mean(force**2)) * rng.standard_normal(force.size)
     return test_record_from_arrays(u, force, time=t, normal_load=NORMAL_LOAD)
@@ -107,25 +115,33 @@ def _model_record(seed, *, fs=200.0, cycles=2, noise=0.02):
     return test_record_from_arrays(u, force, time=t, normal_load=NORMAL_LOAD)
 
 
+def coverage_run(seeds):
+    """Fit one noisy record per seed (2 % noise, the fitter's own force model); per seed:
+    (seed, converged, divergences, worst R-hat, hits, intervals, summary). 500 warm-up and
+    1,000 draws per chain: with 500 draws the R-hat of the noise level reached 1.0106 (seed
+    8), with 300 + 300 that of breakaway_ratio 1.0105 (seed 0)."""
+    rows = []
+    for seed in seeds:
+        result = fit_bayes(_model_record(100 + seed), num_warmup=500, num_samples=1000,
+                           num_chains=4, seed=seed)
+        hits = sum(int(result.table[n]["q05"] < TRUTH[n] < result.table[n]["q95"]) for n in result.free)
+        rows.append((seed, bool(result.converged), int(result.divergences),
+                     max(row["rhat"] for row in result.table.values()), hits, len(result.free),
+                     result.summary()))
+    return rows
+
+
 @pytest.mark.slow
 def test_coverage_over_twenty_seeds():
-    # 20 noisy records of one interface (2 % noise): every run must converge (no divergence,
-    # R-hat < 1.01, enough effective draws) and the 90 % intervals of the five constants must
-    # contain the truth 80-100 % of the time.
-    hits, total, rhats = 0, 0, []
-    for seed in range(20):
-        # 500 + 500 draws: with 300 + 300, R-hat of breakaway_ratio reached 1.0105 (seed 0)
-        result = fit_bayes(_model_record(100 + seed), num_warmup=500, num_samples=500,
-                           num_chains=4, seed=seed)
-        assert result.converged, (seed, result.summary())
-        assert result.divergences == 0, seed
-        rhats.append(max(row["rhat"] for row in result.table.values()))
-        for name in result.free:
-            row = result.table[name]
-            hits += int(row["q05"] < TRUTH[name] < row["q95"])
-            total += 1
-    print(f"coverage {hits}/{total} = {hits / total:.0%}; worst R-hat {max(rhats):.4f}")
-    assert max(rhats) < 1.01
+    # 20 noisy records of one interface: every run must converge (no divergence, R-hat < 1.01,
+    # enough effective draws) and the 90 % intervals of the five constants must contain the
+    # truth 80-100 % of the time.
+    rows = coverage_run(range(20))
+    for seed, converged, divergences, _, _, _, summary in rows:
+        assert converged and divergences == 0, (seed, summary)
+    hits, total = sum(r[4] for r in rows), sum(r[5] for r in rows)
+    print(f"coverage {hits}/{total} = {hits / total:.0%}; worst R-hat {max(r[3] for r in rows):.4f}")
+    assert max(r[3] for r in rows) < 1.01
     assert 0.8 <= hits / total <= 1.0, (hits, total)
 
 
