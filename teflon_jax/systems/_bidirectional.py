@@ -244,14 +244,23 @@ class BidirectionalStructure(AbstractSteppedSystem):
         for _ in range(fixed):  # unrolled: the same work for every member
             x, r, jacobian, forces, z = broyden(x, r, jacobian)
 
-        def broyden_body(carry):
-            x, r, jacobian, _, _, k = carry
-            return (*broyden(x, r, jacobian), k + 1)
+        def size2(r):
+            return jnp.maximum(jnp.max(jnp.abs(r[0])), jnp.max(jnp.abs(r[1])))
 
-        # more secant iterations, one batch-wide residual each, while a member is off
+        def broyden_body(carry):
+            x, r, jacobian, forces, z, k, best = carry
+            x, r, jacobian, forces, z = broyden(x, r, jacobian)
+            better = size2(r) < size2(best[1])
+            best = jax.tree.map(lambda new, old: jnp.where(better, new, old), (x, r, forces, z), best)
+            return x, r, jacobian, forces, z, k + 1, best
+
+        # more secant iterations, one batch-wide residual each, while a member is off; a secant
+        # step can lead away from the root, so the finite-difference loop starts from the best
+        # iterate seen
         broyden_limit = fixed + min(BROYDEN_ITERATIONS, self.newton_iterations - fixed)
-        x, r, _, forces, z, done = jax.lax.while_loop(
-            lambda c: off(c[1]) & (c[5] < broyden_limit), broyden_body, (x, r, jacobian, forces, z, fixed)
+        *_, done, (x, r, forces, z) = jax.lax.while_loop(
+            lambda c: off(c[1]) & (c[5] < broyden_limit), broyden_body,
+            (x, r, jacobian, forces, z, fixed, (x, r, forces, z))
         )
 
         def split(flat):

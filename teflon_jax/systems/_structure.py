@@ -36,10 +36,8 @@ NEWTON_ITERATIONS = 40
 """Most bracketed Newton iterations per step (typically 2-4 are needed; the loop stops early)."""
 
 NEWTON_UNROLLED = 0
-"""Newton iterations written out in line before the loop (`StructureOnSliders.newton_unrolled`):
-none by default, as on a CPU XLA then recomputes the residual in each of its consumers (Monte
-Carlo of the rigid mass 1.6-2.5x slower with 3; devices where each kernel launch is costly may
-gain)."""
+"""Newton iterations written out before the loop (`StructureOnSliders.newton_unrolled`): none, as
+on a CPU XLA then recomputes the residual in each consumer (rigid-mass Monte Carlo 1.6-2.5x slower)."""
 
 
 class StructureOnSliders(AbstractSteppedSystem):
@@ -74,8 +72,7 @@ class StructureOnSliders(AbstractSteppedSystem):
       half the step for the same accuracy).
     - `newton_unrolled` (static): how many of the Newton iterations are written out in line
       before the loop (`NEWTON_UNROLLED`); the iterates, and so the results, do not depend on it.
-    - `newton_tolerance` (static) [-]: a step has converged when the equilibrium residual is
-      at most this times Y (default 1e-6; 0 iterates to rounding).
+    - `newton_tolerance` (static) [-]: converged when |residual| <= this Y (0: to rounding).
     """
 
     mass: jnp.ndarray
