@@ -23,7 +23,6 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 
-from ..bearing import FrictionParameters, paper_bearing
 from ..systems import (
     BIDIRECTIONAL_TIME_STEP,
     BidirectionalStructure,
@@ -67,18 +66,8 @@ class BidirectionalIsolatedStructure(eqx.Module):
 
     def __call__(self, ground, design: Mapping | None = None) -> BidirectionalStructure:
         ground_x, ground_y = ground
-        design = {} if design is None else dict(design)
         s = self.uniaxial
-        params, b = s.table().at(design.get("pressure", s.pressure))
-        params = FrictionParameters(
-            f_max=design.get("f_max", params.f_max),
-            delta_f=design.get("delta_f", params.delta_f),
-            rate_a=design.get("rate_a", params.rate_a),
-        )
-        b = design.get("breakaway_ratio", b)
-        bearing = paper_bearing(params, breakaway_ratio=b if s.breakaway else None)
-        period = design.get("isolation_period", s.isolation_period)
-        damping = design.get("isolation_damping", s.isolation_damping)
+        bearing, period, damping = s.isolation(design)
         if s.kind == "rigid":
             system = bidirectional_rigid_mass(
                 weight=s.weight, bearing=bearing, ground_x=ground_x, ground_y=ground_y,

@@ -87,7 +87,9 @@ class IsolatedStructure(eqx.Module):
         """The Table 1 rows (extrapolation switched off by our own range check)."""
         return friction_table(self.ptfe, self.direction, extrapolate=True)
 
-    def __call__(self, ground_acceleration, design: Mapping | None = None) -> StructureOnSliders:
+    def isolation(self, design: Mapping | None = None):
+        """The bearing, isolation period [s] and damping ratio [-] of this structure with the
+        `design` variables (`DESIGN_VARIABLES`) in place of its own; unknown names refused."""
         design = {} if design is None else dict(design)
         unknown = sorted(set(design) - set(DESIGN_VARIABLES))
         if unknown:
@@ -105,6 +107,10 @@ class IsolatedStructure(eqx.Module):
         bearing = paper_bearing(params, breakaway_ratio=b if self.breakaway else None)
         period = design.get("isolation_period", self.isolation_period)
         damping = design.get("isolation_damping", self.isolation_damping)
+        return bearing, period, damping
+
+    def __call__(self, ground_acceleration, design: Mapping | None = None) -> StructureOnSliders:
+        bearing, period, damping = self.isolation(design)
         if self.kind == "rigid":
             system = rigid_mass(
                 weight=self.weight,
