@@ -218,3 +218,19 @@ def test_step_matrix_is_the_newmark_step():
     x1 = x1.at[2 * n].add(-system.friction_force(x1[n], z1, z_peak1) / system.mass[0])
     np.testing.assert_allclose(x1, jnp.concatenate([y1["u"], y1["v"], a1]), rtol=1e-10, atol=1e-12)
     assert abs(float(force)) > 0.1 * float(system.bearing_load) * 0.05  # the bearing force takes part
+
+
+def test_vector_arctan_is_the_arctan_to_an_ulp():
+    """The rational arctan of the exact Bouc-Wen and Park updates against NumPy's, over the
+    three ranges of its argument reduction, tiny and huge arguments, signs and infinities;
+    its derivative against 1 / (1 + x^2)."""
+    from teflon_jax.bearing import vector_arctan
+
+    x = np.concatenate([np.linspace(-40.0, 40.0, 400_001), np.geomspace(1e-300, 1e300, 20_001),
+                        -np.geomspace(1e-12, 1e12, 2_001), [0.0, 0.66, 1 + np.sqrt(2), np.inf, -np.inf]])
+    value = np.asarray(jax.jit(tj.bearing.vector_arctan)(x))
+    exact = np.arctan(x)
+    assert np.all(np.abs(value - exact) <= np.spacing(np.abs(exact)) + 1e-300)
+    points = jnp.array([0.0, 0.3, 0.66, 1.0, 2.5, -9.0])
+    slope = jax.vmap(jax.grad(vector_arctan))(points)
+    np.testing.assert_allclose(slope, 1 / (1 + np.asarray(points) ** 2), rtol=1e-14)

@@ -8,6 +8,7 @@ from ._bearing import check_bearing as check_bearing
 from ._bearing import check_hysteresis as check_hysteresis
 from ._bearing import paper_bearing as paper_bearing
 from ._bearing import sliding_speed as sliding_speed
+from ._elementary import vector_arctan as vector_arctan
 from ._friction import FrictionParameters as FrictionParameters
 from ._friction import anisotropic_friction as anisotropic_friction
 from ._friction import coulomb_friction as coulomb_friction

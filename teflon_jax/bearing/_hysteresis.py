@@ -11,6 +11,8 @@ import equinox as eqx
 import jax.numpy as jnp
 from jaxtyping import ArrayLike
 
+from ._elementary import vector_arctan
+
 
 class BoucWen(eqx.Module):
     """Parameters of the Bouc-Wen equation in the viscoplastic form of Eq. 3.
@@ -101,7 +103,7 @@ def bouc_wen_reversal_length(h: BoucWen, z0):
     atan(|z0| / w_-) / k_-, with w_- = sqrt(A / (gamma - beta)), k_- = sqrt(A (gamma - beta)).
     Depends on z0 only, so a Newton loop over du computes it once (see `bouc_wen_exact_update`)."""
     c_minus = h.gamma - h.beta
-    return jnp.arctan(jnp.abs(z0) / jnp.sqrt(h.A / c_minus)) / jnp.sqrt(h.A * c_minus)
+    return vector_arctan(jnp.abs(z0) / jnp.sqrt(h.A / c_minus)) / jnp.sqrt(h.A * c_minus)
 
 
 def _tan_as_ratio(angle):
