@@ -152,7 +152,7 @@ def peak_response(
         x, z, z_peak = state
         linear = step_matrix @ x + ground_column * ground1  # the step without the bearing force
         force, z1, z_peak1, converged = system.isolator_force(
-            linear[0], {"u": x[:n], "v": x[n:2 * n], "z": z, "z_peak": z_peak}, x[2 * n])
+            linear[0], {"u": x[:n], "v": x[n:2 * n], "z": z, "z_peak": z_peak})
         x1 = linear + force_column * force
         # the force in the stored state's acceleration (`acceleration_at`)
         x1 = x1.at[2 * n].add(-system.friction_force(x1[n], z1, z_peak1) / system.mass[0])

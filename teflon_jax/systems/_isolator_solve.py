@@ -1,0 +1,146 @@
+"""The isolator's equilibrium at the end of a Newmark step, solved for its displacement.
+
+Newmark's isolator displacement is x = u_linear - g0 F(x), with F = mu(v) W Z the bearing force
+at the end of the step and Z updated exactly along the step's path (`bearing_force`); the
+root is found by a bracketed Newton iteration with a written-out slope and differentiated
+implicitly (`isolator_root`). Used by `StructureOnSliders`; Eqs. 1, 3 and 17 of
+Constantinou, Mokha & Reinhorn (1990).
+"""
+
+import functools
+
+import jax
+import jax.numpy as jnp
+
+from ..bearing import bouc_wen_exact_update
+
+
+def bearing_force(x, p, rule):
+    """F(x) = mu(v) W Z at the end of the step, for isolator displacement x [m] there.
+
+    Newmark's rule moves the isolator with constant acceleration 2 c over the step,
+    u(s) = ub0 + vb0 s + c s^2 with c = (x - ub0 - vb0 dt) / dt^2, so its velocity at the end
+    is v = 2 (x - ub0) / dt - vb0. When v and vb0 differ in sign the path turns at
+    s* = -vb0 / (2 c), at u* = ub0 - vb0^2 / (4 c): Z is then updated exactly along both
+    monotone pieces, ub0 -> u* and u* -> x (along the net increment it would miss the
+    stretch travelled forth and back, an error of Z that grows with the step squared over Y).
+    """
+    dt, split_at_turn = rule  # step [s] and `StructureOnSliders.split_at_turn`
+    h = p["bearing"].hysteresis
+    du = x - p["ub0"]
+    vb0 = p["vb0"]
+    velocity = 2 / dt * du - vb0
+    turning = (vb0 * velocity < 0) & split_at_turn
+    c = (du - vb0 * dt) / dt**2
+    forth = jnp.where(turning, -(vb0**2) / (4 * jnp.where(turning, c, 1.0)), du)  # u* - ub0
+    z_turn = bouc_wen_exact_update(h, p["z0"], forth, p["reversal_length"],
+                                   tangent="series")  # cheaper in batches of structures
+    z = bouc_wen_exact_update(h, z_turn, jnp.where(turning, du - forth, 0.0), tangent="series")
+    return p["bearing"].coefficient(velocity, 0.0, p["z_peak"]) * p["W"] * z, z
+
+
+def isolator_residual(x, p, rule):
+    """Equilibrium at the end of the step for isolator displacement x [m]:
+    x - u_linear + g0 F(x) = 0, monotone increasing in x."""
+    return x - p["ub_linear"] + p["g0"] * bearing_force(x, p, rule)[0]
+
+
+def _bouc_wen_slope(h, z, increment):
+    """dZ/du [1/m] at Z along a monotone increment of the sign of `increment` (the same sign
+    convention as `bouc_wen_exact_update`: + for 0), Eq. 3 with eta = 2:
+    Y dZ/du = A - beta Z^2 - gamma sgn(du) Z |Z|."""
+    sign = jnp.where(increment >= 0, 1.0, -1.0)
+    return (h.A - h.beta * z**2 - h.gamma * sign * z * jnp.abs(z)) / h.yield_disp
+
+
+def residual_and_slope(x, p, rule):
+    """`isolator_residual` and its derivative in x, the latter written out (no automatic
+    differentiation, so that Newton's loop costs one evaluation of the exact Z update):
+
+        dr/dx = 1 + g0 W (mu'(v) (2 / dt) Z + mu dZ/dx).
+
+    Bouc-Wen is an autonomous equation in u along a monotone piece, Z' = G(Z), so the end value
+    Z(z_a, d) of a piece of length d from z_a has dZ/dd = G(Z) and dZ/dz_a = G(Z) / G(z_a).
+    Without a turn Z = Z(z0, du) and dZ/dx = G(Z). With a turn at u* (forth f = u* - ub0,
+    df/dx = vb0^2 / (4 c^2 dt^2), see `bearing_force`) and back b = du - f:
+        dZ/dx = G_b(Z) / G_b(Z*) G_f(Z*) df/dx + G_b(Z) (1 - df/dx).
+    Only Newton's steps use this slope (a wrong slope would slow them, not move the root);
+    the derivatives of the root come from the custom JVP of `isolator_root`."""
+    dt, split_at_turn = rule
+    h = p["bearing"].hysteresis
+    du = x - p["ub0"]
+    vb0 = p["vb0"]
+    velocity = 2 / dt * du - vb0
+    turning = (vb0 * velocity < 0) & split_at_turn
+    c = jnp.where(turning, (du - vb0 * dt) / dt**2, 1.0)
+    forth = jnp.where(turning, -(vb0**2) / (4 * c), du)
+    back = jnp.where(turning, du - forth, 0.0)
+    z_turn = bouc_wen_exact_update(h, p["z0"], forth, p["reversal_length"], tangent="series")
+    z = bouc_wen_exact_update(h, z_turn, back, tangent="series")
+    slope_forth = _bouc_wen_slope(h, z_turn, forth)
+    slope_end = _bouc_wen_slope(h, z, back)
+    slope_turn = _bouc_wen_slope(h, z_turn, back)
+    d_forth = vb0**2 / (4 * c**2 * dt**2)
+    ratio = slope_end / jnp.where(slope_turn != 0, slope_turn, 1.0)
+    dz = jnp.where(turning, ratio * slope_forth * d_forth + slope_end * (1 - d_forth), slope_forth)
+    mu, dmu = jax.jvp(lambda v: p["bearing"].coefficient(v, 0.0, p["z_peak"]), (velocity,),
+                      (jnp.ones_like(velocity),))
+    W, g0 = p["W"], p["g0"]
+    force = mu * W * z
+    r = x - p["ub_linear"] + g0 * force
+    return r, 1 + g0 * W * (dmu * (2 / dt) * z + mu * dz), force, z
+
+
+@functools.partial(jax.custom_jvp, nondiff_argnums=(0, 1))
+def isolator_root(rule, iterations, p, x0, lo, hi, tolerance):
+    """Root x [m] of `isolator_residual` and the bearing force F [N] and Z [-] there, by
+    Newton's method safeguarded by the bracket [lo, hi] (bisection when a Newton step leaves
+    it), iterating until |residual| <= tolerance or `max_iterations`, with `iterations` =
+    (unrolled, max_iterations): the first `unrolled` iterations are written out in line
+    (straight-line code that XLA fuses with the rest of the step; a member already at
+    tolerance keeps its iterate), the rest run in a `lax.while_loop` that stops as soon as
+    every member is at tolerance (in a batch, most steps need no iteration there). The
+    iterates are those of a plain loop that stops at tolerance, whatever `unrolled` is; F and
+    Z are those of the last iterate (no evaluation after the loop). Differentiated implicitly
+    (custom JVP: dx = -r_p dp / r_x, and F, Z through `bearing_force`), so forward and
+    reverse mode work and cost one linear solve whatever the number of iterations."""
+    unrolled, max_iterations = iterations
+
+    def evaluate(x):
+        return residual_and_slope(x, p, rule)
+
+    def cond(carry):
+        x, lo, hi, (r, dr, force, z), k = carry
+        return (jnp.abs(r) > tolerance) & (k < max_iterations)
+
+    def body(carry):
+        x, lo, hi, values, k = carry
+        r, dr = values[0], values[1]
+        active = jnp.abs(r) > tolerance  # always True in the while loop's body
+        lo = jnp.where(r < 0, x, lo)
+        hi = jnp.where(r > 0, x, hi)
+        step = x - r / jnp.where(dr > 0, dr, 1.0)
+        inside = (step >= lo) & (step <= hi) & (dr > 0)
+        x_new = jnp.where(inside, step, 0.5 * (lo + hi))
+        new = evaluate(x_new)
+        return (jnp.where(active, x_new, x), lo, hi,
+                tuple(jnp.where(active, a, b) for a, b in zip(new, values)), k + 1)
+
+    carry = (x0, lo, hi, evaluate(x0), 0)
+    for _ in range(min(unrolled, max_iterations)):
+        carry = body(carry)
+    if max_iterations > unrolled:
+        carry = jax.lax.while_loop(cond, body, carry)
+    x, _, _, (_, _, force, z), _ = carry
+    return x, force, z
+
+
+@isolator_root.defjvp
+def _root_jvp(rule, iterations, primals, tangents):
+    p, x0, lo, hi, tolerance = primals
+    x, force, z = isolator_root(rule, iterations, p, x0, lo, hi, tolerance)
+    _, r_p = jax.jvp(lambda q: isolator_residual(x, q, rule), (p,), (tangents[0],))
+    _, r_x = jax.jvp(lambda y: isolator_residual(y, p, rule), (x,), (jnp.ones_like(x),))
+    dx = -r_p / r_x
+    _, (d_force, d_z) = jax.jvp(lambda y, q: bearing_force(y, q, rule), (x, p), (dx, tangents[0]))
+    return (x, force, z), (dx, d_force, d_z)
