@@ -37,6 +37,8 @@ import math
 
 import jax.numpy as jnp
 
+from ..bearing import vector_arctan
+
 _SERIES_Q = 1.0
 """q = k2 x^2 / 4 above which tau uses tanh instead of the power series (|error| < 1e-17)."""
 _POLE_Q = -((math.pi / 2) ** 2)
@@ -78,7 +80,7 @@ def _length_of_tau(tau, k2):
     u = jnp.sqrt(jnp.where(small, 1.0, jnp.abs(v)))
     hyperbolic_u = jnp.where(small | (v < 0), 0.5, jnp.minimum(u, 1.0 - 1e-16))
     hyperbolic = 0.5 * jnp.log((1 + hyperbolic_u) / (1 - hyperbolic_u)) / hyperbolic_u
-    trigonometric = jnp.arctan(u) / u
+    trigonometric = vector_arctan(u) / u
     return 2 * tau * jnp.where(small, series, jnp.where(v > 0, hyperbolic, trigonometric))
 
 
