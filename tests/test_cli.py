@@ -98,8 +98,9 @@ def test_montecarlo_command_reports_runs_that_did_not_converge(tmp_path, capsys)
     # A run with a step whose Newton solve failed must make the command fail (status 1) with
     # a message naming the runs, not print its untrustworthy peaks as a success; the results
     # are still written and the statistics rest on the converged runs only (here none). The
-    # failure is real: one Newton iteration per step is too few for any sliding step.
-    status = main(["montecarlo", "--motions", "3", "--duration", "4s", "--strong-motion", "1s",
+    # failure is real: with one Newton iteration per step, every 10 s run has a step (around a
+    # reversal) that needs a second one (over 4 s, one run in three had such a step).
+    status = main(["montecarlo", "--motions", "3", "--duration", "10s", "--strong-motion", "1s",
                    "--newton-iterations", "1", "--no-progress", "--json", str(tmp_path / "mc.json")])
     assert status == 1
     err = capsys.readouterr().err
