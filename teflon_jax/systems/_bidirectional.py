@@ -15,7 +15,7 @@ Reference: Constantinou, Mokha & Reinhorn (1990), J. Struct. Eng. 116(2), Eqs. 1
 `advance` (used by `RiccatiNewmark`) takes Newmark's average-acceleration rule for q and the
 bearing forces at the end of the step, with each group's Z updated exactly along its straight
 sliding increment (`park_exact_update`); the 2G bearing displacements solve
-d - d_lin + G_b F(d) = 0 (G_b = B K_eff^-1 B^T): from the constant-acceleration predictor, a
+d - d_lin + G_b F(d) = 0 (G_b = B K_eff^-1 B^T): from a predictor that holds the start-of-step forces, a
 fixed number of Newton-Broyden iterations from the tangent of Park's law (the same work for
 every member of a batch, no loop), further Broyden iterations while a member is above
 tolerance, then Newton's method with backtracking for the members still above it (loops that
