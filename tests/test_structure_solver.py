@@ -153,11 +153,13 @@ def test_solver_failure_is_reported_not_hidden():
         )
 
 
+@pytest.mark.parametrize("gain", ["newmark", "exact"])
 @pytest.mark.parametrize("split_at_turn", [True, False])
 @pytest.mark.parametrize("breakaway", [None, 1.6])
-def test_newton_slope_is_the_derivative_of_the_residual(split_at_turn, breakaway):
+def test_newton_slope_is_the_derivative_of_the_residual(split_at_turn, breakaway, gain):
     """The slope written out for Newton's steps (flow derivatives of Bouc-Wen, with and without
-    a turn inside the step) equals the automatic derivative of the residual."""
+    a turn inside the step; the end velocity of Newmark's step, 2 / dt per metre, or of the
+    exact step, about 3 / dt for a rigid mass) equals the automatic derivative of the residual."""
     from teflon_jax.systems._isolator_solve import isolator_residual, residual_and_slope
 
     bearing = tj.paper_bearing(FRICTION, breakaway_ratio=breakaway)
@@ -170,7 +172,9 @@ def test_newton_slope_is_the_derivative_of_the_residual(split_at_turn, breakaway
 
     def both(z0, vb0, x, z_peak):
         p = {"bearing": bearing, "W": WEIGHT, "z0": z0, "z_peak": z_peak, "ub0": 0.01, "vb0": vb0,
-             "g0": 1e-8, "ub_linear": 0.01, "reversal_length": tj.bouc_wen_reversal_length(bearing.hysteresis, z0)}
+             "g0": 1e-8, "ub_linear": 0.01, "reversal_length": tj.bouc_wen_reversal_length(bearing.hysteresis, z0),
+             "vb_linear": -vb0 if gain == "newmark" else 0.05 - 0.5 * vb0,
+             "velocity_gain": (2.0 if gain == "newmark" else 3.0) / 0.005}
         r, slope, _, _ = residual_and_slope(x, p, rule)
         r_auto, slope_auto = jax.jvp(lambda y: isolator_residual(y, p, rule), (x,), (jnp.ones_like(x),))
         return r, r_auto, slope, slope_auto
@@ -198,24 +202,26 @@ def test_newton_in_line_iterations_give_the_loop_iterates():
         assert bool(peak_response(dataclasses.replace(short, newton_iterations=3), 3.0).converged)
 
 
-def test_step_matrix_is_the_newmark_step():
-    """`newmark_propagator` (the building's peak loop) takes the step `newmark_update` takes,
-    and its shear row gives the first-storey shear of the accelerations at the step's end."""
-    from teflon_jax.systems import newmark_propagator
+@pytest.mark.parametrize("linear_rule", ["newmark", "exact"])
+def test_step_matrix_is_the_step(linear_rule):
+    """`step_propagator` (the building's peak loop) takes the step `newmark_update` takes, by
+    either linear rule, and its shear row gives the first-storey shear of the accelerations at
+    the step's end."""
+    from teflon_jax.systems import step_propagator
 
-    system = tj.isolated_structure("building")(sine_ground())
+    system = tj.isolated_structure("building", linear_rule=linear_rule)(sine_ground())
     n = system.mass.shape[0]
     rng = np.random.default_rng(2)
     y0 = {"u": jnp.asarray(1e-2 * rng.normal(size=n)), "v": jnp.asarray(0.1 * rng.normal(size=n)),
           "z": jnp.asarray(0.4), "z_peak": jnp.asarray(1.0)}
     ground0, ground1 = -1.5, 2.0
     a0 = system.acceleration_at(ground0, y0)
-    y1, _ = system.newmark_update(y0, a0, ground1)
+    y1, _ = system.newmark_update(y0, a0, ground1, ground0)
     a1 = system.acceleration_at(ground1, y1)
-    matrix, force_column, shear_row = newmark_propagator(system)
+    matrix, force_column, shear_row = step_propagator(system)
     start_force = system.friction_force(y0["v"][0], y0["z"], y0["z_peak"])
     linear = matrix @ jnp.concatenate([y0["u"], y0["v"], jnp.stack([ground0, start_force, ground1])])
-    force, z1, z_peak1, _ = system.isolator_force(linear[0], y0)
+    force, z1, z_peak1, _ = system.isolator_force(linear[0], y0, linear[n], (-force_column[0], -force_column[n]))
     x1 = linear + force_column * force
     np.testing.assert_allclose(x1, jnp.concatenate([y1["u"], y1["v"]]), rtol=1e-10, atol=1e-12)
     assert abs(float(force)) > 0.1 * float(system.bearing_load) * 0.05  # the bearing force takes part

@@ -21,9 +21,8 @@ def _add_common(parser):
     parser.add_argument("--seed", type=int, default=0, help="PRNG seed of the stochastic motions")
     add_quantity(parser, "--duration", "time", "40s", "length of each motion", minimum=0.0)
     add_quantity(parser, "--record-step", "time", "0.01s", "sampling step of the motions", minimum=0.0)
-    add_quantity(parser, "--time-step", "time", None, "step of the structure solver (default 5ms for the "
-                 "rigid mass, 1/300 s for the building: worst peak within 0.4 % of converged ones on "
-                 "100 test motions, see benchmarks B3; 2.5ms with --components 2 and in design, "
+    add_quantity(parser, "--time-step", "time", None, "step of the structure solver (default 5ms: worst "
+                 "peak within 0.2 % of converged ones on 100 test motions, see benchmarks B3; 2.5ms with --components 2 and in design, "
                  "whose gradient check needs the update without the turning-point split)",
                  minimum=0.0)
     add_quantity(parser, "--pga", "acceleration", "0.3g", "expected peak ground acceleration",

@@ -13,6 +13,7 @@ from ..tables import friction_table
 from ..units import PSI
 from ..validation import concrete
 from ._models import rigid_mass, six_storey_building
+from ._propagators import LINEAR_RULES
 from ._structure import NEWTON_ITERATIONS, StructureOnSliders
 
 STRUCTURES = ("rigid", "building")
@@ -30,15 +31,17 @@ DESIGN_VARIABLES = (
 """Names a design dict may set: T_b [s], contact pressure [Pa] (Eq. 1 constants and b from
 Table 1 at that pressure), zeta_b [-], and Eq. 1 / Eq. 17 constants overriding Table 1."""
 
-RECOMMENDED_TIME_STEPS = {"rigid": 0.005, "building": 0.01 / 3}
+RECOMMENDED_TIME_STEPS = {"rigid": 0.005, "building": 0.005}
 """Structure step [s] per structure, a divisor of the 0.01 s record step (a step that is not
-one puts the record's kinks inside steps). With Z updated along Newmark's path to the turning
-point and back in steps where the sliding velocity reverses (`split_at_turn`), the peak base
-displacement and base shear of every one of 100 forty-second Clough-Penzien motions lie within
-0.2 % (rigid mass, 5 ms) and 0.35 % (building, 3.33 ms) of 0.5 ms steps
-(benchmarks/bench_scale.py, B3 accuracy). Along the net increment instead, 5 ms left 0.52 %
-(rigid) and 1.7 % (building), and 2.5 ms was needed. The building's base shear at 5 ms (0.8 %)
-is limited by its storey modes, which the force reversals excite."""
+one puts the record's kinks inside steps: 1/150 s left 1.8 % error). With Z updated along the
+path to the turning point and back in steps where the sliding velocity reverses
+(`split_at_turn`) and the linear structure advanced exactly (`linear_rule="exact"`), the peak
+base displacement and base shear of every one of 100 forty-second Clough-Penzien motions lie
+within 0.2 % of 0.5 ms steps at 5 ms, for the rigid mass and the building alike
+(benchmarks/bench_scale.py, B3 accuracy). With Newmark's rule the building's base shear at
+5 ms was 0.8 % off (its storey modes' period error) and it needed 1/300 s. At 10 ms a few
+motions differ by 1.5 %: runs in which |Z| comes within 1e-3 of Eq. 17's breakaway threshold
+(0.999) switch breakaway off at different times."""
 
 
 # --------------------------------------------------------------------------- structures
@@ -68,6 +71,8 @@ class IsolatedStructure(eqx.Module):
       are reported and kept out of statistics.
     - `split_at_turn` (static): `StructureOnSliders.split_at_turn`, True by default here
       (False: the update along the net increment, e.g. to compare with it).
+    - `linear_rule` (static): `StructureOnSliders.linear_rule`, "exact" by default here (the
+      storey modes without period error; "newmark" to compare with the average-acceleration step).
     """
 
     pressure: jnp.ndarray
@@ -82,6 +87,7 @@ class IsolatedStructure(eqx.Module):
     weight: float = eqx.field(static=True, default=100e3)
     newton_iterations: int = eqx.field(static=True, default=NEWTON_ITERATIONS)
     split_at_turn: bool = eqx.field(static=True, default=True)
+    linear_rule: str = eqx.field(static=True, default="exact")
 
     def table(self):
         """The Table 1 rows (extrapolation switched off by our own range check)."""
@@ -120,6 +126,7 @@ class IsolatedStructure(eqx.Module):
                 isolation_period=period,
                 damping_ratio=damping if period is not None else 0.0,
                 friction_model=self.friction_model,
+                linear_rule=self.linear_rule,
             )
         else:
             system = six_storey_building(
@@ -129,6 +136,7 @@ class IsolatedStructure(eqx.Module):
                 isolation_period=period,
                 isolation_damping=damping,
                 friction_model=self.friction_model,
+                linear_rule=self.linear_rule,
             )
         if (self.newton_iterations, self.split_at_turn) != (system.newton_iterations, system.split_at_turn):
             system = dataclasses.replace(system, newton_iterations=self.newton_iterations,
@@ -149,6 +157,7 @@ def isolated_structure(
     time_step: float | None = None,
     newton_iterations: int = NEWTON_ITERATIONS,
     split_at_turn: bool = True,
+    linear_rule: str = "exact",
 ) -> IsolatedStructure:
     """An `IsolatedStructure` with its inputs checked (`ValueError` naming the parameter).
 
@@ -164,6 +173,8 @@ def isolated_structure(
     time_step = RECOMMENDED_TIME_STEPS[kind] if time_step is None else time_step
     if not (isinstance(time_step, (int, float)) and time_step > 0):
         raise ValueError(f"time_step: must be a positive number of seconds, got {time_step!r}.")
+    if linear_rule not in LINEAR_RULES:
+        raise ValueError(f"linear_rule: unknown {linear_rule!r}; accepted values: {', '.join(LINEAR_RULES)}.")
     if isinstance(newton_iterations, bool) or not isinstance(newton_iterations, int) or newton_iterations < 1:
         raise ValueError(f"newton_iterations: must be a positive integer, got {newton_iterations!r}.")
     structure = IsolatedStructure(
@@ -178,6 +189,7 @@ def isolated_structure(
         time_step=float(time_step),
         newton_iterations=int(newton_iterations),
         split_at_turn=bool(split_at_turn),
+        linear_rule=linear_rule,
     )
     check_design(structure, {"pressure": pressure})
     if isolation_period is None and kind == "building":

@@ -29,14 +29,26 @@ def bearing_force(x, p, rule):
     h = p["bearing"].hysteresis
     du = x - p["ub0"]
     vb0 = p["vb0"]
-    velocity = 2 / dt * du - vb0
-    turning = (vb0 * velocity < 0) & split_at_turn
-    c = (du - vb0 * dt) / dt**2
-    forth = jnp.where(turning, -(vb0**2) / (4 * jnp.where(turning, c, 1.0)), du)  # u* - ub0
+    path_velocity = 2 / dt * du - vb0
+    turning = (vb0 * path_velocity < 0) & split_at_turn
+    forth = jnp.where(turning, turn_distance(vb0, path_velocity, dt, turning), du)  # u* - ub0
     z_turn = bouc_wen_exact_update(h, p["z0"], forth, p["reversal_length"],
                                    tangent="series")  # cheaper in batches of structures
     z = bouc_wen_exact_update(h, z_turn, jnp.where(turning, du - forth, 0.0), tangent="series")
-    return p["bearing"].coefficient(velocity, 0.0, p["z_peak"]) * p["W"] * z, z
+    return p["bearing"].coefficient(end_velocity(x, p), 0.0, p["z_peak"]) * p["W"] * z, z
+
+
+def turn_distance(v0, v1, dt, turning):
+    """Distance [m] from the start of the step to the turning point of a path whose velocity
+    goes linearly from v0 to v1 [m/s] over dt [s]: v0^2 dt / (2 (v0 - v1)) (where `turning`)."""
+    return v0**2 * dt / (2 * jnp.where(turning, v0 - v1, 1.0))
+
+
+def end_velocity(x, p):
+    """The isolator's velocity [m/s] at the end of the step for its displacement x [m] there,
+    linear in x: v = vb_linear + velocity_gain (x - ub_linear), with vb_linear [m/s] the
+    velocity without the bearing force and velocity_gain [1/s] = dv/dx (Newmark: 2 / dt)."""
+    return p["vb_linear"] + p["velocity_gain"] * (x - p["ub_linear"])
 
 
 def isolator_residual(x, p, rule):
@@ -70,25 +82,26 @@ def residual_and_slope(x, p, rule):
     h = p["bearing"].hysteresis
     du = x - p["ub0"]
     vb0 = p["vb0"]
-    velocity = 2 / dt * du - vb0
-    turning = (vb0 * velocity < 0) & split_at_turn
-    c = jnp.where(turning, (du - vb0 * dt) / dt**2, 1.0)
-    forth = jnp.where(turning, -(vb0**2) / (4 * c), du)
+    path_velocity = 2 / dt * du - vb0
+    turning = (vb0 * path_velocity < 0) & split_at_turn
+    forth = jnp.where(turning, turn_distance(vb0, path_velocity, dt, turning), du)
     back = jnp.where(turning, du - forth, 0.0)
     z_turn = bouc_wen_exact_update(h, p["z0"], forth, p["reversal_length"], tangent="series")
     z = bouc_wen_exact_update(h, z_turn, back, tangent="series")
     slope_forth = _bouc_wen_slope(h, z_turn, forth)
     slope_end = _bouc_wen_slope(h, z, back)
     slope_turn = _bouc_wen_slope(h, z_turn, back)
-    d_forth = vb0**2 / (4 * c**2 * dt**2)
+    change = jnp.where(turning, vb0 - path_velocity, 1.0)
+    d_forth = (vb0 / change) ** 2
     ratio = slope_end / jnp.where(slope_turn != 0, slope_turn, 1.0)
     dz = jnp.where(turning, ratio * slope_forth * d_forth + slope_end * (1 - d_forth), slope_forth)
+    velocity = end_velocity(x, p)
     mu, dmu = jax.jvp(lambda v: p["bearing"].coefficient(v, 0.0, p["z_peak"]), (velocity,),
                       (jnp.ones_like(velocity),))
     W, g0 = p["W"], p["g0"]
     force = mu * W * z
     r = x - p["ub_linear"] + g0 * force
-    return r, 1 + g0 * W * (dmu * (2 / dt) * z + mu * dz), force, z
+    return r, 1 + g0 * W * (dmu * p["velocity_gain"] * z + mu * dz), force, z
 
 
 @functools.partial(jax.custom_jvp, nondiff_argnums=(0, 1))

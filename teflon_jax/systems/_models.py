@@ -53,6 +53,7 @@ def rigid_mass(
     damping_ratio=0.0,
     radius=None,
     friction_model: str = "hysteretic",
+    linear_rule: str = "newmark",
 ) -> StructureOnSliders:
     """A rigid mass W/g on sliding bearings (Figs. 7-10 of the paper; TASS-type system).
 
@@ -106,6 +107,7 @@ def rigid_mass(
         ground_acceleration=ground_acceleration,
         time_step=time_step,
         friction_model=friction_model,
+        linear_rule=linear_rule,
     )
 
 
@@ -148,6 +150,7 @@ def six_storey_building(
     isolation_period,
     isolation_damping=0.05,
     friction_model: str = "hysteretic",
+    linear_rule: str = "newmark",
     building: BuildingData | None = None,
 ) -> StructureOnSliders:
     """The six-storey frame of Table 2 on an isolation system (Fig. 11 of the paper).
@@ -207,6 +210,7 @@ def six_storey_building(
         ground_acceleration=ground_acceleration,
         time_step=time_step,
         friction_model=friction_model,
+        linear_rule=linear_rule,
     )
 
 

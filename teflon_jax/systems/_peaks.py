@@ -58,44 +58,30 @@ def _shear_ratio(system: StructureOnSliders, relative_acceleration, ground):
     return jnp.sum(mass * acc) / (jnp.sum(mass) * STANDARD_GRAVITY)
 
 
-def newmark_propagator(system: StructureOnSliders):
-    """One Newmark step of `system` (`StructureOnSliders.newmark_update`) as a linear map of
-    w = (u0, v0, g0, F_r0, g1) (2n + 3,) [m, m/s, m/s^2, N, m/s^2]: the displacements and
-    velocities at its start, the ground acceleration at its start, the bearing force of the
-    start state (`friction_force`) and the ground acceleration at its end; and of the bearing
-    force F [N] on the isolator (DOF 0) solved for at its end:
+def step_propagator(system: StructureOnSliders):
+    """One step of `system` (`StructureOnSliders.newmark_update`, by its `linear_rule`) as a
+    linear map of w = (u0, v0, g0, F_r0, g1) (2n + 3,) [m, m/s, m/s^2, N, m/s^2]: the
+    displacements and velocities at its start, the ground acceleration at its start, the
+    bearing force of the start state (`friction_force`) and the ground acceleration at its end;
+    and of the bearing force F [N] on the isolator (DOF 0) solved for at its end:
 
-        (u1, v1) = R w + f F,
+        (u1, v1) = R w + f F
 
-    with a0 = -1 g0 - M^-1 (C v0 + K u0) - e0 F_r0 / m0 (the start acceleration, not carried),
-    u1 = K_eff^-1 (M (4/dt^2 u0 + 4/dt v0 + a0) + C (2/dt u0 + v0) - M 1 g1 - e0 F) and
-    v1 = 2/dt (u1 - u0) - v0. One (2n, 2n + 3) product per step; the same step to rounding.
+    (`_propagators.py`). One (2n, 2n + 3) product per step; the same step to rounding.
 
-    **Returns:** (R (2n, 2n + 3), f (2n,), shear_row (2n,)); row 0 of R w is the isolator's
-    displacement without the bearing force that `isolator_force` takes, and shear_row . (u1, v1)
-    the first-storey shear over the weight above the isolators, -sum_{j>=1} (C v + K u)_j /
-    (g sum_{j>=1} m_j) (floors carry no friction force, so m_j (a_j + g) = -(C v + K u)_j).
+    **Returns:** (R (2n, 2n + 3), f (2n,), shear_row (2n,)); rows 0 and n of R w are the
+    isolator's displacement and velocity without the bearing force that `isolator_force` takes,
+    and shear_row . (u1, v1) the first-storey shear over the weight above the isolators,
+    -sum_{j>=1} (C v + K u)_j / (g sum_{j>=1} m_j) (floors carry no friction force, so
+    m_j (a_j + g) = -(C v + K u)_j).
     """
-    dt = system.time_step
-    m, inverse, damping, stiffness = system.mass, system.newmark_inverse, system.damping, system.stiffness
+    m, damping, stiffness = system.mass, system.damping, system.stiffness
     n = m.shape[-1]
-    mass = jnp.diag(m)
-    eye, zeros = jnp.eye(n, dtype=m.dtype), jnp.zeros((n, n), m.dtype)
-    e0 = eye[:, 0]
-    # a0 = A (u0, v0, g0, F_r0)
-    a_of = jnp.concatenate([-stiffness / m[:, None], -damping / m[:, None], -jnp.ones((n, 1), m.dtype),
-                            -(e0 / m[0])[:, None]], 1)
-    start = jnp.concatenate([4 / dt**2 * mass + 2 / dt * damping, 4 / dt * mass + damping,
-                             jnp.zeros((n, 2), m.dtype)], 1) + mass @ a_of
-    u_rows = inverse @ jnp.concatenate([start, -(m)[:, None]], 1)
-    identity_u = jnp.concatenate([eye, zeros, jnp.zeros((n, 3), m.dtype)], 1)
-    identity_v = jnp.concatenate([zeros, eye, jnp.zeros((n, 3), m.dtype)], 1)
-    v_rows = 2 / dt * (u_rows - identity_u) - identity_v
-    fu = -inverse[:, 0]
+    step_matrix, force_column = system.step_matrices()
     floors = jnp.arange(n) >= 1
     weight = STANDARD_GRAVITY * jnp.sum(jnp.where(floors, m, 0.0))
     shear_row = -jnp.concatenate([floors @ stiffness, floors @ damping]) / weight
-    return jnp.concatenate([u_rows, v_rows], 0), jnp.concatenate([fu, 2 / dt * fu]), shear_row
+    return step_matrix, force_column, shear_row
 
 
 def peak_response(
@@ -112,7 +98,7 @@ def peak_response(
     with the exact Bouc-Wen update), advanced in a `lax.scan` whose carry holds the state,
     the running maxima and a running log-sum-exp for `smooth_max` (the t = 0 rest state
     included, as in `simulate_structure`'s saved times); for more than one degree of freedom
-    the linear part of the step is one (2n, 2n + 3) product (`newmark_propagator`).
+    the linear part of the step is one (2n, 2n + 3) product (`step_propagator`).
     jit/vmap/grad-safe.
 
     **Arguments:**
@@ -145,23 +131,24 @@ def peak_response(
         return new_top, total
 
     n = system.mass.shape[-1]
-    step_matrix, force_column, shear_row = newmark_propagator(system)
+    step_matrix, force_column, shear_row = step_propagator(system)
+    compliance = (-force_column[0], -force_column[n])
 
     # For more than one degree of freedom the state (u, v), the bearing force of the stored
     # state and the ground acceleration at the start of the step, advanced by
-    # `newmark_propagator` (one product per step; measured on a CPU: faster for the building,
+    # `step_propagator` (one product per step; measured on a CPU: faster for the building,
     # n = 7); for n = 1 the state dict and acceleration by `newmark_update` (there the faster
     # form). The same step to rounding.
     def advance(state, ground1):
         if n == 1:
-            y, a = state
-            y1, converged = system.newmark_update(y, a, ground1)
+            y, a, ground0 = state
+            y1, converged = system.newmark_update(y, a, ground1, ground0)
             a1 = system.acceleration_at(ground1, y1)
-            return (y1, a1), y1["u"][0], _shear_ratio(system, a1, ground1), converged
+            return (y1, a1, ground1), y1["u"][0], _shear_ratio(system, a1, ground1), converged
         x, z, z_peak, start_force, ground0 = state
         linear = step_matrix @ jnp.concatenate([x, jnp.stack([ground0, start_force, ground1])])
         force, z1, z_peak1, converged = system.isolator_force(
-            linear[0], {"u": x[:n], "v": x[n:], "z": z, "z_peak": z_peak})
+            linear[0], {"u": x[:n], "v": x[n:], "z": z, "z_peak": z_peak}, linear[n], compliance)
         x1 = linear + force_column * force
         force1 = system.friction_force(x1[n], z1, z_peak1)  # the force of the stored state
         return (x1, z1, z_peak1, force1, ground1), x1[0], shear_row @ x1, converged
@@ -185,7 +172,7 @@ def peak_response(
     ground = jax.vmap(system.ground_acceleration)(jnp.arange(n_steps + 1) * dt)
     a0 = system.acceleration_at(ground[0], y0)
     start_force = system.friction_force(y0["v"][0], y0["z"], y0["z_peak"])
-    state = (y0, a0) if n == 1 else (jnp.concatenate([y0["u"], y0["v"]]), y0["z"], y0["z_peak"], start_force,
+    state = (y0, a0, ground[0]) if n == 1 else (jnp.concatenate([y0["u"], y0["v"]]), y0["z"], y0["z_peak"], start_force,
                                      ground[0])
     carry = (state, (zero, zero), (zero, zero), (one, one), jnp.array(True))
     (_, peaks, tops, totals, ok), _ = jax.lax.scan(body, carry, (jnp.arange(n_steps), ground[1:]))

@@ -27,6 +27,7 @@ from ..excitation import Signal
 from ..solver import AbstractSteppedSystem, require_riccati_form
 from ._bearing_test import running_peak_rate
 from ._isolator_solve import isolator_root
+from ._propagators import LINEAR_RULES, exact_step, newmark_step
 
 FRICTION_MODELS = ("hysteretic", "coulomb", "none")
 
@@ -77,6 +78,10 @@ class StructureOnSliders(AbstractSteppedSystem):
     - `newton_unrolled` (static): how many of the Newton iterations are written out in line
       before the loop (`NEWTON_UNROLLED`); the iterates, and so the results, do not depend on it.
     - `newton_tolerance` (static) [-]: converged when |residual| <= this Y (0: to rounding).
+    - `linear_rule` (static): how the linear structure is advanced over a step (`LINEAR_RULES`):
+      "newmark" (average acceleration, the default) or "exact" (exact for ground acceleration
+      and bearing force linear over the step; `exact_step` holds its matrices).
+    - `exact_step`: (R | f) (n2, 2n + 4) of `_propagators.exact_step` for "exact", else None.
     """
 
     mass: jnp.ndarray
@@ -92,6 +97,8 @@ class StructureOnSliders(AbstractSteppedSystem):
     split_at_turn: bool = eqx.field(static=True, default=False)
     newton_unrolled: int = eqx.field(static=True, default=NEWTON_UNROLLED)
     newton_tolerance: float = eqx.field(static=True, default=NEWTON_TOLERANCE)
+    linear_rule: str = eqx.field(static=True, default="newmark")
+    exact_step: jnp.ndarray | None = None
 
     def friction_force(self, velocity, z, z_peak):
         """F = mu W Z [N] at isolator `velocity` [m/s]."""
@@ -139,12 +146,22 @@ class StructureOnSliders(AbstractSteppedSystem):
         t1 = eqx.error_if(
             t1, jnp.abs((t1 - t0) - dt) > slack, "step differs from the structure's time_step"
         )
-        return self.newmark_update(y0, a0, self.ground_acceleration(t1))
+        return self.newmark_update(y0, a0, self.ground_acceleration(t1), self.ground_acceleration(t0))
 
-    def newmark_update(self, y0, a0, ground1):
-        """One step of `time_step` from state `y0` with relative acceleration `a0` [m/s^2],
-        given the ground acceleration `ground1` [m/s^2] at its end (a loop over a grid of
-        steps can evaluate the record at all of them at once, outside the loop)."""
+    def step_matrices(self):
+        """(R (2n, 2n + 3), f (2n,)) of one step by `linear_rule` (`_propagators.py`):
+        (u1, v1) = R (u0, v0, a_g0, F_r0, a_g1) + f F."""
+        if self.linear_rule == "exact":
+            return self.exact_step[:, :-1], self.exact_step[:, -1]
+        return newmark_step(self.mass, self.stiffness, self.damping, self.newmark_inverse, self.time_step)
+
+    def newmark_update(self, y0, a0, ground1, ground0=None):
+        """One step of `time_step` (by `linear_rule`) from state `y0` with relative
+        acceleration `a0` [m/s^2], given the ground acceleration `ground1` [m/s^2] at its end
+        and, for the "exact" rule, `ground0` at its start (a loop over a grid of steps can
+        evaluate the record at all of them at once, outside the loop)."""
+        if self.linear_rule == "exact":
+            return self._exact_update(y0, ground0, ground1)
         dt = self.time_step
         m, u0, v0 = self.mass, y0["u"], y0["v"]
         rhs = (
@@ -159,14 +176,37 @@ class StructureOnSliders(AbstractSteppedSystem):
         v1 = 2 / dt * (u1 - u0) - v0
         return {"u": u1, "v": v1, "z": z1, "z_peak": z_peak1}, converged
 
-    def isolator_force(self, ub_linear, y0):
+    def _exact_update(self, y0, ground0, ground1):
+        if ground0 is None:
+            raise ValueError("newmark_update: the exact linear rule needs ground0, the ground "
+                             "acceleration at the start of the step.")
+        n = self.mass.shape[-1]
+        step_matrix, force_column = self.step_matrices()
+        start_force = self.friction_force(y0["v"][0], y0["z"], y0["z_peak"])
+        w = jnp.concatenate([y0["u"], y0["v"], jnp.stack([jnp.asarray(ground0, start_force.dtype), start_force,
+                                                          jnp.asarray(ground1, start_force.dtype)])])
+        linear = step_matrix @ w
+        force, z1, z_peak1, converged = self.isolator_force(
+            linear[0], y0, linear[n], (-force_column[0], -force_column[n]))
+        x1 = linear + force_column * force
+        return {"u": x1[:n], "v": x1[n:], "z": z1, "z_peak": z_peak1}, converged
+
+    def isolator_force(self, ub_linear, y0, vb_linear=None, compliance=None):
         """The bearing force F [N] at the end of a step (and Z, the running peak of |Z| and
-        whether the solve converged), given the isolator's displacement `ub_linear` [m] at the
-        end of the step without the force and the state `y0` at its start: Newmark's isolator
-        displacement is ub_linear - g0 F, with g0 = K_eff^-1[0, 0]."""
+        whether the solve converged), given the isolator's displacement `ub_linear` [m] and
+        velocity `vb_linear` [m/s] at the end of the step without the force and the state `y0`
+        at its start. The isolator's displacement and velocity at the end are
+        (ub_linear, vb_linear) - (g0, gv) F with `compliance` = (g0 [m/N], gv [m/(N s)]);
+        Newmark's (the default): g0 = K_eff^-1[0, 0], gv = 2 g0 / dt and
+        vb_linear = 2 / dt (ub_linear - ub0) - vb0."""
         dt = self.time_step
-        g0 = self.newmark_inverse[0, 0]
         ub0, vb0 = y0["u"][0], y0["v"][0]
+        if compliance is None:
+            g0 = self.newmark_inverse[0, 0]
+            compliance = (g0, 2 / dt * g0)
+        if vb_linear is None:
+            vb_linear = 2 / dt * (ub_linear - ub0) - vb0
+        g0, gv = compliance
         z0 = y0["z"]
         # Breakaway (Eq. 17) is decided by the largest |Z| reached up to the start of the step:
         # the same running peak sets the force in the equilibrium below and the force reported
@@ -176,17 +216,15 @@ class StructureOnSliders(AbstractSteppedSystem):
         if self.friction_model == "none":
             force, z1, converged = jnp.zeros_like(z0), z0, jnp.array(True)
         elif self.friction_model == "coulomb":
-            force, z1 = self._coulomb_force(ub_linear - ub0, vb0, g0, dt)
+            force, z1 = self._coulomb_force(vb_linear, gv)
             converged = jnp.array(True)
         else:
-            force, z1, converged = self._hysteretic_force(ub_linear, ub0, vb0, z0, z_peak1, g0, dt)
+            force, z1, converged = self._hysteretic_force(ub_linear, vb_linear, ub0, vb0, z0, z_peak1, g0, gv)
         return force, z1, z_peak1, converged
 
-    def _coulomb_force(self, du_linear, vb0, g0, dt):
+    def _coulomb_force(self, v_star, h):
         # Eq. 2 with an implicit (set-valued) friction force: the isolator velocity at the end of
         # the step is v* - h F; the force sticks (v = 0) when |v*/h| <= mu W, else slides at mu W.
-        h = 2 * g0 / dt
-        v_star = 2 / dt * du_linear - vb0
         mu = self.bearing.coefficient(v_star, 0.0, 1.0)
         capacity = mu * self.bearing_load
         stick_force = v_star / h
@@ -194,7 +232,7 @@ class StructureOnSliders(AbstractSteppedSystem):
         force = jnp.where(sticking, stick_force, capacity * jnp.sign(v_star))
         return force, force / capacity
 
-    def _hysteretic_force(self, ub_linear, ub0, vb0, z0, z_peak, g0, dt):
+    def _hysteretic_force(self, ub_linear, vb_linear, ub0, vb0, z0, z_peak, g0, gv):
         h = require_riccati_form(self.bearing.hysteresis)
         bearing = eqx.tree_at(lambda b: b.hysteresis, self.bearing, h)
         W = self.bearing_load
@@ -214,9 +252,10 @@ class StructureOnSliders(AbstractSteppedSystem):
         eps = jnp.finfo(jnp.result_type(x0)).eps
         tolerance = jnp.maximum(self.newton_tolerance * h.yield_disp, 1e3 * eps * (jnp.abs(x0) + jnp.abs(ub_linear)))
         p = {"bearing": bearing, "W": W, "z0": z0, "z_peak": z_peak, "ub0": ub0,
-             "vb0": vb0, "g0": g0, "ub_linear": ub_linear,
+             "vb0": vb0, "g0": g0, "ub_linear": ub_linear, "vb_linear": vb_linear,
+             "velocity_gain": gv / g0,
              "reversal_length": bouc_wen_reversal_length(h, z0)}  # the same for every iterate
-        rule = (dt, self.split_at_turn)
+        rule = (self.time_step, self.split_at_turn)
         x, force, z1 = isolator_root(rule, (self.newton_unrolled, self.newton_iterations), p, x0, lo, hi,
                                       tolerance)
         converged = jnp.abs(x - ub_linear + g0 * force) <= tolerance  # `isolator_residual`
@@ -235,15 +274,19 @@ def structure_on_sliders(
     friction_model: str = "hysteretic",
     newton_iterations: int = NEWTON_ITERATIONS,
     split_at_turn: bool = False,
+    linear_rule: str = "newmark",
 ) -> StructureOnSliders:
-    """Build a `StructureOnSliders`, checking shapes and prefactoring Newmark's matrix.
+    """Build a `StructureOnSliders`, checking shapes and prefactoring the step's matrices.
 
-    Newmark (average acceleration): K_eff = K + (2/dt) C + (4/dt^2) M, inverted once for `time_step`.
+    Newmark (average acceleration): K_eff = K + (2/dt) C + (4/dt^2) M, inverted once for
+    `time_step`; with `linear_rule="exact"` also the exact step's matrices (`_propagators.exact_step`).
     """
     if friction_model not in FRICTION_MODELS:
         raise ValueError(
             f"friction_model: unknown {friction_model!r}; accepted values: {', '.join(FRICTION_MODELS)}."
         )
+    if linear_rule not in LINEAR_RULES:
+        raise ValueError(f"linear_rule: unknown {linear_rule!r}; accepted values: {', '.join(LINEAR_RULES)}.")
     mass = jnp.atleast_1d(jnp.asarray(mass, dtype=float))
     n = mass.shape[-1]
     stiffness = jnp.asarray(stiffness, dtype=float).reshape(mass.shape[:-1] + (n, n))
@@ -273,7 +316,18 @@ def structure_on_sliders(
         friction_model=friction_model,
         newton_iterations=int(newton_iterations),
         split_at_turn=bool(split_at_turn),
+        linear_rule=linear_rule,
+        exact_step=_exact_step_matrix(mass, stiffness, damping, float(time_step)) if linear_rule == "exact" else None,
     )
+
+
+def _exact_step_matrix(mass, stiffness, damping, time_step):
+    """(R | f) of `_propagators.exact_step`, for a structure or a batch of them."""
+    def one(m, k, c):
+        step, force = exact_step(m, k, c, time_step)
+        return jnp.concatenate([step, force[:, None]], 1)
+
+    return jnp.vectorize(one, signature="(n),(n,n),(n,n)->(m,k)")(mass, stiffness, damping)
 
 
 def initial_state(system: StructureOnSliders) -> dict:
