@@ -25,15 +25,15 @@ from ._models import signal_from_motion as signal_from_motion
 from ._models import six_storey_building as six_storey_building
 from ._models import superstructure_matrices as superstructure_matrices
 from ._peaks import RESPONSE_NAMES as RESPONSE_NAMES
-from ._peaks import step_propagator as step_propagator
 from ._peaks import peak_response as peak_response
 from ._peaks import smooth_max as smooth_max
+from ._peaks import step_propagator as step_propagator
+from ._propagators import LINEAR_RULES as LINEAR_RULES
 from ._slab import check_plan as check_plan
 from ._slab import slab_corners as slab_corners
 from ._slab import slab_on_bearings as slab_on_bearings
 from ._slab import slab_point_displacement as slab_point_displacement
 from ._slab import stack_bearings as stack_bearings
-from ._propagators import LINEAR_RULES as LINEAR_RULES
 from ._structure import FRICTION_MODELS as FRICTION_MODELS
 from ._structure import StructureOnSliders as StructureOnSliders
 from ._structure import StructureResponse as StructureResponse
