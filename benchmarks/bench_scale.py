@@ -13,9 +13,8 @@ model-form difference (EPP slider vs Bouc-Wen) in separate columns. B5: wall tim
 Monte Carlo set against the forward evaluation (compile times reported apart).
 
 Speed against the previous method (`--speed`, `run_speed_comparison`): records/s and process
-CPU time per record for both structures with today's update (`TIME_STEPS`, Z split at the
-turning point of the isolator's path) and the previous one (`BASELINE`: 2.5 ms, Z along the
-net increment), in the same run, with the worst peak errors of both over 100 motions against
+CPU time per record for both structures with today's step (`TIME_STEPS`, `METHODS["today"]`)
+and the previous one (`BASELINE`: 2.5 ms, `METHODS["previous"]`), in the same run, with the worst peak errors of both over 100 motions against
 0.5 ms steps and the load average of the machine (shared machines inflate wall times; CPU
 time per record is the steadier figure).
 
@@ -41,15 +40,28 @@ from teflon_jax.studies import (
     monte_carlo,
     monte_carlo_motion,
 )
-from teflon_jax.systems import RECOMMENDED_TIME_STEPS, isolated_structure
+from teflon_jax.systems import (
+    MONTE_CARLO_NEWTON_TOLERANCE,
+    RECOMMENDED_TIME_STEPS,
+    isolated_structure,
+)
 from teflon_jax.units import PSI, STANDARD_GRAVITY
 
 TIME_STEPS = dict(RECOMMENDED_TIME_STEPS)
 """Structure step [s] per structure, as `teflon-jax montecarlo` uses by default: the largest
-divisor of the record step whose worst peak error over 100 motions is below 0.5 % (5 ms rigid,
-1/300 s building; the accuracy section reports twice the step too)."""
+divisor of the record step whose worst peak error over 100 motions is below 0.5 % (5 ms for
+both; the accuracy section reports twice the step too)."""
 BASELINE = {"rigid": 0.0025, "building": 0.0025}
-"""The previous method's step [s] (Z along the net increment, `split_at_turn=False`)."""
+"""The previous method's step [s] (`METHODS["previous"]`)."""
+METHODS = {
+    "today": {"split_at_turn": True, "linear_rule": "exact", "newton_tolerance": MONTE_CARLO_NEWTON_TOLERANCE},
+    "reference": {"split_at_turn": True, "linear_rule": "exact", "newton_tolerance": 1e-5},
+    "previous": {"split_at_turn": False, "linear_rule": "newmark", "newton_tolerance": 1e-5},
+}
+"""The step's options: "today" as `teflon-jax montecarlo` runs (Z split at the turning point,
+the exact linear rule, the equilibrium to 1e-3 Y), "reference" for the 0.5 ms runs every error
+is measured against (the equilibrium to 1e-5 Y), and "previous", the method before this round
+(Z along the net increment, Newmark's rule, 2.5 ms steps)."""
 REFERENCE_STEP = 0.0005  # [s] converged reference for the peak errors
 RECORD_STEP = 0.01  # [s] sampling of the stochastic motions
 MOTION_KEY = 1  # PRNG seed of the benchmark motions (monte_carlo and the peer draw the same)
@@ -67,13 +79,13 @@ def _motions(duration=40.0):
                                   rise_time=min(2.0, 0.1 * duration), strong_motion_duration=strong)
 
 
-def _structure(kind, time_step, split_at_turn=True):
+def _structure(kind, time_step, method="today"):
     return isolated_structure(kind, time_step=time_step, pressure=1000 * PSI, isolation_period=2.0,
-                              split_at_turn=split_at_turn)
+                              **METHODS[method])
 
 
-def _throughput(kind, sizes, chunk_size, time_step, split_at_turn=True):
-    structure = _structure(kind, time_step, split_at_turn)
+def _throughput(kind, sizes, chunk_size, time_step, method="today"):
+    structure = _structure(kind, time_step, method)
     rows = []
     for n in sizes:
         before = _rss_bytes()
@@ -112,10 +124,11 @@ def _throughput(kind, sizes, chunk_size, time_step, split_at_turn=True):
             "cost_exponent_in_n": slope}
 
 
-def _peaks(kind, n, time_step, at_record_samples=False, split_at_turn=True):
+def _peaks(kind, n, time_step, at_record_samples=False, method=None):
     """Peaks of the first n benchmark motions at `time_step`, read at every step or, with
     `at_record_samples`, at the record's samples (every 0.01 s, where OpenSees records)."""
-    result = monte_carlo(_structure(kind, time_step, split_at_turn), _motions(), n, key=jax.random.key(MOTION_KEY),
+    method = ("reference" if time_step == REFERENCE_STEP else "today") if method is None else method
+    result = monte_carlo(_structure(kind, time_step, method), _motions(), n, key=jax.random.key(MOTION_KEY),
                          chunk_size=CHUNK, peak_interval=RECORD_STEP if at_record_samples else None)
     if not result.converged.all():
         raise RuntimeError(f"B3 accuracy: {kind} at {time_step} s did not converge on every motion")
@@ -291,13 +304,13 @@ def run_speed_comparison(n_motions: int = 1024, accuracy_n: int = 100, chunk_siz
     out = {"hardware": _hardware(), "n_motions": n_motions, "accuracy_n_motions": accuracy_n}
     for kind in TIME_STEPS:
         reference = _peaks(kind, accuracy_n, REFERENCE_STEP)
-        previous_reference = _peaks(kind, accuracy_n, REFERENCE_STEP, split_at_turn=False)
+        previous_reference = _peaks(kind, accuracy_n, REFERENCE_STEP, method="previous")
         entry = {"reference_step_s": REFERENCE_STEP,
                  "references_differ": _errors(previous_reference, reference)}
-        for name, step, split in (("today", TIME_STEPS[kind], True), ("previous", BASELINE[kind], False)):
-            speed = _throughput(kind, (n_motions,), chunk_size, step, split)["runs"][0]
-            errors = _errors(_peaks(kind, accuracy_n, step, split_at_turn=split), reference)
-            entry[name] = {"time_step_s": step, "split_at_turn": split, **speed, "errors": errors,
+        for name, step in (("today", TIME_STEPS[kind]), ("previous", BASELINE[kind])):
+            speed = _throughput(kind, (n_motions,), chunk_size, step, name)["runs"][0]
+            errors = _errors(_peaks(kind, accuracy_n, step, method=name), reference)
+            entry[name] = {"time_step_s": step, **METHODS[name], **speed, "errors": errors,
                            "worst_peak_error": max(v["max_rel"] for v in errors.values())}
         entry["speedup_records_per_s"] = entry["today"]["records_per_s"] / entry["previous"]["records_per_s"]
         entry["speedup_cpu_per_record"] = (entry["previous"]["cpu_s_per_record"]

@@ -273,21 +273,22 @@ def test_reversal_length_is_where_z_crosses_zero():
                 tj.bouc_wen_exact_update(h, jnp.asarray(z0), jnp.asarray(scale * du)))
 
 
-def test_series_sine_and_cosine_of_the_reversal_branch():
-    from teflon_jax.bearing._hysteresis import _sin_cos
+def test_rational_tangent_of_the_reversal_branch():
+    """`_tan_pair` (Monte Carlo's tangent) against NumPy's tan over [0, pi/2), both halves of
+    its reduction and tiny angles, to within 10 ulp."""
+    from teflon_jax.bearing._hysteresis import _tan_pair
 
-    angle = np.linspace(0.0, np.pi / 2, 20001)
-    sin, cos = _sin_cos(jnp.asarray(angle))
-    np.testing.assert_allclose(np.asarray(sin), np.sin(angle), rtol=0, atol=1e-15)
-    np.testing.assert_allclose(np.asarray(cos), np.cos(angle), rtol=0, atol=1e-15)
-    # the update with the series (Monte Carlo) and with jnp.tan (fits) agree, gradients too
+    angle = np.concatenate([np.linspace(0.0, 1.5, 30001), np.geomspace(1e-300, 0.1, 2001)])
+    sin, cos = jax.jit(_tan_pair)(jnp.asarray(angle))
+    np.testing.assert_allclose(np.asarray(sin) / np.asarray(cos), np.tan(angle), rtol=2e-15, atol=0)
+    # the update with the rational tangent (Monte Carlo) and with jnp.tan (fits) agree, gradients too
     h = tj.BoucWen(yield_disp=jnp.asarray(0.005 * INCH))
     rng = np.random.default_rng(3)
     z0 = jnp.asarray(rng.uniform(-1.0, 1.0, 2000))
     du = jnp.asarray(rng.normal(0.0, 2e-4, 2000))
     for argnums in (None, 1, 2):
         results = []
-        for tangent in ("library", "series"):
+        for tangent in ("library", "rational"):
             def update(z, d, tangent=tangent):
                 return tj.bouc_wen_exact_update(h, z, d, tangent=tangent)
             f = update if argnums is None else jax.grad(update, argnums=argnums - 1)

@@ -98,10 +98,12 @@ def test_montecarlo_command_reports_runs_that_did_not_converge(tmp_path, capsys)
     # A run with a step whose Newton solve failed must make the command fail (status 1) with
     # a message naming the runs, not print its untrustworthy peaks as a success; the results
     # are still written and the statistics rest on the converged runs only (here none). The
-    # failure is real: with one Newton iteration per step, every 10 s run has a step (around a
-    # reversal) that needs a second one (over 4 s, one run in three had such a step).
+    # failure is real: with one Newton iteration per step and the equilibrium asked to rounding
+    # (--newton-tolerance 0), every 10 s run has a step that needs a second iteration (at the
+    # default 1e-3 Y one iteration is enough for these runs).
     status = main(["montecarlo", "--motions", "3", "--duration", "10s", "--strong-motion", "1s",
-                   "--newton-iterations", "1", "--no-progress", "--json", str(tmp_path / "mc.json")])
+                   "--newton-iterations", "1", "--newton-tolerance", "0", "--no-progress",
+                   "--json", str(tmp_path / "mc.json")])
     assert status == 1
     err = capsys.readouterr().err
     assert "3 of 3 runs" in err and "motion indices 0, 1, 2" in err
@@ -109,6 +111,20 @@ def test_montecarlo_command_reports_runs_that_did_not_converge(tmp_path, capsys)
     assert summary["all_converged"] is False and summary["n_converged"] == 0
     assert summary["not_converged"] == [0, 1, 2]
     assert summary["statistics"]["base_disp_in"]["n"] == 0
+
+
+@pytest.mark.parametrize("value", ["-1e-3", "nan", "inf", "tight"])
+def test_montecarlo_newton_tolerance_refuses_bad_values(value, capsys):
+    with pytest.raises(SystemExit) as exit_info:
+        main(["montecarlo", "--motions", "2", "--newton-tolerance", value])
+    assert exit_info.value.code == 2
+    assert "--newton-tolerance" in capsys.readouterr().err
+
+
+def test_montecarlo_newton_tolerance_is_for_one_component(capsys):
+    status = main(["montecarlo", "--motions", "2", "--components", "2", "--newton-tolerance", "1e-4"])
+    assert status != 0
+    assert "--newton-tolerance" in capsys.readouterr().err
 
 
 def test_design_verdict_warns_on_bounds_and_fails_on_a_bad_gradient(capsys):

@@ -13,6 +13,7 @@ from ._bidirectional import simulate_bidirectional as simulate_bidirectional
 from ._bidirectional_models import BIDIRECTIONAL_TIME_STEP as BIDIRECTIONAL_TIME_STEP
 from ._bidirectional_models import bidirectional_building as bidirectional_building
 from ._bidirectional_models import bidirectional_rigid_mass as bidirectional_rigid_mass
+from ._isolated import MONTE_CARLO_NEWTON_TOLERANCE as MONTE_CARLO_NEWTON_TOLERANCE
 from ._isolated import RECOMMENDED_TIME_STEPS as RECOMMENDED_TIME_STEPS
 from ._isolated import IsolatedStructure as IsolatedStructure
 from ._isolated import check_design as check_design

@@ -33,8 +33,8 @@ def bearing_force(x, p, rule):
     turning = (vb0 * path_velocity < 0) & split_at_turn
     forth = jnp.where(turning, turn_distance(vb0, path_velocity, dt, turning), du)  # u* - ub0
     z_turn = bouc_wen_exact_update(h, p["z0"], forth, p["reversal_length"],
-                                   tangent="series")  # cheaper in batches of structures
-    z = bouc_wen_exact_update(h, z_turn, jnp.where(turning, du - forth, 0.0), tangent="series")
+                                   tangent="rational")  # cheaper in batches of structures
+    z = bouc_wen_exact_update(h, z_turn, jnp.where(turning, du - forth, 0.0), tangent="rational")
     return p["bearing"].coefficient(end_velocity(x, p), 0.0, p["z_peak"]) * p["W"] * z, z
 
 
@@ -86,8 +86,8 @@ def residual_and_slope(x, p, rule):
     turning = (vb0 * path_velocity < 0) & split_at_turn
     forth = jnp.where(turning, turn_distance(vb0, path_velocity, dt, turning), du)
     back = jnp.where(turning, du - forth, 0.0)
-    z_turn = bouc_wen_exact_update(h, p["z0"], forth, p["reversal_length"], tangent="series")
-    z = bouc_wen_exact_update(h, z_turn, back, tangent="series")
+    z_turn = bouc_wen_exact_update(h, p["z0"], forth, p["reversal_length"], tangent="rational")
+    z = bouc_wen_exact_update(h, z_turn, back, tangent="rational")
     slope_forth = _bouc_wen_slope(h, z_turn, forth)
     slope_end = _bouc_wen_slope(h, z, back)
     slope_turn = _bouc_wen_slope(h, z_turn, back)

@@ -49,13 +49,20 @@ def smooth_max(x, width, axis=-1):
     return jnp.squeeze(top, axis) + width * jnp.log(jnp.sum(terms, axis=axis) / n)
 
 
-def _shear_ratio(system: StructureOnSliders, relative_acceleration, ground):
-    """|V| / W_s for the relative accelerations [m/s^2] under ground acceleration `ground`
-    [m/s^2] (see `PeakResponse`)."""
-    total = relative_acceleration + ground
-    mass = system.mass if system.mass.shape[-1] == 1 else system.mass[1:]
-    acc = total if system.mass.shape[-1] == 1 else total[1:]
-    return jnp.sum(mass * acc) / (jnp.sum(mass) * STANDARD_GRAVITY)
+WRITTEN_OUT_PRODUCT = 8
+"""Contraction length up to which `_product` writes a product out as a sum of columns."""
+
+
+def _product(matrix, vector):
+    """matrix (m, k) or (k,) @ vector (k,): written out as a sum of columns for k up to
+    `WRITTEN_OUT_PRODUCT` (the rigid mass, k = 2 or 5: element-wise work that XLA fuses with
+    the rest of the step, 5 % faster on a CPU than a dot kernel per step), a dot above (the
+    building, k = 14 or 17: the written-out sum was 13 % slower there, a broadcast product
+    and sum 50 %)."""
+    k = vector.shape[0]
+    if k > WRITTEN_OUT_PRODUCT:
+        return matrix @ vector
+    return sum(matrix[..., j] * vector[j] for j in range(k))
 
 
 def step_propagator(system: StructureOnSliders):
@@ -69,19 +76,24 @@ def step_propagator(system: StructureOnSliders):
 
     (`_propagators.py`). One (2n, 2n + 3) product per step; the same step to rounding.
 
-    **Returns:** (R (2n, 2n + 3), f (2n,), shear_row (2n,)); rows 0 and n of R w are the
-    isolator's displacement and velocity without the bearing force that `isolator_force` takes,
-    and shear_row . (u1, v1) the first-storey shear over the weight above the isolators,
-    -sum_{j>=1} (C v + K u)_j / (g sum_{j>=1} m_j) (floors carry no friction force, so
-    m_j (a_j + g) = -(C v + K u)_j).
+    **Returns:** (R (2n, 2n + 3), f (2n,), shear_row (2n,), shear_force); rows 0 and n of R w
+    are the isolator's displacement and velocity without the bearing force that
+    `isolator_force` takes, and shear_row . (u1, v1) + shear_force F_r1 the base shear over the
+    weight above the isolators (`PeakResponse`), F_r1 the bearing force of the end state: for
+    a building the first-storey shear, -sum_{j>=1} (C v + K u)_j / (g sum_{j>=1} m_j) (floors
+    carry no friction force, so m_j (a_j + g) = -(C v + K u)_j; shear_force = 0); for a rigid
+    mass -(c v + k u + F_r) / (m g).
     """
     m, damping, stiffness = system.mass, system.damping, system.stiffness
     n = m.shape[-1]
     step_matrix, force_column = system.step_matrices()
+    if n == 1:  # a rigid mass: m (a + g) = -(c v + k u + F)
+        weight = STANDARD_GRAVITY * m[0]
+        return step_matrix, force_column, -jnp.concatenate([stiffness[0], damping[0]]) / weight, -1 / weight
     floors = jnp.arange(n) >= 1
     weight = STANDARD_GRAVITY * jnp.sum(jnp.where(floors, m, 0.0))
     shear_row = -jnp.concatenate([floors @ stiffness, floors @ damping]) / weight
-    return step_matrix, force_column, shear_row
+    return step_matrix, force_column, shear_row, jnp.zeros((), m.dtype)
 
 
 def peak_response(
@@ -131,27 +143,20 @@ def peak_response(
         return new_top, total
 
     n = system.mass.shape[-1]
-    step_matrix, force_column, shear_row = step_propagator(system)
+    step_matrix, force_column, shear_row, shear_force = step_propagator(system)
     compliance = (-force_column[0], -force_column[n])
 
-    # For more than one degree of freedom the state (u, v), the bearing force of the stored
-    # state and the ground acceleration at the start of the step, advanced by
-    # `step_propagator` (one product per step; measured on a CPU: faster for the building,
-    # n = 7); for n = 1 the state dict and acceleration by `newmark_update` (there the faster
-    # form). The same step to rounding.
+    # The state (u, v), the bearing force of the stored state and the ground acceleration at
+    # the start of the step, advanced by `step_propagator` (one product per step); the same
+    # step as `newmark_update` to rounding.
     def advance(state, ground1):
-        if n == 1:
-            y, a, ground0 = state
-            y1, converged = system.newmark_update(y, a, ground1, ground0)
-            a1 = system.acceleration_at(ground1, y1)
-            return (y1, a1, ground1), y1["u"][0], _shear_ratio(system, a1, ground1), converged
         x, z, z_peak, start_force, ground0 = state
-        linear = step_matrix @ jnp.concatenate([x, jnp.stack([ground0, start_force, ground1])])
+        linear = _product(step_matrix, jnp.concatenate([x, jnp.stack([ground0, start_force, ground1])]))
         force, z1, z_peak1, converged = system.isolator_force(
             linear[0], {"u": x[:n], "v": x[n:], "z": z, "z_peak": z_peak}, linear[n], compliance)
         x1 = linear + force_column * force
         force1 = system.friction_force(x1[n], z1, z_peak1)  # the force of the stored state
-        return (x1, z1, z_peak1, force1, ground1), x1[0], shear_row @ x1, converged
+        return (x1, z1, z_peak1, force1, ground1), x1[0], _product(shear_row, x1) + shear_force * force1, converged
 
     def body(carry, step_and_ground):
         step, ground1 = step_and_ground
@@ -170,10 +175,8 @@ def peak_response(
     y0 = initial_state(system)
     # the record at every step's end, evaluated at once outside the loop
     ground = jax.vmap(system.ground_acceleration)(jnp.arange(n_steps + 1) * dt)
-    a0 = system.acceleration_at(ground[0], y0)
     start_force = system.friction_force(y0["v"][0], y0["z"], y0["z_peak"])
-    state = (y0, a0, ground[0]) if n == 1 else (jnp.concatenate([y0["u"], y0["v"]]), y0["z"], y0["z_peak"], start_force,
-                                     ground[0])
+    state = (jnp.concatenate([y0["u"], y0["v"]]), y0["z"], y0["z_peak"], start_force, ground[0])
     carry = (state, (zero, zero), (zero, zero), (one, one), jnp.array(True))
     (_, peaks, tops, totals, ok), _ = jax.lax.scan(body, carry, (jnp.arange(n_steps), ground[1:]))
     smooth = [a + w * jnp.log(s / (n_steps + 1)) for a, s, w in zip(tops, totals, widths)]
