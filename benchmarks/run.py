@@ -39,6 +39,17 @@ def _load(name):
     return module
 
 
+def _cpu_model() -> str | None:
+    """The processor's model name from /proc/cpuinfo (Linux), else None."""
+    try:
+        for line in pathlib.Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                return line.split(":", 1)[1].strip()
+    except OSError:
+        return None
+    return None
+
+
 def machine_info() -> dict:
     import jax
 
@@ -46,6 +57,7 @@ def machine_info() -> dict:
         "date": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
         "platform": platform.platform(),
         "processor": platform.processor() or platform.machine(),
+        "cpu_model": _cpu_model(),
         "cpu_count": os.cpu_count(),
         "python": platform.python_version(),
         "jax": jax.__version__,

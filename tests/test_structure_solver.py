@@ -180,6 +180,21 @@ def test_newton_slope_is_the_derivative_of_the_residual(split_at_turn, breakaway
         return r, r_auto, slope, slope_auto
 
     r, r_auto, slope, slope_auto = jax.jit(jax.vmap(both))(z0, vb0, x, z_peak)
+    # the slopes of F and Z that the custom JVP of the root uses, against automatic derivatives
+    from teflon_jax.systems._isolator_solve import bearing_force, force_and_slopes
+
+    def slopes(z0, vb0, x, z_peak):
+        p = {"bearing": bearing, "W": WEIGHT, "z0": z0, "z_peak": z_peak, "ub0": 0.01, "vb0": vb0,
+             "g0": 1e-8, "ub_linear": 0.01, "reversal_length": tj.bouc_wen_reversal_length(bearing.hysteresis, z0),
+             "vb_linear": -vb0 if gain == "newmark" else 0.05 - 0.5 * vb0,
+             "velocity_gain": (2.0 if gain == "newmark" else 3.0) / 0.005}
+        _, _, d_force, d_z = force_and_slopes(x, p, rule)
+        _, (d_force_auto, d_z_auto) = jax.jvp(lambda y: bearing_force(y, p, rule), (x,), (jnp.ones_like(x),))
+        return d_force, d_force_auto, d_z, d_z_auto
+
+    d_force, d_force_auto, d_z, d_z_auto = jax.jit(jax.vmap(slopes))(z0, vb0, x, z_peak)
+    np.testing.assert_allclose(d_force, d_force_auto, rtol=1e-9, atol=1e-9 * float(np.max(np.abs(d_force_auto))))
+    np.testing.assert_allclose(d_z, d_z_auto, rtol=1e-9, atol=1e-9 * float(np.max(np.abs(d_z_auto))))
     np.testing.assert_allclose(r, r_auto, rtol=1e-12, atol=1e-17)
     turning = vb0 * (2 / 0.005 * (x - 0.01) - vb0) < 0
     assert turning.sum() > n // 10  # the turning branch is exercised

@@ -66,18 +66,27 @@ def _bouc_wen_slope(h, z, increment):
 
 
 def residual_and_slope(x, p, rule):
-    """`isolator_residual` and its derivative in x, the latter written out (no automatic
-    differentiation, so that Newton's loop costs one evaluation of the exact Z update):
+    """`isolator_residual` and its derivative in x, with the bearing force and Z (see
+    `force_and_slopes`): (r, dr/dx, F, Z), dr/dx = 1 + g0 dF/dx."""
+    force, z, d_force, _ = force_and_slopes(x, p, rule)
+    r = x - p["ub_linear"] + p["g0"] * force
+    return r, 1 + p["g0"] * d_force, force, z
 
-        dr/dx = 1 + g0 W (mu'(v) (2 / dt) Z + mu dZ/dx).
+
+def force_and_slopes(x, p, rule):
+    """`bearing_force` (F, Z) and their derivatives in x, written out (no automatic
+    differentiation, so that Newton's loop costs one evaluation of the exact Z update, and the
+    custom JVP of `isolator_root` none with tangents in x):
+
+        dF/dx = W (mu'(v) dv/dx Z + mu dZ/dx),  dv/dx = `velocity_gain`.
 
     Bouc-Wen is an autonomous equation in u along a monotone piece, Z' = G(Z), so the end value
     Z(z_a, d) of a piece of length d from z_a has dZ/dd = G(Z) and dZ/dz_a = G(Z) / G(z_a).
     Without a turn Z = Z(z0, du) and dZ/dx = G(Z). With a turn at u* (forth f = u* - ub0,
     df/dx = vb0^2 / (4 c^2 dt^2), see `bearing_force`) and back b = du - f:
         dZ/dx = G_b(Z) / G_b(Z*) G_f(Z*) df/dx + G_b(Z) (1 - df/dx).
-    Only Newton's steps use this slope (a wrong slope would slow them, not move the root);
-    the derivatives of the root come from the custom JVP of `isolator_root`."""
+    Newton's steps and the custom JVP of `isolator_root` use these slopes (checked against
+    automatic derivatives in the tests)."""
     dt, split_at_turn = rule
     h = p["bearing"].hysteresis
     du = x - p["ub0"]
@@ -98,10 +107,8 @@ def residual_and_slope(x, p, rule):
     velocity = end_velocity(x, p)
     mu, dmu = jax.jvp(lambda v: p["bearing"].coefficient(v, 0.0, p["z_peak"]), (velocity,),
                       (jnp.ones_like(velocity),))
-    W, g0 = p["W"], p["g0"]
-    force = mu * W * z
-    r = x - p["ub_linear"] + g0 * force
-    return r, 1 + g0 * W * (dmu * p["velocity_gain"] * z + mu * dz), force, z
+    W = p["W"]
+    return mu * W * z, z, W * (dmu * p["velocity_gain"] * z + mu * dz), dz
 
 
 @functools.partial(jax.custom_jvp, nondiff_argnums=(0, 1))
@@ -116,7 +123,8 @@ def isolator_root(rule, iterations, p, x0, lo, hi, tolerance):
     iterates are those of a plain loop that stops at tolerance, whatever `unrolled` is; F and
     Z are those of the last iterate (no evaluation after the loop). Differentiated implicitly
     (custom JVP: dx = -r_p dp / r_x, and F, Z through `bearing_force`), so forward and
-    reverse mode work and cost one linear solve whatever the number of iterations."""
+    reverse mode work and cost one linear solve whatever the number of iterations: one
+    evaluation of F with tangents in p and the slopes of `force_and_slopes` at the root)."""
     unrolled, max_iterations = iterations
 
     def evaluate(x):
@@ -150,10 +158,13 @@ def isolator_root(rule, iterations, p, x0, lo, hi, tolerance):
 
 @isolator_root.defjvp
 def _root_jvp(rule, iterations, primals, tangents):
+    # r(x, p) = x - ub_linear + g0 F(x, p): r_p dp = -d ub_linear + d g0 F + g0 F_p dp and
+    # r_x = 1 + g0 F_x; then dx = -r_p dp / r_x, dF = F_p dp + F_x dx, dZ = Z_p dp + Z_x dx
     p, x0, lo, hi, tolerance = primals
+    dp = tangents[0]
     x, force, z = isolator_root(rule, iterations, p, x0, lo, hi, tolerance)
-    _, r_p = jax.jvp(lambda q: isolator_residual(x, q, rule), (p,), (tangents[0],))
-    _, r_x = jax.jvp(lambda y: isolator_residual(y, p, rule), (x,), (jnp.ones_like(x),))
-    dx = -r_p / r_x
-    _, (d_force, d_z) = jax.jvp(lambda y, q: bearing_force(y, q, rule), (x, p), (dx, tangents[0]))
-    return (x, force, z), (dx, d_force, d_z)
+    _, _, d_force_x, d_z_x = force_and_slopes(x, p, rule)
+    (force_at_root, _), (force_p, z_p) = jax.jvp(lambda q: bearing_force(x, q, rule), (p,), (dp,))
+    r_p = -dp["ub_linear"] + dp["g0"] * force_at_root + p["g0"] * force_p
+    dx = -r_p / (1 + p["g0"] * d_force_x)
+    return (x, force, z), (dx, force_p + d_force_x * dx, z_p + d_z_x * dx)
