@@ -1,9 +1,10 @@
-"""The isolator's equilibrium at the end of a Newmark step, solved for its displacement.
+"""The isolator's equilibrium at the end of a step, solved for its displacement.
 
-Newmark's isolator displacement is x = u_linear - g0 F(x), with F = mu(v) W Z the bearing force
-at the end of the step and Z updated exactly along the step's path (`bearing_force`); the
-root is found by a bracketed Newton iteration with a written-out slope and differentiated
-implicitly (`isolator_root`). Used by `StructureOnSliders`; Eqs. 1, 3 and 17 of
+The step's isolator displacement is x = u_linear - g0 F(x) (Newmark's rule or the exact linear
+rule, `_propagators.py`), with F = mu(v) W Z the bearing force at the end of the step, v its
+velocity there (linear in x, `end_velocity`) and Z updated exactly along the step's path
+(`bearing_force`); the root is found by a bracketed Newton iteration with written-out slopes and
+differentiated implicitly (`isolator_root`). Used by `StructureOnSliders`; Eqs. 1, 3 and 17 of
 Constantinou, Mokha & Reinhorn (1990).
 """
 
@@ -18,12 +19,13 @@ from ..bearing import bouc_wen_exact_update
 def bearing_force(x, p, rule):
     """F(x) = mu(v) W Z at the end of the step, for isolator displacement x [m] there.
 
-    Newmark's rule moves the isolator with constant acceleration 2 c over the step,
-    u(s) = ub0 + vb0 s + c s^2 with c = (x - ub0 - vb0 dt) / dt^2, so its velocity at the end
-    is v = 2 (x - ub0) / dt - vb0. When v and vb0 differ in sign the path turns at
-    s* = -vb0 / (2 c), at u* = ub0 - vb0^2 / (4 c): Z is then updated exactly along both
-    monotone pieces, ub0 -> u* and u* -> x (along the net increment it would miss the
-    stretch travelled forth and back, an error of Z that grows with the step squared over Y).
+    Z follows the path of constant acceleration 2 c from (ub0, vb0) to x,
+    u(s) = ub0 + vb0 s + c s^2 with c = (x - ub0 - vb0 dt) / dt^2 (Newmark's path; its end
+    velocity 2 (x - ub0) / dt - vb0 decides whether the path turns). When it turns, at
+    s* = -vb0 / (2 c) and u* = ub0 - vb0^2 / (4 c), Z is updated exactly along both monotone
+    pieces, ub0 -> u* and u* -> x (along the net increment it would miss the stretch travelled
+    forth and back, an error of Z that grows with the step squared over Y). mu is taken at the
+    step's end velocity `end_velocity(x, p)` (the rule's; Newmark's is the path's).
     """
     dt, split_at_turn = rule  # step [s] and `StructureOnSliders.split_at_turn`
     h = p["bearing"].hysteresis
