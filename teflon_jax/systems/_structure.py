@@ -81,7 +81,7 @@ class StructureOnSliders(AbstractSteppedSystem):
     - `linear_rule` (static): how the linear structure is advanced over a step (`LINEAR_RULES`):
       "newmark" (average acceleration, the default) or "exact" (exact for ground acceleration
       and bearing force linear over the step; `exact_step` holds its matrices).
-    - `exact_step`: (R | f) (n2, 2n + 4) of `_propagators.exact_step` for "exact", else None.
+    - `exact_step`: (R | f) (2n, 2n + 4) of `_propagators.exact_step` for "exact", else None.
     """
 
     mass: jnp.ndarray
