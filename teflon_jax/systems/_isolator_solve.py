@@ -27,17 +27,26 @@ def bearing_force(x, p, rule):
     forth and back, an error of Z that grows with the step squared over Y). mu is taken at the
     step's end velocity `end_velocity(x, p)` (the rule's; Newmark's is the path's).
     """
+    z = _z_along_path(x, p, rule)[-1]
+    return p["bearing"].coefficient(end_velocity(x, p), 0.0, p["z_peak"]) * p["W"] * z, z
+
+
+def _z_along_path(x, p, rule):
+    """Z along the step's path to isolator displacement x [m] (see `bearing_force`), with what
+    its slope needs: (turning, path_velocity, forth, back, z_turn, z), forth = u* - ub0 and
+    back = x - u* for a turning path (forth = x - ub0 and back = 0 otherwise)."""
     dt, split_at_turn = rule  # step [s] and `StructureOnSliders.split_at_turn`
     h = p["bearing"].hysteresis
     du = x - p["ub0"]
     vb0 = p["vb0"]
     path_velocity = 2 / dt * du - vb0
     turning = (vb0 * path_velocity < 0) & split_at_turn
-    forth = jnp.where(turning, turn_distance(vb0, path_velocity, dt, turning), du)  # u* - ub0
+    forth = jnp.where(turning, turn_distance(vb0, path_velocity, dt, turning), du)
+    back = jnp.where(turning, du - forth, 0.0)
     z_turn = bouc_wen_exact_update(h, p["z0"], forth, p["reversal_length"],
                                    tangent="rational")  # cheaper in batches of structures
-    z = bouc_wen_exact_update(h, z_turn, jnp.where(turning, du - forth, 0.0), tangent="rational")
-    return p["bearing"].coefficient(end_velocity(x, p), 0.0, p["z_peak"]) * p["W"] * z, z
+    z = bouc_wen_exact_update(h, z_turn, back, tangent="rational")
+    return turning, path_velocity, forth, back, z_turn, z
 
 
 def turn_distance(v0, v1, dt, turning):
@@ -89,16 +98,9 @@ def force_and_slopes(x, p, rule):
         dZ/dx = G_b(Z) / G_b(Z*) G_f(Z*) df/dx + G_b(Z) (1 - df/dx).
     Newton's steps and the custom JVP of `isolator_root` use these slopes (checked against
     automatic derivatives in the tests)."""
-    dt, split_at_turn = rule
     h = p["bearing"].hysteresis
-    du = x - p["ub0"]
     vb0 = p["vb0"]
-    path_velocity = 2 / dt * du - vb0
-    turning = (vb0 * path_velocity < 0) & split_at_turn
-    forth = jnp.where(turning, turn_distance(vb0, path_velocity, dt, turning), du)
-    back = jnp.where(turning, du - forth, 0.0)
-    z_turn = bouc_wen_exact_update(h, p["z0"], forth, p["reversal_length"], tangent="rational")
-    z = bouc_wen_exact_update(h, z_turn, back, tangent="rational")
+    turning, path_velocity, forth, back, z_turn, z = _z_along_path(x, p, rule)
     slope_forth = _bouc_wen_slope(h, z_turn, forth)
     slope_end = _bouc_wen_slope(h, z, back)
     slope_turn = _bouc_wen_slope(h, z_turn, back)
