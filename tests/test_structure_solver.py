@@ -170,11 +170,14 @@ def test_newton_slope_is_the_derivative_of_the_residual(split_at_turn, breakaway
     z_peak = rng.uniform(0.99, 1.0, n)
     rule = (0.005, split_at_turn)
 
+    def step_state(z0, vb0, z_peak):
+        return {"bearing": bearing, "W": WEIGHT, "z0": z0, "z_peak": z_peak, "ub0": 0.01, "vb0": vb0,
+                "g0": 1e-8, "ub_linear": 0.01, "reversal_length": tj.bouc_wen_reversal_length(bearing.hysteresis, z0),
+                "vb_linear": -vb0 if gain == "newmark" else 0.05 - 0.5 * vb0,
+                "velocity_gain": (2.0 if gain == "newmark" else 3.0) / 0.005}
+
     def both(z0, vb0, x, z_peak):
-        p = {"bearing": bearing, "W": WEIGHT, "z0": z0, "z_peak": z_peak, "ub0": 0.01, "vb0": vb0,
-             "g0": 1e-8, "ub_linear": 0.01, "reversal_length": tj.bouc_wen_reversal_length(bearing.hysteresis, z0),
-             "vb_linear": -vb0 if gain == "newmark" else 0.05 - 0.5 * vb0,
-             "velocity_gain": (2.0 if gain == "newmark" else 3.0) / 0.005}
+        p = step_state(z0, vb0, z_peak)
         r, slope, _, _ = residual_and_slope(x, p, rule)
         r_auto, slope_auto = jax.jvp(lambda y: isolator_residual(y, p, rule), (x,), (jnp.ones_like(x),))
         return r, r_auto, slope, slope_auto
@@ -184,10 +187,7 @@ def test_newton_slope_is_the_derivative_of_the_residual(split_at_turn, breakaway
     from teflon_jax.systems._isolator_solve import bearing_force, force_and_slopes
 
     def slopes(z0, vb0, x, z_peak):
-        p = {"bearing": bearing, "W": WEIGHT, "z0": z0, "z_peak": z_peak, "ub0": 0.01, "vb0": vb0,
-             "g0": 1e-8, "ub_linear": 0.01, "reversal_length": tj.bouc_wen_reversal_length(bearing.hysteresis, z0),
-             "vb_linear": -vb0 if gain == "newmark" else 0.05 - 0.5 * vb0,
-             "velocity_gain": (2.0 if gain == "newmark" else 3.0) / 0.005}
+        p = step_state(z0, vb0, z_peak)
         _, _, d_force, d_z = force_and_slopes(x, p, rule)
         _, (d_force_auto, d_z_auto) = jax.jvp(lambda y: bearing_force(y, p, rule), (x,), (jnp.ones_like(x),))
         return d_force, d_force_auto, d_z, d_z_auto
