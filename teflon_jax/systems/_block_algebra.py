@@ -11,13 +11,13 @@ SMALL_PRODUCT = 4
 """Contraction length up to which `small_dot` writes a matrix product as sums of products."""
 
 
-def small_dot(a, b):
+def small_dot(a, b, limit=SMALL_PRODUCT):
     """a @ b for a (m, k) or (k,) and b (k, n) or (k,): as a written-out sum over k of element
-    products when k <= `SMALL_PRODUCT`, which XLA fuses with the element-wise work around it
+    products when k <= `limit`, which XLA fuses with the element-wise work around it
     (a CPU dot kernel per tiny product costs more than the product: ~20 % of the rigid-mass
     step), a dot otherwise."""
     k = a.shape[-1]
-    if k > SMALL_PRODUCT:
+    if k > limit:
         return a @ b
     if a.ndim == 1:
         return sum(a[i] * b[i] for i in range(k))

@@ -5,7 +5,13 @@ import jax
 import jax.numpy as jnp
 
 from ..units import STANDARD_GRAVITY
-from ._structure import StructureOnSliders, check_duration, initial_state
+from ._block_algebra import small_dot
+from ._structure import (
+    WRITTEN_OUT_PRODUCT,
+    StructureOnSliders,
+    check_duration,
+    initial_state,
+)
 
 RESPONSE_NAMES = ("base_disp", "base_shear_ratio")
 """Peak |base displacement| [m] and peak |base shear| / weight above the isolators [-]."""
@@ -47,22 +53,6 @@ def smooth_max(x, width, axis=-1):
     top = jax.lax.stop_gradient(jnp.max(jnp.abs(x), axis=axis, keepdims=True))
     terms = 0.5 * (jnp.exp((x - top) / width) + jnp.exp((-x - top) / width))
     return jnp.squeeze(top, axis) + width * jnp.log(jnp.sum(terms, axis=axis) / n)
-
-
-WRITTEN_OUT_PRODUCT = 8
-"""Contraction length up to which `_product` writes a product out as a sum of columns."""
-
-
-def _product(matrix, vector):
-    """matrix (m, k) or (k,) @ vector (k,): written out as a sum of columns for k up to
-    `WRITTEN_OUT_PRODUCT` (the rigid mass, k = 2 or 5: element-wise work that XLA fuses with
-    the rest of the step, 5 % faster on a CPU than a dot kernel per step), a dot above (the
-    building, k = 14 or 17: the written-out sum was 13 % slower there, a broadcast product
-    and sum 50 %)."""
-    k = vector.shape[0]
-    if k > WRITTEN_OUT_PRODUCT:
-        return matrix @ vector
-    return sum(matrix[..., j] * vector[j] for j in range(k))
 
 
 def step_propagator(system: StructureOnSliders):
@@ -144,19 +134,17 @@ def peak_response(
 
     n = system.mass.shape[-1]
     step_matrix, force_column, shear_row, shear_force = step_propagator(system)
-    compliance = (-force_column[0], -force_column[n])
 
     # The state (u, v), the bearing force of the stored state and the ground acceleration at
     # the start of the step, advanced by `step_propagator` (one product per step); the same
     # step as `newmark_update` to rounding.
     def advance(state, ground1):
         x, z, z_peak, start_force, ground0 = state
-        linear = _product(step_matrix, jnp.concatenate([x, jnp.stack([ground0, start_force, ground1])]))
-        force, z1, z_peak1, converged = system.isolator_force(
-            linear[0], {"u": x[:n], "v": x[n:], "z": z, "z_peak": z_peak}, linear[n], compliance)
-        x1 = linear + force_column * force
+        x1, z1, z_peak1, converged = system.propagated_step(x, z, z_peak, start_force, ground0, ground1,
+                                                            (step_matrix, force_column))
         force1 = system.friction_force(x1[n], z1, z_peak1)  # the force of the stored state
-        return (x1, z1, z_peak1, force1, ground1), x1[0], _product(shear_row, x1) + shear_force * force1, converged
+        shear = small_dot(shear_row, x1, WRITTEN_OUT_PRODUCT) + shear_force * force1
+        return (x1, z1, z_peak1, force1, ground1), x1[0], shear, converged
 
     def body(carry, step_and_ground):
         step, ground1 = step_and_ground

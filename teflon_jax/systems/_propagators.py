@@ -21,7 +21,7 @@ LINEAR_RULES = ("newmark", "exact")
 """
 
 
-def exact_step(mass, stiffness, damping, time_step):
+def exact_step_matrices(mass, stiffness, damping, time_step):
     """(R, f) of the exact step for inputs linear over the step (first-order hold).
 
     With x = (u, v), x' = A x + B q(s), A = [[0, I], [-M^-1 K, -M^-1 C]], q = (a_g, F) and
@@ -51,7 +51,7 @@ def exact_step(mass, stiffness, damping, time_step):
     return jnp.concatenate([free, start, g1[:, :1]], 1), g1[:, 1]
 
 
-def newmark_step(mass, stiffness, damping, newmark_inverse, time_step):
+def newmark_step_matrices(mass, stiffness, damping, newmark_inverse, time_step):
     """(R, f) of Newmark's average-acceleration step, with the start acceleration
     a0 = -1 a_g0 - M^-1 (C v0 + K u0) - e0 F_r0 / m0 folded in:
     u1 = K_eff^-1 (M (4/dt^2 u0 + 4/dt v0 + a0) + C (2/dt u0 + v0) - M 1 a_g1 - e0 F),
