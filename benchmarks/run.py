@@ -63,6 +63,7 @@ def machine_info() -> dict:
         "jax": jax.__version__,
         "devices": [str(d) for d in jax.devices()],
         "device_kind": jax.devices()[0].device_kind,
+        "xla_flags": os.environ.get("XLA_FLAGS", ""),
     }
     for package in ("diffrax", "optimistix", "equinox", "numpy", "openseespy"):
         try:
@@ -206,6 +207,9 @@ def main(argv=None) -> int:
         parser.error(f"--cpu-devices: must be >= 1, got {args.cpu_devices}")
     import jax
 
+    from teflon_jax.studies import prefer_wide_cpu_vectors
+
+    prefer_wide_cpu_vectors()  # as the teflon-jax command does, before JAX's first computation
     jax.config.update("jax_num_cpu_devices", args.cpu_devices)
     jax.config.update("jax_enable_x64", not args.float32)
     skip = {s.strip().upper() for s in args.skip.split(",") if s.strip()}

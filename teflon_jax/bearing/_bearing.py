@@ -66,6 +66,26 @@ class SlidingBearing(eqx.Module):
         static = self.breakaway_ratio * params.f_min
         return jnp.where(z_peak < BREAKAWAY_THRESHOLD, static, mu)
 
+    def uniaxial_coefficient(self, velocity, z_peak=1.0):
+        """mu [-] and dmu/dv [s/m] for sliding along x at `velocity` [m/s] (the
+        `coefficient` with velocity_y = 0), written out rather than differentiated:
+
+            mu = f_max - delta_f e,   dmu/dv = (a / n) delta_f e sgn(v),   e = exp(-a |v| / n),
+
+        with the constants mixed for the direction as in `coefficient`; during breakaway
+        (Eq. 17) mu = b f_min and dmu/dv = 0. At v = 0 the slope is 0, as the derivative of
+        `coefficient` there."""
+        params = self.friction
+        if self.friction_perpendicular is not None:
+            weight = sliding_angle_weight(velocity, 0.0, self.lay_angle)
+            params = anisotropic_friction(params, self.friction_perpendicular, weight)
+        decay = params.delta_f * jnp.exp(-params.rate_a * (jnp.abs(velocity) / self.n_interfaces))
+        mu, slope = params.f_max - decay, params.rate_a / self.n_interfaces * decay * jnp.sign(velocity)
+        if self.breakaway_ratio is None:
+            return mu, slope
+        static = z_peak < BREAKAWAY_THRESHOLD
+        return jnp.where(static, self.breakaway_ratio * params.f_min, mu), jnp.where(static, 0.0, slope)
+
 
 def sliding_speed(velocity_x, velocity_y=0.0):
     """|v| = sqrt(vx^2 + vy^2) [m/s], with a finite derivative (zero) at rest in float32 and

@@ -94,6 +94,9 @@ def main(argv=None) -> int:
         parser.error(f"--cpu-devices: must be >= 1, got {args.cpu_devices}")
     import jax
 
+    from ..studies import prefer_wide_cpu_vectors
+
+    prefer_wide_cpu_vectors()  # before JAX's first computation, as the CPU devices
     try:
         _split_cpu(jax, args.cpu_devices)
     except ValueError as error:

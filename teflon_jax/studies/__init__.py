@@ -10,6 +10,7 @@ from ._bidirectional_study import (
 from ._bidirectional_study import bidirectional_peak_response as bidirectional_peak_response
 from ._cluster import ClusterRunError as ClusterRunError
 from ._cluster import check_netcdf_output as check_netcdf_output
+from ._cpu_vectors import prefer_wide_cpu_vectors as prefer_wide_cpu_vectors
 from ._design import DesignResult as DesignResult
 from ._design import default_design_problem as default_design_problem
 from ._design import design_bounds as design_bounds

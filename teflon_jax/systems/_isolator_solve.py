@@ -55,6 +55,28 @@ def turn_distance(v0, v1, dt, turning):
     return v0**2 * dt / (2 * jnp.where(turning, v0 - v1, 1.0))
 
 
+def predicted_root(p, start_factors, lo, hi):
+    """First guess [m] of the isolator's displacement at the end of the step, within [lo, hi]:
+    one Newton step, from the displacement with the bearing force held at its start value
+    F0 = mu0 W z0, on the force linearised about the start state,
+
+        F(x) ~ F0 + mu0 W G(z0) (x - ub0) + z0 d(mu W)/dv (v(x) - vb0),
+
+    G = dZ/du of Eq. 3 in the direction of the held guess and v(x) = `end_velocity`; the guess
+    is then off by the force's second-order change (while sliding at constant Z and speed
+    both guesses are exact). `start_factors` = (mu0 W, d(mu W)/dv) at the start
+    (`StructureOnSliders.friction_factors`); falls back to the held guess where the linearised
+    residual does not increase with x."""
+    force_per_z, slope_per_z = start_factors
+    z0, ub0, g0 = p["z0"], p["ub0"], p["g0"]
+    held = jnp.clip(p["ub_linear"] - g0 * force_per_z * z0, lo, hi)
+    z_slope = _bouc_wen_slope(p["bearing"].hysteresis, z0, held - ub0)
+    change = force_per_z * z_slope * (held - ub0) + slope_per_z * z0 * (end_velocity(held, p) - p["vb0"])
+    residual = held - p["ub_linear"] + g0 * (force_per_z * z0 + change)
+    slope = 1 + g0 * (force_per_z * z_slope + slope_per_z * z0 * p["velocity_gain"])
+    return jnp.clip(jnp.where(slope > 0, held - residual / jnp.where(slope > 0, slope, 1.0), held), lo, hi)
+
+
 def end_velocity(x, p):
     """The isolator's velocity [m/s] at the end of the step for its displacement x [m] there,
     linear in x: v = vb_linear + velocity_gain (x - ub_linear), with vb_linear [m/s] the
@@ -108,9 +130,7 @@ def force_and_slopes(x, p, rule):
     d_forth = (vb0 / change) ** 2
     ratio = slope_end / jnp.where(slope_turn != 0, slope_turn, 1.0)
     dz = jnp.where(turning, ratio * slope_forth * d_forth + slope_end * (1 - d_forth), slope_forth)
-    velocity = end_velocity(x, p)
-    mu, dmu = jax.jvp(lambda v: p["bearing"].coefficient(v, 0.0, p["z_peak"]), (velocity,),
-                      (jnp.ones_like(velocity),))
+    mu, dmu = p["bearing"].uniaxial_coefficient(end_velocity(x, p), p["z_peak"])
     W = p["W"]
     return mu * W * z, z, W * (dmu * p["velocity_gain"] * z + mu * dz), dz
 

@@ -135,16 +135,16 @@ def peak_response(
     n = system.mass.shape[-1]
     step_matrix, force_column, shear_row, shear_force = step_propagator(system)
 
-    # The state (u, v), the bearing force of the stored state and the ground acceleration at
-    # the start of the step, advanced by `step_propagator` (one product per step); the same
-    # step as `newmark_update` to rounding.
+    # The state (u, v), the bearing force per unit Z and its slope of the stored state
+    # (`friction_factors`) and the ground acceleration at the start of the step, advanced by
+    # `step_propagator` (one product per step); the same step as `newmark_update` to rounding.
     def advance(state, ground1):
-        x, z, z_peak, start_force, ground0 = state
-        x1, z1, z_peak1, converged = system.propagated_step(x, z, z_peak, start_force, ground0, ground1,
+        x, z, z_peak, start_factors, ground0 = state
+        x1, z1, z_peak1, converged = system.propagated_step(x, z, z_peak, start_factors, ground0, ground1,
                                                             (step_matrix, force_column))
-        force1 = system.friction_force(x1[n], z1, z_peak1)  # the force of the stored state
-        shear = small_dot(shear_row, x1, WRITTEN_OUT_PRODUCT) + shear_force * force1
-        return (x1, z1, z_peak1, force1, ground1), x1[0], shear, converged
+        factors1 = system.friction_factors(x1[n], z_peak1)  # of the stored state: F = mu W Z
+        shear = small_dot(shear_row, x1, WRITTEN_OUT_PRODUCT) + shear_force * (factors1[0] * z1)
+        return (x1, z1, z_peak1, factors1, ground1), x1[0], shear, converged
 
     def body(carry, step_and_ground):
         step, ground1 = step_and_ground
@@ -163,8 +163,8 @@ def peak_response(
     y0 = initial_state(system)
     # the record at every step's end, evaluated at once outside the loop
     ground = jax.vmap(system.ground_acceleration)(jnp.arange(n_steps + 1) * dt)
-    start_force = system.friction_force(y0["v"][0], y0["z"], y0["z_peak"])
-    state = (jnp.concatenate([y0["u"], y0["v"]]), y0["z"], y0["z_peak"], start_force, ground[0])
+    start_factors = system.friction_factors(y0["v"][0], y0["z_peak"])
+    state = (jnp.concatenate([y0["u"], y0["v"]]), y0["z"], y0["z_peak"], start_factors, ground[0])
     carry = (state, (zero, zero), (zero, zero), (one, one), jnp.array(True))
     (_, peaks, tops, totals, ok), _ = jax.lax.scan(body, carry, (jnp.arange(n_steps), ground[1:]))
     smooth = [a + w * jnp.log(s / (n_steps + 1)) for a, s, w in zip(tops, totals, widths)]

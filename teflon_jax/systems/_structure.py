@@ -27,7 +27,7 @@ from ..excitation import Signal
 from ..solver import AbstractSteppedSystem, require_riccati_form
 from ._bearing_test import running_peak_rate
 from ._block_algebra import small_dot
-from ._isolator_solve import isolator_root
+from ._isolator_solve import isolator_root, predicted_root
 from ._propagators import LINEAR_RULES, exact_step_matrices, newmark_step_matrices
 
 FRICTION_MODELS = ("hysteretic", "coulomb", "none")
@@ -113,6 +113,16 @@ class StructureOnSliders(AbstractSteppedSystem):
             return jnp.zeros_like(z)
         return self.bearing.coefficient(velocity, 0.0, z_peak) * self.bearing_load * z
 
+    def friction_factors(self, velocity, z_peak):
+        """(mu W [N], d(mu W)/dv [N s/m]) at isolator `velocity` [m/s]: the bearing force per
+        unit Z (F = mu W Z, `friction_force`) and its slope in the velocity, written out
+        (`SlidingBearing.uniaxial_coefficient`); zeros for friction_model "none"."""
+        if self.friction_model == "none":
+            zero = jnp.zeros_like(jnp.asarray(velocity, dtype=float))
+            return zero, zero
+        mu, slope = self.bearing.uniaxial_coefficient(velocity, z_peak)
+        return mu * self.bearing_load, slope * self.bearing_load
+
     def _load(self, t):
         return -self.mass * self.ground_acceleration(t)
 
@@ -188,38 +198,40 @@ class StructureOnSliders(AbstractSteppedSystem):
             raise ValueError("newmark_update: the exact linear rule needs ground0, the ground "
                              "acceleration at the start of the step.")
         n = self.mass.shape[-1]
-        start_force = self.friction_force(y0["v"][0], y0["z"], y0["z_peak"])
+        start_factors = self.friction_factors(y0["v"][0], y0["z_peak"])
         x1, z1, z_peak1, converged = self.propagated_step(
-            jnp.concatenate([y0["u"], y0["v"]]), y0["z"], y0["z_peak"], start_force, ground0, ground1)
+            jnp.concatenate([y0["u"], y0["v"]]), y0["z"], y0["z_peak"], start_factors, ground0, ground1)
         return {"u": x1[:n], "v": x1[n:], "z": z1, "z_peak": z_peak1}, converged
 
-    def propagated_step(self, x0, z0, z_peak0, start_force, ground0, ground1, matrices=None):
+    def propagated_step(self, x0, z0, z_peak0, start_factors, ground0, ground1, matrices=None):
         """One step as the linear map (u1, v1) = R w + f F of `step_matrices` (or `matrices`,
         the same computed once outside a loop), w = (u0, v0, a_g0, F_r0, a_g1), with F solved by
         `isolator_force`.
 
-        **Arguments:** `x0` = (u0, v0) (2n,) [m, m/s]; `z0`, `z_peak0` [-]; `start_force` F_r0 [N]
-        (`friction_force` of the start state); `ground0`, `ground1` [m/s^2] at both ends.
+        **Arguments:** `x0` = (u0, v0) (2n,) [m, m/s]; `z0`, `z_peak0` [-]; `start_factors`
+        (mu W, d(mu W)/dv) of the start state (`friction_factors`; F_r0 = mu W z0);
+        `ground0`, `ground1` [m/s^2] at both ends.
 
         **Returns:** ((u1, v1), Z, running peak of |Z|, whether the solve converged).
         """
         n = self.mass.shape[-1]
         step_matrix, force_column = self.step_matrices() if matrices is None else matrices
-        w = jnp.concatenate([x0, jnp.stack([ground0, start_force, ground1])])
+        w = jnp.concatenate([x0, jnp.stack([ground0, start_factors[0] * z0, ground1])])
         linear = small_dot(step_matrix, w, WRITTEN_OUT_PRODUCT)
         force, z1, z_peak1, converged = self.isolator_force(
             linear[0], {"u": x0[:n], "v": x0[n:], "z": z0, "z_peak": z_peak0}, linear[n],
-            (-force_column[0], -force_column[n]))
+            (-force_column[0], -force_column[n]), start_factors)
         return linear + force_column * force, z1, z_peak1, converged
 
-    def isolator_force(self, ub_linear, y0, vb_linear=None, compliance=None):
+    def isolator_force(self, ub_linear, y0, vb_linear=None, compliance=None, start_factors=None):
         """The bearing force F [N] at the end of a step (and Z, the running peak of |Z| and
         whether the solve converged), given the isolator's displacement `ub_linear` [m] and
         velocity `vb_linear` [m/s] at the end of the step without the force and the state `y0`
         at its start. The isolator's displacement and velocity at the end are
         (ub_linear, vb_linear) - (g0, gv) F with `compliance` = (g0 [m/N], gv [m/(N s)]);
         Newmark's (the default): g0 = K_eff^-1[0, 0], gv = 2 g0 / dt and
-        vb_linear = 2 / dt (ub_linear - ub0) - vb0."""
+        vb_linear = 2 / dt (ub_linear - ub0) - vb0. `start_factors`: `friction_factors` of
+        `y0` (computed when not given), for the Newton iteration's first guess."""
         dt = self.time_step
         ub0, vb0 = y0["u"][0], y0["v"][0]
         if compliance is None:
@@ -240,7 +252,10 @@ class StructureOnSliders(AbstractSteppedSystem):
             force, z1 = self._coulomb_force(vb_linear, gv)
             converged = jnp.array(True)
         else:
-            force, z1, converged = self._hysteretic_force(ub_linear, vb_linear, ub0, vb0, z0, z_peak1, g0, gv)
+            if start_factors is None:
+                start_factors = self.friction_factors(vb0, y0["z_peak"])
+            force, z1, converged = self._hysteretic_force(ub_linear, vb_linear, ub0, vb0, z0, z_peak1, g0, gv,
+                                                          start_factors)
         return force, z1, z_peak1, converged
 
     def _coulomb_force(self, v_star, h):
@@ -253,7 +268,7 @@ class StructureOnSliders(AbstractSteppedSystem):
         force = jnp.where(sticking, stick_force, capacity * jnp.sign(v_star))
         return force, force / capacity
 
-    def _hysteretic_force(self, ub_linear, vb_linear, ub0, vb0, z0, z_peak, g0, gv):
+    def _hysteretic_force(self, ub_linear, vb_linear, ub0, vb0, z0, z_peak, g0, gv, start_factors):
         h = require_riccati_form(self.bearing.hysteresis)
         bearing = eqx.tree_at(lambda b: b.hysteresis, self.bearing, h)
         W = self.bearing_load
@@ -266,16 +281,13 @@ class StructureOnSliders(AbstractSteppedSystem):
         z_bound = jnp.maximum(jnp.abs(z0), (h.A / (h.beta + h.gamma)) ** (1 / h.eta))
         force_bound = mu_bound * W * z_bound * (1 + 1e-9)
         lo, hi = ub_linear - g0 * force_bound, ub_linear + g0 * force_bound
-        # predictor: the bearing force held at its start-of-step value (exact while sliding at
-        # constant Z and speed; off by at most g0 times the change of force otherwise)
-        start_force = self.bearing.coefficient(vb0, 0.0, z_peak) * W * z0
-        x0 = jnp.clip(ub_linear - g0 * start_force, lo, hi)
-        eps = jnp.finfo(jnp.result_type(x0)).eps
-        tolerance = jnp.maximum(self.newton_tolerance * h.yield_disp, 1e3 * eps * (jnp.abs(x0) + jnp.abs(ub_linear)))
         p = {"bearing": bearing, "W": W, "z0": z0, "z_peak": z_peak, "ub0": ub0,
              "vb0": vb0, "g0": g0, "ub_linear": ub_linear, "vb_linear": vb_linear,
              "velocity_gain": gv / g0,
              "reversal_length": bouc_wen_reversal_length(h, z0)}  # the same for every iterate
+        x0 = predicted_root(p, start_factors, lo, hi)
+        eps = jnp.finfo(jnp.result_type(x0)).eps
+        tolerance = jnp.maximum(self.newton_tolerance * h.yield_disp, 1e3 * eps * (jnp.abs(x0) + jnp.abs(ub_linear)))
         rule = (self.time_step, self.split_at_turn)
         x, force, z1 = isolator_root(rule, (self.newton_unrolled, self.newton_iterations), p, x0, lo, hi,
                                       tolerance)
