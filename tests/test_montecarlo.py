@@ -101,6 +101,20 @@ def test_statistics_and_output(tmp_path):
     np.testing.assert_allclose(rows, disp, rtol=1e-15)
 
 
+def test_steps_per_pass_change_nothing():
+    """Two steps written out per pass of the peak loop (what `monte_carlo` runs) give the peaks
+    of one step per pass, also over an odd number of steps."""
+    record = sample(_model(), jax.random.key(5), 1)[0]
+    structure = isolated_structure("rigid", time_step=0.005, pressure=2000 * PSI, isolation_period=1.5)
+    system = structure(uniform_signal(record, 0.01))
+    for duration in (3.995, 4.0):
+        one, two = (peak_response(system, duration, steps_per_pass=k) for k in (1, 2))
+        for name in ("base_disp", "base_shear_ratio", "smooth_base_disp", "smooth_base_shear_ratio"):
+            np.testing.assert_allclose(getattr(two, name), getattr(one, name), rtol=1e-13, err_msg=name)
+    with pytest.raises(ValueError, match="steps_per_pass"):
+        peak_response(system, 4.0, steps_per_pass=0)
+
+
 def test_statistics_leave_out_failed_runs():
     # made-up peaks: the statistics must rest on the converged runs only, and say how many
     disp = np.array([1.0, 2.0, 3.0, 100.0, 200.0])

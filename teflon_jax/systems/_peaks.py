@@ -14,10 +14,11 @@ from ._structure import (
 )
 
 STEPS_PER_LOOP_PASS = 2
-"""Steps written out in each pass of the peak loop (`lax.scan`'s `unroll`): two halve the loop's
-fixed cost per step, which for a batch of 250 motions per core is several per cent of the step;
-the rigid-mass and building Monte Carlo needed 5 % and 4 % less CPU (same peaks), four no less
-than two."""
+"""`peak_response(steps_per_pass=...)` of the Monte Carlo runs (`monte_carlo`): two steps
+written out in each pass of the peak loop (`lax.scan`'s `unroll`) halve the loop's fixed cost
+per step, several per cent of the step for a batch of 250 motions per core; the rigid-mass and
+building Monte Carlo needed 5 % and 4 % less CPU (same peaks), four no less than two. Not for
+derivatives: forward-mode gradients through the unrolled loop took 8 times as long (B5)."""
 
 RESPONSE_NAMES = ("base_disp", "base_shear_ratio")
 """Peak |base displacement| [m] and peak |base shear| / weight above the isolators [-]."""
@@ -99,6 +100,7 @@ def peak_response(
     disp_width=None,
     shear_width=None,
     read_every: int = 1,
+    steps_per_pass: int = 1,
 ) -> PeakResponse:
     """Integrate `system` from rest over `duration` [s] and keep only peaks.
 
@@ -118,6 +120,8 @@ def peak_response(
     - `read_every`: the peaks `base_disp`, `base_shear_ratio` are read every `read_every`
       steps (e.g. at a record's samples, as a program that records at the record step reads
       them; the smooth maxima still see every step).
+    - `steps_per_pass`: steps written out in each pass of the loop (the same results; see
+      `STEPS_PER_LOOP_PASS`, what `monte_carlo` takes; 1 where the run is differentiated).
 
     **Returns:** a `PeakResponse`.
     """
@@ -125,6 +129,8 @@ def peak_response(
     n_steps = check_duration(system, duration)  # at least a step, within the record
     if isinstance(read_every, bool) or not isinstance(read_every, int) or read_every < 1:
         raise ValueError(f"read_every: must be a positive integer number of steps, got {read_every!r}.")
+    if isinstance(steps_per_pass, bool) or not isinstance(steps_per_pass, int) or steps_per_pass < 1:
+        raise ValueError(f"steps_per_pass: must be a positive integer, got {steps_per_pass!r}.")
     dtype = system.mass.dtype
     widths = (
         jnp.asarray(1e-3 if disp_width is None else disp_width, dtype),
@@ -173,7 +179,7 @@ def peak_response(
     state = (jnp.concatenate([y0["u"], y0["v"]]), y0["z"], y0["z_peak"], start_factors, ground[0])
     carry = (state, (zero, zero), (zero, zero), (one, one), jnp.array(True))
     (_, peaks, tops, totals, ok), _ = jax.lax.scan(body, carry, (jnp.arange(n_steps), ground[1:]),
-                                                   unroll=STEPS_PER_LOOP_PASS)
+                                                   unroll=steps_per_pass)
     smooth = [a + w * jnp.log(s / (n_steps + 1)) for a, s, w in zip(tops, totals, widths)]
     return PeakResponse(
         base_disp=peaks[0],
