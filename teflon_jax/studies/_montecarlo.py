@@ -181,6 +181,8 @@ class ChunkRunner:
         self.devices, self.chunk, self.compile_s = list(devices), int(chunk), 0.0
         mesh = jax.sharding.Mesh(np.array(self.devices), ("batch",))
         peaks_of = bidirectional_peak_response if source.components == 2 else peak_response
+        # no gradients are taken here: two steps per pass of the uniaxial peak loop
+        loop_options = {} if source.components == 2 else {"steps_per_pass": STEPS_PER_LOOP_PASS}
         self.batched = jax.sharding.NamedSharding(mesh, jax.sharding.PartitionSpec("batch"))
         replicated = jax.sharding.NamedSharding(mesh, jax.sharding.PartitionSpec())
 
@@ -190,11 +192,8 @@ class ChunkRunner:
 
                 def one(design_one):
                     system = structure(signal, design_one)
-                    if source.components == 2:
-                        return peaks_of(system, duration, disp_width=disp_width, shear_width=shear_width,
-                                        read_every=read_every)
                     return peaks_of(system, duration, disp_width=disp_width, shear_width=shear_width,
-                                    read_every=read_every, steps_per_pass=STEPS_PER_LOOP_PASS)
+                                    read_every=read_every, **loop_options)
 
                 peaks = one(None) if design_all is None else jax.vmap(one)(design_all)
                 if source.components == 2:  # peak resultant |a_g|
