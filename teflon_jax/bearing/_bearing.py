@@ -55,16 +55,19 @@ class SlidingBearing(eqx.Module):
 
     def coefficient(self, velocity_x, velocity_y=0.0, z_peak=1.0):
         """Friction coefficient mu [-] for a sliding velocity [m/s] and the largest |Z| so far."""
-        params = self.friction
-        if self.friction_perpendicular is not None:
-            weight = sliding_angle_weight(velocity_x, velocity_y, self.lay_angle)
-            params = anisotropic_friction(params, self.friction_perpendicular, weight)
-        speed = sliding_speed(velocity_x, velocity_y)
-        mu = sliding_friction(params, speed, self.n_interfaces)
+        params = self._constants_for(velocity_x, velocity_y)
+        mu = sliding_friction(params, sliding_speed(velocity_x, velocity_y), self.n_interfaces)
         if self.breakaway_ratio is None:
             return mu
-        static = self.breakaway_ratio * params.f_min
-        return jnp.where(z_peak < BREAKAWAY_THRESHOLD, static, mu)
+        return jnp.where(z_peak < BREAKAWAY_THRESHOLD, self.breakaway_ratio * params.f_min, mu)
+
+    def _constants_for(self, velocity_x, velocity_y):
+        """Eq. 1 constants for the direction of the velocity: `friction`, or for an anisotropic
+        bearing those mixed across the lay (`sliding_angle_weight`)."""
+        if self.friction_perpendicular is None:
+            return self.friction
+        weight = sliding_angle_weight(velocity_x, velocity_y, self.lay_angle)
+        return anisotropic_friction(self.friction, self.friction_perpendicular, weight)
 
     def uniaxial_coefficient(self, velocity, z_peak=1.0):
         """mu [-] and dmu/dv [s/m] for sliding along x at `velocity` [m/s] (the
@@ -75,10 +78,7 @@ class SlidingBearing(eqx.Module):
         with the constants mixed for the direction as in `coefficient`; during breakaway
         (Eq. 17) mu = b f_min and dmu/dv = 0. At v = 0 the slope is 0, as the derivative of
         `coefficient` there."""
-        params = self.friction
-        if self.friction_perpendicular is not None:
-            weight = sliding_angle_weight(velocity, 0.0, self.lay_angle)
-            params = anisotropic_friction(params, self.friction_perpendicular, weight)
+        params = self._constants_for(velocity, 0.0)
         decay = params.delta_f * jnp.exp(-params.rate_a * (jnp.abs(velocity) / self.n_interfaces))
         mu, slope = params.f_max - decay, params.rate_a / self.n_interfaces * decay * jnp.sign(velocity)
         if self.breakaway_ratio is None:
