@@ -24,7 +24,6 @@ from .bearing_fit import fit_bearing_tests_batch as fit_bearing_tests_batch
 from .bearing_fit import parse_free as parse_free
 from .bearing_fit import plot_fit as plot_fit
 from .bearing_fit import point_branches as point_branches
-from .bearing_fit import sample_velocity as sample_velocity
 from .bearing_fit import simulate_record_force as simulate_record_force
 from .bearing_fit import write_fit_json as write_fit_json
 from .discovery import BASELINES as BASELINES
@@ -35,7 +34,6 @@ from .discovery import DiscoveryStep as DiscoveryStep
 from .discovery import Effect as Effect
 from .discovery import EffectParameter as EffectParameter
 from .discovery import discover_effects as discover_effects
-from .discovery import kumar_temperature_factor as kumar_temperature_factor
 from .discovery import locate_residual as locate_residual
 from .discovery import regressors as regressors
 from .discovery import simulate_augmented as simulate_augmented

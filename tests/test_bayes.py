@@ -103,7 +103,8 @@ def _model_record(seed, *, fs=200.0, cycles=2, noise=0.02):
     noise: coverage then tests the sampler's calibration alone. (On `_record` the fitter's
     model misses the core simulator by 1 % RMS at 200 Hz, noise-free, which biases delta_f
     and yield_disp by 1.2 and 1.6 standard errors at 2 % noise.)"""
-    from identification.bearing_fit import sample_velocity, simulate_record_force
+    from identification.bearing_fit import simulate_record_force
+    from teflon_jax.systems import sample_velocity
 
     t = np.arange(0.0, cycles / 0.6 + 1e-9, 1.0 / fs)
     u = 4 * INCH * (1.0 - np.cos(2 * np.pi * 0.6 * t))

@@ -12,17 +12,19 @@ import numpy as np
 import pytest
 
 from identification.discovery import (
-    AMBIENT_TEMPERATURE,
     active_mask,
     confidence_wording,
     discover_effects,
     effective_samples,
     half_cycle_index,
-    heat_kernel_exponentials,
-    kumar_temperature_factor,
     locate_residual,
     prepare_record,
     simulate_augmented,
+)
+from teflon_jax.bearing import (
+    AMBIENT_TEMPERATURE,
+    heat_kernel_exponentials,
+    kumar_temperature_factor,
     surface_temperature_coefficient,
 )
 from teflon_jax.formats import test_record_from_arrays
@@ -200,7 +202,7 @@ def test_constant_flux_temperature_matches_carslaw_jaeger():
     params.update(f_max=0.1, yield_disp=1e-6, heat_scale=1.0)
     out = simulate_augmented(params, data, active_mask(()))
     q0 = 0.1 * 1.0e5 / 0.01 * speed
-    from identification.discovery import STEEL_CONDUCTIVITY, STEEL_DIFFUSIVITY
+    from teflon_jax.bearing import STEEL_CONDUCTIVITY, STEEL_DIFFUSIVITY
 
     exact = 2 * q0 * np.sqrt(STEEL_DIFFUSIVITY * t / np.pi) / STEEL_CONDUCTIVITY
     got = np.asarray(out["heat_index"])
@@ -578,41 +580,6 @@ def generate_biaxial_record(
         normal_load=normal_load,
         metadata={"contact_area": 78.5 * INCH**2},
     )
-
-
-def test_planar_update_matches_direct_integration():
-    import jax.numpy as jnp
-
-    from identification.discovery import planar_exact_update
-    from teflon_jax import BoucWen
-
-    y = 1e-3
-    h = BoucWen(yield_disp=jnp.asarray(y))
-
-    def integrate(
-        z, du, m=4000
-    ):  # RK4 in the path length of Y dZ = du - (0.9|du.Z| + 0.1 du.Z) Z
-        def f(z):
-            c = du @ z
-            return (du - (0.9 * abs(c) + 0.1 * c) * z) / (y * m)
-
-        for _ in range(m):
-            k1 = f(z)
-            k2 = f(z + k1 / 2)
-            k3 = f(z + k2 / 2)
-            k4 = f(z + k3)
-            z = z + (k1 + 2 * k2 + 2 * k3 + k4) / 6
-        return z
-
-    angle = math.radians(30)
-    for length in (3e-4, 3e-3):
-        du = length * np.array([math.cos(angle), math.sin(angle)])
-        for z0 in (np.array([0.3, 0.6]), np.array([-0.8, 0.2]), np.array([0.6, -0.75])):
-            got = np.asarray(planar_exact_update(h, jnp.asarray(z0), jnp.asarray(du)))
-            np.testing.assert_allclose(got, integrate(z0, du), atol=1e-8)
-    # Along x it is the uniaxial exact update; at rest nothing changes.
-    z0 = np.array([0.2, 0.5])
-    np.testing.assert_allclose(planar_exact_update(h, jnp.asarray(z0), jnp.zeros(2)), z0)
 
 
 @pytest.mark.slow

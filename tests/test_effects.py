@@ -17,15 +17,14 @@ from test_discovery import UF_1000_P, UF_1000_T, generate_record
 from identification.discovery import (
     EFFECTS,
     active_mask,
-    backlash_update,
     default_parameters,
     discover_effects,
-    kumar_temperature_factor,
     prepare_record,
     simulate_augmented,
     stack_check,
 )
 from teflon_jax import BoucWen, bouc_wen_exact_update
+from teflon_jax.bearing import backlash_update, kumar_temperature_factor
 from teflon_jax.formats import test_record_from_arrays
 from teflon_jax.units import INCH
 

@@ -6,12 +6,9 @@ import numpy as np
 import pytest
 
 import teflon_jax as tj
-from identification.bearing_fit import (
-    fit_bearing_test,
-    sample_velocity,
-    simulate_record_force,
-)
+from identification.bearing_fit import fit_bearing_test, simulate_record_force
 from identification.discovery import discover_effects
+from teflon_jax.systems import sample_velocity
 from teflon_jax.units import INCH, PSI
 
 Y_PAPER = 0.005 * INCH

@@ -20,11 +20,12 @@ import numpy as np
 from numpyro.distributions import biject_to, constraints
 from numpyro.infer import MCMC, NUTS
 
+from teflon_jax.systems import sample_velocity
+
 from ..bearing_fit import (
     PARAMETER_NAMES,
     as_records,
     fit_bearing_test,
-    sample_velocity,
     simulate_record_force,
 )
 from ._model import (

@@ -9,9 +9,9 @@ from ._plan import BearingFit as BearingFit
 from ._plan import RecordResidual as RecordResidual
 from ._plan import parse_free as parse_free
 from ._record_force import PERPENDICULAR_NAMES as PERPENDICULAR_NAMES
-from ._record_force import park_path_update as park_path_update
-from ._record_force import park_substeps as park_substeps
-from ._record_force import sample_velocity as sample_velocity
 from ._record_force import simulate_record_force as simulate_record_force
 from ._report import plot_fit as plot_fit
 from ._report import write_fit_json as write_fit_json
+from ._to_bearing import PARAMETER_FIELDS as PARAMETER_FIELDS
+from ._to_bearing import fitted_bearing as fitted_bearing
+from ._to_bearing import part_errors as part_errors

@@ -28,8 +28,9 @@ import jax.numpy as jnp
 import numpy as np
 
 from teflon_jax.formats import Protocol
+from teflon_jax.systems import sample_velocity
 
-from ._record_force import sample_velocity, simulate_record_force
+from ._record_force import simulate_record_force
 
 GRID_SAMPLES_PER_CYCLE = 2000
 """Time samples per cycle of the protocol on which the model is simulated."""

@@ -5,6 +5,8 @@ import numpy as np
 
 from teflon_jax.bearing import DEFAULT_YIELD_DISP
 from teflon_jax.formats import TestRecord, interface_counts
+from teflon_jax.solver import park_substeps
+from teflon_jax.systems import sample_velocity
 
 from ._loop_features import (
     _ZERO_CROSSING,
@@ -13,7 +15,7 @@ from ._loop_features import (
     _friction_law_start,
     _reversals,
 )
-from ._record_force import PERPENDICULAR_NAMES, park_substeps, sample_velocity
+from ._record_force import PERPENDICULAR_NAMES
 
 
 def _record_name(record: TestRecord, index: int) -> str:

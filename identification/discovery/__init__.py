@@ -1,9 +1,12 @@
 """Model discovery: candidate physical effects, the augmented simulator, residual diagnostics
 and forward selection."""
 
+from ._augmented import AugmentedData as AugmentedData
 from ._augmented import active_mask as active_mask
+from ._augmented import candidate_bearing as candidate_bearing
+from ._augmented import candidate_start as candidate_start
 from ._augmented import default_parameters as default_parameters
-from ._augmented import planar_exact_update as planar_exact_update
+from ._augmented import discovered_bearing as discovered_bearing
 from ._augmented import prepare_record as prepare_record
 from ._augmented import simulate_augmented as simulate_augmented
 from ._diagnostics import effective_samples as effective_samples
@@ -15,18 +18,11 @@ from ._diagnostics import residual_correlation as residual_correlation
 from ._discovery import TABLE1_RATE_RANGE as TABLE1_RATE_RANGE
 from ._discovery import discover_effects as discover_effects
 from ._discovery import stack_check as stack_check
-from ._effects import AMBIENT_TEMPERATURE as AMBIENT_TEMPERATURE
 from ._effects import BASELINES as BASELINES
 from ._effects import EFFECT_NAMES as EFFECT_NAMES
 from ._effects import EFFECTS as EFFECTS
-from ._effects import STEEL_CONDUCTIVITY as STEEL_CONDUCTIVITY
-from ._effects import STEEL_DIFFUSIVITY as STEEL_DIFFUSIVITY
 from ._effects import Effect as Effect
 from ._effects import EffectParameter as EffectParameter
-from ._effects import backlash_update as backlash_update
-from ._effects import heat_kernel_exponentials as heat_kernel_exponentials
-from ._effects import kumar_temperature_factor as kumar_temperature_factor
-from ._effects import surface_temperature_coefficient as surface_temperature_coefficient
 from ._report import write_report as write_report
 from ._result import DiscoveryResult as DiscoveryResult
 from ._result import DiscoveryStep as DiscoveryStep

@@ -22,6 +22,8 @@ Agg backend and write files only.
 
 import numpy as np
 
+from teflon_jax.bearing import BREAKAWAY_THRESHOLD
+
 EFFECT_REGRESSOR = {
     "velocity_dependence": "speed",
     "interfaces": "speed",
@@ -81,8 +83,8 @@ def regressors(data, sim, half_cycles) -> dict:
     **Arguments:** `data` (`AugmentedData`), `sim` the simulation outputs of the current model
     (`simulate_augmented`, one record), `half_cycles` from `half_cycle_index`.
     """
-    z_peak = np.asarray(sim["z_peak"])
-    first = z_peak < 0.999
+    z_norm = np.hypot(np.asarray(sim["z"]), np.asarray(sim["z_y"]))
+    first = np.maximum.accumulate(z_norm) < BREAKAWAY_THRESHOLD
     first[1:] |= first[:-1]
     return {
         "speed": np.abs(np.asarray(data.velocity)),

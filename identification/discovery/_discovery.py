@@ -167,7 +167,9 @@ def discover_effects(
     **Arguments:**
 
     - `record`: a `TestRecord` (uniaxial, with time and normal load).
-    - `baseline`: `"paper1990"` (Eq. 1 + Bouc-Wen, default) or `"coulomb"`.
+    - `baseline`: `"paper1990"` (Eq. 1 + Bouc-Wen, default) or `"coulomb"`, or a sequence of
+      effect names: the composition to start from (with `max_effects=0`, a fit of exactly
+      that composition, as `teflon-jax fit --effects`).
     - `candidates`: names from `EFFECT_NAMES` to consider (default: all that the record can
       identify).
     - `bic_threshold`: smallest delta_bic that adds an effect (default 10: "very strong").
@@ -181,10 +183,7 @@ def discover_effects(
 
     **Returns:** a `DiscoveryResult`.
     """
-    if baseline not in BASELINES:
-        raise ValueError(
-            f"baseline: unknown '{baseline}'; use one of {', '.join(BASELINES)}."
-        )
+    base_effects = _baseline_effects(baseline)
     if not bic_threshold >= 0:
         raise ValueError(f"bic_threshold: must be >= 0, got {bic_threshold}.")
     if max_effects < 0:
@@ -217,7 +216,7 @@ def discover_effects(
             if name not in candidates:
                 skipped[name] = "not among the requested candidates"
         applicable = [c for c in applicable if c in candidates]
-    current = list(BASELINES[baseline])
+    current = list(base_effects)
     pool = [c for c in applicable if c not in current]
 
     n = data.n_samples
@@ -283,6 +282,7 @@ def discover_effects(
     best = int(np.argmin(sse))
     values = fitted[best]
     final_u, final_jac = extra["u"][best], extra["jacobian"][best]
+    fit_log["final_converged"] = bool(extra["converged"][best])
     model_force = sims["stacked"][best]
     nrmse_initial = float(np.sqrt(sse[best] / n_total) / scale)
     say(f"baseline {baseline}: nrmse {nrmse_initial:.4f}")
@@ -380,6 +380,7 @@ def discover_effects(
         j = pool.index(chosen) + 1
         values = fitted[3 * j]
         final_u, final_jac = extra["u"][3 * j], extra["jacobian"][3 * j]
+        fit_log["final_converged"] = bool(extra["converged"][3 * j])
         model_force = err[3 * j] + force
         current.append(chosen)
         pool.remove(chosen)
@@ -422,7 +423,8 @@ def discover_effects(
         nrmse_final=nrmse_final,
         parameters=_active_parameters(values, current),
         std_errors=std_errors,
-        baseline_parameters=_active_parameters(baseline_values, list(BASELINES[baseline])),
+        baseline_parameters=_active_parameters(baseline_values, list(base_effects)),
+        baseline_effects=list(base_effects),
         data=data,
         info=info,
         forces={"baseline": baseline_force[:n], "final": model_force[:n]},
@@ -432,6 +434,21 @@ def discover_effects(
         stack_check=stack,
         fit_convergence=fit_log,
     )
+
+
+def _baseline_effects(baseline) -> tuple:
+    """Effects of a named baseline, or of a composition given as effect names (checked)."""
+    if isinstance(baseline, str):
+        if baseline not in BASELINES:
+            raise ValueError(
+                f"baseline: unknown '{baseline}'; use one of {', '.join(BASELINES)}."
+            )
+        return tuple(BASELINES[baseline])
+    unknown = [name for name in baseline if name not in EFFECTS]
+    if unknown:
+        raise ValueError(f"effects: unknown {unknown}; the known effects are "
+                         f"{', '.join(EFFECT_NAMES)}.")
+    return tuple(dict.fromkeys(baseline))
 
 
 def sims_row(sims: dict, i: int) -> dict:

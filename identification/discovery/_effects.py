@@ -1,20 +1,10 @@
 """Candidate effects for model discovery: named, documented extensions of the 1990 model.
 
-The friction coefficient of the augmented model is built from a base law and factors:
-
-    mu(t) = mu_base(|v|, theta, z_peak) * k_pressure * k_heat * k_asym(Z) * k_wear
-
-- `mu_base` is constant friction `f_max` (Coulomb baseline), Eq. 1 when `velocity_dependence`
-  is on, evaluated at |v| / n when `interfaces` is on, with its three constants interpolated
-  between the parallel and perpendicular values in the sliding angle theta when `anisotropy` is
-  on, and replaced by Eq. 17 before the first full mobilisation when `breakaway` is on.
-- Each factor is exactly 1 while its effect is off, so effects compose freely.
-- `backlash` changes the hysteretic variable Z instead (a gap in series, see
-  `identification.discovery.backlash_update`).
-
-Each `Effect` lists its parameters with bounds, the value it starts a fit from and its
-*neutral* value (the value for which the effect vanishes, or nearly so). The functions in this
-module are pure and jit/vmap/grad-safe; `heat_kernel_exponentials` runs once at set-up (numpy).
+Each effect is an optional part of the one bearing model (`teflon_jax.bearing`: its laws,
+equations and references are there); this table says, for discovery, which constants each
+effect adds, their bounds, the value a fit starts from and the *neutral* value for which the
+effect vanishes, what the record must contain to identify it and the regressor its signature
+follows in the residual.
 
 References: Constantinou, Mokha & Reinhorn (1990), Eqs. 1, 17 and Section on multiple
 interfaces; Carslaw & Jaeger (1959), "Conduction of Heat in Solids", Section 2.9 (surface
@@ -26,23 +16,7 @@ base isolation I: Testing" (pressure, wear and direction effects).
 
 import dataclasses
 
-import jax.numpy as jnp
-import numpy as np
-
-from teflon_jax import BREAKAWAY_THRESHOLD
 from teflon_jax.units import INCH
-
-# Stainless steel (AISI 304/316) near room temperature, as in Kumar et al. (2015).
-STEEL_CONDUCTIVITY = 16.2
-"""Thermal conductivity of stainless steel k [W/(m K)]."""
-
-
-STEEL_DIFFUSIVITY = 4.4e-6
-"""Thermal diffusivity of stainless steel kappa [m^2/s]."""
-
-
-AMBIENT_TEMPERATURE = 20.0
-"""Temperature at which the k_T factor of Kumar et al. (2015) equals 1 [degC]."""
 
 
 @dataclasses.dataclass(frozen=True)
@@ -228,99 +202,3 @@ BASELINES = {
 }
 """Effects each baseline starts with: `paper1990` is Eq. 1 with Bouc-Wen (no breakaway,
 isotropic, constant parameters); `coulomb` is constant friction with Bouc-Wen."""
-
-
-def kumar_temperature_factor(temperature):
-    """k_T = 0.79 (0.70^(T/50) + 0.40) of Kumar, Whittaker & Constantinou (2015).
-
-    **Arguments:** `temperature` T of the sliding surface [degC].
-
-    **Returns:** the factor on the friction coefficient [-]; 1.00 at 20 degC.
-    """
-    return 0.79 * (jnp.power(0.70, temperature / 50.0) + 0.40)
-
-
-def heating_factor(temperature_rise, ambient=AMBIENT_TEMPERATURE):
-    """Friction factor k_T(T0 + dT) / k_T(T0) for a surface temperature rise `dT` [K]; 1 at dT = 0."""
-    return kumar_temperature_factor(ambient + temperature_rise) / kumar_temperature_factor(
-        ambient
-    )
-
-
-def heat_kernel_exponentials(t_min: float, t_max: float, *, per_decade: float = 3.0):
-    """Rates and weights of a sum of exponentials approximating 1/sqrt(t) on [t_min, t_max].
-
-    1/sqrt(t) = pi^(-1/2) int_R exp(x/2) exp(-exp(x) t) dx (substituting s = e^x in the Laplace
-    representation); the trapezoidal rule in x on a uniform grid converges geometrically, so
-        1/sqrt(t) ~ sum_j w_j exp(-lambda_j t),  lambda_j = e^(x_j),  w_j = h e^(x_j/2) / sqrt(pi).
-    The grid spans lambda from 1e-6 / t_max (the neglected slow tail adds about
-    2 sqrt(lambda_min t / pi) < 1.2e-3 relative error at t_max) to 1e4 / t_min (the fastest term resolves the
-    integrable singularity within a step to about 1 %); with 3 nodes per decade the
-    quadrature error is of order exp(-pi^2 / h) ~ 1e-5. With it, the convolution with the
-    1/sqrt(t) kernel becomes a set of first-order states (O(n) in time, differentiable).
-
-    **Arguments:** `t_min`, `t_max` [s]: shortest (a time step) and longest (the record) time.
-
-    **Returns:** numpy arrays `(rates [1/s], weights [s^-1/2])` such that
-    `sum(weights * exp(-rates * t))` approximates `t**-0.5` [s^-1/2].
-    """
-    if not 0 < t_min < t_max:
-        raise ValueError(f"heat kernel: need 0 < t_min < t_max, got {t_min}, {t_max}.")
-    h = np.log(10.0) / per_decade
-    x = np.arange(np.log(1e-6 / t_max), np.log(1e4 / t_min) + h, h)
-    return np.exp(x), h * np.exp(x / 2) / np.sqrt(np.pi)
-
-
-def surface_temperature_coefficient(
-    conductivity=STEEL_CONDUCTIVITY, diffusivity=STEEL_DIFFUSIVITY
-):
-    """C in dT(t) = C int q(s) (t - s)^(-1/2) ds, C = sqrt(kappa / pi) / k [K m^2 / (W s^1/2)].
-
-    Surface temperature of a semi-infinite solid heated by a surface flux q(t) [W/m^2]
-    (Carslaw & Jaeger 1959, Sec. 2.9). A constant flux q0 gives dT = 2 q0 sqrt(kappa t / pi) / k.
-    """
-    return float(np.sqrt(diffusivity / np.pi) / conductivity)
-
-
-def breakaway_switch(z_peak):
-    """True while the interface has not yet been fully mobilised (Eq. 17)."""
-    return z_peak < BREAKAWAY_THRESHOLD
-
-
-def backlash_update(h, z0, gap_position, displacement_increment, gap):
-    """Z and the gap position after a monotone increment of a gap in series with Bouc-Wen.
-
-    The drive moves by du = sigma |du|. The friction element (Bouc-Wen, Eq. 3) and a gap of
-    width g [m] act in series, and the force through an open gap is zero: so after a reversal
-    Z first unloads to 0 along Bouc-Wen (travel Y x0, x0 = `bouc_wen_reversal_length`), then the
-    drive crosses the gap with Z = 0 (the gap position s [m] moves from -sigma g/2 towards
-    sigma g/2; F = mu N Z = 0 over that travel), then Z loads again from 0 with the travel
-    left. Invariant: s = sign(Z) g/2 whenever Z != 0 (the gap is closed on the loaded side);
-    a record starts with Z = 0 and s = 0 (centred in the gap). With g = 0 this is
-    `bouc_wen_exact_update`. Z is continuous in the displacement and in g, so the force is
-    continuous and a fit can differentiate in g.
-
-    **Arguments:** `h` Bouc-Wen constants, `z0` [-], `gap_position` s [m],
-    `displacement_increment` du [m], `gap` g [m] (>= 0).
-
-    **Returns:** `(z1, s1)`.
-
-    Reference: the play operator of Krasnosel'skii & Pokrovskii (1989), "Systems with
-    Hysteresis", here placed where the transmitted force vanishes.
-    """
-    from teflon_jax import bouc_wen_exact_update, bouc_wen_reversal_length
-
-    du = displacement_increment
-    sigma = jnp.where(du >= 0, 1.0, -1.0)
-    travel = jnp.abs(du)
-    unloading = sigma * z0 < 0
-    to_zero = jnp.where(unloading, bouc_wen_reversal_length(h, z0) * h.yield_disp, 0.0)
-    reached = travel >= to_zero
-    z_part = bouc_wen_exact_update(h, z0, sigma * jnp.minimum(travel, to_zero))
-    left = jnp.maximum(travel - to_zero, 0.0)
-    available = jnp.maximum(0.5 * gap - sigma * gap_position, 0.0)
-    in_gap = jnp.minimum(left, available)
-    s1 = jnp.where(reached, gap_position + sigma * in_gap, gap_position)
-    z_start = jnp.where(reached & unloading, 0.0, z_part)
-    z1 = jnp.where(reached, bouc_wen_exact_update(h, z_start, sigma * (left - in_gap)), z_part)
-    return z1, s1

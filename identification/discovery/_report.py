@@ -116,10 +116,9 @@ def write_plots(result, directory) -> dict:
 def _baseline_simulation(result) -> dict:
     """The baseline model's histories (numpy) at the fitted baseline parameters."""
     from ._augmented import PARAMETERS, active_mask, simulate_augmented
-    from ._effects import BASELINES
 
     params = {p.name: result.baseline_parameters.get(p.name, p.initial) for p in PARAMETERS}
-    simulated = simulate_augmented(params, result.data, active_mask(BASELINES[result.baseline]))
+    simulated = simulate_augmented(params, result.data, active_mask(result.baseline_effects))
     return {k: np.asarray(v) for k, v in simulated.items()}
 
 

@@ -77,7 +77,25 @@ class DiscoveryResult:
     applicable: list
     skipped: dict
     fit_convergence: dict = dataclasses.field(default_factory=dict)
+    baseline_effects: list = dataclasses.field(default_factory=list)
     stack_check: dict = dataclasses.field(default_factory=dict)
+
+    @property
+    def effects(self) -> list:
+        """Every effect of the final model: the baseline's and those added."""
+        return list(self.baseline_effects) + list(self.effects_added)
+
+    def bearing(self):
+        """The final model as a `teflon_jax.bearing.SlidingBearing` (its parts only)."""
+        from ._augmented import discovered_bearing
+
+        return discovered_bearing(self.parameters, self.data, self.effects)
+
+    def bearing_errors(self) -> dict:
+        """Standard errors keyed by `(part, constant)` of the bearing file."""
+        from ..bearing_fit import part_errors
+
+        return part_errors(self.std_errors)
 
     def to_json(self) -> dict:
         """The JSON document of the `diagnose` command (plain Python types; a non-finite
@@ -97,6 +115,7 @@ class DiscoveryResult:
                     for s in self.steps
                 ],
                 "effects_added": list(self.effects_added),
+                "effects": self.effects,
                 "nrmse_initial": self.nrmse_initial,
                 "nrmse_final": self.nrmse_final,
                 "parameters": self.parameters,

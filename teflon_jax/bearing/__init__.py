@@ -1,13 +1,27 @@
 """Bearing physics: Eq. 1 friction, the hysteretic variable Z (Eqs. 3, 8-9), breakaway (Eq. 17),
-anisotropy, stacks, and the Table 1 interfaces."""
+anisotropy, stacks, and the optional parts beyond the 1990 model (pressure dependence,
+frictional heating, wear, direction asymmetry, backlash)."""
 
 from ._bearing import BREAKAWAY_THRESHOLD as BREAKAWAY_THRESHOLD
 from ._bearing import DEFAULT_YIELD_DISP as DEFAULT_YIELD_DISP
+from ._bearing import EFFECT_FIELDS as EFFECT_FIELDS
 from ._bearing import SlidingBearing as SlidingBearing
 from ._bearing import check_bearing as check_bearing
 from ._bearing import check_hysteresis as check_hysteresis
 from ._bearing import paper_bearing as paper_bearing
 from ._bearing import sliding_speed as sliding_speed
+from ._effects import AMBIENT_TEMPERATURE as AMBIENT_TEMPERATURE
+from ._effects import STEEL_CONDUCTIVITY as STEEL_CONDUCTIVITY
+from ._effects import STEEL_DIFFUSIVITY as STEEL_DIFFUSIVITY
+from ._effects import Backlash as Backlash
+from ._effects import DirectionAsymmetry as DirectionAsymmetry
+from ._effects import FrictionalHeating as FrictionalHeating
+from ._effects import PressureDependence as PressureDependence
+from ._effects import Wear as Wear
+from ._effects import backlash_update as backlash_update
+from ._effects import heat_kernel_exponentials as heat_kernel_exponentials
+from ._effects import kumar_temperature_factor as kumar_temperature_factor
+from ._effects import surface_temperature_coefficient as surface_temperature_coefficient
 from ._elementary import vector_arctan as vector_arctan
 from ._friction import FrictionParameters as FrictionParameters
 from ._friction import anisotropic_friction as anisotropic_friction

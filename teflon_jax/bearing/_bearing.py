@@ -9,6 +9,13 @@ import numpy as np
 
 from ..units import INCH
 from ..validation import concrete, require, require_positive
+from ._effects import (
+    Backlash,
+    DirectionAsymmetry,
+    FrictionalHeating,
+    PressureDependence,
+    Wear,
+)
 from ._friction import (
     FrictionParameters,
     anisotropic_friction,
@@ -16,6 +23,9 @@ from ._friction import (
     sliding_friction,
 )
 from ._hysteresis import BoucWen
+
+EFFECT_FIELDS = ("pressure_dependence", "heating", "wear", "asymmetry", "backlash")
+"""Fields of `SlidingBearing` that hold the optional parts beyond the 1990 model."""
 
 BREAKAWAY_THRESHOLD = 0.999
 """|Z| at which the breakaway (static) friction of Eq. 17 gives way to Eq. 1 for good."""
@@ -44,6 +54,10 @@ class SlidingBearing(eqx.Module):
     - `lay_angle` phi [rad]: angle of the lay of the steel from x towards y, for an
       anisotropic bearing; `None` (the default) puts the lay along x. Z (Park's, isotropic)
       does not depend on it.
+    - Optional parts beyond the 1990 model, each `None` (absent) by default:
+      `pressure_dependence` (`PressureDependence`), `heating` (`FrictionalHeating`), `wear`
+      (`Wear`), `asymmetry` (`DirectionAsymmetry`): factors on mu (`effect_factor`);
+      `backlash` (`Backlash`): a gap in series with the interface, acting on Z.
     """
 
     friction: FrictionParameters
@@ -52,6 +66,34 @@ class SlidingBearing(eqx.Module):
     friction_perpendicular: FrictionParameters | None = None
     n_interfaces: int = eqx.field(static=True, default=1)
     lay_angle: object = None
+    pressure_dependence: PressureDependence | None = None
+    heating: FrictionalHeating | None = None
+    wear: Wear | None = None
+    asymmetry: DirectionAsymmetry | None = None
+    backlash: Backlash | None = None
+
+    @property
+    def effects(self) -> tuple[str, ...]:
+        """Names of the optional parts this bearing has, in the order of the fields."""
+        return tuple(name for name in EFFECT_FIELDS if getattr(self, name) is not None)
+
+    def effect_factor(self, *, normal_load=None, temperature_rise=0.0, travel=0.0, z_x=0.0):
+        """Product of the optional factors on mu [-] (1 for a bearing without them).
+
+        **Arguments:** `normal_load` N [N] (pressure dependence), `temperature_rise` the
+        unscaled surface temperature rise dT [K] (heating), `travel` accumulated sliding [m]
+        (wear), `z_x` [-] the hysteretic variable along x (asymmetry).
+        """
+        factor = 1.0
+        if self.pressure_dependence is not None:
+            factor = factor * self.pressure_dependence.factor(normal_load)
+        if self.wear is not None:
+            factor = factor * self.wear.factor(travel)
+        if self.asymmetry is not None:
+            factor = factor * self.asymmetry.factor(z_x)
+        if self.heating is not None:
+            factor = factor * self.heating.factor(temperature_rise)
+        return factor
 
     def coefficient(self, velocity_x, velocity_y=0.0, z_peak=1.0):
         """Friction coefficient mu [-] for a sliding velocity [m/s] and the largest |Z| so far."""
@@ -163,5 +205,33 @@ def check_bearing(bearing: SlidingBearing) -> None:
             raise ValueError("lay_angle: the lay of the steel matters only for an anisotropic bearing; "
                              "give friction_perpendicular too (or leave lay_angle out).")
         require(bearing.lay_angle, np.isfinite, "lay_angle", "must be finite [rad]")
+    _check_parts(bearing)
     if int(bearing.n_interfaces) != bearing.n_interfaces or bearing.n_interfaces < 1:
         raise ValueError(f"n_interfaces: must be an integer >= 1, got {bearing.n_interfaces}.")
+
+
+def _check_parts(bearing: SlidingBearing) -> None:
+    """The optional parts' constants (concrete values only)."""
+    if bearing.pressure_dependence is not None:
+        p = bearing.pressure_dependence
+        require(p.exponent, np.isfinite, "pressure_dependence.exponent", "must be finite")
+        require_positive(p.reference_load, "pressure_dependence.reference_load", " [N]")
+    if bearing.heating is not None:
+        q = bearing.heating
+        require_positive(q.contact_area, "heating.contact_area", " [m^2] (PTFE on the steel)")
+        require(q.heat_scale, lambda x: np.isfinite(x) & (x >= 0), "heating.heat_scale",
+                "must be >= 0 (1: the semi-infinite-body rise)")
+        require_positive(q.conductivity, "heating.conductivity", " [W/(m K)]")
+        require_positive(q.diffusivity, "heating.diffusivity", " [m^2/s]")
+        require(q.initial_temperature, lambda x: np.isfinite(x) & (x > -273.15),
+                "heating.initial_temperature", "must be above absolute zero [degC]")
+    if bearing.wear is not None:
+        require(bearing.wear.change, lambda x: np.isfinite(x) & (x > -1), "wear.change",
+                "must be > -1 (friction stays positive)")
+        require_positive(bearing.wear.reference_travel, "wear.reference_travel", " [m]")
+    if bearing.asymmetry is not None:
+        require(bearing.asymmetry.asymmetry, lambda x: np.isfinite(x) & (np.abs(x) < 1),
+                "asymmetry.asymmetry", "must be between -1 and 1 (friction stays positive)")
+    if bearing.backlash is not None:
+        require(bearing.backlash.gap, lambda x: np.isfinite(x) & (x >= 0), "backlash.gap",
+                "must be >= 0 [m]")

@@ -13,6 +13,7 @@ import sys
 from identification.discovery import BASELINES, EFFECT_NAMES, EFFECTS
 
 from ..units import INCH, parse_quantity
+from ._bearing_flags import add_save_bearing_flag, check_output_file, save_bearing_flag
 from ._common import add_quantity, read_bearing_record
 
 _DIMENSIONS = {"-": "dimensionless", "m": "length", "s/m": "slowness"}
@@ -89,6 +90,7 @@ def add_diagnose_parser(subparsers) -> argparse.ArgumentParser:
         "or yield_disp=0.005in (repeatable; with rate_a known, 'interfaces' can be identified)",
     )
     parser.add_argument("--quiet", action="store_true", help="no progress lines")
+    add_save_bearing_flag(parser)
     parser.set_defaults(func=run_diagnose)
     return parser
 
@@ -107,6 +109,7 @@ def run_diagnose(args) -> int:
     if args.candidates:
         candidates = [c.strip() for c in args.candidates.split(",") if c.strip()]
     try:
+        check_output_file(args.save_bearing, "--save-bearing")
         known = _parse_known(args.known)
         record = read_bearing_record(args.record)
         if record.normal_load is None:
@@ -132,6 +135,8 @@ def run_diagnose(args) -> int:
     args.json_path.parent.mkdir(parents=True, exist_ok=True)
     args.json_path.write_text(json.dumps(document, indent=2) + "\n")
     report = write_report(result, args.report, record_name=args.record.name)
+    save_bearing_flag(args, result.bearing(), standard_errors=result.bearing_errors(),
+                      sources=[args.record], fit=_fit_summary(result))
     stack = result.stack_check
     if stack and not stack["consistent_with_stated"]:
         say(
@@ -142,9 +147,16 @@ def run_diagnose(args) -> int:
         )
     say(
         f"{document['conclusion']}; nrmse {result.nrmse_initial:.4f} -> {result.nrmse_final:.4f}; "
-        f"{result.runtime_s:.1f} s. Wrote {args.json_path} and {report}."
+        f"{result.runtime_s:.1f} s. Wrote {args.json_path} and {report}"
+        + (f" and the bearing to {args.save_bearing}." if args.save_bearing else ".")
     )
     return 0
+
+
+def _fit_summary(result) -> dict:
+    return {"command": "diagnose", "effects": result.effects,
+            "nrmse_before": result.nrmse_initial, "nrmse": result.nrmse_final,
+            "fit_convergence": dict(result.fit_convergence)}
 
 
 def _parse_known(items) -> dict:

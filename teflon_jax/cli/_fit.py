@@ -8,6 +8,7 @@ import pathlib
 import sys
 
 from ..units import INCH, parse_quantity
+from ._bearing_flags import add_save_bearing_flag, check_output_file, save_bearing_flag
 from ._common import (
     add_quantity,
     add_units_flag,
@@ -67,6 +68,12 @@ def add_fit_parser(subparsers) -> argparse.ArgumentParser:
                         help="with --bayes: warm-up steps and draws per chain (default 1000)")
     parser.add_argument("--chains", type=int, default=4, help="with --bayes: chains (default 4)")
     parser.add_argument("--seed", type=int, default=0, help="with --bayes: random seed")
+    parser.add_argument("--effects", default=None, metavar="NAME,...",
+                        help="fit Eq. 1 with Bouc-Wen plus these optional parts of the bearing "
+                             "model (one record; e.g. backlash,asymmetry as `diagnose` names "
+                             "them; 'list' prints the known ones); --fixed then also takes "
+                             "their constants")
+    add_save_bearing_flag(parser)
     add_units_flag(parser)
     parser.set_defaults(command_function=run_fit)
     return parser
@@ -97,8 +104,13 @@ def run_fit(args) -> int:
 
     from ..report import plot_fit
 
+    if args.effects is not None:
+        from ._fit_effects import run_fit_effects
+
+        return run_fit_effects(args)
     try:
         read_quantities(args, "fit")
+        check_output_file(args.save_bearing, "--save-bearing")
         free = parse_free(args.free) if args.free is not None else None
         fixed = _parse_fixed(args.fixed)
         records = [read_bearing_record(p) for p in args.records]
@@ -108,6 +120,7 @@ def run_fit(args) -> int:
         print(f"teflon-jax fit: error: {error}", file=sys.stderr)
         return 2
     write_fit_json(args.json, fit)
+    _save_fitted(args, fit, records)
     us = args.units == "us"
     if args.plot:
         units = output_units(args.units)
@@ -126,6 +139,19 @@ def run_fit(args) -> int:
     if args.bayes is None or not fit.converged:
         return 0 if fit.converged else 1
     return _run_bayes(args, records, free, fixed, fit)
+
+
+def _save_fitted(args, fit, records) -> None:
+    """`--save-bearing`: the least-squares bearing with its standard errors."""
+    from identification.bearing_fit import fitted_bearing, part_errors
+
+    from ..formats import interface_counts
+
+    series = interface_counts(records[0].metadata)[1]
+    save_bearing_flag(args, fitted_bearing(fit, interfaces_in_series=series),
+                      standard_errors=part_errors(fit.std_errors), sources=args.records,
+                      fit={"command": "fit", "effects": [], "nrmse": fit.nrmse,
+                           "converged": bool(fit.converged), "free": list(fit.free)})
 
 
 def _run_bayes(args, records, free, fixed, least_squares) -> int:

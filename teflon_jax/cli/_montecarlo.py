@@ -11,6 +11,7 @@ import pathlib
 import sys
 
 from ..units import STANDARD_GRAVITY
+from ._bearing_flags import add_bearing_flag, read_bearing_flag
 from ._common import _positive_int, _write_json, add_quantity, add_units_flag, output_units
 from ._main import compile_cache_dir
 
@@ -95,6 +96,7 @@ def add_montecarlo_parser(subparsers) -> argparse.ArgumentParser:
                         "(SLURM/PBS: see docs/distributed.md); needs --out FILE.nc, where results "
                         "stream as chunks finish (default: this process)")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
+    add_bearing_flag(parser, replaces="--ptfe and --pressure")
     parser.set_defaults(command_function=run_montecarlo)
     return parser
 
@@ -157,6 +159,7 @@ def run_montecarlo(args) -> int:
         isolation_period=args.isolation_period,
         isolation_damping=args.isolation_damping,
         time_step=args.time_step,
+        bearing=read_bearing_flag(args),
         **solver,
     )
     model = _motion_model(args)
@@ -204,7 +207,10 @@ def run_montecarlo(args) -> int:
         "statistics": stats,
         "design": {f"pressure_{units.pressure[0]}": args.pressure / units.pressure[1],
                    "isolation_period_s": args.isolation_period,
-                   "isolation_damping": args.isolation_damping, "ptfe": args.ptfe},
+                   "isolation_damping": args.isolation_damping, "ptfe": args.ptfe}
+        if args.bearing is None else
+        {"bearing": str(args.bearing), "isolation_period_s": args.isolation_period,
+         "isolation_damping": args.isolation_damping},
         "motions": {"model": "Clough-Penzien, Jennings-Housner-Tsai envelope",
                     "pga_g": args.pga / STANDARD_GRAVITY, "duration_s": args.duration,
                     "seed": args.seed, "components": args.components},
@@ -218,7 +224,9 @@ def run_montecarlo(args) -> int:
             "peaks": "resultants of the x and y components: |(d_x, d_y)| and |(V_x, V_y)| / W, V the "
                      "force on the structure above the bearings"})
     _write_json(args.json, payload)
-    stamp = (f"{args.structure}, {args.ptfe} PTFE at {args.pressure_text}, Tb = "
+    bearing_words = (f"{args.ptfe} PTFE at {args.pressure_text}" if args.bearing is None
+                     else f"bearing {args.bearing}")
+    stamp = (f"{args.structure}, {bearing_words}, Tb = "
              f"{args.isolation_period_text}, zeta_b = {args.isolation_damping_text}; "
              f"Clough-Penzien motions, PGA {args.pga_text}, {args.duration_text}, seed {args.seed}"
              + (f"; 2 components, major at {math.degrees(float(model.principal_angle)):g} deg, minor "

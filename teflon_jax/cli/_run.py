@@ -8,6 +8,7 @@ import pathlib
 import numpy as np
 
 from ..units import parse_quantity
+from ._bearing_flags import add_bearing_flag, read_bearing_flag
 from ._run_suite import add_suite_arguments, check_suite_flags
 
 STRUCTURES = ("rigid", "building", "slab")
@@ -61,6 +62,8 @@ def add_run_parser(subparsers) -> None:
     p.add_argument("--json", default=None, help="write the peaks to this JSON file")
     p.add_argument("--plot", default=None, help="write orbit, x/y loops and histories to this PNG")
     p.add_argument("--histories", default=None, help="write histories to this .nc or .csv file")
+    add_bearing_flag(p, replaces="--ptfe, --pressure, --anisotropic, --lay-angle and --breakaway "
+                     "(also for every bearing group of a slab)")
 
 
 # --------------------------------------------------------------------------- records
@@ -162,8 +165,16 @@ def _fraction(text, flag):
 
 def _bearing(args, ptfe, pressure_text, flag):
     from ..bearing import paper_bearing
+    from ..systems import check_structure_bearing
     from ..tables import interface_parameters
 
+    from_file = read_bearing_flag(args)
+    if from_file is not None:
+        try:
+            check_structure_bearing(from_file)
+        except ValueError as error:
+            raise ValueError(f"--bearing {args.bearing}: {error}") from None
+        return from_file
     pressure = parse_quantity(pressure_text, "pressure", where=flag)
     try:
         params, table_b = interface_parameters(ptfe.upper(), pressure, "P")

@@ -6,6 +6,7 @@ import numpy as np
 
 from ..report import plot_loop
 from ..units import INCH, parse_quantity
+from ._bearing_flags import add_bearing_flag, read_bearing_flag
 from ._common import add_quantity, add_units_flag, output_units
 
 DEFAULT_DIAMETER = 10 * INCH  # specimens of the paper's tests: 10 in diameter
@@ -45,6 +46,8 @@ def add_simulate_parser(subparsers) -> None:
     add_quantity(p, "--yield-disp", "length", "0.005in", "Bouc-Wen yield displacement Y", minimum=0.0)
     p.add_argument("--anisotropic", action="store_true", help="eight pattern: use the T row of "
                    "Table 1 for sliding along y and interpolate in the sliding angle")
+    add_bearing_flag(p, replaces="--ptfe, --pressure, --direction, --breakaway, "
+                     "--interfaces-in-series, --yield-disp and --anisotropic; give --normal-load")
     p.add_argument("--samples-per-cycle", type=int, default=400, help="saved samples per cycle (default 400)")
     p.add_argument("--out", default="test_record.csv", help="output test-record CSV (default test_record.csv)")
     add_units_flag(p)
@@ -55,6 +58,9 @@ def build_test(args):
     """Turn parsed options into (bearing, motion, normal_load, metadata); ValueErrors name the option."""
     import teflon_jax as tj
 
+    from_file = read_bearing_flag(args)
+    if from_file is not None:
+        return _from_bearing_file(args, from_file)
     ptfe = args.ptfe.upper()
     direction = args.direction.upper()
     pressure = args.pressure
@@ -100,6 +106,30 @@ def build_test(args):
         "interfaces_in_series": args.interfaces,
         "source": "teflon-jax simulate-test; model of Constantinou, Mokha & Reinhorn (1990)",
     }
+    return bearing, motion, normal_load, metadata
+
+
+def _from_bearing_file(args, bearing):
+    """(bearing, motion, normal_load, metadata) for `--bearing FILE`."""
+    normal_load = args.normal_load
+    if normal_load is None and bearing.pressure_dependence is not None:
+        normal_load = float(bearing.pressure_dependence.reference_load)
+    if normal_load is None:
+        raise ValueError(f"--normal-load: give the normal load of the test; the bearing file "
+                         f"{args.bearing} states none (e.g. --normal-load 78.5kip).")
+    motion = _motion(args)
+    if bearing.backlash is not None and motion.biaxial:
+        raise ValueError(f"--pattern: {args.bearing} has a backlash gap, modelled along x only; "
+                         "use --pattern sine or triangle.")
+    args.breakaway_shown = (None if bearing.breakaway_ratio is None
+                            else f"{float(bearing.breakaway_ratio):.3g}")
+    metadata = {
+        "specimen": f"bearing of {args.bearing} (simulated by teflon-jax)",
+        "interfaces_in_series": bearing.n_interfaces,
+        "source": f"teflon-jax simulate-test --bearing {args.bearing}",
+    }
+    if bearing.heating is not None:
+        metadata["contact_area"] = float(bearing.heating.contact_area)
     return bearing, motion, normal_load, metadata
 
 
@@ -154,13 +184,20 @@ def run_simulate(args) -> int:
     if args.plot:
         units = output_units(args.units)
         load = units.show(normal_load, "force")
-        lay = ("parallel to lay along x, perpendicular along y (anisotropic)" if args.anisotropic
-               else f"{'parallel' if metadata['direction'] == 'P' else 'perpendicular'} to lay")
         pattern = {"eight": "figure-eight", "sine": "sinusoid", "triangle": "triangle"}.get(args.pattern, args.pattern)
         motion = ("motion from " + args.motion_file if args.motion_file else
                   f"{pattern} {args.amplitude_text} at {args.frequency_text}")
-        stamp = (f"{metadata['ptfe']} PTFE at {args.pressure_text}, {lay}; {motion}; N = {load}, "
-                 f"Y = {args.yield_disp_text}" + (f", breakaway b = {args.breakaway_shown}" if args.breakaway_shown else ""))
+        stamp = f"{_bearing_words(args, metadata)}; {motion}; N = {load}" + (
+            f", breakaway b = {args.breakaway_shown}" if args.breakaway_shown else "")
         plot_loop(result, args.plot, title=stamp, length=units.length)
         print(f"wrote {args.plot}")
     return 0
+
+
+def _bearing_words(args, metadata) -> str:
+    """The bearing in the plot's title."""
+    if args.bearing is not None:
+        return f"bearing {args.bearing}"
+    lay = ("parallel to lay along x, perpendicular along y (anisotropic)" if args.anisotropic
+           else f"{'parallel' if metadata['direction'] == 'P' else 'perpendicular'} to lay")
+    return f"{metadata['ptfe']} PTFE at {args.pressure_text}, {lay}, Y = {args.yield_disp_text}"

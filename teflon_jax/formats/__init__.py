@@ -2,6 +2,11 @@
 JSON, the bundled-record catalogue and study results. File I/O only; nothing here is traced."""
 
 from ._at2 import read_at2 as read_at2
+from ._bearing_file import BEARING_PARTS as BEARING_PARTS
+from ._bearing_file import bearing_from_dict as bearing_from_dict
+from ._bearing_file import bearing_to_dict as bearing_to_dict
+from ._bearing_file import load_bearing as load_bearing
+from ._bearing_file import save_bearing as save_bearing
 from ._columns import read_single_column as read_single_column
 from ._columns import read_two_column as read_two_column
 from ._damper import read_friction_damper_json as read_friction_damper_json

@@ -1,5 +1,7 @@
 """`RiccatiNewmark`: the diffrax solver whose step is not bounded by the stiffness of Z."""
 
+from ._park_path import park_path_update as park_path_update
+from ._park_path import park_substeps as park_substeps
 from ._park_update import park_exact_update as park_exact_update
 from ._riccati_newmark import AbstractSteppedSystem as AbstractSteppedSystem
 from ._riccati_newmark import RiccatiNewmark as RiccatiNewmark

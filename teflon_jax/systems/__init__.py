@@ -15,8 +15,10 @@ from ._bidirectional_models import bidirectional_building as bidirectional_build
 from ._bidirectional_models import bidirectional_rigid_mass as bidirectional_rigid_mass
 from ._isolated import MONTE_CARLO_NEWTON_TOLERANCE as MONTE_CARLO_NEWTON_TOLERANCE
 from ._isolated import RECOMMENDED_TIME_STEPS as RECOMMENDED_TIME_STEPS
+from ._isolated import STRUCTURE_EFFECTS as STRUCTURE_EFFECTS
 from ._isolated import IsolatedStructure as IsolatedStructure
 from ._isolated import check_design as check_design
+from ._isolated import check_structure_bearing as check_structure_bearing
 from ._isolated import design_ranges as design_ranges
 from ._isolated import isolated_structure as isolated_structure
 from ._models import BuildingResponse as BuildingResponse
@@ -31,6 +33,11 @@ from ._peaks import peak_response as peak_response
 from ._peaks import smooth_max as smooth_max
 from ._peaks import step_propagator as step_propagator
 from ._propagators import LINEAR_RULES as LINEAR_RULES
+from ._sampled_path import PathResponse as PathResponse
+from ._sampled_path import SampledPath as SampledPath
+from ._sampled_path import respond_along_path as respond_along_path
+from ._sampled_path import sample_velocity as sample_velocity
+from ._sampled_path import sampled_path as sampled_path
 from ._slab import check_plan as check_plan
 from ._slab import slab_corners as slab_corners
 from ._slab import slab_on_bearings as slab_on_bearings

@@ -19,6 +19,7 @@ from ..bearing import (
 from ..excitation import AbstractMotion, Signal, TabulatedMotion, as_signal
 from ..solver import AbstractSteppedSystem, RiccatiNewmark, require_riccati_form
 from ..validation import require_positive
+from ._sampled_path import respond_along_path, sample_velocity, sampled_path
 
 
 def running_peak_rate(z_abs, z_peak, z_abs_rate):
@@ -125,6 +126,11 @@ def simulate_bearing_test(
       `diffrax.ForwardMode()` for `jax.jvp`/`jax.jacfwd`.
     - `throw`: raise on solver failure; with `False` the failure is in `result`.
 
+    A bearing with optional parts (heating, wear, pressure dependence, asymmetry, backlash) is
+    driven along the motion sampled at the save times (refined by `steps_per_sample`), with
+    the motion's own velocity, by `respond_along_path` (Z exact between samples along x, Park
+    along the Hermite path in the plane); `solver` and its tolerances do not apply.
+
     **Returns:** a `BearingTestResult`.
     """
     check_bearing(bearing)
@@ -136,6 +142,9 @@ def simulate_bearing_test(
         riccati = not motion.biaxial and _riccati_admitted(bearing.hysteresis)
         solver = RiccatiNewmark() if riccati else diffrax.Tsit5()
     times = _save_times(motion, duration, samples_per_cycle)
+    if bearing.effects:
+        return _along_samples(bearing, motion, normal_load, _refine(times, steps_per_sample),
+                              steps_per_sample)
     system = BearingTestSystem(bearing=bearing, motion=motion)
     if isinstance(solver, RiccatiNewmark):
         require_riccati_form(bearing.hysteresis)
@@ -169,6 +178,23 @@ def _solve(system, solver, controller, dt0, times, normal_load, max_steps, adjoi
         throw=throw,
     )
     return _result(system.bearing, system.motion, normal_load, solution)
+
+
+def _along_samples(bearing, motion, normal_load, times, steps_per_sample):
+    u = jax.vmap(motion.displacement)(times)
+    v = jax.vmap(motion.velocity)(times)
+    load = jax.vmap(normal_load)(times)
+    planar = motion.biaxial
+    path = sampled_path(times, u[:, 0], load, uy=u[:, 1] if planar else None, velocity=v[:, 0],
+                        velocity_y=v[:, 1] if planar else None)
+    r = respond_along_path(bearing, path)
+    keep = slice(None, None, steps_per_sample)
+    return BearingTestResult(
+        time=times[keep], ux=u[keep, 0], uy=u[keep, 1], vx=v[keep, 0], vy=v[keep, 1],
+        fx=r.force_x[keep], fy=r.force_y[keep], normal_load=load[keep],
+        z=jnp.stack([r.z_x, r.z_y], axis=-1)[keep], coefficient=r.coefficient[keep],
+        z_peak=r.z_peak[keep], result=diffrax.RESULTS.successful,
+    )
 
 
 def _normal_load_signal(normal_load, duration) -> Signal:
@@ -270,19 +296,19 @@ def force_along_path(
     atol: float = 1e-10,
     max_steps: int = 1_000_000,
 ):
-    """Friction force [N] of a bearing driven along sampled displacements.
+    """Friction force [N] of a bearing driven along sampled displacements along x.
 
-    The same model as `simulate_bearing_test(bearing, tabulated_motion(time, ux), normal_load)`
-    (velocity = forward slope of the displacement, running max |Z| switching Eq. 17 to
-    Eq. 1), written so that `time`, `ux` and `normal_load` may be traced: batches of records
-    under `vmap`, fits under `optimistix`, cheap forward-mode derivatives. `z0` and `z_peak0`
-    set the initial state for records that do not start from rest.
+    The bearing of `simulate_bearing_test`, with the velocity at each sample from the samples
+    (`sample_velocity`, second-order central differences) and the running max |Z| switching
+    Eq. 17 to Eq. 1; `time`, `ux` and `normal_load` may be traced (batches of records under
+    `vmap`, fits under `optimistix`). `z0` and `z_peak0` set the initial state for records
+    that do not start from rest.
 
-    With eta = 2 and gamma > beta (the paper's shape) Z is advanced exactly between samples
-    in one `lax.scan` (`bouc_wen_exact_update`; traced constants of another shape are a
-    runtime error). Any other A, beta, gamma, eta (or an explicit `solver`, e.g.
-    `diffrax.Tsit5()`) integrates Eq. 3 along the path with that diffrax solver, adaptive
-    steps at `rtol`, `atol`, stopping at every sample.
+    With eta = 2 and gamma > beta (the paper's shape) this is `respond_along_path`: Z exact
+    between samples, with every optional part of the bearing (traced constants of another shape
+    are a runtime error). Any other A, beta, gamma, eta (or an explicit `solver`, e.g.
+    `diffrax.Tsit5()`) integrates Eq. 3 along the path with that diffrax solver, adaptive steps
+    at `rtol`, `atol`, stopping at every sample (a bearing without optional parts only).
 
     **Arguments:** `bearing` (uniaxial), `time` [s] (n,), `ux` [m] (n,),
     `normal_load` [N] scalar or (n,).
@@ -292,24 +318,16 @@ def force_along_path(
     time, ux = jnp.asarray(time), jnp.asarray(ux)
     z0 = jnp.asarray(z0, dtype=ux.dtype)
     z_peak0 = jnp.asarray(z_peak0, dtype=ux.dtype)
-    du = jnp.diff(ux)
     if solver is None and _riccati_admitted(bearing.hysteresis):
-        hysteresis = require_riccati_form(bearing.hysteresis)
-
-        def step(carry, du):
-            z, z_peak = carry
-            z1 = bouc_wen_exact_update(hysteresis, z, du)
-            z_peak1 = jnp.maximum(z_peak, jnp.abs(z1))
-            return (z1, z_peak1), (z1, z_peak1)
-
-        _, (z, z_peak) = jax.lax.scan(step, (z0, z_peak0), du)
-        z = jnp.concatenate([z0[None], z])
-        z_peak = jnp.concatenate([z_peak0[None], z_peak])
-    else:
-        z, z_peak = _z_along_path(bearing, time, ux, z0, z_peak0, solver, rtol, atol, max_steps)
-    velocity = du / jnp.diff(time)
-    velocity = jnp.concatenate([velocity, velocity[-1:]])
-    mu = bearing.coefficient(velocity, 0.0, z_peak)
+        path = sampled_path(time, ux, normal_load)
+        response = respond_along_path(bearing, path, z0=z0, z_peak0=z_peak0)
+        return response.force_x, response.z_x, response.z_peak
+    if bearing.effects:
+        raise ValueError(
+            f"bearing: its optional parts ({', '.join(bearing.effects)}) are driven along a path "
+            "with the closed-form Z (eta = 2, gamma > beta, no solver given).")
+    z, z_peak = _z_along_path(bearing, time, ux, z0, z_peak0, solver, rtol, atol, max_steps)
+    mu = bearing.coefficient(sample_velocity(time, ux), 0.0, z_peak)
     return mu * normal_load * z, z, z_peak
 
 

@@ -8,7 +8,7 @@ import equinox as eqx
 import jax.numpy as jnp
 import numpy as np
 
-from ..bearing import FrictionParameters, paper_bearing
+from ..bearing import FrictionParameters, SlidingBearing, paper_bearing
 from ..tables import friction_table
 from ..units import PSI
 from ..validation import concrete
@@ -86,6 +86,10 @@ class IsolatedStructure(eqx.Module):
       (False: the update along the net increment, e.g. to compare with it).
     - `linear_rule` (static): `StructureOnSliders.linear_rule`, "exact" by default here (the
       storey modes without period error; "newmark" to compare with the average-acceleration step).
+    - `bearing`: a `SlidingBearing` to run instead of Table 1's at `pressure` (e.g. from a
+      bearing file); `None` (the default) builds the paper's bearing from `ptfe`, `direction`,
+      `pressure` and `breakaway`. The design variables f_max, delta_f, rate_a and
+      breakaway_ratio still override its constants; `pressure` does not apply to it.
     """
 
     pressure: jnp.ndarray
@@ -102,6 +106,7 @@ class IsolatedStructure(eqx.Module):
     newton_tolerance: float = eqx.field(static=True, default=NEWTON_TOLERANCE)
     split_at_turn: bool = eqx.field(static=True, default=True)
     linear_rule: str = eqx.field(static=True, default="exact")
+    bearing: SlidingBearing | None = None
 
     def table(self):
         """The Table 1 rows (extrapolation switched off by our own range check)."""
@@ -116,18 +121,37 @@ class IsolatedStructure(eqx.Module):
             raise ValueError(
                 f"design: unknown variable(s) {unknown}; accepted: {', '.join(DESIGN_VARIABLES)}."
             )
-        pressure = design.get("pressure", self.pressure)
-        params, b = self.table().at(pressure)
-        params = FrictionParameters(
-            f_max=design.get("f_max", params.f_max),
-            delta_f=design.get("delta_f", params.delta_f),
-            rate_a=design.get("rate_a", params.rate_a),
-        )
-        b = design.get("breakaway_ratio", b)
-        bearing = paper_bearing(params, breakaway_ratio=b if self.breakaway else None)
+        if self.bearing is not None:
+            bearing = self._given_bearing(design)
+        else:
+            pressure = design.get("pressure", self.pressure)
+            params, b = self.table().at(pressure)
+            params = FrictionParameters(
+                f_max=design.get("f_max", params.f_max),
+                delta_f=design.get("delta_f", params.delta_f),
+                rate_a=design.get("rate_a", params.rate_a),
+            )
+            b = design.get("breakaway_ratio", b)
+            bearing = paper_bearing(params, breakaway_ratio=b if self.breakaway else None)
         period = design.get("isolation_period", self.isolation_period)
         damping = design.get("isolation_damping", self.isolation_damping)
         return bearing, period, damping
+
+    def _given_bearing(self, design):
+        """`bearing` with the design's friction constants in place of its own."""
+        if "pressure" in design:
+            raise ValueError("design: 'pressure' picks a Table 1 row; this structure runs a given "
+                             "bearing (set f_max, delta_f, rate_a or breakaway_ratio instead).")
+        f = self.bearing.friction
+        friction = FrictionParameters(
+            f_max=design.get("f_max", f.f_max),
+            delta_f=design.get("delta_f", f.delta_f),
+            rate_a=design.get("rate_a", f.rate_a),
+        )
+        b = design.get("breakaway_ratio", self.bearing.breakaway_ratio)
+        return eqx.tree_at(lambda x: (x.friction, x.breakaway_ratio), self.bearing,
+                           (friction, None if b is None else jnp.asarray(b, float)),
+                           is_leaf=lambda x: x is None)
 
     def __call__(self, ground_acceleration, design: Mapping | None = None) -> StructureOnSliders:
         bearing, period, damping = self.isolation(design)
@@ -174,6 +198,7 @@ def isolated_structure(
     newton_tolerance: float = NEWTON_TOLERANCE,
     split_at_turn: bool = True,
     linear_rule: str = "exact",
+    bearing: SlidingBearing | None = None,
 ) -> IsolatedStructure:
     """An `IsolatedStructure` with its inputs checked (`ValueError` naming the parameter).
 
@@ -209,14 +234,42 @@ def isolated_structure(
         newton_tolerance=float(newton_tolerance),
         split_at_turn=bool(split_at_turn),
         linear_rule=linear_rule,
+        bearing=bearing,
     )
+    if bearing is not None:
+        check_structure_bearing(bearing)
+        return _checked_isolation(structure, kind, isolation_period, isolation_damping)
     check_design(structure, {"pressure": pressure})
+    return _checked_isolation(structure, kind, isolation_period, isolation_damping)
+
+
+def _checked_isolation(structure, kind, isolation_period, isolation_damping):
     if isolation_period is None and kind == "building":
         raise ValueError("isolation_period: the building needs T_b [s] > 0 (Fig. 11: 0.2-4 s).")
     if isolation_period is not None:
         check_design(structure, {"isolation_period": isolation_period})
     check_design(structure, {"isolation_damping": isolation_damping})
     return structure
+
+
+STRUCTURE_EFFECTS: tuple[str, ...] = ()
+"""Optional bearing parts the structures run (besides Eq. 1, breakaway, anisotropy, stacks)."""
+
+
+def check_structure_bearing(bearing: SlidingBearing) -> None:
+    """`ValueError` naming the parts of `bearing` the structures do not run, and the checks of
+    `check_bearing`."""
+    from ..bearing import check_bearing
+
+    check_bearing(bearing)
+    other = [name for name in bearing.effects if name not in STRUCTURE_EFFECTS]
+    if other:
+        raise ValueError(
+            f"bearing: the structures do not run its {', '.join(other)} (they run Eq. 1, "
+            "breakaway, anisotropy and stacks"
+            + "".join(f", {name}" for name in STRUCTURE_EFFECTS)
+            + "); simulate the bearing test with `simulate-test --bearing`, or fit without "
+            "these effects.")
 
 
 def design_ranges(structure: IsolatedStructure) -> dict[str, tuple[float, float]]:

@@ -1,0 +1,70 @@
+"""The bearing-file flags: `--save-bearing FILE` (fit, diagnose) and `--bearing FILE` (every
+command that simulates), checked before any work starts."""
+
+import pathlib
+
+BEARING_OPTIONS = ("ptfe", "pressure", "direction", "breakaway", "interfaces", "yield_disp",
+                   "anisotropic", "lay_angle")
+"""Flags that describe the bearing; with `--bearing FILE` they may not be given as well."""
+
+
+def add_bearing_flag(parser, *, replaces: str) -> None:
+    """`--bearing FILE`: run the bearing of a bearing file instead of `replaces`. Call after
+    the bearing's own flags are declared (their defaults are kept to refuse both at once)."""
+    parser.add_argument("--bearing", default=None, metavar="FILE", type=pathlib.Path,
+                        help="bearing file written by `fit` or `diagnose --save-bearing` (its "
+                             f"friction law and optional parts replace {replaces})")
+    declared = {action.dest for action in parser._actions}
+    parser.set_defaults(bearing_option_defaults={
+        name: parser.get_default(name) for name in BEARING_OPTIONS if name in declared})
+
+
+def add_save_bearing_flag(parser) -> None:
+    """`--save-bearing FILE`: write the bearing the command found."""
+    parser.add_argument("--save-bearing", default=None, metavar="FILE", type=pathlib.Path,
+                        help="write the fitted bearing (its parts, each constant with unit and "
+                             "standard error, the records it came from) as a bearing file, "
+                             "which `simulate-test`, `run`, `montecarlo` and `design` read "
+                             "with --bearing")
+
+
+def check_output_file(path, flag: str) -> None:
+    """`ValueError` naming `flag` when `path` cannot be written as a file (a folder, or a
+    parent folder that does not exist)."""
+    if path is None:
+        return
+    path = pathlib.Path(path)
+    if path.is_dir():
+        raise ValueError(f"{flag} {path}: is a folder; give a file name, e.g. {path / 'out.json'}.")
+    if not path.parent.exists():
+        raise ValueError(f"{flag} {path}: the folder {path.parent} does not exist; create it first.")
+
+
+def read_bearing_flag(args):
+    """The `SlidingBearing` of `--bearing FILE`, or `None` when not given. A bearing flag that
+    differs from its default as well is refused (the file says what the bearing is)."""
+    from ..formats import load_bearing
+
+    if getattr(args, "bearing", None) is None:
+        return None
+    defaults = getattr(args, "bearing_option_defaults", {})
+    for name, default in defaults.items():
+        given = getattr(args, name + "_text", getattr(args, name, default))
+        if given != default:
+            flag = "--" + name.replace("_", "-")
+            raise ValueError(f"{flag}: the bearing comes from --bearing {args.bearing}; leave "
+                             f"{flag} out (or edit the bearing file).")
+    try:
+        return load_bearing(args.bearing)
+    except ValueError as error:
+        raise ValueError(f"--bearing {error}") from None
+
+
+def save_bearing_flag(args, bearing, *, standard_errors, sources, fit) -> None:
+    """Write `bearing` where `--save-bearing` says (nothing when not given)."""
+    from ..formats import save_bearing
+
+    if getattr(args, "save_bearing", None) is None:
+        return
+    save_bearing(args.save_bearing, bearing, standard_errors=standard_errors, sources=sources,
+                 fit=fit)

@@ -1,0 +1,205 @@
+"""One bearing model for every consumer: its optional parts, the path it is driven along, the
+bearing file, and what discovery and the fitter hand on to the commands that simulate.
+
+Peers: numpy's second-order gradient, closed forms of each factor, the plain bearing (a part at
+its neutral constants gives its numbers), the ODE simulator (`simulate_bearing_test` without
+parts) and the forces discovery reports for its own model.
+"""
+
+import json
+import math
+
+import equinox as eqx
+import jax.numpy as jnp
+import numpy as np
+import pytest
+
+import teflon_jax as tj
+from teflon_jax.bearing import (
+    Backlash,
+    DirectionAsymmetry,
+    FrictionalHeating,
+    PressureDependence,
+    Wear,
+    heat_kernel_exponentials,
+    kumar_temperature_factor,
+)
+from teflon_jax.formats import bearing_from_dict, bearing_to_dict
+from teflon_jax.systems import respond_along_path, sample_velocity, sampled_path
+from teflon_jax.units import INCH, KIP, PSI
+
+UF, UF_B = tj.interface_parameters("UF", 1000 * PSI, "P")
+UF_T, _ = tj.interface_parameters("UF", 1000 * PSI, "T")
+AREA = 78.5 * INCH**2
+LOAD = 78.5 * KIP
+
+
+def with_parts(bearing, **parts):
+    names = tuple(parts)
+    return eqx.tree_at(lambda b: tuple(getattr(b, n) for n in names), bearing,
+                       tuple(parts.values()), is_leaf=lambda x: x is None)
+
+
+def sine_path(cycles=2, samples=200, amplitude=INCH, frequency=0.5, load=LOAD):
+    t = np.linspace(0.0, cycles / frequency, cycles * samples + 1)
+    w = 2 * math.pi * frequency
+    return t, amplitude * np.sin(w * t), amplitude * w * np.cos(w * t), np.full_like(t, load)
+
+
+def test_sample_velocity_is_numpys_second_order_gradient():
+    rng = np.random.default_rng(1)
+    t = np.cumsum(rng.uniform(0.5, 1.5, 60)) * 1e-2
+    u = np.sin(3 * t) + t**2
+    np.testing.assert_allclose(sample_velocity(t, u), np.gradient(u, t, edge_order=2),
+                               rtol=1e-10, atol=1e-12)
+
+
+@pytest.mark.parametrize("part", ["pressure", "heating", "wear", "asymmetry", "backlash"])
+def test_a_part_at_its_neutral_constants_is_the_plain_bearing(part):
+    """Each optional part has a neutral value at which the force is the 1990 model's."""
+    plain = tj.paper_bearing(UF, breakaway_ratio=UF_B)
+    neutral = {
+        "pressure": {"pressure_dependence": PressureDependence(0.0, 2 * LOAD)},
+        "heating": {"heating": FrictionalHeating(contact_area=AREA, heat_scale=0.0)},
+        "wear": {"wear": Wear(0.0, 1.0)},
+        "asymmetry": {"asymmetry": DirectionAsymmetry(0.0)},
+        "backlash": {"backlash": Backlash(0.0)},
+    }[part]
+    t, u, v, load = sine_path()
+    path = sampled_path(t, u, load, velocity=v)
+    base = respond_along_path(plain, path)
+    other = respond_along_path(with_parts(plain, **neutral), path)
+    scale = float(jnp.max(jnp.abs(base.force_x)))
+    np.testing.assert_allclose(other.force_x, base.force_x, rtol=0, atol=1e-12 * scale)
+
+
+def test_the_path_of_a_plain_bearing_is_the_ode_simulator():
+    """Along x, Z exact between samples and mu at the motion's velocity: the simulator's own
+    record (RiccatiNewmark at the same samples) to rounding."""
+    bearing = tj.paper_bearing(UF, breakaway_ratio=UF_B)
+    motion = tj.SineMotion(INCH, 0.5, cycles=2)
+    result = tj.simulate_bearing_test(bearing, motion, LOAD, samples_per_cycle=200)
+    path = sampled_path(result.time, result.ux, LOAD, velocity=result.vx)
+    response = respond_along_path(bearing, path)
+    np.testing.assert_allclose(response.force_x, result.fx, rtol=0,
+                               atol=1e-10 * float(jnp.max(jnp.abs(result.fx))))
+
+
+def test_each_factor_follows_its_law():
+    """Closed forms where the plausible alternatives differ: a power of the load (not linear),
+    wear linear in travel, asymmetry linear in Z_x, Kumar's k_T of the temperature."""
+    assert float(PressureDependence(0.3, LOAD).factor(2 * LOAD)) == pytest.approx(2**-0.3, rel=1e-14)
+    assert float(PressureDependence(0.3, LOAD).factor(0.5 * LOAD)) == pytest.approx(2**0.3, rel=1e-14)
+    assert float(Wear(0.2, 4.0).factor(1.0)) == pytest.approx(1.05, rel=1e-14)
+    assert float(DirectionAsymmetry(0.1).factor(-0.5)) == pytest.approx(0.95, rel=1e-14)
+    heat = FrictionalHeating(contact_area=AREA, heat_scale=2.0, initial_temperature=30.0)
+    expected = kumar_temperature_factor(30.0 + 2.0 * 40.0) / kumar_temperature_factor(30.0)
+    assert float(heat.factor(40.0)) == pytest.approx(float(expected), rel=1e-14)
+    assert float(kumar_temperature_factor(20.0)) == pytest.approx(1.0, abs=2e-3)
+
+
+def test_heating_under_a_constant_flux_is_the_semi_infinite_body_rise():
+    """The exponential states advanced step by step give dT = 2 q sqrt(kappa t / pi) / k."""
+    heat = FrictionalHeating(contact_area=AREA)
+    dt, steps = 1e-3, 2000
+    rates, weights = (jnp.asarray(a) for a in heat_kernel_exponentials(dt, dt * steps))
+    flux = 1e5
+    states = jnp.zeros_like(rates)
+    for _ in range(steps):
+        states = heat.advance(states, flux, dt, rates)
+    t = dt * steps
+    exact = 2 * flux * math.sqrt(heat.diffusivity * t / math.pi) / heat.conductivity
+    assert float(heat.rise(states, weights)) == pytest.approx(exact, rel=5e-3)
+
+
+def test_heating_in_a_simulated_test_lowers_friction_cycle_by_cycle():
+    bearing = tj.paper_bearing(UF)
+    hot = with_parts(bearing, heating=FrictionalHeating(contact_area=AREA / 3))
+    motion = tj.SineMotion(4 * INCH, 0.6, cycles=3)
+    cold = tj.simulate_bearing_test(bearing, motion, LOAD)
+    warm = tj.simulate_bearing_test(hot, motion, LOAD)
+    n = cold.time.shape[0]
+    one_cycle = (n - 1) // 3
+    peak = [float(jnp.max(jnp.abs(warm.fx[i * one_cycle:(i + 1) * one_cycle]))) for i in range(3)]
+    assert peak[0] > peak[1] > peak[2]
+    np.testing.assert_allclose(jnp.max(jnp.abs(cold.fx[:one_cycle])),
+                               jnp.max(jnp.abs(cold.fx[2 * one_cycle:])), rtol=1e-6)
+
+
+# ------------------------------------------------------------------------------- bearing file
+
+
+def full_bearing():
+    bearing = tj.paper_bearing(UF, breakaway_ratio=UF_B, friction_perpendicular=UF_T,
+                               lay_angle=0.3)
+    return with_parts(bearing, pressure_dependence=PressureDependence(0.2, LOAD),
+                      heating=FrictionalHeating(contact_area=AREA, heat_scale=1.3),
+                      wear=Wear(-0.1, 2.0), asymmetry=DirectionAsymmetry(0.05),
+                      backlash=Backlash(1e-4))
+
+
+def test_bearing_file_round_trip(tmp_path):
+    bearing = full_bearing()
+    path = tj.save_bearing(tmp_path / "b.json", bearing,
+                           standard_errors={("friction", "f_max"): 0.002}, sources=["t.csv"])
+    back = tj.load_bearing(path)
+    assert back.effects == bearing.effects
+    assert len(jax_leaves(back)) == len(jax_leaves(bearing)) > 20
+    for a, b in zip(jax_leaves(bearing), jax_leaves(back)):
+        np.testing.assert_allclose(a, b, rtol=1e-15)
+    document = json.loads(path.read_text())
+    assert document["parts"]["friction"]["f_max"]["standard_error"] == 0.002
+    assert document["sources"] == ["t.csv"]
+
+
+def jax_leaves(tree):
+    import jax
+
+    return [np.asarray(x, float) for x in jax.tree_util.tree_leaves(tree)]
+
+
+def test_a_bearing_file_in_paper_units_reads_to_si():
+    document = bearing_to_dict(tj.paper_bearing(UF))
+    document["parts"]["friction"]["rate_a"] = {"value": 0.6, "unit": "s/in"}
+    document["parts"]["hysteresis"]["yield_disp"] = {"value": 0.005, "unit": "in"}
+    bearing = bearing_from_dict(document)
+    assert float(bearing.friction.rate_a) == pytest.approx(0.6 / INCH)
+    assert float(bearing.hysteresis.yield_disp) == pytest.approx(0.005 * INCH)
+
+
+@pytest.mark.parametrize("edit, message", [
+    (lambda d: d["parts"]["heating"].pop("contact_area"), r"parts.heating: missing constant\(s\) \['contact_area'\]"),
+    (lambda d: d["parts"].update(magnets={}), r"unknown part\(s\) \['magnets'\]"),
+    (lambda d: d["parts"]["friction"]["rate_a"].pop("unit"), r"parts.friction.rate_a: missing 'unit'"),
+    (lambda d: d["parts"]["friction"].update(rate_a=23.6), r"parts.friction.rate_a: write .*value without a unit"),
+    (lambda d: d["parts"]["friction"]["rate_a"].update(unit="in"), r"rate_a.unit: 'in' is a unit of length"),
+    (lambda d: d["parts"]["wear"]["reference_travel"].update(unit="s"), r"reference_travel.unit: 's' is a unit of time"),
+    (lambda d: d.update(format_version=2), r"format_version 2 is newer"),
+    (lambda d: d["parts"].pop("hysteresis"), r"the part 'hysteresis' is missing"),
+    (lambda d: d["parts"]["friction"]["delta_f"].update(value=0.5), r"delta_f: must be smaller than f_max"),
+    (lambda d: d["parts"]["heating"]["contact_area"].update(value=-1.0), r"heating.contact_area: must be"),
+])
+def test_bad_bearing_files_are_refused_by_key(edit, message):
+    document = bearing_to_dict(full_bearing())
+    edit(document)
+    with pytest.raises(ValueError, match=r"^b.json: .*" + message):
+        bearing_from_dict(document, where="b.json")
+
+
+def test_structures_refuse_parts_they_do_not_run():
+    with pytest.raises(ValueError, match="the structures do not run its heating"):
+        tj.systems.isolated_structure("rigid", bearing=with_parts(
+            tj.paper_bearing(UF), heating=FrictionalHeating(contact_area=AREA)))
+
+
+def test_a_given_bearing_runs_as_table_1s_in_a_structure():
+    """The same constants through `bearing=` or through Table 1 give the same structure."""
+    table = tj.systems.isolated_structure("rigid", pressure=1000 * PSI)
+    bearing, _, _ = table.isolation()
+    given = tj.systems.isolated_structure("rigid", bearing=bearing)
+    b1, p1, d1 = given.isolation({"f_max": 0.2})
+    b0, p0, d0 = table.isolation({"f_max": 0.2})
+    for a, b in zip(jax_leaves(b0), jax_leaves(b1)):
+        np.testing.assert_allclose(a, b, rtol=1e-15)
+    with pytest.raises(ValueError, match="'pressure' picks a Table 1 row"):
+        given.isolation({"pressure": 2000 * PSI})
