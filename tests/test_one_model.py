@@ -187,9 +187,9 @@ def test_bad_bearing_files_are_refused_by_key(edit, message):
 
 
 def test_structures_refuse_parts_they_do_not_run():
-    with pytest.raises(ValueError, match="the structures do not run its heating"):
+    with pytest.raises(ValueError, match="the structures do not run its asymmetry"):
         tj.systems.isolated_structure("rigid", bearing=with_parts(
-            tj.paper_bearing(UF), heating=FrictionalHeating(contact_area=AREA)))
+            tj.paper_bearing(UF), asymmetry=DirectionAsymmetry(0.1)))
 
 
 def test_a_given_bearing_runs_as_table_1s_in_a_structure():
@@ -203,3 +203,44 @@ def test_a_given_bearing_runs_as_table_1s_in_a_structure():
         np.testing.assert_allclose(a, b, rtol=1e-15)
     with pytest.raises(ValueError, match="'pressure' picks a Table 1 row"):
         given.isolation({"pressure": 2000 * PSI})
+
+
+def test_a_cold_unworn_bearing_with_history_runs_as_the_plain_one():
+    """Heating at heat_scale 0 and wear at change 0 carry their states through every step and
+    leave the peaks of the plain bearing (Monte Carlo's peak loop and the full simulation)."""
+    from teflon_jax.systems import isolated_structure, peak_response, simulate_structure
+
+    plain = isolated_structure("building").isolation()[0]
+    neutral = with_parts(plain, heating=FrictionalHeating(contact_area=AREA, heat_scale=0.0),
+                         wear=Wear(0.0, 1.0))
+    t = np.arange(0, 10.0, 0.01)
+    ag = 3.0 * np.sin(2 * np.pi * 0.5 * t) * np.exp(-0.2 * t)
+    signal = tj.uniform_signal(jnp.asarray(ag), 0.01)
+    a = isolated_structure("building", bearing=plain)(signal)
+    b = isolated_structure("building", bearing=neutral)(signal)
+    assert b.history and not a.history
+    pa, pb = peak_response(a, 9.0), peak_response(b, 9.0)
+    assert float(pb.base_disp) == pytest.approx(float(pa.base_disp), rel=1e-12)
+    assert float(pb.base_shear_ratio) == pytest.approx(float(pa.base_shear_ratio), rel=1e-12)
+    ra, rb = simulate_structure(a, 5.0), simulate_structure(b, 5.0)
+    np.testing.assert_allclose(rb.displacement, ra.displacement, rtol=0, atol=1e-12)
+
+
+def test_heating_in_a_structure_lowers_friction_and_raises_the_displacement():
+    """The heating bearing's peak displacement exceeds the cold one's (less friction as the
+    steel warms), and the peak loop agrees with the full simulation step for step."""
+    from teflon_jax.systems import isolated_structure, peak_response, simulate_structure
+
+    plain = isolated_structure("rigid", isolation_period=2.5).isolation()[0]
+    hot = with_parts(plain, heating=FrictionalHeating(contact_area=AREA / 4, heat_scale=3.0))
+    t = np.arange(0, 12.0, 0.01)
+    ag = 4.0 * np.sin(2 * np.pi * 0.4 * t) * np.exp(-0.15 * t)
+    signal = tj.uniform_signal(jnp.asarray(ag), 0.01)
+    cold_run = isolated_structure("rigid", bearing=plain, isolation_period=2.5)(signal)
+    hot_run = isolated_structure("rigid", bearing=hot, isolation_period=2.5,
+                                 pressure=3000 * PSI)(signal)
+    cold, warm = peak_response(cold_run, 11.0), peak_response(hot_run, 11.0)
+    assert float(warm.base_disp) > 1.02 * float(cold.base_disp)
+    full = simulate_structure(hot_run, 11.0)
+    assert float(jnp.max(jnp.abs(full.displacement[:, 0]))) == pytest.approx(
+        float(warm.base_disp), rel=1e-9)

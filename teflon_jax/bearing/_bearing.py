@@ -77,6 +77,19 @@ class SlidingBearing(eqx.Module):
         """Names of the optional parts this bearing has, in the order of the fields."""
         return tuple(name for name in EFFECT_FIELDS if getattr(self, name) is not None)
 
+    def scaled(self, factor):
+        """This bearing with its friction coefficient multiplied by `factor` [-] (f_max and
+        delta_f of both directions; breakaway follows, as b (f_max - delta_f)): how a factor
+        that does not depend on Z, held over a step, enters a structure's step."""
+        def times(f):
+            return FrictionParameters(f.f_max * factor, f.delta_f * factor, f.rate_a)
+
+        perpendicular = self.friction_perpendicular
+        return eqx.tree_at(
+            lambda b: (b.friction, b.friction_perpendicular), self,
+            (times(self.friction), None if perpendicular is None else times(perpendicular)),
+            is_leaf=lambda x: x is None)
+
     def effect_factor(self, *, normal_load=None, temperature_rise=0.0, travel=0.0, z_x=0.0):
         """Product of the optional factors on mu [-] (1 for a bearing without them).
 

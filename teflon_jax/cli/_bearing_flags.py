@@ -42,22 +42,27 @@ def check_output_file(path, flag: str) -> None:
 
 def read_bearing_flag(args):
     """The `SlidingBearing` of `--bearing FILE`, or `None` when not given. A bearing flag that
-    differs from its default as well is refused (the file says what the bearing is)."""
+    differs from its default as well is refused (the file says what the bearing is), except
+    `--pressure` for a bearing with heating: the bearings' contact pressure in the structure."""
     from ..formats import load_bearing
 
     if getattr(args, "bearing", None) is None:
         return None
+    try:
+        bearing = load_bearing(args.bearing)
+    except ValueError as error:
+        raise ValueError(f"--bearing {error}") from None
+    allowed = {"pressure"} if bearing.heating is not None else set()
     defaults = getattr(args, "bearing_option_defaults", {})
     for name, default in defaults.items():
         given = getattr(args, name + "_text", getattr(args, name, default))
-        if given != default:
+        if given != default and name not in allowed:
             flag = "--" + name.replace("_", "-")
             raise ValueError(f"{flag}: the bearing comes from --bearing {args.bearing}; leave "
-                             f"{flag} out (or edit the bearing file).")
-    try:
-        return load_bearing(args.bearing)
-    except ValueError as error:
-        raise ValueError(f"--bearing {error}") from None
+                             f"{flag} out (or edit the bearing file)"
+                             + (" (--pressure is the contact pressure of a bearing with "
+                                "heating)." if name == "pressure" else "."))
+    return bearing
 
 
 def save_bearing_flag(args, bearing, *, standard_errors, sources, fit) -> None:

@@ -94,6 +94,11 @@ def bidirectional_isolated_structure(kind: str = "rigid", **options) -> Bidirect
             f"friction_model: two ground components need the hysteretic model (Park's Z), got "
             f"{options['friction_model']!r}."
         )
+    bearing = options.get("bearing")
+    if bearing is not None and bearing.effects:
+        raise ValueError(
+            f"bearing: two ground components do not run its {', '.join(bearing.effects)} (heating "
+            "and wear run with one component); run one component, or a bearing without them.")
     if options.get("time_step") is None:  # the uniaxial default steps are not the bidirectional one
         options = {**options, "time_step": BIDIRECTIONAL_TIME_STEP}
     newton_iterations = options.get("newton_iterations")

@@ -15,7 +15,6 @@ from ._bidirectional_models import bidirectional_building as bidirectional_build
 from ._bidirectional_models import bidirectional_rigid_mass as bidirectional_rigid_mass
 from ._isolated import MONTE_CARLO_NEWTON_TOLERANCE as MONTE_CARLO_NEWTON_TOLERANCE
 from ._isolated import RECOMMENDED_TIME_STEPS as RECOMMENDED_TIME_STEPS
-from ._isolated import STRUCTURE_EFFECTS as STRUCTURE_EFFECTS
 from ._isolated import IsolatedStructure as IsolatedStructure
 from ._isolated import check_design as check_design
 from ._isolated import check_structure_bearing as check_structure_bearing
@@ -44,6 +43,8 @@ from ._slab import slab_on_bearings as slab_on_bearings
 from ._slab import slab_point_displacement as slab_point_displacement
 from ._slab import stack_bearings as stack_bearings
 from ._structure import FRICTION_MODELS as FRICTION_MODELS
+from ._structure import HEAT_HORIZON as HEAT_HORIZON
+from ._structure import STRUCTURE_EFFECTS as STRUCTURE_EFFECTS
 from ._structure import StructureOnSliders as StructureOnSliders
 from ._structure import StructureResponse as StructureResponse
 from ._structure import initial_state as initial_state

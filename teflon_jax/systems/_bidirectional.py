@@ -358,6 +358,11 @@ def bidirectional_structure(
     if not time_step > 0:
         raise ValueError(f"time_step: must be > 0 s, got {time_step}.")
     require_riccati_form(bearing.hysteresis)
+    if bearing.effects:
+        raise ValueError(
+            f"bearing: the structures in two directions do not run its "
+            f"{', '.join(bearing.effects)} (they run Eq. 1 at the resultant speed, Park's Z, "
+            "breakaway, anisotropy and stacks; one direction also runs heating and wear).")
     bearing = jax.tree_util.tree_map(
         lambda leaf: jnp.broadcast_to(jnp.asarray(leaf, dtype=float), (groups,)), bearing
     )

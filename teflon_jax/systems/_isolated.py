@@ -11,10 +11,15 @@ import numpy as np
 from ..bearing import FrictionParameters, SlidingBearing, paper_bearing
 from ..tables import friction_table
 from ..units import PSI
-from ..validation import concrete
+from ..validation import concrete, require_positive
 from ._models import rigid_mass, six_storey_building
 from ._propagators import LINEAR_RULES
-from ._structure import NEWTON_ITERATIONS, NEWTON_TOLERANCE, StructureOnSliders
+from ._structure import (
+    NEWTON_ITERATIONS,
+    NEWTON_TOLERANCE,
+    StructureOnSliders,
+    check_structure_parts,
+)
 
 STRUCTURES = ("rigid", "building")
 
@@ -137,11 +142,18 @@ class IsolatedStructure(eqx.Module):
         damping = design.get("isolation_damping", self.isolation_damping)
         return bearing, period, damping
 
+    def contact_pressure(self, design=None):
+        """The bearings' contact pressure [Pa] for a bearing with heating (else None)."""
+        if self.bearing is None or self.bearing.heating is None:
+            return None
+        return (design or {}).get("pressure", self.pressure)
+
     def _given_bearing(self, design):
         """`bearing` with the design's friction constants in place of its own."""
-        if "pressure" in design:
+        if "pressure" in design and self.bearing.heating is None:
             raise ValueError("design: 'pressure' picks a Table 1 row; this structure runs a given "
-                             "bearing (set f_max, delta_f, rate_a or breakaway_ratio instead).")
+                             "bearing without heating (set f_max, delta_f, rate_a or "
+                             "breakaway_ratio instead).")
         f = self.bearing.friction
         friction = FrictionParameters(
             f_max=design.get("f_max", f.f_max),
@@ -165,6 +177,7 @@ class IsolatedStructure(eqx.Module):
                 damping_ratio=damping if period is not None else 0.0,
                 friction_model=self.friction_model,
                 linear_rule=self.linear_rule,
+                contact_pressure=self.contact_pressure(design),
             )
         else:
             system = six_storey_building(
@@ -175,6 +188,7 @@ class IsolatedStructure(eqx.Module):
                 isolation_damping=damping,
                 friction_model=self.friction_model,
                 linear_rule=self.linear_rule,
+                contact_pressure=self.contact_pressure(design),
             )
         settings = (self.newton_iterations, self.split_at_turn, self.newton_tolerance)
         if settings != (system.newton_iterations, system.split_at_turn, system.newton_tolerance):
@@ -238,6 +252,7 @@ def isolated_structure(
     )
     if bearing is not None:
         check_structure_bearing(bearing)
+        require_positive(pressure, "pressure", " [Pa] (the bearings' contact pressure)")
         return _checked_isolation(structure, kind, isolation_period, isolation_damping)
     check_design(structure, {"pressure": pressure})
     return _checked_isolation(structure, kind, isolation_period, isolation_damping)
@@ -252,24 +267,13 @@ def _checked_isolation(structure, kind, isolation_period, isolation_damping):
     return structure
 
 
-STRUCTURE_EFFECTS: tuple[str, ...] = ()
-"""Optional bearing parts the structures run (besides Eq. 1, breakaway, anisotropy, stacks)."""
-
-
 def check_structure_bearing(bearing: SlidingBearing) -> None:
-    """`ValueError` naming the parts of `bearing` the structures do not run, and the checks of
-    `check_bearing`."""
+    """`check_bearing`, and a `ValueError` naming the optional parts of `bearing` the
+    structures do not run (`STRUCTURE_EFFECTS`)."""
     from ..bearing import check_bearing
 
     check_bearing(bearing)
-    other = [name for name in bearing.effects if name not in STRUCTURE_EFFECTS]
-    if other:
-        raise ValueError(
-            f"bearing: the structures do not run its {', '.join(other)} (they run Eq. 1, "
-            "breakaway, anisotropy and stacks"
-            + "".join(f", {name}" for name in STRUCTURE_EFFECTS)
-            + "); simulate the bearing test with `simulate-test --bearing`, or fit without "
-            "these effects.")
+    check_structure_parts(bearing)
 
 
 def design_ranges(structure: IsolatedStructure) -> dict[str, tuple[float, float]]:

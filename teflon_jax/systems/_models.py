@@ -54,6 +54,7 @@ def rigid_mass(
     radius=None,
     friction_model: str = "hysteretic",
     linear_rule: str = "newmark",
+    contact_pressure=None,
 ) -> StructureOnSliders:
     """A rigid mass W/g on sliding bearings (Figs. 7-10 of the paper; TASS-type system).
 
@@ -108,6 +109,7 @@ def rigid_mass(
         time_step=time_step,
         friction_model=friction_model,
         linear_rule=linear_rule,
+        contact_pressure=contact_pressure,
     )
 
 
@@ -151,6 +153,7 @@ def six_storey_building(
     isolation_damping=0.05,
     friction_model: str = "hysteretic",
     linear_rule: str = "newmark",
+    contact_pressure=None,
     building: BuildingData | None = None,
 ) -> StructureOnSliders:
     """The six-storey frame of Table 2 on an isolation system (Fig. 11 of the paper).
@@ -211,6 +214,7 @@ def six_storey_building(
         time_step=time_step,
         friction_model=friction_model,
         linear_rule=linear_rule,
+        contact_pressure=contact_pressure,
     )
 
 

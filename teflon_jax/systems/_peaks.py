@@ -150,13 +150,21 @@ def peak_response(
     # The state (u, v), the bearing force per unit Z and its slope of the stored state
     # (`friction_factors`) and the ground acceleration at the start of the step, advanced by
     # `step_propagator` (one product per step); the same step as `newmark_update` to rounding.
+    # A bearing with history (heating, wear) steps with its friction at the start of the step
+    # (`at_history`) and carries its heat states and travel in `history`.
     def advance(state, ground1):
-        x, z, z_peak, start_factors, ground0 = state
-        x1, z1, z_peak1, converged = system.propagated_step(x, z, z_peak, start_factors, ground0, ground1,
-                                                            (step_matrix, force_column))
-        factors1 = system.friction_factors(x1[n], z_peak1)  # of the stored state: F = mu W Z
+        x, z, z_peak, start_factors, ground0, history = state
+        stepped = system
+        if history:  # the force at the step's start with the friction of the start's history
+            stepped = system.at_history(*history)
+            start_factors = stepped.friction_factors(x[n], z_peak)
+        x1, z1, z_peak1, converged = stepped.propagated_step(x, z, z_peak, start_factors, ground0, ground1,
+                                                             (step_matrix, force_column))
+        factors1 = stepped.friction_factors(x1[n], z_peak1)  # of the stored state: F = mu W Z
         shear = small_dot(shear_row, x1, WRITTEN_OUT_PRODUCT) + shear_force * (factors1[0] * z1)
-        return (x1, z1, z_peak1, factors1, ground1), x1[0], shear, converged
+        if history:
+            history = system.next_history(*history, x[0], x1[0], x[n], z_peak)
+        return (x1, z1, z_peak1, factors1, ground1, history), x1[0], shear, converged
 
     def body(carry, step_and_ground):
         step, ground1 = step_and_ground
@@ -176,7 +184,9 @@ def peak_response(
     # the record at every step's end, evaluated at once outside the loop
     ground = jax.vmap(system.ground_acceleration)(jnp.arange(n_steps + 1) * dt)
     start_factors = system.friction_factors(y0["v"][0], y0["z_peak"])
-    state = (jnp.concatenate([y0["u"], y0["v"]]), y0["z"], y0["z_peak"], start_factors, ground[0])
+    history = (y0["heat"], y0["travel"]) if system.history else ()
+    state = (jnp.concatenate([y0["u"], y0["v"]]), y0["z"], y0["z_peak"], start_factors, ground[0],
+             history)
     carry = (state, (zero, zero), (zero, zero), (one, one), jnp.array(True))
     (_, peaks, tops, totals, ok), _ = jax.lax.scan(body, carry, (jnp.arange(n_steps), ground[1:]),
                                                    unroll=steps_per_pass)

@@ -22,6 +22,7 @@ from ..bearing import (
     bouc_wen_rate,
     bouc_wen_reversal_length,
     check_bearing,
+    heat_kernel_exponentials,
 )
 from ..excitation import Signal
 from ..solver import AbstractSteppedSystem, require_riccati_form
@@ -89,6 +90,11 @@ class StructureOnSliders(AbstractSteppedSystem):
       "newmark" (average acceleration, the default) or "exact" (exact for ground acceleration
       and bearing force linear over the step; `exact_step` holds its matrices).
     - `exact_step`: (R | f) (2n, 2n + 4) of `_propagators.exact_step_matrices` for "exact", else None.
+    - `contact_pressure` [Pa]: pressure of the bearings on the steel, for a bearing with
+      `heating` (the heat flux q = mu p |v| / n); `heat_rates`, `heat_weights`: its 1/sqrt(t)
+      kernel (`heat_kernel_exponentials`). A bearing with heating or wear adds the state
+      "heat" (the kernel's exponential states) and "travel" [m]; their factor on mu
+      (`SlidingBearing.effect_factor`) is taken at the start of each step and held over it.
     """
 
     mass: jnp.ndarray
@@ -106,6 +112,45 @@ class StructureOnSliders(AbstractSteppedSystem):
     newton_tolerance: float = eqx.field(static=True, default=NEWTON_TOLERANCE)
     linear_rule: str = eqx.field(static=True, default="newmark")
     exact_step: jnp.ndarray | None = None
+    contact_pressure: jnp.ndarray | None = None
+    heat_rates: jnp.ndarray | None = None
+    heat_weights: jnp.ndarray | None = None
+
+    @property
+    def history(self) -> bool:
+        """True when the bearing's friction depends on the history (heating, wear)."""
+        return self.friction_model == "hysteretic" and (
+            self.bearing.heating is not None or self.bearing.wear is not None)
+
+    def history_factor(self, heat, travel):
+        """Factor on mu [-] of the surface temperature (heat states) and the travel [m]."""
+        heating = self.bearing.heating
+        rise = 0.0 if heating is None else heating.rise(heat, self.heat_weights)
+        return self.bearing.effect_factor(temperature_rise=rise, travel=travel)
+
+    def at_history(self, heat, travel) -> "StructureOnSliders":
+        """This structure with the friction of its bearing at that temperature and travel."""
+        if not self.history:
+            return self
+        factor = self.history_factor(heat, travel)
+        return eqx.tree_at(lambda s: s.bearing, self, self.bearing.scaled(factor))
+
+    def at_state(self, y) -> "StructureOnSliders":
+        """`at_history` of the state `y` (itself for a bearing without history)."""
+        return self.at_history(y["heat"], y["travel"]) if self.history else self
+
+    def next_history(self, heat, travel, u0, u1, v0, z_peak0):
+        """Heat states and travel after a step from isolator displacement `u0` to `u1` [m]: the
+        heat flux of the friction at the step's start, q = mu(v0) p |u1 - u0| / (dt n), held
+        over the step (as `respond_along_path` does between samples)."""
+        du = jnp.abs(u1 - u0)
+        heating = self.bearing.heating
+        if heating is not None:
+            mu0 = self.at_history(heat, travel).bearing.coefficient(v0, 0.0, z_peak0)
+            speed = du / self.time_step / self.bearing.n_interfaces
+            flux = heating.flux(mu0, self.contact_pressure * heating.contact_area, speed)
+            heat = heating.advance(heat, flux, self.time_step, self.heat_rates)
+        return heat, travel + du
 
     def friction_force(self, velocity, z, z_peak):
         """F = mu W Z [N] at isolator `velocity` [m/s]."""
@@ -132,7 +177,7 @@ class StructureOnSliders(AbstractSteppedSystem):
     def acceleration_at(self, ground, y):
         """Relative acceleration [m/s^2] of state `y` under ground acceleration `ground` [m/s^2]."""
         force = -self.mass * ground - self.damping @ y["v"] - self.stiffness @ y["u"]
-        force = force.at[0].add(-self.friction_force(y["v"][0], y["z"], y["z_peak"]))
+        force = force.at[0].add(-self.at_state(y).friction_force(y["v"][0], y["z"], y["z_peak"]))
         return force / self.mass
 
     def __call__(self, t, y, args):
@@ -143,12 +188,27 @@ class StructureOnSliders(AbstractSteppedSystem):
             dz = (jnp.sign(y["v"][0]) - y["z"]) / self.time_step
         elif self.friction_model == "none":
             dz = jnp.zeros_like(dz)
-        return {
+        rates = {
             "u": y["v"],
             "v": self._acceleration(t, y),
             "z": dz,
             "z_peak": running_peak_rate(jnp.abs(y["z"]), y["z_peak"], jnp.sign(y["z"]) * dz),
         }
+        if self.history:
+            rates.update(self._history_rates(y))
+        return rates
+
+    def _history_rates(self, y):
+        """d(heat)/dt = q - lambda heat (the kernel's states), d(travel)/dt = |v|."""
+        speed = jnp.abs(y["v"][0])
+        rates = {"travel": speed, "heat": jnp.zeros_like(y["heat"])}
+        heating = self.bearing.heating
+        if heating is not None:
+            mu = self.at_state(y).bearing.coefficient(y["v"][0], 0.0, y["z_peak"])
+            flux = heating.flux(mu, self.contact_pressure * heating.contact_area,
+                                speed / self.bearing.n_interfaces)
+            rates["heat"] = flux - self.heat_rates * y["heat"]
+        return rates
 
     def advance(self, t0, t1, y0, args):
         return self.newmark_step(t0, t1, y0, self._acceleration(t0, y0))
@@ -176,7 +236,17 @@ class StructureOnSliders(AbstractSteppedSystem):
         """One step of `time_step` (by `linear_rule`) from state `y0` with relative
         acceleration `a0` [m/s^2], given the ground acceleration `ground1` [m/s^2] at its end
         and, for the "exact" rule, `ground0` at its start (a loop over a grid of steps can
-        evaluate the record at all of them at once, outside the loop)."""
+        evaluate the record at all of them at once, outside the loop). A bearing with history
+        steps with its friction at the start of the step (`at_state`), then advances the
+        history (`next_history`)."""
+        if not self.history:
+            return self._update(y0, a0, ground1, ground0)
+        y1, converged = self.at_state(y0)._update(y0, a0, ground1, ground0)
+        heat, travel = self.next_history(y0["heat"], y0["travel"], y0["u"][0], y1["u"][0],
+                                         y0["v"][0], y0["z_peak"])
+        return {**y1, "heat": heat, "travel": travel}, converged
+
+    def _update(self, y0, a0, ground1, ground0):
         if self.linear_rule == "exact":
             return self._exact_update(y0, ground0, ground1)
         dt = self.time_step
@@ -308,11 +378,14 @@ def structure_on_sliders(
     newton_iterations: int = NEWTON_ITERATIONS,
     split_at_turn: bool = False,
     linear_rule: str = "newmark",
+    contact_pressure=None,
 ) -> StructureOnSliders:
     """Build a `StructureOnSliders`, checking shapes and prefactoring the step's matrices.
 
     Newmark (average acceleration): K_eff = K + (2/dt) C + (4/dt^2) M, inverted once for
     `time_step`; with `linear_rule="exact"` also the exact step's matrices (`_propagators.exact_step_matrices`).
+    A bearing with `heating` needs `contact_pressure` [Pa] (its kernel spans one time step to
+    `HEAT_HORIZON`); of the optional parts, structures run `STRUCTURE_EFFECTS`.
     """
     if friction_model not in FRICTION_MODELS:
         raise ValueError(
@@ -334,6 +407,7 @@ def structure_on_sliders(
         from ..bearing import coulomb_friction, paper_bearing
 
         bearing = paper_bearing(coulomb_friction(0.0)) if bearing is None else bearing
+    rates, weights = _heat_kernel(bearing, friction_model, contact_pressure, time_step)
     k_eff = stiffness + 2 / time_step * damping + 4 / time_step**2 * jnp.vectorize(
         jnp.diag, signature="(n)->(n,n)"
     )(mass)
@@ -351,7 +425,44 @@ def structure_on_sliders(
         split_at_turn=bool(split_at_turn),
         linear_rule=linear_rule,
         exact_step=_exact_step_matrix(mass, stiffness, damping, float(time_step)) if linear_rule == "exact" else None,
+        contact_pressure=None if contact_pressure is None else jnp.asarray(contact_pressure, float),
+        heat_rates=rates,
+        heat_weights=weights,
     )
+
+
+STRUCTURE_EFFECTS = ("heating", "wear")
+"""Optional bearing parts a structure on sliders runs (besides Eq. 1, breakaway, anisotropy,
+stacks): factors on mu that do not depend on Z, held over each step."""
+
+HEAT_HORIZON = 3600.0
+"""Longest time [s] the heat kernel of a structure represents (the 1/sqrt(t) kernel is
+accurate from one time step to this; an earthquake record is far shorter)."""
+
+
+def check_structure_parts(bearing: SlidingBearing) -> None:
+    """`ValueError` naming the optional parts of `bearing` a structure does not run."""
+    other = [name for name in bearing.effects if name not in STRUCTURE_EFFECTS]
+    if other:
+        raise ValueError(
+            f"bearing: the structures do not run its {', '.join(other)} (they run Eq. 1, "
+            f"breakaway, anisotropy, stacks, {' and '.join(STRUCTURE_EFFECTS)}); simulate the "
+            "bearing test with `simulate-test --bearing`, or fit without these effects.")
+
+
+def _heat_kernel(bearing, friction_model, contact_pressure, time_step):
+    """(rates, weights) of the heat kernel for a bearing with heating, else (None, None);
+    `ValueError` for parts a structure does not run or a missing contact pressure."""
+    if friction_model != "hysteretic" or bearing is None:
+        return None, None
+    check_structure_parts(bearing)
+    if bearing.heating is None:
+        return None, None
+    if contact_pressure is None:
+        raise ValueError("contact_pressure: a bearing with heating needs the contact pressure "
+                         "[Pa] of the bearings (the heat flux is mu p |v|).")
+    rates, weights = heat_kernel_exponentials(float(time_step), HEAT_HORIZON)
+    return jnp.asarray(rates), jnp.asarray(weights)
 
 
 def _exact_step_matrix(mass, stiffness, damping, time_step):
@@ -364,9 +475,13 @@ def _exact_step_matrix(mass, stiffness, damping, time_step):
 
 
 def initial_state(system: StructureOnSliders) -> dict:
-    """At rest, relative to the ground, with Z = 0."""
+    """At rest, relative to the ground, with Z = 0 (and a cold, unworn bearing)."""
     n = system.mass.shape[-1]
-    return {"u": jnp.zeros(n), "v": jnp.zeros(n), "z": jnp.zeros(()), "z_peak": jnp.zeros(())}
+    state = {"u": jnp.zeros(n), "v": jnp.zeros(n), "z": jnp.zeros(()), "z_peak": jnp.zeros(())}
+    if system.history:
+        rates = system.heat_rates if system.heat_rates is not None else jnp.zeros(0)
+        state.update(heat=jnp.zeros_like(rates), travel=jnp.zeros(()))
+    return state
 
 
 class StructureResponse(eqx.Module):
@@ -454,7 +569,7 @@ def simulate_structure(
     ys = solution.ys
     ag = jax.vmap(system.ground_acceleration)(save_times)
     relative = jax.vmap(system._acceleration)(save_times, ys)
-    friction = jax.vmap(system.friction_force)(ys["v"][:, 0], ys["z"], ys["z_peak"])
+    friction = jax.vmap(lambda y: system.at_state(y).friction_force(y["v"][0], y["z"], y["z_peak"]))(ys)
     return StructureResponse(
         time=save_times,
         displacement=ys["u"],
