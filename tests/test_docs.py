@@ -122,3 +122,12 @@ def test_site_builds_without_warnings(tmp_path):
         assert (tmp_path / "site" / page).is_file(), page
     # mkdocstrings rendered the re-exported names, not only the package headings
     assert "SlidingBearing" in (tmp_path / "site" / "api" / "bearing" / "index.html").read_text()
+
+
+def test_user_documents_do_not_tell_how_the_project_was_developed():
+    words = re.compile(r"\bthis round\b|\bprevious round|\bround that\b|\blent\b|\bissue #?\d+",
+                       flags=re.IGNORECASE)
+    pages = [ROOT / "README.md", ROOT / "benchmarks" / "README.md", *sorted((ROOT / "docs").rglob("*.md"))]
+    for page in pages:
+        for number, line in enumerate(page.read_text().splitlines(), start=1):
+            assert not words.search(line), f"{page.relative_to(ROOT)}:{number}: {line}"
