@@ -131,3 +131,13 @@ def test_user_documents_do_not_tell_how_the_project_was_developed():
     for page in pages:
         for number, line in enumerate(page.read_text().splitlines(), start=1):
             assert not words.search(line), f"{page.relative_to(ROOT)}:{number}: {line}"
+
+
+def test_readme_python_example_runs_in_an_empty_folder(tmp_path, compile_cache):
+    """The README's Python example (its shell commands are tests/test_tour.py's)."""
+    blocks = _BLOCK.findall((ROOT / "README.md").read_text())
+    code = [body for language, body in blocks if language == "python"]
+    assert len(code) == 1, "the README has one Python example"
+    done = subprocess.run([sys.executable, "-c", code[0]], cwd=tmp_path, env=_environment(compile_cache),
+                          capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stderr[-4000:]
