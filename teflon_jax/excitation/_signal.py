@@ -75,7 +75,7 @@ def uniform_signal(values, time_step: float, start: float = 0.0) -> Signal:
 
 
 def as_signal(value, *, duration: float | None = None) -> Signal:
-    """An existing `Signal` as is, or a constant (scalar) as a `Signal` over [0, duration] [s]."""
+    """An existing `Signal` as is, or a constant (scalar) as a `Signal` from 0 to duration [s]."""
     if isinstance(value, Signal):
         return value
     if duration is None or not float(duration) > 0:
