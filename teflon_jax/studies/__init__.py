@@ -28,6 +28,9 @@ from ._design_sweep import open_sweep as open_sweep
 from ._design_sweep import sweep_dataset as sweep_dataset
 from ._design_sweep import sweep_start as sweep_start
 from ._distributed import monte_carlo_distributed as monte_carlo_distributed
+from ._fragility import FragilityFit as FragilityFit
+from ._fragility import check_exceedances as check_exceedances
+from ._fragility import fit_fragility as fit_fragility
 from ._montecarlo import monte_carlo as monte_carlo
 from ._montecarlo import monte_carlo_motion as monte_carlo_motion
 from ._record_set import RecordSet as RecordSet
