@@ -1,0 +1,58 @@
+"""Tests of the building's storey results (teflon_jax.systems.storey_peak_response).
+
+Reference: the full response histories of `simulate_structure` (drifts and total floor
+accelerations taken with NumPy from the saved displacements and accelerations).
+"""
+
+import jax
+import numpy as np
+import pytest
+
+from teflon_jax import simulate_structure, uniform_signal
+from teflon_jax.excitation import StochasticGroundMotion, sample
+from teflon_jax.systems import isolated_structure, peak_response, storey_peak_response
+from teflon_jax.tables import load_table2
+from teflon_jax.units import PSI
+
+
+def _building(seed=3):
+    model = StochasticGroundMotion(peak_ground_acceleration=3.0, duration=3.0, time_step=0.01,
+                                   rise_time=0.5, strong_motion_duration=1.5)
+    record = sample(model, jax.random.key(seed), 1)[0]
+    structure = isolated_structure("building", time_step=0.005, pressure=2000 * PSI, isolation_period=1.5)
+    return structure(uniform_signal(record, 0.01))
+
+
+def test_storey_peaks_match_the_full_history():
+    """Peak |u_j - u_(j-1)| / h and peak |a_j + a_g| per floor equal those of the saved history;
+    the base peaks equal `peak_response`'s."""
+    system = _building()
+    height = load_table2().storey_height
+    peaks = storey_peak_response(system, 3.0, storey_height=height)
+    history = simulate_structure(system, 3.0)
+    u = np.asarray(history.displacement)
+    drift = np.abs(np.diff(u, axis=1)).max(axis=0) / height
+    floor_acc = np.abs(np.asarray(history.total_acceleration)[:, 1:]).max(axis=0)
+    assert peaks.storey_drift.shape == (6,) and peaks.floor_acceleration.shape == (6,)
+    np.testing.assert_allclose(peaks.storey_drift, drift, rtol=1e-8)
+    np.testing.assert_allclose(peaks.floor_acceleration, floor_acc, rtol=1e-8)
+    base = peak_response(system, 3.0)
+    np.testing.assert_allclose(peaks.base_disp, base.base_disp, rtol=1e-12)
+    np.testing.assert_allclose(peaks.base_shear_ratio, base.base_shear_ratio, rtol=1e-12)
+    assert bool(peaks.converged)
+
+
+def test_storey_heights_divide_the_drift():
+    system = _building()
+    one = storey_peak_response(system, 1.0, storey_height=1.0)
+    heights = np.arange(1.0, 7.0)
+    each = storey_peak_response(system, 1.0, storey_height=heights)
+    np.testing.assert_allclose(each.storey_drift, one.storey_drift / heights, rtol=1e-14)
+
+
+def test_rigid_mass_and_bad_heights_are_refused():
+    rigid = isolated_structure("rigid", time_step=0.005)(uniform_signal(np.zeros(101), 0.01))
+    with pytest.raises(ValueError, match="^system: storey results need a building"):
+        storey_peak_response(rigid, 1.0, storey_height=3.0)
+    with pytest.raises(ValueError, match="^storey_height: must be > 0"):
+        storey_peak_response(_building(), 1.0, storey_height=0.0)
