@@ -27,6 +27,12 @@ VARIABLES = {
 }
 """Peak variables of a `MonteCarloResult`: name -> (units, long name)."""
 
+STOREY_VARIABLES = {
+    "storey_drift": ("1", "peak |interstorey drift| / storey height (storey j: floor j-1 to j, 0 the base)"),
+    "floor_acceleration": ("m s-2", "peak |total acceleration| of the floor"),
+}
+"""A building's storey peaks (dimension "floor", 1 = first floor), when the run kept them."""
+
 DESIGN_UNITS = {
     "isolation_period": ("s", "isolation period T_b"),
     "pressure": ("Pa", "bearing contact pressure"),
@@ -53,7 +59,10 @@ class MonteCarloResult:
     - `design`: dict name -> (D,) values (empty without variants);
     - `dims`: axis names, ("motion",) or ("design", "motion");
     - `n_devices`, `chunk_size`, `wall_s` (total), `compile_s` (first chunk's compile),
-      `memory_estimate_bytes` (one chunk); `attrs`: description of the run.
+      `memory_estimate_bytes` (one chunk); `attrs`: description of the run;
+    - `storey_drift` [-], `floor_acceleration` [m/s^2]: shape (N, S) or (D, N, S), a
+      building's peak drift ratio per storey and total acceleration per floor (S floors,
+      floor 1 first; `monte_carlo(storey_height=...)`), else `None`.
     """
 
     base_disp: np.ndarray
@@ -70,6 +79,8 @@ class MonteCarloResult:
     compile_s: float
     memory_estimate_bytes: int
     attrs: dict = dataclasses.field(default_factory=dict)
+    storey_drift: np.ndarray | None = None
+    floor_acceleration: np.ndarray | None = None
 
     @property
     def n_motions(self) -> int:
@@ -144,12 +155,18 @@ class MonteCarloResult:
         data = {}
         for name, (units, long_name) in VARIABLES.items():
             data[name] = (dims, np.asarray(getattr(self, name)), {"units": units, "long_name": long_name})
+        for name, (units, long_name) in STOREY_VARIABLES.items():
+            if getattr(self, name) is not None:
+                data[name] = (dims + ("floor",), np.asarray(getattr(self, name)),
+                              {"units": units, "long_name": long_name})
         data["pga"] = (("motion",), np.asarray(self.pga),
                        {"units": "m s-2", "long_name": "peak |ground acceleration| of the motion"})
         for name, values in self.design.items():
             units, long_name = DESIGN_UNITS.get(name, ("1", name))
             data[f"design_{name}"] = (("design",), np.asarray(values), {"units": units, "long_name": long_name})
         coords = {"motion": np.arange(self.n_motions)}
+        if self.storey_drift is not None:
+            coords["floor"] = np.arange(1, np.shape(self.storey_drift)[-1] + 1)
         if "design" in dims:
             coords["design"] = np.arange(np.shape(self.converged)[0])
         attrs = {k: _attribute(v) for k, v in self.attrs.items()}
@@ -178,6 +195,7 @@ class MonteCarloResult:
             compile_s=float(settings["compile_s"]),
             memory_estimate_bytes=int(settings["memory_estimate_bytes"]),
             attrs=json.loads(dataset.attrs.get("teflon_jax_attrs", "{}")),
+            **{name: np.asarray(dataset[name].values) for name in STOREY_VARIABLES if name in dataset},
         )
 
     def to_csv(self, path) -> pathlib.Path:
@@ -197,6 +215,12 @@ class MonteCarloResult:
                             ("smooth_base_shear_ratio", "smooth_base_shear_ratio"),
                             ("converged", "converged")):
             columns[label] = np.asarray(getattr(self, name)).reshape(-1)
+        for name, unit in (("storey_drift", ""), ("floor_acceleration", "_m_s2")):
+            values = getattr(self, name)
+            if values is not None:
+                values = np.asarray(values).reshape(-1, np.shape(values)[-1])
+                for j in range(values.shape[1]):
+                    columns[f"{name}_{j + 1}{unit}"] = values[:, j]
         with open(path, "w") as handle:
             handle.write(",".join(columns) + "\n")
             for i in range(columns["motion"].size):

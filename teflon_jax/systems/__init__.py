@@ -30,8 +30,8 @@ from ._peaks import STEPS_PER_LOOP_PASS as STEPS_PER_LOOP_PASS
 from ._peaks import peak_response as peak_response
 from ._peaks import smooth_max as smooth_max
 from ._peaks import step_propagator as step_propagator
-from ._storey_peaks import StoreyPeaks as StoreyPeaks
-from ._storey_peaks import storey_peak_response as storey_peak_response
+from ._storey_peaks import check_storey_height as check_storey_height
+from ._storey_peaks import storey_rows as storey_rows
 from ._propagators import LINEAR_RULES as LINEAR_RULES
 from ._slab import check_plan as check_plan
 from ._slab import slab_corners as slab_corners

@@ -12,6 +12,7 @@ from ._structure import (
     check_duration,
     initial_state,
 )
+from ._storey_peaks import storey_rows
 
 STEPS_PER_LOOP_PASS = 2
 """`peak_response(steps_per_pass=...)` of the Monte Carlo runs (`monte_carlo`): two steps
@@ -34,6 +35,9 @@ class PeakResponse(eqx.Module):
     - `smooth_base_disp`, `smooth_base_shear_ratio`: the same maxima through `smooth_max`
       (differentiable); equal to the peaks' lower bounds when no width is given.
     - `converged`: every step's Newton iteration converged.
+    - `storey_drift` (n-1,) [-], `floor_acceleration` (n-1,) [m/s^2]: a building's peak
+      interstorey drift ratio and total floor acceleration per floor (`storey_rows`), when
+      `peak_response` was given `storey_height`; else `None`.
     """
 
     base_disp: jnp.ndarray
@@ -41,6 +45,8 @@ class PeakResponse(eqx.Module):
     smooth_base_disp: jnp.ndarray
     smooth_base_shear_ratio: jnp.ndarray
     converged: jnp.ndarray
+    storey_drift: jnp.ndarray | None = None
+    floor_acceleration: jnp.ndarray | None = None
 
 
 def smooth_max(x, width, axis=-1):
@@ -101,6 +107,7 @@ def peak_response(
     shear_width=None,
     read_every: int = 1,
     steps_per_pass: int = 1,
+    storey_height=None,
 ) -> PeakResponse:
     """Integrate `system` from rest over `duration` [s] and keep only peaks.
 
@@ -122,6 +129,9 @@ def peak_response(
       them; the smooth maxima still see every step).
     - `steps_per_pass`: steps written out in each pass of the loop (the same results; see
       `STEPS_PER_LOOP_PASS`, what `monte_carlo` takes; 1 where the run is differentiated).
+    - `storey_height` [m]: a building's storey height (scalar or one per storey, not traced):
+      also keep each storey's peak drift ratio and each floor's peak total acceleration
+      (`storey_rows`, read like the base peaks); default `None`, base peaks only.
 
     **Returns:** a `PeakResponse`.
     """
@@ -146,6 +156,7 @@ def peak_response(
 
     n = system.mass.shape[-1]
     step_matrix, force_column, shear_row, shear_force = step_propagator(system)
+    rows = None if storey_height is None else storey_rows(system, storey_height)
 
     # The state (u, v), the bearing force per unit Z and its slope of the stored state
     # (`friction_factors`) and the ground acceleration at the start of the step, advanced by
@@ -164,7 +175,8 @@ def peak_response(
         state, base_disp, shear_ratio, converged = advance(state, ground1)
         values = (base_disp, shear_ratio)
         read = (step + 1) % read_every == 0
-        peaks = tuple(jnp.where(read, jnp.maximum(p, jnp.abs(v)), p) for p, v in zip(peaks, values))
+        storeys = () if rows is None else (rows[0] @ state[0], rows[1] @ state[0])
+        peaks = tuple(jnp.where(read, jnp.maximum(p, jnp.abs(v)), p) for p, v in zip(peaks, values + storeys))
         updated = [lse_update(a, s, v, w) for a, s, v, w in zip(tops, totals, values, widths)]
         tops = tuple(u[0] for u in updated)
         totals = tuple(u[1] for u in updated)
@@ -177,7 +189,8 @@ def peak_response(
     ground = jax.vmap(system.ground_acceleration)(jnp.arange(n_steps + 1) * dt)
     start_factors = system.friction_factors(y0["v"][0], y0["z_peak"])
     state = (jnp.concatenate([y0["u"], y0["v"]]), y0["z"], y0["z_peak"], start_factors, ground[0])
-    carry = (state, (zero, zero), (zero, zero), (one, one), jnp.array(True))
+    floors = () if rows is None else (jnp.zeros((n - 1,), dtype),) * 2
+    carry = (state, (zero, zero) + floors, (zero, zero), (one, one), jnp.array(True))
     (_, peaks, tops, totals, ok), _ = jax.lax.scan(body, carry, (jnp.arange(n_steps), ground[1:]),
                                                    unroll=steps_per_pass)
     smooth = [a + w * jnp.log(s / (n_steps + 1)) for a, s, w in zip(tops, totals, widths)]
@@ -187,4 +200,6 @@ def peak_response(
         smooth_base_disp=smooth[0],
         smooth_base_shear_ratio=smooth[1],
         converged=ok,
+        storey_drift=None if rows is None else peaks[2],
+        floor_acceleration=None if rows is None else peaks[3],
     )
