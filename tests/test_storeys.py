@@ -32,8 +32,8 @@ def test_storey_peaks_match_the_full_history():
     history = simulate_structure(system, 3.0)
     u = np.asarray(history.displacement)
     drift = np.abs(np.diff(u, axis=1)).max(axis=0) / height
-    floor_acc = np.abs(np.asarray(history.total_acceleration)[:, 1:]).max(axis=0)
-    assert peaks.storey_drift.shape == (6,) and peaks.floor_acceleration.shape == (6,)
+    floor_acc = np.abs(np.asarray(history.total_acceleration)).max(axis=0)  # base slab first
+    assert peaks.storey_drift.shape == (6,) and peaks.floor_acceleration.shape == (7,)
     np.testing.assert_allclose(peaks.storey_drift, drift, rtol=1e-8)
     np.testing.assert_allclose(peaks.floor_acceleration, floor_acc, rtol=1e-8)
     base = peak_response(system, 3.0)
@@ -75,7 +75,7 @@ def test_monte_carlo_keeps_storey_peaks_and_writes_them(tmp_path):
     height = load_table2().storey_height
     key = jax.random.key(5)
     result = monte_carlo(structure, model, 2, key=key, storey_height=height)
-    assert result.storey_drift.shape == (2, 6) and result.floor_acceleration.shape == (2, 6)
+    assert result.storey_drift.shape == (2, 6) and result.floor_acceleration.shape == (2, 7)
     system = structure(uniform_signal(monte_carlo_motion(model, key, 1), 0.01))
     one = peak_response(system, 2.0, storey_height=height)
     np.testing.assert_allclose(result.storey_drift[1], one.storey_drift, rtol=1e-9)
@@ -83,8 +83,8 @@ def test_monte_carlo_keeps_storey_peaks_and_writes_them(tmp_path):
     path = result.save(tmp_path / "mc.nc")
     back = MonteCarloResult.open(path)
     np.testing.assert_array_equal(back.storey_drift, result.storey_drift)
-    assert back.to_dataset()["floor_acceleration"].dims == ("motion", "floor")
+    assert back.to_dataset()["floor_acceleration"].dims == ("motion", "level")
     header = result.save(tmp_path / "mc.csv").read_text().splitlines()[0].split(",")
-    assert "storey_drift_6" in header and "floor_acceleration_1_m_s2" in header
+    assert "storey_drift_6" in header and "floor_acceleration_0_m_s2" in header
     with pytest.raises(ValueError, match="^system: storey results need a building"):
         monte_carlo(isolated_structure("rigid"), model, 2, key=key, storey_height=height)

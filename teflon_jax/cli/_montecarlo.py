@@ -25,7 +25,7 @@ def _tolerance(text: str) -> float:
     return value
 
 
-def _add_common(parser):
+def _add_common(parser, *, levels: bool = False):
     parser.add_argument("--structure", choices=("rigid", "building"), default="rigid",
                         help="rigid mass, or the six-storey building of Table 2 (default rigid)")
     parser.add_argument("--seed", type=int, default=0, help="PRNG seed of the stochastic motions")
@@ -35,8 +35,9 @@ def _add_common(parser):
                  "peak within 0.2 % of converged ones on 100 test motions, see benchmarks B3; 2.5ms with --components 2 and in design, "
                  "whose gradient check needs the update without the turning-point split)",
                  minimum=0.0)
-    add_quantity(parser, "--pga", "acceleration", "0.3g", "expected peak ground acceleration",
-                 minimum=0.0)
+    add_quantity(parser, "--pga", "acceleration", "0.3g", "expected peak ground acceleration"
+                 + (" or increasing levels 0.1g,0.2g,..., each run with --motions motions "
+                    "(fragility curves with --limit)" if levels else ""), minimum=0.0, levels=levels)
     add_quantity(parser, "--site-frequency", "frequency", "15.6rad/s", "Kanai-Tajimi site "
                  "frequency omega_g", minimum=0.0)
     add_quantity(parser, "--site-damping", "dimensionless", "0.6", "Kanai-Tajimi site damping "
@@ -58,8 +59,9 @@ def add_montecarlo_parser(subparsers) -> argparse.ArgumentParser:
         description="Monte Carlo of an isolated structure under Clough-Penzien stochastic "
         "ground motions; the batch is sharded over all JAX devices.",
     )
-    parser.add_argument("--motions", type=_positive_int, required=True, help="number of motions N")
-    _add_common(parser)
+    parser.add_argument("--motions", type=_positive_int, required=True, help="number of motions N "
+                        "(at each --pga level)")
+    _add_common(parser, levels=True)
     add_quantity(parser, "--pressure", "pressure", "1000psi", "bearing contact pressure (Table 1 "
                  "row of --ptfe)", minimum=0.0)
     add_quantity(parser, "--isolation-period", "time", "2s", "isolation period Tb of the "

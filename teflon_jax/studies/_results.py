@@ -28,10 +28,12 @@ VARIABLES = {
 """Peak variables of a `MonteCarloResult`: name -> (units, long name)."""
 
 STOREY_VARIABLES = {
-    "storey_drift": ("1", "peak |interstorey drift| / storey height (storey j: floor j-1 to j, 0 the base)"),
-    "floor_acceleration": ("m s-2", "peak |total acceleration| of the floor"),
+    "storey_drift": ("storey", "1", "peak |interstorey drift| / storey height (storey j: level j-1 to j)"),
+    "floor_acceleration": ("level", "m s-2", "peak |total acceleration| of the level (0: base slab)"),
 }
-"""A building's storey peaks (dimension "floor", 1 = first floor), when the run kept them."""
+"""A building's storey peaks, when the run kept them: name -> (dimension, units, long name);
+dimension "storey" 1.. (storey 1 from the base slab to floor 1), "level" 0.. (0 the base slab
+on the isolators, j >= 1 floor j)."""
 
 DESIGN_UNITS = {
     "isolation_period": ("s", "isolation period T_b"),
@@ -60,9 +62,10 @@ class MonteCarloResult:
     - `dims`: axis names, ("motion",) or ("design", "motion");
     - `n_devices`, `chunk_size`, `wall_s` (total), `compile_s` (first chunk's compile),
       `memory_estimate_bytes` (one chunk); `attrs`: description of the run;
-    - `storey_drift` [-], `floor_acceleration` [m/s^2]: shape (N, S) or (D, N, S), a
-      building's peak drift ratio per storey and total acceleration per floor (S floors,
-      floor 1 first; `monte_carlo(storey_height=...)`), else `None`.
+    - `storey_drift` [-] (N, S) or (D, N, S), `floor_acceleration` [m/s^2] (N, S + 1) or
+      (D, N, S + 1): a building's peak drift ratio per storey (storey 1 first) and total
+      acceleration per level (0 the base slab, then floors 1..S) (`monte_carlo(storey_height=...)`),
+      else `None`.
     """
 
     base_disp: np.ndarray
@@ -155,9 +158,9 @@ class MonteCarloResult:
         data = {}
         for name, (units, long_name) in VARIABLES.items():
             data[name] = (dims, np.asarray(getattr(self, name)), {"units": units, "long_name": long_name})
-        for name, (units, long_name) in STOREY_VARIABLES.items():
+        for name, (dim, units, long_name) in STOREY_VARIABLES.items():
             if getattr(self, name) is not None:
-                data[name] = (dims + ("floor",), np.asarray(getattr(self, name)),
+                data[name] = (dims + (dim,), np.asarray(getattr(self, name)),
                               {"units": units, "long_name": long_name})
         data["pga"] = (("motion",), np.asarray(self.pga),
                        {"units": "m s-2", "long_name": "peak |ground acceleration| of the motion"})
@@ -166,7 +169,8 @@ class MonteCarloResult:
             data[f"design_{name}"] = (("design",), np.asarray(values), {"units": units, "long_name": long_name})
         coords = {"motion": np.arange(self.n_motions)}
         if self.storey_drift is not None:
-            coords["floor"] = np.arange(1, np.shape(self.storey_drift)[-1] + 1)
+            coords["storey"] = np.arange(1, np.shape(self.storey_drift)[-1] + 1)
+            coords["level"] = np.arange(np.shape(self.floor_acceleration)[-1])
         if "design" in dims:
             coords["design"] = np.arange(np.shape(self.converged)[0])
         attrs = {k: _attribute(v) for k, v in self.attrs.items()}
@@ -215,12 +219,12 @@ class MonteCarloResult:
                             ("smooth_base_shear_ratio", "smooth_base_shear_ratio"),
                             ("converged", "converged")):
             columns[label] = np.asarray(getattr(self, name)).reshape(-1)
-        for name, unit in (("storey_drift", ""), ("floor_acceleration", "_m_s2")):
+        for name, unit, first in (("storey_drift", "", 1), ("floor_acceleration", "_m_s2", 0)):
             values = getattr(self, name)
             if values is not None:
                 values = np.asarray(values).reshape(-1, np.shape(values)[-1])
                 for j in range(values.shape[1]):
-                    columns[f"{name}_{j + 1}{unit}"] = values[:, j]
+                    columns[f"{name}_{j + first}{unit}"] = values[:, j]
         with open(path, "w") as handle:
             handle.write(",".join(columns) + "\n")
             for i in range(columns["motion"].size):

@@ -35,9 +35,10 @@ class PeakResponse(eqx.Module):
     - `smooth_base_disp`, `smooth_base_shear_ratio`: the same maxima through `smooth_max`
       (differentiable); equal to the peaks' lower bounds when no width is given.
     - `converged`: every step's Newton iteration converged.
-    - `storey_drift` (n-1,) [-], `floor_acceleration` (n-1,) [m/s^2]: a building's peak
-      interstorey drift ratio and total floor acceleration per floor (`storey_rows`), when
-      `peak_response` was given `storey_height`; else `None`.
+    - `storey_drift` (n-1,) [-]: a building's peak interstorey drift ratio per storey (storey 1
+      from the base slab to floor 1), and `floor_acceleration` (n,) [m/s^2] its peak total
+      acceleration per level (0 the base slab on the isolators, 1.. the floors) (`storey_rows`),
+      when `peak_response` was given `storey_height`; else `None`.
     """
 
     base_disp: jnp.ndarray
@@ -167,15 +168,15 @@ def peak_response(
                                                             (step_matrix, force_column))
         factors1 = system.friction_factors(x1[n], z_peak1)  # of the stored state: F = mu W Z
         shear = small_dot(shear_row, x1, WRITTEN_OUT_PRODUCT) + shear_force * (factors1[0] * z1)
-        return (x1, z1, z_peak1, factors1, ground1), x1[0], shear, converged
+        return (x1, z1, z_peak1, factors1, ground1), x1[0], shear, converged, factors1[0] * z1
 
     def body(carry, step_and_ground):
         step, ground1 = step_and_ground
         state, peaks, tops, totals, ok = carry
-        state, base_disp, shear_ratio, converged = advance(state, ground1)
+        state, base_disp, shear_ratio, converged, force = advance(state, ground1)
         values = (base_disp, shear_ratio)
         read = (step + 1) % read_every == 0
-        storeys = () if rows is None else (rows[0] @ state[0], rows[1] @ state[0])
+        storeys = () if rows is None else (rows[0] @ state[0], rows[1] @ state[0] + rows[2] * force)
         peaks = tuple(jnp.where(read, jnp.maximum(p, jnp.abs(v)), p) for p, v in zip(peaks, values + storeys))
         updated = [lse_update(a, s, v, w) for a, s, v, w in zip(tops, totals, values, widths)]
         tops = tuple(u[0] for u in updated)
@@ -189,7 +190,7 @@ def peak_response(
     ground = jax.vmap(system.ground_acceleration)(jnp.arange(n_steps + 1) * dt)
     start_factors = system.friction_factors(y0["v"][0], y0["z_peak"])
     state = (jnp.concatenate([y0["u"], y0["v"]]), y0["z"], y0["z_peak"], start_factors, ground[0])
-    floors = () if rows is None else (jnp.zeros((n - 1,), dtype),) * 2
+    floors = () if rows is None else (jnp.zeros((n - 1,), dtype), jnp.zeros((n,), dtype))
     carry = (state, (zero, zero) + floors, (zero, zero), (one, one), jnp.array(True))
     (_, peaks, tops, totals, ok), _ = jax.lax.scan(body, carry, (jnp.arange(n_steps), ground[1:]),
                                                    unroll=steps_per_pass)

@@ -6,11 +6,11 @@ For a building with degrees of freedom 0 = base slab (on the isolators) and 1..n
 displacements u relative to the ground:
 
     drift_j = |u_j - u_(j-1)| / h_j                       storey j = 1..n-1 [-],
-    a_j + a_g = -(C v + K u)_j / m_j                      floor j = 1..n-1 [m/s^2],
+    a_j + a_g = -((C v + K u)_j + delta_j0 F) / m_j       level j = 0..n-1 [m/s^2],
 
-the second from the floor's equation of motion m_j (a_j + a_g) + (C v + K u)_j = 0 (no
-bearing force acts on a floor), so both are linear in the state (u, v) at each step's end.
-Storey 1 lies between the base slab and floor 1, so its drift excludes the isolators'
+the second from the equations of motion M (u'' + 1 a_g) + C v + K u + e0 F = 0, F the bearing
+force on the base slab (level 0); both are linear in the state (u, v) and F at each step's
+end. Storey 1 lies between the base slab and floor 1, so its drift excludes the isolators'
 displacement, which is the base peak `base_disp`. Reference for the building: Constantinou,
 Mokha & Reinhorn (1990), J. Struct. Eng. 116(2), Table 2 and Fig. 11.
 """
@@ -36,9 +36,10 @@ def check_storey_height(n_dof: int, storey_height) -> np.ndarray:
 
 
 def storey_rows(system: StructureOnSliders, storey_height):
-    """(drift rows (n-1, 2n), acceleration rows (n-1, 2n)): the linear maps of the state
-    (u, v) to the drift ratios (u_j - u_(j-1)) / h_j and the total floor accelerations
-    -(C v + K u)_j / m_j of floors j = 1..n-1 (module docstring).
+    """(drift rows (n-1, 2n), acceleration rows (n, 2n), acceleration force column (n,)):
+    the linear maps of the state (u, v) to the drift ratios (u_j - u_(j-1)) / h_j of storeys
+    j = 1..n-1, and of the state and the bearing force F [N] to the total accelerations
+    -((C v + K u)_j + delta_j0 F) / m_j of levels j = 0 (base slab) ..n-1 (module docstring).
 
     **Arguments:** `system`: a building (DOF 0 = base slab, 1.. = floors); `storey_height`
     [m]: a scalar or one per storey (n-1,), > 0, not traced (the Table 2 building:
@@ -48,6 +49,6 @@ def storey_rows(system: StructureOnSliders, storey_height):
     height = jnp.asarray(check_storey_height(n, storey_height), system.mass.dtype)
     difference = jnp.eye(n)[1:] - jnp.eye(n, k=-1)[1:]
     drift = jnp.concatenate([difference / height[:, None], jnp.zeros((n - 1, n))], axis=1)
-    floors = system.mass[1:, None]
-    acceleration = -jnp.concatenate([system.stiffness[1:], system.damping[1:]], axis=1) / floors
-    return drift, acceleration
+    acceleration = -jnp.concatenate([system.stiffness, system.damping], axis=1) / system.mass[:, None]
+    force = -jnp.eye(n, dtype=system.mass.dtype)[0] / system.mass[0]
+    return drift, acceleration, force
