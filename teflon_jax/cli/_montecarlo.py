@@ -12,6 +12,7 @@ import sys
 
 from ..units import STANDARD_GRAVITY
 from ._common import _positive_int, _write_json, add_quantity, add_units_flag, output_units
+from ._engineering import add_engineering_flags
 from ._main import compile_cache_dir
 
 
@@ -97,6 +98,7 @@ def add_montecarlo_parser(subparsers) -> argparse.ArgumentParser:
                         "(SLURM/PBS: see docs/distributed.md); needs --out FILE.nc, where results "
                         "stream as chunks finish (default: this process)")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
+    add_engineering_flags(parser)
     parser.set_defaults(command_function=run_montecarlo)
     return parser
 
@@ -166,6 +168,10 @@ def run_montecarlo(args) -> int:
         model = TwoComponentGroundMotion(
             model, principal_angle=0.0 if args.principal_angle is None else args.principal_angle,
             minor_ratio=1.0 if args.minor_ratio is None else args.minor_ratio)
+    if len(args.pga_levels) > 1 or args.limit or args.storeys or args.pelicun_demands is not None:
+        from ._levels import run_levels
+
+        return run_levels(args, structure, model, units)
     bar = tqdm(total=args.motions, unit="motion", disable=args.no_progress)
 
     def progress(done, total):

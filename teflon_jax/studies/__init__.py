@@ -1,4 +1,5 @@
-"""Studies over many runs: the Fig. 11 sweep, record sets, Monte Carlo and gradient-based design."""
+"""Studies over many runs: the Fig. 11 sweep, record sets, Monte Carlo (over intensity levels, with
+fragility fits) and gradient-based design."""
 
 from ._bidirectional_study import (
     BidirectionalIsolatedStructure as BidirectionalIsolatedStructure,
@@ -31,6 +32,11 @@ from ._distributed import monte_carlo_distributed as monte_carlo_distributed
 from ._fragility import FragilityFit as FragilityFit
 from ._fragility import check_exceedances as check_exceedances
 from ._fragility import fit_fragility as fit_fragility
+from ._intensity_levels import check_levels as check_levels
+from ._intensity_levels import exceedance_counts as exceedance_counts
+from ._intensity_levels import levels_dataset as levels_dataset
+from ._intensity_levels import monte_carlo_levels as monte_carlo_levels
+from ._intensity_levels import save_levels as save_levels
 from ._montecarlo import monte_carlo as monte_carlo
 from ._montecarlo import monte_carlo_motion as monte_carlo_motion
 from ._record_set import RecordSet as RecordSet

@@ -108,7 +108,7 @@ def check_exceedances(intensities, n_runs, n_exceed) -> tuple[np.ndarray, np.nda
     last_not_all = int(np.flatnonzero(k < n)[-1])
     if last_not_all <= first_exceeding:
         where = (f"only level {first_exceeding + 1} ({x[first_exceeding]:g}) has some but not all "
-                 "runs exceeding, all below none and all above all" if last_not_all == first_exceeding
+                 "runs exceeding; none exceed below it and all above it" if last_not_all == first_exceeding
                  else f"no run exceeds up to {x[last_not_all]:g} and every run exceeds from "
                  f"{x[first_exceeding]:g}")
         raise ValueError(f"n_exceed: too few exceedances to fit a fragility: {where}, so the dispersion "

@@ -1,0 +1,128 @@
+"""What an engineer's analysis adds to a Monte Carlo on the command line: response limits
+(`--limit base_disp=2in`), storey results (`--storeys`) and pelicun demand files
+(`--pelicun-demands FILE.csv`), read and checked before any run starts.
+
+A limit names a peak and a value with its unit, read by `teflon_jax.units.parse_quantity`:
+`base_disp` (the isolators' displacement, a length), `base_shear_ratio` (base shear over the
+weight above the isolators), `drift` (the largest storey's interstorey drift ratio, building
+only) and `floor_acceleration` (the largest total acceleration of the base slab and the
+floors, building only). A run exceeds it when its peak is above the value.
+"""
+
+import dataclasses
+import re
+
+import numpy as np
+
+from ..units import STANDARD_GRAVITY, parse_quantity
+
+LIMITS = {
+    "base_disp": ("length", "peak isolator displacement"),
+    "base_shear_ratio": ("dimensionless", "peak base shear / weight above the isolators"),
+    "drift": ("dimensionless", "peak interstorey drift ratio of the worst storey"),
+    "floor_acceleration": ("acceleration", "peak total acceleration of the worst level (base slab, floors)"),
+}
+"""Names a `--limit` may take: name -> (dimension, what is compared)."""
+
+STOREY_LIMITS = ("drift", "floor_acceleration")
+
+
+@dataclasses.dataclass(frozen=True)
+class Limit:
+    """`name` (a key of `LIMITS`), `value` [SI] and `text` as the user wrote it (NAME=VALUE)."""
+
+    name: str
+    value: float
+    text: str
+
+    def peaks(self, result) -> np.ndarray:
+        """The peak each motion of a `MonteCarloResult` compares with `value` (SI)."""
+        if self.name in ("base_disp", "base_shear_ratio"):
+            return np.asarray(getattr(result, self.name))
+        values = result.storey_drift if self.name == "drift" else result.floor_acceleration
+        return np.max(np.asarray(values), axis=-1)
+
+
+def add_engineering_flags(parser) -> None:
+    """`--limit NAME=VALUE` (repeatable), `--storeys`, `--pelicun-demands FILE.csv`."""
+    parser.add_argument("--limit", action="append", default=[], metavar="NAME=VALUE",
+                        help="a response limit for a fragility curve, repeatable: base_disp=2in, "
+                        "base_shear_ratio=0.15, drift=1%%, floor_acceleration=0.5g (drift and "
+                        "floor_acceleration: building only); with two or more --pga levels each "
+                        "gets a lognormal fragility fitted by maximum likelihood (Baker 2015)")
+    parser.add_argument("--storeys", action="store_true",
+                        help="building: also keep each storey's peak drift ratio and each level's peak "
+                        "total acceleration (one component; on with drift or floor_acceleration limits "
+                        "and --pelicun-demands)")
+    parser.add_argument("--pelicun-demands", metavar="FILE.csv", default=None,
+                        help="write the peaks as demand samples in pelicun's format (PFA per level, PID "
+                        "per storey, the isolators' displacement as BRD, failed runs flagged in ERROR); "
+                        "with several --pga levels one file per level, FILE-level1.csv, ...")
+
+
+def parse_limits(texts, structure: str, components: int) -> list[Limit]:
+    """The `--limit` texts as `Limit`s; `ValueError` naming the text as written for an unknown
+    name, a value without its unit or not > 0, a storey limit on the rigid mass or with two
+    components, and a repeated limit."""
+    limits = []
+    for text in texts:
+        name, sep, value = text.partition("=")
+        name = name.strip()
+        if not sep or not value.strip():
+            raise ValueError(f"--limit {text}: write NAME=VALUE, e.g. base_disp=2in.")
+        if name not in LIMITS:
+            raise ValueError(f"--limit {text}: unknown {name!r}; accepted: {', '.join(LIMITS)}.")
+        if name in STOREY_LIMITS and structure != "building":
+            raise ValueError(f"--limit {text}: storey results need --structure building.")
+        if name in STOREY_LIMITS and components == 2:
+            raise ValueError(f"--limit {text}: storey results are kept for one-component runs; "
+                             "leave out --components 2.")
+        number = parse_quantity(value.strip(), LIMITS[name][0], where=f"--limit {name}")
+        if not np.isfinite(number) or not number > 0:
+            raise ValueError(f"--limit {text}: the value must be finite and > 0.")
+        if any(other.name == name and other.value == number for other in limits):
+            raise ValueError(f"--limit {text}: given twice.")
+        limits.append(Limit(name, float(number), text.strip()))
+    return limits
+
+
+def wants_storeys(args, limits) -> bool:
+    """Whether the run keeps storey results; `ValueError` naming the flag where it cannot."""
+    wanted = args.storeys or args.pelicun_demands is not None or any(lim.name in STOREY_LIMITS for lim in limits)
+    if args.storeys and args.structure != "building":
+        raise ValueError("--storeys: storey results need --structure building.")
+    if wanted and args.components == 2:
+        flag = "--storeys" if args.storeys else "--pelicun-demands"
+        raise ValueError(f"{flag}: storey results are kept for one-component runs; leave out --components 2.")
+    return wanted and args.structure == "building"
+
+
+def intensity_unit(text: str) -> tuple[str, float]:
+    """(unit as written, its SI factor) of the first level of a `--pga` text ('0.1g,0.2g' -> g)."""
+    first = str(text).split(",")[0]
+    unit = re.sub(r"^\s*[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?\s*", "", first).strip() or "m/s^2"
+    return unit, parse_quantity("1" + unit, "acceleration", where="--pga")
+
+
+def level_paths(path, n_levels: int) -> list:
+    """The pelicun file of each level: `path` itself for one, `<stem>-level<j><suffix>` for more."""
+    import pathlib
+
+    path = pathlib.Path(path)
+    if n_levels == 1:
+        return [path]
+    return [path.with_name(f"{path.stem}-level{j + 1}{path.suffix}") for j in range(n_levels)]
+
+
+def pelicun_peaks(result, rows) -> dict:
+    """The keyword arguments of `write_pelicun_demands` for the motions `rows` of a result:
+    the building's level accelerations and storey drifts, or for a rigid mass its total
+    acceleration |V| / m = base_shear_ratio g as level 0."""
+    peaks = {"base_disp": result.base_disp[rows], "failed": ~np.asarray(result.converged, bool)[rows],
+             "pga": result.pga[rows]}
+    if result.storey_drift is not None:
+        peaks["level_acceleration"] = result.floor_acceleration[rows]
+        peaks["storey_drift"] = result.storey_drift[rows]
+    else:
+        peaks["level_acceleration"] = (result.base_shear_ratio[rows] * STANDARD_GRAVITY)[:, None]
+    return peaks
