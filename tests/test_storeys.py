@@ -88,3 +88,28 @@ def test_monte_carlo_keeps_storey_peaks_and_writes_them(tmp_path):
     assert "storey_drift_6" in header and "floor_acceleration_0_m_s2" in header
     with pytest.raises(ValueError, match="^system: storey results need a building"):
         monte_carlo(isolated_structure("rigid"), model, 2, key=key, storey_height=height)
+
+
+def test_run_building_reports_storey_results_per_direction(tmp_path, capsys):
+    """`run --structure building`: drift ratios per storey and accelerations per level in x, y
+    and as resultants; the resultant drift ratio is the resultant drift over the storey height,
+    each direction's peak at most the resultant's, x alone under an x-only record."""
+    from teflon_jax.cli import main
+
+    t = 0.01 * np.arange(301)
+    a = 0.3 * np.sin(2 * np.pi * t) * np.sin(np.pi * t / t[-1]) ** 2
+    (tmp_path / "x.txt").write_text("time acc\n" + "\n".join(f"{ti:.4f} {ai:.6e}" for ti, ai in zip(t, a)))
+    code = main(["run", "--structure", "building", "--record-x", str(tmp_path / "x.txt"), "--record-units", "g",
+                 "--isolation-period", "2.5s", "--json", str(tmp_path / "out.json")])
+    assert code == 0
+    import json
+
+    peak = json.loads((tmp_path / "out.json").read_text())["peak"]
+    height = load_table2().storey_height
+    np.testing.assert_allclose(peak["storey_drift_ratio_resultant"], np.array(peak["storey_drift_resultant_m"]) / height,
+                               rtol=1e-12)
+    np.testing.assert_allclose(peak["level_acceleration_g_resultant"][1:], peak["floor_acceleration_resultant_g"],
+                               rtol=1e-12)
+    assert len(peak["storey_drift_ratio_x"]) == 6 and len(peak["level_acceleration_g_y"]) == 7
+    np.testing.assert_allclose(peak["storey_drift_ratio_x"], peak["storey_drift_ratio_resultant"], rtol=1e-12)
+    assert max(peak["storey_drift_ratio_y"]) == 0.0

@@ -297,6 +297,23 @@ def _resultant(x, y):
     return np.hypot(np.asarray(x), np.asarray(y))
 
 
+def _storey_ratios(system, response) -> dict:
+    """The building's peak drift ratio per storey and total acceleration per level (0 the base
+    slab), in x, in y and as resultants (`bidirectional_storey_peaks`)."""
+    from ..systems import bidirectional_storey_peaks
+    from ..tables import load_table2
+    from ..units import STANDARD_GRAVITY
+
+    peaks = bidirectional_storey_peaks(response, system, load_table2().storey_height)
+    out = {}
+    for key, name, scale in (("storey_drift", "storey_drift_ratio", 1.0),
+                             ("level_acceleration", "level_acceleration_g", STANDARD_GRAVITY)):
+        for index, axis in enumerate("xy"):
+            out[f"{name}_{axis}"] = (peaks[key][index] / scale).tolist()
+        out[f"{name}_resultant"] = (peaks[f"{key}_resultant"] / scale).tolist()
+    return out
+
+
 def response_summary(args, system, response, plan):
     """(peak dict, histories dict) in SI from a `BidirectionalResponse`."""
     from ..units import STANDARD_GRAVITY
@@ -325,6 +342,7 @@ def response_summary(args, system, response, plan):
         peak["storey_drift_resultant_m"] = [float(v) for v in drift.max(axis=0)]
         peak["floor_acceleration_resultant_g"] = [float(v) for v in floor_acc.max(axis=0) / STANDARD_GRAVITY]
         peak["first_storey_shear_ratio_resultant"] = float(storey.max()) / (float(floors.sum()) * STANDARD_GRAVITY)
+        peak.update(_storey_ratios(system, response))
     if args.structure == "slab":
         from ..systems import slab_corners, slab_point_displacement
 

@@ -30,6 +30,7 @@ from ._peaks import STEPS_PER_LOOP_PASS as STEPS_PER_LOOP_PASS
 from ._peaks import peak_response as peak_response
 from ._peaks import smooth_max as smooth_max
 from ._peaks import step_propagator as step_propagator
+from ._storey_peaks import bidirectional_storey_peaks as bidirectional_storey_peaks
 from ._storey_peaks import check_storey_height as check_storey_height
 from ._storey_peaks import storey_rows as storey_rows
 from ._propagators import LINEAR_RULES as LINEAR_RULES

@@ -52,3 +52,24 @@ def storey_rows(system: StructureOnSliders, storey_height):
     acceleration = -jnp.concatenate([system.stiffness, system.damping], axis=1) / system.mass[:, None]
     force = -jnp.eye(n, dtype=system.mass.dtype)[0] / system.mass[0]
     return drift, acceleration, force
+
+
+def bidirectional_storey_peaks(response, system, storey_height) -> dict:
+    """Peak storey results of a run of the two-direction building (`bidirectional_building`,
+    q = (x: base slab, floors 1..S; y: the same)) from its histories (`simulate_bidirectional`):
+
+    - `storey_drift` (2, S) [-]: max_t |q_j - q_(j-1)| / h_j in x and in y, storey 1 first;
+    - `storey_drift_resultant` (S,) [-]: max_t of the drift vector's length over h_j;
+    - `level_acceleration` (2, S + 1) [m/s^2]: max_t |a_j + a_g| in x and y, level 0 the base slab;
+    - `level_acceleration_resultant` (S + 1,) [m/s^2]: max_t of the total acceleration's length.
+
+    NumPy on the saved histories (not traced). `storey_height` [m]: scalar or (S,), > 0.
+    """
+    q = np.asarray(response.q)
+    n = q.shape[1] // 2
+    height = check_storey_height(n, storey_height)
+    total = np.asarray(response.acceleration) + np.asarray(response.ground) @ np.asarray(system.influence).T
+    drift = np.stack([np.diff(q[:, :n], axis=1), np.diff(q[:, n:], axis=1)]) / height  # (2, nt, S)
+    acc = np.stack([total[:, :n], total[:, n:]])  # (2, nt, S + 1)
+    return {"storey_drift": np.abs(drift).max(axis=1), "storey_drift_resultant": np.hypot(*drift).max(axis=0),
+            "level_acceleration": np.abs(acc).max(axis=1), "level_acceleration_resultant": np.hypot(*acc).max(axis=0)}
