@@ -13,7 +13,13 @@ import sys
 import numpy as np
 
 from ._common import _write_json
-from ._engineering import intensity_unit, level_paths, parse_limits, pelicun_peaks, wants_storeys
+from ._engineering import (
+    intensity_unit,
+    level_paths,
+    parse_limits,
+    pelicun_peaks,
+    wants_storeys,
+)
 
 
 def check_level_outputs(args, n_levels: int) -> None:
@@ -92,10 +98,11 @@ def _payload(args, structure, units) -> dict:
                       "level_acceleration": "g", "wall_s": "s"}}
 
 
-def run_levels(args, structure, model, units) -> int:
+def run_levels(args, structure, model, units, statistics) -> int:
     """Run the motions of every level, then write the JSON, the plot, the results file and the
     pelicun files; returns the exit status (0; 1 when a run failed or a fragility could not be
-    fitted: everything is written all the same)."""
+    fitted: everything is written all the same). `statistics(result, units)`: the JSON
+    statistics of one level's `MonteCarloResult` (those of a one-level run)."""
     import jax
     from tqdm import tqdm
 
@@ -131,14 +138,12 @@ def run_levels(args, structure, model, units) -> int:
         for j, path in enumerate(level_paths(args.pelicun_demands, levels.size)):
             rows = np.flatnonzero(level_index == j)
             files.append(str(write_pelicun_demands(path, **pelicun_peaks(result, rows), length_unit=length)))
-    from ._montecarlo import _statistics  # the one-level statistics, level by level
-
     per_level = []
     for j, level in enumerate(levels):
         rows = np.flatnonzero(level_index == j)
         part = _select(result, rows)
         entry = {f"pga_{unit}": level / factor, "motions": [int(rows[0]), int(rows[-1])],
-                 "n_converged": int(converged[rows].sum()), "statistics": _statistics(part, units)}
+                 "n_converged": int(converged[rows].sum()), "statistics": statistics(part, units)}
         if result.storey_drift is not None:
             entry["storeys"] = _storey_summary(result, rows, units)
         per_level.append(entry)

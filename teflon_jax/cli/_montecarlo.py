@@ -171,7 +171,7 @@ def run_montecarlo(args) -> int:
     if len(args.pga_levels) > 1 or args.limit or args.storeys or args.pelicun_demands is not None:
         from ._levels import run_levels
 
-        return run_levels(args, structure, model, units)
+        return run_levels(args, structure, model, units, _statistics)
     bar = tqdm(total=args.motions, unit="motion", disable=args.no_progress)
 
     def progress(done, total):

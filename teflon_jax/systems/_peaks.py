@@ -6,13 +6,13 @@ import jax.numpy as jnp
 
 from ..units import STANDARD_GRAVITY
 from ._block_algebra import small_dot
+from ._storey_peaks import storey_rows
 from ._structure import (
     WRITTEN_OUT_PRODUCT,
     StructureOnSliders,
     check_duration,
     initial_state,
 )
-from ._storey_peaks import storey_rows
 
 STEPS_PER_LOOP_PASS = 2
 """`peak_response(steps_per_pass=...)` of the Monte Carlo runs (`monte_carlo`): two steps
