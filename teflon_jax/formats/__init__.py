@@ -12,6 +12,7 @@ from ._pelicun import check_pelicun_path as check_pelicun_path
 from ._pelicun import pelicun_demand_table as pelicun_demand_table
 from ._pelicun import write_pelicun_demands as write_pelicun_demands
 from ._protocol import Protocol as Protocol
+from ._spectrum_file import read_target_spectrum as read_target_spectrum
 from ._protocol import parse_protocol as parse_protocol
 from ._test_record import INTERFACE_KEYS as INTERFACE_KEYS
 from ._test_record import TestRecord as TestRecord

@@ -45,6 +45,14 @@ from ._results import FORMATS as FORMATS
 from ._results import MonteCarloResult as MonteCarloResult
 from ._results import check_output_path as check_output_path
 from ._save import save_montecarlo as save_montecarlo
+from ._spectrum_match import COMBINATIONS as COMBINATIONS
+from ._spectrum_match import DesignSpectrum as DesignSpectrum
+from ._spectrum_match import TabulatedSpectrum as TabulatedSpectrum
+from ._spectrum_match import amplitude_factors as amplitude_factors
+from ._spectrum_match import check_factor_limit as check_factor_limit
+from ._spectrum_match import check_period_range as check_period_range
+from ._spectrum_match import combined_spectrum as combined_spectrum
+from ._spectrum_match import suite_statistic as suite_statistic
 from ._suites import SuiteResult as SuiteResult
 from ._suites import open_suite as open_suite
 from ._suites import save_suite as save_suite
