@@ -1,5 +1,5 @@
 """File formats: the test-record CSV, the protocol line, PEER AT2 and column files, the friction-damper
-JSON, the bundled-record catalogue, study results and pelicun demand samples. File I/O only; nothing here is traced."""
+JSON, the bundled-record catalogue, study results, target spectra and pelicun demand samples. File I/O only; nothing here is traced."""
 
 from ._at2 import read_at2 as read_at2
 from ._columns import read_single_column as read_single_column
@@ -12,8 +12,8 @@ from ._pelicun import check_pelicun_path as check_pelicun_path
 from ._pelicun import pelicun_demand_table as pelicun_demand_table
 from ._pelicun import write_pelicun_demands as write_pelicun_demands
 from ._protocol import Protocol as Protocol
-from ._spectrum_file import read_target_spectrum as read_target_spectrum
 from ._protocol import parse_protocol as parse_protocol
+from ._spectrum_file import read_target_spectrum as read_target_spectrum
 from ._test_record import INTERFACE_KEYS as INTERFACE_KEYS
 from ._test_record import TestRecord as TestRecord
 from ._test_record import interface_counts as interface_counts
