@@ -126,3 +126,78 @@ def test_target_spectrum_file_is_read_in_its_units(tmp_path):
     periods, acceleration = read_target_spectrum(path)
     np.testing.assert_allclose(periods, [0.1, 1.0])
     np.testing.assert_allclose(acceleration, [5.0, 3.0])
+
+
+def _suite_files(tmp_path, scales=(1, 1, 1)):
+    t = DT * np.arange(401)
+    rng = np.random.default_rng(3)
+    for i in range(3):
+        for axis, size in (("x", 0.3), ("y", 0.2)):
+            a = size * (i + 1) * rng.normal(size=t.size) * np.sin(np.pi * t / t[-1]) ** 2
+            (tmp_path / f"{axis}{i}.txt").write_text(
+                "time acc\n" + "\n".join(f"{ti:.4f} {ai:.6e}" for ti, ai in zip(t, a)) + "\n")
+    rows = "".join(f"p{i},x{i}.txt,y{i}.txt,{s}\n" for i, s in enumerate(scales))
+    (tmp_path / "suite.csv").write_text("name,record_x,record_y,scale\n" + rows)
+    (tmp_path / "target.csv").write_text("period [s], Sa [g]\n0.1, 0.6\n0.5, 1.0\n1.0, 0.6\n3.0, 0.2\n")
+    return tmp_path / "suite.csv", tmp_path / "target.csv"
+
+
+def test_run_suite_scales_each_pair_to_the_target(tmp_path, capsys):
+    """`run --suite --target-spectrum`: the JSON's factors are the hand calculation's from the
+    records as read (within 0.1 %), the scaled suite lies at or above 0.9 of the target, the
+    plot is written."""
+    from teflon_jax.cli import main
+    from teflon_jax.formats import read_two_column
+
+    suite, target = _suite_files(tmp_path)
+    code = main(["run", "--suite", str(suite), "--record-units", "g", "--target-spectrum", str(target),
+                 "--period-range", "0.5s", "2s", "--min-ratio", "90%", "--spectrum-plot", str(tmp_path / "s.png"),
+                 "--json", str(tmp_path / "s.json"), "--duration", "2s"])
+    assert code == 0
+    import json
+
+    scaling = json.loads((tmp_path / "s.json").read_text())["spectrum_scaling"]
+    periods = np.array([0.5, 1.0, 2.0])
+    assert scaling["check_periods_s"] == pytest.approx(periods)
+    goal = 0.9 * np.array([1.0, 0.6, 0.4]) * STANDARD_GRAVITY  # 2 s: 0.6 - (0.4 / 2) * 1 = 0.4 g
+    for i in range(3):
+        x = read_two_column(tmp_path / f"x{i}.txt", units="g")
+        y = read_two_column(tmp_path / f"y{i}.txt", units="g")
+        n = 201  # --duration 2s
+        srss = np.hypot(_psa(x.acceleration[:n], periods), _psa(y.acceleration[:n], periods))
+        assert scaling["factors"][f"p{i}"] == pytest.approx(np.max(goal / srss), rel=1e-3)
+    assert scaling["suite_statistic_over_target_min"] >= 0.9 * (1 - 1e-12)
+    assert (tmp_path / "s.png").stat().st_size > 0
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--target-spectrum", "{target}", "--period-range", "0.5s", "2s"], "scales the pairs of a suite; add --suite"),
+    (["--suite", "{suite}", "--target-spectrum", "{target}"], "--period-range: a target spectrum needs the range"),
+    (["--suite", "{suite}", "--target-spectrum", "{target}", "--period-range", "0.5s", "5s"],
+     "--period-range: 0.5-5 s lies outside the target spectrum's periods 0.1-3 s"),
+    (["--suite", "{suite}", "--target-spectrum", "{target}", "--period-range", "0.5s", "2s", "--max-factor", "0.01"],
+     "--max-factor: 3 pair(s) would be scaled by more than 0.01: p0"),
+    (["--suite", "{suite}", "--design-spectrum", "1g,0.6g", "--period-range", "0.5s", "2s"], "write S_DS,S_D1,T_L"),
+    (["--suite", "{suite}", "--period-range", "0.5s", "2s"], "--period-range: only used with --target-spectrum"),
+    (["--suite", "{suite}", "--target-spectrum", "{target}", "--period-range", "0.5s", "2s", "--scale", "2"],
+     "--scale: the target spectrum sets the amplitude factors"),
+])
+def test_run_suite_target_mistakes_are_refused_before_any_run(tmp_path, capsys, argv, message):
+    from teflon_jax.cli import main
+
+    suite, target = _suite_files(tmp_path)
+    argv = [a.replace("{suite}", str(suite)).replace("{target}", str(target)) for a in argv]
+    code = main(["run", "--record-units", "g", "--json", str(tmp_path / "s.json"), *argv])
+    assert code == 2
+    assert message in capsys.readouterr().err
+    assert not (tmp_path / "s.json").exists()
+
+
+def test_run_suite_with_a_target_refuses_scaled_rows(tmp_path, capsys):
+    from teflon_jax.cli import main
+
+    suite, target = _suite_files(tmp_path, scales=(1, 2, 1))
+    code = main(["run", "--suite", str(suite), "--record-units", "g", "--target-spectrum", str(target),
+                 "--period-range", "0.5s", "2s"])
+    assert code == 2
+    assert "--suite: pair p1 has scale 2" in capsys.readouterr().err
