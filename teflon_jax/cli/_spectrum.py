@@ -51,7 +51,7 @@ def read_target(args):
     if args.suite is None:
         raise ValueError(f"{given[0]}: scales the pairs of a suite; add --suite FILE.")
     if args.period_range is None:
-        raise ValueError(f"--period-range: a target spectrum needs the range of periods to match, e.g. "
+        raise ValueError("--period-range: a target spectrum needs the range of periods to match, e.g. "
                          "--period-range 1.5s 4s.")
     if args.target_spectrum is not None:
         from ..formats import read_target_spectrum
@@ -95,7 +95,12 @@ def check_unscaled(pairs, args) -> None:
 def scale_to_target(args, spec, names, ax, ay, dt) -> tuple[np.ndarray, dict]:
     """(factors (P,), JSON entry) for the pairs (ax, ay) (P, nt) [m/s^2]; `ValueError` naming
     --max-factor for pairs beyond it, before any run."""
-    from ..studies import amplitude_factors, check_factor_limit, combined_spectrum, suite_statistic
+    from ..studies import (
+        amplitude_factors,
+        check_factor_limit,
+        combined_spectrum,
+        suite_statistic,
+    )
 
     target, periods, text = spec
     ratio = parse_quantity(args.min_ratio, "dimensionless", where="--min-ratio")
@@ -125,7 +130,7 @@ def _plot(path, names, periods, scaled, statistic, target, ratio, entry) -> None
     import matplotlib.pyplot as plt
 
     fig, ax = plt.subplots(figsize=(7.5, 5.5))
-    for name, values in zip(names, scaled):
+    for values in scaled:
         ax.loglog(periods, values / STANDARD_GRAVITY, "-", lw=0.7, color="0.6")
     ax.lines[0].set_label(f"{len(names)} scaled pairs ({entry['combination']})")
     ax.loglog(periods, statistic / STANDARD_GRAVITY, "k-", lw=2, label=f"suite {entry['suite_statistic']}")
