@@ -44,7 +44,8 @@ class Limit:
 
 
 def add_engineering_flags(parser) -> None:
-    """`--limit NAME=VALUE` (repeatable), `--storeys`, `--pelicun-demands FILE.csv`."""
+    """`--limit NAME=VALUE` (repeatable), `--storeys`, `--pelicun-demands FILE.csv`,
+    `--property-factors LOWER,UPPER`."""
     parser.add_argument("--limit", action="append", default=[], metavar="NAME=VALUE",
                         help="a response limit for a fragility curve, repeatable: base_disp=2in, "
                         "base_shear_ratio=0.15, drift=1%%, floor_acceleration=0.5g (drift and "
@@ -58,6 +59,10 @@ def add_engineering_flags(parser) -> None:
                         help="write the peaks as demand samples in pelicun's format (PFA per level, PID "
                         "per storey, the isolators' displacement as BRD, failed runs flagged in ERROR); "
                         "with several --pga levels one file per level, FILE-level1.csv, ...")
+    parser.add_argument("--property-factors", metavar="LOWER,UPPER", default=None,
+                        help="bounding analysis: run the nominal bearing and its lower- and upper-bound "
+                        "variants (f_max and delta_f of Eq. 1 times LOWER and UPPER, e.g. 0.85,1.3) under the "
+                        "same motions, and report which case governs displacement, base shear and drift")
 
 
 def parse_limits(texts, structure: str, components: int) -> list[Limit]:

@@ -168,6 +168,10 @@ def run_montecarlo(args) -> int:
         model = TwoComponentGroundMotion(
             model, principal_angle=0.0 if args.principal_angle is None else args.principal_angle,
             minor_ratio=1.0 if args.minor_ratio is None else args.minor_ratio)
+    if args.property_factors is not None:
+        from ._bounding import run_bounding
+
+        return run_bounding(args, structure, model, units)
     if len(args.pga_levels) > 1 or args.limit or args.storeys or args.pelicun_demands is not None:
         from ._levels import run_levels
 

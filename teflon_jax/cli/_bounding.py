@@ -1,0 +1,88 @@
+"""`teflon-jax montecarlo --property-factors LOWER,UPPER`: the nominal, upper- and lower-bound
+bearings (`teflon_jax.studies.bounding_design`) under the same motions in one call, a table of
+their peaks and the case that governs the isolators' displacement, the base shear and, for the
+building, the storey drift and floor acceleration (`governing_cases`)."""
+
+import sys
+
+import numpy as np
+
+from ..units import STANDARD_GRAVITY, parse_quantity
+from ._common import _write_json
+
+
+def read_property_factors(args) -> tuple[float, float] | None:
+    """(lower, upper) of `--property-factors`, or `None`; `ValueError` naming the flag for a
+    malformed, non-positive or swapped pair and for flags it cannot be combined with."""
+    from ..studies import check_property_factors
+
+    text = args.property_factors
+    if text is None:
+        return None
+    parts = [p.strip() for p in text.split(",")]
+    if len(parts) != 2 or not all(parts):
+        raise ValueError(f"--property-factors: write LOWER,UPPER, e.g. 0.85,1.3; got {text!r}.")
+    values = [parse_quantity(p, "dimensionless", where="--property-factors") for p in parts]
+    try:
+        lower, upper = check_property_factors(*values)
+    except ValueError as error:
+        raise ValueError(f"--property-factors {text}: {error}") from None
+    for flag, used in (("--pga", len(args.pga_levels) > 1), ("--limit", bool(args.limit)),
+                       ("--pelicun-demands", args.pelicun_demands is not None), ("--scheduler", args.scheduler is not None)):
+        if used:
+            raise ValueError(f"--property-factors: runs the three bearings at one --pga level in this process; "
+                             f"leave out {flag}{' levels' if flag == '--pga' else ''}.")
+    return lower, upper
+
+
+def run_bounding(args, structure, model, units) -> int:
+    """Run the three cases, write the JSON (`cases`, `governs`), the results file and print the
+    table; returns 0, or 1 when a run failed (kept out of the statistics, flagged in the file)."""
+    import jax
+    from tqdm import tqdm
+
+    from ..studies import BOUNDING_CASES, bounding_design, governing_cases, monte_carlo
+    from ..tables import load_table2
+
+    lower, upper = read_property_factors(args)
+    design = bounding_design(structure, lower=lower, upper=upper)
+    building = args.structure == "building" and args.components == 1
+    bar = tqdm(total=args.motions, unit="motion", disable=args.no_progress)
+    result = monte_carlo(structure, model, args.motions, key=jax.random.key(args.seed), design=design,
+                         chunk_size=args.chunk_size, progress=lambda done, total: bar.update(done - bar.n),
+                         storey_height=load_table2().storey_height if building else None)
+    bar.close()
+    length, factor = units.length
+    peaks = {f"base_disp_{length}": result.base_disp / factor, "base_shear_ratio": result.base_shear_ratio}
+    if building:
+        peaks["storey_drift_max"] = np.max(result.storey_drift, axis=-1)
+        peaks["level_acceleration_max_g"] = np.max(result.floor_acceleration, axis=-1) / STANDARD_GRAVITY
+    by_mean = governing_cases(peaks, result.converged, statistic="mean")
+    by_max = governing_cases(peaks, result.converged, statistic="max")
+    files = [] if args.out is None else [str(result.save(args.out))]
+    converged = np.asarray(result.converged, bool)
+    payload = {
+        "structure": args.structure, "n_motions": result.n_motions, "wall_s": result.wall_s,
+        "property_factors": {"lower": lower, "upper": upper,
+                             "applied_to": "f_max and delta_f of Eq. 1 (the friction coefficient at every velocity)"},
+        "cases": {case: {"f_max": float(design["f_max"][i]), "delta_f": float(design["delta_f"][i]),
+                         "n_converged": int(converged[i].sum()),
+                         "mean": {k: v[case] for k, v in by_mean.items()},
+                         "max": {k: v[case] for k, v in by_max.items()}}
+                  for i, case in enumerate(BOUNDING_CASES)},
+        "governs": {k: {"by_mean": by_mean[k]["governs"], "by_max": by_max[k]["governs"]} for k in peaks},
+        "motions": {"pga_g": args.pga / STANDARD_GRAVITY, "duration_s": args.duration, "seed": args.seed,
+                    "components": args.components},
+        "files": files,
+    }
+    _write_json(args.json, payload)
+    print(f"{result.n_motions} motions x 3 bearings in {result.wall_s:.1f} s; mean of the converged runs' peaks:")
+    print("  " + f"{'':28s}" + "".join(f"{c:>12s}" for c in BOUNDING_CASES) + "   governs")
+    for name, row in by_mean.items():
+        cells = "".join(f"{row[c]:12.4g}" if row[c] is not None else f"{'-':>12s}" for c in BOUNDING_CASES)
+        print(f"  {name:28s}{cells}   {row['governs']}")
+    if not converged.all():
+        print(f"teflon-jax montecarlo: {int((~converged).sum())} of {converged.size} runs did not converge; they "
+              "are flagged in the results and left out of the table. Try a smaller --time-step.", file=sys.stderr)
+        return 1
+    return 0

@@ -1,0 +1,85 @@
+"""Tests of the bounding analysis (teflon_jax.studies.bounding_design, governing_cases and
+`teflon-jax montecarlo --property-factors`).
+
+References: Table 1's constants times the factors by hand, statistics recomputed from the
+results file, failed runs kept out, and the physical ordering of friction bounds (more
+friction, less displacement and more base shear).
+"""
+
+import json
+
+import numpy as np
+import pytest
+import xarray
+
+from teflon_jax.cli import main
+from teflon_jax.studies import BOUNDING_CASES, bounding_design, governing_cases
+from teflon_jax.systems import isolated_structure
+from teflon_jax.tables import friction_table
+from teflon_jax.units import INCH, PSI
+
+
+def test_bounding_design_multiplies_f_max_and_delta_f():
+    structure = isolated_structure("rigid", pressure=2000 * PSI, isolation_period=2.0)
+    params, _ = friction_table("UF", "P", extrapolate=True).at(2000 * PSI)
+    design = bounding_design(structure, lower=0.8, upper=1.25)
+    np.testing.assert_allclose(design["f_max"], float(params.f_max) * np.array([1.0, 1.25, 0.8]), rtol=1e-15)
+    np.testing.assert_allclose(design["delta_f"], float(params.delta_f) * np.array([1.0, 1.25, 0.8]), rtol=1e-15)
+    # f_min = f_max - delta_f scales by the same factor
+    f_min = design["f_max"] - design["delta_f"]
+    np.testing.assert_allclose(f_min / f_min[0], [1.0, 1.25, 0.8], rtol=1e-12)
+
+
+@pytest.mark.parametrize("lower, upper, message", [
+    (0.0, 1.3, "^lower: a property modification factor must be finite and > 0"),
+    (0.9, -1.0, "^upper: a property modification factor must be finite and > 0"),
+    (1.2, 1.1, "^lower: the lower-bound factor 1.2 is above the upper-bound factor 1.1"),
+])
+def test_bad_factors_are_refused(lower, upper, message):
+    with pytest.raises(ValueError, match=message):
+        bounding_design(isolated_structure("rigid"), lower=lower, upper=upper)
+
+
+def test_governing_case_is_the_largest_statistic_of_converged_runs():
+    peaks = {"d": np.array([[1.0, 2.0, 3.0], [0.5, 1.0, 1.5], [2.0, 2.5, 90.0]])}
+    converged = np.array([[True] * 3, [True] * 3, [True, True, False]])
+    table = governing_cases(peaks, converged)
+    assert (table["d"]["nominal"], table["d"]["upper"], table["d"]["lower"]) == (2.0, 1.0, 2.25)
+    assert table["d"]["governs"] == "lower"  # the failed run's 90 is left out
+    assert governing_cases(peaks, converged, statistic="max")["d"]["governs"] == "nominal"
+    none = governing_cases(peaks, np.zeros((3, 3), bool))["d"]
+    assert none["governs"] is None and none["upper"] is None
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--property-factors", "0.85"], "--property-factors: write LOWER,UPPER"),
+    (["--property-factors", "0,1.3"], "--property-factors 0,1.3: lower: a property modification factor"),
+    (["--property-factors", "1.3,0.85"], "is above the upper-bound factor"),
+    (["--property-factors", "0.85,1.3", "--pga", "0.1g,0.2g"], "leave out --pga levels"),
+    (["--property-factors", "0.85,1.3", "--limit", "base_disp=2in"], "leave out --limit"),
+])
+def test_bad_property_factors_exit_before_any_run(argv, message, capsys):
+    assert main(["montecarlo", "--motions", "2", *argv]) == 2
+    assert message in capsys.readouterr().err
+
+
+def test_montecarlo_bounding_table_matches_the_results_file(tmp_path, capsys):
+    """Three bearings under the same 6 motions: the JSON's means are those of the NetCDF's
+    peaks per design; the lower bound moves most and the upper bound pushes hardest."""
+    status = main(["montecarlo", "--motions", "6", "--pga", "0.4g", "--duration", "8s", "--strong-motion", "4s",
+                   "--property-factors", "0.8,1.25", "--json", str(tmp_path / "b.json"), "--out",
+                   str(tmp_path / "b.nc"), "--no-progress"])
+    data = json.loads((tmp_path / "b.json").read_text())
+    with xarray.open_dataset(tmp_path / "b.nc") as dataset:
+        disp = dataset["base_disp"].values
+        shear = dataset["base_shear_ratio"].values
+        ok = dataset["converged"].values.astype(bool)
+    assert status == (0 if ok.all() else 1)
+    assert disp.shape == (3, 6)
+    for i, case in enumerate(BOUNDING_CASES):
+        assert data["cases"][case]["mean"]["base_disp_in"] == pytest.approx(disp[i][ok[i]].mean() / INCH, rel=1e-12)
+        assert data["cases"][case]["max"]["base_shear_ratio"] == pytest.approx(shear[i][ok[i]].max(), rel=1e-12)
+    means = [data["cases"][c]["mean"]["base_disp_in"] for c in ("upper", "nominal", "lower")]
+    assert means[0] < means[1] < means[2]
+    assert data["governs"]["base_disp_in"]["by_mean"] == "lower"
+    assert data["governs"]["base_shear_ratio"]["by_mean"] == "upper"
