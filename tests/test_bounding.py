@@ -83,3 +83,44 @@ def test_montecarlo_bounding_table_matches_the_results_file(tmp_path, capsys):
     assert means[0] < means[1] < means[2]
     assert data["governs"]["base_disp_in"]["by_mean"] == "lower"
     assert data["governs"]["base_shear_ratio"]["by_mean"] == "upper"
+
+
+def _pairs(tmp_path, count=3, seconds=3.0):
+    t = 0.01 * np.arange(int(seconds / 0.01) + 1)
+    rng = np.random.default_rng(11)
+    rows = []
+    for i in range(count):
+        for axis in "xy":
+            a = 0.3 * rng.normal(size=t.size) * np.sin(np.pi * t / t[-1]) ** 2
+            (tmp_path / f"{axis}{i}.txt").write_text(
+                "time acc\n" + "\n".join(f"{ti:.4f} {ai:.6e}" for ti, ai in zip(t, a)) + "\n")
+        rows.append(f"p{i},x{i}.txt,y{i}.txt,1\n")
+    (tmp_path / "suite.csv").write_text("name,record_x,record_y,scale\n" + "".join(rows))
+    return tmp_path / "suite.csv"
+
+
+@pytest.mark.slow  # three compilations of the suite (about 50 s on two shared cores)
+def test_run_suite_bounding_writes_each_case_and_the_governing_one(tmp_path, capsys):
+    """`run --suite --property-factors`: per case the table's mean row is the JSON's, the
+    governing case is the one with the largest mean; lower bound moves most."""
+    suite = _pairs(tmp_path)
+    code = main(["run", "--suite", str(suite), "--record-units", "g", "--isolation-period", "2.5s",
+                 "--property-factors", "0.8,1.25", "--json", str(tmp_path / "b.json")])
+    data = json.loads((tmp_path / "b.json").read_text())
+    assert code == 0
+    means = {}
+    for case in BOUNDING_CASES:
+        table = (tmp_path / f"b-{case}.csv").read_text().splitlines()
+        header, mean_row = table[0].split(","), next(r for r in table if r.startswith("mean,")).split(",")
+        column = header.index("base_disp_resultant_m")
+        means[case] = float(mean_row[column])
+        assert data["cases"][case]["summary"]["base_disp_resultant_m"]["mean"] == pytest.approx(means[case], rel=1e-5)
+        assert (tmp_path / f"b-{case}.nc").stat().st_size > 0
+    assert data["governs"]["base_disp_resultant_m"]["by_mean"] == max(means, key=means.get) == "lower"
+    assert means["upper"] < means["nominal"] < means["lower"]
+
+
+def test_run_property_factors_need_a_suite(tmp_path, capsys):
+    code = main(["run", "--record-x", str(tmp_path / "x.txt"), "--record-units", "g", "--property-factors", "0.8,1.2"])
+    assert code == 2
+    assert "--property-factors: bounds a suite's analysis; add --suite FILE" in capsys.readouterr().err

@@ -170,6 +170,12 @@ def _bearing(args, ptfe, pressure_text, flag):
         perpendicular = interface_parameters(ptfe.upper(), pressure, "T")[0] if args.anisotropic else None
     except ValueError as error:
         raise ValueError(f"{flag}: {error}") from None
+    factor = getattr(args, "friction_factor", 1.0)  # a bounding case (--property-factors)
+    if factor != 1.0:
+        from ..studies import scaled_friction
+
+        params = scaled_friction(params, factor)
+        perpendicular = None if perpendicular is None else scaled_friction(perpendicular, factor)
     lay_angle = None
     if args.lay_angle is not None:
         if not args.anisotropic:

@@ -11,6 +11,7 @@ import pathlib
 
 import numpy as np
 
+from ._bounding import add_suite_bounding_flag, read_suite_factors
 from ._common import _positive_int
 from ._spectrum import add_spectrum_flags, check_unscaled, read_target, scale_to_target
 
@@ -28,12 +29,14 @@ def add_suite_arguments(parser) -> None:
                         "(default: all in one call here, 8 per task on a cluster); the same N gives the "
                         "same peaks bit for bit here and on a cluster")
     add_spectrum_flags(parser)
+    add_suite_bounding_flag(parser)
 
 
 def check_suite_flags(args) -> None:
     """The cluster flags are only for suites: refuse them on a single-record run."""
     if args.suite is None:
         read_target(args)  # a target or its flags without a suite: refused by name
+        read_suite_factors(args)
         for flag, value in (("--scheduler", args.scheduler), ("--out", args.out), ("--chunk-size", args.chunk_size)):
             if value is not None:
                 raise ValueError(f"{flag}: only used with --suite FILE (a single record runs here).")
@@ -82,6 +85,7 @@ def run_suite(args, load_components, build_structure) -> int:
     if args.out is not None:
         check_netcdf_output(args.out, "--out")  # before any record is read or run
     spectrum = read_target(args)  # target, range and limits checked before any record is read
+    bounding = read_suite_factors(args)
     pairs = read_suite(args.suite)
     if spectrum is not None:
         check_unscaled(pairs, args)
@@ -105,6 +109,11 @@ def run_suite(args, load_components, build_structure) -> int:
     if spectrum is not None:  # factors checked against --max-factor before any run
         factors, scaling = scale_to_target(args, spectrum, [r[0] for r in records], ax, ay, dt)
         ax, ay = factors[:, None] * ax, factors[:, None] * ay
+    if bounding is not None:
+        from ._bounding import run_suite_bounding
+
+        return run_suite_bounding(args, bounding, build_structure, [r[0] for r in records], ax, ay, dt, notes,
+                                  scaling)
     template, _ = build_structure(args, ax[0], ay[0], dt)
     half = template.mass.shape[0] // 2
     base_index = (0, 1) if args.structure == "slab" else (0, half)

@@ -13,6 +13,7 @@ from ._bounding import BOUNDING_CASES as BOUNDING_CASES
 from ._bounding import bounding_design as bounding_design
 from ._bounding import check_property_factors as check_property_factors
 from ._bounding import governing_cases as governing_cases
+from ._bounding import scaled_friction as scaled_friction
 from ._cluster import ClusterRunError as ClusterRunError
 from ._cluster import check_netcdf_output as check_netcdf_output
 from ._cpu_vectors import prefer_wide_cpu_vectors as prefer_wide_cpu_vectors

@@ -16,6 +16,8 @@ statistic of its peaks over the runs whose solve converged.
 
 import numpy as np
 
+from ..bearing import FrictionParameters
+
 BOUNDING_CASES = ("nominal", "upper", "lower")
 """The design variants of `bounding_design`, in order."""
 
@@ -30,6 +32,12 @@ def check_property_factors(lower: float, upper: float) -> tuple[float, float]:
     return float(lower), float(upper)
 
 
+def scaled_friction(params: FrictionParameters, factor: float) -> FrictionParameters:
+    """The Eq. 1 constants of a bearing whose friction coefficient is `factor` times that of
+    `params` at every velocity: f_max and delta_f times `factor`, rate_a kept."""
+    return FrictionParameters(f_max=factor * params.f_max, delta_f=factor * params.delta_f, rate_a=params.rate_a)
+
+
 def bounding_design(structure, *, lower: float, upper: float) -> dict:
     """The `monte_carlo` design dict of the three `BOUNDING_CASES`: f_max and delta_f of `structure`'s
     bearing (Table 1 at its pressure; an `IsolatedStructure` or a bidirectional one built on
@@ -38,8 +46,8 @@ def bounding_design(structure, *, lower: float, upper: float) -> dict:
     lower, upper = check_property_factors(lower, upper)
     base = getattr(structure, "uniaxial", structure)
     params, _ = base.table().at(base.pressure)
-    factors = np.array([1.0, upper, lower])
-    return {"f_max": factors * float(params.f_max), "delta_f": factors * float(params.delta_f)}
+    cases = [scaled_friction(params, factor) for factor in (1.0, upper, lower)]
+    return {"f_max": np.array([float(c.f_max) for c in cases]), "delta_f": np.array([float(c.delta_f) for c in cases])}
 
 
 def governing_cases(peaks: dict, converged, *, statistic: str = "mean") -> dict:
