@@ -6,7 +6,7 @@ import jax.numpy as jnp
 
 from ..units import STANDARD_GRAVITY
 from ._block_algebra import small_dot
-from ._storey_peaks import storey_rows
+from ._storey_peaks import storey_rows, storey_start
 from ._structure import (
     WRITTEN_OUT_PRODUCT,
     StructureOnSliders,
@@ -130,9 +130,7 @@ def peak_response(
       them; the smooth maxima still see every step).
     - `steps_per_pass`: steps written out in each pass of the loop (the same results; see
       `STEPS_PER_LOOP_PASS`, what `monte_carlo` takes; 1 where the run is differentiated).
-    - `storey_height` [m]: a building's storey height (scalar or one per storey, not traced):
-      also keep each storey's peak drift ratio and each floor's peak total acceleration
-      (`storey_rows`, read like the base peaks); default `None`, base peaks only.
+    - `storey_height` [m]: also keep a building's storey drifts and level accelerations (`storey_rows`).
 
     **Returns:** a `PeakResponse`.
     """
@@ -174,10 +172,10 @@ def peak_response(
         step, ground1 = step_and_ground
         state, peaks, tops, totals, ok = carry
         state, base_disp, shear_ratio, converged, force = advance(state, ground1)
-        values = (base_disp, shear_ratio)
-        read = (step + 1) % read_every == 0
         storeys = () if rows is None else (rows[0] @ state[0], rows[1] @ state[0] + rows[2] * force)
-        peaks = tuple(jnp.where(read, jnp.maximum(p, jnp.abs(v)), p) for p, v in zip(peaks, values + storeys))
+        values = (base_disp, shear_ratio) + storeys  # the smooth maxima below take the first two
+        read = (step + 1) % read_every == 0
+        peaks = tuple(jnp.where(read, jnp.maximum(p, jnp.abs(v)), p) for p, v in zip(peaks, values))
         updated = [lse_update(a, s, v, w) for a, s, v, w in zip(tops, totals, values, widths)]
         tops = tuple(u[0] for u in updated)
         totals = tuple(u[1] for u in updated)
@@ -190,8 +188,7 @@ def peak_response(
     ground = jax.vmap(system.ground_acceleration)(jnp.arange(n_steps + 1) * dt)
     start_factors = system.friction_factors(y0["v"][0], y0["z_peak"])
     state = (jnp.concatenate([y0["u"], y0["v"]]), y0["z"], y0["z_peak"], start_factors, ground[0])
-    floors = () if rows is None else (jnp.zeros((n - 1,), dtype), jnp.zeros((n,), dtype))
-    carry = (state, (zero, zero) + floors, (zero, zero), (one, one), jnp.array(True))
+    carry = (state, (zero, zero) + storey_start(rows, dtype), (zero, zero), (one, one), jnp.array(True))
     (_, peaks, tops, totals, ok), _ = jax.lax.scan(body, carry, (jnp.arange(n_steps), ground[1:]),
                                                    unroll=steps_per_pass)
     smooth = [a + w * jnp.log(s / (n_steps + 1)) for a, s, w in zip(tops, totals, widths)]
@@ -201,6 +198,5 @@ def peak_response(
         smooth_base_disp=smooth[0],
         smooth_base_shear_ratio=smooth[1],
         converged=ok,
-        storey_drift=None if rows is None else peaks[2],
-        floor_acceleration=None if rows is None else peaks[3],
+        **({} if rows is None else {"storey_drift": peaks[2], "floor_acceleration": peaks[3]}),
     )

@@ -54,6 +54,14 @@ def storey_rows(system: StructureOnSliders, storey_height):
     return drift, acceleration, force
 
 
+def storey_start(rows, dtype) -> tuple:
+    """The running peaks of `storey_rows`'s quantities at rest: (drifts (n-1,), accelerations
+    (n,)) of zeros, or () without storey results (`rows` None)."""
+    if rows is None:
+        return ()
+    return jnp.zeros(rows[0].shape[0], dtype), jnp.zeros(rows[1].shape[0], dtype)
+
+
 def bidirectional_storey_peaks(response, system, storey_height) -> dict:
     """Peak storey results of a run of the two-direction building (`bidirectional_building`,
     q = (x: base slab, floors 1..S; y: the same)) from its histories (`simulate_bidirectional`):
