@@ -29,8 +29,6 @@ SHORT = ["--duration", "6s", "--strong-motion", "3s", "--no-progress"]
     (["--limit", "drift=1%"], "--limit drift=1%: storey results need --structure building"),
     (["--limit", "base_disp=2in", "--limit", "base_disp=2in"], "--limit base_disp=2in: given twice"),
     (["--storeys"], "--storeys: storey results need --structure building"),
-    (["--structure", "building", "--components", "2", "--limit", "drift=1%"],
-     "storey results are kept for one-component runs"),
     (["--pga", "0.1g,0.2g", "--out", "{tmp}/x.csv"], "the motions' levels are kept in NetCDF or Zarr"),
     (["--pelicun-demands", "{tmp}/d.txt"], "--pelicun-demands: {tmp}/d.txt: pelicun's demand file is a .csv"),
     (["--pga", "0.1g,0.2g", "--scheduler", "local:2", "--out", "{tmp}/x.nc"], "leave out --scheduler"),

@@ -45,8 +45,21 @@ def test_si_units_and_bad_input():
     np.testing.assert_allclose(values, [[50.0, 0.0]])
     with pytest.raises(ValueError, match="^length_unit: unknown 'ft'"):
         pelicun_demand_table(base_disp=[0.05], failed=[False], length_unit="ft")
-    with pytest.raises(ValueError, match=r"^storey_drift: expected shape \(2, 3\)"):
+    with pytest.raises(ValueError, match=r"^storey_drift: expected shape \(2, L\) or \(2, 2, L\)"):
         pelicun_demand_table(base_disp=[0.05, 0.06], failed=[False, True], storey_drift=np.zeros((3, 3)))
+    with pytest.raises(ValueError, match="^base_direction: 1, or 0 for a resultant"):
+        pelicun_demand_table(base_disp=[0.05], failed=[False], base_direction=2)
+
+
+def test_two_directions_and_a_resultant_isolator_displacement():
+    """Per location the directions 1 (x) and 2 (y); the resultant base displacement as
+    direction 0; no ground PFA."""
+    drift = np.arange(12.0).reshape(2, 2, 3) / 1000  # (R, direction, storey)
+    labels, units, values = pelicun_demand_table(base_disp=[0.05, 0.06], failed=[False, False],
+                                                 storey_drift=drift, base_direction=0)
+    assert labels == ["1-PID-2-1", "1-PID-2-2", "1-PID-3-1", "1-PID-3-2", "1-PID-4-1", "1-PID-4-2",
+                      "1-BRD-1-0", "1-ERROR"]
+    np.testing.assert_allclose(values[1, :6], [0.006, 0.009, 0.007, 0.010, 0.008, 0.011])
 
 
 @pytest.mark.filterwarnings("ignore::FutureWarning", "ignore::DeprecationWarning",

@@ -46,7 +46,7 @@ def run_bounding(args, structure, model, units) -> int:
 
     lower, upper = read_property_factors(args)
     design = bounding_design(structure, lower=lower, upper=upper)
-    building = args.structure == "building" and args.components == 1
+    building = args.structure == "building"
     bar = tqdm(total=args.motions, unit="motion", disable=args.no_progress)
     result = monte_carlo(structure, model, args.motions, key=jax.random.key(args.seed), design=design,
                          chunk_size=args.chunk_size, progress=lambda done, total: bar.update(done - bar.n),
@@ -55,8 +55,9 @@ def run_bounding(args, structure, model, units) -> int:
     length, factor = units.length
     peaks = {f"base_disp_{length}": result.base_disp / factor, "base_shear_ratio": result.base_shear_ratio}
     if building:
-        peaks["storey_drift_max"] = np.max(result.storey_drift, axis=-1)
-        peaks["level_acceleration_max_g"] = np.max(result.floor_acceleration, axis=-1) / STANDARD_GRAVITY
+        worst = lambda values: np.max(np.reshape(values, np.shape(values)[:2] + (-1,)), axis=-1)  # noqa: E731
+        peaks["storey_drift_max"] = worst(result.storey_drift)  # every storey (and direction)
+        peaks["level_acceleration_max_g"] = worst(result.floor_acceleration) / STANDARD_GRAVITY
     by_mean = governing_cases(peaks, result.converged, statistic="mean")
     by_max = governing_cases(peaks, result.converged, statistic="max")
     files = [] if args.out is None else [str(result.save(args.out))]

@@ -39,8 +39,8 @@ class Limit:
         """The peak each motion of a `MonteCarloResult` compares with `value` (SI)."""
         if self.name in ("base_disp", "base_shear_ratio"):
             return np.asarray(getattr(result, self.name))
-        values = result.storey_drift if self.name == "drift" else result.floor_acceleration
-        return np.max(np.asarray(values), axis=-1)
+        values = np.asarray(result.storey_drift if self.name == "drift" else result.floor_acceleration)
+        return np.max(values.reshape(values.shape[0], -1), axis=1)  # every storey (and direction)
 
 
 def add_engineering_flags(parser) -> None:
@@ -53,8 +53,8 @@ def add_engineering_flags(parser) -> None:
                         "gets a lognormal fragility fitted by maximum likelihood (Baker 2015)")
     parser.add_argument("--storeys", action="store_true",
                         help="building: also keep each storey's peak drift ratio and each level's peak "
-                        "total acceleration (one component; on with drift or floor_acceleration limits "
-                        "and --pelicun-demands)")
+                        "total acceleration (in x and y with --components 2; on with drift or "
+                        "floor_acceleration limits and --pelicun-demands)")
     parser.add_argument("--pelicun-demands", metavar="FILE.csv", default=None,
                         help="write the peaks as demand samples in pelicun's format (PFA per level, PID "
                         "per storey, the isolators' displacement as BRD, failed runs flagged in ERROR); "
@@ -67,8 +67,8 @@ def add_engineering_flags(parser) -> None:
 
 def parse_limits(texts, structure: str, components: int) -> list[Limit]:
     """The `--limit` texts as `Limit`s; `ValueError` naming the text as written for an unknown
-    name, a value without its unit or not > 0, a storey limit on the rigid mass or with two
-    components, and a repeated limit."""
+    name, a value without its unit or not > 0, a storey limit on the rigid mass and a repeated
+    limit. With two `components` the storey limits take the worse direction."""
     limits = []
     for text in texts:
         name, sep, value = text.partition("=")
@@ -79,9 +79,6 @@ def parse_limits(texts, structure: str, components: int) -> list[Limit]:
             raise ValueError(f"--limit {text}: unknown {name!r}; accepted: {', '.join(LIMITS)}.")
         if name in STOREY_LIMITS and structure != "building":
             raise ValueError(f"--limit {text}: storey results need --structure building.")
-        if name in STOREY_LIMITS and components == 2:
-            raise ValueError(f"--limit {text}: storey results are kept for one-component runs; "
-                             "leave out --components 2.")
         number = parse_quantity(value.strip(), LIMITS[name][0], where=f"--limit {name}")
         if not np.isfinite(number) or not number > 0:
             raise ValueError(f"--limit {text}: the value must be finite and > 0.")
@@ -96,9 +93,6 @@ def wants_storeys(args, limits) -> bool:
     wanted = args.storeys or args.pelicun_demands is not None or any(lim.name in STOREY_LIMITS for lim in limits)
     if args.storeys and args.structure != "building":
         raise ValueError("--storeys: storey results need --structure building.")
-    if wanted and args.components == 2:
-        flag = "--storeys" if args.storeys else "--pelicun-demands"
-        raise ValueError(f"{flag}: storey results are kept for one-component runs; leave out --components 2.")
     return wanted and args.structure == "building"
 
 
@@ -119,15 +113,18 @@ def level_paths(path, n_levels: int) -> list:
     return [path.with_name(f"{path.stem}-level{j + 1}{path.suffix}") for j in range(n_levels)]
 
 
-def pelicun_peaks(result, rows) -> dict:
+def pelicun_peaks(result, rows, components: int = 1) -> dict:
     """The keyword arguments of `write_pelicun_demands` for the motions `rows` of a result:
-    the building's level accelerations and storey drifts, or for a rigid mass its total
-    acceleration |V| / m = base_shear_ratio g as level 0."""
+    the building's level accelerations and storey drifts (per direction with two
+    `components`), or for a rigid mass under one its total acceleration |V| / m =
+    base_shear_ratio g as level 0; with two components the base displacement and ground
+    acceleration are resultants, so the first goes in as non-directional and the second not."""
+    one = components == 1
     peaks = {"base_disp": result.base_disp[rows], "failed": ~np.asarray(result.converged, bool)[rows],
-             "pga": result.pga[rows]}
+             "pga": result.pga[rows] if one else None, "base_direction": 1 if one else 0}
     if result.storey_drift is not None:
         peaks["level_acceleration"] = result.floor_acceleration[rows]
         peaks["storey_drift"] = result.storey_drift[rows]
-    else:
+    elif one:
         peaks["level_acceleration"] = (result.base_shear_ratio[rows] * STANDARD_GRAVITY)[:, None]
     return peaks

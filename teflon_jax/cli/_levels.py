@@ -137,7 +137,8 @@ def run_levels(args, structure, model, units, statistics) -> int:
         length = "in" if units.length[0] == "in" else "mm"
         for j, path in enumerate(level_paths(args.pelicun_demands, levels.size)):
             rows = np.flatnonzero(level_index == j)
-            files.append(str(write_pelicun_demands(path, **pelicun_peaks(result, rows), length_unit=length)))
+            files.append(str(write_pelicun_demands(path, **pelicun_peaks(result, rows, args.components),
+                                                   length_unit=length)))
     per_level = []
     for j, level in enumerate(levels):
         rows = np.flatnonzero(level_index == j)

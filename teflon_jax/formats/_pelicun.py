@@ -10,11 +10,15 @@ then one row per realisation, the first column its index. Columns a run writes h
 - `1-PID-<j+1>-1`: peak interstorey drift ratio of storey j (from level j-1 to level j), so
   the storey between locations L-1 and L is location L, as in P-58's numbering;
 - `1-BRD-1-1`: the isolators' peak displacement as its own demand (pelicun has no isolator
-  type; BRD is the library's "Peak Bearing Deformation", a displacement);
+  type; BRD is the library's "Peak Bearing Deformation", a displacement); `1-BRD-1-0` when it
+  is the peak of the resultant of two components (non-directional: pelicun multiplies a
+  non-directional demand by its NonDirectionalMultipliers, which for BRD should then be 1);
 - `1-ERROR`: 1 for a realisation whose solve failed (its peaks not trusted), else 0; pelicun
   drops those rows on loading, the file keeps them.
 
-Direction 1 is the one horizontal component. Units are names of pelicun's unit table ('g',
+Direction 1 is the one horizontal component; with two, PFA and PID are written for directions 1
+(x) and 2 (y) and the ground's PFA-0 is left out (the run keeps only the peak of the
+resultant ground acceleration, not one per direction). Units are names of pelicun's unit table ('g',
 'mps2', 'in', 'mm', 'm', 'unitless'). Reference: NHERI SimCenter, pelicun documentation
 ("Demand model", file formats); FEMA P-58-1 (2018), Seismic Performance Assessment of
 Buildings, Vol. 1, Ch. 5 (demand parameters by storey and floor).
@@ -33,20 +37,32 @@ PELICUN_UNITS = {
 """Units a demand file may be written in: dimension -> {pelicun's name: SI factor}."""
 
 
-def _column(values, name: str, rows: int, width: int | None = None) -> np.ndarray:
+def _column(values, name: str, rows: int) -> np.ndarray:
     array = np.asarray(values, float)
-    shape = (rows,) if width is None else (rows, width)
-    if array.shape != shape:
-        raise ValueError(f"{name}: expected shape {shape} (one row per realisation), got {array.shape}.")
+    if array.shape != (rows,):
+        raise ValueError(f"{name}: expected shape {(rows,)} (one row per realisation), got {array.shape}.")
+    return array
+
+
+def _directions(values, name: str, rows: int) -> np.ndarray:
+    """`values` as (R, directions, locations): (R, L) is one direction, (R, 2, L) two."""
+    array = np.asarray(values, float)
+    if array.ndim == 2:
+        array = array[:, None, :]
+    if array.ndim != 3 or array.shape[0] != rows or array.shape[1] not in (1, 2):
+        raise ValueError(f"{name}: expected shape ({rows}, L) or ({rows}, 2, L) (one row per realisation), "
+                         f"got {np.shape(values)}.")
     return array
 
 
 def pelicun_demand_table(*, base_disp, failed, pga=None, level_acceleration=None, storey_drift=None,
-                         acceleration_unit: str = "g", length_unit: str = "in") -> tuple[list, list, np.ndarray]:
+                         base_direction: int = 1, acceleration_unit: str = "g",
+                         length_unit: str = "in") -> tuple[list, list, np.ndarray]:
     """(labels, units, values (R, C)) of a demand file (module docstring) from SI peaks.
 
     **Arguments:** `base_disp` (R,) [m]; `failed` (R,) bool; `pga` (R,) [m/s^2];
-    `level_acceleration` (R, S + 1) [m/s^2], level 0 the base slab; `storey_drift` (R, S) [-];
+    `level_acceleration` (R, S + 1) or per direction (R, 2, S + 1) [m/s^2], level 0 the base
+    slab; `storey_drift` (R, S) or (R, 2, S) [-]; `base_direction`: 1, or 0 for a resultant;
     `acceleration_unit`, `length_unit`: names of `PELICUN_UNITS`.
     """
     for dimension, unit in (("acceleration", acceleration_unit), ("length", length_unit)):
@@ -61,17 +77,19 @@ def pelicun_demand_table(*, base_disp, failed, pga=None, level_acceleration=None
     if pga is not None:
         labels.append("1-PFA-0-1"), units.append(acceleration_unit)
         columns.append(_column(pga, "pga", rows) / to_acc)
-    if level_acceleration is not None:
-        acc = _column(level_acceleration, "level_acceleration", rows, np.shape(level_acceleration)[-1])
-        for j in range(acc.shape[1]):
-            labels.append(f"1-PFA-{j + 1}-1"), units.append(acceleration_unit)
-            columns.append(acc[:, j] / to_acc)
-    if storey_drift is not None:
-        drift = _column(storey_drift, "storey_drift", rows, np.shape(storey_drift)[-1])
-        for j in range(drift.shape[1]):
-            labels.append(f"1-PID-{j + 2}-1"), units.append("unitless")
-            columns.append(drift[:, j])
-    labels.append("1-BRD-1-1"), units.append(length_unit)
+    for name, values, kind, first, unit, scale in (
+            ("level_acceleration", level_acceleration, "PFA", 1, acceleration_unit, to_acc),
+            ("storey_drift", storey_drift, "PID", 2, "unitless", 1.0)):
+        if values is None:
+            continue
+        array = _directions(values, name, rows)
+        for j in range(array.shape[2]):
+            for d in range(array.shape[1]):
+                labels.append(f"1-{kind}-{j + first}-{d + 1}"), units.append(unit)
+                columns.append(array[:, d, j] / scale)
+    if base_direction not in (0, 1):
+        raise ValueError(f"base_direction: 1, or 0 for a resultant, got {base_direction!r}.")
+    labels.append(f"1-BRD-1-{base_direction}"), units.append(length_unit)
     columns.append(_column(base_disp, "base_disp", rows) / PELICUN_UNITS["length"][length_unit])
     labels.append("1-ERROR"), units.append("")
     columns.append(failed.astype(float))

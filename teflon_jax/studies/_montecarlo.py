@@ -293,9 +293,9 @@ def monte_carlo(
     - `peak_interval` [s]: read the peaks every `peak_interval` (a multiple of the structure's
       step, e.g. the record step, to compare with a program that records there); default
       every step.
-    - `storey_height` [m]: one-component runs of a building: also keep each storey's peak
-      drift ratio and each floor's peak total acceleration (`peak_response`), e.g.
-      `load_table2().storey_height`; default `None`, base peaks only.
+    - `storey_height` [m]: a building: also keep each storey's peak drift ratio and each
+      level's peak total acceleration (`peak_response`; with two components in x and y,
+      `bidirectional_peak_response`), e.g. `load_table2().storey_height`; default `None`.
 
     **Returns:** a `MonteCarloResult`.
     """
@@ -330,9 +330,6 @@ def monte_carlo(
     duration = record_duration if duration is None else float(duration)
     if not duration > 0:
         raise ValueError(f"duration: must be > 0 s, got {duration}.")
-    if storey_height is not None and source.components == 2:
-        raise ValueError("storey_height: storey results are kept for one-component runs only; "
-                         "leave it out with two-component motions.")
 
     design_arrays = None
     n_designs = 0
@@ -381,7 +378,7 @@ def monte_carlo(
             raise ValueError(f"peak_interval: must be a positive multiple of the structure's time step "
                              f"{probe.time_step} s, got {peak_interval}.")
     if storey_height is not None:  # refused here, before the compile, for a rigid mass
-        check_storey_height(n_dof, storey_height)
+        check_storey_height(n_dof // source.components, storey_height)  # x and y: 2 n coordinates
     runner = ChunkRunner(structure, source, duration, design_arrays, devices, chunk, disp_width,
                          shear_width, read_every, storey_height)
     outputs = []

@@ -65,7 +65,7 @@ class MonteCarloResult:
     - `storey_drift` [-] (N, S) or (D, N, S), `floor_acceleration` [m/s^2] (N, S + 1) or
       (D, N, S + 1): a building's peak drift ratio per storey (storey 1 first) and total
       acceleration per level (0 the base slab, then floors 1..S) (`monte_carlo(storey_height=...)`),
-      else `None`.
+      with two components an axis of the two directions (x, y) before the last; else `None`.
     """
 
     base_disp: np.ndarray
@@ -160,7 +160,9 @@ class MonteCarloResult:
             data[name] = (dims, np.asarray(getattr(self, name)), {"units": units, "long_name": long_name})
         for name, (dim, units, long_name) in STOREY_VARIABLES.items():
             if getattr(self, name) is not None:
-                data[name] = (dims + (dim,), np.asarray(getattr(self, name)),
+                values = np.asarray(getattr(self, name))
+                direction = ("direction",) if values.ndim == len(dims) + 2 else ()  # two components: x, y
+                data[name] = (dims + direction + (dim,), values,
                               {"units": units, "long_name": long_name})
         data["pga"] = (("motion",), np.asarray(self.pga),
                        {"units": "m s-2", "long_name": "peak |ground acceleration| of the motion"})
@@ -171,6 +173,8 @@ class MonteCarloResult:
         if self.storey_drift is not None:
             coords["storey"] = np.arange(1, np.shape(self.storey_drift)[-1] + 1)
             coords["level"] = np.arange(np.shape(self.floor_acceleration)[-1])
+            if np.ndim(self.storey_drift) == len(dims) + 2:
+                coords["direction"] = np.array(["x", "y"])
         if "design" in dims:
             coords["design"] = np.arange(np.shape(self.converged)[0])
         attrs = {k: _attribute(v) for k, v in self.attrs.items()}
@@ -222,9 +226,11 @@ class MonteCarloResult:
         for name, unit, first in (("storey_drift", "", 1), ("floor_acceleration", "_m_s2", 0)):
             values = getattr(self, name)
             if values is not None:
-                values = np.asarray(values).reshape(-1, np.shape(values)[-1])
-                for j in range(values.shape[1]):
-                    columns[f"{name}_{j + first}{unit}"] = values[:, j]
+                two = np.ndim(values) == len(self.dims) + 2
+                values = np.asarray(values).reshape(columns["motion"].size, -1, np.shape(values)[-1])
+                for d, axis in enumerate(("_x", "_y") if two else ("",)):
+                    for j in range(values.shape[2]):
+                        columns[f"{name}{axis}_{j + first}{unit}"] = values[:, d, j]
         with open(path, "w") as handle:
             handle.write(",".join(columns) + "\n")
             for i in range(columns["motion"].size):

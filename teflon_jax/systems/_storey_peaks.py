@@ -62,22 +62,32 @@ def storey_start(rows, dtype) -> tuple:
     return jnp.zeros(rows[0].shape[0], dtype), jnp.zeros(rows[1].shape[0], dtype)
 
 
+def directional_storeys(q, total_acceleration, storey_height):
+    """Drift ratios (..., 2, S) [-] and total accelerations (..., 2, S + 1) [m/s^2] in x and y
+    of the two-direction building (`bidirectional_building`: q = (x: base slab, floors 1..S;
+    y: the same), `total_acceleration` the same layout [m/s^2]): (q_j - q_(j-1)) / h_j per
+    storey and a_j + a_g per level, level 0 the base slab. jit/vmap-safe in q and the
+    accelerations; `storey_height` [m] scalar or (S,), not traced."""
+    n = q.shape[-1] // 2
+    height = jnp.asarray(check_storey_height(n, storey_height), q.dtype)
+    x, y = q[..., :n], q[..., n:]
+    drift = jnp.stack([jnp.diff(x, axis=-1), jnp.diff(y, axis=-1)], axis=-2) / height
+    acc = jnp.stack([total_acceleration[..., :n], total_acceleration[..., n:]], axis=-2)
+    return drift, acc
+
+
 def bidirectional_storey_peaks(response, system, storey_height) -> dict:
-    """Peak storey results of a run of the two-direction building (`bidirectional_building`,
-    q = (x: base slab, floors 1..S; y: the same)) from its histories (`simulate_bidirectional`):
+    """Peak storey results of a run of the two-direction building (`bidirectional_building`)
+    from its histories (`simulate_bidirectional`), by `directional_storeys`:
 
     - `storey_drift` (2, S) [-]: max_t |q_j - q_(j-1)| / h_j in x and in y, storey 1 first;
     - `storey_drift_resultant` (S,) [-]: max_t of the drift vector's length over h_j;
     - `level_acceleration` (2, S + 1) [m/s^2]: max_t |a_j + a_g| in x and y, level 0 the base slab;
     - `level_acceleration_resultant` (S + 1,) [m/s^2]: max_t of the total acceleration's length.
-
-    NumPy on the saved histories (not traced). `storey_height` [m]: scalar or (S,), > 0.
     """
-    q = np.asarray(response.q)
-    n = q.shape[1] // 2
-    height = check_storey_height(n, storey_height)
-    total = np.asarray(response.acceleration) + np.asarray(response.ground) @ np.asarray(system.influence).T
-    drift = np.stack([np.diff(q[:, :n], axis=1), np.diff(q[:, n:], axis=1)]) / height  # (2, nt, S)
-    acc = np.stack([total[:, :n], total[:, n:]])  # (2, nt, S + 1)
-    return {"storey_drift": np.abs(drift).max(axis=1), "storey_drift_resultant": np.hypot(*drift).max(axis=0),
-            "level_acceleration": np.abs(acc).max(axis=1), "level_acceleration_resultant": np.hypot(*acc).max(axis=0)}
+    q = jnp.asarray(response.q)
+    total = jnp.asarray(response.acceleration) + jnp.asarray(response.ground) @ jnp.asarray(system.influence).T
+    drift, acc = (np.asarray(v) for v in directional_storeys(q, total, storey_height))  # (nt, 2, .)
+    return {"storey_drift": np.abs(drift).max(axis=0), "storey_drift_resultant": np.hypot(*np.moveaxis(drift, 1, 0)).max(axis=0),
+            "level_acceleration": np.abs(acc).max(axis=0),
+            "level_acceleration_resultant": np.hypot(*np.moveaxis(acc, 1, 0)).max(axis=0)}
