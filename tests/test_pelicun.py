@@ -92,3 +92,36 @@ def test_pelicun_loads_the_file_and_runs_a_p58_damage_assessment(tmp_path):
     damage = run.damage.ds_model.sample
     assert damage.shape[0] == 11
     assert set(damage.columns.get_level_values("cmp")) == {"B.10.41.001a", "C.30.32.001a"}
+
+
+def test_run_suite_writes_the_buildings_demands_per_direction(tmp_path, capsys):
+    """`run --suite --structure building --pelicun-demands`: one row per pair, the ground's
+    PFA in x and y as read from the records, PID per storey and direction equal to the
+    suite's NetCDF file."""
+    import xarray
+
+    from teflon_jax.cli import main
+
+    t = 0.01 * np.arange(201)
+    rows, peaks_x = [], []
+    for i in range(2):
+        for axis, peak in (("x", 0.3), ("y", 0.2)):
+            a = peak * (i + 1) * np.sin(2 * np.pi * (0.8 + 0.3 * i) * t) * np.sin(np.pi * t / t[-1]) ** 2
+            peaks_x += [np.abs(a).max()] if axis == "x" else []
+            (tmp_path / f"{axis}{i}.txt").write_text("time acc\n" + "\n".join(f"{u:.4f} {v:.6e}" for u, v in zip(t, a)))
+        rows.append(f"p{i},x{i}.txt,y{i}.txt,1\n")
+    (tmp_path / "suite.csv").write_text("name,record_x,record_y,scale\n" + "".join(rows))
+    code = main(["run", "--suite", str(tmp_path / "suite.csv"), "--structure", "building", "--record-units", "g",
+                 "--isolation-period", "2.5s", "--json", str(tmp_path / "s.json"),
+                 "--pelicun-demands", str(tmp_path / "d.csv")])
+    assert code == 0
+    lines = (tmp_path / "d.csv").read_text().splitlines()
+    header = lines[0].split(",")
+    assert header[1:3] == ["1-PFA-0-1", "1-PFA-0-2"] and header[-2:] == ["1-BRD-1-0", "1-ERROR"]
+    assert "1-PFA-7-2" in header and "1-PID-7-2" in header and len(lines) == 2 + 2
+    table = np.array([[float(v) for v in line.split(",")] for line in lines[2:]])
+    np.testing.assert_allclose(table[:, 1], peaks_x, rtol=1e-6)  # peak |a_x| [g] of the records
+    with xarray.open_dataset(tmp_path / "s.nc") as dataset:
+        drift = dataset["storey_drift"].values  # (pair, direction, storey)
+    for d in (1, 2):
+        np.testing.assert_allclose(table[:, header.index(f"1-PID-4-{d}")], drift[:, d - 1, 2], rtol=1e-9)

@@ -130,6 +130,7 @@ def run_suite_bounding(args, factors, build_structure, names, ax, ay, dt, notes,
 
     from ..studies import BOUNDING_CASES, governing_cases, save_suite, suite_peaks
     from ..tables import load_table2
+    from ._engineering import suite_pelicun_peaks
 
     lower, upper = factors
     height = load_table2().storey_height if args.structure == "building" else None
@@ -148,6 +149,12 @@ def run_suite_bounding(args, factors, build_structure, names, ax, ay, dt, notes,
         save_suite(results[case], table_path=f"{stem}-{case}.csv", netcdf_path=f"{stem}-{case}.nc",
                    attrs={"structure": args.structure, "suite": str(args.suite), "bounding_case": case,
                           "friction_factor": factor})
+        if args.pelicun_demands is not None:  # one demand file per case: <FILE stem>-<case>.csv
+            from ..formats import write_pelicun_demands
+
+            path = pathlib.Path(args.pelicun_demands)
+            write_pelicun_demands(path.with_name(f"{path.stem}-{case}{path.suffix}"),
+                                  **suite_pelicun_peaks(results[case], ax, ay))
     wall = time.perf_counter() - start
     peaks = {k: np.stack([results[c].peaks[k] for c in BOUNDING_CASES]) for k in results["nominal"].peaks}
     converged = np.stack([results[c].converged for c in BOUNDING_CASES])

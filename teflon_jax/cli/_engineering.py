@@ -128,3 +128,23 @@ def pelicun_peaks(result, rows, components: int = 1) -> dict:
     elif one:
         peaks["level_acceleration"] = (result.base_shear_ratio[rows] * STANDARD_GRAVITY)[:, None]
     return peaks
+
+
+def add_suite_pelicun_flag(parser) -> None:
+    """`--pelicun-demands FILE.csv` on `teflon-jax run --suite`."""
+    parser.add_argument("--pelicun-demands", metavar="FILE.csv", default=None,
+                        help="with --suite: write each pair's peaks as a demand sample in pelicun's format "
+                        "(PFA per level and PID per storey in x and y for the building, the ground's PFA, "
+                        "the isolators' resultant displacement as BRD-1-0, failed runs flagged in ERROR)")
+
+
+def suite_pelicun_peaks(result, ax, ay) -> dict:
+    """The keyword arguments of `write_pelicun_demands` for a `SuiteResult` of record pairs
+    (ax, ay) (P, n) [m/s^2]: the ground's peak per direction, the building's storey results in
+    x and y when the suite kept them, the resultant base displacement as non-directional."""
+    peaks = {"base_disp": result.peaks["base_disp_resultant_m"], "failed": ~np.asarray(result.converged, bool),
+             "pga": np.stack([np.abs(ax).max(axis=1), np.abs(ay).max(axis=1)], axis=1), "base_direction": 0}
+    if result.storeys is not None:
+        peaks["level_acceleration"] = result.storeys["level_acceleration"]
+        peaks["storey_drift"] = result.storeys["storey_drift"]
+    return peaks

@@ -13,6 +13,7 @@ import numpy as np
 
 from ._bounding import add_suite_bounding_flag, read_suite_factors
 from ._common import _positive_int
+from ._engineering import add_suite_pelicun_flag, suite_pelicun_peaks
 from ._spectrum import add_spectrum_flags, check_unscaled, read_target, scale_to_target
 
 
@@ -30,6 +31,7 @@ def add_suite_arguments(parser) -> None:
                         "same peaks bit for bit here and on a cluster")
     add_spectrum_flags(parser)
     add_suite_bounding_flag(parser)
+    add_suite_pelicun_flag(parser)
 
 
 def check_suite_flags(args) -> None:
@@ -37,7 +39,8 @@ def check_suite_flags(args) -> None:
     if args.suite is None:
         read_target(args)  # a target or its flags without a suite: refused by name
         read_suite_factors(args)
-        for flag, value in (("--scheduler", args.scheduler), ("--out", args.out), ("--chunk-size", args.chunk_size)):
+        for flag, value in (("--scheduler", args.scheduler), ("--out", args.out), ("--chunk-size", args.chunk_size),
+                            ("--pelicun-demands", args.pelicun_demands)):
             if value is not None:
                 raise ValueError(f"{flag}: only used with --suite FILE (a single record runs here).")
 
@@ -84,6 +87,12 @@ def run_suite(args, load_components, build_structure) -> int:
         raise ValueError("--scheduler: a distributed suite streams its results to a file; add --out FILE.nc.")
     if args.out is not None:
         check_netcdf_output(args.out, "--out")  # before any record is read or run
+    if args.pelicun_demands is not None:
+        from ..formats import check_pelicun_path
+
+        check_pelicun_path(args.pelicun_demands)
+        if args.scheduler is not None:
+            raise ValueError("--pelicun-demands: the storey results are kept in this process; leave out --scheduler.")
     spectrum = read_target(args)  # target, range and limits checked before any record is read
     bounding = read_suite_factors(args)
     pairs = read_suite(args.suite)
@@ -126,7 +135,10 @@ def run_suite(args, load_components, build_structure) -> int:
     netcdf = stem.with_suffix(".nc") if args.out is None else args.out
     attrs = {"structure": args.structure, "suite": str(args.suite)}
     if args.scheduler is None:
-        result = suite_peaks(build, names, ax, ay, dt, (n - 1) * dt, base_index, batch_size=args.chunk_size)
+        from ..tables import load_table2
+
+        result = suite_peaks(build, names, ax, ay, dt, (n - 1) * dt, base_index, batch_size=args.chunk_size,
+                             storey_height=load_table2().storey_height if args.structure == "building" else None)
         save_suite(result, table_path=stem.with_suffix(".csv"), netcdf_path=netcdf, attrs=attrs)
     else:
         from ._main import compile_cache_dir
@@ -142,6 +154,10 @@ def run_suite(args, load_components, build_structure) -> int:
                "summary": result.summary, "failed": int(np.sum(~result.converged))}
     if scaling is not None:
         payload["spectrum_scaling"] = scaling
+    if args.pelicun_demands is not None:
+        from ..formats import write_pelicun_demands
+
+        payload["pelicun_demands"] = str(write_pelicun_demands(args.pelicun_demands, **suite_pelicun_peaks(result, ax, ay)))
     print(json.dumps(payload["summary"], indent=2))
     if args.json:
         pathlib.Path(args.json).write_text(json.dumps(payload, indent=2))

@@ -17,8 +17,8 @@ then one row per realisation, the first column its index. Columns a run writes h
   drops those rows on loading, the file keeps them.
 
 Direction 1 is the one horizontal component; with two, PFA and PID are written for directions 1
-(x) and 2 (y) and the ground's PFA-0 is left out (the run keeps only the peak of the
-resultant ground acceleration, not one per direction). Units are names of pelicun's unit table ('g',
+(x) and 2 (y), the ground's PFA-0 too where the peaks per direction are known (a suite of
+record pairs; a two-component Monte Carlo keeps the resultant's only). Units are names of pelicun's unit table ('g',
 'mps2', 'in', 'mm', 'm', 'unitless'). Reference: NHERI SimCenter, pelicun documentation
 ("Demand model", file formats); FEMA P-58-1 (2018), Seismic Performance Assessment of
 Buildings, Vol. 1, Ch. 5 (demand parameters by storey and floor).
@@ -60,7 +60,7 @@ def pelicun_demand_table(*, base_disp, failed, pga=None, level_acceleration=None
                          length_unit: str = "in") -> tuple[list, list, np.ndarray]:
     """(labels, units, values (R, C)) of a demand file (module docstring) from SI peaks.
 
-    **Arguments:** `base_disp` (R,) [m]; `failed` (R,) bool; `pga` (R,) [m/s^2];
+    **Arguments:** `base_disp` (R,) [m]; `failed` (R,) bool; `pga` (R,) or in x and y (R, 2) [m/s^2];
     `level_acceleration` (R, S + 1) or per direction (R, 2, S + 1) [m/s^2], level 0 the base
     slab; `storey_drift` (R, S) or (R, 2, S) [-]; `base_direction`: 1, or 0 for a resultant;
     `acceleration_unit`, `length_unit`: names of `PELICUN_UNITS`.
@@ -74,9 +74,12 @@ def pelicun_demand_table(*, base_disp, failed, pga=None, level_acceleration=None
     rows = failed.shape[0]
     to_acc = PELICUN_UNITS["acceleration"][acceleration_unit]
     labels, units, columns = [], [], []
-    if pga is not None:
-        labels.append("1-PFA-0-1"), units.append(acceleration_unit)
-        columns.append(_column(pga, "pga", rows) / to_acc)
+    if pga is not None:  # (R,) one direction, (R, 2) x and y
+        ground = _directions(np.asarray(pga, float).reshape(rows, -1, 1) if np.size(pga) in (rows, 2 * rows)
+                             else pga, "pga", rows)
+        for d in range(ground.shape[1]):
+            labels.append(f"1-PFA-0-{d + 1}"), units.append(acceleration_unit)
+            columns.append(ground[:, d, 0] / to_acc)
     for name, values, kind, first, unit, scale in (
             ("level_acceleration", level_acceleration, "PFA", 1, acceleration_unit, to_acc),
             ("storey_drift", storey_drift, "PID", 2, "unitless", 1.0)):

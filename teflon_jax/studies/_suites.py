@@ -21,7 +21,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..excitation import uniform_signal
-from ..systems import BidirectionalStructure, simulate_bidirectional
+from ..systems import BidirectionalStructure, directional_storeys, simulate_bidirectional
 from ..units import STANDARD_GRAVITY
 from ._cluster import (
     add_attributes,
@@ -52,23 +52,31 @@ SUITE_STOREY_UNITS = {
 """A suite's storey variable, when `suite_peaks` was given the building's storey height."""
 
 _ALL_UNITS = {**SUITE_UNITS, **SUITE_STOREY_UNITS}
+_STOREY_LAYOUT = {
+    "storey_drift": ("storey", "1", "peak |interstorey drift| / storey height (storey j: level j-1 to j)"),
+    "level_acceleration": ("level", "m s-2", "peak |total acceleration| of the level (0: base slab)"),
+}
 
 
 @dataclasses.dataclass(frozen=True)
 class SuiteResult:
     """Peaks per pair (arrays (P,)), `converged` (P,), the pair `names`, and `summary`:
-    {peak name: {"mean": ..., "max": ...}} over the converged pairs."""
+    {peak name: {"mean": ..., "max": ...}} over the converged pairs; `storeys`: the building's
+    `storey_drift` (P, 2, S) [-] and `level_acceleration` (P, 2, S + 1) [m/s^2] in x and y
+    (`suite_peaks(storey_height=...)`, `directional_storeys`), else `None`."""
 
     names: tuple
     peaks: dict
     converged: np.ndarray
     summary: dict
+    storeys: dict | None = None
 
 
 def _suite_function(build, time_step: float, duration: float, base_index, storey_height=None):
-    """The jitted function (ax (B, n), ay (B, n)) -> (peaks {name: (B,)}, converged (B,));
-    with `storey_height` [m] (the building, base_index (0, n)) also the largest resultant
-    drift ratio over the storeys, |(q_j - q_(j-1))_x, (q_j - q_(j-1))_y| / h."""
+    """The jitted function (ax (B, n), ay (B, n)) -> (peaks {name: (B, ...)}, converged (B,));
+    with `storey_height` [m] (the building) also the largest resultant drift ratio over the
+    storeys, |(q_j - q_(j-1))_x, (q_j - q_(j-1))_y| / h, and the peaks per storey, level and
+    direction (`directional_storeys`)."""
     ix, iy = base_index
 
     def one(x, y):
@@ -83,16 +91,17 @@ def _suite_function(build, time_step: float, duration: float, base_index, storey
             "base_disp_x_m": jnp.max(jnp.abs(bx)),
             "base_disp_y_m": jnp.max(jnp.abs(by)),
             "base_shear_ratio_resultant": jnp.max(jnp.hypot(force[:, 0], force[:, 1])) / weight,
-        } | _storey_peak(r.q, iy, storey_height), r.result == diffrax.RESULTS.successful
+        } | _storey_peaks(r.q, total, storey_height), r.result == diffrax.RESULTS.successful
 
     return jax.jit(jax.vmap(one))
 
 
-def _storey_peak(q, iy, storey_height) -> dict:
+def _storey_peaks(q, total, storey_height) -> dict:
     if storey_height is None:
         return {}
-    x, y = jnp.diff(q[:, :iy], axis=1), jnp.diff(q[:, iy:], axis=1)
-    return {"storey_drift_max_resultant": jnp.max(jnp.hypot(x, y)) / storey_height}
+    drift, acc = directional_storeys(q, total, storey_height)  # (nt, 2, S), (nt, 2, S + 1)
+    return {"storey_drift_max_resultant": jnp.max(jnp.hypot(drift[:, 0], drift[:, 1])),
+            "storey_drift": jnp.max(jnp.abs(drift), axis=0), "level_acceleration": jnp.max(jnp.abs(acc), axis=0)}
 
 
 def _summary(peaks: dict, ok: np.ndarray) -> dict:
@@ -112,7 +121,7 @@ def suite_peaks(build, names, ax, ay, time_step: float, duration: float, base_in
     `names` (P,); `ax`, `ay` (P, n) ground accelerations [m/s^2] (already scaled, common step);
     `time_step` [s] of the records; `duration` [s]; `base_index`: the coordinates of the base in
     x and y (rigid mass (0, 1), building (0, 7), slab (0, 1)); `storey_height` [m]: the
-    building's storey height (one for all storeys), to keep `storey_drift_max_resultant` too.
+    building's storey height, to keep `storey_drift_max_resultant` and `SuiteResult.storeys` too.
 
     **Returns:** a `SuiteResult`; the base shear ratio is the total horizontal force on the
     structure above the bearings over its weight.
@@ -126,9 +135,11 @@ def suite_peaks(build, names, ax, ay, time_step: float, duration: float, base_in
     for start in range(0, count, width):
         index = lanes(start, min(start + width, count), width)
         parts.append(jax.device_get(function(jnp.asarray(ax[index]), jnp.asarray(ay[index]))))
-    peaks = {k: np.concatenate([p[0][k] for p in parts])[:count] for k in parts[0][0]}
+    joined = {k: np.concatenate([p[0][k] for p in parts])[:count] for k in parts[0][0]}
+    peaks = {k: v for k, v in joined.items() if v.ndim == 1}
+    storeys = {k: v for k, v in joined.items() if v.ndim > 1} or None
     ok = np.concatenate([np.asarray(p[1], dtype=bool) for p in parts])[:count]
-    return SuiteResult(names=names, peaks=peaks, converged=ok, summary=_summary(peaks, ok))
+    return SuiteResult(names=names, peaks=peaks, converged=ok, summary=_summary(peaks, ok), storeys=storeys)
 
 
 def _suite_task(spec: dict, start: int, stop: int, payload):
@@ -232,6 +243,10 @@ def suite_dataset(result: SuiteResult, attrs: dict | None = None):
     file_attrs = {"Conventions": "CF-1.8", "title": "teflon-jax record suite peak responses",
                   "teflon_jax_attrs": json.dumps(attrs or {}), **(attrs or {}), **_summary_attrs(result.summary)}
     coords = {"pair": ("pair", np.array(result.names, dtype=str), {"long_name": "record pair"})}
+    for name, (dim, units, long_name) in ({} if result.storeys is None else _STOREY_LAYOUT).items():
+        data[name] = (("pair", "direction", dim), np.asarray(result.storeys[name]), {"units": units, "long_name": long_name})
+    if result.storeys is not None:
+        coords["direction"] = ("direction", np.array(["x", "y"]))
     return xarray.Dataset(data, coords=coords, attrs=file_attrs)
 
 
@@ -242,7 +257,8 @@ def open_suite(path) -> SuiteResult:
              if k != "converged" and k in dataset}
     ok = np.asarray(dataset["converged"].values, dtype=bool)
     names = tuple(str(n) for n in dataset["pair"].values)
-    return SuiteResult(names=names, peaks=peaks, converged=ok, summary=_summary(peaks, ok))
+    storeys = {k: np.asarray(dataset[k].values, dtype=float) for k in _STOREY_LAYOUT if k in dataset} or None
+    return SuiteResult(names=names, peaks=peaks, converged=ok, summary=_summary(peaks, ok), storeys=storeys)
 
 
 def save_suite(result: SuiteResult, table_path=None, netcdf_path=None, attrs: dict | None = None) -> None:
