@@ -135,7 +135,8 @@ def add_suite_pelicun_flag(parser) -> None:
     parser.add_argument("--pelicun-demands", metavar="FILE.csv", default=None,
                         help="with --suite: write each pair's peaks as a demand sample in pelicun's format "
                         "(PFA per level and PID per storey in x and y for the building, the ground's PFA, "
-                        "the isolators' resultant displacement as BRD-1-0, failed runs flagged in ERROR)")
+                        "the isolators' resultant displacement as BRD-1-0, failed runs flagged in ERROR); the "
+                        "building's storey results then go into the suite's NetCDF file too")
 
 
 def suite_pelicun_peaks(result, ax, ay) -> dict:

@@ -137,8 +137,9 @@ def run_suite(args, load_components, build_structure) -> int:
     if args.scheduler is None:
         from ..tables import load_table2
 
+        storeys = args.structure == "building" and args.pelicun_demands is not None  # as on a cluster otherwise
         result = suite_peaks(build, names, ax, ay, dt, (n - 1) * dt, base_index, batch_size=args.chunk_size,
-                             storey_height=load_table2().storey_height if args.structure == "building" else None)
+                             storey_height=load_table2().storey_height if storeys else None)
         save_suite(result, table_path=stem.with_suffix(".csv"), netcdf_path=netcdf, attrs=attrs)
     else:
         from ._main import compile_cache_dir
