@@ -21,7 +21,9 @@ from ..units import INCH, KIP, PSI, parse_quantity
 class QuantityFlag:
     """A command-line flag that is a quantity: `dimension` (a key of `teflon_jax.units.UNITS`),
     `default` (text with its unit, or `None`), `minimum` with `strict` (> or >=), `maximum`,
-    `nargs` (None or 2 for a LOW HIGH pair), `none` (a word that means 'not set', or None)."""
+    `nargs` (None or 2 for a LOW HIGH pair), `none` (a word that means 'not set', or None),
+    `levels` (a comma-separated, strictly increasing list: the first value goes to `args.<dest>`,
+    all of them to `args.<dest>_levels`)."""
 
     command: str
     flag: str
@@ -33,6 +35,7 @@ class QuantityFlag:
     maximum: float | None = None
     nargs: int | None = None
     none: str | None = None
+    levels: bool = False
 
 
 QUANTITY_FLAGS: list[QuantityFlag] = []
@@ -57,11 +60,12 @@ _NEGATIVE_QUANTITY = re.compile(r"^-(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?(?:\s*[A
 
 def add_quantity(parser, flag: str, dimension: str, default: str | None, help: str, *,
                  minimum: float | None = None, strict: bool = True, maximum: float | None = None,
-                 nargs: int | None = None, none: str | None = None, required: bool = False):
+                 nargs: int | None = None, none: str | None = None, required: bool = False,
+                 levels: bool = False):
     """Declare a quantity flag on `parser` (see the module docstring)."""
     spec = QuantityFlag(command=parser.prog.split()[-1], flag=flag, dest=flag.lstrip("-").replace("-", "_"),
                         dimension=dimension, default=default, minimum=minimum, strict=strict,
-                        maximum=maximum, nargs=nargs, none=none)
+                        maximum=maximum, nargs=nargs, none=none, levels=levels)
     QUANTITY_FLAGS[:] = [q for q in QUANTITY_FLAGS if (q.command, q.flag) != (spec.command, flag)]
     QUANTITY_FLAGS.append(spec)
     parser._negative_number_matcher = _NEGATIVE_QUANTITY
@@ -93,6 +97,10 @@ def read_quantities(args, command: str) -> None:
             if not values[0] < values[1]:
                 raise ValueError(f"{spec.flag}: LOW must be below HIGH, got {raw[0]} {raw[1]}.")
             setattr(args, spec.dest, values)
+        elif spec.levels:
+            values = _levels(spec, raw)
+            setattr(args, spec.dest + "_levels", values)
+            setattr(args, spec.dest, values[0])
         else:
             setattr(args, spec.dest, _one(spec, raw))
 
@@ -110,6 +118,19 @@ def _one(spec: QuantityFlag, text: str):
     if spec.maximum is not None and not value <= spec.maximum:
         raise ValueError(f"{spec.flag}: must be <= {_in_units_of(spec.maximum, text, spec)}, got {text}.")
     return value
+
+
+def _levels(spec: QuantityFlag, text: str) -> tuple:
+    """The comma-separated values of a `levels` flag, each with its unit, strictly increasing."""
+    items = [item.strip() for item in str(text).split(",")]
+    if any(not item for item in items):
+        raise ValueError(f"{spec.flag}: an empty item in {text!r}; write e.g. 0.1g,0.2g,0.3g.")
+    values = tuple(_one(spec, item) for item in items)
+    for j in range(1, len(values)):
+        if not values[j] > values[j - 1]:
+            raise ValueError(f"{spec.flag}: levels must increase; {items[j]} (level {j + 1}) is not above "
+                             f"{items[j - 1]} (level {j}). Sort them.")
+    return values
 
 
 def _in_units_of(value: float, text: str, spec: QuantityFlag) -> str:

@@ -13,6 +13,7 @@ import sys
 from ..units import STANDARD_GRAVITY
 from ._bearing_flags import add_bearing_flag, read_bearing_flag
 from ._common import _positive_int, _write_json, add_quantity, add_units_flag, output_units
+from ._engineering import add_engineering_flags
 from ._main import compile_cache_dir
 
 
@@ -26,7 +27,7 @@ def _tolerance(text: str) -> float:
     return value
 
 
-def _add_common(parser):
+def _add_common(parser, *, levels: bool = False):
     parser.add_argument("--structure", choices=("rigid", "building"), default="rigid",
                         help="rigid mass, or the six-storey building of Table 2 (default rigid)")
     parser.add_argument("--seed", type=int, default=0, help="PRNG seed of the stochastic motions")
@@ -36,8 +37,9 @@ def _add_common(parser):
                  "peak within 0.2 % of converged ones on 100 test motions, see benchmarks B3; 2.5ms with --components 2 and in design, "
                  "whose gradient check needs the update without the turning-point split)",
                  minimum=0.0)
-    add_quantity(parser, "--pga", "acceleration", "0.3g", "expected peak ground acceleration",
-                 minimum=0.0)
+    add_quantity(parser, "--pga", "acceleration", "0.3g", "expected peak ground acceleration"
+                 + (" or increasing levels 0.1g,0.2g,..., each run with --motions motions "
+                    "(fragility curves with --limit)" if levels else ""), minimum=0.0, levels=levels)
     add_quantity(parser, "--site-frequency", "frequency", "15.6rad/s", "Kanai-Tajimi site "
                  "frequency omega_g", minimum=0.0)
     add_quantity(parser, "--site-damping", "dimensionless", "0.6", "Kanai-Tajimi site damping "
@@ -59,8 +61,9 @@ def add_montecarlo_parser(subparsers) -> argparse.ArgumentParser:
         description="Monte Carlo of an isolated structure under Clough-Penzien stochastic "
         "ground motions; the batch is sharded over all JAX devices.",
     )
-    parser.add_argument("--motions", type=_positive_int, required=True, help="number of motions N")
-    _add_common(parser)
+    parser.add_argument("--motions", type=_positive_int, required=True, help="number of motions N "
+                        "(at each --pga level)")
+    _add_common(parser, levels=True)
     add_quantity(parser, "--pressure", "pressure", "1000psi", "bearing contact pressure (Table 1 "
                  "row of --ptfe)", minimum=0.0)
     add_quantity(parser, "--isolation-period", "time", "2s", "isolation period Tb of the "
@@ -96,6 +99,7 @@ def add_montecarlo_parser(subparsers) -> argparse.ArgumentParser:
                         "(SLURM/PBS: see docs/distributed.md); needs --out FILE.nc, where results "
                         "stream as chunks finish (default: this process)")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
+    add_engineering_flags(parser)
     add_bearing_flag(parser, replaces="--ptfe and --pressure")
     parser.set_defaults(command_function=run_montecarlo)
     return parser
@@ -167,6 +171,14 @@ def run_montecarlo(args) -> int:
         model = TwoComponentGroundMotion(
             model, principal_angle=0.0 if args.principal_angle is None else args.principal_angle,
             minor_ratio=1.0 if args.minor_ratio is None else args.minor_ratio)
+    if args.property_factors is not None:
+        from ._bounding import run_bounding
+
+        return run_bounding(args, structure, model, units)
+    if len(args.pga_levels) > 1 or args.limit or args.storeys or args.pelicun_demands is not None:
+        from ._levels import run_levels
+
+        return run_levels(args, structure, model, units, _statistics)
     bar = tqdm(total=args.motions, unit="motion", disable=args.no_progress)
 
     def progress(done, total):

@@ -181,6 +181,12 @@ def _bearing(args, ptfe, pressure_text, flag):
         perpendicular = interface_parameters(ptfe.upper(), pressure, "T")[0] if args.anisotropic else None
     except ValueError as error:
         raise ValueError(f"{flag}: {error}") from None
+    factor = getattr(args, "friction_factor", 1.0)  # a bounding case (--property-factors)
+    if factor != 1.0:
+        from ..studies import scaled_friction
+
+        params = scaled_friction(params, factor)
+        perpendicular = None if perpendicular is None else scaled_friction(perpendicular, factor)
     lay_angle = None
     if args.lay_angle is not None:
         if not args.anisotropic:
@@ -308,6 +314,23 @@ def _resultant(x, y):
     return np.hypot(np.asarray(x), np.asarray(y))
 
 
+def _storey_ratios(system, response) -> dict:
+    """The building's peak drift ratio per storey and total acceleration per level (0 the base
+    slab), in x, in y and as resultants (`bidirectional_storey_peaks`)."""
+    from ..systems import bidirectional_storey_peaks
+    from ..tables import load_table2
+    from ..units import STANDARD_GRAVITY
+
+    peaks = bidirectional_storey_peaks(response, system, load_table2().storey_height)
+    out = {}
+    for key, name, scale in (("storey_drift", "storey_drift_ratio", 1.0),
+                             ("level_acceleration", "level_acceleration_g", STANDARD_GRAVITY)):
+        for index, axis in enumerate("xy"):
+            out[f"{name}_{axis}"] = (peaks[key][index] / scale).tolist()
+        out[f"{name}_resultant"] = (peaks[f"{key}_resultant"] / scale).tolist()
+    return out
+
+
 def response_summary(args, system, response, plan):
     """(peak dict, histories dict) in SI from a `BidirectionalResponse`."""
     from ..units import STANDARD_GRAVITY
@@ -336,6 +359,7 @@ def response_summary(args, system, response, plan):
         peak["storey_drift_resultant_m"] = [float(v) for v in drift.max(axis=0)]
         peak["floor_acceleration_resultant_g"] = [float(v) for v in floor_acc.max(axis=0) / STANDARD_GRAVITY]
         peak["first_storey_shear_ratio_resultant"] = float(storey.max()) / (float(floors.sum()) * STANDARD_GRAVITY)
+        peak.update(_storey_ratios(system, response))
     if args.structure == "slab":
         from ..systems import slab_corners, slab_point_displacement
 

@@ -11,7 +11,10 @@ import pathlib
 
 import numpy as np
 
+from ._bounding import add_suite_bounding_flag, read_suite_factors
 from ._common import _positive_int
+from ._engineering import add_suite_pelicun_flag, suite_pelicun_peaks
+from ._spectrum import add_spectrum_flags, check_unscaled, read_target, scale_to_target
 
 
 def add_suite_arguments(parser) -> None:
@@ -26,12 +29,18 @@ def add_suite_arguments(parser) -> None:
                         help="with --suite: record pairs per compiled call, a task with --scheduler "
                         "(default: all in one call here, 8 per task on a cluster); the same N gives the "
                         "same peaks bit for bit here and on a cluster")
+    add_spectrum_flags(parser)
+    add_suite_bounding_flag(parser)
+    add_suite_pelicun_flag(parser)
 
 
 def check_suite_flags(args) -> None:
     """The cluster flags are only for suites: refuse them on a single-record run."""
     if args.suite is None:
-        for flag, value in (("--scheduler", args.scheduler), ("--out", args.out), ("--chunk-size", args.chunk_size)):
+        read_target(args)  # a target or its flags without a suite: refused by name
+        read_suite_factors(args)
+        for flag, value in (("--scheduler", args.scheduler), ("--out", args.out), ("--chunk-size", args.chunk_size),
+                            ("--pelicun-demands", args.pelicun_demands)):
             if value is not None:
                 raise ValueError(f"{flag}: only used with --suite FILE (a single record runs here).")
 
@@ -78,7 +87,17 @@ def run_suite(args, load_components, build_structure) -> int:
         raise ValueError("--scheduler: a distributed suite streams its results to a file; add --out FILE.nc.")
     if args.out is not None:
         check_netcdf_output(args.out, "--out")  # before any record is read or run
+    if args.pelicun_demands is not None:
+        from ..formats import check_pelicun_path
+
+        check_pelicun_path(args.pelicun_demands)
+        if args.scheduler is not None:
+            raise ValueError("--pelicun-demands: the storey results are kept in this process; leave out --scheduler.")
+    spectrum = read_target(args)  # target, range and limits checked before any record is read
+    bounding = read_suite_factors(args)
     pairs = read_suite(args.suite)
+    if spectrum is not None:
+        check_unscaled(pairs, args)
     records, notes = [], []
     for name, x, y, scale in pairs:
         one = argparse.Namespace(**{**vars(args), "record_x": x, "record_y": y, "scale": scale * args.scale})
@@ -95,6 +114,15 @@ def run_suite(args, load_components, build_structure) -> int:
         notes.append(f"pairs shorter than {(n - 1) * dt:g} s continue with zero ground acceleration")
     ax = np.stack([np.pad(a, (0, n - a.size)) for _, a, _, _ in records])
     ay = np.stack([np.pad(a, (0, n - a.size)) for _, _, a, _ in records])
+    scaling = None
+    if spectrum is not None:  # factors checked against --max-factor before any run
+        factors, scaling = scale_to_target(args, spectrum, [r[0] for r in records], ax, ay, dt)
+        ax, ay = factors[:, None] * ax, factors[:, None] * ay
+    if bounding is not None:
+        from ._bounding import run_suite_bounding
+
+        return run_suite_bounding(args, bounding, build_structure, [r[0] for r in records], ax, ay, dt, notes,
+                                  scaling)
     template, _ = build_structure(args, ax[0], ay[0], dt)
     half = template.mass.shape[0] // 2
     base_index = (0, 1) if args.structure == "slab" else (0, half)
@@ -107,7 +135,11 @@ def run_suite(args, load_components, build_structure) -> int:
     netcdf = stem.with_suffix(".nc") if args.out is None else args.out
     attrs = {"structure": args.structure, "suite": str(args.suite)}
     if args.scheduler is None:
-        result = suite_peaks(build, names, ax, ay, dt, (n - 1) * dt, base_index, batch_size=args.chunk_size)
+        from ..tables import load_table2
+
+        storeys = args.structure == "building" and args.pelicun_demands is not None  # as on a cluster otherwise
+        result = suite_peaks(build, names, ax, ay, dt, (n - 1) * dt, base_index, batch_size=args.chunk_size,
+                             storey_height=load_table2().storey_height if storeys else None)
         save_suite(result, table_path=stem.with_suffix(".csv"), netcdf_path=netcdf, attrs=attrs)
     else:
         from ._main import compile_cache_dir
@@ -121,6 +153,12 @@ def run_suite(args, load_components, build_structure) -> int:
                "pairs": {name: {k: float(v[i]) for k, v in result.peaks.items()} | {"converged": bool(result.converged[i])}
                          for i, name in enumerate(result.names)},
                "summary": result.summary, "failed": int(np.sum(~result.converged))}
+    if scaling is not None:
+        payload["spectrum_scaling"] = scaling
+    if args.pelicun_demands is not None:
+        from ..formats import write_pelicun_demands
+
+        payload["pelicun_demands"] = str(write_pelicun_demands(args.pelicun_demands, **suite_pelicun_peaks(result, ax, ay)))
     print(json.dumps(payload["summary"], indent=2))
     if args.json:
         pathlib.Path(args.json).write_text(json.dumps(payload, indent=2))

@@ -16,6 +16,7 @@ from ._signal import as_signal as as_signal
 from ._signal import uniform_signal as uniform_signal
 from ._spectra import ResponseSpectrum as ResponseSpectrum
 from ._spectra import fourier_amplitude as fourier_amplitude
+from ._spectra import oscillator_displacement as oscillator_displacement
 from ._spectra import response_spectrum as response_spectrum
 from ._stochastic import StochasticGroundMotion as StochasticGroundMotion
 from ._stochastic import envelope as envelope

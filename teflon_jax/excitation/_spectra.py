@@ -126,16 +126,7 @@ def response_spectrum(
         )
     rigid = periods == 0.0
     omega = 2.0 * np.pi / np.where(rigid, 1.0, periods)
-    coefficients = _nigam_jennings(omega, damping, motion.time_step)
-    a, b, c, d, a1, b1, c1, d1 = coefficients
-    force = -np.asarray(motion.acceleration)
-    u = np.zeros_like(omega)
-    v = np.zeros_like(omega)
-    peak = np.zeros_like(omega)
-    for i in range(force.size - 1):
-        p0, p1 = force[i], force[i + 1]
-        u, v = a * u + b * v + c * p0 + d * p1, a1 * u + b1 * v + c1 * p0 + d1 * p1
-        np.maximum(peak, np.abs(u), out=peak)
+    peak = np.max(np.abs(_displacements(np.asarray(motion.acceleration), motion.time_step, omega, damping)), axis=0)
     displacement = np.where(rigid, 0.0, peak)
     pseudo_acceleration = np.where(rigid, motion.pga, omega**2 * peak)
     return ResponseSpectrum(
@@ -144,6 +135,41 @@ def response_spectrum(
         displacement=displacement,
         pseudo_acceleration=pseudo_acceleration,
     )
+
+
+def _displacements(acceleration: np.ndarray, dt: float, omega: np.ndarray, damping: float) -> np.ndarray:
+    """u (nt, P) [m] of the oscillators `omega` from rest by the exact recurrence."""
+    a, b, c, d, a1, b1, c1, d1 = _nigam_jennings(omega, damping, dt)
+    force = -acceleration
+    u = np.zeros((force.size, omega.size))
+    v = np.zeros_like(omega)
+    for i in range(force.size - 1):
+        p0, p1 = force[i], force[i + 1]
+        u[i + 1], v = a * u[i] + b * v + c * p0 + d * p1, a1 * u[i] + b1 * v + c1 * p0 + d1 * p1
+    return u
+
+
+def oscillator_displacement(acceleration, time_step: float, periods, *, damping: float = 0.05) -> np.ndarray:
+    """Displacement histories u(t) [m], relative to the ground, of damped linear oscillators
+    of `periods` T > 0 [s] from rest under the ground acceleration `acceleration` (nt,)
+    [m/s^2] sampled every `time_step` [s]: u'' + 2 zeta omega u' + omega^2 u = -a_g, by the
+    exact piecewise-linear recurrence of `response_spectrum` (Nigam & Jennings 1969).
+
+    **Returns:** u (nt, P), row i at t = i `time_step`; `response_spectrum`'s SD is max_t |u|.
+    Oscillators under two components x and y at once move as (u_x(t), u_y(t)), whose largest
+    length over t is the RotD100 spectral displacement (Boore 2010, BSSA 100(4)).
+    """
+    values = np.asarray(acceleration, dtype=np.float64)
+    periods = np.atleast_1d(np.asarray(periods, dtype=np.float64))
+    if values.ndim != 1 or values.size < 2 or not np.all(np.isfinite(values)):
+        raise ValueError(f"acceleration: expected a finite 1-D record of 2 or more samples, got shape {values.shape}.")
+    if not (math.isfinite(time_step) and time_step > 0):
+        raise ValueError(f"time_step: must be > 0 s, got {time_step!r}.")
+    if periods.ndim != 1 or not np.all(np.isfinite(periods) & (periods > 0)):
+        raise ValueError(f"periods: must be finite and > 0 s, got {periods.tolist()}.")
+    if not 0.0 <= damping < 1.0:
+        raise ValueError(f"damping: must satisfy 0 <= damping < 1, got {damping}.")
+    return _displacements(values, float(time_step), 2.0 * np.pi / periods, float(damping))
 
 
 _SERIES_BELOW = 0.1  # omega * dt under which the coefficients come from a power series

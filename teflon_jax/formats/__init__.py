@@ -1,5 +1,5 @@
 """File formats: the test-record CSV, the protocol line, PEER AT2 and column files, the friction-damper
-JSON, the bundled-record catalogue and study results. File I/O only; nothing here is traced."""
+JSON, the bundled-record catalogue, study results, target spectra and pelicun demand samples. File I/O only; nothing here is traced."""
 
 from ._at2 import read_at2 as read_at2
 from ._bearing_file import BEARING_PARTS as BEARING_PARTS
@@ -12,8 +12,13 @@ from ._columns import read_two_column as read_two_column
 from ._damper import read_friction_damper_json as read_friction_damper_json
 from ._external import external_data_dir as external_data_dir
 from ._external import load_record as load_record
+from ._pelicun import PELICUN_UNITS as PELICUN_UNITS
+from ._pelicun import check_pelicun_path as check_pelicun_path
+from ._pelicun import pelicun_demand_table as pelicun_demand_table
+from ._pelicun import write_pelicun_demands as write_pelicun_demands
 from ._protocol import Protocol as Protocol
 from ._protocol import parse_protocol as parse_protocol
+from ._spectrum_file import read_target_spectrum as read_target_spectrum
 from ._test_record import INTERFACE_KEYS as INTERFACE_KEYS
 from ._test_record import TestRecord as TestRecord
 from ._test_record import interface_counts as interface_counts

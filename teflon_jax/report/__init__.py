@@ -2,6 +2,7 @@
 
 from ._design_plot import plot_design as plot_design
 from ._fit_plot import plot_fit as plot_fit
+from ._fragility_plot import plot_fragility as plot_fragility
 from ._loop_plot import plot_loop as plot_loop
 from ._montecarlo_plot import plot_montecarlo as plot_montecarlo
 from ._parameter_units import PARAMETER_SYMBOLS as PARAMETER_SYMBOLS

@@ -1,4 +1,5 @@
-"""Studies over many runs: the Fig. 11 sweep, record sets, Monte Carlo and gradient-based design."""
+"""Studies over many runs: the Fig. 11 sweep, record sets, Monte Carlo (over intensity levels, with
+fragility fits) and gradient-based design."""
 
 from ._bidirectional_study import (
     BidirectionalIsolatedStructure as BidirectionalIsolatedStructure,
@@ -8,6 +9,11 @@ from ._bidirectional_study import (
     bidirectional_isolated_structure as bidirectional_isolated_structure,
 )
 from ._bidirectional_study import bidirectional_peak_response as bidirectional_peak_response
+from ._bounding import BOUNDING_CASES as BOUNDING_CASES
+from ._bounding import bounding_design as bounding_design
+from ._bounding import check_property_factors as check_property_factors
+from ._bounding import governing_cases as governing_cases
+from ._bounding import scaled_friction as scaled_friction
 from ._cluster import ClusterRunError as ClusterRunError
 from ._cluster import check_netcdf_output as check_netcdf_output
 from ._cpu_vectors import prefer_wide_cpu_vectors as prefer_wide_cpu_vectors
@@ -28,6 +34,14 @@ from ._design_sweep import open_sweep as open_sweep
 from ._design_sweep import sweep_dataset as sweep_dataset
 from ._design_sweep import sweep_start as sweep_start
 from ._distributed import monte_carlo_distributed as monte_carlo_distributed
+from ._fragility import FragilityFit as FragilityFit
+from ._fragility import check_exceedances as check_exceedances
+from ._fragility import fit_fragility as fit_fragility
+from ._intensity_levels import check_levels as check_levels
+from ._intensity_levels import exceedance_counts as exceedance_counts
+from ._intensity_levels import levels_dataset as levels_dataset
+from ._intensity_levels import monte_carlo_levels as monte_carlo_levels
+from ._intensity_levels import save_levels as save_levels
 from ._montecarlo import monte_carlo as monte_carlo
 from ._montecarlo import monte_carlo_motion as monte_carlo_motion
 from ._record_set import RecordSet as RecordSet
@@ -36,6 +50,14 @@ from ._results import FORMATS as FORMATS
 from ._results import MonteCarloResult as MonteCarloResult
 from ._results import check_output_path as check_output_path
 from ._save import save_montecarlo as save_montecarlo
+from ._spectrum_match import COMBINATIONS as COMBINATIONS
+from ._spectrum_match import DesignSpectrum as DesignSpectrum
+from ._spectrum_match import TabulatedSpectrum as TabulatedSpectrum
+from ._spectrum_match import amplitude_factors as amplitude_factors
+from ._spectrum_match import check_factor_limit as check_factor_limit
+from ._spectrum_match import check_period_range as check_period_range
+from ._spectrum_match import combined_spectrum as combined_spectrum
+from ._spectrum_match import suite_statistic as suite_statistic
 from ._suites import SuiteResult as SuiteResult
 from ._suites import open_suite as open_suite
 from ._suites import save_suite as save_suite

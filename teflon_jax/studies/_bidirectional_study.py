@@ -30,6 +30,7 @@ from ..systems import (
     bidirectional_building,
     bidirectional_initial_state,
     bidirectional_rigid_mass,
+    directional_storeys,
     isolated_structure,
 )
 from ..units import STANDARD_GRAVITY
@@ -37,13 +38,17 @@ from ..units import STANDARD_GRAVITY
 
 class BidirectionalPeaks(eqx.Module):
     """Peaks of a two-component run (the fields of `PeakResponse`, as resultants):
-    `base_disp` [m], `base_shear_ratio` [-], their smooth maxima, `converged`."""
+    `base_disp` [m], `base_shear_ratio` [-], their smooth maxima, `converged`; with
+    `storey_height`, the building's `storey_drift` (2, S) [-] and `floor_acceleration`
+    (2, S + 1) [m/s^2] in x and y (`directional_storeys`), else `None`."""
 
     base_disp: jnp.ndarray
     base_shear_ratio: jnp.ndarray
     smooth_base_disp: jnp.ndarray
     smooth_base_shear_ratio: jnp.ndarray
     converged: jnp.ndarray
+    storey_drift: jnp.ndarray | None = None
+    floor_acceleration: jnp.ndarray | None = None
 
 
 class BidirectionalIsolatedStructure(eqx.Module):
@@ -112,6 +117,7 @@ def bidirectional_peak_response(
     disp_width=None,
     shear_width=None,
     read_every: int = 1,
+    storey_height=None,
 ) -> BidirectionalPeaks:
     """Integrate `system` from rest over `duration` [s] with `RiccatiNewmark`'s step
     (`newmark_step`) in a `lax.scan` and keep the peaks of the resultant bearing displacement
@@ -120,6 +126,8 @@ def bidirectional_peak_response(
     [-], default 1e-3 each). The accelerations are the equation of motion's (the system's
     vector field) at the end of each step, as `simulate_bidirectional` saves them.
     `read_every`: peaks read every k-th step (the smooth maxima see every step). jit/vmap-safe.
+    `storey_height` [m] (the building): also the peak drift ratio per storey and total
+    acceleration per level in x and y (`directional_storeys`).
 
     **Returns:** a `BidirectionalPeaks`.
     """
@@ -146,12 +154,18 @@ def bidirectional_peak_response(
         return new_top, total * jnp.exp((top - new_top) / width) + 0.5 * (
             jnp.exp((x - new_top) / width) + jnp.exp((-x - new_top) / width))
 
+    def storeys(ground, y, a):
+        if storey_height is None:
+            return ()
+        drift, acc = directional_storeys(y["q"], a + influence @ ground, storey_height)
+        return jnp.abs(drift), jnp.abs(acc)
+
     def body(carry, step_and_ground):
         step, ground1 = step_and_ground
         y, a, peaks, tops, totals, ok = carry
         y1, converged = system.newmark_update(y, a, ground1)
         a1 = system.acceleration_at(ground1, y1)
-        now = values(ground1, y1, a1)
+        now = values(ground1, y1, a1) + storeys(ground1, y1, a1)  # smooth maxima: the first two
         read = (step + 1) % read_every == 0
         peaks = tuple(jnp.where(read, jnp.maximum(p, v), p) for p, v in zip(peaks, now))
         updated = [lse_update(*args) for args in zip(tops, totals, now, widths)]
@@ -163,8 +177,11 @@ def bidirectional_peak_response(
     ground = jax.vmap(system.ground)(jnp.arange(n_steps + 1) * dt)
     a0 = system.acceleration_at(ground[0], y0)
     zero, one = jnp.zeros((), dtype), jnp.ones((), dtype)
-    carry = (y0, a0, (zero, zero), (zero, zero), (one, one), jnp.array(True))
+    floors = tuple(jnp.zeros_like(v) for v in storeys(ground[0], y0, a0))
+    carry = (y0, a0, (zero, zero) + floors, (zero, zero), (one, one), jnp.array(True))
     (_, _, peaks, tops, totals, ok), _ = jax.lax.scan(body, carry, (jnp.arange(n_steps), ground[1:]))
     smooth = [top + w * jnp.log(s / (n_steps + 1)) for top, s, w in zip(tops, totals, widths)]
     return BidirectionalPeaks(base_disp=peaks[0], base_shear_ratio=peaks[1], smooth_base_disp=smooth[0],
-                              smooth_base_shear_ratio=smooth[1], converged=ok)
+                              smooth_base_shear_ratio=smooth[1], converged=ok,
+                              **({} if storey_height is None else {"storey_drift": peaks[2],
+                                                                   "floor_acceleration": peaks[3]}))

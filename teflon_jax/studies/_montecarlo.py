@@ -45,6 +45,7 @@ from ..systems import (
     BidirectionalStructure,
     IsolatedStructure,
     check_design,
+    check_storey_height,
     peak_response,
 )
 from ._bidirectional_study import (
@@ -177,12 +178,14 @@ class ChunkRunner:
     (a Dask worker keeps one per run, so it compiles once whatever the number of chunks)."""
 
     def __init__(self, structure, source, duration, design_arrays, devices, chunk, disp_width, shear_width,
-                 read_every=1):
+                 read_every=1, storey_height=None):
         self.devices, self.chunk, self.compile_s = list(devices), int(chunk), 0.0
         mesh = jax.sharding.Mesh(np.array(self.devices), ("batch",))
         peaks_of = bidirectional_peak_response if source.components == 2 else peak_response
         # no gradients are taken here: two steps per pass of the uniaxial peak loop
         loop_options = {} if source.components == 2 else {"steps_per_pass": STEPS_PER_LOOP_PASS}
+        if storey_height is not None:  # the building's peak drifts and floor accelerations too
+            loop_options["storey_height"] = storey_height
         self.batched = jax.sharding.NamedSharding(mesh, jax.sharding.PartitionSpec("batch"))
         replicated = jax.sharding.NamedSharding(mesh, jax.sharding.PartitionSpec())
 
@@ -249,6 +252,7 @@ def monte_carlo(
     memory_limit_bytes: int | None = None,
     first_motion: int = 0,
     peak_interval: float | None = None,
+    storey_height=None,
 ) -> MonteCarloResult:
     """Peak responses of `structure` under N ground motions (and D design variants).
 
@@ -289,6 +293,9 @@ def monte_carlo(
     - `peak_interval` [s]: read the peaks every `peak_interval` (a multiple of the structure's
       step, e.g. the record step, to compare with a program that records there); default
       every step.
+    - `storey_height` [m]: a building: also keep each storey's peak drift ratio and each
+      level's peak total acceleration (`peak_response`; with two components in x and y,
+      `bidirectional_peak_response`), e.g. `load_table2().storey_height`; default `None`.
 
     **Returns:** a `MonteCarloResult`.
     """
@@ -370,8 +377,10 @@ def monte_carlo(
         if read_every < 1 or abs(ratio - read_every) > 1e-6 * ratio:
             raise ValueError(f"peak_interval: must be a positive multiple of the structure's time step "
                              f"{probe.time_step} s, got {peak_interval}.")
+    if storey_height is not None:  # refused here, before the compile, for a rigid mass
+        check_storey_height(n_dof // source.components, storey_height)  # x and y: 2 n coordinates
     runner = ChunkRunner(structure, source, duration, design_arrays, devices, chunk, disp_width,
-                         shear_width, read_every)
+                         shear_width, read_every, storey_height)
     outputs = []
     pending = None
     for c in range(n_chunks):
@@ -402,6 +411,8 @@ def monte_carlo(
         smooth_base_disp=arrange(peak_response_.smooth_base_disp),
         smooth_base_shear_ratio=arrange(peak_response_.smooth_base_shear_ratio),
         converged=arrange(peak_response_.converged),
+        storey_drift=None if storey_height is None else arrange(peak_response_.storey_drift),
+        floor_acceleration=None if storey_height is None else arrange(peak_response_.floor_acceleration),
         pga=np.asarray(pga),
         design={} if design_arrays is None else {k: np.asarray(v) for k, v in design_arrays.items()},
         dims=("motion",) if design_arrays is None else ("design", "motion"),

@@ -27,6 +27,14 @@ VARIABLES = {
 }
 """Peak variables of a `MonteCarloResult`: name -> (units, long name)."""
 
+STOREY_VARIABLES = {
+    "storey_drift": ("storey", "1", "peak |interstorey drift| / storey height (storey j: level j-1 to j)"),
+    "floor_acceleration": ("level", "m s-2", "peak |total acceleration| of the level (0: base slab)"),
+}
+"""A building's storey peaks, when the run kept them: name -> (dimension, units, long name);
+dimension "storey" 1.. (storey 1 from the base slab to floor 1), "level" 0.. (0 the base slab
+on the isolators, j >= 1 floor j)."""
+
 DESIGN_UNITS = {
     "isolation_period": ("s", "isolation period T_b"),
     "pressure": ("Pa", "bearing contact pressure"),
@@ -53,7 +61,11 @@ class MonteCarloResult:
     - `design`: dict name -> (D,) values (empty without variants);
     - `dims`: axis names, ("motion",) or ("design", "motion");
     - `n_devices`, `chunk_size`, `wall_s` (total), `compile_s` (first chunk's compile),
-      `memory_estimate_bytes` (one chunk); `attrs`: description of the run.
+      `memory_estimate_bytes` (one chunk); `attrs`: description of the run;
+    - `storey_drift` [-] (N, S) or (D, N, S), `floor_acceleration` [m/s^2] (N, S + 1) or
+      (D, N, S + 1): a building's peak drift ratio per storey (storey 1 first) and total
+      acceleration per level (0 the base slab, then floors 1..S) (`monte_carlo(storey_height=...)`),
+      with two components an axis of the two directions (x, y) before the last; else `None`.
     """
 
     base_disp: np.ndarray
@@ -70,6 +82,8 @@ class MonteCarloResult:
     compile_s: float
     memory_estimate_bytes: int
     attrs: dict = dataclasses.field(default_factory=dict)
+    storey_drift: np.ndarray | None = None
+    floor_acceleration: np.ndarray | None = None
 
     @property
     def n_motions(self) -> int:
@@ -144,12 +158,23 @@ class MonteCarloResult:
         data = {}
         for name, (units, long_name) in VARIABLES.items():
             data[name] = (dims, np.asarray(getattr(self, name)), {"units": units, "long_name": long_name})
+        for name, (dim, units, long_name) in STOREY_VARIABLES.items():
+            if getattr(self, name) is not None:
+                values = np.asarray(getattr(self, name))
+                direction = ("direction",) if values.ndim == len(dims) + 2 else ()  # two components: x, y
+                data[name] = (dims + direction + (dim,), values,
+                              {"units": units, "long_name": long_name})
         data["pga"] = (("motion",), np.asarray(self.pga),
                        {"units": "m s-2", "long_name": "peak |ground acceleration| of the motion"})
         for name, values in self.design.items():
             units, long_name = DESIGN_UNITS.get(name, ("1", name))
             data[f"design_{name}"] = (("design",), np.asarray(values), {"units": units, "long_name": long_name})
         coords = {"motion": np.arange(self.n_motions)}
+        if self.storey_drift is not None:
+            coords["storey"] = np.arange(1, np.shape(self.storey_drift)[-1] + 1)
+            coords["level"] = np.arange(np.shape(self.floor_acceleration)[-1])
+            if np.ndim(self.storey_drift) == len(dims) + 2:
+                coords["direction"] = np.array(["x", "y"])
         if "design" in dims:
             coords["design"] = np.arange(np.shape(self.converged)[0])
         attrs = {k: _attribute(v) for k, v in self.attrs.items()}
@@ -178,6 +203,7 @@ class MonteCarloResult:
             compile_s=float(settings["compile_s"]),
             memory_estimate_bytes=int(settings["memory_estimate_bytes"]),
             attrs=json.loads(dataset.attrs.get("teflon_jax_attrs", "{}")),
+            **{name: np.asarray(dataset[name].values) for name in STOREY_VARIABLES if name in dataset},
         )
 
     def to_csv(self, path) -> pathlib.Path:
@@ -197,6 +223,14 @@ class MonteCarloResult:
                             ("smooth_base_shear_ratio", "smooth_base_shear_ratio"),
                             ("converged", "converged")):
             columns[label] = np.asarray(getattr(self, name)).reshape(-1)
+        for name, unit, first in (("storey_drift", "", 1), ("floor_acceleration", "_m_s2", 0)):
+            values = getattr(self, name)
+            if values is not None:
+                two = np.ndim(values) == len(self.dims) + 2
+                values = np.asarray(values).reshape(columns["motion"].size, -1, np.shape(values)[-1])
+                for d, axis in enumerate(("_x", "_y") if two else ("",)):
+                    for j in range(values.shape[2]):
+                        columns[f"{name}{axis}_{j + first}{unit}"] = values[:, d, j]
         with open(path, "w") as handle:
             handle.write(",".join(columns) + "\n")
             for i in range(columns["motion"].size):

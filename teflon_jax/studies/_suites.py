@@ -21,7 +21,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..excitation import uniform_signal
-from ..systems import BidirectionalStructure, simulate_bidirectional
+from ..systems import BidirectionalStructure, directional_storeys, simulate_bidirectional
 from ..units import STANDARD_GRAVITY
 from ._cluster import (
     add_attributes,
@@ -45,20 +45,38 @@ SUITE_UNITS = {
 }
 """Variables of a suite's NetCDF file on the "pair" dimension: name -> (units, long name)."""
 
+SUITE_STOREY_UNITS = {
+    "storey_drift_max_resultant": ("1", "largest peak resultant interstorey drift / storey height over "
+                                   "the storeys (the building, suite_peaks(storey_height=...))"),
+}
+"""A suite's storey variable, when `suite_peaks` was given the building's storey height."""
+
+_ALL_UNITS = {**SUITE_UNITS, **SUITE_STOREY_UNITS}
+_STOREY_LAYOUT = {
+    "storey_drift": ("storey", "1", "peak |interstorey drift| / storey height (storey j: level j-1 to j)"),
+    "level_acceleration": ("level", "m s-2", "peak |total acceleration| of the level (0: base slab)"),
+}
+
 
 @dataclasses.dataclass(frozen=True)
 class SuiteResult:
     """Peaks per pair (arrays (P,)), `converged` (P,), the pair `names`, and `summary`:
-    {peak name: {"mean": ..., "max": ...}} over the converged pairs."""
+    {peak name: {"mean": ..., "max": ...}} over the converged pairs; `storeys`: the building's
+    `storey_drift` (P, 2, S) [-] and `level_acceleration` (P, 2, S + 1) [m/s^2] in x and y
+    (`suite_peaks(storey_height=...)`, `directional_storeys`), else `None`."""
 
     names: tuple
     peaks: dict
     converged: np.ndarray
     summary: dict
+    storeys: dict | None = None
 
 
-def _suite_function(build, time_step: float, duration: float, base_index):
-    """The jitted function (ax (B, n), ay (B, n)) -> (peaks {name: (B,)}, converged (B,))."""
+def _suite_function(build, time_step: float, duration: float, base_index, storey_height=None):
+    """The jitted function (ax (B, n), ay (B, n)) -> (peaks {name: (B, ...)}, converged (B,));
+    with `storey_height` [m] (the building) also the largest resultant drift ratio over the
+    storeys, |(q_j - q_(j-1))_x, (q_j - q_(j-1))_y| / h, and the peaks per storey, level and
+    direction (`directional_storeys`)."""
     ix, iy = base_index
 
     def one(x, y):
@@ -73,9 +91,17 @@ def _suite_function(build, time_step: float, duration: float, base_index):
             "base_disp_x_m": jnp.max(jnp.abs(bx)),
             "base_disp_y_m": jnp.max(jnp.abs(by)),
             "base_shear_ratio_resultant": jnp.max(jnp.hypot(force[:, 0], force[:, 1])) / weight,
-        }, r.result == diffrax.RESULTS.successful
+        } | _storey_peaks(r.q, total, storey_height), r.result == diffrax.RESULTS.successful
 
     return jax.jit(jax.vmap(one))
+
+
+def _storey_peaks(q, total, storey_height) -> dict:
+    if storey_height is None:
+        return {}
+    drift, acc = directional_storeys(q, total, storey_height)  # (nt, 2, S), (nt, 2, S + 1)
+    return {"storey_drift_max_resultant": jnp.max(jnp.hypot(drift[:, 0], drift[:, 1])),
+            "storey_drift": jnp.max(jnp.abs(drift), axis=0), "level_acceleration": jnp.max(jnp.abs(acc), axis=0)}
 
 
 def _summary(peaks: dict, ok: np.ndarray) -> dict:
@@ -87,14 +113,15 @@ def _summary(peaks: dict, ok: np.ndarray) -> dict:
 
 
 def suite_peaks(build, names, ax, ay, time_step: float, duration: float, base_index=(0, 1),
-                batch_size: int | None = None) -> SuiteResult:
+                batch_size: int | None = None, storey_height: float | None = None) -> SuiteResult:
     """Run P record pairs through the structure `build(ground_x, ground_y)` in one vmapped call
     (or in calls of `batch_size` pairs, the last padded: one compilation).
 
     **Arguments:** `build`: a function of two `Signal`s returning a `BidirectionalStructure`;
     `names` (P,); `ax`, `ay` (P, n) ground accelerations [m/s^2] (already scaled, common step);
     `time_step` [s] of the records; `duration` [s]; `base_index`: the coordinates of the base in
-    x and y (rigid mass (0, 1), building (0, 7), slab (0, 1)).
+    x and y (rigid mass (0, 1), building (0, 7), slab (0, 1)); `storey_height` [m]: the
+    building's storey height, to keep `storey_drift_max_resultant` and `SuiteResult.storeys` too.
 
     **Returns:** a `SuiteResult`; the base shear ratio is the total horizontal force on the
     structure above the bearings over its weight.
@@ -103,14 +130,16 @@ def suite_peaks(build, names, ax, ay, time_step: float, duration: float, base_in
     count = len(names)
     width = count if batch_size is None else min(check_count("batch_size", batch_size, 1), count)
     ax, ay = np.asarray(ax), np.asarray(ay)
-    function = _suite_function(build, time_step, duration, base_index)
+    function = _suite_function(build, time_step, duration, base_index, storey_height)
     parts = []
     for start in range(0, count, width):
         index = lanes(start, min(start + width, count), width)
         parts.append(jax.device_get(function(jnp.asarray(ax[index]), jnp.asarray(ay[index]))))
-    peaks = {k: np.concatenate([p[0][k] for p in parts])[:count] for k in SUITE_PEAKS}
+    joined = {k: np.concatenate([p[0][k] for p in parts])[:count] for k in parts[0][0]}
+    peaks = {k: v for k, v in joined.items() if v.ndim == 1}
+    storeys = {k: v for k, v in joined.items() if v.ndim > 1} or None
     ok = np.concatenate([np.asarray(p[1], dtype=bool) for p in parts])[:count]
-    return SuiteResult(names=names, peaks=peaks, converged=ok, summary=_summary(peaks, ok))
+    return SuiteResult(names=names, peaks=peaks, converged=ok, summary=_summary(peaks, ok), storeys=storeys)
 
 
 def _suite_task(spec: dict, start: int, stop: int, payload):
@@ -208,22 +237,28 @@ def suite_dataset(result: SuiteResult, attrs: dict | None = None):
     import xarray
 
     data = {k: ("pair", np.asarray(result.peaks[k]), {"units": u, "long_name": n})
-            for k, (u, n) in SUITE_UNITS.items() if k != "converged"}
+            for k, (u, n) in _ALL_UNITS.items() if k in result.peaks}
     units, long_name = SUITE_UNITS["converged"]
     data["converged"] = ("pair", np.asarray(result.converged, bool), {"units": units, "long_name": long_name})
     file_attrs = {"Conventions": "CF-1.8", "title": "teflon-jax record suite peak responses",
                   "teflon_jax_attrs": json.dumps(attrs or {}), **(attrs or {}), **_summary_attrs(result.summary)}
     coords = {"pair": ("pair", np.array(result.names, dtype=str), {"long_name": "record pair"})}
+    for name, (dim, units, long_name) in ({} if result.storeys is None else _STOREY_LAYOUT).items():
+        data[name] = (("pair", "direction", dim), np.asarray(result.storeys[name]), {"units": units, "long_name": long_name})
+    if result.storeys is not None:
+        coords["direction"] = ("direction", np.array(["x", "y"]))
     return xarray.Dataset(data, coords=coords, attrs=file_attrs)
 
 
 def open_suite(path) -> SuiteResult:
     """The `SuiteResult` a suite NetCDF file holds (`save_suite`, `suite_peaks_distributed`)."""
     dataset = open_finished(path)
-    peaks = {k: np.asarray(dataset[k].values, dtype=float) for k in SUITE_PEAKS}
+    peaks = {k: np.asarray(dataset[k].values, dtype=float) for k in _ALL_UNITS
+             if k != "converged" and k in dataset}
     ok = np.asarray(dataset["converged"].values, dtype=bool)
     names = tuple(str(n) for n in dataset["pair"].values)
-    return SuiteResult(names=names, peaks=peaks, converged=ok, summary=_summary(peaks, ok))
+    storeys = {k: np.asarray(dataset[k].values, dtype=float) for k in _STOREY_LAYOUT if k in dataset} or None
+    return SuiteResult(names=names, peaks=peaks, converged=ok, summary=_summary(peaks, ok), storeys=storeys)
 
 
 def save_suite(result: SuiteResult, table_path=None, netcdf_path=None, attrs: dict | None = None) -> None:
@@ -234,12 +269,13 @@ def save_suite(result: SuiteResult, table_path=None, netcdf_path=None, attrs: di
     if table_path is not None:
         path = pathlib.Path(table_path)
         path.parent.mkdir(parents=True, exist_ok=True)
-        lines = ["pair," + ",".join(SUITE_PEAKS) + ",converged"]
+        names = [k for k in _ALL_UNITS if k in result.peaks]
+        lines = ["pair," + ",".join(names) + ",converged"]
         for i, name in enumerate(result.names):
-            row = ",".join(f"{result.peaks[k][i]:.6g}" for k in SUITE_PEAKS)
+            row = ",".join(f"{result.peaks[k][i]:.6g}" for k in names)
             lines.append(f"{name},{row},{bool(result.converged[i])}")
         for stat in ("mean", "max"):
-            lines.append(f"{stat}," + ",".join(f"{result.summary[k][stat]:.6g}" for k in SUITE_PEAKS) + ",")
+            lines.append(f"{stat}," + ",".join(f"{result.summary[k][stat]:.6g}" for k in names) + ",")
         path.write_text("\n".join(lines) + "\n")
     if netcdf_path is not None:
         path = pathlib.Path(netcdf_path)

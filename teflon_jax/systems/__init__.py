@@ -42,6 +42,10 @@ from ._slab import slab_corners as slab_corners
 from ._slab import slab_on_bearings as slab_on_bearings
 from ._slab import slab_point_displacement as slab_point_displacement
 from ._slab import stack_bearings as stack_bearings
+from ._storey_peaks import bidirectional_storey_peaks as bidirectional_storey_peaks
+from ._storey_peaks import check_storey_height as check_storey_height
+from ._storey_peaks import directional_storeys as directional_storeys
+from ._storey_peaks import storey_rows as storey_rows
 from ._structure import FRICTION_MODELS as FRICTION_MODELS
 from ._structure import HEAT_HORIZON as HEAT_HORIZON
 from ._structure import STRUCTURE_EFFECTS as STRUCTURE_EFFECTS

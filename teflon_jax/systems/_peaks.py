@@ -6,6 +6,7 @@ import jax.numpy as jnp
 
 from ..units import STANDARD_GRAVITY
 from ._block_algebra import small_dot
+from ._storey_peaks import storey_rows, storey_start
 from ._structure import (
     WRITTEN_OUT_PRODUCT,
     StructureOnSliders,
@@ -34,6 +35,10 @@ class PeakResponse(eqx.Module):
     - `smooth_base_disp`, `smooth_base_shear_ratio`: the same maxima through `smooth_max`
       (differentiable); equal to the peaks' lower bounds when no width is given.
     - `converged`: every step's Newton iteration converged.
+    - `storey_drift` (n-1,) [-]: a building's peak interstorey drift ratio per storey (storey 1
+      from the base slab to floor 1), and `floor_acceleration` (n,) [m/s^2] its peak total
+      acceleration per level (0 the base slab on the isolators, 1.. the floors) (`storey_rows`),
+      when `peak_response` was given `storey_height`; else `None`.
     """
 
     base_disp: jnp.ndarray
@@ -41,6 +46,8 @@ class PeakResponse(eqx.Module):
     smooth_base_disp: jnp.ndarray
     smooth_base_shear_ratio: jnp.ndarray
     converged: jnp.ndarray
+    storey_drift: jnp.ndarray | None = None
+    floor_acceleration: jnp.ndarray | None = None
 
 
 def smooth_max(x, width, axis=-1):
@@ -101,6 +108,7 @@ def peak_response(
     shear_width=None,
     read_every: int = 1,
     steps_per_pass: int = 1,
+    storey_height=None,
 ) -> PeakResponse:
     """Integrate `system` from rest over `duration` [s] and keep only peaks.
 
@@ -122,6 +130,7 @@ def peak_response(
       them; the smooth maxima still see every step).
     - `steps_per_pass`: steps written out in each pass of the loop (the same results; see
       `STEPS_PER_LOOP_PASS`, what `monte_carlo` takes; 1 where the run is differentiated).
+    - `storey_height` [m]: also keep a building's storey drifts and level accelerations (`storey_rows`).
 
     **Returns:** a `PeakResponse`.
     """
@@ -146,6 +155,7 @@ def peak_response(
 
     n = system.mass.shape[-1]
     step_matrix, force_column, shear_row, shear_force = step_propagator(system)
+    rows = None if storey_height is None else storey_rows(system, storey_height)
 
     # The state (u, v), the bearing force per unit Z and its slope of the stored state
     # (`friction_factors`) and the ground acceleration at the start of the step, advanced by
@@ -164,13 +174,14 @@ def peak_response(
         shear = small_dot(shear_row, x1, WRITTEN_OUT_PRODUCT) + shear_force * (factors1[0] * z1)
         if history:
             history = system.next_history(*history, x[0], x1[0], x[n], z_peak)
-        return (x1, z1, z_peak1, factors1, ground1, history), x1[0], shear, converged
+        return (x1, z1, z_peak1, factors1, ground1, history), x1[0], shear, converged, factors1[0] * z1
 
     def body(carry, step_and_ground):
         step, ground1 = step_and_ground
         state, peaks, tops, totals, ok = carry
-        state, base_disp, shear_ratio, converged = advance(state, ground1)
-        values = (base_disp, shear_ratio)
+        state, base_disp, shear_ratio, converged, force = advance(state, ground1)
+        storeys = () if rows is None else (rows[0] @ state[0], rows[1] @ state[0] + rows[2] * force)
+        values = (base_disp, shear_ratio) + storeys  # the smooth maxima below take the first two
         read = (step + 1) % read_every == 0
         peaks = tuple(jnp.where(read, jnp.maximum(p, jnp.abs(v)), p) for p, v in zip(peaks, values))
         updated = [lse_update(a, s, v, w) for a, s, v, w in zip(tops, totals, values, widths)]
@@ -187,7 +198,7 @@ def peak_response(
     history = (y0["heat"], y0["travel"]) if system.history else ()
     state = (jnp.concatenate([y0["u"], y0["v"]]), y0["z"], y0["z_peak"], start_factors, ground[0],
              history)
-    carry = (state, (zero, zero), (zero, zero), (one, one), jnp.array(True))
+    carry = (state, (zero, zero) + storey_start(rows, dtype), (zero, zero), (one, one), jnp.array(True))
     (_, peaks, tops, totals, ok), _ = jax.lax.scan(body, carry, (jnp.arange(n_steps), ground[1:]),
                                                    unroll=steps_per_pass)
     smooth = [a + w * jnp.log(s / (n_steps + 1)) for a, s, w in zip(tops, totals, widths)]
@@ -197,4 +208,5 @@ def peak_response(
         smooth_base_disp=smooth[0],
         smooth_base_shear_ratio=smooth[1],
         converged=ok,
+        **({} if rows is None else {"storey_drift": peaks[2], "floor_acceleration": peaks[3]}),
     )

@@ -1,0 +1,204 @@
+"""`teflon-jax montecarlo` over intensity levels, with limits, fragility curves, storey results
+and pelicun demand files (`--pga 0.1g,0.2g,...`, `--limit`, `--storeys`, `--pelicun-demands`).
+
+N motions at each level (`monte_carlo_levels`); for each limit the runs exceeding it are
+counted at each level and, with two or more levels, a lognormal fragility is fitted by maximum
+likelihood with profile-likelihood intervals (`fit_fragility`; Baker 2015, Earthquake Spectra
+31(1)). Failed runs are kept in the files, flagged, and out of the counts and statistics.
+"""
+
+import math
+import sys
+
+import numpy as np
+
+from ._common import _write_json
+from ._engineering import (
+    intensity_unit,
+    level_paths,
+    parse_limits,
+    pelicun_peaks,
+    wants_storeys,
+)
+
+
+def check_level_outputs(args, n_levels: int) -> None:
+    """`ValueError` naming the flag, before any run, for outputs this run cannot write."""
+    if args.scheduler is not None:
+        raise ValueError("--scheduler: runs over several --pga levels, with --limit, --storeys or "
+                         "--pelicun-demands run in this process; leave out --scheduler.")
+    if args.out is not None:
+        from ..studies import check_output_path
+
+        path = check_output_path(args.out)
+        if n_levels > 1 and path.suffix not in (".nc", ".zarr"):
+            raise ValueError(f"--out {args.out}: the motions' levels are kept in NetCDF or Zarr; name it .nc "
+                             "or .zarr (one level: any format).")
+    if args.pelicun_demands is not None:
+        from ..formats import check_pelicun_path
+
+        check_pelicun_path(args.pelicun_demands)
+
+
+def _fragility(limit, result, level_index, levels, unit, factor) -> tuple[dict, object]:
+    """The JSON entry of one limit and its `FragilityFit` (or the counts when no fit)."""
+    from ..studies import exceedance_counts, fit_fragility
+
+    n_runs, n_exceed = exceedance_counts(limit.peaks(result), result.converged, level_index, levels.size,
+                                         limit.value)
+    entry = {"limit": limit.text, "limit_si": limit.value, "intensity_unit": unit,
+             "levels": (levels / factor).tolist(), "n_runs": n_runs.tolist(), "n_exceed": n_exceed.tolist(),
+             "fraction": [k / n if n else None for k, n in zip(n_exceed, n_runs)]}
+    if levels.size < 2:
+        entry["error"] = "a fragility needs two or more --pga levels; the fraction exceeding is given"
+        return entry, (levels / factor, np.maximum(n_runs, 1), n_exceed)
+    try:
+        fit = fit_fragility(levels / factor, n_runs, n_exceed)
+    except ValueError as error:
+        entry["error"] = f"--limit {limit.text}: {error}"
+        return entry, (levels / factor, np.maximum(n_runs, 1), n_exceed)
+
+    def finite(value):
+        return value if math.isfinite(value) and value > 0 else None
+
+    entry.update({"median": fit.median, "dispersion": fit.dispersion,
+                  "median_interval": [finite(v) for v in fit.median_interval],
+                  "dispersion_interval": [finite(v) for v in fit.dispersion_interval],
+                  "confidence": fit.confidence, "interval": "profile likelihood (null: not bounded by the data)",
+                  "method": "maximum likelihood on the counts at each level (Baker 2015)"})
+    return entry, fit
+
+
+def _storey_summary(result, rows, units) -> dict:
+    """Median and largest peak drift per storey and total acceleration per level [g] over the
+    converged runs of `rows`."""
+    from ..units import STANDARD_GRAVITY
+
+    ok = np.asarray(result.converged, bool)[rows]
+    drift = np.asarray(result.storey_drift)[rows][ok]
+    acc = np.asarray(result.floor_acceleration)[rows][ok] / STANDARD_GRAVITY
+    if not ok.any():
+        return {"n": 0}
+    return {"n": int(ok.sum()), "storey_drift_p50": np.median(drift, 0).tolist(), "storey_drift_max": drift.max(0).tolist(),
+            "level_acceleration_g_p50": np.median(acc, 0).tolist(), "level_acceleration_g_max": acc.max(0).tolist(),
+            "levels": "0: base slab on the isolators, j: floor j; storeys from 1 (base slab to floor 1)"}
+
+
+def _payload(args, structure, units) -> dict:
+    from ..units import STANDARD_GRAVITY
+
+    return {"structure": args.structure, "time_step_s": structure.time_step, "chunk_size": args.chunk_size,
+            "design": {f"pressure_{units.pressure[0]}": args.pressure / units.pressure[1],
+                       "isolation_period_s": args.isolation_period,
+                       "isolation_damping": args.isolation_damping, "ptfe": args.ptfe},
+            "motions": {"model": "Clough-Penzien, Jennings-Housner-Tsai envelope", "duration_s": args.duration,
+                        "seed": args.seed, "components": args.components,
+                        "pga_g": [v / STANDARD_GRAVITY for v in args.pga_levels]},
+            "units": {"base_disp": units.length[0], "base_shear_ratio": "-", "storey_drift": "-",
+                      "level_acceleration": "g", "wall_s": "s"}}
+
+
+def run_levels(args, structure, model, units, statistics) -> int:
+    """Run the motions of every level, then write the JSON, the plot, the results file and the
+    pelicun files; returns the exit status (0; 1 when a run failed or a fragility could not be
+    fitted: everything is written all the same). `statistics(result, units)`: the JSON
+    statistics of one level's `MonteCarloResult` (those of a one-level run)."""
+    import jax
+    from tqdm import tqdm
+
+    from ..report import plot_fragility, plot_montecarlo
+    from ..studies import monte_carlo_levels, save_levels
+    from ..tables import load_table2
+
+    levels = np.asarray(args.pga_levels, float)
+    limits = parse_limits(args.limit, args.structure, args.components)
+    height = load_table2().storey_height if wants_storeys(args, limits) else None
+    check_level_outputs(args, levels.size)
+    unit, factor = intensity_unit(args.pga_text)
+    payload = _payload(args, structure, units)
+    stamp = (f"{args.structure}, {args.ptfe} PTFE at {args.pressure_text}, Tb = {args.isolation_period_text}, "
+             f"zeta_b = {args.isolation_damping_text}; Clough-Penzien motions, {args.motions} per level at PGA "
+             f"{args.pga_text}, {args.duration_text}, seed {args.seed}")
+    bar = tqdm(total=levels.size * args.motions, unit="motion", disable=args.no_progress)
+    result, level_index = monte_carlo_levels(
+        structure, model, levels, args.motions, key=jax.random.key(args.seed), chunk_size=args.chunk_size,
+        progress=lambda done, total: bar.update(done - bar.n), storey_height=height)
+    bar.close()
+    converged = np.asarray(result.converged, bool)
+    files = []
+    if args.out is not None:
+        if args.out.suffix in (".csv", ".npz"):  # one level only (check_level_outputs)
+            files.append(str(result.save(args.out)))
+        else:
+            files.append(str(save_levels(result, level_index, args.out)))
+    if args.pelicun_demands is not None:
+        from ..formats import write_pelicun_demands
+
+        length = "in" if units.length[0] == "in" else "mm"
+        for j, path in enumerate(level_paths(args.pelicun_demands, levels.size)):
+            rows = np.flatnonzero(level_index == j)
+            files.append(str(write_pelicun_demands(path, **pelicun_peaks(result, rows, args.components),
+                                                   length_unit=length)))
+    per_level = []
+    for j, level in enumerate(levels):
+        rows = np.flatnonzero(level_index == j)
+        part = _select(result, rows)
+        entry = {f"pga_{unit}": level / factor, "motions": [int(rows[0]), int(rows[-1])],
+                 "n_converged": int(converged[rows].sum()), "statistics": statistics(part, units)}
+        if result.storey_drift is not None:
+            entry["storeys"] = _storey_summary(result, rows, units)
+        per_level.append(entry)
+    fragility, curves = {}, {}
+    for limit in limits:
+        fragility[limit.text], curves[limit.text] = _fragility(limit, result, level_index, levels, unit, factor)
+    payload.update({"n_motions": result.n_motions, "motions_per_level": args.motions,
+                    "n_converged": int(converged.sum()), "not_converged": np.flatnonzero(~converged).tolist(),
+                    "all_converged": bool(converged.all()), "wall_s": result.wall_s, "compile_s": result.compile_s,
+                    "levels": per_level, "fragility": fragility, "files": files})
+    payload["motions"]["pga_levels"] = {"unit": unit, "values": (levels / factor).tolist()}
+    _write_json(args.json, payload)
+    if args.plot is not None:
+        if limits and levels.size > 1:
+            plot_fragility(curves, args.plot, unit=unit, factor=1.0, title=stamp)
+        else:
+            plot_montecarlo(result, args.plot, title=stamp, length=units.length)
+    return _report(result, levels, level_index, unit, factor, fragility)
+
+
+def _select(result, rows):
+    """The motions `rows` of a one-design `MonteCarloResult`."""
+    import dataclasses
+
+    picked = {f.name: getattr(result, f.name)[rows] for f in dataclasses.fields(result)
+              if isinstance(getattr(result, f.name), np.ndarray)}
+    return dataclasses.replace(result, **picked)
+
+
+def _report(result, levels, level_index, unit, factor, fragility) -> int:
+    converged = np.asarray(result.converged, bool)
+    print(f"{result.n_motions} motions at {levels.size} level(s) in {result.wall_s:.1f} s; "
+          f"{int(converged.sum())} converged.")
+    status = 0
+    for text, entry in fragility.items():
+        fractions = ", ".join(f"{x:g}{unit}: {k}/{n}" for x, k, n in zip(entry["levels"], entry["n_exceed"],
+                                                                          entry["n_runs"]))
+        print(f"  {text}: exceeding {fractions}")
+        if "error" in entry:
+            print(f"teflon-jax montecarlo: {entry['error']}", file=sys.stderr)
+            status = 1 if levels.size > 1 else status
+            continue
+        low, high = entry["median_interval"]
+        print(f"    fragility: median {entry['median']:.4g} {unit} ({_end(low)} - {_end(high)}), dispersion "
+              f"{entry['dispersion']:.3g}")
+    failed = np.flatnonzero(~converged)
+    if failed.size:
+        named = ", ".join(str(i) for i in failed[:20]) + (" ..." if failed.size > 20 else "")
+        print(f"teflon-jax montecarlo: {failed.size} of {converged.size} runs had a time step whose Newton "
+              f"solve did not converge (motion indices {named}); they are flagged in the files and left out "
+              "of the counts and statistics. Try a smaller --time-step.", file=sys.stderr)
+        status = 1
+    return status
+
+
+def _end(value) -> str:
+    return "unbounded" if value is None else f"{value:.4g}"
