@@ -126,6 +126,8 @@ def test_fitter_follows_the_law(law):
     if not effects or law == "breakaway":
         fit = fit_bearing_test(record)
         assert fit.converged, fit.message
+        friction = settings.get("friction", UF_1000_P)
+        assert fit.parameters["f_max"] == pytest.approx(friction["f_max"], rel=5e-3)
         found = fit.parameters[name]
     else:
         known = {"yield_disp": Y, **settings.get("friction", UF_1000_P)}

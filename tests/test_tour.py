@@ -63,9 +63,9 @@ def test_readme_has_two_setup_commands_and_a_tour():
     written = set()
     for words in tour_commands():
         for i, word in enumerate(words):
-            if word.endswith(".csv") and words[i - 1] != "--out":
+            if (word.endswith(".csv") and words[i - 1] != "--out") or words[i - 1] == "--bearing":
                 assert word in written, f"{word} is read before a step writes it"
-            if i and words[i - 1] in ("--out", "--json", "--plot"):
+            if i and words[i - 1] in ("--out", "--json", "--plot", "--save-bearing"):
                 written.add(word)
 
 

@@ -43,6 +43,52 @@ class Mutant:
     new: str
     tests: tuple[str, ...]
     statement: str
+    groups: tuple[tuple[str, tuple[str, ...]], ...] = ()
+
+
+OL = "tests/test_one_law.py"
+
+
+def law(name, path, old, new, case, statement, consumers=("simulator", "fitter", "discovery")):
+    """A mutant of one law of the bearing model, run against the simulator's, the fitter's and
+    discovery's test of that law (`tests/test_one_law.py`): killed only when all go red."""
+    groups = tuple((who, (f"{OL}::test_{who}_follows_{case}",)) for who in consumers)
+    return Mutant(name, path, old, new, tuple(t for _, ts in groups for t in ts), statement, groups)
+
+
+EF = "teflon_jax/bearing/_effects.py"
+LAWS = (
+    law("L1", "teflon_jax/bearing/_friction.py", "params.delta_f * jnp.exp(-params.rate_a * speed)",
+        "params.delta_f * jnp.exp(-0.5 * params.rate_a * speed)", "the_law[eq1]",
+        "Eq. 1: exp(-a |v|) -> exp(-a |v| / 2)"),
+    law("L2", "teflon_jax/bearing/_hysteresis.py", "c_plus = h.gamma + h.beta",
+        "c_plus = h.gamma + 0.5 * h.beta", "the_law[bouc_wen]",
+        "Eq. 3 (closed form): loading branch with gamma + beta / 2"),
+    law("L3", "teflon_jax/bearing/_bearing.py",
+        "return jnp.where(z_peak < BREAKAWAY_THRESHOLD, self.breakaway_ratio * params.f_min, mu)",
+        "return jnp.where(z_peak < BREAKAWAY_THRESHOLD, self.breakaway_ratio * params.f_max, mu)",
+        "the_law[breakaway]", "Eq. 17: b f_max instead of b (f_max - Df)"),
+    law("L4", "teflon_jax/bearing/_friction.py", "return theta / (jnp.pi / 2)",
+        "return jnp.sin(theta) ** 2", "park_and_anisotropy",
+        "anisotropy: weight sin^2(theta) instead of theta / 90 degrees"),
+    law("L5", "teflon_jax/solver/_park_path.py", "k = (h.gamma * s + h.beta) * e",
+        "k = (h.gamma + h.beta * s) * e", "park_and_anisotropy",
+        "Park's Eqs. 8-9 in closed form along a sampled path (the imposed-motion simulator "
+        "integrates their rate form, mutants H3, H6)", consumers=("fitter", "discovery")),
+    law("L6", EF, "jnp.power(0.70, temperature / 50.0)", "jnp.power(0.70, temperature / 40.0)",
+        "the_law[heating]", "heating: k_T = 0.79 (0.70^(T/40) + 0.40)"),
+    law("L7", EF, "jnp.exp(-self.exponent * jnp.log(normal_load / self.reference_load))",
+        "1.0 - self.exponent * (normal_load / self.reference_load - 1.0)",
+        "the_law[pressure_dependence]", "pressure dependence: linear in N instead of a power"),
+    law("L8", EF, "1.0 + self.change * (travel / self.reference_travel)",
+        "1.0 + self.change * (travel / self.reference_travel) ** 2", "the_law[wear]",
+        "wear: quadratic in travel instead of linear"),
+    law("L9", EF, "1.0 + self.asymmetry * z_x", "1.0 + self.asymmetry * jnp.sign(z_x)",
+        "the_law[asymmetry]", "asymmetry: on the sliding direction sign(Z) instead of Z"),
+    law("L10", EF, "available = jnp.maximum(0.5 * gap - sigma * gap_position, 0.0)",
+        "available = jnp.maximum(gap - sigma * gap_position, 0.0)", "the_law[backlash]",
+        "backlash: the gap crossed twice over"),
+)
 
 
 MUTANTS = (
@@ -91,10 +137,12 @@ MUTANTS = (
            (f"{BT}::test_reversal_length_is_where_z_crosses_zero",), "closed-form Z: reversal length with gamma + beta"),
     # Bearing: breakaway (Eq. 17), speed, checks
     Mutant("B1", "teflon_jax/bearing/_bearing.py",
-           "jnp.where(z_peak < BREAKAWAY_THRESHOLD, static, mu)", "jnp.where(z_peak < 0.5, static, mu)",
+           "return jnp.where(z_peak < BREAKAWAY_THRESHOLD, self.breakaway_ratio * params.f_min, mu)",
+           "return jnp.where(z_peak < 0.5, self.breakaway_ratio * params.f_min, mu)",
            (f"{BR}::test_191_breakaway_then_eq1_on_every_half_cycle",), "Eq. 17: breakaway threshold 0.5 instead of 0.999"),
     Mutant("B2", "teflon_jax/bearing/_bearing.py",
-           "static = self.breakaway_ratio * params.f_min", "static = self.breakaway_ratio * params.f_max",
+           "return jnp.where(z_peak < BREAKAWAY_THRESHOLD, self.breakaway_ratio * params.f_min, mu)",
+           "return jnp.where(z_peak < BREAKAWAY_THRESHOLD, self.breakaway_ratio * params.f_max, mu)",
            (f"{BR}::test_191_breakaway_then_eq1_on_every_half_cycle",), "Eq. 17: b f_max instead of b (f_max - Df)"),
     Mutant("B3", "teflon_jax/bearing/_bearing.py",
            "return jnp.where(moving, jnp.sqrt(jnp.where(moving, square, 1.0)), 0.0)",
@@ -158,20 +206,20 @@ MUTANTS = (
             f"{BW}::test_newton_bracket_holds_a_step_that_saturates_z_above_one"),
            "Newton bracket assumes A <= beta + gamma"),
     Mutant("S4", "teflon_jax/systems/_structure.py",
-           'force = force.at[0].add(-self.friction_force(y["v"][0], y["z"], y["z_peak"]))',
-           'force = force.at[0].add(self.friction_force(y["v"][0], y["z"], y["z_peak"]))',
+           'force = force.at[0].add(-self.at_state(y).friction_force(y["v"][0], y["z"], y["z_peak"]))',
+           'force = force.at[0].add(self.at_state(y).friction_force(y["v"][0], y["z"], y["z_peak"]))',
            (f"{BW}::test_rigid_mass_with_eta_3_matches_scipy",), "vector field: friction pushes instead of resisting"),
     Mutant("S5", "teflon_jax/systems/_structure.py",
            "return -self.mass * self.ground_acceleration(t)", "return self.mass * self.ground_acceleration(t)",
            (f"{SS}::test_coulomb_sliding_acceleration_closed_form",), "equation of motion: sign of the ground load"),
-)
+) + LAWS
 
 
 def run(mutant: Mutant, timeout: float, source: pathlib.Path) -> tuple[str, float, str]:
     """Apply `mutant` in a fresh copy of `source`, run its tests, return (outcome, seconds, tail)."""
     with tempfile.TemporaryDirectory(prefix=f"mutant-{mutant.name}-") as tmp:
         root = pathlib.Path(tmp)
-        for part in ("teflon_jax", "tests", "data", "pyproject.toml"):
+        for part in ("teflon_jax", "identification", "tests", "data", "pyproject.toml"):
             src = source / part
             (shutil.copytree if src.is_dir() else shutil.copy)(src, root / part)
         target = root / mutant.path
@@ -179,7 +227,16 @@ def run(mutant: Mutant, timeout: float, source: pathlib.Path) -> tuple[str, floa
         if text.count(mutant.old) != 1:
             return "stale", 0.0, f"{mutant.path}: the original text occurs {text.count(mutant.old)} times"
         target.write_text(text.replace(mutant.old, mutant.new))
-        return pytest(root, mutant.tests, timeout)
+        if not mutant.groups:
+            return pytest(root, mutant.tests, timeout)
+        outcomes, total, tails = [], 0.0, []
+        for who, tests in mutant.groups:
+            outcome, seconds, _ = pytest(root, tests, timeout)
+            outcomes.append(outcome)
+            total += seconds
+            tails.append(f"{who} {outcome}")
+        killed_all = all(o == "killed" for o in outcomes)
+        return ("killed" if killed_all else "survived"), total, "; ".join(tails)
 
 
 def pytest(root: pathlib.Path, tests, timeout: float) -> tuple[str, float, str]:
