@@ -244,3 +244,59 @@ def test_heating_in_a_structure_lowers_friction_and_raises_the_displacement():
     full = simulate_structure(hot_run, 11.0)
     assert float(jnp.max(jnp.abs(full.displacement[:, 0]))) == pytest.approx(
         float(warm.base_disp), rel=1e-9)
+
+
+# ------------------------------------------------------------------------------- the commands
+
+
+def _cli(argv, capsys):
+    from teflon_jax.cli import main
+
+    code = main(argv)
+    return code, capsys.readouterr().err
+
+
+def test_fit_refuses_an_unknown_effect_with_the_list(tmp_path, capsys):
+    record = tmp_path / "r.csv"
+    record.write_text("time [s],ux [in],fx [kip],N [kip]\n0,0,0,78.5\n1,1,5,78.5\n2,0,-5,78.5\n")
+    code, err = _cli(["fit", str(record), "--effects", "magnets", "--json", str(tmp_path / "f.json")],
+                     capsys)
+    assert code == 2
+    assert "--effects: unknown effect(s) magnets; the known effects are" in err
+    assert "heating" in err and "backlash" in err
+
+
+def test_bearing_flags_are_checked_before_any_work(tmp_path, capsys):
+    good = tj.save_bearing(tmp_path / "b.json", tj.paper_bearing(UF))
+    hot = tj.save_bearing(tmp_path / "hot.json", full_bearing())
+    cases = [
+        (["montecarlo", "--motions", "5", "--bearing", str(tmp_path / "none.json")],
+         "none.json: no such bearing file"),
+        (["montecarlo", "--motions", "5", "--bearing", str(good), "--ptfe", "15GF"],
+         "--ptfe: the bearing comes from --bearing"),
+        (["montecarlo", "--motions", "5", "--bearing", str(good), "--pressure", "2000psi"],
+         "--pressure: the bearing comes from --bearing"),
+        (["montecarlo", "--motions", "5", "--bearing", str(hot)],
+         "the structures do not run its pressure_dependence, asymmetry, backlash"),
+        (["diagnose", str(tmp_path / "r.csv"), "--json", str(tmp_path / "d.json"), "--report",
+          str(tmp_path / "rep"), "--save-bearing", str(tmp_path)], "--save-bearing"),
+    ]
+    for argv, message in cases:
+        code, err = _cli(argv, capsys)
+        assert code == 2, (argv, err)
+        assert message in err, (argv, err)
+
+
+def test_simulate_test_runs_a_bearing_file(tmp_path, capsys):
+    """The record `simulate-test --bearing` writes is the bearing's response along the motion."""
+    hot = with_parts(tj.paper_bearing(UF), heating=FrictionalHeating(contact_area=AREA / 3))
+    path = tj.save_bearing(tmp_path / "hot.json", hot)
+    out = tmp_path / "hot.csv"
+    code, err = _cli(["simulate-test", "--bearing", str(path), "--amplitude", "4in", "--frequency",
+                      "0.6Hz", "--cycles", "1", "--normal-load", "78.5kip", "--units", "si",
+                      "--out", str(out)], capsys)
+    assert code == 0, err
+    record = tj.read_test_record(out)
+    direct = tj.simulate_bearing_test(hot, tj.SineMotion(4 * INCH, 0.6, cycles=1), LOAD)
+    np.testing.assert_allclose(record.fx, direct.fx, rtol=1e-6, atol=1e-6 * LOAD)
+    assert float(record.metadata["contact_area"]) == pytest.approx(AREA / 3)

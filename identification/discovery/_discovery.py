@@ -143,6 +143,21 @@ def _start_values(data: AugmentedData) -> dict:
     return start
 
 
+def _check_coefficient_range(data: AugmentedData, info: RecordInfo) -> None:
+    """`ValueError` when force / normal load lies far above the friction constants' range (a
+    normal load given only to scale the force, e.g. 1 N, makes every model force zero)."""
+    upper = PARAMETERS[PARAMETER_NAMES.index("f_max")].upper
+    mu = np.hypot(np.asarray(data.force), np.asarray(data.force_y)) / np.asarray(data.normal)
+    typical = float(np.percentile(mu, 90))
+    if typical > upper:
+        needed = typical / (0.5 * upper) * float(np.mean(np.asarray(data.normal)))
+        raise ValueError(
+            f"{info.source}: force / normal load reaches {typical:.3g}, above the range of the "
+            f"friction constants (f_max <= {upper}); give the normal load that presses the "
+            f"surfaces together, or one that scales the force into that range (e.g. "
+            f"--normal-load {needed / 1000:.3g}kN).")
+
+
 def _inside(values: np.ndarray) -> np.ndarray:
     lower = np.array([p.lower for p in PARAMETERS])
     upper = np.array([p.upper for p in PARAMETERS])
@@ -205,6 +220,7 @@ def discover_effects(
             )
     fixed = np.array([0.0 if name in known else 1.0 for name in PARAMETER_NAMES])
     data, info = prepare_record(record, max_samples=max_samples)
+    _check_coefficient_range(data, info)
     applicable, skipped = _applicable(info, known)
     if candidates is not None:
         unknown = [c for c in candidates if c not in EFFECTS]
