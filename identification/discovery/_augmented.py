@@ -136,22 +136,7 @@ def prepare_record(record, *, max_samples: int = 3000, heat_terms_per_decade: fl
     column (digitised loop) or no normal load.
     """
     where = str(record.path) if getattr(record, "path", None) is not None else "record"
-    if record.time is None:
-        raise ValueError(
-            f"{where}: diagnose needs a time column; a digitised loop (protocol only) cannot be "
-            "diagnosed sample by sample."
-        )
-    if record.normal_load is None:
-        raise ValueError(
-            f"{where}: the record states no normal load; add an 'N' column or a "
-            "'# normal_load [kip]: ...' line (friction coefficient = force / normal load)."
-        )
-    if record.ux.size < 20:
-        raise ValueError(
-            f"{where}: only {record.ux.size} samples; diagnose needs at least 20."
-        )
-    if max_samples < 20:
-        raise ValueError(f"max_samples: must be >= 20, got {max_samples}.")
+    _check_diagnosable(record, where, max_samples)
     step = int(np.ceil(record.ux.size / max_samples))
     keep = np.arange(0, record.ux.size, step)
     time = np.asarray(record.time, float)[keep]
@@ -160,16 +145,7 @@ def prepare_record(record, *, max_samples: int = 3000, heat_terms_per_decade: fl
     load = np.asarray(record.normal_load, float)[keep]
     if np.any(load <= 0):
         raise ValueError(f"{where}: normal load must be > 0 (compression) at every sample.")
-    work = float(np.sum(0.5 * (fx[1:] + fx[:-1]) * np.diff(ux)))
-    if record.uy is not None and record.fy is not None:
-        fy_k, uy_k = np.asarray(record.fy, float)[keep], np.asarray(record.uy, float)[keep]
-        work += float(np.sum(0.5 * (fy_k[1:] + fy_k[:-1]) * np.diff(uy_k)))
-    if work < 0:
-        raise ValueError(
-            f"{where}: the friction force does negative work over the test (loops run "
-            "counter-clockwise): 'fx' must be the force the bearing resists with, positive "
-            "while sliding in +x (FORMATS.md); flip the sign of the force column."
-        )
+    _check_positive_work(record, keep, ux, fx, where)
     n_rec, n_series = interface_counts(record.metadata)
     normal = load * n_rec
 
@@ -180,13 +156,7 @@ def prepare_record(record, *, max_samples: int = 3000, heat_terms_per_decade: fl
         )
     uy = np.asarray(record.uy, float)[keep] if biaxial else np.zeros_like(ux)
     fy = np.asarray(record.fy, float)[keep] if biaxial else np.zeros_like(ux)
-    if "contact_area" in record.metadata:
-        contact_area, assumed = float(record.metadata["contact_area"]), False
-    elif "contact_pressure" in record.metadata:
-        contact_area = float(np.mean(load)) / float(record.metadata["contact_pressure"])
-        assumed = False
-    else:
-        contact_area, assumed = float(np.mean(load)) / NOMINAL_CONTACT_PRESSURE, True
+    contact_area, assumed = _contact_area(record.metadata, load)
     measured = getattr(record, "temperature", None) is not None
     if measured:
         temperature = np.asarray(record.temperature, float)[keep]
@@ -233,6 +203,49 @@ def prepare_record(record, *, max_samples: int = 3000, heat_terms_per_decade: fl
         measured_temperature=measured,
     )
     return data, info
+
+
+def _check_diagnosable(record, where: str, max_samples: int) -> None:
+    """Raise unless the record has a time column, a normal load and at least 20 samples."""
+    if record.time is None:
+        raise ValueError(
+            f"{where}: diagnose needs a time column; a digitised loop (protocol only) cannot be "
+            "diagnosed sample by sample."
+        )
+    if record.normal_load is None:
+        raise ValueError(
+            f"{where}: the record states no normal load; add an 'N' column or a "
+            "'# normal_load [kip]: ...' line (friction coefficient = force / normal load)."
+        )
+    if record.ux.size < 20:
+        raise ValueError(
+            f"{where}: only {record.ux.size} samples; diagnose needs at least 20."
+        )
+    if max_samples < 20:
+        raise ValueError(f"max_samples: must be >= 20, got {max_samples}.")
+
+
+def _check_positive_work(record, keep, ux, fx, where: str) -> None:
+    """Raise when the measured force does negative work over the kept samples."""
+    work = float(np.sum(0.5 * (fx[1:] + fx[:-1]) * np.diff(ux)))
+    if record.uy is not None and record.fy is not None:
+        fy_k, uy_k = np.asarray(record.fy, float)[keep], np.asarray(record.uy, float)[keep]
+        work += float(np.sum(0.5 * (fy_k[1:] + fy_k[:-1]) * np.diff(uy_k)))
+    if work < 0:
+        raise ValueError(
+            f"{where}: the friction force does negative work over the test (loops run "
+            "counter-clockwise): 'fx' must be the force the bearing resists with, positive "
+            "while sliding in +x (FORMATS.md); flip the sign of the force column."
+        )
+
+
+def _contact_area(metadata, load) -> tuple:
+    """(contact area [m^2], whether it was assumed from `NOMINAL_CONTACT_PRESSURE`)."""
+    if "contact_area" in metadata:
+        return float(metadata["contact_area"]), False
+    if "contact_pressure" in metadata:
+        return float(np.mean(load)) / float(metadata["contact_pressure"]), False
+    return float(np.mean(load)) / NOMINAL_CONTACT_PRESSURE, True
 
 
 def active_mask(effects) -> jnp.ndarray:

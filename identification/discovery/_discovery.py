@@ -29,7 +29,6 @@ switched by a 0/1 mask and the parameters of effects that are off are frozen, so
 compiled once per record.
 """
 
-import math
 import time as _time
 
 import jax.numpy as jnp
@@ -45,27 +44,10 @@ from ._augmented import (
     PARAMETERS,
     AugmentedData,
     RecordInfo,
-    active_mask,
     prepare_record,
 )
-from ._batch_fit import (
-    _HI,
-    _LO,
-    _LOG,
-    _fold_weights,
-    _free_mask,
-    _simulate_batch,
-    _stacked,
-    fit_batch,
-    to_physical,
-    to_unconstrained,
-)
-from ._diagnostics import (
-    effective_samples,
-    half_cycle_index,
-    regressors,
-    residual_correlation,
-)
+from ._batch_fit import _HI, _LO, _LOG, to_physical
+from ._diagnostics import effective_samples
 from ._effects import BASELINES, EFFECT_NAMES, EFFECTS
 from ._result import (
     DEFAULT_BIC_THRESHOLD,
@@ -73,6 +55,7 @@ from ._result import (
     DiscoveryStep,
     confidence_wording,
 )
+from ._rounds import _fit_baseline, _fit_round, _fit_setup
 
 INTERFACES_NOT_SEPARABLE = (
     "not separable from rate_a: Eq. 1 at |v| / n depends on rate_a and n only through "
@@ -133,16 +116,6 @@ def stack_check(rate_a: float, series: int = 1) -> dict:
     }
 
 
-def _start_values(data: AugmentedData) -> dict:
-    mu = np.hypot(np.asarray(data.force), np.asarray(data.force_y)) / np.asarray(
-        data.normal
-    )
-    start = {p.name: p.initial for p in PARAMETERS}
-    start["f_max"] = float(np.clip(np.percentile(mu, 90), 0.003, 0.45))
-    start["delta_f"] = 0.5 * start["f_max"]
-    return start
-
-
 def _check_coefficient_range(data: AugmentedData, info: RecordInfo) -> None:
     """`ValueError` when force / normal load lies far above the friction constants' range (a
     normal load given only to scale the force, e.g. 1 N, makes every model force zero)."""
@@ -156,13 +129,6 @@ def _check_coefficient_range(data: AugmentedData, info: RecordInfo) -> None:
             f"friction constants (f_max <= {upper}); give the normal load that presses the "
             f"surfaces together, or one that scales the force into that range (e.g. "
             f"--normal-load {needed / 1000:.3g}kN).")
-
-
-def _inside(values: np.ndarray) -> np.ndarray:
-    lower = np.array([p.lower for p in PARAMETERS])
-    upper = np.array([p.upper for p in PARAMETERS])
-    margin = 1e-4 * (upper - lower)
-    return np.clip(values, lower + margin, upper - margin)
 
 
 def discover_effects(
@@ -199,14 +165,111 @@ def discover_effects(
     **Returns:** a `DiscoveryResult`.
     """
     base_effects = _baseline_effects(baseline)
+    _check_settings(bic_threshold, max_effects, max_steps)
+    started = _time.perf_counter()
+    say = callback or (lambda text: None)
+    known = _checked_known(known)
+    data, info = prepare_record(record, max_samples=max_samples)
+    _check_coefficient_range(data, info)
+    applicable, skipped = _applicable(info, known)
+    applicable = _requested_candidates(applicable, skipped, candidates)
+    pool = [c for c in applicable if c not in base_effects]
+    setup = _fit_setup(data, info, known, len(pool), max_steps)
+    fit_log = {"fits": 0, "unconverged": 0, "max_iterations_used": 0,
+               "iteration_limit": int(max_steps)}
+
+    fit, nrmse_initial, fit_log = _fit_baseline(setup, list(base_effects), fit_log)
+    say(f"baseline {baseline}: nrmse {nrmse_initial:.4f}")
+    baseline_fit = fit
+
+    fit, current, steps, final_round, fit_log = _add_effects(
+        setup, fit, list(base_effects), pool, max_effects, bic_threshold, say, fit_log
+    )
+    fit_log["final_converged"] = fit.converged
+
+    force, scale = setup.force, setup.scale
+    nrmse_final = float(np.sqrt(np.mean((fit.force - force) ** 2)) / scale)
+    stack = {}
+    if skipped.get("interfaces") == INTERFACES_NOT_SEPARABLE and "velocity_dependence" in current:
+        stack = stack_check(float(fit.values[PARAMETER_NAMES.index("rate_a")]),
+                            info.n_interfaces_in_series)
+        skipped["interfaces"] += _stack_note(stack, info.n_interfaces_in_series)
+    std_errors = _std_errors(fit.u, fit.jacobian, (fit.force - force) / scale, current, known)
+    n = data.n_samples
+    return DiscoveryResult(
+        baseline=baseline,
+        effects_added=[s.effect for s in steps],
+        steps=steps,
+        final_round=final_round,
+        nrmse_initial=nrmse_initial,
+        nrmse_final=nrmse_final,
+        parameters=_active_parameters(fit.values, current),
+        std_errors=std_errors,
+        baseline_parameters=_active_parameters(baseline_fit.values, list(base_effects)),
+        baseline_effects=list(base_effects),
+        data=data,
+        info=info,
+        forces={"baseline": baseline_fit.force[:n], "final": fit.force[:n]},
+        runtime_s=float(_time.perf_counter() - started),
+        applicable=applicable,
+        skipped=skipped,
+        stack_check=stack,
+        fit_convergence=fit_log,
+    )
+
+
+def _add_effects(setup, fit, current, pool, max_effects, bic_threshold, say, fit_log):
+    """Add the candidate with the strongest evidence, round after round, while it passes.
+
+    Returns (fit, effects of the final model, steps, evidence of the refused last round, fit_log).
+    """
+    current, pool = list(current), list(pool)
+    steps, final_round = [], {}
+    while pool and len(steps) < max_effects:
+        evid, nrmse_before, candidate_fits, fit_log = _fit_round(
+            setup, fit.values, current, pool, fit_log
+        )
+        ranked = sorted(
+            (c for c in pool if evid[c]["holdout_gain"] > 0),
+            key=lambda c: -evid[c]["delta_bic"],
+        )
+        summary = ", ".join(f"{c} {evid[c]['delta_bic']:.1f}" for c in pool)
+        say(f"round {len(steps) + 1}: delta_bic {summary}")
+        if not ranked or evid[ranked[0]]["delta_bic"] <= bic_threshold:
+            final_round = evid
+            break
+        chosen = ranked[0]
+        _compare_with_runner_up(evid, pool, chosen)
+        fit = candidate_fits[chosen]
+        current.append(chosen)
+        pool.remove(chosen)
+        steps.append(
+            DiscoveryStep(
+                effect=chosen,
+                evidence={k: v for k, v in evid[chosen].items() if k != "parameters"},
+                nrmse_before=float(nrmse_before),
+                nrmse_after=evid[chosen]["nrmse_after"],
+                candidates=evid,
+                parameters=_active_parameters(fit.values, current),
+            )
+        )
+        say(
+            f"added {chosen}: nrmse {nrmse_before:.4f} -> {evid[chosen]['nrmse_after']:.4f}"
+        )
+    return fit, current, steps, final_round, fit_log
+
+
+def _check_settings(bic_threshold, max_effects, max_steps) -> None:
     if not bic_threshold >= 0:
         raise ValueError(f"bic_threshold: must be >= 0, got {bic_threshold}.")
     if max_effects < 0:
         raise ValueError(f"max_effects: must be >= 0, got {max_effects}.")
     if max_steps < 1:
         raise ValueError(f"max_steps: must be >= 1, got {max_steps}.")
-    started = _time.perf_counter()
-    say = callback or (lambda text: None)
+
+
+def _checked_known(known) -> dict:
+    """The parameters held at given values, each checked against its name and range."""
     known = dict(known or {})
     for name, value in known.items():
         if name not in PARAMETER_NAMES:
@@ -218,237 +281,48 @@ def discover_effects(
             raise ValueError(
                 f"known['{name}']: {value} is outside the range ({p.lower}, {p.upper}) [{p.unit}]."
             )
-    fixed = np.array([0.0 if name in known else 1.0 for name in PARAMETER_NAMES])
-    data, info = prepare_record(record, max_samples=max_samples)
-    _check_coefficient_range(data, info)
-    applicable, skipped = _applicable(info, known)
-    if candidates is not None:
-        unknown = [c for c in candidates if c not in EFFECTS]
-        if unknown:
-            raise ValueError(
-                f"candidates: unknown {unknown}; choose from {list(EFFECT_NAMES)}."
-            )
-        for name in applicable:
-            if name not in candidates:
-                skipped[name] = "not among the requested candidates"
-        applicable = [c for c in applicable if c in candidates]
-    current = list(base_effects)
-    pool = [c for c in applicable if c not in current]
+    return known
 
-    n = data.n_samples
-    force = _stacked(np.asarray(data.force), np.asarray(data.force_y), data.biaxial)
-    n_total = force.size
-    scale = float(np.sqrt(np.mean(force**2)))
-    if not scale > 0:
-        raise ValueError(f"{info.source}: the measured force is zero throughout.")
-    half_cycles = half_cycle_index(np.asarray(data.ux))
-    travel_range = float(np.ptp(np.asarray(data.ux)))
-    fold_a, fold_b = _fold_weights(n, half_cycles)
-    held_a, held_b = (_stacked(w, w, data.biaxial) for w in (fold_a, fold_b))
-    ones = np.ones(n)
-    n_members = 3 * (1 + len(pool))
 
-    fit_log = {"fits": 0, "unconverged": 0, "max_iterations_used": 0,
-               "iteration_limit": int(max_steps)}
+def _requested_candidates(applicable, skipped, candidates) -> list:
+    """The applicable effects among `candidates`; the others are noted in `skipped`."""
+    if candidates is None:
+        return applicable
+    unknown = [c for c in candidates if c not in EFFECTS]
+    if unknown:
+        raise ValueError(
+            f"candidates: unknown {unknown}; choose from {list(EFFECT_NAMES)}."
+        )
+    for name in applicable:
+        if name not in candidates:
+            skipped[name] = "not among the requested candidates"
+    return [c for c in applicable if c in candidates]
 
-    def run_batch(starts, actives, weights):
-        """Fit B configurations; pads to `n_members` so the solve compiles once."""
-        b = len(starts)
-        pad = n_members - b
-        starts = list(starts) + [starts[0]] * pad
-        actives = np.array(list(actives) + [actives[0]] * pad)
-        weights = np.array(list(weights) + [weights[0]] * pad)
-        values = _inside(np.array([[s[name] for name in PARAMETER_NAMES] for s in starts]))
-        free = np.array([_free_mask(a) * fixed for a in actives])
-        u, _, jac, conv, steps_taken = fit_batch(
-            jnp.asarray(to_unconstrained(values)),
-            jnp.asarray(free),
-            jnp.asarray(actives),
-            jnp.asarray(weights),
-            data,
-            scale,
-            n_iter=max_steps,
-        )
-        fitted = np.asarray(to_physical(u))
-        sims = _simulate_batch(jnp.asarray(fitted), data, jnp.asarray(actives))
-        conv = np.asarray(conv)[:b]
-        fit_log["fits"] += b
-        fit_log["unconverged"] += int(np.count_nonzero(~conv))
-        fit_log["max_iterations_used"] = max(fit_log["max_iterations_used"],
-                                             int(np.max(np.asarray(steps_taken)[:b])))
-        extra = {"u": np.asarray(u)[:b], "jacobian": np.asarray(jac)[:b], "converged": conv}
-        return extra, fitted[:b], {k: np.asarray(v)[:b] for k, v in sims.items()}
 
-    # Baseline: several starts of the rate and of the yield displacement, keep the best.
-    start0 = _start_values(data)
-    start0.update({name: float(v) for name, v in known.items()})
-    starts = []
-    for k in range(n_members):
-        s = dict(start0)
-        if "rate_a" not in known:
-            s["rate_a"] = PARAMETERS[PARAMETER_NAMES.index("rate_a")].initial * 10.0 ** (
-                (k % 3) - 1
-            )
-        s["yield_disp"] = start0["yield_disp"] * 4.0 ** ((k // 3) % 3 - 1)
-        starts.append(s)
-    mask = np.asarray(active_mask(current))
-    extra, fitted, sims = run_batch(starts, [mask] * n_members, [ones] * n_members)
-    sims["stacked"] = _stacked(sims["force"], sims["force_y"], data.biaxial)
-    sse = np.sum((sims["stacked"] - force) ** 2, axis=1)
-    best = int(np.argmin(sse))
-    values = fitted[best]
-    final_u, final_jac = extra["u"][best], extra["jacobian"][best]
-    fit_log["final_converged"] = bool(extra["converged"][best])
-    model_force = sims["stacked"][best]
-    nrmse_initial = float(np.sqrt(sse[best] / n_total) / scale)
-    say(f"baseline {baseline}: nrmse {nrmse_initial:.4f}")
-    baseline_values, baseline_force = values.copy(), model_force.copy()
-
-    steps, final_round = [], {}
-    while pool and len(steps) < max_effects:
-        configs = [list(current)] + [list(current) + [c] for c in pool]
-        starts, actives, weights = [], [], []
-        for config in configs:
-            s = {name: float(values[i]) for i, name in enumerate(PARAMETER_NAMES)}
-            for name in config:
-                if name not in current:
-                    s.update(
-                        {
-                            p.name: p.initial
-                            for p in EFFECTS[name].parameters
-                            if p.name not in known
-                        }
-                    )
-                    for p in EFFECTS[name].parameters:
-                        # Start at the value for which the effect vanishes (isotropy: T = P).
-                        if p.neutral_of is not None and p.name not in known:
-                            s[p.name] = s[p.neutral_of]
-                    if name == "backlash" and "backlash_gap" not in known:
-                        s["backlash_gap"] = 0.02 * travel_range
-                    if name == "velocity_dependence":
-                        # Keep the low-speed friction where the constant friction was.
-                        f_now = s["f_max"]
-                        if "f_max" not in known:
-                            s["f_max"] = 1.5 * f_now
-                        if "delta_f" not in known:
-                            s["delta_f"] = s["f_max"] - f_now
-            for w in (ones, fold_a, fold_b):
-                starts.append(s)
-                actives.append(np.asarray(active_mask(config)))
-                weights.append(w)
-        extra, fitted, sims = run_batch(starts, actives, weights)
-        err = _stacked(sims["force"], sims["force_y"], data.biaxial) - force[None, :]
-        evid = {}
-        ref_full = err[0]
-        ref_cv = math.sqrt(
-            (np.sum((err[1] ** 2) * held_b) + np.sum((err[2] ** 2) * held_a)) / n_total
-        )
-        ref_sse = float(np.sum(ref_full**2))
-        nrmse_before = math.sqrt(ref_sse / n_total) / scale
-        regress = regressors(data, sims_row(sims, 0), half_cycles)
-        for j, name in enumerate(pool, start=1):
-            full = err[3 * j]
-            sse_c = float(np.sum(full**2))
-            cv = math.sqrt(
-                (
-                    np.sum((err[3 * j + 1] ** 2) * held_b)
-                    + np.sum((err[3 * j + 2] ** 2) * held_a)
-                )
-                / n_total
-            )
-            n_eff = effective_samples(full)
-            k = max(sum(p.name not in known for p in EFFECTS[name].parameters), 1)
-            delta_bic = n_eff * math.log(ref_sse / max(sse_c, 1e-300)) - k * math.log(n_eff)
-            evid[name] = {
-                "delta_bic": float(delta_bic),
-                "holdout_gain": float(1.0 - cv / ref_cv) if ref_cv > 0 else 0.0,
-                "n_eff": float(n_eff),
-                "nrmse_before": float(nrmse_before),
-                "nrmse_after": float(math.sqrt(sse_c / n_total) / scale),
-                "residual_correlation": residual_correlation(
-                    sims["force"][0], regress, name, data, sims_row(sims, 0)
-                ),
-                "confidence": confidence_wording(delta_bic),
-                "parameters": {
-                    p.name: float(fitted[3 * j][PARAMETER_NAMES.index(p.name)])
-                    for p in EFFECTS[name].parameters
-                },
-            }
-        eligible = [c for c in pool if evid[c]["holdout_gain"] > 0]
-        ranked = sorted(eligible, key=lambda c: -evid[c]["delta_bic"])
-        summary = ", ".join(f"{c} {evid[c]['delta_bic']:.1f}" for c in pool)
-        say(f"round {len(steps) + 1}: delta_bic {summary}")
-        if not ranked or evid[ranked[0]]["delta_bic"] <= bic_threshold:
-            final_round = evid
-            break
-        chosen = ranked[0]
-        others = sorted(
-            (c for c in pool if c != chosen), key=lambda c: -evid[c]["delta_bic"]
-        )
-        if others:
-            margin = evid[chosen]["delta_bic"] - max(evid[others[0]]["delta_bic"], 0.0)
-            evid[chosen]["runner_up"] = others[0]
-        else:
-            margin = evid[chosen]["delta_bic"]
-            evid[chosen]["runner_up"] = None
-        evid[chosen]["margin_over_runner_up"] = float(margin)
-        evid[chosen]["naming_confidence"] = confidence_wording(margin)
-        j = pool.index(chosen) + 1
-        values = fitted[3 * j]
-        final_u, final_jac = extra["u"][3 * j], extra["jacobian"][3 * j]
-        fit_log["final_converged"] = bool(extra["converged"][3 * j])
-        model_force = err[3 * j] + force
-        current.append(chosen)
-        pool.remove(chosen)
-        steps.append(
-            DiscoveryStep(
-                effect=chosen,
-                evidence={k: v for k, v in evid[chosen].items() if k != "parameters"},
-                nrmse_before=float(nrmse_before),
-                nrmse_after=evid[chosen]["nrmse_after"],
-                candidates=evid,
-                parameters=_active_parameters(values, current),
-            )
-        )
-        say(
-            f"added {chosen}: nrmse {nrmse_before:.4f} -> {evid[chosen]['nrmse_after']:.4f}"
-        )
-
-    nrmse_final = float(np.sqrt(np.mean((model_force - force) ** 2)) / scale)
-    stack = {}
-    if skipped.get("interfaces") == INTERFACES_NOT_SEPARABLE and "velocity_dependence" in current:
-        stack = stack_check(float(values[PARAMETER_NAMES.index("rate_a")]),
-                            info.n_interfaces_in_series)
-        skipped["interfaces"] += (
-            f"; here rate_a / n = {stack['rate_effective'] * INCH:.3g} s/in, so with a rate_a "
-            f"per interface in Table 1's range n is in [{stack['n_low']:.1f}, "
-            f"{stack['n_high']:.1f}]"
-            + ("" if stack["consistent_with_stated"] else
-               f", not the {info.n_interfaces_in_series} stated: a stack of interfaces in "
-               "series (or a material outside Table 1)")
-        )
-    std_errors = _std_errors(
-        final_u, final_jac, (model_force - force) / scale, current, known
+def _compare_with_runner_up(evid, pool, chosen) -> None:
+    """Add to `evid[chosen]` the runner-up, the margin over it and how sure the naming is."""
+    others = sorted(
+        (c for c in pool if c != chosen), key=lambda c: -evid[c]["delta_bic"]
     )
-    return DiscoveryResult(
-        baseline=baseline,
-        effects_added=[s.effect for s in steps],
-        steps=steps,
-        final_round=final_round,
-        nrmse_initial=nrmse_initial,
-        nrmse_final=nrmse_final,
-        parameters=_active_parameters(values, current),
-        std_errors=std_errors,
-        baseline_parameters=_active_parameters(baseline_values, list(base_effects)),
-        baseline_effects=list(base_effects),
-        data=data,
-        info=info,
-        forces={"baseline": baseline_force[:n], "final": model_force[:n]},
-        runtime_s=float(_time.perf_counter() - started),
-        applicable=applicable,
-        skipped=skipped,
-        stack_check=stack,
-        fit_convergence=fit_log,
+    if others:
+        margin = evid[chosen]["delta_bic"] - max(evid[others[0]]["delta_bic"], 0.0)
+        evid[chosen]["runner_up"] = others[0]
+    else:
+        margin = evid[chosen]["delta_bic"]
+        evid[chosen]["runner_up"] = None
+    evid[chosen]["margin_over_runner_up"] = float(margin)
+    evid[chosen]["naming_confidence"] = confidence_wording(margin)
+
+
+def _stack_note(stack: dict, series: int) -> str:
+    """What `stack_check` says, appended to why `interfaces` was skipped."""
+    return (
+        f"; here rate_a / n = {stack['rate_effective'] * INCH:.3g} s/in, so with a rate_a "
+        f"per interface in Table 1's range n is in [{stack['n_low']:.1f}, "
+        f"{stack['n_high']:.1f}]"
+        + ("" if stack["consistent_with_stated"] else
+           f", not the {series} stated: a stack of interfaces in "
+           "series (or a material outside Table 1)")
     )
 
 
@@ -465,11 +339,6 @@ def _baseline_effects(baseline) -> tuple:
         raise ValueError(f"effects: unknown {unknown}; the known effects are "
                          f"{', '.join(EFFECT_NAMES)}.")
     return tuple(dict.fromkeys(baseline))
-
-
-def sims_row(sims: dict, i: int) -> dict:
-    """Row `i` of a batch of simulation outputs."""
-    return {k: v[i] for k, v in sims.items()}
 
 
 def _std_errors(u, jac_u, residual, effects, known) -> dict:

@@ -124,8 +124,6 @@ def _baseline_simulation(result) -> dict:
 
 def write_report(result, directory, *, record_name: str = "record") -> pathlib.Path:
     """Write `directory/report.md` (with the figures of `write_plots`) for a `DiscoveryResult`."""
-    from ._augmented import PARAMETERS
-
     directory = pathlib.Path(directory)
     files = write_plots(result, directory)
     data = result.data
@@ -133,8 +131,21 @@ def write_report(result, directory, *, record_name: str = "record") -> pathlib.P
     where = locate_residual(
         data, sim, result.forces["baseline"], half_cycle_index(np.asarray(data.ux))
     )
-    units = {p.name: p.unit for p in PARAMETERS}
+    lines = _summary_lines(result, record_name)
+    lines += _step_lines(result)
+    lines += _parameter_lines(result)
+    lines += _residual_location_lines(where)
+    lines += ["", "## Figures", ""]
+    lines += [f"![{name}]({fname})" for name, fname in files.items()]
+    lines += _heating_note(result.info)
+    path = directory / "report.md"
+    path.write_text("\n".join(lines) + "\n")
+    return path
 
+
+def _summary_lines(result, record_name: str) -> list:
+    """Title, conclusion, nrmse and the decision rule, up to the Steps heading."""
+    data = result.data
     lines = [f"# Model discovery: {record_name}", ""]
     lines += [
         f"- baseline: `{result.baseline}`; samples used: {data.n_samples} "
@@ -164,6 +175,12 @@ def write_report(result, directory, *, record_name: str = "record") -> pathlib.P
         "## Steps",
         "",
     ]
+    return lines
+
+
+def _step_lines(result) -> list:
+    """Each added effect with its evidence, the refused candidates and those not considered."""
+    lines = []
     if not result.steps:
         lines.append("No candidate earned its parameters: no missing effect.")
     for k, step in enumerate(result.steps, start=1):
@@ -196,7 +213,15 @@ def write_report(result, directory, *, record_name: str = "record") -> pathlib.P
             "",
             "Not considered: " + "; ".join(f"{k} ({v})" for k, v in result.skipped.items()),
         ]
-    lines += [
+    return lines
+
+
+def _parameter_lines(result) -> list:
+    """The table of fitted parameters with their standard errors and units."""
+    from ._augmented import PARAMETERS
+
+    units = {p.name: p.unit for p in PARAMETERS}
+    lines = [
         "",
         "## Fitted parameters (SI)",
         "",
@@ -215,7 +240,12 @@ def write_report(result, directory, *, record_name: str = "record") -> pathlib.P
             "correlated residuals; 0 marks a parameter held at a known value."
         ),
     ]
-    lines += [
+    return lines
+
+
+def _residual_location_lines(where: dict) -> list:
+    """The table of where the baseline residual sits (`locate_residual`)."""
+    lines = [
         "",
         "## Where the baseline residual sits",
         "",
@@ -227,10 +257,13 @@ def write_report(result, directory, *, record_name: str = "record") -> pathlib.P
         f"{v['concentration']:.2f} |"
         for k, v in where.items()
     ]
-    lines += ["", "## Figures", ""]
-    lines += [f"![{name}]({fname})" for name, fname in files.items()]
-    if result.info.measured_temperature:
-        lines += [
+    return lines
+
+
+def _heating_note(info) -> list:
+    """How the heating candidate got its temperature: measured, or an assumed contact area."""
+    if info.measured_temperature:
+        return [
             "",
             (
                 "Heating: the record has a temperature column; the heating candidate uses the "
@@ -238,17 +271,15 @@ def write_report(result, directory, *, record_name: str = "record") -> pathlib.P
                 "instead of the heat-flux model."
             ),
         ]
-    elif result.info.contact_area_assumed:
-        lines += [
+    if info.contact_area_assumed:
+        return [
             "",
             (
                 "Note: the record states no contact area; the heating candidate assumed a "
                 "contact pressure of 1000 psi (its heat_scale absorbs the difference)."
             ),
         ]
-    path = directory / "report.md"
-    path.write_text("\n".join(lines) + "\n")
-    return path
+    return []
 
 
 def _candidate_table(evidence: dict) -> list:

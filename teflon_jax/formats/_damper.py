@@ -92,6 +92,32 @@ def read_friction_damper_json(path) -> TestRecord:
     is missing or wrong.
     """
     path = pathlib.Path(path)
+    content = _load_damper_object(path)
+    factors = _unit_factors(content, path)
+    sampling, dt_seconds = _sampling(content, factors, path)
+    table = _data_table(content, path)
+    time = table[:, 0] * factors["time units"]
+    _check_time_steps(time, dt_seconds, path)
+    length = factors["displacement units"]
+    force = factors["actuator force units"]
+    return TestRecord(
+        time=time,
+        ux=table[:, 1] * length,
+        fx=table[:, 2] * factors["friction force units"],
+        normal_load=None,
+        metadata=_damper_metadata(path, sampling),
+        extra_columns={
+            "velocity": table[:, 3] * length / factors["time units"],
+            "actuator_force_1": table[:, 4] * force,
+            "actuator_force_2": table[:, 5] * force,
+        },
+        extra_units={"velocity": "m/s", "actuator_force_1": "N", "actuator_force_2": "N"},
+        path=path,
+    )
+
+
+def _load_damper_object(path: pathlib.Path) -> dict:
+    """The file's JSON object, checked to hold every key the damper files have."""
     try:
         content = json.loads(path.read_text(encoding="utf-8"))
     except json.JSONDecodeError as error:
@@ -104,14 +130,22 @@ def read_friction_damper_json(path) -> TestRecord:
                 f"{path}: key '{key}' is missing; the damper files have 'data', 'dt', "
                 f"'sampling freq' and {', '.join(repr(k) for k in _UNIT_KEYS)}."
             )
+    return content
 
+
+def _unit_factors(content: dict, path: pathlib.Path) -> dict:
+    """SI factor of each unit key of the file."""
     factors = {}
     for key, dimension in _UNIT_KEYS.items():
         unit = content[key]
         if not isinstance(unit, str):
             raise ValueError(f"{path}: key '{key}' must be a unit name, got {unit!r}.")
         factors[key] = unit_factor(unit, dimension, where=f"{path}, key '{key}'")
+    return factors
 
+
+def _sampling(content: dict, factors: dict, path: pathlib.Path) -> tuple:
+    """(sampling frequency [Hz], time step [s]), checked against each other."""
     dt = _positive_number(content, "dt", path)
     sampling = _positive_number(content, "sampling freq", path)
     dt_seconds = dt * factors["time units"]
@@ -120,7 +154,11 @@ def read_friction_damper_json(path) -> TestRecord:
             f"{path}: key 'sampling freq' ({sampling} Hz) does not match key 'dt' "
             f"({dt} {content['time units']}); the file is inconsistent."
         )
+    return sampling, dt_seconds
 
+
+def _data_table(content: dict, path: pathlib.Path) -> np.ndarray:
+    """The rows of key 'data' as a float array, each row checked for six finite numbers."""
     rows = content["data"]
     if not isinstance(rows, list) or not rows:
         raise ValueError(f"{path}: key 'data' must be a non-empty list of rows.")
@@ -140,9 +178,11 @@ def read_friction_damper_json(path) -> TestRecord:
                     f"{path}: key 'data', row {index}, '{name}': {value!r} is not a finite "
                     f"number."
                 )
-    table = np.array(rows, dtype=float)
+    return np.array(rows, dtype=float)
 
-    time = table[:, 0] * factors["time units"]
+
+def _check_time_steps(time: np.ndarray, dt_seconds: float, path: pathlib.Path) -> None:
+    """Raise at the first time step that differs from key 'dt' by more than 0.1 %."""
     steps = np.diff(time)
     if steps.size and np.max(np.abs(steps - dt_seconds)) > 1e-3 * dt_seconds:
         row = int(np.argmax(np.abs(steps - dt_seconds))) + 1
@@ -150,9 +190,10 @@ def read_friction_damper_json(path) -> TestRecord:
             f"{path}: key 'data', row {row}: time step {steps[row - 1]:.9g} s differs from "
             f"key 'dt' ({dt_seconds:.9g} s)."
         )
-    length = factors["displacement units"]
-    force = factors["actuator force units"]
 
+
+def _damper_metadata(path: pathlib.Path, sampling: float) -> dict:
+    """Source and note, and the protocol and band tension when the file name states them."""
     metadata = {
         "source": DAMPER_SOURCE,
         "specimen": "banded rotary friction device (BRFD), not PTFE",
@@ -167,21 +208,7 @@ def read_friction_damper_json(path) -> TestRecord:
             frequency=float(match["frequency"]),
         )
         metadata["band_tension [lbf]"] = match["tension"]
-
-    return TestRecord(
-        time=time,
-        ux=table[:, 1] * length,
-        fx=table[:, 2] * factors["friction force units"],
-        normal_load=None,
-        metadata=metadata,
-        extra_columns={
-            "velocity": table[:, 3] * length / factors["time units"],
-            "actuator_force_1": table[:, 4] * force,
-            "actuator_force_2": table[:, 5] * force,
-        },
-        extra_units={"velocity": "m/s", "actuator_force_1": "N", "actuator_force_2": "N"},
-        path=path,
-    )
+    return metadata
 
 
 def _positive_number(content: dict, key: str, path: pathlib.Path) -> float:

@@ -184,7 +184,22 @@ def _read_columns(path, columns_required, digitised_columns):
         lines = file.read().split("\n")
     while lines and not lines[-1].strip():
         lines.pop()
+    metadata, header_index = _metadata_and_header(lines, path)
+    columns = _parse_header(lines[header_index], f"{path}, line {header_index + 1}")
+    names = [name for name, _ in columns]
+    digitised = "time" not in names and digitised_columns is not None
+    required = digitised_columns if digitised else columns_required
+    _check_required_columns(names, required, digitised, metadata, path, header_index)
+    factors, extra_units = _column_factors(columns, path, header_index)
+    table = _read_data_rows(lines, header_index, names, factors, path)
+    by_name = {name: table[:, i] for i, name in enumerate(names)}
+    if not digitised:
+        _check_time_increases(by_name["time"], path, header_index)
+    return path, metadata, by_name, extra_units
 
+
+def _metadata_and_header(lines, path) -> tuple:
+    """(metadata in SI, index of the header line) of the lines of a test-record file."""
     metadata: dict[str, Any] = {}
     header_index = None
     for index, line in enumerate(lines):
@@ -201,11 +216,11 @@ def _read_columns(path, columns_required, digitised_columns):
             f"{path}: no header line found; after the '#' metadata lines, write the column "
             f"names, e.g. 'time [s],ux [in],fx [kip]'."
         )
-    columns = _parse_header(lines[header_index], f"{path}, line {header_index + 1}")
-    names = [name for name, _ in columns]
+    return metadata, header_index
 
-    digitised = "time" not in names and digitised_columns is not None
-    required = digitised_columns if digitised else columns_required
+
+def _check_required_columns(names, required, digitised, metadata, path, header_index):
+    """Raise when a required column is missing, or a digitised loop states no protocol."""
     missing = [name for name in required if name not in names]
     if missing:
         raise ValueError(
@@ -221,6 +236,9 @@ def _read_columns(path, columns_required, digitised_columns):
             f"has a time history, add a 'time [s]' column instead."
         )
 
+
+def _column_factors(columns, path, header_index) -> tuple:
+    """(SI factor of each column, SI unit of each extra column by name)."""
     factors = []
     extra_units: dict[str, str] = {}
     for name, unit in columns:
@@ -235,7 +253,11 @@ def _read_columns(path, columns_required, digitised_columns):
             else:
                 factors.append(UNITS[dimension][unit])
                 extra_units[name] = _si_unit(dimension)
+    return factors, extra_units
 
+
+def _read_data_rows(lines, header_index, names, factors, path) -> np.ndarray:
+    """The data rows after the header, in SI, one column per name."""
     data = []
     for index in range(header_index + 1, len(lines)):
         line = lines[index]
@@ -250,9 +272,9 @@ def _read_columns(path, columns_required, digitised_columns):
                 f"{where}: empty line among the data rows; remove it or fill in the sample."
             )
         cells = line.split(",")
-        if len(cells) != len(columns):
+        if len(cells) != len(names):
             raise ValueError(
-                f"{where}: {len(cells)} cell(s) but the header has {len(columns)} columns "
+                f"{where}: {len(cells)} cell(s) but the header has {len(names)} columns "
                 f"({', '.join(names)})."
             )
         data.append(
@@ -263,20 +285,18 @@ def _read_columns(path, columns_required, digitised_columns):
         )
     if not data:
         raise ValueError(f"{path}: the file has a header but no data rows.")
-    table = np.array(data, dtype=float)
-    by_name = {name: table[:, i] for i, name in enumerate(names)}
+    return np.array(data, dtype=float)
 
-    if not digitised:
-        time = by_name["time"]
-        bad = np.flatnonzero(np.diff(time) <= 0)
-        if bad.size:
-            row = bad[0] + 1
-            raise ValueError(
-                f"{path}, line {header_index + 2 + row}, column 'time': time must increase "
-                f"strictly, but {time[row]:.9g} s follows {time[row - 1]:.9g} s."
-            )
 
-    return path, metadata, by_name, extra_units
+def _check_time_increases(time, path, header_index) -> None:
+    """Raise at the first sample whose time does not exceed the one before."""
+    bad = np.flatnonzero(np.diff(time) <= 0)
+    if bad.size:
+        row = bad[0] + 1
+        raise ValueError(
+            f"{path}, line {header_index + 2 + row}, column 'time': time must increase "
+            f"strictly, but {time[row]:.9g} s follows {time[row - 1]:.9g} s."
+        )
 
 
 def read_test_record(path) -> TestRecord:

@@ -300,6 +300,44 @@ def monte_carlo(
     **Returns:** a `MonteCarloResult`.
     """
     start = time.perf_counter()
+    source, n_total = _motion_source(motions, n_motions, key)
+    _check_chunk_and_first_motion(chunk_size, first_motion)
+    duration = _run_duration(source, duration)
+    design_arrays, n_designs = _design_arrays(design, structure)
+    devices = list(jax.devices() if devices is None else devices)
+    n_devices = len(devices)
+    chunk, n_chunks = _chunk_counts(chunk_size, n_total, n_devices)
+    # Shapes of one system, without computing it: degrees of freedom for the memory estimate.
+    probe_design = None if design_arrays is None else {k: v[0] for k, v in design_arrays.items()}
+    probe = probe_structure(structure, source, probe_design)
+    n_dof = probe.mass.shape[-1]
+    per_motion = bytes_per_motion(source.components * source.samples, n_dof, n_designs)
+    estimate = chunk * per_motion
+    _check_chunk_memory(chunk, per_motion, memory_limit_bytes, devices)
+    read_every = _read_every(peak_interval, probe.time_step)
+    if storey_height is not None:  # refused here, before the compile, for a rigid mass
+        check_storey_height(n_dof // source.components, storey_height)  # x and y: 2 n coordinates
+    runner = ChunkRunner(structure, source, duration, design_arrays, devices, chunk, disp_width,
+                         shear_width, read_every, storey_height)
+    outputs = _run_chunks(runner, motions, n_total, chunk, n_chunks, first_motion, progress)
+    peaks, pga = jax.tree_util.tree_map(lambda *xs: np.concatenate(xs, axis=0)[:n_total], *outputs)
+    return MonteCarloResult(
+        **_peak_fields(peaks, design_arrays is not None, storey_height is not None),
+        pga=np.asarray(pga),
+        design={} if design_arrays is None else {k: np.asarray(v) for k, v in design_arrays.items()},
+        dims=("motion",) if design_arrays is None else ("design", "motion"),
+        n_devices=n_devices,
+        chunk_size=chunk,
+        wall_s=time.perf_counter() - start,
+        compile_s=runner.compile_s,
+        memory_estimate_bytes=int(estimate),
+        attrs={"duration_s": duration, "record_time_step_s": source.time_step, "n_dof": int(n_dof),
+               **motion_attributes(motions)},
+    )
+
+
+def _motion_source(motions, n_motions, key) -> tuple:
+    """(`_Source` of the motions, number of motions to run), checked."""
     if isinstance(motions, RecordSet):
         n_total = motions.acceleration.shape[0] if n_motions is None else n_motions
         source = _Source(None, None, motions.time_step, motions.acceleration.shape[1])
@@ -322,41 +360,53 @@ def monte_carlo(
         raise ValueError(
             f"n_motions: {n_total} asked for but the RecordSet has {motions.acceleration.shape[0]} records."
         )
+    return source, n_total
+
+
+def _check_chunk_and_first_motion(chunk_size, first_motion) -> None:
     if isinstance(chunk_size, bool) or not isinstance(chunk_size, (int, np.integer)) or chunk_size <= 0:
         raise ValueError(f"chunk_size: must be a positive integer, got {chunk_size!r}.")
     if isinstance(first_motion, bool) or not isinstance(first_motion, (int, np.integer)) or first_motion < 0:
         raise ValueError(f"first_motion: must be an integer >= 0, got {first_motion!r}.")
+
+
+def _run_duration(source, duration) -> float:
+    """The duration to run [s]: default the record length; checked > 0."""
     record_duration = (source.samples - 1) * source.time_step
     duration = record_duration if duration is None else float(duration)
     if not duration > 0:
         raise ValueError(f"duration: must be > 0 s, got {duration}.")
+    return duration
 
-    design_arrays = None
-    n_designs = 0
-    if design:
-        design_arrays = {name: jnp.atleast_1d(jnp.asarray(v, dtype=float)) for name, v in design.items()}
-        sizes = {v.shape[0] for v in design_arrays.values()}
-        if len(sizes) != 1 or any(v.ndim != 1 for v in design_arrays.values()):
-            raise ValueError(
-                f"design: every variable needs a 1-D array of the same length, got shapes "
-                f"{ {k: tuple(v.shape) for k, v in design_arrays.items()} }."
-            )
-        n_designs = sizes.pop()
-        if isinstance(structure, (IsolatedStructure, BidirectionalIsolatedStructure)):
-            check_design(getattr(structure, "uniaxial", structure), design_arrays)
 
-    devices = list(jax.devices() if devices is None else devices)
-    n_devices = len(devices)
+def _chunk_counts(chunk_size, n_total, n_devices) -> tuple:
+    """(motions per chunk, a multiple of the devices; number of chunks)."""
     chunk = min(int(chunk_size), n_total)
     chunk = -(-chunk // n_devices) * n_devices
-    n_chunks = -(-n_total // chunk)
+    return chunk, -(-n_total // chunk)
 
-    # Shapes of one system, without computing it: degrees of freedom for the memory estimate.
-    probe_design = None if design_arrays is None else {k: v[0] for k, v in design_arrays.items()}
-    probe = probe_structure(structure, source, probe_design)
-    n_dof = probe.mass.shape[-1]
-    per_motion = bytes_per_motion(source.components * source.samples, n_dof, n_designs)
+
+def _design_arrays(design, structure) -> tuple:
+    """(design variables as (D,) arrays or `None`, D or 0), checked."""
+    if not design:
+        return None, 0
+    design_arrays = {name: jnp.atleast_1d(jnp.asarray(v, dtype=float)) for name, v in design.items()}
+    sizes = {v.shape[0] for v in design_arrays.values()}
+    if len(sizes) != 1 or any(v.ndim != 1 for v in design_arrays.values()):
+        raise ValueError(
+            f"design: every variable needs a 1-D array of the same length, got shapes "
+            f"{ {k: tuple(v.shape) for k, v in design_arrays.items()} }."
+        )
+    n_designs = sizes.pop()
+    if isinstance(structure, (IsolatedStructure, BidirectionalIsolatedStructure)):
+        check_design(getattr(structure, "uniaxial", structure), design_arrays)
+    return design_arrays, n_designs
+
+
+def _check_chunk_memory(chunk, per_motion, memory_limit_bytes, devices) -> None:
+    """Raise when a chunk needs more memory than allowed (default: half of the free memory)."""
     estimate = chunk * per_motion
+    n_devices = len(devices)
     if memory_limit_bytes is None:
         free = available_memory_bytes(devices[0])
         # devices with their own memory (GPUs) each hold 1 / n_devices of a chunk
@@ -370,17 +420,39 @@ def monte_carlo(
             f"used; take chunk_size <= {largest}."
         )
 
-    read_every = 1
-    if peak_interval is not None:
-        ratio = float(peak_interval) / probe.time_step
-        read_every = int(round(ratio))
-        if read_every < 1 or abs(ratio - read_every) > 1e-6 * ratio:
-            raise ValueError(f"peak_interval: must be a positive multiple of the structure's time step "
-                             f"{probe.time_step} s, got {peak_interval}.")
-    if storey_height is not None:  # refused here, before the compile, for a rigid mass
-        check_storey_height(n_dof // source.components, storey_height)  # x and y: 2 n coordinates
-    runner = ChunkRunner(structure, source, duration, design_arrays, devices, chunk, disp_width,
-                         shear_width, read_every, storey_height)
+
+def _read_every(peak_interval, time_step) -> int:
+    """Steps between peak readings: `peak_interval` over the structure's step (default 1)."""
+    if peak_interval is None:
+        return 1
+    ratio = float(peak_interval) / time_step
+    read_every = int(round(ratio))
+    if read_every < 1 or abs(ratio - read_every) > 1e-6 * ratio:
+        raise ValueError(f"peak_interval: must be a positive multiple of the structure's time step "
+                         f"{time_step} s, got {peak_interval}.")
+    return read_every
+
+
+def _peak_fields(peaks, with_designs: bool, with_storeys: bool) -> dict:
+    """The peak arrays of a `MonteCarloResult`, (design, motion) when designs were run."""
+
+    def arrange(x):
+        x = np.asarray(x)
+        return np.moveaxis(x, 0, 1) if with_designs else x
+
+    return {
+        "base_disp": arrange(peaks.base_disp),
+        "base_shear_ratio": arrange(peaks.base_shear_ratio),
+        "smooth_base_disp": arrange(peaks.smooth_base_disp),
+        "smooth_base_shear_ratio": arrange(peaks.smooth_base_shear_ratio),
+        "converged": arrange(peaks.converged),
+        "storey_drift": arrange(peaks.storey_drift) if with_storeys else None,
+        "floor_acceleration": arrange(peaks.floor_acceleration) if with_storeys else None,
+    }
+
+
+def _run_chunks(runner, motions, n_total, chunk, n_chunks, first_motion, progress) -> list:
+    """Each chunk's peaks on the host; a chunk is fetched while the next one runs."""
     outputs = []
     pending = None
     for c in range(n_chunks):
@@ -396,31 +468,4 @@ def monte_carlo(
     outputs.append(_get(pending))
     if progress is not None:
         progress(n_total, n_total)
-    compile_s = runner.compile_s
-
-    peaks = jax.tree_util.tree_map(lambda *xs: np.concatenate(xs, axis=0)[:n_total], *outputs)
-    peak_response_, pga = peaks
-
-    def arrange(x):
-        x = np.asarray(x)
-        return x if design_arrays is None else np.moveaxis(x, 0, 1)
-
-    return MonteCarloResult(
-        base_disp=arrange(peak_response_.base_disp),
-        base_shear_ratio=arrange(peak_response_.base_shear_ratio),
-        smooth_base_disp=arrange(peak_response_.smooth_base_disp),
-        smooth_base_shear_ratio=arrange(peak_response_.smooth_base_shear_ratio),
-        converged=arrange(peak_response_.converged),
-        storey_drift=None if storey_height is None else arrange(peak_response_.storey_drift),
-        floor_acceleration=None if storey_height is None else arrange(peak_response_.floor_acceleration),
-        pga=np.asarray(pga),
-        design={} if design_arrays is None else {k: np.asarray(v) for k, v in design_arrays.items()},
-        dims=("motion",) if design_arrays is None else ("design", "motion"),
-        n_devices=n_devices,
-        chunk_size=chunk,
-        wall_s=time.perf_counter() - start,
-        compile_s=compile_s,
-        memory_estimate_bytes=int(estimate),
-        attrs={"duration_s": duration, "record_time_step_s": source.time_step, "n_dof": int(n_dof),
-               **motion_attributes(motions)},
-    )
+    return outputs

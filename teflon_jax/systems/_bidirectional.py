@@ -232,9 +232,16 @@ class BidirectionalStructure(AbstractSteppedSystem):
         `BROYDEN_ITERATIONS` more while a member is above tolerance, then, for members still
         above it, Newton's method (Jacobian by forward differences) with an Armijo
         backtracking line search on |r|. Converged when max|r| <= tolerance."""
-        n_groups = self.bearing_load.shape[0]
-        # predictor: the bearing forces held at their start-of-step values (exact while sliding
-        # at constant Z and speed)
+        x, tolerance, yield_disp = self._predictor(p)
+        r, jacobian = self._tangent_jacobian(x, p)
+        x, r, forces, z, done = self._broyden_iterations(x, r, jacobian, p, tolerance)
+        r, forces, z = self._newton_iterations(x, r, forces, z, done, p, tolerance, yield_disp)
+        return forces, z, jnp.max(jnp.abs(r)) <= tolerance
+
+    def _predictor(self, p):
+        """Bearing displacements (x, y parts) with the bearing forces held at their
+        start-of-step values (exact while sliding at constant Z and speed), the tolerance on
+        the residual and the smallest yield displacement."""
         capacity = self.bearing.coefficient(p["vb0"][0], p["vb0"][1], p["z_peak0"]) * self.bearing_load
         held = block_matvec(p["flexibility"], (capacity * p["z0"][0], capacity * p["z0"][1]))
         x = tuple(p["d_linear"][i] - held[i] for i in range(2))
@@ -243,38 +250,36 @@ class BidirectionalStructure(AbstractSteppedSystem):
         scale = jnp.maximum(jnp.max(jnp.abs(x[0]) + jnp.abs(p["d_linear"][0])),
                             jnp.max(jnp.abs(x[1]) + jnp.abs(p["d_linear"][1])))
         tolerance = jnp.maximum(self.newton_tolerance * yield_disp, 1e3 * eps * scale)
-        r, jacobian = self._tangent_jacobian(x, p)
+        return x, tolerance, yield_disp
+
+    def _broyden_update(self, x, r, jacobian, p, tolerance):
+        """One Newton step with the current Jacobian, then its secant (Broyden) update;
+        a member already within tolerance keeps its iterate (no step at round-off)."""
         tiny = jnp.finfo(x[0].dtype).tiny
+        off = _largest(r) > tolerance
+        step = solve_blocks(jacobian, r)
+        finite = jnp.isfinite(step[0]).all() & jnp.isfinite(step[1]).all() & off
+        step = tuple(jnp.where(finite, -step[i], jnp.where(off, -r[i], 0.0)) for i in range(2))
+        x = (x[0] + step[0], x[1] + step[1])
+        r_new, forces, z = self._residual_forces(x, p)
+        predicted = block_matvec(jacobian, step)
+        mismatch = [r_new[i] - r[i] - predicted[i] for i in range(2)]
+        norm2 = jnp.maximum(jnp.sum(step[0] ** 2) + jnp.sum(step[1] ** 2), tiny)
+        jacobian = [[jacobian[i][j] + jnp.outer(mismatch[i], step[j]) / norm2 for j in range(2)]
+                    for i in range(2)]
+        return x, r_new, jacobian, forces, z
 
-        def off(r):
-            return jnp.maximum(jnp.max(jnp.abs(r[0])), jnp.max(jnp.abs(r[1]))) > tolerance
-
-        def broyden(x, r, jacobian):
-            """One Newton step with the current Jacobian, then its secant (Broyden) update;
-            a member already within tolerance keeps its iterate (no step at round-off)."""
-            step = solve_blocks(jacobian, r)
-            finite = jnp.isfinite(step[0]).all() & jnp.isfinite(step[1]).all() & off(r)
-            step = tuple(jnp.where(finite, -step[i], jnp.where(off(r), -r[i], 0.0)) for i in range(2))
-            x = (x[0] + step[0], x[1] + step[1])
-            r_new, forces, z = self._residual_forces(x, p)
-            predicted = block_matvec(jacobian, step)
-            mismatch = [r_new[i] - r[i] - predicted[i] for i in range(2)]
-            norm2 = jnp.maximum(jnp.sum(step[0] ** 2) + jnp.sum(step[1] ** 2), tiny)
-            jacobian = [[jacobian[i][j] + jnp.outer(mismatch[i], step[j]) / norm2 for j in range(2)]
-                        for i in range(2)]
-            return x, r_new, jacobian, forces, z
-
+    def _broyden_iterations(self, x, r, jacobian, p, tolerance):
+        """`FIXED_ITERATIONS` unrolled secant iterations, then more while a member is above
+        tolerance; returns the best iterate seen (x, r, forces, Z) and the iterations done."""
         fixed = min(FIXED_ITERATIONS, self.newton_iterations)  # newton_iterations bounds them all
         for _ in range(fixed):  # unrolled: the same work for every member
-            x, r, jacobian, forces, z = broyden(x, r, jacobian)
-
-        def size2(r):
-            return jnp.maximum(jnp.max(jnp.abs(r[0])), jnp.max(jnp.abs(r[1])))
+            x, r, jacobian, forces, z = self._broyden_update(x, r, jacobian, p, tolerance)
 
         def broyden_body(carry):
             x, r, jacobian, forces, z, k, best = carry
-            x, r, jacobian, forces, z = broyden(x, r, jacobian)
-            better = size2(r) < size2(best[1])
+            x, r, jacobian, forces, z = self._broyden_update(x, r, jacobian, p, tolerance)
+            better = _largest(r) < _largest(best[1])
             best = jax.tree.map(lambda new, old: jnp.where(better, new, old), (x, r, forces, z), best)
             return x, r, jacobian, forces, z, k + 1, best
 
@@ -283,9 +288,15 @@ class BidirectionalStructure(AbstractSteppedSystem):
         # iterate seen
         broyden_limit = fixed + min(BROYDEN_ITERATIONS, self.newton_iterations - fixed)
         *_, done, (x, r, forces, z) = jax.lax.while_loop(
-            lambda c: off(c[1]) & (c[5] < broyden_limit), broyden_body,
+            lambda c: (_largest(c[1]) > tolerance) & (c[5] < broyden_limit), broyden_body,
             (x, r, jacobian, forces, z, fixed, (x, r, forces, z))
         )
+        return x, r, forces, z, done
+
+    def _newton_iterations(self, x, r, forces, z, done, p, tolerance, yield_disp):
+        """Newton's method (Jacobian by forward differences) with an Armijo backtracking line
+        search on |r|, while a member is above tolerance; returns (r flat, forces, Z)."""
+        n_groups = self.bearing_load.shape[0]
 
         def split(flat):
             return flat[:n_groups], flat[n_groups:]
@@ -326,7 +337,12 @@ class BidirectionalStructure(AbstractSteppedSystem):
 
         start = (jnp.concatenate(x), (jnp.concatenate(r), forces, z), done)
         _, (r, forces, z), _ = jax.lax.while_loop(cond, body, start)
-        return forces, z, size(r) <= tolerance
+        return r, forces, z
+
+
+def _largest(r):
+    """Largest |r| over the x and y parts of a residual."""
+    return jnp.maximum(jnp.max(jnp.abs(r[0])), jnp.max(jnp.abs(r[1])))
 
 
 def bidirectional_structure(

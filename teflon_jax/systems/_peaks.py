@@ -136,69 +136,31 @@ def peak_response(
     """
     dt = float(system.time_step)
     n_steps = check_duration(system, duration)  # at least a step, within the record
-    if isinstance(read_every, bool) or not isinstance(read_every, int) or read_every < 1:
-        raise ValueError(f"read_every: must be a positive integer number of steps, got {read_every!r}.")
-    if isinstance(steps_per_pass, bool) or not isinstance(steps_per_pass, int) or steps_per_pass < 1:
-        raise ValueError(f"steps_per_pass: must be a positive integer, got {steps_per_pass!r}.")
+    _check_loop_settings(read_every, steps_per_pass)
     dtype = system.mass.dtype
     widths = (
         jnp.asarray(1e-3 if disp_width is None else disp_width, dtype),
         jnp.asarray(1e-3 if shear_width is None else shear_width, dtype),
     )
-
-    def lse_update(top, total, x, width):
-        new_top = jnp.maximum(top, jax.lax.stop_gradient(jnp.abs(x)))
-        total = total * jnp.exp((top - new_top) / width) + 0.5 * (
-            jnp.exp((x - new_top) / width) + jnp.exp((-x - new_top) / width)
-        )
-        return new_top, total
-
-    n = system.mass.shape[-1]
-    step_matrix, force_column, shear_row, shear_force = step_propagator(system)
+    propagator = step_propagator(system)
     rows = None if storey_height is None else storey_rows(system, storey_height)
-
-    # The state (u, v), the bearing force per unit Z and its slope of the stored state
-    # (`friction_factors`) and the ground acceleration at the start of the step, advanced by
-    # `step_propagator` (one product per step); the same step as `newmark_update` to rounding.
-    # A bearing with history (heating, wear) steps with its friction at the start of the step
-    # (`at_history`) and carries its heat states and travel in `history`.
-    def advance(state, ground1):
-        x, z, z_peak, start_factors, ground0, history = state
-        stepped = system
-        if history:  # the force at the step's start with the friction of the start's history
-            stepped = system.at_history(*history)
-            start_factors = stepped.friction_factors(x[n], z_peak)
-        x1, z1, z_peak1, converged = stepped.propagated_step(x, z, z_peak, start_factors, ground0, ground1,
-                                                             (step_matrix, force_column))
-        factors1 = stepped.friction_factors(x1[n], z_peak1)  # of the stored state: F = mu W Z
-        shear = small_dot(shear_row, x1, WRITTEN_OUT_PRODUCT) + shear_force * (factors1[0] * z1)
-        if history:
-            history = system.next_history(*history, x[0], x1[0], x[n], z_peak)
-        return (x1, z1, z_peak1, factors1, ground1, history), x1[0], shear, converged, factors1[0] * z1
 
     def body(carry, step_and_ground):
         step, ground1 = step_and_ground
         state, peaks, tops, totals, ok = carry
-        state, base_disp, shear_ratio, converged, force = advance(state, ground1)
+        state, base_disp, shear_ratio, converged, force = _advance(system, propagator, state, ground1)
         storeys = () if rows is None else (rows[0] @ state[0], rows[1] @ state[0] + rows[2] * force)
         values = (base_disp, shear_ratio) + storeys  # the smooth maxima below take the first two
         read = (step + 1) % read_every == 0
         peaks = tuple(jnp.where(read, jnp.maximum(p, jnp.abs(v)), p) for p, v in zip(peaks, values))
-        updated = [lse_update(a, s, v, w) for a, s, v, w in zip(tops, totals, values, widths)]
+        updated = [_log_sum_exp_update(a, s, v, w) for a, s, v, w in zip(tops, totals, values, widths)]
         tops = tuple(u[0] for u in updated)
         totals = tuple(u[1] for u in updated)
         return (state, peaks, tops, totals, ok & converged), None
 
-    zero = jnp.zeros((), dtype)
-    one = jnp.ones((), dtype)
-    y0 = initial_state(system)
     # the record at every step's end, evaluated at once outside the loop
     ground = jax.vmap(system.ground_acceleration)(jnp.arange(n_steps + 1) * dt)
-    start_factors = system.friction_factors(y0["v"][0], y0["z_peak"])
-    history = (y0["heat"], y0["travel"]) if system.history else ()
-    state = (jnp.concatenate([y0["u"], y0["v"]]), y0["z"], y0["z_peak"], start_factors, ground[0],
-             history)
-    carry = (state, (zero, zero) + storey_start(rows, dtype), (zero, zero), (one, one), jnp.array(True))
+    carry = _start_carry(system, ground[0], rows, dtype)
     (_, peaks, tops, totals, ok), _ = jax.lax.scan(body, carry, (jnp.arange(n_steps), ground[1:]),
                                                    unroll=steps_per_pass)
     smooth = [a + w * jnp.log(s / (n_steps + 1)) for a, s, w in zip(tops, totals, widths)]
@@ -210,3 +172,57 @@ def peak_response(
         converged=ok,
         **({} if rows is None else {"storey_drift": peaks[2], "floor_acceleration": peaks[3]}),
     )
+
+
+def _check_loop_settings(read_every, steps_per_pass) -> None:
+    if isinstance(read_every, bool) or not isinstance(read_every, int) or read_every < 1:
+        raise ValueError(f"read_every: must be a positive integer number of steps, got {read_every!r}.")
+    if isinstance(steps_per_pass, bool) or not isinstance(steps_per_pass, int) or steps_per_pass < 1:
+        raise ValueError(f"steps_per_pass: must be a positive integer, got {steps_per_pass!r}.")
+
+
+def _log_sum_exp_update(top, total, x, width):
+    """Running (top, total) of `smooth_max` with the sample x added."""
+    new_top = jnp.maximum(top, jax.lax.stop_gradient(jnp.abs(x)))
+    total = total * jnp.exp((top - new_top) / width) + 0.5 * (
+        jnp.exp((x - new_top) / width) + jnp.exp((-x - new_top) / width)
+    )
+    return new_top, total
+
+
+def _advance(system, propagator, state, ground1):
+    """One step of the peak loop: (state, base displacement, base shear ratio, converged,
+    bearing force F = mu W Z of the stored state).
+
+    The state (u, v), the bearing force per unit Z and its slope of the stored state
+    (`friction_factors`) and the ground acceleration at the start of the step, advanced by
+    `step_propagator` (one product per step); the same step as `newmark_update` to rounding.
+    A bearing with history (heating, wear) steps with its friction at the start of the step
+    (`at_history`) and carries its heat states and travel in `history`.
+    """
+    step_matrix, force_column, shear_row, shear_force = propagator
+    n = system.mass.shape[-1]
+    x, z, z_peak, start_factors, ground0, history = state
+    stepped = system
+    if history:  # the force at the step's start with the friction of the start's history
+        stepped = system.at_history(*history)
+        start_factors = stepped.friction_factors(x[n], z_peak)
+    x1, z1, z_peak1, converged = stepped.propagated_step(x, z, z_peak, start_factors, ground0, ground1,
+                                                         (step_matrix, force_column))
+    factors1 = stepped.friction_factors(x1[n], z_peak1)  # of the stored state: F = mu W Z
+    shear = small_dot(shear_row, x1, WRITTEN_OUT_PRODUCT) + shear_force * (factors1[0] * z1)
+    if history:
+        history = system.next_history(*history, x[0], x1[0], x[n], z_peak)
+    return (x1, z1, z_peak1, factors1, ground1, history), x1[0], shear, converged, factors1[0] * z1
+
+
+def _start_carry(system, ground0, rows, dtype):
+    """Carry of the peak loop at rest: (state, peaks, tops, totals, all converged)."""
+    zero = jnp.zeros((), dtype)
+    one = jnp.ones((), dtype)
+    y0 = initial_state(system)
+    start_factors = system.friction_factors(y0["v"][0], y0["z_peak"])
+    history = (y0["heat"], y0["travel"]) if system.history else ()
+    state = (jnp.concatenate([y0["u"], y0["v"]]), y0["z"], y0["z_peak"], start_factors, ground0,
+             history)
+    return (state, (zero, zero) + storey_start(rows, dtype), (zero, zero), (one, one), jnp.array(True))
