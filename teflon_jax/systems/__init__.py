@@ -47,10 +47,10 @@ from ._storey_peaks import check_storey_height as check_storey_height
 from ._storey_peaks import directional_storeys as directional_storeys
 from ._storey_peaks import storey_rows as storey_rows
 from ._structure import FRICTION_MODELS as FRICTION_MODELS
-from ._structure import HEAT_HORIZON as HEAT_HORIZON
-from ._structure import STRUCTURE_EFFECTS as STRUCTURE_EFFECTS
 from ._structure import StructureOnSliders as StructureOnSliders
 from ._structure import StructureResponse as StructureResponse
 from ._structure import initial_state as initial_state
 from ._structure import simulate_structure as simulate_structure
-from ._structure import structure_on_sliders as structure_on_sliders
+from ._structure_build import HEAT_HORIZON as HEAT_HORIZON
+from ._structure_build import STRUCTURE_EFFECTS as STRUCTURE_EFFECTS
+from ._structure_build import structure_on_sliders as structure_on_sliders

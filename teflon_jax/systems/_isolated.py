@@ -14,12 +14,8 @@ from ..units import PSI
 from ..validation import concrete, require_positive
 from ._models import rigid_mass, six_storey_building
 from ._propagators import LINEAR_RULES
-from ._structure import (
-    NEWTON_ITERATIONS,
-    NEWTON_TOLERANCE,
-    StructureOnSliders,
-    check_structure_parts,
-)
+from ._structure import NEWTON_ITERATIONS, NEWTON_TOLERANCE, StructureOnSliders
+from ._structure_build import check_structure_parts
 
 STRUCTURES = ("rigid", "building")
 

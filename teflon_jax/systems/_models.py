@@ -16,12 +16,8 @@ from ..excitation import Signal, uniform_signal
 from ..tables import BuildingData, load_table2
 from ..units import STANDARD_GRAVITY
 from ..validation import concrete, require
-from ._structure import (
-    FRICTION_MODELS,
-    StructureOnSliders,
-    StructureResponse,
-    structure_on_sliders,
-)
+from ._structure import FRICTION_MODELS, StructureOnSliders, StructureResponse
+from ._structure_build import structure_on_sliders
 
 
 def _check(value, name: str, rule, text: str) -> None:

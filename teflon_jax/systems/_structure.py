@@ -21,15 +21,13 @@ from ..bearing import (
     SlidingBearing,
     bouc_wen_rate,
     bouc_wen_reversal_length,
-    check_bearing,
-    heat_kernel_exponentials,
 )
 from ..excitation import Signal
 from ..solver import AbstractSteppedSystem, require_riccati_form
 from ._bearing_test import running_peak_rate
 from ._block_algebra import small_dot
 from ._isolator_solve import isolator_root, predicted_root
-from ._propagators import LINEAR_RULES, exact_step_matrices, newmark_step_matrices
+from ._propagators import newmark_step_matrices
 
 FRICTION_MODELS = ("hysteretic", "coulomb", "none")
 
@@ -363,115 +361,6 @@ class StructureOnSliders(AbstractSteppedSystem):
                                       tolerance)
         converged = jnp.abs(x - ub_linear + g0 * force) <= tolerance  # `isolator_residual`
         return force, z1, converged
-
-
-def structure_on_sliders(
-    *,
-    mass,
-    stiffness,
-    damping,
-    bearing: SlidingBearing | None,
-    bearing_load,
-    ground_acceleration: Signal,
-    time_step: float,
-    friction_model: str = "hysteretic",
-    newton_iterations: int = NEWTON_ITERATIONS,
-    split_at_turn: bool = False,
-    linear_rule: str = "newmark",
-    contact_pressure=None,
-) -> StructureOnSliders:
-    """Build a `StructureOnSliders`, checking shapes and prefactoring the step's matrices.
-
-    Newmark (average acceleration): K_eff = K + (2/dt) C + (4/dt^2) M, inverted once for
-    `time_step`; with `linear_rule="exact"` also the exact step's matrices (`_propagators.exact_step_matrices`).
-    A bearing with `heating` needs `contact_pressure` [Pa] (its kernel spans one time step to
-    `HEAT_HORIZON`); of the optional parts, structures run `STRUCTURE_EFFECTS`.
-    """
-    if friction_model not in FRICTION_MODELS:
-        raise ValueError(
-            f"friction_model: unknown {friction_model!r}; accepted values: {', '.join(FRICTION_MODELS)}."
-        )
-    if linear_rule not in LINEAR_RULES:
-        raise ValueError(f"linear_rule: unknown {linear_rule!r}; accepted values: {', '.join(LINEAR_RULES)}.")
-    mass = jnp.atleast_1d(jnp.asarray(mass, dtype=float))
-    n = mass.shape[-1]
-    stiffness = jnp.asarray(stiffness, dtype=float).reshape(mass.shape[:-1] + (n, n))
-    damping = jnp.asarray(damping, dtype=float).reshape(mass.shape[:-1] + (n, n))
-    if not time_step > 0:
-        raise ValueError(f"time_step: must be > 0 s, got {time_step}.")
-    if friction_model != "none":
-        if bearing is None:
-            raise ValueError("bearing: a SlidingBearing is needed unless friction_model='none'.")
-        check_bearing(bearing)
-    else:
-        from ..bearing import coulomb_friction, paper_bearing
-
-        bearing = paper_bearing(coulomb_friction(0.0)) if bearing is None else bearing
-    rates, weights = _heat_kernel(bearing, friction_model, contact_pressure, time_step)
-    k_eff = stiffness + 2 / time_step * damping + 4 / time_step**2 * jnp.vectorize(
-        jnp.diag, signature="(n)->(n,n)"
-    )(mass)
-    return StructureOnSliders(
-        mass=mass,
-        stiffness=stiffness,
-        damping=damping,
-        bearing=bearing,
-        bearing_load=jnp.asarray(bearing_load, dtype=float),
-        ground_acceleration=ground_acceleration,
-        time_step=float(time_step),
-        newmark_inverse=jnp.linalg.inv(k_eff),
-        friction_model=friction_model,
-        newton_iterations=int(newton_iterations),
-        split_at_turn=bool(split_at_turn),
-        linear_rule=linear_rule,
-        exact_step=_exact_step_matrix(mass, stiffness, damping, float(time_step)) if linear_rule == "exact" else None,
-        contact_pressure=None if contact_pressure is None else jnp.asarray(contact_pressure, float),
-        heat_rates=rates,
-        heat_weights=weights,
-    )
-
-
-STRUCTURE_EFFECTS = ("heating", "wear")
-"""Optional bearing parts a structure on sliders runs (besides Eq. 1, breakaway, anisotropy,
-stacks): factors on mu that do not depend on Z, held over each step."""
-
-HEAT_HORIZON = 3600.0
-"""Longest time [s] the heat kernel of a structure represents (the 1/sqrt(t) kernel is
-accurate from one time step to this; an earthquake record is far shorter)."""
-
-
-def check_structure_parts(bearing: SlidingBearing) -> None:
-    """`ValueError` naming the optional parts of `bearing` a structure does not run."""
-    other = [name for name in bearing.effects if name not in STRUCTURE_EFFECTS]
-    if other:
-        raise ValueError(
-            f"bearing: the structures do not run its {', '.join(other)} (they run Eq. 1, "
-            f"breakaway, anisotropy, stacks, {' and '.join(STRUCTURE_EFFECTS)}); simulate the "
-            "bearing test with `simulate-test --bearing`, or fit without these effects.")
-
-
-def _heat_kernel(bearing, friction_model, contact_pressure, time_step):
-    """(rates, weights) of the heat kernel for a bearing with heating, else (None, None);
-    `ValueError` for parts a structure does not run or a missing contact pressure."""
-    if friction_model != "hysteretic" or bearing is None:
-        return None, None
-    check_structure_parts(bearing)
-    if bearing.heating is None:
-        return None, None
-    if contact_pressure is None:
-        raise ValueError("contact_pressure: a bearing with heating needs the contact pressure "
-                         "[Pa] of the bearings (the heat flux is mu p |v|).")
-    rates, weights = heat_kernel_exponentials(float(time_step), HEAT_HORIZON)
-    return jnp.asarray(rates), jnp.asarray(weights)
-
-
-def _exact_step_matrix(mass, stiffness, damping, time_step):
-    """(R | f) of `_propagators.exact_step_matrices`, for a structure or a batch of them."""
-    def one(m, k, c):
-        step, force = exact_step_matrices(m, k, c, time_step)
-        return jnp.concatenate([step, force[:, None]], 1)
-
-    return jnp.vectorize(one, signature="(n),(n,n),(n,n)->(m,k)")(mass, stiffness, damping)
 
 
 def initial_state(system: StructureOnSliders) -> dict:
