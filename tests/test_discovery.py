@@ -22,10 +22,7 @@ from identification.discovery import (
     simulate_augmented,
 )
 from teflon_jax.bearing import (
-    AMBIENT_TEMPERATURE,
     heat_kernel_exponentials,
-    kumar_temperature_factor,
-    surface_temperature_coefficient,
 )
 from teflon_jax.formats import test_record_from_arrays
 from teflon_jax.units import INCH, KIP
@@ -36,6 +33,12 @@ UF_1000_T = {
     "delta_f": 0.1181,
     "rate_a": 0.45 / INCH,
 }  # Table 1, test No. 191
+
+
+def _k_t(temperature):
+    """Kumar, Whittaker & Constantinou (2015): k_T = 0.79 (0.70^(T/50) + 0.40), T in degC,
+    written out here so that the generator does not share the library's code."""
+    return 0.79 * (0.70 ** (np.asarray(temperature) / 50.0) + 0.40)
 
 
 def generate_record(
@@ -140,11 +143,9 @@ def generate_record(
     if temperature is not None:
         temperature_column = np.array([temperature(x) for x in t])
         t0 = temperature_column[0]
-        mu = mu * kumar_temperature_factor(
-            t0 + temperature_scale * (temperature_column - t0)
-        ) / kumar_temperature_factor(t0)
+        mu = mu * _k_t(t0 + temperature_scale * (temperature_column - t0)) / _k_t(t0)
     if heat_scale:
-        coef = heat_scale * surface_temperature_coefficient()
+        coef = heat_scale * math.sqrt(4.4e-6 / math.pi) / 16.2  # stainless steel, Carslaw & Jaeger
         pressure = load / contact_area
         mu = mu.copy()
         flux = np.zeros(n)
@@ -155,8 +156,8 @@ def generate_record(
             rise = coef * np.sum(flux[:i] * 2 * (upper - lower))
             mu[i] = (
                 mu[i]
-                * kumar_temperature_factor(AMBIENT_TEMPERATURE + rise)
-                / (kumar_temperature_factor(AMBIENT_TEMPERATURE))
+                * _k_t(20.0 + rise)
+                / _k_t(20.0)
             )
             flux[i] = mu[i] * pressure[i] * abs(v[i])
     force = mu * load * z

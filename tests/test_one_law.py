@@ -128,12 +128,14 @@ def test_fitter_follows_the_law(law):
         assert fit.converged, fit.message
         friction = settings.get("friction", UF_1000_P)
         assert fit.parameters["f_max"] == pytest.approx(friction["f_max"], rel=5e-3)
+        assert fit.nrmse < LAWS[law][3]
         found = fit.parameters[name]
     else:
         known = {"yield_disp": Y, **settings.get("friction", UF_1000_P)}
         result = discover_effects(record, baseline=("velocity_dependence", *effects),
                                   max_effects=0, known=known)
         assert result.fit_convergence["final_converged"]
+        assert result.nrmse_final < LAWS[law][3]  # the law itself, not a refit around it
         found = result.parameters[name]
     assert found == pytest.approx(value, rel=2e-2)
 

@@ -72,8 +72,9 @@ LAWS = (
         "return jnp.sin(theta) ** 2", "park_and_anisotropy",
         "anisotropy: weight sin^2(theta) instead of theta / 90 degrees"),
     law("L5", "teflon_jax/solver/_park_path.py", "k = (h.gamma * s + h.beta) * e",
-        "k = (h.gamma + h.beta * s) * e", "park_and_anisotropy",
-        "Park's Eqs. 8-9 in closed form along a sampled path (the imposed-motion simulator "
+        "k = (h.gamma * s - h.beta) * e", "park_and_anisotropy",
+        "Park's Eqs. 8-9 in closed form along a sampled path, sign of the beta term (the "
+        "imposed-motion simulator "
         "integrates their rate form, mutants H3, H6)", consumers=("fitter", "discovery")),
     law("L6", EF, "jnp.power(0.70, temperature / 50.0)", "jnp.power(0.70, temperature / 40.0)",
         "the_law[heating]", "heating: k_T = 0.79 (0.70^(T/40) + 0.40)"),
