@@ -99,6 +99,7 @@ def run_fit(args) -> int:
 
     try:
         read_quantities(args, "fit")
+        _check_counts(args)  # before the fit, as the output paths (`check_outputs`)
         free = parse_free(args.free) if args.free is not None else None
         fixed = _parse_fixed(args.fixed)
         records = [read_bearing_record(p) for p in args.records]
@@ -128,16 +129,22 @@ def run_fit(args) -> int:
     return _run_bayes(args, records, free, fixed, fit)
 
 
+def _check_counts(args) -> None:
+    """--starts >= 1; with --bayes, --draws >= 10 and --chains >= 2 (R-hat needs two chains)."""
+    if args.starts < 1:
+        raise ValueError(f"--starts: must be an integer >= 1 (least-squares starts), got {args.starts}.")
+    if args.bayes is not None and args.draws < 10:
+        raise ValueError(f"--draws: must be >= 10 (warm-up steps and draws per chain), got {args.draws}.")
+    if args.bayes is not None and args.chains < 2:
+        raise ValueError(f"--chains: must be >= 2 (R-hat compares chains), got {args.chains}.")
+
+
 def _run_bayes(args, records, free, fixed, least_squares) -> int:
     """`fit --bayes DIR`: the posterior, warm-started from `least_squares`; 1 unless converged."""
     import json
 
     from identification.bayes import fit_bayes
 
-    if args.draws < 10 or args.chains < 2:
-        print("teflon-jax fit: error: --draws must be >= 10 and --chains >= 2 (R-hat needs "
-              "two chains).", file=sys.stderr)
-        return 2
     out = pathlib.Path(args.bayes)
     try:
         out.mkdir(parents=True, exist_ok=True)

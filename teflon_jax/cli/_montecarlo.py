@@ -11,7 +11,14 @@ import pathlib
 import sys
 
 from ..units import STANDARD_GRAVITY
-from ._common import _positive_int, _write_json, add_quantity, add_units_flag, output_units
+from ._common import (
+    _positive_int,
+    _write_json,
+    add_quantity,
+    add_units_flag,
+    output_units,
+    warn_time_step,
+)
 from ._main import compile_cache_dir
 
 
@@ -35,8 +42,8 @@ def _add_common(parser):
                  "peak within 0.2 % of converged ones on 100 test motions, see benchmarks B3; 2.5ms with --components 2 and in design, "
                  "whose gradient check needs the update without the turning-point split)",
                  minimum=0.0)
-    add_quantity(parser, "--pga", "acceleration", "0.3g", "expected peak ground acceleration",
-                 minimum=0.0)
+    add_quantity(parser, "--pga", "acceleration", "0.3g", "expected peak ground acceleration "
+                 "(at most 5g, beyond any recorded motion)", minimum=0.0, maximum=5 * STANDARD_GRAVITY)
     add_quantity(parser, "--site-frequency", "frequency", "15.6rad/s", "Kanai-Tajimi site "
                  "frequency omega_g", minimum=0.0)
     add_quantity(parser, "--site-damping", "dimensionless", "0.6", "Kanai-Tajimi site damping "
@@ -76,8 +83,9 @@ def add_montecarlo_parser(subparsers) -> argparse.ArgumentParser:
     add_quantity(parser, "--minor-ratio", "dimensionless", None, "two components: standard deviation "
                  "of the minor component over the major's, in [0, 1] (default 1: two independent, "
                  "equally strong components)", minimum=0.0, strict=False, maximum=1.0)
-    parser.add_argument("--chunk-size", type=_positive_int, default=512, help="motions per compiled call "
-                        "(split over the devices; about 260 kB each for 40 s motions at 0.01 s)")
+    parser.add_argument("--chunk-size", type=_positive_int, default=None, help="motions per compiled call "
+                        "(split over the devices; about 260 kB each for 40 s motions at 0.01 s) (default "
+                        "512; with --scheduler local:N at most motions / N, so that every worker has a task)")
     parser.add_argument("--out", type=pathlib.Path, help="results file; its suffix picks the format: "
                         ".nc (NetCDF), .zarr, .csv or .npz")
     parser.add_argument("--newton-iterations", type=_positive_int, default=None, metavar="N",
@@ -159,6 +167,8 @@ def run_montecarlo(args) -> int:
         time_step=args.time_step,
         **solver,
     )
+    if args.time_step is not None:
+        warn_time_step("montecarlo", args.time_step, args.time_step_text, args.record_step, args.record_step_text)
     model = _motion_model(args)
     if two:
         model = TwoComponentGroundMotion(
@@ -169,18 +179,21 @@ def run_montecarlo(args) -> int:
     def progress(done, total):
         bar.update(done - bar.n)
 
+    chunk_size = _chunk_size(args)
+    attrs = _run_attributes(args)
     if args.scheduler is None:
         result = monte_carlo(
             structure, model, args.motions, key=jax.random.key(args.seed),
-            chunk_size=args.chunk_size, progress=progress,
+            chunk_size=chunk_size, progress=progress,
         )
+        result.attrs.update(attrs)
         files = [] if args.out is None else [str(p) for p in save_montecarlo(result, args.out)]
     else:
         from ..studies import monte_carlo_distributed
 
         result = monte_carlo_distributed(
             structure, model, args.motions, out=args.out, seed=args.seed,
-            scheduler=args.scheduler, chunk_size=args.chunk_size, progress=progress,
+            scheduler=args.scheduler, chunk_size=chunk_size, progress=progress, attrs=attrs,
             compilation_cache=None if args.no_compile_cache else str(compile_cache_dir()),
         )
         files = [str(args.out)]
@@ -244,6 +257,31 @@ def run_montecarlo(args) -> int:
         )
         return 1
     return 0
+
+
+def _chunk_size(args) -> int:
+    """--chunk-size, or 512, or with --scheduler local:N at most ceil(motions / N): a run of
+    fewer chunks than workers leaves workers idle."""
+    if args.chunk_size is not None:
+        return args.chunk_size
+    workers = args.scheduler[len("local:"):] if (args.scheduler or "").startswith("local:") else ""
+    if workers.isdigit() and int(workers) > 0:
+        return max(1, min(512, math.ceil(args.motions / int(workers))))
+    return 512
+
+
+def _run_attributes(args) -> dict:
+    """What was run, as the results file's attributes: the structure and bearings (SI) and
+    the motions, each also as the user typed it."""
+    return {
+        "structure": args.structure, "ptfe": args.ptfe, "pressure_Pa": args.pressure,
+        "isolation_period_s": "none" if args.isolation_period is None else args.isolation_period,
+        "isolation_damping": args.isolation_damping, "pga_m_s2": args.pga,
+        "site_frequency_hz": args.site_frequency, "site_damping": args.site_damping,
+        "strong_motion_s": args.strong_motion, "components": args.components,
+        "inputs_as_given": " ".join(f"{k}={getattr(args, k + '_text')}" for k in (
+            "pressure", "isolation_period", "isolation_damping", "pga", "duration")),
+    }
 
 
 def _statistics(result, units) -> dict:

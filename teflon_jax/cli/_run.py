@@ -8,6 +8,7 @@ import pathlib
 import numpy as np
 
 from ..units import parse_quantity
+from ._common import _NEGATIVE_QUANTITY, warn_time_step
 from ._run_suite import add_suite_arguments, check_suite_flags
 
 STRUCTURES = ("rigid", "building", "slab")
@@ -25,6 +26,7 @@ def add_run_parser(subparsers) -> None:
             "(1000psi, 2.5s, 5%%, 100kN)."
         ),
     )
+    p._negative_number_matcher = _NEGATIVE_QUANTITY  # '-1000psi' is a value, refused by its check
     p.add_argument("--structure", default="rigid", choices=STRUCTURES, help="rigid mass, the Table 2 "
                    "building in x and y, or a rigid slab on bearing groups (needs --plan)")
     p.add_argument("--ptfe", default="UF", help="PTFE type of Table 1: UF, 15GF or 25GF (default UF)")
@@ -141,8 +143,8 @@ def load_components(args):
     i0 = int(round(start / dt))
     n = int(round(duration / dt)) + 1
     scale = float(args.scale)
-    if not np.isfinite(scale):
-        raise ValueError(f"--scale: must be a finite number, got {args.scale}.")
+    if not (np.isfinite(scale) and scale > 0):
+        raise ValueError(f"--scale: must be a finite number > 0, got {args.scale:g}.")
     return scale * ax[i0:i0 + n], scale * ay[i0:i0 + n], dt, notes
 
 
@@ -165,6 +167,8 @@ def _bearing(args, ptfe, pressure_text, flag):
     from ..tables import interface_parameters
 
     pressure = parse_quantity(pressure_text, "pressure", where=flag)
+    if not pressure > 0:
+        raise ValueError(f"{flag}: must be > 0, got {pressure_text}.")
     try:
         params, table_b = interface_parameters(ptfe.upper(), pressure, "P")
         perpendicular = interface_parameters(ptfe.upper(), pressure, "T")[0] if args.anisotropic else None
@@ -415,6 +419,7 @@ def run_run(args) -> int:
         raise ValueError(f"--histories: {args.histories} must end in .nc or .csv.")
     ax, ay, dt, notes = load_components(args)
     system, plan = build_structure(args, ax, ay, dt)
+    warn_time_step("run", float(system.time_step), args.time_step, dt, f"{dt:g}s")
     duration = (ax.size - 1) * dt
     response = simulate_bidirectional(system, duration, throw=False)
     if not bool(response.succeeded):

@@ -9,6 +9,7 @@ from ..units import INCH, parse_quantity
 from ._common import add_quantity, add_units_flag, output_units
 
 DEFAULT_DIAMETER = 10 * INCH  # specimens of the paper's tests: 10 in diameter
+MIN_SAMPLES_PER_CYCLE = 8  # fewer cannot show the shape of a loop
 
 
 def add_simulate_parser(subparsers) -> None:
@@ -32,7 +33,8 @@ def add_simulate_parser(subparsers) -> None:
                    "(figure-eight, Eq. 16: ux = U0 sin wt, uy = U0 sin 2wt)")
     p.add_argument("--motion-file", default=None, help="CSV with columns 'time [s]', 'ux [unit]' "
                    "(and optionally 'uy [unit]'): any displacement history; replaces --pattern")
-    add_quantity(p, "--amplitude", "length", "4in", "displacement amplitude U0", minimum=0.0)
+    add_quantity(p, "--amplitude", "length", "4in", "displacement amplitude U0 (at most 100in, "
+                 "beyond any bearing)", minimum=0.0, maximum=100 * INCH)
     add_quantity(p, "--frequency", "frequency", "0.6Hz", "frequency of the motion (cyclic or "
                  "angular: 0.6Hz = 3.77rad/s)", minimum=0.0)
     p.add_argument("--cycles", type=float, default=3.0, help="number of cycles (default 3)")
@@ -45,7 +47,8 @@ def add_simulate_parser(subparsers) -> None:
     add_quantity(p, "--yield-disp", "length", "0.005in", "Bouc-Wen yield displacement Y", minimum=0.0)
     p.add_argument("--anisotropic", action="store_true", help="eight pattern: use the T row of "
                    "Table 1 for sliding along y and interpolate in the sliding angle")
-    p.add_argument("--samples-per-cycle", type=int, default=400, help="saved samples per cycle (default 400)")
+    p.add_argument("--samples-per-cycle", type=int, default=400, help="saved samples per cycle, at "
+                   f"least {MIN_SAMPLES_PER_CYCLE} (default 400)")
     p.add_argument("--out", default="test_record.csv", help="output test-record CSV (default test_record.csv)")
     add_units_flag(p)
     p.add_argument("--plot", default=None, help="write the force-displacement loop to this PNG")
@@ -81,6 +84,9 @@ def build_test(args):
     args.breakaway_shown = None if breakaway is None else (
         f"{float(breakaway):.3g}" + (" (Table 1)" if args.breakaway == "table" else ""))
     yield_disp = args.yield_disp
+    if args.motion_file is None and args.samples_per_cycle < MIN_SAMPLES_PER_CYCLE:
+        raise ValueError(f"--samples-per-cycle: must be >= {MIN_SAMPLES_PER_CYCLE} (a loop needs "
+                         f"them to show its shape), got {args.samples_per_cycle}.")
     if args.interfaces < 1:
         raise ValueError(f"--interfaces-in-series: must be an integer >= 1, got {args.interfaces}.")
     bearing = tj.paper_bearing(friction, yield_disp=yield_disp, breakaway_ratio=breakaway,
