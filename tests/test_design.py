@@ -14,6 +14,7 @@ from teflon_jax.studies import (
     gradient_check,
     optimise_design,
     penalised_objective,
+    sweep_objective,
     sweep_start,
 )
 from teflon_jax.systems import isolated_structure
@@ -81,7 +82,9 @@ def test_optimum_beats_grid_sweep(records):
     sweep = design_sweep(structure, records, DT, grid={"isolation_period": periods}, disp_limit=limit)
     variables = {"isolation_period": (0.8, 4.0)}
     start = sweep_start(sweep, design_bounds(structure, variables))
-    result = optimise_design(structure, records, DT, variables=variables, disp_limit=limit, start=start)
+    # the smooth problem the grid sweeps (no correction of the limit on true peaks)
+    result = optimise_design(structure, records, DT, variables=variables, disp_limit=limit, start=start,
+                             peak_corrections=0)
     spacing = periods[1] - periods[0]
     best = periods[int(np.argmin(sweep["objective"]))]
     assert result.converged
@@ -217,5 +220,6 @@ def test_default_design_problem_is_trustworthy():
                              penalty=problem["penalty"], start=start)
     assert result.converged, result.messages
     assert result.gradient_rel_error <= GRADIENT_TOLERANCE
-    assert result.mean_disp == pytest.approx(problem["disp_limit"], rel=0.01)
-    assert result.objective <= sweep["objective"].min()
+    # the limit binds on the mean true peak, which meets it
+    assert problem["disp_limit"] * 0.99 <= result.peak_disp <= problem["disp_limit"]
+    assert result.objective <= np.nanmin(sweep_objective(sweep, result.smooth_disp_limit, problem["penalty"]))

@@ -79,6 +79,16 @@ def test_fit_counts_are_refused_before_the_fit(argv, message, tmp_path, capsys):
     (["montecarlo", "--motions", "2", "--pga", "100g"], "--pga: must be <= 5g, got 100g"),
     (["run", "--record-x", "{x}", "--record-units", "g", "--scale", "0"], "--scale: must be a finite number > 0, got 0"),
     (["run", "--record-x", "{x}", "--record-units", "g", "--pressure", "-1000psi"], "--pressure: must be > 0, got -1000psi"),
+    # the flag and the value as typed, not the library's names and SI values
+    (["montecarlo", "--motions", "2", "--isolation-damping", "150%"], "--isolation-damping: must be <= 100%, got 150%"),
+    (["design", "--isolation-damping", "1.5"], "--isolation-damping: must be <= 1, got 1.5"),
+    (["montecarlo", "--motions", "2", "--pressure", "100psi"],
+     "--pressure: 100psi is outside Table 1's rows for UF (1000-6500 psi)"),
+    (["design", "--pressure-range", "0.5MPa", "2000psi"], "--pressure-range: 0.5MPa is outside Table 1's rows"),
+    (["run", "--record-x", "{x}", "--record-units", "g", "--pressure", "100psi"],
+     "--pressure: 100psi is outside Table 1's rows for UF"),
+    (["simulate-test", "--pressure", "100psi"], "--pressure: 100psi is outside Table 1's rows"),
+    (["montecarlo", "--motions", "2", "--ptfe", "XX"], "--ptfe: unknown PTFE type 'XX'"),
 ])
 def test_nonsense_values_are_refused(argv, message, tmp_path, capsys):
     x = _two_column(tmp_path / "x.txt")

@@ -239,3 +239,23 @@ def warn_time_step(command: str, time_step: float, time_text: str, record_step: 
     print(f"teflon-jax {command}: warning: --time-step {time_text} does not divide the record step "
           f"{record_text} (ratio {ratio:.4g}); the peaks are less accurate than with a divisor "
           f"such as {divisor * 1e3:.4g}ms.", file=sys.stderr)
+
+
+def check_table1(ptfe: str, pressure: float, pressure_text: str, flag: str = "--pressure",
+                 direction: str = "P", extrapolate: bool = False) -> None:
+    """A `ValueError` naming `flag` and the pressure as typed when Table 1 has no row for
+    `ptfe` at `pressure` [Pa] (or naming --ptfe or --direction when that is unknown)."""
+    from ..tables import interface_parameters
+
+    try:
+        interface_parameters(ptfe.upper(), pressure, direction, extrapolate=extrapolate)
+    except (ValueError, KeyError) as error:
+        text = str(error).strip("'\"")
+        name, _, reason = text.partition(": ")
+        rows = re.search(r"\(\d+-\d+ psi\)", reason)
+        if name == "pressure" and rows:
+            raise ValueError(f"{flag}: {pressure_text} is outside Table 1's rows for {ptfe.upper()} "
+                             f"{rows.group(0)}; choose a pressure in that range.") from None
+        if name == "pressure":
+            raise ValueError(f"{flag}: must be > 0, got {pressure_text}.") from None
+        raise ValueError(f"--{name if name in ('ptfe', 'direction') else 'ptfe'}: {reason or text}") from None

@@ -8,7 +8,14 @@ import sys
 import time
 
 from ..units import STANDARD_GRAVITY
-from ._common import _positive_int, _write_json, add_quantity, output_units, warn_time_step
+from ._common import (
+    _positive_int,
+    _write_json,
+    add_quantity,
+    check_table1,
+    output_units,
+    warn_time_step,
+)
 from ._montecarlo import _add_common, _motion_model
 
 
@@ -39,7 +46,7 @@ def add_design_parser(subparsers) -> argparse.ArgumentParser:
                  "bearing pressure (inside Table 1's rows; one interval of the table keeps the friction "
                  "constants smooth in it)", minimum=0.0, nargs=2)
     add_quantity(parser, "--isolation-damping", "dimensionless", "5%", "viscous damping ratio "
-                 "zeta_b of the isolation system", minimum=0.0, strict=False)
+                 "zeta_b of the isolation system", minimum=0.0, strict=False, maximum=1.0)
     parser.add_argument("--penalty", type=float, default=100.0,
                         help="weight rho of the displacement-limit penalty [-] (default 100)")
     parser.add_argument("--grid", type=_positive_int, default=7, help="sweep points per variable (default 7)")
@@ -84,6 +91,10 @@ def run_design(args) -> int:
         raise ValueError("--scheduler: a distributed sweep streams its results to a file; add --out FILE.nc.")
     if args.out is not None:
         check_netcdf_output(args.out, "--out")  # before anything is computed
+    for pressure, text in zip(args.pressure_range, args.pressure_range_text):
+        check_table1(args.ptfe, pressure, text, "--pressure-range")
+    if args.time_step is not None:
+        warn_time_step("design", args.time_step, args.time_step_text, args.record_step, args.record_step_text)
     tic = time.perf_counter()
     bar = tqdm(total=2, unit="stage", desc="design", disable=args.no_progress)
     low_p, high_p = args.pressure_range
@@ -98,8 +109,6 @@ def run_design(args) -> int:
         time_step=0.0025 if args.time_step is None else args.time_step, split_at_turn=False,
         newton_tolerance=0.0, linear_rule="newmark",
     )
-    if args.time_step is not None:
-        warn_time_step("design", args.time_step, args.time_step_text, args.record_step, args.record_step_text)
     variables = {"isolation_period": tuple(args.period_range), "pressure": (low_p, high_p)}
     records = sample(_motion_model(args), jax.random.key(args.seed), args.motions)
     dt = args.record_step

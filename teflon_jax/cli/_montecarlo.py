@@ -16,6 +16,7 @@ from ._common import (
     _write_json,
     add_quantity,
     add_units_flag,
+    check_table1,
     output_units,
     warn_time_step,
 )
@@ -73,7 +74,7 @@ def add_montecarlo_parser(subparsers) -> argparse.ArgumentParser:
                  "restoring spring ('none': friction only, rigid structure only)", minimum=0.0,
                  none="none")
     add_quantity(parser, "--isolation-damping", "dimensionless", "5%", "viscous damping ratio "
-                 "zeta_b of the isolation system", minimum=0.0, strict=False)
+                 "zeta_b of the isolation system", minimum=0.0, strict=False, maximum=1.0)
     parser.add_argument("--components", type=int, choices=(1, 2), default=1,
                         help="horizontal ground components: 1 (along x, the uniaxial structures) or 2 "
                         "(x and y on the bidirectional rigid mass or building: Park's biaxial Z; peaks "
@@ -147,6 +148,7 @@ def run_montecarlo(args) -> int:
         from ..studies import check_output_path
 
         check_output_path(args.out)
+    check_table1(args.ptfe, args.pressure, args.pressure_text)
     solver = {} if args.newton_iterations is None else {"newton_iterations": args.newton_iterations}
     two = args.components == 2
     for flag, value in (("--principal-angle", args.principal_angle), ("--minor-ratio", args.minor_ratio)):

@@ -8,7 +8,7 @@ import pathlib
 import numpy as np
 
 from ..units import parse_quantity
-from ._common import _NEGATIVE_QUANTITY, warn_time_step
+from ._common import _NEGATIVE_QUANTITY, check_table1, warn_time_step
 from ._run_suite import add_suite_arguments, check_suite_flags
 
 STRUCTURES = ("rigid", "building", "slab")
@@ -167,8 +167,7 @@ def _bearing(args, ptfe, pressure_text, flag):
     from ..tables import interface_parameters
 
     pressure = parse_quantity(pressure_text, "pressure", where=flag)
-    if not pressure > 0:
-        raise ValueError(f"{flag}: must be > 0, got {pressure_text}.")
+    check_table1(ptfe, pressure, pressure_text, flag)
     try:
         params, table_b = interface_parameters(ptfe.upper(), pressure, "P")
         perpendicular = interface_parameters(ptfe.upper(), pressure, "T")[0] if args.anisotropic else None

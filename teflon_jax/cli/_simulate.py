@@ -6,7 +6,7 @@ import numpy as np
 
 from ..report import plot_loop
 from ..units import INCH, parse_quantity
-from ._common import add_quantity, add_units_flag, output_units
+from ._common import add_quantity, add_units_flag, check_table1, output_units
 
 DEFAULT_DIAMETER = 10 * INCH  # specimens of the paper's tests: 10 in diameter
 MIN_SAMPLES_PER_CYCLE = 8  # fewer cannot show the shape of a loop
@@ -61,6 +61,7 @@ def build_test(args):
     ptfe = args.ptfe.upper()
     direction = args.direction.upper()
     pressure = args.pressure
+    check_table1(ptfe, pressure, args.pressure_text, "--pressure", direction, args.extrapolate)
     try:
         friction, table_b = tj.interface_parameters(ptfe, pressure, direction, extrapolate=args.extrapolate)
     except ValueError as error:
