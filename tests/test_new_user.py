@@ -117,6 +117,22 @@ def test_run_warns_of_a_step_that_does_not_divide_its_record(tmp_path, capsys):
     assert code == 0
     assert "--time-step 0.003s does not divide the record step 0.01s" in out.err
     assert json.loads((tmp_path / "r.json").read_text())["solver_time_step_s"] == pytest.approx(0.003)
+    assert "peak base disp resultant: " in out.out and out.out.splitlines()[0].endswith(" in")  # --units us
+
+
+@pytest.mark.parametrize("family, shown", [
+    ("us", ["peak base disp resultant: 1 in", "peak base shear ratio resultant: 0.125",
+            "peak floor acceleration resultant: 0.2, 0.3 g", "peak group disp resultant: A 0.5 in"]),
+    ("si", ["peak base disp resultant: 25.4 mm", "peak base shear ratio resultant: 0.125",
+            "peak floor acceleration resultant: 0.2, 0.3 g", "peak group disp resultant: A 12.7 mm"]),
+])
+def test_run_prints_its_peaks_in_the_units_asked_for(family, shown):
+    from teflon_jax.cli._common import output_units
+    from teflon_jax.cli._run import _shown_peaks
+
+    peak = {"base_disp_resultant_m": 0.0254, "base_shear_ratio_resultant": 0.125,
+            "floor_acceleration_resultant_g": [0.2, 0.3], "group_disp_resultant_m": {"A": 0.0127}}
+    assert _shown_peaks(peak, output_units(family)) == shown
 
 
 @pytest.mark.parametrize("scheduler, motions, given, chunk", [
@@ -125,3 +141,49 @@ def test_run_warns_of_a_step_that_does_not_divide_its_record(tmp_path, capsys):
 def test_every_local_worker_gets_a_task(scheduler, motions, given, chunk):
     args = argparse.Namespace(scheduler=scheduler, motions=motions, chunk_size=given)
     assert _chunk_size(args) == chunk
+
+
+@pytest.mark.slow  # a small Monte Carlo in process and on a local Dask cluster of 2 workers
+def test_montecarlo_results_file_says_what_was_run(tmp_path, capsys):
+    import xarray
+
+    argv = ["montecarlo", "--motions", "3", "--duration", "4s", "--strong-motion", "1s", "--pga", "0.4g",
+            "--pressure", "1500psi", "--isolation-period", "2.5s", "--ptfe", "15GF", "--no-progress"]
+    assert main(argv + ["--out", str(tmp_path / "here.nc")]) == 0
+    assert main(argv + ["--out", str(tmp_path / "there.nc"), "--scheduler", "local:2",
+                        "--json", str(tmp_path / "there.json")]) == 0
+    for name in ("here", "there"):
+        with xarray.open_dataset(tmp_path / f"{name}.nc") as stored:
+            attrs = stored.attrs
+        assert attrs["structure"] == "rigid" and attrs["ptfe"] == "15GF", name
+        assert attrs["pressure_Pa"] == pytest.approx(1500 * 6894.757, rel=1e-6), name
+        assert attrs["isolation_period_s"] == pytest.approx(2.5) and attrs["pga_m_s2"] == pytest.approx(0.4 * 9.80665)
+        assert "pressure=1500psi" in attrs["inputs_as_given"]
+    # 3 motions on 2 local workers: two tasks, not one
+    assert json.loads((tmp_path / "there.json").read_text())["chunk_size"] == 2
+
+
+@pytest.mark.parametrize("family, rate, disp, noise", [("us", "s/in", "in", "kip"), ("si", "s/m", "mm", "kN")])
+def test_posterior_table_is_in_the_units_asked_for(family, rate, disp, noise):
+    from types import SimpleNamespace
+
+    from identification.bayes import BayesResult
+    from teflon_jax.cli._fit import _unit_of
+    from teflon_jax.units import INCH, KIP
+
+    def row(value):
+        return dict(mean=value, median=value, q05=0.9 * value, q95=1.1 * value, rhat=1.0,
+                    ess_bulk=900.0, identified="yes")
+
+    si = {"rate_a": 23.62, "yield_disp": 0.005 * INCH, "noise_level_0": 2.0 * KIP}
+    least_squares = SimpleNamespace(parameters={"rate_a": 23.62, "yield_disp": 0.005 * INCH},
+                                    std_errors={"rate_a": 0.1, "yield_disp": 1e-6})
+    result = BayesResult(draws={}, table={k: row(v) for k, v in si.items()}, divergences=0, converged=True,
+                         messages=[], least_squares=least_squares, prior="bounds", priors={},
+                         free=("rate_a", "yield_disp"), num_chains=2, num_samples=50, elapsed_s=0.0,
+                         elapsed_least_squares_s=0.0, rhat_max=1.01, ess_min=200.0)
+    lines = {line.split()[0]: line.split() for line in result.summary(unit_of=_unit_of(family)).splitlines()[1:4]}
+    scale = {"us": (1 / INCH, INCH, KIP), "si": (1.0, 1e-3, 1e3)}[family]
+    assert lines["rate_a"][1] == rate and float(lines["rate_a"][2]) == pytest.approx(23.62 / scale[0], rel=1e-4)
+    assert lines["yield_disp"][1] == disp and float(lines["yield_disp"][2]) == pytest.approx(0.005 * INCH / scale[1], rel=1e-4)
+    assert lines["noise_level_0"][1] == noise and float(lines["noise_level_0"][2]) == pytest.approx(2.0 * KIP / scale[2], rel=1e-4)

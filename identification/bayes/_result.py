@@ -60,21 +60,25 @@ class BayesResult:
     rhat_max: float
     ess_min: float
 
-    def summary(self) -> str:
-        """Text table: mean, median, 5-95 % interval, R-hat, ESS, identification (SI)."""
+    def summary(self, unit_of=None) -> str:
+        """Text table: mean, median, 5-95 % interval, R-hat, ESS, identification; SI, or in
+        the units `unit_of(name)` -> (unit, SI value of one unit) gives for a parameter name
+        (noise levels as "noise_level")."""
         head = (f"{'parameter':<16}{'unit':>5}{'mean':>12}{'median':>12}{'5 %':>12}{'95 %':>12}"
                 f"{'LS est.':>12}{'LS s.e.':>11}{'R-hat':>7}{'ESS':>7}  identified")
         lines = [head]
         ls = self.least_squares
         for name, row in self.table.items():
-            unit = UNITS.get(name.rsplit("_", 1)[0] if name.startswith("noise") else name, "-")
+            base = name.rsplit("_", 1)[0] if name.startswith("noise") else name
+            unit, factor = (UNITS.get(base, "-"), 1.0) if unit_of is None else unit_of(base)
+            unit = unit or "-"
             est = ls.parameters.get(name) if name in PARAMETER_NAMES else None
             se = ls.std_errors.get(name) if name in PARAMETER_NAMES else None
             lines.append(
-                f"{name:<16}{unit:>5}{row['mean']:>12.5g}{row['median']:>12.5g}"
-                f"{row['q05']:>12.5g}{row['q95']:>12.5g}"
-                f"{'' if est is None else format(est, '.5g'):>12}"
-                f"{'' if se is None else format(se, '.3g'):>11}"
+                f"{name:<16}{unit:>5}{row['mean'] / factor:>12.5g}{row['median'] / factor:>12.5g}"
+                f"{row['q05'] / factor:>12.5g}{row['q95'] / factor:>12.5g}"
+                f"{'' if est is None else format(est / factor, '.5g'):>12}"
+                f"{'' if se is None else format(se / factor, '.3g'):>11}"
                 f"{row['rhat']:>7.3f}{row['ess_bulk']:>7.0f}  {row['identified']}")
         status = "converged" if self.converged else "NOT converged"
         lines.append(f"{self.num_chains} chains x {self.num_samples} draws, {self.divergences} "

@@ -66,7 +66,8 @@ def add_fit_parser(subparsers) -> argparse.ArgumentParser:
     parser.add_argument("--draws", type=int, default=1000,
                         help="with --bayes: warm-up steps and draws per chain (default 1000)")
     parser.add_argument("--chains", type=int, default=4, help="with --bayes: chains (default 4)")
-    parser.add_argument("--seed", type=int, default=0, help="with --bayes: random seed")
+    parser.add_argument("--seed", type=int, default=0, help="with --bayes: random seed (default 0)")
+    parser.add_argument("--no-progress", action="store_true", help="with --bayes: no progress bar")
     add_units_flag(parser)
     parser.set_defaults(command_function=run_fit)
     return parser
@@ -146,22 +147,45 @@ def _run_bayes(args, records, free, fixed, least_squares) -> int:
     from identification.bayes import fit_bayes
 
     out = pathlib.Path(args.bayes)
+    print(f"teflon-jax fit --bayes: NUTS, {args.chains} chains x ({args.draws} warm-up steps + "
+          f"{args.draws} draws), each step a simulation of the records per leapfrog step: minutes "
+          "to hours; the bar shows the time left (Ctrl-C stops, keeping the least-squares fit).",
+          file=sys.stderr)
     try:
         out.mkdir(parents=True, exist_ok=True)
         result = fit_bayes(records, free=least_squares.free, fixed=fixed,
                            normal_load=args.normal_load, prior=args.prior,
                            num_warmup=args.draws, num_samples=args.draws, num_chains=args.chains,
-                           seed=args.seed, least_squares=least_squares)
+                           seed=args.seed, least_squares=least_squares, progress_bar=not args.no_progress)
     except (ValueError, OSError) as error:
         print(f"teflon-jax fit --bayes: error: {error}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt:
+        (out / "posterior.json").write_text(json.dumps({
+            "converged": False, "status": "interrupted before the draws were complete: no posterior",
+            "least_squares": str(args.json)}, indent=2))
+        print(f"teflon-jax fit --bayes: interrupted; {out / 'posterior.json'} says so (not converged); "
+              f"the least-squares fit is in {args.json}.", file=sys.stderr)
+        return 130
     (out / "posterior.json").write_text(json.dumps(result.to_json_dict(), indent=2))
     result.to_netcdf(out / "posterior.nc")
     result.plot_pairs(out / "pairs.png")
-    print(result.summary(), file=sys.stderr)
+    print(result.summary(unit_of=_unit_of(args.units)), file=sys.stderr)
     for message in result.messages:
         print(f"teflon-jax fit --bayes: {message}", file=sys.stderr)
     return 0 if result.converged else 1
+
+
+def _unit_of(family: str):
+    """name -> (unit, SI value of one unit) of `--units` for the posterior table."""
+    from ..report import parameter_unit
+
+    units = output_units(family)
+
+    def unit_of(name):
+        return units.force if name == "noise_level" else parameter_unit(name, units.length)
+
+    return unit_of
 
 
 def _shown(name, value, error, us):

@@ -8,7 +8,13 @@ import pathlib
 import numpy as np
 
 from ..units import parse_quantity
-from ._common import _NEGATIVE_QUANTITY, check_table1, warn_time_step
+from ._common import (
+    _NEGATIVE_QUANTITY,
+    add_units_flag,
+    check_table1,
+    output_units,
+    warn_time_step,
+)
 from ._run_suite import add_suite_arguments, check_suite_flags
 
 STRUCTURES = ("rigid", "building", "slab")
@@ -63,6 +69,7 @@ def add_run_parser(subparsers) -> None:
     p.add_argument("--json", default=None, help="write the peaks to this JSON file")
     p.add_argument("--plot", default=None, help="write orbit, x/y loops and histories to this PNG")
     p.add_argument("--histories", default=None, help="write histories to this .nc or .csv file")
+    add_units_flag(p)
 
 
 # --------------------------------------------------------------------------- records
@@ -372,25 +379,51 @@ def write_histories(path, histories) -> None:
         raise ValueError(f"--histories: {path} must end in .nc or .csv.")
 
 
-def plot_run(path, histories, title) -> None:
+def _shown_peaks(peak: dict, units) -> list:
+    """Lines 'name: value unit' of the peaks (SI, keys naming their unit) in the family of
+    `--units` (lengths in mm or in; ratios, radians and g as they are)."""
+    name, factor = units.length
+    lines = []
+    for key, value in peak.items():
+        label, unit, scale = key, "", 1.0
+        if key.endswith("_m"):
+            label, unit, scale = key[:-2], f" {name}", factor
+        elif key.endswith(("_g", "_rad")):
+            label, _, unit = key.rpartition("_")
+            unit = f" {unit}"
+        if isinstance(value, dict):
+            shown = ", ".join(f"{k} {v / scale:.4g}{unit}" for k, v in value.items())
+        elif isinstance(value, list):
+            shown = ", ".join(f"{v / scale:.4g}" for v in value) + unit
+        else:
+            shown = f"{value / scale:.4g}{unit}"
+        lines.append(f"peak {label.replace('_', ' ')}: {shown}")
+    return lines
+
+
+def plot_run(path, histories, title, *, length=("mm", 1e-3), force=("kN", 1e3)) -> None:
+    """Orbit, x and y loops and displacement histories (PNG), in the `length` and `force`
+    units given as (name, SI factor)."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     h = histories
+    (ln, lf), (fn, ff) = length, force
+    x, y = h["base_disp_x_m"] / lf, h["base_disp_y_m"] / lf
     fig, axes = plt.subplots(2, 2, figsize=(10, 8))
-    axes[0, 0].plot(100 * h["base_disp_x_m"], 100 * h["base_disp_y_m"], lw=0.8)
-    axes[0, 0].set(xlabel="base displacement x [cm]", ylabel="base displacement y [cm]", title="orbit")
+    axes[0, 0].plot(x, y, lw=0.8)
+    axes[0, 0].set(xlabel=f"base displacement x [{ln}]", ylabel=f"base displacement y [{ln}]", title="orbit")
     axes[0, 0].set_aspect("equal", adjustable="datalim")
-    for ax, c in ((axes[0, 1], "x"), (axes[1, 0], "y")):
-        ax.plot(100 * h[f"base_disp_{c}_m"], h[f"bearing_force_{c}_N"] / 1e3, lw=0.8)
-        ax.set(xlabel=f"base displacement {c} [cm]", ylabel=f"friction force {c} [kN]", title=f"{c} loop")
+    for ax, c, u in ((axes[0, 1], "x", x), (axes[1, 0], "y", y)):
+        ax.plot(u, h[f"bearing_force_{c}_N"] / ff, lw=0.8)
+        ax.set(xlabel=f"base displacement {c} [{ln}]", ylabel=f"friction force {c} [{fn}]", title=f"{c} loop")
     t = h["time_s"]
-    axes[1, 1].plot(t, 100 * h["base_disp_x_m"], lw=0.8, label="x")
-    axes[1, 1].plot(t, 100 * h["base_disp_y_m"], lw=0.8, label="y")
-    axes[1, 1].plot(t, 100 * np.hypot(h["base_disp_x_m"], h["base_disp_y_m"]), lw=0.8, label="resultant")
-    axes[1, 1].set(xlabel="time [s]", ylabel="base displacement [cm]", title="histories")
+    axes[1, 1].plot(t, x, lw=0.8, label="x")
+    axes[1, 1].plot(t, y, lw=0.8, label="y")
+    axes[1, 1].plot(t, np.hypot(x, y), lw=0.8, label="resultant")
+    axes[1, 1].set(xlabel="time [s]", ylabel=f"base displacement [{ln}]", title="histories")
     axes[1, 1].legend()
     fig.suptitle(title)
     fig.tight_layout()
@@ -440,7 +473,9 @@ def run_run(args) -> int:
             np.degrees(parse_quantity(args.lay_angle, "angle", where="--lay-angle"))),
         "peak": peak,
     }
-    print(json.dumps(payload["peak"], indent=2))
+    units = output_units(args.units)
+    for line in _shown_peaks(payload["peak"], units):
+        print(line)
     if args.json is not None:
         path = pathlib.Path(args.json)
         path.parent.mkdir(parents=True, exist_ok=True)
@@ -449,5 +484,6 @@ def run_run(args) -> int:
         write_histories(args.histories, histories)
     if args.plot is not None:
         names = [pathlib.Path(r).name for r in (args.record_x, args.record_y) if r is not None]
-        plot_run(args.plot, histories, f"{args.structure}: {' + '.join(names)}")
+        plot_run(args.plot, histories, f"{args.structure}: {' + '.join(names)}", length=units.length,
+                 force=units.force)
     return 0
