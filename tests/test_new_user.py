@@ -187,3 +187,44 @@ def test_posterior_table_is_in_the_units_asked_for(family, rate, disp, noise):
     assert lines["rate_a"][1] == rate and float(lines["rate_a"][2]) == pytest.approx(23.62 / scale[0], rel=1e-4)
     assert lines["yield_disp"][1] == disp and float(lines["yield_disp"][2]) == pytest.approx(0.005 * INCH / scale[1], rel=1e-4)
     assert lines["noise_level_0"][1] == noise and float(lines["noise_level_0"][2]) == pytest.approx(2.0 * KIP / scale[2], rel=1e-4)
+
+
+def test_correlation_notes_are_told_from_warnings():
+    """The fitter's own texts: a high correlation is a note (the fit stays clean); a poorly
+    determined constant or a bound is a warning."""
+    from teflon_jax.cli._fit import _is_correlation_note
+
+    assert _is_correlation_note("f_max, delta_f: correlation 0.998; the records hardly separate them.")
+    assert _is_correlation_note("rate_a, yield_disp: correlation -0.995; the records hardly separate them.")
+    assert not _is_correlation_note("rate_a: poorly determined; standard error 3 is 80% of the estimate 4 (limit 50%).")
+    assert not _is_correlation_note("breakaway_ratio: at its lower bound 1.")
+    assert not _is_correlation_note("t75.csv: asymmetric misfit; the mean residual is 3 N while moving in +x")
+
+
+def test_one_flag_name_for_one_thing_and_every_default_shown():
+    """fit and diagnose both take --fixed and --known (repeatable), diagnose --no-progress as
+    the other commands; every option with a default says it in its help; no literal '%%'."""
+    import contextlib
+    import io
+
+    from teflon_jax.cli._fit import _parse_fixed
+    from teflon_jax.cli._main import _parser
+    from teflon_jax.units import INCH
+
+    parser = _parser()
+    fit = parser.parse_args(["fit", "r.csv", "--json", "f.json", "--fixed", "yield_disp=0.005in",
+                             "--known", "rate_a=0.6s/in,breakaway_ratio=1.5"])
+    assert _parse_fixed(fit.fixed) == pytest.approx({"yield_disp": 0.005 * INCH, "rate_a": 0.6 / INCH,
+                                                     "breakaway_ratio": 1.5})
+    diagnose = parser.parse_args(["diagnose", "r.csv", "--json", "d.json", "--report", "d",
+                                  "--fixed", "rate_a=0.6s/in", "--known", "yield_disp=0.005in", "--no-progress"])
+    assert diagnose.known == ["rate_a=0.6s/in", "yield_disp=0.005in"] and diagnose.quiet
+    sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    for name, command in sub.choices.items():
+        for action in command._actions:
+            if action.default not in (None, False, argparse.SUPPRESS) and action.help != argparse.SUPPRESS:
+                assert "default" in action.help, (name, action.option_strings)
+        text = io.StringIO()
+        with contextlib.redirect_stdout(text), pytest.raises(SystemExit):
+            parser.parse_args([name, "--help"])
+        assert "%%" not in text.getvalue(), name

@@ -81,7 +81,6 @@ def run_design(args) -> int:
         design_sweep_distributed,
         optimise_design,
         sweep_dataset,
-        sweep_objective,
         sweep_start,
     )
     from ..systems import isolated_structure
@@ -137,13 +136,41 @@ def run_design(args) -> int:
                              penalty=args.penalty, start=start)
     bar.update(1)
     bar.close()
+    payload = _payload(args, result, sweep, units, time.perf_counter() - tic)
+    _write_json(args.json, payload)
+    if args.plot is not None:
+        stamp = (f"{args.structure}, {args.ptfe} PTFE, zeta_b = {args.isolation_damping_text}, "
+                 f"{args.motions} Clough-Penzien motions (PGA {args.pga_text}, {args.duration_text}, "
+                 f"seed {args.seed}), displacement limit {args.disp_limit_text}")
+        plot_design(sweep, result, args.plot, title=stamp, units={
+            "isolation_period": (1.0, "s"), "pressure": units.pressure[::-1],
+            "length": units.length[::-1]})
+    print(f"optimum: Tb = {result.optimum['isolation_period']:.4g} s, pressure = "
+          f"{units.show(result.optimum['pressure'], 'pressure')}; mean peak base displacement "
+          f"{units.show(result.peak_disp, 'length')} against the limit {args.disp_limit_text} "
+          f"({'met' if result.limit_met else 'BROKEN'}); mean peak base shear / weight "
+          f"{result.peak_shear:.4g} (smoothed, as BFGS sees them: "
+          f"{units.show(result.mean_disp, 'length')} under {units.show(result.smooth_disp_limit, 'length')}, "
+          f"{result.mean_shear:.4g}); {result.steps} BFGS steps; gradient check "
+          f"{result.gradient_rel_error:.2g} relative; {payload['wall_s']:.1f} s")
+    return _verdict(result, args)
+
+
+def _payload(args, result, sweep, units, wall_s: float) -> dict:
+    """The summary JSON of `teflon-jax design` (lengths and pressures in `units`, keys
+    naming them)."""
+    import jax
+    import numpy as np
+
+    from ..studies import sweep_objective
+
     length, pressure = units.length, units.pressure
     best = int(np.asarray(sweep["objective"]).argmin())
     payload = {
         "n_motions": args.motions,
         "structure": args.structure,
         "devices": len(jax.devices()),
-        "wall_s": time.perf_counter() - tic,
+        "wall_s": wall_s,
         "optimum": {
             "isolation_period_s": result.optimum["isolation_period"],
             f"pressure_{pressure[0]}": result.optimum["pressure"] / pressure[1],
@@ -175,23 +202,7 @@ def run_design(args) -> int:
         "motions": {"pga_g": args.pga / STANDARD_GRAVITY, "duration_s": args.duration, "seed": args.seed},
         "sweep_file": None if args.out is None else str(args.out),
     }
-    _write_json(args.json, payload)
-    if args.plot is not None:
-        stamp = (f"{args.structure}, {args.ptfe} PTFE, zeta_b = {args.isolation_damping_text}, "
-                 f"{args.motions} Clough-Penzien motions (PGA {args.pga_text}, {args.duration_text}, "
-                 f"seed {args.seed}), displacement limit {args.disp_limit_text}")
-        plot_design(sweep, result, args.plot, title=stamp, units={
-            "isolation_period": (1.0, "s"), "pressure": (pressure[1], pressure[0]),
-            "length": (length[1], length[0])})
-    print(f"optimum: Tb = {result.optimum['isolation_period']:.4g} s, pressure = "
-          f"{units.show(result.optimum['pressure'], 'pressure')}; mean peak base displacement "
-          f"{units.show(result.peak_disp, 'length')} against the limit {args.disp_limit_text} "
-          f"({'met' if result.limit_met else 'BROKEN'}); mean peak base shear / weight "
-          f"{result.peak_shear:.4g} (smoothed, as BFGS sees them: "
-          f"{units.show(result.mean_disp, 'length')} under {units.show(result.smooth_disp_limit, 'length')}, "
-          f"{result.mean_shear:.4g}); {result.steps} BFGS steps; gradient check "
-          f"{result.gradient_rel_error:.2g} relative; {payload['wall_s']:.1f} s")
-    return _verdict(result, args)
+    return payload
 
 
 def _tolerance() -> float:

@@ -5,6 +5,7 @@ Messages go to stderr; the JSON report (SI, with a "units" map) and the plot are
 
 import argparse
 import pathlib
+import re
 import sys
 
 from ..units import INCH, parse_quantity
@@ -33,8 +34,8 @@ def add_fit_parser(subparsers) -> argparse.ArgumentParser:
         "fitted (rate_a held, else Coulomb friction, delta_f = 0) and the console and the "
         "JSON ('reduced', 'reduction', 'full_model') say which constants and why. Exit "
         "status: 0 when the fit converged, whether 'clean' or not (clean: every fitted "
-        "constant determined within 50 %%, none at a bound, no warning; the warnings "
-        "printed say why a fit is not clean); 1 when the fit, or with --bayes the sampler, "
+        "constant determined within 50 %, none at a bound, no warning; the warnings "
+        "printed say why a fit is not clean, notes on high correlations leave it clean); 1 when the fit, or with --bayes the sampler, "
         "did not converge; 2 for bad input."))
     parser.add_argument("records", nargs="+", metavar="RECORD",
                         help="test record files (uniaxial, or biaxial ux, uy, fx, fy: then the "
@@ -43,9 +44,10 @@ def add_fit_parser(subparsers) -> argparse.ArgumentParser:
                         help="comma-separated parameters to fit (default: f_max, delta_f, "
                              "rate_a, yield_disp, and breakaway_ratio when the record starts "
                              "from rest)")
-    parser.add_argument("--fixed", default=None, metavar="NAME=VALUE,...",
+    parser.add_argument("--fixed", "--known", action="append", default=None, metavar="NAME=VALUE[,...]",
                         help="values of parameters held fixed, with units where they have one "
-                             "(e.g. yield_disp=0.005in,rate_a=0.6s/in,breakaway_ratio=1.5)")
+                             "(e.g. yield_disp=0.005in,rate_a=0.6s/in,breakaway_ratio=1.5); "
+                             "repeatable; --known is the same flag, as in diagnose (default: none)")
     add_quantity(parser, "--normal-load", "force", None, "normal load for records without one; "
                  "'1N' fits the force itself (f_max, delta_f in newtons)", minimum=0.0)
     parser.add_argument("--starts", type=int, default=8, help="number of starts (default 8)")
@@ -79,6 +81,8 @@ def _parse_fixed(text):
     fixed = {}
     if not text:
         return fixed
+    if not isinstance(text, str):  # the repeated flag: one list
+        text = ",".join(text)
     for item in text.split(","):
         name, sep, value = item.partition("=")
         name = name.strip()
@@ -116,18 +120,26 @@ def run_fit(args) -> int:
         stamp = f"{', '.join(pathlib.Path(r).name for r in args.records)}" + (
             f", normal load {args.normal_load_text}" if args.normal_load_text else "")
         plot_fit(args.plot, fit, length=units.length, force=units.force, title=stamp)
+    notes = [w for w in fit.warnings if _is_correlation_note(w)]
     for warning in fit.warnings:
-        print(f"teflon-jax fit: warning: {warning}", file=sys.stderr)
+        kind = "note" if warning in notes else "warning"
+        print(f"teflon-jax fit: {kind}: {warning}", file=sys.stderr)
     if fit.reduced:
         print(f"teflon-jax fit: reduced model: {fit.reduction} Reduced: " + "; ".join(
             f"{k} {v}" for k, v in fit.reduced.items()) + ".", file=sys.stderr)
     summary = ", ".join(_shown(k, fit.parameters[k], fit.std_errors[k], us) for k in fit.free)
-    status = "clean" if fit.clean else (
-        f"NOT CLEAN ({len(fit.warnings)} warning(s) above)" if fit.converged else "NOT CONVERGED")
+    status = ("clean" + (f" ({len(notes)} note(s) on correlations above)" if notes else "")) if fit.clean else (
+        f"NOT CLEAN ({len(fit.warnings) - len(notes)} warning(s) above)" if fit.converged else "NOT CONVERGED")
     print(f"{summary}; nrmse = {fit.nrmse:.4f} [-]; {fit.message}; {status}", file=sys.stderr)
     if args.bayes is None or not fit.converged:
         return 0 if fit.converged else 1
     return _run_bayes(args, records, free, fixed, fit)
+
+
+def _is_correlation_note(text: str) -> bool:
+    """A high correlation between two fitted constants: a note, which leaves a fit clean
+    (`BearingFit.clean`), not a warning."""
+    return bool(re.match(r"^[a-z_]+, [a-z_]+: correlation -?[0-9.]+; ", text))
 
 
 def _check_counts(args) -> None:

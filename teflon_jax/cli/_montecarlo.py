@@ -51,7 +51,7 @@ def _add_common(parser):
                  "ratio zeta_g", minimum=0.0)
     add_quantity(parser, "--strong-motion", "time", "10s", "strong-motion duration of the envelope",
                  minimum=0.0)
-    parser.add_argument("--ptfe", default="UF", help="PTFE type of Table 1 (UF, 15GF, 25GF)")
+    parser.add_argument("--ptfe", default="UF", help="PTFE type of Table 1 (UF, 15GF, 25GF) (default UF)")
     parser.add_argument("--json", type=pathlib.Path, help="write the summary JSON here")
     parser.add_argument("--plot", type=pathlib.Path, help="write a PNG plot here")
     add_units_flag(parser)
@@ -136,27 +136,9 @@ def run_montecarlo(args) -> int:
     from ..systems import MONTE_CARLO_NEWTON_TOLERANCE, isolated_structure
 
     units = output_units(args.units)
-    # before the runs and before any cluster starts: an output that cannot be written
-    if args.scheduler is not None:
-        from ..studies import check_netcdf_output
-
-        if args.out is None:
-            raise ValueError("--scheduler: a distributed run streams its results to a file; "
-                             "add --out FILE.nc.")
-        check_netcdf_output(args.out, "--out")
-    elif args.out is not None:
-        from ..studies import check_output_path
-
-        check_output_path(args.out)
-    check_table1(args.ptfe, args.pressure, args.pressure_text)
+    _check_flags(args)
     solver = {} if args.newton_iterations is None else {"newton_iterations": args.newton_iterations}
     two = args.components == 2
-    for flag, value in (("--principal-angle", args.principal_angle), ("--minor-ratio", args.minor_ratio)):
-        if value is not None and not two:
-            raise ValueError(f"{flag}: describes the second ground component; add --components 2.")
-    if args.newton_tolerance is not None and two:
-        raise ValueError("--newton-tolerance: applies to one-component runs (the two-component "
-                         "solve has its own); leave it out with --components 2.")
     if not two:
         solver["newton_tolerance"] = (MONTE_CARLO_NEWTON_TOLERANCE if args.newton_tolerance is None
                                       else args.newton_tolerance)
@@ -203,6 +185,42 @@ def run_montecarlo(args) -> int:
     converged = np.asarray(result.converged, bool).reshape(-1)
     stats = _statistics(result, units)
     length = units.length[0]
+    payload = _payload(args, result, structure, model, units, stats, files)
+    _write_json(args.json, payload)
+    stamp = (f"{args.structure}, {args.ptfe} PTFE at {args.pressure_text}, Tb = "
+             f"{args.isolation_period_text}, zeta_b = {args.isolation_damping_text}; "
+             f"Clough-Penzien motions, PGA {args.pga_text}, {args.duration_text}, seed {args.seed}"
+             + (f"; 2 components, major at {math.degrees(float(model.principal_angle)):g} deg, minor "
+                f"ratio {float(model.minor_ratio):g}" if two else ""))
+    if args.plot is not None:
+        plot_montecarlo(result, args.plot, title=stamp, length=units.length)
+    print(f"{result.n_motions} motions on {result.n_devices} device(s) in {result.wall_s:.1f} s; "
+          f"statistics over the {int(converged.sum())} of {converged.size} runs that converged:")
+    for name, values in stats.items():
+        unit = f" {length}" if name.startswith("base_disp") else ""
+        print(f"  {name}: " + ", ".join(f"{k} {v:.4g}{unit}" for k, v in values.items()
+                                       if k != "n" and v is not None))
+    failed = np.flatnonzero(~converged)
+    if failed.size:
+        named = ", ".join(str(i) for i in failed[:20]) + (" ..." if failed.size > 20 else "")
+        print(
+            f"teflon-jax montecarlo: {failed.size} of {converged.size} runs had a time step whose "
+            f"Newton solve did not converge (motion indices {named}); they are left out of the "
+            "statistics and flagged in the results ('converged'). "
+            + ("Single precision is too coarse for the bearing's Newton solve: drop --float32."
+               if getattr(args, "float32", False) else "Try a smaller --time-step."),
+            file=sys.stderr,
+        )
+        return 1
+    return 0
+
+
+def _payload(args, result, structure, model, units, stats, files) -> dict:
+    """The summary JSON of `teflon-jax montecarlo` (displacements in `units`)."""
+    import jax
+    import numpy as np
+
+    converged, two, length = np.asarray(result.converged, bool).reshape(-1), args.components == 2, units.length[0]
     payload = {
         "n_motions": result.n_motions,
         "n_converged": int(converged.sum()),
@@ -232,33 +250,31 @@ def run_montecarlo(args) -> int:
             "minor_ratio": float(model.minor_ratio),
             "peaks": "resultants of the x and y components: |(d_x, d_y)| and |(V_x, V_y)| / W, V the "
                      "force on the structure above the bearings"})
-    _write_json(args.json, payload)
-    stamp = (f"{args.structure}, {args.ptfe} PTFE at {args.pressure_text}, Tb = "
-             f"{args.isolation_period_text}, zeta_b = {args.isolation_damping_text}; "
-             f"Clough-Penzien motions, PGA {args.pga_text}, {args.duration_text}, seed {args.seed}"
-             + (f"; 2 components, major at {math.degrees(float(model.principal_angle)):g} deg, minor "
-                f"ratio {float(model.minor_ratio):g}" if two else ""))
-    if args.plot is not None:
-        plot_montecarlo(result, args.plot, title=stamp, length=units.length)
-    print(f"{result.n_motions} motions on {result.n_devices} device(s) in {result.wall_s:.1f} s; "
-          f"statistics over the {int(converged.sum())} of {converged.size} runs that converged:")
-    for name, values in stats.items():
-        unit = f" {length}" if name.startswith("base_disp") else ""
-        print(f"  {name}: " + ", ".join(f"{k} {v:.4g}{unit}" for k, v in values.items()
-                                       if k != "n" and v is not None))
-    failed = np.flatnonzero(~converged)
-    if failed.size:
-        named = ", ".join(str(i) for i in failed[:20]) + (" ..." if failed.size > 20 else "")
-        print(
-            f"teflon-jax montecarlo: {failed.size} of {converged.size} runs had a time step whose "
-            f"Newton solve did not converge (motion indices {named}); they are left out of the "
-            "statistics and flagged in the results ('converged'). "
-            + ("Single precision is too coarse for the bearing's Newton solve: drop --float32."
-               if getattr(args, "float32", False) else "Try a smaller --time-step."),
-            file=sys.stderr,
-        )
-        return 1
-    return 0
+    return payload
+
+
+def _check_flags(args) -> None:
+    """Before the runs and before any cluster starts: the results file, the Table 1 row and
+    the flags that only one or two ground components use."""
+    if args.scheduler is not None:
+        from ..studies import check_netcdf_output
+
+        if args.out is None:
+            raise ValueError("--scheduler: a distributed run streams its results to a file; "
+                             "add --out FILE.nc.")
+        check_netcdf_output(args.out, "--out")
+    elif args.out is not None:
+        from ..studies import check_output_path
+
+        check_output_path(args.out)
+    check_table1(args.ptfe, args.pressure, args.pressure_text)
+    two = args.components == 2
+    for flag, value in (("--principal-angle", args.principal_angle), ("--minor-ratio", args.minor_ratio)):
+        if value is not None and not two:
+            raise ValueError(f"{flag}: describes the second ground component; add --components 2.")
+    if args.newton_tolerance is not None and two:
+        raise ValueError("--newton-tolerance: applies to one-component runs (the two-component "
+                         "solve has its own); leave it out with --components 2.")
 
 
 def _chunk_size(args) -> int:

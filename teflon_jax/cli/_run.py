@@ -29,12 +29,12 @@ def add_run_parser(subparsers) -> None:
             "Simulate an isolated structure on PTFE sliding bearings (Constantinou, Mokha & "
             "Reinhorn 1990: Eq. 1 at the resultant sliding speed, Park's biaxial Z, Eq. 17 "
             "breakaway) under one or two horizontal ground components. Values carry units "
-            "(1000psi, 2.5s, 5%%, 100kN)."
+            "(1000psi, 2.5s, 5%, 100kN)."
         ),
     )
     p._negative_number_matcher = _NEGATIVE_QUANTITY  # '-1000psi' is a value, refused by its check
     p.add_argument("--structure", default="rigid", choices=STRUCTURES, help="rigid mass, the Table 2 "
-                   "building in x and y, or a rigid slab on bearing groups (needs --plan)")
+                   "building in x and y, or a rigid slab on bearing groups (needs --plan) (default rigid)")
     p.add_argument("--ptfe", default="UF", help="PTFE type of Table 1: UF, 15GF or 25GF (default UF)")
     p.add_argument("--pressure", default="1000psi", help="contact pressure (default 1000psi)")
     p.add_argument("--anisotropic", action="store_true", help="lay of the steel along x (or at --lay-angle) "
@@ -57,7 +57,7 @@ def add_run_parser(subparsers) -> None:
     p.add_argument("--record-y", default=None, help="y component (default: none)")
     p.add_argument("--record-units", default=None, help="acceleration unit of two-column files: "
                    "g, m/s^2, cm/s^2 or in/s^2 (required for them)")
-    p.add_argument("--scale", type=float, default=1.0, help="scale factor on both components")
+    p.add_argument("--scale", type=float, default=1.0, help="scale factor on both components, > 0 (default 1)")
     p.add_argument("--start", default="0s", help="start of the window, e.g. 25s (default 0s)")
     p.add_argument("--duration", default=None, help="length of the window (default: the whole record)")
     p.add_argument("--resample", action="store_true", help="allow components with different time "

@@ -28,9 +28,9 @@ def add_simulate_parser(subparsers) -> None:
                  "linearly between 1000, 2000, 3000 and 6500 psi", minimum=0.0)
     p.add_argument("--extrapolate", action="store_true",
                    help="allow pressures outside Table 1's range (extends the nearest segment)")
-    p.add_argument("--direction", default="P", help="sliding direction to the lay: P (parallel) or T")
+    p.add_argument("--direction", default="P", help="sliding direction to the lay: P (parallel) or T (default P)")
     p.add_argument("--pattern", default="sine", help="sine, triangle (constant velocity) or eight "
-                   "(figure-eight, Eq. 16: ux = U0 sin wt, uy = U0 sin 2wt)")
+                   "(figure-eight, Eq. 16: ux = U0 sin wt, uy = U0 sin 2wt) (default sine)")
     p.add_argument("--motion-file", default=None, help="CSV with columns 'time [s]', 'ux [unit]' "
                    "(and optionally 'uy [unit]'): any displacement history; replaces --pattern")
     add_quantity(p, "--amplitude", "length", "4in", "displacement amplitude U0 (at most 100in, "
