@@ -228,3 +228,43 @@ def test_one_flag_name_for_one_thing_and_every_default_shown():
         with contextlib.redirect_stdout(text), pytest.raises(SystemExit):
             parser.parse_args([name, "--help"])
         assert "%%" not in text.getvalue(), name
+
+
+def test_pair_plot_axes_carry_units(tmp_path):
+    import matplotlib
+
+    from identification.bayes import BayesResult
+    from teflon_jax.cli._fit import _unit_of
+    from teflon_jax.units import INCH
+
+    rng = np.random.default_rng(0)
+    draws = {"f_max": rng.normal(0.12, 1e-4, (2, 50)), "rate_a": rng.normal(23.6, 0.3, (2, 50)),
+             "yield_disp": rng.normal(0.005 * INCH, 1e-6, (2, 50))}
+    result = BayesResult(draws=draws, table={}, divergences=0, converged=True, messages=[],
+                         least_squares=None, prior="bounds", priors={}, free=("f_max", "rate_a", "yield_disp"),
+                         num_chains=2, num_samples=50, elapsed_s=0.0, elapsed_least_squares_s=0.0,
+                         rhat_max=1.01, ess_min=200.0)
+    result._diverging = np.zeros((2, 50), dtype=bool)
+    with matplotlib.rc_context({"svg.fonttype": "none"}):
+        result.plot_pairs(tmp_path / "pairs.svg", unit_of=_unit_of("us"))
+    text = (tmp_path / "pairs.svg").read_text()
+    assert "rate_a [s/in]" in text and "yield_disp [in]" in text and "f_max [-]" in text
+    assert "0.005" in text  # Y in inches, not an offset from 1.27e-4 m
+
+
+def test_design_contour_levels_resolve_the_designs_within_the_limit():
+    """The penalty beyond the limit (orders of magnitude above the shear) must not take the
+    colour scale: the designs within the limit spread over at least half of the levels."""
+    from types import SimpleNamespace
+
+    from teflon_jax.report._design_plot import _levels
+
+    period, pressure = np.meshgrid(np.linspace(1, 4, 7), np.linspace(0, 1, 7), indexing="ij")
+    disp = 0.01 + 0.008 * (period - 1) + 0.01 * pressure
+    shear = 0.16 - 0.015 * (period - 1) - 0.02 * pressure
+    limit = 0.025
+    objective = shear + 100 * np.maximum(disp / limit - 1, 0) ** 2
+    levels = _levels({"objective": objective, "disp": disp}, SimpleNamespace(smooth_disp_limit=limit))
+    within = objective[disp <= limit]
+    assert objective.max() > 100 * within.max()  # the penalty dominates the range
+    assert levels[0] <= within.min() and np.sum(levels <= within.max()) >= len(levels) // 2

@@ -114,18 +114,34 @@ class BayesResult:
         """Write the draws to NetCDF (ArviZ conventions: dims chain, draw)."""
         self.inference_data().to_netcdf(str(path))
 
-    def plot_pairs(self, path) -> None:
-        """Pair plot of the free constants (divergent draws marked) to an image file."""
+    def plot_pairs(self, path, unit_of=None) -> None:
+        """Pair plot of the free constants (divergent draws marked) to an image file, each
+        axis labelled with its unit: SI, or `unit_of(name)` -> (unit, SI value of one unit)
+        as in `summary`; tick labels without offsets."""
         import matplotlib
 
         matplotlib.use("Agg", force=False)
         import matplotlib.pyplot as plt
+        from matplotlib.ticker import ScalarFormatter
 
         az = _arviz()
+        shown = {}
+        for name in self.free:
+            unit, factor = (UNITS.get(name, "-"), 1.0) if unit_of is None else unit_of(name)
+            shown[f"{name} [{unit or '-'}]"] = np.asarray(self.draws[name]) / factor
+        data = az.from_dict(posterior=shown, sample_stats={"diverging": self._diverging})
         with _warnings.catch_warnings():  # ArviZ 0.23 calls a deprecated matplotlib helper
             _warnings.simplefilter("ignore", DeprecationWarning)
-            axes = az.plot_pair(self.inference_data(), var_names=list(self.free),
-                                kind="scatter", divergences=True, marginals=True)
+            axes = az.plot_pair(data, var_names=list(shown), kind="scatter", divergences=True,
+                                marginals=True, textsize=9)
+        for ax in np.asarray(axes).ravel():
+            if ax is None:
+                continue
+            for axis in (ax.xaxis, ax.yaxis):
+                formatter = axis.get_major_formatter()
+                if isinstance(formatter, ScalarFormatter):
+                    formatter.set_useOffset(False)
+            ax.tick_params(axis="x", labelrotation=45)
         fig = np.asarray(axes).ravel()[0].get_figure()
         fig.suptitle("Posterior draws (Bayesian bearing fit)")
         fig.savefig(str(path), dpi=110)

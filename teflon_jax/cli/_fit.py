@@ -181,7 +181,7 @@ def _run_bayes(args, records, free, fixed, least_squares) -> int:
         return 130
     (out / "posterior.json").write_text(json.dumps(result.to_json_dict(), indent=2))
     result.to_netcdf(out / "posterior.nc")
-    result.plot_pairs(out / "pairs.png")
+    result.plot_pairs(out / "pairs.png", unit_of=_unit_of(args.units))
     print(result.summary(unit_of=_unit_of(args.units)), file=sys.stderr)
     for message in result.messages:
         print(f"teflon-jax fit --bayes: {message}", file=sys.stderr)
