@@ -48,7 +48,7 @@ def test_simulate_then_fit_round_trip(tmp_path):
     [
         (["simulate-test", "--amplitude", "4Hz"], "--amplitude: 'Hz' is a unit of frequency"),
         (["simulate-test", "--ptfe", "PEEK"], "--ptfe: unknown PTFE type 'PEEK'"),
-        (["simulate-test", "--pressure", "9000psi"], "--pressure: 9000 psi is outside"),
+        (["simulate-test", "--pressure", "9000psi"], "--pressure: 9000psi is outside Table 1's rows"),
         (["simulate-test", "--yield-disp", "0in"], "--yield-disp: must be > 0in, got 0in."),
         (["simulate-test", "--yield-disp", "0.005"], "--yield-disp: '0.005' has no unit; write e.g. '0.005in'"),
         (["simulate-test", "--pressure", "-1000psi"], "--pressure: must be > 0psi, got -1000psi."),

@@ -220,9 +220,9 @@ def check_outputs(args, command: str) -> None:
         while not above.exists() and above != above.parent:
             above = above.parent
         if not above.is_dir():
-            raise ValueError(f"{flag} {text}: {above} is a file, not a folder.")
+            raise ValueError(f"{flag} {text}: cannot write results there, {above} is a file, not a folder.")
         if not os.access(above, os.W_OK | os.X_OK) or (path.exists() and not os.access(path, os.W_OK)):
-            raise ValueError(f"{flag} {text}: cannot write there (permission denied).")
+            raise ValueError(f"{flag} {text}: cannot write results there (permission denied).")
 
 
 
