@@ -116,6 +116,7 @@ def test_run_warns_of_a_step_that_does_not_divide_its_record(tmp_path, capsys):
                      "--json", tmp_path / "r.json")
     assert code == 0
     assert "--time-step 0.003s does not divide the record step 0.01s" in out.err
+    assert "teflon-jax run: rigid, 100 steps of 0.003s over 0.3 s of record" in out.err  # said before the work
     assert json.loads((tmp_path / "r.json").read_text())["solver_time_step_s"] == pytest.approx(0.003)
     assert "peak base disp resultant: " in out.out and out.out.splitlines()[0].endswith(" in")  # --units us
 

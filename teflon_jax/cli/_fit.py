@@ -108,6 +108,8 @@ def run_fit(args) -> int:
         free = parse_free(args.free) if args.free is not None else None
         fixed = _parse_fixed(args.fixed)
         records = [read_bearing_record(p) for p in args.records]
+        print(f"teflon-jax fit: {len(records)} record(s), {args.starts} least-squares starts "
+              "(compiling first)...", file=sys.stderr)
         fit = fit_bearing_test(records, free=free, fixed=fixed, normal_load=args.normal_load,
                                n_starts=args.starts, reduce=not args.full_model)
     except ValueError as error:

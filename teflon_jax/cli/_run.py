@@ -453,6 +453,8 @@ def run_run(args) -> int:
     system, plan = build_structure(args, ax, ay, dt)
     warn_time_step("run", float(system.time_step), args.time_step, dt, f"{dt:g}s")
     duration = (ax.size - 1) * dt
+    print(f"teflon-jax run: {args.structure}, {round(duration / float(system.time_step))} steps of "
+          f"{args.time_step} over {duration:g} s of record (compiling first)...", file=sys.stderr)
     response = simulate_bidirectional(system, duration, throw=False)
     if not bool(response.succeeded):
         print(f"teflon-jax run: error: the solver did not converge ({response.result}); try a "
