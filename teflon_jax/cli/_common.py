@@ -225,7 +225,6 @@ def check_outputs(args, command: str) -> None:
             raise ValueError(f"{flag} {text}: cannot write results there (permission denied).")
 
 
-
 def warn_time_step(command: str, time_step: float, time_text: str, record_step: float, record_text: str) -> None:
     """A warning (stderr) when the solver step `time_step` [s] does not divide the record
     step `record_step` [s]: the ground acceleration is then interpolated inside steps, and
