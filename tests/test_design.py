@@ -8,6 +8,7 @@ import pytest
 
 from teflon_jax.excitation import StochasticGroundMotion, sample
 from teflon_jax.studies import (
+    GRADIENT_TOLERANCE,
     design_bounds,
     design_sweep,
     expected_response,
@@ -87,7 +88,9 @@ def test_optimum_beats_grid_sweep(records):
                              peak_corrections=0)
     spacing = periods[1] - periods[0]
     best = periods[int(np.argmin(sweep["objective"]))]
-    assert result.converged
+    # the smooth problem's optimum (its true mean peak may exceed the limit: limit_met says so)
+    assert result.optimiser_converged and result.simulation_converged
+    assert result.gradient_rel_error <= GRADIENT_TOLERANCE
     assert result.objective <= sweep["objective"].min()
     assert abs(result.optimum["isolation_period"] - best) <= spacing
     # the limit is active: the optimum sits at it (exterior penalty: slightly beyond)

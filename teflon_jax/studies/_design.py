@@ -269,7 +269,7 @@ def optimise_design(
       the smoothed mean E[D_s], which lies below it: the limit on E[D_s] is set below
       D_limit by the gap at the start and corrected by the true mean peak at the optimum,
       BFGS restarting from there, at most `peak_corrections` times (`_limit_on_true_peaks`;
-      0: the limit holds on E[D_s] only).
+      0: BFGS on E[D_s] <= D_limit alone, and `limit_met` says whether the true peaks meet it).
     - `start`: initial design (default: the middle of the bounds).
     - `penalty` rho [-]: weight of the squared relative violation.
     - `rtol`, `atol`, `max_steps`: optimistix BFGS settings.
