@@ -186,4 +186,6 @@ def test_unconverged_run_exits_non_zero(tmp_path, capsys):
     posterior = json.loads((tmp_path / "bayes" / "posterior.json").read_text())
     assert posterior["converged"] is False
     assert posterior["messages"][0].startswith("NOT converged")
-    assert "NOT converged" in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert "NOT converged" in err
+    assert "2 chains x (10 warm-up steps + 10 draws)" in err.split("NOT converged")[0]  # said up front

@@ -48,7 +48,7 @@ def test_simulate_then_fit_round_trip(tmp_path):
     [
         (["simulate-test", "--amplitude", "4Hz"], "--amplitude: 'Hz' is a unit of frequency"),
         (["simulate-test", "--ptfe", "PEEK"], "--ptfe: unknown PTFE type 'PEEK'"),
-        (["simulate-test", "--pressure", "9000psi"], "--pressure: 9000 psi is outside"),
+        (["simulate-test", "--pressure", "9000psi"], "--pressure: 9000psi is outside Table 1's rows"),
         (["simulate-test", "--yield-disp", "0in"], "--yield-disp: must be > 0in, got 0in."),
         (["simulate-test", "--yield-disp", "0.005"], "--yield-disp: '0.005' has no unit; write e.g. '0.005in'"),
         (["simulate-test", "--pressure", "-1000psi"], "--pressure: must be > 0psi, got -1000psi."),
@@ -134,7 +134,7 @@ def test_design_verdict_warns_on_bounds_and_fails_on_a_bad_gradient(capsys):
     from teflon_jax.studies import GRADIENT_TOLERANCE
 
     good = SimpleNamespace(messages=(), at_bounds=(), simulation_converged=True, optimiser_converged=True,
-                           n_failed_motions=0, steps=12, converged=True,
+                           n_failed_motions=0, steps=12, converged=True, limit_met=True,
                            gradient_rel_error=GRADIENT_TOLERANCE / 10)
     assert _verdict(good, None) == 0
     assert capsys.readouterr().err == ""
@@ -150,6 +150,9 @@ def test_design_verdict_warns_on_bounds_and_fails_on_a_bad_gradient(capsys):
     stalled = SimpleNamespace(**{**vars(good), "optimiser_converged": False})
     assert _verdict(stalled, None) == 1
     assert "BFGS did not converge in 12 steps" in capsys.readouterr().err
+    over = SimpleNamespace(**{**vars(good), "limit_met": False, "peak_disp": 0.0381})
+    assert _verdict(over, SimpleNamespace(disp_limit_text="1.25in", units="us")) == 1
+    assert "breaks --disp-limit 1.25in: its mean peak base displacement is 1.5 in" in capsys.readouterr().err
 
 
 def test_compile_cache_goes_to_the_user_cache_folder(tmp_path, monkeypatch):

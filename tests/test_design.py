@@ -8,12 +8,14 @@ import pytest
 
 from teflon_jax.excitation import StochasticGroundMotion, sample
 from teflon_jax.studies import (
+    GRADIENT_TOLERANCE,
     design_bounds,
     design_sweep,
     expected_response,
     gradient_check,
     optimise_design,
     penalised_objective,
+    sweep_objective,
     sweep_start,
 )
 from teflon_jax.systems import isolated_structure
@@ -81,10 +83,14 @@ def test_optimum_beats_grid_sweep(records):
     sweep = design_sweep(structure, records, DT, grid={"isolation_period": periods}, disp_limit=limit)
     variables = {"isolation_period": (0.8, 4.0)}
     start = sweep_start(sweep, design_bounds(structure, variables))
-    result = optimise_design(structure, records, DT, variables=variables, disp_limit=limit, start=start)
+    # the smooth problem the grid sweeps (no correction of the limit on true peaks)
+    result = optimise_design(structure, records, DT, variables=variables, disp_limit=limit, start=start,
+                             peak_corrections=0)
     spacing = periods[1] - periods[0]
     best = periods[int(np.argmin(sweep["objective"]))]
-    assert result.converged
+    # the smooth problem's optimum (its true mean peak may exceed the limit: limit_met says so)
+    assert result.optimiser_converged and result.simulation_converged
+    assert result.gradient_rel_error <= GRADIENT_TOLERANCE
     assert result.objective <= sweep["objective"].min()
     assert abs(result.optimum["isolation_period"] - best) <= spacing
     # the limit is active: the optimum sits at it (exterior penalty: slightly beyond)
@@ -217,5 +223,6 @@ def test_default_design_problem_is_trustworthy():
                              penalty=problem["penalty"], start=start)
     assert result.converged, result.messages
     assert result.gradient_rel_error <= GRADIENT_TOLERANCE
-    assert result.mean_disp == pytest.approx(problem["disp_limit"], rel=0.01)
-    assert result.objective <= sweep["objective"].min()
+    # the limit binds on the mean true peak, which meets it
+    assert problem["disp_limit"] * 0.99 <= result.peak_disp <= problem["disp_limit"]
+    assert result.objective <= np.nanmin(sweep_objective(sweep, result.smooth_disp_limit, problem["penalty"]))

@@ -206,6 +206,7 @@ def fit_bayes(
     rhat_max: float = 1.01,
     ess_min_per_chain: float = 100.0,
     least_squares=None,
+    progress_bar: bool = False,
 ) -> BayesResult:
     """Posterior of the 1990 model's constants and of the noise level, sampled with NUTS.
 
@@ -221,6 +222,7 @@ def fit_bayes(
       R-hat above `rhat_max` or a bulk/tail ESS below `ess_min_per_chain * num_chains` is
       reported `converged=False` with the reason in `messages`.
     - `least_squares`: a `BearingFit` of these records to start from (else it is computed).
+    - `progress_bar`: numpyro's bar on stderr (warm-up, then draws, with the time left).
 
     **Returns:** a `BayesResult`.
 
@@ -269,7 +271,7 @@ def fit_bayes(
     kernel = NUTS(model, dense_mass=True, target_accept_prob=target_accept,
                   inverse_mass_matrix=_initial_mass(priors, fit, data))
     mcmc = MCMC(kernel, num_warmup=num_warmup, num_samples=num_samples, num_chains=num_chains,
-                chain_method="vectorized", progress_bar=False,
+                chain_method="vectorized", progress_bar=progress_bar,
                 postprocess_fn=make_postprocess(priors))
     starts = _chain_starts(priors, fit, data, num_chains, seed)
     t1 = _time.perf_counter()

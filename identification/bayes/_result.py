@@ -60,21 +60,25 @@ class BayesResult:
     rhat_max: float
     ess_min: float
 
-    def summary(self) -> str:
-        """Text table: mean, median, 5-95 % interval, R-hat, ESS, identification (SI)."""
+    def summary(self, unit_of=None) -> str:
+        """Text table: mean, median, 5-95 % interval, R-hat, ESS, identification; SI, or in
+        the units `unit_of(name)` -> (unit, SI value of one unit) gives for a parameter name
+        (noise levels as "noise_level")."""
         head = (f"{'parameter':<16}{'unit':>5}{'mean':>12}{'median':>12}{'5 %':>12}{'95 %':>12}"
                 f"{'LS est.':>12}{'LS s.e.':>11}{'R-hat':>7}{'ESS':>7}  identified")
         lines = [head]
         ls = self.least_squares
         for name, row in self.table.items():
-            unit = UNITS.get(name.rsplit("_", 1)[0] if name.startswith("noise") else name, "-")
+            base = name.rsplit("_", 1)[0] if name.startswith("noise") else name
+            unit, factor = (UNITS.get(base, "-"), 1.0) if unit_of is None else unit_of(base)
+            unit = unit or "-"
             est = ls.parameters.get(name) if name in PARAMETER_NAMES else None
             se = ls.std_errors.get(name) if name in PARAMETER_NAMES else None
             lines.append(
-                f"{name:<16}{unit:>5}{row['mean']:>12.5g}{row['median']:>12.5g}"
-                f"{row['q05']:>12.5g}{row['q95']:>12.5g}"
-                f"{'' if est is None else format(est, '.5g'):>12}"
-                f"{'' if se is None else format(se, '.3g'):>11}"
+                f"{name:<16}{unit:>5}{row['mean'] / factor:>12.5g}{row['median'] / factor:>12.5g}"
+                f"{row['q05'] / factor:>12.5g}{row['q95'] / factor:>12.5g}"
+                f"{'' if est is None else format(est / factor, '.5g'):>12}"
+                f"{'' if se is None else format(se / factor, '.3g'):>11}"
                 f"{row['rhat']:>7.3f}{row['ess_bulk']:>7.0f}  {row['identified']}")
         status = "converged" if self.converged else "NOT converged"
         lines.append(f"{self.num_chains} chains x {self.num_samples} draws, {self.divergences} "
@@ -110,18 +114,34 @@ class BayesResult:
         """Write the draws to NetCDF (ArviZ conventions: dims chain, draw)."""
         self.inference_data().to_netcdf(str(path))
 
-    def plot_pairs(self, path) -> None:
-        """Pair plot of the free constants (divergent draws marked) to an image file."""
+    def plot_pairs(self, path, unit_of=None) -> None:
+        """Pair plot of the free constants (divergent draws marked) to an image file, each
+        axis labelled with its unit: SI, or `unit_of(name)` -> (unit, SI value of one unit)
+        as in `summary`; tick labels without offsets."""
         import matplotlib
 
         matplotlib.use("Agg", force=False)
         import matplotlib.pyplot as plt
+        from matplotlib.ticker import ScalarFormatter
 
         az = _arviz()
+        shown = {}
+        for name in self.free:
+            unit, factor = (UNITS.get(name, "-"), 1.0) if unit_of is None else unit_of(name)
+            shown[f"{name} [{unit or '-'}]"] = np.asarray(self.draws[name]) / factor
+        data = az.from_dict(posterior=shown, sample_stats={"diverging": self._diverging})
         with _warnings.catch_warnings():  # ArviZ 0.23 calls a deprecated matplotlib helper
             _warnings.simplefilter("ignore", DeprecationWarning)
-            axes = az.plot_pair(self.inference_data(), var_names=list(self.free),
-                                kind="scatter", divergences=True, marginals=True)
+            axes = az.plot_pair(data, var_names=list(shown), kind="scatter", divergences=True,
+                                marginals=True, textsize=9)
+        for ax in np.asarray(axes).ravel():
+            if ax is None:
+                continue
+            for axis in (ax.xaxis, ax.yaxis):
+                formatter = axis.get_major_formatter()
+                if isinstance(formatter, ScalarFormatter):
+                    formatter.set_useOffset(False)
+            ax.tick_params(axis="x", labelrotation=45)
         fig = np.asarray(axes).ravel()[0].get_figure()
         fig.suptitle("Posterior draws (Bayesian bearing fit)")
         fig.savefig(str(path), dpi=110)

@@ -196,3 +196,86 @@ def read_bearing_record(path):
     from ..formats import read_test_record
 
     return read_test_record(path)
+
+
+_IMAGE_SUFFIXES = (".png", ".pdf", ".svg", ".jpg", ".jpeg", ".eps", ".ps", ".tif", ".tiff", ".webp")
+
+OUTPUT_FLAGS = {
+    "simulate-test": (("out", "--out", "file", "test_record.csv"), ("plot", "--plot", "image", "loop.png")),
+    "fit": (("json", "--json", "file", "fit.json"), ("plot", "--plot", "image", "fit.png"),
+            ("bayes", "--bayes", "folder", "")),
+    "diagnose": (("json_path", "--json", "file", "diagnose.json"), ("report", "--report", "folder", "")),
+    "montecarlo": (("json", "--json", "file", "mc.json"), ("plot", "--plot", "image", "mc.png"),
+                   ("out", "--out", "file", "mc.nc")),
+    "design": (("json", "--json", "file", "design.json"), ("plot", "--plot", "image", "design.png"),
+               ("out", "--out", "file", "sweep.nc")),
+    "run": (("json", "--json", "file", "run.json"), ("plot", "--plot", "image", "run.png"),
+            ("histories", "--histories", "file", "histories.nc"), ("out", "--out", "file", "suite.nc")),
+    "reproduce": (("out", "--out", "folder", ""),),
+}
+"""Each sub-command's output paths: (attribute, flag, "file" | "image" | "folder", an example name)."""
+
+
+def check_outputs(args, command: str) -> None:
+    """Before any work: every output path of `command` on `args` can be written. A file (or
+    image) must not be a folder, a folder not a file; the nearest existing folder above must
+    be writable (missing folders are created later); an image needs a suffix matplotlib
+    writes. A `ValueError` names the flag and echoes the path as typed otherwise."""
+    import os
+
+    for dest, flag, kind, example in OUTPUT_FLAGS.get(command, ()):
+        text = getattr(args, dest, None)
+        if text is None:
+            continue
+        if not str(text).strip():
+            raise ValueError(f"{flag}: empty path; give a {'folder' if kind == 'folder' else 'file name'}.")
+        path = pathlib.Path(text)
+        if kind != "folder" and (path.is_dir() or str(text).endswith(("/", os.sep))):
+            raise ValueError(f"{flag} {text}: is a folder; give a file name, e.g. {path / example}.")
+        if kind == "folder" and path.exists() and not path.is_dir():
+            raise ValueError(f"{flag} {text}: is a file; give a folder (it is created if missing).")
+        if kind == "image" and path.suffix.lower() not in _IMAGE_SUFFIXES:
+            raise ValueError(f"{flag} {text}: unknown image format {path.suffix or '(no suffix)'!r}; "
+                             f"end the name in {', '.join(_IMAGE_SUFFIXES[:3])}.")
+        above = path.parent if kind != "folder" else path
+        while not above.exists() and above != above.parent:
+            above = above.parent
+        if not above.is_dir():
+            raise ValueError(f"{flag} {text}: cannot write results there, {above} is a file, not a folder.")
+        if not os.access(above, os.W_OK | os.X_OK) or (path.exists() and not os.access(path, os.W_OK)):
+            raise ValueError(f"{flag} {text}: cannot write results there (permission denied).")
+
+
+def warn_time_step(command: str, time_step: float, time_text: str, record_step: float, record_text: str) -> None:
+    """A warning (stderr) when the solver step `time_step` [s] does not divide the record
+    step `record_step` [s]: the ground acceleration is then interpolated inside steps, and
+    the peaks are less accurate (1.8 % at 1/150 s against 0.2 % at 5 ms for 0.01 s records)."""
+    import sys
+
+    ratio = record_step / time_step
+    if ratio >= 1 and abs(ratio - round(ratio)) <= 1e-6 * ratio:
+        return
+    divisor = record_step / max(math.ceil(ratio - 1e-9), 1)
+    print(f"teflon-jax {command}: warning: --time-step {time_text} does not divide the record step "
+          f"{record_text} (ratio {ratio:.4g}); the peaks are less accurate than with a divisor "
+          f"such as {divisor * 1e3:.4g}ms.", file=sys.stderr)
+
+
+def check_table1(ptfe: str, pressure: float, pressure_text: str, flag: str = "--pressure",
+                 direction: str = "P", extrapolate: bool = False) -> None:
+    """A `ValueError` naming `flag` and the pressure as typed when Table 1 has no row for
+    `ptfe` at `pressure` [Pa] (or naming --ptfe or --direction when that is unknown)."""
+    from ..tables import interface_parameters
+
+    try:
+        interface_parameters(ptfe.upper(), pressure, direction, extrapolate=extrapolate)
+    except (ValueError, KeyError) as error:
+        text = str(error).strip("'\"")
+        name, _, reason = text.partition(": ")
+        rows = re.search(r"\(\d+-\d+ psi\)", reason)
+        if name == "pressure" and rows:
+            raise ValueError(f"{flag}: {pressure_text} is outside Table 1's rows for {ptfe.upper()} "
+                             f"{rows.group(0)}; choose a pressure in that range.") from None
+        if name == "pressure":
+            raise ValueError(f"{flag}: must be > 0, got {pressure_text}.") from None
+        raise ValueError(f"--{name if name in ('ptfe', 'direction') else 'ptfe'}: {reason or text}") from None

@@ -79,17 +79,20 @@ def add_diagnose_parser(subparsers) -> argparse.ArgumentParser:
         "--max-samples",
         type=int,
         default=3000,
-        help="longer records are decimated to about this many samples",
+        help="longer records are decimated to about this many samples (default 3000)",
     )
     parser.add_argument(
         "--known",
+        "--fixed",
         action="append",
         default=[],
         metavar="NAME=VALUE",
         help="hold a parameter at a value, with its unit where it has one, e.g. rate_a=0.6s/in "
-        "or yield_disp=0.005in (repeatable; with rate_a known, 'interfaces' can be identified)",
+        "or yield_disp=0.005in (repeatable; with rate_a known, 'interfaces' can be identified; "
+        "--fixed is the same flag, as in fit; default: none)",
     )
-    parser.add_argument("--quiet", action="store_true", help="no progress lines")
+    parser.add_argument("--quiet", "--no-progress", action="store_true",
+                        help="no progress lines (--no-progress is the same flag, as in the other commands)")
     add_save_bearing_flag(parser)
     parser.set_defaults(func=run_diagnose)
     return parser

@@ -5,6 +5,7 @@ Messages go to stderr; the JSON report (SI, with a "units" map) and the plot are
 
 import argparse
 import pathlib
+import re
 import sys
 
 from ..units import INCH, parse_quantity
@@ -34,8 +35,8 @@ def add_fit_parser(subparsers) -> argparse.ArgumentParser:
         "fitted (rate_a held, else Coulomb friction, delta_f = 0) and the console and the "
         "JSON ('reduced', 'reduction', 'full_model') say which constants and why. Exit "
         "status: 0 when the fit converged, whether 'clean' or not (clean: every fitted "
-        "constant determined within 50 %%, none at a bound, no warning; the warnings "
-        "printed say why a fit is not clean); 1 when the fit, or with --bayes the sampler, "
+        "constant determined within 50 %, none at a bound, no warning; the warnings "
+        "printed say why a fit is not clean, notes on high correlations leave it clean); 1 when the fit, or with --bayes the sampler, "
         "did not converge; 2 for bad input."))
     parser.add_argument("records", nargs="+", metavar="RECORD",
                         help="test record files (uniaxial, or biaxial ux, uy, fx, fy: then the "
@@ -44,9 +45,10 @@ def add_fit_parser(subparsers) -> argparse.ArgumentParser:
                         help="comma-separated parameters to fit (default: f_max, delta_f, "
                              "rate_a, yield_disp, and breakaway_ratio when the record starts "
                              "from rest)")
-    parser.add_argument("--fixed", default=None, metavar="NAME=VALUE,...",
+    parser.add_argument("--fixed", "--known", action="append", default=None, metavar="NAME=VALUE[,...]",
                         help="values of parameters held fixed, with units where they have one "
-                             "(e.g. yield_disp=0.005in,rate_a=0.6s/in,breakaway_ratio=1.5)")
+                             "(e.g. yield_disp=0.005in,rate_a=0.6s/in,breakaway_ratio=1.5); "
+                             "repeatable; --known is the same flag, as in diagnose (default: none)")
     add_quantity(parser, "--normal-load", "force", None, "normal load for records without one; "
                  "'1N' fits the force itself (f_max, delta_f in newtons)", minimum=0.0)
     parser.add_argument("--starts", type=int, default=8, help="number of starts (default 8)")
@@ -67,7 +69,8 @@ def add_fit_parser(subparsers) -> argparse.ArgumentParser:
     parser.add_argument("--draws", type=int, default=1000,
                         help="with --bayes: warm-up steps and draws per chain (default 1000)")
     parser.add_argument("--chains", type=int, default=4, help="with --bayes: chains (default 4)")
-    parser.add_argument("--seed", type=int, default=0, help="with --bayes: random seed")
+    parser.add_argument("--seed", type=int, default=0, help="with --bayes: random seed (default 0)")
+    parser.add_argument("--no-progress", action="store_true", help="with --bayes: no progress bar")
     parser.add_argument("--effects", default=None, metavar="NAME,...",
                         help="fit Eq. 1 with Bouc-Wen plus these optional parts of the bearing "
                              "model (one record; e.g. backlash,asymmetry as `diagnose` names "
@@ -85,6 +88,8 @@ def _parse_fixed(text):
     fixed = {}
     if not text:
         return fixed
+    if not isinstance(text, str):  # the repeated flag: one list
+        text = ",".join(text)
     for item in text.split(","):
         name, sep, value = item.partition("=")
         name = name.strip()
@@ -111,9 +116,12 @@ def run_fit(args) -> int:
     try:
         read_quantities(args, "fit")
         check_output_file(args.save_bearing, "--save-bearing")
+        _check_counts(args)  # before the fit, as the output paths (`check_outputs`)
         free = parse_free(args.free) if args.free is not None else None
         fixed = _parse_fixed(args.fixed)
         records = [read_bearing_record(p) for p in args.records]
+        print(f"teflon-jax fit: {len(records)} record(s), {args.starts} least-squares starts "
+              "(compiling first)...", file=sys.stderr)
         fit = fit_bearing_test(records, free=free, fixed=fixed, normal_load=args.normal_load,
                                n_starts=args.starts, reduce=not args.full_model)
     except ValueError as error:
@@ -127,14 +135,16 @@ def run_fit(args) -> int:
         stamp = f"{', '.join(pathlib.Path(r).name for r in args.records)}" + (
             f", normal load {args.normal_load_text}" if args.normal_load_text else "")
         plot_fit(args.plot, fit, length=units.length, force=units.force, title=stamp)
+    notes = [w for w in fit.warnings if _is_correlation_note(w)]
     for warning in fit.warnings:
-        print(f"teflon-jax fit: warning: {warning}", file=sys.stderr)
+        kind = "note" if warning in notes else "warning"
+        print(f"teflon-jax fit: {kind}: {warning}", file=sys.stderr)
     if fit.reduced:
         print(f"teflon-jax fit: reduced model: {fit.reduction} Reduced: " + "; ".join(
             f"{k} {v}" for k, v in fit.reduced.items()) + ".", file=sys.stderr)
     summary = ", ".join(_shown(k, fit.parameters[k], fit.std_errors[k], us) for k in fit.free)
-    status = "clean" if fit.clean else (
-        f"NOT CLEAN ({len(fit.warnings)} warning(s) above)" if fit.converged else "NOT CONVERGED")
+    status = ("clean" + (f" ({len(notes)} note(s) on correlations above)" if notes else "")) if fit.clean else (
+        f"NOT CLEAN ({len(fit.warnings) - len(notes)} warning(s) above)" if fit.converged else "NOT CONVERGED")
     print(f"{summary}; nrmse = {fit.nrmse:.4f} [-]; {fit.message}; {status}", file=sys.stderr)
     if args.bayes is None or not fit.converged:
         return 0 if fit.converged else 1
@@ -152,6 +162,20 @@ def _save_fitted(args, fit, records) -> None:
                       standard_errors=part_errors(fit.std_errors), sources=args.records,
                       fit={"command": "fit", "effects": [], "nrmse": fit.nrmse,
                            "converged": bool(fit.converged), "free": list(fit.free)})
+def _is_correlation_note(text: str) -> bool:
+    """A high correlation between two fitted constants: a note, which leaves a fit clean
+    (`BearingFit.clean`), not a warning."""
+    return bool(re.match(r"^[a-z_]+, [a-z_]+: correlation -?[0-9.]+; ", text))
+
+
+def _check_counts(args) -> None:
+    """--starts >= 1; with --bayes, --draws >= 10 and --chains >= 2 (R-hat needs two chains)."""
+    if args.starts < 1:
+        raise ValueError(f"--starts: must be an integer >= 1 (least-squares starts), got {args.starts}.")
+    if args.bayes is not None and args.draws < 10:
+        raise ValueError(f"--draws: must be >= 10 (warm-up steps and draws per chain), got {args.draws}.")
+    if args.bayes is not None and args.chains < 2:
+        raise ValueError(f"--chains: must be >= 2 (R-hat compares chains), got {args.chains}.")
 
 
 def _run_bayes(args, records, free, fixed, least_squares) -> int:
@@ -160,27 +184,46 @@ def _run_bayes(args, records, free, fixed, least_squares) -> int:
 
     from identification.bayes import fit_bayes
 
-    if args.draws < 10 or args.chains < 2:
-        print("teflon-jax fit: error: --draws must be >= 10 and --chains >= 2 (R-hat needs "
-              "two chains).", file=sys.stderr)
-        return 2
     out = pathlib.Path(args.bayes)
+    print(f"teflon-jax fit --bayes: NUTS, {args.chains} chains x ({args.draws} warm-up steps + "
+          f"{args.draws} draws), each step a simulation of the records per leapfrog step: minutes "
+          "to hours; the bar shows the time left (Ctrl-C stops, keeping the least-squares fit).",
+          file=sys.stderr)
     try:
         out.mkdir(parents=True, exist_ok=True)
         result = fit_bayes(records, free=least_squares.free, fixed=fixed,
                            normal_load=args.normal_load, prior=args.prior,
                            num_warmup=args.draws, num_samples=args.draws, num_chains=args.chains,
-                           seed=args.seed, least_squares=least_squares)
+                           seed=args.seed, least_squares=least_squares, progress_bar=not args.no_progress)
     except (ValueError, OSError) as error:
         print(f"teflon-jax fit --bayes: error: {error}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt:
+        (out / "posterior.json").write_text(json.dumps({
+            "converged": False, "status": "interrupted before the draws were complete: no posterior",
+            "least_squares": str(args.json)}, indent=2))
+        print(f"teflon-jax fit --bayes: interrupted; {out / 'posterior.json'} says so (not converged); "
+              f"the least-squares fit is in {args.json}.", file=sys.stderr)
+        return 130
     (out / "posterior.json").write_text(json.dumps(result.to_json_dict(), indent=2))
     result.to_netcdf(out / "posterior.nc")
-    result.plot_pairs(out / "pairs.png")
-    print(result.summary(), file=sys.stderr)
+    result.plot_pairs(out / "pairs.png", unit_of=_unit_of(args.units))
+    print(result.summary(unit_of=_unit_of(args.units)), file=sys.stderr)
     for message in result.messages:
         print(f"teflon-jax fit --bayes: {message}", file=sys.stderr)
     return 0 if result.converged else 1
+
+
+def _unit_of(family: str):
+    """name -> (unit, SI value of one unit) of `--units` for the posterior table."""
+    from ..report import parameter_unit
+
+    units = output_units(family)
+
+    def unit_of(name):
+        return units.force if name == "noise_level" else parameter_unit(name, units.length)
+
+    return unit_of
 
 
 def _shown(name, value, error, us):

@@ -5,7 +5,7 @@ import os
 import pathlib
 import sys
 
-from ._common import read_quantities
+from ._common import check_outputs, read_quantities
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -111,6 +111,7 @@ def main(argv=None) -> int:
 
     try:
         read_quantities(args, args.command)
+        check_outputs(args, args.command)  # before any work
         return runner(args)
     except (ValueError, FileNotFoundError, ConnectionError) as error:
         print(f"teflon-jax {args.command}: error: {error}", file=sys.stderr)

@@ -12,7 +12,15 @@ import sys
 
 from ..units import STANDARD_GRAVITY
 from ._bearing_flags import add_bearing_flag, read_bearing_flag
-from ._common import _positive_int, _write_json, add_quantity, add_units_flag, output_units
+from ._common import (
+    _positive_int,
+    _write_json,
+    add_quantity,
+    add_units_flag,
+    check_table1,
+    output_units,
+    warn_time_step,
+)
 from ._engineering import add_engineering_flags
 from ._main import compile_cache_dir
 
@@ -37,16 +45,18 @@ def _add_common(parser, *, levels: bool = False):
                  "peak within 0.2 % of converged ones on 100 test motions, see benchmarks B3; 2.5ms with --components 2 and in design, "
                  "whose gradient check needs the update without the turning-point split)",
                  minimum=0.0)
-    add_quantity(parser, "--pga", "acceleration", "0.3g", "expected peak ground acceleration"
+    add_quantity(parser, "--pga", "acceleration", "0.3g", "expected peak ground acceleration "
+                 "(at most 5g, beyond any recorded motion)"
                  + (" or increasing levels 0.1g,0.2g,..., each run with --motions motions "
-                    "(fragility curves with --limit)" if levels else ""), minimum=0.0, levels=levels)
+                    "(fragility curves with --limit)" if levels else ""), minimum=0.0,
+                 maximum=5 * STANDARD_GRAVITY, levels=levels)
     add_quantity(parser, "--site-frequency", "frequency", "15.6rad/s", "Kanai-Tajimi site "
                  "frequency omega_g", minimum=0.0)
     add_quantity(parser, "--site-damping", "dimensionless", "0.6", "Kanai-Tajimi site damping "
                  "ratio zeta_g", minimum=0.0)
     add_quantity(parser, "--strong-motion", "time", "10s", "strong-motion duration of the envelope",
                  minimum=0.0)
-    parser.add_argument("--ptfe", default="UF", help="PTFE type of Table 1 (UF, 15GF, 25GF)")
+    parser.add_argument("--ptfe", default="UF", help="PTFE type of Table 1 (UF, 15GF, 25GF) (default UF)")
     parser.add_argument("--json", type=pathlib.Path, help="write the summary JSON here")
     parser.add_argument("--plot", type=pathlib.Path, help="write a PNG plot here")
     add_units_flag(parser)
@@ -70,7 +80,7 @@ def add_montecarlo_parser(subparsers) -> argparse.ArgumentParser:
                  "restoring spring ('none': friction only, rigid structure only)", minimum=0.0,
                  none="none")
     add_quantity(parser, "--isolation-damping", "dimensionless", "5%", "viscous damping ratio "
-                 "zeta_b of the isolation system", minimum=0.0, strict=False)
+                 "zeta_b of the isolation system", minimum=0.0, strict=False, maximum=1.0)
     parser.add_argument("--components", type=int, choices=(1, 2), default=1,
                         help="horizontal ground components: 1 (along x, the uniaxial structures) or 2 "
                         "(x and y on the bidirectional rigid mass or building: Park's biaxial Z; peaks "
@@ -80,8 +90,9 @@ def add_montecarlo_parser(subparsers) -> argparse.ArgumentParser:
     add_quantity(parser, "--minor-ratio", "dimensionless", None, "two components: standard deviation "
                  "of the minor component over the major's, in [0, 1] (default 1: two independent, "
                  "equally strong components)", minimum=0.0, strict=False, maximum=1.0)
-    parser.add_argument("--chunk-size", type=_positive_int, default=512, help="motions per compiled call "
-                        "(split over the devices; about 260 kB each for 40 s motions at 0.01 s)")
+    parser.add_argument("--chunk-size", type=_positive_int, default=None, help="motions per compiled call "
+                        "(split over the devices; about 260 kB each for 40 s motions at 0.01 s) (default "
+                        "512; with --scheduler local:N at most motions / N, so that every worker has a task)")
     parser.add_argument("--out", type=pathlib.Path, help="results file; its suffix picks the format: "
                         ".nc (NetCDF), .zarr, .csv or .npz")
     parser.add_argument("--newton-iterations", type=_positive_int, default=None, metavar="N",
@@ -133,26 +144,9 @@ def run_montecarlo(args) -> int:
     from ..systems import MONTE_CARLO_NEWTON_TOLERANCE, isolated_structure
 
     units = output_units(args.units)
-    # before the runs and before any cluster starts: an output that cannot be written
-    if args.scheduler is not None:
-        from ..studies import check_netcdf_output
-
-        if args.out is None:
-            raise ValueError("--scheduler: a distributed run streams its results to a file; "
-                             "add --out FILE.nc.")
-        check_netcdf_output(args.out, "--out")
-    elif args.out is not None:
-        from ..studies import check_output_path
-
-        check_output_path(args.out)
+    _check_flags(args)
     solver = {} if args.newton_iterations is None else {"newton_iterations": args.newton_iterations}
     two = args.components == 2
-    for flag, value in (("--principal-angle", args.principal_angle), ("--minor-ratio", args.minor_ratio)):
-        if value is not None and not two:
-            raise ValueError(f"{flag}: describes the second ground component; add --components 2.")
-    if args.newton_tolerance is not None and two:
-        raise ValueError("--newton-tolerance: applies to one-component runs (the two-component "
-                         "solve has its own); leave it out with --components 2.")
     if not two:
         solver["newton_tolerance"] = (MONTE_CARLO_NEWTON_TOLERANCE if args.newton_tolerance is None
                                       else args.newton_tolerance)
@@ -166,6 +160,8 @@ def run_montecarlo(args) -> int:
         bearing=read_bearing_flag(args),
         **solver,
     )
+    if args.time_step is not None:
+        warn_time_step("montecarlo", args.time_step, args.time_step_text, args.record_step, args.record_step_text)
     model = _motion_model(args)
     if two:
         model = TwoComponentGroundMotion(
@@ -184,18 +180,21 @@ def run_montecarlo(args) -> int:
     def progress(done, total):
         bar.update(done - bar.n)
 
+    chunk_size = _chunk_size(args)
+    attrs = _run_attributes(args)
     if args.scheduler is None:
         result = monte_carlo(
             structure, model, args.motions, key=jax.random.key(args.seed),
-            chunk_size=args.chunk_size, progress=progress,
+            chunk_size=chunk_size, progress=progress,
         )
+        result.attrs.update(attrs)
         files = [] if args.out is None else [str(p) for p in save_montecarlo(result, args.out)]
     else:
         from ..studies import monte_carlo_distributed
 
         result = monte_carlo_distributed(
             structure, model, args.motions, out=args.out, seed=args.seed,
-            scheduler=args.scheduler, chunk_size=args.chunk_size, progress=progress,
+            scheduler=args.scheduler, chunk_size=chunk_size, progress=progress, attrs=attrs,
             compilation_cache=None if args.no_compile_cache else str(compile_cache_dir()),
         )
         files = [str(args.out)]
@@ -203,38 +202,7 @@ def run_montecarlo(args) -> int:
     converged = np.asarray(result.converged, bool).reshape(-1)
     stats = _statistics(result, units)
     length = units.length[0]
-    payload = {
-        "n_motions": result.n_motions,
-        "n_converged": int(converged.sum()),
-        "not_converged": np.flatnonzero(~converged).tolist(),
-        "structure": args.structure,
-        "devices": result.n_devices,
-        "device_kind": jax.devices()[0].device_kind,
-        "wall_s": result.wall_s,
-        "compile_s": result.compile_s,
-        "records_per_s": result.n_motions / max(result.wall_s - result.compile_s, 1e-9),
-        "chunk_size": result.chunk_size,
-        "time_step_s": structure.time_step,
-        "all_converged": bool(converged.all()),
-        "statistics": stats,
-        "design": {f"pressure_{units.pressure[0]}": args.pressure / units.pressure[1],
-                   "isolation_period_s": args.isolation_period,
-                   "isolation_damping": args.isolation_damping, "ptfe": args.ptfe}
-        if args.bearing is None else
-        {"bearing": str(args.bearing), "isolation_period_s": args.isolation_period,
-         "isolation_damping": args.isolation_damping},
-        "motions": {"model": "Clough-Penzien, Jennings-Housner-Tsai envelope",
-                    "pga_g": args.pga / STANDARD_GRAVITY, "duration_s": args.duration,
-                    "seed": args.seed, "components": args.components},
-        "units": {"base_disp": length, "base_shear_ratio": "-", "wall_s": "s"},
-        "files": files,
-    }
-    if two:
-        payload["motions"].update({
-            "principal_angle_deg": math.degrees(float(model.principal_angle)),
-            "minor_ratio": float(model.minor_ratio),
-            "peaks": "resultants of the x and y components: |(d_x, d_y)| and |(V_x, V_y)| / W, V the "
-                     "force on the structure above the bearings"})
+    payload = _payload(args, result, structure, model, units, stats, files)
     _write_json(args.json, payload)
     bearing_words = (f"{args.ptfe} PTFE at {args.pressure_text}" if args.bearing is None
                      else f"bearing {args.bearing}")
@@ -264,6 +232,95 @@ def run_montecarlo(args) -> int:
         )
         return 1
     return 0
+
+
+def _payload(args, result, structure, model, units, stats, files) -> dict:
+    """The summary JSON of `teflon-jax montecarlo` (displacements in `units`)."""
+    import jax
+    import numpy as np
+
+    converged, two, length = np.asarray(result.converged, bool).reshape(-1), args.components == 2, units.length[0]
+    payload = {
+        "n_motions": result.n_motions,
+        "n_converged": int(converged.sum()),
+        "not_converged": np.flatnonzero(~converged).tolist(),
+        "structure": args.structure,
+        "devices": result.n_devices,
+        "device_kind": jax.devices()[0].device_kind,
+        "wall_s": result.wall_s,
+        "compile_s": result.compile_s,
+        "records_per_s": result.n_motions / max(result.wall_s - result.compile_s, 1e-9),
+        "chunk_size": result.chunk_size,
+        "time_step_s": structure.time_step,
+        "all_converged": bool(converged.all()),
+        "statistics": stats,
+        "design": {f"pressure_{units.pressure[0]}": args.pressure / units.pressure[1],
+                   "isolation_period_s": args.isolation_period,
+                   "isolation_damping": args.isolation_damping,
+                   **({"ptfe": args.ptfe} if args.bearing is None else {"bearing": str(args.bearing)})},
+        "motions": {"model": "Clough-Penzien, Jennings-Housner-Tsai envelope",
+                    "pga_g": args.pga / STANDARD_GRAVITY, "duration_s": args.duration,
+                    "seed": args.seed, "components": args.components},
+        "units": {"base_disp": length, "base_shear_ratio": "-", "wall_s": "s"},
+        "files": files,
+    }
+    if two:
+        payload["motions"].update({
+            "principal_angle_deg": math.degrees(float(model.principal_angle)),
+            "minor_ratio": float(model.minor_ratio),
+            "peaks": "resultants of the x and y components: |(d_x, d_y)| and |(V_x, V_y)| / W, V the "
+                     "force on the structure above the bearings"})
+    return payload
+
+
+def _check_flags(args) -> None:
+    """Before the runs and before any cluster starts: the results file, the Table 1 row and
+    the flags that only one or two ground components use."""
+    if args.scheduler is not None:
+        from ..studies import check_netcdf_output
+
+        if args.out is None:
+            raise ValueError("--scheduler: a distributed run streams its results to a file; "
+                             "add --out FILE.nc.")
+        check_netcdf_output(args.out, "--out")
+    elif args.out is not None:
+        from ..studies import check_output_path
+
+        check_output_path(args.out)
+    if args.bearing is None:  # else the bearing file's friction; --pressure is a contact pressure
+        check_table1(args.ptfe, args.pressure, args.pressure_text)
+    two = args.components == 2
+    for flag, value in (("--principal-angle", args.principal_angle), ("--minor-ratio", args.minor_ratio)):
+        if value is not None and not two:
+            raise ValueError(f"{flag}: describes the second ground component; add --components 2.")
+    if args.newton_tolerance is not None and two:
+        raise ValueError("--newton-tolerance: applies to one-component runs (the two-component "
+                         "solve has its own); leave it out with --components 2.")
+
+
+def _chunk_size(args) -> int:
+    """--chunk-size, or 512, or with --scheduler local:N at most ceil(motions / N): a run of
+    fewer chunks than workers leaves workers idle."""
+    if args.chunk_size is not None:
+        return args.chunk_size
+    workers = args.scheduler[len("local:"):] if (args.scheduler or "").startswith("local:") else ""
+    if workers.isdigit() and int(workers) > 0:
+        return max(1, min(512, math.ceil(args.motions / int(workers))))
+    return 512
+
+
+def _run_attributes(args) -> dict:
+    """What was run, as the results file's attributes: the structure and bearings (SI) and
+    the motions, each also as the user typed it."""
+    return {
+        "structure": args.structure, "ptfe": args.ptfe, "pressure_Pa": args.pressure,
+        "isolation_period_s": "none" if args.isolation_period is None else args.isolation_period,
+        "isolation_damping": args.isolation_damping, "pga_m_s2": args.pga,
+        "site_frequency_hz": args.site_frequency, "site_damping": args.site_damping,
+        "strong_motion_s": args.strong_motion, "components": args.components,
+        "inputs_as_given": " ".join(f"{k}={getattr(args, k + '_text')}" for k in (
+            "pressure", "isolation_period", "isolation_damping", "pga", "duration")),
+    }
 
 
 def _statistics(result, units) -> dict:

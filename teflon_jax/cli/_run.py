@@ -9,6 +9,13 @@ import numpy as np
 
 from ..units import parse_quantity
 from ._bearing_flags import add_bearing_flag, read_bearing_flag
+from ._common import (
+    _NEGATIVE_QUANTITY,
+    add_units_flag,
+    check_table1,
+    output_units,
+    warn_time_step,
+)
 from ._run_suite import add_suite_arguments, check_suite_flags
 
 STRUCTURES = ("rigid", "building", "slab")
@@ -23,11 +30,12 @@ def add_run_parser(subparsers) -> None:
             "Simulate an isolated structure on PTFE sliding bearings (Constantinou, Mokha & "
             "Reinhorn 1990: Eq. 1 at the resultant sliding speed, Park's biaxial Z, Eq. 17 "
             "breakaway) under one or two horizontal ground components. Values carry units "
-            "(1000psi, 2.5s, 5%%, 100kN)."
+            "(1000psi, 2.5s, 5%, 100kN)."
         ),
     )
+    p._negative_number_matcher = _NEGATIVE_QUANTITY  # '-1000psi' is a value, refused by its check
     p.add_argument("--structure", default="rigid", choices=STRUCTURES, help="rigid mass, the Table 2 "
-                   "building in x and y, or a rigid slab on bearing groups (needs --plan)")
+                   "building in x and y, or a rigid slab on bearing groups (needs --plan) (default rigid)")
     p.add_argument("--ptfe", default="UF", help="PTFE type of Table 1: UF, 15GF or 25GF (default UF)")
     p.add_argument("--pressure", default="1000psi", help="contact pressure (default 1000psi)")
     p.add_argument("--anisotropic", action="store_true", help="lay of the steel along x (or at --lay-angle) "
@@ -50,7 +58,7 @@ def add_run_parser(subparsers) -> None:
     p.add_argument("--record-y", default=None, help="y component (default: none)")
     p.add_argument("--record-units", default=None, help="acceleration unit of two-column files: "
                    "g, m/s^2, cm/s^2 or in/s^2 (required for them)")
-    p.add_argument("--scale", type=float, default=1.0, help="scale factor on both components")
+    p.add_argument("--scale", type=float, default=1.0, help="scale factor on both components, > 0 (default 1)")
     p.add_argument("--start", default="0s", help="start of the window, e.g. 25s (default 0s)")
     p.add_argument("--duration", default=None, help="length of the window (default: the whole record)")
     p.add_argument("--resample", action="store_true", help="allow components with different time "
@@ -64,6 +72,7 @@ def add_run_parser(subparsers) -> None:
     p.add_argument("--histories", default=None, help="write histories to this .nc or .csv file")
     add_bearing_flag(p, replaces="--ptfe, --pressure, --anisotropic, --lay-angle and --breakaway "
                      "(also for every bearing group of a slab)")
+    add_units_flag(p)
 
 
 # --------------------------------------------------------------------------- records
@@ -144,8 +153,8 @@ def load_components(args):
     i0 = int(round(start / dt))
     n = int(round(duration / dt)) + 1
     scale = float(args.scale)
-    if not np.isfinite(scale):
-        raise ValueError(f"--scale: must be a finite number, got {args.scale}.")
+    if not (np.isfinite(scale) and scale > 0):
+        raise ValueError(f"--scale: must be a finite number > 0, got {args.scale:g}.")
     return scale * ax[i0:i0 + n], scale * ay[i0:i0 + n], dt, notes
 
 
@@ -176,6 +185,7 @@ def _bearing(args, ptfe, pressure_text, flag):
             raise ValueError(f"--bearing {args.bearing}: {error}") from None
         return from_file
     pressure = parse_quantity(pressure_text, "pressure", where=flag)
+    check_table1(ptfe, pressure, pressure_text, flag)
     try:
         params, table_b = interface_parameters(ptfe.upper(), pressure, "P")
         perpendicular = interface_parameters(ptfe.upper(), pressure, "T")[0] if args.anisotropic else None
@@ -404,25 +414,51 @@ def write_histories(path, histories) -> None:
         raise ValueError(f"--histories: {path} must end in .nc or .csv.")
 
 
-def plot_run(path, histories, title) -> None:
+def _shown_peaks(peak: dict, units) -> list:
+    """Lines 'name: value unit' of the peaks (SI, keys naming their unit) in the family of
+    `--units` (lengths in mm or in; ratios, radians and g as they are)."""
+    name, factor = units.length
+    lines = []
+    for key, value in peak.items():
+        label, unit, scale = key, "", 1.0
+        if key.endswith("_m"):
+            label, unit, scale = key[:-2], f" {name}", factor
+        elif key.endswith(("_g", "_rad")):
+            label, _, unit = key.rpartition("_")
+            unit = f" {unit}"
+        if isinstance(value, dict):
+            shown = ", ".join(f"{k} {v / scale:.4g}{unit}" for k, v in value.items())
+        elif isinstance(value, list):
+            shown = ", ".join(f"{v / scale:.4g}" for v in value) + unit
+        else:
+            shown = f"{value / scale:.4g}{unit}"
+        lines.append(f"peak {label.replace('_', ' ')}: {shown}")
+    return lines
+
+
+def plot_run(path, histories, title, *, length=("mm", 1e-3), force=("kN", 1e3)) -> None:
+    """Orbit, x and y loops and displacement histories (PNG), in the `length` and `force`
+    units given as (name, SI factor)."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     h = histories
+    (ln, lf), (fn, ff) = length, force
+    x, y = h["base_disp_x_m"] / lf, h["base_disp_y_m"] / lf
     fig, axes = plt.subplots(2, 2, figsize=(10, 8))
-    axes[0, 0].plot(100 * h["base_disp_x_m"], 100 * h["base_disp_y_m"], lw=0.8)
-    axes[0, 0].set(xlabel="base displacement x [cm]", ylabel="base displacement y [cm]", title="orbit")
+    axes[0, 0].plot(x, y, lw=0.8)
+    axes[0, 0].set(xlabel=f"base displacement x [{ln}]", ylabel=f"base displacement y [{ln}]", title="orbit")
     axes[0, 0].set_aspect("equal", adjustable="datalim")
-    for ax, c in ((axes[0, 1], "x"), (axes[1, 0], "y")):
-        ax.plot(100 * h[f"base_disp_{c}_m"], h[f"bearing_force_{c}_N"] / 1e3, lw=0.8)
-        ax.set(xlabel=f"base displacement {c} [cm]", ylabel=f"friction force {c} [kN]", title=f"{c} loop")
+    for ax, c, u in ((axes[0, 1], "x", x), (axes[1, 0], "y", y)):
+        ax.plot(u, h[f"bearing_force_{c}_N"] / ff, lw=0.8)
+        ax.set(xlabel=f"base displacement {c} [{ln}]", ylabel=f"friction force {c} [{fn}]", title=f"{c} loop")
     t = h["time_s"]
-    axes[1, 1].plot(t, 100 * h["base_disp_x_m"], lw=0.8, label="x")
-    axes[1, 1].plot(t, 100 * h["base_disp_y_m"], lw=0.8, label="y")
-    axes[1, 1].plot(t, 100 * np.hypot(h["base_disp_x_m"], h["base_disp_y_m"]), lw=0.8, label="resultant")
-    axes[1, 1].set(xlabel="time [s]", ylabel="base displacement [cm]", title="histories")
+    axes[1, 1].plot(t, x, lw=0.8, label="x")
+    axes[1, 1].plot(t, y, lw=0.8, label="y")
+    axes[1, 1].plot(t, np.hypot(x, y), lw=0.8, label="resultant")
+    axes[1, 1].set(xlabel="time [s]", ylabel=f"base displacement [{ln}]", title="histories")
     axes[1, 1].legend()
     fig.suptitle(title)
     fig.tight_layout()
@@ -450,7 +486,10 @@ def run_run(args) -> int:
         raise ValueError(f"--histories: {args.histories} must end in .nc or .csv.")
     ax, ay, dt, notes = load_components(args)
     system, plan = build_structure(args, ax, ay, dt)
+    warn_time_step("run", float(system.time_step), args.time_step, dt, f"{dt:g}s")
     duration = (ax.size - 1) * dt
+    print(f"teflon-jax run: {args.structure}, {round(duration / float(system.time_step))} steps of "
+          f"{args.time_step} over {duration:g} s of record (compiling first)...", file=sys.stderr)
     response = simulate_bidirectional(system, duration, throw=False)
     if not bool(response.succeeded):
         print(f"teflon-jax run: error: the solver did not converge ({response.result}); try a "
@@ -471,7 +510,9 @@ def run_run(args) -> int:
             np.degrees(parse_quantity(args.lay_angle, "angle", where="--lay-angle"))),
         "peak": peak,
     }
-    print(json.dumps(payload["peak"], indent=2))
+    units = output_units(args.units)
+    for line in _shown_peaks(payload["peak"], units):
+        print(line)
     if args.json is not None:
         path = pathlib.Path(args.json)
         path.parent.mkdir(parents=True, exist_ok=True)
@@ -480,5 +521,6 @@ def run_run(args) -> int:
         write_histories(args.histories, histories)
     if args.plot is not None:
         names = [pathlib.Path(r).name for r in (args.record_x, args.record_y) if r is not None]
-        plot_run(args.plot, histories, f"{args.structure}: {' + '.join(names)}")
+        plot_run(args.plot, histories, f"{args.structure}: {' + '.join(names)}", length=units.length,
+                 force=units.force)
     return 0

@@ -7,9 +7,10 @@ import numpy as np
 from ..report import plot_loop
 from ..units import INCH, parse_quantity
 from ._bearing_flags import add_bearing_flag, read_bearing_flag
-from ._common import add_quantity, add_units_flag, output_units
+from ._common import add_quantity, add_units_flag, check_table1, output_units
 
 DEFAULT_DIAMETER = 10 * INCH  # specimens of the paper's tests: 10 in diameter
+MIN_SAMPLES_PER_CYCLE = 8  # fewer cannot show the shape of a loop
 
 
 def add_simulate_parser(subparsers) -> None:
@@ -28,12 +29,13 @@ def add_simulate_parser(subparsers) -> None:
                  "linearly between 1000, 2000, 3000 and 6500 psi", minimum=0.0)
     p.add_argument("--extrapolate", action="store_true",
                    help="allow pressures outside Table 1's range (extends the nearest segment)")
-    p.add_argument("--direction", default="P", help="sliding direction to the lay: P (parallel) or T")
+    p.add_argument("--direction", default="P", help="sliding direction to the lay: P (parallel) or T (default P)")
     p.add_argument("--pattern", default="sine", help="sine, triangle (constant velocity) or eight "
-                   "(figure-eight, Eq. 16: ux = U0 sin wt, uy = U0 sin 2wt)")
+                   "(figure-eight, Eq. 16: ux = U0 sin wt, uy = U0 sin 2wt) (default sine)")
     p.add_argument("--motion-file", default=None, help="CSV with columns 'time [s]', 'ux [unit]' "
                    "(and optionally 'uy [unit]'): any displacement history; replaces --pattern")
-    add_quantity(p, "--amplitude", "length", "4in", "displacement amplitude U0", minimum=0.0)
+    add_quantity(p, "--amplitude", "length", "4in", "displacement amplitude U0 (at most 100in, "
+                 "beyond any bearing)", minimum=0.0, maximum=100 * INCH)
     add_quantity(p, "--frequency", "frequency", "0.6Hz", "frequency of the motion (cyclic or "
                  "angular: 0.6Hz = 3.77rad/s)", minimum=0.0)
     p.add_argument("--cycles", type=float, default=3.0, help="number of cycles (default 3)")
@@ -48,7 +50,8 @@ def add_simulate_parser(subparsers) -> None:
                    "Table 1 for sliding along y and interpolate in the sliding angle")
     add_bearing_flag(p, replaces="--ptfe, --pressure, --direction, --breakaway, "
                      "--interfaces-in-series, --yield-disp and --anisotropic; give --normal-load")
-    p.add_argument("--samples-per-cycle", type=int, default=400, help="saved samples per cycle (default 400)")
+    p.add_argument("--samples-per-cycle", type=int, default=400, help="saved samples per cycle, at "
+                   f"least {MIN_SAMPLES_PER_CYCLE} (default 400)")
     p.add_argument("--out", default="test_record.csv", help="output test-record CSV (default test_record.csv)")
     add_units_flag(p)
     p.add_argument("--plot", default=None, help="write the force-displacement loop to this PNG")
@@ -64,6 +67,7 @@ def build_test(args):
     ptfe = args.ptfe.upper()
     direction = args.direction.upper()
     pressure = args.pressure
+    check_table1(ptfe, pressure, args.pressure_text, "--pressure", direction, args.extrapolate)
     try:
         friction, table_b = tj.interface_parameters(ptfe, pressure, direction, extrapolate=args.extrapolate)
     except ValueError as error:
@@ -87,6 +91,9 @@ def build_test(args):
     args.breakaway_shown = None if breakaway is None else (
         f"{float(breakaway):.3g}" + (" (Table 1)" if args.breakaway == "table" else ""))
     yield_disp = args.yield_disp
+    if args.motion_file is None and args.samples_per_cycle < MIN_SAMPLES_PER_CYCLE:
+        raise ValueError(f"--samples-per-cycle: must be >= {MIN_SAMPLES_PER_CYCLE} (a loop needs "
+                         f"them to show its shape), got {args.samples_per_cycle}.")
     if args.interfaces < 1:
         raise ValueError(f"--interfaces-in-series: must be an integer >= 1, got {args.interfaces}.")
     bearing = tj.paper_bearing(friction, yield_disp=yield_disp, breakaway_ratio=breakaway,

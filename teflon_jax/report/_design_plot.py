@@ -37,8 +37,9 @@ def plot_design(sweep: Mapping, result: DesignResult, path, *, units: Mapping | 
     else:
         a, b = names[:2]
         x, y = sweep["grid"][a] / scale[a], sweep["grid"][b] / scale[b]
-        contour = left.contourf(x, y, sweep["objective"], 20, cmap="Greys")
-        fig.colorbar(contour, ax=left, label="objective: mean base shear / weight + penalty [-]")
+        cmap = matplotlib.colormaps["Greys_r"].with_extremes(over="mistyrose")
+        contour = left.contourf(x, y, sweep["objective"], _levels(sweep, result), cmap=cmap, extend="max")
+        fig.colorbar(contour, ax=left, label="objective [-] (pink: penalised beyond the limit)")
         ox, oy = result.optimum[a] / scale[a], result.optimum[b] / scale[b]
         left.plot(ox, oy, "*", color="w", mec="k", ms=16, label="gradient optimum",
                   clip_on=False, zorder=5)
@@ -48,18 +49,24 @@ def plot_design(sweep: Mapping, result: DesignResult, path, *, units: Mapping | 
     left.legend(fontsize=8, loc="best")
     disp = np.asarray(sweep["disp"]) / length_factor
     shear = np.asarray(sweep["shear"])
-    feasible = np.asarray(sweep["disp"]) <= result.disp_limit
+    feasible = np.asarray(sweep["disp"]) <= result.smooth_disp_limit
     right.scatter(disp[~feasible], shear[~feasible], marker="x", c="0.5", s=18,
-                  label="grid designs over the limit")
+                  label="grid designs over the limit on the smoothed mean")
     right.scatter(disp[feasible], shear[feasible], marker="o", facecolors="none", edgecolors="k",
-                  s=18, label="grid designs within the limit")
+                  s=18, label="grid designs within it")
     right.axvline(result.disp_limit / length_factor, color="k", ls="--", lw=0.8,
                   label=f"displacement limit = {result.disp_limit / length_factor:.3g} {length_name}")
+    if result.smooth_disp_limit != result.disp_limit:
+        right.axvline(result.smooth_disp_limit / length_factor, color="k", ls=":", lw=0.8,
+                      label="limit on the smoothed mean that meets it on the true peaks")
     ox, oy = result.mean_disp / length_factor, result.mean_shear
-    right.plot(ox, oy, "k*", ms=14, mfc="w", label="gradient optimum", clip_on=False, zorder=5)
-    _frame(right, np.append(disp, ox), np.append(shear, oy))
-    right.set_xlabel(f"mean peak base displacement (smoothed) [{length_name}]")
-    right.set_ylabel("mean peak base shear / weight (smoothed) [-]")
+    right.plot(ox, oy, "k*", ms=14, mfc="w", label="gradient optimum (smoothed)", clip_on=False, zorder=5)
+    px, py = result.peak_disp / length_factor, result.peak_shear
+    right.plot(px, py, "*", color="C3", ms=14, label="gradient optimum: true mean peaks",
+               clip_on=False, zorder=5)
+    _frame(right, np.append(disp, [ox, px]), np.append(shear, [oy, py]))
+    right.set_xlabel(f"mean peak base displacement (grid: smoothed) [{length_name}]")
+    right.set_ylabel("mean peak base shear / weight (grid: smoothed) [-]")
     right.legend(fontsize=8)
     right.grid(alpha=0.3)
     if title:
@@ -67,6 +74,19 @@ def plot_design(sweep: Mapping, result: DesignResult, path, *, units: Mapping | 
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
+
+
+def _levels(sweep: Mapping, result, n: int = 20) -> np.ndarray:
+    """Contour levels over the objective of the grid designs within the displacement limit
+    (twice their spread above the lowest), so that the penalty of the designs beyond it,
+    orders of magnitude larger, does not take the whole colour scale."""
+    objective = np.asarray(sweep["objective"], dtype=float)
+    finite = objective[np.isfinite(objective)]
+    within = objective[np.isfinite(objective) & (np.asarray(sweep["disp"]) <= result.smooth_disp_limit)]
+    low = float(finite.min()) if finite.size else 0.0
+    top = float(within.max()) if within.size > 1 else float(np.quantile(finite, 0.5)) if finite.size else 1.0
+    high = low + 2.0 * (top - low) if top > low else low + max(abs(low), 1.0) * 0.1
+    return np.linspace(low, high, n + 1)
 
 
 def _frame(ax, x, y, margin=0.06):

@@ -32,6 +32,7 @@ from ._design_sweep import design_sweep as design_sweep
 from ._design_sweep import design_sweep_distributed as design_sweep_distributed
 from ._design_sweep import open_sweep as open_sweep
 from ._design_sweep import sweep_dataset as sweep_dataset
+from ._design_sweep import sweep_objective as sweep_objective
 from ._design_sweep import sweep_start as sweep_start
 from ._distributed import monte_carlo_distributed as monte_carlo_distributed
 from ._fragility import FragilityFit as FragilityFit

@@ -241,3 +241,13 @@ def sweep_start(sweep: Mapping, bounds: Bounds, *, margin: float = 1e-3) -> dict
         value = float(sweep["grid"][name].reshape(-1)[best])
         start[name] = min(max(value, lo + margin * (hi - lo)), hi - margin * (hi - lo))
     return start
+
+
+def sweep_objective(sweep: Mapping, disp_limit: float, penalty: float = 100.0) -> np.ndarray:
+    """The objective J of `penalised_objective` on the grid of `sweep` for another limit
+    `disp_limit` [m] on the smoothed mean displacement (e.g. a `DesignResult`'s
+    `smooth_disp_limit`), from the sweep's mean smooth shear and displacement; NaN where a
+    motion did not converge."""
+    shear, disp = (np.asarray(sweep[k], dtype=float) for k in ("shear", "disp"))
+    objective = shear + penalty * np.maximum(disp / disp_limit - 1.0, 0.0) ** 2
+    return np.where(np.asarray(sweep.get("converged", True)), objective, np.nan)

@@ -131,6 +131,7 @@ def monte_carlo_distributed(
     connect_timeout: float = 10.0,
     compilation_cache=None,
     progress: Callable[[int, int], None] | None = None,
+    attrs: Mapping | None = None,
 ) -> MonteCarloResult:
     """`monte_carlo` on a Dask cluster, streaming the peaks to the NetCDF file `out`.
 
@@ -148,6 +149,7 @@ def monte_carlo_distributed(
     - `connect_timeout` [s]: how long to wait for a scheduler address to answer.
     - `compilation_cache`: a folder for JAX's persistent compilation cache (local workers).
     - `progress`: `progress(done, total)` after each chunk written.
+    - `attrs`: more attributes of the file, e.g. what was run (structure, PTFE, pressure).
 
     **Returns:** the `MonteCarloResult` read back from `out` (48 bytes per motion and design).
     `ConnectionError` naming the address when no scheduler answers; `ValueError` for bad
@@ -178,7 +180,8 @@ def monte_carlo_distributed(
             "disp_width": disp_width, "shear_width": shear_width, "dtype": dtype, "token": uuid.uuid4().hex}
     memory = chunk * bytes_per_motion(probe_source.components * samples, n_dof, n_designs)
     inputs = {"duration_s": duration, "record_time_step_s": time_step, "n_dof": n_dof, "seed": int(seed),
-              "scheduler": scheduler, "n_motions": n_total, "precision": dtype, **motion_attributes(motions)}
+              "scheduler": scheduler, "n_motions": n_total, "precision": dtype, **motion_attributes(motions),
+              **dict(attrs or {})}
     chunks = [(start, min(start + chunk, n_total),
                None if model is not None else np.asarray(motions.acceleration[start:start + chunk]))
               for start in range(0, n_total, chunk)]
