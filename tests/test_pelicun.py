@@ -5,6 +5,8 @@ ERROR flags), and pelicun's own `DemandModel.load_sample` and a FEMA P-58 damage
 on the file (when pelicun is installed: `pip install teflon-jax[pelicun]`).
 """
 
+import os
+
 import numpy as np
 import pytest
 
@@ -67,7 +69,10 @@ def test_two_directions_and_a_resultant_isolator_displacement():
 def test_pelicun_loads_the_file_and_runs_a_p58_damage_assessment(tmp_path):
     """pelicun reads the file unedited (SI values back, the failed run dropped on loading),
     and a P-58 damage calculation with components of its library finishes on it."""
-    assessment = pytest.importorskip("pelicun.assessment")
+    if os.environ.get("CI"):  # the test extra installs pelicun: in CI this test must run
+        import pelicun.assessment as assessment
+    else:
+        assessment = pytest.importorskip("pelicun.assessment")
     import pandas as pd
 
     peaks = _peaks()

@@ -8,6 +8,7 @@ import sys
 import time
 
 from ..units import STANDARD_GRAVITY
+from ._bearing_flags import add_bearing_flag, read_bearing_flag
 from ._common import (
     _positive_int,
     _write_json,
@@ -61,6 +62,8 @@ def add_design_parser(subparsers) -> argparse.ArgumentParser:
                         help="design points per compiled call, a task with --scheduler (default 16); "
                         "the same N gives the same sweep bit for bit here and on a cluster")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
+    add_bearing_flag(parser, replaces="--ptfe's Table 1 rows; the bearing needs a heating part, "
+                     "whose contact pressure --pressure-range then spans")
     parser.set_defaults(command_function=run_design)
     return parser
 
@@ -91,8 +94,10 @@ def run_design(args) -> int:
         raise ValueError("--scheduler: a distributed sweep streams its results to a file; add --out FILE.nc.")
     if args.out is not None:
         check_netcdf_output(args.out, "--out")  # before anything is computed
+    bearing = _design_bearing(args)
     for pressure, text in zip(args.pressure_range, args.pressure_range_text):
-        check_table1(args.ptfe, pressure, text, "--pressure-range")
+        if bearing is None:
+            check_table1(args.ptfe, pressure, text, "--pressure-range")
     if args.time_step is not None:
         warn_time_step("design", args.time_step, args.time_step_text, args.record_step, args.record_step_text)
     tic = time.perf_counter()
@@ -107,7 +112,7 @@ def run_design(args) -> int:
         # rule passes it, with the isolator's equilibrium solved to rounding (no trace of where
         # Newton's loop stopped in the check's central differences; see `default_design_problem`).
         time_step=0.0025 if args.time_step is None else args.time_step, split_at_turn=False,
-        newton_tolerance=0.0, linear_rule="newmark",
+        newton_tolerance=0.0, linear_rule="newmark", bearing=bearing,
     )
     variables = {"isolation_period": tuple(args.period_range), "pressure": (low_p, high_p)}
     records = sample(_motion_model(args), jax.random.key(args.seed), args.motions)
@@ -115,7 +120,8 @@ def run_design(args) -> int:
     grid = {"isolation_period": np.linspace(*args.period_range, args.grid),
             "pressure": np.linspace(low_p, high_p, args.grid)}
     bar.set_postfix_str(f"grid sweep, {args.grid}x{args.grid} designs x {args.motions} motions")
-    attrs = {"structure": args.structure, "ptfe": args.ptfe, "seed": args.seed, "pga_m_s2": args.pga,
+    attrs = {"structure": args.structure, "seed": args.seed, "pga_m_s2": args.pga,
+             **({"ptfe": args.ptfe} if bearing is None else {"bearing": str(args.bearing)}),
              "motion_duration_s": args.duration, "isolation_damping": args.isolation_damping}
     if args.scheduler is None:
         sweep = design_sweep(structure, records, dt, grid=grid, disp_limit=args.disp_limit,
@@ -140,7 +146,8 @@ def run_design(args) -> int:
     payload = _payload(args, result, sweep, units, time.perf_counter() - tic)
     _write_json(args.json, payload)
     if args.plot is not None:
-        stamp = (f"{args.structure}, {args.ptfe} PTFE, zeta_b = {args.isolation_damping_text}, "
+        stamp = (f"{args.structure}, "
+                 f"{args.ptfe + ' PTFE' if args.bearing is None else 'bearing ' + str(args.bearing)}, zeta_b = {args.isolation_damping_text}, "
                  f"{args.motions} Clough-Penzien motions (PGA {args.pga_text}, {args.duration_text}, "
                  f"seed {args.seed}), displacement limit {args.disp_limit_text}")
         # the grid's objective for the limit on the smoothed mean that BFGS ended on
@@ -157,6 +164,19 @@ def run_design(args) -> int:
           f"{result.mean_shear:.4g}); {result.steps} BFGS steps; gradient check "
           f"{result.gradient_rel_error:.2g} relative; {payload['wall_s']:.1f} s")
     return _verdict(result, args)
+
+
+def _design_bearing(args):
+    """The bearing of `--bearing FILE` (or None): design varies the isolation period and the
+    contact pressure, which changes a given bearing only through its heating."""
+    bearing = read_bearing_flag(args)
+    if bearing is not None and bearing.heating is None:
+        raise ValueError(
+            f"--bearing {args.bearing}: design varies the isolation period and the contact "
+            "pressure, and the contact pressure changes this bearing nowhere (it has no heating "
+            "part); run montecarlo --bearing over the periods you consider, or design with "
+            "Table 1 (--ptfe).")
+    return bearing
 
 
 def _payload(args, result, sweep, units, wall_s: float) -> dict:

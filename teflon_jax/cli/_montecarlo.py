@@ -140,26 +140,12 @@ def run_montecarlo(args) -> int:
 
     from ..excitation import TwoComponentGroundMotion
     from ..report import plot_montecarlo
-    from ..studies import bidirectional_isolated_structure, monte_carlo, save_montecarlo
-    from ..systems import MONTE_CARLO_NEWTON_TOLERANCE, isolated_structure
+    from ..studies import monte_carlo, save_montecarlo
 
     units = output_units(args.units)
     _check_flags(args)
-    solver = {} if args.newton_iterations is None else {"newton_iterations": args.newton_iterations}
     two = args.components == 2
-    if not two:
-        solver["newton_tolerance"] = (MONTE_CARLO_NEWTON_TOLERANCE if args.newton_tolerance is None
-                                      else args.newton_tolerance)
-    structure = (bidirectional_isolated_structure if two else isolated_structure)(
-        args.structure,
-        ptfe=args.ptfe,
-        pressure=args.pressure,
-        isolation_period=args.isolation_period,
-        isolation_damping=args.isolation_damping,
-        time_step=args.time_step,
-        bearing=read_bearing_flag(args),
-        **solver,
-    )
+    structure = _structure(args, two)
     if args.time_step is not None:
         warn_time_step("montecarlo", args.time_step, args.time_step_text, args.record_step, args.record_step_text)
     model = _motion_model(args)
@@ -232,6 +218,21 @@ def run_montecarlo(args) -> int:
         )
         return 1
     return 0
+
+
+def _structure(args, two: bool):
+    """The isolated structure of the flags (one or two ground components)."""
+    from ..studies import bidirectional_isolated_structure
+    from ..systems import MONTE_CARLO_NEWTON_TOLERANCE, isolated_structure
+
+    solver = {} if args.newton_iterations is None else {"newton_iterations": args.newton_iterations}
+    if not two:
+        solver["newton_tolerance"] = (MONTE_CARLO_NEWTON_TOLERANCE if args.newton_tolerance is None
+                                      else args.newton_tolerance)
+    return (bidirectional_isolated_structure if two else isolated_structure)(
+        args.structure, ptfe=args.ptfe, pressure=args.pressure,
+        isolation_period=args.isolation_period, isolation_damping=args.isolation_damping,
+        time_step=args.time_step, bearing=read_bearing_flag(args), **solver)
 
 
 def _payload(args, result, structure, model, units, stats, files) -> dict:

@@ -274,12 +274,16 @@ def check_structure_bearing(bearing: SlidingBearing) -> None:
 
 def design_ranges(structure: IsolatedStructure) -> dict[str, tuple[float, float]]:
     """Admissible range [low, high] of each design variable (SI): the pressure within the
-    Table 1 rows, positive periods, damping in [0, 1), friction constants in their physical
+    Table 1 rows (any positive contact pressure for a given bearing), positive periods, damping in [0, 1), friction constants in their physical
     ranges."""
-    pressures = np.asarray(structure.table().pressures)
+    if structure.bearing is None:
+        pressures = np.asarray(structure.table().pressures)
+        pressure = (float(pressures[0]), float(pressures[-1]))
+    else:  # a given bearing's contact pressure (it matters through its heating)
+        pressure = (1.0, math.inf)
     return {
         "isolation_period": (1e-3, math.inf),
-        "pressure": (float(pressures[0]), float(pressures[-1])),
+        "pressure": pressure,
         "isolation_damping": (0.0, 1.0),
         "f_max": (1e-6, 1.0),
         "delta_f": (0.0, 1.0),
