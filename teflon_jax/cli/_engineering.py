@@ -50,7 +50,7 @@ def add_engineering_flags(parser) -> None:
                         help="a response limit for a fragility curve, repeatable: base_disp=2in, "
                         "base_shear_ratio=0.15, drift=1%%, floor_acceleration=0.5g (drift and "
                         "floor_acceleration: building only); with two or more --pga levels each "
-                        "gets a lognormal fragility fitted by maximum likelihood (Baker 2015)")
+                        "gets a lognormal fragility fitted by maximum likelihood (Baker 2015) (default: none)")
     parser.add_argument("--storeys", action="store_true",
                         help="building: also keep each storey's peak drift ratio and each level's peak "
                         "total acceleration (in x and y with --components 2; on with drift or "

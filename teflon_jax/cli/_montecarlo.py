@@ -153,6 +153,7 @@ def run_montecarlo(args) -> int:
         model = TwoComponentGroundMotion(
             model, principal_angle=0.0 if args.principal_angle is None else args.principal_angle,
             minor_ratio=1.0 if args.minor_ratio is None else args.minor_ratio)
+    args.chunk_size = _chunk_size(args)  # the default fits the workers (--scheduler local:N)
     if args.property_factors is not None:
         from ._bounding import run_bounding
 
@@ -166,7 +167,7 @@ def run_montecarlo(args) -> int:
     def progress(done, total):
         bar.update(done - bar.n)
 
-    chunk_size = _chunk_size(args)
+    chunk_size = args.chunk_size
     attrs = _run_attributes(args)
     if args.scheduler is None:
         result = monte_carlo(
