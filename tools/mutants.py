@@ -211,7 +211,7 @@ MUTANTS = (
            'force = force.at[0].add(self.at_state(y).friction_force(y["v"][0], y["z"], y["z_peak"]))',
            (f"{BW}::test_rigid_mass_with_eta_3_matches_scipy",), "vector field: friction pushes instead of resisting"),
     Mutant("S5", "teflon_jax/systems/_structure.py",
-           "return -self.mass * self.ground_acceleration(t)", "return self.mass * self.ground_acceleration(t)",
+           'force = -self.mass * ground - self.damping @ y["v"]', 'force = self.mass * ground - self.damping @ y["v"]',
            (f"{SS}::test_coulomb_sliding_acceleration_closed_form",), "equation of motion: sign of the ground load"),
 ) + LAWS
 

@@ -166,9 +166,6 @@ class StructureOnSliders(AbstractSteppedSystem):
         mu, slope = self.bearing.uniaxial_coefficient(velocity, z_peak)
         return mu * self.bearing_load, slope * self.bearing_load
 
-    def _load(self, t):
-        return -self.mass * self.ground_acceleration(t)
-
     def _acceleration(self, t, y):
         return self.acceleration_at(self.ground_acceleration(t), y)
 
