@@ -15,8 +15,9 @@ from ._diagnostics import (
 from ._effects import EFFECTS
 
 
-def write_plots(result, directory) -> dict:
-    """Write the diagnostic figures of a `DiscoveryResult` into `directory`.
+def write_plots(result, directory, *, length=("mm", 1e-3)) -> dict:
+    """Write the diagnostic figures of a `DiscoveryResult` into `directory`, displacements in
+    `length` = (unit name, its size in m).
 
     **Returns:** figure name -> file name (relative to `directory`).
     """
@@ -48,9 +49,9 @@ def write_plots(result, directory) -> dict:
             ),
         ),
     ):
-        ax.plot(ux * 1e3, measured / normal, color="0.6", lw=1.2, label="measured")
-        ax.plot(ux * 1e3, model / normal, color="C3", lw=1.0, label="model")
-        ax.set_xlabel("displacement ux [mm]")
+        ax.plot(ux / length[1], measured / normal, color="0.6", lw=1.2, label="measured")
+        ax.plot(ux / length[1], model / normal, color="C3", lw=1.0, label="model")
+        ax.set_xlabel(f"displacement ux [{length[0]}]")
         ax.set_title(title, fontsize=9)
         ax.grid(alpha=0.3)
     axes[0].set_ylabel("friction force / normal load [-]")
@@ -122,10 +123,12 @@ def _baseline_simulation(result) -> dict:
     return {k: np.asarray(v) for k, v in simulated.items()}
 
 
-def write_report(result, directory, *, record_name: str = "record") -> pathlib.Path:
-    """Write `directory/report.md` (with the figures of `write_plots`) for a `DiscoveryResult`."""
+def write_report(result, directory, *, record_name: str = "record",
+                 length=("mm", 1e-3)) -> pathlib.Path:
+    """Write `directory/report.md` (with the figures of `write_plots`, displacements in
+    `length` = (unit name, its size in m)) for a `DiscoveryResult`."""
     directory = pathlib.Path(directory)
-    files = write_plots(result, directory)
+    files = write_plots(result, directory, length=length)
     data = result.data
     sim = _baseline_simulation(result)
     where = locate_residual(

@@ -14,7 +14,7 @@ from identification.discovery import BASELINES, EFFECT_NAMES, EFFECTS
 
 from ..units import INCH, parse_quantity
 from ._bearing_flags import add_save_bearing_flag, check_output_file, save_bearing_flag
-from ._common import add_quantity, read_bearing_record
+from ._common import add_quantity, add_units_flag, output_units, read_bearing_record
 
 _DIMENSIONS = {"-": "dimensionless", "m": "length", "s/m": "slowness"}
 
@@ -94,6 +94,7 @@ def add_diagnose_parser(subparsers) -> argparse.ArgumentParser:
     parser.add_argument("--quiet", "--no-progress", action="store_true",
                         help="no progress lines (--no-progress is the same flag, as in the other commands)")
     add_save_bearing_flag(parser)
+    add_units_flag(parser)
     parser.set_defaults(func=run_diagnose)
     return parser
 
@@ -137,7 +138,8 @@ def run_diagnose(args) -> int:
     document = result.to_json()
     args.json_path.parent.mkdir(parents=True, exist_ok=True)
     args.json_path.write_text(json.dumps(document, indent=2) + "\n")
-    report = write_report(result, args.report, record_name=args.record.name)
+    report = write_report(result, args.report, record_name=args.record.name,
+                          length=output_units(args.units).length)
     save_bearing_flag(args, result.bearing(), standard_errors=result.bearing_errors(),
                       sources=[args.record], fit=_fit_summary(result))
     stack = result.stack_check
