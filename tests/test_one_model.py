@@ -300,3 +300,14 @@ def test_simulate_test_runs_a_bearing_file(tmp_path, capsys):
     direct = tj.simulate_bearing_test(hot, tj.SineMotion(4 * INCH, 0.6, cycles=1), LOAD)
     np.testing.assert_allclose(record.fx, direct.fx, rtol=1e-6, atol=1e-6 * LOAD)
     assert float(record.metadata["contact_area"]) == pytest.approx(AREA / 3)
+
+
+def test_discovery_refuses_a_normal_load_that_puts_force_over_n_out_of_range():
+    """With N = 1 N every friction constant within its bounds (f_max <= 0.5) gives a force
+    near zero: refused, with a load that works."""
+    from identification.discovery import discover_effects
+
+    t, u, v, _ = sine_path()
+    record = tj.test_record_from_arrays(u, 2e3 * np.tanh(v / 1e-3), time=t, normal_load=1.0)
+    with pytest.raises(ValueError, match=r"force / normal load reaches .* --normal-load"):
+        discover_effects(record)

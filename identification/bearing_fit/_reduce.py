@@ -32,6 +32,8 @@ import math
 
 import numpy as np
 
+from teflon_jax.bearing import FrictionParameters, sliding_friction
+
 from ._plan import RELATIVE_ERROR_LIMIT, BearingFit
 
 FRICTION_LAW = ("f_max", "delta_f", "rate_a")
@@ -122,7 +124,7 @@ def reduce_friction_law(full: BearingFit, prepared, fixed: dict, refit) -> Beari
     highs = [p.speed_high for p in prepared if p.speed_high is not None]
     v_mid = math.sqrt(min(lows) * max(highs)) if lows else 0.0
     p = full.parameters
-    mu_mid = p["f_max"] - p["delta_f"] * math.exp(-rate_a * v_mid)
+    mu_mid = float(sliding_friction(FrictionParameters(p["f_max"], p["delta_f"], rate_a), v_mid))
     tried = []
     chosen = None
     for law, hold, what in steps:

@@ -81,13 +81,11 @@ class SlidingBearing(eqx.Module):
         """This bearing with its friction coefficient multiplied by `factor` [-] (f_max and
         delta_f of both directions; breakaway follows, as b (f_max - delta_f)): how a factor
         that does not depend on Z, held over a step, enters a structure's step."""
-        def times(f):
-            return FrictionParameters(f.f_max * factor, f.delta_f * factor, f.rate_a)
-
         perpendicular = self.friction_perpendicular
         return eqx.tree_at(
             lambda b: (b.friction, b.friction_perpendicular), self,
-            (times(self.friction), None if perpendicular is None else times(perpendicular)),
+            (self.friction.scaled(factor),
+             None if perpendicular is None else perpendicular.scaled(factor)),
             is_leaf=lambda x: x is None)
 
     def effect_factor(self, *, normal_load=None, temperature_rise=0.0, travel=0.0, z_x=0.0):

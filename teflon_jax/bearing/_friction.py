@@ -30,6 +30,12 @@ class FrictionParameters(eqx.Module):
         """Coefficient at vanishing velocity, f_max - delta_f [-]."""
         return self.f_max - self.delta_f
 
+    def scaled(self, factor) -> "FrictionParameters":
+        """The constants of `factor` times this friction coefficient at every velocity: f_max
+        and delta_f times `factor`, rate_a kept."""
+        return FrictionParameters(f_max=factor * self.f_max, delta_f=factor * self.delta_f,
+                                  rate_a=self.rate_a)
+
 
 def coulomb_friction(coefficient: ArrayLike) -> FrictionParameters:
     """Constant friction coefficient [-] as `FrictionParameters` (delta_f = 0)."""

@@ -36,7 +36,8 @@ def add_diagnose_parser(subparsers) -> argparse.ArgumentParser:
     parser.add_argument("record", type=pathlib.Path,
                         help="test-record CSV file or friction-damper JSON (the inputs of `fit`)")
     add_quantity(parser, "--normal-load", "force", None, "normal load for records without one "
-                 "(e.g. a friction damper); '1N' fits the force itself", minimum=0.0)
+                 "(e.g. a friction damper): one that puts force / N near 0.1, as the friction "
+                 "constants are bounded (f_max <= 0.5)", minimum=0.0)
     parser.add_argument(
         "--json",
         type=pathlib.Path,
@@ -101,7 +102,6 @@ def add_diagnose_parser(subparsers) -> argparse.ArgumentParser:
 
 def run_diagnose(args) -> int:
     """Run `diagnose` for parsed arguments; returns the exit status (0 ok, 2 bad input)."""
-    import numpy as np
 
     from identification.discovery import discover_effects, write_report
 
@@ -115,13 +115,7 @@ def run_diagnose(args) -> int:
     try:
         check_output_file(args.save_bearing, "--save-bearing")
         known = _parse_known(args.known)
-        record = read_bearing_record(args.record)
-        if record.normal_load is None:
-            if args.normal_load is None:
-                raise ValueError(f"{args.record}: the record has no normal load; give one with "
-                                 "--normal-load (e.g. --normal-load 1N fits the force itself).")
-            record = dataclasses.replace(
-                record, normal_load=np.full(np.shape(record.ux), float(args.normal_load)))
+        record = with_normal_load(read_bearing_record(args.record), args.record, args.normal_load)
         result = discover_effects(
             record,
             baseline=args.baseline,
@@ -156,6 +150,19 @@ def run_diagnose(args) -> int:
         + (f" and the bearing to {args.save_bearing}." if args.save_bearing else ".")
     )
     return 0
+
+
+def with_normal_load(record, path, normal_load):
+    """`record`, with the constant `normal_load` [N] (`--normal-load`) where it states none."""
+    import numpy as np
+
+    if record.normal_load is not None:
+        return record
+    if normal_load is None:
+        raise ValueError(f"{path}: the record has no normal load; give one with --normal-load: the "
+                         "load that presses the surfaces together, or one that puts force / N "
+                         "near 0.1 (e.g. ten times the typical force).")
+    return dataclasses.replace(record, normal_load=np.full(np.shape(record.ux), float(normal_load)))
 
 
 def _fit_summary(result) -> dict:

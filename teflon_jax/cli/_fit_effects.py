@@ -5,14 +5,12 @@ The model is Eq. 1 with Bouc-Wen plus the named optional parts (the effect names
 has the parameters with standard errors (SI), the nrmse and the convergence of the fit.
 """
 
-import dataclasses
 import json
 import sys
 
-import numpy as np
-
 from ._bearing_flags import check_output_file, save_bearing_flag
 from ._common import read_bearing_record, read_quantities
+from ._diagnose import with_normal_load
 
 
 def _effect_names(text: str) -> list[str]:
@@ -56,13 +54,8 @@ def run_fit_effects(args) -> int:
                 raise ValueError(f"{flag}: not available with --effects (every constant of the "
                                  "named parts is fitted; hold some with --fixed).")
         known = _known(args.fixed)
-        record = read_bearing_record(args.records[0])
-        if record.normal_load is None:
-            if args.normal_load is None:
-                raise ValueError(f"{args.records[0]}: the record has no normal load; give one "
-                                 "with --normal-load (e.g. --normal-load 1N fits the force).")
-            record = dataclasses.replace(
-                record, normal_load=np.full(np.shape(record.ux), float(args.normal_load)))
+        record = with_normal_load(read_bearing_record(args.records[0]), args.records[0],
+                                  args.normal_load)
         composition = ["velocity_dependence", *[e for e in effects if e != "velocity_dependence"]]
         result = discover_effects(record, baseline=tuple(composition), max_effects=0,
                                   known=known)

@@ -34,8 +34,9 @@ def check_property_factors(lower: float, upper: float) -> tuple[float, float]:
 
 def scaled_friction(params: FrictionParameters, factor: float) -> FrictionParameters:
     """The Eq. 1 constants of a bearing whose friction coefficient is `factor` times that of
-    `params` at every velocity: f_max and delta_f times `factor`, rate_a kept."""
-    return FrictionParameters(f_max=factor * params.f_max, delta_f=factor * params.delta_f, rate_a=params.rate_a)
+    `params` at every velocity: f_max and delta_f times `factor`, rate_a kept
+    (`FrictionParameters.scaled`)."""
+    return params.scaled(factor)
 
 
 def bounding_design(structure, *, lower: float, upper: float) -> dict:
