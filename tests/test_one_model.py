@@ -277,7 +277,7 @@ def test_bearing_flags_are_checked_before_any_work(tmp_path, capsys):
         (["montecarlo", "--motions", "5", "--bearing", str(good), "--pressure", "2000psi"],
          "--pressure: the bearing comes from --bearing"),
         (["montecarlo", "--motions", "5", "--bearing", str(hot)],
-         "the structures do not run its pressure_dependence, asymmetry, backlash"),
+         "the structures do not run its asymmetry, backlash"),
         (["diagnose", str(tmp_path / "r.csv"), "--json", str(tmp_path / "d.json"), "--report",
           str(tmp_path / "rep"), "--save-bearing", str(tmp_path)], "--save-bearing"),
     ]

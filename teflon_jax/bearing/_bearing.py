@@ -88,6 +88,15 @@ class SlidingBearing(eqx.Module):
              None if perpendicular is None else perpendicular.scaled(factor)),
             is_leaf=lambda x: x is None)
 
+    def at_contact_pressure(self, pressure):
+        """This bearing in a structure whose bearings carry contact pressure p [Pa]: its
+        pressure dependence, a constant factor at a constant load, folded into the friction
+        (`PressureDependence.factor_at_pressure`) and the part removed; itself without one."""
+        if self.pressure_dependence is None:
+            return self
+        factor = self.pressure_dependence.factor_at_pressure(pressure)
+        return eqx.tree_at(lambda b: b.pressure_dependence, self.scaled(factor), None)
+
     def effect_factor(self, *, normal_load=None, temperature_rise=0.0, travel=0.0, z_x=0.0):
         """Product of the optional factors on mu [-] (1 for a bearing without them).
 
@@ -227,6 +236,9 @@ def _check_parts(bearing: SlidingBearing) -> None:
         p = bearing.pressure_dependence
         require(p.exponent, np.isfinite, "pressure_dependence.exponent", "must be finite")
         require_positive(p.reference_load, "pressure_dependence.reference_load", " [N]")
+        if p.contact_area is not None:
+            require_positive(p.contact_area, "pressure_dependence.contact_area",
+                             " [m^2] (of the tested bearing)")
     if bearing.heating is not None:
         q = bearing.heating
         require_positive(q.contact_area, "heating.contact_area", " [m^2] (PTFE on the steel)")

@@ -82,15 +82,27 @@ class PressureDependence(eqx.Module):
         mu *= (N / N_ref)^(-exponent)
 
     **Fields:** `exponent` [-] (0: no dependence), `reference_load` N_ref [N] (the load at
-    which the friction constants hold).
+    which the friction constants hold), `contact_area` A [m^2] of the tested bearing, or `None`
+    when unknown: with it the factor at a contact pressure p is that at N = p A
+    (`factor_at_pressure`), which is how a structure given its bearings' pressure uses it.
     """
 
     exponent: ArrayLike
     reference_load: ArrayLike
+    contact_area: ArrayLike | None = None
 
     def factor(self, normal_load):
         """The factor [-] at normal load N [N]."""
         return jnp.exp(-self.exponent * jnp.log(normal_load / self.reference_load))
+
+    def factor_at_pressure(self, pressure):
+        """The factor [-] at contact pressure p [Pa]: `factor(p A)`; `ValueError` without A."""
+        if self.contact_area is None:
+            raise ValueError(
+                "pressure_dependence: a structure gives its bearings' contact pressure, and the "
+                "factor (N / N_ref)^-exponent needs the tested bearing's contact_area to turn it "
+                "into a load; add parts.pressure_dependence.contact_area to the bearing file.")
+        return self.factor(pressure * self.contact_area)
 
 
 class Wear(eqx.Module):

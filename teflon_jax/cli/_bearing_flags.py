@@ -43,7 +43,8 @@ def check_output_file(path, flag: str) -> None:
 def read_bearing_flag(args):
     """The `SlidingBearing` of `--bearing FILE`, or `None` when not given. A bearing flag that
     differs from its default as well is refused (the file says what the bearing is), except
-    `--pressure` for a bearing with heating: the bearings' contact pressure in the structure."""
+    `--pressure` for a bearing with heating or pressure dependence: the bearings' contact
+    pressure in the structure."""
     from ..formats import load_bearing
 
     if getattr(args, "bearing", None) is None:
@@ -52,7 +53,8 @@ def read_bearing_flag(args):
         bearing = load_bearing(args.bearing)
     except ValueError as error:
         raise ValueError(f"--bearing {error}") from None
-    allowed = {"pressure"} if bearing.heating is not None else set()
+    allowed = ({"pressure"} if bearing.heating is not None or bearing.pressure_dependence
+               is not None else set())
     defaults = getattr(args, "bearing_option_defaults", {})
     for name, default in defaults.items():
         given = getattr(args, name + "_text", getattr(args, name, default))
@@ -61,7 +63,8 @@ def read_bearing_flag(args):
             raise ValueError(f"{flag}: the bearing comes from --bearing {args.bearing}; leave "
                              f"{flag} out (or edit the bearing file)"
                              + (" (--pressure is the contact pressure of a bearing with "
-                                "heating)." if name == "pressure" else "."))
+                                "heating or pressure dependence)." if name == "pressure"
+                                else "."))
     return bearing
 
 

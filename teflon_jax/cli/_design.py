@@ -62,8 +62,8 @@ def add_design_parser(subparsers) -> argparse.ArgumentParser:
                         help="design points per compiled call, a task with --scheduler (default 16); "
                         "the same N gives the same sweep bit for bit here and on a cluster")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
-    add_bearing_flag(parser, replaces="--ptfe's Table 1 rows; the bearing needs a heating part, "
-                     "whose contact pressure --pressure-range then spans")
+    add_bearing_flag(parser, replaces="--ptfe's Table 1 rows; the bearing needs a heating or "
+                     "pressure-dependence part, whose contact pressure --pressure-range then spans")
     parser.set_defaults(command_function=run_design)
     return parser
 
@@ -168,14 +168,15 @@ def run_design(args) -> int:
 
 def _design_bearing(args):
     """The bearing of `--bearing FILE` (or None): design varies the isolation period and the
-    contact pressure, which changes a given bearing only through its heating."""
+    contact pressure, which changes a given bearing only through its heating or pressure
+    dependence."""
     bearing = read_bearing_flag(args)
-    if bearing is not None and bearing.heating is None:
+    if bearing is not None and bearing.heating is None and bearing.pressure_dependence is None:
         raise ValueError(
             f"--bearing {args.bearing}: design varies the isolation period and the contact "
-            "pressure, and the contact pressure changes this bearing nowhere (it has no heating "
-            "part); run montecarlo --bearing over the periods you consider, or design with "
-            "Table 1 (--ptfe).")
+            "pressure, and the contact pressure changes this bearing nowhere (it has neither "
+            "heating nor pressure dependence); run montecarlo --bearing over the periods you "
+            "consider, or design with Table 1 (--ptfe).")
     return bearing
 
 

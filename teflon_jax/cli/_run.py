@@ -179,13 +179,19 @@ def _bearing(args, ptfe, pressure_text, flag):
     from ..tables import interface_parameters
 
     from_file = read_bearing_flag(args)
+    pressure = parse_quantity(pressure_text, "pressure", where=flag)
     if from_file is not None:
-        try:
-            check_structure_bearing(from_file)
+        if not pressure > 0:
+            raise ValueError(f"{flag}: must be > 0, got {pressure_text}.")
+        if pressure_text != args.pressure and from_file.pressure_dependence is None:
+            raise ValueError(f"{flag}: a group's pressure changes a bearing from --bearing "
+                             "only through its pressure dependence, and this one has none; "
+                             "leave the group's pressure out.")
+        try:  # a pressure dependence is taken at the contact pressure of these bearings
+            check_structure_bearing(from_file, pressure)
         except ValueError as error:
             raise ValueError(f"--bearing {args.bearing}: {error}") from None
-        return from_file
-    pressure = parse_quantity(pressure_text, "pressure", where=flag)
+        return from_file.at_contact_pressure(pressure)
     check_table1(ptfe, pressure, pressure_text, flag)
     try:
         params, table_b = interface_parameters(ptfe.upper(), pressure, "P")

@@ -11,7 +11,8 @@ A JSON object (format version 1):
 
 Every constant is an object with `value`, `unit` (`"1"` for a ratio) and optionally
 `standard_error` (same unit). `friction` and `hysteresis` are required; every other part is
-optional, and a part that is present lists all its constants (nothing is defaulted). The
+optional, and a part that is present lists all its constants (nothing is defaulted) except
+those in `OPTIONAL_CONSTANTS`. The
 parts and their constants are `BEARING_PARTS`. Written in SI; read in any unit of the right
 kind (`s/in`, `in`, `kip`, `in^2`, ...).
 """
@@ -46,7 +47,8 @@ BEARING_PARTS = {
                    "gamma": "dimensionless", "eta": "dimensionless"},
     "breakaway": {"ratio": "dimensionless"},
     "stack": {"interfaces_in_series": "dimensionless"},
-    "pressure_dependence": {"exponent": "dimensionless", "reference_load": "force"},
+    "pressure_dependence": {"exponent": "dimensionless", "reference_load": "force",
+                            "contact_area": "area"},
     "heating": {"contact_area": "area", "heat_scale": "dimensionless",
                 "conductivity": "thermal conductivity", "diffusivity": "diffusivity",
                 "initial_temperature": "temperature"},
@@ -55,6 +57,10 @@ BEARING_PARTS = {
     "backlash": {"gap": "length"},
 }
 """Part -> constant -> kind of quantity. `friction` and `hysteresis` are required."""
+
+OPTIONAL_CONSTANTS = {("pressure_dependence", "contact_area")}
+"""Constants a part may leave out (the model then does without them and says so where one is
+needed): the tested bearing's contact area, which a structure needs to use pressure dependence."""
 
 REQUIRED_PARTS = ("friction", "hysteresis")
 
@@ -126,11 +132,13 @@ def _read_parts(parts, where):
         if extra:
             raise ValueError(f"{at}: unknown constant(s) {extra}; {name} has "
                              f"{', '.join(expected)}.")
-        missing = [key for key in expected if key not in part]
+        missing = [key for key in expected if key not in part
+                   and (name, key) not in OPTIONAL_CONSTANTS]
         if missing:
             raise ValueError(f"{at}: missing constant(s) {missing}; nothing is defaulted.")
         for key, kind in expected.items():
-            values[name, key], errors[name, key] = _constant(part[key], kind, f"{at}.{key}")
+            if key in part:
+                values[name, key], errors[name, key] = _constant(part[key], kind, f"{at}.{key}")
     return values, errors
 
 
@@ -141,7 +149,8 @@ def _bearing_from_values(v) -> SlidingBearing:
     def part(name, build):
         if (name, next(iter(BEARING_PARTS[name]))) not in v:
             return None
-        return build(**{k: jnp.asarray(v[name, k]) for k in BEARING_PARTS[name]})
+        return build(**{k: jnp.asarray(v[name, k]) for k in BEARING_PARTS[name]
+                        if (name, k) in v})
 
     series = v.get(("stack", "interfaces_in_series"), 1.0)
     if series != int(series) or series < 1:
@@ -156,8 +165,7 @@ def _bearing_from_values(v) -> SlidingBearing:
         n_interfaces=int(series),
         lay_angle=jnp.asarray(v["lay", "angle"]) if ("lay", "angle") in v else None,
         pressure_dependence=part("pressure_dependence",
-                                 lambda exponent, reference_load: PressureDependence(
-                                     exponent, reference_load)),
+                                 lambda **c: PressureDependence(**c)),
         heating=part("heating", lambda **c: FrictionalHeating(**c)),
         wear=part("wear", lambda change, reference_travel: Wear(change, reference_travel)),
         asymmetry=part("asymmetry", lambda asymmetry: DirectionAsymmetry(asymmetry)),
@@ -253,7 +261,8 @@ def bearing_to_dict(bearing: SlidingBearing, *, standard_errors=None, sources=()
     put("stack", {"interfaces_in_series": bearing.n_interfaces})
     for name in bearing.effects:
         module = getattr(bearing, name)
-        put(name, {key: getattr(module, key) for key in BEARING_PARTS[name]})
+        put(name, {key: getattr(module, key) for key in BEARING_PARTS[name]
+                   if getattr(module, key) is not None})
     return {"format": FORMAT_NAME, "format_version": FORMAT_VERSION,
             "teflon_jax_version": _version(), "parts": parts,
             "sources": [str(s) for s in sources], **({"fit": fit} if fit is not None else {})}

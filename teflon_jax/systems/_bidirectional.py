@@ -46,6 +46,7 @@ from ._block_algebra import (
     small_dot,
     solve_blocks,
 )
+from ._structure_build import PRESSURE_HINT
 
 NEWTON_ITERATIONS = 100
 """Most iterations per step, all kinds together (fixed, Broyden loop, finite-difference Newton
@@ -378,7 +379,8 @@ def bidirectional_structure(
         raise ValueError(
             f"bearing: the structures in two directions do not run its "
             f"{', '.join(bearing.effects)} (they run Eq. 1 at the resultant speed, Park's Z, "
-            "breakaway, anisotropy and stacks; one direction also runs heating and wear).")
+            "breakaway, anisotropy and stacks; one direction also runs heating and wear)"
+            + (PRESSURE_HINT if "pressure_dependence" in bearing.effects else "."))
     bearing = jax.tree_util.tree_map(
         lambda leaf: jnp.broadcast_to(jnp.asarray(leaf, dtype=float), (groups,)), bearing
     )

@@ -123,7 +123,8 @@ class IsolatedStructure(eqx.Module):
                 f"design: unknown variable(s) {unknown}; accepted: {', '.join(DESIGN_VARIABLES)}."
             )
         if self.bearing is not None:
-            bearing = self._given_bearing(design)
+            bearing = self._given_bearing(design).at_contact_pressure(
+                design.get("pressure", self.pressure))
         else:
             pressure = design.get("pressure", self.pressure)
             params, b = self.table().at(pressure)
@@ -139,17 +140,25 @@ class IsolatedStructure(eqx.Module):
         return bearing, period, damping
 
     def contact_pressure(self, design=None):
-        """The bearings' contact pressure [Pa] for a bearing with heating (else None)."""
+        """The bearings' contact pressure [Pa] for a bearing with heating (else None; a
+        pressure dependence is folded into the bearing by `isolation`)."""
         if self.bearing is None or self.bearing.heating is None:
             return None
         return (design or {}).get("pressure", self.pressure)
 
+    @property
+    def pressure_matters(self) -> bool:
+        """Whether the contact pressure changes the response: always for Table 1's bearings,
+        for a given bearing through its heating or pressure dependence."""
+        b = self.bearing
+        return b is None or b.heating is not None or b.pressure_dependence is not None
+
     def _given_bearing(self, design):
         """`bearing` with the design's friction constants in place of its own."""
-        if "pressure" in design and self.bearing.heating is None:
+        if "pressure" in design and not self.pressure_matters:
             raise ValueError("design: 'pressure' picks a Table 1 row; this structure runs a given "
-                             "bearing without heating (set f_max, delta_f, rate_a or "
-                             "breakaway_ratio instead).")
+                             "bearing without heating or pressure dependence (set f_max, delta_f, "
+                             "rate_a or breakaway_ratio instead).")
         f = self.bearing.friction
         friction = FrictionParameters(
             f_max=design.get("f_max", f.f_max),
@@ -247,8 +256,8 @@ def isolated_structure(
         bearing=bearing,
     )
     if bearing is not None:
-        check_structure_bearing(bearing)
         require_positive(pressure, "pressure", " [Pa] (the bearings' contact pressure)")
+        check_structure_bearing(bearing, pressure)
         return _checked_isolation(structure, kind, isolation_period, isolation_damping)
     check_design(structure, {"pressure": pressure})
     return _checked_isolation(structure, kind, isolation_period, isolation_damping)
@@ -263,13 +272,16 @@ def _checked_isolation(structure, kind, isolation_period, isolation_damping):
     return structure
 
 
-def check_structure_bearing(bearing: SlidingBearing) -> None:
+def check_structure_bearing(bearing: SlidingBearing, pressure=1.0) -> None:
     """`check_bearing`, and a `ValueError` naming the optional parts of `bearing` the
-    structures do not run (`STRUCTURE_EFFECTS`)."""
+    structures do not run (`STRUCTURE_EFFECTS`, and pressure dependence when the bearing
+    cannot take it at a contact pressure: `SlidingBearing.at_contact_pressure`)."""
     from ..bearing import check_bearing
 
     check_bearing(bearing)
-    check_structure_parts(bearing)
+    check_structure_parts(eqx.tree_at(lambda b: b.pressure_dependence, bearing, None,
+                                      is_leaf=lambda x: x is None))
+    bearing.at_contact_pressure(pressure)  # a pressure dependence needs the contact area
 
 
 def design_ranges(structure: IsolatedStructure) -> dict[str, tuple[float, float]]:
@@ -279,7 +291,7 @@ def design_ranges(structure: IsolatedStructure) -> dict[str, tuple[float, float]
     if structure.bearing is None:
         pressures = np.asarray(structure.table().pressures)
         pressure = (float(pressures[0]), float(pressures[-1]))
-    else:  # a given bearing's contact pressure (it matters through its heating)
+    else:  # a given bearing's contact pressure (through its heating or pressure dependence)
         pressure = (1.0, math.inf)
     return {
         "isolation_period": (1e-3, math.inf),

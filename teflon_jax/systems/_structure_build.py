@@ -91,7 +91,13 @@ def check_structure_parts(bearing: SlidingBearing) -> None:
         raise ValueError(
             f"bearing: the structures do not run its {', '.join(other)} (they run Eq. 1, "
             f"breakaway, anisotropy, stacks, {' and '.join(STRUCTURE_EFFECTS)}); simulate the "
-            "bearing test with `simulate-test --bearing`, or fit without these effects.")
+            "bearing test with `simulate-test --bearing`, or fit without these effects"
+            + (PRESSURE_HINT if "pressure_dependence" in other else "."))
+
+
+PRESSURE_HINT = ("; a pressure dependence is a constant factor at the bearings' contact "
+                 "pressure p: give the structure `bearing.at_contact_pressure(p)` (the "
+                 "isolated structures and the commands do this with their pressure).")
 
 
 def _heat_kernel(bearing, friction_model, contact_pressure, time_step):
