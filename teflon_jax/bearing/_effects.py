@@ -181,9 +181,10 @@ class FrictionalHeating(eqx.Module):
         return decay * heat_states + flux * (1.0 - decay) / rates
 
     def rise(self, heat_states, weights):
-        """Unscaled surface temperature rise dT = C sum_j w_j s_j [K]."""
+        """Unscaled surface temperature rise dT = C sum_j w_j s_j [K] (states along the last
+        axis)."""
         coefficient = surface_temperature_coefficient(self.conductivity, self.diffusivity)
-        return coefficient * jnp.dot(weights, heat_states)
+        return coefficient * jnp.sum(weights * heat_states, axis=-1)
 
 
 class Backlash(eqx.Module):

@@ -183,10 +183,11 @@ def _bearing(args, ptfe, pressure_text, flag):
     if from_file is not None:
         if not pressure > 0:
             raise ValueError(f"{flag}: must be > 0, got {pressure_text}.")
-        if pressure_text != args.pressure and from_file.pressure_dependence is None:
+        if (pressure_text != args.pressure and from_file.pressure_dependence is None
+                and from_file.heating is None):
             raise ValueError(f"{flag}: a group's pressure changes a bearing from --bearing "
-                             "only through its pressure dependence, and this one has none; "
-                             "leave the group's pressure out.")
+                             "only through its pressure dependence or heating, and this one "
+                             "has neither; leave the group's pressure out.")
         try:  # a pressure dependence is taken at the contact pressure of these bearings
             check_structure_bearing(from_file, pressure)
         except ValueError as error:
@@ -240,6 +241,7 @@ def build_structure(args, ax, ay, dt):
     damping = 0.0 if args.isolation_damping is None else _fraction(args.isolation_damping, "--isolation-damping")
     if damping > 0 and period is None:
         raise ValueError("--isolation-damping: dampers need springs; give --isolation-period too.")
+    pressure = parse_quantity(args.pressure, "pressure", where="--pressure")  # heating's p
     if args.structure != "slab" and args.plan is not None:
         raise ValueError("--plan: only used with --structure slab.")
     if args.structure == "rigid":
@@ -249,14 +251,14 @@ def build_structure(args, ax, ay, dt):
         return bidirectional_rigid_mass(
             weight=weight, bearing=_bearing(args, args.ptfe, args.pressure, "--pressure"),
             ground_x=gx, ground_y=gy, time_step=time_step, isolation_period=period,
-            damping_ratio=damping), {}
+            damping_ratio=damping, contact_pressure=pressure), {}
     if args.structure == "building":
         if period is None:
             raise ValueError("--isolation-period: the building needs its springs (Fig. 11: 0.2-4 s), e.g. 2.5s.")
         return bidirectional_building(
             bearing=_bearing(args, args.ptfe, args.pressure, "--pressure"), ground_x=gx,
             ground_y=gy, time_step=time_step, isolation_period=period,
-            isolation_damping=damping), {}
+            isolation_damping=damping, contact_pressure=pressure), {}
     if args.plan is None:
         raise ValueError("--plan: --structure slab needs a plan file (bearing groups and loads).")
     plan = read_plan(args.plan)
@@ -270,7 +272,9 @@ def build_structure(args, ax, ay, dt):
         centre_of_mass=plan["centre_of_mass"], positions=[(g["x"], g["y"]) for g in groups],
         bearings=bearings, loads=[g["load"] for g in groups], ground_x=gx, ground_y=gy,
         time_step=time_step, isolation_period=period, isolation_damping=damping,
-        spring_shares=[g["springs"] for g in groups], names=[g["name"] for g in groups])
+        spring_shares=[g["springs"] for g in groups], names=[g["name"] for g in groups],
+        contact_pressures=[parse_quantity(g["pressure"] or args.pressure, "pressure",
+                                          where=f"--plan {g['name']}") for g in groups])
     return system, plan
 
 

@@ -78,11 +78,13 @@ class BidirectionalIsolatedStructure(eqx.Module):
                 weight=s.weight, bearing=bearing, ground_x=ground_x, ground_y=ground_y,
                 time_step=s.time_step, isolation_period=period,
                 damping_ratio=damping if period is not None else 0.0,
+                contact_pressure=s.contact_pressure(design),
             )
         else:
             system = bidirectional_building(
                 bearing=bearing, ground_x=ground_x, ground_y=ground_y, time_step=s.time_step,
                 isolation_period=period, isolation_damping=damping,
+                contact_pressure=s.contact_pressure(design),
             )
         if self.newton_iterations is not None:
             system = dataclasses.replace(system, newton_iterations=self.newton_iterations)
@@ -101,13 +103,13 @@ def bidirectional_isolated_structure(kind: str = "rigid", **options) -> Bidirect
         )
     bearing = options.get("bearing")
     # A pressure dependence is a constant factor at the structure's contact pressure, folded
-    # into the friction by `IsolatedStructure.isolation`; the other parts need the state of one
-    # component.
-    other = [] if bearing is None else [e for e in bearing.effects if e != "pressure_dependence"]
+    # into the friction by `IsolatedStructure.isolation`; heating and wear are carried as state.
+    other = [] if bearing is None else [e for e in bearing.effects
+                                        if e not in ("pressure_dependence", "heating", "wear")]
     if other:
         raise ValueError(
-            f"bearing: two ground components do not run its {', '.join(other)} (heating "
-            "and wear run with one component); run one component, or a bearing without them.")
+            f"bearing: two ground components do not run its {', '.join(other)}; run a bearing "
+            "without them (simulate its test with `simulate-test --bearing`).")
     if options.get("time_step") is None:  # the uniaxial default steps are not the bidirectional one
         options = {**options, "time_step": BIDIRECTIONAL_TIME_STEP}
     newton_iterations = options.get("newton_iterations")

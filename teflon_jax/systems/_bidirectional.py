@@ -23,19 +23,16 @@ run only while one of them is). A member within tolerance keeps its iterate. A s
 not converge is reported per batch member.
 """
 
-import diffrax
 import equinox as eqx
 import jax
 import jax.numpy as jnp
 
-from ..bearing import SlidingBearing, park_rate
+from ..bearing import SlidingBearing, heat_kernel_exponentials, park_rate
 from ..excitation import Signal
 from ..solver import (
     AbstractSteppedSystem,
-    RiccatiNewmark,
     park_exact_update,
     require_riccati_form,
-    solve_on_grid,
 )
 from ._bearing_test import running_peak_rate
 from ._block_algebra import (
@@ -46,7 +43,8 @@ from ._block_algebra import (
     small_dot,
     solve_blocks,
 )
-from ._structure_build import PRESSURE_HINT
+from ._history import has_history, history_factor, history_rates, next_history
+from ._structure_build import HEAT_HORIZON, PRESSURE_HINT
 
 NEWTON_ITERATIONS = 100
 """Most iterations per step, all kinds together (fixed, Broyden loop, finite-difference Newton
@@ -77,7 +75,10 @@ class BidirectionalStructure(AbstractSteppedSystem):
     array leaves have shape (G,) (one set of constants per group); `bearing_load` W_g (G,) [N];
     `ground_x`, `ground_y`: `Signal`s of the ground acceleration [m/s^2]; `newmark_inverse`
     K_eff^-1 for `time_step` [s] (static); `newton_iterations`, `newton_tolerance` (static,
-    in units of Y; 0: to rounding).
+    in units of Y; 0: to rounding); for a bearing with heating or wear (`_history.py`):
+    `contact_pressure` (G,) [Pa] and the heat kernel's `heat_rates`, `heat_weights` (K,),
+    with the state "heat" (G, K) and "travel" (G,) [m] of each group, their factor on mu
+    taken at the start of each step and held over it.
     """
 
     mass: jnp.ndarray
@@ -93,6 +94,26 @@ class BidirectionalStructure(AbstractSteppedSystem):
     time_step: float = eqx.field(static=True)
     newton_iterations: int = eqx.field(static=True, default=NEWTON_ITERATIONS)
     newton_tolerance: float = eqx.field(static=True, default=NEWTON_TOLERANCE)
+    contact_pressure: jnp.ndarray | None = None
+    heat_rates: jnp.ndarray | None = None
+    heat_weights: jnp.ndarray | None = None
+
+    @property
+    def history(self) -> bool:
+        """True when the bearing's friction depends on the history (heating, wear)."""
+        return has_history(self.bearing)
+
+    def at_state(self, y) -> "BidirectionalStructure":
+        """This structure with each group's friction at the temperature and travel of state
+        `y` (itself for a bearing without history)."""
+        if not self.history:
+            return self
+        factor = history_factor(self.bearing, y["heat"], y["travel"], self.heat_weights)
+        return eqx.tree_at(lambda s: s.bearing, self, self.bearing.scaled(factor))
+
+    def bearing_forces(self, y):
+        """F_g (G, 2) [N] of state `y` (`friction_forces` at its velocities and history)."""
+        return self.at_state(y).friction_forces(self.bearing_motion(y["v"]), y["z"], y["z_peak"])
 
     def ground(self, t):
         """(a_x, a_y) [m/s^2] at time t."""
@@ -116,7 +137,7 @@ class BidirectionalStructure(AbstractSteppedSystem):
 
     def acceleration_at(self, ground, y):
         """Acceleration [m/s^2 or rad/s^2] of state `y` under ground acceleration `ground` (2,)."""
-        forces = self.friction_forces(self.bearing_motion(y["v"]), y["z"], y["z_peak"])
+        forces = self.bearing_forces(y)
         restoring = jnp.sum(self.bearing_map * forces[..., None], axis=(0, 1))
         total = self._load(ground) - small_dot(self.damping, y["v"]) - small_dot(self.stiffness, y["q"]) - restoring
         return total / self.mass
@@ -126,12 +147,18 @@ class BidirectionalStructure(AbstractSteppedSystem):
         dz = park_rate(self.bearing.hysteresis, y["z"], velocity)
         z_abs = jnp.sqrt(jnp.sum(y["z"] ** 2, axis=-1) + 1e-300)
         z_abs_rate = jnp.sum(y["z"] * dz, axis=-1) / z_abs
-        return {
+        rates = {
             "q": y["v"],
             "v": self._acceleration(t, y),
             "z": dz,
             "z_peak": running_peak_rate(z_abs, y["z_peak"], z_abs_rate),
         }
+        if self.history:
+            speed = jnp.sqrt(jnp.sum(velocity**2, axis=-1))
+            mu = self.at_state(y).bearing.coefficient(velocity[:, 0], velocity[:, 1], y["z_peak"])
+            rates["heat"], rates["travel"] = history_rates(
+                self.bearing, y["heat"], mu, self.contact_pressure, speed, self.heat_rates)
+        return rates
 
     def advance(self, t0, t1, y0, args):
         return self.newmark_step(t0, t1, y0, self._acceleration(t0, y0))
@@ -150,7 +177,21 @@ class BidirectionalStructure(AbstractSteppedSystem):
     def newmark_update(self, y0, a0, ground1):
         """One step of `time_step` from state `y0` with acceleration `a0`, given the ground
         acceleration `ground1` (a_x, a_y) [m/s^2] at its end (a loop over a grid of steps can
-        evaluate the record at all of them at once, outside the loop)."""
+        evaluate the record at all of them at once, outside the loop). A bearing with history
+        steps with its friction at the start of the step, then advances its heat and travel."""
+        if not self.history:
+            return self._update(y0, a0, ground1)
+        stepped = self.at_state(y0)
+        y1, converged = stepped._update(y0, a0, ground1)
+        d0, d1, v0 = (self.bearing_motion(y0["q"]), self.bearing_motion(y1["q"]),
+                      self.bearing_motion(y0["v"]))
+        slide = jnp.sqrt(jnp.sum((d1 - d0) ** 2, axis=-1))
+        mu0 = stepped.bearing.coefficient(v0[:, 0], v0[:, 1], y0["z_peak"])
+        heat, travel = next_history(self.bearing, y0["heat"], y0["travel"], slide, mu0,
+                                    self.contact_pressure, self.time_step, self.heat_rates)
+        return {**y1, "heat": heat, "travel": travel}, converged
+
+    def _update(self, y0, a0, ground1):
         dt = self.time_step
         m, q0, v0 = self.mass, y0["q"], y0["v"]
         rhs = self._load(ground1) + m * (4 / dt**2 * q0 + 4 / dt * v0 + a0) + small_dot(self.damping, 2 / dt * q0 + v0)
@@ -359,10 +400,12 @@ def bidirectional_structure(
     ground_y: Signal,
     time_step: float,
     newton_iterations: int = NEWTON_ITERATIONS,
+    contact_pressure=None,
 ) -> BidirectionalStructure:
     """Build a `BidirectionalStructure`, checking shapes and prefactoring Newmark's matrix
     K_eff = K + (2/dt) C + (4/dt^2) M for `time_step` [s]. Bearing constants are broadcast to
-    one per group."""
+    one per group; a bearing with heating needs `contact_pressure` [Pa] (one, or one per
+    group)."""
     mass = jnp.asarray(mass, dtype=float)
     n = mass.shape[0]
     bearing_map = jnp.asarray(bearing_map, dtype=float)
@@ -375,12 +418,21 @@ def bidirectional_structure(
     if not time_step > 0:
         raise ValueError(f"time_step: must be > 0 s, got {time_step}.")
     require_riccati_form(bearing.hysteresis)
-    if bearing.effects:
+    other = [name for name in bearing.effects if name not in ("heating", "wear")]
+    if other:
         raise ValueError(
             f"bearing: the structures in two directions do not run its "
-            f"{', '.join(bearing.effects)} (they run Eq. 1 at the resultant speed, Park's Z, "
-            "breakaway, anisotropy and stacks; one direction also runs heating and wear)"
-            + (PRESSURE_HINT if "pressure_dependence" in bearing.effects else "."))
+            f"{', '.join(other)} (they run Eq. 1 at the resultant speed, Park's Z, "
+            "breakaway, anisotropy, stacks, heating and wear)"
+            + (PRESSURE_HINT if "pressure_dependence" in other else "."))
+    rates = weights = None
+    if bearing.heating is not None:
+        if contact_pressure is None:
+            raise ValueError("contact_pressure: a bearing with heating needs the contact pressure "
+                             "[Pa] of the bearings (the heat flux is mu p |v|).")
+        rates, weights = (jnp.asarray(a) for a in heat_kernel_exponentials(float(time_step),
+                                                                           HEAT_HORIZON))
+        contact_pressure = jnp.broadcast_to(jnp.asarray(contact_pressure, float), (groups,))
     bearing = jax.tree_util.tree_map(
         lambda leaf: jnp.broadcast_to(jnp.asarray(leaf, dtype=float), (groups,)), bearing
     )
@@ -400,85 +452,18 @@ def bidirectional_structure(
         newmark_inverse=jnp.linalg.inv(k_eff),
         time_step=float(time_step),
         newton_iterations=int(newton_iterations),
+        contact_pressure=contact_pressure if bearing.heating is not None else None,
+        heat_rates=rates,
+        heat_weights=weights,
     )
 
 
 def bidirectional_initial_state(system: BidirectionalStructure) -> dict:
-    """At rest relative to the ground, Z = 0 in every group."""
+    """At rest relative to the ground, Z = 0 in every group (and cold, unworn bearings)."""
     n, groups = system.mass.shape[0], system.bearing_load.shape[0]
-    return {"q": jnp.zeros(n), "v": jnp.zeros(n), "z": jnp.zeros((groups, 2)), "z_peak": jnp.zeros(groups)}
-
-
-class BidirectionalResponse(eqx.Module):
-    """Histories of a `BidirectionalStructure` (SI; time along the first axis).
-
-    - `time` (nt,) [s]; `q`, `v` (nt, N) relative coordinates and velocities;
-    - `acceleration` (nt, N) relative accelerations; `ground` (nt, 2) [m/s^2];
-    - `bearing_displacement` (nt, G, 2) [m]; `friction_force` (nt, G, 2) [N];
-    - `z` (nt, G, 2) [-]; `z_peak` (nt, G) [-]; `result`: `diffrax.RESULTS` (0 = successful).
-    """
-
-    time: jnp.ndarray
-    q: jnp.ndarray
-    v: jnp.ndarray
-    acceleration: jnp.ndarray
-    ground: jnp.ndarray
-    bearing_displacement: jnp.ndarray
-    friction_force: jnp.ndarray
-    z: jnp.ndarray
-    z_peak: jnp.ndarray
-    result: object
-
-    @property
-    def succeeded(self):
-        return self.result == diffrax.RESULTS.successful
-
-
-def simulate_bidirectional(
-    system: BidirectionalStructure,
-    duration: float,
-    *,
-    save_every: int = 1,
-    solver=None,
-    rtol: float = 1e-8,
-    atol: float = 1e-10,
-    max_steps: int | None = None,
-    throw: bool = True,
-) -> BidirectionalResponse:
-    """Integrate a `BidirectionalStructure` from rest over `duration` [s].
-
-    **Arguments:** `solver`: `RiccatiNewmark()` (default, fixed step `system.time_step`) or an
-    adaptive diffrax solver (e.g. `diffrax.Tsit5()` with `rtol`, `atol`) for reference
-    solutions; `save_every`: keep every k-th step; `throw`: raise on solver failure (with
-    `False`, e.g. under `vmap`, the outcome of each member is in `result`).
-    """
-    dt = float(system.time_step)
-    n_steps = int(round(duration / dt + 1e-9))
-    if n_steps < 1:
-        raise ValueError(f"duration: must be at least one time step ({dt} s), got {duration}.")
-    steps = jnp.arange(n_steps + 1) * dt
-    save_times = steps[::save_every]
-    solver = RiccatiNewmark() if solver is None else solver
-    solution = solve_on_grid(
-        system, solver, steps, save_times, bidirectional_initial_state(system),
-        jump_times=jnp.concatenate([system.ground_x.times, system.ground_y.times]),
-        rtol=rtol, atol=atol, max_steps=max_steps, throw=throw, adaptive_steps_per_step=200,
-    )
-    ys = solution.ys
-    ground = jax.vmap(system.ground)(save_times)
-    acceleration = jax.vmap(system._acceleration)(save_times, ys)
-    bearing_d = jax.vmap(system.bearing_motion)(ys["q"])
-    bearing_v = jax.vmap(system.bearing_motion)(ys["v"])
-    forces = jax.vmap(system.friction_forces)(bearing_v, ys["z"], ys["z_peak"])
-    return BidirectionalResponse(
-        time=save_times,
-        q=ys["q"],
-        v=ys["v"],
-        acceleration=acceleration,
-        ground=ground,
-        bearing_displacement=bearing_d,
-        friction_force=forces,
-        z=ys["z"],
-        z_peak=ys["z_peak"],
-        result=solution.result,
-    )
+    state = {"q": jnp.zeros(n), "v": jnp.zeros(n), "z": jnp.zeros((groups, 2)),
+             "z_peak": jnp.zeros(groups)}
+    if system.history:
+        n_heat = 0 if system.heat_rates is None else system.heat_rates.shape[0]
+        state.update(heat=jnp.zeros((groups, n_heat)), travel=jnp.zeros(groups))
+    return state

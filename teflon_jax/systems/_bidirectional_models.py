@@ -31,7 +31,8 @@ def _block(a, b):
     return out.at[:n, :n].set(a).at[n:, n:].set(b)
 
 
-def _two_directions(x, y, bearing, ground_x, ground_y, time_step) -> BidirectionalStructure:
+def _two_directions(x, y, bearing, ground_x, ground_y, time_step,
+                    contact_pressure=None) -> BidirectionalStructure:
     n = x.mass.shape[0]
     influence = np.zeros((2 * n, 2))
     influence[:n, 0] = 1.0
@@ -50,6 +51,7 @@ def _two_directions(x, y, bearing, ground_x, ground_y, time_step) -> Bidirection
         ground_x=ground_x,
         ground_y=_zero_signal(ground_x) if ground_y is None else ground_y,
         time_step=time_step,
+        contact_pressure=contact_pressure,
     )
 
 
@@ -62,6 +64,7 @@ def bidirectional_rigid_mass(
     time_step: float,
     isolation_period=None,
     damping_ratio=0.0,
+    contact_pressure=None,
 ) -> BidirectionalStructure:
     """A rigid mass W/g on sliding bearings under (a_x, a_y) (TASS-type system with springs):
 
@@ -72,7 +75,8 @@ def bidirectional_rigid_mass(
 
     **Arguments:** `weight` W [N]; `bearing`: `SlidingBearing` (x = parallel to the lay when
     it has `friction_perpendicular`); `ground_x`, `ground_y`: `Signal`s [m/s^2] (y `None` = no
-    y motion); `time_step` [s] of `RiccatiNewmark`.
+    y motion); `time_step` [s] of `RiccatiNewmark`; `contact_pressure` [Pa] of the bearings
+    (for a bearing with heating).
 
     **Returns:** a `BidirectionalStructure` with q = (u_x, u_y).
     """
@@ -85,7 +89,7 @@ def bidirectional_rigid_mass(
         damping_ratio=damping_ratio,
         friction_model="none",
     )
-    return _two_directions(one, one, bearing, ground_x, ground_y, time_step)
+    return _two_directions(one, one, bearing, ground_x, ground_y, time_step, contact_pressure)
 
 
 def bidirectional_building(
@@ -99,13 +103,15 @@ def bidirectional_building(
     building: BuildingData | None = None,
     building_y: BuildingData | None = None,
     isolation_period_y=None,
+    contact_pressure=None,
 ) -> BidirectionalStructure:
     """The six-storey frame of Table 2 in x and y on sliding bearings with springs (Fig. 11).
 
     Each direction is the 7-degree-of-freedom model of `six_storey_building` (base + six
     floors, 2 % modal damping, springs of period T_b and damping zeta_b in the rigid-body
     mode); y uses the same modal data unless `building_y` (and `isolation_period_y`) are given.
-    The bearings carry the total weight W and couple the two bases through Park's Z.
+    The bearings carry the total weight W and couple the two bases through Park's Z;
+    `contact_pressure` [Pa] of the bearings is needed for a bearing with heating.
 
     **Returns:** a `BidirectionalStructure` with q = (x: base, floors 1-6; y: base, floors 1-6).
     """
@@ -133,4 +139,4 @@ def bidirectional_building(
             raise ValueError(
                 "building_y: its total weight differs from the x model's; one structure has one weight."
             )
-    return _two_directions(x, y, bearing, ground_x, ground_y, time_step)
+    return _two_directions(x, y, bearing, ground_x, ground_y, time_step, contact_pressure)

@@ -92,6 +92,7 @@ def slab_on_bearings(
     spring_shares=None,
     rotational_inertia=None,
     names=None,
+    contact_pressures=None,
 ) -> BidirectionalStructure:
     """A rigid slab (x, y, rotation) on bearing groups (module docstring).
 
@@ -106,6 +107,8 @@ def slab_on_bearings(
       (damping proportional to the springs), `spring_shares` (G,) [-] relative spring
       stiffness per group (default equal).
     - `rotational_inertia` [kg m^2] about C (default m (Lx^2 + Ly^2) / 12, a uniform slab).
+    - `contact_pressures` (G,) [Pa] (or one for all): the bearings' contact pressure per group,
+      for bearings with heating (each group's steel heats at its own mu p |v|).
 
     **Returns:** a `BidirectionalStructure` with q = (u_x [m], u_y [m], theta [rad]).
     """
@@ -150,6 +153,7 @@ def slab_on_bearings(
         ground_x=ground_x,
         ground_y=ground_y,
         time_step=time_step,
+        contact_pressure=contact_pressures,
     )
 
 

@@ -26,6 +26,7 @@ from ..excitation import Signal
 from ..solver import AbstractSteppedSystem, require_riccati_form
 from ._bearing_test import running_peak_rate
 from ._block_algebra import small_dot
+from ._history import has_history, history_factor, history_rates, next_history
 from ._isolator_solve import isolator_root, predicted_root
 from ._propagators import newmark_step_matrices
 
@@ -117,14 +118,11 @@ class StructureOnSliders(AbstractSteppedSystem):
     @property
     def history(self) -> bool:
         """True when the bearing's friction depends on the history (heating, wear)."""
-        return self.friction_model == "hysteretic" and (
-            self.bearing.heating is not None or self.bearing.wear is not None)
+        return self.friction_model == "hysteretic" and has_history(self.bearing)
 
     def history_factor(self, heat, travel):
         """Factor on mu [-] of the surface temperature (heat states) and the travel [m]."""
-        heating = self.bearing.heating
-        rise = 0.0 if heating is None else heating.rise(heat, self.heat_weights)
-        return self.bearing.effect_factor(temperature_rise=rise, travel=travel)
+        return history_factor(self.bearing, heat, travel, self.heat_weights)
 
     def at_history(self, heat, travel) -> "StructureOnSliders":
         """This structure with the friction of its bearing at that temperature and travel."""
@@ -141,14 +139,9 @@ class StructureOnSliders(AbstractSteppedSystem):
         """Heat states and travel after a step from isolator displacement `u0` to `u1` [m]: the
         heat flux of the friction at the step's start, q = mu(v0) p |u1 - u0| / (dt n), held
         over the step (as `respond_along_path` does between samples)."""
-        du = jnp.abs(u1 - u0)
-        heating = self.bearing.heating
-        if heating is not None:
-            mu0 = self.at_history(heat, travel).bearing.coefficient(v0, 0.0, z_peak0)
-            speed = du / self.time_step / self.bearing.n_interfaces
-            flux = heating.flux(mu0, self.contact_pressure * heating.contact_area, speed)
-            heat = heating.advance(heat, flux, self.time_step, self.heat_rates)
-        return heat, travel + du
+        mu0 = self.at_history(heat, travel).bearing.coefficient(v0, 0.0, z_peak0)
+        return next_history(self.bearing, heat, travel, jnp.abs(u1 - u0), mu0,
+                            self.contact_pressure, self.time_step, self.heat_rates)
 
     def friction_force(self, velocity, z, z_peak):
         """F = mu W Z [N] at isolator `velocity` [m/s]."""
@@ -195,15 +188,10 @@ class StructureOnSliders(AbstractSteppedSystem):
 
     def _history_rates(self, y):
         """d(heat)/dt = q - lambda heat (the kernel's states), d(travel)/dt = |v|."""
-        speed = jnp.abs(y["v"][0])
-        rates = {"travel": speed, "heat": jnp.zeros_like(y["heat"])}
-        heating = self.bearing.heating
-        if heating is not None:
-            mu = self.at_state(y).bearing.coefficient(y["v"][0], 0.0, y["z_peak"])
-            flux = heating.flux(mu, self.contact_pressure * heating.contact_area,
-                                speed / self.bearing.n_interfaces)
-            rates["heat"] = flux - self.heat_rates * y["heat"]
-        return rates
+        mu = self.at_state(y).bearing.coefficient(y["v"][0], 0.0, y["z_peak"])
+        heat, travel = history_rates(self.bearing, y["heat"], mu, self.contact_pressure,
+                                     jnp.abs(y["v"][0]), self.heat_rates)
+        return {"heat": heat, "travel": travel}
 
     def advance(self, t0, t1, y0, args):
         return self.newmark_step(t0, t1, y0, self._acceleration(t0, y0))

@@ -1,0 +1,86 @@
+"""Histories of a `BidirectionalStructure`: its response over a record, saved step by step.
+
+Reference: Constantinou, Mokha & Reinhorn (1990), Eqs. 1, 8-9, 17.
+"""
+
+import diffrax
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+
+from ..solver import RiccatiNewmark, solve_on_grid
+from ._bidirectional import BidirectionalStructure, bidirectional_initial_state
+
+
+class BidirectionalResponse(eqx.Module):
+    """Histories of a `BidirectionalStructure` (SI; time along the first axis).
+
+    - `time` (nt,) [s]; `q`, `v` (nt, N) relative coordinates and velocities;
+    - `acceleration` (nt, N) relative accelerations; `ground` (nt, 2) [m/s^2];
+    - `bearing_displacement` (nt, G, 2) [m]; `friction_force` (nt, G, 2) [N];
+    - `z` (nt, G, 2) [-]; `z_peak` (nt, G) [-]; `result`: `diffrax.RESULTS` (0 = successful).
+    """
+
+    time: jnp.ndarray
+    q: jnp.ndarray
+    v: jnp.ndarray
+    acceleration: jnp.ndarray
+    ground: jnp.ndarray
+    bearing_displacement: jnp.ndarray
+    friction_force: jnp.ndarray
+    z: jnp.ndarray
+    z_peak: jnp.ndarray
+    result: object
+
+    @property
+    def succeeded(self):
+        return self.result == diffrax.RESULTS.successful
+
+
+def simulate_bidirectional(
+    system: BidirectionalStructure,
+    duration: float,
+    *,
+    save_every: int = 1,
+    solver=None,
+    rtol: float = 1e-8,
+    atol: float = 1e-10,
+    max_steps: int | None = None,
+    throw: bool = True,
+) -> BidirectionalResponse:
+    """Integrate a `BidirectionalStructure` from rest over `duration` [s].
+
+    **Arguments:** `solver`: `RiccatiNewmark()` (default, fixed step `system.time_step`) or an
+    adaptive diffrax solver (e.g. `diffrax.Tsit5()` with `rtol`, `atol`) for reference
+    solutions; `save_every`: keep every k-th step; `throw`: raise on solver failure (with
+    `False`, e.g. under `vmap`, the outcome of each member is in `result`).
+    """
+    dt = float(system.time_step)
+    n_steps = int(round(duration / dt + 1e-9))
+    if n_steps < 1:
+        raise ValueError(f"duration: must be at least one time step ({dt} s), got {duration}.")
+    steps = jnp.arange(n_steps + 1) * dt
+    save_times = steps[::save_every]
+    solver = RiccatiNewmark() if solver is None else solver
+    solution = solve_on_grid(
+        system, solver, steps, save_times, bidirectional_initial_state(system),
+        jump_times=jnp.concatenate([system.ground_x.times, system.ground_y.times]),
+        rtol=rtol, atol=atol, max_steps=max_steps, throw=throw, adaptive_steps_per_step=200,
+    )
+    ys = solution.ys
+    ground = jax.vmap(system.ground)(save_times)
+    acceleration = jax.vmap(lambda t, y: system.acceleration_at(system.ground(t), y))(save_times, ys)
+    bearing_d = jax.vmap(system.bearing_motion)(ys["q"])
+    forces = jax.vmap(system.bearing_forces)(ys)
+    return BidirectionalResponse(
+        time=save_times,
+        q=ys["q"],
+        v=ys["v"],
+        acceleration=acceleration,
+        ground=ground,
+        bearing_displacement=bearing_d,
+        friction_force=forces,
+        z=ys["z"],
+        z_peak=ys["z_peak"],
+        result=solution.result,
+    )
