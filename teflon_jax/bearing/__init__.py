@@ -32,3 +32,7 @@ from ._hysteresis import bouc_wen_exact_update as bouc_wen_exact_update
 from ._hysteresis import bouc_wen_rate as bouc_wen_rate
 from ._hysteresis import bouc_wen_reversal_length as bouc_wen_reversal_length
 from ._hysteresis import park_rate as park_rate
+from ._triple_pendulum import STOP_STIFFNESS_RATIO as STOP_STIFFNESS_RATIO
+from ._triple_pendulum import TriplePendulum as TriplePendulum
+from ._triple_pendulum import check_triple_pendulum as check_triple_pendulum
+from ._triple_pendulum import triple_pendulum_backbone as triple_pendulum_backbone

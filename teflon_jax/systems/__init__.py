@@ -54,3 +54,5 @@ from ._structure import simulate_structure as simulate_structure
 from ._structure_build import HEAT_HORIZON as HEAT_HORIZON
 from ._structure_build import STRUCTURE_EFFECTS as STRUCTURE_EFFECTS
 from ._structure_build import structure_on_sliders as structure_on_sliders
+from ._triple_test import TripleResponse as TripleResponse
+from ._triple_test import simulate_triple_test as simulate_triple_test
