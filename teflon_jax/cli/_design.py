@@ -19,6 +19,9 @@ from ._common import (
 )
 from ._montecarlo import _add_common, _motion_model
 
+HELP = "gradient-based design: minimise expected base shear under a displacement limit"
+"""The line of this command in `teflon-jax --help`."""
+
 
 def add_design_parser(subparsers) -> argparse.ArgumentParser:
     """`teflon-jax design --motions N --structure rigid|building --disp-limit 1.25in ...
@@ -26,7 +29,7 @@ def add_design_parser(subparsers) -> argparse.ArgumentParser:
     subject to a base-displacement limit."""
     parser = subparsers.add_parser(
         "design",
-        help="gradient-based design: minimise expected base shear under a displacement limit",
+        help=HELP,
         description="BFGS over the isolation period and bearing pressure (bounded), started from "
         "the best point of a grid sweep of the same objective, with a gradient check at the "
         "optimum against central differences. BFGS sees smoothed peaks, which lie below the "

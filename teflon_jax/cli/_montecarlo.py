@@ -24,6 +24,9 @@ from ._common import (
 from ._engineering import add_engineering_flags
 from ._main import compile_cache_dir
 
+HELP = "peak responses under N stochastic ground motions (chunked, sharded over devices)"
+"""The line of this command in `teflon-jax --help`."""
+
 
 def _tolerance(text: str) -> float:
     try:
@@ -67,7 +70,7 @@ def add_montecarlo_parser(subparsers) -> argparse.ArgumentParser:
     --json OUT.json --plot OUT.png`."""
     parser = subparsers.add_parser(
         "montecarlo",
-        help="peak responses under N stochastic ground motions (chunked, sharded over devices)",
+        help=HELP,
         description="Monte Carlo of an isolated structure under Clough-Penzien stochastic "
         "ground motions; the batch is sharded over all JAX devices.",
     )
