@@ -2,115 +2,165 @@
 
 Implements and extends Constantinou, Mokha & Reinhorn (1990), "Teflon bearings in base
 isolation II: Modeling", J. Struct. Eng. 116(2). SI units throughout (m, s, N, Pa).
+
+The sub-packages and the names below load on first use (PEP 562), so that `import teflon_jax`
+(and the command line's `--help`) does not import JAX.
 """
 
-from . import bearing as bearing
-from . import excitation as excitation
-from . import formats as formats
-from . import paper as paper
-from . import report as report
-from . import solver as solver
-from . import studies as studies
-from . import systems as systems
-from . import tables as tables
-from . import units as units
-from . import validation as validation
-from .bearing import BREAKAWAY_THRESHOLD as BREAKAWAY_THRESHOLD
-from .bearing import DEFAULT_YIELD_DISP as DEFAULT_YIELD_DISP
-from .bearing import Backlash as Backlash
-from .bearing import BoucWen as BoucWen
-from .bearing import DirectionAsymmetry as DirectionAsymmetry
-from .bearing import FrictionalHeating as FrictionalHeating
-from .bearing import FrictionParameters as FrictionParameters
-from .bearing import PressureDependence as PressureDependence
-from .bearing import SlidingBearing as SlidingBearing
-from .bearing import Wear as Wear
-from .bearing import anisotropic_friction as anisotropic_friction
-from .bearing import bouc_wen_exact_update as bouc_wen_exact_update
-from .bearing import bouc_wen_rate as bouc_wen_rate
-from .bearing import bouc_wen_reversal_length as bouc_wen_reversal_length
-from .bearing import check_bearing as check_bearing
-from .bearing import coulomb_friction as coulomb_friction
-from .bearing import paper_bearing as paper_bearing
-from .bearing import park_rate as park_rate
-from .bearing import sliding_friction as sliding_friction
-from .excitation import AbstractMotion as AbstractMotion
-from .excitation import FigureEightMotion as FigureEightMotion
-from .excitation import GroundMotion as GroundMotion
-from .excitation import IntensityMeasures as IntensityMeasures
-from .excitation import ResponseSpectrum as ResponseSpectrum
-from .excitation import Signal as Signal
-from .excitation import SineMotion as SineMotion
-from .excitation import StochasticGroundMotion as StochasticGroundMotion
-from .excitation import TabulatedMotion as TabulatedMotion
-from .excitation import TriangleMotion as TriangleMotion
-from .excitation import as_signal as as_signal
-from .excitation import envelope as envelope
-from .excitation import fourier_amplitude as fourier_amplitude
-from .excitation import integrate_motion as integrate_motion
-from .excitation import intensity_measures as intensity_measures
-from .excitation import power_spectral_density as power_spectral_density
-from .excitation import response_spectrum as response_spectrum
-from .excitation import sample as sample_ground_motions  # noqa: F401  (public name differs)
-from .excitation import sample_times as sample_times
-from .excitation import stationary_variance as stationary_variance
-from .excitation import tabulated_motion as tabulated_motion
-from .excitation import uniform_signal as uniform_signal
-from .excitation import white_noise_intensity as white_noise_intensity
-from .formats import Protocol as Protocol
-from .formats import TestRecord as TestRecord
-from .formats import external_data_dir as external_data_dir
-from .formats import load_bearing as load_bearing
-from .formats import load_record as load_record
-from .formats import parse_protocol as parse_protocol
-from .formats import read_at2 as read_at2
-from .formats import read_single_column as read_single_column
-from .formats import read_test_record as read_test_record
-from .formats import read_two_column as read_two_column
-from .formats import save_bearing as save_bearing
-from .formats import test_record_from_arrays as test_record_from_arrays
-from .formats import write_test_record as write_test_record
-from .paper import reproduce as reproduce
-from .solver import AbstractSteppedSystem as AbstractSteppedSystem
-from .solver import RiccatiNewmark as RiccatiNewmark
-from .studies import MonteCarloResult as MonteCarloResult
-from .studies import SweepResult as SweepResult
-from .studies import building_sweep as building_sweep
-from .studies import gradient_check as gradient_check
-from .studies import monte_carlo as monte_carlo
-from .studies import monte_carlo_motion as monte_carlo_motion
-from .studies import optimise_design as optimise_design
-from .studies import pad_signals as pad_signals
-from .studies import record_set as record_set
-from .studies import simulate_batch as simulate_batch
-from .studies import stack_systems as stack_systems
-from .systems import FRICTION_MODELS as FRICTION_MODELS
-from .systems import BearingTestResult as BearingTestResult
-from .systems import BearingTestSystem as BearingTestSystem
-from .systems import BuildingResponse as BuildingResponse
-from .systems import PathResponse as PathResponse
-from .systems import SampledPath as SampledPath
-from .systems import StructureOnSliders as StructureOnSliders
-from .systems import StructureResponse as StructureResponse
-from .systems import building_response_quantities as building_response_quantities
-from .systems import force_along_path as force_along_path
-from .systems import initial_state as initial_state
-from .systems import isolated_structure as isolated_structure
-from .systems import respond_along_path as respond_along_path
-from .systems import rigid_mass as rigid_mass
-from .systems import sample_velocity as sample_velocity
-from .systems import sampled_path as sampled_path
-from .systems import signal_from_motion as signal_from_motion
-from .systems import simulate_bearing_test as simulate_bearing_test
-from .systems import simulate_structure as simulate_structure
-from .systems import six_storey_building as six_storey_building
-from .systems import structure_on_sliders as structure_on_sliders
-from .systems import superstructure_matrices as superstructure_matrices
-from .tables import BuildingData as BuildingData
-from .tables import FrictionTable as FrictionTable
-from .tables import Interface as Interface
-from .tables import friction_table as friction_table
-from .tables import interface_parameters as interface_parameters
-from .tables import load_table1 as load_table1
-from .tables import load_table2 as load_table2
-from .tables import table1_parameters as table1_parameters
+import importlib as _importlib
+
+_SUBPACKAGES = (
+    "bearing",
+    "excitation",
+    "formats",
+    "paper",
+    "report",
+    "solver",
+    "studies",
+    "systems",
+    "tables",
+    "units",
+    "validation",
+)
+
+_EXPORTS = {
+    # sub-package: the names re-exported from it
+    "bearing": (
+        "BREAKAWAY_THRESHOLD",
+        "DEFAULT_YIELD_DISP",
+        "Backlash",
+        "BoucWen",
+        "DirectionAsymmetry",
+        "FrictionalHeating",
+        "FrictionParameters",
+        "PressureDependence",
+        "SlidingBearing",
+        "Wear",
+        "anisotropic_friction",
+        "bouc_wen_exact_update",
+        "bouc_wen_rate",
+        "bouc_wen_reversal_length",
+        "check_bearing",
+        "coulomb_friction",
+        "paper_bearing",
+        "park_rate",
+        "sliding_friction",
+    ),
+    "excitation": (
+        "AbstractMotion",
+        "FigureEightMotion",
+        "GroundMotion",
+        "IntensityMeasures",
+        "ResponseSpectrum",
+        "Signal",
+        "SineMotion",
+        "StochasticGroundMotion",
+        "TabulatedMotion",
+        "TriangleMotion",
+        "as_signal",
+        "envelope",
+        "fourier_amplitude",
+        "integrate_motion",
+        "intensity_measures",
+        "power_spectral_density",
+        "response_spectrum",
+        "sample_times",
+        "stationary_variance",
+        "tabulated_motion",
+        "uniform_signal",
+        "white_noise_intensity",
+    ),
+    "formats": (
+        "Protocol",
+        "TestRecord",
+        "external_data_dir",
+        "load_bearing",
+        "load_record",
+        "parse_protocol",
+        "read_at2",
+        "read_single_column",
+        "read_test_record",
+        "read_two_column",
+        "save_bearing",
+        "test_record_from_arrays",
+        "write_test_record",
+    ),
+    "paper": (
+        "reproduce",
+    ),
+    "solver": (
+        "AbstractSteppedSystem",
+        "RiccatiNewmark",
+    ),
+    "studies": (
+        "MonteCarloResult",
+        "SweepResult",
+        "building_sweep",
+        "gradient_check",
+        "monte_carlo",
+        "monte_carlo_motion",
+        "optimise_design",
+        "pad_signals",
+        "record_set",
+        "simulate_batch",
+        "stack_systems",
+    ),
+    "systems": (
+        "FRICTION_MODELS",
+        "BearingTestResult",
+        "BearingTestSystem",
+        "BuildingResponse",
+        "PathResponse",
+        "SampledPath",
+        "StructureOnSliders",
+        "StructureResponse",
+        "building_response_quantities",
+        "force_along_path",
+        "initial_state",
+        "isolated_structure",
+        "respond_along_path",
+        "rigid_mass",
+        "sample_velocity",
+        "sampled_path",
+        "signal_from_motion",
+        "simulate_bearing_test",
+        "simulate_structure",
+        "six_storey_building",
+        "structure_on_sliders",
+        "superstructure_matrices",
+    ),
+    "tables": (
+        "BuildingData",
+        "FrictionTable",
+        "Interface",
+        "friction_table",
+        "interface_parameters",
+        "load_table1",
+        "load_table2",
+        "table1_parameters",
+    ),
+}
+
+_RENAMED = {
+    "sample_ground_motions": ("excitation", "sample"),  # public name differs
+}
+
+_WHERE = {name: (package, name) for package, names in _EXPORTS.items() for name in names}
+_WHERE.update(_RENAMED)
+
+__all__ = sorted((*_SUBPACKAGES, *_WHERE))
+
+
+def __getattr__(name):
+    if name in _SUBPACKAGES:
+        return _importlib.import_module(f".{name}", __name__)
+    if name not in _WHERE:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    package, attribute = _WHERE[name]
+    value = getattr(_importlib.import_module(f".{package}", __name__), attribute)
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(__all__))

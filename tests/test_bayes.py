@@ -189,3 +189,44 @@ def test_unconverged_run_exits_non_zero(tmp_path, capsys):
     err = capsys.readouterr().err
     assert "NOT converged" in err
     assert "2 chains x (10 warm-up steps + 10 draws)" in err.split("NOT converged")[0]  # said up front
+
+
+@pytest.mark.slow  # a least-squares fit and a NUTS compilation in a new process: 30-60 s
+def test_ctrl_c_keeps_the_draws_so_far_and_says_not_converged(tmp_path):
+    # A real SIGINT to the command once it has said that a block of draws is done: the draws
+    # finished are written (posterior.json, posterior.nc) as not converged, and it exits 130.
+    import json
+    import os
+    import signal
+    import subprocess
+    import sys
+
+    import xarray as xr
+
+    tj.write_test_record(tmp_path / "test.csv", _record(4, fs=100.0))
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path))
+    command = [sys.executable, "-m", "teflon_jax.cli", "fit", str(tmp_path / "test.csv"),
+               "--json", str(tmp_path / "f.json"), "--starts", "1", "--bayes",
+               str(tmp_path / "bayes"), "--draws", "40", "--chains", "2"]
+    proc = subprocess.Popen(command, stderr=subprocess.PIPE, stdout=subprocess.DEVNULL,
+                            text=True, env=env, cwd=tmp_path)
+    seen = []
+    try:
+        for line in proc.stderr:
+            seen.append(line)
+            if "draws per chain done" in line:
+                proc.send_signal(signal.SIGINT)
+                break
+        rest = proc.communicate(timeout=300)[1]
+    finally:
+        proc.kill()
+    assert any("10 of 40 draws per chain done" in line for line in seen), "".join(seen)
+    assert proc.returncode == 130, rest
+    posterior = json.loads((tmp_path / "bayes" / "posterior.json").read_text())
+    assert posterior["converged"] is False
+    assert posterior["status"].startswith("interrupted after"), posterior["status"]
+    assert 10 <= posterior["num_samples"] < 40
+    assert posterior["messages"][0].startswith("NOT converged: interrupted after")
+    with xr.open_dataset(tmp_path / "bayes" / "posterior.nc", group="posterior") as ds:
+        assert ds.sizes["draw"] == posterior["num_samples"]
+    assert "interrupted after" in rest and "not converged" in rest

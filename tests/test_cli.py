@@ -16,6 +16,56 @@ def test_all_subcommands_are_wired():
     assert set(sub.choices) == {"simulate-test", "reproduce", "fit", "diagnose", "montecarlo", "design", "run"}
 
 
+HEAVY = ("jax", "diffrax", "optimistix", "equinox", "numpyro", "matplotlib")
+
+
+@pytest.mark.parametrize("argv", [["--help"], ["run", "--help"], ["montecarlo", "--help"],
+                                  ["fit", "--help"]])
+def test_help_does_not_import_jax(argv):
+    # `teflon-jax --help` and a command's help answer at once: the parser is built without
+    # JAX, diffrax, numpyro or matplotlib, which load when a command runs.
+    import subprocess
+    import sys
+
+    code = ("import sys\nfrom teflon_jax.cli import main\ntry:\n    main(sys.argv[1:])\n"
+            "except SystemExit as stop:\n    assert stop.code == 0, stop.code\n"
+            f"print(sorted(m for m in {HEAVY!r} if m in sys.modules))")
+    done = subprocess.run([sys.executable, "-c", code, *argv], capture_output=True, text=True,
+                          timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert "usage: teflon-jax" in done.stdout
+    assert done.stdout.strip().splitlines()[-1] == "[]"
+
+
+def test_python_m_teflon_jax_is_the_command():
+    import subprocess
+    import sys
+
+    done = subprocess.run([sys.executable, "-m", "teflon_jax", "--help"], capture_output=True,
+                          text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert "COMMAND" in done.stdout and "montecarlo" in done.stdout
+
+
+def test_every_public_name_loads_on_first_use():
+    # The package loads its sub-packages lazily; every name it lists is reachable, and the
+    # re-exports are the objects of their sub-packages.
+    import subprocess
+    import sys
+
+    code = (f"import sys\nimport teflon_jax as tj\nassert not set({HEAVY!r}) & set(sys.modules)\n"
+            "missing = [n for n in tj.__all__ if not hasattr(tj, n)]\nprint(missing)")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          timeout=300)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "[]"
+    assert tj.SlidingBearing is tj.bearing.SlidingBearing
+    assert tj.sample_ground_motions is tj.excitation.sample
+    assert {"monte_carlo", "load_record", "studies", "units"} <= set(dir(tj))
+    with pytest.raises(AttributeError):
+        tj.no_such_name  # noqa: B018
+
+
 @pytest.mark.slow
 def test_simulate_then_fit_round_trip(tmp_path):
     csv = tmp_path / "t191.csv"

@@ -249,3 +249,30 @@ def test_bad_input():
         isolated_structure("bridge")
     with pytest.raises(ValueError, match="motions"):
         monte_carlo(structure, np.zeros((3, 10)), 3)
+
+
+class _Accelerator:
+    """A device as `jax.devices()` lists it: an accelerator with `free` bytes free."""
+
+    platform = "gpu"
+
+    def __init__(self, free):
+        self.free = free
+
+    def memory_stats(self):
+        return {"bytes_limit": self.free + 10**9, "bytes_in_use": 10**9}
+
+
+def test_default_chunk_of_a_run_fits_half_the_free_memory_of_the_accelerators():
+    from teflon_jax.studies import monte_carlo_chunk_size
+    from teflon_jax.studies._montecarlo import bytes_per_motion, stochastic_grid
+
+    structure = isolated_structure("rigid", time_step=0.01, isolation_period=1.5)
+    model = _model()
+    per_motion = bytes_per_motion(stochastic_grid(model)[1], 1, 1)  # a rigid mass: one dof
+    one = monte_carlo_chunk_size(structure, model, devices=[_Accelerator(2000 * per_motion)])
+    assert one == 512  # 1000 motions fit in half: the largest power of two below
+    two = monte_carlo_chunk_size(structure, model,
+                                 devices=[_Accelerator(2000 * per_motion)] * 2)
+    assert two == 1024  # two devices, each with its half of the chunk
+    assert monte_carlo_chunk_size(structure, model) == 512  # this CPU

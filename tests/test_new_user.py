@@ -144,6 +144,37 @@ def test_every_local_worker_gets_a_task(scheduler, motions, given, chunk):
     assert _chunk_size(args) == chunk
 
 
+@pytest.mark.parametrize("platform, free, per_motion, chunk", [
+    ("cpu", 80e9, 260_000, 512),          # a CPU keeps 512, however much memory
+    ("gpu", 80e9, 260_000, 65536),        # 40 GB / 260 kB = 153,846: capped at 65,536
+    ("cuda", 80e9, 8_000_000, 4096),      # 40 GB / 8 MB = 5,000: 4,096
+    ("gpu", 1e9, 260_000, 1024),          # little memory: 0.5 GB / 260 kB = 1,923: 1,024
+    ("gpu", 100_000, 260_000, 1),         # less than one motion fits: 1
+    ("gpu", None, 260_000, 512),          # free memory unknown: as on a CPU
+])
+def test_default_chunk_follows_the_device_and_its_free_memory(platform, free, per_motion, chunk):
+    from teflon_jax.studies import default_chunk_size
+
+    assert default_chunk_size(platform, free, per_motion) == chunk
+
+
+@pytest.mark.parametrize("scheduler, given, chunk", [
+    (None, None, 65536), ("local:2", None, 100), (None, 50, 50), ("local:2", 50, 50)])
+def test_chunk_flag_and_local_workers_win_over_the_device_default(scheduler, given, chunk):
+    args = argparse.Namespace(scheduler=scheduler, motions=200, chunk_size=given)
+    assert _chunk_size(args, 65536) == chunk
+
+
+def test_progress_bar_counts_motions_per_second(capsys):
+    from teflon_jax.cli._common import motion_bar
+
+    bar = motion_bar(10_000, False)
+    bar.update(1500)
+    shown = bar.format_meter(**dict(bar.format_dict, elapsed=1.0, rate=None))
+    bar.close()
+    assert "1.50k motions/s" in shown, shown
+
+
 @pytest.mark.slow  # a small Monte Carlo in process and on a local Dask cluster of 2 workers
 def test_montecarlo_results_file_says_what_was_run(tmp_path, capsys):
     import xarray

@@ -2,6 +2,7 @@
 simulator, with documented priors, convergence checks and non-identifiability reports."""
 
 from ._fit import MIN_SAMPLES_PER_PARAMETER as MIN_SAMPLES_PER_PARAMETER
+from ._fit import SamplingInterrupted as SamplingInterrupted
 from ._fit import fit_bayes as fit_bayes
 from ._priors import PHYSICAL as PHYSICAL
 from ._priors import ParameterPrior as ParameterPrior

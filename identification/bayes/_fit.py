@@ -42,6 +42,24 @@ from ._result import BayesResult, diagnose_run
 MIN_SAMPLES_PER_PARAMETER = 20
 """A record set needs at least this many samples per sampled variable (constants + noise)."""
 
+BLOCKS = 10
+"""The draws are taken in at most this many blocks (after the warm-up) of at least
+`MIN_BLOCK` draws, so that an interrupted run keeps the blocks it finished. numpyro traces
+the sampler again for each block (a second or so)."""
+
+MIN_BLOCK = 10
+"""Fewest draws per chain in a block (all of them when fewer are asked for)."""
+
+
+class SamplingInterrupted(KeyboardInterrupt):
+    """Ctrl-C (`KeyboardInterrupt`) during `fit_bayes`; `result` is the `BayesResult` of the
+    blocks of draws finished before it (`converged=False`, `interrupted` set), or None when
+    no block had finished (interrupted in the warm-up)."""
+
+    def __init__(self, result):
+        super().__init__("sampling interrupted")
+        self.result = result
+
 
 def _as_records(records):
     records = as_records(records)
@@ -207,6 +225,7 @@ def fit_bayes(
     ess_min_per_chain: float = 100.0,
     least_squares=None,
     progress_bar: bool = False,
+    on_block=None,
 ) -> BayesResult:
     """Posterior of the 1990 model's constants and of the noise level, sampled with NUTS.
 
@@ -222,9 +241,15 @@ def fit_bayes(
       R-hat above `rhat_max` or a bulk/tail ESS below `ess_min_per_chain * num_chains` is
       reported `converged=False` with the reason in `messages`.
     - `least_squares`: a `BearingFit` of these records to start from (else it is computed).
-    - `progress_bar`: numpyro's bar on stderr (warm-up, then draws, with the time left).
+    - `progress_bar`: numpyro's bar on stderr (warm-up, then each block of draws, with the
+      time left).
+    - `on_block`: called as `on_block(done, total)` (draws per chain) after the warm-up
+      (`done = 0`) and after each block of draws (`BLOCKS`, `MIN_BLOCK`).
 
     **Returns:** a `BayesResult`.
+
+    **Raises:** `SamplingInterrupted` (a `KeyboardInterrupt`) on Ctrl-C, carrying the result
+    of the blocks of draws finished so far.
 
     Refused (`ValueError` with the reason): digitised loops, a record without a reversal of
     the motion, fewer than `MIN_SAMPLES_PER_PARAMETER` samples per sampled variable, a prior
@@ -270,18 +295,57 @@ def fit_bayes(
                        use_breakaway)
     kernel = NUTS(model, dense_mass=True, target_accept_prob=target_accept,
                   inverse_mass_matrix=_initial_mass(priors, fit, data))
-    mcmc = MCMC(kernel, num_warmup=num_warmup, num_samples=num_samples, num_chains=num_chains,
+    block = max(-(-num_samples // BLOCKS), min(num_samples, MIN_BLOCK))
+    mcmc = MCMC(kernel, num_warmup=num_warmup, num_samples=block, num_chains=num_chains,
                 chain_method="vectorized", progress_bar=progress_bar,
                 postprocess_fn=make_postprocess(priors))
     starts = _chain_starts(priors, fit, data, num_chains, seed)
     t1 = _time.perf_counter()
-    mcmc.run(jax.random.PRNGKey(seed), arrays, init_params=starts,
-             extra_fields=("diverging", "num_steps"))
-    jax.block_until_ready(mcmc.get_samples())
+    base, diverging, interrupted = _sample_in_blocks(
+        mcmc, jax.random.PRNGKey(seed), arrays, starts, num_samples, on_block)
     elapsed = _time.perf_counter() - t1
-    return diagnose_run(mcmc, priors, fit, data, rhat_max=rhat_max,
-                        ess_min=ess_min_per_chain * num_chains, elapsed=elapsed,
-                        elapsed_least_squares=t_ls, prior=prior)
+    result = None if base is None else diagnose_run(
+        base, diverging, priors, fit, data, rhat_max=rhat_max,
+        ess_min=ess_min_per_chain * num_chains, elapsed=elapsed, elapsed_least_squares=t_ls,
+        prior=prior, interrupted=interrupted)
+    if interrupted is not None:
+        raise SamplingInterrupted(result)
+    return result
 
 
-__all__ = ["fit_bayes", "PARAMETER_NAMES"]
+def _sample_in_blocks(mcmc, key, arrays, starts, num_samples, on_block):
+    """Warm-up, then the draws in blocks of `mcmc.num_samples` (the last one shorter), each
+    continuing from the last state of the one before (`post_warmup_state`).
+
+    **Returns:** (site -> (chains, draws, ...) draws or None, (chains, draws) divergence
+    flags or None, None or why the run stopped early: a `KeyboardInterrupt` between or
+    within blocks ends the loop and keeps the blocks finished).
+    """
+    parts, flags, done = [], [], 0
+    try:
+        key, warm_key = jax.random.split(key)
+        mcmc.warmup(warm_key, arrays, init_params=starts)
+        if on_block is not None:
+            on_block(0, num_samples)
+        while done < num_samples:
+            mcmc.num_samples = min(mcmc.num_samples, num_samples - done)
+            key, run_key = jax.random.split(key)
+            mcmc.run(run_key, arrays, extra_fields=("diverging", "num_steps"))
+            parts.append({k: np.asarray(v) for k, v in
+                          mcmc.get_samples(group_by_chain=True).items()})
+            flags.append(np.asarray(mcmc.get_extra_fields(group_by_chain=True)["diverging"]))
+            mcmc.post_warmup_state = mcmc.last_state
+            done += mcmc.num_samples
+            if on_block is not None:
+                on_block(done, num_samples)
+    except KeyboardInterrupt:
+        where = f"after {done} of {num_samples} draws per chain" if done else "in the warm-up"
+        interrupted = f"interrupted {where}"
+    else:
+        interrupted = None
+    if not parts:
+        return None, None, interrupted
+    base = {k: np.concatenate([p[k] for p in parts], axis=1) for k in parts[0]}
+    return base, np.concatenate(flags, axis=1), interrupted
+
+__all__ = ["fit_bayes", "PARAMETER_NAMES", "SamplingInterrupted"]

@@ -42,6 +42,8 @@ class BayesResult:
     - `least_squares`: the `BearingFit` used as warm start.
     - `prior`: "bounds" or "table1"; `priors`: the `ParameterPrior` of each constant.
     - `elapsed_s`, `elapsed_least_squares_s`: wall times of sampling and of the LS fit [s].
+    - `interrupted`: why sampling stopped before all the draws asked for (e.g. "interrupted
+      after 100 of 1000 draws per chain"), else None; an interrupted run is not converged.
     """
 
     draws: dict
@@ -59,6 +61,7 @@ class BayesResult:
     elapsed_least_squares_s: float
     rhat_max: float
     ess_min: float
+    interrupted: str | None = None
 
     def summary(self, unit_of=None) -> str:
         """Text table: mean, median, 5-95 % interval, R-hat, ESS, identification; SI, or in
@@ -95,6 +98,7 @@ class BayesResult:
             "units": dict(UNITS), "prior": self.prior,
             "prior_ranges": {k: [p.low, p.high] for k, p in self.priors.items()},
             "divergences": int(self.divergences), "converged": bool(self.converged),
+            "status": self.interrupted or ("converged" if self.converged else "not converged"),
             "messages": list(self.messages), "num_chains": self.num_chains,
             "num_samples": self.num_samples, "elapsed_s": self.elapsed_s,
             "least_squares": self.least_squares.to_json_dict(),
@@ -158,11 +162,13 @@ def _prior_sd(p, n=20000):
     return float(np.std(np.asarray(distribution(p).sample(jax.random.PRNGKey(1), (n,)))))
 
 
-def diagnose_run(mcmc, priors, fit, data, *, rhat_max, ess_min, elapsed, elapsed_least_squares,
-                 prior) -> BayesResult:
-    """Summaries and convergence checks of a finished numpyro run."""
+def diagnose_run(base, diverging, priors, fit, data, *, rhat_max, ess_min, elapsed,
+                 elapsed_least_squares, prior, interrupted=None) -> BayesResult:
+    """Summaries and convergence checks of a numpyro run: `base`, site -> (chains, draws, ...)
+    draws of the sampled sites; `diverging`, (chains, draws) flags; `interrupted`, why the run
+    stopped early (then it is not converged), or None."""
     az = _arviz()
-    base = {k: np.asarray(v) for k, v in mcmc.get_samples(group_by_chain=True).items()}
+    base = {k: np.asarray(v) for k, v in base.items()}
     samples = {name: np.asarray(to_physical(p, base[base_name(p)])) for name, p in priors.items()}
     if "delta_f" in samples:
         f_max = samples.get("f_max", fit.parameters["f_max"])
@@ -170,7 +176,7 @@ def diagnose_run(mcmc, priors, fit, data, *, rhat_max, ess_min, elapsed, elapsed
         samples["delta_f"] = samples["delta_f"] * f_max
     for i, rec in enumerate(data):
         samples[f"noise_level_{i}"] = base["noise_rel"][..., i] * rec["scale"]
-    diverging = np.asarray(mcmc.get_extra_fields(group_by_chain=True)["diverging"])
+    diverging = np.asarray(diverging)
     free = tuple(n for n in PARAMETER_NAMES if n in priors)
     draws = {n: samples[n] for n in free}
     for i in range(len(data)):
@@ -204,7 +210,7 @@ def diagnose_run(mcmc, priors, fit, data, *, rhat_max, ess_min, elapsed, elapsed
                                 "the prior's); the prior shapes its interval.")
         table[name] = row
     n_div = int(diverging.sum())
-    bad = []
+    bad = [] if interrupted is None else [interrupted]
     if n_div:
         bad.append(f"{n_div} divergent transitions (the sampler could not follow the posterior; "
                    "raise target_accept or reparametrise)")
@@ -225,6 +231,6 @@ def diagnose_run(mcmc, priors, fit, data, *, rhat_max, ess_min, elapsed, elapsed
         least_squares=fit, prior=prior, priors=priors, free=free,
         num_chains=int(diverging.shape[0]), num_samples=int(diverging.shape[1]),
         elapsed_s=float(elapsed), elapsed_least_squares_s=float(elapsed_least_squares),
-        rhat_max=float(rhat_max), ess_min=float(ess_min))
+        rhat_max=float(rhat_max), ess_min=float(ess_min), interrupted=interrupted)
     result._diverging = diverging
     return result

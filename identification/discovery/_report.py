@@ -4,6 +4,8 @@ import pathlib
 
 import numpy as np
 
+from teflon_jax.report import residual_maps
+
 from ._diagnostics import (
     REGRESSOR_LABELS,
     friction_residual,
@@ -88,28 +90,14 @@ def write_plots(result, directory, *, length=("mm", 1e-3)) -> dict:
         keys[1] = "direction"
         jitter = np.random.default_rng(0).uniform(-0.15, 0.15, reg["direction"].size)
         reg = dict(reg, direction=reg["direction"] + jitter)
-    fig, axes = plt.subplots(2, 3, figsize=(12, 6.5))
     v = np.asarray(data.velocity)
-    for ax, key in zip(axes.ravel(), keys):
-        for mask, colour, label in (
-            (sliding & (v > 0), "C0", "+x"),
-            (sliding & (v < 0), "C1", "-x"),
-        ):
-            ax.plot(reg[key][mask], d_mu[mask], ".", ms=2, color=colour, label=label)
-        ax.axhline(0, color="k", lw=0.6)
-        ax.set_xlabel(REGRESSOR_LABELS[key], fontsize=8)
-        ax.grid(alpha=0.3)
-    axes[0, 0].set_ylabel("friction residual d_mu (baseline) [-]")
-    axes[1, 0].set_ylabel("friction residual d_mu (baseline) [-]")
-    axes[0, 0].legend(fontsize=8, markerscale=4)
-    fig.suptitle(
-        "Baseline friction residual (measured - model) / (N Z) while sliding, "
-        "against the regressors of the candidate effects",
-        fontsize=9,
-    )
-    fig.tight_layout()
+    fig = residual_maps(
+        [(REGRESSOR_LABELS[key], reg[key]) for key in keys], d_mu,
+        [(sliding & (v > 0), "C0", "+x"), (sliding & (v < 0), "C1", "-x")],
+        ylabel="friction residual d_mu (baseline) [-]",
+        title="Baseline friction residual (measured - model) / (N Z) while sliding, "
+        "against the regressors of the candidate effects")
     fig.savefig(directory / "residual_maps.png", dpi=110)
-    plt.close(fig)
     files["residual_maps"] = "residual_maps.png"
     return files
 

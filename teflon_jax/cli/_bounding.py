@@ -8,7 +8,7 @@ import sys
 import numpy as np
 
 from ..units import STANDARD_GRAVITY, parse_quantity
-from ._common import _write_json
+from ._common import _write_json, motion_bar
 
 
 def read_property_factors(args) -> tuple[float, float] | None:
@@ -39,7 +39,6 @@ def run_bounding(args, structure, model, units) -> int:
     """Run the three cases, write the JSON (`cases`, `governs`), the results file and print the
     table; returns 0, or 1 when a run failed (kept out of the statistics, flagged in the file)."""
     import jax
-    from tqdm import tqdm
 
     from ..studies import BOUNDING_CASES, bounding_design, governing_cases, monte_carlo
     from ..tables import load_table2
@@ -47,7 +46,7 @@ def run_bounding(args, structure, model, units) -> int:
     lower, upper = read_property_factors(args)
     design = bounding_design(structure, lower=lower, upper=upper)
     building = args.structure == "building"
-    bar = tqdm(total=args.motions, unit="motion", disable=args.no_progress)
+    bar = motion_bar(args.motions, args.no_progress)
     result = monte_carlo(structure, model, args.motions, key=jax.random.key(args.seed), design=design,
                          chunk_size=args.chunk_size, progress=lambda done, total: bar.update(done - bar.n),
                          storey_height=load_table2().storey_height if building else None)

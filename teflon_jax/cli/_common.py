@@ -279,3 +279,11 @@ def check_table1(ptfe: str, pressure: float, pressure_text: str, flag: str = "--
         if name == "pressure":
             raise ValueError(f"{flag}: must be > 0, got {pressure_text}.") from None
         raise ValueError(f"--{name if name in ('ptfe', 'direction') else 'ptfe'}: {reason or text}") from None
+
+
+def motion_bar(total: int, disable: bool):
+    """The progress bar of the motions run, with their rate in motions per second and the
+    time left (counts in k, M from 1000 motions on)."""
+    from tqdm import tqdm
+
+    return tqdm(total=total, unit=" motions", unit_scale=total >= 1000, disable=disable)

@@ -19,6 +19,9 @@ from ._common import (
 )
 from ._montecarlo import _add_common, _motion_model
 
+HELP = "gradient-based design: minimise expected base shear under a displacement limit"
+"""The line of this command in `teflon-jax --help`."""
+
 
 def add_design_parser(subparsers) -> argparse.ArgumentParser:
     """`teflon-jax design --motions N --structure rigid|building --disp-limit 1.25in ...
@@ -26,7 +29,7 @@ def add_design_parser(subparsers) -> argparse.ArgumentParser:
     subject to a base-displacement limit."""
     parser = subparsers.add_parser(
         "design",
-        help="gradient-based design: minimise expected base shear under a displacement limit",
+        help=HELP,
         description="BFGS over the isolation period and bearing pressure (bounded), started from "
         "the best point of a grid sweep of the same objective, with a gradient check at the "
         "optimum against central differences. BFGS sees smoothed peaks, which lie below the "
@@ -58,8 +61,10 @@ def add_design_parser(subparsers) -> argparse.ArgumentParser:
     parser.add_argument("--out", type=pathlib.Path, default=None, metavar="FILE.nc",
                         help="write the grid sweep (objective, mean smooth peaks, convergence on the "
                         "grid of Tb x pressure) as NetCDF; with --scheduler it streams there")
-    parser.add_argument("--chunk-size", type=_positive_int, default=16, metavar="N",
-                        help="design points per compiled call, a task with --scheduler (default 16); "
+    parser.add_argument("--chunk-size", type=_positive_int, default=None, metavar="N",
+                        help="design points per compiled call, a task with --scheduler (default 16 "
+                        "on a CPU and on a cluster; on a GPU the largest power of two up to 65536 "
+                        "whose points, each over all the motions, fit in half its free memory); "
                         "the same N gives the same sweep bit for bit here and on a cluster")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
     add_bearing_flag(parser, replaces="--ptfe's Table 1 rows; the bearing needs a heating or "
@@ -124,8 +129,12 @@ def run_design(args) -> int:
              **({"ptfe": args.ptfe} if bearing is None else {"bearing": str(args.bearing)}),
              "motion_duration_s": args.duration, "isolation_damping": args.isolation_damping}
     if args.scheduler is None:
+        from ..studies import device_chunk_size
+
+        n_dof = 7 if structure.kind == "building" else 1  # Table 2's six storeys and the base
+        batch = args.chunk_size or device_chunk_size(records.size, n_dof, cpu=16)
         sweep = design_sweep(structure, records, dt, grid=grid, disp_limit=args.disp_limit,
-                             penalty=args.penalty, batch_size=args.chunk_size)
+                             penalty=args.penalty, batch_size=batch)
         if args.out is not None:
             sweep_dataset(sweep, attrs={**attrs, "disp_limit_m": args.disp_limit,
                                         "penalty": args.penalty}).to_netcdf(args.out)
@@ -134,7 +143,7 @@ def run_design(args) -> int:
 
         sweep = design_sweep_distributed(
             structure, records, dt, grid=grid, disp_limit=args.disp_limit, penalty=args.penalty,
-            out=args.out, scheduler=args.scheduler, chunk_size=args.chunk_size, attrs=attrs,
+            out=args.out, scheduler=args.scheduler, chunk_size=args.chunk_size or 16, attrs=attrs,
             compilation_cache=None if args.no_compile_cache else str(compile_cache_dir()))
     bar.update(1)
     bar.set_postfix_str("BFGS from the best grid point")

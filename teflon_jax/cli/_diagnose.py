@@ -10,8 +10,6 @@ import json
 import pathlib
 import sys
 
-from identification.discovery import BASELINES, EFFECT_NAMES, EFFECTS
-
 from ..units import INCH, parse_quantity
 from ._bearing_flags import add_save_bearing_flag, check_output_file, save_bearing_flag
 from ._common import add_quantity, add_units_flag, output_units, read_bearing_record
@@ -19,11 +17,17 @@ from ._common import add_quantity, add_units_flag, output_units, read_bearing_re
 _DIMENSIONS = {"-": "dimensionless", "m": "length", "s/m": "slowness"}
 
 
+HELP = "find the effects a bearing test shows beyond the 1990 model"
+"""The line of this command in `teflon-jax --help`."""
+
+
 def add_diagnose_parser(subparsers) -> argparse.ArgumentParser:
     """Add the `diagnose` sub-command to an `argparse` sub-parser collection."""
+    from identification.discovery import BASELINES, EFFECT_NAMES
+
     parser = subparsers.add_parser(
         "diagnose",
-        help="find the effects a bearing test shows beyond the 1990 model",
+        help=HELP,
         description=(
             "Fit a baseline model to a test record (test-record CSV), rank candidate effects "
             "("
@@ -172,6 +176,8 @@ def _fit_summary(result) -> dict:
 
 
 def _parse_known(items) -> dict:
+    from identification.discovery import EFFECTS
+
     units = {"f_max": "-", "yield_disp": "m"}
     units.update({p.name: p.unit for e in EFFECTS.values() for p in e.parameters})
     known = {}

@@ -37,7 +37,7 @@ def add_fit_parser(subparsers) -> argparse.ArgumentParser:
         "status: 0 when the fit converged, whether 'clean' or not (clean: every fitted "
         "constant determined within 50 %, none at a bound, no warning; the warnings "
         "printed say why a fit is not clean, notes on high correlations leave it clean); 1 when the fit, or with --bayes the sampler, "
-        "did not converge; 2 for bad input."))
+        "did not converge; 2 for bad input; 130 when --bayes is stopped with Ctrl-C."))
     parser.add_argument("records", nargs="+", metavar="RECORD",
                         help="test record files (uniaxial, or biaxial ux, uy, fx, fy: then the "
                              "constants perpendicular to the lay are fitted too)")
@@ -62,7 +62,8 @@ def add_fit_parser(subparsers) -> argparse.ArgumentParser:
                         help="also sample the posterior with NUTS (numpyro), warm-started from "
                              "the least-squares fit, and write posterior.json (mean, median, "
                              "5-95 %% interval, R-hat, ESS), posterior.nc (draws, ArviZ layout) "
-                             "and pairs.png into DIR; exits 1 when the chains did not converge")
+                             "and pairs.png into DIR; exits 1 when the chains did not converge, 130 "
+                             "on Ctrl-C (the draws so far written, not converged)")
     parser.add_argument("--prior", choices=("bounds", "table1"), default="bounds",
                         help="with --bayes: log-uniform over physical bounds, or Table 1 as an "
                              "informative prior (default bounds)")
@@ -179,39 +180,58 @@ def _check_counts(args) -> None:
 
 
 def _run_bayes(args, records, free, fixed, least_squares) -> int:
-    """`fit --bayes DIR`: the posterior, warm-started from `least_squares`; 1 unless converged."""
+    """`fit --bayes DIR`: the posterior, warm-started from `least_squares`; 1 unless converged,
+    130 when interrupted (Ctrl-C), with the draws finished so far written as not converged."""
     import json
 
-    from identification.bayes import fit_bayes
+    from identification.bayes import SamplingInterrupted, fit_bayes
 
     out = pathlib.Path(args.bayes)
     print(f"teflon-jax fit --bayes: NUTS, {args.chains} chains x ({args.draws} warm-up steps + "
           f"{args.draws} draws), each step a simulation of the records per leapfrog step: minutes "
-          "to hours; the bar shows the time left (Ctrl-C stops, keeping the least-squares fit).",
-          file=sys.stderr)
+          "to hours; the bar shows the time left (Ctrl-C stops, keeping the draws so far, "
+          "reported as not converged).", file=sys.stderr)
     try:
         out.mkdir(parents=True, exist_ok=True)
         result = fit_bayes(records, free=least_squares.free, fixed=fixed,
                            normal_load=args.normal_load, prior=args.prior,
                            num_warmup=args.draws, num_samples=args.draws, num_chains=args.chains,
-                           seed=args.seed, least_squares=least_squares, progress_bar=not args.no_progress)
+                           seed=args.seed, least_squares=least_squares,
+                           progress_bar=not args.no_progress, on_block=_print_block)
     except (ValueError, OSError) as error:
         print(f"teflon-jax fit --bayes: error: {error}", file=sys.stderr)
         return 2
-    except KeyboardInterrupt:
-        (out / "posterior.json").write_text(json.dumps({
-            "converged": False, "status": "interrupted before the draws were complete: no posterior",
-            "least_squares": str(args.json)}, indent=2))
-        print(f"teflon-jax fit --bayes: interrupted; {out / 'posterior.json'} says so (not converged); "
-              f"the least-squares fit is in {args.json}.", file=sys.stderr)
+    except SamplingInterrupted as stop:
+        if stop.result is None:
+            (out / "posterior.json").write_text(json.dumps({
+                "converged": False, "status": "interrupted in the warm-up: no draws",
+                "least_squares": str(args.json)}, indent=2))
+        else:
+            _write_posterior(args, out, stop.result)
+        why = stop.result.interrupted if stop.result else "interrupted in the warm-up"
+        print(f"teflon-jax fit --bayes: {why}; {out / 'posterior.json'} says so (not "
+              f"converged); the least-squares fit is in {args.json}.", file=sys.stderr)
         return 130
+    _write_posterior(args, out, result)
+    return 0 if result.converged else 1
+
+
+def _print_block(done: int, total: int) -> None:
+    """One line per block of draws (also with --no-progress)."""
+    what = "warm-up done" if done == 0 else f"{done} of {total} draws per chain done"
+    print(f"teflon-jax fit --bayes: {what}", file=sys.stderr, flush=True)
+
+
+def _write_posterior(args, out, result) -> None:
+    """posterior.json, posterior.nc, pairs.png and the table on stderr."""
+    import json
+
     (out / "posterior.json").write_text(json.dumps(result.to_json_dict(), indent=2))
     result.to_netcdf(out / "posterior.nc")
     result.plot_pairs(out / "pairs.png", unit_of=_unit_of(args.units))
     print(result.summary(unit_of=_unit_of(args.units)), file=sys.stderr)
     for message in result.messages:
         print(f"teflon-jax fit --bayes: {message}", file=sys.stderr)
-    return 0 if result.converged else 1
 
 
 def _unit_of(family: str):

@@ -12,7 +12,7 @@ import sys
 
 import numpy as np
 
-from ._common import _write_json
+from ._common import _write_json, motion_bar
 from ._engineering import (
     intensity_unit,
     level_paths,
@@ -104,7 +104,6 @@ def run_levels(args, structure, model, units, statistics) -> int:
     fitted: everything is written all the same). `statistics(result, units)`: the JSON
     statistics of one level's `MonteCarloResult` (those of a one-level run)."""
     import jax
-    from tqdm import tqdm
 
     from ..report import plot_fragility, plot_montecarlo
     from ..studies import monte_carlo_levels, save_levels
@@ -119,7 +118,7 @@ def run_levels(args, structure, model, units, statistics) -> int:
     stamp = (f"{args.structure}, {args.ptfe} PTFE at {args.pressure_text}, Tb = {args.isolation_period_text}, "
              f"zeta_b = {args.isolation_damping_text}; Clough-Penzien motions, {args.motions} per level at PGA "
              f"{args.pga_text}, {args.duration_text}, seed {args.seed}")
-    bar = tqdm(total=levels.size * args.motions, unit="motion", disable=args.no_progress)
+    bar = motion_bar(levels.size * args.motions, args.no_progress)
     result, level_index = monte_carlo_levels(
         structure, model, levels, args.motions, key=jax.random.key(args.seed), chunk_size=args.chunk_size,
         progress=lambda done, total: bar.update(done - bar.n), storey_height=height)

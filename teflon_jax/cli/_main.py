@@ -1,16 +1,34 @@
 """The `teflon-jax` command: simulate-test, reproduce, fit, diagnose, montecarlo, design."""
 
 import argparse
+import importlib
 import os
 import pathlib
 import sys
 
 from ._common import check_outputs, read_quantities
 
+_COMMANDS = {
+    # command: (module, adds its parser, runs it, its line in `teflon-jax --help`)
+    "simulate-test": ("_simulate", "add_simulate_parser", "run_simulate", "HELP"),
+    "reproduce": ("_reproduce", "add_reproduce_parser", "run_reproduce", "HELP"),
+    "fit": ("_fit", "add_fit_parser", "run_fit", "FIT_HELP"),
+    "diagnose": ("_diagnose", "add_diagnose_parser", "run_diagnose", "HELP"),
+    "montecarlo": ("_montecarlo", "add_montecarlo_parser", "run_montecarlo", "HELP"),
+    "design": ("_design", "add_design_parser", "run_design", "HELP"),
+    "run": ("_run", "add_run_parser", "run_run", "HELP"),
+}
 
-def _parser() -> argparse.ArgumentParser:
-    from ._simulate import add_simulate_parser
 
+def _command_module(command: str):
+    return importlib.import_module(f".{_COMMANDS[command][0]}", __package__)
+
+
+def _parser(only: str | None = None) -> argparse.ArgumentParser:
+    """The whole parser, or (`only` a command name, or "" for none) the full parser of that
+    command alone beside one-line stubs of the others: enough to parse a command line that
+    names `only`, or to print `--help`, without importing what the other commands need
+    (JAX itself is imported by the commands' runners, not here)."""
     parser = argparse.ArgumentParser(
         prog="teflon-jax",
         description="Differentiable simulation of PTFE sliding bearings (Constantinou, Mokha & "
@@ -26,30 +44,18 @@ def _parser() -> argparse.ArgumentParser:
                         help="do not keep compiled programs between runs (default: kept in "
                         "$XDG_CACHE_HOME/teflon-jax/jax, else ~/.cache/teflon-jax/jax)")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
-    add_simulate_parser(sub)
-    for module, adders in (
-        ("teflon_jax.cli._reproduce", ("add_reproduce_parser",)),
-        ("teflon_jax.cli._fit", ("add_fit_parser",)),
-        ("teflon_jax.cli._diagnose", ("add_diagnose_parser",)),
-        ("teflon_jax.cli._montecarlo", ("add_montecarlo_parser",)),
-        ("teflon_jax.cli._design", ("add_design_parser",)),
-        ("teflon_jax.cli._run", ("add_run_parser",)),
-    ):
-        imported = __import__(module, fromlist=list(adders))
-        for adder in adders:
-            getattr(imported, adder)(sub)
+    for command, (_, adder, _, help_name) in _COMMANDS.items():
+        module = _command_module(command)
+        if only is None or command == only:
+            getattr(module, adder)(sub)
+        else:
+            sub.add_parser(command, help=getattr(module, help_name), add_help=False)
     return parser
 
 
-_RUNNERS = {
-    "simulate-test": ("teflon_jax.cli._simulate", "run_simulate"),
-    "reproduce": ("teflon_jax.cli._reproduce", "run_reproduce"),
-    "fit": ("teflon_jax.cli._fit", "run_fit"),
-    "diagnose": ("teflon_jax.cli._diagnose", "run_diagnose"),
-    "montecarlo": ("teflon_jax.cli._montecarlo", "run_montecarlo"),
-    "design": ("teflon_jax.cli._design", "run_design"),
-    "run": ("teflon_jax.cli._run", "run_run"),
-}
+def _named_command(argv) -> str:
+    """The command a command line names ("" when none): its first word that is one."""
+    return next((word for word in argv if word in _COMMANDS), "")
 
 
 def _split_cpu(jax, requested: int | None) -> None:
@@ -88,7 +94,8 @@ def _use_compile_cache(jax) -> None:
 
 
 def main(argv=None) -> int:
-    parser = _parser()
+    argv = sys.argv[1:] if argv is None else list(argv)
+    parser = _parser(only=_named_command(argv))
     args = parser.parse_args(argv)
     if args.cpu_devices is not None and args.cpu_devices < 1:
         parser.error(f"--cpu-devices: must be >= 1, got {args.cpu_devices}")
@@ -105,8 +112,7 @@ def main(argv=None) -> int:
     jax.config.update("jax_enable_x64", not args.float32)
     if not args.no_compile_cache:
         _use_compile_cache(jax)
-    module, name = _RUNNERS[args.command]
-    runner = getattr(__import__(module, fromlist=[name]), name)
+    runner = getattr(_command_module(args.command), _COMMANDS[args.command][2])
     from ..studies import ClusterRunError
 
     try:

@@ -18,11 +18,15 @@ from ._common import (
     add_quantity,
     add_units_flag,
     check_table1,
+    motion_bar,
     output_units,
     warn_time_step,
 )
 from ._engineering import add_engineering_flags
 from ._main import compile_cache_dir
+
+HELP = "peak responses under N stochastic ground motions (chunked, sharded over devices)"
+"""The line of this command in `teflon-jax --help`."""
 
 
 def _tolerance(text: str) -> float:
@@ -67,7 +71,7 @@ def add_montecarlo_parser(subparsers) -> argparse.ArgumentParser:
     --json OUT.json --plot OUT.png`."""
     parser = subparsers.add_parser(
         "montecarlo",
-        help="peak responses under N stochastic ground motions (chunked, sharded over devices)",
+        help=HELP,
         description="Monte Carlo of an isolated structure under Clough-Penzien stochastic "
         "ground motions; the batch is sharded over all JAX devices.",
     )
@@ -91,8 +95,10 @@ def add_montecarlo_parser(subparsers) -> argparse.ArgumentParser:
                  "of the minor component over the major's, in [0, 1] (default 1: two independent, "
                  "equally strong components)", minimum=0.0, strict=False, maximum=1.0)
     parser.add_argument("--chunk-size", type=_positive_int, default=None, help="motions per compiled call "
-                        "(split over the devices; about 260 kB each for 40 s motions at 0.01 s) (default "
-                        "512; with --scheduler local:N at most motions / N, so that every worker has a task)")
+                        "(split over the devices; about 260 kB each for 40 s motions at 0.01 s) (default: "
+                        "512 on a CPU; on a GPU the largest power of two up to 65536 whose motions "
+                        "fit in half its free memory; with --scheduler local:N at most motions / N, "
+                        "so that every worker has a task)")
     parser.add_argument("--out", type=pathlib.Path, help="results file; its suffix picks the format: "
                         ".nc (NetCDF), .zarr, .csv or .npz")
     parser.add_argument("--newton-iterations", type=_positive_int, default=None, metavar="N",
@@ -136,7 +142,6 @@ def run_montecarlo(args) -> int:
     statistics rest on the converged runs only)."""
     import jax
     import numpy as np
-    from tqdm import tqdm
 
     from ..excitation import TwoComponentGroundMotion
     from ..report import plot_montecarlo
@@ -153,7 +158,8 @@ def run_montecarlo(args) -> int:
         model = TwoComponentGroundMotion(
             model, principal_angle=0.0 if args.principal_angle is None else args.principal_angle,
             minor_ratio=1.0 if args.minor_ratio is None else args.minor_ratio)
-    args.chunk_size = _chunk_size(args)  # the default fits the workers (--scheduler local:N)
+    # the default fits the device's memory and the workers (--scheduler local:N)
+    args.chunk_size = _chunk_size(args, _device_chunk(args, structure, model))
     if args.property_factors is not None:
         from ._bounding import run_bounding
 
@@ -162,7 +168,7 @@ def run_montecarlo(args) -> int:
         from ._levels import run_levels
 
         return run_levels(args, structure, model, units, _statistics)
-    bar = tqdm(total=args.motions, unit="motion", disable=args.no_progress)
+    bar = motion_bar(args.motions, args.no_progress)
 
     def progress(done, total):
         bar.update(done - bar.n)
@@ -300,15 +306,27 @@ def _check_flags(args) -> None:
                          "solve has its own); leave it out with --components 2.")
 
 
-def _chunk_size(args) -> int:
-    """--chunk-size, or 512, or with --scheduler local:N at most ceil(motions / N): a run of
-    fewer chunks than workers leaves workers idle."""
+def _chunk_size(args, device_default: int = 512) -> int:
+    """--chunk-size, or `device_default` (`studies.monte_carlo_chunk_size`: 512 on a CPU, on a
+    GPU the largest power of two up to 65536 that fits in half its free memory), with
+    --scheduler local:N at most ceil(motions / N): a run of fewer chunks than workers leaves
+    workers idle."""
     if args.chunk_size is not None:
         return args.chunk_size
     workers = args.scheduler[len("local:"):] if (args.scheduler or "").startswith("local:") else ""
     if workers.isdigit() and int(workers) > 0:
-        return max(1, min(512, math.ceil(args.motions / int(workers))))
-    return 512
+        return max(1, min(device_default, math.ceil(args.motions / int(workers))))
+    return device_default
+
+
+def _device_chunk(args, structure, model) -> int:
+    """The default chunk for the devices of this machine (those of a remote cluster are
+    unknown here: 512)."""
+    from ..studies import CPU_CHUNK, monte_carlo_chunk_size
+
+    if args.chunk_size is not None or not (args.scheduler or "local:").startswith("local:"):
+        return CPU_CHUNK
+    return monte_carlo_chunk_size(structure, model)
 
 
 def _run_attributes(args) -> dict:

@@ -3,12 +3,15 @@
 import argparse
 import sys
 
+HELP = "regenerate Figs. 3-11 of Constantinou, Mokha & Reinhorn (1990)"
+"""The line of this command in `teflon-jax --help`."""
+
 
 def add_reproduce_parser(subparsers) -> argparse.ArgumentParser:
     """Add `reproduce` to an argparse `subparsers` object; returns the new parser."""
     parser = subparsers.add_parser(
         "reproduce",
-        help="regenerate Figs. 3-11 of Constantinou, Mokha & Reinhorn (1990)",
+        help=HELP,
         description=(
             "Rerun the paper's figures 3-11: writes PNG figures, the numbers behind them as CSV, "
             "report.md (the paper's statements beside our results) and summary.json into --out."

@@ -23,10 +23,14 @@ STRUCTURES = ("rigid", "building", "slab")
 DEFAULT_TIME_STEP = 0.0025  # [s], systems.BIDIRECTIONAL_TIME_STEP (peaks within 0.5 % of Tsit5)
 
 
+HELP = "run your own records (x and optional y) through an isolated structure"
+"""The line of this command in `teflon-jax --help`."""
+
+
 def add_run_parser(subparsers) -> None:
     p = subparsers.add_parser(
         "run",
-        help="run your own records (x and optional y) through an isolated structure",
+        help=HELP,
         description=(
             "Simulate an isolated structure on PTFE sliding bearings (Constantinou, Mokha & "
             "Reinhorn 1990: Eq. 1 at the resultant sliding speed, Park's biaxial Z, Eq. 17 "

@@ -27,7 +27,8 @@ def add_suite_arguments(parser) -> None:
                         help="with --suite: the NetCDF file of the per-pair peaks (default <json stem>.nc)")
     parser.add_argument("--chunk-size", type=_positive_int, default=None, metavar="N",
                         help="with --suite: record pairs per compiled call, a task with --scheduler "
-                        "(default: all in one call here, 8 per task on a cluster); the same N gives the "
+                        "(default: all in one call on a CPU, on a GPU the largest power of two up to "
+                        "65536 that fits in half its free memory; 8 per task on a cluster); the same N gives the "
                         "same peaks bit for bit here and on a cluster")
     add_spectrum_flags(parser)
     add_suite_bounding_flag(parser)
@@ -138,7 +139,11 @@ def run_suite(args, load_components, build_structure) -> int:
         from ..tables import load_table2
 
         storeys = args.structure == "building" and args.pelicun_demands is not None  # as on a cluster otherwise
-        result = suite_peaks(build, names, ax, ay, dt, (n - 1) * dt, base_index, batch_size=args.chunk_size,
+        from ..studies import device_chunk_size
+
+        # default: all pairs in one call on a CPU; on a GPU as many as fit in half its memory
+        batch = args.chunk_size or device_chunk_size(2 * n, template.mass.shape[-1], cpu=len(names))
+        result = suite_peaks(build, names, ax, ay, dt, (n - 1) * dt, base_index, batch_size=batch,
                              storey_height=load_table2().storey_height if storeys else None)
         save_suite(result, table_path=stem.with_suffix(".csv"), netcdf_path=netcdf, attrs=attrs)
     else:

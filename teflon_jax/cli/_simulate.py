@@ -4,7 +4,6 @@ import pathlib
 
 import numpy as np
 
-from ..report import plot_loop
 from ..units import INCH, parse_quantity
 from ._bearing_flags import add_bearing_flag, read_bearing_flag
 from ._common import add_quantity, add_units_flag, check_table1, output_units
@@ -13,10 +12,14 @@ DEFAULT_DIAMETER = 10 * INCH  # specimens of the paper's tests: 10 in diameter
 MIN_SAMPLES_PER_CYCLE = 8  # fewer cannot show the shape of a loop
 
 
+HELP = "simulate an imposed-motion bearing test (Table 1 interface) and write the record"
+"""The line of this command in `teflon-jax --help`."""
+
+
 def add_simulate_parser(subparsers) -> None:
     p = subparsers.add_parser(
         "simulate-test",
-        help="simulate an imposed-motion bearing test (Table 1 interface) and write the record",
+        help=HELP,
         description=(
             "Simulate a PTFE bearing driven along a prescribed path with the model of "
             "Constantinou, Mokha & Reinhorn (1990): Eq. 1 friction, Bouc-Wen/Park hysteresis, "
@@ -59,7 +62,8 @@ def add_simulate_parser(subparsers) -> None:
 
 def build_test(args):
     """Turn parsed options into (bearing, motion, normal_load, metadata); ValueErrors name the option."""
-    import teflon_jax as tj
+    from ..bearing import paper_bearing
+    from ..tables import interface_parameters
 
     from_file = read_bearing_flag(args)
     if from_file is not None:
@@ -69,7 +73,7 @@ def build_test(args):
     pressure = args.pressure
     check_table1(ptfe, pressure, args.pressure_text, "--pressure", direction, args.extrapolate)
     try:
-        friction, table_b = tj.interface_parameters(ptfe, pressure, direction, extrapolate=args.extrapolate)
+        friction, table_b = interface_parameters(ptfe, pressure, direction, extrapolate=args.extrapolate)
     except ValueError as error:
         raise ValueError(f"--{error}") from None
     perpendicular = None
@@ -77,7 +81,7 @@ def build_test(args):
         if args.pattern != "eight":
             raise ValueError("--anisotropic: only meaningful with --pattern eight (biaxial motion).")
         try:
-            perpendicular, _ = tj.interface_parameters(ptfe, pressure, "T", extrapolate=args.extrapolate)
+            perpendicular, _ = interface_parameters(ptfe, pressure, "T", extrapolate=args.extrapolate)
         except ValueError as error:
             raise ValueError(f"--anisotropic: {error}") from None
     breakaway = None
@@ -96,7 +100,7 @@ def build_test(args):
                          f"them to show its shape), got {args.samples_per_cycle}.")
     if args.interfaces < 1:
         raise ValueError(f"--interfaces-in-series: must be an integer >= 1, got {args.interfaces}.")
-    bearing = tj.paper_bearing(friction, yield_disp=yield_disp, breakaway_ratio=breakaway,
+    bearing = paper_bearing(friction, yield_disp=yield_disp, breakaway_ratio=breakaway,
                                friction_perpendicular=perpendicular, n_interfaces=args.interfaces)
     area = np.pi * DEFAULT_DIAMETER**2 / 4
     if args.normal_load is None:
@@ -141,7 +145,7 @@ def _from_bearing_file(args, bearing):
 
 
 def _motion(args):
-    import teflon_jax as tj
+    from ..excitation import FigureEightMotion, SineMotion, TriangleMotion
 
     if args.motion_file is not None:
         return _read_motion_file(pathlib.Path(args.motion_file))
@@ -149,11 +153,11 @@ def _motion(args):
     if not args.cycles > 0:
         raise ValueError(f"--cycles: must be > 0, got {args.cycles}.")
     if args.pattern == "sine":
-        return tj.SineMotion(amplitude, frequency, cycles=args.cycles)
+        return SineMotion(amplitude, frequency, cycles=args.cycles)
     if args.pattern == "triangle":
-        return tj.TriangleMotion(amplitude, frequency, cycles=args.cycles)
+        return TriangleMotion(amplitude, frequency, cycles=args.cycles)
     if args.pattern == "eight":
-        return tj.FigureEightMotion(amplitude, 2 * np.pi * frequency, cycles=args.cycles)
+        return FigureEightMotion(amplitude, 2 * np.pi * frequency, cycles=args.cycles)
     raise ValueError(f"--pattern: unknown pattern {args.pattern!r}; accepted values: sine, triangle, eight.")
 
 
@@ -166,17 +170,18 @@ def _read_motion_file(path: pathlib.Path):
 
 
 def run_simulate(args) -> int:
-    import teflon_jax as tj
+    from ..formats import test_record_from_arrays, write_test_record
+    from ..systems import simulate_bearing_test
 
     bearing, motion, normal_load, metadata = build_test(args)
-    result = tj.simulate_bearing_test(bearing, motion, normal_load,
+    result = simulate_bearing_test(bearing, motion, normal_load,
                                       samples_per_cycle=args.samples_per_cycle, throw=False)
     if not bool(result.succeeded):
         import diffrax
 
         raise RuntimeError(f"the solver failed: {diffrax.RESULTS[result.result]}")
     biaxial = motion.biaxial
-    record = tj.test_record_from_arrays(
+    record = test_record_from_arrays(
         np.asarray(result.ux),
         np.asarray(result.fx),
         time=np.asarray(result.time),
@@ -185,7 +190,7 @@ def run_simulate(args) -> int:
         normal_load=np.asarray(result.normal_load),
         metadata=metadata,
     )
-    tj.write_test_record(args.out, record, units=None if args.units == "us" else "SI")
+    write_test_record(args.out, record, units=None if args.units == "us" else "SI")
     peak = float(np.max(np.abs(np.asarray(result.fx) / np.asarray(result.normal_load))))
     print(f"wrote {args.out}: {len(record)} samples, peak |fx|/N = {peak:.4f} [-]")
     if args.plot:
@@ -196,6 +201,8 @@ def run_simulate(args) -> int:
                   f"{pattern} {args.amplitude_text} at {args.frequency_text}")
         stamp = f"{_bearing_words(args, metadata)}; {motion}; N = {load}" + (
             f", breakaway b = {args.breakaway_shown}" if args.breakaway_shown else "")
+        from ..report import plot_loop
+
         plot_loop(result, args.plot, title=stamp, length=units.length)
         print(f"wrote {args.plot}")
     return 0

@@ -35,6 +35,19 @@ def _figure(rows=1, cols=1, size=(6.4, 4.2)):
     return figure, axes
 
 
+def _figure_with_legend_row(rows, cols, size, legend_height):
+    """`_figure` with a row of height `legend_height` (a fraction of a panel's) under the
+    panels for the legend, so that the legend covers no data and no label."""
+    from matplotlib.figure import Figure
+
+    figure = Figure(figsize=size, layout="constrained")
+    grid = figure.add_gridspec(rows + 1, cols, height_ratios=[1.0] * rows + [legend_height])
+    axes = np.array([[figure.add_subplot(grid[r, c]) for c in range(cols)] for r in range(rows)])
+    legend_axes = figure.add_subplot(grid[rows, :])
+    legend_axes.axis("off")
+    return figure, axes, legend_axes
+
+
 def _save(figure, path, stamp: str = "") -> pathlib.Path:
     if stamp:
         width = int(figure.get_figwidth() * 14)
@@ -65,8 +78,15 @@ def loops(path, curves, *, title, stamp="", xlabel="displacement [in]",
 
 def figure_eight(path, rows, *, title, stamp=""):
     """Figs. 5-6: one row per motion, the isotropic (solid) and anisotropic (dashed) bearings on
-    the same axes. `rows`: list of (row title, [(label, ux, uy, fx, fy)]) [in, -]."""
-    figure, axes = _figure(len(rows), 3, size=(12, 3.6 * len(rows)))
+    the same axes. `rows`: list of (row title, [(label, ux, uy, fx, fy)]) [in, -]. The legend
+    sits below the panels, clear of the loops' peaks."""
+    return _save(figure_eight_figure(rows, title=title), path, stamp)
+
+
+def figure_eight_figure(rows, *, title):
+    """The `matplotlib.figure.Figure` of `figure_eight`, not yet saved."""
+    figure, axes, legend_axes = _figure_with_legend_row(len(rows), 3, (12, 3.6 * len(rows) + 0.5),
+                                                        0.1)
     for row, (heading, cases) in zip(axes, rows):
         for i, (label, ux, uy, fx, fy) in enumerate(cases):
             if i == 0:
@@ -83,23 +103,31 @@ def figure_eight(path, rows, *, title, stamp=""):
             ax.set_ylabel(ylabel)
             ax.set_title(f"{heading}: {panel}", fontsize=9)
             ax.grid(alpha=0.3)
-        row[2].legend(fontsize=7, loc="lower right")
     _title(figure, title, 3)
-    return _save(figure, path, stamp)
+    legend_axes.legend(*axes[0, 1].get_legend_handles_labels(), loc="center", ncols=2,
+                       fontsize=8)
+    return figure
 
 
 def histories(path, time, series, *, title, ylabel, stamp="", xlabel="time [s]"):
-    """Time histories on one axes; `series`: list of (label in words, values)."""
-    figure, axes = _figure(size=(7.5, 4.4))
+    """Time histories on one axes; `series`: list of (label in words, values), the first (the
+    full model) drawn over the others; the legend below the axes, clear of the peaks."""
+    return _save(histories_figure(time, series, title=title, ylabel=ylabel, xlabel=xlabel),
+                 path, stamp)
+
+
+def histories_figure(time, series, *, title, ylabel, xlabel="time [s]"):
+    """The `matplotlib.figure.Figure` of `histories`, not yet saved."""
+    figure, axes, legend_axes = _figure_with_legend_row(1, 1, (7.5, 5.0), 0.14)
     ax = axes[0, 0]
     for i, (label, values) in enumerate(series):
-        ax.plot(time, values, label=label, **style(i))
+        ax.plot(time, values, label=label, zorder=2 + len(series) - i, **style(i))
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
     ax.set_title("\n".join(textwrap.wrap(title, 80)), fontsize=10)
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=7)
-    return _save(figure, path, stamp)
+    legend_axes.legend(*ax.get_legend_handles_labels(), loc="center", ncols=2, fontsize=7)
+    return figure
 
 
 def spectra_panels(path, periods, panels, *, title, stamp=""):

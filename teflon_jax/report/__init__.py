@@ -7,3 +7,6 @@ from ._loop_plot import plot_loop as plot_loop
 from ._montecarlo_plot import plot_montecarlo as plot_montecarlo
 from ._parameter_units import PARAMETER_SYMBOLS as PARAMETER_SYMBOLS
 from ._parameter_units import parameter_unit as parameter_unit
+from ._residual_plot import ROBUST_PERCENTILES as ROBUST_PERCENTILES
+from ._residual_plot import residual_maps as residual_maps
+from ._residual_plot import robust_limits as robust_limits

@@ -14,6 +14,11 @@ from ._bounding import bounding_design as bounding_design
 from ._bounding import check_property_factors as check_property_factors
 from ._bounding import governing_cases as governing_cases
 from ._bounding import scaled_friction as scaled_friction
+from ._chunks import CPU_CHUNK as CPU_CHUNK
+from ._chunks import LARGEST_CHUNK as LARGEST_CHUNK
+from ._chunks import default_chunk_size as default_chunk_size
+from ._chunks import device_chunk_size as device_chunk_size
+from ._chunks import monte_carlo_chunk_size as monte_carlo_chunk_size
 from ._cluster import ClusterRunError as ClusterRunError
 from ._cluster import check_netcdf_output as check_netcdf_output
 from ._cpu_vectors import prefer_wide_cpu_vectors as prefer_wide_cpu_vectors
