@@ -1,0 +1,169 @@
+"""The single friction pendulum (concave surface of radius R) against closed forms.
+
+Each test names the statement of the pendulum's law it guards: the period 2 pi sqrt(R / g),
+the Coulomb decay of 4 mu R per cycle, the restoring force W r / R along the displacement with
+the friction along the velocity, the restrainer beyond the displacement capacity and the
+large-displacement form N u / sqrt(R^2 - u^2). Reference: Zayas, Low & Mahin (1990).
+"""
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+
+from teflon_jax.bearing import FrictionParameters, concave_surface, paper_bearing
+from teflon_jax.excitation import uniform_signal
+from teflon_jax.studies import bidirectional_isolated_structure
+from teflon_jax.systems import (
+    isolated_structure,
+    respond_along_path,
+    sampled_path,
+    simulate_structure,
+)
+from teflon_jax.units import INCH, STANDARD_GRAVITY
+
+G = STANDARD_GRAVITY
+WEIGHT = 100e3  # [N], the rigid mass of `isolated_structure`
+RADIUS = 1.0  # [m]
+
+
+def _kicked(duration, dt=0.005, amplitude=3.0, pulse=0.25):
+    """A ground-acceleration pulse of `amplitude` [m/s^2] over `pulse` [s], then rest."""
+    t = np.arange(0.0, duration + dt / 2, dt)
+    return uniform_signal(np.where(t < pulse, amplitude, 0.0), dt), pulse
+
+
+def _free_vibration(friction_model, bearing=None, duration=12.0, radius=RADIUS):
+    ground, pulse = _kicked(duration)
+    structure = isolated_structure("rigid", isolator="single-fp", radius=radius, time_step=0.001,
+                                   friction_model=friction_model, bearing=bearing)
+    response = simulate_structure(structure(ground), duration)
+    t = np.asarray(response.time)
+    u = np.asarray(response.displacement[:, 0])
+    after = t > pulse + 0.01
+    return t[after], u[after]
+
+
+def test_free_vibration_without_friction_has_the_pendulum_period():
+    t, u = _free_vibration("none")
+    # zero crossings, interpolated linearly between samples
+    i = np.nonzero(np.sign(u[1:]) != np.sign(u[:-1]))[0]
+    crossings = t[i] - u[i] * (t[i + 1] - t[i]) / (u[i + 1] - u[i])
+    period = 2 * np.mean(np.diff(crossings))
+    assert len(crossings) >= 8
+    np.testing.assert_allclose(period, 2 * np.pi * np.sqrt(RADIUS / G), rtol=1e-5)
+
+
+def test_coulomb_free_vibration_decays_by_four_mu_r_per_cycle():
+    mu = 0.01
+    bearing = paper_bearing(FrictionParameters(f_max=mu, delta_f=0.0, rate_a=1.0))
+    t, u = _free_vibration("coulomb", bearing=bearing)
+    interior = (u[1:-1] > u[:-2]) & (u[1:-1] >= u[2:]) & (u[1:-1] > 0)
+    peaks = u[1:-1][interior]
+    assert len(peaks) >= 3
+    np.testing.assert_allclose(-np.diff(peaks), 4 * mu * RADIUS, rtol=2e-3)
+
+
+def test_restoring_force_lies_along_the_displacement_and_friction_along_the_velocity():
+    # A circular orbit of radius r at angular rate w: the surface pulls back along u with
+    # magnitude W r / R; the liner's friction (Eq. 1, here constant) is along the velocity.
+    r, w, mu = 0.2, 2.0, 0.05
+    surface = concave_surface(RADIUS)
+    time = np.linspace(0.0, 2 * (2 * np.pi / w), 4001)
+    u = np.stack([r * np.cos(w * time), r * np.sin(w * time)], axis=-1)
+    v = np.stack([-r * w * np.sin(w * time), r * w * np.cos(w * time)], axis=-1)
+    restoring = np.asarray(surface.restoring_force(jnp.asarray(u), WEIGHT))
+    radial = u / r
+    np.testing.assert_allclose(restoring, WEIGHT * r / RADIUS * radial, rtol=1e-12)
+    bearing = paper_bearing(FrictionParameters(f_max=mu, delta_f=0.0, rate_a=1.0))
+    path = sampled_path(time, u[:, 0], WEIGHT, uy=u[:, 1], velocity=v[:, 0], velocity_y=v[:, 1])
+    response = respond_along_path(bearing, path, z_peak0=1.0)
+    friction = np.stack([response.force_x, response.force_y], axis=-1)
+    total = restoring + friction
+    settled = time > 2 * np.pi / w  # the second turn: Z has reached the circle
+    tangent = v / (r * w)
+    np.testing.assert_allclose(np.sum(total * radial, -1)[settled], WEIGHT * r / RADIUS, atol=1e-3 * WEIGHT)
+    np.testing.assert_allclose(np.sum(total * tangent, -1)[settled], mu * WEIGHT, rtol=2e-3)
+
+
+def test_bidirectional_structure_pulls_back_along_the_displacement():
+    """The two-direction rigid mass on the pendulum: the restoring force K q of its springs is
+    the surface's W q / R, along q, in any direction."""
+    ground = uniform_signal(np.zeros(11), 0.01)
+    structure = bidirectional_isolated_structure("rigid", isolator="single-fp", radius=RADIUS)
+    system = structure((ground, ground))
+    q = np.array([0.3, -0.4])
+    force = np.asarray(system.stiffness @ jnp.asarray(q))
+    np.testing.assert_allclose(force, concave_surface(RADIUS).restoring_force(jnp.asarray(q), WEIGHT),
+                               rtol=1e-12)
+    np.testing.assert_allclose(force, WEIGHT * q / RADIUS, rtol=1e-12)
+    assert float(system.damping[0, 0]) == 0.0  # the pendulum's damping is its friction
+
+
+def test_restrainer_stiffens_beyond_the_displacement_capacity():
+    capacity, k_r = 0.3, 5e6
+    surface = concave_surface(RADIUS, displacement_capacity=capacity, restrainer_stiffness=k_r)
+    u = jnp.array([-0.5, -0.3, 0.1, 0.3, 0.45])
+    expected = WEIGHT * u / RADIUS + k_r * np.maximum(np.abs(u) - capacity, 0.0) * np.sign(u)
+    np.testing.assert_allclose(surface.restoring_force(u, WEIGHT), expected, rtol=1e-12)
+    np.testing.assert_allclose(surface.extra_force(u, WEIGHT), expected - WEIGHT * u / RADIUS,
+                               atol=1e-9)
+    # in two directions the restrainer acts along the displacement, on its length
+    q = jnp.array([0.3, 0.4])  # |q| = 0.5
+    np.testing.assert_allclose(surface.restoring_force(q, WEIGHT),
+                               (WEIGHT * 0.5 / RADIUS + k_r * 0.2) * q / 0.5, rtol=1e-12)
+    # the slope jumps by k_r at the capacity
+    slope = jax.vmap(jax.grad(lambda x: surface.restoring_force(x, WEIGHT)))
+    inside, outside = slope(jnp.array([0.29, 0.31]))
+    np.testing.assert_allclose(outside - inside, k_r, rtol=1e-12)
+
+
+def test_large_displacement_form_is_the_normal_reaction_on_the_sphere():
+    # On a sphere of radius R at u = R sin(theta), a vertical load N balances the normal
+    # reaction N / cos(theta), whose horizontal component is N tan(theta).
+    surface = concave_surface(RADIUS, large_displacement=True)
+    theta = jnp.array([-0.6, -0.2, 0.05, 0.3, 0.7])
+    u = RADIUS * jnp.sin(theta)
+    np.testing.assert_allclose(surface.restoring_force(u, WEIGHT), WEIGHT * np.tan(theta), rtol=1e-12)
+    small = concave_surface(RADIUS)
+    ratio = surface.restoring_force(u, WEIGHT) / small.restoring_force(u, WEIGHT)
+    np.testing.assert_allclose(ratio, 1 / np.cos(theta), rtol=1e-12)
+    q = RADIUS * np.sin(0.5) * jnp.array([0.6, 0.8])
+    np.testing.assert_allclose(surface.restoring_force(q, WEIGHT), WEIGHT * np.tan(0.5) * q / jnp.linalg.norm(q),
+                               rtol=1e-12)
+
+
+def test_radius_sets_the_period_and_the_spring_of_the_structures():
+    surface = concave_surface(88 * INCH)
+    np.testing.assert_allclose(surface.isolation_period(), 2 * np.pi * np.sqrt(88 * INCH / G), rtol=1e-14)
+    ground = uniform_signal(np.zeros(11), 0.01)
+    for kind in ("rigid", "building"):
+        system = isolated_structure(kind, isolator="single-fp", radius=88 * INCH)(ground)
+        flat = isolated_structure(kind, isolation_period=float(surface.isolation_period()),
+                                  isolation_damping=0.0)(ground)
+        np.testing.assert_allclose(system.stiffness, flat.stiffness, rtol=1e-12)
+        # the bearings carry the whole weight W: the base spring is W / R (R -> 2 R halves it)
+        wide = isolated_structure(kind, isolator="single-fp", radius=2 * 88 * INCH)(ground)
+        np.testing.assert_allclose(system.stiffness[0, 0] - wide.stiffness[0, 0],
+                                   float(system.bearing_load) / (2 * 88 * INCH), rtol=1e-9)
+
+
+@pytest.mark.parametrize("options, message", [
+    ({"isolator": "curved"}, "isolator: unknown"),
+    ({"radius": 1.0}, "radius: applies to the single-fp"),
+    ({"isolator": "single-fp"}, "radius: the single-fp isolator needs"),
+    ({"isolator": "single-fp", "radius": 0.0}, "radius: must be > 0"),
+    ({"isolator": "single-fp", "radius": 1.0, "isolation_period": 2.0}, "isolation_period:"),
+])
+def test_bad_pendulum_inputs_are_refused_naming_the_parameter(options, message):
+    with pytest.raises(ValueError, match=message):
+        isolated_structure("rigid", **options)
+
+
+def test_surface_inputs_are_checked():
+    with pytest.raises(ValueError, match="radius"):
+        concave_surface(-1.0)
+    with pytest.raises(ValueError, match="restrainer_stiffness"):
+        concave_surface(1.0, displacement_capacity=0.2, restrainer_stiffness=-1.0)
+    with pytest.raises(ValueError, match="displacement_capacity"):
+        concave_surface(1.0, displacement_capacity=1.5, large_displacement=True)
