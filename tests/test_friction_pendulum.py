@@ -4,7 +4,25 @@ Each test names the statement of the pendulum's law it guards: the period 2 pi s
 the Coulomb decay of 4 mu R per cycle, the restoring force W r / R along the displacement with
 the friction along the velocity, the restrainer beyond the displacement capacity and the
 large-displacement form N u / sqrt(R^2 - u^2). Reference: Zayas, Low & Mahin (1990).
+
+The rigid mass on the pendulum is also compared with OpenSees' `singleFPBearing` under the PEER
+RSN6 El Centro records (40 s, R = 88 in), with the same friction law on both sides
+(benchmarks/_opensees_pendulum.py). OpenSees' slider is elastic-perfectly-plastic with an
+initial stiffness mu_slow W / Y and takes the normal force on the surface as W + F u / R;
+measured, ours minus OpenSees:
+
+- Coulomb friction mu = 0.06, one component (180), 1 ms steps, OpenSees' Y = 1e-7 m:
+  displacement +0.03 %, base shear -0.21 % (with Y = 1e-5 m at 2.5 ms OpenSees' stick-slip
+  is not converged: -2.5 %, -1.0 %; an independent ODE with friction mu W tanh(v / 1e-4 m/s)
+  gives 57.9 mm against our 58.0-58.2 mm);
+- velocity-dependent friction (UF, f_max 0.1193, f_min 0.0266, a 0.6 s/in), the 180 + 270
+  pair, 2.5 ms steps, Y = 0.001 in on both sides: displacement -0.38 %, base shear -0.27 %
+  (-2.3 % and -0.64 % at the paper's Y = 0.005 in: Bouc-Wen's smooth loop against the
+  elastic-perfectly-plastic one, as for the flat sliders in test_bidirectional_opensees.py).
 """
+
+import pathlib
+import sys
 
 import jax
 import jax.numpy as jnp
@@ -13,11 +31,13 @@ import pytest
 
 from teflon_jax.bearing import FrictionParameters, concave_surface, paper_bearing
 from teflon_jax.excitation import uniform_signal
+from teflon_jax.formats import read_at2
 from teflon_jax.studies import bidirectional_isolated_structure
 from teflon_jax.systems import (
     isolated_structure,
     respond_along_path,
     sampled_path,
+    simulate_bidirectional,
     simulate_structure,
 )
 from teflon_jax.units import INCH, STANDARD_GRAVITY
@@ -167,3 +187,71 @@ def test_surface_inputs_are_checked():
         concave_surface(1.0, displacement_capacity=0.2, restrainer_stiffness=-1.0)
     with pytest.raises(ValueError, match="displacement_capacity"):
         concave_surface(1.0, displacement_capacity=1.5, large_displacement=True)
+
+
+# --------------------------------------------------------------------------- OpenSees peer
+
+
+def _peer():
+    """benchmarks/_opensees_pendulum.py, or a skip when openseespy cannot be loaded."""
+    pytest.importorskip("openseespy")
+    folder = str(pathlib.Path(__file__).resolve().parents[1] / "benchmarks")
+    if folder not in sys.path:
+        sys.path.insert(0, folder)
+    import _opensees_pendulum
+
+    try:
+        _opensees_pendulum.import_opensees()
+    except ImportError as error:
+        pytest.skip(f"openseespy is not importable: {error}")
+    return _opensees_pendulum
+
+
+def _rsn6(external_data, duration=40.0):
+    folder = external_data / "elcentro1940_peer_nga_rsn6"
+    x = read_at2(folder / "RSN6_IMPVALL.I_I-ELC180-hor1.AT2")
+    y = read_at2(folder / "RSN6_IMPVALL.I_I-ELC270-hor2.AT2")
+    n = int(round(duration / x.time_step)) + 1
+    assert x.time_step == y.time_step and min(x.acceleration.size, y.acceleration.size) >= n
+    return np.asarray(x.acceleration[:n]), np.asarray(y.acceleration[:n]), float(x.time_step)
+
+
+@pytest.mark.external
+def test_rigid_mass_with_coulomb_friction_agrees_with_opensees(external_data):
+    peer = _peer()
+    ax, _, dt = _rsn6(external_data)
+    radius, mu, step = 88 * INCH, 0.06, 0.001
+    disp_os, shear_os, _ = peer.rigid_mass_on_pendulum(ax, dt, weight=WEIGHT, radius=radius, mu_slow=mu,
+                                                       yield_disp=1e-7, time_step=step)
+    bearing = paper_bearing(FrictionParameters(f_max=mu, delta_f=0.0, rate_a=1.0))
+    structure = isolated_structure("rigid", isolator="single-fp", radius=radius, friction_model="coulomb",
+                                   bearing=bearing, time_step=step)
+    response = simulate_structure(structure(uniform_signal(ax, dt)), (ax.size - 1) * dt)
+    disp = float(np.max(np.abs(response.displacement[:, 0])))
+    shear = float(np.max(np.abs(response.total_acceleration[:, 0]))) / G
+    assert disp > 0.04
+    assert abs(disp / disp_os - 1) < 0.02
+    assert abs(shear / shear_os - 1) < 0.02
+
+
+@pytest.mark.external
+def test_rigid_mass_under_the_rsn6_pair_agrees_with_opensees(external_data):
+    peer = _peer()
+    ax, ay, dt = _rsn6(external_data)
+    radius, f_max, f_min, rate_a, yield_disp, step = 88 * INCH, 0.1193, 0.0266, 0.6 / INCH, 0.001 * INCH, 0.0025
+    disp_os, shear_os, _ = peer.rigid_mass_on_pendulum(
+        ax, dt, weight=WEIGHT, radius=radius, mu_slow=f_min, mu_fast=f_max, rate=rate_a,
+        yield_disp=yield_disp, time_step=step, ay=ay)
+    bearing = paper_bearing(FrictionParameters(f_max=f_max, delta_f=f_max - f_min, rate_a=rate_a),
+                            yield_disp=yield_disp)
+    structure = bidirectional_isolated_structure("rigid", isolator="single-fp", radius=radius, bearing=bearing,
+                                                 breakaway=False, time_step=step)
+    system = structure((uniform_signal(ax, dt), uniform_signal(ay, dt)))
+    response = simulate_bidirectional(system, (ax.size - 1) * dt)
+    q = np.asarray(response.q)
+    total = np.asarray(response.acceleration) + np.asarray(response.ground)
+    disp = float(np.max(np.hypot(q[:, 0], q[:, 1])))
+    shear = float(np.max(np.hypot(total[:, 0], total[:, 1]))) / G
+    assert disp > 0.03
+    assert abs(disp / disp_os - 1) < 0.02
+    assert abs(shear / shear_os - 1) < 0.02
