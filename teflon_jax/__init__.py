@@ -19,6 +19,7 @@ from .bearing import BREAKAWAY_THRESHOLD as BREAKAWAY_THRESHOLD
 from .bearing import DEFAULT_YIELD_DISP as DEFAULT_YIELD_DISP
 from .bearing import Backlash as Backlash
 from .bearing import BoucWen as BoucWen
+from .bearing import ConcaveSurface as ConcaveSurface
 from .bearing import DirectionAsymmetry as DirectionAsymmetry
 from .bearing import FrictionalHeating as FrictionalHeating
 from .bearing import FrictionParameters as FrictionParameters
@@ -30,6 +31,7 @@ from .bearing import bouc_wen_exact_update as bouc_wen_exact_update
 from .bearing import bouc_wen_rate as bouc_wen_rate
 from .bearing import bouc_wen_reversal_length as bouc_wen_reversal_length
 from .bearing import check_bearing as check_bearing
+from .bearing import concave_surface as concave_surface
 from .bearing import coulomb_friction as coulomb_friction
 from .bearing import paper_bearing as paper_bearing
 from .bearing import park_rate as park_rate

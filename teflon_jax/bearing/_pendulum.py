@@ -14,7 +14,8 @@ component of the normal reaction on the sphere,
 A stiffening restrainer (the rim) beyond the displacement capacity d adds
 k_r (|u| - d) along u for |u| > d. In two directions the force acts along the displacement
 vector u. The liner's friction is a `SlidingBearing` (Eq. 1 of Constantinou, Mokha &
-Reinhorn 1990 at the liner's contact pressure), composed beside this part.
+Reinhorn 1990 at the liner's contact pressure), composed beside this part, at the vertical
+load N in both forms (the normal reaction N / cos(theta) exceeds it by about (u / R)^2 / 2).
 
 References: Zayas, Low & Mahin (1990), "A simple pendulum technique for achieving seismic
 isolation", Earthquake Spectra 6(2); Constantinou, Mokha & Reinhorn (1990), J. Struct. Eng.

@@ -91,7 +91,9 @@ class IsolatedStructure(eqx.Module):
       sliders without springs, and for a friction pendulum).
     - `surface`: the `ConcaveSurface` of a single friction pendulum, or `None` (flat sliders).
       Its small-rotation restoring force W u / R on the weight W carried is the linear spring
-      of period T_b = 2 pi sqrt(R / g) (Zayas, Low & Mahin 1990), which the structures run.
+      of period T_b = 2 pi sqrt(R / g) (Zayas, Low & Mahin 1990); the rest of its force (the
+      large-displacement form, the restrainer) is `StructureOnSliders.surface`'s, one
+      direction and hysteretic friction only.
     - `isolation_damping` zeta_b [-] of the rigid-body mode.
     - `breakaway` (static): use Table 1's b (Eq. 17) when True; no breakaway when False.
     - `friction_model` (static): "hysteretic", "coulomb" or "none".
@@ -171,8 +173,12 @@ class IsolatedStructure(eqx.Module):
             raise ValueError(f"design: {wrong!r} does not apply to the {self.isolator} isolator.")
         if self.surface is None:
             return design.get("isolation_period", self.isolation_period)
-        radius = design.get("radius", self.surface.radius)
-        return eqx.tree_at(lambda c: c.radius, self.surface, jnp.asarray(radius, float)).isolation_period()
+        return self.designed_surface(design).isolation_period()
+
+    def designed_surface(self, design=None):
+        """`surface` with the design's radius in place of its own."""
+        radius = (design or {}).get("radius", self.surface.radius)
+        return eqx.tree_at(lambda c: c.radius, self.surface, jnp.asarray(radius, float))
 
     def contact_pressure(self, design=None):
         """The bearings' contact pressure [Pa] for a bearing with heating (else None)."""
@@ -222,6 +228,8 @@ class IsolatedStructure(eqx.Module):
                 linear_rule=self.linear_rule,
                 contact_pressure=self.contact_pressure(design),
             )
+        if self.surface is not None and not is_linear_surface(self.surface):
+            system = dataclasses.replace(system, surface=self.designed_surface(design))
         settings = (self.newton_iterations, self.split_at_turn, self.newton_tolerance)
         if settings != (system.newton_iterations, system.split_at_turn, system.newton_tolerance):
             system = dataclasses.replace(system, newton_iterations=self.newton_iterations,
@@ -247,6 +255,7 @@ def isolated_structure(
     bearing: SlidingBearing | None = None,
     isolator: str = "flat",
     radius=None,
+    surface: ConcaveSurface | None = None,
 ) -> IsolatedStructure:
     """An `IsolatedStructure` with its inputs checked (`ValueError` naming the parameter).
 
@@ -257,12 +266,17 @@ def isolated_structure(
     (default `RECOMMENDED_TIME_STEPS[kind]`), `newton_iterations` a positive integer (the
     default lets every step converge; 1 cuts the solve short: runs are then reported as not
     converged). `isolator`: "flat" (the default) or "single-fp", a single friction pendulum of
-    `radius` R [m] > 0 (then `isolation_period` must be `None`: the period is 2 pi sqrt(R / g)).
+    `radius` R [m] > 0 (then `isolation_period` must be `None`: the period is 2 pi sqrt(R / g)),
+    or of `surface`, a `ConcaveSurface` (`concave_surface`) with a restrainer or the
+    large-displacement form (with hysteretic friction).
     """
     if kind not in STRUCTURES:
         raise ValueError(f"structure: unknown {kind!r}; accepted: {', '.join(STRUCTURES)}.")
     given_period = isolation_period is not DEFAULT_ISOLATION_PERIOD
-    surface = _surface(isolator, radius, isolation_period if given_period else None)
+    surface = _surface(isolator, radius, isolation_period if given_period else None, surface)
+    if surface is not None and not is_linear_surface(surface) and friction_model != "hysteretic":
+        raise ValueError(f"surface: its restrainer or large-displacement force is solved with the "
+                         f"hysteretic friction model, not {friction_model!r}.")
     if surface is not None:
         isolation_period = None
     elif not given_period:
@@ -303,21 +317,31 @@ def isolated_structure(
     return _checked_isolation(structure, kind, isolation_period, isolation_damping)
 
 
-def _surface(isolator, radius, isolation_period):
-    """The `ConcaveSurface` of `isolator` "single-fp" of `radius` [m] (None for "flat"), with
-    the conflicting inputs refused (`ValueError` naming them)."""
+def is_linear_surface(surface: ConcaveSurface) -> bool:
+    """True when `surface`'s force is W u / R alone (small rotation, no restrainer)."""
+    return not surface.large_displacement and surface.displacement_capacity is None
+
+
+def _surface(isolator, radius, isolation_period, surface=None):
+    """The `ConcaveSurface` of `isolator` "single-fp" of `radius` [m] or `surface` (None for
+    "flat"), with the conflicting inputs refused (`ValueError` naming them)."""
     if isolator not in ISOLATORS:
         raise ValueError(f"isolator: unknown {isolator!r}; accepted: {', '.join(ISOLATORS)}.")
     if isolator == "flat":
-        if radius is not None:
-            raise ValueError("radius: applies to the single-fp isolator only (flat sliders have none).")
+        for name, value in (("radius", radius), ("surface", surface)):
+            if value is not None:
+                raise ValueError(f"{name}: applies to the single-fp isolator only (flat sliders have none).")
         return None
+    if surface is not None:
+        if radius is not None:
+            raise ValueError("radius: give the radius or a surface (which has its radius), not both.")
+        radius = surface.radius
     if radius is None:
         raise ValueError("radius: the single-fp isolator needs the radius R [m] > 0 of its surface.")
     if isolation_period is not None:
         raise ValueError("isolation_period: the single-fp isolator's period is 2 pi sqrt(R / g) of "
                          "its radius; give isolation_period=None.")
-    return concave_surface(radius)
+    return concave_surface(radius) if surface is None else surface
 
 
 def _checked_isolation(structure, kind, isolation_period, isolation_damping):
