@@ -156,10 +156,13 @@ def test_solver_failure_is_reported_not_hidden():
 @pytest.mark.parametrize("gain", ["newmark", "exact"])
 @pytest.mark.parametrize("split_at_turn", [True, False])
 @pytest.mark.parametrize("breakaway", [None, 1.6])
-def test_newton_slope_is_the_derivative_of_the_residual(split_at_turn, breakaway, gain):
+@pytest.mark.parametrize("pendulum", [False, True])
+def test_newton_slope_is_the_derivative_of_the_residual(split_at_turn, breakaway, gain, pendulum):
     """The slope written out for Newton's steps (flow derivatives of Bouc-Wen, with and without
     a turn inside the step; the end velocity of Newmark's step, 2 / dt per metre, or of the
-    exact step, about 3 / dt for a rigid mass) equals the automatic derivative of the residual."""
+    exact step, about 3 / dt for a rigid mass) equals the automatic derivative of the residual;
+    with a friction pendulum's nonlinear surface (large-displacement form and a restrainer
+    engaged about x = 0.01 m) its stiffness is in the slope."""
     from teflon_jax.systems._isolator_solve import isolator_residual, residual_and_slope
 
     bearing = tj.paper_bearing(FRICTION, breakaway_ratio=breakaway)
@@ -171,10 +174,14 @@ def test_newton_slope_is_the_derivative_of_the_residual(split_at_turn, breakaway
     rule = (0.005, split_at_turn)
 
     def step_state(z0, vb0, z_peak):
-        return {"bearing": bearing, "W": WEIGHT, "z0": z0, "z_peak": z_peak, "ub0": 0.01, "vb0": vb0,
+        p = {"bearing": bearing, "W": WEIGHT, "z0": z0, "z_peak": z_peak, "ub0": 0.01, "vb0": vb0,
                 "g0": 1e-8, "ub_linear": 0.01, "reversal_length": tj.bouc_wen_reversal_length(bearing.hysteresis, z0),
                 "vb_linear": -vb0 if gain == "newmark" else 0.05 - 0.5 * vb0,
                 "velocity_gain": (2.0 if gain == "newmark" else 3.0) / 0.005}
+        if pendulum:
+            p["surface"] = tj.concave_surface(0.05, displacement_capacity=0.01, restrainer_stiffness=3e7,
+                                              large_displacement=True)
+        return p
 
     def both(z0, vb0, x, z_peak):
         p = step_state(z0, vb0, z_peak)

@@ -148,6 +148,39 @@ def add_units_flag(parser, *, default: str = "us") -> None:
                         f"psi, as in the paper) (default {default})")
 
 
+ISOLATORS = ("flat", "single-fp")
+
+
+def add_isolator_flags(parser) -> None:
+    """`--isolator flat|single-fp` and `--radius R` (a length) of the friction pendulum."""
+    parser.add_argument("--isolator", default="flat", choices=ISOLATORS,
+                        help="flat sliders (with springs of --isolation-period, or none) or a single "
+                        "friction pendulum: a concave surface of --radius, restoring force W u / R "
+                        "(default flat)")
+    add_quantity(parser, "--radius", "length", None, "with --isolator single-fp: radius of curvature R "
+                 "of the concave surface, period 2 pi sqrt(R / g), e.g. 88in (3 s)", minimum=0.0)
+
+
+def pendulum_period(args) -> float | None:
+    """2 pi sqrt(R / g) [s] of `--radius` for `--isolator single-fp` (None for flat sliders),
+    with the flags checked first: `ValueError` naming the flag for a radius without the
+    pendulum, a pendulum without a radius, or a pendulum with `--isolation-period`."""
+    from ..bearing import concave_surface
+
+    if args.isolator == "flat":
+        if args.radius is not None:
+            raise ValueError("--radius: applies to --isolator single-fp only (flat sliders have no "
+                             "radius); add --isolator single-fp or leave --radius out.")
+        return None
+    if args.radius is None:
+        raise ValueError("--radius: --isolator single-fp needs the radius of its concave surface, "
+                         "e.g. --radius 88in.")
+    if getattr(args, "isolation_period_text", args.isolation_period) is not None:
+        raise ValueError("--isolation-period: conflicts with --isolator single-fp, whose period is "
+                         "2 pi sqrt(R / g) of --radius; leave --isolation-period out.")
+    return float(concave_surface(args.radius).isolation_period())
+
+
 @dataclasses.dataclass(frozen=True)
 class OutputUnits:
     """The family chosen by `--units`: name and SI factor of a length, force and pressure."""

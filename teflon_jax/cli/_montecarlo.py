@@ -15,11 +15,13 @@ from ._bearing_flags import add_bearing_flag, read_bearing_flag
 from ._common import (
     _positive_int,
     _write_json,
+    add_isolator_flags,
     add_quantity,
     add_units_flag,
     check_table1,
     motion_bar,
     output_units,
+    pendulum_period,
     warn_time_step,
 )
 from ._engineering import add_engineering_flags
@@ -80,11 +82,13 @@ def add_montecarlo_parser(subparsers) -> argparse.ArgumentParser:
     _add_common(parser, levels=True)
     add_quantity(parser, "--pressure", "pressure", "1000psi", "bearing contact pressure (Table 1 "
                  "row of --ptfe)", minimum=0.0)
-    add_quantity(parser, "--isolation-period", "time", "2s", "isolation period Tb of the "
-                 "restoring spring ('none': friction only, rigid structure only)", minimum=0.0,
-                 none="none")
-    add_quantity(parser, "--isolation-damping", "dimensionless", "5%", "viscous damping ratio "
-                 "zeta_b of the isolation system", minimum=0.0, strict=False, maximum=1.0)
+    add_quantity(parser, "--isolation-period", "time", None, "isolation period Tb of the "
+                 "restoring spring ('none': friction only, rigid structure only) (default 2s on flat "
+                 "sliders)", minimum=0.0, none="none")
+    add_quantity(parser, "--isolation-damping", "dimensionless", None, "viscous damping ratio "
+                 "zeta_b of the isolation system (default 5% on flat sliders, 0 on a friction "
+                 "pendulum)", minimum=0.0, strict=False, maximum=1.0)
+    add_isolator_flags(parser)
     parser.add_argument("--components", type=int, choices=(1, 2), default=1,
                         help="horizontal ground components: 1 (along x, the uniaxial structures) or 2 "
                         "(x and y on the bidirectional rigid mass or building: Park's biaxial Z; peaks "
@@ -238,8 +242,9 @@ def _structure(args, two: bool):
                                       else args.newton_tolerance)
     return (bidirectional_isolated_structure if two else isolated_structure)(
         args.structure, ptfe=args.ptfe, pressure=args.pressure,
-        isolation_period=args.isolation_period, isolation_damping=args.isolation_damping,
-        time_step=args.time_step, bearing=read_bearing_flag(args), **solver)
+        isolation_period=None if args.isolator != "flat" else args.isolation_period,
+        isolation_damping=args.isolation_damping, time_step=args.time_step,
+        bearing=read_bearing_flag(args), isolator=args.isolator, radius=args.radius, **solver)
 
 
 def _payload(args, result, structure, model, units, stats, files) -> dict:
@@ -265,6 +270,7 @@ def _payload(args, result, structure, model, units, stats, files) -> dict:
         "design": {f"pressure_{units.pressure[0]}": args.pressure / units.pressure[1],
                    "isolation_period_s": args.isolation_period,
                    "isolation_damping": args.isolation_damping,
+                   "isolator": args.isolator, "radius_m": args.radius,
                    **({"ptfe": args.ptfe} if args.bearing is None else {"bearing": str(args.bearing)})},
         "motions": {"model": "Clough-Penzien, Jennings-Housner-Tsai envelope",
                     "pga_g": args.pga / STANDARD_GRAVITY, "duration_s": args.duration,
@@ -297,6 +303,7 @@ def _check_flags(args) -> None:
         check_output_path(args.out)
     if args.bearing is None:  # else the bearing file's friction; --pressure is a contact pressure
         check_table1(args.ptfe, args.pressure, args.pressure_text)
+    _resolve_isolation(args)
     two = args.components == 2
     for flag, value in (("--principal-angle", args.principal_angle), ("--minor-ratio", args.minor_ratio)):
         if value is not None and not two:
@@ -304,6 +311,19 @@ def _check_flags(args) -> None:
     if args.newton_tolerance is not None and two:
         raise ValueError("--newton-tolerance: applies to one-component runs (the two-component "
                          "solve has its own); leave it out with --components 2.")
+
+
+def _resolve_isolation(args) -> None:
+    """The isolator's flags checked (`pendulum_period`) and the defaults of the isolation
+    system in place: Tb = 2 s and 5 % on flat sliders; 2 pi sqrt(R / g) and 0 on a pendulum."""
+    period = pendulum_period(args)
+    if period is not None:
+        args.isolation_period, args.isolation_period_text = period, f"{period:.4g}s (R = {args.radius_text})"
+    elif args.isolation_period_text is None:
+        args.isolation_period, args.isolation_period_text = 2.0, "2s"
+    if args.isolation_damping_text is None:
+        damping = 0.05 if period is None else 0.0
+        args.isolation_damping, args.isolation_damping_text = damping, f"{damping:.0%}"
 
 
 def _chunk_size(args, device_default: int = 512) -> int:

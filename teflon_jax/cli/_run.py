@@ -11,9 +11,11 @@ from ..units import parse_quantity
 from ._bearing_flags import add_bearing_flag, read_bearing_flag
 from ._common import (
     _NEGATIVE_QUANTITY,
+    add_isolator_flags,
     add_units_flag,
     check_table1,
     output_units,
+    pendulum_period,
     warn_time_step,
 )
 from ._plan_file import read_plan
@@ -51,7 +53,8 @@ def add_run_parser(subparsers) -> None:
     p.add_argument("--breakaway", default=None, help="breakaway ratio b of Eq. 17 (>= 1) or 'table' "
                    "(default: no breakaway)")
     p.add_argument("--isolation-period", default=None, help="period of the restoring springs, e.g. "
-                   "2.5s (default: none; the building needs it)")
+                   "2.5s (default: none; the building needs it, or --isolator single-fp)")
+    add_isolator_flags(p)
     p.add_argument("--isolation-damping", default=None, help="viscous damping of the isolation "
                    "mode, e.g. 5%% (default: none)")
     p.add_argument("--weight", default="100kN", help="weight of the rigid mass (default 100kN)")
@@ -238,8 +241,9 @@ def build_structure(args, ax, ay, dt):
 
     gx, gy = uniform_signal(ax, dt), uniform_signal(ay, dt)
     time_step = parse_quantity(args.time_step, "time", where="--time-step")
-    period = None if args.isolation_period is None else parse_quantity(
-        args.isolation_period, "time", where="--isolation-period")
+    period = pendulum_period(args)
+    if args.isolation_period is not None:
+        period = parse_quantity(args.isolation_period, "time", where="--isolation-period")
     if period is not None and not period > 0:
         raise ValueError(f"--isolation-period: must be > 0, got {args.isolation_period}.")
     damping = 0.0 if args.isolation_damping is None else _fraction(args.isolation_damping, "--isolation-damping")
@@ -248,6 +252,9 @@ def build_structure(args, ax, ay, dt):
     pressure = parse_quantity(args.pressure, "pressure", where="--pressure")  # heating's p
     if args.structure != "slab" and args.plan is not None:
         raise ValueError("--plan: only used with --structure slab.")
+    if args.structure == "slab" and args.isolator != "flat":
+        raise ValueError("--isolator: single-fp runs with --structure rigid or building; a slab's "
+                         "bearing groups are flat sliders with springs.")
     if args.structure == "rigid":
         weight = parse_quantity(args.weight, "force", where="--weight")
         if not weight > 0:
@@ -258,7 +265,8 @@ def build_structure(args, ax, ay, dt):
             damping_ratio=damping, contact_pressure=pressure), {}
     if args.structure == "building":
         if period is None:
-            raise ValueError("--isolation-period: the building needs its springs (Fig. 11: 0.2-4 s), e.g. 2.5s.")
+            raise ValueError("--isolation-period: the building needs its springs (Fig. 11: 0.2-4 s), e.g. 2.5s, "
+                             "or a friction pendulum (--isolator single-fp --radius 88in).")
         return bidirectional_building(
             bearing=_bearing(args, args.ptfe, args.pressure, "--pressure"), ground_x=gx,
             ground_y=gy, time_step=time_step, isolation_period=period,
@@ -443,6 +451,7 @@ def run_run(args) -> int:
     from ..systems import simulate_bidirectional
 
     check_suite_flags(args)
+    pendulum_period(args)  # the isolator's flags, before the records are read
     if args.suite is not None:
         if args.record_x is not None or args.record_y is not None:
             raise ValueError("--suite: give the records in the suite file, not with --record-x/--record-y.")
@@ -474,6 +483,8 @@ def run_run(args) -> int:
         "record_time_step_s": dt,
         "solver_time_step_s": float(system.time_step),
         "notes": notes,
+        "isolator": args.isolator,
+        "radius_m": args.radius,
         "anisotropic": bool(args.anisotropic),
         "lay_angle_deg": None if args.lay_angle is None else float(
             np.degrees(parse_quantity(args.lay_angle, "angle", where="--lay-angle"))),

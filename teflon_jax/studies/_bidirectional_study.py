@@ -110,6 +110,10 @@ def bidirectional_isolated_structure(kind: str = "rigid", **options) -> Bidirect
         raise ValueError(
             f"bearing: two ground components do not run its {', '.join(other)}; run a bearing "
             "without them (simulate its test with `simulate-test --bearing`).")
+    surface = options.get("surface")
+    if surface is not None and (surface.large_displacement or surface.displacement_capacity is not None):
+        raise ValueError("surface: two ground components run the pendulum's small-rotation force "
+                         "W u / R; its restrainer and large-displacement form run with one component.")
     if options.get("time_step") is None:  # the uniaxial default steps are not the bidirectional one
         options = {**options, "time_step": BIDIRECTIONAL_TIME_STEP}
     newton_iterations = options.get("newton_iterations")

@@ -8,7 +8,13 @@ import equinox as eqx
 import jax.numpy as jnp
 import numpy as np
 
-from ..bearing import FrictionParameters, SlidingBearing, paper_bearing
+from ..bearing import (
+    ConcaveSurface,
+    FrictionParameters,
+    SlidingBearing,
+    concave_surface,
+    paper_bearing,
+)
 from ..tables import friction_table
 from ..units import PSI
 from ..validation import concrete, require_positive
@@ -19,6 +25,10 @@ from ._structure_build import check_structure_parts
 
 STRUCTURES = ("rigid", "building")
 
+ISOLATORS = ("flat", "single-fp")
+"""Isolators of the structures: flat sliders (with springs of period T_b, or none) and the
+single friction pendulum (a concave surface of radius R, `ConcaveSurface`)."""
+
 
 DESIGN_VARIABLES = (
     "isolation_period",
@@ -28,9 +38,11 @@ DESIGN_VARIABLES = (
     "delta_f",
     "rate_a",
     "breakaway_ratio",
+    "radius",
 )
-"""Names a design dict may set: T_b [s], contact pressure [Pa] (Eq. 1 constants and b from
-Table 1 at that pressure), zeta_b [-], and Eq. 1 / Eq. 17 constants overriding Table 1."""
+"""Names a design dict may set: T_b [s] (flat sliders), contact pressure [Pa] (Eq. 1 constants
+and b from Table 1 at that pressure), zeta_b [-], Eq. 1 / Eq. 17 constants overriding Table 1,
+and the radius R [m] of a friction pendulum's surface."""
 
 RECOMMENDED_TIME_STEPS = {"rigid": 0.005, "building": 0.005}
 """Structure step [s] per structure, a divisor of the 0.01 s record step (a step that is not
@@ -55,6 +67,11 @@ Newton's loop for one more iteration). Not for gradients checked against finite 
 of the peaks: those need the root to ~1e-5 Y (the default)."""
 
 
+DEFAULT_ISOLATION_PERIOD = "2 s on flat sliders"
+"""Marks `isolated_structure`'s `isolation_period` as not given: T_b = 2 s on flat sliders,
+none on a friction pendulum (its period comes from the radius)."""
+
+
 # --------------------------------------------------------------------------- structures
 
 
@@ -71,7 +88,12 @@ class IsolatedStructure(eqx.Module):
     - `pressure` [Pa]: bearing contact pressure; Eq. 1 constants and the breakaway ratio b
       are interpolated in Table 1 at it (differentiable).
     - `isolation_period` T_b [s] of the restoring springs (`None` for a rigid mass on flat
-      sliders without springs).
+      sliders without springs, and for a friction pendulum).
+    - `surface`: the `ConcaveSurface` of a single friction pendulum, or `None` (flat sliders).
+      Its small-rotation restoring force W u / R on the weight W carried is the linear spring
+      of period T_b = 2 pi sqrt(R / g) (Zayas, Low & Mahin 1990); the rest of its force (the
+      large-displacement form, the restrainer) is `StructureOnSliders.surface`'s, one
+      direction and hysteretic friction only.
     - `isolation_damping` zeta_b [-] of the rigid-body mode.
     - `breakaway` (static): use Table 1's b (Eq. 17) when True; no breakaway when False.
     - `friction_model` (static): "hysteretic", "coulomb" or "none".
@@ -108,6 +130,12 @@ class IsolatedStructure(eqx.Module):
     split_at_turn: bool = eqx.field(static=True, default=True)
     linear_rule: str = eqx.field(static=True, default="exact")
     bearing: SlidingBearing | None = None
+    surface: ConcaveSurface | None = None
+
+    @property
+    def isolator(self) -> str:
+        """"flat" or "single-fp" (`ISOLATORS`)."""
+        return "flat" if self.surface is None else "single-fp"
 
     def table(self):
         """The Table 1 rows (extrapolation switched off by our own range check)."""
@@ -135,9 +163,23 @@ class IsolatedStructure(eqx.Module):
             )
             b = design.get("breakaway_ratio", b)
             bearing = paper_bearing(params, breakaway_ratio=b if self.breakaway else None)
-        period = design.get("isolation_period", self.isolation_period)
+        period = self._period(design)
         damping = design.get("isolation_damping", self.isolation_damping)
         return bearing, period, damping
+
+    def _period(self, design):
+        """T_b [s]: the springs' (flat sliders) or 2 pi sqrt(R / g) of the surface (pendulum)."""
+        wrong = "radius" if self.surface is None else "isolation_period"
+        if wrong in design:
+            raise ValueError(f"design: {wrong!r} does not apply to the {self.isolator} isolator.")
+        if self.surface is None:
+            return design.get("isolation_period", self.isolation_period)
+        return self.designed_surface(design).isolation_period()
+
+    def designed_surface(self, design=None):
+        """`surface` with the design's radius in place of its own."""
+        radius = (design or {}).get("radius", self.surface.radius)
+        return eqx.tree_at(lambda c: c.radius, self.surface, jnp.asarray(radius, float))
 
     def contact_pressure(self, design=None):
         """The bearings' contact pressure [Pa] for a bearing with heating (else None; a
@@ -195,6 +237,8 @@ class IsolatedStructure(eqx.Module):
                 linear_rule=self.linear_rule,
                 contact_pressure=self.contact_pressure(design),
             )
+        if self.surface is not None and not is_linear_surface(self.surface):
+            system = dataclasses.replace(system, surface=self.designed_surface(design))
         settings = (self.newton_iterations, self.split_at_turn, self.newton_tolerance)
         if settings != (system.newton_iterations, system.split_at_turn, system.newton_tolerance):
             system = dataclasses.replace(system, newton_iterations=self.newton_iterations,
@@ -208,8 +252,8 @@ def isolated_structure(
     ptfe: str = "UF",
     direction: str = "P",
     pressure=1000 * PSI,
-    isolation_period=2.0,
-    isolation_damping=0.05,
+    isolation_period=DEFAULT_ISOLATION_PERIOD,
+    isolation_damping=None,
     breakaway: bool = True,
     friction_model: str = "hysteretic",
     time_step: float | None = None,
@@ -218,18 +262,36 @@ def isolated_structure(
     split_at_turn: bool = True,
     linear_rule: str = "exact",
     bearing: SlidingBearing | None = None,
+    isolator: str = "flat",
+    radius=None,
+    surface: ConcaveSurface | None = None,
 ) -> IsolatedStructure:
     """An `IsolatedStructure` with its inputs checked (`ValueError` naming the parameter).
 
     **Arguments:** see `IsolatedStructure`; `pressure` [Pa] must lie inside the Table 1 rows
     of `ptfe`/`direction` (1000-6500 psi for UF, P), `isolation_period` [s] > 0 (or `None`
-    for a rigid mass on flat sliders), `isolation_damping` >= 0, `time_step` > 0 [s]
+    for a rigid mass on flat sliders), `isolation_damping` >= 0 (default 0.05 on flat sliders,
+    0 on a friction pendulum, whose damping is its friction), `time_step` > 0 [s]
     (default `RECOMMENDED_TIME_STEPS[kind]`), `newton_iterations` a positive integer (the
     default lets every step converge; 1 cuts the solve short: runs are then reported as not
-    converged).
+    converged). `isolator`: "flat" (the default) or "single-fp", a single friction pendulum of
+    `radius` R [m] > 0 (then `isolation_period` must be `None`: the period is 2 pi sqrt(R / g)),
+    or of `surface`, a `ConcaveSurface` (`concave_surface`) with a restrainer or the
+    large-displacement form (with hysteretic friction).
     """
     if kind not in STRUCTURES:
         raise ValueError(f"structure: unknown {kind!r}; accepted: {', '.join(STRUCTURES)}.")
+    given_period = isolation_period is not DEFAULT_ISOLATION_PERIOD
+    surface = _surface(isolator, radius, isolation_period if given_period else None, surface)
+    if surface is not None and not is_linear_surface(surface) and friction_model != "hysteretic":
+        raise ValueError(f"surface: its restrainer or large-displacement force is solved with the "
+                         f"hysteretic friction model, not {friction_model!r}.")
+    if surface is not None:
+        isolation_period = None
+    elif not given_period:
+        isolation_period = 2.0
+    if isolation_damping is None:
+        isolation_damping = 0.05 if surface is None else 0.0
     time_step = RECOMMENDED_TIME_STEPS[kind] if time_step is None else time_step
     if not (isinstance(time_step, (int, float)) and time_step > 0):
         raise ValueError(f"time_step: must be a positive number of seconds, got {time_step!r}.")
@@ -254,6 +316,7 @@ def isolated_structure(
         split_at_turn=bool(split_at_turn),
         linear_rule=linear_rule,
         bearing=bearing,
+        surface=surface,
     )
     if bearing is not None:
         require_positive(pressure, "pressure", " [Pa] (the bearings' contact pressure)")
@@ -263,8 +326,35 @@ def isolated_structure(
     return _checked_isolation(structure, kind, isolation_period, isolation_damping)
 
 
+def is_linear_surface(surface: ConcaveSurface) -> bool:
+    """True when `surface`'s force is W u / R alone (small rotation, no restrainer)."""
+    return not surface.large_displacement and surface.displacement_capacity is None
+
+
+def _surface(isolator, radius, isolation_period, surface=None):
+    """The `ConcaveSurface` of `isolator` "single-fp" of `radius` [m] or `surface` (None for
+    "flat"), with the conflicting inputs refused (`ValueError` naming them)."""
+    if isolator not in ISOLATORS:
+        raise ValueError(f"isolator: unknown {isolator!r}; accepted: {', '.join(ISOLATORS)}.")
+    if isolator == "flat":
+        for name, value in (("radius", radius), ("surface", surface)):
+            if value is not None:
+                raise ValueError(f"{name}: applies to the single-fp isolator only (flat sliders have none).")
+        return None
+    if surface is not None:
+        if radius is not None:
+            raise ValueError("radius: give the radius or a surface (which has its radius), not both.")
+        radius = surface.radius
+    if radius is None:
+        raise ValueError("radius: the single-fp isolator needs the radius R [m] > 0 of its surface.")
+    if isolation_period is not None:
+        raise ValueError("isolation_period: the single-fp isolator's period is 2 pi sqrt(R / g) of "
+                         "its radius; give isolation_period=None.")
+    return concave_surface(radius) if surface is None else surface
+
+
 def _checked_isolation(structure, kind, isolation_period, isolation_damping):
-    if isolation_period is None and kind == "building":
+    if isolation_period is None and kind == "building" and structure.surface is None:
         raise ValueError("isolation_period: the building needs T_b [s] > 0 (Fig. 11: 0.2-4 s).")
     if isolation_period is not None:
         check_design(structure, {"isolation_period": isolation_period})
@@ -301,6 +391,7 @@ def design_ranges(structure: IsolatedStructure) -> dict[str, tuple[float, float]
         "delta_f": (0.0, 1.0),
         "rate_a": (0.0, math.inf),
         "breakaway_ratio": (1.0, math.inf),
+        "radius": (1e-3, math.inf),
     }
 
 

@@ -25,10 +25,15 @@ def bearing_force(x, p, rule):
     s* = -vb0 / (2 c) and u* = ub0 - vb0^2 / (4 c), Z is updated exactly along both monotone
     pieces, ub0 -> u* and u* -> x (along the net increment it would miss the stretch travelled
     forth and back, an error of Z that grows with the step squared over Y). mu is taken at the
-    step's end velocity `end_velocity(x, p)` (the rule's; Newmark's is the path's).
+    step's end velocity `end_velocity(x, p)` (the rule's; Newmark's is the path's). With a
+    friction pendulum's nonlinear surface (`p["surface"]`), F also holds its force beyond
+    W x / R, `ConcaveSurface.extra_force` (W x / R itself is in the structure's stiffness).
     """
     z = _z_along_path(x, p, rule)[-1]
-    return p["bearing"].coefficient(end_velocity(x, p), 0.0, p["z_peak"]) * p["W"] * z, z
+    force = p["bearing"].coefficient(end_velocity(x, p), 0.0, p["z_peak"]) * p["W"] * z
+    if "surface" in p:
+        force = force + p["surface"].extra_force(x, p["W"])
+    return force, z
 
 
 def _z_along_path(x, p, rule):
@@ -132,7 +137,11 @@ def force_and_slopes(x, p, rule):
     dz = jnp.where(turning, ratio * slope_forth * d_forth + slope_end * (1 - d_forth), slope_forth)
     mu, dmu = p["bearing"].uniaxial_coefficient(end_velocity(x, p), p["z_peak"])
     W = p["W"]
-    return mu * W * z, z, W * (dmu * p["velocity_gain"] * z + mu * dz), dz
+    force, d_force = mu * W * z, W * (dmu * p["velocity_gain"] * z + mu * dz)
+    if "surface" in p:  # the pendulum's nonlinear force and its stiffness dE/dx
+        extra, d_extra = jax.jvp(lambda u: p["surface"].extra_force(u, W), (x,), (jnp.ones_like(x),))
+        force, d_force = force + extra, d_force + d_extra
+    return force, z, d_force, dz
 
 
 @functools.partial(jax.custom_jvp, nondiff_argnums=(0, 1))

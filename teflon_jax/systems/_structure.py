@@ -18,6 +18,7 @@ import jax
 import jax.numpy as jnp
 
 from ..bearing import (
+    ConcaveSurface,
     SlidingBearing,
     bouc_wen_rate,
     bouc_wen_reversal_length,
@@ -94,6 +95,10 @@ class StructureOnSliders(AbstractSteppedSystem):
       kernel (`heat_kernel_exponentials`). A bearing with heating or wear adds the state
       "heat" (the kernel's exponential states) and "travel" [m]; their factor on mu
       (`SlidingBearing.effect_factor`) is taken at the start of each step and held over it.
+    - `surface`: a friction pendulum's `ConcaveSurface` whose large-displacement form or
+      restrainer adds a nonlinear force E(u0) = `extra_force` at the isolator, solved with the
+      friction in each step (hysteretic friction only); its linear part W / R is in
+      `stiffness`. `None`: flat sliders, or a pendulum in the small-rotation form alone.
     """
 
     mass: jnp.ndarray
@@ -114,6 +119,7 @@ class StructureOnSliders(AbstractSteppedSystem):
     contact_pressure: jnp.ndarray | None = None
     heat_rates: jnp.ndarray | None = None
     heat_weights: jnp.ndarray | None = None
+    surface: ConcaveSurface | None = None
 
     @property
     def history(self) -> bool:
@@ -143,6 +149,13 @@ class StructureOnSliders(AbstractSteppedSystem):
         return next_history(self.bearing, heat, travel, jnp.abs(u1 - u0), mu0,
                             self.contact_pressure, self.time_step, self.heat_rates)
 
+    def surface_force(self, u0):
+        """E(u0) [N]: the surface's force beyond W u0 / R at isolator displacement u0 [m]
+        (`ConcaveSurface.extra_force` under the bearings' load W; 0 without `surface`)."""
+        if self.surface is None:
+            return jnp.zeros_like(jnp.asarray(u0, dtype=float))
+        return self.surface.extra_force(u0, self.bearing_load)
+
     def friction_force(self, velocity, z, z_peak):
         """F = mu W Z [N] at isolator `velocity` [m/s]."""
         if self.friction_model == "none":
@@ -165,7 +178,10 @@ class StructureOnSliders(AbstractSteppedSystem):
     def acceleration_at(self, ground, y):
         """Relative acceleration [m/s^2] of state `y` under ground acceleration `ground` [m/s^2]."""
         force = -self.mass * ground - self.damping @ y["v"] - self.stiffness @ y["u"]
-        force = force.at[0].add(-self.at_state(y).friction_force(y["v"][0], y["z"], y["z_peak"]))
+        bearing_force = self.at_state(y).friction_force(y["v"][0], y["z"], y["z_peak"])
+        if self.surface is not None:
+            bearing_force = bearing_force + self.surface_force(y["u"][0])
+        force = force.at[0].add(-bearing_force)
         return force / self.mass
 
     def __call__(self, t, y, args):
@@ -269,7 +285,10 @@ class StructureOnSliders(AbstractSteppedSystem):
         """
         n = self.mass.shape[-1]
         step_matrix, force_column = self.step_matrices() if matrices is None else matrices
-        w = jnp.concatenate([x0, jnp.stack([ground0, start_factors[0] * z0, ground1])])
+        start_force = start_factors[0] * z0
+        if self.surface is not None:
+            start_force = start_force + self.surface_force(x0[0])
+        w = jnp.concatenate([x0, jnp.stack([ground0, start_force, ground1])])
         linear = small_dot(step_matrix, w, WRITTEN_OUT_PRODUCT)
         force, z1, z_peak1, converged = self.isolator_force(
             linear[0], {"u": x0[:n], "v": x0[n:], "z": z0, "z_peak": z_peak0}, linear[n],
@@ -294,6 +313,9 @@ class StructureOnSliders(AbstractSteppedSystem):
             vb_linear = 2 / dt * (ub_linear - ub0) - vb0
         g0, gv = compliance
         z0 = y0["z"]
+        if self.surface is not None and self.friction_model != "hysteretic":
+            raise ValueError("surface: the pendulum's nonlinear force is solved with hysteretic "
+                             f"friction only, not {self.friction_model!r}.")
         # Breakaway (Eq. 17) is decided by the largest |Z| reached up to the start of the step:
         # the same running peak sets the force in the equilibrium below and the force reported
         # at the end of the step (`friction_force` of the stored state), so the switch acts once,
@@ -338,6 +360,9 @@ class StructureOnSliders(AbstractSteppedSystem):
              "vb0": vb0, "g0": g0, "ub_linear": ub_linear, "vb_linear": vb_linear,
              "velocity_gain": gv / g0,
              "reversal_length": bouc_wen_reversal_length(h, z0)}  # the same for every iterate
+        if self.surface is not None:  # E(x) increases with x and has its sign: the root lies
+            p["surface"] = self.surface  # between the bracket and 0
+            lo, hi = jnp.minimum(lo, 0.0), jnp.maximum(hi, 0.0)
         x0 = predicted_root(p, start_factors, lo, hi)
         eps = jnp.finfo(jnp.result_type(x0)).eps
         tolerance = jnp.maximum(self.newton_tolerance * h.yield_disp, 1e3 * eps * (jnp.abs(x0) + jnp.abs(ub_linear)))

@@ -23,13 +23,16 @@ def structure_on_sliders(
     split_at_turn: bool = False,
     linear_rule: str = "newmark",
     contact_pressure=None,
+    surface=None,
 ) -> StructureOnSliders:
     """Build a `StructureOnSliders`, checking shapes and prefactoring the step's matrices.
 
     Newmark (average acceleration): K_eff = K + (2/dt) C + (4/dt^2) M, inverted once for
     `time_step`; with `linear_rule="exact"` also the exact step's matrices (`_propagators.exact_step_matrices`).
     A bearing with `heating` needs `contact_pressure` [Pa] (its kernel spans one time step to
-    `HEAT_HORIZON`); of the optional parts, structures run `STRUCTURE_EFFECTS`.
+    `HEAT_HORIZON`); of the optional parts, structures run `STRUCTURE_EFFECTS`. `surface`: a
+    friction pendulum's `ConcaveSurface` whose force beyond W u / R the step solves
+    (`StructureOnSliders.surface`; W / R itself belongs in `stiffness`).
     """
     if friction_model not in FRICTION_MODELS:
         raise ValueError(
@@ -72,6 +75,7 @@ def structure_on_sliders(
         contact_pressure=None if contact_pressure is None else jnp.asarray(contact_pressure, float),
         heat_rates=rates,
         heat_weights=weights,
+        surface=surface,
     )
 
 
