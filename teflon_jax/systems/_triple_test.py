@@ -13,6 +13,7 @@ Constantinou, Mokha & Reinhorn (1990), Eqs. 1, 3.
 import equinox as eqx
 import jax
 import jax.numpy as jnp
+import numpy as np
 
 from ..bearing import (
     STOP_STIFFNESS_RATIO,
@@ -25,7 +26,7 @@ from ..solver import park_exact_update
 NEWTON_STEPS = 30
 """Newton iterations per step of the series solve (fixed; the step reports convergence)."""
 
-STEP_FRACTIONS = jnp.array([1.0, 0.5, 0.25, 0.125])
+STEP_FRACTIONS = np.array([1.0, 0.5, 0.25, 0.125])
 """Fractions of a Newton step tried; the one with the smallest imbalance is taken."""
 
 MIN_SHARE = 1e-3
