@@ -187,9 +187,9 @@ def test_bad_bearing_files_are_refused_by_key(edit, message):
 
 
 def test_structures_refuse_parts_they_do_not_run():
-    with pytest.raises(ValueError, match="the structures do not run its asymmetry"):
+    with pytest.raises(ValueError, match="the structures do not run its backlash"):
         tj.systems.isolated_structure("rigid", bearing=with_parts(
-            tj.paper_bearing(UF), asymmetry=DirectionAsymmetry(0.1)))
+            tj.paper_bearing(UF), backlash=Backlash(1e-3)))
 
 
 def test_a_given_bearing_runs_as_table_1s_in_a_structure():
@@ -277,7 +277,7 @@ def test_bearing_flags_are_checked_before_any_work(tmp_path, capsys):
         (["montecarlo", "--motions", "5", "--bearing", str(good), "--pressure", "2000psi"],
          "--pressure: the bearing comes from --bearing"),
         (["montecarlo", "--motions", "5", "--bearing", str(hot)],
-         "the structures do not run its asymmetry, backlash"),
+         "the structures do not run its backlash"),
         (["diagnose", str(tmp_path / "r.csv"), "--json", str(tmp_path / "d.json"), "--report",
           str(tmp_path / "rep"), "--save-bearing", str(tmp_path)], "--save-bearing"),
     ]

@@ -156,13 +156,14 @@ def test_solver_failure_is_reported_not_hidden():
 @pytest.mark.parametrize("gain", ["newmark", "exact"])
 @pytest.mark.parametrize("split_at_turn", [True, False])
 @pytest.mark.parametrize("breakaway", [None, 1.6])
-@pytest.mark.parametrize("pendulum", [False, True])
-def test_newton_slope_is_the_derivative_of_the_residual(split_at_turn, breakaway, gain, pendulum):
+@pytest.mark.parametrize("extra", [None, "pendulum", "asymmetry"])
+def test_newton_slope_is_the_derivative_of_the_residual(split_at_turn, breakaway, gain, extra):
     """The slope written out for Newton's steps (flow derivatives of Bouc-Wen, with and without
     a turn inside the step; the end velocity of Newmark's step, 2 / dt per metre, or of the
     exact step, about 3 / dt for a rigid mass) equals the automatic derivative of the residual;
     with a friction pendulum's nonlinear surface (large-displacement form and a restrainer
-    engaged about x = 0.01 m) its stiffness is in the slope."""
+    engaged about x = 0.01 m) its stiffness is in the slope, and with a direction asymmetry
+    (F = mu W Z (1 + a Z)) its term."""
     from teflon_jax.systems._isolator_solve import isolator_residual, residual_and_slope
 
     bearing = tj.paper_bearing(FRICTION, breakaway_ratio=breakaway)
@@ -178,7 +179,9 @@ def test_newton_slope_is_the_derivative_of_the_residual(split_at_turn, breakaway
                 "g0": 1e-8, "ub_linear": 0.01, "reversal_length": tj.bouc_wen_reversal_length(bearing.hysteresis, z0),
                 "vb_linear": -vb0 if gain == "newmark" else 0.05 - 0.5 * vb0,
                 "velocity_gain": (2.0 if gain == "newmark" else 3.0) / 0.005}
-        if pendulum:
+        if extra == "asymmetry":
+            p["asymmetry"] = 0.15
+        if extra == "pendulum":
             p["surface"] = tj.concave_surface(0.05, displacement_capacity=0.01, restrainer_stiffness=3e7,
                                               large_displacement=True)
         return p

@@ -105,7 +105,8 @@ def bidirectional_isolated_structure(kind: str = "rigid", **options) -> Bidirect
     # A pressure dependence is a constant factor at the structure's contact pressure, folded
     # into the friction by `IsolatedStructure.isolation`; heating and wear are carried as state.
     other = [] if bearing is None else [e for e in bearing.effects
-                                        if e not in ("pressure_dependence", "heating", "wear")]
+                                        if e not in ("pressure_dependence", "heating", "wear",
+                                                     "asymmetry")]
     if other:
         raise ValueError(
             f"bearing: two ground components do not run its {', '.join(other)}; run a bearing "

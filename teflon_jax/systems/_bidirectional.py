@@ -126,7 +126,15 @@ class BidirectionalStructure(AbstractSteppedSystem):
     def friction_forces(self, velocity, z, z_peak):
         """F_g = mu_g W_g Z_g (G, 2) [N] at sliding velocities (G, 2) [m/s]."""
         mu = self.bearing.coefficient(velocity[:, 0], velocity[:, 1], z_peak)
-        return (mu * self.bearing_load)[:, None] * z
+        return (mu * self.bearing_load * self._asymmetry(z[:, 0])[1])[:, None] * z
+
+    def _asymmetry(self, zx):
+        """(a, 1 + a Z_x) per group for a bearing with direction asymmetry, else (0, 1): the
+        factor on mu of `DirectionAsymmetry`."""
+        if self.bearing.asymmetry is None:
+            return 0.0, jnp.ones_like(zx)
+        a = self.bearing.asymmetry.asymmetry
+        return a, 1 + a * zx
 
     def _load(self, ground):
         """-M R a_g [N] for the ground acceleration `ground` (a_x, a_y) [m/s^2]."""
@@ -187,6 +195,7 @@ class BidirectionalStructure(AbstractSteppedSystem):
                       self.bearing_motion(y0["v"]))
         slide = jnp.sqrt(jnp.sum((d1 - d0) ** 2, axis=-1))
         mu0 = stepped.bearing.coefficient(v0[:, 0], v0[:, 1], y0["z_peak"])
+        mu0 = mu0 * self._asymmetry(y0["z"][:, 0])[1]
         heat, travel = next_history(self.bearing, y0["heat"], y0["travel"], slide, mu0,
                                     self.contact_pressure, self.time_step, self.heat_rates)
         return {**y1, "heat": heat, "travel": travel}, converged
@@ -228,6 +237,7 @@ class BidirectionalStructure(AbstractSteppedSystem):
         z = park_exact_update(self.bearing.hysteresis, jnp.stack(p["z0"], -1), jnp.stack(increment, -1))
         vx, vy = (2 / self.time_step * increment[i] - p["vb0"][i] for i in range(2))
         capacity = self.bearing.coefficient(vx, vy, p["z_peak0"]) * self.bearing_load
+        capacity = capacity * self._asymmetry(z[:, 0])[1]
         return (capacity * z[:, 0], capacity * z[:, 1]), z
 
     def _residual_forces(self, d, p):
@@ -254,12 +264,15 @@ class BidirectionalStructure(AbstractSteppedSystem):
         mu, dmu_x = jax.jvp(coefficient, (vx, vy), (jnp.ones_like(vx), jnp.zeros_like(vy)))
         _, dmu_y = jax.jvp(coefficient, (vx, vy), (jnp.zeros_like(vx), jnp.ones_like(vy)))
         load = self.bearing_load
-        forces = (mu * load * zs[0], mu * load * zs[1])
+        a, k = self._asymmetry(zs[0])
+        forces = (mu * load * k * zs[0], mu * load * k * zs[1])
         r = affine(p["flexibility"], forces, d, p["d_linear"])
         w = [(h.gamma * jnp.where(increment[i] * zs[i] >= 0, 1.0, -1.0) + h.beta) * zs[i] for i in range(2)]
         dmu = (dmu_x * (2 / dt), dmu_y * (2 / dt))
-        # local 2 x 2 block per group: W (mu dZ/dU + Z dmu/dU^T)
-        local = [[load * (mu * ((h.A if i == j else 0.0) - zs[i] * w[j]) / h.yield_disp + zs[i] * dmu[j])
+        # local 2 x 2 block per group: W ((1 + a Z_x) (mu dZ/dU + Z dmu/dU^T) + a mu Z dZ_x/dU^T)
+        dz = [[((h.A if i == j else 0.0) - zs[i] * w[j]) / h.yield_disp for j in range(2)]
+              for i in range(2)]
+        local = [[load * (k * (mu * dz[i][j] + zs[i] * dmu[j]) + a * mu * zs[i] * dz[0][j])
                   for j in range(2)] for i in range(2)]
         flex = p["flexibility"]
         eye = jnp.eye(load.shape[0])
@@ -285,6 +298,7 @@ class BidirectionalStructure(AbstractSteppedSystem):
         start-of-step values (exact while sliding at constant Z and speed), the tolerance on
         the residual and the smallest yield displacement."""
         capacity = self.bearing.coefficient(p["vb0"][0], p["vb0"][1], p["z_peak0"]) * self.bearing_load
+        capacity = capacity * self._asymmetry(p["z0"][0])[1]
         held = block_matvec(p["flexibility"], (capacity * p["z0"][0], capacity * p["z0"][1]))
         x = tuple(p["d_linear"][i] - held[i] for i in range(2))
         yield_disp = jnp.min(jnp.asarray(self.bearing.hysteresis.yield_disp))
@@ -418,12 +432,12 @@ def bidirectional_structure(
     if not time_step > 0:
         raise ValueError(f"time_step: must be > 0 s, got {time_step}.")
     require_riccati_form(bearing.hysteresis)
-    other = [name for name in bearing.effects if name not in ("heating", "wear")]
+    other = [name for name in bearing.effects if name not in ("heating", "wear", "asymmetry")]
     if other:
         raise ValueError(
             f"bearing: the structures in two directions do not run its "
             f"{', '.join(other)} (they run Eq. 1 at the resultant speed, Park's Z, "
-            "breakaway, anisotropy, stacks, heating and wear)"
+            "breakaway, anisotropy, stacks, heating, wear and asymmetry)"
             + (PRESSURE_HINT if "pressure_dependence" in other else "."))
     rates = weights = None
     if bearing.heating is not None:

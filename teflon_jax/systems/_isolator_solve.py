@@ -25,12 +25,15 @@ def bearing_force(x, p, rule):
     s* = -vb0 / (2 c) and u* = ub0 - vb0^2 / (4 c), Z is updated exactly along both monotone
     pieces, ub0 -> u* and u* -> x (along the net increment it would miss the stretch travelled
     forth and back, an error of Z that grows with the step squared over Y). mu is taken at the
-    step's end velocity `end_velocity(x, p)` (the rule's; Newmark's is the path's). With a
+    step's end velocity `end_velocity(x, p)` (the rule's; Newmark's is the path's), times
+    1 + a Z for a bearing with direction asymmetry (`p["asymmetry"]` = a). With a
     friction pendulum's nonlinear surface (`p["surface"]`), F also holds its force beyond
     W x / R, `ConcaveSurface.extra_force` (W x / R itself is in the structure's stiffness).
     """
     z = _z_along_path(x, p, rule)[-1]
     force = p["bearing"].coefficient(end_velocity(x, p), 0.0, p["z_peak"]) * p["W"] * z
+    if "asymmetry" in p:  # mu (1 + a Z): `DirectionAsymmetry`
+        force = force * (1 + p["asymmetry"] * z)
     if "surface" in p:
         force = force + p["surface"].extra_force(x, p["W"])
     return force, z
@@ -138,6 +141,10 @@ def force_and_slopes(x, p, rule):
     mu, dmu = p["bearing"].uniaxial_coefficient(end_velocity(x, p), p["z_peak"])
     W = p["W"]
     force, d_force = mu * W * z, W * (dmu * p["velocity_gain"] * z + mu * dz)
+    if "asymmetry" in p:  # F = mu W Z (1 + a Z): dF/dx = W (mu' v' Z (1 + a Z) + mu (1 + 2 a Z) Z')
+        a = p["asymmetry"]
+        force = force * (1 + a * z)
+        d_force = W * (dmu * p["velocity_gain"] * z * (1 + a * z) + mu * (1 + 2 * a * z) * dz)
     if "surface" in p:  # the pendulum's nonlinear force and its stiffness dE/dx
         extra, d_extra = jax.jvp(lambda u: p["surface"].extra_force(u, W), (x,), (jnp.ones_like(x),))
         force, d_force = force + extra, d_force + d_extra

@@ -210,13 +210,14 @@ def _advance(system, propagator, state, ground1):
     x1, z1, z_peak1, converged = stepped.propagated_step(x, z, z_peak, start_factors, ground0, ground1,
                                                          (step_matrix, force_column))
     factors1 = stepped.friction_factors(x1[n], z_peak1)  # of the stored state: F = mu W Z
-    bearing_force = factors1[0] * z1
+    friction = factors1[0] * z1 * system.asymmetry_factor(z1)
+    bearing_force = friction
     if system.surface is not None:  # the pendulum's force beyond W u / R
         bearing_force = bearing_force + system.surface_force(x1[0])
     shear = small_dot(shear_row, x1, WRITTEN_OUT_PRODUCT) + shear_force * bearing_force
     if history:
-        history = system.next_history(*history, x[0], x1[0], x[n], z_peak)
-    return (x1, z1, z_peak1, factors1, ground1, history), x1[0], shear, converged, factors1[0] * z1
+        history = system.next_history(*history, x[0], x1[0], x[n], z_peak, z)
+    return (x1, z1, z_peak1, factors1, ground1, history), x1[0], shear, converged, friction
 
 
 def _start_carry(system, ground0, rows, dtype):

@@ -141,11 +141,12 @@ class StructureOnSliders(AbstractSteppedSystem):
         """`at_history` of the state `y` (itself for a bearing without history)."""
         return self.at_history(y["heat"], y["travel"]) if self.history else self
 
-    def next_history(self, heat, travel, u0, u1, v0, z_peak0):
+    def next_history(self, heat, travel, u0, u1, v0, z_peak0, z0=0.0):
         """Heat states and travel after a step from isolator displacement `u0` to `u1` [m]: the
-        heat flux of the friction at the step's start, q = mu(v0) p |u1 - u0| / (dt n), held
-        over the step (as `respond_along_path` does between samples)."""
+        heat flux of the friction at the step's start, q = mu(v0) (1 + a z0) p |u1 - u0| /
+        (dt n), held over the step (as `respond_along_path` does between samples)."""
         mu0 = self.at_history(heat, travel).bearing.coefficient(v0, 0.0, z_peak0)
+        mu0 = mu0 * self.asymmetry_factor(z0)
         return next_history(self.bearing, heat, travel, jnp.abs(u1 - u0), mu0,
                             self.contact_pressure, self.time_step, self.heat_rates)
 
@@ -157,10 +158,17 @@ class StructureOnSliders(AbstractSteppedSystem):
         return self.surface.extra_force(u0, self.bearing_load)
 
     def friction_force(self, velocity, z, z_peak):
-        """F = mu W Z [N] at isolator `velocity` [m/s]."""
+        """F = mu W Z [N] at isolator `velocity` [m/s] (times `asymmetry_factor`)."""
         if self.friction_model == "none":
             return jnp.zeros_like(z)
-        return self.bearing.coefficient(velocity, 0.0, z_peak) * self.bearing_load * z
+        force = self.bearing.coefficient(velocity, 0.0, z_peak) * self.bearing_load * z
+        return force * self.asymmetry_factor(z)
+
+    def asymmetry_factor(self, z):
+        """1 + a Z [-] of a bearing with direction asymmetry (`DirectionAsymmetry`), else 1."""
+        if self.bearing.asymmetry is None:
+            return 1.0
+        return self.bearing.asymmetry.factor(z)
 
     def friction_factors(self, velocity, z_peak):
         """(mu W [N], d(mu W)/dv [N s/m]) at isolator `velocity` [m/s]: the bearing force per
@@ -242,7 +250,7 @@ class StructureOnSliders(AbstractSteppedSystem):
             return self._update(y0, a0, ground1, ground0)
         y1, converged = self.at_state(y0)._update(y0, a0, ground1, ground0)
         heat, travel = self.next_history(y0["heat"], y0["travel"], y0["u"][0], y1["u"][0],
-                                         y0["v"][0], y0["z_peak"])
+                                         y0["v"][0], y0["z_peak"], y0["z"])
         return {**y1, "heat": heat, "travel": travel}, converged
 
     def _update(self, y0, a0, ground1, ground0):
@@ -285,7 +293,7 @@ class StructureOnSliders(AbstractSteppedSystem):
         """
         n = self.mass.shape[-1]
         step_matrix, force_column = self.step_matrices() if matrices is None else matrices
-        start_force = start_factors[0] * z0
+        start_force = start_factors[0] * z0 * self.asymmetry_factor(z0)
         if self.surface is not None:
             start_force = start_force + self.surface_force(x0[0])
         w = jnp.concatenate([x0, jnp.stack([ground0, start_force, ground1])])
@@ -360,6 +368,10 @@ class StructureOnSliders(AbstractSteppedSystem):
              "vb0": vb0, "g0": g0, "ub_linear": ub_linear, "vb_linear": vb_linear,
              "velocity_gain": gv / g0,
              "reversal_length": bouc_wen_reversal_length(h, z0)}  # the same for every iterate
+        if self.bearing.asymmetry is not None:
+            a = self.bearing.asymmetry.asymmetry
+            p["asymmetry"] = a
+            lo, hi = ub_linear - g0 * force_bound * (1 + jnp.abs(a)), ub_linear + g0 * force_bound * (1 + jnp.abs(a))
         if self.surface is not None:  # E(x) increases with x and has its sign: the root lies
             p["surface"] = self.surface  # between the bracket and 0
             lo, hi = jnp.minimum(lo, 0.0), jnp.maximum(hi, 0.0)

@@ -79,9 +79,11 @@ def structure_on_sliders(
     )
 
 
-STRUCTURE_EFFECTS = ("heating", "wear")
+STRUCTURE_EFFECTS = ("heating", "wear", "asymmetry")
 """Optional bearing parts a structure on sliders runs (besides Eq. 1, breakaway, anisotropy,
-stacks): factors on mu that do not depend on Z, held over each step."""
+stacks): heating and wear, factors on mu held over each step, and the direction asymmetry
+1 + a Z, part of the bearing force solved for in each step. Only the hysteretic friction
+model runs them."""
 
 HEAT_HORIZON = 3600.0
 """Longest time [s] the heat kernel of a structure represents (the 1/sqrt(t) kernel is
@@ -107,7 +109,12 @@ PRESSURE_HINT = ("; a pressure dependence is a constant factor at the bearings' 
 def _heat_kernel(bearing, friction_model, contact_pressure, time_step):
     """(rates, weights) of the heat kernel for a bearing with heating, else (None, None);
     `ValueError` for parts a structure does not run or a missing contact pressure."""
-    if friction_model != "hysteretic" or bearing is None:
+    if bearing is None:
+        return None, None
+    if friction_model != "hysteretic":
+        if bearing.effects and friction_model == "coulomb":
+            raise ValueError(f"bearing: the Coulomb model runs Eq. 1 alone, not its "
+                             f"{', '.join(bearing.effects)}; use friction_model='hysteretic'.")
         return None, None
     check_structure_parts(bearing)
     if bearing.heating is None:
