@@ -53,6 +53,10 @@ def add_simulate_parser(subparsers) -> None:
                    "Table 1 for sliding along y and interpolate in the sliding angle")
     add_bearing_flag(p, replaces="--ptfe, --pressure, --direction, --breakaway, "
                      "--interfaces-in-series, --yield-disp and --anisotropic; give --normal-load")
+    p.add_argument("--isolator-file", default=None, metavar="FILE", type=pathlib.Path,
+                   help="simulate a triple friction pendulum whose surfaces (radius, capacity, "
+                   "friction of each) this isolator file gives, instead of a flat slider; "
+                   "give --normal-load")
     p.add_argument("--samples-per-cycle", type=int, default=400, help="saved samples per cycle, at "
                    f"least {MIN_SAMPLES_PER_CYCLE} (default 400)")
     p.add_argument("--out", default="test_record.csv", help="output test-record CSV (default test_record.csv)")
@@ -169,10 +173,65 @@ def _read_motion_file(path: pathlib.Path):
     return read_motion_record(path)
 
 
+def _triple_pendulum(args):
+    """(isolator, motion, normal load) of `--isolator-file`; the flat slider's flags refused."""
+    from ..formats import load_isolator
+
+    given = [name for name, default in getattr(args, "bearing_option_defaults", {}).items()
+             if getattr(args, name + "_text", getattr(args, name, default)) != default]
+    if args.bearing is not None:
+        given.append("bearing")
+    if given:
+        flag = "--" + given[0].replace("_", "-")
+        raise ValueError(f"{flag}: the isolator comes from --isolator-file {args.isolator_file}; "
+                         f"leave {flag} out (or edit the isolator file).")
+    if args.normal_load is None:
+        raise ValueError("--normal-load: give the vertical load of the triple pendulum test "
+                         "(e.g. --normal-load 500kip).")
+    if args.motion_file is None and args.samples_per_cycle < MIN_SAMPLES_PER_CYCLE:
+        raise ValueError(f"--samples-per-cycle: must be >= {MIN_SAMPLES_PER_CYCLE}, got "
+                         f"{args.samples_per_cycle}.")
+    try:
+        isolator = load_isolator(args.isolator_file)
+    except ValueError as error:
+        raise ValueError(f"--isolator-file {error}") from None
+    return isolator, _motion(args), args.normal_load
+
+
+def _run_triple_pendulum(args) -> int:
+    """`simulate-test --isolator-file`: the triple pendulum's loop as a test record."""
+    from ..formats import test_record_from_arrays, write_test_record
+    from ..systems import triple_pendulum_test
+
+    isolator, motion, normal_load = _triple_pendulum(args)
+    time, displacement, response = triple_pendulum_test(
+        isolator, motion, normal_load, samples_per_cycle=args.samples_per_cycle)
+    failed = int(np.count_nonzero(~np.asarray(response.converged)))
+    if failed:
+        raise RuntimeError(f"the sliders' force balance did not converge at {failed} samples; "
+                           "use more --samples-per-cycle.")
+    u, f = np.asarray(displacement), np.asarray(response.force)
+    planar = u.ndim == 2
+    record = test_record_from_arrays(
+        u[:, 0] if planar else u, f[:, 0] if planar else f, time=np.asarray(time),
+        uy=u[:, 1] if planar else None, fy=f[:, 1] if planar else None,
+        normal_load=np.full(len(time), float(normal_load)),
+        metadata={"specimen": f"triple friction pendulum of {args.isolator_file} (simulated by "
+                              "teflon-jax)",
+                  "source": "teflon-jax simulate-test --isolator-file; series model of Fenz & "
+                            "Constantinou (2008)"})
+    write_test_record(args.out, record, units=None if args.units == "us" else "SI")
+    peak = float(np.max(np.abs(f)) / normal_load)
+    print(f"wrote {args.out}: {len(record)} samples, peak |F|/N = {peak:.4f} [-]")
+    return 0
+
+
 def run_simulate(args) -> int:
     from ..formats import test_record_from_arrays, write_test_record
     from ..systems import simulate_bearing_test
 
+    if args.isolator_file is not None:
+        return _run_triple_pendulum(args)
     bearing, motion, normal_load, metadata = build_test(args)
     result = simulate_bearing_test(bearing, motion, normal_load,
                                       samples_per_cycle=args.samples_per_cycle, throw=False)

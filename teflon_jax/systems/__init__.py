@@ -56,3 +56,4 @@ from ._structure_build import STRUCTURE_EFFECTS as STRUCTURE_EFFECTS
 from ._structure_build import structure_on_sliders as structure_on_sliders
 from ._triple_test import TripleResponse as TripleResponse
 from ._triple_test import simulate_triple_test as simulate_triple_test
+from ._triple_test import triple_pendulum_test as triple_pendulum_test

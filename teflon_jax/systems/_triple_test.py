@@ -136,3 +136,25 @@ def simulate_triple_test(bearing: TriplePendulum, time, displacement, normal_loa
         force, slider, z = force[:, 0], slider[..., 0], z[..., 0]
     return TripleResponse(force=force, slider=slider, z=z,
                           converged=jnp.concatenate([jnp.array([True]), converged]))
+
+
+def triple_pendulum_test(bearing: TriplePendulum, motion, normal_load, *,
+                         samples_per_cycle: int = 400):
+    """A bearing test of a triple pendulum: the imposed `motion` (`AbstractMotion`: sine,
+    triangle, figure-eight or tabulated) sampled `samples_per_cycle` times a cycle (a tabulated
+    motion at its own samples), under the constant normal load [N].
+
+    **Returns:** (time (nt,) [s], displacement (nt,) or (nt, 2) [m], `TripleResponse`).
+    """
+    import numpy as np
+
+    if hasattr(motion, "times"):
+        time = jnp.asarray(motion.times)
+    else:
+        frequency = (float(motion.frequency) if hasattr(motion, "frequency")
+                     else float(motion.angular_frequency) / (2 * np.pi))
+        n = max(int(round(motion.duration * frequency * samples_per_cycle)), 2)
+        time = jnp.linspace(0.0, motion.duration, n + 1)
+    path = jax.vmap(motion.displacement)(time)
+    displacement = path if motion.biaxial else path[:, 0]
+    return time, displacement, simulate_triple_test(bearing, time, displacement, normal_load)
