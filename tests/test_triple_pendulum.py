@@ -135,6 +135,12 @@ def test_geometry_and_friction_the_series_model_cannot_take_are_refused(changes,
         check_triple_pendulum(_bearing(**changes))
 
 
+def test_the_backbone_refuses_capacities_out_of_its_order():
+    """Surface 1 reaching its ring before surface 4 slides: regime III does not exist."""
+    with pytest.raises(ValueError, match="capacities: the closed forms"):
+        triple_pendulum_backbone(_bearing(bottom_capacity=0.05))
+
+
 def test_the_force_is_differentiable_in_the_radii():
     """d(peak force)/d(bottom radius) against central differences (design gradients)."""
     t, u = _slow_cycle(0.3, n=1500)

@@ -125,6 +125,11 @@ def triple_pendulum_backbone(bearing: TriplePendulum):
                                                        bearing.bottom_friction,
                                                        bearing.top_friction))
     forces = [m2, m1, m4, m1 + d1 / b, m4 + d4 / c, m2 + d2 / a + min(d1 / b, d4 / c)]
+    if not all(f0 <= f1 for f0, f1 in zip(forces[:-1], forces[1:])):
+        raise ValueError(
+            "capacities: the closed forms of regimes I-V need mu_2 <= mu_1 <= mu_4 <= mu_1 + d_1/b "
+            f"<= mu_4 + d_4/c <= the inner ring's force; the transitions are at F/W = "
+            f"{', '.join(f'{f:.4g}' for f in forces)} (the series model itself runs other orders).")
     slopes = [1 / (2 * a), 1 / (a + b), 1 / (b + c), 1 / (a + c), 1 / (2 * a)]
     starts = [0.0]
     for force0, force1, slope in zip(forces[:-1], forces[1:], slopes):
