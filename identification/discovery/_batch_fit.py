@@ -22,12 +22,14 @@ def _finite_or_null(value):
     return value
 
 
-FIT_RTOL = 1e-6
+FIT_RTOL = 1e-5
 """Relative tolerance of each fit: it has converged when a step changes every residual r by
-less than `FIT_ATOL + FIT_RTOL |r|` (the test of optimistix on the residuals alone: a
-parameter running into a bound of its sigmoid keeps moving in u while the residuals stop)."""
+less than `FIT_ATOL + FIT_RTOL |r|` (optimistix's test on the residuals alone: a parameter
+running into a bound of its sigmoid keeps moving in u while the residuals stop), or when no
+damping up to `MAX_DAMPING` of `least_squares._marquardt` lowers the cost. The residuals are
+forces over their root-mean-square, so this is 1e-5 of the force scale."""
 
-FIT_ATOL = 1e-6
+FIT_ATOL = 1e-5
 """Absolute tolerance of each fit (see `FIT_RTOL`)."""
 
 

@@ -24,6 +24,15 @@ import optimistix as optx
 INITIAL_DAMPING = 1e-2
 """lam at the start (the trust region's step size starts at 1, and lam = this / step size)."""
 
+MAX_DAMPING = 1e8
+"""lam beyond which the step is zero: the trust region has shrunk through every damping up to
+this without lowering the cost, a minimum to the precision of the arithmetic. optimistix
+accepts the zero step and its convergence test (no change) ends the solve there."""
+
+MAX_STEP = 4.0
+"""Largest change of one unknown in a step: an unconstrained u of order one moves by at most
+this, so that one step cannot throw a bounded parameter deep into its sigmoid's flat tail."""
+
 ACCEPT_FRACTION = 1e-4
 """A step is taken when the cost falls by at least this fraction of the decrease the linear
 model predicts."""
@@ -60,7 +69,7 @@ class MarquardtDescent(optx.AbstractDescent):
         lam = jnp.where(step_size > 0, INITIAL_DAMPING / safe, jnp.finfo(r.dtype).max)
         du = -jnp.linalg.solve(hess + jnp.diag(lam * scale), jac.T @ r)
         ok = jnp.all(jnp.isfinite(du))
-        du = jnp.where(ok, du, 0.0)
+        du = jnp.where(ok & (lam < MAX_DAMPING), jnp.clip(du, -MAX_STEP, MAX_STEP), 0.0)
         return (du,), optx.RESULTS.where(ok, optx.RESULTS.successful,
                                          optx.RESULTS.singular)
 
