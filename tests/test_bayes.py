@@ -110,7 +110,7 @@ def _model_record(seed, *, fs=200.0, cycles=2, noise=0.02):
     u = 4 * INCH * (1.0 - np.cos(2 * np.pi * 0.6 * t))
     load = np.full(t.size, NORMAL_LOAD)
     force = np.asarray(simulate_record_force(TRUTH, t, u, load, velocity=sample_velocity(t, u),
-                                             z0=0.0, z_peak0=0.0, use_breakaway=True))
+                                             z0=0.0, z_peak0=0.0))
     rng = np.random.default_rng(seed)
     force = force + noise * np.sqrt(np.mean(force**2)) * rng.standard_normal(force.size)
     return test_record_from_arrays(u, force, time=t, normal_load=NORMAL_LOAD)

@@ -95,8 +95,8 @@ def test_biaxial_force_equals_simulator_on_its_path():
     bearing = tj.paper_bearing(UF_P, yield_disp=Y_PAPER, friction_perpendicular=UF_T)
     r = tj.simulate_bearing_test(bearing, tj.FigureEightMotion(1 * INCH, 1.0, cycles=2), 1.0)
     t, ux, uy = (np.asarray(x) for x in (r.time, r.ux, r.uy))
-    fx, fy = simulate_record_force({**TRUTH, **TRUTH_T, "breakaway_ratio": 1.0}, t, ux, 1.0,
-                                   uy=uy, use_breakaway=False, park_elements=32)
+    fx, fy = simulate_record_force({**TRUTH, **TRUTH_T, "breakaway_ratio": None}, t, ux, 1.0,
+                                   uy=uy, park_elements=32)
     error = np.hypot(np.asarray(fx) - np.asarray(r.fx), np.asarray(fy) - np.asarray(r.fy))
     assert np.sqrt(np.mean(error**2)) < 2e-4 * np.sqrt(np.mean(np.asarray(r.fx**2 + r.fy**2)))
 

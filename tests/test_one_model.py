@@ -311,3 +311,40 @@ def test_discovery_refuses_a_normal_load_that_puts_force_over_n_out_of_range():
     record = tj.test_record_from_arrays(u, 2e3 * np.tanh(v / 1e-3), time=t, normal_load=1.0)
     with pytest.raises(ValueError, match=r"force / normal load reaches .* --normal-load"):
         discover_effects(record)
+
+
+def test_one_table_of_bounds_serves_the_fitter_discovery_and_the_posterior(monkeypatch):
+    """The physical and search ranges of each constant are `PARAMETER_BOUNDS`: the fitter's
+    default bounds and the posterior's physical ranges are its `physical` pairs, discovery's
+    its `search` ranges and log flags, the bearing-file fields its `field` column; a change in
+    the table reaches discovery and the posterior's default prior."""
+    from identification.bayes import PHYSICAL, build_priors
+    from identification.bearing_fit import PARAMETER_FIELDS, PARAMETER_NAMES
+    from identification.bearing_fit._plan import _DEFAULT_BOUNDS
+    from identification.discovery import EFFECTS
+    from identification.discovery._augmented import PARAMETERS
+    from teflon_jax.bearing import PARAMETER_BOUNDS, ConstantBounds
+
+    for name in PARAMETER_NAMES:
+        assert _DEFAULT_BOUNDS[name] is PARAMETER_BOUNDS[name].physical, name
+    for name, pair in PHYSICAL.items():
+        assert pair is PARAMETER_BOUNDS[name].physical, name
+    assert PARAMETER_FIELDS == {n: b.field for n, b in PARAMETER_BOUNDS.items() if b.field}
+    for p in PARAMETERS:
+        bounds = PARAMETER_BOUNDS[p.name]
+        assert (p.lower, p.upper, p.log_scale) == (*bounds.search, bounds.log_scale), p.name
+        lo, hi = bounds.physical
+        assert lo <= bounds.search[0] < bounds.search[1] <= hi, p.name
+        assert not bounds.log_scale or bounds.search[0] > 0, p.name
+
+    record = {"fx": np.array([1.0, -1.0]), "load": np.array([10.0, 10.0]),
+              "ux": np.array([0.0, 0.01])}
+    wider = ConstantBounds((0.0, math.inf), (0.01, 5e3), log_scale=True, unit="s/m",
+                           field=("friction", "rate_a"))
+    monkeypatch.setitem(PARAMETER_BOUNDS, "rate_a", wider)
+    monkeypatch.setitem(PARAMETER_BOUNDS, "asymmetry",
+                        PARAMETER_BOUNDS["asymmetry"]._replace(search=(-0.3, 0.3)))
+    prior = build_priors(("rate_a",), [record])["rate_a"]
+    assert (prior.low, prior.high) == (0.01, 5e3)
+    assert (EFFECTS["asymmetry"].parameters[0].lower, EFFECTS["asymmetry"].parameters[0].upper) \
+        == (-0.3, 0.3)

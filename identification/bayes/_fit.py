@@ -88,10 +88,10 @@ def _check_sample_count(records, free_names):
             "longer record or fix parameters.")
 
 
-def _record_data(records, fit, normal_load, use_breakaway):
+def _record_data(records, fit, normal_load):
     """Arrays of each record, and the initial state that reproduces the least-squares fit."""
     data = []
-    values = {k: (1.0 if v is None else v) for k, v in fit.parameters.items()}
+    values = dict(fit.parameters)
     for i, (record, res) in enumerate(zip(records, fit.records)):
         n = (int(record.metadata.get("interfaces_in_parallel", 1)),
              int(record.metadata.get("interfaces_in_series", 1)))
@@ -105,13 +105,13 @@ def _record_data(records, fit, normal_load, use_breakaway):
         best = None
         for z_peak0 in (0.0, 1.0):
             unit = np.asarray(simulate_record_force(values, time, ux, load, z0=1.0,
-                                                    z_peak0=z_peak0, use_breakaway=use_breakaway,
-                                                    velocity=velocity, interfaces_in_parallel=n[0],
+                                                    z_peak0=z_peak0, velocity=velocity,
+                                                    interfaces_in_parallel=n[0],
                                                     interfaces_in_series=n[1]))
             z0 = 0.0 if z_peak0 == 0.0 else float(np.clip(res.fitted[0] / unit[0], -1.0, 1.0))
             force = np.asarray(simulate_record_force(values, time, ux, load, z0=z0,
-                                                     z_peak0=z_peak0, use_breakaway=use_breakaway,
-                                                     velocity=velocity, interfaces_in_parallel=n[0],
+                                                     z_peak0=z_peak0, velocity=velocity,
+                                                     interfaces_in_parallel=n[0],
                                                      interfaces_in_series=n[1]))
             err = float(np.max(np.abs(force - res.fitted)))
             if best is None or err < best[0]:
@@ -282,17 +282,15 @@ def fit_bayes(
     t_ls = _time.perf_counter() - t0
     free_names = tuple(fit.free)
     _check_sample_count(records, free_names)
-    use_breakaway = fit.parameters.get("breakaway_ratio") is not None
-    data = _record_data(records, fit, normal_load, use_breakaway)
+    data = _record_data(records, fit, normal_load)
     arrays = []
     for d in data:
         arrays.append({k: jnp.asarray(d[k]) for k in ("time", "ux", "velocity", "load", "fx", "z0",
                                                       "z_peak0", "scale")})
     priors = build_priors(free_names, data, prior=prior, bounds=bounds)
-    fixed_values = {k: (1.0 if v is None else float(v)) for k, v in fit.parameters.items()
-                    if k not in free_names}
-    model = make_model(priors, fixed_values, tuple(d["n_interfaces"] for d in data),
-                       use_breakaway)
+    fixed_values = {k: float(v) for k, v in fit.parameters.items()
+                    if k not in free_names and v is not None}
+    model = make_model(priors, fixed_values, tuple(d["n_interfaces"] for d in data))
     kernel = NUTS(model, dense_mass=True, target_accept_prob=target_accept,
                   inverse_mass_matrix=_initial_mass(priors, fit, data))
     block = max(-(-num_samples // BLOCKS), min(num_samples, MIN_BLOCK))

@@ -66,10 +66,11 @@ def to_physical(p: ParameterPrior, b):
 _ORDER = ("f_max", "delta_f", "rate_a", "yield_disp", "breakaway_ratio")
 
 
-def _forward_mode_force(n_interfaces: tuple[int, int], use_breakaway: bool):
+def _forward_mode_force(n_interfaces: tuple[int, int], names: tuple[str, ...]):
     """The record force with a vector-Jacobian product computed in forward mode.
 
-    `n_interfaces`: (interfaces in parallel, interfaces in series) of the record (FORMATS.md).
+    `n_interfaces`: (interfaces in parallel, interfaces in series) of the record (FORMATS.md);
+    `names`: the constants in `theta`, in its order (without `breakaway_ratio`: no breakaway).
 
     NUTS asks for gradients (reverse mode); through a `lax.scan` over thousands of samples
     reverse mode stores and replays the whole history, while five forward tangents cost
@@ -77,10 +78,9 @@ def _forward_mode_force(n_interfaces: tuple[int, int], use_breakaway: bool):
     """
 
     def simulate(theta, rec):
-        values = dict(zip(_ORDER, theta))
+        values = dict(zip(names, theta))
         return simulate_record_force(values, rec["time"], rec["ux"], rec["load"], z0=rec["z0"],
-                                     z_peak0=rec["z_peak0"], use_breakaway=use_breakaway,
-                                     velocity=rec["velocity"],
+                                     z_peak0=rec["z_peak0"], velocity=rec["velocity"],
                                      interfaces_in_parallel=n_interfaces[0],
                                      interfaces_in_series=n_interfaces[1])
 
@@ -100,10 +100,12 @@ def _forward_mode_force(n_interfaces: tuple[int, int], use_breakaway: bool):
     return force
 
 
-def make_model(priors: dict, fixed: dict, n_interfaces: tuple, use_breakaway: bool):
-    """A numpyro model `model(data)`; `data` is a list of record dicts (see `record_data`)."""
+def make_model(priors: dict, fixed: dict, n_interfaces: tuple):
+    """A numpyro model `model(data)`; `data` is a list of record dicts (see `record_data`).
+    The model has breakaway (Eq. 17) where `breakaway_ratio` has a prior or a fixed value."""
 
-    forces = {n: _forward_mode_force(n, use_breakaway) for n in set(n_interfaces)}
+    names = tuple(k for k in _ORDER if k in priors or k in fixed)
+    forces = {n: _forward_mode_force(n, names) for n in set(n_interfaces)}
 
     def model(data):
         values = {k: jnp.asarray(v) for k, v in fixed.items()}
@@ -114,7 +116,7 @@ def make_model(priors: dict, fixed: dict, n_interfaces: tuple, use_breakaway: bo
             values["delta_f"] = values["delta_f"] * values["f_max"]
         noise = numpyro.sample(
             "noise_rel", dist.LogUniform(*NOISE_RANGE).expand([len(data)]).to_event(1))
-        theta = jnp.stack([jnp.asarray(values[k], dtype=float) for k in _ORDER])
+        theta = jnp.stack([jnp.asarray(values[k], dtype=float) for k in names])
         for i, (rec, n) in enumerate(zip(data, n_interfaces)):
             force = forces[n](theta, rec)
             numpyro.sample(f"obs_{i}", dist.Normal(force / rec["scale"], noise[i]),

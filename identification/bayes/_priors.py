@@ -4,9 +4,9 @@ Every parameter is sampled on a bounded range; the default ("bounds") prior is
 
     f_max ~ LogUniform(0.2 m_hi, 5 m_hi)        m_hi = max |F / N| of the records   [-]
     delta_ratio = delta_f / f_max ~ Uniform(0, 1)                                     [-]
-    rate_a ~ LogUniform(0.1, 1e4)                                                     [s/m]
+    rate_a ~ LogUniform(a_lo, a_hi)            search range of PARAMETER_BOUNDS       [s/m]
     yield_disp ~ LogUniform(1e-4 S, 0.1 S)     S = stroke (peak-to-peak ux)           [m]
-    breakaway_ratio - 1 ~ LogUniform(1e-3, 4)                                         [-]
+    breakaway_ratio - 1 ~ LogUniform(1e-3, b_hi - 1)   b_hi: its search upper bound   [-]
     noise_rel ~ LogUniform(1e-4, 1)            noise standard deviation / RMS force   [-]
 
 Log-uniform (Jeffreys) priors are the scale-free choice for positive constants whose order
@@ -16,6 +16,12 @@ With `prior="table1"` the same bounds truncate a log-normal prior (logit-normal 
 of the 16 interfaces of Table 1 of Constantinou, Mokha & Reinhorn (1990): an informative
 prior for PTFE-steel interfaces. `bounds=` overrides a range; a range outside the physical
 one (f_max, rate_a, yield_disp > 0; breakaway_ratio > 1) or not finite is refused.
+
+The ranges come from the one table of the bearing's constants
+(`teflon_jax.bearing.PARAMETER_BOUNDS`): the physical ranges as they are, and where a proper
+prior needs a finite range, the table's search range (rate_a, breakaway_ratio) or, for f_max
+and yield_disp, a range scaled by the record itself (their physical ranges are unbounded and
+their search ranges would not follow the record's units of scale).
 """
 
 import dataclasses
@@ -23,13 +29,16 @@ import math
 
 import numpy as np
 
+from teflon_jax.bearing import PARAMETER_BOUNDS
 from teflon_jax.tables import load_table1
 
-PHYSICAL = {
-    "f_max": (0.0, math.inf), "delta_f": (0.0, math.inf), "rate_a": (0.0, math.inf),
-    "yield_disp": (0.0, math.inf), "breakaway_ratio": (1.0, math.inf),
-}
-"""Physical ranges of the five constants (open intervals)."""
+PHYSICAL = {name: PARAMETER_BOUNDS[name].physical
+            for name in ("f_max", "delta_f", "rate_a", "yield_disp", "breakaway_ratio")}
+"""Physical ranges of the five constants (open intervals; `teflon_jax.bearing.PARAMETER_BOUNDS`)."""
+
+BREAKAWAY_OFFSET = 1e-3
+"""Smallest b - 1 of the default breakaway prior: it is uniform in log(b - 1), which needs a
+positive lower end where the physical range starts at b = 1 [-]."""
 
 SITE = {"f_max": "f_max", "delta_f": "delta_ratio", "rate_a": "rate_a",
         "yield_disp": "yield_disp", "breakaway_ratio": "breakaway_ratio"}
@@ -87,9 +96,10 @@ def default_bounds(records) -> dict:
     stroke = max(float(np.ptp(r["ux"])) for r in records)
     return {
         "f_max": (0.2 * mu_hi, 5.0 * mu_hi),
-        "rate_a": (0.1, 1.0e4),
+        "rate_a": PARAMETER_BOUNDS["rate_a"].search,
         "yield_disp": (1e-4 * stroke, 0.1 * stroke),
-        "breakaway_ratio": (1.001, 5.0),
+        "breakaway_ratio": (PHYSICAL["breakaway_ratio"][0] + BREAKAWAY_OFFSET,
+                            PARAMETER_BOUNDS["breakaway_ratio"].search[1]),
     }
 
 

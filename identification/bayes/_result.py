@@ -7,11 +7,14 @@ import warnings as _warnings
 import jax
 import numpy as np
 
+from teflon_jax.bearing import PARAMETER_BOUNDS
+
 from ..bearing_fit import PARAMETER_NAMES
 from ._model import base_name, distribution, to_base, to_physical
 
-UNITS = {"f_max": "-", "delta_f": "-", "rate_a": "s/m", "yield_disp": "m",
-         "breakaway_ratio": "-", "noise_level": "N"}
+UNITS = {**{name: PARAMETER_BOUNDS[name].unit for name in PARAMETER_NAMES[:5]},
+         "noise_level": "N"}
+"""Unit of each reported quantity: the bearing constants' from `PARAMETER_BOUNDS`."""
 
 NOT_IDENTIFIED_RATIO = 0.5
 """Posterior sd / prior sd (on the prior's log or logit scale) above which a constant is

@@ -159,23 +159,23 @@ def prepare_digitised(record, *, name, load, parallel, series, yield_ref):
     return prepared
 
 
-def _grid_force(values, arrays, use_breakaway, config):
+def _grid_force(values, arrays, config):
     return simulate_record_force(
         values, arrays["grid_time"], arrays["grid_ux"], arrays["grid_load"],
-        velocity=arrays["grid_velocity"], use_breakaway=use_breakaway,
+        velocity=arrays["grid_velocity"],
         interfaces_in_parallel=config.interfaces_in_parallel,
         interfaces_in_series=config.interfaces_in_series)
 
 
-def digitised_model_force(values, arrays, *, use_breakaway, config):
+def digitised_model_force(values, arrays, *, config):
     """Model force [N] at the digitised points: the last cycle of the protocol, per branch."""
-    grid = _grid_force(values, arrays, use_breakaway, config)
+    grid = _grid_force(values, arrays, config)
     return _branch_force(arrays, grid, arrays["ux"])
 
 
-def digitised_residual(values, arrays, *, use_breakaway, config):
+def digitised_residual(values, arrays, *, config):
     """(model - digitised force) / sigma_i at each point (effective variance, module docstring)."""
-    grid = _grid_force(values, arrays, use_breakaway, config)
+    grid = _grid_force(values, arrays, config)
     u = arrays["ux"]
     force = _branch_force(arrays, grid, u)
     du = 0.25 * arrays["sigma_u"]

@@ -126,7 +126,7 @@ def fit_bearing_test(
 def _fit_prepared(records, prepared, free, fixed, *, initial, bounds, normal_load, n_starts,
                   max_steps, rtol, atol) -> BearingFit:
     """One least-squares fit of prepared records (see `fit_bearing_test`)."""
-    free, values, start, warnings, use_breakaway = _plan(prepared, free, fixed, initial, bounds)
+    free, values, start, warnings = _plan(prepared, free, fixed, initial, bounds)
     if normal_load is not None and any(r.normal_load is None for r in records):
         warnings.append(
             f"normal load: records without one were fitted with normal_load = {normal_load} N; "
@@ -134,10 +134,8 @@ def _fit_prepared(records, prepared, free, fixed, *, initial, bounds, normal_loa
     names, internal_bounds, to_internal, ratio = _internal(free, values, start, bounds)
     configs = tuple(p.config for p in prepared)
     anisotropic = values["anisotropic"]
-    model = BearingModel(free=names, configs=configs, use_breakaway=use_breakaway, ratio=ratio,
-                         anisotropic=anisotropic)
-    model_user = BearingModel(free=free, configs=configs, use_breakaway=use_breakaway,
-                              ratio=False, anisotropic=anisotropic)
+    model = BearingModel(free=names, configs=configs, ratio=ratio, anisotropic=anisotropic)
+    model_user = BearingModel(free=free, configs=configs, ratio=False, anisotropic=anisotropic)
     args = {"fixed": _fixed_tree(values), "records": [p.arrays for p in prepared]}
     starts = _multi_starts(start, free, n_starts) if not initial else [start]
     internal_starts = [to_internal(s) for s in starts]
@@ -194,8 +192,7 @@ def fit_bearing_tests_batch(
     plans = [_plan([p], free, fixed, None, bounds) for p in prepared]
     common_free = plans[0][0] if free is None else tuple(free)
     plans = [_plan([p], common_free, fixed, None, bounds) for p in prepared]
-    use_breakaway = plans[0][4]
-    if any(pl[4] != use_breakaway for pl in plans):
+    if len({pl[1]["breakaway_ratio"] is None for pl in plans}) > 1:
         raise ValueError("records: some records use breakaway and others not; fit them apart.")
     length = max(p.arrays["time"].size for p in prepared)
     config = prepared[0].config
@@ -205,7 +202,7 @@ def fit_bearing_tests_batch(
     names = None
     initial_rows, trees, meta = [], [], []
     bounds_all = None
-    for p, (fr, values, start, warnings, _) in zip(prepared, plans):
+    for p, (fr, values, start, warnings) in zip(prepared, plans):
         names, internal_bounds, to_internal, ratio = _internal(fr, values, start, bounds)
         if bounds_all is None:
             bounds_all = internal_bounds
@@ -218,10 +215,8 @@ def fit_bearing_tests_batch(
             initial_rows.append(to_internal(s))
             trees.append(tree)
         meta.append((fr, values, warnings, starts))
-    model = BearingModel(free=names, configs=(config,), use_breakaway=use_breakaway,
-                         ratio=ratio)
-    model_user = BearingModel(free=common_free, configs=(config,),
-                              use_breakaway=use_breakaway, ratio=False)
+    model = BearingModel(free=names, configs=(config,), ratio=ratio)
+    model_user = BearingModel(free=common_free, configs=(config,), ratio=False)
     batch_initial = {n: np.array([row[n] for row in initial_rows]) for n in names}
     for n, (lo, hi) in bounds_all.items():
         x = batch_initial[n]

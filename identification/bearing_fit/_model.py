@@ -3,6 +3,8 @@
 import equinox as eqx
 import jax.numpy as jnp
 
+from teflon_jax.bearing import PARAMETER_BOUNDS
+
 from ._loop_features import RecordConfig as RecordConfig
 from ._record_force import PERPENDICULAR_NAMES, simulate_record_force
 
@@ -12,10 +14,7 @@ PARAMETER_NAMES = ("f_max", "delta_f", "rate_a", "yield_disp", "breakaway_ratio"
 constants (Eq. 1 for sliding perpendicular to the lay, along y) are those of biaxial records;
 mu is interpolated linearly in the sliding angle between them and the parallel ones."""
 
-PARAMETER_UNITS = {
-    "f_max": "-", "delta_f": "-", "rate_a": "s/m", "yield_disp": "m", "breakaway_ratio": "-",
-    "f_max_perpendicular": "-", "delta_f_perpendicular": "-", "rate_a_perpendicular": "s/m",
-}
+PARAMETER_UNITS = {name: PARAMETER_BOUNDS[name].unit for name in PARAMETER_NAMES}
 
 RATIO_PAIRS = (("delta_f", "f_max", "delta_ratio"),
                ("delta_f_perpendicular", "f_max_perpendicular", "delta_ratio_perpendicular"))
@@ -28,12 +27,12 @@ class BearingModel(eqx.Module):
     `args = {"fixed": {name: value for all parameters}, "records": [arrays of each record]}`.
     With `ratio=True` a free `delta_f` is the parameter `delta_ratio = delta_f / f_max` (and
     likewise for the perpendicular constants). `anisotropic`: the model has its own
-    perpendicular constants (else sliding along y follows the parallel ones).
+    perpendicular constants (else sliding along y follows the parallel ones). Breakaway
+    (Eq. 17) is in the model where `breakaway_ratio` is free or fixed to a number, not `None`.
     """
 
     free: tuple[str, ...] = eqx.field(static=True)
     configs: tuple[RecordConfig, ...] = eqx.field(static=True)
-    use_breakaway: bool = eqx.field(static=True)
     ratio: bool = eqx.field(static=True)
     anisotropic: bool = eqx.field(static=True, default=False)
 
@@ -50,13 +49,13 @@ class BearingModel(eqx.Module):
         if c.biaxial:
             fx, fy = simulate_record_force(
                 values, rec["time"], rec["ux"], rec["load"], velocity=rec["velocity"],
-                uy=rec["uy"], velocity_y=rec["velocity_y"], use_breakaway=self.use_breakaway,
+                uy=rec["uy"], velocity_y=rec["velocity_y"],
                 interfaces_in_parallel=c.interfaces_in_parallel,
                 interfaces_in_series=c.interfaces_in_series, park_elements=c.park_elements)
             return jnp.concatenate([fx, fy])
         return simulate_record_force(
             values, rec["time"], rec["ux"], rec["load"], velocity=rec["velocity"],
-            z0=rec["z0"], z_peak0=rec["z_peak0"], use_breakaway=self.use_breakaway,
+            z0=rec["z0"], z_peak0=rec["z_peak0"],
             interfaces_in_parallel=c.interfaces_in_parallel,
             interfaces_in_series=c.interfaces_in_series)
 
@@ -68,7 +67,7 @@ class BearingModel(eqx.Module):
         values = self.values(params, args["fixed"])
         return [
             self._time_force(values, c, rec) if c.kind == "time"
-            else digitised_model_force(values, rec, use_breakaway=self.use_breakaway, config=c)
+            else digitised_model_force(values, rec, config=c)
             for c, rec in zip(self.configs, args["records"])
         ]
 
@@ -81,6 +80,6 @@ class BearingModel(eqx.Module):
             if c.kind == "time":
                 out.append((self._time_force(values, c, rec) - rec["fx"]) * rec["weight"])
             else:
-                out.append(digitised_residual(values, rec, use_breakaway=self.use_breakaway,
+                out.append(digitised_residual(values, rec,
                                               config=c))
         return jnp.concatenate(out)

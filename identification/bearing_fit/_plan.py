@@ -9,7 +9,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from teflon_jax.bearing import DEFAULT_YIELD_DISP
+from teflon_jax.bearing import DEFAULT_YIELD_DISP, PARAMETER_BOUNDS
 
 from ..least_squares import (
     LeastSquaresResult,
@@ -256,16 +256,13 @@ def _plan(prepared: Sequence[PreparedRecord], free, fixed, initial, bounds):
                 f"f_max, delta_f, rate_a: not separately identifiable; the sliding speed "
                 f"hardly varies ({v_low:.3g} to {v_high:.3g} m/s).")
 
-    use_breakaway = values["breakaway_ratio"] is not None
     values["anisotropic"] = anisotropic
-    return free, values, start, warnings, use_breakaway
+    return free, values, start, warnings
 
 
-_DEFAULT_BOUNDS = {
-    "f_max": (0.0, math.inf), "rate_a": (0.0, math.inf), "yield_disp": (0.0, math.inf),
-    "breakaway_ratio": (1.0, math.inf),
-    "f_max_perpendicular": (0.0, math.inf), "rate_a_perpendicular": (0.0, math.inf),
-}
+_DEFAULT_BOUNDS = {name: PARAMETER_BOUNDS[name].physical for name in PARAMETER_NAMES}
+"""Bounds of a free parameter the caller does not bound: its physical range (the delta_f are
+fitted as ratios to f_max in (0, 1) instead)."""
 
 
 def _internal(free, values, start, bounds):
@@ -336,7 +333,7 @@ def _multi_starts(start, free, n_starts):
 
 
 def _fixed_tree(values):
-    return {k: jnp.asarray(1.0 if v is None else v, dtype=float) for k, v in values.items()
+    return {k: None if v is None else jnp.asarray(v, dtype=float) for k, v in values.items()
             if k in PARAMETER_NAMES}
 
 

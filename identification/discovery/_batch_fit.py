@@ -1,12 +1,13 @@
-"""Fits of the augmented model for many candidate effects at once (vmapped Gauss-Newton)."""
+"""Fits of the augmented model for many candidate effects at once (vmapped optimistix
+Levenberg-Marquardt)."""
 
-import functools
 import math
 
 import jax
 import jax.numpy as jnp
 import numpy as np
 
+from ..least_squares import fit_least_squares_batch
 from ._augmented import PARAMETER_EFFECT, PARAMETER_NAMES, PARAMETERS, simulate_augmented
 from ._effects import EFFECT_NAMES
 
@@ -21,34 +22,15 @@ def _finite_or_null(value):
     return value
 
 
-_LOWER = np.array([p.lower for p in PARAMETERS])
+FIT_RTOL = 1e-5
+"""Relative tolerance of each fit: it has converged when a step changes every residual r by
+less than `FIT_ATOL + FIT_RTOL |r|` (optimistix's test on the residuals alone: a parameter
+running into a bound of its sigmoid keeps moving in u while the residuals stop), or when no
+damping up to `MAX_DAMPING` of `least_squares._marquardt` lowers the cost. The residuals are
+forces over their root-mean-square, so this is 1e-5 of the force scale."""
 
-
-_UPPER = np.array([p.upper for p in PARAMETERS])
-
-
-_LOG = np.array([p.log_scale for p in PARAMETERS])
-
-
-_LO = np.array([math.log(p.lower) if p.log_scale else p.lower for p in PARAMETERS])
-
-
-_HI = np.array([math.log(p.upper) if p.log_scale else p.upper for p in PARAMETERS])
-
-
-def to_physical(u):
-    """Unconstrained vector -> physical parameters: x = lo + (hi - lo) sigmoid(u), in log
-    space for the parameters marked `log_scale` (bounds are never left)."""
-    y = _LO + (_HI - _LO) * jax.nn.sigmoid(u)
-    return jnp.where(_LOG, jnp.exp(y), y)
-
-
-def to_unconstrained(x) -> np.ndarray:
-    """Inverse of `to_physical` (numpy; x strictly inside the bounds)."""
-    x = np.asarray(x, float)
-    y = np.where(_LOG, np.log(np.maximum(x, 1e-300)), x)
-    p = np.clip((y - _LO) / (_HI - _LO), 1e-9, 1 - 1e-9)
-    return np.log(p) - np.log1p(-p)
+FIT_ATOL = 1e-5
+"""Absolute tolerance of each fit (see `FIT_RTOL`)."""
 
 
 def _free_mask(active) -> np.ndarray:
@@ -59,70 +41,61 @@ def _free_mask(active) -> np.ndarray:
     )
 
 
-FIT_RTOL = 1e-9
-"""A fit has converged when an accepted Levenberg-Marquardt step lowers the cost by less than
-this fraction of it, or when no step of any damping up to 1e8 lowers it (a minimum to the
-precision of the arithmetic)."""
+def _residual(params, args):
+    """Scaled, weighted force residual of one configuration; held parameters at their start."""
+    (active, weight, start, free), (data, scale) = args
+    values = {name: jnp.where(free[i] > 0, params[name], start[i])
+              for i, name in enumerate(PARAMETER_NAMES)}
+    sim = simulate_augmented(values, data, active)
+    r = weight * (sim["force"] - data.force) / scale
+    if data.biaxial:
+        r = jnp.concatenate([r, weight * (sim["force_y"] - data.force_y) / scale])
+    return r
 
 
-@functools.partial(jax.jit, static_argnames=("n_iter",))
-def fit_batch(u0, free, actives, weights, data, scale, *, n_iter: int = 200):
-    """Masked, bounded Levenberg-Marquardt fits of B model configurations in one call.
+def fit_batch(starts, free, actives, weights, data, scale, *, max_steps: int = 200):
+    """Bounded least-squares fits of B model configurations in one vmapped optimistix call.
 
-    Minimises sum((w (F_model - F_meas) / scale)^2) over the unconstrained parameters u
-    (`to_physical`), with the parameters where `free` is 0 held at their start. Steps:
-    (J^T J + lam diag(J^T J)) du = -J^T r (Marquardt 1963), lam divided by 3 after a success
-    and multiplied by 4 after a failure; iterations until converged (`FIT_RTOL`) or `n_iter`.
+    Minimises 0.5 sum((w (F_model - F_meas) / scale)^2) for each configuration with
+    `fit_least_squares_batch` (Levenberg-Marquardt with Marquardt's scaled damping), every
+    parameter kept inside its search range (`teflon_jax.bearing.PARAMETER_BOUNDS`) by the
+    sigmoid bijection, in log x for the log-scaled ones; a parameter where `free` is 0 is held
+    at its start (its Jacobian column is zero, so the solver never moves it).
 
-    **Arguments:** `u0`, `free` (B, P); `actives` (B, E) effect masks; `weights` (B, n) sample
-    weights (0 leaves a sample out); `data` (`AugmentedData`); `scale` force scale [N].
+    **Arguments:** `starts`, `free` (B, P) physical start values and 0/1 masks in the order of
+    `PARAMETER_NAMES`; `actives` (B, E) effect masks; `weights` (B, n) sample weights (0
+    leaves a sample out); `data` (`AugmentedData`); `scale` force scale [N]; `max_steps` the
+    solver's step limit.
 
-    **Returns:** `(u, cost, jacobian, converged, n_steps)`: final unconstrained parameters
-    (B, P), cost 0.5 sum r^2 (B,), the Jacobian of r in u at the end (B, n, P), whether each
-    fit met the convergence test (B,) and the iterations it took (B,).
+    **Returns:** `(values, cost, jacobian, converged, n_steps)` as numpy arrays: fitted physical
+    parameters (B, P), cost 0.5 sum r^2 (B,), the Jacobian of r in the physical parameters
+    (B, n_r, P; zero columns for held ones), whether optimistix reported success (B,) and the
+    steps it took (B,).
     """
-
-    def one(u_start, free_i, active, weight):
-        def residual(u):
-            params = {name: x for name, x in zip(PARAMETER_NAMES, to_physical(u))}
-            sim = simulate_augmented(params, data, active)
-            r = weight * (sim["force"] - data.force) / scale
-            if data.biaxial:
-                r = jnp.concatenate([r, weight * (sim["force_y"] - data.force_y) / scale])
-            return r, r
-
-        def cost_of(u):
-            return 0.5 * jnp.sum(residual(u)[0] ** 2)
-
-        def body(carry):
-            i, u, lam, cost, _ = carry
-            jac, r = jax.jacfwd(residual, has_aux=True)(u)
-            jac = jac * free_i
-            grad = jac.T @ r
-            hess = jac.T @ jac
-            diag = jnp.diag(hess)
-            system = hess + jnp.diag(lam * (diag + 1e-12) + (1.0 - free_i))
-            step = -jnp.linalg.solve(system, grad) * free_i
-            trial = u + jnp.clip(step, -4.0, 4.0)
-            trial_cost = cost_of(trial)
-            better = jnp.isfinite(trial_cost) & (trial_cost < cost)
-            small = better & (cost - trial_cost <= FIT_RTOL * cost)
-            stuck = (~better) & (lam >= 1e8)
-            u = jnp.where(better, trial, u)
-            new_cost = jnp.where(better, trial_cost, cost)
-            lam = jnp.clip(jnp.where(better, lam / 3.0, lam * 4.0), 1e-9, 1e9)
-            return i + 1, u, lam, new_cost, small | stuck | (new_cost == 0.0)
-
-        def cond(carry):
-            i, *_, done = carry
-            return (i < n_iter) & ~done
-
-        init = (0, u_start, 1e-2, cost_of(u_start), False)
-        n, u, _, cost, done = jax.lax.while_loop(cond, body, init)
-        jac = jax.jacfwd(lambda v: residual(v)[0])(u) * free_i
-        return u, cost, jac, done, n
-
-    return jax.vmap(one)(u0, free, actives, weights)
+    starts = np.asarray(starts, float)
+    free = np.asarray(free, float)
+    fits = fit_least_squares_batch(
+        _residual,
+        {name: starts[:, i] for i, name in enumerate(PARAMETER_NAMES)},
+        {p.name: (p.lower, p.upper) for p in PARAMETERS},
+        args=((jnp.asarray(actives), jnp.asarray(weights), jnp.asarray(starts),
+               jnp.asarray(free)), (data, jnp.asarray(scale))),
+        args_batched=(True, False),
+        log_scale=tuple(p.name for p in PARAMETERS if p.log_scale),
+        max_steps=max_steps,
+        rtol=FIT_RTOL,
+        atol=FIT_ATOL,
+        solver="levenberg_marquardt_scaled",
+        converged_on="residuals",
+    )
+    values = np.array([[fit.parameters[name] for name in PARAMETER_NAMES] for fit in fits])
+    return (
+        np.where(free > 0, values, starts),
+        np.array([fit.cost for fit in fits]),
+        np.stack([fit.jacobian for fit in fits]),
+        np.array([fit.converged for fit in fits]),
+        np.array([fit.n_steps for fit in fits]),
+    )
 
 
 @jax.jit

@@ -24,14 +24,13 @@ The workflow an experimentalist follows with a new bearing test, made explicit:
    the runner-up) is the margin of its delta_bic over the runner-up's, read on the same scale.
 
 Every fit of one round (current model and every candidate, full record and both folds) is a
-single vmapped, compiled call of a masked Levenberg-Marquardt solver (`fit_batch`): effects are
-switched by a 0/1 mask and the parameters of effects that are off are frozen, so the model is
+single vmapped, compiled call of optimistix's Levenberg-Marquardt solver (`fit_batch`): effects
+are switched by a 0/1 mask and the parameters of effects that are off are held, so the model is
 compiled once per record.
 """
 
 import time as _time
 
-import jax.numpy as jnp
 import numpy as np
 
 from teflon_jax.tables import load_table1
@@ -46,7 +45,6 @@ from ._augmented import (
     RecordInfo,
     prepare_record,
 )
-from ._batch_fit import _HI, _LO, _LOG, to_physical
 from ._diagnostics import effective_samples
 from ._effects import BASELINES, EFFECT_NAMES, EFFECTS
 from ._result import (
@@ -157,7 +155,7 @@ def discover_effects(
     - `max_effects`: at most this many effects are added.
     - `max_samples`: longer records are decimated to about this many samples.
     - `max_steps`: Levenberg-Marquardt iteration limit per fit; each fit stops when it
-      converges (`FIT_RTOL`) and reports whether it did (`DiscoveryResult.fit_convergence`).
+      converges (`FIT_RTOL`, `FIT_ATOL`) and reports whether it did (`DiscoveryResult.fit_convergence`).
     - `known`: parameters held at given values (SI), e.g. `{"rate_a": 23.6}` from Table 1;
       with `rate_a` known the `interfaces` candidate becomes identifiable.
     - `callback`: called with a line of progress text (for a CLI), or `None`.
@@ -194,7 +192,8 @@ def discover_effects(
         stack = stack_check(float(fit.values[PARAMETER_NAMES.index("rate_a")]),
                             info.n_interfaces_in_series)
         skipped["interfaces"] += _stack_note(stack, info.n_interfaces_in_series)
-    std_errors = _std_errors(fit.u, fit.jacobian, (fit.force - force) / scale, current, known)
+    std_errors = _std_errors(fit.values, fit.jacobian, (fit.force - force) / scale, current,
+                             known)
     n = data.n_samples
     return DiscoveryResult(
         baseline=baseline,
@@ -341,21 +340,17 @@ def _baseline_effects(baseline) -> tuple:
     return tuple(dict.fromkeys(baseline))
 
 
-def _std_errors(u, jac_u, residual, effects, known) -> dict:
+def _std_errors(values, jacobian, residual, effects, known) -> dict:
     """Standard errors of the fitted parameters at the optimum, in SI.
 
-    The Jacobian in the unconstrained parameters u is mapped to the physical ones through
-    dx/du of `to_physical`; the covariance is sigma^2 (J^T J)^-1 (`covariance_from_jacobian`),
-    inflated by n / n_eff for residuals correlated from sample to sample (n_eff as in the
-    evidence), since n correlated samples carry the information of n_eff independent ones.
+    From the Jacobian of the residual in the physical parameters, the covariance is
+    sigma^2 (J^T J)^-1 (`covariance_from_jacobian`), inflated by n / n_eff for residuals
+    correlated from sample to sample (n_eff as in the evidence), since n correlated samples
+    carry the information of n_eff independent ones.
     """
-    u = np.asarray(u, float)
-    s = 1.0 / (1.0 + np.exp(-u))
-    x = np.asarray(to_physical(jnp.asarray(u)))
-    dxdu = (_HI - _LO) * s * (1 - s) * np.where(_LOG, x, 1.0)
-    names = [n for n in _active_parameters(x, effects) if n not in known]
+    names = [n for n in _active_parameters(values, effects) if n not in known]
     cols = [PARAMETER_NAMES.index(n) for n in names]
-    jac_x = np.asarray(jac_u)[:, cols] / dxdu[cols]
+    jac_x = np.asarray(jacobian)[:, cols]
     cov, _ = covariance_from_jacobian(jac_x, np.asarray(residual))
     inflation = len(residual) / effective_samples(residual)
     out = {n: float(np.sqrt(abs(cov[i, i]) * inflation)) for i, n in enumerate(names)}

@@ -2,7 +2,8 @@
 
 Each effect is an optional part of the one bearing model (`teflon_jax.bearing`: its laws,
 equations and references are there); this table says, for discovery, which constants each
-effect adds, their bounds, the value a fit starts from and the *neutral* value for which the
+effect adds (their bounds are the search ranges of `teflon_jax.bearing.PARAMETER_BOUNDS`), the
+value a fit starts from and the *neutral* value for which the
 effect vanishes, what the record must contain to identify it and the regressor its signature
 follows in the residual.
 
@@ -16,6 +17,7 @@ base isolation I: Testing" (pressure, wear and direction effects).
 
 import dataclasses
 
+from teflon_jax.bearing import PARAMETER_BOUNDS
 from teflon_jax.units import INCH
 
 
@@ -23,12 +25,11 @@ from teflon_jax.units import INCH
 class EffectParameter:
     """One parameter of an effect (SI units).
 
-    - `name`: engineer's name, e.g. `delta_f`, `breakaway_ratio`.
+    - `name`: engineer's name, e.g. `delta_f`, `breakaway_ratio`: a key of
+      `teflon_jax.bearing.PARAMETER_BOUNDS`, whose search range gives `lower`, `upper`,
+      `log_scale` (fit in log space) and `unit`.
     - `initial`: value a fit starts from when the effect is switched on.
     - `neutral`: value for which the effect vanishes (or nearly so).
-    - `lower`, `upper`: bounds of the fit.
-    - `log_scale`: fit in log space (positive quantities spanning decades).
-    - `unit`: unit in brackets for reports.
     - `neutral_of`: name of the parameter whose value is neutral for this one (the effect
       vanishes when they are equal, e.g. `f_max_perpendicular` = `f_max`); a fit adding the
       effect starts there. `None`: `neutral` is the neutral value.
@@ -37,11 +38,23 @@ class EffectParameter:
     name: str
     initial: float
     neutral: float
-    lower: float
-    upper: float
-    log_scale: bool = False
-    unit: str = "-"
     neutral_of: str | None = None
+
+    @property
+    def lower(self) -> float:
+        return PARAMETER_BOUNDS[self.name].search[0]
+
+    @property
+    def upper(self) -> float:
+        return PARAMETER_BOUNDS[self.name].search[1]
+
+    @property
+    def log_scale(self) -> bool:
+        return PARAMETER_BOUNDS[self.name].log_scale
+
+    @property
+    def unit(self) -> str:
+        return PARAMETER_BOUNDS[self.name].unit
 
 
 @dataclasses.dataclass(frozen=True)
@@ -66,16 +79,8 @@ class Effect:
 
 
 BASELINE_PARAMETERS = (
-    EffectParameter("f_max", 0.1, 0.1, 0.002, 0.5, unit="-"),
-    EffectParameter(
-        "yield_disp",
-        0.005 * INCH,
-        0.005 * INCH,
-        0.0002 * INCH,
-        0.2 * INCH,
-        log_scale=True,
-        unit="m",
-    ),
+    EffectParameter("f_max", 0.1, 0.1),
+    EffectParameter("yield_disp", 0.005 * INCH, 0.005 * INCH),
 )
 """Parameters every model has: friction at large velocity (or the constant friction) and the
 Bouc-Wen yield displacement Y of Eq. 3."""
@@ -86,16 +91,8 @@ EFFECTS: dict[str, Effect] = {
         Effect(
             "velocity_dependence",
             (
-                EffectParameter("delta_f", 0.05, 0.0, 0.0, 0.45),
-                EffectParameter(
-                    "rate_a",
-                    1.0 / INCH,
-                    1.0 / INCH,
-                    0.005 / INCH,
-                    50.0 / INCH,
-                    log_scale=True,
-                    unit="s/m",
-                ),
+                EffectParameter("delta_f", 0.05, 0.0),
+                EffectParameter("rate_a", 1.0 / INCH, 1.0 / INCH),
             ),
             "mu = f_max - delta_f exp(-rate_a |v|)  (Eq. 1)",
             "speed |v| [m/s]",
@@ -103,14 +100,14 @@ EFFECTS: dict[str, Effect] = {
         ),
         Effect(
             "breakaway",
-            (EffectParameter("breakaway_ratio", 2.0, 1.0, 1.0, 8.0),),
+            (EffectParameter("breakaway_ratio", 2.0, 1.0),),
             "mu = breakaway_ratio (f_max - delta_f) until max|Z| first reaches 0.999  (Eq. 17)",
             "first excursion from rest (indicator)",
             reference="Constantinou, Mokha & Reinhorn (1990), Eq. 17",
         ),
         Effect(
             "pressure_dependence",
-            (EffectParameter("pressure_exponent", 0.3, 0.0, -1.0, 2.0),),
+            (EffectParameter("pressure_exponent", 0.3, 0.0),),
             "mu *= (N / N_ref)^(-pressure_exponent), N_ref = mean normal load",
             "log(N / N_ref) [-]",
             requires="varying_normal_load",
@@ -118,7 +115,7 @@ EFFECTS: dict[str, Effect] = {
         ),
         Effect(
             "heating",
-            (EffectParameter("heat_scale", 1.0, 0.0, 0.0, 20.0),),
+            (EffectParameter("heat_scale", 1.0, 0.0),),
             "mu *= k_T(T0 + heat_scale dT) / k_T(T0), k_T(T) = 0.79 (0.70^(T/50) + 0.40); "
             "dT = T_measured - T_measured(0) and T0 = T_measured(0) when the record has a "
             "'temperature' column, else dT = sqrt(kappa/pi)/k int q(s) (t-s)^(-1/2) ds with "
@@ -130,19 +127,10 @@ EFFECTS: dict[str, Effect] = {
         Effect(
             "anisotropy",
             (
-                EffectParameter("f_max_perpendicular", 0.1, 0.1, 0.002, 0.5, neutral_of="f_max"),
-                EffectParameter("delta_f_perpendicular", 0.05, 0.05, 0.0, 0.45,
-                                neutral_of="delta_f"),
-                EffectParameter(
-                    "rate_a_perpendicular",
-                    1.0 / INCH,
-                    1.0 / INCH,
-                    0.005 / INCH,
-                    50.0 / INCH,
-                    log_scale=True,
-                    unit="s/m",
-                    neutral_of="rate_a",
-                ),
+                EffectParameter("f_max_perpendicular", 0.1, 0.1, neutral_of="f_max"),
+                EffectParameter("delta_f_perpendicular", 0.05, 0.05, neutral_of="delta_f"),
+                EffectParameter("rate_a_perpendicular", 1.0 / INCH, 1.0 / INCH,
+                                neutral_of="rate_a"),
             ),
             "c(w) = (1 - w) c_P + w c_T for c = f_max, delta_f, rate_a; mu = f_max(w) - delta_f(w) "
             "exp(-rate_a(w) |v|); w = |theta| / (pi/2), theta the sliding angle to the lay (x); "
@@ -154,7 +142,7 @@ EFFECTS: dict[str, Effect] = {
         ),
         Effect(
             "asymmetry",
-            (EffectParameter("asymmetry", 0.05, 0.0, -0.6, 0.6),),
+            (EffectParameter("asymmetry", 0.05, 0.0),),
             "mu *= 1 + asymmetry Z_x: +asymmetry while sliding in +x (Z = 1), -asymmetry in -x "
             "(Z = -1), passing through 1 with Z at a reversal, so the force has no step",
             "hysteretic variable Z_x [-] (the sliding direction, smoothed)",
@@ -163,14 +151,14 @@ EFFECTS: dict[str, Effect] = {
         ),
         Effect(
             "wear",
-            (EffectParameter("wear_change", 0.0, 0.0, -0.8, 3.0),),
+            (EffectParameter("wear_change", 0.0, 0.0),),
             "mu *= 1 + wear_change travel / travel_total (no recovery)",
             "accumulated travel [m]",
             reference="Mokha, Constantinou & Reinhorn (1990), friction changing with travel",
         ),
         Effect(
             "interfaces",
-            (EffectParameter("n_interfaces", 4.0, 1.0, 1.0, 60.0, log_scale=True),),
+            (EffectParameter("n_interfaces", 4.0, 1.0),),
             "Eq. 1 evaluated at |v| / n_interfaces (n interfaces in series share the motion); "
             "only rate_a / n enters Eq. 1, so n is separable only with rate_a known",
             "speed |v| [m/s]",
@@ -179,9 +167,7 @@ EFFECTS: dict[str, Effect] = {
         Effect(
             "backlash",
             (
-                EffectParameter(
-                    "backlash_gap", 0.02 * INCH, 1e-6, 1e-6, 0.1, log_scale=True, unit="m"
-                ),
+                EffectParameter("backlash_gap", 0.02 * INCH, 1e-6),
             ),
             "a gap g in series: after each reversal Z unloads to 0 along Bouc-Wen, stays at 0 "
             "(F = 0) while the drive crosses the gap g, then loads again (Z continuous in u and g)",

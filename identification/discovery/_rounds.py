@@ -1,5 +1,5 @@
 """The fits of one discovery round: every fit of a round is one padded, vmapped call of the
-masked Levenberg-Marquardt solver (`fit_batch`), and the evidence for each candidate comes
+Levenberg-Marquardt solver (`fit_batch`), and the evidence for each candidate comes
 from its fits to the whole record and to two folds of alternate cycles."""
 
 import math
@@ -15,8 +15,6 @@ from ._batch_fit import (
     _simulate_batch,
     _stacked,
     fit_batch,
-    to_physical,
-    to_unconstrained,
 )
 from ._diagnostics import (
     effective_samples,
@@ -88,18 +86,16 @@ def _fit_setup(data, info, known, n_candidates, max_steps) -> _FitSetup:
 
 
 class _Fit(NamedTuple):
-    """One fitted model: physical and unconstrained parameters, Jacobian, stacked force."""
+    """One fitted model: parameters, the Jacobian of its residual in them, stacked force."""
 
     values: np.ndarray
-    u: np.ndarray
     jacobian: np.ndarray
     converged: bool
     force: np.ndarray
 
 
 def _fit_of_member(extra, fitted, i, force) -> _Fit:
-    return _Fit(fitted[i], extra["u"][i], extra["jacobian"][i], bool(extra["converged"][i]),
-                force)
+    return _Fit(fitted[i], extra["jacobian"][i], bool(extra["converged"][i]), force)
 
 
 def _fit_padded(setup: _FitSetup, starts, actives, weights, fit_log):
@@ -114,26 +110,18 @@ def _fit_padded(setup: _FitSetup, starts, actives, weights, fit_log):
     weights = np.array(list(weights) + [weights[0]] * pad)
     values = _inside(np.array([[s[name] for name in PARAMETER_NAMES] for s in starts]))
     free = np.array([_free_mask(a) * setup.fixed for a in actives])
-    u, _, jac, conv, steps_taken = fit_batch(
-        jnp.asarray(to_unconstrained(values)),
-        jnp.asarray(free),
-        jnp.asarray(actives),
-        jnp.asarray(weights),
-        setup.data,
-        setup.scale,
-        n_iter=setup.max_steps,
-    )
-    fitted = np.asarray(to_physical(u))
+    fitted, _, jac, conv, steps_taken = fit_batch(
+        values, free, actives, weights, setup.data, setup.scale, max_steps=setup.max_steps)
     sims = _simulate_batch(jnp.asarray(fitted), setup.data, jnp.asarray(actives))
-    conv = np.asarray(conv)[:b]
+    conv = conv[:b]
     fit_log = {
         **fit_log,
         "fits": fit_log["fits"] + b,
         "unconverged": fit_log["unconverged"] + int(np.count_nonzero(~conv)),
         "max_iterations_used": max(fit_log["max_iterations_used"],
-                                   int(np.max(np.asarray(steps_taken)[:b]))),
+                                   int(np.max(steps_taken[:b]))),
     }
-    extra = {"u": np.asarray(u)[:b], "jacobian": np.asarray(jac)[:b], "converged": conv}
+    extra = {"jacobian": jac[:b], "converged": conv}
     return extra, fitted[:b], {k: np.asarray(v)[:b] for k, v in sims.items()}, fit_log
 
 

@@ -5,7 +5,7 @@ from typing import NamedTuple
 import numpy as np
 import optimistix as optx
 
-SOLVERS = ("levenberg_marquardt", "gauss_newton")
+SOLVERS = ("levenberg_marquardt", "levenberg_marquardt_scaled", "gauss_newton")
 
 
 class LeastSquaresResult(NamedTuple):

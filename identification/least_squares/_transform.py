@@ -1,7 +1,7 @@
 """Bijections between bounded physical parameters and the unconstrained space the optimiser sees."""
 
 import math
-from collections.abc import Mapping
+from collections.abc import Collection, Mapping
 from typing import Any, NamedTuple
 
 import jax
@@ -11,7 +11,7 @@ import numpy as np
 Bounds = dict[str, tuple[float, float]]
 """Bounds of each parameter: name -> (lower, upper); `-inf` / `inf` for none."""
 
-_KIND_FREE, _KIND_LOWER, _KIND_UPPER, _KIND_BOTH = 0, 1, 2, 3
+_KIND_FREE, _KIND_LOWER, _KIND_UPPER, _KIND_BOTH, _KIND_LOG_BOTH = 0, 1, 2, 3, 4
 
 
 class _Transform(NamedTuple):
@@ -34,6 +34,16 @@ def _softplus_inverse(x):
     return np.where(x > 30.0, x, np.log(np.expm1(np.minimum(x, 30.0))))
 
 
+SIGMOID_LIMIT = 20.0
+"""|u| beyond which a bounded parameter sits at its bound to 2e-9 of its range: the sigmoid is
+taken of u clipped to this, so there the residual no longer depends on u, the solver's step
+in u is zero and its convergence test (on the change of u) can pass at a bound."""
+
+
+def _sigmoid(u):
+    return jax.nn.sigmoid(jnp.clip(u, -SIGMOID_LIMIT, SIGMOID_LIMIT))
+
+
 def _to_physical(u, kinds, lower, upper, scale, origin):
     """Unconstrained vector u (..., p) -> physical vector x (..., p)."""
     columns = []
@@ -45,8 +55,11 @@ def _to_physical(u, kinds, lower, upper, scale, origin):
             x = lower[..., i] + scale[..., i] * _softplus(ui)
         elif kind == _KIND_UPPER:
             x = upper[..., i] - scale[..., i] * _softplus(-ui)
+        elif kind == _KIND_BOTH:
+            x = lower[..., i] + (upper[..., i] - lower[..., i]) * _sigmoid(ui)
         else:
-            x = lower[..., i] + (upper[..., i] - lower[..., i]) * jax.nn.sigmoid(ui)
+            log_lo = jnp.log(lower[..., i])
+            x = jnp.exp(log_lo + (jnp.log(upper[..., i]) - log_lo) * _sigmoid(ui))
         columns.append(x)
     return jnp.stack(columns, axis=-1)
 
@@ -63,17 +76,26 @@ def _to_unconstrained(x, kinds, lower, upper, scale, origin):
         elif kind == _KIND_UPPER:
             u[..., i] = -_softplus_inverse((upper[..., i] - xi) / scale[..., i])
         else:
-            p = (xi - lower[..., i]) / (upper[..., i] - lower[..., i])
+            if kind == _KIND_BOTH:
+                p = (xi - lower[..., i]) / (upper[..., i] - lower[..., i])
+            else:
+                log_lo = np.log(lower[..., i])
+                p = (np.log(xi) - log_lo) / (np.log(upper[..., i]) - log_lo)
             u[..., i] = np.log(p) - np.log1p(-p)
     return u
 
 
-def check_bounds(initial: Mapping[str, Any], bounds: Mapping[str, tuple[float, float]] | None):
+def check_bounds(initial: Mapping[str, Any], bounds: Mapping[str, tuple[float, float]] | None,
+                 log_scale: Collection[str] = ()):
     """Validate names, bounds and starts; returns (names, lower, upper) as numpy arrays.
 
-    Starts may be arrays (a batch); every element must lie strictly inside its bounds.
-    Raises `ValueError` naming the parameter otherwise.
+    Starts may be arrays (a batch); every element must lie strictly inside its bounds, and a
+    name in `log_scale` needs finite bounds with `0 < lower`. Raises `ValueError` naming the
+    parameter otherwise.
     """
+    unknown_log = sorted(set(log_scale) - set(initial))
+    if unknown_log:
+        raise ValueError(f"log_scale: {', '.join(unknown_log)} not among the fitted parameters.")
     if not initial:
         raise ValueError("initial: give at least one parameter to fit (name -> start value).")
     bounds = dict(bounds or {})
@@ -98,6 +120,10 @@ def check_bounds(initial: Mapping[str, Any], bounds: Mapping[str, tuple[float, f
         start = np.asarray(initial[name], dtype=float)
         if not np.all(np.isfinite(start)):
             raise ValueError(f"initial['{name}']: start value must be finite, got {start}.")
+        if name in log_scale and not (0.0 < lo and math.isfinite(hi)):
+            raise ValueError(
+                f"bounds['{name}']: a log-scaled parameter needs 0 < lower and a finite upper "
+                f"bound, got ({lo}, {hi}).")
         if not (np.all(start > lo) and np.all(start < hi)):
             raise ValueError(
                 f"{name}: start value {start.tolist()} is not strictly inside its bounds "
@@ -108,13 +134,17 @@ def check_bounds(initial: Mapping[str, Any], bounds: Mapping[str, tuple[float, f
     return names, np.array(lower), np.array(upper)
 
 
-def _make_transform(names, lower, upper, x0) -> _Transform:
-    """Bijection of each parameter, scaled by the distance of the start from its bound."""
+def _make_transform(names, lower, upper, x0, log_scale: Collection[str] = ()) -> _Transform:
+    """Bijection of each parameter, scaled by the distance of the start from its bound
+    (bounded ones: the sigmoid of the module docstring, in log x for names in `log_scale`)."""
     kinds, scale, origin = [], np.ones_like(x0), np.array(x0, dtype=float)
-    for i in range(len(names)):
+    for i, name in enumerate(names):
         lo, hi = np.isfinite(lower[i]), np.isfinite(upper[i])
         xi = x0[..., i]
-        if lo and hi:
+        if name in log_scale:
+            kinds.append(_KIND_LOG_BOTH)
+            s = np.ones_like(xi)
+        elif lo and hi:
             kinds.append(_KIND_BOTH)
             s = np.ones_like(xi)
         elif lo:

@@ -11,6 +11,8 @@ from ._bearing import check_bearing as check_bearing
 from ._bearing import check_hysteresis as check_hysteresis
 from ._bearing import paper_bearing as paper_bearing
 from ._bearing import sliding_speed as sliding_speed
+from ._bounds import PARAMETER_BOUNDS as PARAMETER_BOUNDS
+from ._bounds import ConstantBounds as ConstantBounds
 from ._effects import AMBIENT_TEMPERATURE as AMBIENT_TEMPERATURE
 from ._effects import STEEL_CONDUCTIVITY as STEEL_CONDUCTIVITY
 from ._effects import STEEL_DIFFUSIVITY as STEEL_DIFFUSIVITY

@@ -1,0 +1,105 @@
+"""Levenberg-Marquardt with Marquardt's scaled damping, built from optimistix's parts.
+
+optimistix's `LevenbergMarquardt` damps with `lam I`. Marquardt (1963) damps with
+`lam diag(J^T J)`, re-scaled at every step, which makes the step independent of how each
+parameter is scaled: a parameter whose influence fades (a sigmoid bijection nearing its
+bound) still takes steps of order one in u instead of creeping. Here that step is a descent
+of optimistix's Gauss-Newton framework, kept in step by its classical trust region
+(lam = `INITIAL_DAMPING` / step size; Moré 1978):
+
+    (J^T J + lam diag(J^T J)) du = -J^T r.
+
+References: Marquardt, "An algorithm for least-squares estimation of nonlinear parameters",
+J. SIAM 11(2), 1963; Moré, "The Levenberg-Marquardt algorithm: implementation and theory",
+Lecture Notes in Mathematics 630, 1978.
+"""
+
+from collections.abc import Callable
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import optimistix as optx
+
+INITIAL_DAMPING = 1e-2
+"""lam at the start (the trust region's step size starts at 1, and lam = this / step size)."""
+
+MAX_DAMPING = 1e8
+"""lam beyond which the step is zero: the trust region has shrunk through every damping up to
+this without lowering the cost, a minimum to the precision of the arithmetic. optimistix
+accepts the zero step and its convergence test (no change) ends the solve there."""
+
+MAX_STEP = 4.0
+"""Largest change of one unknown in a step: an unconstrained u of order one moves by at most
+this, so that one step cannot throw a bounded parameter deep into its sigmoid's flat tail."""
+
+ACCEPT_FRACTION = 1e-4
+"""A step is taken when the cost falls by at least this fraction of the decrease the linear
+model predicts."""
+
+
+class _MarquardtState(eqx.Module):
+    jacobian: jax.Array
+    residual: jax.Array
+
+
+class MarquardtDescent(optx.AbstractDescent):
+    """The damped Gauss-Newton step with Marquardt's scaling `diag(J^T J)` (module docstring).
+
+    The unknowns are a one-array tuple `(u,)` of p values, the residuals a 1-D array; a column
+    of `J` that is zero (a parameter held fixed) takes no step.
+    """
+
+    def init(self, y, f_info_struct):
+        p = sum(leaf.size for leaf in jax.tree_util.tree_leaves(y))
+        n = f_info_struct.residual.size
+        dtype = f_info_struct.residual.dtype
+        return _MarquardtState(jnp.zeros((n, p), dtype), jnp.zeros((n,), dtype))
+
+    def query(self, y, f_info, state):
+        del y, state
+        return _MarquardtState(f_info.jac.as_matrix(), f_info.residual)
+
+    def step(self, step_size, state):
+        jac, r = state.jacobian, state.residual
+        hess = jac.T @ jac
+        diag = jnp.diag(hess)
+        scale = jnp.where(diag > 0, diag, 1.0)
+        safe = jnp.where(step_size > 0, step_size, 1.0)
+        lam = jnp.where(step_size > 0, INITIAL_DAMPING / safe, jnp.finfo(r.dtype).max)
+        du = -jnp.linalg.solve(hess + jnp.diag(lam * scale), jac.T @ r)
+        ok = jnp.all(jnp.isfinite(du))
+        du = jnp.where(ok & (lam < MAX_DAMPING), jnp.clip(du, -MAX_STEP, MAX_STEP), 0.0)
+        return (du,), optx.RESULTS.where(ok, optx.RESULTS.successful,
+                                         optx.RESULTS.singular)
+
+
+class MarquardtLevenbergMarquardt(optx.AbstractGaussNewton):
+    """Levenberg-Marquardt with Marquardt's scaled damping (module docstring), for unknowns
+    given as a one-array tuple `(u,)`.
+
+    **Arguments:** `rtol`, `atol` and `norm` of optimistix's convergence test.
+    """
+
+    rtol: float
+    atol: float
+    norm: Callable
+    descent: MarquardtDescent
+    search: optx.ClassicalTrustRegion
+    verbose: Callable
+
+    def __init__(self, rtol: float, atol: float, norm: Callable = optx.max_norm):
+        self.rtol = rtol
+        self.atol = atol
+        self.norm = norm
+        self.descent = MarquardtDescent()
+        # Any decrease of the cost is accepted and widens the region (lam / 3); a step that
+        # does not decrease it is refused and narrows it (lam x 4), as in Marquardt (1963).
+        self.search = optx.ClassicalTrustRegion(high_cutoff=ACCEPT_FRACTION,
+                                                low_cutoff=ACCEPT_FRACTION,
+                                                high_constant=3.0, low_constant=0.25)
+        self.verbose = _quiet
+
+
+def _quiet(**kwargs):
+    del kwargs
