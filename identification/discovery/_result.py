@@ -86,10 +86,18 @@ class DiscoveryResult:
         return list(self.baseline_effects) + list(self.effects_added)
 
     def bearing(self):
-        """The final model as a `teflon_jax.bearing.SlidingBearing` (its parts only)."""
+        """The final model as a `teflon_jax.bearing.SlidingBearing` (its parts only). A
+        pressure dependence carries the record's contact area when the record states one (a
+        structure needs it to take the dependence at its own contact pressure)."""
+        import equinox as eqx
+
         from ._augmented import discovered_bearing
 
-        return discovered_bearing(self.parameters, self.data, self.effects)
+        bearing = discovered_bearing(self.parameters, self.data, self.effects)
+        if bearing.pressure_dependence is None or self.info.contact_area_assumed:
+            return bearing
+        return eqx.tree_at(lambda b: b.pressure_dependence.contact_area, bearing,
+                           self.data.contact_area, is_leaf=lambda x: x is None)
 
     def bearing_errors(self) -> dict:
         """Standard errors keyed by `(part, constant)` of the bearing file."""
