@@ -34,6 +34,7 @@ from ..bearing import (
     check_bearing,
 )
 from ..units import unit_factor
+from ._text import read_json_document
 
 FORMAT_NAME = "teflon-jax bearing"
 FORMAT_VERSION = 1
@@ -204,14 +205,7 @@ def bearing_from_dict(document: dict, *, where: str = "bearing") -> SlidingBeari
 
 def load_bearing(path) -> SlidingBearing:
     """Read a bearing file (JSON, `save_bearing`) into a `SlidingBearing` (SI)."""
-    path = pathlib.Path(path)
-    try:
-        document = json.loads(path.read_text())
-    except FileNotFoundError:
-        raise ValueError(f"{path}: no such bearing file.") from None
-    except json.JSONDecodeError as error:
-        raise ValueError(f"{path}: not valid JSON (line {error.lineno}, column {error.colno}: "
-                         f"{error.msg}).") from None
+    document = read_json_document(path, "bearing file")
     return bearing_from_dict(document, where=str(path))
 
 

@@ -16,13 +16,12 @@ is the effective radius R - h and `capacity` the effective displacement capacity
 of each surface. Every value carries its unit; nothing is defaulted.
 """
 
-import json
-import pathlib
 
 import jax.numpy as jnp
 
 from ..bearing import BoucWen, FrictionParameters, TriplePendulum, check_triple_pendulum
 from ..units import unit_factor
+from ._text import read_json_document
 
 FORMAT_NAME = "teflon-jax isolator"
 FORMAT_VERSION = 1
@@ -111,12 +110,5 @@ def isolator_from_dict(document, *, where: str = "isolator") -> TriplePendulum:
 
 def load_isolator(path) -> TriplePendulum:
     """Read an isolator file (JSON) into a `TriplePendulum` (SI)."""
-    path = pathlib.Path(path)
-    try:
-        document = json.loads(path.read_text())
-    except FileNotFoundError:
-        raise ValueError(f"{path}: no such isolator file.") from None
-    except json.JSONDecodeError as error:
-        raise ValueError(f"{path}: not valid JSON (line {error.lineno}, column {error.colno}: "
-                         f"{error.msg}).") from None
+    document = read_json_document(path, "isolator file")
     return isolator_from_dict(document, where=str(path))

@@ -32,3 +32,18 @@ def _to_float(token: str, path, line_no: int, what: str) -> float:
             "(gaps are not filled in, repair or cut the record)."
         )
     return value
+
+
+def read_json_document(path, what: str):
+    """The JSON object of the file `path`; `ValueError` naming the file (and for bad JSON the
+    line and column) when it is missing or not JSON. `what` names the kind of file."""
+    import json
+
+    path = pathlib.Path(path)
+    try:
+        return json.loads(path.read_text())
+    except FileNotFoundError:
+        raise ValueError(f"{path}: no such {what}.") from None
+    except json.JSONDecodeError as error:
+        raise ValueError(f"{path}: not valid JSON (line {error.lineno}, column {error.colno}: "
+                         f"{error.msg}).") from None
