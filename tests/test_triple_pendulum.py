@@ -77,6 +77,19 @@ def test_the_transition_displacements_are_the_closed_forms(loading):
         assert crossing == pytest.approx(start, rel=0.01)
 
 
+def test_the_bearing_stiffens_where_regime_five_ends(loading):
+    """On regime V's line just before the inner ring, well above it just after (the ring)."""
+    regimes, end, u, f, _ = loading
+    start, force0, slope = regimes[-1]
+
+    def line(x):
+        return force0 + slope * (x - start)
+
+    before, after = np.interp(0.995 * end, u, f), np.interp(1.015 * end, u, f)
+    assert before == pytest.approx(line(0.995 * end), rel=0.01)
+    assert after > line(1.015 * end) + 0.02
+
+
 def test_the_loop_is_symmetric_and_dissipates(loading):
     *_, response = loading
     f = np.asarray(response.force)

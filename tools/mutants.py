@@ -213,6 +213,28 @@ MUTANTS = (
     Mutant("S5", "teflon_jax/systems/_structure.py",
            'force = -self.mass * ground - self.damping @ y["v"]', 'force = self.mass * ground - self.damping @ y["v"]',
            (f"{SS}::test_coulomb_sliding_acceleration_closed_form",), "equation of motion: sign of the ground load"),
+    # the optional parts in the structures
+    Mutant("S8", EF, "return self.factor(pressure * self.contact_area)",
+           "return self.factor(pressure * self.contact_area ** 0.5)",
+           ("tests/test_pressure_in_structures.py",), "pressure dependence in a structure: N = p sqrt(A)"),
+    Mutant("S9", "teflon_jax/systems/_bidirectional.py",
+           "slide = jnp.sqrt(jnp.sum((d1 - d0) ** 2, axis=-1))", "slide = jnp.abs(d1 - d0)[:, 0]",
+           ("tests/test_history_two_directions.py",), "heating in two directions: flux of the x speed only"),
+    Mutant("S10", "teflon_jax/systems/_isolator_solve.py",
+           "force = force * (1 + a * z)", "force = force * (1 - a * z)",
+           ("tests/test_asymmetry_in_structures.py",), "asymmetry in the step's solve: 1 - a Z"),
+    Mutant("S11", "teflon_jax/systems/_structure.py",
+           "return self.bearing.asymmetry.factor(z)", "return 1.0",
+           ("tests/test_asymmetry_in_structures.py",), "asymmetry left out of the reported force"),
+    # the triple friction pendulum's series model
+    Mutant("P1", "teflon_jax/bearing/_triple_pendulum.py",
+           "return jnp.stack([2 * a, self.bottom_radius - a, self.top_radius - a])",
+           "return jnp.stack([2 * a, self.bottom_radius, self.top_radius - a])",
+           ("tests/test_triple_pendulum.py",), "series model: outer slider of radius b, not b - a"),
+    Mutant("P2", "teflon_jax/bearing/_triple_pendulum.py",
+           "inner = 2 * (self.inner_capacity + a * jnp.minimum(self.bottom_capacity / b,",
+           "inner = 2 * (self.inner_capacity + a * jnp.maximum(self.bottom_capacity / b,",
+           ("tests/test_triple_pendulum.py",), "series model: inner ring at the later outer ring"),
 ) + LAWS
 
 
