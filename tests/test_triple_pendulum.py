@@ -155,14 +155,15 @@ def test_the_backbone_refuses_capacities_out_of_its_order():
 
 
 def test_the_force_is_differentiable_in_the_radii():
-    """d(peak force)/d(bottom radius) against central differences (design gradients)."""
-    t, u = _slow_cycle(0.3, n=1500)
+    """d(peak force)/d(outer radius) against central differences (design gradients), in
+    forward mode (no tape of the Newton loops to keep)."""
+    t, u = _slow_cycle(0.3, n=800)
 
     def peak(radius):
         response = simulate_triple_test(_bearing(bottom_radius=radius, top_radius=radius), t, u, W)
         return jnp.max(response.force) / W
 
-    grad = float(jax.grad(peak)(2.2))
+    grad = float(jax.jvp(peak, (2.2,), (1.0,))[1])
     h = 1e-4
     central = (float(peak(2.2 + h)) - float(peak(2.2 - h))) / (2 * h)
     assert grad < 0
