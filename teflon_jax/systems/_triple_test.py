@@ -4,9 +4,10 @@ bearing's.
 
 Each slider e carries F = W (u_e / R_e + mu_e(v_e) Z_e) + its restrainer beyond its capacity
 (stiffness `STOP_STIFFNESS_RATIO` W / R_e), with Z_e updated exactly along the step
-(`bouc_wen_exact_update`) and mu_e from Eq. 1 at its surface's velocity. Each step solves for
-the sliders' increments (two unknowns; the third closes the sum) by Newton's method on the
-differences of their forces. References: Fenz & Constantinou (2008), Earthquake Spectra 24(4);
+(Bouc-Wen's exact update along one axis, Park's along two) and mu_e from Eq. 1 at its
+surface's velocity. Each step solves for the sliders' increments (two unknowns, each with one
+or two components; the third closes the sum) by Newton's method on the differences of their
+forces. References: Fenz & Constantinou (2008), Earthquake Spectra 24(4);
 Constantinou, Mokha & Reinhorn (1990), Eqs. 1, 3.
 """
 
