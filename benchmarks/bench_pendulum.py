@@ -1,0 +1,87 @@
+"""B7: Monte Carlo on single friction pendulums beside flat sliders with springs, in one run.
+
+The same forty-second Clough-Penzien motions (records at 0.01 s, 5 ms structure steps) run
+through the rigid mass and the six-storey building twice: on flat sliders with springs of
+period T = 2 pi sqrt(R / g) and no viscous damping, and on single friction pendulums of
+radius R (its small-rotation restoring force W u / R, the same period). Both are timed alike
+(compiled first, then `--motions` motions in chunks of 512, alternating flat and pendulum
+`--repeats` times); the record rate of each and the pendulum's share of the flat slider's
+are printed and written as JSON with the machine.
+
+Usage: `python benchmarks/bench_pendulum.py [--motions 1000] [--repeats 2] [--json OUT]`.
+"""
+
+import argparse
+import json
+import math
+import os
+import platform
+import time
+
+import jax
+
+jax.config.update("jax_enable_x64", True)
+
+from teflon_jax.excitation import StochasticGroundMotion  # noqa: E402
+from teflon_jax.studies import monte_carlo  # noqa: E402
+from teflon_jax.systems import isolated_structure  # noqa: E402
+from teflon_jax.units import INCH, PSI, STANDARD_GRAVITY  # noqa: E402
+
+RADIUS = 39.0 * INCH  # T = 2.0 s
+TIME_STEP = 0.005
+
+
+def _motions():
+    return StochasticGroundMotion(peak_ground_acceleration=0.3 * STANDARD_GRAVITY, duration=40.0,
+                                  time_step=0.01, rise_time=2.0, strong_motion_duration=10.0)
+
+
+def _structure(kind, isolator):
+    period = 2 * math.pi * math.sqrt(RADIUS / STANDARD_GRAVITY)
+    if isolator == "flat":
+        return isolated_structure(kind, time_step=TIME_STEP, pressure=1000 * PSI,
+                                  isolation_period=period, isolation_damping=0.0)
+    return isolated_structure(kind, time_step=TIME_STEP, pressure=1000 * PSI,
+                              isolator="single-fp", radius=RADIUS)
+
+
+def _rate(structure, motions, n):
+    monte_carlo(structure, motions, 64, key=jax.random.key(0), chunk_size=64)  # compile
+    start = time.perf_counter()
+    result = monte_carlo(structure, motions, n, key=jax.random.key(1), chunk_size=512)
+    jax.block_until_ready(result.base_disp)
+    return n / (time.perf_counter() - start), float(result.base_disp.mean())
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--motions", type=int, default=1000)
+    parser.add_argument("--repeats", type=int, default=2)
+    parser.add_argument("--json", default=None)
+    args = parser.parse_args()
+    motions = _motions()
+    out = {"machine": {"platform": platform.platform(), "processor": platform.processor(),
+                       "cpus": os.cpu_count(), "devices": [d.device_kind for d in jax.devices()],
+                       "load_average": os.getloadavg()},
+           "motions": args.motions, "radius_m": RADIUS, "time_step_s": TIME_STEP, "rates": {}}
+    for kind in ("rigid", "building"):
+        rates = {"flat": [], "single-fp": []}
+        means = {}
+        for _ in range(args.repeats):
+            for isolator in ("flat", "single-fp"):
+                rate, mean = _rate(_structure(kind, isolator), motions, args.motions)
+                rates[isolator].append(rate)
+                means[isolator] = mean
+        share = max(rates["single-fp"]) / max(rates["flat"])
+        out["rates"][kind] = {"records_per_s": rates, "pendulum_share": share,
+                              "mean_peak_base_disp_m": means}
+        print(f"{kind}: flat {', '.join(f'{r:.0f}' for r in rates['flat'])} records/s; single FP "
+              f"{', '.join(f'{r:.0f}' for r in rates['single-fp'])} records/s; share {share:.2f}; "
+              f"mean peak {means['flat']:.4f} m flat, {means['single-fp']:.4f} m pendulum")
+    if args.json:
+        with open(args.json, "w") as handle:
+            json.dump(out, handle, indent=2)
+
+
+if __name__ == "__main__":
+    main()
