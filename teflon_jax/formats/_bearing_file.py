@@ -87,7 +87,7 @@ def _factor(unit, kind, where):
     return unit_factor(unit, kind, where=where)
 
 
-def _constant(entry, kind, where):
+def read_constant(entry, kind, where):
     """SI value and standard error (or None) of one constant entry."""
     if not isinstance(entry, dict):
         raise ValueError(f"{where}: write {{\"value\": ..., \"unit\": \"{_SI[kind]}\"}}; "
@@ -139,7 +139,7 @@ def _read_parts(parts, where):
             raise ValueError(f"{at}: missing constant(s) {missing}; nothing is defaulted.")
         for key, kind in expected.items():
             if key in part:
-                values[name, key], errors[name, key] = _constant(part[key], kind, f"{at}.{key}")
+                values[name, key], errors[name, key] = read_constant(part[key], kind, f"{at}.{key}")
     return values, errors
 
 

@@ -20,7 +20,7 @@ of each surface. Every value carries its unit; nothing is defaulted.
 import jax.numpy as jnp
 
 from ..bearing import BoucWen, FrictionParameters, TriplePendulum, check_triple_pendulum
-from ..units import unit_factor
+from ._bearing_file import BEARING_PARTS, read_constant
 from ._text import read_json_document
 
 FORMAT_NAME = "teflon-jax isolator"
@@ -29,26 +29,16 @@ SURFACES = ("inner", "bottom", "top")
 """The surface groups of the file: inner (2 and 3), bottom (1), top (4)."""
 
 _SURFACE = {"radius": "length", "capacity": "length"}
-_FRICTION = {"f_max": "dimensionless", "delta_f": "dimensionless", "rate_a": "slowness"}
-_EXAMPLE_UNIT = {"length": "in", "dimensionless": "1", "slowness": "s/in"}
+_FRICTION = BEARING_PARTS["friction"]  # Eq. 1's constants, as in the bearing file
 
 
 def _value(entry, kind, where) -> float:
-    """SI value of one `{"value": ..., "unit": ...}` entry."""
-    if not isinstance(entry, dict) or set(entry) != {"value", "unit"}:
-        raise ValueError(f"{where}: write {{\"value\": ..., \"unit\": \"{_EXAMPLE_UNIT[kind]}\"}}, "
-                         f"got {entry!r} (a value without a unit is not read).")
-    value = entry["value"]
-    if isinstance(value, bool) or not isinstance(value, int | float):
-        raise ValueError(f"{where}.value: must be a number, got {value!r}.")
-    unit = entry["unit"]
-    if not isinstance(unit, str):
-        raise ValueError(f"{where}.unit: must be a string such as '{_EXAMPLE_UNIT[kind]}'.")
-    if kind == "dimensionless":
-        if unit not in ("1", "-"):
-            raise ValueError(f"{where}.unit: a ratio has unit \"1\", got {unit!r}.")
-        return float(value)
-    return float(value) * unit_factor(unit, kind, where=f"{where}.unit")
+    """SI value of one `{"value": ..., "unit": ...}` entry (read as the bearing file reads its
+    constants); an isolator file states no standard errors."""
+    value, error = read_constant(entry, kind, where)
+    if error is not None:
+        raise ValueError(f"{where}: an isolator file states no standard_error; leave it out.")
+    return value
 
 
 def _keys(part, expected, where):

@@ -101,16 +101,6 @@ def bidirectional_isolated_structure(kind: str = "rigid", **options) -> Bidirect
             f"friction_model: two ground components need the hysteretic model (Park's Z), got "
             f"{options['friction_model']!r}."
         )
-    bearing = options.get("bearing")
-    # A pressure dependence is a constant factor at the structure's contact pressure, folded
-    # into the friction by `IsolatedStructure.isolation`; heating and wear are carried as state.
-    other = [] if bearing is None else [e for e in bearing.effects
-                                        if e not in ("pressure_dependence", "heating", "wear",
-                                                     "asymmetry")]
-    if other:
-        raise ValueError(
-            f"bearing: two ground components do not run its {', '.join(other)}; run a bearing "
-            "without them (simulate its test with `simulate-test --bearing`).")
     surface = options.get("surface")
     if surface is not None and (surface.large_displacement or surface.displacement_capacity is not None):
         raise ValueError("surface: two ground components run the pendulum's small-rotation force "

@@ -141,7 +141,7 @@ def simulate_bearing_test(
     if solver is None:
         riccati = not motion.biaxial and _riccati_admitted(bearing.hysteresis)
         solver = RiccatiNewmark() if riccati else diffrax.Tsit5()
-    times = _save_times(motion, duration, samples_per_cycle)
+    times = save_times(motion, duration, samples_per_cycle)
     if bearing.effects:
         return _along_samples(bearing, motion, normal_load, _refine(times, steps_per_sample),
                               steps_per_sample)
@@ -225,7 +225,9 @@ def _is_adaptive(solver) -> bool:
         return isinstance(solver, diffrax.AbstractAdaptiveSolver)
 
 
-def _save_times(motion, duration, samples_per_cycle):
+def save_times(motion, duration, samples_per_cycle):
+    """Sample times [s] of a bearing test: a tabulated motion's own samples up to `duration`,
+    else `samples_per_cycle` per cycle of the motion, evenly from 0 to `duration`."""
     import numpy as np
 
     if not duration > 0:

@@ -44,7 +44,7 @@ from ._block_algebra import (
     solve_blocks,
 )
 from ._history import has_history, history_factor, history_rates, next_history
-from ._structure_build import HEAT_HORIZON, PRESSURE_HINT
+from ._structure_build import HEAT_HORIZON, PRESSURE_HINT, STRUCTURE_EFFECTS
 
 NEWTON_ITERATIONS = 100
 """Most iterations per step, all kinds together (fixed, Broyden loop, finite-difference Newton
@@ -432,7 +432,7 @@ def bidirectional_structure(
     if not time_step > 0:
         raise ValueError(f"time_step: must be > 0 s, got {time_step}.")
     require_riccati_form(bearing.hysteresis)
-    other = [name for name in bearing.effects if name not in ("heating", "wear", "asymmetry")]
+    other = [name for name in bearing.effects if name not in STRUCTURE_EFFECTS]
     if other:
         raise ValueError(
             f"bearing: the structures in two directions do not run its "

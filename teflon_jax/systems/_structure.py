@@ -363,15 +363,14 @@ class StructureOnSliders(AbstractSteppedSystem):
         # (A / (beta + gamma))^(1/eta)), whatever A is, so |F| <= mu_bound W that.
         z_bound = jnp.maximum(jnp.abs(z0), (h.A / (h.beta + h.gamma)) ** (1 / h.eta))
         force_bound = mu_bound * W * z_bound * (1 + 1e-9)
-        lo, hi = ub_linear - g0 * force_bound, ub_linear + g0 * force_bound
         p = {"bearing": bearing, "W": W, "z0": z0, "z_peak": z_peak, "ub0": ub0,
              "vb0": vb0, "g0": g0, "ub_linear": ub_linear, "vb_linear": vb_linear,
              "velocity_gain": gv / g0,
              "reversal_length": bouc_wen_reversal_length(h, z0)}  # the same for every iterate
-        if self.bearing.asymmetry is not None:
-            a = self.bearing.asymmetry.asymmetry
-            p["asymmetry"] = a
-            lo, hi = ub_linear - g0 * force_bound * (1 + jnp.abs(a)), ub_linear + g0 * force_bound * (1 + jnp.abs(a))
+        if self.bearing.asymmetry is not None:  # |1 + a Z| <= 1 + |a| for |Z| <= 1
+            p["asymmetry"] = self.bearing.asymmetry.asymmetry
+            force_bound = force_bound * (1 + jnp.abs(p["asymmetry"]))
+        lo, hi = ub_linear - g0 * force_bound, ub_linear + g0 * force_bound
         if self.surface is not None:  # E(x) increases with x and has its sign: the root lies
             p["surface"] = self.surface  # between the bracket and 0
             lo, hi = jnp.minimum(lo, 0.0), jnp.maximum(hi, 0.0)

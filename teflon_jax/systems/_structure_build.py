@@ -96,7 +96,7 @@ def check_structure_parts(bearing: SlidingBearing) -> None:
     if other:
         raise ValueError(
             f"bearing: the structures do not run its {', '.join(other)} (they run Eq. 1, "
-            f"breakaway, anisotropy, stacks, {' and '.join(STRUCTURE_EFFECTS)}); simulate the "
+            f"breakaway, anisotropy, stacks, {', '.join(STRUCTURE_EFFECTS)}); simulate the "
             "bearing test with `simulate-test --bearing`, or fit without these effects"
             + (PRESSURE_HINT if "pressure_dependence" in other else "."))
 

@@ -23,6 +23,7 @@ from ..bearing import (
     sliding_friction,
 )
 from ..solver import park_exact_update
+from ._bearing_test import save_times
 
 NEWTON_STEPS = 30
 """Newton iterations per step of the series solve (fixed; the step reports convergence)."""
@@ -147,15 +148,7 @@ def triple_pendulum_test(bearing: TriplePendulum, motion, normal_load, *,
 
     **Returns:** (time (nt,) [s], displacement (nt,) or (nt, 2) [m], `TripleResponse`).
     """
-    import numpy as np
-
-    if hasattr(motion, "times"):
-        time = jnp.asarray(motion.times)
-    else:
-        frequency = (float(motion.frequency) if hasattr(motion, "frequency")
-                     else float(motion.angular_frequency) / (2 * np.pi))
-        n = max(int(round(motion.duration * frequency * samples_per_cycle)), 2)
-        time = jnp.linspace(0.0, motion.duration, n + 1)
+    time = save_times(motion, motion.duration, samples_per_cycle)
     path = jax.vmap(motion.displacement)(time)
     displacement = path if motion.biaxial else path[:, 0]
     return time, displacement, simulate_triple_test(bearing, time, displacement, normal_load)
