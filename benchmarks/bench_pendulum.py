@@ -4,11 +4,11 @@ The same forty-second Clough-Penzien motions (records at 0.01 s, 5 ms structure 
 through the rigid mass and the six-storey building twice: on flat sliders with springs of
 period T = 2 pi sqrt(R / g) and no viscous damping, and on single friction pendulums of
 radius R (its small-rotation restoring force W u / R, the same period). Both are timed alike
-(compiled first, then `--motions` motions in chunks of 512, alternating flat and pendulum
-`--repeats` times); the record rate of each and the pendulum's share of the flat slider's
+(compiled first on one chunk, then `--motions` motions in chunks of `--chunk` (512, the
+CPU's default; 65536 on a GPU), alternating flat and pendulum `--repeats` times); the record rate of each and the pendulum's share of the flat slider's
 are printed and written as JSON with the machine.
 
-Usage: `python benchmarks/bench_pendulum.py [--motions 1000] [--repeats 2] [--json OUT]`.
+Usage: `python benchmarks/bench_pendulum.py [--motions 1000] [--repeats 2] [--chunk 512] [--json OUT]`.
 """
 
 import argparse
@@ -45,10 +45,10 @@ def _structure(kind, isolator):
                               isolator="single-fp", radius=RADIUS)
 
 
-def _rate(structure, motions, n):
-    monte_carlo(structure, motions, 64, key=jax.random.key(0), chunk_size=64)  # compile
+def _rate(structure, motions, n, chunk):
+    monte_carlo(structure, motions, chunk, key=jax.random.key(0), chunk_size=chunk)  # compile
     start = time.perf_counter()
-    result = monte_carlo(structure, motions, n, key=jax.random.key(1), chunk_size=512)
+    result = monte_carlo(structure, motions, n, key=jax.random.key(1), chunk_size=chunk)
     jax.block_until_ready(result.base_disp)
     return n / (time.perf_counter() - start), float(result.base_disp.mean())
 
@@ -57,19 +57,20 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--motions", type=int, default=1000)
     parser.add_argument("--repeats", type=int, default=2)
+    parser.add_argument("--chunk", type=int, default=512, help="motions per compiled call")
     parser.add_argument("--json", default=None)
     args = parser.parse_args()
     motions = _motions()
     out = {"machine": {"platform": platform.platform(), "processor": platform.processor(),
                        "cpus": os.cpu_count(), "devices": [d.device_kind for d in jax.devices()],
                        "load_average": os.getloadavg()},
-           "motions": args.motions, "radius_m": RADIUS, "time_step_s": TIME_STEP, "rates": {}}
+           "motions": args.motions, "chunk": args.chunk, "radius_m": RADIUS, "time_step_s": TIME_STEP, "rates": {}}
     for kind in ("rigid", "building"):
         rates = {"flat": [], "single-fp": []}
         means = {}
         for _ in range(args.repeats):
             for isolator in ("flat", "single-fp"):
-                rate, mean = _rate(_structure(kind, isolator), motions, args.motions)
+                rate, mean = _rate(_structure(kind, isolator), motions, args.motions, args.chunk)
                 rates[isolator].append(rate)
                 means[isolator] = mean
         share = max(rates["single-fp"]) / max(rates["flat"])
