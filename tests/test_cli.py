@@ -226,3 +226,17 @@ def test_no_compile_cache_flag_writes_no_cache(tmp_path):
     done = subprocess.run(command, env=env, capture_output=True, text=True, timeout=600)
     assert done.returncode == 0, done.stderr[-2000:]
     assert not (tmp_path / "xdg" / "teflon-jax").exists()
+
+
+def test_montecarlo_reports_the_rate_after_the_first_chunk(tmp_path):
+    """The summary gives B3's rate (from the end of the first chunk to the end of the last)
+    beside the rate over the whole run; with one chunk there is none to give."""
+    for chunk, expected in (("2", "number"), ("8", "none")):
+        out = tmp_path / f"mc{chunk}.json"
+        assert main(["montecarlo", "--motions", "6", "--duration", "4s", "--strong-motion", "1s", "--chunk-size", chunk,
+                     "--no-progress", "--json", str(out)]) == 0
+        rate = json.loads(out.read_text())["records_per_s_after_first_chunk"]
+        if expected == "none":
+            assert rate is None
+        else:
+            assert rate > 0

@@ -9,6 +9,7 @@ import argparse
 import math
 import pathlib
 import sys
+import time
 
 from ..units import STANDARD_GRAVITY
 from ._bearing_flags import add_bearing_flag, read_bearing_flag
@@ -173,8 +174,10 @@ def run_montecarlo(args) -> int:
 
         return run_levels(args, structure, model, units, _statistics)
     bar = motion_bar(args.motions, args.no_progress)
+    marks = []  # (time, motions done) after each chunk: the rate once compiled and warm
 
     def progress(done, total):
+        marks.append((time.perf_counter(), done))
         bar.update(done - bar.n)
 
     chunk_size = args.chunk_size
@@ -200,6 +203,7 @@ def run_montecarlo(args) -> int:
     stats = _statistics(result, units)
     length = units.length[0]
     payload = _payload(args, result, structure, model, units, stats, files)
+    payload["records_per_s_after_first_chunk"] = _steady_rate(marks)
     _write_json(args.json, payload)
     bearing_words = (f"{args.ptfe} PTFE at {args.pressure_text}" if args.bearing is None
                      else f"bearing {args.bearing}")
@@ -229,6 +233,15 @@ def run_montecarlo(args) -> int:
         )
         return 1
     return 0
+
+
+def _steady_rate(marks) -> float | None:
+    """Motions per second from the end of the first chunk to the end of the last, as B3
+    counts them (`benchmarks/bench_gpu.py`): without the compilation and the first chunk's
+    start-up on the device; `None` with a single chunk."""
+    if len(marks) < 2 or marks[-1][0] <= marks[0][0]:
+        return None
+    return (marks[-1][1] - marks[0][1]) / (marks[-1][0] - marks[0][0])
 
 
 def _structure(args, two: bool):
