@@ -70,6 +70,9 @@ class AugmentedData(eqx.Module):
     `reference_load` mean N [N], `total_travel` [m], `contact_area` [m^2],
     `reference_temperature` [degC] (the first measured value, else 20 degC);
     `in_parallel`, `series` interfaces recorded together and in series (static).
+
+    One of two kinds: `UniaxialAugmentedData` (a record along x) or `BiaxialAugmentedData` (a
+    record in the plane), which differ in the components their residual compares (`stack`).
     """
 
     path: SampledPath
@@ -150,9 +153,9 @@ def prepare_record(record, *, max_samples: int = 3000, heat_terms_per_decade: fl
     - `max_samples`: records longer than this keep every k-th sample (Z stays exact: the
       Riccati update integrates any monotone increment).
 
-    **Returns:** `(AugmentedData, RecordInfo)`: `UniaxialAugmentedData` for a record along x,
-    `BiaxialAugmentedData` for one with `uy` and `fy`. Raises `ValueError` when the record has no time
-    column (digitised loop) or no normal load.
+    **Returns:** `(AugmentedData, RecordInfo)`, the data a `UniaxialAugmentedData` for a record
+    along x, a `BiaxialAugmentedData` for one with `uy` and `fy`. Raises `ValueError` when the
+    record has no time column (digitised loop) or no normal load.
     """
     where = str(record.path) if getattr(record, "path", None) is not None else "record"
     _check_diagnosable(record, where, max_samples)
