@@ -1,7 +1,10 @@
 """Imposed displacement histories of bearing tests, and time signals (normal load).
 
 Each motion gives the displacement (ux, uy) [m] and velocity [m/s] at time t [s]; all are
-pure and jittable, so a batch of tests can share or vmap over them.
+pure and jittable, so a batch of tests can share or vmap over them. A motion along x is an
+`AbstractUniaxialMotion` (sine, triangle, `TabulatedMotion`), one in the plane an
+`AbstractBiaxialMotion` (figure eight, `TabulatedBiaxialMotion`): the bearing test reads the
+type to drive Bouc-Wen's Z (Eq. 3) or Park's (Eqs. 8-9).
 References: the test protocols of Mokha, Constantinou & Reinhorn (1990, Part I) and the
 figure-eight motion of Eq. 16 of Constantinou, Mokha & Reinhorn (1990).
 """
