@@ -49,7 +49,9 @@ _EXPORTS = {
         "sliding_friction",
     ),
     "excitation": (
+        "AbstractBiaxialMotion",
         "AbstractMotion",
+        "AbstractUniaxialMotion",
         "FigureEightMotion",
         "GroundMotion",
         "IntensityMeasures",
@@ -57,6 +59,7 @@ _EXPORTS = {
         "Signal",
         "SineMotion",
         "StochasticGroundMotion",
+        "TabulatedBiaxialMotion",
         "TabulatedMotion",
         "TriangleMotion",
         "as_signal",

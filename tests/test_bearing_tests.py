@@ -188,6 +188,28 @@ def test_tabulated_motion_matches_the_analytic_protocol():
     assert e2 == pytest.approx(e1, rel=2e-3)
 
 
+
+def test_a_diagonal_path_is_the_one_direction_test_along_its_line():
+    """Park's Eqs. 8-9 (eta = 2) along a straight line at 45 degrees: with Zx = Zy = |Z| / sqrt 2
+    they reduce to Bouc-Wen's Eq. 3 in the distance along the line, and mu depends on the
+    resultant speed, so the resultant force equals the force of the one-direction test of the
+    same displacement. The motion's type picks the model: the plane's table runs Park (an
+    adaptive solver), the one-direction table Bouc-Wen (the exact update)."""
+    bearing = tj.paper_bearing(UF_P_1000)
+    t = np.linspace(0.0, 2.0, 801)
+    u = 1 * INCH * np.sin(2 * np.pi * 0.5 * t)
+    along = tj.tabulated_motion(t, u)
+    diagonal = tj.tabulated_motion(t, u / np.sqrt(2.0), u / np.sqrt(2.0))
+    assert isinstance(along, tj.AbstractUniaxialMotion)
+    assert isinstance(diagonal, tj.AbstractBiaxialMotion)
+    one = tj.simulate_bearing_test(bearing, along, LOAD)
+    plane = tj.simulate_bearing_test(bearing, diagonal, LOAD)
+    assert np.all(np.asarray(one.fy) == 0.0)
+    np.testing.assert_allclose(np.asarray(plane.fx), np.asarray(plane.fy), rtol=0, atol=1e-10 * LOAD)
+    resultant = np.sign(np.asarray(plane.fx)) * np.hypot(np.asarray(plane.fx), np.asarray(plane.fy))
+    np.testing.assert_allclose(resultant, np.asarray(one.fx), atol=2e-6 * LOAD)
+
+
 GRADIENT_BASE = {"f_max": 0.1193, "delta_f": 0.0927, "rate_a": 0.6 / INCH,
                  "yield_disp": 0.005 * INCH, "breakaway_ratio": 2.2}
 

@@ -40,13 +40,12 @@ def _protocol(fs=1000.0, amplitude=4 * INCH, frequency=0.6, cycles=3):
     return t, u
 
 
-class _FromRest(tj.AbstractMotion):
+class _FromRest(tj.AbstractUniaxialMotion):
     """u = amplitude (1 - cos(2 pi frequency t)): the sine of `_protocol` with its exact velocity."""
 
     amplitude: float
     frequency: float
     cycles: float = 3.0
-    biaxial = False
 
     def displacement(self, t):
         w = 2 * jnp.pi * self.frequency

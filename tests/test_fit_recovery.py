@@ -28,8 +28,8 @@ def _simulated_file(tmp_path, bearing, motion, metadata=None, name="test.csv"):
     result = tj.simulate_bearing_test(bearing, motion, PRESSURE * AREA)
     record = tj.test_record_from_arrays(
         np.asarray(result.ux), np.asarray(result.fx), time=np.asarray(result.time),
-        uy=np.asarray(result.uy) if motion.biaxial else None,
-        fy=np.asarray(result.fy) if motion.biaxial else None,
+        uy=np.asarray(result.uy) if isinstance(motion, tj.AbstractBiaxialMotion) else None,
+        fy=np.asarray(result.fy) if isinstance(motion, tj.AbstractBiaxialMotion) else None,
         normal_load=np.asarray(result.normal_load),
         metadata={"ptfe": "UF", "direction": "P", "contact_area": AREA, **(metadata or {})})
     tj.write_test_record(tmp_path / name, record)

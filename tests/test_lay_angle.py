@@ -16,7 +16,7 @@ import pytest
 
 from teflon_jax.bearing import paper_bearing
 from teflon_jax.cli._main import main
-from teflon_jax.excitation import AbstractMotion, FigureEightMotion
+from teflon_jax.excitation import AbstractBiaxialMotion, FigureEightMotion
 from teflon_jax.systems import simulate_bearing_test
 from teflon_jax.tables import interface_parameters
 from teflon_jax.units import INCH, PSI
@@ -61,12 +61,11 @@ def test_zero_lay_angle_keeps_the_lay_along_x_exactly():
                                   _bearing().coefficient(v[:, 0], v[:, 1]))
 
 
-class _Turned(AbstractMotion):
+class _Turned(AbstractBiaxialMotion):
     """A motion turned by `angle` [rad] in the plane."""
 
     motion: FigureEightMotion
     angle: float
-    biaxial = True
 
     def _turn(self, u):
         c, s = jnp.cos(self.angle), jnp.sin(self.angle)

@@ -36,6 +36,7 @@ import numpy as np
 from teflon_jax.formats import TestRecord
 
 from ..least_squares import check_bounds, fit_least_squares_batch
+from ._loop_features import PreparedBiaxialRecord
 from ._model import BearingModel
 from ._plan import (
     BearingFit,
@@ -186,7 +187,7 @@ def fit_bearing_tests_batch(
     yield_ref = (fixed or {}).get("yield_disp")
     prepared = [prepare_record(r, index=i, normal_load=normal_load, yield_ref=yield_ref)
                 for i, r in enumerate(records)]
-    if any(p.kind != "time" or p.biaxial for p in prepared):
+    if any(p.kind != "time" or isinstance(p, PreparedBiaxialRecord) for p in prepared):
         raise ValueError("records: the batch fit takes uniaxial time histories; fit digitised "
                          "loops and biaxial records with fit_bearing_test.")
     plans = [_plan([p], free, fixed, None, bounds) for p in prepared]

@@ -3,7 +3,10 @@
 import dataclasses
 import math
 
+import jax.numpy as jnp
 import numpy as np
+
+from ._record_force import simulate_record_force
 
 # x at which Z crosses 0 after a reversal from Z = -1 (Bouc-Wen, A = 1, gamma - beta = 0.8):
 # x = atan(sqrt(gamma - beta)) / sqrt(gamma - beta), in units of Y.
@@ -19,13 +22,38 @@ _MIN_ELASTIC_SAMPLES = 3
 
 @dataclasses.dataclass(frozen=True)
 class RecordConfig:
-    """Static description of one record for the residual (hashable)."""
+    """Static description of one record for the residual (hashable): a time history along x
+    or a digitised loop; `BiaxialRecordConfig` for a time history in the plane."""
 
     kind: str  # "time" or "digitised"
     interfaces_in_parallel: int = 1
     interfaces_in_series: int = 1
-    biaxial: bool = False
+
+    def time_force(self, values, rec):
+        """Model force fx [N] (n,) at the samples of a time history along x, from the state
+        `z0`, `z_peak0` the record starts in."""
+        return simulate_record_force(
+            values, rec["time"], rec["ux"], rec["load"], velocity=rec["velocity"],
+            z0=rec["z0"], z_peak0=rec["z_peak0"],
+            interfaces_in_parallel=self.interfaces_in_parallel,
+            interfaces_in_series=self.interfaces_in_series)
+
+
+@dataclasses.dataclass(frozen=True)
+class BiaxialRecordConfig(RecordConfig):
+    """A time history in the plane (ux, uy, fx, fy), from rest; `park_elements` straight
+    elements per sample interval of Park's update."""
+
     park_elements: int = 16
+
+    def time_force(self, values, rec):
+        """Model forces (fx, fy) [N] stacked (2n,) at the samples (Park's Z, Eqs. 8-9)."""
+        fx, fy = simulate_record_force(
+            values, rec["time"], rec["ux"], rec["load"], velocity=rec["velocity"],
+            uy=rec["uy"], velocity_y=rec["velocity_y"],
+            interfaces_in_parallel=self.interfaces_in_parallel,
+            interfaces_in_series=self.interfaces_in_series, park_elements=self.park_elements)
+        return jnp.concatenate([fx, fy])
 
 
 @dataclasses.dataclass
@@ -40,7 +68,8 @@ class PreparedRecord:
     - `warnings`: identifiability and data warnings.
     - `elastic_samples`: median number of samples within 2 Y after a reversal.
     - `interfaces_in_parallel`, `interfaces_in_series`: from the record's metadata.
-    - `biaxial`: a time history with `uy`, `fy`; `park_elements` per sample interval.
+
+    A time history in the plane (`uy`, `fy`) is a `PreparedBiaxialRecord`.
     """
 
     name: str
@@ -55,16 +84,45 @@ class PreparedRecord:
     time: np.ndarray | None
     interfaces_in_parallel: int = 1
     interfaces_in_series: int = 1
-    biaxial: bool = False
-    park_elements: int = 16
     velocity: np.ndarray | None = None
     speed_low: float | None = None
     speed_high: float | None = None
 
     @property
-    def config(self) -> "RecordConfig":
-        return RecordConfig(self.kind, self.interfaces_in_parallel, self.interfaces_in_series,
-                            self.biaxial, self.park_elements)
+    def config(self) -> RecordConfig:
+        return RecordConfig(self.kind, self.interfaces_in_parallel, self.interfaces_in_series)
+
+    @property
+    def residual_velocity(self) -> np.ndarray:
+        """Velocity (digitised: branch) whose sign sorts each entry of the residual into
+        moving in + or - (the asymmetry check)."""
+        return np.asarray(self.velocity) if self.kind == "time" else self.arrays["branch"]
+
+    @property
+    def uy(self) -> np.ndarray | None:
+        """Displacement along y [m] of a record in the plane, else `None`."""
+        return None
+
+
+@dataclasses.dataclass
+class PreparedBiaxialRecord(PreparedRecord):
+    """A time history in the plane (ux, uy, fx, fy) ready for fitting: `measured` and the
+    residual stack fx and fy; `park_elements` per sample interval of Park's update."""
+
+    park_elements: int = 16
+
+    @property
+    def config(self) -> BiaxialRecordConfig:
+        return BiaxialRecordConfig(self.kind, self.interfaces_in_parallel,
+                                   self.interfaces_in_series, self.park_elements)
+
+    @property
+    def residual_velocity(self) -> np.ndarray:
+        return np.concatenate([np.asarray(self.velocity), np.asarray(self.arrays["velocity_y"])])
+
+    @property
+    def uy(self) -> np.ndarray:
+        return self.arrays["uy"]
 
 
 def _reversals(ux) -> np.ndarray:

@@ -6,7 +6,7 @@ import jax.numpy as jnp
 from teflon_jax.bearing import PARAMETER_BOUNDS
 
 from ._loop_features import RecordConfig as RecordConfig
-from ._record_force import PERPENDICULAR_NAMES, simulate_record_force
+from ._record_force import PERPENDICULAR_NAMES
 
 PARAMETER_NAMES = ("f_max", "delta_f", "rate_a", "yield_disp", "breakaway_ratio",
                    *PERPENDICULAR_NAMES)
@@ -45,20 +45,6 @@ class BearingModel(eqx.Module):
                     values[delta] = params[internal] * values[f_max]
         return values
 
-    def _time_force(self, values, c, rec):
-        if c.biaxial:
-            fx, fy = simulate_record_force(
-                values, rec["time"], rec["ux"], rec["load"], velocity=rec["velocity"],
-                uy=rec["uy"], velocity_y=rec["velocity_y"],
-                interfaces_in_parallel=c.interfaces_in_parallel,
-                interfaces_in_series=c.interfaces_in_series, park_elements=c.park_elements)
-            return jnp.concatenate([fx, fy])
-        return simulate_record_force(
-            values, rec["time"], rec["ux"], rec["load"], velocity=rec["velocity"],
-            z0=rec["z0"], z_peak0=rec["z_peak0"],
-            interfaces_in_parallel=c.interfaces_in_parallel,
-            interfaces_in_series=c.interfaces_in_series)
-
     def forces(self, params, args):
         """Model force of every record: fx (n,), (fx, fy) stacked (2n,) for biaxial ones, or
         the force at the digitised points."""
@@ -66,7 +52,7 @@ class BearingModel(eqx.Module):
 
         values = self.values(params, args["fixed"])
         return [
-            self._time_force(values, c, rec) if c.kind == "time"
+            c.time_force(values, rec) if c.kind == "time"
             else digitised_model_force(values, rec, config=c)
             for c, rec in zip(self.configs, args["records"])
         ]
@@ -78,7 +64,7 @@ class BearingModel(eqx.Module):
         out = []
         for c, rec in zip(self.configs, args["records"]):
             if c.kind == "time":
-                out.append((self._time_force(values, c, rec) - rec["fx"]) * rec["weight"])
+                out.append((c.time_force(values, rec) - rec["fx"]) * rec["weight"])
             else:
                 out.append(digitised_residual(values, rec,
                                               config=c))

@@ -16,7 +16,7 @@ from ..least_squares import (
     correlation_from_covariance,
     covariance_from_jacobian,
 )
-from ._loop_features import _MIN_ELASTIC_SAMPLES, PreparedRecord
+from ._loop_features import _MIN_ELASTIC_SAMPLES, PreparedBiaxialRecord, PreparedRecord
 from ._model import PARAMETER_NAMES, PARAMETER_UNITS, RATIO_PAIRS
 from ._record_force import PERPENDICULAR_NAMES
 
@@ -169,7 +169,7 @@ def _plan(prepared: Sequence[PreparedRecord], free, fixed, initial, bounds):
     _check_names(bounds, "bounds")
     warnings = []
     first_motion = any(p.first_motion for p in prepared)
-    biaxial = any(p.biaxial for p in prepared)
+    in_plane = any(isinstance(p, PreparedBiaxialRecord) for p in prepared)
     coarse = all(p.elastic_samples < _MIN_ELASTIC_SAMPLES for p in prepared)
     explicit = free is not None
     if free is None:
@@ -185,7 +185,7 @@ def _plan(prepared: Sequence[PreparedRecord], free, fixed, initial, bounds):
                 free.append("yield_disp")
         if first_motion and "breakaway_ratio" not in fixed:
             free.append("breakaway_ratio")
-        if biaxial:
+        if in_plane:
             free += list(PERPENDICULAR_NAMES)
         free = [n for n in free if n not in fixed]
     free = tuple(free)
@@ -201,7 +201,7 @@ def _plan(prepared: Sequence[PreparedRecord], free, fixed, initial, bounds):
                 "breakaway_ratio: not identifiable; no record starts from rest (no first "
                 "excursion), and b of Eq. 17 acts only there.")
         perpendicular = [n for n in PERPENDICULAR_NAMES if n in free]
-        if perpendicular and not biaxial:
+        if perpendicular and not in_plane:
             raise ValueError(
                 f"free: {', '.join(perpendicular)} need a biaxial record (ux, uy, fx, fy); "
                 "uniaxial records slide along x only.")
@@ -423,12 +423,7 @@ def _finish(prepared, model_user, free, values, raw: LeastSquaresResult, args, w
         r = f - p.measured
         total_res += float(np.sum(r**2))
         total_meas += float(np.sum(p.measured**2))
-        if p.kind == "time":
-            v = np.asarray(p.velocity)
-            if p.biaxial:
-                v = np.concatenate([v, np.asarray(p.arrays["velocity_y"])])
-        else:
-            v = p.arrays["branch"]
+        v = p.residual_velocity
         pos, neg = r[v > 0], r[v < 0]
         records.append(RecordResidual(
             name=p.name,
@@ -437,7 +432,7 @@ def _finish(prepared, model_user, free, values, raw: LeastSquaresResult, args, w
             measured=p.measured, fitted=f, ux=p.ux, time=p.time,
             mean_residual_positive=float(pos.mean()) if pos.size else float("nan"),
             mean_residual_negative=float(neg.mean()) if neg.size else float("nan"),
-            uy=p.arrays["uy"] if p.kind == "time" and p.biaxial else None,
+            uy=p.uy,
         ))
         warnings.extend(f"{p.name}: {w}" for w in p.warnings)
         scale = math.sqrt(float(np.mean(p.measured**2)))

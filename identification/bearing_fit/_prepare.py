@@ -10,6 +10,7 @@ from teflon_jax.systems import sample_velocity
 
 from ._loop_features import (
     _ZERO_CROSSING,
+    PreparedBiaxialRecord,
     PreparedRecord,
     _excursion,
     _friction_law_start,
@@ -175,11 +176,11 @@ def _prepare_biaxial(record, name, load, parallel, series, yield_ref):
     scale = float(np.sqrt(np.mean(measured**2)))
     arrays = dict(time=time, ux=ux, uy=uy, fx=measured, load=load, velocity=vx, velocity_y=vy,
                   weight=np.ones_like(measured) / scale)
-    return PreparedRecord(
+    return PreparedBiaxialRecord(
         name=name, kind="time", arrays=arrays, first_motion=feats["first_motion"],
         start=start, warnings=[], elastic_samples=feats["elastic"],
         measured=measured, ux=ux, time=time, interfaces_in_parallel=parallel,
-        interfaces_in_series=series, biaxial=True,
+        interfaces_in_series=series,
         park_elements=park_substeps(ux, uy, start["yield_disp"]), velocity=vx,
         speed_low=float(np.percentile(speed[sliding], 5)),
         speed_high=float(np.percentile(speed[sliding], 95)),

@@ -2,6 +2,8 @@
 and forward selection."""
 
 from ._augmented import AugmentedData as AugmentedData
+from ._augmented import BiaxialAugmentedData as BiaxialAugmentedData
+from ._augmented import UniaxialAugmentedData as UniaxialAugmentedData
 from ._augmented import active_mask as active_mask
 from ._augmented import candidate_bearing as candidate_bearing
 from ._augmented import candidate_start as candidate_start

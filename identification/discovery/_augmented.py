@@ -10,9 +10,11 @@ the function the fitter and the simulator use.
 Reference: Constantinou, Mokha & Reinhorn (1990), Eqs. 1, 3, 17.
 """
 
+import abc
 import dataclasses
 
 import equinox as eqx
+import jax
 import jax.numpy as jnp
 import numpy as np
 
@@ -68,6 +70,9 @@ class AugmentedData(eqx.Module):
     `reference_load` mean N [N], `total_travel` [m], `contact_area` [m^2],
     `reference_temperature` [degC] (the first measured value, else 20 degC);
     `in_parallel`, `series` interfaces recorded together and in series (static).
+
+    One of two kinds: `UniaxialAugmentedData` (a record along x) or `BiaxialAugmentedData` (a
+    record in the plane), which differ in the components their residual compares (`stack`).
     """
 
     path: SampledPath
@@ -94,12 +99,28 @@ class AugmentedData(eqx.Module):
         return self.time.shape[0]
 
     @property
-    def biaxial(self) -> bool:
-        return self.path.planar
-
-    @property
     def measured_temperature(self) -> bool:
         return self.path.temperature_rise is not None
+
+    @abc.abstractmethod
+    def stack(self, x, y):
+        """The components a residual compares, along the last axis: x of a record along x,
+        x then y of a record in the plane."""
+
+
+class UniaxialAugmentedData(AugmentedData):
+    """`AugmentedData` of a record along x (`uy`, `force_y`, `velocity_y` zeros)."""
+
+    def stack(self, x, y):
+        return x
+
+
+class BiaxialAugmentedData(AugmentedData):
+    """`AugmentedData` of a record in the plane (ux, uy, fx, fy): Park's Z (Eqs. 8-9)."""
+
+    def stack(self, x, y):
+        traced = isinstance(x, jax.core.Tracer) or isinstance(y, jax.core.Tracer)
+        return (jnp if traced else np).concatenate([x, y], axis=-1)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -109,8 +130,9 @@ class RecordInfo:
     `decimation` (every k-th sample kept), `n_interfaces_recorded` (`interfaces_in_parallel`:
     forces added), `n_interfaces_in_series` (`interfaces_in_series`),
     `contact_area_assumed` (True when the heating effect uses `NOMINAL_CONTACT_PRESSURE`),
-    `varying_normal_load` (coefficient of variation of N above 1 %), `biaxial`,
-    `measured_temperature` (the record has a `temperature` column), `source`.
+    `varying_normal_load` (coefficient of variation of N above 1 %), `measured_temperature`
+    (the record has a `temperature` column), `source`. Whether the record is along x or in the
+    plane is the type of its `AugmentedData`.
     """
 
     decimation: int
@@ -118,7 +140,6 @@ class RecordInfo:
     n_interfaces_in_series: int
     contact_area_assumed: bool
     varying_normal_load: bool
-    biaxial: bool
     source: str
     measured_temperature: bool = False
 
@@ -132,8 +153,9 @@ def prepare_record(record, *, max_samples: int = 3000, heat_terms_per_decade: fl
     - `max_samples`: records longer than this keep every k-th sample (Z stays exact: the
       Riccati update integrates any monotone increment).
 
-    **Returns:** `(AugmentedData, RecordInfo)`. Raises `ValueError` when the record has no time
-    column (digitised loop) or no normal load.
+    **Returns:** `(AugmentedData, RecordInfo)`, the data a `UniaxialAugmentedData` for a record
+    along x, a `BiaxialAugmentedData` for one with `uy` and `fy`. Raises `ValueError` when the
+    record has no time column (digitised loop) or no normal load.
     """
     where = str(record.path) if getattr(record, "path", None) is not None else "record"
     _check_diagnosable(record, where, max_samples)
@@ -149,13 +171,13 @@ def prepare_record(record, *, max_samples: int = 3000, heat_terms_per_decade: fl
     n_rec, n_series = interface_counts(record.metadata)
     normal = load * n_rec
 
-    biaxial = record.uy is not None
-    if biaxial and record.fy is None:
+    if record.uy is not None and record.fy is None:
         raise ValueError(
             f"{where}: the record has 'uy' but no 'fy'; a biaxial test needs both."
         )
-    uy = np.asarray(record.uy, float)[keep] if biaxial else np.zeros_like(ux)
-    fy = np.asarray(record.fy, float)[keep] if biaxial else np.zeros_like(ux)
+    in_plane = {} if record.uy is None else {
+        "uy": np.asarray(record.uy, float)[keep], "fy": np.asarray(record.fy, float)[keep]}
+    uy, fy = in_plane.get("uy", np.zeros_like(ux)), in_plane.get("fy", np.zeros_like(ux))
     contact_area, assumed = _contact_area(record.metadata, load)
     measured = getattr(record, "temperature", None) is not None
     if measured:
@@ -163,16 +185,17 @@ def prepare_record(record, *, max_samples: int = 3000, heat_terms_per_decade: fl
         reference_temperature, measured_rise = temperature[0], temperature - temperature[0]
     else:
         reference_temperature, measured_rise = AMBIENT_TEMPERATURE, None
-    path = sampled_path(time, ux, load, uy=uy if biaxial else None,
+    path = sampled_path(time, ux, load, uy=in_plane.get("uy"),
                         temperature_rise=measured_rise,
                         heat_terms_per_decade=heat_terms_per_decade)
     velocity = np.asarray(path.velocity_x)
-    velocity_y = np.asarray(path.velocity_y) if biaxial else np.zeros_like(ux)
+    velocity_y = np.zeros_like(ux) if path.uy is None else np.asarray(path.velocity_y)
     angle = np.arctan2(np.abs(velocity_y), np.abs(velocity))
     angle_weight = np.where(np.hypot(velocity, velocity_y) > 0, angle / (np.pi / 2), 0.0)
     travel = np.cumsum(np.hypot(np.diff(ux, prepend=ux[0]), np.diff(uy, prepend=uy[0])))
     total_travel = max(float(travel[-1]), 1e-300)
-    data = AugmentedData(
+    kind = UniaxialAugmentedData if path.uy is None else BiaxialAugmentedData
+    data = kind(
         path=path,
         force=jnp.asarray(fx),
         force_y=jnp.asarray(fy),
@@ -198,7 +221,6 @@ def prepare_record(record, *, max_samples: int = 3000, heat_terms_per_decade: fl
         n_interfaces_in_series=n_series,
         contact_area_assumed=assumed,
         varying_normal_load=bool(np.std(load) > 0.01 * np.mean(load)),
-        biaxial=biaxial,
         source=where,
         measured_temperature=measured,
     )
@@ -312,7 +334,8 @@ def candidate_bearing(params, data: AugmentedData, active, *, conductivity=None,
             initial_temperature=data.reference_temperature),
         wear=Wear(on["wear"] * p["wear_change"], data.total_travel),
         asymmetry=DirectionAsymmetry(on["asymmetry"] * p["asymmetry"]),
-        backlash=None if data.biaxial else Backlash(on["backlash"] * p["backlash_gap"]),
+        backlash=(None if isinstance(data, BiaxialAugmentedData)
+                  else Backlash(on["backlash"] * p["backlash_gap"])),
     )
 
 

@@ -47,10 +47,8 @@ def _residual(params, args):
     values = {name: jnp.where(free[i] > 0, params[name], start[i])
               for i, name in enumerate(PARAMETER_NAMES)}
     sim = simulate_augmented(values, data, active)
-    r = weight * (sim["force"] - data.force) / scale
-    if data.biaxial:
-        r = jnp.concatenate([r, weight * (sim["force_y"] - data.force_y) / scale])
-    return r
+    return data.stack(weight * (sim["force"] - data.force) / scale,
+                      weight * (sim["force_y"] - data.force_y) / scale)
 
 
 def fit_batch(starts, free, actives, weights, data, scale, *, max_steps: int = 200):
@@ -121,8 +119,3 @@ def _fold_weights(n: int, hc) -> tuple[np.ndarray, np.ndarray]:
     else:
         a = ((np.arange(n) * 8 // n) % 2 == 0).astype(float)
     return a, 1.0 - a
-
-
-def _stacked(x, y, biaxial: bool):
-    """x and y components one after the other along the last axis (biaxial), else x."""
-    return np.concatenate([x, y], axis=-1) if biaxial else x

@@ -42,6 +42,7 @@ from ._augmented import (
     PARAMETER_NAMES,
     PARAMETERS,
     AugmentedData,
+    BiaxialAugmentedData,
     RecordInfo,
     prepare_record,
 )
@@ -64,7 +65,7 @@ INTERFACES_NOT_SEPARABLE = (
 """Why `interfaces` is not a candidate while rate_a is fitted."""
 
 
-def _applicable(info: RecordInfo, known):
+def _applicable(data: AugmentedData, info: RecordInfo, known):
     applicable, skipped = [], {}
     for name, effect in EFFECTS.items():
         if name == "interfaces" and "rate_a" not in known:
@@ -73,9 +74,9 @@ def _applicable(info: RecordInfo, known):
             skipped[name] = (
                 "normal load constant in this record (no contrast to identify it)"
             )
-        elif effect.requires == "biaxial" and not info.biaxial:
+        elif effect.requires == "biaxial" and not isinstance(data, BiaxialAugmentedData):
             skipped[name] = "uniaxial record (one sliding direction only)"
-        elif effect.requires == "uniaxial" and info.biaxial:
+        elif effect.requires == "uniaxial" and isinstance(data, BiaxialAugmentedData):
             skipped[name] = "modelled for uniaxial records only (a gap along one axis)"
         else:
             applicable.append(name)
@@ -169,7 +170,7 @@ def discover_effects(
     known = _checked_known(known)
     data, info = prepare_record(record, max_samples=max_samples)
     _check_coefficient_range(data, info)
-    applicable, skipped = _applicable(info, known)
+    applicable, skipped = _applicable(data, info, known)
     applicable = _requested_candidates(applicable, skipped, candidates)
     pool = [c for c in applicable if c not in base_effects]
     setup = _fit_setup(data, info, known, len(pool), max_steps)

@@ -13,7 +13,6 @@ from ._batch_fit import (
     _fold_weights,
     _free_mask,
     _simulate_batch,
-    _stacked,
     fit_batch,
 )
 from ._diagnostics import (
@@ -61,14 +60,14 @@ class _FitSetup(NamedTuple):
 
 
 def _fit_setup(data, info, known, n_candidates, max_steps) -> _FitSetup:
-    force = _stacked(np.asarray(data.force), np.asarray(data.force_y), data.biaxial)
+    force = data.stack(np.asarray(data.force), np.asarray(data.force_y))
     scale = float(np.sqrt(np.mean(force**2)))
     if not scale > 0:
         raise ValueError(f"{info.source}: the measured force is zero throughout.")
     n = data.n_samples
     half_cycles = half_cycle_index(np.asarray(data.ux))
     fold_a, fold_b = _fold_weights(n, half_cycles)
-    held_a, held_b = (_stacked(w, w, data.biaxial) for w in (fold_a, fold_b))
+    held_a, held_b = (data.stack(w, w) for w in (fold_a, fold_b))
     return _FitSetup(
         data=data,
         known=known,
@@ -150,7 +149,7 @@ def _fit_baseline(setup: _FitSetup, effects, fit_log):
         setup, _baseline_starts(setup), [mask] * n_members,
         [setup.fold_weights[0]] * n_members, fit_log,
     )
-    stacked = _stacked(sims["force"], sims["force_y"], setup.data.biaxial)
+    stacked = setup.data.stack(sims["force"], sims["force_y"])
     sse = np.sum((stacked - setup.force) ** 2, axis=1)
     best = int(np.argmin(sse))
     fit = _fit_of_member(extra, fitted, best, stacked[best].copy())
@@ -196,7 +195,7 @@ def _fit_round(setup: _FitSetup, values, current, pool, fit_log):
             actives.append(np.asarray(active_mask(config)))
             weights.append(w)
     extra, fitted, sims, fit_log = _fit_padded(setup, starts, actives, weights, fit_log)
-    err = _stacked(sims["force"], sims["force_y"], setup.data.biaxial) - setup.force[None, :]
+    err = setup.data.stack(sims["force"], sims["force_y"]) - setup.force[None, :]
     evid, nrmse_before = _round_evidence(setup, err, fitted, sims, pool)
     fits = {
         name: _fit_of_member(extra, fitted, 3 * j, err[3 * j] + setup.force)

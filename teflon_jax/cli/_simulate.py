@@ -132,8 +132,10 @@ def _from_bearing_file(args, bearing):
     if normal_load is None:
         raise ValueError(f"--normal-load: give the normal load of the test; the bearing file "
                          f"{args.bearing} states none (e.g. --normal-load 78.5kip).")
+    from ..excitation import AbstractBiaxialMotion
+
     motion = _motion(args)
-    if bearing.backlash is not None and motion.biaxial:
+    if bearing.backlash is not None and isinstance(motion, AbstractBiaxialMotion):
         raise ValueError(f"--pattern: {args.bearing} has a backlash gap, modelled along x only; "
                          "use --pattern sine or triangle.")
     args.breakaway_shown = (None if bearing.breakaway_ratio is None
@@ -227,6 +229,7 @@ def _run_triple_pendulum(args) -> int:
 
 
 def run_simulate(args) -> int:
+    from ..excitation import AbstractBiaxialMotion
     from ..formats import test_record_from_arrays, write_test_record
     from ..systems import simulate_bearing_test
 
@@ -239,13 +242,13 @@ def run_simulate(args) -> int:
         import diffrax
 
         raise RuntimeError(f"the solver failed: {diffrax.RESULTS[result.result]}")
-    biaxial = motion.biaxial
+    in_plane = ({"uy": np.asarray(result.uy), "fy": np.asarray(result.fy)}
+                if isinstance(motion, AbstractBiaxialMotion) else {})
     record = test_record_from_arrays(
         np.asarray(result.ux),
         np.asarray(result.fx),
         time=np.asarray(result.time),
-        uy=np.asarray(result.uy) if biaxial else None,
-        fy=np.asarray(result.fy) if biaxial else None,
+        **in_plane,
         normal_load=np.asarray(result.normal_load),
         metadata=metadata,
     )

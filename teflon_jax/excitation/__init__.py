@@ -5,9 +5,12 @@ from ._ground_motion import GroundMotion as GroundMotion
 from ._ground_motion import IntensityMeasures as IntensityMeasures
 from ._ground_motion import integrate_motion as integrate_motion
 from ._ground_motion import intensity_measures as intensity_measures
+from ._imposed import AbstractBiaxialMotion as AbstractBiaxialMotion
 from ._imposed import AbstractMotion as AbstractMotion
+from ._imposed import AbstractUniaxialMotion as AbstractUniaxialMotion
 from ._imposed import FigureEightMotion as FigureEightMotion
 from ._imposed import SineMotion as SineMotion
+from ._imposed import TabulatedBiaxialMotion as TabulatedBiaxialMotion
 from ._imposed import TabulatedMotion as TabulatedMotion
 from ._imposed import TriangleMotion as TriangleMotion
 from ._imposed import tabulated_motion as tabulated_motion

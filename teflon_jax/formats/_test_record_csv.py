@@ -9,7 +9,7 @@ from typing import Any
 
 import numpy as np
 
-from ..excitation import TabulatedMotion, tabulated_motion
+from ..excitation import TabulatedBiaxialMotion, TabulatedMotion, tabulated_motion
 from ..tables import DIRECTIONS, PTFE_TYPES
 from ..units import UNITS, parse_quantity, unit_factor
 from ._protocol import parse_protocol
@@ -341,14 +341,14 @@ def read_test_record(path) -> TestRecord:
     )
 
 
-def read_motion_record(path) -> TabulatedMotion:
+def read_motion_record(path) -> TabulatedMotion | TabulatedBiaxialMotion:
     """Read an imposed displacement history in the test-record CSV format (`FORMATS.md`):
     the same metadata lines, header (`name [unit]`) and checks as `read_test_record`, with
     the columns `time` and `ux` required and `uy` optional (a biaxial path); force columns
     are allowed and ignored by the motion.
 
-    **Returns:** a `TabulatedMotion` [m] (linear between samples); `ValueError` naming the
-    file, line and column for anything `read_test_record` refuses.
+    **Returns:** a `TabulatedMotion` (along x) or, with `uy`, a `TabulatedBiaxialMotion` [m]
+    (linear between samples); `ValueError` naming the file, line and column for anything `read_test_record` refuses.
     """
     path, _, by_name, _ = _read_columns(path, ("time", "ux"), None)
     try:

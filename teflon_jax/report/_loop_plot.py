@@ -17,22 +17,22 @@ def plot_loop(result, path, *, title="", length=("in", INCH)):
     import matplotlib.pyplot as plt
 
     name, factor = length
-    biaxial = bool(np.any(np.asarray(result.uy) != 0))
+    in_plane = bool(np.any(np.asarray(result.uy) != 0))
     load = np.asarray(result.normal_load)
     ux, uy = np.asarray(result.ux) / factor, np.asarray(result.uy) / factor
     panels = [("x", ux, np.asarray(result.fx) / load)]
-    if biaxial:
+    if in_plane:
         panels.append(("y", uy, np.asarray(result.fy) / load))
-    columns = len(panels) + int(biaxial)
+    columns = len(panels) + int(in_plane)
     fig, axes = plt.subplots(1, columns, figsize=(4.2 * columns, 4.2), squeeze=False)
     for ax, (axis, u, mu) in zip(axes[0], panels):
         ax.plot(u, mu, color="k", lw=1.2)
         ax.set_xlabel(f"displacement u{axis} [{name}]")
         ax.set_ylabel(f"friction force F{axis} / normal load N [-]")
-        if biaxial:
+        if in_plane:
             ax.set_title(f"{axis} loop", fontsize=9)
         ax.grid(alpha=0.3)
-    if biaxial:
+    if in_plane:
         ax = axes[0, -1]
         ax.plot(ux, uy, color="k", lw=1.2)
         ax.set_aspect("equal", adjustable="datalim")

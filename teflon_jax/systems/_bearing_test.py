@@ -16,7 +16,13 @@ from ..bearing import (
     park_rate,
     sliding_speed,
 )
-from ..excitation import AbstractMotion, Signal, TabulatedMotion, as_signal
+from ..excitation import (
+    AbstractBiaxialMotion,
+    AbstractMotion,
+    Signal,
+    TabulatedMotion,
+    as_signal,
+)
 from ..solver import AbstractSteppedSystem, RiccatiNewmark, require_riccati_form
 from ..validation import require_positive
 from ._sampled_path import respond_along_path, sample_velocity, sampled_path
@@ -33,7 +39,8 @@ def running_peak_rate(z_abs, z_peak, z_abs_rate):
 
 
 class BearingTestSystem(AbstractSteppedSystem):
-    """Z of a bearing driven by an imposed motion. State: {"z": (1,) or (2,), "z_peak": ()}."""
+    """Z of a bearing driven by an imposed motion. State: {"z": (1,) along x (Bouc-Wen, Eq. 3)
+    or (2,) in the plane (Park, Eqs. 8-9: an `AbstractBiaxialMotion`), "z_peak": ()}."""
 
     bearing: SlidingBearing
     motion: AbstractMotion
@@ -42,7 +49,7 @@ class BearingTestSystem(AbstractSteppedSystem):
         h = self.bearing.hysteresis
         v = self.motion.velocity(t)
         z = y["z"]
-        if self.motion.biaxial:
+        if isinstance(self.motion, AbstractBiaxialMotion):
             dz = park_rate(h, z, v)
             z_abs = sliding_speed(z[0], z[1])  # |Z|, with a finite derivative at Z = 0
             z_abs_rate = jnp.dot(z, dz) / jnp.where(z_abs > 0, z_abs, 1.0)
@@ -52,7 +59,7 @@ class BearingTestSystem(AbstractSteppedSystem):
         return {"z": dz, "z_peak": running_peak_rate(z_abs, y["z_peak"], z_abs_rate)}
 
     def advance(self, t0, t1, y0, args):
-        if self.motion.biaxial:
+        if isinstance(self.motion, AbstractBiaxialMotion):
             raise ValueError(
                 "solver: RiccatiNewmark handles uniaxial tests; for biaxial motion use a general "
                 "diffrax solver (the default of simulate_bearing_test)."
@@ -139,7 +146,8 @@ def simulate_bearing_test(
         duration = motion.duration
     normal_load = _normal_load_signal(normal_load, duration)
     if solver is None:
-        riccati = not motion.biaxial and _riccati_admitted(bearing.hysteresis)
+        riccati = (not isinstance(motion, AbstractBiaxialMotion)
+                   and _riccati_admitted(bearing.hysteresis))
         solver = RiccatiNewmark() if riccati else diffrax.Tsit5()
     times = save_times(motion, duration, samples_per_cycle)
     if bearing.effects:
@@ -162,8 +170,7 @@ def simulate_bearing_test(
 
 @eqx.filter_jit
 def _solve(system, solver, controller, dt0, times, normal_load, max_steps, adjoint, throw):
-    z_dim = 2 if system.motion.biaxial else 1
-    y0 = {"z": jnp.zeros(z_dim), "z_peak": jnp.zeros(())}
+    y0 = {"z": _z_at_rest(system.motion), "z_peak": jnp.zeros(())}
     solution = diffrax.diffeqsolve(
         diffrax.ODETerm(system),
         solver,
@@ -184,9 +191,11 @@ def _along_samples(bearing, motion, normal_load, times, steps_per_sample):
     u = jax.vmap(motion.displacement)(times)
     v = jax.vmap(motion.velocity)(times)
     load = jax.vmap(normal_load)(times)
-    planar = motion.biaxial
-    path = sampled_path(times, u[:, 0], load, uy=u[:, 1] if planar else None, velocity=v[:, 0],
-                        velocity_y=v[:, 1] if planar else None)
+    if isinstance(motion, AbstractBiaxialMotion):
+        path = sampled_path(times, u[:, 0], load, uy=u[:, 1], velocity=v[:, 0],
+                            velocity_y=v[:, 1])
+    else:
+        path = sampled_path(times, u[:, 0], load, velocity=v[:, 0])
     r = respond_along_path(bearing, path)
     keep = slice(None, None, steps_per_sample)
     return BearingTestResult(
@@ -195,6 +204,11 @@ def _along_samples(bearing, motion, normal_load, times, steps_per_sample):
         z=jnp.stack([r.z_x, r.z_y], axis=-1)[keep], coefficient=r.coefficient[keep],
         z_peak=r.z_peak[keep], result=diffrax.RESULTS.successful,
     )
+
+
+def _z_at_rest(motion) -> jnp.ndarray:
+    """Z = 0 with one component along x, two in the plane."""
+    return jnp.zeros(2 if isinstance(motion, AbstractBiaxialMotion) else 1)
 
 
 def _normal_load_signal(normal_load, duration) -> Signal:
@@ -336,7 +350,7 @@ def force_along_path(
 def _z_along_path(bearing, time, ux, z0, z_peak0, solver, rtol, atol, max_steps):
     """Z and its running peak at the samples, integrating Eq. 3 with a diffrax solver."""
     solver = diffrax.Tsit5() if solver is None else solver
-    motion = TabulatedMotion(times=time, ux=ux, uy=jnp.zeros_like(ux), biaxial=False)
+    motion = TabulatedMotion(times=time, ux=ux)
     system = BearingTestSystem(bearing=bearing, motion=motion)
     adaptive = _is_adaptive(solver)
     solution = diffrax.diffeqsolve(

@@ -22,6 +22,7 @@ from ..bearing import (
     bouc_wen_exact_update,
     sliding_friction,
 )
+from ..excitation import AbstractBiaxialMotion
 from ..solver import park_exact_update
 from ._bearing_test import save_times
 
@@ -150,5 +151,5 @@ def triple_pendulum_test(bearing: TriplePendulum, motion, normal_load, *,
     """
     time = save_times(motion, motion.duration, samples_per_cycle)
     path = jax.vmap(motion.displacement)(time)
-    displacement = path if motion.biaxial else path[:, 0]
+    displacement = path if isinstance(motion, AbstractBiaxialMotion) else path[:, 0]
     return time, displacement, simulate_triple_test(bearing, time, displacement, normal_load)
