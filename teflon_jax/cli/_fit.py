@@ -117,7 +117,8 @@ def run_fit(args) -> int:
     if args.isolator == "single-fp":
         from ._fit_pendulum import run_fit_pendulum
 
-        return run_fit_pendulum(args)
+        return run_fit_pendulum(args, check_counts=_check_counts, parse_fixed=_parse_fixed,
+                                save_fitted=_save_fitted, shown_as=_shown)
     if args.effects is not None:
         from ._fit_effects import run_fit_effects
 

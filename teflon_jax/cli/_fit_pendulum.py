@@ -29,11 +29,11 @@ def _radius_of(args) -> tuple[float | None, list]:
     return radius, others
 
 
-def run_fit_pendulum(args) -> int:
-    """`fit --isolator single-fp`: exit 0 converged, 1 not converged, 2 bad input."""
+def run_fit_pendulum(args, *, check_counts, parse_fixed, save_fitted, shown_as) -> int:
+    """`fit --isolator single-fp`: exit 0 converged, 1 not converged, 2 bad input. The flat
+    fit's helpers come as arguments (`teflon_jax.cli._fit`: its --starts check, its --fixed
+    reader, its --save-bearing writer and its parameter text)."""
     from identification.bearing_fit import fit_pendulum_test, parse_free
-
-    from ._fit import _check_counts, _parse_fixed, _save_fitted, _shown
 
     try:
         read_quantities(args, "fit")
@@ -41,11 +41,11 @@ def run_fit_pendulum(args) -> int:
             if value is not None:
                 raise ValueError(f"{flag}: not available with --isolator single-fp; leave {flag} out.")
         check_output_file(args.save_bearing, "--save-bearing")
-        _check_counts(args)
+        check_counts(args)
         radius, others = _radius_of(args)
         free = parse_free(args.free) if args.free is not None else None
         try:
-            fixed = _parse_fixed(others)
+            fixed = parse_fixed(others)
         except ValueError as error:
             raise ValueError(f"{error} With --isolator single-fp also radius (e.g. radius=88in)."
                              if "unknown parameter" in str(error) else str(error)) from None
@@ -60,7 +60,7 @@ def run_fit_pendulum(args) -> int:
         print(f"teflon-jax fit: error: {error}", file=sys.stderr)
         return 2
     pathlib.Path(args.json).write_text(json.dumps(fit.to_json_dict(), indent=2))
-    _save_fitted(args, fit.friction, records)
+    save_fitted(args, fit.friction, records)
     if args.plot:
         from ..report import plot_fit
 
@@ -72,7 +72,7 @@ def run_fit_pendulum(args) -> int:
 
     for warning in fit.friction.warnings:
         print(f"teflon-jax fit: warning: {warning}", file=sys.stderr)
-    shown = ", ".join(_shown(k, fit.friction.parameters[k], fit.friction.std_errors[k], us)
+    shown = ", ".join(shown_as(k, fit.friction.parameters[k], fit.friction.std_errors[k], us)
                       for k in fit.friction.free)
     error = "" if fit.radius_fixed else f" +- {units.show(fit.radius_std_error, 'length', 2)}"
     status = "converged" if fit.converged else (
