@@ -11,7 +11,6 @@ displacement component. `fit --isolator single-fp` recovers R and the friction c
 such a record.
 """
 
-import equinox as eqx
 import numpy as np
 
 from ..units import STANDARD_GRAVITY
@@ -47,6 +46,8 @@ def check_pendulum_test_flags(args) -> float | None:
 def pendulum_result(result, radius: float | None):
     """`result` (a `BearingTestResult`) with the surface's N u / R added to fx and fy
     (unchanged for a flat slider, `radius` None)."""
+    import equinox as eqx
+
     if radius is None:
         return result
     load = result.normal_load
