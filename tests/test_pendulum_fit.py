@@ -107,3 +107,40 @@ def test_library_refuses_a_bad_radius(records):
         fit_pendulum_test(record, radius=-1.0)
     with pytest.raises(ValueError, match="radius: must be a positive radius"):
         fit_pendulum_test(record, radius=float("nan"))
+
+
+def test_friction_part_of_a_pendulum_record_is_the_flat_slider(records):
+    from identification.bearing_fit import pendulum_friction_record
+
+    fp, flat = (read_test_record(records[k]) for k in ("fp", "flat"))
+    friction = pendulum_friction_record(fp, RADIUS)
+    np.testing.assert_allclose(friction.fx, flat.fx, rtol=0, atol=1e-7 * np.abs(fp.fx).max())
+    assert friction.path == fp.path and friction.metadata == fp.metadata
+
+
+@pytest.mark.parametrize("flags, message", [
+    (["--radius", "88in"], "--radius: applies to --isolator single-fp only"),
+    (["--isolator", "single-fp", "--radius", "0in"], "--radius: must be > 0in"),
+])
+def test_diagnose_refuses_a_bad_radius_by_name(records, flags, message, tmp_path, capsys):
+    code = main(["diagnose", str(records["fp"]), "--json", str(tmp_path / "d.json"), "--report",
+                 str(tmp_path / "report"), *flags])
+    assert code == 2
+    assert message in capsys.readouterr().err
+
+
+@pytest.mark.slow  # the pendulum's fit and a round of candidates: ~60 s on 2 busy cores
+def test_diagnose_puts_the_restoring_force_in_the_baseline(records, tmp_path, capsys):
+    """On the simulator's own pendulum record (Eq. 1 friction and N u / R, nothing else) the
+    search finds no missing effect: the restoring force is not taken for a friction effect."""
+    out = tmp_path / "d.json"
+    code = main(["diagnose", str(records["fp"]), "--isolator", "single-fp", "--json", str(out),
+                 "--report", str(tmp_path / "report")])
+    err = capsys.readouterr().err
+    assert code == 0, err
+    document = json.loads(out.read_text())
+    assert document["isolator"] == "single-fp" and document["radius_given"] is False
+    assert document["radius_m"] == pytest.approx(RADIUS, rel=1e-6)
+    assert document["effects_added"] == [] and document["conclusion"] == "no missing effect"
+    assert document["nrmse_initial"] < 1e-5
+    assert "single friction pendulum: R = 88 in" in err

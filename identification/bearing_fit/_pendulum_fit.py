@@ -25,7 +25,7 @@ import math
 
 import numpy as np
 
-from teflon_jax.formats import TestRecord, test_record_from_arrays
+from teflon_jax.formats import TestRecord
 from teflon_jax.units import STANDARD_GRAVITY
 
 from ._fit import as_records, fit_bearing_test
@@ -85,10 +85,24 @@ def _uniaxial(records, normal_load):
 
 
 def _less_restoring(record: TestRecord, load, curvature: float) -> TestRecord:
-    """`record` with fx less N u k: the friction part of a pendulum's force."""
-    return test_record_from_arrays(
-        np.asarray(record.ux), np.asarray(record.fx) - load * np.asarray(record.ux) * curvature,
-        time=np.asarray(record.time), normal_load=load, metadata=dict(record.metadata))
+    """`record` with fx less N u k: the friction part of a pendulum's force (the other
+    columns, the metadata and the file's name kept)."""
+    fx = np.asarray(record.fx) - load * np.asarray(record.ux) * curvature
+    return dataclasses.replace(record, fx=fx, normal_load=np.asarray(load, dtype=float))
+
+
+def pendulum_friction_record(record: TestRecord, radius: float, *, normal_load=None) -> TestRecord:
+    """The friction part of a uniaxial pendulum record: fx less N u / R (`radius` R [m] > 0;
+    `normal_load` [N] for a record without one). `ValueError` naming a bad radius or a record
+    of another kind."""
+    _check_radius(radius)
+    ((record, load),) = _uniaxial([record], normal_load)
+    return _less_restoring(record, load, 1.0 / radius)
+
+
+def _check_radius(radius) -> None:
+    if radius is not None and not (isinstance(radius, (int, float)) and math.isfinite(radius) and radius > 0):
+        raise ValueError(f"radius: must be a positive radius of curvature [m], got {radius!r}.")
 
 
 def _curvature(pairs, friction_forces, weights) -> tuple[float, float]:
@@ -127,8 +141,7 @@ def fit_pendulum_test(records, *, free=None, fixed=None, radius: float | None = 
     kind, or records in which the restoring force does not show (R not positive or not finite).
     """
     records = as_records(records)
-    if radius is not None and not (isinstance(radius, (int, float)) and math.isfinite(radius) and radius > 0):
-        raise ValueError(f"radius: must be a positive radius of curvature [m], got {radius!r}.")
+    _check_radius(radius)
     if not (isinstance(max_iterations, int) and max_iterations >= 1):
         raise ValueError(f"max_iterations: must be an integer >= 1, got {max_iterations!r}.")
     pairs = _uniaxial(records, normal_load)
