@@ -40,7 +40,9 @@ def add_design_parser(subparsers) -> argparse.ArgumentParser:
     parser = subparsers.add_parser(
         "design",
         help=HELP,
-        description="BFGS over the isolation period and bearing pressure (bounded), started from "
+        description="BFGS over the isolation period (flat sliders; the radius R of a single "
+        "friction pendulum with --isolator single-fp) and the bearing pressure or f_max (bounded; "
+        "--pressure holds the friction), started from "
         "the best point of a grid sweep of the same objective, with a gradient check at the "
         "optimum against central differences. BFGS sees smoothed peaks, which lie below the "
         "true ones; the limit on them is lowered until the mean TRUE peak base displacement "
