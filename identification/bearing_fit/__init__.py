@@ -5,6 +5,9 @@ from ._fit import as_records as as_records
 from ._fit import fit_bearing_test as fit_bearing_test
 from ._fit import fit_bearing_tests_batch as fit_bearing_tests_batch
 from ._model import PARAMETER_NAMES as PARAMETER_NAMES
+from ._pendulum_fit import PendulumFit as PendulumFit
+from ._pendulum_fit import fit_pendulum_test as fit_pendulum_test
+from ._pendulum_fit import pendulum_friction_record as pendulum_friction_record
 from ._plan import BearingFit as BearingFit
 from ._plan import RecordResidual as RecordResidual
 from ._plan import parse_free as parse_free

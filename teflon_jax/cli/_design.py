@@ -17,6 +17,16 @@ from ._common import (
     output_units,
     warn_time_step,
 )
+from ._design_variables import (
+    add_design_variable_flags,
+    check_f_max_range,
+    design_fields,
+    design_text,
+    pendulum_start,
+    plot_units,
+    resolve_design_variables,
+    structure_options,
+)
 from ._montecarlo import _add_common, _motion_model
 
 HELP = "gradient-based design: minimise expected base shear under a displacement limit"
@@ -30,7 +40,9 @@ def add_design_parser(subparsers) -> argparse.ArgumentParser:
     parser = subparsers.add_parser(
         "design",
         help=HELP,
-        description="BFGS over the isolation period and bearing pressure (bounded), started from "
+        description="BFGS over the isolation period (flat sliders; the radius R of a single "
+        "friction pendulum with --isolator single-fp) and the bearing pressure or f_max (bounded; "
+        "--pressure holds the friction), started from "
         "the best point of a grid sweep of the same objective, with a gradient check at the "
         "optimum against central differences. BFGS sees smoothed peaks, which lie below the "
         "true ones; the limit on them is lowered until the mean TRUE peak base displacement "
@@ -44,13 +56,10 @@ def add_design_parser(subparsers) -> argparse.ArgumentParser:
     add_quantity(parser, "--disp-limit", "length", "1.25in", "limit on the mean (over the motions) "
                  "of the true peak base displacement",
                  minimum=0.0)
-    add_quantity(parser, "--period-range", "time", ("1s", "4s"), "bounds of the isolation period Tb",
-                 minimum=0.0, nargs=2)
-    add_quantity(parser, "--pressure-range", "pressure", ("1000psi", "2000psi"), "bounds of the "
-                 "bearing pressure (inside Table 1's rows; one interval of the table keeps the friction "
-                 "constants smooth in it)", minimum=0.0, nargs=2)
-    add_quantity(parser, "--isolation-damping", "dimensionless", "5%", "viscous damping ratio "
-                 "zeta_b of the isolation system", minimum=0.0, strict=False, maximum=1.0)
+    add_design_variable_flags(parser)
+    add_quantity(parser, "--isolation-damping", "dimensionless", None, "viscous damping ratio "
+                 "zeta_b of the isolation system (default 5% on flat sliders, 0 on a friction "
+                 "pendulum)", minimum=0.0, strict=False, maximum=1.0)
     parser.add_argument("--penalty", type=float, default=100.0,
                         help="weight rho of the displacement-limit penalty [-] (default 100)")
     parser.add_argument("--grid", type=_positive_int, default=7, help="sweep points per variable (default 7)")
@@ -99,18 +108,19 @@ def run_design(args) -> int:
         raise ValueError("--scheduler: a distributed sweep streams its results to a file; add --out FILE.nc.")
     if args.out is not None:
         check_netcdf_output(args.out, "--out")  # before anything is computed
+    variables = resolve_design_variables(args)
     bearing = _design_bearing(args)
     for pressure, text in zip(args.pressure_range, args.pressure_range_text):
-        if bearing is None:
+        if bearing is None and "pressure" in variables:
             check_table1(args.ptfe, pressure, text, "--pressure-range")
+    if bearing is None and args.pressure_text is not None:
+        check_table1(args.ptfe, args.pressure, args.pressure_text)
     if args.time_step is not None:
         warn_time_step("design", args.time_step, args.time_step_text, args.record_step, args.record_step_text)
     tic = time.perf_counter()
     bar = tqdm(total=2, unit="stage", desc="design", disable=args.no_progress)
-    low_p, high_p = args.pressure_range
     structure = isolated_structure(
-        args.structure, ptfe=args.ptfe, pressure=low_p, isolation_period=args.period_range[0],
-        isolation_damping=args.isolation_damping,
+        args.structure, ptfe=args.ptfe, **structure_options(args, variables),
         # Design differentiates the peaks: the turning-point split of the Monte Carlo default
         # switches branch when a design change moves a velocity reversal across a step, and the
         # gradient check at the optimum then fails; the plain update at 2.5 ms with Newmark's
@@ -119,13 +129,12 @@ def run_design(args) -> int:
         time_step=0.0025 if args.time_step is None else args.time_step, split_at_turn=False,
         newton_tolerance=0.0, linear_rule="newmark", bearing=bearing,
     )
-    variables = {"isolation_period": tuple(args.period_range), "pressure": (low_p, high_p)}
+    check_f_max_range(args, structure)
     records = sample(_motion_model(args), jax.random.key(args.seed), args.motions)
     dt = args.record_step
-    grid = {"isolation_period": np.linspace(*args.period_range, args.grid),
-            "pressure": np.linspace(low_p, high_p, args.grid)}
+    grid = {name: np.linspace(*bounds, args.grid) for name, bounds in variables.items()}
     bar.set_postfix_str(f"grid sweep, {args.grid}x{args.grid} designs x {args.motions} motions")
-    attrs = {"structure": args.structure, "seed": args.seed, "pga_m_s2": args.pga,
+    attrs = {"structure": args.structure, "isolator": args.isolator, "seed": args.seed, "pga_m_s2": args.pga,
              **({"ptfe": args.ptfe} if bearing is None else {"bearing": str(args.bearing)}),
              "motion_duration_s": args.duration, "isolation_damping": args.isolation_damping}
     if args.scheduler is None:
@@ -148,6 +157,9 @@ def run_design(args) -> int:
     bar.update(1)
     bar.set_postfix_str("BFGS from the best grid point")
     start = sweep_start(sweep, design_bounds(structure, variables))
+    if args.isolator == "single-fp":
+        start = pendulum_start(sweep, design_bounds(structure, variables), structure, records, dt,
+                               args.disp_limit, args.penalty)
     result = optimise_design(structure, records, dt, variables=variables, disp_limit=args.disp_limit,
                              penalty=args.penalty, start=start)
     bar.update(1)
@@ -155,17 +167,14 @@ def run_design(args) -> int:
     payload = _payload(args, result, sweep, units, time.perf_counter() - tic)
     _write_json(args.json, payload)
     if args.plot is not None:
-        stamp = (f"{args.structure}, "
+        stamp = (f"{args.structure} on {'a single friction pendulum' if args.isolator == 'single-fp' else 'flat sliders'}, "
                  f"{args.ptfe + ' PTFE' if args.bearing is None else 'bearing ' + str(args.bearing)}, zeta_b = {args.isolation_damping_text}, "
                  f"{args.motions} Clough-Penzien motions (PGA {args.pga_text}, {args.duration_text}, "
                  f"seed {args.seed}), displacement limit {args.disp_limit_text}")
         # the grid's objective for the limit on the smoothed mean that BFGS ended on
         final = {**sweep, "objective": sweep_objective(sweep, result.smooth_disp_limit, args.penalty)}
-        plot_design(final, result, args.plot, title=stamp, units={
-            "isolation_period": (1.0, "s"), "pressure": units.pressure[::-1],
-            "length": units.length[::-1]})
-    print(f"optimum: Tb = {result.optimum['isolation_period']:.4g} s, pressure = "
-          f"{units.show(result.optimum['pressure'], 'pressure')}; mean peak base displacement "
+        plot_design(final, result, args.plot, title=stamp, units=plot_units(units))
+    print(f"optimum: {design_text(result.optimum, units)}; mean peak base displacement "
           f"{units.show(result.peak_disp, 'length')} against the limit {args.disp_limit_text} "
           f"({'met' if result.limit_met else 'BROKEN'}); mean peak base shear / weight "
           f"{result.peak_shear:.4g} (smoothed, as BFGS sees them: "
@@ -180,12 +189,19 @@ def _design_bearing(args):
     contact pressure, which changes a given bearing only through its heating or pressure
     dependence."""
     bearing = read_bearing_flag(args)
-    if bearing is not None and bearing.heating is None and bearing.pressure_dependence is None:
+    pressure_matters = bearing is not None and (bearing.heating is not None or bearing.pressure_dependence is not None)
+    if bearing is not None and args.f_max_range_text is not None:
+        if pressure_matters:
+            raise ValueError(f"--f-max-range: the friction of --bearing {args.bearing} changes with the "
+                             "contact pressure (heating or pressure dependence); design it over "
+                             "--pressure-range instead.")
+        return bearing
+    if bearing is not None and not pressure_matters:
         raise ValueError(
             f"--bearing {args.bearing}: design varies the isolation period and the contact "
             "pressure, and the contact pressure changes this bearing nowhere (it has neither "
             "heating nor pressure dependence); run montecarlo --bearing over the periods you "
-            "consider, or design with Table 1 (--ptfe).")
+            "consider, design its f_max (--f-max-range) or design with Table 1 (--ptfe).")
     return bearing
 
 
@@ -197,16 +213,16 @@ def _payload(args, result, sweep, units, wall_s: float) -> dict:
 
     from ..studies import sweep_objective
 
-    length, pressure = units.length, units.pressure
+    length = units.length
     best = int(np.asarray(sweep["objective"]).argmin())
     payload = {
         "n_motions": args.motions,
         "structure": args.structure,
+        "isolator": args.isolator,
         "devices": len(jax.devices()),
         "wall_s": wall_s,
         "optimum": {
-            "isolation_period_s": result.optimum["isolation_period"],
-            f"pressure_{pressure[0]}": result.optimum["pressure"] / pressure[1],
+            **design_fields(result.optimum, units),
             "objective": result.objective,
             "mean_smooth_base_shear_ratio": result.mean_shear,
             f"mean_smooth_base_disp_{length[0]}": result.mean_disp / length[1],
@@ -226,8 +242,7 @@ def _payload(args, result, sweep, units, wall_s: float) -> dict:
         "gradient_tolerance": _tolerance(),
         "messages": list(result.messages),
         "grid_best": {
-            "isolation_period_s": float(sweep["grid"]["isolation_period"].reshape(-1)[best]),
-            f"pressure_{pressure[0]}": float(sweep["grid"]["pressure"].reshape(-1)[best] / pressure[1]),
+            **design_fields({n: float(v.reshape(-1)[best]) for n, v in sweep["grid"].items()}, units),
             "objective": float(np.asarray(sweep["objective"]).reshape(-1)[best]),
         },
         "optimum_beats_grid": bool(result.objective <= np.nanmin(
@@ -246,6 +261,11 @@ def _tolerance() -> float:
     return GRADIENT_TOLERANCE
 
 
+def _range_flags(args) -> str:
+    """The flags of the design variables' bounds, e.g. '--radius-range or --pressure-range'."""
+    return " or ".join(getattr(args, "design_flags", ("--period-range", "--pressure-range")))
+
+
 def _verdict(result, args) -> int:
     """Warnings and the exit status: 1 when the optimum cannot be trusted (a simulation did
     not converge, the gradient check failed, or BFGS did not converge)."""
@@ -254,14 +274,14 @@ def _verdict(result, args) -> int:
         print(f"teflon-jax design: {message}", file=sys.stderr)
     if result.at_bounds:
         print(f"teflon-jax design: warning: the optimum lies on a bound of {', '.join(result.at_bounds)}; "
-              "the best design may lie outside the box: widen --period-range or --pressure-range, "
+              f"the best design may lie outside the box: widen {_range_flags(args)}, "
               "or check --disp-limit.", file=sys.stderr)
     failed = []
     if not result.limit_met:
         units = output_units(args.units)
         failed.append(f"the reported design breaks --disp-limit {args.disp_limit_text}: its mean peak "
                       f"base displacement is {units.show(result.peak_disp, 'length')}; widen "
-                      "--period-range or --pressure-range, or raise --disp-limit")
+                      f"{_range_flags(args)}, or raise --disp-limit")
     if not result.simulation_converged:
         failed.append(f"{result.n_failed_motions} motion(s) of the set did not converge at the optimum "
                       "(a Newton step failed); try a smaller --time-step")

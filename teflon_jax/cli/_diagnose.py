@@ -13,6 +13,7 @@ import sys
 from ..units import INCH, parse_quantity
 from ._bearing_flags import add_save_bearing_flag, check_output_file, save_bearing_flag
 from ._common import add_quantity, add_units_flag, output_units, read_bearing_record
+from ._diagnose_pendulum import add_pendulum_diagnose_flags, friction_part
 
 _DIMENSIONS = {"-": "dimensionless", "m": "length", "s/m": "slowness"}
 
@@ -98,6 +99,7 @@ def add_diagnose_parser(subparsers) -> argparse.ArgumentParser:
     )
     parser.add_argument("--quiet", "--no-progress", action="store_true",
                         help="no progress lines (--no-progress is the same flag, as in the other commands)")
+    add_pendulum_diagnose_flags(parser)
     add_save_bearing_flag(parser)
     add_units_flag(parser)
     parser.set_defaults(func=run_diagnose)
@@ -120,6 +122,7 @@ def run_diagnose(args) -> int:
         check_output_file(args.save_bearing, "--save-bearing")
         known = _parse_known(args.known)
         record = with_normal_load(read_bearing_record(args.record), args.record, args.normal_load)
+        record, radius = friction_part(args, record, say)
         result = discover_effects(
             record,
             baseline=args.baseline,
@@ -134,6 +137,9 @@ def run_diagnose(args) -> int:
         print(f"teflon-jax diagnose: {error}", file=sys.stderr)
         return 2
     document = result.to_json()
+    if radius is not None:
+        document.update(isolator="single-fp", radius_m=radius,
+                        radius_given=args.radius is not None)
     args.json_path.parent.mkdir(parents=True, exist_ok=True)
     args.json_path.write_text(json.dumps(document, indent=2) + "\n")
     report = write_report(result, args.report, record_name=args.record.name,

@@ -77,6 +77,10 @@ def add_fit_parser(subparsers) -> argparse.ArgumentParser:
                              "model (one record; e.g. backlash,asymmetry as `diagnose` names "
                              "them; 'list' prints the known ones); --fixed then also takes "
                              "their constants")
+    parser.add_argument("--isolator", default="flat", choices=("flat", "single-fp"),
+                        help="single-fp: the records are of a single friction pendulum, force "
+                        "N u / R + friction; fit its radius R too ('--fixed radius=88in' holds "
+                        "it) (default flat)")
     add_save_bearing_flag(parser)
     add_units_flag(parser)
     parser.set_defaults(command_function=run_fit)
@@ -110,6 +114,11 @@ def run_fit(args) -> int:
 
     from ..report import plot_fit
 
+    if args.isolator == "single-fp":
+        from ._fit_pendulum import run_fit_pendulum
+
+        return run_fit_pendulum(args, check_counts=_check_counts, parse_fixed=_parse_fixed,
+                                save_fitted=_save_fitted, shown_as=_shown)
     if args.effects is not None:
         from ._fit_effects import run_fit_effects
 

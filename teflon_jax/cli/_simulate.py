@@ -7,6 +7,12 @@ import numpy as np
 from ..units import INCH, parse_quantity
 from ._bearing_flags import add_bearing_flag, read_bearing_flag
 from ._common import add_quantity, add_units_flag, check_table1, output_units
+from ._simulate_pendulum import (
+    add_pendulum_test_flags,
+    check_pendulum_test_flags,
+    pendulum_metadata,
+    pendulum_result,
+)
 
 DEFAULT_DIAMETER = 10 * INCH  # specimens of the paper's tests: 10 in diameter
 MIN_SAMPLES_PER_CYCLE = 8  # fewer cannot show the shape of a loop
@@ -57,6 +63,7 @@ def add_simulate_parser(subparsers) -> None:
                    help="simulate a triple friction pendulum whose surfaces (radius, capacity, "
                    "friction of each) this isolator file gives, instead of a flat slider; "
                    "give --normal-load")
+    add_pendulum_test_flags(p)
     p.add_argument("--samples-per-cycle", type=int, default=400, help="saved samples per cycle, at "
                    f"least {MIN_SAMPLES_PER_CYCLE} (default 400)")
     p.add_argument("--out", default="test_record.csv", help="output test-record CSV (default test_record.csv)")
@@ -233,15 +240,18 @@ def run_simulate(args) -> int:
     from ..formats import test_record_from_arrays, write_test_record
     from ..systems import simulate_bearing_test
 
+    radius = check_pendulum_test_flags(args)
     if args.isolator_file is not None:
         return _run_triple_pendulum(args)
     bearing, motion, normal_load, metadata = build_test(args)
+    metadata = pendulum_metadata(metadata, radius, args.radius_text)
     result = simulate_bearing_test(bearing, motion, normal_load,
                                       samples_per_cycle=args.samples_per_cycle, throw=False)
     if not bool(result.succeeded):
         import diffrax
 
         raise RuntimeError(f"the solver failed: {diffrax.RESULTS[result.result]}")
+    result = pendulum_result(result, radius)
     in_plane = ({"uy": np.asarray(result.uy), "fy": np.asarray(result.fy)}
                 if isinstance(motion, AbstractBiaxialMotion) else {})
     record = test_record_from_arrays(

@@ -121,4 +121,6 @@ def _show(name, value):
         return f"{value / PSI:.6g} psi"
     if name == "isolation_period":
         return f"{value:.6g} s"
+    if name == "radius":
+        return f"{value:.6g} m"
     return f"{value:.6g}"

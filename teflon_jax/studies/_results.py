@@ -43,6 +43,7 @@ DESIGN_UNITS = {
     "delta_f": ("1", "Eq. 1 f_max - f_min"),
     "rate_a": ("s m-1", "Eq. 1 rate parameter a"),
     "breakaway_ratio": ("1", "Eq. 17 breakaway ratio b"),
+    "radius": ("m", "radius of curvature R of the friction pendulum's surface"),
 }
 
 FORMATS = (".nc", ".zarr", ".csv", ".npz")

@@ -1,0 +1,45 @@
+"""`teflon-jax diagnose --isolator single-fp [--radius R]`: discovery on a single friction
+pendulum's record looks for effects of the liner's friction only. The surface's restoring
+force N u / R (Zayas, Low & Mahin 1990) belongs to the baseline: it is taken off the force
+before the search, with R given by `--radius`, or fitted beside the baseline's friction
+(Eq. 1 with Bouc-Wen, `identification.bearing_fit.fit_pendulum_test`) and then held."""
+
+from ._common import ISOLATORS, add_quantity
+
+
+def add_pendulum_diagnose_flags(parser) -> None:
+    """`--isolator flat|single-fp` and `--radius R` of `diagnose`."""
+    parser.add_argument("--isolator", default="flat", choices=ISOLATORS,
+                        help="single-fp: the record is of a single friction pendulum; its "
+                        "restoring force N u / R joins the baseline and the search looks at the "
+                        "friction (default flat)")
+    add_quantity(parser, "--radius", "length", None, "with --isolator single-fp: the radius R of "
+                 "the concave surface, when known (default: fitted with the baseline's friction)",
+                 minimum=0.0)
+
+
+def friction_part(args, record, say):
+    """(`record` less N u / R, R [m]) for `--isolator single-fp`; (`record`, None) on a flat
+    slider. `ValueError` naming `--radius` when it does not apply or is bad."""
+    from identification.bearing_fit import fit_pendulum_test, pendulum_friction_record
+
+    from ..units import INCH
+
+    if args.isolator == "flat":
+        if args.radius is not None:
+            raise ValueError("--radius: applies to --isolator single-fp only (a flat slider has no "
+                             "radius); add --isolator single-fp or leave --radius out.")
+        return record, None
+    radius = args.radius
+    if radius is None:
+        fit = fit_pendulum_test(record, n_starts=4)
+        if not fit.converged:
+            raise ValueError(f"{args.record}: the radius could not be fitted with the baseline's "
+                             "friction (the fit did not converge); give it with --radius.")
+        radius = fit.radius
+        say(f"single friction pendulum: R = {radius / INCH:.5g} in +- {fit.radius_std_error / INCH:.2g} in, "
+            "fitted with Eq. 1 friction and held; the search looks at the force less N u / R.")
+    else:
+        say(f"single friction pendulum: R = {args.radius_text} (--radius); the search looks at the "
+            "force less N u / R.")
+    return pendulum_friction_record(record, radius), radius
