@@ -1,0 +1,190 @@
+"""The vertical ground acceleration on the isolators' normal load, N = W max(1 + a_v / g, 0).
+
+Each test names the law it guards: a rigid mass on a friction pendulum under a constant a_v
+oscillates with the period 2 pi sqrt(R / (g + a_v)) (the restoring force N u / R on the
+mass W / g); a rigid mass on flat sliders starts to slide when the ground acceleration
+exceeds mu (g + a_v) and then slides at the relative acceleration a_g - mu (g + a_v)
+(Coulomb's law with the normal force N); an isolator with N <= 0 carries no shear, so the
+rigid mass's total acceleration is zero while a_v < -g, and the run reports that time.
+References: Almazan, De la Llera & Inaudi (1998); Zayas, Low & Mahin (1990).
+"""
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+
+from teflon_jax.bearing import coulomb_friction, paper_bearing
+from teflon_jax.excitation import uniform_signal
+from teflon_jax.systems import (
+    isolated_structure,
+    peak_response,
+    rigid_mass,
+    simulate_structure,
+    with_vertical_component,
+    with_vertical_motion,
+)
+from teflon_jax.units import STANDARD_GRAVITY
+
+G = STANDARD_GRAVITY
+WEIGHT = 100e3  # [N]
+RADIUS = 2.0  # [m]
+RECORD_STEP = 0.01  # [s]
+
+
+def _record(values):
+    return uniform_signal(jnp.asarray(values, float), RECORD_STEP)
+
+
+def _times(duration):
+    return np.arange(int(round(duration / RECORD_STEP)) + 1) * RECORD_STEP
+
+
+def _zero_crossing_period(time, u, after=1.0):
+    """Mean period [s] between upward zero crossings of u after `after` [s]."""
+    keep = time > after
+    t, x = time[keep], u[keep]
+    i = np.where((x[:-1] < 0) & (x[1:] >= 0))[0]
+    crossings = t[i] - x[i] * (t[i + 1] - t[i]) / (x[i + 1] - x[i])
+    return np.mean(np.diff(crossings))
+
+
+@pytest.mark.parametrize("linear_rule", ["newmark", "exact"])
+@pytest.mark.parametrize("vertical", [-4.0, 3.0])
+def test_pendulum_period_under_constant_vertical_acceleration(linear_rule, vertical):
+    """T = 2 pi sqrt(R / (g + a_v)): the pendulum's stiffness N / R with N = W (1 + a_v / g)."""
+    duration = 16.0
+    t = _times(duration)
+    structure = isolated_structure("rigid", isolator="single-fp", radius=RADIUS, friction_model="none",
+                                   linear_rule=linear_rule, time_step=0.005)
+    ground = (_record(np.where(t < 0.5, 1.0, 0.0)), _record(np.full(t.shape, vertical)))
+    response = simulate_structure(with_vertical_component(structure)(ground), duration)
+    period = _zero_crossing_period(np.asarray(response.time), np.asarray(response.displacement[:, 0]))
+    expected = 2 * np.pi * np.sqrt(RADIUS / (G + vertical))
+    assert period == pytest.approx(expected, rel=2e-4)
+    assert float(response.uplift_time) == 0.0
+
+
+@pytest.mark.parametrize("friction_model", ["coulomb", "hysteretic"])
+@pytest.mark.parametrize("load", [0.5, 1.5])
+def test_sliding_threshold_scales_with_normal_load(friction_model, load):
+    """A flat slider sticks under a_g = 0.9 mu g s and slides under 1.5 mu g s at the relative
+    acceleration -(a_g - mu g s), s = 1 + a_v / g."""
+    mu, duration = 0.1, 4.0
+    t = _times(duration)
+    ramp = np.minimum(t / 0.2, 1.0)  # the ground acceleration builds up over 0.2 s
+    results = {}
+    for factor in (0.9, 1.5):
+        system = rigid_mass(weight=WEIGHT, bearing=paper_bearing(coulomb_friction(mu)), time_step=0.005,
+                            ground_acceleration=_record(factor * mu * G * load * ramp),
+                            friction_model=friction_model)
+        system = with_vertical_motion(system, _record(np.full(t.shape, (load - 1) * G)))
+        response = simulate_structure(system, duration)
+        results[factor] = (np.asarray(response.time), np.asarray(response.velocity[:, 0]),
+                           np.asarray(response.displacement[:, 0]))
+    time, _, stuck = results[0.9]
+    # sticks: Coulomb exactly (up to the first step's average acceleration), Bouc-Wen within
+    # its pre-sliding displacement of a few Y (Y = 0.127 mm); sliding goes metres
+    assert np.max(np.abs(stuck)) < 10 * 0.005 * 0.0254
+    _, velocity, slid = results[1.5]
+    assert np.max(np.abs(slid)) > 0.5
+    i1, i2 = np.searchsorted(time, [1.0, 4.0])
+    slope = (velocity[i2] - velocity[i1]) / (time[i2] - time[i1])
+    assert slope == pytest.approx(-0.5 * mu * G * load, rel=1e-3)
+
+
+def _uplift_case(kind="rigid"):
+    """A friction pendulum under a harmonic horizontal motion and a_v = -1.5 g on the
+    samples 4.00-4.50 s (zero elsewhere, linear between samples)."""
+    duration = 10.0
+    t = _times(duration)
+    horizontal = 3.0 * np.sin(2 * np.pi * 0.8 * t)
+    vertical = np.where((t > 4.0 - 1e-9) & (t < 4.5 + 1e-9), -1.5 * G, 0.0)
+    structure = isolated_structure(kind, isolator="single-fp", radius=RADIUS)
+    return with_vertical_component(structure), (_record(horizontal), _record(vertical)), duration
+
+
+def test_uplift_carries_no_shear_and_is_reported():
+    """While a_v <= -g the rigid mass's total acceleration (the isolator's shear over m) is
+    zero, never NaN; the run reports the time with N <= 0."""
+    structure, ground, duration = _uplift_case()
+    system = structure(ground)
+    response = simulate_structure(system, duration)
+    shear = np.asarray(response.total_acceleration[:, 0])
+    loads = np.asarray(response.load_factor)
+    assert np.all(np.isfinite(shear)) and np.all(np.isfinite(np.asarray(response.z)))
+    uplifted = loads == 0
+    assert uplifted.sum() > 50
+    assert np.max(np.abs(shear[uplifted])) < 1e-9 * np.max(np.abs(shear))
+    assert np.all(np.asarray(response.friction_force)[uplifted] == 0)
+    # a_v <= -g from 3.99 + 0.01 * 2/3 s to 4.50 + 0.01 / 3 s (linear between samples)
+    exact = 4.5 + RECORD_STEP / 3 - (4.0 - RECORD_STEP / 3)
+    assert abs(float(response.uplift_time) - exact) <= system.time_step
+    assert np.max(np.abs(shear[~uplifted])) > 1.0  # the isolator does carry shear outside
+    peaks = peak_response(system, duration)
+    assert bool(peaks.converged)
+    assert float(peaks.uplift_time) == float(response.uplift_time)
+    assert float(peaks.base_disp) == pytest.approx(np.max(np.abs(response.displacement[:, 0])), rel=1e-9)
+    assert float(peaks.base_shear_ratio) == pytest.approx(np.max(np.abs(shear)) / G, rel=1e-9)
+
+
+def test_building_uplift_finite_and_peaks_agree():
+    """The building on a friction pendulum through the same uplift: finite, the bearing's
+    friction zero while uplifted, and the peak loop's peaks those of the history."""
+    structure, ground, duration = _uplift_case("building")
+    system = structure(ground)
+    response = simulate_structure(system, duration)
+    uplifted = np.asarray(response.load_factor) == 0
+    assert np.all(np.isfinite(np.asarray(response.displacement)))
+    assert np.all(np.asarray(response.friction_force)[uplifted] == 0)
+    peaks = peak_response(system, duration)
+    assert float(peaks.base_disp) == pytest.approx(np.max(np.abs(response.displacement[:, 0])), rel=1e-9)
+    assert float(peaks.uplift_time) > 0.5
+
+
+@pytest.mark.parametrize("kind", ["rigid", pytest.param("building", marks=pytest.mark.slow)])
+def test_zero_vertical_record_changes_nothing(kind):
+    """With a_v = 0 (N = W) the run is the one without a vertical record, to rounding."""
+    duration = 6.0
+    t = _times(duration)
+    horizontal = _record(3.0 * np.sin(2 * np.pi * 0.8 * t) * np.minimum(t, 1.0))
+    for isolator, options in (("single-fp", {"radius": RADIUS}), ("flat", {})):
+        structure = isolated_structure(kind, isolator=isolator, **options)
+        plain = peak_response(structure(horizontal), duration)
+        loaded = peak_response(with_vertical_component(structure)((horizontal, _record(0 * t))), duration)
+        for name in ("base_disp", "base_shear_ratio", "smooth_base_disp"):
+            assert float(getattr(loaded, name)) == pytest.approx(float(getattr(plain, name)), rel=1e-11)
+        assert float(loaded.uplift_time) == 0.0 and plain.uplift_time is None
+
+
+def test_gradients_through_uplift_finite_and_match_differences():
+    """d(peak) / d(vertical scale) is finite with uplift, and equals central differences
+    where the vertical motion does not lift the isolators."""
+    structure, (horizontal, vertical), duration = _uplift_case()
+    values = np.asarray(vertical.values)
+
+    def peak(scale, base):
+        signal = _record(scale * base)
+        return peak_response(structure((horizontal, signal)), duration).smooth_base_disp
+
+    with_uplift = jax.grad(peak)(1.0, values)
+    assert np.isfinite(float(with_uplift))
+    t = _times(duration)
+    gentle = 0.3 * G * np.sin(2 * np.pi * 3.0 * t)  # N between 0.7 W and 1.3 W
+    gradient = float(jax.grad(peak)(1.0, gentle))
+    h = 1e-3
+    difference = (float(peak(1 + h, gentle)) - float(peak(1 - h, gentle))) / (2 * h)
+    assert gradient == pytest.approx(difference, rel=1e-3, abs=1e-7)
+    assert abs(gradient) > 1e-5  # the vertical motion does change the peak
+
+
+def test_vertical_inputs_refused():
+    structure = isolated_structure("rigid", isolator="single-fp", radius=RADIUS)
+    system = structure(_record(np.zeros(301)))
+    with pytest.raises(ValueError, match="vertical_acceleration"):
+        with_vertical_motion(system, np.zeros(301))
+    with pytest.raises(ValueError, match="radius"):
+        with_vertical_motion(system, _record(np.zeros(301)), radius=-1.0)
+    short = with_vertical_motion(system, _record(np.zeros(101)), radius=RADIUS)
+    with pytest.raises(ValueError, match="vertical record"):
+        peak_response(short, 3.0)
