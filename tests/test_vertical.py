@@ -188,3 +188,34 @@ def test_vertical_inputs_refused():
     short = with_vertical_motion(system, _record(np.zeros(101)), radius=RADIUS)
     with pytest.raises(ValueError, match="vertical record"):
         peak_response(short, 3.0)
+
+
+def test_two_directions_under_one_component_reproduce_one_direction():
+    """The bidirectional rigid mass on a pendulum (W / R as its springs) under a_x alone and a
+    vertical record with uplift: the same response as the one-direction structure (Park's Z
+    reduces to Eq. 3 along one axis), zero shear while uplifted, the same uplift time."""
+    from teflon_jax.bearing import FrictionParameters
+    from teflon_jax.studies import bidirectional_peak_response
+    from teflon_jax.systems import bidirectional_rigid_mass, simulate_bidirectional
+
+    duration = 10.0
+    t = _times(duration)
+    ground = _record(3.0 * np.sin(2 * np.pi * 0.8 * t))
+    vertical = _record(np.where((t > 4.0 - 1e-9) & (t < 4.5 + 1e-9), -1.5 * G,
+                                0.4 * G * np.sin(2 * np.pi * 4.0 * t)))
+    bearing = paper_bearing(FrictionParameters(f_max=0.1, delta_f=0.06, rate_a=20.0))
+    one = with_vertical_motion(rigid_mass(weight=WEIGHT, bearing=bearing, ground_acceleration=ground,
+                                          time_step=0.005, radius=RADIUS), vertical, radius=RADIUS)
+    two = bidirectional_rigid_mass(weight=WEIGHT, bearing=bearing, ground_x=ground, time_step=0.005,
+                                   isolation_period=2 * np.pi * np.sqrt(RADIUS / G))
+    two = with_vertical_motion(two, vertical, radius=RADIUS)
+    r1, r2 = simulate_structure(one, duration), simulate_bidirectional(two, duration)
+    u1 = np.asarray(r1.displacement[:, 0])
+    assert np.max(np.abs(u1 - np.asarray(r2.q[:, 0]))) < 1e-6 * np.max(np.abs(u1))
+    shear = np.asarray(r2.acceleration[:, 0] + r2.ground[:, 0])
+    uplifted = np.asarray(r2.load_factor) == 0
+    assert uplifted.sum() > 50 and np.max(np.abs(shear[uplifted])) < 1e-9 * np.max(np.abs(shear))
+    assert float(r2.uplift_time) == float(r1.uplift_time)
+    peaks = bidirectional_peak_response(two, duration)
+    assert float(peaks.base_disp) == pytest.approx(np.max(np.abs(u1)), rel=1e-6)
+    assert float(peaks.uplift_time) == float(r1.uplift_time) and bool(peaks.converged)

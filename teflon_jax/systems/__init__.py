@@ -6,8 +6,8 @@ from ._bearing_test import BearingTestSystem as BearingTestSystem
 from ._bearing_test import force_along_path as force_along_path
 from ._bearing_test import simulate_bearing_test as simulate_bearing_test
 from ._bidirectional import BidirectionalStructure as BidirectionalStructure
-from ._bidirectional import bidirectional_initial_state as bidirectional_initial_state
-from ._bidirectional import bidirectional_structure as bidirectional_structure
+from ._bidirectional_build import bidirectional_initial_state as bidirectional_initial_state
+from ._bidirectional_build import bidirectional_structure as bidirectional_structure
 from ._bidirectional_models import BIDIRECTIONAL_TIME_STEP as BIDIRECTIONAL_TIME_STEP
 from ._bidirectional_models import bidirectional_building as bidirectional_building
 from ._bidirectional_models import bidirectional_rigid_mass as bidirectional_rigid_mass
