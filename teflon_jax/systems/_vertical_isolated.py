@@ -16,6 +16,16 @@ class VerticalIsolatedStructure(eqx.Module):
 
     uniaxial: IsolatedStructure
 
+    @property
+    def time_step(self) -> float:
+        """The structure's step [s] (`IsolatedStructure.time_step`)."""
+        return self.uniaxial.time_step
+
+    @property
+    def kind(self) -> str:
+        """"rigid" or "building"."""
+        return self.uniaxial.kind
+
     def __call__(self, ground, design=None):
         horizontal, vertical = ground
         system = self.uniaxial(horizontal, design)
