@@ -219,3 +219,53 @@ def test_two_directions_under_one_component_reproduce_one_direction():
     peaks = bidirectional_peak_response(two, duration)
     assert float(peaks.base_disp) == pytest.approx(np.max(np.abs(u1)), rel=1e-6)
     assert float(peaks.uplift_time) == float(r1.uplift_time) and bool(peaks.converged)
+
+
+def _history_run(system, n_steps):
+    """(load factors, travel, heat states) at the end of each `newmark_step` from rest."""
+    from teflon_jax.systems import bidirectional_initial_state, initial_state
+
+    dt = system.time_step
+    two = hasattr(system, "ground_x")
+    y0 = bidirectional_initial_state(system) if two else initial_state(system)
+
+    def body(carry, k):
+        y, a = carry
+        y1, _ = system.newmark_step(k * dt, (k + 1) * dt, y, a)
+        return (y1, system._acceleration((k + 1) * dt, y1)), (y1["travel"], y1["heat"])
+
+    _, (travel, heat) = jax.lax.scan(body, (y0, system._acceleration(0.0, y0)), jnp.arange(n_steps))
+    loads = jax.vmap(system.load_factor)(jnp.arange(1, n_steps + 1) * dt)
+    return np.asarray(loads), np.asarray(travel).reshape(n_steps, -1)[:, 0], np.asarray(heat).reshape(n_steps, -1)
+
+
+@pytest.mark.parametrize("directions", [1, 2])
+def test_uplifted_bearing_neither_heats_nor_wears(directions):
+    """While N = 0 no heat flux q = mu N |v| / A enters the steel (the heat states only decay)
+    and a wearing bearing counts no travel; outside it does both."""
+    import equinox as eqx
+
+    from teflon_jax.bearing import FrictionalHeating, FrictionParameters, Wear
+    from teflon_jax.systems import bidirectional_rigid_mass
+    from teflon_jax.units import INCH, PSI
+
+    bearing = paper_bearing(FrictionParameters(f_max=0.1, delta_f=0.06, rate_a=20.0))
+    bearing = eqx.tree_at(lambda b: (b.heating, b.wear), bearing,
+                          (FrictionalHeating(contact_area=10 * INCH**2, heat_scale=3.0), Wear(0.5, 1.0)),
+                          is_leaf=lambda x: x is None)
+    _, (horizontal, vertical), duration = _uplift_case()
+    options = {"weight": WEIGHT, "bearing": bearing, "time_step": 0.005, "isolation_period": 2.5,
+               "contact_pressure": 3000 * PSI}
+    if directions == 1:
+        system = rigid_mass(ground_acceleration=horizontal, **options)
+    else:
+        system = bidirectional_rigid_mass(ground_x=horizontal, **options)
+    loads, travel, heat = _history_run(with_vertical_motion(system, vertical), 1200)
+    slid = np.diff(travel)
+    uplifted = loads[1:] == 0  # steps that start uplifted (the step's flux is its start's)
+    uplifted &= loads[:-1] == 0
+    assert uplifted.sum() > 50
+    assert np.all(slid[uplifted] == 0) and np.sum(slid[~uplifted]) > 0.1
+    decays = np.all(np.abs(heat[1:]) <= np.abs(heat[:-1]) + 1e-300, axis=1)
+    assert np.all(decays[uplifted])
+    assert not np.all(decays[~uplifted])

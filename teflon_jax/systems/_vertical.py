@@ -44,12 +44,12 @@ def uplifted(vertical_acceleration):
 
 
 def with_vertical_motion(system, vertical_acceleration: Signal, radius=None):
-    """`system` (a `StructureOnSliders`) with the vertical ground acceleration
+    """`system` (a `StructureOnSliders` or `BidirectionalStructure`) with the vertical ground acceleration
     `vertical_acceleration` [m/s^2, up +] on its isolators' normal load (module docstring).
 
     `radius` R [m] of a friction pendulum: the part W / R of the isolator's stiffness that the
-    normal load carries (scaled by N / W in each step); `None` for flat sliders, whose
-    restoring springs keep their stiffness.
+    normal load carries (scaled by N / W in each step; W / R per group in two directions);
+    `None` for flat sliders, whose restoring springs keep their stiffness.
     """
     if not isinstance(vertical_acceleration, Signal):
         raise ValueError("vertical_acceleration: expected a Signal of the vertical ground "
