@@ -420,7 +420,7 @@ def _design_arrays(design, structure) -> tuple:
             f"{ {k: tuple(v.shape) for k, v in design_arrays.items()} }."
         )
     n_designs = sizes.pop()
-    if isinstance(structure, (IsolatedStructure, BidirectionalIsolatedStructure)):
+    if isinstance(structure, (IsolatedStructure, BidirectionalIsolatedStructure, VerticalIsolatedStructure)):
         check_design(getattr(structure, "uniaxial", structure), design_arrays)
     return design_arrays, n_designs
 
