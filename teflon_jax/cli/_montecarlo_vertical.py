@@ -72,10 +72,10 @@ def uplift_payload(result, model) -> dict:
 
 
 def uplift_message(payload: dict) -> str | None:
-    """The printed line of `uplift_payload` (None without a vertical component)."""
-    if not payload:
+    """The printed line of the summary's "vertical" entry (`uplift_payload`; None without one)."""
+    v = payload.get("vertical")
+    if v is None:
         return None
-    v = payload["vertical"]
     shown = ", ".join(str(i) for i in v["uplifted_motions"][:20]) + (" ..." if v["n_uplifted"] > 20 else "")
     return (f"  uplift (N <= 0): {v['n_uplifted']} motion(s)" + (f" ({shown}), kept in the statistics"
                                                                   if v["n_uplifted"] else ""))
