@@ -27,6 +27,14 @@ from ._common import (
 )
 from ._engineering import add_engineering_flags
 from ._main import compile_cache_dir
+from ._montecarlo_vertical import (
+    add_vertical_flags,
+    check_vertical_flags,
+    uplift_message,
+    uplift_payload,
+    vertical_model,
+    vertical_structure,
+)
 
 HELP = "peak responses under N stochastic ground motions (chunked, sharded over devices)"
 """The line of this command in `teflon-jax --help`."""
@@ -122,6 +130,7 @@ def add_montecarlo_parser(subparsers) -> argparse.ArgumentParser:
                         "stream as chunks finish (default: this process)")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
     add_engineering_flags(parser)
+    add_vertical_flags(parser)
     add_bearing_flag(parser, replaces="--ptfe and --pressure")
     parser.set_defaults(command_function=run_montecarlo)
     return parser
@@ -155,7 +164,7 @@ def run_montecarlo(args) -> int:
     units = output_units(args.units)
     _check_flags(args)
     two = args.components == 2
-    structure = _structure(args, two)
+    structure = vertical_structure(args, _structure(args, two))
     if args.time_step is not None:
         warn_time_step("montecarlo", args.time_step, args.time_step_text, args.record_step, args.record_step_text)
     model = _motion_model(args)
@@ -163,6 +172,7 @@ def run_montecarlo(args) -> int:
         model = TwoComponentGroundMotion(
             model, principal_angle=0.0 if args.principal_angle is None else args.principal_angle,
             minor_ratio=1.0 if args.minor_ratio is None else args.minor_ratio)
+    model = vertical_model(args, model)
     # the default fits the device's memory and the workers (--scheduler local:N)
     args.chunk_size = _chunk_size(args, _device_chunk(args, structure, model))
     if args.property_factors is not None:
@@ -204,6 +214,7 @@ def run_montecarlo(args) -> int:
     length = units.length[0]
     payload = _payload(args, result, structure, model, units, stats, files)
     payload["records_per_s_after_first_chunk"] = _steady_rate(marks)
+    payload.update(uplift_payload(result, model))
     _write_json(args.json, payload)
     bearing_words = (f"{args.ptfe} PTFE at {args.pressure_text}" if args.bearing is None
                      else f"bearing {args.bearing}")
@@ -220,6 +231,8 @@ def run_montecarlo(args) -> int:
         unit = f" {length}" if name.startswith("base_disp") else ""
         print(f"  {name}: " + ", ".join(f"{k} {v:.4g}{unit}" for k, v in values.items()
                                        if k != "n" and v is not None))
+    if uplift_message(payload):
+        print(uplift_message(payload))
     failed = np.flatnonzero(~converged)
     if failed.size:
         named = ", ".join(str(i) for i in failed[:20]) + (" ..." if failed.size > 20 else "")
@@ -317,6 +330,7 @@ def _check_flags(args) -> None:
     if args.bearing is None:  # else the bearing file's friction; --pressure is a contact pressure
         check_table1(args.ptfe, args.pressure, args.pressure_text)
     _resolve_isolation(args)
+    check_vertical_flags(args)
     two = args.components == 2
     for flag, value in (("--principal-angle", args.principal_angle), ("--minor-ratio", args.minor_ratio)):
         if value is not None and not two:

@@ -21,6 +21,13 @@ from ._plan_file import read_plan
 from ._run_bearing import bearing_of_flags as _bearing
 from ._run_bearing import fraction as _fraction
 from ._run_suite import add_suite_arguments, check_suite_flags
+from ._run_vertical import (
+    add_vertical_flag,
+    uplift_line,
+    uplift_summary,
+    vertical_component,
+    with_vertical,
+)
 
 STRUCTURES = ("rigid", "building", "slab")
 DEFAULT_TIME_STEP = 0.0025  # [s], systems.BIDIRECTIONAL_TIME_STEP (peaks within 0.5 % of Tsit5)
@@ -65,6 +72,7 @@ def add_run_parser(subparsers) -> None:
                    "optional name) run in one call; writes <json stem>.csv and .nc (default suite.*)")
     add_suite_arguments(p)
     p.add_argument("--record-y", default=None, help="y component (default: none)")
+    add_vertical_flag(p)
     p.add_argument("--record-units", default=None, help="acceleration unit of two-column files: "
                    "g, m/s^2, cm/s^2 or in/s^2 (required for them)")
     p.add_argument("--scale", type=float, default=1.0, help="scale factor on both components, > 0 (default 1)")
@@ -389,8 +397,8 @@ def run_run(args) -> int:
     check_suite_flags(args)
     pendulum_period(args)  # the isolator's flags, before the records are read
     if args.suite is not None:
-        if args.record_x is not None or args.record_y is not None:
-            raise ValueError("--suite: give the records in the suite file, not with --record-x/--record-y.")
+        if args.record_x is not None or args.record_y is not None or args.record_z is not None:
+            raise ValueError("--suite: give the records in the suite file, not with --record-x/--record-y/--record-z.")
         from ._run_suite import run_suite
 
         return run_suite(args, load_components, build_structure)
@@ -400,6 +408,7 @@ def run_run(args) -> int:
         raise ValueError(f"--histories: {args.histories} must end in .nc or .csv.")
     ax, ay, dt, notes = load_components(args)
     system, plan = build_structure(args, ax, ay, dt)
+    system = with_vertical(args, system, vertical_component(args, _read_component, dt, ax.size), dt)
     warn_time_step("run", float(system.time_step), args.time_step, dt, f"{dt:g}s")
     duration = (ax.size - 1) * dt
     print(f"teflon-jax run: {args.structure}, {round(duration / float(system.time_step))} steps of "
@@ -410,10 +419,14 @@ def run_run(args) -> int:
               "smaller --time-step.", file=sys.stderr)
         return 1
     peak, histories = response_summary(args, system, response, plan)
+    uplift = uplift_summary(response)
+    if uplift:
+        histories["load_factor"] = np.asarray(response.load_factor)
     payload = {
         "structure": args.structure,
         "record_x": str(args.record_x),
         "record_y": None if args.record_y is None else str(args.record_y),
+        "record_z": None if args.record_z is None else str(args.record_z),
         "scale": float(args.scale),
         "duration_s": duration,
         "record_time_step_s": dt,
@@ -425,9 +438,10 @@ def run_run(args) -> int:
         "lay_angle_deg": None if args.lay_angle is None else float(
             np.degrees(parse_quantity(args.lay_angle, "angle", where="--lay-angle"))),
         "peak": peak,
+        **uplift,
     }
     units = output_units(args.units)
-    for line in _shown_peaks(payload["peak"], units):
+    for line in _shown_peaks(payload["peak"], units) + [uplift_line(uplift)] * bool(uplift):
         print(line)
     if args.json is not None:
         path = pathlib.Path(args.json)

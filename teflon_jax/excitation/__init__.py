@@ -32,3 +32,7 @@ from ._stochastic import white_noise_intensity as white_noise_intensity
 from ._two_component import TwoComponentGroundMotion as TwoComponentGroundMotion
 from ._two_component import principal_covariance as principal_covariance
 from ._two_component import sample_two_components as sample_two_components
+from ._vertical_component import NEWMARK_VERTICAL_RATIO as NEWMARK_VERTICAL_RATIO
+from ._vertical_component import VERTICAL_FREQUENCY_RATIO as VERTICAL_FREQUENCY_RATIO
+from ._vertical_component import VerticalGroundMotion as VerticalGroundMotion
+from ._vertical_component import sample_with_vertical as sample_with_vertical

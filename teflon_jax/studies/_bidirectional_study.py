@@ -40,7 +40,8 @@ class BidirectionalPeaks(eqx.Module):
     """Peaks of a two-component run (the fields of `PeakResponse`, as resultants):
     `base_disp` [m], `base_shear_ratio` [-], their smooth maxima, `converged`; with
     `storey_height`, the building's `storey_drift` (2, S) [-] and `floor_acceleration`
-    (2, S + 1) [m/s^2] in x and y (`directional_storeys`), else `None`."""
+    (2, S + 1) [m/s^2] in x and y (`directional_storeys`), else `None`; with a vertical
+    record, `uplift_time` [s] (`PeakResponse`), else `None`."""
 
     base_disp: jnp.ndarray
     base_shear_ratio: jnp.ndarray
@@ -49,6 +50,7 @@ class BidirectionalPeaks(eqx.Module):
     converged: jnp.ndarray
     storey_drift: jnp.ndarray | None = None
     floor_acceleration: jnp.ndarray | None = None
+    uplift_time: jnp.ndarray | None = None
 
 
 class BidirectionalIsolatedStructure(eqx.Module):
@@ -162,10 +164,11 @@ def bidirectional_peak_response(
         return jnp.abs(drift), jnp.abs(acc)
 
     def body(carry, step_and_ground):
-        step, ground1 = step_and_ground
+        step, ground1, load1 = step_and_ground
         y, a, peaks, tops, totals, ok = carry
-        y1, converged = system.newmark_update(y, a, ground1)
-        a1 = system.acceleration_at(ground1, y1)
+        loaded = system.at_load(load1)  # the normal load at the step's end (vertical record)
+        y1, converged = loaded.newmark_update(y, a, ground1)
+        a1 = loaded.acceleration_at(ground1, y1)
         now = values(ground1, y1, a1) + storeys(ground1, y1, a1)  # smooth maxima: the first two
         read = (step + 1) % read_every == 0
         peaks = tuple(jnp.where(read, jnp.maximum(p, v), p) for p, v in zip(peaks, now))
@@ -175,14 +178,26 @@ def bidirectional_peak_response(
 
     y0 = bidirectional_initial_state(system)
     # the record at every step's end, evaluated at once outside the loop
-    ground = jax.vmap(system.ground)(jnp.arange(n_steps + 1) * dt)
-    a0 = system.acceleration_at(ground[0], y0)
+    times = jnp.arange(n_steps + 1) * dt
+    ground = jax.vmap(system.ground)(times)
+    loads = None if system.vertical_acceleration is None else jax.vmap(system.load_factor)(times)
+    if loads is not None:
+        system.vertical_acceleration.require_covers(n_steps * dt, "duration (vertical record)")
+    a0 = system.at_load(None if loads is None else loads[0]).acceleration_at(ground[0], y0)
     zero, one = jnp.zeros((), dtype), jnp.ones((), dtype)
     floors = tuple(jnp.zeros_like(v) for v in storeys(ground[0], y0, a0))
     carry = (y0, a0, (zero, zero) + floors, (zero, zero), (one, one), jnp.array(True))
-    (_, _, peaks, tops, totals, ok), _ = jax.lax.scan(body, carry, (jnp.arange(n_steps), ground[1:]))
+    (_, _, peaks, tops, totals, ok), _ = jax.lax.scan(
+        body, carry, (jnp.arange(n_steps), ground[1:], None if loads is None else loads[1:]))
     smooth = [top + w * jnp.log(s / (n_steps + 1)) for top, s, w in zip(tops, totals, widths)]
     return BidirectionalPeaks(base_disp=peaks[0], base_shear_ratio=peaks[1], smooth_base_disp=smooth[0],
                               smooth_base_shear_ratio=smooth[1], converged=ok,
                               **({} if storey_height is None else {"storey_drift": peaks[2],
-                                                                   "floor_acceleration": peaks[3]}))
+                                                                   "floor_acceleration": peaks[3]}),
+                              **({} if loads is None else {"uplift_time": uplift_time(system, loads, dt)}))
+
+
+def uplift_time(system, loads, dt):
+    """Time [s] of the steps 1.. whose end has N <= 0 (a_v <= -g), from the load factors."""
+    ends = jnp.arange(1, loads.shape[0]) * dt
+    return jnp.sum(1 + jax.vmap(system.vertical_acceleration)(ends) / STANDARD_GRAVITY <= 0) * dt

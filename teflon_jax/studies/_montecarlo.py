@@ -35,15 +35,18 @@ import numpy as np
 from ..excitation import (
     StochasticGroundMotion,
     TwoComponentGroundMotion,
+    VerticalGroundMotion,
     num_time_steps,
     sample,
     sample_two_components,
+    sample_with_vertical,
     uniform_signal,
 )
 from ..systems import (
     STEPS_PER_LOOP_PASS,
     BidirectionalStructure,
     IsolatedStructure,
+    VerticalIsolatedStructure,
     check_design,
     check_storey_height,
     peak_response,
@@ -92,7 +95,10 @@ def monte_carlo_motion(model: StochasticGroundMotion | TwoComponentGroundMotion,
     """The `index`-th motion [m/s^2] that `monte_carlo(structure, model, n, key=key)` draws
     (one sample from `jax.random.fold_in(key, index)`), e.g. to run it through another program:
     shape (nt,), or (2, nt) (x, y) for a `TwoComponentGroundMotion`, whose major component is
-    then the one-component motion `index` of `model.model`."""
+    then the one-component motion `index` of `model.model`; (2, nt) (horizontal, vertical)
+    for a `VerticalGroundMotion`."""
+    if isinstance(model, VerticalGroundMotion):
+        return sample_with_vertical(model, jax.random.fold_in(key, index), 1)[0]
     if isinstance(model, TwoComponentGroundMotion):
         return sample_two_components(model, jax.random.fold_in(key, index), 1)[0]
     return sample(model, jax.random.fold_in(key, index), 1)[0]
@@ -100,12 +106,16 @@ def monte_carlo_motion(model: StochasticGroundMotion | TwoComponentGroundMotion,
 
 def stochastic_grid(motions) -> tuple[float, int, int]:
     """(time step [s], samples, components) of a stochastic motion model."""
-    model = motions.model if isinstance(motions, TwoComponentGroundMotion) else motions
+    model = motions.model if isinstance(motions, (TwoComponentGroundMotion, VerticalGroundMotion)) else motions
     return model.time_step, num_time_steps(model), 2 if model is not motions else 1
 
 
 def motion_attributes(motions) -> dict:
     """What a results file says of two-component motions (empty for one component)."""
+    if isinstance(motions, VerticalGroundMotion):
+        return {"vertical_ratio": float(motions.vertical_ratio),
+                "vertical_frequency_ratio": float(motions.frequency_ratio),
+                "uplift": "uplift_time: time with N = W (1 + a_v / g) <= 0, isolators without shear"}
     if not isinstance(motions, TwoComponentGroundMotion):
         return {}
     return {"components": 2, "principal_angle_rad": float(motions.principal_angle),
@@ -115,7 +125,7 @@ def motion_attributes(motions) -> dict:
 
 
 class _Source(eqx.Module):
-    model: StochasticGroundMotion | TwoComponentGroundMotion | None
+    model: StochasticGroundMotion | TwoComponentGroundMotion | VerticalGroundMotion | None
     key: jax.Array | None
     time_step: float = eqx.field(static=True)
     samples: int = eqx.field(static=True)
@@ -124,11 +134,17 @@ class _Source(eqx.Module):
     def components(self) -> int:
         return 2 if isinstance(self.model, TwoComponentGroundMotion) else 1
 
+    @property
+    def vertical(self) -> bool:
+        """Whether each motion has a vertical component (`VerticalGroundMotion`)."""
+        return isinstance(self.model, VerticalGroundMotion)
+
     def signal(self, index, values):
-        """The motion's `Signal`, or its (x, y) pair of `Signal`s for two components."""
+        """The motion's `Signal`, or its (x, y) pair of `Signal`s for two components, or its
+        (horizontal, vertical) pair with a vertical component."""
         if self.model is not None:
             values = monte_carlo_motion(self.model, self.key, index)
-        if self.components == 2:
+        if self.components == 2 or self.vertical:
             return uniform_signal(values[0], self.time_step), uniform_signal(values[1], self.time_step)
         return uniform_signal(values, self.time_step)
 
@@ -137,6 +153,9 @@ def probe_structure(structure, source: _Source, design):
     """The shapes of one system `structure` builds for `source`'s motions (nothing computed);
     `ValueError` naming `structure` when it does not take that number of components."""
     two = source.components == 2
+    if source.vertical != isinstance(structure, VerticalIsolatedStructure):
+        raise ValueError("structure: motions with a vertical component (VerticalGroundMotion) need "
+                         "with_vertical_component(isolated_structure(...)), and only they.")
     if two and isinstance(structure, IsolatedStructure):
         raise ValueError("structure: two-component motions need bidirectional_isolated_structure(...), "
                          "not isolated_structure(...).")
@@ -147,7 +166,7 @@ def probe_structure(structure, source: _Source, design):
 
     def build(values):
         ground = uniform_signal(values, source.time_step)
-        return structure((ground, ground) if two else ground, design)
+        return structure((ground, ground) if two or source.vertical else ground, design)
 
     probe = jax.eval_shape(build, shape)
     if two != isinstance(probe, BidirectionalStructure):
@@ -201,6 +220,8 @@ class ChunkRunner:
                 peaks = one(None) if design_all is None else jax.vmap(one)(design_all)
                 if source.components == 2:  # peak resultant |a_g|
                     return peaks, jnp.max(jnp.hypot(signal[0].values, signal[1].values))
+                if source.vertical:  # the horizontal one's
+                    return peaks, jnp.max(jnp.abs(signal[0].values))
                 return peaks, jnp.max(jnp.abs(signal.values))
 
             return jax.vmap(per_motion)(indices, values)
@@ -311,7 +332,7 @@ def monte_carlo(
     probe_design = None if design_arrays is None else {k: v[0] for k, v in design_arrays.items()}
     probe = probe_structure(structure, source, probe_design)
     n_dof = probe.mass.shape[-1]
-    per_motion = bytes_per_motion(source.components * source.samples, n_dof, n_designs)
+    per_motion = bytes_per_motion((source.components + source.vertical) * source.samples, n_dof, n_designs)
     estimate = chunk * per_motion
     _check_chunk_memory(chunk, per_motion, memory_limit_bytes, devices)
     read_every = _read_every(peak_interval, probe.time_step)
@@ -322,7 +343,7 @@ def monte_carlo(
     outputs = _run_chunks(runner, motions, n_total, chunk, n_chunks, first_motion, progress)
     peaks, pga = jax.tree_util.tree_map(lambda *xs: np.concatenate(xs, axis=0)[:n_total], *outputs)
     return MonteCarloResult(
-        **_peak_fields(peaks, design_arrays is not None, storey_height is not None),
+        **_peak_fields(peaks, design_arrays is not None, storey_height is not None, source.vertical),
         pga=np.asarray(pga),
         design={} if design_arrays is None else {k: np.asarray(v) for k, v in design_arrays.items()},
         dims=("motion",) if design_arrays is None else ("design", "motion"),
@@ -341,7 +362,7 @@ def _motion_source(motions, n_motions, key) -> tuple:
     if isinstance(motions, RecordSet):
         n_total = motions.acceleration.shape[0] if n_motions is None else n_motions
         source = _Source(None, None, motions.time_step, motions.acceleration.shape[1])
-    elif isinstance(motions, (StochasticGroundMotion, TwoComponentGroundMotion)):
+    elif isinstance(motions, (StochasticGroundMotion, TwoComponentGroundMotion, VerticalGroundMotion)):
         if n_motions is None:
             raise ValueError("n_motions: give the number of stochastic motions to draw (> 0).")
         n_total = n_motions
@@ -350,7 +371,8 @@ def _motion_source(motions, n_motions, key) -> tuple:
         source = _Source(motions, key, time_step, samples)
     else:
         raise ValueError(
-            "motions: expected a StochasticGroundMotion, a TwoComponentGroundMotion or a RecordSet, "
+            "motions: expected a StochasticGroundMotion, a TwoComponentGroundMotion, a VerticalGroundMotion "
+            "or a RecordSet, "
             f"got {type(motions).__name__}."
         )
     if isinstance(n_total, bool) or not isinstance(n_total, (int, np.integer)) or n_total <= 0:
@@ -398,7 +420,7 @@ def _design_arrays(design, structure) -> tuple:
             f"{ {k: tuple(v.shape) for k, v in design_arrays.items()} }."
         )
     n_designs = sizes.pop()
-    if isinstance(structure, (IsolatedStructure, BidirectionalIsolatedStructure)):
+    if isinstance(structure, (IsolatedStructure, BidirectionalIsolatedStructure, VerticalIsolatedStructure)):
         check_design(getattr(structure, "uniaxial", structure), design_arrays)
     return design_arrays, n_designs
 
@@ -433,7 +455,7 @@ def _read_every(peak_interval, time_step) -> int:
     return read_every
 
 
-def _peak_fields(peaks, with_designs: bool, with_storeys: bool) -> dict:
+def _peak_fields(peaks, with_designs: bool, with_storeys: bool, vertical: bool = False) -> dict:
     """The peak arrays of a `MonteCarloResult`, (design, motion) when designs were run."""
 
     def arrange(x):
@@ -448,6 +470,7 @@ def _peak_fields(peaks, with_designs: bool, with_storeys: bool) -> dict:
         "converged": arrange(peaks.converged),
         "storey_drift": arrange(peaks.storey_drift) if with_storeys else None,
         "floor_acceleration": arrange(peaks.floor_acceleration) if with_storeys else None,
+        **({"uplift_time": arrange(peaks.uplift_time)} if vertical else {}),
     }
 
 

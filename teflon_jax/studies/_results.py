@@ -66,7 +66,10 @@ class MonteCarloResult:
     - `storey_drift` [-] (N, S) or (D, N, S), `floor_acceleration` [m/s^2] (N, S + 1) or
       (D, N, S + 1): a building's peak drift ratio per storey (storey 1 first) and total
       acceleration per level (0 the base slab, then floors 1..S) (`monte_carlo(storey_height=...)`),
-      with two components an axis of the two directions (x, y) before the last; else `None`.
+      with two components an axis of the two directions (x, y) before the last; else `None`;
+    - `uplift_time` [s] (N,) or (D, N): with a vertical component, how long each run's
+      isolators had N <= 0 (no shear; 0: no uplift); their peaks are kept in the statistics
+      (the uplift is part of the modelled response); else `None`.
     """
 
     base_disp: np.ndarray
@@ -85,6 +88,16 @@ class MonteCarloResult:
     attrs: dict = dataclasses.field(default_factory=dict)
     storey_drift: np.ndarray | None = None
     floor_acceleration: np.ndarray | None = None
+    uplift_time: np.ndarray | None = None
+
+    @property
+    def n_uplifted(self) -> int | list | None:
+        """Runs whose isolators uplifted (N <= 0 at some step), a list per design variant;
+        `None` without a vertical component."""
+        if self.uplift_time is None:
+            return None
+        counts = np.sum(np.asarray(self.uplift_time) > 0, axis=-1)
+        return int(counts) if counts.ndim == 0 else counts.tolist()
 
     @property
     def n_motions(self) -> int:
@@ -165,6 +178,9 @@ class MonteCarloResult:
                 direction = ("direction",) if values.ndim == len(dims) + 2 else ()  # two components: x, y
                 data[name] = (dims + direction + (dim,), values,
                               {"units": units, "long_name": long_name})
+        if self.uplift_time is not None:
+            data["uplift_time"] = (dims, np.asarray(self.uplift_time),
+                                   {"units": "s", "long_name": "time with the isolators' normal load <= 0"})
         data["pga"] = (("motion",), np.asarray(self.pga),
                        {"units": "m s-2", "long_name": "peak |ground acceleration| of the motion"})
         for name, values in self.design.items():
@@ -205,6 +221,7 @@ class MonteCarloResult:
             memory_estimate_bytes=int(settings["memory_estimate_bytes"]),
             attrs=json.loads(dataset.attrs.get("teflon_jax_attrs", "{}")),
             **{name: np.asarray(dataset[name].values) for name in STOREY_VARIABLES if name in dataset},
+            uplift_time=np.asarray(dataset["uplift_time"].values) if "uplift_time" in dataset else None,
         )
 
     def to_csv(self, path) -> pathlib.Path:
@@ -224,6 +241,8 @@ class MonteCarloResult:
                             ("smooth_base_shear_ratio", "smooth_base_shear_ratio"),
                             ("converged", "converged")):
             columns[label] = np.asarray(getattr(self, name)).reshape(-1)
+        if self.uplift_time is not None:
+            columns["uplift_time_s"] = np.asarray(self.uplift_time).reshape(-1)
         for name, unit, first in (("storey_drift", "", 1), ("floor_acceleration", "_m_s2", 0)):
             values = getattr(self, name)
             if values is not None:

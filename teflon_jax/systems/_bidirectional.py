@@ -27,14 +27,19 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 
-from ..bearing import SlidingBearing, heat_kernel_exponentials, park_rate
+from ..bearing import SlidingBearing, park_rate
 from ..excitation import Signal
 from ..solver import (
     AbstractSteppedSystem,
     park_exact_update,
-    require_riccati_form,
 )
 from ._bearing_test import running_peak_rate
+from ._bidirectional_vertical import (
+    loaded_bidirectional,
+    loaded_heat,
+    loaded_solve,
+    pendulum_change,
+)
 from ._block_algebra import (
     affine,
     block_matvec,
@@ -44,7 +49,7 @@ from ._block_algebra import (
     solve_blocks,
 )
 from ._history import has_history, history_factor, history_rates, next_history
-from ._structure_build import HEAT_HORIZON, PRESSURE_HINT, STRUCTURE_EFFECTS
+from ._vertical import load_factor_at
 
 NEWTON_ITERATIONS = 100
 """Most iterations per step, all kinds together (fixed, Broyden loop, finite-difference Newton
@@ -78,7 +83,11 @@ class BidirectionalStructure(AbstractSteppedSystem):
     in units of Y; 0: to rounding); for a bearing with heating or wear (`_history.py`):
     `contact_pressure` (G,) [Pa] and the heat kernel's `heat_rates`, `heat_weights` (K,),
     with the state "heat" (G, K) and "travel" (G,) [m] of each group, their factor on mu
-    taken at the start of each step and held over it.
+    taken at the start of each step and held over it. `vertical_acceleration`: `Signal` of
+    a_v(t) [m/s^2, up +] or `None`: the groups' normal loads are then s W_g with
+    s = max(1 + a_v / g, 0), on the friction and on `pendulum_stiffness` W_g / R (G,) [N/m]
+    (the part of K the load carries), `_bidirectional_vertical.py`; `load` is the s of a copy
+    at one time (`at_load`).
     """
 
     mass: jnp.ndarray
@@ -97,6 +106,17 @@ class BidirectionalStructure(AbstractSteppedSystem):
     contact_pressure: jnp.ndarray | None = None
     heat_rates: jnp.ndarray | None = None
     heat_weights: jnp.ndarray | None = None
+    vertical_acceleration: Signal | None = None
+    pendulum_stiffness: jnp.ndarray | None = None
+    load: jnp.ndarray | None = None
+
+    def load_factor(self, t):
+        """N(t) / W [-] at time t [s]; `None` without a vertical record."""
+        return load_factor_at(self.vertical_acceleration, t)
+
+    def at_load(self, load):
+        """This structure under the load factor `load` (itself for `None`): `loaded_bidirectional`."""
+        return self if load is None else loaded_bidirectional(self, load)
 
     @property
     def history(self) -> bool:
@@ -141,11 +161,13 @@ class BidirectionalStructure(AbstractSteppedSystem):
         return -self.mass * small_dot(self.influence, ground)
 
     def _acceleration(self, t, y):
-        return self.acceleration_at(self.ground(t), y)
+        return self.at_load(self.load_factor(t)).acceleration_at(self.ground(t), y)
 
     def acceleration_at(self, ground, y):
         """Acceleration [m/s^2 or rad/s^2] of state `y` under ground acceleration `ground` (2,)."""
         forces = self.bearing_forces(y)
+        if self.load is not None:  # the pendulum's (s - 1) W_g / R d_g
+            forces = forces + pendulum_change(self)[:, None] * self.bearing_motion(y["q"])
         restoring = jnp.sum(self.bearing_map * forces[..., None], axis=(0, 1))
         total = self._load(ground) - small_dot(self.damping, y["v"]) - small_dot(self.stiffness, y["q"]) - restoring
         return total / self.mass
@@ -164,6 +186,7 @@ class BidirectionalStructure(AbstractSteppedSystem):
         if self.history:
             speed = jnp.sqrt(jnp.sum(velocity**2, axis=-1))
             mu = self.at_state(y).bearing.coefficient(velocity[:, 0], velocity[:, 1], y["z_peak"])
+            mu, speed = loaded_heat(self.at_load(self.load_factor(t)), mu, speed)
             rates["heat"], rates["travel"] = history_rates(
                 self.bearing, y["heat"], mu, self.contact_pressure, speed, self.heat_rates)
         return rates
@@ -180,13 +203,14 @@ class BidirectionalStructure(AbstractSteppedSystem):
         t1 = eqx.error_if(
             t1, jnp.abs((t1 - t0) - dt) > slack, "step differs from the structure's time_step"
         )
-        return self.newmark_update(y0, a0, self.ground(t1))
+        return self.at_load(self.load_factor(t1)).newmark_update(y0, a0, self.ground(t1))
 
     def newmark_update(self, y0, a0, ground1):
         """One step of `time_step` from state `y0` with acceleration `a0`, given the ground
         acceleration `ground1` (a_x, a_y) [m/s^2] at its end (a loop over a grid of steps can
         evaluate the record at all of them at once, outside the loop). A bearing with history
-        steps with its friction at the start of the step, then advances its heat and travel."""
+        steps with its friction at the start of the step, then advances its heat and travel.
+        A loaded copy (`at_load`, the load factor at the step's end) steps under that load."""
         if not self.history:
             return self._update(y0, a0, ground1)
         stepped = self.at_state(y0)
@@ -195,7 +219,7 @@ class BidirectionalStructure(AbstractSteppedSystem):
                       self.bearing_motion(y0["v"]))
         slide = jnp.sqrt(jnp.sum((d1 - d0) ** 2, axis=-1))
         mu0 = stepped.bearing.coefficient(v0[:, 0], v0[:, 1], y0["z_peak"])
-        mu0 = mu0 * self._asymmetry(y0["z"][:, 0])[1]
+        mu0, slide = loaded_heat(self, mu0 * self._asymmetry(y0["z"][:, 0])[1], slide)
         heat, travel = next_history(self.bearing, y0["heat"], y0["travel"], slide, mu0,
                                     self.contact_pressure, self.time_step, self.heat_rates)
         return {**y1, "heat": heat, "travel": travel}, converged
@@ -225,7 +249,10 @@ class BidirectionalStructure(AbstractSteppedSystem):
             "z0": (y0["z"][:, 0], y0["z"][:, 1]),
             "z_peak0": z_peak,
         }
-        (fx, fy), z1, converged = self._solve_bearings(p)
+        if self.load is None:
+            (fx, fy), z1, converged = self._solve_bearings(p)
+        else:  # the pendulum's change of stiffness moved into the bearings' problem
+            (fx, fy), z1, converged = loaded_solve(self, p)
         q1 = q_linear - matvec(cx, fx) - matvec(cy, fy)
         v1 = 2 / dt * (q1 - q0) - v0
         return {"q": q1, "v": v1, "z": z1, "z_peak": z_peak}, converged
@@ -399,85 +426,3 @@ class BidirectionalStructure(AbstractSteppedSystem):
 def _largest(r):
     """Largest |r| over the x and y parts of a residual."""
     return jnp.maximum(jnp.max(jnp.abs(r[0])), jnp.max(jnp.abs(r[1])))
-
-
-def bidirectional_structure(
-    *,
-    mass,
-    stiffness,
-    damping,
-    influence,
-    bearing_map,
-    bearing: SlidingBearing,
-    bearing_load,
-    ground_x: Signal,
-    ground_y: Signal,
-    time_step: float,
-    newton_iterations: int = NEWTON_ITERATIONS,
-    contact_pressure=None,
-) -> BidirectionalStructure:
-    """Build a `BidirectionalStructure`, checking shapes and prefactoring Newmark's matrix
-    K_eff = K + (2/dt) C + (4/dt^2) M for `time_step` [s]. Bearing constants are broadcast to
-    one per group; a bearing with heating needs `contact_pressure` [Pa] (one, or one per
-    group)."""
-    mass = jnp.asarray(mass, dtype=float)
-    n = mass.shape[0]
-    bearing_map = jnp.asarray(bearing_map, dtype=float)
-    bearing_load = jnp.atleast_1d(jnp.asarray(bearing_load, dtype=float))
-    groups = bearing_load.shape[0]
-    if bearing_map.shape != (groups, 2, n):
-        raise ValueError(
-            f"bearing_map: shape {bearing_map.shape}, expected (groups, 2, dofs) = ({groups}, 2, {n})."
-        )
-    if not time_step > 0:
-        raise ValueError(f"time_step: must be > 0 s, got {time_step}.")
-    require_riccati_form(bearing.hysteresis)
-    other = [name for name in bearing.effects if name not in STRUCTURE_EFFECTS]
-    if other:
-        raise ValueError(
-            f"bearing: the structures in two directions do not run its "
-            f"{', '.join(other)} (they run Eq. 1 at the resultant speed, Park's Z, "
-            "breakaway, anisotropy, stacks, heating, wear and asymmetry)"
-            + (PRESSURE_HINT if "pressure_dependence" in other else "."))
-    rates = weights = None
-    if bearing.heating is not None:
-        if contact_pressure is None:
-            raise ValueError("contact_pressure: a bearing with heating needs the contact pressure "
-                             "[Pa] of the bearings (the heat flux is mu p |v|).")
-        rates, weights = (jnp.asarray(a) for a in heat_kernel_exponentials(float(time_step),
-                                                                           HEAT_HORIZON))
-        contact_pressure = jnp.broadcast_to(jnp.asarray(contact_pressure, float), (groups,))
-    bearing = jax.tree_util.tree_map(
-        lambda leaf: jnp.broadcast_to(jnp.asarray(leaf, dtype=float), (groups,)), bearing
-    )
-    stiffness = jnp.asarray(stiffness, dtype=float).reshape(n, n)
-    damping = jnp.asarray(damping, dtype=float).reshape(n, n)
-    k_eff = stiffness + 2 / time_step * damping + 4 / time_step**2 * jnp.diag(mass)
-    return BidirectionalStructure(
-        mass=mass,
-        stiffness=stiffness,
-        damping=damping,
-        influence=jnp.asarray(influence, dtype=float).reshape(n, 2),
-        bearing_map=bearing_map,
-        bearing=bearing,
-        bearing_load=bearing_load,
-        ground_x=ground_x,
-        ground_y=ground_y,
-        newmark_inverse=jnp.linalg.inv(k_eff),
-        time_step=float(time_step),
-        newton_iterations=int(newton_iterations),
-        contact_pressure=contact_pressure if bearing.heating is not None else None,
-        heat_rates=rates,
-        heat_weights=weights,
-    )
-
-
-def bidirectional_initial_state(system: BidirectionalStructure) -> dict:
-    """At rest relative to the ground, Z = 0 in every group (and cold, unworn bearings)."""
-    n, groups = system.mass.shape[0], system.bearing_load.shape[0]
-    state = {"q": jnp.zeros(n), "v": jnp.zeros(n), "z": jnp.zeros((groups, 2)),
-             "z_peak": jnp.zeros(groups)}
-    if system.history:
-        n_heat = 0 if system.heat_rates is None else system.heat_rates.shape[0]
-        state.update(heat=jnp.zeros((groups, n_heat)), travel=jnp.zeros(groups))
-    return state

@@ -11,7 +11,8 @@ import numpy as np
 from ..bearing import SlidingBearing
 from ..excitation import Signal
 from ..tables import BuildingData
-from ._bidirectional import BidirectionalStructure, bidirectional_structure
+from ._bidirectional import BidirectionalStructure
+from ._bidirectional_build import bidirectional_structure
 from ._models import rigid_mass, six_storey_building
 
 BIDIRECTIONAL_TIME_STEP = 0.0025

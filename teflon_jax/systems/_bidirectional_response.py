@@ -9,7 +9,9 @@ import jax
 import jax.numpy as jnp
 
 from ..solver import RiccatiNewmark, solve_on_grid
-from ._bidirectional import BidirectionalStructure, bidirectional_initial_state
+from ._bidirectional import BidirectionalStructure
+from ._bidirectional_build import bidirectional_initial_state
+from ._vertical import uplift_steps
 
 
 class BidirectionalResponse(eqx.Module):
@@ -18,7 +20,9 @@ class BidirectionalResponse(eqx.Module):
     - `time` (nt,) [s]; `q`, `v` (nt, N) relative coordinates and velocities;
     - `acceleration` (nt, N) relative accelerations; `ground` (nt, 2) [m/s^2];
     - `bearing_displacement` (nt, G, 2) [m]; `friction_force` (nt, G, 2) [N];
-    - `z` (nt, G, 2) [-]; `z_peak` (nt, G) [-]; `result`: `diffrax.RESULTS` (0 = successful).
+    - `z` (nt, G, 2) [-]; `z_peak` (nt, G) [-]; `result`: `diffrax.RESULTS` (0 = successful);
+    - `load_factor` (nt,) [-]: N / W, 0 while uplifted, and `uplift_time` [s] (the steps with
+      N <= 0 times the step), with a vertical record; else `None`.
     """
 
     time: jnp.ndarray
@@ -31,6 +35,8 @@ class BidirectionalResponse(eqx.Module):
     z: jnp.ndarray
     z_peak: jnp.ndarray
     result: object
+    load_factor: jnp.ndarray | None = None
+    uplift_time: jnp.ndarray | None = None
 
     @property
     def succeeded(self):
@@ -59,6 +65,8 @@ def simulate_bidirectional(
     n_steps = int(round(duration / dt + 1e-9))
     if n_steps < 1:
         raise ValueError(f"duration: must be at least one time step ({dt} s), got {duration}.")
+    if system.vertical_acceleration is not None:
+        system.vertical_acceleration.require_covers(n_steps * dt, "duration (vertical record)")
     steps = jnp.arange(n_steps + 1) * dt
     save_times = steps[::save_every]
     solver = RiccatiNewmark() if solver is None else solver
@@ -69,9 +77,10 @@ def simulate_bidirectional(
     )
     ys = solution.ys
     ground = jax.vmap(system.ground)(save_times)
-    acceleration = jax.vmap(lambda t, y: system.acceleration_at(system.ground(t), y))(save_times, ys)
+    acceleration = jax.vmap(system._acceleration)(save_times, ys)
     bearing_d = jax.vmap(system.bearing_motion)(ys["q"])
-    forces = jax.vmap(system.bearing_forces)(ys)
+    forces = jax.vmap(lambda t, y: system.at_load(system.load_factor(t)).bearing_forces(y))(save_times, ys)
+    loads = None if system.vertical_acceleration is None else jax.vmap(system.load_factor)(save_times)
     return BidirectionalResponse(
         time=save_times,
         q=ys["q"],
@@ -83,4 +92,6 @@ def simulate_bidirectional(
         z=ys["z"],
         z_peak=ys["z_peak"],
         result=solution.result,
+        load_factor=loads,
+        uplift_time=None if loads is None else uplift_steps(system, n_steps) * dt,
     )

@@ -16,8 +16,9 @@ from ..excitation import Signal, uniform_signal
 from ..tables import BuildingData, load_table2
 from ..units import STANDARD_GRAVITY
 from ..validation import concrete, require
-from ._structure import FRICTION_MODELS, StructureOnSliders, StructureResponse
+from ._structure import FRICTION_MODELS, StructureOnSliders
 from ._structure_build import structure_on_sliders
+from ._structure_response import StructureResponse
 
 
 def _check(value, name: str, rule, text: str) -> None:

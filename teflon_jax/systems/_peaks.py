@@ -7,12 +7,9 @@ import jax.numpy as jnp
 from ..units import STANDARD_GRAVITY
 from ._block_algebra import small_dot
 from ._storey_peaks import storey_rows, storey_start
-from ._structure import (
-    WRITTEN_OUT_PRODUCT,
-    StructureOnSliders,
-    check_duration,
-    initial_state,
-)
+from ._structure import WRITTEN_OUT_PRODUCT, StructureOnSliders, initial_state
+from ._structure_response import check_duration
+from ._vertical import uplift_steps
 
 STEPS_PER_LOOP_PASS = 2
 """`peak_response(steps_per_pass=...)` of the Monte Carlo runs (`monte_carlo`): two steps
@@ -39,6 +36,8 @@ class PeakResponse(eqx.Module):
       from the base slab to floor 1), and `floor_acceleration` (n,) [m/s^2] its peak total
       acceleration per level (0 the base slab on the isolators, 1.. the floors) (`storey_rows`),
       when `peak_response` was given `storey_height`; else `None`.
+    - `uplift_time` [s]: with a vertical record, the steps whose end has N <= 0 (the isolators
+      uplifted, carrying no shear) times the step (0: no uplift); else `None`.
     """
 
     base_disp: jnp.ndarray
@@ -48,6 +47,7 @@ class PeakResponse(eqx.Module):
     converged: jnp.ndarray
     storey_drift: jnp.ndarray | None = None
     floor_acceleration: jnp.ndarray | None = None
+    uplift_time: jnp.ndarray | None = None
 
 
 def smooth_max(x, width, axis=-1):
@@ -146,9 +146,9 @@ def peak_response(
     rows = None if storey_height is None else storey_rows(system, storey_height)
 
     def body(carry, step_and_ground):
-        step, ground1 = step_and_ground
+        step, ground1, load1 = step_and_ground
         state, peaks, tops, totals, ok = carry
-        state, base_disp, shear_ratio, converged, force = _advance(system, propagator, state, ground1)
+        state, base_disp, shear_ratio, converged, force = _advance(system, propagator, state, ground1, load1)
         storeys = () if rows is None else (rows[0] @ state[0], rows[1] @ state[0] + rows[2] * force)
         values = (base_disp, shear_ratio) + storeys  # the smooth maxima below take the first two
         read = (step + 1) % read_every == 0
@@ -159,10 +159,13 @@ def peak_response(
         return (state, peaks, tops, totals, ok & converged), None
 
     # the record at every step's end, evaluated at once outside the loop
-    ground = jax.vmap(system.ground_acceleration)(jnp.arange(n_steps + 1) * dt)
-    carry = _start_carry(system, ground[0], rows, dtype)
-    (_, peaks, tops, totals, ok), _ = jax.lax.scan(body, carry, (jnp.arange(n_steps), ground[1:]),
-                                                   unroll=steps_per_pass)
+    times = jnp.arange(n_steps + 1) * dt
+    ground = jax.vmap(system.ground_acceleration)(times)
+    loads = None if system.vertical_acceleration is None else jax.vmap(system.load_factor)(times)
+    carry = _start_carry(system, ground[0], rows, dtype, None if loads is None else loads[0])
+    (_, peaks, tops, totals, ok), _ = jax.lax.scan(
+        body, carry, (jnp.arange(n_steps), ground[1:], None if loads is None else loads[1:]),
+        unroll=steps_per_pass)
     smooth = [a + w * jnp.log(s / (n_steps + 1)) for a, s, w in zip(tops, totals, widths)]
     return PeakResponse(
         base_disp=peaks[0],
@@ -171,6 +174,7 @@ def peak_response(
         smooth_base_shear_ratio=smooth[1],
         converged=ok,
         **({} if rows is None else {"storey_drift": peaks[2], "floor_acceleration": peaks[3]}),
+        **({} if loads is None else {"uplift_time": uplift_steps(system, n_steps) * dt}),
     )
 
 
@@ -190,43 +194,44 @@ def _log_sum_exp_update(top, total, x, width):
     return new_top, total
 
 
-def _advance(system, propagator, state, ground1):
+def _advance(system, propagator, state, ground1, load1=None):
     """One step of the peak loop: (state, base displacement, base shear ratio, converged,
-    bearing force F = mu W Z of the stored state).
+    isolator force of the stored state: F = mu W Z and the pendulum's force beyond K u).
 
     The state (u, v), the bearing force per unit Z and its slope of the stored state
     (`friction_factors`) and the ground acceleration at the start of the step, advanced by
     `step_propagator` (one product per step); the same step as `newmark_update` to rounding.
     A bearing with history (heating, wear) steps with its friction at the start of the step
-    (`at_history`) and carries its heat states and travel in `history`.
+    (`at_history`) and carries its heat states and travel in `history`. With a vertical
+    record the state also carries the load factor N / W of its time (`load1` at the end).
     """
     step_matrix, force_column, shear_row, shear_force = propagator
     n = system.mass.shape[-1]
-    x, z, z_peak, start_factors, ground0, history = state
+    x, z, z_peak, start_factors, ground0, history, load0 = state
     stepped = system
     if history:  # the force at the step's start with the friction of the start's history
         stepped = system.at_history(*history)
-        start_factors = stepped.friction_factors(x[n], z_peak)
+        start_factors = stepped.friction_factors(x[n], z_peak, load0)
     x1, z1, z_peak1, converged = stepped.propagated_step(x, z, z_peak, start_factors, ground0, ground1,
-                                                         (step_matrix, force_column))
-    factors1 = stepped.friction_factors(x1[n], z_peak1)  # of the stored state: F = mu W Z
+                                                         (step_matrix, force_column), load0, load1)
+    factors1 = stepped.friction_factors(x1[n], z_peak1, load1)  # of the stored state: F = mu W Z
     friction = factors1[0] * z1 * system.asymmetry_factor(z1)
     bearing_force = friction
-    if system.surface is not None:  # the pendulum's force beyond W u / R
-        bearing_force = bearing_force + system.surface_force(x1[0])
+    if system.surface is not None or load1 is not None:  # the pendulum's force beyond W u / R
+        bearing_force = bearing_force + system.surface_force(x1[0], load1)
     shear = small_dot(shear_row, x1, WRITTEN_OUT_PRODUCT) + shear_force * bearing_force
     if history:
-        history = system.next_history(*history, x[0], x1[0], x[n], z_peak, z)
-    return (x1, z1, z_peak1, factors1, ground1, history), x1[0], shear, converged, friction
+        history = system.next_history(*history, x[0], x1[0], x[n], z_peak, z, load0)
+    return (x1, z1, z_peak1, factors1, ground1, history, load1), x1[0], shear, converged, bearing_force
 
 
-def _start_carry(system, ground0, rows, dtype):
+def _start_carry(system, ground0, rows, dtype, load0=None):
     """Carry of the peak loop at rest: (state, peaks, tops, totals, all converged)."""
     zero = jnp.zeros((), dtype)
     one = jnp.ones((), dtype)
     y0 = initial_state(system)
-    start_factors = system.friction_factors(y0["v"][0], y0["z_peak"])
+    start_factors = system.friction_factors(y0["v"][0], y0["z_peak"], load0)
     history = (y0["heat"], y0["travel"]) if system.history else ()
     state = (jnp.concatenate([y0["u"], y0["v"]]), y0["z"], y0["z_peak"], start_factors, ground0,
-             history)
+             history, load0)
     return (state, (zero, zero) + storey_start(rows, dtype), (zero, zero), (one, one), jnp.array(True))

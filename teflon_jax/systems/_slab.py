@@ -22,7 +22,8 @@ import numpy as np
 from ..bearing import SlidingBearing
 from ..excitation import Signal
 from ..units import STANDARD_GRAVITY
-from ._bidirectional import BidirectionalStructure, bidirectional_structure
+from ._bidirectional import BidirectionalStructure
+from ._bidirectional_build import bidirectional_structure
 
 LOAD_TOLERANCE = 1e-3
 """Relative mismatch allowed between the sum of the tributary loads and the weight."""

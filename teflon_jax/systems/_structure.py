@@ -14,7 +14,6 @@ Reference: Constantinou, Mokha & Reinhorn (1990), J. Struct. Eng. 116(2), Eqs. 2
 
 
 import equinox as eqx
-import jax
 import jax.numpy as jnp
 
 from ..bearing import (
@@ -30,6 +29,7 @@ from ._block_algebra import small_dot
 from ._history import has_history, history_factor, history_rates, next_history
 from ._isolator_solve import isolator_root, predicted_root
 from ._propagators import newmark_step_matrices
+from ._vertical import load_factor_at, loaded_isolator_force, loaded_surface_force
 
 FRICTION_MODELS = ("hysteretic", "coulomb", "none")
 
@@ -99,6 +99,9 @@ class StructureOnSliders(AbstractSteppedSystem):
       restrainer adds a nonlinear force E(u0) = `extra_force` at the isolator, solved with the
       friction in each step (hysteretic friction only); its linear part W / R is in
       `stiffness`. `None`: flat sliders, or a pendulum in the small-rotation form alone.
+    - `vertical_acceleration`: `Signal` of a_v(t) [m/s^2, up +] or `None`: the normal load is
+      then N = W max(1 + a_v / g, 0), on the friction and on `pendulum_stiffness` W / R [N/m]
+      (the part of K[0, 0] the load carries), `_vertical.py` (`with_vertical_motion`).
     """
 
     mass: jnp.ndarray
@@ -120,6 +123,12 @@ class StructureOnSliders(AbstractSteppedSystem):
     heat_rates: jnp.ndarray | None = None
     heat_weights: jnp.ndarray | None = None
     surface: ConcaveSurface | None = None
+    vertical_acceleration: Signal | None = None
+    pendulum_stiffness: jnp.ndarray | None = None
+
+    def load_factor(self, t):
+        """N(t) / W [-] at time t [s] (`normal_load_factor`); `None` without a vertical record."""
+        return load_factor_at(self.vertical_acceleration, t)
 
     @property
     def history(self) -> bool:
@@ -141,28 +150,37 @@ class StructureOnSliders(AbstractSteppedSystem):
         """`at_history` of the state `y` (itself for a bearing without history)."""
         return self.at_history(y["heat"], y["travel"]) if self.history else self
 
-    def next_history(self, heat, travel, u0, u1, v0, z_peak0, z0=0.0):
+    def next_history(self, heat, travel, u0, u1, v0, z_peak0, z0=0.0, load0=None):
         """Heat states and travel after a step from isolator displacement `u0` to `u1` [m]: the
         heat flux of the friction at the step's start, q = mu(v0) (1 + a z0) p |u1 - u0| /
-        (dt n), held over the step (as `respond_along_path` does between samples)."""
+        (dt n), held over the step (as `respond_along_path` does between samples); with the
+        load factor `load0`, q scales with it and an uplifted bearing (0) counts no travel."""
         mu0 = self.at_history(heat, travel).bearing.coefficient(v0, 0.0, z_peak0)
         mu0 = mu0 * self.asymmetry_factor(z0)
-        return next_history(self.bearing, heat, travel, jnp.abs(u1 - u0), mu0,
+        slide = jnp.abs(u1 - u0)
+        if load0 is not None:
+            mu0, slide = mu0 * load0, jnp.where(load0 > 0, slide, 0.0)
+        return next_history(self.bearing, heat, travel, slide, mu0,
                             self.contact_pressure, self.time_step, self.heat_rates)
 
-    def surface_force(self, u0):
+    def surface_force(self, u0, load=None):
         """E(u0) [N]: the surface's force beyond W u0 / R at isolator displacement u0 [m]
-        (`ConcaveSurface.extra_force` under the bearings' load W; 0 without `surface`)."""
+        (`ConcaveSurface.extra_force` under the bearings' load W; 0 without `surface`); with
+        the load factor `load` = N / W, `loaded_surface_force`."""
+        if load is not None:
+            return loaded_surface_force(self, u0, load)
         if self.surface is None:
             return jnp.zeros_like(jnp.asarray(u0, dtype=float))
         return self.surface.extra_force(u0, self.bearing_load)
 
-    def friction_force(self, velocity, z, z_peak):
-        """F = mu W Z [N] at isolator `velocity` [m/s] (times `asymmetry_factor`)."""
+    def friction_force(self, velocity, z, z_peak, load=None):
+        """F = mu W Z [N] at isolator `velocity` [m/s] (times `asymmetry_factor`, and the
+        load factor N / W `load` when given)."""
         if self.friction_model == "none":
             return jnp.zeros_like(z)
         force = self.bearing.coefficient(velocity, 0.0, z_peak) * self.bearing_load * z
-        return force * self.asymmetry_factor(z)
+        force = force * self.asymmetry_factor(z)
+        return force if load is None else force * load
 
     def asymmetry_factor(self, z):
         """1 + a Z [-] of a bearing with direction asymmetry (`DirectionAsymmetry`), else 1."""
@@ -170,25 +188,28 @@ class StructureOnSliders(AbstractSteppedSystem):
             return 1.0
         return self.bearing.asymmetry.factor(z)
 
-    def friction_factors(self, velocity, z_peak):
+    def friction_factors(self, velocity, z_peak, load=None):
         """(mu W [N], d(mu W)/dv [N s/m]) at isolator `velocity` [m/s]: the bearing force per
         unit Z (F = mu W Z, `friction_force`) and its slope in the velocity, written out
-        (`SlidingBearing.uniaxial_coefficient`); zeros for friction_model "none"."""
+        (`SlidingBearing.uniaxial_coefficient`); zeros for friction_model "none"; times the
+        load factor N / W `load` when given."""
         if self.friction_model == "none":
             zero = jnp.zeros_like(jnp.asarray(velocity, dtype=float))
             return zero, zero
         mu, slope = self.bearing.uniaxial_coefficient(velocity, z_peak)
-        return mu * self.bearing_load, slope * self.bearing_load
+        load = self.bearing_load if load is None else self.bearing_load * load
+        return mu * load, slope * load
 
     def _acceleration(self, t, y):
-        return self.acceleration_at(self.ground_acceleration(t), y)
+        return self.acceleration_at(self.ground_acceleration(t), y, self.load_factor(t))
 
-    def acceleration_at(self, ground, y):
-        """Relative acceleration [m/s^2] of state `y` under ground acceleration `ground` [m/s^2]."""
+    def acceleration_at(self, ground, y, load=None):
+        """Relative acceleration [m/s^2] of state `y` under ground acceleration `ground` [m/s^2]
+        (and the load factor N / W `load`)."""
         force = -self.mass * ground - self.damping @ y["v"] - self.stiffness @ y["u"]
-        bearing_force = self.at_state(y).friction_force(y["v"][0], y["z"], y["z_peak"])
-        if self.surface is not None:
-            bearing_force = bearing_force + self.surface_force(y["u"][0])
+        bearing_force = self.at_state(y).friction_force(y["v"][0], y["z"], y["z_peak"], load)
+        if self.surface is not None or load is not None:
+            bearing_force = bearing_force + self.surface_force(y["u"][0], load)
         force = force.at[0].add(-bearing_force)
         return force / self.mass
 
@@ -207,14 +228,18 @@ class StructureOnSliders(AbstractSteppedSystem):
             "z_peak": running_peak_rate(jnp.abs(y["z"]), y["z_peak"], jnp.sign(y["z"]) * dz),
         }
         if self.history:
-            rates.update(self._history_rates(y))
+            rates.update(self._history_rates(y, self.load_factor(t)))
         return rates
 
-    def _history_rates(self, y):
-        """d(heat)/dt = q - lambda heat (the kernel's states), d(travel)/dt = |v|."""
+    def _history_rates(self, y, load=None):
+        """d(heat)/dt = q - lambda heat (the kernel's states), d(travel)/dt = |v| (q times the
+        load factor `load`, no travel while uplifted)."""
         mu = self.at_state(y).bearing.coefficient(y["v"][0], 0.0, y["z_peak"])
+        speed = jnp.abs(y["v"][0])
+        if load is not None:
+            mu, speed = mu * load, jnp.where(load > 0, speed, 0.0)
         heat, travel = history_rates(self.bearing, y["heat"], mu, self.contact_pressure,
-                                     jnp.abs(y["v"][0]), self.heat_rates)
+                                     speed, self.heat_rates)
         return {"heat": heat, "travel": travel}
 
     def advance(self, t0, t1, y0, args):
@@ -230,7 +255,8 @@ class StructureOnSliders(AbstractSteppedSystem):
         t1 = eqx.error_if(
             t1, jnp.abs((t1 - t0) - dt) > slack, "step differs from the structure's time_step"
         )
-        return self.newmark_update(y0, a0, self.ground_acceleration(t1), self.ground_acceleration(t0))
+        return self.newmark_update(y0, a0, self.ground_acceleration(t1), self.ground_acceleration(t0),
+                                   self.load_factor(t0), self.load_factor(t1))
 
     def step_matrices(self):
         """(R (2n, 2n + 3), f (2n,)) of one step by `linear_rule` (`_propagators.py`):
@@ -239,23 +265,24 @@ class StructureOnSliders(AbstractSteppedSystem):
             return self.exact_step[:, :-1], self.exact_step[:, -1]
         return newmark_step_matrices(self.mass, self.stiffness, self.damping, self.newmark_inverse, self.time_step)
 
-    def newmark_update(self, y0, a0, ground1, ground0=None):
+    def newmark_update(self, y0, a0, ground1, ground0=None, load0=None, load1=None):
         """One step of `time_step` (by `linear_rule`) from state `y0` with relative
         acceleration `a0` [m/s^2], given the ground acceleration `ground1` [m/s^2] at its end
         and, for the "exact" rule, `ground0` at its start (a loop over a grid of steps can
         evaluate the record at all of them at once, outside the loop). A bearing with history
         steps with its friction at the start of the step (`at_state`), then advances the
-        history (`next_history`)."""
+        history (`next_history`). `load0`, `load1`: the load factors N / W at both ends (with
+        `vertical_acceleration`; `a0` then is the acceleration under `load0`)."""
         if not self.history:
-            return self._update(y0, a0, ground1, ground0)
-        y1, converged = self.at_state(y0)._update(y0, a0, ground1, ground0)
+            return self._update(y0, a0, ground1, ground0, load0, load1)
+        y1, converged = self.at_state(y0)._update(y0, a0, ground1, ground0, load0, load1)
         heat, travel = self.next_history(y0["heat"], y0["travel"], y0["u"][0], y1["u"][0],
-                                         y0["v"][0], y0["z_peak"], y0["z"])
+                                         y0["v"][0], y0["z_peak"], y0["z"], load0)
         return {**y1, "heat": heat, "travel": travel}, converged
 
-    def _update(self, y0, a0, ground1, ground0):
+    def _update(self, y0, a0, ground1, ground0, load0=None, load1=None):
         if self.linear_rule == "exact":
-            return self._exact_update(y0, ground0, ground1)
+            return self._exact_update(y0, ground0, ground1, load0, load1)
         dt = self.time_step
         m, u0, v0 = self.mass, y0["u"], y0["v"]
         rhs = (
@@ -265,45 +292,48 @@ class StructureOnSliders(AbstractSteppedSystem):
         )
         u_linear = self.newmark_inverse @ rhs  # response with the bearing force removed
         compliance = self.newmark_inverse[:, 0]  # response to a unit force at the isolator
-        force, z1, z_peak1, converged = self.isolator_force(u_linear[0], y0)
+        force, z1, z_peak1, converged = self.isolator_force(u_linear[0], y0, load=load1)
         u1 = u_linear - compliance * force
         v1 = 2 / dt * (u1 - u0) - v0
         return {"u": u1, "v": v1, "z": z1, "z_peak": z_peak1}, converged
 
-    def _exact_update(self, y0, ground0, ground1):
+    def _exact_update(self, y0, ground0, ground1, load0=None, load1=None):
         if ground0 is None:
             raise ValueError("newmark_update: the exact linear rule needs ground0, the ground "
                              "acceleration at the start of the step.")
         n = self.mass.shape[-1]
-        start_factors = self.friction_factors(y0["v"][0], y0["z_peak"])
+        start_factors = self.friction_factors(y0["v"][0], y0["z_peak"], load0)
         x1, z1, z_peak1, converged = self.propagated_step(
-            jnp.concatenate([y0["u"], y0["v"]]), y0["z"], y0["z_peak"], start_factors, ground0, ground1)
+            jnp.concatenate([y0["u"], y0["v"]]), y0["z"], y0["z_peak"], start_factors, ground0, ground1,
+            load0=load0, load1=load1)
         return {"u": x1[:n], "v": x1[n:], "z": z1, "z_peak": z_peak1}, converged
 
-    def propagated_step(self, x0, z0, z_peak0, start_factors, ground0, ground1, matrices=None):
+    def propagated_step(self, x0, z0, z_peak0, start_factors, ground0, ground1, matrices=None,
+                        load0=None, load1=None):
         """One step as the linear map (u1, v1) = R w + f F of `step_matrices` (or `matrices`,
         the same computed once outside a loop), w = (u0, v0, a_g0, F_r0, a_g1), with F solved by
         `isolator_force`.
 
         **Arguments:** `x0` = (u0, v0) (2n,) [m, m/s]; `z0`, `z_peak0` [-]; `start_factors`
         (mu W, d(mu W)/dv) of the start state (`friction_factors`; F_r0 = mu W z0);
-        `ground0`, `ground1` [m/s^2] at both ends.
+        `ground0`, `ground1` [m/s^2] at both ends; `load0`, `load1` the load factors N / W
+        there (with `vertical_acceleration`; `start_factors` then under `load0`).
 
         **Returns:** ((u1, v1), Z, running peak of |Z|, whether the solve converged).
         """
         n = self.mass.shape[-1]
         step_matrix, force_column = self.step_matrices() if matrices is None else matrices
         start_force = start_factors[0] * z0 * self.asymmetry_factor(z0)
-        if self.surface is not None:
-            start_force = start_force + self.surface_force(x0[0])
+        if self.surface is not None or load0 is not None:
+            start_force = start_force + self.surface_force(x0[0], load0)
         w = jnp.concatenate([x0, jnp.stack([ground0, start_force, ground1])])
         linear = small_dot(step_matrix, w, WRITTEN_OUT_PRODUCT)
         force, z1, z_peak1, converged = self.isolator_force(
             linear[0], {"u": x0[:n], "v": x0[n:], "z": z0, "z_peak": z_peak0}, linear[n],
-            (-force_column[0], -force_column[n]), start_factors)
+            (-force_column[0], -force_column[n]), start_factors, load1)
         return linear + force_column * force, z1, z_peak1, converged
 
-    def isolator_force(self, ub_linear, y0, vb_linear=None, compliance=None, start_factors=None):
+    def isolator_force(self, ub_linear, y0, vb_linear=None, compliance=None, start_factors=None, load=None):
         """The bearing force F [N] at the end of a step (and Z, the running peak of |Z| and
         whether the solve converged), given the isolator's displacement `ub_linear` [m] and
         velocity `vb_linear` [m/s] at the end of the step without the force and the state `y0`
@@ -311,7 +341,8 @@ class StructureOnSliders(AbstractSteppedSystem):
         (ub_linear, vb_linear) - (g0, gv) F with `compliance` = (g0 [m/N], gv [m/(N s)]);
         Newmark's (the default): g0 = K_eff^-1[0, 0], gv = 2 g0 / dt and
         vb_linear = 2 / dt (ub_linear - ub0) - vb0. `start_factors`: `friction_factors` of
-        `y0` (computed when not given), for the Newton iteration's first guess."""
+        `y0` (computed when not given), for the Newton iteration's first guess. `load`: the
+        load factor N / W at the end of the step (`loaded_isolator_force`)."""
         dt = self.time_step
         ub0, vb0 = y0["u"][0], y0["v"][0]
         if compliance is None:
@@ -320,6 +351,8 @@ class StructureOnSliders(AbstractSteppedSystem):
         if vb_linear is None:
             vb_linear = 2 / dt * (ub_linear - ub0) - vb0
         g0, gv = compliance
+        if load is not None:
+            return loaded_isolator_force(self, ub_linear, vb_linear, compliance, y0, start_factors, load)
         z0 = y0["z"]
         if self.surface is not None and self.friction_model != "hysteretic":
             raise ValueError("surface: the pendulum's nonlinear force is solved with hysteretic "
@@ -349,7 +382,8 @@ class StructureOnSliders(AbstractSteppedSystem):
         stick_force = v_star / h
         sticking = jnp.abs(stick_force) <= capacity
         force = jnp.where(sticking, stick_force, capacity * jnp.sign(v_star))
-        return force, force / capacity
+        loaded = capacity > 0  # not while uplifted (N = 0): Z = sgn(v*) there
+        return force, jnp.where(loaded, force / jnp.where(loaded, capacity, 1.0), jnp.sign(v_star))
 
     def _hysteretic_force(self, ub_linear, vb_linear, ub0, vb0, z0, z_peak, g0, gv, start_factors):
         h = require_riccati_form(self.bearing.hysteresis)
@@ -392,102 +426,3 @@ def initial_state(system: StructureOnSliders) -> dict:
         rates = system.heat_rates if system.heat_rates is not None else jnp.zeros(0)
         state.update(heat=jnp.zeros_like(rates), travel=jnp.zeros(()))
     return state
-
-
-class StructureResponse(eqx.Module):
-    """Response histories of a `StructureOnSliders` (SI; time along the first axis).
-
-    - `time` [s]; `displacement`, `velocity` (nt, n) relative to the ground [m, m/s];
-    - `total_acceleration` (nt, n) [m/s^2] (relative + ground);
-    - `friction_force` (nt,) [N] on the isolator; `z`, `z_peak` (nt,) [-];
-    - `ground_acceleration` (nt,) [m/s^2]; `result`: `diffrax.RESULTS` (0 = successful).
-    """
-
-    time: jnp.ndarray
-    displacement: jnp.ndarray
-    velocity: jnp.ndarray
-    total_acceleration: jnp.ndarray
-    friction_force: jnp.ndarray
-    z: jnp.ndarray
-    z_peak: jnp.ndarray
-    ground_acceleration: jnp.ndarray
-    result: object
-
-    @property
-    def succeeded(self):
-        import diffrax
-
-        return self.result == diffrax.RESULTS.successful
-
-
-def check_duration(system: StructureOnSliders, duration: float) -> int:
-    """Number of `time_step`s in `duration` [s] (rounded down), after checking that it is at
-    least one step and that the ground-acceleration record lasts that long (a `Signal` is zero
-    past its last sample; ask for a shorter duration or append zeros on purpose)."""
-    dt = float(system.time_step)
-    n_steps = int(round(duration / dt + 1e-9))
-    if n_steps < 1:
-        raise ValueError(f"duration: must be at least one time step ({dt} s), got {duration}.")
-    system.ground_acceleration.require_covers(n_steps * dt, "duration")
-    return n_steps
-
-
-def simulate_structure(
-    system: StructureOnSliders,
-    duration: float,
-    *,
-    save_every: int = 1,
-    solver=None,
-    rtol: float = 1e-8,
-    atol: float = 1e-10,
-    max_steps: int | None = None,
-    adjoint=None,
-    throw: bool = True,
-) -> StructureResponse:
-    """Integrate a structure on sliders from rest over `duration` [s].
-
-    **Arguments:**
-
-    - `system`: from `structure_on_sliders` or the model builders (rigid mass, building).
-    - `duration` [s]: end time; a multiple of `system.time_step` is used (rounded down). It
-      may not exceed the ground-acceleration record (see `check_duration`).
-    - `save_every`: keep every k-th step.
-    - `solver`: `RiccatiNewmark()` (default; fixed step `system.time_step`; Bouc-Wen with
-      eta = 2 and gamma > beta only) or an adaptive diffrax solver (e.g. `diffrax.Tsit5()` with
-      `rtol`, `atol`), for converged reference solutions and for any other Bouc-Wen shape.
-    - `adjoint`: a diffrax adjoint; default `RecursiveCheckpointAdjoint()` (reverse mode);
-      pass `diffrax.ForwardMode()` for `jax.jvp`/`jax.jacfwd` (cheaper with few parameters).
-    - `throw`: raise on solver failure; with `False` (e.g. under vmap) the code is in `result`.
-
-    **Returns:** a `StructureResponse` sampled every `save_every` steps.
-    """
-
-    from ..solver import RiccatiNewmark, solve_on_grid
-
-    n_steps = check_duration(system, duration)
-    dt = float(system.time_step)
-    steps = jnp.arange(n_steps + 1) * dt
-    save_times = steps[::save_every]
-    solver = RiccatiNewmark() if solver is None else solver
-    if isinstance(solver, RiccatiNewmark) and system.friction_model == "hysteretic":
-        require_riccati_form(system.bearing.hysteresis)
-    solution = solve_on_grid(
-        system, solver, steps, save_times, initial_state(system),
-        jump_times=system.ground_acceleration.times, rtol=rtol, atol=atol, max_steps=max_steps,
-        adjoint=adjoint, throw=throw,
-    )
-    ys = solution.ys
-    ag = jax.vmap(system.ground_acceleration)(save_times)
-    relative = jax.vmap(system._acceleration)(save_times, ys)
-    friction = jax.vmap(lambda y: system.at_state(y).friction_force(y["v"][0], y["z"], y["z_peak"]))(ys)
-    return StructureResponse(
-        time=save_times,
-        displacement=ys["u"],
-        velocity=ys["v"],
-        total_acceleration=relative + ag[:, None],
-        friction_force=friction,
-        z=ys["z"],
-        z_peak=ys["z_peak"],
-        ground_acceleration=ag,
-        result=solution.result,
-    )

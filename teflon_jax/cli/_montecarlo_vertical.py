@@ -1,0 +1,81 @@
+"""`teflon-jax montecarlo --vertical-ratio R`: every stochastic motion with a vertical
+component (`VerticalGroundMotion`) on the isolators' normal load, and the uplift it causes
+reported per motion and counted in the summary."""
+
+from ._common import add_quantity
+
+
+def add_vertical_flags(parser) -> None:
+    """`--vertical-ratio` and `--vertical-frequency-ratio`."""
+    add_quantity(parser, "--vertical-ratio", "dimensionless", None, "add a vertical component whose "
+                 "expected peak is this ratio times the horizontal --pga (Newmark, Blume & Kapur 1973: "
+                 "2/3; Bozorgnia & Campbell 2004: V/H of 0.5 far from the source to above 1 near it); the "
+                 "isolators' normal load becomes W (1 + a_v / g), uplift (N <= 0) is reported per motion "
+                 "(default: none, horizontal only)", minimum=0.0)
+    add_quantity(parser, "--vertical-frequency-ratio", "dimensionless", None, "with --vertical-ratio: "
+                 "the vertical component's Kanai-Tajimi (and high-pass) frequency over the horizontal "
+                 "one's; vertical motions are richer in short periods (default 2)", minimum=0.0)
+
+
+def check_vertical_flags(args) -> None:
+    """`ValueError` naming the flag for what the vertical component is not run with."""
+    if args.vertical_ratio is None:
+        if args.vertical_frequency_ratio is not None:
+            raise ValueError("--vertical-frequency-ratio: shapes the vertical component; add --vertical-ratio.")
+        return
+    others = [(args.components == 2, "--components 2"), (args.scheduler is not None, "--scheduler"),
+              (len(args.pga_levels) > 1, "several --pga levels"), (bool(args.limit), "--limit"),
+              (bool(args.storeys), "--storeys"), (args.pelicun_demands is not None, "--pelicun-demands"),
+              (args.property_factors is not None, "--property-factors")]
+    named = [name for wrong, name in others if wrong]
+    if named:
+        raise ValueError(f"--vertical-ratio: runs one horizontal component at one --pga in this process; "
+                         f"leave out {', '.join(named)}.")
+
+
+def vertical_model(args, model):
+    """`model` with its vertical component (`VerticalGroundMotion`), or `model` without the flag."""
+    if args.vertical_ratio is None:
+        return model
+    from ..excitation import VERTICAL_FREQUENCY_RATIO, VerticalGroundMotion
+
+    ratio = args.vertical_frequency_ratio
+    return VerticalGroundMotion(model, vertical_ratio=args.vertical_ratio,
+                                frequency_ratio=VERTICAL_FREQUENCY_RATIO if ratio is None else ratio)
+
+
+def vertical_structure(args, structure):
+    """`structure` taking (horizontal, vertical) motions with the flag, else itself."""
+    if args.vertical_ratio is None:
+        return structure
+    from ..systems import with_vertical_component
+
+    return with_vertical_component(structure)
+
+
+def uplift_payload(result, model) -> dict:
+    """The summary JSON's "vertical" entry: the component's ratios and the uplifted motions
+    (index and time with N <= 0), which stay in the statistics."""
+    import numpy as np
+
+    if result.uplift_time is None:
+        return {}
+    times = np.asarray(result.uplift_time).reshape(-1)
+    uplifted = np.flatnonzero(times > 0)
+    return {"vertical": {
+        "vertical_ratio": float(model.vertical_ratio), "frequency_ratio": float(model.frequency_ratio),
+        "normal_load": "N = W max(1 + a_v / g, 0) on friction and pendulum force; no shear while N <= 0",
+        "n_uplifted": int(uplifted.size), "uplifted_motions": uplifted.tolist(),
+        "uplift_time_s": times[uplifted].tolist(),
+        "statistics": "uplifted motions are kept: their peaks include the uplift, which the model "
+                      "represents (rigid superstructure, no vertical impact)"}}
+
+
+def uplift_message(payload: dict) -> str | None:
+    """The printed line of the summary's "vertical" entry (`uplift_payload`; None without one)."""
+    v = payload.get("vertical")
+    if v is None:
+        return None
+    shown = ", ".join(str(i) for i in v["uplifted_motions"][:20]) + (" ..." if v["n_uplifted"] > 20 else "")
+    return (f"  uplift (N <= 0): {v['n_uplifted']} motion(s)" + (f" ({shown}), kept in the statistics"
+                                                                  if v["n_uplifted"] else ""))
