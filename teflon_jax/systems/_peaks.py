@@ -13,6 +13,7 @@ from ._structure import (
     check_duration,
     initial_state,
 )
+from ._triple_structure import StructureOnTriple
 
 STEPS_PER_LOOP_PASS = 2
 """`peak_response(steps_per_pass=...)` of the Monte Carlo runs (`monte_carlo`): two steps
@@ -201,6 +202,11 @@ def _advance(system, propagator, state, ground1):
     (`at_history`) and carries its heat states and travel in `history`.
     """
     step_matrix, force_column, shear_row, shear_force = propagator
+    if isinstance(system, StructureOnTriple):  # the isolator's state in place of Z
+        x, isolator, ground0 = state
+        x1, isolator1, converged, bearing = system.step(x, isolator, ground0, ground1, (step_matrix, force_column))
+        shear = small_dot(shear_row, x1, WRITTEN_OUT_PRODUCT) + shear_force * isolator1[3]
+        return (x1, isolator1, ground1), x1[0], shear, converged, isolator1[3]
     n = system.mass.shape[-1]
     x, z, z_peak, start_factors, ground0, history = state
     stepped = system
@@ -224,6 +230,9 @@ def _start_carry(system, ground0, rows, dtype):
     """Carry of the peak loop at rest: (state, peaks, tops, totals, all converged)."""
     zero = jnp.zeros((), dtype)
     one = jnp.ones((), dtype)
+    if isinstance(system, StructureOnTriple):
+        state = (jnp.zeros(2 * system.mass.shape[-1], dtype), system.initial_isolator(), ground0)
+        return (state, (zero, zero) + storey_start(rows, dtype), (zero, zero), (one, one), jnp.array(True))
     y0 = initial_state(system)
     start_factors = system.friction_factors(y0["v"][0], y0["z_peak"])
     history = (y0["heat"], y0["travel"]) if system.history else ()
