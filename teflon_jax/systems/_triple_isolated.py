@@ -3,8 +3,10 @@
 from collections.abc import Mapping
 
 import equinox as eqx
+import jax
 
 from ..bearing import TriplePendulum, check_triple_pendulum
+from ..validation import concrete
 from ._triple_structure import (
     TRIPLE_NEWTON_ITERATIONS,
     TRIPLE_TOLERANCE,
@@ -63,7 +65,8 @@ def triple_isolated_structure(kind: str, triple: TriplePendulum | None, *, time_
                          "formats.load_isolator(path)).")
     if not isinstance(triple, TriplePendulum):
         raise ValueError(f"triple: expected a TriplePendulum, got {type(triple).__name__}.")
-    check_triple_pendulum(triple)
+    if all(concrete(leaf) is not None for leaf in jax.tree_util.tree_leaves(triple)):
+        check_triple_pendulum(triple)  # traced constants (gradients): the caller's to check
     if isinstance(time_step, bool) or not isinstance(time_step, (int, float)) or not time_step > 0:
         raise ValueError(f"time_step: must be a positive number of seconds, got {time_step!r}.")
     for name, reason in conflicting.items():

@@ -8,8 +8,12 @@ displacements add up to the isolator's. Slider e carries
 
 with R_e, d_e its radius and capacity (`series_radii`, `series_capacities`), Z_e from
 Bouc-Wen updated exactly along the step's increment, mu_e from Eq. 1 at the surface's mean
-velocity over the step, v_e = |increment| c_e / dt (`velocity_factors`; the rule OpenSees'
-`TripleFrictionPendulum` also uses), and the restrainer of stiffness `STOP_STIFFNESS_RATIO`
+velocity over the step, v_e = |increment| c_e / dt (`velocity_factors`; the velocity OpenSees'
+`TripleFrictionPendulum` takes too) where the slider moves the way its Z points, and f_min
+(Eq. 1 at rest) while Z still points back after a reversal (`slider_forces`). Without that
+exception the force of a slider reversing would fall as its increment grows (Eq. 1's rise with
+|increment| against Z's elastic slope, for steps below a few ms): the massless sliders of the
+series model would have no unique balance. The restrainer of stiffness `STOP_STIFFNESS_RATIO`
 W / R_e beyond the capacity. The linear structure carries a reference spring W / R_ref at the
 isolator (R_ref = b + c, the effective radius of the outer surfaces sliding together), and the
 step solves for the part of F beyond it.
@@ -26,6 +30,7 @@ import functools
 import equinox as eqx
 import jax
 import jax.numpy as jnp
+import numpy as np
 
 from ..bearing import STOP_STIFFNESS_RATIO, TriplePendulum, bouc_wen_exact_update, sliding_friction
 from ..excitation import Signal
@@ -137,14 +142,20 @@ def triple_structure(kind: str, triple: TriplePendulum, ground_acceleration: Sig
 
 def slider_forces(triple: TriplePendulum, load, slider0, z0, increment, time_step):
     """Forces F_e [N] (3,) of the three sliders after the increments `increment` (3,) [m]
-    from displacements `slider0` and Z `z0` (module docstring), and their Z (3,)."""
+    from displacements `slider0` and Z `z0` over a step of `time_step` [s] (module
+    docstring), and their Z (3,). The friction term is mu Z = f_min Z + (mu(v) - f_min)
+    s <s Z>_+, s = sgn(increment): Eq. 1 at the mean velocity v where the slider moves the
+    way its Z points, f_min (at rest) while Z still points back after a reversal."""
     radii, capacities = triple.series_radii(), triple.series_capacities()
     u = slider0 + increment
     z = bouc_wen_exact_update(triple.hysteresis, z0, increment, tangent="rational")
+    friction = triple.frictions()
     speed = jnp.abs(increment) * triple.velocity_factors() / time_step
-    mu = sliding_friction(triple.frictions(), speed)
+    f_min = friction.f_max - friction.delta_f
+    sign = jnp.where(increment >= 0, 1.0, -1.0)
+    mu_z = f_min * z + (sliding_friction(friction, speed) - f_min) * sign * jnp.maximum(sign * z, 0.0)
     over = jnp.sign(u) * jnp.maximum(jnp.abs(u) - capacities, 0.0)
-    return load * (u / radii + mu * z + STOP_STIFFNESS_RATIO * over / radii), z
+    return load * (u / radii + mu_z + STOP_STIFFNESS_RATIO * over / radii), z
 
 
 def _residual(d, p, dt):
@@ -204,7 +215,8 @@ def _balanced_jvp(dt, iterations, primals, tangents):
     d, converged = _balanced_increments(dt, iterations, p, guess, tolerance)
     _, slope = _residual_and_slopes(d, p, dt)
     r_p = jax.jvp(lambda q: _residual(d, q, dt), (p,), (tangents[0],))[1]
-    return (d, converged), (-_newton_direction(r_p, slope, p["G"]), jnp.zeros_like(converged))
+    no_tangent = np.zeros(np.shape(converged), jax.dtypes.float0)
+    return (d, converged), (-_newton_direction(r_p, slope, p["G"]), no_tangent)
 
 
 def imposed_isolator_force(triple: TriplePendulum, load, displacement, time_step: float, *, compliance=1e-12,
