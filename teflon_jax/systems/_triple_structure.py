@@ -32,7 +32,12 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..bearing import STOP_STIFFNESS_RATIO, TriplePendulum, bouc_wen_exact_update, sliding_friction
+from ..bearing import (
+    STOP_STIFFNESS_RATIO,
+    TriplePendulum,
+    bouc_wen_exact_update,
+    sliding_friction,
+)
 from ..excitation import Signal
 from ..units import STANDARD_GRAVITY
 from ._models import rigid_mass, six_storey_building
