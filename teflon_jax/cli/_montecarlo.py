@@ -307,7 +307,7 @@ def _check_flags(args) -> None:
         from ..studies import check_output_path
 
         check_output_path(args.out)
-    if args.bearing is None:  # else the bearing file's friction; --pressure is a contact pressure
+    if args.bearing is None and args.isolator != "triple-fp":  # else the file's friction
         check_table1(args.ptfe, args.pressure, args.pressure_text)
     _resolve_isolation(args)
     two = args.components == 2

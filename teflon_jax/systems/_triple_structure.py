@@ -114,7 +114,9 @@ class StructureOnTriple(eqx.Module):
         scale = 1 - g0 * k_ref  # the step without the reference spring: x = X - G F
         p = {"triple": self.triple, "W": self.bearing_load, "s0": slider0, "z0": z0,
              "D": linear[0] / scale - x0[0], "G": g0 / scale}
-        tolerance = self.newton_tolerance * self.bearing_load
+        eps = jnp.finfo(linear.dtype).eps  # F = (D - sum d) / G is known to eps |D| / G at best
+        tolerance = jnp.maximum(self.newton_tolerance * self.bearing_load,
+                                32 * eps * (self.bearing_load + jnp.abs(p["D"]) / p["G"]))
         d, converged = _balanced_increments(self.time_step, self.newton_iterations, p, previous, tolerance)
         force, z1 = slider_forces(self.triple, self.bearing_load, slider0, z0, d, self.time_step)
         bearing = jnp.mean(force)  # equal to rounding
