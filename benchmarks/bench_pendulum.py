@@ -1,13 +1,15 @@
-"""B7: Monte Carlo on single friction pendulums beside flat sliders with springs, in one run.
+"""B7: Monte Carlo on single and triple friction pendulums beside flat sliders with springs, in one run.
 
 The same forty-second Clough-Penzien motions (records at 0.01 s, 5 ms structure steps) run
 through the rigid mass and the six-storey building twice: on flat sliders with springs of
 period T = 2 pi sqrt(R / g) and no viscous damping, and on single friction pendulums of
-radius R (its small-rotation restoring force W u / R, the same period). Both are timed alike
+radius R (its small-rotation restoring force W u / R, the same period), and a third time on
+triple friction pendulums (`TRIPLE`: inner effective radius 0.3 m, outer 2.1 m, Eq. 1 on every
+surface; the series model's three sliders solved in each step). All are timed alike
 (`--motions` motions in chunks of `--chunk` (512, the CPU's default; 65536 on a GPU), the
-rate counted after the first chunk, which compiles; alternating flat and pendulum `--repeats`
-times); the record rate of each and the pendulum's share of the flat slider's
-are printed and written as JSON with the machine.
+rate counted after the first chunk, which compiles; alternating the isolators `--repeats`
+times); the record rate of each and each pendulum's share of the flat slider's are printed and
+written as JSON with the machine.
 
 Usage: `python benchmarks/bench_pendulum.py [--motions 2048] [--repeats 2] [--chunk 512] [--json OUT]`.
 """
@@ -23,13 +25,20 @@ import jax
 
 jax.config.update("jax_enable_x64", True)
 
+from teflon_jax.bearing import BoucWen, FrictionParameters, TriplePendulum  # noqa: E402
 from teflon_jax.excitation import StochasticGroundMotion  # noqa: E402
 from teflon_jax.studies import monte_carlo  # noqa: E402
-from teflon_jax.systems import isolated_structure  # noqa: E402
+from teflon_jax.systems import TRIPLE_MONTE_CARLO_TOLERANCE, isolated_structure  # noqa: E402
 from teflon_jax.units import INCH, PSI, STANDARD_GRAVITY  # noqa: E402
 
 RADIUS = 39.0 * INCH  # T = 2.0 s
 TIME_STEP = 0.005
+ISOLATORS = ("flat", "single-fp", "triple-fp")
+TRIPLE = TriplePendulum(inner_radius=0.3, bottom_radius=2.1, top_radius=2.1, inner_capacity=0.05,
+                        bottom_capacity=0.3, top_capacity=0.3,
+                        inner_friction=FrictionParameters(0.03, 0.015, 20.0),
+                        bottom_friction=FrictionParameters(0.08, 0.03, 20.0),
+                        top_friction=FrictionParameters(0.12, 0.05, 20.0), hysteresis=BoucWen(0.005 * INCH))
 
 
 def _motions():
@@ -42,6 +51,9 @@ def _structure(kind, isolator):
     if isolator == "flat":
         return isolated_structure(kind, time_step=TIME_STEP, pressure=1000 * PSI,
                                   isolation_period=period, isolation_damping=0.0)
+    if isolator == "triple-fp":
+        return isolated_structure(kind, time_step=TIME_STEP, isolator="triple-fp", triple=TRIPLE,
+                                  newton_tolerance=TRIPLE_MONTE_CARLO_TOLERANCE)
     return isolated_structure(kind, time_step=TIME_STEP, pressure=1000 * PSI,
                               isolator="single-fp", radius=RADIUS)
 
@@ -61,29 +73,34 @@ def main() -> None:
     parser.add_argument("--motions", type=int, default=2048, help="at least two chunks")
     parser.add_argument("--repeats", type=int, default=2)
     parser.add_argument("--chunk", type=int, default=512, help="motions per compiled call")
+    parser.add_argument("--isolators", nargs="+", default=list(ISOLATORS), choices=ISOLATORS,
+                        help="isolators to time, flat first (default all three)")
     parser.add_argument("--json", default=None)
     args = parser.parse_args()
     if args.motions < 2 * args.chunk:
         parser.error(f"--motions: at least two chunks of --chunk {args.chunk} are needed (the first compiles)")
+    if args.isolators[0] != "flat":
+        parser.error("--isolators: the shares are of the flat slider's rate; list flat first.")
     motions = _motions()
     out = {"machine": {"platform": platform.platform(), "processor": platform.processor(),
                        "cpus": os.cpu_count(), "devices": [d.device_kind for d in jax.devices()],
                        "load_average": os.getloadavg()},
            "motions": args.motions, "chunk": args.chunk, "radius_m": RADIUS, "time_step_s": TIME_STEP, "rates": {}}
     for kind in ("rigid", "building"):
-        rates = {"flat": [], "single-fp": []}
+        rates = {isolator: [] for isolator in args.isolators}
         means = {}
         for _ in range(args.repeats):
-            for isolator in ("flat", "single-fp"):
+            for isolator in args.isolators:
                 rate, mean = _rate(_structure(kind, isolator), motions, args.motions, args.chunk)
                 rates[isolator].append(rate)
                 means[isolator] = mean
-        share = max(rates["single-fp"]) / max(rates["flat"])
-        out["rates"][kind] = {"records_per_s": rates, "pendulum_share": share,
-                              "mean_peak_base_disp_m": means}
-        print(f"{kind}: flat {', '.join(f'{r:.0f}' for r in rates['flat'])} records/s; single FP "
-              f"{', '.join(f'{r:.0f}' for r in rates['single-fp'])} records/s; share {share:.2f}; "
-              f"mean peak {means['flat']:.4f} m flat, {means['single-fp']:.4f} m pendulum")
+        shares = {isolator: max(rates[isolator]) / max(rates["flat"]) for isolator in args.isolators[1:]}
+        out["rates"][kind] = {"records_per_s": rates, "pendulum_share": shares.get("single-fp"),
+                              "triple_share": shares.get("triple-fp"), "mean_peak_base_disp_m": means}
+        print(f"{kind}: " + "; ".join(f"{isolator} {', '.join(f'{r:.0f}' for r in rates[isolator])} records/s"
+                                      for isolator in args.isolators)
+              + "; shares of flat " + ", ".join(f"{k} {v:.2f}" for k, v in shares.items())
+              + "; mean peaks " + ", ".join(f"{k} {v:.4f} m" for k, v in means.items()))
     if args.json:
         with open(args.json, "w") as handle:
             json.dump(out, handle, indent=2)

@@ -262,6 +262,11 @@ def _structure(args, two: bool):
     from ..studies import bidirectional_isolated_structure
     from ..systems import MONTE_CARLO_NEWTON_TOLERANCE, isolated_structure
 
+    if args.isolator == "triple-fp":
+        from ._triple import triple_montecarlo_structure
+
+        return triple_montecarlo_structure(args)
+
     solver = {} if args.newton_iterations is None else {"newton_iterations": args.newton_iterations}
     if not two:
         solver["newton_tolerance"] = (MONTE_CARLO_NEWTON_TOLERANCE if args.newton_tolerance is None
@@ -297,6 +302,7 @@ def _payload(args, result, structure, model, units, stats, files) -> dict:
                    "isolation_period_s": args.isolation_period,
                    "isolation_damping": args.isolation_damping,
                    "isolator": args.isolator, "radius_m": args.radius,
+                   **({"isolator_file": str(args.isolator_file)} if args.isolator_file is not None else {}),
                    **({"ptfe": args.ptfe} if args.bearing is None else {"bearing": str(args.bearing)})},
         "motions": {"model": "Clough-Penzien, Jennings-Housner-Tsai envelope",
                     "pga_g": args.pga / STANDARD_GRAVITY, "duration_s": args.duration,
@@ -327,7 +333,7 @@ def _check_flags(args) -> None:
         from ..studies import check_output_path
 
         check_output_path(args.out)
-    if args.bearing is None:  # else the bearing file's friction; --pressure is a contact pressure
+    if args.bearing is None and args.isolator != "triple-fp":  # else the file's friction
         check_table1(args.ptfe, args.pressure, args.pressure_text)
     _resolve_isolation(args)
     check_vertical_flags(args)
@@ -344,7 +350,10 @@ def _resolve_isolation(args) -> None:
     """The isolator's flags checked (`pendulum_period`) and the defaults of the isolation
     system in place: Tb = 2 s and 5 % on flat sliders; 2 pi sqrt(R / g) and 0 on a pendulum."""
     period = pendulum_period(args)
-    if period is not None:
+    if args.isolator == "triple-fp":  # its period and damping follow from its surfaces
+        args.isolation_period, args.isolation_period_text = None, f"of {args.isolator_file}"
+        args.isolation_damping, args.isolation_damping_text = 0.0, "0"
+    elif period is not None:
         args.isolation_period, args.isolation_period_text = period, f"{period:.4g}s (R = {args.radius_text})"
     elif args.isolation_period_text is None:
         args.isolation_period, args.isolation_period_text = 2.0, "2s"

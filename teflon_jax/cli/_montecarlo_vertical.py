@@ -26,7 +26,8 @@ def check_vertical_flags(args) -> None:
     others = [(args.components == 2, "--components 2"), (args.scheduler is not None, "--scheduler"),
               (len(args.pga_levels) > 1, "several --pga levels"), (bool(args.limit), "--limit"),
               (bool(args.storeys), "--storeys"), (args.pelicun_demands is not None, "--pelicun-demands"),
-              (args.property_factors is not None, "--property-factors")]
+              (args.property_factors is not None, "--property-factors"),
+              (args.isolator == "triple-fp", "--isolator triple-fp")]
     named = [name for wrong, name in others if wrong]
     if named:
         raise ValueError(f"--vertical-ratio: runs one horizontal component at one --pga in this process; "

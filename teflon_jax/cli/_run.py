@@ -396,6 +396,10 @@ def run_run(args) -> int:
 
     check_suite_flags(args)
     pendulum_period(args)  # the isolator's flags, before the records are read
+    if args.isolator == "triple-fp":  # one component: `_triple.run_triple`
+        from ._triple import run_triple
+
+        return run_triple(args, load_components, _shown_peaks, write_histories, plot_run, output_units)
     if args.suite is not None:
         if args.record_x is not None or args.record_y is not None or args.record_z is not None:
             raise ValueError("--suite: give the records in the suite file, not with --record-x/--record-y/--record-z.")

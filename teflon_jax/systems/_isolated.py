@@ -12,6 +12,7 @@ from ..bearing import (
     ConcaveSurface,
     FrictionParameters,
     SlidingBearing,
+    TriplePendulum,
     concave_surface,
     paper_bearing,
 )
@@ -22,12 +23,15 @@ from ._models import rigid_mass, six_storey_building
 from ._propagators import LINEAR_RULES
 from ._structure import NEWTON_ITERATIONS, NEWTON_TOLERANCE, StructureOnSliders
 from ._structure_build import check_structure_parts
+from ._triple_isolated import TripleIsolatedStructure, triple_isolated_structure
+from ._triple_structure import TRIPLE_NEWTON_ITERATIONS
 
 STRUCTURES = ("rigid", "building")
 
-ISOLATORS = ("flat", "single-fp")
-"""Isolators of the structures: flat sliders (with springs of period T_b, or none) and the
-single friction pendulum (a concave surface of radius R, `ConcaveSurface`)."""
+ISOLATORS = ("flat", "single-fp", "triple-fp")
+"""Isolators of the structures: flat sliders (with springs of period T_b, or none), the
+single friction pendulum (a concave surface of radius R, `ConcaveSurface`) and the triple
+friction pendulum (`TriplePendulum`, one direction: `TripleIsolatedStructure`)."""
 
 
 DESIGN_VARIABLES = (
@@ -265,7 +269,8 @@ def isolated_structure(
     isolator: str = "flat",
     radius=None,
     surface: ConcaveSurface | None = None,
-) -> IsolatedStructure:
+    triple: TriplePendulum | None = None,
+) -> IsolatedStructure | TripleIsolatedStructure:
     """An `IsolatedStructure` with its inputs checked (`ValueError` naming the parameter).
 
     **Arguments:** see `IsolatedStructure`; `pressure` [Pa] must lie inside the Table 1 rows
@@ -277,10 +282,29 @@ def isolated_structure(
     converged). `isolator`: "flat" (the default) or "single-fp", a single friction pendulum of
     `radius` R [m] > 0 (then `isolation_period` must be `None`: the period is 2 pi sqrt(R / g)),
     or of `surface`, a `ConcaveSurface` (`concave_surface`) with a restrainer or the
-    large-displacement form (with hysteretic friction).
+    large-displacement form (with hysteretic friction). "triple-fp": a triple friction
+    pendulum `triple` (`TriplePendulum`) in one direction, a `TripleIsolatedStructure` (its
+    friction is its surfaces' Eq. 1; `newton_tolerance` is then the sliders' force imbalance
+    over W, default `TRIPLE_TOLERANCE`); the other isolators' inputs are refused with it.
     """
     if kind not in STRUCTURES:
         raise ValueError(f"structure: unknown {kind!r}; accepted: {', '.join(STRUCTURES)}.")
+    if isolator == "triple-fp":
+        given = {"radius": (radius, "its radii are in the TriplePendulum"),
+                 "surface": (surface, "its surfaces are in the TriplePendulum"),
+                 "bearing": (bearing, "the friction of its surfaces is in the TriplePendulum"),
+                 "isolation_period": (isolation_period if isolation_period is not DEFAULT_ISOLATION_PERIOD
+                                      else None, "its period follows from its radii"),
+                 "isolation_damping": (isolation_damping or None, "its damping is its friction")}
+        if friction_model != "hysteretic":
+            given["friction_model"] = (friction_model, "its sliders follow Bouc-Wen's Z")
+        return triple_isolated_structure(
+            kind, triple, time_step=RECOMMENDED_TIME_STEPS[kind] if time_step is None else time_step,
+            newton_iterations=newton_iterations if newton_iterations != NEWTON_ITERATIONS else TRIPLE_NEWTON_ITERATIONS,
+            newton_tolerance=None if newton_tolerance == NEWTON_TOLERANCE else newton_tolerance,
+            conflicting={name: reason for name, (value, reason) in given.items() if value is not None})
+    if triple is not None:
+        raise ValueError(f"triple: applies to the triple-fp isolator only, not {isolator!r}.")
     given_period = isolation_period is not DEFAULT_ISOLATION_PERIOD
     surface = _surface(isolator, radius, isolation_period if given_period else None, surface)
     if surface is not None and not is_linear_surface(surface) and friction_model != "hysteretic":

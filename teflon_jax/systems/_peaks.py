@@ -9,6 +9,7 @@ from ._block_algebra import small_dot
 from ._storey_peaks import storey_rows, storey_start
 from ._structure import WRITTEN_OUT_PRODUCT, StructureOnSliders, initial_state
 from ._structure_response import check_duration
+from ._triple_structure import StructureOnTriple
 from ._vertical import uplift_steps
 
 STEPS_PER_LOOP_PASS = 2
@@ -206,6 +207,11 @@ def _advance(system, propagator, state, ground1, load1=None):
     record the state also carries the load factor N / W of its time (`load1` at the end).
     """
     step_matrix, force_column, shear_row, shear_force = propagator
+    if isinstance(system, StructureOnTriple):  # the isolator's state in place of Z
+        x, isolator, ground0 = state
+        x1, isolator1, converged, bearing = system.step(x, isolator, ground0, ground1, (step_matrix, force_column))
+        shear = small_dot(shear_row, x1, WRITTEN_OUT_PRODUCT) + shear_force * isolator1[3]
+        return (x1, isolator1, ground1), x1[0], shear, converged, isolator1[3]
     n = system.mass.shape[-1]
     x, z, z_peak, start_factors, ground0, history, load0 = state
     stepped = system
@@ -229,6 +235,9 @@ def _start_carry(system, ground0, rows, dtype, load0=None):
     """Carry of the peak loop at rest: (state, peaks, tops, totals, all converged)."""
     zero = jnp.zeros((), dtype)
     one = jnp.ones((), dtype)
+    if isinstance(system, StructureOnTriple):
+        state = (jnp.zeros(2 * system.mass.shape[-1], dtype), system.initial_isolator(), ground0)
+        return (state, (zero, zero) + storey_start(rows, dtype), (zero, zero), (one, one), jnp.array(True))
     y0 = initial_state(system)
     start_factors = system.friction_factors(y0["v"][0], y0["z_peak"], load0)
     history = (y0["heat"], y0["travel"]) if system.history else ()

@@ -1,0 +1,166 @@
+"""`--isolator triple-fp --isolator-file FILE` of `teflon-jax run` and `montecarlo`: the rigid
+mass or the Table 2 building on triple friction pendulums, one horizontal component."""
+
+import json
+import pathlib
+import sys
+
+import numpy as np
+
+from ..units import STANDARD_GRAVITY, parse_quantity
+
+
+def read_isolator_flag(args):
+    """The `TriplePendulum` of `--isolator-file` for `--isolator triple-fp` (None for the
+    other isolators), with the flags checked: `ValueError` naming a file without the isolator,
+    the isolator without a file, and the flags of the other isolators given with it."""
+    path = getattr(args, "isolator_file", None)
+    if args.isolator != "triple-fp":
+        if path is not None:
+            raise ValueError(f"--isolator-file: applies to --isolator triple-fp only, not "
+                             f"{args.isolator}; add --isolator triple-fp or leave --isolator-file out.")
+        return None
+    if path is None:
+        raise ValueError("--isolator-file: --isolator triple-fp needs the isolator file of its "
+                         "surfaces (radius, capacity and friction of each; see docs/formats.md).")
+    if args.radius is not None:
+        raise ValueError("--radius: does not apply to --isolator triple-fp (its radii are in "
+                         "--isolator-file); leave --radius out.")
+    conflicting = [("--isolation-period", getattr(args, "isolation_period_text", args.isolation_period)),
+                   ("--isolation-damping", getattr(args, "isolation_damping_text", args.isolation_damping)),
+                   ("--bearing", args.bearing)]
+    conflicting += [("--" + name.replace("_", "-"), None if getattr(args, name + "_text", getattr(args, name))
+                     == default else name)
+                    for name, default in getattr(args, "bearing_option_defaults", {}).items()]
+    for flag, value in conflicting:
+        if value is not None:
+            raise ValueError(f"{flag}: does not apply to --isolator triple-fp, whose friction, "
+                             f"period and damping are its surfaces' in --isolator-file; leave {flag} out.")
+    return _load(path)
+
+
+def _load(path):
+    """The `TriplePendulum` of the isolator file `path`; `ValueError` naming the flag."""
+    from ..formats import load_isolator
+
+    try:
+        return load_isolator(path)
+    except ValueError as error:
+        raise ValueError(f"--isolator-file {error}") from None
+
+
+def check_triple_run(args) -> None:
+    """`run`'s flags that a one-direction triple pendulum cannot take, refused by name."""
+    for flag, value, reason in (
+            ("--record-y", args.record_y, "it runs one horizontal component (x)"),
+            ("--record-z", args.record_z, "its sliders' normal load is held at the weight"),
+            ("--suite", args.suite, "give one --record-x"),
+            ("--plan", args.plan, "a slab's bearing groups are flat sliders")):
+        if value is not None:
+            raise ValueError(f"{flag}: not with --isolator triple-fp ({reason}); leave {flag} out.")
+    if args.structure == "slab":
+        raise ValueError("--structure: --isolator triple-fp runs with --structure rigid or building.")
+
+
+def run_triple(args, load_components, shown_peaks, write_histories, plot_run, output_units) -> int:
+    """`teflon-jax run --isolator triple-fp`: the x record through the structure, peaks in
+    JSON (the keys of the other isolators, y zero), histories and plot."""
+    from ..excitation import uniform_signal
+    from ..systems import simulate_triple_structure, triple_structure
+
+    triple = read_isolator_flag(args)
+    check_triple_run(args)
+    if args.histories is not None and pathlib.Path(args.histories).suffix not in (".nc", ".csv"):
+        raise ValueError(f"--histories: {args.histories} must end in .nc or .csv.")
+    weight = parse_quantity(args.weight, "force", where="--weight")
+    if not weight > 0:
+        raise ValueError(f"--weight: must be > 0, got {args.weight}.")
+    time_step = parse_quantity(args.time_step, "time", where="--time-step")
+    if not time_step > 0:
+        raise ValueError(f"--time-step: must be > 0, got {args.time_step}.")
+    ax, _, dt, notes = load_components(args)
+    system = triple_structure(args.structure, triple, uniform_signal(ax, dt), time_step=time_step,
+                              weight=weight)
+    duration = (ax.size - 1) * dt
+    print(f"teflon-jax run: {args.structure} on triple friction pendulums, "
+          f"{round(duration / time_step)} steps of {args.time_step} (compiling first)...", file=sys.stderr)
+    response = simulate_triple_structure(system, duration)
+    if not bool(np.all(response.converged)):
+        print("teflon-jax run: error: the sliders' balance did not converge in some step; try a "
+              "smaller --time-step.", file=sys.stderr)
+        return 1
+    peak, histories = triple_summary(args, system, response)
+    payload = {"structure": args.structure, "record_x": str(args.record_x), "record_y": None,
+               "scale": float(args.scale), "duration_s": duration, "record_time_step_s": dt,
+               "solver_time_step_s": time_step, "notes": notes, "isolator": "triple-fp",
+               "isolator_file": str(args.isolator_file), "radius_m": None, "anisotropic": False,
+               "lay_angle_deg": None, "peak": peak}
+    units = output_units(args.units)
+    for line in shown_peaks(peak, units):
+        print(line)
+    if args.json is not None:
+        path = pathlib.Path(args.json)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(json.dumps(payload, indent=2))
+    if args.histories is not None:
+        write_histories(args.histories, histories)
+    if args.plot is not None:
+        plot_run(args.plot, histories, f"{args.structure} on triple friction pendulums: "
+                 f"{pathlib.Path(args.record_x).name}", length=units.length, force=units.force)
+    return 0
+
+
+def triple_summary(args, system, response):
+    """(peak dict, histories dict) in SI of a `TripleStructureResponse`: the base displacement,
+    the base shear over the weight above the isolators, the bearing force over W and, for the
+    building, the storeys' peaks; the y components zero."""
+    m = np.asarray(system.mass)
+    u, acc = np.asarray(response.displacement), np.asarray(response.total_acceleration)
+    above = m if m.size == 1 else m[1:]
+    shear = (acc if m.size == 1 else acc[:, 1:]) @ above / (above.sum() * STANDARD_GRAVITY)
+    force = np.asarray(response.bearing_force)
+    load = float(system.bearing_load)
+    peak = {"base_disp_resultant_m": float(np.max(np.abs(u[:, 0]))),
+            "base_disp_x_m": float(np.max(np.abs(u[:, 0]))), "base_disp_y_m": 0.0,
+            "base_shear_ratio_resultant": float(np.max(np.abs(shear))),
+            "bearing_force_ratio_resultant": float(np.max(np.abs(force))) / load,
+            "slider_disp_m": {name: float(v) for name, v in
+                              zip(("inner", "bottom", "top"), np.max(np.abs(np.asarray(response.slider)), 0))}}
+    if args.structure == "building":
+        from ..tables import load_table2
+
+        height = np.broadcast_to(np.asarray(load_table2().storey_height, float), (m.size - 1,))
+        peak["storey_drift_resultant_m"] = np.max(np.abs(np.diff(u, axis=1)), 0).tolist()
+        peak["storey_drift_ratio_x"] = (np.max(np.abs(np.diff(u, axis=1)), 0) / height).tolist()
+        peak["floor_acceleration_resultant_g"] = (np.max(np.abs(acc[:, 1:]), 0) / STANDARD_GRAVITY).tolist()
+        peak["first_storey_shear_ratio_resultant"] = peak["base_shear_ratio_resultant"]
+    zeros = np.zeros_like(force)
+    histories = {"time_s": np.asarray(response.time),
+                 "ground_x_mps2": np.asarray(response.ground_acceleration), "ground_y_mps2": zeros,
+                 "base_disp_x_m": u[:, 0], "base_disp_y_m": zeros, "bearing_force_x_N": force,
+                 "bearing_force_y_N": zeros, "base_shear_ratio_x": shear, "base_shear_ratio_y": zeros}
+    for index, name in enumerate(("inner", "bottom", "top")):
+        histories[f"slider_{name}_m"] = np.asarray(response.slider)[:, index]
+    return peak, histories
+
+
+def triple_montecarlo_structure(args):
+    """`montecarlo --isolator triple-fp`: the `TripleIsolatedStructure` of the flags, once
+    `read_isolator_flag` has checked them (one component; `--components 2`,
+    `--property-factors` and `--newton-tolerance` refused by name)."""
+    from ..systems import TRIPLE_MONTE_CARLO_TOLERANCE, isolated_structure
+
+    triple = _load(args.isolator_file)
+    if args.components != 1:
+        raise ValueError("--components: --isolator triple-fp runs one horizontal component; "
+                         "leave --components out (or give 1).")
+    if getattr(args, "property_factors", None) is not None:
+        raise ValueError("--property-factors: the bounding analysis scales a flat bearing's "
+                         "friction; not with --isolator triple-fp.")
+    if args.newton_tolerance is not None:
+        raise ValueError("--newton-tolerance: is in units of a flat bearing's yield displacement; "
+                         "the triple-fp isolator's sliders are solved to their own tolerance "
+                         "(a force imbalance of 1e-7 W); leave --newton-tolerance out.")
+    solver = {} if args.newton_iterations is None else {"newton_iterations": args.newton_iterations}
+    return isolated_structure(args.structure, isolator="triple-fp", triple=triple, time_step=args.time_step,
+                              newton_tolerance=TRIPLE_MONTE_CARLO_TOLERANCE, **solver)

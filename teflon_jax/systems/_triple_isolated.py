@@ -1,0 +1,76 @@
+"""The isolated structures of the studies (rigid mass, building) on triple friction pendulums."""
+
+from collections.abc import Mapping
+
+import equinox as eqx
+import jax
+
+from ..bearing import TriplePendulum, check_triple_pendulum
+from ..validation import concrete
+from ._triple_structure import (
+    TRIPLE_NEWTON_ITERATIONS,
+    TRIPLE_TOLERANCE,
+    StructureOnTriple,
+    triple_structure,
+)
+
+TRIPLE_MONTE_CARLO_TOLERANCE = 1e-7
+"""`TripleIsolatedStructure.newton_tolerance` of the Monte Carlo command: the sliders' force
+imbalance over W (a displacement error below 1e-7 R_e of each slider)."""
+
+
+class TripleIsolatedStructure(eqx.Module):
+    """Builds the rigid mass or the Table 2 building on triple friction pendulums for one motion
+    (`triple_structure`), called as `structure(ground_acceleration, design)` like
+    `IsolatedStructure`; no design variables apply (`design` must be empty or `None`).
+
+    **Fields:** `triple` (`TriplePendulum`), `kind` (static) "rigid" or "building",
+    `time_step` [s] (static), `weight` [N] of the rigid mass (static),
+    `newton_iterations`, `newton_tolerance` (static): `StructureOnTriple`'s.
+    """
+
+    triple: TriplePendulum
+    kind: str = eqx.field(static=True, default="rigid")
+    time_step: float = eqx.field(static=True, default=0.005)
+    weight: float = eqx.field(static=True, default=100e3)
+    newton_iterations: int = eqx.field(static=True, default=TRIPLE_NEWTON_ITERATIONS)
+    newton_tolerance: float = eqx.field(static=True, default=TRIPLE_TOLERANCE)
+
+    @property
+    def isolator(self) -> str:
+        return "triple-fp"
+
+    @property
+    def isolation_period(self):
+        """None: the period of a triple pendulum changes with its regime."""
+        return None
+
+    def __call__(self, ground_acceleration, design: Mapping | None = None) -> StructureOnTriple:
+        if design:
+            raise ValueError(f"design: the triple-fp isolator takes no design variables, got "
+                             f"{sorted(design)}; change the isolator file instead.")
+        return triple_structure(self.kind, self.triple, ground_acceleration, time_step=self.time_step,
+                                weight=self.weight, newton_iterations=self.newton_iterations,
+                                newton_tolerance=self.newton_tolerance)
+
+
+def triple_isolated_structure(kind: str, triple: TriplePendulum | None, *, time_step: float,
+                              newton_iterations: int, newton_tolerance: float | None,
+                              conflicting: Mapping) -> TripleIsolatedStructure:
+    """`isolated_structure(kind, isolator="triple-fp", triple=...)`, checked: `ValueError`
+    naming a missing `triple`, one the series model cannot take (`check_triple_pendulum`), and
+    each name in `conflicting` (inputs of the other isolators given with this one)."""
+    if triple is None:
+        raise ValueError("triple: the triple-fp isolator needs its TriplePendulum (e.g. "
+                         "formats.load_isolator(path)).")
+    if not isinstance(triple, TriplePendulum):
+        raise ValueError(f"triple: expected a TriplePendulum, got {type(triple).__name__}.")
+    if all(concrete(leaf) is not None for leaf in jax.tree_util.tree_leaves(triple)):
+        check_triple_pendulum(triple)  # traced constants (gradients): the caller's to check
+    if isinstance(time_step, bool) or not isinstance(time_step, (int, float)) or not time_step > 0:
+        raise ValueError(f"time_step: must be a positive number of seconds, got {time_step!r}.")
+    for name, reason in conflicting.items():
+        raise ValueError(f"{name}: does not apply to the triple-fp isolator ({reason}).")
+    tolerance = TRIPLE_TOLERANCE if newton_tolerance is None else float(newton_tolerance)
+    return TripleIsolatedStructure(triple=triple, kind=kind, time_step=float(time_step),
+                                   newton_iterations=int(newton_iterations), newton_tolerance=tolerance)

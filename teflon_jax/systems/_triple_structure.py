@@ -1,0 +1,311 @@
+"""A structure isolated on triple friction pendulums, in one horizontal direction.
+
+The bearings are the series model of `TriplePendulum` (Fenz & Constantinou 2008): three
+sliders (the inner pair, the bottom and the top surface) carry one force F, and their
+displacements add up to the isolator's. Slider e carries
+
+    F_e = W (s_e / R_e + mu_e(v_e) Z_e + k_stop <|s_e| - d_e>_+ sgn(s_e) / R_e),
+
+with R_e, d_e its radius and capacity (`series_radii`, `series_capacities`), Z_e from
+Bouc-Wen updated exactly along the step's increment, mu_e from Eq. 1 at the surface's mean
+velocity over the step, v_e = |increment| c_e / dt (`velocity_factors`; the velocity OpenSees'
+`TripleFrictionPendulum` takes too) where the slider moves the way its Z points, and f_min
+(Eq. 1 at rest) while Z still points back after a reversal (`slider_forces`). Without that
+exception the force of a slider reversing would fall as its increment grows (Eq. 1's rise with
+|increment| against Z's elastic slope, for steps below a few ms): the massless sliders of the
+series model would have no unique balance. The restrainer of stiffness `STOP_STIFFNESS_RATIO`
+W / R_e beyond the capacity. The linear structure carries a reference spring W / R_ref at the
+isolator (R_ref = b + c, the effective radius of the outer surfaces sliding together), and the
+step solves for the part of F beyond it.
+
+Each step solves for the three sliders' increments d_e: F_e(d_e) equal to the force the
+linear step leaves, F = (D - sum d_e) / G, with D the isolator's increment without the bearing
+and G its compliance over the step (the structure's exact step, `_propagators.py`). Newton's
+matrix diag(k_e) + 1 1^T / G (k_e = dF_e/dd_e) is inverted in closed form (Sherman-Morrison),
+with a halving line search on the force residual; the root is differentiated implicitly.
+"""
+
+import functools
+from typing import ClassVar
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from ..bearing import (
+    STOP_STIFFNESS_RATIO,
+    TriplePendulum,
+    bouc_wen_exact_update,
+    sliding_friction,
+)
+from ..excitation import Signal
+from ..units import STANDARD_GRAVITY
+from ._models import rigid_mass, six_storey_building
+from ._structure import StructureOnSliders
+from ._structure_response import check_duration
+
+TRIPLE_NEWTON_ITERATIONS = 60
+"""Most evaluations of the sliders' forces per step (Newton iterations and line-search halvings)."""
+
+TRIPLE_TOLERANCE = 1e-9
+"""Default `StructureOnTriple.newton_tolerance`: the sliders' force imbalance over the weight W."""
+
+SMALLEST_STEP = 1.0 / 64
+"""Shortest fraction of a Newton step the line search tries; it is then taken as it is."""
+
+
+class StructureOnTriple(eqx.Module):
+    """A linear structure (rigid mass or building; DOF 0 the isolator) on triple friction
+    pendulums of total normal load W (module docstring), stepped by the exact linear rule.
+
+    **Fields:** `linear`: the `StructureOnSliders` without friction whose stiffness holds the
+    reference spring W / R_ref at DOF 0 (its `exact_step` the step's matrices); `triple`: the
+    `TriplePendulum`; `reference_stiffness` W / R_ref [N/m]; `newton_iterations` (static);
+    `newton_tolerance` (static) [-]: the force imbalance at which a step stops, over W.
+    """
+
+    linear: StructureOnSliders
+    triple: TriplePendulum
+    reference_stiffness: jnp.ndarray
+    newton_iterations: int = eqx.field(static=True, default=TRIPLE_NEWTON_ITERATIONS)
+    newton_tolerance: float = eqx.field(static=True, default=TRIPLE_TOLERANCE)
+    vertical_acceleration: ClassVar[None] = None  # the sliders' normal load is the weight
+
+    @property
+    def mass(self):
+        return self.linear.mass
+
+    @property
+    def stiffness(self):
+        return self.linear.stiffness
+
+    @property
+    def damping(self):
+        return self.linear.damping
+
+    @property
+    def time_step(self) -> float:
+        return self.linear.time_step
+
+    @property
+    def ground_acceleration(self) -> Signal:
+        return self.linear.ground_acceleration
+
+    @property
+    def bearing_load(self):
+        return self.linear.bearing_load
+
+    def step_matrices(self):
+        """(R, f) of the linear step (`StructureOnSliders.step_matrices`)."""
+        return self.linear.step_matrices()
+
+    def initial_isolator(self):
+        """The isolator's state at rest: (slider displacements (3,) [m], Z (3,), the last
+        step's increments (3,) [m], the force beyond the reference spring [N])."""
+        zeros = jnp.zeros(3, self.mass.dtype)
+        return zeros, zeros, zeros, jnp.zeros((), self.mass.dtype)
+
+    def step(self, x0, isolator, ground0, ground1, matrices=None):
+        """One step: (u1, v1) (2n,) and the isolator's state at its end, from (u0, v0) `x0`,
+        the isolator's state (`initial_isolator`) and the ground acceleration [m/s^2] at both
+        ends; also whether the sliders' balance converged and the bearing force F [N]."""
+        step_matrix, force_column = self.step_matrices() if matrices is None else matrices
+        slider0, z0, previous, extra0 = isolator
+        linear = step_matrix @ jnp.concatenate([x0, jnp.stack([ground0, extra0, ground1])])
+        g0, k_ref = -force_column[0], self.reference_stiffness
+        scale = 1 - g0 * k_ref  # the step without the reference spring: x = X - G F
+        p = {"triple": self.triple, "W": self.bearing_load, "s0": slider0, "z0": z0,
+             "D": linear[0] / scale - x0[0], "G": g0 / scale}
+        eps = jnp.finfo(linear.dtype).eps  # F = (D - sum d) / G is known to eps |D| / G at best
+        tolerance = jnp.maximum(self.newton_tolerance * self.bearing_load,
+                                32 * eps * (self.bearing_load + jnp.abs(p["D"]) / p["G"]))
+        d, converged = _balanced_increments(self.time_step, self.newton_iterations, p, previous, tolerance)
+        force, z1 = slider_forces(self.triple, self.bearing_load, slider0, z0, d, self.time_step)
+        bearing = jnp.mean(force)  # equal to rounding
+        extra1 = bearing - k_ref * (x0[0] + jnp.sum(d))
+        x1 = linear + force_column * extra1
+        return x1, (slider0 + d, z1, d, extra1), converged, bearing
+
+
+def triple_structure(kind: str, triple: TriplePendulum, ground_acceleration: Signal, *, time_step: float,
+                     weight=None, newton_iterations: int = TRIPLE_NEWTON_ITERATIONS,
+                     newton_tolerance: float = TRIPLE_TOLERANCE) -> StructureOnTriple:
+    """The rigid mass of `weight` W [N] ("rigid") or the Table 2 building ("building", W its
+    total weight) on triple friction pendulums (`check_triple_pendulum` first), with no viscous
+    damping at the isolator, stepped by the exact linear rule at `time_step` [s]."""
+    reference = triple.bottom_radius + triple.top_radius  # R_ref = b + c
+    if kind == "rigid":
+        linear = rigid_mass(weight=weight, bearing=None, ground_acceleration=ground_acceleration,
+                            time_step=time_step, radius=reference, friction_model="none",
+                            linear_rule="exact")
+    else:
+        period = 2 * jnp.pi * jnp.sqrt(reference / STANDARD_GRAVITY)
+        linear = six_storey_building(bearing=None, ground_acceleration=ground_acceleration,
+                                     time_step=time_step, isolation_period=period, isolation_damping=0.0,
+                                     friction_model="none", linear_rule="exact")
+    return StructureOnTriple(linear=linear, triple=triple,
+                             reference_stiffness=linear.bearing_load / reference,
+                             newton_iterations=int(newton_iterations),
+                             newton_tolerance=float(newton_tolerance))
+
+
+def slider_forces(triple: TriplePendulum, load, slider0, z0, increment, time_step):
+    """Forces F_e [N] (3,) of the three sliders after the increments `increment` (3,) [m]
+    from displacements `slider0` and Z `z0` over a step of `time_step` [s] (module
+    docstring), and their Z (3,). The friction term is mu Z = f_min Z + (mu(v) - f_min)
+    s <s Z>_+, s = sgn(increment): Eq. 1 at the mean velocity v where the slider moves the
+    way its Z points, f_min (at rest) while Z still points back after a reversal."""
+    radii, capacities = triple.series_radii(), triple.series_capacities()
+    u = slider0 + increment
+    z = bouc_wen_exact_update(triple.hysteresis, z0, increment, tangent="rational")
+    friction = triple.frictions()
+    speed = jnp.abs(increment) * triple.velocity_factors() / time_step
+    f_min = friction.f_max - friction.delta_f
+    sign = jnp.where(increment >= 0, 1.0, -1.0)
+    mu_z = f_min * z + (sliding_friction(friction, speed) - f_min) * sign * jnp.maximum(sign * z, 0.0)
+    over = jnp.sign(u) * jnp.maximum(jnp.abs(u) - capacities, 0.0)
+    return load * (u / radii + mu_z + STOP_STIFFNESS_RATIO * over / radii), z
+
+
+def _residual(d, p, dt):
+    """F_e(d_e) - F(d), F(d) = (D - sum d) / G the force the linear step leaves."""
+    force, _ = slider_forces(p["triple"], p["W"], p["s0"], p["z0"], d, dt)
+    return force - (p["D"] - jnp.sum(d)) / p["G"]
+
+
+def _residual_and_slopes(d, p, dt):
+    """(residual (3,), dF_e/dd_e (3,)): each slider's force depends on its own increment."""
+    def forces(x):
+        return slider_forces(p["triple"], p["W"], p["s0"], p["z0"], x, dt)[0]
+
+    force, slope = jax.jvp(forces, (d,), (jnp.ones_like(d),))
+    return force - (p["D"] - jnp.sum(d)) / p["G"], slope
+
+
+def _newton_direction(residual, slope, compliance):
+    """J^-1 r for J = diag(slope) + 1 1^T / G (Sherman-Morrison): c (r - s), c = 1 / slope,
+    s = sum(c r) / (G + sum c)."""
+    c = 1.0 / slope
+    return c * (residual - jnp.sum(c * residual) / (compliance + jnp.sum(c)))
+
+
+@functools.partial(jax.custom_jvp, nondiff_argnums=(0, 1))
+def _balanced_increments(dt, iterations, p, guess, tolerance):
+    """The sliders' increments (3,) [m] that balance their forces with the linear step (module
+    docstring), from `guess`, and whether |residual| <= `tolerance` [N] was reached."""
+    floor = p["W"] / p["triple"].series_radii()  # the pendulum's own stiffness, a floor of the slope
+
+    def evaluate(d):
+        r, k = _residual_and_slopes(d, p, dt)
+        return r, jnp.sum(r**2), _newton_direction(r, jnp.maximum(k, floor), p["G"])
+
+    def cond(carry):
+        _, (r, _, _), _, k = carry
+        return (jnp.max(jnp.abs(r)) > tolerance) & (k < iterations)
+
+    def body(carry):
+        d, (r, merit, direction), fraction, k = carry
+        trial = d - fraction * direction
+        new = evaluate(trial)
+        accept = (new[1] < merit) | (fraction <= SMALLEST_STEP)
+        d = jnp.where(accept, trial, d)
+        values = tuple(jnp.where(accept, a, b) for a, b in zip(new, (r, merit, direction)))
+        return d, values, jnp.where(accept, 1.0, 0.5 * fraction), k + 1
+
+    carry = (guess, evaluate(guess), jnp.ones((), guess.dtype), 0)
+    d, (r, _, _), _, _ = jax.lax.while_loop(cond, body, carry)
+    return d, jnp.max(jnp.abs(r)) <= tolerance
+
+
+@_balanced_increments.defjvp
+def _balanced_jvp(dt, iterations, primals, tangents):
+    # r(d, p) = 0: dd = -J^-1 r_p dp (Sherman-Morrison), the guess and tolerance carry none
+    p, guess, tolerance = primals
+    d, converged = _balanced_increments(dt, iterations, p, guess, tolerance)
+    _, slope = _residual_and_slopes(d, p, dt)
+    r_p = jax.jvp(lambda q: _residual(d, q, dt), (p,), (tangents[0],))[1]
+    no_tangent = np.zeros(np.shape(converged), jax.dtypes.float0)
+    return (d, converged), (-_newton_direction(r_p, slope, p["G"]), no_tangent)
+
+
+def imposed_isolator_force(triple: TriplePendulum, load, displacement, time_step: float, *, compliance=1e-12,
+                           newton_iterations: int = TRIPLE_NEWTON_ITERATIONS,
+                           tolerance: float = TRIPLE_TOLERANCE):
+    """The structures' isolator solve driven along a displacement path: the bearing at the end
+    of an actuator of compliance G [m/N] whose far end follows `displacement` (nt,) [m] at the
+    uniform `time` (nt,) [s], under normal load W [N]. Each step solves the same balance as
+    `StructureOnTriple.step` with D the actuator's increment.
+
+    **Returns:** (isolator displacement (nt,) [m], force (nt,) [N], converged (nt,))."""
+    dt = float(time_step)
+
+    def body(carry, target):
+        slider, z, previous = carry
+        p = {"triple": triple, "W": load, "s0": slider, "z0": z,
+             "D": target - jnp.sum(slider), "G": jnp.asarray(compliance, float)}
+        d, ok = _balanced_increments(dt, newton_iterations, p, previous, tolerance * load)
+        force, z1 = slider_forces(triple, load, slider, z, d, dt)
+        return (slider + d, z1, d), (jnp.sum(slider + d), jnp.mean(force), ok)
+
+    zeros = jnp.zeros(3)
+    _, (x, force, ok) = jax.lax.scan(body, (zeros, zeros, zeros), jnp.asarray(displacement, float)[1:])
+    return tuple(jnp.concatenate([jnp.zeros((1,), a.dtype) if a.dtype != bool else jnp.ones(1, bool), a])
+                 for a in (x, force, ok))
+
+
+class TripleStructureResponse(eqx.Module):
+    """Histories of a `StructureOnTriple` (SI; time along the first axis): `time` [s],
+    `displacement`, `velocity`, `total_acceleration` (nt, n) [m, m/s, m/s^2], `bearing_force`
+    (nt,) [N] on the isolator, `slider` (nt, 3) [m] and `z` (nt, 3) [-] of the inner pair, bottom
+    and top sliders, `ground_acceleration` (nt,) [m/s^2], `converged` (nt,)."""
+
+    time: jnp.ndarray
+    displacement: jnp.ndarray
+    velocity: jnp.ndarray
+    total_acceleration: jnp.ndarray
+    bearing_force: jnp.ndarray
+    slider: jnp.ndarray
+    z: jnp.ndarray
+    ground_acceleration: jnp.ndarray
+    converged: jnp.ndarray
+
+
+def total_acceleration(system: StructureOnTriple, x, extra):
+    """Total accelerations (n,) [m/s^2] of the masses at state `x` = (u, v) with the force
+    `extra` [N] beyond the reference spring at the isolator: -(K u + C v + e0 extra) / m."""
+    n = system.mass.shape[-1]
+    force = system.stiffness @ x[:n] + system.damping @ x[n:]
+    return -force.at[0].add(extra) / system.mass
+
+
+def simulate_triple_structure(system: StructureOnTriple, duration: float) -> TripleStructureResponse:
+    """Integrate `system` from rest over `duration` [s] (rounded down to whole steps) and keep
+    every step. jit/vmap/grad-safe."""
+    dt = float(system.time_step)
+    n_steps = check_duration(system, duration)
+    n = system.mass.shape[-1]
+    time = jnp.arange(n_steps + 1) * dt
+    ground = jax.vmap(system.ground_acceleration)(time)
+    matrices = system.step_matrices()
+
+    def body(carry, grounds):
+        x, isolator = carry
+        x1, isolator1, converged, force = system.step(x, isolator, grounds[0], grounds[1], matrices)
+        out = (x1, force, isolator1[0], isolator1[1], converged,
+               total_acceleration(system, x1, isolator1[3]))
+        return (x1, isolator1), out
+
+    x0 = jnp.zeros(2 * n, system.mass.dtype)
+    start = (x0, system.initial_isolator())
+    _, (x, force, slider, z, converged, acc) = jax.lax.scan(body, start, (ground[:-1], ground[1:]))
+
+    def first(a, b):
+        return jnp.concatenate([a[None], b])
+
+    zeros3 = jnp.zeros(3, x0.dtype)
+    return TripleStructureResponse(
+        time=time, displacement=first(x0[:n], x[:, :n]), velocity=first(x0[n:], x[:, n:]),
+        total_acceleration=first(jnp.zeros(n, x0.dtype), acc), bearing_force=first(jnp.zeros(()), force),
+        slider=first(zeros3, slider), z=first(zeros3, z), ground_acceleration=ground,
+        converged=first(jnp.array(True), converged))
