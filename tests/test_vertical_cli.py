@@ -119,8 +119,6 @@ def test_vertical_motion_model_matches_its_description():
 def test_the_triple_pendulum_refuses_a_vertical_component(tmp_path, capsys):
     """Its sliders' normal load is held at the weight: `--record-z` and `--vertical-ratio`
     are refused by name, before any work."""
-    from teflon_jax.cli import main
-
     import pathlib
 
     isolator = pathlib.Path(__file__).resolve().parents[1] / "benchmarks" / "triple_isolator.json"
