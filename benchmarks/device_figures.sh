@@ -2,21 +2,22 @@
 # The accelerator figures of benchmarks/README.md in one run, on one machine.
 # Usage: bash benchmarks/device_figures.sh OUT_DIR [MOTIONS] [CHUNK]
 #   MOTIONS (default 196608) motions per one-component command, half that with two components;
-#   CHUNK (default 65536). GROUPS (environment, default all, in this order) picks the groups:
+#   CHUNK (default 65536). FIGURES (environment, default all, in this order) picks the groups:
 #     b3        B3 (library, chunks of CHUNK) with its accuracy against 0.5 ms steps
 #     command   the `montecarlo` command at its default chunk and at CHUNK, two components, and a
 #               bearing that heats up (benchmarks/hot_bearing.json)
+#     pair      the command with one and two components on two full chunks each
 #     long      the command on 16 chunks (1,048,576 motions by default), and at chunks of 512
 #     isolators single and triple friction pendulums (benchmarks/triple_isolator.json) and a
 #               vertical component, through the command
 #     b7        B7: flat sliders, single and triple friction pendulums in one run
 # Each step writes its JSON and log to OUT_DIR and is timed apart; a step that fails is logged
-# and the others still run. A CPU dry run: GROUPS="command isolators" bash ... /tmp/dry 64 32
+# and the others still run. A CPU dry run: FIGURES="command isolators" bash ... /tmp/dry 64 32
 set -u
 out=${1:?usage: device_figures.sh OUT_DIR [MOTIONS] [CHUNK]}
 motions=${2:-196608}
 chunk=${3:-65536}
-groups=${GROUPS:-b3 command long isolators b7}
+groups=${FIGURES:-b3 command pair long isolators b7}
 half=$((motions / 2))
 mkdir -p "$out"
 here=$(cd "$(dirname "$0")" && pwd)
@@ -51,6 +52,11 @@ for group in $groups; do
         --bearing "$here/hot_bearing.json"
       mc "cmd-$kind-hot-2comp" --structure "$kind" --motions "$half" --components 2 --pressure 3000psi \
         --bearing "$here/hot_bearing.json"
+    done ;;
+  pair)
+    for kind in building rigid; do
+      mc "pair-$kind" --structure "$kind" --motions "$((2 * chunk))"
+      mc "pair-$kind-2comp" --structure "$kind" --motions "$((2 * chunk))" --components 2
     done ;;
   long)
     for kind in building rigid; do

@@ -475,20 +475,17 @@ def _peak_fields(peaks, with_designs: bool, with_storeys: bool, vertical: bool =
 
 
 def _run_chunks(runner, motions, n_total, chunk, n_chunks, first_motion, progress) -> list:
-    """Each chunk's peaks on the host; a chunk is fetched while the next one runs."""
+    """Each chunk's peaks on the host, one chunk after another: `progress` is called when a
+    chunk's peaks are on the host, so the times between calls are the chunks' run times. (On a
+    GPU a call that holds `while_loop`s returns only when it is done, since XLA reads each loop's
+    condition on the host; fetching a chunk while the next one runs then gained nothing, and
+    the calls came one chunk late.)"""
     outputs = []
-    pending = None
     for c in range(n_chunks):
         indices = np.arange(c * chunk, (c + 1) * chunk)
         indices = np.minimum(indices, n_total - 1)  # pad the last chunk with copies
         values = motions.acceleration[indices] if isinstance(motions, RecordSet) else None
-        result = runner(indices + first_motion, values)
-        if pending is not None:
-            outputs.append(_get(pending))
-            if progress is not None:
-                progress(min(c * chunk, n_total), n_total)
-        pending = result
-    outputs.append(_get(pending))
-    if progress is not None:
-        progress(n_total, n_total)
+        outputs.append(_get(runner(indices + first_motion, values)))
+        if progress is not None:
+            progress(min((c + 1) * chunk, n_total), n_total)
     return outputs
