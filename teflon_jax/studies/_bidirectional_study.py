@@ -25,8 +25,10 @@ import jax.numpy as jnp
 
 from ..systems import (
     BIDIRECTIONAL_TIME_STEP,
+    BiaxialStructureOnTriple,
     BidirectionalStructure,
     IsolatedStructure,
+    biaxial_peaks,
     bidirectional_building,
     bidirectional_initial_state,
     bidirectional_rigid_mass,
@@ -132,6 +134,12 @@ def bidirectional_peak_response(
 
     **Returns:** a `BidirectionalPeaks`.
     """
+    if isinstance(system, BiaxialStructureOnTriple):  # triple friction pendulums
+        if storey_height is not None:
+            raise ValueError("storey_height: the two-component triple pendulum keeps the resultant "
+                             "peaks only; leave storey_height out.")
+        widths = (1e-3 if disp_width is None else disp_width, 1e-3 if shear_width is None else shear_width)
+        return BidirectionalPeaks(*biaxial_peaks(system, duration, widths, read_every))
     dt = float(system.time_step)
     n_steps = int(duration / dt + 1e-9)
     if n_steps < 1:

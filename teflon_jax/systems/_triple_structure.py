@@ -126,7 +126,7 @@ class StructureOnTriple(eqx.Module):
 
 
 def triple_structure(kind: str, triple: TriplePendulum, ground_acceleration: Signal, *, time_step: float,
-                     weight=None, newton_iterations: int = TRIPLE_NEWTON_ITERATIONS,
+                     weight=100e3, newton_iterations: int = TRIPLE_NEWTON_ITERATIONS,
                      newton_tolerance: float = TRIPLE_TOLERANCE) -> StructureOnTriple:
     """The rigid mass of `weight` W [N] ("rigid") or the Table 2 building ("building", W its
     total weight) on triple friction pendulums (`check_triple_pendulum` first), with no viscous
