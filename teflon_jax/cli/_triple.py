@@ -117,8 +117,9 @@ def run_triple(args, load_components, shown_peaks, write_histories, plot_run, ou
     if args.histories is not None:
         write_histories(args.histories, histories)
     if args.plot is not None:
-        plot_run(args.plot, histories, f"{args.structure} on triple friction pendulums: "
-                 f"{pathlib.Path(args.record_x).name}", length=units.length, force=units.force)
+        names = [pathlib.Path(r).name for r in (args.record_x, args.record_y) if r is not None]
+        plot_run(args.plot, histories, f"{args.structure} on triple friction pendulums: {' + '.join(names)}",
+                 length=units.length, force=units.force)
     return 0
 
 
