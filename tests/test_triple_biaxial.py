@@ -90,3 +90,19 @@ def test_the_two_component_peak_is_differentiable_in_the_outer_radii(acc):
     h = 1e-4
     central = (float(peak(2.1 + h)) - float(peak(2.1 - h))) / (2 * h)
     assert reverse == pytest.approx(central, rel=1e-4)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("kind", ["rigid", "building"])
+def test_two_component_peaks_converge_in_the_time_step(kind):
+    """The default 5 ms step within 0.3 % of 0.5 ms on three stochastic pairs (measured on ten:
+    0.23 % / 0.19 % rigid, 0.16 % / 0.17 % building, displacement / base shear)."""
+    model = TwoComponentGroundMotion(MOTION)
+
+    def peaks(step):
+        structure = isolated_structure(kind, isolator="triple-fp", triple=TRIPLE, time_step=step)
+        result = monte_carlo(structure, model, 3, key=jax.random.key(2), chunk_size=3)
+        assert result.converged.all()
+        return np.stack([result.base_disp, result.base_shear_ratio])
+
+    np.testing.assert_allclose(peaks(0.005), peaks(0.0005), rtol=3e-3)
