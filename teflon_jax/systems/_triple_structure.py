@@ -247,8 +247,9 @@ def imposed_isolator_force(triple: TriplePendulum, load, displacement, time_step
 
     zeros = jnp.zeros(3)
     _, (x, force, ok) = jax.lax.scan(body, (zeros, zeros, zeros), jnp.asarray(displacement, float)[1:])
-    return tuple(jnp.concatenate([jnp.zeros((1,), a.dtype) if a.dtype != bool else jnp.ones(1, bool), a])
-                 for a in (x, force, ok))
+    at_rest = jnp.zeros(1, x.dtype)
+    return (jnp.concatenate([at_rest, x]), jnp.concatenate([at_rest, force]),
+            jnp.concatenate([jnp.ones(1, bool), ok]))
 
 
 class TripleStructureResponse(eqx.Module):
