@@ -112,16 +112,14 @@ def _residual(d, p, dt):
 
 
 def _residual_and_blocks(d, p, dt):
-    """(residual (3, 2), dF_e/dd_e (3, 2, 2)): two forward passes, one per axis (each slider's
-    force depends on its own increment only)."""
+    """(residual (3, 2), dF_e/dd_e (3, 2, 2)): a forward pass with the two axes' tangents
+    (each slider's force depends on its own increment only)."""
     def forces(x):
         return biaxial_slider_forces(p["triple"], p["W"], p["s0"], p["z0"], x, dt)[0]
 
-    axes = jnp.eye(2, dtype=d.dtype)
-    columns = [jax.jvp(forces, (d,), (jnp.broadcast_to(axis, d.shape),)) for axis in axes]
-    force = columns[0][0]
-    blocks = jnp.stack([c[1] for c in columns], axis=-1)
-    return force - (p["D"] - jnp.sum(d, axis=0)) / p["G"], blocks
+    axes = jnp.broadcast_to(jnp.eye(2, dtype=d.dtype)[:, None, :], (2,) + d.shape)
+    force, columns = jax.vmap(lambda t: jax.jvp(forces, (d,), (t,)), out_axes=(None, 0))(axes)
+    return force - (p["D"] - jnp.sum(d, axis=0)) / p["G"], jnp.moveaxis(columns, 0, -1)
 
 
 def _inverse2(m):
