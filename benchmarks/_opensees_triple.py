@@ -77,27 +77,30 @@ def _gravity(ops, weight, tol):
     ops.wipeAnalysis()
 
 
-def _building(ops):
-    """Floors 3.. above the base node 2 (Table 2, x only): (masses of base and floors, nodes,
-    weight of the floors)."""
+def _building(ops, two):
+    """Floors 3.. above the base node 2 (Table 2, along x, and y when `two`): (masses of base
+    and floors, nodes, total weight)."""
     data = load_table2()
     floor_masses, k_s, c_s, _ = superstructure_matrices(data)
     floors = [3 + j for j in range(floor_masses.size)]
     for node, m in zip(floors, floor_masses):
         ops.node(node, 0.0, 0.0, 0.0)
-        ops.fix(node, 0, 1, 1, 1, 1, 1)
-        ops.mass(node, float(m), 0.0, 0.0, 0.0, 0.0, 0.0)
+        ops.fix(node, 0, 0 if two else 1, 1, 1, 1, 1)
+        ops.mass(node, float(m), float(m) if two else 0.0, 0.0, 0.0, 0.0, 0.0)
     n = floor_masses.size
     links = [(2, floors[i], k_s[i].sum(), c_s[i].sum()) for i in range(n)]
     links += [(floors[i], floors[j], -k_s[i, j], -c_s[i, j]) for i in range(n) for j in range(i + 1, n)]
     for tag, (i_node, j_node, k, c) in enumerate(links, start=10):
         ops.uniaxialMaterial("Elastic", tag, float(k), float(c))
-        ops.element("zeroLength", tag, i_node, j_node, "-mat", tag, "-dir", 1)
+        if two:
+            ops.element("zeroLength", tag, i_node, j_node, "-mat", tag, tag, "-dir", 1, 2)
+        else:
+            ops.element("zeroLength", tag, i_node, j_node, "-mat", tag, "-dir", 1)
     masses = np.concatenate([[data.base_weight / STANDARD_GRAVITY], floor_masses])
     return masses, [2, *floors], float(data.total_weight)
 
 
-def opensees_triple_structure(kind, acc, dt, values, *, uy, time_step, weight=1.0e6, histories=False):
+def opensees_triple_structure(kind, acc, dt, values, *, uy, time_step, weight=1.0e6, histories=False, acc_y=None):
     """Peaks of the rigid mass of `weight` [N] ("rigid") or the Table 2 building ("building")
     on one `TripleFrictionPendulum` of `values` (`triple_values`) under the ground acceleration
     `acc` [m/s^2] sampled every `dt` [s], along x.
@@ -105,7 +108,11 @@ def opensees_triple_structure(kind, acc, dt, values, *, uy, time_step, weight=1.
     **Returns:** (peak |base displacement| [m], peak |base shear| over the weight above the
     isolator [-]: m a_total / W for the rigid mass, the floors' inertia force over their weight
     (the first-storey shear) for the building, wall time of the transient analysis [s]); with
-    `histories=True` also a dict of `time`, `base`, `shear`."""
+    `histories=True` also a dict of `time`, `base`, `shear`. With `acc_y` (the y component,
+    same samples) both directions: resultant peaks, the shear as the resultant force on all
+    masses above the ground (base slab included) over their weight W (as
+    `teflon_jax.studies.bidirectional_peak_response` reads it)."""
+    two = acc_y is not None
     ops = import_opensees()
     ops.wipe()
     ops.logFile("/dev/null", "-noEcho")
@@ -113,18 +120,21 @@ def opensees_triple_structure(kind, acc, dt, values, *, uy, time_step, weight=1.
     ops.node(1, 0.0, 0.0, 0.0)
     ops.node(2, 0.0, 0.0, 0.0)
     ops.fix(1, 1, 1, 1, 1, 1, 1)
-    ops.fix(2, 0, 1, 0, 1, 1, 1)
+    ops.fix(2, 0, 0 if two else 1, 0, 1, 1, 1)
     if kind == "rigid":
         masses, nodes, above = np.array([weight / STANDARD_GRAVITY]), [2], slice(0, 1)
     else:
-        masses, nodes, weight = _building(ops)
-        above = slice(1, None)
-    ops.mass(2, float(masses[0]), 0.0, 0.0, 0.0, 0.0, 0.0)
+        masses, nodes, weight = _building(ops, two)
+        above = slice(0 if two else 1, None)
+    ops.mass(2, float(masses[0]), float(masses[0]) if two else 0.0, 0.0, 0.0, 0.0, 0.0)
     _element(ops, values, weight, uy)
     tol = 1.0e-4 * uy
     _gravity(ops, weight, tol)
     ops.timeSeries("Path", 2, "-dt", float(dt), "-values", *np.append(acc, acc[-1]).tolist())
     ops.pattern("UniformExcitation", 2, 1, "-accel", 2)
+    if two:
+        ops.timeSeries("Path", 3, "-dt", float(dt), "-values", *np.append(acc_y, acc_y[-1]).tolist())
+        ops.pattern("UniformExcitation", 3, 2, "-accel", 3)
     ops.constraints("Plain")
     ops.numberer("Plain")
     ops.system("FullGeneral")
@@ -135,21 +145,23 @@ def opensees_triple_structure(kind, acc, dt, values, *, uy, time_step, weight=1.
     ops.analysis("Transient")
     n_steps = int(round((len(acc) - 1) * dt / time_step))
     times = time_step * np.arange(n_steps + 1)
-    ground = np.interp(times, dt * np.arange(len(acc)), acc)
-    base, shear = np.zeros(n_steps + 1), np.zeros(n_steps + 1)
+    record_times = dt * np.arange(len(acc))
+    grounds = [np.interp(times, record_times, a) for a in ((acc, acc_y) if two else (acc,))]
+    base, shear = np.zeros((n_steps + 1, len(grounds))), np.zeros((n_steps + 1, len(grounds)))
     weight_above = float(masses[above].sum()) * STANDARD_GRAVITY
     counts = {"fallback": 0, "failed": 0}
     start = time.perf_counter()
     for i in range(1, n_steps + 1):
         _step(ops, time_step, tol, algorithm, counts)
-        base[i] = ops.nodeDisp(2, 1)
-        total = np.array([ops.nodeAccel(node, 1) for node in nodes]) + ground[i]
-        shear[i] = float(masses[above] @ total[above]) / weight_above
+        for k, ground in enumerate(grounds):
+            base[i, k] = ops.nodeDisp(2, k + 1)
+            total = np.array([ops.nodeAccel(node, k + 1) for node in nodes]) + ground[i]
+            shear[i, k] = float(masses[above] @ total[above]) / weight_above
     wall = time.perf_counter() - start
     ops.wipe()
     if counts["failed"]:
         raise RuntimeError(f"OpenSees: {counts['failed']} steps did not converge.")
-    peaks = (float(np.max(np.abs(base))), float(np.max(np.abs(shear))), wall)
+    peaks = (float(np.max(np.linalg.norm(base, axis=1))), float(np.max(np.linalg.norm(shear, axis=1))), wall)
     if histories:
         return (*peaks, {"time": times, "base": base, "shear": shear})
     return peaks

@@ -11,7 +11,8 @@ rate counted after the first chunk, which compiles; alternating the isolators `-
 times); the record rate of each and each pendulum's share of the flat slider's are printed and
 written as JSON with the machine.
 
-Usage: `python benchmarks/bench_pendulum.py [--motions 2048] [--repeats 2] [--chunk 512] [--json OUT]`.
+Usage: `python benchmarks/bench_pendulum.py [--motions 2048] [--repeats 2] [--chunk 512]
+[--components 2] [--isolators flat triple-fp] [--json OUT]`.
 """
 
 import argparse
@@ -26,8 +27,8 @@ import jax
 jax.config.update("jax_enable_x64", True)
 
 from teflon_jax.bearing import BoucWen, FrictionParameters, TriplePendulum  # noqa: E402
-from teflon_jax.excitation import StochasticGroundMotion  # noqa: E402
-from teflon_jax.studies import monte_carlo  # noqa: E402
+from teflon_jax.excitation import StochasticGroundMotion, TwoComponentGroundMotion  # noqa: E402
+from teflon_jax.studies import bidirectional_isolated_structure, monte_carlo  # noqa: E402
 from teflon_jax.systems import TRIPLE_MONTE_CARLO_TOLERANCE, isolated_structure  # noqa: E402
 from teflon_jax.units import INCH, PSI, STANDARD_GRAVITY  # noqa: E402
 
@@ -41,21 +42,22 @@ TRIPLE = TriplePendulum(inner_radius=0.3, bottom_radius=2.1, top_radius=2.1, inn
                         top_friction=FrictionParameters(0.12, 0.05, 20.0), hysteresis=BoucWen(0.005 * INCH))
 
 
-def _motions():
-    return StochasticGroundMotion(peak_ground_acceleration=0.3 * STANDARD_GRAVITY, duration=40.0,
-                                  time_step=0.01, rise_time=2.0, strong_motion_duration=10.0)
+def _motions(components=1):
+    model = StochasticGroundMotion(peak_ground_acceleration=0.3 * STANDARD_GRAVITY, duration=40.0,
+                                   time_step=0.01, rise_time=2.0, strong_motion_duration=10.0)
+    return model if components == 1 else TwoComponentGroundMotion(model)
 
 
-def _structure(kind, isolator):
+def _structure(kind, isolator, components=1):
     period = 2 * math.pi * math.sqrt(RADIUS / STANDARD_GRAVITY)
+    build = isolated_structure if components == 1 else bidirectional_isolated_structure
     if isolator == "flat":
-        return isolated_structure(kind, time_step=TIME_STEP, pressure=1000 * PSI,
-                                  isolation_period=period, isolation_damping=0.0)
+        return build(kind, time_step=TIME_STEP, pressure=1000 * PSI, isolation_period=period,
+                     isolation_damping=0.0)
     if isolator == "triple-fp":
         return isolated_structure(kind, time_step=TIME_STEP, isolator="triple-fp", triple=TRIPLE,
                                   newton_tolerance=TRIPLE_MONTE_CARLO_TOLERANCE)
-    return isolated_structure(kind, time_step=TIME_STEP, pressure=1000 * PSI,
-                              isolator="single-fp", radius=RADIUS)
+    return build(kind, time_step=TIME_STEP, pressure=1000 * PSI, isolator="single-fp", radius=RADIUS)
 
 
 def _rate(structure, motions, n, chunk):
@@ -73,6 +75,9 @@ def main() -> None:
     parser.add_argument("--motions", type=int, default=2048, help="at least two chunks")
     parser.add_argument("--repeats", type=int, default=2)
     parser.add_argument("--chunk", type=int, default=512, help="motions per compiled call")
+    parser.add_argument("--components", type=int, choices=(1, 2), default=1,
+                        help="horizontal ground components (2: the two-component structures, "
+                        "resultant peaks) (default 1)")
     parser.add_argument("--isolators", nargs="+", default=list(ISOLATORS), choices=ISOLATORS,
                         help="isolators to time, flat first (default all three)")
     parser.add_argument("--json", default=None)
@@ -81,17 +86,18 @@ def main() -> None:
         parser.error(f"--motions: at least two chunks of --chunk {args.chunk} are needed (the first compiles)")
     if args.isolators[0] != "flat":
         parser.error("--isolators: the shares are of the flat slider's rate; list flat first.")
-    motions = _motions()
+    motions = _motions(args.components)
     out = {"machine": {"platform": platform.platform(), "processor": platform.processor(),
                        "cpus": os.cpu_count(), "devices": [d.device_kind for d in jax.devices()],
                        "load_average": os.getloadavg()},
-           "motions": args.motions, "chunk": args.chunk, "radius_m": RADIUS, "time_step_s": TIME_STEP, "rates": {}}
+           "motions": args.motions, "components": args.components, "chunk": args.chunk, "radius_m": RADIUS, "time_step_s": TIME_STEP, "rates": {}}
     for kind in ("rigid", "building"):
         rates = {isolator: [] for isolator in args.isolators}
         means = {}
         for _ in range(args.repeats):
             for isolator in args.isolators:
-                rate, mean = _rate(_structure(kind, isolator), motions, args.motions, args.chunk)
+                rate, mean = _rate(_structure(kind, isolator, args.components), motions, args.motions,
+                                  args.chunk)
                 rates[isolator].append(rate)
                 means[isolator] = mean
         shares = {isolator: max(rates[isolator]) / max(rates["flat"]) for isolator in args.isolators[1:]}

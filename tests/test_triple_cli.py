@@ -1,6 +1,6 @@
-"""`--isolator triple-fp --isolator-file FILE` of `teflon-jax run` and `montecarlo`: one
-horizontal component through the structures on triple friction pendulums, the isolator file's
-units at the boundary, and bad flags refused by name before any work."""
+"""`--isolator triple-fp --isolator-file FILE` of `teflon-jax run` and `montecarlo`: one and two
+horizontal components through the structures on triple friction pendulums, the isolator
+file's units at the boundary, and bad flags refused by name before any work."""
 
 import json
 
@@ -87,6 +87,32 @@ def test_montecarlo_runs_a_triple_pendulum(tmp_path, capsys, isolator_file):
     assert payload["design"]["isolation_period_s"] is None and payload["all_converged"]
 
 
+def test_run_under_two_equal_components_is_the_diagonal_record(tmp_path, capsys, isolator_file):
+    """x and y the same record: the motion along the diagonal, sqrt(2) times the record; the
+    bearing is isotropic, so the resultant peaks are those of one component scaled by sqrt(2)."""
+    _record(tmp_path / "x.txt", n=601)
+    common = ["run", "--structure", "building", "--record-x", str(tmp_path / "x.txt"), "--record-units", "g",
+              "--isolator", "triple-fp", "--isolator-file", str(isolator_file)]
+    assert main([*common, "--record-y", str(tmp_path / "x.txt"), "--json", str(tmp_path / "two.json")]) == 0
+    assert main([*common, "--scale", repr(2**0.5), "--json", str(tmp_path / "one.json")]) == 0
+    capsys.readouterr()
+    two = json.loads((tmp_path / "two.json").read_text())["peak"]
+    one = json.loads((tmp_path / "one.json").read_text())["peak"]
+    assert two["base_disp_x_m"] == pytest.approx(two["base_disp_y_m"], rel=1e-9)
+    for key in ("base_disp_resultant_m", "bearing_force_ratio_resultant", "first_storey_shear_ratio_resultant"):
+        assert two[key] == pytest.approx(one[key], rel=1e-6)
+
+
+def test_montecarlo_runs_a_triple_pendulum_under_two_components(tmp_path, capsys, isolator_file):
+    out = tmp_path / "mc.json"
+    assert main(["montecarlo", "--motions", "2", "--duration", "6s", "--strong-motion", "2s", "--components", "2",
+                 "--isolator", "triple-fp", "--isolator-file", str(isolator_file), "--no-progress",
+                 "--json", str(out)]) == 0
+    capsys.readouterr()
+    payload = json.loads(out.read_text())
+    assert payload["motions"]["components"] == 2 and payload["all_converged"]
+
+
 @pytest.mark.parametrize("flags, message", [
     (["--isolator", "triple-fp"], "--isolator-file: --isolator triple-fp needs"),
     (["--isolator", "triple-fp", "--isolator-file", "{file}", "--radius", "88in"], "--radius: does not apply"),
@@ -109,12 +135,12 @@ def test_bad_triple_flags_are_refused_by_name_before_any_work(command, flags, me
 
 
 @pytest.mark.parametrize("command, flags, message", [
-    ("run", ["--record-y", "y.txt"], "--record-y: not with --isolator triple-fp"),
     ("run", ["--structure", "slab"], "--structure: --isolator triple-fp"),
-    ("montecarlo", ["--components", "2"], "--components: --isolator triple-fp runs one"),
+    ("run", ["--suite", "pairs.csv"], "--suite: not with --isolator triple-fp"),
     ("montecarlo", ["--newton-tolerance", "1e-3"], "--newton-tolerance"),
+    ("montecarlo", ["--property-factors", "0.8,1.2"], "--property-factors"),
 ])
-def test_what_one_direction_cannot_run_is_refused(command, flags, message, capsys, tmp_path, isolator_file):
+def test_what_the_triple_pendulum_cannot_run_is_refused(command, flags, message, capsys, tmp_path, isolator_file):
     _record(tmp_path / "x.txt", n=101)
     base = (["--record-x", str(tmp_path / "x.txt"), "--record-units", "g"] if command == "run"
             else ["--motions", "2"])

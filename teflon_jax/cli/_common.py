@@ -157,8 +157,7 @@ def add_isolator_flags(parser) -> None:
     parser.add_argument("--isolator", default="flat", choices=ISOLATORS,
                         help="flat sliders (with springs of --isolation-period, or none), a single "
                         "friction pendulum (a concave surface of --radius, restoring force W u / R) "
-                        "or a triple friction pendulum (the surfaces of --isolator-file; one "
-                        "horizontal component) (default flat)")
+                        "or a triple friction pendulum (the surfaces of --isolator-file) (default flat)")
     parser.add_argument("--isolator-file", default=None, metavar="FILE", type=pathlib.Path,
                         help="with --isolator triple-fp: the isolator file of its surfaces (radius, "
                         "capacity and Eq. 1 friction of each; docs/formats.md#isolator-file)")

@@ -1,5 +1,6 @@
 """`--isolator triple-fp --isolator-file FILE` of `teflon-jax run` and `montecarlo`: the rigid
-mass or the Table 2 building on triple friction pendulums, one horizontal component."""
+mass or the Table 2 building on triple friction pendulums, under one or two horizontal
+components."""
 
 import json
 import pathlib
@@ -52,9 +53,8 @@ def _load(path):
 def check_triple_run(args) -> None:
     """`run`'s flags that a one-direction triple pendulum cannot take, refused by name."""
     for flag, value, reason in (
-            ("--record-y", args.record_y, "it runs one horizontal component (x)"),
             ("--record-z", args.record_z, "its sliders' normal load is held at the weight"),
-            ("--suite", args.suite, "give one --record-x"),
+            ("--suite", args.suite, "give --record-x and --record-y"),
             ("--plan", args.plan, "a slab's bearing groups are flat sliders")):
         if value is not None:
             raise ValueError(f"{flag}: not with --isolator triple-fp ({reason}); leave {flag} out.")
@@ -63,10 +63,16 @@ def check_triple_run(args) -> None:
 
 
 def run_triple(args, load_components, shown_peaks, write_histories, plot_run, output_units) -> int:
-    """`teflon-jax run --isolator triple-fp`: the x record through the structure, peaks in
-    JSON (the keys of the other isolators, y zero), histories and plot."""
+    """`teflon-jax run --isolator triple-fp`: the x record (and the y record, if given) through
+    the structure, peaks in JSON (the keys of the other isolators; y zero for one component),
+    histories and plot."""
     from ..excitation import uniform_signal
-    from ..systems import simulate_triple_structure, triple_structure
+    from ..systems import (
+        BiaxialStructureOnTriple,
+        biaxial_histories,
+        simulate_triple_structure,
+        triple_structure,
+    )
 
     triple = read_isolator_flag(args)
     check_triple_run(args)
@@ -78,19 +84,26 @@ def run_triple(args, load_components, shown_peaks, write_histories, plot_run, ou
     time_step = parse_quantity(args.time_step, "time", where="--time-step")
     if not time_step > 0:
         raise ValueError(f"--time-step: must be > 0, got {args.time_step}.")
-    ax, _, dt, notes = load_components(args)
+    ax, ay, dt, notes = load_components(args)
     system = triple_structure(args.structure, triple, uniform_signal(ax, dt), time_step=time_step,
                               weight=weight)
     duration = (ax.size - 1) * dt
     print(f"teflon-jax run: {args.structure} on triple friction pendulums, "
           f"{round(duration / time_step)} steps of {args.time_step} (compiling first)...", file=sys.stderr)
-    response = simulate_triple_structure(system, duration)
-    if not bool(np.all(response.converged)):
+    if args.record_y is None:
+        response = simulate_triple_structure(system, duration)
+        converged = response.converged
+    else:
+        response = biaxial_histories(BiaxialStructureOnTriple(system, uniform_signal(ay, dt)), duration)
+        converged = response[-1]
+    if not bool(np.all(converged)):
         print("teflon-jax run: error: the sliders' balance did not converge in some step; try a "
               "smaller --time-step.", file=sys.stderr)
         return 1
-    peak, histories = triple_summary(args, system, response)
-    payload = {"structure": args.structure, "record_x": str(args.record_x), "record_y": None,
+    peak, histories = (triple_summary(args, system, response) if args.record_y is None
+                       else biaxial_summary(args, system, response))
+    payload = {"structure": args.structure, "record_x": str(args.record_x),
+               "record_y": None if args.record_y is None else str(args.record_y),
                "scale": float(args.scale), "duration_s": duration, "record_time_step_s": dt,
                "solver_time_step_s": time_step, "notes": notes, "isolator": "triple-fp",
                "isolator_file": str(args.isolator_file), "radius_m": None, "anisotropic": False,
@@ -105,8 +118,9 @@ def run_triple(args, load_components, shown_peaks, write_histories, plot_run, ou
     if args.histories is not None:
         write_histories(args.histories, histories)
     if args.plot is not None:
-        plot_run(args.plot, histories, f"{args.structure} on triple friction pendulums: "
-                 f"{pathlib.Path(args.record_x).name}", length=units.length, force=units.force)
+        names = [pathlib.Path(r).name for r in (args.record_x, args.record_y) if r is not None]
+        plot_run(args.plot, histories, f"{args.structure} on triple friction pendulums: {' + '.join(names)}",
+                 length=units.length, force=units.force)
     return 0
 
 
@@ -144,16 +158,46 @@ def triple_summary(args, system, response):
     return peak, histories
 
 
+def biaxial_summary(args, system, response):
+    """(peak dict, histories dict) in SI of `biaxial_histories`: resultant peaks of the base
+    displacement, of the force on all masses over W (as the two-component Monte Carlo), of the
+    bearing force over W, per slider, and for the building per storey and level."""
+    time, x, force, sliders, acc, _ = (np.asarray(a) for a in response)
+    m, n = np.asarray(system.mass), np.asarray(system.mass).size
+    u = x[:, :, :n]  # (nt, 2, n)
+    total = np.einsum("tkn,n->tk", acc, m)
+    load = float(system.bearing_load)
+    weight = float(m.sum()) * STANDARD_GRAVITY
+    base = np.linalg.norm(u[:, :, 0], axis=1)
+    peak = {"base_disp_resultant_m": float(base.max()), "base_disp_x_m": float(np.abs(u[:, 0, 0]).max()),
+            "base_disp_y_m": float(np.abs(u[:, 1, 0]).max()),
+            "base_shear_ratio_resultant": float(np.linalg.norm(total, axis=1).max()) / weight,
+            "bearing_force_ratio_resultant": float(np.linalg.norm(force, axis=1).max()) / load,
+            "slider_disp_m": {name: float(v) for name, v in
+                              zip(("inner", "bottom", "top"), np.linalg.norm(sliders, axis=2).max(axis=0))}}
+    if args.structure == "building":
+        floors = np.einsum("tkn,n->tk", acc[:, :, 1:], m[1:])
+        peak["storey_drift_resultant_m"] = np.linalg.norm(np.diff(u, axis=2), axis=1).max(axis=0).tolist()
+        peak["floor_acceleration_resultant_g"] = (np.linalg.norm(acc[:, :, 1:], axis=1).max(axis=0)
+                                                  / STANDARD_GRAVITY).tolist()
+        peak["first_storey_shear_ratio_resultant"] = float(np.linalg.norm(floors, axis=1).max()) / (
+            float(m[1:].sum()) * STANDARD_GRAVITY)
+    histories = {"time_s": time, "base_disp_x_m": u[:, 0, 0], "base_disp_y_m": u[:, 1, 0],
+                 "bearing_force_x_N": force[:, 0], "bearing_force_y_N": force[:, 1],
+                 "base_shear_ratio_x": total[:, 0] / weight, "base_shear_ratio_y": total[:, 1] / weight}
+    for index, name in enumerate(("inner", "bottom", "top")):
+        for axis, label in enumerate("xy"):
+            histories[f"slider_{name}_{label}_m"] = sliders[:, index, axis]
+    return peak, histories
+
+
 def triple_montecarlo_structure(args):
     """`montecarlo --isolator triple-fp`: the `TripleIsolatedStructure` of the flags, once
-    `read_isolator_flag` has checked them (one component; `--components 2`,
-    `--property-factors` and `--newton-tolerance` refused by name)."""
+    `read_isolator_flag` has checked them (one or two components; `--property-factors` and
+    `--newton-tolerance` refused by name)."""
     from ..systems import TRIPLE_MONTE_CARLO_TOLERANCE, isolated_structure
 
     triple = _load(args.isolator_file)
-    if args.components != 1:
-        raise ValueError("--components: --isolator triple-fp runs one horizontal component; "
-                         "leave --components out (or give 1).")
     if getattr(args, "property_factors", None) is not None:
         raise ValueError("--property-factors: the bounding analysis scales a flat bearing's "
                          "friction; not with --isolator triple-fp.")

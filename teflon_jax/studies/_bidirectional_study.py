@@ -25,8 +25,10 @@ import jax.numpy as jnp
 
 from ..systems import (
     BIDIRECTIONAL_TIME_STEP,
+    BiaxialStructureOnTriple,
     BidirectionalStructure,
     IsolatedStructure,
+    biaxial_peaks,
     bidirectional_building,
     bidirectional_initial_state,
     bidirectional_rigid_mass,
@@ -97,7 +99,8 @@ def bidirectional_isolated_structure(kind: str = "rigid", **options) -> Bidirect
     """A `BidirectionalIsolatedStructure` with the inputs of `isolated_structure(kind,
     **options)` (checked there, `ValueError` naming the parameter), stepped at
     `BIDIRECTIONAL_TIME_STEP` unless `time_step` is given; only the hysteretic
-    friction model has a two-component form."""
+    friction model has a two-component form. With `isolator="triple-fp"` the
+    `TripleIsolatedStructure` of `isolated_structure`, which takes both components itself."""
     if options.get("friction_model", "hysteretic") != "hysteretic":
         raise ValueError(
             f"friction_model: two ground components need the hysteretic model (Park's Z), got "
@@ -107,6 +110,8 @@ def bidirectional_isolated_structure(kind: str = "rigid", **options) -> Bidirect
     if surface is not None and (surface.large_displacement or surface.displacement_capacity is not None):
         raise ValueError("surface: two ground components run the pendulum's small-rotation force "
                          "W u / R; its restrainer and large-displacement form run with one component.")
+    if options.get("isolator") == "triple-fp":  # builds both: called with (ground_x, ground_y)
+        return isolated_structure(kind, **options)
     if options.get("time_step") is None:  # the uniaxial default steps are not the bidirectional one
         options = {**options, "time_step": BIDIRECTIONAL_TIME_STEP}
     newton_iterations = options.get("newton_iterations")
@@ -134,6 +139,12 @@ def bidirectional_peak_response(
 
     **Returns:** a `BidirectionalPeaks`.
     """
+    if isinstance(system, BiaxialStructureOnTriple):  # triple friction pendulums
+        if storey_height is not None:
+            raise ValueError("storey_height: the two-component triple pendulum keeps the resultant "
+                             "peaks only; leave storey_height out.")
+        widths = (1e-3 if disp_width is None else disp_width, 1e-3 if shear_width is None else shear_width)
+        return BidirectionalPeaks(*biaxial_peaks(system, duration, widths, read_every))
     dt = float(system.time_step)
     n_steps = int(duration / dt + 1e-9)
     if n_steps < 1:

@@ -44,6 +44,7 @@ from ..excitation import (
 )
 from ..systems import (
     STEPS_PER_LOOP_PASS,
+    BiaxialStructureOnTriple,
     BidirectionalStructure,
     IsolatedStructure,
     VerticalIsolatedStructure,
@@ -169,7 +170,7 @@ def probe_structure(structure, source: _Source, design):
         return structure((ground, ground) if two or source.vertical else ground, design)
 
     probe = jax.eval_shape(build, shape)
-    if two != isinstance(probe, BidirectionalStructure):
+    if two != isinstance(probe, (BidirectionalStructure, BiaxialStructureOnTriple)):
         raise ValueError(f"structure: builds a {type(probe).__name__}, which does not take "
                          f"{source.components}-component motions.")
     return probe

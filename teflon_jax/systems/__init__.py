@@ -54,6 +54,9 @@ from ._structure_build import STRUCTURE_EFFECTS as STRUCTURE_EFFECTS
 from ._structure_build import structure_on_sliders as structure_on_sliders
 from ._structure_response import StructureResponse as StructureResponse
 from ._structure_response import simulate_structure as simulate_structure
+from ._triple_biaxial import BiaxialStructureOnTriple as BiaxialStructureOnTriple
+from ._triple_biaxial import biaxial_histories as biaxial_histories
+from ._triple_biaxial import biaxial_peaks as biaxial_peaks
 from ._triple_isolated import TRIPLE_MONTE_CARLO_TOLERANCE as TRIPLE_MONTE_CARLO_TOLERANCE
 from ._triple_isolated import TripleIsolatedStructure as TripleIsolatedStructure
 from ._triple_structure import TRIPLE_TOLERANCE as TRIPLE_TOLERANCE

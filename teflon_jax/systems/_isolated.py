@@ -31,7 +31,7 @@ STRUCTURES = ("rigid", "building")
 ISOLATORS = ("flat", "single-fp", "triple-fp")
 """Isolators of the structures: flat sliders (with springs of period T_b, or none), the
 single friction pendulum (a concave surface of radius R, `ConcaveSurface`) and the triple
-friction pendulum (`TriplePendulum`, one direction: `TripleIsolatedStructure`)."""
+friction pendulum (`TriplePendulum`: `TripleIsolatedStructure`, one or two components)."""
 
 
 DESIGN_VARIABLES = (
@@ -283,7 +283,8 @@ def isolated_structure(
     `radius` R [m] > 0 (then `isolation_period` must be `None`: the period is 2 pi sqrt(R / g)),
     or of `surface`, a `ConcaveSurface` (`concave_surface`) with a restrainer or the
     large-displacement form (with hysteretic friction). "triple-fp": a triple friction
-    pendulum `triple` (`TriplePendulum`) in one direction, a `TripleIsolatedStructure` (its
+    pendulum `triple` (`TriplePendulum`), a `TripleIsolatedStructure` for one or two ground
+    components (its
     friction is its surfaces' Eq. 1; `newton_tolerance` is then the sliders' force imbalance
     over W, default `TRIPLE_TOLERANCE`); the other isolators' inputs are refused with it.
     """

@@ -7,10 +7,10 @@ import jax
 
 from ..bearing import TriplePendulum, check_triple_pendulum
 from ..validation import concrete
+from ._triple_biaxial import BiaxialStructureOnTriple
 from ._triple_structure import (
     TRIPLE_NEWTON_ITERATIONS,
     TRIPLE_TOLERANCE,
-    StructureOnTriple,
     triple_structure,
 )
 
@@ -22,7 +22,9 @@ imbalance over W (a displacement error below 1e-7 R_e of each slider)."""
 class TripleIsolatedStructure(eqx.Module):
     """Builds the rigid mass or the Table 2 building on triple friction pendulums for one motion
     (`triple_structure`), called as `structure(ground_acceleration, design)` like
-    `IsolatedStructure`; no design variables apply (`design` must be empty or `None`).
+    `IsolatedStructure` (a `StructureOnTriple`), or as `structure((ground_x, ground_y))` for
+    two components (a `BiaxialStructureOnTriple`, what `monte_carlo` builds for
+    `TwoComponentGroundMotion`); no design variables apply (`design` must be empty or `None`).
 
     **Fields:** `triple` (`TriplePendulum`), `kind` (static) "rigid" or "building",
     `time_step` [s] (static), `weight` [N] of the rigid mass (static),
@@ -45,13 +47,15 @@ class TripleIsolatedStructure(eqx.Module):
         """None: the period of a triple pendulum changes with its regime."""
         return None
 
-    def __call__(self, ground_acceleration, design: Mapping | None = None) -> StructureOnTriple:
+    def __call__(self, ground_acceleration, design: Mapping | None = None):
         if design:
             raise ValueError(f"design: the triple-fp isolator takes no design variables, got "
                              f"{sorted(design)}; change the isolator file instead.")
-        return triple_structure(self.kind, self.triple, ground_acceleration, time_step=self.time_step,
-                                weight=self.weight, newton_iterations=self.newton_iterations,
-                                newton_tolerance=self.newton_tolerance)
+        two = isinstance(ground_acceleration, tuple)  # (x, y): two components
+        system = triple_structure(self.kind, self.triple, ground_acceleration[0] if two else ground_acceleration,
+                                  time_step=self.time_step, weight=self.weight,
+                                  newton_iterations=self.newton_iterations, newton_tolerance=self.newton_tolerance)
+        return BiaxialStructureOnTriple(system, ground_acceleration[1]) if two else system
 
 
 def triple_isolated_structure(kind: str, triple: TriplePendulum | None, *, time_step: float,

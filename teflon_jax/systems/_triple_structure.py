@@ -129,7 +129,7 @@ class StructureOnTriple(eqx.Module):
 
 
 def triple_structure(kind: str, triple: TriplePendulum, ground_acceleration: Signal, *, time_step: float,
-                     weight=None, newton_iterations: int = TRIPLE_NEWTON_ITERATIONS,
+                     weight=100e3, newton_iterations: int = TRIPLE_NEWTON_ITERATIONS,
                      newton_tolerance: float = TRIPLE_TOLERANCE) -> StructureOnTriple:
     """The rigid mass of `weight` W [N] ("rigid") or the Table 2 building ("building", W its
     total weight) on triple friction pendulums (`check_triple_pendulum` first), with no viscous
@@ -250,8 +250,9 @@ def imposed_isolator_force(triple: TriplePendulum, load, displacement, time_step
 
     zeros = jnp.zeros(3)
     _, (x, force, ok) = jax.lax.scan(body, (zeros, zeros, zeros), jnp.asarray(displacement, float)[1:])
-    return tuple(jnp.concatenate([jnp.zeros((1,), a.dtype) if a.dtype != bool else jnp.ones(1, bool), a])
-                 for a in (x, force, ok))
+    at_rest = jnp.zeros(1, x.dtype)
+    return (jnp.concatenate([at_rest, x]), jnp.concatenate([at_rest, force]),
+            jnp.concatenate([jnp.ones(1, bool), ok]))
 
 
 class TripleStructureResponse(eqx.Module):

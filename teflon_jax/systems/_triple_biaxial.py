@@ -1,0 +1,237 @@
+"""A structure on triple friction pendulums under two horizontal ground components.
+
+The structure is the same in x and in y (the rigid mass, or the Table 2 building along each
+axis), so the linear step of `StructureOnTriple` advances both directions, and the bearings
+couple them: each slider's displacement, Z and force are vectors in the plane. Slider e carries
+
+    F_e = W (s_e / R_e + f_min Z_e + (mu_e(v_e) - f_min) <n_e . Z_e>_+ n_e + stop),
+
+with Z_e from Park's biaxial Bouc-Wen model (Eqs. 8-9, updated exactly along the step's
+straight increment), n_e the direction of the increment, v_e its mean speed over the step times
+the surface's factor, and the restrainer along the slider's displacement beyond its capacity:
+along one axis this is `_triple_structure.slider_forces`. Each step solves the three sliders'
+increments (3, 2) so that every F_e equals F = (D - sum d_e) / G, D the isolator's increment
+(2,) without the bearing and G its compliance: Newton's matrix, blockdiag(K_e) + (1/G) U U^T
+with 2 x 2 blocks K_e, is inverted by the Woodbury identity, with a halving line search;
+the root is differentiated implicitly. Peaks are resultants, as `bidirectional_peak_response`
+reads them. References: Fenz & Constantinou (2008); Park, Wen & Ang (1986).
+"""
+
+import functools
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from ..bearing import STOP_STIFFNESS_RATIO, TriplePendulum, sliding_friction
+from ..excitation import Signal
+from ..solver import park_exact_update
+from ..units import STANDARD_GRAVITY
+from ._structure import check_duration
+from ._triple_structure import SMALLEST_STEP, StructureOnTriple
+
+
+class BiaxialStructureOnTriple(eqx.Module):
+    """`StructureOnTriple` (its linear structure in x and in y alike) with the ground's y
+    component `ground_y` (module docstring)."""
+
+    uniaxial: StructureOnTriple
+    ground_y: Signal
+
+    @property
+    def mass(self):
+        return self.uniaxial.mass
+
+    @property
+    def time_step(self) -> float:
+        return self.uniaxial.time_step
+
+    @property
+    def triple(self) -> TriplePendulum:
+        return self.uniaxial.triple
+
+    def ground(self, t):
+        """(a_x, a_y) [m/s^2] at time t [s]."""
+        return jnp.stack([self.uniaxial.ground_acceleration(t), self.ground_y(t)])
+
+    def initial_isolator(self):
+        zeros = jnp.zeros((3, 2), self.mass.dtype)
+        return zeros, zeros, zeros, jnp.zeros(2, self.mass.dtype)
+
+    def step(self, x0, isolator, ground0, ground1, matrices=None):
+        """One step of both directions: `x0` (2, 2n) = (u, v) in x and in y, the isolator's
+        state, the ground (2,) at both ends; returns (x1, isolator, converged, force (2,))."""
+        system = self.uniaxial
+        step_matrix, force_column = system.step_matrices() if matrices is None else matrices
+        slider0, z0, previous, extra0 = isolator
+        w = jnp.concatenate([x0, jnp.stack([ground0, extra0, ground1], -1)], -1)
+        linear = w @ step_matrix.T
+        g0, k_ref, load = -force_column[0], system.reference_stiffness, system.bearing_load
+        scale = 1 - g0 * k_ref
+        p = {"triple": system.triple, "W": load, "s0": slider0, "z0": z0,
+             "D": linear[:, 0] / scale - x0[:, 0], "G": g0 / scale}
+        eps = jnp.finfo(linear.dtype).eps
+        tolerance = jnp.maximum(system.newton_tolerance * load,
+                                32 * eps * (load + jnp.max(jnp.abs(p["D"])) / p["G"]))
+        d, converged = _balanced(self.time_step, system.newton_iterations, p, previous, tolerance)
+        force, z1 = biaxial_slider_forces(system.triple, load, slider0, z0, d, self.time_step)
+        bearing = jnp.mean(force, axis=0)
+        extra1 = bearing - k_ref * (x0[:, 0] + jnp.sum(d, axis=0))
+        x1 = linear + extra1[:, None] * force_column
+        return x1, (slider0 + d, z1, d, extra1), converged, bearing
+
+
+def _length(x):
+    """|x| along the last axis (kept), with a zero derivative at 0 instead of NaN."""
+    squared = jnp.sum(x**2, axis=-1, keepdims=True)
+    return jnp.where(squared > 0, jnp.sqrt(jnp.where(squared > 0, squared, 1.0)), 0.0)
+
+
+def biaxial_slider_forces(triple: TriplePendulum, load, slider0, z0, increment, time_step):
+    """Forces (3, 2) [N] of the sliders after the increments (3, 2) [m] from displacements
+    `slider0` and Park's Z `z0` (3, 2) over `time_step` [s] (module docstring), and their Z."""
+    radii, capacities = triple.series_radii()[:, None], triple.series_capacities()[:, None]
+    u = slider0 + increment
+    z = park_exact_update(triple.hysteresis, z0, increment)
+    length = _length(increment)
+    direction = increment / jnp.where(length > 0, length, 1.0)
+    friction = triple.frictions()
+    f_min = (friction.f_max - friction.delta_f)[:, None]
+    mu = sliding_friction(friction, length[:, 0] * triple.velocity_factors() / time_step)[:, None]
+    along = jnp.maximum(jnp.sum(direction * z, axis=-1, keepdims=True), 0.0)
+    reach = _length(u)
+    over = jnp.maximum(reach - capacities, 0.0) * u / jnp.where(reach > 0, reach, 1.0)
+    return load * (u / radii + f_min * z + (mu - f_min) * along * direction
+                   + STOP_STIFFNESS_RATIO * over / radii), z
+
+
+def _residual(d, p, dt):
+    force, _ = biaxial_slider_forces(p["triple"], p["W"], p["s0"], p["z0"], d, dt)
+    return force - (p["D"] - jnp.sum(d, axis=0)) / p["G"]
+
+
+def _residual_and_blocks(d, p, dt):
+    """(residual (3, 2), dF_e/dd_e (3, 2, 2)): a forward pass with the two axes' tangents
+    (each slider's force depends on its own increment only)."""
+    def forces(x):
+        return biaxial_slider_forces(p["triple"], p["W"], p["s0"], p["z0"], x, dt)[0]
+
+    axes = jnp.broadcast_to(jnp.eye(2, dtype=d.dtype)[:, None, :], (2,) + d.shape)
+    force, columns = jax.vmap(lambda t: jax.jvp(forces, (d,), (t,)), out_axes=(None, 0))(axes)
+    return force - (p["D"] - jnp.sum(d, axis=0)) / p["G"], jnp.moveaxis(columns, 0, -1)
+
+
+def _inverse2(m):
+    """Inverses of 2 x 2 matrices (..., 2, 2)."""
+    det = m[..., 0, 0] * m[..., 1, 1] - m[..., 0, 1] * m[..., 1, 0]
+    adjugate = jnp.stack([jnp.stack([m[..., 1, 1], -m[..., 0, 1]], -1),
+                          jnp.stack([-m[..., 1, 0], m[..., 0, 0]], -1)], -2)
+    return adjugate / det[..., None, None]
+
+
+def _woodbury(residual, blocks, compliance):
+    """J^-1 r for J = blockdiag(K_e) + U U^T / G: C_e (r_e - s), C_e = K_e^-1,
+    s = (G I + sum C_e)^-1 sum C_e r_e."""
+    c = _inverse2(blocks)
+    cr = jnp.einsum("eij,ej->ei", c, residual)
+    s = _inverse2(compliance * jnp.eye(2, dtype=residual.dtype) + jnp.sum(c, 0)) @ jnp.sum(cr, 0)
+    return cr - jnp.einsum("eij,j->ei", c, s)
+
+
+@functools.partial(jax.custom_jvp, nondiff_argnums=(0, 1))
+def _balanced(dt, iterations, p, guess, tolerance):
+    """The sliders' increments (3, 2) [m] that balance their forces with the linear step."""
+    def evaluate(d):
+        r, k = _residual_and_blocks(d, p, dt)
+        return r, jnp.sum(r**2), _woodbury(r, k, p["G"])
+
+    def cond(carry):
+        _, (r, _, _), _, k = carry
+        return (jnp.max(jnp.abs(r)) > tolerance) & (k < iterations)
+
+    def body(carry):
+        d, (r, merit, direction), fraction, k = carry
+        trial = d - fraction * direction
+        new = evaluate(trial)
+        accept = ((new[1] < merit) & jnp.all(jnp.isfinite(new[2]))) | (fraction <= SMALLEST_STEP)
+        d = jnp.where(accept, trial, d)
+        values = tuple(jnp.where(accept, a, b) for a, b in zip(new, (r, merit, direction)))
+        return d, values, jnp.where(accept, 1.0, 0.5 * fraction), k + 1
+
+    carry = (guess, evaluate(guess), jnp.ones((), guess.dtype), 0)
+    d, (r, _, _), _, _ = jax.lax.while_loop(cond, body, carry)
+    return d, jnp.max(jnp.abs(r)) <= tolerance
+
+
+@_balanced.defjvp
+def _balanced_jvp(dt, iterations, primals, tangents):
+    p, guess, tolerance = primals
+    d, converged = _balanced(dt, iterations, p, guess, tolerance)
+    _, blocks = _residual_and_blocks(d, p, dt)
+    r_p = jax.jvp(lambda q: _residual(d, q, dt), (p,), (tangents[0],))[1]
+    return (d, converged), (-_woodbury(r_p, blocks, p["G"]), np.zeros(np.shape(converged), jax.dtypes.float0))
+
+
+def biaxial_histories(system: BiaxialStructureOnTriple, duration: float):
+    """Histories from rest over `duration` [s]: (time (nt,), x (nt, 2, 2n) = (u, v) in x and
+    y, bearing force (nt, 2) [N], sliders (nt, 3, 2) [m], total accelerations (nt, 2, n)
+    [m/s^2], converged (nt,)). jit/vmap-safe."""
+    dt = float(system.time_step)
+    n_steps = check_duration(system.uniaxial, duration)
+    n = system.mass.shape[-1]
+    time = jnp.arange(n_steps + 1) * dt
+    ground = jax.vmap(system.ground)(time)
+    matrices = system.uniaxial.step_matrices()
+    linear = system.uniaxial
+
+    def acceleration(x, extra):
+        force = x[:, :n] @ linear.stiffness.T + x[:, n:] @ linear.damping.T
+        return -force.at[:, 0].add(extra) / linear.mass
+
+    def body(carry, grounds):
+        x, isolator = carry
+        x1, isolator1, ok, force = system.step(x, isolator, grounds[0], grounds[1], matrices)
+        return (x1, isolator1), (x1, force, isolator1[0], acceleration(x1, isolator1[3]), ok)
+
+    start = (jnp.zeros((2, 2 * n), system.mass.dtype), system.initial_isolator())
+    _, out = jax.lax.scan(body, start, (ground[:-1], ground[1:]))
+    first = (start[0], jnp.zeros(2), jnp.zeros((3, 2)), jnp.zeros((2, n)), jnp.array(True))
+    return (time, *(jnp.concatenate([a[None], b]) for a, b in zip(first, out)))
+
+
+def biaxial_peaks(system: BiaxialStructureOnTriple, duration: float, widths=(1e-3, 1e-3), read_every: int = 1):
+    """Peaks of the resultant base displacement [m] and of the resultant force on the masses
+    above the isolators over their weight (base slab included, as `bidirectional_peak_response`
+    reads it), their smooth maxima (widths [m], [-]) and whether every step balanced:
+    (base_disp, base_shear_ratio, smooth_disp, smooth_shear, converged). jit/vmap/grad-safe."""
+    dt = float(system.time_step)
+    n_steps = check_duration(system.uniaxial, duration)
+    n = system.mass.shape[-1]
+    mass = system.mass
+    weight = jnp.sum(mass) * STANDARD_GRAVITY
+    linear = system.uniaxial
+    matrices = linear.step_matrices()
+    ground = jax.vmap(system.ground)(jnp.arange(n_steps + 1) * dt)
+    widths = tuple(jnp.asarray(w, mass.dtype) for w in widths)
+
+    def body(carry, step_and_ground):
+        step, (ground0, ground1) = step_and_ground
+        x, isolator, peaks, tops, totals, ok = carry
+        x1, isolator1, converged, _ = system.step(x, isolator, ground0, ground1, matrices)
+        inner = x1[:, :n] @ linear.stiffness.T + x1[:, n:] @ linear.damping.T
+        force = -(jnp.sum(inner, axis=-1) + isolator1[3])  # sum_j m_j a_j^total in x and y
+        now = (jnp.sqrt(jnp.sum(x1[:, 0] ** 2)), jnp.sqrt(jnp.sum(force**2)) / weight)
+        read = (step + 1) % read_every == 0
+        peaks = tuple(jnp.where(read, jnp.maximum(p, v), p) for p, v in zip(peaks, now))
+        new_tops = tuple(jnp.maximum(t, jax.lax.stop_gradient(v)) for t, v in zip(tops, now))
+        totals = tuple(s * jnp.exp((t - nt) / w) + 0.5 * (jnp.exp((v - nt) / w) + jnp.exp((-v - nt) / w))
+                       for s, t, nt, v, w in zip(totals, tops, new_tops, now, widths))
+        return (x1, isolator1, peaks, new_tops, totals, ok & converged), None
+
+    zero, one = jnp.zeros((), mass.dtype), jnp.ones((), mass.dtype)
+    carry = (jnp.zeros((2, 2 * n), mass.dtype), system.initial_isolator(), (zero, zero), (zero, zero),
+             (one, one), jnp.array(True))
+    (_, _, peaks, tops, totals, ok), _ = jax.lax.scan(body, carry, (jnp.arange(n_steps), (ground[:-1], ground[1:])))
+    smooth = [t + w * jnp.log(s / (n_steps + 1)) for t, s, w in zip(tops, totals, widths)]
+    return peaks[0], peaks[1], smooth[0], smooth[1], ok
