@@ -216,3 +216,22 @@ def test_a_triple_pendulum_with_another_isolator_or_a_design_is_refused():
     structure = isolated_structure("rigid", isolator="triple-fp", triple=_bearing())
     with pytest.raises(ValueError, match="design: the triple-fp isolator takes no design"):
         structure(uniform_signal(jnp.zeros(10), 0.01), {"radius": 2.0})
+
+
+def test_the_inner_surfaces_take_eq1_at_half_the_sliders_speed():
+    """Regime I at a constant speed V: only the inner pair slides, each of its two surfaces at
+    V / 2, so F / W = u / (2 a) + mu_2(V / 2) with Eq. 1's mu(v) = f_max - delta_f exp(-a v)
+    (Fenz & Constantinou 2008). The outer sliders' Bouc-Wen pre-slip (a few Y as their Z nears
+    F / (f_min W)) takes up to 3e-4 of F / W; at V itself the friction would be 0.0036 higher."""
+    bearing = _eq1_bearing()
+    speed, dt = 0.05, 1e-4
+    t = np.arange(0.0, 0.4 + dt / 2, dt)
+    x, force, converged = jax.jit(imposed_isolator_force, static_argnums=3)(bearing, W, speed * t, dt)
+    x, ratio = np.asarray(x), np.asarray(force) / W
+    assert np.asarray(converged).all()
+    inner = bearing.inner_friction
+    mu_half = inner.f_max - inner.delta_f * np.exp(-inner.rate_a * speed / 2)
+    # Z saturated, before F / W reaches the bottom surface's f_min = 0.04 (regime II)
+    sliding = (x > 0.004) & (x < 0.012)
+    closed = x[sliding] / (2 * bearing.inner_radius) + mu_half
+    assert np.max(np.abs(ratio[sliding] - closed)) < 6e-4

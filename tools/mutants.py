@@ -235,6 +235,23 @@ MUTANTS = (
            "inner = 2 * (self.inner_capacity + a * jnp.minimum(self.bottom_capacity / b,",
            "inner = 2 * (self.inner_capacity + a * jnp.maximum(self.bottom_capacity / b,",
            ("tests/test_triple_pendulum.py",), "series model: inner ring at the later outer ring"),
+    # the triple pendulum in a structure, the vertical component, the pendulum's test record
+    Mutant("P3", "teflon_jax/systems/_triple_structure.py",
+           "speed = jnp.abs(increment) * triple.velocity_factors() / time_step",
+           "speed = jnp.abs(increment) / time_step",
+           ("tests/test_triple_structure.py",), "triple pendulum in a structure: Eq. 1 at the slider's speed, not the surface's"),
+    Mutant("P4", "teflon_jax/cli/_simulate_pendulum.py",
+           "(result.fx + load * result.ux / radius, result.fy + load * result.uy / radius)",
+           "(result.fx + load * result.ux / (2 * radius), result.fy + load * result.uy / (2 * radius))",
+           ("tests/test_pendulum_fit.py",), "pendulum's test record: restoring force N u / (2 R)"),
+    Mutant("V1", "teflon_jax/systems/_vertical.py",
+           "return jnp.maximum(1 + jnp.asarray(vertical_acceleration) / STANDARD_GRAVITY, 0.0)",
+           "return jnp.maximum(1 - jnp.asarray(vertical_acceleration) / STANDARD_GRAVITY, 0.0)",
+           ("tests/test_vertical.py",), "vertical component: N = W (1 - a_v / g)"),
+    Mutant("V2", "teflon_jax/systems/_vertical.py",
+           "return jnp.maximum(1 + jnp.asarray(vertical_acceleration) / STANDARD_GRAVITY, 0.0)",
+           "return 1 + jnp.asarray(vertical_acceleration) / STANDARD_GRAVITY",
+           ("tests/test_vertical.py",), "uplift: a bearing in tension keeps carrying shear"),
 ) + LAWS
 
 

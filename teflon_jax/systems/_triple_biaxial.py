@@ -28,7 +28,7 @@ from ..bearing import STOP_STIFFNESS_RATIO, TriplePendulum, sliding_friction
 from ..excitation import Signal
 from ..solver import park_exact_update
 from ..units import STANDARD_GRAVITY
-from ._structure import check_duration
+from ._structure_response import check_duration
 from ._triple_structure import SMALLEST_STEP, StructureOnTriple
 
 
