@@ -61,7 +61,7 @@ METHODS = {
 }
 """The step's options: "today" as `teflon-jax montecarlo` runs (Z split at the turning point,
 the exact linear rule, the equilibrium to 1e-3 Y), "reference" for the 0.5 ms runs every error
-is measured against (the equilibrium to 1e-5 Y), and "previous", the method before this round
+is measured against (the equilibrium to 1e-5 Y), and "previous", the earlier method
 (Z along the net increment, Newmark's rule, 2.5 ms steps)."""
 REFERENCE_STEP = 0.0005  # [s] converged reference for the peak errors
 RECORD_STEP = 0.01  # [s] sampling of the stochastic motions

@@ -1,4 +1,4 @@
-"""Issue 2: the friction model against the paper's tests, closed forms and an independent integrator."""
+"""The friction model against the paper's tests, closed forms and an independent integrator."""
 
 import diffrax
 import jax

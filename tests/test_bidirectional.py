@@ -1,5 +1,5 @@
 """Bidirectional structures: Park's biaxial Z updated exactly along straight increments, the
-rigid mass and the Table 2 building under two ground components (issue 13)."""
+rigid mass and the Table 2 building under two ground components."""
 
 import dataclasses
 

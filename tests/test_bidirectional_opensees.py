@@ -1,4 +1,4 @@
-"""Cross-check of the bidirectional rigid mass and Table 2 building against OpenSees in 3D (issue 13).
+"""Cross-check of the bidirectional rigid mass and Table 2 building against OpenSees in 3D.
 
 OpenSees' `flatSliderBearing` (3D, `VelDependent` friction, Eq. 1 at the resultant speed)
 is elastic-perfectly-plastic with a circular slip surface: stiffness f_min W / Y until the

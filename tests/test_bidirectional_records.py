@@ -1,4 +1,4 @@
-"""The fast bidirectional solver against adaptive Tsit5 on real record pairs (issue 13):
+"""The fast bidirectional solver against adaptive Tsit5 on real record pairs:
 PEER NGA-West2 RSN6 (El Centro 1940, 180 + 270) and Mexico City 1985 SCT (E-W + N-S, 25-75 s)."""
 
 import diffrax

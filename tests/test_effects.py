@@ -117,7 +117,7 @@ def noisy_figure_eight(amplitude, frequency, cycles, noise=0.01, seed=0):
     ],
 )
 def test_hidden_anisotropy_in_a_figure_eight_reaches_the_noise_level(protocol, identifiable):
-    # Issue 14, point 1: the interpolation of all three constants takes nrmse to within 20 % of
+    # The interpolation of all three constants takes nrmse to within 20 % of
     # the true model's, and recovers the P and T constants within 5 %.
     record, true_nrmse, truth = noisy_figure_eight(*protocol, seed=1)
     result = discover_effects(record)

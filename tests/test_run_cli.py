@@ -1,4 +1,4 @@
-"""`teflon-jax run`: a user's records through a structure; bad input refused by name (issue 13)."""
+"""`teflon-jax run`: a user's records through a structure; bad input refused by name."""
 
 import json
 

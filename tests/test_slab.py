@@ -1,4 +1,4 @@
-"""Rigid slab (x, y, rotation) on bearing groups: torsion from plan asymmetry (issue 13)."""
+"""Rigid slab (x, y, rotation) on bearing groups: torsion from plan asymmetry."""
 
 import jax.numpy as jnp
 import numpy as np
