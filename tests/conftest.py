@@ -1,10 +1,19 @@
+import atexit
 import os
 import pathlib
+import shutil
+import tempfile
 
 import jax
 import pytest
 
 jax.config.update("jax_enable_x64", True)
+
+# The commands the tests call keep their compiled programs in $XDG_CACHE_HOME/teflon-jax/jax;
+# the tests use a folder of their own, so that a run never reads programs that other runs (other
+# versions of the code, other settings) wrote into the user's cache, as a clean machine would not.
+os.environ["XDG_CACHE_HOME"] = tempfile.mkdtemp(prefix="teflon-jax-tests-")
+atexit.register(shutil.rmtree, os.environ["XDG_CACHE_HOME"], ignore_errors=True)
 
 REPO = pathlib.Path(__file__).resolve().parent.parent
 
@@ -40,3 +49,12 @@ def dask_cluster(tmp_path_factory):
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
                                   dashboard_address=None, env=env) as local:
         yield local
+
+
+@pytest.fixture(autouse=True, scope="module")
+def _release_compiled_programs():
+    """Free each test module's compiled programs when it ends. One process compiles thousands
+    of programs over the suite, XLA's CPU code holds memory mappings for each, and a process may
+    hold at most vm.max_map_count of them (65,530 by default): past that, a compile aborts."""
+    yield
+    jax.clear_caches()
