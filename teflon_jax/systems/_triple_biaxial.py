@@ -29,7 +29,7 @@ from ..excitation import Signal
 from ..solver import park_exact_update
 from ..units import STANDARD_GRAVITY
 from ._structure_response import check_duration
-from ._triple_structure import SMALLEST_STEP, StructureOnTriple
+from ._triple_structure import StructureOnTriple, damped_newton
 
 
 class BiaxialStructureOnTriple(eqx.Module):
@@ -146,22 +146,7 @@ def _balanced(dt, iterations, p, guess, tolerance):
         r, k = _residual_and_blocks(d, p, dt)
         return r, jnp.sum(r**2), _woodbury(r, k, p["G"])
 
-    def cond(carry):
-        _, (r, _, _), _, k = carry
-        return (jnp.max(jnp.abs(r)) > tolerance) & (k < iterations)
-
-    def body(carry):
-        d, (r, merit, direction), fraction, k = carry
-        trial = d - fraction * direction
-        new = evaluate(trial)
-        accept = ((new[1] < merit) & jnp.all(jnp.isfinite(new[2]))) | (fraction <= SMALLEST_STEP)
-        d = jnp.where(accept, trial, d)
-        values = tuple(jnp.where(accept, a, b) for a, b in zip(new, (r, merit, direction)))
-        return d, values, jnp.where(accept, 1.0, 0.5 * fraction), k + 1
-
-    carry = (guess, evaluate(guess), jnp.ones((), guess.dtype), 0)
-    d, (r, _, _), _, _ = jax.lax.while_loop(cond, body, carry)
-    return d, jnp.max(jnp.abs(r)) <= tolerance
+    return damped_newton(evaluate, guess, tolerance, iterations, finite_direction=True)
 
 
 @_balanced.defjvp

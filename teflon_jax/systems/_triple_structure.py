@@ -200,6 +200,16 @@ def _balanced_increments(dt, iterations, p, guess, tolerance):
         r, k = _residual_and_slopes(d, p, dt)
         return r, jnp.sum(r**2), _newton_direction(r, jnp.maximum(k, floor), p["G"])
 
+    return damped_newton(evaluate, guess, tolerance, iterations)
+
+
+def damped_newton(evaluate, guess, tolerance, iterations: int, *, finite_direction: bool = False):
+    """Newton's iteration with step halving: from `guess`, steps d <- d - f dir with f halved
+    until the merit sum(r^2) falls (or f reaches `SMALLEST_STEP`; also until the new direction
+    is finite where `finite_direction`), while max |r| > `tolerance` and fewer than `iterations`
+    steps were taken. `evaluate(d)` returns (residual r, merit, direction J^-1 r).
+
+    **Returns:** (d, whether max |r| <= tolerance)."""
     def cond(carry):
         _, (r, _, _), _, k = carry
         return (jnp.max(jnp.abs(r)) > tolerance) & (k < iterations)
@@ -208,7 +218,10 @@ def _balanced_increments(dt, iterations, p, guess, tolerance):
         d, (r, merit, direction), fraction, k = carry
         trial = d - fraction * direction
         new = evaluate(trial)
-        accept = (new[1] < merit) | (fraction <= SMALLEST_STEP)
+        lower = new[1] < merit
+        if finite_direction:
+            lower = lower & jnp.all(jnp.isfinite(new[2]))
+        accept = lower | (fraction <= SMALLEST_STEP)
         d = jnp.where(accept, trial, d)
         values = tuple(jnp.where(accept, a, b) for a, b in zip(new, (r, merit, direction)))
         return d, values, jnp.where(accept, 1.0, 0.5 * fraction), k + 1
