@@ -399,7 +399,7 @@ def run_run(args) -> int:
     if args.isolator == "triple-fp":  # one component: `_triple.run_triple`
         from ._triple import run_triple
 
-        return run_triple(args, load_components, _shown_peaks, write_histories, plot_run, output_units)
+        return run_triple(args, load_components, write_run_outputs)
     if args.suite is not None:
         if args.record_x is not None or args.record_y is not None or args.record_z is not None:
             raise ValueError("--suite: give the records in the suite file, not with --record-x/--record-y/--record-z.")
@@ -444,8 +444,14 @@ def run_run(args) -> int:
         "peak": peak,
         **uplift,
     }
+    return write_run_outputs(args, payload, histories, args.structure, [uplift_line(uplift)] * bool(uplift))
+
+
+def write_run_outputs(args, payload, histories, title, more_lines=()) -> int:
+    """`run`'s outputs: the peaks (and `more_lines`) printed, the JSON `payload`, the
+    histories and the plot (titled `title: records`); returns 0."""
     units = output_units(args.units)
-    for line in _shown_peaks(payload["peak"], units) + [uplift_line(uplift)] * bool(uplift):
+    for line in _shown_peaks(payload["peak"], units) + list(more_lines):
         print(line)
     if args.json is not None:
         path = pathlib.Path(args.json)
@@ -455,6 +461,6 @@ def run_run(args) -> int:
         write_histories(args.histories, histories)
     if args.plot is not None:
         names = [pathlib.Path(r).name for r in (args.record_x, args.record_y) if r is not None]
-        plot_run(args.plot, histories, f"{args.structure}: {' + '.join(names)}", length=units.length,
+        plot_run(args.plot, histories, f"{title}: {' + '.join(names)}", length=units.length,
                  force=units.force)
     return 0

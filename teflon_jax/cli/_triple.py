@@ -2,7 +2,6 @@
 mass or the Table 2 building on triple friction pendulums, under one or two horizontal
 components."""
 
-import json
 import pathlib
 import sys
 
@@ -62,7 +61,7 @@ def check_triple_run(args) -> None:
         raise ValueError("--structure: --isolator triple-fp runs with --structure rigid or building.")
 
 
-def run_triple(args, load_components, shown_peaks, write_histories, plot_run, output_units) -> int:
+def run_triple(args, load_components, write_run_outputs) -> int:
     """`teflon-jax run --isolator triple-fp`: the x record (and the y record, if given) through
     the structure, peaks in JSON (the keys of the other isolators; y zero for one component),
     histories and plot."""
@@ -108,20 +107,7 @@ def run_triple(args, load_components, shown_peaks, write_histories, plot_run, ou
                "solver_time_step_s": time_step, "notes": notes, "isolator": "triple-fp",
                "isolator_file": str(args.isolator_file), "radius_m": None, "anisotropic": False,
                "lay_angle_deg": None, "peak": peak}
-    units = output_units(args.units)
-    for line in shown_peaks(peak, units):
-        print(line)
-    if args.json is not None:
-        path = pathlib.Path(args.json)
-        path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text(json.dumps(payload, indent=2))
-    if args.histories is not None:
-        write_histories(args.histories, histories)
-    if args.plot is not None:
-        names = [pathlib.Path(r).name for r in (args.record_x, args.record_y) if r is not None]
-        plot_run(args.plot, histories, f"{args.structure} on triple friction pendulums: {' + '.join(names)}",
-                 length=units.length, force=units.force)
-    return 0
+    return write_run_outputs(args, payload, histories, f"{args.structure} on triple friction pendulums")
 
 
 def triple_summary(args, system, response):
