@@ -8,6 +8,7 @@ from ._model import PARAMETER_NAMES as PARAMETER_NAMES
 from ._pendulum_fit import PendulumFit as PendulumFit
 from ._pendulum_fit import fit_pendulum_test as fit_pendulum_test
 from ._pendulum_fit import pendulum_friction_record as pendulum_friction_record
+from ._pendulum_fit import refit_pendulum_radius as refit_pendulum_radius
 from ._plan import BearingFit as BearingFit
 from ._plan import RecordResidual as RecordResidual
 from ._plan import parse_free as parse_free

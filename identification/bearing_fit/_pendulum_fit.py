@@ -190,3 +190,18 @@ def _result(pairs, fit, k, k_error, iterations, settled, fixed_radius) -> Pendul
         isolation_period=2 * math.pi * math.sqrt(radius / STANDARD_GRAVITY), friction=fit,
         iterations=iterations, converged=bool(fit.converged and settled), radius_fixed=fixed_radius,
         nrmse=math.sqrt(res / meas))
+
+
+def refit_pendulum_radius(data, model_force, radius: float) -> float:
+    """R [m] refitted beside a friction model of a record less N u / `radius`: the least-squares
+    curvature of what the model leaves, k = 1 / R + sum(r N u) / sum((N u)^2), r = `data.force`
+    less `model_force` [N] at the samples of `data` (discovery's `AugmentedData` of the record,
+    e.g. a search's `result.data` and `result.forces["final"]`)."""
+    n = data.n_samples
+    load_u = np.asarray(data.normal) / data.in_parallel * np.asarray(data.ux)
+    residual = np.asarray(data.force) - np.asarray(model_force)[:n]
+    curvature = 1.0 / radius + float(np.sum(residual * load_u)) / float(np.sum(load_u**2))
+    if not curvature > 0:
+        raise ValueError("radius: the curvature refitted beside the friction model is not positive; "
+                         "the restoring force N u / R does not show in what the model leaves.")
+    return 1.0 / curvature

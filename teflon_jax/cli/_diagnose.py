@@ -13,7 +13,7 @@ import sys
 from ..units import INCH, parse_quantity
 from ._bearing_flags import add_save_bearing_flag, check_output_file, save_bearing_flag
 from ._common import add_quantity, add_units_flag, output_units, read_bearing_record
-from ._diagnose_pendulum import add_pendulum_diagnose_flags, friction_part
+from ._diagnose_pendulum import add_pendulum_diagnose_flags, search_pendulum
 
 _DIMENSIONS = {"-": "dimensionless", "m": "length", "s/m": "slowness"}
 
@@ -107,7 +107,8 @@ def add_diagnose_parser(subparsers) -> argparse.ArgumentParser:
 
 
 def run_diagnose(args) -> int:
-    """Run `diagnose` for parsed arguments; returns the exit status (0 ok, 2 bad input)."""
+    """Run `diagnose` for parsed arguments; returns the exit status (0 ok, 1 a fitted radius that did not
+    settle beside the effects found, 2 bad input)."""
 
     from identification.discovery import discover_effects, write_report
 
@@ -122,24 +123,27 @@ def run_diagnose(args) -> int:
         check_output_file(args.save_bearing, "--save-bearing")
         known = _parse_known(args.known)
         record = with_normal_load(read_bearing_record(args.record), args.record, args.normal_load)
-        record, radius = friction_part(args, record, say)
-        result = discover_effects(
-            record,
-            baseline=args.baseline,
-            candidates=candidates,
-            bic_threshold=args.bic_threshold,
-            max_effects=args.max_effects,
-            max_samples=args.max_samples,
-            known=known,
-            callback=say,
-        )
+
+        def search(friction_record):
+            return discover_effects(
+                friction_record,
+                baseline=args.baseline,
+                candidates=candidates,
+                bic_threshold=args.bic_threshold,
+                max_effects=args.max_effects,
+                max_samples=args.max_samples,
+                known=known,
+                callback=say,
+            )
+
+        result, radius, radius_entries = search_pendulum(args, record, search, say)
     except (ValueError, FileNotFoundError) as error:
         print(f"teflon-jax diagnose: {error}", file=sys.stderr)
         return 2
     document = result.to_json()
     if radius is not None:
         document.update(isolator="single-fp", radius_m=radius,
-                        radius_given=args.radius is not None)
+                        radius_given=args.radius is not None, **radius_entries)
     args.json_path.parent.mkdir(parents=True, exist_ok=True)
     args.json_path.write_text(json.dumps(document, indent=2) + "\n")
     report = write_report(result, args.report, record_name=args.record.name,
@@ -159,6 +163,11 @@ def run_diagnose(args) -> int:
         f"{result.runtime_s:.1f} s. Wrote {args.json_path} and {report}"
         + (f" and the bearing to {args.save_bearing}." if args.save_bearing else ".")
     )
+    if radius_entries.get("radius_settled") is False:
+        print(f"teflon-jax diagnose: the radius did not settle beside the effects found "
+            f"({radius / INCH:.6g} in, refitted {radius_entries['radius_last_refit_m'] / INCH:.6g} in "
+            "after the last search); give it with --radius.", file=sys.stderr)
+        return 1
     return 0
 
 

@@ -357,9 +357,12 @@ def _shown_peaks(peak: dict, units) -> list:
     return lines
 
 
-def plot_run(path, histories, title, *, length=("mm", 1e-3), force=("kN", 1e3)) -> None:
+def plot_run(path, histories, title, *, length=("mm", 1e-3), force=("kN", 1e3),
+             force_label="friction force") -> None:
     """Orbit, x and y loops and displacement histories (PNG), in the `length` and `force`
-    units given as (name, SI factor)."""
+    units given as (name, SI factor); `force_label` names the bearing force of the loops (the
+    liner's friction beside springs or a pendulum's N u / R, or a series isolator's whole
+    force)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -374,7 +377,7 @@ def plot_run(path, histories, title, *, length=("mm", 1e-3), force=("kN", 1e3)) 
     axes[0, 0].set_aspect("equal", adjustable="datalim")
     for ax, c, u in ((axes[0, 1], "x", x), (axes[1, 0], "y", y)):
         ax.plot(u, h[f"bearing_force_{c}_N"] / ff, lw=0.8)
-        ax.set(xlabel=f"base displacement {c} [{ln}]", ylabel=f"friction force {c} [{fn}]", title=f"{c} loop")
+        ax.set(xlabel=f"base displacement {c} [{ln}]", ylabel=f"{force_label} {c} [{fn}]", title=f"{c} loop")
     t = h["time_s"]
     axes[1, 1].plot(t, x, lw=0.8, label="x")
     axes[1, 1].plot(t, y, lw=0.8, label="y")
@@ -461,6 +464,7 @@ def write_run_outputs(args, payload, histories, title, more_lines=()) -> int:
         write_histories(args.histories, histories)
     if args.plot is not None:
         names = [pathlib.Path(r).name for r in (args.record_x, args.record_y) if r is not None]
+        series = getattr(args, "isolator", "flat") not in ("flat", "single-fp")  # its whole force
         plot_run(args.plot, histories, f"{title}: {' + '.join(names)}", length=units.length,
-                 force=units.force)
+                 force=units.force, force_label="isolator force" if series else "friction force")
     return 0
