@@ -55,7 +55,8 @@ class TripleFit:
     - `nrmse`: RMS(model - measured) / RMS(measured) of the force; `converged`: the optimiser
       converged and every step of the simulation balanced its sliders; `message`: the
       optimiser's status; `n_steps`; `swapped`: bottom and top exchanged (module docstring);
-      `warnings`: why the result may not be usable.
+      `warnings`: why the result may not be usable; `fitted_force` [N]: the model's force
+      at the record's samples (like its fx, or (nt, 2) with fy).
     """
 
     bearing: TriplePendulum
@@ -69,6 +70,7 @@ class TripleFit:
     n_steps: int
     swapped: bool
     warnings: list
+    fitted_force: np.ndarray
 
     def to_json_dict(self) -> dict:
         """The JSON report (SI; a "units" map names each constant's unit)."""
@@ -249,7 +251,7 @@ def _result(start, result, names, held, data, simulate) -> TripleFit:
                      std_errors={n: errors.get(n) for n in PARAMETER_NAMES}, free=tuple(names),
                      held=held, nrmse=nrmse, converged=bool(result.converged and balanced),
                      message=result.message, n_steps=result.n_steps, swapped=swapped,
-                     warnings=warnings)
+                     warnings=warnings, fitted_force=model)
 
 
 def _swap_name(name: str) -> str:
