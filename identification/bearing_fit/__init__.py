@@ -24,3 +24,4 @@ from ._triple_fit import parameters_of as triple_parameters
 from ._triple_fit import with_parameters as triple_with_parameters
 from ._triple_plan import PARAMETER_NAMES as TRIPLE_PARAMETER_NAMES
 from ._triple_plan import PARAMETER_UNITS as TRIPLE_PARAMETER_UNITS
+from ._triple_plan import fit_plan as triple_fit_plan
