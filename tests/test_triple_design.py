@@ -123,10 +123,10 @@ def test_the_design_command_meets_a_binding_limit(tmp_path, capsys, isolator_fil
     out = tmp_path / "design.json"
     code = main(["design", "--isolator", "triple-fp", "--isolator-file", str(isolator_file),
                  "--outer-f-max-range", "0.04", "0.09", "--motions", "3", "--duration", "8s",
-                 "--strong-motion", "4s", "--pga", "0.3g", "--grid", "3", "--disp-limit", "0.09m",
+                 "--strong-motion", "4s", "--pga", "0.3g", "--grid", "3", "--disp-limit", "0.075m",
                  "--json", str(out), "--no-progress", "--units", "si"])
     payload = json.loads(out.read_text())
     assert code == 0, capsys.readouterr().err
     assert payload["optimum"]["disp_limit_met"] and 0.04 < payload["optimum"]["outer_f_max"] < 0.09
-    assert payload["optimum"]["mean_peak_base_disp_mm"] == pytest.approx(90.0, rel=0.01)  # the limit binds
+    assert payload["optimum"]["mean_peak_base_disp_mm"] == pytest.approx(75.0, rel=0.01)  # the limit binds
     assert payload["p95_disp_gradient_rel_error"] <= GRADIENT_TOLERANCE

@@ -22,7 +22,12 @@ from identification.bearing_fit import (
 )
 from teflon_jax.bearing import BoucWen, FrictionParameters, TriplePendulum, coulomb_friction
 from teflon_jax.cli import main
-from teflon_jax.formats import isolator_from_dict, isolator_to_dict, load_isolator, test_record_from_arrays
+from teflon_jax.formats import (
+    isolator_from_dict,
+    isolator_to_dict,
+    load_isolator,
+    test_record_from_arrays,
+)
 from teflon_jax.systems import simulate_triple_test
 
 W = 1e6

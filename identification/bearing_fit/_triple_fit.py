@@ -8,7 +8,7 @@ Constantinou, Mokha & Reinhorn 1990, Eqs. 1, 3), and Levenberg-Marquardt (optimi
 
     S(theta) = sum_i ((F_model,i(theta) - F_i) / N)^2
 
-over the constants theta the record can tell (`fit_plan`), differentiating the simulation in
+over the constants theta the record can tell (`triple_fit_plan`), differentiating the simulation in
 forward mode. The optimiser sees a, b - a and c - a (all > 0, so the inner surfaces stay the
 tighter ones); f_max, delta_f in (0, 1); rate_a and the capacities > 0. Standard errors are
 the asymptotic ones, sigma^2 (J^T J)^-1 with sigma^2 = S / (n - p) (Seber & Wild 1989,
@@ -37,7 +37,7 @@ from ._triple_plan import (
     PARAMETER_UNITS,
     SURFACES,
     check_free,
-    fit_plan,
+    triple_fit_plan,
 )
 
 _EXCESS = {"bottom_radius": "bottom_excess", "top_radius": "top_excess"}
@@ -91,7 +91,7 @@ class TripleFit:
         }
 
 
-def parameters_of(bearing: TriplePendulum) -> dict:
+def triple_parameters(bearing: TriplePendulum) -> dict:
     """name -> value [SI] of every constant of `bearing` (`PARAMETER_NAMES`)."""
     out = {}
     for surface in SURFACES:
@@ -103,10 +103,10 @@ def parameters_of(bearing: TriplePendulum) -> dict:
     return {n: out[n] for n in PARAMETER_NAMES}
 
 
-def with_parameters(bearing: TriplePendulum, values) -> TriplePendulum:
+def triple_with_parameters(bearing: TriplePendulum, values) -> TriplePendulum:
     """`bearing` with the constants named in `values` (`PARAMETER_NAMES`, scalars or traced)
     in place of its own; also takes "bottom_excess" / "top_excess" (b - a, c - a)."""
-    get = {**parameters_of_tree(bearing), **values}
+    get = {**_leaves_of(bearing), **values}
     a = get["inner_radius"]
     b = a + values["bottom_excess"] if "bottom_excess" in values else get["bottom_radius"]
     c = a + values["top_excess"] if "top_excess" in values else get["top_radius"]
@@ -118,8 +118,8 @@ def with_parameters(bearing: TriplePendulum, values) -> TriplePendulum:
         top_friction=frictions["top"], hysteresis=bearing.hysteresis)
 
 
-def parameters_of_tree(bearing: TriplePendulum) -> dict:
-    """As `parameters_of`, the leaves kept as they are (traceable)."""
+def _leaves_of(bearing: TriplePendulum) -> dict:
+    """As `triple_parameters`, the leaves kept as they are (traceable)."""
     out = {}
     for surface in SURFACES:
         out[f"{surface}_radius"] = getattr(bearing, f"{surface}_radius")
@@ -131,7 +131,7 @@ def parameters_of_tree(bearing: TriplePendulum) -> dict:
 
 def _residual(params, args):
     start, time, path, force, load = args
-    response = simulate_triple_test(with_parameters(start, params), time, path, load)
+    response = simulate_triple_test(triple_with_parameters(start, params), time, path, load)
     return ((response.force - force) / load).reshape(-1)
 
 
@@ -179,7 +179,7 @@ def fit_triple_pendulum_test(record: TestRecord, initial: TriplePendulum, *, fre
     orbit) at a uniform time step, under a constant normal load (its N column or metadata,
     else `normal_load` [N]); `initial`: the start (`TriplePendulum`, e.g. `load_isolator`);
     the constants it does not free are held at its values; `free`: names to fit
-    (`PARAMETER_NAMES`; default: what the record can tell, `fit_plan`); `full_model`: free
+    (`PARAMETER_NAMES`; default: what the record can tell, `triple_fit_plan`); `full_model`: free
     delta_f and rate_a whatever the record's speeds; `max_steps`, `rtol`, `atol`:
     optimistix's Levenberg-Marquardt settings.
 
@@ -198,11 +198,11 @@ def fit_triple_pendulum_test(record: TestRecord, initial: TriplePendulum, *, fre
     if not bool(np.all(np.asarray(response.converged))):
         raise ValueError(f"{_record_name(record, 0)}: the start's series solve does not balance at "
                          f"{int(np.sum(~np.asarray(response.converged)))} samples; use a finer time step.")
-    names, held = fit_plan(start, response, time, full_model=full_model)
+    names, held = triple_fit_plan(start, response, time, full_model=full_model)
     if free is not None:
         names = check_free(free)
         held = {n: "held: not in free" for n in PARAMETER_NAMES if n not in names}
-    values = parameters_of(start)
+    values = triple_parameters(start)
     x0, bounds = _bounds(names, values)
     result = fit_least_squares(_residual, x0, bounds, args=(start, time, path, force, load),
                                max_steps=max_steps, rtol=rtol, atol=atol)
@@ -223,7 +223,7 @@ def _reported_jacobian(result, names):
 
 def _result(start, result, names, held, data, simulate) -> TripleFit:
     """The `TripleFit` of an optimiser's result (errors in the reported constants)."""
-    bearing = with_parameters(start, {k: jnp.asarray(v) for k, v in result.parameters.items()})
+    bearing = triple_with_parameters(start, {k: jnp.asarray(v) for k, v in result.parameters.items()})
     time, path, force, load = data
     response = simulate(bearing, time, path, load)
     model = np.asarray(response.force)
@@ -238,7 +238,7 @@ def _result(start, result, names, held, data, simulate) -> TripleFit:
     warnings += [f"{n}: not identifiable from this record (its standard error is infinite); hold "
                  "it (leave it out of free)" for n in names if not math.isfinite(errors[n])]
     bearing, swapped = _bottom_first(bearing)
-    parameters = parameters_of(bearing)
+    parameters = triple_parameters(bearing)
     if swapped:
         errors = {_swap_name(k): v for k, v in errors.items()}
         held = {_swap_name(k): v for k, v in held.items()}

@@ -59,7 +59,7 @@ def check_free(free) -> tuple:
     return tuple(n for n in PARAMETER_NAMES if n in names)
 
 
-def fit_plan(start, response, time, *, full_model: bool = False) -> tuple[tuple, dict]:
+def triple_fit_plan(start, response, time, *, full_model: bool = False) -> tuple[tuple, dict]:
     """(free names, {held name: reason}) for a record whose simulation with the `start`
     constants (`TriplePendulum`) is `response` (`TripleResponse`) at the sample `time` [s]
     (module docstring). `full_model`: free delta_f and rate_a of every sliding surface
@@ -108,3 +108,7 @@ def _rate_hidden(start, surface: str, speed) -> str:
                 f"exp(-a v) spans {float(np.ptp(shape)) if sliding.size else 0:.3g}): delta_f "
                 "and rate_a held (f_max is the friction it shows)")
     return ""
+
+TRIPLE_PARAMETER_NAMES = PARAMETER_NAMES
+TRIPLE_PARAMETER_UNITS = PARAMETER_UNITS
+"""`PARAMETER_NAMES`, `PARAMETER_UNITS` under the names the package exports."""

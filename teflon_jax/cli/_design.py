@@ -17,6 +17,7 @@ from ._common import (
     output_units,
     warn_time_step,
 )
+from ._design_triple import add_triple_design_flags
 from ._design_variables import (
     add_design_variable_flags,
     check_f_max_range,
@@ -27,7 +28,6 @@ from ._design_variables import (
     resolve_design_variables,
     structure_options,
 )
-from ._design_triple import add_triple_design_flags
 from ._montecarlo import _add_common, _motion_model
 
 HELP = "gradient-based design: minimise expected base shear under a displacement limit"
@@ -180,7 +180,11 @@ def _variables_and_structure(args):
     """({design variable: (low, high)} [SI], the structure they change) of the flags, each
     checked (`ValueError` naming the flag)."""
     from ..systems import isolated_structure
-    from ._design_triple import refuse_triple_flags, resolve_triple_design, triple_structure_for_design
+    from ._design_triple import (
+        refuse_triple_flags,
+        resolve_triple_design,
+        triple_structure_for_design,
+    )
 
     if args.isolator == "triple-fp":
         variables, triple = resolve_triple_design(args)
