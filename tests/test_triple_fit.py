@@ -143,11 +143,12 @@ def test_a_loop_into_the_restrainers_frees_their_capacities():
 @pytest.mark.parametrize("change, message", [
     (dict(time=np.r_[0.0, np.cumsum(np.linspace(0.01, 0.02, 400))]), "uniform time step"),
     (dict(normal_load=np.linspace(1e6, 1.1e6, 401)), "constant positive normal load"),
+    (dict(ux=np.cos(np.linspace(0.0, 4.0, 401))), "starts off the centre"),
 ])
 def test_records_the_fit_cannot_take_are_refused(change, message):
     record = _record()
-    values = {"time": record.time, "normal_load": record.normal_load, **change}
-    bad = test_record_from_arrays(record.ux, record.fx, **values)
+    values = {"ux": record.ux, "time": record.time, "normal_load": record.normal_load, **change}
+    bad = test_record_from_arrays(values.pop("ux"), record.fx, **values)
     with pytest.raises(ValueError, match=message):
         fit_triple_pendulum_test(bad, TRUE)
 

@@ -156,7 +156,10 @@ def _arrays(record: TestRecord, normal_load):
         force = np.stack([record.fx, record.fy], axis=-1)
     else:
         path, force = np.asarray(record.ux, float), np.asarray(record.fx, float)
-    return time, path - path[0], force, float(load[0])
+    if np.max(np.abs(path[0])) > 1e-6 * np.max(np.abs(path)):
+        raise ValueError(f"{name}: the record starts off the centre (u = {np.ravel(path[0]).tolist()} m); "
+                         "the series model starts at rest at u = 0: trim or shift the record.")
+    return time, path, force, float(load[0])
 
 
 def _bounds(names, values):
