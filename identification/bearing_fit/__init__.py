@@ -19,3 +19,10 @@ from ._report import write_fit_json as write_fit_json
 from ._to_bearing import PARAMETER_FIELDS as PARAMETER_FIELDS
 from ._to_bearing import fitted_bearing as fitted_bearing
 from ._to_bearing import part_errors as part_errors
+from ._triple_fit import TripleFit as TripleFit
+from ._triple_fit import fit_triple_pendulum_test as fit_triple_pendulum_test
+from ._triple_fit import triple_parameters as triple_parameters
+from ._triple_fit import triple_with_parameters as triple_with_parameters
+from ._triple_plan import TRIPLE_PARAMETER_NAMES as TRIPLE_PARAMETER_NAMES
+from ._triple_plan import TRIPLE_PARAMETER_UNITS as TRIPLE_PARAMETER_UNITS
+from ._triple_plan import triple_fit_plan as triple_fit_plan

@@ -8,6 +8,9 @@ import math
 
 from ..units import INCH, PSI, STANDARD_GRAVITY
 from ._common import ISOLATORS, add_quantity
+from ._design_triple import TRIPLE_FLAGS
+
+TRIPLE_DESIGN_VARIABLES = tuple(TRIPLE_FLAGS)
 
 DEFAULT_RANGES = {
     "period_range": (("1s", "4s"), (1.0, 4.0)),
@@ -24,9 +27,11 @@ FLAG_OF = {"isolation_period": "--period-range", "radius": "--radius-range",
 def add_design_variable_flags(parser) -> None:
     """`--isolator`, `--period-range` or `--radius-range`, `--pressure-range` or `--f-max-range`."""
     parser.add_argument("--isolator", default="flat", choices=ISOLATORS,
-                        help="flat sliders on springs of period Tb (designed over --period-range) "
-                        "or a single friction pendulum, restoring force W u / R (designed over "
-                        "--radius-range) (default flat)")
+                        help="flat sliders on springs of period Tb (designed over --period-range), "
+                        "a single friction pendulum, restoring force W u / R (designed over "
+                        "--radius-range), or the triple friction pendulum of --isolator-file "
+                        "(designed over --outer-radius-scale-range, --inner-f-max-range, "
+                        "--outer-f-max-range and --capacity-scale-range) (default flat)")
     add_quantity(parser, "--period-range", "time", None, "flat sliders: bounds of the isolation "
                  "period Tb (default 1s 4s)", minimum=0.0, nargs=2)
     add_quantity(parser, "--radius-range", "length", None, "--isolator single-fp: bounds of the "
@@ -116,8 +121,9 @@ def design_fields(values: dict, units) -> dict:
     if "radius" in values:
         fields[f"radius_{units.length[0]}"] = values["radius"] / units.length[1]
         fields["isolation_period_s"] = pendulum_period(values["radius"])
-    else:
+    elif "isolation_period" in values:
         fields["isolation_period_s"] = values["isolation_period"]
+    fields.update({n: values[n] for n in TRIPLE_DESIGN_VARIABLES if n in values})
     if "pressure" in values:
         fields[f"pressure_{units.pressure[0]}"] = values["pressure"] / units.pressure[1]
     if "f_max" in values:
@@ -129,8 +135,10 @@ def design_text(values: dict, units) -> str:
     """'Tb = 3.267 s, pressure = 2000 psi' or 'R = 61.2 in (Tb = 2.5 s), f_max = 0.08'."""
     if "radius" in values:
         parts = [f"R = {units.show(values['radius'], 'length')} (Tb = {pendulum_period(values['radius']):.4g} s)"]
-    else:
+    elif "isolation_period" in values:
         parts = [f"Tb = {values['isolation_period']:.4g} s"]
+    else:
+        parts = [f"{n} = {values[n]:.5g}" for n in TRIPLE_DESIGN_VARIABLES if n in values]
     if "pressure" in values:
         parts.append(f"pressure = {units.show(values['pressure'], 'pressure')}")
     if "f_max" in values:
@@ -141,7 +149,8 @@ def design_text(values: dict, units) -> str:
 def plot_units(units) -> dict:
     """`plot_design`'s units of the design variables and of lengths."""
     return {"isolation_period": (1.0, "s"), "pressure": units.pressure[::-1], "radius": units.length[::-1],
-            "f_max": (1.0, "-"), "length": units.length[::-1]}
+            "f_max": (1.0, "-"), "length": units.length[::-1],
+            **{n: (1.0, "-") for n in TRIPLE_DESIGN_VARIABLES}}
 
 
 def pendulum_start(sweep, bounds, structure, records, record_step: float, disp_limit: float,

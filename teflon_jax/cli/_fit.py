@@ -77,10 +77,18 @@ def add_fit_parser(subparsers) -> argparse.ArgumentParser:
                              "model (one record; e.g. backlash,asymmetry as `diagnose` names "
                              "them; 'list' prints the known ones); --fixed then also takes "
                              "their constants")
-    parser.add_argument("--isolator", default="flat", choices=("flat", "single-fp"),
+    parser.add_argument("--isolator", default="flat", choices=("flat", "single-fp", "triple-fp"),
                         help="single-fp: the records are of a single friction pendulum, force "
                         "N u / R + friction; fit its radius R too ('--fixed radius=88in' holds "
-                        "it) (default flat)")
+                        "it). triple-fp: one record of a triple friction pendulum, fitted from "
+                        "--isolator-file's constants (its radii, friction of each surface, "
+                        "and capacities where the loop reaches them; --free names them) (default flat)")
+    parser.add_argument("--isolator-file", default=None, metavar="START.json", type=pathlib.Path,
+                        help="with --isolator triple-fp: the isolator file the fit starts from "
+                        "(and whose constants it holds where the record cannot tell them)")
+    parser.add_argument("--save-isolator", default=None, metavar="FITTED.json", type=pathlib.Path,
+                        help="with --isolator triple-fp: write the fitted isolator file (the "
+                        "format of --isolator-file)")
     add_save_bearing_flag(parser)
     add_units_flag(parser)
     parser.set_defaults(command_function=run_fit)
@@ -114,6 +122,15 @@ def run_fit(args) -> int:
 
     from ..report import plot_fit
 
+    if args.isolator == "triple-fp":
+        from ._fit_triple import run_fit_triple
+
+        return run_fit_triple(args)
+    for flag, value in (("--isolator-file", args.isolator_file), ("--save-isolator", args.save_isolator)):
+        if value is not None:
+            print(f"teflon-jax fit: error: {flag}: applies to --isolator triple-fp only; add "
+                  f"--isolator triple-fp or leave {flag} out.", file=sys.stderr)
+            return 2
     if args.isolator == "single-fp":
         from ._fit_pendulum import run_fit_pendulum
 

@@ -14,6 +14,8 @@ from ._external import external_data_dir as external_data_dir
 from ._external import load_record as load_record
 from ._isolator_file import isolator_from_dict as isolator_from_dict
 from ._isolator_file import load_isolator as load_isolator
+from ._isolator_write import isolator_to_dict as isolator_to_dict
+from ._isolator_write import write_isolator as write_isolator
 from ._pelicun import PELICUN_UNITS as PELICUN_UNITS
 from ._pelicun import check_pelicun_path as check_pelicun_path
 from ._pelicun import pelicun_demand_table as pelicun_demand_table

@@ -33,6 +33,7 @@ from ._design import penalised_objective as penalised_objective
 from ._design_check import BOUND_TOLERANCE as BOUND_TOLERANCE
 from ._design_check import GRADIENT_TOLERANCE as GRADIENT_TOLERANCE
 from ._design_check import design_gradient_check as design_gradient_check
+from ._design_check import percentile_disp_gradient_check as percentile_disp_gradient_check
 from ._design_sweep import design_sweep as design_sweep
 from ._design_sweep import design_sweep_distributed as design_sweep_distributed
 from ._design_sweep import open_sweep as open_sweep

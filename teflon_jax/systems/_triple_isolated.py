@@ -8,6 +8,7 @@ import jax
 from ..bearing import TriplePendulum, check_triple_pendulum
 from ..validation import concrete
 from ._triple_biaxial import BiaxialStructureOnTriple
+from ._triple_design import designed_triple
 from ._triple_structure import (
     TRIPLE_NEWTON_ITERATIONS,
     TRIPLE_TOLERANCE,
@@ -24,7 +25,8 @@ class TripleIsolatedStructure(eqx.Module):
     (`triple_structure`), called as `structure(ground_acceleration, design)` like
     `IsolatedStructure` (a `StructureOnTriple`), or as `structure((ground_x, ground_y))` for
     two components (a `BiaxialStructureOnTriple`, what `monte_carlo` builds for
-    `TwoComponentGroundMotion`); no design variables apply (`design` must be empty or `None`).
+    `TwoComponentGroundMotion`); `design` may set `TRIPLE_DESIGN_VARIABLES` (the outer radii's
+    scale, the inner and outer f_max, the capacities' scale; `designed_triple`).
 
     **Fields:** `triple` (`TriplePendulum`), `kind` (static) "rigid" or "building",
     `time_step` [s] (static), `weight` [N] of the rigid mass (static),
@@ -48,11 +50,9 @@ class TripleIsolatedStructure(eqx.Module):
         return None
 
     def __call__(self, ground_acceleration, design: Mapping | None = None):
-        if design:
-            raise ValueError(f"design: the triple-fp isolator takes no design variables, got "
-                             f"{sorted(design)}; change the isolator file instead.")
+        triple = designed_triple(self.triple, design) if design else self.triple
         two = isinstance(ground_acceleration, tuple)  # (x, y): two components
-        system = triple_structure(self.kind, self.triple, ground_acceleration[0] if two else ground_acceleration,
+        system = triple_structure(self.kind, triple, ground_acceleration[0] if two else ground_acceleration,
                                   time_step=self.time_step, weight=self.weight,
                                   newton_iterations=self.newton_iterations, newton_tolerance=self.newton_tolerance)
         return BiaxialStructureOnTriple(system, ground_acceleration[1]) if two else system

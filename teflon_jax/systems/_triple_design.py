@@ -1,0 +1,85 @@
+"""Design variables of a triple friction pendulum (`TriplePendulum`), each a smooth change of
+the isolator file's bearing:
+
+- `outer_radius_scale` s [-]: the outer surfaces' effective radii b, c -> s b, s c (the
+  stiffness of regimes II-IV, 1 / (a + b), 1 / (b + c), 1 / (a + c), falls as s grows);
+- `inner_f_max` [-]: Eq. 1 of the inner surfaces scaled so that their f_max is this value
+  (delta_f in proportion: mu(v) -> (f / f_max) mu(v), f_min >= 0 kept);
+- `outer_f_max` [-]: Eq. 1 of the bottom surface scaled to this f_max, the top's by the same
+  factor (their ratio, which orders regimes II and III, kept);
+- `capacity_scale` [-]: the three effective displacement capacities times this factor.
+
+The series model needs a < s min(b, c) and inner f_max <= bottom f_max <= top f_max
+(`check_triple_pendulum`); `check_triple_box` refuses ranges that leave them.
+References: Fenz & Constantinou (2008), Earthquake Spectra 24(4); Constantinou, Mokha &
+Reinhorn (1990), Eq. 1.
+"""
+
+import math
+from collections.abc import Mapping
+
+import numpy as np
+
+from ..bearing import FrictionParameters, TriplePendulum
+
+TRIPLE_DESIGN_VARIABLES = ("outer_radius_scale", "inner_f_max", "outer_f_max", "capacity_scale")
+"""Names a design dict of a `TripleIsolatedStructure` may set (module docstring)."""
+
+
+def _scaled(friction: FrictionParameters, factor) -> FrictionParameters:
+    return FrictionParameters(friction.f_max * factor, friction.delta_f * factor, friction.rate_a)
+
+
+def designed_triple(triple: TriplePendulum, design: Mapping) -> TriplePendulum:
+    """`triple` with the design variables of `design` applied (module docstring; values may
+    be traced). `ValueError` naming an unknown variable."""
+    unknown = sorted(set(design) - set(TRIPLE_DESIGN_VARIABLES))
+    if unknown:
+        raise ValueError(f"design: unknown variable(s) {unknown} for the triple-fp isolator; "
+                         f"accepted: {', '.join(TRIPLE_DESIGN_VARIABLES)}.")
+    s = design.get("outer_radius_scale", 1.0)
+    inner = design.get("inner_f_max", triple.inner_friction.f_max) / triple.inner_friction.f_max
+    outer = design.get("outer_f_max", triple.bottom_friction.f_max) / triple.bottom_friction.f_max
+    k = design.get("capacity_scale", 1.0)
+    return TriplePendulum(
+        inner_radius=triple.inner_radius, bottom_radius=s * triple.bottom_radius,
+        top_radius=s * triple.top_radius, inner_capacity=k * triple.inner_capacity,
+        bottom_capacity=k * triple.bottom_capacity, top_capacity=k * triple.top_capacity,
+        inner_friction=_scaled(triple.inner_friction, inner),
+        bottom_friction=_scaled(triple.bottom_friction, outer),
+        top_friction=_scaled(triple.top_friction, outer), hysteresis=triple.hysteresis)
+
+
+def triple_design_ranges(triple: TriplePendulum) -> dict:
+    """Admissible (low, high) of each design variable of `triple` taken alone: the outer
+    radii above the inner one, friction within (0, 1] in the series model's order, positive
+    capacities."""
+    a, b, c = (float(np.asarray(x)) for x in (triple.inner_radius, triple.bottom_radius, triple.top_radius))
+    m2, m1, m4 = (float(np.asarray(f.f_max)) for f in (triple.inner_friction, triple.bottom_friction,
+                                                       triple.top_friction))
+    return {"outer_radius_scale": (a / min(b, c) * (1 + 1e-9), math.inf),
+            "inner_f_max": (1e-6, m1),
+            "outer_f_max": (m2, m1 / m4),
+            "capacity_scale": (1e-6, math.inf)}
+
+
+def check_triple_box(triple: TriplePendulum, variables: Mapping) -> None:
+    """`ValueError` naming the variable whose bounds (low, high) leave the series model's
+    order at a corner of the box (`designed_triple`, module docstring)."""
+    ranges = triple_design_ranges(triple)
+    m1 = float(np.asarray(triple.bottom_friction.f_max))
+    for name, (lo, hi) in variables.items():
+        if name not in ranges:
+            raise ValueError(f"design: unknown variable {name!r} for the triple-fp isolator; "
+                             f"accepted: {', '.join(TRIPLE_DESIGN_VARIABLES)}.")
+        low, high = ranges[name]
+        if name == "inner_f_max" and "outer_f_max" in variables:
+            high = variables["outer_f_max"][0]  # the inner surfaces stay the slipperier
+        if name == "outer_f_max":
+            low = max(variables.get("inner_f_max", (0.0, 0.0))[1], low)
+            high = m1 / float(np.asarray(triple.top_friction.f_max))  # top f_max <= 1
+        if not (low <= lo and hi <= high):
+            raise ValueError(
+                f"{name}: bounds ({lo:.6g}, {hi:.6g}) leave the admissible ({low:.6g}, {high:.6g}) "
+                "of this isolator (the outer radii above the inner one; inner f_max <= bottom "
+                "f_max <= top f_max <= 1; positive capacities); narrow them.")
