@@ -171,6 +171,7 @@ def files(tmp_path):
     ([], "--isolator-file: --isolator triple-fp starts"),
     (["--isolator-file", "START", "--fixed", "f_max=0.1"], "--fixed: not with --isolator triple-fp"),
     (["--isolator-file", "START", "--save-bearing", "b.json"], "--save-bearing: not with"),
+    (["--isolator-file", "START", "--starts", "4"], "--starts: not with --isolator triple-fp"),
     (["--isolator-file", "START", "RECORD"], "RECORD: --isolator triple-fp fits one record"),
     (["--isolator-file", "START", "--free", "inner_radius,spring"], "--free: free: unknown"),
 ])

@@ -51,7 +51,9 @@ def add_fit_parser(subparsers) -> argparse.ArgumentParser:
                              "repeatable; --known is the same flag, as in diagnose (default: none)")
     add_quantity(parser, "--normal-load", "force", None, "normal load for records without one; "
                  "'1N' fits the force itself (f_max, delta_f in newtons)", minimum=0.0)
-    parser.add_argument("--starts", type=int, default=8, help="number of starts (default 8)")
+    parser.add_argument("--starts", type=int, default=None, help="number of least-squares starts of a "
+                        "flat slider's or single pendulum's fit (default 8; the triple pendulum's fit "
+                        "starts from its --isolator-file)")
     parser.add_argument("--full-model", action="store_true",
                         help="fit the default constants even when the records do not separate "
                              "them (no reduced friction law)")
@@ -116,6 +118,10 @@ def _parse_fixed(text):
     return fixed
 
 
+DEFAULT_STARTS = 8
+"""`--starts` of a flat slider's or single pendulum's fit."""
+
+
 def run_fit(args) -> int:
     """Run `teflon-jax fit`; returns the exit status (0 ok, 1 not converged, 2 bad input)."""
     from identification.bearing_fit import fit_bearing_test, parse_free, write_fit_json
@@ -126,6 +132,7 @@ def run_fit(args) -> int:
         from ._fit_triple import run_fit_triple
 
         return run_fit_triple(args)
+    args.starts = DEFAULT_STARTS if args.starts is None else args.starts
     for flag, value in (("--isolator-file", args.isolator_file), ("--save-isolator", args.save_isolator)):
         if value is not None:
             print(f"teflon-jax fit: error: {flag}: applies to --isolator triple-fp only; add "

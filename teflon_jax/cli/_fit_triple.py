@@ -22,6 +22,7 @@ def _check_flags(args) -> None:
                ("--effects", args.effects, "the series model has no optional parts"),
                ("--fixed", args.fixed, "held constants keep --isolator-file's values: name the "
                 "fitted ones with --free"),
+               ("--starts", args.starts, "the fit starts from --isolator-file's values"),
                ("--save-bearing", args.save_bearing, "a bearing file holds one flat slider: "
                 "give --save-isolator"))
     for flag, value, why in refused:
