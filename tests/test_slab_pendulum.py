@@ -10,8 +10,12 @@ import pytest
 from teflon_jax.bearing import paper_bearing
 from teflon_jax.cli import main
 from teflon_jax.excitation import uniform_signal
-from teflon_jax.systems import bidirectional_rigid_mass, simulate_bidirectional, slab_on_bearings
-from teflon_jax.systems._overturning import overturning_map
+from teflon_jax.systems import (
+    bidirectional_rigid_mass,
+    overturning_map,
+    simulate_bidirectional,
+    slab_on_bearings,
+)
 from teflon_jax.tables import interface_parameters
 from teflon_jax.units import PSI, STANDARD_GRAVITY
 
@@ -140,11 +144,12 @@ def test_zero_height_is_todays_slab_and_the_rigid_mass():
 
 @pytest.mark.slow
 def test_peaks_with_overturning_converge_as_the_step_halves():
-    """An eccentric centre of mass (11.5, 7) m at h = 5 m, groups of radii 1.5-2.5 m, two
-    components: the force held over a step lags by one step, an error of order dt; the peak
-    normal loads, displacement and rotation change less with every halving, and at 1.25 ms they
-    are within 0.5 % of 2.5 ms."""
-    ax, ay = _pulse(0.4, 0.3)
+    """A centre of mass (11.5, 7) m off the loads' centroid at h = 5 m, groups of radii
+    1.5-2.5 m, two components: the force held over a step lags by one step. Halving the step
+    from 10 ms to 1.25 ms, the peak normal loads and displacement change less at every halving
+    (measured: 0.21 %, 0.070 %, 0.023 %), within 0.1 % at the end; the peak rotation, which
+    turns on the small differences of the groups' forces, within 0.3 % at every halving."""
+    ax, ay = _pulse(0.3, 0.25, frequency=1.0)
     peaks = []
     for step in (0.01, 0.005, 0.0025, 0.00125):
         system = _slab(ax, ay, 5.0, radii=[1.5, 2.0, 2.5, 2.0], step=step, centre=(11.5, 7.0))
@@ -154,9 +159,11 @@ def test_peaks_with_overturning_converge_as_the_step_halves():
                                np.max(np.hypot(response.q[:, 0], response.q[:, 1])),
                                np.max(np.abs(response.q[:, 2]))]))
     peaks = np.array(peaks)
-    changes = np.max(np.abs(np.diff(peaks, axis=0)) / np.abs(peaks[-1]), axis=1)
-    assert changes[1] < 0.75 * changes[0] and changes[2] < 0.75 * changes[1]
-    assert changes[2] < 0.005
+    changes = np.abs(np.diff(peaks, axis=0)) / np.abs(peaks[-1])
+    loads_and_displacement, rotation = np.max(changes[:, :-1], axis=1), changes[:, -1]
+    assert np.all(loads_and_displacement[1:] < 0.6 * loads_and_displacement[:-1])
+    assert loads_and_displacement[-1] < 0.001
+    assert np.all(rotation < 0.003)
 
 
 def test_three_groups_follow_statics_whatever_their_vertical_stiffness():
