@@ -34,6 +34,10 @@ def build_slab(args, ground_x, ground_y, time_step, period, damping):
     if args.plan is None:
         raise ValueError("--plan: --structure slab needs a plan file (bearing groups and loads).")
     plan = read_plan(args.plan)
+    if getattr(args, "suite", None) is not None and plan["height_of_centre_of_mass"] > 0:
+        raise ValueError(f"--suite: the overturning loads of the plan's height_of_centre_of_mass "
+                         f"({args.plan}) run one record pair at a time; leave --suite out, or give "
+                         "the plan height 0.")
     groups = plan["groups"]
     radii = _radii(args, groups)
     bearings = [bearing_of_flags(args, g["ptfe"] or args.ptfe, g["pressure"] or args.pressure,
