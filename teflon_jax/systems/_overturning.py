@@ -2,8 +2,8 @@
 lateral inertia force, held over each step.
 
 The mass above the sliding surface has its centre at the height h above it. The isolation
-pushes the slab with the horizontal force H = R^T M (q'' + R a_g) (G summed, = m a_total for
-a slab); the inertia force -H acts at the centre of mass, so the vertical reactions of the
+pushes the slab with the horizontal force H = R^T M (q'' + R a_g) (m times the total
+acceleration, for a slab); the inertia force -H acts at the centre of mass, so the vertical reactions of the
 groups must take the couple h H. With the slab rigid and the groups on vertical supports of
 stiffness k_g (equal unless given), their changes dN_g = k_g (w0 + a rx_g + b ry_g) follow a
 plane, and the moment balance about the centre of mass C (r_g = P_g - C) reads

@@ -202,10 +202,10 @@ def _pendulum_radii(isolator, radii, groups, isolation_period, spring_shares):
                          "springs (each group restores with W_g / R_g); leave them out.")
     if radii is None:
         raise ValueError("radii: isolator 'single-fp' needs the radius R [m] of the groups' surfaces.")
-    radii = np.broadcast_to(np.asarray(radii, dtype=float).reshape(-1), (groups,)).copy() \
-        if np.size(radii) in (1, groups) else None
-    if radii is None:
+    radii = np.asarray(radii, dtype=float).reshape(-1)
+    if radii.size not in (1, groups):
         raise ValueError(f"radii: give one radius for all groups or one per group ({groups}).")
+    radii = np.broadcast_to(radii, (groups,)).copy()
     if not np.all(np.isfinite(radii) & (radii > 0)):
         raise ValueError(f"radii: must be > 0 m, got {radii.tolist()}.")
     return radii
