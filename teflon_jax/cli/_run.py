@@ -17,9 +17,9 @@ from ._common import (
     pendulum_period,
     warn_time_step,
 )
-from ._plan_file import read_plan
 from ._run_bearing import bearing_of_flags as _bearing
 from ._run_bearing import fraction as _fraction
+from ._run_slab import build_slab, normal_load_summary, slab_peaks
 from ._run_suite import add_suite_arguments, check_suite_flags
 from ._run_vertical import (
     add_vertical_flag,
@@ -83,7 +83,9 @@ def add_run_parser(subparsers) -> None:
                    "shorter is extended with zeros (reported in the JSON)")
     p.add_argument("--time-step", default=f"{DEFAULT_TIME_STEP}s", help="solver step (default 0.0025s)")
     p.add_argument("--plan", default=None, help="slab plan (JSON: length_x, length_y, weight, "
-                   "centre_of_mass, groups with x, y, load and optional ptfe, pressure, springs)")
+                   "centre_of_mass, optional height_of_centre_of_mass (overturning), groups with x, "
+                   "y, load and optional ptfe, pressure, springs, radius (--isolator single-fp), "
+                   "vertical_stiffness)")
     p.add_argument("--json", default=None, help="write the peaks to this JSON file")
     p.add_argument("--plot", default=None, help="write orbit, x/y loops and histories to this PNG")
     p.add_argument("--histories", default=None, help="write histories to this .nc or .csv file")
@@ -181,7 +183,7 @@ def load_components(args):
 def build_structure(args, ax, ay, dt):
     """(system, description) for the parsed options and the components [m/s^2]."""
     from ..excitation import uniform_signal
-    from ..systems import bidirectional_building, bidirectional_rigid_mass, slab_on_bearings
+    from ..systems import bidirectional_building, bidirectional_rigid_mass
 
     gx, gy = uniform_signal(ax, dt), uniform_signal(ay, dt)
     time_step = parse_quantity(args.time_step, "time", where="--time-step")
@@ -196,9 +198,6 @@ def build_structure(args, ax, ay, dt):
     pressure = parse_quantity(args.pressure, "pressure", where="--pressure")  # heating's p
     if args.structure != "slab" and args.plan is not None:
         raise ValueError("--plan: only used with --structure slab.")
-    if args.structure == "slab" and args.isolator != "flat":
-        raise ValueError("--isolator: single-fp runs with --structure rigid or building; a slab's "
-                         "bearing groups are flat sliders with springs.")
     if args.structure == "rigid":
         weight = parse_quantity(args.weight, "force", where="--weight")
         if not weight > 0:
@@ -215,23 +214,7 @@ def build_structure(args, ax, ay, dt):
             bearing=_bearing(args, args.ptfe, args.pressure, "--pressure"), ground_x=gx,
             ground_y=gy, time_step=time_step, isolation_period=period,
             isolation_damping=damping, contact_pressure=pressure), {}
-    if args.plan is None:
-        raise ValueError("--plan: --structure slab needs a plan file (bearing groups and loads).")
-    plan = read_plan(args.plan)
-    groups = plan["groups"]
-    bearings = [
-        _bearing(args, g["ptfe"] or args.ptfe, g["pressure"] or args.pressure, f"--plan {g['name']}")
-        for g in groups
-    ]
-    system = slab_on_bearings(
-        length_x=plan["length_x"], length_y=plan["length_y"], weight=plan["weight"],
-        centre_of_mass=plan["centre_of_mass"], positions=[(g["x"], g["y"]) for g in groups],
-        bearings=bearings, loads=[g["load"] for g in groups], ground_x=gx, ground_y=gy,
-        time_step=time_step, isolation_period=period, isolation_damping=damping,
-        spring_shares=[g["springs"] for g in groups], names=[g["name"] for g in groups],
-        contact_pressures=[parse_quantity(g["pressure"] or args.pressure, "pressure",
-                                          where=f"--plan {g['name']}") for g in groups])
-    return system, plan
+    return build_slab(args, gx, gy, time_step, period, damping)
 
 
 # --------------------------------------------------------------------------- outputs
@@ -292,16 +275,7 @@ def response_summary(args, system, response, plan):
         peak["first_storey_shear_ratio_resultant"] = float(storey.max()) / (float(floors.sum()) * STANDARD_GRAVITY)
         peak.update(_storey_ratios(system, response))
     if args.structure == "slab":
-        from ..systems import slab_corners, slab_point_displacement
-
-        corners = slab_corners(plan["length_x"], plan["length_y"])
-        corner = np.asarray(slab_point_displacement(q, corners, plan["centre_of_mass"]))
-        bearing = np.asarray(response.bearing_displacement)
-        peak["rotation_rad"] = _peak(q[:, 2])
-        peak["corner_disp_resultant_m"] = [float(v) for v in _resultant(corner[..., 0], corner[..., 1]).max(axis=0)]
-        peak["group_disp_resultant_m"] = {
-            g["name"]: float(v) for g, v in zip(plan["groups"], _resultant(bearing[..., 0], bearing[..., 1]).max(axis=0))
-        }
+        peak.update(slab_peaks(plan, q, response))
     histories = {
         "time_s": np.asarray(response.time),
         "ground_x_mps2": np.asarray(response.ground)[:, 0],
@@ -429,6 +403,10 @@ def run_run(args) -> int:
     uplift = uplift_summary(response)
     if uplift:
         histories["load_factor"] = np.asarray(response.load_factor)
+    lines = [uplift_line(uplift)] * bool(uplift)
+    if args.structure == "slab":  # each group's normal load (overturning, vertical record)
+        normal, normal_lines = normal_load_summary(plan, system, response, output_units(args.units))
+        uplift, lines = {**uplift, **normal}, lines + normal_lines
     payload = {
         "structure": args.structure,
         "record_x": str(args.record_x),
@@ -447,7 +425,7 @@ def run_run(args) -> int:
         "peak": peak,
         **uplift,
     }
-    return write_run_outputs(args, payload, histories, args.structure, [uplift_line(uplift)] * bool(uplift))
+    return write_run_outputs(args, payload, histories, args.structure, lines)
 
 
 def write_run_outputs(args, payload, histories, title, more_lines=()) -> int:

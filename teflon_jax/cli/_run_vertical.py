@@ -48,7 +48,8 @@ def with_vertical(args, system, az, dt):
     from ..excitation import uniform_signal
     from ..systems import with_vertical_motion
 
-    radius = args.radius if args.isolator == "single-fp" else None
+    # a slab on pendulums holds its groups' W_g / R_g already
+    radius = args.radius if args.isolator == "single-fp" and system.pendulum_stiffness is None else None
     return with_vertical_motion(system, uniform_signal(az, dt), radius=radius)
 
 

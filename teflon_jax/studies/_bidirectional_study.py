@@ -145,6 +145,9 @@ def bidirectional_peak_response(
                              "peaks only; leave storey_height out.")
         widths = (1e-3 if disp_width is None else disp_width, 1e-3 if shear_width is None else shear_width)
         return BidirectionalPeaks(*biaxial_peaks(system, duration, widths, read_every))
+    if system.overturning is not None:
+        raise ValueError("system: the peaks in a scan do not carry the slab's overturning loads; "
+                         "run it with simulate_bidirectional (teflon-jax run without --suite).")
     dt = float(system.time_step)
     n_steps = int(duration / dt + 1e-9)
     if n_steps < 1:

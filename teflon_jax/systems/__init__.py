@@ -26,6 +26,7 @@ from ._models import rigid_mass as rigid_mass
 from ._models import signal_from_motion as signal_from_motion
 from ._models import six_storey_building as six_storey_building
 from ._models import superstructure_matrices as superstructure_matrices
+from ._overturning import overturning_map as overturning_map
 from ._peaks import RESPONSE_NAMES as RESPONSE_NAMES
 from ._peaks import STEPS_PER_LOOP_PASS as STEPS_PER_LOOP_PASS
 from ._peaks import peak_response as peak_response

@@ -49,6 +49,7 @@ from ._block_algebra import (
     solve_blocks,
 )
 from ._history import has_history, history_factor, history_rates, next_history
+from ._overturning import group_factor, overturning_step
 from ._vertical import load_factor_at
 
 NEWTON_ITERATIONS = 100
@@ -87,7 +88,9 @@ class BidirectionalStructure(AbstractSteppedSystem):
     a_v(t) [m/s^2, up +] or `None`: the groups' normal loads are then s W_g with
     s = max(1 + a_v / g, 0), on the friction and on `pendulum_stiffness` W_g / R (G,) [N/m]
     (the part of K the load carries), `_bidirectional_vertical.py`; `load` is the s of a copy
-    at one time (`at_load`).
+    at one time (`at_load`), one per group (G,) with `overturning` L (G, 2) [-]: the groups'
+    loads N_g = s W_g + (L H)_g under the horizontal force H of the step's start, held over the
+    step and kept in the state "normal_load" (G,) [N] (`_overturning.py`).
     """
 
     mass: jnp.ndarray
@@ -109,10 +112,18 @@ class BidirectionalStructure(AbstractSteppedSystem):
     vertical_acceleration: Signal | None = None
     pendulum_stiffness: jnp.ndarray | None = None
     load: jnp.ndarray | None = None
+    overturning: jnp.ndarray | None = None
 
     def load_factor(self, t):
         """N(t) / W [-] at time t [s]; `None` without a vertical record."""
         return load_factor_at(self.vertical_acceleration, t)
+
+    def load_at(self, t, y):
+        """The load factor at time t [s] and state `y`: s (`load_factor`), or one per group
+        from the state's normal loads with `overturning`."""
+        if self.overturning is None:
+            return self.load_factor(t)
+        return group_factor(self, y["normal_load"])
 
     def at_load(self, load):
         """This structure under the load factor `load` (itself for `None`): `loaded_bidirectional`."""
@@ -161,7 +172,7 @@ class BidirectionalStructure(AbstractSteppedSystem):
         return -self.mass * small_dot(self.influence, ground)
 
     def _acceleration(self, t, y):
-        return self.at_load(self.load_factor(t)).acceleration_at(self.ground(t), y)
+        return self.at_load(self.load_at(t, y)).acceleration_at(self.ground(t), y)
 
     def acceleration_at(self, ground, y):
         """Acceleration [m/s^2 or rad/s^2] of state `y` under ground acceleration `ground` (2,)."""
@@ -186,9 +197,11 @@ class BidirectionalStructure(AbstractSteppedSystem):
         if self.history:
             speed = jnp.sqrt(jnp.sum(velocity**2, axis=-1))
             mu = self.at_state(y).bearing.coefficient(velocity[:, 0], velocity[:, 1], y["z_peak"])
-            mu, speed = loaded_heat(self.at_load(self.load_factor(t)), mu, speed)
+            mu, speed = loaded_heat(self.at_load(self.load_at(t, y)), mu, speed)
             rates["heat"], rates["travel"] = history_rates(
                 self.bearing, y["heat"], mu, self.contact_pressure, speed, self.heat_rates)
+        if self.overturning is not None:  # held over fixed steps (RiccatiNewmark) only
+            rates["normal_load"] = jnp.zeros_like(y["normal_load"])
         return rates
 
     def advance(self, t0, t1, y0, args):
@@ -203,6 +216,8 @@ class BidirectionalStructure(AbstractSteppedSystem):
         t1 = eqx.error_if(
             t1, jnp.abs((t1 - t0) - dt) > slack, "step differs from the structure's time_step"
         )
+        if self.overturning is not None:
+            return overturning_step(self, t0, t1, y0, a0)
         return self.at_load(self.load_factor(t1)).newmark_update(y0, a0, self.ground(t1))
 
     def newmark_update(self, y0, a0, ground1):

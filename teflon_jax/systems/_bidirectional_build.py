@@ -8,6 +8,7 @@ from ..bearing import SlidingBearing, heat_kernel_exponentials
 from ..excitation import Signal
 from ..solver import require_riccati_form
 from ._bidirectional import NEWTON_ITERATIONS, BidirectionalStructure
+from ._overturning import initial_normal_load
 from ._structure_build import HEAT_HORIZON, PRESSURE_HINT, STRUCTURE_EFFECTS
 
 
@@ -83,11 +84,14 @@ def bidirectional_structure(
 
 
 def bidirectional_initial_state(system: BidirectionalStructure) -> dict:
-    """At rest relative to the ground, Z = 0 in every group (and cold, unworn bearings)."""
+    """At rest relative to the ground, Z = 0 in every group (and cold, unworn bearings; with
+    overturning, the groups' normal loads under the vertical record at t = 0)."""
     n, groups = system.mass.shape[0], system.bearing_load.shape[0]
     state = {"q": jnp.zeros(n), "v": jnp.zeros(n), "z": jnp.zeros((groups, 2)),
              "z_peak": jnp.zeros(groups)}
     if system.history:
         n_heat = 0 if system.heat_rates is None else system.heat_rates.shape[0]
         state.update(heat=jnp.zeros((groups, n_heat)), travel=jnp.zeros(groups))
+    if system.overturning is not None:  # the groups' normal loads N_g [N] (`_overturning.py`)
+        state["normal_load"] = initial_normal_load(system)
     return state

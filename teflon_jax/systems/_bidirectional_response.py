@@ -22,7 +22,10 @@ class BidirectionalResponse(eqx.Module):
     - `bearing_displacement` (nt, G, 2) [m]; `friction_force` (nt, G, 2) [N];
     - `z` (nt, G, 2) [-]; `z_peak` (nt, G) [-]; `result`: `diffrax.RESULTS` (0 = successful);
     - `load_factor` (nt,) [-]: N / W, 0 while uplifted, and `uplift_time` [s] (the steps with
-      N <= 0 times the step), with a vertical record; else `None`.
+      N <= 0 times the step), with a vertical record; else `None`;
+    - `normal_load` (nt, G) [N]: each group's N_g, and `group_uplift_time` (G,) [s] (the saved
+      steps with N_g <= 0 times the step between them), with overturning (`_overturning.py`);
+      else `None`.
     """
 
     time: jnp.ndarray
@@ -37,6 +40,8 @@ class BidirectionalResponse(eqx.Module):
     result: object
     load_factor: jnp.ndarray | None = None
     uplift_time: jnp.ndarray | None = None
+    normal_load: jnp.ndarray | None = None
+    group_uplift_time: jnp.ndarray | None = None
 
     @property
     def succeeded(self):
@@ -70,6 +75,9 @@ def simulate_bidirectional(
     steps = jnp.arange(n_steps + 1) * dt
     save_times = steps[::save_every]
     solver = RiccatiNewmark() if solver is None else solver
+    if system.overturning is not None and not isinstance(solver, RiccatiNewmark):
+        raise ValueError("solver: the overturning loads are held over the fixed steps of "
+                         "RiccatiNewmark; leave solver out (or give height 0).")
     solution = solve_on_grid(
         system, solver, steps, save_times, bidirectional_initial_state(system),
         jump_times=jnp.concatenate([system.ground_x.times, system.ground_y.times]),
@@ -79,7 +87,7 @@ def simulate_bidirectional(
     ground = jax.vmap(system.ground)(save_times)
     acceleration = jax.vmap(system._acceleration)(save_times, ys)
     bearing_d = jax.vmap(system.bearing_motion)(ys["q"])
-    forces = jax.vmap(lambda t, y: system.at_load(system.load_factor(t)).bearing_forces(y))(save_times, ys)
+    forces = jax.vmap(lambda t, y: system.at_load(system.load_at(t, y)).bearing_forces(y))(save_times, ys)
     loads = None if system.vertical_acceleration is None else jax.vmap(system.load_factor)(save_times)
     return BidirectionalResponse(
         time=save_times,
@@ -94,4 +102,7 @@ def simulate_bidirectional(
         result=solution.result,
         load_factor=loads,
         uplift_time=None if loads is None else uplift_steps(system, n_steps) * dt,
+        normal_load=ys.get("normal_load"),
+        group_uplift_time=None if system.overturning is None else (
+            jnp.sum(ys["normal_load"][1:] <= 0, axis=0) * dt * save_every),
     )

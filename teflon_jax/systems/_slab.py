@@ -11,9 +11,17 @@ normal load of Eq. 1, F_g = mu_g W_g Z_g). Linear springs (isolation period T of
 slab, shared among the groups) and viscous dampers proportional to them (ratio zeta) sit at
 the bearing positions, so the centre of stiffness is the spring-weighted centroid of the
 groups; its offset from C (and any offset of the friction centroid) drives the torsion.
+On single friction pendulums (`isolator="single-fp"`) each group restores with W_g / R_g d_g
+instead (Zayas, Low & Mahin 1990), so the centre of stiffness is the load-weighted centroid of
+the groups (for equal radii), which follows the loads: no torsion from stiffness eccentricity
+when the loads' centroid is the centre of mass. With the centre of mass at a height h above
+the sliding surface, the overturning moment changes each group's normal load
+(`_overturning.py`), on its friction and its pendulum alike.
 Reference: Constantinou, Mokha & Reinhorn (1990), Eqs. 1, 8-9, 17 (bidirectional model);
 plan kinematics as in 3D-BASIS (Nagarajaiah, Reinhorn & Constantinou 1991).
 """
+
+import dataclasses
 
 import jax
 import jax.numpy as jnp
@@ -24,6 +32,7 @@ from ..excitation import Signal
 from ..units import STANDARD_GRAVITY
 from ._bidirectional import BidirectionalStructure
 from ._bidirectional_build import bidirectional_structure
+from ._overturning import overturning_map
 
 LOAD_TOLERANCE = 1e-3
 """Relative mismatch allowed between the sum of the tributary loads and the weight."""
@@ -94,6 +103,10 @@ def slab_on_bearings(
     rotational_inertia=None,
     names=None,
     contact_pressures=None,
+    isolator: str = "flat",
+    radii=None,
+    height_of_centre_of_mass=0.0,
+    vertical_stiffness=None,
 ) -> BidirectionalStructure:
     """A rigid slab (x, y, rotation) on bearing groups (module docstring).
 
@@ -110,6 +123,13 @@ def slab_on_bearings(
     - `rotational_inertia` [kg m^2] about C (default m (Lx^2 + Ly^2) / 12, a uniform slab).
     - `contact_pressures` (G,) [Pa] (or one for all): the bearings' contact pressure per group,
       for bearings with heating (each group's steel heats at its own mu p |v|).
+    - `isolator`: "flat" (sliders, with the springs above) or "single-fp": every group a single
+      friction pendulum of radius `radii` R_g [m] (one for all, or (G,)), stiffness W_g / R_g
+      at its position, no springs (`isolation_damping` zeta then acts on the pendulum's
+      stiffness at omega = sqrt(g / R_e), W / R_e = sum W_g / R_g).
+    - `height_of_centre_of_mass` h [m] >= 0 above the sliding surface: the normal loads vary
+      with the overturning moment (0: constant loads); `vertical_stiffness` (G,) relative
+      vertical stiffness of the groups (default equal) for the lever rule (`overturning_map`).
 
     **Returns:** a `BidirectionalStructure` with q = (u_x [m], u_y [m], theta [rad]).
     """
@@ -125,6 +145,11 @@ def slab_on_bearings(
         raise ValueError(f"bearings: {len(bearings)} given for {groups} groups.")
     mass = weight / STANDARD_GRAVITY
     inertia = mass * (length_x**2 + length_y**2) / 12 if rotational_inertia is None else rotational_inertia
+    radii = _pendulum_radii(isolator, radii, groups, isolation_period, spring_shares)
+    height = float(height_of_centre_of_mass)
+    if not (np.isfinite(height) and height >= 0):
+        raise ValueError(f"height_of_centre_of_mass: must be >= 0 m, got {height:g}.")
+    overturning = None if height == 0 else overturning_map(positions, centre, height, vertical_stiffness, names)
     r = positions - centre
     bearing_map = np.zeros((groups, 2, 3))
     bearing_map[:, 0, 0] = 1.0
@@ -141,9 +166,13 @@ def slab_on_bearings(
         k = mass * omega**2 * shares / np.sum(shares)
         stiffness = np.einsum("g,gdn,gdm->nm", k, bearing_map, bearing_map)
         damping = 2 * float(isolation_damping) / omega * stiffness
+    elif radii is not None:
+        k = loads / radii
+        stiffness = np.einsum("g,gdn,gdm->nm", k, bearing_map, bearing_map)
+        damping = 2 * float(isolation_damping) / np.sqrt(STANDARD_GRAVITY * np.sum(k) / weight) * stiffness
     elif float(isolation_damping) > 0:
         raise ValueError("isolation_damping: needs springs (isolation_period), or 0.")
-    return bidirectional_structure(
+    system = bidirectional_structure(
         mass=jnp.array([mass, mass, inertia]),
         stiffness=stiffness,
         damping=damping,
@@ -156,6 +185,30 @@ def slab_on_bearings(
         time_step=time_step,
         contact_pressure=contact_pressures,
     )
+    return dataclasses.replace(system, pendulum_stiffness=None if radii is None else jnp.asarray(loads / radii),
+                               overturning=None if overturning is None else jnp.asarray(overturning))
+
+
+def _pendulum_radii(isolator, radii, groups, isolation_period, spring_shares):
+    """The radii R_g (G,) [m] of `isolator` "single-fp" (None for "flat"), checked."""
+    if isolator not in ("flat", "single-fp"):
+        raise ValueError(f"isolator: 'flat' or 'single-fp', got {isolator!r}.")
+    if isolator == "flat":
+        if radii is not None:
+            raise ValueError("radii: apply to isolator 'single-fp' only (flat sliders have none).")
+        return None
+    if isolation_period is not None or spring_shares is not None:
+        raise ValueError("isolation_period, spring_shares: a slab on single friction pendulums has no "
+                         "springs (each group restores with W_g / R_g); leave them out.")
+    if radii is None:
+        raise ValueError("radii: isolator 'single-fp' needs the radius R [m] of the groups' surfaces.")
+    radii = np.asarray(radii, dtype=float).reshape(-1)
+    if radii.size not in (1, groups):
+        raise ValueError(f"radii: give one radius for all groups or one per group ({groups}).")
+    radii = np.broadcast_to(radii, (groups,)).copy()
+    if not np.all(np.isfinite(radii) & (radii > 0)):
+        raise ValueError(f"radii: must be > 0 m, got {radii.tolist()}.")
+    return radii
 
 
 def slab_point_displacement(q, points, centre_of_mass):

@@ -49,12 +49,13 @@ def with_vertical_motion(system, vertical_acceleration: Signal, radius=None):
 
     `radius` R [m] of a friction pendulum: the part W / R of the isolator's stiffness that the
     normal load carries (scaled by N / W in each step; W / R per group in two directions);
-    `None` for flat sliders, whose restoring springs keep their stiffness.
+    `None` for flat sliders, whose restoring springs keep their stiffness, and for a system
+    that already holds its `pendulum_stiffness` (a slab on friction pendulums), which it keeps.
     """
     if not isinstance(vertical_acceleration, Signal):
         raise ValueError("vertical_acceleration: expected a Signal of the vertical ground "
                          f"acceleration [m/s^2], got {type(vertical_acceleration).__name__}.")
-    stiffness = None
+    stiffness = system.pendulum_stiffness
     if radius is not None:
         value = np.asarray(radius) if not isinstance(radius, jax.core.Tracer) else None
         if value is not None and not np.all(np.isfinite(value) & (value > 0)):
