@@ -295,7 +295,7 @@ def isolated_structure(
         raise ValueError(f"structure: unknown {kind!r}; accepted: {', '.join(STRUCTURES)}.")
     series = {"triple-fp": ("triple", triple), "double-fp": ("double", double)}
     for name, value in series.values():
-        if value is not None and series.get(isolator, (name,))[0] != name:
+        if value is not None and isolator != f"{name}-fp":
             raise ValueError(f"{name}: applies to the {name}-fp isolator only, not {isolator!r}.")
     if isolator in series:
         held = type(series[isolator][1]).__name__ if series[isolator][1] is not None else "pendulum"
