@@ -177,3 +177,35 @@ def test_simulate_test_refuses_a_bad_double_file_by_key(tmp_path, capsys):
     (tmp_path / "bad.json").write_text(json.dumps(bad))
     code = main(["simulate-test", "--isolator-file", str(tmp_path / "bad.json"), "--normal-load", "500kip"])
     assert code == 2 and "bad.json: surfaces.top.capacity" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("isolator, file, components", [
+    ("double-fp", EXAMPLE, 1), ("double-fp", EXAMPLE, 2), ("triple-fp", EXAMPLE.parent / "triple_isolator.json", 1)])
+def test_run_with_a_vertical_record_reports_the_uplift(tmp_path, capsys, isolator, file, components):
+    """--record-z: a_v = -1.4 g over 3-3.3 s lifts the bearings (N = W max(1 + a_v / g, 0)):
+    the JSON reports about 0.3 s of uplift and the histories carry N / W; a zero vertical
+    record gives the run without one to rounding."""
+    _record(tmp_path / "x.txt")
+    t = 0.01 * np.arange(801)
+    lifted = np.where((t > 3.0) & (t < 3.3), -1.4, 0.0)
+    for name, values in (("z.txt", lifted), ("zero.txt", 0 * t)):
+        (tmp_path / name).write_text("time acc\n" + "\n".join(f"{a:.4f} {b:.6e}" for a, b in zip(t, values)) + "\n")
+    common = ["run", "--record-x", str(tmp_path / "x.txt"), "--record-units", "g", "--isolator", isolator,
+              "--isolator-file", str(file), "--time-step", "5ms"]
+    common += ["--record-y", str(tmp_path / "x.txt")] if components == 2 else []
+    runs = {}
+    for name in ("z.txt", "zero.txt", None):
+        out = tmp_path / f"{name}.json"
+        vertical = [] if name is None else ["--record-z", str(tmp_path / name)]
+        assert main([*common, *vertical, "--json", str(out), "--histories", str(tmp_path / f"{name}.csv")]) == 0
+        runs[name] = json.loads(out.read_text())
+    capsys.readouterr()
+    uplift = runs["z.txt"]["uplift"]
+    assert uplift["occurred"] and uplift["time_s"] == pytest.approx(0.3, abs=0.02)
+    assert uplift["min_load_factor"] == 0.0 and runs["z.txt"]["record_z"] == str(tmp_path / "z.txt")
+    assert (tmp_path / "z.txt.csv").read_text().splitlines()[0].endswith("load_factor")
+    assert not runs["zero.txt"]["uplift"]["occurred"]
+    assert runs["zero.txt"]["peak"]["base_disp_resultant_m"] == pytest.approx(
+        runs[None]["peak"]["base_disp_resultant_m"], rel=1e-12)
+    assert runs["z.txt"]["peak"]["base_disp_resultant_m"] != pytest.approx(
+        runs[None]["peak"]["base_disp_resultant_m"], rel=1e-3)

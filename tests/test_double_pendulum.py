@@ -7,8 +7,13 @@ Peers: Fenz & Constantinou (2006), Earthquake Engng Struct. Dyn. 35, 1403-1424, 
 mu_1 < mu_2: F/W = mu_1 + u / R_1 while surface 1 slides alone, slope 1 / (R_1 + R_2) from
 F/W = mu_2 with both sliding, slope 1 / R_2 once surface 1 meets its restrainer at
 F/W = mu_1 + d_1 / R_1; a Coulomb oscillator of stiffness W / R_eff and friction mu W,
-whose extremes come every half period pi sqrt(R_eff / g) and lose 2 mu R_eff each.
+whose extremes come every half period pi sqrt(R_eff / g) and lose 2 mu R_eff each; under a
+vertical ground acceleration a_v the normal load N = W (1 + a_v / g) scales every slider's
+force, so a constant a_v is gravity g + a_v (half period pi sqrt(R_eff / (g + a_v)), the same
+decay), and N = 0 (uplift) leaves the mass without shear, in free flight.
 """
+
+import dataclasses
 
 import equinox as eqx
 import jax
@@ -104,30 +109,70 @@ def test_the_transitions_are_where_the_closed_form_puts_them(loading):
         assert a0 * meet + b0 == pytest.approx(force, rel=1e-2)
 
 
-def test_equal_surfaces_swing_as_one_pendulum_of_twice_the_radius():
-    """R_1 = R_2 = R and mu_1 = mu_2 = mu: a rigid mass set swinging by a ground pulse; its
-    extremes (refined by a parabola through three samples) are half a period pi sqrt(2R / g)
-    apart within 1 %, and each loses 2 mu (2R) within 1 % (Coulomb decay 4 mu (2R) per cycle);
-    the two sliders share the travel equally."""
-    radius, mu, dt = 1.0, 0.01, 0.002
-    bearing = _bearing(bottom_radius=radius, top_radius=radius, bottom_capacity=1.0, top_capacity=1.0,
-                       bottom_friction=coulomb_friction(mu), top_friction=coulomb_friction(mu))
-    t = dt * np.arange(4001)
-    pulse = np.where(t < 0.5, 0.2 * STANDARD_GRAVITY * np.sin(np.pi * t / 0.5), 0.0)
-    structure = isolated_structure("rigid", isolator="double-fp", double=bearing, time_step=dt)
-    response = jax.jit(simulate_triple_structure, static_argnums=1)(structure(uniform_signal(pulse, dt)), 8.0)
+RADIUS, MU, DT = 1.0, 0.01, 0.002
+TIME = DT * np.arange(4001)
+
+
+def _swinging(vertical=None):
+    """A rigid mass on equal surfaces (R, mu) set swinging by a ground pulse: 8 s of history,
+    with the vertical ground acceleration `vertical` (on `TIME`) or none."""
+    bearing = _bearing(bottom_radius=RADIUS, top_radius=RADIUS, bottom_capacity=1.0, top_capacity=1.0,
+                       bottom_friction=coulomb_friction(MU), top_friction=coulomb_friction(MU))
+    pulse = np.where(TIME < 0.5, 0.2 * STANDARD_GRAVITY * np.sin(np.pi * TIME / 0.5), 0.0)
+    structure = isolated_structure("rigid", isolator="double-fp", double=bearing, time_step=DT)
+    system = structure(uniform_signal(pulse, DT))
+    if vertical is not None:
+        system = dataclasses.replace(system, vertical_acceleration=uniform_signal(vertical, DT))
+    response = jax.jit(simulate_triple_structure, static_argnums=1)(system, 8.0)
     assert np.asarray(response.converged).all()
-    u, slider = np.asarray(response.displacement[:, 0]), np.asarray(response.slider)
-    np.testing.assert_allclose(slider[:, 0], slider[:, 1], rtol=0, atol=1e-12)
+    return system, response
+
+
+def _extremes(u, t, dt):
+    """Times and |values| of the extremes of u past the pulse, each refined by a parabola
+    through three samples."""
     i = np.arange(1, u.size - 1)
     turns = i[((u[i] - u[i - 1]) * (u[i + 1] - u[i]) <= 0) & (t[i] > 0.5) & (np.abs(u[i]) > 0.1)]
     curvature = u[turns + 1] - 2 * u[turns] + u[turns - 1]
     shift = 0.5 * (u[turns - 1] - u[turns + 1]) / curvature
-    times = t[turns] + shift * dt
-    peaks = np.abs(u[turns] - 0.25 * (u[turns - 1] - u[turns + 1]) * shift)
-    assert turns.size >= 4
-    np.testing.assert_allclose(np.diff(times), np.pi * np.sqrt(2 * radius / STANDARD_GRAVITY), rtol=1e-2)
-    np.testing.assert_allclose(-np.diff(peaks), 2 * mu * 2 * radius, rtol=1e-2)
+    return t[turns] + shift * dt, np.abs(u[turns] - 0.25 * (u[turns - 1] - u[turns + 1]) * shift)
+
+
+def test_equal_surfaces_swing_as_one_pendulum_of_twice_the_radius():
+    """R_1 = R_2 = R and mu_1 = mu_2 = mu: the extremes are half a period pi sqrt(2R / g)
+    apart within 1 %, and each loses 2 mu (2R) within 1 % (Coulomb decay 4 mu (2R) per cycle);
+    the two sliders share the travel equally."""
+    _, response = _swinging()
+    u, slider = np.asarray(response.displacement[:, 0]), np.asarray(response.slider)
+    np.testing.assert_allclose(slider[:, 0], slider[:, 1], rtol=0, atol=1e-12)
+    times, peaks = _extremes(u, TIME, DT)
+    assert times.size >= 4
+    np.testing.assert_allclose(np.diff(times), np.pi * np.sqrt(2 * RADIUS / STANDARD_GRAVITY), rtol=1e-2)
+    np.testing.assert_allclose(-np.diff(peaks), 2 * MU * 2 * RADIUS, rtol=1e-2)
+
+
+def test_a_constant_vertical_acceleration_is_a_stronger_gravity():
+    """a_v = 0.2 g throughout: half periods pi sqrt(2R / (1.2 g)) within 1 %, the same decay
+    2 mu (2R) per half cycle within 1 %; the peak loop reads the same history."""
+    system, response = _swinging(np.full(TIME.size, 0.2 * STANDARD_GRAVITY))
+    u = np.asarray(response.displacement[:, 0])
+    times, peaks = _extremes(u, TIME, DT)
+    assert times.size >= 3 and float(response.uplift_time) == 0.0
+    np.testing.assert_allclose(np.diff(times), np.pi * np.sqrt(2 * RADIUS / (1.2 * STANDARD_GRAVITY)), rtol=1e-2)
+    np.testing.assert_allclose(-np.diff(peaks), 2 * MU * 2 * RADIUS, rtol=1e-2)
+    assert float(peak_response(system, 8.0).base_disp) == pytest.approx(np.abs(u).max(), rel=1e-12)
+
+
+def test_uplift_leaves_the_mass_without_shear():
+    """a_v = -1.5 g over 2-2.5 s: the steps held at N = 0 carry no bearing force and the mass
+    flies on at constant velocity (no ground motion then); every step balances."""
+    lifted = (TIME > 2.0) & (TIME < 2.5)
+    _, response = _swinging(np.where(lifted, -1.5 * STANDARD_GRAVITY, 0.0))
+    held = np.concatenate([[False], lifted[:-1]]) & lifted  # steps whose start is lifted too
+    force, u = np.asarray(response.bearing_force), np.asarray(response.displacement[:, 0])
+    assert held.sum() > 200 and np.all(force[held] == 0.0) and np.abs(force).max() > 1e3
+    assert np.abs(np.diff(u[held], 2)).max() < 1e-12
+    assert float(response.uplift_time) == pytest.approx(0.5, abs=2 * DT)
 
 
 MOTION = StochasticGroundMotion(peak_ground_acceleration=0.4 * STANDARD_GRAVITY, duration=10.0, time_step=0.01,

@@ -400,7 +400,8 @@ def run_run(args) -> int:
     if args.isolator in SERIES_ISOLATORS:  # triple or double: `_triple.run_triple`
         from ._triple import run_triple
 
-        return run_triple(args, load_components, write_run_outputs)
+        return run_triple(args, load_components, write_run_outputs,
+                          lambda dt, samples: vertical_component(args, _read_component, dt, samples))
     if args.suite is not None:
         if args.record_x is not None or args.record_y is not None or args.record_z is not None:
             raise ValueError("--suite: give the records in the suite file, not with --record-x/--record-y/--record-z.")

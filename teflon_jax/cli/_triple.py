@@ -2,12 +2,15 @@
 the rigid mass or the Table 2 building on triple or double friction pendulums, under one or two
 horizontal components."""
 
+import dataclasses
 import pathlib
 import sys
+import types
 
 import numpy as np
 
 from ..units import STANDARD_GRAVITY, parse_quantity
+from ._run_vertical import uplift_line, uplift_summary
 
 SERIES_ISOLATORS = ("triple-fp", "double-fp")
 """The isolators whose surfaces an isolator file gives (`--isolator-file`)."""
@@ -63,7 +66,6 @@ def _load(path, isolator):
 def check_triple_run(args) -> None:
     """`run`'s flags that a triple or double pendulum cannot take, refused by name."""
     for flag, value, reason in (
-            ("--record-z", args.record_z, "its sliders' normal load is held at the weight"),
             ("--suite", args.suite, "give --record-x and --record-y"),
             ("--plan", args.plan, "a slab's bearing groups are flat sliders")):
         if value is not None:
@@ -72,10 +74,11 @@ def check_triple_run(args) -> None:
         raise ValueError(f"--structure: --isolator {args.isolator} runs with --structure rigid or building.")
 
 
-def run_triple(args, load_components, write_run_outputs) -> int:
+def run_triple(args, load_components, write_run_outputs, vertical=None) -> int:
     """`teflon-jax run --isolator triple-fp|double-fp`: the x record (and the y record, if
     given) through the structure, peaks in JSON (the keys of the other isolators; y zero for
-    one component), histories and plot."""
+    one component), histories and plot. `vertical(dt, samples)`: the --record-z component
+    [m/s^2] on the records' grid, or None; it sets every slider's normal load."""
     from ..excitation import uniform_signal
     from ..systems import (
         BiaxialStructureOnTriple,
@@ -97,6 +100,9 @@ def run_triple(args, load_components, write_run_outputs) -> int:
     ax, ay, dt, notes = load_components(args)
     system = triple_structure(args.structure, pendulum, uniform_signal(ax, dt), time_step=time_step,
                               weight=weight)
+    az = None if vertical is None else vertical(dt, ax.size)
+    if az is not None:
+        system = dataclasses.replace(system, vertical_acceleration=uniform_signal(az, dt))
     duration = (ax.size - 1) * dt
     print(f"teflon-jax run: {args.structure} on {pendulum.description}, "
           f"{round(duration / time_step)} steps of {args.time_step} (compiling first)...", file=sys.stderr)
@@ -112,13 +118,38 @@ def run_triple(args, load_components, write_run_outputs) -> int:
         return 1
     peak, histories = (triple_summary(args, system, response) if args.record_y is None
                        else biaxial_summary(args, system, response))
+    uplift = _uplift(system, duration)
+    if uplift:
+        histories["load_factor"] = _load_factors(system, duration)
     payload = {"structure": args.structure, "record_x": str(args.record_x),
                "record_y": None if args.record_y is None else str(args.record_y),
+               "record_z": None if args.record_z is None else str(args.record_z),
                "scale": float(args.scale), "duration_s": duration, "record_time_step_s": dt,
                "solver_time_step_s": time_step, "notes": notes, "isolator": pendulum.isolator,
                "isolator_file": str(args.isolator_file), "radius_m": None, "anisotropic": False,
-               "lay_angle_deg": None, "peak": peak}
-    return write_run_outputs(args, payload, histories, f"{args.structure} on {pendulum.description}")
+               "lay_angle_deg": None, "peak": peak, **uplift}
+    return write_run_outputs(args, payload, histories, f"{args.structure} on {pendulum.description}",
+                             [uplift_line(uplift)] * bool(uplift))
+
+
+def _load_factors(system, duration):
+    """N / W (nt,) at the solver's times of the structure's vertical record."""
+    import jax
+    import jax.numpy as jnp
+
+    steps = round(duration / float(system.time_step))
+    return np.asarray(jax.vmap(system.load_factor)(jnp.arange(steps + 1) * float(system.time_step)))
+
+
+def _uplift(system, duration) -> dict:
+    """The JSON entries of the uplift (`uplift_summary`), {} without a vertical record: the
+    time of the steps whose end has N <= 0."""
+    if system.vertical_acceleration is None:
+        return {}
+    loads = _load_factors(system, duration)
+    counted = types.SimpleNamespace(uplift_time=float(np.sum(loads[1:] <= 0)) * float(system.time_step),
+                                    load_factor=loads)
+    return uplift_summary(counted)
 
 
 def triple_summary(args, system, response):

@@ -14,7 +14,9 @@ increments (S, 2) so that every F_e equals F = (D - sum d_e) / G, D the isolator
 (2,) without the bearing and G its compliance: Newton's matrix, blockdiag(K_e) + (1/G) U U^T
 with 2 x 2 blocks K_e, is inverted by the Woodbury identity, with a halving line search;
 the root is differentiated implicitly. Peaks are resultants, as `bidirectional_peak_response`
-reads them. References: Fenz & Constantinou (2006, 2008); Park, Wen & Ang (1986).
+reads them. The uniaxial structure's vertical record, if any, sets the sliders' normal load
+N = s W as in one direction (at s = 0 Newton's blocks are the pendulums' W / R_e). References:
+Fenz & Constantinou (2006, 2008); Park, Wen & Ang (1986).
 """
 
 import functools
@@ -63,23 +65,25 @@ class BiaxialStructureOnTriple(eqx.Module):
         zeros = jnp.zeros((self.pendulum.slider_count, 2), self.mass.dtype)
         return zeros, zeros, zeros, jnp.zeros(2, self.mass.dtype)
 
-    def step(self, x0, isolator, ground0, ground1, matrices=None):
+    def step(self, x0, isolator, ground0, ground1, matrices=None, load=None):
         """One step of both directions: `x0` (2, 2n) = (u, v) in x and in y, the isolator's
-        state, the ground (2,) at both ends; returns (x1, isolator, converged, force (2,))."""
+        state, the ground (2,) at both ends, the normal load `load` W held over the step
+        (`None`: W); returns (x1, isolator, converged, force (2,))."""
         system = self.uniaxial
         step_matrix, force_column = system.step_matrices() if matrices is None else matrices
         slider0, z0, previous, extra0 = isolator
         w = jnp.concatenate([x0, jnp.stack([ground0, extra0, ground1], -1)], -1)
         linear = w @ step_matrix.T
-        g0, k_ref, load = -force_column[0], system.reference_stiffness, system.bearing_load
+        g0, k_ref, weight = -force_column[0], system.reference_stiffness, system.bearing_load
+        normal = weight if load is None else load * weight
         scale = 1 - g0 * k_ref
-        p = {"pendulum": system.pendulum, "W": load, "s0": slider0, "z0": z0,
+        p = {"pendulum": system.pendulum, "W": weight, "N": normal, "s0": slider0, "z0": z0,
              "D": linear[:, 0] / scale - x0[:, 0], "G": g0 / scale}
         eps = jnp.finfo(linear.dtype).eps
-        tolerance = jnp.maximum(system.newton_tolerance * load,
-                                32 * eps * (load + jnp.max(jnp.abs(p["D"])) / p["G"]))
+        tolerance = jnp.maximum(system.newton_tolerance * weight,
+                                32 * eps * (weight + jnp.max(jnp.abs(p["D"])) / p["G"]))
         d, converged = _balanced(self.time_step, system.newton_iterations, p, previous, tolerance)
-        force, z1 = biaxial_slider_forces(system.pendulum, load, slider0, z0, d, self.time_step)
+        force, z1 = biaxial_slider_forces(system.pendulum, normal, slider0, z0, d, self.time_step)
         bearing = jnp.mean(force, axis=0)
         extra1 = bearing - k_ref * (x0[:, 0] + jnp.sum(d, axis=0))
         x1 = linear + extra1[:, None] * force_column
@@ -111,7 +115,7 @@ def biaxial_slider_forces(pendulum: SeriesPendulum, load, slider0, z0, increment
 
 
 def _residual(d, p, dt):
-    force, _ = biaxial_slider_forces(p["pendulum"], p["W"], p["s0"], p["z0"], d, dt)
+    force, _ = biaxial_slider_forces(p["pendulum"], p["N"], p["s0"], p["z0"], d, dt)
     return force - (p["D"] - jnp.sum(d, axis=0)) / p["G"]
 
 
@@ -119,11 +123,13 @@ def _residual_and_blocks(d, p, dt):
     """(residual (S, 2), dF_e/dd_e (S, 2, 2)): a forward pass with the two axes' tangents
     (each slider's force depends on its own increment only)."""
     def forces(x):
-        return biaxial_slider_forces(p["pendulum"], p["W"], p["s0"], p["z0"], x, dt)[0]
+        return biaxial_slider_forces(p["pendulum"], p["N"], p["s0"], p["z0"], x, dt)[0]
 
     axes = jnp.broadcast_to(jnp.eye(2, dtype=d.dtype)[:, None, :], (2,) + d.shape)
     force, columns = jax.vmap(lambda t: jax.jvp(forces, (d,), (t,)), out_axes=(None, 0))(axes)
-    return force - (p["D"] - jnp.sum(d, axis=0)) / p["G"], jnp.moveaxis(columns, 0, -1)
+    blocks = jnp.moveaxis(columns, 0, -1)
+    uplift = (p["W"] / p["pendulum"].series_radii())[:, None, None] * jnp.eye(2, dtype=d.dtype)
+    return force - (p["D"] - jnp.sum(d, axis=0)) / p["G"], jnp.where(p["N"] > 0, blocks, uplift)
 
 
 def _inverse2(m):
@@ -162,6 +168,14 @@ def _balanced_jvp(dt, iterations, primals, tangents):
     return (d, converged), (-_woodbury(r_p, blocks, p["G"]), np.zeros(np.shape(converged), jax.dtypes.float0))
 
 
+def held_loads(structure, n_steps: int):
+    """N / W (n_steps,) held over each step (its start's) of the structure's vertical record
+    (`StructureOnTriple.load_factor`; `check_duration` checked it lasts), or `None`."""
+    if structure.vertical_acceleration is None:
+        return None
+    return jax.vmap(structure.load_factor)(jnp.arange(n_steps) * float(structure.time_step))
+
+
 def biaxial_histories(system: BiaxialStructureOnTriple, duration: float):
     """Histories from rest over `duration` [s]: (time (nt,), x (nt, 2, 2n) = (u, v) in x and
     y, bearing force (nt, 2) [N], sliders (nt, S, 2) [m], total accelerations (nt, 2, n)
@@ -180,11 +194,11 @@ def biaxial_histories(system: BiaxialStructureOnTriple, duration: float):
 
     def body(carry, grounds):
         x, isolator = carry
-        x1, isolator1, ok, force = system.step(x, isolator, grounds[0], grounds[1], matrices)
+        x1, isolator1, ok, force = system.step(x, isolator, grounds[0], grounds[1], matrices, grounds[2])
         return (x1, isolator1), (x1, force, isolator1[0], acceleration(x1, isolator1[3]), ok)
 
     start = (jnp.zeros((2, 2 * n), system.mass.dtype), system.initial_isolator())
-    _, out = jax.lax.scan(body, start, (ground[:-1], ground[1:]))
+    _, out = jax.lax.scan(body, start, (ground[:-1], ground[1:], held_loads(linear, n_steps)))
     first = (start[0], jnp.zeros(2), jnp.zeros((system.pendulum.slider_count, 2)), jnp.zeros((2, n)), jnp.array(True))
     return (time, *(jnp.concatenate([a[None], b]) for a, b in zip(first, out)))
 
@@ -205,9 +219,9 @@ def biaxial_peaks(system: BiaxialStructureOnTriple, duration: float, widths=(1e-
     widths = tuple(jnp.asarray(w, mass.dtype) for w in widths)
 
     def body(carry, step_and_ground):
-        step, (ground0, ground1) = step_and_ground
+        step, (ground0, ground1), load = step_and_ground
         x, isolator, peaks, tops, totals, ok = carry
-        x1, isolator1, converged, _ = system.step(x, isolator, ground0, ground1, matrices)
+        x1, isolator1, converged, _ = system.step(x, isolator, ground0, ground1, matrices, load)
         inner = x1[:, :n] @ linear.stiffness.T + x1[:, n:] @ linear.damping.T
         force = -(jnp.sum(inner, axis=-1) + isolator1[3])  # sum_j m_j a_j^total in x and y
         now = (jnp.sqrt(jnp.sum(x1[:, 0] ** 2)), jnp.sqrt(jnp.sum(force**2)) / weight)
@@ -221,6 +235,7 @@ def biaxial_peaks(system: BiaxialStructureOnTriple, duration: float, widths=(1e-
     zero, one = jnp.zeros((), mass.dtype), jnp.ones((), mass.dtype)
     carry = (jnp.zeros((2, 2 * n), mass.dtype), system.initial_isolator(), (zero, zero), (zero, zero),
              (one, one), jnp.array(True))
-    (_, _, peaks, tops, totals, ok), _ = jax.lax.scan(body, carry, (jnp.arange(n_steps), (ground[:-1], ground[1:])))
+    steps = (jnp.arange(n_steps), (ground[:-1], ground[1:]), held_loads(linear, n_steps))
+    (_, _, peaks, tops, totals, ok), _ = jax.lax.scan(body, carry, steps)
     smooth = [t + w * jnp.log(s / (n_steps + 1)) for t, s, w in zip(tops, totals, widths)]
     return peaks[0], peaks[1], smooth[0], smooth[1], ok

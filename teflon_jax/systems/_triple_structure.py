@@ -17,7 +17,11 @@ exception the force of a slider reversing would fall as its increment grows (Eq.
 series model would have no unique balance. The restrainer of stiffness `STOP_STIFFNESS_RATIO`
 W / R_e beyond the capacity. The linear structure carries a reference spring W / R_ref at the
 isolator (R_ref = `reference_radius()`: b + c of the triple, R_1 + R_2 of the double), and the
-step solves for the part of F beyond it.
+step solves for the part of F beyond it. With a vertical ground acceleration a_v (up +) every
+slider's force is taken under the normal load N = s W, s = max(1 + a_v / g, 0) at the start of
+the step and held over it (as the flat sliders and the single pendulum take it); at s = 0
+(uplift) the sliders carry nothing and share the isolator's increment as their pendulum
+stiffnesses W / R_e would, Z following their motion.
 
 Each step solves for the sliders' increments d_e: F_e(d_e) equal to the force the
 linear step leaves, F = (D - sum d_e) / G, with D the isolator's increment without the bearing
@@ -27,7 +31,6 @@ with a halving line search on the force residual; the root is differentiated imp
 """
 
 import functools
-from typing import ClassVar
 
 import equinox as eqx
 import jax
@@ -45,6 +48,7 @@ from ..units import STANDARD_GRAVITY
 from ._models import rigid_mass, six_storey_building
 from ._structure import StructureOnSliders
 from ._structure_response import check_duration
+from ._vertical import load_factor_at, uplift_steps
 
 TRIPLE_NEWTON_ITERATIONS = 60
 """Most evaluations of the sliders' forces per step (Newton iterations and line-search halvings)."""
@@ -65,7 +69,8 @@ class StructureOnTriple(eqx.Module):
     reference spring W / R_ref at DOF 0 (its `exact_step` the step's matrices); `pendulum`: the
     `SeriesPendulum` (`TriplePendulum` or `DoublePendulum`; also read as `triple`);
     `reference_stiffness` W / R_ref [N/m]; `newton_iterations` (static);
-    `newton_tolerance` (static) [-]: the force imbalance at which a step stops, over W.
+    `newton_tolerance` (static) [-]: the force imbalance at which a step stops, over W;
+    `vertical_acceleration`: `Signal` of a_v(t) [m/s^2, up +] or `None` (N = W throughout).
     """
 
     linear: StructureOnSliders
@@ -73,7 +78,11 @@ class StructureOnTriple(eqx.Module):
     reference_stiffness: jnp.ndarray
     newton_iterations: int = eqx.field(static=True, default=TRIPLE_NEWTON_ITERATIONS)
     newton_tolerance: float = eqx.field(static=True, default=TRIPLE_TOLERANCE)
-    vertical_acceleration: ClassVar[None] = None  # the sliders' normal load is the weight
+    vertical_acceleration: Signal | None = None
+
+    def load_factor(self, t):
+        """N / W = max(1 + a_v(t) / g, 0) at time t [s] (None without a vertical record)."""
+        return load_factor_at(self.vertical_acceleration, t)
 
     @property
     def triple(self) -> SeriesPendulum:
@@ -114,22 +123,24 @@ class StructureOnTriple(eqx.Module):
         zeros = jnp.zeros(self.pendulum.slider_count, self.mass.dtype)
         return zeros, zeros, zeros, jnp.zeros((), self.mass.dtype)
 
-    def step(self, x0, isolator, ground0, ground1, matrices=None):
+    def step(self, x0, isolator, ground0, ground1, matrices=None, load=None):
         """One step: (u1, v1) (2n,) and the isolator's state at its end, from (u0, v0) `x0`,
         the isolator's state (`initial_isolator`) and the ground acceleration [m/s^2] at both
-        ends; also whether the sliders' balance converged and the bearing force F [N]."""
+        ends, under the normal load `load` W held over the step (`None`: W); also whether the
+        sliders' balance converged and the bearing force F [N]."""
         step_matrix, force_column = self.step_matrices() if matrices is None else matrices
         slider0, z0, previous, extra0 = isolator
         linear = step_matrix @ jnp.concatenate([x0, jnp.stack([ground0, extra0, ground1])])
         g0, k_ref = -force_column[0], self.reference_stiffness
         scale = 1 - g0 * k_ref  # the step without the reference spring: x = X - G F
-        p = {"pendulum": self.pendulum, "W": self.bearing_load, "s0": slider0, "z0": z0,
+        normal = self.bearing_load if load is None else load * self.bearing_load
+        p = {"pendulum": self.pendulum, "W": self.bearing_load, "N": normal, "s0": slider0, "z0": z0,
              "D": linear[0] / scale - x0[0], "G": g0 / scale}
         eps = jnp.finfo(linear.dtype).eps  # F = (D - sum d) / G is known to eps |D| / G at best
         tolerance = jnp.maximum(self.newton_tolerance * self.bearing_load,
                                 32 * eps * (self.bearing_load + jnp.abs(p["D"]) / p["G"]))
         d, converged = _balanced_increments(self.time_step, self.newton_iterations, p, previous, tolerance)
-        force, z1 = slider_forces(self.pendulum, self.bearing_load, slider0, z0, d, self.time_step)
+        force, z1 = slider_forces(self.pendulum, normal, slider0, z0, d, self.time_step)
         bearing = jnp.mean(force)  # equal to rounding
         extra1 = bearing - k_ref * (x0[0] + jnp.sum(d))
         x1 = linear + force_column * extra1
@@ -179,14 +190,14 @@ def slider_forces(pendulum: SeriesPendulum, load, slider0, z0, increment, time_s
 
 def _residual(d, p, dt):
     """F_e(d_e) - F(d), F(d) = (D - sum d) / G the force the linear step leaves."""
-    force, _ = slider_forces(p["pendulum"], p["W"], p["s0"], p["z0"], d, dt)
+    force, _ = slider_forces(p["pendulum"], p["N"], p["s0"], p["z0"], d, dt)
     return force - (p["D"] - jnp.sum(d)) / p["G"]
 
 
 def _residual_and_slopes(d, p, dt):
     """(residual (S,), dF_e/dd_e (S,)): each slider's force depends on its own increment."""
     def forces(x):
-        return slider_forces(p["pendulum"], p["W"], p["s0"], p["z0"], x, dt)[0]
+        return slider_forces(p["pendulum"], p["N"], p["s0"], p["z0"], x, dt)[0]
 
     force, slope = jax.jvp(forces, (d,), (jnp.ones_like(d),))
     return force - (p["D"] - jnp.sum(d)) / p["G"], slope
@@ -246,6 +257,7 @@ def _balanced_jvp(dt, iterations, primals, tangents):
     p, guess, tolerance = primals
     d, converged = _balanced_increments(dt, iterations, p, guess, tolerance)
     _, slope = _residual_and_slopes(d, p, dt)
+    slope = jnp.where(slope > 0, slope, p["W"] / p["pendulum"].series_radii())  # 0 only at uplift
     r_p = jax.jvp(lambda q: _residual(d, q, dt), (p,), (tangents[0],))[1]
     no_tangent = np.zeros(np.shape(converged), jax.dtypes.float0)
     return (d, converged), (-_newton_direction(r_p, slope, p["G"]), no_tangent)
@@ -264,7 +276,7 @@ def imposed_isolator_force(pendulum: SeriesPendulum, load, displacement, time_st
 
     def body(carry, target):
         slider, z, previous = carry
-        p = {"pendulum": pendulum, "W": load, "s0": slider, "z0": z,
+        p = {"pendulum": pendulum, "W": load, "N": load, "s0": slider, "z0": z,
              "D": target - jnp.sum(slider), "G": jnp.asarray(compliance, float)}
         d, ok = _balanced_increments(dt, newton_iterations, p, previous, tolerance * load)
         force, z1 = slider_forces(pendulum, load, slider, z, d, dt)
@@ -281,7 +293,10 @@ class TripleStructureResponse(eqx.Module):
     """Histories of a `StructureOnTriple` (SI; time along the first axis): `time` [s],
     `displacement`, `velocity`, `total_acceleration` (nt, n) [m, m/s, m/s^2], `bearing_force`
     (nt,) [N] on the isolator, `slider` (nt, S) [m] and `z` (nt, S) [-] of the sliders (in the
-    order of the pendulum's `slider_names`), `ground_acceleration` (nt,) [m/s^2], `converged` (nt,)."""
+    order of the pendulum's `slider_names`), `ground_acceleration` (nt,) [m/s^2], `converged` (nt,);
+    with a vertical record `load_factor` (nt,) [-], N / W at each time (a step holds its
+    start's), and `uplift_time` [s], the time of the steps whose end has N <= 0 (as
+    `peak_response` counts it; else `None`)."""
 
     time: jnp.ndarray
     displacement: jnp.ndarray
@@ -292,6 +307,8 @@ class TripleStructureResponse(eqx.Module):
     z: jnp.ndarray
     ground_acceleration: jnp.ndarray
     converged: jnp.ndarray
+    load_factor: jnp.ndarray | None = None
+    uplift_time: jnp.ndarray | None = None
 
 
 def total_acceleration(system: StructureOnTriple, x, extra):
@@ -311,17 +328,19 @@ def simulate_triple_structure(system: StructureOnTriple, duration: float) -> Tri
     time = jnp.arange(n_steps + 1) * dt
     ground = jax.vmap(system.ground_acceleration)(time)
     matrices = system.step_matrices()
+    loads = None if system.vertical_acceleration is None else jax.vmap(system.load_factor)(time)
 
     def body(carry, grounds):
         x, isolator = carry
-        x1, isolator1, converged, force = system.step(x, isolator, grounds[0], grounds[1], matrices)
+        x1, isolator1, converged, force = system.step(x, isolator, grounds[0], grounds[1], matrices, grounds[2])
         out = (x1, force, isolator1[0], isolator1[1], converged,
                total_acceleration(system, x1, isolator1[3]))
         return (x1, isolator1), out
 
     x0 = jnp.zeros(2 * n, system.mass.dtype)
     start = (x0, system.initial_isolator())
-    _, (x, force, slider, z, converged, acc) = jax.lax.scan(body, start, (ground[:-1], ground[1:]))
+    _, (x, force, slider, z, converged, acc) = jax.lax.scan(
+        body, start, (ground[:-1], ground[1:], None if loads is None else loads[:-1]))
 
     def first(a, b):
         return jnp.concatenate([a[None], b])
@@ -331,4 +350,5 @@ def simulate_triple_structure(system: StructureOnTriple, duration: float) -> Tri
         time=time, displacement=first(x0[:n], x[:, :n]), velocity=first(x0[n:], x[:, n:]),
         total_acceleration=first(jnp.zeros(n, x0.dtype), acc), bearing_force=first(jnp.zeros(()), force),
         slider=first(zeros_s, slider), z=first(zeros_s, z), ground_acceleration=ground,
-        converged=first(jnp.array(True), converged))
+        converged=first(jnp.array(True), converged), load_factor=loads,
+        uplift_time=None if loads is None else uplift_steps(system, n_steps) * dt)
