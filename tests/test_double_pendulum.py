@@ -199,10 +199,17 @@ def test_two_components_along_a_line_are_the_one_direction_response():
     np.testing.assert_allclose(np.asarray(sliders).sum(axis=1), np.asarray(x[:, :, 0]), atol=1e-9)
 
 
-def test_the_peak_is_differentiable_in_the_bottom_radius():
-    """d(smooth peak displacement)/dR_1 by reverse mode against central differences."""
+@pytest.mark.parametrize("uplift", [False, True])
+def test_the_peak_is_differentiable_in_the_bottom_radius(uplift):
+    """d(smooth peak displacement)/dR_1 by reverse mode against central differences, also
+    through 0.4 s of uplift (a_v = -1.5 g)."""
     acc = 2.0 * np.asarray(jax.random.normal(jax.random.key(1), (601,))) * np.sin(np.pi * np.arange(601) / 600)
     system = isolated_structure("rigid", isolator="double-fp", double=EQ1)(uniform_signal(acc, 0.01))
+    if uplift:
+        t = 0.01 * np.arange(601)
+        vertical = np.where((t > 2.0) & (t < 2.4), -1.5 * STANDARD_GRAVITY, 0.0)
+        system = dataclasses.replace(system, vertical_acceleration=uniform_signal(vertical, 0.01))
+        assert float(peak_response(system, 6.0).uplift_time) > 0.3
 
     def peak(radius):
         moved = eqx.tree_at(lambda s: s.pendulum.bottom_radius, system, radius)

@@ -15,7 +15,8 @@ increments (S, 2) so that every F_e equals F = (D - sum d_e) / G, D the isolator
 with 2 x 2 blocks K_e, is inverted by the Woodbury identity, with a halving line search;
 the root is differentiated implicitly. Peaks are resultants, as `bidirectional_peak_response`
 reads them. The uniaxial structure's vertical record, if any, sets the sliders' normal load
-N = s W as in one direction (at s = 0 Newton's blocks are the pendulums' W / R_e). References:
+N = s W as in one direction (at s = 0 the sliders share the increment in proportion to R_e,
+`uplift_increments`). References:
 Fenz & Constantinou (2006, 2008); Park, Wen & Ang (1986).
 """
 
@@ -31,7 +32,7 @@ from ..excitation import Signal
 from ..solver import park_exact_update
 from ..units import STANDARD_GRAVITY
 from ._structure_response import check_duration
-from ._triple_structure import StructureOnTriple, damped_newton
+from ._triple_structure import StructureOnTriple, damped_newton, uplift_increments
 
 
 class BiaxialStructureOnTriple(eqx.Module):
@@ -83,6 +84,8 @@ class BiaxialStructureOnTriple(eqx.Module):
         tolerance = jnp.maximum(system.newton_tolerance * weight,
                                 32 * eps * (weight + jnp.max(jnp.abs(p["D"])) / p["G"]))
         d, converged = _balanced(self.time_step, system.newton_iterations, p, previous, tolerance)
+        if load is not None:
+            d, converged = uplift_increments(system.pendulum, load, p["D"], d, converged)
         force, z1 = biaxial_slider_forces(system.pendulum, normal, slider0, z0, d, self.time_step)
         bearing = jnp.mean(force, axis=0)
         extra1 = bearing - k_ref * (x0[:, 0] + jnp.sum(d, axis=0))

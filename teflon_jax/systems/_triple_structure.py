@@ -21,7 +21,7 @@ step solves for the part of F beyond it. With a vertical ground acceleration a_v
 slider's force is taken under the normal load N = s W, s = max(1 + a_v / g, 0) at the start of
 the step and held over it (as the flat sliders and the single pendulum take it); at s = 0
 (uplift) the sliders carry nothing and share the isolator's increment as their pendulum
-stiffnesses W / R_e would, Z following their motion.
+stiffnesses W / R_e in series would (d_e proportional to R_e), Z following their motion.
 
 Each step solves for the sliders' increments d_e: F_e(d_e) equal to the force the
 linear step leaves, F = (D - sum d_e) / G, with D the isolator's increment without the bearing
@@ -140,6 +140,8 @@ class StructureOnTriple(eqx.Module):
         tolerance = jnp.maximum(self.newton_tolerance * self.bearing_load,
                                 32 * eps * (self.bearing_load + jnp.abs(p["D"]) / p["G"]))
         d, converged = _balanced_increments(self.time_step, self.newton_iterations, p, previous, tolerance)
+        if load is not None:
+            d, converged = uplift_increments(self.pendulum, load, p["D"], d, converged)
         force, z1 = slider_forces(self.pendulum, normal, slider0, z0, d, self.time_step)
         bearing = jnp.mean(force)  # equal to rounding
         extra1 = bearing - k_ref * (x0[0] + jnp.sum(d))
@@ -168,6 +170,18 @@ def triple_structure(kind: str, pendulum: SeriesPendulum, ground_acceleration: S
                              reference_stiffness=linear.bearing_load / reference,
                              newton_iterations=int(newton_iterations),
                              newton_tolerance=float(newton_tolerance))
+
+
+def uplift_increments(pendulum: SeriesPendulum, load, total, increments, converged):
+    """(increments, converged) of a step under the load factor `load`: at `load` <= 0 (uplift)
+    the sliders carry no force, the isolator's increment `total` [m] ((,) or (2,)) is theirs
+    and they share it as their pendulum stiffnesses W / R_e in series would, d_e = total
+    R_e / sum R (a smooth rule where the balance leaves the split open); else unchanged."""
+    radii = pendulum.series_radii()
+    share = radii / jnp.sum(radii)
+    lifted = load <= 0
+    split = share * total if jnp.ndim(total) == 0 else share[:, None] * total
+    return jnp.where(lifted, split, increments), converged | lifted
 
 
 def slider_forces(pendulum: SeriesPendulum, load, slider0, z0, increment, time_step):
