@@ -52,10 +52,12 @@ class BiaxialStructureOnTriple(eqx.Module):
 
     @property
     def pendulum(self) -> SeriesPendulum:
+        """The isolator of the one-direction structure."""
         return self.uniaxial.pendulum
 
     @property
     def triple(self) -> SeriesPendulum:
+        """`pendulum`, under the name the triple pendulum gave it first."""
         return self.uniaxial.pendulum
 
     def ground(self, t):

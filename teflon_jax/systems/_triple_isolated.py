@@ -51,6 +51,7 @@ class TripleIsolatedStructure(eqx.Module):
 
     @property
     def triple(self) -> SeriesPendulum:
+        """The isolator (`pendulum`), under the name the triple pendulum gave it first."""
         return self.pendulum
 
     @property
@@ -74,7 +75,7 @@ class TripleIsolatedStructure(eqx.Module):
         return BiaxialStructureOnTriple(system, ground_acceleration[1]) if two else system
 
 
-def triple_isolated_structure(kind: str, triple: SeriesPendulum | None, *, time_step: float,
+def triple_isolated_structure(kind: str, pendulum: SeriesPendulum | None, *, time_step: float,
                               newton_iterations: int, newton_tolerance: float | None,
                               conflicting: Mapping, isolator: str = "triple-fp") -> TripleIsolatedStructure:
     """`isolated_structure(kind, isolator="triple-fp", triple=...)` (or `isolator="double-fp",
@@ -83,17 +84,17 @@ def triple_isolated_structure(kind: str, triple: SeriesPendulum | None, *, time_
     `check_double_pendulum`), and each name in `conflicting` (inputs of the other isolators
     given with this one)."""
     name, kind_of, check = SERIES_PENDULUMS[isolator]
-    if triple is None:
+    if pendulum is None:
         raise ValueError(f"{name}: the {isolator} isolator needs its {kind_of.__name__} (e.g. "
                          "formats.load_isolator(path)).")
-    if not isinstance(triple, kind_of):
-        raise ValueError(f"{name}: expected a {kind_of.__name__}, got {type(triple).__name__}.")
-    if all(concrete(leaf) is not None for leaf in jax.tree_util.tree_leaves(triple)):
-        check(triple)  # traced constants (gradients): the caller's to check
+    if not isinstance(pendulum, kind_of):
+        raise ValueError(f"{name}: expected a {kind_of.__name__}, got {type(pendulum).__name__}.")
+    if all(concrete(leaf) is not None for leaf in jax.tree_util.tree_leaves(pendulum)):
+        check(pendulum)  # traced constants (gradients): the caller's to check
     if isinstance(time_step, bool) or not isinstance(time_step, (int, float)) or not time_step > 0:
         raise ValueError(f"time_step: must be a positive number of seconds, got {time_step!r}.")
     for conflict, reason in conflicting.items():
         raise ValueError(f"{conflict}: does not apply to the {isolator} isolator ({reason}).")
     tolerance = TRIPLE_TOLERANCE if newton_tolerance is None else float(newton_tolerance)
-    return TripleIsolatedStructure(pendulum=triple, kind=kind, time_step=float(time_step),
+    return TripleIsolatedStructure(pendulum=pendulum, kind=kind, time_step=float(time_step),
                                    newton_iterations=int(newton_iterations), newton_tolerance=tolerance)
