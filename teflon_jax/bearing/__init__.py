@@ -1,7 +1,7 @@
 """Bearing physics: Eq. 1 friction, the hysteretic variable Z (Eqs. 3, 8-9), breakaway (Eq. 17),
 anisotropy, stacks, and the optional parts beyond the 1990 model (pressure dependence,
 frictional heating, wear, direction asymmetry, backlash), and the concave surface of the
-friction pendulum."""
+friction pendulum (single, and double or triple as sliders in series)."""
 
 from ._bearing import BREAKAWAY_THRESHOLD as BREAKAWAY_THRESHOLD
 from ._bearing import DEFAULT_YIELD_DISP as DEFAULT_YIELD_DISP
@@ -37,6 +37,10 @@ from ._hysteresis import bouc_wen_reversal_length as bouc_wen_reversal_length
 from ._hysteresis import park_rate as park_rate
 from ._pendulum import ConcaveSurface as ConcaveSurface
 from ._pendulum import concave_surface as concave_surface
+from ._series_pendulum import DoublePendulum as DoublePendulum
+from ._series_pendulum import SeriesPendulum as SeriesPendulum
+from ._series_pendulum import check_double_pendulum as check_double_pendulum
+from ._series_pendulum import check_friction as check_friction
 from ._triple_pendulum import STOP_STIFFNESS_RATIO as STOP_STIFFNESS_RATIO
 from ._triple_pendulum import TriplePendulum as TriplePendulum
 from ._triple_pendulum import check_triple_pendulum as check_triple_pendulum

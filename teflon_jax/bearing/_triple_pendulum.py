@@ -15,7 +15,8 @@ Earthquake Engng Struct. Dyn. 37, 163-183). Each slider follows Eq. 1 (at its su
 velocity) and Bouc-Wen's Z, like the flat bearing of the 1990 paper.
 """
 
-import equinox as eqx
+from typing import ClassVar
+
 import jax.numpy as jnp
 import numpy as np
 from jaxtyping import ArrayLike
@@ -23,12 +24,13 @@ from jaxtyping import ArrayLike
 from ..validation import require_positive
 from ._friction import FrictionParameters
 from ._hysteresis import BoucWen
+from ._series_pendulum import SeriesPendulum, stack_frictions
 
 STOP_STIFFNESS_RATIO = 1000.0
 """Stiffness of a restrainer ring as a multiple of its slider's pendulum stiffness W / R."""
 
 
-class TriplePendulum(eqx.Module):
+class TriplePendulum(SeriesPendulum):
     """A triple friction pendulum bearing (module docstring), with the inner surfaces 2 and 3
     alike (the usual design, which the series model needs).
 
@@ -39,6 +41,9 @@ class TriplePendulum(eqx.Module):
     delta_f = 0 for Coulomb friction); `hysteresis`: `BoucWen` of every slider.
     """
 
+    isolator: ClassVar[str] = "triple-fp"
+    slider_names: ClassVar[tuple[str, ...]] = ("inner", "bottom", "top")
+    description: ClassVar[str] = "triple friction pendulums"
     inner_radius: ArrayLike
     bottom_radius: ArrayLike
     top_radius: ArrayLike
@@ -74,9 +79,11 @@ class TriplePendulum(eqx.Module):
 
     def frictions(self) -> FrictionParameters:
         """Eq. 1 constants of the three sliders, stacked (inner, bottom, top)."""
-        parts = (self.inner_friction, self.bottom_friction, self.top_friction)
-        return FrictionParameters(*(jnp.stack([jnp.asarray(getattr(p, name), float) for p in parts])
-                                    for name in ("f_max", "delta_f", "rate_a")))
+        return stack_frictions((self.inner_friction, self.bottom_friction, self.top_friction))
+
+    def reference_radius(self):
+        """b + c [m]: the effective radius of the outer surfaces sliding together."""
+        return self.bottom_radius + self.top_radius
 
 
 def check_triple_pendulum(bearing: TriplePendulum) -> None:

@@ -15,6 +15,7 @@ import pathlib
 import re
 
 from ..units import INCH, KIP, PSI, parse_quantity
+from ._triple import SERIES_ISOLATORS
 
 
 @dataclasses.dataclass(frozen=True)
@@ -148,18 +149,19 @@ def add_units_flag(parser, *, default: str = "us") -> None:
                         f"psi, as in the paper) (default {default})")
 
 
-ISOLATORS = ("flat", "single-fp", "triple-fp")
+ISOLATORS = ("flat", "single-fp", *SERIES_ISOLATORS)
 
 
 def add_isolator_flags(parser) -> None:
-    """`--isolator flat|single-fp|triple-fp`, `--radius R` (a length) of the single friction
-    pendulum and `--isolator-file FILE` of the triple one."""
+    """`--isolator flat|single-fp|triple-fp|double-fp`, `--radius R` (a length) of the single
+    friction pendulum and `--isolator-file FILE` of the triple and double ones."""
     parser.add_argument("--isolator", default="flat", choices=ISOLATORS,
                         help="flat sliders (with springs of --isolation-period, or none), a single "
                         "friction pendulum (a concave surface of --radius, restoring force W u / R) "
-                        "or a triple friction pendulum (the surfaces of --isolator-file) (default flat)")
+                        "or a triple or double friction pendulum (the surfaces of --isolator-file) "
+                        "(default flat)")
     parser.add_argument("--isolator-file", default=None, metavar="FILE", type=pathlib.Path,
-                        help="with --isolator triple-fp: the isolator file of its surfaces (radius, "
+                        help="with --isolator triple-fp or double-fp: the isolator file of its surfaces (radius, "
                         "capacity and Eq. 1 friction of each; docs/formats.md#isolator-file)")
     add_quantity(parser, "--radius", "length", None, "with --isolator single-fp: radius of curvature R "
                  "of the concave surface, period 2 pi sqrt(R / g), e.g. 88in (3 s)", minimum=0.0)
@@ -171,7 +173,7 @@ def pendulum_period(args) -> float | None:
     pendulum, a pendulum without a radius, or a pendulum with `--isolation-period`."""
     from ..bearing import concave_surface
 
-    if args.isolator == "triple-fp" or getattr(args, "isolator_file", None) is not None:
+    if args.isolator in SERIES_ISOLATORS or getattr(args, "isolator_file", None) is not None:
         from ._triple import read_isolator_flag
 
         read_isolator_flag(args)  # its flags checked and its file read; no single period

@@ -14,6 +14,7 @@ import time
 from ..units import STANDARD_GRAVITY
 from ._bearing_flags import add_bearing_flag, read_bearing_flag
 from ._common import (
+    SERIES_ISOLATORS,
     _positive_int,
     _write_json,
     add_isolator_flags,
@@ -262,7 +263,7 @@ def _structure(args, two: bool):
     from ..studies import bidirectional_isolated_structure
     from ..systems import MONTE_CARLO_NEWTON_TOLERANCE, isolated_structure
 
-    if args.isolator == "triple-fp":
+    if args.isolator in SERIES_ISOLATORS:
         from ._triple import triple_montecarlo_structure
 
         return triple_montecarlo_structure(args)
@@ -333,7 +334,7 @@ def _check_flags(args) -> None:
         from ..studies import check_output_path
 
         check_output_path(args.out)
-    if args.bearing is None and args.isolator != "triple-fp":  # else the file's friction
+    if args.bearing is None and args.isolator not in SERIES_ISOLATORS:  # else the file's friction
         check_table1(args.ptfe, args.pressure, args.pressure_text)
     _resolve_isolation(args)
     check_vertical_flags(args)
@@ -350,7 +351,7 @@ def _resolve_isolation(args) -> None:
     """The isolator's flags checked (`pendulum_period`) and the defaults of the isolation
     system in place: Tb = 2 s and 5 % on flat sliders; 2 pi sqrt(R / g) and 0 on a pendulum."""
     period = pendulum_period(args)
-    if args.isolator == "triple-fp":  # its period and damping follow from its surfaces
+    if args.isolator in SERIES_ISOLATORS:  # its period and damping follow from its surfaces
         args.isolation_period, args.isolation_period_text = None, f"of {args.isolator_file}"
         args.isolation_damping, args.isolation_damping_text = 0.0, "0"
     elif period is not None:

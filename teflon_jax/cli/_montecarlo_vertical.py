@@ -27,7 +27,7 @@ def check_vertical_flags(args) -> None:
               (len(args.pga_levels) > 1, "several --pga levels"), (bool(args.limit), "--limit"),
               (bool(args.storeys), "--storeys"), (args.pelicun_demands is not None, "--pelicun-demands"),
               (args.property_factors is not None, "--property-factors"),
-              (args.isolator == "triple-fp", "--isolator triple-fp")]
+              (args.isolator in ("triple-fp", "double-fp"), f"--isolator {args.isolator}")]
     named = [name for wrong, name in others if wrong]
     if named:
         raise ValueError(f"--vertical-ratio: runs one horizontal component at one --pga in this process; "

@@ -11,6 +11,7 @@ from ..units import parse_quantity
 from ._bearing_flags import add_bearing_flag
 from ._common import (
     _NEGATIVE_QUANTITY,
+    SERIES_ISOLATORS,
     add_isolator_flags,
     add_units_flag,
     output_units,
@@ -373,10 +374,11 @@ def run_run(args) -> int:
 
     check_suite_flags(args)
     pendulum_period(args)  # the isolator's flags, before the records are read
-    if args.isolator == "triple-fp":  # one component: `_triple.run_triple`
+    if args.isolator in SERIES_ISOLATORS:  # triple or double: `_triple.run_triple`
         from ._triple import run_triple
 
-        return run_triple(args, load_components, write_run_outputs)
+        return run_triple(args, load_components, write_run_outputs,
+                          lambda dt, samples: vertical_component(args, _read_component, dt, samples))
     if args.suite is not None:
         if args.record_x is not None or args.record_y is not None or args.record_z is not None:
             raise ValueError("--suite: give the records in the suite file, not with --record-x/--record-y/--record-z.")

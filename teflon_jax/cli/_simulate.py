@@ -60,7 +60,7 @@ def add_simulate_parser(subparsers) -> None:
     add_bearing_flag(p, replaces="--ptfe, --pressure, --direction, --breakaway, "
                      "--interfaces-in-series, --yield-disp and --anisotropic; give --normal-load")
     p.add_argument("--isolator-file", default=None, metavar="FILE", type=pathlib.Path,
-                   help="simulate a triple friction pendulum whose surfaces (radius, capacity, "
+                   help="simulate a triple or double friction pendulum whose surfaces (radius, capacity, "
                    "friction of each) this isolator file gives, instead of a flat slider; "
                    "give --normal-load")
     add_pendulum_test_flags(p)
@@ -195,7 +195,7 @@ def _triple_pendulum(args):
         raise ValueError(f"{flag}: the isolator comes from --isolator-file {args.isolator_file}; "
                          f"leave {flag} out (or edit the isolator file).")
     if args.normal_load is None:
-        raise ValueError("--normal-load: give the vertical load of the triple pendulum test "
+        raise ValueError("--normal-load: give the vertical load of the friction pendulum test "
                          "(e.g. --normal-load 500kip).")
     if args.motion_file is None and args.samples_per_cycle < MIN_SAMPLES_PER_CYCLE:
         raise ValueError(f"--samples-per-cycle: must be >= {MIN_SAMPLES_PER_CYCLE}, got "
@@ -208,7 +208,7 @@ def _triple_pendulum(args):
 
 
 def _run_triple_pendulum(args) -> int:
-    """`simulate-test --isolator-file`: the triple pendulum's loop as a test record."""
+    """`simulate-test --isolator-file`: the triple or double pendulum's loop as a test record."""
     from ..formats import test_record_from_arrays, write_test_record
     from ..systems import triple_pendulum_test
 
@@ -225,10 +225,10 @@ def _run_triple_pendulum(args) -> int:
         u[:, 0] if planar else u, f[:, 0] if planar else f, time=np.asarray(time),
         uy=u[:, 1] if planar else None, fy=f[:, 1] if planar else None,
         normal_load=np.full(len(time), float(normal_load)),
-        metadata={"specimen": f"triple friction pendulum of {args.isolator_file} (simulated by "
+        metadata={"specimen": f"{isolator.description[:-1]} of {args.isolator_file} (simulated by "
                               "teflon-jax)",
                   "source": "teflon-jax simulate-test --isolator-file; series model of Fenz & "
-                            "Constantinou (2008)"})
+                            f"Constantinou ({'2008' if isolator.isolator == 'triple-fp' else '2006'})"})
     write_test_record(args.out, record, units=None if args.units == "us" else "SI")
     peak = float(np.max(np.abs(f)) / normal_load)
     print(f"wrote {args.out}: {len(record)} samples, peak |F|/N = {peak:.4f} [-]")

@@ -1,30 +1,39 @@
-"""`--isolator triple-fp --isolator-file FILE` of `teflon-jax run` and `montecarlo`: the rigid
-mass or the Table 2 building on triple friction pendulums, under one or two horizontal
-components."""
+"""`--isolator triple-fp|double-fp --isolator-file FILE` of `teflon-jax run` and `montecarlo`:
+the rigid mass or the Table 2 building on triple or double friction pendulums, under one or two
+horizontal components."""
 
+import dataclasses
 import pathlib
 import sys
+import types
 
 import numpy as np
 
 from ..units import STANDARD_GRAVITY, parse_quantity
+from ._run_vertical import uplift_line, uplift_summary
+
+SERIES_ISOLATORS = ("triple-fp", "double-fp")
+"""The isolators whose surfaces an isolator file gives (`--isolator-file`)."""
 
 
 def read_isolator_flag(args):
-    """The `TriplePendulum` of `--isolator-file` for `--isolator triple-fp` (None for the
-    other isolators), with the flags checked: `ValueError` naming a file without the isolator,
-    the isolator without a file, and the flags of the other isolators given with it."""
+    """The `TriplePendulum` or `DoublePendulum` of `--isolator-file` for `--isolator triple-fp`
+    or `double-fp` (None for the other isolators), with the flags checked: `ValueError` naming
+    a file without the isolator, the isolator without a file, a file of the other pendulum, and
+    the flags of the other isolators given with it."""
     path = getattr(args, "isolator_file", None)
-    if args.isolator != "triple-fp":
+    isolator = args.isolator
+    if isolator not in SERIES_ISOLATORS:
         if path is not None:
-            raise ValueError(f"--isolator-file: applies to --isolator triple-fp only, not "
-                             f"{args.isolator}; add --isolator triple-fp or leave --isolator-file out.")
+            raise ValueError(f"--isolator-file: applies to --isolator triple-fp only, or double-fp "
+                             f"(the pendulums whose surfaces it gives), not {isolator}; add --isolator "
+                             "triple-fp (or double-fp) or leave --isolator-file out.")
         return None
     if path is None:
-        raise ValueError("--isolator-file: --isolator triple-fp needs the isolator file of its "
+        raise ValueError(f"--isolator-file: --isolator {isolator} needs the isolator file of its "
                          "surfaces (radius, capacity and friction of each; see docs/formats.md).")
     if args.radius is not None:
-        raise ValueError("--radius: does not apply to --isolator triple-fp (its radii are in "
+        raise ValueError(f"--radius: does not apply to --isolator {isolator} (its radii are in "
                          "--isolator-file); leave --radius out.")
     conflicting = [("--isolation-period", getattr(args, "isolation_period_text", args.isolation_period)),
                    ("--isolation-damping", getattr(args, "isolation_damping_text", args.isolation_damping)),
@@ -34,37 +43,42 @@ def read_isolator_flag(args):
                     for name, default in getattr(args, "bearing_option_defaults", {}).items()]
     for flag, value in conflicting:
         if value is not None:
-            raise ValueError(f"{flag}: does not apply to --isolator triple-fp, whose friction, "
+            raise ValueError(f"{flag}: does not apply to --isolator {isolator}, whose friction, "
                              f"period and damping are its surfaces' in --isolator-file; leave {flag} out.")
-    return _load(path)
+    return _load(path, isolator)
 
 
-def _load(path):
-    """The `TriplePendulum` of the isolator file `path`; `ValueError` naming the flag."""
+def _load(path, isolator):
+    """The pendulum of the isolator file `path`; `ValueError` naming the flag, also for a file
+    of another isolator than `--isolator`'s."""
     from ..formats import load_isolator
 
     try:
-        return load_isolator(path)
+        pendulum = load_isolator(path)
     except ValueError as error:
         raise ValueError(f"--isolator-file {error}") from None
+    if pendulum.isolator != isolator:
+        raise ValueError(f"--isolator-file: {path} holds a {pendulum.isolator} isolator, not the "
+                         f"{isolator} of --isolator; give --isolator {pendulum.isolator} or another file.")
+    return pendulum
 
 
 def check_triple_run(args) -> None:
-    """`run`'s flags that a one-direction triple pendulum cannot take, refused by name."""
+    """`run`'s flags that a triple or double pendulum cannot take, refused by name."""
     for flag, value, reason in (
-            ("--record-z", args.record_z, "its sliders' normal load is held at the weight"),
             ("--suite", args.suite, "give --record-x and --record-y"),
             ("--plan", args.plan, "a slab's bearing groups are flat sliders")):
         if value is not None:
-            raise ValueError(f"{flag}: not with --isolator triple-fp ({reason}); leave {flag} out.")
+            raise ValueError(f"{flag}: not with --isolator {args.isolator} ({reason}); leave {flag} out.")
     if args.structure == "slab":
-        raise ValueError("--structure: --isolator triple-fp runs with --structure rigid or building.")
+        raise ValueError(f"--structure: --isolator {args.isolator} runs with --structure rigid or building.")
 
 
-def run_triple(args, load_components, write_run_outputs) -> int:
-    """`teflon-jax run --isolator triple-fp`: the x record (and the y record, if given) through
-    the structure, peaks in JSON (the keys of the other isolators; y zero for one component),
-    histories and plot."""
+def run_triple(args, load_components, write_run_outputs, vertical=None) -> int:
+    """`teflon-jax run --isolator triple-fp|double-fp`: the x record (and the y record, if
+    given) through the structure, peaks in JSON (the keys of the other isolators; y zero for
+    one component), histories and plot. `vertical(dt, samples)`: the --record-z component
+    [m/s^2] on the records' grid, or None; it sets every slider's normal load."""
     from ..excitation import uniform_signal
     from ..systems import (
         BiaxialStructureOnTriple,
@@ -73,7 +87,7 @@ def run_triple(args, load_components, write_run_outputs) -> int:
         triple_structure,
     )
 
-    triple = read_isolator_flag(args)
+    pendulum = read_isolator_flag(args)
     check_triple_run(args)
     if args.histories is not None and pathlib.Path(args.histories).suffix not in (".nc", ".csv"):
         raise ValueError(f"--histories: {args.histories} must end in .nc or .csv.")
@@ -84,10 +98,13 @@ def run_triple(args, load_components, write_run_outputs) -> int:
     if not time_step > 0:
         raise ValueError(f"--time-step: must be > 0, got {args.time_step}.")
     ax, ay, dt, notes = load_components(args)
-    system = triple_structure(args.structure, triple, uniform_signal(ax, dt), time_step=time_step,
+    system = triple_structure(args.structure, pendulum, uniform_signal(ax, dt), time_step=time_step,
                               weight=weight)
+    az = None if vertical is None else vertical(dt, ax.size)
+    if az is not None:
+        system = dataclasses.replace(system, vertical_acceleration=uniform_signal(az, dt))
     duration = (ax.size - 1) * dt
-    print(f"teflon-jax run: {args.structure} on triple friction pendulums, "
+    print(f"teflon-jax run: {args.structure} on {pendulum.description}, "
           f"{round(duration / time_step)} steps of {args.time_step} (compiling first)...", file=sys.stderr)
     if args.record_y is None:
         response = simulate_triple_structure(system, duration)
@@ -101,13 +118,38 @@ def run_triple(args, load_components, write_run_outputs) -> int:
         return 1
     peak, histories = (triple_summary(args, system, response) if args.record_y is None
                        else biaxial_summary(args, system, response))
+    uplift = _uplift(system, duration)
+    if uplift:
+        histories["load_factor"] = _load_factors(system, duration)
     payload = {"structure": args.structure, "record_x": str(args.record_x),
                "record_y": None if args.record_y is None else str(args.record_y),
+               "record_z": None if args.record_z is None else str(args.record_z),
                "scale": float(args.scale), "duration_s": duration, "record_time_step_s": dt,
-               "solver_time_step_s": time_step, "notes": notes, "isolator": "triple-fp",
+               "solver_time_step_s": time_step, "notes": notes, "isolator": pendulum.isolator,
                "isolator_file": str(args.isolator_file), "radius_m": None, "anisotropic": False,
-               "lay_angle_deg": None, "peak": peak}
-    return write_run_outputs(args, payload, histories, f"{args.structure} on triple friction pendulums")
+               "lay_angle_deg": None, "peak": peak, **uplift}
+    return write_run_outputs(args, payload, histories, f"{args.structure} on {pendulum.description}",
+                             [uplift_line(uplift)] * bool(uplift))
+
+
+def _load_factors(system, duration):
+    """N / W (nt,) at the solver's times of the structure's vertical record."""
+    import jax
+    import jax.numpy as jnp
+
+    steps = round(duration / float(system.time_step))
+    return np.asarray(jax.vmap(system.load_factor)(jnp.arange(steps + 1) * float(system.time_step)))
+
+
+def _uplift(system, duration) -> dict:
+    """The JSON entries of the uplift (`uplift_summary`), {} without a vertical record: the
+    time of the steps whose end has N <= 0."""
+    if system.vertical_acceleration is None:
+        return {}
+    loads = _load_factors(system, duration)
+    counted = types.SimpleNamespace(uplift_time=float(np.sum(loads[1:] <= 0)) * float(system.time_step),
+                                    load_factor=loads)
+    return uplift_summary(counted)
 
 
 def triple_summary(args, system, response):
@@ -125,7 +167,7 @@ def triple_summary(args, system, response):
             "base_shear_ratio_resultant": float(np.max(np.abs(shear))),
             "bearing_force_ratio_resultant": float(np.max(np.abs(force))) / load,
             "slider_disp_m": {name: float(v) for name, v in
-                              zip(("inner", "bottom", "top"), np.max(np.abs(np.asarray(response.slider)), 0))}}
+                              zip(system.pendulum.slider_names, np.max(np.abs(np.asarray(response.slider)), 0))}}
     if args.structure == "building":
         from ..tables import load_table2
 
@@ -139,7 +181,7 @@ def triple_summary(args, system, response):
                  "ground_x_mps2": np.asarray(response.ground_acceleration), "ground_y_mps2": zeros,
                  "base_disp_x_m": u[:, 0], "base_disp_y_m": zeros, "bearing_force_x_N": force,
                  "bearing_force_y_N": zeros, "base_shear_ratio_x": shear, "base_shear_ratio_y": zeros}
-    for index, name in enumerate(("inner", "bottom", "top")):
+    for index, name in enumerate(system.pendulum.slider_names):
         histories[f"slider_{name}_m"] = np.asarray(response.slider)[:, index]
     return peak, histories
 
@@ -160,7 +202,7 @@ def biaxial_summary(args, system, response):
             "base_shear_ratio_resultant": float(np.linalg.norm(total, axis=1).max()) / weight,
             "bearing_force_ratio_resultant": float(np.linalg.norm(force, axis=1).max()) / load,
             "slider_disp_m": {name: float(v) for name, v in
-                              zip(("inner", "bottom", "top"), np.linalg.norm(sliders, axis=2).max(axis=0))}}
+                              zip(system.pendulum.slider_names, np.linalg.norm(sliders, axis=2).max(axis=0))}}
     if args.structure == "building":
         floors = np.einsum("tkn,n->tk", acc[:, :, 1:], m[1:])
         peak["storey_drift_resultant_m"] = np.linalg.norm(np.diff(u, axis=2), axis=1).max(axis=0).tolist()
@@ -171,26 +213,29 @@ def biaxial_summary(args, system, response):
     histories = {"time_s": time, "base_disp_x_m": u[:, 0, 0], "base_disp_y_m": u[:, 1, 0],
                  "bearing_force_x_N": force[:, 0], "bearing_force_y_N": force[:, 1],
                  "base_shear_ratio_x": total[:, 0] / weight, "base_shear_ratio_y": total[:, 1] / weight}
-    for index, name in enumerate(("inner", "bottom", "top")):
+    for index, name in enumerate(system.pendulum.slider_names):
         for axis, label in enumerate("xy"):
             histories[f"slider_{name}_{label}_m"] = sliders[:, index, axis]
     return peak, histories
 
 
 def triple_montecarlo_structure(args):
-    """`montecarlo --isolator triple-fp`: the `TripleIsolatedStructure` of the flags, once
-    `read_isolator_flag` has checked them (one or two components; `--property-factors` and
-    `--newton-tolerance` refused by name)."""
+    """`montecarlo --isolator triple-fp|double-fp`: the `TripleIsolatedStructure` of the flags,
+    once `read_isolator_flag` has checked them (one or two components; `--property-factors`
+    and `--newton-tolerance` refused by name)."""
     from ..systems import TRIPLE_MONTE_CARLO_TOLERANCE, isolated_structure
 
-    triple = _load(args.isolator_file)
+    isolator = args.isolator
+    pendulum = _load(args.isolator_file, isolator)
     if getattr(args, "property_factors", None) is not None:
         raise ValueError("--property-factors: the bounding analysis scales a flat bearing's "
-                         "friction; not with --isolator triple-fp.")
+                         f"friction; not with --isolator {isolator}.")
     if args.newton_tolerance is not None:
         raise ValueError("--newton-tolerance: is in units of a flat bearing's yield displacement; "
-                         "the triple-fp isolator's sliders are solved to their own tolerance "
+                         f"the {isolator} isolator's sliders are solved to their own tolerance "
                          "(a force imbalance of 1e-7 W); leave --newton-tolerance out.")
     solver = {} if args.newton_iterations is None else {"newton_iterations": args.newton_iterations}
-    return isolated_structure(args.structure, isolator="triple-fp", triple=triple, time_step=args.time_step,
+    pendulum_argument = {"triple-fp": "triple", "double-fp": "double"}[isolator]
+    return isolated_structure(args.structure, isolator=isolator, **{pendulum_argument: pendulum},
+                              time_step=args.time_step,
                               newton_tolerance=TRIPLE_MONTE_CARLO_TOLERANCE, **solver)

@@ -1,4 +1,5 @@
-"""The isolator file: the geometry and friction of a triple friction pendulum, in any units.
+"""The isolator file: the geometry and friction of a triple or double friction pendulum, in
+any units.
 
 A JSON object (format version 1):
 
@@ -13,20 +14,32 @@ A JSON object (format version 1):
 
 `inner` holds surfaces 2 and 3 (alike), `bottom` surface 1 and `top` surface 4; `radius`
 is the effective radius R - h and `capacity` the effective displacement capacity d (R - h) / R
-of each surface. Every value carries its unit; nothing is defaulted.
+of each surface. A double friction pendulum is `"isolator": "double-fp"` with the surfaces
+`bottom` and `top` alone, in the same form. Every value carries its unit; nothing is defaulted.
 """
 
 
 import jax.numpy as jnp
 
-from ..bearing import BoucWen, FrictionParameters, TriplePendulum, check_triple_pendulum
+from ..bearing import (
+    BoucWen,
+    DoublePendulum,
+    FrictionParameters,
+    SeriesPendulum,
+    TriplePendulum,
+    check_double_pendulum,
+    check_triple_pendulum,
+)
 from ._bearing_file import BEARING_PARTS, read_constant
 from ._text import read_json_document
 
 FORMAT_NAME = "teflon-jax isolator"
 FORMAT_VERSION = 1
 SURFACES = ("inner", "bottom", "top")
-"""The surface groups of the file: inner (2 and 3), bottom (1), top (4)."""
+"""The surface groups of a triple-fp file: inner (2 and 3), bottom (1), top (4)."""
+
+ISOLATOR_SURFACES = {"triple-fp": SURFACES, "double-fp": ("bottom", "top")}
+"""The surface groups of each isolator of the file."""
 
 _SURFACE = {"radius": "length", "capacity": "length"}
 _FRICTION = BEARING_PARTS["friction"]  # Eq. 1's constants, as in the bearing file
@@ -63,10 +76,10 @@ def _surface(part, where):
     return values["radius"], values["capacity"], friction
 
 
-def isolator_from_dict(document, *, where: str = "isolator") -> TriplePendulum:
-    """The `TriplePendulum` of an isolator-file object (module docstring); `ValueError` naming
-    `where` and the key for anything missing, unknown, unitless or that the series model
-    cannot take (`check_triple_pendulum`)."""
+def isolator_from_dict(document, *, where: str = "isolator") -> SeriesPendulum:
+    """The `TriplePendulum` or `DoublePendulum` of an isolator-file object (module docstring);
+    `ValueError` naming `where` and the key for anything missing, unknown, unitless or that
+    the series model cannot take (`check_triple_pendulum`, `check_double_pendulum`)."""
     if not isinstance(document, dict):
         raise ValueError(f"{where}: an isolator file is a JSON object; see the format in the manual.")
     if document.get("format") != FORMAT_NAME:
@@ -76,21 +89,45 @@ def isolator_from_dict(document, *, where: str = "isolator") -> TriplePendulum:
         raise ValueError(f"{where}: 'format_version' must be an integer up to {FORMAT_VERSION}, "
                          f"got {version!r}.")
     _keys(document, ("format", "format_version", "isolator", "surfaces", "yield_disp"), where)
-    if document["isolator"] != "triple-fp":
-        raise ValueError(f"{where}: 'isolator' must be \"triple-fp\" (a single pendulum takes "
-                         f"--radius), got {document['isolator']!r}.")
-    _keys(document["surfaces"], SURFACES, f"{where}: surfaces")
+    isolator = document["isolator"]
+    _check_isolator(isolator, document["surfaces"], where)
+    _keys(document["surfaces"], ISOLATOR_SURFACES[isolator], f"{where}: surfaces")
     parts = {name: _surface(document["surfaces"][name], f"{where}: surfaces.{name}")
-             for name in SURFACES}
+             for name in ISOLATOR_SURFACES[isolator]}
     yield_disp = _value(document["yield_disp"], "length", f"{where}: yield_disp")
-    bearing = TriplePendulum(
+    if isolator == "double-fp":
+        return _checked(DoublePendulum(
+            bottom_radius=parts["bottom"][0], top_radius=parts["top"][0],
+            bottom_capacity=parts["bottom"][1], top_capacity=parts["top"][1],
+            bottom_friction=parts["bottom"][2], top_friction=parts["top"][2],
+            hysteresis=BoucWen(yield_disp)), check_double_pendulum, where)
+    return _checked(TriplePendulum(
         inner_radius=parts["inner"][0], bottom_radius=parts["bottom"][0],
         top_radius=parts["top"][0], inner_capacity=parts["inner"][1],
         bottom_capacity=parts["bottom"][1], top_capacity=parts["top"][1],
         inner_friction=parts["inner"][2], bottom_friction=parts["bottom"][2],
-        top_friction=parts["top"][2], hysteresis=BoucWen(yield_disp))
+        top_friction=parts["top"][2], hysteresis=BoucWen(yield_disp)), check_triple_pendulum, where)
+
+
+def _check_isolator(isolator, surfaces, where) -> None:
+    """`ValueError` for an unknown `isolator`, or one whose surfaces are another's."""
+    if isolator not in ISOLATOR_SURFACES:
+        raise ValueError(f"{where}: 'isolator' must be \"triple-fp\" or \"double-fp\" (a single "
+                         f"pendulum takes --radius), got {isolator!r}.")
+    if isinstance(surfaces, dict):
+        for other, names in ISOLATOR_SURFACES.items():
+            if other != isolator and set(surfaces) == set(names):
+                raise ValueError(f"{where}: 'isolator' must be \"{other}\" for the surfaces "
+                                 f"{', '.join(names)} (a {isolator} file names "
+                                 f"{', '.join(ISOLATOR_SURFACES[isolator])}), got {isolator!r}.")
+
+
+def _checked(bearing, check, where):
+    """`bearing` once `check` and a positive yield displacement pass, else the `ValueError`
+    prefixed by `where`."""
     try:
-        check_triple_pendulum(bearing)
+        check(bearing)
+        yield_disp = float(bearing.hysteresis.yield_disp)
         if not yield_disp > 0:
             raise ValueError(f"yield_disp: must be > 0, got {yield_disp}.")
     except ValueError as error:
@@ -98,7 +135,8 @@ def isolator_from_dict(document, *, where: str = "isolator") -> TriplePendulum:
     return bearing
 
 
-def load_isolator(path) -> TriplePendulum:
-    """Read an isolator file (JSON) into a `TriplePendulum` (SI)."""
+def load_isolator(path) -> SeriesPendulum:
+    """Read an isolator file (JSON) into a `TriplePendulum` or `DoublePendulum` (SI), as its
+    "isolator" says."""
     document = read_json_document(path, "isolator file")
     return isolator_from_dict(document, where=str(path))

@@ -99,7 +99,7 @@ def bidirectional_isolated_structure(kind: str = "rigid", **options) -> Bidirect
     """A `BidirectionalIsolatedStructure` with the inputs of `isolated_structure(kind,
     **options)` (checked there, `ValueError` naming the parameter), stepped at
     `BIDIRECTIONAL_TIME_STEP` unless `time_step` is given; only the hysteretic
-    friction model has a two-component form. With `isolator="triple-fp"` the
+    friction model has a two-component form. With `isolator="triple-fp"` or "double-fp" the
     `TripleIsolatedStructure` of `isolated_structure`, which takes both components itself."""
     if options.get("friction_model", "hysteretic") != "hysteretic":
         raise ValueError(
@@ -110,7 +110,7 @@ def bidirectional_isolated_structure(kind: str = "rigid", **options) -> Bidirect
     if surface is not None and (surface.large_displacement or surface.displacement_capacity is not None):
         raise ValueError("surface: two ground components run the pendulum's small-rotation force "
                          "W u / R; its restrainer and large-displacement form run with one component.")
-    if options.get("isolator") == "triple-fp":  # builds both: called with (ground_x, ground_y)
+    if options.get("isolator") in ("triple-fp", "double-fp"):  # builds both: called with (ground_x, ground_y)
         return isolated_structure(kind, **options)
     if options.get("time_step") is None:  # the uniaxial default steps are not the bidirectional one
         options = {**options, "time_step": BIDIRECTIONAL_TIME_STEP}

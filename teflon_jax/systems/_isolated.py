@@ -10,6 +10,7 @@ import numpy as np
 
 from ..bearing import (
     ConcaveSurface,
+    DoublePendulum,
     FrictionParameters,
     SlidingBearing,
     TriplePendulum,
@@ -29,10 +30,11 @@ from ._triple_structure import TRIPLE_NEWTON_ITERATIONS
 
 STRUCTURES = ("rigid", "building")
 
-ISOLATORS = ("flat", "single-fp", "triple-fp")
+ISOLATORS = ("flat", "single-fp", "triple-fp", "double-fp")
 """Isolators of the structures: flat sliders (with springs of period T_b, or none), the
-single friction pendulum (a concave surface of radius R, `ConcaveSurface`) and the triple
-friction pendulum (`TriplePendulum`: `TripleIsolatedStructure`, one or two components)."""
+single friction pendulum (a concave surface of radius R, `ConcaveSurface`), the triple and the
+double friction pendulum (`TriplePendulum`, `DoublePendulum`: `TripleIsolatedStructure`, one or
+two components)."""
 
 
 DESIGN_VARIABLES = (
@@ -271,6 +273,7 @@ def isolated_structure(
     radius=None,
     surface: ConcaveSurface | None = None,
     triple: TriplePendulum | None = None,
+    double: DoublePendulum | None = None,
 ) -> IsolatedStructure | TripleIsolatedStructure:
     """An `IsolatedStructure` with its inputs checked (`ValueError` naming the parameter).
 
@@ -284,29 +287,33 @@ def isolated_structure(
     `radius` R [m] > 0 (then `isolation_period` must be `None`: the period is 2 pi sqrt(R / g)),
     or of `surface`, a `ConcaveSurface` (`concave_surface`) with a restrainer or the
     large-displacement form (with hysteretic friction). "triple-fp": a triple friction
-    pendulum `triple` (`TriplePendulum`), a `TripleIsolatedStructure` for one or two ground
-    components (its
+    pendulum `triple` (`TriplePendulum`), "double-fp": a double friction pendulum `double`
+    (`DoublePendulum`): a `TripleIsolatedStructure` for one or two ground components (its
     friction is its surfaces' Eq. 1; `newton_tolerance` is then the sliders' force imbalance
     over W, default `TRIPLE_TOLERANCE`); the other isolators' inputs are refused with it.
     """
     if kind not in STRUCTURES:
         raise ValueError(f"structure: unknown {kind!r}; accepted: {', '.join(STRUCTURES)}.")
-    if isolator == "triple-fp":
-        given = {"radius": (radius, "its radii are in the TriplePendulum"),
-                 "surface": (surface, "its surfaces are in the TriplePendulum"),
-                 "bearing": (bearing, "the friction of its surfaces is in the TriplePendulum"),
+    series = {"triple-fp": ("triple", triple), "double-fp": ("double", double)}
+    for name, value in series.values():
+        if value is not None and isolator != f"{name}-fp":
+            raise ValueError(f"{name}: applies to the {name}-fp isolator only, not {isolator!r}.")
+    if isolator in series:
+        held = type(series[isolator][1]).__name__ if series[isolator][1] is not None else "pendulum"
+        given = {"radius": (radius, f"its radii are in the {held}"),
+                 "surface": (surface, f"its surfaces are in the {held}"),
+                 "bearing": (bearing, f"the friction of its surfaces is in the {held}"),
                  "isolation_period": (isolation_period if isolation_period is not DEFAULT_ISOLATION_PERIOD
                                       else None, "its period follows from its radii"),
                  "isolation_damping": (isolation_damping or None, "its damping is its friction")}
         if friction_model != "hysteretic":
             given["friction_model"] = (friction_model, "its sliders follow Bouc-Wen's Z")
         return triple_isolated_structure(
-            kind, triple, time_step=RECOMMENDED_TIME_STEPS[kind] if time_step is None else time_step,
+            kind, series[isolator][1], isolator=isolator,
+            time_step=RECOMMENDED_TIME_STEPS[kind] if time_step is None else time_step,
             newton_iterations=newton_iterations if newton_iterations != NEWTON_ITERATIONS else TRIPLE_NEWTON_ITERATIONS,
             newton_tolerance=None if newton_tolerance == NEWTON_TOLERANCE else newton_tolerance,
             conflicting={name: reason for name, (value, reason) in given.items() if value is not None})
-    if triple is not None:
-        raise ValueError(f"triple: applies to the triple-fp isolator only, not {isolator!r}.")
     given_period = isolation_period is not DEFAULT_ISOLATION_PERIOD
     surface = _surface(isolator, radius, isolation_period if given_period else None, surface)
     if surface is not None and not is_linear_surface(surface) and friction_model != "hysteretic":

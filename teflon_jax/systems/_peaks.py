@@ -208,10 +208,11 @@ def _advance(system, propagator, state, ground1, load1=None):
     """
     step_matrix, force_column, shear_row, shear_force = propagator
     if isinstance(system, StructureOnTriple):  # the isolator's state in place of Z
-        x, isolator, ground0 = state
-        x1, isolator1, converged, bearing = system.step(x, isolator, ground0, ground1, (step_matrix, force_column))
+        x, isolator, ground0, load0 = state  # the load at the step's start, held over it
+        x1, isolator1, converged, bearing = system.step(x, isolator, ground0, ground1, (step_matrix, force_column),
+                                                        load0)
         shear = small_dot(shear_row, x1, WRITTEN_OUT_PRODUCT) + shear_force * isolator1[3]
-        return (x1, isolator1, ground1), x1[0], shear, converged, isolator1[3]
+        return (x1, isolator1, ground1, load1), x1[0], shear, converged, isolator1[3]
     n = system.mass.shape[-1]
     x, z, z_peak, start_factors, ground0, history, load0 = state
     stepped = system
@@ -236,7 +237,7 @@ def _start_carry(system, ground0, rows, dtype, load0=None):
     zero = jnp.zeros((), dtype)
     one = jnp.ones((), dtype)
     if isinstance(system, StructureOnTriple):
-        state = (jnp.zeros(2 * system.mass.shape[-1], dtype), system.initial_isolator(), ground0)
+        state = (jnp.zeros(2 * system.mass.shape[-1], dtype), system.initial_isolator(), ground0, load0)
         return (state, (zero, zero) + storey_start(rows, dtype), (zero, zero), (one, one), jnp.array(True))
     y0 = initial_state(system)
     start_factors = system.friction_factors(y0["v"][0], y0["z_peak"], load0)

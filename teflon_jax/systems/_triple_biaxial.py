@@ -1,4 +1,4 @@
-"""A structure on triple friction pendulums under two horizontal ground components.
+"""A structure on triple or double friction pendulums under two horizontal ground components.
 
 The structure is the same in x and in y (the rigid mass, or the Table 2 building along each
 axis), so the linear step of `StructureOnTriple` advances both directions, and the bearings
@@ -9,12 +9,15 @@ couple them: each slider's displacement, Z and force are vectors in the plane. S
 with Z_e from Park's biaxial Bouc-Wen model (Eqs. 8-9, updated exactly along the step's
 straight increment), n_e the direction of the increment, v_e its mean speed over the step times
 the surface's factor, and the restrainer along the slider's displacement beyond its capacity:
-along one axis this is `_triple_structure.slider_forces`. Each step solves the three sliders'
-increments (3, 2) so that every F_e equals F = (D - sum d_e) / G, D the isolator's increment
+along one axis this is `_triple_structure.slider_forces`. Each step solves the S sliders'
+increments (S, 2) so that every F_e equals F = (D - sum d_e) / G, D the isolator's increment
 (2,) without the bearing and G its compliance: Newton's matrix, blockdiag(K_e) + (1/G) U U^T
 with 2 x 2 blocks K_e, is inverted by the Woodbury identity, with a halving line search;
 the root is differentiated implicitly. Peaks are resultants, as `bidirectional_peak_response`
-reads them. References: Fenz & Constantinou (2008); Park, Wen & Ang (1986).
+reads them. The uniaxial structure's vertical record, if any, sets the sliders' normal load
+N = s W as in one direction (at s = 0 the sliders share the increment in proportion to R_e,
+`uplift_increments`). References:
+Fenz & Constantinou (2006, 2008); Park, Wen & Ang (1986).
 """
 
 import functools
@@ -24,12 +27,12 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..bearing import STOP_STIFFNESS_RATIO, TriplePendulum, sliding_friction
+from ..bearing import STOP_STIFFNESS_RATIO, SeriesPendulum, sliding_friction
 from ..excitation import Signal
 from ..solver import park_exact_update
 from ..units import STANDARD_GRAVITY
 from ._structure_response import check_duration
-from ._triple_structure import StructureOnTriple, damped_newton
+from ._triple_structure import StructureOnTriple, damped_newton, uplift_increments
 
 
 class BiaxialStructureOnTriple(eqx.Module):
@@ -48,34 +51,44 @@ class BiaxialStructureOnTriple(eqx.Module):
         return self.uniaxial.time_step
 
     @property
-    def triple(self) -> TriplePendulum:
-        return self.uniaxial.triple
+    def pendulum(self) -> SeriesPendulum:
+        """The isolator of the one-direction structure."""
+        return self.uniaxial.pendulum
+
+    @property
+    def triple(self) -> SeriesPendulum:
+        """`pendulum`, under the name the triple pendulum gave it first."""
+        return self.uniaxial.pendulum
 
     def ground(self, t):
         """(a_x, a_y) [m/s^2] at time t [s]."""
         return jnp.stack([self.uniaxial.ground_acceleration(t), self.ground_y(t)])
 
     def initial_isolator(self):
-        zeros = jnp.zeros((3, 2), self.mass.dtype)
+        zeros = jnp.zeros((self.pendulum.slider_count, 2), self.mass.dtype)
         return zeros, zeros, zeros, jnp.zeros(2, self.mass.dtype)
 
-    def step(self, x0, isolator, ground0, ground1, matrices=None):
+    def step(self, x0, isolator, ground0, ground1, matrices=None, load=None):
         """One step of both directions: `x0` (2, 2n) = (u, v) in x and in y, the isolator's
-        state, the ground (2,) at both ends; returns (x1, isolator, converged, force (2,))."""
+        state, the ground (2,) at both ends, the normal load `load` W held over the step
+        (`None`: W); returns (x1, isolator, converged, force (2,))."""
         system = self.uniaxial
         step_matrix, force_column = system.step_matrices() if matrices is None else matrices
         slider0, z0, previous, extra0 = isolator
         w = jnp.concatenate([x0, jnp.stack([ground0, extra0, ground1], -1)], -1)
         linear = w @ step_matrix.T
-        g0, k_ref, load = -force_column[0], system.reference_stiffness, system.bearing_load
+        g0, k_ref, weight = -force_column[0], system.reference_stiffness, system.bearing_load
+        normal = weight if load is None else load * weight
         scale = 1 - g0 * k_ref
-        p = {"triple": system.triple, "W": load, "s0": slider0, "z0": z0,
+        p = {"pendulum": system.pendulum, "W": weight, "N": normal, "s0": slider0, "z0": z0,
              "D": linear[:, 0] / scale - x0[:, 0], "G": g0 / scale}
         eps = jnp.finfo(linear.dtype).eps
-        tolerance = jnp.maximum(system.newton_tolerance * load,
-                                32 * eps * (load + jnp.max(jnp.abs(p["D"])) / p["G"]))
+        tolerance = jnp.maximum(system.newton_tolerance * weight,
+                                32 * eps * (weight + jnp.max(jnp.abs(p["D"])) / p["G"]))
         d, converged = _balanced(self.time_step, system.newton_iterations, p, previous, tolerance)
-        force, z1 = biaxial_slider_forces(system.triple, load, slider0, z0, d, self.time_step)
+        if load is not None:
+            d, converged = uplift_increments(system.pendulum, load, p["D"], d, converged)
+        force, z1 = biaxial_slider_forces(system.pendulum, normal, slider0, z0, d, self.time_step)
         bearing = jnp.mean(force, axis=0)
         extra1 = bearing - k_ref * (x0[:, 0] + jnp.sum(d, axis=0))
         x1 = linear + extra1[:, None] * force_column
@@ -88,17 +101,17 @@ def _length(x):
     return jnp.where(squared > 0, jnp.sqrt(jnp.where(squared > 0, squared, 1.0)), 0.0)
 
 
-def biaxial_slider_forces(triple: TriplePendulum, load, slider0, z0, increment, time_step):
-    """Forces (3, 2) [N] of the sliders after the increments (3, 2) [m] from displacements
-    `slider0` and Park's Z `z0` (3, 2) over `time_step` [s] (module docstring), and their Z."""
-    radii, capacities = triple.series_radii()[:, None], triple.series_capacities()[:, None]
+def biaxial_slider_forces(pendulum: SeriesPendulum, load, slider0, z0, increment, time_step):
+    """Forces (S, 2) [N] of the sliders after the increments (S, 2) [m] from displacements
+    `slider0` and Park's Z `z0` (S, 2) over `time_step` [s] (module docstring), and their Z."""
+    radii, capacities = pendulum.series_radii()[:, None], pendulum.series_capacities()[:, None]
     u = slider0 + increment
-    z = park_exact_update(triple.hysteresis, z0, increment)
+    z = park_exact_update(pendulum.hysteresis, z0, increment)
     length = _length(increment)
     direction = increment / jnp.where(length > 0, length, 1.0)
-    friction = triple.frictions()
+    friction = pendulum.frictions()
     f_min = (friction.f_max - friction.delta_f)[:, None]
-    mu = sliding_friction(friction, length[:, 0] * triple.velocity_factors() / time_step)[:, None]
+    mu = sliding_friction(friction, length[:, 0] * pendulum.velocity_factors() / time_step)[:, None]
     along = jnp.maximum(jnp.sum(direction * z, axis=-1, keepdims=True), 0.0)
     reach = _length(u)
     over = jnp.maximum(reach - capacities, 0.0) * u / jnp.where(reach > 0, reach, 1.0)
@@ -107,19 +120,21 @@ def biaxial_slider_forces(triple: TriplePendulum, load, slider0, z0, increment, 
 
 
 def _residual(d, p, dt):
-    force, _ = biaxial_slider_forces(p["triple"], p["W"], p["s0"], p["z0"], d, dt)
+    force, _ = biaxial_slider_forces(p["pendulum"], p["N"], p["s0"], p["z0"], d, dt)
     return force - (p["D"] - jnp.sum(d, axis=0)) / p["G"]
 
 
 def _residual_and_blocks(d, p, dt):
-    """(residual (3, 2), dF_e/dd_e (3, 2, 2)): a forward pass with the two axes' tangents
+    """(residual (S, 2), dF_e/dd_e (S, 2, 2)): a forward pass with the two axes' tangents
     (each slider's force depends on its own increment only)."""
     def forces(x):
-        return biaxial_slider_forces(p["triple"], p["W"], p["s0"], p["z0"], x, dt)[0]
+        return biaxial_slider_forces(p["pendulum"], p["N"], p["s0"], p["z0"], x, dt)[0]
 
     axes = jnp.broadcast_to(jnp.eye(2, dtype=d.dtype)[:, None, :], (2,) + d.shape)
     force, columns = jax.vmap(lambda t: jax.jvp(forces, (d,), (t,)), out_axes=(None, 0))(axes)
-    return force - (p["D"] - jnp.sum(d, axis=0)) / p["G"], jnp.moveaxis(columns, 0, -1)
+    blocks = jnp.moveaxis(columns, 0, -1)
+    uplift = (p["W"] / p["pendulum"].series_radii())[:, None, None] * jnp.eye(2, dtype=d.dtype)
+    return force - (p["D"] - jnp.sum(d, axis=0)) / p["G"], jnp.where(p["N"] > 0, blocks, uplift)
 
 
 def _inverse2(m):
@@ -141,7 +156,7 @@ def _woodbury(residual, blocks, compliance):
 
 @functools.partial(jax.custom_jvp, nondiff_argnums=(0, 1))
 def _balanced(dt, iterations, p, guess, tolerance):
-    """The sliders' increments (3, 2) [m] that balance their forces with the linear step."""
+    """The sliders' increments (S, 2) [m] that balance their forces with the linear step."""
     def evaluate(d):
         r, k = _residual_and_blocks(d, p, dt)
         return r, jnp.sum(r**2), _woodbury(r, k, p["G"])
@@ -158,9 +173,17 @@ def _balanced_jvp(dt, iterations, primals, tangents):
     return (d, converged), (-_woodbury(r_p, blocks, p["G"]), np.zeros(np.shape(converged), jax.dtypes.float0))
 
 
+def held_loads(structure, n_steps: int):
+    """N / W (n_steps,) held over each step (its start's) of the structure's vertical record
+    (`StructureOnTriple.load_factor`; `check_duration` checked it lasts), or `None`."""
+    if structure.vertical_acceleration is None:
+        return None
+    return jax.vmap(structure.load_factor)(jnp.arange(n_steps) * float(structure.time_step))
+
+
 def biaxial_histories(system: BiaxialStructureOnTriple, duration: float):
     """Histories from rest over `duration` [s]: (time (nt,), x (nt, 2, 2n) = (u, v) in x and
-    y, bearing force (nt, 2) [N], sliders (nt, 3, 2) [m], total accelerations (nt, 2, n)
+    y, bearing force (nt, 2) [N], sliders (nt, S, 2) [m], total accelerations (nt, 2, n)
     [m/s^2], converged (nt,)). jit/vmap-safe."""
     dt = float(system.time_step)
     n_steps = check_duration(system.uniaxial, duration)
@@ -176,12 +199,12 @@ def biaxial_histories(system: BiaxialStructureOnTriple, duration: float):
 
     def body(carry, grounds):
         x, isolator = carry
-        x1, isolator1, ok, force = system.step(x, isolator, grounds[0], grounds[1], matrices)
+        x1, isolator1, ok, force = system.step(x, isolator, grounds[0], grounds[1], matrices, grounds[2])
         return (x1, isolator1), (x1, force, isolator1[0], acceleration(x1, isolator1[3]), ok)
 
     start = (jnp.zeros((2, 2 * n), system.mass.dtype), system.initial_isolator())
-    _, out = jax.lax.scan(body, start, (ground[:-1], ground[1:]))
-    first = (start[0], jnp.zeros(2), jnp.zeros((3, 2)), jnp.zeros((2, n)), jnp.array(True))
+    _, out = jax.lax.scan(body, start, (ground[:-1], ground[1:], held_loads(linear, n_steps)))
+    first = (start[0], jnp.zeros(2), jnp.zeros((system.pendulum.slider_count, 2)), jnp.zeros((2, n)), jnp.array(True))
     return (time, *(jnp.concatenate([a[None], b]) for a, b in zip(first, out)))
 
 
@@ -201,9 +224,9 @@ def biaxial_peaks(system: BiaxialStructureOnTriple, duration: float, widths=(1e-
     widths = tuple(jnp.asarray(w, mass.dtype) for w in widths)
 
     def body(carry, step_and_ground):
-        step, (ground0, ground1) = step_and_ground
+        step, (ground0, ground1), load = step_and_ground
         x, isolator, peaks, tops, totals, ok = carry
-        x1, isolator1, converged, _ = system.step(x, isolator, ground0, ground1, matrices)
+        x1, isolator1, converged, _ = system.step(x, isolator, ground0, ground1, matrices, load)
         inner = x1[:, :n] @ linear.stiffness.T + x1[:, n:] @ linear.damping.T
         force = -(jnp.sum(inner, axis=-1) + isolator1[3])  # sum_j m_j a_j^total in x and y
         now = (jnp.sqrt(jnp.sum(x1[:, 0] ** 2)), jnp.sqrt(jnp.sum(force**2)) / weight)
@@ -217,6 +240,7 @@ def biaxial_peaks(system: BiaxialStructureOnTriple, duration: float, widths=(1e-
     zero, one = jnp.zeros((), mass.dtype), jnp.ones((), mass.dtype)
     carry = (jnp.zeros((2, 2 * n), mass.dtype), system.initial_isolator(), (zero, zero), (zero, zero),
              (one, one), jnp.array(True))
-    (_, _, peaks, tops, totals, ok), _ = jax.lax.scan(body, carry, (jnp.arange(n_steps), (ground[:-1], ground[1:])))
+    steps = (jnp.arange(n_steps), (ground[:-1], ground[1:]), held_loads(linear, n_steps))
+    (_, _, peaks, tops, totals, ok), _ = jax.lax.scan(body, carry, steps)
     smooth = [t + w * jnp.log(s / (n_steps + 1)) for t, s, w in zip(tops, totals, widths)]
     return peaks[0], peaks[1], smooth[0], smooth[1], ok

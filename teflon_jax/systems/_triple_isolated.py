@@ -1,11 +1,18 @@
-"""The isolated structures of the studies (rigid mass, building) on triple friction pendulums."""
+"""The isolated structures of the studies (rigid mass, building) on triple or double friction
+pendulums."""
 
 from collections.abc import Mapping
 
 import equinox as eqx
 import jax
 
-from ..bearing import TriplePendulum, check_triple_pendulum
+from ..bearing import (
+    DoublePendulum,
+    SeriesPendulum,
+    TriplePendulum,
+    check_double_pendulum,
+    check_triple_pendulum,
+)
 from ..validation import concrete
 from ._triple_biaxial import BiaxialStructureOnTriple
 from ._triple_design import designed_triple
@@ -19,21 +26,26 @@ TRIPLE_MONTE_CARLO_TOLERANCE = 1e-7
 """`TripleIsolatedStructure.newton_tolerance` of the Monte Carlo command: the sliders' force
 imbalance over W (a displacement error below 1e-7 R_e of each slider)."""
 
+SERIES_PENDULUMS = {"triple-fp": ("triple", TriplePendulum, check_triple_pendulum),
+                    "double-fp": ("double", DoublePendulum, check_double_pendulum)}
+"""Isolator name: (argument of `isolated_structure`, its class, its check)."""
+
 
 class TripleIsolatedStructure(eqx.Module):
-    """Builds the rigid mass or the Table 2 building on triple friction pendulums for one motion
-    (`triple_structure`), called as `structure(ground_acceleration, design)` like
+    """Builds the rigid mass or the Table 2 building on triple or double friction pendulums for
+    one motion (`triple_structure`), called as `structure(ground_acceleration, design)` like
     `IsolatedStructure` (a `StructureOnTriple`), or as `structure((ground_x, ground_y))` for
     two components (a `BiaxialStructureOnTriple`, what `monte_carlo` builds for
-    `TwoComponentGroundMotion`); `design` may set `TRIPLE_DESIGN_VARIABLES` (the outer radii's
-    scale, the inner and outer f_max, the capacities' scale; `designed_triple`).
+    `TwoComponentGroundMotion`); on a triple pendulum `design` may set `TRIPLE_DESIGN_VARIABLES`
+    (the outer radii's scale, the inner and outer f_max, the capacities' scale;
+    `designed_triple`), on a double pendulum none.
 
-    **Fields:** `triple` (`TriplePendulum`), `kind` (static) "rigid" or "building",
-    `time_step` [s] (static), `weight` [N] of the rigid mass (static),
-    `newton_iterations`, `newton_tolerance` (static): `StructureOnTriple`'s.
+    **Fields:** `pendulum` (`TriplePendulum` or `DoublePendulum`; also read as `triple`),
+    `kind` (static) "rigid" or "building", `time_step` [s] (static), `weight` [N] of the
+    rigid mass (static), `newton_iterations`, `newton_tolerance` (static): `StructureOnTriple`'s.
     """
 
-    triple: TriplePendulum
+    pendulum: SeriesPendulum
     kind: str = eqx.field(static=True, default="rigid")
     time_step: float = eqx.field(static=True, default=0.005)
     weight: float = eqx.field(static=True, default=100e3)
@@ -41,40 +53,54 @@ class TripleIsolatedStructure(eqx.Module):
     newton_tolerance: float = eqx.field(static=True, default=TRIPLE_TOLERANCE)
 
     @property
+    def triple(self) -> SeriesPendulum:
+        """The isolator (`pendulum`), under the name the triple pendulum gave it first."""
+        return self.pendulum
+
+    @property
     def isolator(self) -> str:
-        return "triple-fp"
+        """"triple-fp" or "double-fp"."""
+        return self.pendulum.isolator
 
     @property
     def isolation_period(self):
-        """None: the period of a triple pendulum changes with its regime."""
+        """None: the period of a multi-surface pendulum changes with its regime."""
         return None
 
     def __call__(self, ground_acceleration, design: Mapping | None = None):
-        triple = designed_triple(self.triple, design) if design else self.triple
+        pendulum = self.pendulum
+        if design:
+            if not isinstance(pendulum, TriplePendulum):
+                raise ValueError(f"design: the {self.isolator} isolator takes no design variables, got "
+                                 f"{sorted(design)}; change the isolator file instead.")
+            pendulum = designed_triple(pendulum, design)
         two = isinstance(ground_acceleration, tuple)  # (x, y): two components
-        system = triple_structure(self.kind, triple, ground_acceleration[0] if two else ground_acceleration,
+        system = triple_structure(self.kind, pendulum, ground_acceleration[0] if two else ground_acceleration,
                                   time_step=self.time_step, weight=self.weight,
                                   newton_iterations=self.newton_iterations, newton_tolerance=self.newton_tolerance)
         return BiaxialStructureOnTriple(system, ground_acceleration[1]) if two else system
 
 
-def triple_isolated_structure(kind: str, triple: TriplePendulum | None, *, time_step: float,
+def triple_isolated_structure(kind: str, pendulum: SeriesPendulum | None, *, time_step: float,
                               newton_iterations: int, newton_tolerance: float | None,
-                              conflicting: Mapping) -> TripleIsolatedStructure:
-    """`isolated_structure(kind, isolator="triple-fp", triple=...)`, checked: `ValueError`
-    naming a missing `triple`, one the series model cannot take (`check_triple_pendulum`), and
-    each name in `conflicting` (inputs of the other isolators given with this one)."""
-    if triple is None:
-        raise ValueError("triple: the triple-fp isolator needs its TriplePendulum (e.g. "
+                              conflicting: Mapping, isolator: str = "triple-fp") -> TripleIsolatedStructure:
+    """`isolated_structure(kind, isolator="triple-fp", triple=...)` (or `isolator="double-fp",
+    double=...`), checked: `ValueError` naming a missing pendulum (`triple` or `double`), one of
+    the wrong class or that the series model cannot take (`check_triple_pendulum`,
+    `check_double_pendulum`), and each name in `conflicting` (inputs of the other isolators
+    given with this one)."""
+    name, kind_of, check = SERIES_PENDULUMS[isolator]
+    if pendulum is None:
+        raise ValueError(f"{name}: the {isolator} isolator needs its {kind_of.__name__} (e.g. "
                          "formats.load_isolator(path)).")
-    if not isinstance(triple, TriplePendulum):
-        raise ValueError(f"triple: expected a TriplePendulum, got {type(triple).__name__}.")
-    if all(concrete(leaf) is not None for leaf in jax.tree_util.tree_leaves(triple)):
-        check_triple_pendulum(triple)  # traced constants (gradients): the caller's to check
+    if not isinstance(pendulum, kind_of):
+        raise ValueError(f"{name}: expected a {kind_of.__name__}, got {type(pendulum).__name__}.")
+    if all(concrete(leaf) is not None for leaf in jax.tree_util.tree_leaves(pendulum)):
+        check(pendulum)  # traced constants (gradients): the caller's to check
     if isinstance(time_step, bool) or not isinstance(time_step, (int, float)) or not time_step > 0:
         raise ValueError(f"time_step: must be a positive number of seconds, got {time_step!r}.")
-    for name, reason in conflicting.items():
-        raise ValueError(f"{name}: does not apply to the triple-fp isolator ({reason}).")
+    for conflict, reason in conflicting.items():
+        raise ValueError(f"{conflict}: does not apply to the {isolator} isolator ({reason}).")
     tolerance = TRIPLE_TOLERANCE if newton_tolerance is None else float(newton_tolerance)
-    return TripleIsolatedStructure(triple=triple, kind=kind, time_step=float(time_step),
+    return TripleIsolatedStructure(pendulum=pendulum, kind=kind, time_step=float(time_step),
                                    newton_iterations=int(newton_iterations), newton_tolerance=tolerance)

@@ -1,8 +1,9 @@
-"""A structure isolated on triple friction pendulums, in one horizontal direction.
+"""A structure isolated on triple or double friction pendulums, in one horizontal direction.
 
-The bearings are the series model of `TriplePendulum` (Fenz & Constantinou 2008): three
-sliders (the inner pair, the bottom and the top surface) carry one force F, and their
-displacements add up to the isolator's. Slider e carries
+The bearings are the series model of a `SeriesPendulum`: S sliders carry one force F and their
+displacements add up to the isolator's; three for the `TriplePendulum` (the inner pair, the
+bottom and the top surface; Fenz & Constantinou 2008), two for the `DoublePendulum` (bottom and
+top; Fenz & Constantinou 2006). Slider e carries
 
     F_e = W (s_e / R_e + mu_e(v_e) Z_e + k_stop <|s_e| - d_e>_+ sgn(s_e) / R_e),
 
@@ -15,10 +16,14 @@ exception the force of a slider reversing would fall as its increment grows (Eq.
 |increment| against Z's elastic slope, for steps below a few ms): the massless sliders of the
 series model would have no unique balance. The restrainer of stiffness `STOP_STIFFNESS_RATIO`
 W / R_e beyond the capacity. The linear structure carries a reference spring W / R_ref at the
-isolator (R_ref = b + c, the effective radius of the outer surfaces sliding together), and the
-step solves for the part of F beyond it.
+isolator (R_ref = `reference_radius()`: b + c of the triple, R_1 + R_2 of the double), and the
+step solves for the part of F beyond it. With a vertical ground acceleration a_v (up +) every
+slider's force is taken under the normal load N = s W, s = max(1 + a_v / g, 0) at the start of
+the step and held over it (as the flat sliders and the single pendulum take it); at s = 0
+(uplift) the sliders carry nothing and share the isolator's increment as their pendulum
+stiffnesses W / R_e in series would (d_e proportional to R_e), Z following their motion.
 
-Each step solves for the three sliders' increments d_e: F_e(d_e) equal to the force the
+Each step solves for the sliders' increments d_e: F_e(d_e) equal to the force the
 linear step leaves, F = (D - sum d_e) / G, with D the isolator's increment without the bearing
 and G its compliance over the step (the structure's exact step, `_propagators.py`). Newton's
 matrix diag(k_e) + 1 1^T / G (k_e = dF_e/dd_e) is inverted in closed form (Sherman-Morrison),
@@ -26,7 +31,6 @@ with a halving line search on the force residual; the root is differentiated imp
 """
 
 import functools
-from typing import ClassVar
 
 import equinox as eqx
 import jax
@@ -35,7 +39,7 @@ import numpy as np
 
 from ..bearing import (
     STOP_STIFFNESS_RATIO,
-    TriplePendulum,
+    SeriesPendulum,
     bouc_wen_exact_update,
     sliding_friction,
 )
@@ -44,6 +48,7 @@ from ..units import STANDARD_GRAVITY
 from ._models import rigid_mass, six_storey_building
 from ._structure import StructureOnSliders
 from ._structure_response import check_duration
+from ._vertical import load_factor_at, uplift_steps
 
 TRIPLE_NEWTON_ITERATIONS = 60
 """Most evaluations of the sliders' forces per step (Newton iterations and line-search halvings)."""
@@ -56,21 +61,33 @@ SMALLEST_STEP = 1.0 / 64
 
 
 class StructureOnTriple(eqx.Module):
-    """A linear structure (rigid mass or building; DOF 0 the isolator) on triple friction
-    pendulums of total normal load W (module docstring), stepped by the exact linear rule.
+    """A linear structure (rigid mass or building; DOF 0 the isolator) on triple or double
+    friction pendulums of total normal load W (module docstring), stepped by the exact linear
+    rule.
 
     **Fields:** `linear`: the `StructureOnSliders` without friction whose stiffness holds the
-    reference spring W / R_ref at DOF 0 (its `exact_step` the step's matrices); `triple`: the
-    `TriplePendulum`; `reference_stiffness` W / R_ref [N/m]; `newton_iterations` (static);
-    `newton_tolerance` (static) [-]: the force imbalance at which a step stops, over W.
+    reference spring W / R_ref at DOF 0 (its `exact_step` the step's matrices); `pendulum`: the
+    `SeriesPendulum` (`TriplePendulum` or `DoublePendulum`; also read as `triple`);
+    `reference_stiffness` W / R_ref [N/m]; `newton_iterations` (static);
+    `newton_tolerance` (static) [-]: the force imbalance at which a step stops, over W;
+    `vertical_acceleration`: `Signal` of a_v(t) [m/s^2, up +] or `None` (N = W throughout).
     """
 
     linear: StructureOnSliders
-    triple: TriplePendulum
+    pendulum: SeriesPendulum
     reference_stiffness: jnp.ndarray
     newton_iterations: int = eqx.field(static=True, default=TRIPLE_NEWTON_ITERATIONS)
     newton_tolerance: float = eqx.field(static=True, default=TRIPLE_TOLERANCE)
-    vertical_acceleration: ClassVar[None] = None  # the sliders' normal load is the weight
+    vertical_acceleration: Signal | None = None
+
+    def load_factor(self, t):
+        """N / W = max(1 + a_v(t) / g, 0) at time t [s] (None without a vertical record)."""
+        return load_factor_at(self.vertical_acceleration, t)
+
+    @property
+    def triple(self) -> SeriesPendulum:
+        """The isolator (`pendulum`), under the name the triple pendulum gave it first."""
+        return self.pendulum
 
     @property
     def mass(self):
@@ -101,40 +118,45 @@ class StructureOnTriple(eqx.Module):
         return self.linear.step_matrices()
 
     def initial_isolator(self):
-        """The isolator's state at rest: (slider displacements (3,) [m], Z (3,), the last
-        step's increments (3,) [m], the force beyond the reference spring [N])."""
-        zeros = jnp.zeros(3, self.mass.dtype)
+        """The isolator's state at rest: (slider displacements (S,) [m], Z (S,), the last
+        step's increments (S,) [m], the force beyond the reference spring [N])."""
+        zeros = jnp.zeros(self.pendulum.slider_count, self.mass.dtype)
         return zeros, zeros, zeros, jnp.zeros((), self.mass.dtype)
 
-    def step(self, x0, isolator, ground0, ground1, matrices=None):
+    def step(self, x0, isolator, ground0, ground1, matrices=None, load=None):
         """One step: (u1, v1) (2n,) and the isolator's state at its end, from (u0, v0) `x0`,
         the isolator's state (`initial_isolator`) and the ground acceleration [m/s^2] at both
-        ends; also whether the sliders' balance converged and the bearing force F [N]."""
+        ends, under the normal load `load` W held over the step (`None`: W); also whether the
+        sliders' balance converged and the bearing force F [N]."""
         step_matrix, force_column = self.step_matrices() if matrices is None else matrices
         slider0, z0, previous, extra0 = isolator
         linear = step_matrix @ jnp.concatenate([x0, jnp.stack([ground0, extra0, ground1])])
         g0, k_ref = -force_column[0], self.reference_stiffness
         scale = 1 - g0 * k_ref  # the step without the reference spring: x = X - G F
-        p = {"triple": self.triple, "W": self.bearing_load, "s0": slider0, "z0": z0,
+        normal = self.bearing_load if load is None else load * self.bearing_load
+        p = {"pendulum": self.pendulum, "W": self.bearing_load, "N": normal, "s0": slider0, "z0": z0,
              "D": linear[0] / scale - x0[0], "G": g0 / scale}
         eps = jnp.finfo(linear.dtype).eps  # F = (D - sum d) / G is known to eps |D| / G at best
         tolerance = jnp.maximum(self.newton_tolerance * self.bearing_load,
                                 32 * eps * (self.bearing_load + jnp.abs(p["D"]) / p["G"]))
         d, converged = _balanced_increments(self.time_step, self.newton_iterations, p, previous, tolerance)
-        force, z1 = slider_forces(self.triple, self.bearing_load, slider0, z0, d, self.time_step)
+        if load is not None:
+            d, converged = uplift_increments(self.pendulum, load, p["D"], d, converged)
+        force, z1 = slider_forces(self.pendulum, normal, slider0, z0, d, self.time_step)
         bearing = jnp.mean(force)  # equal to rounding
         extra1 = bearing - k_ref * (x0[0] + jnp.sum(d))
         x1 = linear + force_column * extra1
         return x1, (slider0 + d, z1, d, extra1), converged, bearing
 
 
-def triple_structure(kind: str, triple: TriplePendulum, ground_acceleration: Signal, *, time_step: float,
+def triple_structure(kind: str, pendulum: SeriesPendulum, ground_acceleration: Signal, *, time_step: float,
                      weight=100e3, newton_iterations: int = TRIPLE_NEWTON_ITERATIONS,
                      newton_tolerance: float = TRIPLE_TOLERANCE) -> StructureOnTriple:
     """The rigid mass of `weight` W [N] ("rigid") or the Table 2 building ("building", W its
-    total weight) on triple friction pendulums (`check_triple_pendulum` first), with no viscous
+    total weight) on the friction pendulums `pendulum` (a `TriplePendulum` or `DoublePendulum`,
+    to be checked first: `check_triple_pendulum`, `check_double_pendulum`), with no viscous
     damping at the isolator, stepped by the exact linear rule at `time_step` [s]."""
-    reference = triple.bottom_radius + triple.top_radius  # R_ref = b + c
+    reference = pendulum.reference_radius()
     if kind == "rigid":
         linear = rigid_mass(weight=weight, bearing=None, ground_acceleration=ground_acceleration,
                             time_step=time_step, radius=reference, friction_model="none",
@@ -144,23 +166,35 @@ def triple_structure(kind: str, triple: TriplePendulum, ground_acceleration: Sig
         linear = six_storey_building(bearing=None, ground_acceleration=ground_acceleration,
                                      time_step=time_step, isolation_period=period, isolation_damping=0.0,
                                      friction_model="none", linear_rule="exact")
-    return StructureOnTriple(linear=linear, triple=triple,
+    return StructureOnTriple(linear=linear, pendulum=pendulum,
                              reference_stiffness=linear.bearing_load / reference,
                              newton_iterations=int(newton_iterations),
                              newton_tolerance=float(newton_tolerance))
 
 
-def slider_forces(triple: TriplePendulum, load, slider0, z0, increment, time_step):
-    """Forces F_e [N] (3,) of the three sliders after the increments `increment` (3,) [m]
+def uplift_increments(pendulum: SeriesPendulum, load, total, increments, converged):
+    """(increments, converged) of a step under the load factor `load`: at `load` <= 0 (uplift)
+    the sliders carry no force, the isolator's increment `total` [m] ((,) or (2,)) is theirs
+    and they share it as their pendulum stiffnesses W / R_e in series would, d_e = total
+    R_e / sum R (a smooth rule where the balance leaves the split open); else unchanged."""
+    radii = pendulum.series_radii()
+    share = radii / jnp.sum(radii)
+    lifted = load <= 0
+    split = share * total if jnp.ndim(total) == 0 else share[:, None] * total
+    return jnp.where(lifted, split, increments), converged | lifted
+
+
+def slider_forces(pendulum: SeriesPendulum, load, slider0, z0, increment, time_step):
+    """Forces F_e [N] (S,) of the sliders after the increments `increment` (S,) [m]
     from displacements `slider0` and Z `z0` over a step of `time_step` [s] (module
-    docstring), and their Z (3,). The friction term is mu Z = f_min Z + (mu(v) - f_min)
+    docstring), and their Z (S,). The friction term is mu Z = f_min Z + (mu(v) - f_min)
     s <s Z>_+, s = sgn(increment): Eq. 1 at the mean velocity v where the slider moves the
     way its Z points, f_min (at rest) while Z still points back after a reversal."""
-    radii, capacities = triple.series_radii(), triple.series_capacities()
+    radii, capacities = pendulum.series_radii(), pendulum.series_capacities()
     u = slider0 + increment
-    z = bouc_wen_exact_update(triple.hysteresis, z0, increment, tangent="rational")
-    friction = triple.frictions()
-    speed = jnp.abs(increment) * triple.velocity_factors() / time_step
+    z = bouc_wen_exact_update(pendulum.hysteresis, z0, increment, tangent="rational")
+    friction = pendulum.frictions()
+    speed = jnp.abs(increment) * pendulum.velocity_factors() / time_step
     f_min = friction.f_max - friction.delta_f
     sign = jnp.where(increment >= 0, 1.0, -1.0)
     mu_z = f_min * z + (sliding_friction(friction, speed) - f_min) * sign * jnp.maximum(sign * z, 0.0)
@@ -170,14 +204,14 @@ def slider_forces(triple: TriplePendulum, load, slider0, z0, increment, time_ste
 
 def _residual(d, p, dt):
     """F_e(d_e) - F(d), F(d) = (D - sum d) / G the force the linear step leaves."""
-    force, _ = slider_forces(p["triple"], p["W"], p["s0"], p["z0"], d, dt)
+    force, _ = slider_forces(p["pendulum"], p["N"], p["s0"], p["z0"], d, dt)
     return force - (p["D"] - jnp.sum(d)) / p["G"]
 
 
 def _residual_and_slopes(d, p, dt):
-    """(residual (3,), dF_e/dd_e (3,)): each slider's force depends on its own increment."""
+    """(residual (S,), dF_e/dd_e (S,)): each slider's force depends on its own increment."""
     def forces(x):
-        return slider_forces(p["triple"], p["W"], p["s0"], p["z0"], x, dt)[0]
+        return slider_forces(p["pendulum"], p["N"], p["s0"], p["z0"], x, dt)[0]
 
     force, slope = jax.jvp(forces, (d,), (jnp.ones_like(d),))
     return force - (p["D"] - jnp.sum(d)) / p["G"], slope
@@ -192,9 +226,9 @@ def _newton_direction(residual, slope, compliance):
 
 @functools.partial(jax.custom_jvp, nondiff_argnums=(0, 1))
 def _balanced_increments(dt, iterations, p, guess, tolerance):
-    """The sliders' increments (3,) [m] that balance their forces with the linear step (module
+    """The sliders' increments (S,) [m] that balance their forces with the linear step (module
     docstring), from `guess`, and whether |residual| <= `tolerance` [N] was reached."""
-    floor = p["W"] / p["triple"].series_radii()  # the pendulum's own stiffness, a floor of the slope
+    floor = p["W"] / p["pendulum"].series_radii()  # the pendulum's own stiffness, a floor of the slope
 
     def evaluate(d):
         r, k = _residual_and_slopes(d, p, dt)
@@ -237,12 +271,13 @@ def _balanced_jvp(dt, iterations, primals, tangents):
     p, guess, tolerance = primals
     d, converged = _balanced_increments(dt, iterations, p, guess, tolerance)
     _, slope = _residual_and_slopes(d, p, dt)
+    slope = jnp.where(slope > 0, slope, p["W"] / p["pendulum"].series_radii())  # 0 only at uplift
     r_p = jax.jvp(lambda q: _residual(d, q, dt), (p,), (tangents[0],))[1]
     no_tangent = np.zeros(np.shape(converged), jax.dtypes.float0)
     return (d, converged), (-_newton_direction(r_p, slope, p["G"]), no_tangent)
 
 
-def imposed_isolator_force(triple: TriplePendulum, load, displacement, time_step: float, *, compliance=1e-12,
+def imposed_isolator_force(pendulum: SeriesPendulum, load, displacement, time_step: float, *, compliance=1e-12,
                            newton_iterations: int = TRIPLE_NEWTON_ITERATIONS,
                            tolerance: float = TRIPLE_TOLERANCE):
     """The structures' isolator solve driven along a displacement path: the bearing at the end
@@ -255,13 +290,13 @@ def imposed_isolator_force(triple: TriplePendulum, load, displacement, time_step
 
     def body(carry, target):
         slider, z, previous = carry
-        p = {"triple": triple, "W": load, "s0": slider, "z0": z,
+        p = {"pendulum": pendulum, "W": load, "N": load, "s0": slider, "z0": z,
              "D": target - jnp.sum(slider), "G": jnp.asarray(compliance, float)}
         d, ok = _balanced_increments(dt, newton_iterations, p, previous, tolerance * load)
-        force, z1 = slider_forces(triple, load, slider, z, d, dt)
+        force, z1 = slider_forces(pendulum, load, slider, z, d, dt)
         return (slider + d, z1, d), (jnp.sum(slider + d), jnp.mean(force), ok)
 
-    zeros = jnp.zeros(3)
+    zeros = jnp.zeros(pendulum.slider_count)
     _, (x, force, ok) = jax.lax.scan(body, (zeros, zeros, zeros), jnp.asarray(displacement, float)[1:])
     at_rest = jnp.zeros(1, x.dtype)
     return (jnp.concatenate([at_rest, x]), jnp.concatenate([at_rest, force]),
@@ -271,8 +306,11 @@ def imposed_isolator_force(triple: TriplePendulum, load, displacement, time_step
 class TripleStructureResponse(eqx.Module):
     """Histories of a `StructureOnTriple` (SI; time along the first axis): `time` [s],
     `displacement`, `velocity`, `total_acceleration` (nt, n) [m, m/s, m/s^2], `bearing_force`
-    (nt,) [N] on the isolator, `slider` (nt, 3) [m] and `z` (nt, 3) [-] of the inner pair, bottom
-    and top sliders, `ground_acceleration` (nt,) [m/s^2], `converged` (nt,)."""
+    (nt,) [N] on the isolator, `slider` (nt, S) [m] and `z` (nt, S) [-] of the sliders (in the
+    order of the pendulum's `slider_names`), `ground_acceleration` (nt,) [m/s^2], `converged` (nt,);
+    with a vertical record `load_factor` (nt,) [-], N / W at each time (a step holds its
+    start's), and `uplift_time` [s], the time of the steps whose end has N <= 0 (as
+    `peak_response` counts it; else `None`)."""
 
     time: jnp.ndarray
     displacement: jnp.ndarray
@@ -283,6 +321,8 @@ class TripleStructureResponse(eqx.Module):
     z: jnp.ndarray
     ground_acceleration: jnp.ndarray
     converged: jnp.ndarray
+    load_factor: jnp.ndarray | None = None
+    uplift_time: jnp.ndarray | None = None
 
 
 def total_acceleration(system: StructureOnTriple, x, extra):
@@ -302,24 +342,27 @@ def simulate_triple_structure(system: StructureOnTriple, duration: float) -> Tri
     time = jnp.arange(n_steps + 1) * dt
     ground = jax.vmap(system.ground_acceleration)(time)
     matrices = system.step_matrices()
+    loads = None if system.vertical_acceleration is None else jax.vmap(system.load_factor)(time)
 
     def body(carry, grounds):
         x, isolator = carry
-        x1, isolator1, converged, force = system.step(x, isolator, grounds[0], grounds[1], matrices)
+        x1, isolator1, converged, force = system.step(x, isolator, grounds[0], grounds[1], matrices, grounds[2])
         out = (x1, force, isolator1[0], isolator1[1], converged,
                total_acceleration(system, x1, isolator1[3]))
         return (x1, isolator1), out
 
     x0 = jnp.zeros(2 * n, system.mass.dtype)
     start = (x0, system.initial_isolator())
-    _, (x, force, slider, z, converged, acc) = jax.lax.scan(body, start, (ground[:-1], ground[1:]))
+    _, (x, force, slider, z, converged, acc) = jax.lax.scan(
+        body, start, (ground[:-1], ground[1:], None if loads is None else loads[:-1]))
 
     def first(a, b):
         return jnp.concatenate([a[None], b])
 
-    zeros3 = jnp.zeros(3, x0.dtype)
+    zeros_s = jnp.zeros(system.pendulum.slider_count, x0.dtype)
     return TripleStructureResponse(
         time=time, displacement=first(x0[:n], x[:, :n]), velocity=first(x0[n:], x[:, n:]),
         total_acceleration=first(jnp.zeros(n, x0.dtype), acc), bearing_force=first(jnp.zeros(()), force),
-        slider=first(zeros3, slider), z=first(zeros3, z), ground_acceleration=ground,
-        converged=first(jnp.array(True), converged))
+        slider=first(zeros_s, slider), z=first(zeros_s, z), ground_acceleration=ground,
+        converged=first(jnp.array(True), converged), load_factor=loads,
+        uplift_time=None if loads is None else uplift_steps(system, n_steps) * dt)

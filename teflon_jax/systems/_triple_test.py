@@ -1,13 +1,14 @@
-"""A triple friction pendulum driven along an imposed displacement: the three sliders of the
-series model (`TriplePendulum`) carry one force, and their displacements add up to the
-bearing's.
+"""A triple or double friction pendulum driven along an imposed displacement: the S sliders
+of the series model (`SeriesPendulum`: three of the `TriplePendulum`, two of the
+`DoublePendulum`) carry one force, and their displacements add up to the bearing's.
 
 Each slider e carries F = W (u_e / R_e + mu_e(v_e) Z_e) + its restrainer beyond its capacity
 (stiffness `STOP_STIFFNESS_RATIO` W / R_e), with Z_e updated exactly along the step
 (Bouc-Wen's exact update along one axis, Park's along two) and mu_e from Eq. 1 at its
-surface's velocity. Each step solves for the sliders' increments (two unknowns, each with one
-or two components; the third closes the sum) by Newton's method on the differences of their
-forces. References: Fenz & Constantinou (2008), Earthquake Spectra 24(4);
+surface's velocity. Each step solves for the sliders' increments (S - 1 unknowns, each with one
+or two components; the last closes the sum) by Newton's method on the differences of their
+forces. References: Fenz & Constantinou (2006), Earthquake Engng Struct. Dyn. 35; (2008),
+Earthquake Spectra 24(4);
 Constantinou, Mokha & Reinhorn (1990), Eqs. 1, 3.
 """
 
@@ -18,7 +19,7 @@ import numpy as np
 
 from ..bearing import (
     STOP_STIFFNESS_RATIO,
-    TriplePendulum,
+    SeriesPendulum,
     bouc_wen_exact_update,
     sliding_friction,
 )
@@ -37,9 +38,9 @@ MIN_SHARE = 1e-3
 
 
 class TripleResponse(eqx.Module):
-    """Response of a `TriplePendulum` along an imposed path (SI): `force` (nt,) or (nt, 2)
-    [N], `slider` (nt, 3) or (nt, 3, 2) displacements of the inner pair, bottom and top
-    sliders of the series model [m], `z` like `slider` [-], `converged` (nt,) whether each
+    """Response of a `SeriesPendulum` along an imposed path (SI): `force` (nt,) or (nt, 2)
+    [N], `slider` (nt, S) or (nt, S, 2) displacements of the sliders of the series model (in
+    the order of the pendulum's `slider_names`) [m], `z` like `slider` [-], `converged` (nt,) whether each
     step's force balance met its tolerance."""
 
     force: jnp.ndarray
@@ -48,9 +49,9 @@ class TripleResponse(eqx.Module):
     converged: jnp.ndarray
 
 
-def slider_forces(bearing: TriplePendulum, normal_load, u, z, velocity):
-    """Force [N] of each slider at displacements `u` (3, k) [m], Z (3, k) and slider
-    velocities (3, k) [m/s], k = 1 or 2 components: W (u / R + mu(|v|) Z) plus the
+def slider_forces(bearing: SeriesPendulum, normal_load, u, z, velocity):
+    """Force [N] of each slider at displacements `u` (S, k) [m], Z (S, k) and slider
+    velocities (S, k) [m/s], k = 1 or 2 components: W (u / R + mu(|v|) Z) plus the
     restrainer beyond the capacity, along the slider's displacement."""
     radii, capacities = bearing.series_radii()[:, None], bearing.series_capacities()[:, None]
     speed = _length(velocity)[:, 0] * bearing.velocity_factors()
@@ -68,7 +69,7 @@ def _length(x):
 
 
 def _z_update(h, z0, du):
-    """Z after the increments du (3, k): Bouc-Wen along one axis, Park's model along two."""
+    """Z after the increments du (S, k): Bouc-Wen along one axis, Park's model along two."""
     if du.shape[-1] == 1:
         return bouc_wen_exact_update(h, z0[:, 0], du[:, 0])[:, None]
     return park_exact_update(h, z0, du)
@@ -76,22 +77,26 @@ def _z_update(h, z0, du):
 
 def _step(bearing, normal_load, dt, state, increment):
     """One step of the bearing by `increment` (k,) [m]: the sliders' increments that balance
-    their forces, from the start state `state` = (u (3, k), z (3, k), previous increments
-    (3, k), share (3,)). First guess: the previous step's increments, with what the step adds
+    their forces, from the start state `state` = (u (S, k), z (S, k), previous increments
+    (S, k), share (S,)). First guess: the previous step's increments, with what the step adds
     to them shared as the sliders last shared their travel; then Newton's method, each step
     shortened (to 1/2, 1/4 or 1/8) where that lowers the force imbalance more."""
     u0, z0, previous, share = state
     k = increment.shape[-1]
+    free = u0.shape[0] - 1  # the last slider closes the sum
 
     def forces(x):
-        x = x.reshape(2, k)
-        du = jnp.concatenate([x, (increment - x[0] - x[1])[None]])
+        x = x.reshape(free, k)
+        last = increment
+        for row in x:
+            last = last - row
+        du = jnp.concatenate([x, last[None]])
         z = _z_update(bearing.hysteresis, z0, du)
         return slider_forces(bearing, normal_load, u0 + du, z, du / dt), z, du
 
     def residual(x):
         f = forces(x)[0]
-        return (f[:2] - f[2]).reshape(-1)
+        return (f[:-1] - f[-1]).reshape(-1)
 
     def newton(_, x):
         r = residual(x)
@@ -101,49 +106,50 @@ def _step(bearing, normal_load, dt, state, increment):
         sizes = jax.vmap(lambda y: jnp.sum(residual(y) ** 2))(trials)
         return trials[jnp.argmin(jnp.where(jnp.isfinite(sizes), sizes, jnp.inf))]
 
-    guess = previous[:2] + share[:2, None] * (increment - jnp.sum(previous, axis=0))
+    guess = previous[:-1] + share[:-1, None] * (increment - jnp.sum(previous, axis=0))
     x = jax.lax.fori_loop(0, NEWTON_STEPS, newton, guess.reshape(-1))
     f, z, du = forces(x)
     scale = normal_load * jnp.max(bearing.frictions().f_max)
-    converged = jnp.max(jnp.abs(f[:2] - f[2])) <= 1e-8 * scale
+    converged = jnp.max(jnp.abs(f[:-1] - f[-1])) <= 1e-8 * scale
     length = _length(du)[:, 0]
     total = jnp.sum(length)
     # a floor keeps every first guess off zero: Park's update has no slope at a zero increment
     new_share = jnp.where(total > 0, jnp.maximum(length / jnp.where(total > 0, total, 1.0),
                                                  MIN_SHARE), share)
-    return (u0 + du, z, du, new_share), (f[2], u0 + du, z, converged)
+    return (u0 + du, z, du, new_share), (f[-1], u0 + du, z, converged)
 
 
-def simulate_triple_test(bearing: TriplePendulum, time, displacement, normal_load) -> TripleResponse:
-    """Force of a triple pendulum bearing [N] along an imposed displacement [m] at the sample
+def simulate_triple_test(bearing: SeriesPendulum, time, displacement, normal_load) -> TripleResponse:
+    """Force of a triple or double pendulum bearing [N] along an imposed displacement [m] at the sample
     times [s] (uniform), under normal load W [N]: `displacement` (nt,) along one axis or
     (nt, 2) in the plane (an orbit); the path starts at rest at its first sample. jit- and
-    vmap-safe once the bearing is checked (`check_triple_pendulum`)."""
+    vmap-safe once the bearing is checked (`check_triple_pendulum`, `check_double_pendulum`)."""
     time = jnp.asarray(time, float)
     displacement = jnp.asarray(displacement, float)
     planar = displacement.ndim == 2
     path = displacement if planar else displacement[:, None]
     k = path.shape[-1]
     dt = time[1] - time[0]
-    start = (jnp.zeros((3, k)), jnp.zeros((3, k)), jnp.zeros((3, k)),
-             jnp.array([1.0, MIN_SHARE, MIN_SHARE]))
+    n = bearing.slider_count
+    start = (jnp.zeros((n, k)), jnp.zeros((n, k)), jnp.zeros((n, k)),
+             jnp.array([1.0] + [MIN_SHARE] * (n - 1)))
 
     def body(state, increment):
         return _step(bearing, normal_load, dt, state, increment)
 
     _, (force, slider, z, converged) = jax.lax.scan(body, start, jnp.diff(path, axis=0))
     force = jnp.concatenate([jnp.zeros((1, k)), force])
-    slider = jnp.concatenate([jnp.zeros((1, 3, k)), slider])
-    z = jnp.concatenate([jnp.zeros((1, 3, k)), z])
+    slider = jnp.concatenate([jnp.zeros((1, n, k)), slider])
+    z = jnp.concatenate([jnp.zeros((1, n, k)), z])
     if not planar:
         force, slider, z = force[:, 0], slider[..., 0], z[..., 0]
     return TripleResponse(force=force, slider=slider, z=z,
                           converged=jnp.concatenate([jnp.array([True]), converged]))
 
 
-def triple_pendulum_test(bearing: TriplePendulum, motion, normal_load, *,
+def triple_pendulum_test(bearing: SeriesPendulum, motion, normal_load, *,
                          samples_per_cycle: int = 400):
-    """A bearing test of a triple pendulum: the imposed `motion` (`AbstractMotion`: sine,
+    """A bearing test of a triple or double pendulum: the imposed `motion` (`AbstractMotion`: sine,
     triangle, figure-eight or tabulated) sampled `samples_per_cycle` times a cycle (a tabulated
     motion at its own samples), under the constant normal load [N].
 

@@ -1,0 +1,144 @@
+"""Friction pendulums modelled as sliders in series, and the double friction pendulum.
+
+A multi-surface friction pendulum carries one horizontal force through every sliding surface,
+and its displacement is the sum of the surfaces' (each slider's) displacements. Slider e has a
+radius R_e, a displacement capacity d_e before its restrainer, Eq. 1 friction at its surface's
+velocity (the slider's times a factor c_e) and Bouc-Wen's Z; `SeriesPendulum` is what the
+structures and the bearing test read of such an isolator, whatever the number of sliders.
+
+The double concave friction pendulum has two concave plates, bottom (surface 1) and top
+(surface 2), with an articulated slider between them. With effective radii R_i - h_i and
+effective capacities d_i (R_i - h_i) / R_i, it is exactly two sliders in series at the
+surfaces' own velocities (Fenz & Constantinou 2006, Earthquake Engng Struct. Dyn. 35,
+1403-1424): for mu_1 < mu_2 it slides on surface 1 alone from F/W = mu_1 (slope 1 / R_1), on
+both from F/W = mu_2 (slope 1 / (R_1 + R_2)), and on surface 2 alone once surface 1 meets its
+restrainer (slope 1 / R_2).
+"""
+
+import abc
+from typing import ClassVar
+
+import equinox as eqx
+import jax.numpy as jnp
+import numpy as np
+from jaxtyping import ArrayLike
+
+from ..validation import concrete, require, require_positive
+from ._friction import FrictionParameters
+from ._hysteresis import BoucWen
+
+
+class SeriesPendulum(eqx.Module):
+    """A friction pendulum isolator as sliders in series (module docstring).
+
+    **Class attributes:** `isolator` (the CLI's and the isolator file's name, e.g.
+    "double-fp"), `slider_names` (one per slider, in the order of the arrays below),
+    `description` (plural, for messages). **Field:** `hysteresis`, the `BoucWen` of every
+    slider. **Methods** (arrays (S,) over the S sliders): `series_radii` [m],
+    `series_capacities` [m], `velocity_factors` [-] (surface velocity over slider velocity),
+    `frictions` (stacked `FrictionParameters`), `reference_radius` [m] (the radius of the
+    reference spring W / R_ref that the structures' linear step carries).
+    """
+
+    isolator: ClassVar[str]
+    slider_names: ClassVar[tuple[str, ...]]
+    description: ClassVar[str]
+    hysteresis: eqx.AbstractVar[BoucWen]
+
+    @property
+    def slider_count(self) -> int:
+        """Number S of sliders in series (static)."""
+        return len(self.slider_names)
+
+    @abc.abstractmethod
+    def series_radii(self):
+        """Radii [m] (S,) of the sliders."""
+
+    @abc.abstractmethod
+    def series_capacities(self):
+        """Travel [m] (S,) of each slider before its restrainer."""
+
+    @abc.abstractmethod
+    def velocity_factors(self):
+        """Sliding velocity of each surface over its slider's velocity (S,) [-]."""
+
+    @abc.abstractmethod
+    def frictions(self) -> FrictionParameters:
+        """Eq. 1 constants of the sliders, stacked (S,)."""
+
+    @abc.abstractmethod
+    def reference_radius(self):
+        """R_ref [m] of the structures' reference spring W / R_ref."""
+
+
+def stack_frictions(parts) -> FrictionParameters:
+    """`FrictionParameters` of several surfaces stacked along a first axis."""
+    return FrictionParameters(*(jnp.stack([jnp.asarray(getattr(p, name), float) for p in parts])
+                                for name in ("f_max", "delta_f", "rate_a")))
+
+
+class DoublePendulum(SeriesPendulum):
+    """A double concave friction pendulum bearing (module docstring): two sliders in series,
+    bottom then top, each at its surface's velocity.
+
+    **Fields** (effective radii R - h [m]; effective capacities d (R - h) / R [m]):
+    `bottom_radius` R_1, `top_radius` R_2, `bottom_capacity` d_1, `top_capacity` d_2,
+    `bottom_friction`, `top_friction`: Eq. 1 constants of each surface (`FrictionParameters`;
+    delta_f = 0 for Coulomb friction); `hysteresis`: `BoucWen` of both sliders.
+    """
+
+    isolator: ClassVar[str] = "double-fp"
+    slider_names: ClassVar[tuple[str, ...]] = ("bottom", "top")
+    description: ClassVar[str] = "double friction pendulums"
+    bottom_radius: ArrayLike
+    top_radius: ArrayLike
+    bottom_capacity: ArrayLike
+    top_capacity: ArrayLike
+    bottom_friction: FrictionParameters
+    top_friction: FrictionParameters
+    hysteresis: BoucWen
+
+    def series_radii(self):
+        """(R_1, R_2) [m]."""
+        return jnp.stack([jnp.asarray(self.bottom_radius, float), jnp.asarray(self.top_radius, float)])
+
+    def series_capacities(self):
+        """(d_1, d_2) [m]."""
+        return jnp.stack([jnp.asarray(self.bottom_capacity, float), jnp.asarray(self.top_capacity, float)])
+
+    def velocity_factors(self):
+        """(1, 1): each slider is its surface."""
+        return jnp.ones(2)
+
+    def frictions(self) -> FrictionParameters:
+        """Eq. 1 constants (bottom, top), stacked."""
+        return stack_frictions((self.bottom_friction, self.top_friction))
+
+    def reference_radius(self):
+        """R_1 + R_2 [m]: both surfaces sliding together."""
+        return self.bottom_radius + self.top_radius
+
+
+def check_friction(friction: FrictionParameters, name: str) -> None:
+    """`ValueError` naming `name`.f_max, .delta_f or .rate_a where Eq. 1 cannot take them:
+    f_max > 0, 0 <= delta_f < f_max (a positive friction at rest), rate_a >= 0 [s/m]."""
+    require_positive(friction.f_max, f"{name}.f_max", " (a friction coefficient)")
+    require(friction.delta_f, lambda x: np.isfinite(x) & (x >= 0), f"{name}.delta_f", "must be >= 0")
+    f_max, delta_f = concrete(friction.f_max), concrete(friction.delta_f)
+    if f_max is not None and delta_f is not None and not np.all(delta_f < f_max):
+        raise ValueError(f"{name}.delta_f: must be smaller than f_max ({np.asarray(f_max).tolist()}: "
+                         f"Eq. 1 at rest, f_max - delta_f, is positive); got {np.asarray(delta_f).tolist()}.")
+    require(friction.rate_a, lambda x: np.isfinite(x) & (x >= 0), f"{name}.rate_a", "must be >= 0 [s/m]")
+
+
+def check_double_pendulum(bearing: DoublePendulum) -> None:
+    """`ValueError` naming the constant the model cannot take: radii, capacities and the
+    yield displacement must be positive, and each surface's friction what Eq. 1 takes
+    (`check_friction`). Either surface may be the slipperier one."""
+    if not isinstance(bearing, DoublePendulum):
+        raise ValueError(f"double: expected a DoublePendulum, got {type(bearing).__name__}.")
+    for name in ("bottom_radius", "top_radius", "bottom_capacity", "top_capacity"):
+        require_positive(getattr(bearing, name), name, " [m]")
+    for name in ("bottom_friction", "top_friction"):
+        check_friction(getattr(bearing, name), name)
+    require_positive(bearing.hysteresis.yield_disp, "yield_disp", " [m]")
