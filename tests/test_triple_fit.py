@@ -7,6 +7,7 @@ the inner rate_a (Fenz & Constantinou 2008; Constantinou, Mokha & Reinhorn 1990,
 """
 
 import json
+import pathlib
 
 import jax
 import jax.numpy as jnp
@@ -172,13 +173,15 @@ def files(tmp_path):
     (["--isolator-file", "START", "--fixed", "f_max=0.1"], "--fixed: not with --isolator triple-fp"),
     (["--isolator-file", "START", "--save-bearing", "b.json"], "--save-bearing: not with"),
     (["--isolator-file", "START", "--starts", "4"], "--starts: not with --isolator triple-fp"),
+    (["--isolator-file", "DOUBLE"], "holds a double-fp isolator"),
     (["--isolator-file", "START", "RECORD"], "RECORD: --isolator triple-fp fits one record"),
     (["--isolator-file", "START", "--free", "inner_radius,spring"], "--free: free: unknown"),
 ])
 def test_the_command_refuses_bad_flags(files, capsys, extra, flag):
     (files / "r.csv").write_text("time [s],ux [m],fx [N],N [N]\n" + "".join(
         f"{0.01 * i},{0.01 * np.sin(i / 5)},{1e4 * np.sin(i / 5)},1e6\n" for i in range(50)))
-    extra = [str(files / "start.json") if e == "START" else str(files / "r.csv") if e == "RECORD" else e
+    double = pathlib.Path(__file__).parents[1] / "benchmarks" / "double_isolator.json"
+    extra = [str(double) if e == "DOUBLE" else str(files / "start.json") if e == "START" else str(files / "r.csv") if e == "RECORD" else e
              for e in extra]
     code = main(["fit", "--isolator", "triple-fp", *extra, str(files / "r.csv"), "--json",
                  str(files / "f.json")])

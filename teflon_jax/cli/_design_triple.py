@@ -68,7 +68,7 @@ def resolve_triple_design(args) -> tuple[dict, object]:
         if not lo < hi:
             raise ValueError(f"{TRIPLE_FLAGS[name]}: the low bound must lie below the high one, got "
                              f"{' '.join(getattr(args, name + '_range_text'))}.")
-    triple = _load(args.isolator_file)
+    triple = _load(args.isolator_file, "triple-fp")
     try:
         check_triple_box(triple, variables)
     except ValueError as error:

@@ -47,6 +47,9 @@ def run_fit_triple(args) -> int:
             start = load_isolator(args.isolator_file)
         except ValueError as error:
             raise ValueError(f"--isolator-file {error}") from None
+        if start.isolator != "triple-fp":
+            raise ValueError(f"--isolator-file: {args.isolator_file} holds a {start.isolator} isolator; "
+                             "fit --isolator triple-fp starts from a triple pendulum's file.")
         record = read_bearing_record(args.records[0])
         print("teflon-jax fit: a triple friction pendulum, Levenberg-Marquardt through the series "
               "model (compiling first)...", file=sys.stderr)
