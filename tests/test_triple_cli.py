@@ -136,7 +136,7 @@ def test_bad_triple_flags_are_refused_by_name_before_any_work(command, flags, me
 
 @pytest.mark.parametrize("command, flags, message", [
     ("run", ["--structure", "slab"], "--structure: --isolator triple-fp"),
-    ("run", ["--suite", "pairs.csv"], "--suite: not with --isolator triple-fp"),
+    ("run", ["--plan", "plan.json"], "--plan: not with --isolator triple-fp"),
     ("montecarlo", ["--newton-tolerance", "1e-3"], "--newton-tolerance"),
     ("montecarlo", ["--property-factors", "0.8,1.2"], "--property-factors"),
 ])

@@ -64,7 +64,7 @@ def run_bounding(args, structure, model, units) -> int:
     payload = {
         "structure": args.structure, "n_motions": result.n_motions, "wall_s": result.wall_s,
         "property_factors": {"lower": lower, "upper": upper,
-                             "applied_to": "f_max and delta_f of Eq. 1 (the friction coefficient at every velocity)"},
+                             "applied_to": "f_max and delta_f of Eq. 1 (the friction coefficient at every velocity; on every surface of a triple or double pendulum)"},
         "cases": {case: {"f_max": float(design["f_max"][i]), "delta_f": float(design["delta_f"][i]),
                          "n_converged": int(converged[i].sum()),
                          "mean": {k: v[case] for k, v in by_mean.items()},
@@ -125,25 +125,19 @@ def run_suite_bounding(args, factors, build_structure, names, ax, ay, dt, notes,
     import pathlib
     import time
 
-    import equinox as eqx
-
     from ..studies import BOUNDING_CASES, governing_cases, save_suite, suite_peaks
     from ..tables import load_table2
     from ._engineering import suite_pelicun_peaks
+    from ._suite_build import suite_build
 
     lower, upper = factors
     height = load_table2().storey_height if args.structure == "building" else None
     stem = pathlib.Path(args.json).with_suffix("") if args.json else pathlib.Path("suite")
     results, start = {}, time.perf_counter()
     for case, factor in zip(BOUNDING_CASES, (1.0, upper, lower)):
-        template, _ = build_structure(argparse.Namespace(**{**vars(args), "friction_factor": factor}), ax[0], ay[0], dt)
-        half = template.mass.shape[0] // 2
-
-        def build(gx, gy, template=template):  # one structure per case; only the motion changes per pair
-            return eqx.tree_at(lambda s: (s.ground_x, s.ground_y), template, (gx, gy))
-
-        results[case] = suite_peaks(build, names, ax, ay, dt, (ax.shape[1] - 1) * dt,
-                                    (0, 1) if args.structure == "slab" else (0, half),
+        case_args = argparse.Namespace(**{**vars(args), "friction_factor": factor})
+        build, _, base_index = suite_build(case_args, build_structure, ax[0], ay[0], dt)  # one per case
+        results[case] = suite_peaks(build, names, ax, ay, dt, (ax.shape[1] - 1) * dt, base_index,
                                     batch_size=args.chunk_size, storey_height=height)
         save_suite(results[case], table_path=f"{stem}-{case}.csv", netcdf_path=f"{stem}-{case}.nc",
                    attrs={"structure": args.structure, "suite": str(args.suite), "bounding_case": case,
@@ -161,7 +155,7 @@ def run_suite_bounding(args, factors, build_structure, names, ax, ay, dt, notes,
     by_max = governing_cases(peaks, converged, statistic="max")
     payload = {"structure": args.structure, "suite": str(args.suite), "notes": notes, "wall_s": wall,
                "property_factors": {"lower": lower, "upper": upper,
-                                    "applied_to": "f_max and delta_f of Eq. 1 (the friction coefficient at every velocity)"},
+                                    "applied_to": "f_max and delta_f of Eq. 1 (the friction coefficient at every velocity; on every surface of a triple or double pendulum)"},
                "cases": {c: {"friction_factor": f, "summary": results[c].summary, "failed": int(np.sum(~results[c].converged)),
                              "pairs": {n: {k: float(v[i]) for k, v in results[c].peaks.items()} for i, n in enumerate(names)},
                              "files": [f"{stem}-{c}.csv", f"{stem}-{c}.nc"]}

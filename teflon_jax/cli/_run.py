@@ -374,17 +374,17 @@ def run_run(args) -> int:
 
     check_suite_flags(args)
     pendulum_period(args)  # the isolator's flags, before the records are read
-    if args.isolator in SERIES_ISOLATORS:  # triple or double: `_triple.run_triple`
-        from ._triple import run_triple
-
-        return run_triple(args, load_components, write_run_outputs,
-                          lambda dt, samples: vertical_component(args, _read_component, dt, samples))
     if args.suite is not None:
         if args.record_x is not None or args.record_y is not None or args.record_z is not None:
             raise ValueError("--suite: give the records in the suite file, not with --record-x/--record-y/--record-z.")
         from ._run_suite import run_suite
 
         return run_suite(args, load_components, build_structure)
+    if args.isolator in SERIES_ISOLATORS:  # triple or double: `_triple.run_triple`
+        from ._triple import run_triple
+
+        return run_triple(args, load_components, write_run_outputs,
+                          lambda dt, samples: vertical_component(args, _read_component, dt, samples))
     if args.record_x is None:
         raise ValueError("--record-x: a record is needed (or a --suite file).")
     if args.histories is not None and pathlib.Path(args.histories).suffix not in (".nc", ".csv"):

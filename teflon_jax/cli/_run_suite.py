@@ -15,6 +15,7 @@ from ._bounding import add_suite_bounding_flag, read_suite_factors
 from ._common import _positive_int
 from ._engineering import add_suite_pelicun_flag, suite_pelicun_peaks
 from ._spectrum import add_spectrum_flags, check_unscaled, read_target, scale_to_target
+from ._suite_build import suite_build
 
 
 def add_suite_arguments(parser) -> None:
@@ -75,8 +76,6 @@ def read_suite(path_text):
 
 def run_suite(args, load_components, build_structure) -> int:
     """Run the suite; `load_components` and `build_structure` are those of `teflon-jax run`."""
-    import equinox as eqx
-
     from ..studies import (
         check_netcdf_output,
         save_suite,
@@ -124,13 +123,7 @@ def run_suite(args, load_components, build_structure) -> int:
 
         return run_suite_bounding(args, bounding, build_structure, [r[0] for r in records], ax, ay, dt, notes,
                                   scaling)
-    template, _ = build_structure(args, ax[0], ay[0], dt)
-    half = template.mass.shape[0] // 2
-    base_index = (0, 1) if args.structure == "slab" else (0, half)
-
-    def build(gx, gy):  # the structure built once; only the ground motion changes per pair
-        return eqx.tree_at(lambda s: (s.ground_x, s.ground_y), template, (gx, gy))
-
+    build, dofs, base_index = suite_build(args, build_structure, ax[0], ay[0], dt)
     names = [r[0] for r in records]
     stem = pathlib.Path(args.json).with_suffix("") if args.json else pathlib.Path("suite")
     netcdf = stem.with_suffix(".nc") if args.out is None else args.out
@@ -142,7 +135,7 @@ def run_suite(args, load_components, build_structure) -> int:
         from ..studies import device_chunk_size
 
         # default: all pairs in one call on a CPU; on a GPU as many as fit in half its memory
-        batch = args.chunk_size or device_chunk_size(2 * n, template.mass.shape[-1], cpu=len(names))
+        batch = args.chunk_size or device_chunk_size(2 * n, dofs, cpu=len(names))
         result = suite_peaks(build, names, ax, ay, dt, (n - 1) * dt, base_index, batch_size=batch,
                              storey_height=load_table2().storey_height if storeys else None)
         save_suite(result, table_path=stem.with_suffix(".csv"), netcdf_path=netcdf, attrs=attrs)

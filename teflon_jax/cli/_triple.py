@@ -65,11 +65,9 @@ def _load(path, isolator):
 
 def check_triple_run(args) -> None:
     """`run`'s flags that a triple or double pendulum cannot take, refused by name."""
-    for flag, value, reason in (
-            ("--suite", args.suite, "give --record-x and --record-y"),
-            ("--plan", args.plan, "a slab's bearing groups are flat sliders")):
-        if value is not None:
-            raise ValueError(f"{flag}: not with --isolator {args.isolator} ({reason}); leave {flag} out.")
+    if args.plan is not None:
+        raise ValueError(f"--plan: not with --isolator {args.isolator} (a slab's bearing groups are flat "
+                         "sliders or single pendulums); leave --plan out.")
     if args.structure == "slab":
         raise ValueError(f"--structure: --isolator {args.isolator} runs with --structure rigid or building.")
 
@@ -239,3 +237,42 @@ def triple_montecarlo_structure(args):
     return isolated_structure(args.structure, isolator=isolator, **{pendulum_argument: pendulum},
                               time_step=args.time_step,
                               newton_tolerance=TRIPLE_MONTE_CARLO_TOLERANCE, **solver)
+
+
+def scaled_friction(pendulum, factor: float):
+    """`pendulum` with f_max and delta_f of every surface times `factor` (a bounding case's
+    property modification factor on the friction coefficient at every velocity; the order of
+    the surfaces' friction that the series model needs is kept)."""
+    import equinox as eqx
+
+    from ..bearing import FrictionParameters
+
+    names = [f.name for f in dataclasses.fields(pendulum)
+             if isinstance(getattr(pendulum, f.name), FrictionParameters)]
+    scaled = [FrictionParameters(getattr(pendulum, n).f_max * factor, getattr(pendulum, n).delta_f * factor,
+                                 getattr(pendulum, n).rate_a) for n in names]
+    return eqx.tree_at(lambda p: [getattr(p, n) for n in names], pendulum, scaled)
+
+
+def series_suite_build(args):
+    """`run --suite` on triple or double pendulums: the function (ground_x, ground_y) -> the
+    two-component structure (`BiaxialStructureOnTriple`) of the flags, with the friction of
+    every surface times `args.friction_factor` (a bounding case; 1 otherwise)."""
+    from ..systems import isolated_structure
+
+    pendulum = read_isolator_flag(args)
+    check_triple_run(args)
+    time_step = parse_quantity(args.time_step, "time", where="--time-step")
+    if not time_step > 0:
+        raise ValueError(f"--time-step: must be > 0, got {args.time_step}.")
+    factor = getattr(args, "friction_factor", 1.0)
+    if factor != 1.0:
+        pendulum = scaled_friction(pendulum, factor)
+    pendulum_argument = {"triple-fp": "triple", "double-fp": "double"}[args.isolator]
+    structure = isolated_structure(args.structure, isolator=args.isolator, **{pendulum_argument: pendulum},
+                                   time_step=time_step)
+
+    def build(ground_x, ground_y):
+        return structure((ground_x, ground_y))
+
+    return build

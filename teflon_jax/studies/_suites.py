@@ -21,7 +21,13 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..excitation import uniform_signal
-from ..systems import BidirectionalStructure, directional_storeys, simulate_bidirectional
+from ..systems import (
+    BiaxialStructureOnTriple,
+    BidirectionalStructure,
+    biaxial_histories,
+    directional_storeys,
+    simulate_bidirectional,
+)
 from ..units import STANDARD_GRAVITY
 from ._cluster import (
     add_attributes,
@@ -81,6 +87,8 @@ def _suite_function(build, time_step: float, duration: float, base_index, storey
 
     def one(x, y):
         system: BidirectionalStructure = build(uniform_signal(x, time_step), uniform_signal(y, time_step))
+        if isinstance(system, BiaxialStructureOnTriple):
+            return _series_pendulum_peaks(system, duration, storey_height)
         r = simulate_bidirectional(system, duration, throw=False)
         total = r.acceleration + r.ground @ system.influence.T
         force = jnp.einsum("tn,n,nd->td", total, system.mass, system.influence)
@@ -94,6 +102,26 @@ def _suite_function(build, time_step: float, duration: float, base_index, storey
         } | _storey_peaks(r.q, total, storey_height), r.result == diffrax.RESULTS.successful
 
     return jax.jit(jax.vmap(one))
+
+
+def _series_pendulum_peaks(system, duration: float, storey_height):
+    """The suite's peaks of a structure on triple or double pendulums under two components
+    (`biaxial_histories`), in the layout of the bidirectional structures: q = (x: base,
+    floors; y: the same), the base shear the force on every mass over the weight, and whether
+    every step's sliders balanced."""
+    _, state, _, _, total, converged = biaxial_histories(system, duration)
+    n = system.mass.shape[-1]
+    q = jnp.concatenate([state[:, 0, :n], state[:, 1, :n]], axis=-1)  # (nt, 2n)
+    total = jnp.concatenate([total[:, 0], total[:, 1]], axis=-1)
+    force = jnp.stack([total[:, :n] @ system.mass, total[:, n:] @ system.mass], axis=-1)
+    weight = jnp.sum(system.mass) * STANDARD_GRAVITY
+    bx, by = q[:, 0], q[:, n]
+    return {
+        "base_disp_resultant_m": jnp.max(jnp.hypot(bx, by)),
+        "base_disp_x_m": jnp.max(jnp.abs(bx)),
+        "base_disp_y_m": jnp.max(jnp.abs(by)),
+        "base_shear_ratio_resultant": jnp.max(jnp.hypot(force[:, 0], force[:, 1])) / weight,
+    } | _storey_peaks(q, total, storey_height), jnp.all(converged)
 
 
 def _storey_peaks(q, total, storey_height) -> dict:
@@ -117,7 +145,8 @@ def suite_peaks(build, names, ax, ay, time_step: float, duration: float, base_in
     """Run P record pairs through the structure `build(ground_x, ground_y)` in one vmapped call
     (or in calls of `batch_size` pairs, the last padded: one compilation).
 
-    **Arguments:** `build`: a function of two `Signal`s returning a `BidirectionalStructure`;
+    **Arguments:** `build`: a function of two `Signal`s returning a `BidirectionalStructure` (or
+    a `BiaxialStructureOnTriple`: triple or double pendulums);
     `names` (P,); `ax`, `ay` (P, n) ground accelerations [m/s^2] (already scaled, common step);
     `time_step` [s] of the records; `duration` [s]; `base_index`: the coordinates of the base in
     x and y (rigid mass (0, 1), building (0, 7), slab (0, 1)); `storey_height` [m]: the
