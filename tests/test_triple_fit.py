@@ -190,7 +190,7 @@ def test_the_command_refuses_bad_flags(files, capsys, extra, flag):
 
 def test_the_triple_flags_are_refused_with_other_isolators(files, capsys):
     code = main(["fit", "--isolator-file", str(files / "start.json"), "x.csv", "--json", str(files / "f.json")])
-    assert code == 2 and "--isolator-file: applies to --isolator triple-fp only" in capsys.readouterr().err
+    assert code == 2 and "--isolator-file: applies to --isolator triple-fp or double-fp only" in capsys.readouterr().err
 
 
 @pytest.mark.slow

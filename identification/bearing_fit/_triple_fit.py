@@ -185,9 +185,10 @@ def _arrays(record: TestRecord, normal_load):
 def _bounds(names, values):
     """Bounds and the start of the optimiser's variables (module docstring)."""
     bounds, initial = {}, {}
+    excess = _EXCESS if "inner_radius" in values else {}
     for name in names:
-        key = _EXCESS.get(name, name)
-        initial[key] = values[name] - values["inner_radius"] if key in _EXCESS.values() else values[name]
+        key = excess.get(name, name)
+        initial[key] = values[name] - values["inner_radius"] if key in excess.values() else values[name]
         bounds[key] = (0.0, 1.0) if name.endswith(("f_max", "delta_f")) else (0.0, math.inf)
     return initial, bounds
 
@@ -266,7 +267,7 @@ def _check_apart(initial: SeriesPendulum) -> None:
 def _reported_jacobian(result, names):
     """The Jacobian in (a, b, c, ...) from the optimiser's (a, b - a, c - a, ...)."""
     column = {n: result.jacobian[:, i] for i, n in enumerate(result.names)}
-    jac = np.stack([column[_EXCESS.get(n, n)] for n in names], axis=1)
+    jac = np.stack([column[n if n in column else _EXCESS[n]] for n in names], axis=1)
     if "inner_radius" in names:
         i = names.index("inner_radius")
         for excess in ("bottom_excess", "top_excess"):
