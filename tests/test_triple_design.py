@@ -109,7 +109,7 @@ def isolator_file(tmp_path):
     (["--isolator", "triple-fp", "FILE", "--inner-f-max-range", "0.01", "0.07"], "--inner-f-max-range: bounds"),
     (["--isolator", "triple-fp", "FILE", "--outer-f-max-range", "0.08", "0.04"], "--outer-f-max-range: LOW must be below HIGH"),
     (["--outer-f-max-range", "0.04", "0.08"], "--outer-f-max-range: applies to --isolator triple-fp only"),
-    (["--isolator", "single-fp", "FILE"], "--isolator-file: applies to --isolator triple-fp only"),
+    (["--isolator", "single-fp", "FILE"], "--isolator-file: applies to --isolator triple-fp or double-fp only"),
 ])
 def test_the_design_command_refuses_wrong_combinations(tmp_path, capsys, isolator_file, flags, message):
     flags = [a for f in flags for a in (["--isolator-file", str(isolator_file)] if f == "FILE" else [f])]
