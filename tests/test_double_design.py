@@ -14,25 +14,29 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
+from test_double_fit import TRUE
+from test_triple_design import design_payload, design_refusal, strong_motions
 
-from teflon_jax.bearing import BoucWen, DoublePendulum, FrictionParameters, coulomb_friction, sliding_friction
-from teflon_jax.cli import main
-from teflon_jax.excitation import StochasticGroundMotion, sample
+from teflon_jax.bearing import (
+    BoucWen,
+    DoublePendulum,
+    coulomb_friction,
+    sliding_friction,
+)
 from teflon_jax.formats import isolator_to_dict
 from teflon_jax.studies import GRADIENT_TOLERANCE, percentile_disp_gradient_check
-from teflon_jax.systems import check_double_box, designed_double, isolated_structure, simulate_triple_test
+from teflon_jax.systems import (
+    check_double_box,
+    designed_double,
+    isolated_structure,
+    simulate_triple_test,
+)
 
 TRIPLE_FILE = pathlib.Path(__file__).parents[1] / "benchmarks" / "triple_isolator.json"
 
 
-def _friction(f_max, delta_f, rate_a):
-    return FrictionParameters(jnp.asarray(f_max), jnp.asarray(delta_f), jnp.asarray(rate_a))
-
-
-DOUBLE = DoublePendulum(
-    bottom_radius=jnp.asarray(2.0), top_radius=jnp.asarray(2.6), bottom_capacity=jnp.asarray(0.3),
-    top_capacity=jnp.asarray(0.3), bottom_friction=_friction(0.05, 0.025, 20.0),
-    top_friction=_friction(0.09, 0.04, 20.0), hysteresis=BoucWen(1e-4))
+DOUBLE = TRUE
+"""The double pendulum of the fit's tests (R_1 = 2.0 m, R_2 = 2.6 m, f_max 0.05 and 0.09)."""
 
 
 def test_each_variable_changes_the_bearing_as_defined():
@@ -84,10 +88,7 @@ def test_the_95th_percentile_displacements_gradient_is_the_central_difference():
     double = jax.tree_util.tree_map(lambda x: jnp.asarray(x, float), DOUBLE)
     structure = isolated_structure("rigid", isolator="double-fp", double=double, time_step=0.005,
                                    newton_tolerance=0.0)
-    motion = StochasticGroundMotion(peak_ground_acceleration=0.4 * 9.81, site_frequency=2 * np.pi * 1.5,
-                                    site_damping=0.6, high_pass_frequency=2 * np.pi * 0.15,
-                                    strong_motion_duration=3.0, duration=6.0, time_step=0.01)
-    records = sample(motion, jax.random.key(0), 3)
+    records = strong_motions()
     design = {"radius_scale": 1.1, "surface_f_max": 0.045, "capacity_scale": 0.3}
     check = percentile_disp_gradient_check(structure, design, records, 0.01)
     assert check["rel_error"] <= GRADIENT_TOLERANCE, check
@@ -117,20 +118,14 @@ def isolator_file(tmp_path):
     (["--capacity-scale-range", "0.5", "1"], "--capacity-scale-range: applies to --isolator triple-fp or double-fp"),
 ])
 def test_the_design_command_refuses_wrong_combinations(tmp_path, capsys, isolator_file, flags, message):
-    flags = [a for f in flags for a in (["--isolator-file", str(isolator_file)] if f == "FILE" else [f])]
-    assert main(["--no-compile-cache", "design", *flags, "--motions", "2", "--duration", "4s", "--json",
-                 str(tmp_path / "d.json"), "--no-progress"]) == 2
-    assert message in capsys.readouterr().err
+    assert message in design_refusal(tmp_path, capsys, isolator_file, flags)
 
 
 @pytest.mark.slow
 def test_the_design_command_meets_a_binding_limit(tmp_path, capsys, isolator_file):
-    out = tmp_path / "design.json"
-    code = main(["design", "--isolator", "double-fp", "--isolator-file", str(isolator_file),
-                 "--surface-f-max-range", "0.03", "0.09", "--motions", "3", "--duration", "8s",
-                 "--strong-motion", "4s", "--pga", "0.3g", "--grid", "3", "--disp-limit", "0.075m",
-                 "--json", str(out), "--no-progress", "--units", "si"])
-    payload = json.loads(out.read_text())
-    assert code == 0, capsys.readouterr().err
-    assert payload["optimum"]["disp_limit_met"] and 0.03 < payload["optimum"]["surface_f_max"] < 0.09
+    """The 95th percentile's gradient check (1e-4) passes at the optimum, inside the bounds."""
+    flags = ["--isolator", "double-fp", "--surface-f-max-range", "0.03", "0.09"]
+    payload = design_payload(tmp_path, capsys, isolator_file, flags)
+    optimum = payload["optimum"]
+    assert optimum["disp_limit_met"] and 0.03 < optimum["surface_f_max"] < 0.09
     assert payload["p95_disp_gradient_rel_error"] <= 1e-4

@@ -15,6 +15,8 @@ import pathlib
 import jax.numpy as jnp
 import numpy as np
 import pytest
+from test_triple_fit import W, _friction, simulate_then_fit
+from test_triple_fit import _record as sine_record
 
 from identification.bearing_fit import (
     DOUBLE_PARAMETER_NAMES,
@@ -22,18 +24,18 @@ from identification.bearing_fit import (
     series_parameters,
     series_with_parameters,
 )
-from teflon_jax.bearing import BoucWen, DoublePendulum, FrictionParameters, coulomb_friction
+from teflon_jax.bearing import BoucWen, DoublePendulum, coulomb_friction
 from teflon_jax.cli import main
-from teflon_jax.formats import isolator_from_dict, isolator_to_dict, load_isolator, test_record_from_arrays
+from teflon_jax.formats import (
+    isolator_from_dict,
+    isolator_to_dict,
+    load_isolator,
+    test_record_from_arrays,
+)
 from teflon_jax.systems import simulate_triple_test
 
-W = 1e6
 FITTED = [n for n in DOUBLE_PARAMETER_NAMES if not n.endswith("capacity")]
 TRIPLE_FILE = pathlib.Path(__file__).parents[1] / "benchmarks" / "triple_isolator.json"
-
-
-def _friction(f_max, delta_f, rate_a):
-    return FrictionParameters(jnp.asarray(f_max), jnp.asarray(delta_f), jnp.asarray(rate_a))
 
 
 TRUE = DoublePendulum(
@@ -49,13 +51,10 @@ def _mirrored(bearing):
         bottom_friction=bearing.top_friction, top_friction=bearing.bottom_friction)
 
 
-def _record(bearing=TRUE, amplitude=0.3, noise=0.0, n=400):
-    """Two cycles of a 0.5 Hz sine (speeds up to ~0.9 m/s: exp(-a v) spans 0-1)."""
-    t = np.linspace(0.0, 4.0, n + 1)
-    u = amplitude * np.sin(np.pi * t)
-    force = np.asarray(simulate_triple_test(bearing, t, u, W).force)
-    force = force + noise * np.abs(force).max() * np.random.default_rng(2).standard_normal(force.shape)
-    return test_record_from_arrays(u, force, time=t, normal_load=np.full(t.size, W))
+def _record(bearing=TRUE, **options):
+    """`test_triple_fit._record` of the double pendulum: two cycles of a 0.5 Hz sine (0.3 m),
+    speeds up to ~0.9 m/s, where exp(-a v) spans 0-1."""
+    return sine_record(bearing, **options)
 
 
 def _start(bearing=TRUE):
@@ -185,17 +184,11 @@ def test_the_command_refuses_bad_flags(files, capsys, extra, message):
 
 
 def test_simulate_then_fit_from_the_command_line(files, capsys):
-    record = files / "rec.csv"
-    assert main(["simulate-test", "--isolator-file", str(files / "true.json"), "--pattern", "sine",
-                 "--amplitude", "0.3m", "--frequency", "0.5Hz", "--cycles", "2", "--samples-per-cycle",
-                 "200", "--normal-load", "1000kN", "--out", str(record), "--units", "si"]) == 0
-    fitted = files / "fitted.json"
-    assert main(["fit", "--isolator", "double-fp", "--isolator-file", str(files / "start.json"),
-                 str(record), "--json", str(files / "fit.json"), "--save-isolator", str(fitted)]) == 0
+    """Through the CSV (nine significant digits) and the fitted isolator file."""
+    fitted, report = simulate_then_fit(files, "double-fp")
     assert "start file's order of f_max" in capsys.readouterr().err
+    assert report["converged"] and report["isolator"] == "double-fp" and not report["bottom_top_swapped"]
+    assert report["units"]["top_rate_a"] == "s/m"
     again, truth = series_parameters(load_isolator(fitted)), series_parameters(TRUE)
     for name in FITTED:
         assert again[name] == pytest.approx(truth[name], rel=1e-6), name
-    report = json.loads((files / "fit.json").read_text())
-    assert report["converged"] and report["isolator"] == "double-fp"
-    assert report["units"]["top_rate_a"] == "s/m" and not report["bottom_top_swapped"]

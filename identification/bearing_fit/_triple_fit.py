@@ -34,8 +34,7 @@ from teflon_jax.bearing import (
     FrictionParameters,
     SeriesPendulum,
     TriplePendulum,
-    check_double_pendulum,
-    check_triple_pendulum,
+    check_series_pendulum,
 )
 from teflon_jax.formats import TestRecord
 from teflon_jax.systems import simulate_triple_test
@@ -52,9 +51,6 @@ from ._triple_plan import (
 
 _EXCESS = {"bottom_radius": "bottom_excess", "top_radius": "top_excess"}
 """The optimiser's b - a and c - a in place of a triple's b and c."""
-
-_CHECKS = {TriplePendulum: check_triple_pendulum, DoublePendulum: check_double_pendulum}
-"""The check of each series pendulum the fit takes."""
 
 
 @dataclasses.dataclass
@@ -209,10 +205,10 @@ def fit_series_pendulum_test(record: TestRecord, initial: SeriesPendulum, *, fre
 
     **Returns:** a `TripleFit`. `ValueError` naming a bad record, start or name.
     """
-    if type(initial) not in _CHECKS:
+    if type(initial) not in (TriplePendulum, DoublePendulum):
         raise ValueError(f"initial: expected a TriplePendulum or DoublePendulum (e.g. "
                          f"formats.load_isolator), got {type(initial).__name__}.")
-    _CHECKS[type(initial)](initial)
+    check_series_pendulum(initial)
     _check_apart(initial)
     if not (isinstance(max_steps, int) and max_steps >= 1):
         raise ValueError(f"max_steps: must be an integer >= 1, got {max_steps!r}.")
@@ -300,7 +296,7 @@ def _result(start, result, names, held, data, simulate) -> TripleFit:
         held = {_swap_name(k): v for k, v in held.items()}
         names = tuple(n for n in known if n in {_swap_name(k) for k in names})
     try:
-        _CHECKS[type(bearing)](bearing)
+        check_series_pendulum(bearing)
     except ValueError as error:
         warnings.append(f"the fitted constants break the series model's order: {error}")
     return TripleFit(bearing=bearing, parameters=parameters,

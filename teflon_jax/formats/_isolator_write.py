@@ -6,17 +6,10 @@ import pathlib
 
 import numpy as np
 
-from ..bearing import (
-    DoublePendulum,
-    SeriesPendulum,
-    TriplePendulum,
-    check_double_pendulum,
-    check_triple_pendulum,
-)
+from ..bearing import SeriesPendulum, check_series_pendulum
 from ._isolator_file import FORMAT_NAME, FORMAT_VERSION, ISOLATOR_SURFACES
 
 _FRICTION_UNITS = {"f_max": "1", "delta_f": "1", "rate_a": "s/m"}
-_CHECKS = {TriplePendulum: check_triple_pendulum, DoublePendulum: check_double_pendulum}
 
 
 def _entry(value, unit: str) -> dict:
@@ -25,12 +18,9 @@ def _entry(value, unit: str) -> dict:
 
 def isolator_to_dict(bearing: SeriesPendulum) -> dict:
     """The isolator-file object of `bearing`, a `TriplePendulum` or `DoublePendulum` (SI
-    units: m, 1, s/m); `ValueError` for another type, or from `check_triple_pendulum` /
-    `check_double_pendulum` for one the series model cannot take."""
-    if type(bearing) not in _CHECKS:
-        raise ValueError(f"bearing: an isolator file holds a TriplePendulum or DoublePendulum, got "
-                         f"{type(bearing).__name__}.")
-    _CHECKS[type(bearing)](bearing)
+    units: m, 1, s/m); `ValueError` for another type, or for one the series model cannot take
+    (`check_series_pendulum`)."""
+    check_series_pendulum(bearing)
     surfaces = {}
     for name in ISOLATOR_SURFACES[bearing.isolator]:
         friction = getattr(bearing, f"{name}_friction")
