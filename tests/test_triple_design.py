@@ -83,15 +83,40 @@ def test_the_95th_percentile_displacements_gradient_is_the_central_difference():
     triple = jax.tree_util.tree_map(lambda x: jnp.asarray(x, float), TRIPLE)
     structure = isolated_structure("rigid", isolator="triple-fp", triple=triple, time_step=0.005,
                                    newton_tolerance=0.0)
-    motion = StochasticGroundMotion(peak_ground_acceleration=0.4 * 9.81, site_frequency=2 * np.pi * 1.5,
-                                    site_damping=0.6, high_pass_frequency=2 * np.pi * 0.15,
-                                    strong_motion_duration=3.0, duration=6.0, time_step=0.01)
-    records = sample(motion, jax.random.key(0), 3)
+    records = strong_motions()
     design = {"outer_radius_scale": 1.1, "outer_f_max": 0.07, "inner_f_max": 0.025, "capacity_scale": 0.4}
     check = percentile_disp_gradient_check(structure, design, records, 0.01)
     assert check["rel_error"] <= GRADIENT_TOLERANCE, check
     assert all(abs(g) > 0 for g in check["gradient"].values()), check["gradient"]
     assert check["gradient"]["outer_f_max"] < 0 and check["gradient"]["capacity_scale"] > 0
+
+
+def strong_motions():
+    """Three 6 s Clough-Penzien motions of PGA 0.4 g at 0.01 s."""
+    motion = StochasticGroundMotion(peak_ground_acceleration=0.4 * 9.81, site_frequency=2 * np.pi * 1.5,
+                                    site_damping=0.6, high_pass_frequency=2 * np.pi * 0.15,
+                                    strong_motion_duration=3.0, duration=6.0, time_step=0.01)
+    return sample(motion, jax.random.key(0), 3)
+
+
+def design_refusal(tmp_path, capsys, isolator_file, flags) -> str:
+    """stderr of `design` with `flags` ("FILE" standing for --isolator-file `isolator_file`),
+    which must exit 2 before any work (two short motions)."""
+    flags = [a for f in flags for a in (["--isolator-file", str(isolator_file)] if f == "FILE" else [f])]
+    assert main(["--no-compile-cache", "design", *flags, "--motions", "2", "--duration", "4s", "--json",
+                 str(tmp_path / "d.json"), "--no-progress"]) == 2
+    return capsys.readouterr().err
+
+
+def design_payload(tmp_path, capsys, isolator_file, flags) -> dict:
+    """The JSON of `design --isolator-file isolator_file *flags` on three 8 s motions against a
+    0.075 m limit (grid 3), which must exit 0."""
+    out = tmp_path / "design.json"
+    code = main(["design", "--isolator-file", str(isolator_file), *flags, "--motions", "3", "--duration",
+                 "8s", "--strong-motion", "4s", "--pga", "0.3g", "--grid", "3", "--disp-limit", "0.075m",
+                 "--json", str(out), "--no-progress", "--units", "si"])
+    assert code == 0, capsys.readouterr().err
+    return json.loads(out.read_text())
 
 
 @pytest.fixture
@@ -109,24 +134,16 @@ def isolator_file(tmp_path):
     (["--isolator", "triple-fp", "FILE", "--inner-f-max-range", "0.01", "0.07"], "--inner-f-max-range: bounds"),
     (["--isolator", "triple-fp", "FILE", "--outer-f-max-range", "0.08", "0.04"], "--outer-f-max-range: LOW must be below HIGH"),
     (["--outer-f-max-range", "0.04", "0.08"], "--outer-f-max-range: applies to --isolator triple-fp only"),
-    (["--isolator", "single-fp", "FILE"], "--isolator-file: applies to --isolator triple-fp only"),
+    (["--isolator", "single-fp", "FILE"], "--isolator-file: applies to --isolator triple-fp or double-fp only"),
 ])
 def test_the_design_command_refuses_wrong_combinations(tmp_path, capsys, isolator_file, flags, message):
-    flags = [a for f in flags for a in (["--isolator-file", str(isolator_file)] if f == "FILE" else [f])]
-    assert main(["--no-compile-cache", "design", *flags, "--motions", "2", "--duration", "4s", "--json",
-                 str(tmp_path / "d.json"), "--no-progress"]) == 2
-    assert message in capsys.readouterr().err
+    assert message in design_refusal(tmp_path, capsys, isolator_file, flags)
 
 
 @pytest.mark.slow
 def test_the_design_command_meets_a_binding_limit(tmp_path, capsys, isolator_file):
-    out = tmp_path / "design.json"
-    code = main(["design", "--isolator", "triple-fp", "--isolator-file", str(isolator_file),
-                 "--outer-f-max-range", "0.04", "0.09", "--motions", "3", "--duration", "8s",
-                 "--strong-motion", "4s", "--pga", "0.3g", "--grid", "3", "--disp-limit", "0.075m",
-                 "--json", str(out), "--no-progress", "--units", "si"])
-    payload = json.loads(out.read_text())
-    assert code == 0, capsys.readouterr().err
+    payload = design_payload(tmp_path, capsys, isolator_file, ["--isolator", "triple-fp",
+                                                               "--outer-f-max-range", "0.04", "0.09"])
     assert payload["optimum"]["disp_limit_met"] and 0.04 < payload["optimum"]["outer_f_max"] < 0.09
     assert payload["optimum"]["mean_peak_base_disp_mm"] == pytest.approx(75.0, rel=0.01)  # the limit binds
     assert payload["p95_disp_gradient_rel_error"] <= GRADIENT_TOLERANCE

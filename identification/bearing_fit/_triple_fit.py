@@ -1,20 +1,24 @@
-"""Fit a triple friction pendulum's radii and friction to a bearing test record.
+"""Fit a triple or double friction pendulum's radii and friction to a bearing test record.
 
 The record's displacement drives the series model of the bearing (`simulate_triple_test`:
-three sliders of radii 2 a, b - a and c - a carrying one force, each with Eq. 1 friction at its
-surface's velocity and Bouc-Wen's Z; Fenz & Constantinou 2008, Earthquake Spectra 24(4);
+the triple's three sliders of radii 2 a, b - a and c - a, or the double's two of radii R_1 and
+R_2, carrying one force, each with Eq. 1 friction at its surface's velocity and Bouc-Wen's Z;
+Fenz & Constantinou 2006, Earthquake Engng Struct. Dyn. 35; 2008, Earthquake Spectra 24(4);
 Constantinou, Mokha & Reinhorn 1990, Eqs. 1, 3), and Levenberg-Marquardt (optimistix,
 `fit_least_squares`) minimises
 
     S(theta) = sum_i ((F_model,i(theta) - F_i) / N)^2
 
 over the constants theta the record can tell (`triple_fit_plan`), differentiating the simulation in
-forward mode. The optimiser sees a, b - a and c - a (all > 0, so the inner surfaces stay the
-tighter ones); f_max, delta_f in (0, 1); rate_a and the capacities > 0. Standard errors are
+forward mode. The optimiser sees a, b - a and c - a of a triple (all > 0, so the inner
+surfaces stay the tighter ones), R_1 and R_2 of a double (> 0); f_max, delta_f in (0, 1);
+rate_a and the capacities > 0. Standard errors are
 the asymptotic ones, sigma^2 (J^T J)^-1 with sigma^2 = S / (n - p) (Seber & Wild 1989,
-Ch. 2), with J taken in the reported constants (a, b, c, ...). The series model is symmetric
-in its outer surfaces: a fit whose bottom surface ends up with the larger f_max is reported
-with the two swapped (the isolator file's order, bottom the slipperier).
+Ch. 2), with J taken in the reported constants (a, b, c, ...). The force of sliders in
+series does not depend on their order, so a loop cannot tell the bottom surface from the top
+one: the fit reports them in the start file's order of f_max (a triple's bottom the
+slipperier, as its series model needs; a double's as its start file has them), swapping the
+two when the optimiser has crossed them (`swapped`).
 """
 
 import dataclasses
@@ -25,7 +29,13 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from teflon_jax.bearing import FrictionParameters, TriplePendulum, check_triple_pendulum
+from teflon_jax.bearing import (
+    DoublePendulum,
+    FrictionParameters,
+    SeriesPendulum,
+    TriplePendulum,
+    check_series_pendulum,
+)
 from teflon_jax.formats import TestRecord
 from teflon_jax.systems import simulate_triple_test
 
@@ -33,33 +43,34 @@ from ..least_squares import covariance_from_jacobian, fit_least_squares
 from ._prepare import _normal_load, _record_name
 from ._triple_plan import (
     FRICTION_CONSTANTS,
-    PARAMETER_NAMES,
-    PARAMETER_UNITS,
-    SURFACES,
     check_free,
+    parameter_names,
+    parameter_units,
     triple_fit_plan,
 )
 
 _EXCESS = {"bottom_radius": "bottom_excess", "top_radius": "top_excess"}
-"""The optimiser's b - a and c - a in place of b and c."""
+"""The optimiser's b - a and c - a in place of a triple's b and c."""
 
 
 @dataclasses.dataclass
 class TripleFit:
-    """Result of `fit_triple_pendulum_test` (SI).
+    """Result of `fit_series_pendulum_test` (SI).
 
-    - `bearing`: the fitted `TriplePendulum` (held constants the start's);
-    - `parameters`: name -> value of every constant (`PARAMETER_NAMES`); `std_errors`: name ->
+    - `bearing`: the fitted `TriplePendulum` or `DoublePendulum` (held constants the start's);
+    - `parameters`: name -> value of every constant (`parameter_names` of its surfaces,
+      `TRIPLE_PARAMETER_NAMES` or `DOUBLE_PARAMETER_NAMES`); `std_errors`: name ->
       standard error of the fitted ones (inf where the record cannot tell it), None for held;
     - `free`: the fitted names; `held`: held name -> why;
     - `nrmse`: RMS(model - measured) / RMS(measured) of the force; `converged`: the optimiser
       converged and every step of the simulation balanced its sliders; `message`: the
-      optimiser's status; `n_steps`; `swapped`: bottom and top exchanged (module docstring);
+      optimiser's status; `n_steps`; `swapped`: bottom and top exchanged to the start's order
+      (module docstring);
       `warnings`: why the result may not be usable; `fitted_force` [N]: the model's force
       at the record's samples (like its fx, or (nt, 2) with fy).
     """
 
-    bearing: TriplePendulum
+    bearing: SeriesPendulum
     parameters: dict
     std_errors: dict
     free: tuple
@@ -75,11 +86,11 @@ class TripleFit:
     def to_json_dict(self) -> dict:
         """The JSON report (SI; a "units" map names each constant's unit)."""
         return {
-            "isolator": "triple-fp",
+            "isolator": self.bearing.isolator,
             "parameters": self.parameters,
             "std_errors": {k: (v if v is None or math.isfinite(v) else None)
                            for k, v in self.std_errors.items()},
-            "units": dict(PARAMETER_UNITS),
+            "units": parameter_units(self.bearing.slider_names),
             "free": list(self.free),
             "held": dict(self.held),
             "nrmse": self.nrmse,
@@ -87,41 +98,46 @@ class TripleFit:
             "message": self.message,
             "n_steps": self.n_steps,
             "bottom_top_swapped": self.swapped,
+            "bottom_top_order": "the start file's order of f_max (a loop cannot tell the two apart)",
             "warnings": list(self.warnings),
         }
 
 
-def triple_parameters(bearing: TriplePendulum) -> dict:
-    """name -> value [SI] of every constant of `bearing` (`PARAMETER_NAMES`)."""
-    out = {}
-    for surface in SURFACES:
-        out[f"{surface}_radius"] = float(np.asarray(getattr(bearing, f"{surface}_radius")))
-        out[f"{surface}_capacity"] = float(np.asarray(getattr(bearing, f"{surface}_capacity")))
-        friction = getattr(bearing, f"{surface}_friction")
-        for c in FRICTION_CONSTANTS:
-            out[f"{surface}_{c}"] = float(np.asarray(getattr(friction, c)))
-    return {n: out[n] for n in PARAMETER_NAMES}
+SeriesFit = TripleFit
+"""`TripleFit`, the result of a triple or double pendulum's fit."""
 
 
-def triple_with_parameters(bearing: TriplePendulum, values) -> TriplePendulum:
-    """`bearing` with the constants named in `values` (`PARAMETER_NAMES`, scalars or traced)
-    in place of its own; also takes "bottom_excess" / "top_excess" (b - a, c - a)."""
+def triple_parameters(bearing: SeriesPendulum) -> dict:
+    """name -> value [SI] of every constant of `bearing` (`parameter_names` of its surfaces)."""
+    out = {k: float(np.asarray(v)) for k, v in _leaves_of(bearing).items()}
+    return {n: out[n] for n in parameter_names(bearing.slider_names)}
+
+
+def triple_with_parameters(bearing: SeriesPendulum, values) -> SeriesPendulum:
+    """`bearing` (triple or double) with the constants named in `values` (`parameter_names`,
+    scalars or traced) in place of its own; a triple's also takes "bottom_excess" /
+    "top_excess" (b - a, c - a)."""
     get = {**_leaves_of(bearing), **values}
-    a = get["inner_radius"]
-    b = a + values["bottom_excess"] if "bottom_excess" in values else get["bottom_radius"]
-    c = a + values["top_excess"] if "top_excess" in values else get["top_radius"]
-    frictions = {s: FrictionParameters(*(get[f"{s}_{k}"] for k in FRICTION_CONSTANTS)) for s in SURFACES}
-    return TriplePendulum(
-        inner_radius=a, bottom_radius=b, top_radius=c, inner_capacity=get["inner_capacity"],
-        bottom_capacity=get["bottom_capacity"], top_capacity=get["top_capacity"],
-        inner_friction=frictions["inner"], bottom_friction=frictions["bottom"],
-        top_friction=frictions["top"], hysteresis=bearing.hysteresis)
+    fields = {}
+    for s in bearing.slider_names:
+        fields[f"{s}_radius"] = get[f"{s}_radius"]
+        fields[f"{s}_capacity"] = get[f"{s}_capacity"]
+        fields[f"{s}_friction"] = FrictionParameters(*(get[f"{s}_{k}"] for k in FRICTION_CONSTANTS))
+    for radius, excess in _EXCESS.items():
+        if excess in values:
+            fields[radius] = get["inner_radius"] + values[excess]
+    return type(bearing)(**fields, hysteresis=bearing.hysteresis)
 
 
-def _leaves_of(bearing: TriplePendulum) -> dict:
+series_parameters = triple_parameters
+series_with_parameters = triple_with_parameters
+"""`triple_parameters`, `triple_with_parameters`, which take any series pendulum."""
+
+
+def _leaves_of(bearing: SeriesPendulum) -> dict:
     """As `triple_parameters`, the leaves kept as they are (traceable)."""
     out = {}
-    for surface in SURFACES:
+    for surface in bearing.slider_names:
         out[f"{surface}_radius"] = getattr(bearing, f"{surface}_radius")
         out[f"{surface}_capacity"] = getattr(bearing, f"{surface}_capacity")
         for c in FRICTION_CONSTANTS:
@@ -140,16 +156,16 @@ def _arrays(record: TestRecord, normal_load):
     `ValueError` naming what the fit cannot take."""
     name = _record_name(record, 0)
     if record.is_digitised or record.time is None:
-        raise ValueError(f"{name}: the triple pendulum fit takes a time history (time, ux, fx); "
+        raise ValueError(f"{name}: the series pendulum fit takes a time history (time, ux, fx); "
                          "this record is a digitised loop.")
     time = np.asarray(record.time, dtype=float)
     steps = np.diff(time)
     if time.size < 10 or not (np.all(steps > 0) and np.ptp(steps) <= 1e-6 * steps.mean()):
-        raise ValueError(f"{name}: the triple pendulum fit needs at least 10 samples at a uniform "
+        raise ValueError(f"{name}: the series pendulum fit needs at least 10 samples at a uniform "
                          "time step (the series model is stepped at the record's samples); resample it.")
     load = _normal_load(record, name, normal_load)
     if np.ptp(load) > 1e-9 * np.max(np.abs(load)) or not load[0] > 0:
-        raise ValueError(f"{name}: the triple pendulum fit takes a constant positive normal load; "
+        raise ValueError(f"{name}: the series pendulum fit takes a constant positive normal load; "
                          f"the record's N spans {load.min():.6g}-{load.max():.6g} N.")
     if record.is_biaxial:
         path = np.stack([record.ux, record.uy], axis=-1)
@@ -165,33 +181,35 @@ def _arrays(record: TestRecord, normal_load):
 def _bounds(names, values):
     """Bounds and the start of the optimiser's variables (module docstring)."""
     bounds, initial = {}, {}
+    excess = _EXCESS if "inner_radius" in values else {}
     for name in names:
-        key = _EXCESS.get(name, name)
-        initial[key] = values[name] - values["inner_radius"] if key in _EXCESS.values() else values[name]
+        key = excess.get(name, name)
+        initial[key] = values[name] - values["inner_radius"] if key in excess.values() else values[name]
         bounds[key] = (0.0, 1.0) if name.endswith(("f_max", "delta_f")) else (0.0, math.inf)
     return initial, bounds
 
 
-def fit_triple_pendulum_test(record: TestRecord, initial: TriplePendulum, *, free=None,
+def fit_series_pendulum_test(record: TestRecord, initial: SeriesPendulum, *, free=None,
                              normal_load: float | None = None, full_model: bool = False,
                              max_steps: int = 200, rtol: float = 1e-10, atol: float = 1e-12) -> TripleFit:
-    """Fit a triple pendulum's effective radii, its surfaces' friction (Eq. 1) and, where
-    the loop reaches them, its capacities to one test record (module docstring).
+    """Fit a triple or double pendulum's effective radii, its surfaces' friction (Eq. 1) and,
+    where the loop reaches them, its capacities to one test record (module docstring).
 
     **Arguments:** `record`: a `TestRecord` time history (uniaxial, or biaxial along an
     orbit) at a uniform time step, under a constant normal load (its N column or metadata,
-    else `normal_load` [N]); `initial`: the start (`TriplePendulum`, e.g. `load_isolator`);
-    the constants it does not free are held at its values; `free`: names to fit
-    (`PARAMETER_NAMES`; default: what the record can tell, `triple_fit_plan`); `full_model`: free
-    delta_f and rate_a whatever the record's speeds; `max_steps`, `rtol`, `atol`:
-    optimistix's Levenberg-Marquardt settings.
+    else `normal_load` [N]); `initial`: the start (`TriplePendulum` or `DoublePendulum`, e.g.
+    `load_isolator`); the constants it does not free are held at its values; `free`: names to
+    fit (`parameter_names` of its surfaces; default: what the record can tell,
+    `triple_fit_plan`); `full_model`: free delta_f and rate_a whatever the record's speeds;
+    `max_steps`, `rtol`, `atol`: optimistix's Levenberg-Marquardt settings.
 
     **Returns:** a `TripleFit`. `ValueError` naming a bad record, start or name.
     """
-    if not isinstance(initial, TriplePendulum):
-        raise ValueError(f"initial: expected a TriplePendulum (e.g. formats.load_isolator), got "
-                         f"{type(initial).__name__}.")
-    check_triple_pendulum(initial)
+    if type(initial) not in (TriplePendulum, DoublePendulum):
+        raise ValueError(f"initial: expected a TriplePendulum or DoublePendulum (e.g. "
+                         f"formats.load_isolator), got {type(initial).__name__}.")
+    check_series_pendulum(initial)
+    _check_apart(initial)
     if not (isinstance(max_steps, int) and max_steps >= 1):
         raise ValueError(f"max_steps: must be an integer >= 1, got {max_steps!r}.")
     time, path, force, load = _arrays(record, normal_load)
@@ -202,9 +220,10 @@ def fit_triple_pendulum_test(record: TestRecord, initial: TriplePendulum, *, fre
         raise ValueError(f"{_record_name(record, 0)}: the start's series solve does not balance at "
                          f"{int(np.sum(~np.asarray(response.converged)))} samples; use a finer time step.")
     names, held = triple_fit_plan(start, response, time, full_model=full_model)
+    known = parameter_names(start.slider_names)
     if free is not None:
-        names = check_free(free)
-        held = {n: "held: not in free" for n in PARAMETER_NAMES if n not in names}
+        names = check_free(free, known)
+        held = {n: "held: not in free" for n in known if n not in names}
     values = triple_parameters(start)
     x0, bounds = _bounds(names, values)
     result = fit_least_squares(_residual, x0, bounds, args=(start, time, path, force, load),
@@ -212,10 +231,39 @@ def fit_triple_pendulum_test(record: TestRecord, initial: TriplePendulum, *, fre
     return _result(start, result, names, held, (time, path, force, load), simulate)
 
 
+def fit_triple_pendulum_test(record: TestRecord, initial: TriplePendulum, **options) -> TripleFit:
+    """`fit_series_pendulum_test` of a `TriplePendulum` start (`ValueError` for another)."""
+    if not isinstance(initial, TriplePendulum):
+        raise ValueError(f"initial: expected a TriplePendulum (e.g. formats.load_isolator), got "
+                         f"{type(initial).__name__}.")
+    return fit_series_pendulum_test(record, initial, **options)
+
+
+def fit_double_pendulum_test(record: TestRecord, initial: DoublePendulum, **options) -> TripleFit:
+    """`fit_series_pendulum_test` of a `DoublePendulum` start (`ValueError` for another): its
+    radii R_1, R_2 and each surface's Eq. 1 constants from one loop, bottom and top in the
+    start's order of f_max (module docstring)."""
+    if not isinstance(initial, DoublePendulum):
+        raise ValueError(f"initial: expected a DoublePendulum (e.g. formats.load_isolator), got "
+                         f"{type(initial).__name__}.")
+    return fit_series_pendulum_test(record, initial, **options)
+
+
+def _check_apart(initial: SeriesPendulum) -> None:
+    """`ValueError` for a start whose bottom and top surfaces are alike in radius and friction:
+    both sliders then move alike, the fit's steps keep them so, and it cannot tell them apart."""
+    leaves = _leaves_of(initial)
+    keys = ("radius",) + FRICTION_CONSTANTS
+    if all(float(np.asarray(leaves[f"bottom_{k}"])) == float(np.asarray(leaves[f"top_{k}"])) for k in keys):
+        raise ValueError("initial: the bottom and top surfaces have the same radius and friction; "
+                         "the fit moves them alike and cannot separate them: start them apart "
+                         "(e.g. a smaller f_max on the surface that slides first).")
+
+
 def _reported_jacobian(result, names):
     """The Jacobian in (a, b, c, ...) from the optimiser's (a, b - a, c - a, ...)."""
     column = {n: result.jacobian[:, i] for i, n in enumerate(result.names)}
-    jac = np.stack([column[_EXCESS.get(n, n)] for n in names], axis=1)
+    jac = np.stack([column[n if n in column else _EXCESS[n]] for n in names], axis=1)
     if "inner_radius" in names:
         i = names.index("inner_radius")
         for excess in ("bottom_excess", "top_excess"):
@@ -240,18 +288,19 @@ def _result(start, result, names, held, data, simulate) -> TripleFit:
                         "fitted constants; the fit cannot be trusted (use a finer time step).")
     warnings += [f"{n}: not identifiable from this record (its standard error is infinite); hold "
                  "it (leave it out of free)" for n in names if not math.isfinite(errors[n])]
-    bearing, swapped = _bottom_first(bearing)
+    bearing, swapped = _in_start_order(bearing, start)
     parameters = triple_parameters(bearing)
+    known = parameter_names(bearing.slider_names)
     if swapped:
         errors = {_swap_name(k): v for k, v in errors.items()}
         held = {_swap_name(k): v for k, v in held.items()}
-        names = tuple(n for n in PARAMETER_NAMES if n in {_swap_name(k) for k in names})
+        names = tuple(n for n in known if n in {_swap_name(k) for k in names})
     try:
-        check_triple_pendulum(bearing)
+        check_series_pendulum(bearing)
     except ValueError as error:
         warnings.append(f"the fitted constants break the series model's order: {error}")
     return TripleFit(bearing=bearing, parameters=parameters,
-                     std_errors={n: errors.get(n) for n in PARAMETER_NAMES}, free=tuple(names),
+                     std_errors={n: errors.get(n) for n in known}, free=tuple(names),
                      held=held, nrmse=nrmse, converged=bool(result.converged and balanced),
                      message=result.message, n_steps=result.n_steps, swapped=swapped,
                      warnings=warnings, fitted_force=model)
@@ -262,11 +311,19 @@ def _swap_name(name: str) -> str:
     return {"bottom": "top", "top": "bottom"}.get(surface, surface) + "_" + rest
 
 
-def _bottom_first(bearing: TriplePendulum):
-    """(bearing, swapped): bottom and top exchanged when the bottom's f_max is the larger."""
-    if not float(np.asarray(bearing.bottom_friction.f_max)) > float(np.asarray(bearing.top_friction.f_max)):
+def _f_max(bearing, surface: str) -> float:
+    return float(np.asarray(getattr(bearing, f"{surface}_friction").f_max))
+
+
+def _in_start_order(bearing: SeriesPendulum, start: SeriesPendulum):
+    """(bearing, swapped): bottom and top exchanged when their order of f_max is not the
+    start's (a start with them equal, or a triple's, has the bottom the slipperier)."""
+    start_bottom_larger = _f_max(start, "bottom") > _f_max(start, "top")
+    bottom, top = _f_max(bearing, "bottom"), _f_max(bearing, "top")
+    if bottom == top or (bottom > top) == start_bottom_larger:
         return bearing, False
-    return dataclasses.replace(
-        bearing, bottom_radius=bearing.top_radius, top_radius=bearing.bottom_radius,
-        bottom_capacity=bearing.top_capacity, top_capacity=bearing.bottom_capacity,
-        bottom_friction=bearing.top_friction, top_friction=bearing.bottom_friction), True
+    swap = {}
+    for part in ("radius", "capacity", "friction"):
+        swap[f"bottom_{part}"] = getattr(bearing, f"top_{part}")
+        swap[f"top_{part}"] = getattr(bearing, f"bottom_{part}")
+    return dataclasses.replace(bearing, **swap), True

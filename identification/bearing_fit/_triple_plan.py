@@ -1,8 +1,9 @@
-"""What a triple friction pendulum's test record can tell: which constants of the series model
-(`teflon_jax.bearing.TriplePendulum`) a fit frees, and why it holds the others.
+"""What a triple or double friction pendulum's test record can tell: which constants of the
+series model (`teflon_jax.bearing.TriplePendulum`, `DoublePendulum`) a fit frees, and why it
+holds the others.
 
-Each of the three sliders of the series model (the inner pair, the bottom and the top surface;
-Fenz & Constantinou 2008, Earthquake Spectra 24(4)) shows its radius and friction only where it
+Each slider of the series model (the triple's inner pair, bottom and top surface, the double's
+bottom and top surface; Fenz & Constantinou 2006, 2008) shows its radius and friction only where it
 slides, its restrainer only where the loop reaches its capacity, and the rate dependence of
 Eq. 1, mu(v) = f_max - delta_f exp(-a v) (Constantinou, Mokha & Reinhorn 1990), only where
 exp(-a v) changes over the sliding speeds v of its surface. The decisions are read from the
@@ -23,17 +24,32 @@ SURFACES = ("inner", "bottom", "top")
 FRICTION_CONSTANTS = ("f_max", "delta_f", "rate_a")
 """Eq. 1's constants of each surface."""
 
-RADII = tuple(f"{s}_radius" for s in SURFACES)
-CAPACITIES = tuple(f"{s}_capacity" for s in SURFACES)
-FRICTIONS = tuple(f"{s}_{c}" for s in SURFACES for c in FRICTION_CONSTANTS)
-PARAMETER_NAMES = RADII + FRICTIONS + CAPACITIES
+
+
+def parameter_names(surfaces=SURFACES) -> tuple:
+    """Every constant a fit may free of a pendulum with these `surfaces` (its `slider_names`):
+    the effective radii, the Eq. 1 constants of each surface, the effective capacities."""
+    return (tuple(f"{s}_radius" for s in surfaces)
+            + tuple(f"{s}_{c}" for s in surfaces for c in FRICTION_CONSTANTS)
+            + tuple(f"{s}_capacity" for s in surfaces))
+
+
+def parameter_units(surfaces=SURFACES) -> dict:
+    """SI unit of each of `parameter_names(surfaces)`, as the isolator file writes it."""
+    return {n: "m" if n.endswith(("radius", "capacity")) else "s/m" if n.endswith("rate_a") else "1"
+            for n in parameter_names(surfaces)}
+
+
+PARAMETER_NAMES = parameter_names(SURFACES)
 """Every constant of a triple pendulum a fit may free (effective radii and capacities [m],
 f_max and delta_f [-], rate_a [s/m])."""
 
-PARAMETER_UNITS = {**{n: "m" for n in RADII + CAPACITIES},
-                   **{f"{s}_{c}": ("s/m" if c == "rate_a" else "1")
-                      for s in SURFACES for c in FRICTION_CONSTANTS}}
-"""SI unit of each parameter, as the isolator file writes it."""
+PARAMETER_UNITS = parameter_units(SURFACES)
+"""SI unit of each parameter of a triple pendulum, as the isolator file writes it."""
+
+DOUBLE_PARAMETER_NAMES = parameter_names(("bottom", "top"))
+DOUBLE_PARAMETER_UNITS = parameter_units(("bottom", "top"))
+"""The same of a double pendulum (surfaces bottom and top)."""
 
 SLIDING_TRAVEL = 10.0
 """A surface slides in a record when its slider's travel exceeds this many yield
@@ -47,34 +63,34 @@ def surface_of(name: str) -> str:
     return name.split("_", 1)[0]
 
 
-def check_free(free) -> tuple:
-    """The names of `free` (a comma-separated text or a sequence), each known, once;
+def check_free(free, known=PARAMETER_NAMES) -> tuple:
+    """The names of `free` (a comma-separated text or a sequence), each one of `known`, once;
     `ValueError` naming an unknown one."""
     names = [n.strip() for n in (free.split(",") if isinstance(free, str) else free) if n.strip()]
-    unknown = [n for n in names if n not in PARAMETER_NAMES]
+    unknown = [n for n in names if n not in known]
     if unknown or not names:
-        raise ValueError(f"free: unknown parameter(s) {unknown}; the triple pendulum's are "
-                         f"{', '.join(PARAMETER_NAMES)}." if unknown else
+        raise ValueError(f"free: unknown parameter(s) {unknown}; the pendulum's are "
+                         f"{', '.join(known)}." if unknown else
                          "free: give at least one parameter to fit.")
-    return tuple(n for n in PARAMETER_NAMES if n in names)
+    return tuple(n for n in known if n in names)
 
 
 def triple_fit_plan(start, response, time, *, full_model: bool = False) -> tuple[tuple, dict]:
     """(free names, {held name: reason}) for a record whose simulation with the `start`
-    constants (`TriplePendulum`) is `response` (`TripleResponse`) at the sample `time` [s]
+    constants (`TriplePendulum` or `DoublePendulum`) is `response` (`TripleResponse`) at the sample `time` [s]
     (module docstring). `full_model`: free delta_f and rate_a of every sliding surface
     whatever the speeds."""
     slider = np.asarray(response.slider)
     if slider.ndim == 2:
         slider = slider[..., None]
-    reach = np.sqrt(np.sum(slider**2, axis=-1))  # (nt, 3)
+    reach = np.sqrt(np.sum(slider**2, axis=-1))  # (nt, S)
     travel = np.sum(np.sqrt(np.sum(np.diff(slider, axis=0) ** 2, axis=-1)), axis=0)
     capacities = np.asarray(start.series_capacities())
     dt = float(time[1] - time[0])
     speed = np.sqrt(np.sum(np.diff(slider, axis=0) ** 2, axis=-1)) / dt * np.asarray(start.velocity_factors())
     yield_disp = float(np.asarray(start.hysteresis.yield_disp))
     held = {}
-    for i, surface in enumerate(SURFACES):
+    for i, surface in enumerate(start.slider_names):
         if not travel[i] > SLIDING_TRAVEL * yield_disp:
             why = (f"the {surface} surface does not slide in this record (its slider travels "
                    f"{travel[i]:.3g} m): its radius and friction are held at the start's values")
@@ -88,7 +104,7 @@ def triple_fit_plan(start, response, time, *, full_model: bool = False) -> tuple
             held[f"{surface}_capacity"] = (
                 f"the loop does not reach the {surface} restrainer (slider at "
                 f"{np.max(reach[:, i]):.3g} m of {capacities[i]:.3g} m): capacity held")
-    free = tuple(n for n in PARAMETER_NAMES if n not in held)
+    free = tuple(n for n in parameter_names(start.slider_names) if n not in held)
     return free, held
 
 
@@ -112,3 +128,6 @@ def _rate_hidden(start, surface: str, speed) -> str:
 TRIPLE_PARAMETER_NAMES = PARAMETER_NAMES
 TRIPLE_PARAMETER_UNITS = PARAMETER_UNITS
 """`PARAMETER_NAMES`, `PARAMETER_UNITS` under the names the package exports."""
+
+series_fit_plan = triple_fit_plan
+"""`triple_fit_plan`, which takes any series pendulum."""

@@ -43,5 +43,6 @@ from ._series_pendulum import check_double_pendulum as check_double_pendulum
 from ._series_pendulum import check_friction as check_friction
 from ._triple_pendulum import STOP_STIFFNESS_RATIO as STOP_STIFFNESS_RATIO
 from ._triple_pendulum import TriplePendulum as TriplePendulum
+from ._triple_pendulum import check_series_pendulum as check_series_pendulum
 from ._triple_pendulum import check_triple_pendulum as check_triple_pendulum
 from ._triple_pendulum import triple_pendulum_backbone as triple_pendulum_backbone

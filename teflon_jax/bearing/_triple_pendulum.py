@@ -24,7 +24,12 @@ from jaxtyping import ArrayLike
 from ..validation import require_positive
 from ._friction import FrictionParameters
 from ._hysteresis import BoucWen
-from ._series_pendulum import SeriesPendulum, stack_frictions
+from ._series_pendulum import (
+    DoublePendulum,
+    SeriesPendulum,
+    check_double_pendulum,
+    stack_frictions,
+)
 
 STOP_STIFFNESS_RATIO = 1000.0
 """Stiffness of a restrainer ring as a multiple of its slider's pendulum stiffness W / R."""
@@ -143,3 +148,12 @@ def triple_pendulum_backbone(bearing: TriplePendulum):
         starts.append(starts[-1] + (force1 - force0) / slope)
     regimes = list(zip(starts[:-1], forces[:-1], slopes))
     return regimes, starts[-1]
+
+
+def check_series_pendulum(bearing: SeriesPendulum) -> None:
+    """`check_triple_pendulum` or `check_double_pendulum` of `bearing`, whichever its type;
+    `ValueError` for anything else."""
+    checks = {TriplePendulum: check_triple_pendulum, DoublePendulum: check_double_pendulum}
+    if type(bearing) not in checks:
+        raise ValueError(f"bearing: expected a TriplePendulum or DoublePendulum, got {type(bearing).__name__}.")
+    checks[type(bearing)](bearing)

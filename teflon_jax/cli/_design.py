@@ -118,7 +118,7 @@ def run_design(args) -> int:
     grid = {name: np.linspace(*bounds, args.grid) for name, bounds in variables.items()}
     bar.set_postfix_str(f"grid sweep, {args.grid}x{args.grid} designs x {args.motions} motions")
     attrs = {"structure": args.structure, "isolator": args.isolator, "seed": args.seed, "pga_m_s2": args.pga,
-             **({"isolator_file": str(args.isolator_file)} if args.isolator == "triple-fp" else
+             **({"isolator_file": str(args.isolator_file)} if args.isolator in ("triple-fp", "double-fp") else
                 {"ptfe": args.ptfe} if args.bearing is None else {"bearing": str(args.bearing)}),
              "motion_duration_s": args.duration, "isolation_damping": args.isolation_damping}
     if args.scheduler is None:
@@ -149,7 +149,7 @@ def run_design(args) -> int:
     bar.update(1)
     bar.close()
     payload = _payload(args, result, sweep, units, time.perf_counter() - tic)
-    if args.isolator == "triple-fp":
+    if args.isolator in ("triple-fp", "double-fp"):
         from ._design_triple import percentile_check
 
         payload.update(percentile_check(args, structure, result, records))
@@ -157,8 +157,9 @@ def run_design(args) -> int:
     _write_json(args.json, payload)
     if args.plot is not None:
         isolator = {"single-fp": "a single friction pendulum", "triple-fp": f"triple friction pendulums "
-                    f"of {args.isolator_file}"}.get(args.isolator, "flat sliders")
-        friction = ("" if args.isolator == "triple-fp" else f"{args.ptfe} PTFE, " if args.bearing is None
+                    f"of {args.isolator_file}", "double-fp": f"double friction pendulums of "
+                    f"{args.isolator_file}"}.get(args.isolator, "flat sliders")
+        friction = ("" if args.isolator in ("triple-fp", "double-fp") else f"{args.ptfe} PTFE, " if args.bearing is None
                     else f"bearing {args.bearing}, ")
         stamp = (f"{args.structure} on {isolator}, {friction}zeta_b = {args.isolation_damping_text}, "
                  f"{args.motions} Clough-Penzien motions (PGA {args.pga_text}, {args.duration_text}, "
@@ -186,7 +187,7 @@ def _variables_and_structure(args):
         triple_structure_for_design,
     )
 
-    if args.isolator == "triple-fp":
+    if args.isolator in ("triple-fp", "double-fp"):
         variables, triple = resolve_triple_design(args)
         return variables, triple_structure_for_design(args, triple)
     refuse_triple_flags(args)

@@ -8,9 +8,10 @@ import math
 
 from ..units import INCH, PSI, STANDARD_GRAVITY
 from ._common import ISOLATORS, add_quantity
-from ._design_triple import TRIPLE_FLAGS
+from ._design_triple import ALL_FLAGS
 
-TRIPLE_DESIGN_VARIABLES = tuple(TRIPLE_FLAGS)
+TRIPLE_DESIGN_VARIABLES = tuple(ALL_FLAGS)
+"""The design variables of the triple and double pendulums (their names, as the JSON writes them)."""
 
 DEFAULT_RANGES = {
     "period_range": (("1s", "4s"), (1.0, 4.0)),
@@ -29,9 +30,11 @@ def add_design_variable_flags(parser) -> None:
     parser.add_argument("--isolator", default="flat", choices=ISOLATORS,
                         help="flat sliders on springs of period Tb (designed over --period-range), "
                         "a single friction pendulum, restoring force W u / R (designed over "
-                        "--radius-range), or the triple friction pendulum of --isolator-file "
+                        "--radius-range), the triple friction pendulum of --isolator-file "
                         "(designed over --outer-radius-scale-range, --inner-f-max-range, "
-                        "--outer-f-max-range and --capacity-scale-range) (default flat)")
+                        "--outer-f-max-range and --capacity-scale-range) or the double one "
+                        "(over --radius-scale-range, --surface-f-max-range and "
+                        "--capacity-scale-range) (default flat)")
     add_quantity(parser, "--period-range", "time", None, "flat sliders: bounds of the isolation "
                  "period Tb (default 1s 4s)", minimum=0.0, nargs=2)
     add_quantity(parser, "--radius-range", "length", None, "--isolator single-fp: bounds of the "

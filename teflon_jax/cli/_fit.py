@@ -79,17 +79,20 @@ def add_fit_parser(subparsers) -> argparse.ArgumentParser:
                              "model (one record; e.g. backlash,asymmetry as `diagnose` names "
                              "them; 'list' prints the known ones); --fixed then also takes "
                              "their constants")
-    parser.add_argument("--isolator", default="flat", choices=("flat", "single-fp", "triple-fp"),
+    parser.add_argument("--isolator", default="flat", choices=("flat", "single-fp", "triple-fp", "double-fp"),
                         help="single-fp: the records are of a single friction pendulum, force "
                         "N u / R + friction; fit its radius R too ('--fixed radius=88in' holds "
                         "it). triple-fp: one record of a triple friction pendulum, fitted from "
                         "--isolator-file's constants (its radii, friction of each surface, "
-                        "and capacities where the loop reaches them; --free names them) (default flat)")
+                        "and capacities where the loop reaches them; --free names them). double-fp: "
+                        "the same of a double friction pendulum (R_1, R_2 and each surface's "
+                        "friction; bottom and top kept in the start file's order of f_max, which a "
+                        "loop cannot tell) (default flat)")
     parser.add_argument("--isolator-file", default=None, metavar="START.json", type=pathlib.Path,
-                        help="with --isolator triple-fp: the isolator file the fit starts from "
+                        help="with --isolator triple-fp or double-fp: the isolator file the fit starts from "
                         "(and whose constants it holds where the record cannot tell them)")
     parser.add_argument("--save-isolator", default=None, metavar="FITTED.json", type=pathlib.Path,
-                        help="with --isolator triple-fp: write the fitted isolator file (the "
+                        help="with --isolator triple-fp or double-fp: write the fitted isolator file (the "
                         "format of --isolator-file)")
     add_save_bearing_flag(parser)
     add_units_flag(parser)
@@ -128,15 +131,15 @@ def run_fit(args) -> int:
 
     from ..report import plot_fit
 
-    if args.isolator == "triple-fp":
+    if args.isolator in ("triple-fp", "double-fp"):
         from ._fit_triple import run_fit_triple
 
         return run_fit_triple(args)
     args.starts = DEFAULT_STARTS if args.starts is None else args.starts
     for flag, value in (("--isolator-file", args.isolator_file), ("--save-isolator", args.save_isolator)):
         if value is not None:
-            print(f"teflon-jax fit: error: {flag}: applies to --isolator triple-fp only; add "
-                  f"--isolator triple-fp or leave {flag} out.", file=sys.stderr)
+            print(f"teflon-jax fit: error: {flag}: applies to --isolator triple-fp or "
+                  f"double-fp only; add --isolator triple-fp (or double-fp) or leave {flag} out.", file=sys.stderr)
             return 2
     if args.isolator == "single-fp":
         from ._fit_pendulum import run_fit_pendulum

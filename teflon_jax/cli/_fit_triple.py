@@ -1,6 +1,6 @@
-"""`teflon-jax fit --isolator triple-fp --isolator-file START.json RECORD.csv`: the radii and
-surfaces' friction of a triple friction pendulum from one test record
-(`identification.bearing_fit.fit_triple_pendulum_test`), written as a JSON report and, with
+"""`teflon-jax fit --isolator triple-fp|double-fp --isolator-file START.json RECORD.csv`: the
+radii and surfaces' friction of a triple or double friction pendulum from one test record
+(`identification.bearing_fit.fit_series_pendulum_test`), written as a JSON report and, with
 `--save-isolator`, as an isolator file of the fitted constants."""
 
 import json
@@ -12,13 +12,13 @@ from ._common import output_units, read_bearing_record, read_quantities
 
 
 def _check_flags(args) -> None:
-    """`ValueError` naming each flag `fit --isolator triple-fp` cannot take or misses."""
+    """`ValueError` naming each flag `fit --isolator triple-fp|double-fp` cannot take or misses."""
     if args.isolator_file is None:
-        raise ValueError("--isolator-file: --isolator triple-fp starts from an isolator file "
+        raise ValueError(f"--isolator-file: --isolator {args.isolator} starts from an isolator file "
                          "(radius, capacity and friction of each surface; docs/formats.md).")
     if not args.isolator_file.is_file():
         raise ValueError(f"--isolator-file: {args.isolator_file} does not exist.")
-    refused = (("--bayes", args.bayes, "no posterior sampling of the triple pendulum"),
+    refused = (("--bayes", args.bayes, f"no posterior sampling of the {args.isolator} pendulum"),
                ("--effects", args.effects, "the series model has no optional parts"),
                ("--fixed", args.fixed, "held constants keep --isolator-file's values: name the "
                 "fitted ones with --free"),
@@ -27,16 +27,16 @@ def _check_flags(args) -> None:
                 "give --save-isolator"))
     for flag, value, why in refused:
         if value is not None:
-            raise ValueError(f"{flag}: not with --isolator triple-fp ({why}); leave {flag} out.")
+            raise ValueError(f"{flag}: not with --isolator {args.isolator} ({why}); leave {flag} out.")
     if len(args.records) != 1:
-        raise ValueError(f"RECORD: --isolator triple-fp fits one record, got {len(args.records)}.")
+        raise ValueError(f"RECORD: --isolator {args.isolator} fits one record, got {len(args.records)}.")
     check_output_file(args.save_isolator, "--save-isolator")
     check_output_file(args.plot, "--plot")
 
 
 def run_fit_triple(args) -> int:
-    """`fit --isolator triple-fp`: exit 0 converged, 1 not converged, 2 bad input."""
-    from identification.bearing_fit import fit_triple_pendulum_test
+    """`fit --isolator triple-fp|double-fp`: exit 0 converged, 1 not converged, 2 bad input."""
+    from identification.bearing_fit import fit_series_pendulum_test
 
     from ..formats import load_isolator, write_isolator
 
@@ -47,14 +47,15 @@ def run_fit_triple(args) -> int:
             start = load_isolator(args.isolator_file)
         except ValueError as error:
             raise ValueError(f"--isolator-file {error}") from None
-        if start.isolator != "triple-fp":
+        if start.isolator != args.isolator:
             raise ValueError(f"--isolator-file: {args.isolator_file} holds a {start.isolator} isolator; "
-                             "fit --isolator triple-fp starts from a triple pendulum's file.")
+                             f"fit --isolator {args.isolator} starts from a file of that isolator "
+                             f"(or give --isolator {start.isolator}).")
         record = read_bearing_record(args.records[0])
-        print("teflon-jax fit: a triple friction pendulum, Levenberg-Marquardt through the series "
+        print(f"teflon-jax fit: {start.description}, Levenberg-Marquardt through the series "
               "model (compiling first)...", file=sys.stderr)
         try:
-            fit = fit_triple_pendulum_test(record, start, free=args.free, normal_load=args.normal_load,
+            fit = fit_series_pendulum_test(record, start, free=args.free, normal_load=args.normal_load,
                                            full_model=args.full_model)
         except ValueError as error:
             raise ValueError(f"--free: {error}" if str(error).startswith("free:") else str(error)) from None
@@ -69,6 +70,12 @@ def run_fit_triple(args) -> int:
         _plot(args.plot, record, fit, units)
     for reason in dict.fromkeys(fit.held.values()):
         print(f"teflon-jax fit: held: {reason}", file=sys.stderr)
+    if fit.swapped:
+        print("teflon-jax fit: bottom and top exchanged: a loop cannot tell the two surfaces in series "
+              "apart; they are reported in the start file's order of f_max", file=sys.stderr)
+    elif args.isolator == "double-fp":
+        print("teflon-jax fit: note: a loop cannot tell the bottom surface from the top one; they "
+              "are reported in the start file's order of f_max", file=sys.stderr)
     for warning in fit.warnings:
         print(f"teflon-jax fit: warning: {warning}", file=sys.stderr)
     print("; ".join(_shown(name, fit, units) for name in fit.free) +
@@ -102,7 +109,7 @@ def _plot(path, record, fit, units) -> None:
     ax.plot(np.asarray(record.ux) / lf, np.asarray(record.fx) / ff, color="0.55", lw=1.6, label="measured")
     ax.plot(np.asarray(record.ux) / lf, fitted / ff, "k--", lw=1.0, label="fitted series model")
     ax.set(xlabel=f"displacement [{length}]", ylabel=f"force [{force}]",
-           title=f"triple friction pendulum fit, nrmse {fit.nrmse:.3g}")
+           title=f"{fit.bearing.description[:-1]} fit, nrmse {fit.nrmse:.3g}")
     ax.legend()
     fig.tight_layout()
     fig.savefig(path, dpi=120)

@@ -1,13 +1,13 @@
-"""Writing the isolator file (`_isolator_file.py`'s format, version 1) of a triple friction
-pendulum, in SI: what `load_isolator` reads back to the same `TriplePendulum`."""
+"""Writing the isolator file (`_isolator_file.py`'s format, version 1) of a triple or double
+friction pendulum, in SI: what `load_isolator` reads back to the same bearing."""
 
 import json
 import pathlib
 
 import numpy as np
 
-from ..bearing import TriplePendulum, check_triple_pendulum
-from ._isolator_file import FORMAT_NAME, FORMAT_VERSION, SURFACES
+from ..bearing import SeriesPendulum, check_series_pendulum
+from ._isolator_file import FORMAT_NAME, FORMAT_VERSION, ISOLATOR_SURFACES
 
 _FRICTION_UNITS = {"f_max": "1", "delta_f": "1", "rate_a": "s/m"}
 
@@ -16,22 +16,23 @@ def _entry(value, unit: str) -> dict:
     return {"value": float(np.asarray(value)), "unit": unit}
 
 
-def isolator_to_dict(bearing: TriplePendulum) -> dict:
-    """The isolator-file object of `bearing` (SI units: m, 1, s/m); `ValueError` from
-    `check_triple_pendulum` for one the series model cannot take."""
-    check_triple_pendulum(bearing)
+def isolator_to_dict(bearing: SeriesPendulum) -> dict:
+    """The isolator-file object of `bearing`, a `TriplePendulum` or `DoublePendulum` (SI
+    units: m, 1, s/m); `ValueError` for another type, or for one the series model cannot take
+    (`check_series_pendulum`)."""
+    check_series_pendulum(bearing)
     surfaces = {}
-    for name in SURFACES:
+    for name in ISOLATOR_SURFACES[bearing.isolator]:
         friction = getattr(bearing, f"{name}_friction")
         surfaces[name] = {
             "radius": _entry(getattr(bearing, f"{name}_radius"), "m"),
             "capacity": _entry(getattr(bearing, f"{name}_capacity"), "m"),
             "friction": {k: _entry(getattr(friction, k), unit) for k, unit in _FRICTION_UNITS.items()},
         }
-    return {"format": FORMAT_NAME, "format_version": FORMAT_VERSION, "isolator": "triple-fp",
+    return {"format": FORMAT_NAME, "format_version": FORMAT_VERSION, "isolator": bearing.isolator,
             "surfaces": surfaces, "yield_disp": _entry(bearing.hysteresis.yield_disp, "m")}
 
 
-def write_isolator(path, bearing: TriplePendulum) -> None:
+def write_isolator(path, bearing: SeriesPendulum) -> None:
     """Write `bearing` as an isolator file (JSON, `isolator_to_dict`) at `path`."""
     pathlib.Path(path).write_text(json.dumps(isolator_to_dict(bearing), indent=2) + "\n")

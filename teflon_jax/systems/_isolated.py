@@ -24,7 +24,7 @@ from ._models import rigid_mass, six_storey_building
 from ._propagators import LINEAR_RULES
 from ._structure import NEWTON_ITERATIONS, NEWTON_TOLERANCE, StructureOnSliders
 from ._structure_build import check_structure_parts
-from ._triple_design import triple_design_ranges
+from ._triple_design import pendulum_design_ranges
 from ._triple_isolated import TripleIsolatedStructure, triple_isolated_structure
 from ._triple_structure import TRIPLE_NEWTON_ITERATIONS
 
@@ -410,9 +410,9 @@ def check_structure_bearing(bearing: SlidingBearing, pressure=1.0) -> None:
 def design_ranges(structure: IsolatedStructure) -> dict[str, tuple[float, float]]:
     """Admissible range [low, high] of each design variable (SI): the pressure within the
     Table 1 rows (any positive contact pressure for a given bearing), positive periods, damping in [0, 1), friction constants in their physical
-    ranges; a triple pendulum's: `triple_design_ranges`)."""
+    ranges; a triple or double pendulum's: `triple_design_ranges`, `double_design_ranges`)."""
     if isinstance(structure, TripleIsolatedStructure):
-        return triple_design_ranges(structure.triple)
+        return pendulum_design_ranges(structure.pendulum)
     if structure.bearing is None:
         pressures = np.asarray(structure.table().pressures)
         pressure = (float(pressures[0]), float(pressures[-1]))

@@ -1,5 +1,6 @@
-"""Design variables of a triple friction pendulum (`TriplePendulum`), each a smooth change of
-the isolator file's bearing:
+"""Design variables of a triple friction pendulum (`TriplePendulum`) and of a double one
+(`DoublePendulum`, `DOUBLE_DESIGN_VARIABLES`), each a smooth change of the isolator file's
+bearing. The triple's:
 
 - `outer_radius_scale` s [-]: the outer surfaces' effective radii b, c -> s b, s c (the
   stiffness of regimes II-IV, 1 / (a + b), 1 / (b + c), 1 / (a + c), falls as s grows);
@@ -20,7 +21,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from ..bearing import FrictionParameters, TriplePendulum
+from ..bearing import DoublePendulum, FrictionParameters, TriplePendulum
 
 TRIPLE_DESIGN_VARIABLES = ("outer_radius_scale", "inner_f_max", "outer_f_max", "capacity_scale")
 """Names a design dict of a `TripleIsolatedStructure` may set (module docstring)."""
@@ -83,3 +84,68 @@ def check_triple_box(triple: TriplePendulum, variables: Mapping) -> None:
                 f"{name}: bounds ({lo:.6g}, {hi:.6g}) leave the admissible ({low:.6g}, {high:.6g}) "
                 "of this isolator (the outer radii above the inner one; inner f_max <= bottom "
                 "f_max <= top f_max <= 1; positive capacities); narrow them.")
+
+
+DOUBLE_DESIGN_VARIABLES = ("radius_scale", "surface_f_max", "capacity_scale")
+"""Names a design dict of a `TripleIsolatedStructure` on a `DoublePendulum` may set:
+`radius_scale` s [-] (R_1, R_2 -> s R_1, s R_2: every slope 1 / R_1, 1 / (R_1 + R_2),
+1 / R_2 of the backbone falls by 1 / s), `surface_f_max` [-] (Eq. 1 of the bottom surface
+scaled to this f_max, the top's by the same factor: their ratio, and so which surface slides
+first, kept), `capacity_scale` [-] (d_1, d_2 times it). Fenz & Constantinou (2006), Earthquake
+Engng Struct. Dyn. 35."""
+
+
+def designed_double(double: DoublePendulum, design: Mapping) -> DoublePendulum:
+    """`double` with the design variables of `design` applied (`DOUBLE_DESIGN_VARIABLES`;
+    values may be traced). `ValueError` naming an unknown variable."""
+    unknown = sorted(set(design) - set(DOUBLE_DESIGN_VARIABLES))
+    if unknown:
+        raise ValueError(f"design: unknown variable(s) {unknown} for the double-fp isolator; "
+                         f"accepted: {', '.join(DOUBLE_DESIGN_VARIABLES)}.")
+    s, k = design.get("radius_scale", 1.0), design.get("capacity_scale", 1.0)
+    factor = design.get("surface_f_max", double.bottom_friction.f_max) / double.bottom_friction.f_max
+    return DoublePendulum(
+        bottom_radius=s * double.bottom_radius, top_radius=s * double.top_radius,
+        bottom_capacity=k * double.bottom_capacity, top_capacity=k * double.top_capacity,
+        bottom_friction=_scaled(double.bottom_friction, factor),
+        top_friction=_scaled(double.top_friction, factor), hysteresis=double.hysteresis)
+
+
+def designed_pendulum(pendulum, design: Mapping):
+    """`designed_triple` or `designed_double` of `pendulum`, whichever its type."""
+    if isinstance(pendulum, DoublePendulum):
+        return designed_double(pendulum, design)
+    return designed_triple(pendulum, design)
+
+
+def double_design_ranges(double: DoublePendulum) -> dict:
+    """Admissible (low, high) of each design variable of `double`: positive scales, the bottom
+    f_max such that the top's (scaled alike) stays at most 1."""
+    m1, m2 = (float(np.asarray(f.f_max)) for f in (double.bottom_friction, double.top_friction))
+    return {"radius_scale": (1e-6, math.inf), "surface_f_max": (1e-6, min(1.0, m1 / m2)),
+            "capacity_scale": (1e-6, math.inf)}
+
+
+def pendulum_design_ranges(pendulum) -> dict:
+    """`triple_design_ranges` or `double_design_ranges` of `pendulum`, whichever its type."""
+    if isinstance(pendulum, DoublePendulum):
+        return double_design_ranges(pendulum)
+    return triple_design_ranges(pendulum)
+
+
+def check_double_box(double: DoublePendulum, variables: Mapping) -> None:
+    """`ValueError` naming the variable whose bounds (low, high) leave what the double pendulum
+    takes: positive radii and capacities, both f_max within (0, 1] (the top's is the bottom's
+    times f_top / f_bottom)."""
+    m1, m2 = (float(np.asarray(f.f_max)) for f in (double.bottom_friction, double.top_friction))
+    ranges = double_design_ranges(double)
+    for name, (lo, hi) in variables.items():
+        if name not in ranges:
+            raise ValueError(f"design: unknown variable {name!r} for the double-fp isolator; "
+                             f"accepted: {', '.join(DOUBLE_DESIGN_VARIABLES)}.")
+        low, high = ranges[name]
+        if not (low <= lo and hi <= high):
+            raise ValueError(
+                f"{name}: bounds ({lo:.6g}, {hi:.6g}) leave the admissible ({low:.6g}, {high:.6g}) "
+                "of this isolator (positive radii and capacities; the bottom f_max and the top's, "
+                f"{m2 / m1:.4g} times it, within (0, 1]); narrow them.")

@@ -15,7 +15,7 @@ from ..bearing import (
 )
 from ..validation import concrete
 from ._triple_biaxial import BiaxialStructureOnTriple
-from ._triple_design import designed_triple
+from ._triple_design import designed_pendulum
 from ._triple_structure import (
     TRIPLE_NEWTON_ITERATIONS,
     TRIPLE_TOLERANCE,
@@ -38,7 +38,8 @@ class TripleIsolatedStructure(eqx.Module):
     two components (a `BiaxialStructureOnTriple`, what `monte_carlo` builds for
     `TwoComponentGroundMotion`); on a triple pendulum `design` may set `TRIPLE_DESIGN_VARIABLES`
     (the outer radii's scale, the inner and outer f_max, the capacities' scale;
-    `designed_triple`), on a double pendulum none.
+    `designed_triple`), on a double pendulum `DOUBLE_DESIGN_VARIABLES` (the radii's scale,
+    the surfaces' f_max, the capacities' scale; `designed_double`).
 
     **Fields:** `pendulum` (`TriplePendulum` or `DoublePendulum`; also read as `triple`),
     `kind` (static) "rigid" or "building", `time_step` [s] (static), `weight` [N] of the
@@ -70,10 +71,7 @@ class TripleIsolatedStructure(eqx.Module):
     def __call__(self, ground_acceleration, design: Mapping | None = None):
         pendulum = self.pendulum
         if design:
-            if not isinstance(pendulum, TriplePendulum):
-                raise ValueError(f"design: the {self.isolator} isolator takes no design variables, got "
-                                 f"{sorted(design)}; change the isolator file instead.")
-            pendulum = designed_triple(pendulum, design)
+            pendulum = designed_pendulum(pendulum, design)
         two = isinstance(ground_acceleration, tuple)  # (x, y): two components
         system = triple_structure(self.kind, pendulum, ground_acceleration[0] if two else ground_acceleration,
                                   time_step=self.time_step, weight=self.weight,
