@@ -23,15 +23,13 @@ def check_vertical_flags(args) -> None:
         if args.vertical_frequency_ratio is not None:
             raise ValueError("--vertical-frequency-ratio: shapes the vertical component; add --vertical-ratio.")
         return
-    others = [(args.components == 2, "--components 2"), (args.scheduler is not None, "--scheduler"),
-              (len(args.pga_levels) > 1, "several --pga levels"), (bool(args.limit), "--limit"),
+    others = [(len(args.pga_levels) > 1, "several --pga levels"), (bool(args.limit), "--limit"),
               (bool(args.storeys), "--storeys"), (args.pelicun_demands is not None, "--pelicun-demands"),
-              (args.property_factors is not None, "--property-factors"),
-              (args.isolator in ("triple-fp", "double-fp"), f"--isolator {args.isolator}")]
+              (args.property_factors is not None, "--property-factors")]
     named = [name for wrong, name in others if wrong]
     if named:
-        raise ValueError(f"--vertical-ratio: runs one horizontal component at one --pga in this process; "
-                         f"leave out {', '.join(named)}.")
+        raise ValueError(f"--vertical-ratio: runs the peaks at one --pga level (one or two horizontal "
+                         f"components, every isolator, here or with --scheduler); leave out {', '.join(named)}.")
 
 
 def vertical_model(args, model):
@@ -46,7 +44,8 @@ def vertical_model(args, model):
 
 
 def vertical_structure(args, structure):
-    """`structure` taking (horizontal, vertical) motions with the flag, else itself."""
+    """`structure` taking (horizontal, vertical) motions with the flag, else itself (flat
+    sliders, single pendulum, triple or double pendulum; one or two horizontal components)."""
     if args.vertical_ratio is None:
         return structure
     from ..systems import with_vertical_component
