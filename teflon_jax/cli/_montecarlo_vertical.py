@@ -11,7 +11,8 @@ def add_vertical_flags(parser) -> None:
                  "expected peak is this ratio times the horizontal --pga (Newmark, Blume & Kapur 1973: "
                  "2/3; Bozorgnia & Campbell 2004: V/H of 0.5 far from the source to above 1 near it); the "
                  "isolators' normal load becomes W (1 + a_v / g), uplift (N <= 0) is reported per motion "
-                 "(default: none, horizontal only)", minimum=0.0)
+                 "(0: a vertical record of zeros, the horizontal-only peaks) (default: none, horizontal only)",
+                 minimum=0.0, strict=False)
     add_quantity(parser, "--vertical-frequency-ratio", "dimensionless", None, "with --vertical-ratio: "
                  "the vertical component's Kanai-Tajimi (and high-pass) frequency over the horizontal "
                  "one's; vertical motions are richer in short periods (default 2)", minimum=0.0)

@@ -52,8 +52,8 @@ class VerticalGroundMotion(eqx.Module):
 
     **Fields:** `model`: the horizontal `StochasticGroundMotion`, or a
     `TwoComponentGroundMotion` (two horizontal components; the vertical one then follows its
-    major component's model); `vertical_ratio` [-] (> 0): the vertical component's nominal
-    peak over the horizontal one's; `frequency_ratio` [-] (> 0): its site (and high-pass)
+    major component's model); `vertical_ratio` [-] (>= 0): the vertical component's nominal
+    peak over the horizontal one's (0: a vertical record of zeros, N = W throughout); `frequency_ratio` [-] (> 0): its site (and high-pass)
     frequency over the horizontal one's.
     """
 
@@ -65,11 +65,12 @@ class VerticalGroundMotion(eqx.Module):
         if not isinstance(self.model, (StochasticGroundMotion, TwoComponentGroundMotion)):
             raise ValueError(f"VerticalGroundMotion: `model` must be a StochasticGroundMotion or a "
                              f"TwoComponentGroundMotion, got {type(self.model).__name__}.")
-        for name in ("vertical_ratio", "frequency_ratio"):
+        for name, lowest in (("vertical_ratio", 0.0), ("frequency_ratio", None)):
             value = concrete(getattr(self, name))
-            if value is not None and not bool(((value > 0) & jnp.isfinite(value)).all()):
-                raise ValueError(f"VerticalGroundMotion: `{name}` must be > 0 and finite, got "
-                                 f"{value.tolist()}.")
+            above = value > 0 if lowest is None else value >= lowest
+            if value is not None and not bool((above & jnp.isfinite(value)).all()):
+                raise ValueError(f"VerticalGroundMotion: `{name}` must be {'> 0' if lowest is None else '>= 0'} "
+                                 f"and finite, got {value.tolist()}.")
         base = self.horizontal_model
         frequency = concrete(base.site_frequency * self.frequency_ratio)
         if frequency is not None and bool(jnp.any(2 * frequency > math.pi / base.time_step)):
