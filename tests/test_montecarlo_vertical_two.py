@@ -67,6 +67,7 @@ def _run(structure, motions):
 @pytest.mark.parametrize("isolator, components, kind", [
     ("triple-fp", 1, "rigid"),
     pytest.param("double-fp", 2, "rigid", marks=pytest.mark.slow),
+    pytest.param("flat", 1, "rigid", marks=pytest.mark.slow),
     pytest.param("single-fp", 2, "rigid", marks=pytest.mark.slow),
     pytest.param("flat", 2, "building", marks=pytest.mark.slow),
     pytest.param("triple-fp", 2, "building", marks=pytest.mark.slow),
