@@ -84,7 +84,7 @@ def test_montecarlo_counts_uplifted_motions(tmp_path, capsys):
 
 
 def test_montecarlo_vertical_flags_refused_by_name(capsys):
-    assert main(["montecarlo", "--motions", "2", "--vertical-ratio", "0.7", "--components", "2"]) != 0
+    assert main(["montecarlo", "--motions", "2", "--vertical-ratio", "0.7", "--pga", "0.1g,0.2g"]) != 0
     assert "--vertical-ratio" in capsys.readouterr().err
     assert main(["montecarlo", "--motions", "2", "--vertical-frequency-ratio", "2"]) != 0
     assert "--vertical-frequency-ratio" in capsys.readouterr().err
@@ -114,14 +114,3 @@ def test_vertical_motion_model_matches_its_description():
     assert np.array_equal(np.asarray(both[:, 0]), np.asarray(sample(model, key, 2)))
     with pytest.raises(ValueError, match="vertical_ratio"):
         VerticalGroundMotion(model, vertical_ratio=-1.0)
-
-
-def test_the_triple_pendulum_refuses_a_vertical_component(tmp_path, capsys):
-    """Its sliders' normal load is held at the weight: `--record-z` and `--vertical-ratio`
-    are refused by name, before any work."""
-    import pathlib
-
-    isolator = pathlib.Path(__file__).resolve().parents[1] / "benchmarks" / "triple_isolator.json"
-    assert main(["montecarlo", "--motions", "2", "--isolator", "triple-fp", "--isolator-file", str(isolator),
-                 "--vertical-ratio", "0.5", "--no-progress"]) == 2
-    assert "--isolator triple-fp" in capsys.readouterr().err

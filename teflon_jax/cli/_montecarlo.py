@@ -173,7 +173,7 @@ def run_montecarlo(args) -> int:
         model = TwoComponentGroundMotion(
             model, principal_angle=0.0 if args.principal_angle is None else args.principal_angle,
             minor_ratio=1.0 if args.minor_ratio is None else args.minor_ratio)
-    model = vertical_model(args, model)
+    horizontal, model = model, vertical_model(args, model)
     # the default fits the device's memory and the workers (--scheduler local:N)
     args.chunk_size = _chunk_size(args, _device_chunk(args, structure, model))
     if args.property_factors is not None:
@@ -213,7 +213,7 @@ def run_montecarlo(args) -> int:
     converged = np.asarray(result.converged, bool).reshape(-1)
     stats = _statistics(result, units)
     length = units.length[0]
-    payload = _payload(args, result, structure, model, units, stats, files)
+    payload = _payload(args, result, structure, horizontal, units, stats, files)
     payload["records_per_s_after_first_chunk"] = _steady_rate(marks)
     payload.update(uplift_payload(result, model))
     _write_json(args.json, payload)
@@ -222,8 +222,9 @@ def run_montecarlo(args) -> int:
     stamp = (f"{args.structure}, {bearing_words}, Tb = "
              f"{args.isolation_period_text}, zeta_b = {args.isolation_damping_text}; "
              f"Clough-Penzien motions, PGA {args.pga_text}, {args.duration_text}, seed {args.seed}"
-             + (f"; 2 components, major at {math.degrees(float(model.principal_angle)):g} deg, minor "
-                f"ratio {float(model.minor_ratio):g}" if two else ""))
+             + (f"; 2 components, major at {math.degrees(float(horizontal.principal_angle)):g} deg, minor "
+                f"ratio {float(horizontal.minor_ratio):g}" if two else "")
+             + (f"; vertical {args.vertical_ratio:g} x PGA" if args.vertical_ratio is not None else ""))
     if args.plot is not None:
         plot_montecarlo(result, args.plot, title=stamp, length=units.length)
     print(f"{result.n_motions} motions on {result.n_devices} device(s) in {result.wall_s:.1f} s; "

@@ -11,7 +11,8 @@ def add_vertical_flags(parser) -> None:
                  "expected peak is this ratio times the horizontal --pga (Newmark, Blume & Kapur 1973: "
                  "2/3; Bozorgnia & Campbell 2004: V/H of 0.5 far from the source to above 1 near it); the "
                  "isolators' normal load becomes W (1 + a_v / g), uplift (N <= 0) is reported per motion "
-                 "(default: none, horizontal only)", minimum=0.0)
+                 "(0: a vertical record of zeros, the horizontal-only peaks) (default: none, horizontal only)",
+                 minimum=0.0, strict=False)
     add_quantity(parser, "--vertical-frequency-ratio", "dimensionless", None, "with --vertical-ratio: "
                  "the vertical component's Kanai-Tajimi (and high-pass) frequency over the horizontal "
                  "one's; vertical motions are richer in short periods (default 2)", minimum=0.0)
@@ -23,15 +24,13 @@ def check_vertical_flags(args) -> None:
         if args.vertical_frequency_ratio is not None:
             raise ValueError("--vertical-frequency-ratio: shapes the vertical component; add --vertical-ratio.")
         return
-    others = [(args.components == 2, "--components 2"), (args.scheduler is not None, "--scheduler"),
-              (len(args.pga_levels) > 1, "several --pga levels"), (bool(args.limit), "--limit"),
+    others = [(len(args.pga_levels) > 1, "several --pga levels"), (bool(args.limit), "--limit"),
               (bool(args.storeys), "--storeys"), (args.pelicun_demands is not None, "--pelicun-demands"),
-              (args.property_factors is not None, "--property-factors"),
-              (args.isolator in ("triple-fp", "double-fp"), f"--isolator {args.isolator}")]
+              (args.property_factors is not None, "--property-factors")]
     named = [name for wrong, name in others if wrong]
     if named:
-        raise ValueError(f"--vertical-ratio: runs one horizontal component at one --pga in this process; "
-                         f"leave out {', '.join(named)}.")
+        raise ValueError(f"--vertical-ratio: runs the peaks at one --pga level (one or two horizontal "
+                         f"components, every isolator, here or with --scheduler); leave out {', '.join(named)}.")
 
 
 def vertical_model(args, model):
@@ -46,7 +45,8 @@ def vertical_model(args, model):
 
 
 def vertical_structure(args, structure):
-    """`structure` taking (horizontal, vertical) motions with the flag, else itself."""
+    """`structure` taking (horizontal, vertical) motions with the flag, else itself (flat
+    sliders, single pendulum, triple or double pendulum; one or two horizontal components)."""
     if args.vertical_ratio is None:
         return structure
     from ..systems import with_vertical_component

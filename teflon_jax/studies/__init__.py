@@ -50,7 +50,7 @@ from ._intensity_levels import levels_dataset as levels_dataset
 from ._intensity_levels import monte_carlo_levels as monte_carlo_levels
 from ._intensity_levels import save_levels as save_levels
 from ._montecarlo import monte_carlo as monte_carlo
-from ._montecarlo import monte_carlo_motion as monte_carlo_motion
+from ._motion_source import monte_carlo_motion as monte_carlo_motion
 from ._record_set import RecordSet as RecordSet
 from ._record_set import record_set as record_set
 from ._results import FORMATS as FORMATS

@@ -34,6 +34,7 @@ from ..systems import (
     bidirectional_rigid_mass,
     directional_storeys,
     isolated_structure,
+    series_uplift_time,
 )
 from ..units import STANDARD_GRAVITY
 
@@ -144,7 +145,9 @@ def bidirectional_peak_response(
             raise ValueError("storey_height: the two-component triple pendulum keeps the resultant "
                              "peaks only; leave storey_height out.")
         widths = (1e-3 if disp_width is None else disp_width, 1e-3 if shear_width is None else shear_width)
-        return BidirectionalPeaks(*biaxial_peaks(system, duration, widths, read_every))
+        uplift = series_uplift_time(system, duration)  # with the uniaxial structure's vertical record
+        return BidirectionalPeaks(*biaxial_peaks(system, duration, widths, read_every),
+                                  **({} if uplift is None else {"uplift_time": uplift}))
     if system.overturning is not None:
         raise ValueError("system: the peaks in a scan do not carry the slab's overturning loads; "
                          "run it with simulate_bidirectional (teflon-jax run without --suite).")

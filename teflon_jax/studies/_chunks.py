@@ -59,4 +59,5 @@ def monte_carlo_chunk_size(structure, motions, *, devices=None, cpu: int = CPU_C
         return cpu
     source, _ = _motion_source(motions, 1, None)
     n_dof = probe_structure(structure, source, None).mass.shape[-1]
-    return device_chunk_size(source.components * source.samples, n_dof, devices=devices, cpu=cpu)
+    rows = source.components + source.vertical  # a vertical component is one more record
+    return device_chunk_size(rows * source.samples, n_dof, devices=devices, cpu=cpu)

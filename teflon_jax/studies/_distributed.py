@@ -26,9 +26,11 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..excitation import StochasticGroundMotion, TwoComponentGroundMotion
-from ..systems import IsolatedStructure, check_design
-from ._bidirectional_study import BidirectionalIsolatedStructure
+from ..excitation import (
+    StochasticGroundMotion,
+    TwoComponentGroundMotion,
+    VerticalGroundMotion,
+)
 from ._cluster import (
     add_attributes,
     check_count,
@@ -45,6 +47,7 @@ from ._montecarlo import (
     _get,
     _Source,
     bytes_per_motion,
+    check_design_of,
     motion_attributes,
     probe_structure,
     stochastic_grid,
@@ -53,6 +56,7 @@ from ._record_set import RecordSet
 from ._results import DESIGN_UNITS, VARIABLES, MonteCarloResult
 
 PGA = ("m s-2", "peak |ground acceleration| of the motion")
+UPLIFT = ("s", "time with the isolators' normal load <= 0")
 
 
 def _runner(spec: dict) -> ChunkRunner:
@@ -73,7 +77,7 @@ def _chunk_task(spec: dict, start: int, stop: int, values):
         values = np.asarray(values)[indices - start]
     peaks, pga = _get(runner(indices, values))
     n = stop - start
-    out = {name: np.asarray(getattr(peaks, name))[:n] for name in VARIABLES}
+    out = {name: np.asarray(getattr(peaks, name))[:n] for name in _variables(spec["model"])}
     if spec["design"] is not None:  # (motion, design) -> (design, motion)
         out = {k: np.moveaxis(v, 0, 1) for k, v in out.items()}
     out["pga"] = np.asarray(pga)[:n]
@@ -81,7 +85,14 @@ def _chunk_task(spec: dict, start: int, stop: int, values):
     return out
 
 
-def _layout(n_motions: int, design: Mapping | None, inputs: dict) -> dict:
+def _variables(model) -> dict:
+    """The peak variables of a run's file: `VARIABLES`, and `uplift_time` with a vertical component."""
+    if not isinstance(model, VerticalGroundMotion):
+        return VARIABLES
+    return {**VARIABLES, "uplift_time": UPLIFT}
+
+
+def _layout(n_motions: int, design: Mapping | None, inputs: dict, model=None) -> dict:
     """`create_netcdf`'s arguments for a run's file (the layout of `MonteCarloResult.to_dataset`)."""
     dims, peak_dims = {"motion": n_motions}, ("motion",)
     coords = {"motion": ("motion", np.arange(n_motions), None, None)}
@@ -91,7 +102,7 @@ def _layout(n_motions: int, design: Mapping | None, inputs: dict) -> dict:
         coords["design"] = ("design", np.arange(n_designs), None, None)
         coords.update({f"design_{k}": ("design", v, *DESIGN_UNITS.get(k, ("1", k))) for k, v in design.items()})
     variables = {name: (peak_dims, units, long_name, "bool" if name == "converged" else "f8")
-                 for name, (units, long_name) in VARIABLES.items()}
+                 for name, (units, long_name) in _variables(model).items()}
     variables["pga"] = (("motion",), *PGA, "f8")
     return {"dims": dims, "coords": coords, "variables": variables,
             "attrs": file_attributes("teflon-jax Monte Carlo peak responses", inputs)}
@@ -105,12 +116,13 @@ def _source_of(motions, n_motions):
         if n_total > count:
             raise ValueError(f"n_motions: {n_total} asked for but the RecordSet has {count} records.")
         return n_total, None, motions.time_step, motions.acceleration.shape[1]
-    if isinstance(motions, (StochasticGroundMotion, TwoComponentGroundMotion)):
+    if isinstance(motions, (StochasticGroundMotion, TwoComponentGroundMotion, VerticalGroundMotion)):
         if n_motions is None:
             raise ValueError("n_motions: give the number of stochastic motions to draw (> 0).")
         time_step, samples, _ = stochastic_grid(motions)
         return check_count("n_motions", n_motions, 1), motions, time_step, samples
-    raise ValueError("motions: expected a StochasticGroundMotion, a TwoComponentGroundMotion or a RecordSet, "
+    raise ValueError("motions: expected a StochasticGroundMotion, a TwoComponentGroundMotion, a "
+                     "VerticalGroundMotion or a RecordSet, "
                      f"got {type(motions).__name__}.")
 
 
@@ -169,8 +181,7 @@ def monte_carlo_distributed(
         if len({v.shape for v in design_arrays.values()}) != 1 or any(v.ndim != 1 for v in design_arrays.values()):
             raise ValueError("design: every variable needs a 1-D array of the same length.")
         n_designs = len(next(iter(design_arrays.values())))
-        if isinstance(structure, (IsolatedStructure, BidirectionalIsolatedStructure)):
-            check_design(getattr(structure, "uniaxial", structure), design_arrays)
+        check_design_of(structure, design_arrays)
     probe_source = _Source(model, None if model is None else jax.random.key(0), time_step, samples)
     probe_design = None if design_arrays is None else {k: v[0] for k, v in design_arrays.items()}
     n_dof = int(probe_structure(structure, probe_source, probe_design).mass.shape[-1])
@@ -178,7 +189,7 @@ def monte_carlo_distributed(
     spec = {"structure": structure, "model": model, "seed": int(seed), "time_step": time_step,
             "samples": samples, "duration": duration, "design": design_arrays, "chunk": chunk,
             "disp_width": disp_width, "shear_width": shear_width, "dtype": dtype, "token": uuid.uuid4().hex}
-    memory = chunk * bytes_per_motion(probe_source.components * samples, n_dof, n_designs)
+    memory = chunk * bytes_per_motion((probe_source.components + probe_source.vertical) * samples, n_dof, n_designs)
     inputs = {"duration_s": duration, "record_time_step_s": time_step, "n_dof": n_dof, "seed": int(seed),
               "scheduler": scheduler, "n_motions": n_total, "precision": dtype, **motion_attributes(motions),
               **dict(attrs or {})}
@@ -188,13 +199,13 @@ def monte_carlo_distributed(
     compile_s = [0.0]
 
     def write(handle, start, stop, part):
-        for name in VARIABLES:
+        for name in _variables(model):
             values = part[name].astype(np.int8) if name == "converged" else part[name]
             handle.variables[name][..., start:stop] = values
         handle.variables["pga"][start:stop] = part["pga"]
         compile_s[0] = max(compile_s[0], float(part["compile_s"]))
 
-    stream_to_netcdf(out, _layout(n_total, design_arrays, inputs), _chunk_task, spec, chunks, write,
+    stream_to_netcdf(out, _layout(n_total, design_arrays, inputs, model), _chunk_task, spec, chunks, write,
                      scheduler=scheduler, connect_timeout=connect_timeout, compilation_cache=compilation_cache,
                      retries=retries, progress=progress, what="motions",
                      finish=lambda done: {"n_devices": done["n_workers"], "chunk_size": chunk,

@@ -27,7 +27,6 @@ import os
 import time
 from collections.abc import Callable, Mapping, Sequence
 
-import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -36,10 +35,6 @@ from ..excitation import (
     StochasticGroundMotion,
     TwoComponentGroundMotion,
     VerticalGroundMotion,
-    num_time_steps,
-    sample,
-    sample_two_components,
-    sample_with_vertical,
     uniform_signal,
 )
 from ..systems import (
@@ -56,6 +51,7 @@ from ._bidirectional_study import (
     BidirectionalIsolatedStructure,
     bidirectional_peak_response,
 )
+from ._motion_source import _Source, motion_attributes, stochastic_grid
 from ._record_set import RecordSet
 from ._results import MonteCarloResult
 
@@ -92,64 +88,6 @@ def bytes_per_motion(record_samples: int, n_dof: int, n_designs: int) -> int:
     return 8 * (8 * record_samples + max(n_designs, 1) * (4 * n_dof**2 + 64))
 
 
-def monte_carlo_motion(model: StochasticGroundMotion | TwoComponentGroundMotion, key, index):
-    """The `index`-th motion [m/s^2] that `monte_carlo(structure, model, n, key=key)` draws
-    (one sample from `jax.random.fold_in(key, index)`), e.g. to run it through another program:
-    shape (nt,), or (2, nt) (x, y) for a `TwoComponentGroundMotion`, whose major component is
-    then the one-component motion `index` of `model.model`; (2, nt) (horizontal, vertical)
-    for a `VerticalGroundMotion`."""
-    if isinstance(model, VerticalGroundMotion):
-        return sample_with_vertical(model, jax.random.fold_in(key, index), 1)[0]
-    if isinstance(model, TwoComponentGroundMotion):
-        return sample_two_components(model, jax.random.fold_in(key, index), 1)[0]
-    return sample(model, jax.random.fold_in(key, index), 1)[0]
-
-
-def stochastic_grid(motions) -> tuple[float, int, int]:
-    """(time step [s], samples, components) of a stochastic motion model."""
-    model = motions.model if isinstance(motions, (TwoComponentGroundMotion, VerticalGroundMotion)) else motions
-    return model.time_step, num_time_steps(model), 2 if model is not motions else 1
-
-
-def motion_attributes(motions) -> dict:
-    """What a results file says of two-component motions (empty for one component)."""
-    if isinstance(motions, VerticalGroundMotion):
-        return {"vertical_ratio": float(motions.vertical_ratio),
-                "vertical_frequency_ratio": float(motions.frequency_ratio),
-                "uplift": "uplift_time: time with N = W (1 + a_v / g) <= 0, isolators without shear"}
-    if not isinstance(motions, TwoComponentGroundMotion):
-        return {}
-    return {"components": 2, "principal_angle_rad": float(motions.principal_angle),
-            "minor_ratio": float(motions.minor_ratio),
-            "peaks": "resultants: base_disp = max |(d_x, d_y)|, base_shear_ratio = max |(V_x, V_y)| / W "
-                     "with V the force on the structure above the bearings; pga = max |(a_x, a_y)|"}
-
-
-class _Source(eqx.Module):
-    model: StochasticGroundMotion | TwoComponentGroundMotion | VerticalGroundMotion | None
-    key: jax.Array | None
-    time_step: float = eqx.field(static=True)
-    samples: int = eqx.field(static=True)
-
-    @property
-    def components(self) -> int:
-        return 2 if isinstance(self.model, TwoComponentGroundMotion) else 1
-
-    @property
-    def vertical(self) -> bool:
-        """Whether each motion has a vertical component (`VerticalGroundMotion`)."""
-        return isinstance(self.model, VerticalGroundMotion)
-
-    def signal(self, index, values):
-        """The motion's `Signal`, or its (x, y) pair of `Signal`s for two components, or its
-        (horizontal, vertical) pair with a vertical component."""
-        if self.model is not None:
-            values = monte_carlo_motion(self.model, self.key, index)
-        if self.components == 2 or self.vertical:
-            return uniform_signal(values[0], self.time_step), uniform_signal(values[1], self.time_step)
-        return uniform_signal(values, self.time_step)
-
-
 def probe_structure(structure, source: _Source, design):
     """The shapes of one system `structure` builds for `source`'s motions (nothing computed);
     `ValueError` naming `structure` when it does not take that number of components."""
@@ -157,17 +95,19 @@ def probe_structure(structure, source: _Source, design):
     if source.vertical != isinstance(structure, VerticalIsolatedStructure):
         raise ValueError("structure: motions with a vertical component (VerticalGroundMotion) need "
                          "with_vertical_component(isolated_structure(...)), and only they.")
-    if two and isinstance(structure, IsolatedStructure):
+    inner = structure.structure if source.vertical else structure
+    if two and isinstance(inner, IsolatedStructure):
         raise ValueError("structure: two-component motions need bidirectional_isolated_structure(...), "
                          "not isolated_structure(...).")
-    if not two and isinstance(structure, BidirectionalIsolatedStructure):
+    if not two and isinstance(inner, BidirectionalIsolatedStructure):
         raise ValueError("structure: a bidirectional structure needs two-component motions "
                          "(TwoComponentGroundMotion).")
     shape = jax.ShapeDtypeStruct((source.samples,), jnp.result_type(float))
 
     def build(values):
         ground = uniform_signal(values, source.time_step)
-        return structure((ground, ground) if two or source.vertical else ground, design)
+        horizontal = (ground, ground) if two else ground
+        return structure((horizontal, ground) if source.vertical else horizontal, design)
 
     probe = jax.eval_shape(build, shape)
     if two != isinstance(probe, (BidirectionalStructure, BiaxialStructureOnTriple)):
@@ -219,11 +159,10 @@ class ChunkRunner:
                                     read_every=read_every, **loop_options)
 
                 peaks = one(None) if design_all is None else jax.vmap(one)(design_all)
+                horizontal = signal[0] if source.vertical else signal  # pga: the horizontal one's
                 if source.components == 2:  # peak resultant |a_g|
-                    return peaks, jnp.max(jnp.hypot(signal[0].values, signal[1].values))
-                if source.vertical:  # the horizontal one's
-                    return peaks, jnp.max(jnp.abs(signal[0].values))
-                return peaks, jnp.max(jnp.abs(signal.values))
+                    return peaks, jnp.max(jnp.hypot(horizontal[0].values, horizontal[1].values))
+                return peaks, jnp.max(jnp.abs(horizontal.values))
 
             return jax.vmap(per_motion)(indices, values)
 
@@ -300,7 +239,9 @@ def monte_carlo(
       BidirectionalStructure`, e.g. `bidirectional_isolated_structure("rigid", ...)`; the
       peaks are then resultants (`bidirectional_peak_response`) and `pga` the peak |(a_x, a_y)|.
     - `motions`: a `StochasticGroundMotion` or a `TwoComponentGroundMotion` (with `n_motions`
-      and `key`; motion i's major component is then the one-component motion i), or a `RecordSet`.
+      and `key`; motion i's major component is then the one-component motion i), either inside a
+      `VerticalGroundMotion` (with `structure = with_vertical_component(...)`; the horizontal
+      components are then those drawn without it, the result holds `uplift_time`), or a `RecordSet`.
     - `n_motions`: N > 0 (stochastic; for a `RecordSet` defaults to all its records).
     - `key`: JAX PRNG key (stochastic motions); default `jax.random.key(0)`.
     - `duration` [s]: default the record length.
@@ -421,9 +362,16 @@ def _design_arrays(design, structure) -> tuple:
             f"{ {k: tuple(v.shape) for k, v in design_arrays.items()} }."
         )
     n_designs = sizes.pop()
-    if isinstance(structure, (IsolatedStructure, BidirectionalIsolatedStructure, VerticalIsolatedStructure)):
-        check_design(getattr(structure, "uniaxial", structure), design_arrays)
+    check_design_of(structure, design_arrays)
     return design_arrays, n_designs
+
+
+def check_design_of(structure, design_arrays) -> None:
+    """`check_design` of the flat-slider or single-pendulum structure inside `structure` (one or
+    two components, with or without a vertical one); series pendulums check their own."""
+    inner = structure.structure if isinstance(structure, VerticalIsolatedStructure) else structure
+    if isinstance(inner, (IsolatedStructure, BidirectionalIsolatedStructure)):
+        check_design(getattr(inner, "uniaxial", inner), design_arrays)
 
 
 def _check_chunk_memory(chunk, per_motion, memory_limit_bytes, devices) -> None:

@@ -79,6 +79,7 @@ from ._triple_test import TripleResponse as TripleResponse
 from ._triple_test import simulate_triple_test as simulate_triple_test
 from ._triple_test import triple_pendulum_test as triple_pendulum_test
 from ._vertical import normal_load_factor as normal_load_factor
-from ._vertical import with_vertical_motion as with_vertical_motion
 from ._vertical_isolated import VerticalIsolatedStructure as VerticalIsolatedStructure
 from ._vertical_isolated import with_vertical_component as with_vertical_component
+from ._vertical_motion import series_uplift_time as series_uplift_time
+from ._vertical_motion import with_vertical_motion as with_vertical_motion

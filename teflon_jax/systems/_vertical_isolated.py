@@ -1,25 +1,36 @@
-"""The isolated structures of the studies under a horizontal and a vertical ground motion."""
+"""The isolated structures of the studies under horizontal and vertical ground motion."""
 
 import equinox as eqx
 
 from ._isolated import IsolatedStructure
-from ._vertical import with_vertical_motion
+from ._triple_isolated import TripleIsolatedStructure
+from ._vertical_motion import with_vertical_motion
 
 
 class VerticalIsolatedStructure(eqx.Module):
-    """`uniaxial` (an `IsolatedStructure`) with the vertical ground acceleration on its
-    isolators' normal load (`with_vertical_motion`; a friction pendulum's W / R scales with it).
+    """`structure` with the vertical ground acceleration on its isolators' normal load
+    (`with_vertical_motion`; a single friction pendulum's W / R scales with it).
 
-    Call as `structure((ground_horizontal, ground_vertical), design)` with two `Signal`s
-    [m/s^2] (vertical up positive); returns a `StructureOnSliders`.
+    `structure`: an `IsolatedStructure` (one horizontal component), a
+    `BidirectionalIsolatedStructure` (two), or a `TripleIsolatedStructure` (triple or double
+    pendulums, one or two). Call as `structure((horizontal, ground_vertical), design)` with
+    `horizontal` what `structure` takes (a `Signal`, or the (x, y) pair of `Signal`s) and
+    `ground_vertical` a `Signal` [m/s^2, up positive]; returns the structure's system with
+    the vertical record.
     """
 
-    uniaxial: IsolatedStructure
+    structure: eqx.Module
+
+    @property
+    def uniaxial(self):
+        """The one-direction `IsolatedStructure` inside (that of a bidirectional one), or the
+        `TripleIsolatedStructure`."""
+        return getattr(self.structure, "uniaxial", self.structure)
 
     @property
     def time_step(self) -> float:
-        """The structure's step [s] (`IsolatedStructure.time_step`)."""
-        return self.uniaxial.time_step
+        """The structure's step [s]."""
+        return self.structure.time_step
 
     @property
     def kind(self) -> str:
@@ -28,15 +39,19 @@ class VerticalIsolatedStructure(eqx.Module):
 
     def __call__(self, ground, design=None):
         horizontal, vertical = ground
-        system = self.uniaxial(horizontal, design)
-        surface = self.uniaxial.surface
-        radius = None if surface is None else self.uniaxial.designed_surface(design).radius
+        system = self.structure(horizontal, design)
+        inner = self.uniaxial
+        surface = None if isinstance(inner, TripleIsolatedStructure) else inner.surface
+        radius = None if surface is None else inner.designed_surface(design).radius
         return with_vertical_motion(system, vertical, radius)
 
 
-def with_vertical_component(structure: IsolatedStructure) -> VerticalIsolatedStructure:
-    """`structure` taking (horizontal, vertical) ground motions (`VerticalIsolatedStructure`)."""
-    if not isinstance(structure, IsolatedStructure):
-        raise ValueError(f"structure: expected an IsolatedStructure (isolated_structure(...)), got "
-                         f"{type(structure).__name__}.")
+def with_vertical_component(structure) -> VerticalIsolatedStructure:
+    """`structure` taking (horizontal, vertical) ground motions (`VerticalIsolatedStructure`):
+    an `IsolatedStructure`, a `BidirectionalIsolatedStructure` (`bidirectional_isolated_structure`)
+    or a `TripleIsolatedStructure` (`isolated_structure(kind, isolator="triple-fp", ...)`)."""
+    inner = getattr(structure, "uniaxial", structure)
+    if not isinstance(inner, (IsolatedStructure, TripleIsolatedStructure)):
+        raise ValueError(f"structure: expected an IsolatedStructure, a BidirectionalIsolatedStructure or a "
+                         f"TripleIsolatedStructure (isolated_structure(...)), got {type(structure).__name__}.")
     return VerticalIsolatedStructure(structure)
