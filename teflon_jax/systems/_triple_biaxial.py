@@ -12,8 +12,9 @@ the surface's factor, and the restrainer along the slider's displacement beyond 
 along one axis this is `_triple_structure.slider_forces`. Each step solves the S sliders'
 increments (S, 2) so that every F_e equals F = (D - sum d_e) / G, D the isolator's increment
 (2,) without the bearing and G its compliance: Newton's matrix, blockdiag(K_e) + (1/G) U U^T
-with 2 x 2 blocks K_e, is inverted by the Woodbury identity, with a halving line search;
-the root is differentiated implicitly. Peaks are resultants, as `bidirectional_peak_response`
+with 2 x 2 blocks K_e (one-sided differences in the iteration, exact tangents in the
+derivative), is inverted by the Woodbury identity, with a halving line search; the root is
+differentiated implicitly. Peaks are resultants, as `bidirectional_peak_response`
 reads them. The uniaxial structure's vertical record, if any, sets the sliders' normal load
 N = s W as in one direction (at s = 0 the sliders share the increment in proportion to R_e,
 `uplift_increments`). References:
