@@ -12,8 +12,9 @@ the surface's factor, and the restrainer along the slider's displacement beyond 
 along one axis this is `_triple_structure.slider_forces`. Each step solves the S sliders'
 increments (S, 2) so that every F_e equals F = (D - sum d_e) / G, D the isolator's increment
 (2,) without the bearing and G its compliance: Newton's matrix, blockdiag(K_e) + (1/G) U U^T
-with 2 x 2 blocks K_e, is inverted by the Woodbury identity, with a halving line search;
-the root is differentiated implicitly. Peaks are resultants, as `bidirectional_peak_response`
+with 2 x 2 blocks K_e (one-sided differences in the iteration, exact tangents in the
+derivative), is inverted by the Woodbury identity, with a halving line search; the root is
+differentiated implicitly. Peaks are resultants, as `bidirectional_peak_response`
 reads them. The uniaxial structure's vertical record, if any, sets the sliders' normal load
 N = s W as in one direction (at s = 0 the sliders share the increment in proportion to R_e,
 `uplift_increments`). References:
@@ -32,7 +33,7 @@ from ..excitation import Signal
 from ..solver import park_exact_update
 from ..units import STANDARD_GRAVITY
 from ._structure_response import check_duration
-from ._triple_structure import StructureOnTriple, damped_newton, uplift_increments
+from ._triple_structure import SMALLEST_STEP, StructureOnTriple, uplift_increments
 
 
 class BiaxialStructureOnTriple(eqx.Module):
@@ -133,8 +134,72 @@ def _residual_and_blocks(d, p, dt):
     axes = jnp.broadcast_to(jnp.eye(2, dtype=d.dtype)[:, None, :], (2,) + d.shape)
     force, columns = jax.vmap(lambda t: jax.jvp(forces, (d,), (t,)), out_axes=(None, 0))(axes)
     blocks = jnp.moveaxis(columns, 0, -1)
-    uplift = (p["W"] / p["pendulum"].series_radii())[:, None, None] * jnp.eye(2, dtype=d.dtype)
-    return force - (p["D"] - jnp.sum(d, axis=0)) / p["G"], jnp.where(p["N"] > 0, blocks, uplift)
+    return force - (p["D"] - jnp.sum(d, axis=0)) / p["G"], jnp.where(p["N"] > 0, blocks, _pendulum_blocks(p))
+
+
+NEWTON_DIFFERENCE_STEP = 2.0**-26
+"""Relative step h / (Y + |d_e|) of the one-sided differences that give Newton's 2 x 2 blocks."""
+
+
+def _differenced_blocks(d, force, p, dt):
+    """dF_e/dd_e (S, 2, 2) at the increments `d` (S, 2) whose forces are `force`, from one-sided
+    differences along x and y, h = `NEWTON_DIFFERENCE_STEP` (Y + max |d_e|) (relative error
+    ~ sqrt(eps)): two evaluations of the forces (each slider's force depends on its own
+    increment only). Forward-mode tangents through Park's three segments cost tens of
+    evaluations on CPU; Newton's iteration only needs its matrix to about sqrt(eps), the
+    balance being judged on the exact residual (the implicit derivative keeps exact blocks)."""
+    pendulum = p["pendulum"]
+    h = NEWTON_DIFFERENCE_STEP * (pendulum.hysteresis.yield_disp + jnp.max(jnp.abs(d), axis=-1))
+    shifted = d + h[:, None]
+    steps = shifted - d  # h as the sum represents it
+    trials = jnp.stack([jnp.stack([shifted[:, 0], d[:, 1]], -1), jnp.stack([d[:, 0], shifted[:, 1]], -1)])
+    forces = jax.vmap(lambda x: biaxial_slider_forces(pendulum, p["N"], p["s0"], p["z0"], x, dt)[0])(trials)
+    blocks = jnp.moveaxis((forces - force) / jnp.moveaxis(steps, -1, 0)[:, :, None], 0, -1)
+    return jnp.where(p["N"] > 0, blocks, _pendulum_blocks(p))
+
+
+def _pendulum_blocks(p):
+    """(W / R_e) I (S, 2, 2): the sliders' pendulum stiffnesses, Newton's matrix at uplift."""
+    return (p["W"] / p["pendulum"].series_radii())[:, None, None] * jnp.eye(2, dtype=p["s0"].dtype)
+
+
+def _planar_newton(p, dt, guess, tolerance, iterations: int):
+    """Newton's iteration with step halving on the planar balance: d <- d - f J(d)^-1 r(d),
+    J's blocks by differences (`_differenced_blocks`; the pendulum's own (W / R_e) I where they
+    give no finite direction), f halved until the merit sum(r^2) falls (or f reaches
+    `SMALLEST_STEP`), while max |r| > `tolerance` and fewer than `iterations` steps were
+    taken. Three force evaluations per step, one at the start.
+
+    **Returns:** (d, whether max |r| <= tolerance)."""
+    def forces(d):
+        return biaxial_slider_forces(p["pendulum"], p["N"], p["s0"], p["z0"], d, dt)[0]
+
+    def residual(d, force):
+        return force - (p["D"] - jnp.sum(d, axis=0)) / p["G"]
+
+    def cond(carry):
+        _, _, r, _, _, k = carry
+        return (jnp.max(jnp.abs(r)) > tolerance) & (k < iterations)
+
+    def body(carry):
+        d, force, r, merit, fraction, k = carry
+        direction = _woodbury(r, _differenced_blocks(d, force, p, dt), p["G"])
+        fallback = _woodbury(r, _pendulum_blocks(p), p["G"])
+        direction = jnp.where(jnp.all(jnp.isfinite(direction)), direction, fallback)
+        trial = d - fraction * direction
+        force_trial = forces(trial)
+        r_trial = residual(trial, force_trial)
+        merit_trial = jnp.sum(r_trial**2)
+        accept = (merit_trial < merit) | (fraction <= SMALLEST_STEP)
+        new = tuple(jnp.where(accept, a, b) for a, b in
+                    zip((trial, force_trial, r_trial, merit_trial), (d, force, r, merit)))
+        return (*new, jnp.where(accept, 1.0, 0.5 * fraction), k + 1)
+
+    force = forces(guess)
+    r = residual(guess, force)
+    carry = (guess, force, r, jnp.sum(r**2), jnp.ones((), guess.dtype), 0)
+    d, _, r, _, _, _ = jax.lax.while_loop(cond, body, carry)
+    return d, jnp.max(jnp.abs(r)) <= tolerance
 
 
 def _inverse2(m):
@@ -157,11 +222,7 @@ def _woodbury(residual, blocks, compliance):
 @functools.partial(jax.custom_jvp, nondiff_argnums=(0, 1))
 def _balanced(dt, iterations, p, guess, tolerance):
     """The sliders' increments (S, 2) [m] that balance their forces with the linear step."""
-    def evaluate(d):
-        r, k = _residual_and_blocks(d, p, dt)
-        return r, jnp.sum(r**2), _woodbury(r, k, p["G"])
-
-    return damped_newton(evaluate, guess, tolerance, iterations, finite_direction=True)
+    return _planar_newton(p, dt, guess, tolerance, iterations)
 
 
 @_balanced.defjvp
