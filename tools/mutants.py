@@ -237,7 +237,7 @@ MUTANTS = (
            ("tests/test_triple_pendulum.py",), "series model: inner ring at the later outer ring"),
     # the triple pendulum in a structure, the vertical component, the pendulum's test record
     Mutant("P3", "teflon_jax/systems/_triple_structure.py",
-           "speed = jnp.abs(increment) * triple.velocity_factors() / time_step",
+           "speed = jnp.abs(increment) * pendulum.velocity_factors() / time_step",
            "speed = jnp.abs(increment) / time_step",
            ("tests/test_triple_structure.py",), "triple pendulum in a structure: Eq. 1 at the slider's speed, not the surface's"),
     Mutant("P4", "teflon_jax/cli/_simulate_pendulum.py",
@@ -252,6 +252,25 @@ MUTANTS = (
            "return jnp.maximum(1 + jnp.asarray(vertical_acceleration) / STANDARD_GRAVITY, 0.0)",
            "return 1 + jnp.asarray(vertical_acceleration) / STANDARD_GRAVITY",
            ("tests/test_vertical.py",), "uplift: a bearing in tension keeps carrying shear"),
+    Mutant("D1", "teflon_jax/bearing/_series_pendulum.py",
+           "return jnp.stack([jnp.asarray(self.bottom_capacity, float), jnp.asarray(self.top_capacity, float)])",
+           "return jnp.stack([jnp.asarray(self.top_capacity, float), jnp.asarray(self.bottom_capacity, float)])",
+           ("tests/test_double_pendulum.py",), "double pendulum: each surface's restrainer on the other surface"),
+    Mutant("D2", "teflon_jax/bearing/_series_pendulum.py",
+           '''        """(1, 1): each slider is its surface."""
+        return jnp.ones(2)''',
+           '''        """(1, 1): each slider is its surface."""
+        return 2 * jnp.ones(2)''',
+           ("tests/test_double_pendulum.py", "tests/test_double_fit.py"),
+           "double pendulum: Eq. 1 at twice the surface's velocity"),
+    Mutant("O1", "teflon_jax/systems/_overturning.py",
+           "return -float(height) * k[:, None] * (p @ columns)",
+           "return float(height) * k[:, None] * (p @ columns)",
+           ("tests/test_slab_pendulum.py",), "overturning: the side the slab leans toward unloads"),
+    Mutant("O2", "teflon_jax/systems/_overturning.py",
+           "return jnp.maximum(normal_load, 0.0) / system.bearing_load",
+           "return jnp.mean(jnp.maximum(normal_load, 0.0) / system.bearing_load) * jnp.ones_like(system.bearing_load)",
+           ("tests/test_slab_pendulum.py",), "overturning: one load factor for every group (their mean)"),
 ) + LAWS
 
 
