@@ -146,3 +146,72 @@ def test_bad_heating_is_refused_by_name(changes, message):
     bearing = _locked_top(**changes)
     with pytest.raises(ValueError, match=message):
         check_double_pendulum(bearing)
+
+
+def test_two_ground_components_refuse_the_surfaces_heating_by_name():
+    structure = isolated_structure("rigid", isolator="double-fp", double=_locked_top(), time_step=0.01)
+    ground = _ground(0.01, 1.0)
+    with pytest.raises(ValueError, match="bottom_heating: the surfaces' frictional heating runs in one"):
+        structure((ground, ground))
+
+
+def test_a_path_in_the_plane_refuses_the_surfaces_heating_by_name():
+    time = np.linspace(0.0, 1.0, 11)
+    with pytest.raises(ValueError, match="bottom_heating: the surfaces' frictional heating runs in one"):
+        simulate_triple_test(_locked_top(), time, np.zeros((11, 2)), 1e6)
+
+
+def _isolator_document():
+    def surface(radius, mu, heating=None):
+        part = {"radius": {"value": radius, "unit": "m"}, "capacity": {"value": 0.2, "unit": "m"},
+                "friction": {"f_max": {"value": mu, "unit": "1"}, "delta_f": {"value": 0.0, "unit": "1"},
+                             "rate_a": {"value": 0.0, "unit": "s/m"}}}
+        if heating:
+            part["heating"] = {"contact_area": {"value": 500, "unit": "cm^2"},
+                               "contact_pressure": {"value": 30, "unit": "MPa"},
+                               "heat_scale": {"value": 1, "unit": "1"},
+                               "conductivity": {"value": 16.2, "unit": "W/(m K)"},
+                               "diffusivity": {"value": 4.4, "unit": "mm^2/s"},
+                               "initial_temperature": {"value": 10, "unit": "degC"}}
+        return part
+
+    return {"format": "teflon-jax isolator", "format_version": 1, "isolator": "double-fp",
+            "surfaces": {"bottom": surface(1.5, 0.04, heating=True), "top": surface(2.5, 0.08)},
+            "yield_disp": {"value": 1e-4, "unit": "m"}}
+
+
+def test_the_isolator_file_reads_and_writes_a_surface_heating(tmp_path):
+    from teflon_jax.formats import isolator_from_dict, load_isolator, write_isolator
+
+    bearing = isolator_from_dict(_isolator_document())
+    assert bearing.top_heating is None and bearing.top_pressure is None
+    assert float(bearing.bottom_pressure) == pytest.approx(30e6, rel=1e-12)
+    assert float(bearing.bottom_heating.contact_area) == pytest.approx(0.05, rel=1e-12)
+    assert float(bearing.bottom_heating.diffusivity) == pytest.approx(4.4e-6, rel=1e-12)
+    assert float(bearing.bottom_heating.initial_temperature) == 10.0
+    write_isolator(tmp_path / "dfp.json", bearing)
+    again = load_isolator(tmp_path / "dfp.json")
+    for a, b in zip(jax.tree_util.tree_leaves(bearing), jax.tree_util.tree_leaves(again)):
+        assert float(a) == pytest.approx(float(b), rel=1e-15)
+    assert again.top_heating is None and again.bottom_heating is not None
+
+
+@pytest.mark.parametrize("key, value, message", [
+    ("contact_pressure", None, r"surfaces.bottom.heating: missing \['contact_pressure'\]"),
+    ("contact_pressure", 30.0, r"surfaces.bottom.heating.contact_pressure: write"),
+    ("contact_pressure", {"value": -1.0, "unit": "MPa"}, "bottom_pressure"),
+    ("contact_area", {"value": 0.05, "unit": "m"}, r"surfaces.bottom.heating.contact_area.unit"),
+    ("heat_scale", {"value": -1.0, "unit": "1"}, "bottom_heating.heat_scale"),
+    ("speed", {"value": 1.0, "unit": "1"}, r"surfaces.bottom.heating: unknown \['speed'\]"),
+])
+def test_a_bad_surface_heating_is_refused_by_key(key, value, message):
+    from teflon_jax.formats import isolator_from_dict
+
+    document = _isolator_document()
+    heating = document["surfaces"]["bottom"]["heating"]
+    if value is None:
+        del heating[key]
+    else:
+        heating[key] = value
+    with pytest.raises(ValueError, match=message):
+        isolator_from_dict(document, where="dfp.json")

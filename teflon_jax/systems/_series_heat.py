@@ -34,3 +34,13 @@ def heated_step(pendulum: SeriesPendulum, heat, factors, slide, time_step, rates
     flux = pendulum.heat_fluxes(mu, speed, load)
     decay = jnp.exp(-rates * time_step)
     return decay * heat + flux[:, None] * (1.0 - decay) / rates
+
+
+def refuse_biaxial_heating(pendulum: SeriesPendulum) -> None:
+    """`ValueError` naming each heated surface (`<slider>_heating`): the surfaces' heating runs
+    in one horizontal direction (`StructureOnTriple`, `simulate_triple_test`) only."""
+    heated = [f"{name}_heating" for name, h in zip(pendulum.slider_names, pendulum.surface_heatings())
+              if h is not None]
+    if heated:
+        raise ValueError(f"{', '.join(heated)}: the surfaces' frictional heating runs in one horizontal "
+                         "direction only; give one ground component, or leave the heating out.")

@@ -32,6 +32,7 @@ from ..bearing import STOP_STIFFNESS_RATIO, SeriesPendulum, sliding_friction
 from ..excitation import Signal
 from ..solver import park_exact_update
 from ..units import STANDARD_GRAVITY
+from ._series_heat import refuse_biaxial_heating
 from ._structure_response import check_duration
 from ._triple_structure import SMALLEST_STEP, StructureOnTriple, uplift_increments
 
@@ -42,6 +43,9 @@ class BiaxialStructureOnTriple(eqx.Module):
 
     uniaxial: StructureOnTriple
     ground_y: Signal
+
+    def __check_init__(self):
+        refuse_biaxial_heating(self.uniaxial.pendulum)
 
     @property
     def mass(self):
