@@ -19,6 +19,7 @@ from teflon_jax.bearing import (
 )
 from teflon_jax.excitation import uniform_signal
 from teflon_jax.systems import (
+    biaxial_histories,
     isolated_structure,
     peak_response,
     simulate_structure,
@@ -49,8 +50,9 @@ def _ground(dt, duration=6.0):
 
 def _double(dt, heating):
     system = isolated_structure("rigid", isolator="double-fp", double=_locked_top(heating), time_step=dt)
-    return np.asarray(jax.jit(simulate_triple_structure, static_argnums=1)(system(_ground(dt)), 6.0)
-                      .displacement[:, 0])
+    response = jax.jit(simulate_triple_structure, static_argnums=1)(system(_ground(dt)), 6.0)
+    assert bool(np.all(response.converged))
+    return np.asarray(response.displacement[:, 0])
 
 
 def _single(dt, heating):
@@ -91,6 +93,7 @@ def test_the_friction_falls_as_the_constant_flux_rise_of_carslaw_and_jaeger():
     time = np.linspace(0.0, 2.0, 801)
     bearing = _locked_top(pressure=pressure)
     response = simulate_triple_test(bearing, time, speed * time, 1e6)
+    assert bool(np.all(response.converged))
     slider = np.asarray(response.slider[:, 0])
     mu = np.asarray(response.force) / 1e6 - slider / R1
     rise = 2 * MU * pressure * speed * surface_temperature_coefficient() * np.sqrt(time)
@@ -128,6 +131,7 @@ def test_the_heated_peak_is_differentiable_in_the_bottom_radius():
         moved = eqx.tree_at(lambda s: s.pendulum.bottom_radius, system, radius)
         return peak_response(moved, 6.0).smooth_base_disp
 
+    assert bool(peak_response(system, 6.0).converged)
     reverse = float(jax.jit(jax.grad(peak))(R1))
     h = 1e-4
     central = (float(peak(R1 + h)) - float(peak(R1 - h))) / (2 * h)
@@ -148,16 +152,33 @@ def test_bad_heating_is_refused_by_name(changes, message):
         check_double_pendulum(bearing)
 
 
-def test_two_ground_components_refuse_the_surfaces_heating_by_name():
-    structure = isolated_structure("rigid", isolator="double-fp", double=_locked_top(), time_step=0.01)
-    ground = _ground(0.01, 1.0)
-    with pytest.raises(ValueError, match="bottom_heating: the surfaces' frictional heating runs in one"):
-        structure((ground, ground))
+def test_two_components_along_a_line_are_the_heated_one_direction_response():
+    """Both surfaces heated and sliding: a record along x (y at rest) gives the one-direction
+    histories to the sliders' balance tolerance (as it does unheated), one along 0.6 rad the same response turned (the heat flux takes the
+    length of each surface's increment)."""
+    dt = 0.005
+    bearing = _locked_top(pressure=10e6, top_friction=coulomb_friction(0.09), top_heating=HEAT, top_pressure=10e6)
+    ground = _ground(dt)
+    acc = np.asarray(jax.vmap(ground)(np.arange(0, 6 + dt / 2, dt)))
+    structure = isolated_structure("rigid", isolator="double-fp", double=bearing, time_step=dt)
+    one = jax.jit(simulate_triple_structure, static_argnums=1)(structure(ground), 6.0)
+    u, slider = np.asarray(one.displacement[:, 0]), np.asarray(one.slider)
+    assert np.abs(slider).max(axis=0).min() > 0.05  # both surfaces slide
+    assert bool(np.all(one.converged))
+    histories = jax.jit(biaxial_histories, static_argnums=1)
+    along_x = histories(structure((ground, uniform_signal(0 * acc, dt))), 6.0)
+    np.testing.assert_allclose(along_x[1][:, 0, 0], u, rtol=0, atol=1e-9)
+    c, s = np.cos(0.6), np.sin(0.6)
+    _, x, _, sliders, _, ok = histories(structure((uniform_signal(c * acc, dt), uniform_signal(s * acc, dt))), 6.0)
+    assert bool(np.all(ok))
+    np.testing.assert_allclose(x[:, 0, 0], c * u, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(x[:, 1, 0], s * u, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(np.asarray(sliders)[:, :, 1], s * slider, rtol=0, atol=1e-9)
 
 
 def test_a_path_in_the_plane_refuses_the_surfaces_heating_by_name():
     time = np.linspace(0.0, 1.0, 11)
-    with pytest.raises(ValueError, match="bottom_heating: the surfaces' frictional heating runs in one"):
+    with pytest.raises(ValueError, match="bottom_heating: the bearing test runs the surfaces' frictional heating"):
         simulate_triple_test(_locked_top(), time, np.zeros((11, 2)), 1e6)
 
 

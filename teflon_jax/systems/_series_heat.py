@@ -36,11 +36,11 @@ def heated_step(pendulum: SeriesPendulum, heat, factors, slide, time_step, rates
     return decay * heat + flux[:, None] * (1.0 - decay) / rates
 
 
-def refuse_biaxial_heating(pendulum: SeriesPendulum) -> None:
-    """`ValueError` naming each heated surface (`<slider>_heating`): the surfaces' heating runs
-    in one horizontal direction (`StructureOnTriple`, `simulate_triple_test`) only."""
+def refuse_planar_heating(pendulum: SeriesPendulum) -> None:
+    """`ValueError` naming each heated surface (`<slider>_heating`): the bearing test runs the
+    surfaces' heating along one axis only (the structures run it in both directions)."""
     heated = [f"{name}_heating" for name, h in zip(pendulum.slider_names, pendulum.surface_heatings())
               if h is not None]
     if heated:
-        raise ValueError(f"{', '.join(heated)}: the surfaces' frictional heating runs in one horizontal "
-                         "direction only; give one ground component, or leave the heating out.")
+        raise ValueError(f"{', '.join(heated)}: the bearing test runs the surfaces' frictional heating "
+                         "along one axis only; give a path along one axis, or leave the heating out.")

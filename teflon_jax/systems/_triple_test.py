@@ -26,7 +26,7 @@ from ..bearing import (
 from ..excitation import AbstractBiaxialMotion
 from ..solver import park_exact_update
 from ._bearing_test import save_times
-from ._series_heat import heated_step, refuse_biaxial_heating, series_heat_kernel
+from ._series_heat import heated_step, refuse_planar_heating, series_heat_kernel
 
 NEWTON_STEPS = 30
 """Newton iterations per step of the series solve (fixed; the step reports convergence)."""
@@ -169,7 +169,7 @@ def _test_heat_kernel(bearing: SeriesPendulum, time, heat_kernel, planar: bool):
     if not bearing.heated:
         return None
     if planar:
-        refuse_biaxial_heating(bearing)
+        refuse_planar_heating(bearing)
     if heat_kernel is not None:
         return tuple(jnp.asarray(a, float) for a in heat_kernel)
     if isinstance(time, jax.core.Tracer):
