@@ -39,7 +39,9 @@ class SeriesPendulum(eqx.Module):
     slider. **Methods** (arrays (S,) over the S sliders): `series_radii` [m],
     `series_capacities` [m], `velocity_factors` [-] (surface velocity over slider velocity),
     `frictions` (stacked `FrictionParameters`), `reference_radius` [m] (the radius of the
-    reference spring W / R_ref that the structures' linear step carries).
+    reference spring W / R_ref that the structures' linear step carries); for heated surfaces
+    (fields `<slider>_heating`, `<slider>_pressure`) `surface_heatings`, `heated`,
+    `heat_factors`, `heat_fluxes`.
     """
 
     isolator: ClassVar[str]
