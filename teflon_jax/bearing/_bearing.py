@@ -230,6 +230,17 @@ def check_bearing(bearing: SlidingBearing) -> None:
         raise ValueError(f"n_interfaces: must be an integer >= 1, got {bearing.n_interfaces}.")
 
 
+def check_heating(q: FrictionalHeating, name: str) -> None:
+    """`ValueError` naming `name`.<constant> where a `FrictionalHeating`'s constants are out of range."""
+    require_positive(q.contact_area, f"{name}.contact_area", " [m^2] (PTFE on the steel)")
+    require(q.heat_scale, lambda x: np.isfinite(x) & (x >= 0), f"{name}.heat_scale",
+            "must be >= 0 (1: the semi-infinite-body rise)")
+    require_positive(q.conductivity, f"{name}.conductivity", " [W/(m K)]")
+    require_positive(q.diffusivity, f"{name}.diffusivity", " [m^2/s]")
+    require(q.initial_temperature, lambda x: np.isfinite(x) & (x > -273.15),
+            f"{name}.initial_temperature", "must be above absolute zero [degC]")
+
+
 def _check_parts(bearing: SlidingBearing) -> None:
     """The optional parts' constants (concrete values only)."""
     if bearing.pressure_dependence is not None:
@@ -240,14 +251,7 @@ def _check_parts(bearing: SlidingBearing) -> None:
             require_positive(p.contact_area, "pressure_dependence.contact_area",
                              " [m^2] (of the tested bearing)")
     if bearing.heating is not None:
-        q = bearing.heating
-        require_positive(q.contact_area, "heating.contact_area", " [m^2] (PTFE on the steel)")
-        require(q.heat_scale, lambda x: np.isfinite(x) & (x >= 0), "heating.heat_scale",
-                "must be >= 0 (1: the semi-infinite-body rise)")
-        require_positive(q.conductivity, "heating.conductivity", " [W/(m K)]")
-        require_positive(q.diffusivity, "heating.diffusivity", " [m^2/s]")
-        require(q.initial_temperature, lambda x: np.isfinite(x) & (x > -273.15),
-                "heating.initial_temperature", "must be above absolute zero [degC]")
+        check_heating(bearing.heating, "heating")
     if bearing.wear is not None:
         require(bearing.wear.change, lambda x: np.isfinite(x) & (x > -1), "wear.change",
                 "must be > -1 (friction stays positive)")

@@ -24,6 +24,8 @@ import numpy as np
 from jaxtyping import ArrayLike
 
 from ..validation import concrete, require, require_positive
+from ._bearing import check_heating
+from ._effects import FrictionalHeating
 from ._friction import FrictionParameters
 from ._hysteresis import BoucWen
 
@@ -37,7 +39,9 @@ class SeriesPendulum(eqx.Module):
     slider. **Methods** (arrays (S,) over the S sliders): `series_radii` [m],
     `series_capacities` [m], `velocity_factors` [-] (surface velocity over slider velocity),
     `frictions` (stacked `FrictionParameters`), `reference_radius` [m] (the radius of the
-    reference spring W / R_ref that the structures' linear step carries).
+    reference spring W / R_ref that the structures' linear step carries); for heated surfaces
+    (fields `<slider>_heating`, `<slider>_pressure`) `surface_heatings`, `heated`,
+    `heat_factors`, `heat_fluxes`.
     """
 
     isolator: ClassVar[str]
@@ -70,6 +74,34 @@ class SeriesPendulum(eqx.Module):
     def reference_radius(self):
         """R_ref [m] of the structures' reference spring W / R_ref."""
 
+    def surface_heatings(self) -> tuple:
+        """`FrictionalHeating` (or `None`) of each slider's surface, from the fields
+        `<slider>_heating` (none: no heating)."""
+        return tuple(getattr(self, f"{name}_heating", None) for name in self.slider_names)
+
+    @property
+    def heated(self) -> bool:
+        """Whether any surface heats up (static)."""
+        return any(h is not None for h in self.surface_heatings())
+
+    def heat_factors(self, heat, weights):
+        """Factors (S,) [-] on each surface's friction at its heat states `heat` (S, K) of the
+        kernel of `weights` (K,): k_T(T0 + dT_e) / k_T(T0) (`FrictionalHeating.factor`), 1
+        where a surface has no heating."""
+        return jnp.stack([jnp.ones((), heat.dtype) if h is None else h.factor(h.rise(heat[e], weights))
+                          for e, h in enumerate(self.surface_heatings())])
+
+    def heat_fluxes(self, coefficients, speeds, load_factor=1.0):
+        """Heat fluxes q_e = mu_e p_e v_e [W/m^2] (S,) into each surface's steel at the surface
+        speeds v_e [m/s] (S,), coefficients mu_e [-] (S,) and the contact pressures p_e
+        (`<slider>_pressure` [Pa] under the static load W) times the load factor N / W; 0
+        where a surface has no heating (each surface heated by its own flux, as in Kim &
+        Constantinou's TripleFrictionPendulumX element of OpenSees)."""
+        return jnp.stack([
+            jnp.zeros_like(speeds[e]) if h is None else
+            h.flux(coefficients[e], load_factor * getattr(self, f"{name}_pressure") * h.contact_area, speeds[e])
+            for e, (name, h) in enumerate(zip(self.slider_names, self.surface_heatings()))])
+
 
 def stack_frictions(parts) -> FrictionParameters:
     """`FrictionParameters` of several surfaces stacked along a first axis."""
@@ -97,6 +129,10 @@ class DoublePendulum(SeriesPendulum):
     bottom_friction: FrictionParameters
     top_friction: FrictionParameters
     hysteresis: BoucWen
+    bottom_heating: FrictionalHeating | None = None
+    top_heating: FrictionalHeating | None = None
+    bottom_pressure: ArrayLike | None = None
+    top_pressure: ArrayLike | None = None
 
     def series_radii(self):
         """(R_1, R_2) [m]."""
@@ -142,3 +178,18 @@ def check_double_pendulum(bearing: DoublePendulum) -> None:
     for name in ("bottom_friction", "top_friction"):
         check_friction(getattr(bearing, name), name)
     require_positive(bearing.hysteresis.yield_disp, "yield_disp", " [m]")
+    check_surface_heating(bearing)
+
+
+def check_surface_heating(bearing: SeriesPendulum) -> None:
+    """`ValueError` naming `<slider>_heating.<constant>` or `<slider>_pressure` where a heated
+    surface's constants are out of range or its contact pressure is missing."""
+    for name, heating in zip(bearing.slider_names, bearing.surface_heatings()):
+        if heating is None:
+            continue
+        check_heating(heating, f"{name}_heating")
+        pressure = getattr(bearing, f"{name}_pressure", None)
+        if pressure is None:
+            raise ValueError(f"{name}_pressure: a surface with {name}_heating needs its contact pressure "
+                             "[Pa] under the static load (the heat flux is mu p v).")
+        require_positive(pressure, f"{name}_pressure", " [Pa] (contact pressure on the surface)")

@@ -22,12 +22,14 @@ import numpy as np
 from jaxtyping import ArrayLike
 
 from ..validation import require_positive
+from ._effects import FrictionalHeating
 from ._friction import FrictionParameters
 from ._hysteresis import BoucWen
 from ._series_pendulum import (
     DoublePendulum,
     SeriesPendulum,
     check_double_pendulum,
+    check_surface_heating,
     stack_frictions,
 )
 
@@ -43,7 +45,11 @@ class TriplePendulum(SeriesPendulum):
     `inner_radius` a (surfaces 2 and 3), `bottom_radius` b (1), `top_radius` c (4);
     `inner_capacity`, `bottom_capacity`, `top_capacity`; `inner_friction`,
     `bottom_friction`, `top_friction`: Eq. 1 constants of each surface (`FrictionParameters`;
-    delta_f = 0 for Coulomb friction); `hysteresis`: `BoucWen` of every slider.
+    delta_f = 0 for Coulomb friction); `hysteresis`: `BoucWen` of every slider;
+    `inner_heating` (each of surfaces 2 and 3), `bottom_heating`, `top_heating`:
+    `FrictionalHeating` or `None`, with `inner_pressure`, `bottom_pressure`, `top_pressure`
+    [Pa], the contact pressure of a heated surface under the static load
+    (`SeriesPendulum.heat_fluxes`).
     """
 
     isolator: ClassVar[str] = "triple-fp"
@@ -59,6 +65,12 @@ class TriplePendulum(SeriesPendulum):
     bottom_friction: FrictionParameters
     top_friction: FrictionParameters
     hysteresis: BoucWen
+    inner_heating: FrictionalHeating | None = None
+    bottom_heating: FrictionalHeating | None = None
+    top_heating: FrictionalHeating | None = None
+    inner_pressure: ArrayLike | None = None
+    bottom_pressure: ArrayLike | None = None
+    top_pressure: ArrayLike | None = None
 
     def series_radii(self):
         """Radii [m] of the three sliders in series: (2 a, b - a, c - a)."""
@@ -112,6 +124,7 @@ def check_triple_pendulum(bearing: TriplePendulum) -> None:
             f"friction: the series model needs inner <= bottom <= top (f_max {mu['inner_friction']:g}, "
             f"{mu['bottom_friction']:g}, {mu['top_friction']:g}); swap bottom and top if the "
             "bottom surface is the slipperier outer one.")
+    check_surface_heating(bearing)
 
 
 def triple_pendulum_backbone(bearing: TriplePendulum):

@@ -67,7 +67,7 @@ REQUIRED_PARTS = ("friction", "hysteresis")
 
 _SI = {"dimensionless": "1", "slowness": "s/m", "angle": "rad", "length": "m", "force": "N",
        "area": "m^2", "thermal conductivity": "W/(m K)", "diffusivity": "m^2/s",
-       "temperature": "degC"}
+       "temperature": "degC", "pressure": "Pa"}
 _SPECIAL_UNITS = {
     "thermal conductivity": {"W/(m K)": 1.0, "W/(m*K)": 1.0, "W/m/K": 1.0},
     "diffusivity": {"m^2/s": 1.0, "mm^2/s": 1e-6},

@@ -16,6 +16,18 @@ A JSON object (format version 1):
 is the effective radius R - h and `capacity` the effective displacement capacity d (R - h) / R
 of each surface. A double friction pendulum is `"isolator": "double-fp"` with the surfaces
 `bottom` and `top` alone, in the same form. Every value carries its unit; nothing is defaulted.
+
+A surface may add `"heating"`: its frictional heating (`FrictionalHeating`, the bearing file's
+`heating` constants) and the contact pressure on it under the static load,
+
+    "heating": {"contact_area": {"value": 0.05, "unit": "m^2"},
+                "contact_pressure": {"value": 30, "unit": "MPa"},
+                "heat_scale": {"value": 1, "unit": "1"},
+                "conductivity": {"value": 16.2, "unit": "W/(m K)"},
+                "diffusivity": {"value": 4.4, "unit": "mm^2/s"},
+                "initial_temperature": {"value": 20, "unit": "degC"}}
+
+(all six required); the one-direction structures and the bearing test run it.
 """
 
 
@@ -24,6 +36,7 @@ import jax.numpy as jnp
 from ..bearing import (
     BoucWen,
     DoublePendulum,
+    FrictionalHeating,
     FrictionParameters,
     SeriesPendulum,
     TriplePendulum,
@@ -43,6 +56,8 @@ ISOLATOR_SURFACES = {"triple-fp": SURFACES, "double-fp": ("bottom", "top")}
 
 _SURFACE = {"radius": "length", "capacity": "length"}
 _FRICTION = BEARING_PARTS["friction"]  # Eq. 1's constants, as in the bearing file
+HEATING_CONSTANTS = {**BEARING_PARTS["heating"], "contact_pressure": "pressure"}
+"""Constants of a surface's optional `heating` entry -> kind of quantity."""
 
 
 def _value(entry, kind, where) -> float:
@@ -54,11 +69,11 @@ def _value(entry, kind, where) -> float:
     return value
 
 
-def _keys(part, expected, where):
+def _keys(part, expected, where, optional=()):
     if not isinstance(part, dict):
         raise ValueError(f"{where}: must be an object with {', '.join(expected)}.")
     missing = [key for key in expected if key not in part]
-    unknown = [key for key in part if key not in expected]
+    unknown = [key for key in part if key not in expected and key not in optional]
     if missing or unknown:
         raise ValueError(f"{where}: " + "; ".join(
             text for text in (f"missing {missing}" if missing else "",
@@ -67,13 +82,29 @@ def _keys(part, expected, where):
 
 
 def _surface(part, where):
-    _keys(part, ("radius", "capacity", "friction"), where)
+    _keys(part, ("radius", "capacity", "friction"), where, optional=("heating",))
     values = {key: _value(part[key], kind, f"{where}.{key}") for key, kind in _SURFACE.items()}
     _keys(part["friction"], tuple(_FRICTION), f"{where}.friction")
     friction = FrictionParameters(*(jnp.asarray(_value(part["friction"][key], kind,
                                                        f"{where}.friction.{key}"))
                                     for key, kind in _FRICTION.items()))
-    return values["radius"], values["capacity"], friction
+    heating = pressure = None
+    if "heating" in part:
+        _keys(part["heating"], tuple(HEATING_CONSTANTS), f"{where}.heating")
+        heat = {key: _value(part["heating"][key], kind, f"{where}.heating.{key}")
+                for key, kind in HEATING_CONSTANTS.items()}
+        pressure = heat.pop("contact_pressure")
+        heating = FrictionalHeating(**heat)
+    return values["radius"], values["capacity"], friction, heating, pressure
+
+
+def _heating_fields(parts) -> dict:
+    """`<surface>_heating` and `<surface>_pressure` of the surfaces that have heating."""
+    fields = {}
+    for name, part in parts.items():
+        if part[3] is not None:
+            fields.update({f"{name}_heating": part[3], f"{name}_pressure": part[4]})
+    return fields
 
 
 def isolator_from_dict(document, *, where: str = "isolator") -> SeriesPendulum:
@@ -100,13 +131,14 @@ def isolator_from_dict(document, *, where: str = "isolator") -> SeriesPendulum:
             bottom_radius=parts["bottom"][0], top_radius=parts["top"][0],
             bottom_capacity=parts["bottom"][1], top_capacity=parts["top"][1],
             bottom_friction=parts["bottom"][2], top_friction=parts["top"][2],
-            hysteresis=BoucWen(yield_disp)), check_double_pendulum, where)
+            hysteresis=BoucWen(yield_disp), **_heating_fields(parts)), check_double_pendulum, where)
     return _checked(TriplePendulum(
         inner_radius=parts["inner"][0], bottom_radius=parts["bottom"][0],
         top_radius=parts["top"][0], inner_capacity=parts["inner"][1],
         bottom_capacity=parts["bottom"][1], top_capacity=parts["top"][1],
         inner_friction=parts["inner"][2], bottom_friction=parts["bottom"][2],
-        top_friction=parts["top"][2], hysteresis=BoucWen(yield_disp)), check_triple_pendulum, where)
+        top_friction=parts["top"][2], hysteresis=BoucWen(yield_disp), **_heating_fields(parts)),
+        check_triple_pendulum, where)
 
 
 def _check_isolator(isolator, surfaces, where) -> None:

@@ -10,6 +10,8 @@ from ..bearing import SeriesPendulum, check_series_pendulum
 from ._isolator_file import FORMAT_NAME, FORMAT_VERSION, ISOLATOR_SURFACES
 
 _FRICTION_UNITS = {"f_max": "1", "delta_f": "1", "rate_a": "s/m"}
+_HEATING_UNITS = {"contact_area": "m^2", "heat_scale": "1", "conductivity": "W/(m K)",
+                  "diffusivity": "m^2/s", "initial_temperature": "degC"}
 
 
 def _entry(value, unit: str) -> dict:
@@ -18,7 +20,7 @@ def _entry(value, unit: str) -> dict:
 
 def isolator_to_dict(bearing: SeriesPendulum) -> dict:
     """The isolator-file object of `bearing`, a `TriplePendulum` or `DoublePendulum` (SI
-    units: m, 1, s/m); `ValueError` for another type, or for one the series model cannot take
+    units: m, 1, s/m; a heated surface's `heating` in m^2, W/(m K), m^2/s, degC, Pa); `ValueError` for another type, or for one the series model cannot take
     (`check_series_pendulum`)."""
     check_series_pendulum(bearing)
     surfaces = {}
@@ -29,6 +31,11 @@ def isolator_to_dict(bearing: SeriesPendulum) -> dict:
             "capacity": _entry(getattr(bearing, f"{name}_capacity"), "m"),
             "friction": {k: _entry(getattr(friction, k), unit) for k, unit in _FRICTION_UNITS.items()},
         }
+        heating = getattr(bearing, f"{name}_heating")
+        if heating is not None:
+            surfaces[name]["heating"] = {
+                **{k: _entry(getattr(heating, k), unit) for k, unit in _HEATING_UNITS.items()},
+                "contact_pressure": _entry(getattr(bearing, f"{name}_pressure"), "Pa")}
     return {"format": FORMAT_NAME, "format_version": FORMAT_VERSION, "isolator": bearing.isolator,
             "surfaces": surfaces, "yield_disp": _entry(bearing.hysteresis.yield_disp, "m")}
 

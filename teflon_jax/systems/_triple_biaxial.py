@@ -32,6 +32,7 @@ from ..bearing import STOP_STIFFNESS_RATIO, SeriesPendulum, sliding_friction
 from ..excitation import Signal
 from ..solver import park_exact_update
 from ..units import STANDARD_GRAVITY
+from ._series_heat import heated_step
 from ._structure_response import check_duration
 from ._triple_structure import SMALLEST_STEP, StructureOnTriple, uplift_increments
 
@@ -66,16 +67,23 @@ class BiaxialStructureOnTriple(eqx.Module):
         return jnp.stack([self.uniaxial.ground_acceleration(t), self.ground_y(t)])
 
     def initial_isolator(self):
+        """(sliders (S, 2) [m], Z (S, 2), last increments (S, 2) [m], force beyond the reference
+        spring (2,) [N]), and the heat states (S, K) of heated surfaces."""
         zeros = jnp.zeros((self.pendulum.slider_count, 2), self.mass.dtype)
-        return zeros, zeros, zeros, jnp.zeros(2, self.mass.dtype)
+        state = zeros, zeros, zeros, jnp.zeros(2, self.mass.dtype)
+        if self.pendulum.heated:
+            state = state + (jnp.zeros((self.pendulum.slider_count, self.uniaxial.heat_rates.shape[0]),
+                                       self.mass.dtype),)
+        return state
 
     def step(self, x0, isolator, ground0, ground1, matrices=None, load=None):
         """One step of both directions: `x0` (2, 2n) = (u, v) in x and in y, the isolator's
         state, the ground (2,) at both ends, the normal load `load` W held over the step
-        (`None`: W); returns (x1, isolator, converged, force (2,))."""
+        (`None`: W); returns (x1, isolator, converged, force (2,)). Heated surfaces as in one
+        direction (`StructureOnTriple.step`), their flux at the length of their increment."""
         system = self.uniaxial
         step_matrix, force_column = system.step_matrices() if matrices is None else matrices
-        slider0, z0, previous, extra0 = isolator
+        slider0, z0, previous, extra0 = isolator[:4]
         w = jnp.concatenate([x0, jnp.stack([ground0, extra0, ground1], -1)], -1)
         linear = w @ step_matrix.T
         g0, k_ref, weight = -force_column[0], system.reference_stiffness, system.bearing_load
@@ -83,17 +91,23 @@ class BiaxialStructureOnTriple(eqx.Module):
         scale = 1 - g0 * k_ref
         p = {"pendulum": system.pendulum, "W": weight, "N": normal, "s0": slider0, "z0": z0,
              "D": linear[:, 0] / scale - x0[:, 0], "G": g0 / scale}
+        if system.pendulum.heated:
+            p["k"] = system.pendulum.heat_factors(isolator[4], system.heat_weights)
         eps = jnp.finfo(linear.dtype).eps
         tolerance = jnp.maximum(system.newton_tolerance * weight,
                                 32 * eps * (weight + jnp.max(jnp.abs(p["D"])) / p["G"]))
         d, converged = _balanced(self.time_step, system.newton_iterations, p, previous, tolerance)
         if load is not None:
             d, converged = uplift_increments(system.pendulum, load, p["D"], d, converged)
-        force, z1 = biaxial_slider_forces(system.pendulum, normal, slider0, z0, d, self.time_step)
+        force, z1 = biaxial_slider_forces(system.pendulum, normal, slider0, z0, d, self.time_step, p.get("k"))
         bearing = jnp.mean(force, axis=0)
         extra1 = bearing - k_ref * (x0[:, 0] + jnp.sum(d, axis=0))
         x1 = linear + extra1[:, None] * force_column
-        return x1, (slider0 + d, z1, d, extra1), converged, bearing
+        state = (slider0 + d, z1, d, extra1)
+        if system.pendulum.heated:
+            state = state + (heated_step(system.pendulum, isolator[4], p["k"], _length(d)[:, 0], self.time_step,
+                                         system.heat_rates, 1.0 if load is None else load),)
+        return x1, state, converged, bearing
 
 
 def _length(x):
@@ -102,15 +116,16 @@ def _length(x):
     return jnp.where(squared > 0, jnp.sqrt(jnp.where(squared > 0, squared, 1.0)), 0.0)
 
 
-def biaxial_slider_forces(pendulum: SeriesPendulum, load, slider0, z0, increment, time_step):
+def biaxial_slider_forces(pendulum: SeriesPendulum, load, slider0, z0, increment, time_step, factors=None):
     """Forces (S, 2) [N] of the sliders after the increments (S, 2) [m] from displacements
-    `slider0` and Park's Z `z0` (S, 2) over `time_step` [s] (module docstring), and their Z."""
+    `slider0` and Park's Z `z0` (S, 2) over `time_step` [s] (module docstring), and their Z;
+    each surface's friction times `factors` (S,) [-] (heating) where given."""
     radii, capacities = pendulum.series_radii()[:, None], pendulum.series_capacities()[:, None]
     u = slider0 + increment
     z = park_exact_update(pendulum.hysteresis, z0, increment)
     length = _length(increment)
     direction = increment / jnp.where(length > 0, length, 1.0)
-    friction = pendulum.frictions()
+    friction = pendulum.frictions() if factors is None else pendulum.frictions().scaled(factors)
     f_min = (friction.f_max - friction.delta_f)[:, None]
     mu = sliding_friction(friction, length[:, 0] * pendulum.velocity_factors() / time_step)[:, None]
     along = jnp.maximum(jnp.sum(direction * z, axis=-1, keepdims=True), 0.0)
@@ -121,7 +136,7 @@ def biaxial_slider_forces(pendulum: SeriesPendulum, load, slider0, z0, increment
 
 
 def _residual(d, p, dt):
-    force, _ = biaxial_slider_forces(p["pendulum"], p["N"], p["s0"], p["z0"], d, dt)
+    force, _ = biaxial_slider_forces(p["pendulum"], p["N"], p["s0"], p["z0"], d, dt, p.get("k"))
     return force - (p["D"] - jnp.sum(d, axis=0)) / p["G"]
 
 
@@ -129,7 +144,7 @@ def _residual_and_blocks(d, p, dt):
     """(residual (S, 2), dF_e/dd_e (S, 2, 2)): a forward pass with the two axes' tangents
     (each slider's force depends on its own increment only)."""
     def forces(x):
-        return biaxial_slider_forces(p["pendulum"], p["N"], p["s0"], p["z0"], x, dt)[0]
+        return biaxial_slider_forces(p["pendulum"], p["N"], p["s0"], p["z0"], x, dt, p.get("k"))[0]
 
     axes = jnp.broadcast_to(jnp.eye(2, dtype=d.dtype)[:, None, :], (2,) + d.shape)
     force, columns = jax.vmap(lambda t: jax.jvp(forces, (d,), (t,)), out_axes=(None, 0))(axes)
@@ -153,7 +168,8 @@ def _differenced_blocks(d, force, p, dt):
     shifted = d + h[:, None]
     steps = shifted - d  # h as the sum represents it
     trials = jnp.stack([jnp.stack([shifted[:, 0], d[:, 1]], -1), jnp.stack([d[:, 0], shifted[:, 1]], -1)])
-    forces = jax.vmap(lambda x: biaxial_slider_forces(pendulum, p["N"], p["s0"], p["z0"], x, dt)[0])(trials)
+    forces = jax.vmap(lambda x: biaxial_slider_forces(pendulum, p["N"], p["s0"], p["z0"], x, dt, p.get("k"))[0])(
+        trials)
     blocks = jnp.moveaxis((forces - force) / jnp.moveaxis(steps, -1, 0)[:, :, None], 0, -1)
     return jnp.where(p["N"] > 0, blocks, _pendulum_blocks(p))
 
@@ -172,7 +188,7 @@ def _planar_newton(p, dt, guess, tolerance, iterations: int):
 
     **Returns:** (d, whether max |r| <= tolerance)."""
     def forces(d):
-        return biaxial_slider_forces(p["pendulum"], p["N"], p["s0"], p["z0"], d, dt)[0]
+        return biaxial_slider_forces(p["pendulum"], p["N"], p["s0"], p["z0"], d, dt, p.get("k"))[0]
 
     def residual(d, force):
         return force - (p["D"] - jnp.sum(d, axis=0)) / p["G"]

@@ -46,6 +46,7 @@ from ..bearing import (
 from ..excitation import Signal
 from ..units import STANDARD_GRAVITY
 from ._models import rigid_mass, six_storey_building
+from ._series_heat import heated_step, series_heat_kernel
 from ._structure import StructureOnSliders
 from ._structure_response import check_duration
 from ._vertical import load_factor_at, uplift_steps
@@ -70,7 +71,9 @@ class StructureOnTriple(eqx.Module):
     `SeriesPendulum` (`TriplePendulum` or `DoublePendulum`; also read as `triple`);
     `reference_stiffness` W / R_ref [N/m]; `newton_iterations` (static);
     `newton_tolerance` (static) [-]: the force imbalance at which a step stops, over W;
-    `vertical_acceleration`: `Signal` of a_v(t) [m/s^2, up +] or `None` (N = W throughout).
+    `vertical_acceleration`: `Signal` of a_v(t) [m/s^2, up +] or `None` (N = W throughout);
+    `heat_rates`, `heat_weights`: the 1/sqrt(t) kernel (`heat_kernel_exponentials`, one step
+    to `HEAT_HORIZON`) of a pendulum with heated surfaces (`SeriesPendulum.heated`), else `None`.
     """
 
     linear: StructureOnSliders
@@ -79,6 +82,8 @@ class StructureOnTriple(eqx.Module):
     newton_iterations: int = eqx.field(static=True, default=TRIPLE_NEWTON_ITERATIONS)
     newton_tolerance: float = eqx.field(static=True, default=TRIPLE_TOLERANCE)
     vertical_acceleration: Signal | None = None
+    heat_rates: jnp.ndarray | None = None
+    heat_weights: jnp.ndarray | None = None
 
     def load_factor(self, t):
         """N / W = max(1 + a_v(t) / g, 0) at time t [s] (None without a vertical record)."""
@@ -119,34 +124,45 @@ class StructureOnTriple(eqx.Module):
 
     def initial_isolator(self):
         """The isolator's state at rest: (slider displacements (S,) [m], Z (S,), the last
-        step's increments (S,) [m], the force beyond the reference spring [N])."""
+        step's increments (S,) [m], the force beyond the reference spring [N]), and for heated
+        surfaces the heat kernel's states (S, K) [W s/m^2]."""
         zeros = jnp.zeros(self.pendulum.slider_count, self.mass.dtype)
-        return zeros, zeros, zeros, jnp.zeros((), self.mass.dtype)
+        state = zeros, zeros, zeros, jnp.zeros((), self.mass.dtype)
+        if self.pendulum.heated:
+            state = state + (jnp.zeros((self.pendulum.slider_count, self.heat_rates.shape[0]), self.mass.dtype),)
+        return state
 
     def step(self, x0, isolator, ground0, ground1, matrices=None, load=None):
         """One step: (u1, v1) (2n,) and the isolator's state at its end, from (u0, v0) `x0`,
         the isolator's state (`initial_isolator`) and the ground acceleration [m/s^2] at both
         ends, under the normal load `load` W held over the step (`None`: W); also whether the
-        sliders' balance converged and the bearing force F [N]."""
+        sliders' balance converged and the bearing force F [N]. Heated surfaces take their
+        friction factors at the step's start and hold them over it (`heated_step`)."""
         step_matrix, force_column = self.step_matrices() if matrices is None else matrices
-        slider0, z0, previous, extra0 = isolator
+        slider0, z0, previous, extra0 = isolator[:4]
         linear = step_matrix @ jnp.concatenate([x0, jnp.stack([ground0, extra0, ground1])])
         g0, k_ref = -force_column[0], self.reference_stiffness
         scale = 1 - g0 * k_ref  # the step without the reference spring: x = X - G F
         normal = self.bearing_load if load is None else load * self.bearing_load
         p = {"pendulum": self.pendulum, "W": self.bearing_load, "N": normal, "s0": slider0, "z0": z0,
              "D": linear[0] / scale - x0[0], "G": g0 / scale}
+        if self.pendulum.heated:
+            p["k"] = self.pendulum.heat_factors(isolator[4], self.heat_weights)
         eps = jnp.finfo(linear.dtype).eps  # F = (D - sum d) / G is known to eps |D| / G at best
         tolerance = jnp.maximum(self.newton_tolerance * self.bearing_load,
                                 32 * eps * (self.bearing_load + jnp.abs(p["D"]) / p["G"]))
         d, converged = _balanced_increments(self.time_step, self.newton_iterations, p, previous, tolerance)
         if load is not None:
             d, converged = uplift_increments(self.pendulum, load, p["D"], d, converged)
-        force, z1 = slider_forces(self.pendulum, normal, slider0, z0, d, self.time_step)
+        force, z1 = slider_forces(self.pendulum, normal, slider0, z0, d, self.time_step, p.get("k"))
         bearing = jnp.mean(force)  # equal to rounding
         extra1 = bearing - k_ref * (x0[0] + jnp.sum(d))
         x1 = linear + force_column * extra1
-        return x1, (slider0 + d, z1, d, extra1), converged, bearing
+        state = (slider0 + d, z1, d, extra1)
+        if self.pendulum.heated:
+            state = state + (heated_step(self.pendulum, isolator[4], p["k"], jnp.abs(d), self.time_step,
+                                         self.heat_rates, 1.0 if load is None else load),)
+        return x1, state, converged, bearing
 
 
 def triple_structure(kind: str, pendulum: SeriesPendulum, ground_acceleration: Signal, *, time_step: float,
@@ -157,6 +173,7 @@ def triple_structure(kind: str, pendulum: SeriesPendulum, ground_acceleration: S
     to be checked first: `check_triple_pendulum`, `check_double_pendulum`), with no viscous
     damping at the isolator, stepped by the exact linear rule at `time_step` [s]."""
     reference = pendulum.reference_radius()
+    heat = series_heat_kernel(pendulum, time_step)
     if kind == "rigid":
         linear = rigid_mass(weight=weight, bearing=None, ground_acceleration=ground_acceleration,
                             time_step=time_step, radius=reference, friction_model="none",
@@ -169,7 +186,7 @@ def triple_structure(kind: str, pendulum: SeriesPendulum, ground_acceleration: S
     return StructureOnTriple(linear=linear, pendulum=pendulum,
                              reference_stiffness=linear.bearing_load / reference,
                              newton_iterations=int(newton_iterations),
-                             newton_tolerance=float(newton_tolerance))
+                             newton_tolerance=float(newton_tolerance), heat_rates=heat[0], heat_weights=heat[1])
 
 
 def uplift_increments(pendulum: SeriesPendulum, load, total, increments, converged):
@@ -184,16 +201,19 @@ def uplift_increments(pendulum: SeriesPendulum, load, total, increments, converg
     return jnp.where(lifted, split, increments), converged | lifted
 
 
-def slider_forces(pendulum: SeriesPendulum, load, slider0, z0, increment, time_step):
+def slider_forces(pendulum: SeriesPendulum, load, slider0, z0, increment, time_step, factors=None):
     """Forces F_e [N] (S,) of the sliders after the increments `increment` (S,) [m]
     from displacements `slider0` and Z `z0` over a step of `time_step` [s] (module
     docstring), and their Z (S,). The friction term is mu Z = f_min Z + (mu(v) - f_min)
     s <s Z>_+, s = sgn(increment): Eq. 1 at the mean velocity v where the slider moves the
-    way its Z points, f_min (at rest) while Z still points back after a reversal."""
+    way its Z points, f_min (at rest) while Z still points back after a reversal. `factors`
+    (S,) [-]: each surface's friction scaled by it (heating), or `None`."""
     radii, capacities = pendulum.series_radii(), pendulum.series_capacities()
     u = slider0 + increment
     z = bouc_wen_exact_update(pendulum.hysteresis, z0, increment, tangent="rational")
     friction = pendulum.frictions()
+    if factors is not None:
+        friction = friction.scaled(factors)
     speed = jnp.abs(increment) * pendulum.velocity_factors() / time_step
     f_min = friction.f_max - friction.delta_f
     sign = jnp.where(increment >= 0, 1.0, -1.0)
@@ -204,14 +224,14 @@ def slider_forces(pendulum: SeriesPendulum, load, slider0, z0, increment, time_s
 
 def _residual(d, p, dt):
     """F_e(d_e) - F(d), F(d) = (D - sum d) / G the force the linear step leaves."""
-    force, _ = slider_forces(p["pendulum"], p["N"], p["s0"], p["z0"], d, dt)
+    force, _ = slider_forces(p["pendulum"], p["N"], p["s0"], p["z0"], d, dt, p.get("k"))
     return force - (p["D"] - jnp.sum(d)) / p["G"]
 
 
 def _residual_and_slopes(d, p, dt):
     """(residual (S,), dF_e/dd_e (S,)): each slider's force depends on its own increment."""
     def forces(x):
-        return slider_forces(p["pendulum"], p["N"], p["s0"], p["z0"], x, dt)[0]
+        return slider_forces(p["pendulum"], p["N"], p["s0"], p["z0"], x, dt, p.get("k"))[0]
 
     force, slope = jax.jvp(forces, (d,), (jnp.ones_like(d),))
     return force - (p["D"] - jnp.sum(d)) / p["G"], slope

@@ -26,6 +26,7 @@ from ..bearing import (
 from ..excitation import AbstractBiaxialMotion
 from ..solver import park_exact_update
 from ._bearing_test import save_times
+from ._series_heat import heated_step, refuse_planar_heating, series_heat_kernel
 
 NEWTON_STEPS = 30
 """Newton iterations per step of the series solve (fixed; the step reports convergence)."""
@@ -49,13 +50,15 @@ class TripleResponse(eqx.Module):
     converged: jnp.ndarray
 
 
-def slider_forces(bearing: SeriesPendulum, normal_load, u, z, velocity):
+def slider_forces(bearing: SeriesPendulum, normal_load, u, z, velocity, factors=None):
     """Force [N] of each slider at displacements `u` (S, k) [m], Z (S, k) and slider
     velocities (S, k) [m/s], k = 1 or 2 components: W (u / R + mu(|v|) Z) plus the
-    restrainer beyond the capacity, along the slider's displacement."""
+    restrainer beyond the capacity, along the slider's displacement; each surface's friction
+    times `factors` (S,) [-] (heating) where given."""
     radii, capacities = bearing.series_radii()[:, None], bearing.series_capacities()[:, None]
     speed = _length(velocity)[:, 0] * bearing.velocity_factors()
-    mu = sliding_friction(bearing.frictions(), speed)[:, None]
+    friction = bearing.frictions() if factors is None else bearing.frictions().scaled(factors)
+    mu = sliding_friction(friction, speed)[:, None]
     reach = _length(u)
     direction = u / jnp.where(reach > 0, reach, 1.0)
     over = jnp.maximum(reach - capacities, 0.0) * direction
@@ -75,13 +78,15 @@ def _z_update(h, z0, du):
     return park_exact_update(h, z0, du)
 
 
-def _step(bearing, normal_load, dt, state, increment):
+def _step(bearing, normal_load, dt, state, increment, kernel=None):
     """One step of the bearing by `increment` (k,) [m]: the sliders' increments that balance
     their forces, from the start state `state` = (u (S, k), z (S, k), previous increments
-    (S, k), share (S,)). First guess: the previous step's increments, with what the step adds
+    (S, k), share (S,)[, heat states (S, K) of a heated pendulum, with `kernel` its (rates,
+    weights)]). First guess: the previous step's increments, with what the step adds
     to them shared as the sliders last shared their travel; then Newton's method, each step
     shortened (to 1/2, 1/4 or 1/8) where that lowers the force imbalance more."""
-    u0, z0, previous, share = state
+    u0, z0, previous, share = state[:4]
+    factors = None if kernel is None else bearing.heat_factors(state[4], kernel[1])
     k = increment.shape[-1]
     free = u0.shape[0] - 1  # the last slider closes the sum
 
@@ -92,7 +97,7 @@ def _step(bearing, normal_load, dt, state, increment):
             last = last - row
         du = jnp.concatenate([x, last[None]])
         z = _z_update(bearing.hysteresis, z0, du)
-        return slider_forces(bearing, normal_load, u0 + du, z, du / dt), z, du
+        return slider_forces(bearing, normal_load, u0 + du, z, du / dt, factors), z, du
 
     def residual(x):
         f = forces(x)[0]
@@ -116,14 +121,22 @@ def _step(bearing, normal_load, dt, state, increment):
     # a floor keeps every first guess off zero: Park's update has no slope at a zero increment
     new_share = jnp.where(total > 0, jnp.maximum(length / jnp.where(total > 0, total, 1.0),
                                                  MIN_SHARE), share)
-    return (u0 + du, z, du, new_share), (f[-1], u0 + du, z, converged)
+    new_state = (u0 + du, z, du, new_share)
+    if kernel is not None:
+        new_state = new_state + (heated_step(bearing, state[4], factors, length, dt, kernel[0]),)
+    return new_state, (f[-1], u0 + du, z, converged)
 
 
-def simulate_triple_test(bearing: SeriesPendulum, time, displacement, normal_load) -> TripleResponse:
+def simulate_triple_test(bearing: SeriesPendulum, time, displacement, normal_load, *,
+                         heat_kernel=None) -> TripleResponse:
     """Force of a triple or double pendulum bearing [N] along an imposed displacement [m] at the sample
     times [s] (uniform), under normal load W [N]: `displacement` (nt,) along one axis or
     (nt, 2) in the plane (an orbit); the path starts at rest at its first sample. jit- and
-    vmap-safe once the bearing is checked (`check_triple_pendulum`, `check_double_pendulum`)."""
+    vmap-safe once the bearing is checked (`check_triple_pendulum`, `check_double_pendulum`).
+    A pendulum with heated surfaces (`SeriesPendulum.heated`; contact pressures at this W; one axis only)
+    scales each surface's friction by its temperature (`_series_heat.py`), with `heat_kernel`
+    (rates, weights) = `heat_kernel_exponentials(dt, horizon)`, by default from concrete
+    `time` (one step to `HEAT_HORIZON`)."""
     time = jnp.asarray(time, float)
     displacement = jnp.asarray(displacement, float)
     planar = displacement.ndim == 2
@@ -133,9 +146,12 @@ def simulate_triple_test(bearing: SeriesPendulum, time, displacement, normal_loa
     n = bearing.slider_count
     start = (jnp.zeros((n, k)), jnp.zeros((n, k)), jnp.zeros((n, k)),
              jnp.array([1.0] + [MIN_SHARE] * (n - 1)))
+    kernel = _test_heat_kernel(bearing, time, heat_kernel, planar)
+    if kernel is not None:
+        start = start + (jnp.zeros((n, kernel[0].shape[0])),)
 
     def body(state, increment):
-        return _step(bearing, normal_load, dt, state, increment)
+        return _step(bearing, normal_load, dt, state, increment, kernel)
 
     _, (force, slider, z, converged) = jax.lax.scan(body, start, jnp.diff(path, axis=0))
     force = jnp.concatenate([jnp.zeros((1, k)), force])
@@ -145,6 +161,21 @@ def simulate_triple_test(bearing: SeriesPendulum, time, displacement, normal_loa
         force, slider, z = force[:, 0], slider[..., 0], z[..., 0]
     return TripleResponse(force=force, slider=slider, z=z,
                           converged=jnp.concatenate([jnp.array([True]), converged]))
+
+
+def _test_heat_kernel(bearing: SeriesPendulum, time, heat_kernel, planar: bool):
+    """(rates, weights) of a heated pendulum's kernel (`simulate_triple_test`), else None;
+    `ValueError` naming the heated surfaces on a path in the plane."""
+    if not bearing.heated:
+        return None
+    if planar:
+        refuse_planar_heating(bearing)
+    if heat_kernel is not None:
+        return tuple(jnp.asarray(a, float) for a in heat_kernel)
+    if isinstance(time, jax.core.Tracer):
+        raise ValueError("heat_kernel: a heated pendulum under traced sample times needs "
+                         "heat_kernel=heat_kernel_exponentials(time_step, horizon) (or concrete times).")
+    return series_heat_kernel(bearing, float(np.min(np.diff(np.asarray(time)))))
 
 
 def triple_pendulum_test(bearing: SeriesPendulum, motion, normal_load, *,
