@@ -110,6 +110,7 @@ def test_an_orbit_along_x_is_the_one_direction_path():
     np.testing.assert_allclose(two.force[:, 1], 0.0, atol=1e-9 * W)
 
 
+@pytest.mark.slow  # a long planar orbit: about a minute on two cores
 def test_an_orbit_at_the_capacity_stays_inside_every_ring():
     """A circular orbit out to the bearing's travel (the end of regime V): every slider meets
     its ring and none passes it (to the give of a stiff restrainer); one 5 % further and the
