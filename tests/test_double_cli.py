@@ -14,6 +14,7 @@ import pathlib
 import jax
 import numpy as np
 import pytest
+from test_isolator_file import edited
 
 from teflon_jax.bearing import DoublePendulum, TriplePendulum
 from teflon_jax.cli import main
@@ -55,16 +56,7 @@ def test_the_files_read_to_their_pendulums():
 
 
 def _edit(path, value):
-    document = _document()
-    *keys, last = path
-    target = document
-    for key in keys:
-        target = target[key]
-    if value is None:
-        del target[last]
-    else:
-        target[last] = value
-    return document
+    return edited(_document(), path, value)
 
 
 @pytest.mark.parametrize("path, value, message", [

@@ -32,8 +32,8 @@ def test_the_file_reads_to_si():
     assert float(bearing.bottom_friction.f_max) == 0.06
 
 
-def _edit(path, value):
-    document = _document()
+def edited(document, path, value):
+    """`document` with the entry at `path` (keys) set to `value`, or removed for None."""
     *keys, last = path
     target = document
     for key in keys:
@@ -43,6 +43,10 @@ def _edit(path, value):
     else:
         target[last] = value
     return document
+
+
+def _edit(path, value):
+    return edited(_document(), path, value)
 
 
 @pytest.mark.parametrize("path, value, message", [
