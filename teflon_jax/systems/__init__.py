@@ -43,6 +43,10 @@ from ._slab import slab_corners as slab_corners
 from ._slab import slab_on_bearings as slab_on_bearings
 from ._slab import slab_point_displacement as slab_point_displacement
 from ._slab import stack_bearings as stack_bearings
+from ._slab_series import SlabOnSeries as SlabOnSeries
+from ._slab_series_build import SlabSeriesResponse as SlabSeriesResponse
+from ._slab_series_build import simulate_slab_series as simulate_slab_series
+from ._slab_series_build import stack_pendulums as stack_pendulums
 from ._storey_peaks import bidirectional_storey_peaks as bidirectional_storey_peaks
 from ._storey_peaks import check_storey_height as check_storey_height
 from ._storey_peaks import directional_storeys as directional_storeys

@@ -30,9 +30,9 @@ import numpy as np
 from ..bearing import SlidingBearing
 from ..excitation import Signal
 from ..units import STANDARD_GRAVITY
-from ._bidirectional import BidirectionalStructure
 from ._bidirectional_build import bidirectional_structure
 from ._overturning import overturning_map
+from ._slab_series_build import SERIES_SLAB_ISOLATORS, slab_on_series
 
 LOAD_TOLERANCE = 1e-3
 """Relative mismatch allowed between the sum of the tributary loads and the weight."""
@@ -92,7 +92,7 @@ def slab_on_bearings(
     weight: float,
     centre_of_mass,
     positions,
-    bearings,
+    bearings=None,
     loads,
     ground_x: Signal,
     ground_y: Signal,
@@ -107,7 +107,8 @@ def slab_on_bearings(
     radii=None,
     height_of_centre_of_mass=0.0,
     vertical_stiffness=None,
-) -> BidirectionalStructure:
+    pendulums=None,
+):
     """A rigid slab (x, y, rotation) on bearing groups (module docstring).
 
     **Arguments:**
@@ -130,8 +131,12 @@ def slab_on_bearings(
     - `height_of_centre_of_mass` h [m] >= 0 above the sliding surface: the normal loads vary
       with the overturning moment (0: constant loads); `vertical_stiffness` (G,) relative
       vertical stiffness of the groups (default equal) for the lever rule (`overturning_map`).
+    - `isolator` "triple-fp" or "double-fp": every group a series pendulum of `pendulums` (one
+      `TriplePendulum` or `DoublePendulum` for all groups, or one per group) instead of
+      `bearings`; no springs, radii or contact pressures (`_slab_series.py`).
 
-    **Returns:** a `BidirectionalStructure` with q = (u_x [m], u_y [m], theta [rad]).
+    **Returns:** a `BidirectionalStructure` with q = (u_x [m], u_y [m], theta [rad]); a
+    `SlabOnSeries` (`simulate_slab_series`) for the series pendulums.
     """
     positions = np.asarray(positions, dtype=float).reshape(-1, 2)
     loads = np.asarray(loads, dtype=float).reshape(-1)
@@ -139,16 +144,26 @@ def slab_on_bearings(
     check_plan(length_x=length_x, length_y=length_y, weight=weight, centre_of_mass=centre,
                positions=positions, loads=loads, names=names)
     groups = positions.shape[0]
+    mass = weight / STANDARD_GRAVITY
+    inertia = mass * (length_x**2 + length_y**2) / 12 if rotational_inertia is None else rotational_inertia
+    height = _height(height_of_centre_of_mass)
+    if isolator in SERIES_SLAB_ISOLATORS:
+        _refuse_for_series(isolator, bearings=bearings, radii=radii, isolation_period=isolation_period,
+                           spring_shares=spring_shares, isolation_damping=isolation_damping or None,
+                           contact_pressures=contact_pressures)
+        return slab_on_series(weight=weight, mass_inertia=inertia, centre_of_mass=centre, positions=positions,
+                              loads=loads, pendulums=pendulums, isolator=isolator, ground_x=ground_x,
+                              ground_y=ground_y, time_step=time_step, height=height,
+                              vertical_stiffness=vertical_stiffness, names=names)
+    if pendulums is not None:
+        raise ValueError(f"pendulums: apply to isolator 'triple-fp' or 'double-fp', not {isolator!r}.")
+    if bearings is None:
+        raise ValueError(f"bearings: isolator {isolator!r} needs the groups' SlidingBearing(s).")
     if isinstance(bearings, SlidingBearing):
         bearings = [bearings] * groups
     if len(bearings) != groups:
         raise ValueError(f"bearings: {len(bearings)} given for {groups} groups.")
-    mass = weight / STANDARD_GRAVITY
-    inertia = mass * (length_x**2 + length_y**2) / 12 if rotational_inertia is None else rotational_inertia
     radii = _pendulum_radii(isolator, radii, groups, isolation_period, spring_shares)
-    height = float(height_of_centre_of_mass)
-    if not (np.isfinite(height) and height >= 0):
-        raise ValueError(f"height_of_centre_of_mass: must be >= 0 m, got {height:g}.")
     overturning = None if height == 0 else overturning_map(positions, centre, height, vertical_stiffness, names)
     r = positions - centre
     bearing_map = np.zeros((groups, 2, 3))
@@ -189,10 +204,27 @@ def slab_on_bearings(
                                overturning=None if overturning is None else jnp.asarray(overturning))
 
 
+def _height(height_of_centre_of_mass) -> float:
+    """h [m], checked: `ValueError` unless finite and >= 0."""
+    height = float(height_of_centre_of_mass)
+    if not (np.isfinite(height) and height >= 0):
+        raise ValueError(f"height_of_centre_of_mass: must be >= 0 m, got {height:g}.")
+    return height
+
+
+def _refuse_for_series(isolator, **given):
+    """`ValueError` naming the first of `given` (inputs of the flat sliders and the single
+    pendulum) that is set with a series pendulum `isolator`."""
+    for name, value in given.items():
+        if value is not None:
+            raise ValueError(f"{name}: does not apply to isolator {isolator!r} (each group is the series "
+                             "pendulum of `pendulums`, with its own radii and friction); leave it out.")
+
+
 def _pendulum_radii(isolator, radii, groups, isolation_period, spring_shares):
     """The radii R_g (G,) [m] of `isolator` "single-fp" (None for "flat"), checked."""
     if isolator not in ("flat", "single-fp"):
-        raise ValueError(f"isolator: 'flat' or 'single-fp', got {isolator!r}.")
+        raise ValueError(f"isolator: 'flat', 'single-fp', 'triple-fp' or 'double-fp', got {isolator!r}.")
     if isolator == "flat":
         if radii is not None:
             raise ValueError("radii: apply to isolator 'single-fp' only (flat sliders have none).")

@@ -1,0 +1,206 @@
+"""A rigid slab (x, y, rotation) on groups of triple or double friction pendulums.
+
+Each group g at plan position P_g (r_g = P_g - C) slides by d_g = B_g q, B_g = [[1, 0, -r_y],
+[0, 1, r_x]], and is one multi-surface pendulum of the series model (`_triple_biaxial.py`):
+S sliders (e) with their own planar displacements, Z and restrainers, all carrying the
+group's force F_g, their displacements adding up to d_g. Every slider's force is taken under
+the group's normal load N_g = s_g W_g (friction and N_g / R_e alike), the load of a rigid slab
+under the overturning moment of its horizontal force, held over each step (`_overturning.py`);
+while N_g <= 0 the group carries no shear and its sliders share its motion as R_e
+(`uplift_increments`).
+
+The slab carries a reference spring k_g = W_g / R_ref at each group (R_ref the pendulum's
+`reference_radius`), K_ref = sum_g k_g B_g^T B_g, and is advanced by the exact step of
+M q'' + K_ref q = -M R a_g - f for the ground and the force f = sum_g B_g^T (F_g - k_g d_g)
+varying linearly over the step (Van Loan 1978), as the rigid mass on one such pendulum is.
+That step gives q1 = D - G_q sum_g B_g^T F_g at its end. The unknowns of a step are the
+sliders' increments d_ge (G, S, 2) and the group forces F_g (G, 2), with
+
+    F_ge(d_ge) - F_g = 0,     k_g (sum_e d_ge + sum_h B_g G_q B_h^T F_h - (B_g D - d_g0)) = 0;
+
+Newton's matrix [[blockdiag K_ge, -U], [k U^T, k B G_q B^T]] is solved by eliminating the
+increments (a 2G x 2G system in the forces), with the halving line search of the single
+isolator (`damped_newton`) and the implicit derivative of the root.
+References: Fenz & Constantinou (2006, 2008) (series model); Nagarajaiah, Reinhorn &
+Constantinou (1991), 3D-BASIS (rigid slab on bearing groups).
+"""
+
+import functools
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from ..bearing import SeriesPendulum
+from ..excitation import Signal
+from ._overturning import group_factor, overturned_loads
+from ._triple_biaxial import (
+    _differenced_blocks,
+    _inverse2,
+    _pendulum_blocks,
+    biaxial_slider_forces,
+)
+from ._triple_structure import (
+    TRIPLE_NEWTON_ITERATIONS,
+    TRIPLE_TOLERANCE,
+    damped_newton,
+    uplift_increments,
+)
+
+
+class SlabOnSeries(eqx.Module):
+    """A rigid slab on G groups of series pendulums (module docstring).
+
+    **Fields:** `mass` (3,) [kg, kg, kg m^2]; `stiffness` K_ref (3, 3); `influence` R (3, 2);
+    `bearing_map` B (G, 2, 3); `pendulum`: a `SeriesPendulum` whose leaves have shape (G,)
+    (`stack_pendulums`); `bearing_load` W_g (G,) [N]; `reference_stiffness` k_g (G,) [N/m];
+    `overturning` L (G, 2) [-] (zeros without overturning); `ground_x`, `ground_y`: `Signal`s
+    [m/s^2]; `step_matrix` (6, 16): the exact step's (free, start, end) blocks on
+    x = (q, q'), inputs (a_x, a_y, f) at both ends; `time_step` [s], `newton_iterations`,
+    `newton_tolerance` (force imbalance over W_g) (static); `vertical_acceleration`: `Signal`
+    of a_v [m/s^2, up +] or `None`.
+    """
+
+    mass: jnp.ndarray
+    stiffness: jnp.ndarray
+    influence: jnp.ndarray
+    bearing_map: jnp.ndarray
+    pendulum: SeriesPendulum
+    bearing_load: jnp.ndarray
+    reference_stiffness: jnp.ndarray
+    overturning: jnp.ndarray
+    ground_x: Signal
+    ground_y: Signal
+    step_matrix: jnp.ndarray
+    time_step: float = eqx.field(static=True)
+    newton_iterations: int = eqx.field(static=True, default=TRIPLE_NEWTON_ITERATIONS)
+    newton_tolerance: float = eqx.field(static=True, default=TRIPLE_TOLERANCE)
+    vertical_acceleration: Signal | None = None
+
+    def ground(self, t):
+        """(a_x, a_y) [m/s^2] at time t [s]."""
+        return jnp.stack([self.ground_x(t), self.ground_y(t)])
+
+    def initial_state(self):
+        """At rest: x = (q, q') (6,), sliders, Z and last increments (G, S, 2), group forces
+        F_g (G, 2) [N], the generalized force beyond the springs f (3,) [N, N m] and the
+        normal loads N_g (G,) [N]."""
+        groups, sliders = self.bearing_load.shape[0], self.pendulum.slider_count
+        zeros = jnp.zeros((groups, sliders, 2), self.mass.dtype)
+        return {"x": jnp.zeros(6, self.mass.dtype), "slider": zeros, "z": zeros, "previous": zeros,
+                "force": jnp.zeros((groups, 2), self.mass.dtype), "extra": jnp.zeros(3, self.mass.dtype),
+                "normal_load": overturned_loads(self, jnp.zeros(2, self.mass.dtype), 0.0)}
+
+    def step(self, state, ground0, ground1, t1):
+        """One step from `state` (`initial_state`) with the ground (2,) at both ends and t1 its
+        end [s]: (state at t1, whether the sliders' balance converged)."""
+        free, start, end = self.step_matrix[:, :6], self.step_matrix[:, 6:11], self.step_matrix[:, 11:]
+        q0 = state["x"][:3]
+        linear = free @ state["x"] + start @ jnp.concatenate([ground0, state["extra"]]) + end[:, :2] @ ground1
+        phi = end[:3, 2:]
+        settle = jnp.linalg.inv(jnp.eye(3, dtype=phi.dtype) + phi @ self.stiffness)
+        target, compliance = settle @ linear[:3], -settle @ phi  # q1 = D - G_q P
+        b = self.bearing_map
+        loads = overturned_loads(self, -jnp.sum(state["force"], axis=0), t1)
+        normal = group_factor(self, loads) * self.bearing_load
+        flex = jnp.einsum("gin,nm,hjm->gihj", b, compliance, b)
+        own = jnp.einsum("gigi->gi", flex)  # each group's own compliance; its inverse scales the misfit
+        p = {"pendulum": self.pendulum, "W": self.bearing_load, "N": normal, "s0": state["slider"],
+             "z0": state["z"], "stiffness": 2 / jnp.sum(own, axis=-1),
+             "E": jnp.einsum("gin,n->gi", b, target - q0), "flex": flex}
+        eps = jnp.finfo(linear.dtype).eps
+        tolerance = jnp.maximum(self.newton_tolerance * jnp.min(self.bearing_load),
+                                32 * eps * jnp.max(self.bearing_load + jnp.abs(p["E"]).max(-1) * p["stiffness"]))
+        guess = jnp.concatenate([state["previous"], state["force"][:, None]], axis=1)
+        x, converged = _balanced(self.time_step, self.newton_iterations, p, guess, tolerance)
+        d = x[:, :-1]
+        d, _ = jax.vmap(uplift_increments)(self.pendulum, normal, jnp.sum(d, axis=1), d,
+                                           jnp.zeros(normal.shape, bool))
+        forces, z1 = _group_forces(p, d, self.time_step)
+        force = jnp.mean(forces, axis=1)
+        total = jnp.einsum("gin,gi->n", b, force)
+        q1 = target - compliance @ total
+        extra = total - self.stiffness @ q1
+        x1 = linear + end[:, 2:] @ extra
+        return ({"x": x1, "slider": state["slider"] + d, "z": z1, "previous": d, "force": force,
+                 "extra": extra, "normal_load": loads}, converged)
+
+
+def _group_forces(p, d, dt):
+    """Slider forces (G, S, 2) [N] and Z of every group after the increments d (G, S, 2)."""
+    return jax.vmap(biaxial_slider_forces, in_axes=(0, 0, 0, 0, 0, None))(
+        p["pendulum"], p["N"], p["s0"], p["z0"], d, dt)
+
+
+def _residual(x, p, dt):
+    """(G, S + 1, 2) [N]: F_ge - F_g for the sliders, then k_g times the misfit of the
+    group's displacement (module docstring)."""
+    d, force = x[:, :-1], x[:, -1]
+    sliders, _ = _group_forces(p, d, dt)
+    misfit = jnp.sum(d, axis=1) - p["E"] + jnp.einsum("gihj,hj->gi", p["flex"], force)
+    return jnp.concatenate([sliders - force[:, None], (p["stiffness"][:, None] * misfit)[:, None]], axis=1)
+
+
+def _group_parameters(p):
+    """The per-group part of `p` as `_triple_biaxial`'s sliders read it (to vmap over G)."""
+    return {key: p[key] for key in ("pendulum", "W", "N", "s0", "z0")}
+
+
+def _direction(r, blocks, p):
+    """J^-1 r for Newton's matrix of the module docstring with the sliders' 2 x 2 blocks
+    (G, S, 2, 2): the forces' change solves (blockdiag sum_e C_ge + B G_q B^T) dF
+    = r2 / k - sum_e C_ge r1_ge (C = blocks^-1), then dd_ge = C_ge (r1_ge + dF_g)."""
+    groups = r.shape[0]
+    c = _inverse2(blocks)
+    cr = jnp.einsum("gsij,gsj->gsi", c, r[:, :-1])
+    diagonal = jnp.einsum("gij,gh->gihj", jnp.sum(c, axis=1), jnp.eye(groups, dtype=r.dtype))
+    matrix = (diagonal + p["flex"]).reshape(2 * groups, 2 * groups)
+    rhs = r[:, -1] / p["stiffness"][:, None] - jnp.sum(cr, axis=1)
+    change = jnp.linalg.solve(matrix, rhs.reshape(-1)).reshape(groups, 2)
+    return jnp.concatenate([cr + jnp.einsum("gsij,gj->gsi", c, change), change[:, None]], axis=1)
+
+
+def _newton_direction(x, r, p, dt):
+    """Newton's direction at x with differenced blocks, or with the pendulums' own W / R_e
+    blocks where those give no finite direction."""
+    d = x[:, :-1]
+    forces = r[:, :-1] + x[:, -1][:, None]
+    blocks = jax.vmap(_differenced_blocks, in_axes=(0, 0, 0, None))(d, forces, _group_parameters(p), dt)
+    direction = _direction(r, blocks, p)
+    fallback = _direction(r, jax.vmap(_pendulum_blocks)(_group_parameters(p)), p)
+    return jnp.where(jnp.all(jnp.isfinite(direction)), direction, fallback)
+
+
+@functools.partial(jax.custom_jvp, nondiff_argnums=(0, 1))
+def _balanced(dt, iterations, p, guess, tolerance):
+    """The sliders' increments and the group forces (G, S + 1, 2) that balance the step."""
+    def evaluate(x):
+        r = _residual(x, p, dt)
+        return r, jnp.sum(r**2), _newton_direction(x, r, p, dt)
+
+    return damped_newton(evaluate, guess, tolerance, iterations)
+
+
+def _exact_blocks(x, p, dt):
+    """dF_ge/dd_ge (G, S, 2, 2) at x from forward tangents along x and y (implicit derivative);
+    the pendulums' W / R_e where a group carries no load."""
+    d = x[:, :-1]
+
+    def forces(increments):
+        return _group_forces(p, increments, dt)[0]
+
+    axes = jnp.broadcast_to(jnp.eye(2, dtype=d.dtype)[:, None, None, :], (2,) + d.shape)
+    columns = jax.vmap(lambda t: jax.jvp(forces, (d,), (t,))[1])(axes)
+    blocks = jnp.moveaxis(columns, 0, -1)
+    pendulum = jax.vmap(_pendulum_blocks)(_group_parameters(p))
+    return jnp.where((p["N"] > 0)[:, None, None, None], blocks, pendulum)
+
+
+@_balanced.defjvp
+def _balanced_jvp(dt, iterations, primals, tangents):
+    p, guess, tolerance = primals
+    x, converged = _balanced(dt, iterations, p, guess, tolerance)
+    r_p = jax.jvp(lambda q: _residual(x, q, dt), (p,), (tangents[0],))[1]
+    no_tangent = np.zeros(np.shape(converged), jax.dtypes.float0)
+    return (x, converged), (-_direction(r_p, _exact_blocks(x, p, dt), p), no_tangent)
