@@ -135,8 +135,8 @@ def test_bad_triple_flags_are_refused_by_name_before_any_work(command, flags, me
 
 
 @pytest.mark.parametrize("command, flags, message", [
-    ("run", ["--structure", "slab"], "--structure: --isolator triple-fp"),
-    ("run", ["--plan", "plan.json"], "--plan: not with --isolator triple-fp"),
+    ("run", ["--structure", "slab"], "--plan: --structure slab needs a plan file"),
+    ("run", ["--plan", "plan.json"], "--plan: only used with --structure slab"),
     ("montecarlo", ["--newton-tolerance", "1e-3"], "--newton-tolerance"),
     ("montecarlo", ["--property-factors", "0.8,1.2"], "--property-factors"),
 ])

@@ -10,7 +10,8 @@ from ..units import parse_quantity
 def read_plan(path_text):
     """The slab plan in SI: dict with length_x, length_y, weight, centre_of_mass,
     height_of_centre_of_mass (0 when absent) and groups (each with name, x, y, load, ptfe,
-    pressure, springs, radius, vertical_stiffness; None where the file leaves them out).
+    pressure, springs, radius, vertical_stiffness, isolator_file (a path relative to the plan's
+    folder, for --isolator triple-fp or double-fp); None where the file leaves them out).
     `ValueError` naming the file and key for a height < 0, a radius <= 0 or a vertical
     stiffness <= 0."""
     path = pathlib.Path(path_text)
@@ -61,6 +62,8 @@ def read_plan(path_text):
             "radius": None if g.get("radius") is None else q(g["radius"], "length", f"{name}.radius"),
             "vertical_stiffness": (None if g.get("vertical_stiffness") is None
                                    else float(g["vertical_stiffness"])),
+            "isolator_file": (None if g.get("isolator_file") is None
+                              else path.parent / str(g["isolator_file"])),
         })
         _check_group(path, groups[-1])
     out["groups"] = groups

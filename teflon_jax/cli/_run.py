@@ -86,7 +86,7 @@ def add_run_parser(subparsers) -> None:
     p.add_argument("--plan", default=None, help="slab plan (JSON: length_x, length_y, weight, "
                    "centre_of_mass, optional height_of_centre_of_mass (overturning), groups with x, "
                    "y, load and optional ptfe, pressure, springs, radius (--isolator single-fp), "
-                   "vertical_stiffness)")
+                   "isolator_file (--isolator triple-fp or double-fp), vertical_stiffness)")
     p.add_argument("--json", default=None, help="write the peaks to this JSON file")
     p.add_argument("--plot", default=None, help="write orbit, x/y loops and histories to this PNG")
     p.add_argument("--histories", default=None, help="write histories to this .nc or .csv file")
@@ -380,6 +380,11 @@ def run_run(args) -> int:
         from ._run_suite import run_suite
 
         return run_suite(args, load_components, build_structure)
+    if args.isolator in SERIES_ISOLATORS and args.structure == "slab":  # `_run_slab_series`
+        from ._run_slab_series import run_series_slab
+
+        return run_series_slab(args, load_components, write_run_outputs,
+                               lambda dt, samples: vertical_component(args, _read_component, dt, samples))
     if args.isolator in SERIES_ISOLATORS:  # triple or double: `_triple.run_triple`
         from ._triple import run_triple
 

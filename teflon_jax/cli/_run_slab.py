@@ -12,6 +12,10 @@ from ._run_bearing import bearing_of_flags
 def _radii(args, groups):
     """R_g [m] of `--isolator single-fp` (`--radius`, a group's `radius` overriding it), None
     for flat sliders; `ValueError` naming the flag or key that does not fit the isolator."""
+    for g in groups:
+        if g["isolator_file"] is not None:
+            raise ValueError(f"--plan: {g['name']}.isolator_file applies with --isolator triple-fp or "
+                             f"double-fp only, not {args.isolator}; leave it out or give that isolator.")
     if args.isolator != "single-fp":
         for g in groups:
             if g["radius"] is not None:

@@ -64,12 +64,13 @@ def _load(path, isolator):
 
 
 def check_triple_run(args) -> None:
-    """`run`'s flags that a triple or double pendulum cannot take, refused by name."""
-    if args.plan is not None:
-        raise ValueError(f"--plan: not with --isolator {args.isolator} (a slab's bearing groups are flat "
-                         "sliders or single pendulums); leave --plan out.")
+    """`run`'s flags that a triple or double pendulum cannot take, refused by name (a single
+    run of a slab on them goes to `_run_slab_series`; a suite of them is refused here)."""
     if args.structure == "slab":
-        raise ValueError(f"--structure: --isolator {args.isolator} runs with --structure rigid or building.")
+        raise ValueError(f"--suite: a slab on {args.isolator} groups runs one record pair at a time; "
+                         "leave --suite out.")
+    if args.plan is not None:
+        raise ValueError("--plan: only used with --structure slab.")
 
 
 def run_triple(args, load_components, write_run_outputs, vertical=None) -> int:

@@ -1,0 +1,131 @@
+"""`teflon-jax run --structure slab --plan FILE --isolator triple-fp|double-fp --isolator-file F`:
+the rigid slab on groups of triple or double friction pendulums (a group may name its own
+`isolator_file` in the plan), with the overturning of the plan's height; the slab's peaks and
+each group's normal load, as for single pendulums."""
+
+import dataclasses
+import pathlib
+import sys
+
+import numpy as np
+
+from ..units import STANDARD_GRAVITY, parse_quantity
+from ._plan_file import read_plan
+from ._run_slab import normal_load_summary, slab_peaks
+from ._triple import _load, read_isolator_flag
+
+
+def series_plan(args):
+    """(plan, pendulums (one per group)) of the flags, checked before any record is read:
+    `ValueError` naming the plan's key (a group's radius, springs, ptfe or pressure, which the
+    series pendulums do not take; an isolator_file that is missing or of another isolator) or
+    the flag (`read_isolator_flag`; --suite)."""
+    default = read_isolator_flag(args)
+    if args.plan is None:
+        raise ValueError("--plan: --structure slab needs a plan file (bearing groups and loads).")
+    if getattr(args, "suite", None) is not None:
+        raise ValueError(f"--suite: a slab on {args.isolator} groups runs one record pair at a time; "
+                         "leave --suite out.")
+    plan = read_plan(args.plan)
+    pendulums = []
+    for g in plan["groups"]:
+        for key, reason in (("radius", "its radii are in the isolator file"),
+                            ("springs", "each group restores with its pendulum"),
+                            ("ptfe", "its friction is in the isolator file"),
+                            ("pressure", "its friction is in the isolator file")):
+            if g[key] is not None:
+                raise ValueError(f"--plan: {g['name']}.{key} does not apply to --isolator {args.isolator} "
+                                 f"({reason}); leave '{key}' out of the group.")
+        path = g["isolator_file"]
+        if path is None:
+            pendulums.append(default)
+            continue
+        if not pathlib.Path(path).is_file():
+            raise ValueError(f"--plan: {args.plan}: {g['name']}.isolator_file {path} is not a file "
+                             "(a path relative to the plan's folder).")
+        try:
+            pendulums.append(_load(path, args.isolator))
+        except ValueError as error:
+            raise ValueError(f"--plan: {g['name']}.isolator_file: {error}") from None
+    return plan, pendulums
+
+
+def run_series_slab(args, load_components, write_run_outputs, vertical=None) -> int:
+    """The run (module docstring); `vertical(dt, samples)`: the --record-z component [m/s^2]
+    on the records' grid or None, on every group's normal load."""
+    import jax
+
+    from ..excitation import uniform_signal
+    from ..systems import simulate_slab_series, slab_on_bearings
+
+    plan, pendulums = series_plan(args)
+    if args.histories is not None and pathlib.Path(args.histories).suffix not in (".nc", ".csv"):
+        raise ValueError(f"--histories: {args.histories} must end in .nc or .csv.")
+    time_step = parse_quantity(args.time_step, "time", where="--time-step")
+    if not time_step > 0:
+        raise ValueError(f"--time-step: must be > 0, got {args.time_step}.")
+    groups = plan["groups"]
+    stiffness = [g["vertical_stiffness"] for g in groups]
+    ax, ay, dt, notes = load_components(args)
+    system = slab_on_bearings(
+        length_x=plan["length_x"], length_y=plan["length_y"], weight=plan["weight"],
+        centre_of_mass=plan["centre_of_mass"], positions=[(g["x"], g["y"]) for g in groups],
+        loads=[g["load"] for g in groups], ground_x=uniform_signal(ax, dt), ground_y=uniform_signal(ay, dt),
+        time_step=time_step, names=[g["name"] for g in groups], isolator=args.isolator, pendulums=pendulums,
+        height_of_centre_of_mass=plan["height_of_centre_of_mass"],
+        vertical_stiffness=None if all(k is None for k in stiffness) else [1.0 if k is None else k
+                                                                         for k in stiffness])
+    az = None if vertical is None else vertical(dt, ax.size)
+    if az is not None:
+        system = dataclasses.replace(system, vertical_acceleration=uniform_signal(az, dt))
+    duration = (ax.size - 1) * dt
+    print(f"teflon-jax run: slab on {pendulums[0].description}, {round(duration / time_step)} steps of "
+          f"{args.time_step} (compiling first)...", file=sys.stderr)
+    response = jax.jit(simulate_slab_series, static_argnums=1)(system, duration)
+    if not bool(np.all(np.asarray(response.converged))):
+        print("teflon-jax run: error: the sliders' balance did not converge in some step; try a "
+              "smaller --time-step.", file=sys.stderr)
+        return 1
+    peak, histories = series_slab_summary(plan, system, response)
+    from ._common import output_units
+
+    normal, lines = normal_load_summary(plan, system, response, output_units(args.units))
+    for g, path in zip(groups, [g["isolator_file"] or args.isolator_file for g in groups]):
+        normal["normal_load"]["groups"][g["name"]]["isolator_file"] = str(path)
+    payload = {"structure": "slab", "record_x": str(args.record_x),
+               "record_y": None if args.record_y is None else str(args.record_y),
+               "record_z": None if args.record_z is None else str(args.record_z),
+               "scale": float(args.scale), "duration_s": duration, "record_time_step_s": dt,
+               "solver_time_step_s": time_step, "notes": notes, "isolator": args.isolator,
+               "isolator_file": str(args.isolator_file), "radius_m": None, "anisotropic": False,
+               "lay_angle_deg": None, "peak": peak, **normal,
+               "slider_disp_m": _slider_peaks(plan, system, response)}
+    return write_run_outputs(args, payload, histories, f"slab on {pendulums[0].description}", lines)
+
+
+def series_slab_summary(plan, system, response):
+    """(peak dict, histories dict) in SI: the slab's peaks of `run --structure slab`, with the
+    isolators' whole force (`bearing_force_ratio_resultant`) in place of the friction's."""
+    q = np.asarray(response.q)
+    weight = float(np.sum(system.bearing_load))
+    mass = weight / STANDARD_GRAVITY
+    total = mass * (np.asarray(response.acceleration)[:, :2] + np.asarray(response.ground))
+    force = np.asarray(response.group_force).sum(axis=1)
+    peak = {"base_disp_resultant_m": float(np.max(np.hypot(q[:, 0], q[:, 1]))),
+            "base_disp_x_m": float(np.max(np.abs(q[:, 0]))), "base_disp_y_m": float(np.max(np.abs(q[:, 1]))),
+            "base_shear_ratio_resultant": float(np.max(np.hypot(*total.T))) / weight,
+            "bearing_force_ratio_resultant": float(np.max(np.hypot(*force.T))) / weight,
+            **slab_peaks(plan, q, response)}
+    ground = np.asarray(response.ground)
+    histories = {"time_s": np.asarray(response.time), "ground_x_mps2": ground[:, 0], "ground_y_mps2": ground[:, 1],
+                 "base_disp_x_m": q[:, 0], "base_disp_y_m": q[:, 1], "bearing_force_x_N": force[:, 0],
+                 "bearing_force_y_N": force[:, 1], "base_shear_ratio_x": total[:, 0] / weight,
+                 "base_shear_ratio_y": total[:, 1] / weight, "rotation_rad": q[:, 2]}
+    return peak, histories
+
+
+def _slider_peaks(plan, system, response) -> dict:
+    """{group: {slider: peak resultant displacement [m]}}."""
+    sliders = np.linalg.norm(np.asarray(response.slider), axis=-1).max(axis=0)  # (G, S)
+    names = system.pendulum.slider_names
+    return {g["name"]: {n: float(v) for n, v in zip(names, row)} for g, row in zip(plan["groups"], sliders)}

@@ -1,0 +1,279 @@
+"""A rigid slab on groups of triple or double friction pendulums: each group is the series model
+with its own sliders, every slider's force under the group's normal load N_g = W_g + dN_g, dN_g
+the lever rule of the overturning moment h H (held from the step's start); no shear while
+N_g <= 0.
+
+Peers: the rigid mass on one pendulum of the same total weight (`simulate_triple_structure`,
+its own tests against closed forms and OpenSees); the hand lever rule; central differences."""
+
+import json
+
+import equinox as eqx
+import jax
+import numpy as np
+import pytest
+
+from teflon_jax.bearing import BoucWen, DoublePendulum, FrictionParameters, TriplePendulum
+from teflon_jax.cli import main
+from teflon_jax.excitation import uniform_signal
+from teflon_jax.systems import (
+    overturning_map,
+    simulate_slab_series,
+    simulate_triple_structure,
+    slab_on_bearings,
+    triple_structure,
+)
+from teflon_jax.units import STANDARD_GRAVITY
+
+G = STANDARD_GRAVITY
+LX, LY, W = 20.0, 12.0, 1.0e6
+M = W / G
+CORNERS = np.array([[2.0, 1.0], [18.0, 1.0], [18.0, 11.0], [2.0, 11.0]])  # SW, SE, NE, NW
+CENTRE = np.array([LX / 2, LY / 2])
+DT_RECORD, DURATION, STEP = 0.01, 6.0, 0.005
+TIME = np.arange(0.0, DURATION + DT_RECORD / 2, DT_RECORD)
+TRIPLE = TriplePendulum(inner_radius=0.3, bottom_radius=2.1, top_radius=2.1, inner_capacity=0.05,
+                        bottom_capacity=0.3, top_capacity=0.3,
+                        inner_friction=FrictionParameters(0.03, 0.015, 20.0),
+                        bottom_friction=FrictionParameters(0.08, 0.03, 20.0),
+                        top_friction=FrictionParameters(0.12, 0.05, 20.0), hysteresis=BoucWen(1.27e-4))
+DOUBLE = DoublePendulum(bottom_radius=2.1, top_radius=2.1, bottom_capacity=0.3, top_capacity=0.3,
+                        bottom_friction=FrictionParameters(0.06, 0.03, 20.0),
+                        top_friction=FrictionParameters(0.09, 0.04, 20.0), hysteresis=BoucWen(1.27e-4))
+PENDULUMS = {"triple-fp": TRIPLE, "double-fp": DOUBLE}
+simulate = jax.jit(simulate_slab_series, static_argnums=1)  # one compilation per pendulum kind
+
+
+def _ramp(peak_x, peak_y, rise=3.0):
+    """A ground acceleration rising smoothly to (peak_x, peak_y) [g] over `rise` s, then held."""
+    shape = np.where(TIME < rise, 0.5 - 0.5 * np.cos(np.pi * TIME / rise), 1.0)
+    return peak_x * G * shape, peak_y * G * shape
+
+
+def _pulse(peak_x, peak_y, frequency=0.7):
+    shape = np.sin(np.pi * TIME / DURATION) ** 2
+    return (peak_x * G * np.sin(2 * np.pi * frequency * TIME) * shape,
+            peak_y * G * np.sin(2 * np.pi * 0.55 * frequency * TIME + 1.0) * shape)
+
+
+def _slab(ax, ay, height, pendulum=TRIPLE, positions=CORNERS):
+    return slab_on_bearings(
+        length_x=LX, length_y=LY, weight=W, centre_of_mass=CENTRE, positions=positions, loads=[W / 4] * 4,
+        ground_x=uniform_signal(ax, DT_RECORD), ground_y=uniform_signal(ay, DT_RECORD), time_step=STEP,
+        isolator=pendulum.isolator, pendulums=pendulum, height_of_centre_of_mass=height)
+
+
+@pytest.mark.parametrize("isolator", ["triple-fp", "double-fp"])
+def test_symmetric_slab_moves_as_the_rigid_mass_on_one_pendulum(isolator):
+    """Equal groups at the corners, centre of mass on the plan's centre, x motion alone: at h = 0
+    the slab is the rigid mass of the same weight on one pendulum (to 1e-9 m; each group carries
+    a quarter of every slider's force); at h = 4 m the overturning moves load from one side to
+    the other, but every slider's force scales with its group's N_g and the N_g add up to W, so
+    the motion is the same and the slab does not twist."""
+    pendulum = PENDULUMS[isolator]
+    ax, ay = _pulse(0.35, 0.0)
+    one = triple_structure("rigid", pendulum, uniform_signal(ax, DT_RECORD), time_step=STEP, weight=W)
+    reference = np.asarray(simulate_triple_structure(one, DURATION).displacement[:, 0])
+    assert np.max(np.abs(reference)) > 0.1  # the outer surfaces slide
+    for height in (0.0, 4.0):
+        response = simulate(_slab(ax, ay, height, pendulum), DURATION)
+        assert bool(np.all(response.converged))
+        assert np.max(np.abs(np.asarray(response.q[:, 0]) - reference)) < 1e-9
+        assert np.max(np.abs(response.q[:, 1:])) < 1e-12
+    loads = np.asarray(response.normal_load)
+    assert np.ptp(loads[:, 0]) > 0.05 * W / 4  # the loads did move
+    assert np.allclose(loads.sum(axis=1), W, rtol=1e-12)
+
+
+def _check_lever_rule(response, ax, ay, height, sign):
+    dn = np.asarray(response.normal_load) - W / 4
+    expected = overturning_map(CORNERS, CENTRE, height) @ (M * np.array([ax[-1], ay[-1]]))
+    assert np.max(np.abs(dn[-1] - expected)) < 0.01 * np.max(np.abs(expected))
+    # the hand lever rule of four corners: dN_g = -h (H_x rx / Lx'^2 + H_y ry / Ly'^2)
+    r, spacing = CORNERS - CENTRE, np.ptp(CORNERS, axis=0)
+    hand = -height * M * (ax[-1] * r[:, 0] / spacing[0] ** 2 + ay[-1] * r[:, 1] / spacing[1] ** 2)
+    assert np.allclose(expected, hand, rtol=1e-12)
+    # dN sums to zero and balances the moment of the isolators' force one step earlier
+    force = -np.asarray(response.group_force).sum(axis=1)
+    assert np.max(np.abs(dn.sum(axis=1))) < 1e-9 * W
+    assert np.allclose(dn[1:] @ r, -height * force[:-1], rtol=0, atol=1e-9 * W * LX)
+    unloaded = {name for name, d in zip(("SW", "SE", "NE", "NW"), dn[-1]) if d < 0}
+    assert unloaded == ({"SE", "NE"} if sign > 0 else {"SW", "NW"})
+    # every group's force over its own N_g is the same (the groups move together): friction
+    # and W / R_e of every slider scale with N_g, not with the static W_g
+    ratio = np.asarray(response.group_force)[1:] / np.asarray(response.normal_load)[1:, :, None]
+    assert np.max(np.abs(ratio - ratio[:, :1])) < 1e-9
+    assert np.max(np.abs(ratio[-1, :, 0])) > 0.02
+
+
+@pytest.mark.parametrize(("isolator", "sign"), [("triple-fp", 1.0), ("triple-fp", -1.0), ("double-fp", 1.0)])
+def test_lever_rule_under_a_slow_ramp_and_the_leaning_side_loads(isolator, sign):
+    """Under a slowly ramped, then held ground acceleration the slab comes to move with the
+    ground, H = m a_g: each group's dN matches the lever rule within 1 %, the groups on the
+    side the ground accelerates towards unload (the inertia force leans the slab the other
+    way), and each group's force follows its own N_g."""
+    height = 4.0
+    ax, ay = _ramp(sign * 0.06, -0.03)
+    response = simulate(_slab(ax, ay, height, PENDULUMS[isolator]), DURATION)
+    assert bool(np.all(response.converged))
+    _check_lever_rule(response, ax, ay, height, sign)
+
+
+def test_a_lifted_group_carries_no_shear_and_its_sliders_share_its_motion():
+    """Groups 4 m apart under a tall centre of mass (h = 20 m): the lever rule asks tension of
+    one side; there every slider's force is exactly zero, the sliders share the group's
+    increment as R_e (the inner pair 0.6 m, the outer 1.8 m each), the uplift time counts the
+    steps with N_g <= 0, and the run stays finite and balanced."""
+    positions = np.array([[8.0, 4.0], [12.0, 4.0], [12.0, 8.0], [8.0, 8.0]])
+    ax, ay = _pulse(0.5, 0.0)
+    response = simulate(_slab(ax, ay, 20.0, positions=positions), DURATION)
+    loads = np.asarray(response.normal_load)
+    lifted = loads <= 0
+    assert lifted.any() and bool(np.all(response.converged)) and np.all(np.isfinite(np.asarray(response.q)))
+    assert np.all(np.asarray(response.group_force)[lifted] == 0.0)
+    steps = np.diff(np.asarray(response.slider), axis=0)[lifted[1:]]  # (n, S, 2)
+    radii = np.array([0.6, 1.8, 1.8])
+    assert np.max(np.abs(steps.sum(axis=1))) > 1e-4
+    assert np.allclose(steps / radii[:, None], (steps.sum(axis=1) / radii.sum())[:, None], rtol=0, atol=1e-12)
+    assert np.allclose(np.asarray(response.group_uplift_time), lifted[1:].sum(axis=0) * STEP)
+    time = np.asarray(response.group_uplift_time)  # x motion lifts SW with NW and SE with NE
+    assert time[0] == time[3] > 0 and time[1] == time[2] > 0
+
+
+def test_bad_series_slab_inputs_are_refused_by_name():
+    ax, ay = _pulse(0.1, 0.1)
+    common = dict(length_x=LX, length_y=LY, weight=W, centre_of_mass=CENTRE, positions=CORNERS,
+                  loads=[W / 4] * 4, ground_x=uniform_signal(ax, DT_RECORD),
+                  ground_y=uniform_signal(ay, DT_RECORD), time_step=STEP)
+    with pytest.raises(ValueError, match=r"pendulums: group 2 is a double-fp, not the triple-fp"):
+        slab_on_bearings(**common, isolator="triple-fp", pendulums=[TRIPLE, DOUBLE, TRIPLE, TRIPLE])
+    with pytest.raises(ValueError, match=r"pendulums: 2 given for 4 groups"):
+        slab_on_bearings(**common, isolator="triple-fp", pendulums=[TRIPLE, TRIPLE])
+    with pytest.raises(ValueError, match=r"pendulums: isolator 'double-fp' needs its pendulum"):
+        slab_on_bearings(**common, isolator="double-fp")
+    with pytest.raises(ValueError, match=r"radii: does not apply to isolator 'triple-fp'"):
+        slab_on_bearings(**common, isolator="triple-fp", pendulums=TRIPLE, radii=2.0)
+    with pytest.raises(ValueError, match=r"isolation_period: does not apply to isolator 'double-fp'"):
+        slab_on_bearings(**common, isolator="double-fp", pendulums=DOUBLE, isolation_period=3.0)
+    with pytest.raises(ValueError, match=r"pendulums: apply to isolator 'triple-fp' or 'double-fp'"):
+        slab_on_bearings(**common, isolator="single-fp", radii=2.0, pendulums=TRIPLE)
+
+
+def test_the_slab_response_is_differentiable_in_a_surface_friction():
+    """d(slab displacement at 2 s)/d(f_max of the top surfaces) through every group's sliders'
+    balance (implicit derivative) equals central differences within 1e-4 relative."""
+    ax, ay = _pulse(0.4, 0.2)
+    base = _slab(ax, ay, 3.0)
+
+    def displacement(f_max):
+        friction = FrictionParameters(f_max, 0.05, 20.0)
+        system = slab_on_bearings(
+            length_x=LX, length_y=LY, weight=W, centre_of_mass=CENTRE, positions=CORNERS, loads=[W / 4] * 4,
+            ground_x=base.ground_x, ground_y=base.ground_y, time_step=STEP, isolator="triple-fp",
+            pendulums=eqx.tree_at(lambda p: p.top_friction, TRIPLE, friction),
+            height_of_centre_of_mass=3.0)
+        return simulate_slab_series(system, 2.0).q[-1, 0]
+
+    value, slope = jax.value_and_grad(displacement)(0.12)
+    h = 1e-5
+    central = (displacement(0.12 + h) - displacement(0.12 - h)) / (2 * h)
+    assert abs(float(value)) > 0.01
+    assert abs(float(slope) - float(central)) < 1e-4 * abs(float(central))
+
+
+# --------------------------------------------------------------------------- command line
+
+
+def _isolator_file(path, pendulum):
+    from teflon_jax.formats import write_isolator
+
+    write_isolator(path, pendulum)
+    return path
+
+
+def _plan(tmp_path, height="6m", **group_keys):
+    groups = [{"name": n, "x": f"{x}m", "y": f"{y}m", "load": "250kN"}
+              for n, (x, y) in zip(("SW", "SE", "NE", "NW"), CORNERS)]
+    groups[1].update(group_keys)
+    plan = {"length_x": "20m", "length_y": "12m", "weight": "1000kN", "height_of_centre_of_mass": height,
+            "groups": groups}
+    path = tmp_path / "plan.json"
+    path.write_text(json.dumps(plan))
+    return path
+
+
+def _record(tmp_path, seconds=DURATION):
+    path = tmp_path / "x.txt"
+    ax, _ = _pulse(0.4, 0.0)
+    keep = TIME <= seconds + 1e-9
+    np.savetxt(path, np.column_stack([TIME[keep], ax[keep] / G]))
+    return path
+
+
+@pytest.fixture()
+def files(tmp_path):
+    """An isolator file of each kind beside the plan (the plan names them by relative path)."""
+    (tmp_path / "isolators").mkdir()
+    return {kind: _isolator_file(tmp_path / "isolators" / f"{kind}.json", p) for kind, p in PENDULUMS.items()}
+
+
+@pytest.mark.parametrize(("isolator", "group", "message"), [
+    ("triple-fp", {"radius": "2m"}, "SE.radius does not apply to --isolator triple-fp"),
+    ("triple-fp", {"springs": 2.0}, "SE.springs does not apply to --isolator triple-fp"),
+    ("double-fp", {"ptfe": "UF"}, "SE.ptfe does not apply to --isolator double-fp"),
+    ("triple-fp", {"isolator_file": "isolators/missing.json"}, "SE.isolator_file"),
+    ("triple-fp", {"isolator_file": "isolators/double-fp.json"},
+     "SE.isolator_file: --isolator-file: isolators/double-fp.json holds a double-fp isolator"),
+])
+def test_run_refuses_bad_series_plans_by_key_before_reading_records(tmp_path, capsys, files, isolator, group,
+                                                                     message):
+    plan = _plan(tmp_path, **group)
+    code = main(["run", "--structure", "slab", "--plan", str(plan), "--record-x", str(tmp_path / "missing.txt"),
+                 "--record-units", "g", "--isolator", isolator, "--isolator-file", str(files[isolator])])
+    assert code == 2
+    err = capsys.readouterr().err
+    assert message.replace("isolators/", str(tmp_path / "isolators") + "/") in err or message in err
+    assert "missing.txt" not in err
+
+
+def test_run_refuses_an_isolator_file_with_single_pendulums_and_a_suite(tmp_path, capsys, files):
+    record = _record(tmp_path, seconds=1.0)
+    plan = _plan(tmp_path, isolator_file="isolators/triple-fp.json")
+    code = main(["run", "--structure", "slab", "--plan", str(plan), "--record-x", str(record),
+                 "--record-units", "g", "--isolator", "single-fp", "--radius", "88in"])
+    assert code == 2
+    assert "SE.isolator_file applies with --isolator triple-fp or double-fp only" in capsys.readouterr().err
+    suite = tmp_path / "suite.csv"
+    suite.write_text(f"record_x,record_y,scale\n{record},,1\n")
+    code = main(["run", "--structure", "slab", "--plan", str(_plan(tmp_path)), "--suite", str(suite),
+                 "--record-units", "g", "--isolator", "triple-fp", "--isolator-file", str(files["triple-fp"]),
+                 "--json", str(tmp_path / "suite.json")])
+    assert code == 2
+    assert "--suite: a slab on triple-fp groups runs one record pair at a time" in capsys.readouterr().err
+
+
+def test_run_reports_each_groups_normal_load_on_series_pendulums(tmp_path, capsys, files):
+    """`run --structure slab --isolator triple-fp`: one group on its own isolator file (a
+    triple pendulum of slipperier surfaces); per group the static, peak and least normal load
+    and its file; x motion moves load between the west and east pairs, equal and opposite."""
+    slippery = eqx.tree_at(lambda p: (p.bottom_friction, p.top_friction), TRIPLE,
+                           (FrictionParameters(0.05, 0.02, 20.0), FrictionParameters(0.07, 0.03, 20.0)))
+    _isolator_file(tmp_path / "isolators" / "slippery.json", slippery)
+    out = tmp_path / "run.json"
+    code = main(["run", "--structure", "slab", "--plan", str(_plan(tmp_path, isolator_file="isolators/slippery.json")),
+                 "--record-x", str(_record(tmp_path, seconds=3.0)), "--record-units", "g", "--isolator",
+                 "triple-fp", "--isolator-file", str(files["triple-fp"]), "--json", str(out),
+                 "--time-step", "0.005s"])
+    assert code == 0
+    assert "normal load SE: peak" in capsys.readouterr().out
+    payload = json.loads(out.read_text())
+    groups = payload["normal_load"]["groups"]
+    assert groups["SE"]["isolator_file"].endswith("slippery.json")
+    assert groups["SW"]["isolator_file"].endswith("triple-fp.json")
+    for g in groups.values():
+        assert g["min_N"] < g["static_N"] == 250e3 < g["peak_N"] and g["uplift_time_s"] == 0
+    assert groups["SW"]["peak_N"] - 250e3 == pytest.approx(250e3 - groups["NE"]["min_N"], rel=0.05)
+    peak = payload["peak"]
+    assert peak["rotation_rad"] > 0  # the slipperier SE group twists the slab
+    assert set(payload["slider_disp_m"]["SE"]) == {"inner", "bottom", "top"}
+    assert peak["base_disp_x_m"] > 0.01 and peak["bearing_force_ratio_resultant"] > 0.03
