@@ -159,6 +159,7 @@ def test_bad_series_slab_inputs_are_refused_by_name():
         slab_on_bearings(**common, isolator="single-fp", radii=2.0, pendulums=TRIPLE)
 
 
+@pytest.mark.slow
 def test_the_slab_response_is_differentiable_in_a_surface_friction():
     """d(slab displacement at 2 s)/d(f_max of the top surfaces) through every group's sliders'
     balance (implicit derivative) equals central differences within 1e-4 relative."""
@@ -174,9 +175,10 @@ def test_the_slab_response_is_differentiable_in_a_surface_friction():
             height_of_centre_of_mass=3.0)
         return simulate_slab_series(system, 2.0).q[-1, 0]
 
-    value, slope = jax.value_and_grad(displacement)(0.12)
+    value, slope = jax.jit(jax.value_and_grad(displacement))(0.12)
     h = 1e-5
-    central = (displacement(0.12 + h) - displacement(0.12 - h)) / (2 * h)
+    forward = jax.jit(displacement)
+    central = (forward(0.12 + h) - forward(0.12 - h)) / (2 * h)
     assert abs(float(value)) > 0.01
     assert abs(float(slope) - float(central)) < 1e-4 * abs(float(central))
 
@@ -255,13 +257,14 @@ def test_run_refuses_an_isolator_file_with_single_pendulums_and_a_suite(tmp_path
 def test_run_reports_each_groups_normal_load_on_series_pendulums(tmp_path, capsys, files):
     """`run --structure slab --isolator triple-fp`: one group on its own isolator file (a
     triple pendulum of slipperier surfaces); per group the static, peak and least normal load
-    and its file; x motion moves load between the west and east pairs, equal and opposite."""
+    and its file; x motion moves load between the west and east pairs, equal and opposite.
+    (The record's grid and the step are the other tests': the run reuses their compiled program.)"""
     slippery = eqx.tree_at(lambda p: (p.bottom_friction, p.top_friction), TRIPLE,
                            (FrictionParameters(0.05, 0.02, 20.0), FrictionParameters(0.07, 0.03, 20.0)))
     _isolator_file(tmp_path / "isolators" / "slippery.json", slippery)
     out = tmp_path / "run.json"
     code = main(["run", "--structure", "slab", "--plan", str(_plan(tmp_path, isolator_file="isolators/slippery.json")),
-                 "--record-x", str(_record(tmp_path, seconds=3.0)), "--record-units", "g", "--isolator",
+                 "--record-x", str(_record(tmp_path)), "--record-units", "g", "--isolator",
                  "triple-fp", "--isolator-file", str(files["triple-fp"]), "--json", str(out),
                  "--time-step", "0.005s"])
     assert code == 0

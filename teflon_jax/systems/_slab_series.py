@@ -36,7 +36,7 @@ from ..bearing import SeriesPendulum
 from ..excitation import Signal
 from ._overturning import group_factor, overturned_loads
 from ._triple_biaxial import (
-    _differenced_blocks,
+    NEWTON_DIFFERENCE_STEP,
     _inverse2,
     _pendulum_blocks,
     biaxial_slider_forces,
@@ -161,25 +161,32 @@ def _direction(r, blocks, p):
     return jnp.concatenate([cr + jnp.einsum("gsij,gj->gsi", c, change), change[:, None]], axis=1)
 
 
-def _newton_direction(x, r, p, dt):
-    """Newton's direction at x with differenced blocks, or with the pendulums' own W / R_e
-    blocks where those give no finite direction."""
-    d = x[:, :-1]
-    forces = r[:, :-1] + x[:, -1][:, None]
-    blocks = jax.vmap(_differenced_blocks, in_axes=(0, 0, 0, None))(d, forces, _group_parameters(p), dt)
-    direction = _direction(r, blocks, p)
-    fallback = _direction(r, jax.vmap(_pendulum_blocks)(_group_parameters(p)), p)
-    return jnp.where(jnp.all(jnp.isfinite(direction)), direction, fallback)
+def _evaluate(x, p, dt):
+    """(residual, merit sum(r^2), Newton's direction) at x. Newton's 2 x 2 blocks come from
+    one-sided differences along x and y, h = `NEWTON_DIFFERENCE_STEP` (Y + max |d_ge|), as
+    for one isolator (`_triple_biaxial._differenced_blocks`), with the forces at x and at both
+    shifts in one evaluation of the force law (the compiled step holds fewer copies of it);
+    the pendulums' own W / R_e blocks where a group carries no load or the blocks give no
+    finite direction."""
+    d, force = x[:, :-1], x[:, -1]
+    h = NEWTON_DIFFERENCE_STEP * (p["pendulum"].hysteresis.yield_disp[:, None] + jnp.max(jnp.abs(d), axis=-1))
+    shifted = d + h[..., None]
+    steps = shifted - d  # h as the sum represents it
+    trials = jnp.stack([d, jnp.stack([shifted[..., 0], d[..., 1]], -1), jnp.stack([d[..., 0], shifted[..., 1]], -1)])
+    forces = jax.vmap(lambda t: _group_forces(p, t, dt)[0])(trials)
+    misfit = jnp.sum(d, axis=1) - p["E"] + jnp.einsum("gihj,hj->gi", p["flex"], force)
+    r = jnp.concatenate([forces[0] - force[:, None], (p["stiffness"][:, None] * misfit)[:, None]], axis=1)
+    blocks = jnp.moveaxis((forces[1:] - forces[0]) / jnp.moveaxis(steps, -1, 0)[..., None], 0, -1)
+    pendulum = jax.vmap(_pendulum_blocks)(_group_parameters(p))
+    direction = _direction(r, jnp.where((p["N"] > 0)[:, None, None, None], blocks, pendulum), p)
+    fallback = _direction(r, pendulum, p)
+    return r, jnp.sum(r**2), jnp.where(jnp.all(jnp.isfinite(direction)), direction, fallback)
 
 
 @functools.partial(jax.custom_jvp, nondiff_argnums=(0, 1))
 def _balanced(dt, iterations, p, guess, tolerance):
     """The sliders' increments and the group forces (G, S + 1, 2) that balance the step."""
-    def evaluate(x):
-        r = _residual(x, p, dt)
-        return r, jnp.sum(r**2), _newton_direction(x, r, p, dt)
-
-    return damped_newton(evaluate, guess, tolerance, iterations)
+    return damped_newton(lambda x: _evaluate(x, p, dt), guess, tolerance, iterations)
 
 
 def _exact_blocks(x, p, dt):
