@@ -18,9 +18,11 @@ from teflon_jax.cli import main
 from teflon_jax.excitation import uniform_signal
 from teflon_jax.systems import (
     overturning_map,
+    redistributed_loads,
     simulate_slab_series,
     simulate_triple_structure,
     slab_on_bearings,
+    support_plan,
     triple_structure,
 )
 from teflon_jax.units import STANDARD_GRAVITY
@@ -138,6 +140,57 @@ def test_a_lifted_group_carries_no_shear_and_its_sliders_share_its_motion():
     assert np.allclose(np.asarray(response.group_uplift_time), lifted[1:].sum(axis=0) * STEP)
     time = np.asarray(response.group_uplift_time)  # x motion lifts SW with NW and SE with NE
     assert time[0] == time[3] > 0 and time[1] == time[2] > 0
+
+
+SQUARE = np.array([[8.0, 4.0], [12.0, 4.0], [12.0, 8.0], [8.0, 8.0]])  # SW, SE, NE, NW, 4 m apart
+
+
+def test_a_lifted_groups_share_goes_to_the_others():
+    """h = 20 m over the 4 m square under a ramped diagonal acceleration of 0.08 g: the lever
+    rule leaves the NE group at W/4 - 5 m a = -0.15 W, so the slab rests on the other three,
+    whose loads follow from statics alone: 0.8 W (SW) and 0.1 W (SE, NW) under H = m a. At
+    every step the loads add up to W, NE carries exactly nothing once lifted, and the moment
+    of the loads balances h H of the step before."""
+    height = 20.0
+    ax, ay = _ramp(0.08, 0.08)
+    response = simulate(_slab(ax, ay, height, positions=SQUARE), DURATION)
+    loads = np.asarray(response.normal_load)
+    assert bool(np.all(response.converged)) and np.all(loads[:, [0, 1, 3]] > 0)
+    lifted = loads[:, 2] <= 0
+    assert lifted[-1] and np.all(loads[lifted, 2] == 0.0)
+    assert np.max(np.abs(loads.sum(axis=1) - W)) < 1e-9 * W
+    force = -np.asarray(response.group_force).sum(axis=1)
+    assert np.allclose(loads[1:] @ (SQUARE - CENTRE), -height * force[:-1], rtol=0, atol=1e-9 * W * LX)
+    assert np.allclose(loads[-1], [0.8 * W, 0.1 * W, 0.0, 0.1 * W], rtol=0, atol=0.01 * W)
+    assert np.all(np.asarray(response.group_force)[1:][lifted[1:], 2] == 0.0)
+
+
+def test_redistribution_by_statics_and_where_the_slab_cannot_rest():
+    """Five groups (the corners and one at (14 m, 6 m)) under a force that lifts the west pair:
+    the three others carry the load by statics alone (numpy's solve of the three
+    equilibrium equations), whatever their vertical stiffness; the loads sum to W and the west
+    pair carries nothing. Four corners whose west pair lifts leave two groups on one line: the
+    lever rule's loads are kept (the tension a bonded support would need)."""
+    positions = np.vstack([CORNERS, [[14.0, 6.0]]])
+    static = np.array([0.15, 0.2, 0.2, 0.15, 0.3]) * W
+    centre = static @ positions / W
+    height, force = 8.0, np.array([-0.7 * W, 0.02 * W])
+    remaining = [1, 2, 4]
+    arms = positions[remaining] - centre
+    statics = np.linalg.solve(np.vstack([np.ones(3), arms.T]),
+                              np.array([W, *(static @ (positions - centre) - height * force)]))
+    assert np.all(statics > 0)
+    for stiffness in (None, [1.0, 2.0, 0.5, 1.0, 3.0]):
+        linear = static + overturning_map(positions, centre, height, stiffness) @ force
+        assert np.all(linear[[0, 3]] < 0) and np.all(linear[remaining] > 0)
+        loads = np.asarray(redistributed_loads(support_plan(positions, centre, height, stiffness), static,
+                                               linear, force))
+        assert np.all(loads[[0, 3]] == 0.0)
+        assert np.allclose(loads[remaining], statics, rtol=1e-10)
+    linear = W / 4 + overturning_map(CORNERS, CENTRE, 20.0) @ force
+    assert np.all(linear[[0, 3]] < 0)
+    loads = redistributed_loads(support_plan(CORNERS, CENTRE, 20.0), np.full(4, W / 4), linear, force)
+    assert np.array_equal(np.asarray(loads), linear)
 
 
 def test_bad_series_slab_inputs_are_refused_by_name():

@@ -108,5 +108,8 @@ def normal_load_summary(plan, system, response, units) -> tuple[dict, list]:
     entry = {"height_of_centre_of_mass_m": plan["height_of_centre_of_mass"], "groups": groups,
              "note": "N_g = W_g (1 + a_v / g) + dN_g, dN_g of a rigid slab on vertical supports of "
                      "equal (or the plan's relative) stiffness under the moment h H of the horizontal "
-                     "force H at the start of each step; while N_g <= 0 the group carries no shear"}
+                     "force H at the start of each step; while N_g <= 0 the group carries no shear "
+                     "and the others take its share (where at least three groups off one line stay "
+                     "down; else the lever rule's loads, a negative N_g the tension a bonded "
+                     "support would need)"}
     return {"normal_load": entry}, lines

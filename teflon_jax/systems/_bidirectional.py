@@ -49,7 +49,7 @@ from ._block_algebra import (
     solve_blocks,
 )
 from ._history import has_history, history_factor, history_rates, next_history
-from ._overturning import group_factor, overturning_step
+from ._overturning import SupportPlan, group_factor, overturning_step
 from ._vertical import load_factor_at
 
 NEWTON_ITERATIONS = 100
@@ -90,7 +90,8 @@ class BidirectionalStructure(AbstractSteppedSystem):
     (the part of K the load carries), `_bidirectional_vertical.py`; `load` is the s of a copy
     at one time (`at_load`), one per group (G,) with `overturning` L (G, 2) [-]: the groups'
     loads N_g = s W_g + (L H)_g under the horizontal force H of the step's start, held over the
-    step and kept in the state "normal_load" (G,) [N] (`_overturning.py`).
+    step and kept in the state "normal_load" (G,) [N] (`_overturning.py`), redistributed
+    over the groups that stay down while others lift with `supports` (`SupportPlan`).
     """
 
     mass: jnp.ndarray
@@ -113,6 +114,7 @@ class BidirectionalStructure(AbstractSteppedSystem):
     pendulum_stiffness: jnp.ndarray | None = None
     load: jnp.ndarray | None = None
     overturning: jnp.ndarray | None = None
+    supports: SupportPlan | None = None
 
     def load_factor(self, t):
         """N(t) / W [-] at time t [s]; `None` without a vertical record."""

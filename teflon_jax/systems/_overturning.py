@@ -20,14 +20,20 @@ on its friction mu N_g Z_g and its pendulum's N_g / R_g d_g (the factor s_g = ma
 of `_bidirectional_vertical.py`, one per group). The equilibrium of the step needs H at its
 end, which needs the loads: H is taken at the start of the step (the isolation's force of the
 step before) and held over it, as the vertical record's load is held; the lag is one step,
-an error of order dt (it vanishes under a steady ground acceleration). The linear supports are
-not redistributed when a group lifts: while N_g <= 0 the group carries no shear, the others
-keep their lever-rule loads, and the moment is then not fully balanced.
+an error of order dt (it vanishes under a steady ground acceleration). The supports take no
+tension: when the lever rule leaves a group with N_g <= 0 the slab rests on the others, which
+take its share, the plane of the remaining supports solved again with the same total load and
+moment (`redistributed_loads`, removing the groups that lift until none is left in tension);
+the lifted group has N_g = 0 and carries no shear. Where fewer than three groups off one line
+remain, the slab cannot rest on them and the loads stay the lever rule's (a negative N_g: the
+tension a bonded support would need, the moment then not fully balanced).
 References: Nagarajaiah, Reinhorn & Constantinou (1991), 3D-BASIS, NCEER-91-0005 (rigid slab
 on bearings with normal loads from overturning); Almazan, De la Llera & Inaudi (1998),
 Earthquake Eng. Struct. Dyn. 27(8), 845-867 (friction pendulum under a varying normal load).
 """
 
+import equinox as eqx
+import jax
 import jax.numpy as jnp
 import numpy as np
 
@@ -63,6 +69,54 @@ def overturning_map(positions, centre_of_mass, height, vertical_stiffness=None, 
     return -float(height) * k[:, None] * (p @ columns)
 
 
+class SupportPlan(eqx.Module):
+    """The vertical supports of the groups, for the loads while some lift (module docstring):
+    relative stiffness k_g (G,) [-], p_g = (1, rx_g / l, ry_g / l) (G, 3) [-] and h / l [-],
+    with l the largest arm [m] (numbers of order one)."""
+
+    stiffness: jnp.ndarray
+    arms: jnp.ndarray
+    height: jnp.ndarray
+
+
+def support_plan(positions, centre_of_mass, height, vertical_stiffness=None) -> SupportPlan:
+    """The `SupportPlan` of groups at `positions` (G, 2) [m] (checked by `overturning_map`)."""
+    positions = np.asarray(positions, dtype=float).reshape(-1, 2)
+    groups = positions.shape[0]
+    k = np.ones(groups) if vertical_stiffness is None else np.asarray(vertical_stiffness, float).reshape(-1)
+    r = positions - np.asarray(centre_of_mass, dtype=float).reshape(2)
+    length = max(float(np.max(np.abs(r))), 1e-300)
+    return SupportPlan(stiffness=jnp.asarray(k / k.max()),
+                       arms=jnp.asarray(np.column_stack([np.ones(groups), r / length])),
+                       height=jnp.asarray(float(height) / length))
+
+
+def redistributed_loads(supports: SupportPlan, static, linear, force, vertical=1.0):
+    """N_g (G,) [N] of a slab on supports that take no tension: from the lever rule's loads
+    `linear` (G,), the groups with N_g <= 0 are removed and the plane of the others solved
+    again for the same resultant (sum_g N_g = sum_g `static`, the moments of `static` and of
+    -h H, H = `force` (2,) [N], counted while `vertical` > 0), until none is in tension (at most
+    G rounds). `linear` itself where no group lifts, or where fewer than three groups off one
+    line remain (the slab cannot rest on them)."""
+    k, p = supports.stiffness, supports.arms
+    moment = jnp.concatenate([jnp.zeros(1, static.dtype), -supports.height * force]) * (vertical > 0)
+    target = p.T @ static + moment
+
+    def loads(active):
+        a = active.astype(static.dtype)
+        matrix = jnp.einsum("g,g,gi,gj->ij", a, k, p, p)
+        ok = jnp.abs(jnp.linalg.det(matrix)) > 1e-9 * jnp.sum(a * k) ** 3
+        c = jnp.linalg.solve(jnp.where(ok, matrix, jnp.eye(3, dtype=matrix.dtype)), target - p.T @ (a * static))
+        return a * (static + k * (p @ c)), ok
+
+    def remove(_, active):
+        n, ok = loads(active)
+        return jnp.where(ok, active & (n > 0), active)
+
+    n, ok = loads(jax.lax.fori_loop(0, static.shape[0], remove, linear > 0))
+    return jnp.where(ok & jnp.any(linear <= 0), n, linear)
+
+
 def inertia_force(system, acceleration, ground):
     """H = R^T M (q'' + R a_g) (2,) [N]: the horizontal force of the isolation on the
     structure at relative acceleration `acceleration` (N,) and ground acceleration (2,)."""
@@ -72,12 +126,14 @@ def inertia_force(system, acceleration, ground):
 
 def overturned_loads(system, force, t):
     """N_g (G,) [N] under the vertical record at t [s] and the horizontal force `force` H (2,) [N]
-    (module docstring); the factor on W_g is `group_factor`."""
-    if system.vertical_acceleration is None:
-        return system.bearing_load + system.overturning @ force
-    vertical = 1 + system.vertical_acceleration(t) / STANDARD_GRAVITY
+    (module docstring), redistributed while groups lift where `system.supports` is given; the
+    factor on W_g is `group_factor`."""
+    vertical = 1.0 if system.vertical_acceleration is None else 1 + system.vertical_acceleration(t) / STANDARD_GRAVITY
     static = vertical * system.bearing_load
-    return static + (vertical > 0) * (system.overturning @ force)
+    linear = static + (vertical > 0) * (system.overturning @ force)
+    if system.supports is None:
+        return linear
+    return redistributed_loads(system.supports, static, linear, force, vertical)
 
 
 def group_factor(system, normal_load):

@@ -31,7 +31,7 @@ from ..bearing import SlidingBearing
 from ..excitation import Signal
 from ..units import STANDARD_GRAVITY
 from ._bidirectional_build import bidirectional_structure
-from ._overturning import overturning_map
+from ._overturning import overturning_map, support_plan
 from ._slab_series_build import SERIES_SLAB_ISOLATORS, slab_on_series
 
 LOAD_TOLERANCE = 1e-3
@@ -201,7 +201,9 @@ def slab_on_bearings(
         contact_pressure=contact_pressures,
     )
     return dataclasses.replace(system, pendulum_stiffness=None if radii is None else jnp.asarray(loads / radii),
-                               overturning=None if overturning is None else jnp.asarray(overturning))
+                               overturning=None if overturning is None else jnp.asarray(overturning),
+                               supports=None if overturning is None else support_plan(
+                                   positions, centre, height, vertical_stiffness))
 
 
 def _height(height_of_centre_of_mass) -> float:

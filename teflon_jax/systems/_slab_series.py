@@ -34,7 +34,7 @@ import numpy as np
 
 from ..bearing import SeriesPendulum
 from ..excitation import Signal
-from ._overturning import group_factor, overturned_loads
+from ._overturning import SupportPlan, group_factor, overturned_loads
 from ._triple_biaxial import (
     NEWTON_DIFFERENCE_STEP,
     _inverse2,
@@ -55,7 +55,8 @@ class SlabOnSeries(eqx.Module):
     **Fields:** `mass` (3,) [kg, kg, kg m^2]; `stiffness` K_ref (3, 3); `influence` R (3, 2);
     `bearing_map` B (G, 2, 3); `pendulum`: a `SeriesPendulum` whose leaves have shape (G,)
     (`stack_pendulums`); `bearing_load` W_g (G,) [N]; `reference_stiffness` k_g (G,) [N/m];
-    `overturning` L (G, 2) [-] (zeros without overturning); `ground_x`, `ground_y`: `Signal`s
+    `overturning` L (G, 2) [-] (zeros without overturning) and `supports` (`SupportPlan`, or
+    `None` without overturning: the loads of groups that stay down while others lift); `ground_x`, `ground_y`: `Signal`s
     [m/s^2]; `step_matrix` (6, 16): the exact step's (free, start, end) blocks on
     x = (q, q'), inputs (a_x, a_y, f) at both ends; `time_step` [s], `newton_iterations`,
     `newton_tolerance` (force imbalance over W_g) (static); `vertical_acceleration`: `Signal`
@@ -73,6 +74,7 @@ class SlabOnSeries(eqx.Module):
     ground_x: Signal
     ground_y: Signal
     step_matrix: jnp.ndarray
+    supports: SupportPlan | None
     time_step: float = eqx.field(static=True)
     newton_iterations: int = eqx.field(static=True, default=TRIPLE_NEWTON_ITERATIONS)
     newton_tolerance: float = eqx.field(static=True, default=TRIPLE_TOLERANCE)

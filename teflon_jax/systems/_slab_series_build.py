@@ -10,7 +10,7 @@ from ..bearing import SeriesPendulum, check_series_pendulum
 from ..excitation import Signal
 from ..units import STANDARD_GRAVITY
 from ..validation import concrete
-from ._overturning import overturning_map
+from ._overturning import overturning_map, support_plan
 from ._slab_series import SlabOnSeries
 from ._triple_structure import TRIPLE_NEWTON_ITERATIONS, TRIPLE_TOLERANCE
 
@@ -78,6 +78,7 @@ def slab_on_series(*, weight, mass_inertia, centre_of_mass, positions, loads, pe
     pendulum = stack_pendulums(pendulums, isolator, groups)
     overturning = (np.zeros((groups, 2)) if height == 0 else
                    overturning_map(positions, centre_of_mass, height, vertical_stiffness, names))
+    supports = None if height == 0 else support_plan(positions, centre_of_mass, height, vertical_stiffness)
     r = positions - np.asarray(centre_of_mass, dtype=float).reshape(2)
     bearing_map = np.zeros((groups, 2, 3))
     bearing_map[:, 0, 0] = bearing_map[:, 1, 1] = 1.0
@@ -92,7 +93,7 @@ def slab_on_series(*, weight, mass_inertia, centre_of_mass, positions, loads, pe
                         bearing_map=jnp.asarray(bearing_map), pendulum=pendulum, bearing_load=jnp.asarray(loads),
                         reference_stiffness=reference, overturning=jnp.asarray(overturning), ground_x=ground_x,
                         ground_y=ground_y, step_matrix=slab_step_matrix(mass, stiffness, influence, time_step),
-                        time_step=float(time_step), newton_iterations=int(newton_iterations),
+                        supports=supports, time_step=float(time_step), newton_iterations=int(newton_iterations),
                         newton_tolerance=float(newton_tolerance))
 
 
