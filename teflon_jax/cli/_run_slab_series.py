@@ -12,7 +12,8 @@ import numpy as np
 from ..units import STANDARD_GRAVITY, parse_quantity
 from ._plan_file import read_plan
 from ._run_slab import normal_load_summary, slab_peaks
-from ._triple import _load, read_isolator_flag
+from ._run_vertical import uplift_line
+from ._triple import _load, _load_factors, _uplift, read_isolator_flag
 
 
 def series_plan(args):
@@ -90,6 +91,10 @@ def run_series_slab(args, load_components, write_run_outputs, vertical=None) -> 
     from ._common import output_units
 
     normal, lines = normal_load_summary(plan, system, response, output_units(args.units))
+    uplift = _uplift(system, duration)  # the vertical record's own factor, as for one isolator
+    if uplift:
+        histories["load_factor"] = _load_factors(system, duration)
+        lines = [uplift_line(uplift)] + lines
     for g, path in zip(groups, [g["isolator_file"] or args.isolator_file for g in groups]):
         normal["normal_load"]["groups"][g["name"]]["isolator_file"] = str(path)
     payload = {"structure": "slab", "record_x": str(args.record_x),
@@ -98,7 +103,7 @@ def run_series_slab(args, load_components, write_run_outputs, vertical=None) -> 
                "scale": float(args.scale), "duration_s": duration, "record_time_step_s": dt,
                "solver_time_step_s": time_step, "notes": notes, "isolator": args.isolator,
                "isolator_file": str(args.isolator_file), "radius_m": None, "anisotropic": False,
-               "lay_angle_deg": None, "peak": peak, **normal,
+               "lay_angle_deg": None, "peak": peak, **uplift, **normal,
                "slider_disp_m": _slider_peaks(plan, system, response)}
     return write_run_outputs(args, payload, histories, f"slab on {pendulums[0].description}", lines)
 

@@ -47,6 +47,7 @@ from ._triple_structure import (
     damped_newton,
     uplift_increments,
 )
+from ._vertical import load_factor_at
 
 
 class SlabOnSeries(eqx.Module):
@@ -79,6 +80,10 @@ class SlabOnSeries(eqx.Module):
     newton_iterations: int = eqx.field(static=True, default=TRIPLE_NEWTON_ITERATIONS)
     newton_tolerance: float = eqx.field(static=True, default=TRIPLE_TOLERANCE)
     vertical_acceleration: Signal | None = None
+
+    def load_factor(self, t):
+        """max(1 + a_v(t) / g, 0) [-] of the vertical record at t [s] (None without one)."""
+        return load_factor_at(self.vertical_acceleration, t)
 
     def ground(self, t):
         """(a_x, a_y) [m/s^2] at time t [s]."""
