@@ -1,16 +1,21 @@
-"""The vertical ground component over several intensity levels (`monte_carlo_levels`) and in
-the bounding analysis (`monte_carlo(design=bounding_design(...))`): a vertical record of zeros
-leaves every level's (every case's) peaks as the horizontal-only run's, bit for bit; at each
+"""The vertical ground component over several intensity levels (`monte_carlo_levels`, `montecarlo
+--pga L1,L2 --limit`) and in the bounding analysis (`monte_carlo(design=bounding_design(...))`,
+`--property-factors`): a vertical record of zeros leaves every level's (every case's) peaks,
+counts and statistics as the horizontal-only run's, bit for bit; at each
 level the vertical component's peak is `vertical_ratio` times that level's, so the uplift time
 of every motion is the time its vertical record, drawn again from a model built at that level,
 spends at 1 + a_v / g <= 0, and more motions lift off at the higher level; and a friction-only
 rigid mass, whose horizontal-only shear cannot exceed f_max W, carries up to f_max N > f_max W
 under the vertical component."""
 
+import json
+
 import jax
 import numpy as np
 import pytest
+import xarray as xr
 
+from teflon_jax.cli import main
 from teflon_jax.excitation import StochasticGroundMotion, VerticalGroundMotion
 from teflon_jax.studies import (
     bounding_design,
@@ -46,19 +51,6 @@ def _uplift_of_record(vertical, record_step, time_step, n_steps):
     return np.sum(1 + a_v / STANDARD_GRAVITY <= 0) * time_step
 
 
-def test_a_zero_vertical_ratio_gives_every_levels_horizontal_only_peaks():
-    """vertical_ratio = 0 at every level: N = W throughout, every peak of every level is the
-    horizontal-only run's, bit for bit, and no motion lifts off."""
-    structure = isolated_structure("rigid", isolation_period=2.5)
-    plain, plain_index = _levels(structure, _horizontal(LEVELS[0]))
-    loaded, index = _levels(with_vertical_component(structure), VerticalGroundMotion(_horizontal(LEVELS[0]), 0.0))
-    for name in PEAKS:
-        np.testing.assert_array_equal(getattr(loaded, name), getattr(plain, name), err_msg=name)
-    np.testing.assert_array_equal(index, plain_index)
-    assert plain.uplift_time is None and np.array_equal(loaded.uplift_time, np.zeros(len(LEVELS) * N))
-    assert loaded.attrs["intensity_levels_m_s2"] == list(LEVELS)
-
-
 def test_each_levels_uplift_is_its_vertical_records_and_grows_with_the_level():
     """Motion j N + i of level j is drawn from a model built at that level from scratch (its
     vertical peak vertical_ratio times the level): the Monte Carlo's uplift time of every motion
@@ -87,11 +79,10 @@ def test_each_levels_uplift_is_its_vertical_records_and_grows_with_the_level():
 
 def test_bounding_cases_with_the_vertical_component():
     """Friction-only rigid mass (no restoring force, no damping), the three bounding cases of
-    f_max: with vertical_ratio 0 each case's peaks are the horizontal-only ones bit for bit;
-    horizontal only, the force on the mass mu(v) W Z stays at or below f_max W in every case;
-    with a strong vertical component N reaches above W, some runs carry more than f_max W, and
-    none more than f_max W (1 + max a_v / g); the uplift time, the record's alone, is the same
-    in the three cases."""
+    f_max: horizontal only, the force on the mass mu(v) W Z stays at or below f_max W in every
+    case; with a strong vertical component N reaches above W, some runs carry more than
+    f_max W, and none more than f_max W (1 + max a_v / g); the uplift time, the record's
+    alone, is the same in the three cases."""
     structure = isolated_structure("rigid", isolation_period=None, isolation_damping=0.0)
     design = bounding_design(structure, lower=0.8, upper=1.25)
     f_max = design["f_max"][:, None]
@@ -102,9 +93,6 @@ def test_bounding_cases_with_the_vertical_component():
 
     horizontal = _horizontal(0.6 * STANDARD_GRAVITY)
     plain = run(structure, horizontal)
-    zero = run(with_vertical_component(structure), VerticalGroundMotion(horizontal, 0.0))
-    for name in PEAKS:
-        np.testing.assert_array_equal(getattr(zero, name), getattr(plain, name), err_msg=name)
     assert np.all(plain.base_shear_ratio <= f_max * (1 + 1e-9))
     motions = VerticalGroundMotion(horizontal, 1.2)
     loaded = run(with_vertical_component(structure), motions)
@@ -113,3 +101,75 @@ def test_bounding_cases_with_the_vertical_component():
     assert np.any(loaded.base_shear_ratio > f_max * 1.01)
     assert np.all(loaded.base_shear_ratio <= f_max * (1 + peak_up / STANDARD_GRAVITY) * (1 + 1e-9))
     assert loaded.uplift_time.shape == (3, N) and np.all(loaded.uplift_time == loaded.uplift_time[0])
+
+
+FRICTION_ONLY = ["montecarlo", "--motions", "3", "--duration", "4s", "--strong-motion", "1.5s",
+                 "--isolation-period", "none", "--isolation-damping", "0", "--no-progress"]
+
+
+def _f_max():
+    """f_max of the default bearing (UF PTFE at 1000 psi, Table 1)."""
+    structure = isolated_structure("rigid", isolation_period=None)
+    return float(structure.table().at(structure.pressure)[0].f_max)
+
+
+def test_cli_levels_and_limits_with_a_zero_vertical_ratio(tmp_path):
+    """`--pga 0.3g,1g --limit base_shear_ratio=1.02 f_max --limit base_disp=5cm` on a
+    friction-only rigid mass: with `--vertical-ratio 0` every level's statistics and every
+    limit's counts are those of the run without the flag; horizontal only the force on the
+    mass mu(v) W Z cannot exceed f_max W, so no run exceeds the shear limit."""
+    limit = f"base_shear_ratio={1.02 * _f_max():.6f}"
+    common = [*FRICTION_ONLY, "--pga", "0.3g,1g", "--limit", limit, "--limit", "base_disp=5cm"]
+    # exit 1: the shear limit's counts (none exceed) admit no fragility fit; all is written
+    assert main([*common, "--json", str(tmp_path / "a.json")]) == 1
+    assert main([*common, "--vertical-ratio", "0", "--json", str(tmp_path / "b.json")]) == 1
+    plain, loaded = (json.loads((tmp_path / name).read_text()) for name in ("a.json", "b.json"))
+    assert loaded["fragility"] == plain["fragility"]
+    assert [lv["statistics"] for lv in loaded["levels"]] == [lv["statistics"] for lv in plain["levels"]]
+    assert plain["fragility"][limit]["n_exceed"] == [0, 0]
+    assert [lv["uplift"]["n_uplifted"] for lv in loaded["levels"]] == [0, 0] and "uplift" not in plain["levels"][0]
+
+
+def test_cli_levels_with_the_vertical_component(tmp_path, capsys):
+    """`--vertical-ratio 1.2` with the same levels and limit: N reaches above W, so runs now
+    exceed the shear limit; each level's uplifted motions in the summary are those whose
+    `uplift_time` in the results file is > 0 at that level, more of them at 1g than at 0.3g,
+    and the uplifted runs stay in the counts."""
+    limit = f"base_shear_ratio={1.02 * _f_max():.6f}"
+    out = tmp_path / "lv.nc"
+    assert main([*FRICTION_ONLY, "--pga", "0.3g,1g", "--limit", limit, "--vertical-ratio", "1.2",
+                 "--json", str(tmp_path / "v.json"), "--out", str(out)]) in (0, 1)  # 1: no fit, all written
+    printed = capsys.readouterr().out
+    payload = json.loads((tmp_path / "v.json").read_text())
+    assert payload["fragility"][limit]["n_exceed"][1] > 0
+    assert payload["fragility"][limit]["n_runs"] == [3, 3]
+    with xr.open_dataset(out) as data:
+        uplift, level = data["uplift_time"].values, data["intensity_level"].values
+    counts = []
+    for j, entry in enumerate(payload["levels"]):
+        rows = np.flatnonzero(level == np.unique(level)[j])
+        assert entry["uplift"]["uplifted_motions"] == rows[uplift[rows] > 0].tolist()
+        assert entry["uplift"]["uplift_time_s"] == uplift[rows][uplift[rows] > 0].tolist()
+        counts.append(entry["uplift"]["n_uplifted"])
+    assert counts[0] < counts[1] and payload["vertical"]["n_uplifted"] == sum(counts)
+    assert f"uplift (N <= 0), motions per level: 0.3g: {counts[0]}/3, 1g: {counts[1]}/3" in printed
+
+
+@pytest.mark.parametrize("ratio", ["0", "1.2"])
+def test_cli_property_factors_with_the_vertical_component(tmp_path, ratio):
+    """`--property-factors 0.8,1.25` on the friction-only rigid mass: with `--vertical-ratio 0`
+    the three cases' table is the run's without the flag, and no case's peak shear exceeds its
+    f_max; with 1.2 every case's largest peak shear is above its f_max (N > W) and the summary
+    carries the vertical component's entry."""
+    common = [*FRICTION_ONLY, "--pga", "0.6g", "--property-factors", "0.8,1.25"]
+    assert main([*common, "--vertical-ratio", ratio, "--json", str(tmp_path / "v.json")]) == 0
+    loaded = json.loads((tmp_path / "v.json").read_text())
+    cases = loaded["cases"]
+    assert loaded["vertical"]["vertical_ratio"] == float(ratio)
+    if ratio == "0":
+        assert main([*common, "--json", str(tmp_path / "a.json")]) == 0
+        assert cases == json.loads((tmp_path / "a.json").read_text())["cases"]
+        assert all(c["max"]["base_shear_ratio"] <= c["f_max"] * (1 + 1e-9) for c in cases.values())
+        assert loaded["vertical"]["n_uplifted"] == 0
+    else:
+        assert all(c["max"]["base_shear_ratio"] > c["f_max"] * 1.01 for c in cases.values())

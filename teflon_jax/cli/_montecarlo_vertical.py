@@ -59,13 +59,15 @@ def uplift_of(times, rows=None) -> dict:
 
 def uplift_payload(result, model) -> dict:
     """The summary JSON's "vertical" entry: the component's ratios and the uplifted motions
-    (index and time with N <= 0), which stay in the statistics."""
+    (index and time with N <= 0), which stay in the statistics. With design variants (the
+    bounding cases) the first one's: the uplift is the vertical record's, the same in each."""
     if result.uplift_time is None:
         return {}
+    times = result.uplift_time if result.uplift_time.ndim == 1 else result.uplift_time[0]
     return {"vertical": {
         "vertical_ratio": float(model.vertical_ratio), "frequency_ratio": float(model.frequency_ratio),
         "normal_load": "N = W max(1 + a_v / g, 0) on friction and pendulum force; no shear while N <= 0",
-        **uplift_of(result.uplift_time),
+        **uplift_of(times),
         "statistics": "uplifted motions are kept: their peaks include the uplift, which the model "
                       "represents (rigid superstructure, no vertical impact)"}}
 
