@@ -78,3 +78,30 @@ def test_cli_storeys_and_demand_file_with_a_zero_vertical_ratio(tmp_path, capsys
     assert (tmp_path / "b.csv").read_text() == (tmp_path / "a.csv").read_text()
     assert loaded["levels"][0]["uplift"]["n_uplifted"] == 0 and "horizontal" in loaded["vertical"]["storeys"]
     assert "uplift (N <= 0), motions per level: 0.3g: 0/2" in printed
+
+
+def test_cli_demand_files_per_level_with_the_vertical_component(tmp_path):
+    """`--pga 0.3g,0.8g --vertical-ratio 2 --pelicun-demands d.csv --out mc.nc` on the building:
+    each level's demand file holds that level's motions' peaks from the results file, which
+    has each motion's uplift time (some lift off at 0.8g; the demands are those runs', uplift
+    included), and the summary notes that the demands are horizontal."""
+    import xarray as xr
+
+    assert main(["montecarlo", "--motions", "2", "--duration", "4s", "--strong-motion", "1.5s", "--structure",
+                 "building", "--pga", "0.3g,0.8g", "--vertical-ratio", "2", "--no-progress",
+                 "--json", str(tmp_path / "v.json"), "--pelicun-demands", str(tmp_path / "d.csv"),
+                 "--out", str(tmp_path / "mc.nc")]) == 0
+    payload = json.loads((tmp_path / "v.json").read_text())
+    with xr.open_dataset(tmp_path / "mc.nc") as data:
+        drift, disp, uplift = (data[k].values for k in ("storey_drift", "base_disp", "uplift_time"))
+    for j in range(2):
+        rows = np.arange(2 * j, 2 * j + 2)
+        table = np.genfromtxt(tmp_path / f"d-level{j + 1}.csv", delimiter=",", skip_header=2)[:, 1:]
+        header = (tmp_path / f"d-level{j + 1}.csv").read_text().splitlines()[0].split(",")[1:]
+        for storey in range(drift.shape[1]):  # pelicun: storey j lies below floor j + 1 (ground: 1)
+            np.testing.assert_allclose(table[:, header.index(f"1-PID-{storey + 2}-1")], drift[rows, storey],
+                                       rtol=1e-9)
+        np.testing.assert_allclose(table[:, header.index("1-BRD-1-1")], disp[rows] / 0.0254, rtol=1e-9)
+        assert payload["levels"][j]["uplift"]["uplifted_motions"] == rows[uplift[rows] > 0].tolist()
+    assert payload["levels"][1]["uplift"]["n_uplifted"] > 0
+    assert "horizontal" in payload["vertical"]["pelicun_demands"]

@@ -166,6 +166,9 @@ def run_levels(args, structure, model, units, statistics) -> int:
                                          "each level's; the uplifted motions of each level under levels[j].uplift")
         if result.storey_drift is not None:
             payload["vertical"]["storeys"] = _VERTICAL_STOREYS
+        if args.pelicun_demands is not None:
+            payload["vertical"]["pelicun_demands"] = ("horizontal demands of the runs with the vertical "
+                                                      "component; no vertical PFA is written (see storeys)")
     _write_json(args.json, payload)
     if args.plot is not None:
         if limits and levels.size > 1:
