@@ -17,7 +17,11 @@ from teflon_jax import simulate_structure, uniform_signal
 from teflon_jax.cli import main
 from teflon_jax.excitation import StochasticGroundMotion, VerticalGroundMotion
 from teflon_jax.studies import monte_carlo, monte_carlo_motion
-from teflon_jax.systems import isolated_structure, with_vertical_component, with_vertical_motion
+from teflon_jax.systems import (
+    isolated_structure,
+    with_vertical_component,
+    with_vertical_motion,
+)
 from teflon_jax.tables import load_table2
 from teflon_jax.units import PSI, STANDARD_GRAVITY
 

@@ -108,7 +108,6 @@ def run_levels(args, structure, model, units, statistics) -> int:
     from ..report import plot_fragility, plot_montecarlo
     from ..studies import monte_carlo_levels, save_levels
     from ..tables import load_table2
-
     from ._montecarlo_vertical import uplift_of, uplift_payload
 
     levels = np.asarray(args.pga_levels, float)

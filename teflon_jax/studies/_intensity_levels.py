@@ -14,7 +14,11 @@ from collections.abc import Callable, Sequence
 import equinox as eqx
 import numpy as np
 
-from ..excitation import StochasticGroundMotion, TwoComponentGroundMotion, VerticalGroundMotion
+from ..excitation import (
+    StochasticGroundMotion,
+    TwoComponentGroundMotion,
+    VerticalGroundMotion,
+)
 from ._montecarlo import monte_carlo
 from ._results import MonteCarloResult, check_output_path, netcdf_engine
 
