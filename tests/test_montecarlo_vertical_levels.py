@@ -16,7 +16,11 @@ import pytest
 import xarray as xr
 
 from teflon_jax.cli import main
-from teflon_jax.excitation import StochasticGroundMotion, VerticalGroundMotion
+from teflon_jax.excitation import (
+    StochasticGroundMotion,
+    TwoComponentGroundMotion,
+    VerticalGroundMotion,
+)
 from teflon_jax.studies import (
     bounding_design,
     monte_carlo,
@@ -70,11 +74,12 @@ def test_each_levels_uplift_is_its_vertical_records_and_grows_with_the_level():
             assert result.pga[i] == pytest.approx(np.abs(rows[0]).max(), rel=1e-15)
         counts.append(int(np.sum(result.uplift_time[index == j] > 0)))
     assert counts[0] < counts[1] and result.converged.all()
-    # the public helper gives the same model as the one built at the level
-    same = motions_at_level(VerticalGroundMotion(_horizontal(LEVELS[0]), ratio), LEVELS[1])
-    np.testing.assert_array_equal(monte_carlo_motion(same, jax.random.key(5), 4),
-                                  monte_carlo_motion(VerticalGroundMotion(_horizontal(LEVELS[1]), ratio),
-                                                     jax.random.key(5), 4))
+    # the public helper gives the model built at the level, with two horizontal components too
+    for wrap in (lambda m: m, TwoComponentGroundMotion):
+        same = motions_at_level(VerticalGroundMotion(wrap(_horizontal(LEVELS[0])), ratio), LEVELS[1])
+        built = VerticalGroundMotion(wrap(_horizontal(LEVELS[1])), ratio)
+        np.testing.assert_array_equal(monte_carlo_motion(same, jax.random.key(5), 4),
+                                      monte_carlo_motion(built, jax.random.key(5), 4))
 
 
 def test_bounding_cases_with_the_vertical_component():

@@ -5,6 +5,8 @@ N motions at each level (`monte_carlo_levels`); for each limit the runs exceedin
 counted at each level and, with two or more levels, a lognormal fragility is fitted by maximum
 likelihood with profile-likelihood intervals (`fit_fragility`; Baker 2015, Earthquake Spectra
 31(1)). Failed runs are kept in the files, flagged, and out of the counts and statistics.
+With `--vertical-ratio` the structure and motions carry the vertical component: the uplifted
+motions of each level are listed, and stay in the counts and statistics.
 """
 
 import math

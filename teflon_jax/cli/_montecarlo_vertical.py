@@ -1,6 +1,8 @@
 """`teflon-jax montecarlo --vertical-ratio R`: every stochastic motion with a vertical
 component (`VerticalGroundMotion`) on the isolators' normal load, and the uplift it causes
-reported per motion and counted in the summary."""
+reported per motion and counted in the summary; at one level or several (`--pga L1,L2,...`:
+the vertical peak R times each level's, the uplift per level), with `--limit`, `--storeys`,
+`--pelicun-demands` and `--property-factors` run on the same structure and motions."""
 
 from ._common import add_quantity
 
@@ -19,7 +21,7 @@ def add_vertical_flags(parser) -> None:
 
 
 def check_vertical_flags(args) -> None:
-    """`ValueError` naming the flag for what the vertical component is not run with."""
+    """`ValueError` naming the flag: `--vertical-frequency-ratio` without `--vertical-ratio`."""
     if args.vertical_ratio is None and args.vertical_frequency_ratio is not None:
         raise ValueError("--vertical-frequency-ratio: shapes the vertical component; add --vertical-ratio.")
 
