@@ -84,7 +84,7 @@ def test_montecarlo_counts_uplifted_motions(tmp_path, capsys):
 
 
 def test_montecarlo_vertical_flags_refused_by_name(capsys):
-    assert main(["montecarlo", "--motions", "2", "--vertical-ratio", "0.7", "--pga", "0.1g,0.2g"]) != 0
+    assert main(["montecarlo", "--motions", "2", "--vertical-ratio", "-0.7"]) != 0
     assert "--vertical-ratio" in capsys.readouterr().err
     assert main(["montecarlo", "--motions", "2", "--vertical-frequency-ratio", "2"]) != 0
     assert "--vertical-frequency-ratio" in capsys.readouterr().err

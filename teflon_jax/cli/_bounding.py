@@ -42,6 +42,7 @@ def run_bounding(args, structure, model, units) -> int:
 
     from ..studies import BOUNDING_CASES, bounding_design, governing_cases, monte_carlo
     from ..tables import load_table2
+    from ._montecarlo_vertical import uplift_message, uplift_payload
 
     lower, upper = read_property_factors(args)
     design = bounding_design(structure, lower=lower, upper=upper)
@@ -75,12 +76,15 @@ def run_bounding(args, structure, model, units) -> int:
                     "components": args.components},
         "files": files,
     }
+    payload.update(uplift_payload(result, model))  # the same vertical records under the three bearings
     _write_json(args.json, payload)
     print(f"{result.n_motions} motions x 3 bearings in {result.wall_s:.1f} s; mean of the converged runs' peaks:")
     print("  " + f"{'':28s}" + "".join(f"{c:>12s}" for c in BOUNDING_CASES) + "   governs")
     for name, row in by_mean.items():
         cells = "".join(f"{row[c]:12.4g}" if row[c] is not None else f"{'-':>12s}" for c in BOUNDING_CASES)
         print(f"  {name:28s}{cells}   {row['governs']}")
+    if uplift_message(payload):
+        print(uplift_message(payload) + " (each bearing)")
     if not converged.all():
         print(f"teflon-jax montecarlo: {int((~converged).sum())} of {converged.size} runs did not converge; they "
               "are flagged in the results and left out of the table. Try a smaller --time-step.", file=sys.stderr)

@@ -5,6 +5,8 @@ N motions at each level (`monte_carlo_levels`); for each limit the runs exceedin
 counted at each level and, with two or more levels, a lognormal fragility is fitted by maximum
 likelihood with profile-likelihood intervals (`fit_fragility`; Baker 2015, Earthquake Spectra
 31(1)). Failed runs are kept in the files, flagged, and out of the counts and statistics.
+With `--vertical-ratio` the structure and motions carry the vertical component: the uplifted
+motions of each level are listed, and stay in the counts and statistics.
 """
 
 import math
@@ -108,6 +110,7 @@ def run_levels(args, structure, model, units, statistics) -> int:
     from ..report import plot_fragility, plot_montecarlo
     from ..studies import monte_carlo_levels, save_levels
     from ..tables import load_table2
+    from ._montecarlo_vertical import uplift_of, uplift_payload
 
     levels = np.asarray(args.pga_levels, float)
     limits = parse_limits(args.limit, args.structure, args.components)
@@ -117,7 +120,8 @@ def run_levels(args, structure, model, units, statistics) -> int:
     payload = _payload(args, structure, units)
     stamp = (f"{args.structure}, {args.ptfe} PTFE at {args.pressure_text}, Tb = {args.isolation_period_text}, "
              f"zeta_b = {args.isolation_damping_text}; Clough-Penzien motions, {args.motions} per level at PGA "
-             f"{args.pga_text}, {args.duration_text}, seed {args.seed}")
+             f"{args.pga_text}, {args.duration_text}, seed {args.seed}"
+             + (f"; vertical {args.vertical_ratio:g} x PGA" if args.vertical_ratio is not None else ""))
     bar = motion_bar(levels.size * args.motions, args.no_progress)
     result, level_index = monte_carlo_levels(
         structure, model, levels, args.motions, key=jax.random.key(args.seed), chunk_size=args.chunk_size,
@@ -146,6 +150,8 @@ def run_levels(args, structure, model, units, statistics) -> int:
                  "n_converged": int(converged[rows].sum()), "statistics": statistics(part, units)}
         if result.storey_drift is not None:
             entry["storeys"] = _storey_summary(result, rows, units)
+        if result.uplift_time is not None:  # the level's vertical records: N = W (1 + a_v / g) <= 0
+            entry["uplift"] = uplift_of(result.uplift_time, rows)
         per_level.append(entry)
     fragility, curves = {}, {}
     for limit in limits:
@@ -155,13 +161,27 @@ def run_levels(args, structure, model, units, statistics) -> int:
                     "all_converged": bool(converged.all()), "wall_s": result.wall_s, "compile_s": result.compile_s,
                     "levels": per_level, "fragility": fragility, "files": files})
     payload["motions"]["pga_levels"] = {"unit": unit, "values": (levels / factor).tolist()}
+    payload.update(uplift_payload(result, model))
+    if "vertical" in payload:
+        payload["vertical"]["levels"] = ("the vertical component's expected peak is vertical_ratio times "
+                                         "each level's; the uplifted motions of each level under levels[j].uplift")
+        if result.storey_drift is not None:
+            payload["vertical"]["storeys"] = _VERTICAL_STOREYS
+        if args.pelicun_demands is not None:
+            payload["vertical"]["pelicun_demands"] = ("horizontal demands of the runs with the vertical "
+                                                      "component; no vertical PFA is written (see storeys)")
     _write_json(args.json, payload)
     if args.plot is not None:
         if limits and levels.size > 1:
             plot_fragility(curves, args.plot, unit=unit, factor=1.0, title=stamp)
         else:
             plot_montecarlo(result, args.plot, title=stamp, length=units.length)
-    return _report(result, levels, level_index, unit, factor, fragility)
+    return _report(result, levels, level_index, unit, factor, fragility, per_level)
+
+
+_VERTICAL_STOREYS = ("storey drifts and level accelerations are horizontal: the superstructure is rigid "
+                     "vertically (every level moves with the ground's a_v; N varies on the isolators only), "
+                     "so vertical floor accelerations and column axial loads are not computed")
 
 
 def _select(result, rows):
@@ -173,10 +193,14 @@ def _select(result, rows):
     return dataclasses.replace(result, **picked)
 
 
-def _report(result, levels, level_index, unit, factor, fragility) -> int:
+def _report(result, levels, level_index, unit, factor, fragility, per_level) -> int:
     converged = np.asarray(result.converged, bool)
     print(f"{result.n_motions} motions at {levels.size} level(s) in {result.wall_s:.1f} s; "
           f"{int(converged.sum())} converged.")
+    if result.uplift_time is not None:
+        counts = ", ".join(f"{x / factor:g}{unit}: {e['uplift']['n_uplifted']}/{e['motions'][1] - e['motions'][0] + 1}"
+                           for x, e in zip(levels, per_level))
+        print(f"  uplift (N <= 0), motions per level: {counts}; kept in the statistics and counts")
     status = 0
     for text, entry in fragility.items():
         fractions = ", ".join(f"{x:g}{unit}: {k}/{n}" for x, k, n in zip(entry["levels"], entry["n_exceed"],

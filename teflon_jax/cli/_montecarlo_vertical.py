@@ -1,6 +1,8 @@
 """`teflon-jax montecarlo --vertical-ratio R`: every stochastic motion with a vertical
 component (`VerticalGroundMotion`) on the isolators' normal load, and the uplift it causes
-reported per motion and counted in the summary."""
+reported per motion and counted in the summary; at one level or several (`--pga L1,L2,...`:
+the vertical peak R times each level's, the uplift per level), with `--limit`, `--storeys`,
+`--pelicun-demands` and `--property-factors` run on the same structure and motions."""
 
 from ._common import add_quantity
 
@@ -19,18 +21,9 @@ def add_vertical_flags(parser) -> None:
 
 
 def check_vertical_flags(args) -> None:
-    """`ValueError` naming the flag for what the vertical component is not run with."""
-    if args.vertical_ratio is None:
-        if args.vertical_frequency_ratio is not None:
-            raise ValueError("--vertical-frequency-ratio: shapes the vertical component; add --vertical-ratio.")
-        return
-    others = [(len(args.pga_levels) > 1, "several --pga levels"), (bool(args.limit), "--limit"),
-              (bool(args.storeys), "--storeys"), (args.pelicun_demands is not None, "--pelicun-demands"),
-              (args.property_factors is not None, "--property-factors")]
-    named = [name for wrong, name in others if wrong]
-    if named:
-        raise ValueError(f"--vertical-ratio: runs the peaks at one --pga level (one or two horizontal "
-                         f"components, every isolator, here or with --scheduler); leave out {', '.join(named)}.")
+    """`ValueError` naming the flag: `--vertical-frequency-ratio` without `--vertical-ratio`."""
+    if args.vertical_ratio is None and args.vertical_frequency_ratio is not None:
+        raise ValueError("--vertical-frequency-ratio: shapes the vertical component; add --vertical-ratio.")
 
 
 def vertical_model(args, model):
@@ -54,20 +47,29 @@ def vertical_structure(args, structure):
     return with_vertical_component(structure)
 
 
-def uplift_payload(result, model) -> dict:
-    """The summary JSON's "vertical" entry: the component's ratios and the uplifted motions
-    (index and time with N <= 0), which stay in the statistics."""
+def uplift_of(times, rows=None) -> dict:
+    """The uplifted motions of `rows` (default all) of a result's `uplift_time` (N,) [s]:
+    {"n_uplifted", "uplifted_motions" (their indices in the result), "uplift_time_s"}."""
     import numpy as np
 
+    times = np.asarray(times).reshape(-1)
+    rows = np.arange(times.size) if rows is None else np.asarray(rows)
+    uplifted = rows[times[rows] > 0]
+    return {"n_uplifted": int(uplifted.size), "uplifted_motions": uplifted.tolist(),
+            "uplift_time_s": times[uplifted].tolist()}
+
+
+def uplift_payload(result, model) -> dict:
+    """The summary JSON's "vertical" entry: the component's ratios and the uplifted motions
+    (index and time with N <= 0), which stay in the statistics. With design variants (the
+    bounding cases) the first one's: the uplift is the vertical record's, the same in each."""
     if result.uplift_time is None:
         return {}
-    times = np.asarray(result.uplift_time).reshape(-1)
-    uplifted = np.flatnonzero(times > 0)
+    times = result.uplift_time if result.uplift_time.ndim == 1 else result.uplift_time[0]
     return {"vertical": {
         "vertical_ratio": float(model.vertical_ratio), "frequency_ratio": float(model.frequency_ratio),
         "normal_load": "N = W max(1 + a_v / g, 0) on friction and pendulum force; no shear while N <= 0",
-        "n_uplifted": int(uplifted.size), "uplifted_motions": uplifted.tolist(),
-        "uplift_time_s": times[uplifted].tolist(),
+        **uplift_of(times),
         "statistics": "uplifted motions are kept: their peaks include the uplift, which the model "
                       "represents (rigid superstructure, no vertical impact)"}}
 

@@ -14,12 +14,21 @@ from collections.abc import Callable, Sequence
 import equinox as eqx
 import numpy as np
 
-from ..excitation import StochasticGroundMotion, TwoComponentGroundMotion
+from ..excitation import (
+    StochasticGroundMotion,
+    TwoComponentGroundMotion,
+    VerticalGroundMotion,
+)
 from ._montecarlo import monte_carlo
 from ._results import MonteCarloResult, check_output_path, netcdf_engine
 
 
-def _at_level(model, level: float):
+def motions_at_level(model, level: float):
+    """`model` with the expected peak ground acceleration `level` [m/s^2] of its (major)
+    horizontal component; with a vertical component (`VerticalGroundMotion`) the vertical
+    one's peak, `vertical_ratio` times the horizontal one's, scales with it."""
+    if isinstance(model, VerticalGroundMotion):
+        return eqx.tree_at(lambda m: m.model, model, motions_at_level(model.model, level))
     if isinstance(model, TwoComponentGroundMotion):
         return eqx.tree_at(lambda m: m.model.peak_ground_acceleration, model, level)
     return eqx.tree_at(lambda m: m.peak_ground_acceleration, model, level)
@@ -40,7 +49,7 @@ def check_levels(levels) -> np.ndarray:
 
 def monte_carlo_levels(
     structure: Callable,
-    model: StochasticGroundMotion | TwoComponentGroundMotion,
+    model: StochasticGroundMotion | TwoComponentGroundMotion | VerticalGroundMotion,
     levels: Sequence[float],
     n_motions: int,
     *,
@@ -52,11 +61,12 @@ def monte_carlo_levels(
     increasing), `n_motions` motions each (module docstring).
 
     **Arguments:** `structure`, `model` (its `peak_ground_acceleration` is replaced by each
-    level), `n_motions`, `key` as for `monte_carlo`; `progress(done, total)` over all levels;
+    level, `motions_at_level`: a vertical component scales with it), `n_motions`, `key` as for `monte_carlo`; `progress(done, total)` over all levels;
     `options`: further keywords of `monte_carlo` (e.g. `chunk_size`, `storey_height`).
 
     **Returns:** (one `MonteCarloResult` of the L N motions, level after level, with
-    `attrs["intensity_levels_m_s2"]`; the level index (L N,) of each motion).
+    `attrs["intensity_levels_m_s2"]` and, with a vertical component, each motion's
+    `uplift_time`; the level index (L N,) of each motion).
     """
     values = check_levels(levels)
     total = values.size * n_motions
@@ -66,7 +76,7 @@ def monte_carlo_levels(
             if progress is not None:
                 progress(offset + done, total)
 
-        parts.append(monte_carlo(structure, _at_level(model, float(level)), n_motions, key=key,
+        parts.append(monte_carlo(structure, motions_at_level(model, float(level)), n_motions, key=key,
                                  first_motion=j * n_motions, progress=step, **options))
     first = parts[0]
     joined = {}

@@ -1,0 +1,111 @@
+"""The building's storey results and pelicun demand files under a vertical ground component.
+
+The superstructure is rigid vertically, so the vertical record acts through the isolators'
+normal load N = W max(1 + a_v / g, 0) alone; the storey drifts and level accelerations stay
+horizontal. Reference: the full response histories of `simulate_structure` of each motion
+built into the building with the public `with_vertical_motion` (drifts and total
+accelerations taken with NumPy from the saved states), and the horizontal-only run, which a
+vertical record of zeros reproduces bit for bit (the CLI's summary and demand file too)."""
+
+import json
+
+import jax
+import numpy as np
+import pytest
+
+from teflon_jax import simulate_structure, uniform_signal
+from teflon_jax.cli import main
+from teflon_jax.excitation import StochasticGroundMotion, VerticalGroundMotion
+from teflon_jax.studies import monte_carlo, monte_carlo_motion
+from teflon_jax.systems import (
+    isolated_structure,
+    with_vertical_component,
+    with_vertical_motion,
+)
+from teflon_jax.tables import load_table2
+from teflon_jax.units import PSI, STANDARD_GRAVITY
+
+DURATION = 3.0
+N = 2
+
+
+def _model():
+    return StochasticGroundMotion(peak_ground_acceleration=0.5 * STANDARD_GRAVITY, duration=DURATION,
+                                  time_step=0.01, rise_time=0.5, strong_motion_duration=1.5)
+
+
+def test_storey_peaks_under_the_vertical_component_are_the_direct_simulations():
+    """vertical_ratio 2: each motion's peak storey drifts and level accelerations equal those of
+    the saved history of that motion simulated with its vertical record (1e-8), its uplift
+    time is the history's, and the history without the vertical record has other storey
+    peaks (so a run that ignored the component would fail)."""
+    structure = isolated_structure("building", time_step=0.005, pressure=2000 * PSI, isolation_period=1.5)
+    height = load_table2().storey_height
+
+    def run(build, motions):
+        return monte_carlo(build, motions, N, key=jax.random.key(7), chunk_size=N, devices=jax.devices()[:1],
+                           storey_height=height)
+
+    motions = VerticalGroundMotion(_model(), 2.0)
+    loaded = run(with_vertical_component(structure), motions)
+    assert loaded.converged.all() and loaded.n_uplifted > 0
+    for i in range(N):
+        rows = np.asarray(monte_carlo_motion(motions, jax.random.key(7), i))
+        system = with_vertical_motion(structure(uniform_signal(rows[0], 0.01)), uniform_signal(rows[1], 0.01))
+        history = simulate_structure(system, DURATION)
+        u = np.asarray(history.displacement)
+        np.testing.assert_allclose(loaded.storey_drift[i], np.abs(np.diff(u, axis=1)).max(axis=0) / height,
+                                   rtol=1e-8)
+        np.testing.assert_allclose(loaded.floor_acceleration[i],
+                                   np.abs(np.asarray(history.total_acceleration)).max(axis=0), rtol=1e-8)
+        assert loaded.uplift_time[i] == pytest.approx(float(history.uplift_time), abs=1e-12)
+    horizontal = np.asarray(simulate_structure(structure(uniform_signal(rows[0], 0.01)), DURATION).displacement)
+    assert not np.allclose(loaded.storey_drift[-1], np.abs(np.diff(horizontal, axis=1)).max(axis=0) / height,
+                           rtol=1e-3)
+
+
+@pytest.mark.parametrize("components", [1, pytest.param(2, marks=pytest.mark.slow)])
+def test_cli_storeys_and_demand_file_with_a_zero_vertical_ratio(tmp_path, capsys, components):
+    """`montecarlo --structure building --pelicun-demands` (storey results on) with
+    `--vertical-ratio 0`: the summary's storey results and statistics and the demand file are
+    those of the run without the flag, and the summary says no motion lifted off and that the
+    storey results are horizontal."""
+    common = ["montecarlo", "--motions", "2", "--duration", "4s", "--strong-motion", "1.5s", "--structure",
+              "building", "--storeys", "--components", str(components), "--no-progress"]
+    assert main([*common, "--json", str(tmp_path / "a.json"), "--pelicun-demands", str(tmp_path / "a.csv")]) == 0
+    assert main([*common, "--vertical-ratio", "0", "--json", str(tmp_path / "b.json"),
+                 "--pelicun-demands", str(tmp_path / "b.csv")]) == 0
+    printed = capsys.readouterr().out
+    plain, loaded = (json.loads((tmp_path / name).read_text()) for name in ("a.json", "b.json"))
+    assert loaded["levels"][0]["storeys"] == plain["levels"][0]["storeys"]
+    assert loaded["levels"][0]["statistics"] == plain["levels"][0]["statistics"]
+    assert (tmp_path / "b.csv").read_text() == (tmp_path / "a.csv").read_text()
+    assert loaded["levels"][0]["uplift"]["n_uplifted"] == 0 and "horizontal" in loaded["vertical"]["storeys"]
+    assert "uplift (N <= 0), motions per level: 0.3g: 0/2" in printed
+
+
+def test_cli_demand_files_per_level_with_the_vertical_component(tmp_path):
+    """`--pga 0.3g,0.8g --vertical-ratio 2 --pelicun-demands d.csv --out mc.nc` on the building:
+    each level's demand file holds that level's motions' peaks from the results file, which
+    has each motion's uplift time (some lift off at 0.8g; the demands are those runs', uplift
+    included), and the summary notes that the demands are horizontal."""
+    import xarray as xr
+
+    assert main(["montecarlo", "--motions", "2", "--duration", "4s", "--strong-motion", "1.5s", "--structure",
+                 "building", "--pga", "0.3g,0.8g", "--vertical-ratio", "2", "--no-progress",
+                 "--json", str(tmp_path / "v.json"), "--pelicun-demands", str(tmp_path / "d.csv"),
+                 "--out", str(tmp_path / "mc.nc")]) == 0
+    payload = json.loads((tmp_path / "v.json").read_text())
+    with xr.open_dataset(tmp_path / "mc.nc") as data:
+        drift, disp, uplift = (data[k].values for k in ("storey_drift", "base_disp", "uplift_time"))
+    for j in range(2):
+        rows = np.arange(2 * j, 2 * j + 2)
+        table = np.genfromtxt(tmp_path / f"d-level{j + 1}.csv", delimiter=",", skip_header=2)[:, 1:]
+        header = (tmp_path / f"d-level{j + 1}.csv").read_text().splitlines()[0].split(",")[1:]
+        for storey in range(drift.shape[1]):  # pelicun: storey j lies below floor j + 1 (ground: 1)
+            np.testing.assert_allclose(table[:, header.index(f"1-PID-{storey + 2}-1")], drift[rows, storey],
+                                       rtol=1e-9)
+        np.testing.assert_allclose(table[:, header.index("1-BRD-1-1")], disp[rows] / 0.0254, rtol=1e-9)
+        assert payload["levels"][j]["uplift"]["uplifted_motions"] == rows[uplift[rows] > 0].tolist()
+    assert payload["levels"][1]["uplift"]["n_uplifted"] > 0
+    assert "horizontal" in payload["vertical"]["pelicun_demands"]
