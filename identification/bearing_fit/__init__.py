@@ -16,9 +16,6 @@ from ._record_force import PERPENDICULAR_NAMES as PERPENDICULAR_NAMES
 from ._record_force import simulate_record_force as simulate_record_force
 from ._report import plot_fit as plot_fit
 from ._report import write_fit_json as write_fit_json
-from ._to_bearing import PARAMETER_FIELDS as PARAMETER_FIELDS
-from ._to_bearing import fitted_bearing as fitted_bearing
-from ._to_bearing import part_errors as part_errors
 from ._series_effects import HEAT_SCALE as HEAT_SCALE
 from ._series_effects import NOMINAL_CONTACT_PRESSURE as NOMINAL_CONTACT_PRESSURE
 from ._series_effects import SeriesMember as SeriesMember
@@ -30,6 +27,9 @@ from ._series_effects import member_pendulum as member_pendulum
 from ._series_effects import member_std_errors as member_std_errors
 from ._series_effects import optimiser_start as optimiser_start
 from ._series_effects import prepare_series_problem as prepare_series_problem
+from ._to_bearing import PARAMETER_FIELDS as PARAMETER_FIELDS
+from ._to_bearing import fitted_bearing as fitted_bearing
+from ._to_bearing import part_errors as part_errors
 from ._triple_fit import SeriesFit as SeriesFit
 from ._triple_fit import TripleFit as TripleFit
 from ._triple_fit import fit_double_pendulum_test as fit_double_pendulum_test

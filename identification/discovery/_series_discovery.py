@@ -223,6 +223,9 @@ def _requested(candidates) -> tuple[list, dict]:
         raise ValueError(f"candidates: unknown {unknown}; choose from {list(EFFECT_NAMES)} (the "
                          f"series pendulums take {', '.join(SERIES_EFFECTS)}).")
     skipped = {name: _skip_reason(name) for name in EFFECT_NAMES if name not in SERIES_EFFECTS}
+    if not any(name in SERIES_EFFECTS for name in names):
+        raise ValueError("candidates: the series pendulums take " + ", ".join(SERIES_EFFECTS)
+                         + "; not " + "; ".join(f"{n} ({skipped[n]})" for n in names) + ".")
     for name in SERIES_EFFECTS:
         if name not in names:
             skipped[name] = "not among the requested candidates"
