@@ -131,8 +131,8 @@ def _sine_record(path, biaxial=False):
     (["--isolator", "single-fp"], "--isolator-file: applies to --isolator triple-fp or double-fp only"),
     (["--isolator", "flat", "--isolator-file", None, "--save-isolator", "x.json"],
      "--save-isolator: applies to --isolator triple-fp or double-fp only"),
-    (["--candidates", "wear,breakaway"], r"candidates: the series pendulums take heating; not wear \(the "
-     "series model of the pendulum has no wear part"),
+    (["--candidates", "wear,breakaway"], r"candidates: the series pendulums take velocity_dependence, "
+     r"heating; not wear \(the series model of the pendulum has no wear part"),
     (["--candidates", "heating,grip"], r"candidates: unknown \['grip'\]"),
     (["--biaxial"], "runs in the plane .* along one axis"),
 ])
@@ -192,7 +192,7 @@ def test_hidden_heating_of_a_double_pendulum_is_named_and_the_gap_shrinks(tmp_pa
     assert step["evidence"]["delta_bic"] > 10 and step["evidence"]["holdout_gain"] > 0
     # the gap shrinks to the noise (1 % of the RMS force), from several times it
     assert d["nrmse_initial"] > 4 * 0.01
-    assert d["nrmse_final"] == pytest.approx(0.01, rel=0.15)
+    assert 0.006 < d["nrmse_final"] < 0.012  # the noise: 1 % of the RMS force
     scale, error = d["parameters"]["heat_scale"], d["std_errors"]["heat_scale"]
     assert abs(scale - PRESSURE / NOMINAL) < max(3 * error, 0.03 * PRESSURE / NOMINAL)
     assert d["parameters"]["bottom_radius"] == pytest.approx(2.1, rel=0.02)
@@ -210,8 +210,23 @@ def test_a_double_pendulum_without_a_hidden_effect_names_nothing(tmp_path):
     assert d["effects_added"] == [] and d["conclusion"] == "no missing effect"
     refused = d["refused_candidates"]["heating"]
     assert refused["delta_bic"] <= 10 or refused["holdout_gain"] <= 0
-    assert d["nrmse_initial"] == pytest.approx(0.01, rel=0.15)
+    assert 0.006 < d["nrmse_initial"] < 0.012
     assert d["nrmse_final"] == d["nrmse_initial"]
+
+
+@pytest.mark.slow
+def test_rate_dependence_hidden_from_a_coulomb_start_is_named(tmp_path):
+    """The record's surfaces follow Eq. 1 (rate_a 20 s/m); the start file gives the bottom one
+    Coulomb friction, which the series fit holds: velocity dependence is named, and Eq. 1's
+    constants of that surface come back."""
+    record = _noisy_record(tmp_path, _double(), "rate")
+    start = _write(tmp_path / "start.json", _double((2.268, 0.0552, 0.0), (2.268, 0.0828, 0.04)))
+    d = _diagnose(tmp_path, "double-fp", start, record, "--candidates", "velocity_dependence")
+    assert d["effects_added"] == ["velocity_dependence"]
+    assert d["nrmse_initial"] > 2 * d["nrmse_final"]
+    assert 0.006 < d["nrmse_final"] < 0.012  # the noise: 1 % of the RMS force
+    assert d["parameters"]["bottom_rate_a"] == pytest.approx(20.0, rel=0.25)
+    assert d["parameters"]["bottom_f_max"] == pytest.approx(0.06, rel=0.05)
 
 
 @pytest.mark.slow
@@ -221,9 +236,20 @@ def test_hidden_heating_of_a_triple_pendulum_is_named(tmp_path):
     d = _diagnose(tmp_path, "triple-fp", start, record)
     assert d["isolator"] == "triple-fp" and d["effects_added"] == ["heating"]
     assert d["nrmse_initial"] > 3 * d["nrmse_final"]
-    assert d["nrmse_final"] == pytest.approx(0.01, rel=0.2)
+    assert 0.006 < d["nrmse_final"] < 0.012
     assert d["parameters"]["heat_scale"] == pytest.approx(PRESSURE / NOMINAL, rel=0.1)
 
 
-def test_heating_is_a_series_candidate():
-    assert "heating" in SERIES_EFFECTS
+def test_heating_and_velocity_dependence_are_the_series_candidates():
+    assert set(SERIES_EFFECTS) == {"heating", "velocity_dependence"}
+
+
+def test_velocity_dependence_is_a_candidate_on_the_sliding_surfaces_with_coulomb_friction(tmp_path):
+    """The series fit holds delta_f and rate_a of a surface the start gives Coulomb friction:
+    those surfaces (and only those) take the velocity-dependence candidate."""
+    record = read_test_record(_sine_record(tmp_path / "r.csv"))
+    coulomb = prepare_series_problem(record, isolator_from_dict(_double((2.1, 0.06, 0.0), (2.1, 0.09, 0.04))))
+    assert coulomb.rate_surfaces == ("bottom",)
+    assert coulomb.effect_keys("velocity_dependence") == ("bottom_delta_f", "bottom_rate_a")
+    assert "bottom_delta_f" in coulomb.held and "top_delta_f" in coulomb.free
+    assert prepare_series_problem(record, isolator_from_dict(_double())).rate_surfaces == ()

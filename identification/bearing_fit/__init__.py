@@ -20,6 +20,7 @@ from ._series_effects import HEAT_SCALE as HEAT_SCALE
 from ._series_effects import NOMINAL_CONTACT_PRESSURE as NOMINAL_CONTACT_PRESSURE
 from ._series_effects import SeriesMember as SeriesMember
 from ._series_effects import SeriesProblem as SeriesProblem
+from ._series_effects import candidate_start as candidate_start
 from ._series_effects import fit_series_members as fit_series_members
 from ._series_effects import heated_pendulum as heated_pendulum
 from ._series_effects import member_parameters as member_parameters

@@ -14,8 +14,15 @@ record's `contact_pressure` (or N / `contact_area`), else `NOMINAL_CONTACT_PRESS
 (1000 psi), as the flat slider's candidate takes it; dT scales with heat_scale p_e, so
 heat_scale absorbs a pressure that is off by a factor.
 
-Every member of a batch is the heated model; a member without heating holds heat_scale at 0,
-where k_T(T0) / k_T(T0) = 1 makes it exactly the series fit's model. The residual of member b
+The velocity-dependence candidate frees delta_f and rate_a of Eq. 1, mu = f_max - delta_f
+exp(-rate_a |v|) (Constantinou, Mokha & Reinhorn 1990), on each sliding surface that the start
+file gives Coulomb friction (delta_f or rate_a zero), which the series fit holds
+(`triple_fit_plan`); it starts from 1.5 f_max, delta_f = 0.5 f_max (the friction at rest where
+it was) and rate_a = 1 s/in, as the flat slider's candidate does.
+
+Every member of a batch is the heated model with every candidate's constants; a member without
+heating holds heat_scale at 0, where k_T(T0) / k_T(T0) = 1 makes it exactly the series fit's
+model, and one without velocity dependence holds the start's delta_f and rate_a. The residual of member b
 is w_b (F_model - F) / s, with w_b its 0/1 sample weights (a fold of cycles) and s the
 root-mean-square measured force.
 """
@@ -43,7 +50,7 @@ from teflon_jax.bearing import (
 )
 from teflon_jax.formats import TestRecord
 from teflon_jax.systems import HEAT_HORIZON, simulate_triple_test
-from teflon_jax.units import PSI
+from teflon_jax.units import INCH, PSI
 
 from ..least_squares import covariance_from_jacobian, fit_least_squares_batch
 from ._prepare import _record_name
@@ -66,6 +73,9 @@ start file nor the record states (as the flat slider's candidate)."""
 HEAT_SCALE = "heat_scale"
 """The heating candidate's constant (shared by the surfaces)."""
 
+RATE_START = 1.0 / INCH
+"""rate_a [s/m] the velocity-dependence candidate starts from (1 s/in)."""
+
 FIT_RTOL = 1e-5
 FIT_ATOL = 1e-5
 """Convergence of each fit: a step changes every residual (forces over their RMS) by less than
@@ -78,7 +88,8 @@ class SeriesProblem(NamedTuple):
     the constants the record can tell and `held` {name: why} (`triple_fit_plan`), `pressures`
     {surface: p [Pa]}, `heating` {surface: `FrictionalHeating`} (constants of each surface's
     heating, heat_scale 1), `pressure_assumed` (surfaces at `NOMINAL_CONTACT_PRESSURE`),
-    `kernel` (rates, weights) of the heat kernel, `decimation`, `source`."""
+    `kernel` (rates, weights) of the heat kernel, `decimation`, `source`, `rate_surfaces` the
+    sliding surfaces whose start friction is Coulomb's (the velocity-dependence candidate's)."""
 
     time: np.ndarray
     path: np.ndarray
@@ -94,6 +105,15 @@ class SeriesProblem(NamedTuple):
     kernel: tuple
     decimation: int
     source: str
+    rate_surfaces: tuple = ()
+
+    def effect_keys(self, effect: str) -> tuple:
+        """The optimiser's keys of a candidate's constants."""
+        if effect == "heating":
+            return (HEAT_SCALE,)
+        if effect == "velocity_dependence":
+            return tuple(f"{s}_{c}" for s in self.rate_surfaces for c in ("delta_f", "rate_a"))
+        raise ValueError(f"effect: the series model takes heating or velocity_dependence, not {effect!r}.")
 
 
 def _without_heating(bearing: SeriesPendulum) -> SeriesPendulum:
@@ -165,7 +185,18 @@ def prepare_series_problem(record: TestRecord, start: SeriesPendulum, *, normal_
     return SeriesProblem(time=time, path=path, force=force, load=load, scale=scale, start=bare,
                          free=tuple(free), held=held, pressures=pressures, heating=heating,
                          pressure_assumed=assumed, kernel=kernel, decimation=decimation,
-                         source=name)
+                         source=name, rate_surfaces=_coulomb_surfaces(bare, free))
+
+
+def _coulomb_surfaces(start: SeriesPendulum, free) -> tuple:
+    """The sliding surfaces (f_max free) whose start friction is Coulomb's."""
+    out = []
+    for name in start.slider_names:
+        friction = getattr(start, f"{name}_friction")
+        coulomb = float(np.asarray(friction.delta_f)) == 0 or float(np.asarray(friction.rate_a)) == 0
+        if coulomb and f"{name}_f_max" in free:
+            out.append(name)
+    return tuple(out)
 
 
 def heated_pendulum(bearing: SeriesPendulum, heating: dict, pressures: dict, heat_scale):
@@ -179,12 +210,34 @@ def heated_pendulum(bearing: SeriesPendulum, heating: dict, pressures: dict, hea
 
 
 def optimiser_start(problem: SeriesProblem) -> dict:
-    """The optimiser's start (keys: the free constants, a triple's b - a and c - a in place of
-    b and c, and `HEAT_SCALE` at 1) and its bounds: ({key: value}, {key: (lower, upper)})."""
+    """The optimiser's start (keys: the free constants at the start file's values, a triple's
+    b - a and c - a in place of b and c; the candidates' constants at their start:
+    `HEAT_SCALE` 1, delta_f half the start's f_max and rate_a `RATE_START` on `rate_surfaces`)
+    and its bounds: ({key: value}, {key: (lower, upper)})."""
     initial, bounds = _bounds(problem.free, triple_parameters(problem.start))
     initial[HEAT_SCALE] = 1.0
     bounds[HEAT_SCALE] = PARAMETER_BOUNDS[HEAT_SCALE].search
+    for name in problem.rate_surfaces:
+        initial.update({f"{name}_delta_f": 0.5 * initial[f"{name}_f_max"],
+                        f"{name}_rate_a": RATE_START})
+        bounds.update({f"{name}_delta_f": (0.0, 1.0), f"{name}_rate_a": (0.0, math.inf)})
     return initial, bounds
+
+
+def candidate_start(problem: SeriesProblem, values: dict, effects) -> dict:
+    """The start of a fit adding `effects` to a model fitted at `values` (optimiser keys):
+    each added candidate's constants at their start (`optimiser_start`); velocity dependence
+    keeps the friction at rest where it was (f_max 1.5 times, delta_f half of it)."""
+    initial = optimiser_start(problem)[0]
+    out = dict(values)
+    for effect in effects:
+        for key in problem.effect_keys(effect):
+            out[key] = initial[key]
+        if effect == "velocity_dependence":
+            for name in problem.rate_surfaces:
+                f_now = values[f"{name}_f_max"]
+                out[f"{name}_f_max"], out[f"{name}_delta_f"] = 1.5 * f_now, 0.5 * f_now
+    return out
 
 
 def _model(params, shared):
@@ -220,21 +273,32 @@ class SeriesMember(NamedTuple):
     n_steps: int
 
 
-def fit_series_members(problem: SeriesProblem, starts, heated, weights, *,
+def _off_values(problem: SeriesProblem) -> dict:
+    """The value each candidate's constant holds while the candidate is off: heat_scale 0 and
+    the start file's delta_f and rate_a."""
+    values = triple_parameters(problem.start)
+    out = {HEAT_SCALE: 0.0}
+    out.update({k: values[k] for k in problem.effect_keys("velocity_dependence")})
+    return out
+
+
+def fit_series_members(problem: SeriesProblem, starts, effects, weights, *,
                        max_steps: int = 200) -> list:
     """Fit B members in one vmapped Levenberg-Marquardt call (optimistix, scaled damping):
     member b starts from `starts[b]` (optimiser keys, `optimiser_start`), frees the plan's
-    constants and, where `heated[b]`, heat_scale (else held at 0), on the samples where
-    `weights[b]` (n,) is 1. **Returns:** B `SeriesMember`s."""
+    constants and those of its candidates `effects[b]` (the others held off, `_off_values`),
+    on the samples where `weights[b]` (n,) is 1. **Returns:** B `SeriesMember`s."""
     initial, bounds = optimiser_start(problem)
     keys = tuple(initial)
     b = len(starts)
-    start = {k: np.array([float(s[k]) if k != HEAT_SCALE or heated[i] else 0.0
-                          for i, s in enumerate(starts)]) for k in keys}
-    guess = {k: np.array([float(s[k]) if k != HEAT_SCALE else (float(s[k]) if heated[i] else 1.0)
-                          for i, s in enumerate(starts)]) for k in keys}
-    free = {k: np.array([1.0 if k != HEAT_SCALE or heated[i] else 0.0 for i in range(b)])
+    off = _off_values(problem)
+    on = [set(k for e in effects[i] for k in problem.effect_keys(e)) for i in range(b)]
+    free = {k: np.array([0.0 if k in off and k not in on[i] else 1.0 for i in range(b)])
             for k in keys}
+    start = {k: np.array([float(off[k]) if not free[k][i] else float(s[k])
+                          for i, s in enumerate(starts)]) for k in keys}
+    guess = {k: np.array([float(s[k]) if free[k][i] else float(initial[k])
+                          for i, s in enumerate(starts)]) for k in keys}
     batch = ({k: jnp.asarray(v) for k, v in free.items()},
              {k: jnp.asarray(v) for k, v in start.items()}, jnp.asarray(np.asarray(weights, float)))
     fits = fit_least_squares_batch(_residual, guess, bounds, args=(batch, _shared(problem)),
@@ -261,38 +325,42 @@ def _member_forces(problem, values) -> np.ndarray:
     return np.asarray(_forces_batch(stacked, _shared(problem)[0]))
 
 
-def member_pendulum(problem: SeriesProblem, values: dict, heated: bool):
-    """(the fitted pendulum (heated surfaces where `heated`), swapped): bottom and top in the
-    start file's order of f_max, as the series fit reports them."""
+def member_pendulum(problem: SeriesProblem, values: dict, effects):
+    """(the fitted pendulum with `effects` (heated surfaces where heating is among them),
+    swapped): bottom and top in the start file's order of f_max, as the series fit reports them."""
+    values = {**values, **{k: v for k, v in _off_values(problem).items()
+                           if not any(k in problem.effect_keys(e) for e in effects)}}
     plain = {k: jnp.asarray(v) for k, v in values.items() if k != HEAT_SCALE}
     bearing, swapped = _in_start_order(triple_with_parameters(problem.start, plain), problem.start)
-    if heated:
+    if "heating" in effects:
         bearing = heated_pendulum(bearing, problem.heating, problem.pressures, values[HEAT_SCALE])
     return bearing, swapped
 
 
-def member_parameters(problem: SeriesProblem, values: dict, heated: bool) -> dict:
-    """name -> value [SI] of every constant of the fitted member (`parameter_names` of its
-    surfaces; `heat_scale` where heated)."""
-    bearing, _ = member_pendulum(problem, values, heated)
+def member_parameters(problem: SeriesProblem, values: dict, effects) -> dict:
+    """name -> value [SI] of every constant of the fitted member with `effects`
+    (`parameter_names` of its surfaces; `heat_scale` where heating is among them)."""
+    bearing, _ = member_pendulum(problem, values, effects)
     out = triple_parameters(bearing)
-    if heated:
+    if "heating" in effects:
         out[HEAT_SCALE] = float(values[HEAT_SCALE])
     return out
 
 
-def member_std_errors(problem: SeriesProblem, member: SeriesMember, heated: bool,
+def member_std_errors(problem: SeriesProblem, member: SeriesMember, effects,
                       n_eff: float) -> dict:
     """Standard errors [SI] of the member's fitted constants (reported names, bottom and top in
     the start file's order): sigma^2 (J^T J)^-1 of the residual at the optimum (Seber & Wild
     1989, Ch. 2), inflated by n / n_eff for residuals correlated from sample to sample (n_eff
     as in the discovery's evidence); inf where the record cannot tell a constant."""
     known = parameter_names(problem.start.slider_names)
-    names = tuple(n for n in known if n in problem.free) + ((HEAT_SCALE,) if heated else ())
+    added = {k for e in effects for k in problem.effect_keys(e)}
+    names = tuple(n for n in known if n in problem.free or n in added)
+    names += (HEAT_SCALE,) if "heating" in effects else ()
     jac = _reported_jacobian(SimpleNamespace(names=member.keys, jacobian=member.jacobian), names)
     residual = (member.force - problem.force) / problem.scale
     cov, _ = covariance_from_jacobian(jac, residual)
     inflation = residual.size / max(float(n_eff), 1.0)
     errors = {n: float(np.sqrt(abs(cov[i, i]) * inflation)) for i, n in enumerate(names)}
-    _, swapped = member_pendulum(problem, member.values, heated)
+    _, swapped = member_pendulum(problem, member.values, effects)
     return {_swap_name(n) if swapped else n: v for n, v in errors.items()}

@@ -4,9 +4,11 @@ The baseline is the series fit of the pendulum (`identification.bearing_fit`: th
 Fenz & Constantinou 2006, 2008 in series, Eq. 1 friction at each surface's velocity, the
 constants the record can tell fitted from the start file's values). The candidates are the
 effects of the flat slider's discovery (`EFFECTS`) that the series model can represent on each
-of its surfaces: today frictional heating (`SERIES_EFFECTS`; each surface heated by its own
-flux mu_e p_e v_e, its friction times k_T(T0 + heat_scale dT_e) / k_T(T0), one heat_scale
-fitted; `bearing_fit._series_effects`). The others are reported as skipped, with why.
+of its surfaces (`SERIES_EFFECTS`; `bearing_fit._series_effects`): frictional heating (each
+surface heated by its own flux mu_e p_e v_e, its friction times k_T(T0 + heat_scale dT_e) /
+k_T(T0), one heat_scale fitted), and velocity dependence (Eq. 1's delta_f and rate_a) on the
+sliding surfaces that the start file gives Coulomb friction, which the series fit holds. The
+others are reported as skipped, with why.
 
 Each round refits the current model and the current model with each candidate added, on the
 whole record and on two folds of alternate cycles (one vmapped, compiled call of the
@@ -22,7 +24,7 @@ import time as _time
 import numpy as np
 
 from ..bearing_fit import (
-    HEAT_SCALE,
+    candidate_start,
     fit_series_members,
     member_parameters,
     member_pendulum,
@@ -41,6 +43,8 @@ SERIES_BASELINE = "series"
 """The baseline's name in the results: the series fit of the pendulum."""
 
 SERIES_EFFECTS = {
+    "velocity_dependence": "mu_e = f_max,e - delta_f,e exp(-rate_a,e |v_e|) (Eq. 1) on each "
+                           "sliding surface e whose start friction is Coulomb's",
     "heating": "mu_e *= k_T(T0 + heat_scale dT_e) / k_T(T0) on each surface e, k_T(T) = 0.79 "
                "(0.70^(T/50) + 0.40); dT_e = sqrt(kappa/pi)/k int q_e(s) (t-s)^(-1/2) ds with "
                "q_e = mu_e p_e |v_e| (the heat flux into surface e at its own sliding speed)",
@@ -48,12 +52,16 @@ SERIES_EFFECTS = {
 """The candidates the series model represents on its surfaces, with the law each adds."""
 
 _NOT_IN_SERIES = {
-    "velocity_dependence": "Eq. 1 of each surface is in the baseline (the series fit frees "
-                           "delta_f and rate_a of the surfaces whose speeds show them)",
     "pressure_dependence": "the series fit takes a constant normal load (no contrast to identify it)",
     "anisotropy": "the record runs along one axis",
 }
 """Why an effect of `EFFECTS` outside `SERIES_EFFECTS` is not a candidate here."""
+
+
+RATE_IN_BASELINE = ("no sliding surface has Coulomb friction in the start file: Eq. 1 of each is "
+                    "in the baseline (the series fit frees delta_f and rate_a where the speeds "
+                    "show them)")
+"""Why velocity dependence is not a candidate when every sliding surface has Eq. 1."""
 
 
 def _skip_reason(name: str) -> str:
@@ -99,7 +107,7 @@ class SeriesDiscoveryResult:
     def pendulum(self):
         """The final model as a `TriplePendulum` or `DoublePendulum` (heated surfaces where
         heating was added), for `formats.write_isolator`."""
-        return member_pendulum(self.problem, self.final_values, "heating" in self.effects_added)[0]
+        return member_pendulum(self.problem, self.final_values, self.effects_added)[0]
 
     def to_json(self) -> dict:
         """The JSON document of `diagnose --isolator triple-fp|double-fp` (the keys of
@@ -176,19 +184,21 @@ class _Round:
         self.log = {"fits": 0, "unconverged": 0, "max_iterations_used": 0,
                     "iteration_limit": int(max_steps)}
 
-    def fit(self, configs, start):
-        """Members of each configuration (effect lists) on the record and both folds, from
-        `start` (optimiser values); padded to `n_members`. Returns [(full, fold a, fold b)]."""
-        starts, heated, weights = [], [], []
+    def fit(self, configs, values, current):
+        """Members of each configuration (effect lists) on the record and both folds, from the
+        current model's `values` (optimiser keys) with each added candidate at its start
+        (`candidate_start`); padded to `n_members`. Returns [(full, fold a, fold b)]."""
+        starts, effects, weights = [], [], []
         for config in configs:
+            start = candidate_start(self.problem, values, [e for e in config if e not in current])
             for w in self.weights:
                 starts.append(start)
-                heated.append("heating" in config)
+                effects.append(tuple(config))
                 weights.append(w)
         b = len(starts)
         pad = self.n_members - b
         members = fit_series_members(self.problem, starts + starts[:1] * pad,
-                                     heated + heated[:1] * pad, weights + weights[:1] * pad,
+                                     effects + effects[:1] * pad, weights + weights[:1] * pad,
                                      max_steps=self.max_steps)[:b]
         self.log.update(fits=self.log["fits"] + b,
                         unconverged=self.log["unconverged"] + sum(not m.converged for m in members),
@@ -207,16 +217,19 @@ def _evidence(problem, fits, pool, regressor, folds):
     evid = {}
     for j, name in enumerate(pool, start=1):
         cv = held_out_rms(err[j][1], err[j][2], held_a, held_b)
+        keys = problem.effect_keys(name)
         evid[name] = {
-            **candidate_evidence(ref_sse, ref_cv, err[j][0], cv, 1, problem.scale),
-            "residual_correlation": _residual_correlation(problem, fits[0][0].force, regressor),
-            "parameters": {HEAT_SCALE: fits[j][0].values[HEAT_SCALE]},
+            **candidate_evidence(ref_sse, ref_cv, err[j][0], cv, len(keys), problem.scale),
+            "residual_correlation": _residual_correlation(problem, fits[0][0].force,
+                                                          regressor[name]),
+            "parameters": {k: fits[j][0].values[k] for k in keys},
         }
     return evid
 
 
 def _requested(candidates) -> tuple[list, dict]:
-    """(applicable candidates, skipped {name: why}); `ValueError` for an unknown name."""
+    """(requested series candidates, skipped {name: why}); `ValueError` for an unknown name or
+    for a request of none that the series model takes."""
     names = list(SERIES_EFFECTS) if candidates is None else list(dict.fromkeys(candidates))
     unknown = [c for c in names if c not in EFFECT_NAMES]
     if unknown:
@@ -252,13 +265,16 @@ def discover_series_effects(record, start, *, candidates=None,
     started = _time.perf_counter()
     say = callback or (lambda text: None)
     pool, skipped = _requested(candidates)
-    applicable = list(pool)
     problem = prepare_series_problem(record, start, normal_load=normal_load, max_samples=max_samples)
+    if "velocity_dependence" in pool and not problem.rate_surfaces:
+        pool.remove("velocity_dependence")
+        skipped["velocity_dependence"] = RATE_IN_BASELINE
+    applicable = list(pool)
     rounds = _Round(problem, len(pool), max_steps)
-    regressor = heat_regressor(problem)
+    regressor = {"heating": heat_regressor(problem),
+                 "velocity_dependence": np.abs(np.gradient(np.asarray(problem.path), problem.time))}
     current, steps, final_round = [], [], {}
-    values = optimiser_start(problem)[0]
-    fits = rounds.fit([current] + [[c] for c in pool], values)
+    fits = rounds.fit([current] + [[c] for c in pool], optimiser_start(problem)[0], current)
     baseline = fits[0][0]
     nrmse_initial = float(np.sqrt(np.mean((baseline.force - problem.force) ** 2)) / problem.scale)
     say(f"baseline {SERIES_BASELINE} ({start.description[:-1]}): nrmse {nrmse_initial:.4f}")
@@ -277,23 +293,22 @@ def discover_series_effects(record, start, *, candidates=None,
         steps.append(DiscoveryStep(
             effect=chosen, evidence={k: v for k, v in evid[chosen].items() if k != "parameters"},
             nrmse_before=evid[chosen]["nrmse_before"], nrmse_after=evid[chosen]["nrmse_after"],
-            candidates=evid, parameters=member_parameters(problem, fit.values, "heating" in current)))
+            candidates=evid, parameters=member_parameters(problem, fit.values, current)))
         say(f"added {chosen}: nrmse {evid[chosen]['nrmse_before']:.4f} -> "
             f"{evid[chosen]['nrmse_after']:.4f}")
         if pool:
-            fits = rounds.fit([current] + [current + [c] for c in pool], fit.values)
-    heated = "heating" in current
+            fits = rounds.fit([current] + [current + [c] for c in pool], fit.values, current)
     residual = (fit.force - problem.force) / problem.scale
     rounds.log["final_converged"] = fit.converged
     return SeriesDiscoveryResult(
         isolator=start.isolator, baseline=SERIES_BASELINE, effects_added=list(current),
         steps=steps, final_round=final_round, nrmse_initial=nrmse_initial,
         nrmse_final=float(np.sqrt(np.mean(residual**2))),
-        parameters=member_parameters(problem, fit.values, heated),
-        std_errors=member_std_errors(problem, fit, heated, effective_samples(residual)),
-        baseline_parameters=member_parameters(problem, baseline.values, False),
+        parameters=member_parameters(problem, fit.values, current),
+        std_errors=member_std_errors(problem, fit, current, effective_samples(residual)),
+        baseline_parameters=member_parameters(problem, baseline.values, ()),
         forces={"baseline": baseline.force, "final": fit.force}, problem=problem,
         runtime_s=float(_time.perf_counter() - started),
         applicable=applicable,
         skipped=skipped, fit_convergence=dict(rounds.log), held=dict(problem.held),
-        swapped=member_pendulum(problem, fit.values, heated)[1], final_values=dict(fit.values))
+        swapped=member_pendulum(problem, fit.values, current)[1], final_values=dict(fit.values))
