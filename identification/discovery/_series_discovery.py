@@ -310,5 +310,7 @@ def discover_series_effects(record, start, *, candidates=None,
         forces={"baseline": baseline.force, "final": fit.force}, problem=problem,
         runtime_s=float(_time.perf_counter() - started),
         applicable=applicable,
-        skipped=skipped, fit_convergence=dict(rounds.log), held=dict(problem.held),
+        skipped=skipped, fit_convergence=dict(rounds.log),
+        held={k: v for k, v in problem.held.items()
+              if not any(k in problem.effect_keys(e) for e in current)},
         swapped=member_pendulum(problem, fit.values, current)[1], final_values=dict(fit.values))
