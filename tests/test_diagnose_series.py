@@ -227,6 +227,7 @@ def test_rate_dependence_hidden_from_a_coulomb_start_is_named(tmp_path):
     assert 0.006 < d["nrmse_final"] < 0.012  # the noise: 1 % of the RMS force
     assert d["parameters"]["bottom_rate_a"] == pytest.approx(20.0, rel=0.25)
     assert d["parameters"]["bottom_f_max"] == pytest.approx(0.06, rel=0.05)
+    assert "bottom_rate_a" in d["std_errors"] and "bottom_rate_a" not in d["held"]
 
 
 @pytest.mark.slow
