@@ -29,3 +29,8 @@ from ._report import write_report as write_report
 from ._result import DiscoveryResult as DiscoveryResult
 from ._result import DiscoveryStep as DiscoveryStep
 from ._result import confidence_wording as confidence_wording
+from ._series_discovery import SERIES_BASELINE as SERIES_BASELINE
+from ._series_discovery import SERIES_EFFECTS as SERIES_EFFECTS
+from ._series_discovery import SeriesDiscoveryResult as SeriesDiscoveryResult
+from ._series_discovery import discover_series_effects as discover_series_effects
+from ._series_report import write_series_report as write_series_report

@@ -164,7 +164,7 @@ def discover_effects(
     **Returns:** a `DiscoveryResult`.
     """
     base_effects = _baseline_effects(baseline)
-    _check_settings(bic_threshold, max_effects, max_steps)
+    check_settings(bic_threshold, max_effects, max_steps)
     started = _time.perf_counter()
     say = callback or (lambda text: None)
     known = _checked_known(known)
@@ -229,17 +229,12 @@ def _add_effects(setup, fit, current, pool, max_effects, bic_threshold, say, fit
         evid, nrmse_before, candidate_fits, fit_log = _fit_round(
             setup, fit.values, current, pool, fit_log
         )
-        ranked = sorted(
-            (c for c in pool if evid[c]["holdout_gain"] > 0),
-            key=lambda c: -evid[c]["delta_bic"],
-        )
         summary = ", ".join(f"{c} {evid[c]['delta_bic']:.1f}" for c in pool)
         say(f"round {len(steps) + 1}: delta_bic {summary}")
-        if not ranked or evid[ranked[0]]["delta_bic"] <= bic_threshold:
+        chosen = chosen_effect(evid, pool, bic_threshold)
+        if chosen is None:
             final_round = evid
             break
-        chosen = ranked[0]
-        _compare_with_runner_up(evid, pool, chosen)
         fit = candidate_fits[chosen]
         current.append(chosen)
         pool.remove(chosen)
@@ -259,7 +254,19 @@ def _add_effects(setup, fit, current, pool, max_effects, bic_threshold, say, fit
     return fit, current, steps, final_round, fit_log
 
 
-def _check_settings(bic_threshold, max_effects, max_steps) -> None:
+def chosen_effect(evid: dict, pool, bic_threshold: float):
+    """The decision rule (module docstring, step 4): the candidate with the largest delta_bic
+    among those with a positive held-out gain, if its delta_bic exceeds `bic_threshold`, with
+    its runner-up and naming confidence added to `evid[chosen]`; None when no candidate passes."""
+    ranked = sorted((c for c in pool if evid[c]["holdout_gain"] > 0),
+                    key=lambda c: -evid[c]["delta_bic"])
+    if not ranked or evid[ranked[0]]["delta_bic"] <= bic_threshold:
+        return None
+    _compare_with_runner_up(evid, pool, ranked[0])
+    return ranked[0]
+
+
+def check_settings(bic_threshold, max_effects, max_steps) -> None:
     if not bic_threshold >= 0:
         raise ValueError(f"bic_threshold: must be >= 0, got {bic_threshold}.")
     if max_effects < 0:

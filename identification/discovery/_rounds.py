@@ -206,10 +206,33 @@ def _fit_round(setup: _FitSetup, values, current, pool, fit_log):
 
 def _held_out_rms(setup: _FitSetup, err, i) -> float:
     """Held-out root-mean-square error of the fold pair at rows i + 1 and i + 2 of `err`."""
-    return math.sqrt(
-        (np.sum((err[i + 1] ** 2) * setup.held_b) + np.sum((err[i + 2] ** 2) * setup.held_a))
-        / setup.force.size
-    )
+    return held_out_rms(err[i + 1], err[i + 2], setup.held_a, setup.held_b)
+
+
+def held_out_rms(err_a, err_b, held_a, held_b) -> float:
+    """Root-mean-square prediction error on the cycles each fold's fit left out: `err_a` the
+    error of the fit to fold a (weights `held_a`), read on fold b (`held_b`), and the reverse."""
+    return math.sqrt((np.sum(err_a**2 * held_b) + np.sum(err_b**2 * held_a)) / np.size(err_a))
+
+
+def candidate_evidence(ref_sse: float, ref_cv: float, full, cv: float, k: int, scale: float) -> dict:
+    """The evidence for one candidate (module docstring of `_discovery`): its residual `full`
+    (n,) on the whole record and held-out error `cv` against the current model's `ref_sse`,
+    `ref_cv`; `k` its fitted parameters; `scale` the RMS measured force. Keys `delta_bic`
+    (n_eff ln(SSR_before / SSR_after) - k ln(n_eff)), `holdout_gain` (1 - CV_after /
+    CV_before), `n_eff`, `nrmse_before`, `nrmse_after`, `confidence`."""
+    n_total = np.size(full)
+    sse_c = float(np.sum(np.asarray(full) ** 2))
+    n_eff = effective_samples(full)
+    delta_bic = n_eff * math.log(ref_sse / max(sse_c, 1e-300)) - k * math.log(n_eff)
+    return {
+        "delta_bic": float(delta_bic),
+        "holdout_gain": float(1.0 - cv / ref_cv) if ref_cv > 0 else 0.0,
+        "n_eff": float(n_eff),
+        "nrmse_before": float(math.sqrt(ref_sse / n_total) / scale),
+        "nrmse_after": float(math.sqrt(sse_c / n_total) / scale),
+        "confidence": confidence_wording(delta_bic),
+    }
 
 
 def _round_evidence(setup: _FitSetup, err, fitted, sims, pool):
@@ -221,22 +244,13 @@ def _round_evidence(setup: _FitSetup, err, fitted, sims, pool):
     regress = regressors(data, sims_row(sims, 0), setup.half_cycles)
     evid = {}
     for j, name in enumerate(pool, start=1):
-        full = err[3 * j]
-        sse_c = float(np.sum(full**2))
-        cv = _held_out_rms(setup, err, 3 * j)
-        n_eff = effective_samples(full)
         k = max(sum(p.name not in setup.known for p in EFFECTS[name].parameters), 1)
-        delta_bic = n_eff * math.log(ref_sse / max(sse_c, 1e-300)) - k * math.log(n_eff)
         evid[name] = {
-            "delta_bic": float(delta_bic),
-            "holdout_gain": float(1.0 - cv / ref_cv) if ref_cv > 0 else 0.0,
-            "n_eff": float(n_eff),
-            "nrmse_before": float(nrmse_before),
-            "nrmse_after": float(math.sqrt(sse_c / n_total) / scale),
+            **candidate_evidence(ref_sse, ref_cv, err[3 * j], _held_out_rms(setup, err, 3 * j),
+                                 k, scale),
             "residual_correlation": residual_correlation(
                 sims["force"][0], regress, name, data, sims_row(sims, 0)
             ),
-            "confidence": confidence_wording(delta_bic),
             "parameters": {
                 p.name: float(fitted[3 * j][PARAMETER_NAMES.index(p.name)])
                 for p in EFFECTS[name].parameters

@@ -14,6 +14,12 @@ from ..units import INCH, parse_quantity
 from ._bearing_flags import add_save_bearing_flag, check_output_file, save_bearing_flag
 from ._common import add_quantity, add_units_flag, output_units, read_bearing_record
 from ._diagnose_pendulum import add_pendulum_diagnose_flags, search_pendulum
+from ._diagnose_series import (
+    add_series_diagnose_flags,
+    check_series_flags,
+    run_series_diagnose,
+)
+from ._triple import SERIES_ISOLATORS
 
 _DIMENSIONS = {"-": "dimensionless", "m": "length", "s/m": "slowness"}
 
@@ -61,8 +67,9 @@ def add_diagnose_parser(subparsers) -> argparse.ArgumentParser:
     parser.add_argument(
         "--baseline",
         choices=tuple(BASELINES),
-        default="paper1990",
-        help="model to start from (default: paper1990 = Eq. 1 + Bouc-Wen)",
+        default=None,
+        help="model to start from (default: paper1990 = Eq. 1 + Bouc-Wen; with --isolator "
+        "triple-fp|double-fp the baseline is the series fit of --isolator-file)",
     )
     parser.add_argument(
         "--candidates",
@@ -100,6 +107,7 @@ def add_diagnose_parser(subparsers) -> argparse.ArgumentParser:
     parser.add_argument("--quiet", "--no-progress", action="store_true",
                         help="no progress lines (--no-progress is the same flag, as in the other commands)")
     add_pendulum_diagnose_flags(parser)
+    add_series_diagnose_flags(parser)
     add_save_bearing_flag(parser)
     add_units_flag(parser)
     parser.set_defaults(func=run_diagnose)
@@ -119,7 +127,11 @@ def run_diagnose(args) -> int:
     candidates = None
     if args.candidates:
         candidates = [c.strip() for c in args.candidates.split(",") if c.strip()]
+    if args.isolator in SERIES_ISOLATORS:
+        return run_series_diagnose(args, candidates, say)
+    args.baseline = args.baseline or "paper1990"
     try:
+        check_series_flags(args)
         check_output_file(args.save_bearing, "--save-bearing")
         known = _parse_known(args.known)
         record = with_normal_load(read_bearing_record(args.record), args.record, args.normal_load)

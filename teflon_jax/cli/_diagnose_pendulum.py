@@ -17,11 +17,12 @@ RADIUS_RTOL = 1e-4
 
 
 def add_pendulum_diagnose_flags(parser) -> None:
-    """`--isolator flat|single-fp` and `--radius R` of `diagnose`."""
+    """`--isolator flat|single-fp|triple-fp|double-fp` and `--radius R` of `diagnose`."""
     parser.add_argument("--isolator", default="flat", choices=ISOLATORS,
                         help="single-fp: the record is of a single friction pendulum; its "
                         "restoring force N u / R joins the baseline and the search looks at the "
-                        "friction (default flat)")
+                        "friction; triple-fp, double-fp: the baseline is the series fit of "
+                        "--isolator-file and the candidates its surfaces' effects (default flat)")
     add_quantity(parser, "--radius", "length", None, "with --isolator single-fp: the radius R of "
                  "the concave surface, when known (default: fitted with the baseline's friction)",
                  minimum=0.0)
