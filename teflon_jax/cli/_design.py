@@ -43,12 +43,14 @@ def add_design_parser(subparsers) -> argparse.ArgumentParser:
         "design",
         help=HELP,
         description="BFGS over the isolation period (flat sliders; the radius R of a single "
-        "friction pendulum with --isolator single-fp) and the bearing pressure or f_max (bounded; "
+        "friction pendulum with --isolator single-fp, and its displacement capacity with "
+        "--capacity-range) and the bearing pressure or f_max (bounded; "
         "--pressure holds the friction), started from "
         "the best point of a grid sweep of the same objective, with a gradient check at the "
         "optimum against central differences. BFGS sees smoothed peaks, which lie below the "
         "true ones; the limit on them is lowered until the mean TRUE peak base displacement "
-        "meets --disp-limit. Exits with status 1 when the reported design breaks --disp-limit, "
+        "(or its 95th percentile over the motions, --limit-statistic p95) meets --disp-limit. "
+        "Exits with status 1 when the reported design breaks --disp-limit, "
         "a simulation did not converge or the gradient check fails; warns when the optimum "
         "lies on a bound.",
     )

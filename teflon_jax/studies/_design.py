@@ -16,7 +16,11 @@ large rho the optimum sits on (just beyond, by about E[V_s]'s slope / (2 rho)) t
 displacement limit when the limit is active. The smooth maximum lies below the true one, so
 the limit a user states, on the mean TRUE peak, is met by putting in J a limit on E[D_s]
 below D_limit by the gap between the two, corrected at the optimum and BFGS restarted
-(`optimise_design`'s `peak_corrections`).
+(`optimise_design`'s `peak_corrections`). The limit may apply to the 95th percentile over the
+motions instead of the mean (`LIMIT_STATISTICS`): E[D_s] is then replaced by the percentile
+of D_s, linearly interpolated between order statistics, which is piecewise linear in the
+motions' peaks and so differentiable wherever no two of them swap order (Hyndman & Fan 1996,
+Statistician 45(3), definition 7).
 Reference: Constantinou, Mokha & Reinhorn (1990), J. Struct. Eng. 116(2), Fig. 11.
 """
 
