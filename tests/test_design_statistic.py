@@ -120,16 +120,17 @@ def test_an_unknown_statistic_is_refused_by_the_library(records):
                         limit_statistic="median")
 
 
-@pytest.mark.slow  # two designs (BFGS, restarts, gradient checks): ~90 s on 2 busy cores
+@pytest.mark.slow  # two designs (BFGS, restarts, gradient checks): ~4 min on 2 busy cores
 def test_a_limit_on_the_95th_percentile_is_met_there_and_stiffens_the_design(records):
     """Flat sliders on springs, the period designed: under the same limit on the 95th
     percentile instead of the mean the optimum is stiffer, its true 95th percentile meets the
     limit (and binds), while the mean-limited design breaks it there."""
     structure = isolated_structure("rigid", time_step=DT, pressure=1000 * PSI, split_at_turn=False,
                                    newton_tolerance=0.0, linear_rule="newmark")
-    ends = [float(expected_response(structure, {"isolation_period": t}, records, DT)["peak_disp"])
+    # a limit the stiffest springs meet on the 95th percentile, and the softest break there
+    ends = [float(expected_response(structure, {"isolation_period": t}, records, DT)["peak_disp_p95"])
             for t in (1.0, 4.0)]
-    limit = 0.5 * (ends[0] + ends[1])
+    limit = ends[0] + 0.3 * (ends[1] - ends[0])
     designs = {s: optimise_design(structure, records, DT, variables={"isolation_period": (1.0, 4.0)},
                                   disp_limit=limit, start={"isolation_period": 2.5}, limit_statistic=s)
                for s in ("mean", "p95")}
@@ -142,12 +143,12 @@ def test_a_limit_on_the_95th_percentile_is_met_there_and_stiffens_the_design(rec
     assert p95.gradient_rel_error < 1e-4  # the 95th percentile's derivative at the optimum
 
 
-@pytest.mark.slow  # grid sweep, BFGS and gradient check of three variables: ~2 min on 2 busy cores
+@pytest.mark.slow  # grid sweep, BFGS and gradient check of two variables: ~3 min on 2 busy cores
 def test_design_of_radius_and_capacity_under_a_95th_percentile_limit(tmp_path, capsys):
     out = tmp_path / "design.json"
     code = main(["--no-compile-cache", "design", "--isolator", "single-fp", "--motions", "4", "--duration", "6s",
                  "--strong-motion", "2s", "--radius-range", "20in", "160in", "--capacity-range", "0.5in", "3in",
-                 "--pressure", "1000psi", "--grid", "3", "--disp-limit", "1in", "--limit-statistic", "p95",
+                 "--pressure", "1000psi", "--grid", "4", "--disp-limit", "1in", "--limit-statistic", "p95",
                  "--json", str(out), "--no-progress"])
     printed = capsys.readouterr()
     summary = json.loads(out.read_text())
