@@ -173,7 +173,7 @@ def test_design_of_radius_and_capacity_under_a_95th_percentile_limit(tmp_path, c
     summary = json.loads(out.read_text())
     optimum = summary["optimum"]
     assert code == 0, printed.err
-    assert summary["limit_statistic"] == "p95"
+    assert summary["limit_statistic"] == "p95" and summary["restrainer_ratio"] == 10.0
     assert 0.99 <= optimum["p95_peak_base_disp_in"] <= 1.0 and optimum["disp_limit_met"]
     assert optimum["mean_peak_base_disp_in"] < optimum["p95_peak_base_disp_in"]
     assert 0.5 <= optimum["capacity_in"] <= 3.0 and summary["gradient_rel_error"] < 1e-4

@@ -174,7 +174,7 @@ def run_design(args) -> int:
                  f"{args.motions} Clough-Penzien motions (PGA {args.pga_text}, {args.duration_text}, "
                  f"seed {args.seed}), limit {args.disp_limit_text} on the {_STATISTIC[args.limit_statistic]} "
                  "peak displacement")
-        # the grid's objective for the limit on the smoothed mean that BFGS ended on
+        # the grid's objective for the limit on the smoothed statistic that BFGS ended on
         final = {**sweep, "objective": sweep_objective(sweep, result.smooth_disp_limit, args.penalty)}
         plot_design(final, result, args.plot, title=stamp, units=plot_units(units))
     other = "95th percentile" if args.limit_statistic == "mean" else "mean"
@@ -289,6 +289,7 @@ def _payload(args, result, sweep, units, wall_s: float) -> dict:
         },
         f"disp_limit_{length[0]}": args.disp_limit / length[1],
         "limit_statistic": args.limit_statistic,
+        "restrainer_ratio": args.restrainer_ratio if "capacity" in result.optimum else None,
         "gradient_rel_error": result.gradient_rel_error,
         "gradient_tolerance": _tolerance(),
         "messages": list(result.messages),
