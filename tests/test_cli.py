@@ -200,9 +200,11 @@ def test_design_verdict_warns_on_bounds_and_fails_on_a_bad_gradient(capsys):
     stalled = SimpleNamespace(**{**vars(good), "optimiser_converged": False})
     assert _verdict(stalled, None) == 1
     assert "BFGS did not converge in 12 steps" in capsys.readouterr().err
-    over = SimpleNamespace(**{**vars(good), "limit_met": False, "peak_disp": 0.0381})
-    assert _verdict(over, SimpleNamespace(disp_limit_text="1.25in", units="us")) == 1
+    over = SimpleNamespace(**{**vars(good), "limit_met": False, "limited_disp": 0.0381})
+    assert _verdict(over, SimpleNamespace(disp_limit_text="1.25in", units="us", limit_statistic="mean")) == 1
     assert "breaks --disp-limit 1.25in: its mean peak base displacement is 1.5 in" in capsys.readouterr().err
+    assert _verdict(over, SimpleNamespace(disp_limit_text="1.25in", units="us", limit_statistic="p95")) == 1
+    assert "its 95th-percentile peak base displacement is 1.5 in" in capsys.readouterr().err
 
 
 def test_compile_cache_goes_to_the_user_cache_folder(tmp_path, monkeypatch):

@@ -26,6 +26,7 @@ from ._design_variables import (
     pendulum_start,
     plot_units,
     resolve_design_variables,
+    restrained_options,
     structure_options,
 )
 from ._montecarlo import _add_common, _motion_model
@@ -42,12 +43,14 @@ def add_design_parser(subparsers) -> argparse.ArgumentParser:
         "design",
         help=HELP,
         description="BFGS over the isolation period (flat sliders; the radius R of a single "
-        "friction pendulum with --isolator single-fp) and the bearing pressure or f_max (bounded; "
+        "friction pendulum with --isolator single-fp, and its displacement capacity with "
+        "--capacity-range) and the bearing pressure or f_max (bounded; "
         "--pressure holds the friction), started from "
         "the best point of a grid sweep of the same objective, with a gradient check at the "
         "optimum against central differences. BFGS sees smoothed peaks, which lie below the "
         "true ones; the limit on them is lowered until the mean TRUE peak base displacement "
-        "meets --disp-limit. Exits with status 1 when the reported design breaks --disp-limit, "
+        "(or its 95th percentile over the motions, --limit-statistic p95) meets --disp-limit. "
+        "Exits with status 1 when the reported design breaks --disp-limit, "
         "a simulation did not converge or the gradient check fails; warns when the optimum "
         "lies on a bound.",
     )
@@ -55,8 +58,12 @@ def add_design_parser(subparsers) -> argparse.ArgumentParser:
     _add_common(parser)
     # defaults: `teflon_jax.studies.default_design_problem()`, a problem whose limit binds
     add_quantity(parser, "--disp-limit", "length", "1.25in", "limit on the mean (over the motions) "
-                 "of the true peak base displacement",
-                 minimum=0.0)
+                 "of the true peak base displacement, or on its 95th percentile with "
+                 "--limit-statistic p95", minimum=0.0)
+    parser.add_argument("--limit-statistic", default="mean", choices=("mean", "p95"),
+                        help="the statistic over the motions of the peak base displacement that "
+                        "--disp-limit applies to: the mean, or the 95th percentile (linear "
+                        "interpolation between the motions' peaks) (default mean)")
     add_design_variable_flags(parser)
     add_triple_design_flags(parser)
     add_quantity(parser, "--isolation-damping", "dimensionless", None, "viscous damping ratio "
@@ -120,14 +127,15 @@ def run_design(args) -> int:
     attrs = {"structure": args.structure, "isolator": args.isolator, "seed": args.seed, "pga_m_s2": args.pga,
              **({"isolator_file": str(args.isolator_file)} if args.isolator in ("triple-fp", "double-fp") else
                 {"ptfe": args.ptfe} if args.bearing is None else {"bearing": str(args.bearing)}),
-             "motion_duration_s": args.duration, "isolation_damping": args.isolation_damping}
+             "motion_duration_s": args.duration, "isolation_damping": args.isolation_damping,
+             "limit_statistic": args.limit_statistic}
     if args.scheduler is None:
         from ..studies import device_chunk_size
 
         n_dof = 7 if structure.kind == "building" else 1  # Table 2's six storeys and the base
         batch = args.chunk_size or device_chunk_size(records.size, n_dof, cpu=16)
         sweep = design_sweep(structure, records, dt, grid=grid, disp_limit=args.disp_limit,
-                             penalty=args.penalty, batch_size=batch)
+                             penalty=args.penalty, batch_size=batch, limit_statistic=args.limit_statistic)
         if args.out is not None:
             sweep_dataset(sweep, attrs={**attrs, "disp_limit_m": args.disp_limit,
                                         "penalty": args.penalty}).to_netcdf(args.out)
@@ -137,15 +145,16 @@ def run_design(args) -> int:
         sweep = design_sweep_distributed(
             structure, records, dt, grid=grid, disp_limit=args.disp_limit, penalty=args.penalty,
             out=args.out, scheduler=args.scheduler, chunk_size=args.chunk_size or 16, attrs=attrs,
+            limit_statistic=args.limit_statistic,
             compilation_cache=None if args.no_compile_cache else str(compile_cache_dir()))
     bar.update(1)
     bar.set_postfix_str("BFGS from the best grid point")
     start = sweep_start(sweep, design_bounds(structure, variables))
     if args.isolator == "single-fp":
         start = pendulum_start(sweep, design_bounds(structure, variables), structure, records, dt,
-                               args.disp_limit, args.penalty)
+                               args.disp_limit, args.penalty, args.limit_statistic)
     result = optimise_design(structure, records, dt, variables=variables, disp_limit=args.disp_limit,
-                             penalty=args.penalty, start=start)
+                             penalty=args.penalty, start=start, limit_statistic=args.limit_statistic)
     bar.update(1)
     bar.close()
     payload = _payload(args, result, sweep, units, time.perf_counter() - tic)
@@ -163,18 +172,26 @@ def run_design(args) -> int:
                     else f"bearing {args.bearing}, ")
         stamp = (f"{args.structure} on {isolator}, {friction}zeta_b = {args.isolation_damping_text}, "
                  f"{args.motions} Clough-Penzien motions (PGA {args.pga_text}, {args.duration_text}, "
-                 f"seed {args.seed}), displacement limit {args.disp_limit_text}")
-        # the grid's objective for the limit on the smoothed mean that BFGS ended on
+                 f"seed {args.seed}), limit {args.disp_limit_text} on the {_STATISTIC[args.limit_statistic]} "
+                 "peak displacement")
+        # the grid's objective for the limit on the smoothed statistic that BFGS ended on
         final = {**sweep, "objective": sweep_objective(sweep, result.smooth_disp_limit, args.penalty)}
         plot_design(final, result, args.plot, title=stamp, units=plot_units(units))
-    print(f"optimum: {design_text(result.optimum, units)}; mean peak base displacement "
-          f"{units.show(result.peak_disp, 'length')} against the limit {args.disp_limit_text} "
-          f"({'met' if result.limit_met else 'BROKEN'}); mean peak base shear / weight "
-          f"{result.peak_shear:.4g} (smoothed, as BFGS sees them: "
-          f"{units.show(result.mean_disp, 'length')} under {units.show(result.smooth_disp_limit, 'length')}, "
+    other = "95th percentile" if args.limit_statistic == "mean" else "mean"
+    print(f"optimum: {design_text(result.optimum, units)}; {_STATISTIC[args.limit_statistic]} peak base "
+          f"displacement {units.show(result.limited_disp, 'length')} against the limit {args.disp_limit_text} "
+          f"({'met' if result.limit_met else 'BROKEN'}), {other} "
+          f"{units.show(result.p95_peak_disp if other != 'mean' else result.peak_disp, 'length')}; "
+          f"mean peak base shear / weight {result.peak_shear:.4g} (smoothed, as BFGS sees them: "
+          f"{units.show(result.limited_smooth_disp, 'length')} under "
+          f"{units.show(result.smooth_disp_limit, 'length')}, "
           f"{result.mean_shear:.4g}); {result.steps} BFGS steps; gradient check "
           f"{result.gradient_rel_error:.2g} relative; {payload['wall_s']:.1f} s")
     return _verdict(result, args)
+
+
+_STATISTIC = {"mean": "mean", "p95": "95th-percentile"}
+"""The words of each `--limit-statistic`."""
 
 
 def _variables_and_structure(args):
@@ -198,8 +215,8 @@ def _variables_and_structure(args):
             check_table1(args.ptfe, pressure, text, "--pressure-range")
     if bearing is None and args.pressure_text is not None:
         check_table1(args.ptfe, args.pressure, args.pressure_text)
-    structure = isolated_structure(
-        args.structure, ptfe=args.ptfe, **structure_options(args, variables),
+    options = dict(
+        ptfe=args.ptfe, **structure_options(args, variables),
         # Design differentiates the peaks: the turning-point split of the Monte Carlo default
         # switches branch when a design change moves a velocity reversal across a step, and the
         # gradient check at the optimum then fails; the plain update at 2.5 ms with Newmark's
@@ -208,6 +225,9 @@ def _variables_and_structure(args):
         time_step=0.0025 if args.time_step is None else args.time_step, split_at_turn=False,
         newton_tolerance=0.0, linear_rule="newmark", bearing=bearing,
     )
+    structure = isolated_structure(args.structure, **options)
+    if "capacity" in variables:  # the surface with its restrainer, scaled by the weight carried
+        structure = isolated_structure(args.structure, **restrained_options(args, variables, structure, options))
     check_f_max_range(args, structure)
     return variables, structure
 
@@ -256,6 +276,8 @@ def _payload(args, result, sweep, units, wall_s: float) -> dict:
             f"mean_smooth_base_disp_{length[0]}": result.mean_disp / length[1],
             "mean_peak_base_shear_ratio": result.peak_shear,
             f"mean_peak_base_disp_{length[0]}": result.peak_disp / length[1],
+            f"p95_smooth_base_disp_{length[0]}": result.p95_disp / length[1],
+            f"p95_peak_base_disp_{length[0]}": result.p95_peak_disp / length[1],
             "disp_limit_met": result.limit_met,
             f"smooth_disp_limit_{length[0]}": result.smooth_disp_limit / length[1],
             "bfgs_steps": result.steps,
@@ -266,6 +288,8 @@ def _payload(args, result, sweep, units, wall_s: float) -> dict:
             "converged": result.converged,
         },
         f"disp_limit_{length[0]}": args.disp_limit / length[1],
+        "limit_statistic": args.limit_statistic,
+        "restrainer_ratio": args.restrainer_ratio if "capacity" in result.optimum else None,
         "gradient_rel_error": result.gradient_rel_error,
         "gradient_tolerance": _tolerance(),
         "messages": list(result.messages),
@@ -307,8 +331,9 @@ def _verdict(result, args) -> int:
     failed = []
     if not result.limit_met:
         units = output_units(args.units)
-        failed.append(f"the reported design breaks --disp-limit {args.disp_limit_text}: its mean peak "
-                      f"base displacement is {units.show(result.peak_disp, 'length')}; widen "
+        failed.append(f"the reported design breaks --disp-limit {args.disp_limit_text}: its "
+                      f"{_STATISTIC[args.limit_statistic]} peak base displacement is "
+                      f"{units.show(result.limited_disp, 'length')}; widen "
                       f"{_range_flags(args)}, or raise --disp-limit")
     if not result.simulation_converged:
         failed.append(f"{result.n_failed_motions} motion(s) of the set did not converge at the optimum "

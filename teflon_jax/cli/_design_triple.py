@@ -21,8 +21,8 @@ SERIES_FLAGS = {"triple-fp": TRIPLE_FLAGS, "double-fp": DOUBLE_FLAGS}
 ALL_FLAGS = {**TRIPLE_FLAGS, **DOUBLE_FLAGS}
 """The range flags of each series pendulum, and all of them."""
 
-_OTHERS = ("--period-range", "--radius-range", "--pressure-range", "--f-max-range", "--pressure",
-           "--isolation-damping")
+_OTHERS = ("--period-range", "--radius-range", "--capacity-range", "--restrainer-ratio", "--pressure-range",
+           "--f-max-range", "--pressure", "--isolation-damping")
 
 
 def add_triple_design_flags(parser) -> None:

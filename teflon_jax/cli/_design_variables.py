@@ -20,7 +20,7 @@ DEFAULT_RANGES = {
 }
 """Bounds of each range flag when it is not given: (text, SI values)."""
 
-FLAG_OF = {"isolation_period": "--period-range", "radius": "--radius-range",
+FLAG_OF = {"isolation_period": "--period-range", "radius": "--radius-range", "capacity": "--capacity-range",
            "pressure": "--pressure-range", "f_max": "--f-max-range"}
 """The range flag of each design variable."""
 
@@ -40,6 +40,12 @@ def add_design_variable_flags(parser) -> None:
     add_quantity(parser, "--radius-range", "length", None, "--isolator single-fp: bounds of the "
                  "radius R of the concave surface, period 2 pi sqrt(R / g) (default 40in 160in: "
                  "2.0-4.0 s)", minimum=0.0, nargs=2)
+    add_quantity(parser, "--capacity-range", "length", None, "--isolator single-fp: bounds of the "
+                 "displacement capacity d of the surface, beyond which a stiffening restrainer adds "
+                 "k_r (|u| - d) (default: no restrainer, d not designed)", minimum=0.0, nargs=2)
+    add_quantity(parser, "--restrainer-ratio", "dimensionless", None, "with --capacity-range: the "
+                 "restrainer's stiffness k_r as a multiple of the surface's W / R at the low end of "
+                 "--radius-range (k_r is held as R is designed) (default 10)", minimum=0.0)
     add_quantity(parser, "--pressure-range", "pressure", None, "bounds of the bearing pressure "
                  "(inside Table 1's rows; one interval of the table keeps the friction constants "
                  "smooth in it) (default 1000psi 2000psi)", minimum=0.0, nargs=2)
@@ -63,6 +69,7 @@ def resolve_design_variables(args) -> dict:
                 else "flat sliders have no radius")
         raise ValueError(f"{wrong}: does not apply to --isolator {args.isolator} ({what}); give {right} "
                          f"instead{'' if pendulum else ' or add --isolator single-fp'}.")
+    _check_restrainer_flags(args, pendulum)
     if args.f_max_range_text is not None and args.pressure_range_text is not None:
         raise ValueError("--f-max-range: designs f_max instead of the pressure; give --f-max-range "
                          "or --pressure-range, not both.")
@@ -75,6 +82,8 @@ def resolve_design_variables(args) -> dict:
             setattr(args, name, values)
             setattr(args, name + "_text", text)
     variables = {"radius": args.radius_range} if pendulum else {"isolation_period": args.period_range}
+    if args.capacity_range_text is not None:
+        variables["capacity"] = args.capacity_range
     if args.f_max_range_text is not None:
         variables["f_max"] = args.f_max_range
     elif args.pressure_text is None:
@@ -84,6 +93,34 @@ def resolve_design_variables(args) -> dict:
         args.isolation_damping_text = "0%" if pendulum else "5%"
     args.design_flags = tuple(FLAG_OF[name] for name in variables)
     return {name: tuple(float(v) for v in bounds) for name, bounds in variables.items()}
+
+
+def _check_restrainer_flags(args, pendulum: bool) -> None:
+    """`ValueError` naming `--capacity-range` on flat sliders, or `--restrainer-ratio` without
+    it; the default ratio (10) set."""
+    if args.capacity_range_text is not None and not pendulum:
+        raise ValueError(f"--capacity-range: does not apply to --isolator {args.isolator} (flat sliders "
+                         "have no surface to leave); add --isolator single-fp.")
+    if args.restrainer_ratio_text is not None and args.capacity_range_text is None:
+        raise ValueError("--restrainer-ratio: sets the restrainer beyond the capacity, which only "
+                         "--capacity-range designs; add --capacity-range LOW HIGH or leave it out.")
+    if args.restrainer_ratio_text is None:
+        args.restrainer_ratio, args.restrainer_ratio_text = 10.0, "10"
+
+
+def restrained_options(args, variables: dict, structure, options: dict) -> dict:
+    """`isolated_structure`'s keywords `options` with the pendulum's surface given a
+    restrainer (`concave_surface`): capacity at the low end of `--capacity-range`, stiffness
+    k_r = ratio W / R_low, W the weight the bearings carry in `structure` [N]."""
+    import numpy as np
+
+    from ..bearing import concave_surface
+
+    weight = float(structure(np.zeros(2)).bearing_load)
+    radius = variables["radius"][0]
+    surface = concave_surface(radius, displacement_capacity=variables["capacity"][0],
+                              restrainer_stiffness=args.restrainer_ratio * weight / radius)
+    return {**options, "radius": None, "surface": surface}
 
 
 def check_f_max_range(args, structure) -> None:
@@ -124,6 +161,8 @@ def design_fields(values: dict, units) -> dict:
     if "radius" in values:
         fields[f"radius_{units.length[0]}"] = values["radius"] / units.length[1]
         fields["isolation_period_s"] = pendulum_period(values["radius"])
+        if "capacity" in values:
+            fields[f"capacity_{units.length[0]}"] = values["capacity"] / units.length[1]
     elif "isolation_period" in values:
         fields["isolation_period_s"] = values["isolation_period"]
     fields.update({n: values[n] for n in TRIPLE_DESIGN_VARIABLES if n in values})
@@ -138,6 +177,8 @@ def design_text(values: dict, units) -> str:
     """'Tb = 3.267 s, pressure = 2000 psi' or 'R = 61.2 in (Tb = 2.5 s), f_max = 0.08'."""
     if "radius" in values:
         parts = [f"R = {units.show(values['radius'], 'length')} (Tb = {pendulum_period(values['radius']):.4g} s)"]
+        if "capacity" in values:
+            parts.append(f"d = {units.show(values['capacity'], 'length')}")
     elif "isolation_period" in values:
         parts = [f"Tb = {values['isolation_period']:.4g} s"]
     else:
@@ -152,21 +193,27 @@ def design_text(values: dict, units) -> str:
 def plot_units(units) -> dict:
     """`plot_design`'s units of the design variables and of lengths."""
     return {"isolation_period": (1.0, "s"), "pressure": units.pressure[::-1], "radius": units.length[::-1],
+            "capacity": units.length[::-1],
             "f_max": (1.0, "-"), "length": units.length[::-1],
             **{n: (1.0, "-") for n in TRIPLE_DESIGN_VARIABLES}}
 
 
 def pendulum_start(sweep, bounds, structure, records, record_step: float, disp_limit: float,
-                   penalty: float) -> dict:
+                   penalty: float, statistic: str = "mean") -> dict:
     """BFGS's start on a pendulum: the grid's best point for the limit on the smoothed mean
     lowered by the gap between the true and the smoothed mean peak at the grid's best point
     for `disp_limit` (the limit BFGS then starts on, `optimise_design`). The unlowered limit
     binds nowhere on a grid whose smoothed peaks lie below it, and its best point is then the
     largest radius, where the bijection onto the bounds leaves BFGS almost no gradient."""
-    from ..studies import expected_response, sweep_objective, sweep_start
+    from ..studies import (
+        constrained_response,
+        expected_response,
+        sweep_objective,
+        sweep_start,
+    )
 
     start = sweep_start(sweep, bounds)
-    response = expected_response(structure, start, records, record_step)
+    response = constrained_response(expected_response(structure, start, records, record_step), statistic)
     lowered = disp_limit - (float(response["peak_disp"]) - float(response["disp"]))
     if not lowered > 0:
         return start

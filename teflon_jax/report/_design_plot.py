@@ -47,6 +47,7 @@ def plot_design(sweep: Mapping, result: DesignResult, path, *, units: Mapping | 
         left.set_xlabel(label[a])
         left.set_ylabel(label[b])
     left.legend(fontsize=8, loc="best")
+    statistic = {"p95": "95th-percentile"}.get(getattr(result, "limit_statistic", "mean"), "mean")
     disp = np.asarray(sweep["disp"]) / length_factor
     shear = np.asarray(sweep["shear"])
     feasible = np.asarray(sweep["disp"]) <= result.smooth_disp_limit
@@ -58,14 +59,14 @@ def plot_design(sweep: Mapping, result: DesignResult, path, *, units: Mapping | 
                   label=f"displacement limit = {result.disp_limit / length_factor:.3g} {length_name}")
     if result.smooth_disp_limit != result.disp_limit:
         right.axvline(result.smooth_disp_limit / length_factor, color="k", ls=":", lw=0.8,
-                      label="limit on the smoothed mean that meets it on the true peaks")
-    ox, oy = result.mean_disp / length_factor, result.mean_shear
+                      label=f"limit on the smoothed {statistic} that meets it on the true peaks")
+    ox, oy = result.limited_smooth_disp / length_factor, result.mean_shear
     right.plot(ox, oy, "k*", ms=14, mfc="w", label="gradient optimum (smoothed)", clip_on=False, zorder=5)
-    px, py = result.peak_disp / length_factor, result.peak_shear
-    right.plot(px, py, "*", color="C3", ms=14, label="gradient optimum: true mean peaks",
+    px, py = result.limited_disp / length_factor, result.peak_shear
+    right.plot(px, py, "*", color="C3", ms=14, label=f"gradient optimum: {statistic} of the true peaks",
                clip_on=False, zorder=5)
     _frame(right, np.append(disp, [ox, px]), np.append(shear, [oy, py]))
-    right.set_xlabel(f"mean peak base displacement (grid: smoothed) [{length_name}]")
+    right.set_xlabel(f"{statistic} peak base displacement (grid: smoothed) [{length_name}]")
     right.set_ylabel("mean peak base shear / weight (grid: smoothed) [-]")
     right.legend(fontsize=8)
     right.grid(alpha=0.3)

@@ -22,8 +22,9 @@ from ._chunks import monte_carlo_chunk_size as monte_carlo_chunk_size
 from ._cluster import ClusterRunError as ClusterRunError
 from ._cluster import check_netcdf_output as check_netcdf_output
 from ._cpu_vectors import prefer_wide_cpu_vectors as prefer_wide_cpu_vectors
+from ._design import LIMIT_STATISTICS as LIMIT_STATISTICS
 from ._design import DesignResult as DesignResult
-from ._design import default_design_problem as default_design_problem
+from ._design import constrained_response as constrained_response
 from ._design import design_bounds as design_bounds
 from ._design import expected_response as expected_response
 from ._design import forward_mode_gradient as forward_mode_gradient
@@ -34,6 +35,7 @@ from ._design_check import BOUND_TOLERANCE as BOUND_TOLERANCE
 from ._design_check import GRADIENT_TOLERANCE as GRADIENT_TOLERANCE
 from ._design_check import design_gradient_check as design_gradient_check
 from ._design_check import percentile_disp_gradient_check as percentile_disp_gradient_check
+from ._design_problem import default_design_problem as default_design_problem
 from ._design_sweep import design_sweep as design_sweep
 from ._design_sweep import design_sweep_distributed as design_sweep_distributed
 from ._design_sweep import open_sweep as open_sweep

@@ -121,7 +121,7 @@ def _show(name, value):
         return f"{value / PSI:.6g} psi"
     if name == "isolation_period":
         return f"{value:.6g} s"
-    if name == "radius":
+    if name in ("radius", "capacity"):
         return f"{value:.6g} m"
     return f"{value:.6g}"
 

@@ -27,29 +27,39 @@ from ._cluster import (
     stream_to_netcdf,
     worker_cached,
 )
-from ._design import Bounds, _records_array, expected_response, penalised_objective
+from ._design import (
+    Bounds,
+    _records_array,
+    check_limit_statistic,
+    constrained_response,
+    expected_response,
+    penalised_objective,
+)
 from ._results import DESIGN_UNITS
 
 SWEEP_VARIABLES = {
     "objective": ("1", "penalised objective E[V_s] + rho max(0, E[D_s] / limit - 1)^2"),
     "shear": ("1", "mean smooth peak base shear / weight E[V_s] over the motions"),
-    "disp": ("m", "mean smooth peak base displacement E[D_s] over the motions"),
+    "disp": ("m", "smooth peak base displacement over the motions: its mean E[D_s], or its 95th "
+                  "percentile with limit_statistic p95"),
     "converged": ("1", "every motion's solve converged at this design point"),
     "n_failed": ("1", "motions with a time step whose Newton solve did not converge"),
 }
 """Variables of a sweep's NetCDF file on the grid dimensions: name -> (units, long name)."""
 
 
-def _evaluator(structure, records, record_time_step, disp_limit, penalty, duration, disp_width, shear_width):
-    """The jitted function {name: (B,) design values} -> (objective, shear, disp, n_failed) (B,)."""
+def _evaluator(structure, records, record_time_step, disp_limit, penalty, duration, disp_width, shear_width,
+               statistic="mean"):
+    """The jitted function {name: (B,) design values} -> (objective, shear, disp, n_failed) (B,),
+    disp the smoothed `statistic` (`LIMIT_STATISTICS`) the limit applies to."""
 
     @jax.jit
     def evaluate(points):
         def one(point):
-            r = expected_response(
+            r = constrained_response(expected_response(
                 structure, point, records, record_time_step, duration=duration,
                 disp_width=disp_width, shear_width=shear_width,
-            )
+            ), statistic)
             return penalised_objective(r, disp_limit, penalty), r["shear"], r["disp"], r["n_failed"]
 
         return jax.vmap(one)(points)
@@ -86,18 +96,21 @@ def design_sweep(
     disp_width=1e-3,
     shear_width=1e-3,
     batch_size: int = 16,
+    limit_statistic: str = "mean",
 ) -> dict:
     """The same objective on the tensor grid of `grid` (name -> 1-D values), vmapped over
-    design points in batches of `batch_size` (one compilation).
+    design points in batches of `batch_size` (one compilation); `disp_limit` applies to the
+    `limit_statistic` of the smooth peak base displacement (`optimise_design`).
 
-    **Returns:** {"grid": {name: (G...) mesh}, "objective", "shear", "disp": (G...) arrays,
+    **Returns:** {"grid": {name: (G...) mesh}, "objective", "shear", "disp" (the limited
+    statistic): (G...) arrays,
     "converged": (G...) bool, every motion's solve converged at that point, "n_failed": (G...)
     motions with a failed step, "n_motions"}. `sweep_start` skips points that did not converge.
     """
     names, _, mesh, flat = _grid(structure, grid)
     records = _records_array(records, record_time_step)
     evaluate = _evaluator(structure, records, record_time_step, disp_limit, penalty, duration,
-                          disp_width, shear_width)
+                          disp_width, shear_width, check_limit_statistic(limit_statistic))
     total = mesh[0].size
     batch = min(check_count("batch_size", batch_size, 1), total)
     outputs = []
@@ -112,7 +125,7 @@ def _sweep_task(spec: dict, start: int, stop: int, payload):
     """(objective, shear, disp, n_failed) of design points start..stop-1 (a Dask task)."""
     evaluate = worker_cached(spec, lambda s: _evaluator(
         s["structure"], jnp.asarray(s["records"]), s["record_time_step"], s["disp_limit"], s["penalty"],
-        s["duration"], s["disp_width"], s["shear_width"]))
+        s["duration"], s["disp_width"], s["shear_width"], s["limit_statistic"]))
     index = lanes(0, stop - start, spec["chunk"])
     values = jax.device_get(evaluate({n: jnp.asarray(np.asarray(v)[index]) for n, v in payload.items()}))
     return [np.asarray(v)[: stop - start] for v in values]
@@ -137,6 +150,7 @@ def design_sweep_distributed(
     compilation_cache=None,
     progress=None,
     attrs: dict | None = None,
+    limit_statistic: str = "mean",
 ) -> dict:
     """`design_sweep` on a Dask cluster: chunks of `chunk_size` design points (each evaluated
     over all the motions) are tasks; the results stream to the NetCDF file `out` (checked
@@ -146,7 +160,7 @@ def design_sweep_distributed(
     `retries`: runs again of a task that raised (a dead worker's tasks are rerun whatever this
     is); `connect_timeout` [s]; `compilation_cache`: folder of JAX's persistent compilation
     cache (local workers); `progress(done, total)` after each chunk; `attrs`: more attributes
-    of the file (the run's inputs).
+    of the file (the run's inputs); `limit_statistic` as `design_sweep`.
 
     **Returns:** the dict of `design_sweep`, read back from `out` (`open_sweep`): every design
     point's values are those of `design_sweep(..., batch_size=chunk_size)` bit for bit,
@@ -161,10 +175,11 @@ def design_sweep_distributed(
     dtype = run_dtype()
     spec = {"structure": structure, "records": records, "record_time_step": float(record_time_step),
             "disp_limit": disp_limit, "penalty": penalty, "duration": duration, "disp_width": disp_width,
-            "shear_width": shear_width, "chunk": chunk, "dtype": dtype, "token": uuid.uuid4().hex}
+            "shear_width": shear_width, "chunk": chunk, "dtype": dtype, "token": uuid.uuid4().hex,
+            "limit_statistic": check_limit_statistic(limit_statistic)}
     settings = {"n_motions": int(records.shape[0]), "record_time_step_s": float(record_time_step),
                 "disp_limit_m": float(disp_limit), "penalty": float(penalty), "scheduler": scheduler,
-                "chunk_size": chunk, "precision": dtype}
+                "chunk_size": chunk, "precision": dtype, "limit_statistic": limit_statistic}
     shape = mesh[0].shape
 
     def write(handle, start, stop, part):

@@ -44,6 +44,7 @@ DESIGN_UNITS = {
     "rate_a": ("s m-1", "Eq. 1 rate parameter a"),
     "breakaway_ratio": ("1", "Eq. 17 breakaway ratio b"),
     "radius": ("m", "radius of curvature R of the friction pendulum's surface"),
+    "capacity": ("m", "displacement capacity d of the friction pendulum's surface (its restrainer beyond)"),
 }
 
 FORMATS = (".nc", ".zarr", ".csv", ".npz")

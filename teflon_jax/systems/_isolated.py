@@ -46,10 +46,12 @@ DESIGN_VARIABLES = (
     "rate_a",
     "breakaway_ratio",
     "radius",
+    "capacity",
 )
 """Names a design dict may set: T_b [s] (flat sliders), contact pressure [Pa] (Eq. 1 constants
 and b from Table 1 at that pressure), zeta_b [-], Eq. 1 / Eq. 17 constants overriding Table 1,
-and the radius R [m] of a friction pendulum's surface."""
+the radius R [m] of a friction pendulum's surface and its displacement capacity d [m] (where
+its restrainer engages; the surface must have one)."""
 
 RECOMMENDED_TIME_STEPS = {"rigid": 0.005, "building": 0.005}
 """Structure step [s] per structure, a divisor of the 0.01 s record step (a step that is not
@@ -176,17 +178,26 @@ class IsolatedStructure(eqx.Module):
 
     def _period(self, design):
         """T_b [s]: the springs' (flat sliders) or 2 pi sqrt(R / g) of the surface (pendulum)."""
-        wrong = "radius" if self.surface is None else "isolation_period"
-        if wrong in design:
-            raise ValueError(f"design: {wrong!r} does not apply to the {self.isolator} isolator.")
+        wrong = ("radius", "capacity") if self.surface is None else ("isolation_period",)
+        for name in wrong:
+            if name in design:
+                raise ValueError(f"design: {name!r} does not apply to the {self.isolator} isolator.")
         if self.surface is None:
             return design.get("isolation_period", self.isolation_period)
         return self.designed_surface(design).isolation_period()
 
     def designed_surface(self, design=None):
-        """`surface` with the design's radius in place of its own."""
-        radius = (design or {}).get("radius", self.surface.radius)
-        return eqx.tree_at(lambda c: c.radius, self.surface, jnp.asarray(radius, float))
+        """`surface` with the design's radius and capacity in place of its own (`ValueError`
+        for a capacity on a surface without restrainer)."""
+        design = design or {}
+        surface = eqx.tree_at(lambda c: c.radius, self.surface,
+                              jnp.asarray(design.get("radius", self.surface.radius), float))
+        if "capacity" not in design:
+            return surface
+        if surface.displacement_capacity is None:
+            raise ValueError("design: 'capacity' needs a surface with a restrainer: build it with "
+                             "concave_surface(R, displacement_capacity=d, restrainer_stiffness=k_r).")
+        return eqx.tree_at(lambda c: c.displacement_capacity, surface, jnp.asarray(design["capacity"], float))
 
     def contact_pressure(self, design=None):
         """The bearings' contact pressure [Pa] for a bearing with heating (else None; a
@@ -427,6 +438,7 @@ def design_ranges(structure: IsolatedStructure) -> dict[str, tuple[float, float]
         "rate_a": (0.0, math.inf),
         "breakaway_ratio": (1.0, math.inf),
         "radius": (1e-3, math.inf),
+        "capacity": (1e-6, math.inf),
     }
 
 
