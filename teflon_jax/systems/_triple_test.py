@@ -34,6 +34,13 @@ NEWTON_STEPS = 30
 STEP_FRACTIONS = np.array([1.0, 0.5, 0.25, 0.125])
 """Fractions of a Newton step tried; the one with the smallest imbalance is taken."""
 
+RESCUE_STEPS = 16
+"""Newton iterations of the second stage, run only on a step the first `NEWTON_STEPS` left
+unbalanced (`_rescue`)."""
+
+RESCUE_FRACTIONS = 2.0 ** -np.arange(41)
+"""Fractions of a Newton step the second stage tries (1 down to 2^-40)."""
+
 MIN_SHARE = 1e-3
 """Smallest share of a step's increment a slider is first guessed to take."""
 
@@ -84,7 +91,8 @@ def _step(bearing, normal_load, dt, state, increment, kernel=None):
     (S, k), share (S,)[, heat states (S, K) of a heated pendulum, with `kernel` its (rates,
     weights)]). First guess: the previous step's increments, with what the step adds
     to them shared as the sliders last shared their travel; then Newton's method, each step
-    shortened (to 1/2, 1/4 or 1/8) where that lowers the force imbalance more."""
+    shortened (to 1/2, 1/4 or 1/8) where that lowers the force imbalance more, and where the
+    balance is still short a second stage with much shorter steps (`_rescue`)."""
     u0, z0, previous, share = state[:4]
     factors = None if kernel is None else bearing.heat_factors(state[4], kernel[1])
     k = increment.shape[-1]
@@ -111,11 +119,15 @@ def _step(bearing, normal_load, dt, state, increment, kernel=None):
         sizes = jax.vmap(lambda y: jnp.sum(residual(y) ** 2))(trials)
         return trials[jnp.argmin(jnp.where(jnp.isfinite(sizes), sizes, jnp.inf))]
 
+    def balanced(values):
+        f = values[0]
+        return jnp.max(jnp.abs(f[:-1] - f[-1])) <= 1e-8 * normal_load * jnp.max(bearing.frictions().f_max)
+
     guess = previous[:-1] + share[:-1, None] * (increment - jnp.sum(previous, axis=0))
     x = jax.lax.fori_loop(0, NEWTON_STEPS, newton, guess.reshape(-1))
-    f, z, du = forces(x)
-    scale = normal_load * jnp.max(bearing.frictions().f_max)
-    converged = jnp.max(jnp.abs(f[:-1] - f[-1])) <= 1e-8 * scale
+    values = forces(x)
+    f, z, du = jax.lax.cond(balanced(values), lambda: values, lambda: forces(_rescue(residual, x)))
+    converged = balanced((f, z, du))
     length = _length(du)[:, 0]
     total = jnp.sum(length)
     # a floor keeps every first guess off zero: Park's update has no slope at a zero increment
@@ -125,6 +137,25 @@ def _step(bearing, normal_load, dt, state, increment, kernel=None):
     if kernel is not None:
         new_state = new_state + (heated_step(bearing, state[4], factors, length, dt, kernel[0]),)
     return new_state, (f[-1], u0 + du, z, converged)
+
+
+def _rescue(residual, x):
+    """The second stage of a step's Newton iteration: `RESCUE_STEPS` steps from `x`, each the
+    fraction of `RESCUE_FRACTIONS` that lowers the imbalance sum(r^2) most, none where no
+    fraction lowers it. Where a slider reverses, its force has a kink (Z's elastic slope
+    against W / R while it slides): a Newton step from the sliding side overshoots the root by
+    up to the ratio of the slopes, more than the first stage's shortest fraction corrects."""
+    def body(_, x):
+        r = residual(x)
+        step = jnp.linalg.solve(jax.jacfwd(residual)(x), r)
+        step = jnp.where(jnp.all(jnp.isfinite(step)), step, 0.0)
+        trials = x - RESCUE_FRACTIONS[:, None] * step
+        sizes = jax.vmap(lambda y: jnp.sum(residual(y) ** 2))(trials)
+        sizes = jnp.where(jnp.isfinite(sizes), sizes, jnp.inf)
+        best = jnp.argmin(sizes)
+        return jnp.where(sizes[best] < jnp.sum(r**2), trials[best], x)
+
+    return jax.lax.fori_loop(0, RESCUE_STEPS, body, x)
 
 
 def simulate_triple_test(bearing: SeriesPendulum, time, displacement, normal_load, *,
