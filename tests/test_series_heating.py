@@ -1,7 +1,8 @@
 """Frictional heating of each surface of the series friction pendulums: a double pendulum
 whose top surface never slides against the single pendulum on a heated flat bearing, the
 constant-flux temperature rise of Carslaw & Jaeger in a bearing test, the neutral heat
-scale, the derivative in a radius, and what is refused."""
+scale, the derivative in a radius, a strong heating's steps balanced and converged in the
+step, a test path along a line in the plane, and what is refused."""
 
 import equinox as eqx
 import jax
@@ -250,10 +251,24 @@ def test_two_components_along_a_line_are_the_heated_one_direction_response():
     np.testing.assert_allclose(np.asarray(sliders)[:, :, 1], s * slider, rtol=0, atol=1e-9)
 
 
-def test_a_path_in_the_plane_refuses_the_surfaces_heating_by_name():
-    time = np.linspace(0.0, 1.0, 11)
-    with pytest.raises(ValueError, match="bottom_heating: the bearing test runs the surfaces' frictional heating"):
-        simulate_triple_test(_locked_top(), time, np.zeros((11, 2)), 1e6)
+def test_a_test_path_along_a_line_in_the_plane_is_the_heated_one_axis_test():
+    """Both surfaces heated (30 MPa) and sliding: a bearing test along a line at 0.6 rad is
+    the one-axis test turned, forces to 1e-8 N of a ~1.5e5 N peak and slider displacements
+    to rounding (each surface's flux takes the length of its increment, Park's Z along a
+    line is Bouc-Wen's), while the heating itself moves the force by > 1e4 N."""
+    time = np.linspace(0.0, 6.0, 1201)
+    path = 0.3 * np.sin(2 * np.pi * time / 3.0)
+    one = simulate_triple_test(_both_heated(), time, path, 1e6)
+    c, s = np.cos(0.6), np.sin(0.6)
+    two = simulate_triple_test(_both_heated(), time, np.stack([c * path, s * path], -1), 1e6)
+    assert bool(np.all(one.converged)) and bool(np.all(two.converged))
+    force, turned = np.asarray(one.force), np.asarray(two.force)
+    cold = np.asarray(simulate_triple_test(_locked_top(None, top_friction=coulomb_friction(0.09)), time, path,
+                                           1e6).force)
+    assert np.abs(force - cold).max() > 1e4
+    np.testing.assert_allclose(turned[:, 0], c * force, rtol=0, atol=1e-8)
+    np.testing.assert_allclose(turned[:, 1], s * force, rtol=0, atol=1e-8)
+    np.testing.assert_allclose(np.asarray(two.slider)[..., 1], s * np.asarray(one.slider), rtol=0, atol=1e-12)
 
 
 def _isolator_document():

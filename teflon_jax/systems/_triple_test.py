@@ -26,7 +26,7 @@ from ..bearing import (
 from ..excitation import AbstractBiaxialMotion
 from ..solver import park_exact_update
 from ._bearing_test import save_times
-from ._series_heat import heated_step, refuse_planar_heating, series_heat_kernel
+from ._series_heat import heated_step, series_heat_kernel
 
 NEWTON_STEPS = 30
 """Newton iterations per step of the series solve (fixed; the step reports convergence)."""
@@ -164,8 +164,9 @@ def simulate_triple_test(bearing: SeriesPendulum, time, displacement, normal_loa
     times [s] (uniform), under normal load W [N]: `displacement` (nt,) along one axis or
     (nt, 2) in the plane (an orbit); the path starts at rest at its first sample. jit- and
     vmap-safe once the bearing is checked (`check_triple_pendulum`, `check_double_pendulum`).
-    A pendulum with heated surfaces (`SeriesPendulum.heated`; contact pressures at this W; one axis only)
-    scales each surface's friction by its temperature (`_series_heat.py`), with `heat_kernel`
+    A pendulum with heated surfaces (`SeriesPendulum.heated`; contact pressures at this W)
+    scales each surface's friction by its temperature (`_series_heat.py`; in the plane the
+    flux takes the length of each surface's increment), with `heat_kernel`
     (rates, weights) = `heat_kernel_exponentials(dt, horizon)`, by default from concrete
     `time` (one step to `HEAT_HORIZON`)."""
     time = jnp.asarray(time, float)
@@ -177,7 +178,7 @@ def simulate_triple_test(bearing: SeriesPendulum, time, displacement, normal_loa
     n = bearing.slider_count
     start = (jnp.zeros((n, k)), jnp.zeros((n, k)), jnp.zeros((n, k)),
              jnp.array([1.0] + [MIN_SHARE] * (n - 1)))
-    kernel = _test_heat_kernel(bearing, time, heat_kernel, planar)
+    kernel = _test_heat_kernel(bearing, time, heat_kernel)
     if kernel is not None:
         start = start + (jnp.zeros((n, kernel[0].shape[0])),)
 
@@ -194,13 +195,10 @@ def simulate_triple_test(bearing: SeriesPendulum, time, displacement, normal_loa
                           converged=jnp.concatenate([jnp.array([True]), converged]))
 
 
-def _test_heat_kernel(bearing: SeriesPendulum, time, heat_kernel, planar: bool):
-    """(rates, weights) of a heated pendulum's kernel (`simulate_triple_test`), else None;
-    `ValueError` naming the heated surfaces on a path in the plane."""
+def _test_heat_kernel(bearing: SeriesPendulum, time, heat_kernel):
+    """(rates, weights) of a heated pendulum's kernel (`simulate_triple_test`), else None."""
     if not bearing.heated:
         return None
-    if planar:
-        refuse_planar_heating(bearing)
     if heat_kernel is not None:
         return tuple(jnp.asarray(a, float) for a in heat_kernel)
     if isinstance(time, jax.core.Tracer):
