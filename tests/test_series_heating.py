@@ -1,7 +1,8 @@
 """Frictional heating of each surface of the series friction pendulums: a double pendulum
 whose top surface never slides against the single pendulum on a heated flat bearing, the
 constant-flux temperature rise of Carslaw & Jaeger in a bearing test, the neutral heat
-scale, the derivative in a radius, and what is refused."""
+scale, the derivative in a radius, a strong heating's steps balanced and converged in the
+step, a test path along a line in the plane, and what is refused."""
 
 import equinox as eqx
 import jax
@@ -139,6 +140,80 @@ def test_the_heated_peak_is_differentiable_in_the_bottom_radius():
     assert reverse == pytest.approx(central, rel=1e-4)
 
 
+def _both_heated(pressure=30e6):
+    """Both surfaces heated at `pressure` [Pa], the top one (f_max 0.09) sliding too."""
+    return _locked_top(pressure=pressure, top_friction=coulomb_friction(0.09), top_heating=HEAT,
+                       top_pressure=pressure)
+
+
+def _energies(dt):
+    """Histories of the rigid mass on `_both_heated` at step dt: (u, the bearing's work
+    int F du [J], the energy balance's largest gap |E_in - E_k - int F du| over max E_in, all
+    steps balanced); E_in = -int m a_g du, E_k = m v^2 / 2 (trapezoids)."""
+    system = isolated_structure("rigid", isolator="double-fp", double=_both_heated(), time_step=dt)(_ground(dt))
+    r = jax.jit(simulate_triple_structure, static_argnums=1)(system, 6.0)
+    u, v, force, ground = (np.asarray(a) for a in (r.displacement[:, 0], r.velocity[:, 0], r.bearing_force,
+                                                   r.ground_acceleration))
+    mass, du = float(system.mass[0]), np.diff(u)
+    work = np.concatenate([[0.0], np.cumsum(0.5 * (force[1:] + force[:-1]) * du)])
+    supplied = np.concatenate([[0.0], np.cumsum(-mass * 0.5 * (ground[1:] + ground[:-1]) * du)])
+    gap = np.abs(supplied - 0.5 * mass * v**2 - work).max() / supplied.max()
+    return u, work[-1], gap, bool(np.all(r.converged))
+
+
+def test_a_strong_heating_balances_every_step_and_converges_in_the_step():
+    """30 MPa on both surfaces: the sliding surface's friction drops by several per cent in a
+    step while the other reverses, where a full Newton step overshoots the reversal's kink;
+    the line search's second stage balances every step. The energy balance closes to O(dt^2)
+    (the gap falls fourfold as the step halves), and the history and the bearing's work
+    approach those at 0.625 ms as the step halves."""
+    fine_u, fine_work, fine_gap, fine_ok = _energies(0.000625)
+    errors = []
+    for dt in (0.005, 0.0025):
+        u, work, gap, ok = _energies(dt)
+        assert ok and fine_ok
+        stride = round(dt / 0.000625)
+        errors.append((np.abs(u - fine_u[::stride]).max() / np.abs(fine_u).max(), abs(work - fine_work) / fine_work,
+                       gap))
+    (u5, work5, gap5), (u25, work25, gap25) = errors
+    assert u5 < 6e-3 and work5 < 5e-3 and gap5 < 3e-5
+    assert u25 < 0.65 * u5 and work25 < 0.85 * work5
+    assert gap25 < 0.3 * gap5 and fine_gap < 0.1 * gap25
+
+
+def test_a_strong_heating_balances_the_bearing_test_in_the_step():
+    """The bearing test of the same pendulum (0.3 m at 1/3 Hz): every sample balances, and the
+    force at 5 ms is the force at 1.25 ms to 5 % of the peak (within a step of each surface's
+    switch between sliding and sticking) and the loop's work to 0.5 %."""
+    runs = []
+    for n in (1200, 4800):
+        time = np.linspace(0.0, 6.0, n + 1)
+        path = 0.3 * np.sin(2 * np.pi * time / 3.0)
+        response = simulate_triple_test(_both_heated(), time, path, 1e6)
+        assert bool(np.all(response.converged))
+        force = np.asarray(response.force)
+        runs.append((force, np.sum(0.5 * (force[1:] + force[:-1]) * np.diff(path))))
+    (coarse, coarse_work), (fine, fine_work) = runs
+    assert np.abs(coarse - fine[::4]).max() < 0.05 * np.abs(fine).max()
+    assert abs(coarse_work - fine_work) < 5e-3 * fine_work
+
+
+@pytest.mark.slow  # reverse mode through 1200 heated steps: about a minute on two cores
+def test_the_derivative_through_a_rebalanced_step_is_the_central_difference():
+    """d(smooth peak)/dR_1 at 5 ms, where one step of `_both_heated` needs the second stage:
+    the implicit derivative at the balanced root against central differences."""
+    dt = 0.005
+    system = isolated_structure("rigid", isolator="double-fp", double=_both_heated(), time_step=dt)(_ground(dt))
+
+    def peak(radius):
+        return peak_response(eqx.tree_at(lambda s: s.pendulum.bottom_radius, system, radius), 6.0).smooth_base_disp
+
+    assert bool(peak_response(system, 6.0).converged)
+    h = 1e-4
+    central = (float(peak(R1 + h)) - float(peak(R1 - h))) / (2 * h)
+    assert float(jax.jit(jax.grad(peak))(R1)) == pytest.approx(central, rel=1e-5)
+
+
 @pytest.mark.parametrize("changes, message", [
     (dict(bottom_pressure=None), "bottom_pressure: a surface with bottom_heating needs"),
     (dict(bottom_pressure=-1.0), "bottom_pressure"),
@@ -176,10 +251,24 @@ def test_two_components_along_a_line_are_the_heated_one_direction_response():
     np.testing.assert_allclose(np.asarray(sliders)[:, :, 1], s * slider, rtol=0, atol=1e-9)
 
 
-def test_a_path_in_the_plane_refuses_the_surfaces_heating_by_name():
-    time = np.linspace(0.0, 1.0, 11)
-    with pytest.raises(ValueError, match="bottom_heating: the bearing test runs the surfaces' frictional heating"):
-        simulate_triple_test(_locked_top(), time, np.zeros((11, 2)), 1e6)
+def test_a_test_path_along_a_line_in_the_plane_is_the_heated_one_axis_test():
+    """Both surfaces heated (30 MPa) and sliding: a bearing test along a line at 0.6 rad is
+    the one-axis test turned, forces to 1e-8 N of a ~1.5e5 N peak and slider displacements
+    to rounding (each surface's flux takes the length of its increment, Park's Z along a
+    line is Bouc-Wen's), while the heating itself moves the force by > 1e4 N."""
+    time = np.linspace(0.0, 3.0, 601)
+    path = 0.3 * np.sin(2 * np.pi * time / 3.0)
+    one = simulate_triple_test(_both_heated(), time, path, 1e6)
+    c, s = np.cos(0.6), np.sin(0.6)
+    two = simulate_triple_test(_both_heated(), time, np.stack([c * path, s * path], -1), 1e6)
+    assert bool(np.all(one.converged)) and bool(np.all(two.converged))
+    force, turned = np.asarray(one.force), np.asarray(two.force)
+    cold = np.asarray(simulate_triple_test(_locked_top(None, top_friction=coulomb_friction(0.09)), time, path,
+                                           1e6).force)
+    assert np.abs(force - cold).max() > 1e4
+    np.testing.assert_allclose(turned[:, 0], c * force, rtol=0, atol=1e-8)
+    np.testing.assert_allclose(turned[:, 1], s * force, rtol=0, atol=1e-8)
+    np.testing.assert_allclose(np.asarray(two.slider)[..., 1], s * np.asarray(one.slider), rtol=0, atol=1e-12)
 
 
 def _isolator_document():

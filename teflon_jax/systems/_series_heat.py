@@ -35,12 +35,3 @@ def heated_step(pendulum: SeriesPendulum, heat, factors, slide, time_step, rates
     decay = jnp.exp(-rates * time_step)
     return decay * heat + flux[:, None] * (1.0 - decay) / rates
 
-
-def refuse_planar_heating(pendulum: SeriesPendulum) -> None:
-    """`ValueError` naming each heated surface (`<slider>_heating`): the bearing test runs the
-    surfaces' heating along one axis only (the structures run it in both directions)."""
-    heated = [f"{name}_heating" for name, h in zip(pendulum.slider_names, pendulum.surface_heatings())
-              if h is not None]
-    if heated:
-        raise ValueError(f"{', '.join(heated)}: the bearing test runs the surfaces' frictional heating "
-                         "along one axis only; give a path along one axis, or leave the heating out.")

@@ -34,7 +34,12 @@ from ..solver import park_exact_update
 from ..units import STANDARD_GRAVITY
 from ._series_heat import heated_step
 from ._structure_response import check_duration
-from ._triple_structure import SMALLEST_STEP, StructureOnTriple, uplift_increments
+from ._triple_structure import (
+    RESCUE_ITERATIONS,
+    StructureOnTriple,
+    shortest_fraction,
+    uplift_increments,
+)
 
 
 class BiaxialStructureOnTriple(eqx.Module):
@@ -184,7 +189,9 @@ def _planar_newton(p, dt, guess, tolerance, iterations: int):
     J's blocks by differences (`_differenced_blocks`; the pendulum's own (W / R_e) I where they
     give no finite direction), f halved until the merit sum(r^2) falls (or f reaches
     `SMALLEST_STEP`), while max |r| > `tolerance` and fewer than `iterations` steps were
-    taken. Three force evaluations per step, one at the start.
+    taken; then, where the balance is still short, at most `RESCUE_ITERATIONS` more steps
+    halving f down to `RESCUE_SMALLEST` (as `damped_newton`). Three force evaluations per
+    step, one at the start.
 
     **Returns:** (d, whether max |r| <= tolerance)."""
     def forces(d):
@@ -195,7 +202,7 @@ def _planar_newton(p, dt, guess, tolerance, iterations: int):
 
     def cond(carry):
         _, _, r, _, _, k = carry
-        return (jnp.max(jnp.abs(r)) > tolerance) & (k < iterations)
+        return (jnp.max(jnp.abs(r)) > tolerance) & (k < iterations + RESCUE_ITERATIONS)
 
     def body(carry):
         d, force, r, merit, fraction, k = carry
@@ -206,7 +213,7 @@ def _planar_newton(p, dt, guess, tolerance, iterations: int):
         force_trial = forces(trial)
         r_trial = residual(trial, force_trial)
         merit_trial = jnp.sum(r_trial**2)
-        accept = (merit_trial < merit) | (fraction <= SMALLEST_STEP)
+        accept = (merit_trial < merit) | (fraction <= shortest_fraction(k, iterations))
         new = tuple(jnp.where(accept, a, b) for a, b in
                     zip((trial, force_trial, r_trial, merit_trial), (d, force, r, merit)))
         return (*new, jnp.where(accept, 1.0, 0.5 * fraction), k + 1)

@@ -27,7 +27,9 @@ Each step solves for the sliders' increments d_e: F_e(d_e) equal to the force th
 linear step leaves, F = (D - sum d_e) / G, with D the isolator's increment without the bearing
 and G its compliance over the step (the structure's exact step, `_propagators.py`). Newton's
 matrix diag(k_e) + 1 1^T / G (k_e = dF_e/dd_e) is inverted in closed form (Sherman-Morrison),
-with a halving line search on the force residual; the root is differentiated implicitly.
+with a halving line search on the force residual, continued with much shorter steps where a
+slider's reversal kink makes Newton's step overshoot (`damped_newton`); the root is
+differentiated implicitly.
 """
 
 import functools
@@ -59,6 +61,16 @@ TRIPLE_TOLERANCE = 1e-9
 
 SMALLEST_STEP = 1.0 / 64
 """Shortest fraction of a Newton step the line search tries; it is then taken as it is."""
+
+RESCUE_ITERATIONS = 120
+"""Most further evaluations of the sliders' forces in a step whose balance the first
+`newton_iterations` left short (the line search's second stage)."""
+
+RESCUE_SMALLEST = 2.0**-40
+"""Shortest fraction of a Newton step the second stage tries before it takes it as it is: where
+a slider's force has a kink (Z's elastic slope on a reversal against W / R_e while it slides),
+a full Newton step from the sliding side overshoots the root by up to the ratio of the slopes
+(mu R_e / Y, ~10^3), and only a short enough one lowers the imbalance."""
 
 
 class StructureOnTriple(eqx.Module):
@@ -261,12 +273,14 @@ def damped_newton(evaluate, guess, tolerance, iterations: int, *, finite_directi
     """Newton's iteration with step halving: from `guess`, steps d <- d - f dir with f halved
     until the merit sum(r^2) falls (or f reaches `SMALLEST_STEP`; also until the new direction
     is finite where `finite_direction`), while max |r| > `tolerance` and fewer than `iterations`
-    steps were taken. `evaluate(d)` returns (residual r, merit, direction J^-1 r).
+    steps were taken. `evaluate(d)` returns (residual r, merit, direction J^-1 r). Where that
+    leaves the balance short, at most `RESCUE_ITERATIONS` more steps halve f down to
+    `RESCUE_SMALLEST` (`shortest_fraction`); a step balanced within `iterations` is as before.
 
     **Returns:** (d, whether max |r| <= tolerance)."""
     def cond(carry):
         _, (r, _, _), _, k = carry
-        return (jnp.max(jnp.abs(r)) > tolerance) & (k < iterations)
+        return (jnp.max(jnp.abs(r)) > tolerance) & (k < iterations + RESCUE_ITERATIONS)
 
     def body(carry):
         d, (r, merit, direction), fraction, k = carry
@@ -275,7 +289,7 @@ def damped_newton(evaluate, guess, tolerance, iterations: int, *, finite_directi
         lower = new[1] < merit
         if finite_direction:
             lower = lower & jnp.all(jnp.isfinite(new[2]))
-        accept = lower | (fraction <= SMALLEST_STEP)
+        accept = lower | (fraction <= shortest_fraction(k, iterations))
         d = jnp.where(accept, trial, d)
         values = tuple(jnp.where(accept, a, b) for a, b in zip(new, (r, merit, direction)))
         return d, values, jnp.where(accept, 1.0, 0.5 * fraction), k + 1
@@ -283,6 +297,12 @@ def damped_newton(evaluate, guess, tolerance, iterations: int, *, finite_directi
     carry = (guess, evaluate(guess), jnp.ones((), guess.dtype), 0)
     d, (r, _, _), _, _ = jax.lax.while_loop(cond, body, carry)
     return d, jnp.max(jnp.abs(r)) <= tolerance
+
+
+def shortest_fraction(k, iterations: int):
+    """The fraction of a Newton step the line search takes as it is at evaluation `k`:
+    `SMALLEST_STEP` within the first `iterations`, `RESCUE_SMALLEST` after them."""
+    return jnp.where(k < iterations, SMALLEST_STEP, RESCUE_SMALLEST)
 
 
 @_balanced_increments.defjvp

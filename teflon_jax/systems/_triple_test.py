@@ -26,13 +26,20 @@ from ..bearing import (
 from ..excitation import AbstractBiaxialMotion
 from ..solver import park_exact_update
 from ._bearing_test import save_times
-from ._series_heat import heated_step, refuse_planar_heating, series_heat_kernel
+from ._series_heat import heated_step, series_heat_kernel
 
 NEWTON_STEPS = 30
 """Newton iterations per step of the series solve (fixed; the step reports convergence)."""
 
 STEP_FRACTIONS = np.array([1.0, 0.5, 0.25, 0.125])
 """Fractions of a Newton step tried; the one with the smallest imbalance is taken."""
+
+RESCUE_STEPS = 16
+"""Newton iterations of the second stage, run only on a step the first `NEWTON_STEPS` left
+unbalanced (`_rescue`)."""
+
+RESCUE_FRACTIONS = 2.0 ** -np.arange(41)
+"""Fractions of a Newton step the second stage tries (1 down to 2^-40)."""
 
 MIN_SHARE = 1e-3
 """Smallest share of a step's increment a slider is first guessed to take."""
@@ -84,7 +91,8 @@ def _step(bearing, normal_load, dt, state, increment, kernel=None):
     (S, k), share (S,)[, heat states (S, K) of a heated pendulum, with `kernel` its (rates,
     weights)]). First guess: the previous step's increments, with what the step adds
     to them shared as the sliders last shared their travel; then Newton's method, each step
-    shortened (to 1/2, 1/4 or 1/8) where that lowers the force imbalance more."""
+    shortened (to 1/2, 1/4 or 1/8) where that lowers the force imbalance more, and where the
+    balance is still short a second stage with much shorter steps (`_rescue`)."""
     u0, z0, previous, share = state[:4]
     factors = None if kernel is None else bearing.heat_factors(state[4], kernel[1])
     k = increment.shape[-1]
@@ -111,11 +119,15 @@ def _step(bearing, normal_load, dt, state, increment, kernel=None):
         sizes = jax.vmap(lambda y: jnp.sum(residual(y) ** 2))(trials)
         return trials[jnp.argmin(jnp.where(jnp.isfinite(sizes), sizes, jnp.inf))]
 
+    def balanced(values):
+        f = values[0]
+        return jnp.max(jnp.abs(f[:-1] - f[-1])) <= 1e-8 * normal_load * jnp.max(bearing.frictions().f_max)
+
     guess = previous[:-1] + share[:-1, None] * (increment - jnp.sum(previous, axis=0))
     x = jax.lax.fori_loop(0, NEWTON_STEPS, newton, guess.reshape(-1))
-    f, z, du = forces(x)
-    scale = normal_load * jnp.max(bearing.frictions().f_max)
-    converged = jnp.max(jnp.abs(f[:-1] - f[-1])) <= 1e-8 * scale
+    values = forces(x)
+    f, z, du = jax.lax.cond(balanced(values), lambda: values, lambda: forces(_rescue(residual, x)))
+    converged = balanced((f, z, du))
     length = _length(du)[:, 0]
     total = jnp.sum(length)
     # a floor keeps every first guess off zero: Park's update has no slope at a zero increment
@@ -127,14 +139,34 @@ def _step(bearing, normal_load, dt, state, increment, kernel=None):
     return new_state, (f[-1], u0 + du, z, converged)
 
 
+def _rescue(residual, x):
+    """The second stage of a step's Newton iteration: `RESCUE_STEPS` steps from `x`, each the
+    fraction of `RESCUE_FRACTIONS` that lowers the imbalance sum(r^2) most, none where no
+    fraction lowers it. Where a slider reverses, its force has a kink (Z's elastic slope
+    against W / R while it slides): a Newton step from the sliding side overshoots the root by
+    up to the ratio of the slopes, more than the first stage's shortest fraction corrects."""
+    def body(_, x):
+        r = residual(x)
+        step = jnp.linalg.solve(jax.jacfwd(residual)(x), r)
+        step = jnp.where(jnp.all(jnp.isfinite(step)), step, 0.0)
+        trials = x - RESCUE_FRACTIONS[:, None] * step
+        sizes = jax.vmap(lambda y: jnp.sum(residual(y) ** 2))(trials)
+        sizes = jnp.where(jnp.isfinite(sizes), sizes, jnp.inf)
+        best = jnp.argmin(sizes)
+        return jnp.where(sizes[best] < jnp.sum(r**2), trials[best], x)
+
+    return jax.lax.fori_loop(0, RESCUE_STEPS, body, x)
+
+
 def simulate_triple_test(bearing: SeriesPendulum, time, displacement, normal_load, *,
                          heat_kernel=None) -> TripleResponse:
     """Force of a triple or double pendulum bearing [N] along an imposed displacement [m] at the sample
     times [s] (uniform), under normal load W [N]: `displacement` (nt,) along one axis or
     (nt, 2) in the plane (an orbit); the path starts at rest at its first sample. jit- and
     vmap-safe once the bearing is checked (`check_triple_pendulum`, `check_double_pendulum`).
-    A pendulum with heated surfaces (`SeriesPendulum.heated`; contact pressures at this W; one axis only)
-    scales each surface's friction by its temperature (`_series_heat.py`), with `heat_kernel`
+    A pendulum with heated surfaces (`SeriesPendulum.heated`; contact pressures at this W)
+    scales each surface's friction by its temperature (`_series_heat.py`; in the plane the
+    flux takes the length of each surface's increment), with `heat_kernel`
     (rates, weights) = `heat_kernel_exponentials(dt, horizon)`, by default from concrete
     `time` (one step to `HEAT_HORIZON`)."""
     time = jnp.asarray(time, float)
@@ -146,7 +178,7 @@ def simulate_triple_test(bearing: SeriesPendulum, time, displacement, normal_loa
     n = bearing.slider_count
     start = (jnp.zeros((n, k)), jnp.zeros((n, k)), jnp.zeros((n, k)),
              jnp.array([1.0] + [MIN_SHARE] * (n - 1)))
-    kernel = _test_heat_kernel(bearing, time, heat_kernel, planar)
+    kernel = _test_heat_kernel(bearing, time, heat_kernel)
     if kernel is not None:
         start = start + (jnp.zeros((n, kernel[0].shape[0])),)
 
@@ -163,13 +195,10 @@ def simulate_triple_test(bearing: SeriesPendulum, time, displacement, normal_loa
                           converged=jnp.concatenate([jnp.array([True]), converged]))
 
 
-def _test_heat_kernel(bearing: SeriesPendulum, time, heat_kernel, planar: bool):
-    """(rates, weights) of a heated pendulum's kernel (`simulate_triple_test`), else None;
-    `ValueError` naming the heated surfaces on a path in the plane."""
+def _test_heat_kernel(bearing: SeriesPendulum, time, heat_kernel):
+    """(rates, weights) of a heated pendulum's kernel (`simulate_triple_test`), else None."""
     if not bearing.heated:
         return None
-    if planar:
-        refuse_planar_heating(bearing)
     if heat_kernel is not None:
         return tuple(jnp.asarray(a, float) for a in heat_kernel)
     if isinstance(time, jax.core.Tracer):
