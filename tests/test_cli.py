@@ -128,6 +128,7 @@ def test_cpu_devices_option_is_checked(capsys):
     assert "--cpu-devices" in capsys.readouterr().err
 
 
+@pytest.mark.slow
 def test_montecarlo_command_uses_one_device_per_core(tmp_path):
     import os
     import subprocess
@@ -230,6 +231,7 @@ def test_no_compile_cache_flag_writes_no_cache(tmp_path):
     assert not (tmp_path / "xdg" / "teflon-jax").exists()
 
 
+@pytest.mark.slow
 def test_montecarlo_reports_the_rate_after_the_first_chunk(tmp_path):
     """The summary gives B3's rate (from the end of the first chunk to the end of the last)
     beside the rate over the whole run; with one chunk there is none to give."""

@@ -310,7 +310,8 @@ def _check_first(effect, seed=0):
     return result
 
 
-@pytest.mark.parametrize("effect", ["asymmetry", "wear", "pressure_dependence"])
+@pytest.mark.parametrize("effect", [pytest.param("asymmetry", marks=pytest.mark.slow), "wear",
+                                    pytest.param("pressure_dependence", marks=pytest.mark.slow)])
 def test_hidden_effect_is_named_first(effect):
     result = _check_first(effect)
     if effect == "pressure_dependence":  # the record's area travels with the part, so a

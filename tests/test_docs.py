@@ -22,7 +22,7 @@ import pytest
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 TUTORIALS = ROOT / "docs" / "tutorials"
 # Pages that take more than about a minute on two cores run only with the slow tests.
-SLOW = {"design.md", "diagnose.md", "pendulum.md"}
+SLOW = {"bearing-file.md", "design.md", "diagnose.md", "pendulum.md"}
 _BLOCK = re.compile(r"^```(\w*)[^\n]*\n(.*?)^```", flags=re.DOTALL | re.MULTILINE)
 
 

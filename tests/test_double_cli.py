@@ -118,7 +118,7 @@ def test_two_equal_components_are_the_diagonal_record(tmp_path, capsys):
         assert two[key] == pytest.approx(one[key], rel=1e-6)
 
 
-@pytest.mark.parametrize("components", ["1", "2"])
+@pytest.mark.parametrize("components", ["1", pytest.param("2", marks=pytest.mark.slow)])
 def test_montecarlo_runs_a_double_pendulum(tmp_path, capsys, components):
     out = tmp_path / "mc.json"
     code = main(["montecarlo", "--motions", "2", "--duration", "6s", "--strong-motion", "2s", "--components",
@@ -172,7 +172,7 @@ def test_simulate_test_refuses_a_bad_double_file_by_key(tmp_path, capsys):
 
 
 @pytest.mark.parametrize("isolator, file, components", [
-    ("double-fp", EXAMPLE, 1), ("double-fp", EXAMPLE, 2), ("triple-fp", EXAMPLE.parent / "triple_isolator.json", 1)])
+    ("double-fp", EXAMPLE, 1), pytest.param("double-fp", EXAMPLE, 2, marks=pytest.mark.slow), ("triple-fp", EXAMPLE.parent / "triple_isolator.json", 1)])
 def test_run_with_a_vertical_record_reports_the_uplift(tmp_path, capsys, isolator, file, components):
     """--record-z: a_v = -1.4 g over 3-3.3 s lifts the bearings (N = W max(1 + a_v / g, 0)):
     the JSON reports about 0.3 s of uplift and the histories carry N / W; a zero vertical

@@ -252,6 +252,7 @@ def test_nonlinear_surface_is_refused_where_it_does_not_run():
         isolated_structure("rigid", isolator="single-fp", surface=surface, radius=RADIUS)
 
 
+@pytest.mark.slow
 def test_design_gradient_in_the_radius_matches_central_differences():
     """d(mean smooth peaks)/dR of the rigid mass on the pendulum: reverse mode through the
     solver against central differences of the same statistic."""

@@ -117,7 +117,8 @@ def test_discovery_follows_the_law(law):
     assert _nrmse(sim["force"], record.fx) < tolerance
 
 
-@pytest.mark.parametrize("law", list(LAWS))
+@pytest.mark.parametrize("law", [pytest.param(law, marks=pytest.mark.slow) if law in ("heating", "pressure_dependence")
+                                 else law for law in LAWS])
 def test_fitter_follows_the_law(law):
     """The Eq. 1 / Eq. 3 / Eq. 17 constants by least squares (`fit`), an optional part's by the
     fit of Eq. 1 with that part (`fit --effects`), from the noise-free peer record."""

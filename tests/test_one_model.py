@@ -226,6 +226,7 @@ def test_a_cold_unworn_bearing_with_history_runs_as_the_plain_one():
     np.testing.assert_allclose(rb.displacement, ra.displacement, rtol=0, atol=1e-12)
 
 
+@pytest.mark.slow
 def test_heating_in_a_structure_lowers_friction_and_raises_the_displacement():
     """The heating bearing's peak displacement exceeds the cold one's (less friction as the
     steel warms), and the peak loop agrees with the full simulation step for step."""

@@ -65,6 +65,7 @@ def _single(dt, heating):
     return np.asarray(jax.jit(simulate_structure, static_argnums=1)(system(_ground(dt)), 6.0).displacement[:, 0])
 
 
+@pytest.mark.slow
 def test_a_heated_bottom_surface_is_the_heated_single_pendulum():
     """Top surface locked: the double pendulum is the single pendulum of radius R1 on a flat
     bearing with the same heating. Without heating the two agree to the top slider's elastic
@@ -122,6 +123,7 @@ def test_a_heated_surface_slides_further_and_a_zero_heat_scale_changes_nothing()
                                   np.asarray(simulate_triple_test(plain, time, path, 1e6).force))
 
 
+@pytest.mark.slow
 def test_the_heated_peak_is_differentiable_in_the_bottom_radius():
     """d(smooth peak)/dR_1 by reverse mode through the heat states, against central differences."""
     dt = 0.01

@@ -65,7 +65,7 @@ def _slab(ax, ay, height, pendulum=TRIPLE, positions=CORNERS):
         isolator=pendulum.isolator, pendulums=pendulum, height_of_centre_of_mass=height)
 
 
-@pytest.mark.parametrize("isolator", ["triple-fp", "double-fp"])
+@pytest.mark.parametrize("isolator", [pytest.param("triple-fp", marks=pytest.mark.slow), "double-fp"])
 def test_symmetric_slab_moves_as_the_rigid_mass_on_one_pendulum(isolator):
     """Equal groups at the corners, centre of mass on the plan's centre, x motion alone: at h = 0
     the slab is the rigid mass of the same weight on one pendulum (to 1e-9 m; each group carries

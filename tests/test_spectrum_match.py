@@ -142,6 +142,7 @@ def _suite_files(tmp_path, scales=(1, 1, 1)):
     return tmp_path / "suite.csv", tmp_path / "target.csv"
 
 
+@pytest.mark.slow
 def test_run_suite_scales_each_pair_to_the_target(tmp_path, capsys):
     """`run --suite --target-spectrum`: the JSON's factors are the hand calculation's from the
     records as read (within 0.1 %), the scaled suite lies at or above 0.9 of the target, the

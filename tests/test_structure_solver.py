@@ -31,6 +31,7 @@ def rigid_mass(dt, ground, model="hysteretic", bearing=None, period=2.0, damping
     )
 
 
+@pytest.mark.slow
 def test_newmark_with_exact_z_converges_at_second_order():
     ground = sine_ground()
     reference = tj.simulate_structure(rigid_mass(1e-3, ground), 6.0, solver=diffrax.Tsit5(),
@@ -127,6 +128,7 @@ def test_coulomb_sticks_below_capacity():
     assert float(jnp.max(jnp.abs(r.z))) < 0.51
 
 
+@pytest.mark.slow
 def test_vmap_over_pressures_equals_separate_runs():
     ground = sine_ground()
     table = tj.friction_table("UF", "P")
@@ -211,6 +213,7 @@ def test_newton_slope_is_the_derivative_of_the_residual(split_at_turn, breakaway
     np.testing.assert_allclose(slope, slope_auto, rtol=1e-9)
 
 
+@pytest.mark.slow
 def test_newton_in_line_iterations_give_the_loop_iterates():
     """Newton iterations written out in line (`newton_unrolled`) follow the loop's iterates;
     a solve cut short is still reported as not converged, in line or in the loop."""
@@ -227,6 +230,7 @@ def test_newton_in_line_iterations_give_the_loop_iterates():
         assert bool(peak_response(dataclasses.replace(short, newton_iterations=3), 3.0).converged)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("linear_rule", ["newmark", "exact"])
 def test_step_matrix_is_the_step(linear_rule):
     """`step_propagator` (the building's peak loop) takes the step `newmark_update` takes, by

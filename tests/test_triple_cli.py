@@ -87,6 +87,7 @@ def test_montecarlo_runs_a_triple_pendulum(tmp_path, capsys, isolator_file):
     assert payload["design"]["isolation_period_s"] is None and payload["all_converged"]
 
 
+@pytest.mark.slow
 def test_run_under_two_equal_components_is_the_diagonal_record(tmp_path, capsys, isolator_file):
     """x and y the same record: the motion along the diagonal, sqrt(2) times the record; the
     bearing is isotropic, so the resultant peaks are those of one component scaled by sqrt(2)."""
@@ -103,6 +104,7 @@ def test_run_under_two_equal_components_is_the_diagonal_record(tmp_path, capsys,
         assert two[key] == pytest.approx(one[key], rel=1e-6)
 
 
+@pytest.mark.slow
 def test_montecarlo_runs_a_triple_pendulum_under_two_components(tmp_path, capsys, isolator_file):
     out = tmp_path / "mc.json"
     assert main(["montecarlo", "--motions", "2", "--duration", "6s", "--strong-motion", "2s", "--components", "2",

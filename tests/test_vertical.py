@@ -190,6 +190,7 @@ def test_vertical_inputs_refused():
         peak_response(short, 3.0)
 
 
+@pytest.mark.slow
 def test_two_directions_under_one_component_reproduce_one_direction():
     """The bidirectional rigid mass on a pendulum (W / R as its springs) under a_x alone and a
     vertical record with uplift: the same response as the one-direction structure (Park's Z
