@@ -254,14 +254,3 @@ def test_run_reports_each_groups_normal_load(tmp_path, capsys):
     for g in groups.values():
         assert g["min_N"] < g["static_N"] == 250e3 < g["peak_N"] and g["uplift_time_s"] == 0
     assert groups["SW"]["peak_N"] - 250e3 == pytest.approx(250e3 - groups["SE"]["min_N"], rel=0.05)
-
-
-def test_suite_refuses_overturning_by_key(tmp_path, capsys):
-    record = _record(tmp_path)
-    suite = tmp_path / "suite.csv"
-    suite.write_text(f"record_x,record_y,scale\n{record},,1\n")
-    code = main(["run", "--structure", "slab", "--plan", str(_plan(tmp_path)), "--suite", str(suite),
-                 "--record-units", "g", "--isolator", "single-fp", "--radius", "88in",
-                 "--json", str(tmp_path / "suite.json")])
-    assert code == 2
-    assert "--suite: the overturning loads of the plan's height_of_centre_of_mass" in capsys.readouterr().err

@@ -8,6 +8,13 @@ from ..units import parse_quantity
 from ._plan_file import read_plan
 from ._run_bearing import bearing_of_flags
 
+NORMAL_LOAD_NOTE = ("N_g = W_g (1 + a_v / g) + dN_g, dN_g of a rigid slab on vertical supports of "
+                    "equal (or the plan's relative) stiffness under the moment h H of the horizontal "
+                    "force H at the start of each step; while N_g <= 0 the group carries no shear "
+                    "and the others take its share (where at least three groups off one line stay "
+                    "down; else the lever rule's loads, a negative N_g the tension a bonded "
+                    "support would need)")
+
 
 def _radii(args, groups):
     """R_g [m] of `--isolator single-fp` (`--radius`, a group's `radius` overriding it), None
@@ -39,9 +46,13 @@ def build_slab(args, ground_x, ground_y, time_step, period, damping):
         raise ValueError("--plan: --structure slab needs a plan file (bearing groups and loads).")
     plan = read_plan(args.plan)
     if getattr(args, "suite", None) is not None and plan["height_of_centre_of_mass"] > 0:
-        raise ValueError(f"--suite: the overturning loads of the plan's height_of_centre_of_mass "
-                         f"({args.plan}) run one record pair at a time; leave --suite out, or give "
-                         "the plan height 0.")
+        for flag, given in (("--scheduler", getattr(args, "scheduler", None)),
+                            ("--property-factors", getattr(args, "property_factors", None))):
+            if given is not None:
+                raise ValueError(f"{flag}: a suite of the plan's overturning slab ({args.plan}: "
+                                 "height_of_centre_of_mass > 0) reports each group's normal load in "
+                                 f"this process with the nominal bearings; leave {flag} out, or give "
+                                 "the plan height 0.")
     groups = plan["groups"]
     radii = _radii(args, groups)
     bearings = [bearing_of_flags(args, g["ptfe"] or args.ptfe, g["pressure"] or args.pressure,
@@ -106,10 +117,17 @@ def normal_load_summary(plan, system, response, units) -> tuple[dict, list]:
         lines.append(f"normal load {g['name']}: peak {history.max() / factor:.4g} {name}, least "
                      f"{history.min() / factor:.4g} {name}, uplift {float(time):.4g} s")
     entry = {"height_of_centre_of_mass_m": plan["height_of_centre_of_mass"], "groups": groups,
-             "note": "N_g = W_g (1 + a_v / g) + dN_g, dN_g of a rigid slab on vertical supports of "
-                     "equal (or the plan's relative) stiffness under the moment h H of the horizontal "
-                     "force H at the start of each step; while N_g <= 0 the group carries no shear "
-                     "and the others take its share (where at least three groups off one line stay "
-                     "down; else the lever rule's loads, a negative N_g the tension a bonded "
-                     "support would need)"}
+             "note": NORMAL_LOAD_NOTE}
     return {"normal_load": entry}, lines
+
+
+def suite_normal_load(plan, groups, pair) -> dict:
+    """The "normal_load" entry of `normal_load_summary` (its group keys, without the note) of
+    pair index `pair` of a suite's `SuiteResult.groups` ((P, G) peak and least N_g [N], uplift
+    time [s]) on the slab `plan` of `build_slab`."""
+    radii = plan.get("radii") or [None] * len(plan["groups"])
+    entry = {g["name"]: {"static_N": g["load"], "peak_N": float(groups["peak_N"][pair, j]),
+                         "min_N": float(groups["min_N"][pair, j]),
+                         "uplift_time_s": float(groups["uplift_time_s"][pair, j]), "radius_m": radius}
+             for j, (g, radius) in enumerate(zip(plan["groups"], radii))}
+    return {"normal_load": {"height_of_centre_of_mass_m": plan["height_of_centre_of_mass"], "groups": entry}}

@@ -14,6 +14,7 @@ import numpy as np
 from ._bounding import add_suite_bounding_flag, read_suite_factors
 from ._common import _positive_int
 from ._engineering import add_suite_pelicun_flag, suite_pelicun_peaks
+from ._run_slab import NORMAL_LOAD_NOTE, suite_normal_load
 from ._spectrum import add_spectrum_flags, check_unscaled, read_target, scale_to_target
 from ._suite_build import suite_build
 
@@ -123,7 +124,15 @@ def run_suite(args, load_components, build_structure) -> int:
 
         return run_suite_bounding(args, bounding, build_structure, [r[0] for r in records], ax, ay, dt, notes,
                                   scaling)
-    build, dofs, base_index = suite_build(args, build_structure, ax[0], ay[0], dt)
+    plans = []  # the slab's plan (its groups' names, loads and radii)
+
+    def structure(*given):
+        system, plan = build_structure(*given)
+        plans.append(plan)
+        return system, plan
+
+    build, dofs, base_index = suite_build(args, structure, ax[0], ay[0], dt)
+    group_names = [g["name"] for g in plans[0]["groups"]] if args.structure == "slab" and plans else None
     names = [r[0] for r in records]
     stem = pathlib.Path(args.json).with_suffix("") if args.json else pathlib.Path("suite")
     netcdf = stem.with_suffix(".nc") if args.out is None else args.out
@@ -137,7 +146,8 @@ def run_suite(args, load_components, build_structure) -> int:
         # default: all pairs in one call on a CPU; on a GPU as many as fit in half its memory
         batch = args.chunk_size or device_chunk_size(2 * n, dofs, cpu=len(names))
         result = suite_peaks(build, names, ax, ay, dt, (n - 1) * dt, base_index, batch_size=batch,
-                             storey_height=load_table2().storey_height if storeys else None)
+                             storey_height=load_table2().storey_height if storeys else None,
+                             group_names=group_names)
         save_suite(result, table_path=stem.with_suffix(".csv"), netcdf_path=netcdf, attrs=attrs)
     else:
         from ._main import compile_cache_dir
@@ -149,8 +159,11 @@ def run_suite(args, load_components, build_structure) -> int:
         save_suite(result, table_path=stem.with_suffix(".csv"))
     payload = {"structure": args.structure, "suite": str(args.suite), "notes": notes, "netcdf": str(netcdf),
                "pairs": {name: {k: float(v[i]) for k, v in result.peaks.items()} | {"converged": bool(result.converged[i])}
+                         | ({} if result.groups is None else suite_normal_load(plans[0], result.groups, i))
                          for i, name in enumerate(result.names)},
                "summary": result.summary, "failed": int(np.sum(~result.converged))}
+    if result.groups is not None:
+        payload["normal_load_note"] = NORMAL_LOAD_NOTE
     if scaling is not None:
         payload["spectrum_scaling"] = scaling
     if args.pelicun_demands is not None:

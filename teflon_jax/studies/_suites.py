@@ -57,6 +57,14 @@ SUITE_STOREY_UNITS = {
 }
 """A suite's storey variable, when `suite_peaks` was given the building's storey height."""
 
+SUITE_GROUP_UNITS = {
+    "peak_N": ("N", "peak normal load N_g of the bearing group (overturning of a slab)"),
+    "min_N": ("N", "least normal load N_g of the bearing group (negative: the tension a bonded support would need)"),
+    "uplift_time_s": ("s", "time the bearing group is uplifted (N_g <= 0)"),
+}
+"""A slab's per-group variables on ("pair", "group") when its plan has overturning: the keys of
+`run`'s "normal_load" groups (`slab_on_bearings(height_of_centre_of_mass=...)`)."""
+
 _ALL_UNITS = {**SUITE_UNITS, **SUITE_STOREY_UNITS}
 _STOREY_LAYOUT = {
     "storey_drift": ("storey", "1", "peak |interstorey drift| / storey height (storey j: level j-1 to j)"),
@@ -69,13 +77,16 @@ class SuiteResult:
     """Peaks per pair (arrays (P,)), `converged` (P,), the pair `names`, and `summary`:
     {peak name: {"mean": ..., "max": ...}} over the converged pairs; `storeys`: the building's
     `storey_drift` (P, 2, S) [-] and `level_acceleration` (P, 2, S + 1) [m/s^2] in x and y
-    (`suite_peaks(storey_height=...)`, `directional_storeys`), else `None`."""
+    (`suite_peaks(storey_height=...)`, `directional_storeys`), else `None`; `groups`: a slab
+    with overturning, {"names": (G,), "peak_N", "min_N", "uplift_time_s": (P, G)} (each
+    group's N_g, `SUITE_GROUP_UNITS`), else `None`."""
 
     names: tuple
     peaks: dict
     converged: np.ndarray
     summary: dict
     storeys: dict | None = None
+    groups: dict | None = None
 
 
 def _suite_function(build, time_step: float, duration: float, base_index, storey_height=None):
@@ -99,7 +110,7 @@ def _suite_function(build, time_step: float, duration: float, base_index, storey
             "base_disp_x_m": jnp.max(jnp.abs(bx)),
             "base_disp_y_m": jnp.max(jnp.abs(by)),
             "base_shear_ratio_resultant": jnp.max(jnp.hypot(force[:, 0], force[:, 1])) / weight,
-        } | _storey_peaks(r.q, total, storey_height), r.result == diffrax.RESULTS.successful
+        } | _storey_peaks(r.q, total, storey_height) | _group_peaks(r), r.result == diffrax.RESULTS.successful
 
     return jax.jit(jax.vmap(one))
 
@@ -132,6 +143,16 @@ def _storey_peaks(q, total, storey_height) -> dict:
             "storey_drift": jnp.max(jnp.abs(drift), axis=0), "level_acceleration": jnp.max(jnp.abs(acc), axis=0)}
 
 
+def _group_peaks(response) -> dict:
+    """A slab with overturning: each group's largest and least N_g [N] over the saved steps and
+    its uplift time [s] (`BidirectionalResponse.normal_load`, `group_uplift_time`), else {}."""
+    if response.normal_load is None:
+        return {}
+    return {"group_peak_N": jnp.max(response.normal_load, axis=0),
+            "group_min_N": jnp.min(response.normal_load, axis=0),
+            "group_uplift_time_s": response.group_uplift_time}
+
+
 def _summary(peaks: dict, ok: np.ndarray) -> dict:
     return {
         k: {"mean": float(np.mean(v[ok])) if ok.any() else float("nan"),
@@ -141,7 +162,8 @@ def _summary(peaks: dict, ok: np.ndarray) -> dict:
 
 
 def suite_peaks(build, names, ax, ay, time_step: float, duration: float, base_index=(0, 1),
-                batch_size: int | None = None, storey_height: float | None = None) -> SuiteResult:
+                batch_size: int | None = None, storey_height: float | None = None,
+                group_names=None) -> SuiteResult:
     """Run P record pairs through the structure `build(ground_x, ground_y)` in one vmapped call
     (or in calls of `batch_size` pairs, the last padded: one compilation).
 
@@ -150,7 +172,8 @@ def suite_peaks(build, names, ax, ay, time_step: float, duration: float, base_in
     `names` (P,); `ax`, `ay` (P, n) ground accelerations [m/s^2] (already scaled, common step);
     `time_step` [s] of the records; `duration` [s]; `base_index`: the coordinates of the base in
     x and y (rigid mass (0, 1), building (0, 7), slab (0, 1)); `storey_height` [m]: the
-    building's storey height, to keep `storey_drift_max_resultant` and `SuiteResult.storeys` too.
+    building's storey height, to keep `storey_drift_max_resultant` and `SuiteResult.storeys` too;
+    `group_names` (G,): the bearing groups of a slab with overturning (default g0, g1, ...).
 
     **Returns:** a `SuiteResult`; the base shear ratio is the total horizontal force on the
     structure above the bearings over its weight.
@@ -165,10 +188,17 @@ def suite_peaks(build, names, ax, ay, time_step: float, duration: float, base_in
         index = lanes(start, min(start + width, count), width)
         parts.append(jax.device_get(function(jnp.asarray(ax[index]), jnp.asarray(ay[index]))))
     joined = {k: np.concatenate([p[0][k] for p in parts])[:count] for k in parts[0][0]}
+    groups = {k.removeprefix("group_"): joined.pop(k) for k in list(joined) if k.startswith("group_")} or None
+    if groups is not None:
+        width = groups["peak_N"].shape[1]
+        groups["names"] = tuple(f"g{i}" for i in range(width)) if group_names is None else tuple(group_names)
+        if len(groups["names"]) != width:
+            raise ValueError(f"group_names: {len(groups['names'])} names for the structure's {width} groups.")
     peaks = {k: v for k, v in joined.items() if v.ndim == 1}
     storeys = {k: v for k, v in joined.items() if v.ndim > 1} or None
     ok = np.concatenate([np.asarray(p[1], dtype=bool) for p in parts])[:count]
-    return SuiteResult(names=names, peaks=peaks, converged=ok, summary=_summary(peaks, ok), storeys=storeys)
+    return SuiteResult(names=names, peaks=peaks, converged=ok, summary=_summary(peaks, ok), storeys=storeys,
+                       groups=groups)
 
 
 def _suite_task(spec: dict, start: int, stop: int, payload):
@@ -276,6 +306,11 @@ def suite_dataset(result: SuiteResult, attrs: dict | None = None):
         data[name] = (("pair", "direction", dim), np.asarray(result.storeys[name]), {"units": units, "long_name": long_name})
     if result.storeys is not None:
         coords["direction"] = ("direction", np.array(["x", "y"]))
+    if result.groups is not None:
+        coords["group"] = ("group", np.array(result.groups["names"], dtype=str), {"long_name": "bearing group"})
+        for name, (units, long_name) in SUITE_GROUP_UNITS.items():
+            data[f"group_{name}"] = (("pair", "group"), np.asarray(result.groups[name]),
+                                     {"units": units, "long_name": long_name})
     return xarray.Dataset(data, coords=coords, attrs=file_attrs)
 
 
@@ -287,7 +322,20 @@ def open_suite(path) -> SuiteResult:
     ok = np.asarray(dataset["converged"].values, dtype=bool)
     names = tuple(str(n) for n in dataset["pair"].values)
     storeys = {k: np.asarray(dataset[k].values, dtype=float) for k in _STOREY_LAYOUT if k in dataset} or None
-    return SuiteResult(names=names, peaks=peaks, converged=ok, summary=_summary(peaks, ok), storeys=storeys)
+    groups = None
+    if "group" in dataset.coords:
+        groups = {k: np.asarray(dataset[f"group_{k}"].values, dtype=float) for k in SUITE_GROUP_UNITS}
+        groups["names"] = tuple(str(g) for g in dataset["group"].values)
+    return SuiteResult(names=names, peaks=peaks, converged=ok, summary=_summary(peaks, ok), storeys=storeys,
+                       groups=groups)
+
+
+def _group_columns(result: SuiteResult) -> dict:
+    """{"<group>_peak_N" ...: (P,)}: a slab's per-group columns of the suite table (or {})."""
+    if result.groups is None:
+        return {}
+    return {f"{g}_{k}": np.asarray(result.groups[k])[:, j]
+            for j, g in enumerate(result.groups["names"]) for k in SUITE_GROUP_UNITS}
 
 
 def save_suite(result: SuiteResult, table_path=None, netcdf_path=None, attrs: dict | None = None) -> None:
@@ -299,12 +347,14 @@ def save_suite(result: SuiteResult, table_path=None, netcdf_path=None, attrs: di
         path = pathlib.Path(table_path)
         path.parent.mkdir(parents=True, exist_ok=True)
         names = [k for k in _ALL_UNITS if k in result.peaks]
-        lines = ["pair," + ",".join(names) + ",converged"]
+        groups = _group_columns(result)
+        lines = ["pair," + ",".join(names + list(groups)) + ",converged"]
         for i, name in enumerate(result.names):
-            row = ",".join(f"{result.peaks[k][i]:.6g}" for k in names)
+            row = ",".join([f"{result.peaks[k][i]:.6g}" for k in names] + [f"{v[i]:.6g}" for v in groups.values()])
             lines.append(f"{name},{row},{bool(result.converged[i])}")
         for stat in ("mean", "max"):
-            lines.append(f"{stat}," + ",".join(f"{result.summary[k][stat]:.6g}" for k in names) + ",")
+            lines.append(f"{stat}," + ",".join(f"{result.summary[k][stat]:.6g}" for k in names) + ","
+                         + "," * len(groups))
         path.write_text("\n".join(lines) + "\n")
     if netcdf_path is not None:
         path = pathlib.Path(netcdf_path)
