@@ -68,6 +68,7 @@ def test_no_asymmetry_is_the_plain_bearing_and_the_peak_loop_is_the_simulation()
     assert -u.min() > 1.1 * u.max()
 
 
+@pytest.mark.slow
 def test_two_directions_along_x_are_the_one_direction_structure():
     from teflon_jax.systems import (
         bidirectional_rigid_mass,

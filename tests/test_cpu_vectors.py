@@ -7,6 +7,7 @@ import subprocess
 import sys
 
 import numpy as np
+import pytest
 
 from teflon_jax.studies import prefer_wide_cpu_vectors
 from teflon_jax.studies._cpu_vectors import (
@@ -65,6 +66,7 @@ def _peaks(xla_flags):
     return json.loads(done.stdout.strip().splitlines()[-1])
 
 
+@pytest.mark.slow
 def test_same_peaks_with_wide_vectors():
     """On any x86 processor XLA honours the width (on one without AVX-512 it splits the
     vectors), so the comparison runs everywhere: wide or not, the peaks agree to rounding."""

@@ -121,6 +121,7 @@ def test_bad_design_input(records):
         expected_response(structure, {}, np.zeros(10), DT)
 
 
+@pytest.mark.slow
 def test_forward_mode_gradient_equals_reverse_mode_on_a_simulation():
     """The custom-VJP wrapper gives jax.grad's answer through a structure simulation."""
     import jax
@@ -156,6 +157,7 @@ def test_forward_mode_gradient_equals_reverse_mode_on_a_simulation():
         assert float(forward[name]) != 0.0
 
 
+@pytest.mark.slow
 def test_gradient_check_at_a_table1_row_needs_one_sided_differences(records):
     """Table 1 is interpolated linearly: at a tabulated pressure the friction constants have
     a kink. A central difference straddling 2000 psi averages two slopes and cannot match the

@@ -69,6 +69,7 @@ def noise_free():
     return fit_double_pendulum_test(_record(), _start())
 
 
+@pytest.mark.slow
 def test_the_closed_form_loading_branch_gives_the_radii_and_friction():
     """A slow push of Coulomb surfaces (Fenz & Constantinou 2006): slope 1 / R_1 from mu_1,
     then 1 / (R_1 + R_2) from mu_2; the fit of that drawn curve finds R_1, R_2, mu_1, mu_2."""

@@ -48,7 +48,7 @@ def _two(bearing, ax, ay, **options):
         isolation_period=2.5, contact_pressure=PRESSURE, **options)
 
 
-@pytest.mark.parametrize("wear", [None, 0.5])
+@pytest.mark.parametrize("wear", [pytest.param(None, marks=pytest.mark.slow), 0.5])
 def test_along_x_two_directions_are_the_one_direction_structure(wear):
     from teflon_jax.systems import rigid_mass, simulate_bidirectional, simulate_structure
 
@@ -129,6 +129,7 @@ def test_two_directions_need_the_contact_pressure_of_a_heating_bearing():
         bidirectional_rigid_mass(weight=1e5, bearing=_bearing(), ground_x=signal, time_step=DT)
 
 
+@pytest.mark.slow
 def test_montecarlo_with_two_components_runs_a_heating_bearing(tmp_path):
     """`montecarlo --components 2 --bearing`: the heating bearing moves more than the cold one
     on the same motions (the command ran it, it did not drop the part)."""

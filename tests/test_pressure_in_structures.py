@@ -140,6 +140,7 @@ def _run_peak(tmp_path, name, argv):
     return json.loads(out.read_text())["peak"]["base_disp_resultant_m"]
 
 
+@pytest.mark.slow
 def test_run_and_the_slab_take_each_pressure(tmp_path):
     """`run --bearing`: the pressure-dependent file at --pressure gives the hand-scaled file's
     peaks; on the slab, each group at the pressure of its line in the plan."""

@@ -90,6 +90,7 @@ def test_each_suite_pair_is_its_single_run_with_overturning(tmp_path, isolator, 
     assert float(rows[1]["SW_peak_N"]) == pytest.approx(strong["normal_load"]["groups"]["SW"]["peak_N"], rel=1e-5)
 
 
+@pytest.mark.slow
 def test_suite_without_height_reports_no_group_loads(tmp_path):
     """Height 0: the suite's output keeps its columns and keys (no group loads)."""
     suite = _write_pairs(tmp_path)

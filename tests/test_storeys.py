@@ -115,6 +115,7 @@ def test_run_building_reports_storey_results_per_direction(tmp_path, capsys):
     assert max(peak["storey_drift_ratio_y"]) == 0.0
 
 
+@pytest.mark.slow
 def test_two_component_storey_peaks_match_the_histories():
     """`bidirectional_peak_response(storey_height=...)` in x and y equals the peaks of
     `simulate_bidirectional`'s saved histories (`bidirectional_storey_peaks`)."""

@@ -101,6 +101,7 @@ def test_the_loop_is_symmetric_and_dissipates(loading):
     assert work > 0
 
 
+@pytest.mark.slow
 def test_an_orbit_along_x_is_the_one_direction_path():
     bearing = _bearing()
     t, u = _slow_cycle(0.5, n=2000)
