@@ -112,12 +112,7 @@ def _step(bearing, normal_load, dt, state, increment, kernel=None):
         return (f[:-1] - f[-1]).reshape(-1)
 
     def newton(_, x):
-        r = residual(x)
-        step = jnp.linalg.solve(jax.jacfwd(residual)(x), r)
-        step = jnp.where(jnp.all(jnp.isfinite(step)), step, 0.0)
-        trials = x - STEP_FRACTIONS[:, None] * step
-        sizes = jax.vmap(lambda y: jnp.sum(residual(y) ** 2))(trials)
-        return trials[jnp.argmin(jnp.where(jnp.isfinite(sizes), sizes, jnp.inf))]
+        return _newton_trial(residual, x, STEP_FRACTIONS)[0]
 
     def balanced(values):
         f = values[0]
@@ -146,16 +141,23 @@ def _rescue(residual, x):
     against W / R while it slides): a Newton step from the sliding side overshoots the root by
     up to the ratio of the slopes, more than the first stage's shortest fraction corrects."""
     def body(_, x):
-        r = residual(x)
-        step = jnp.linalg.solve(jax.jacfwd(residual)(x), r)
-        step = jnp.where(jnp.all(jnp.isfinite(step)), step, 0.0)
-        trials = x - RESCUE_FRACTIONS[:, None] * step
-        sizes = jax.vmap(lambda y: jnp.sum(residual(y) ** 2))(trials)
-        sizes = jnp.where(jnp.isfinite(sizes), sizes, jnp.inf)
-        best = jnp.argmin(sizes)
-        return jnp.where(sizes[best] < jnp.sum(r**2), trials[best], x)
+        trial, size, r = _newton_trial(residual, x, RESCUE_FRACTIONS)
+        return jnp.where(size < jnp.sum(r**2), trial, x)
 
     return jax.lax.fori_loop(0, RESCUE_STEPS, body, x)
+
+
+def _newton_trial(residual, x, fractions):
+    """(the trial x - c s with the least imbalance sum(r^2) over the `fractions` c of the
+    Newton step s = J^-1 r (s = 0 where it is not finite), that imbalance, r at `x`)."""
+    r = residual(x)
+    step = jnp.linalg.solve(jax.jacfwd(residual)(x), r)
+    step = jnp.where(jnp.all(jnp.isfinite(step)), step, 0.0)
+    trials = x - fractions[:, None] * step
+    sizes = jax.vmap(lambda y: jnp.sum(residual(y) ** 2))(trials)
+    sizes = jnp.where(jnp.isfinite(sizes), sizes, jnp.inf)
+    best = jnp.argmin(sizes)
+    return trials[best], sizes[best], r
 
 
 def simulate_triple_test(bearing: SeriesPendulum, time, displacement, normal_load, *,
