@@ -11,6 +11,8 @@
 #     isolators single and triple friction pendulums (benchmarks/triple_isolator.json) and a
 #               vertical component, through the command
 #     b7        B7: flat sliders, single and triple friction pendulums in one run
+#     b7pair    B7 with two horizontal components (two full chunks of CHUNK pairs per isolator), and
+#               the command on single and triple pendulums with two components
 # Each step writes its JSON and log to OUT_DIR and is timed apart; a step that fails is logged
 # and the others still run. A CPU dry run: FIGURES="command isolators" bash ... /tmp/dry 64 32
 set -u
@@ -75,6 +77,15 @@ for group in $groups; do
   b7)
     step b7 "$py" "$here/bench_pendulum.py" --motions "$((2 * chunk))" --chunk "$chunk" --repeats 1 \
       --json "$out/b7.json" ;;
+  b7pair)
+    step b7pair "$py" "$here/bench_pendulum.py" --components 2 --motions "$((2 * chunk))" --chunk "$chunk" \
+      --repeats 1 --json "$out/b7pair.json"
+    for kind in rigid building; do
+      mc "iso2-$kind-single-fp" --structure "$kind" --motions "$((2 * chunk))" --chunk-size "$chunk" \
+        --components 2 --isolator single-fp --radius 39in
+      mc "iso2-$kind-triple-fp" --structure "$kind" --motions "$((2 * chunk))" --chunk-size "$chunk" \
+        --components 2 --isolator triple-fp --isolator-file "$here/triple_isolator.json"
+    done ;;
   *) echo "unknown group $group" >&2 ;;
   esac
 done
