@@ -21,6 +21,7 @@ from ._effects import DirectionAsymmetry as DirectionAsymmetry
 from ._effects import FrictionalHeating as FrictionalHeating
 from ._effects import PressureDependence as PressureDependence
 from ._effects import Wear as Wear
+from ._effects import advance_heat_states as advance_heat_states
 from ._effects import backlash_update as backlash_update
 from ._effects import heat_kernel_exponentials as heat_kernel_exponentials
 from ._effects import kumar_temperature_factor as kumar_temperature_factor

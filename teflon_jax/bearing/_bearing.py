@@ -4,6 +4,7 @@ Reference: Constantinou, Mokha & Reinhorn (1990), Eqs. 1, 3, 8-9, 17; MODEL.md S
 """
 
 import equinox as eqx
+import jax
 import jax.numpy as jnp
 import numpy as np
 
@@ -133,16 +134,19 @@ class SlidingBearing(eqx.Module):
 
     def uniaxial_coefficient(self, velocity, z_peak=1.0):
         """mu [-] and dmu/dv [s/m] for sliding along x at `velocity` [m/s] (the
-        `coefficient` with velocity_y = 0), written out rather than differentiated:
+        `coefficient` with velocity_y = 0): Eq. 1 (`sliding_friction`) and its forward-mode
+        derivative in v,
 
-            mu = f_max - delta_f e,   dmu/dv = (a / n) delta_f e sgn(v),   e = exp(-a |v| / n),
+            dmu/dv = (a / n) delta_f exp(-a |v| / n) sgn(v),
 
-        with the constants mixed for the direction as in `coefficient`; during breakaway
-        (Eq. 17) mu = b f_min and dmu/dv = 0. At v = 0 the slope is 0, as the derivative of
-        `coefficient` there."""
+        with the constants mixed for the direction as in `coefficient`, held fixed in the
+        derivative; during breakaway (Eq. 17) mu = b f_min and dmu/dv = 0. At v = 0 the slope
+        is 0, as the derivative of `coefficient` there."""
         params = self._constants_for(velocity, 0.0)
-        decay = params.delta_f * jnp.exp(-params.rate_a * (jnp.abs(velocity) / self.n_interfaces))
-        mu, slope = params.f_max - decay, params.rate_a / self.n_interfaces * decay * jnp.sign(velocity)
+        velocity = jnp.asarray(velocity, dtype=float)
+        mu, slope = jax.jvp(lambda v: sliding_friction(params, v, self.n_interfaces), (velocity,),
+                            (jnp.ones_like(velocity),))
+        slope = jnp.where(velocity == 0, 0.0, slope)  # d|v|/dv taken as 0 at rest
         if self.breakaway_ratio is None:
             return mu, slope
         static = z_peak < BREAKAWAY_THRESHOLD

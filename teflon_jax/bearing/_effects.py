@@ -141,6 +141,17 @@ class DirectionAsymmetry(eqx.Module):
         return 1.0 + self.asymmetry * z_x
 
 
+def advance_heat_states(heat_states, flux, dt, rates):
+    """The exponential states s_j [W s/m^2] of the heat kernel (`heat_kernel_exponentials`)
+    after `dt` [s] of a constant heat `flux` q [W/m^2]:
+
+        s_j <- e^(-lambda_j dt) s_j + q (1 - e^(-lambda_j dt)) / lambda_j,
+
+    exact for a flux held over the step (rates lambda_j [1/s] along the last axis)."""
+    decay = jnp.exp(-rates * dt)
+    return decay * heat_states + flux * (1.0 - decay) / rates
+
+
 class FrictionalHeating(eqx.Module):
     """Friction that falls as the sliding surface heats up (Kumar et al. 2015):
 
@@ -177,8 +188,7 @@ class FrictionalHeating(eqx.Module):
         """The exponential states of the heat kernel after `dt` [s] of constant `flux`:
         s_j <- e^(-lambda_j dt) s_j + q (1 - e^(-lambda_j dt)) / lambda_j (exact for a flux
         held over the step)."""
-        decay = jnp.exp(-rates * dt)
-        return decay * heat_states + flux * (1.0 - decay) / rates
+        return advance_heat_states(heat_states, flux, dt, rates)
 
     def rise(self, heat_states, weights):
         """Unscaled surface temperature rise dT = C sum_j w_j s_j [K] (states along the last

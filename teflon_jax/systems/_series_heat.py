@@ -10,7 +10,12 @@ factor is the one at the step's start and the flux is held, as the flat sliders 
 
 import jax.numpy as jnp
 
-from ..bearing import SeriesPendulum, heat_kernel_exponentials, sliding_friction
+from ..bearing import (
+    SeriesPendulum,
+    advance_heat_states,
+    heat_kernel_exponentials,
+    sliding_friction,
+)
 from ._structure_build import HEAT_HORIZON
 
 
@@ -27,11 +32,10 @@ def heated_step(pendulum: SeriesPendulum, heat, factors, slide, time_step, rates
     (the lengths of their increments): each surface's flux q_e = mu_e p_e v_e
     (`SeriesPendulum.heat_fluxes`) at its speed v_e = slide c_e / dt (`velocity_factors`),
     with mu_e Eq. 1 at that speed times the factor `factors` (S,) held over the step; the flux
-    is held over the step (`FrictionalHeating.advance`, exact for a constant flux) and the
+    is held over the step (`advance_heat_states`, exact for a constant flux) and the
     load factor N / W `load` scales the pressure."""
     speed = slide * pendulum.velocity_factors() / time_step
     mu = sliding_friction(pendulum.frictions().scaled(factors), speed)
     flux = pendulum.heat_fluxes(mu, speed, load)
-    decay = jnp.exp(-rates * time_step)
-    return decay * heat + flux[:, None] * (1.0 - decay) / rates
+    return advance_heat_states(heat, flux[:, None], time_step, rates)
 
