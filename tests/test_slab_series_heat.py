@@ -15,12 +15,14 @@ import jax
 import numpy as np
 import pytest
 from test_slab_series import (
+    CORNERS,
     DOUBLE,
     DT_RECORD,
     DURATION,
     SQUARE,
     STEP,
     TIME,
+    TRIPLE,
     W,
     _isolator_file,
     _plan,
@@ -33,7 +35,12 @@ from test_slab_series import (
 from teflon_jax.bearing import FrictionalHeating
 from teflon_jax.cli import main
 from teflon_jax.excitation import uniform_signal
-from teflon_jax.systems import simulate_triple_structure, slab_on_bearings, triple_structure
+from teflon_jax.systems import (
+    simulate_slab_series,
+    simulate_triple_structure,
+    slab_on_bearings,
+    triple_structure,
+)
 from teflon_jax.units import STANDARD_GRAVITY as G
 
 PRESSURE = 20e6  # [Pa] on both surfaces under the static load
@@ -52,14 +59,15 @@ def _biased(bias=0.08, amplitude=0.15):
     return G * shape * (bias + amplitude * np.sin(2 * np.pi * 0.7 * TIME)), 0 * TIME
 
 
-def test_symmetric_heated_slab_is_the_heated_rigid_mass():
+@pytest.mark.parametrize("pendulum", [DOUBLE, pytest.param(TRIPLE, marks=pytest.mark.slow)], ids=["double", "triple"])
+def test_symmetric_heated_slab_is_the_heated_rigid_mass(pendulum):
     """h = 0, equal groups at the corners, x motion: every group carries W / 4 on a pendulum
     whose contact pressures are those of W, so each surface heats as on the rigid mass of
     weight W on one such pendulum: the displacements agree to 1e-10 m while heating itself
     moves them by > 1 cm (against heat scale 0), the slab does not twist, and all
     four groups' surfaces reach the same rise."""
     ax, ay = _pulse(0.35, 0.0)
-    hot = _heated()
+    hot = _heated(pendulum)
     rigid = jax.jit(simulate_triple_structure, static_argnums=1)
     one = triple_structure("rigid", hot, uniform_signal(ax, DT_RECORD), time_step=STEP, weight=W)
     reference = np.asarray(rigid(one, DURATION).displacement[:, 0])
@@ -67,11 +75,11 @@ def test_symmetric_heated_slab_is_the_heated_rigid_mass():
     assert bool(np.all(response.converged))
     assert np.max(np.abs(np.asarray(response.q[:, 0]) - reference)) < 1e-10
     assert np.max(np.abs(response.q[:, 1:])) < 1e-12
-    cold = triple_structure("rigid", _heated(heat_scale=0.0), uniform_signal(ax, DT_RECORD), time_step=STEP,
+    cold = triple_structure("rigid", _heated(pendulum, heat_scale=0.0), uniform_signal(ax, DT_RECORD), time_step=STEP,
                             weight=W)  # the unheated rigid mass (tests/test_series_heating.py)
     assert np.max(np.abs(np.asarray(rigid(cold, DURATION).displacement[:, 0]) - reference)) > 0.01
     rise = np.asarray(response.surface_temperature_rise)  # (nt, G, S)
-    assert rise.shape == (round(DURATION / STEP) + 1, 4, 2) and rise.max() > 20.0
+    assert rise.shape == (round(DURATION / STEP) + 1, 4, pendulum.slider_count) and rise.max() > 20.0
     assert np.max(np.abs(rise - rise[:, :1])) < 1e-9 * rise.max()
 
 
@@ -181,3 +189,27 @@ def test_run_refuses_a_bad_heating_key_by_name(tmp_path, capsys, changes, messag
         assert code == 2
         err = capsys.readouterr().err
         assert re.search(message, err) and "missing.txt" not in err
+
+
+@pytest.mark.slow
+def test_the_heated_slab_is_differentiable_in_a_surface_friction():
+    """d(slab displacement at 2 s)/d(f_max of the bottom surfaces) with both surfaces heated
+    and h = 3 m: through every group's heat states and sliders' balance (implicit derivative),
+    equal to central differences within 1e-4 relative."""
+    ax, ay = _pulse(0.4, 0.2)
+    base = _slab(ax, ay, 3.0, DOUBLE)
+
+    def displacement(f_max):
+        pendulum = eqx.tree_at(lambda p: p.bottom_friction.f_max, _heated(), f_max)
+        system = slab_on_bearings(
+            length_x=20.0, length_y=12.0, weight=W, centre_of_mass=[10.0, 6.0], positions=CORNERS,
+            loads=[W / 4] * 4, ground_x=base.ground_x, ground_y=base.ground_y, time_step=STEP,
+            isolator="double-fp", pendulums=pendulum, height_of_centre_of_mass=3.0)
+        return simulate_slab_series(system, 2.0).q[-1, 0]
+
+    value, slope = jax.jit(jax.value_and_grad(displacement))(0.06)
+    h = 1e-5
+    forward = jax.jit(displacement)
+    central = (forward(0.06 + h) - forward(0.06 - h)) / (2 * h)
+    assert abs(float(value)) > 0.01
+    assert abs(float(slope) - float(central)) < 1e-4 * abs(float(central))
