@@ -1,7 +1,9 @@
 """`teflon-jax run --structure slab --plan FILE --isolator triple-fp|double-fp --isolator-file F`:
 the rigid slab on groups of triple or double friction pendulums (a group may name its own
 `isolator_file` in the plan), with the overturning of the plan's height; the slab's peaks and
-each group's normal load, as for single pendulums."""
+each group's normal load, as for single pendulums; where the isolator files give surfaces
+`heating`, each group's surfaces heat under its own normal load and the run reports their
+peak temperature rise."""
 
 import dataclasses
 import pathlib
@@ -97,6 +99,9 @@ def run_series_slab(args, load_components, write_run_outputs, vertical=None) -> 
         lines = [uplift_line(uplift)] + lines
     for g, path in zip(groups, [g["isolator_file"] or args.isolator_file for g in groups]):
         normal["normal_load"]["groups"][g["name"]]["isolator_file"] = str(path)
+    rises = surface_temperature_summary(plan, system, response, histories)
+    lines += [f"surface temperature rise {name}: " + ", ".join(f"{e} {v:.4g} K" for e, v in row.items())
+              for name, row in (rises or {}).items()]
     payload = {"structure": "slab", "record_x": str(args.record_x),
                "record_y": None if args.record_y is None else str(args.record_y),
                "record_z": None if args.record_z is None else str(args.record_z),
@@ -104,7 +109,7 @@ def run_series_slab(args, load_components, write_run_outputs, vertical=None) -> 
                "solver_time_step_s": time_step, "notes": notes, "isolator": args.isolator,
                "isolator_file": str(args.isolator_file), "radius_m": None, "anisotropic": False,
                "lay_angle_deg": None, "peak": peak, **uplift, **normal,
-               "slider_disp_m": _slider_peaks(plan, system, response)}
+               "slider_disp_m": _slider_peaks(plan, system, response), "surface_temperature_rise_K": rises}
     return write_run_outputs(args, payload, histories, f"slab on {pendulums[0].description}", lines)
 
 
@@ -134,3 +139,20 @@ def _slider_peaks(plan, system, response) -> dict:
     sliders = np.linalg.norm(np.asarray(response.slider), axis=-1).max(axis=0)  # (G, S)
     names = system.pendulum.slider_names
     return {g["name"]: {n: float(v) for n, v in zip(names, row)} for g, row in zip(plan["groups"], sliders)}
+
+
+def surface_temperature_summary(plan, system, response, histories):
+    """{group: {heated surface: peak temperature rise [K]}} of a slab whose pendulums have
+    heated surfaces (each group's surfaces under that group's own normal load), else None; adds
+    each heated surface's history `temperature_rise_<group>_<surface>_K` to `histories`."""
+    if response.surface_temperature_rise is None:
+        return None
+    rise = np.asarray(response.surface_temperature_rise)  # (nt, G, S)
+    heated = [(e, name) for e, (name, h) in enumerate(zip(system.pendulum.slider_names,
+                                                          system.pendulum.surface_heatings())) if h is not None]
+    summary = {}
+    for j, g in enumerate(plan["groups"]):
+        summary[g["name"]] = {name: float(rise[:, j, e].max()) for e, name in heated}
+        for e, name in heated:
+            histories[f"temperature_rise_{g['name']}_{name}_K"] = rise[:, j, e]
+    return summary

@@ -39,3 +39,11 @@ def heated_step(pendulum: SeriesPendulum, heat, factors, slide, time_step, rates
     flux = pendulum.heat_fluxes(mu, speed, load)
     return advance_heat_states(heat, flux[:, None], time_step, rates)
 
+
+
+def surface_temperature_rises(pendulum: SeriesPendulum, heat, weights):
+    """Surface temperature rises s dT_e [K] (S,) at the heat states `heat` (S, K) of the kernel
+    of `weights` (K,): the rise that enters k_T (`FrictionalHeating.rise` times its
+    `heat_scale` s), 0 where a surface has no heating."""
+    return jnp.stack([jnp.zeros((), heat.dtype) if h is None else h.heat_scale * h.rise(heat[e], weights)
+                      for e, h in enumerate(pendulum.surface_heatings())])

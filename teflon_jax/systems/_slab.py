@@ -133,7 +133,8 @@ def slab_on_bearings(
       vertical stiffness of the groups (default equal) for the lever rule (`overturning_map`).
     - `isolator` "triple-fp" or "double-fp": every group a series pendulum of `pendulums` (one
       `TriplePendulum` or `DoublePendulum` for all groups, or one per group) instead of
-      `bearings`; no springs, radii or contact pressures (`_slab_series.py`).
+      `bearings`; no springs, radii or contact pressures (heated surfaces take theirs from the
+      pendulums, each group's times its N_g / W_g; `_slab_series.py`).
 
     **Returns:** a `BidirectionalStructure` with q = (u_x [m], u_y [m], theta [rad]); a
     `SlabOnSeries` (`simulate_slab_series`) for the series pendulums.

@@ -9,6 +9,12 @@ under the overturning moment of its horizontal force, held over each step (`_ove
 while N_g <= 0 the group carries no shear and its sliders share its motion as R_e
 (`uplift_increments`).
 
+Heated surfaces (`SeriesPendulum.heated`) heat with their own group's load: surface e of group
+g takes the flux q_ge = mu_ge p_e (N_g / W_g) v_ge (`_series_heat.heated_step`, p_e its contact
+pressure under the static W_g, v_ge the length of its increment over the step times its
+velocity factor), none while the group is lifted, and its friction is scaled by k_T at its
+own temperature, taken at the step's start and held over the step, as on the rigid mass.
+
 The slab carries a reference spring k_g = W_g / R_ref at each group (R_ref the pendulum's
 `reference_radius`), K_ref = sum_g k_g B_g^T B_g, and is advanced by the exact step of
 M q'' + K_ref q = -M R a_g - f for the ground and the force f = sum_g B_g^T (F_g - k_g d_g)
@@ -35,9 +41,11 @@ import numpy as np
 from ..bearing import SeriesPendulum
 from ..excitation import Signal
 from ._overturning import SupportPlan, group_factor, overturned_loads
+from ._series_heat import heated_step
 from ._triple_biaxial import (
     NEWTON_DIFFERENCE_STEP,
     _inverse2,
+    _length,
     _pendulum_blocks,
     biaxial_slider_forces,
 )
@@ -61,7 +69,8 @@ class SlabOnSeries(eqx.Module):
     [m/s^2]; `step_matrix` (6, 16): the exact step's (free, start, end) blocks on
     x = (q, q'), inputs (a_x, a_y, f) at both ends; `time_step` [s], `newton_iterations`,
     `newton_tolerance` (force imbalance over W_g) (static); `vertical_acceleration`: `Signal`
-    of a_v [m/s^2, up +] or `None`.
+    of a_v [m/s^2, up +] or `None`; `heat_rates`, `heat_weights` (K,): the heat kernel
+    (`series_heat_kernel`) of pendulums with heated surfaces, else `None`.
     """
 
     mass: jnp.ndarray
@@ -80,6 +89,8 @@ class SlabOnSeries(eqx.Module):
     newton_iterations: int = eqx.field(static=True, default=TRIPLE_NEWTON_ITERATIONS)
     newton_tolerance: float = eqx.field(static=True, default=TRIPLE_TOLERANCE)
     vertical_acceleration: Signal | None = None
+    heat_rates: jnp.ndarray | None = None
+    heat_weights: jnp.ndarray | None = None
 
     def load_factor(self, t):
         """max(1 + a_v(t) / g, 0) [-] of the vertical record at t [s] (None without one)."""
@@ -91,11 +102,13 @@ class SlabOnSeries(eqx.Module):
 
     def initial_state(self):
         """At rest: x = (q, q') (6,), sliders, Z and last increments (G, S, 2), group forces
-        F_g (G, 2) [N], the generalized force beyond the springs f (3,) [N, N m] and the
-        normal loads N_g (G,) [N]."""
+        F_g (G, 2) [N], the generalized force beyond the springs f (3,) [N, N m], the
+        normal loads N_g (G,) [N] and, for heated surfaces, the heat states (G, S, K) [W s/m^2]."""
         groups, sliders = self.bearing_load.shape[0], self.pendulum.slider_count
         zeros = jnp.zeros((groups, sliders, 2), self.mass.dtype)
-        return {"x": jnp.zeros(6, self.mass.dtype), "slider": zeros, "z": zeros, "previous": zeros,
+        heat = {} if self.heat_rates is None else {
+            "heat": jnp.zeros((groups, sliders, self.heat_rates.shape[0]), self.mass.dtype)}
+        return {**heat, "x": jnp.zeros(6, self.mass.dtype), "slider": zeros, "z": zeros, "previous": zeros,
                 "force": jnp.zeros((groups, 2), self.mass.dtype), "extra": jnp.zeros(3, self.mass.dtype),
                 "normal_load": overturned_loads(self, jnp.zeros(2, self.mass.dtype), 0.0)}
 
@@ -110,12 +123,16 @@ class SlabOnSeries(eqx.Module):
         target, compliance = settle @ linear[:3], -settle @ phi  # q1 = D - G_q P
         b = self.bearing_map
         loads = overturned_loads(self, -jnp.sum(state["force"], axis=0), t1)
-        normal = group_factor(self, loads) * self.bearing_load
+        factor = group_factor(self, loads)  # N_g / W_g, 0 while lifted
+        normal = factor * self.bearing_load
         flex = jnp.einsum("gin,nm,hjm->gihj", b, compliance, b)
         own = jnp.einsum("gigi->gi", flex)  # each group's own compliance; its inverse scales the misfit
         p = {"pendulum": self.pendulum, "W": self.bearing_load, "N": normal, "s0": state["slider"],
              "z0": state["z"], "stiffness": 2 / jnp.sum(own, axis=-1),
              "E": jnp.einsum("gin,n->gi", b, target - q0), "flex": flex}
+        if self.heat_rates is not None:  # each surface's factor at the step's start, held over it
+            p["k"] = jax.vmap(lambda pendulum, heat: pendulum.heat_factors(heat, self.heat_weights))(
+                self.pendulum, state["heat"])
         eps = jnp.finfo(linear.dtype).eps
         tolerance = jnp.maximum(self.newton_tolerance * jnp.min(self.bearing_load),
                                 32 * eps * jnp.max(self.bearing_load + jnp.abs(p["E"]).max(-1) * p["stiffness"]))
@@ -130,14 +147,20 @@ class SlabOnSeries(eqx.Module):
         q1 = target - compliance @ total
         extra = total - self.stiffness @ q1
         x1 = linear + end[:, 2:] @ extra
-        return ({"x": x1, "slider": state["slider"] + d, "z": z1, "previous": d, "force": force,
-                 "extra": extra, "normal_load": loads}, converged)
+        new = {"x": x1, "slider": state["slider"] + d, "z": z1, "previous": d, "force": force,
+               "extra": extra, "normal_load": loads}
+        if self.heat_rates is not None:  # the flux under the group's own N_g / W_g (0 lifted)
+            new["heat"] = jax.vmap(heated_step, in_axes=(0, 0, 0, 0, None, None, 0))(
+                self.pendulum, state["heat"], p["k"], _length(d)[..., 0], self.time_step, self.heat_rates,
+                factor)
+        return new, converged
 
 
 def _group_forces(p, d, dt):
-    """Slider forces (G, S, 2) [N] and Z of every group after the increments d (G, S, 2)."""
-    return jax.vmap(biaxial_slider_forces, in_axes=(0, 0, 0, 0, 0, None))(
-        p["pendulum"], p["N"], p["s0"], p["z0"], d, dt)
+    """Slider forces (G, S, 2) [N] and Z of every group after the increments d (G, S, 2),
+    each surface's friction times its heating factor `p["k"]` (G, S) where given."""
+    return jax.vmap(biaxial_slider_forces, in_axes=(0, 0, 0, 0, 0, None, 0))(
+        p["pendulum"], p["N"], p["s0"], p["z0"], d, dt, p.get("k"))
 
 
 def _residual(x, p, dt):

@@ -11,6 +11,7 @@ from ..excitation import Signal
 from ..units import STANDARD_GRAVITY
 from ..validation import concrete
 from ._overturning import overturning_map, support_plan
+from ._series_heat import series_heat_kernel, surface_temperature_rises
 from ._slab_series import SlabOnSeries
 from ._triple_structure import TRIPLE_NEWTON_ITERATIONS, TRIPLE_TOLERANCE
 
@@ -22,8 +23,8 @@ def stack_pendulums(pendulums, isolator: str, groups: int) -> SeriesPendulum:
     """One `SeriesPendulum` whose array leaves hold every group's constants (G,), from one
     pendulum (all groups) or one per group, each of the kind `isolator` ("triple-fp" or
     "double-fp") and checked (`check_series_pendulum`); `ValueError` naming `pendulums`
-    otherwise (another kind, a count other than G, heated surfaces, groups that differ in
-    their options)."""
+    otherwise (another kind, a count other than G, groups that differ in their options, e.g.
+    heating on different surfaces)."""
     if pendulums is None:
         raise ValueError(f"pendulums: isolator {isolator!r} needs its pendulum (one for all groups, or "
                          "one per group; e.g. formats.load_isolator(path)).")
@@ -37,13 +38,11 @@ def stack_pendulums(pendulums, isolator: str, groups: int) -> SeriesPendulum:
         if not isinstance(pendulum, SeriesPendulum) or kind != isolator:
             raise ValueError(f"pendulums: group {index + 1} is a {kind}, not the {isolator} of isolator; "
                              "give every group a pendulum of that kind.")
-        if pendulum.heated:
-            raise ValueError(f"pendulums: group {index + 1} has heated surfaces; the slab takes its "
-                             "pendulums' friction without heating (leave the surfaces' heating out).")
         if all(concrete(leaf) is not None for leaf in jax.tree_util.tree_leaves(pendulum)):
             check_series_pendulum(pendulum)
     if len({jax.tree_util.tree_structure(p) for p in pendulums}) != 1:
-        raise ValueError("pendulums: the groups' pendulums differ in their options; give them the same.")
+        raise ValueError("pendulums: the groups' pendulums differ in their options (e.g. which surfaces "
+                         "heat); give them the same.")
     return jax.tree_util.tree_map(lambda *leaves: jnp.stack([jnp.asarray(x, float) for x in leaves]),
                                   *pendulums)
 
@@ -71,7 +70,8 @@ def slab_on_series(*, weight, mass_inertia, centre_of_mass, positions, loads, pe
     """`slab_on_bearings` with `isolator` "triple-fp" or "double-fp" (the plan already checked):
     weight W [N], rotational inertia `mass_inertia` [kg m^2], positions (G, 2) [m], loads W_g
     (G,) [N], `pendulums` (`stack_pendulums`), the centre of mass at `height` h [m] above the
-    sliding surface (0: constant loads)."""
+    sliding surface (0: constant loads). Heated surfaces carry the heat kernel of one step to
+    `HEAT_HORIZON` (`series_heat_kernel`)."""
     positions = np.asarray(positions, dtype=float).reshape(-1, 2)
     loads = np.asarray(loads, dtype=float).reshape(-1)
     groups = loads.size
@@ -83,18 +83,20 @@ def slab_on_series(*, weight, mass_inertia, centre_of_mass, positions, loads, pe
     bearing_map = np.zeros((groups, 2, 3))
     bearing_map[:, 0, 0] = bearing_map[:, 1, 1] = 1.0
     bearing_map[:, 0, 2], bearing_map[:, 1, 2] = -r[:, 1], r[:, 0]
+    if isinstance(time_step, bool) or not (isinstance(time_step, (int, float)) and time_step > 0):
+        raise ValueError(f"time_step: must be a positive number of seconds, got {time_step!r}.")
+    heat_rates, heat_weights = series_heat_kernel(pendulum, time_step)
     reference = loads / pendulum.reference_radius()
     stiffness = jnp.einsum("g,gdn,gdm->nm", reference, bearing_map, bearing_map)
     mass = jnp.array([weight / STANDARD_GRAVITY] * 2 + [mass_inertia])
     influence = np.array([[1.0, 0.0], [0.0, 1.0], [0.0, 0.0]])
-    if isinstance(time_step, bool) or not (isinstance(time_step, (int, float)) and time_step > 0):
-        raise ValueError(f"time_step: must be a positive number of seconds, got {time_step!r}.")
     return SlabOnSeries(mass=mass, stiffness=stiffness, influence=jnp.asarray(influence),
                         bearing_map=jnp.asarray(bearing_map), pendulum=pendulum, bearing_load=jnp.asarray(loads),
                         reference_stiffness=reference, overturning=jnp.asarray(overturning), ground_x=ground_x,
                         ground_y=ground_y, step_matrix=slab_step_matrix(mass, stiffness, influence, time_step),
                         supports=supports, time_step=float(time_step), newton_iterations=int(newton_iterations),
-                        newton_tolerance=float(newton_tolerance))
+                        newton_tolerance=float(newton_tolerance), heat_rates=heat_rates,
+                        heat_weights=heat_weights)
 
 
 class SlabSeriesResponse(eqx.Module):
@@ -103,7 +105,9 @@ class SlabSeriesResponse(eqx.Module):
     (nt, 2) [m/s^2], `group_force` (nt, G, 2) [N] (each group's isolator force, resisting its
     displacement), `bearing_displacement` (nt, G, 2) [m], `slider` (nt, G, S, 2) [m],
     `normal_load` (nt, G) [N] (a step's load at its end), `group_uplift_time` (G,) [s] (the
-    time of the steps with N_g <= 0), `converged` (nt,)."""
+    time of the steps with N_g <= 0), `converged` (nt,); `surface_temperature_rise` (nt, G, S)
+    [K]: each surface's rise s dT at each time (`surface_temperature_rises`; 0 on a surface
+    without heating), `None` where no surface heats."""
 
     time: jnp.ndarray
     q: jnp.ndarray
@@ -116,6 +120,7 @@ class SlabSeriesResponse(eqx.Module):
     normal_load: jnp.ndarray
     group_uplift_time: jnp.ndarray
     converged: jnp.ndarray
+    surface_temperature_rise: jnp.ndarray | None = None
 
 
 def slab_steps(system: SlabOnSeries, duration: float) -> int:
@@ -139,17 +144,26 @@ def simulate_slab_series(system: SlabOnSeries, duration: float) -> SlabSeriesRes
     time = jnp.arange(n_steps + 1) * dt
     ground = jax.vmap(system.ground)(time)
 
+    def rises(state):
+        if system.heat_rates is None:
+            return None
+        return jax.vmap(surface_temperature_rises, in_axes=(0, 0, None))(system.pendulum, state["heat"],
+                                                                          system.heat_weights)
+
     def body(state, inputs):
         new, converged = system.step(state, *inputs)
-        return new, (new["x"], new["extra"], new["force"], new["slider"], new["normal_load"], converged)
+        return new, (new["x"], new["extra"], new["force"], new["slider"], new["normal_load"], converged, rises(new))
 
     start = system.initial_state()
     _, out = jax.lax.scan(body, start, (ground[:-1], ground[1:], time[1:]))
-    first = (start["x"], start["extra"], start["force"], start["slider"], start["normal_load"], jnp.array(True))
-    x, extra, force, slider, loads, converged = (jnp.concatenate([a[None], b]) for a, b in zip(first, out))
+    first = (start["x"], start["extra"], start["force"], start["slider"], start["normal_load"], jnp.array(True),
+             rises(start))
+    x, extra, force, slider, loads, converged, rise = (
+        None if b is None else jnp.concatenate([a[None], b]) for a, b in zip(first, out))
     q = x[:, :3]
     acceleration = -(q @ system.stiffness.T + extra) / system.mass - ground @ system.influence.T
     return SlabSeriesResponse(
         time=time, q=q, velocity=x[:, 3:], acceleration=acceleration, ground=ground, group_force=force,
         bearing_displacement=jnp.einsum("gdn,tn->tgd", system.bearing_map, q), slider=slider,
-        normal_load=loads, group_uplift_time=jnp.sum(loads[1:] <= 0, axis=0) * dt, converged=converged)
+        normal_load=loads, group_uplift_time=jnp.sum(loads[1:] <= 0, axis=0) * dt, converged=converged,
+        surface_temperature_rise=rise)
