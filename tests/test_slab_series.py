@@ -291,20 +291,13 @@ def test_run_refuses_bad_series_plans_by_key_before_reading_records(tmp_path, ca
     assert "missing.txt" not in err
 
 
-def test_run_refuses_an_isolator_file_with_single_pendulums_and_a_suite(tmp_path, capsys, files):
+def test_run_refuses_an_isolator_file_with_single_pendulums(tmp_path, capsys, files):
     record = _record(tmp_path, seconds=1.0)
     plan = _plan(tmp_path, isolator_file="isolators/triple-fp.json")
     code = main(["run", "--structure", "slab", "--plan", str(plan), "--record-x", str(record),
                  "--record-units", "g", "--isolator", "single-fp", "--radius", "88in"])
     assert code == 2
     assert "SE.isolator_file applies with --isolator triple-fp or double-fp only" in capsys.readouterr().err
-    suite = tmp_path / "suite.csv"
-    suite.write_text(f"record_x,record_y,scale\n{record},,1\n")
-    code = main(["run", "--structure", "slab", "--plan", str(_plan(tmp_path)), "--suite", str(suite),
-                 "--record-units", "g", "--isolator", "triple-fp", "--isolator-file", str(files["triple-fp"]),
-                 "--json", str(tmp_path / "suite.json")])
-    assert code == 2
-    assert "--suite: a slab on triple-fp groups runs one record pair at a time" in capsys.readouterr().err
 
 
 def test_run_reports_each_groups_normal_load_on_series_pendulums(tmp_path, capsys, files):

@@ -1,6 +1,9 @@
 """`run --suite` on a slab whose plan has overturning (height_of_centre_of_mass > 0): each pair
 of the vmapped suite is the single-pair `run` of that pair (peaks and each group's normal load
-N_g = W_g + dN_g, the lever rule of a rigid slab on vertical supports), uplifted pairs kept."""
+N_g = W_g + dN_g, the lever rule of a rigid slab on vertical supports), uplifted pairs kept;
+its bounding cases are the suites of bearings whose friction was scaled by hand (the upper
+bound's base shear the larger on pendulums of long radius), and the suite on a Dask cluster
+holds the in-process suite's numbers, group loads included."""
 
 import csv
 import json
@@ -101,11 +104,112 @@ def test_suite_without_height_reports_no_group_loads(tmp_path):
     assert header == "pair," + ",".join(PEAKS) + ",converged"
 
 
-def test_overturning_suite_refuses_scheduler_and_bounding_by_name(tmp_path, capsys):
+def _by_hand(tmp_path, factor, radius):
+    """The suite's slab (`_plan(tmp_path, "6m")`, single pendulums of `radius` [m], UF PTFE at
+    1000 psi) built here with f_max and delta_f of Eq. 1 multiplied by `factor` by hand, run
+    through `suite_peaks` in one call: (pair names, `SuiteResult`)."""
+    import equinox as eqx
+
+    from teflon_jax.bearing import FrictionParameters, paper_bearing
+    from teflon_jax.excitation import uniform_signal
+    from teflon_jax.studies import suite_peaks
+    from teflon_jax.systems import slab_on_bearings
+    from teflon_jax.tables import interface_parameters
+    from teflon_jax.units import PSI
+
+    nominal, _ = interface_parameters("UF", 1000 * PSI, "P")
+    scaled = FrictionParameters(f_max=nominal.f_max * factor, delta_f=nominal.delta_f * factor, rate_a=nominal.rate_a)
+    records = [[np.loadtxt(tmp_path / f"{name}_{axis}.txt")[:, 1] * G for axis in "xy"] for name, *_ in PAIRS]
+    ax, ay = (np.stack([r[i] for r in records]) for i in (0, 1))
+    template = slab_on_bearings(
+        length_x=20.0, length_y=12.0, weight=1e6, centre_of_mass=(10.0, 6.0), positions=CORNERS,
+        bearings=[paper_bearing(scaled)] * 4, loads=[STATIC] * 4, ground_x=uniform_signal(ax[0], DT),
+        ground_y=uniform_signal(ay[0], DT), time_step=DT, names=NAMES, contact_pressures=[1000 * PSI] * 4,
+        height_of_centre_of_mass=6.0, isolator="single-fp", radii=[radius] * 4)
+    build = lambda gx, gy: eqx.tree_at(lambda s: (s.ground_x, s.ground_y), template, (gx, gy))  # noqa: E731
+    return suite_peaks(build, [f"{name}_x" for name, *_ in PAIRS], ax, ay, DT, DURATION, group_names=NAMES)
+
+
+@pytest.mark.slow  # three bounding cases and a suite by hand: four compilations (about 60 s on two cores)
+def test_overturning_suite_bounds_are_the_suites_of_scaled_bearings(tmp_path):
+    """`--property-factors 0.8,1.25` on a slab with overturning: the upper and lower cases are
+    the suites of bearings whose Eq. 1 friction was scaled by hand (peaks and each group's
+    loads, to 1e-9), each case keeps its group loads in the JSON, CSV and NetCDF; on pendulums
+    of 50 m radius (W / R = 0.02 W per metre) the peak force is the friction's, so the upper
+    bound's base shear exceeds the lower's by about the ratio of the factors (1.56)."""
+    from teflon_jax.studies import open_suite
+
     suite = _write_pairs(tmp_path)
-    for flags, name in ((["--scheduler", "local:1", "--out", str(tmp_path / "s.nc")], "--scheduler"),
-                        (["--property-factors", "0.85,1.3"], "--property-factors")):
-        code = main(["run", "--structure", "slab", "--plan", str(_plan(tmp_path, "30m")), "--suite", str(suite),
-                     "--record-units", "g", *ISOLATORS["single-fp"], *flags])
-        assert code == 2
-        assert f"{name}: a suite of the plan's overturning slab" in capsys.readouterr().err
+    out = tmp_path / "bounds.json"
+    assert main(["run", "--structure", "slab", "--plan", str(_plan(tmp_path, "6m")), "--record-units", "g",
+                 "--time-step", "0.01s", "--json", str(out), "--isolator", "single-fp", "--radius", "50m",
+                 "--ptfe", "UF", "--pressure", "1000psi", "--suite", str(suite),
+                 "--property-factors", "0.8,1.25"]) == 0
+    result = json.loads(out.read_text())
+    assert "normal_load_note" in result
+    for case, factor in (("upper", 1.25), ("lower", 0.8)):
+        hand = _by_hand(tmp_path, factor, 50.0)
+        stored = open_suite(tmp_path / f"bounds-{case}.nc")
+        for i, name in enumerate(hand.names):
+            pair = result["cases"][case]["pairs"][name]
+            for key in PEAKS:
+                assert pair[key] == pytest.approx(hand.peaks[key][i], rel=1e-9), (case, key)
+            for j, group in enumerate(NAMES):
+                got = pair["normal_load"]["groups"][group]
+                for key in ("peak_N", "min_N", "uplift_time_s"):
+                    assert got[key] == pytest.approx(hand.groups[key][i, j], rel=1e-9, abs=1e-6), (case, group)
+                    assert stored.groups[key][i, j] == pytest.approx(got[key], rel=1e-12, abs=1e-9)
+        header = (tmp_path / f"bounds-{case}.csv").read_text().splitlines()[0]
+        assert "SW_peak_N" in header and "NW_uplift_time_s" in header
+    shear = {case: result["cases"][case]["pairs"]["strong_x"]["base_shear_ratio_resultant"]
+             for case in ("lower", "nominal", "upper")}
+    assert shear["lower"] < shear["nominal"] < shear["upper"]
+    assert 1.3 < shear["upper"] / shear["lower"] < 1.7
+    # the overturning moment grows with the base shear: the leaning group's peak load too
+    peak = {case: max(g["peak_N"] for g in result["cases"][case]["pairs"]["strong_x"]["normal_load"]["groups"].values())
+            for case in ("lower", "upper")}
+    assert peak["upper"] > peak["lower"] > STATIC
+
+
+@pytest.mark.slow  # a LocalCluster of two workers and two compilations (about 60 s on two cores)
+def test_overturning_suite_on_a_cluster_equals_the_in_process_suite(dask_cluster, tmp_path):
+    """`--scheduler ADDRESS --chunk-size 1` (the shared LocalCluster of two worker processes):
+    every pair's peaks and each group's loads equal those of the in-process suite of the same
+    chunk size number for number (NetCDF, CSV, JSON)."""
+    from teflon_jax.studies import open_suite
+
+    suite = _write_pairs(tmp_path)
+    common = ["run", "--structure", "slab", "--plan", str(_plan(tmp_path, "30m")), "--record-units", "g",
+              "--time-step", "0.01s", *ISOLATORS["single-fp"], "--suite", str(suite), "--chunk-size", "1"]
+    assert main([*common, "--json", str(tmp_path / "here.json")]) == 0
+    assert main([*common, "--json", str(tmp_path / "there.json"), "--scheduler", dask_cluster.scheduler_address,
+                 "--out", str(tmp_path / "there.nc")]) == 0
+    here, there = open_suite(tmp_path / "here.nc"), open_suite(tmp_path / "there.nc")
+    assert there.names == here.names and there.groups["names"] == here.groups["names"] == NAMES
+    for key in PEAKS:
+        np.testing.assert_array_equal(there.peaks[key], here.peaks[key])
+    for key in ("peak_N", "min_N", "uplift_time_s"):
+        np.testing.assert_array_equal(there.groups[key], here.groups[key])
+    assert max(here.groups["uplift_time_s"][1]) > 0  # the strong pair lifts a group
+    assert (tmp_path / "here.csv").read_text() == (tmp_path / "there.csv").read_text()
+    a, b = (json.loads((tmp_path / f"{n}.json").read_text()) for n in ("here", "there"))
+    assert a["pairs"] == b["pairs"]
+
+
+def test_overturning_suite_refuses_bounds_on_a_cluster_by_name(tmp_path, capsys):
+    """The three bounding cases run in this process: with --scheduler they are refused before
+    any record is read (the records named in the suite file do not exist)."""
+    suite = tmp_path / "suite.csv"
+    suite.write_text("record_x,record_y,scale\nmissing_x.txt,missing_y.txt,1\n")
+    code = main(["run", "--structure", "slab", "--plan", str(_plan(tmp_path, "30m")), "--suite", str(suite),
+                 "--record-units", "g", *ISOLATORS["single-fp"], "--property-factors", "0.85,1.3",
+                 "--scheduler", "local:2", "--out", str(tmp_path / "s.nc")])
+    assert code == 2
+    err = capsys.readouterr().err
+    assert "--property-factors: the three bearings run in this process; leave out --scheduler" in err
+    assert "missing" not in err
+    code = main(["run", "--structure", "slab", "--plan", str(_plan(tmp_path, "30m")), "--suite", str(suite),
+                 "--record-units", "g", "--bearing", str(tmp_path / "missing_bearing.json"),
+                 "--property-factors", "0.85,1.3"])
+    assert code == 2
+    assert "not a --bearing file's; leave out --bearing or --property-factors" in capsys.readouterr().err

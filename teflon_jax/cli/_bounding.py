@@ -111,6 +111,9 @@ def read_suite_factors(args) -> tuple[float, float] | None:
         raise ValueError("--property-factors: bounds a suite's analysis; add --suite FILE.")
     if args.scheduler is not None:
         raise ValueError("--property-factors: the three bearings run in this process; leave out --scheduler.")
+    if getattr(args, "bearing", None) is not None:
+        raise ValueError("--property-factors: scales Table 1's friction (--ptfe, --pressure) or an isolator "
+                         "file's surfaces, not a --bearing file's; leave out --bearing or --property-factors.")
     parts = [p.strip() for p in text.split(",")]
     if len(parts) != 2 or not all(parts):
         raise ValueError(f"--property-factors: write LOWER,UPPER, e.g. 0.85,1.3; got {text!r}.")
@@ -132,17 +135,19 @@ def run_suite_bounding(args, factors, build_structure, names, ax, ay, dt, notes,
     from ..studies import BOUNDING_CASES, governing_cases, save_suite, suite_peaks
     from ..tables import load_table2
     from ._engineering import suite_pelicun_peaks
+    from ._run_slab import NORMAL_LOAD_NOTE, suite_normal_load
     from ._suite_build import suite_build
 
     lower, upper = factors
     height = load_table2().storey_height if args.structure == "building" else None
     stem = pathlib.Path(args.json).with_suffix("") if args.json else pathlib.Path("suite")
-    results, start = {}, time.perf_counter()
+    results, start, plan = {}, time.perf_counter(), None
     for case, factor in zip(BOUNDING_CASES, (1.0, upper, lower)):
         case_args = argparse.Namespace(**{**vars(args), "friction_factor": factor})
-        build, _, base_index = suite_build(case_args, build_structure, ax[0], ay[0], dt)  # one per case
+        build, _, base_index, plan = suite_build(case_args, build_structure, ax[0], ay[0], dt)  # one per case
         results[case] = suite_peaks(build, names, ax, ay, dt, (ax.shape[1] - 1) * dt, base_index,
-                                    batch_size=args.chunk_size, storey_height=height)
+                                    batch_size=args.chunk_size, storey_height=height,
+                                    group_names=None if plan is None else [g["name"] for g in plan["groups"]])
         save_suite(results[case], table_path=f"{stem}-{case}.csv", netcdf_path=f"{stem}-{case}.nc",
                    attrs={"structure": args.structure, "suite": str(args.suite), "bounding_case": case,
                           "friction_factor": factor})
@@ -161,10 +166,14 @@ def run_suite_bounding(args, factors, build_structure, names, ax, ay, dt, notes,
                "property_factors": {"lower": lower, "upper": upper,
                                     "applied_to": "f_max and delta_f of Eq. 1 (the friction coefficient at every velocity; on every surface of a triple or double pendulum)"},
                "cases": {c: {"friction_factor": f, "summary": results[c].summary, "failed": int(np.sum(~results[c].converged)),
-                             "pairs": {n: {k: float(v[i]) for k, v in results[c].peaks.items()} for i, n in enumerate(names)},
+                             "pairs": {n: {k: float(v[i]) for k, v in results[c].peaks.items()}
+                                       | ({} if results[c].groups is None else suite_normal_load(plan, results[c].groups, i))
+                                       for i, n in enumerate(names)},
                              "files": [f"{stem}-{c}.csv", f"{stem}-{c}.nc"]}
                          for c, f in zip(BOUNDING_CASES, (1.0, upper, lower))},
                "governs": {k: {"by_mean": by_mean[k]["governs"], "by_max": by_max[k]["governs"]} for k in peaks}}
+    if results["nominal"].groups is not None:  # each case's groups: <stem>-<case>.csv, .nc and "pairs"
+        payload["normal_load_note"] = NORMAL_LOAD_NOTE
     if scaling is not None:
         payload["spectrum_scaling"] = scaling
     if args.json:

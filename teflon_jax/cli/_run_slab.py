@@ -45,14 +45,6 @@ def build_slab(args, ground_x, ground_y, time_step, period, damping):
     if args.plan is None:
         raise ValueError("--plan: --structure slab needs a plan file (bearing groups and loads).")
     plan = read_plan(args.plan)
-    if getattr(args, "suite", None) is not None and plan["height_of_centre_of_mass"] > 0:
-        for flag, given in (("--scheduler", getattr(args, "scheduler", None)),
-                            ("--property-factors", getattr(args, "property_factors", None))):
-            if given is not None:
-                raise ValueError(f"{flag}: a suite of the plan's overturning slab ({args.plan}: "
-                                 "height_of_centre_of_mass > 0) reports each group's normal load in "
-                                 f"this process with the nominal bearings; leave {flag} out, or give "
-                                 "the plan height 0.")
     groups = plan["groups"]
     radii = _radii(args, groups)
     bearings = [bearing_of_flags(args, g["ptfe"] or args.ptfe, g["pressure"] or args.pressure,
@@ -124,10 +116,12 @@ def normal_load_summary(plan, system, response, units) -> tuple[dict, list]:
 def suite_normal_load(plan, groups, pair) -> dict:
     """The "normal_load" entry of `normal_load_summary` (its group keys, without the note) of
     pair index `pair` of a suite's `SuiteResult.groups` ((P, G) peak and least N_g [N], uplift
-    time [s]) on the slab `plan` of `build_slab`."""
+    time [s]) on the slab `plan` of `build_slab` (or `series_plan`: each group's isolator file)."""
     radii = plan.get("radii") or [None] * len(plan["groups"])
+    files = plan.get("isolator_files")
     entry = {g["name"]: {"static_N": g["load"], "peak_N": float(groups["peak_N"][pair, j]),
                          "min_N": float(groups["min_N"][pair, j]),
                          "uplift_time_s": float(groups["uplift_time_s"][pair, j]), "radius_m": radius}
+             | ({} if files is None else {"isolator_file": files[j]})
              for j, (g, radius) in enumerate(zip(plan["groups"], radii))}
     return {"normal_load": {"height_of_centre_of_mass_m": plan["height_of_centre_of_mass"], "groups": entry}}

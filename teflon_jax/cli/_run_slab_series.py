@@ -22,13 +22,10 @@ def series_plan(args):
     """(plan, pendulums (one per group)) of the flags, checked before any record is read:
     `ValueError` naming the plan's key (a group's radius, springs, ptfe or pressure, which the
     series pendulums do not take; an isolator_file that is missing or of another isolator) or
-    the flag (`read_isolator_flag`; --suite)."""
+    the flag (`read_isolator_flag`)."""
     default = read_isolator_flag(args)
     if args.plan is None:
         raise ValueError("--plan: --structure slab needs a plan file (bearing groups and loads).")
-    if getattr(args, "suite", None) is not None:
-        raise ValueError(f"--suite: a slab on {args.isolator} groups runs one record pair at a time; "
-                         "leave --suite out.")
     plan = read_plan(args.plan)
     pendulums = []
     for g in plan["groups"]:
@@ -50,7 +47,50 @@ def series_plan(args):
             pendulums.append(_load(path, args.isolator))
         except ValueError as error:
             raise ValueError(f"--plan: {g['name']}.isolator_file: {error}") from None
+    plan["isolator_files"] = [str(g["isolator_file"] or args.isolator_file) for g in plan["groups"]]
     return plan, pendulums
+
+
+def series_slab(args, plan, pendulums, ground_x, ground_y):
+    """The `SlabOnSeries` of the plan and its groups' `pendulums` (`series_plan`) under the
+    ground `Signal`s [m/s^2], at `--time-step` (checked > 0)."""
+    from ..systems import slab_on_bearings
+
+    time_step = parse_quantity(args.time_step, "time", where="--time-step")
+    if not time_step > 0:
+        raise ValueError(f"--time-step: must be > 0, got {args.time_step}.")
+    groups = plan["groups"]
+    stiffness = [g["vertical_stiffness"] for g in groups]
+    return slab_on_bearings(
+        length_x=plan["length_x"], length_y=plan["length_y"], weight=plan["weight"],
+        centre_of_mass=plan["centre_of_mass"], positions=[(g["x"], g["y"]) for g in groups],
+        loads=[g["load"] for g in groups], ground_x=ground_x, ground_y=ground_y,
+        time_step=time_step, names=[g["name"] for g in groups], isolator=args.isolator, pendulums=pendulums,
+        height_of_centre_of_mass=plan["height_of_centre_of_mass"],
+        vertical_stiffness=None if all(k is None for k in stiffness) else [1.0 if k is None else k
+                                                                         for k in stiffness])
+
+
+def series_slab_suite_build(args, ax0, ay0, dt):
+    """(build(ground_x, ground_y) -> the `SlabOnSeries` of one pair, plan) of `run --suite
+    --structure slab --isolator triple-fp|double-fp`: the slab built once on the first pair
+    (`ax0`, `ay0` [m/s^2], step `dt` [s]), every group's surfaces' f_max and delta_f times
+    `args.friction_factor` (a bounding case; 1 otherwise, `scaled_friction`)."""
+    import equinox as eqx
+
+    from ..excitation import uniform_signal
+    from ._triple import scaled_friction
+
+    plan, pendulums = series_plan(args)
+    factor = getattr(args, "friction_factor", 1.0)
+    if factor != 1.0:
+        pendulums = [scaled_friction(p, factor) for p in pendulums]
+    template = series_slab(args, plan, pendulums, uniform_signal(ax0, dt), uniform_signal(ay0, dt))
+
+    def build(ground_x, ground_y):
+        return eqx.tree_at(lambda s: (s.ground_x, s.ground_y), template, (ground_x, ground_y))
+
+    return build, plan
 
 
 def run_series_slab(args, load_components, write_run_outputs, vertical=None) -> int:
@@ -59,7 +99,7 @@ def run_series_slab(args, load_components, write_run_outputs, vertical=None) -> 
     import jax
 
     from ..excitation import uniform_signal
-    from ..systems import simulate_slab_series, slab_on_bearings
+    from ..systems import simulate_slab_series
 
     plan, pendulums = series_plan(args)
     if args.histories is not None and pathlib.Path(args.histories).suffix not in (".nc", ".csv"):
@@ -68,16 +108,8 @@ def run_series_slab(args, load_components, write_run_outputs, vertical=None) -> 
     if not time_step > 0:
         raise ValueError(f"--time-step: must be > 0, got {args.time_step}.")
     groups = plan["groups"]
-    stiffness = [g["vertical_stiffness"] for g in groups]
     ax, ay, dt, notes = load_components(args)
-    system = slab_on_bearings(
-        length_x=plan["length_x"], length_y=plan["length_y"], weight=plan["weight"],
-        centre_of_mass=plan["centre_of_mass"], positions=[(g["x"], g["y"]) for g in groups],
-        loads=[g["load"] for g in groups], ground_x=uniform_signal(ax, dt), ground_y=uniform_signal(ay, dt),
-        time_step=time_step, names=[g["name"] for g in groups], isolator=args.isolator, pendulums=pendulums,
-        height_of_centre_of_mass=plan["height_of_centre_of_mass"],
-        vertical_stiffness=None if all(k is None for k in stiffness) else [1.0 if k is None else k
-                                                                         for k in stiffness])
+    system = series_slab(args, plan, pendulums, uniform_signal(ax, dt), uniform_signal(ay, dt))
     az = None if vertical is None else vertical(dt, ax.size)
     if az is not None:
         system = dataclasses.replace(system, vertical_acceleration=uniform_signal(az, dt))
@@ -97,8 +129,8 @@ def run_series_slab(args, load_components, write_run_outputs, vertical=None) -> 
     if uplift:
         histories["load_factor"] = _load_factors(system, duration)
         lines = [uplift_line(uplift)] + lines
-    for g, path in zip(groups, [g["isolator_file"] or args.isolator_file for g in groups]):
-        normal["normal_load"]["groups"][g["name"]]["isolator_file"] = str(path)
+    for g, path in zip(groups, plan["isolator_files"]):
+        normal["normal_load"]["groups"][g["name"]]["isolator_file"] = path
     rises = surface_temperature_summary(plan, system, response, histories)
     lines += [f"surface temperature rise {name}: " + ", ".join(f"{e} {v:.4g} K" for e, v in row.items())
               for name, row in (rises or {}).items()]

@@ -124,15 +124,9 @@ def run_suite(args, load_components, build_structure) -> int:
 
         return run_suite_bounding(args, bounding, build_structure, [r[0] for r in records], ax, ay, dt, notes,
                                   scaling)
-    plans = []  # the slab's plan (its groups' names, loads and radii)
-
-    def structure(*given):
-        system, plan = build_structure(*given)
-        plans.append(plan)
-        return system, plan
-
-    build, dofs, base_index = suite_build(args, structure, ax[0], ay[0], dt)
-    group_names = [g["name"] for g in plans[0]["groups"]] if args.structure == "slab" and plans else None
+    build, dofs, base_index, plan = suite_build(args, build_structure, ax[0], ay[0], dt)
+    overturning = plan is not None and plan["height_of_centre_of_mass"] > 0  # each group's normal load
+    group_names = [g["name"] for g in plan["groups"]] if overturning else None
     names = [r[0] for r in records]
     stem = pathlib.Path(args.json).with_suffix("") if args.json else pathlib.Path("suite")
     netcdf = stem.with_suffix(".nc") if args.out is None else args.out
@@ -155,11 +149,12 @@ def run_suite(args, load_components, build_structure) -> int:
         result = suite_peaks_distributed(
             build, names, ax, ay, dt, (n - 1) * dt, base_index, out=args.out, scheduler=args.scheduler,
             chunk_size=8 if args.chunk_size is None else args.chunk_size, attrs=attrs,
-            compilation_cache=None if getattr(args, "no_compile_cache", False) else str(compile_cache_dir()))
+            compilation_cache=None if getattr(args, "no_compile_cache", False) else str(compile_cache_dir()),
+            group_names=group_names)
         save_suite(result, table_path=stem.with_suffix(".csv"))
     payload = {"structure": args.structure, "suite": str(args.suite), "notes": notes, "netcdf": str(netcdf),
                "pairs": {name: {k: float(v[i]) for k, v in result.peaks.items()} | {"converged": bool(result.converged[i])}
-                         | ({} if result.groups is None else suite_normal_load(plans[0], result.groups, i))
+                         | ({} if result.groups is None else suite_normal_load(plan, result.groups, i))
                          for i, name in enumerate(result.names)},
                "summary": result.summary, "failed": int(np.sum(~result.converged))}
     if result.groups is not None:

@@ -64,11 +64,8 @@ def _load(path, isolator):
 
 
 def check_triple_run(args) -> None:
-    """`run`'s flags that a triple or double pendulum cannot take, refused by name (a single
-    run of a slab on them goes to `_run_slab_series`; a suite of them is refused here)."""
-    if args.structure == "slab":
-        raise ValueError(f"--suite: a slab on {args.isolator} groups runs one record pair at a time; "
-                         "leave --suite out.")
+    """`run`'s flags that a triple or double pendulum under a rigid mass or the building cannot
+    take, refused by name (a slab on them, one pair or a suite, goes to `_run_slab_series`)."""
     if args.plan is not None:
         raise ValueError("--plan: only used with --structure slab.")
 

@@ -24,9 +24,11 @@ from ..excitation import uniform_signal
 from ..systems import (
     BiaxialStructureOnTriple,
     BidirectionalStructure,
+    SlabOnSeries,
     biaxial_histories,
     directional_storeys,
     simulate_bidirectional,
+    simulate_slab_series,
 )
 from ..units import STANDARD_GRAVITY
 from ._cluster import (
@@ -100,6 +102,8 @@ def _suite_function(build, time_step: float, duration: float, base_index, storey
         system: BidirectionalStructure = build(uniform_signal(x, time_step), uniform_signal(y, time_step))
         if isinstance(system, BiaxialStructureOnTriple):
             return _series_pendulum_peaks(system, duration, storey_height)
+        if isinstance(system, SlabOnSeries):
+            return _series_slab_peaks(system, duration)
         r = simulate_bidirectional(system, duration, throw=False)
         total = r.acceleration + r.ground @ system.influence.T
         force = jnp.einsum("tn,n,nd->td", total, system.mass, system.influence)
@@ -133,6 +137,22 @@ def _series_pendulum_peaks(system, duration: float, storey_height):
         "base_disp_y_m": jnp.max(jnp.abs(by)),
         "base_shear_ratio_resultant": jnp.max(jnp.hypot(force[:, 0], force[:, 1])) / weight,
     } | _storey_peaks(q, total, storey_height), jnp.all(converged)
+
+
+def _series_slab_peaks(system: SlabOnSeries, duration: float):
+    """The suite's peaks of a rigid slab on groups of triple or double pendulums
+    (`simulate_slab_series`): the base (the slab's centre of mass) in x and y, the base shear
+    m |q'' + a_g| / W, each group's normal load where the slab overturns (`_group_peaks`), and
+    whether every step's sliders balanced."""
+    r = simulate_slab_series(system, duration)
+    total = r.acceleration[:, :2] + r.ground  # (nt, 2) [m/s^2]; the slab's mass is W / g
+    bx, by = r.q[:, 0], r.q[:, 1]
+    return {
+        "base_disp_resultant_m": jnp.max(jnp.hypot(bx, by)),
+        "base_disp_x_m": jnp.max(jnp.abs(bx)),
+        "base_disp_y_m": jnp.max(jnp.abs(by)),
+        "base_shear_ratio_resultant": jnp.max(jnp.hypot(total[:, 0], total[:, 1])) / STANDARD_GRAVITY,
+    } | (_group_peaks(r) if system.supports is not None else {}), jnp.all(r.converged)
 
 
 def _storey_peaks(q, total, storey_height) -> dict:
@@ -230,6 +250,7 @@ def suite_peaks_distributed(
     compilation_cache=None,
     progress=None,
     attrs: dict | None = None,
+    group_names=None,
 ) -> SuiteResult:
     """`suite_peaks` on a Dask cluster, chunks of `chunk_size` pairs as tasks, the peaks
     streamed to the NetCDF file `out` (checked writable before anything starts).
@@ -239,7 +260,9 @@ def suite_peaks_distributed(
     scheduler address; `retries`: runs again of a task that raised (a dead worker's tasks are
     rerun whatever this is); `connect_timeout` [s]; `compilation_cache`: folder of JAX's
     persistent compilation cache (local workers); `progress(done, total)` after each chunk;
-    `attrs`: more attributes of the file (the run's inputs).
+    `attrs`: more attributes of the file (the run's inputs); `group_names` (G,): the bearing
+    groups of a slab with overturning, whose per-group loads are streamed on ("pair", "group")
+    (`SuiteResult.groups`; a structure that reports them needs them).
 
     **Returns:** the `SuiteResult` read back from `out` (`open_suite`): each pair's peaks are
     those of `suite_peaks(..., batch_size=chunk_size)` bit for bit, whatever the number of
@@ -261,14 +284,23 @@ def suite_peaks_distributed(
     settings = {"n_pairs": count, "record_time_step_s": float(time_step), "duration_s": float(duration),
                 "scheduler": scheduler, "chunk_size": chunk, "precision": dtype}
 
+    groups = None if group_names is None else tuple(str(g) for g in group_names)
+
     def write(handle, start, stop, part):
+        reported = {k.removeprefix("group_") for k in part if k.startswith("group_")}
+        width = part["group_peak_N"].shape[1] if reported else 0
+        if width != (0 if groups is None else len(groups)):
+            raise ValueError(f"group_names: {0 if groups is None else len(groups)} names for the structure's "
+                             f"{width} bearing groups with per-group loads (a slab with overturning).")
         for name in SUITE_UNITS:
             values = part[name].astype(np.int8) if name == "converged" else part[name]
             handle.variables[name][start:stop] = values
+        for name in reported:
+            handle.variables[f"group_{name}"][start:stop, :] = part[f"group_{name}"]
 
     chunks = [(start, min(start + chunk, count), (ax[start:start + chunk], ay[start:start + chunk]))
               for start in range(0, count, chunk)]
-    stream_to_netcdf(out, _suite_layout(names, {**settings, **(attrs or {})}), _suite_task, spec, chunks, write,
+    stream_to_netcdf(out, _suite_layout(names, {**settings, **(attrs or {})}, groups), _suite_task, spec, chunks, write,
                      scheduler=scheduler, connect_timeout=connect_timeout, compilation_cache=compilation_cache,
                      retries=retries, progress=progress, what="pairs")
     result = open_suite(out)
@@ -280,13 +312,20 @@ def _summary_attrs(summary: dict) -> dict:
     return {f"{k}_{s}": v[s] for k, v in summary.items() for s in ("mean", "max")}
 
 
-def _suite_layout(names, attrs: dict) -> dict:
-    """`create_netcdf`'s arguments for a suite's file (the layout of `suite_dataset`)."""
+def _suite_layout(names, attrs: dict, groups=None) -> dict:
+    """`create_netcdf`'s arguments for a suite's file (the layout of `suite_dataset`), with the
+    slab's per-group variables on ("pair", "group") where `groups` names them."""
     variables = {name: (("pair",), units, long_name, "bool" if name == "converged" else "f8")
                  for name, (units, long_name) in SUITE_UNITS.items()}
-    return {"dims": {"pair": len(names)},
-            "coords": {"pair": ("pair", np.array(names, dtype=str), None, "record pair")},
-            "variables": variables, "attrs": file_attributes("teflon-jax record suite peak responses", attrs)}
+    dims = {"pair": len(names)}
+    coords = {"pair": ("pair", np.array(names, dtype=str), None, "record pair")}
+    if groups is not None:
+        dims["group"] = len(groups)
+        coords["group"] = ("group", np.array(groups, dtype=str), None, "bearing group")
+        variables |= {f"group_{name}": (("pair", "group"), units, long_name, "f8")
+                      for name, (units, long_name) in SUITE_GROUP_UNITS.items()}
+    return {"dims": dims, "coords": coords, "variables": variables,
+            "attrs": file_attributes("teflon-jax record suite peak responses", attrs)}
 
 
 def suite_dataset(result: SuiteResult, attrs: dict | None = None):
