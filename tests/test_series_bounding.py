@@ -144,7 +144,7 @@ def test_each_bound_is_the_run_on_the_friction_scaled_by_hand():
     assert mean["upper"][1] > mean["nominal"][1] > mean["lower"][1]
 
 
-@pytest.mark.slow  # four compiled Monte Carlo commands, about 2 min on two shared cores
+@pytest.mark.slow  # four compiled Monte Carlo commands, about 1 min on two shared cores
 def test_montecarlo_bounds_equal_the_commands_on_hand_scaled_files(tmp_path, capsys):
     """`montecarlo --property-factors` on a triple pendulum: each case's peaks in the results
     file are those of `montecarlo` on the isolator file scaled by hand (number for number), the
@@ -179,7 +179,7 @@ def test_montecarlo_bounds_equal_the_commands_on_hand_scaled_files(tmp_path, cap
     assert data["property_factors"] == {**data["property_factors"], "lower": 0.8, "upper": 1.25}
 
 
-@pytest.mark.slow  # two components on the building: about 1 min on two shared cores
+@pytest.mark.slow  # a compiled two-component building, about 30 s on two shared cores
 def test_montecarlo_bounds_a_double_pendulum_building_under_two_components(tmp_path, capsys):
     """The double pendulum's two surfaces scaled alike; under two components the building's
     storey results (x and y) enter the governing cases."""

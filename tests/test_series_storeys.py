@@ -78,7 +78,7 @@ def test_a_motion_along_x_alone_gives_the_one_component_storey_peaks():
     assert bool(two.converged) and bool(one.converged) and float(one.storey_drift[0]) > 1e-4
 
 
-@pytest.mark.slow  # three compiled two-component programs of the building: about 2 min on two shared cores
+@pytest.mark.slow  # four compiled programs of the building, about 1.5 min on two shared cores
 def test_monte_carlo_storey_peaks_are_those_of_each_motion_history():
     """`monte_carlo(..., storey_height=...)` on the triple pendulum building: every motion's
     storey peaks in x and y are those of its saved histories (1e-8); with the minor component
@@ -102,7 +102,7 @@ def test_monte_carlo_storey_peaks_are_those_of_each_motion_history():
     assert np.all(along_x.storey_drift[:, 1] == 0) and np.all(along_x.floor_acceleration[:, 1] == 0)
 
 
-@pytest.mark.slow  # one compiled two-component Monte Carlo of the building: about 40 s on two shared cores
+@pytest.mark.slow  # a compiled two-component building, about 25 s on two shared cores
 def test_montecarlo_storeys_under_two_components_on_a_triple_pendulum(tmp_path, capsys):
     """`montecarlo --components 2 --structure building --storeys --isolator triple-fp`: the
     summary's largest drift per storey and direction is that of the results file."""
