@@ -35,6 +35,7 @@ from teflon_jax.systems import (
     TRIPLE_MONTE_CARLO_TOLERANCE,
     designed_pendulum,
     isolated_structure,
+    with_vertical_component,
 )
 
 LOWER, UPPER = 0.8, 1.25
@@ -95,6 +96,8 @@ def test_bounding_design_of_a_series_pendulum_and_its_refusals():
     design = bounding_design(structure, lower=LOWER, upper=UPPER)
     assert list(design) == ["friction_factor"]
     np.testing.assert_array_equal(design["friction_factor"], [1.0, UPPER, LOWER])
+    vertical = bounding_design(with_vertical_component(structure), lower=LOWER, upper=UPPER)  # read through
+    np.testing.assert_array_equal(vertical["friction_factor"], design["friction_factor"])
     # the top surface's f_max 0.10 may be multiplied by at most 10
     with pytest.raises(ValueError, match=r"^upper: 12 times the top surface's f_max 0.1 is 1.2, above 1"):
         series_bounding_design(structure.pendulum, lower=LOWER, upper=12.0)
