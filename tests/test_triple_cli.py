@@ -140,7 +140,6 @@ def test_bad_triple_flags_are_refused_by_name_before_any_work(command, flags, me
     ("run", ["--structure", "slab"], "--plan: --structure slab needs a plan file"),
     ("run", ["--plan", "plan.json"], "--plan: only used with --structure slab"),
     ("montecarlo", ["--newton-tolerance", "1e-3"], "--newton-tolerance"),
-    ("montecarlo", ["--property-factors", "0.8,1.2"], "--property-factors"),
 ])
 def test_what_the_triple_pendulum_cannot_run_is_refused(command, flags, message, capsys, tmp_path, isolator_file):
     _record(tmp_path / "x.txt", n=101)

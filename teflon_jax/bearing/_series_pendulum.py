@@ -41,7 +41,7 @@ class SeriesPendulum(eqx.Module):
     `frictions` (stacked `FrictionParameters`), `reference_radius` [m] (the radius of the
     reference spring W / R_ref that the structures' linear step carries); for heated surfaces
     (fields `<slider>_heating`, `<slider>_pressure`) `surface_heatings`, `heated`,
-    `heat_factors`, `heat_fluxes`.
+    `heat_factors`, `heat_fluxes`; `scaled_friction` (every surface's friction times a factor).
     """
 
     isolator: ClassVar[str]
@@ -78,6 +78,17 @@ class SeriesPendulum(eqx.Module):
         """`FrictionalHeating` (or `None`) of each slider's surface, from the fields
         `<slider>_heating` (none: no heating)."""
         return tuple(getattr(self, f"{name}_heating", None) for name in self.slider_names)
+
+    def scaled_friction(self, factor) -> "SeriesPendulum":
+        """This isolator with every surface's friction coefficient `factor` times its own at
+        every velocity: f_max and delta_f of each surface's Eq. 1 times `factor` (so f_min =
+        f_max - delta_f too; delta_f = 0, Coulomb friction, stays so), rate_a, radii,
+        capacities, hysteresis and heating kept. A bounding case's property modification
+        factor (`teflon_jax.studies.bounding_design`); a factor > 0 keeps the surfaces' order
+        of friction. `factor` may be traced."""
+        names = [f"{name}_friction" for name in self.slider_names]
+        return eqx.tree_at(lambda p: [getattr(p, n) for n in names], self,
+                           [getattr(self, n).scaled(factor) for n in names])
 
     @property
     def heated(self) -> bool:

@@ -45,7 +45,10 @@ def run_bounding(args, structure, model, units) -> int:
     from ._montecarlo_vertical import uplift_message, uplift_payload
 
     lower, upper = read_property_factors(args)
-    design = bounding_design(structure, lower=lower, upper=upper)
+    try:  # on a triple or double pendulum: no surface's f_max above 1 in the upper case
+        design = bounding_design(structure, lower=lower, upper=upper)
+    except ValueError as error:
+        raise ValueError(f"--property-factors {args.property_factors}: {error}") from None
     building = args.structure == "building"
     bar = motion_bar(args.motions, args.no_progress)
     result = monte_carlo(structure, model, args.motions, key=jax.random.key(args.seed), design=design,
@@ -65,9 +68,9 @@ def run_bounding(args, structure, model, units) -> int:
     payload = {
         "structure": args.structure, "n_motions": result.n_motions, "wall_s": result.wall_s,
         "property_factors": {"lower": lower, "upper": upper,
-                             "applied_to": "f_max and delta_f of Eq. 1 (the friction coefficient at every velocity; on every surface of a triple or double pendulum)"},
-        "cases": {case: {"f_max": float(design["f_max"][i]), "delta_f": float(design["delta_f"][i]),
-                         "n_converged": int(converged[i].sum()),
+                             "applied_to": "f_max and delta_f of Eq. 1 (the friction coefficient at every velocity; on "
+                                           "every surface of a triple or double pendulum, radii and capacities kept)"},
+        "cases": {case: {**_case_friction(structure, design, i, (1.0, upper, lower)[i]), "n_converged": int(converged[i].sum()),
                          "mean": {k: v[case] for k, v in by_mean.items()},
                          "max": {k: v[case] for k, v in by_max.items()}}
                   for i, case in enumerate(BOUNDING_CASES)},
@@ -90,6 +93,19 @@ def run_bounding(args, structure, model, units) -> int:
               "are flagged in the results and left out of the table. Try a smaller --time-step.", file=sys.stderr)
         return 1
     return 0
+
+
+def _case_friction(structure, design, index, factor) -> dict:
+    """The JSON entries of bounding case `index` (friction times `factor`): the factor and the
+    friction the case runs with, f_max and delta_f of the flat bearing, or of each surface of a
+    triple or double pendulum ({surface: value})."""
+    from ..studies import surface_frictions
+
+    if "f_max" in design:
+        return {"friction_factor": factor, "f_max": float(design["f_max"][index]),
+                "delta_f": float(design["delta_f"][index])}
+    pendulum = getattr(structure, "structure", structure).pendulum  # through a vertical component's wrapper
+    return {"friction_factor": factor, **surface_frictions(pendulum, factor)}
 
 
 def add_suite_bounding_flag(parser) -> None:

@@ -61,7 +61,8 @@ def add_engineering_flags(parser) -> None:
                         "with several --pga levels one file per level, FILE-level1.csv, ...")
     parser.add_argument("--property-factors", metavar="LOWER,UPPER", default=None,
                         help="bounding analysis: run the nominal bearing and its lower- and upper-bound "
-                        "variants (f_max and delta_f of Eq. 1 times LOWER and UPPER, e.g. 0.85,1.3) under the "
+                        "variants (f_max and delta_f of Eq. 1 times LOWER and UPPER, e.g. 0.85,1.3; on every "
+                        "surface of a triple or double pendulum, its radii and capacities kept) under the "
                         "same motions, and report which case governs displacement, base shear and drift")
 
 

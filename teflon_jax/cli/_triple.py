@@ -223,9 +223,6 @@ def triple_montecarlo_structure(args):
 
     isolator = args.isolator
     pendulum = _load(args.isolator_file, isolator)
-    if getattr(args, "property_factors", None) is not None:
-        raise ValueError("--property-factors: the bounding analysis scales a flat bearing's "
-                         f"friction; not with --isolator {isolator}.")
     if args.newton_tolerance is not None:
         raise ValueError("--newton-tolerance: is in units of a flat bearing's yield displacement; "
                          f"the {isolator} isolator's sliders are solved to their own tolerance "
@@ -240,16 +237,8 @@ def triple_montecarlo_structure(args):
 def scaled_friction(pendulum, factor: float):
     """`pendulum` with f_max and delta_f of every surface times `factor` (a bounding case's
     property modification factor on the friction coefficient at every velocity; the order of
-    the surfaces' friction that the series model needs is kept)."""
-    import equinox as eqx
-
-    from ..bearing import FrictionParameters
-
-    names = [f.name for f in dataclasses.fields(pendulum)
-             if isinstance(getattr(pendulum, f.name), FrictionParameters)]
-    scaled = [FrictionParameters(getattr(pendulum, n).f_max * factor, getattr(pendulum, n).delta_f * factor,
-                                 getattr(pendulum, n).rate_a) for n in names]
-    return eqx.tree_at(lambda p: [getattr(p, n) for n in names], pendulum, scaled)
+    the surfaces' friction that the series model needs is kept): `SeriesPendulum.scaled_friction`."""
+    return pendulum.scaled_friction(factor)
 
 
 def series_suite_build(args):

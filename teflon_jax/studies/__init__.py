@@ -14,6 +14,8 @@ from ._bounding import bounding_design as bounding_design
 from ._bounding import check_property_factors as check_property_factors
 from ._bounding import governing_cases as governing_cases
 from ._bounding import scaled_friction as scaled_friction
+from ._bounding import series_bounding_design as series_bounding_design
+from ._bounding import surface_frictions as surface_frictions
 from ._chunks import CPU_CHUNK as CPU_CHUNK
 from ._chunks import LARGEST_CHUNK as LARGEST_CHUNK
 from ._chunks import default_chunk_size as default_chunk_size

@@ -136,17 +136,15 @@ def bidirectional_peak_response(
     vector field) at the end of each step, as `simulate_bidirectional` saves them.
     `read_every`: peaks read every k-th step (the smooth maxima see every step). jit/vmap-safe.
     `storey_height` [m] (the building): also the peak drift ratio per storey and total
-    acceleration per level in x and y (`directional_storeys`).
+    acceleration per level in x and y (`directional_storeys`; on triple or double friction
+    pendulums, a `BiaxialStructureOnTriple`, `biaxial_peaks`).
 
     **Returns:** a `BidirectionalPeaks`.
     """
-    if isinstance(system, BiaxialStructureOnTriple):  # triple friction pendulums
-        if storey_height is not None:
-            raise ValueError("storey_height: the two-component triple pendulum keeps the resultant "
-                             "peaks only; leave storey_height out.")
+    if isinstance(system, BiaxialStructureOnTriple):  # triple or double friction pendulums
         widths = (1e-3 if disp_width is None else disp_width, 1e-3 if shear_width is None else shear_width)
         uplift = series_uplift_time(system, duration)  # with the uniaxial structure's vertical record
-        return BidirectionalPeaks(*biaxial_peaks(system, duration, widths, read_every),
+        return BidirectionalPeaks(*biaxial_peaks(system, duration, widths, read_every, storey_height),
                                   **({} if uplift is None else {"uplift_time": uplift}))
     if system.overturning is not None:
         raise ValueError("system: the peaks in a scan do not carry the slab's overturning loads; "

@@ -279,7 +279,9 @@ def monte_carlo(
     _check_chunk_memory(chunk, per_motion, memory_limit_bytes, devices)
     read_every = _read_every(peak_interval, probe.time_step)
     if storey_height is not None:  # refused here, before the compile, for a rigid mass
-        check_storey_height(n_dof // source.components, storey_height)  # x and y: 2 n coordinates
+        # x and y: 2 n coordinates, but one set of masses for a series pendulum's structure
+        per_direction = n_dof if isinstance(probe, BiaxialStructureOnTriple) else n_dof // source.components
+        check_storey_height(per_direction, storey_height)
     runner = ChunkRunner(structure, source, duration, design_arrays, devices, chunk, disp_width,
                          shear_width, read_every, storey_height)
     outputs = _run_chunks(runner, motions, n_total, chunk, n_chunks, first_motion, progress)

@@ -45,6 +45,7 @@ DESIGN_UNITS = {
     "breakaway_ratio": ("1", "Eq. 17 breakaway ratio b"),
     "radius": ("m", "radius of curvature R of the friction pendulum's surface"),
     "capacity": ("m", "displacement capacity d of the friction pendulum's surface (its restrainer beyond)"),
+    "friction_factor": ("1", "property modification factor on every surface's Eq. 1 friction (f_max, delta_f)"),
 }
 
 FORMATS = (".nc", ".zarr", ".csv", ".npz")

@@ -66,6 +66,7 @@ from ._triple_biaxial import BiaxialStructureOnTriple as BiaxialStructureOnTripl
 from ._triple_biaxial import biaxial_histories as biaxial_histories
 from ._triple_biaxial import biaxial_peaks as biaxial_peaks
 from ._triple_design import DOUBLE_DESIGN_VARIABLES as DOUBLE_DESIGN_VARIABLES
+from ._triple_design import FRICTION_FACTOR as FRICTION_FACTOR
 from ._triple_design import TRIPLE_DESIGN_VARIABLES as TRIPLE_DESIGN_VARIABLES
 from ._triple_design import check_double_box as check_double_box
 from ._triple_design import check_triple_box as check_triple_box

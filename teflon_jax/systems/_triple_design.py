@@ -10,6 +10,9 @@ bearing. The triple's:
   factor (their ratio, which orders regimes II and III, kept);
 - `capacity_scale` [-]: the three effective displacement capacities times this factor.
 
+Either isolator also takes `FRICTION_FACTOR` (a bounding case: every surface's Eq. 1 friction
+times a property modification factor).
+
 The series model needs a < s min(b, c) and inner f_max <= bottom f_max <= top f_max
 (`check_triple_pendulum`); `check_triple_box` refuses ranges that leave them.
 References: Fenz & Constantinou (2008), Earthquake Spectra 24(4); Constantinou, Mokha &
@@ -111,11 +114,24 @@ def designed_double(double: DoublePendulum, design: Mapping) -> DoublePendulum:
         top_friction=_scaled(double.top_friction, factor), hysteresis=double.hysteresis)
 
 
+FRICTION_FACTOR = "friction_factor"
+"""The design variable of a bounding case on a triple or double pendulum (`designed_pendulum`):
+the property modification factor lambda [-] on every surface's Eq. 1 friction coefficient,
+f_max -> lambda f_max and delta_f -> lambda delta_f (`SeriesPendulum.scaled_friction`)."""
+
+
 def designed_pendulum(pendulum, design: Mapping):
-    """`designed_triple` or `designed_double` of `pendulum`, whichever its type."""
+    """`designed_triple` or `designed_double` of `pendulum`, whichever its type, after
+    `FRICTION_FACTOR` (if set) has scaled every surface's friction; with that variable alone
+    the isolator keeps everything else, heating included."""
+    rest = {k: v for k, v in design.items() if k != FRICTION_FACTOR}
+    if FRICTION_FACTOR in design:
+        pendulum = pendulum.scaled_friction(design[FRICTION_FACTOR])
+    if not rest:
+        return pendulum
     if isinstance(pendulum, DoublePendulum):
-        return designed_double(pendulum, design)
-    return designed_triple(pendulum, design)
+        return designed_double(pendulum, rest)
+    return designed_triple(pendulum, rest)
 
 
 def double_design_ranges(double: DoublePendulum) -> dict:

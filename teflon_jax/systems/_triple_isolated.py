@@ -39,7 +39,8 @@ class TripleIsolatedStructure(eqx.Module):
     `TwoComponentGroundMotion`); on a triple pendulum `design` may set `TRIPLE_DESIGN_VARIABLES`
     (the outer radii's scale, the inner and outer f_max, the capacities' scale;
     `designed_triple`), on a double pendulum `DOUBLE_DESIGN_VARIABLES` (the radii's scale,
-    the surfaces' f_max, the capacities' scale; `designed_double`).
+    the surfaces' f_max, the capacities' scale; `designed_double`), on either `FRICTION_FACTOR`
+    (every surface's friction times a bounding case's factor; `designed_pendulum`).
 
     **Fields:** `pendulum` (`TriplePendulum` or `DoublePendulum`; also read as `triple`),
     `kind` (static) "rigid" or "building", `time_step` [s] (static), `weight` [N] of the
