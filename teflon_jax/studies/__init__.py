@@ -50,7 +50,7 @@ from ._intensity_levels import check_levels as check_levels
 from ._intensity_levels import exceedance_counts as exceedance_counts
 from ._intensity_levels import levels_dataset as levels_dataset
 from ._intensity_levels import monte_carlo_levels as monte_carlo_levels
-from ._intensity_levels import motions_at_level as motions_at_level
+from ._motion_source import motions_at_level as motions_at_level
 from ._intensity_levels import save_levels as save_levels
 from ._montecarlo import monte_carlo as monte_carlo
 from ._motion_source import monte_carlo_motion as monte_carlo_motion
