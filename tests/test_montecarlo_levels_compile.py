@@ -10,7 +10,12 @@ import numpy as np
 import pytest
 
 from teflon_jax.excitation import StochasticGroundMotion
-from teflon_jax.studies import monte_carlo, monte_carlo_levels, monte_carlo_motion, motions_at_level
+from teflon_jax.studies import (
+    monte_carlo,
+    monte_carlo_levels,
+    monte_carlo_motion,
+    motions_at_level,
+)
 from teflon_jax.systems import isolated_structure
 from teflon_jax.units import STANDARD_GRAVITY
 
