@@ -43,7 +43,6 @@ def test_bad_levels_limits_and_files_are_refused_before_any_run(argv, message, t
     assert not list(tmp_path.iterdir())  # nothing written
 
 
-@pytest.mark.slow  # four levels: four compilations (about 45 s on two shared cores)
 def test_fragility_over_levels_matches_the_counts_in_the_results_file(tmp_path, capsys):
     """The JSON's counts are those of the NetCDF file's peaks at each level (converged runs),
     its fit that of `fit_fragility` on them; one pelicun file per level, every run in it."""
