@@ -31,7 +31,8 @@ SHORT = ["--duration", "6s", "--strong-motion", "3s", "--no-progress"]
     (["--storeys"], "--storeys: storey results need --structure building"),
     (["--pga", "0.1g,0.2g", "--out", "{tmp}/x.csv"], "the motions' levels are kept in NetCDF or Zarr"),
     (["--pelicun-demands", "{tmp}/d.txt"], "--pelicun-demands: {tmp}/d.txt: pelicun's demand file is a .csv"),
-    (["--pga", "0.1g,0.2g", "--scheduler", "local:2", "--out", "{tmp}/x.nc"], "leave out --scheduler"),
+    (["--pga", "0.1g,0.2g", "--scheduler", "local:2", "--out", "{tmp}/x.csv"], "streams its results to NetCDF"),
+    (["--pga", "0.1g,0.2g", "--limit", "base_disp=1in", "--scheduler", "local:2"], "add --out FILE.nc"),
 ])
 def test_bad_levels_limits_and_files_are_refused_before_any_run(argv, message, tmp_path, capsys):
     argv = [a.replace("{tmp}", str(tmp_path)) for a in argv]
@@ -42,7 +43,6 @@ def test_bad_levels_limits_and_files_are_refused_before_any_run(argv, message, t
     assert not list(tmp_path.iterdir())  # nothing written
 
 
-@pytest.mark.slow  # four levels: four compilations (about 45 s on two shared cores)
 def test_fragility_over_levels_matches_the_counts_in_the_results_file(tmp_path, capsys):
     """The JSON's counts are those of the NetCDF file's peaks at each level (converged runs),
     its fit that of `fit_fragility` on them; one pelicun file per level, every run in it."""

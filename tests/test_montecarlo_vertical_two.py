@@ -191,15 +191,13 @@ def test_an_isolator_lifted_off_throughout_carries_no_shear():
 
 
 @pytest.mark.parametrize("flags, named", [
-    (["--pga", "0.1g,0.2g", "--scheduler", "local:2", "--out", "mc.nc"], "--scheduler"),
     (["--vertical-ratio", "-0.5"], "--vertical-ratio"),
     (["--vertical-frequency-ratio", "3"], "--vertical-frequency-ratio"),
 ])
 def test_what_the_vertical_component_cannot_run_is_refused_by_flag(flags, named, capsys, tmp_path,
                                                                    monkeypatch):
-    """Refused before any run, naming the flag: levels on a Dask cluster (they run in this
-    process, with or without the vertical component), a negative ratio, and the vertical
-    frequency ratio without a vertical component."""
+    """Refused before any run, naming the flag: a negative ratio, and the vertical frequency
+    ratio without a vertical component."""
     monkeypatch.chdir(tmp_path)
     ratio = [] if any(f.startswith("--vertical") for f in flags) else ["--vertical-ratio", "0.7"]
     assert main(["montecarlo", "--motions", "2", "--components", "2", *ratio, *flags, "--no-progress"]) == 2

@@ -5,6 +5,9 @@ N motions at each level (`monte_carlo_levels`); for each limit the runs exceedin
 counted at each level and, with two or more levels, a lognormal fragility is fitted by maximum
 likelihood with profile-likelihood intervals (`fit_fragility`; Baker 2015, Earthquake Spectra
 31(1)). Failed runs are kept in the files, flagged, and out of the counts and statistics.
+With `--scheduler` the motions run as chunks on a Dask cluster
+(`monte_carlo_levels_distributed`), their peaks streamed to `--out FILE.nc`, and the counts,
+fits, statistics and pelicun files are computed here from those peaks as from an in-process run.
 With `--vertical-ratio` the structure and motions carry the vertical component: the uplifted
 motions of each level are listed, and stay in the counts and statistics.
 """
@@ -22,14 +25,12 @@ from ._engineering import (
     pelicun_peaks,
     wants_storeys,
 )
+from ._main import compile_cache_dir
 
 
 def check_level_outputs(args, n_levels: int) -> None:
     """`ValueError` naming the flag, before any run, for outputs this run cannot write."""
-    if args.scheduler is not None:
-        raise ValueError("--scheduler: runs over several --pga levels, with --limit, --storeys or "
-                         "--pelicun-demands run in this process; leave out --scheduler.")
-    if args.out is not None:
+    if args.out is not None and args.scheduler is None:  # with --scheduler: a .nc file (_check_flags)
         from ..studies import check_output_path
 
         path = check_output_path(args.out)
@@ -105,10 +106,8 @@ def run_levels(args, structure, model, units, statistics) -> int:
     pelicun files; returns the exit status (0; 1 when a run failed or a fragility could not be
     fitted: everything is written all the same). `statistics(result, units)`: the JSON
     statistics of one level's `MonteCarloResult` (those of a one-level run)."""
-    import jax
-
     from ..report import plot_fragility, plot_montecarlo
-    from ..studies import monte_carlo_levels, save_levels
+    from ..studies import save_levels
     from ..tables import load_table2
     from ._montecarlo_vertical import uplift_of, uplift_payload
 
@@ -123,13 +122,13 @@ def run_levels(args, structure, model, units, statistics) -> int:
              f"{args.pga_text}, {args.duration_text}, seed {args.seed}"
              + (f"; vertical {args.vertical_ratio:g} x PGA" if args.vertical_ratio is not None else ""))
     bar = motion_bar(levels.size * args.motions, args.no_progress)
-    result, level_index = monte_carlo_levels(
-        structure, model, levels, args.motions, key=jax.random.key(args.seed), chunk_size=args.chunk_size,
-        progress=lambda done, total: bar.update(done - bar.n), storey_height=height)
+    result, level_index = _run(args, structure, model, levels, height, lambda done, total: bar.update(done - bar.n))
     bar.close()
     converged = np.asarray(result.converged, bool)
     files = []
-    if args.out is not None:
+    if args.scheduler is not None:  # streamed there by the cluster's chunks, levels included
+        files.append(str(args.out))
+    elif args.out is not None:
         if args.out.suffix in (".csv", ".npz"):  # one level only (check_level_outputs)
             files.append(str(result.save(args.out)))
         else:
@@ -177,6 +176,25 @@ def run_levels(args, structure, model, units, statistics) -> int:
         else:
             plot_montecarlo(result, args.plot, title=stamp, length=units.length)
     return _report(result, levels, level_index, unit, factor, fragility, per_level)
+
+
+def _run(args, structure, model, levels, height, progress):
+    """(`MonteCarloResult` of every level's motions, level index of each): in this process
+    (`monte_carlo_levels`) or, with --scheduler, as chunks on a Dask cluster streamed to --out
+    (`monte_carlo_levels_distributed`: the same motions, chunks and peaks)."""
+    import jax
+
+    if args.scheduler is None:
+        from ..studies import monte_carlo_levels
+
+        return monte_carlo_levels(structure, model, levels, args.motions, key=jax.random.key(args.seed),
+                                  chunk_size=args.chunk_size, progress=progress, storey_height=height)
+    from ..studies import monte_carlo_levels_distributed
+
+    return monte_carlo_levels_distributed(
+        structure, model, levels, args.motions, out=args.out, seed=args.seed, scheduler=args.scheduler,
+        chunk_size=args.chunk_size, progress=progress, storey_height=height,
+        compilation_cache=None if args.no_compile_cache else str(compile_cache_dir()))
 
 
 _VERTICAL_STOREYS = ("storey drifts and level accelerations are horizontal: the superstructure is rigid "

@@ -45,6 +45,7 @@ from ._design_sweep import sweep_dataset as sweep_dataset
 from ._design_sweep import sweep_objective as sweep_objective
 from ._design_sweep import sweep_start as sweep_start
 from ._distributed import monte_carlo_distributed as monte_carlo_distributed
+from ._distributed import monte_carlo_levels_distributed as monte_carlo_levels_distributed
 from ._fragility import FragilityFit as FragilityFit
 from ._fragility import check_exceedances as check_exceedances
 from ._fragility import fit_fragility as fit_fragility
@@ -52,10 +53,10 @@ from ._intensity_levels import check_levels as check_levels
 from ._intensity_levels import exceedance_counts as exceedance_counts
 from ._intensity_levels import levels_dataset as levels_dataset
 from ._intensity_levels import monte_carlo_levels as monte_carlo_levels
-from ._intensity_levels import motions_at_level as motions_at_level
 from ._intensity_levels import save_levels as save_levels
 from ._montecarlo import monte_carlo as monte_carlo
 from ._motion_source import monte_carlo_motion as monte_carlo_motion
+from ._motion_source import motions_at_level as motions_at_level
 from ._record_set import RecordSet as RecordSet
 from ._record_set import record_set as record_set
 from ._results import FORMATS as FORMATS

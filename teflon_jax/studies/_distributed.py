@@ -12,6 +12,12 @@ of `monte_carlo` with the same chunk size bit for bit (every call of a run has t
 width: the last chunk is padded), and to round-off for another chunk size (XLA's vectorised
 CPU code rounds the last digits differently for another batch width).
 
+Over several intensity levels (`monte_carlo_levels_distributed`) every chunk holds motions of
+one level, the level an argument of the compiled call: the workers compile once for all the
+levels, and level j's chunks are those of `monte_carlo_levels` (motions j N .. (j + 1) N - 1 of
+the key, each level's last chunk padded), so the peaks are that run's. A building's storey
+peaks (`storey_height`) stream with the others.
+
 A worker that dies takes only its running chunks with it; the scheduler runs them again
 elsewhere. A chunk whose task raises is run again `retries` times; after that the run stops
 with a `ClusterRunError` naming its motions, the file left marked incomplete. Runs whose solve
@@ -31,6 +37,7 @@ from ..excitation import (
     TwoComponentGroundMotion,
     VerticalGroundMotion,
 )
+from ..systems import check_storey_height
 from ._cluster import (
     add_attributes,
     check_count,
@@ -42,6 +49,7 @@ from ._cluster import (
     stream_to_netcdf,
     worker_cached,
 )
+from ._intensity_levels import check_levels
 from ._montecarlo import (
     ChunkRunner,
     _get,
@@ -53,7 +61,7 @@ from ._montecarlo import (
     stochastic_grid,
 )
 from ._record_set import RecordSet
-from ._results import DESIGN_UNITS, VARIABLES, MonteCarloResult
+from ._results import DESIGN_UNITS, STOREY_VARIABLES, VARIABLES, MonteCarloResult
 
 PGA = ("m s-2", "peak |ground acceleration| of the motion")
 UPLIFT = ("s", "time with the isolators' normal load <= 0")
@@ -65,35 +73,43 @@ def _runner(spec: dict) -> ChunkRunner:
     source = _Source(spec["model"], key, spec["time_step"], spec["samples"])
     design = None if spec["design"] is None else {k: jnp.asarray(v) for k, v in spec["design"].items()}
     return ChunkRunner(spec["structure"], source, spec["duration"], design, jax.devices()[:1], spec["chunk"],
-                       spec["disp_width"], spec["shear_width"])
+                       spec["disp_width"], spec["shear_width"], storey_height=spec["storey_height"])
 
 
-def _chunk_task(spec: dict, start: int, stop: int, values):
-    """Peaks of motions start..stop-1 (a Dask task; runs on a worker); `values` the recorded
-    motions start..stop-1, or `None` for generated ones."""
+def _chunk_task(spec: dict, start: int, stop: int, payload):
+    """Peaks of motions start..stop-1 (a Dask task; runs on a worker); `payload` (the recorded
+    motions start..stop-1 or `None` for generated ones, the level [m/s^2] of generated ones or
+    `None` for the model's)."""
+    values, level = payload
     runner = worker_cached(spec, _runner)
     indices = lanes(start, stop, spec["chunk"])
     if values is not None:
         values = np.asarray(values)[indices - start]
-    peaks, pga = _get(runner(indices, values))
+    peaks, pga = _get(runner(indices, values, level))
     n = stop - start
-    out = {name: np.asarray(getattr(peaks, name))[:n] for name in _variables(spec["model"])}
-    if spec["design"] is not None:  # (motion, design) -> (design, motion)
+    out = {name: np.asarray(getattr(peaks, name))[:n] for name in _variables(spec["model"], spec["storey_height"])}
+    if spec["design"] is not None:  # (motion, design, ...) -> (design, motion, ...)
         out = {k: np.moveaxis(v, 0, 1) for k, v in out.items()}
     out["pga"] = np.asarray(pga)[:n]
     out["compile_s"] = runner.compile_s
     return out
 
 
-def _variables(model) -> dict:
-    """The peak variables of a run's file: `VARIABLES`, and `uplift_time` with a vertical component."""
-    if not isinstance(model, VerticalGroundMotion):
-        return VARIABLES
-    return {**VARIABLES, "uplift_time": UPLIFT}
+def _variables(model, storey_height=None) -> dict:
+    """The peak variables of a run's file: `VARIABLES`, `uplift_time` with a vertical component
+    and the `STOREY_VARIABLES` with `storey_height`: name -> (units, long name)."""
+    variables = dict(VARIABLES)
+    if isinstance(model, VerticalGroundMotion):
+        variables["uplift_time"] = UPLIFT
+    if storey_height is not None:
+        variables.update({name: (units, long_name) for name, (_, units, long_name) in STOREY_VARIABLES.items()})
+    return variables
 
 
-def _layout(n_motions: int, design: Mapping | None, inputs: dict, model=None) -> dict:
-    """`create_netcdf`'s arguments for a run's file (the layout of `MonteCarloResult.to_dataset`)."""
+def _layout(n_motions: int, design: Mapping | None, inputs: dict, model=None, storeys=None, levels=None) -> dict:
+    """`create_netcdf`'s arguments for a run's file (the layout of `MonteCarloResult.to_dataset`,
+    and of `levels_dataset` with `levels`, each motion's level (L N,) [m/s^2]); `storeys`:
+    (storeys S, horizontal components) of a building whose storey peaks are kept, or `None`."""
     dims, peak_dims = {"motion": n_motions}, ("motion",)
     coords = {"motion": ("motion", np.arange(n_motions), None, None)}
     if design is not None:
@@ -103,6 +119,19 @@ def _layout(n_motions: int, design: Mapping | None, inputs: dict, model=None) ->
         coords.update({f"design_{k}": ("design", v, *DESIGN_UNITS.get(k, ("1", k))) for k, v in design.items()})
     variables = {name: (peak_dims, units, long_name, "bool" if name == "converged" else "f8")
                  for name, (units, long_name) in _variables(model).items()}
+    if storeys is not None:
+        n_storeys, components = storeys
+        direction = ("direction",) if components == 2 else ()
+        dims.update({"storey": n_storeys, "level": n_storeys + 1, **({"direction": 2} if direction else {})})
+        coords["storey"] = ("storey", np.arange(1, n_storeys + 1), None, None)
+        coords["level"] = ("level", np.arange(n_storeys + 1), None, None)
+        if direction:
+            coords["direction"] = ("direction", np.array(["x", "y"]), None, None)
+        variables.update({name: (peak_dims + direction + (dim,), units, long_name, "f8")
+                          for name, (dim, units, long_name) in STOREY_VARIABLES.items()})
+    if levels is not None:
+        coords["intensity_level"] = ("motion", np.asarray(levels, float), "m s-2", "expected peak ground "
+                                     "acceleration of the motion's level (the model's nominal peak, not the record's)")
     variables["pga"] = (("motion",), *PGA, "f8")
     return {"dims": dims, "coords": coords, "variables": variables,
             "attrs": file_attributes("teflon-jax Monte Carlo peak responses", inputs)}
@@ -144,6 +173,7 @@ def monte_carlo_distributed(
     compilation_cache=None,
     progress: Callable[[int, int], None] | None = None,
     attrs: Mapping | None = None,
+    storey_height=None,
 ) -> MonteCarloResult:
     """`monte_carlo` on a Dask cluster, streaming the peaks to the NetCDF file `out`.
 
@@ -162,16 +192,58 @@ def monte_carlo_distributed(
     - `compilation_cache`: a folder for JAX's persistent compilation cache (local workers).
     - `progress`: `progress(done, total)` after each chunk written.
     - `attrs`: more attributes of the file, e.g. what was run (structure, PTFE, pressure).
+    - `storey_height` [m]: a building's storey peaks too, as `monte_carlo(storey_height=...)`.
 
-    **Returns:** the `MonteCarloResult` read back from `out` (48 bytes per motion and design).
+    **Returns:** the `MonteCarloResult` read back from `out` (48 bytes per motion and design,
+    more with storey peaks).
     `ConnectionError` naming the address when no scheduler answers; `ValueError` for bad
     input or an output file that cannot be written (before anything starts);
     `ClusterRunError` naming the motions of a chunk that failed after its retries.
     """
-    out = check_netcdf_output(out)
+    return _run(structure, motions, n_motions, None, out=out, seed=seed, scheduler=scheduler,
+                chunk_size=chunk_size, duration=duration, design=design, disp_width=disp_width,
+                shear_width=shear_width, retries=retries, connect_timeout=connect_timeout,
+                compilation_cache=compilation_cache, progress=progress, attrs=attrs, storey_height=storey_height)
+
+
+def monte_carlo_levels_distributed(
+    structure: Callable,
+    model: StochasticGroundMotion | TwoComponentGroundMotion | VerticalGroundMotion,
+    levels,
+    n_motions: int,
+    *,
+    out,
+    seed: int = 0,
+    progress: Callable[[int, int], None] | None = None,
+    **options,
+) -> tuple[MonteCarloResult, np.ndarray]:
+    """`monte_carlo_levels` on a Dask cluster: `n_motions` motions at each expected peak ground
+    acceleration of `levels` [m/s^2] (strictly increasing), level j's being motions
+    j N .. (j + 1) N - 1 of `jax.random.key(seed)`, their peaks streamed to the NetCDF file
+    `out` in the layout of `save_levels` (with `intensity_level`, each motion's level).
+
+    **Arguments:** `options`: further keywords of `monte_carlo_distributed` (`scheduler`,
+    `chunk_size`, `storey_height`, ...; no `design`).
+
+    **Returns:** (the `MonteCarloResult` of the L N motions read back from `out`, with
+    `attrs["intensity_levels_m_s2"]` and `attrs["motions_per_level"]`; the level index (L N,)
+    of each motion), as `monte_carlo_levels` returns them.
+    """
+    values = check_levels(levels)
+    if not isinstance(model, (StochasticGroundMotion, TwoComponentGroundMotion, VerticalGroundMotion)):
+        raise ValueError(f"model: intensity levels scale a stochastic motion model, got {type(model).__name__}.")
+    if options.get("design"):
+        raise ValueError("design: design variants over intensity levels are not run on a cluster; run the "
+                         "levels one design at a time.")
+    result = _run(structure, model, n_motions, values, out=out, seed=seed, progress=progress, **options)
+    return result, np.repeat(np.arange(values.size), result.n_motions // values.size)
+
+
+def _spec(structure, motions, n_motions, *, seed, chunk_size, duration, design, disp_width, shear_width,
+          storey_height) -> tuple[dict, dict]:
+    """(the task's spec, the sizes of the run: n_total, n_dof, components, memory, n_storeys), checked."""
     n_total, model, time_step, samples = _source_of(motions, n_motions)
     chunk = min(check_count("chunk_size", chunk_size, 1), n_total)
-    retries = check_count("retries", retries, 0)
     duration = (samples - 1) * time_step if duration is None else float(duration)
     if not duration > 0:
         raise ValueError(f"duration: must be > 0 s, got {duration}.")
@@ -185,31 +257,59 @@ def monte_carlo_distributed(
     probe_source = _Source(model, None if model is None else jax.random.key(0), time_step, samples)
     probe_design = None if design_arrays is None else {k: v[0] for k, v in design_arrays.items()}
     n_dof = int(probe_structure(structure, probe_source, probe_design).mass.shape[-1])
-    dtype = run_dtype()
+    components = probe_source.components
+    n_storeys = None  # refused here, before a cluster starts, for a rigid mass
+    if storey_height is not None:
+        n_storeys = check_storey_height(n_dof // components, storey_height).shape[0]
     spec = {"structure": structure, "model": model, "seed": int(seed), "time_step": time_step,
             "samples": samples, "duration": duration, "design": design_arrays, "chunk": chunk,
-            "disp_width": disp_width, "shear_width": shear_width, "dtype": dtype, "token": uuid.uuid4().hex}
-    memory = chunk * bytes_per_motion((probe_source.components + probe_source.vertical) * samples, n_dof, n_designs)
-    inputs = {"duration_s": duration, "record_time_step_s": time_step, "n_dof": n_dof, "seed": int(seed),
-              "scheduler": scheduler, "n_motions": n_total, "precision": dtype, **motion_attributes(motions),
-              **dict(attrs or {})}
-    chunks = [(start, min(start + chunk, n_total),
-               None if model is not None else np.asarray(motions.acceleration[start:start + chunk]))
-              for start in range(0, n_total, chunk)]
+            "disp_width": disp_width, "shear_width": shear_width, "dtype": run_dtype(),
+            "storey_height": storey_height, "token": uuid.uuid4().hex}
+    memory = chunk * bytes_per_motion((components + probe_source.vertical) * samples, n_dof, n_designs)
+    return spec, {"n_total": n_total, "n_dof": n_dof, "components": components, "memory": memory,
+                  "n_storeys": n_storeys}
+
+
+def _run(structure, motions, n_motions, levels, *, out, seed=0, scheduler="local:2", chunk_size=256,
+         duration=None, design=None, disp_width=None, shear_width=None, retries=2, connect_timeout=10.0,
+         compilation_cache=None, progress=None, attrs=None, storey_height=None) -> MonteCarloResult:
+    """A distributed run of `n_motions` motions at each of `levels` (or once at the model's own
+    level, `None`), streamed to `out` (the arguments of `monte_carlo_distributed`)."""
+    out = check_netcdf_output(out)
+    spec, sizes = _spec(structure, motions, n_motions, seed=seed, chunk_size=chunk_size, duration=duration,
+                        design=design, disp_width=disp_width, shear_width=shear_width, storey_height=storey_height)
+    retries = check_count("retries", retries, 0)
+    model, chunk, n_per_level = spec["model"], spec["chunk"], sizes["n_total"]
+    at = [None] if levels is None else [float(x) for x in levels]
+    n_total = len(at) * n_per_level
+    inputs = {"duration_s": spec["duration"], "record_time_step_s": spec["time_step"], "n_dof": sizes["n_dof"],
+              "seed": int(seed), "scheduler": scheduler, "n_motions": n_total, "precision": spec["dtype"],
+              **motion_attributes(motions), **dict(attrs or {})}
+    if levels is not None:
+        inputs.update({"intensity_levels_m_s2": list(at), "motions_per_level": n_per_level})
+    # level j: its motions in chunks of `chunk` from j N, as monte_carlo_levels runs them
+    chunks = [(j * n_per_level + start, j * n_per_level + min(start + chunk, n_per_level),
+               (None if model is not None else np.asarray(motions.acceleration[start:start + chunk]), level))
+              for j, level in enumerate(at) for start in range(0, n_per_level, chunk)]
+    storeys = None if storey_height is None else (sizes["n_storeys"], sizes["components"])
+    layout = _layout(n_total, spec["design"], inputs, model, storeys,
+                     None if levels is None else np.repeat(np.asarray(at), n_per_level))
+    names = list(_variables(model, spec["storey_height"]))
     compile_s = [0.0]
 
     def write(handle, start, stop, part):
-        for name in _variables(model):
+        for name in names:
             values = part[name].astype(np.int8) if name == "converged" else part[name]
-            handle.variables[name][..., start:stop] = values
+            variable = handle.variables[name]
+            variable[(slice(None),) * variable.dimensions.index("motion") + (slice(start, stop),)] = values
         handle.variables["pga"][start:stop] = part["pga"]
         compile_s[0] = max(compile_s[0], float(part["compile_s"]))
 
-    stream_to_netcdf(out, _layout(n_total, design_arrays, inputs, model), _chunk_task, spec, chunks, write,
-                     scheduler=scheduler, connect_timeout=connect_timeout, compilation_cache=compilation_cache,
-                     retries=retries, progress=progress, what="motions",
+    stream_to_netcdf(out, layout, _chunk_task, spec, chunks, write, scheduler=scheduler,
+                     connect_timeout=connect_timeout, compilation_cache=compilation_cache, retries=retries,
+                     progress=progress, what="motions",
                      finish=lambda done: {"n_devices": done["n_workers"], "chunk_size": chunk,
-                                          "compile_s": compile_s[0], "memory_estimate_bytes": memory})
+                                          "compile_s": compile_s[0], "memory_estimate_bytes": sizes["memory"]})
     result = MonteCarloResult.from_dataset(open_finished(out))
     add_attributes(out, {"n_converged": np.asarray(result.n_converged, dtype=np.int64)})
     return result

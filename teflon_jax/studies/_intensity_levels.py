@@ -5,13 +5,15 @@ motion, and the counts of runs exceeding a limit at each level that `fit_fragili
 Level j runs motions j N .. (j + 1) N - 1 of the key (`monte_carlo(first_motion=j N)`), so the
 levels see other motions, as the binomial likelihood of the fit assumes (Baker 2015,
 Earthquake Spectra 31(1), multiple-stripe analysis), and a motion's index in the result is
-the one `monte_carlo_motion` draws again.
+the one `monte_carlo_motion` draws again. The levels share one compiled chunk function: the
+level is an argument of each call (`ChunkRunner`), not a constant of the program, so L levels
+compile once and give the numbers L separate `monte_carlo` runs give.
 """
 
 import dataclasses
+import time
 from collections.abc import Callable, Sequence
 
-import equinox as eqx
 import numpy as np
 
 from ..excitation import (
@@ -19,19 +21,8 @@ from ..excitation import (
     TwoComponentGroundMotion,
     VerticalGroundMotion,
 )
-from ._montecarlo import monte_carlo
+from ._montecarlo import _plan, _result, _run_chunks
 from ._results import MonteCarloResult, check_output_path, netcdf_engine
-
-
-def motions_at_level(model, level: float):
-    """`model` with the expected peak ground acceleration `level` [m/s^2] of its (major)
-    horizontal component; with a vertical component (`VerticalGroundMotion`) the vertical
-    one's peak, `vertical_ratio` times the horizontal one's, scales with it."""
-    if isinstance(model, VerticalGroundMotion):
-        return eqx.tree_at(lambda m: m.model, model, motions_at_level(model.model, level))
-    if isinstance(model, TwoComponentGroundMotion):
-        return eqx.tree_at(lambda m: m.model.peak_ground_acceleration, model, level)
-    return eqx.tree_at(lambda m: m.peak_ground_acceleration, model, level)
 
 
 def check_levels(levels) -> np.ndarray:
@@ -65,19 +56,30 @@ def monte_carlo_levels(
     `options`: further keywords of `monte_carlo` (e.g. `chunk_size`, `storey_height`).
 
     **Returns:** (one `MonteCarloResult` of the L N motions, level after level, with
-    `attrs["intensity_levels_m_s2"]` and, with a vertical component, each motion's
+    `attrs["intensity_levels_m_s2"]`, `compile_s` of the one compilation and, with a vertical component, each motion's
     `uplift_time`; the level index (L N,) of each motion).
     """
     values = check_levels(levels)
-    total = values.size * n_motions
+    if "first_motion" in options:
+        raise ValueError("first_motion: level j runs motions j n_motions .. (j + 1) n_motions - 1; leave it out.")
+    start = time.perf_counter()
+    plan = _plan(structure, model, n_motions, key=key, **options)  # checked once, compiled at the first call
+    total = values.size * plan.n_total
     parts = []
     for j, level in enumerate(values):
-        def step(done, _total, offset=j * n_motions):
+        def step(done, _total, offset=j * plan.n_total):
             if progress is not None:
                 progress(offset + done, total)
 
-        parts.append(monte_carlo(structure, motions_at_level(model, float(level)), n_motions, key=key,
-                                 first_motion=j * n_motions, progress=step, **options))
+        outputs = _run_chunks(plan.runner, model, plan.n_total, plan.chunk, plan.n_chunks, j * plan.n_total, step,
+                              level=float(level))
+        parts.append(_result(plan, model, outputs, 0.0))
+    return join_levels(parts, values, time.perf_counter() - start), np.repeat(np.arange(values.size), plan.n_total)
+
+
+def join_levels(parts, levels, wall_s: float) -> MonteCarloResult:
+    """One `MonteCarloResult` of the levels' results `parts` (in order; each of the same number
+    of motions), with `attrs["intensity_levels_m_s2"]` and `attrs["motions_per_level"]`."""
     first = parts[0]
     joined = {}
     for field in dataclasses.fields(MonteCarloResult):
@@ -85,10 +87,10 @@ def monte_carlo_levels(
         if isinstance(value, np.ndarray):
             axis = 0 if field.name == "pga" else first.dims.index("motion")
             joined[field.name] = np.concatenate([getattr(p, field.name) for p in parts], axis=axis)
-    result = dataclasses.replace(
-        first, **joined, wall_s=sum(p.wall_s for p in parts), compile_s=sum(p.compile_s for p in parts),
-        attrs={**first.attrs, "intensity_levels_m_s2": values.tolist(), "motions_per_level": int(n_motions)})
-    return result, np.repeat(np.arange(values.size), n_motions)
+    return dataclasses.replace(
+        first, **joined, wall_s=wall_s, compile_s=max(p.compile_s for p in parts),
+        attrs={**first.attrs, "intensity_levels_m_s2": np.asarray(levels, float).tolist(),
+               "motions_per_level": int(first.n_motions)})
 
 
 def exceedance_counts(peaks, converged, level_index, n_levels: int, limit: float) -> tuple[np.ndarray, np.ndarray]:

@@ -26,6 +26,7 @@ isolation II: Modeling", J. Struct. Eng. 116(2), Figs. 7-11.
 import os
 import time
 from collections.abc import Callable, Mapping, Sequence
+from typing import NamedTuple
 
 import jax
 import jax.numpy as jnp
@@ -51,7 +52,7 @@ from ._bidirectional_study import (
     BidirectionalIsolatedStructure,
     bidirectional_peak_response,
 )
-from ._motion_source import _Source, motion_attributes, stochastic_grid
+from ._motion_source import _Source, level_of, motion_attributes, stochastic_grid
 from ._record_set import RecordSet
 from ._results import MonteCarloResult
 
@@ -135,7 +136,9 @@ def _get(tree):
 class ChunkRunner:
     """One compiled function that runs `chunk` motions (vmapped, sharded over `devices`) and
     returns their `PeakResponse` and peak |a_g|: compiled at the first call, reused after
-    (a Dask worker keeps one per run, so it compiles once whatever the number of chunks)."""
+    (a Dask worker keeps one per run, so it compiles once whatever the number of chunks).
+    The expected peak ground acceleration of generated motions is an argument of the call,
+    not a constant of the program: one compilation serves every intensity level."""
 
     def __init__(self, structure, source, duration, design_arrays, devices, chunk, disp_width, shear_width,
                  read_every=1, storey_height=None):
@@ -149,9 +152,9 @@ class ChunkRunner:
         self.batched = jax.sharding.NamedSharding(mesh, jax.sharding.PartitionSpec("batch"))
         replicated = jax.sharding.NamedSharding(mesh, jax.sharding.PartitionSpec())
 
-        def run_chunk(indices, values, design_all):
+        def run_chunk(indices, values, design_all, level):
             def per_motion(index, row):
-                signal = source.signal(index, row)
+                signal = source.signal(index, row, level)
 
                 def one(design_one):
                     system = structure(signal, design_one)
@@ -174,22 +177,26 @@ class ChunkRunner:
             jax.shard_map(
                 run_chunk,
                 mesh=mesh,
-                in_specs=(spec("batch"), spec("batch"), spec()),
+                in_specs=(spec("batch"), spec("batch"), spec(), spec()),
                 out_specs=spec("batch"),
                 check_vma=False,
             ),
-            in_shardings=(self.batched, self.batched, replicated),
+            in_shardings=(self.batched, self.batched, replicated, replicated),
             out_shardings=self.batched,
         )
         self.design = None if design_arrays is None else jax.device_put(design_arrays, replicated)
+        self.replicated, self.default_level = replicated, 0.0 if source.model is None else level_of(source.model)
         self.compiled = None
 
-    def __call__(self, indices, values=None):
+    def __call__(self, indices, values=None, level=None):
         """Peaks of the motions `indices` (a chunk's worth; `values` (chunk, nt) [m/s^2] for
-        recorded motions, `None` for generated ones), as sharded device arrays."""
+        recorded motions, `None` for generated ones; `level` [m/s^2] the expected peak ground
+        acceleration of generated ones, default the model's), as sharded device arrays."""
         indices = np.asarray(indices)
         values = np.zeros((indices.shape[0], 1)) if values is None else np.asarray(values)
-        args = (_put(indices.astype(np.int32), self.batched), _put(values, self.batched), self.design)
+        level = jnp.asarray(self.default_level if level is None else level, dtype=jnp.result_type(float))
+        args = (_put(indices.astype(np.int32), self.batched), _put(values, self.batched), self.design,
+                jax.device_put(level, self.replicated))
         if self.compiled is None:
             tic = time.perf_counter()
             self.compiled = self.function.lower(*args).compile()
@@ -263,19 +270,45 @@ def monte_carlo(
     **Returns:** a `MonteCarloResult`.
     """
     start = time.perf_counter()
+    plan = _plan(structure, motions, n_motions, key=key, duration=duration, design=design, chunk_size=chunk_size,
+                 devices=devices, disp_width=disp_width, shear_width=shear_width,
+                 memory_limit_bytes=memory_limit_bytes, first_motion=first_motion, peak_interval=peak_interval,
+                 storey_height=storey_height)
+    outputs = _run_chunks(plan.runner, motions, plan.n_total, plan.chunk, plan.n_chunks, first_motion, progress)
+    return _result(plan, motions, outputs, time.perf_counter() - start)
+
+
+class _Plan(NamedTuple):
+    """A checked run of `monte_carlo`: its compiled-once chunk function and its sizes."""
+
+    runner: ChunkRunner
+    n_total: int
+    chunk: int
+    n_chunks: int
+    design_arrays: dict | None
+    n_dof: int
+    duration: float
+    time_step: float
+    vertical: bool
+    storeys: bool
+    estimate: int
+
+
+def _plan(structure, motions, n_motions, *, key=None, duration=None, design=None, chunk_size=512, devices=None,
+          disp_width=None, shear_width=None, memory_limit_bytes=None, first_motion=0, peak_interval=None,
+          storey_height=None) -> _Plan:
+    """The checked inputs of `monte_carlo` (same arguments) and its `ChunkRunner` (not yet compiled)."""
     source, n_total = _motion_source(motions, n_motions, key)
     _check_chunk_and_first_motion(chunk_size, first_motion)
     duration = _run_duration(source, duration)
     design_arrays, n_designs = _design_arrays(design, structure)
     devices = list(jax.devices() if devices is None else devices)
-    n_devices = len(devices)
-    chunk, n_chunks = _chunk_counts(chunk_size, n_total, n_devices)
+    chunk, n_chunks = _chunk_counts(chunk_size, n_total, len(devices))
     # Shapes of one system, without computing it: degrees of freedom for the memory estimate.
     probe_design = None if design_arrays is None else {k: v[0] for k, v in design_arrays.items()}
     probe = probe_structure(structure, source, probe_design)
     n_dof = probe.mass.shape[-1]
     per_motion = bytes_per_motion((source.components + source.vertical) * source.samples, n_dof, n_designs)
-    estimate = chunk * per_motion
     _check_chunk_memory(chunk, per_motion, memory_limit_bytes, devices)
     read_every = _read_every(peak_interval, probe.time_step)
     if storey_height is not None:  # refused here, before the compile, for a rigid mass
@@ -284,19 +317,25 @@ def monte_carlo(
         check_storey_height(per_direction, storey_height)
     runner = ChunkRunner(structure, source, duration, design_arrays, devices, chunk, disp_width,
                          shear_width, read_every, storey_height)
-    outputs = _run_chunks(runner, motions, n_total, chunk, n_chunks, first_motion, progress)
-    peaks, pga = jax.tree_util.tree_map(lambda *xs: np.concatenate(xs, axis=0)[:n_total], *outputs)
+    return _Plan(runner, n_total, chunk, n_chunks, design_arrays, int(n_dof), duration, source.time_step,
+                 source.vertical, storey_height is not None, int(chunk * per_motion))
+
+
+def _result(plan: _Plan, motions, outputs, wall_s: float) -> MonteCarloResult:
+    """The `MonteCarloResult` of the chunks' `outputs` (host arrays, in order) of `plan`."""
+    peaks, pga = jax.tree_util.tree_map(lambda *xs: np.concatenate(xs, axis=0)[:plan.n_total], *outputs)
+    design_arrays = plan.design_arrays
     return MonteCarloResult(
-        **_peak_fields(peaks, design_arrays is not None, storey_height is not None, source.vertical),
+        **_peak_fields(peaks, design_arrays is not None, plan.storeys, plan.vertical),
         pga=np.asarray(pga),
         design={} if design_arrays is None else {k: np.asarray(v) for k, v in design_arrays.items()},
         dims=("motion",) if design_arrays is None else ("design", "motion"),
-        n_devices=n_devices,
-        chunk_size=chunk,
-        wall_s=time.perf_counter() - start,
-        compile_s=runner.compile_s,
-        memory_estimate_bytes=int(estimate),
-        attrs={"duration_s": duration, "record_time_step_s": source.time_step, "n_dof": int(n_dof),
+        n_devices=len(plan.runner.devices),
+        chunk_size=plan.chunk,
+        wall_s=wall_s,
+        compile_s=plan.runner.compile_s,
+        memory_estimate_bytes=plan.estimate,
+        attrs={"duration_s": plan.duration, "record_time_step_s": plan.time_step, "n_dof": plan.n_dof,
                **motion_attributes(motions)},
     )
 
@@ -425,18 +464,19 @@ def _peak_fields(peaks, with_designs: bool, with_storeys: bool, vertical: bool =
     }
 
 
-def _run_chunks(runner, motions, n_total, chunk, n_chunks, first_motion, progress) -> list:
+def _run_chunks(runner, motions, n_total, chunk, n_chunks, first_motion, progress, level=None) -> list:
     """Each chunk's peaks on the host, one chunk after another: `progress` is called when a
     chunk's peaks are on the host, so the times between calls are the chunks' run times. (On a
     GPU a call that holds `while_loop`s returns only when it is done, since XLA reads each loop's
     condition on the host; fetching a chunk while the next one runs then gained nothing, and
-    the calls came one chunk late.)"""
+    the calls came one chunk late.) `level` [m/s^2]: the generated motions' expected peak
+    ground acceleration (default the model's)."""
     outputs = []
     for c in range(n_chunks):
         indices = np.arange(c * chunk, (c + 1) * chunk)
         indices = np.minimum(indices, n_total - 1)  # pad the last chunk with copies
         values = motions.acceleration[indices] if isinstance(motions, RecordSet) else None
-        outputs.append(_get(runner(indices + first_motion, values)))
+        outputs.append(_get(runner(indices + first_motion, values, level)))
         if progress is not None:
             progress(min((c + 1) * chunk, n_total), n_total)
     return outputs

@@ -30,6 +30,27 @@ def monte_carlo_motion(model: StochasticGroundMotion | TwoComponentGroundMotion 
     return sample(model, jax.random.fold_in(key, index), 1)[0]
 
 
+def motions_at_level(model, level):
+    """`model` with the expected peak ground acceleration `level` [m/s^2] of its (major)
+    horizontal component (a float or a traced scalar: one compiled run serves every level);
+    with a vertical component (`VerticalGroundMotion`) the vertical one's peak,
+    `vertical_ratio` times the horizontal one's, scales with it."""
+    if isinstance(model, VerticalGroundMotion):
+        return eqx.tree_at(lambda m: m.model, model, motions_at_level(model.model, level))
+    if isinstance(model, TwoComponentGroundMotion):
+        return eqx.tree_at(lambda m: m.model.peak_ground_acceleration, model, level)
+    return eqx.tree_at(lambda m: m.peak_ground_acceleration, model, level)
+
+
+def level_of(model) -> float:
+    """The expected peak ground acceleration [m/s^2] of `model`'s (major) horizontal component."""
+    if isinstance(model, VerticalGroundMotion):
+        model = model.model
+    if isinstance(model, TwoComponentGroundMotion):
+        model = model.model
+    return float(model.peak_ground_acceleration)
+
+
 def stochastic_grid(motions) -> tuple[float, int, int]:
     """(time step [s], samples, components: the rows of a motion) of a stochastic motion model."""
     if isinstance(motions, VerticalGroundMotion):
@@ -71,11 +92,14 @@ class _Source(eqx.Module):
         """Whether each motion has a vertical component (`VerticalGroundMotion`)."""
         return isinstance(self.model, VerticalGroundMotion)
 
-    def signal(self, index, values):
+    def signal(self, index, values, level=None):
         """The motion's `Signal`, or its (x, y) pair of `Signal`s for two components; with a
-        vertical component the pair (horizontal, vertical), horizontal either of those."""
+        vertical component the pair (horizontal, vertical), horizontal either of those.
+        `level` [m/s^2]: the expected peak ground acceleration of a generated motion
+        (`motions_at_level`; default the model's)."""
         if self.model is not None:
-            values = monte_carlo_motion(self.model, self.key, index)
+            model = self.model if level is None else motions_at_level(self.model, level)
+            values = monte_carlo_motion(model, self.key, index)
         if self.vertical:
             vertical = uniform_signal(values[-1], self.time_step)
             if self.components == 2:
