@@ -271,6 +271,18 @@ MUTANTS = (
            "return jnp.maximum(normal_load, 0.0) / system.bearing_load",
            "return jnp.mean(jnp.maximum(normal_load, 0.0) / system.bearing_load) * jnp.ones_like(system.bearing_load)",
            ("tests/test_slab_pendulum.py",), "overturning: one load factor for every group (their mean)"),
+    Mutant("O3", "teflon_jax/systems/_overturning.py",
+           "return jnp.where(ok, active & (n > 0), active)",
+           "return jnp.where(ok, active, active)",
+           ("tests/test_slab_series.py",), "uplift: a lifted group's share stays with the lever rule "
+           "(the other supports take no more)"),
+    Mutant("O4", "teflon_jax/systems/_slab_series.py",
+           "self.pendulum, state[\"heat\"], p[\"k\"], _length(d)[..., 0], self.time_step, self.heat_rates,\n"
+           "                factor)",
+           "self.pendulum, state[\"heat\"], p[\"k\"], _length(d)[..., 0], self.time_step, self.heat_rates,\n"
+           "                jnp.ones_like(factor))",
+           ("tests/test_slab_series_heat.py",), "heated slab: each group's surfaces heat under the "
+           "weight W_g, not its own normal load N_g"),
 ) + LAWS
 
 
