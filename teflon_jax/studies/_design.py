@@ -77,7 +77,7 @@ def expected_response(
     "peak_disp": mean true peak, "disp_p95", "peak_disp_p95": the 95th percentiles over the
     motions of D_s and of the true peak (linear interpolation between order statistics,
     `jnp.percentile`'s default: piecewise linear in the peaks, so differentiable wherever two
-    motions' peaks do not swap order), "converged": all steps of all motions converged,
+    motions' peaks do not swap order), "peak_disp_max": the largest true peak, "converged": all steps of all motions converged,
     "n_failed": motions with a step whose Newton solve did not converge}.
     """
     records = _records_array(records, record_time_step)
@@ -95,6 +95,7 @@ def expected_response(
         "peak_disp": jnp.mean(peaks.base_disp),
         "disp_p95": jnp.percentile(peaks.smooth_base_disp, 95.0),
         "peak_disp_p95": jnp.percentile(peaks.base_disp, 95.0),
+        "peak_disp_max": jnp.max(peaks.base_disp),
         "converged": jnp.all(peaks.converged),
         "n_failed": jnp.sum(~peaks.converged),
     }
