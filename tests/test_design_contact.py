@@ -9,6 +9,8 @@ enters, and a derivative made wrong on purpose (its chain rule through d scaled)
 Reference: Zayas, Low & Mahin (1990), Earthquake Spectra 6(2).
 """
 
+import json
+
 import jax
 import pytest
 
@@ -93,11 +95,18 @@ def _central(value, x, name, h):
     return {k: (plus[k] - minus[k]) / (2 * h) for k in ("shear", "disp")}
 
 
-def test_the_kink_is_found_at_the_largest_peak_without_restrainer(problem, compiled):
+@pytest.fixture(scope="module")
+def kink(problem, compiled):
+    """(x, its contact report) with the restrainer barely reached: d = P_0 (1 - 1e-7)."""
     _, _, bounds, largest = problem
+    x = {"radius": RADIUS, "capacity": largest * (1 - 1e-7)}
+    return x, restrainer_contact_check(*compiled, x, bounds, OUTPUTS)
+
+
+def test_the_kink_is_found_at_the_largest_peak_without_restrainer(problem, compiled, kink):
+    largest = problem[3]
     value, jacobian = compiled
-    x = {"radius": RADIUS, "capacity": largest * (1 - 1e-7)}  # the restrainer barely reached
-    contact = restrainer_contact_check(value, jacobian, x, bounds, OUTPUTS)
+    x, contact = kink
     assert contact["at_contact"] and contact["tolerance"] == CONTACT_TOLERANCE
     assert contact["free_largest_peak"] == pytest.approx(largest, rel=1e-12)
     assert contact["gap"] == pytest.approx(-1e-7, rel=1e-3)  # (d - P_0) / d
@@ -151,3 +160,21 @@ def test_a_wrong_derivative_in_the_capacity_fails_the_one_sided_check(problem):
     assert check["rel_error"] == check["restrainer_contact"]["rel_error"] > GRADIENT_TOLERANCE
     assert any("restrainer contact" in m and "one-sided" in m for m in check["messages"])
     assert any("gradient check failed" in m for m in check["messages"])
+
+
+def test_the_design_summary_reports_the_contact_and_exits_0_when_the_one_sided_check_passes(kink, capsys):
+    from types import SimpleNamespace
+
+    from teflon_jax.cli._common import output_units
+    from teflon_jax.cli._design import _contact_fields, _verdict
+    from teflon_jax.units import INCH
+
+    _, contact = kink
+    fields = json.loads(json.dumps(_contact_fields(contact, 0.5, output_units("us"))))
+    assert fields["at_contact"] and fields["central_rel_error"] == 0.5
+    assert fields["one_sided_rel_error"] == contact["rel_error"] and len(fields["one_sided_checks"]) == 4
+    assert fields["free_largest_peak_in"] == pytest.approx(contact["free_largest_peak"] / INCH, rel=1e-12)
+    assert fields["relative_gap"] == contact["gap"] and fields["tolerance"] == CONTACT_TOLERANCE
+    result = SimpleNamespace(messages=(), at_bounds=(), simulation_converged=True, optimiser_converged=True,
+                             n_failed_motions=0, steps=12, limit_met=True, gradient_rel_error=contact["rel_error"])
+    assert _verdict(result, None) == 0 and capsys.readouterr().err == ""
