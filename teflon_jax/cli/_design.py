@@ -51,8 +51,9 @@ def add_design_parser(subparsers) -> argparse.ArgumentParser:
         "true ones; the limit on them is lowered until the mean TRUE peak base displacement "
         "(or its 95th percentile over the motions, --limit-statistic p95) meets --disp-limit. "
         "Exits with status 1 when the reported design breaks --disp-limit, "
-        "a simulation did not converge or the gradient check fails; warns when the optimum "
-        "lies on a bound.",
+        "a simulation did not converge or the gradient check fails (one-sided, from each side "
+        "of the kink, where a designed capacity sits at the largest peak's restrainer contact); "
+        "warns when the optimum lies on a bound.",
     )
     parser.add_argument("--motions", type=_positive_int, default=16, help="motions in the set (default 16)")
     _add_common(parser)
