@@ -51,8 +51,9 @@ def add_design_parser(subparsers) -> argparse.ArgumentParser:
         "true ones; the limit on them is lowered until the mean TRUE peak base displacement "
         "(or its 95th percentile over the motions, --limit-statistic p95) meets --disp-limit. "
         "Exits with status 1 when the reported design breaks --disp-limit, "
-        "a simulation did not converge or the gradient check fails; warns when the optimum "
-        "lies on a bound.",
+        "a simulation did not converge or the gradient check fails (one-sided, from each side "
+        "of the kink, where a designed capacity sits at the largest peak's restrainer contact); "
+        "warns when the optimum lies on a bound.",
     )
     parser.add_argument("--motions", type=_positive_int, default=16, help="motions in the set (default 16)")
     _add_common(parser)
@@ -186,6 +187,7 @@ def run_design(args) -> int:
           f"{units.show(result.limited_smooth_disp, 'length')} under "
           f"{units.show(result.smooth_disp_limit, 'length')}, "
           f"{result.mean_shear:.4g}); {result.steps} BFGS steps; gradient check "
+          f"{'(one-sided at the restrainer contact) ' if _at_contact(result) else ''}"
           f"{result.gradient_rel_error:.2g} relative; {payload['wall_s']:.1f} s")
     return _verdict(result, args)
 
@@ -291,6 +293,8 @@ def _payload(args, result, sweep, units, wall_s: float) -> dict:
         "limit_statistic": args.limit_statistic,
         "restrainer_ratio": args.restrainer_ratio if "capacity" in result.optimum else None,
         "gradient_rel_error": result.gradient_rel_error,
+        "gradient_check": "one-sided" if _at_contact(result) else "central",
+        "restrainer_contact": _contact_fields(result.restrainer_contact, result.central_rel_error, units),
         "gradient_tolerance": _tolerance(),
         "messages": list(result.messages),
         "grid_best": {
@@ -303,6 +307,26 @@ def _payload(args, result, sweep, units, wall_s: float) -> dict:
         "sweep_file": None if args.out is None else str(args.out),
     }
     return payload
+
+
+def _at_contact(result) -> bool:
+    return bool(result.restrainer_contact and result.restrainer_contact["at_contact"])
+
+
+def _contact_fields(contact, central: float, units) -> dict | None:
+    """JSON entries of `restrainer_contact_check`'s report (lengths in `units`): None without
+    a designed capacity."""
+    if contact is None:
+        return None
+    unit, scale = units.length
+    fields = {"at_contact": contact["at_contact"], f"capacity_{unit}": contact["capacity"] / scale,
+              f"largest_peak_{unit}": contact["largest_peak"] / scale,
+              f"free_largest_peak_{unit}": contact["free_largest_peak"] / scale,
+              "relative_gap": contact["gap"], "tolerance": contact["tolerance"]}
+    if contact["at_contact"]:
+        fields.update(central_rel_error=central, one_sided_rel_error=contact["rel_error"],
+                      one_sided_checks=contact["checks"])
+    return fields
 
 
 def _tolerance() -> float:

@@ -77,7 +77,7 @@ def expected_response(
     "peak_disp": mean true peak, "disp_p95", "peak_disp_p95": the 95th percentiles over the
     motions of D_s and of the true peak (linear interpolation between order statistics,
     `jnp.percentile`'s default: piecewise linear in the peaks, so differentiable wherever two
-    motions' peaks do not swap order), "converged": all steps of all motions converged,
+    motions' peaks do not swap order), "peak_disp_max": the largest true peak, "converged": all steps of all motions converged,
     "n_failed": motions with a step whose Newton solve did not converge}.
     """
     records = _records_array(records, record_time_step)
@@ -95,6 +95,7 @@ def expected_response(
         "peak_disp": jnp.mean(peaks.base_disp),
         "disp_p95": jnp.percentile(peaks.smooth_base_disp, 95.0),
         "peak_disp_p95": jnp.percentile(peaks.base_disp, 95.0),
+        "peak_disp_max": jnp.max(peaks.base_disp),
         "converged": jnp.all(peaks.converged),
         "n_failed": jnp.sum(~peaks.converged),
     }
@@ -215,6 +216,10 @@ class DesignResult:
       design variables, between the forward-mode derivative and finite differences at the
       optimum (`design_gradient_check`); `gradient`, `finite_differences`: the two, as
       {"shear": {name: ..}, "disp": {name: ..}};
+    - `restrainer_contact`: with a capacity designed, `restrainer_contact_check`'s report (is
+      the optimum where the largest peak just touches the restrainer; there
+      `gradient_rel_error` is the one-sided check's, `central_rel_error` the central one's,
+      which straddles the kink); None otherwise;
     - `converged`: optimiser, simulations, gradient check (<= `GRADIENT_TOLERANCE`) and the
       limit on the true peaks all succeeded; `messages`: why not, and warnings (a bound, a kink of Table 1).
     """
@@ -243,6 +248,8 @@ class DesignResult:
     limit_statistic: str = "mean"
     p95_disp: float = math.nan
     p95_peak_disp: float = math.nan
+    restrainer_contact: dict | None = None
+    central_rel_error: float = math.nan
 
     @property
     def limited_disp(self) -> float:
@@ -382,6 +389,7 @@ def optimise_design(
         converged=optimiser_ok and failed == 0 and check["rel_error"] <= GRADIENT_TOLERANCE and limit_met,
         messages=tuple(messages), wall_s=time.perf_counter() - tic, limit_statistic=limit_statistic,
         p95_disp=float(final["disp_p95"]), p95_peak_disp=float(final["peak_disp_p95"]),
+        restrainer_contact=check["restrainer_contact"], central_rel_error=check["central_rel_error"],
     )
 
 

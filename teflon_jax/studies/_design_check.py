@@ -13,7 +13,8 @@ Table 1 the friction constants, linearly interpolated, have a kink, so a central
 there averages two different slopes (the 57 % error of the old default design problem, whose
 optimum sat on 3000 psi, was exactly this). A kink inside the box (a Table 1 row strictly
 between the bounds) is reported when the optimum sits on it: the derivative is one-sided
-there and no gradient check can pass.
+there and no gradient check can pass. The kink of a friction pendulum's restrainer at the
+largest peak is checked one-sided on each side (`restrainer_contact_check`).
 Reference for the finite-difference formulas: Fornberg (1988), Math. Comp. 51(184).
 """
 
@@ -21,6 +22,7 @@ import jax
 import numpy as np
 
 from ..units import PSI
+from ._design_contact import restrainer_contact_check
 
 GRADIENT_TOLERANCE = 1e-4
 """Largest relative difference between forward-mode and finite-difference derivatives [-]."""
@@ -52,17 +54,24 @@ def design_gradient_check(structure, response, x: dict, bounds, *, relative_step
 
     **Returns:** {"gradient", "finite_differences": {"shear": {name: ..}, "disp": {..}},
     "rel_error": max over outputs and variables of |g - fd| / max(|g|, |fd|),
-    "at_bounds": names on a bound, "messages": warnings and reasons}.
+    "at_bounds": names on a bound, "messages": warnings and reasons, "central_rel_error": the
+    error of the central (or bound) differences, "restrainer_contact": None without a capacity,
+    else `restrainer_contact_check`'s report}. At the restrainer contact "rel_error" is the
+    one-sided check's there (the central differences straddle the kink).
     """
     names = tuple(bounds.ranges)
     x = {k: float(x[k]) for k in names}
-    outputs = jax.jit(lambda z: {k: response(z)[k] for k in _OUTPUTS})
-    jacobian = jax.jit(jax.jacfwd(lambda z: {k: response(z)[k] for k in _OUTPUTS}))(x)
+    keys = _OUTPUTS + (("peak_disp_max",) if "capacity" in names else ())
+    outputs = jax.jit(lambda z: {k: response(z)[k] for k in keys})
+    forward = jax.jit(jax.jacfwd(lambda z: {k: response(z)[k] for k in keys}))
 
     def value(z):
         return {k: float(v) for k, v in outputs(z).items()}
 
-    gradient = {k: {n: float(jacobian[k][n]) for n in names} for k in _OUTPUTS}
+    def jacobian(z):
+        return {k: {n: float(v) for n, v in d.items()} for k, d in forward(z).items()}
+
+    gradient = {k: v for k, v in jacobian(x).items() if k in _OUTPUTS}
     differences = {k: {} for k in _OUTPUTS}
     at_bounds, messages = [], []
     knots = np.asarray(structure.table().pressures if hasattr(structure, "table") else [], dtype=float)
@@ -100,7 +109,11 @@ def design_gradient_check(structure, response, x: dict, bounds, *, relative_step
         for k in _OUTPUTS
         for n in names
     ]
-    rel_error = float(max(errors))
+    rel_error = central = float(max(errors))
+    contact = restrainer_contact_check(value, jacobian, x, bounds, _OUTPUTS, relative_step=relative_step)
+    if contact is not None and contact["at_contact"]:
+        rel_error = contact["rel_error"]
+        messages.append(_contact_message(contact, central))
     if not rel_error <= GRADIENT_TOLERANCE:
         messages.append(
             f"gradient check failed: the derivatives the optimiser used differ from finite "
@@ -113,7 +126,20 @@ def design_gradient_check(structure, response, x: dict, bounds, *, relative_step
         "rel_error": rel_error,
         "at_bounds": tuple(at_bounds),
         "messages": tuple(messages),
+        "central_rel_error": central,
+        "restrainer_contact": contact,
     }
+
+
+def _contact_message(contact, central) -> str:
+    """The note of an optimum at the restrainer contact (`restrainer_contact_check`)."""
+    return (f"capacity = {_show('capacity', contact['capacity'])} sits at the restrainer contact: the "
+            f"largest peak without restrainer, {_show('capacity', contact['free_largest_peak'])}, lies "
+            f"a fraction {abs(contact['gap']):.2g} {'below' if contact['gap'] >= 0 else 'above'} it "
+            f"(at most {contact['tolerance']:g}), where the responses have a kink (their derivative in "
+            "the capacity is zero beyond it); the gradient there is checked one-sided, on each side "
+            f"of the kink (largest relative error {contact['rel_error']:.2g}; central differences, "
+            f"which straddle it: {central:.2g}).")
 
 
 def _show(name, value):
