@@ -272,8 +272,8 @@ MUTANTS = (
            "return jnp.mean(jnp.maximum(normal_load, 0.0) / system.bearing_load) * jnp.ones_like(system.bearing_load)",
            ("tests/test_slab_pendulum.py",), "overturning: one load factor for every group (their mean)"),
     Mutant("O3", "teflon_jax/systems/_overturning.py",
-           "return jnp.where(ok, active & (n > 0), active)",
-           "return jnp.where(ok, active, active)",
+           "return jnp.where(ok & jnp.any(linear <= 0), n, linear)",
+           "return jnp.where(ok & jnp.any(linear <= 0), linear, linear)",
            ("tests/test_slab_series.py",), "uplift: a lifted group's share stays with the lever rule "
            "(the other supports take no more)"),
     Mutant("O4", "teflon_jax/systems/_slab_series.py",
