@@ -276,6 +276,11 @@ MUTANTS = (
            "return jnp.where(ok & jnp.any(linear <= 0), linear, linear)",
            ("tests/test_slab_series.py",), "uplift: a lifted group's share stays with the lever rule "
            "(the other supports take no more)"),
+    Mutant("P5", "teflon_jax/bearing/_series_pendulum.py",
+           "[getattr(self, n).scaled(factor) for n in names])",
+           "[getattr(self, n).scaled(factor if i == 0 else 1.0) for i, n in enumerate(names)])",
+           ("tests/test_series_bounding.py",), "bounding of a series pendulum: only the first "
+           "surface's friction is scaled"),
     Mutant("O4", "teflon_jax/systems/_slab_series.py",
            "self.pendulum, state[\"heat\"], p[\"k\"], _length(d)[..., 0], self.time_step, self.heat_rates,\n"
            "                factor)",
