@@ -444,7 +444,7 @@ def _failure(system, response) -> str:
                 "leaning groups (they take no tension), which a rigid slab without rocking cannot "
                 "balance; lower the height, spread the groups or give a weaker record. Nothing was "
                 "written.").format(float(np.asarray(response.time)[np.argmin(
-                    np.all(np.isfinite(np.asarray(response.q)), axis=-1))]))
+                    np.all(np.isfinite(np.asarray(response.q)), axis=-1)) - 1]))
     return f"the solver did not converge ({response.result}); try a smaller --time-step."
 
 

@@ -180,13 +180,13 @@ def initial_normal_load(system):
 
 
 def tipped_at_failure(system, response) -> bool:
-    """Whether the step on which a `BidirectionalResponse` of `system` (with overturning, saved
-    at every step) stopped is one on which the slab tips (`supported_loads`): the loads from H
-    at the last saved state and the vertical record at the next step's end. False for a run
-    that did not stop."""
+    """Whether the step on which a failed `BidirectionalResponse` of `system` (with overturning,
+    saved at every step) stopped is one on which the slab tips (`supported_loads`). The failed
+    step is the last saved one (the solver keeps its end, then stops); its loads come from H at
+    the state before it and the vertical record at its end."""
     finite = np.all(np.isfinite(np.asarray(response.q)), axis=-1)
-    if system.overturning is None or finite.all() or not finite[0]:
+    last = finite.size - 1 if finite.all() else int(np.argmin(finite)) - 1
+    if system.overturning is None or last < 1:
         return False
-    k = int(np.argmin(finite))  # the first step not saved; its start is k - 1
-    force = inertia_force(system, response.acceleration[k - 1], response.ground[k - 1])
-    return not bool(supported_loads(system, force, response.time[k - 1] + system.time_step)[1])
+    force = inertia_force(system, response.acceleration[last - 1], response.ground[last - 1])
+    return not bool(supported_loads(system, force, response.time[last])[1])
