@@ -278,3 +278,16 @@ def test_run_reports_each_groups_normal_load(tmp_path, capsys):
     for g in groups.values():
         assert g["min_N"] < g["static_N"] == 250e3 < g["peak_N"] and g["uplift_time_s"] == 0
     assert groups["SW"]["peak_N"] - 250e3 == pytest.approx(250e3 - groups["SE"]["min_N"], rel=0.05)
+
+
+def test_run_exits_non_zero_naming_a_slab_that_tips(tmp_path, capsys):
+    """`run --structure slab --isolator single-fp` with the centre of mass 40 m up: the 0.4 g
+    pulse's H passes W times the 8 m arm over 40 m (0.2 W), the west or east pair lifts and the
+    slab tips: exit 1 naming the tipping and the plan's height, no JSON written."""
+    out = tmp_path / "run.json"
+    code = main(["run", "--structure", "slab", "--plan", str(_plan(tmp_path, height="40m")),
+                 "--record-x", str(_record(tmp_path)), "--record-units", "g", "--isolator",
+                 "single-fp", "--radius", "88in", "--json", str(out), "--time-step", "0.005s"])
+    err = capsys.readouterr().err
+    assert code == 1 and not out.exists()
+    assert "the slab tips (first near t =" in err and "height_of_centre_of_mass" in err
