@@ -15,6 +15,7 @@ from teflon_jax.systems import (
     overturning_map,
     simulate_bidirectional,
     slab_on_bearings,
+    tipped_at_failure,
 )
 from teflon_jax.tables import interface_parameters
 from teflon_jax.units import PSI, STANDARD_GRAVITY
@@ -88,23 +89,46 @@ def test_static_lever_rule_and_which_groups_unload(sign):
 
 
 def test_uplifted_group_carries_no_shear_and_the_run_stays_finite():
-    """Groups 4 m apart under a tall centre of mass (h = 20 m): the lever rule asks more than
-    W_g of tension on one side; there the group's friction and pendulum force are exactly zero,
-    the uplift time is the count of its steps with N_g <= 0, and the response stays finite."""
+    """Groups 4 m apart under a tall centre of mass (h = 20 m) and a ramped diagonal ground
+    acceleration of 0.08 g: the lever rule asks tension of the NE group, the slab rests on the
+    other three (the centre of the reactions, C - h H / W, inside the square); NE's friction and
+    pendulum force are exactly zero, the uplift time is the count of its steps with N_g <= 0,
+    the loads add up to W and the response stays finite and balanced."""
     positions = np.array([[8.0, 4.0], [12.0, 4.0], [12.0, 8.0], [8.0, 8.0]])
-    ax, ay = _pulse(0.5, 0.0)
+    ax, ay = _ramp(0.08, 0.08)
     system = _slab(ax, ay, 20.0, positions=positions)
     response = simulate_bidirectional(system, DURATION)
     loads = np.asarray(response.normal_load)
     lifted = loads <= 0
-    assert lifted.any() and np.all(np.isfinite(np.asarray(response.q)))
+    assert lifted[:, 2].any() and not lifted[:, [0, 1, 3]].any() and np.all(np.isfinite(np.asarray(response.q)))
+    assert np.max(np.abs(loads.sum(axis=1) - W)) < 1e-9 * W
     assert np.all(np.asarray(response.friction_force)[lifted] == 0.0)
     force = M * (np.asarray(response.acceleration)[:, :2] + np.asarray(response.ground))
     assert np.allclose(_isolation_force(system, response), force, rtol=0, atol=1e-6 * W)
     assert np.allclose(np.asarray(response.group_uplift_time), lifted[1:].sum(axis=0) * STEP)
-    # x motion lifts the groups pairwise (SW with NW, SE with NE), by the plan's symmetry
-    time = np.asarray(response.group_uplift_time)
-    assert time[0] == time[3] > 0 and time[1] == time[2] > 0
+
+
+def test_a_slab_that_tips_is_reported_not_balanced():
+    """The same square under an x pulse: lifting the west pair leaves the slab on the east pair,
+    one line it cannot rest on (h |H| > W times the 2 m arm): the run stops at the first step
+    whose held H (the step before's) passes that, with a failed result (raised with `throw`);
+    the steps before it rested (|h H| <= 2 m W, every group loaded, the loads adding up to W),
+    the failed step keeps W on the east pair, and the stop is recognised as tipping."""
+    positions = np.array([[8.0, 4.0], [12.0, 4.0], [12.0, 8.0], [8.0, 8.0]])
+    ax, ay = _pulse(0.5, 0.0)
+    system = _slab(ax, ay, 20.0, positions=positions)
+    response = simulate_bidirectional(system, DURATION, throw=False)
+    assert not bool(response.succeeded) and tipped_at_failure(system, response)
+    saved = np.all(np.isfinite(np.asarray(response.q)), axis=-1)
+    k = int(np.argmin(saved)) - 1  # the failed step, the last one kept
+    assert 1 < k and saved[:k + 1].all() and not saved[k + 1:].any()
+    force = _isolation_force(system, response)[:k]
+    assert 20.0 * np.abs(force[-1, 0]) > 2.0 * W >= 20.0 * np.abs(force[:-1, 0]).max()
+    loads = np.asarray(response.normal_load)[:k + 1]
+    assert np.all(loads[:-1] > 0) and np.max(np.abs(loads.sum(axis=1) - W)) < 1e-9 * W
+    assert np.allclose(loads[-1], [0.0, W / 2, W / 2, 0.0], rtol=1e-12, atol=0)
+    with pytest.raises(Exception, match="Nonlinear solve diverged"):
+        simulate_bidirectional(system, DURATION)
 
 
 def test_symmetric_slab_under_one_component_equals_the_rigid_mass():
@@ -254,3 +278,16 @@ def test_run_reports_each_groups_normal_load(tmp_path, capsys):
     for g in groups.values():
         assert g["min_N"] < g["static_N"] == 250e3 < g["peak_N"] and g["uplift_time_s"] == 0
     assert groups["SW"]["peak_N"] - 250e3 == pytest.approx(250e3 - groups["SE"]["min_N"], rel=0.05)
+
+
+def test_run_exits_non_zero_naming_a_slab_that_tips(tmp_path, capsys):
+    """`run --structure slab --isolator single-fp` with the centre of mass 40 m up: the 0.4 g
+    pulse's H passes W times the 8 m arm over 40 m (0.2 W), the west or east pair lifts and the
+    slab tips: exit 1 naming the tipping and the plan's height, no JSON written."""
+    out = tmp_path / "run.json"
+    code = main(["run", "--structure", "slab", "--plan", str(_plan(tmp_path, height="40m")),
+                 "--record-x", str(_record(tmp_path)), "--record-units", "g", "--isolator",
+                 "single-fp", "--radius", "88in", "--json", str(out), "--time-step", "0.005s"])
+    err = capsys.readouterr().err
+    assert code == 1 and not out.exists()
+    assert "the slab tips (first near t =" in err and "height_of_centre_of_mass" in err

@@ -19,6 +19,7 @@ from teflon_jax.excitation import uniform_signal
 from teflon_jax.systems import (
     overturning_map,
     redistributed_loads,
+    resting_loads,
     simulate_slab_series,
     simulate_triple_structure,
     slab_on_bearings,
@@ -125,13 +126,17 @@ def test_a_lifted_group_carries_no_shear_and_its_sliders_share_its_motion():
     """Groups 4 m apart under a tall centre of mass (h = 20 m): the lever rule asks tension of
     one side; there every slider's force is exactly zero, the sliders share the group's
     increment as R_e (the inner pair 0.6 m, the outer 1.8 m each), the uplift time counts the
-    steps with N_g <= 0, and the run stays finite and balanced."""
+    steps with N_g <= 0, and the run stays finite. Under x motion a lifted side leaves the slab
+    on two groups on one line: it tips, and exactly those steps are reported as unbalanced."""
     positions = np.array([[8.0, 4.0], [12.0, 4.0], [12.0, 8.0], [8.0, 8.0]])
     ax, ay = _pulse(0.5, 0.0)
     response = simulate(_slab(ax, ay, 20.0, positions=positions), DURATION)
     loads = np.asarray(response.normal_load)
     lifted = loads <= 0
-    assert lifted.any() and bool(np.all(response.converged)) and np.all(np.isfinite(np.asarray(response.q)))
+    assert lifted.any() and np.all(np.isfinite(np.asarray(response.q)))
+    assert np.array_equal(~np.asarray(response.converged), np.asarray(response.tipped))
+    assert np.array_equal(np.asarray(response.tipped)[1:], lifted[1:].any(axis=1))
+    assert np.max(np.abs(loads.sum(axis=1) - W)) < 1e-9 * W
     assert np.all(np.asarray(response.group_force)[lifted] == 0.0)
     steps = np.diff(np.asarray(response.slider), axis=0)[lifted[1:]]  # (n, S, 2)
     radii = np.array([0.6, 1.8, 1.8])
@@ -170,7 +175,8 @@ def test_redistribution_by_statics_and_where_the_slab_cannot_rest():
     the three others carry the load by statics alone (numpy's solve of the three
     equilibrium equations), whatever their vertical stiffness; the loads sum to W and the west
     pair carries nothing. Four corners whose west pair lifts leave two groups on one line: the
-    lever rule's loads are kept (the tension a bonded support would need)."""
+    slab tips (not resting), the west pair carries nothing and the east pair the whole weight,
+    in the lever rule's proportion."""
     positions = np.vstack([CORNERS, [[14.0, 6.0]]])
     static = np.array([0.15, 0.2, 0.2, 0.15, 0.3]) * W
     centre = static @ positions / W
@@ -189,8 +195,10 @@ def test_redistribution_by_statics_and_where_the_slab_cannot_rest():
         assert np.allclose(loads[remaining], statics, rtol=1e-10)
     linear = W / 4 + overturning_map(CORNERS, CENTRE, 20.0) @ force
     assert np.all(linear[[0, 3]] < 0)
-    loads = redistributed_loads(support_plan(CORNERS, CENTRE, 20.0), np.full(4, W / 4), linear, force)
-    assert np.array_equal(np.asarray(loads), linear)
+    loads, rests = resting_loads(support_plan(CORNERS, CENTRE, 20.0), np.full(4, W / 4), linear, force)
+    loads = np.asarray(loads)
+    assert not bool(rests) and np.all(loads[[0, 3]] == 0.0)
+    assert np.allclose(loads[[1, 2]], W * linear[[1, 2]] / linear[[1, 2]].sum(), rtol=1e-12)
 
 
 def test_bad_series_slab_inputs_are_refused_by_name():

@@ -65,10 +65,10 @@ def _run(tmp_path, isolator, height, *flags):
 def test_each_suite_pair_is_its_single_run_with_overturning(tmp_path, isolator, checked):
     """Pairs `checked` of the suite against their single runs (the fast cases one pair each)."""
     suite = _write_pairs(tmp_path)
-    result, out = _run(tmp_path, isolator, "30m", "--suite", suite)
+    result, out = _run(tmp_path, isolator, "20m", "--suite", suite)
     assert result["failed"] == 0 and set(result["pairs"]) == {"calm_x", "strong_x"}
     for name in checked:
-        single, _ = _run(tmp_path, isolator, "30m", "--record-x", tmp_path / f"{name}_x.txt",
+        single, _ = _run(tmp_path, isolator, "20m", "--record-x", tmp_path / f"{name}_x.txt",
                          "--record-y", tmp_path / f"{name}_y.txt")
         pair = result["pairs"][f"{name}_x"]
         for key in PEAKS:
@@ -82,7 +82,8 @@ def test_each_suite_pair_is_its_single_run_with_overturning(tmp_path, isolator, 
     calm = result["pairs"]["calm_x"]["normal_load"]["groups"]
     for group in calm.values():
         assert group["peak_N"] > 1.1 * STATIC and group["min_N"] < 0.9 * STATIC
-    # the strong pair uplifts a group for a while: kept, finite, in the statistics
+    # the strong pair uplifts a group for a while (the slab resting on the other three; 30 m would
+    # tip it, a step reported unbalanced): kept, finite, in the statistics
     strong = result["pairs"]["strong_x"]
     assert max(g["uplift_time_s"] for g in strong["normal_load"]["groups"].values()) > 0
     assert all(np.isfinite(v) for g in strong["normal_load"]["groups"].values() for v in g.values() if v is not None)

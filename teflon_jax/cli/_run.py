@@ -403,8 +403,7 @@ def run_run(args) -> int:
           f"{args.time_step} over {duration:g} s of record (compiling first)...", file=sys.stderr)
     response = simulate_bidirectional(system, duration, throw=False)
     if not bool(response.succeeded):
-        print(f"teflon-jax run: error: the solver did not converge ({response.result}); try a "
-              "smaller --time-step.", file=sys.stderr)
+        print(f"teflon-jax run: error: {_failure(system, response)}", file=sys.stderr)
         return 1
     peak, histories = response_summary(args, system, response, plan)
     uplift = uplift_summary(response)
@@ -433,6 +432,20 @@ def run_run(args) -> int:
         **uplift,
     }
     return write_run_outputs(args, payload, histories, args.structure, lines)
+
+
+def _failure(system, response) -> str:
+    """Why a run stopped: the slab tipping (`tipped_at_failure`) or the bearings' balance."""
+    from ..systems import tipped_at_failure
+
+    if tipped_at_failure(system, response):
+        return ("the slab tips (first near t = {:.4g} s): the overturning moment of its horizontal force "
+                "at the plan's height_of_centre_of_mass exceeds what its weight holds back about the "
+                "leaning groups (they take no tension), which a rigid slab without rocking cannot "
+                "balance; lower the height, spread the groups or give a weaker record. Nothing was "
+                "written.").format(float(np.asarray(response.time)[np.argmin(
+                    np.all(np.isfinite(np.asarray(response.q)), axis=-1)) - 1]))
+    return f"the solver did not converge ({response.result}); try a smaller --time-step."
 
 
 def write_run_outputs(args, payload, histories, title, more_lines=()) -> int:

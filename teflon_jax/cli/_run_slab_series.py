@@ -117,9 +117,9 @@ def run_series_slab(args, load_components, write_run_outputs, vertical=None) -> 
     print(f"teflon-jax run: slab on {pendulums[0].description}, {round(duration / time_step)} steps of "
           f"{args.time_step} (compiling first)...", file=sys.stderr)
     response = jax.jit(simulate_slab_series, static_argnums=1)(system, duration)
-    if not bool(np.all(np.asarray(response.converged))):
-        print("teflon-jax run: error: the sliders' balance did not converge in some step; try a "
-              "smaller --time-step.", file=sys.stderr)
+    problem = unbalanced_message(response, plan["height_of_centre_of_mass"])
+    if problem:
+        print(f"teflon-jax run: error: {problem}", file=sys.stderr)
         return 1
     peak, histories = series_slab_summary(plan, system, response)
     from ._common import output_units
@@ -143,6 +143,27 @@ def run_series_slab(args, load_components, write_run_outputs, vertical=None) -> 
                "lay_angle_deg": None, "peak": peak, **uplift, **normal,
                "slider_disp_m": _slider_peaks(plan, system, response), "surface_temperature_rise_K": rises}
     return write_run_outputs(args, payload, histories, f"slab on {pendulums[0].description}", lines)
+
+
+def unbalanced_message(response, height) -> str:
+    """Why the run cannot be trusted ('' when every step balanced): the steps on which the slab
+    tipped (`SlabSeriesResponse.tipped`) and those whose sliders' balance did not converge, each
+    with its count and first time [s]."""
+    time, converged = np.asarray(response.time), np.asarray(response.converged)
+    tipped = np.asarray(response.tipped)
+    newton = ~converged & ~tipped
+    parts = []
+    if tipped.any():
+        parts.append(f"the slab tips on {int(tipped.sum())} steps (first at t = {time[tipped][0]:.4g} s): "
+                     f"the overturning moment of its horizontal force at the centre of mass "
+                     f"{height:g} m above the sliding surface exceeds what its weight holds back "
+                     "about the leaning groups (they take no tension), which a rigid slab without "
+                     "rocking cannot balance; lower height_of_centre_of_mass in the plan, spread "
+                     "the groups, or give a weaker record")
+    if newton.any():
+        parts.append(f"the sliders' balance did not converge on {int(newton.sum())} steps (first at "
+                     f"t = {time[newton][0]:.4g} s); try a smaller --time-step")
+    return "; ".join(parts) + ("; the response cannot be trusted, nothing was written." if parts else "")
 
 
 def series_slab_summary(plan, system, response):

@@ -29,7 +29,9 @@ from ._models import superstructure_matrices as superstructure_matrices
 from ._overturning import SupportPlan as SupportPlan
 from ._overturning import overturning_map as overturning_map
 from ._overturning import redistributed_loads as redistributed_loads
+from ._overturning import resting_loads as resting_loads
 from ._overturning import support_plan as support_plan
+from ._overturning import tipped_at_failure as tipped_at_failure
 from ._peaks import RESPONSE_NAMES as RESPONSE_NAMES
 from ._peaks import STEPS_PER_LOOP_PASS as STEPS_PER_LOOP_PASS
 from ._peaks import peak_response as peak_response

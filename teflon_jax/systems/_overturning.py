@@ -25,8 +25,14 @@ tension: when the lever rule leaves a group with N_g <= 0 the slab rests on the 
 take its share, the plane of the remaining supports solved again with the same total load and
 moment (`redistributed_loads`, removing the groups that lift until none is left in tension);
 the lifted group has N_g = 0 and carries no shear. Where fewer than three groups off one line
-remain, the slab cannot rest on them and the loads stay the lever rule's (a negative N_g: the
-tension a bonded support would need, the moment then not fully balanced).
+remain, the slab cannot rest on them: the resultant of the vertical reactions would have to act
+at C - h H / N (N = sum_g N_g) outside the groups' support, i.e. the moment h H exceeds what
+the weight can hold back about the leaning edge, and a rigid slab on supports that take no
+tension tips. The model has no rocking, so such a step cannot be balanced: it is reported
+(`supported_loads`' flag, folded into each structure's convergence flag) and the loads keep
+vertical equilibrium, the lever rule's positive loads scaled to sum to (1 + a_v / g) W, so the
+run stays finite (a lever rule with the tension clipped would load the groups with more than
+the weight, which under a restrainer's force feeds back on H from step to step).
 References: Nagarajaiah, Reinhorn & Constantinou (1991), 3D-BASIS, NCEER-91-0005 (rigid slab
 on bearings with normal loads from overturning); Almazan, De la Llera & Inaudi (1998),
 Earthquake Eng. Struct. Dyn. 27(8), 845-867 (friction pendulum under a varying normal load).
@@ -92,12 +98,18 @@ def support_plan(positions, centre_of_mass, height, vertical_stiffness=None) -> 
 
 
 def redistributed_loads(supports: SupportPlan, static, linear, force, vertical=1.0):
-    """N_g (G,) [N] of a slab on supports that take no tension: from the lever rule's loads
-    `linear` (G,), the groups with N_g <= 0 are removed and the plane of the others solved
-    again for the same resultant (sum_g N_g = sum_g `static`, the moments of `static` and of
-    -h H, H = `force` (2,) [N], counted while `vertical` > 0), until none is in tension (at most
-    G rounds). `linear` itself where no group lifts, or where fewer than three groups off one
-    line remain (the slab cannot rest on them)."""
+    """N_g (G,) [N] of a slab on supports that take no tension (`resting_loads`' loads)."""
+    return resting_loads(supports, static, linear, force, vertical)[0]
+
+
+def resting_loads(supports: SupportPlan, static, linear, force, vertical=1.0):
+    """(N_g (G,) [N], whether the slab rests) on supports that take no tension: from the lever
+    rule's loads `linear` (G,), the groups with N_g <= 0 are removed and the plane of the others
+    solved again for the same resultant (sum_g N_g = sum_g `static`, the moments of `static` and
+    of -h H, H = `force` (2,) [N], counted while `vertical` > 0), until none is in tension (at
+    most G rounds). `linear` itself where no group lifts (or nothing presses, sum `static` <= 0);
+    where fewer than three groups off one line remain the slab tips (module docstring): it does
+    not rest, and the loads are max(`linear`, 0) scaled to sum to sum `static`."""
     k, p = supports.stiffness, supports.arms
     moment = jnp.concatenate([jnp.zeros(1, static.dtype), -supports.height * force]) * (vertical > 0)
     target = p.T @ static + moment
@@ -114,7 +126,12 @@ def redistributed_loads(supports: SupportPlan, static, linear, force, vertical=1
         return jnp.where(ok, active & (n > 0), active)
 
     n, ok = loads(jax.lax.fori_loop(0, static.shape[0], remove, linear > 0))
-    return jnp.where(ok & jnp.any(linear <= 0), n, linear)
+    lifts, total = jnp.any(linear <= 0), jnp.sum(static)
+    rests = ok | ~lifts | (total <= 0)
+    pressed = jnp.maximum(linear, 0.0)
+    pressed_sum = jnp.sum(pressed)
+    tipped = pressed * total / jnp.where(pressed_sum > 0, pressed_sum, 1.0)
+    return jnp.where(ok & lifts, n, jnp.where(rests, linear, tipped)), rests
 
 
 def inertia_force(system, acceleration, ground):
@@ -126,14 +143,20 @@ def inertia_force(system, acceleration, ground):
 
 def overturned_loads(system, force, t):
     """N_g (G,) [N] under the vertical record at t [s] and the horizontal force `force` H (2,) [N]
-    (module docstring), redistributed while groups lift where `system.supports` is given; the
-    factor on W_g is `group_factor`."""
+    (`supported_loads`' loads); the factor on W_g is `group_factor`."""
+    return supported_loads(system, force, t)[0]
+
+
+def supported_loads(system, force, t):
+    """(N_g (G,) [N], whether the slab rests) under the vertical record at t [s] and the
+    horizontal force `force` H (2,) [N] (module docstring), redistributed while groups lift
+    where `system.supports` is given (`resting_loads`)."""
     vertical = 1.0 if system.vertical_acceleration is None else 1 + system.vertical_acceleration(t) / STANDARD_GRAVITY
     static = vertical * system.bearing_load
     linear = static + (vertical > 0) * (system.overturning @ force)
     if system.supports is None:
-        return linear
-    return redistributed_loads(system.supports, static, linear, force, vertical)
+        return linear, jnp.ones((), bool)
+    return resting_loads(system.supports, static, linear, force, vertical)
 
 
 def group_factor(system, normal_load):
@@ -144,12 +167,26 @@ def group_factor(system, normal_load):
 def overturning_step(system, t0, t1, y0, a0):
     """One step of `system` (a `BidirectionalStructure` with `overturning`) from (t0, y0) with
     acceleration a0: the groups' loads from H at t0 and the vertical record at t1, held over the
-    step; the loads are kept in the state ("normal_load")."""
-    loads = overturned_loads(system, inertia_force(system, a0, system.ground(t0)), t1)
+    step; the loads are kept in the state ("normal_load"). A step on which the slab tips
+    (`supported_loads`) is not balanced."""
+    loads, rests = supported_loads(system, inertia_force(system, a0, system.ground(t0)), t1)
     y1, converged = system.at_load(group_factor(system, loads)).newmark_update(y0, a0, system.ground(t1))
-    return {**y1, "normal_load": loads}, converged
+    return {**y1, "normal_load": loads}, converged & rests
 
 
 def initial_normal_load(system):
     """N_g (G,) [N] at rest at t = 0 (no inertia force yet)."""
     return overturned_loads(system, np.zeros(2), 0.0)
+
+
+def tipped_at_failure(system, response) -> bool:
+    """Whether the step on which a failed `BidirectionalResponse` of `system` (with overturning,
+    saved at every step) stopped is one on which the slab tips (`supported_loads`). The failed
+    step is the last saved one (the solver keeps its end, then stops); its loads come from H at
+    the state before it and the vertical record at its end."""
+    finite = np.all(np.isfinite(np.asarray(response.q)), axis=-1)
+    last = finite.size - 1 if finite.all() else int(np.argmin(finite)) - 1
+    if system.overturning is None or last < 1:
+        return False
+    force = inertia_force(system, response.acceleration[last - 1], response.ground[last - 1])
+    return not bool(supported_loads(system, force, response.time[last])[1])

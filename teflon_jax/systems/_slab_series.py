@@ -5,8 +5,9 @@ Each group g at plan position P_g (r_g = P_g - C) slides by d_g = B_g q, B_g = [
 S sliders (e) with their own planar displacements, Z and restrainers, all carrying the
 group's force F_g, their displacements adding up to d_g. Every slider's force is taken under
 the group's normal load N_g = s_g W_g (friction and N_g / R_e alike), the load of a rigid slab
-under the overturning moment of its horizontal force, held over each step (`_overturning.py`);
-while N_g <= 0 the group carries no shear and its sliders share its motion as R_e
+under the overturning moment of its horizontal force, held over each step (`_overturning.py`;
+a step on which the slab would tip, its moment beyond what the groups can hold without
+tension, is reported as unbalanced); while N_g <= 0 the group carries no shear and its sliders share its motion as R_e
 (`uplift_increments`).
 
 Heated surfaces (`SeriesPendulum.heated`) heat with their own group's load: surface e of group
@@ -40,7 +41,7 @@ import numpy as np
 
 from ..bearing import SeriesPendulum
 from ..excitation import Signal
-from ._overturning import SupportPlan, group_factor, overturned_loads
+from ._overturning import SupportPlan, group_factor, overturned_loads, supported_loads
 from ._series_heat import heated_step
 from ._triple_biaxial import (
     NEWTON_DIFFERENCE_STEP,
@@ -103,18 +104,20 @@ class SlabOnSeries(eqx.Module):
     def initial_state(self):
         """At rest: x = (q, q') (6,), sliders, Z and last increments (G, S, 2), group forces
         F_g (G, 2) [N], the generalized force beyond the springs f (3,) [N, N m], the
-        normal loads N_g (G,) [N] and, for heated surfaces, the heat states (G, S, K) [W s/m^2]."""
+        normal loads N_g (G,) [N], whether the slab tipped on the step (`supported_loads`) and, for heated surfaces, the heat states (G, S, K) [W s/m^2]."""
         groups, sliders = self.bearing_load.shape[0], self.pendulum.slider_count
         zeros = jnp.zeros((groups, sliders, 2), self.mass.dtype)
         heat = {} if self.heat_rates is None else {
             "heat": jnp.zeros((groups, sliders, self.heat_rates.shape[0]), self.mass.dtype)}
         return {**heat, "x": jnp.zeros(6, self.mass.dtype), "slider": zeros, "z": zeros, "previous": zeros,
                 "force": jnp.zeros((groups, 2), self.mass.dtype), "extra": jnp.zeros(3, self.mass.dtype),
-                "normal_load": overturned_loads(self, jnp.zeros(2, self.mass.dtype), 0.0)}
+                "normal_load": overturned_loads(self, jnp.zeros(2, self.mass.dtype), 0.0),
+                "tipped": jnp.zeros((), bool)}
 
     def step(self, state, ground0, ground1, t1):
         """One step from `state` (`initial_state`) with the ground (2,) at both ends and t1 its
-        end [s]: (state at t1, whether the sliders' balance converged)."""
+        end [s]: (state at t1, whether the step balanced: the sliders' balance converged and
+        the slab rests on its groups, `supported_loads`)."""
         free, start, end = self.step_matrix[:, :6], self.step_matrix[:, 6:11], self.step_matrix[:, 11:]
         q0 = state["x"][:3]
         linear = free @ state["x"] + start @ jnp.concatenate([ground0, state["extra"]]) + end[:, :2] @ ground1
@@ -122,7 +125,7 @@ class SlabOnSeries(eqx.Module):
         settle = jnp.linalg.inv(jnp.eye(3, dtype=phi.dtype) + phi @ self.stiffness)
         target, compliance = settle @ linear[:3], -settle @ phi  # q1 = D - G_q P
         b = self.bearing_map
-        loads = overturned_loads(self, -jnp.sum(state["force"], axis=0), t1)
+        loads, rests = supported_loads(self, -jnp.sum(state["force"], axis=0), t1)
         factor = group_factor(self, loads)  # N_g / W_g, 0 while lifted
         normal = factor * self.bearing_load
         flex = jnp.einsum("gin,nm,hjm->gihj", b, compliance, b)
@@ -148,12 +151,12 @@ class SlabOnSeries(eqx.Module):
         extra = total - self.stiffness @ q1
         x1 = linear + end[:, 2:] @ extra
         new = {"x": x1, "slider": state["slider"] + d, "z": z1, "previous": d, "force": force,
-               "extra": extra, "normal_load": loads}
+               "extra": extra, "normal_load": loads, "tipped": ~rests}
         if self.heat_rates is not None:  # the flux under the group's own N_g / W_g (0 lifted)
             new["heat"] = jax.vmap(heated_step, in_axes=(0, 0, 0, 0, None, None, 0))(
                 self.pendulum, state["heat"], p["k"], _length(d)[..., 0], self.time_step, self.heat_rates,
                 factor)
-        return new, converged
+        return new, converged & rests
 
 
 def _group_forces(p, d, dt):

@@ -105,7 +105,9 @@ class SlabSeriesResponse(eqx.Module):
     (nt, 2) [m/s^2], `group_force` (nt, G, 2) [N] (each group's isolator force, resisting its
     displacement), `bearing_displacement` (nt, G, 2) [m], `slider` (nt, G, S, 2) [m],
     `normal_load` (nt, G) [N] (a step's load at its end), `group_uplift_time` (G,) [s] (the
-    time of the steps with N_g <= 0), `converged` (nt,); `surface_temperature_rise` (nt, G, S)
+    time of the steps with N_g <= 0), `converged` (nt,) (the step balanced: the sliders' balance
+    converged and the slab rested), `tipped` (nt,) (the slab could not rest on its groups: the
+    overturning moment beyond what they hold without tension, `supported_loads`); `surface_temperature_rise` (nt, G, S)
     [K]: each surface's rise s dT at each time (`surface_temperature_rises`; 0 on a surface
     without heating), `None` where no surface heats."""
 
@@ -120,6 +122,7 @@ class SlabSeriesResponse(eqx.Module):
     normal_load: jnp.ndarray
     group_uplift_time: jnp.ndarray
     converged: jnp.ndarray
+    tipped: jnp.ndarray
     surface_temperature_rise: jnp.ndarray | None = None
 
 
@@ -152,13 +155,14 @@ def simulate_slab_series(system: SlabOnSeries, duration: float) -> SlabSeriesRes
 
     def body(state, inputs):
         new, converged = system.step(state, *inputs)
-        return new, (new["x"], new["extra"], new["force"], new["slider"], new["normal_load"], converged, rises(new))
+        return new, (new["x"], new["extra"], new["force"], new["slider"], new["normal_load"], converged,
+                     new["tipped"], rises(new))
 
     start = system.initial_state()
     _, out = jax.lax.scan(body, start, (ground[:-1], ground[1:], time[1:]))
     first = (start["x"], start["extra"], start["force"], start["slider"], start["normal_load"], jnp.array(True),
-             rises(start))
-    x, extra, force, slider, loads, converged, rise = (
+             start["tipped"], rises(start))
+    x, extra, force, slider, loads, converged, tipped, rise = (
         None if b is None else jnp.concatenate([a[None], b]) for a, b in zip(first, out))
     q = x[:, :3]
     acceleration = -(q @ system.stiffness.T + extra) / system.mass - ground @ system.influence.T
@@ -166,4 +170,4 @@ def simulate_slab_series(system: SlabOnSeries, duration: float) -> SlabSeriesRes
         time=time, q=q, velocity=x[:, 3:], acceleration=acceleration, ground=ground, group_force=force,
         bearing_displacement=jnp.einsum("gdn,tn->tgd", system.bearing_map, q), slider=slider,
         normal_load=loads, group_uplift_time=jnp.sum(loads[1:] <= 0, axis=0) * dt, converged=converged,
-        surface_temperature_rise=rise)
+        tipped=tipped, surface_temperature_rise=rise)
