@@ -272,8 +272,8 @@ MUTANTS = (
            "return jnp.mean(jnp.maximum(normal_load, 0.0) / system.bearing_load) * jnp.ones_like(system.bearing_load)",
            ("tests/test_slab_pendulum.py",), "overturning: one load factor for every group (their mean)"),
     Mutant("O3", "teflon_jax/systems/_overturning.py",
-           "return jnp.where(ok & jnp.any(linear <= 0), n, linear)",
-           "return jnp.where(ok & jnp.any(linear <= 0), linear, linear)",
+           "return jnp.where(ok & lifts, n, jnp.where(rests, linear, tipped)), rests",
+           "return jnp.where(ok & lifts, linear, jnp.where(rests, linear, tipped)), rests",
            ("tests/test_slab_series.py",), "uplift: a lifted group's share stays with the lever rule "
            "(the other supports take no more)"),
     Mutant("P5", "teflon_jax/bearing/_series_pendulum.py",
