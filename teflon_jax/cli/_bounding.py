@@ -199,4 +199,11 @@ def run_suite_bounding(args, factors, build_structure, names, ax, ay, dt, notes,
     for name, row in by_mean.items():
         cells = "".join(f"{row[c]:12.4g}" if row[c] is not None else f"{'-':>12s}" for c in BOUNDING_CASES)
         print(f"  {name:28s}{cells}   {row['governs']}")
-    return 0 if converged.all() else 1
+    if not converged.all():
+        failed = {c: [n for n, ok in zip(names, converged[i]) if not ok] for i, c in enumerate(BOUNDING_CASES)}
+        print("teflon-jax run: error: pairs that could not be balanced in every step, left out of the "
+              "statistics: " + "; ".join(f"{c}: {', '.join(f)}" for c, f in failed.items() if f)
+              + ". Run such a pair alone to see why (a slab that tips, or try a smaller --time-step).",
+              file=sys.stderr)
+        return 1
+    return 0

@@ -8,6 +8,7 @@ import argparse
 import csv
 import json
 import pathlib
+import sys
 
 import numpy as np
 
@@ -168,4 +169,10 @@ def run_suite(args, load_components, build_structure) -> int:
     print(json.dumps(payload["summary"], indent=2))
     if args.json:
         pathlib.Path(args.json).write_text(json.dumps(payload, indent=2))
-    return 0 if result.converged.all() else 1
+    failed = [name for name, ok in zip(result.names, result.converged) if not ok]
+    if failed:
+        print(f"teflon-jax run: error: {len(failed)} of {len(result.names)} pairs could not be balanced in "
+              f"every step ({', '.join(failed)}); they are marked converged: false and left out of the "
+              "summary. Run such a pair alone to see why (a slab that tips, or try a smaller --time-step).",
+              file=sys.stderr)
+    return 1 if failed else 0
