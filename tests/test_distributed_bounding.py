@@ -116,3 +116,21 @@ def test_suite_bounds_on_a_cluster_stay_refused_by_name(tmp_path, capsys):
     assert code == 2
     err = capsys.readouterr().err
     assert "--property-factors" in err and "leave out --scheduler" in err and "missing" not in err
+
+
+@pytest.mark.slow  # two compiled triple-pendulum bounding runs
+def test_triple_pendulum_bounds_on_the_cluster_equal_the_in_process_run(dask_cluster, tmp_path, capsys):
+    """A triple pendulum (every surface's friction times the case's factor, the design variable
+    `friction_factor`): the cluster's JSON, per-surface friction included, is the in-process one."""
+    from test_series_bounding import NOMINAL, _triple
+
+    (tmp_path / "tfp.json").write_text(json.dumps(_triple(NOMINAL)))
+    extra = ["--isolator", "triple-fp", "--isolator-file", str(tmp_path / "tfp.json")]
+    (code_here, here), (code_there, there) = _here_and_there(tmp_path, dask_cluster.scheduler_address, extra)
+    capsys.readouterr()
+    assert code_here == code_there == 0
+    _assert_same_numbers(here, there)
+    with xarray.open_dataset(tmp_path / "there.nc") as dataset:
+        np.testing.assert_array_equal(dataset["design_friction_factor"].values, [1.0, 1.25, 0.8])
+    assert there["cases"]["upper"]["f_max"] == pytest.approx({k: 1.25 * v[0] for k, v in NOMINAL.items()}, rel=1e-12)
+    assert there["governs"]["base_disp_in"]["by_mean"] == "lower"
