@@ -134,3 +134,21 @@ def test_triple_pendulum_bounds_on_the_cluster_equal_the_in_process_run(dask_clu
         np.testing.assert_array_equal(dataset["design_friction_factor"].values, [1.0, 1.25, 0.8])
     assert there["cases"]["upper"]["f_max"] == pytest.approx({k: 1.25 * v[0] for k, v in NOMINAL.items()}, rel=1e-12)
     assert there["governs"]["base_disp_in"]["by_mean"] == "lower"
+
+
+@pytest.mark.slow  # two compiled bounding runs with a vertical component
+def test_bounds_with_a_vertical_component_on_the_cluster_equal_the_in_process_run(dask_cluster, tmp_path, capsys):
+    """Friction-only rigid mass at PGA 1 g with a vertical component of 1.2 x PGA (N = W max(1 +
+    a_v / g, 0), so some motions lift off): the three bearings see the same vertical records on the cluster as in this process, so
+    the uplifted motions and their times and every case's statistics agree."""
+    extra = ["--isolation-period", "none", "--isolation-damping", "0", "--pga", "1g", "--vertical-ratio", "1.2"]
+    (code_here, here), (code_there, there) = _here_and_there(tmp_path, dask_cluster.scheduler_address, extra)
+    capsys.readouterr()
+    assert code_here == code_there
+    assert there["vertical"]["vertical_ratio"] == 1.2
+    _assert_same_numbers(here, there)
+    with xarray.open_dataset(tmp_path / "there.nc") as dataset:
+        uplift = dataset["uplift_time"].values
+    assert uplift.shape == (3, 4)
+    np.testing.assert_array_equal(uplift[1], uplift[0])  # the vertical record's, whatever the friction
+    assert there["vertical"]["n_uplifted"] == int((uplift[0] > 0).sum()) > 0
