@@ -28,9 +28,9 @@ def read_property_factors(args) -> tuple[float, float] | None:
     except ValueError as error:
         raise ValueError(f"--property-factors {text}: {error}") from None
     for flag, used in (("--pga", len(args.pga_levels) > 1), ("--limit", bool(args.limit)),
-                       ("--pelicun-demands", args.pelicun_demands is not None), ("--scheduler", args.scheduler is not None)):
+                       ("--pelicun-demands", args.pelicun_demands is not None)):
         if used:
-            raise ValueError(f"--property-factors: runs the three bearings at one --pga level in this process; "
+            raise ValueError(f"--property-factors: runs the three bearings at one --pga level; "
                              f"leave out {flag}{' levels' if flag == '--pga' else ''}.")
     return lower, upper
 
@@ -38,10 +38,7 @@ def read_property_factors(args) -> tuple[float, float] | None:
 def run_bounding(args, structure, model, units) -> int:
     """Run the three cases, write the JSON (`cases`, `governs`), the results file and print the
     table; returns 0, or 1 when a run failed (kept out of the statistics, flagged in the file)."""
-    import jax
-
-    from ..studies import BOUNDING_CASES, bounding_design, governing_cases, monte_carlo
-    from ..tables import load_table2
+    from ..studies import BOUNDING_CASES, bounding_design, governing_cases
     from ._montecarlo_vertical import uplift_message, uplift_payload
 
     lower, upper = read_property_factors(args)
@@ -50,11 +47,7 @@ def run_bounding(args, structure, model, units) -> int:
     except ValueError as error:
         raise ValueError(f"--property-factors {args.property_factors}: {error}") from None
     building = args.structure == "building"
-    bar = motion_bar(args.motions, args.no_progress)
-    result = monte_carlo(structure, model, args.motions, key=jax.random.key(args.seed), design=design,
-                         chunk_size=args.chunk_size, progress=lambda done, total: bar.update(done - bar.n),
-                         storey_height=load_table2().storey_height if building else None)
-    bar.close()
+    result, files = _bounding_runs(args, structure, model, design, (lower, upper))
     length, factor = units.length
     peaks = {f"base_disp_{length}": result.base_disp / factor, "base_shear_ratio": result.base_shear_ratio}
     if building:
@@ -63,7 +56,6 @@ def run_bounding(args, structure, model, units) -> int:
         peaks["level_acceleration_max_g"] = worst(result.floor_acceleration) / STANDARD_GRAVITY
     by_mean = governing_cases(peaks, result.converged, statistic="mean")
     by_max = governing_cases(peaks, result.converged, statistic="max")
-    files = [] if args.out is None else [str(result.save(args.out))]
     converged = np.asarray(result.converged, bool)
     payload = {
         "structure": args.structure, "n_motions": result.n_motions, "wall_s": result.wall_s,
@@ -93,6 +85,36 @@ def run_bounding(args, structure, model, units) -> int:
               "are flagged in the results and left out of the table. Try a smaller --time-step.", file=sys.stderr)
         return 1
     return 0
+
+
+def _bounding_runs(args, structure, model, design, factors) -> tuple:
+    """(the `MonteCarloResult` of the three cases, design variants (3, N), the files written):
+    in this process (`monte_carlo`), or with --scheduler as the design axis of one distributed
+    run (`monte_carlo_distributed`: every task runs its motions under the three bearings, the
+    peaks streamed to --out), the same motions either way (motion i from fold_in(key(seed), i))."""
+    import jax
+
+    from ..studies import BOUNDING_CASES, monte_carlo, monte_carlo_distributed
+    from ..tables import load_table2
+    from ._main import compile_cache_dir
+
+    height = load_table2().storey_height if args.structure == "building" else None
+    bar = motion_bar(args.motions, args.no_progress)
+    progress = lambda done, total: bar.update(done - bar.n)  # noqa: E731
+    if args.scheduler is None:
+        result = monte_carlo(structure, model, args.motions, key=jax.random.key(args.seed), design=design,
+                             chunk_size=args.chunk_size, progress=progress, storey_height=height)
+        files = [] if args.out is None else [str(result.save(args.out))]
+    else:
+        attrs = {"structure": args.structure, "bounding_cases": ",".join(BOUNDING_CASES),
+                 "property_factor_lower": factors[0], "property_factor_upper": factors[1]}
+        result = monte_carlo_distributed(
+            structure, model, args.motions, out=args.out, seed=args.seed, scheduler=args.scheduler,
+            chunk_size=args.chunk_size, design=design, progress=progress, attrs=attrs, storey_height=height,
+            compilation_cache=None if args.no_compile_cache else str(compile_cache_dir()))
+        files = [str(args.out)]
+    bar.close()
+    return result, files
 
 
 def _case_friction(structure, design, index, factor) -> dict:

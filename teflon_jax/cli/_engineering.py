@@ -63,7 +63,8 @@ def add_engineering_flags(parser) -> None:
                         help="bounding analysis: run the nominal bearing and its lower- and upper-bound "
                         "variants (f_max and delta_f of Eq. 1 times LOWER and UPPER, e.g. 0.85,1.3; on every "
                         "surface of a triple or double pendulum, its radii and capacities kept) under the "
-                        "same motions, and report which case governs displacement, base shear and drift")
+                        "same motions, and report which case governs displacement, base shear and drift; with "
+                        "--scheduler the three cases are the design axis of the distributed run (--out FILE.nc)")
 
 
 def parse_limits(texts, structure: str, components: int) -> list[Limit]:
