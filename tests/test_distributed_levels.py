@@ -6,7 +6,7 @@ run; runs whose Newton solve failed are flagged and left out of the counts and s
 in-process.
 
 References: the in-process `monte_carlo_levels` on one device with the same chunk size (the
-same program at the same batch width: equal bit for bit), and the in-process command (its
+same program at the same batch width, compiled in each process: equal to 1e-12 relative), and the in-process command (its
 chunks split over two CPU devices: equal to round-off, 1e-12 relative)."""
 
 import json
@@ -47,7 +47,8 @@ def test_levels_with_storey_peaks_equal_the_in_process_run(dask_cluster, tmp_pat
     np.testing.assert_array_equal(index, expected_index)
     assert expected.converged.all() and result.storey_drift.shape == (6, 6)
     for name in NAMES:
-        np.testing.assert_array_equal(getattr(result, name), getattr(expected, name), err_msg=name)
+        # to rounding: the workers' and this process's compiled programs may differ in the last bits
+        np.testing.assert_allclose(getattr(result, name), getattr(expected, name), rtol=1e-12, err_msg=name)
     assert result.attrs["intensity_levels_m_s2"] == list(LEVELS) and result.attrs["motions_per_level"] == 3
     with xarray.open_dataset(out) as stored:  # the layout save_levels writes, levels included
         np.testing.assert_array_equal(stored["intensity_level"].values, np.repeat(LEVELS, 3))

@@ -56,7 +56,8 @@ def _run(tmp_path, plan, isolator_file, name, *flags):
 @pytest.mark.slow  # a vmapped and a single compilation of the series slab (about 60 s on two cores)
 def test_each_series_slab_suite_pair_is_its_single_run(tmp_path):
     """Height 2 m (the strong pair lifts a group, the slab still rests): each pair's peaks and
-    each group's normal load (with its isolator file) are those of its own `run`; the overturning moves load between the sides."""
+    each group's normal load (with its isolator file) are those of its own `run`; the
+    overturning moves load between the sides."""
     suite = _write_pairs(tmp_path)
     plan, default = _files(tmp_path, "2m")
     result = _run(tmp_path, plan, default, "suite", "--suite", suite)
@@ -74,7 +75,8 @@ def test_each_series_slab_suite_pair_is_its_single_run(tmp_path):
                                                                      rel=1e-9, abs=1e-6), (name, group)
     groups = result["pairs"]["strong_x"]["normal_load"]["groups"]
     assert groups["SE"]["isolator_file"].endswith("slippery.json")
-    assert all(g["peak_N"] > 1.05 * STATIC and g["min_N"] < 0.95 * STATIC for g in groups.values())
+    assert max(g["peak_N"] for g in groups.values()) > 1.5 * STATIC  # the leaning side takes load
+    assert min(g["min_N"] for g in groups.values()) == 0.0 and max(g["uplift_time_s"] for g in groups.values()) > 0
     with (tmp_path / "suite.csv").open() as handle:
         rows = list(csv.DictReader(handle))
     assert float(rows[1]["NE_min_N"]) == pytest.approx(groups["NE"]["min_N"], rel=1e-5)

@@ -198,7 +198,7 @@ def test_overturning_suite_on_a_cluster_equals_the_in_process_suite(dask_cluster
     from teflon_jax.studies import open_suite
 
     suite = _write_pairs(tmp_path)
-    common = ["run", "--structure", "slab", "--plan", str(_plan(tmp_path, "30m")), "--record-units", "g",
+    common = ["run", "--structure", "slab", "--plan", str(_plan(tmp_path, "20m")), "--record-units", "g",
               "--time-step", "0.01s", *ISOLATORS["single-fp"], "--suite", str(suite), "--chunk-size", "1"]
     assert main([*common, "--json", str(tmp_path / "here.json")]) == 0
     assert main([*common, "--json", str(tmp_path / "there.json"), "--scheduler", dask_cluster.scheduler_address,
