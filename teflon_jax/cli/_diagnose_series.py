@@ -11,7 +11,7 @@ import sys
 
 from ._bearing_flags import check_output_file
 from ._common import output_units
-from ._triple import SERIES_ISOLATORS
+from ._triple import SERIES_ISOLATORS, _load
 
 
 def add_series_diagnose_flags(parser) -> None:
@@ -55,17 +55,7 @@ def check_series_flags(args) -> None:
 def load_start(args):
     """The start pendulum of `--isolator-file`; `ValueError` naming the file when it is not of
     `--isolator`'s kind."""
-    from ..formats import load_isolator
-
-    try:
-        start = load_isolator(args.isolator_file)
-    except ValueError as error:
-        raise ValueError(f"--isolator-file {error}") from None
-    if start.isolator != args.isolator:
-        raise ValueError(f"--isolator-file: {args.isolator_file} holds a {start.isolator} isolator; "
-                         f"diagnose --isolator {args.isolator} starts from a file of that isolator "
-                         f"(or give --isolator {start.isolator}).")
-    return start
+    return _load(args.isolator_file, args.isolator, command="diagnose")
 
 
 def run_series_diagnose(args, candidates, say) -> int:

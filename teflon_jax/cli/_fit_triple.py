@@ -9,6 +9,7 @@ import sys
 
 from ._bearing_flags import check_output_file
 from ._common import output_units, read_bearing_record, read_quantities
+from ._triple import _load
 
 
 def _check_flags(args) -> None:
@@ -38,19 +39,12 @@ def run_fit_triple(args) -> int:
     """`fit --isolator triple-fp|double-fp`: exit 0 converged, 1 not converged, 2 bad input."""
     from identification.bearing_fit import fit_series_pendulum_test
 
-    from ..formats import load_isolator, write_isolator
+    from ..formats import write_isolator
 
     try:
         read_quantities(args, "fit")
         _check_flags(args)
-        try:
-            start = load_isolator(args.isolator_file)
-        except ValueError as error:
-            raise ValueError(f"--isolator-file {error}") from None
-        if start.isolator != args.isolator:
-            raise ValueError(f"--isolator-file: {args.isolator_file} holds a {start.isolator} isolator; "
-                             f"fit --isolator {args.isolator} starts from a file of that isolator "
-                             f"(or give --isolator {start.isolator}).")
+        start = _load(args.isolator_file, args.isolator, command="fit")
         record = read_bearing_record(args.records[0])
         print(f"teflon-jax fit: {start.description}, Levenberg-Marquardt through the series "
               "model (compiling first)...", file=sys.stderr)

@@ -5,7 +5,6 @@ each group's normal load, as for single pendulums; where the isolator files give
 `heating`, each group's surfaces heat under its own normal load and the run reports their
 peak temperature rise."""
 
-import dataclasses
 import pathlib
 import sys
 
@@ -15,7 +14,7 @@ from ..units import STANDARD_GRAVITY, parse_quantity
 from ._plan_file import read_plan
 from ._run_slab import normal_load_summary, slab_peaks
 from ._run_vertical import uplift_line
-from ._triple import _load, _load_factors, _uplift, read_isolator_flag
+from ._triple import _load, _load_factors, _uplift, read_isolator_flag, with_vertical_record
 
 
 def series_plan(args):
@@ -110,9 +109,7 @@ def run_series_slab(args, load_components, write_run_outputs, vertical=None) -> 
     groups = plan["groups"]
     ax, ay, dt, notes = load_components(args)
     system = series_slab(args, plan, pendulums, uniform_signal(ax, dt), uniform_signal(ay, dt))
-    az = None if vertical is None else vertical(dt, ax.size)
-    if az is not None:
-        system = dataclasses.replace(system, vertical_acceleration=uniform_signal(az, dt))
+    system = with_vertical_record(system, vertical, dt, ax.size)
     duration = (ax.size - 1) * dt
     print(f"teflon-jax run: slab on {pendulums[0].description}, {round(duration / time_step)} steps of "
           f"{args.time_step} (compiling first)...", file=sys.stderr)

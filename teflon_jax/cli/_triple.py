@@ -48,9 +48,10 @@ def read_isolator_flag(args):
     return _load(path, isolator)
 
 
-def _load(path, isolator):
+def _load(path, isolator, command=None):
     """The pendulum of the isolator file `path`; `ValueError` naming the flag, also for a file
-    of another isolator than `--isolator`'s."""
+    of another isolator than `--isolator`'s (a start file of `command`, fit or diagnose, is
+    named as such)."""
     from ..formats import load_isolator
 
     try:
@@ -58,9 +59,22 @@ def _load(path, isolator):
     except ValueError as error:
         raise ValueError(f"--isolator-file {error}") from None
     if pendulum.isolator != isolator:
+        if command is not None:
+            raise ValueError(f"--isolator-file: {path} holds a {pendulum.isolator} isolator; {command} "
+                             f"--isolator {isolator} starts from a file of that isolator (or give "
+                             f"--isolator {pendulum.isolator}).")
         raise ValueError(f"--isolator-file: {path} holds a {pendulum.isolator} isolator, not the "
                          f"{isolator} of --isolator; give --isolator {pendulum.isolator} or another file.")
     return pendulum
+
+
+def with_vertical_record(system, vertical, dt, samples):
+    """`system` with the --record-z component as its vertical acceleration: `vertical(dt,
+    samples)` [m/s^2] on the records' grid (`dt` [s]), or `system` itself when that is None."""
+    from ..excitation import uniform_signal
+
+    az = None if vertical is None else vertical(dt, samples)
+    return system if az is None else dataclasses.replace(system, vertical_acceleration=uniform_signal(az, dt))
 
 
 def check_triple_run(args) -> None:
@@ -96,9 +110,7 @@ def run_triple(args, load_components, write_run_outputs, vertical=None) -> int:
     ax, ay, dt, notes = load_components(args)
     system = triple_structure(args.structure, pendulum, uniform_signal(ax, dt), time_step=time_step,
                               weight=weight)
-    az = None if vertical is None else vertical(dt, ax.size)
-    if az is not None:
-        system = dataclasses.replace(system, vertical_acceleration=uniform_signal(az, dt))
+    system = with_vertical_record(system, vertical, dt, ax.size)
     duration = (ax.size - 1) * dt
     print(f"teflon-jax run: {args.structure} on {pendulum.description}, "
           f"{round(duration / time_step)} steps of {args.time_step} (compiling first)...", file=sys.stderr)
