@@ -276,6 +276,11 @@ MUTANTS = (
            "return jnp.where(ok & lifts, linear, jnp.where(rests, linear, tipped)), rests",
            ("tests/test_slab_series.py",), "uplift: a lifted group's share stays with the lever rule "
            "(the other supports take no more)"),
+    Mutant("O5", "teflon_jax/systems/_overturning.py",
+           "tipped = pressed * total / jnp.where(pressed_sum > 0, pressed_sum, 1.0)",
+           "tipped = pressed",
+           ("tests/test_slab_series.py",), "a slab that tips: the groups still down carry the lever "
+           "rule's compressions, more than the weight"),
     Mutant("P5", "teflon_jax/bearing/_series_pendulum.py",
            "[getattr(self, n).scaled(factor) for n in names])",
            "[getattr(self, n).scaled(factor if i == 0 else 1.0) for i, n in enumerate(names)])",
