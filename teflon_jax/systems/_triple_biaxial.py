@@ -194,7 +194,7 @@ def _planar_newton(p, dt, guess, tolerance, iterations: int):
     halving f down to `RESCUE_SMALLEST` (as `damped_newton`). Three force evaluations per
     step, one at the start.
 
-    **Returns:** (d, whether max |r| <= tolerance)."""
+    **Returns:** (d, whether max |r| <= tolerance, the number of steps taken)."""
     def forces(d):
         return biaxial_slider_forces(p["pendulum"], p["N"], p["s0"], p["z0"], d, dt, p.get("k"))[0]
 
@@ -222,8 +222,8 @@ def _planar_newton(p, dt, guess, tolerance, iterations: int):
     force = forces(guess)
     r = residual(guess, force)
     carry = (guess, force, r, jnp.sum(r**2), jnp.ones((), guess.dtype), 0)
-    d, _, r, _, _, _ = jax.lax.while_loop(cond, body, carry)
-    return d, jnp.max(jnp.abs(r)) <= tolerance
+    d, _, r, _, _, taken = jax.lax.while_loop(cond, body, carry)
+    return d, jnp.max(jnp.abs(r)) <= tolerance, taken
 
 
 def _inverse2(m):
@@ -246,7 +246,7 @@ def _woodbury(residual, blocks, compliance):
 @functools.partial(jax.custom_jvp, nondiff_argnums=(0, 1))
 def _balanced(dt, iterations, p, guess, tolerance):
     """The sliders' increments (S, 2) [m] that balance their forces with the linear step."""
-    return _planar_newton(p, dt, guess, tolerance, iterations)
+    return _planar_newton(p, dt, guess, tolerance, iterations)[:2]
 
 
 @_balanced.defjvp
