@@ -161,6 +161,31 @@ def test_library_modules_are_short(name):
     assert lines <= MAX_LINES, f"{MODULES[name]} has {lines} lines"
 
 
+TEXT_SUFFIXES = {".py", ".md", ".toml", ".json", ".csv", ".sh", ".yml", ".yaml", ".txt", ""}
+CONFLICT_MARKERS = ("<<<<<<< ", "=======", ">>>>>>> ")
+
+
+def _unmerged_lines(path):
+    """Lines of `path` that are merge-conflict markers left behind, as (number, text)."""
+    lines = path.read_text(errors="replace").splitlines()
+    return [(i + 1, line) for i, line in enumerate(lines)
+            if line.startswith(CONFLICT_MARKERS[::2]) or line == CONFLICT_MARKERS[1]]
+
+
+def test_no_merge_conflict_markers_are_left_in_the_sources_and_docs():
+    folders = [*PACKAGES, "tests", "docs", "benchmarks", "data", ".ci"]
+    files = [f for folder in folders for f in (ROOT / folder).rglob("*") if f.is_file() and f.suffix in TEXT_SUFFIXES]
+    files += [ROOT / "README.md", ROOT / "pyproject.toml", ROOT / "mkdocs.yml"]
+    left = {str(f.relative_to(ROOT)): _unmerged_lines(f) for f in files if f.exists()}
+    assert {k: v for k, v in left.items() if v} == {}
+
+
+def test_the_marker_check_finds_a_left_conflict(tmp_path):
+    page = tmp_path / "page.md"
+    page.write_text("text\n<<<<<<< HEAD\nours\n=======\ntheirs\n>>>>>>> branch\n=== a heading rule\n")
+    assert [n for n, _ in _unmerged_lines(page)] == [2, 4, 6]
+
+
 def test_the_rules_catch_a_cycle_and_a_private_import():
     # the checks themselves: a made-up graph with a cycle is found, one without is not
     assert _cycles({"a": {"b"}, "b": {"a"}}) == [["a", "b"]]
