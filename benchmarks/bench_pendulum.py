@@ -12,7 +12,7 @@ times); the record rate of each and each pendulum's share of the flat slider's a
 written as JSON with the machine.
 
 Usage: `python benchmarks/bench_pendulum.py [--motions 2048] [--repeats 2] [--chunk 512]
-[--components 2] [--isolators flat triple-fp] [--json OUT]`.
+[--components 2] [--isolators flat triple-fp] [--structures rigid] [--json OUT]`.
 """
 
 import argparse
@@ -80,6 +80,8 @@ def main() -> None:
                         "resultant peaks) (default 1)")
     parser.add_argument("--isolators", nargs="+", default=list(ISOLATORS), choices=ISOLATORS,
                         help="isolators to time, flat first (default all three)")
+    parser.add_argument("--structures", nargs="+", default=["rigid", "building"], choices=("rigid", "building"),
+                        help="structures to run (default both)")
     parser.add_argument("--json", default=None)
     args = parser.parse_args()
     if args.motions < 2 * args.chunk:
@@ -91,7 +93,7 @@ def main() -> None:
                        "cpus": os.cpu_count(), "devices": [d.device_kind for d in jax.devices()],
                        "load_average": os.getloadavg()},
            "motions": args.motions, "components": args.components, "chunk": args.chunk, "radius_m": RADIUS, "time_step_s": TIME_STEP, "rates": {}}
-    for kind in ("rigid", "building"):
+    for kind in args.structures:
         rates = {isolator: [] for isolator in args.isolators}
         means = {}
         for _ in range(args.repeats):

@@ -22,10 +22,10 @@ import jax
 
 jax.config.update("jax_enable_x64", True)
 
+import bench_pendulum as b7  # noqa: E402
 import jax.numpy as jnp  # noqa: E402
 import numpy as np  # noqa: E402
 
-import bench_pendulum as b7  # noqa: E402
 from teflon_jax.excitation import sample_two_components, uniform_signal  # noqa: E402
 from teflon_jax.systems import _triple_biaxial as biaxial  # noqa: E402
 

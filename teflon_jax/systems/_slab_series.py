@@ -54,6 +54,7 @@ from ._triple_structure import (
     TRIPLE_NEWTON_ITERATIONS,
     TRIPLE_TOLERANCE,
     damped_newton,
+    predicted_increments,
     uplift_increments,
 )
 from ._vertical import load_factor_at
@@ -102,14 +103,17 @@ class SlabOnSeries(eqx.Module):
         return jnp.stack([self.ground_x(t), self.ground_y(t)])
 
     def initial_state(self):
-        """At rest: x = (q, q') (6,), sliders, Z and last increments (G, S, 2), group forces
-        F_g (G, 2) [N], the generalized force beyond the springs f (3,) [N, N m], the
-        normal loads N_g (G,) [N], whether the slab tipped on the step (`supported_loads`) and, for heated surfaces, the heat states (G, S, K) [W s/m^2]."""
+        """At rest: x = (q, q') (6,), sliders and Z (G, S, 2), the balance's unknowns of the last
+        two steps (2, G, S + 1, 2) (each group's slider increments [m] and its force [N];
+        `predicted_increments`), group forces F_g (G, 2) [N], the generalized force beyond the
+        springs f (3,) [N, N m], the normal loads N_g (G,) [N], whether the slab tipped on the
+        step (`supported_loads`) and, for heated surfaces, the heat states (G, S, K) [W s/m^2]."""
         groups, sliders = self.bearing_load.shape[0], self.pendulum.slider_count
         zeros = jnp.zeros((groups, sliders, 2), self.mass.dtype)
         heat = {} if self.heat_rates is None else {
             "heat": jnp.zeros((groups, sliders, self.heat_rates.shape[0]), self.mass.dtype)}
-        return {**heat, "x": jnp.zeros(6, self.mass.dtype), "slider": zeros, "z": zeros, "previous": zeros,
+        return {**heat, "x": jnp.zeros(6, self.mass.dtype), "slider": zeros, "z": zeros,
+                "previous": jnp.zeros((2, groups, sliders + 1, 2), self.mass.dtype),
                 "force": jnp.zeros((groups, 2), self.mass.dtype), "extra": jnp.zeros(3, self.mass.dtype),
                 "normal_load": overturned_loads(self, jnp.zeros(2, self.mass.dtype), 0.0),
                 "tipped": jnp.zeros((), bool)}
@@ -139,7 +143,7 @@ class SlabOnSeries(eqx.Module):
         eps = jnp.finfo(linear.dtype).eps
         tolerance = jnp.maximum(self.newton_tolerance * jnp.min(self.bearing_load),
                                 32 * eps * jnp.max(self.bearing_load + jnp.abs(p["E"]).max(-1) * p["stiffness"]))
-        guess = jnp.concatenate([state["previous"], state["force"][:, None]], axis=1)
+        guess = predicted_increments(state["previous"])
         x, converged = _balanced(self.time_step, self.newton_iterations, p, guess, tolerance)
         d = x[:, :-1]
         d, _ = jax.vmap(uplift_increments)(self.pendulum, normal, jnp.sum(d, axis=1), d,
@@ -150,7 +154,8 @@ class SlabOnSeries(eqx.Module):
         q1 = target - compliance @ total
         extra = total - self.stiffness @ q1
         x1 = linear + end[:, 2:] @ extra
-        new = {"x": x1, "slider": state["slider"] + d, "z": z1, "previous": d, "force": force,
+        new = {"x": x1, "slider": state["slider"] + d, "z": z1, "force": force,
+               "previous": jnp.stack([jnp.concatenate([d, force[:, None]], axis=1), state["previous"][0]]),
                "extra": extra, "normal_load": loads, "tipped": ~rests}
         if self.heat_rates is not None:  # the flux under the group's own N_g / W_g (0 lifted)
             new["heat"] = jax.vmap(heated_step, in_axes=(0, 0, 0, 0, None, None, 0))(

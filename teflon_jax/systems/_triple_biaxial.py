@@ -38,6 +38,7 @@ from ._structure_response import check_duration
 from ._triple_structure import (
     RESCUE_ITERATIONS,
     StructureOnTriple,
+    predicted_increments,
     shortest_fraction,
     uplift_increments,
 )
@@ -73,10 +74,11 @@ class BiaxialStructureOnTriple(eqx.Module):
         return jnp.stack([self.uniaxial.ground_acceleration(t), self.ground_y(t)])
 
     def initial_isolator(self):
-        """(sliders (S, 2) [m], Z (S, 2), last increments (S, 2) [m], force beyond the reference
-        spring (2,) [N]), and the heat states (S, K) of heated surfaces."""
+        """(sliders (S, 2) [m], Z (S, 2), the increments of the last two steps (2, S, 2) [m]
+        (`predicted_increments`), force beyond the reference spring (2,) [N]), and the heat
+        states (S, K) of heated surfaces."""
         zeros = jnp.zeros((self.pendulum.slider_count, 2), self.mass.dtype)
-        state = zeros, zeros, zeros, jnp.zeros(2, self.mass.dtype)
+        state = zeros, zeros, jnp.stack([zeros, zeros]), jnp.zeros(2, self.mass.dtype)
         if self.pendulum.heated:
             state = state + (jnp.zeros((self.pendulum.slider_count, self.uniaxial.heat_rates.shape[0]),
                                        self.mass.dtype),)
@@ -102,14 +104,15 @@ class BiaxialStructureOnTriple(eqx.Module):
         eps = jnp.finfo(linear.dtype).eps
         tolerance = jnp.maximum(system.newton_tolerance * weight,
                                 32 * eps * (weight + jnp.max(jnp.abs(p["D"])) / p["G"]))
-        d, converged = _balanced(self.time_step, system.newton_iterations, p, previous, tolerance)
+        d, converged = _balanced(self.time_step, system.newton_iterations, p, predicted_increments(previous),
+                                 tolerance)
         if load is not None:
             d, converged = uplift_increments(system.pendulum, load, p["D"], d, converged)
         force, z1 = biaxial_slider_forces(system.pendulum, normal, slider0, z0, d, self.time_step, p.get("k"))
         bearing = jnp.mean(force, axis=0)
         extra1 = bearing - k_ref * (x0[:, 0] + jnp.sum(d, axis=0))
         x1 = linear + extra1[:, None] * force_column
-        state = (slider0 + d, z1, d, extra1)
+        state = (slider0 + d, z1, jnp.stack([d, previous[0]]), extra1)
         if system.pendulum.heated:
             state = state + (heated_step(system.pendulum, isolator[4], p["k"], _length(d)[:, 0], self.time_step,
                                          system.heat_rates, 1.0 if load is None else load),)
