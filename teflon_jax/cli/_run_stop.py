@@ -13,7 +13,7 @@ PARTIAL_NOTE = ("the run stopped at stopped_at_s, the first step that did not ba
                 "cover the steps from 0 s to last_kept_s only; tipped_steps and unconverged_steps count "
                 "the steps solved (flat sliders, single pendulums, the rigid mass and the building stop at "
                 "the first such step; triple and double pendulums solve every step of the record)")
-WRITTEN = ('the outputs asked for hold the response up to t = {:.4g} s only ("complete": false in the '
+WRITTEN = ('the outputs asked for hold the response before t = {:.4g} s only ("complete": false in the '
            "JSON)")
 
 
