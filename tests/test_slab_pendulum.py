@@ -265,14 +265,17 @@ def test_run_refuses_bad_plans_by_key(tmp_path, capsys, flags, group, height, me
 def test_run_reports_each_groups_normal_load(tmp_path, capsys):
     """`run --structure slab --isolator single-fp` with a height: per group the static, peak
     and least normal load and the uplift time; the plan's radius overrides --radius; x motion
-    moves load between the west and east pairs."""
+    moves load between the west and east pairs; the run completes ("complete": true, no entries
+    of a partial run)."""
     out = tmp_path / "run.json"
     code = main(["run", "--structure", "slab", "--plan", str(_plan(tmp_path, radius="60in")),
                  "--record-x", str(_record(tmp_path)), "--record-units", "g", "--isolator",
                  "single-fp", "--radius", "88in", "--json", str(out), "--time-step", "0.005s"])
     assert code == 0
     assert "normal load SE: peak" in capsys.readouterr().out
-    groups = json.loads(out.read_text())["normal_load"]["groups"]
+    result = json.loads(out.read_text())
+    assert result["complete"] is True and "stopped_at_s" not in result and "partial_fields" not in result
+    groups = result["normal_load"]["groups"]
     assert groups["SE"]["radius_m"] == pytest.approx(60 * 0.0254)
     assert groups["SW"]["radius_m"] == pytest.approx(88 * 0.0254)
     for g in groups.values():
@@ -283,11 +286,35 @@ def test_run_reports_each_groups_normal_load(tmp_path, capsys):
 def test_run_exits_non_zero_naming_a_slab_that_tips(tmp_path, capsys):
     """`run --structure slab --isolator single-fp` with the centre of mass 40 m up: the 0.4 g
     pulse's H passes W times the 8 m arm over 40 m (0.2 W), the west or east pair lifts and the
-    slab tips: exit 1 naming the tipping and the plan's height, no JSON written."""
-    out = tmp_path / "run.json"
+    slab tips: exit 1 naming the tipping and the plan's height. The JSON and histories still come
+    out, labelled partial: they stop at the step before the tipped one, which is the first step
+    whose held H (the step before's, the last kept) passes 0.2 W (the lever rule about the
+    leaning pair), and the JSON's peaks are the maxima of the kept histories."""
+    out, histories = tmp_path / "run.json", tmp_path / "run.csv"
     code = main(["run", "--structure", "slab", "--plan", str(_plan(tmp_path, height="40m")),
                  "--record-x", str(_record(tmp_path)), "--record-units", "g", "--isolator",
-                 "single-fp", "--radius", "88in", "--json", str(out), "--time-step", "0.005s"])
+                 "single-fp", "--radius", "88in", "--json", str(out), "--time-step", "0.005s",
+                 "--histories", str(histories)])
     err = capsys.readouterr().err
-    assert code == 1 and not out.exists()
+    assert code == 1
     assert "the slab tips (first near t =" in err and "height_of_centre_of_mass" in err
+    assert '"complete": false' in err
+    result = json.loads(out.read_text(), parse_constant=pytest.fail)  # NaN or Infinity: not JSON
+    first = float(err.split("first near t = ")[1].split(" s")[0])
+    assert result["complete"] is False and result["tipped_steps"] == 1 and result["unconverged_steps"] == 0
+    assert result["first_tipped_s"] == result["stopped_at_s"] == pytest.approx(first, rel=1e-3)
+    assert result["first_unconverged_s"] is None
+    assert set(result["partial_fields"]) == {"peak", "normal_load"}
+    h = np.genfromtxt(histories, delimiter=",", names=True)
+    assert h["time_s"][-1] == pytest.approx(result["last_kept_s"]) == pytest.approx(result["stopped_at_s"] - 0.005)
+    assert np.all(np.isfinite(h.view((float, len(h.dtype.names)))))
+    ratio = np.abs(h["base_shear_ratio_x"])  # |H| / W, H_y = 0
+    assert ratio[-1] > 8.0 / 40.0 >= ratio[:-1].max()
+    peak = result["peak"]
+    assert peak["base_disp_resultant_m"] == pytest.approx(np.hypot(h["base_disp_x_m"], h["base_disp_y_m"]).max(),
+                                                          rel=1e-12)
+    assert peak["base_disp_x_m"] == pytest.approx(np.abs(h["base_disp_x_m"]).max(), rel=1e-12)
+    assert peak["base_shear_ratio_resultant"] == pytest.approx(
+        np.hypot(h["base_shear_ratio_x"], h["base_shear_ratio_y"]).max(), rel=1e-12)
+    assert peak["rotation_rad"] == pytest.approx(np.abs(h["rotation_rad"]).max(), rel=1e-9, abs=1e-15)
+    assert peak["base_disp_resultant_m"] > 0.1  # the pulse moved the slab before it tipped

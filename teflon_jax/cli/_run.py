@@ -4,6 +4,7 @@ rigid slab on bearing groups. Peaks in JSON, plots, histories."""
 
 import json
 import pathlib
+import sys
 
 import numpy as np
 
@@ -21,6 +22,7 @@ from ._common import (
 from ._run_bearing import bearing_of_flags as _bearing
 from ._run_bearing import fraction as _fraction
 from ._run_slab import build_slab, normal_load_summary, slab_peaks
+from ._run_stop import bidirectional_stop, non_finite, stop_entries
 from ._run_suite import add_suite_arguments, check_suite_flags
 from ._run_vertical import (
     add_vertical_flag,
@@ -368,8 +370,6 @@ def plot_run(path, histories, title, *, length=("mm", 1e-3), force=("kN", 1e3),
 
 
 def run_run(args) -> int:
-    import sys
-
     from ..systems import simulate_bidirectional
 
     check_suite_flags(args)
@@ -402,9 +402,9 @@ def run_run(args) -> int:
     print(f"teflon-jax run: {args.structure}, {round(duration / float(system.time_step))} steps of "
           f"{args.time_step} over {duration:g} s of record (compiling first)...", file=sys.stderr)
     response = simulate_bidirectional(system, duration, throw=False)
-    if not bool(response.succeeded):
-        print(f"teflon-jax run: error: {_failure(system, response)}", file=sys.stderr)
-        return 1
+    problem, end = "", (response.time, np.size(response.time), (), ())
+    if not bool(response.succeeded):  # the steps before the failed one, labelled partial
+        response, end, problem = bidirectional_stop(system, response)
     peak, histories = response_summary(args, system, response, plan)
     uplift = uplift_summary(response)
     if uplift:
@@ -430,34 +430,26 @@ def run_run(args) -> int:
             np.degrees(parse_quantity(args.lay_angle, "angle", where="--lay-angle"))),
         "peak": peak,
         **uplift,
+        **stop_entries(*end, ["peak", *uplift]),
     }
-    return write_run_outputs(args, payload, histories, args.structure, lines)
+    return write_run_outputs(args, payload, histories, args.structure, lines, problem)
 
 
-def _failure(system, response) -> str:
-    """Why a run stopped: the slab tipping (`tipped_at_failure`) or the bearings' balance."""
-    from ..systems import tipped_at_failure
-
-    if tipped_at_failure(system, response):
-        return ("the slab tips (first near t = {:.4g} s): the overturning moment of its horizontal force "
-                "at the plan's height_of_centre_of_mass exceeds what its weight holds back about the "
-                "leaning groups (they take no tension), which a rigid slab without rocking cannot "
-                "balance; lower the height, spread the groups or give a weaker record. Nothing was "
-                "written.").format(float(np.asarray(response.time)[np.argmin(
-                    np.all(np.isfinite(np.asarray(response.q)), axis=-1)) - 1]))
-    return f"the solver did not converge ({response.result}); try a smaller --time-step."
-
-
-def write_run_outputs(args, payload, histories, title, more_lines=()) -> int:
-    """`run`'s outputs: the peaks (and `more_lines`) printed, the JSON `payload`, the
-    histories and the plot (titled `title: records`); returns 0."""
+def write_run_outputs(args, payload, histories, title, more_lines=(), problem="") -> int:
+    """`run`'s outputs: the peaks (and `more_lines`) printed, the JSON `payload` (finite
+    numbers only), the histories and the plot (titled `title: records`); returns 0, or 1
+    after printing `problem` (why the run stopped early, `_run_stop`) when there is one."""
     units = output_units(args.units)
+    bad = non_finite(payload)
+    if bad:
+        raise ValueError(f"--json: the results {', '.join(bad)} are not finite numbers; nothing was "
+                         "written (try a smaller --time-step).")
     for line in _shown_peaks(payload["peak"], units) + list(more_lines):
         print(line)
     if args.json is not None:
         path = pathlib.Path(args.json)
         path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text(json.dumps(payload, indent=2))
+        path.write_text(json.dumps(payload, indent=2, allow_nan=False))
     if args.histories is not None:
         write_histories(args.histories, histories)
     if args.plot is not None:
@@ -465,4 +457,7 @@ def write_run_outputs(args, payload, histories, title, more_lines=()) -> int:
         series = getattr(args, "isolator", "flat") not in ("flat", "single-fp")  # its whole force
         plot_run(args.plot, histories, f"{title}: {' + '.join(names)}", length=units.length,
                  force=units.force, force_label="isolator force" if series else "friction force")
+    if problem:
+        print(f"teflon-jax run: error: {problem}", file=sys.stderr)
+        return 1
     return 0

@@ -13,6 +13,7 @@ import numpy as np
 from ..units import STANDARD_GRAVITY, parse_quantity
 from ._plan_file import read_plan
 from ._run_slab import normal_load_summary, slab_peaks
+from ._run_stop import WRITTEN, cut, kept_steps, stop_entries
 from ._run_vertical import uplift_line
 from ._triple import _load, _load_factors, _uplift, read_isolator_flag, with_vertical_record
 
@@ -115,16 +116,15 @@ def run_series_slab(args, load_components, write_run_outputs, vertical=None) -> 
           f"{args.time_step} (compiling first)...", file=sys.stderr)
     response = jax.jit(simulate_slab_series, static_argnums=1)(system, duration)
     problem = unbalanced_message(response, plan["height_of_centre_of_mass"])
-    if problem:
-        print(f"teflon-jax run: error: {problem}", file=sys.stderr)
-        return 1
+    end, response = series_slab_stop(system, response)  # the steps before the first unbalanced one
+    kept_duration = duration if problem == "" else float(end[0][end[1] - 1])
     peak, histories = series_slab_summary(plan, system, response)
     from ._common import output_units
 
     normal, lines = normal_load_summary(plan, system, response, output_units(args.units))
-    uplift = _uplift(system, duration)  # the vertical record's own factor, as for one isolator
+    uplift = _uplift(system, kept_duration)  # the vertical record's own factor, as for one isolator
     if uplift:
-        histories["load_factor"] = _load_factors(system, duration)
+        histories["load_factor"] = _load_factors(system, kept_duration)
         lines = [uplift_line(uplift)] + lines
     for g, path in zip(groups, plan["isolator_files"]):
         normal["normal_load"]["groups"][g["name"]]["isolator_file"] = path
@@ -139,7 +139,24 @@ def run_series_slab(args, load_components, write_run_outputs, vertical=None) -> 
                "isolator_file": str(args.isolator_file), "radius_m": None, "anisotropic": False,
                "lay_angle_deg": None, "peak": peak, **uplift, **normal,
                "slider_disp_m": _slider_peaks(plan, system, response), "surface_temperature_rise_K": rises}
-    return write_run_outputs(args, payload, histories, f"slab on {pendulums[0].description}", lines)
+    payload |= stop_entries(*end, ["peak", *uplift, *normal, "slider_disp_m", "surface_temperature_rise_K"])
+    return write_run_outputs(args, payload, histories, f"slab on {pendulums[0].description}", lines, problem)
+
+
+def series_slab_stop(system, response):
+    """((time (nt,) [s], kept steps, tipped (nt,), unconverged (nt,)) for `stop_entries`, the
+    `SlabSeriesResponse` cut to the steps before the first unbalanced one, `kept_steps`, its
+    groups' uplift times counting those steps only)."""
+    import dataclasses
+
+    time, converged = np.asarray(response.time), np.asarray(response.converged)
+    tipped = np.asarray(response.tipped)
+    kept = kept_steps(converged)
+    if kept == time.size:
+        return (time, kept, tipped, ~converged & ~tipped), response
+    short = cut(response, time.size, kept)
+    uplift = np.sum(np.asarray(short.normal_load)[1:] <= 0, axis=0) * float(system.time_step)
+    return (time, kept, tipped, ~converged & ~tipped), dataclasses.replace(short, group_uplift_time=uplift)
 
 
 def unbalanced_message(response, height) -> str:
@@ -160,7 +177,9 @@ def unbalanced_message(response, height) -> str:
     if newton.any():
         parts.append(f"the sliders' balance did not converge on {int(newton.sum())} steps (first at "
                      f"t = {time[newton][0]:.4g} s); try a smaller --time-step")
-    return "; ".join(parts) + ("; the response cannot be trusted, nothing was written." if parts else "")
+    if not parts:
+        return ""
+    return "; ".join(parts) + f"; {WRITTEN.format(time[~converged][0])}."
 
 
 def series_slab_summary(plan, system, response):

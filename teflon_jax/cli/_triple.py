@@ -10,6 +10,7 @@ import types
 import numpy as np
 
 from ..units import STANDARD_GRAVITY, parse_quantity
+from ._run_stop import WRITTEN, cut, kept_steps, stop_entries
 from ._run_vertical import uplift_line, uplift_summary
 
 SERIES_ISOLATORS = ("triple-fp", "double-fp")
@@ -120,10 +121,12 @@ def run_triple(args, load_components, write_run_outputs, vertical=None) -> int:
     else:
         response = biaxial_histories(BiaxialStructureOnTriple(system, uniform_signal(ay, dt)), duration)
         converged = response[-1]
-    if not bool(np.all(converged)):
-        print("teflon-jax run: error: the sliders' balance did not converge in some step; try a "
-              "smaller --time-step.", file=sys.stderr)
-        return 1
+    time, converged = np.asarray(response.time if args.record_y is None else response[0]), np.asarray(converged)
+    kept, problem = kept_steps(converged), ""
+    if kept < time.size:  # the steps before the first unbalanced one
+        problem = (f"the sliders' balance did not converge on {int(np.sum(~converged))} steps (first at "
+                   f"t = {time[kept]:.4g} s); try a smaller --time-step; {WRITTEN.format(time[kept])}.")
+        response, duration = cut(response, time.size, kept), float(time[kept - 1])
     peak, histories = (triple_summary(args, system, response) if args.record_y is None
                        else biaxial_summary(args, system, response))
     uplift = _uplift(system, duration)
@@ -135,9 +138,10 @@ def run_triple(args, load_components, write_run_outputs, vertical=None) -> int:
                "scale": float(args.scale), "duration_s": duration, "record_time_step_s": dt,
                "solver_time_step_s": time_step, "notes": notes, "isolator": pendulum.isolator,
                "isolator_file": str(args.isolator_file), "radius_m": None, "anisotropic": False,
-               "lay_angle_deg": None, "peak": peak, **uplift}
+               "lay_angle_deg": None, "peak": peak, **uplift,
+               **stop_entries(time, kept, np.zeros(time.size, bool), ~converged, ["peak", *uplift])}
     return write_run_outputs(args, payload, histories, f"{args.structure} on {pendulum.description}",
-                             [uplift_line(uplift)] * bool(uplift))
+                             [uplift_line(uplift)] * bool(uplift), problem)
 
 
 def _load_factors(system, duration):

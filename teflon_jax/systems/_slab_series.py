@@ -51,10 +51,11 @@ from ._triple_biaxial import (
     biaxial_slider_forces,
 )
 from ._triple_structure import (
+    RESCUE_ITERATIONS,
     TRIPLE_NEWTON_ITERATIONS,
     TRIPLE_TOLERANCE,
-    damped_newton,
     predicted_increments,
+    shortest_fraction,
     uplift_increments,
 )
 from ._vertical import load_factor_at
@@ -221,10 +222,46 @@ def _evaluate(x, p, dt):
     return r, jnp.sum(r**2), jnp.where(jnp.all(jnp.isfinite(direction)), direction, fallback)
 
 
+def _newton_restarted(evaluate, guess, restart, tolerance, iterations: int):
+    """`damped_newton` from `guess`; where its evaluations (`iterations` and the
+    `RESCUE_ITERATIONS`) run out short of `tolerance`, the same once more from `restart`. One
+    loop, so the compiled step holds one copy of the force law; up to the restart every
+    operation is `damped_newton`'s. **Returns:** (x, whether max |r| <= tolerance)."""
+    budget = iterations + RESCUE_ITERATIONS
+
+    def cond(carry):
+        _, (r, _, _), _, k, restarted = carry
+        return (jnp.max(jnp.abs(r)) > tolerance) & ((k < budget) | ~restarted)
+
+    def body(carry):
+        x, (r, merit, direction), fraction, k, restarted = carry
+        again = k >= budget  # reached only before the restart
+        trial = jnp.where(again, restart, x - fraction * direction)
+        new = evaluate(trial)
+        accept = again | (new[1] < merit) | (fraction <= shortest_fraction(k, iterations))
+        x = jnp.where(accept, trial, x)
+        values = tuple(jnp.where(accept, a, b) for a, b in zip(new, (r, merit, direction)))
+        return (x, values, jnp.where(accept, 1.0, 0.5 * fraction), jnp.where(again, 0, k + 1).astype(k.dtype),
+                restarted | again)
+
+    carry = (guess, evaluate(guess), jnp.ones((), guess.dtype), jnp.zeros((), jnp.int32), jnp.zeros((), bool))
+    x, (r, _, _), _, _, _ = jax.lax.while_loop(cond, body, carry)
+    return x, jnp.max(jnp.abs(r)) <= tolerance
+
+
 @functools.partial(jax.custom_jvp, nondiff_argnums=(0, 1))
 def _balanced(dt, iterations, p, guess, tolerance):
-    """The sliders' increments and the group forces (G, S + 1, 2) that balance the step."""
-    return damped_newton(lambda x: _evaluate(x, p, dt), guess, tolerance, iterations)
+    """The sliders' increments and the group forces (G, S + 1, 2) that balance the step.
+    Newton's iteration starts from `guess` (the increments and forces extrapolated from the
+    last two steps, `predicted_increments`); where it stalls there (at a minimum of sum(r^2)
+    with r != 0: the line search, which asks that sum to fall, ends where the sliders' kinked
+    friction turns Newton's direction away from descent, as a slider reverses under a
+    two-component impact), it starts once more from
+    each group's increment d_g = B_g D - d_g0 shared evenly among its S sliders, the forces
+    those of `guess` (`_newton_restarted`). A step balanced from `guess` is as before."""
+    even = jnp.broadcast_to(p["E"][:, None] / (guess.shape[1] - 1), guess[:, :-1].shape)
+    restart = jnp.concatenate([even, guess[:, -1:]], axis=1)
+    return _newton_restarted(lambda x: _evaluate(x, p, dt), guess, restart, tolerance, iterations)
 
 
 def _exact_blocks(x, p, dt):

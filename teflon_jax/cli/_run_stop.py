@@ -1,0 +1,101 @@
+"""A `run` that stops before the end of its record: a step that does not balance (the slab
+tips, or the bearings' or sliders' balance does not converge) ends what can be trusted. The
+outputs then hold the steps before that step, and the JSON says so (`stop_entries`); the
+command still exits 1."""
+
+import dataclasses
+import math
+
+import numpy as np
+
+PARTIAL_NOTE = ("the run stopped at stopped_at_s, the first step that did not balance (the slab tipped or "
+                "the balance did not converge): the entries named in partial_fields and the histories "
+                "cover the steps from 0 s to last_kept_s only; tipped_steps and unconverged_steps count "
+                "the steps solved (flat sliders, single pendulums, the rigid mass and the building stop at "
+                "the first such step; triple and double pendulums solve every step of the record)")
+WRITTEN = ('the outputs asked for hold the response before t = {:.4g} s only ("complete": false in the '
+           "JSON)")
+
+
+def kept_steps(balanced) -> int:
+    """Saved steps before the first that did not balance (`balanced` (nt,), the first entry the
+    state at rest); nt when every step balanced."""
+    balanced = np.asarray(balanced, bool)
+    return balanced.size if balanced.all() else max(int(np.argmin(balanced)), 1)
+
+
+def cut(tree, size: int, kept: int):
+    """`tree` (a response or a tuple of histories) with every array whose first axis is the
+    time's (length `size`) cut to its first `kept` entries; other leaves unchanged."""
+    import jax
+
+    if kept == size:
+        return tree
+    return jax.tree_util.tree_map(lambda a: a[:kept] if np.ndim(a) >= 1 and np.shape(a)[0] == size else a, tree)
+
+
+def stop_entries(time, kept: int, tipped, unconverged, fields) -> dict:
+    """The JSON entries of a run's end: {"complete": True} when it kept all of `time` (nt,)
+    [s]; else "complete": false, "stopped_at_s" (the first step that did not balance),
+    "last_kept_s", the counts and first times [s] (None: none) of the `tipped` and
+    `unconverged` (nt,) steps, and "partial_fields": the `fields` (JSON keys) that cover
+    only the kept steps."""
+    time = np.asarray(time)
+    if kept == time.size:
+        return {"complete": True}
+    tipped, unconverged = np.asarray(tipped, bool), np.asarray(unconverged, bool)
+
+    def first(flags):
+        return float(time[flags][0]) if flags.any() else None
+
+    return {"complete": False, "stopped_at_s": float(time[kept]), "last_kept_s": float(time[kept - 1]),
+            "tipped_steps": int(tipped.sum()), "first_tipped_s": first(tipped),
+            "unconverged_steps": int(unconverged.sum()), "first_unconverged_s": first(unconverged),
+            "partial_fields": list(fields), "partial_note": PARTIAL_NOTE}
+
+
+def bidirectional_stop(system, response):
+    """(response cut to the steps before the failed one, its end (time (nt,) [s], kept, tipped
+    (nt,), unconverged (nt,)) for `stop_entries`, message) of a failed `BidirectionalResponse` saved at every step: the
+    solver keeps the failed step's end and stops (`tipped_at_failure`); its uplift times
+    count the kept steps only."""
+    from ..systems import tipped_at_failure
+
+    q = np.asarray(response.q)
+    finite = np.all(np.isfinite(q), axis=-1)
+    failed = finite.size - 1 if finite.all() else int(np.argmin(finite)) - 1
+    kept = max(failed, 1)
+    time = np.asarray(response.time)
+    tipped = np.zeros(time.size, bool)
+    unconverged = np.zeros(time.size, bool)
+    tips = tipped_at_failure(system, response)
+    (tipped if tips else unconverged)[kept] = True
+    if tips:
+        message = (f"the slab tips (first near t = {time[kept]:.4g} s): the overturning moment of its "
+                   "horizontal force "
+                   "at the plan's height_of_centre_of_mass exceeds what its weight holds back about the "
+                   "leaning groups (they take no tension), which a rigid slab without rocking cannot "
+                   "balance; lower the height, spread the groups or give a weaker record")
+    else:
+        message = (f"the solver did not converge ({response.result}) at t = {time[kept]:.4g} s; try a "
+                   "smaller --time-step")
+    short = cut(response, time.size, kept)
+    dt = float(system.time_step)
+    changes = {}
+    if short.load_factor is not None:
+        changes["uplift_time"] = np.sum(np.asarray(short.load_factor)[1:] <= 0) * dt
+    if short.normal_load is not None:
+        changes["group_uplift_time"] = np.sum(np.asarray(short.normal_load)[1:] <= 0, axis=0) * dt
+    return (dataclasses.replace(short, **changes), (time, kept, tipped, unconverged),
+            f"{message}; {WRITTEN.format(time[kept])}.")
+
+
+def non_finite(value, where="") -> list:
+    """The JSON paths of the numbers in `value` (nested dicts and lists) that are not finite."""
+    if isinstance(value, dict):
+        return [p for k, v in value.items() for p in non_finite(v, f"{where}.{k}" if where else str(k))]
+    if isinstance(value, (list, tuple)):
+        return [p for i, v in enumerate(value) for p in non_finite(v, f"{where}[{i}]")]
+    if isinstance(value, float) and not math.isfinite(value):
+        return [where]
+    return []
