@@ -7,6 +7,9 @@ has the derivative of the piece that extends to smaller d. The kink's place is r
 independent pendulum without restrainer, motion by motion.
 """
 
+import json
+from types import SimpleNamespace
+
 import jax
 import pytest
 
@@ -90,7 +93,7 @@ def test_a_smaller_peak_touching_the_restrainer_is_found_and_checked_on_the_desi
     assert not any("gradient check failed" in m for m in check["messages"])
 
 
-def test_a_wrong_derivative_at_the_kink_still_fails(problem):
+def test_a_wrong_derivative_at_the_kink_still_fails(problem, capsys):
     structure, records, bounds, (smaller, _) = problem
     x = {"radius": RADIUS, "capacity": smaller * (1 - 1e-7)}
     check = design_gradient_check(structure, _response(structure, records, scale=1.5), x, bounds)
@@ -100,17 +103,71 @@ def test_a_wrong_derivative_at_the_kink_still_fails(problem):
     assert report["rel_error"] == pytest.approx(1 / 3, rel=1e-3)
     assert check["rel_error"] > GRADIENT_TOLERANCE
     assert any("gradient check failed" in m for m in check["messages"])
+    code, err = _exit_status(check, capsys)
+    assert code == 1 and "differs from finite differences" in err
 
 
-def test_between_the_peaks_the_central_check_stands_and_catches_a_wrong_derivative(problem):
+def _exit_status(check, capsys):
+    """The exit status `teflon-jax design` gives a design with this gradient check (and stderr)."""
+    from teflon_jax.cli._design import _verdict
+
+    result = SimpleNamespace(messages=(), at_bounds=(), simulation_converged=True, optimiser_converged=True,
+                             n_failed_motions=0, steps=12, limit_met=True, gradient_rel_error=check["rel_error"])
+    return _verdict(result, None), capsys.readouterr().err
+
+
+def test_between_the_peaks_the_central_check_stands(problem):
     structure, records, bounds, (smaller, largest) = problem
     x = {"radius": RADIUS, "capacity": 0.5 * (smaller + largest)}  # one motion in contact, far from both kinks
     check = design_gradient_check(structure, _response(structure, records), x, bounds)
     assert check["check"] == "central" and check["kink_checks"] == ()
     assert check["rel_error"] == check["central_rel_error"] <= GRADIENT_TOLERANCE
+
+
+def test_a_wrong_derivative_between_the_peaks_finds_no_kink_and_fails(problem, capsys):
+    structure, records, bounds, (smaller, largest) = problem
+    x = {"radius": RADIUS, "capacity": 0.5 * (smaller + largest)}
     wrong = design_gradient_check(structure, _response(structure, records, scale=1.5), x, bounds)
     report = _capacity_report(wrong)
     # the one-sided slopes agree with each other: no kink, so the central verdict stands
     assert not report["kink"] and report["rel_error"] is None and wrong["check"] == "central"
     assert wrong["rel_error"] == pytest.approx(1 / 3, rel=1e-3)
     assert any("no kink within the stencil" in m for m in wrong["messages"])
+    code, err = _exit_status(wrong, capsys)
+    assert code == 1 and "differs from finite differences" in err
+
+
+@pytest.mark.slow  # grid sweep, BFGS and the checks of two variables: ~1.5 min on 2 busy cores
+def test_a_capacity_design_inside_the_restrainer_contact_ends_on_a_kink_and_is_accepted(tmp_path, capsys):
+    """The limit on the 95th percentile binds with d some 9 % below the largest peak, so every
+    motion's largest excursions press on the restrainer. BFGS ends where two motions' smoothed
+    peaks swap order: the percentile (linear between order statistics) has a kink there and
+    the mean base shear has none. Central differences straddle it (the check failed with 0.019
+    before); the one-sided differences agree with the forward-mode derivative."""
+    from teflon_jax.cli import main
+
+    out = tmp_path / "design.json"
+    code = main(["--no-compile-cache", "design", "--isolator", "single-fp", "--motions", "4", "--duration", "6s",
+                 "--strong-motion", "2s", "--radius-range", "60in", "160in", "--capacity-range", "0.5in", "1.2in",
+                 "--pressure", "1000psi", "--grid", "4", "--disp-limit", "1.17in", "--limit-statistic", "p95",
+                 "--json", str(out), "--no-progress"])
+    printed = capsys.readouterr()
+    summary = json.loads(out.read_text())
+    assert code == 0, printed.err
+    assert summary["optimum"]["converged"] and summary["optimum"]["disp_limit_met"]
+    contact = summary["restrainer_contact"]
+    assert not contact["at_contact"] and contact["relative_gap"] < -10 * CONTACT_TOLERANCE  # d well below P_0
+    assert contact["largest_peak_in"] < contact["free_largest_peak_in"]  # the restrainer pushes back
+    assert summary["gradient_check"] == "piecewise"
+    assert summary["gradient_rel_error"] <= GRADIENT_TOLERANCE
+    assert "gradient check (one-sided on the optimum's side of a kink)" in printed.out
+    by = {r["variable"]: r for r in summary["kink_checks"]}
+    report = by["capacity"]
+    assert report["kink"] and report["central_rel_error"] > 10 * GRADIENT_TOLERANCE
+    forward, backward = (report["one_sided_differences"][s] for s in ("forward", "backward"))
+    assert abs(forward["disp"] - backward["disp"]) > 10 * GRADIENT_TOLERANCE * abs(forward["disp"])
+    assert forward["shear"] == pytest.approx(backward["shear"], rel=GRADIENT_TOLERANCE)
+    side = report["one_sided_differences"][report["side"]]
+    for k in ("shear", "disp"):
+        assert report["derivative"][k] == pytest.approx(side[k], rel=GRADIENT_TOLERANCE)
+    assert any("capacity: central differences miss" in m for m in summary["messages"])
