@@ -124,6 +124,7 @@ def test_between_the_peaks_the_central_check_stands(problem):
     assert check["rel_error"] == check["central_rel_error"] <= GRADIENT_TOLERANCE
 
 
+@pytest.mark.slow  # two compilations and the kink analysis: ~30 s on 2 busy cores
 def test_a_wrong_derivative_between_the_peaks_finds_no_kink_and_fails(problem, capsys):
     structure, records, bounds, (smaller, largest) = problem
     x = {"radius": RADIUS, "capacity": 0.5 * (smaller + largest)}

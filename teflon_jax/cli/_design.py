@@ -52,7 +52,9 @@ def add_design_parser(subparsers) -> argparse.ArgumentParser:
         "(or its 95th percentile over the motions, --limit-statistic p95) meets --disp-limit. "
         "Exits with status 1 when the reported design breaks --disp-limit, "
         "a simulation did not converge or the gradient check fails (one-sided, from each side "
-        "of the kink, where a designed capacity sits at the largest peak's restrainer contact); "
+        "of the kink, where a designed capacity sits at the largest peak's restrainer contact; "
+        "one-sided on the optimum's own side where a kink is found inside a failed central "
+        "stencil); "
         "warns when the optimum lies on a bound.",
     )
     parser.add_argument("--motions", type=_positive_int, default=16, help="motions in the set (default 16)")
