@@ -91,7 +91,7 @@ def design_gradient_check(structure, response, x: dict, bounds, *, relative_step
 
     gradient = {k: v for k, v in jacobian(x).items() if k in _OUTPUTS}
     differences, errors = {k: {} for k in _OUTPUTS}, {}
-    at_bounds, messages = [], []
+    at_bounds, messages, on_row = [], [], []
     knots = np.asarray(structure.table().pressures if hasattr(structure, "table") else [], dtype=float)
     for name in names:
         lo, hi = bounds.ranges[name]
@@ -113,6 +113,7 @@ def design_gradient_check(structure, response, x: dict, bounds, *, relative_step
         elif name == "pressure":
             near = knots[(np.abs(knots - x[name]) <= 2 * h)]
             if near.size:
+                on_row.append(name)
                 messages.append(
                     f"pressure = {_show(name, x[name])} sits on Table 1's row at "
                     f"{_show(name, float(near[0]))}, where the linearly interpolated friction "
@@ -124,7 +125,7 @@ def design_gradient_check(structure, response, x: dict, bounds, *, relative_step
             differences[k][name] = float(fd[k])
         errors[name] = max(_rel_error(gradient[k][name], fd[k], floor[k]) for k in _OUTPUTS)
     central = float(max(errors.values()))
-    kinks = _kink_checks(value, gradient, x, errors, at_bounds, relative_step)
+    kinks = _kink_checks(value, gradient, x, errors, (*at_bounds, *on_row), relative_step)
     for report in kinks:
         if report["rel_error"] is not None:
             errors[report["variable"]] = report["rel_error"]
@@ -155,12 +156,13 @@ def design_gradient_check(structure, response, x: dict, bounds, *, relative_step
     }
 
 
-def _kink_checks(value, gradient, x, errors, at_bounds, relative_step) -> list:
-    """`kink_gradient_check`'s report (with "central_rel_error") of each interior variable
-    whose central check failed."""
+def _kink_checks(value, gradient, x, errors, skipped, relative_step) -> list:
+    """`kink_gradient_check`'s report (with "central_rel_error") of each variable whose central
+    check failed, but those `skipped` (on a bound, or on a row of Table 1, a kink of the data
+    that the optimum must not sit on)."""
     reports = []
     for name, error in errors.items():
-        if error <= GRADIENT_TOLERANCE or name in at_bounds:
+        if error <= GRADIENT_TOLERANCE or name in skipped:
             continue
         h = relative_step * max(abs(x[name]), 1e-12)
         report = kink_gradient_check(value, {k: gradient[k][name] for k in _OUTPUTS}, x, name, h,
