@@ -11,6 +11,7 @@ import json
 from types import SimpleNamespace
 
 import jax
+import numpy as np
 import pytest
 
 from teflon_jax.bearing import concave_surface
@@ -21,6 +22,7 @@ from teflon_jax.studies import (
     design_bounds,
     design_gradient_check,
     expected_response,
+    kink_gradient_check,
 )
 from teflon_jax.systems import isolated_structure
 from teflon_jax.units import PSI
@@ -63,6 +65,57 @@ def _response(structure, records, scale=None):
         return expected_response(structure, x, records, DT)
 
     return response
+
+
+X0, H, JUMP = 1.0, 1e-5, 0.3  # the point, the step and the slope jump of the kinks below
+
+
+def _kinked(*kinks):
+    """z -> {"disp": sin(x) + sum_i s_i JUMP max(s_i (x - a_i), 0)}: a sine with kinks at a_i,
+    each raising the slope by JUMP on the side s_i = +1 (right) or -1 (left) of it."""
+    def value(z):
+        t = z["x"]
+        return {"disp": np.sin(t) + sum(JUMP * max(s * (t - a), 0.0) for a, s in kinks)}
+
+    return value
+
+
+@pytest.mark.parametrize("kinks, side, derivative, within", [
+    # a kink just ahead of x: its own piece extends backward, the slope there is cos(x)
+    ([(X0 + 0.3 * H, 1)], "backward", np.cos(X0), (X0, X0 + 2 * H)),
+    # a kink just behind x: its own piece extends forward, with the raised slope
+    ([(X0 - 0.7 * H, 1)], "forward", np.cos(X0) + JUMP, (X0 - 2 * H, X0)),
+    # a kink at x itself: forward mode takes either branch
+    ([(X0, 1)], "backward", np.cos(X0), (X0, X0)),
+    ([(X0, 1)], "forward", np.cos(X0) + JUMP, (X0, X0)),
+    # kinks on both sides within the stencil: the step shrinks until none is inside
+    ([(X0 + 0.5 * H, 1), (X0 - 0.8 * H, 1)], "central", np.cos(X0) + JUMP, (X0 - 2 * H, X0 + 2 * H)),
+])
+def test_a_kink_inside_the_stencil_is_found_and_the_derivative_checked_on_its_own_piece(
+        kinks, side, derivative, within):
+    value = _kinked(*kinks)
+    x = {"x": X0}
+    central = (value({"x": X0 + H})["disp"] - value({"x": X0 - H})["disp"]) / (2 * H)
+    assert abs(central - derivative) > 10 * GRADIENT_TOLERANCE * abs(derivative)  # the central check fails
+    report = kink_gradient_check(value, {"disp": derivative}, x, "x", H, GRADIENT_TOLERANCE)
+    assert report["kink"] and report["side"] == side
+    assert report["rel_error"] <= 1e-6, report
+    low, high = report["kink_within"]
+    assert within[0] <= low <= high <= within[1]
+    assert all(low <= a <= high for a, _ in kinks if abs(a - X0) <= 2 * report["step"])
+    # a wrong derivative (1.5 times the piece's, or the average of two slopes as a tie-splitting
+    # max would give) agrees with no side
+    for wrong in (1.5 * derivative, derivative + 0.5 * JUMP if side == "backward" else derivative - 0.5 * JUMP):
+        bad = kink_gradient_check(value, {"disp": wrong}, x, "x", H, GRADIENT_TOLERANCE)
+        assert bad["rel_error"] > 100 * GRADIENT_TOLERANCE, (wrong, bad)
+
+
+def test_without_a_kink_the_central_verdict_stands():
+    value = _kinked()
+    report = kink_gradient_check(value, {"disp": 1.5 * np.cos(X0)}, {"x": X0}, "x", H, GRADIENT_TOLERANCE)
+    assert not report["kink"] and report["rel_error"] is None and report["side"] is None
+    assert report["consistent"] == {"forward": True, "backward": True}
+    assert report["one_sided_differences"]["forward"]["disp"] == pytest.approx(np.cos(X0), rel=1e-8)
 
 
 def _capacity_report(check):
