@@ -70,7 +70,8 @@ def design_gradient_check(structure, response, x: dict, bounds, *, relative_step
     "at_bounds": names on a bound, "messages": warnings and reasons, "central_rel_error": the
     error of the central (or bound) differences, "restrainer_contact": None without a capacity,
     else `restrainer_contact_check`'s report, "kink_checks": `kink_gradient_check`'s report
-    (with "central_rel_error") of each interior variable whose central check failed, "check":
+    (with "central_rel_error") of each interior variable whose central check failed (none at
+    the restrainer contact), "check":
     "central", "piecewise" (a kink found within a failed central stencil: that variable is
     checked one-sided on the piece x lies on) or "one-sided" (at the restrainer contact)}. A
     derivative and its difference both below the difference's rounding resolution,
@@ -125,18 +126,20 @@ def design_gradient_check(structure, response, x: dict, bounds, *, relative_step
             differences[k][name] = float(fd[k])
         errors[name] = max(_rel_error(gradient[k][name], fd[k], floor[k]) for k in _OUTPUTS)
     central = float(max(errors.values()))
-    kinks = _kink_checks(value, gradient, x, errors, (*at_bounds, *on_row), relative_step)
-    for report in kinks:
-        if report["rel_error"] is not None:
-            errors[report["variable"]] = report["rel_error"]
-        messages.append(f"{report['variable']}: central differences miss by {report['central_rel_error']:.2g}; "
-                        f"{report['reason']}.")
-    rel_error = float(max(errors.values()))
-    check = "piecewise" if any(r["kink"] for r in kinks) else "central"
     contact = restrainer_contact_check(value, jacobian, x, bounds, _OUTPUTS, relative_step=relative_step)
-    if contact is not None and contact["at_contact"]:
+    kinks = []
+    if contact is not None and contact["at_contact"]:  # the one-sided check at the contact decides
         rel_error, check = contact["rel_error"], "one-sided"
         messages.append(_contact_message(contact, central))
+    else:
+        kinks = _kink_checks(value, gradient, x, errors, (*at_bounds, *on_row), relative_step)
+        for report in kinks:
+            if report["rel_error"] is not None:
+                errors[report["variable"]] = report["rel_error"]
+            messages.append(f"{report['variable']}: central differences miss by "
+                            f"{report['central_rel_error']:.2g}; {report['reason']}.")
+        rel_error = float(max(errors.values()))
+        check = "piecewise" if any(r["kink"] for r in kinks) else "central"
     if not rel_error <= GRADIENT_TOLERANCE:
         messages.append(
             f"gradient check failed: the derivatives the optimiser used differ from finite "
