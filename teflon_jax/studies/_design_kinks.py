@@ -16,17 +16,19 @@ Comp. 51(184))
 are taken with the steps h, h/2 and h/4. On a side whose stencil holds no kink,
 D_s(h) - D_s(h/2) is the truncation error, 3/4 c h^2 (Richardson), so D_s(h/2) is known to
 within |D_s(h) - D_s(h/2)| / 3; a kink of slope jump J inside it changes D_s(h), D_s(h/2) and
-D_s(h/4) by different multiples of J (no two pairs alike at once). A side is CONSISTENT when
-both spreads are below `SPREAD_FRACTION` of the tolerance (or the rounding resolution of the differences). A KINK lies within the
-stencils when a side is not consistent, or when D_+(h/2) and D_-(h/2) differ by more than the
-tolerance plus both sides' error estimates. Then x's own piece extends to the consistent side (the kink lies on the other, in
-(x, x + 2 s h]), and the derivative is checked against that side's D_s(h/2); with both sides
-consistent the kink sits at x itself, and the derivative must agree with one of them. With
-neither consistent (kinks on both sides) h shrinks tenfold, at most `STEP_REDUCTIONS` times,
-until one side is consistent or no kink lies within the smaller stencil (the derivative is
-then checked against its central difference).
-Without a detected kink the central check's verdict stands, so a derivative wrong on a smooth
-piece still fails, and one wrong at a kink agrees with neither side's slope.
+D_s(h/4) by different multiples of J (for one kink, never two pairs alike). A side is
+CONSISTENT when both spreads are below `SPREAD_FRACTION` of the tolerance (or the rounding
+resolution of the differences). A KINK lies within the stencils when a side is not
+consistent, or when D_+(h/2) and D_-(h/2) differ by more than the tolerance plus both sides'
+error estimates. Then x's own
+piece extends to the consistent side (the kink lies on the other, in (x, x + 2 s h]), and the
+derivative is checked against that side's D_s(h/2); with both sides consistent the kink sits
+at x itself, and the derivative must agree with one of them. With neither consistent (kinks
+on both sides) h shrinks tenfold, at most `STEP_REDUCTIONS` times, until one side is
+consistent or no kink lies within the smaller stencil (the derivative is then checked against
+its central difference). Without a detected kink the central check's verdict stands, so a
+derivative wrong on a smooth piece still fails, and one wrong at a kink agrees with neither
+side's slope.
 """
 
 import numpy as np
@@ -35,11 +37,10 @@ from ._design_contact import ROUNDING_FACTOR
 
 SPREAD_FRACTION = 0.25
 """A one-sided difference is consistent (no kink in its stencil) when it moves by less than
-this times the gradient tolerance (relative) between the steps h and h/2 [-]."""
+this times the gradient tolerance (relative) between the steps h, h/2 and h/4 [-]."""
 
 STEP_REDUCTIONS = 2
 """How many times the step shrinks tenfold when kinks lie on both sides of x [-]."""
-
 
 
 def _one_sided(f, s, step, outputs):
