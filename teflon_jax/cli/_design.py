@@ -52,7 +52,9 @@ def add_design_parser(subparsers) -> argparse.ArgumentParser:
         "(or its 95th percentile over the motions, --limit-statistic p95) meets --disp-limit. "
         "Exits with status 1 when the reported design breaks --disp-limit, "
         "a simulation did not converge or the gradient check fails (one-sided, from each side "
-        "of the kink, where a designed capacity sits at the largest peak's restrainer contact); "
+        "of the kink, where a designed capacity sits at the largest peak's restrainer contact; "
+        "one-sided on the optimum's own side where a kink is found inside a failed central "
+        "stencil); "
         "warns when the optimum lies on a bound.",
     )
     parser.add_argument("--motions", type=_positive_int, default=16, help="motions in the set (default 16)")
@@ -187,13 +189,17 @@ def run_design(args) -> int:
           f"{units.show(result.limited_smooth_disp, 'length')} under "
           f"{units.show(result.smooth_disp_limit, 'length')}, "
           f"{result.mean_shear:.4g}); {result.steps} BFGS steps; gradient check "
-          f"{'(one-sided at the restrainer contact) ' if _at_contact(result) else ''}"
+          f"{_CHECK_WORDS.get(result.gradient_check, '')}"
           f"{result.gradient_rel_error:.2g} relative; {payload['wall_s']:.1f} s")
     return _verdict(result, args)
 
 
 _STATISTIC = {"mean": "mean", "p95": "95th-percentile"}
 """The words of each `--limit-statistic`."""
+
+_CHECK_WORDS = {"one-sided": "(one-sided at the restrainer contact) ",
+                "piecewise": "(one-sided on the optimum's side of a kink) "}
+"""The printed words of each `gradient_check` but the central one."""
 
 
 def _variables_and_structure(args):
@@ -293,7 +299,8 @@ def _payload(args, result, sweep, units, wall_s: float) -> dict:
         "limit_statistic": args.limit_statistic,
         "restrainer_ratio": args.restrainer_ratio if "capacity" in result.optimum else None,
         "gradient_rel_error": result.gradient_rel_error,
-        "gradient_check": "one-sided" if _at_contact(result) else "central",
+        "gradient_check": result.gradient_check,
+        "kink_checks": list(result.kink_checks),
         "restrainer_contact": _contact_fields(result.restrainer_contact, result.central_rel_error, units),
         "gradient_tolerance": _tolerance(),
         "messages": list(result.messages),
@@ -307,10 +314,6 @@ def _payload(args, result, sweep, units, wall_s: float) -> dict:
         "sweep_file": None if args.out is None else str(args.out),
     }
     return payload
-
-
-def _at_contact(result) -> bool:
-    return bool(result.restrainer_contact and result.restrainer_contact["at_contact"])
 
 
 def _contact_fields(contact, central: float, units) -> dict | None:

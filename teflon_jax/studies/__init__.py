@@ -39,6 +39,7 @@ from ._design_check import design_gradient_check as design_gradient_check
 from ._design_check import percentile_disp_gradient_check as percentile_disp_gradient_check
 from ._design_contact import CONTACT_TOLERANCE as CONTACT_TOLERANCE
 from ._design_contact import restrainer_contact_check as restrainer_contact_check
+from ._design_kinks import kink_gradient_check as kink_gradient_check
 from ._design_problem import default_design_problem as default_design_problem
 from ._design_sweep import design_sweep as design_sweep
 from ._design_sweep import design_sweep_distributed as design_sweep_distributed

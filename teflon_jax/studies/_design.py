@@ -220,6 +220,10 @@ class DesignResult:
       the optimum where the largest peak just touches the restrainer; there
       `gradient_rel_error` is the one-sided check's, `central_rel_error` the central one's,
       which straddles the kink); None otherwise;
+    - `gradient_check`: which check `gradient_rel_error` is, "central", "piecewise" (a kink
+      found inside a failed central stencil, the variable checked one-sided on the optimum's
+      own piece) or "one-sided" (at the restrainer contact); `kink_checks`: the reports of the
+      variables whose central check failed (`kink_gradient_check`);
     - `converged`: optimiser, simulations, gradient check (<= `GRADIENT_TOLERANCE`) and the
       limit on the true peaks all succeeded; `messages`: why not, and warnings (a bound, a kink of Table 1).
     """
@@ -250,6 +254,8 @@ class DesignResult:
     p95_peak_disp: float = math.nan
     restrainer_contact: dict | None = None
     central_rel_error: float = math.nan
+    gradient_check: str = "central"
+    kink_checks: tuple = ()
 
     @property
     def limited_disp(self) -> float:
@@ -390,6 +396,7 @@ def optimise_design(
         messages=tuple(messages), wall_s=time.perf_counter() - tic, limit_statistic=limit_statistic,
         p95_disp=float(final["disp_p95"]), p95_peak_disp=float(final["peak_disp_p95"]),
         restrainer_contact=check["restrainer_contact"], central_rel_error=check["central_rel_error"],
+        gradient_check=check["check"], kink_checks=check["kink_checks"],
     )
 
 

@@ -14,7 +14,9 @@ there averages two different slopes (the 57 % error of the old default design pr
 optimum sat on 3000 psi, was exactly this). A kink inside the box (a Table 1 row strictly
 between the bounds) is reported when the optimum sits on it: the derivative is one-sided
 there and no gradient check can pass. The kink of a friction pendulum's restrainer at the
-largest peak is checked one-sided on each side (`restrainer_contact_check`).
+largest peak is checked one-sided on each side (`restrainer_contact_check`); any other kink
+that falls inside a central stencil (a smaller peak that touches the restrainer, two peaks
+that swap order) is found and checked on the design's own side (`kink_gradient_check`).
 Reference for the finite-difference formulas: Fornberg (1988), Math. Comp. 51(184).
 """
 
@@ -22,7 +24,8 @@ import jax
 import numpy as np
 
 from ..units import PSI
-from ._design_contact import restrainer_contact_check
+from ._design_contact import ROUNDING_FACTOR, restrainer_contact_check
+from ._design_kinks import kink_gradient_check
 
 GRADIENT_TOLERANCE = 1e-4
 """Largest relative difference between forward-mode and finite-difference derivatives [-]."""
@@ -39,9 +42,19 @@ def _difference(value, x, name, h, side):
 
     if side == 0:
         plus, minus = at(h), at(-h)
-        return {k: (plus[k] - minus[k]) / (2 * h) for k in _OUTPUTS}
-    centre, one, two = at(0.0), at(side * h), at(2 * side * h)
-    return {k: side * (-3 * centre[k] + 4 * one[k] - two[k]) / (2 * h) for k in _OUTPUTS}
+        values = (plus, minus)
+        fd = {k: (plus[k] - minus[k]) / (2 * h) for k in _OUTPUTS}
+    else:
+        values = centre, one, two = at(0.0), at(side * h), at(2 * side * h)
+        fd = {k: side * (-3 * centre[k] + 4 * one[k] - two[k]) / (2 * h) for k in _OUTPUTS}
+    floor = {k: ROUNDING_FACTOR * np.finfo(float).eps * max(abs(v[k]) for v in values) / h for k in _OUTPUTS}
+    return fd, floor
+
+
+def _rel_error(g, fd, floor):
+    """|g - fd| / max(|g|, |fd|), zero where both lie below the difference's rounding `floor`."""
+    scale = max(abs(g), abs(fd))
+    return 0.0 if scale <= floor else abs(g - fd) / scale
 
 
 def design_gradient_check(structure, response, x: dict, bounds, *, relative_step=1e-5) -> dict:
@@ -56,7 +69,13 @@ def design_gradient_check(structure, response, x: dict, bounds, *, relative_step
     "rel_error": max over outputs and variables of |g - fd| / max(|g|, |fd|),
     "at_bounds": names on a bound, "messages": warnings and reasons, "central_rel_error": the
     error of the central (or bound) differences, "restrainer_contact": None without a capacity,
-    else `restrainer_contact_check`'s report}. At the restrainer contact "rel_error" is the
+    else `restrainer_contact_check`'s report, "kink_checks": `kink_gradient_check`'s report
+    (with "central_rel_error") of each interior variable whose central check failed (none at
+    the restrainer contact), "check":
+    "central", "piecewise" (a kink found within a failed central stencil: that variable is
+    checked one-sided on the piece x lies on) or "one-sided" (at the restrainer contact)}. A
+    derivative and its difference both below the difference's rounding resolution,
+    `ROUNDING_FACTOR` eps |f| / h, count as equal. At the restrainer contact "rel_error" is the
     one-sided check's there (the central differences straddle the kink).
     """
     names = tuple(bounds.ranges)
@@ -72,8 +91,8 @@ def design_gradient_check(structure, response, x: dict, bounds, *, relative_step
         return {k: {n: float(v) for n, v in d.items()} for k, d in forward(z).items()}
 
     gradient = {k: v for k, v in jacobian(x).items() if k in _OUTPUTS}
-    differences = {k: {} for k in _OUTPUTS}
-    at_bounds, messages = [], []
+    differences, errors = {k: {} for k in _OUTPUTS}, {}
+    at_bounds, messages, on_row = [], [], []
     knots = np.asarray(structure.table().pressures if hasattr(structure, "table") else [], dtype=float)
     for name in names:
         lo, hi = bounds.ranges[name]
@@ -95,25 +114,32 @@ def design_gradient_check(structure, response, x: dict, bounds, *, relative_step
         elif name == "pressure":
             near = knots[(np.abs(knots - x[name]) <= 2 * h)]
             if near.size:
+                on_row.append(name)
                 messages.append(
                     f"pressure = {_show(name, x[name])} sits on Table 1's row at "
                     f"{_show(name, float(near[0]))}, where the linearly interpolated friction "
                     "constants have a kink: the derivative is one-sided there; restrict the "
                     "pressure range to one side of that row."
                 )
-        fd = _difference(value, x, name, h, side)
+        fd, floor = _difference(value, x, name, h, side)
         for k in _OUTPUTS:
             differences[k][name] = float(fd[k])
-    errors = [
-        abs(gradient[k][n] - differences[k][n]) / max(abs(gradient[k][n]), abs(differences[k][n]), 1e-300)
-        for k in _OUTPUTS
-        for n in names
-    ]
-    rel_error = central = float(max(errors))
+        errors[name] = max(_rel_error(gradient[k][name], fd[k], floor[k]) for k in _OUTPUTS)
+    central = float(max(errors.values()))
     contact = restrainer_contact_check(value, jacobian, x, bounds, _OUTPUTS, relative_step=relative_step)
-    if contact is not None and contact["at_contact"]:
-        rel_error = contact["rel_error"]
+    kinks = []
+    if contact is not None and contact["at_contact"]:  # the one-sided check at the contact decides
+        rel_error, check = contact["rel_error"], "one-sided"
         messages.append(_contact_message(contact, central))
+    else:
+        kinks = _kink_checks(value, gradient, x, errors, (*at_bounds, *on_row), relative_step)
+        for report in kinks:
+            if report["rel_error"] is not None:
+                errors[report["variable"]] = report["rel_error"]
+            messages.append(f"{report['variable']}: central differences miss by "
+                            f"{report['central_rel_error']:.2g}; {report['reason']}.")
+        rel_error = float(max(errors.values()))
+        check = "piecewise" if any(r["kink"] for r in kinks) else "central"
     if not rel_error <= GRADIENT_TOLERANCE:
         messages.append(
             f"gradient check failed: the derivatives the optimiser used differ from finite "
@@ -128,7 +154,24 @@ def design_gradient_check(structure, response, x: dict, bounds, *, relative_step
         "messages": tuple(messages),
         "central_rel_error": central,
         "restrainer_contact": contact,
+        "check": check,
+        "kink_checks": tuple(kinks),
     }
+
+
+def _kink_checks(value, gradient, x, errors, skipped, relative_step) -> list:
+    """`kink_gradient_check`'s report (with "central_rel_error") of each variable whose central
+    check failed, but those `skipped` (on a bound, or on a row of Table 1, a kink of the data
+    that the optimum must not sit on)."""
+    reports = []
+    for name, error in errors.items():
+        if error <= GRADIENT_TOLERANCE or name in skipped:
+            continue
+        h = relative_step * max(abs(x[name]), 1e-12)
+        report = kink_gradient_check(value, {k: gradient[k][name] for k in _OUTPUTS}, x, name, h,
+                                     GRADIENT_TOLERANCE)
+        reports.append({**report, "central_rel_error": error})
+    return reports
 
 
 def _contact_message(contact, central) -> str:
