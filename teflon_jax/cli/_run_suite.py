@@ -12,11 +12,11 @@ import sys
 
 import numpy as np
 
-from ._bounding import add_suite_bounding_flag, read_suite_factors
 from ._common import _positive_int
 from ._engineering import add_suite_pelicun_flag, suite_pelicun_peaks
 from ._run_slab import NORMAL_LOAD_NOTE, suite_normal_load
 from ._spectrum import add_spectrum_flags, check_unscaled, read_target, scale_to_target
+from ._suite_bounding import add_suite_bounding_flag, read_suite_factors
 from ._suite_build import suite_build
 
 
@@ -121,7 +121,7 @@ def run_suite(args, load_components, build_structure) -> int:
         factors, scaling = scale_to_target(args, spectrum, [r[0] for r in records], ax, ay, dt)
         ax, ay = factors[:, None] * ax, factors[:, None] * ay
     if bounding is not None:
-        from ._bounding import run_suite_bounding
+        from ._suite_bounding import run_suite_bounding
 
         return run_suite_bounding(args, bounding, build_structure, [r[0] for r in records], ax, ay, dt, notes,
                                   scaling)
