@@ -13,7 +13,6 @@ import json
 
 import numpy as np
 import pytest
-from test_distributed_bounding import _assert_same_numbers
 
 from teflon_jax.cli import main
 from teflon_jax.studies import BOUNDING_CASES, open_suite_cases
@@ -45,6 +44,23 @@ def _here_and_there(tmp_path, address, common):
         code = main([*common, *flags, "--json", str(tmp_path / f"{name}.json"), "--out", str(tmp_path / f"{name}.nc")])
         runs[name] = (code, json.loads((tmp_path / f"{name}.json").read_text()))
     return runs["here"], runs["there"]
+
+
+def _assert_same_numbers(here, there, path="") -> None:
+    """Every number of `here` equals `there`'s to 1e-12 (relative; a failed pair's NaN peaks
+    NaN on both sides), every other value exactly."""
+    if isinstance(here, dict):
+        assert set(here) == set(there), path
+        for key in here:
+            _assert_same_numbers(here[key], there[key], f"{path}/{key}")
+    elif isinstance(here, list):
+        assert len(here) == len(there), path
+        for i, (a, b) in enumerate(zip(here, there)):
+            _assert_same_numbers(a, b, f"{path}[{i}]")
+    elif isinstance(here, float):
+        assert there == pytest.approx(here, rel=1e-12, abs=1e-300, nan_ok=True), path
+    else:
+        assert here == there, path
 
 
 def _without(payload: dict) -> dict:

@@ -32,6 +32,8 @@ def read_property_factors(args) -> tuple[float, float] | None:
         if used:
             raise ValueError(f"--property-factors: runs the three bearings at one --pga level; "
                              f"leave out {flag}{' levels' if flag == '--pga' else ''}.")
+    if getattr(args, "storeys", False) and args.structure != "building":  # the building's are always kept
+        raise ValueError("--storeys: storey results need --structure building.")
     return lower, upper
 
 

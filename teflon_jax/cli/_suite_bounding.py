@@ -50,7 +50,13 @@ def _case_results(args, factors, build_structure, names, ax, ay, dt, stem):
     the peaks in --out)."""
     import argparse
 
-    from ..studies import BOUNDING_CASES, save_suite, save_suite_cases, suite_cases_distributed, suite_peaks
+    from ..studies import (
+        BOUNDING_CASES,
+        save_suite,
+        save_suite_cases,
+        suite_cases_distributed,
+        suite_peaks,
+    )
     from ..tables import load_table2
     from ._suite_build import suite_build
 
