@@ -95,6 +95,34 @@ def test_suite_bounds_on_the_cluster_equal_the_in_process_run(dask_cluster, tmp_
     assert there["governs"]["base_disp_resultant_m"]["by_mean"] == "lower"
 
 
+@pytest.mark.slow  # three compiled building cases in this process and on the workers (about 2 min on two cores)
+def test_building_suite_bounds_on_the_cluster_keep_the_storeys(dask_cluster, tmp_path, capsys):
+    """Table 2's building on flat sliders, two pairs: the JSON (the largest storey drift of each
+    pair and case among it) equals the in-process one to 1e-12, the --out file holds each case's
+    peak drift per storey and acceleration per level in x and y as the in-process file does,
+    and the upper bound, the stiffer in friction, pushes the base shear highest."""
+    suite = _write_suite(tmp_path)
+    suite.write_text("\n".join(suite.read_text().splitlines()[:3]) + "\n")  # pairs p0 and p1
+    common = ["run", "--suite", str(suite), "--structure", "building", "--record-units", "g",
+              "--isolation-period", "2.5s", "--time-step", "0.01s", "--property-factors", "0.8,1.25", "--chunk-size", "2"]
+    (code_here, here), (code_there, there) = _here_and_there(tmp_path, dask_cluster.scheduler_address, common)
+    capsys.readouterr()
+    assert code_here == code_there == 0
+    _assert_same_numbers(_without(here), _without(there))
+    stored = {side: open_suite_cases(tmp_path / f"{side}.nc") for side in ("here", "there")}
+    for case in BOUNDING_CASES:
+        a, b = stored["here"][case].storeys, stored["there"][case].storeys
+        assert b["storey_drift"].shape == (2, 2, 6) and b["level_acceleration"].shape == (2, 2, 7)
+        for key in a:
+            np.testing.assert_allclose(b[key], a[key], rtol=1e-12, atol=0)
+        # max_t |(d_x, d_y)| lies between the larger of max_t |d_x|, max_t |d_y| and their hypotenuse
+        drift = np.array([there["cases"][case]["pairs"][n]["storey_drift_max_resultant"] for n in ("p0", "p1")])
+        assert np.all(np.max(b["storey_drift"], axis=(1, 2)) <= drift * (1 + 1e-12))
+        assert np.all(drift <= np.max(np.hypot(b["storey_drift"][:, 0], b["storey_drift"][:, 1]), axis=-1) * (1 + 1e-12))
+    assert there["governs"]["base_shear_ratio_resultant"]["by_mean"] == "upper"
+    assert there["governs"]["base_disp_resultant_m"]["by_mean"] == "lower"
+
+
 @pytest.mark.slow  # three compiled slab cases in this process and on each of two workers
 def test_a_pair_that_tips_the_slab_stays_out_of_the_cluster_bounds_as_in_process(dask_cluster, tmp_path, capsys):
     """Slab on single pendulums with its centre of mass 30 m up: the strong pair tips it (its

@@ -27,7 +27,8 @@ def add_suite_arguments(parser) -> None:
                         "starts N worker processes here, an address (tcp://host:8786) uses a running "
                         "scheduler (SLURM/PBS: see docs/distributed.md); needs --out FILE.nc")
     parser.add_argument("--out", type=pathlib.Path, default=None, metavar="FILE.nc",
-                        help="with --suite: the NetCDF file of the per-pair peaks (default <json stem>.nc)")
+                        help="with --suite: the NetCDF file of the per-pair peaks (default <json stem>.nc; with "
+                        "--property-factors the file of all three cases, written only when given)")
     parser.add_argument("--chunk-size", type=_positive_int, default=None, metavar="N",
                         help="with --suite: record pairs per compiled call, a task with --scheduler "
                         "(default: all in one call on a CPU, on a GPU the largest power of two up to "
