@@ -10,6 +10,7 @@ pair's peaks, each case's mean and maximum, failed counts, the governing case) a
 physical ordering of the bounds is asserted too: more friction, less displacement."""
 
 import json
+import pathlib
 
 import numpy as np
 import pytest
@@ -19,6 +20,7 @@ from teflon_jax.studies import BOUNDING_CASES, open_suite_cases
 
 distributed = pytest.importorskip("distributed")
 
+BENCHMARKS = pathlib.Path(__file__).resolve().parents[1] / "benchmarks"
 DT, SECONDS = 0.01, 2.0
 OWN = {"wall_s", "files", "netcdf", "scheduler"}  # run times and file names differ by design
 
@@ -69,12 +71,17 @@ def _without(payload: dict) -> dict:
     return out
 
 
-@pytest.mark.slow  # three compiled cases in this process and on each of two workers (about 90 s on two cores)
-def test_suite_bounds_on_the_cluster_equal_the_in_process_run(dask_cluster, tmp_path, capsys):
-    """Rigid mass on flat sliders with a 2.5 s restoring spring, three pairs, chunks of two: the
-    cluster's JSON equals the in-process one to 1e-12, its --out file holds the three cases
-    (those of the in-process --out file), and the lower bound moves most, the upper least."""
-    common = ["run", "--suite", str(_write_suite(tmp_path)), "--record-units", "g", "--isolation-period", "2.5s",
+@pytest.mark.slow  # three compiled cases in this process and on each of two workers (about 2 min on two cores)
+@pytest.mark.parametrize("isolator", [
+    ["--isolation-period", "2.5s"],
+    ["--isolator", "double-fp", "--isolator-file", str(BENCHMARKS / "double_isolator.json")]],
+    ids=["flat", "double-fp"])
+def test_suite_bounds_on_the_cluster_equal_the_in_process_run(dask_cluster, tmp_path, isolator, capsys):
+    """Rigid mass on flat sliders with a 2.5 s restoring spring, or on double pendulums (every
+    surface's friction scaled), three pairs, chunks of two: the cluster's JSON equals the
+    in-process one to 1e-12, its --out file holds the three cases (those of the in-process
+    --out file), and the lower bound moves most, the upper least."""
+    common = ["run", "--suite", str(_write_suite(tmp_path)), "--record-units", "g", *isolator,
               "--time-step", "0.01s", "--property-factors", "0.8,1.25", "--chunk-size", "2"]
     (code_here, here), (code_there, there) = _here_and_there(tmp_path, dask_cluster.scheduler_address, common)
     capsys.readouterr()
