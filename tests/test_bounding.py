@@ -57,6 +57,7 @@ def test_governing_case_is_the_largest_statistic_of_converged_runs():
     (["--property-factors", "1.3,0.85"], "is above the upper-bound factor"),
     (["--property-factors", "0.85,1.3", "--pga", "0.1g,0.2g"], "leave out --pga levels"),
     (["--property-factors", "0.85,1.3", "--limit", "base_disp=2in"], "leave out --limit"),
+    (["--property-factors", "0.85,1.3", "--storeys"], "--storeys: storey results need --structure building"),
 ])
 def test_bad_property_factors_exit_before_any_run(argv, message, capsys):
     assert main(["montecarlo", "--motions", "2", *argv]) == 2

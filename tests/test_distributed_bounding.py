@@ -106,18 +106,6 @@ def test_bounds_go_to_the_scheduler_that_is_named(tmp_path, capsys):
     assert "add --out FILE.nc" in capsys.readouterr().err
 
 
-def test_suite_bounds_on_a_cluster_stay_refused_by_name(tmp_path, capsys):
-    """`run --suite --property-factors --scheduler` still runs its three bearings in this
-    process only: refused, naming --scheduler, before any record is read."""
-    suite = tmp_path / "suite.csv"
-    suite.write_text("record_x,record_y,scale\nmissing_x.txt,missing_y.txt,1\n")
-    code = main(["run", "--suite", str(suite), "--record-units", "g", "--property-factors", "0.85,1.3",
-                 "--scheduler", "local:2", "--out", str(tmp_path / "s.nc")])
-    assert code == 2
-    err = capsys.readouterr().err
-    assert "--property-factors" in err and "leave out --scheduler" in err and "missing" not in err
-
-
 @pytest.mark.slow  # two compiled triple-pendulum bounding runs
 def test_triple_pendulum_bounds_on_the_cluster_equal_the_in_process_run(dask_cluster, tmp_path, capsys):
     """A triple pendulum (every surface's friction times the case's factor, the design variable

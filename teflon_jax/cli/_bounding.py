@@ -32,6 +32,8 @@ def read_property_factors(args) -> tuple[float, float] | None:
         if used:
             raise ValueError(f"--property-factors: runs the three bearings at one --pga level; "
                              f"leave out {flag}{' levels' if flag == '--pga' else ''}.")
+    if getattr(args, "storeys", False) and args.structure != "building":  # the building's are always kept
+        raise ValueError("--storeys: storey results need --structure building.")
     return lower, upper
 
 
@@ -128,104 +130,3 @@ def _case_friction(structure, design, index, factor) -> dict:
                 "delta_f": float(design["delta_f"][index])}
     pendulum = getattr(structure, "structure", structure).pendulum  # through a vertical component's wrapper
     return {"friction_factor": factor, **surface_frictions(pendulum, factor)}
-
-
-def add_suite_bounding_flag(parser) -> None:
-    """`--property-factors LOWER,UPPER` on `teflon-jax run --suite`."""
-    parser.add_argument("--property-factors", metavar="LOWER,UPPER", default=None,
-                        help="with --suite: run the suite with the nominal bearing and its lower- and "
-                        "upper-bound variants (f_max and delta_f of Eq. 1 times LOWER and UPPER, e.g. "
-                        "0.85,1.3), and report which case governs displacement, base shear and drift")
-
-
-def read_suite_factors(args) -> tuple[float, float] | None:
-    """(lower, upper) of `run --property-factors`, or `None`; `ValueError` naming the flag."""
-    from ..studies import check_property_factors
-
-    text = getattr(args, "property_factors", None)
-    if text is None:
-        return None
-    if args.suite is None:
-        raise ValueError("--property-factors: bounds a suite's analysis; add --suite FILE.")
-    if args.scheduler is not None:
-        raise ValueError("--property-factors: the three bearings run in this process; leave out --scheduler.")
-    if getattr(args, "bearing", None) is not None:
-        raise ValueError("--property-factors: scales Table 1's friction (--ptfe, --pressure) or an isolator "
-                         "file's surfaces, not a --bearing file's; leave out --bearing or --property-factors.")
-    parts = [p.strip() for p in text.split(",")]
-    if len(parts) != 2 or not all(parts):
-        raise ValueError(f"--property-factors: write LOWER,UPPER, e.g. 0.85,1.3; got {text!r}.")
-    try:
-        return check_property_factors(*(parse_quantity(p, "dimensionless", where="--property-factors") for p in parts))
-    except ValueError as error:
-        raise ValueError(f"--property-factors {text}: {error}") from None
-
-
-def run_suite_bounding(args, factors, build_structure, names, ax, ay, dt, notes, scaling) -> int:
-    """The suite's pairs (ax, ay) (P, n) [m/s^2] through the nominal, upper- and lower-bound
-    bearings (`build_structure` of `teflon-jax run` with `friction_factor`), one table and
-    NetCDF file per case (<stem>-<case>.csv, .nc) and the JSON with the governing cases."""
-    import argparse
-    import json
-    import pathlib
-    import time
-
-    from ..studies import BOUNDING_CASES, governing_cases, save_suite, suite_peaks
-    from ..tables import load_table2
-    from ._engineering import suite_pelicun_peaks
-    from ._run_slab import NORMAL_LOAD_NOTE, suite_normal_load
-    from ._suite_build import suite_build
-
-    lower, upper = factors
-    height = load_table2().storey_height if args.structure == "building" else None
-    stem = pathlib.Path(args.json).with_suffix("") if args.json else pathlib.Path("suite")
-    results, start, plan = {}, time.perf_counter(), None
-    for case, factor in zip(BOUNDING_CASES, (1.0, upper, lower)):
-        case_args = argparse.Namespace(**{**vars(args), "friction_factor": factor})
-        build, _, base_index, plan = suite_build(case_args, build_structure, ax[0], ay[0], dt)  # one per case
-        results[case] = suite_peaks(build, names, ax, ay, dt, (ax.shape[1] - 1) * dt, base_index,
-                                    batch_size=args.chunk_size, storey_height=height,
-                                    group_names=None if plan is None else [g["name"] for g in plan["groups"]])
-        save_suite(results[case], table_path=f"{stem}-{case}.csv", netcdf_path=f"{stem}-{case}.nc",
-                   attrs={"structure": args.structure, "suite": str(args.suite), "bounding_case": case,
-                          "friction_factor": factor})
-        if args.pelicun_demands is not None:  # one demand file per case: <FILE stem>-<case>.csv
-            from ..formats import write_pelicun_demands
-
-            path = pathlib.Path(args.pelicun_demands)
-            write_pelicun_demands(path.with_name(f"{path.stem}-{case}{path.suffix}"),
-                                  **suite_pelicun_peaks(results[case], ax, ay))
-    wall = time.perf_counter() - start
-    peaks = {k: np.stack([results[c].peaks[k] for c in BOUNDING_CASES]) for k in results["nominal"].peaks}
-    converged = np.stack([results[c].converged for c in BOUNDING_CASES])
-    by_mean = governing_cases(peaks, converged, statistic="mean")
-    by_max = governing_cases(peaks, converged, statistic="max")
-    payload = {"structure": args.structure, "suite": str(args.suite), "notes": notes, "wall_s": wall,
-               "property_factors": {"lower": lower, "upper": upper,
-                                    "applied_to": "f_max and delta_f of Eq. 1 (the friction coefficient at every velocity; on every surface of a triple or double pendulum)"},
-               "cases": {c: {"friction_factor": f, "summary": results[c].summary, "failed": int(np.sum(~results[c].converged)),
-                             "pairs": {n: {k: float(v[i]) for k, v in results[c].peaks.items()}
-                                       | ({} if results[c].groups is None else suite_normal_load(plan, results[c].groups, i))
-                                       for i, n in enumerate(names)},
-                             "files": [f"{stem}-{c}.csv", f"{stem}-{c}.nc"]}
-                         for c, f in zip(BOUNDING_CASES, (1.0, upper, lower))},
-               "governs": {k: {"by_mean": by_mean[k]["governs"], "by_max": by_max[k]["governs"]} for k in peaks}}
-    if results["nominal"].groups is not None:  # each case's groups: <stem>-<case>.csv, .nc and "pairs"
-        payload["normal_load_note"] = NORMAL_LOAD_NOTE
-    if scaling is not None:
-        payload["spectrum_scaling"] = scaling
-    if args.json:
-        pathlib.Path(args.json).write_text(json.dumps(payload, indent=2))
-    print(f"{len(names)} pairs x 3 bearings in {wall:.1f} s; mean over the converged pairs:")
-    print("  " + f"{'':28s}" + "".join(f"{c:>12s}" for c in BOUNDING_CASES) + "   governs")
-    for name, row in by_mean.items():
-        cells = "".join(f"{row[c]:12.4g}" if row[c] is not None else f"{'-':>12s}" for c in BOUNDING_CASES)
-        print(f"  {name:28s}{cells}   {row['governs']}")
-    if not converged.all():
-        failed = {c: [n for n, ok in zip(names, converged[i]) if not ok] for i, c in enumerate(BOUNDING_CASES)}
-        print("teflon-jax run: error: pairs that could not be balanced in every step, left out of the "
-              "statistics: " + "; ".join(f"{c}: {', '.join(f)}" for c, f in failed.items() if f)
-              + ". Run such a pair alone to see why (a slab that tips, or try a smaller --time-step).",
-              file=sys.stderr)
-        return 1
-    return 0

@@ -12,11 +12,11 @@ import sys
 
 import numpy as np
 
-from ._bounding import add_suite_bounding_flag, read_suite_factors
 from ._common import _positive_int
 from ._engineering import add_suite_pelicun_flag, suite_pelicun_peaks
 from ._run_slab import NORMAL_LOAD_NOTE, suite_normal_load
 from ._spectrum import add_spectrum_flags, check_unscaled, read_target, scale_to_target
+from ._suite_bounding import add_suite_bounding_flag, read_suite_factors
 from ._suite_build import suite_build
 
 
@@ -27,7 +27,8 @@ def add_suite_arguments(parser) -> None:
                         "starts N worker processes here, an address (tcp://host:8786) uses a running "
                         "scheduler (SLURM/PBS: see docs/distributed.md); needs --out FILE.nc")
     parser.add_argument("--out", type=pathlib.Path, default=None, metavar="FILE.nc",
-                        help="with --suite: the NetCDF file of the per-pair peaks (default <json stem>.nc)")
+                        help="with --suite: the NetCDF file of the per-pair peaks (default <json stem>.nc; with "
+                        "--property-factors the file of all three cases, written only when given)")
     parser.add_argument("--chunk-size", type=_positive_int, default=None, metavar="N",
                         help="with --suite: record pairs per compiled call, a task with --scheduler "
                         "(default: all in one call on a CPU, on a GPU the largest power of two up to "
@@ -121,7 +122,7 @@ def run_suite(args, load_components, build_structure) -> int:
         factors, scaling = scale_to_target(args, spectrum, [r[0] for r in records], ax, ay, dt)
         ax, ay = factors[:, None] * ax, factors[:, None] * ay
     if bounding is not None:
-        from ._bounding import run_suite_bounding
+        from ._suite_bounding import run_suite_bounding
 
         return run_suite_bounding(args, bounding, build_structure, [r[0] for r in records], ax, ay, dt, notes,
                                   scaling)

@@ -355,7 +355,12 @@ def suite_dataset(result: SuiteResult, attrs: dict | None = None):
 
 def open_suite(path) -> SuiteResult:
     """The `SuiteResult` a suite NetCDF file holds (`save_suite`, `suite_peaks_distributed`)."""
-    dataset = open_finished(path)
+    return suite_from_dataset(open_finished(path))
+
+
+def suite_from_dataset(dataset) -> SuiteResult:
+    """The `SuiteResult` of a loaded suite Dataset (one bounding case of a file with a "case"
+    dimension too, selected with `isel(case=i)`)."""
     peaks = {k: np.asarray(dataset[k].values, dtype=float) for k in _ALL_UNITS
              if k != "converged" and k in dataset}
     ok = np.asarray(dataset["converged"].values, dtype=bool)

@@ -1,0 +1,170 @@
+"""`teflon-jax run --suite FILE --property-factors LOWER,UPPER`: the suite's pairs through the
+nominal, upper- and lower-bound bearings (f_max and delta_f of Eq. 1 times 1, UPPER and LOWER,
+on every surface of a triple or double pendulum), a table per case and the case that governs
+displacement, base shear and drift (`teflon_jax.studies.governing_cases`). In this process the
+three cases run one after the other (`suite_peaks`); with `--scheduler` every (case, chunk of
+pairs) is a task of one run on a Dask cluster, the peaks of all three cases streamed to
+`--out FILE.nc` (`suite_cases_distributed`)."""
+
+import sys
+
+import numpy as np
+
+from ..units import parse_quantity
+
+
+def add_suite_bounding_flag(parser) -> None:
+    """`--property-factors LOWER,UPPER` on `teflon-jax run --suite`."""
+    parser.add_argument("--property-factors", metavar="LOWER,UPPER", default=None,
+                        help="with --suite: run the suite with the nominal bearing and its lower- and "
+                        "upper-bound variants (f_max and delta_f of Eq. 1 times LOWER and UPPER, e.g. "
+                        "0.85,1.3), and report which case governs displacement, base shear and drift; "
+                        "with --scheduler the three cases run on the cluster, all in --out FILE.nc")
+
+
+def read_suite_factors(args) -> tuple[float, float] | None:
+    """(lower, upper) of `run --property-factors`, or `None`; `ValueError` naming the flag."""
+    from ..studies import check_property_factors
+
+    text = getattr(args, "property_factors", None)
+    if text is None:
+        return None
+    if args.suite is None:
+        raise ValueError("--property-factors: bounds a suite's analysis; add --suite FILE.")
+    if getattr(args, "bearing", None) is not None:
+        raise ValueError("--property-factors: scales Table 1's friction (--ptfe, --pressure) or an isolator "
+                         "file's surfaces, not a --bearing file's; leave out --bearing or --property-factors.")
+    parts = [p.strip() for p in text.split(",")]
+    if len(parts) != 2 or not all(parts):
+        raise ValueError(f"--property-factors: write LOWER,UPPER, e.g. 0.85,1.3; got {text!r}.")
+    try:
+        return check_property_factors(*(parse_quantity(p, "dimensionless", where="--property-factors") for p in parts))
+    except ValueError as error:
+        raise ValueError(f"--property-factors {text}: {error}") from None
+
+
+def _case_results(args, factors, build_structure, names, ax, ay, dt, stem):
+    """({case: `SuiteResult`}, the slab's plan or None, {case: its files}, the NetCDF file of
+    every case or None): the three cases in this process (a table and a NetCDF file per case,
+    and with --out one file of all three) or on the cluster of --scheduler (a table per case,
+    the peaks in --out)."""
+    import argparse
+
+    from ..studies import (
+        BOUNDING_CASES,
+        save_suite,
+        save_suite_cases,
+        suite_cases_distributed,
+        suite_peaks,
+    )
+    from ..tables import load_table2
+    from ._suite_build import suite_build
+
+    height = load_table2().storey_height if args.structure == "building" else None
+    factor_of = dict(zip(BOUNDING_CASES, (1.0, factors[1], factors[0])))
+    builds, plan, base_index = {}, None, None
+    for case, factor in factor_of.items():  # the structure of each case, built once
+        case_args = argparse.Namespace(**{**vars(args), "friction_factor": factor})
+        builds[case], _, base_index, plan = suite_build(case_args, build_structure, ax[0], ay[0], dt)
+    groups = None if plan is None else [g["name"] for g in plan["groups"]]
+    duration = (ax.shape[1] - 1) * dt
+    attrs = {"structure": args.structure, "suite": str(args.suite)}
+    if args.scheduler is None:
+        results = {case: suite_peaks(build, names, ax, ay, dt, duration, base_index, batch_size=args.chunk_size,
+                                     storey_height=height, group_names=groups)
+                   for case, build in builds.items()}
+        files = {case: [f"{stem}-{case}.csv", f"{stem}-{case}.nc"] for case in BOUNDING_CASES}
+        for case, result in results.items():
+            save_suite(result, table_path=files[case][0], netcdf_path=files[case][1],
+                       attrs={**attrs, "bounding_case": case, "friction_factor": factor_of[case]})
+        if args.out is not None:
+            save_suite_cases(results, args.out, attrs=_file_attrs(attrs, factors))
+        return results, plan, files, args.out
+    from ._main import compile_cache_dir
+
+    results = suite_cases_distributed(
+        builds, names, ax, ay, dt, duration, base_index, out=args.out, scheduler=args.scheduler,
+        chunk_size=8 if args.chunk_size is None else args.chunk_size, attrs=_file_attrs(attrs, factors),
+        compilation_cache=None if getattr(args, "no_compile_cache", False) else str(compile_cache_dir()),
+        storey_height=height, group_names=groups)
+    files = {case: [f"{stem}-{case}.csv"] for case in BOUNDING_CASES}
+    for case, result in results.items():
+        save_suite(result, table_path=files[case][0])
+    return results, plan, files, args.out
+
+
+def _file_attrs(attrs, factors) -> dict:
+    from ..studies import BOUNDING_CASES
+
+    return {**attrs, "bounding_cases": ",".join(BOUNDING_CASES), "property_factor_lower": factors[0],
+            "property_factor_upper": factors[1]}
+
+
+def run_suite_bounding(args, factors, build_structure, names, ax, ay, dt, notes, scaling) -> int:
+    """The suite's pairs (ax, ay) (P, n) [m/s^2] through the nominal, upper- and lower-bound
+    bearings (`build_structure` of `teflon-jax run` with `friction_factor`), one table per case
+    (<stem>-<case>.csv; in this process also <stem>-<case>.nc), the NetCDF file of every case
+    (--out) and the JSON with the governing cases; 1 when a pair failed in some case."""
+    import json
+    import pathlib
+    import time
+
+    from ..studies import BOUNDING_CASES, governing_cases
+    from ._run_slab import NORMAL_LOAD_NOTE, suite_normal_load
+
+    lower, upper = factors
+    stem = pathlib.Path(args.json).with_suffix("") if args.json else pathlib.Path("suite")
+    start = time.perf_counter()
+    results, plan, files, netcdf = _case_results(args, factors, build_structure, names, ax, ay, dt, stem)
+    if args.pelicun_demands is not None:  # one demand file per case: <FILE stem>-<case>.csv
+        from ..formats import write_pelicun_demands
+        from ._engineering import suite_pelicun_peaks
+
+        path = pathlib.Path(args.pelicun_demands)
+        for case in BOUNDING_CASES:
+            write_pelicun_demands(path.with_name(f"{path.stem}-{case}{path.suffix}"),
+                                  **suite_pelicun_peaks(results[case], ax, ay))
+    wall = time.perf_counter() - start
+    peaks = {k: np.stack([results[c].peaks[k] for c in BOUNDING_CASES]) for k in results["nominal"].peaks}
+    converged = np.stack([results[c].converged for c in BOUNDING_CASES])
+    by_mean = governing_cases(peaks, converged, statistic="mean")
+    by_max = governing_cases(peaks, converged, statistic="max")
+    payload = {"structure": args.structure, "suite": str(args.suite), "notes": notes, "wall_s": wall,
+               "property_factors": {"lower": lower, "upper": upper,
+                                    "applied_to": "f_max and delta_f of Eq. 1 (the friction coefficient at every velocity; on every surface of a triple or double pendulum)"},
+               "cases": {c: {"friction_factor": f, "summary": results[c].summary, "failed": int(np.sum(~results[c].converged)),
+                             "pairs": {n: {k: float(v[i]) for k, v in results[c].peaks.items()}
+                                       | ({} if results[c].groups is None else suite_normal_load(plan, results[c].groups, i))
+                                       for i, n in enumerate(names)},
+                             "files": files[c]}
+                         for c, f in zip(BOUNDING_CASES, (1.0, upper, lower))},
+               "governs": {k: {"by_mean": by_mean[k]["governs"], "by_max": by_max[k]["governs"]} for k in peaks}}
+    if netcdf is not None:
+        payload["netcdf"] = str(netcdf)
+    if args.scheduler is not None:
+        payload["scheduler"] = args.scheduler
+    if results["nominal"].groups is not None:  # each case's groups: <stem>-<case>.csv, the NetCDF, "pairs"
+        payload["normal_load_note"] = NORMAL_LOAD_NOTE
+    if scaling is not None:
+        payload["spectrum_scaling"] = scaling
+    if args.json:
+        pathlib.Path(args.json).write_text(json.dumps(payload, indent=2))
+    _print_table(len(names), wall, by_mean)
+    if not converged.all():
+        failed = {c: [n for n, ok in zip(names, converged[i]) if not ok] for i, c in enumerate(BOUNDING_CASES)}
+        print("teflon-jax run: error: pairs that could not be balanced in every step, left out of the "
+              "statistics: " + "; ".join(f"{c}: {', '.join(f)}" for c, f in failed.items() if f)
+              + ". Run such a pair alone to see why (a slab that tips, or try a smaller --time-step).",
+              file=sys.stderr)
+        return 1
+    return 0
+
+
+def _print_table(count, wall, by_mean) -> None:
+    from ..studies import BOUNDING_CASES
+
+    print(f"{count} pairs x 3 bearings in {wall:.1f} s; mean over the converged pairs:")
+    print("  " + f"{'':28s}" + "".join(f"{c:>12s}" for c in BOUNDING_CASES) + "   governs")
+    for name, row in by_mean.items():
+        cells = "".join(f"{row[c]:12.4g}" if row[c] is not None else f"{'-':>12s}" for c in BOUNDING_CASES)
+        print(f"  {name:28s}{cells}   {row['governs']}")
