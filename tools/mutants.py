@@ -2,8 +2,9 @@
 excitation signal, solver, structures).
 
 Each mutant changes one physical statement (a sign, a factor, a threshold, an interpolation
-rule) in a copy of the repository and runs the fast tests that guard it (`pytest -x -q`,
-slow tests deselected, a time limit per mutant). A mutant is *killed* when those tests fail,
+rule) in a copy of the repository and runs the tests that guard it (`pytest -x -q`: the fast
+tests of a file named whole, a test named by its node id even where it is slow; a time limit
+per mutant). A mutant is *killed* when those tests fail,
 *survived* when they pass (a statement no test guards, or an equivalent mutant to explain),
 *timeout* when they run past the limit. The working tree is never modified.
 
@@ -321,7 +322,10 @@ def run(mutant: Mutant, timeout: float, source: pathlib.Path) -> tuple[str, floa
 
 
 def pytest(root: pathlib.Path, tests, timeout: float) -> tuple[str, float, str]:
-    command = [sys.executable, "-m", "pytest", "-x", "-q", "-p", "no:cacheprovider", "-m", "not slow", *tests]
+    # whole files run their fast tests; a test named by its node id runs even where it is slow
+    named = all("::" in t for t in tests)
+    command = [sys.executable, "-m", "pytest", "-x", "-q", "-p", "no:cacheprovider",
+               *(() if named else ("-m", "not slow")), *tests]
     env = dict(os.environ, PYTHONPATH=str(root), JAX_PLATFORMS=os.environ.get("JAX_PLATFORMS", "cpu"))
     start = time.monotonic()
     try:
