@@ -74,11 +74,13 @@ def _without(payload: dict) -> dict:
 @pytest.mark.slow  # three compiled cases in this process and on each of two workers (about 2 min on two cores)
 @pytest.mark.parametrize("isolator", [
     ["--isolation-period", "2.5s"],
-    ["--isolator", "double-fp", "--isolator-file", str(BENCHMARKS / "double_isolator.json")]],
-    ids=["flat", "double-fp"])
+    ["--isolator", "single-fp", "--radius", "60in", "--ptfe", "UF", "--pressure", "1000psi"],
+    ["--isolator", "double-fp", "--isolator-file", str(BENCHMARKS / "double_isolator.json")],
+    ["--isolator", "triple-fp", "--isolator-file", str(BENCHMARKS / "triple_isolator.json")]],
+    ids=["flat", "single-fp", "double-fp", "triple-fp"])
 def test_suite_bounds_on_the_cluster_equal_the_in_process_run(dask_cluster, tmp_path, isolator, capsys):
-    """Rigid mass on flat sliders with a 2.5 s restoring spring, or on double pendulums (every
-    surface's friction scaled), three pairs, chunks of two: the cluster's JSON equals the
+    """Rigid mass on flat sliders with a 2.5 s restoring spring, or on single, double or triple
+    pendulums (every surface's friction scaled), three pairs, chunks of two: the cluster's JSON equals the
     in-process one to 1e-12, its --out file holds the three cases (those of the in-process
     --out file), and the lower bound moves most, the upper least."""
     common = ["run", "--suite", str(_write_suite(tmp_path)), "--record-units", "g", *isolator,

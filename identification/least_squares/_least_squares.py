@@ -47,7 +47,7 @@ import numpy as np
 import optimistix as optx
 
 from ._covariance import SOLVERS, LeastSquaresResult, summarise
-from ._marquardt import MarquardtLevenbergMarquardt
+from ._marquardt import MarquardtLevenbergMarquardt, StoppingLevenbergMarquardt
 from ._transform import _make_transform, _to_physical, _to_unconstrained, check_bounds
 
 CONVERGENCE_TESTS = ("parameters_and_residuals", "residuals")
@@ -69,7 +69,7 @@ def _make_solver(solver: str, rtol: float, atol: float, converged_on: str):
                          f"{', '.join(CONVERGENCE_TESTS)}.")
     norm = optx.max_norm if converged_on == "parameters_and_residuals" else _residuals_only_norm
     if solver == "levenberg_marquardt":
-        return optx.LevenbergMarquardt(rtol=rtol, atol=atol, norm=norm)
+        return StoppingLevenbergMarquardt(rtol=rtol, atol=atol, norm=norm)
     if solver == "levenberg_marquardt_scaled":
         return MarquardtLevenbergMarquardt(rtol=rtol, atol=atol, norm=norm)
     if solver == "gauss_newton":
@@ -176,7 +176,8 @@ def fit_least_squares(
     - `log_scale`: names searched uniformly in log x between finite bounds `0 < lo < hi`.
     - `max_steps`, `rtol`, `atol`: optimistix settings (tolerances act on the unconstrained
       parameters and on the cost).
-    - `solver`: `"levenberg_marquardt"` (default; optimistix's, damping `lam I`),
+    - `solver`: `"levenberg_marquardt"` (default; optimistix's, damping `lam I`, ending where
+      no damping up to `_marquardt.MAX_DAMPING` lowers the cost),
       `"levenberg_marquardt_scaled"` (Marquardt's damping `lam diag(J^T J)`, `_marquardt.py`:
       for parameters of very different sensitivity) or `"gauss_newton"`.
     - `converged_on`: `"parameters_and_residuals"` (default; optimistix's test: a step changes

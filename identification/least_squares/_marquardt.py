@@ -1,4 +1,5 @@
-"""Levenberg-Marquardt with Marquardt's scaled damping, built from optimistix's parts.
+"""Levenberg-Marquardt with Marquardt's scaled damping, built from optimistix's parts, and
+optimistix's own Levenberg-Marquardt with the same end at a minimum of the arithmetic.
 
 optimistix's `LevenbergMarquardt` damps with `lam I`. Marquardt (1963) damps with
 `lam diag(J^T J)`, re-scaled at every step, which makes the step independent of how each
@@ -19,15 +20,20 @@ from collections.abc import Callable
 import equinox as eqx
 import jax
 import jax.numpy as jnp
+import lineax as lx
 import optimistix as optx
 
 INITIAL_DAMPING = 1e-2
 """lam at the start (the trust region's step size starts at 1, and lam = this / step size)."""
 
 MAX_DAMPING = 1e8
-"""lam beyond which the step is zero: the trust region has shrunk through every damping up to
-this without lowering the cost, a minimum to the precision of the arithmetic. optimistix
-accepts the zero step and its convergence test (no change) ends the solve there."""
+"""lam (relative to diag(J^T J); in `StoppingLevenbergMarquardt` to its largest entry) beyond
+which the step is zero: the trust region has shrunk through every damping up to this without
+lowering the cost, a minimum to the precision of the arithmetic. The trust region accepts the
+zero step (`_ZeroStepTrustRegion`) and optimistix's convergence test (no change) ends the solve
+there. Without it a solve that lands
+on such a point refuses every later step and runs to `max_steps` (optimistix tests for
+convergence on accepted steps only)."""
 
 MAX_STEP = 4.0
 """Largest change of one unknown in a step: an unconstrained u of order one moves by at most
@@ -41,6 +47,18 @@ model predicts."""
 class _MarquardtState(eqx.Module):
     jacobian: jax.Array
     residual: jax.Array
+
+
+class _ZeroStepTrustRegion(optx.ClassicalTrustRegion):
+    """optimistix's classical trust region that also accepts a step that moves nothing (the
+    zero step of `MAX_DAMPING`): evaluated again at the same point, the residuals can differ in
+    their last bit (seen: the cost 1 ulp higher), which would refuse it for ever."""
+
+    def step(self, first_step, y, y_eval, f_info, f_eval_info, state):
+        step_size, accept, result, state = super().step(first_step, y, y_eval, f_info, f_eval_info, state)
+        unmoved = jnp.all(jnp.stack([jnp.all(a == b) for a, b in
+                                     zip(jax.tree_util.tree_leaves(y_eval), jax.tree_util.tree_leaves(y))]))
+        return step_size, accept | unmoved, result, state
 
 
 class MarquardtDescent(optx.AbstractDescent):
@@ -85,7 +103,7 @@ class MarquardtLevenbergMarquardt(optx.AbstractGaussNewton):
     atol: float
     norm: Callable
     descent: MarquardtDescent
-    search: optx.ClassicalTrustRegion
+    search: _ZeroStepTrustRegion
     verbose: Callable
 
     def __init__(self, rtol: float, atol: float, norm: Callable = optx.max_norm):
@@ -95,9 +113,44 @@ class MarquardtLevenbergMarquardt(optx.AbstractGaussNewton):
         self.descent = MarquardtDescent()
         # Any decrease of the cost is accepted and widens the region (lam / 3); a step that
         # does not decrease it is refused and narrows it (lam x 4), as in Marquardt (1963).
-        self.search = optx.ClassicalTrustRegion(high_cutoff=ACCEPT_FRACTION,
-                                                low_cutoff=ACCEPT_FRACTION,
-                                                high_constant=3.0, low_constant=0.25)
+        self.search = _ZeroStepTrustRegion(high_cutoff=ACCEPT_FRACTION, low_cutoff=ACCEPT_FRACTION,
+                                           high_constant=3.0, low_constant=0.25)
+        self.verbose = _quiet
+
+
+class _StoppingDampedNewtonDescent(optx.DampedNewtonDescent):
+    """optimistix's damped Newton step (lam = 1 / step size, damping `lam I`), zero once lam
+    exceeds `MAX_DAMPING` times the largest diagonal entry of J^T J."""
+
+    def step(self, step_size, state):
+        y_diff, result = super().step(step_size, state)
+        jac = state.f_info.jac.as_matrix()
+        curvature = jnp.max(jnp.sum(jac**2, axis=0))
+        stop = step_size * MAX_DAMPING * curvature < 1
+        return jax.tree_util.tree_map(lambda d: jnp.where(stop, jnp.zeros_like(d), d), y_diff), result
+
+
+class StoppingLevenbergMarquardt(optx.AbstractGaussNewton):
+    """optimistix's `LevenbergMarquardt` (damping `lam I`, QR, its classical trust region) that
+    ends where no damping up to `MAX_DAMPING` lowers the cost (`_StoppingDampedNewtonDescent`);
+    every other step is optimistix's.
+
+    **Arguments:** `rtol`, `atol` and `norm` of optimistix's convergence test.
+    """
+
+    rtol: float
+    atol: float
+    norm: Callable
+    descent: _StoppingDampedNewtonDescent
+    search: _ZeroStepTrustRegion
+    verbose: Callable
+
+    def __init__(self, rtol: float, atol: float, norm: Callable = optx.max_norm):
+        self.rtol = rtol
+        self.atol = atol
+        self.norm = norm
+        self.descent = _StoppingDampedNewtonDescent(linear_solver=lx.QR())
+        self.search = _ZeroStepTrustRegion()
         self.verbose = _quiet
 
 

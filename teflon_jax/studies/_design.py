@@ -36,6 +36,7 @@ import numpy as np
 from ..excitation import uniform_signal
 from ..systems import IsolatedStructure, check_design, design_ranges, peak_response
 from ._design_check import GRADIENT_TOLERANCE, design_gradient_check
+from ._design_held import held_messages, minimise_holding_bounds
 
 
 def _records_array(records, time_step):
@@ -366,22 +367,31 @@ def optimise_design(
     def objective(y, limit):
         return penalised_objective(smooth_of_y(y), limit, penalty)
 
+    def held_objective(y, args):  # the free variables' objective, args = (limit, held y)
+        return objective({**y, **args[1]}, args[0])
+
+    smooth_of_x = forward_mode_gradient(lambda x: {k: response(x)[k] for k in ("shear", "disp")})
+    slope = jax.jit(jax.grad(lambda x, limit: penalised_objective(smooth_of_x(x), limit, penalty)))
     solver, evaluate = optx.BFGS(rtol=rtol, atol=atol), jax.jit(response)
 
+    def minimise(fn, y, args):
+        return optx.minimise(fn, solver, y, args=args, max_steps=max_steps, throw=False)
+
     def run(y, limit):
-        solution = optx.minimise(objective, solver, y, args=jnp.asarray(limit, dtype=float),
-                                 max_steps=max_steps, throw=False)
+        solution = minimise_holding_bounds(minimise, objective, held_objective, slope, bounds, y,
+                                           jnp.asarray(limit, dtype=float))
         x = {k: float(v) for k, v in bounds.to_physical(solution.value).items()}
         return solution, x, evaluate(x)
 
     solution, x, final, smooth_limit, steps = _limit_on_true_peaks(
         run, bounds.to_unconstrained(start), evaluate(start), disp_limit, peak_corrections)
-    optimiser_ok = bool(solution.result == optx.RESULTS.successful)
+    optimiser_ok = bool(solution.result == optx.RESULTS.successful) and not solution.inward
     check = design_gradient_check(structure, response, x, bounds, relative_step=relative_step)
     failed, limit_met = int(final["n_failed"]), float(final["peak_disp"]) <= disp_limit
     messages = [*_failures(failed, records.shape[0], optimiser_ok, f"{steps} steps (max_steps="
                            f"{max_steps}, rtol={rtol}, atol={atol})", final, disp_limit, peak_corrections,
                            limit_statistic),
+                *held_messages(solution),
                 *check["messages"]]
     return DesignResult(
         optimum=x, objective=float(penalised_objective(final, smooth_limit, penalty)),

@@ -15,15 +15,12 @@ import uuid
 from collections.abc import Callable, Mapping
 
 import jax
-import jax.numpy as jnp
 import numpy as np
 
 from ._cluster import (
     add_attributes,
-    check_count,
     check_netcdf_output,
     file_attributes,
-    lanes,
     open_finished,
     run_dtype,
     stream_to_netcdf,
@@ -35,6 +32,9 @@ from ._suites import (
     SUITE_STOREY_UNITS,
     SUITE_UNITS,
     SuiteResult,
+    _checked_pairs,
+    _chunk_peaks,
+    _pair_chunks,
     _suite_function,
     suite_dataset,
     suite_from_dataset,
@@ -74,15 +74,10 @@ def suite_cases_distributed(
     """
     out = check_netcdf_output(out)
     cases = tuple(str(c) for c in builds)
-    names = tuple(str(n) for n in names)
-    ax, ay = np.asarray(ax, dtype=float), np.asarray(ay, dtype=float)
-    count = len(names)
     if not cases:
         raise ValueError("builds: give at least one case.")
-    if count < 1 or ax.shape != ay.shape or ax.ndim != 2 or ax.shape[0] != count:
-        raise ValueError(f"ax, ay: need two (P, n) arrays for the {count} pair names, got {ax.shape} and {ay.shape}.")
-    chunk = min(check_count("chunk_size", chunk_size, 1), count)
-    retries = check_count("retries", retries, 0)
+    names, ax, ay, chunk, retries = _checked_pairs(names, ax, ay, chunk_size, retries)
+    count = len(names)
     dtype = run_dtype()
     spec = {"builds": tuple(builds.values()), "n_pairs": count, "time_step": float(time_step),
             "duration": float(duration), "base_index": tuple(int(i) for i in base_index),
@@ -100,8 +95,7 @@ def suite_cases_distributed(
             handle.variables[name][case, first:first + stop - start] = (
                 values.astype(np.int8) if name == "converged" else values)
 
-    chunks = [(c * count + s, c * count + min(s + chunk, count), (ax[s:s + chunk], ay[s:s + chunk]))
-              for c in range(len(cases)) for s in range(0, count, chunk)]
+    chunks = [item for c in range(len(cases)) for item in _pair_chunks(ax, ay, chunk, offset=c * count)]
     stream_to_netcdf(out, layout, _case_task, spec, chunks, write, scheduler=scheduler,
                      connect_timeout=connect_timeout, compilation_cache=compilation_cache, retries=retries,
                      progress=progress, what="case-pair items")
@@ -121,12 +115,7 @@ def _case_task(spec: dict, start: int, stop: int, payload):
     case = start // spec["n_pairs"]
     if case not in functions:
         functions[case] = _case_function(spec, case)
-    ax, ay = payload
-    index = lanes(0, stop - start, spec["chunk"])
-    peaks, ok = functions[case](jnp.asarray(ax[index]), jnp.asarray(ay[index]))
-    part = {k: np.asarray(v)[: stop - start] for k, v in peaks.items()}
-    part["converged"] = np.asarray(ok, dtype=bool)[: stop - start]
-    return part
+    return _chunk_peaks(functions[case], spec["chunk"], stop - start, payload)
 
 
 def _cases_layout(cases, names, shapes: dict, group_names, attrs: dict) -> dict:

@@ -221,16 +221,41 @@ def suite_peaks(build, names, ax, ay, time_step: float, duration: float, base_in
                        groups=groups)
 
 
+def _checked_pairs(names, ax, ay, chunk_size, retries):
+    """(names, ax, ay, chunk, retries) of a suite run on a cluster: the P pair names as strings,
+    the (P, n) ground accelerations as float arrays, the chunk width (at most P) and the
+    retries, each refused by name where it is wrong."""
+    names = tuple(str(n) for n in names)
+    ax, ay = np.asarray(ax, dtype=float), np.asarray(ay, dtype=float)
+    count = len(names)
+    if count < 1 or ax.shape != ay.shape or ax.ndim != 2 or ax.shape[0] != count:
+        raise ValueError(f"ax, ay: need two (P, n) arrays for the {count} pair names, got {ax.shape} and {ay.shape}.")
+    return names, ax, ay, min(check_count("chunk_size", chunk_size, 1), count), check_count("retries", retries, 0)
+
+
+def _pair_chunks(ax, ay, chunk: int, offset: int = 0) -> list:
+    """`stream_to_netcdf`'s chunks of the pairs: (offset + start, offset + stop, (ax, ay) rows)."""
+    count = ax.shape[0]
+    return [(offset + start, offset + min(start + chunk, count), (ax[start:start + chunk], ay[start:start + chunk]))
+            for start in range(0, count, chunk)]
+
+
+def _chunk_peaks(function, chunk: int, count: int, payload) -> dict:
+    """The peaks and "converged" of the first `count` pairs of `payload` (ax, ay), run through
+    the chunk function at its width `chunk` (the rest padded with copies of the last pair)."""
+    ax, ay = payload
+    index = lanes(0, count, chunk)
+    peaks, ok = function(jnp.asarray(ax[index]), jnp.asarray(ay[index]))
+    out = {k: np.asarray(v)[:count] for k, v in peaks.items()}
+    out["converged"] = np.asarray(ok, dtype=bool)[:count]
+    return out
+
+
 def _suite_task(spec: dict, start: int, stop: int, payload):
     """Peaks of pairs start..stop-1 (a Dask task; runs on a worker)."""
     function = worker_cached(spec, lambda s: _suite_function(s["build"], s["time_step"], s["duration"],
                                                              s["base_index"]))
-    ax, ay = payload
-    index = lanes(0, stop - start, spec["chunk"])
-    peaks, ok = function(jnp.asarray(ax[index]), jnp.asarray(ay[index]))
-    out = {k: np.asarray(v)[: stop - start] for k, v in peaks.items()}
-    out["converged"] = np.asarray(ok, dtype=bool)[: stop - start]
-    return out
+    return _chunk_peaks(function, spec["chunk"], stop - start, payload)
 
 
 def suite_peaks_distributed(
@@ -270,13 +295,8 @@ def suite_peaks_distributed(
     `ConnectionError` naming the address when no scheduler answers.
     """
     out = check_netcdf_output(out)
-    names = tuple(str(n) for n in names)
-    ax, ay = np.asarray(ax, dtype=float), np.asarray(ay, dtype=float)
+    names, ax, ay, chunk, retries = _checked_pairs(names, ax, ay, chunk_size, retries)
     count = len(names)
-    if count < 1 or ax.shape != ay.shape or ax.ndim != 2 or ax.shape[0] != count:
-        raise ValueError(f"ax, ay: need two (P, n) arrays for the {count} pair names, got {ax.shape} and {ay.shape}.")
-    chunk = min(check_count("chunk_size", chunk_size, 1), count)
-    retries = check_count("retries", retries, 0)
     dtype = run_dtype()
     spec = {"build": build, "time_step": float(time_step), "duration": float(duration),
             "base_index": tuple(int(i) for i in base_index), "chunk": chunk, "dtype": dtype,
@@ -298,8 +318,7 @@ def suite_peaks_distributed(
         for name in reported:
             handle.variables[f"group_{name}"][start:stop, :] = part[f"group_{name}"]
 
-    chunks = [(start, min(start + chunk, count), (ax[start:start + chunk], ay[start:start + chunk]))
-              for start in range(0, count, chunk)]
+    chunks = _pair_chunks(ax, ay, chunk)
     stream_to_netcdf(out, _suite_layout(names, {**settings, **(attrs or {})}, groups), _suite_task, spec, chunks, write,
                      scheduler=scheduler, connect_timeout=connect_timeout, compilation_cache=compilation_cache,
                      retries=retries, progress=progress, what="pairs")
