@@ -47,7 +47,7 @@ def dask_cluster(tmp_path_factory):
            "JAX_COMPILATION_CACHE_DIR": str(tmp_path_factory.mktemp("jax-cache")),
            "JAX_PERSISTENT_CACHE_MIN_COMPILE_TIME_SECS": "0"}
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                  dashboard_address=None, env=env) as local:
+                                  dashboard_address=":0", env=env) as local:  # a free port (see _cluster)
         yield local
 
 

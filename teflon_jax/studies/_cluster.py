@@ -111,8 +111,10 @@ def start_client(scheduler, connect_timeout: float, dtype: str, cache_dir=None):
 
         spawn_env = {**dask.config.get("distributed.nanny.pre-spawn-environ", {}), **env}
         with dask.config.set({"distributed.nanny.pre-spawn-environ": spawn_env}):
+            # the status page on a free port: None would mean the default 8787, which a second
+            # local cluster on the machine finds taken (Dask then retries, leaking a socket)
             cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                   dashboard_address=None)
+                                   dashboard_address=":0")
         return Client(cluster), cluster
     try:
         return Client(scheduler, timeout=connect_timeout), None
