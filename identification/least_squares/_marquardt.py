@@ -31,9 +31,8 @@ MAX_DAMPING = 1e8
 which the step is zero: the trust region has shrunk through every damping up to this without
 lowering the cost, a minimum to the precision of the arithmetic. The trust region accepts the
 zero step (`_ZeroStepTrustRegion`) and optimistix's convergence test (no change) ends the solve
-there. Without it a solve that lands
-on such a point refuses every later step and runs to `max_steps` (optimistix tests for
-convergence on accepted steps only)."""
+there. Without it a solve that lands on such a point refuses every later step and runs to
+`max_steps` (optimistix tests for convergence on accepted steps only)."""
 
 MAX_STEP = 4.0
 """Largest change of one unknown in a step: an unconstrained u of order one moves by at most
