@@ -47,7 +47,7 @@ import numpy as np
 import optimistix as optx
 
 from ._covariance import SOLVERS, LeastSquaresResult, summarise
-from ._marquardt import MarquardtLevenbergMarquardt, StoppingLevenbergMarquardt
+from ._marquardt import marquardt_levenberg_marquardt, stopping_levenberg_marquardt
 from ._transform import _make_transform, _to_physical, _to_unconstrained, check_bounds
 
 CONVERGENCE_TESTS = ("parameters_and_residuals", "residuals")
@@ -69,9 +69,9 @@ def _make_solver(solver: str, rtol: float, atol: float, converged_on: str):
                          f"{', '.join(CONVERGENCE_TESTS)}.")
     norm = optx.max_norm if converged_on == "parameters_and_residuals" else _residuals_only_norm
     if solver == "levenberg_marquardt":
-        return StoppingLevenbergMarquardt(rtol=rtol, atol=atol, norm=norm)
+        return stopping_levenberg_marquardt(rtol=rtol, atol=atol, norm=norm)
     if solver == "levenberg_marquardt_scaled":
-        return MarquardtLevenbergMarquardt(rtol=rtol, atol=atol, norm=norm)
+        return marquardt_levenberg_marquardt(rtol=rtol, atol=atol, norm=norm)
     if solver == "gauss_newton":
         return optx.GaussNewton(rtol=rtol, atol=atol, norm=norm)
     raise ValueError(f"solver: unknown '{solver}'; use one of {', '.join(SOLVERS)}.")

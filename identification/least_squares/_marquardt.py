@@ -27,7 +27,7 @@ INITIAL_DAMPING = 1e-2
 """lam at the start (the trust region's step size starts at 1, and lam = this / step size)."""
 
 MAX_DAMPING = 1e8
-"""lam (relative to diag(J^T J); in `StoppingLevenbergMarquardt` to its largest entry) beyond
+"""lam (relative to diag(J^T J); in `stopping_levenberg_marquardt` to its largest entry) beyond
 which the step is zero: the trust region has shrunk through every damping up to this without
 lowering the cost, a minimum to the precision of the arithmetic. The trust region accepts the
 zero step (`_ZeroStepTrustRegion`) and optimistix's convergence test (no change) ends the solve
@@ -91,30 +91,38 @@ class MarquardtDescent(optx.AbstractDescent):
                                          optx.RESULTS.singular)
 
 
-class MarquardtLevenbergMarquardt(optx.AbstractGaussNewton):
-    """Levenberg-Marquardt with Marquardt's scaled damping (module docstring), for unknowns
-    given as a one-array tuple `(u,)`.
+class TrustRegionGaussNewton(optx.AbstractGaussNewton):
+    """optimistix's Gauss-Newton framework with a given descent and trust region, for unknowns
+    given as a one-array tuple `(u,)` (`marquardt_levenberg_marquardt`,
+    `stopping_levenberg_marquardt`).
 
-    **Arguments:** `rtol`, `atol` and `norm` of optimistix's convergence test.
+    **Arguments:** `rtol`, `atol` and `norm` of optimistix's convergence test, the `descent`
+    and the `search`.
     """
 
     rtol: float
     atol: float
     norm: Callable
-    descent: MarquardtDescent
-    search: _ZeroStepTrustRegion
+    descent: optx.AbstractDescent
+    search: optx.AbstractSearch
     verbose: Callable
 
-    def __init__(self, rtol: float, atol: float, norm: Callable = optx.max_norm):
+    def __init__(self, rtol: float, atol: float, norm: Callable, descent, search):
         self.rtol = rtol
         self.atol = atol
         self.norm = norm
-        self.descent = MarquardtDescent()
-        # Any decrease of the cost is accepted and widens the region (lam / 3); a step that
-        # does not decrease it is refused and narrows it (lam x 4), as in Marquardt (1963).
-        self.search = _ZeroStepTrustRegion(high_cutoff=ACCEPT_FRACTION, low_cutoff=ACCEPT_FRACTION,
-                                           high_constant=3.0, low_constant=0.25)
+        self.descent = descent
+        self.search = search
         self.verbose = _quiet
+
+
+def marquardt_levenberg_marquardt(rtol: float, atol: float, norm: Callable = optx.max_norm):
+    """Levenberg-Marquardt with Marquardt's scaled damping (module docstring)."""
+    # Any decrease of the cost is accepted and widens the region (lam / 3); a step that
+    # does not decrease it is refused and narrows it (lam x 4), as in Marquardt (1963).
+    search = _ZeroStepTrustRegion(high_cutoff=ACCEPT_FRACTION, low_cutoff=ACCEPT_FRACTION,
+                                  high_constant=3.0, low_constant=0.25)
+    return TrustRegionGaussNewton(rtol, atol, norm, MarquardtDescent(), search)
 
 
 class _StoppingDampedNewtonDescent(optx.DampedNewtonDescent):
@@ -129,28 +137,12 @@ class _StoppingDampedNewtonDescent(optx.DampedNewtonDescent):
         return jax.tree_util.tree_map(lambda d: jnp.where(stop, jnp.zeros_like(d), d), y_diff), result
 
 
-class StoppingLevenbergMarquardt(optx.AbstractGaussNewton):
+def stopping_levenberg_marquardt(rtol: float, atol: float, norm: Callable = optx.max_norm):
     """optimistix's `LevenbergMarquardt` (damping `lam I`, QR, its classical trust region) that
     ends where no damping up to `MAX_DAMPING` lowers the cost (`_StoppingDampedNewtonDescent`);
-    every other step is optimistix's.
-
-    **Arguments:** `rtol`, `atol` and `norm` of optimistix's convergence test.
-    """
-
-    rtol: float
-    atol: float
-    norm: Callable
-    descent: _StoppingDampedNewtonDescent
-    search: _ZeroStepTrustRegion
-    verbose: Callable
-
-    def __init__(self, rtol: float, atol: float, norm: Callable = optx.max_norm):
-        self.rtol = rtol
-        self.atol = atol
-        self.norm = norm
-        self.descent = _StoppingDampedNewtonDescent(linear_solver=lx.QR())
-        self.search = _ZeroStepTrustRegion()
-        self.verbose = _quiet
+    every other step is optimistix's."""
+    return TrustRegionGaussNewton(rtol, atol, norm, _StoppingDampedNewtonDescent(linear_solver=lx.QR()),
+                                  _ZeroStepTrustRegion())
 
 
 def _quiet(**kwargs):
