@@ -36,6 +36,16 @@ BOUND_TOLERANCE = 1e-4
 _OUTPUTS = ("shear", "disp")
 
 
+def bound_side(value: float, lo: float, hi: float) -> int:
+    """-1 where `value` lies within `BOUND_TOLERANCE` of the range from its lower bound `lo`, +1
+    from its upper bound `hi`, else 0."""
+    if value - lo <= BOUND_TOLERANCE * (hi - lo):
+        return -1
+    if hi - value <= BOUND_TOLERANCE * (hi - lo):
+        return 1
+    return 0
+
+
 def _difference(value, x, name, h, side):
     def at(offset):
         return value(dict(x, **{name: x[name] + offset}))
@@ -97,11 +107,7 @@ def design_gradient_check(structure, response, x: dict, bounds, *, relative_step
     for name in names:
         lo, hi = bounds.ranges[name]
         h = relative_step * max(abs(x[name]), 1e-12)
-        side = 0
-        if x[name] - lo <= BOUND_TOLERANCE * (hi - lo):
-            side = 1
-        elif hi - x[name] <= BOUND_TOLERANCE * (hi - lo):
-            side = -1
+        side = -bound_side(x[name], lo, hi)  # the one-sided differences step into the box
         if side:
             bound = lo if side > 0 else hi
             at_bounds.append(name)

@@ -5,7 +5,7 @@ optimum lies on a bound, BFGS spends its steps driving y towards infinity (the s
 flattens, the gradient in y fades) before optimistix's test (a step changing every y by less
 than atol + rtol |y|) can be met, and may run out of them with the other variables still
 moving: it then reports no convergence near a design that is the optimum. When BFGS stops
-short with variables within `BOUND_TOLERANCE` of a bound, they are held there (y = +-
+short with variables on a bound (`bound_side`), they are held there (y = +-
 `HELD_LOGIT`, where the sigmoid is 0 or 1 to rounding) and BFGS runs again over the others.
 
 A held bound is a minimum only if the objective rises into the box there (the sign of its
@@ -19,7 +19,7 @@ import dataclasses
 
 import jax.numpy as jnp
 
-from ._design_check import BOUND_TOLERANCE
+from ._design_check import bound_side
 
 HELD_LOGIT = 40.0
 """|y| of a held variable: sigmoid(-40) = 4e-18, the bound itself to double precision for
@@ -58,13 +58,8 @@ def minimise_holding_bounds(minimise, objective, held_objective, gradient_in_x, 
     if first.result == optx.RESULTS.successful:
         return HeldSolution(dict(first.value), first.result, {"num_steps": steps})
     x = bounds.to_physical(first.value)
-    sides = {}
-    for name, (lo, hi) in bounds.ranges.items():
-        value = float(x[name])
-        if value - lo <= BOUND_TOLERANCE * (hi - lo):
-            sides[name] = -1.0
-        elif hi - value <= BOUND_TOLERANCE * (hi - lo):
-            sides[name] = 1.0
+    sides = {name: bound_side(float(x[name]), lo, hi) for name, (lo, hi) in bounds.ranges.items()}
+    sides = {name: side for name, side in sides.items() if side}
     if not sides:
         return HeldSolution(dict(first.value), first.result, {"num_steps": steps})
     held = {n: jnp.asarray(side * HELD_LOGIT, dtype=float) for n, side in sides.items()}
