@@ -358,11 +358,11 @@ def optimise_design(
 
     # reverse-mode gradients computed in forward mode (cheaper for a few variables, benchmark
     # B5); the limit is an argument, so the corrections reuse the compiled objective
-    def smooth(y):
-        r = response(bounds.to_physical(y))
+    def smooth(x):
+        r = response(x)
         return {"shear": r["shear"], "disp": r["disp"]}
 
-    smooth_of_y = forward_mode_gradient(smooth)
+    smooth_of_y = forward_mode_gradient(lambda y: smooth(bounds.to_physical(y)))
 
     def objective(y, limit):
         return penalised_objective(smooth_of_y(y), limit, penalty)
@@ -370,7 +370,7 @@ def optimise_design(
     def held_objective(y, args):  # the free variables' objective, args = (limit, held y)
         return objective({**y, **args[1]}, args[0])
 
-    smooth_of_x = forward_mode_gradient(lambda x: {k: response(x)[k] for k in ("shear", "disp")})
+    smooth_of_x = forward_mode_gradient(smooth)  # dJ/dx of a held variable (its sign)
     slope = jax.jit(jax.grad(lambda x, limit: penalised_objective(smooth_of_x(x), limit, penalty)))
     solver, evaluate = optx.BFGS(rtol=rtol, atol=atol), jax.jit(response)
 
