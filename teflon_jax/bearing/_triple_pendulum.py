@@ -107,10 +107,15 @@ def check_triple_pendulum(bearing: TriplePendulum) -> None:
     """`ValueError` naming the constant the series model cannot take: radii and capacities
     must be positive, the inner radius below the outer ones, and the friction of the inner
     surfaces at most that of the bottom, which is at most the top's (the order of regimes
-    I-V; swap top and bottom if yours is the other way round)."""
+    I-V; swap top and bottom if yours is the other way round), each surface's friction what
+    Eq. 1 takes (`check_friction`)."""
+    from ._series_pendulum import check_friction
+
     for name in ("inner_radius", "bottom_radius", "top_radius", "inner_capacity",
                  "bottom_capacity", "top_capacity"):
         require_positive(getattr(bearing, name), name, " [m]")
+    for name in ("inner_friction", "bottom_friction", "top_friction"):
+        check_friction(getattr(bearing, name), name)
     a = float(np.asarray(bearing.inner_radius))
     for name in ("bottom_radius", "top_radius"):
         if not float(np.asarray(getattr(bearing, name))) > a:

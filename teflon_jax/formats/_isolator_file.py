@@ -54,6 +54,11 @@ SURFACES = ("inner", "bottom", "top")
 ISOLATOR_SURFACES = {"triple-fp": SURFACES, "double-fp": ("bottom", "top")}
 """The surface groups of each isolator of the file."""
 
+MAX_SURFACE_FRICTION = 1.0
+"""The largest `f_max` [-] of a surface in an isolator file: a friction coefficient above 1 (a
+friction force above the normal load) is outside the range of sliding bearings, whose
+surfaces have 0.01 to about 0.2."""
+
 _SURFACE = {"radius": "length", "capacity": "length"}
 _FRICTION = BEARING_PARTS["friction"]  # Eq. 1's constants, as in the bearing file
 HEATING_CONSTANTS = {**BEARING_PARTS["heating"], "contact_pressure": "pressure"}
@@ -88,6 +93,9 @@ def _surface(part, where):
     friction = FrictionParameters(*(jnp.asarray(_value(part["friction"][key], kind,
                                                        f"{where}.friction.{key}"))
                                     for key, kind in _FRICTION.items()))
+    if not float(friction.f_max) <= MAX_SURFACE_FRICTION:
+        raise ValueError(f"{where}.friction.f_max: must be in (0, {MAX_SURFACE_FRICTION:g}] (a friction "
+                         f"coefficient; sliding surfaces have 0.01 to about 0.2), got {float(friction.f_max):g}.")
     heating = pressure = None
     if "heating" in part:
         _keys(part["heating"], tuple(HEATING_CONSTANTS), f"{where}.heating")
