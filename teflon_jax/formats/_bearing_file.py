@@ -10,7 +10,8 @@ A JSON object (format version 1):
      "sources": ["test75.csv"], "fit": {"nrmse": 0.012, ...}}
 
 Every constant is an object with `value`, `unit` (`"1"` for a ratio) and optionally
-`standard_error` (same unit). `friction` and `hysteresis` are required; every other part is
+`standard_error` (same unit; `null` with a `standard_error_note` saying why where the records
+do not determine the constant). `friction` and `hysteresis` are required; every other part is
 optional, and a part that is present lists all its constants (nothing is defaulted) except
 those in `OPTIONAL_CONSTANTS`. The
 parts and their constants are `BEARING_PARTS`. Written in SI; read in any unit of the right
@@ -18,6 +19,7 @@ kind (`s/in`, `in`, `kip`, `in^2`, ...).
 """
 
 import json
+import math
 import pathlib
 
 import jax.numpy as jnp
@@ -92,10 +94,10 @@ def read_constant(entry, kind, where):
     if not isinstance(entry, dict):
         raise ValueError(f"{where}: write {{\"value\": ..., \"unit\": \"{_SI[kind]}\"}}; "
                          f"got {entry!r} (a value without a unit is not read).")
-    unknown = set(entry) - {"value", "unit", "standard_error"}
+    unknown = set(entry) - {"value", "unit", "standard_error", "standard_error_note"}
     if unknown:
         raise ValueError(f"{where}: unknown key(s) {sorted(unknown)}; allowed: value, unit, "
-                         "standard_error.")
+                         "standard_error, standard_error_note.")
     for key in ("value", "unit"):
         if key not in entry:
             raise ValueError(f"{where}: missing '{key}' (e.g. \"unit\": \"{_SI[kind]}\").")
@@ -218,6 +220,19 @@ def _version() -> str:
         return "unknown"
 
 
+NOT_IDENTIFIABLE = ("not identifiable: the records do not determine this constant (an infinite or "
+                    "undefined standard error), so its value is the fit's start or a guess")
+"""The `standard_error_note` written beside a `null` standard error."""
+
+
+def _standard_error(error: float) -> dict:
+    """The standard-error keys of a constant: the number, or (strict JSON has no Infinity or
+    NaN) `null` with `standard_error_note` saying why."""
+    if math.isfinite(error):
+        return {"standard_error": error}
+    return {"standard_error": None, "standard_error_note": NOT_IDENTIFIABLE}
+
+
 def _scalar(x) -> float:
     return float(jnp.asarray(x))
 
@@ -237,7 +252,7 @@ def bearing_to_dict(bearing: SlidingBearing, *, standard_errors=None, sources=()
         for key, value in constants.items():
             entry = {"value": _scalar(value), "unit": _SI[BEARING_PARTS[part][key]]}
             if (part, key) in errors and errors[part, key] is not None:
-                entry["standard_error"] = float(errors[part, key])
+                entry.update(_standard_error(float(errors[part, key])))
             parts[part][key] = entry
 
     f = bearing.friction
@@ -267,5 +282,5 @@ def save_bearing(path, bearing: SlidingBearing, *, standard_errors=None, sources
     """Write `bearing` as a bearing file (JSON; see `bearing_to_dict`)."""
     path = pathlib.Path(path)
     document = bearing_to_dict(bearing, standard_errors=standard_errors, sources=sources, fit=fit)
-    path.write_text(json.dumps(document, indent=2) + "\n")
+    path.write_text(json.dumps(document, indent=2, allow_nan=False) + "\n")
     return path
