@@ -11,8 +11,11 @@ import argparse
 import dataclasses
 import json
 import math
+import os
 import pathlib
 import re
+import shlex
+import sys
 
 from ..units import INCH, KIP, PSI, parse_quantity
 from ._triple import SERIES_ISOLATORS
@@ -24,7 +27,8 @@ class QuantityFlag:
     `default` (text with its unit, or `None`), `minimum` with `strict` (> or >=), `maximum`,
     `nargs` (None or 2 for a LOW HIGH pair), `none` (a word that means 'not set', or None),
     `levels` (a comma-separated, strictly increasing list: the first value goes to `args.<dest>`,
-    all of them to `args.<dest>_levels`)."""
+    all of them to `args.<dest>_levels`), `why` (the physical reason for the range, shown
+    with a value outside it)."""
 
     command: str
     flag: str
@@ -37,6 +41,7 @@ class QuantityFlag:
     nargs: int | None = None
     none: str | None = None
     levels: bool = False
+    why: str = ""
 
 
 QUANTITY_FLAGS: list[QuantityFlag] = []
@@ -62,11 +67,11 @@ _NEGATIVE_QUANTITY = re.compile(r"^-(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?(?:\s*[A
 def add_quantity(parser, flag: str, dimension: str, default: str | None, help: str, *,
                  minimum: float | None = None, strict: bool = True, maximum: float | None = None,
                  nargs: int | None = None, none: str | None = None, required: bool = False,
-                 levels: bool = False):
+                 levels: bool = False, why: str = ""):
     """Declare a quantity flag on `parser` (see the module docstring)."""
     spec = QuantityFlag(command=parser.prog.split()[-1], flag=flag, dest=flag.lstrip("-").replace("-", "_"),
                         dimension=dimension, default=default, minimum=minimum, strict=strict,
-                        maximum=maximum, nargs=nargs, none=none, levels=levels)
+                        maximum=maximum, nargs=nargs, none=none, levels=levels, why=why)
     QUANTITY_FLAGS[:] = [q for q in QUANTITY_FLAGS if (q.command, q.flag) != (spec.command, flag)]
     QUANTITY_FLAGS.append(spec)
     parser._negative_number_matcher = _NEGATIVE_QUANTITY
@@ -117,8 +122,19 @@ def _one(spec: QuantityFlag, text: str):
         hint = f" (or '{spec.none}')" if spec.none else ""
         raise ValueError(f"{spec.flag}: must be {'>' if spec.strict else '>='} {bound}{hint}, got {text}.")
     if spec.maximum is not None and not value <= spec.maximum:
-        raise ValueError(f"{spec.flag}: must be <= {_in_units_of(spec.maximum, text, spec)}, got {text}.")
+        why = f" ({spec.why})" if spec.why else ""
+        raise ValueError(f"{spec.flag}: must be <= {_in_units_of(spec.maximum, text, spec)}{why}, got {text}"
+                         f"{_percent_hint(spec, text, value)}.")
     return value
+
+
+def _percent_hint(spec: QuantityFlag, text: str, value: float) -> str:
+    """For a plain number above the maximum of a ratio flag that reads as a percentage (67
+    for 67 %): how to write it, else ''."""
+    if spec.dimension != "dimensionless" or "%" in str(text) or not value / 100 <= spec.maximum:
+        return ""
+    return (f"; a plain number is a ratio, so {text} is {value:g} times, not {value:g} %: "
+            f"write {value / 100:g} or {value:g}%")
 
 
 def _levels(spec: QuantityFlag, text: str) -> tuple:
@@ -221,10 +237,53 @@ def _positive_int(text: str) -> int:
     return value
 
 
-def _write_json(path, payload):
+_COMMAND_LINE: list[str] = []
+"""The words of the running command line, after `teflon-jax` (`set_command_line`)."""
+
+
+def set_command_line(argv) -> None:
+    """Record the command line being run, for `provenance`; `main` calls it first."""
+    _COMMAND_LINE[:] = [str(word) for word in argv]
+
+
+def project_version() -> str:
+    """The installed version of teflon-jax ("unknown" when it is not installed)."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("teflon-jax")
+    except PackageNotFoundError:
+        return "unknown"
+
+
+def provenance() -> dict:
+    """What every JSON a command writes starts with: the project version and the command line
+    as typed (quoted for a shell)."""
+    return {"teflon_jax_version": project_version(),
+            "command_line": shlex.join(["teflon-jax", *_COMMAND_LINE])}
+
+
+def _write_json(path, payload: dict, **dumps) -> None:
+    """Write `payload` to the JSON file `path` (None: nothing), after `provenance()`; its
+    folder is created if missing. `dumps`: options of `json.dumps` (e.g. allow_nan=False)."""
     if path is not None:
+        path = pathlib.Path(path)
         path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text(json.dumps(payload, indent=2))
+        path.write_text(json.dumps({**provenance(), **payload}, indent=2, **dumps) + "\n")
+
+
+
+def check_scheduler(args) -> None:
+    """`ValueError` naming --scheduler and the extra to install when it is given and Dask's
+    distributed package cannot be imported (before any work)."""
+    if getattr(args, "scheduler", None) is None:
+        return
+    try:
+        import distributed  # noqa: F401
+    except ImportError as error:
+        raise ValueError(f"--scheduler: needs Dask's distributed package ({error}); install the "
+                         "extra: pip install \"teflon-jax[distributed]\" (from a clone: pip install -e "
+                         "\".[distributed]\"), or leave --scheduler out to run here.") from None
 
 
 def read_bearing_record(path):
@@ -260,13 +319,60 @@ OUTPUT_FLAGS = {
 """Each sub-command's output paths: (attribute, flag, "file" | "image" | "folder", an example name)."""
 
 
-def check_outputs(args, command: str) -> None:
-    """Before any work: every output path of `command` on `args` can be written. A file (or
-    image) must not be a folder, a folder not a file; the nearest existing folder above must
-    be writable (missing folders are created later); an image needs a suffix matplotlib
-    writes. A `ValueError` names the flag and echoes the path as typed otherwise."""
-    import os
+OTHER_OUTPUTS = (("save_bearing", "--save-bearing"), ("save_isolator", "--save-isolator"),
+                 ("pelicun_demands", "--pelicun-demands"))
+"""Output files that some commands write beside those of `OUTPUT_FLAGS`: (attribute, flag)."""
 
+_INPUT_NAMES = {"records": "the record", "record": "the record"}
+"""Positional inputs, named in messages as the user knows them."""
+
+
+def _outputs(args, command: str) -> list[tuple[str, str, str]]:
+    """(flag, path as typed, kind) of every output path given to `command`."""
+    given = [(flag, getattr(args, dest, None), kind) for dest, flag, kind, _ in OUTPUT_FLAGS.get(command, ())]
+    given += [(flag, getattr(args, dest, None), "file") for dest, flag in OTHER_OUTPUTS]
+    return [(flag, str(text), kind) for flag, text, kind in given if text is not None and str(text).strip()]
+
+
+def _inputs(args, outputs) -> list[tuple[str, pathlib.Path]]:
+    """(name, path) of every existing file among the other values of `args`: the command's
+    inputs (records, suite, plan, bearing and isolator files, ...)."""
+    taken = {flag.lstrip("-").replace("-", "_") for flag, _, _ in outputs} | {"json_path"}
+    found = []
+    for dest, value in vars(args).items():
+        if dest in taken or dest.startswith("_") or dest.endswith("_text"):
+            continue
+        for item in value if isinstance(value, (list, tuple)) else (value,):
+            if isinstance(item, (str, pathlib.PurePath)) and str(item).strip() and pathlib.Path(item).is_file():
+                found.append((_INPUT_NAMES.get(dest, "--" + dest.replace("_", "-")), pathlib.Path(item)))
+    return found
+
+
+def check_no_clash(args, command: str) -> None:
+    """`ValueError` naming both flags when an output path of `command` is one of its input
+    files (writing it would replace the input) or another output's path."""
+    outputs = _outputs(args, command)
+    inputs = _inputs(args, outputs)
+    seen = {}
+    for flag, text, _ in outputs:
+        path = pathlib.Path(text)
+        key = os.path.realpath(path)
+        if key in seen:
+            raise ValueError(f"{flag} {text}: is also the path of {seen[key]}; give each output its own name.")
+        seen[key] = flag
+        for name, source in inputs:
+            if path.exists() and os.path.samefile(path, source):
+                raise ValueError(f"{flag} {text}: is the input file of {name}; writing the results there "
+                                 "would replace it. Give another name for the output.")
+
+
+def check_outputs(args, command: str) -> None:
+    """Before any work: every output path of `command` on `args` can be written and is none
+    of its inputs (`check_no_clash`). A file (or image) must not be a folder, a folder not a
+    file; the nearest existing folder above must be writable, and the missing folders are
+    created here, the same for every command; an image needs a suffix matplotlib writes. A
+    `ValueError` names the flag and echoes the path as typed otherwise."""
+    check_no_clash(args, command)
     for dest, flag, kind, example in OUTPUT_FLAGS.get(command, ()):
         text = getattr(args, dest, None)
         if text is None:
@@ -288,14 +394,26 @@ def check_outputs(args, command: str) -> None:
             raise ValueError(f"{flag} {text}: cannot write results there, {above} is a file, not a folder.")
         if not os.access(above, os.W_OK | os.X_OK) or (path.exists() and not os.access(path, os.W_OK)):
             raise ValueError(f"{flag} {text}: cannot write results there (permission denied).")
+        (path if kind == "folder" else path.parent).mkdir(parents=True, exist_ok=True)
+
+
+def check_time_step(time_step: float, time_text: str, record_step: float, record_text: str) -> None:
+    """`ValueError` naming --time-step and the record when the solver step `time_step` [s] is
+    longer than the record step `record_step` [s]: the solver would step over samples of the
+    ground acceleration and report the peaks of a motion it never saw."""
+    if time_step <= record_step * (1 + 1e-9):
+        return
+    raise ValueError(f"--time-step {time_text}: longer than the record step {record_text}; the solver "
+                     "would step over samples of the ground acceleration and miss its peaks. Give a "
+                     f"--time-step of at most {record_step * 1e3:.4g}ms, e.g. {record_step * 500:.4g}ms.")
 
 
 def warn_time_step(command: str, time_step: float, time_text: str, record_step: float, record_text: str) -> None:
-    """A warning (stderr) when the solver step `time_step` [s] does not divide the record
-    step `record_step` [s]: the ground acceleration is then interpolated inside steps, and
-    the peaks are less accurate (1.8 % at 1/150 s against 0.2 % at 5 ms for 0.01 s records)."""
-    import sys
-
+    """`check_time_step`, then a warning (stderr) when the solver step `time_step` [s] does not
+    divide the record step `record_step` [s]: the ground acceleration is then interpolated
+    inside steps, and the peaks are less accurate (1.8 % at 1/150 s against 0.2 % at 5 ms for
+    0.01 s records)."""
+    check_time_step(time_step, time_text, record_step, record_text)
     ratio = record_step / time_step
     if ratio >= 1 and abs(ratio - round(ratio)) <= 1e-6 * ratio:
         return

@@ -6,13 +6,12 @@ Fits the baseline model to a test record, names the missing effects one at a tim
 
 import argparse
 import dataclasses
-import json
 import pathlib
 import sys
 
 from ..units import INCH, parse_quantity
 from ._bearing_flags import add_save_bearing_flag, check_output_file, save_bearing_flag
-from ._common import add_quantity, add_units_flag, output_units, read_bearing_record
+from ._common import _write_json, add_quantity, add_units_flag, output_units, read_bearing_record
 from ._diagnose_pendulum import add_pendulum_diagnose_flags, search_pendulum
 from ._diagnose_series import (
     add_series_diagnose_flags,
@@ -156,8 +155,7 @@ def run_diagnose(args) -> int:
     if radius is not None:
         document.update(isolator="single-fp", radius_m=radius,
                         radius_given=args.radius is not None, **radius_entries)
-    args.json_path.parent.mkdir(parents=True, exist_ok=True)
-    args.json_path.write_text(json.dumps(document, indent=2) + "\n")
+    _write_json(args.json_path, document)
     report = write_report(result, args.report, record_name=args.record.name,
                           length=output_units(args.units).length)
     save_bearing_flag(args, result.bearing(), standard_errors=result.bearing_errors(),

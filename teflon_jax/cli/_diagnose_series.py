@@ -5,12 +5,11 @@ effects the series model represents on its surfaces (`identification.discovery.S
 frictional heating of each surface), judged by the flat slider's evidence and decision rule
 (`identification.discovery.discover_series_effects`)."""
 
-import json
 import pathlib
 import sys
 
 from ._bearing_flags import check_output_file
-from ._common import output_units
+from ._common import _write_json, output_units
 from ._triple import SERIES_ISOLATORS, _load
 
 
@@ -79,8 +78,7 @@ def run_series_diagnose(args, candidates, say) -> int:
         print(f"teflon-jax diagnose: {error}", file=sys.stderr)
         return 2
     document = result.to_json()
-    args.json_path.parent.mkdir(parents=True, exist_ok=True)
-    args.json_path.write_text(json.dumps(document, indent=2) + "\n")
+    _write_json(args.json_path, document)
     report = write_series_report(result, args.report, record_name=args.record.name,
                                  length=output_units(args.units).length)
     if args.save_isolator is not None:

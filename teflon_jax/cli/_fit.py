@@ -11,6 +11,7 @@ import sys
 from ..units import INCH, parse_quantity
 from ._bearing_flags import add_save_bearing_flag, check_output_file, save_bearing_flag
 from ._common import (
+    _write_json,
     add_quantity,
     add_units_flag,
     output_units,
@@ -127,7 +128,7 @@ DEFAULT_STARTS = 8
 
 def run_fit(args) -> int:
     """Run `teflon-jax fit`; returns the exit status (0 ok, 1 not converged, 2 bad input)."""
-    from identification.bearing_fit import fit_bearing_test, parse_free, write_fit_json
+    from identification.bearing_fit import fit_bearing_test, parse_free
 
     from ..report import plot_fit
 
@@ -164,7 +165,7 @@ def run_fit(args) -> int:
     except ValueError as error:
         print(f"teflon-jax fit: error: {error}", file=sys.stderr)
         return 2
-    write_fit_json(args.json, fit)
+    _write_json(args.json, fit.to_json_dict())
     _save_fitted(args, fit, records)
     us = args.units == "us"
     if args.plot:
@@ -218,8 +219,6 @@ def _check_counts(args) -> None:
 def _run_bayes(args, records, free, fixed, least_squares) -> int:
     """`fit --bayes DIR`: the posterior, warm-started from `least_squares`; 1 unless converged,
     130 when interrupted (Ctrl-C), with the draws finished so far written as not converged."""
-    import json
-
     from identification.bayes import SamplingInterrupted, fit_bayes
 
     out = pathlib.Path(args.bayes)
@@ -239,9 +238,9 @@ def _run_bayes(args, records, free, fixed, least_squares) -> int:
         return 2
     except SamplingInterrupted as stop:
         if stop.result is None:
-            (out / "posterior.json").write_text(json.dumps({
+            _write_json(out / "posterior.json", {
                 "converged": False, "status": "interrupted in the warm-up: no draws",
-                "least_squares": str(args.json)}, indent=2))
+                "least_squares": str(args.json)})
         else:
             _write_posterior(args, out, stop.result)
         why = stop.result.interrupted if stop.result else "interrupted in the warm-up"
@@ -260,9 +259,7 @@ def _print_block(done: int, total: int) -> None:
 
 def _write_posterior(args, out, result) -> None:
     """posterior.json, posterior.nc, pairs.png and the table on stderr."""
-    import json
-
-    (out / "posterior.json").write_text(json.dumps(result.to_json_dict(), indent=2))
+    _write_json(out / "posterior.json", result.to_json_dict())
     result.to_netcdf(out / "posterior.nc")
     result.plot_pairs(out / "pairs.png", unit_of=_unit_of(args.units))
     print(result.summary(unit_of=_unit_of(args.units)), file=sys.stderr)

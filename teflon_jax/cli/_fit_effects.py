@@ -5,11 +5,10 @@ The model is Eq. 1 with Bouc-Wen plus the named optional parts (the effect names
 has the parameters with standard errors (SI), the nrmse and the convergence of the fit.
 """
 
-import json
 import sys
 
 from ._bearing_flags import check_output_file, save_bearing_flag
-from ._common import read_bearing_record, read_quantities
+from ._common import _write_json, read_bearing_record, read_quantities
 from ._diagnose import with_normal_load
 
 
@@ -67,8 +66,7 @@ def run_fit_effects(args) -> int:
                 "std_errors": result.std_errors, "nrmse": result.nrmse_final,
                 "converged": converged, "fit_convergence": dict(result.fit_convergence),
                 "units": "SI", "record": str(args.records[0])}
-    with open(args.json, "w") as out:
-        json.dump(document, out, indent=2)
+    _write_json(args.json, document)
     save_bearing_flag(args, result.bearing(), standard_errors=result.bearing_errors(),
                       sources=args.records,
                       fit={"command": "fit --effects", "effects": result.effects,

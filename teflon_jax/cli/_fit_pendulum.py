@@ -2,13 +2,11 @@
 liner's friction constants from test records (`identification.bearing_fit.fit_pendulum_test`).
 `--fixed radius=88in` holds R (the friction alone is fitted)."""
 
-import json
-import pathlib
 import sys
 
 from ..units import parse_quantity
 from ._bearing_flags import check_output_file
-from ._common import output_units, read_bearing_record, read_quantities
+from ._common import _write_json, output_units, read_bearing_record, read_quantities
 
 
 def _radius_of(args) -> tuple[float | None, list]:
@@ -59,7 +57,7 @@ def run_fit_pendulum(args, *, check_counts, parse_fixed, save_fitted, shown_as) 
     except ValueError as error:
         print(f"teflon-jax fit: error: {error}", file=sys.stderr)
         return 2
-    pathlib.Path(args.json).write_text(json.dumps(fit.to_json_dict(), indent=2))
+    _write_json(args.json, fit.to_json_dict())
     save_fitted(args, fit.friction, records)
     if args.plot:
         from ..report import plot_fit

@@ -3,12 +3,10 @@ radii and surfaces' friction of a triple or double friction pendulum from one te
 (`identification.bearing_fit.fit_series_pendulum_test`), written as a JSON report and, with
 `--save-isolator`, as an isolator file of the fitted constants."""
 
-import json
-import pathlib
 import sys
 
 from ._bearing_flags import check_output_file
-from ._common import output_units, read_bearing_record, read_quantities
+from ._common import _write_json, output_units, read_bearing_record, read_quantities
 from ._triple import _load
 
 
@@ -56,7 +54,7 @@ def run_fit_triple(args) -> int:
     except ValueError as error:
         print(f"teflon-jax fit: error: {error}", file=sys.stderr)
         return 2
-    pathlib.Path(args.json).write_text(json.dumps(fit.to_json_dict(), indent=2))
+    _write_json(args.json, fit.to_json_dict())
     if args.save_isolator is not None:
         write_isolator(args.save_isolator, fit.bearing)
     units = output_units(args.units)

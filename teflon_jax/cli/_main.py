@@ -6,7 +6,7 @@ import os
 import pathlib
 import sys
 
-from ._common import check_outputs, read_quantities
+from ._common import check_outputs, check_scheduler, project_version, read_quantities, set_command_line
 
 _COMMANDS = {
     # command: (module, adds its parser, runs it, its line in `teflon-jax --help`)
@@ -34,6 +34,8 @@ def _parser(only: str | None = None) -> argparse.ArgumentParser:
         description="Differentiable simulation of PTFE sliding bearings (Constantinou, Mokha & "
         "Reinhorn 1990) on JAX.",
     )
+    parser.add_argument("--version", action="version", version=f"teflon-jax {project_version()}",
+                        help="print the version of teflon-jax and exit")
     parser.add_argument("--float32", action="store_true", help="compute in single precision "
                         "(default: double precision)")
     parser.add_argument("--cpu-devices", type=int, default=None, metavar="N",
@@ -95,6 +97,7 @@ def _use_compile_cache(jax) -> None:
 
 def main(argv=None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
+    set_command_line(argv)  # written into every JSON the command writes
     parser = _parser(only=_named_command(argv))
     args = parser.parse_args(argv)
     if args.cpu_devices is not None and args.cpu_devices < 1:
@@ -118,6 +121,7 @@ def main(argv=None) -> int:
     try:
         read_quantities(args, args.command)
         check_outputs(args, args.command)  # before any work
+        check_scheduler(args)
         return runner(args)
     except (ValueError, FileNotFoundError, ConnectionError) as error:
         print(f"teflon-jax {args.command}: error: {error}", file=sys.stderr)

@@ -11,6 +11,7 @@ import sys
 import numpy as np
 
 from ..units import parse_quantity
+from ._common import _write_json
 
 
 def add_suite_bounding_flag(parser) -> None:
@@ -105,7 +106,6 @@ def run_suite_bounding(args, factors, build_structure, names, ax, ay, dt, notes,
     bearings (`build_structure` of `teflon-jax run` with `friction_factor`), one table per case
     (<stem>-<case>.csv; in this process also <stem>-<case>.nc), the NetCDF file of every case
     (--out) and the JSON with the governing cases; 1 when a pair failed in some case."""
-    import json
     import pathlib
     import time
 
@@ -148,7 +148,7 @@ def run_suite_bounding(args, factors, build_structure, names, ax, ay, dt, notes,
     if scaling is not None:
         payload["spectrum_scaling"] = scaling
     if args.json:
-        pathlib.Path(args.json).write_text(json.dumps(payload, indent=2))
+        _write_json(args.json, payload)
     _print_table(len(names), wall, by_mean)
     if not converged.all():
         failed = {c: [n for n, ok in zip(names, converged[i]) if not ok] for i, c in enumerate(BOUNDING_CASES)}
