@@ -12,13 +12,16 @@ def read_plan(path_text):
     height_of_centre_of_mass (0 when absent) and groups (each with name, x, y, load, ptfe,
     pressure, springs, radius, vertical_stiffness, isolator_file (a path relative to the plan's
     folder, for --isolator triple-fp or double-fp); None where the file leaves them out).
-    `ValueError` naming the file and key for a height < 0, a radius <= 0 or a vertical
-    stiffness <= 0."""
+    `ValueError` naming the file and key for a height < 0, a radius <= 0, a share of the
+    springs or a vertical stiffness that is not a number > 0, or two groups of one name."""
     path = pathlib.Path(path_text)
     if not path.is_file():
         raise ValueError(f"--plan: {path} is not a file.")
     try:
-        plan = json.loads(path.read_text())
+        plan = json.loads(path.read_text(encoding="utf-8"))
+    except UnicodeDecodeError as error:
+        raise ValueError(f"--plan: {path}: not a text (UTF-8) JSON file (byte {error.start} cannot be read); "
+                         "give the slab's plan (docs/tutorials/pendulum.md).") from None
     except json.JSONDecodeError as error:
         raise ValueError(f"--plan: {path}, line {error.lineno}: not valid JSON ({error.msg}).") from None
     where = f"{path}"
@@ -48,6 +51,9 @@ def read_plan(path_text):
     groups = []
     for i, g in enumerate(plan["groups"]):
         name = str(g.get("name", f"group {i + 1}"))
+        if any(name == other["name"] for other in groups):
+            raise ValueError(f"--plan: {path}: two groups are named {name!r} (groups {_index(groups, name) + 1} "
+                             f"and {i + 1}); give each group its own name.")
         for key in ("x", "y", "load"):
             if key not in g:
                 raise ValueError(f"--plan: {path}: {name} lacks '{key}'.")
@@ -58,10 +64,11 @@ def read_plan(path_text):
             "load": q(g["load"], "force", f"{name}.load"),
             "ptfe": g.get("ptfe"),
             "pressure": g.get("pressure"),
-            "springs": None if g.get("springs") is None else float(g["springs"]),
+            "springs": _ratio(path, g, name, "springs", "the group's share of the springs' stiffness "
+                              "(1 for all groups alike; their period is --isolation-period)"),
             "radius": None if g.get("radius") is None else q(g["radius"], "length", f"{name}.radius"),
-            "vertical_stiffness": (None if g.get("vertical_stiffness") is None
-                                   else float(g["vertical_stiffness"])),
+            "vertical_stiffness": _ratio(path, g, name, "vertical_stiffness", "the group's vertical "
+                                         "stiffness relative to the other groups'"),
             "isolator_file": (None if g.get("isolator_file") is None
                               else path.parent / str(g["isolator_file"])),
         })
@@ -70,13 +77,36 @@ def read_plan(path_text):
     return out
 
 
+def _index(groups, name) -> int:
+    return next(j for j, other in enumerate(groups) if other["name"] == name)
+
+
+def _ratio(path, group: dict, name: str, key: str, meaning: str) -> float | None:
+    """The plain number `group[key]` (None when absent); `ValueError` naming the plan file, the
+    group and the key, and saying what the number means, for anything else."""
+    value = group.get(key)
+    if value is None:
+        return None
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        try:
+            return float(str(value))
+        except ValueError:
+            raise ValueError(f"--plan: {path}: {name}.{key} is {meaning}, a plain number such as 1.0; "
+                             f"got {value!r}.") from None
+    return float(value)
+
+
 def _check_group(path, group) -> None:
-    """`ValueError` naming the plan file and the group's key for a radius <= 0 or a relative
-    vertical stiffness <= 0."""
+    """`ValueError` naming the plan file and the group's key for a radius <= 0, a share of the
+    springs < 0 or a relative vertical stiffness <= 0."""
     name = group["name"]
     if group["radius"] is not None and not group["radius"] > 0:
         raise ValueError(f"--plan: {path}: {name}.radius must be > 0 (the radius of its friction "
                          f"pendulum's surface), got {group['radius']:g} m.")
+    springs = group["springs"]
+    if springs is not None and not (math.isfinite(springs) and springs >= 0):
+        raise ValueError(f"--plan: {path}: {name}.springs must be >= 0 (its share of the springs' "
+                         f"stiffness), got {springs:g}.")
     stiffness = group["vertical_stiffness"]
     if stiffness is not None and not (math.isfinite(stiffness) and stiffness > 0):
         raise ValueError(f"--plan: {path}: {name}.vertical_stiffness must be > 0 (relative to the "

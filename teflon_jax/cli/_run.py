@@ -2,7 +2,6 @@
 through an isolated structure on PTFE sliding bearings: rigid mass, Table 2 building or a
 rigid slab on bearing groups. Peaks in JSON, plots, histories."""
 
-import json
 import pathlib
 import sys
 
@@ -12,12 +11,21 @@ from ..units import parse_quantity
 from ._bearing_flags import add_bearing_flag
 from ._common import (
     _NEGATIVE_QUANTITY,
+    _write_json,
     SERIES_ISOLATORS,
     add_isolator_flags,
     add_units_flag,
     output_units,
     pendulum_period,
     warn_time_step,
+)
+from ._record_checks import (
+    check_peak,
+    check_record_step,
+    check_record_units,
+    check_scaled,
+    is_at2,
+    run_records,
 )
 from ._run_bearing import bearing_of_flags as _bearing
 from ._run_bearing import fraction as _fraction
@@ -106,14 +114,17 @@ def _read_component(path_text, units, flag):
     path = pathlib.Path(path_text)
     if not path.is_file():
         raise ValueError(f"{flag}: {path} is not a file.")
-    if path.suffix.lower() == ".at2":
-        return read_at2(path)
-    if units is None:
+    if is_at2(path):
+        motion = read_at2(path)
+    elif units is None:
         raise ValueError(
             f"{flag}: {path} is a column file, whose acceleration unit is not written in it; "
             "give it with --record-units g (or m/s^2, cm/s^2, in/s^2)."
         )
-    return read_two_column(path, units=units)
+    else:
+        motion = read_two_column(path, units=units, columns=2)
+    check_peak(motion, flag, path_text, units)
+    return motion
 
 
 def _resample(values, dt, new_dt):
@@ -177,7 +188,11 @@ def load_components(args):
     scale = float(args.scale)
     if not (np.isfinite(scale) and scale > 0):
         raise ValueError(f"--scale: must be a finite number > 0, got {args.scale:g}.")
-    return scale * ax[i0:i0 + n], scale * ay[i0:i0 + n], dt, notes
+    ax, ay = scale * ax[i0:i0 + n], scale * ay[i0:i0 + n]
+    check_scaled(ax, ay, scale, f"{args.scale:g}")
+    check_record_step(parse_quantity(args.time_step, "time", where="--time-step"), args.time_step, dt,
+                      run_records(args))
+    return ax, ay, dt, notes
 
 
 # --------------------------------------------------------------------------- structure
@@ -374,6 +389,7 @@ def run_run(args) -> int:
 
     check_suite_flags(args)
     pendulum_period(args)  # the isolator's flags, before the records are read
+    check_record_units(args.record_units, run_records(args))
     if args.suite is not None:
         if args.record_x is not None or args.record_y is not None or args.record_z is not None:
             raise ValueError("--suite: give the records in the suite file, not with --record-x/--record-y/--record-z.")
@@ -397,7 +413,7 @@ def run_run(args) -> int:
     ax, ay, dt, notes = load_components(args)
     system, plan = build_structure(args, ax, ay, dt)
     system = with_vertical(args, system, vertical_component(args, _read_component, dt, ax.size), dt)
-    warn_time_step("run", float(system.time_step), args.time_step, dt, f"{dt:g}s")
+    warn_time_step("run", float(system.time_step), args.time_step, dt, f"{dt:g}s of the records")
     duration = (ax.size - 1) * dt
     print(f"teflon-jax run: {args.structure}, {round(duration / float(system.time_step))} steps of "
           f"{args.time_step} over {duration:g} s of record (compiling first)...", file=sys.stderr)
@@ -446,10 +462,7 @@ def write_run_outputs(args, payload, histories, title, more_lines=(), problem=""
                          "written (try a smaller --time-step).")
     for line in _shown_peaks(payload["peak"], units) + list(more_lines):
         print(line)
-    if args.json is not None:
-        path = pathlib.Path(args.json)
-        path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text(json.dumps(payload, indent=2, allow_nan=False))
+    _write_json(args.json, payload, allow_nan=False)
     if args.histories is not None:
         write_histories(args.histories, histories)
     if args.plot is not None:

@@ -12,8 +12,9 @@ import sys
 
 import numpy as np
 
-from ._common import _positive_int
+from ._common import _positive_int, _write_json
 from ._engineering import add_suite_pelicun_flag, suite_pelicun_peaks
+from ._record_checks import check_record_units
 from ._run_slab import NORMAL_LOAD_NOTE, suite_normal_load
 from ._spectrum import add_spectrum_flags, check_unscaled, read_target, scale_to_target
 from ._suite_bounding import add_suite_bounding_flag, read_suite_factors
@@ -50,16 +51,26 @@ def check_suite_flags(args) -> None:
                 raise ValueError(f"{flag}: only used with --suite FILE (a single record runs here).")
 
 
+SUMMARY_ROWS = ("mean", "max")
+"""The rows the suite table adds after the pairs: a pair may not take their names."""
+
+
 def read_suite(path_text):
-    """[(name, x path, y path or None, scale)] from the suite CSV; errors name file and line."""
+    """[(name, x path, y path or None, scale)] from the suite CSV; errors name file and line,
+    also for a file that is not UTF-8 text and for a pair name that is another pair's or a
+    summary row's (`SUMMARY_ROWS`)."""
     path = pathlib.Path(path_text)
     if not path.is_file():
         raise ValueError(f"--suite: {path} is not a file.")
-    with path.open(newline="") as handle:
-        rows = list(csv.DictReader(handle))
+    try:
+        with path.open(newline="", encoding="utf-8") as handle:
+            rows = list(csv.DictReader(handle))
+    except UnicodeDecodeError as error:
+        raise ValueError(f"--suite: {path}: not a text (UTF-8) CSV file (byte {error.start} cannot be read); "
+                         "give the CSV of record pairs: record_x, record_y, scale, name.") from None
     if not rows or "record_x" not in rows[0]:
         raise ValueError(f"--suite: {path}, line 1: expected the columns record_x, record_y, scale.")
-    pairs = []
+    pairs, lines = [], {}
     for line, row in enumerate(rows, start=2):
         x = (row.get("record_x") or "").strip()
         if not x:
@@ -73,8 +84,22 @@ def read_suite(path_text):
             raise ValueError(f"--suite: {path}, line {line}: scale must be finite.")
         resolve = lambda p: str(p if pathlib.Path(p).is_absolute() else path.parent / p)  # noqa: E731
         name = (row.get("name") or "").strip() or pathlib.Path(x).stem
+        _check_name(path, line, name, lines)
+        lines[name] = line
         pairs.append((name, resolve(x), None if y is None else resolve(y), scale))
     return pairs
+
+
+def _check_name(path, line: int, name: str, lines: dict) -> None:
+    """`ValueError` naming the suite file and line for a pair `name` that a summary row or an
+    earlier pair (`lines`: name -> line) has."""
+    if name.lower() in SUMMARY_ROWS:
+        raise ValueError(f"--suite: {path}, line {line}: the pair name {name!r} is that of a summary row of "
+                         f"the results ({', '.join(SUMMARY_ROWS)}); rename the pair.")
+    if name in lines:
+        raise ValueError(f"--suite: {path}, line {line}: the pair name {name!r} is also that of line "
+                         f"{lines[name]}; give each pair its own name (a 'name' column, or records with "
+                         "different file names).")
 
 
 def run_suite(args, load_components, build_structure) -> int:
@@ -99,6 +124,8 @@ def run_suite(args, load_components, build_structure) -> int:
     spectrum = read_target(args)  # target, range and limits checked before any record is read
     bounding = read_suite_factors(args)
     pairs = read_suite(args.suite)
+    check_record_units(args.record_units, [("--suite", path) for _, x, y, _ in pairs for path in (x, y)
+                                           if path is not None])
     if spectrum is not None:
         check_unscaled(pairs, args)
     records, notes = [], []
@@ -169,7 +196,7 @@ def run_suite(args, load_components, build_structure) -> int:
         payload["pelicun_demands"] = str(write_pelicun_demands(args.pelicun_demands, **suite_pelicun_peaks(result, ax, ay)))
     print(json.dumps(payload["summary"], indent=2))
     if args.json:
-        pathlib.Path(args.json).write_text(json.dumps(payload, indent=2))
+        _write_json(args.json, payload)
     failed = [name for name, ok in zip(result.names, result.converged) if not ok]
     if failed:
         print(f"teflon-jax run: error: {len(failed)} of {len(result.names)} pairs could not be balanced in "

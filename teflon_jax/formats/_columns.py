@@ -92,6 +92,7 @@ def read_two_column(
     acceleration_column: int = 1,
     skip_header: int | None = None,
     time_tolerance: float = 1.0e-3,
+    columns: int | None = None,
 ) -> GroundMotion:
     """Read a record stored as columns of time and acceleration.
 
@@ -113,15 +114,25 @@ def read_two_column(
     - `skip_header`: number of lines to skip before the data; `None` skips the leading lines
       in which no field is a number (a text header such as `time,acc (g)`).
     - `time_tolerance`: allowed jitter of the times as a fraction of the time step.
+    - `columns`: the number of columns the rows must have (None: any), so that a column that
+      would not be read is refused rather than passed over.
 
     **Returns:** a `GroundMotion` in [m/s^2].
 
     **Raises:** `ValueError` naming the file and line for an empty file, ragged rows, a value
-    that is not a finite number, a time that does not increase, or non-uniform sampling.
+    that is not a finite number, a time that does not increase, non-uniform sampling, or a
+    number of columns other than `columns`.
     """
     factor = _acceleration_factor(units, f"{path}: units")
     path, lines = _read_lines(path)
     rows, width = _data_rows(path, lines, skip_header)
+    if columns is not None and width != columns:
+        raise ValueError(
+            f"{path}, line {rows[0][0]}: {width} column(s), but {columns} are read: time in column "
+            f"{time_column + 1} and acceleration in column {acceleration_column + 1}"
+            + (", so the others would be left out; give each component a file of its own."
+               if width > columns else ".")
+        )
     for label, column in (
         ("time_column", time_column),
         ("acceleration_column", acceleration_column),

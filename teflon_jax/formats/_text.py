@@ -36,14 +36,20 @@ def _to_float(token: str, path, line_no: int, what: str) -> float:
 
 def read_json_document(path, what: str):
     """The JSON object of the file `path`; `ValueError` naming the file (and for bad JSON the
-    line and column) when it is missing or not JSON. `what` names the kind of file."""
+    line and column) when it is missing, a folder, not UTF-8 text or not JSON. `what` names
+    the kind of file."""
     import json
 
     path = pathlib.Path(path)
+    if path.is_dir():
+        raise ValueError(f"{path}: is a folder, not the {what}; give the path of the file.")
     try:
-        return json.loads(path.read_text())
+        return json.loads(path.read_text(encoding="utf-8"))
     except FileNotFoundError:
         raise ValueError(f"{path}: no such {what}.") from None
+    except UnicodeDecodeError as error:
+        raise ValueError(f"{path}: not a text (UTF-8) JSON file (byte {error.start} cannot be read); "
+                         f"give a {what}.") from None
     except json.JSONDecodeError as error:
         raise ValueError(f"{path}: not valid JSON (line {error.lineno}, column {error.colno}: "
                          f"{error.msg}).") from None
