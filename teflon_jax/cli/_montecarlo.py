@@ -140,6 +140,7 @@ def add_montecarlo_parser(subparsers) -> argparse.ArgumentParser:
 def _motion_model(args, duration=None):
     from ..excitation import StochasticGroundMotion
 
+    _check_envelope(args, StochasticGroundMotion, args.duration if duration is None else duration)
     return StochasticGroundMotion(
         peak_ground_acceleration=args.pga,
         site_frequency=2 * math.pi * args.site_frequency,
@@ -149,6 +150,27 @@ def _motion_model(args, duration=None):
         duration=args.duration if duration is None else duration,
         time_step=args.record_step,
     )
+
+
+def _check_envelope(args, model_type, duration: float) -> None:
+    """`ValueError` naming the flags (--duration, --strong-motion, --record-step,
+    --site-frequency) whose values the stochastic motions cannot take: a motion shorter than
+    its envelope's rise and strong motion, or than one record step, and a site frequency
+    above a quarter of the sampling rate."""
+    import dataclasses
+
+    rise = next(f.default for f in dataclasses.fields(model_type) if f.name == "rise_time")
+    if duration < args.record_step:
+        raise ValueError(f"--duration {args.duration_text}: shorter than --record-step {args.record_step_text}; "
+                         "lengthen the motions or refine the step.")
+    if rise + args.strong_motion > duration * (1 + 1e-12):
+        raise ValueError(f"--duration {args.duration_text}: shorter than the motions' envelope, its rise of "
+                         f"{rise:g} s plus --strong-motion {args.strong_motion_text} ({rise + args.strong_motion:g} s); "
+                         f"give --duration {rise + args.strong_motion:g}s or more, or a shorter --strong-motion.")
+    if args.site_frequency > 1 / (4 * args.record_step):
+        raise ValueError(f"--site-frequency {args.site_frequency_text}: above a quarter of the sampling rate of "
+                         f"--record-step {args.record_step_text} ({1 / (4 * args.record_step):g} Hz); give a "
+                         "smaller --record-step or a lower --site-frequency.")
 
 
 def run_montecarlo(args) -> int:
@@ -167,7 +189,8 @@ def run_montecarlo(args) -> int:
     two = args.components == 2
     structure = vertical_structure(args, _structure(args, two))
     if args.time_step is not None:
-        warn_time_step("montecarlo", args.time_step, args.time_step_text, args.record_step, args.record_step_text)
+        warn_time_step("montecarlo", args.time_step, args.time_step_text, args.record_step,
+                       f"{args.record_step_text} of --record-step")
     model = _motion_model(args)
     if two:
         model = TwoComponentGroundMotion(

@@ -6,6 +6,11 @@ the vertical peak R times each level's, the uplift per level), with `--limit`, `
 
 from ._common import add_quantity
 
+MAX_VERTICAL_RATIO = 2.0
+"""The largest `--vertical-ratio` [-]: twice the horizontal peak, above the vertical-to-horizontal
+ratios of recorded motions (Bozorgnia & Campbell 2004: 0.5 far from the source to above 1 near
+it)."""
+
 
 def add_vertical_flags(parser) -> None:
     """`--vertical-ratio` and `--vertical-frequency-ratio`."""
@@ -13,8 +18,10 @@ def add_vertical_flags(parser) -> None:
                  "expected peak is this ratio times the horizontal --pga (Newmark, Blume & Kapur 1973: "
                  "2/3; Bozorgnia & Campbell 2004: V/H of 0.5 far from the source to above 1 near it); the "
                  "isolators' normal load becomes W (1 + a_v / g), uplift (N <= 0) is reported per motion "
-                 "(0: a vertical record of zeros, the horizontal-only peaks) (default: none, horizontal only)",
-                 minimum=0.0, strict=False)
+                 "(0: a vertical record of zeros, the horizontal-only peaks; at most 2) (default: none, "
+                 "horizontal only)", minimum=0.0, strict=False, maximum=MAX_VERTICAL_RATIO,
+                 why="recorded motions have a vertical peak of 0.5 times the horizontal far "
+                 "from the source to above 1 near it")
     add_quantity(parser, "--vertical-frequency-ratio", "dimensionless", None, "with --vertical-ratio: "
                  "the vertical component's Kanai-Tajimi (and high-pass) frequency over the horizontal "
                  "one's; vertical motions are richer in short periods (default 2)", minimum=0.0)

@@ -15,10 +15,11 @@ import numpy as np
 
 from ..units import STANDARD_GRAVITY
 from ._common import ISOLATORS, add_quantity
+from ._triple import SERIES_ISOLATORS, _load
 
 
 def add_pendulum_test_flags(parser) -> None:
-    """`--isolator flat|single-fp` and `--radius R` of `simulate-test`."""
+    """`--isolator flat|single-fp|triple-fp|double-fp` and `--radius R` of `simulate-test`."""
     parser.add_argument("--isolator", default="flat", choices=ISOLATORS,
                         help="a flat slider, or a single friction pendulum: the slider on a "
                         "concave surface of --radius, force N u / R + friction (default flat)")
@@ -34,9 +35,16 @@ def check_pendulum_test_flags(args) -> float | None:
             raise ValueError("--radius: applies to --isolator single-fp only (a flat slider has no "
                              "radius); add --isolator single-fp or leave --radius out.")
         return None
+    if args.isolator in SERIES_ISOLATORS:
+        if args.isolator_file is None:
+            raise ValueError(f"--isolator-file: --isolator {args.isolator} needs the isolator file of its "
+                             "surfaces (radius, capacity and friction of each; docs/formats.md), e.g. "
+                             f"--isolator-file {'tfp' if args.isolator == 'triple-fp' else 'dfp'}.json.")
+        _load(args.isolator_file, args.isolator)  # a file of the other pendulum is refused by name
+        return None
     if args.isolator_file is not None:
         raise ValueError(f"--isolator: the isolator comes from --isolator-file {args.isolator_file} "
-                         "(a triple pendulum); leave --isolator single-fp out.")
+                         "(a triple or double pendulum, as the file says); leave --isolator single-fp out.")
     if args.radius is None:
         raise ValueError("--radius: --isolator single-fp needs the radius of its concave surface, "
                          "e.g. --radius 88in.")
