@@ -1,0 +1,290 @@
+"""Inputs that cannot be right are refused before any work, naming the flag, file, key or line
+as typed and what to do: an output that is an input, a triple pendulum's friction out of
+range, values that cannot be right, names that clash, files of the wrong kind; every command
+treats a missing output folder alike; JSON results carry the version and the command line."""
+
+import copy
+import json
+import math
+import sys
+
+import numpy as np
+import pytest
+
+from teflon_jax.cli import main
+from teflon_jax.cli._common import _write_json, provenance
+from teflon_jax.formats import load_bearing, save_bearing
+from teflon_jax.bearing import FrictionParameters, paper_bearing
+
+
+def _run(capsys, *argv):
+    code = main(["--no-compile-cache", *map(str, argv)])
+    return code, capsys.readouterr()
+
+
+def _at2(path, n=200, dt=0.01, peak=0.3):
+    values = peak * np.sin(2 * np.pi * dt * np.arange(n))
+    rows = [" ".join(f"{v: .7E}" for v in values[i:i + 5]) for i in range(0, n, 5)]
+    path.write_text("\n".join(["PEER NGA STRONG MOTION DATABASE RECORD", "Test event, 090",
+                               "ACCELERATION TIME SERIES IN UNITS OF G", f"NPTS=  {n}, DT=   {dt:.4f} SEC",
+                               *rows]) + "\n")
+    return path
+
+
+def _columns(path, *columns, dt=0.01, n=200):
+    t = dt * np.arange(n)
+    np.savetxt(path, np.column_stack([t, *(c * np.sin(2 * np.pi * t) for c in columns)]))
+    return path
+
+
+def _triple():
+    def surface(radius, capacity, mu, delta=0.01, rate=20.0):
+        return {"radius": {"value": radius, "unit": "m"}, "capacity": {"value": capacity, "unit": "m"},
+                "friction": {"f_max": {"value": mu, "unit": "1"}, "delta_f": {"value": delta, "unit": "1"},
+                             "rate_a": {"value": rate, "unit": "s/m"}}}
+
+    return {"format": "teflon-jax isolator", "format_version": 1, "isolator": "triple-fp",
+            "surfaces": {"inner": surface(0.3, 0.05, 0.03), "bottom": surface(2.1, 0.3, 0.08),
+                         "top": surface(2.1, 0.3, 0.12)},
+            "yield_disp": {"value": 0.0005, "unit": "m"}}
+
+
+def _double():
+    document = _triple()
+    document["isolator"] = "double-fp"
+    del document["surfaces"]["inner"]
+    return document
+
+
+# ------------------------------------------------------------------ an output that is an input
+
+
+def test_an_output_that_is_an_input_is_refused_and_the_input_kept(tmp_path, capsys):
+    victim = _at2(tmp_path / "victim.AT2")
+    before = victim.read_text()
+    code, out = _run(capsys, "run", "--record-x", victim, "--json", victim)
+    assert code == 2
+    assert "--json" in out.err and "is the input file of --record-x" in out.err
+    assert victim.read_text() == before
+
+
+def test_a_record_given_as_the_output_of_fit_is_refused(tmp_path, capsys):
+    record = tmp_path / "test.csv"
+    record.write_text("time [s],ux [in],fx [kip],N [kip]\n0,0,0,1\n0.1,0.1,0.1,1\n")
+    code, out = _run(capsys, "fit", record, "--json", record)
+    assert code == 2 and "--json" in out.err and "is the input file of the record" in out.err
+
+
+def test_two_outputs_of_one_path_are_refused(tmp_path, capsys):
+    record = _at2(tmp_path / "x.AT2")
+    code, out = _run(capsys, "run", "--record-x", record, "--json", tmp_path / "o.csv",
+                     "--histories", tmp_path / "o.csv")
+    assert code == 2 and "--histories" in out.err and "is also the path of --json" in out.err
+
+
+# Each command gets an output in a missing folder and one flag it refuses: the refusal is
+# that flag's (the folder is created, not refused), the same for every command.
+@pytest.mark.parametrize("argv, refused", [
+    (["simulate-test", "--out", "{missing}/x.csv", "--pattern", "zigzag"], "--pattern"),
+    (["montecarlo", "--motions", "2", "--out", "{missing}/mc.nc", "--principal-angle", "10deg"],
+     "--principal-angle"),
+    (["run", "--record-x", "{record}", "--json", "{missing}/run.json", "--plan", "plan.json"], "--plan"),
+])
+def test_a_missing_output_folder_is_created_by_every_command(tmp_path, capsys, argv, refused):
+    record = _at2(tmp_path / "x.AT2")
+    missing = tmp_path / "missing" / "dir"
+    code, out = _run(capsys, *(a.format(missing=missing, record=record) for a in argv))
+    assert code == 2
+    assert out.err.startswith(f"teflon-jax {argv[0]}: error: {refused}")
+    assert missing.is_dir()
+
+
+# ------------------------------------------------------------------ a triple pendulum's friction
+
+
+@pytest.mark.parametrize("surface, key, value, message", [
+    ("bottom", "delta_f", 0.5, "bottom_friction.delta_f: must be smaller than f_max"),
+    ("top", "f_max", 1.5, "surfaces.top.friction.f_max: must be in (0, 1]"),
+    ("bottom", "rate_a", -20.0, "bottom_friction.rate_a: must be >= 0"),
+])
+@pytest.mark.parametrize("command", ["run", "simulate-test"])
+def test_a_triple_pendulums_friction_out_of_range_is_refused_by_file_and_key(tmp_path, capsys, command,
+                                                                             surface, key, value, message):
+    document = copy.deepcopy(_triple())
+    document["surfaces"][surface]["friction"][key]["value"] = value
+    path = tmp_path / "tfp.json"
+    path.write_text(json.dumps(document))
+    argv = (["run", "--record-x", _at2(tmp_path / "x.AT2"), "--isolator", "triple-fp"] if command == "run"
+            else ["simulate-test", "--normal-load", "500kip", "--out", tmp_path / "t.csv"])
+    code, out = _run(capsys, *argv, "--isolator-file", path)
+    assert code == 2
+    assert f"--isolator-file {path}: {message}" in out.err
+    assert not (tmp_path / "t.csv").exists()
+
+
+# ------------------------------------------------------------------ values that cannot be right
+
+
+def test_a_vertical_ratio_given_in_percent_is_refused_with_the_range(capsys):
+    code, out = _run(capsys, "montecarlo", "--motions", "2", "--vertical-ratio", "67")
+    assert code == 2
+    assert "--vertical-ratio: must be <= 2" in out.err and "write 0.67 or 67%" in out.err
+
+
+def test_a_time_step_longer_than_the_record_step_is_refused(tmp_path, capsys):
+    record = _at2(tmp_path / "x.AT2")
+    code, out = _run(capsys, "run", "--record-x", record, "--time-step", "1s")
+    assert code == 2
+    assert "--time-step 1s: longer than the record step 0.01s of --record-x" in out.err
+    assert str(record) in out.err
+
+
+def test_a_column_file_whose_unit_gives_an_impossible_peak_is_refused(tmp_path, capsys):
+    record = _columns(tmp_path / "x.txt", 100.0)
+    code, out = _run(capsys, "run", "--record-x", record, "--record-units", "g")
+    assert code == 2
+    assert f"--record-x {record}: read in --record-units g, it peaks at 100 g" in out.err
+    assert "at most 5 g" in out.err
+
+
+def test_a_scale_that_gives_an_impossible_peak_is_refused(tmp_path, capsys):
+    code, out = _run(capsys, "run", "--record-x", _at2(tmp_path / "x.AT2", peak=0.5), "--scale", "20")
+    assert code == 2 and "--scale 20: the scaled records peak at 10 g" in out.err
+
+
+def test_a_three_column_file_is_refused_saying_which_columns_are_read(tmp_path, capsys):
+    record = _columns(tmp_path / "x.txt", 0.2, 0.1)
+    code, out = _run(capsys, "run", "--record-x", record, "--record-units", "g")
+    assert code == 2
+    assert "3 column(s), but 2 are read: time in column 1 and acceleration in column 2" in out.err
+
+
+def test_record_units_for_an_at2_file_are_refused(tmp_path, capsys):
+    code, out = _run(capsys, "run", "--record-x", _at2(tmp_path / "x.AT2"), "--record-units", "m/s^2")
+    assert code == 2
+    assert "--record-units m/s^2:" in out.err and "is a PEER AT2 file" in out.err
+
+
+def test_a_montecarlo_duration_shorter_than_the_envelope_names_the_flags(capsys):
+    code, out = _run(capsys, "montecarlo", "--motions", "2", "--duration", "10s")
+    assert code == 2
+    assert "--duration 10s: shorter than the motions' envelope" in out.err and "--strong-motion 10s" in out.err
+    assert "rise_time" not in out.err
+
+
+# ------------------------------------------------------------------ names that clash
+
+
+@pytest.mark.parametrize("rows, message", [
+    ("a.AT2,a.AT2,1,mean\n", "line 2: the pair name 'mean' is that of a summary row"),
+    ("a.AT2,a.AT2,1,one\na.AT2,a.AT2,2,max\n", "line 3: the pair name 'max' is that of a summary row"),
+    ("a.AT2,a.AT2,1,one\na.AT2,a.AT2,2,one\n", "line 3: the pair name 'one' is also that of line 2"),
+])
+def test_suite_pair_names_that_clash_are_refused(tmp_path, capsys, rows, message):
+    _at2(tmp_path / "a.AT2")
+    suite = tmp_path / "pairs.csv"
+    suite.write_text("record_x,record_y,scale,name\n" + rows)
+    code, out = _run(capsys, "run", "--suite", suite)
+    assert code == 2 and f"--suite: {suite}, {message}" in out.err
+
+
+def _plan(path, last="D", **first):
+    """A plan of four groups, A to C and `last`, the first with the keys `first`."""
+    def group(name, x, y, **more):
+        return {"name": name, "x": x, "y": y, "load": "250kN", **more}
+
+    path.write_text(json.dumps({"length_x": "20m", "length_y": "12m", "weight": "1000kN", "groups": [
+        group("A", "2m", "1m", **first), group("B", "18m", "1m"), group("C", "18m", "11m"),
+        group(last, "2m", "11m")]}))
+    return path
+
+
+def test_two_plan_groups_of_one_name_are_refused(tmp_path, capsys):
+    plan = _plan(tmp_path / "plan.json", last="B")
+    code, out = _run(capsys, "run", "--structure", "slab", "--plan", plan, "--isolation-period", "3s",
+                     "--record-x", _at2(tmp_path / "x.AT2"))
+    assert code == 2 and f"--plan: {plan}: two groups are named 'B' (groups 2 and 4)" in out.err
+
+
+def test_a_plan_groups_springs_with_a_unit_are_refused(tmp_path, capsys):
+    plan = _plan(tmp_path / "plan.json", springs="3s")
+    code, out = _run(capsys, "run", "--structure", "slab", "--plan", plan, "--isolation-period", "3s",
+                     "--record-x", _at2(tmp_path / "x.AT2"))
+    assert code == 2
+    assert f"--plan: {plan}: A.springs is the group's share of the springs' stiffness" in out.err
+    assert "got '3s'" in out.err
+
+
+# ------------------------------------------------------------------ files and flags of the wrong kind
+
+
+def test_a_scheduler_without_dask_distributed_names_the_extra(tmp_path, capsys, monkeypatch):
+    monkeypatch.setitem(sys.modules, "distributed", None)  # as if the package were not installed
+    code, out = _run(capsys, "montecarlo", "--motions", "2", "--scheduler", "local:1", "--out", tmp_path / "m.nc")
+    assert code == 2
+    assert "--scheduler: needs Dask's distributed package" in out.err and '".[distributed]"' in out.err
+
+
+def test_a_folder_given_as_the_isolator_file_is_refused(tmp_path, capsys):
+    code, out = _run(capsys, "run", "--record-x", _at2(tmp_path / "x.AT2"), "--isolator", "triple-fp",
+                     "--isolator-file", tmp_path)
+    assert code == 2 and f"--isolator-file {tmp_path}: is a folder, not the isolator file" in out.err
+
+
+def test_a_binary_suite_file_is_refused(tmp_path, capsys):
+    suite = tmp_path / "pairs.csv"
+    suite.write_bytes(bytes(range(256)) * 4)
+    code, out = _run(capsys, "run", "--suite", suite)
+    assert code == 2 and f"--suite: {suite}: not a text (UTF-8) CSV file" in out.err
+
+
+def test_a_double_pendulum_file_under_triple_fp_is_named_a_double(tmp_path, capsys):
+    path = tmp_path / "dfp.json"
+    path.write_text(json.dumps(_double()))
+    code, out = _run(capsys, "simulate-test", "--isolator-file", path, "--isolator", "triple-fp",
+                     "--normal-load", "500kip", "--out", tmp_path / "t.csv")
+    assert code == 2
+    assert f"--isolator-file: {path} holds a double-fp isolator, not the triple-fp of --isolator" in out.err
+
+
+def test_a_triple_pendulum_test_without_its_file_asks_for_the_file(tmp_path, capsys):
+    code, out = _run(capsys, "simulate-test", "--isolator", "triple-fp", "--normal-load", "500kip",
+                     "--out", tmp_path / "t.csv")
+    assert code == 2
+    assert "--isolator-file: --isolator triple-fp needs the isolator file" in out.err
+    assert "--radius" not in out.err
+
+
+# ------------------------------------------------------------------ results carry their inputs
+
+
+def test_version(capsys):
+    with pytest.raises(SystemExit) as stop:
+        main(["--version"])
+    assert stop.value.code == 0
+    assert capsys.readouterr().out.startswith("teflon-jax ")
+
+
+def test_a_json_result_starts_with_the_version_and_the_command_line(tmp_path, capsys):
+    _run(capsys, "montecarlo", "--motions", "2", "--vertical-ratio", "67", "--json", tmp_path / "a b.json")
+    _write_json(tmp_path / "out.json", {"peak": 1.0})
+    written = json.loads((tmp_path / "out.json").read_text())
+    assert list(written) == ["teflon_jax_version", "command_line", "peak"]
+    assert written["teflon_jax_version"] == provenance()["teflon_jax_version"] != ""
+    assert written["command_line"] == (f"teflon-jax --no-compile-cache montecarlo --motions 2 --vertical-ratio 67 "
+                                       f"--json '{tmp_path / 'a b.json'}'")
+
+
+def test_a_bearing_file_writes_null_for_a_standard_error_that_is_not_identifiable(tmp_path):
+    bearing = paper_bearing(FrictionParameters(0.12, 0.06, 20.0))
+    path = save_bearing(tmp_path / "b.json", bearing, standard_errors={("friction", "f_max"): 0.001,
+                                                                        ("friction", "rate_a"): math.inf})
+
+    def refuse(constant):
+        raise ValueError(f"not strict JSON: {constant}")
+
+    document = json.loads(path.read_text(), parse_constant=refuse)
+    rate = document["parts"]["friction"]["rate_a"]
+    assert rate["standard_error"] is None and rate["standard_error_note"].startswith("not identifiable")
+    assert document["parts"]["friction"]["f_max"]["standard_error"] == 0.001
+    assert float(load_bearing(path).friction.rate_a) == 20.0
