@@ -89,13 +89,15 @@ def test_two_outputs_of_one_path_are_refused(tmp_path, capsys):
     (["montecarlo", "--motions", "2", "--out", "{missing}/mc.nc", "--principal-angle", "10deg"],
      "--principal-angle"),
     (["run", "--record-x", "{record}", "--json", "{missing}/run.json", "--plan", "plan.json"], "--plan"),
+    (["fit", "{missing}/../nowhere.csv", "--json", "f.json", "--save-bearing", "{missing}/b.json"],
+     "{missing}/../nowhere.csv: no such file"),
 ])
 def test_a_missing_output_folder_is_created_by_every_command(tmp_path, capsys, argv, refused):
     record = _at2(tmp_path / "x.AT2")
     missing = tmp_path / "missing" / "dir"
     code, out = _run(capsys, *(a.format(missing=missing, record=record) for a in argv))
     assert code == 2
-    assert out.err.startswith(f"teflon-jax {argv[0]}: error: {refused}")
+    assert out.err.startswith(f"teflon-jax {argv[0]}: error: {refused.format(missing=missing)}")
     assert missing.is_dir()
 
 

@@ -319,18 +319,23 @@ OUTPUT_FLAGS = {
 """Each sub-command's output paths: (attribute, flag, "file" | "image" | "folder", an example name)."""
 
 
-OTHER_OUTPUTS = (("save_bearing", "--save-bearing"), ("save_isolator", "--save-isolator"),
-                 ("pelicun_demands", "--pelicun-demands"))
-"""Output files that some commands write beside those of `OUTPUT_FLAGS`: (attribute, flag)."""
+OTHER_OUTPUTS = (("save_bearing", "--save-bearing", "file", "bearing.json"),
+                 ("save_isolator", "--save-isolator", "file", "isolator.json"),
+                 ("pelicun_demands", "--pelicun-demands", "file", "demands.csv"))
+"""Output files that some commands write beside those of `OUTPUT_FLAGS`, in its form."""
 
 _INPUT_NAMES = {"records": "the record", "record": "the record"}
 """Positional inputs, named in messages as the user knows them."""
 
 
+def _output_flags(command: str) -> tuple:
+    """`OUTPUT_FLAGS` of `command` and `OTHER_OUTPUTS`."""
+    return (*OUTPUT_FLAGS.get(command, ()), *OTHER_OUTPUTS)
+
+
 def _outputs(args, command: str) -> list[tuple[str, str, str]]:
     """(flag, path as typed, kind) of every output path given to `command`."""
-    given = [(flag, getattr(args, dest, None), kind) for dest, flag, kind, _ in OUTPUT_FLAGS.get(command, ())]
-    given += [(flag, getattr(args, dest, None), "file") for dest, flag in OTHER_OUTPUTS]
+    given = [(flag, getattr(args, dest, None), kind) for dest, flag, kind, _ in _output_flags(command)]
     return [(flag, str(text), kind) for flag, text, kind in given if text is not None and str(text).strip()]
 
 
@@ -373,7 +378,7 @@ def check_outputs(args, command: str) -> None:
     created here, the same for every command; an image needs a suffix matplotlib writes. A
     `ValueError` names the flag and echoes the path as typed otherwise."""
     check_no_clash(args, command)
-    for dest, flag, kind, example in OUTPUT_FLAGS.get(command, ()):
+    for dest, flag, kind, example in _output_flags(command):
         text = getattr(args, dest, None)
         if text is None:
             continue
