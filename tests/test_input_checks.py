@@ -75,6 +75,20 @@ def test_a_record_given_as_the_output_of_fit_is_refused(tmp_path, capsys):
     assert code == 2 and "--json" in out.err and "is the input file of the record" in out.err
 
 
+@pytest.mark.parametrize("suite_name, json_flag", [("pairs.csv", ["--json", "pairs.json"]), ("suite.csv", [])])
+def test_a_suite_table_that_would_replace_the_suite_file_is_refused(tmp_path, capsys, monkeypatch, suite_name,
+                                                                    json_flag):
+    _at2(tmp_path / "a.AT2")
+    suite = tmp_path / suite_name
+    suite.write_text("record_x,record_y,scale,name\na.AT2,a.AT2,1,one\n")
+    before = suite.read_text()
+    monkeypatch.chdir(tmp_path)  # without --json the tables go to suite.* in the working folder
+    code, out = _run(capsys, "run", "--suite", suite_name, *json_flag)
+    assert code == 2
+    assert "--json" in out.err and f"{suite_name}, the --suite file, and replace it" in out.err
+    assert suite.read_text() == before
+
+
 def test_two_outputs_of_one_path_are_refused(tmp_path, capsys):
     record = _at2(tmp_path / "x.AT2")
     code, out = _run(capsys, "run", "--record-x", record, "--json", tmp_path / "o.csv",

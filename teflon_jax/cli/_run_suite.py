@@ -102,6 +102,26 @@ def _check_name(path, line: int, name: str, lines: dict) -> None:
                          "different file names).")
 
 
+def check_tables(args, pairs) -> None:
+    """`ValueError` naming --json when a table the suite writes beside its JSON (<stem>.csv and
+    .nc, <stem>-<case>.csv and .nc; stem `suite` without --json) is the suite file or a record."""
+    import os
+
+    from ..studies import BOUNDING_CASES
+
+    stem = pathlib.Path(args.json).with_suffix("") if args.json else pathlib.Path("suite")
+    tables = [pathlib.Path(f"{stem}{case}{suffix}") for case in ("", *(f"-{c}" for c in BOUNDING_CASES))
+              for suffix in (".csv", ".nc")]
+    inputs = [("the --suite file", args.suite), *((f"pair {name}'s record", path) for name, x, y, _ in pairs
+                                                  for path in (x, y) if path is not None)]
+    for table in tables:
+        for name, source in inputs:
+            if table.exists() and os.path.samefile(table, source):
+                given = f"--json {args.json}" if args.json else "--json (not given: the tables are suite.*)"
+                raise ValueError(f"{given}: the suite's results would go to {table}, {name}, and replace it; "
+                                 "give --json a name of its own, e.g. results.json.")
+
+
 def run_suite(args, load_components, build_structure) -> int:
     """Run the suite; `load_components` and `build_structure` are those of `teflon-jax run`."""
     from ..studies import (
@@ -126,6 +146,7 @@ def run_suite(args, load_components, build_structure) -> int:
     pairs = read_suite(args.suite)
     check_record_units(args.record_units, [("--suite", path) for _, x, y, _ in pairs for path in (x, y)
                                            if path is not None])
+    check_tables(args, pairs)
     if spectrum is not None:
         check_unscaled(pairs, args)
     records, notes = [], []
