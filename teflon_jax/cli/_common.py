@@ -272,7 +272,6 @@ def _write_json(path, payload: dict, **dumps) -> None:
         path.write_text(json.dumps({**provenance(), **payload}, indent=2, **dumps) + "\n")
 
 
-
 def check_scheduler(args) -> None:
     """`ValueError` naming --scheduler and the extra to install when it is given and Dask's
     distributed package cannot be imported (before any work)."""
