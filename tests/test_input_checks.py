@@ -11,10 +11,10 @@ import sys
 import numpy as np
 import pytest
 
+from teflon_jax.bearing import FrictionParameters, paper_bearing
 from teflon_jax.cli import main
 from teflon_jax.cli._common import _write_json, provenance
 from teflon_jax.formats import load_bearing, save_bearing
-from teflon_jax.bearing import FrictionParameters, paper_bearing
 
 
 def _run(capsys, *argv):
