@@ -82,10 +82,10 @@ from ._triple_isolated import TripleIsolatedStructure as TripleIsolatedStructure
 from ._triple_structure import TRIPLE_TOLERANCE as TRIPLE_TOLERANCE
 from ._triple_structure import StructureOnTriple as StructureOnTriple
 from ._triple_structure import TripleStructureResponse as TripleStructureResponse
-from ._triple_structure import imposed_isolator_force as imposed_isolator_force
 from ._triple_structure import simulate_triple_structure as simulate_triple_structure
 from ._triple_structure import triple_structure as triple_structure
 from ._triple_test import TripleResponse as TripleResponse
+from ._triple_test import imposed_isolator_force as imposed_isolator_force
 from ._triple_test import simulate_triple_test as simulate_triple_test
 from ._triple_test import triple_pendulum_test as triple_pendulum_test
 from ._vertical import normal_load_factor as normal_load_factor

@@ -43,13 +43,8 @@ from ..bearing import SeriesPendulum
 from ..excitation import Signal
 from ._overturning import SupportPlan, group_factor, overturned_loads, supported_loads
 from ._series_heat import heated_step
-from ._triple_biaxial import (
-    NEWTON_DIFFERENCE_STEP,
-    _inverse2,
-    _length,
-    _pendulum_blocks,
-    biaxial_slider_forces,
-)
+from ._slider_forces import slider_forces, slider_lengths
+from ._triple_biaxial import NEWTON_DIFFERENCE_STEP, _inverse2, _pendulum_blocks
 from ._triple_structure import (
     RESCUE_ITERATIONS,
     TRIPLE_NEWTON_ITERATIONS,
@@ -160,7 +155,7 @@ class SlabOnSeries(eqx.Module):
                "extra": extra, "normal_load": loads, "tipped": ~rests}
         if self.heat_rates is not None:  # the flux under the group's own N_g / W_g (0 lifted)
             new["heat"] = jax.vmap(heated_step, in_axes=(0, 0, 0, 0, None, None, 0))(
-                self.pendulum, state["heat"], p["k"], _length(d)[..., 0], self.time_step, self.heat_rates,
+                self.pendulum, state["heat"], p["k"], slider_lengths(d), self.time_step, self.heat_rates,
                 factor)
         return new, converged & rests
 
@@ -168,7 +163,7 @@ class SlabOnSeries(eqx.Module):
 def _group_forces(p, d, dt):
     """Slider forces (G, S, 2) [N] and Z of every group after the increments d (G, S, 2),
     each surface's friction times its heating factor `p["k"]` (G, S) where given."""
-    return jax.vmap(biaxial_slider_forces, in_axes=(0, 0, 0, 0, 0, None, 0))(
+    return jax.vmap(slider_forces, in_axes=(0, 0, 0, 0, 0, None, 0))(
         p["pendulum"], p["N"], p["s0"], p["z0"], d, dt, p.get("k"))
 
 

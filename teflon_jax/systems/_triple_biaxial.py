@@ -9,7 +9,7 @@ couple them: each slider's displacement, Z and force are vectors in the plane. S
 with Z_e from Park's biaxial Bouc-Wen model (Eqs. 8-9, updated exactly along the step's
 straight increment), n_e the direction of the increment, v_e its mean speed over the step times
 the surface's factor, and the restrainer along the slider's displacement beyond its capacity:
-along one axis this is `_triple_structure.slider_forces`. Each step solves the S sliders'
+one law in one and two components, `_slider_forces.slider_forces`. Each step solves the S sliders'
 increments (S, 2) so that every F_e equals F = (D - sum d_e) / G, D the isolator's increment
 (2,) without the bearing and G its compliance: Newton's matrix, blockdiag(K_e) + (1/G) U U^T
 with 2 x 2 blocks K_e (one-sided differences in the iteration, exact tangents in the
@@ -28,16 +28,18 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..bearing import STOP_STIFFNESS_RATIO, SeriesPendulum, sliding_friction
+from ..bearing import SeriesPendulum
 from ..excitation import Signal
-from ..solver import park_exact_update
 from ..units import STANDARD_GRAVITY
 from ._series_heat import heated_step
+from ._slider_forces import slider_forces, slider_lengths
 from ._storey_peaks import storey_rows
 from ._structure_response import check_duration
 from ._triple_structure import (
     RESCUE_ITERATIONS,
     StructureOnTriple,
+    balance_compliance,
+    carried_force,
     predicted_increments,
     shortest_fraction,
     uplift_increments,
@@ -108,57 +110,32 @@ class BiaxialStructureOnTriple(eqx.Module):
                                  tolerance)
         if load is not None:
             d, converged = uplift_increments(system.pendulum, load, p["D"], d, converged)
-        force, z1 = biaxial_slider_forces(system.pendulum, normal, slider0, z0, d, self.time_step, p.get("k"))
+        force, z1 = slider_forces(system.pendulum, normal, slider0, z0, d, self.time_step, p.get("k"))
         bearing = jnp.mean(force, axis=0)
         extra1 = bearing - k_ref * (x0[:, 0] + jnp.sum(d, axis=0))
         x1 = linear + extra1[:, None] * force_column
         state = (slider0 + d, z1, jnp.stack([d, previous[0]]), extra1)
         if system.pendulum.heated:
-            state = state + (heated_step(system.pendulum, isolator[4], p["k"], _length(d)[:, 0], self.time_step,
+            state = state + (heated_step(system.pendulum, isolator[4], p["k"], slider_lengths(d), self.time_step,
                                          system.heat_rates, 1.0 if load is None else load),)
         return x1, state, converged, bearing
 
 
-def _length(x):
-    """|x| along the last axis (kept), with a zero derivative at 0 instead of NaN."""
-    squared = jnp.sum(x**2, axis=-1, keepdims=True)
-    return jnp.where(squared > 0, jnp.sqrt(jnp.where(squared > 0, squared, 1.0)), 0.0)
-
-
-def biaxial_slider_forces(pendulum: SeriesPendulum, load, slider0, z0, increment, time_step, factors=None):
-    """Forces (S, 2) [N] of the sliders after the increments (S, 2) [m] from displacements
-    `slider0` and Park's Z `z0` (S, 2) over `time_step` [s] (module docstring), and their Z;
-    each surface's friction times `factors` (S,) [-] (heating) where given."""
-    radii, capacities = pendulum.series_radii()[:, None], pendulum.series_capacities()[:, None]
-    u = slider0 + increment
-    z = park_exact_update(pendulum.hysteresis, z0, increment)
-    length = _length(increment)
-    direction = increment / jnp.where(length > 0, length, 1.0)
-    friction = pendulum.frictions() if factors is None else pendulum.frictions().scaled(factors)
-    f_min = (friction.f_max - friction.delta_f)[:, None]
-    mu = sliding_friction(friction, length[:, 0] * pendulum.velocity_factors() / time_step)[:, None]
-    along = jnp.maximum(jnp.sum(direction * z, axis=-1, keepdims=True), 0.0)
-    reach = _length(u)
-    over = jnp.maximum(reach - capacities, 0.0) * u / jnp.where(reach > 0, reach, 1.0)
-    return load * (u / radii + f_min * z + (mu - f_min) * along * direction
-                   + STOP_STIFFNESS_RATIO * over / radii), z
-
-
 def _residual(d, p, dt):
-    force, _ = biaxial_slider_forces(p["pendulum"], p["N"], p["s0"], p["z0"], d, dt, p.get("k"))
-    return force - (p["D"] - jnp.sum(d, axis=0)) / p["G"]
+    force, _ = slider_forces(p["pendulum"], p["N"], p["s0"], p["z0"], d, dt, p.get("k"))
+    return force - carried_force(d, force, p)
 
 
 def _residual_and_blocks(d, p, dt):
     """(residual (S, 2), dF_e/dd_e (S, 2, 2)): a forward pass with the two axes' tangents
     (each slider's force depends on its own increment only)."""
     def forces(x):
-        return biaxial_slider_forces(p["pendulum"], p["N"], p["s0"], p["z0"], x, dt, p.get("k"))[0]
+        return slider_forces(p["pendulum"], p["N"], p["s0"], p["z0"], x, dt, p.get("k"))[0]
 
     axes = jnp.broadcast_to(jnp.eye(2, dtype=d.dtype)[:, None, :], (2,) + d.shape)
     force, columns = jax.vmap(lambda t: jax.jvp(forces, (d,), (t,)), out_axes=(None, 0))(axes)
     blocks = jnp.moveaxis(columns, 0, -1)
-    return force - (p["D"] - jnp.sum(d, axis=0)) / p["G"], jnp.where(p["N"] > 0, blocks, _pendulum_blocks(p))
+    return force - carried_force(d, force, p), jnp.where(p["N"] > 0, blocks, _pendulum_blocks(p))
 
 
 NEWTON_DIFFERENCE_STEP = 2.0**-26
@@ -177,7 +154,7 @@ def _differenced_blocks(d, force, p, dt):
     shifted = d + h[:, None]
     steps = shifted - d  # h as the sum represents it
     trials = jnp.stack([jnp.stack([shifted[:, 0], d[:, 1]], -1), jnp.stack([d[:, 0], shifted[:, 1]], -1)])
-    forces = jax.vmap(lambda x: biaxial_slider_forces(pendulum, p["N"], p["s0"], p["z0"], x, dt, p.get("k"))[0])(
+    forces = jax.vmap(lambda x: slider_forces(pendulum, p["N"], p["s0"], p["z0"], x, dt, p.get("k"))[0])(
         trials)
     blocks = jnp.moveaxis((forces - force) / jnp.moveaxis(steps, -1, 0)[:, :, None], 0, -1)
     return jnp.where(p["N"] > 0, blocks, _pendulum_blocks(p))
@@ -199,10 +176,10 @@ def _planar_newton(p, dt, guess, tolerance, iterations: int):
 
     **Returns:** (d, whether max |r| <= tolerance, the number of steps taken)."""
     def forces(d):
-        return biaxial_slider_forces(p["pendulum"], p["N"], p["s0"], p["z0"], d, dt, p.get("k"))[0]
+        return slider_forces(p["pendulum"], p["N"], p["s0"], p["z0"], d, dt, p.get("k"))[0]
 
     def residual(d, force):
-        return force - (p["D"] - jnp.sum(d, axis=0)) / p["G"]
+        return force - carried_force(d, force, p)
 
     def cond(carry):
         _, _, r, _, _, k = carry
@@ -210,8 +187,8 @@ def _planar_newton(p, dt, guess, tolerance, iterations: int):
 
     def body(carry):
         d, force, r, merit, fraction, k = carry
-        direction = _woodbury(r, _differenced_blocks(d, force, p, dt), p["G"])
-        fallback = _woodbury(r, _pendulum_blocks(p), p["G"])
+        direction = _woodbury(r, _differenced_blocks(d, force, p, dt), balance_compliance(p))
+        fallback = _woodbury(r, _pendulum_blocks(p), balance_compliance(p))
         direction = jnp.where(jnp.all(jnp.isfinite(direction)), direction, fallback)
         trial = d - fraction * direction
         force_trial = forces(trial)
@@ -246,19 +223,30 @@ def _woodbury(residual, blocks, compliance):
     return cr - jnp.einsum("eij,j->ei", c, s)
 
 
-@functools.partial(jax.custom_jvp, nondiff_argnums=(0, 1))
-def _balanced(dt, iterations, p, guess, tolerance):
-    """The sliders' increments (S, 2) [m] that balance their forces with the linear step."""
-    return _planar_newton(p, dt, guess, tolerance, iterations)[:2]
+def _balanced(dt, iterations: int, p, guess, tolerance):
+    """The sliders' increments (S, 2) [m] that balance their forces with the linear step over
+    a step of `dt` [s] (a float, or traced), and whether the balance met `tolerance` [N];
+    differentiated implicitly."""
+    return _balanced_root(iterations, {**p, "dt": dt}, guess, tolerance)
 
 
-@_balanced.defjvp
-def _balanced_jvp(dt, iterations, primals, tangents):
+@functools.partial(jax.custom_jvp, nondiff_argnums=(0,))
+def _balanced_root(iterations, p, guess, tolerance):
+    """`_balanced` with the step's length in `p["dt"]`."""
+    return _planar_newton(p, p["dt"], guess, tolerance, iterations)[:2]
+
+
+@_balanced_root.defjvp
+def _balanced_jvp(iterations, primals, tangents):
     p, guess, tolerance = primals
-    d, converged = _balanced(dt, iterations, p, guess, tolerance)
-    _, blocks = _residual_and_blocks(d, p, dt)
-    r_p = jax.jvp(lambda q: _residual(d, q, dt), (p,), (tangents[0],))[1]
-    return (d, converged), (-_woodbury(r_p, blocks, p["G"]), np.zeros(np.shape(converged), jax.dtypes.float0))
+    d, converged = _balanced_root(iterations, p, guess, tolerance)
+    _, blocks = _residual_and_blocks(d, p, p["dt"])
+    r_p = jax.jvp(lambda q: _residual(d, q, q["dt"]), (p,), (tangents[0],))[1]
+    tangent = -_woodbury(r_p, blocks, balance_compliance(p))
+    if "G" not in p:  # an imposed path: sum dd = dD, shared as C_e (sum C)^-1 dD
+        c = _inverse2(blocks)
+        tangent = tangent + jnp.einsum("eij,j->ei", c, _inverse2(jnp.sum(c, 0)) @ tangents[0]["D"])
+    return (d, converged), (tangent, np.zeros(np.shape(converged), jax.dtypes.float0))
 
 
 def held_loads(structure, n_steps: int):

@@ -39,16 +39,12 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..bearing import (
-    STOP_STIFFNESS_RATIO,
-    SeriesPendulum,
-    bouc_wen_exact_update,
-    sliding_friction,
-)
+from ..bearing import SeriesPendulum
 from ..excitation import Signal
 from ..units import STANDARD_GRAVITY
 from ._models import rigid_mass, six_storey_building
 from ._series_heat import heated_step, series_heat_kernel
+from ._slider_forces import slider_forces
 from ._structure import StructureOnSliders
 from ._structure_response import check_duration
 from ._vertical import load_factor_at, uplift_steps
@@ -222,31 +218,26 @@ def uplift_increments(pendulum: SeriesPendulum, load, total, increments, converg
     return jnp.where(lifted, split, increments), converged | lifted
 
 
-def slider_forces(pendulum: SeriesPendulum, load, slider0, z0, increment, time_step, factors=None):
-    """Forces F_e [N] (S,) of the sliders after the increments `increment` (S,) [m]
-    from displacements `slider0` and Z `z0` over a step of `time_step` [s] (module
-    docstring), and their Z (S,). The friction term is mu Z = f_min Z + (mu(v) - f_min)
-    s <s Z>_+, s = sgn(increment): Eq. 1 at the mean velocity v where the slider moves the
-    way its Z points, f_min (at rest) while Z still points back after a reversal. `factors`
-    (S,) [-]: each surface's friction scaled by it (heating), or `None`."""
-    radii, capacities = pendulum.series_radii(), pendulum.series_capacities()
-    u = slider0 + increment
-    z = bouc_wen_exact_update(pendulum.hysteresis, z0, increment, tangent="rational")
-    friction = pendulum.frictions()
-    if factors is not None:
-        friction = friction.scaled(factors)
-    speed = jnp.abs(increment) * pendulum.velocity_factors() / time_step
-    f_min = friction.f_max - friction.delta_f
-    sign = jnp.where(increment >= 0, 1.0, -1.0)
-    mu_z = f_min * z + (sliding_friction(friction, speed) - f_min) * sign * jnp.maximum(sign * z, 0.0)
-    over = jnp.sign(u) * jnp.maximum(jnp.abs(u) - capacities, 0.0)
-    return load * (u / radii + mu_z + STOP_STIFFNESS_RATIO * over / radii), z
+def carried_force(d, force, p):
+    """The force the sliders must carry after the increments `d` (S[, 2]) [m], whose own
+    forces are `force`: (D - sum d) / G, what the linear step leaves, where `p` holds the
+    compliance G [m/N]; else (an imposed path, sum d = D held by the iteration) the mean of
+    the sliders' forces."""
+    if "G" in p:
+        return (p["D"] - jnp.sum(d, axis=0)) / p["G"]
+    return jnp.mean(force, axis=0)
+
+
+def balance_compliance(p):
+    """G [m/N] of the balance: the linear step's, or 0 for an imposed path (module docstring)."""
+    return p.get("G", jnp.zeros((), p["s0"].dtype))
 
 
 def _residual(d, p, dt):
-    """F_e(d_e) - F(d), F(d) = (D - sum d) / G the force the linear step leaves."""
+    """F_e(d_e) - F(d), F(d) the force the linear step or the imposed path leaves
+    (`carried_force`)."""
     force, _ = slider_forces(p["pendulum"], p["N"], p["s0"], p["z0"], d, dt, p.get("k"))
-    return force - (p["D"] - jnp.sum(d)) / p["G"]
+    return force - carried_force(d, force, p)
 
 
 def _residual_and_slopes(d, p, dt):
@@ -255,25 +246,32 @@ def _residual_and_slopes(d, p, dt):
         return slider_forces(p["pendulum"], p["N"], p["s0"], p["z0"], x, dt, p.get("k"))[0]
 
     force, slope = jax.jvp(forces, (d,), (jnp.ones_like(d),))
-    return force - (p["D"] - jnp.sum(d)) / p["G"], slope
+    return force - carried_force(d, force, p), slope
 
 
 def _newton_direction(residual, slope, compliance):
     """J^-1 r for J = diag(slope) + 1 1^T / G (Sherman-Morrison): c (r - s), c = 1 / slope,
-    s = sum(c r) / (G + sum c)."""
+    s = sum(c r) / (G + sum c). At G = 0 (an imposed path) the step keeps sum d."""
     c = 1.0 / slope
     return c * (residual - jnp.sum(c * residual) / (compliance + jnp.sum(c)))
 
 
-@functools.partial(jax.custom_jvp, nondiff_argnums=(0, 1))
-def _balanced_increments(dt, iterations, p, guess, tolerance):
+def _balanced_increments(dt, iterations: int, p, guess, tolerance):
     """The sliders' increments (S,) [m] that balance their forces with the linear step (module
-    docstring), from `guess`, and whether |residual| <= `tolerance` [N] was reached."""
+    docstring) over a step of `dt` [s] (a float, or traced), from `guess`, and whether
+    |residual| <= `tolerance` [N] was reached; differentiated implicitly."""
+    return _balanced_root(iterations, {**p, "dt": dt}, guess, tolerance)
+
+
+@functools.partial(jax.custom_jvp, nondiff_argnums=(0,))
+def _balanced_root(iterations, p, guess, tolerance):
+    """`_balanced_increments` with the step's length in `p["dt"]`."""
+    dt = p["dt"]
     floor = p["W"] / p["pendulum"].series_radii()  # the pendulum's own stiffness, a floor of the slope
 
     def evaluate(d):
         r, k = _residual_and_slopes(d, p, dt)
-        return r, jnp.sum(r**2), _newton_direction(r, jnp.maximum(k, floor), p["G"])
+        return r, jnp.sum(r**2), _newton_direction(r, jnp.maximum(k, floor), balance_compliance(p))
 
     return damped_newton(evaluate, guess, tolerance, iterations)
 
@@ -314,42 +312,19 @@ def shortest_fraction(k, iterations: int):
     return jnp.where(k < iterations, SMALLEST_STEP, RESCUE_SMALLEST)
 
 
-@_balanced_increments.defjvp
-def _balanced_jvp(dt, iterations, primals, tangents):
+@_balanced_root.defjvp
+def _balanced_jvp(iterations, primals, tangents):
     # r(d, p) = 0: dd = -J^-1 r_p dp (Sherman-Morrison), the guess and tolerance carry none
     p, guess, tolerance = primals
-    d, converged = _balanced_increments(dt, iterations, p, guess, tolerance)
-    _, slope = _residual_and_slopes(d, p, dt)
+    d, converged = _balanced_root(iterations, p, guess, tolerance)
+    _, slope = _residual_and_slopes(d, p, p["dt"])
     slope = jnp.where(slope > 0, slope, p["W"] / p["pendulum"].series_radii())  # 0 only at uplift
-    r_p = jax.jvp(lambda q: _residual(d, q, dt), (p,), (tangents[0],))[1]
+    r_p = jax.jvp(lambda q: _residual(d, q, q["dt"]), (p,), (tangents[0],))[1]
     no_tangent = np.zeros(np.shape(converged), jax.dtypes.float0)
-    return (d, converged), (-_newton_direction(r_p, slope, p["G"]), no_tangent)
-
-
-def imposed_isolator_force(pendulum: SeriesPendulum, load, displacement, time_step: float, *, compliance=1e-12,
-                           newton_iterations: int = TRIPLE_NEWTON_ITERATIONS,
-                           tolerance: float = TRIPLE_TOLERANCE):
-    """The structures' isolator solve driven along a displacement path: the bearing at the end
-    of an actuator of compliance G [m/N] whose far end follows `displacement` (nt,) [m] at the
-    uniform `time` (nt,) [s], under normal load W [N]. Each step solves the same balance as
-    `StructureOnTriple.step` with D the actuator's increment.
-
-    **Returns:** (isolator displacement (nt,) [m], force (nt,) [N], converged (nt,))."""
-    dt = float(time_step)
-
-    def body(carry, target):
-        slider, z, previous = carry
-        p = {"pendulum": pendulum, "W": load, "N": load, "s0": slider, "z0": z,
-             "D": target - jnp.sum(slider), "G": jnp.asarray(compliance, float)}
-        d, ok = _balanced_increments(dt, newton_iterations, p, previous, tolerance * load)
-        force, z1 = slider_forces(pendulum, load, slider, z, d, dt)
-        return (slider + d, z1, d), (jnp.sum(slider + d), jnp.mean(force), ok)
-
-    zeros = jnp.zeros(pendulum.slider_count)
-    _, (x, force, ok) = jax.lax.scan(body, (zeros, zeros, zeros), jnp.asarray(displacement, float)[1:])
-    at_rest = jnp.zeros(1, x.dtype)
-    return (jnp.concatenate([at_rest, x]), jnp.concatenate([at_rest, force]),
-            jnp.concatenate([jnp.ones(1, bool), ok]))
+    tangent = -_newton_direction(r_p, slope, balance_compliance(p))
+    if "G" not in p:  # an imposed path: sum dd = dD, shared as the sliders' compliances
+        tangent = tangent + tangents[0]["D"] / slope / jnp.sum(1.0 / slope)
+    return (d, converged), (tangent, no_tangent)
 
 
 class TripleStructureResponse(eqx.Module):

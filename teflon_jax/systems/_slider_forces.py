@@ -1,0 +1,76 @@
+"""The force of each slider of a friction pendulum in the series model, in one or two
+horizontal components: the one law that the structures, the slab and the imposed-path test
+of a `SeriesPendulum` all run.
+
+Slider e, at displacement s_e after the step's increment d_e, carries
+
+    F_e = N (s_e / R_e + f_min Z_e + (mu_e(v_e) - f_min) <n_e . Z_e>_+ n_e
+             + k_stop <|s_e| - c_e>_+ s_e / (|s_e| R_e)),
+
+with R_e and c_e its radius and capacity (`series_radii`, `series_capacities`), Z_e from
+Bouc-Wen updated exactly along the increment (Park's biaxial model in two components), n_e the
+direction of the increment (its sign in one component), mu_e Eq. 1 at the surface's mean
+speed over the step v_e = |d_e| c_e / dt (`velocity_factors`; the speed OpenSees'
+`TripleFrictionPendulum` takes too), f_min Eq. 1 at rest, and k_stop = `STOP_STIFFNESS_RATIO`.
+The friction term is Eq. 1 where the slider moves the way its Z points and f_min while Z still
+points back after a reversal: without that exception the force of a reversing slider would
+fall as its increment grows (Eq. 1's rise with the increment against Z's elastic slope, for
+steps below a few ms), and the massless sliders would have no unique balance.
+
+References: Constantinou, Mokha & Reinhorn (1990), Eqs. 1, 3; Park, Wen & Ang (1986); Fenz &
+Constantinou (2006, 2008).
+"""
+
+import jax.numpy as jnp
+
+from ..bearing import (
+    STOP_STIFFNESS_RATIO,
+    SeriesPendulum,
+    bouc_wen_exact_update,
+    sliding_friction,
+)
+from ..solver import park_exact_update
+
+
+def slider_forces(pendulum: SeriesPendulum, load, slider0, z0, increment, time_step, factors=None):
+    """Forces F_e [N] of the sliders after the increments `increment` [m] from displacements
+    `slider0` [m] and Z `z0` [-] over a step of `time_step` [s] (module docstring), and their
+    Z at the step's end. Arrays (S,) in one component, (S, 2) in two; `load` N [N]; `factors`
+    (S,) [-]: each surface's friction scaled by it (heating), or `None`."""
+    planar = increment.ndim == 2
+    u = slider0 + increment
+    if planar:
+        z = park_exact_update(pendulum.hysteresis, z0, increment)
+        radii, capacities = pendulum.series_radii()[:, None], pendulum.series_capacities()[:, None]
+    else:
+        z = bouc_wen_exact_update(pendulum.hysteresis, z0, increment, tangent="rational")
+        radii, capacities = pendulum.series_radii(), pendulum.series_capacities()
+    slide, direction = _length_and_direction(increment)
+    reach, outward = _length_and_direction(u)
+    friction = pendulum.frictions() if factors is None else pendulum.frictions().scaled(factors)
+    f_min = friction.f_max - friction.delta_f
+    mu = sliding_friction(friction, slide * pendulum.velocity_factors() / time_step)
+    if planar:
+        f_min, mu = f_min[:, None], mu[:, None]
+        along = jnp.maximum(jnp.sum(direction * z, axis=-1, keepdims=True), 0.0)
+        over = jnp.maximum(reach - capacities[:, 0], 0.0)[:, None] * outward
+    else:
+        along = jnp.maximum(direction * z, 0.0)
+        over = jnp.maximum(reach - capacities, 0.0) * outward
+    friction_term = f_min * z + (mu - f_min) * along * direction
+    return load * (u / radii + friction_term + STOP_STIFFNESS_RATIO * over / radii), z
+
+
+def _length_and_direction(x):
+    """(|x| (S,), the unit direction of x) for x (S,) or (S, 2): in one component the sign
+    (+1 at 0), in two x / |x| (0 at 0); |x| with a zero derivative at 0."""
+    if x.ndim == 1:
+        return jnp.abs(x), jnp.where(x >= 0, 1.0, -1.0)
+    length = slider_lengths(x)
+    return length, x / jnp.where(length > 0, length, 1.0)[:, None]
+
+
+def slider_lengths(x):
+    """|x_e| (S,) of planar vectors x (S, 2), with a zero derivative at 0 instead of NaN."""
+    squared = jnp.sum(x**2, axis=-1)
+    return jnp.where(squared > 0, jnp.sqrt(jnp.where(squared > 0, squared, 1.0)), 0.0)
