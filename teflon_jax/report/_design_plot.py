@@ -16,6 +16,16 @@ def plot_design(sweep: Mapping, result: DesignResult, path, *, units: Mapping | 
     gradient optimum marked, beside the trade-off of mean base shear against mean base
     displacement (PNG). `units` maps a variable name, and "length", to (SI factor, name);
     `title` states the inputs."""
+    import matplotlib.pyplot as plt
+
+    fig = design_figure(sweep, result, units=units, title=title)
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def design_figure(sweep: Mapping, result: DesignResult, *, units: Mapping | None = None, title: str = ""):
+    """The figure of `plot_design` (a matplotlib `Figure`, not closed): the trade-off's legend
+    lies below its axes, where it covers none of the grid's designs."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -26,7 +36,7 @@ def plot_design(sweep: Mapping, result: DesignResult, path, *, units: Mapping | 
     scale = {n: units.get(n, (1.0, ""))[0] for n in names}
     label = {n: f"{_WORDS.get(n, n.replace('_', ' '))} [{units.get(n, (1.0, '-'))[1]}]" for n in names}
     length_factor, length_name = units.get("length", (1e-3, "mm"))
-    fig, (left, right) = plt.subplots(1, 2, figsize=(11, 5))
+    fig, (left, right) = plt.subplots(1, 2, figsize=(11, 6))
     if len(names) == 1:
         n = names[0]
         left.plot(sweep["grid"][n] / scale[n], sweep["objective"], "ko-", ms=3, label="grid sweep")
@@ -68,13 +78,12 @@ def plot_design(sweep: Mapping, result: DesignResult, path, *, units: Mapping | 
     _frame(right, np.append(disp, [ox, px]), np.append(shear, [oy, py]))
     right.set_xlabel(f"{statistic} peak base displacement (grid: smoothed) [{length_name}]")
     right.set_ylabel("mean peak base shear / weight (grid: smoothed) [-]")
-    right.legend(fontsize=8)
+    right.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.13), ncol=2, frameon=False)
     right.grid(alpha=0.3)
     if title:
         fig.suptitle("\n".join(textwrap.wrap(title, 120)), fontsize=9)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    return fig
 
 
 def _levels(sweep: Mapping, result, n: int = 20) -> np.ndarray:
