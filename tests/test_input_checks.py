@@ -172,7 +172,8 @@ def test_a_three_column_file_is_refused_saying_which_columns_are_read(tmp_path, 
     record = _columns(tmp_path / "x.txt", 0.2, 0.1)
     code, out = _run(capsys, "run", "--record-x", record, "--record-units", "g")
     assert code == 2
-    assert "3 column(s), but 2 are read: time in column 1 and acceleration in column 2" in out.err
+    assert f"--record-x {record}, line 1: 3 column(s), but 2 are read: time in column 1 and acceleration in column 2" \
+        in out.err
 
 
 def test_record_units_for_an_at2_file_are_refused(tmp_path, capsys):

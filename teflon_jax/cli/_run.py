@@ -122,7 +122,10 @@ def _read_component(path_text, units, flag):
             "give it with --record-units g (or m/s^2, cm/s^2, in/s^2)."
         )
     else:
-        motion = read_two_column(path, units=units, columns=2)
+        try:
+            motion = read_two_column(path, units=units, columns=2)
+        except ValueError as error:
+            raise ValueError(f"{flag} {error}") from None
     check_peak(motion, flag, path_text, units)
     return motion
 
