@@ -189,6 +189,12 @@ def test_a_montecarlo_duration_shorter_than_the_envelope_names_the_flags(capsys)
     assert "rise_time" not in out.err
 
 
+def test_a_site_frequency_the_record_step_cannot_resolve_names_both_flags(capsys):
+    code, out = _run(capsys, "montecarlo", "--motions", "2", "--site-frequency", "30Hz")
+    assert code == 2
+    assert "--site-frequency 30Hz: above a quarter of the sampling rate of --record-step 0.01s (25 Hz)" in out.err
+
+
 # ------------------------------------------------------------------ names that clash
 
 
@@ -246,6 +252,11 @@ def test_a_folder_given_as_the_isolator_file_is_refused(tmp_path, capsys):
     code, out = _run(capsys, "run", "--record-x", _at2(tmp_path / "x.AT2"), "--isolator", "triple-fp",
                      "--isolator-file", tmp_path)
     assert code == 2 and f"--isolator-file {tmp_path}: is a folder, not the isolator file" in out.err
+
+
+def test_a_folder_given_as_the_motion_file_is_refused(tmp_path, capsys):
+    code, out = _run(capsys, "simulate-test", "--motion-file", tmp_path, "--out", tmp_path / "t.csv")
+    assert code == 2 and f"--motion-file: {tmp_path} is a folder" in out.err
 
 
 def test_a_binary_suite_file_is_refused(tmp_path, capsys):

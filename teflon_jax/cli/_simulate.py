@@ -177,6 +177,8 @@ def _motion(args):
 def _read_motion_file(path: pathlib.Path):
     from ..formats import read_motion_record
 
+    if path.is_dir():
+        raise ValueError(f"--motion-file: {path} is a folder; give the CSV file of the displacement history.")
     if not path.is_file():
         raise ValueError(f"--motion-file: {path} does not exist.")
     return read_motion_record(path)
