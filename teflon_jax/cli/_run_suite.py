@@ -102,13 +102,17 @@ def _check_name(path, line: int, name: str, lines: dict) -> None:
                          "different file names).")
 
 
-def check_tables(args, pairs) -> None:
-    """`ValueError` naming --json when a table the suite writes beside its JSON (<stem>.csv and
-    .nc, <stem>-<case>.csv and .nc; stem `suite` without --json) is the suite file or a record."""
+def check_pairs(args, pairs) -> list:
+    """`pairs` (`read_suite`) once they are checked: `ValueError` naming --record-units when
+    every record of the suite is an AT2 file (`check_record_units`), or --json when a table
+    the suite writes beside its JSON (<stem>.csv and .nc, <stem>-<case>.csv and .nc; stem
+    `suite` without --json) is the suite file or a record."""
     import os
 
     from ..studies import BOUNDING_CASES
 
+    check_record_units(args.record_units, [("--suite", path) for _, x, y, _ in pairs for path in (x, y)
+                                           if path is not None])
     stem = pathlib.Path(args.json).with_suffix("") if args.json else pathlib.Path("suite")
     tables = [pathlib.Path(f"{stem}{case}{suffix}") for case in ("", *(f"-{c}" for c in BOUNDING_CASES))
               for suffix in (".csv", ".nc")]
@@ -120,6 +124,7 @@ def check_tables(args, pairs) -> None:
                 given = f"--json {args.json}" if args.json else "--json (not given: the tables are suite.*)"
                 raise ValueError(f"{given}: the suite's results would go to {table}, {name}, and replace it; "
                                  "give --json a name of its own, e.g. results.json.")
+    return pairs
 
 
 def run_suite(args, load_components, build_structure) -> int:
@@ -143,10 +148,7 @@ def run_suite(args, load_components, build_structure) -> int:
             raise ValueError("--pelicun-demands: the storey results are kept in this process; leave out --scheduler.")
     spectrum = read_target(args)  # target, range and limits checked before any record is read
     bounding = read_suite_factors(args)
-    pairs = read_suite(args.suite)
-    check_record_units(args.record_units, [("--suite", path) for _, x, y, _ in pairs for path in (x, y)
-                                           if path is not None])
-    check_tables(args, pairs)
+    pairs = check_pairs(args, read_suite(args.suite))
     if spectrum is not None:
         check_unscaled(pairs, args)
     records, notes = [], []
