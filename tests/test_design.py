@@ -64,13 +64,19 @@ def test_smooth_max_gradient_matches_central_differences():
     assert error < 1e-6
 
 
-def test_bijection_round_trip():
+def test_unit_box_round_trip_and_exact_bounds():
+    """x = lo + (hi - lo) s maps the box onto [0, 1]^n and back; s = 0 and 1 give the bounds
+    themselves (a design on a bound is the bound, not a rounding of it)."""
     structure = isolated_structure("rigid")
     bounds = design_bounds(structure, {"isolation_period": (1.0, 4.0), "pressure": (1000 * PSI, 3000 * PSI)})
-    x = {"isolation_period": jnp.asarray(3.2), "pressure": jnp.asarray(1234 * PSI)}
-    back = bounds.to_physical(bounds.to_unconstrained(x))
+    x = {"isolation_period": 3.2, "pressure": 1234 * PSI}
+    s = bounds.to_unit(x)
+    np.testing.assert_allclose(s, [2.2 / 3.0, 234.0 / 2000.0], rtol=1e-14)
+    back = bounds.from_unit(s)
     for k in x:
-        assert float(back[k]) == pytest.approx(float(x[k]), rel=1e-12)
+        assert back[k] == pytest.approx(x[k], rel=1e-14)
+    assert bounds.from_unit([0.0, 1.0]) == {"isolation_period": 1.0, "pressure": 3000 * PSI}
+    np.testing.assert_allclose(bounds.widths, [3.0, 2000 * PSI], rtol=1e-15)
 
 
 @pytest.mark.slow

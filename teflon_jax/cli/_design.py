@@ -102,7 +102,6 @@ def run_design(args) -> int:
     from tqdm import tqdm
 
     from ..excitation import sample
-    from ..report import plot_design
     from ..studies import (
         check_netcdf_output,
         design_bounds,
@@ -110,7 +109,6 @@ def run_design(args) -> int:
         design_sweep_distributed,
         optimise_design,
         sweep_dataset,
-        sweep_objective,
         sweep_start,
     )
     units = output_units(args.units)
@@ -122,6 +120,7 @@ def run_design(args) -> int:
     if args.time_step is not None:
         warn_time_step("design", args.time_step, args.time_step_text, args.record_step, args.record_step_text)
     tic = time.perf_counter()
+    stages = {}
     bar = tqdm(total=2, unit="stage", desc="design", disable=args.no_progress)
     records = sample(_motion_model(args), jax.random.key(args.seed), args.motions)
     dt = args.record_step
@@ -150,6 +149,7 @@ def run_design(args) -> int:
             out=args.out, scheduler=args.scheduler, chunk_size=args.chunk_size or 16, attrs=attrs,
             limit_statistic=args.limit_statistic,
             compilation_cache=None if args.no_compile_cache else str(compile_cache_dir()))
+    stages["grid"] = time.perf_counter() - tic
     bar.update(1)
     bar.set_postfix_str("BFGS from the best grid point")
     start = sweep_start(sweep, design_bounds(structure, variables))
@@ -160,38 +160,50 @@ def run_design(args) -> int:
                              penalty=args.penalty, start=start, limit_statistic=args.limit_statistic)
     bar.update(1)
     bar.close()
+    stages.update(result.stages_s)
     payload = _payload(args, result, sweep, units, time.perf_counter() - tic)
     if args.isolator in ("triple-fp", "double-fp"):
         from ._design_triple import percentile_check
 
         payload.update(percentile_check(args, structure, result, records))
         args.p95_rel_error = payload["p95_disp_gradient_rel_error"]
-    _write_json(args.json, payload)
     if args.plot is not None:
-        isolator = {"single-fp": "a single friction pendulum", "triple-fp": f"triple friction pendulums "
-                    f"of {args.isolator_file}", "double-fp": f"double friction pendulums of "
-                    f"{args.isolator_file}"}.get(args.isolator, "flat sliders")
-        friction = ("" if args.isolator in ("triple-fp", "double-fp") else f"{args.ptfe} PTFE, " if args.bearing is None
-                    else f"bearing {args.bearing}, ")
-        stamp = (f"{args.structure} on {isolator}, {friction}zeta_b = {args.isolation_damping_text}, "
-                 f"{args.motions} Clough-Penzien motions (PGA {args.pga_text}, {args.duration_text}, "
-                 f"seed {args.seed}), limit {args.disp_limit_text} on the {_STATISTIC[args.limit_statistic]} "
-                 "peak displacement")
-        # the grid's objective for the limit on the smoothed statistic that BFGS ended on
-        final = {**sweep, "objective": sweep_objective(sweep, result.smooth_disp_limit, args.penalty)}
-        plot_design(final, result, args.plot, title=stamp, units=plot_units(units))
+        first = time.perf_counter()
+        _plot(args, sweep, result, units)
+        stages["plot"] = time.perf_counter() - first
+    payload.update(wall_s=time.perf_counter() - tic, stages_s=stages)
+    _write_json(args.json, payload)
     other = "95th percentile" if args.limit_statistic == "mean" else "mean"
     print(f"optimum: {design_text(result.optimum, units)}; {_STATISTIC[args.limit_statistic]} peak base "
           f"displacement {units.show(result.limited_disp, 'length')} against the limit {args.disp_limit_text} "
           f"({'met' if result.limit_met else 'BROKEN'}), {other} "
           f"{units.show(result.p95_peak_disp if other != 'mean' else result.peak_disp, 'length')}; "
           f"mean peak base shear / weight {result.peak_shear:.4g} (smoothed, as BFGS sees them: "
-          f"{units.show(result.limited_smooth_disp, 'length')} under "
+          f"{units.show(result.limited_smooth_disp, 'length')} against the lowered limit "
           f"{units.show(result.smooth_disp_limit, 'length')}, "
           f"{result.mean_shear:.4g}); {result.steps} BFGS steps; gradient check "
           f"{_CHECK_WORDS.get(result.gradient_check, '')}"
           f"{result.gradient_rel_error:.2g} relative; {payload['wall_s']:.1f} s")
     return _verdict(result, args)
+
+
+def _plot(args, sweep, result, units) -> None:
+    """`design.png` of `--plot`: the grid's objective with the optimum, and the trade-off."""
+    from ..report import plot_design
+    from ..studies import sweep_objective
+
+    isolator = {"single-fp": "a single friction pendulum", "triple-fp": f"triple friction pendulums "
+                f"of {args.isolator_file}", "double-fp": f"double friction pendulums of "
+                f"{args.isolator_file}"}.get(args.isolator, "flat sliders")
+    friction = ("" if args.isolator in ("triple-fp", "double-fp") else f"{args.ptfe} PTFE, " if args.bearing is None
+                else f"bearing {args.bearing}, ")
+    stamp = (f"{args.structure} on {isolator}, {friction}zeta_b = {args.isolation_damping_text}, "
+             f"{args.motions} Clough-Penzien motions (PGA {args.pga_text}, {args.duration_text}, "
+             f"seed {args.seed}), limit {args.disp_limit_text} on the {_STATISTIC[args.limit_statistic]} "
+             "peak displacement")
+    # the grid's objective for the limit on the smoothed statistic that BFGS ended on
+    final = {**sweep, "objective": sweep_objective(sweep, result.smooth_disp_limit, args.penalty)}
+    plot_design(final, result, args.plot, title=stamp, units=plot_units(units))
 
 
 _STATISTIC = {"mean": "mean", "p95": "95th-percentile"}

@@ -204,7 +204,7 @@ def pendulum_start(sweep, bounds, structure, records, record_step: float, disp_l
     lowered by the gap between the true and the smoothed mean peak at the grid's best point
     for `disp_limit` (the limit BFGS then starts on, `optimise_design`). The unlowered limit
     binds nowhere on a grid whose smoothed peaks lie below it, and its best point is then the
-    largest radius, where the bijection onto the bounds leaves BFGS almost no gradient."""
+    largest radius, far from the design that meets the limit on the true peaks."""
     from ..studies import (
         constrained_response,
         expected_response,
@@ -217,10 +217,4 @@ def pendulum_start(sweep, bounds, structure, records, record_step: float, disp_l
     lowered = disp_limit - (float(response["peak_disp"]) - float(response["disp"]))
     if not lowered > 0:
         return start
-    return sweep_start({**sweep, "objective": sweep_objective(sweep, lowered, penalty)}, bounds,
-                       margin=START_MARGIN)
-
-
-START_MARGIN = 1e-2
-"""A pendulum's start lies at least this fraction of each range inside its bounds (as
-`optimise_design`'s restarts)."""
+    return sweep_start({**sweep, "objective": sweep_objective(sweep, lowered, penalty)}, bounds)

@@ -7,12 +7,13 @@ interpolation of Table 1), the isolation damping and the PTFE constants of Eq. 1
 problem of the paper's Fig. 11 (low base shear against a bounded base displacement) becomes
 
     minimise   J(x) = E[V_s(x)] + rho * max(0, E[D_s(x)] / D_limit - 1)^2
-    over       x in [lo, hi] (box bounds, through x = lo + (hi - lo) sigmoid(y)),
+    over       x in [lo, hi] (box bounds),
 
 with V_s, D_s the smooth maxima of the base shear ratio and base displacement, E the mean over
-a fixed set of ground motions (common random numbers), and rho the penalty weight; BFGS
-(optimistix) works on the unconstrained y. The quadratic exterior penalty is C^1, and for a
-large rho the optimum sits on (just beyond, by about E[V_s]'s slope / (2 rho)) the
+a fixed set of ground motions (common random numbers), and rho the penalty weight. BFGS
+works on the variables scaled onto the unit box and projected back onto it
+(`minimise_in_box`), so that a bound that is the optimum is reached in a few steps. The
+quadratic exterior penalty is C^1, and for a large rho the optimum sits on (just beyond, by about E[V_s]'s slope / (2 rho)) the
 displacement limit when the limit is active. The smooth maximum lies below the true one, so
 the limit a user states, on the mean TRUE peak, is met by putting in J a limit on E[D_s]
 below D_limit by the gap between the two, corrected at the optimum and BFGS restarted
@@ -35,8 +36,8 @@ import numpy as np
 
 from ..excitation import uniform_signal
 from ..systems import IsolatedStructure, check_design, design_ranges, peak_response
+from ._design_box import BoxSolution, minimise_in_box
 from ._design_check import GRADIENT_TOLERANCE, design_gradient_check
-from ._design_held import held_messages, minimise_holding_bounds
 
 
 def _records_array(records, time_step):
@@ -142,17 +143,21 @@ class Bounds:
     def names(self) -> tuple:
         return tuple(self.ranges)
 
-    def to_physical(self, y):
-        """x = lo + (hi - lo) sigmoid(y) for each variable (y unconstrained, a dict)."""
-        return {n: lo + (hi - lo) * jax.nn.sigmoid(y[n]) for n, (lo, hi) in self.ranges.items()}
+    def to_unit(self, x) -> np.ndarray:
+        """s = (x - lo) / (hi - lo) of each variable, in the order of `names` (x a dict): the
+        unit box [0, 1]^n that `minimise_in_box` works on."""
+        return np.array([(float(x[n]) - lo) / (hi - lo) for n, (lo, hi) in self.ranges.items()])
 
-    def to_unconstrained(self, x):
-        """y = logit((x - lo) / (hi - lo)); x must lie strictly inside the bounds."""
-        out = {}
-        for n, (lo, hi) in self.ranges.items():
-            s = (jnp.asarray(x[n], dtype=float) - lo) / (hi - lo)
-            out[n] = jnp.log(s) - jnp.log1p(-s)
-        return out
+    def from_unit(self, s) -> dict:
+        """x = lo + (hi - lo) s of each variable (s in the order of `names`); a bound is
+        returned exactly (s = 0 or 1)."""
+        return {n: lo if s_k == 0.0 else hi if s_k == 1.0 else lo + (hi - lo) * float(s_k)
+                for (n, (lo, hi)), s_k in zip(self.ranges.items(), s)}
+
+    @property
+    def widths(self) -> np.ndarray:
+        """hi - lo of each variable, in the order of `names` (dx/ds)."""
+        return np.array([hi - lo for lo, hi in self.ranges.values()])
 
 
 def design_bounds(structure: IsolatedStructure, variables: Mapping) -> Bounds:
@@ -207,8 +212,11 @@ class DesignResult:
       one); `smooth_disp_limit` [m]: the limit on the smoothed statistic at the optimum
       (D_limit lowered by the corrections on true peaks); `limit_met`: `limited_disp` <=
       `disp_limit`;
-    - `start`: the initial design; `steps`: BFGS iterations; `wall_s`: total time [s];
-    - `optimiser_converged`: optimistix's verdict (BFGS met rtol/atol);
+    - `start`: the initial design; `steps`: evaluations of the objective and its gradient by
+      BFGS, over all its restarts; `wall_s`: total time [s]; `stages_s`: its parts [s]
+      ("compile_and_first_evaluation", "optimiser" (that included), "gradient_check");
+    - `optimiser_converged`: BFGS met rtol/atol (`minimise_in_box`) and every variable it left
+      on a bound is a minimum there (the objective rises into the box);
     - `simulation_converged`: every step of every motion's Newton solve converged at the
       optimum; `n_failed_motions`: motions with a failed step there;
     - `at_bounds`: design variables within `BOUND_TOLERANCE` of their range at the optimum
@@ -257,6 +265,7 @@ class DesignResult:
     central_rel_error: float = math.nan
     gradient_check: str = "central"
     kink_checks: tuple = ()
+    stages_s: dict = dataclasses.field(default_factory=dict)
 
     @property
     def limited_disp(self) -> float:
@@ -335,63 +344,48 @@ def optimise_design(
       D_limit by the gap at the start and corrected by the true mean peak at the optimum,
       BFGS restarting from there, at most `peak_corrections` times (`_limit_on_true_peaks`;
       0: BFGS on E[D_s] <= D_limit alone, and `limit_met` says whether the true peaks meet it).
-    - `start`: initial design (default: the middle of the bounds).
+    - `start`: initial design within the bounds, on one allowed (default: the middle of the
+      bounds).
     - `penalty` rho [-]: weight of the squared relative violation.
-    - `rtol`, `atol`, `max_steps`: optimistix BFGS settings.
+    - `rtol`, `atol`, `max_steps`: BFGS's tolerances on the last step in the variables scaled
+      to the unit box and in J, and its most evaluations per run (`minimise_in_box`).
     - `relative_step`: finite-difference step of the gradient check, relative to each
       variable (`design_gradient_check`).
 
     **Returns:** a `DesignResult`; check its `converged` (which includes `limit_met`) and
     `messages` before using it.
     """
-    import optimistix as optx
-
     tic = time.perf_counter()
     bounds, records, start = _checked_problem(structure, records, record_time_step, variables,
                                               disp_limit, start, peak_corrections)
-    check_limit_statistic(limit_statistic)
+    response, derivatives = response_derivatives(
+        structure, records, record_time_step, bounds.names, duration=duration, disp_width=disp_width,
+        shear_width=shear_width, statistic=check_limit_statistic(limit_statistic))
 
-    def response(x):  # "disp", "peak_disp": the limited statistic's
-        return constrained_response(expected_response(
-            structure, x, records, record_time_step, duration=duration, disp_width=disp_width,
-            shear_width=shear_width), limit_statistic)
+    def run(s, limit, hessian):
+        solution = minimise_in_box(_unit_objective(derivatives, bounds, limit), s, penalty=penalty,
+                                   rtol=rtol, atol=atol, max_steps=max_steps, hessian=hessian)
+        x = bounds.from_unit(solution.value)
+        return solution, x, derivatives(x)[0]
 
-    # reverse-mode gradients computed in forward mode (cheaper for a few variables, benchmark
-    # B5); the limit is an argument, so the corrections reuse the compiled objective
-    def smooth(x):
-        r = response(x)
-        return {"shear": r["shear"], "disp": r["disp"]}
-
-    smooth_of_y = forward_mode_gradient(lambda y: smooth(bounds.to_physical(y)))
-
-    def objective(y, limit):
-        return penalised_objective(smooth_of_y(y), limit, penalty)
-
-    def held_objective(y, args):  # the free variables' objective, args = (limit, held y)
-        return objective({**y, **args[1]}, args[0])
-
-    smooth_of_x = forward_mode_gradient(smooth)  # dJ/dx of a held variable (its sign)
-    slope = jax.jit(jax.grad(lambda x, limit: penalised_objective(smooth_of_x(x), limit, penalty)))
-    solver, evaluate = optx.BFGS(rtol=rtol, atol=atol), jax.jit(response)
-
-    def minimise(fn, y, args):
-        return optx.minimise(fn, solver, y, args=args, max_steps=max_steps, throw=False)
-
-    def run(y, limit):
-        solution = minimise_holding_bounds(minimise, objective, held_objective, slope, bounds, y,
-                                           jnp.asarray(limit, dtype=float))
-        x = {k: float(v) for k, v in bounds.to_physical(solution.value).items()}
-        return solution, x, evaluate(x)
-
+    first = time.perf_counter()
+    start_response = derivatives(start)[0]  # the first call compiles
+    stages = {"compile_and_first_evaluation": time.perf_counter() - first}
     solution, x, final, smooth_limit, steps = _limit_on_true_peaks(
-        run, bounds.to_unconstrained(start), evaluate(start), disp_limit, peak_corrections)
-    optimiser_ok = bool(solution.result == optx.RESULTS.successful) and not solution.inward
-    check = design_gradient_check(structure, response, x, bounds, relative_step=relative_step)
+        run, bounds.to_unit(start), start_response, disp_limit, peak_corrections)
+    stages["optimiser"] = time.perf_counter() - first
+    inward = _inward(solution, bounds.names)
+    optimiser_ok = solution.converged and not inward
+    first = time.perf_counter()
+    check = design_gradient_check(structure, response, x, bounds, relative_step=relative_step,
+                                  derivatives=derivatives)
+    stages["gradient_check"] = time.perf_counter() - first
     failed, limit_met = int(final["n_failed"]), float(final["peak_disp"]) <= disp_limit
     messages = [*_failures(failed, records.shape[0], optimiser_ok, f"{steps} steps (max_steps="
                            f"{max_steps}, rtol={rtol}, atol={atol})", final, disp_limit, peak_corrections,
                            limit_statistic),
-                *held_messages(solution),
+                *(f"{name}: the objective falls into the box from its bound: the bound is not a "
+                  "minimum, so the design is not an optimum." for name in inward),
                 *check["messages"]]
     return DesignResult(
         optimum=x, objective=float(penalised_objective(final, smooth_limit, penalty)),
@@ -406,8 +400,72 @@ def optimise_design(
         messages=tuple(messages), wall_s=time.perf_counter() - tic, limit_statistic=limit_statistic,
         p95_disp=float(final["disp_p95"]), p95_peak_disp=float(final["peak_disp_p95"]),
         restrainer_contact=check["restrainer_contact"], central_rel_error=check["central_rel_error"],
-        gradient_check=check["check"], kink_checks=check["kink_checks"],
+        gradient_check=check["check"], kink_checks=check["kink_checks"], stages_s=stages,
     )
+
+
+def response_derivatives(structure, records, record_time_step: float, names: tuple, *, duration=None,
+                         disp_width=1e-3, shear_width=1e-3, statistic: str = "mean"):
+    """The design's responses and their forward-mode derivatives, as one program compiled once.
+
+    **Returns:** (`response`, `derivatives`): `response(x)` is `constrained_response` of
+    `expected_response` at the design x (traceable); `derivatives(x)` (x: name -> float, the
+    variables `names`) -> (responses {key: float}, jacobian {"shear", "disp" and, with a
+    capacity designed, "peak_disp_max": {name: float}}), one call of the compiled program
+    (`jax.jacfwd`, one forward pass per variable) per new x; the last points are remembered,
+    so that the optimiser, its restarts and the gradient check never compute one twice.
+    """
+    keys = ("shear", "disp") + (("peak_disp_max",) if "capacity" in names else ())
+
+    def response(x):
+        return constrained_response(expected_response(
+            structure, x, records, record_time_step, duration=duration, disp_width=disp_width,
+            shear_width=shear_width), statistic)
+
+    def differentiated(x):
+        r = response(x)
+        return {k: r[k] for k in keys}, r
+
+    compiled = jax.jit(jax.jacfwd(differentiated, has_aux=True))
+    remembered = {}
+
+    def derivatives(x):
+        point = tuple(float(x[n]) for n in names)
+        if point not in remembered:
+            jacobian, values = compiled({n: jnp.asarray(v, dtype=float) for n, v in zip(names, point)})
+            if len(remembered) >= _REMEMBERED:
+                remembered.pop(next(iter(remembered)))
+            remembered[point] = ({k: float(v) for k, v in values.items()},
+                                 {k: {n: float(d[n]) for n in names} for k, d in jacobian.items()})
+        return remembered[point]
+
+    return response, derivatives
+
+
+_REMEMBERED = 16  # points whose responses `response_derivatives` keeps
+
+
+def _unit_objective(derivatives, bounds: Bounds, limit: float):
+    """s -> (E[V_s], its slope, c, its slope) on the unit box of `bounds` (`minimise_in_box`,
+    whose penalty rho max(0, c)^2 completes J), c = D / L - 1 the relative excess of the
+    smoothed statistic D over the limit L = `limit` [m]; slopes dx/ds = hi - lo times those
+    in x."""
+    widths = bounds.widths
+
+    def fun(s):
+        values, jacobian = derivatives(bounds.from_unit(s))
+        shear, disp = (np.array([jacobian[k][n] for n in bounds.names]) * widths for k in ("shear", "disp"))
+        return values["shear"], shear, values["disp"] / limit - 1.0, disp / limit
+
+    return fun
+
+
+def _inward(solution: BoxSolution, names: tuple) -> tuple:
+    """The variables that end on a bound of the box with the objective falling into it (the
+    bound is then not a minimum: the first-order conditions fail)."""
+    s, g = solution.value, solution.gradient
+    return tuple(names[k] for k in range(s.size)
+                 if (s[k] == 0.0 and g[k] < 0.0) or (s[k] == 1.0 and g[k] > 0.0))
 
 
 def _failures(failed: int, n_motions: int, optimiser_ok: bool, steps: str, final, disp_limit: float,
@@ -441,8 +499,8 @@ def _checked_problem(structure, records, record_time_step, variables, disp_limit
         start = {n: 0.5 * (lo + hi) for n, (lo, hi) in bounds.ranges.items()}
     for name, value in start.items():
         lo, hi = bounds.ranges.get(name, (None, None))
-        if lo is None or not lo < float(value) < hi:
-            raise ValueError(f"start: {name} = {value} must lie strictly inside its bounds {lo, hi}.")
+        if lo is None or not lo <= float(value) <= hi:
+            raise ValueError(f"start: {name} = {value} must lie within its bounds {lo, hi}.")
     return bounds, records, start
 
 
@@ -450,34 +508,29 @@ PEAK_MARGIN = 2.5e-3
 """The correction on true peaks aims the mean true peak base displacement this fraction of
 the limit below it, and accepts it within twice this below the limit [-]."""
 
-_RESTART_LOGIT = math.log(99.0)  # logit(0.99)
-
-
-def _limit_on_true_peaks(run, y0, start_response, disp_limit: float, corrections: int):
+def _limit_on_true_peaks(run, s0, start_response, disp_limit: float, corrections: int):
     """BFGS on a limit L on the smoothed mean E[D_s] such that the mean TRUE peak D meets
     the limit D_limit. The smooth maximum lies below the true one (by up to w log(2 n)) and
     the exterior penalty lets the optimum sit slightly beyond L; both gaps change slowly
     along the limit. So L starts at D_limit less the gap D - E[D_s] at the start, and while
     D misses the band [(1 - 2 m) D_limit, D_limit] (m = `PEAK_MARGIN`; below it only while
-    the penalty is active) BFGS restarts from the last optimum (moved 1 % of its range
-    inside the bounds) on
+    the penalty is active) BFGS restarts from the last optimum, with its curvature, on
 
         L <- L - (D - (1 - m) D_limit),
 
-    at most `corrections` times; `corrections` = 0: L = D_limit. `run(y, L)` -> (solution,
-    x, response).
+    at most `corrections` times; `corrections` = 0: L = D_limit. `run(s, L, hessian)` ->
+    (a `BoxSolution`, x, response).
 
     **Returns:** (solution, x, response, the last L [m], BFGS steps).
     """
-    limit, y, steps = float(disp_limit), y0, 0
+    limit, s, hessian, steps = float(disp_limit), s0, None, 0
     gap = float(start_response["peak_disp"]) - float(start_response["disp"])
     if corrections and disp_limit - gap > 0:
         limit = disp_limit - gap
     for attempt in range(corrections + 1):
-        solution, x, final = run(y, limit)
-        # a restart from a bound would see no gradient through the sigmoid: 1 % inside
-        y = jax.tree_util.tree_map(lambda v: jnp.clip(v, -_RESTART_LOGIT, _RESTART_LOGIT), solution.value)
-        steps += int(solution.stats["num_steps"])
+        solution, x, final = run(s, limit, hessian)
+        s, hessian = solution.value, solution.hessian
+        steps += solution.steps
         peak, active = float(final["peak_disp"]), float(final["disp"]) >= (1 - 1e-3) * limit
         low = peak < (1 - 2 * PEAK_MARGIN) * disp_limit
         change = (1 - PEAK_MARGIN) * disp_limit - peak

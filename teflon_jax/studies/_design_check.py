@@ -67,13 +67,17 @@ def _rel_error(g, fd, floor):
     return 0.0 if scale <= floor else abs(g - fd) / scale
 
 
-def design_gradient_check(structure, response, x: dict, bounds, *, relative_step=1e-5) -> dict:
+def design_gradient_check(structure, response, x: dict, bounds, *, relative_step=1e-5,
+                          derivatives=None) -> dict:
     """Compare the forward-mode derivatives of E[V_s] and E[D_s] with finite differences at
     the design `x` (name -> float) inside `bounds` (`design_bounds`).
 
     **Arguments:** `structure` (an `IsolatedStructure`, for its Table 1 rows); `response`:
     x -> dict with "shear" and "disp" (e.g. `expected_response` with its records);
-    `relative_step`: h / |x_k|.
+    `relative_step`: h / |x_k|; `derivatives`: x -> (responses {key: float}, jacobian {key:
+    {name: float}}) over at least "shear", "disp" (and "peak_disp_max" with a capacity), e.g.
+    the optimiser's compiled program (`response_derivatives`), whose responses then give the
+    differences too; default: `response` and its forward-mode jacobian, compiled here.
 
     **Returns:** {"gradient", "finite_differences": {"shear": {name: ..}, "disp": {..}},
     "rel_error": max over outputs and variables of |g - fd| / max(|g|, |fd|),
@@ -91,14 +95,7 @@ def design_gradient_check(structure, response, x: dict, bounds, *, relative_step
     names = tuple(bounds.ranges)
     x = {k: float(x[k]) for k in names}
     keys = _OUTPUTS + (("peak_disp_max",) if "capacity" in names else ())
-    outputs = jax.jit(lambda z: {k: response(z)[k] for k in keys})
-    forward = jax.jit(jax.jacfwd(lambda z: {k: response(z)[k] for k in keys}))
-
-    def value(z):
-        return {k: float(v) for k, v in outputs(z).items()}
-
-    def jacobian(z):
-        return {k: {n: float(v) for n, v in d.items()} for k, d in forward(z).items()}
+    value, jacobian = _value_and_jacobian(response, keys, derivatives)
 
     gradient = {k: v for k, v in jacobian(x).items() if k in _OUTPUTS}
     differences, errors = {k: {} for k in _OUTPUTS}, {}
@@ -163,6 +160,18 @@ def design_gradient_check(structure, response, x: dict, bounds, *, relative_step
         "check": check,
         "kink_checks": tuple(kinks),
     }
+
+
+def _value_and_jacobian(response, keys, derivatives):
+    """(z -> {key: float}, z -> {key: {name: float}}) of `design_gradient_check`: from
+    `derivatives` where given, else `response` and its `jax.jacfwd`, each compiled."""
+    if derivatives is not None:
+        return (lambda z: {k: derivatives(z)[0][k] for k in keys},
+                lambda z: {k: derivatives(z)[1][k] for k in keys})
+    outputs = jax.jit(lambda z: {k: response(z)[k] for k in keys})
+    forward = jax.jit(jax.jacfwd(lambda z: {k: response(z)[k] for k in keys}))
+    return (lambda z: {k: float(v) for k, v in outputs(z).items()},
+            lambda z: {k: {n: float(v) for n, v in d.items()} for k, d in forward(z).items()})
 
 
 def _kink_checks(value, gradient, x, errors, skipped, relative_step) -> list:

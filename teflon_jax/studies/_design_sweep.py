@@ -240,9 +240,10 @@ def open_sweep(path) -> dict:
     return _sweep_dict(names, mesh, *values, dataset.attrs["n_motions"])
 
 
-def sweep_start(sweep: Mapping, bounds: Bounds, *, margin: float = 1e-3) -> dict:
+def sweep_start(sweep: Mapping, bounds: Bounds, *, margin: float = 0.0) -> dict:
     """The converged grid point of `sweep` with the lowest objective, moved inside `bounds` by
-    `margin` of each range (the bijection needs interior points): a start for BFGS on a
+    `margin` of each range (default none: a point on a bound starts BFGS there, where a
+    bound that is the optimum holds it from the first step): a start for BFGS on a
     non-convex objective (global look by the grid, local refinement by the gradient)."""
     objective = np.asarray(sweep["objective"], dtype=float).reshape(-1)
     if "converged" in sweep:
