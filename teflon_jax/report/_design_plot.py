@@ -78,11 +78,14 @@ def design_figure(sweep: Mapping, result: DesignResult, *, units: Mapping | None
     _frame(right, np.append(disp, [ox, px]), np.append(shear, [oy, py]))
     right.set_xlabel(f"{statistic} peak base displacement (grid: smoothed) [{length_name}]")
     right.set_ylabel("mean peak base shear / weight (grid: smoothed) [-]")
-    right.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.13), ncol=2, frameon=False)
+    # the legend in a band along the figure's foot, below both panels, where it covers no design
+    legend = right.legend(fontsize=8, loc="lower right", bbox_to_anchor=(0.99, 0.01), bbox_transform=fig.transFigure,
+                          ncol=2, frameon=False)
+    legend.set_in_layout(False)
     right.grid(alpha=0.3)
     if title:
         fig.suptitle("\n".join(textwrap.wrap(title, 120)), fontsize=9)
-    fig.tight_layout()
+    fig.tight_layout(rect=(0.0, 0.1, 1.0, 1.0))
     return fig
 
 
