@@ -226,7 +226,7 @@ def test_the_peak_is_differentiable_in_the_bottom_radius(uplift):
     (dict(bottom_radius=0.0), "bottom_radius: must be a finite number > 0"),
     (dict(top_radius=-2.0), "top_radius"),
     (dict(top_capacity=0.0), "top_capacity"),
-    (dict(bottom_friction=coulomb_friction(0.0)), "bottom_friction.f_max"),
+    (dict(bottom_friction=coulomb_friction(-0.01)), "bottom_friction.f_max"),
     (dict(top_friction=FrictionParameters(0.05, 0.06, 0.0)), "top_friction.delta_f: must be smaller than f_max"),
     (dict(top_friction=FrictionParameters(0.05, 0.01, -1.0)), "top_friction.rate_a"),
     (dict(hysteresis=BoucWen(0.0)), "yield_disp"),

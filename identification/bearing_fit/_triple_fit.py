@@ -115,8 +115,8 @@ def triple_parameters(bearing: SeriesPendulum) -> dict:
 
 def triple_with_parameters(bearing: SeriesPendulum, values) -> SeriesPendulum:
     """`bearing` (triple or double) with the constants named in `values` (`parameter_names`,
-    scalars or traced) in place of its own; a triple's also takes "bottom_excess" /
-    "top_excess" (b - a, c - a)."""
+    scalars or traced) in place of its own, its heating and surface parts kept; a triple's
+    also takes "bottom_excess" / "top_excess" (b - a, c - a)."""
     get = {**_leaves_of(bearing), **values}
     fields = {}
     for s in bearing.slider_names:
@@ -126,7 +126,8 @@ def triple_with_parameters(bearing: SeriesPendulum, values) -> SeriesPendulum:
     for radius, excess in _EXCESS.items():
         if excess in values:
             fields[radius] = get["inner_radius"] + values[excess]
-    return type(bearing)(**fields, hysteresis=bearing.hysteresis)
+    names = list(fields)
+    return eqx.tree_at(lambda b: [getattr(b, name) for name in names], bearing, [fields[n] for n in names])
 
 
 series_parameters = triple_parameters

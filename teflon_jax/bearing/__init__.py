@@ -41,7 +41,11 @@ from ._pendulum import concave_surface as concave_surface
 from ._series_pendulum import DoublePendulum as DoublePendulum
 from ._series_pendulum import SeriesPendulum as SeriesPendulum
 from ._series_pendulum import check_double_pendulum as check_double_pendulum
-from ._series_pendulum import check_friction as check_friction
+from ._surface import SURFACE_PARTS as SURFACE_PARTS
+from ._surface import SurfaceParts as SurfaceParts
+from ._surface import check_friction as check_friction
+from ._surface import check_surface_parts as check_surface_parts
+from ._surface import surface_coefficients as surface_coefficients
 from ._triple_pendulum import STOP_STIFFNESS_RATIO as STOP_STIFFNESS_RATIO
 from ._triple_pendulum import TriplePendulum as TriplePendulum
 from ._triple_pendulum import check_series_pendulum as check_series_pendulum

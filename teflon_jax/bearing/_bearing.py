@@ -118,13 +118,13 @@ class SlidingBearing(eqx.Module):
 
     def coefficient(self, velocity_x, velocity_y=0.0, z_peak=1.0):
         """Friction coefficient mu [-] for a sliding velocity [m/s] and the largest |Z| so far."""
-        params = self._constants_for(velocity_x, velocity_y)
+        params = self.constants_for(velocity_x, velocity_y)
         mu = sliding_friction(params, sliding_speed(velocity_x, velocity_y), self.n_interfaces)
         if self.breakaway_ratio is None:
             return mu
         return jnp.where(z_peak < BREAKAWAY_THRESHOLD, self.breakaway_ratio * params.f_min, mu)
 
-    def _constants_for(self, velocity_x, velocity_y):
+    def constants_for(self, velocity_x, velocity_y=0.0):
         """Eq. 1 constants for the direction of the velocity: `friction`, or for an anisotropic
         bearing those mixed across the lay (`sliding_angle_weight`)."""
         if self.friction_perpendicular is None:
@@ -142,7 +142,7 @@ class SlidingBearing(eqx.Module):
         with the constants mixed for the direction as in `coefficient`, held fixed in the
         derivative; during breakaway (Eq. 17) mu = b f_min and dmu/dv = 0. At v = 0 the slope
         is 0, as the derivative of `coefficient` there."""
-        params = self._constants_for(velocity, 0.0)
+        params = self.constants_for(velocity, 0.0)
         velocity = jnp.asarray(velocity, dtype=float)
         mu, slope = jax.jvp(lambda v: sliding_friction(params, v, self.n_interfaces), (velocity,),
                             (jnp.ones_like(velocity),))

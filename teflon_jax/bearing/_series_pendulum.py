@@ -20,14 +20,14 @@ from typing import ClassVar
 
 import equinox as eqx
 import jax.numpy as jnp
-import numpy as np
 from jaxtyping import ArrayLike
 
-from ..validation import concrete, require, require_positive
+from ..validation import require_positive
 from ._bearing import check_heating
 from ._effects import FrictionalHeating
 from ._friction import FrictionParameters
 from ._hysteresis import BoucWen
+from ._surface import SurfaceParts, check_friction, check_surface_parts
 
 
 class SeriesPendulum(eqx.Module):
@@ -79,6 +79,36 @@ class SeriesPendulum(eqx.Module):
         `<slider>_heating` (none: no heating)."""
         return tuple(getattr(self, f"{name}_heating", None) for name in self.slider_names)
 
+    def parts(self) -> tuple:
+        """`SurfaceParts` (or `None`) of each slider's surface (static structure)."""
+        parts = getattr(self, "surface_parts", None)
+        return (None,) * self.slider_count if parts is None else tuple(parts)
+
+    @property
+    def has_parts(self) -> bool:
+        """Whether any surface has a part beyond Eq. 1 and heating (static)."""
+        return any(part is not None for part in self.parts())
+
+    @property
+    def remembers(self) -> bool:
+        """Whether any surface's part needs the slider's history, its largest |Z| so far
+        (breakaway) or its travel (wear) (static)."""
+        return any(part is not None and part.remembers for part in self.parts())
+
+    def contact_pressures(self):
+        """Contact pressures [Pa] (S,) of the surfaces under the static load W
+        (`<slider>_pressure`; 0 where not given), for heating and pressure dependence."""
+        return jnp.stack([jnp.zeros(()) if getattr(self, f"{name}_pressure", None) is None
+                          else jnp.asarray(getattr(self, f"{name}_pressure"), float) for name in self.slider_names])
+
+    def surface_bearings(self) -> tuple:
+        """Each slider's surface as a flat `SlidingBearing`: its Eq. 1 constants, the
+        pendulum's Bouc-Wen constants, its heating and its `SurfaceParts`, the whole
+        interface law of the bearing model."""
+        frictions = [getattr(self, f"{name}_friction") for name in self.slider_names]
+        return tuple((SurfaceParts() if part is None else part).bearing(friction, self.hysteresis, heating)
+                     for friction, heating, part in zip(frictions, self.surface_heatings(), self.parts()))
+
     def scaled_friction(self, factor) -> "SeriesPendulum":
         """This isolator with every surface's friction coefficient `factor` times its own at
         every velocity: f_max and delta_f of each surface's Eq. 1 times `factor` (so f_min =
@@ -127,7 +157,9 @@ class DoublePendulum(SeriesPendulum):
     **Fields** (effective radii R - h [m]; effective capacities d (R - h) / R [m]):
     `bottom_radius` R_1, `top_radius` R_2, `bottom_capacity` d_1, `top_capacity` d_2,
     `bottom_friction`, `top_friction`: Eq. 1 constants of each surface (`FrictionParameters`;
-    delta_f = 0 for Coulomb friction); `hysteresis`: `BoucWen` of both sliders.
+    delta_f = 0 for Coulomb friction); `hysteresis`: `BoucWen` of both sliders;
+    `bottom_heating`, `top_heating`, `bottom_pressure`, `top_pressure`: as the triple's;
+    `surface_parts`: (bottom, top) `SurfaceParts` or `None` each, or `None`.
     """
 
     isolator: ClassVar[str] = "double-fp"
@@ -144,6 +176,7 @@ class DoublePendulum(SeriesPendulum):
     top_heating: FrictionalHeating | None = None
     bottom_pressure: ArrayLike | None = None
     top_pressure: ArrayLike | None = None
+    surface_parts: tuple | None = None
 
     def series_radii(self):
         """(R_1, R_2) [m]."""
@@ -166,18 +199,6 @@ class DoublePendulum(SeriesPendulum):
         return self.bottom_radius + self.top_radius
 
 
-def check_friction(friction: FrictionParameters, name: str) -> None:
-    """`ValueError` naming `name`.f_max, .delta_f or .rate_a where Eq. 1 cannot take them:
-    f_max > 0, 0 <= delta_f < f_max (a positive friction at rest), rate_a >= 0 [s/m]."""
-    require_positive(friction.f_max, f"{name}.f_max", " (a friction coefficient)")
-    require(friction.delta_f, lambda x: np.isfinite(x) & (x >= 0), f"{name}.delta_f", "must be >= 0")
-    f_max, delta_f = concrete(friction.f_max), concrete(friction.delta_f)
-    if f_max is not None and delta_f is not None and not np.all(delta_f < f_max):
-        raise ValueError(f"{name}.delta_f: must be smaller than f_max ({np.asarray(f_max).tolist()}: "
-                         f"Eq. 1 at rest, f_max - delta_f, is positive); got {np.asarray(delta_f).tolist()}.")
-    require(friction.rate_a, lambda x: np.isfinite(x) & (x >= 0), f"{name}.rate_a", "must be >= 0 [s/m]")
-
-
 def check_double_pendulum(bearing: DoublePendulum) -> None:
     """`ValueError` naming the constant the model cannot take: radii, capacities and the
     yield displacement must be positive, and each surface's friction what Eq. 1 takes
@@ -194,7 +215,10 @@ def check_double_pendulum(bearing: DoublePendulum) -> None:
 
 def check_surface_heating(bearing: SeriesPendulum) -> None:
     """`ValueError` naming `<slider>_heating.<constant>` or `<slider>_pressure` where a heated
-    surface's constants are out of range or its contact pressure is missing."""
+    surface's constants are out of range or its contact pressure is missing, or naming
+    `surface_parts` or `surface_parts.<slider>.<part>` where the surfaces' parts are not one
+    `SurfaceParts` (or `None`) per slider or are out of range (`check_surface_parts`)."""
+    _check_parts(bearing)
     for name, heating in zip(bearing.slider_names, bearing.surface_heatings()):
         if heating is None:
             continue
@@ -204,3 +228,19 @@ def check_surface_heating(bearing: SeriesPendulum) -> None:
             raise ValueError(f"{name}_pressure: a surface with {name}_heating needs its contact pressure "
                              "[Pa] under the static load (the heat flux is mu p v).")
         require_positive(pressure, f"{name}_pressure", " [Pa] (contact pressure on the surface)")
+
+
+def _check_parts(bearing: SeriesPendulum) -> None:
+    """The surfaces' parts beyond Eq. 1 and heating (`check_surface_heating`)."""
+    parts = getattr(bearing, "surface_parts", None)
+    if parts is None:
+        return
+    if not isinstance(parts, tuple | list) or len(parts) != bearing.slider_count:
+        raise ValueError(f"surface_parts: one SurfaceParts (or None) per slider ({', '.join(bearing.slider_names)}), "
+                         f"got {parts!r}.")
+    for name, part in zip(bearing.slider_names, parts):
+        if part is None:
+            continue
+        if not isinstance(part, SurfaceParts):
+            raise ValueError(f"surface_parts.{name}: expected a SurfaceParts or None, got {type(part).__name__}.")
+        check_surface_parts(part, f"surface_parts.{name}", getattr(bearing, f"{name}_pressure", None))

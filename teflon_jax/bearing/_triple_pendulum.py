@@ -32,6 +32,7 @@ from ._series_pendulum import (
     check_surface_heating,
     stack_frictions,
 )
+from ._surface import check_friction
 
 STOP_STIFFNESS_RATIO = 1000.0
 """Stiffness of a restrainer ring as a multiple of its slider's pendulum stiffness W / R."""
@@ -49,7 +50,8 @@ class TriplePendulum(SeriesPendulum):
     `inner_heating` (each of surfaces 2 and 3), `bottom_heating`, `top_heating`:
     `FrictionalHeating` or `None`, with `inner_pressure`, `bottom_pressure`, `top_pressure`
     [Pa], the contact pressure of a heated surface under the static load
-    (`SeriesPendulum.heat_fluxes`).
+    (`SeriesPendulum.heat_fluxes`); `surface_parts`: (inner, bottom, top) `SurfaceParts` or
+    `None` each (breakaway, anisotropy, wear, asymmetry, pressure dependence), or `None`.
     """
 
     isolator: ClassVar[str] = "triple-fp"
@@ -71,6 +73,7 @@ class TriplePendulum(SeriesPendulum):
     inner_pressure: ArrayLike | None = None
     bottom_pressure: ArrayLike | None = None
     top_pressure: ArrayLike | None = None
+    surface_parts: tuple | None = None
 
     def series_radii(self):
         """Radii [m] of the three sliders in series: (2 a, b - a, c - a)."""
@@ -109,8 +112,6 @@ def check_triple_pendulum(bearing: TriplePendulum) -> None:
     surfaces at most that of the bottom, which is at most the top's (the order of regimes
     I-V; swap top and bottom if yours is the other way round), each surface's friction what
     Eq. 1 takes (`check_friction`)."""
-    from ._series_pendulum import check_friction
-
     for name in ("inner_radius", "bottom_radius", "top_radius", "inner_capacity",
                  "bottom_capacity", "top_capacity"):
         require_positive(getattr(bearing, name), name, " [m]")

@@ -28,6 +28,15 @@ A surface may add `"heating"`: its frictional heating (`FrictionalHeating`, the 
                 "initial_temperature": {"value": 20, "unit": "degC"}}
 
 (all six required); the one-direction structures and the bearing test run it.
+
+A surface may also carry the other parts of the flat bearing's law (`SurfaceParts`), each an
+object of the bearing file's constants under the bearing file's name: `"breakaway"`
+({"ratio"}), `"friction_perpendicular"` (Eq. 1 across the lay) with an optional `"lay"`
+({"angle"}), `"wear"` ({"change", "reference_travel"}), `"asymmetry"` ({"asymmetry"}) and
+`"pressure_dependence"` ({"exponent", "reference_load", "contact_area", "contact_pressure"}:
+the tested bearing's constants and the surface's contact pressure under the static load, which
+must equal its heating's where both are given). `"stack"`, `"backlash"` and a surface's own
+`"hysteresis"` are the whole bearing's, not a surface's, and are refused.
 """
 
 
@@ -35,12 +44,17 @@ import jax.numpy as jnp
 
 from ..bearing import (
     BoucWen,
+    DirectionAsymmetry,
     DoublePendulum,
     FrictionalHeating,
     FrictionParameters,
+    PressureDependence,
     SeriesPendulum,
+    SurfaceParts,
     TriplePendulum,
+    Wear,
     check_double_pendulum,
+    check_surface_parts,
     check_triple_pendulum,
 )
 from ._bearing_file import BEARING_PARTS, read_constant
@@ -63,6 +77,20 @@ _SURFACE = {"radius": "length", "capacity": "length"}
 _FRICTION = BEARING_PARTS["friction"]  # Eq. 1's constants, as in the bearing file
 HEATING_CONSTANTS = {**BEARING_PARTS["heating"], "contact_pressure": "pressure"}
 """Constants of a surface's optional `heating` entry -> kind of quantity."""
+
+SURFACE_PART_CONSTANTS = {
+    "breakaway": BEARING_PARTS["breakaway"],
+    "friction_perpendicular": BEARING_PARTS["friction_perpendicular"],
+    "lay": BEARING_PARTS["lay"],
+    "wear": BEARING_PARTS["wear"],
+    "asymmetry": BEARING_PARTS["asymmetry"],
+    "pressure_dependence": {**BEARING_PARTS["pressure_dependence"], "contact_pressure": "pressure"},
+}
+"""A surface's optional parts beyond Eq. 1 and heating -> constant -> kind of quantity."""
+
+WHOLE_BEARING_PARTS = {"stack": "interfaces in series", "backlash": "a gap in series with the bearing",
+                       "hysteresis": "the Bouc-Wen constants (the file's yield_disp)"}
+"""Parts of the bearing file that belong to the whole isolator, not one surface."""
 
 
 def _value(entry, kind, where) -> float:
@@ -87,7 +115,12 @@ def _keys(part, expected, where, optional=()):
 
 
 def _surface(part, where):
-    _keys(part, ("radius", "capacity", "friction"), where, optional=("heating",))
+    for name, what in WHOLE_BEARING_PARTS.items():
+        if isinstance(part, dict) and name in part:
+            raise ValueError(f"{where}.{name}: {what} belongs to the whole bearing, not one surface of a "
+                             f"friction pendulum; leave it out (a surface takes heating, "
+                             f"{', '.join(SURFACE_PART_CONSTANTS)}).")
+    _keys(part, ("radius", "capacity", "friction"), where, optional=("heating", *SURFACE_PART_CONSTANTS))
     values = {key: _value(part[key], kind, f"{where}.{key}") for key, kind in _SURFACE.items()}
     _keys(part["friction"], tuple(_FRICTION), f"{where}.friction")
     friction = FrictionParameters(*(jnp.asarray(_value(part["friction"][key], kind,
@@ -103,15 +136,60 @@ def _surface(part, where):
                 for key, kind in HEATING_CONSTANTS.items()}
         pressure = heat.pop("contact_pressure")
         heating = FrictionalHeating(**heat)
-    return values["radius"], values["capacity"], friction, heating, pressure
+    surface_parts, pressure = _surface_parts(part, where, pressure)
+    return values["radius"], values["capacity"], friction, heating, pressure, surface_parts
+
+
+def _surface_parts(part, where, pressure):
+    """(`SurfaceParts` of the surface's optional parts, or `None`; the surface's contact
+    pressure [Pa], from its heating or its pressure dependence)."""
+    read = {}
+    for name, constants in SURFACE_PART_CONSTANTS.items():
+        if name in part:
+            _keys(part[name], tuple(constants), f"{where}.{name}")
+            read[name] = {key: _value(part[name][key], kind, f"{where}.{name}.{key}")
+                          for key, kind in constants.items()}
+    if not read:
+        return None, pressure
+    if "pressure_dependence" in read:
+        given = read["pressure_dependence"].pop("contact_pressure")
+        if pressure is not None and given != pressure:
+            raise ValueError(f"{where}.pressure_dependence.contact_pressure: {given:g} Pa differs from "
+                             f"heating.contact_pressure ({pressure:g} Pa); the surface has one contact pressure.")
+        pressure = given
+    if "lay" in read and "friction_perpendicular" not in read:
+        raise ValueError(f"{where}.lay: the lay of the steel matters only for an anisotropic surface; "
+                         "add friction_perpendicular (or leave lay out).")
+    perpendicular = read.get("friction_perpendicular")
+    parts = SurfaceParts(
+        breakaway_ratio=None if "breakaway" not in read else jnp.asarray(read["breakaway"]["ratio"]),
+        friction_perpendicular=None if perpendicular is None else FrictionParameters(
+            *(jnp.asarray(perpendicular[key]) for key in _FRICTION)),
+        lay_angle=None if "lay" not in read else jnp.asarray(read["lay"]["angle"]),
+        pressure_dependence=None if "pressure_dependence" not in read else PressureDependence(
+            **read["pressure_dependence"]),
+        wear=None if "wear" not in read else Wear(**read["wear"]),
+        asymmetry=None if "asymmetry" not in read else DirectionAsymmetry(read["asymmetry"]["asymmetry"]),
+    )
+    try:
+        check_surface_parts(parts, where, pressure)
+    except ValueError as error:  # the file's keys for the two constants named otherwise in Python
+        raise ValueError(str(error).replace(".breakaway_ratio", ".breakaway.ratio")
+                         .replace(".lay_angle", ".lay.angle")) from None
+    return parts, pressure
 
 
 def _heating_fields(parts) -> dict:
-    """`<surface>_heating` and `<surface>_pressure` of the surfaces that have heating."""
+    """`<surface>_heating` and `<surface>_pressure` of the surfaces that have heating or a
+    contact pressure, and `surface_parts` where a surface has a part beyond them."""
     fields = {}
     for name, part in parts.items():
         if part[3] is not None:
-            fields.update({f"{name}_heating": part[3], f"{name}_pressure": part[4]})
+            fields[f"{name}_heating"] = part[3]
+        if part[4] is not None:
+            fields[f"{name}_pressure"] = part[4]
+    if any(part[5] is not None for part in parts.values()):
+        fields["surface_parts"] = tuple(part[5] for part in parts.values())
     return fields
 
 

@@ -43,7 +43,13 @@ from ..bearing import SeriesPendulum
 from ..excitation import Signal
 from ._overturning import SupportPlan, group_factor, overturned_loads, supported_loads
 from ._series_heat import heated_step
-from ._slider_forces import slider_forces, slider_lengths
+from ._slider_forces import (
+    initial_history,
+    next_history,
+    slider_forces,
+    slider_lengths,
+    step_history,
+)
 from ._triple_biaxial import NEWTON_DIFFERENCE_STEP, _inverse2, _pendulum_blocks
 from ._triple_structure import (
     RESCUE_ITERATIONS,
@@ -103,11 +109,15 @@ class SlabOnSeries(eqx.Module):
         two steps (2, G, S + 1, 2) (each group's slider increments [m] and its force [N];
         `predicted_increments`), group forces F_g (G, 2) [N], the generalized force beyond the
         springs f (3,) [N, N m], the normal loads N_g (G,) [N], whether the slab tipped on the
-        step (`supported_loads`) and, for heated surfaces, the heat states (G, S, K) [W s/m^2]."""
+        step (`supported_loads`), for heated surfaces the heat states (G, S, K) [W s/m^2], and
+        where a surface's part needs it the sliders' history (G, S) (`initial_history`)."""
         groups, sliders = self.bearing_load.shape[0], self.pendulum.slider_count
         zeros = jnp.zeros((groups, sliders, 2), self.mass.dtype)
         heat = {} if self.heat_rates is None else {
             "heat": jnp.zeros((groups, sliders, self.heat_rates.shape[0]), self.mass.dtype)}
+        history = initial_history(self.pendulum, zeros.shape[:2], zeros.dtype)
+        if history is not None:
+            heat["history"] = history
         return {**heat, "x": jnp.zeros(6, self.mass.dtype), "slider": zeros, "z": zeros,
                 "previous": jnp.zeros((2, groups, sliders + 1, 2), self.mass.dtype),
                 "force": jnp.zeros((groups, 2), self.mass.dtype), "extra": jnp.zeros(3, self.mass.dtype),
@@ -132,7 +142,9 @@ class SlabOnSeries(eqx.Module):
         own = jnp.einsum("gigi->gi", flex)  # each group's own compliance; its inverse scales the misfit
         p = {"pendulum": self.pendulum, "W": self.bearing_load, "N": normal, "s0": state["slider"],
              "z0": state["z"], "stiffness": 2 / jnp.sum(own, axis=-1),
-             "E": jnp.einsum("gin,n->gi", b, target - q0), "flex": flex}
+             "E": jnp.einsum("gin,n->gi", b, target - q0), "flex": flex, "s": factor}
+        if "history" in state:
+            p["history"] = jax.vmap(step_history)(state["history"], state["z"])
         if self.heat_rates is not None:  # each surface's factor at the step's start, held over it
             p["k"] = jax.vmap(lambda pendulum, heat: pendulum.heat_factors(heat, self.heat_weights))(
                 self.pendulum, state["heat"])
@@ -157,14 +169,17 @@ class SlabOnSeries(eqx.Module):
             new["heat"] = jax.vmap(heated_step, in_axes=(0, 0, 0, 0, None, None, 0))(
                 self.pendulum, state["heat"], p["k"], slider_lengths(d), self.time_step, self.heat_rates,
                 factor)
+        if "history" in state:
+            new["history"] = jax.vmap(next_history)(self.pendulum, p["history"], d)
         return new, converged & rests
 
 
 def _group_forces(p, d, dt):
     """Slider forces (G, S, 2) [N] and Z of every group after the increments d (G, S, 2),
-    each surface's friction times its heating factor `p["k"]` (G, S) where given."""
-    return jax.vmap(slider_forces, in_axes=(0, 0, 0, 0, 0, None, 0))(
-        p["pendulum"], p["N"], p["s0"], p["z0"], d, dt, p.get("k"))
+    each surface's friction times its heating factor `p["k"]` (G, S) where given, its parts
+    reading the history `p["history"]` and the load factor `p["s"]` (G,)."""
+    return jax.vmap(slider_forces, in_axes=(0, 0, 0, 0, 0, None, 0, 0, 0))(
+        p["pendulum"], p["N"], p["s0"], p["z0"], d, dt, p.get("k"), p.get("history"), p["s"])
 
 
 def _residual(x, p, dt):

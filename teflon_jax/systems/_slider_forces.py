@@ -15,7 +15,12 @@ speed over the step v_e = |d_e| c_e / dt (`velocity_factors`; the speed OpenSees
 The friction term is Eq. 1 where the slider moves the way its Z points and f_min while Z still
 points back after a reversal: without that exception the force of a reversing slider would
 fall as its increment grows (Eq. 1's rise with the increment against Z's elastic slope, for
-steps below a few ms), and the massless sliders would have no unique balance.
+steps below a few ms), and the massless sliders would have no unique balance. A surface with
+parts beyond Eq. 1 (`SurfaceParts`: breakaway, anisotropy, wear, direction asymmetry, pressure
+dependence) takes its coefficients at rest and sliding from `surface_coefficients`, the flat
+bearing's law; breakaway and wear read the slider's history (its largest |Z| up to the
+step's start and its surface's travel), which the steppers carry (`initial_history`,
+`step_history`, `next_history`).
 
 References: Constantinou, Mokha & Reinhorn (1990), Eqs. 1, 3; Park, Wen & Ang (1986); Fenz &
 Constantinou (2006, 2008).
@@ -28,15 +33,19 @@ from ..bearing import (
     SeriesPendulum,
     bouc_wen_exact_update,
     sliding_friction,
+    surface_coefficients,
 )
 from ..solver import park_exact_update
 
 
-def slider_forces(pendulum: SeriesPendulum, load, slider0, z0, increment, time_step, factors=None):
+def slider_forces(pendulum: SeriesPendulum, load, slider0, z0, increment, time_step, factors=None, history=None,
+                  load_factor=1.0):
     """Forces F_e [N] of the sliders after the increments `increment` [m] from displacements
     `slider0` [m] and Z `z0` [-] over a step of `time_step` [s] (module docstring), and their
     Z at the step's end. Arrays (S,) in one component, (S, 2) in two; `load` N [N]; `factors`
-    (S,) [-]: each surface's friction scaled by it (heating), or `None`."""
+    (S,) [-]: each surface's friction scaled by it (heating), or `None`; `history`: the
+    sliders' `step_history` where a surface's part needs it; `load_factor` N / W [-] (the
+    contact pressure of pressure dependence)."""
     planar = increment.ndim == 2
     u = slider0 + increment
     if planar:
@@ -48,8 +57,12 @@ def slider_forces(pendulum: SeriesPendulum, load, slider0, z0, increment, time_s
     slide, direction = _length_and_direction(increment)
     reach, outward = _length_and_direction(u)
     friction = pendulum.frictions() if factors is None else pendulum.frictions().scaled(factors)
-    f_min = friction.f_max - friction.delta_f
-    mu = sliding_friction(friction, slide * pendulum.velocity_factors() / time_step)
+    speed = slide * pendulum.velocity_factors() / time_step
+    if pendulum.has_parts:
+        f_min, mu = surface_coefficients(friction, pendulum.parts(), speed, direction, z, history,
+                                         pendulum.contact_pressures(), load_factor)
+    else:
+        f_min, mu = friction.f_max - friction.delta_f, sliding_friction(friction, speed)
     if planar:
         f_min, mu = f_min[:, None], mu[:, None]
         along = jnp.maximum(jnp.sum(direction * z, axis=-1, keepdims=True), 0.0)
@@ -74,3 +87,39 @@ def slider_lengths(x):
     """|x_e| (S,) of planar vectors x (S, 2), with a zero derivative at 0 instead of NaN."""
     squared = jnp.sum(x**2, axis=-1)
     return jnp.where(squared > 0, jnp.sqrt(jnp.where(squared > 0, squared, 1.0)), 0.0)
+
+
+def balance_forces(p, increment, time_step):
+    """`slider_forces` of a step's balance from its parameters `p` (the pendulum, N, the
+    sliders' start, Z, and where present the heating factors "k", the history and the load
+    factor "s")."""
+    return slider_forces(p["pendulum"], p["N"], p["s0"], p["z0"], increment, time_step, p.get("k"),
+                         p.get("history"), p.get("s", 1.0))
+
+
+def initial_history(pendulum: SeriesPendulum, shape, dtype):
+    """The sliders' history at rest where a surface's part needs it (`SeriesPendulum.remembers`):
+    {"z_peak": largest |Z| so far, "travel": the surface's travel [m]}, each `shape` (S,) or
+    (G, S); else `None`."""
+    if not pendulum.remembers:
+        return None
+    return {"z_peak": jnp.zeros(shape, dtype), "travel": jnp.zeros(shape, dtype)}
+
+
+def step_history(history, z0):
+    """The history a step's force reads: the largest |Z| up to the step's start (with Z `z0`
+    (S,) or (S, 2) there), so that the force solved for and the force reported are one (as the
+    flat bearing's breakaway), and the travel so far; `None` passes through."""
+    if history is None:
+        return None
+    size = jnp.abs(z0) if z0.ndim == history["z_peak"].ndim else slider_lengths(z0)
+    return {"z_peak": jnp.maximum(history["z_peak"], size), "travel": history["travel"]}
+
+
+def next_history(pendulum: SeriesPendulum, history, increment):
+    """The history after a step from its `step_history`, the surfaces having slid |increment|
+    times their velocity factors; `None` passes through."""
+    if history is None:
+        return None
+    slide = jnp.abs(increment) if increment.ndim == history["travel"].ndim else slider_lengths(increment)
+    return {"z_peak": history["z_peak"], "travel": history["travel"] + slide * pendulum.velocity_factors()}

@@ -31,8 +31,7 @@ import numpy as np
 from ..bearing import SeriesPendulum
 from ..excitation import Signal
 from ..units import STANDARD_GRAVITY
-from ._series_heat import heated_step
-from ._slider_forces import slider_forces, slider_lengths
+from ._slider_forces import balance_forces, initial_history
 from ._storey_peaks import storey_rows
 from ._structure_response import check_duration
 from ._triple_structure import (
@@ -40,9 +39,8 @@ from ._triple_structure import (
     StructureOnTriple,
     balance_compliance,
     carried_force,
-    predicted_increments,
+    isolator_step,
     shortest_fraction,
-    uplift_increments,
 )
 
 
@@ -78,12 +76,15 @@ class BiaxialStructureOnTriple(eqx.Module):
     def initial_isolator(self):
         """(sliders (S, 2) [m], Z (S, 2), the increments of the last two steps (2, S, 2) [m]
         (`predicted_increments`), force beyond the reference spring (2,) [N]), and the heat
-        states (S, K) of heated surfaces."""
+        states (S, K) of heated surfaces, and last the sliders' history where a surface's part
+        needs it (`initial_history`)."""
         zeros = jnp.zeros((self.pendulum.slider_count, 2), self.mass.dtype)
         state = zeros, zeros, jnp.stack([zeros, zeros]), jnp.zeros(2, self.mass.dtype)
         if self.pendulum.heated:
             state = state + (jnp.zeros((self.pendulum.slider_count, self.uniaxial.heat_rates.shape[0]),
                                        self.mass.dtype),)
+        if self.pendulum.remembers:
+            state = state + (initial_history(self.pendulum, zeros.shape[:1], zeros.dtype),)
         return state
 
     def step(self, x0, isolator, ground0, ground1, matrices=None, load=None):
@@ -93,36 +94,15 @@ class BiaxialStructureOnTriple(eqx.Module):
         direction (`StructureOnTriple.step`), their flux at the length of their increment."""
         system = self.uniaxial
         step_matrix, force_column = system.step_matrices() if matrices is None else matrices
-        slider0, z0, previous, extra0 = isolator[:4]
-        w = jnp.concatenate([x0, jnp.stack([ground0, extra0, ground1], -1)], -1)
+        w = jnp.concatenate([x0, jnp.stack([ground0, isolator[3], ground1], -1)], -1)
         linear = w @ step_matrix.T
-        g0, k_ref, weight = -force_column[0], system.reference_stiffness, system.bearing_load
-        normal = weight if load is None else load * weight
-        scale = 1 - g0 * k_ref
-        p = {"pendulum": system.pendulum, "W": weight, "N": normal, "s0": slider0, "z0": z0,
-             "D": linear[:, 0] / scale - x0[:, 0], "G": g0 / scale}
-        if system.pendulum.heated:
-            p["k"] = system.pendulum.heat_factors(isolator[4], system.heat_weights)
-        eps = jnp.finfo(linear.dtype).eps
-        tolerance = jnp.maximum(system.newton_tolerance * weight,
-                                32 * eps * (weight + jnp.max(jnp.abs(p["D"])) / p["G"]))
-        d, converged = _balanced(self.time_step, system.newton_iterations, p, predicted_increments(previous),
-                                 tolerance)
-        if load is not None:
-            d, converged = uplift_increments(system.pendulum, load, p["D"], d, converged)
-        force, z1 = slider_forces(system.pendulum, normal, slider0, z0, d, self.time_step, p.get("k"))
-        bearing = jnp.mean(force, axis=0)
-        extra1 = bearing - k_ref * (x0[:, 0] + jnp.sum(d, axis=0))
-        x1 = linear + extra1[:, None] * force_column
-        state = (slider0 + d, z1, jnp.stack([d, previous[0]]), extra1)
-        if system.pendulum.heated:
-            state = state + (heated_step(system.pendulum, isolator[4], p["k"], slider_lengths(d), self.time_step,
-                                         system.heat_rates, 1.0 if load is None else load),)
-        return x1, state, converged, bearing
+        state, converged, bearing = isolator_step(system, isolator, linear[:, 0], x0[:, 0], -force_column[0], load,
+                                                  _balanced)
+        return linear + state[3][:, None] * force_column, state, converged, bearing
 
 
 def _residual(d, p, dt):
-    force, _ = slider_forces(p["pendulum"], p["N"], p["s0"], p["z0"], d, dt, p.get("k"))
+    force, _ = balance_forces(p, d, dt)
     return force - carried_force(d, force, p)
 
 
@@ -130,7 +110,7 @@ def _residual_and_blocks(d, p, dt):
     """(residual (S, 2), dF_e/dd_e (S, 2, 2)): a forward pass with the two axes' tangents
     (each slider's force depends on its own increment only)."""
     def forces(x):
-        return slider_forces(p["pendulum"], p["N"], p["s0"], p["z0"], x, dt, p.get("k"))[0]
+        return balance_forces(p, x, dt)[0]
 
     axes = jnp.broadcast_to(jnp.eye(2, dtype=d.dtype)[:, None, :], (2,) + d.shape)
     force, columns = jax.vmap(lambda t: jax.jvp(forces, (d,), (t,)), out_axes=(None, 0))(axes)
@@ -154,7 +134,7 @@ def _differenced_blocks(d, force, p, dt):
     shifted = d + h[:, None]
     steps = shifted - d  # h as the sum represents it
     trials = jnp.stack([jnp.stack([shifted[:, 0], d[:, 1]], -1), jnp.stack([d[:, 0], shifted[:, 1]], -1)])
-    forces = jax.vmap(lambda x: slider_forces(pendulum, p["N"], p["s0"], p["z0"], x, dt, p.get("k"))[0])(
+    forces = jax.vmap(lambda x: balance_forces(p, x, dt)[0])(
         trials)
     blocks = jnp.moveaxis((forces - force) / jnp.moveaxis(steps, -1, 0)[:, :, None], 0, -1)
     return jnp.where(p["N"] > 0, blocks, _pendulum_blocks(p))
@@ -176,7 +156,7 @@ def _planar_newton(p, dt, guess, tolerance, iterations: int):
 
     **Returns:** (d, whether max |r| <= tolerance, the number of steps taken)."""
     def forces(d):
-        return slider_forces(p["pendulum"], p["N"], p["s0"], p["z0"], d, dt, p.get("k"))[0]
+        return balance_forces(p, d, dt)[0]
 
     def residual(d, force):
         return force - carried_force(d, force, p)

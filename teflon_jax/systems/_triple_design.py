@@ -22,6 +22,7 @@ Reinhorn (1990), Eq. 1.
 import math
 from collections.abc import Mapping
 
+import equinox as eqx
 import numpy as np
 
 from ..bearing import DoublePendulum, FrictionParameters, TriplePendulum
@@ -45,13 +46,20 @@ def designed_triple(triple: TriplePendulum, design: Mapping) -> TriplePendulum:
     inner = design.get("inner_f_max", triple.inner_friction.f_max) / triple.inner_friction.f_max
     outer = design.get("outer_f_max", triple.bottom_friction.f_max) / triple.bottom_friction.f_max
     k = design.get("capacity_scale", 1.0)
-    return TriplePendulum(
-        inner_radius=triple.inner_radius, bottom_radius=s * triple.bottom_radius,
+    return with_fields(
+        triple, bottom_radius=s * triple.bottom_radius,
         top_radius=s * triple.top_radius, inner_capacity=k * triple.inner_capacity,
         bottom_capacity=k * triple.bottom_capacity, top_capacity=k * triple.top_capacity,
         inner_friction=_scaled(triple.inner_friction, inner),
         bottom_friction=_scaled(triple.bottom_friction, outer),
-        top_friction=_scaled(triple.top_friction, outer), hysteresis=triple.hysteresis)
+        top_friction=_scaled(triple.top_friction, outer))
+
+
+def with_fields(pendulum, **fields):
+    """`pendulum` with the named fields replaced (values may be traced), everything else (its
+    heating, contact pressures and surface parts) kept."""
+    names = list(fields)
+    return eqx.tree_at(lambda p: [getattr(p, name) for name in names], pendulum, [fields[n] for n in names])
 
 
 def triple_design_ranges(triple: TriplePendulum) -> dict:
@@ -107,11 +115,11 @@ def designed_double(double: DoublePendulum, design: Mapping) -> DoublePendulum:
                          f"accepted: {', '.join(DOUBLE_DESIGN_VARIABLES)}.")
     s, k = design.get("radius_scale", 1.0), design.get("capacity_scale", 1.0)
     factor = design.get("surface_f_max", double.bottom_friction.f_max) / double.bottom_friction.f_max
-    return DoublePendulum(
-        bottom_radius=s * double.bottom_radius, top_radius=s * double.top_radius,
+    return with_fields(
+        double, bottom_radius=s * double.bottom_radius, top_radius=s * double.top_radius,
         bottom_capacity=k * double.bottom_capacity, top_capacity=k * double.top_capacity,
         bottom_friction=_scaled(double.bottom_friction, factor),
-        top_friction=_scaled(double.top_friction, factor), hysteresis=double.hysteresis)
+        top_friction=_scaled(double.top_friction, factor))
 
 
 FRICTION_FACTOR = "friction_factor"

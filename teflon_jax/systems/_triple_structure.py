@@ -44,7 +44,13 @@ from ..excitation import Signal
 from ..units import STANDARD_GRAVITY
 from ._models import rigid_mass, six_storey_building
 from ._series_heat import heated_step, series_heat_kernel
-from ._slider_forces import slider_forces
+from ._slider_forces import (
+    balance_forces,
+    initial_history,
+    next_history,
+    slider_lengths,
+    step_history,
+)
 from ._structure import StructureOnSliders
 from ._structure_response import check_duration
 from ._vertical import load_factor_at, uplift_steps
@@ -133,11 +139,14 @@ class StructureOnTriple(eqx.Module):
     def initial_isolator(self):
         """The isolator's state at rest: (slider displacements (S,) [m], Z (S,), the increments
         of the last two steps (2, S) [m] (`predicted_increments`), the force beyond the
-        reference spring [N]), and for heated surfaces the heat kernel's states (S, K) [W s/m^2]."""
+        reference spring [N]), for heated surfaces the heat kernel's states (S, K) [W s/m^2],
+        and last, where a surface's part needs it, the sliders' history (`initial_history`)."""
         zeros = jnp.zeros(self.pendulum.slider_count, self.mass.dtype)
         state = zeros, zeros, jnp.stack([zeros, zeros]), jnp.zeros((), self.mass.dtype)
         if self.pendulum.heated:
             state = state + (jnp.zeros((self.pendulum.slider_count, self.heat_rates.shape[0]), self.mass.dtype),)
+        if self.pendulum.remembers:  # the sliders' history last (`initial_history`)
+            state = state + (initial_history(self.pendulum, zeros.shape, zeros.dtype),)
         return state
 
     def step(self, x0, isolator, ground0, ground1, matrices=None, load=None):
@@ -147,31 +156,50 @@ class StructureOnTriple(eqx.Module):
         sliders' balance converged and the bearing force F [N]. Heated surfaces take their
         friction factors at the step's start and hold them over it (`heated_step`)."""
         step_matrix, force_column = self.step_matrices() if matrices is None else matrices
-        slider0, z0, previous, extra0 = isolator[:4]
-        linear = step_matrix @ jnp.concatenate([x0, jnp.stack([ground0, extra0, ground1])])
-        g0, k_ref = -force_column[0], self.reference_stiffness
-        scale = 1 - g0 * k_ref  # the step without the reference spring: x = X - G F
-        normal = self.bearing_load if load is None else load * self.bearing_load
-        p = {"pendulum": self.pendulum, "W": self.bearing_load, "N": normal, "s0": slider0, "z0": z0,
-             "D": linear[0] / scale - x0[0], "G": g0 / scale}
-        if self.pendulum.heated:
-            p["k"] = self.pendulum.heat_factors(isolator[4], self.heat_weights)
-        eps = jnp.finfo(linear.dtype).eps  # F = (D - sum d) / G is known to eps |D| / G at best
-        tolerance = jnp.maximum(self.newton_tolerance * self.bearing_load,
-                                32 * eps * (self.bearing_load + jnp.abs(p["D"]) / p["G"]))
-        d, converged = _balanced_increments(self.time_step, self.newton_iterations, p,
-                                            predicted_increments(previous), tolerance)
-        if load is not None:
-            d, converged = uplift_increments(self.pendulum, load, p["D"], d, converged)
-        force, z1 = slider_forces(self.pendulum, normal, slider0, z0, d, self.time_step, p.get("k"))
-        bearing = jnp.mean(force)  # equal to rounding
-        extra1 = bearing - k_ref * (x0[0] + jnp.sum(d))
-        x1 = linear + force_column * extra1
-        state = (slider0 + d, z1, jnp.stack([d, previous[0]]), extra1)
-        if self.pendulum.heated:
-            state = state + (heated_step(self.pendulum, isolator[4], p["k"], jnp.abs(d), self.time_step,
-                                         self.heat_rates, 1.0 if load is None else load),)
-        return x1, state, converged, bearing
+        linear = step_matrix @ jnp.concatenate([x0, jnp.stack([ground0, isolator[3], ground1])])
+        state, converged, bearing = isolator_step(self, isolator, linear[0], x0[0], -force_column[0], load,
+                                                  _balanced_increments)
+        return linear + force_column * state[3], state, converged, bearing
+
+
+def isolator_step(system: StructureOnTriple, isolator, linear, start, compliance, load, solve):
+    """The isolator's part of a step in one component (arrays (S,)) or two ((S, 2)): the
+    sliders' increments that balance their forces with the linear step, whose isolator
+    displacement is `linear` [m] at the end without the force beyond the reference spring and
+    `start` at the step's start, with that force's compliance `compliance` [m/N]; `load` N / W
+    held over the step (`None`: W); `solve` the balance (`_balanced_increments` in one
+    component, the planar one in two).
+
+    **Returns:** (the isolator's state at the end (`initial_isolator`), whether the balance
+    converged, the bearing force F [N])."""
+    pendulum, weight, dt = system.pendulum, system.bearing_load, system.time_step
+    slider0, z0, previous = isolator[:3]
+    scale = 1 - compliance * system.reference_stiffness  # the step without the reference spring: x = X - G F
+    p = {"pendulum": pendulum, "W": weight, "N": weight if load is None else load * weight, "s0": slider0,
+         "z0": z0, "D": linear / scale - start, "G": compliance / scale}
+    if pendulum.heated:
+        p["k"] = pendulum.heat_factors(isolator[4], system.heat_weights)
+    if pendulum.remembers:
+        p["history"] = step_history(isolator[-1], z0)
+    if load is not None:
+        p["s"] = load
+    eps = jnp.finfo(slider0.dtype).eps  # F = (D - sum d) / G is known to eps |D| / G at best
+    tolerance = jnp.maximum(system.newton_tolerance * weight,
+                            32 * eps * (weight + jnp.max(jnp.abs(p["D"])) / p["G"]))
+    d, converged = solve(dt, system.newton_iterations, p, predicted_increments(previous), tolerance)
+    if load is not None:
+        d, converged = uplift_increments(pendulum, load, p["D"], d, converged)
+    force, z1 = balance_forces(p, d, dt)
+    bearing = jnp.mean(force, axis=0)  # equal to rounding
+    extra1 = bearing - system.reference_stiffness * (start + jnp.sum(d, axis=0))
+    state = (slider0 + d, z1, jnp.stack([d, previous[0]]), extra1)
+    if pendulum.heated:
+        slide = jnp.abs(d) if d.ndim == 1 else slider_lengths(d)
+        state = state + (heated_step(pendulum, isolator[4], p["k"], slide, dt, system.heat_rates,
+                                     1.0 if load is None else load),)
+    if pendulum.remembers:
+        state = state + (next_history(pendulum, p["history"], d),)
+    return state, converged, bearing
 
 
 def triple_structure(kind: str, pendulum: SeriesPendulum, ground_acceleration: Signal, *, time_step: float,
@@ -236,14 +264,14 @@ def balance_compliance(p):
 def _residual(d, p, dt):
     """F_e(d_e) - F(d), F(d) the force the linear step or the imposed path leaves
     (`carried_force`)."""
-    force, _ = slider_forces(p["pendulum"], p["N"], p["s0"], p["z0"], d, dt, p.get("k"))
+    force, _ = balance_forces(p, d, dt)
     return force - carried_force(d, force, p)
 
 
 def _residual_and_slopes(d, p, dt):
     """(residual (S,), dF_e/dd_e (S,)): each slider's force depends on its own increment."""
     def forces(x):
-        return slider_forces(p["pendulum"], p["N"], p["s0"], p["z0"], x, dt, p.get("k"))[0]
+        return balance_forces(p, x, dt)[0]
 
     force, slope = jax.jvp(forces, (d,), (jnp.ones_like(d),))
     return force - carried_force(d, force, p), slope

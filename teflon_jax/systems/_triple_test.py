@@ -22,7 +22,13 @@ from ..bearing import SeriesPendulum
 from ..excitation import AbstractBiaxialMotion
 from ._bearing_test import save_times
 from ._series_heat import heated_step, series_heat_kernel
-from ._slider_forces import slider_forces, slider_lengths
+from ._slider_forces import (
+    balance_forces,
+    initial_history,
+    next_history,
+    slider_lengths,
+    step_history,
+)
 from ._triple_biaxial import _balanced as _balanced_planar
 from ._triple_structure import (
     TRIPLE_NEWTON_ITERATIONS,
@@ -50,24 +56,28 @@ class TripleResponse(eqx.Module):
 def _path_step(pendulum, load, dt, kernel, state, target, *, tolerance=TEST_TOLERANCE,
                iterations: int = TRIPLE_NEWTON_ITERATIONS):
     """One step of the isolator to the path's displacement `target` ((,) or (2,) [m]) from the
-    state (sliders (S[, 2]), Z, the last two increments[, heat states]): the structures'
-    balance (`_balanced_increments` in one component, `_balanced_planar` in two) with the
+    state (sliders (S[, 2]), Z, the last two increments[, heat states][, the sliders'
+    history]): the structures' balance (`_balanced_increments` in one component, `_balanced_planar` in two) with the
     sliders' increments adding up to D = target - sum(sliders), from the extrapolated
     increments with their misfit to D shared evenly."""
     slider, z, previous = state[:3]
     p = {"pendulum": pendulum, "W": load, "N": load, "s0": slider, "z0": z, "D": target - jnp.sum(slider, axis=0)}
     if kernel is not None:
         p["k"] = pendulum.heat_factors(state[3], kernel[1])
+    if pendulum.remembers:
+        p["history"] = step_history(state[-1], z)
     guess = predicted_increments(previous)
     guess = guess + (p["D"] - jnp.sum(guess, axis=0)) / pendulum.slider_count
     limit = jnp.maximum(tolerance, 32 * jnp.finfo(slider.dtype).eps) * load
     solve = _balanced_planar if slider.ndim == 2 else _balanced_increments
     d, converged = solve(dt, iterations, p, guess, limit)
-    force, z1 = slider_forces(pendulum, load, slider, z, d, dt, p.get("k"))
+    force, z1 = balance_forces(p, d, dt)
     new = (slider + d, z1, jnp.stack([d, previous[0]]))
     if kernel is not None:
         slide = slider_lengths(d) if d.ndim == 2 else jnp.abs(d)
         new = new + (heated_step(pendulum, state[3], p["k"], slide, dt, kernel[0]),)
+    if pendulum.remembers:
+        new = new + (next_history(pendulum, p["history"], d),)
     return new, (jnp.mean(force, axis=0), slider + d, z1, converged)
 
 
@@ -79,6 +89,8 @@ def _along_path(pendulum, load, time_step, path, kernel, **solve):
     start = (zeros, zeros, jnp.stack([zeros, zeros]))
     if kernel is not None:
         start = start + (jnp.zeros((pendulum.slider_count, kernel[0].shape[0]), path.dtype),)
+    if pendulum.remembers:
+        start = start + (initial_history(pendulum, shape[:1], path.dtype),)
 
     def body(state, target):
         return _path_step(pendulum, load, time_step, kernel, state, target, **solve)

@@ -1,0 +1,119 @@
+"""The engines' numbers, for comparing two versions of the code number for number.
+
+`python benchmarks/engine_numbers.py dump OUT.npz` runs a fixed set of structures under the
+same stochastic motions (the rigid mass and the Table 2 building on double and triple friction
+pendulums, in one and two horizontal components, with and without a vertical component; on
+flat sliders and single pendulums in one) and the imposed-path test of the series pendulums,
+and saves every history. Run it under each version (`PYTHONPATH=/path/to/other/checkout`), then
+`python benchmarks/engine_numbers.py compare OLD.npz NEW.npz` prints, per case, the largest
+difference over the largest value and exits 1 where one exceeds `--tolerance` (1e-9).
+"""
+
+import argparse
+import sys
+
+import equinox as eqx
+import jax
+import numpy as np
+
+jax.config.update("jax_enable_x64", True)
+
+from teflon_jax.bearing import BoucWen, DoublePendulum, FrictionParameters, TriplePendulum  # noqa: E402
+from teflon_jax.excitation import StochasticGroundMotion, sample, uniform_signal  # noqa: E402
+from teflon_jax.systems import (  # noqa: E402
+    BiaxialStructureOnTriple,
+    biaxial_histories,
+    isolated_structure,
+    simulate_structure,
+    simulate_triple_structure,
+    simulate_triple_test,
+    triple_structure,
+)
+from teflon_jax.units import STANDARD_GRAVITY  # noqa: E402
+
+DURATION, RECORD_STEP, TIME_STEP = 12.0, 0.01, 0.005
+DOUBLE = DoublePendulum(bottom_radius=1.5, top_radius=2.0, bottom_capacity=0.3, top_capacity=0.3,
+                        bottom_friction=FrictionParameters(0.06, 0.03, 25.0),
+                        top_friction=FrictionParameters(0.09, 0.04, 15.0), hysteresis=BoucWen(2e-4))
+TRIPLE = TriplePendulum(inner_radius=0.3, bottom_radius=2.1, top_radius=2.1, inner_capacity=0.05,
+                        bottom_capacity=0.4, top_capacity=0.4, inner_friction=FrictionParameters(0.03, 0.015, 20.0),
+                        bottom_friction=FrictionParameters(0.07, 0.03, 20.0),
+                        top_friction=FrictionParameters(0.11, 0.05, 20.0), hysteresis=BoucWen(1e-4))
+
+
+def _ground(seed, scale=1.0):
+    motion = StochasticGroundMotion(peak_ground_acceleration=0.6 * STANDARD_GRAVITY, duration=DURATION,
+                                    time_step=RECORD_STEP)
+    return scale * np.asarray(sample(motion, jax.random.PRNGKey(seed), 1))[0]
+
+
+def _series_cases(out):
+    vertical = uniform_signal(0.5 * _ground(9), RECORD_STEP)
+    for name, pendulum in (("double", DOUBLE), ("triple", TRIPLE)):
+        for kind in ("rigid", "building"):
+            for with_vertical in (False, True):
+                system = triple_structure(kind, pendulum, uniform_signal(_ground(1), RECORD_STEP), time_step=TIME_STEP)
+                if with_vertical:
+                    system = eqx.tree_at(lambda s: s.vertical_acceleration, system, vertical,
+                                         is_leaf=lambda x: x is None)
+                key = f"{name}-{kind}-vertical{int(with_vertical)}"
+                response = jax.jit(simulate_triple_structure, static_argnums=1)(system, DURATION)
+                out[f"{key}-1d-displacement"] = np.asarray(response.displacement)
+                out[f"{key}-1d-force"] = np.asarray(response.bearing_force)
+                both = BiaxialStructureOnTriple(system, uniform_signal(_ground(2, 0.8), RECORD_STEP))
+                histories = jax.jit(biaxial_histories, static_argnums=1)(both, DURATION)
+                out[f"{key}-2d-state"] = np.asarray(histories[1])
+                out[f"{key}-2d-force"] = np.asarray(histories[2])
+        time = np.arange(0.0, 8.0 + 1e-9, RECORD_STEP)
+        path = 0.15 * np.sin(2 * np.pi * time / 4.0)
+        out[f"{name}-test-1d-force"] = np.asarray(jax.jit(simulate_triple_test)(pendulum, time, path, 1e6).force)
+
+
+def _flat_cases(out):
+    for isolator, extra in (("flat", {}), ("single-fp", {"radius": 1.5})):
+        for kind in ("rigid", "building"):
+            system = isolated_structure(kind, isolator=isolator, **extra)(uniform_signal(_ground(1), RECORD_STEP))
+            response = jax.jit(simulate_structure, static_argnums=1)(system, DURATION)
+            out[f"{isolator}-{kind}-1d-displacement"] = np.asarray(response.displacement)
+
+
+def dump(path):
+    out = {}
+    _series_cases(out)
+    _flat_cases(out)
+    np.savez(path, **out)
+    print(f"{len(out)} histories -> {path}")
+
+
+def compare(old_path, new_path, tolerance):
+    old, new = np.load(old_path), np.load(new_path)
+    worst = 0.0
+    for key in sorted(set(old.files) | set(new.files)):
+        if key not in old.files or key not in new.files:
+            print(f"{key:40s} only in {'new' if key in new.files else 'old'}")
+            continue
+        scale = max(np.max(np.abs(old[key])), 1e-300)
+        relative = float(np.max(np.abs(old[key] - new[key])) / scale)
+        worst = max(worst, relative)
+        print(f"{key:40s} {relative:.2e}")
+    print(f"largest relative difference {worst:.2e} (tolerance {tolerance:g})")
+    return 0 if worst <= tolerance else 1
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    sub = parser.add_subparsers(dest="command", required=True)
+    sub.add_parser("dump").add_argument("out")
+    both = sub.add_parser("compare")
+    both.add_argument("old")
+    both.add_argument("new")
+    both.add_argument("--tolerance", type=float, default=1e-9)
+    args = parser.parse_args(argv)
+    if args.command == "dump":
+        dump(args.out)
+        return 0
+    return compare(args.old, args.new, args.tolerance)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
