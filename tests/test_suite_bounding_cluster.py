@@ -22,7 +22,7 @@ distributed = pytest.importorskip("distributed")
 
 BENCHMARKS = pathlib.Path(__file__).resolve().parents[1] / "benchmarks"
 DT, SECONDS = 0.01, 2.0
-OWN = {"wall_s", "files", "netcdf", "scheduler", "command_line"}  # run times, file names and flags differ by design
+OWN = {"wall_s", "files", "netcdf", "scheduler", "command_line", "inputs"}  # run times, file names and flags differ by design
 
 
 def _write_suite(tmp_path):

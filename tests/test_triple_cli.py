@@ -2,6 +2,7 @@
 horizontal components through the structures on triple friction pendulums, the isolator
 file's units at the boundary, and bad flags refused by name before any work."""
 
+import hashlib
 import json
 
 import jax
@@ -84,7 +85,9 @@ def test_montecarlo_runs_a_triple_pendulum(tmp_path, capsys, isolator_file):
     payload = json.loads(out.read_text())
     assert payload["design"]["isolator"] == "triple-fp"
     assert payload["design"]["isolator_file"] == str(isolator_file)
-    assert payload["design"]["isolation_period_s"] is None and payload["all_converged"]
+    assert payload["design"]["isolator_file_sha256"] == hashlib.sha256(isolator_file.read_bytes()).hexdigest()
+    # the file's surfaces replace the flat sliders' PTFE, pressure and springs: none of them is recorded
+    assert not {"ptfe", "isolation_period_s", "isolation_damping"} & set(payload["design"]) and payload["all_converged"]
 
 
 @pytest.mark.slow

@@ -14,10 +14,13 @@ import math
 import os
 import pathlib
 import re
-import shlex
 import sys
 
 from ..units import INCH, KIP, PSI, parse_quantity
+from ._provenance import command_line as command_line
+from ._provenance import project_version as project_version
+from ._provenance import provenance as provenance
+from ._provenance import set_command_line as set_command_line
 from ._triple import SERIES_ISOLATORS
 
 
@@ -237,32 +240,6 @@ def _positive_int(text: str) -> int:
     return value
 
 
-_COMMAND_LINE: list[str] = []
-"""The words of the running command line, after `teflon-jax` (`set_command_line`)."""
-
-
-def set_command_line(argv) -> None:
-    """Record the command line being run, for `provenance`; `main` calls it first."""
-    _COMMAND_LINE[:] = [str(word) for word in argv]
-
-
-def project_version() -> str:
-    """The installed version of teflon-jax ("unknown" when it is not installed)."""
-    from importlib.metadata import PackageNotFoundError, version
-
-    try:
-        return version("teflon-jax")
-    except PackageNotFoundError:
-        return "unknown"
-
-
-def provenance() -> dict:
-    """What every JSON a command writes starts with: the project version and the command line
-    as typed (quoted for a shell)."""
-    return {"teflon_jax_version": project_version(),
-            "command_line": shlex.join(["teflon-jax", *_COMMAND_LINE])}
-
-
 def _write_json(path, payload: dict, **dumps) -> None:
     """Write `payload` to the JSON file `path` (None: nothing), after `provenance()`; its
     folder is created if missing. `dumps`: options of `json.dumps` (e.g. allow_nan=False)."""
@@ -327,14 +304,14 @@ _INPUT_NAMES = {"records": "the record", "record": "the record"}
 """Positional inputs, named in messages as the user knows them."""
 
 
-def _output_flags(command: str) -> tuple:
+def output_flags(command: str) -> tuple:
     """`OUTPUT_FLAGS` of `command` and `OTHER_OUTPUTS`."""
     return (*OUTPUT_FLAGS.get(command, ()), *OTHER_OUTPUTS)
 
 
 def _outputs(args, command: str) -> list[tuple[str, str, str]]:
     """(flag, path as typed, kind) of every output path given to `command`."""
-    given = [(flag, getattr(args, dest, None), kind) for dest, flag, kind, _ in _output_flags(command)]
+    given = [(flag, getattr(args, dest, None), kind) for dest, flag, kind, _ in output_flags(command)]
     return [(flag, str(text), kind) for flag, text, kind in given if text is not None and str(text).strip()]
 
 
@@ -377,7 +354,7 @@ def check_outputs(args, command: str) -> None:
     created here, the same for every command; an image needs a suffix matplotlib writes. A
     `ValueError` names the flag and echoes the path as typed otherwise."""
     check_no_clash(args, command)
-    for dest, flag, kind, example in _output_flags(command):
+    for dest, flag, kind, example in output_flags(command):
         text = getattr(args, dest, None)
         if text is None:
             continue

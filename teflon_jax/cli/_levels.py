@@ -89,11 +89,10 @@ def _storey_summary(result, rows, units) -> dict:
 
 def _payload(args, structure, units) -> dict:
     from ..units import STANDARD_GRAVITY
+    from ._provenance import isolator_as_run
 
     return {"structure": args.structure, "time_step_s": structure.time_step, "chunk_size": args.chunk_size,
-            "design": {f"pressure_{units.pressure[0]}": args.pressure / units.pressure[1],
-                       "isolation_period_s": args.isolation_period,
-                       "isolation_damping": args.isolation_damping, "ptfe": args.ptfe},
+            "design": isolator_as_run(args, units.pressure),
             "motions": {"model": "Clough-Penzien, Jennings-Housner-Tsai envelope", "duration_s": args.duration,
                         "seed": args.seed, "components": args.components,
                         "pga_g": [v / STANDARD_GRAVITY for v in args.pga_levels]},

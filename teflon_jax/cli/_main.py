@@ -2,11 +2,21 @@
 
 import argparse
 import importlib
+import math
 import os
 import pathlib
 import sys
+import time
 
-from ._common import check_outputs, check_scheduler, project_version, read_quantities, set_command_line
+from ._common import (
+    check_outputs,
+    check_scheduler,
+    output_flags,
+    project_version,
+    read_quantities,
+    set_command_line,
+)
+from ._provenance import clear_arguments, set_arguments, stamp_outputs
 
 _COMMANDS = {
     # command: (module, adds its parser, runs it, its line in `teflon-jax --help`)
@@ -122,13 +132,19 @@ def main(argv=None) -> int:
         read_quantities(args, args.command)
         check_outputs(args, args.command)  # before any work
         check_scheduler(args)
-        return runner(args)
+        set_arguments(args, output_flags(args.command))  # its input files hashed, for every result it writes
+        started = math.floor(time.time()) - 1  # file times may be whole seconds
+        status = runner(args)
+        stamp_outputs(started)
+        return status
     except (ValueError, FileNotFoundError, ConnectionError) as error:
         print(f"teflon-jax {args.command}: error: {error}", file=sys.stderr)
         return 2
     except ClusterRunError as error:  # the input was fine; the cluster could not finish the run
         print(f"teflon-jax {args.command}: error: {error}", file=sys.stderr)
         return 1
+    finally:
+        clear_arguments()
 
 
 if __name__ == "__main__":

@@ -308,6 +308,8 @@ def _payload(args, result, structure, model, units, stats, files) -> dict:
     import jax
     import numpy as np
 
+    from ._provenance import isolator_as_run
+
     converged, two, length = np.asarray(result.converged, bool).reshape(-1), args.components == 2, units.length[0]
     payload = {
         "n_motions": result.n_motions,
@@ -323,12 +325,7 @@ def _payload(args, result, structure, model, units, stats, files) -> dict:
         "time_step_s": structure.time_step,
         "all_converged": bool(converged.all()),
         "statistics": stats,
-        "design": {f"pressure_{units.pressure[0]}": args.pressure / units.pressure[1],
-                   "isolation_period_s": args.isolation_period,
-                   "isolation_damping": args.isolation_damping,
-                   "isolator": args.isolator, "radius_m": args.radius,
-                   **({"isolator_file": str(args.isolator_file)} if args.isolator_file is not None else {}),
-                   **({"ptfe": args.ptfe} if args.bearing is None else {"bearing": str(args.bearing)})},
+        "design": isolator_as_run(args, units.pressure),
         "motions": {"model": "Clough-Penzien, Jennings-Housner-Tsai envelope",
                     "pga_g": args.pga / STANDARD_GRAVITY, "duration_s": args.duration,
                     "seed": args.seed, "components": args.components},
@@ -411,17 +408,20 @@ def _device_chunk(args, structure, model) -> int:
 
 
 def _run_attributes(args) -> dict:
-    """What was run, as the results file's attributes: the structure and bearings (SI) and
-    the motions, each also as the user typed it."""
-    return {
-        "structure": args.structure, "ptfe": args.ptfe, "pressure_Pa": args.pressure,
-        "isolation_period_s": "none" if args.isolation_period is None else args.isolation_period,
-        "isolation_damping": args.isolation_damping, "pga_m_s2": args.pga,
-        "site_frequency_hz": args.site_frequency, "site_damping": args.site_damping,
-        "strong_motion_s": args.strong_motion, "components": args.components,
-        "inputs_as_given": " ".join(f"{k}={getattr(args, k + '_text')}" for k in (
-            "pressure", "isolation_period", "isolation_damping", "pga", "duration")),
-    }
+    """What was run, as the results file's attributes: the structure, the isolator and bearings
+    as run (`isolator_as_run`, SI: a bearing or isolator file by its path and SHA-256, not the
+    flags it replaced), the motions and their seed, each also as the user typed it, and the
+    provenance of every result (`provenance_attributes`: version, command line, inputs)."""
+    from ._provenance import isolator_as_run, provenance_attributes, replaced_flags
+
+    replaced = replaced_flags(args)
+    typed = [k for k in ("pressure", "isolation_period", "isolation_damping", "pga", "duration")
+             if "--" + k.replace("_", "-") not in replaced]
+    return {"structure": args.structure, **isolator_as_run(args), "pga_m_s2": args.pga, "duration_s": args.duration,
+            "record_step_s": args.record_step, "seed": args.seed, "site_frequency_hz": args.site_frequency,
+            "site_damping": args.site_damping, "strong_motion_s": args.strong_motion, "components": args.components,
+            "inputs_as_given": " ".join(f"{k}={getattr(args, k + '_text')}" for k in typed),
+            **provenance_attributes()}
 
 
 def _statistics(result, units) -> dict:

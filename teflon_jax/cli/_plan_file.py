@@ -5,6 +5,7 @@ import math
 import pathlib
 
 from ..units import parse_quantity
+from ._provenance import note_input_file
 
 
 def read_plan(path_text):
@@ -73,6 +74,8 @@ def read_plan(path_text):
                               else path.parent / str(g["isolator_file"])),
         })
         _check_group(path, groups[-1])
+        if groups[-1]["isolator_file"] is not None:  # an input of the run, hashed in its results
+            note_input_file(f"--plan {path}: {name}.isolator_file", groups[-1]["isolator_file"])
     out["groups"] = groups
     return out
 

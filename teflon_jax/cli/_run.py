@@ -11,8 +11,8 @@ from ..units import parse_quantity
 from ._bearing_flags import add_bearing_flag
 from ._common import (
     _NEGATIVE_QUANTITY,
-    _write_json,
     SERIES_ISOLATORS,
+    _write_json,
     add_isolator_flags,
     add_units_flag,
     output_units,
@@ -313,7 +313,38 @@ def response_summary(args, system, response, plan):
     return peak, histories
 
 
+HISTORY_VARIABLES = {
+    "ground_x_mps2": ("m s-2", "ground acceleration, x component"),
+    "ground_y_mps2": ("m s-2", "ground acceleration, y component"),
+    "base_disp_x_m": ("m", "base displacement relative to the ground, x"),
+    "base_disp_y_m": ("m", "base displacement relative to the ground, y"),
+    "bearing_force_x_N": ("N", "force of the bearings on the structure above them, x"),
+    "bearing_force_y_N": ("N", "force of the bearings on the structure above them, y"),
+    "base_shear_ratio_x": ("1", "base shear / weight above the bearings, x"),
+    "base_shear_ratio_y": ("1", "base shear / weight above the bearings, y"),
+    "rotation_rad": ("rad", "rotation of the slab about the vertical axis"),
+    "load_factor": ("1", "normal load of the bearings / their static load (vertical ground motion)"),
+}
+"""The histories of `run` (the key names its SI unit): name -> (units, long name), written as
+the NetCDF variables' `units` and `long_name` (CF conventions); others by `history_units`."""
+
+_UNIT_SUFFIXES = (("_mps2", "m s-2"), ("_m", "m"), ("_N", "N"), ("_K", "K"), ("_rad", "rad"), ("_s", "s"))
+
+
+def history_units(name: str) -> tuple:
+    """(units, long name) of the history `name`: from `HISTORY_VARIABLES`, else from the unit
+    its name ends in (a slider's displacement `slider_inner_m`, a surface's temperature rise
+    `temperature_rise_A_bottom_K`), "1" for none."""
+    if name in HISTORY_VARIABLES:
+        return HISTORY_VARIABLES[name]
+    units = next((unit for suffix, unit in _UNIT_SUFFIXES if name.endswith(suffix)), "1")
+    return units, name.replace("_", " ")
+
+
 def write_histories(path, histories) -> None:
+    """The histories (SI, keys in `HISTORY_VARIABLES`, `time_s` their time) as CSV (the unit
+    in each column's name) or NetCDF (each variable with its `units` and `long_name`; the
+    command's version, command line and inputs in the global attributes)."""
     path = pathlib.Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     if path.suffix == ".csv":
@@ -323,9 +354,17 @@ def write_histories(path, histories) -> None:
     elif path.suffix == ".nc":
         import xarray
 
+        from ._provenance import provenance_attributes
+
         time = histories["time_s"]
-        data = {k: ("time", v) for k, v in histories.items() if k != "time_s"}
-        xarray.Dataset(data, coords={"time": ("time", time, {"units": "s"})}).to_netcdf(path)
+        data = {}
+        for name, values in histories.items():
+            if name != "time_s":
+                units, long_name = history_units(name)
+                data[name] = ("time", values, {"units": units, "long_name": long_name})
+        attrs = {"Conventions": "CF-1.8", "title": "teflon-jax run histories", **provenance_attributes()}
+        xarray.Dataset(data, coords={"time": ("time", time, {"units": "s", "long_name": "time"})},
+                       attrs=attrs).to_netcdf(path)
     else:
         raise ValueError(f"--histories: {path} must end in .nc or .csv.")
 

@@ -14,6 +14,7 @@ import numpy as np
 
 from ._common import _positive_int, _write_json
 from ._engineering import add_suite_pelicun_flag, suite_pelicun_peaks
+from ._provenance import note_input_file, provenance_attributes
 from ._record_checks import check_record_units
 from ._run_slab import NORMAL_LOAD_NOTE, suite_normal_load
 from ._spectrum import add_spectrum_flags, check_unscaled, read_target, scale_to_target
@@ -87,6 +88,10 @@ def read_suite(path_text):
         _check_name(path, line, name, lines)
         lines[name] = line
         pairs.append((name, resolve(x), None if y is None else resolve(y), scale))
+    for name, x, y, _ in pairs:  # inputs of the run, hashed in its results
+        note_input_file(f"--suite {path}: {name}.record_x", x)
+        if y is not None:
+            note_input_file(f"--suite {path}: {name}.record_y", y)
     return pairs
 
 
@@ -182,7 +187,7 @@ def run_suite(args, load_components, build_structure) -> int:
     names = [r[0] for r in records]
     stem = pathlib.Path(args.json).with_suffix("") if args.json else pathlib.Path("suite")
     netcdf = stem.with_suffix(".nc") if args.out is None else args.out
-    attrs = {"structure": args.structure, "suite": str(args.suite)}
+    attrs = {"structure": args.structure, "suite": str(args.suite), **provenance_attributes()}
     if args.scheduler is None:
         from ..tables import load_table2
 
@@ -205,6 +210,7 @@ def run_suite(args, load_components, build_structure) -> int:
             group_names=group_names)
         save_suite(result, table_path=stem.with_suffix(".csv"))
     payload = {"structure": args.structure, "suite": str(args.suite), "notes": notes, "netcdf": str(netcdf),
+               "records": {name: {"record_x": x, "record_y": y, "scale": scale * args.scale} for name, x, y, scale in pairs},
                "pairs": {name: {k: float(v[i]) for k, v in result.peaks.items()} | {"converged": bool(result.converged[i])}
                          | ({} if result.groups is None else suite_normal_load(plan, result.groups, i))
                          for i, name in enumerate(result.names)},

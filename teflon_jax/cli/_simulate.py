@@ -7,6 +7,7 @@ import numpy as np
 from ..units import INCH, parse_quantity
 from ._bearing_flags import add_bearing_flag, read_bearing_flag
 from ._common import add_quantity, add_units_flag, check_table1, output_units
+from ._provenance import record_metadata
 from ._simulate_pendulum import (
     add_pendulum_test_flags,
     check_pendulum_test_flags,
@@ -230,7 +231,8 @@ def _run_triple_pendulum(args) -> int:
         metadata={"specimen": f"{isolator.description[:-1]} of {args.isolator_file} (simulated by "
                               "teflon-jax)",
                   "source": "teflon-jax simulate-test --isolator-file; series model of Fenz & "
-                            f"Constantinou ({'2008' if isolator.isolator == 'triple-fp' else '2006'})"})
+                            f"Constantinou ({'2008' if isolator.isolator == 'triple-fp' else '2006'})",
+                  **record_metadata()})
     write_test_record(args.out, record, units=None if args.units == "us" else "SI")
     peak = float(np.max(np.abs(f)) / normal_load)
     print(f"wrote {args.out}: {len(record)} samples, peak |F|/N = {peak:.4f} [-]")
@@ -262,7 +264,7 @@ def run_simulate(args) -> int:
         time=np.asarray(result.time),
         **in_plane,
         normal_load=np.asarray(result.normal_load),
-        metadata=metadata,
+        metadata={**metadata, **record_metadata()},
     )
     write_test_record(args.out, record, units=None if args.units == "us" else "SI")
     peak = float(np.max(np.abs(np.asarray(result.fx) / np.asarray(result.normal_load))))
