@@ -278,7 +278,8 @@ def test_friction_damper_fit_converges_on_the_reduced_law(external_data, tmp_pat
     # self-energising one way): the fit converged but is not clean.
     noise = np.std(np.diff(record.fx)) / np.sqrt(2) / np.sqrt(np.mean(record.fx**2))
     assert 5 * noise < report["nrmse"] < 0.30
-    assert report["clean"] is False and "NOT CLEAN" in console
+    assert report["clean"] is False and "converged, not clean" in console
+    assert f"`teflon-jax diagnose {path}` looks for the effects the model lacks" in console
     assert any("asymmetric misfit" in w for w in report["warnings"])
     assert any("normal load" in w for w in report["warnings"])
     assert (tmp_path / "fit.png").stat().st_size > 10_000

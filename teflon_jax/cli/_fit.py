@@ -37,8 +37,11 @@ def add_fit_parser(subparsers) -> argparse.ArgumentParser:
         "JSON ('reduced', 'reduction', 'full_model') say which constants and why. Exit "
         "status: 0 when the fit converged, whether 'clean' or not (clean: every fitted "
         "constant determined within 50 %, none at a bound, no warning; the warnings "
-        "printed say why a fit is not clean, notes on high correlations leave it clean); 1 when the fit, or with --bayes the sampler, "
-        "did not converge; 2 for bad input; 130 when --bayes is stopped with Ctrl-C."))
+        "printed say why a fit is not clean, notes on high correlations leave it clean; a "
+        "converged fit that is not clean is a result with those limits, and the console names "
+        "the `diagnose` command that looks for the effects the model lacks); 1 when the fit, or "
+        "with --bayes the sampler, did not converge (no result); 2 for bad input; 130 when "
+        "--bayes is stopped with Ctrl-C."))
     parser.add_argument("records", nargs="+", metavar="RECORD",
                         help="test record files (uniaxial, or biaxial ux, uy, fx, fy: then the "
                              "constants perpendicular to the lay are fitted too)")
@@ -181,12 +184,29 @@ def run_fit(args) -> int:
         print(f"teflon-jax fit: reduced model: {fit.reduction} Reduced: " + "; ".join(
             f"{k} {v}" for k, v in fit.reduced.items()) + ".", file=sys.stderr)
     summary = ", ".join(_shown(k, fit.parameters[k], fit.std_errors[k], us) for k in fit.free)
-    status = ("clean" + (f" ({len(notes)} note(s) on correlations above)" if notes else "")) if fit.clean else (
-        f"NOT CLEAN ({len(fit.warnings) - len(notes)} warning(s) above)" if fit.converged else "NOT CONVERGED")
-    print(f"{summary}; nrmse = {fit.nrmse:.4f} [-]; {fit.message}; {status}", file=sys.stderr)
+    print(f"{summary}; nrmse = {fit.nrmse:.4f} [-]; {fit.message}; {fit_status(fit, len(notes), args.records)}",
+          file=sys.stderr)
     if args.bayes is None or not fit.converged:
         return 0 if fit.converged else 1
     return _run_bayes(args, records, free, fixed, fit)
+
+
+def fit_status(fit, notes: int, records) -> str:
+    """The last words of `fit`'s summary line, which say what its exit status means: "clean"
+    (exit 0); converged but not clean, a result with the limits its warnings name (exit 0),
+    with the `diagnose` command that looks for the effects the model lacks; or NOT CONVERGED,
+    no result (exit 1). `notes`: how many of the warnings are notes on correlations."""
+    if fit.clean:
+        return "clean" + (f" ({notes} note(s) on correlations above)" if notes else "")
+    names = [str(r) for r in records]
+    command = (f"`teflon-jax diagnose {names[0]}`" if len(names) == 1
+               else f"`teflon-jax diagnose RECORD` on each of {', '.join(names)}")
+    if fit.converged:
+        return (f"converged, not clean ({len(fit.warnings) - notes} warning(s) above): the constants are the "
+                f"best this model reaches, with the limits the warnings name; {command} looks for the effects "
+                "the model lacks")
+    return (f"NOT CONVERGED: the least-squares solve stopped before reaching a minimum, so the constants are "
+            f"no result (exit status 1); see the warnings above and {command}")
 
 
 def _save_fitted(args, fit, records) -> None:

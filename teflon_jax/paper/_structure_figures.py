@@ -151,6 +151,21 @@ def _fig10(out, results):
     results["fig10"] = entries
 
 
+def fig11_panels(sweep, records) -> list:
+    """Fig. 11's panels of a `building_sweep` result: per record, the peak base displacement
+    over the record's PGD and the first-storey shear over the superstructure's weight, both
+    dimensionless ([-]), as (panel title, axis label, [(system, values over the periods)])."""
+    panels = []
+    for i, record in enumerate(sweep.records):
+        pgd = records[record]["pgd_in"] * INCH
+        name = records[record]["name"]
+        panels.append((f"{name}: base displacement", "peak base displacement / PGD [-]",
+                       [(_system_words(s), sweep.peaks["base_disp"][i, j] / pgd) for j, s in enumerate(sweep.systems)]))
+        panels.append((f"{name}: base shear", "peak first-storey shear / superstructure weight [-]",
+                       [(_system_words(s), sweep.peaks["base_shear_ratio"][i, j]) for j, s in enumerate(sweep.systems)]))
+    return panels
+
+
 def _fig11(out, results, records, periods):
     """Fig. 11: the Table 2 building on sliding and linear isolation systems."""
     motions = {k: records[k]["motion"] for k in ("elcentro", "sct") if k in records}
@@ -172,14 +187,7 @@ def _fig11(out, results, records, periods):
                 entries.append(entry)
                 rows.append([entry[c] for c in entry])
     _write_csv(out / "fig11_spectra.csv", list(entries[0]), rows)
-    panels = []
-    for i, record in enumerate(sweep.records):
-        pgd = records[record]["pgd_in"] * INCH
-        name = records[record]["name"]
-        panels.append((f"{name}: base displacement", "peak base displacement / PGD",
-                       [(_system_words(s), sweep.peaks["base_disp"][i, j] / pgd) for j, s in enumerate(sweep.systems)]))
-        panels.append((f"{name}: base shear", "peak first-storey shear / superstructure weight",
-                       [(_system_words(s), sweep.peaks["base_shear_ratio"][i, j]) for j, s in enumerate(sweep.systems)]))
+    panels = fig11_panels(sweep, records)
     names = ", ".join(f"{records[k]['name']} (PGA {records[k]['pga_g']:.2f} g, PGD {records[k]['pgd_in']:.2f} in)"
                       for k in sweep.records)
     figures.spectra_panels(out / "fig11_spectra.png", sweep.periods, panels,

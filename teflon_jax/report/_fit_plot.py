@@ -10,12 +10,25 @@ from ._parameter_units import PARAMETER_SYMBOLS, parameter_unit
 
 
 def plot_fit(path, fit, *, length=("in", INCH), force=("kip", KIP), title: str = "") -> None:
+    """`fit_figure` written to `path` (PNG)."""
+    fig = fit_figure(fit, length=length, force=force, title=title)
+    import matplotlib.pyplot as plt
+
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def fit_figure(fit, *, length=("in", INCH), force=("kip", KIP), title: str = ""):
     """Measured (grey, solid) and fitted (black, dashed) force-displacement loops of every
     record of `fit` (a `BearingFit` of `identification.bearing_fit`: `records`, `parameters`,
     `std_errors`, `free`, `converged`), with the residual against time below (PNG).
 
-    **Arguments:** `path`; `fit`; `length`, `force`: (name, SI factor) of the axes' units;
-    `title`: the inputs (records, normal load) to state above the fitted values.
+    **Arguments:** `fit`; `length`, `force`: (name, SI factor) of the axes' units;
+    `title`: the inputs (records, normal load) to state above the fitted values, each with
+    its standard error, or "(not identified)" for a constant the records do not determine
+    (`not_identified`).
+
+    **Returns:** the matplotlib figure (open; `plot_fit` saves and closes it).
     """
     import matplotlib
 
@@ -49,15 +62,14 @@ def plot_fit(path, fit, *, length=("in", INCH), force=("kip", KIP), title: str =
         bottom.set_xlabel("time [s]" if rec.time is not None else "point")
         bottom.set_ylabel(f"model - measured, F{axis} [{force[0]}]")
         bottom.grid(alpha=0.3)
-    values = "; ".join(_value(name, fit, length) for name in fit.free)
+    values = "; ".join(_value(name, fit, length) for name in fit.free)  # a constant not identified is marked
     status = "converged" if fit.converged else "NOT CONVERGED"
     text = (f"{title}\n" if title else "") + f"fitted: {values} ({status})"
     width = int(11 * fig.get_figwidth())  # characters of 9 pt text that fit across the figure
     fig.suptitle("\n".join(line for part in text.split("\n") for line in textwrap.wrap(part, width)),
                  fontsize=9)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    return fig
 
 
 def _value(name, fit, length) -> str:
@@ -68,6 +80,20 @@ def _value(name, fit, length) -> str:
     if value is None or not math.isfinite(value):
         return f"{symbol} = n/a"
     shown = f"{symbol} = {value / factor:.4g}"
-    if error is not None and math.isfinite(error):
-        shown += f" +- {error / factor:.2g}"
-    return shown + unit
+    if not_identified(name, fit):
+        return shown + unit + " (not identified)"
+    return shown + f" +- {error / factor:.2g}" + unit
+
+
+def not_identified(name: str, fit) -> bool:
+    """Whether the records do not determine the fitted constant `name` of `fit`: its standard
+    error is missing or not finite, or a warning of the fit names it as not identifiable
+    ('breakaway_ratio: not identifiable; ...', 'rate_a, delta_f: not identifiable; ...')."""
+    error = fit.std_errors.get(name)
+    if error is None or not math.isfinite(error):
+        return True
+    for warning in fit.warnings:
+        names, _, reason = warning.partition(": ")
+        if "identifiable" in reason.split(";")[0] and name in (n.strip() for n in names.split(",")):
+            return True
+    return False

@@ -21,7 +21,19 @@ def robust_limits(values, percentiles=ROBUST_PERCENTILES, pad: float = 0.05) -> 
     return (float(low - pad * span), float(high + pad * span))
 
 
-def residual_maps(columns, residual, groups, *, ylabel: str, title: str, ncols: int = 3):
+def in_length_unit(label: str, values, length) -> tuple:
+    """(label, values) of a regressor in the length unit `length` = (name, size in m): a
+    label ending in "[m]" or "[m/s]" (SI) is rewritten with `length`'s name and its values
+    divided by its size; other labels are returned as they are (`length` None: SI kept)."""
+    if length is None:
+        return label, values
+    for si, unit in (("[m]", f"[{length[0]}]"), ("[m/s]", f"[{length[0]}/s]")):
+        if label.endswith(si):
+            return label[:-len(si)] + unit, np.asarray(values, dtype=float) / length[1]
+    return label, values
+
+
+def residual_maps(columns, residual, groups, *, ylabel: str, title: str, ncols: int = 3, length=None):
     """A panel per regressor of `residual` against it, its axis at `robust_limits` of the
     residual of all `groups`; points beyond are drawn at the edge as triangles and counted in
     the axis label.
@@ -32,6 +44,8 @@ def residual_maps(columns, residual, groups, *, ylabel: str, title: str, ncols: 
     - `residual`: the residual at each sample.
     - `groups`: list of (boolean mask, colour, legend label) of the samples to draw.
     - `ylabel`, `title`: the residual's axis label and the figure's title.
+    - `length`: (name, size in m) of the length unit of the output (`--units`): regressors
+      labelled in m or m/s are drawn in it (`in_length_unit`); None keeps SI.
 
     **Returns:** the `matplotlib.figure.Figure` (not saved).
     """
@@ -47,6 +61,7 @@ def residual_maps(columns, residual, groups, *, ylabel: str, title: str, ncols: 
     figure = Figure(figsize=(4.0 * ncols, 3.25 * rows), layout="constrained")
     axes = np.atleast_1d(figure.subplots(rows, ncols, squeeze=False)).ravel()
     for ax, (label, x) in zip(axes, columns):
+        label, x = in_length_unit(label, x, length)
         x = np.asarray(x)
         for mask, colour, name in groups:
             mask = np.asarray(mask, dtype=bool)
