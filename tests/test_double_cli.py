@@ -67,7 +67,7 @@ def _edit(path, value):
     (("surfaces", "top", "friction", "delta_f"), None, r"surfaces.top.friction: missing \['delta_f'\]"),
     (("surfaces", "bottom", "radius", "value"), -1.0, "bottom_radius: must be a finite number > 0"),
     (("surfaces", "top", "capacity", "value"), 0.0, "top_capacity"),
-    (("surfaces", "top", "friction", "f_max", "value"), 0.0, "top_friction.f_max"),
+    (("surfaces", "top", "friction", "f_max", "value"), -0.05, "top_friction.f_max"),
     (("surfaces", "bottom", "friction", "delta_f", "value"), 0.05, "bottom_friction.delta_f"),
     (("yield_disp", "value"), 0.0, "yield_disp"),
     (("isolator",), "quad-fp", "'isolator' must be \"triple-fp\" or \"double-fp\""),

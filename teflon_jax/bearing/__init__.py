@@ -36,6 +36,10 @@ from ._hysteresis import bouc_wen_exact_update as bouc_wen_exact_update
 from ._hysteresis import bouc_wen_rate as bouc_wen_rate
 from ._hysteresis import bouc_wen_reversal_length as bouc_wen_reversal_length
 from ._hysteresis import park_rate as park_rate
+from ._isolators import ISOLATORS as ISOLATORS
+from ._isolators import SERIES_PENDULUMS as SERIES_PENDULUMS
+from ._isolators import check_series_pendulum as check_series_pendulum
+from ._isolators import series_pendulum_class as series_pendulum_class
 from ._pendulum import ConcaveSurface as ConcaveSurface
 from ._pendulum import concave_surface as concave_surface
 from ._series_pendulum import DoublePendulum as DoublePendulum
@@ -48,6 +52,5 @@ from ._surface import check_surface_parts as check_surface_parts
 from ._surface import surface_coefficients as surface_coefficients
 from ._triple_pendulum import STOP_STIFFNESS_RATIO as STOP_STIFFNESS_RATIO
 from ._triple_pendulum import TriplePendulum as TriplePendulum
-from ._triple_pendulum import check_series_pendulum as check_series_pendulum
 from ._triple_pendulum import check_triple_pendulum as check_triple_pendulum
 from ._triple_pendulum import triple_pendulum_backbone as triple_pendulum_backbone

@@ -34,7 +34,8 @@ class SeriesPendulum(eqx.Module):
     """A friction pendulum isolator as sliders in series (module docstring).
 
     **Class attributes:** `isolator` (the CLI's and the isolator file's name, e.g.
-    "double-fp"), `slider_names` (one per slider, in the order of the arrays below),
+    "double-fp"; the registry `SERIES_PENDULUMS` lists them), `keyword` (the argument of
+    `isolated_structure` that takes it, e.g. "double"), `slider_names` (one per slider, in the order of the arrays below),
     `description` (plural, for messages). **Field:** `hysteresis`, the `BoucWen` of every
     slider. **Methods** (arrays (S,) over the S sliders): `series_radii` [m],
     `series_capacities` [m], `velocity_factors` [-] (surface velocity over slider velocity),
@@ -45,6 +46,7 @@ class SeriesPendulum(eqx.Module):
     """
 
     isolator: ClassVar[str]
+    keyword: ClassVar[str]
     slider_names: ClassVar[tuple[str, ...]]
     description: ClassVar[str]
     hysteresis: eqx.AbstractVar[BoucWen]
@@ -163,6 +165,7 @@ class DoublePendulum(SeriesPendulum):
     """
 
     isolator: ClassVar[str] = "double-fp"
+    keyword: ClassVar[str] = "double"
     slider_names: ClassVar[tuple[str, ...]] = ("bottom", "top")
     description: ClassVar[str] = "double friction pendulums"
     bottom_radius: ArrayLike

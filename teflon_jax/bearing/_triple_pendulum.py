@@ -26,9 +26,7 @@ from ._effects import FrictionalHeating
 from ._friction import FrictionParameters
 from ._hysteresis import BoucWen
 from ._series_pendulum import (
-    DoublePendulum,
     SeriesPendulum,
-    check_double_pendulum,
     check_surface_heating,
     stack_frictions,
 )
@@ -55,6 +53,7 @@ class TriplePendulum(SeriesPendulum):
     """
 
     isolator: ClassVar[str] = "triple-fp"
+    keyword: ClassVar[str] = "triple"
     slider_names: ClassVar[tuple[str, ...]] = ("inner", "bottom", "top")
     description: ClassVar[str] = "triple friction pendulums"
     inner_radius: ArrayLike
@@ -167,12 +166,3 @@ def triple_pendulum_backbone(bearing: TriplePendulum):
         starts.append(starts[-1] + (force1 - force0) / slope)
     regimes = list(zip(starts[:-1], forces[:-1], slopes))
     return regimes, starts[-1]
-
-
-def check_series_pendulum(bearing: SeriesPendulum) -> None:
-    """`check_triple_pendulum` or `check_double_pendulum` of `bearing`, whichever its type;
-    `ValueError` for anything else."""
-    checks = {TriplePendulum: check_triple_pendulum, DoublePendulum: check_double_pendulum}
-    if type(bearing) not in checks:
-        raise ValueError(f"bearing: expected a TriplePendulum or DoublePendulum, got {type(bearing).__name__}.")
-    checks[type(bearing)](bearing)

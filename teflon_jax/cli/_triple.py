@@ -9,11 +9,12 @@ import types
 
 import numpy as np
 
+from ..bearing import SERIES_PENDULUMS
 from ..units import STANDARD_GRAVITY, parse_quantity
 from ._run_stop import WRITTEN, cut, kept_steps, stop_entries
 from ._run_vertical import uplift_line, uplift_summary
 
-SERIES_ISOLATORS = ("triple-fp", "double-fp")
+SERIES_ISOLATORS = tuple(SERIES_PENDULUMS)
 """The isolators whose surfaces an isolator file gives (`--isolator-file`)."""
 
 

@@ -43,6 +43,7 @@ must equal its heating's where both are given). `"stack"`, `"backlash"` and a su
 import jax.numpy as jnp
 
 from ..bearing import (
+    SERIES_PENDULUMS,
     BoucWen,
     DirectionAsymmetry,
     DoublePendulum,
@@ -62,11 +63,11 @@ from ._text import read_json_document
 
 FORMAT_NAME = "teflon-jax isolator"
 FORMAT_VERSION = 1
-SURFACES = ("inner", "bottom", "top")
+SURFACES = TriplePendulum.slider_names
 """The surface groups of a triple-fp file: inner (2 and 3), bottom (1), top (4)."""
 
-ISOLATOR_SURFACES = {"triple-fp": SURFACES, "double-fp": ("bottom", "top")}
-"""The surface groups of each isolator of the file."""
+ISOLATOR_SURFACES = {name: cls.slider_names for name, cls in SERIES_PENDULUMS.items()}
+"""The surface groups of each isolator of the file: its sliders (`SERIES_PENDULUMS`)."""
 
 MAX_SURFACE_FRICTION = 1.0
 """The largest `f_max` [-] of a surface in an isolator file: a friction coefficient above 1 (a
@@ -230,8 +231,9 @@ def isolator_from_dict(document, *, where: str = "isolator") -> SeriesPendulum:
 def _check_isolator(isolator, surfaces, where) -> None:
     """`ValueError` for an unknown `isolator`, or one whose surfaces are another's."""
     if isolator not in ISOLATOR_SURFACES:
-        raise ValueError(f"{where}: 'isolator' must be \"triple-fp\" or \"double-fp\" (a single "
-                         f"pendulum takes --radius), got {isolator!r}.")
+        names = " or ".join(f'"{name}"' for name in ISOLATOR_SURFACES)
+        raise ValueError(f"{where}: 'isolator' must be {names} (a single pendulum takes --radius), "
+                         f"got {isolator!r}.")
     if isinstance(surfaces, dict):
         for other, names in ISOLATOR_SURFACES.items():
             if other != isolator and set(surfaces) == set(names):

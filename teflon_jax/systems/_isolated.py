@@ -9,6 +9,8 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..bearing import (
+    ISOLATORS,
+    SERIES_PENDULUMS,
     ConcaveSurface,
     DoublePendulum,
     FrictionParameters,
@@ -30,7 +32,6 @@ from ._triple_structure import TRIPLE_NEWTON_ITERATIONS
 
 STRUCTURES = ("rigid", "building")
 
-ISOLATORS = ("flat", "single-fp", "triple-fp", "double-fp")
 """Isolators of the structures: flat sliders (with springs of period T_b, or none), the
 single friction pendulum (a concave surface of radius R, `ConcaveSurface`), the triple and the
 double friction pendulum (`TriplePendulum`, `DoublePendulum`: `TripleIsolatedStructure`, one or
@@ -305,7 +306,8 @@ def isolated_structure(
     """
     if kind not in STRUCTURES:
         raise ValueError(f"structure: unknown {kind!r}; accepted: {', '.join(STRUCTURES)}.")
-    series = {"triple-fp": ("triple", triple), "double-fp": ("double", double)}
+    pendulums = {"triple": triple, "double": double}  # the arguments, by each class's `keyword`
+    series = {name: (cls.keyword, pendulums[cls.keyword]) for name, cls in SERIES_PENDULUMS.items()}
     for name, value in series.values():
         if value is not None and isolator != f"{name}-fp":
             raise ValueError(f"{name}: applies to the {name}-fp isolator only, not {isolator!r}.")

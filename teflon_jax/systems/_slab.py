@@ -27,7 +27,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..bearing import SlidingBearing
+from ..bearing import ISOLATORS, SlidingBearing
 from ..excitation import Signal
 from ..units import STANDARD_GRAVITY
 from ._bidirectional_build import bidirectional_structure
@@ -157,7 +157,8 @@ def slab_on_bearings(
                               ground_y=ground_y, time_step=time_step, height=height,
                               vertical_stiffness=vertical_stiffness, names=names)
     if pendulums is not None:
-        raise ValueError(f"pendulums: apply to isolator 'triple-fp' or 'double-fp', not {isolator!r}.")
+        raise ValueError(f"pendulums: apply to isolator {' or '.join(map(repr, SERIES_SLAB_ISOLATORS))}, "
+                         f"not {isolator!r}.")
     if bearings is None:
         raise ValueError(f"bearings: isolator {isolator!r} needs the groups' SlidingBearing(s).")
     if isinstance(bearings, SlidingBearing):
@@ -227,7 +228,7 @@ def _refuse_for_series(isolator, **given):
 def _pendulum_radii(isolator, radii, groups, isolation_period, spring_shares):
     """The radii R_g (G,) [m] of `isolator` "single-fp" (None for "flat"), checked."""
     if isolator not in ("flat", "single-fp"):
-        raise ValueError(f"isolator: 'flat', 'single-fp', 'triple-fp' or 'double-fp', got {isolator!r}.")
+        raise ValueError(f"isolator: one of {', '.join(map(repr, ISOLATORS))}, got {isolator!r}.")
     if isolator == "flat":
         if radii is not None:
             raise ValueError("radii: apply to isolator 'single-fp' only (flat sliders have none).")

@@ -6,7 +6,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..bearing import SeriesPendulum, check_series_pendulum
+from ..bearing import SERIES_PENDULUMS, SeriesPendulum, check_series_pendulum
 from ..excitation import Signal
 from ..units import STANDARD_GRAVITY
 from ..validation import concrete
@@ -15,7 +15,7 @@ from ._series_heat import series_heat_kernel, surface_temperature_rises
 from ._slab_series import SlabOnSeries
 from ._triple_structure import TRIPLE_NEWTON_ITERATIONS, TRIPLE_TOLERANCE
 
-SERIES_SLAB_ISOLATORS = ("triple-fp", "double-fp")
+SERIES_SLAB_ISOLATORS = tuple(SERIES_PENDULUMS)
 """`slab_on_bearings`'s isolators whose groups are series pendulums."""
 
 

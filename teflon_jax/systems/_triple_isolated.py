@@ -6,13 +6,7 @@ from collections.abc import Mapping
 import equinox as eqx
 import jax
 
-from ..bearing import (
-    DoublePendulum,
-    SeriesPendulum,
-    TriplePendulum,
-    check_double_pendulum,
-    check_triple_pendulum,
-)
+from ..bearing import SeriesPendulum, check_series_pendulum, series_pendulum_class
 from ..validation import concrete
 from ._triple_biaxial import BiaxialStructureOnTriple
 from ._triple_design import designed_pendulum
@@ -25,11 +19,6 @@ from ._triple_structure import (
 TRIPLE_MONTE_CARLO_TOLERANCE = 1e-7
 """`TripleIsolatedStructure.newton_tolerance` of the Monte Carlo command: the sliders' force
 imbalance over W (a displacement error below 1e-7 R_e of each slider)."""
-
-SERIES_PENDULUMS = {"triple-fp": ("triple", TriplePendulum, check_triple_pendulum),
-                    "double-fp": ("double", DoublePendulum, check_double_pendulum)}
-"""Isolator name: (argument of `isolated_structure`, its class, its check)."""
-
 
 class TripleIsolatedStructure(eqx.Module):
     """Builds the rigid mass or the Table 2 building on triple or double friction pendulums for
@@ -88,14 +77,15 @@ def triple_isolated_structure(kind: str, pendulum: SeriesPendulum | None, *, tim
     the wrong class or that the series model cannot take (`check_triple_pendulum`,
     `check_double_pendulum`), and each name in `conflicting` (inputs of the other isolators
     given with this one)."""
-    name, kind_of, check = SERIES_PENDULUMS[isolator]
+    kind_of = series_pendulum_class(isolator)
+    name = kind_of.keyword
     if pendulum is None:
         raise ValueError(f"{name}: the {isolator} isolator needs its {kind_of.__name__} (e.g. "
                          "formats.load_isolator(path)).")
     if not isinstance(pendulum, kind_of):
         raise ValueError(f"{name}: expected a {kind_of.__name__}, got {type(pendulum).__name__}.")
     if all(concrete(leaf) is not None for leaf in jax.tree_util.tree_leaves(pendulum)):
-        check(pendulum)  # traced constants (gradients): the caller's to check
+        check_series_pendulum(pendulum)  # traced constants (gradients): the caller's to check
     if isinstance(time_step, bool) or not isinstance(time_step, (int, float)) or not time_step > 0:
         raise ValueError(f"time_step: must be a positive number of seconds, got {time_step!r}.")
     for conflict, reason in conflicting.items():
