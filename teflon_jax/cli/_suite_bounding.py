@@ -12,6 +12,7 @@ import numpy as np
 
 from ..units import parse_quantity
 from ._common import _write_json
+from ._provenance import provenance_attributes
 
 
 def add_suite_bounding_flag(parser) -> None:
@@ -69,7 +70,7 @@ def _case_results(args, factors, build_structure, names, ax, ay, dt, stem):
         builds[case], _, base_index, plan = suite_build(case_args, build_structure, ax[0], ay[0], dt)
     groups = None if plan is None else [g["name"] for g in plan["groups"]]
     duration = (ax.shape[1] - 1) * dt
-    attrs = {"structure": args.structure, "suite": str(args.suite)}
+    attrs = {"structure": args.structure, "suite": str(args.suite), **provenance_attributes()}
     if args.scheduler is None:
         results = {case: suite_peaks(build, names, ax, ay, dt, duration, base_index, batch_size=args.chunk_size,
                                      storey_height=height, group_names=groups)

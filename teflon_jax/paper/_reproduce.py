@@ -145,7 +145,7 @@ def skipped_figures(missing: dict, *, quick: bool) -> list[dict]:
             for key, reason in missing.items() for figure in parts[key]]
 
 
-def reproduce(out_dir, *, progress=None, quick: bool = False) -> dict:
+def reproduce(out_dir, *, progress=None, quick: bool = False, header: dict | None = None) -> dict:
     """Regenerate Figs. 3-11 of the paper as PNG + CSV, `report.md` and `summary.json`.
 
     **Arguments:**
@@ -154,6 +154,8 @@ def reproduce(out_dir, *, progress=None, quick: bool = False) -> dict:
     - `progress`: `None`, or a callable `progress(stage, done, total)` told after each of the
       8 stages (the command line draws a bar with it).
     - `quick`: coarse T_b grid for Fig. 11 and no time-step convergence check (for tests).
+    - `header`: entries `summary.json` starts with (the command line gives its version, command
+      line and inputs); none by default.
 
     **Returns:** the summary dict written to `summary.json`; its `"skipped"` lists each figure
     (or part) that could not be made, with the reason (a record that could not be read).
@@ -205,7 +207,7 @@ def reproduce(out_dir, *, progress=None, quick: bool = False) -> dict:
         "skipped": skipped,
         "notes": notes,
     }
-    (out / "summary.json").write_text(json.dumps(summary, indent=1, default=_json_default))
+    (out / "summary.json").write_text(json.dumps({**(header or {}), **summary}, indent=1, default=_json_default))
     return summary
 
 
