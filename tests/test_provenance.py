@@ -21,7 +21,7 @@ from teflon_jax.cli._provenance import (
     set_arguments,
     stamp_outputs,
 )
-from teflon_jax.cli._run import HISTORY_VARIABLES, history_units
+from teflon_jax.cli._run_histories import HISTORY_VARIABLES, history_units
 from teflon_jax.cli._run_suite import read_suite
 from teflon_jax.formats import read_test_record, save_bearing
 

@@ -29,6 +29,7 @@ from ._record_checks import (
 )
 from ._run_bearing import bearing_of_flags as _bearing
 from ._run_bearing import fraction as _fraction
+from ._run_histories import write_histories
 from ._run_slab import build_slab, normal_load_summary, slab_peaks
 from ._run_stop import bidirectional_stop, non_finite, stop_entries
 from ._run_suite import add_suite_arguments, check_suite_flags
@@ -311,62 +312,6 @@ def response_summary(args, system, response, plan):
     if args.structure == "slab":
         histories["rotation_rad"] = q[:, 2]
     return peak, histories
-
-
-HISTORY_VARIABLES = {
-    "ground_x_mps2": ("m s-2", "ground acceleration, x component"),
-    "ground_y_mps2": ("m s-2", "ground acceleration, y component"),
-    "base_disp_x_m": ("m", "base displacement relative to the ground, x"),
-    "base_disp_y_m": ("m", "base displacement relative to the ground, y"),
-    "bearing_force_x_N": ("N", "force of the bearings on the structure above them, x"),
-    "bearing_force_y_N": ("N", "force of the bearings on the structure above them, y"),
-    "base_shear_ratio_x": ("1", "base shear / weight above the bearings, x"),
-    "base_shear_ratio_y": ("1", "base shear / weight above the bearings, y"),
-    "rotation_rad": ("rad", "rotation of the slab about the vertical axis"),
-    "load_factor": ("1", "normal load of the bearings / their static load (vertical ground motion)"),
-}
-"""The histories of `run` (the key names its SI unit): name -> (units, long name), written as
-the NetCDF variables' `units` and `long_name` (CF conventions); others by `history_units`."""
-
-_UNIT_SUFFIXES = (("_mps2", "m s-2"), ("_m", "m"), ("_N", "N"), ("_K", "K"), ("_rad", "rad"), ("_s", "s"))
-
-
-def history_units(name: str) -> tuple:
-    """(units, long name) of the history `name`: from `HISTORY_VARIABLES`, else from the unit
-    its name ends in (a slider's displacement `slider_inner_m`, a surface's temperature rise
-    `temperature_rise_A_bottom_K`), "1" for none."""
-    if name in HISTORY_VARIABLES:
-        return HISTORY_VARIABLES[name]
-    units = next((unit for suffix, unit in _UNIT_SUFFIXES if name.endswith(suffix)), "1")
-    return units, name.replace("_", " ")
-
-
-def write_histories(path, histories) -> None:
-    """The histories (SI, keys in `HISTORY_VARIABLES`, `time_s` their time) as CSV (the unit
-    in each column's name) or NetCDF (each variable with its `units` and `long_name`; the
-    command's version, command line and inputs in the global attributes)."""
-    path = pathlib.Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    if path.suffix == ".csv":
-        names = list(histories)
-        table = np.column_stack([histories[k] for k in names])
-        np.savetxt(path, table, delimiter=",", header=",".join(names), comments="")
-    elif path.suffix == ".nc":
-        import xarray
-
-        from ._provenance import provenance_attributes
-
-        time = histories["time_s"]
-        data = {}
-        for name, values in histories.items():
-            if name != "time_s":
-                units, long_name = history_units(name)
-                data[name] = ("time", values, {"units": units, "long_name": long_name})
-        attrs = {"Conventions": "CF-1.8", "title": "teflon-jax run histories", **provenance_attributes()}
-        xarray.Dataset(data, coords={"time": ("time", time, {"units": "s", "long_name": "time"})},
-                       attrs=attrs).to_netcdf(path)
-    else:
-        raise ValueError(f"--histories: {path} must end in .nc or .csv.")
 
 
 def _shown_peaks(peak: dict, units) -> list:
