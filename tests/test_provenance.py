@@ -15,6 +15,7 @@ import xarray
 from teflon_jax.bearing import FrictionParameters, paper_bearing
 from teflon_jax.cli import main
 from teflon_jax.cli._common import output_flags
+from teflon_jax.cli._plan_file import read_plan
 from teflon_jax.cli._provenance import (
     clear_arguments,
     run_inputs,
@@ -138,6 +139,23 @@ def test_a_suite_names_each_record_with_its_hash(tmp_path):
     assert files[f"--suite {suite}: one.record_x"]["sha256"] == _sha(x)
     assert files[f"--suite {suite}: one.record_y"]["sha256"] == _sha(y)
     assert run_inputs() is None  # no command runs now
+
+
+def test_a_plan_names_each_group_isolator_file_with_its_hash(tmp_path):
+    (tmp_path / "iso.json").write_text("{}")  # read by the run, not by the plan reader
+    groups = [{"name": n, "x": x, "y": y, "load": "250kN", "isolator_file": "iso.json"}
+              for n, x, y in (("SW", "0m", "0m"), ("SE", "20m", "0m"), ("NE", "20m", "12m"), ("NW", "0m", "12m"))]
+    plan = tmp_path / "plan.json"
+    plan.write_text(json.dumps({"length_x": "20m", "length_y": "12m", "weight": "1000kN", "groups": groups}))
+    set_arguments(argparse.Namespace(plan=str(plan), json=None), output_flags("run"))
+    try:
+        read_plan(str(plan))
+        files = {entry["flag"]: entry for entry in run_inputs()["files"]}
+    finally:
+        clear_arguments()
+    assert files["--plan"]["sha256"] == _sha(plan)
+    for name in ("SW", "SE", "NE", "NW"):
+        assert files[f"--plan {plan}: {name}.isolator_file"]["sha256"] == _sha(tmp_path / "iso.json")
 
 
 def test_netcdf_outputs_written_by_the_command_are_stamped_and_older_files_are_not(tmp_path):
