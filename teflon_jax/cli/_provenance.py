@@ -79,8 +79,13 @@ def file_hash(path) -> str:
     return digest.hexdigest()
 
 
+_POSITIONAL = ("records", "record")
+"""The positional arguments of the commands (fit's test records, diagnose's record)."""
+
+
 def _flag(dest: str) -> str:
-    return "records" if dest in ("records", "record") else "--" + dest.replace("_", "-")
+    """How the input `dest` of the parsed arguments is named: its flag, or a positional's name."""
+    return dest if dest in _POSITIONAL else "--" + dest.replace("_", "-")
 
 
 def set_arguments(args, outputs) -> None:
@@ -160,7 +165,7 @@ def run_inputs() -> dict | None:
     settings = {}
     for dest, value in vars(args).items():
         if (dest in outputs or dest in _NOT_SETTINGS or dest.startswith("_") or dest.endswith(("_text", "_levels"))
-                or _flag(dest) in replaced or _flag(dest) == "records"):
+                or _flag(dest) in replaced or dest in _POSITIONAL):
             continue
         settings[_flag(dest)] = _plain(getattr(args, dest + "_text", value))
     return {"files": [dict(entry) for entry in _RUN["files"]], "settings": settings, "replaced": replaced,
