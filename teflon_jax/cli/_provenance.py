@@ -20,7 +20,10 @@ every writer of results then takes the same block:
     keys and the NetCDF variables' `units` attributes name their own units;
 - `provenance_attributes()`: the global attributes of a NetCDF file: `teflon_jax_version`,
   `command_line` and `teflon_jax_inputs` (the `inputs` block as JSON);
-- `stamp_netcdf(path)`: those attributes added to a NetCDF file already written.
+- `stamp_netcdf(path)`: those attributes added to a NetCDF file already written, and
+  `stamp_outputs(since)`: to every NetCDF output of the command written since `since`;
+- `record_metadata()`: the same as `# key: value` lines of a test-record CSV;
+- `isolator_as_run(args)`: the isolator and bearing a Monte Carlo command ran.
 """
 
 import hashlib
@@ -38,8 +41,6 @@ files with their hashes); empty outside a command."""
 
 _NOT_SETTINGS = {"command", "command_function", "bearing_option_defaults", "json_path"}
 """Attributes of the parsed arguments that are no flag of the command."""
-
-_SERIES = ("triple-fp", "double-fp")
 
 
 def set_command_line(argv) -> None:
@@ -131,6 +132,8 @@ def _plain(value):
 def replaced_flags(args) -> dict:
     """{flag: the file that replaced it} of the bearing flags at their defaults (and the
     isolation period and damping) when a bearing file or a series isolator's file is run."""
+    from ._triple import SERIES_ISOLATORS
+
     defaults = getattr(args, "bearing_option_defaults", {})
     bearing = getattr(args, "bearing", None)
     isolator_file = getattr(args, "isolator_file", None)
@@ -138,7 +141,7 @@ def replaced_flags(args) -> dict:
     if bearing is not None:
         source = f"--bearing {bearing}"
         names = [name for name in defaults if name != "pressure" or not _uses_pressure(bearing)]
-    elif getattr(args, "isolator", None) in _SERIES and isolator_file is not None:
+    elif getattr(args, "isolator", None) in SERIES_ISOLATORS and isolator_file is not None:
         source = f"--isolator-file {isolator_file}"
         names = [*defaults, "isolation_period", "isolation_damping"]
     return {_flag(name): source for name in names if hasattr(args, name)}
