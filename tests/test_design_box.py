@@ -19,7 +19,7 @@ A = np.array([[40.0, 6.0], [6.0, 1.0]])
 
 def _quadratic(c, calls=None, limit=None):
     """F = (s - c)^T A (s - c) / 2 and its gradient, with the limit a . s - b <= 0 of
-    `limit` = (a, b) (none: c = 0)."""
+    `limit` = (a, b) (None: no limit, its excess and slope zero)."""
     c = np.asarray(c, dtype=float)
     a, b = (np.zeros(2), 0.0) if limit is None else (np.asarray(limit[0], dtype=float), limit[1])
 
