@@ -23,6 +23,7 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 
+from ..bearing import SERIES_PENDULUMS
 from ..systems import (
     BIDIRECTIONAL_TIME_STEP,
     BiaxialStructureOnTriple,
@@ -111,7 +112,7 @@ def bidirectional_isolated_structure(kind: str = "rigid", **options) -> Bidirect
     if surface is not None and (surface.large_displacement or surface.displacement_capacity is not None):
         raise ValueError("surface: two ground components run the pendulum's small-rotation force "
                          "W u / R; its restrainer and large-displacement form run with one component.")
-    if options.get("isolator") in ("triple-fp", "double-fp"):  # builds both: called with (ground_x, ground_y)
+    if options.get("isolator") in SERIES_PENDULUMS:  # builds both: called with (ground_x, ground_y)
         return isolated_structure(kind, **options)
     if options.get("time_step") is None:  # the uniaxial default steps are not the bidirectional one
         options = {**options, "time_step": BIDIRECTIONAL_TIME_STEP}
