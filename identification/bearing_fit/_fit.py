@@ -39,6 +39,7 @@ from ..least_squares import check_bounds, fit_least_squares_batch
 from ._loop_features import PreparedBiaxialRecord
 from ._model import BearingModel
 from ._plan import (
+    RATE_NAMES,
     BearingFit,
     _check_names,
     _finish,
@@ -52,6 +53,12 @@ from ._plan import (
 )
 from ._prepare import prepare_record
 from ._reduce import reduce_friction_law, unresolved
+
+SOLVER = "levenberg_marquardt_scaled"
+"""The least-squares solver of `fit_bearing_test` (`identification.least_squares`): Marquardt's
+damping scaled by diag(J^T J), so that a constant whose influence fades near a bound of its
+bijection (delta_f / f_max near 1, rate_a near 0) still takes steps of order one and reaches
+the bound instead of creeping towards it."""
 
 
 def as_records(records) -> list:
@@ -139,7 +146,7 @@ def _fit_prepared(records, prepared, free, fixed, *, initial, bounds, normal_loa
     model_user = BearingModel(free=free, configs=configs, ratio=False, anisotropic=anisotropic)
     args = {"fixed": _fixed_tree(values), "records": [p.arrays for p in prepared]}
     starts = _multi_starts(start, free, n_starts) if not initial else [start]
-    internal_starts = [to_internal(s) for s in starts]
+    internal_starts = [_rates_inside(to_internal(s), internal_bounds, bounds) for s in starts]
     check_bounds(internal_starts[0], internal_bounds)
     batch_initial = {n: np.array([s[n] for s in internal_starts]) for n in names}
     # keep perturbed starts inside the bounds
@@ -149,10 +156,23 @@ def _fit_prepared(records, prepared, free, fixed, *, initial, bounds, normal_loa
         batch_initial[n] = np.clip(x, lo + 1e-6 * span, hi - 1e-6 * span)
     results = fit_least_squares_batch(
         model, batch_initial, internal_bounds, args=args, args_batched=False,
-        max_steps=max_steps, rtol=rtol, atol=atol)
+        max_steps=max_steps, rtol=rtol, atol=atol, solver=SOLVER)
     best = _best(results)
     return _finish(prepared, model_user, free, values, results[best], args, warnings,
                    starts[best], len(starts))
+
+
+def _rates_inside(start: dict, bounds: dict, given: Mapping | None) -> dict:
+    """`start` with the rates of Eq. 1 moved inside their search range (`RATE_NAMES`), where
+    the loop features (or a reduced law, from the full fit's estimate on the bound) may start
+    outside it; a rate the caller bounds (`given`) is left for `check_bounds` to judge."""
+    out = dict(start)
+    for name in RATE_NAMES:
+        if name in out and name in bounds and name not in (given or {}):
+            lo, hi = bounds[name]
+            margin = 1e-6 * (hi - lo)
+            out[name] = float(np.clip(out[name], lo + margin, hi - margin))
+    return out
 
 
 def _best(results) -> int:
@@ -213,7 +233,7 @@ def fit_bearing_tests_batch(
         starts = _multi_starts(start, fr, n_starts)
         tree = {"fixed": _fixed_tree(values), "records": [_pad(p.arrays, length)]}
         for s in starts:
-            initial_rows.append(to_internal(s))
+            initial_rows.append(_rates_inside(to_internal(s), internal_bounds, bounds))
             trees.append(tree)
         meta.append((fr, values, warnings, starts))
     model = BearingModel(free=names, configs=(config,), ratio=ratio)

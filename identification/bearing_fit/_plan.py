@@ -260,9 +260,18 @@ def _plan(prepared: Sequence[PreparedRecord], free, fixed, initial, bounds):
     return free, values, start, warnings
 
 
-_DEFAULT_BOUNDS = {name: PARAMETER_BOUNDS[name].physical for name in PARAMETER_NAMES}
+RATE_NAMES = ("rate_a", "rate_a_perpendicular")
+"""The rates of Eq. 1, bounded by their search range (`PARAMETER_BOUNDS`) rather than by 0."""
+
+_DEFAULT_BOUNDS = {name: PARAMETER_BOUNDS[name].search if name in RATE_NAMES
+                   else PARAMETER_BOUNDS[name].physical for name in PARAMETER_NAMES}
 """Bounds of a free parameter the caller does not bound: its physical range (the delta_f are
-fitted as ratios to f_max in (0, 1) instead)."""
+fitted as ratios to f_max in (0, 1) instead), except the rates, kept in their search range
+(0.005 to 50 s/in). Towards rate_a = 0 Eq. 1 tends to a straight line in the speed,
+`mu = (f_max - delta_f) + delta_f rate_a |v|`, reached only as delta_f and f_max grow without
+bound: a record whose friction rises linearly over its speeds has its least-squares minimum
+there, at infinity, and the solve would creep after it for ever. The lower rate bounds it: the
+minimum is then on the bound, with finite f_max and delta_f, where the solve ends."""
 
 
 def _internal(free, values, start, bounds):
@@ -414,6 +423,10 @@ def _finish(prepared, model_user, free, values, raw: LeastSquaresResult, args, w
             warnings.append(f"{delta}: at its bound ({f_max} - {delta} -> 0).")
     if "breakaway_ratio" in free and estimate["breakaway_ratio"] < 1.005:
         warnings.append("breakaway_ratio: at its lower bound 1.")
+    for name in RATE_NAMES:
+        if name in free and estimate[name] < 1.001 * _DEFAULT_BOUNDS[name][0]:
+            warnings.append(f"{name}: at its lower bound {_DEFAULT_BOUNDS[name][0]:.4g} s/m (0.005 s/in): the "
+                            "friction rises about linearly over the tested speeds.")
     if not raw.converged:
         warnings.append(f"solver: {raw.message}; the estimates are not a converged optimum.")
     records = []
