@@ -72,7 +72,20 @@ def run_fit_effects(args) -> int:
                       fit={"command": "fit --effects", "effects": result.effects,
                            "nrmse": result.nrmse_final, "converged": converged})
     shown = ", ".join(f"{k} = {v:.5g}" for k, v in result.parameters.items())
-    status = "converged" if converged else "NOT CONVERGED"
+    status = _status(result.fit_convergence, converged)
     print(f"{', '.join(result.effects)}: {shown}; nrmse = {result.nrmse_final:.4f} [-] (SI); "
           f"{status}", file=sys.stderr)
     return 0 if converged else 1
+
+
+def _status(log: dict, converged: bool) -> str:
+    """The fit's status in words: converged (a minimum of the misfit, however large, within
+    the step budget), with how many of the other solves (starts) ran out of steps; or NOT
+    CONVERGED (exit status 1)."""
+    limit = log.get("iteration_limit")
+    if not converged:
+        return (f"NOT CONVERGED: the least-squares solve reached its limit of {limit} steps before a "
+                "minimum; the constants are no result (exit status 1)")
+    others = log.get("unconverged", 0)
+    return "converged" + (f" ({others} of its {log.get('fits')} solves stopped at the limit of {limit} "
+                          "steps)" if others else "")
