@@ -30,6 +30,7 @@ from ._design_variables import (
     structure_options,
 )
 from ._montecarlo import _add_common, _motion_model
+from ._triple import SERIES_ISOLATORS
 
 HELP = "gradient-based design: minimise expected base shear under a displacement limit"
 """The line of this command in `teflon-jax --help`."""
@@ -127,7 +128,7 @@ def run_design(args) -> int:
     grid = {name: np.linspace(*bounds, args.grid) for name, bounds in variables.items()}
     bar.set_postfix_str(f"grid sweep, {args.grid}x{args.grid} designs x {args.motions} motions")
     attrs = {"structure": args.structure, "isolator": args.isolator, "seed": args.seed, "pga_m_s2": args.pga,
-             **({"isolator_file": str(args.isolator_file)} if args.isolator in ("triple-fp", "double-fp") else
+             **({"isolator_file": str(args.isolator_file)} if args.isolator in SERIES_ISOLATORS else
                 {"ptfe": args.ptfe} if args.bearing is None else {"bearing": str(args.bearing)}),
              "motion_duration_s": args.duration, "isolation_damping": args.isolation_damping,
              "limit_statistic": args.limit_statistic}
@@ -162,7 +163,7 @@ def run_design(args) -> int:
     bar.close()
     stages.update(result.stages_s)
     payload = _payload(args, result, sweep, units, time.perf_counter() - tic)
-    if args.isolator in ("triple-fp", "double-fp"):
+    if args.isolator in SERIES_ISOLATORS:
         from ._design_triple import percentile_check
 
         payload.update(percentile_check(args, structure, result, records))
@@ -195,7 +196,7 @@ def _plot(args, sweep, result, units) -> None:
     isolator = {"single-fp": "a single friction pendulum", "triple-fp": f"triple friction pendulums "
                 f"of {args.isolator_file}", "double-fp": f"double friction pendulums of "
                 f"{args.isolator_file}"}.get(args.isolator, "flat sliders")
-    friction = ("" if args.isolator in ("triple-fp", "double-fp") else f"{args.ptfe} PTFE, " if args.bearing is None
+    friction = ("" if args.isolator in SERIES_ISOLATORS else f"{args.ptfe} PTFE, " if args.bearing is None
                 else f"bearing {args.bearing}, ")
     stamp = (f"{args.structure} on {isolator}, {friction}zeta_b = {args.isolation_damping_text}, "
              f"{args.motions} Clough-Penzien motions (PGA {args.pga_text}, {args.duration_text}, "
@@ -224,7 +225,7 @@ def _variables_and_structure(args):
         triple_structure_for_design,
     )
 
-    if args.isolator in ("triple-fp", "double-fp"):
+    if args.isolator in SERIES_ISOLATORS:
         variables, triple = resolve_triple_design(args)
         return variables, triple_structure_for_design(args, triple)
     refuse_triple_flags(args)
