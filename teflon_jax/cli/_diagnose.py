@@ -11,7 +11,13 @@ import sys
 
 from ..units import INCH, parse_quantity
 from ._bearing_flags import add_save_bearing_flag, check_output_file, save_bearing_flag
-from ._common import _write_json, add_quantity, add_units_flag, output_units, read_bearing_record
+from ._common import (
+    _write_json,
+    add_quantity,
+    add_units_flag,
+    output_units,
+    read_bearing_record,
+)
 from ._diagnose_pendulum import add_pendulum_diagnose_flags, search_pendulum
 from ._diagnose_series import (
     add_series_diagnose_flags,

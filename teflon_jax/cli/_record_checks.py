@@ -51,7 +51,7 @@ def check_peak(motion, flag: str, path, units) -> None:
     acceleration = np.abs(np.asarray(motion.acceleration, float))
     index = int(np.argmax(acceleration))
     peak, when = float(acceleration[index]) / STANDARD_GRAVITY, float(motion.start_time) + index * float(motion.time_step)
-    read = (f"its line 3's unit" if is_at2(path) else f"--record-units {units}")
+    read = ("its line 3's unit" if is_at2(path) else f"--record-units {units}")
     if peak * STANDARD_GRAVITY > MAX_RECORD_PGA:
         fix = ("check the unit on its line 3" if is_at2(path) else
                "are its values in another unit? give that one with --record-units (g, m/s^2, cm/s^2, in/s^2)")
