@@ -96,7 +96,7 @@ def write_plots(result, directory, *, length=("mm", 1e-3)) -> dict:
         [(sliding & (v > 0), "C0", "+x"), (sliding & (v < 0), "C1", "-x")],
         ylabel="friction residual d_mu (baseline) [-]",
         title="Baseline friction residual (measured - model) / (N Z) while sliding, "
-        "against the regressors of the candidate effects")
+        "against the regressors of the candidate effects", length=length)
     fig.savefig(directory / "residual_maps.png", dpi=110)
     files["residual_maps"] = "residual_maps.png"
     return files
