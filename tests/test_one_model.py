@@ -316,18 +316,20 @@ def test_discovery_refuses_a_normal_load_that_puts_force_over_n_out_of_range():
 
 def test_one_table_of_bounds_serves_the_fitter_discovery_and_the_posterior(monkeypatch):
     """The physical and search ranges of each constant are `PARAMETER_BOUNDS`: the fitter's
-    default bounds and the posterior's physical ranges are its `physical` pairs, discovery's
+    default bounds are its `physical` pairs (its `search` pairs for the rates of Eq. 1), the
+    posterior's physical ranges its `physical` pairs, discovery's
     its `search` ranges and log flags, the bearing-file fields its `field` column; a change in
     the table reaches discovery and the posterior's default prior."""
     from identification.bayes import PHYSICAL, build_priors
     from identification.bearing_fit import PARAMETER_FIELDS, PARAMETER_NAMES
-    from identification.bearing_fit._plan import _DEFAULT_BOUNDS
+    from identification.bearing_fit._plan import _DEFAULT_BOUNDS, RATE_NAMES
     from identification.discovery import EFFECTS
     from identification.discovery._augmented import PARAMETERS
     from teflon_jax.bearing import PARAMETER_BOUNDS, ConstantBounds
 
-    for name in PARAMETER_NAMES:
-        assert _DEFAULT_BOUNDS[name] is PARAMETER_BOUNDS[name].physical, name
+    for name in PARAMETER_NAMES:  # the rates of Eq. 1 kept in their search range (_plan.py)
+        table = PARAMETER_BOUNDS[name].search if name in RATE_NAMES else PARAMETER_BOUNDS[name].physical
+        assert _DEFAULT_BOUNDS[name] is table, name
     for name, pair in PHYSICAL.items():
         assert pair is PARAMETER_BOUNDS[name].physical, name
     assert PARAMETER_FIELDS == {n: b.field for n, b in PARAMETER_BOUNDS.items() if b.field}
