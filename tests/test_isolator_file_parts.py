@@ -56,6 +56,13 @@ PARTS = {"breakaway": {"ratio": _entry(1.5, "1")},
                                  "contact_area": _entry(100, "cm^2"), "contact_pressure": _entry(20, "MPa")}}
 
 
+def _heating(pressure_mpa):
+    """A surface's heating entry at the contact pressure `pressure_mpa` [MPa]."""
+    return {"contact_area": _entry(0.05, "m^2"), "contact_pressure": _entry(pressure_mpa, "MPa"),
+            "heat_scale": _entry(1, "1"), "conductivity": _entry(16.2, "W/(m K)"),
+            "diffusivity": _entry(4.4, "mm^2/s"), "initial_temperature": _entry(20, "degC")}
+
+
 def _force(pendulum):
     t = np.linspace(0.0, 100.0, 2001)
     return np.asarray(jax.jit(simulate_triple_test)(pendulum, t, 0.01 * np.sin(2 * np.pi * t / 50.0), 1e6).force)
@@ -94,10 +101,7 @@ def test_simulate_test_runs_a_surfaces_breakaway_from_the_file(tmp_path, capsys)
 
 def test_a_design_and_a_fits_parameters_keep_the_surfaces_heating_and_parts():
     heated = _document(breakaway=PARTS["breakaway"])
-    heated["surfaces"]["top"]["heating"] = {
-        "contact_area": _entry(0.05, "m^2"), "contact_pressure": _entry(30, "MPa"), "heat_scale": _entry(1, "1"),
-        "conductivity": _entry(16.2, "W/(m K)"), "diffusivity": _entry(4.4, "mm^2/s"),
-        "initial_temperature": _entry(20, "degC")}
+    heated["surfaces"]["top"]["heating"] = _heating(30)
     pendulum = isolator_from_dict(heated, where="dfp.json")
     for changed in (designed_double(pendulum, {"radius_scale": 1.1}),
                     series_with_parameters(pendulum, {"bottom_f_max": 0.06})):
@@ -122,9 +126,6 @@ def test_a_part_a_surface_cannot_take_is_refused_by_key(part, value, message):
 
 def test_two_contact_pressures_of_one_surface_are_refused():
     document = _document(pressure_dependence=PARTS["pressure_dependence"])
-    document["surfaces"]["bottom"]["heating"] = {
-        "contact_area": _entry(0.05, "m^2"), "contact_pressure": _entry(25, "MPa"), "heat_scale": _entry(1, "1"),
-        "conductivity": _entry(16.2, "W/(m K)"), "diffusivity": _entry(4.4, "mm^2/s"),
-        "initial_temperature": _entry(20, "degC")}
+    document["surfaces"]["bottom"]["heating"] = _heating(25)
     with pytest.raises(ValueError, match="pressure_dependence.contact_pressure: .* differs from heating"):
         isolator_from_dict(document, where="dfp.json")
