@@ -57,9 +57,10 @@ def _path_step(pendulum, load, dt, kernel, state, target, *, tolerance=TEST_TOLE
                iterations: int = TRIPLE_NEWTON_ITERATIONS):
     """One step of the isolator to the path's displacement `target` ((,) or (2,) [m]) from the
     state (sliders (S[, 2]), Z, the last two increments[, heat states][, the sliders'
-    history]): the structures' balance (`_balanced_increments` in one component, `_balanced_planar` in two) with the
-    sliders' increments adding up to D = target - sum(sliders), from the extrapolated
-    increments with their misfit to D shared evenly."""
+    history]): the structures' balance (`_balanced_increments` in one component,
+    `_balanced_planar` in two) with the sliders' increments adding up to
+    D = target - sum(sliders), from the extrapolated increments with their misfit to D shared
+    evenly."""
     slider, z, previous = state[:3]
     p = {"pendulum": pendulum, "W": load, "N": load, "s0": slider, "z0": z, "D": target - jnp.sum(slider, axis=0)}
     if kernel is not None:
