@@ -11,6 +11,7 @@ import sys
 from ..units import INCH, parse_quantity
 from ._bearing_flags import add_save_bearing_flag, check_output_file, save_bearing_flag
 from ._common import (
+    ISOLATORS,
     _write_json,
     add_quantity,
     add_units_flag,
@@ -18,6 +19,7 @@ from ._common import (
     read_bearing_record,
     read_quantities,
 )
+from ._triple import SERIES_ISOLATORS
 
 PARAMETER_DIMENSIONS = {"f_max": "dimensionless", "delta_f": "dimensionless", "rate_a": "slowness",
                         "yield_disp": "length", "breakaway_ratio": "dimensionless"}
@@ -83,7 +85,7 @@ def add_fit_parser(subparsers) -> argparse.ArgumentParser:
                              "model (one record; e.g. backlash,asymmetry as `diagnose` names "
                              "them; 'list' prints the known ones); --fixed then also takes "
                              "their constants")
-    parser.add_argument("--isolator", default="flat", choices=("flat", "single-fp", "triple-fp", "double-fp"),
+    parser.add_argument("--isolator", default="flat", choices=ISOLATORS,
                         help="single-fp: the records are of a single friction pendulum, force "
                         "N u / R + friction; fit its radius R too ('--fixed radius=88in' holds "
                         "it). triple-fp: one record of a triple friction pendulum, fitted from "
@@ -135,7 +137,7 @@ def run_fit(args) -> int:
 
     from ..report import plot_fit
 
-    if args.isolator in ("triple-fp", "double-fp"):
+    if args.isolator in SERIES_ISOLATORS:
         from ._fit_triple import run_fit_triple
 
         return run_fit_triple(args)
