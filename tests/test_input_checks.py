@@ -10,6 +10,7 @@ import sys
 
 import numpy as np
 import pytest
+from test_run_cli import _at2 as write_at2
 
 from teflon_jax.bearing import FrictionParameters, paper_bearing
 from teflon_jax.cli import main
@@ -23,12 +24,8 @@ def _run(capsys, *argv):
 
 
 def _at2(path, n=200, dt=0.01, peak=0.3):
-    values = peak * np.sin(2 * np.pi * dt * np.arange(n))
-    rows = [" ".join(f"{v: .7E}" for v in values[i:i + 5]) for i in range(0, n, 5)]
-    path.write_text("\n".join(["PEER NGA STRONG MOTION DATABASE RECORD", "Test event, 090",
-                               "ACCELERATION TIME SERIES IN UNITS OF G", f"NPTS=  {n}, DT=   {dt:.4f} SEC",
-                               *rows]) + "\n")
-    return path
+    """A PEER AT2 record of a sine of `peak` [g] (`test_run_cli`'s writer)."""
+    return write_at2(path, peak * np.sin(2 * np.pi * dt * np.arange(n)), dt)
 
 
 def _columns(path, *columns, dt=0.01, n=200):

@@ -11,6 +11,7 @@ import time
 import numpy as np
 import pytest
 import xarray
+from test_run_cli import _at2 as write_at2
 
 from teflon_jax.bearing import FrictionParameters, paper_bearing
 from teflon_jax.cli import main
@@ -32,12 +33,8 @@ def _sha(path) -> str:
 
 
 def _at2(path, n=120, dt=0.01, peak=0.3):
-    values = peak * np.sin(2 * np.pi * dt * np.arange(n))
-    rows = [" ".join(f"{v: .7E}" for v in values[i:i + 5]) for i in range(0, n, 5)]
-    path.write_text("\n".join(["PEER NGA STRONG MOTION DATABASE RECORD", "Test event, 090",
-                               "ACCELERATION TIME SERIES IN UNITS OF G", f"NPTS=  {n}, DT=   {dt:.4f} SEC",
-                               *rows]) + "\n")
-    return path
+    """A PEER AT2 record of a sine of `peak` [g] (`test_run_cli`'s writer)."""
+    return write_at2(path, peak * np.sin(2 * np.pi * dt * np.arange(n)), dt)
 
 
 @pytest.fixture
