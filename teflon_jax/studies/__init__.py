@@ -49,9 +49,11 @@ from ._design_sweep import sweep_objective as sweep_objective
 from ._design_sweep import sweep_start as sweep_start
 from ._distributed import monte_carlo_distributed as monte_carlo_distributed
 from ._distributed import monte_carlo_levels_distributed as monte_carlo_levels_distributed
+from ._fragility import FragilityBand as FragilityBand
 from ._fragility import FragilityFit as FragilityFit
 from ._fragility import check_exceedances as check_exceedances
 from ._fragility import fit_fragility as fit_fragility
+from ._fragility import fragility_band as fragility_band
 from ._intensity_levels import check_levels as check_levels
 from ._intensity_levels import exceedance_counts as exceedance_counts
 from ._intensity_levels import levels_dataset as levels_dataset

@@ -26,6 +26,12 @@ The fit exists only when the counts overlap: some run exceeds at an intensity be
 some run does not. When every level below some intensity has no exceedance and every level
 above it only exceedances, the likelihood grows without bound as beta -> 0; such counts are
 refused, naming the levels, as are counts with no exceedance (or no non-exceedance) at all.
+
+When the runs were made with K draws of the bearing's constants (a posterior's), each draw's
+counts are fitted alone and the spread of the K fits is the bearing's share of the
+uncertainty (`fragility_band`): percentiles of the medians and dispersions over the draws, the
+same percentiles of their profile intervals' ends (sampling and bearing together), and the
+pointwise percentiles of the K curves.
 """
 
 import dataclasses
@@ -224,4 +230,125 @@ def fit_fragility(intensities, n_runs, n_exceed, *, confidence: float = 0.95) ->
         intensities=x,
         n_runs=n,
         n_exceed=k,
+    )
+
+
+@dataclasses.dataclass(frozen=True)
+class FragilityBand:
+    """A lognormal fragility with the uncertainty of the bearing's constants (`fragility_band`).
+
+    - `pooled`: the `FragilityFit` of every run (counts summed over the draws);
+    - `draw_medians`, `draw_dispersions` (K,): the fit of each draw's runs (NaN where a draw's
+      counts admit no fit: `unfitted`, draw index -> why);
+    - `median_band`, `dispersion_band`: (low, high) percentiles (1 -+ `band`) / 2 over the
+      fitted draws; `median_interval`, `dispersion_interval`: the same percentiles of the
+      draws' profile-likelihood interval ends (low ends for low, high ends for high), the band
+      and the sampling uncertainty of each draw's runs together;
+    - `band` in (0, 1): the share of draws the bands span; `draw_fits`: the fitted draws'
+      `FragilityFit`s, in draw order.
+    """
+
+    pooled: FragilityFit
+    draw_medians: np.ndarray
+    draw_dispersions: np.ndarray
+    median_band: tuple
+    dispersion_band: tuple
+    median_interval: tuple
+    dispersion_interval: tuple
+    band: float
+    unfitted: dict
+    draw_fits: tuple
+
+    def probability_band(self, intensity) -> tuple[np.ndarray, np.ndarray]:
+        """(low, high): the (1 -+ `band`) / 2 percentiles over the fitted draws of
+        Phi(ln(x / theta_k) / beta_k) at each `intensity` x (pointwise)."""
+        curves = np.stack([fit.probability(intensity) for fit in self.draw_fits])
+        low, high = (1 - self.band) / 2, (1 + self.band) / 2
+        return _percentile(curves, low), _percentile(curves, high)
+
+
+def _percentile(values, q: float):
+    """The q-quantile over axis 0 with linear interpolation between order statistics (numpy's
+    default), where an infinite neighbour gives an infinite end instead of NaN."""
+    ordered = np.sort(np.asarray(values, float), axis=0)
+    position = q * (ordered.shape[0] - 1)
+    below, frac = int(math.floor(position)), position - math.floor(position)
+    above = min(below + 1, ordered.shape[0] - 1)
+    if frac == 0:
+        return ordered[below]
+    with np.errstate(invalid="ignore"):
+        value = ordered[below] + frac * (ordered[above] - ordered[below])
+    return np.where(np.isinf(ordered[above]), ordered[above], value)
+
+
+def _draw_counts(n_runs, n_exceed, levels: int) -> tuple[np.ndarray, np.ndarray]:
+    n = np.asarray(n_runs)
+    k = np.asarray(n_exceed)
+    for name, array in (("n_runs", n), ("n_exceed", k)):
+        if array.ndim != 2 or array.shape[1] != levels or array.shape[0] < 1:
+            raise ValueError(f"{name}: expected (draws, levels) counts with {levels} levels, got shape "
+                             f"{array.shape}.")
+    if n.shape != k.shape:
+        raise ValueError(f"n_exceed: shape {k.shape} differs from n_runs' {n.shape}.")
+    return n, k
+
+
+def fragility_band(intensities, n_runs, n_exceed, *, band: float = 0.90,
+                   confidence: float = 0.95) -> FragilityBand:
+    """The lognormal fragility of every run with the spread that the bearing's uncertainty adds.
+
+    Each of K draws of the bearing's constants (a posterior's) ran its own motions; draw k's
+    counts (n_kj, k_kj) over the levels x_j are fitted alone (`fit_fragility`, Baker 2015,
+    Eq. 11), giving (theta_k, beta_k) and their profile-likelihood intervals. The band of a
+    parameter is the (1 -+ `band`) / 2 percentiles of its K fits; the combined interval takes
+    the same percentiles of the K intervals' ends, so that it is the sampling interval when
+    the draws are alike and the band when each draw's runs are many. The curve band is the
+    pointwise percentiles of P_k(x) = Phi(ln(x / theta_k) / beta_k) (`probability_band`).
+
+    **Arguments:** `intensities` (J,) as `fit_fragility`; `n_runs`, `n_exceed` (K, J): the
+    converged runs of each draw at each level and those exceeding; `band`, `confidence` in (0, 1).
+
+    **Returns:** a `FragilityBand`; `pooled` is `fit_fragility` of the counts summed over the
+    draws. A draw whose counts admit no fit (`check_exceedances`) is named in `unfitted` and
+    left out of the bands; `ValueError` when fewer than two draws can be fitted, naming them.
+    """
+    if not 0 < band < 1:
+        raise ValueError(f"band: must be in (0, 1), got {band}.")
+    x = np.asarray(intensities, float)
+    if x.ndim != 1:
+        raise ValueError(f"intensities: expected one value per level, got shape {x.shape}.")
+    n, k = _draw_counts(n_runs, n_exceed, x.shape[0])
+    pooled = fit_fragility(x, n.sum(axis=0), k.sum(axis=0), confidence=confidence)
+    fits, unfitted = [], {}
+    for draw in range(n.shape[0]):
+        try:
+            fits.append(fit_fragility(x, n[draw], k[draw], confidence=confidence))
+        except ValueError as error:
+            fits.append(None)
+            unfitted[draw] = str(error)
+    fitted = [fit for fit in fits if fit is not None]
+    if len(fitted) < 2:
+        raise ValueError(f"n_exceed: only {len(fitted)} of {n.shape[0]} draws' counts admit a fit "
+                         f"({'; '.join(f'draw {d}: {why}' for d, why in list(unfitted.items())[:3])}); "
+                         "run more motions per draw.")
+    low, high = (1 - band) / 2, (1 + band) / 2
+
+    def spread(values):
+        return float(_percentile(values, low)), float(_percentile(values, high))
+
+    medians = np.array([f.median for f in fitted])
+    dispersions = np.array([f.dispersion for f in fitted])
+    return FragilityBand(
+        pooled=pooled,
+        draw_medians=np.array([np.nan if f is None else f.median for f in fits]),
+        draw_dispersions=np.array([np.nan if f is None else f.dispersion for f in fits]),
+        median_band=spread(medians),
+        dispersion_band=spread(dispersions),
+        median_interval=(spread([f.median_interval[0] for f in fitted])[0],
+                         spread([f.median_interval[1] for f in fitted])[1]),
+        dispersion_interval=(spread([f.dispersion_interval[0] for f in fitted])[0],
+                             spread([f.dispersion_interval[1] for f in fitted])[1]),
+        band=float(band),
+        unfitted=unfitted,
+        draw_fits=tuple(fitted),
     )
