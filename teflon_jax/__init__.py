@@ -76,10 +76,12 @@ _EXPORTS = {
         "white_noise_intensity",
     ),
     "formats": (
+        "BearingPosterior",
         "Protocol",
         "TestRecord",
         "external_data_dir",
         "load_bearing",
+        "load_bearing_posterior",
         "load_record",
         "parse_protocol",
         "read_at2",

@@ -7,7 +7,8 @@ A JSON object (format version 1):
                             "delta_f": {...}, "rate_a": {"value": 23.6, "unit": "s/m"}},
                "hysteresis": {"yield_disp": {"value": 0.000127, "unit": "m"}, "A": ..., ...},
                "breakaway": {"ratio": ...}, "heating": {...}, ...},
-     "sources": ["test75.csv"], "fit": {"nrmse": 0.012, ...}}
+     "sources": ["test75.csv"], "fit": {"nrmse": 0.012, ...},
+     "posterior": {...}}
 
 Every constant is an object with `value`, `unit` (`"1"` for a ratio) and optionally
 `standard_error` (same unit; `null` with a `standard_error_note` saying why where the records
@@ -16,6 +17,17 @@ optional, and a part that is present lists all its constants (nothing is default
 those in `OPTIONAL_CONSTANTS`. The
 parts and their constants are `BEARING_PARTS`. Written in SI; read in any unit of the right
 kind (`s/in`, `in`, `kip`, `in^2`, ...).
+
+The optional `posterior` object holds the thinned draws of a Bayesian fit (`BearingPosterior`):
+
+    "posterior": {
+      "constants": {"f_max": {"part": "friction", "constant": "f_max", "unit": "1"}, ...},
+      "draws": {"f_max": [0.1191, 0.1195, ...], ...},          K draws per constant
+      "effective_sample_size": {"f_max": 1843.0, ...},         bulk ESS, unthinned run
+      "draws_before_thinning": 4000, "thinning": 4,
+      "sampler": {"method": "NUTS", "chains": 4, "seed": 0}}
+
+Each sampled constant's part must be in `parts`; "parts" keeps the point estimate.
 """
 
 import json
@@ -36,6 +48,7 @@ from ..bearing import (
     check_bearing,
 )
 from ..units import unit_factor
+from ._bearing_posterior import POSTERIOR_FIELDS, BearingPosterior
 from ._text import read_json_document
 
 FORMAT_NAME = "teflon-jax bearing"
@@ -176,9 +189,86 @@ def _bearing_from_values(v) -> SlidingBearing:
     )
 
 
-def bearing_from_dict(document: dict, *, where: str = "bearing") -> SlidingBearing:
-    """The `SlidingBearing` of a bearing-file object (see the module docstring); `ValueError`
-    naming `where` and the key for anything missing, unknown, unitless or out of range."""
+_POSTERIOR_KEYS = ("constants", "draws", "effective_sample_size", "draws_before_thinning",
+                   "thinning", "sampler")
+
+
+def _posterior_constants(constants, values, where):
+    """name -> SI factor of the `posterior.constants` object, each checked against `parts`."""
+    at = f"{where}: posterior.constants"
+    if not isinstance(constants, dict) or not constants:
+        raise ValueError(f"{at}: must be an object of the sampled constants, e.g. "
+                         '{"f_max": {"part": "friction", "constant": "f_max", "unit": "1"}}.')
+    factors = {}
+    for name, entry in constants.items():
+        if name not in POSTERIOR_FIELDS:
+            raise ValueError(f"{at}: unknown constant {name!r}; the constants a posterior can "
+                             f"hold are {', '.join(POSTERIOR_FIELDS)}.")
+        part, constant = POSTERIOR_FIELDS[name]
+        if not isinstance(entry, dict) or set(entry) != {"part", "constant", "unit"}:
+            raise ValueError(f"{at}.{name}: write {{\"part\": \"{part}\", \"constant\": "
+                             f"\"{constant}\", \"unit\": \"{_SI[BEARING_PARTS[part][constant]]}\"}}; "
+                             f"got {entry!r}.")
+        if (entry["part"], entry["constant"]) != (part, constant):
+            raise ValueError(f"{at}.{name}: is the constant '{constant}' of the part '{part}', "
+                             f"not '{entry['constant']}' of '{entry['part']}'.")
+        if (part, constant) not in values:
+            raise ValueError(f"{at}.{name}: the bearing has no parts.{part}.{constant}; a "
+                             "posterior's constants are constants of the bearing's parts.")
+        factors[name] = _factor(entry["unit"], BEARING_PARTS[part][constant], f"{at}.{name}.unit")
+    return factors
+
+
+def _read_posterior(entry, values, where) -> BearingPosterior:
+    """The `BearingPosterior` of a file's `posterior` object; `values` the file's parts."""
+    if not isinstance(entry, dict):
+        raise ValueError(f"{where}: posterior: must be an object with the keys "
+                         f"{', '.join(_POSTERIOR_KEYS)}.")
+    unknown = sorted(set(entry) - set(_POSTERIOR_KEYS))
+    missing = [key for key in _POSTERIOR_KEYS if key not in entry]
+    if unknown or missing:
+        raise ValueError(f"{where}: posterior: " + "; ".join(
+            ([f"unknown key(s) {unknown}"] if unknown else [])
+            + ([f"missing key(s) {missing}"] if missing else []))
+            + f" (the keys are {', '.join(_POSTERIOR_KEYS)}).")
+    factors = _posterior_constants(entry["constants"], values, where)
+    draws, sampler = entry["draws"], entry["sampler"]
+    if not isinstance(draws, dict):
+        raise ValueError(f"{where}: posterior.draws: must be an object, name -> list of draws.")
+    if not isinstance(entry["effective_sample_size"], dict):
+        raise ValueError(f"{where}: posterior.effective_sample_size: must be an object, name -> "
+                         "effective sample size.")
+    if not isinstance(sampler, dict) or set(sampler) != {"method", "chains", "seed"}:
+        raise ValueError(f"{where}: posterior.sampler: write {{\"method\": \"NUTS\", "
+                         f"\"chains\": 4, \"seed\": 0}}; got {sampler!r}.")
+    try:
+        scaled = {}
+        for name, x in draws.items():
+            if isinstance(x, list) and all(isinstance(v, int | float) and not isinstance(v, bool)
+                                           for v in x):
+                scaled[name] = [v * factors.get(name, 1.0) for v in x]
+            else:
+                raise ValueError(f"posterior.draws.{name}: must be a list of numbers.")
+        return BearingPosterior(
+            names=tuple(factors), draws=scaled,
+            effective_sample_size=entry["effective_sample_size"],
+            draws_before_thinning=entry["draws_before_thinning"], thinning=entry["thinning"],
+            chains=sampler["chains"], seed=sampler["seed"], method=sampler["method"])
+    except ValueError as error:
+        raise ValueError(f"{where}: {error}") from None
+
+
+def _check_posterior(posterior: BearingPosterior, bearing: SlidingBearing, where) -> None:
+    """Every draw, put into `bearing`, is a valid bearing (`check_bearing`, e.g. delta_f <
+    f_max draw by draw)."""
+    try:
+        check_bearing(posterior.bearings(bearing))
+    except ValueError as error:
+        raise ValueError(f"{where}: posterior.draws: {error}") from None
+
+
+def _read_document(document, where, *, read_posterior: bool):
+    """(bearing, posterior or None) of a bearing-file object, every key checked."""
     if not isinstance(document, dict):
         raise ValueError(f"{where}: a bearing file is a JSON object; see the format in the manual.")
     if document.get("format") != FORMAT_NAME:
@@ -191,7 +281,7 @@ def bearing_from_dict(document: dict, *, where: str = "bearing") -> SlidingBeari
         raise ValueError(f"{where}: format_version {version} is newer than this teflon-jax reads "
                          f"({FORMAT_VERSION}); update teflon-jax.")
     unknown = set(document) - {"format", "format_version", "teflon_jax_version", "parts",
-                               "sources", "fit"}
+                               "sources", "fit", "posterior"}
     if unknown:
         raise ValueError(f"{where}: unknown key(s) {sorted(unknown)}.")
     if "parts" not in document:
@@ -202,13 +292,34 @@ def bearing_from_dict(document: dict, *, where: str = "bearing") -> SlidingBeari
         check_bearing(bearing)
     except ValueError as error:
         raise ValueError(f"{where}: {error}") from None
-    return bearing
+    posterior = None
+    if read_posterior and "posterior" in document:
+        posterior = _read_posterior(document["posterior"], values, where)
+        _check_posterior(posterior, bearing, where)
+    return bearing, posterior
+
+
+def bearing_from_dict(document: dict, *, where: str = "bearing") -> SlidingBearing:
+    """The `SlidingBearing` of a bearing-file object (see the module docstring); `ValueError`
+    naming `where` and the key for anything missing, unknown, unitless or out of range
+    (the `posterior` object included, when there is one)."""
+    return _read_document(document, where, read_posterior=True)[0]
 
 
 def load_bearing(path) -> SlidingBearing:
-    """Read a bearing file (JSON, `save_bearing`) into a `SlidingBearing` (SI)."""
+    """Read a bearing file (JSON, `save_bearing`) into a `SlidingBearing` (SI): the point
+    estimate of `parts`, also where the file has a posterior."""
     document = read_json_document(path, "bearing file")
     return bearing_from_dict(document, where=str(path))
+
+
+def load_bearing_posterior(path) -> BearingPosterior | None:
+    """The `BearingPosterior` of a bearing file's `posterior` object (SI), or `None` when the
+    file has none; with `load_bearing`'s point bearing, `posterior.bearing(point, k)` is draw
+    k's bearing. `ValueError` naming the file and the key for a posterior that is not a
+    valid one (`BearingPosterior`), or whose draws make an invalid bearing."""
+    document = read_json_document(path, "bearing file")
+    return _read_document(document, str(path), read_posterior=True)[1]
 
 
 def _version() -> str:
@@ -237,13 +348,35 @@ def _scalar(x) -> float:
     return float(jnp.asarray(x))
 
 
+def _posterior_to_dict(posterior: BearingPosterior) -> dict:
+    def unit(name):
+        part, constant = POSTERIOR_FIELDS[name]
+        return _SI[BEARING_PARTS[part][constant]]
+
+    return {
+        "constants": {n: dict(zip(("part", "constant"), POSTERIOR_FIELDS[n]), unit=unit(n))
+                      for n in posterior.names},
+        "draws": {n: posterior.draws[n].tolist() for n in posterior.names},
+        "effective_sample_size": dict(posterior.effective_sample_size),
+        "draws_before_thinning": posterior.draws_before_thinning,
+        "thinning": posterior.thinning,
+        "sampler": {"method": posterior.method, "chains": posterior.chains,
+                    "seed": posterior.seed}}
+
+
 def bearing_to_dict(bearing: SlidingBearing, *, standard_errors=None, sources=(),
-                    fit=None) -> dict:
+                    fit=None, posterior: BearingPosterior | None = None) -> dict:
     """A bearing-file object for `bearing` (SI units).
 
     **Arguments:** `standard_errors` mapping `(part, constant)` -> standard error [SI];
-    `sources` the records the bearing came from; `fit` a JSON-able summary of the fit.
+    `sources` the records the bearing came from; `fit` a JSON-able summary of the fit;
+    `posterior` the draws of a Bayesian fit (`BearingPosterior`), whose constants must be
+    constants of `bearing`'s parts and make a valid bearing draw by draw.
     """
+    if posterior is not None:
+        if not isinstance(posterior, BearingPosterior):
+            raise ValueError(f"posterior: must be a BearingPosterior, got {type(posterior).__name__}.")
+        _check_posterior(posterior, bearing, "posterior")
     errors = dict(standard_errors or {})
     parts = {}
 
@@ -274,13 +407,16 @@ def bearing_to_dict(bearing: SlidingBearing, *, standard_errors=None, sources=()
                    if getattr(module, key) is not None})
     return {"format": FORMAT_NAME, "format_version": FORMAT_VERSION,
             "teflon_jax_version": _version(), "parts": parts,
-            "sources": [str(s) for s in sources], **({"fit": fit} if fit is not None else {})}
+            "sources": [str(s) for s in sources], **({"fit": fit} if fit is not None else {}),
+            **({"posterior": _posterior_to_dict(posterior)} if posterior is not None else {})}
 
 
 def save_bearing(path, bearing: SlidingBearing, *, standard_errors=None, sources=(),
-                 fit=None) -> pathlib.Path:
-    """Write `bearing` as a bearing file (JSON; see `bearing_to_dict`)."""
+                 fit=None, posterior: BearingPosterior | None = None) -> pathlib.Path:
+    """Write `bearing` as a bearing file (JSON; see `bearing_to_dict`), with the draws of
+    `posterior` (a `BearingPosterior`) beside the point estimate when given."""
     path = pathlib.Path(path)
-    document = bearing_to_dict(bearing, standard_errors=standard_errors, sources=sources, fit=fit)
+    document = bearing_to_dict(bearing, standard_errors=standard_errors, sources=sources, fit=fit,
+                               posterior=posterior)
     path.write_text(json.dumps(document, indent=2, allow_nan=False) + "\n")
     return path
