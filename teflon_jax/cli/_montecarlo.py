@@ -36,6 +36,14 @@ from ._montecarlo_vertical import (
     vertical_model,
     vertical_structure,
 )
+from ._posterior_flags import (
+    add_posterior_flags,
+    posterior_arguments,
+    posterior_attributes,
+    posterior_report,
+    read_posterior_flags,
+    runs_of,
+)
 
 HELP = "peak responses under N stochastic ground motions (chunked, sharded over devices)"
 """The line of this command in `teflon-jax --help`."""
@@ -133,6 +141,7 @@ def add_montecarlo_parser(subparsers) -> argparse.ArgumentParser:
     add_engineering_flags(parser)
     add_vertical_flags(parser)
     add_bearing_flag(parser, replaces="--ptfe and --pressure")
+    add_posterior_flags(parser)
     parser.set_defaults(command_function=run_montecarlo)
     return parser
 
@@ -186,6 +195,7 @@ def run_montecarlo(args) -> int:
 
     units = output_units(args.units)
     _check_flags(args)
+    posterior = read_posterior_flags(args)  # the bearing file's draws, or None
     two = args.components == 2
     structure = vertical_structure(args, _structure(args, two))
     if args.time_step is not None:
@@ -207,7 +217,7 @@ def run_montecarlo(args) -> int:
         from ._levels import run_levels
 
         return run_levels(args, structure, model, units, _statistics)
-    bar = motion_bar(args.motions, args.no_progress)
+    bar = motion_bar(runs_of(args, posterior), args.no_progress)
     marks = []  # (time, motions done) after each chunk: the rate once compiled and warm
 
     def progress(done, total):
@@ -215,11 +225,11 @@ def run_montecarlo(args) -> int:
         bar.update(done - bar.n)
 
     chunk_size = args.chunk_size
-    attrs = _run_attributes(args)
+    attrs = {**_run_attributes(args), **posterior_attributes(posterior)}
     if args.scheduler is None:
         result = monte_carlo(
             structure, model, args.motions, key=jax.random.key(args.seed),
-            chunk_size=chunk_size, progress=progress,
+            chunk_size=chunk_size, progress=progress, **posterior_arguments(posterior, args.motions),
         )
         result.attrs.update(attrs)
         files = [] if args.out is None else [str(p) for p in save_montecarlo(result, args.out)]
@@ -239,6 +249,8 @@ def run_montecarlo(args) -> int:
     payload = _payload(args, result, structure, horizontal, units, stats, files)
     payload["records_per_s_after_first_chunk"] = _steady_rate(marks)
     payload.update(uplift_payload(result, model))
+    posterior_entry, posterior_lines = posterior_report(result, posterior, units)
+    payload.update(posterior_entry)
     _write_json(args.json, payload)
     bearing_words = (f"{args.ptfe} PTFE at {args.pressure_text}" if args.bearing is None
                      else f"bearing {args.bearing}")
@@ -258,6 +270,8 @@ def run_montecarlo(args) -> int:
                                        if k != "n" and v is not None))
     if uplift_message(payload):
         print(uplift_message(payload))
+    for line in posterior_lines:
+        print(line)
     failed = np.flatnonzero(~converged)
     if failed.size:
         named = ", ".join(str(i) for i in failed[:20]) + (" ..." if failed.size > 20 else "")

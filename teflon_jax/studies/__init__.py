@@ -1,6 +1,8 @@
 """Studies over many runs: the Fig. 11 sweep, record sets, Monte Carlo (over intensity levels, with
 fragility fits) and gradient-based design."""
 
+from ._bearing_variance import percentile_band as percentile_band
+from ._bearing_variance import variance_split as variance_split
 from ._bidirectional_study import (
     BidirectionalIsolatedStructure as BidirectionalIsolatedStructure,
 )
@@ -62,6 +64,10 @@ from ._intensity_levels import save_levels as save_levels
 from ._montecarlo import monte_carlo as monte_carlo
 from ._motion_source import monte_carlo_motion as monte_carlo_motion
 from ._motion_source import motions_at_level as motions_at_level
+from ._posterior_motions import motion_draws as motion_draws
+from ._posterior_motions import nested_draws as nested_draws
+from ._posterior_motions import structure_bearing as structure_bearing
+from ._posterior_motions import with_bearing as with_bearing
 from ._record_set import RecordSet as RecordSet
 from ._record_set import record_set as record_set
 from ._results import FORMATS as FORMATS

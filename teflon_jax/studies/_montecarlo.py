@@ -52,7 +52,21 @@ from ._bidirectional_study import (
     BidirectionalIsolatedStructure,
     bidirectional_peak_response,
 )
+from ._montecarlo_parts import (
+    _check_chunk_and_first_motion,
+    _chunk_counts,
+    _peak_fields,
+    _read_every,
+    _run_duration,
+)
 from ._motion_source import _Source, level_of, motion_attributes, stochastic_grid
+from ._posterior_motions import (
+    check_bearings,
+    draw_bearing,
+    nest_runs,
+    run_draws,
+    with_bearing,
+)
 from ._record_set import RecordSet
 from ._results import MonteCarloResult
 
@@ -138,10 +152,13 @@ class ChunkRunner:
     returns their `PeakResponse` and peak |a_g|: compiled at the first call, reused after
     (a Dask worker keeps one per run, so it compiles once whatever the number of chunks).
     The expected peak ground acceleration of generated motions is an argument of the call,
-    not a constant of the program: one compilation serves every intensity level."""
+    not a constant of the program: one compilation serves every intensity level. With stacked
+    `bearings` (a `SlidingBearing` whose leaves lead with an axis of draws) each run takes the
+    draw its call names in place of the structure's bearing, as traced values: one compilation
+    serves every draw."""
 
     def __init__(self, structure, source, duration, design_arrays, devices, chunk, disp_width, shear_width,
-                 read_every=1, storey_height=None):
+                 read_every=1, storey_height=None, bearings=None):
         self.devices, self.chunk, self.compile_s = list(devices), int(chunk), 0.0
         mesh = jax.sharding.Mesh(np.array(self.devices), ("batch",))
         peaks_of = bidirectional_peak_response if source.components == 2 else peak_response
@@ -152,12 +169,13 @@ class ChunkRunner:
         self.batched = jax.sharding.NamedSharding(mesh, jax.sharding.PartitionSpec("batch"))
         replicated = jax.sharding.NamedSharding(mesh, jax.sharding.PartitionSpec())
 
-        def run_chunk(indices, values, design_all, level):
-            def per_motion(index, row):
+        def run_chunk(indices, values, design_all, level, draws=None, stacked=None):
+            def per_motion(index, row, draw):
                 signal = source.signal(index, row, level)
+                built = structure if stacked is None else with_bearing(structure, draw_bearing(stacked, draw))
 
                 def one(design_one):
-                    system = structure(signal, design_one)
+                    system = built(signal, design_one)
                     return peaks_of(system, duration, disp_width=disp_width, shear_width=shear_width,
                                     read_every=read_every, **loop_options)
 
@@ -167,36 +185,44 @@ class ChunkRunner:
                     return peaks, jnp.max(jnp.hypot(horizontal[0].values, horizontal[1].values))
                 return peaks, jnp.max(jnp.abs(horizontal.values))
 
-            return jax.vmap(per_motion)(indices, values)
+            return jax.vmap(per_motion)(indices, values, draws)
 
         # shard_map, not automatic partitioning: every device steps its own motions with its
         # own Newton loops; partitioned automatically, the batched while loop's "any member
         # not converged" test would become a cross-device reduction in every iteration.
         spec = jax.sharding.PartitionSpec
+        drawn = () if bearings is None else (spec("batch"), spec())  # each run's draw; the draws
         self.function = jax.jit(
             jax.shard_map(
                 run_chunk,
                 mesh=mesh,
-                in_specs=(spec("batch"), spec("batch"), spec(), spec()),
+                in_specs=(spec("batch"), spec("batch"), spec(), spec()) + drawn,
                 out_specs=spec("batch"),
                 check_vma=False,
             ),
-            in_shardings=(self.batched, self.batched, replicated, replicated),
+            in_shardings=(self.batched, self.batched, replicated, replicated)
+            + (() if bearings is None else (self.batched, replicated)),
             out_shardings=self.batched,
         )
         self.design = None if design_arrays is None else jax.device_put(design_arrays, replicated)
+        self.bearings = None if bearings is None else jax.device_put(bearings, replicated)
         self.replicated, self.default_level = replicated, 0.0 if source.model is None else level_of(source.model)
         self.compiled = None
 
-    def __call__(self, indices, values=None, level=None):
+    def __call__(self, indices, values=None, level=None, draws=None):
         """Peaks of the motions `indices` (a chunk's worth; `values` (chunk, nt) [m/s^2] for
         recorded motions, `None` for generated ones; `level` [m/s^2] the expected peak ground
-        acceleration of generated ones, default the model's), as sharded device arrays."""
+        acceleration of generated ones, default the model's; `draws` (chunk,) each run's draw
+        of the stacked bearings, with them only), as sharded device arrays."""
         indices = np.asarray(indices)
         values = np.zeros((indices.shape[0], 1)) if values is None else np.asarray(values)
         level = jnp.asarray(self.default_level if level is None else level, dtype=jnp.result_type(float))
         args = (_put(indices.astype(np.int32), self.batched), _put(values, self.batched), self.design,
                 jax.device_put(level, self.replicated))
+        if (draws is None) != (self.bearings is None):
+            raise ValueError("draws: give each run's draw exactly when the runner has stacked bearings.")
+        if draws is not None:
+            args += (_put(np.asarray(draws).astype(np.int32), self.batched), self.bearings)
         if self.compiled is None:
             tic = time.perf_counter()
             self.compiled = self.function.lower(*args).compile()
@@ -221,8 +247,12 @@ def monte_carlo(
     first_motion: int = 0,
     peak_interval: float | None = None,
     storey_height=None,
+    bearings=None,
+    bearing_draw=None,
+    nested: bool = False,
 ) -> MonteCarloResult:
-    """Peak responses of `structure` under N ground motions (and D design variants).
+    """Peak responses of `structure` under N ground motions (and D design variants, or the
+    draws of a bearing posterior).
 
     Motion i of a stochastic set is `sample(model, fold_in(key, i), 1)[0]`, so a run's
     numbers do not depend on the chunk size or the number of devices. The batch runs in
@@ -266,6 +296,13 @@ def monte_carlo(
     - `storey_height` [m]: a building: also keep each storey's peak drift ratio and each
       level's peak total acceleration (`peak_response`; with two components in x and y,
       `bidirectional_peak_response`), e.g. `load_table2().storey_height`; default `None`.
+    - `bearings`: S draws of the structure's bearing stacked as one `SlidingBearing` whose
+      leaves lead with an axis of S (`BearingPosterior.bearings(point)`), run in place of the
+      structure's own (built with `bearing=point`) as traced values; not with `design`.
+    - `bearing_draw`: with `bearings`, int draw indices in [0, S): one per motion (N,)
+      (`motion_draws`), or with `nested=True` the K draws (K,) (`nested_draws`) each run on
+      all N motions (the result's dims are then ("bearing", "motion"), the peaks (K, N)).
+      The result's `bearing_draw` keeps them.
 
     **Returns:** a `MonteCarloResult`.
     """
@@ -273,8 +310,9 @@ def monte_carlo(
     plan = _plan(structure, motions, n_motions, key=key, duration=duration, design=design, chunk_size=chunk_size,
                  devices=devices, disp_width=disp_width, shear_width=shear_width,
                  memory_limit_bytes=memory_limit_bytes, first_motion=first_motion, peak_interval=peak_interval,
-                 storey_height=storey_height)
-    outputs = _run_chunks(plan.runner, motions, plan.n_total, plan.chunk, plan.n_chunks, first_motion, progress)
+                 storey_height=storey_height, bearings=bearings, bearing_draw=bearing_draw, nested=nested)
+    outputs = _run_chunks(plan.runner, motions, plan.n_total, plan.chunk, plan.n_chunks, first_motion, progress,
+                          draws=plan.draws)
     return _result(plan, motions, outputs, time.perf_counter() - start)
 
 
@@ -292,18 +330,22 @@ class _Plan(NamedTuple):
     vertical: bool
     storeys: bool
     estimate: int
+    draws: np.ndarray | None = None  # each run's draw of the stacked bearings
+    bearing_draw: np.ndarray | None = None
+    nested: bool = False
 
 
 def _plan(structure, motions, n_motions, *, key=None, duration=None, design=None, chunk_size=512, devices=None,
           disp_width=None, shear_width=None, memory_limit_bytes=None, first_motion=0, peak_interval=None,
-          storey_height=None) -> _Plan:
+          storey_height=None, bearings=None, bearing_draw=None, nested=False) -> _Plan:
     """The checked inputs of `monte_carlo` (same arguments) and its `ChunkRunner` (not yet compiled)."""
     source, n_total = _motion_source(motions, n_motions, key)
     _check_chunk_and_first_motion(chunk_size, first_motion)
     duration = _run_duration(source, duration)
     design_arrays, n_designs = _design_arrays(design, structure)
+    draws = _bearing_runs(structure, design_arrays, bearings, bearing_draw, nested, n_total)
     devices = list(jax.devices() if devices is None else devices)
-    chunk, n_chunks = _chunk_counts(chunk_size, n_total, len(devices))
+    chunk, n_chunks = _chunk_counts(chunk_size, n_total if draws is None else draws.size, len(devices))
     # Shapes of one system, without computing it: degrees of freedom for the memory estimate.
     probe_design = None if design_arrays is None else {k: v[0] for k, v in design_arrays.items()}
     probe = probe_structure(structure, source, probe_design)
@@ -316,20 +358,37 @@ def _plan(structure, motions, n_motions, *, key=None, duration=None, design=None
         per_direction = n_dof if isinstance(probe, BiaxialStructureOnTriple) else n_dof // source.components
         check_storey_height(per_direction, storey_height)
     runner = ChunkRunner(structure, source, duration, design_arrays, devices, chunk, disp_width,
-                         shear_width, read_every, storey_height)
+                         shear_width, read_every, storey_height, bearings=None if draws is None else bearings)
     return _Plan(runner, n_total, chunk, n_chunks, design_arrays, int(n_dof), duration, source.time_step,
-                 source.vertical, storey_height is not None, int(chunk * per_motion))
+                 source.vertical, storey_height is not None, int(chunk * per_motion), draws,
+                 None if draws is None else np.asarray(bearing_draw), bool(nested and draws is not None))
+
+
+def _bearing_runs(structure, design_arrays, bearings, bearing_draw, nested, n_total):
+    """Each run's draw of the stacked `bearings` (`run_draws`), checked; `None` without them."""
+    if bearings is None:
+        if bearing_draw is not None or nested:
+            raise ValueError("bearing_draw, nested: apply to stacked bearings; give bearings=... too.")
+        return None
+    if design_arrays is not None:
+        raise ValueError("design: the runs take the bearings' draws; run design variants without bearings.")
+    return run_draws(bearing_draw, check_bearings(structure, bearings), n_total, nested)
 
 
 def _result(plan: _Plan, motions, outputs, wall_s: float) -> MonteCarloResult:
     """The `MonteCarloResult` of the chunks' `outputs` (host arrays, in order) of `plan`."""
-    peaks, pga = jax.tree_util.tree_map(lambda *xs: np.concatenate(xs, axis=0)[:plan.n_total], *outputs)
+    n_runs = plan.n_total if plan.draws is None else plan.draws.size
+    peaks, pga = jax.tree_util.tree_map(lambda *xs: np.concatenate(xs, axis=0)[:n_runs], *outputs)
+    if plan.nested:  # runs r = k N + m: (K, N) arrays; a motion's pga is the same for every bearing
+        peaks, pga = nest_runs(peaks, plan.bearing_draw.size), pga[:plan.n_total]
     design_arrays = plan.design_arrays
+    dims = ("motion",) if design_arrays is None else ("design", "motion")
     return MonteCarloResult(
         **_peak_fields(peaks, design_arrays is not None, plan.storeys, plan.vertical),
         pga=np.asarray(pga),
         design={} if design_arrays is None else {k: np.asarray(v) for k, v in design_arrays.items()},
-        dims=("motion",) if design_arrays is None else ("design", "motion"),
+        dims=("bearing", "motion") if plan.nested else dims,
+        bearing_draw=plan.bearing_draw,
         n_devices=len(plan.runner.devices),
         chunk_size=plan.chunk,
         wall_s=wall_s,
@@ -366,29 +425,6 @@ def _motion_source(motions, n_motions, key) -> tuple:
             f"n_motions: {n_total} asked for but the RecordSet has {motions.acceleration.shape[0]} records."
         )
     return source, n_total
-
-
-def _check_chunk_and_first_motion(chunk_size, first_motion) -> None:
-    if isinstance(chunk_size, bool) or not isinstance(chunk_size, (int, np.integer)) or chunk_size <= 0:
-        raise ValueError(f"chunk_size: must be a positive integer, got {chunk_size!r}.")
-    if isinstance(first_motion, bool) or not isinstance(first_motion, (int, np.integer)) or first_motion < 0:
-        raise ValueError(f"first_motion: must be an integer >= 0, got {first_motion!r}.")
-
-
-def _run_duration(source, duration) -> float:
-    """The duration to run [s]: default the record length; checked > 0."""
-    record_duration = (source.samples - 1) * source.time_step
-    duration = record_duration if duration is None else float(duration)
-    if not duration > 0:
-        raise ValueError(f"duration: must be > 0 s, got {duration}.")
-    return duration
-
-
-def _chunk_counts(chunk_size, n_total, n_devices) -> tuple:
-    """(motions per chunk, a multiple of the devices; number of chunks)."""
-    chunk = min(int(chunk_size), n_total)
-    chunk = -(-chunk // n_devices) * n_devices
-    return chunk, -(-n_total // chunk)
 
 
 def _design_arrays(design, structure) -> tuple:
@@ -433,50 +469,22 @@ def _check_chunk_memory(chunk, per_motion, memory_limit_bytes, devices) -> None:
         )
 
 
-def _read_every(peak_interval, time_step) -> int:
-    """Steps between peak readings: `peak_interval` over the structure's step (default 1)."""
-    if peak_interval is None:
-        return 1
-    ratio = float(peak_interval) / time_step
-    read_every = int(round(ratio))
-    if read_every < 1 or abs(ratio - read_every) > 1e-6 * ratio:
-        raise ValueError(f"peak_interval: must be a positive multiple of the structure's time step "
-                         f"{time_step} s, got {peak_interval}.")
-    return read_every
-
-
-def _peak_fields(peaks, with_designs: bool, with_storeys: bool, vertical: bool = False) -> dict:
-    """The peak arrays of a `MonteCarloResult`, (design, motion) when designs were run."""
-
-    def arrange(x):
-        x = np.asarray(x)
-        return np.moveaxis(x, 0, 1) if with_designs else x
-
-    return {
-        "base_disp": arrange(peaks.base_disp),
-        "base_shear_ratio": arrange(peaks.base_shear_ratio),
-        "smooth_base_disp": arrange(peaks.smooth_base_disp),
-        "smooth_base_shear_ratio": arrange(peaks.smooth_base_shear_ratio),
-        "converged": arrange(peaks.converged),
-        "storey_drift": arrange(peaks.storey_drift) if with_storeys else None,
-        "floor_acceleration": arrange(peaks.floor_acceleration) if with_storeys else None,
-        **({"uplift_time": arrange(peaks.uplift_time)} if vertical else {}),
-    }
-
-
-def _run_chunks(runner, motions, n_total, chunk, n_chunks, first_motion, progress, level=None) -> list:
+def _run_chunks(runner, motions, n_total, chunk, n_chunks, first_motion, progress, level=None, draws=None) -> list:
     """Each chunk's peaks on the host, one chunk after another: `progress` is called when a
     chunk's peaks are on the host, so the times between calls are the chunks' run times. (On a
     GPU a call that holds `while_loop`s returns only when it is done, since XLA reads each loop's
     condition on the host; fetching a chunk while the next one runs then gained nothing, and
     the calls came one chunk late.) `level` [m/s^2]: the generated motions' expected peak
-    ground acceleration (default the model's)."""
+    ground acceleration (default the model's). `draws`: each run's draw of the runner's stacked
+    bearings, run r taking motion r mod `n_total` (`run_draws`); `progress` then counts runs."""
     outputs = []
+    n_runs = n_total if draws is None else draws.size
     for c in range(n_chunks):
-        indices = np.arange(c * chunk, (c + 1) * chunk)
-        indices = np.minimum(indices, n_total - 1)  # pad the last chunk with copies
+        runs = np.minimum(np.arange(c * chunk, (c + 1) * chunk), n_runs - 1)  # pad the last chunk with copies
+        indices = runs % n_total
         values = motions.acceleration[indices] if isinstance(motions, RecordSet) else None
-        outputs.append(_get(runner(indices + first_motion, values, level)))
+        outputs.append(_get(runner(indices + first_motion, values, level,
+                                   draws=None if draws is None else draws[runs])))
         if progress is not None:
-            progress(min((c + 1) * chunk, n_total), n_total)
+            progress(min((c + 1) * chunk, n_runs), n_runs)
     return outputs

@@ -2,10 +2,13 @@
 results as an xarray Dataset (NetCDF, Zarr, CSV) that reads back into the same object.
 
 Dataset layout: dimensions "motion" (index i of the motion: motion i of a stochastic run is
-drawn from `fold_in(key, i)`) and, with design variants, "design"; data variables the peaks
+drawn from `fold_in(key, i)`) and, with design variants, "design" (or, in a nested run of a
+bearing posterior's draws, "bearing"); data variables the peaks
 (`base_disp` [m], `base_shear_ratio` [1], their smooth maxima), `converged` (bool) and `pga`
 [m s-2], each with `units` and `long_name` attributes (CF conventions); the design variables
-on the "design" dimension; the run's inputs and settings in the Dataset's attributes.
+on the "design" dimension; with a bearing posterior `bearing_draw`, the draw each motion
+("motion") or each bearing ("bearing") ran; the run's inputs and settings in the Dataset's
+attributes.
 """
 
 import dataclasses
@@ -17,6 +20,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from ..systems import RESPONSE_NAMES
+from ._bearing_variance import percentile_band, variance_split
 
 VARIABLES = {
     "base_disp": ("m", "peak |base displacement| relative to the ground"),
@@ -53,6 +57,9 @@ FORMATS = (".nc", ".zarr", ".csv", ".npz")
 
 _SETTINGS = ("n_devices", "chunk_size", "wall_s", "compile_s", "memory_estimate_bytes")
 
+BEARING_DRAW = ("1", "index of the bearing posterior's draw the run took (its constants in place of "
+                     "the bearing file's point values)")
+
 
 @dataclasses.dataclass
 class MonteCarloResult:
@@ -62,7 +69,9 @@ class MonteCarloResult:
     - `smooth_base_disp`, `smooth_base_shear_ratio`: the smooth maxima (same shapes);
     - `converged` (bool, same shape); `pga` (N,) [m/s^2]: peak |a_g| of each motion;
     - `design`: dict name -> (D,) values (empty without variants);
-    - `dims`: axis names, ("motion",) or ("design", "motion");
+    - `dims`: axis names, ("motion",), ("design", "motion"), or ("bearing", "motion") for K
+      draws of a bearing posterior each run on the same motions (statistics then pool the
+      K x N runs; `variance_split`, `percentile_band` split them);
     - `n_devices`, `chunk_size`, `wall_s` (total), `compile_s` (first chunk's compile),
       `memory_estimate_bytes` (one chunk); `attrs`: description of the run;
     - `storey_drift` [-] (N, S) or (D, N, S), `floor_acceleration` [m/s^2] (N, S + 1) or
@@ -72,6 +81,8 @@ class MonteCarloResult:
     - `uplift_time` [s] (N,) or (D, N): with a vertical component, how long each run's
       isolators had N <= 0 (no shear; 0: no uplift); their peaks are kept in the statistics
       (the uplift is part of the modelled response); else `None`.
+    - `bearing_draw` (N,) or (K,) ints: the posterior draw each motion, or each bearing of a
+      nested run, took (`monte_carlo(bearings=...)`); else `None`.
     """
 
     base_disp: np.ndarray
@@ -91,6 +102,12 @@ class MonteCarloResult:
     storey_drift: np.ndarray | None = None
     floor_acceleration: np.ndarray | None = None
     uplift_time: np.ndarray | None = None
+    bearing_draw: np.ndarray | None = None
+
+    @property
+    def nested(self) -> bool:
+        """Whether the runs are K bearings x N motions (dims ("bearing", "motion"))."""
+        return tuple(self.dims)[0] == "bearing"
 
     @property
     def n_uplifted(self) -> int | list | None:
@@ -109,7 +126,7 @@ class MonteCarloResult:
     def n_converged(self) -> int | list:
         """Runs whose every step's Newton solve converged: the runs the statistics rest on
         (a list per design variant when there are several)."""
-        counts = np.sum(np.asarray(self.converged, bool), axis=-1)
+        counts = np.sum(np.asarray(self.converged, bool), axis=None if self.nested else -1)
         return int(counts) if counts.ndim == 0 else counts.tolist()
 
     @property
@@ -119,11 +136,14 @@ class MonteCarloResult:
 
     def converged_values(self, name: str, variant: int | None = None) -> np.ndarray:
         """The peaks `name` of the converged runs only, for one design `variant` (index into
-        the "design" axis; required when there are variants, ignored otherwise)."""
+        the "design" axis; required when there are variants, ignored otherwise); of a nested
+        run the K x N runs pooled (`variant` None) or bearing `variant`'s."""
         if name not in RESPONSE_NAMES + ("smooth_base_disp", "smooth_base_shear_ratio"):
             raise ValueError(f"name: unknown {name!r}; accepted: {', '.join(RESPONSE_NAMES)}.")
         values = np.asarray(getattr(self, name))
         ok = np.asarray(self.converged, bool)
+        if self.nested and variant is None:
+            return values[ok]
         if values.ndim == 2:
             if variant is None:
                 raise ValueError("variant: this result has design variants; give the index of one.")
@@ -134,8 +154,10 @@ class MonteCarloResult:
         """{"base_disp_m": {"p50": .., "mean": .., "std": .., "n": ..}, "base_shear_ratio": {..},
         "n_converged": .., "n_failed": ..} over the motions whose solve converged (runs with a
         failed step are left out; "n" says how many runs each statistic rests on). Per design
-        variant (lists) when there are several. A statistic over no converged run is `None`."""
-        variants = [None] if np.ndim(self.converged) == 1 else list(range(np.shape(self.converged)[0]))
+        variant (lists) when there are several; a nested run's K x N runs pooled. A statistic
+        over no converged run is `None`."""
+        pooled = np.ndim(self.converged) == 1 or self.nested
+        variants = [None] if pooled else list(range(np.shape(self.converged)[0]))
         out = {}
         for key, name in (("base_disp_m", "base_disp"), ("base_shear_ratio", "base_shear_ratio")):
             per_variant = []
@@ -164,6 +186,24 @@ class MonteCarloResult:
         n = values.shape[-1]
         return values, (n - np.arange(1, n + 1)) / max(n, 1)
 
+    def variance_split(self, name: str) -> dict:
+        """`variance_split` of the converged peaks `name` (e.g. "base_disp") of a nested run:
+        Var = E_k[Var_m] + Var_k[E_m], the bearing part and its share of the total."""
+        return variance_split(self._nested_peaks(name), self.converged)
+
+    def percentile_band(self, name: str, q: float = 95.0, band=(5.0, 95.0)) -> dict:
+        """`percentile_band` of the converged peaks `name` of a nested run: the qth percentile
+        pooled, and the `band` percentiles of the K per-bearing qth percentiles."""
+        return percentile_band(self._nested_peaks(name), self.converged, q=q, band=band)
+
+    def _nested_peaks(self, name):
+        if not self.nested:
+            raise ValueError("the result is not a nested run of bearing draws (dims ('bearing', "
+                             f"'motion')); its dims are {tuple(self.dims)}.")
+        if name not in RESPONSE_NAMES + ("smooth_base_disp", "smooth_base_shear_ratio"):
+            raise ValueError(f"name: unknown {name!r}; accepted: {', '.join(RESPONSE_NAMES)}.")
+        return getattr(self, name)
+
     # ----------------------------------------------------------------------- files
 
     def to_dataset(self):
@@ -185,6 +225,9 @@ class MonteCarloResult:
                                    {"units": "s", "long_name": "time with the isolators' normal load <= 0"})
         data["pga"] = (("motion",), np.asarray(self.pga),
                        {"units": "m s-2", "long_name": "peak |ground acceleration| of the motion"})
+        if self.bearing_draw is not None:
+            data["bearing_draw"] = (dims[:1], np.asarray(self.bearing_draw, np.int64),
+                                    {"units": BEARING_DRAW[0], "long_name": BEARING_DRAW[1]})
         for name, values in self.design.items():
             units, long_name = DESIGN_UNITS.get(name, ("1", name))
             data[f"design_{name}"] = (("design",), np.asarray(values), {"units": units, "long_name": long_name})
@@ -194,8 +237,8 @@ class MonteCarloResult:
             coords["level"] = np.arange(np.shape(self.floor_acceleration)[-1])
             if np.ndim(self.storey_drift) == len(dims) + 2:
                 coords["direction"] = np.array(["x", "y"])
-        if "design" in dims:
-            coords["design"] = np.arange(np.shape(self.converged)[0])
+        if dims[0] in ("design", "bearing"):
+            coords[dims[0]] = np.arange(np.shape(self.converged)[0])
         attrs = {k: _attribute(v) for k, v in self.attrs.items()}
         attrs.update({k: _attribute(getattr(self, k)) for k in _SETTINGS})
         attrs["teflon_jax_attrs"] = json.dumps(self.attrs, default=str)
@@ -224,17 +267,21 @@ class MonteCarloResult:
             attrs=json.loads(dataset.attrs.get("teflon_jax_attrs", "{}")),
             **{name: np.asarray(dataset[name].values) for name in STOREY_VARIABLES if name in dataset},
             uplift_time=np.asarray(dataset["uplift_time"].values) if "uplift_time" in dataset else None,
+            bearing_draw=np.asarray(dataset["bearing_draw"].values) if "bearing_draw" in dataset else None,
         )
 
     def to_csv(self, path) -> pathlib.Path:
-        """The peak table as CSV: one row per motion (and design variant), columns design,
-        motion, the design variables, pga_m_s2, base_disp_m, base_shear_ratio, the smooth
-        maxima and converged."""
+        """The peak table as CSV: one row per motion (and design variant), columns design
+        (bearing in a nested run), motion, bearing_draw (with a bearing posterior), the design
+        variables, pga_m_s2, base_disp_m, base_shear_ratio, the smooth maxima and converged."""
         path = pathlib.Path(path)
         rows = np.asarray(self.base_disp).reshape(-1, self.n_motions)
         n_designs = rows.shape[0]
-        columns = {"design": np.repeat(np.arange(n_designs), self.n_motions),
+        columns = {"bearing" if self.nested else "design": np.repeat(np.arange(n_designs), self.n_motions),
                    "motion": np.tile(np.arange(self.n_motions), n_designs)}
+        if self.bearing_draw is not None:
+            draws = np.asarray(self.bearing_draw)
+            columns["bearing_draw"] = np.repeat(draws, self.n_motions) if self.nested else draws
         for name, values in self.design.items():
             columns[name] = np.repeat(np.asarray(values), self.n_motions)
         columns["pga_m_s2"] = np.tile(np.asarray(self.pga), n_designs)

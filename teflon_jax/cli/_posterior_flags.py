@@ -1,0 +1,187 @@
+"""The bearing posterior in `teflon-jax montecarlo`: `--bearing-draws` and `--bearing-seed`,
+checked before any work, the run's arguments, and what the summary says of the draws.
+
+A bearing file whose `posterior` section holds S draws of the fitted constants runs one draw
+per motion by default (motion m takes draw k(m), a seeded permutation cycled: without
+replacement while N <= S); `--bearing-draws K` runs K draws each on the same N motions and
+splits each peak's variance into a motion part and a bearing part (law of total variance);
+`--bearing-draws point` runs the file's point estimate alone.
+"""
+
+import argparse
+import typing
+
+POINT, MOTION = "point", "motion"
+
+BAND = (5.0, 95.0)
+"""Percentiles of the K per-bearing 95th percentiles that bound the band the summary gives."""
+
+
+class PosteriorRun(typing.NamedTuple):
+    """How a Monte Carlo runs a bearing file's posterior: `posterior` (`BearingPosterior`),
+    `mode` "motion" (a draw per motion) or "nested" (K draws x N motions), `bearings` K
+    (nested) or None, `seed` of the draws' order, `path` of the file."""
+
+    posterior: object
+    mode: str
+    bearings: int | None
+    seed: int
+    path: object
+
+
+def _draws_value(text: str):
+    """`--bearing-draws`: "point", "motion" or a number of bearings K >= 1."""
+    if text in (POINT, MOTION):
+        return text
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected 'point', 'motion' or a number of bearings K "
+                                         f"(e.g. 20), got {text!r}") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"the number of bearings K must be at least 1, got {text}")
+    return value
+
+
+def _seed(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an integer >= 0, got {text!r}") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"expected an integer >= 0, got {text}")
+    return value
+
+
+def add_posterior_flags(parser) -> None:
+    """`--bearing-draws point|motion|K` and `--bearing-seed S`."""
+    parser.add_argument("--bearing-draws", type=_draws_value, default=None, metavar="point|motion|K",
+                        help="with a --bearing file that holds posterior draws (fit --bayes): "
+                        "'motion' gives each motion its own draw (the default for such a file), "
+                        "K runs K draws each on the same --motions motions and splits the variance "
+                        "of each peak into a motion part and a bearing part, 'point' runs the "
+                        "file's point estimate alone")
+    parser.add_argument("--bearing-seed", type=_seed, default=0, metavar="S",
+                        help="seed of the order in which the posterior's draws are taken (default 0)")
+
+
+def read_posterior_flags(args) -> PosteriorRun | None:
+    """The posterior run the flags ask for, or `None` (the point bearing, as without a
+    posterior): `ValueError` naming the flag, before any work, for --bearing-draws without a
+    --bearing file that holds a posterior, K above its number of draws, and the flags whose
+    runs do not take draws (several --pga levels, --limit, --storeys, --pelicun-demands,
+    --scheduler, --property-factors given with --bearing-draws)."""
+    from ..formats import load_bearing_posterior
+
+    given = args.bearing_draws
+    if args.bearing is None:
+        if given is not None:
+            raise ValueError(f"--bearing-draws {given}: needs --bearing FILE, a bearing file with "
+                             "posterior draws (fit --bayes DIR --save-bearing FILE).")
+        return None
+    try:
+        posterior = load_bearing_posterior(args.bearing)
+    except ValueError as error:
+        raise ValueError(f"--bearing {error}") from None
+    if posterior is None:
+        if given not in (None, POINT):
+            raise ValueError(f"--bearing-draws {given}: --bearing {args.bearing} holds no posterior "
+                             "draws (no 'posterior' section); write one with fit --bayes DIR "
+                             "--save-bearing FILE, or leave --bearing-draws out.")
+        return None
+    if given == POINT or (given is None and args.property_factors is not None):
+        return None  # the point estimate; bounding cases take the bearing as a whole
+    if isinstance(given, int) and given > posterior.size:
+        raise ValueError(f"--bearing-draws {given}: the posterior of --bearing {args.bearing} has "
+                         f"{posterior.size} draws; ask for at most {posterior.size} bearings.")
+    _refuse_other_runs(args, "--bearing-draws " + str(given or MOTION))
+    mode = MOTION if given in (None, MOTION) else "nested"
+    return PosteriorRun(posterior, mode, None if mode == MOTION else given, args.bearing_seed, args.bearing)
+
+
+def _refuse_other_runs(args, words: str) -> None:
+    others = (("--property-factors", args.property_factors is not None),
+              ("--pga", len(args.pga_levels) > 1), ("--limit", bool(args.limit)),
+              ("--storeys", args.storeys), ("--pelicun-demands", args.pelicun_demands is not None),
+              ("--scheduler", args.scheduler is not None))
+    for flag, given in others:
+        if given:
+            raise ValueError(f"{flag}: runs without the posterior draws of --bearing {args.bearing} "
+                             f"({words}); give --bearing-draws point to run its point estimate, or "
+                             f"leave {flag} out.")
+
+
+def runs_of(args, run: PosteriorRun | None) -> int:
+    """The number of runs: N motions, or K bearings x N motions."""
+    return args.motions * (1 if run is None or run.bearings is None else run.bearings)
+
+
+def posterior_arguments(run: PosteriorRun | None, n_motions: int) -> dict:
+    """The keyword arguments of `monte_carlo` that run the draws of `run` with `n_motions`
+    motions: the posterior's bearings stacked on the file's point bearing (the structure's own)
+    and the draws each motion (`motion_draws`) or each bearing (`nested_draws`) takes."""
+    from ..formats import load_bearing
+    from ..studies import motion_draws, nested_draws
+
+    if run is None:
+        return {}
+    stacked, size = run.posterior.bearings(load_bearing(run.path)), run.posterior.size
+    if run.mode == MOTION:
+        return {"bearings": stacked, "bearing_draw": motion_draws(n_motions, size, seed=run.seed)}
+    return {"bearings": stacked, "bearing_draw": nested_draws(run.bearings, size, seed=run.seed), "nested": True}
+
+
+def posterior_attributes(run: PosteriorRun | None) -> dict:
+    """What a results file says of the draws (beside the file's path and SHA-256)."""
+    if run is None:
+        return {}
+    return {"bearing_draws": run.mode, "bearing_seed": run.seed, "posterior_draws": run.posterior.size,
+            "posterior_constants": ",".join(run.posterior.names),
+            **({} if run.bearings is None else {"bearings": run.bearings})}
+
+
+def posterior_report(result, run: PosteriorRun | None, units) -> tuple[dict, list]:
+    """(the summary JSON's `bearing_posterior` entry, the lines to print) of a run with draws:
+    the draw of each motion or bearing and, nested, the variance split and the 95th
+    percentile's band of each peak (displacements in the output units); nested, the runs
+    K N and their rate (`records_per_s`) in place of the motions'."""
+    import numpy as np
+
+    if run is None:
+        return {}, []
+    length, factor = units.length
+    entry = {**posterior_attributes(run), "bearing_draw": [int(k) for k in result.bearing_draw]}
+    lines = [f"bearing posterior of {run.path}: {run.posterior.size} draws of "
+             f"{', '.join(run.posterior.names)}; " + ("one per motion" if run.bearings is None else
+                                                      f"{run.bearings} bearings x {result.n_motions} motions")]
+    if run.bearings is None:
+        return {"bearing_posterior": entry}, lines
+    failed = np.argwhere(~np.asarray(result.converged, bool))
+    entry["not_converged"] = [{"bearing": int(k), "motion": int(m)} for k, m in failed]
+    runs = int(np.size(result.converged))
+    top = {"n_runs": runs, "records_per_s": runs / max(result.wall_s - result.compile_s, 1e-9)}
+    for name, key, scale, unit in (("base_disp", f"base_disp_{length}", factor, f" {length}"),
+                                   ("base_shear_ratio", "base_shear_ratio", 1.0, "")):
+        split, band = result.variance_split(name), result.percentile_band(name, 95.0, BAND)
+        entry[key] = {
+            "variance": {k: (v / scale**2 if isinstance(v, float) and k != "bearing_share" else v)
+                         for k, v in split.items()},
+            "p95": {k: _scaled(v, scale) for k, v in band.items() if k not in ("q", "band_percentiles")},
+            "p95_band_percentiles": list(BAND)}
+        share = split["bearing_share"]
+        lines.append(f"  {key}: bearing share of the variance {share:.3g}" if share is not None else
+                     f"  {key}: no variance")
+        if band["band"] is not None:
+            lines[-1] += (f"; p95 {band['pooled'] / scale:.4g}{unit}, per-bearing p95 "
+                          f"{BAND[0]:g}-{BAND[1]:g} % band {band['band'][0] / scale:.4g}-"
+                          f"{band['band'][1] / scale:.4g}{unit}")
+    entry["variance_units"] = {f"base_disp_{length}": f"{length}^2", "base_shear_ratio": "-"}
+    return {**top, "bearing_posterior": entry}, lines
+
+
+def _scaled(value, scale):
+    if value is None:
+        return None
+    if isinstance(value, list):
+        return [_scaled(v, scale) for v in value]
+    return value / scale
