@@ -1,32 +1,204 @@
-"""`teflon-jax montecarlo --property-factors LOWER,UPPER`: the nominal, upper- and lower-bound
-bearings (`teflon_jax.studies.bounding_design`) under the same motions in one call, a table of
+"""`teflon-jax montecarlo --property-factors LOWER,UPPER|posterior`: the nominal, upper- and
+lower-bound bearings (`teflon_jax.studies.bounding_design`, or from the posterior of a
+`--bearing` file: `posterior_friction_bounds`) under the same motions in one call, a table of
 their peaks and the case that governs the isolators' displacement, the base shear and, for the
-building, the storey drift and floor acceleration (`governing_cases`)."""
+building, the storey drift and floor acceleration (`governing_cases`).
 
+`Bounds` and `read_bounds` are the flags' reading, shared with `run --suite`."""
+
+import dataclasses
 import sys
 
 import numpy as np
 
 from ..units import STANDARD_GRAVITY, parse_quantity
-from ._common import _write_json, motion_bar
+from ._common import SERIES_ISOLATORS, _write_json, motion_bar
+
+POSTERIOR_WORD = "posterior"
+"""The `--property-factors` value that takes the bounds from the posterior of `--bearing`."""
 
 
-def read_property_factors(args) -> tuple[float, float] | None:
-    """(lower, upper) of `--property-factors`, or `None`; `ValueError` naming the flag for a
-    malformed, non-positive or swapped pair and for flags it cannot be combined with."""
-    from ..studies import check_property_factors
+def add_posterior_quantiles_flag(parser) -> None:
+    """`--posterior-quantiles LOWER,UPPER` (with `--property-factors posterior`)."""
+    parser.add_argument("--posterior-quantiles", metavar="LOWER,UPPER", default=None,
+                        help="with --property-factors posterior: the quantiles of each friction constant's "
+                        "posterior draws that the bound cases take (the upper case the upper quantile of f_max "
+                        "and rate_a and the lower of delta_f, the lower case the other ends) (default 0.05,0.95); "
+                        "with LOWER,UPPER factors and a --bearing file holding a posterior, its bounds at these "
+                        "quantiles are reported beside the factors")
 
-    text = args.property_factors
-    if text is None:
-        return None
-    parts = [p.strip() for p in text.split(",")]
+
+@dataclasses.dataclass(frozen=True)
+class Bounds:
+    """What `--property-factors` asks for: user `factors` (lower, upper), or (`factors` None)
+    the `posterior` of `--bearing` at `quantiles`; `point`: the file's Eq. 1 constants (None
+    without `--bearing`), `cases`: their three `FrictionParameters` from the posterior (None
+    with factors), `text` as typed."""
+
+    text: str
+    factors: tuple | None
+    quantiles: tuple
+    posterior: object | None
+    point: object | None
+    cases: dict | None
+
+    @property
+    def from_posterior(self) -> bool:
+        return self.factors is None
+
+    def factor_table(self) -> dict:
+        """{case: {constant: value over the point's}} of these bounds (`friction_factors`)."""
+        from ..studies import friction_factors
+
+        if self.from_posterior:
+            return friction_factors(self.cases)
+        return {case: dict.fromkeys(("f_max", "delta_f", "rate_a", "f_min"), 1.0)
+                | {k: f for k in ("f_max", "delta_f", "f_min")}
+                for case, f in zip(("nominal", "upper", "lower"), (1.0, self.factors[1], self.factors[0]))}
+
+    def posterior_table(self) -> dict | None:
+        """The posterior's factors at `quantiles`, when `--bearing` holds one (beside user factors)."""
+        from ..studies import friction_factors, posterior_friction_bounds
+
+        if self.posterior is None:
+            return None
+        cases = self.cases or posterior_friction_bounds(self.point, self.posterior, quantiles=self.quantiles)
+        return friction_factors(cases)
+
+    def payload(self, bearing_path) -> dict:
+        """The JSON's `property_factors` entry: the factors or the posterior's bounds, and each
+        case's constants over the point's (`factors`), the posterior's beside user factors."""
+        applied = ("f_max and delta_f of Eq. 1 (the friction coefficient at every velocity; on every surface of a "
+                   "triple or double pendulum, radii and capacities kept)")
+        if not self.from_posterior:
+            out = {"lower": self.factors[0], "upper": self.factors[1], "applied_to": applied,
+                   "factors": self.factor_table()}
+            if self.posterior is not None:
+                out["posterior_factors"] = {"quantiles": list(self.quantiles), "factors": self.posterior_table(),
+                                            "note": f"the bounds --property-factors posterior would take from "
+                                                    f"{bearing_path}, not run here"}
+            return out
+        sampled = [n for n in ("f_max", "delta_f", "rate_a") if n in self.posterior.names]
+        return {"source": f"posterior of --bearing {bearing_path}", "quantiles": list(self.quantiles),
+                "draws": self.posterior.size, "sampled": sampled,
+                "kept_at_point": [n for n in self.posterior.names if n not in sampled],
+                "effective_sample_size": {n: self.posterior.effective_sample_size[n] for n in sampled},
+                "applied_to": "each Eq. 1 constant at its own quantile: the upper case the upper quantile of f_max "
+                              "and rate_a and the lower of delta_f (the most friction at every velocity), the "
+                              "lower case the other ends",
+                "factors": self.factor_table()}
+
+    def print_factors(self) -> None:
+        """The bound cases' constants over the point's, lower / upper, as a small table."""
+        rows = []
+        if self.from_posterior or self.posterior is not None:
+            q = self.quantiles
+            rows.append((f"posterior {q[0]:g}-{q[1]:g}", self.posterior_table()))
+        if not self.from_posterior:
+            rows.append((f"factors {self.text}", self.factor_table()))
+        names = ("f_max", "delta_f", "rate_a", "f_min")
+        print("friction constants over the point estimate's, lower / upper case:")
+        print("  " + f"{'':22s}" + "".join(f"{n:>15s}" for n in names))
+        for label, table in rows:
+            cells = "".join(f"{_ratio(table['lower'][n]) + ' / ' + _ratio(table['upper'][n]):>15s}" for n in names)
+            print(f"  {label:22s}{cells}")
+
+
+def _ratio(value) -> str:
+    return "-" if value is None else f"{value:.3f}"
+
+
+def _pair(text, flag, example, dimension="dimensionless") -> list[float]:
+    parts = [p.strip() for p in str(text).split(",")]
     if len(parts) != 2 or not all(parts):
-        raise ValueError(f"--property-factors: write LOWER,UPPER, e.g. 0.85,1.3; got {text!r}.")
-    values = [parse_quantity(p, "dimensionless", where="--property-factors") for p in parts]
+        raise ValueError(f"{flag}: write LOWER,UPPER, e.g. {example}; got {text!r}.")
+    return [parse_quantity(p, dimension, where=flag) for p in parts]
+
+
+def read_bounds(args) -> Bounds | None:
+    """`--property-factors` and `--posterior-quantiles` read and checked (`Bounds`), or None
+    without the first; `ValueError` naming the flag as typed: a malformed, non-positive or
+    swapped pair of factors; `posterior` without `--bearing`, with a bearing file that has no
+    posterior, on a triple or double pendulum or on an anisotropic bearing; quantiles outside
+    (0, 1) or not lower < upper; `--posterior-quantiles` with nothing to apply to."""
+    from ..studies import (
+        POSTERIOR_QUANTILES,
+        check_posterior_quantiles,
+        check_property_factors,
+    )
+
+    text, q_text = args.property_factors, getattr(args, "posterior_quantiles", None)
+    if text is None:
+        if q_text is not None:
+            raise ValueError("--posterior-quantiles: picks the bounds of --property-factors posterior; add it.")
+        return None
+    wants_posterior = text.strip().lower() == POSTERIOR_WORD
+    posterior, point = _bearing_posterior(args, text, wants_posterior)
+    quantiles = POSTERIOR_QUANTILES
+    if q_text is not None:
+        if posterior is None:
+            raise ValueError(f"--posterior-quantiles: applies to the posterior of a --bearing file, and "
+                             f"--property-factors {text} has none; leave it out.")
+        try:
+            quantiles = check_posterior_quantiles(*_pair(q_text, "--posterior-quantiles", "0.05,0.95"))
+        except ValueError as error:
+            raise ValueError(f"--posterior-quantiles {q_text}: {error}") from None
+    factors = None
+    if not wants_posterior:
+        try:
+            factors = check_property_factors(*_pair(text, "--property-factors", "0.85,1.3 (or posterior)"))
+        except ValueError as error:
+            message = str(error)
+            raise ValueError(message if message.startswith("--property-factors:")
+                             else f"--property-factors {text}: {message}") from None
+    cases = None
+    if posterior is not None:
+        from ..studies import posterior_friction_bounds
+
+        try:  # checked before any run, also when only reported beside the factors
+            bounds = posterior_friction_bounds(point, posterior, quantiles=quantiles)
+        except ValueError as error:
+            where = f"--posterior-quantiles {q_text}" if q_text else f"--bearing {args.bearing} (quantiles 0.05,0.95)"
+            raise ValueError(f"{where}: {error}") from None
+        cases = bounds if wants_posterior else None
+    return Bounds(text, factors, quantiles, posterior, point, cases)
+
+
+def _bearing_posterior(args, text, wants_posterior) -> tuple:
+    """(the posterior of --bearing or None, the file's Eq. 1 constants or None)."""
+    from ..formats import load_bearing, load_bearing_posterior
+
+    if getattr(args, "bearing", None) is None:
+        if wants_posterior:
+            raise ValueError("--property-factors posterior: takes the bounds from the posterior of a bearing file; "
+                             "add --bearing FILE (a file with a posterior section, e.g. from fit --bayes), or give "
+                             "LOWER,UPPER factors.")
+        return None, None
     try:
-        lower, upper = check_property_factors(*values)
+        bearing, posterior = load_bearing(args.bearing), load_bearing_posterior(args.bearing)
     except ValueError as error:
-        raise ValueError(f"--property-factors {text}: {error}") from None
+        raise ValueError(f"--bearing {error}") from None
+    if not wants_posterior:
+        return posterior, None if posterior is None else bearing.friction
+    if posterior is None:
+        raise ValueError(f"--property-factors posterior: --bearing {args.bearing} has no posterior section; "
+                         "give a bearing file written with its posterior (fit --bayes), or LOWER,UPPER factors.")
+    if getattr(args, "isolator", "flat") in SERIES_ISOLATORS:
+        raise ValueError(f"--property-factors posterior: bounds the --bearing file's friction, and --isolator "
+                         f"{args.isolator} runs its isolator file's surfaces; give LOWER,UPPER factors.")
+    if bearing.friction_perpendicular is not None:
+        raise ValueError(f"--property-factors posterior: the bearing of --bearing {args.bearing} is anisotropic, "
+                         "and its posterior's friction constants are those along the lay only; give LOWER,UPPER "
+                         "factors (both directions alike).")
+    return posterior, bearing.friction
+
+
+def read_property_factors(args) -> Bounds | None:
+    """`read_bounds` of `montecarlo`, and the flags the bounding cases cannot be combined
+    with refused by name."""
+    bounds = read_bounds(args)
+    if bounds is None:
+        return None
     for flag, used in (("--pga", len(args.pga_levels) > 1), ("--limit", bool(args.limit)),
                        ("--pelicun-demands", args.pelicun_demands is not None)):
         if used:
@@ -34,22 +206,31 @@ def read_property_factors(args) -> tuple[float, float] | None:
                              f"leave out {flag}{' levels' if flag == '--pga' else ''}.")
     if getattr(args, "storeys", False) and args.structure != "building":  # the building's are always kept
         raise ValueError("--storeys: storey results need --structure building.")
-    return lower, upper
+    return bounds
 
 
 def run_bounding(args, structure, model, units) -> int:
-    """Run the three cases, write the JSON (`cases`, `governs`), the results file and print the
-    table; returns 0, or 1 when a run failed (kept out of the statistics, flagged in the file)."""
-    from ..studies import BOUNDING_CASES, bounding_design, governing_cases
+    """Run the three cases, write the JSON (`property_factors`, `cases`, `governs`), the results
+    file and print the tables; returns 0, or 1 when a run failed (kept out of the statistics,
+    flagged in the file)."""
+    from ..studies import (
+        BOUNDING_CASES,
+        bounding_design,
+        friction_bounding_design,
+        governing_cases,
+    )
     from ._montecarlo_vertical import uplift_message, uplift_payload
 
-    lower, upper = read_property_factors(args)
-    try:  # on a triple or double pendulum: no surface's f_max above 1 in the upper case
-        design = bounding_design(structure, lower=lower, upper=upper)
-    except ValueError as error:
-        raise ValueError(f"--property-factors {args.property_factors}: {error}") from None
+    bounds = read_property_factors(args)
+    if bounds.from_posterior:
+        design = friction_bounding_design(bounds.cases)
+    else:
+        try:  # on a triple or double pendulum: no surface's f_max above 1 in the upper case
+            design = bounding_design(structure, lower=bounds.factors[0], upper=bounds.factors[1])
+        except ValueError as error:
+            raise ValueError(f"--property-factors {args.property_factors}: {error}") from None
     building = args.structure == "building"
-    result, files = _bounding_runs(args, structure, model, design, (lower, upper))
+    result, files = _bounding_runs(args, structure, model, design, bounds)
     length, factor = units.length
     peaks = {f"base_disp_{length}": result.base_disp / factor, "base_shear_ratio": result.base_shear_ratio}
     if building:
@@ -59,12 +240,11 @@ def run_bounding(args, structure, model, units) -> int:
     by_mean = governing_cases(peaks, result.converged, statistic="mean")
     by_max = governing_cases(peaks, result.converged, statistic="max")
     converged = np.asarray(result.converged, bool)
+    table = bounds.factor_table()
     payload = {
         "structure": args.structure, "n_motions": result.n_motions, "wall_s": result.wall_s,
-        "property_factors": {"lower": lower, "upper": upper,
-                             "applied_to": "f_max and delta_f of Eq. 1 (the friction coefficient at every velocity; on "
-                                           "every surface of a triple or double pendulum, radii and capacities kept)"},
-        "cases": {case: {**_case_friction(structure, design, i, (1.0, upper, lower)[i]), "n_converged": int(converged[i].sum()),
+        "property_factors": bounds.payload(args.bearing),
+        "cases": {case: {**_case_friction(structure, design, i, table[case], bounds), "n_converged": int(converged[i].sum()),
                          "mean": {k: v[case] for k, v in by_mean.items()},
                          "max": {k: v[case] for k, v in by_max.items()}}
                   for i, case in enumerate(BOUNDING_CASES)},
@@ -76,10 +256,8 @@ def run_bounding(args, structure, model, units) -> int:
     payload.update(uplift_payload(result, model))  # the same vertical records under the three bearings
     _write_json(args.json, payload)
     print(f"{result.n_motions} motions x 3 bearings in {result.wall_s:.1f} s; mean of the converged runs' peaks:")
-    print("  " + f"{'':28s}" + "".join(f"{c:>12s}" for c in BOUNDING_CASES) + "   governs")
-    for name, row in by_mean.items():
-        cells = "".join(f"{row[c]:12.4g}" if row[c] is not None else f"{'-':>12s}" for c in BOUNDING_CASES)
-        print(f"  {name:28s}{cells}   {row['governs']}")
+    print_governing(by_mean)
+    bounds.print_factors()
     if uplift_message(payload):
         print(uplift_message(payload) + " (each bearing)")
     if not converged.all():
@@ -89,7 +267,17 @@ def run_bounding(args, structure, model, units) -> int:
     return 0
 
 
-def _bounding_runs(args, structure, model, design, factors) -> tuple:
+def print_governing(by_mean) -> None:
+    """The table of each peak's mean per case and the case that governs it."""
+    from ..studies import BOUNDING_CASES
+
+    print("  " + f"{'':28s}" + "".join(f"{c:>12s}" for c in BOUNDING_CASES) + "   governs")
+    for name, row in by_mean.items():
+        cells = "".join(f"{row[c]:12.4g}" if row[c] is not None else f"{'-':>12s}" for c in BOUNDING_CASES)
+        print(f"  {name:28s}{cells}   {row['governs']}")
+
+
+def _bounding_runs(args, structure, model, design, bounds) -> tuple:
     """(the `MonteCarloResult` of the three cases, design variants (3, N), the files written):
     in this process (`monte_carlo`), or with --scheduler as the design axis of one distributed
     run (`monte_carlo_distributed`: every task runs its motions under the three bearings, the
@@ -108,8 +296,12 @@ def _bounding_runs(args, structure, model, design, factors) -> tuple:
                              chunk_size=args.chunk_size, progress=progress, storey_height=height)
         files = [] if args.out is None else [str(result.save(args.out))]
     else:
-        attrs = {"structure": args.structure, "bounding_cases": ",".join(BOUNDING_CASES),
-                 "property_factor_lower": factors[0], "property_factor_upper": factors[1]}
+        attrs = {"structure": args.structure, "bounding_cases": ",".join(BOUNDING_CASES)}
+        if bounds.from_posterior:
+            attrs.update({"property_factors": "posterior", "posterior_quantile_lower": bounds.quantiles[0],
+                          "posterior_quantile_upper": bounds.quantiles[1]})
+        else:
+            attrs.update({"property_factor_lower": bounds.factors[0], "property_factor_upper": bounds.factors[1]})
         result = monte_carlo_distributed(
             structure, model, args.motions, out=args.out, seed=args.seed, scheduler=args.scheduler,
             chunk_size=args.chunk_size, design=design, progress=progress, attrs=attrs, storey_height=height,
@@ -119,12 +311,16 @@ def _bounding_runs(args, structure, model, design, factors) -> tuple:
     return result, files
 
 
-def _case_friction(structure, design, index, factor) -> dict:
-    """The JSON entries of bounding case `index` (friction times `factor`): the factor and the
-    friction the case runs with, f_max and delta_f of the flat bearing, or of each surface of a
-    triple or double pendulum ({surface: value})."""
+def _case_friction(structure, design, index, factors, bounds) -> dict:
+    """The JSON entries of bounding case `index`: its constants over the point's (`factors`;
+    with user factors also the one `friction_factor`) and the friction it runs with, f_max,
+    delta_f (and rate_a from a posterior) of the flat bearing, or of each surface of a triple
+    or double pendulum ({surface: value})."""
     from ..studies import surface_frictions
 
+    if bounds.from_posterior:
+        return {"friction_factors": factors, **{k: float(v[index]) for k, v in design.items()}}
+    factor = factors["f_max"]
     if "f_max" in design:
         return {"friction_factor": factor, "f_max": float(design["f_max"][index]),
                 "delta_f": float(design["delta_f"][index])}

@@ -15,6 +15,7 @@ import re
 import numpy as np
 
 from ..units import STANDARD_GRAVITY, parse_quantity
+from ._bounding import add_posterior_quantiles_flag
 
 LIMITS = {
     "base_disp": ("length", "peak isolator displacement"),
@@ -45,7 +46,7 @@ class Limit:
 
 def add_engineering_flags(parser) -> None:
     """`--limit NAME=VALUE` (repeatable), `--storeys`, `--pelicun-demands FILE.csv`,
-    `--property-factors LOWER,UPPER`."""
+    `--property-factors LOWER,UPPER|posterior`, `--posterior-quantiles LOWER,UPPER`."""
     parser.add_argument("--limit", action="append", default=[], metavar="NAME=VALUE",
                         help="a response limit for a fragility curve, repeatable: base_disp=2in, "
                         "base_shear_ratio=0.15, drift=1%%, floor_acceleration=0.5g (drift and "
@@ -59,12 +60,15 @@ def add_engineering_flags(parser) -> None:
                         help="write the peaks as demand samples in pelicun's format (PFA per level, PID "
                         "per storey, the isolators' displacement as BRD, failed runs flagged in ERROR); "
                         "with several --pga levels one file per level, FILE-level1.csv, ...")
-    parser.add_argument("--property-factors", metavar="LOWER,UPPER", default=None,
+    parser.add_argument("--property-factors", metavar="LOWER,UPPER|posterior", default=None,
                         help="bounding analysis: run the nominal bearing and its lower- and upper-bound "
                         "variants (f_max and delta_f of Eq. 1 times LOWER and UPPER, e.g. 0.85,1.3; on every "
-                        "surface of a triple or double pendulum, its radii and capacities kept) under the "
-                        "same motions, and report which case governs displacement, base shear and drift; with "
-                        "--scheduler the three cases are the design axis of the distributed run (--out FILE.nc)")
+                        "surface of a triple or double pendulum, its radii and capacities kept; 'posterior': "
+                        "each constant at a quantile of the posterior draws of the --bearing file, see "
+                        "--posterior-quantiles) under the same motions, and report which case governs "
+                        "displacement, base shear and drift; with --scheduler the three cases are the design "
+                        "axis of the distributed run (--out FILE.nc)")
+    add_posterior_quantiles_flag(parser)
 
 
 def parse_limits(texts, structure: str, components: int) -> list[Limit]:
@@ -151,3 +155,12 @@ def suite_pelicun_peaks(result, ax, ay) -> dict:
         peaks["level_acceleration"] = result.storeys["level_acceleration"]
         peaks["storey_drift"] = result.storeys["storey_drift"]
     return peaks
+
+
+def check_bounding_flags(args) -> None:
+    """`--property-factors` and `--posterior-quantiles` of `montecarlo` checked before any work
+    (`read_property_factors`: `ValueError` naming the flag)."""
+    from ._bounding import read_property_factors
+
+    if args.property_factors is not None or args.posterior_quantiles is not None:
+        read_property_factors(args)

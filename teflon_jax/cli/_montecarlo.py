@@ -26,7 +26,7 @@ from ._common import (
     pendulum_period,
     warn_time_step,
 )
-from ._engineering import add_engineering_flags
+from ._engineering import add_engineering_flags, check_bounding_flags
 from ._main import compile_cache_dir
 from ._montecarlo_vertical import (
     add_vertical_flags,
@@ -195,6 +195,7 @@ def run_montecarlo(args) -> int:
 
     units = output_units(args.units)
     _check_flags(args)
+    check_bounding_flags(args)  # --property-factors, --posterior-quantiles: before any work
     posterior = read_posterior_flags(args)  # the bearing file's draws, or None
     two = args.components == 2
     structure = vertical_structure(args, _structure(args, two))

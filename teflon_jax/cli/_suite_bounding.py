@@ -1,7 +1,10 @@
-"""`teflon-jax run --suite FILE --property-factors LOWER,UPPER`: the suite's pairs through the
-nominal, upper- and lower-bound bearings (f_max and delta_f of Eq. 1 times 1, UPPER and LOWER,
-on every surface of a triple or double pendulum), a table per case and the case that governs
-displacement, base shear and drift (`teflon_jax.studies.governing_cases`). In this process the
+"""`teflon-jax run --suite FILE --property-factors LOWER,UPPER|posterior`: the suite's pairs
+through the nominal, upper- and lower-bound bearings (f_max and delta_f of Eq. 1 times 1, UPPER
+and LOWER, on every surface of a triple or double pendulum; or each Eq. 1 constant of a
+`--bearing` file at a quantile of its posterior, `teflon_jax.studies.posterior_friction_bounds`),
+a table per case and the case that governs displacement, base shear and drift
+(`teflon_jax.studies.governing_cases`). A `--bearing` file's bearing takes the case's factors
+wherever the structure carries it (`with_friction_factors`). In this process the
 three cases run one after the other (`suite_peaks`); with `--scheduler` every (case, chunk of
 pairs) is a task of one run on a Dask cluster, the peaks of all three cases streamed to
 `--out FILE.nc` (`suite_cases_distributed`)."""
@@ -10,42 +13,48 @@ import sys
 
 import numpy as np
 
-from ..units import parse_quantity
+from ._bounding import add_posterior_quantiles_flag, print_governing, read_bounds
 from ._common import _write_json
 from ._provenance import provenance_attributes
 
 
 def add_suite_bounding_flag(parser) -> None:
-    """`--property-factors LOWER,UPPER` on `teflon-jax run --suite`."""
-    parser.add_argument("--property-factors", metavar="LOWER,UPPER", default=None,
+    """`--property-factors LOWER,UPPER|posterior` and `--posterior-quantiles` on `teflon-jax run --suite`."""
+    parser.add_argument("--property-factors", metavar="LOWER,UPPER|posterior", default=None,
                         help="with --suite: run the suite with the nominal bearing and its lower- and "
                         "upper-bound variants (f_max and delta_f of Eq. 1 times LOWER and UPPER, e.g. "
-                        "0.85,1.3), and report which case governs displacement, base shear and drift; "
-                        "with --scheduler the three cases run on the cluster, all in --out FILE.nc")
+                        "0.85,1.3; 'posterior': each constant at a quantile of the posterior draws of the "
+                        "--bearing file, see --posterior-quantiles), and report which case governs "
+                        "displacement, base shear and drift; with --scheduler the three cases run on the "
+                        "cluster, all in --out FILE.nc")
+    add_posterior_quantiles_flag(parser)
 
 
-def read_suite_factors(args) -> tuple[float, float] | None:
-    """(lower, upper) of `run --property-factors`, or `None`; `ValueError` naming the flag."""
-    from ..studies import check_property_factors
-
-    text = getattr(args, "property_factors", None)
-    if text is None:
-        return None
-    if args.suite is None:
+def read_suite_factors(args):
+    """The `Bounds` of `run --property-factors` (`read_bounds`), or `None`; `ValueError`
+    naming the flag, also without --suite."""
+    if getattr(args, "property_factors", None) is not None and args.suite is None:
         raise ValueError("--property-factors: bounds a suite's analysis; add --suite FILE.")
-    if getattr(args, "bearing", None) is not None:
-        raise ValueError("--property-factors: scales Table 1's friction (--ptfe, --pressure) or an isolator "
-                         "file's surfaces, not a --bearing file's; leave out --bearing or --property-factors.")
-    parts = [p.strip() for p in text.split(",")]
-    if len(parts) != 2 or not all(parts):
-        raise ValueError(f"--property-factors: write LOWER,UPPER, e.g. 0.85,1.3; got {text!r}.")
-    try:
-        return check_property_factors(*(parse_quantity(p, "dimensionless", where="--property-factors") for p in parts))
-    except ValueError as error:
-        raise ValueError(f"--property-factors {text}: {error}") from None
+    return read_bounds(args)
 
 
-def _case_results(args, factors, build_structure, names, ax, ay, dt, stem):
+def _case_factors(bounds) -> dict:
+    """{case: {"f_max", "delta_f", "rate_a": factor}} a --bearing file's bearing takes."""
+    return {case: {k: v for k, v in row.items() if k != "f_min"} for case, row in bounds.factor_table().items()}
+
+
+def _with_factors(build_structure, factors):
+    """`build_structure` whose structure runs its bearings' Eq. 1 constants times `factors`."""
+    from ..studies import with_friction_factors
+
+    def build(args, ax, ay, dt):
+        structure, plan = build_structure(args, ax, ay, dt)
+        return with_friction_factors(structure, factors), plan
+
+    return build
+
+
+def _case_results(args, bounds, build_structure, names, ax, ay, dt, stem):
     """({case: `SuiteResult`}, the slab's plan or None, {case: its files}, the NetCDF file of
     every case or None): the three cases in this process (a table and a NetCDF file per case,
     and with --out one file of all three) or on the cluster of --scheduler (a table per case,
@@ -63,11 +72,15 @@ def _case_results(args, factors, build_structure, names, ax, ay, dt, stem):
     from ._suite_build import suite_build
 
     height = load_table2().storey_height if args.structure == "building" else None
-    factor_of = dict(zip(BOUNDING_CASES, (1.0, factors[1], factors[0])))
+    table = _case_factors(bounds)
     builds, plan, base_index = {}, None, None
-    for case, factor in factor_of.items():  # the structure of each case, built once
-        case_args = argparse.Namespace(**{**vars(args), "friction_factor": factor})
-        builds[case], _, base_index, plan = suite_build(case_args, build_structure, ax[0], ay[0], dt)
+    for case in BOUNDING_CASES:  # the structure of each case, built once
+        if args.bearing is None:  # Table 1's or an isolator file's friction times the factor
+            case_args = argparse.Namespace(**{**vars(args), "friction_factor": table[case]["f_max"]})
+            builds[case], _, base_index, plan = suite_build(case_args, build_structure, ax[0], ay[0], dt)
+        else:  # the bearing file's constants, wherever the structure carries them
+            builds[case], _, base_index, plan = suite_build(args, _with_factors(build_structure, table[case]),
+                                                            ax[0], ay[0], dt)
     groups = None if plan is None else [g["name"] for g in plan["groups"]]
     duration = (ax.shape[1] - 1) * dt
     attrs = {"structure": args.structure, "suite": str(args.suite), **provenance_attributes()}
@@ -78,15 +91,15 @@ def _case_results(args, factors, build_structure, names, ax, ay, dt, stem):
         files = {case: [f"{stem}-{case}.csv", f"{stem}-{case}.nc"] for case in BOUNDING_CASES}
         for case, result in results.items():
             save_suite(result, table_path=files[case][0], netcdf_path=files[case][1],
-                       attrs={**attrs, "bounding_case": case, "friction_factor": factor_of[case]})
+                       attrs={**attrs, "bounding_case": case, **{f"friction_factor_{k}": v for k, v in table[case].items()}})
         if args.out is not None:
-            save_suite_cases(results, args.out, attrs=_file_attrs(attrs, factors))
+            save_suite_cases(results, args.out, attrs=_file_attrs(attrs, bounds))
         return results, plan, files, args.out
     from ._main import compile_cache_dir
 
     results = suite_cases_distributed(
         builds, names, ax, ay, dt, duration, base_index, out=args.out, scheduler=args.scheduler,
-        chunk_size=8 if args.chunk_size is None else args.chunk_size, attrs=_file_attrs(attrs, factors),
+        chunk_size=8 if args.chunk_size is None else args.chunk_size, attrs=_file_attrs(attrs, bounds),
         compilation_cache=None if getattr(args, "no_compile_cache", False) else str(compile_cache_dir()),
         storey_height=height, group_names=groups)
     files = {case: [f"{stem}-{case}.csv"] for case in BOUNDING_CASES}
@@ -95,16 +108,20 @@ def _case_results(args, factors, build_structure, names, ax, ay, dt, stem):
     return results, plan, files, args.out
 
 
-def _file_attrs(attrs, factors) -> dict:
+def _file_attrs(attrs, bounds) -> dict:
     from ..studies import BOUNDING_CASES
 
-    return {**attrs, "bounding_cases": ",".join(BOUNDING_CASES), "property_factor_lower": factors[0],
-            "property_factor_upper": factors[1]}
+    out = {**attrs, "bounding_cases": ",".join(BOUNDING_CASES)}
+    if bounds.from_posterior:
+        return out | {"property_factors": "posterior", "posterior_quantile_lower": bounds.quantiles[0],
+                      "posterior_quantile_upper": bounds.quantiles[1]}
+    return out | {"property_factor_lower": bounds.factors[0], "property_factor_upper": bounds.factors[1]}
 
 
-def run_suite_bounding(args, factors, build_structure, names, ax, ay, dt, notes, scaling) -> int:
+def run_suite_bounding(args, bounds, build_structure, names, ax, ay, dt, notes, scaling) -> int:
     """The suite's pairs (ax, ay) (P, n) [m/s^2] through the nominal, upper- and lower-bound
-    bearings (`build_structure` of `teflon-jax run` with `friction_factor`), one table per case
+    bearings of `bounds` (`read_suite_factors`; `build_structure` of `teflon-jax run` with
+    `friction_factor`, or a --bearing file's bearing with the case's factors), one table per case
     (<stem>-<case>.csv; in this process also <stem>-<case>.nc), the NetCDF file of every case
     (--out) and the JSON with the governing cases; 1 when a pair failed in some case."""
     import pathlib
@@ -113,10 +130,9 @@ def run_suite_bounding(args, factors, build_structure, names, ax, ay, dt, notes,
     from ..studies import BOUNDING_CASES, governing_cases
     from ._run_slab import NORMAL_LOAD_NOTE, suite_normal_load
 
-    lower, upper = factors
     stem = pathlib.Path(args.json).with_suffix("") if args.json else pathlib.Path("suite")
     start = time.perf_counter()
-    results, plan, files, netcdf = _case_results(args, factors, build_structure, names, ax, ay, dt, stem)
+    results, plan, files, netcdf = _case_results(args, bounds, build_structure, names, ax, ay, dt, stem)
     if args.pelicun_demands is not None:  # one demand file per case: <FILE stem>-<case>.csv
         from ..formats import write_pelicun_demands
         from ._engineering import suite_pelicun_peaks
@@ -131,14 +147,13 @@ def run_suite_bounding(args, factors, build_structure, names, ax, ay, dt, notes,
     by_mean = governing_cases(peaks, converged, statistic="mean")
     by_max = governing_cases(peaks, converged, statistic="max")
     payload = {"structure": args.structure, "suite": str(args.suite), "notes": notes, "wall_s": wall,
-               "property_factors": {"lower": lower, "upper": upper,
-                                    "applied_to": "f_max and delta_f of Eq. 1 (the friction coefficient at every velocity; on every surface of a triple or double pendulum)"},
-               "cases": {c: {"friction_factor": f, "summary": results[c].summary, "failed": int(np.sum(~results[c].converged)),
+               "property_factors": bounds.payload(args.bearing),
+               "cases": {c: {**_case_entry(bounds, c), "summary": results[c].summary, "failed": int(np.sum(~results[c].converged)),
                              "pairs": {n: {k: float(v[i]) for k, v in results[c].peaks.items()}
                                        | ({} if results[c].groups is None else suite_normal_load(plan, results[c].groups, i))
                                        for i, n in enumerate(names)},
                              "files": files[c]}
-                         for c, f in zip(BOUNDING_CASES, (1.0, upper, lower))},
+                         for c in BOUNDING_CASES},
                "governs": {k: {"by_mean": by_mean[k]["governs"], "by_max": by_max[k]["governs"]} for k in peaks}}
     if netcdf is not None:
         payload["netcdf"] = str(netcdf)
@@ -150,7 +165,9 @@ def run_suite_bounding(args, factors, build_structure, names, ax, ay, dt, notes,
         payload["spectrum_scaling"] = scaling
     if args.json:
         _write_json(args.json, payload)
-    _print_table(len(names), wall, by_mean)
+    print(f"{len(names)} pairs x 3 bearings in {wall:.1f} s; mean over the converged pairs:")
+    print_governing(by_mean)
+    bounds.print_factors()
     if not converged.all():
         failed = {c: [n for n, ok in zip(names, converged[i]) if not ok] for i, c in enumerate(BOUNDING_CASES)}
         print("teflon-jax run: error: pairs that could not be balanced in every step, left out of the "
@@ -161,11 +178,11 @@ def run_suite_bounding(args, factors, build_structure, names, ax, ay, dt, notes,
     return 0
 
 
-def _print_table(count, wall, by_mean) -> None:
-    from ..studies import BOUNDING_CASES
-
-    print(f"{count} pairs x 3 bearings in {wall:.1f} s; mean over the converged pairs:")
-    print("  " + f"{'':28s}" + "".join(f"{c:>12s}" for c in BOUNDING_CASES) + "   governs")
-    for name, row in by_mean.items():
-        cells = "".join(f"{row[c]:12.4g}" if row[c] is not None else f"{'-':>12s}" for c in BOUNDING_CASES)
-        print(f"  {name:28s}{cells}   {row['governs']}")
+def _case_entry(bounds, case) -> dict:
+    """A case's JSON entries: its one factor (user factors), or its constants over the point's
+    and the constants themselves (a posterior's bounds)."""
+    if not bounds.from_posterior:
+        return {"friction_factor": bounds.factor_table()[case]["f_max"]}
+    params = bounds.cases[case]
+    return {"friction_factors": bounds.factor_table()[case],
+            **{k: float(np.asarray(getattr(params, k))) for k in ("f_max", "delta_f", "rate_a")}}

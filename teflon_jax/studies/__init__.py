@@ -12,12 +12,20 @@ from ._bidirectional_study import (
 )
 from ._bidirectional_study import bidirectional_peak_response as bidirectional_peak_response
 from ._bounding import BOUNDING_CASES as BOUNDING_CASES
+from ._bounding import FRICTION_CONSTANTS as FRICTION_CONSTANTS
+from ._bounding import POSTERIOR_QUANTILES as POSTERIOR_QUANTILES
+from ._bounding import RAISES_FRICTION as RAISES_FRICTION
 from ._bounding import bounding_design as bounding_design
+from ._bounding import check_posterior_quantiles as check_posterior_quantiles
 from ._bounding import check_property_factors as check_property_factors
+from ._bounding import friction_bounding_design as friction_bounding_design
+from ._bounding import friction_factors as friction_factors
 from ._bounding import governing_cases as governing_cases
+from ._bounding import posterior_friction_bounds as posterior_friction_bounds
 from ._bounding import scaled_friction as scaled_friction
 from ._bounding import series_bounding_design as series_bounding_design
 from ._bounding import surface_frictions as surface_frictions
+from ._bounding import with_friction_factors as with_friction_factors
 from ._chunks import CPU_CHUNK as CPU_CHUNK
 from ._chunks import LARGEST_CHUNK as LARGEST_CHUNK
 from ._chunks import default_chunk_size as default_chunk_size
