@@ -48,6 +48,11 @@ class ConcaveSurface(eqx.Module):
     restrainer_stiffness: jnp.ndarray = eqx.field(default_factory=lambda: jnp.zeros(()))
     large_displacement: bool = eqx.field(static=True, default=False)
 
+    @property
+    def is_linear(self) -> bool:
+        """True when the force is N u / R alone (small rotation, no restrainer)."""
+        return not self.large_displacement and self.displacement_capacity is None
+
     def stiffness(self, normal_load):
         """N / R [N/m]: the small-rotation restoring stiffness under the normal load N [N]."""
         return normal_load / self.radius

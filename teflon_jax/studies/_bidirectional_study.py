@@ -79,18 +79,20 @@ class BidirectionalIsolatedStructure(eqx.Module):
         ground_x, ground_y = ground
         s = self.uniaxial
         bearing, period, damping = s.isolation(design)
+        law = {"friction_model": s.friction_model,
+               "surface": None if s.surface is None else s.designed_surface(design)}
         if s.kind == "rigid":
             system = bidirectional_rigid_mass(
                 weight=s.weight, bearing=bearing, ground_x=ground_x, ground_y=ground_y,
                 time_step=s.time_step, isolation_period=period,
                 damping_ratio=damping if period is not None else 0.0,
-                contact_pressure=s.contact_pressure(design),
+                contact_pressure=s.contact_pressure(design), **law,
             )
         else:
             system = bidirectional_building(
                 bearing=bearing, ground_x=ground_x, ground_y=ground_y, time_step=s.time_step,
                 isolation_period=period, isolation_damping=damping,
-                contact_pressure=s.contact_pressure(design),
+                contact_pressure=s.contact_pressure(design), **law,
             )
         if self.newton_iterations is not None:
             system = dataclasses.replace(system, newton_iterations=self.newton_iterations)
@@ -100,18 +102,10 @@ class BidirectionalIsolatedStructure(eqx.Module):
 def bidirectional_isolated_structure(kind: str = "rigid", **options) -> BidirectionalIsolatedStructure:
     """A `BidirectionalIsolatedStructure` with the inputs of `isolated_structure(kind,
     **options)` (checked there, `ValueError` naming the parameter), stepped at
-    `BIDIRECTIONAL_TIME_STEP` unless `time_step` is given; only the hysteretic
-    friction model has a two-component form. With `isolator="triple-fp"` or "double-fp" the
+    `BIDIRECTIONAL_TIME_STEP` unless `time_step` is given. The friction models of one
+    component run in two (Park's Z, Coulomb, none), and so do a pendulum's restrainer and
+    large-displacement form. With `isolator="triple-fp"` or "double-fp" the
     `TripleIsolatedStructure` of `isolated_structure`, which takes both components itself."""
-    if options.get("friction_model", "hysteretic") != "hysteretic":
-        raise ValueError(
-            f"friction_model: two ground components need the hysteretic model (Park's Z), got "
-            f"{options['friction_model']!r}."
-        )
-    surface = options.get("surface")
-    if surface is not None and (surface.large_displacement or surface.displacement_capacity is not None):
-        raise ValueError("surface: two ground components run the pendulum's small-rotation force "
-                         "W u / R; its restrainer and large-displacement form run with one component.")
     if options.get("isolator") in SERIES_PENDULUMS:  # builds both: called with (ground_x, ground_y)
         return isolated_structure(kind, **options)
     if options.get("time_step") is None:  # the uniaxial default steps are not the bidirectional one

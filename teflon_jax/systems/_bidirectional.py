@@ -27,13 +27,19 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 
-from ..bearing import SlidingBearing, park_rate
+from ..bearing import ConcaveSurface, SlidingBearing, park_rate
 from ..excitation import Signal
 from ..solver import (
     AbstractSteppedSystem,
     park_exact_update,
 )
 from ._bearing_test import running_peak_rate
+from ._bidirectional_laws import (
+    coulomb_solve,
+    no_friction_solve,
+    surface_forces,
+    surface_tangent,
+)
 from ._bidirectional_vertical import (
     loaded_bidirectional,
     loaded_heat,
@@ -92,6 +98,9 @@ class BidirectionalStructure(AbstractSteppedSystem):
     loads N_g = s W_g + (L H)_g under the horizontal force H of the step's start, held over the
     step and kept in the state "normal_load" (G,) [N] (`_overturning.py`), redistributed
     over the groups that stay down while others lift with `supports` (`SupportPlan`).
+    `friction_model` (static): "hysteretic" (Park's Z), "coulomb" or "none"; `surface`: a
+    friction pendulum's `ConcaveSurface` whose restrainer and large-displacement force act
+    beyond its W_g / R in K, or `None` (`_bidirectional_laws.py`).
     """
 
     mass: jnp.ndarray
@@ -115,6 +124,8 @@ class BidirectionalStructure(AbstractSteppedSystem):
     load: jnp.ndarray | None = None
     overturning: jnp.ndarray | None = None
     supports: SupportPlan | None = None
+    friction_model: str = eqx.field(static=True, default="hysteretic")
+    surface: ConcaveSurface | None = None
 
     def load_factor(self, t):
         """N(t) / W [-] at time t [s]; `None` without a vertical record."""
@@ -133,8 +144,9 @@ class BidirectionalStructure(AbstractSteppedSystem):
 
     @property
     def history(self) -> bool:
-        """True when the bearing's friction depends on the history (heating, wear)."""
-        return has_history(self.bearing)
+        """True when the bearing's friction depends on the history (heating, wear; Park's Z
+        only)."""
+        return self.friction_model == "hysteretic" and has_history(self.bearing)
 
     def at_state(self, y) -> "BidirectionalStructure":
         """This structure with each group's friction at the temperature and travel of state
@@ -157,7 +169,10 @@ class BidirectionalStructure(AbstractSteppedSystem):
         return jnp.sum(self.bearing_map * q, axis=-1)
 
     def friction_forces(self, velocity, z, z_peak):
-        """F_g = mu_g W_g Z_g (G, 2) [N] at sliding velocities (G, 2) [m/s]."""
+        """F_g = mu_g W_g Z_g (G, 2) [N] at sliding velocities (G, 2) [m/s] (zeros without
+        friction)."""
+        if self.friction_model == "none":
+            return jnp.zeros_like(z)
         mu = self.bearing.coefficient(velocity[:, 0], velocity[:, 1], z_peak)
         return (mu * self.bearing_load * self._asymmetry(z[:, 0])[1])[:, None] * z
 
@@ -179,6 +194,9 @@ class BidirectionalStructure(AbstractSteppedSystem):
     def acceleration_at(self, ground, y):
         """Acceleration [m/s^2 or rad/s^2] of state `y` under ground acceleration `ground` (2,)."""
         forces = self.bearing_forces(y)
+        if self.surface is not None:
+            d = self.bearing_motion(y["q"])
+            forces = forces + jnp.stack(surface_forces(self, d[:, 0], d[:, 1]), -1)
         if self.load is not None:  # the pendulum's (s - 1) W_g / R d_g
             forces = forces + pendulum_change(self)[:, None] * self.bearing_motion(y["q"])
         restoring = jnp.sum(self.bearing_map * forces[..., None], axis=(0, 1))
@@ -188,6 +206,13 @@ class BidirectionalStructure(AbstractSteppedSystem):
     def __call__(self, t, y, args):
         velocity = self.bearing_motion(y["v"])
         dz = park_rate(self.bearing.hysteresis, y["z"], velocity)
+        if self.friction_model == "coulomb":
+            # the sliding branch of Eq. 2 (Z along v): general ODE solvers cannot represent
+            # sticking; RiccatiNewmark treats stick-slip exactly
+            speed = jnp.sqrt(jnp.sum(velocity**2, axis=-1, keepdims=True))
+            dz = (velocity / jnp.maximum(speed, 1e-300) - y["z"]) / self.time_step
+        elif self.friction_model == "none":
+            dz = jnp.zeros_like(dz)
         z_abs = jnp.sqrt(jnp.sum(y["z"] ** 2, axis=-1) + 1e-300)
         z_abs_rate = jnp.sum(y["z"] * dz, axis=-1) / z_abs
         rates = {
@@ -282,7 +307,8 @@ class BidirectionalStructure(AbstractSteppedSystem):
         vx, vy = (2 / self.time_step * increment[i] - p["vb0"][i] for i in range(2))
         capacity = self.bearing.coefficient(vx, vy, p["z_peak0"]) * self.bearing_load
         capacity = capacity * self._asymmetry(z[:, 0])[1]
-        return (capacity * z[:, 0], capacity * z[:, 1]), z
+        extra = surface_forces(self, d[0], d[1])
+        return (capacity * z[:, 0] + extra[0], capacity * z[:, 1] + extra[1]), z
 
     def _residual_forces(self, d, p):
         """(residual, forces, Z) at bearing displacements d = (dx, dy): r = d - d_lin + G_b F(d)."""
@@ -309,7 +335,8 @@ class BidirectionalStructure(AbstractSteppedSystem):
         _, dmu_y = jax.jvp(coefficient, (vx, vy), (jnp.zeros_like(vx), jnp.ones_like(vy)))
         load = self.bearing_load
         a, k = self._asymmetry(zs[0])
-        forces = (mu * load * k * zs[0], mu * load * k * zs[1])
+        extra = surface_forces(self, d[0], d[1])
+        forces = (mu * load * k * zs[0] + extra[0], mu * load * k * zs[1] + extra[1])
         r = affine(p["flexibility"], forces, d, p["d_linear"])
         w = [(h.gamma * jnp.where(increment[i] * zs[i] >= 0, 1.0, -1.0) + h.beta) * zs[i] for i in range(2)]
         dmu = (dmu_x * (2 / dt), dmu_y * (2 / dt))
@@ -318,6 +345,9 @@ class BidirectionalStructure(AbstractSteppedSystem):
               for i in range(2)]
         local = [[load * (k * (mu * dz[i][j] + zs[i] * dmu[j]) + a * mu * zs[i] * dz[0][j])
                   for j in range(2)] for i in range(2)]
+        if self.surface is not None:
+            stiffening = surface_tangent(self, d[0], d[1])
+            local = [[local[i][j] + stiffening[i][j] for j in range(2)] for i in range(2)]
         flex = p["flexibility"]
         eye = jnp.eye(load.shape[0])
         jacobian = [[(eye if i == j else 0.0) + sum(flex[i][k] * local[k][j][None, :] for k in range(2))
@@ -330,7 +360,12 @@ class BidirectionalStructure(AbstractSteppedSystem):
         (unrolled, no loop under `vmap`) from the tangent of Park's law at the end state, up to
         `BROYDEN_ITERATIONS` more while a member is above tolerance, then, for members still
         above it, Newton's method (Jacobian by forward differences) with an Armijo
-        backtracking line search on |r|. Converged when max|r| <= tolerance."""
+        backtracking line search on |r|. Converged when max|r| <= tolerance. Coulomb and
+        no friction: `_bidirectional_laws.py`."""
+        if self.friction_model == "coulomb":
+            return coulomb_solve(self, p)
+        if self.friction_model == "none":
+            return no_friction_solve(self, p)
         x, tolerance, yield_disp = self._predictor(p)
         r, jacobian = self._tangent_jacobian(x, p)
         x, r, forces, z, done = self._broyden_iterations(x, r, jacobian, p, tolerance)
@@ -343,7 +378,8 @@ class BidirectionalStructure(AbstractSteppedSystem):
         the residual and the smallest yield displacement."""
         capacity = self.bearing.coefficient(p["vb0"][0], p["vb0"][1], p["z_peak0"]) * self.bearing_load
         capacity = capacity * self._asymmetry(p["z0"][0])[1]
-        held = block_matvec(p["flexibility"], (capacity * p["z0"][0], capacity * p["z0"][1]))
+        extra = surface_forces(self, p["d0"][0], p["d0"][1])
+        held = block_matvec(p["flexibility"], (capacity * p["z0"][0] + extra[0], capacity * p["z0"][1] + extra[1]))
         x = tuple(p["d_linear"][i] - held[i] for i in range(2))
         yield_disp = jnp.min(jnp.asarray(self.bearing.hysteresis.yield_disp))
         eps = jnp.finfo(jnp.result_type(x[0])).eps

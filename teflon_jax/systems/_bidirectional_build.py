@@ -8,6 +8,7 @@ from ..bearing import SlidingBearing, heat_kernel_exponentials
 from ..excitation import Signal
 from ..solver import require_riccati_form
 from ._bidirectional import NEWTON_ITERATIONS, BidirectionalStructure
+from ._bidirectional_laws import check_planar_law
 from ._overturning import initial_normal_load
 from ._structure_build import HEAT_HORIZON, PRESSURE_HINT, STRUCTURE_EFFECTS
 
@@ -26,11 +27,15 @@ def bidirectional_structure(
     time_step: float,
     newton_iterations: int = NEWTON_ITERATIONS,
     contact_pressure=None,
+    friction_model: str = "hysteretic",
+    surface=None,
 ) -> BidirectionalStructure:
     """Build a `BidirectionalStructure`, checking shapes and prefactoring Newmark's matrix
     K_eff = K + (2/dt) C + (4/dt^2) M for `time_step` [s]. Bearing constants are broadcast to
     one per group; a bearing with heating needs `contact_pressure` [Pa] (one, or one per
-    group)."""
+    group). `friction_model` "hysteretic", "coulomb" or "none"; `surface`: a friction
+    pendulum's `ConcaveSurface` whose W / R is in `stiffness` (its restrainer and
+    large-displacement force act in the bearings' solve), or `None`."""
     mass = jnp.asarray(mass, dtype=float)
     n = mass.shape[0]
     bearing_map = jnp.asarray(bearing_map, dtype=float)
@@ -43,6 +48,7 @@ def bidirectional_structure(
     if not time_step > 0:
         raise ValueError(f"time_step: must be > 0 s, got {time_step}.")
     require_riccati_form(bearing.hysteresis)
+    check_planar_law(friction_model, surface, bearing)
     other = [name for name in bearing.effects if name not in STRUCTURE_EFFECTS]
     if other:
         raise ValueError(
@@ -51,7 +57,7 @@ def bidirectional_structure(
             "breakaway, anisotropy, stacks, heating, wear and asymmetry)"
             + (PRESSURE_HINT if "pressure_dependence" in other else "."))
     rates = weights = None
-    if bearing.heating is not None:
+    if bearing.heating is not None and friction_model == "hysteretic":
         if contact_pressure is None:
             raise ValueError("contact_pressure: a bearing with heating needs the contact pressure "
                              "[Pa] of the bearings (the heat flux is mu p |v|).")
@@ -77,9 +83,11 @@ def bidirectional_structure(
         newmark_inverse=jnp.linalg.inv(k_eff),
         time_step=float(time_step),
         newton_iterations=int(newton_iterations),
-        contact_pressure=contact_pressure if bearing.heating is not None else None,
+        contact_pressure=contact_pressure if rates is not None else None,
         heat_rates=rates,
         heat_weights=weights,
+        friction_model=friction_model,
+        surface=None if surface is None or surface.is_linear else surface,
     )
 
 

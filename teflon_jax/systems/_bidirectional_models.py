@@ -33,7 +33,7 @@ def _block(a, b):
 
 
 def _two_directions(x, y, bearing, ground_x, ground_y, time_step,
-                    contact_pressure=None) -> BidirectionalStructure:
+                    contact_pressure=None, **law) -> BidirectionalStructure:
     n = x.mass.shape[0]
     influence = np.zeros((2 * n, 2))
     influence[:n, 0] = 1.0
@@ -53,6 +53,7 @@ def _two_directions(x, y, bearing, ground_x, ground_y, time_step,
         ground_y=_zero_signal(ground_x) if ground_y is None else ground_y,
         time_step=time_step,
         contact_pressure=contact_pressure,
+        **law,
     )
 
 
@@ -66,6 +67,8 @@ def bidirectional_rigid_mass(
     isolation_period=None,
     damping_ratio=0.0,
     contact_pressure=None,
+    friction_model: str = "hysteretic",
+    surface=None,
 ) -> BidirectionalStructure:
     """A rigid mass W/g on sliding bearings under (a_x, a_y) (TASS-type system with springs):
 
@@ -77,7 +80,9 @@ def bidirectional_rigid_mass(
     **Arguments:** `weight` W [N]; `bearing`: `SlidingBearing` (x = parallel to the lay when
     it has `friction_perpendicular`); `ground_x`, `ground_y`: `Signal`s [m/s^2] (y `None` = no
     y motion); `time_step` [s] of `RiccatiNewmark`; `contact_pressure` [Pa] of the bearings
-    (for a bearing with heating).
+    (for a bearing with heating); `friction_model` "hysteretic", "coulomb" or "none";
+    `surface`: a friction pendulum's `ConcaveSurface` (its period is `isolation_period`; its
+    restrainer and large-displacement force act in the bearings' solve).
 
     **Returns:** a `BidirectionalStructure` with q = (u_x, u_y).
     """
@@ -90,7 +95,8 @@ def bidirectional_rigid_mass(
         damping_ratio=damping_ratio,
         friction_model="none",
     )
-    return _two_directions(one, one, bearing, ground_x, ground_y, time_step, contact_pressure)
+    return _two_directions(one, one, bearing, ground_x, ground_y, time_step, contact_pressure,
+                           friction_model=friction_model, surface=surface)
 
 
 def bidirectional_building(
@@ -105,6 +111,8 @@ def bidirectional_building(
     building_y: BuildingData | None = None,
     isolation_period_y=None,
     contact_pressure=None,
+    friction_model: str = "hysteretic",
+    surface=None,
 ) -> BidirectionalStructure:
     """The six-storey frame of Table 2 in x and y on sliding bearings with springs (Fig. 11).
 
@@ -112,7 +120,8 @@ def bidirectional_building(
     floors, 2 % modal damping, springs of period T_b and damping zeta_b in the rigid-body
     mode); y uses the same modal data unless `building_y` (and `isolation_period_y`) are given.
     The bearings carry the total weight W and couple the two bases through Park's Z;
-    `contact_pressure` [Pa] of the bearings is needed for a bearing with heating.
+    `contact_pressure` [Pa] of the bearings is needed for a bearing with heating;
+    `friction_model` and `surface` as in `bidirectional_rigid_mass`.
 
     **Returns:** a `BidirectionalStructure` with q = (x: base, floors 1-6; y: base, floors 1-6).
     """
@@ -140,4 +149,5 @@ def bidirectional_building(
             raise ValueError(
                 "building_y: its total weight differs from the x model's; one structure has one weight."
             )
-    return _two_directions(x, y, bearing, ground_x, ground_y, time_step, contact_pressure)
+    return _two_directions(x, y, bearing, ground_x, ground_y, time_step, contact_pressure,
+                           friction_model=friction_model, surface=surface)

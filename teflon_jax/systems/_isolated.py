@@ -256,7 +256,7 @@ class IsolatedStructure(eqx.Module):
                 linear_rule=self.linear_rule,
                 contact_pressure=self.contact_pressure(design),
             )
-        if self.surface is not None and not is_linear_surface(self.surface):
+        if self.surface is not None and not self.surface.is_linear:
             system = dataclasses.replace(system, surface=self.designed_surface(design))
         settings = (self.newton_iterations, self.split_at_turn, self.newton_tolerance)
         if settings != (system.newton_iterations, system.split_at_turn, system.newton_tolerance):
@@ -329,7 +329,7 @@ def isolated_structure(
             conflicting={name: reason for name, (value, reason) in given.items() if value is not None})
     given_period = isolation_period is not DEFAULT_ISOLATION_PERIOD
     surface = _surface(isolator, radius, isolation_period if given_period else None, surface)
-    if surface is not None and not is_linear_surface(surface) and friction_model != "hysteretic":
+    if surface is not None and not surface.is_linear and friction_model != "hysteretic":
         raise ValueError(f"surface: its restrainer or large-displacement force is solved with the "
                          f"hysteretic friction model, not {friction_model!r}.")
     if surface is not None:
@@ -370,11 +370,6 @@ def isolated_structure(
         return _checked_isolation(structure, kind, isolation_period, isolation_damping)
     check_design(structure, {"pressure": pressure})
     return _checked_isolation(structure, kind, isolation_period, isolation_damping)
-
-
-def is_linear_surface(surface: ConcaveSurface) -> bool:
-    """True when `surface`'s force is W u / R alone (small rotation, no restrainer)."""
-    return not surface.large_displacement and surface.displacement_capacity is None
 
 
 def _surface(isolator, radius, isolation_period, surface=None):
