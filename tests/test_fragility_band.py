@@ -101,3 +101,56 @@ def test_a_draw_without_a_fit_is_named_and_left_out():
 def test_bad_counts_are_refused_by_name(n, k, band, message):
     with pytest.raises(ValueError, match=message):
         fragility_band(LEVELS, n, k, band=band)
+
+
+def _nested_result(peaks, converged, draws):
+    """A `MonteCarloResult` of K bearing draws each run on the same motions (dims ("bearing",
+    "motion")), made by hand: `peaks` (K, M) base displacements [m]."""
+    from teflon_jax.studies import MonteCarloResult
+
+    peaks = np.asarray(peaks, float)
+    return MonteCarloResult(base_disp=peaks, base_shear_ratio=0.1 * np.ones_like(peaks), smooth_base_disp=peaks,
+                            smooth_base_shear_ratio=0.1 * np.ones_like(peaks), converged=np.asarray(converged),
+                            pga=np.ones(peaks.shape[1]), design={}, dims=("bearing", "motion"), n_devices=1,
+                            chunk_size=1, wall_s=0.0, compile_s=0.0, memory_estimate_bytes=0,
+                            bearing_draw=np.asarray(draws))
+
+
+def test_montecarlo_levels_entry_of_nested_draws_is_the_band_of_their_counts():
+    """The `montecarlo` fragility entry of K bearings x (L levels x N motions): the counts of
+    all runs are fitted as before, and the band is `fragility_band` of each bearing's counts
+    (a failed run counts nowhere)."""
+    from teflon_jax.cli._engineering import Limit
+    from teflon_jax.cli._levels import _fragility
+
+    rng = np.random.default_rng(5)
+    levels, n = LEVELS[:6], 40
+    level_index = np.repeat(np.arange(levels.size), n)
+    capacity = np.exp(np.log([0.25, 0.3, 0.35, 0.4])[:, None] + 0.3 * rng.standard_normal((4, level_index.size)))
+    peaks = 0.05 * levels[level_index][None, :] / capacity  # exceeds 0.05 m where pga > capacity
+    converged = np.ones(peaks.shape, bool)
+    converged[1, 7] = False
+    result = _nested_result(peaks, converged, draws=[12, 3, 40, 7])
+    entry, band = _fragility(Limit("base_disp", 0.05, "base_disp=5cm"), result, level_index, levels, "g", 1.0)
+    exceed = (peaks > 0.05) & converged
+    n_runs = np.stack([np.bincount(level_index, converged[k], levels.size) for k in range(4)])
+    n_exceed = np.stack([np.bincount(level_index, exceed[k], levels.size) for k in range(4)])
+    assert entry["n_runs"] == n_runs.sum(0).tolist() and entry["n_exceed"] == n_exceed.sum(0).tolist()
+    want = fragility_band(levels, n_runs, n_exceed)
+    assert band.median_band == want.median_band and entry["bearing_band"]["median_band"] == list(want.median_band)
+    assert entry["median"] == pytest.approx(want.pooled.median, rel=1e-12)
+    assert entry["bearing_band"]["draws"] == [12, 3, 40, 7] and entry["bearing_band"]["n_fitted"] == 4
+    below, above = entry["bearing_band"]["probability_band_at_levels"]
+    assert np.all(np.array(below) <= np.array(above))
+
+
+def test_the_plot_draws_a_band(tmp_path):
+    """`plot_fragility` takes a `FragilityBand` beside a plain fit and writes the figure."""
+    from teflon_jax.report import plot_fragility
+
+    runs, low_k = _exact_counts(0.3, 0.4, n=50)
+    _, high_k = _exact_counts(0.6, 0.4, n=50)
+    band = fragility_band(LEVELS, np.stack([runs] * 4), np.stack([low_k, high_k, low_k, high_k]))
+    path = tmp_path / "f.png"
+    plot_fragility({"base_disp=2in": band, "drift=1%": band.draw_fits[0]}, path, title="band")
+    assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and path.stat().st_size > 20_000

@@ -37,11 +37,13 @@ class Limit:
     text: str
 
     def peaks(self, result) -> np.ndarray:
-        """The peak each motion of a `MonteCarloResult` compares with `value` (SI)."""
+        """The peak each motion of a `MonteCarloResult` compares with `value` (SI): (N,), or
+        (K, N) for K bearing draws each run on the N motions (`result.nested`)."""
         if self.name in ("base_disp", "base_shear_ratio"):
             return np.asarray(getattr(result, self.name))
         values = np.asarray(result.storey_drift if self.name == "drift" else result.floor_acceleration)
-        return np.max(values.reshape(values.shape[0], -1), axis=1)  # every storey (and direction)
+        lead = 2 if getattr(result, "nested", False) else 1
+        return np.max(values.reshape(values.shape[:lead] + (-1,)), axis=-1)  # every storey (and direction)
 
 
 def add_engineering_flags(parser) -> None:

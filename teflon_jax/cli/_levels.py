@@ -44,11 +44,19 @@ def check_level_outputs(args, n_levels: int) -> None:
 
 
 def _fragility(limit, result, level_index, levels, unit, factor) -> tuple[dict, object]:
-    """The JSON entry of one limit and its `FragilityFit` (or the counts when no fit)."""
+    """The JSON entry of one limit and its `FragilityFit` (or the counts when no fit); for K
+    bearing draws each run on the motions (`result.nested`) the fit of all runs and its band
+    over the draws (`_bearing_band`), the `FragilityBand` in place of the fit."""
     from ..studies import exceedance_counts, fit_fragility
 
-    n_runs, n_exceed = exceedance_counts(limit.peaks(result), result.converged, level_index, levels.size,
-                                         limit.value)
+    peaks, converged = limit.peaks(result), np.asarray(result.converged, bool)
+    per_draw = None
+    if getattr(result, "nested", False):  # (K, L N): the counts of each draw, and of all runs
+        per_draw = [exceedance_counts(peaks[k], converged[k], level_index, levels.size, limit.value)
+                    for k in range(peaks.shape[0])]
+        n_runs, n_exceed = (np.sum([c[i] for c in per_draw], axis=0) for i in (0, 1))
+    else:
+        n_runs, n_exceed = exceedance_counts(peaks, converged, level_index, levels.size, limit.value)
     entry = {"limit": limit.text, "limit_si": limit.value, "intensity_unit": unit,
              "levels": (levels / factor).tolist(), "n_runs": n_runs.tolist(), "n_exceed": n_exceed.tolist(),
              "fraction": [k / n if n else None for k, n in zip(n_exceed, n_runs)]}
@@ -69,7 +77,48 @@ def _fragility(limit, result, level_index, levels, unit, factor) -> tuple[dict, 
                   "dispersion_interval": [finite(v) for v in fit.dispersion_interval],
                   "confidence": fit.confidence, "interval": "profile likelihood (null: not bounded by the data)",
                   "method": "maximum likelihood on the counts at each level (Baker 2015)"})
-    return entry, fit
+    if per_draw is None:
+        return entry, fit
+    band = _bearing_band(entry, limit, levels / factor, per_draw, result.bearing_draw)
+    return entry, fit if band is None else band
+
+
+BEARING_BAND = 0.90
+"""Share of the bearing draws the fragility band spans (its 5 and 95 % percentiles)."""
+
+
+def _bearing_band(entry, limit, levels, per_draw, draws):
+    """`entry["bearing_band"]`: the fragility of each bearing draw's runs and their spread
+    (`fragility_band`: medians, dispersions, the same percentiles of their intervals' ends,
+    the curve band at the levels); the `FragilityBand`, or None (the reason in the entry)."""
+    from ..studies import fragility_band
+
+    n_runs = np.stack([c[0] for c in per_draw])
+    n_exceed = np.stack([c[1] for c in per_draw])
+    try:
+        band = fragility_band(levels, n_runs, n_exceed, band=BEARING_BAND)
+    except ValueError as error:
+        entry["bearing_band"] = {"error": f"--limit {limit.text}: {error}", "n_draws": len(per_draw)}
+        return None
+
+    def finite(value):
+        return value if math.isfinite(value) and value > 0 else None
+
+    below, above = band.probability_band(levels)
+    entry["bearing_band"] = {
+        "band": band.band, "n_draws": len(per_draw), "n_fitted": len(band.draw_fits),
+        "draws": [int(k) for k in draws],
+        "unfitted": {str(int(draws[k])): why for k, why in band.unfitted.items()},
+        "median_band": list(band.median_band), "dispersion_band": list(band.dispersion_band),
+        "median_interval": [finite(v) for v in band.median_interval],
+        "dispersion_interval": [finite(v) for v in band.dispersion_interval],
+        "probability_band_at_levels": [below.tolist(), above.tolist()],
+        "draw_medians": [finite(v) if np.isfinite(v) else None for v in band.draw_medians],
+        "draw_dispersions": [finite(v) if np.isfinite(v) else None for v in band.draw_dispersions],
+        "method": "each bearing draw's runs fitted alone; the 5 and 95 % percentiles over the draws of the "
+                  "median, the dispersion and the fitted probability, and of the draws' profile-likelihood "
+                  "interval ends (the bearing's and the motions' uncertainty together)"}
+    return band
 
 
 def _storey_summary(result, rows, units) -> dict:
@@ -202,11 +251,13 @@ _VERTICAL_STOREYS = ("storey drifts and level accelerations are horizontal: the 
 
 
 def _select(result, rows):
-    """The motions `rows` of a one-design `MonteCarloResult`."""
+    """The motions `rows` of a one-design `MonteCarloResult` (of every bearing of a nested one)."""
     import dataclasses
 
-    picked = {f.name: getattr(result, f.name)[rows] for f in dataclasses.fields(result)
-              if isinstance(getattr(result, f.name), np.ndarray)}
+    axis = result.dims.index("motion")
+    picked = {f.name: np.take(getattr(result, f.name), rows, axis=0 if f.name == "pga" else axis)
+              for f in dataclasses.fields(result)
+              if isinstance(getattr(result, f.name), np.ndarray) and f.name != "bearing_draw"}
     return dataclasses.replace(result, **picked)
 
 
@@ -230,6 +281,16 @@ def _report(result, levels, level_index, unit, factor, fragility, per_level) -> 
         low, high = entry["median_interval"]
         print(f"    fragility: median {entry['median']:.4g} {unit} ({_end(low)} - {_end(high)}), dispersion "
               f"{entry['dispersion']:.3g}")
+        band = entry.get("bearing_band")
+        if band is not None and "error" in band:
+            print(f"teflon-jax montecarlo: no band over the bearing draws: {band['error']}", file=sys.stderr)
+            status = 1
+        elif band is not None:
+            low, high = band["median_interval"]
+            print(f"    over {band['n_fitted']} of {band['n_draws']} bearing draws ({100 * band['band']:g} % band): "
+                  f"median {band['median_band'][0]:.4g} - {band['median_band'][1]:.4g} {unit} ({_end(low)} - "
+                  f"{_end(high)} with the motions' sampling), dispersion {band['dispersion_band'][0]:.3g} - "
+                  f"{band['dispersion_band'][1]:.3g}")
     failed = np.flatnonzero(~converged)
     if failed.size:
         named = ", ".join(str(i) for i in failed[:20]) + (" ..." if failed.size > 20 else "")
