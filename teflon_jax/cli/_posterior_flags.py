@@ -172,9 +172,9 @@ def posterior_report(result, run: PosteriorRun | None, units) -> tuple[dict, lis
         lines.append(f"  {key}: bearing share of the variance {share:.3g}" if share is not None else
                      f"  {key}: no variance")
         if band["band"] is not None:
-            lines[-1] += (f"; p95 {band['pooled'] / scale:.4g}{unit}, per-bearing p95 "
-                          f"{BAND[0]:g}-{BAND[1]:g} % band {band['band'][0] / scale:.4g}-"
-                          f"{band['band'][1] / scale:.4g}{unit}")
+            lines[-1] += (f"; p95 of all runs {band['pooled'] / scale:.4g}{unit}, of each bearing's "
+                          f"runs median {band['median'] / scale:.4g}{unit}, {BAND[0]:g}-{BAND[1]:g} % "
+                          f"band {band['band'][0] / scale:.4g}-{band['band'][1] / scale:.4g}{unit}")
     entry["variance_units"] = {f"base_disp_{length}": f"{length}^2", "base_shear_ratio": "-"}
     return {**top, "bearing_posterior": entry}, lines
 
