@@ -120,6 +120,29 @@ def test_a_structure_with_factors_is_the_one_built_from_the_case_bearing():
         with_friction_factors({"mass": np.ones(2)}, factors)
 
 
+def test_a_slab_with_factors_is_the_slab_on_the_case_bearings():
+    """Bearing groups of different friction (a slab's stacked bearings): each group's
+    constants times the factors, as a slab built on the groups' case bearings."""
+    from teflon_jax.systems import slab_on_bearings
+
+    factors = {"f_max": 0.9, "delta_f": 1.1, "rate_a": 0.95}
+    other = tj.FrictionParameters(0.15, 0.1, 30.0)
+    ground = uniform_signal(np.zeros(50), 0.01)
+
+    def slab(bearings):
+        return slab_on_bearings(length_x=20.0, length_y=12.0, weight=1e6, centre_of_mass=(10.0, 6.0),
+                                positions=[(2.0, 2.0), (18.0, 10.0)], bearings=bearings, loads=[5e5, 5e5],
+                                ground_x=ground, ground_y=ground, time_step=0.005, isolation_period=2.0)
+
+    def times(params):
+        return tj.FrictionParameters(*(getattr(params, n) * factors[n] for n in CONSTANTS))
+
+    got = with_friction_factors(slab([POINT, tj.paper_bearing(other)]), factors)
+    want = slab([tj.paper_bearing(times(FRICTION)), tj.paper_bearing(times(other))])
+    for a, b in zip(_leaves(got), _leaves(want), strict=True):
+        np.testing.assert_allclose(np.asarray(a), np.asarray(b), rtol=1e-14)
+
+
 def _leaves(tree):
     return jax.tree_util.tree_leaves(tree)
 

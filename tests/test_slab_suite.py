@@ -215,9 +215,9 @@ def test_overturning_suite_on_a_cluster_equals_the_in_process_suite(dask_cluster
     assert a["pairs"] == b["pairs"]
 
 
-def test_overturning_suite_bounds_refuse_a_bearing_file_by_name(tmp_path, capsys):
-    """--property-factors scales Table 1's friction or an isolator file's surfaces: with a
-    --bearing file it is refused before any record is read (the records named do not exist)."""
+def test_overturning_suite_bounds_read_the_bearing_file_first(tmp_path, capsys):
+    """--property-factors scales a --bearing file's friction too: the file is read, and a
+    missing one refused by name, before any record is read (the records named do not exist)."""
     suite = tmp_path / "suite.csv"
     suite.write_text("record_x,record_y,scale\nmissing_x.txt,missing_y.txt,1\n")
     code = main(["run", "--structure", "slab", "--plan", str(_plan(tmp_path, "30m")), "--suite", str(suite),
@@ -225,4 +225,4 @@ def test_overturning_suite_bounds_refuse_a_bearing_file_by_name(tmp_path, capsys
                  "--property-factors", "0.85,1.3"])
     assert code == 2
     err = capsys.readouterr().err
-    assert "not a --bearing file's; leave out --bearing or --property-factors" in err and "missing_x" not in err
+    assert "--bearing " in err and "missing_bearing.json: no such bearing file" in err and "missing_x" not in err
