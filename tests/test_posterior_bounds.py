@@ -300,3 +300,33 @@ def test_run_suite_posterior_cases_are_the_case_bearings_run_alone(tmp_path, cap
     assert means["upper"] < means["nominal"] < means["lower"]
     assert data["governs"]["base_disp_resultant_m"]["by_mean"] == "lower"
     assert data["governs"]["base_shear_ratio_resultant"]["by_mean"] == "upper"
+
+
+def test_factors_beside_a_posterior_without_bounds_run_and_say_why(tmp_path):
+    """User factors on a bearing whose posterior gives no lower case at the default quantiles
+    (draws of f_max spread 15 % with f_min pinned, so delta_f follows f_max: the corner's
+    f_min <= 0, every draw's > 0): the factors are read, the report beside them says why;
+    asking for those quantiles by name, or for the posterior's bounds, is refused."""
+    import argparse
+
+    from teflon_jax.cli._bounding import read_bounds
+
+    rng = np.random.default_rng(2)
+    f_max = _value(FRICTION, "f_max") * (1 + 0.15 * rng.standard_normal(400))
+    f_min = float(FRICTION.f_min) * (1 + 0.05 * rng.standard_normal(400))
+    draws = {"f_max": f_max, "delta_f": f_max - f_min}
+    posterior = BearingPosterior(names=tuple(draws), draws=draws, effective_sample_size=dict.fromkeys(draws, 400.0),
+                                 draws_before_thinning=400, thinning=1, chains=1, seed=0)
+    save_bearing(tmp_path / "wide.json", POINT, posterior=posterior)
+
+    def args(factors, quantiles=None):
+        return argparse.Namespace(property_factors=factors, posterior_quantiles=quantiles,
+                                  bearing=tmp_path / "wide.json", isolator="flat")
+
+    bounds = read_bounds(args("0.85,1.3"))
+    assert bounds.factors == (0.85, 1.3) and bounds.posterior_table() is None
+    assert "f_min" in bounds.unbounded and "quantiles 0.05,0.95" in bounds.unbounded
+    assert bounds.payload("wide.json")["posterior_factors"]["error"] == bounds.unbounded
+    for text, quantiles in (("0.85,1.3", "0.05,0.95"), ("posterior", None)):
+        with pytest.raises(ValueError, match="leaves f_min = .*, not > 0"):
+            read_bounds(args(text, quantiles))

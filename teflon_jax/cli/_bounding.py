@@ -33,7 +33,8 @@ class Bounds:
     """What `--property-factors` asks for: user `factors` (lower, upper), or (`factors` None)
     the `posterior` of `--bearing` at `quantiles`; `point`: the file's Eq. 1 constants (None
     without `--bearing`), `cases`: their three `FrictionParameters` from the posterior (None
-    with factors), `text` as typed."""
+    with factors), `text` as typed; `unbounded`: why the posterior's bounds beside user
+    factors could not be formed at the default quantiles (else None)."""
 
     text: str
     factors: tuple | None
@@ -41,6 +42,7 @@ class Bounds:
     posterior: object | None
     point: object | None
     cases: dict | None
+    unbounded: str | None = None
 
     @property
     def from_posterior(self) -> bool:
@@ -60,7 +62,7 @@ class Bounds:
         """The posterior's factors at `quantiles`, when `--bearing` holds one (beside user factors)."""
         from ..studies import friction_factors, posterior_friction_bounds
 
-        if self.posterior is None:
+        if self.posterior is None or self.unbounded is not None:
             return None
         cases = self.cases or posterior_friction_bounds(self.point, self.posterior, quantiles=self.quantiles)
         return friction_factors(cases)
@@ -77,6 +79,8 @@ class Bounds:
                 out["posterior_factors"] = {"quantiles": list(self.quantiles), "factors": self.posterior_table(),
                                             "note": f"the bounds --property-factors posterior would take from "
                                                     f"{bearing_path}, not run here"}
+                if self.unbounded is not None:
+                    out["posterior_factors"]["error"] = self.unbounded
             return out
         sampled = [n for n in ("f_max", "delta_f", "rate_a") if n in self.posterior.names]
         return {"source": f"posterior of --bearing {bearing_path}", "quantiles": list(self.quantiles),
@@ -91,7 +95,9 @@ class Bounds:
     def print_factors(self) -> None:
         """The bound cases' constants over the point's, lower / upper, as a small table."""
         rows = []
-        if self.from_posterior or self.posterior is not None:
+        if self.unbounded is not None:
+            print(f"no posterior bounds beside the factors: {self.unbounded}")
+        elif self.from_posterior or self.posterior is not None:
             q = self.quantiles
             rows.append((f"posterior {q[0]:g}-{q[1]:g}", self.posterior_table()))
         if not self.from_posterior:
@@ -151,17 +157,20 @@ def read_bounds(args) -> Bounds | None:
             message = str(error)
             raise ValueError(message if message.startswith("--property-factors:")
                              else f"--property-factors {text}: {message}") from None
-    cases = None
+    cases, unbounded = None, None
     if posterior is not None:
         from ..studies import posterior_friction_bounds
 
-        try:  # checked before any run, also when only reported beside the factors
+        try:  # checked before any run, also when asked for beside the factors
             bounds = posterior_friction_bounds(point, posterior, quantiles=quantiles)
         except ValueError as error:
             where = f"--posterior-quantiles {q_text}" if q_text else f"--bearing {args.bearing} (quantiles 0.05,0.95)"
-            raise ValueError(f"{where}: {error}") from None
-        cases = bounds if wants_posterior else None
-    return Bounds(text, factors, quantiles, posterior, point, cases)
+            if wants_posterior or q_text is not None:
+                raise ValueError(f"{where}: {error}") from None
+            unbounded = f"{where}: {error}"  # only the report beside the factors lacks it
+        else:
+            cases = bounds if wants_posterior else None
+    return Bounds(text, factors, quantiles, posterior, point, cases, unbounded)
 
 
 def _bearing_posterior(args, text, wants_posterior) -> tuple:
