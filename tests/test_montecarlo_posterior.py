@@ -267,3 +267,24 @@ def test_bad_bearings_refused_by_name():
     bad = eqx.tree_at(lambda b: b.friction.delta_f, stacked, 2 * stacked.friction.f_max)
     with pytest.raises(ValueError, match="bearings: a draw is outside the bearing's ranges: delta_f"):
         monte_carlo(structure, model, 3, bearings=bad, bearing_draw=np.arange(3))
+
+
+def test_nested_result_files_name_the_bearing_and_its_draw(tmp_path):
+    """A (bearing, motion) result written as CSV (a row per run with its bearing, motion and
+    draw) and NetCDF (the draws over "bearing") reads back whole."""
+    peaks = np.arange(6.0).reshape(2, 3) / 100
+    result = MonteCarloResult(base_disp=peaks, base_shear_ratio=peaks + 0.1, smooth_base_disp=peaks,
+                              smooth_base_shear_ratio=peaks + 0.1, converged=np.ones((2, 3), bool),
+                              pga=np.array([1.0, 2.0, 3.0]), design={}, dims=("bearing", "motion"), n_devices=1,
+                              chunk_size=6, wall_s=1.0, compile_s=0.5, memory_estimate_bytes=1,
+                              bearing_draw=np.array([7, 2]))
+    rows = np.genfromtxt(result.to_csv(tmp_path / "mc.csv"), delimiter=",", names=True)
+    assert rows.dtype.names[:3] == ("bearing", "motion", "bearing_draw")
+    np.testing.assert_array_equal(rows["bearing"], [0, 0, 0, 1, 1, 1])
+    np.testing.assert_array_equal(rows["bearing_draw"], [7, 7, 7, 2, 2, 2])
+    np.testing.assert_array_equal(rows["base_disp_m"], peaks.reshape(-1))
+    back = MonteCarloResult.open(result.save(tmp_path / "mc.nc"))
+    assert back.nested and back.bearing_draw.tolist() == [7, 2]
+    assert back.n_converged == 6
+    np.testing.assert_array_equal(back.converged_values("base_disp"), peaks.reshape(-1))
+    np.testing.assert_array_equal(back.converged_values("base_disp", 1), peaks[1])
