@@ -11,6 +11,7 @@ the posterior spread of each constant with its prior spread to say which ones th
 not identify.
 """
 
+import functools
 import time as _time
 from collections.abc import Mapping, Sequence
 
@@ -18,7 +19,6 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 from numpyro.distributions import biject_to, constraints
-from numpyro.infer import MCMC, NUTS
 
 from teflon_jax.systems import sample_velocity
 
@@ -31,21 +31,23 @@ from ..bearing_fit import (
 from ._model import (
     NOISE_RANGE,
     base_name,
-    distribution,
-    make_model,
     make_postprocess,
-    to_base,
+    model_args,
+    prior_values,
+    shapes_of,
+    unconstrain,
 )
 from ._priors import PHYSICAL, _checked_range, build_priors
 from ._result import BayesResult, diagnose_run
+from ._sampler import compiled_sampler, sample_uncached
 
 MIN_SAMPLES_PER_PARAMETER = 20
 """A record set needs at least this many samples per sampled variable (constants + noise)."""
 
 BLOCKS = 10
-"""The draws are taken in at most this many blocks (after the warm-up) of at least
-`MIN_BLOCK` draws, so that an interrupted run keeps the blocks it finished. numpyro traces
-the sampler again for each block (a second or so)."""
+"""The draws are taken in at most this many blocks (after the warm-up, which runs in blocks of
+the same length) of at least `MIN_BLOCK` draws, so that an interrupted run keeps the blocks it
+finished."""
 
 MIN_BLOCK = 10
 """Fewest draws per chain in a block (all of them when fewer are asked for)."""
@@ -88,6 +90,14 @@ def _check_sample_count(records, free_names):
             "longer record or fix parameters.")
 
 
+@functools.partial(jax.jit, static_argnums=(7, 8))
+def _record_force(values, time, ux, load, velocity, z0, z_peak0, parallel, series):
+    """`simulate_record_force` compiled once per record length (the record is data)."""
+    return simulate_record_force(values, time, ux, load, z0=z0, z_peak0=z_peak0,
+                                 velocity=velocity, interfaces_in_parallel=parallel,
+                                 interfaces_in_series=series)
+
+
 def _record_data(records, fit, normal_load):
     """Arrays of each record, and the initial state that reproduces the least-squares fit."""
     data = []
@@ -104,15 +114,9 @@ def _record_data(records, fit, normal_load):
         # such that the first fitted force is matched); keep the one the LS fit used.
         best = None
         for z_peak0 in (0.0, 1.0):
-            unit = np.asarray(simulate_record_force(values, time, ux, load, z0=1.0,
-                                                    z_peak0=z_peak0, velocity=velocity,
-                                                    interfaces_in_parallel=n[0],
-                                                    interfaces_in_series=n[1]))
+            unit = np.asarray(_record_force(values, time, ux, load, velocity, 1.0, z_peak0, *n))
             z0 = 0.0 if z_peak0 == 0.0 else float(np.clip(res.fitted[0] / unit[0], -1.0, 1.0))
-            force = np.asarray(simulate_record_force(values, time, ux, load, z0=z0,
-                                                     z_peak0=z_peak0, velocity=velocity,
-                                                     interfaces_in_parallel=n[0],
-                                                     interfaces_in_series=n[1]))
+            force = np.asarray(_record_force(values, time, ux, load, velocity, z0, z_peak0, *n))
             err = float(np.max(np.abs(force - res.fitted)))
             if best is None or err < best[0]:
                 best = (err, z0, z_peak0)
@@ -125,7 +129,7 @@ def _record_data(records, fit, normal_load):
 def _chain_starts(priors, fit, data, num_chains, seed):
     """Per-chain starts (unconstrained): the LS estimate, jittered by its standard errors."""
     rng = np.random.default_rng(seed)
-    out = {}
+    values = {}
     for name, p in priors.items():
         x = fit.parameters[name]
         if name == "delta_f":
@@ -141,8 +145,8 @@ def _chain_starts(priors, fit, data, num_chains, seed):
             if p.scale == "log1":
                 xi = max(xi, 1.0 + 1e-3 * (p.high - 1.0))
             xs.append(xi)
-        d = distribution(p)
-        out[base_name(p)] = biject_to(d.support).inv(to_base(p, jnp.asarray(xs)))
+        values[name] = jnp.asarray(xs)
+    out = unconstrain(shapes_of(priors), values, prior_values(priors))
     noise = []
     for rec, res in zip(data, fit.records):
         lo, hi = NOISE_RANGE
@@ -152,6 +156,20 @@ def _chain_starts(priors, fit, data, num_chains, seed):
     out["noise_rel"] = jnp.asarray(
         biject_to(constraints.interval(*NOISE_RANGE)).inv(jnp.asarray(starts)))
     return out
+
+
+@functools.partial(jax.jit, static_argnums=(0, 1))
+def _jacobian(shapes, free, x0, f_max, values_of_priors):
+    """d(unconstrained coordinates) / d(free constants `free` at `x0`), delta_f as delta_f /
+    f_max (`f_max` where it is held); compiled once per free set."""
+
+    def unconstrained(x):
+        phys = dict(zip(free, x))
+        ratio = phys.get("f_max", f_max)
+        return unconstrain(shapes, {name: phys[name] / ratio if name == "delta_f" else phys[name]
+                                    for name, _ in shapes}, values_of_priors)
+
+    return jax.jacfwd(unconstrained)(x0)
 
 
 def _initial_mass(priors, fit, data):
@@ -165,17 +183,8 @@ def _initial_mass(priors, fit, data):
     """
     free = tuple(fit.free)
     x0 = jnp.asarray([fit.parameters[n] for n in free])
-
-    def unconstrained(x):
-        phys = dict(zip(free, x))
-        f_max = phys.get("f_max", fit.parameters["f_max"])
-        out = {}
-        for name, p in priors.items():
-            xi = phys[name] / f_max if name == "delta_f" else phys[name]
-            out[base_name(p)] = biject_to(distribution(p).support).inv(to_base(p, xi))
-        return out
-
-    jac = jax.jacfwd(unconstrained)(x0)
+    jac = _jacobian(shapes_of(priors), free, x0, float(fit.parameters["f_max"]),
+                    prior_values(priors))
     se = np.array([fit.std_errors.get(n, np.inf) for n in free])
     corr = np.nan_to_num(np.asarray(fit.correlation, dtype=float), nan=0.0)
     good = np.isfinite(se)
@@ -208,54 +217,9 @@ def _initial_mass(priors, fit, data):
     return jnp.asarray(mass + 1e-12 * np.trace(mass) * np.eye(size))
 
 
-def fit_bayes(
-    records,
-    *,
-    free: Sequence[str] | None = None,
-    fixed: Mapping[str, float] | None = None,
-    bounds: Mapping[str, tuple[float, float]] | None = None,
-    prior: str = "bounds",
-    normal_load: float | None = None,
-    num_warmup: int = 1000,
-    num_samples: int = 1000,
-    num_chains: int = 4,
-    seed: int = 0,
-    target_accept: float = 0.9,
-    rhat_max: float = 1.01,
-    ess_min_per_chain: float = 100.0,
-    least_squares=None,
-    progress_bar: bool = False,
-    on_block=None,
-) -> BayesResult:
-    """Posterior of the 1990 model's constants and of the noise level, sampled with NUTS.
-
-    **Arguments:**
-
-    - `records`: a time-history `TestRecord` or a list of them (one interface).
-    - `free`, `fixed`, `normal_load`: as `fit_bearing_test` (default free set: its default).
-    - `bounds`: name -> (lower, upper) prior range (SI); must lie inside the physical range.
-    - `prior`: `"bounds"` (log-uniform on the ranges) or `"table1"` (informative, from the
-      spread of Table 1 of the paper); see `identification.bayes._priors`.
-    - `num_warmup`, `num_samples`, `num_chains`, `seed`: NUTS settings (chains vectorised).
-    - `rhat_max`, `ess_min_per_chain`: convergence thresholds; a run with any divergence, an
-      R-hat above `rhat_max` or a bulk/tail ESS below `ess_min_per_chain * num_chains` is
-      reported `converged=False` with the reason in `messages`.
-    - `least_squares`: a `BearingFit` of these records to start from (else it is computed).
-    - `progress_bar`: numpyro's bar on stderr (warm-up, then each block of draws, with the
-      time left).
-    - `on_block`: called as `on_block(done, total)` (draws per chain) after the warm-up
-      (`done = 0`) and after each block of draws (`BLOCKS`, `MIN_BLOCK`).
-
-    **Returns:** a `BayesResult`.
-
-    **Raises:** `SamplingInterrupted` (a `KeyboardInterrupt`) on Ctrl-C, carrying the result
-    of the blocks of draws finished so far.
-
-    Refused (`ValueError` with the reason): digitised loops, a record without a reversal of
-    the motion, fewer than `MIN_SAMPLES_PER_PARAMETER` samples per sampled variable, a prior
-    range outside the physical range, an unknown prior.
-    """
-    records = _as_records(records)
+def _check_request(records, free, bounds, num_chains):
+    """The refusals of `fit_bayes` that need no fit (biaxial, no reversal, one chain, a
+    prior range outside the physical one, too few samples for the free set given)."""
     for i, r in enumerate(records):
         if r.is_biaxial:
             name = r.path.name if r.path is not None else f"record {i}"
@@ -276,6 +240,63 @@ def fit_bayes(
             _checked_range(name, pair)
     if free is not None:
         _check_sample_count(records, tuple(free))
+
+
+def fit_bayes(
+    records,
+    *,
+    free: Sequence[str] | None = None,
+    fixed: Mapping[str, float] | None = None,
+    bounds: Mapping[str, tuple[float, float]] | None = None,
+    prior: str = "bounds",
+    normal_load: float | None = None,
+    num_warmup: int = 1000,
+    num_samples: int = 1000,
+    num_chains: int = 4,
+    seed: int = 0,
+    target_accept: float = 0.9,
+    rhat_max: float = 1.01,
+    ess_min_per_chain: float = 100.0,
+    least_squares=None,
+    progress_bar: bool = False,
+    on_block=None,
+    reuse_compiled: bool = True,
+) -> BayesResult:
+    """Posterior of the 1990 model's constants and of the noise level, sampled with NUTS.
+
+    **Arguments:**
+
+    - `records`: a time-history `TestRecord` or a list of them (one interface).
+    - `free`, `fixed`, `normal_load`: as `fit_bearing_test` (default free set: its default).
+    - `bounds`: name -> (lower, upper) prior range (SI); must lie inside the physical range.
+    - `prior`: `"bounds"` (log-uniform on the ranges) or `"table1"` (informative, from the
+      spread of Table 1 of the paper); see `identification.bayes._priors`.
+    - `num_warmup`, `num_samples`, `num_chains`, `seed`: NUTS settings (chains vectorised).
+    - `rhat_max`, `ess_min_per_chain`: convergence thresholds; a run with any divergence, an
+      R-hat above `rhat_max` or a bulk/tail ESS below `ess_min_per_chain * num_chains` is
+      reported `converged=False` with the reason in `messages`.
+    - `least_squares`: a `BearingFit` of these records to start from (else it is computed).
+    - `progress_bar`: numpyro's bar on stderr (warm-up, then each block of draws, with the
+      time left).
+    - `on_block`: called as `on_block(done, total)` (draws per chain) after the warm-up
+      (`done = 0`) and after each block of draws (`BLOCKS`, `MIN_BLOCK`).
+    - `reuse_compiled`: run the compiled sampler kept for records of this shape (same sample
+      counts, free set, interfaces, chains and warm-up; `identification.bayes._sampler`),
+      so that many fits in one process compile once and keep their memory flat; `False`
+      makes and compiles a numpyro `MCMC` for this fit alone (the earlier way, whose
+      compiled programs accumulate fit after fit).
+
+    **Returns:** a `BayesResult`.
+
+    **Raises:** `SamplingInterrupted` (a `KeyboardInterrupt`) on Ctrl-C, carrying the result
+    of the blocks of draws finished so far.
+
+    Refused (`ValueError` with the reason): digitised loops, a record without a reversal of
+    the motion, fewer than `MIN_SAMPLES_PER_PARAMETER` samples per sampled variable, a prior
+    range outside the physical range, an unknown prior.
+    """
+    records = _as_records(records)
+    _check_request(records, free, bounds, num_chains)
     t0 = _time.perf_counter()
     fit = least_squares if least_squares is not None else fit_bearing_test(
         records, free=free, fixed=fixed, normal_load=normal_load)
@@ -290,60 +311,32 @@ def fit_bayes(
     priors = build_priors(free_names, data, prior=prior, bounds=bounds)
     fixed_values = {k: float(v) for k, v in fit.parameters.items()
                     if k not in free_names and v is not None}
-    model = make_model(priors, fixed_values, tuple(d["n_interfaces"] for d in data))
-    kernel = NUTS(model, dense_mass=True, target_accept_prob=target_accept,
-                  inverse_mass_matrix=_initial_mass(priors, fit, data))
+    shapes = {name: p.shape for name, p in priors.items()}
+    statics = (shapes, tuple(fixed_values), tuple(d["n_interfaces"] for d in data))
+    args = model_args(priors, fixed_values, arrays)
     block = max(-(-num_samples // BLOCKS), min(num_samples, MIN_BLOCK))
-    mcmc = MCMC(kernel, num_warmup=num_warmup, num_samples=block, num_chains=num_chains,
-                chain_method="vectorized", progress_bar=progress_bar,
-                postprocess_fn=make_postprocess(priors))
     starts = _chain_starts(priors, fit, data, num_chains, seed)
+    inverse_mass = _initial_mass(priors, fit, data)
     t1 = _time.perf_counter()
-    base, diverging, interrupted = _sample_in_blocks(
-        mcmc, jax.random.PRNGKey(seed), arrays, starts, num_samples, on_block)
+    if reuse_compiled:
+        sampler = compiled_sampler(*statics, [d["fx"].size for d in data],
+                                   num_warmup=num_warmup, num_chains=num_chains,
+                                   target_accept=target_accept)
+        base, diverging, interrupted = sampler.run(
+            jax.random.PRNGKey(seed), starts, inverse_mass, args, num_samples=num_samples,
+            block=block, on_block=on_block, progress_bar=progress_bar)
+        base = None if base is None else make_postprocess(priors)(base)
+    else:
+        base, diverging, interrupted = sample_uncached(
+            *statics, jax.random.PRNGKey(seed), starts, inverse_mass, args,
+            num_warmup=num_warmup, num_samples=num_samples, num_chains=num_chains,
+            target_accept=target_accept, block=block, postprocess=make_postprocess(priors),
+            on_block=on_block, progress_bar=progress_bar)
     elapsed = _time.perf_counter() - t1
     result = None if base is None else diagnose_run(
         base, diverging, priors, fit, data, rhat_max=rhat_max,
         ess_min=ess_min_per_chain * num_chains, elapsed=elapsed, elapsed_least_squares=t_ls,
-        prior=prior, interrupted=interrupted)
+        prior=prior, interrupted=interrupted, seed=seed)
     if interrupted is not None:
         raise SamplingInterrupted(result)
     return result
-
-
-def _sample_in_blocks(mcmc, key, arrays, starts, num_samples, on_block):
-    """Warm-up, then the draws in blocks of `mcmc.num_samples` (the last one shorter), each
-    continuing from the last state of the one before (`post_warmup_state`).
-
-    **Returns:** (site -> (chains, draws, ...) draws or None, (chains, draws) divergence
-    flags or None, None or why the run stopped early: a `KeyboardInterrupt` between or
-    within blocks ends the loop and keeps the blocks finished).
-    """
-    parts, flags, done = [], [], 0
-    try:
-        key, warm_key = jax.random.split(key)
-        mcmc.warmup(warm_key, arrays, init_params=starts)
-        if on_block is not None:
-            on_block(0, num_samples)
-        while done < num_samples:
-            mcmc.num_samples = min(mcmc.num_samples, num_samples - done)
-            key, run_key = jax.random.split(key)
-            mcmc.run(run_key, arrays, extra_fields=("diverging", "num_steps"))
-            parts.append({k: np.asarray(v) for k, v in
-                          mcmc.get_samples(group_by_chain=True).items()})
-            flags.append(np.asarray(mcmc.get_extra_fields(group_by_chain=True)["diverging"]))
-            mcmc.post_warmup_state = mcmc.last_state
-            done += mcmc.num_samples
-            if on_block is not None:
-                on_block(done, num_samples)
-    except KeyboardInterrupt:
-        where = f"after {done} of {num_samples} draws per chain" if done else "in the warm-up"
-        interrupted = f"interrupted {where}"
-    else:
-        interrupted = None
-    if not parts:
-        return None, None, interrupted
-    base = {k: np.concatenate([p[k] for p in parts], axis=1) for k in parts[0]}
-    return base, np.concatenate(flags, axis=1), interrupted
-
-__all__ = ["fit_bayes", "PARAMETER_NAMES", "SamplingInterrupted"]

@@ -10,40 +10,40 @@ with s_r the RMS measured force of record r [N] and `noise_rel_r` the noise stan
 deviation relative to it (sampled; reported in newtons as `noise_level`).
 """
 
+import functools
+
 import jax
 import jax.numpy as jnp
-import numpy as np
 import numpyro
 import numpyro.distributions as dist
 from numpyro.distributions import biject_to
 
 from ..bearing_fit import simulate_record_force
-from ._priors import ParameterPrior
 
 NOISE_RANGE = (1e-4, 1.0)
 """Range of the log-uniform prior of the relative noise level [-]."""
 
 
-def base_name(p: ParameterPrior) -> str:
-    """Name of the sampled (base-scale) variable of a prior."""
-    return p.site if (p.scale == "logit" and p.loc is None) else f"{p.site}__{p.scale}"
+def base_name(p) -> str:
+    """Name of the sampled (base-scale) variable of a prior (`ParameterPrior` or `PriorShape`)."""
+    return p.site if p.kind == "uniform_physical" else f"{p.site}__{p.scale}"
 
 
-def distribution(p: ParameterPrior):
-    """The numpyro distribution of the base-scale variable of one prior (bounded support)."""
-    if p.scale == "logit" and p.loc is None:
-        return dist.Uniform(p.low, p.high)
-    t_lo, t_hi = (float(x) for x in p.transformed_bounds())
-    if p.loc is None:
-        return dist.Uniform(t_lo, t_hi)
-    if not (np.isfinite(t_lo) or np.isfinite(t_hi)):
-        return dist.Normal(p.loc, p.sd)
-    return dist.TruncatedNormal(p.loc, p.sd, low=t_lo, high=t_hi)
+def distribution(p, values=None):
+    """The numpyro distribution of the base-scale variable of one prior (bounded support):
+    `p` a `ParameterPrior`, or a `PriorShape` with `values` = (lower, upper, loc, sd) on the
+    base scale (`ParameterPrior.base_values`; traced inside a compiled sampler)."""
+    lo, hi, loc, sd = p.base_values() if values is None else values
+    if p.kind in ("uniform_physical", "uniform"):
+        return dist.Uniform(lo, hi)
+    if p.kind == "normal":
+        return dist.Normal(loc, sd)
+    return dist.TruncatedNormal(loc, sd, low=lo, high=hi)
 
 
-def to_base(p: ParameterPrior, x):
+def to_base(p, x):
     """Physical value -> base-scale value (numpy or jax)."""
-    if p.scale == "logit" and p.loc is None:
+    if p.kind == "uniform_physical":
         return x
     if p.scale == "log":
         return jnp.log(x)
@@ -52,9 +52,9 @@ def to_base(p: ParameterPrior, x):
     return jnp.log(x - 1.0)
 
 
-def to_physical(p: ParameterPrior, b):
+def to_physical(p, b):
     """Base-scale value -> physical value."""
-    if p.scale == "logit" and p.loc is None:
+    if p.kind == "uniform_physical":
         return b
     if p.scale == "log":
         return jnp.exp(b)
@@ -100,19 +100,23 @@ def _forward_mode_force(n_interfaces: tuple[int, int], names: tuple[str, ...]):
     return force
 
 
-def make_model(priors: dict, fixed: dict, n_interfaces: tuple):
-    """A numpyro model `model(data)`; `data` is a list of record dicts (see `record_data`).
-    The model has breakaway (Eq. 17) where `breakaway_ratio` has a prior or a fixed value."""
+def make_model(shapes: dict, fixed_names: tuple, n_interfaces: tuple):
+    """A numpyro model `model(data, prior_values, fixed_values)`: `shapes` name ->
+    `PriorShape` of each sampled constant, `fixed_names` the constants held, `n_interfaces`
+    (parallel, series) of each record. Its arguments are data: `data` a list of record dicts
+    (see `record_data`), `prior_values` name -> `ParameterPrior.base_values()`, `fixed_values`
+    name -> value, so that one compiled sampler serves records of one shape. The model has
+    breakaway (Eq. 17) where `breakaway_ratio` has a prior or a fixed value."""
 
-    names = tuple(k for k in _ORDER if k in priors or k in fixed)
+    names = tuple(k for k in _ORDER if k in shapes or k in fixed_names)
     forces = {n: _forward_mode_force(n, names) for n in set(n_interfaces)}
 
-    def model(data):
-        values = {k: jnp.asarray(v) for k, v in fixed.items()}
-        for name, p in priors.items():
-            b = numpyro.sample(base_name(p), distribution(p))
+    def model(data, prior_values, fixed_values):
+        values = {k: jnp.asarray(fixed_values[k]) for k in fixed_names}
+        for name, p in shapes.items():
+            b = numpyro.sample(base_name(p), distribution(p, prior_values[name]))
             values[name] = to_physical(p, b)
-        if "delta_f" in priors:
+        if "delta_f" in shapes:
             values["delta_f"] = values["delta_f"] * values["f_max"]
         noise = numpyro.sample(
             "noise_rel", dist.LogUniform(*NOISE_RANGE).expand([len(data)]).to_event(1))
@@ -125,17 +129,44 @@ def make_model(priors: dict, fixed: dict, n_interfaces: tuple):
     return model
 
 
+def prior_values(priors: dict) -> dict:
+    """name -> `ParameterPrior.base_values()` as arrays (data of a compiled sampler)."""
+    return {name: jnp.asarray(p.base_values()) for name, p in priors.items()}
+
+
+def model_args(priors: dict, fixed: dict, arrays: list) -> tuple:
+    """The arguments of `make_model`'s model: (record arrays, prior values, fixed values)."""
+    return (arrays, prior_values(priors), {name: jnp.asarray(float(v)) for name, v in fixed.items()})
+
+
+def shapes_of(priors: dict) -> tuple:
+    """((name, `PriorShape`), ...) of the priors: the static part, a key of compiled code."""
+    return tuple((name, p.shape) for name, p in priors.items())
+
+
+@functools.partial(jax.jit, static_argnums=0)
+def unconstrain(shapes: tuple, values: dict, values_of_priors: dict) -> dict:
+    """Sampled site -> unconstrained value (NUTS's coordinates) of the sampled variables'
+    physical `values` (delta_f as delta_f / f_max); `shapes` as `shapes_of`."""
+    return {base_name(p): biject_to(distribution(p, values_of_priors[name]).support).inv(
+        to_base(p, values[name])) for name, p in shapes}
+
+
+@functools.partial(jax.jit, static_argnums=0)
+def constrain(shapes: tuple, params: dict, values_of_priors: dict) -> dict:
+    """Unconstrained draws -> base-scale draws of every sampled site (noise_rel included)."""
+    out = {base_name(p): biject_to(distribution(p, values_of_priors[name]).support)(
+        params[base_name(p)]) for name, p in shapes}
+    out["noise_rel"] = biject_to(dist.LogUniform(*NOISE_RANGE).support)(params["noise_rel"])
+    return out
+
+
 def make_postprocess(priors: dict):
     """Unconstrained -> base-scale samples without re-running the simulator per draw.
 
     numpyro's default post-processing traces the model (the whole simulation) for every
     draw to fill deterministic sites; this model has none, so the bijections of the
-    supports suffice.
+    supports suffice (`constrain`, compiled once per shape of priors).
     """
-    supports = {base_name(p): distribution(p).support for p in priors.values()}
-    supports["noise_rel"] = dist.LogUniform(*NOISE_RANGE).support
-
-    def constrain(params):
-        return {k: biject_to(supports[k])(v) for k, v in params.items()}
-
-    return constrain
+    shapes, values = shapes_of(priors), prior_values(priors)
+    return lambda params: constrain(shapes, params, values)

@@ -26,6 +26,7 @@ their search ranges would not follow the record's units of scale).
 
 import dataclasses
 import math
+from typing import NamedTuple
 
 import numpy as np
 
@@ -45,6 +46,15 @@ SITE = {"f_max": "f_max", "delta_f": "delta_ratio", "rate_a": "rate_a",
 """Name of the sampled variable of each constant (delta_f is sampled as delta_f / f_max)."""
 
 
+class PriorShape(NamedTuple):
+    """What a compiled sampler needs to know of a prior, without its numbers: the sampled
+    site, its `scale` and the `kind` of distribution (`ParameterPrior.kind`)."""
+
+    site: str
+    scale: str
+    kind: str
+
+
 @dataclasses.dataclass(frozen=True)
 class ParameterPrior:
     """Prior of one sampled variable on `(low, high)`.
@@ -62,6 +72,34 @@ class ParameterPrior:
 
     def transformed_bounds(self):
         return _forward(self.scale, self.low), _forward(self.scale, self.high)
+
+    @property
+    def kind(self) -> str:
+        """The distribution of the sampled (base-scale) variable: "uniform_physical" (uniform
+        in the physical value on (low, high): delta_ratio), "uniform" (uniform on the scale),
+        "normal" (N(loc, sd) on a scale that maps (low, high) to the whole line) or
+        "truncated_normal"."""
+        if self.loc is None:
+            return "uniform_physical" if self.scale == "logit" else "uniform"
+        t_lo, t_hi = self.transformed_bounds()
+        return "normal" if not (np.isfinite(t_lo) or np.isfinite(t_hi)) else "truncated_normal"
+
+    @property
+    def shape(self) -> PriorShape:
+        return PriorShape(self.site, self.scale, self.kind)
+
+    def base_values(self) -> np.ndarray:
+        """(lower, upper, loc, sd) of the base-scale distribution (`kind`): the numbers a
+        compiled sampler takes as data (placeholders 0, 1 where the kind has none)."""
+        kind = self.kind
+        if kind == "uniform_physical":
+            return np.array([self.low, self.high, 0.0, 1.0])
+        t_lo, t_hi = (float(x) for x in self.transformed_bounds())
+        if kind == "uniform":
+            return np.array([t_lo, t_hi, 0.0, 1.0])
+        if kind == "normal":
+            return np.array([0.0, 1.0, self.loc, self.sd])
+        return np.array([t_lo, t_hi, self.loc, self.sd])
 
 
 def _forward(scale, x):

@@ -4,13 +4,13 @@ import dataclasses
 import math
 import warnings as _warnings
 
-import jax
 import numpy as np
 
 from teflon_jax.bearing import PARAMETER_BOUNDS
+from teflon_jax.formats import BearingPosterior, thinned_posterior
 
 from ..bearing_fit import PARAMETER_NAMES
-from ._model import base_name, distribution, to_base, to_physical
+from ._model import base_name, to_base, to_physical
 
 UNITS = {**{name: PARAMETER_BOUNDS[name].unit for name in PARAMETER_NAMES[:5]},
          "noise_level": "N"}
@@ -47,6 +47,7 @@ class BayesResult:
     - `elapsed_s`, `elapsed_least_squares_s`: wall times of sampling and of the LS fit [s].
     - `interrupted`: why sampling stopped before all the draws asked for (e.g. "interrupted
       after 100 of 1000 draws per chain"), else None; an interrupted run is not converged.
+    - `seed`: the sampler's random seed.
     """
 
     draws: dict
@@ -65,6 +66,16 @@ class BayesResult:
     rhat_max: float
     ess_min: float
     interrupted: str | None = None
+    seed: int = 0
+
+    def bearing_posterior(self, max_draws: int = 1000) -> BearingPosterior:
+        """The draws of the free constants as a `teflon_jax.formats.BearingPosterior` for the
+        bearing file: the chains one after the other, thinned to at most `max_draws`, with
+        each constant's bulk ESS of the whole run. `ValueError` (naming the constant) where
+        an ESS is below `MIN_POSTERIOR_ESS`."""
+        return thinned_posterior({n: self.draws[n] for n in self.free},
+                                 {n: self.table[n]["ess_bulk"] for n in self.free},
+                                 max_draws=max_draws, chains=self.num_chains, seed=self.seed)
 
     def summary(self, unit_of=None) -> str:
         """Text table: mean, median, 5-95 % interval, R-hat, ESS, identification; SI, or in
@@ -161,12 +172,33 @@ class BayesResult:
                 else float("nan") for n in self.free}
 
 
-def _prior_sd(p, n=20000):
-    return float(np.std(np.asarray(distribution(p).sample(jax.random.PRNGKey(1), (n,)))))
+def _prior_sd(p) -> float:
+    """Standard deviation of a prior on its base scale (`ParameterPrior.kind`), closed form:
+    (b - a) / sqrt(12) for a uniform on (a, b); for N(m, s) truncated to (a, b), with
+    alpha = (a - m) / s, beta = (b - m) / s and Z = Phi(beta) - Phi(alpha),
+    s^2 [1 + (alpha phi(alpha) - beta phi(beta)) / Z - ((phi(alpha) - phi(beta)) / Z)^2]
+    (Johnson, Kotz & Balakrishnan, "Continuous Univariate Distributions" 1, 1994, 13.10)."""
+    lo, hi, loc, sd = (float(x) for x in p.base_values())
+    if p.kind in ("uniform_physical", "uniform"):
+        return (hi - lo) / math.sqrt(12.0)
+    if p.kind == "normal":
+        return sd
+    alpha, beta = (lo - loc) / sd, (hi - loc) / sd
+
+    def phi(x):
+        return 0.0 if math.isinf(x) else math.exp(-0.5 * x * x) / math.sqrt(2.0 * math.pi)
+
+    def x_phi(x):
+        return 0.0 if math.isinf(x) else x * phi(x)
+
+    mass = 0.5 * (math.erf(beta / math.sqrt(2.0)) - math.erf(alpha / math.sqrt(2.0)))
+    var = (1.0 + (x_phi(alpha) - x_phi(beta)) / mass
+           - ((phi(alpha) - phi(beta)) / mass) ** 2)
+    return sd * math.sqrt(var)
 
 
 def diagnose_run(base, diverging, priors, fit, data, *, rhat_max, ess_min, elapsed,
-                 elapsed_least_squares, prior, interrupted=None) -> BayesResult:
+                 elapsed_least_squares, prior, interrupted=None, seed=0) -> BayesResult:
     """Summaries and convergence checks of a numpyro run: `base`, site -> (chains, draws, ...)
     draws of the sampled sites; `diverging`, (chains, draws) flags; `interrupted`, why the run
     stopped early (then it is not converged), or None."""
@@ -234,6 +266,6 @@ def diagnose_run(base, diverging, priors, fit, data, *, rhat_max, ess_min, elaps
         least_squares=fit, prior=prior, priors=priors, free=free,
         num_chains=int(diverging.shape[0]), num_samples=int(diverging.shape[1]),
         elapsed_s=float(elapsed), elapsed_least_squares_s=float(elapsed_least_squares),
-        rhat_max=float(rhat_max), ess_min=float(ess_min), interrupted=interrupted)
+        rhat_max=float(rhat_max), ess_min=float(ess_min), interrupted=interrupted, seed=int(seed))
     result._diverging = diverging
     return result

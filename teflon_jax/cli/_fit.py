@@ -9,7 +9,7 @@ import re
 import sys
 
 from ..units import INCH, parse_quantity
-from ._bearing_flags import add_save_bearing_flag, check_output_file, save_bearing_flag
+from ._bearing_flags import add_save_bearing_flag, check_output_file
 from ._common import (
     ISOLATORS,
     _write_json,
@@ -19,6 +19,8 @@ from ._common import (
     read_bearing_record,
     read_quantities,
 )
+from ._fit_bayes import _unit_of as _unit_of
+from ._fit_bayes import add_bayes_file_flags, check_bayes_flags
 from ._triple import SERIES_ISOLATORS
 
 PARAMETER_DIMENSIONS = {"f_max": "dimensionless", "delta_f": "dimensionless", "rate_a": "slowness",
@@ -70,8 +72,9 @@ def add_fit_parser(subparsers) -> argparse.ArgumentParser:
                         help="also sample the posterior with NUTS (numpyro), warm-started from "
                              "the least-squares fit, and write posterior.json (mean, median, "
                              "5-95 %% interval, R-hat, ESS), posterior.nc (draws, ArviZ layout) "
-                             "and pairs.png into DIR; exits 1 when the chains did not converge, 130 "
-                             "on Ctrl-C (the draws so far written, not converged)")
+                             "and pairs.png into DIR, and with --save-bearing the draws into the "
+                             "bearing file beside the point estimate; exits 1 when the chains did "
+                             "not converge, 130 on Ctrl-C (the draws so far written, not converged)")
     parser.add_argument("--prior", choices=("bounds", "table1"), default="bounds",
                         help="with --bayes: log-uniform over physical bounds, or Table 1 as an "
                              "informative prior (default bounds)")
@@ -80,6 +83,7 @@ def add_fit_parser(subparsers) -> argparse.ArgumentParser:
     parser.add_argument("--chains", type=int, default=4, help="with --bayes: chains (default 4)")
     parser.add_argument("--seed", type=int, default=0, help="with --bayes: random seed (default 0)")
     parser.add_argument("--no-progress", action="store_true", help="with --bayes: no progress bar")
+    add_bayes_file_flags(parser)
     parser.add_argument("--effects", default=None, metavar="NAME,...",
                         help="fit Eq. 1 with Bouc-Wen plus these optional parts of the bearing "
                              "model (one record; e.g. backlash,asymmetry as `diagnose` names "
@@ -137,6 +141,11 @@ def run_fit(args) -> int:
 
     from ..report import plot_fit
 
+    try:
+        check_bayes_flags(args)
+    except ValueError as error:
+        print(f"teflon-jax fit: error: {error}", file=sys.stderr)
+        return 2
     if args.isolator in SERIES_ISOLATORS:
         from ._fit_triple import run_fit_triple
 
@@ -163,6 +172,10 @@ def run_fit(args) -> int:
         free = parse_free(args.free) if args.free is not None else None
         fixed = _parse_fixed(args.fixed)
         records = [read_bearing_record(p) for p in args.records]
+        if args.each:
+            from ._fit_bayes import run_fit_each
+
+            return run_fit_each(args, free, fixed, records, _save_fitted)
         print(f"teflon-jax fit: {len(records)} record(s), {args.starts} least-squares starts "
               "(compiling first)...", file=sys.stderr)
         fit = fit_bearing_test(records, free=free, fixed=fixed, normal_load=args.normal_load,
@@ -190,7 +203,9 @@ def run_fit(args) -> int:
           file=sys.stderr)
     if args.bayes is None or not fit.converged:
         return 0 if fit.converged else 1
-    return _run_bayes(args, records, free, fixed, fit)
+    from ._fit_bayes import run_bayes
+
+    return run_bayes(args, records, fixed, fit, _save_fitted)
 
 
 def fit_status(fit, notes: int, records) -> str:
@@ -211,17 +226,27 @@ def fit_status(fit, notes: int, records) -> str:
             f"no result (exit status 1); see the warnings above and {command}")
 
 
-def _save_fitted(args, fit, records) -> None:
-    """`--save-bearing`: the least-squares bearing with its standard errors."""
+def _save_fitted(args, fit, records, *, posterior=None, bayes=None, path=None,
+                 sources=None) -> None:
+    """`--save-bearing` (or `path`): the least-squares bearing with its standard errors, and
+    the draws of `posterior` (a `BearingPosterior`) with `bayes`, a summary of the run."""
     from identification.bearing_fit import fitted_bearing, part_errors
 
-    from ..formats import interface_counts
+    from ..formats import interface_counts, save_bearing
 
+    path = args.save_bearing if path is None else path
+    if path is None:
+        return
     series = interface_counts(records[0].metadata)[1]
-    save_bearing_flag(args, fitted_bearing(fit, interfaces_in_series=series),
-                      standard_errors=part_errors(fit.std_errors), sources=args.records,
-                      fit={"command": "fit", "effects": [], "nrmse": fit.nrmse,
-                           "converged": bool(fit.converged), "free": list(fit.free)})
+    summary = {"command": "fit", "effects": [], "nrmse": fit.nrmse,
+               "converged": bool(fit.converged), "free": list(fit.free)}
+    save_bearing(path, fitted_bearing(fit, interfaces_in_series=series),
+                 standard_errors=part_errors(fit.std_errors),
+                 sources=args.records if sources is None else sources,
+                 fit=summary if bayes is None else {**summary, "bayes": bayes},
+                 posterior=posterior)
+
+
 def _is_correlation_note(text: str) -> bool:
     """A high correlation between two fitted constants: a note, which leaves a fit clean
     (`BearingFit.clean`), not a warning."""
@@ -236,69 +261,6 @@ def _check_counts(args) -> None:
         raise ValueError(f"--draws: must be >= 10 (warm-up steps and draws per chain), got {args.draws}.")
     if args.bayes is not None and args.chains < 2:
         raise ValueError(f"--chains: must be >= 2 (R-hat compares chains), got {args.chains}.")
-
-
-def _run_bayes(args, records, free, fixed, least_squares) -> int:
-    """`fit --bayes DIR`: the posterior, warm-started from `least_squares`; 1 unless converged,
-    130 when interrupted (Ctrl-C), with the draws finished so far written as not converged."""
-    from identification.bayes import SamplingInterrupted, fit_bayes
-
-    out = pathlib.Path(args.bayes)
-    print(f"teflon-jax fit --bayes: NUTS, {args.chains} chains x ({args.draws} warm-up steps + "
-          f"{args.draws} draws), each step a simulation of the records per leapfrog step: minutes "
-          "to hours; the bar shows the time left (Ctrl-C stops, keeping the draws so far, "
-          "reported as not converged).", file=sys.stderr)
-    try:
-        out.mkdir(parents=True, exist_ok=True)
-        result = fit_bayes(records, free=least_squares.free, fixed=fixed,
-                           normal_load=args.normal_load, prior=args.prior,
-                           num_warmup=args.draws, num_samples=args.draws, num_chains=args.chains,
-                           seed=args.seed, least_squares=least_squares,
-                           progress_bar=not args.no_progress, on_block=_print_block)
-    except (ValueError, OSError) as error:
-        print(f"teflon-jax fit --bayes: error: {error}", file=sys.stderr)
-        return 2
-    except SamplingInterrupted as stop:
-        if stop.result is None:
-            _write_json(out / "posterior.json", {
-                "converged": False, "status": "interrupted in the warm-up: no draws",
-                "least_squares": str(args.json)})
-        else:
-            _write_posterior(args, out, stop.result)
-        why = stop.result.interrupted if stop.result else "interrupted in the warm-up"
-        print(f"teflon-jax fit --bayes: {why}; {out / 'posterior.json'} says so (not "
-              f"converged); the least-squares fit is in {args.json}.", file=sys.stderr)
-        return 130
-    _write_posterior(args, out, result)
-    return 0 if result.converged else 1
-
-
-def _print_block(done: int, total: int) -> None:
-    """One line per block of draws (also with --no-progress)."""
-    what = "warm-up done" if done == 0 else f"{done} of {total} draws per chain done"
-    print(f"teflon-jax fit --bayes: {what}", file=sys.stderr, flush=True)
-
-
-def _write_posterior(args, out, result) -> None:
-    """posterior.json, posterior.nc, pairs.png and the table on stderr."""
-    _write_json(out / "posterior.json", result.to_json_dict())
-    result.to_netcdf(out / "posterior.nc")
-    result.plot_pairs(out / "pairs.png", unit_of=_unit_of(args.units))
-    print(result.summary(unit_of=_unit_of(args.units)), file=sys.stderr)
-    for message in result.messages:
-        print(f"teflon-jax fit --bayes: {message}", file=sys.stderr)
-
-
-def _unit_of(family: str):
-    """name -> (unit, SI value of one unit) of `--units` for the posterior table."""
-    from ..report import parameter_unit
-
-    units = output_units(family)
-
-    def unit_of(name):
-        return units.force if name == "noise_level" else parameter_unit(name, units.length)
-
-    return unit_of
 
 
 def _shown(name, value, error, us):
