@@ -3,7 +3,8 @@
 `python benchmarks/engine_numbers.py dump OUT.npz` runs a fixed set of structures under the
 same stochastic motions (the rigid mass and the Table 2 building on double and triple friction
 pendulums, in one and two horizontal components, with and without a vertical component; on
-flat sliders and single pendulums in one) and the imposed-path test of the series pendulums,
+flat sliders and single pendulums in one and two, with and without a vertical component, and
+the slab on flat sliders and on single pendulums) and the imposed-path test of the series pendulums,
 and saves every history. Run it under each version (`PYTHONPATH=/path/to/other/checkout`), then
 `python benchmarks/engine_numbers.py compare OLD.npz NEW.npz` prints, per case, the largest
 difference over the largest value and exits 1 where one exceeds `--tolerance` (1e-9).
@@ -20,16 +21,22 @@ jax.config.update("jax_enable_x64", True)
 
 from teflon_jax.bearing import BoucWen, DoublePendulum, FrictionParameters, TriplePendulum  # noqa: E402
 from teflon_jax.excitation import StochasticGroundMotion, sample, uniform_signal  # noqa: E402
+from teflon_jax.studies import bidirectional_isolated_structure  # noqa: E402
 from teflon_jax.systems import (  # noqa: E402
     BiaxialStructureOnTriple,
     biaxial_histories,
     isolated_structure,
+    simulate_bidirectional,
     simulate_structure,
     simulate_triple_structure,
     simulate_triple_test,
+    slab_on_bearings,
     triple_structure,
+    with_vertical_component,
+    with_vertical_motion,
 )
-from teflon_jax.units import STANDARD_GRAVITY  # noqa: E402
+from teflon_jax.tables import interface_parameters  # noqa: E402
+from teflon_jax.units import PSI, STANDARD_GRAVITY  # noqa: E402
 
 DURATION, RECORD_STEP, TIME_STEP = 12.0, 0.01, 0.005
 DOUBLE = DoublePendulum(bottom_radius=1.5, top_radius=2.0, bottom_capacity=0.3, top_capacity=0.3,
@@ -75,12 +82,42 @@ def _flat_cases(out):
             system = isolated_structure(kind, isolator=isolator, **extra)(uniform_signal(_ground(1), RECORD_STEP))
             response = jax.jit(simulate_structure, static_argnums=1)(system, DURATION)
             out[f"{isolator}-{kind}-1d-displacement"] = np.asarray(response.displacement)
+            planar = bidirectional_isolated_structure(kind, isolator=isolator, **extra)
+            pair = (uniform_signal(_ground(1), RECORD_STEP), uniform_signal(_ground(2, 0.8), RECORD_STEP))
+            for with_vertical in (False, True):
+                if with_vertical:
+                    system = with_vertical_component(planar)((pair, uniform_signal(0.5 * _ground(9), RECORD_STEP)))
+                else:
+                    system = planar(pair)
+                response = jax.jit(simulate_bidirectional, static_argnums=1)(system, DURATION)
+                out[f"{isolator}-{kind}-vertical{int(with_vertical)}-2d-q"] = np.asarray(response.q)
+                out[f"{isolator}-{kind}-vertical{int(with_vertical)}-2d-force"] = np.asarray(response.friction_force)
+    _slab_cases(out)
 
 
-def dump(path):
+def _slab_cases(out):
+    params, _ = interface_parameters("UF", 1000 * PSI)
+    from teflon_jax.bearing import paper_bearing
+
+    corners = np.array([[2.0, 1.0], [18.0, 1.0], [18.0, 11.0], [2.0, 11.0]])
+    for isolator, extra in (("flat", {"isolation_period": 2.5}), ("single-fp", {"radii": 1.5})):
+        for height in (0.0, 3.0):
+            slab = slab_on_bearings(
+                length_x=20.0, length_y=12.0, weight=1e6, centre_of_mass=(9.0, 6.5), positions=corners,
+                loads=[2.6e5, 2.4e5, 2.4e5, 2.6e5], bearings=paper_bearing(params), isolator=isolator,
+                ground_x=uniform_signal(_ground(1), RECORD_STEP), ground_y=uniform_signal(_ground(2, 0.8), RECORD_STEP),
+                time_step=TIME_STEP, height_of_centre_of_mass=height, **extra)
+            slab = with_vertical_motion(slab, uniform_signal(0.5 * _ground(9), RECORD_STEP))
+            response = jax.jit(simulate_bidirectional, static_argnums=1)(slab, DURATION)
+            out[f"slab-{isolator}-h{height:g}-q"] = np.asarray(response.q)
+
+
+def dump(path, cases="all"):
     out = {}
-    _series_cases(out)
-    _flat_cases(out)
+    if cases in ("all", "series"):
+        _series_cases(out)
+    if cases in ("all", "flat"):
+        _flat_cases(out)
     np.savez(path, **out)
     print(f"{len(out)} histories -> {path}")
 
@@ -103,14 +140,17 @@ def compare(old_path, new_path, tolerance):
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     sub = parser.add_subparsers(dest="command", required=True)
-    sub.add_parser("dump").add_argument("out")
+    dumping = sub.add_parser("dump")
+    dumping.add_argument("out")
+    dumping.add_argument("--cases", choices=("all", "series", "flat"), default="all",
+                         help="all, the series pendulums, or the flat sliders, single pendulums and slabs")
     both = sub.add_parser("compare")
     both.add_argument("old")
     both.add_argument("new")
     both.add_argument("--tolerance", type=float, default=1e-9)
     args = parser.parse_args(argv)
     if args.command == "dump":
-        dump(args.out)
+        dump(args.out, args.cases)
         return 0
     return compare(args.old, args.new, args.tolerance)
 

@@ -246,8 +246,8 @@ def test_nonlinear_surface_is_refused_where_it_does_not_run():
     surface = concave_surface(RADIUS, displacement_capacity=0.15, restrainer_stiffness=2e6)
     with pytest.raises(ValueError, match="surface: its restrainer"):
         isolated_structure("rigid", isolator="single-fp", surface=surface, friction_model="coulomb")
-    with pytest.raises(ValueError, match="surface: two ground components"):
-        bidirectional_isolated_structure("rigid", isolator="single-fp", surface=surface)
+    with pytest.raises(ValueError, match="surface: its restrainer"):  # in two components too
+        bidirectional_isolated_structure("rigid", isolator="single-fp", surface=surface, friction_model="coulomb")
     with pytest.raises(ValueError, match="radius: give the radius or a surface"):
         isolated_structure("rigid", isolator="single-fp", surface=surface, radius=RADIUS)
 

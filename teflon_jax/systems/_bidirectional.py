@@ -37,8 +37,8 @@ from ._bearing_test import running_peak_rate
 from ._bidirectional_laws import (
     coulomb_solve,
     no_friction_solve,
-    surface_forces,
     surface_tangent,
+    with_surface_forces,
 )
 from ._bidirectional_vertical import (
     loaded_bidirectional,
@@ -196,7 +196,7 @@ class BidirectionalStructure(AbstractSteppedSystem):
         forces = self.bearing_forces(y)
         if self.surface is not None:
             d = self.bearing_motion(y["q"])
-            forces = forces + jnp.stack(surface_forces(self, d[:, 0], d[:, 1]), -1)
+            forces = jnp.stack(with_surface_forces(self, (forces[:, 0], forces[:, 1]), (d[:, 0], d[:, 1])), -1)
         if self.load is not None:  # the pendulum's (s - 1) W_g / R d_g
             forces = forces + pendulum_change(self)[:, None] * self.bearing_motion(y["q"])
         restoring = jnp.sum(self.bearing_map * forces[..., None], axis=(0, 1))
@@ -307,8 +307,7 @@ class BidirectionalStructure(AbstractSteppedSystem):
         vx, vy = (2 / self.time_step * increment[i] - p["vb0"][i] for i in range(2))
         capacity = self.bearing.coefficient(vx, vy, p["z_peak0"]) * self.bearing_load
         capacity = capacity * self._asymmetry(z[:, 0])[1]
-        extra = surface_forces(self, d[0], d[1])
-        return (capacity * z[:, 0] + extra[0], capacity * z[:, 1] + extra[1]), z
+        return with_surface_forces(self, (capacity * z[:, 0], capacity * z[:, 1]), d), z
 
     def _residual_forces(self, d, p):
         """(residual, forces, Z) at bearing displacements d = (dx, dy): r = d - d_lin + G_b F(d)."""
@@ -335,8 +334,7 @@ class BidirectionalStructure(AbstractSteppedSystem):
         _, dmu_y = jax.jvp(coefficient, (vx, vy), (jnp.zeros_like(vx), jnp.ones_like(vy)))
         load = self.bearing_load
         a, k = self._asymmetry(zs[0])
-        extra = surface_forces(self, d[0], d[1])
-        forces = (mu * load * k * zs[0] + extra[0], mu * load * k * zs[1] + extra[1])
+        forces = with_surface_forces(self, (mu * load * k * zs[0], mu * load * k * zs[1]), d)
         r = affine(p["flexibility"], forces, d, p["d_linear"])
         w = [(h.gamma * jnp.where(increment[i] * zs[i] >= 0, 1.0, -1.0) + h.beta) * zs[i] for i in range(2)]
         dmu = (dmu_x * (2 / dt), dmu_y * (2 / dt))
@@ -378,8 +376,8 @@ class BidirectionalStructure(AbstractSteppedSystem):
         the residual and the smallest yield displacement."""
         capacity = self.bearing.coefficient(p["vb0"][0], p["vb0"][1], p["z_peak0"]) * self.bearing_load
         capacity = capacity * self._asymmetry(p["z0"][0])[1]
-        extra = surface_forces(self, p["d0"][0], p["d0"][1])
-        held = block_matvec(p["flexibility"], (capacity * p["z0"][0] + extra[0], capacity * p["z0"][1] + extra[1]))
+        held = block_matvec(p["flexibility"], with_surface_forces(
+            self, (capacity * p["z0"][0], capacity * p["z0"][1]), p["d0"]))
         x = tuple(p["d_linear"][i] - held[i] for i in range(2))
         yield_disp = jnp.min(jnp.asarray(self.bearing.hysteresis.yield_disp))
         eps = jnp.finfo(jnp.result_type(x[0])).eps

@@ -57,12 +57,18 @@ def check_planar_law(friction_model, surface, bearing):
 
 def surface_forces(system, dx, dy):
     """The surface's force beyond W_g d_g / R (x and y parts, each (G,)) [N] at the groups'
-    displacements (dx, dy) [m], under the groups' loads `bearing_load` (zeros without a
-    nonlinear surface)."""
-    if system.surface is None:
-        return jnp.zeros_like(dx), jnp.zeros_like(dy)
+    displacements (dx, dy) [m], under the groups' loads `bearing_load`."""
     force = system.surface.extra_force(jnp.stack([dx, dy], -1), system.bearing_load)
     return force[:, 0], force[:, 1]
+
+
+def with_surface_forces(system, forces, d):
+    """`forces` (x, y parts) [N] plus the surface's at the displacements `d` (x, y parts) [m];
+    `forces` themselves without a nonlinear surface (no work added to the flat sliders' step)."""
+    if system.surface is None:
+        return forces
+    extra = surface_forces(system, d[0], d[1])
+    return forces[0] + extra[0], forces[1] + extra[1]
 
 
 def surface_tangent(system, dx, dy):
@@ -103,7 +109,9 @@ def coulomb_solve(system, p):
 
     lipschitz = jnp.max(jnp.sum(jnp.abs(compliance), axis=1))  # >= the largest eigenvalue of H
     tolerance = COULOMB_TOLERANCE * jnp.maximum(jnp.max(capacity), jnp.finfo(v_star.dtype).tiny)
-    start = flat(_project(as_groups(jnp.linalg.solve(compliance, v_star)), capacity))
+    # the sticking forces of each group alone (H is singular when the groups outnumber the
+    # structure's degrees of freedom, as on a slab: the forces are then not unique, the motion is)
+    start = flat(_project(as_groups(v_star / jnp.diagonal(compliance)), capacity))
 
     def residual(force):
         return jnp.max(jnp.abs(step(force) - force))

@@ -208,9 +208,9 @@ def _advance(system, propagator, state, ground1, load1=None):
     """
     step_matrix, force_column, shear_row, shear_force = propagator
     if isinstance(system, StructureOnTriple):  # the isolator's state in place of Z
-        x, isolator, ground0, load0 = state  # the load at the step's start, held over it
+        x, isolator, ground0, _ = state  # the load at the step's end
         x1, isolator1, converged, bearing = system.step(x, isolator, ground0, ground1, (step_matrix, force_column),
-                                                        load0)
+                                                        load1)
         shear = small_dot(shear_row, x1, WRITTEN_OUT_PRODUCT) + shear_force * isolator1[3]
         return (x1, isolator1, ground1, load1), x1[0], shear, converged, isolator1[3]
     n = system.mass.shape[-1]

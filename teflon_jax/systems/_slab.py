@@ -108,6 +108,7 @@ def slab_on_bearings(
     height_of_centre_of_mass=0.0,
     vertical_stiffness=None,
     pendulums=None,
+    friction_model: str = "hysteretic",
 ):
     """A rigid slab (x, y, rotation) on bearing groups (module docstring).
 
@@ -135,6 +136,8 @@ def slab_on_bearings(
       `TriplePendulum` or `DoublePendulum` for all groups, or one per group) instead of
       `bearings`; no springs, radii or contact pressures (heated surfaces take theirs from the
       pendulums, each group's times its N_g / W_g; `_slab_series.py`).
+    - `friction_model`: "hysteretic" (Park's Z), "coulomb" or "none" for flat sliders and
+      single pendulums (`_bidirectional_laws.py`); the series pendulums' sliders follow Park's Z.
 
     **Returns:** a `BidirectionalStructure` with q = (u_x [m], u_y [m], theta [rad]); a
     `SlabOnSeries` (`simulate_slab_series`) for the series pendulums.
@@ -151,7 +154,8 @@ def slab_on_bearings(
     if isolator in SERIES_SLAB_ISOLATORS:
         _refuse_for_series(isolator, bearings=bearings, radii=radii, isolation_period=isolation_period,
                            spring_shares=spring_shares, isolation_damping=isolation_damping or None,
-                           contact_pressures=contact_pressures)
+                           contact_pressures=contact_pressures,
+                           friction_model=None if friction_model == "hysteretic" else friction_model)
         return slab_on_series(weight=weight, mass_inertia=inertia, centre_of_mass=centre, positions=positions,
                               loads=loads, pendulums=pendulums, isolator=isolator, ground_x=ground_x,
                               ground_y=ground_y, time_step=time_step, height=height,
@@ -201,6 +205,7 @@ def slab_on_bearings(
         ground_y=ground_y,
         time_step=time_step,
         contact_pressure=contact_pressures,
+        friction_model=friction_model,
     )
     return dataclasses.replace(system, pendulum_stiffness=None if radii is None else jnp.asarray(loads / radii),
                                overturning=None if overturning is None else jnp.asarray(overturning),

@@ -230,11 +230,11 @@ def _balanced_jvp(iterations, primals, tangents):
 
 
 def held_loads(structure, n_steps: int):
-    """N / W (n_steps,) held over each step (its start's) of the structure's vertical record
+    """N / W (n_steps,) of each step (at its end) of the structure's vertical record
     (`StructureOnTriple.load_factor`; `check_duration` checked it lasts), or `None`."""
     if structure.vertical_acceleration is None:
         return None
-    return jax.vmap(structure.load_factor)(jnp.arange(n_steps) * float(structure.time_step))
+    return jax.vmap(structure.load_factor)(jnp.arange(1, n_steps + 1) * float(structure.time_step))
 
 
 def biaxial_histories(system: BiaxialStructureOnTriple, duration: float):

@@ -18,8 +18,8 @@ series model would have no unique balance. The restrainer of stiffness `STOP_STI
 W / R_e beyond the capacity. The linear structure carries a reference spring W / R_ref at the
 isolator (R_ref = `reference_radius()`: b + c of the triple, R_1 + R_2 of the double), and the
 step solves for the part of F beyond it. With a vertical ground acceleration a_v (up +) every
-slider's force is taken under the normal load N = s W, s = max(1 + a_v / g, 0) at the start of
-the step and held over it (as the flat sliders and the single pendulum take it); at s = 0
+slider's force is taken under the normal load N = s W, s = max(1 + a_v / g, 0) at the end of
+the step (as the flat sliders, the single pendulum and the slab take it); at s = 0
 (uplift) the sliders carry nothing and share the isolator's increment as their pendulum
 stiffnesses W / R_e in series would (d_e proportional to R_e), Z following their motion.
 
@@ -167,7 +167,7 @@ def isolator_step(system: StructureOnTriple, isolator, linear, start, compliance
     sliders' increments that balance their forces with the linear step, whose isolator
     displacement is `linear` [m] at the end without the force beyond the reference spring and
     `start` at the step's start, with that force's compliance `compliance` [m/N]; `load` N / W
-    held over the step (`None`: W); `solve` the balance (`_balanced_increments` in one
+    at the step's end (`None`: W); `solve` the balance (`_balanced_increments` in one
     component, the planar one in two).
 
     **Returns:** (the isolator's state at the end (`initial_isolator`), whether the balance
@@ -406,7 +406,7 @@ def simulate_triple_structure(system: StructureOnTriple, duration: float) -> Tri
     x0 = jnp.zeros(2 * n, system.mass.dtype)
     start = (x0, system.initial_isolator())
     _, (x, force, slider, z, converged, acc) = jax.lax.scan(
-        body, start, (ground[:-1], ground[1:], None if loads is None else loads[:-1]))
+        body, start, (ground[:-1], ground[1:], None if loads is None else loads[1:]))
 
     def first(a, b):
         return jnp.concatenate([a[None], b])

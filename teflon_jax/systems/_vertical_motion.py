@@ -4,13 +4,14 @@ friction pendulums (`_vertical.py`), one or two horizontal directions, and the s
 
 Every isolator takes the normal load N = W max(1 + a_v / g, 0) from the vertical record a_v
 (up positive), the superstructure being rigid vertically; at N <= 0 it carries no shear.
-Series pendulums hold N of each step's start over the step (`_triple_structure.py`).
+Every isolator takes N at the end of each step (`_triple_structure.py` for the series pendulums).
 Reference: Almazan, De la Llera & Inaudi (1998), Earthquake Eng. Struct. Dyn. 27(8), 845-867.
 """
 
 import dataclasses
 
 from ..excitation import Signal
+from ._slab_series import SlabOnSeries
 from ._structure_response import check_duration
 from ._triple_biaxial import BiaxialStructureOnTriple
 from ._triple_structure import StructureOnTriple
@@ -24,10 +25,12 @@ def with_vertical_motion(system, vertical_acceleration: Signal, radius=None):
 
     `system`: a `StructureOnSliders` or `BidirectionalStructure` (flat sliders, single friction
     pendulum; `radius` R [m] of a pendulum whose W / R the load scales, see `_vertical.py`), or
-    a `StructureOnTriple` / `BiaxialStructureOnTriple` (triple or double pendulum, whose radii
-    are its surfaces': `radius` must be `None`). `ValueError` naming the argument otherwise.
+    a `StructureOnTriple` / `BiaxialStructureOnTriple` / `SlabOnSeries` (triple or double
+    pendulums, whose radii are their surfaces': `radius` must be `None`); a slab on flat
+    sliders or single pendulums is a `BidirectionalStructure`. `ValueError` naming the
+    argument otherwise.
     """
-    if not isinstance(system, (StructureOnTriple, BiaxialStructureOnTriple)):
+    if not isinstance(system, (StructureOnTriple, BiaxialStructureOnTriple, SlabOnSeries)):
         return _on_sliders(system, vertical_acceleration, radius)
     if not isinstance(vertical_acceleration, Signal):
         raise ValueError("vertical_acceleration: expected a Signal of the vertical ground "
