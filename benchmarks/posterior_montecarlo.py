@@ -247,15 +247,22 @@ def main(argv=None) -> int:
     parser.add_argument("--quick", action="store_true")
     parser.add_argument("--tag", default=None)
     parser.add_argument("--note", default="")
+    parser.add_argument("--motions", type=int, default=None,
+                        help="motions M of the variance study (default 96; more motions make the 95th "
+                             "percentile less sensitive to one motion's jump between branches)")
+    parser.add_argument("--skip-throughput", action="store_true", help="the variance study alone")
     options = parser.parse_args(argv)
     jax = _setup_jax()
     sys.path.insert(0, str(HERE.parent))
-    size = SIZES["quick" if options.quick else "full"]
+    size = dict(SIZES["quick" if options.quick else "full"])
+    if options.motions is not None:
+        size["motions"] = options.motions
     load_before = list(os.getloadavg())
     with tempfile.TemporaryDirectory() as folder:
         fits = {c: fitted_posterior(c, pathlib.Path(folder), options.quick) for c in (3, 10)}
-    out = {"throughput": [throughput(kind, n, size["duration"], fits[3]["posterior"], fits[3]["point"])
-                          for kind, n in size["throughput"].items()]}
+    out = {"throughput": [] if options.skip_throughput else [
+        throughput(kind, n, size["duration"], fits[3]["posterior"], fits[3]["point"])
+        for kind, n in size["throughput"].items()]}
     out["variance"] = variance_study(fits, size["bearings"], size["motions"], size["duration"])
     out["fits"] = {c: f["summary"] for c, f in fits.items()}
     shares = [out["variance"][c]["base_disp"]["variance"]["bearing_share"] for c in (3, 10)]

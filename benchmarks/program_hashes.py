@@ -1,0 +1,41 @@
+"""The compiled programs' text, for showing that a change leaves a structure's run untouched.
+
+`python benchmarks/program_hashes.py` lowers the planar peak driver (`bidirectional_peak_response`
+of the rigid mass and the Table 2 building, on flat sliders and on single pendulums, 20 s of a
+two-component record) and prints the SHA-256 of each lowered program's text, its source locations
+removed. Run it under two versions (`PYTHONPATH=/path/to/other/checkout`): equal hashes mean XLA
+compiles the same program, so the records per second and every number are the same.
+"""
+
+import hashlib
+import re
+
+import jax
+import numpy as np
+
+jax.config.update("jax_enable_x64", True)
+
+from teflon_jax.excitation import uniform_signal  # noqa: E402
+from teflon_jax.studies import bidirectional_isolated_structure, bidirectional_peak_response  # noqa: E402
+
+
+def program_hash(structure, record) -> tuple[str, int]:
+    """SHA-256 (first 16 hex digits) and length of the lowered peak run's text."""
+    def run(a, b):
+        return bidirectional_peak_response(structure((uniform_signal(a, 0.01), uniform_signal(b, 0.01))), 20.0)
+
+    text = jax.jit(run).lower(record, record).as_text()
+    text = re.sub(r"#loc\d*|loc\(.*?\)", "", text)
+    return hashlib.sha256(text.encode()).hexdigest()[:16], len(text)
+
+
+def main():
+    record = 3.0 * np.sin(np.arange(2001) * 0.01)
+    for kind in ("rigid", "building"):
+        for isolator, extra in (("flat", {}), ("single-fp", {"radius": 1.5})):
+            digest, size = program_hash(bidirectional_isolated_structure(kind, isolator=isolator, **extra), record)
+            print(f"{kind:9s} {isolator:10s} {digest} ({size} characters)")
+
+
+if __name__ == "__main__":
+    main()
