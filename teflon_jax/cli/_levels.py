@@ -10,6 +10,10 @@ With `--scheduler` the motions run as chunks on a Dask cluster
 fits, statistics and pelicun files are computed here from those peaks as from an in-process run.
 With `--vertical-ratio` the structure and motions carry the vertical component: the uplifted
 motions of each level are listed, and stay in the counts and statistics.
+With a `--bearing` file's posterior draws every level runs the same draws through the one
+compiled program: `--bearing-draws K` runs K bearings on every level's motions, and each
+limit gets the fit of all runs and its band over the bearings (`fragility_band`); with one
+draw per motion, motion m of every level runs the same draw, and the fit has no band.
 """
 
 import math
@@ -26,6 +30,12 @@ from ._engineering import (
     wants_storeys,
 )
 from ._main import compile_cache_dir
+from ._posterior_flags import (
+    MOTION_DRAWS_NO_BAND,
+    posterior_arguments,
+    posterior_levels_entry,
+    runs_of,
+)
 
 
 def check_level_outputs(args, n_levels: int) -> None:
@@ -78,6 +88,8 @@ def _fragility(limit, result, level_index, levels, unit, factor) -> tuple[dict, 
                   "confidence": fit.confidence, "interval": "profile likelihood (null: not bounded by the data)",
                   "method": "maximum likelihood on the counts at each level (Baker 2015)"})
     if per_draw is None:
+        if result.bearing_draw is not None:  # one draw per motion: no band over the draws
+            entry.update({"bearing_band": None, "bearing_band_none": MOTION_DRAWS_NO_BAND})
         return entry, fit
     band = _bearing_band(entry, limit, levels / factor, per_draw, result.bearing_draw)
     return entry, fit if band is None else band
@@ -88,9 +100,10 @@ BEARING_BAND = 0.90
 
 
 def _bearing_band(entry, limit, levels, per_draw, draws):
-    """`entry["bearing_band"]`: the fragility of each bearing draw's runs and their spread
-    (`fragility_band`: medians, dispersions, the same percentiles of their intervals' ends,
-    the curve band at the levels); the `FragilityBand`, or None (the reason in the entry)."""
+    """`entry["bearing_band"]`: each bearing draw's counts (`n_runs`, `n_exceed` (K, L)), the
+    fragility of each draw's runs and their spread (`fragility_band`: medians, dispersions,
+    the same percentiles of their intervals' ends, the curve band at the levels); the
+    `FragilityBand`, or None (the reason in the entry)."""
     from ..studies import fragility_band
 
     n_runs = np.stack([c[0] for c in per_draw])
@@ -98,7 +111,9 @@ def _bearing_band(entry, limit, levels, per_draw, draws):
     try:
         band = fragility_band(levels, n_runs, n_exceed, band=BEARING_BAND)
     except ValueError as error:
-        entry["bearing_band"] = {"error": f"--limit {limit.text}: {error}", "n_draws": len(per_draw)}
+        entry["bearing_band"] = {"error": f"--limit {limit.text}: {error}", "n_draws": len(per_draw),
+                                 "draws": [int(k) for k in draws], "n_runs": n_runs.tolist(),
+                                 "n_exceed": n_exceed.tolist()}
         return None
 
     def finite(value):
@@ -107,7 +122,7 @@ def _bearing_band(entry, limit, levels, per_draw, draws):
     below, above = band.probability_band(levels)
     entry["bearing_band"] = {
         "band": band.band, "n_draws": len(per_draw), "n_fitted": len(band.draw_fits),
-        "draws": [int(k) for k in draws],
+        "draws": [int(k) for k in draws], "n_runs": n_runs.tolist(), "n_exceed": n_exceed.tolist(),
         "unfitted": {str(int(draws[k])): why for k, why in band.unfitted.items()},
         "median_band": list(band.median_band), "dispersion_band": list(band.dispersion_band),
         "median_interval": [finite(v) for v in band.median_interval],
@@ -149,11 +164,12 @@ def _payload(args, structure, units) -> dict:
                       "level_acceleration": "g", "wall_s": "s"}}
 
 
-def run_levels(args, structure, model, units, statistics) -> int:
+def run_levels(args, structure, model, units, statistics, posterior=None) -> int:
     """Run the motions of every level, then write the JSON, the plot, the results file and the
     pelicun files; returns the exit status (0; 1 when a run failed or a fragility could not be
     fitted: everything is written all the same). `statistics(result, units)`: the JSON
-    statistics of one level's `MonteCarloResult` (those of a one-level run)."""
+    statistics of one level's `MonteCarloResult` (those of a one-level run); `posterior`: the
+    `PosteriorRun` of the --bearing file's draws (`read_posterior_flags`), or None."""
     from ..report import plot_fragility, plot_montecarlo
     from ..studies import save_levels
     from ..tables import load_table2
@@ -165,14 +181,16 @@ def run_levels(args, structure, model, units, statistics) -> int:
     check_level_outputs(args, levels.size)
     unit, factor = intensity_unit(args.pga_text)
     payload = _payload(args, structure, units)
-    stamp = (f"{args.structure}, {args.ptfe} PTFE at {args.pressure_text}, Tb = {args.isolation_period_text}, "
+    bearing = f"{args.ptfe} PTFE at {args.pressure_text}" if args.bearing is None else f"bearing {args.bearing}"
+    stamp = (f"{args.structure}, {bearing}{_draws_words(posterior)}, Tb = {args.isolation_period_text}, "
              f"zeta_b = {args.isolation_damping_text}; Clough-Penzien motions, {args.motions} per level at PGA "
              f"{args.pga_text}, {args.duration_text}, seed {args.seed}"
              + (f"; vertical {args.vertical_ratio:g} x PGA" if args.vertical_ratio is not None else ""))
-    bar = motion_bar(levels.size * args.motions, args.no_progress)
-    result, level_index = _run(args, structure, model, levels, height, lambda done, total: bar.update(done - bar.n))
+    bar = motion_bar(levels.size * runs_of(args, posterior), args.no_progress)
+    result, level_index = _run(args, structure, model, levels, height, lambda done, total: bar.update(done - bar.n),
+                               posterior_arguments(posterior, args.motions))
     bar.close()
-    converged = np.asarray(result.converged, bool)
+    converged = np.asarray(result.converged, bool)  # (L N,), or (K, L N) for K bearings
     files = []
     if args.scheduler is not None:  # streamed there by the cluster's chunks, levels included
         files.append(str(args.out))
@@ -194,21 +212,22 @@ def run_levels(args, structure, model, units, statistics) -> int:
         rows = np.flatnonzero(level_index == j)
         part = _select(result, rows)
         entry = {f"pga_{unit}": level / factor, "motions": [int(rows[0]), int(rows[-1])],
-                 "n_converged": int(converged[rows].sum()), "statistics": statistics(part, units)}
+                 "n_converged": int(converged[..., rows].sum()), "statistics": statistics(part, units)}
         if result.storey_drift is not None:
             entry["storeys"] = _storey_summary(result, rows, units)
         if result.uplift_time is not None:  # the level's vertical records: N = W (1 + a_v / g) <= 0
-            entry["uplift"] = uplift_of(result.uplift_time, rows)
+            entry["uplift"] = uplift_of(_first_bearing(result.uplift_time, result), rows)
         per_level.append(entry)
     fragility, curves = {}, {}
     for limit in limits:
         fragility[limit.text], curves[limit.text] = _fragility(limit, result, level_index, levels, unit, factor)
     payload.update({"n_motions": result.n_motions, "motions_per_level": args.motions,
-                    "n_converged": int(converged.sum()), "not_converged": np.flatnonzero(~converged).tolist(),
+                    "n_converged": int(converged.sum()), "not_converged": _failed_runs(converged),
                     "all_converged": bool(converged.all()), "wall_s": result.wall_s, "compile_s": result.compile_s,
                     "levels": per_level, "fragility": fragility, "files": files})
     payload["motions"]["pga_levels"] = {"unit": unit, "values": (levels / factor).tolist()}
     payload.update(uplift_payload(result, model))
+    payload.update(posterior_levels_entry(result, posterior))
     if "vertical" in payload:
         payload["vertical"]["levels"] = ("the vertical component's expected peak is vertical_ratio times "
                                          "each level's; the uplifted motions of each level under levels[j].uplift")
@@ -226,17 +245,18 @@ def run_levels(args, structure, model, units, statistics) -> int:
     return _report(result, levels, level_index, unit, factor, fragility, per_level)
 
 
-def _run(args, structure, model, levels, height, progress):
+def _run(args, structure, model, levels, height, progress, draws):
     """(`MonteCarloResult` of every level's motions, level index of each): in this process
-    (`monte_carlo_levels`) or, with --scheduler, as chunks on a Dask cluster streamed to --out
-    (`monte_carlo_levels_distributed`: the same motions, chunks and peaks)."""
+    (`monte_carlo_levels`; `draws`: the keywords of a bearing posterior's draws,
+    `posterior_arguments`) or, with --scheduler, as chunks on a Dask cluster streamed to --out
+    (`monte_carlo_levels_distributed`: the same motions, chunks and peaks; no draws)."""
     import jax
 
     if args.scheduler is None:
         from ..studies import monte_carlo_levels
 
         return monte_carlo_levels(structure, model, levels, args.motions, key=jax.random.key(args.seed),
-                                  chunk_size=args.chunk_size, progress=progress, storey_height=height)
+                                  chunk_size=args.chunk_size, progress=progress, storey_height=height, **draws)
     from ..studies import monte_carlo_levels_distributed
 
     return monte_carlo_levels_distributed(
@@ -251,20 +271,42 @@ _VERTICAL_STOREYS = ("storey drifts and level accelerations are horizontal: the 
 
 
 def _select(result, rows):
-    """The motions `rows` of a one-design `MonteCarloResult` (of every bearing of a nested one)."""
+    """The motions `rows` of a one-design `MonteCarloResult` (of every bearing of a nested one,
+    whose draws per bearing stay; one draw per motion: the rows' draws)."""
     import dataclasses
 
     axis = result.dims.index("motion")
-    picked = {f.name: np.take(getattr(result, f.name), rows, axis=0 if f.name == "pga" else axis)
+    picked = {f.name: np.take(getattr(result, f.name), rows, axis=0 if f.name in ("pga", "bearing_draw") else axis)
               for f in dataclasses.fields(result)
-              if isinstance(getattr(result, f.name), np.ndarray) and f.name != "bearing_draw"}
+              if isinstance(getattr(result, f.name), np.ndarray) and not (f.name == "bearing_draw" and result.nested)}
     return dataclasses.replace(result, **picked)
+
+
+def _first_bearing(values, result):
+    """A per-motion array of the record alone (the uplift time): of the first bearing when nested."""
+    return np.asarray(values)[0] if result.nested else values
+
+
+def _failed_runs(converged) -> list:
+    """The runs that did not converge: motion indices, or {"bearing", "motion"} for K bearings."""
+    if converged.ndim == 1:
+        return np.flatnonzero(~converged).tolist()
+    return [{"bearing": int(k), "motion": int(m)} for k, m in np.argwhere(~converged)]
+
+
+def _draws_words(posterior) -> str:
+    if posterior is None:
+        return ""
+    if posterior.bearings is None:
+        return " (a posterior draw per motion, the same at every level)"
+    return f" ({posterior.bearings} posterior draws on every level's motions)"
 
 
 def _report(result, levels, level_index, unit, factor, fragility, per_level) -> int:
     converged = np.asarray(result.converged, bool)
-    print(f"{result.n_motions} motions at {levels.size} level(s) in {result.wall_s:.1f} s; "
-          f"{int(converged.sum())} converged.")
+    bearings = f"{converged.shape[0]} bearings x " if converged.ndim == 2 else ""
+    print(f"{bearings}{result.n_motions} motions at {levels.size} level(s) in {result.wall_s:.1f} s; "
+          f"{int(converged.sum())} of {converged.size} runs converged.")
     if result.uplift_time is not None:
         counts = ", ".join(f"{x / factor:g}{unit}: {e['uplift']['n_uplifted']}/{e['motions'][1] - e['motions'][0] + 1}"
                            for x, e in zip(levels, per_level))
@@ -291,12 +333,13 @@ def _report(result, levels, level_index, unit, factor, fragility, per_level) -> 
                   f"median {band['median_band'][0]:.4g} - {band['median_band'][1]:.4g} {unit} ({_end(low)} - "
                   f"{_end(high)} with the motions' sampling), dispersion {band['dispersion_band'][0]:.3g} - "
                   f"{band['dispersion_band'][1]:.3g}")
-    failed = np.flatnonzero(~converged)
-    if failed.size:
-        named = ", ".join(str(i) for i in failed[:20]) + (" ..." if failed.size > 20 else "")
-        print(f"teflon-jax montecarlo: {failed.size} of {converged.size} runs had a time step whose Newton "
-              f"solve did not converge (motion indices {named}); they are flagged in the files and left out "
-              "of the counts and statistics. Try a smaller --time-step.", file=sys.stderr)
+    failed = _failed_runs(converged)
+    if failed:
+        named = ", ".join(str(i) if converged.ndim == 1 else f"{i['bearing']}:{i['motion']}" for i in failed[:20])
+        which = "motion indices" if converged.ndim == 1 else "bearing:motion"
+        print(f"teflon-jax montecarlo: {len(failed)} of {converged.size} runs had a time step whose Newton "
+              f"solve did not converge ({which} {named}{' ...' if len(failed) > 20 else ''}); they are flagged "
+              "in the files and left out of the counts and statistics. Try a smaller --time-step.", file=sys.stderr)
         status = 1
     return status
 

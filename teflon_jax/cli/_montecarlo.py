@@ -217,7 +217,7 @@ def run_montecarlo(args) -> int:
     if len(args.pga_levels) > 1 or args.limit or args.storeys or args.pelicun_demands is not None:
         from ._levels import run_levels
 
-        return run_levels(args, structure, model, units, _statistics)
+        return run_levels(args, structure, model, units, _statistics, posterior)
     bar = motion_bar(runs_of(args, posterior), args.no_progress)
     marks = []  # (time, motions done) after each chunk: the rate once compiled and warm
 

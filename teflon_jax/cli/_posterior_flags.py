@@ -6,6 +6,12 @@ per motion by default (motion m takes draw k(m), a seeded permutation cycled: wi
 replacement while N <= S); `--bearing-draws K` runs K draws each on the same N motions and
 splits each peak's variance into a motion part and a bearing part (law of total variance);
 `--bearing-draws point` runs the file's point estimate alone.
+
+Over several `--pga` levels with `--limit` the same draws run at every level: nested, each
+of the K bearings runs every level's N motions, and each limit's fragility gets a band over
+the bearings (`fragility_band`); one draw per motion, motion m of every level runs the same
+draw k(m), and the fit is over the bearing's and the motions' uncertainty together, with no
+band.
 """
 
 import argparse
@@ -69,8 +75,9 @@ def read_posterior_flags(args) -> PosteriorRun | None:
     """The posterior run the flags ask for, or `None` (the point bearing, as without a
     posterior): `ValueError` naming the flag, before any work, for --bearing-draws without a
     --bearing file that holds a posterior, K above its number of draws, and the flags whose
-    runs do not take draws (several --pga levels, --limit, --storeys, --pelicun-demands,
-    --scheduler, --property-factors given with --bearing-draws)."""
+    runs do not take draws (--storeys and the storey limits of --limit, --pelicun-demands,
+    --scheduler, --property-factors given with --bearing-draws); several --pga levels and
+    the --limit of base_disp and base_shear_ratio take them."""
     from ..formats import load_bearing_posterior
 
     given = args.bearing_draws
@@ -100,13 +107,18 @@ def read_posterior_flags(args) -> PosteriorRun | None:
 
 
 def _refuse_other_runs(args, words: str) -> None:
+    from ._engineering import STOREY_LIMITS, parse_limits
+
+    storey_limits = [lim.text for lim in parse_limits(args.limit, args.structure, args.components)
+                     if lim.name in STOREY_LIMITS]
     others = (("--property-factors", args.property_factors is not None),
-              ("--pga", len(args.pga_levels) > 1), ("--limit", bool(args.limit)),
               ("--storeys", args.storeys), ("--pelicun-demands", args.pelicun_demands is not None),
-              ("--scheduler", args.scheduler is not None))
+              ("--scheduler", args.scheduler is not None),
+              *((f"--limit {text}", True) for text in storey_limits))
     for flag, given in others:
         if given:
-            raise ValueError(f"{flag}: runs without the posterior draws of --bearing {args.bearing} "
+            why = " (a storey limit keeps the storey results)" if flag.startswith("--limit") else ""
+            raise ValueError(f"{flag}: runs without the posterior draws of --bearing {args.bearing}{why} "
                              f"({words}); give --bearing-draws point to run its point estimate, or "
                              f"leave {flag} out.")
 
@@ -185,3 +197,26 @@ def _scaled(value, scale):
     if isinstance(value, list):
         return [_scaled(v, scale) for v in value]
     return value / scale
+
+
+MOTION_DRAWS_NO_BAND = ("each motion ran one posterior draw, motion m the same draw at every level: the fit is "
+                        "over the bearing's and the motions' uncertainty together, with no band over the draws "
+                        "(--bearing-draws K runs K bearings on every level's motions and gives one)")
+"""What a fragility entry of a run with one draw per motion says in place of its band."""
+
+
+def posterior_levels_entry(result, run: PosteriorRun | None) -> dict:
+    """The summary JSON's `bearing_posterior` entry of a run over intensity levels: the
+    attributes of the draws, the draw of each bearing (nested) or of motion m of every level
+    (one per motion), and how the fragilities treat them."""
+    if run is None:
+        return {}
+    draws = [int(k) for k in result.bearing_draw]
+    if run.bearings is None:  # (L N,): the level's (N,) draws repeated at every level
+        draws = draws[:int(result.attrs["motions_per_level"])]
+        return {"bearing_posterior": {**posterior_attributes(run), "bearing_draw": draws,
+                                      "bearing_draw_of": "motion m of every level", "fragility": MOTION_DRAWS_NO_BAND}}
+    return {"n_runs": int(result.converged.size),
+            "bearing_posterior": {**posterior_attributes(run), "bearing_draw": draws,
+                                  "bearing_draw_of": "bearing k, run on every level's motions",
+                                  "fragility": "the fit of all runs, and its band over the bearings (bearing_band)"}}

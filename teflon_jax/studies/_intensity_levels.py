@@ -8,6 +8,11 @@ Earthquake Spectra 31(1), multiple-stripe analysis), and a motion's index in the
 the one `monte_carlo_motion` draws again. The levels share one compiled chunk function: the
 level is an argument of each call (`ChunkRunner`), not a constant of the program, so L levels
 compile once and give the numbers L separate `monte_carlo` runs give.
+
+With the draws of a bearing posterior (`bearings`, `bearing_draw`, `nested` of `monte_carlo`)
+every level runs the same draws, also as arguments of the one program: nested, each of the K
+bearings runs every level's N motions (peaks (K, L N)); one draw per motion, motion m of every
+level takes draw `bearing_draw[m]`, so the levels differ in their motions and intensity only.
 """
 
 import dataclasses
@@ -53,39 +58,47 @@ def monte_carlo_levels(
 
     **Arguments:** `structure`, `model` (its `peak_ground_acceleration` is replaced by each
     level, `motions_at_level`: a vertical component scales with it), `n_motions`, `key` as for `monte_carlo`; `progress(done, total)` over all levels;
-    `options`: further keywords of `monte_carlo` (e.g. `chunk_size`, `storey_height`).
+    `options`: further keywords of `monte_carlo` (e.g. `chunk_size`, `storey_height`, and
+    `bearings`, `bearing_draw` (N,) or (K,), `nested`: the same draws at every level).
 
     **Returns:** (one `MonteCarloResult` of the L N motions, level after level, with
     `attrs["intensity_levels_m_s2"]`, `compile_s` of the one compilation and, with a vertical component, each motion's
-    `uplift_time`; the level index (L N,) of each motion).
+    `uplift_time`; nested, peaks (K, L N) and `bearing_draw` (K,); one draw per motion,
+    `bearing_draw` (L N,), the level's (N,) draws repeated; the level index (L N,) of each motion).
     """
     values = check_levels(levels)
     if "first_motion" in options:
         raise ValueError("first_motion: level j runs motions j n_motions .. (j + 1) n_motions - 1; leave it out.")
     start = time.perf_counter()
     plan = _plan(structure, model, n_motions, key=key, **options)  # checked once, compiled at the first call
-    total = values.size * plan.n_total
+    runs = plan.n_total if plan.draws is None else plan.draws.size  # per level: N, or K N nested
+    total = values.size * runs
     parts = []
     for j, level in enumerate(values):
-        def step(done, _total, offset=j * plan.n_total):
+        def step(done, _total, offset=j * runs):
             if progress is not None:
                 progress(offset + done, total)
 
         outputs = _run_chunks(plan.runner, model, plan.n_total, plan.chunk, plan.n_chunks, j * plan.n_total, step,
-                              level=float(level))
+                              level=float(level), draws=plan.draws)
         parts.append(_result(plan, model, outputs, 0.0))
     return join_levels(parts, values, time.perf_counter() - start), np.repeat(np.arange(values.size), plan.n_total)
 
 
 def join_levels(parts, levels, wall_s: float) -> MonteCarloResult:
     """One `MonteCarloResult` of the levels' results `parts` (in order; each of the same number
-    of motions), with `attrs["intensity_levels_m_s2"]` and `attrs["motions_per_level"]`."""
+    of motions), with `attrs["intensity_levels_m_s2"]` and `attrs["motions_per_level"]`. The
+    motions are joined along "motion"; nested runs of bearing draws keep their "bearing" axis,
+    whose draws (`bearing_draw` (K,)) must be the same in every part (`ValueError`)."""
     first = parts[0]
     joined = {}
     for field in dataclasses.fields(MonteCarloResult):
         value = getattr(first, field.name)
-        if isinstance(value, np.ndarray):
-            axis = 0 if field.name == "pga" else first.dims.index("motion")
+        if field.name == "bearing_draw" and first.nested:
+            if any(not np.array_equal(p.bearing_draw, value) for p in parts):
+                raise ValueError("parts: nested runs of other bearing draws; every level must run the same draws.")
+        elif isinstance(value, np.ndarray):
+            axis = 0 if field.name in ("pga", "bearing_draw") else first.dims.index("motion")
             joined[field.name] = np.concatenate([getattr(p, field.name) for p in parts], axis=axis)
     return dataclasses.replace(
         first, **joined, wall_s=wall_s, compile_s=max(p.compile_s for p in parts),
