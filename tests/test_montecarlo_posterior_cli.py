@@ -51,9 +51,10 @@ def files(tmp_path_factory):
     (["--no-bearing", "--bearing-draws", "motion"], "--bearing-draws motion: needs --bearing FILE"),
     (["--storeys", "--structure", "building"], "--storeys: runs without the posterior draws of --bearing "
                                                "{posterior} (--bearing-draws motion); give --bearing-draws point"),
-    (["--pga", "0.1g,0.2g", "--bearing-draws", "4"], "--pga: runs without the posterior draws"),
+    (["--structure", "building", "--pga", "0.1g,0.2g", "--limit", "drift=0.5%", "--bearing-draws", "4"],
+     "--limit drift=0.5%: runs without the posterior draws"),
     (["--scheduler", "local:2", "--out", "{folder}/mc.nc"], "--scheduler: runs without the posterior draws"),
-], ids=["no-posterior", "too-many", "zero", "word", "no-motions", "no-file", "storeys", "levels", "scheduler"])
+], ids=["no-posterior", "too-many", "zero", "word", "no-motions", "no-file", "storeys", "storey-limit", "scheduler"])
 def test_bad_input_refused_by_name_before_any_work(files, tmp_path, capsys, flags, words):
     posterior, point = files
     file = point if flags[:2] == ["--bearing-draws", "3"] else posterior
