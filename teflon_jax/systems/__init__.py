@@ -13,6 +13,7 @@ from ._bidirectional_models import bidirectional_building as bidirectional_build
 from ._bidirectional_models import bidirectional_rigid_mass as bidirectional_rigid_mass
 from ._bidirectional_response import BidirectionalResponse as BidirectionalResponse
 from ._bidirectional_response import simulate_bidirectional as simulate_bidirectional
+from ._building_plan import building_on_plan as building_on_plan
 from ._isolated import MONTE_CARLO_NEWTON_TOLERANCE as MONTE_CARLO_NEWTON_TOLERANCE
 from ._isolated import RECOMMENDED_TIME_STEPS as RECOMMENDED_TIME_STEPS
 from ._isolated import IsolatedStructure as IsolatedStructure

@@ -33,6 +33,17 @@ tension tips. The model has no rocking, so such a step cannot be balanced: it is
 vertical equilibrium, the lever rule's positive loads scaled to sum to (1 + a_v / g) W, so the
 run stays finite (a lever rule with the tension clipped would load the groups with more than
 the weight, which under a restrainer's force feeds back on H from step to step).
+
+Masses at several heights (a building on the slab): the inertia force F_i = m_i (q_i'' + R_i a_g)
+of degree of freedom i acts at its own height h_i, and the couple is sum_i h_i F_i. Written at
+one reference height h (the height of the whole mass's centre, so that H_h = H while every
+level accelerates alike) it is h H_h with
+
+    H_h = R^T diag(h_i / h) M (q'' + R a_g)      (`overturning_force`),
+
+which takes the place of H in the lever rule and in the redistribution above, with L and the
+`SupportPlan` of that h; the ratios h_i / h are the plan's `levels`. The rigid slab is the case
+of one height (no `levels`: H_h = H).
 References: Nagarajaiah, Reinhorn & Constantinou (1991), 3D-BASIS, NCEER-91-0005 (rigid slab
 on bearings with normal loads from overturning); Almazan, De la Llera & Inaudi (1998),
 Earthquake Eng. Struct. Dyn. 27(8), 845-867 (friction pendulum under a varying normal load).
@@ -46,11 +57,13 @@ import numpy as np
 from ..units import STANDARD_GRAVITY
 
 
-def overturning_map(positions, centre_of_mass, height, vertical_stiffness=None, names=None) -> np.ndarray:
+def overturning_map(positions, centre_of_mass, height, vertical_stiffness=None, names=None, *,
+                    height_name="height_of_centre_of_mass") -> np.ndarray:
     """L (G, 2) [-] with dN = L H (module docstring) for groups at `positions` (G, 2) [m],
     the centre of mass (x, y) [m] at `height` h [m] above the sliding surface and the groups'
     relative vertical stiffness (G,) (default equal). `ValueError` for groups on one line
-    (they cannot balance a moment about it) or a stiffness share <= 0."""
+    (they cannot balance a moment about it; the message names `height_name`, the caller's
+    argument for the height) or a stiffness share <= 0."""
     positions = np.asarray(positions, dtype=float).reshape(-1, 2)
     groups = positions.shape[0]
     k = np.ones(groups) if vertical_stiffness is None else np.asarray(vertical_stiffness, float).reshape(-1)
@@ -68,7 +81,7 @@ def overturning_map(positions, centre_of_mass, height, vertical_stiffness=None, 
                            compute_uv=False)
     if groups < 3 or spread[-1] < 1e-9 * spread[0]:
         raise ValueError(
-            "height_of_centre_of_mass: the bearing groups lie on one line, so a rigid slab on "
+            f"{height_name}: the bearing groups lie on one line, so a rigid slab on "
             "them cannot balance the overturning moment about it; add a group off that line, or "
             "give height 0 (no overturning).")
     columns = np.linalg.solve(a, np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]))  # (3, 2)
@@ -78,15 +91,19 @@ def overturning_map(positions, centre_of_mass, height, vertical_stiffness=None, 
 class SupportPlan(eqx.Module):
     """The vertical supports of the groups, for the loads while some lift (module docstring):
     relative stiffness k_g (G,) [-], p_g = (1, rx_g / l, ry_g / l) (G, 3) [-] and h / l [-],
-    with l the largest arm [m] (numbers of order one)."""
+    with l the largest arm [m] (numbers of order one); `levels` h_i / h (N,) [-] of masses at
+    several heights (`overturning_force`), `None` for all at h (the rigid slab)."""
 
     stiffness: jnp.ndarray
     arms: jnp.ndarray
     height: jnp.ndarray
+    levels: jnp.ndarray | None = None
 
 
-def support_plan(positions, centre_of_mass, height, vertical_stiffness=None) -> SupportPlan:
-    """The `SupportPlan` of groups at `positions` (G, 2) [m] (checked by `overturning_map`)."""
+def support_plan(positions, centre_of_mass, height, vertical_stiffness=None, levels=None) -> SupportPlan:
+    """The `SupportPlan` of groups at `positions` (G, 2) [m] (checked by `overturning_map`);
+    `levels` (N,) [-]: the degrees of freedom's heights over `height` (`overturning_force`),
+    `None` for all at `height`."""
     positions = np.asarray(positions, dtype=float).reshape(-1, 2)
     groups = positions.shape[0]
     k = np.ones(groups) if vertical_stiffness is None else np.asarray(vertical_stiffness, float).reshape(-1)
@@ -94,7 +111,8 @@ def support_plan(positions, centre_of_mass, height, vertical_stiffness=None) -> 
     length = max(float(np.max(np.abs(r))), 1e-300)
     return SupportPlan(stiffness=jnp.asarray(k / k.max()),
                        arms=jnp.asarray(np.column_stack([np.ones(groups), r / length])),
-                       height=jnp.asarray(float(height) / length))
+                       height=jnp.asarray(float(height) / length),
+                       levels=None if levels is None else jnp.asarray(levels, dtype=float))
 
 
 def redistributed_loads(supports: SupportPlan, static, linear, force, vertical=1.0):
@@ -141,6 +159,18 @@ def inertia_force(system, acceleration, ground):
     return (system.mass * total) @ system.influence
 
 
+def overturning_force(system, acceleration, ground):
+    """H_h = R^T diag(h_i / h) M (q'' + R a_g) (2,) [N]: the force at the reference height h
+    whose moment h H_h is that of the inertia forces at their own heights h_i (module
+    docstring; the `levels` h_i / h of `system.supports`); `inertia_force` H where there are no
+    levels (all masses at h, the rigid slab)."""
+    levels = None if system.supports is None else system.supports.levels
+    if levels is None:
+        return inertia_force(system, acceleration, ground)
+    total = acceleration + system.influence @ ground
+    return (levels * system.mass * total) @ system.influence
+
+
 def overturned_loads(system, force, t):
     """N_g (G,) [N] under the vertical record at t [s] and the horizontal force `force` H (2,) [N]
     (`supported_loads`' loads); the factor on W_g is `group_factor`."""
@@ -169,7 +199,7 @@ def overturning_step(system, t0, t1, y0, a0):
     acceleration a0: the groups' loads from H at t0 and the vertical record at t1, held over the
     step; the loads are kept in the state ("normal_load"). A step on which the slab tips
     (`supported_loads`) is not balanced."""
-    loads, rests = supported_loads(system, inertia_force(system, a0, system.ground(t0)), t1)
+    loads, rests = supported_loads(system, overturning_force(system, a0, system.ground(t0)), t1)
     y1, converged = system.at_load(group_factor(system, loads)).newmark_update(y0, a0, system.ground(t1))
     return {**y1, "normal_load": loads}, converged & rests
 
@@ -188,5 +218,5 @@ def tipped_at_failure(system, response) -> bool:
     last = finite.size - 1 if finite.all() else int(np.argmin(finite)) - 1
     if system.overturning is None or last < 1:
         return False
-    force = inertia_force(system, response.acceleration[last - 1], response.ground[last - 1])
+    force = overturning_force(system, response.acceleration[last - 1], response.ground[last - 1])
     return not bool(supported_loads(system, force, response.time[last])[1])

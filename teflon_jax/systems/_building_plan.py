@@ -1,0 +1,222 @@
+"""The six-storey building of Table 2 on a rigid base slab with a plan: bearing groups at plan
+positions, torsion of the base and overturning loads from the inertia forces of every floor.
+
+Coordinates q (15,) relative to the ground: (x: base, floors 1-6; y: base, floors 1-6; theta),
+the base's translations those of the slab's centre of mass C and theta its rotation about the
+vertical axis. The building stands on the slab with its mass centred over C, so each floor
+translates with the base in x and y through Table 2's frame (no torsion of the floors):
+
+    M = diag(m_b, m_1..6, m_b, m_1..6, J),   K = diag(E^T K_s E, E^T K_s E, 0) + K_b,
+    C = diag(E^T C_s E, E^T C_s E, 0) + (2 zeta_b / omega_b) K_b,   E = [-1 | I] (6, 7),
+
+with the fixed-base K_s, C_s of `superstructure_matrices` (2 % in every mode), the base's own
+mass m_b = W_base / g and the slab's rotational inertia J (a uniform slab, m_b (Lx^2 + Ly^2) / 12,
+unless given). A bearing group at plan position P, r = P - C, slides by
+d_g = (u_x - theta r_y, u_y + theta r_x) (`slab_on_bearings`' kinematics) and carries its
+tributary load W_g (sum W_g = W, the building's weight); the isolation's stiffness
+K_b = sum_g k_g B_g^T B_g sits at the groups: springs of period T_b shared among them
+(k_g = (W / g) omega_b^2 share_g, carrying no vertical load) or single friction pendulums
+(k_g = W_g / R_g), with zeta_b of the rigid-body mode as in `six_storey_building`. On one group
+(or a symmetric plan without overturning) this is `bidirectional_building`.
+
+Overturning: level i (the base, floors 1-6) lies at height h_i above the sliding surface
+(h_0 = `base_height`, h_i = h_0 + the storey heights below it); the groups' normal loads follow
+the moment sum_i h_i F_i of the levels' inertia forces F_i = m_i (q_i'' + a_g) by the lever rule
+of the slab on vertical supports, redistributed while groups lift (`_overturning.py`, with the
+levels h_i / h_c about the height h_c = sum m_i h_i / sum m_i of the whole mass's centre).
+References: Constantinou, Mokha & Reinhorn (1990), Table 2 and Fig. 11; Nagarajaiah, Reinhorn &
+Constantinou (1991), 3D-BASIS, NCEER-91-0005 (a superstructure on a rigid base over bearings).
+"""
+
+import dataclasses
+
+import jax.numpy as jnp
+import numpy as np
+
+from ..excitation import Signal
+from ..tables import BuildingData, load_table2
+from ..units import STANDARD_GRAVITY
+from ._bidirectional import BidirectionalStructure
+from ._bidirectional_build import bidirectional_structure
+from ._bidirectional_models import _zero_signal
+from ._models import superstructure_matrices
+from ._overturning import overturning_map, support_plan
+from ._slab import _pendulum_radii, check_plan, stack_bearings
+
+BUILDING_ISOLATORS = ("flat", "single-fp")
+"""Isolators of the building on a plan: flat sliders with springs, single friction pendulums."""
+
+HEIGHT_NAMES = "storey_heights, base_height"
+"""The arguments that place the levels above the sliding surface, as errors name them."""
+
+
+def level_heights(storey_heights, base_height, storeys: int) -> np.ndarray:
+    """h_i (storeys + 1,) [m] of the base and the floors above the sliding surface:
+    h_0 = `base_height`, h_i = h_0 + sum_{j <= i} `storey_heights`_j (one value, or one per
+    storey). `ValueError` naming the argument for a value that is not finite and >= 0."""
+    heights = np.asarray(storey_heights, dtype=float)
+    if heights.ndim > 1 or (heights.ndim == 1 and heights.shape[0] != storeys):
+        raise ValueError(f"storey_heights: one value or one per storey ({storeys}), got {storey_heights}.")
+    if not np.all(np.isfinite(heights) & (heights >= 0)):
+        raise ValueError(f"storey_heights: must be >= 0 m, got {storey_heights}.")
+    base = float(base_height)
+    if not (np.isfinite(base) and base >= 0):
+        raise ValueError(f"base_height: must be >= 0 m, got {base_height}.")
+    return base + np.concatenate([[0.0], np.cumsum(np.broadcast_to(heights, (storeys,)))])
+
+
+def building_on_plan(
+    *,
+    length_x: float,
+    length_y: float,
+    centre_of_mass,
+    positions,
+    loads,
+    bearings=None,
+    ground_x: Signal,
+    ground_y: Signal | None = None,
+    time_step: float,
+    isolation_period=None,
+    isolation_damping=0.05,
+    spring_shares=None,
+    isolator: str = "flat",
+    radii=None,
+    storey_heights=None,
+    base_height=0.0,
+    vertical_stiffness=None,
+    rotational_inertia=None,
+    building: BuildingData | None = None,
+    names=None,
+    contact_pressures=None,
+    friction_model: str = "hysteretic",
+) -> BidirectionalStructure:
+    """The Table 2 building on a rigid base slab over bearing groups (module docstring).
+
+    **Arguments:**
+
+    - `length_x`, `length_y` [m]: plan of the base slab, spanning [0, length_x] x [0, length_y];
+      `centre_of_mass` (x, y) [m]: the slab's centre of mass, over which the building stands.
+    - `positions` (G, 2) [m]; `loads` (G,) [N] the groups' tributary loads, adding up to the
+      building's weight W (Table 2: 672 kip); `bearings`: G `SlidingBearing`s (or one for all).
+    - `ground_x`, `ground_y`: `Signal`s [m/s^2] (`ground_y` `None`: no y motion); `time_step` [s].
+    - `isolator` "flat": springs of period `isolation_period` T_b [s] shared among the groups by
+      `spring_shares` (G,) [-] (default equal); "single-fp": each group a single friction
+      pendulum of radius `radii` R_g [m] (one, or (G,)), no springs. `isolation_damping`
+      zeta_b [-] of the rigid-body mode (default 0.05, the paper's sliding system).
+    - `storey_heights` [m] (one, or one per storey, >= 0; default Table 2's 12 ft) and
+      `base_height` h_0 [m] (>= 0, default 0) of the base's inertia force: the levels' heights
+      above the sliding surface for the overturning loads (all 0: constant loads);
+      `vertical_stiffness` (G,) relative vertical stiffness of the groups (default equal).
+    - `rotational_inertia` J [kg m^2] of the slab about C (default the uniform slab's).
+    - `building`: `BuildingData` (default Table 2); `names`: the groups' names for errors;
+      `contact_pressures` (G,) [Pa] for bearings with heating; `friction_model` "hysteretic",
+      "coulomb" or "none".
+
+    **Returns:** a `BidirectionalStructure` with q = (x: base, floors 1-6; y: base, floors 1-6;
+    theta [rad]) (`simulate_bidirectional`; a vertical record by `with_vertical_motion`).
+    """
+    building = load_table2() if building is None else building
+    positions = np.asarray(positions, dtype=float).reshape(-1, 2)
+    loads = np.asarray(loads, dtype=float).reshape(-1)
+    centre = np.asarray(centre_of_mass, dtype=float).reshape(2)
+    weight = float(building.total_weight)
+    check_plan(length_x=length_x, length_y=length_y, weight=weight, centre_of_mass=centre,
+               positions=positions, loads=loads, names=names)
+    if isolator not in BUILDING_ISOLATORS:
+        raise ValueError(f"isolator: the building on a plan stands on {' or '.join(map(repr, BUILDING_ISOLATORS))} "
+                         f"groups, got {isolator!r}; series pendulums carry the rigid slab (slab_on_bearings).")
+    groups = positions.shape[0]
+    if bearings is None:
+        raise ValueError(f"bearings: isolator {isolator!r} needs the groups' SlidingBearing(s).")
+    bearings = list(bearings) if isinstance(bearings, (list, tuple)) else [bearings] * groups
+    if len(bearings) != groups:
+        raise ValueError(f"bearings: {len(bearings)} given for {groups} groups.")
+    radii = _pendulum_radii(isolator, radii, groups, isolation_period, spring_shares)
+    zeta = float(isolation_damping)
+    if not (np.isfinite(zeta) and zeta >= 0):
+        raise ValueError(f"isolation_damping: must be >= 0, got {isolation_damping}.")
+    m_floor, k_s, c_s, _ = superstructure_matrices(building)
+    storeys = m_floor.shape[0]
+    base_mass = building.base_weight / STANDARD_GRAVITY
+    if not base_mass > 0:
+        raise ValueError(f"building: total_weight must exceed the floor weights; base weight is "
+                         f"{building.base_weight} N.")
+    heights = level_heights(building.storey_height if storey_heights is None else storey_heights,
+                            base_height, storeys)
+    inertia = base_mass * (length_x**2 + length_y**2) / 12 if rotational_inertia is None else rotational_inertia
+    if not (np.isfinite(inertia) and inertia > 0):
+        raise ValueError(f"rotational_inertia: must be > 0 kg m^2, got {rotational_inertia}.")
+    level_mass = np.concatenate([[base_mass], m_floor])  # (S + 1,)
+    n = level_mass.shape[0]
+    bearing_map = _bearing_map(positions - centre, n)
+    isolation = _isolation_stiffness(bearing_map, loads, weight, isolator, isolation_period, spring_shares,
+                                     radii, zeta)
+    drift = np.hstack([-np.ones((storeys, 1)), np.eye(storeys)])  # E: storey drifts of one direction
+    frame_k, frame_c = (_two_directions(drift.T @ matrix @ drift) for matrix in (k_s, c_s))
+    influence = np.zeros((2 * n + 1, 2))
+    influence[:n, 0] = influence[n:2 * n, 1] = 1.0
+    system = bidirectional_structure(
+        mass=np.concatenate([level_mass, level_mass, [inertia]]),
+        stiffness=frame_k + isolation[0],
+        damping=frame_c + isolation[1],
+        influence=influence,
+        bearing_map=bearing_map,
+        bearing=stack_bearings(bearings),
+        bearing_load=loads,
+        ground_x=ground_x,
+        ground_y=_zero_signal(ground_x) if ground_y is None else ground_y,
+        time_step=time_step,
+        contact_pressure=contact_pressures,
+        friction_model=friction_model,
+    )
+    system = dataclasses.replace(system, pendulum_stiffness=None if radii is None else jnp.asarray(loads / radii))
+    if not np.any(heights > 0):
+        return system
+    centre_height = float(level_mass @ heights / np.sum(level_mass))
+    levels = np.concatenate([heights, heights, [0.0]]) / centre_height
+    return dataclasses.replace(
+        system,
+        overturning=jnp.asarray(overturning_map(positions, centre, centre_height, vertical_stiffness, names,
+                                                height_name=HEIGHT_NAMES)),
+        supports=support_plan(positions, centre, centre_height, vertical_stiffness, levels=levels))
+
+
+def _two_directions(block) -> np.ndarray:
+    """diag(`block`, `block`, 0): one direction's (n, n) matrix in x and in y, none on theta."""
+    n = block.shape[0]
+    out = np.zeros((2 * n + 1, 2 * n + 1))
+    out[:n, :n] = out[n:2 * n, n:2 * n] = block
+    return out
+
+
+def _bearing_map(arms, n: int) -> np.ndarray:
+    """B (G, 2, 2n + 1): group g at arm r_g = P_g - C slides by (u_x - theta r_y, u_y + theta r_x)
+    with u_x = q_0 (the base in x), u_y = q_n (the base in y), theta = q_2n."""
+    bearing_map = np.zeros((arms.shape[0], 2, 2 * n + 1))
+    bearing_map[:, 0, 0] = bearing_map[:, 1, n] = 1.0
+    bearing_map[:, 0, 2 * n] = -arms[:, 1]
+    bearing_map[:, 1, 2 * n] = arms[:, 0]
+    return bearing_map
+
+
+def _isolation_stiffness(bearing_map, loads, weight, isolator, isolation_period, spring_shares, radii, zeta):
+    """(K_b, C_b) (N, N): the isolation's stiffness at the groups, k_g = (W / g) omega_b^2 share_g
+    (springs) or W_g / R_g (pendulums), and its damping (2 zeta_b / omega_b) K_b,
+    omega_b^2 = g sum_g k_g / W (`ValueError` naming the argument for a missing one)."""
+    groups = loads.shape[0]
+    if isolator == "flat":
+        if isolation_period is None:
+            raise ValueError("isolation_period: the building's springs need their period T_b [s] "
+                             "(Table 2's rubber springs carry no vertical load).")
+        period = float(isolation_period)
+        if not (np.isfinite(period) and period > 0):
+            raise ValueError(f"isolation_period: must be > 0 s, got {isolation_period}.")
+        shares = np.ones(groups) if spring_shares is None else np.asarray(spring_shares, float).reshape(-1)
+        if shares.shape != (groups,) or np.any(shares < 0) or not np.sum(shares) > 0:
+            raise ValueError("spring_shares: one share >= 0 per group, not all zero.")
+        k = weight / STANDARD_GRAVITY * (2 * np.pi / period) ** 2 * shares / np.sum(shares)
+    else:
+        k = loads / radii
+    stiffness = np.einsum("g,gdn,gdm->nm", k, bearing_map, bearing_map)
+    omega = np.sqrt(STANDARD_GRAVITY * np.sum(k) / weight)
+    return stiffness, 2 * zeta / omega * stiffness
