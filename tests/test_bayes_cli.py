@@ -129,4 +129,4 @@ def test_each_record_is_fitted_alone_with_one_compiled_sampler(tmp_path, capsys)
     new = [_sampler._SAMPLERS[k] for k in set(_sampler._SAMPLERS) - before]
     # both records of one length ran on one sampler, compiled once: its initial state and
     # one block length (800 = 10 blocks of 80, warm-up and draws alike)
-    assert len(new) == 1 and new[0].compilations() == 2
+    assert len(new) == 1 and new[0].runs == 2 and new[0].compilations() == 2

@@ -38,13 +38,14 @@ class NutsSampler:
 
     **Arguments:** `shapes`, `fixed_names`, `n_interfaces`: as `make_model`; `num_warmup`,
     `num_chains`, `target_accept`: NUTS settings (dense mass matrix over all sites, maximum
-    tree depth 10, as `numpyro.infer.NUTS(dense_mass=True)`).
+    tree depth 10, as `numpyro.infer.NUTS(dense_mass=True)`). `runs` counts the fits run.
     """
 
     def __init__(self, shapes, fixed_names, n_interfaces, *, num_warmup, num_chains,
                  target_accept):
         model = make_model(dict(shapes), tuple(fixed_names), tuple(n_interfaces))
         self.num_warmup, self.num_chains = int(num_warmup), int(num_chains)
+        self.runs = 0
 
         def potential_gen(*args):
             return lambda z: potential_energy(model, args, {}, z)
@@ -85,6 +86,7 @@ class NutsSampler:
         draws) divergence flags, or None; None, or why the run stopped early: a
         `KeyboardInterrupt` ends it and keeps the blocks of draws finished).
         """
+        self.runs += 1
         bar = _bar(self.num_warmup + num_samples, progress_bar)
         parts, flags, done = [], [], 0
         try:
