@@ -33,6 +33,7 @@ import dataclasses
 import jax.numpy as jnp
 import numpy as np
 
+from ..bearing import SlidingBearing
 from ..excitation import Signal
 from ..tables import BuildingData, load_table2
 from ..units import STANDARD_GRAVITY
@@ -103,9 +104,10 @@ def building_on_plan(
       `spring_shares` (G,) [-] (default equal); "single-fp": each group a single friction
       pendulum of radius `radii` R_g [m] (one, or (G,)), no springs. `isolation_damping`
       zeta_b [-] of the rigid-body mode (default 0.05, the paper's sliding system).
-    - `storey_heights` [m] (one, or one per storey, >= 0; default Table 2's 12 ft) and
-      `base_height` h_0 [m] (>= 0, default 0) of the base's inertia force: the levels' heights
-      above the sliding surface for the overturning loads (all 0: constant loads);
+    - `storey_heights` [m] (one, or one per storey, >= 0; default the `building`'s storey
+      height, Table 2's 12 ft) and `base_height` h_0 [m] (>= 0, default 0) of the base's
+      inertia force: the levels' heights above the sliding surface for the overturning loads
+      (all 0: constant loads);
       `vertical_stiffness` (G,) relative vertical stiffness of the groups (default equal).
     - `rotational_inertia` J [kg m^2] of the slab about C (default the uniform slab's).
     - `building`: `BuildingData` (default Table 2); `names`: the groups' names for errors;
@@ -122,37 +124,21 @@ def building_on_plan(
     weight = float(building.total_weight)
     check_plan(length_x=length_x, length_y=length_y, weight=weight, centre_of_mass=centre,
                positions=positions, loads=loads, names=names)
-    if isolator not in BUILDING_ISOLATORS:
-        raise ValueError(f"isolator: the building on a plan stands on {' or '.join(map(repr, BUILDING_ISOLATORS))} "
-                         f"groups, got {isolator!r}; series pendulums carry the rigid slab (slab_on_bearings).")
-    groups = positions.shape[0]
-    if bearings is None:
-        raise ValueError(f"bearings: isolator {isolator!r} needs the groups' SlidingBearing(s).")
-    bearings = list(bearings) if isinstance(bearings, (list, tuple)) else [bearings] * groups
-    if len(bearings) != groups:
-        raise ValueError(f"bearings: {len(bearings)} given for {groups} groups.")
-    radii = _pendulum_radii(isolator, radii, groups, isolation_period, spring_shares)
+    bearing = _stacked_bearings(bearings, positions.shape[0], isolator)
+    radii = _pendulum_radii(isolator, radii, positions.shape[0], isolation_period, spring_shares)
     zeta = float(isolation_damping)
     if not (np.isfinite(zeta) and zeta >= 0):
         raise ValueError(f"isolation_damping: must be >= 0, got {isolation_damping}.")
-    m_floor, k_s, c_s, _ = superstructure_matrices(building)
-    storeys = m_floor.shape[0]
-    base_mass = building.base_weight / STANDARD_GRAVITY
-    if not base_mass > 0:
-        raise ValueError(f"building: total_weight must exceed the floor weights; base weight is "
-                         f"{building.base_weight} N.")
+    level_mass, frame_k, frame_c = _frame(building)
+    n = level_mass.shape[0]
     heights = level_heights(building.storey_height if storey_heights is None else storey_heights,
-                            base_height, storeys)
-    inertia = base_mass * (length_x**2 + length_y**2) / 12 if rotational_inertia is None else rotational_inertia
+                            base_height, n - 1)
+    inertia = level_mass[0] * (length_x**2 + length_y**2) / 12 if rotational_inertia is None else rotational_inertia
     if not (np.isfinite(inertia) and inertia > 0):
         raise ValueError(f"rotational_inertia: must be > 0 kg m^2, got {rotational_inertia}.")
-    level_mass = np.concatenate([[base_mass], m_floor])  # (S + 1,)
-    n = level_mass.shape[0]
     bearing_map = _bearing_map(positions - centre, n)
     isolation = _isolation_stiffness(bearing_map, loads, weight, isolator, isolation_period, spring_shares,
                                      radii, zeta)
-    drift = np.hstack([-np.ones((storeys, 1)), np.eye(storeys)])  # E: storey drifts of one direction
-    frame_k, frame_c = (_two_directions(drift.T @ matrix @ drift) for matrix in (k_s, c_s))
     influence = np.zeros((2 * n + 1, 2))
     influence[:n, 0] = influence[n:2 * n, 1] = 1.0
     system = bidirectional_structure(
@@ -161,7 +147,7 @@ def building_on_plan(
         damping=frame_c + isolation[1],
         influence=influence,
         bearing_map=bearing_map,
-        bearing=stack_bearings(bearings),
+        bearing=bearing,
         bearing_load=loads,
         ground_x=ground_x,
         ground_y=_zero_signal(ground_x) if ground_y is None else ground_y,
@@ -172,13 +158,43 @@ def building_on_plan(
     system = dataclasses.replace(system, pendulum_stiffness=None if radii is None else jnp.asarray(loads / radii))
     if not np.any(heights > 0):
         return system
+    # the levels' moment sum_i h_i F_i as h_c H_h at the mass centre's height h_c (`overturning_force`)
     centre_height = float(level_mass @ heights / np.sum(level_mass))
-    levels = np.concatenate([heights, heights, [0.0]]) / centre_height
     return dataclasses.replace(
         system,
         overturning=jnp.asarray(overturning_map(positions, centre, centre_height, vertical_stiffness, names,
                                                 height_name=HEIGHT_NAMES)),
-        supports=support_plan(positions, centre, centre_height, vertical_stiffness, levels=levels))
+        supports=support_plan(positions, centre, centre_height, vertical_stiffness,
+                              levels=np.concatenate([heights, heights, [0.0]]) / centre_height))
+
+
+def _stacked_bearings(bearings, groups: int, isolator: str):
+    """The groups' `SlidingBearing`s stacked (`stack_bearings`; one bearing serves all groups),
+    with `ValueError` naming `isolator` or `bearings` for what the building cannot stand on."""
+    if isolator not in BUILDING_ISOLATORS:
+        raise ValueError(f"isolator: the building on a plan stands on {' or '.join(map(repr, BUILDING_ISOLATORS))} "
+                         f"groups, got {isolator!r}; series pendulums carry the rigid slab (slab_on_bearings).")
+    if bearings is None:
+        raise ValueError(f"bearings: isolator {isolator!r} needs the groups' SlidingBearing(s).")
+    bearings = [bearings] * groups if isinstance(bearings, SlidingBearing) else list(bearings)
+    if len(bearings) != groups:
+        raise ValueError(f"bearings: {len(bearings)} given for {groups} groups.")
+    return stack_bearings(bearings)
+
+
+def _frame(building: BuildingData):
+    """(level masses (S + 1,) [kg], base first; the frame's stiffness and damping in x and y,
+    diag(E^T K_s E, E^T K_s E, 0) and the same of C_s (2S + 3, 2S + 3), E = [-1 | I] the
+    storey drifts of one direction), from `superstructure_matrices`."""
+    m_floor, k_s, c_s, _ = superstructure_matrices(building)
+    base_mass = building.base_weight / STANDARD_GRAVITY
+    if not base_mass > 0:
+        raise ValueError(f"building: total_weight must exceed the floor weights; base weight is "
+                         f"{building.base_weight} N.")
+    storeys = m_floor.shape[0]
+    drift = np.hstack([-np.ones((storeys, 1)), np.eye(storeys)])
+    return (np.concatenate([[base_mass], m_floor]),
+            *(_two_directions(drift.T @ matrix @ drift) for matrix in (k_s, c_s)))
 
 
 def _two_directions(block) -> np.ndarray:
