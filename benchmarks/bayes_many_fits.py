@@ -27,6 +27,7 @@ import platform
 import resource
 import subprocess
 import sys
+import tempfile
 import time
 
 HERE = pathlib.Path(__file__).resolve().parent
@@ -147,7 +148,8 @@ def main(options) -> dict:
                    str(options.draws), "--max-rss-gb", str(options.max_rss_gb),
                    "--max-minutes", str(options.max_minutes)]
         start, lines, stopped = time.perf_counter(), [], None
-        with subprocess.Popen(command, stdout=subprocess.PIPE, text=True,
+        errors = tempfile.TemporaryFile("w+")
+        with subprocess.Popen(command, stdout=subprocess.PIPE, stderr=errors, text=True,
                               cwd=HERE.parent) as proc:
             for text in proc.stdout:
                 item = json.loads(text)
@@ -160,7 +162,10 @@ def main(options) -> dict:
                           f"resident {item['rss_mb']:.0f} MB, peak {item['peak_rss_mb']:.0f} MB",
                           flush=True)
         if proc.returncode:
-            stopped = f"the process ended with status {proc.returncode} after {len(lines)} fits"
+            errors.seek(0)
+            last = [x.strip() for x in errors if x.strip() and "Warning" not in x][-2:]
+            stopped = (f"the process ended with status {proc.returncode} after {len(lines)} "
+                       f"fits: {' / '.join(last)}")
         out["sides"][side] = _summary(side, lines, stopped, time.perf_counter() - start)
         out["machine"] = _machine(load_before)
         if options.out:
