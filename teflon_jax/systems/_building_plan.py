@@ -42,7 +42,7 @@ from ._bidirectional_build import bidirectional_structure
 from ._bidirectional_models import _zero_signal
 from ._models import superstructure_matrices
 from ._overturning import overturning_map, support_plan
-from ._slab import _pendulum_radii, check_plan, stack_bearings
+from ._slab import _pendulum_radii, check_plan, plan_bearing_map, stack_bearings
 
 BUILDING_ISOLATORS = ("flat", "single-fp")
 """Isolators of the building on a plan: flat sliders with springs, single friction pendulums."""
@@ -136,7 +136,7 @@ def building_on_plan(
     inertia = level_mass[0] * (length_x**2 + length_y**2) / 12 if rotational_inertia is None else rotational_inertia
     if not (np.isfinite(inertia) and inertia > 0):
         raise ValueError(f"rotational_inertia: must be > 0 kg m^2, got {rotational_inertia}.")
-    bearing_map = _bearing_map(positions - centre, n)
+    bearing_map = plan_bearing_map(positions - centre, 2 * n + 1, (0, n, 2 * n))
     isolation = _isolation_stiffness(bearing_map, loads, weight, isolator, isolation_period, spring_shares,
                                      radii, zeta)
     influence = np.zeros((2 * n + 1, 2))
@@ -203,16 +203,6 @@ def _two_directions(block) -> np.ndarray:
     out = np.zeros((2 * n + 1, 2 * n + 1))
     out[:n, :n] = out[n:2 * n, n:2 * n] = block
     return out
-
-
-def _bearing_map(arms, n: int) -> np.ndarray:
-    """B (G, 2, 2n + 1): group g at arm r_g = P_g - C slides by (u_x - theta r_y, u_y + theta r_x)
-    with u_x = q_0 (the base in x), u_y = q_n (the base in y), theta = q_2n."""
-    bearing_map = np.zeros((arms.shape[0], 2, 2 * n + 1))
-    bearing_map[:, 0, 0] = bearing_map[:, 1, n] = 1.0
-    bearing_map[:, 0, 2 * n] = -arms[:, 1]
-    bearing_map[:, 1, 2 * n] = arms[:, 0]
-    return bearing_map
 
 
 def _isolation_stiffness(bearing_map, loads, weight, isolator, isolation_period, spring_shares, radii, zeta):

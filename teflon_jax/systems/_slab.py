@@ -171,12 +171,7 @@ def slab_on_bearings(
         raise ValueError(f"bearings: {len(bearings)} given for {groups} groups.")
     radii = _pendulum_radii(isolator, radii, groups, isolation_period, spring_shares)
     overturning = None if height == 0 else overturning_map(positions, centre, height, vertical_stiffness, names)
-    r = positions - centre
-    bearing_map = np.zeros((groups, 2, 3))
-    bearing_map[:, 0, 0] = 1.0
-    bearing_map[:, 1, 1] = 1.0
-    bearing_map[:, 0, 2] = -r[:, 1]
-    bearing_map[:, 1, 2] = r[:, 0]
+    bearing_map = plan_bearing_map(positions - centre, 3, (0, 1, 2))
     stiffness = np.zeros((3, 3))
     damping = np.zeros((3, 3))
     if isolation_period is not None:
@@ -211,6 +206,18 @@ def slab_on_bearings(
                                overturning=None if overturning is None else jnp.asarray(overturning),
                                supports=None if overturning is None else support_plan(
                                    positions, centre, height, vertical_stiffness))
+
+
+def plan_bearing_map(arms, size: int, indices) -> np.ndarray:
+    """B (G, 2, `size`) of groups at arms r_g = P_g - C [m] from the centre of a rigid base whose
+    x, y translations and rotation theta are the coordinates `indices` = (ix, iy, itheta):
+    group g slides by (u_x - theta r_y, u_y + theta r_x)."""
+    ix, iy, itheta = indices
+    bearing_map = np.zeros((arms.shape[0], 2, size))
+    bearing_map[:, 0, ix] = bearing_map[:, 1, iy] = 1.0
+    bearing_map[:, 0, itheta] = -arms[:, 1]
+    bearing_map[:, 1, itheta] = arms[:, 0]
+    return bearing_map
 
 
 def _height(height_of_centre_of_mass) -> float:
