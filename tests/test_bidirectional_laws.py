@@ -202,6 +202,7 @@ def test_the_pendulums_nonlinear_surface_along_a_line_is_the_uniaxial_one(form):
         assert peak > 0.02  # well into the large-displacement range of R = 0.25 m
 
 
+@pytest.mark.slow
 def test_the_restrainer_bounds_the_planar_displacement_and_counts_in_the_shear():
     """Through the isolated structure: the same planar pendulum with and without its restrainer
     (k_r = 50 W / R beyond 4 cm) under a strong pair: the restrainer cuts the peak resultant

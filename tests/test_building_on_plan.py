@@ -62,7 +62,7 @@ def _level_moment(system, response, heights):
 CORNERS = [[-6.0, -4.0], [6.0, -4.0], [6.0, 4.0], [-6.0, 4.0]]
 
 
-@pytest.mark.parametrize("isolator", ["flat", "single-fp"])
+@pytest.mark.parametrize("isolator", [pytest.param("flat", marks=pytest.mark.slow), "single-fp"])
 def test_symmetric_plan_without_overturning_is_the_building_on_one_group(isolator):
     """Four equal groups at the corners, the centre of mass at the plan's centre, all heights 0:
     along x alone (flat sliders with springs of T_b) and along x and y (single pendulums of
@@ -85,6 +85,7 @@ def test_symmetric_plan_without_overturning_is_the_building_on_one_group(isolato
     assert np.max(np.abs(q[:, 14])) < 1e-12
 
 
+@pytest.mark.slow
 def test_rigid_frame_is_the_slab_with_its_centre_of_mass_at_the_building_height():
     """A frame with Table 2's modes at 10^4 times its frequencies on an eccentric plan (centre
     of mass 2 m and 1 m off the plan's centre, four corner groups of unequal load and pressure)
@@ -148,6 +149,7 @@ def test_groups_balance_the_moment_of_the_levels_inertia_forces():
     assert east_west.max() > 0.3 and east_west.min() < -0.3
 
 
+@pytest.mark.slow
 def test_a_strong_pulse_lifts_either_pair_and_the_base_moves_as_without_overturning():
     """Six equal groups in two rows (x = -9.5, 0, 9.5 m from C, y = +-4 m) under a 0.4 g pulse
     along x, Table 2's storeys: the moment swings past 2/3 W a (the lever rule lifts the outer
