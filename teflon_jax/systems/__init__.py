@@ -14,6 +14,10 @@ from ._bidirectional_models import bidirectional_rigid_mass as bidirectional_rig
 from ._bidirectional_response import BidirectionalResponse as BidirectionalResponse
 from ._bidirectional_response import simulate_bidirectional as simulate_bidirectional
 from ._building_plan import building_on_plan as building_on_plan
+from ._design_space import DESIGN_SPACES as DESIGN_SPACES
+from ._design_space import DesignSpace as DesignSpace
+from ._design_space import design_space as design_space
+from ._design_space import designed_isolator as designed_isolator
 from ._isolated import MONTE_CARLO_NEWTON_TOLERANCE as MONTE_CARLO_NEWTON_TOLERANCE
 from ._isolated import RECOMMENDED_TIME_STEPS as RECOMMENDED_TIME_STEPS
 from ._isolated import IsolatedStructure as IsolatedStructure
