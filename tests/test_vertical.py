@@ -292,3 +292,52 @@ def test_varying_load_step_matches_an_adaptive_solver():
     plain = np.asarray(simulate_structure(with_vertical_motion(system, _record(0 * t), radius=RADIUS),
                                           duration, save_every=10).displacement[:, 0])
     assert np.max(np.abs(plain - reference)) > 1e-2 * np.max(np.abs(reference))  # a_v matters
+
+
+@pytest.mark.parametrize("directions", [1, 2])
+def test_a_pendulum_holds_the_stiffness_its_load_scales(directions):
+    """A single pendulum built with its radius (one component) or surface (two) holds W / R,
+    the part of its stiffness the normal load N = s W carries: the vertical record alone then
+    scales it, to the bit as when the radius is given, and unlike a spring (W / R left
+    unscaled), which moves the response."""
+    import dataclasses
+
+    from teflon_jax.bearing import FrictionParameters, concave_surface
+    from teflon_jax.systems import bidirectional_rigid_mass, simulate_bidirectional
+
+    duration = 2.0
+    t = _times(duration)
+    ground = _record(3.0 * np.sin(2 * np.pi * 0.8 * t))
+    vertical = _record(0.6 * G * np.sin(2 * np.pi * 3.0 * t))
+    bearing = paper_bearing(FrictionParameters(f_max=0.1, delta_f=0.06, rate_a=20.0))
+    if directions == 1:
+        system = rigid_mass(weight=WEIGHT, bearing=bearing, ground_acceleration=ground, time_step=0.005,
+                            radius=RADIUS)
+        run = simulate_structure
+    else:
+        system = bidirectional_rigid_mass(weight=WEIGHT, bearing=bearing, ground_x=ground, time_step=0.005,
+                                          isolation_period=2 * np.pi * np.sqrt(RADIUS / G),
+                                          surface=concave_surface(RADIUS))
+        run = simulate_bidirectional
+    assert np.allclose(np.asarray(system.pendulum_stiffness), WEIGHT / RADIUS, rtol=1e-15, atol=0)
+
+    def displacement(s):
+        response = run(s, duration)
+        return np.asarray(response.displacement if directions == 1 else response.q)[:, 0]
+
+    held = displacement(with_vertical_motion(system, vertical))
+    given = displacement(with_vertical_motion(system, vertical, radius=RADIUS))
+    spring = displacement(with_vertical_motion(dataclasses.replace(system, pendulum_stiffness=None), vertical))
+    assert np.array_equal(held, given)
+    assert np.max(np.abs(held - spring)) > 1e-3 * np.max(np.abs(held))
+
+
+def test_a_vertical_record_goes_on_structures_only():
+    """`with_vertical_motion` names `system` for what is not a stepped structure, and
+    `with_vertical_component` names `structure` for what is not an isolated structure."""
+    system = rigid_mass(weight=WEIGHT, bearing=None, ground_acceleration=_record(np.zeros(101)),
+                        time_step=0.005, friction_model="none")
+    with pytest.raises(ValueError, match="system: expected a stepped structure"):
+        with_vertical_motion(isolated_structure("rigid"), _record(np.zeros(101)))
+    with pytest.raises(ValueError, match="structure: expected an IsolatedStructure"):
+        with_vertical_component(system)

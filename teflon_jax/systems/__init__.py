@@ -40,6 +40,7 @@ from ._overturning import tipped_at_failure as tipped_at_failure
 from ._peaks import RESPONSE_NAMES as RESPONSE_NAMES
 from ._peaks import STEPS_PER_LOOP_PASS as STEPS_PER_LOOP_PASS
 from ._peaks import peak_response as peak_response
+from ._peaks import series_uplift_time as series_uplift_time
 from ._peaks import smooth_max as smooth_max
 from ._peaks import step_propagator as step_propagator
 from ._propagators import LINEAR_RULES as LINEAR_RULES
@@ -93,8 +94,7 @@ from ._triple_test import TripleResponse as TripleResponse
 from ._triple_test import imposed_isolator_force as imposed_isolator_force
 from ._triple_test import simulate_triple_test as simulate_triple_test
 from ._triple_test import triple_pendulum_test as triple_pendulum_test
+from ._vertical import VerticalIsolatedStructure as VerticalIsolatedStructure
 from ._vertical import normal_load_factor as normal_load_factor
-from ._vertical_isolated import VerticalIsolatedStructure as VerticalIsolatedStructure
-from ._vertical_isolated import with_vertical_component as with_vertical_component
-from ._vertical_motion import series_uplift_time as series_uplift_time
-from ._vertical_motion import with_vertical_motion as with_vertical_motion
+from ._vertical import with_vertical_component as with_vertical_component
+from ._vertical import with_vertical_motion as with_vertical_motion

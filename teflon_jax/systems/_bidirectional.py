@@ -40,12 +40,6 @@ from ._bidirectional_laws import (
     surface_tangent,
     with_surface_forces,
 )
-from ._bidirectional_vertical import (
-    loaded_bidirectional,
-    loaded_heat,
-    loaded_solve,
-    pendulum_change,
-)
 from ._block_algebra import (
     affine,
     block_matvec,
@@ -56,7 +50,13 @@ from ._block_algebra import (
 )
 from ._history import has_history, history_factor, history_rates, next_history
 from ._overturning import SupportPlan, group_factor, overturning_step
-from ._vertical import load_factor_at
+from ._vertical import (
+    load_factor_at,
+    loaded_bidirectional,
+    loaded_heat,
+    loaded_solve,
+    pendulum_change,
+)
 
 NEWTON_ITERATIONS = 100
 """Most iterations per step, all kinds together (fixed, Broyden loop, finite-difference Newton
@@ -93,7 +93,7 @@ class BidirectionalStructure(AbstractSteppedSystem):
     taken at the start of each step and held over it. `vertical_acceleration`: `Signal` of
     a_v(t) [m/s^2, up +] or `None`: the groups' normal loads are then s W_g with
     s = max(1 + a_v / g, 0), on the friction and on `pendulum_stiffness` W_g / R (G,) [N/m]
-    (the part of K the load carries), `_bidirectional_vertical.py`; `load` is the s of a copy
+    (the part of K the load carries), `_vertical.py`; `load` is the s of a copy
     at one time (`at_load`), one per group (G,) with `overturning` L (G, 2) [-]: the groups'
     loads N_g = s W_g + (L H)_g under the horizontal force H of the step's start, held over the
     step and kept in the state "normal_load" (G,) [N] (`_overturning.py`), redistributed

@@ -35,7 +35,8 @@ def bidirectional_structure(
     one per group; a bearing with heating needs `contact_pressure` [Pa] (one, or one per
     group). `friction_model` "hysteretic", "coulomb" or "none"; `surface`: a friction
     pendulum's `ConcaveSurface` whose W / R is in `stiffness` (its restrainer and
-    large-displacement force act in the bearings' solve), or `None`."""
+    large-displacement force act in the bearings' solve; W_g / R the groups' `pendulum_stiffness`,
+    which a vertical record's load scales), or `None`."""
     mass = jnp.asarray(mass, dtype=float)
     n = mass.shape[0]
     bearing_map = jnp.asarray(bearing_map, dtype=float)
@@ -88,6 +89,7 @@ def bidirectional_structure(
         heat_weights=weights,
         friction_model=friction_model,
         surface=None if surface is None or surface.is_linear else surface,
+        pendulum_stiffness=None if surface is None else bearing_load / jnp.asarray(surface.radius, float),
     )
 
 

@@ -256,6 +256,8 @@ class IsolatedStructure(eqx.Module):
                 linear_rule=self.linear_rule,
                 contact_pressure=self.contact_pressure(design),
             )
+        if self.surface is not None:  # W / R: the part of K a vertical record's load scales
+            system = dataclasses.replace(system, pendulum_stiffness=system.bearing_load / self.designed_surface(design).radius)
         if self.surface is not None and not self.surface.is_linear:
             system = dataclasses.replace(system, surface=self.designed_surface(design))
         settings = (self.newton_iterations, self.split_at_turn, self.newton_tolerance)

@@ -107,6 +107,7 @@ def rigid_mass(
         friction_model=friction_model,
         linear_rule=linear_rule,
         contact_pressure=contact_pressure,
+        pendulum_stiffness=None if radius is None else jnp.asarray(weight, dtype=float) / jnp.asarray(radius, dtype=float),
     )
 
 

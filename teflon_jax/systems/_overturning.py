@@ -17,7 +17,7 @@ of the supports' stiffness). The normal load of group g is
     N_g = (1 + a_v / g) W_g + dN_g    (N_g = (1 + a_v / g) W_g while a_v <= -g),
 
 on its friction mu N_g Z_g and its pendulum's N_g / R_g d_g (the factor s_g = max(N_g / W_g, 0)
-of `_bidirectional_vertical.py`, one per group). The equilibrium of the step needs H at its
+of `_vertical.py`, one per group). The equilibrium of the step needs H at its
 end, which needs the loads: H is taken at the start of the step (the isolation's force of the
 step before) and held over it, as the vertical record's load is held; the lag is one step,
 an error of order dt (it vanishes under a steady ground acceleration). The supports take no

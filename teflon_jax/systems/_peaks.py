@@ -245,3 +245,14 @@ def _start_carry(system, ground0, rows, dtype, load0=None):
     state = (jnp.concatenate([y0["u"], y0["v"]]), y0["z"], y0["z_peak"], start_factors, ground0,
              history, load0)
     return (state, (zero, zero) + storey_start(rows, dtype), (zero, zero), (one, one), jnp.array(True))
+
+
+def series_uplift_time(system, duration: float):
+    """Time [s] of the steps 1..n (n = duration / dt, `check_duration`) whose end has N <= 0 in
+    a two-direction series-pendulum structure (`BiaxialStructureOnTriple`), as `peak_response`
+    counts it in one direction; `None` without a vertical record."""
+    uniaxial = system.uniaxial
+    if uniaxial.vertical_acceleration is None:
+        return None
+    n_steps = check_duration(uniaxial, duration)
+    return uplift_steps(uniaxial, n_steps) * float(uniaxial.time_step)

@@ -24,6 +24,7 @@ def structure_on_sliders(
     linear_rule: str = "newmark",
     contact_pressure=None,
     surface=None,
+    pendulum_stiffness=None,
 ) -> StructureOnSliders:
     """Build a `StructureOnSliders`, checking shapes and prefactoring the step's matrices.
 
@@ -32,7 +33,8 @@ def structure_on_sliders(
     A bearing with `heating` needs `contact_pressure` [Pa] (its kernel spans one time step to
     `HEAT_HORIZON`); of the optional parts, structures run `STRUCTURE_EFFECTS`. `surface`: a
     friction pendulum's `ConcaveSurface` whose force beyond W u / R the step solves
-    (`StructureOnSliders.surface`; W / R itself belongs in `stiffness`).
+    (`StructureOnSliders.surface`; W / R itself belongs in `stiffness`). `pendulum_stiffness`
+    W / R [N/m]: the part of K[0, 0] a vertical record's normal load scales (`with_vertical_motion`).
     """
     if friction_model not in FRICTION_MODELS:
         raise ValueError(
@@ -76,6 +78,7 @@ def structure_on_sliders(
         heat_rates=rates,
         heat_weights=weights,
         surface=surface,
+        pendulum_stiffness=pendulum_stiffness,
     )
 
 

@@ -1,15 +1,25 @@
-"""The vertical ground acceleration in a structure on sliders: the isolators' normal load.
+"""The vertical ground acceleration on any structure the library steps: the isolators' normal load.
 
 With the superstructure rigid in the vertical direction, the normal load on the isolators
 follows the vertical ground acceleration a_v(t) [m/s^2, up positive]:
 
     N(t) = W (1 + a_v(t) / g) = s(t) W,   s = max(1 + a_v / g, 0),
 
-W the weight above the isolators. The friction force mu N Z and a friction pendulum's
-restoring force N u / R scale with s; a restoring spring (rubber, carrying no vertical load)
-does not. At s = 0 (N <= 0, uplift) the bearing carries no shear: its friction and restoring
-forces are exactly zero, Z follows the slider's motion (so that it is the sliding state
-again at touchdown) and no heat enters the steel, nor does a wearing bearing count travel.
+W the weight above the isolators (W_g per bearing group in two components). The friction
+force mu N Z and a friction pendulum's restoring force N u / R scale with s; a restoring spring
+(rubber, carrying no vertical load) does not. At s = 0 (N <= 0, uplift) the bearing carries no
+shear: its friction and restoring forces are exactly zero, Z follows the slider's motion (so
+that it is the sliding state again at touchdown) and no heat enters the steel, nor does a
+wearing bearing count travel. Every isolator takes N at the end of each step, the time at
+which its force is reported and uplift counted.
+
+One record, one function: `with_vertical_motion` puts it on any stepped structure (the rigid
+mass, the building, the slab; one or two components; flat sliders, single, double and triple
+pendulums), `with_vertical_component` on the isolated structures of the studies, which then
+take (horizontal, vertical) ground motions. The stepped structures take the load at the step's
+end from `load_factor_at`; the flat sliders and single pendulums solve their step under it with
+`loaded_isolator_force` (one component) and `loaded_solve` (two; `loaded_bidirectional`).
+
 References: Almazan, De la Llera & Inaudi (1998), Earthquake Eng. Struct. Dyn. 27(8),
 845-867 (the friction pendulum's force under a varying normal load); Mokha, Constantinou &
 Reinhorn (1990), J. Struct. Eng. 116(2), 438-454 (the normal load's effect on PTFE friction).
@@ -17,6 +27,7 @@ Reinhorn (1990), J. Struct. Eng. 116(2), 438-454 (the normal load's effect on PT
 
 import dataclasses
 
+import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -43,18 +54,49 @@ def uplifted(vertical_acceleration):
     return 1 + jnp.asarray(vertical_acceleration) / STANDARD_GRAVITY <= 0
 
 
-def with_vertical_motion(system, vertical_acceleration: Signal, radius=None):
-    """`system` (a `StructureOnSliders` or `BidirectionalStructure`) with the vertical ground acceleration
-    `vertical_acceleration` [m/s^2, up +] on its isolators' normal load (module docstring).
+def uplift_steps(system, n_steps: int):
+    """Number of the steps 1..n_steps whose end has N <= 0 (`None` without a vertical record)."""
+    if system.vertical_acceleration is None:
+        return None
+    times = jnp.arange(1, n_steps + 1) * system.time_step
+    return jnp.sum(uplifted(jax.vmap(system.vertical_acceleration)(times)))
 
-    `radius` R [m] of a friction pendulum: the part W / R of the isolator's stiffness that the
-    normal load carries (scaled by N / W in each step; W / R per group in two directions);
-    `None` for flat sliders, whose restoring springs keep their stiffness, and for a system
-    that already holds its `pendulum_stiffness` (a slab on friction pendulums), which it keeps.
+
+# --------------------------------------------------------------------------- the record on a structure
+
+
+def with_vertical_motion(system, vertical_acceleration: Signal, radius=None):
+    """`system` with the vertical ground acceleration `vertical_acceleration` [m/s^2, up +] on
+    its isolators' normal load N = W max(1 + a_v / g, 0) (module docstring).
+
+    `system`: any stepped structure, one that has a `vertical_acceleration` field (a
+    `StructureOnSliders`, `BidirectionalStructure` — the slab on flat sliders or single
+    pendulums among them —, `StructureOnTriple` or `SlabOnSeries`), or a
+    `BiaxialStructureOnTriple`, whose one-component structure takes the record.
+
+    A single friction pendulum's structure holds the part W / R of its stiffness that the
+    normal load carries (`pendulum_stiffness`, scaled by N / W in each step; W_g / R per group
+    in two components) when built with its radius or surface (`rigid_mass(radius=...)`,
+    `isolated_structure(isolator="single-fp")`, `bidirectional_rigid_mass(surface=...)`, the
+    slab, the building on a plan); flat sliders' restoring springs keep their stiffness.
+    `radius` R [m] sets W / R on a `StructureOnSliders` or `BidirectionalStructure` built
+    without it (a pendulum given by its period alone); `None` keeps what the structure holds.
+    Triple and double pendulums carry their surfaces' radii: `radius` must be `None` there.
+    `ValueError` naming the argument otherwise.
     """
     if not isinstance(vertical_acceleration, Signal):
         raise ValueError("vertical_acceleration: expected a Signal of the vertical ground "
                          f"acceleration [m/s^2], got {type(vertical_acceleration).__name__}.")
+    fields = {field.name for field in dataclasses.fields(system)} if dataclasses.is_dataclass(system) else set()
+    if "uniaxial" in fields:  # two components on series pendulums: the uniaxial structure's record
+        _no_radius(radius)
+        return dataclasses.replace(system, uniaxial=with_vertical_motion(system.uniaxial, vertical_acceleration))
+    if "vertical_acceleration" not in fields:
+        raise ValueError("system: expected a stepped structure (StructureOnSliders, BidirectionalStructure, "
+                         f"StructureOnTriple, BiaxialStructureOnTriple, SlabOnSeries), got {type(system).__name__}.")
+    if "pendulum_stiffness" not in fields:  # series pendulums
+        _no_radius(radius)
+        return dataclasses.replace(system, vertical_acceleration=vertical_acceleration)
     stiffness = system.pendulum_stiffness
     if radius is not None:
         value = np.asarray(radius) if not isinstance(radius, jax.core.Tracer) else None
@@ -63,6 +105,63 @@ def with_vertical_motion(system, vertical_acceleration: Signal, radius=None):
         stiffness = system.bearing_load / jnp.asarray(radius, float)
     return dataclasses.replace(system, vertical_acceleration=vertical_acceleration,
                                pendulum_stiffness=stiffness)
+
+
+def _no_radius(radius) -> None:
+    if radius is not None:
+        raise ValueError("radius: a triple or double pendulum's radii are its surfaces' (its "
+                         "SeriesPendulum); leave radius out.")
+
+
+class VerticalIsolatedStructure(eqx.Module):
+    """`structure` with the vertical ground acceleration on its isolators' normal load
+    (`with_vertical_motion`; a single friction pendulum's W / R scales with it).
+
+    `structure`: an `IsolatedStructure` (one horizontal component), a
+    `BidirectionalIsolatedStructure` (two), or a `TripleIsolatedStructure` (triple or double
+    pendulums, one or two). Call as `structure((horizontal, ground_vertical), design)` with
+    `horizontal` what `structure` takes (a `Signal`, or the (x, y) pair of `Signal`s) and
+    `ground_vertical` a `Signal` [m/s^2, up positive]; returns the structure's system with
+    the vertical record.
+    """
+
+    structure: eqx.Module
+
+    @property
+    def uniaxial(self):
+        """The one-direction `IsolatedStructure` inside (that of a bidirectional one), or the
+        `TripleIsolatedStructure`."""
+        return getattr(self.structure, "uniaxial", self.structure)
+
+    @property
+    def time_step(self) -> float:
+        """The structure's step [s]."""
+        return self.structure.time_step
+
+    @property
+    def kind(self) -> str:
+        """"rigid" or "building"."""
+        return self.uniaxial.kind
+
+    def __call__(self, ground, design=None):
+        horizontal, vertical = ground
+        return with_vertical_motion(self.structure(horizontal, design), vertical)
+
+
+def with_vertical_component(structure) -> VerticalIsolatedStructure:
+    """`structure` taking (horizontal, vertical) ground motions (`VerticalIsolatedStructure`):
+    an `IsolatedStructure`, a `BidirectionalIsolatedStructure` (`bidirectional_isolated_structure`)
+    or a `TripleIsolatedStructure` (`isolated_structure(kind, isolator="triple-fp", ...)`): an
+    isolated structure of the studies, called with a motion and a design, with its `kind`,
+    `isolator` and `time_step`."""
+    inner = getattr(structure, "uniaxial", structure)
+    if not (callable(structure) and all(hasattr(inner, name) for name in ("kind", "isolator", "time_step"))):
+        raise ValueError(f"structure: expected an IsolatedStructure, a BidirectionalIsolatedStructure or a "
+                         f"TripleIsolatedStructure (isolated_structure(...)), got {type(structure).__name__}.")
+    return VerticalIsolatedStructure(structure)
+
+
+# --------------------------------------------------------------------------- one component
 
 
 def loaded_surface_force(system, u0, load):
@@ -102,9 +201,51 @@ def loaded_isolator_force(system, ub_linear, vb_linear, compliance, y0, start_fa
     return force + a * x, z1, z_peak1, converged
 
 
-def uplift_steps(system, n_steps: int):
-    """Number of the steps 1..n_steps whose end has N <= 0 (0 without a vertical record)."""
-    if system.vertical_acceleration is None:
-        return None
-    times = jnp.arange(1, n_steps + 1) * system.time_step
-    return jnp.sum(uplifted(jax.vmap(system.vertical_acceleration)(times)))
+# --------------------------------------------------------------------------- two components
+
+
+def loaded_bidirectional(system, load):
+    """`system` (a `BidirectionalStructure`) under the load factor `load` = N / W [-]: its
+    groups' loads s W_g, with `load` kept for the pendulum's change (`pendulum_change`)."""
+    return dataclasses.replace(system, bearing_load=system.bearing_load * load, load=jnp.asarray(load),
+                               vertical_acceleration=None)
+
+
+def pendulum_change(system):
+    """(s - 1) W_g / R (G,) [N/m] of a loaded copy: the change of the pendulum's stiffness
+    (zeros for flat sliders)."""
+    if system.pendulum_stiffness is None:
+        return jnp.zeros_like(system.bearing_load)
+    return (system.load - 1) * system.pendulum_stiffness
+
+
+def loaded_heat(system, coefficient, slide):
+    """(mu s, slide) of a loaded copy for the heat flux mu s p |v| and the travel (none while
+    uplifted); unchanged for a structure without a load factor."""
+    if system.load is None:
+        return coefficient, slide
+    return coefficient * system.load, jnp.where(system.load > 0, slide, 0.0)
+
+
+def loaded_solve(system, p):
+    """`BidirectionalStructure._solve_bearings` of a loaded copy with the pendulum's change of
+    stiffness moved into the bearings' equilibrium d = d_lin - G_b (F(d) + A d),
+    A = diag((s - 1) W_g / R):
+
+        d = (I + G_b A)^-1 d_lin - (I + G_b A)^-1 G_b F(d),
+
+    the same problem with d_lin and the flexibility G_b replaced (the velocity at the end of
+    the step is Newmark's 2 (d - d0) / dt - v0 whatever the forces). Returns the total bearing
+    forces F + A d (x, y parts), Z and convergence."""
+    a = pendulum_change(system)
+    n = a.shape[0]
+    (xx, xy), (yx, yy) = p["flexibility"]
+    flexibility = jnp.block([[xx, xy], [yx, yy]])
+    matrix = jnp.eye(2 * n) + flexibility * jnp.concatenate([a, a])[None, :]
+    flexibility = jnp.linalg.solve(matrix, flexibility)
+    d_linear = jnp.linalg.solve(matrix, jnp.concatenate(p["d_linear"]))
+    blocks = ((flexibility[:n, :n], flexibility[:n, n:]), (flexibility[n:, :n], flexibility[n:, n:]))
+    (fx, fy), z, converged = system._solve_bearings(
+        {**p, "flexibility": blocks, "d_linear": (d_linear[:n], d_linear[n:])})
+    d = d_linear - flexibility @ jnp.concatenate([fx, fy])
+    return (fx + a * d[:n], fy + a * d[n:]), z, converged
