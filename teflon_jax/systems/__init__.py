@@ -6,13 +6,17 @@ from ._bearing_test import BearingTestSystem as BearingTestSystem
 from ._bearing_test import force_along_path as force_along_path
 from ._bearing_test import simulate_bearing_test as simulate_bearing_test
 from ._bidirectional import BidirectionalStructure as BidirectionalStructure
-from ._bidirectional_build import bidirectional_initial_state as bidirectional_initial_state
-from ._bidirectional_build import bidirectional_structure as bidirectional_structure
 from ._bidirectional_models import BIDIRECTIONAL_TIME_STEP as BIDIRECTIONAL_TIME_STEP
+from ._bidirectional_models import BidirectionalResponse as BidirectionalResponse
 from ._bidirectional_models import bidirectional_building as bidirectional_building
+from ._bidirectional_models import (
+    bidirectional_initial_state as bidirectional_initial_state,
+)
 from ._bidirectional_models import bidirectional_rigid_mass as bidirectional_rigid_mass
-from ._bidirectional_response import BidirectionalResponse as BidirectionalResponse
-from ._bidirectional_response import simulate_bidirectional as simulate_bidirectional
+from ._bidirectional_models import bidirectional_storey_peaks as bidirectional_storey_peaks
+from ._bidirectional_models import bidirectional_structure as bidirectional_structure
+from ._bidirectional_models import directional_storeys as directional_storeys
+from ._bidirectional_models import simulate_bidirectional as simulate_bidirectional
 from ._building_plan import building_on_plan as building_on_plan
 from ._design_space import DESIGN_SPACES as DESIGN_SPACES
 from ._design_space import DesignSpace as DesignSpace
@@ -58,18 +62,16 @@ from ._slab_series import SlabOnSeries as SlabOnSeries
 from ._slab_series_build import SlabSeriesResponse as SlabSeriesResponse
 from ._slab_series_build import simulate_slab_series as simulate_slab_series
 from ._slab_series_build import stack_pendulums as stack_pendulums
-from ._storey_peaks import bidirectional_storey_peaks as bidirectional_storey_peaks
-from ._storey_peaks import check_storey_height as check_storey_height
-from ._storey_peaks import directional_storeys as directional_storeys
-from ._storey_peaks import storey_rows as storey_rows
 from ._structure import FRICTION_MODELS as FRICTION_MODELS
 from ._structure import StructureOnSliders as StructureOnSliders
 from ._structure import initial_state as initial_state
 from ._structure_build import HEAT_HORIZON as HEAT_HORIZON
 from ._structure_build import STRUCTURE_EFFECTS as STRUCTURE_EFFECTS
+from ._structure_build import StructureResponse as StructureResponse
+from ._structure_build import check_storey_height as check_storey_height
+from ._structure_build import simulate_structure as simulate_structure
+from ._structure_build import storey_rows as storey_rows
 from ._structure_build import structure_on_sliders as structure_on_sliders
-from ._structure_response import StructureResponse as StructureResponse
-from ._structure_response import simulate_structure as simulate_structure
 from ._triple_biaxial import BiaxialStructureOnTriple as BiaxialStructureOnTriple
 from ._triple_biaxial import biaxial_histories as biaxial_histories
 from ._triple_biaxial import biaxial_peaks as biaxial_peaks

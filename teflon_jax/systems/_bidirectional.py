@@ -35,21 +35,19 @@ from ..solver import (
 )
 from ._bearing_test import running_peak_rate
 from ._bidirectional_laws import (
+    affine,
+    block_matvec,
     coulomb_solve,
+    difference_jacobian,
+    matvec,
     no_friction_solve,
+    solve_blocks,
     surface_tangent,
     with_surface_forces,
 )
-from ._block_algebra import (
-    affine,
-    block_matvec,
-    difference_jacobian,
-    matvec,
-    small_dot,
-    solve_blocks,
-)
-from ._history import has_history, history_factor, history_rates, next_history
 from ._overturning import SupportPlan, group_factor, overturning_step
+from ._propagators import small_dot
+from ._sampled_path import has_history, history_factor, history_rates, next_history
 from ._vertical import (
     load_factor_at,
     loaded_bidirectional,
@@ -87,7 +85,7 @@ class BidirectionalStructure(AbstractSteppedSystem):
     array leaves have shape (G,) (one set of constants per group); `bearing_load` W_g (G,) [N];
     `ground_x`, `ground_y`: `Signal`s of the ground acceleration [m/s^2]; `newmark_inverse`
     K_eff^-1 for `time_step` [s] (static); `newton_iterations`, `newton_tolerance` (static,
-    in units of Y; 0: to rounding); for a bearing with heating or wear (`_history.py`):
+    in units of Y; 0: to rounding); for a bearing with heating or wear (`_sampled_path.py`):
     `contact_pressure` (G,) [Pa] and the heat kernel's `heat_rates`, `heat_weights` (K,),
     with the state "heat" (G, K) and "travel" (G,) [m] of each group, their factor on mu
     taken at the start of each step and held over it. `vertical_acceleration`: `Signal` of

@@ -1,5 +1,7 @@
 """The other isolator laws of a structure in two directions: Coulomb friction, no friction,
-and a friction pendulum's restrainer and large-displacement force.
+and a friction pendulum's restrainer and large-displacement force; and the small dense algebra
+of the planar solve (vectors over the G bearing groups kept as their x and y parts (G,),
+matrices as 2 x 2 blocks of (G, G)).
 
 **Coulomb friction (Eq. 2 in the plane).** Each group g slides at v_g with the force
 F_g = mu_g W_g v_g / |v_g|, or sticks (v_g = 0) with |F_g| <= mu_g W_g. Over one Newmark
@@ -30,6 +32,8 @@ References: Constantinou, Mokha & Reinhorn (1990), J. Struct. Eng. 116(2), Eq. 2
 
 import jax
 import jax.numpy as jnp
+
+from ._propagators import small_dot
 
 FRICTION_MODELS = ("hysteretic", "coulomb", "none")
 """Friction laws of a structure in two directions: Park's biaxial Z, Coulomb, none."""
@@ -137,3 +141,46 @@ def no_friction_solve(system, p):
     """No friction: zero forces, Z held, converged."""
     zero = jnp.zeros_like(p["d_linear"][0])
     return (zero, zero), jnp.stack(p["z0"], -1), jnp.asarray(True)
+
+
+# --------------------------------------------------------------------------- block algebra
+
+
+def matvec(matrix, vector):
+    """matrix (m, G) @ vector (G,), as a product of elements for G = 1 (no dot kernel)."""
+    return matrix[:, 0] * vector if matrix.shape[1] == 1 else small_dot(matrix, vector)
+
+
+def block_matvec(blocks, vector):
+    """((xx, xy), (yx, yy)) @ (vx, vy), each block (G, G)."""
+    return tuple(matvec(blocks[i][0], vector[0]) + matvec(blocks[i][1], vector[1]) for i in range(2))
+
+
+def affine(flexibility, forces, d, d_linear):
+    """d - d_linear + G_b F, in x and y parts."""
+    product = block_matvec(flexibility, forces)
+    return tuple(d[i] - d_linear[i] + product[i] for i in range(2))
+
+
+def solve_blocks(blocks, rhs):
+    """((xx, xy), (yx, yy))^-1 (rx, ry): in closed form for one bearing group (2 x 2), by LU
+    otherwise."""
+    if blocks[0][0].shape == (1, 1):
+        (a, b), (c, d) = ((blk[:, 0] for blk in row) for row in blocks)
+        det = a * d - b * c
+        return (d * rhs[0] - b * rhs[1]) / det, (a * rhs[1] - c * rhs[0]) / det
+    full = jnp.block(blocks)
+    flat = jnp.linalg.solve(full, jnp.concatenate(rhs))
+    n = rhs[0].shape[0]
+    return flat[:n], flat[n:]
+
+
+def difference_jacobian(residual, x, r, x0, scale):
+    """dr/dx (n, n) by forward differences, steps 1e-7 max(scale, |x - x0|) [m] (relative
+    error about 1e-7: Newton's convergence is then quadratic down to far below the tolerance).
+    Forward-mode differentiation through the closed-form Park update would be exact, but XLA's
+    CPU fusion emitter recomputes its shared subexpressions, making it ~20x dearer than the
+    two extra residuals."""
+    h = 1e-7 * jnp.maximum(scale, jnp.abs(x - x0))
+    columns = [(residual(x.at[j].add(h[j])) - r) / h[j] for j in range(x.shape[0])]
+    return jnp.stack(columns, axis=1)

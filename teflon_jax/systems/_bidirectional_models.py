@@ -1,19 +1,129 @@
-"""The rigid mass and the six-storey building of the paper under two ground components.
+"""Structures on bearing groups under two horizontal ground components: built (any linear
+structure, the paper's rigid mass and six-storey building), at rest, and run over a record
+(their histories and the building's storey peaks).
 
-Both sit on one group of sliding bearings with Park's biaxial Z (Eqs. 8-9); x and y are
-uncoupled except through the bearings. Reference: Constantinou, Mokha & Reinhorn (1990),
+The rigid mass and the building sit on one group of sliding bearings with Park's biaxial Z
+(Eqs. 8-9); x and y are uncoupled except through the bearings. Equations of motion and the
+step: `_bidirectional.py`. Reference: Constantinou, Mokha & Reinhorn (1990), Eqs. 1, 8-9, 17,
 Figs. 7-11, Table 2 (MODEL.md Sections 4 and 8).
 """
 
+import diffrax
+import equinox as eqx
+import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..bearing import SlidingBearing
+from ..bearing import SlidingBearing, heat_kernel_exponentials
 from ..excitation import Signal
+from ..solver import RiccatiNewmark, require_riccati_form, solve_on_grid
 from ..tables import BuildingData
-from ._bidirectional import BidirectionalStructure
-from ._bidirectional_build import bidirectional_structure
+from ._bidirectional import NEWTON_ITERATIONS, BidirectionalStructure
+from ._bidirectional_laws import check_planar_law
 from ._models import rigid_mass, six_storey_building
+from ._overturning import initial_normal_load
+from ._structure_build import (
+    HEAT_HORIZON,
+    PRESSURE_HINT,
+    STRUCTURE_EFFECTS,
+    check_storey_height,
+)
+from ._vertical import uplift_steps
+
+
+def bidirectional_structure(
+    *,
+    mass,
+    stiffness,
+    damping,
+    influence,
+    bearing_map,
+    bearing: SlidingBearing,
+    bearing_load,
+    ground_x: Signal,
+    ground_y: Signal,
+    time_step: float,
+    newton_iterations: int = NEWTON_ITERATIONS,
+    contact_pressure=None,
+    friction_model: str = "hysteretic",
+    surface=None,
+) -> BidirectionalStructure:
+    """Build a `BidirectionalStructure`, checking shapes and prefactoring Newmark's matrix
+    K_eff = K + (2/dt) C + (4/dt^2) M for `time_step` [s]. Bearing constants are broadcast to
+    one per group; a bearing with heating needs `contact_pressure` [Pa] (one, or one per
+    group). `friction_model` "hysteretic", "coulomb" or "none"; `surface`: a friction
+    pendulum's `ConcaveSurface` whose W / R is in `stiffness` (its restrainer and
+    large-displacement force act in the bearings' solve; W_g / R the groups' `pendulum_stiffness`,
+    which a vertical record's load scales), or `None`."""
+    mass = jnp.asarray(mass, dtype=float)
+    n = mass.shape[0]
+    bearing_map = jnp.asarray(bearing_map, dtype=float)
+    bearing_load = jnp.atleast_1d(jnp.asarray(bearing_load, dtype=float))
+    groups = bearing_load.shape[0]
+    if bearing_map.shape != (groups, 2, n):
+        raise ValueError(
+            f"bearing_map: shape {bearing_map.shape}, expected (groups, 2, dofs) = ({groups}, 2, {n})."
+        )
+    if not time_step > 0:
+        raise ValueError(f"time_step: must be > 0 s, got {time_step}.")
+    require_riccati_form(bearing.hysteresis)
+    check_planar_law(friction_model, surface, bearing)
+    other = [name for name in bearing.effects if name not in STRUCTURE_EFFECTS]
+    if other:
+        raise ValueError(
+            f"bearing: the structures in two directions do not run its "
+            f"{', '.join(other)} (they run Eq. 1 at the resultant speed, Park's Z, "
+            "breakaway, anisotropy, stacks, heating, wear and asymmetry)"
+            + (PRESSURE_HINT if "pressure_dependence" in other else "."))
+    rates = weights = None
+    if bearing.heating is not None and friction_model == "hysteretic":
+        if contact_pressure is None:
+            raise ValueError("contact_pressure: a bearing with heating needs the contact pressure "
+                             "[Pa] of the bearings (the heat flux is mu p |v|).")
+        rates, weights = (jnp.asarray(a) for a in heat_kernel_exponentials(float(time_step),
+                                                                           HEAT_HORIZON))
+        contact_pressure = jnp.broadcast_to(jnp.asarray(contact_pressure, float), (groups,))
+    bearing = jax.tree_util.tree_map(
+        lambda leaf: jnp.broadcast_to(jnp.asarray(leaf, dtype=float), (groups,)), bearing
+    )
+    stiffness = jnp.asarray(stiffness, dtype=float).reshape(n, n)
+    damping = jnp.asarray(damping, dtype=float).reshape(n, n)
+    k_eff = stiffness + 2 / time_step * damping + 4 / time_step**2 * jnp.diag(mass)
+    return BidirectionalStructure(
+        mass=mass,
+        stiffness=stiffness,
+        damping=damping,
+        influence=jnp.asarray(influence, dtype=float).reshape(n, 2),
+        bearing_map=bearing_map,
+        bearing=bearing,
+        bearing_load=bearing_load,
+        ground_x=ground_x,
+        ground_y=ground_y,
+        newmark_inverse=jnp.linalg.inv(k_eff),
+        time_step=float(time_step),
+        newton_iterations=int(newton_iterations),
+        contact_pressure=contact_pressure if rates is not None else None,
+        heat_rates=rates,
+        heat_weights=weights,
+        friction_model=friction_model,
+        surface=None if surface is None or surface.is_linear else surface,
+        pendulum_stiffness=None if surface is None else bearing_load / jnp.asarray(surface.radius, float),
+    )
+
+
+def bidirectional_initial_state(system: BidirectionalStructure) -> dict:
+    """At rest relative to the ground, Z = 0 in every group (and cold, unworn bearings; with
+    overturning, the groups' normal loads under the vertical record at t = 0)."""
+    n, groups = system.mass.shape[0], system.bearing_load.shape[0]
+    state = {"q": jnp.zeros(n), "v": jnp.zeros(n), "z": jnp.zeros((groups, 2)),
+             "z_peak": jnp.zeros(groups)}
+    if system.history:
+        n_heat = 0 if system.heat_rates is None else system.heat_rates.shape[0]
+        state.update(heat=jnp.zeros((groups, n_heat)), travel=jnp.zeros(groups))
+    if system.overturning is not None:  # the groups' normal loads N_g [N] (`_overturning.py`)
+        state["normal_load"] = initial_normal_load(system)
+    return state
+
 
 BIDIRECTIONAL_TIME_STEP = 0.0025
 """Default step [s] of the bidirectional structures: peak resultant base displacement and base
@@ -151,3 +261,128 @@ def bidirectional_building(
             )
     return _two_directions(x, y, bearing, ground_x, ground_y, time_step, contact_pressure,
                            friction_model=friction_model, surface=surface)
+
+
+class BidirectionalResponse(eqx.Module):
+    """Histories of a `BidirectionalStructure` (SI; time along the first axis).
+
+    - `time` (nt,) [s]; `q`, `v` (nt, N) relative coordinates and velocities;
+    - `acceleration` (nt, N) relative accelerations; `ground` (nt, 2) [m/s^2];
+    - `bearing_displacement` (nt, G, 2) [m]; `friction_force` (nt, G, 2) [N];
+    - `z` (nt, G, 2) [-]; `z_peak` (nt, G) [-]; `result`: `diffrax.RESULTS` (0 = successful);
+    - `load_factor` (nt,) [-]: N / W, 0 while uplifted, and `uplift_time` [s] (the steps with
+      N <= 0 times the step), with a vertical record; else `None`;
+    - `normal_load` (nt, G) [N]: each group's N_g, and `group_uplift_time` (G,) [s] (the saved
+      steps with N_g <= 0 times the step between them), with overturning (`_overturning.py`);
+      else `None`.
+    """
+
+    time: jnp.ndarray
+    q: jnp.ndarray
+    v: jnp.ndarray
+    acceleration: jnp.ndarray
+    ground: jnp.ndarray
+    bearing_displacement: jnp.ndarray
+    friction_force: jnp.ndarray
+    z: jnp.ndarray
+    z_peak: jnp.ndarray
+    result: object
+    load_factor: jnp.ndarray | None = None
+    uplift_time: jnp.ndarray | None = None
+    normal_load: jnp.ndarray | None = None
+    group_uplift_time: jnp.ndarray | None = None
+
+    @property
+    def succeeded(self):
+        return self.result == diffrax.RESULTS.successful
+
+
+def simulate_bidirectional(
+    system: BidirectionalStructure,
+    duration: float,
+    *,
+    save_every: int = 1,
+    solver=None,
+    rtol: float = 1e-8,
+    atol: float = 1e-10,
+    max_steps: int | None = None,
+    throw: bool = True,
+) -> BidirectionalResponse:
+    """Integrate a `BidirectionalStructure` from rest over `duration` [s].
+
+    **Arguments:** `solver`: `RiccatiNewmark()` (default, fixed step `system.time_step`) or an
+    adaptive diffrax solver (e.g. `diffrax.Tsit5()` with `rtol`, `atol`) for reference
+    solutions; `save_every`: keep every k-th step; `throw`: raise on solver failure (with
+    `False`, e.g. under `vmap`, the outcome of each member is in `result`).
+    """
+    dt = float(system.time_step)
+    n_steps = int(round(duration / dt + 1e-9))
+    if n_steps < 1:
+        raise ValueError(f"duration: must be at least one time step ({dt} s), got {duration}.")
+    if system.vertical_acceleration is not None:
+        system.vertical_acceleration.require_covers(n_steps * dt, "duration (vertical record)")
+    steps = jnp.arange(n_steps + 1) * dt
+    save_times = steps[::save_every]
+    solver = RiccatiNewmark() if solver is None else solver
+    if system.overturning is not None and not isinstance(solver, RiccatiNewmark):
+        raise ValueError("solver: the overturning loads are held over the fixed steps of "
+                         "RiccatiNewmark; leave solver out (or give height 0).")
+    solution = solve_on_grid(
+        system, solver, steps, save_times, bidirectional_initial_state(system),
+        jump_times=jnp.concatenate([system.ground_x.times, system.ground_y.times]),
+        rtol=rtol, atol=atol, max_steps=max_steps, throw=throw, adaptive_steps_per_step=200,
+    )
+    ys = solution.ys
+    ground = jax.vmap(system.ground)(save_times)
+    acceleration = jax.vmap(system._acceleration)(save_times, ys)
+    bearing_d = jax.vmap(system.bearing_motion)(ys["q"])
+    forces = jax.vmap(lambda t, y: system.at_load(system.load_at(t, y)).bearing_forces(y))(save_times, ys)
+    loads = None if system.vertical_acceleration is None else jax.vmap(system.load_factor)(save_times)
+    return BidirectionalResponse(
+        time=save_times,
+        q=ys["q"],
+        v=ys["v"],
+        acceleration=acceleration,
+        ground=ground,
+        bearing_displacement=bearing_d,
+        friction_force=forces,
+        z=ys["z"],
+        z_peak=ys["z_peak"],
+        result=solution.result,
+        load_factor=loads,
+        uplift_time=None if loads is None else uplift_steps(system, n_steps) * dt,
+        normal_load=ys.get("normal_load"),
+        group_uplift_time=None if system.overturning is None else (
+            jnp.sum(ys["normal_load"][1:] <= 0, axis=0) * dt * save_every),
+    )
+
+
+def directional_storeys(q, total_acceleration, storey_height):
+    """Drift ratios (..., 2, S) [-] and total accelerations (..., 2, S + 1) [m/s^2] in x and y
+    of the two-direction building (`bidirectional_building`: q = (x: base slab, floors 1..S;
+    y: the same), `total_acceleration` the same layout [m/s^2]): (q_j - q_(j-1)) / h_j per
+    storey and a_j + a_g per level, level 0 the base slab. jit/vmap-safe in q and the
+    accelerations; `storey_height` [m] scalar or (S,), not traced."""
+    n = q.shape[-1] // 2
+    height = jnp.asarray(check_storey_height(n, storey_height), q.dtype)
+    x, y = q[..., :n], q[..., n:]
+    drift = jnp.stack([jnp.diff(x, axis=-1), jnp.diff(y, axis=-1)], axis=-2) / height
+    acc = jnp.stack([total_acceleration[..., :n], total_acceleration[..., n:]], axis=-2)
+    return drift, acc
+
+
+def bidirectional_storey_peaks(response, system, storey_height) -> dict:
+    """Peak storey results of a run of the two-direction building (`bidirectional_building`)
+    from its histories (`simulate_bidirectional`), by `directional_storeys`:
+
+    - `storey_drift` (2, S) [-]: max_t |q_j - q_(j-1)| / h_j in x and in y, storey 1 first;
+    - `storey_drift_resultant` (S,) [-]: max_t of the drift vector's length over h_j;
+    - `level_acceleration` (2, S + 1) [m/s^2]: max_t |a_j + a_g| in x and y, level 0 the base slab;
+    - `level_acceleration_resultant` (S + 1,) [m/s^2]: max_t of the total acceleration's length.
+    """
+    q = jnp.asarray(response.q)
+    total = jnp.asarray(response.acceleration) + jnp.asarray(response.ground) @ jnp.asarray(system.influence).T
+    drift, acc = (np.asarray(v) for v in directional_storeys(q, total, storey_height))  # (nt, 2, .)
+    return {"storey_drift": np.abs(drift).max(axis=0), "storey_drift_resultant": np.hypot(*np.moveaxis(drift, 1, 0)).max(axis=0),
+            "level_acceleration": np.abs(acc).max(axis=0),
+            "level_acceleration_resultant": np.hypot(*np.moveaxis(acc, 1, 0)).max(axis=0)}

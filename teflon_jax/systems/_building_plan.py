@@ -38,8 +38,7 @@ from ..excitation import Signal
 from ..tables import BuildingData, load_table2
 from ..units import STANDARD_GRAVITY
 from ._bidirectional import BidirectionalStructure
-from ._bidirectional_build import bidirectional_structure
-from ._bidirectional_models import _zero_signal
+from ._bidirectional_models import _zero_signal, bidirectional_structure
 from ._models import superstructure_matrices
 from ._overturning import overturning_map, support_plan
 from ._slab import _pendulum_radii, check_plan, plan_bearing_map, stack_bearings

@@ -17,8 +17,7 @@ from ..tables import BuildingData, load_table2
 from ..units import STANDARD_GRAVITY
 from ..validation import concrete, require
 from ._structure import FRICTION_MODELS, StructureOnSliders
-from ._structure_build import structure_on_sliders
-from ._structure_response import StructureResponse
+from ._structure_build import StructureResponse, structure_on_sliders
 
 
 def _check(value, name: str, rule, text: str) -> None:

@@ -5,10 +5,9 @@ import jax
 import jax.numpy as jnp
 
 from ..units import STANDARD_GRAVITY
-from ._block_algebra import small_dot
-from ._storey_peaks import storey_rows, storey_start
+from ._propagators import small_dot
 from ._structure import WRITTEN_OUT_PRODUCT, StructureOnSliders, initial_state
-from ._structure_response import check_duration
+from ._structure_build import check_duration, storey_rows, storey_start
 from ._triple_structure import StructureOnTriple
 from ._vertical import uplift_steps
 

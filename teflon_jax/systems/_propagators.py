@@ -4,11 +4,32 @@ linearly over the step.
 Both give the state at the end of a step as (u1, v1) = R w + f F, with
 w = (u0, v0, a_g0, F_r0, a_g1) the start state, the ground acceleration at both ends and the
 bearing force at the start, and F the bearing force at the end (solved for by
-`StructureOnSliders.isolator_force`). Equations of motion: `_structure.py`.
+`StructureOnSliders.isolator_force`). Equations of motion: `_structure.py`. Products over
+short axes are written out as sums of element products (`small_dot`), which XLA fuses with
+the element-wise work around them on a CPU.
 """
 
 import jax
 import jax.numpy as jnp
+
+SMALL_PRODUCT = 4
+"""Contraction length up to which `small_dot` writes a matrix product as sums of products."""
+
+
+def small_dot(a, b, limit=SMALL_PRODUCT):
+    """a @ b for a (m, k) or (k,) and b (k, n) or (k,): as a written-out sum over k of element
+    products when k <= `limit`, which XLA fuses with the element-wise work around it
+    (a CPU dot kernel per tiny product costs more than the product: ~20 % of the rigid-mass
+    step), a dot otherwise."""
+    k = a.shape[-1]
+    if k > limit:
+        return a @ b
+    if a.ndim == 1:
+        return sum(a[i] * b[i] for i in range(k))
+    if b.ndim == 1:
+        return sum(a[:, i] * b[i] for i in range(k))
+    return sum(a[:, i, None] * b[None, i, :] for i in range(k))
+
 
 LINEAR_RULES = ("newmark", "exact")
 """`StructureOnSliders.linear_rule`: how the linear structure is advanced over a step.

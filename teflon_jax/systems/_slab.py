@@ -30,7 +30,7 @@ import numpy as np
 from ..bearing import ISOLATORS, SlidingBearing
 from ..excitation import Signal
 from ..units import STANDARD_GRAVITY
-from ._bidirectional_build import bidirectional_structure
+from ._bidirectional_models import bidirectional_structure
 from ._overturning import overturning_map, support_plan
 from ._slab_series_build import SERIES_SLAB_ISOLATORS, slab_on_series
 

@@ -25,10 +25,9 @@ from ..bearing import (
 from ..excitation import Signal
 from ..solver import AbstractSteppedSystem, require_riccati_form
 from ._bearing_test import running_peak_rate
-from ._block_algebra import small_dot
-from ._history import has_history, history_factor, history_rates, next_history
 from ._isolator_solve import isolator_root, predicted_root
-from ._propagators import newmark_step_matrices
+from ._propagators import newmark_step_matrices, small_dot
+from ._sampled_path import has_history, history_factor, history_rates, next_history
 from ._vertical import load_factor_at, loaded_isolator_force, loaded_surface_force
 
 FRICTION_MODELS = ("hysteretic", "coulomb", "none")

@@ -1,12 +1,37 @@
-"""Building a `StructureOnSliders`: shapes checked, the step's matrices prefactored, and the
-optional bearing parts a structure runs (heating, wear) with the heat kernel they need."""
+"""A `StructureOnSliders` built and run: shapes checked, the step's matrices prefactored, the
+optional bearing parts a structure runs (heating, wear) with the heat kernel they need; its
+histories over a record (`simulate_structure`); and a building's storey results as linear maps
+of its state.
 
+Storey results, for a building with degrees of freedom 0 = base slab (on the isolators) and
+1..n-1 = floors, displacements u relative to the ground:
+
+    drift_j = |u_j - u_(j-1)| / h_j                       storey j = 1..n-1 [-],
+    a_j + a_g = -((C v + K u)_j + delta_j0 F) / m_j       level j = 0..n-1 [m/s^2],
+
+the second from the equations of motion M (u'' + 1 a_g) + C v + K u + e0 F = 0, F the bearing
+force on the base slab (level 0); both are linear in the state (u, v) and F at each step's
+end. Storey 1 lies between the base slab and floor 1, so its drift excludes the isolators'
+displacement, which is the base peak `base_disp`. Reference for the building: Constantinou,
+Mokha & Reinhorn (1990), J. Struct. Eng. 116(2), Table 2 and Fig. 11.
+"""
+
+import equinox as eqx
+import jax
 import jax.numpy as jnp
+import numpy as np
 
 from ..bearing import SlidingBearing, check_bearing, heat_kernel_exponentials
 from ..excitation import Signal
+from ..solver import require_riccati_form
 from ._propagators import LINEAR_RULES, exact_step_matrices
-from ._structure import FRICTION_MODELS, NEWTON_ITERATIONS, StructureOnSliders
+from ._structure import (
+    FRICTION_MODELS,
+    NEWTON_ITERATIONS,
+    StructureOnSliders,
+    initial_state,
+)
+from ._vertical import uplift_steps
 
 
 def structure_on_sliders(
@@ -138,3 +163,151 @@ def _exact_step_matrix(mass, stiffness, damping, time_step):
     return jnp.vectorize(one, signature="(n),(n,n),(n,n)->(m,k)")(mass, stiffness, damping)
 
 
+class StructureResponse(eqx.Module):
+    """Response histories of a `StructureOnSliders` (SI; time along the first axis).
+
+    - `time` [s]; `displacement`, `velocity` (nt, n) relative to the ground [m, m/s];
+    - `total_acceleration` (nt, n) [m/s^2] (relative + ground);
+    - `friction_force` (nt,) [N] on the isolator; `z`, `z_peak` (nt,) [-];
+    - `ground_acceleration` (nt,) [m/s^2]; `result`: `diffrax.RESULTS` (0 = successful).
+    - `load_factor` (nt,) [-]: N / W on the isolators, 0 while uplifted (with a vertical
+      record, else `None`); `uplift_time` [s]: time steps with N <= 0 times the step.
+    """
+
+    time: jnp.ndarray
+    displacement: jnp.ndarray
+    velocity: jnp.ndarray
+    total_acceleration: jnp.ndarray
+    friction_force: jnp.ndarray
+    z: jnp.ndarray
+    z_peak: jnp.ndarray
+    ground_acceleration: jnp.ndarray
+    result: object
+    load_factor: jnp.ndarray | None = None
+    uplift_time: jnp.ndarray | None = None
+
+    @property
+    def succeeded(self):
+        import diffrax
+
+        return self.result == diffrax.RESULTS.successful
+
+
+def check_duration(system: StructureOnSliders, duration: float) -> int:
+    """Number of `time_step`s in `duration` [s] (rounded down), after checking that it is at
+    least one step and that the ground-acceleration record lasts that long (a `Signal` is zero
+    past its last sample; ask for a shorter duration or append zeros on purpose)."""
+    dt = float(system.time_step)
+    n_steps = int(round(duration / dt + 1e-9))
+    if n_steps < 1:
+        raise ValueError(f"duration: must be at least one time step ({dt} s), got {duration}.")
+    system.ground_acceleration.require_covers(n_steps * dt, "duration")
+    if system.vertical_acceleration is not None:
+        system.vertical_acceleration.require_covers(n_steps * dt, "duration (vertical record)")
+    return n_steps
+
+
+def simulate_structure(
+    system: StructureOnSliders,
+    duration: float,
+    *,
+    save_every: int = 1,
+    solver=None,
+    rtol: float = 1e-8,
+    atol: float = 1e-10,
+    max_steps: int | None = None,
+    adjoint=None,
+    throw: bool = True,
+) -> StructureResponse:
+    """Integrate a structure on sliders from rest over `duration` [s].
+
+    **Arguments:**
+
+    - `system`: from `structure_on_sliders` or the model builders (rigid mass, building).
+    - `duration` [s]: end time; a multiple of `system.time_step` is used (rounded down). It
+      may not exceed the ground-acceleration record (see `check_duration`).
+    - `save_every`: keep every k-th step.
+    - `solver`: `RiccatiNewmark()` (default; fixed step `system.time_step`; Bouc-Wen with
+      eta = 2 and gamma > beta only) or an adaptive diffrax solver (e.g. `diffrax.Tsit5()` with
+      `rtol`, `atol`), for converged reference solutions and for any other Bouc-Wen shape.
+    - `adjoint`: a diffrax adjoint; default `RecursiveCheckpointAdjoint()` (reverse mode);
+      pass `diffrax.ForwardMode()` for `jax.jvp`/`jax.jacfwd` (cheaper with few parameters).
+    - `throw`: raise on solver failure; with `False` (e.g. under vmap) the code is in `result`.
+
+    **Returns:** a `StructureResponse` sampled every `save_every` steps.
+    """
+
+    from ..solver import RiccatiNewmark, solve_on_grid
+
+    n_steps = check_duration(system, duration)
+    dt = float(system.time_step)
+    steps = jnp.arange(n_steps + 1) * dt
+    save_times = steps[::save_every]
+    solver = RiccatiNewmark() if solver is None else solver
+    if isinstance(solver, RiccatiNewmark) and system.friction_model == "hysteretic":
+        require_riccati_form(system.bearing.hysteresis)
+    solution = solve_on_grid(
+        system, solver, steps, save_times, initial_state(system),
+        jump_times=system.ground_acceleration.times, rtol=rtol, atol=atol, max_steps=max_steps,
+        adjoint=adjoint, throw=throw,
+    )
+    ys = solution.ys
+    ag = jax.vmap(system.ground_acceleration)(save_times)
+    relative = jax.vmap(system._acceleration)(save_times, ys)
+    loads = None if system.vertical_acceleration is None else jax.vmap(system.load_factor)(save_times)
+    friction = jax.vmap(lambda y, s: system.at_state(y).friction_force(y["v"][0], y["z"], y["z_peak"], s))(
+        ys, loads)
+    return StructureResponse(
+        time=save_times,
+        displacement=ys["u"],
+        velocity=ys["v"],
+        total_acceleration=relative + ag[:, None],
+        friction_force=friction,
+        z=ys["z"],
+        z_peak=ys["z_peak"],
+        ground_acceleration=ag,
+        result=solution.result,
+        load_factor=loads,
+        uplift_time=None if loads is None else uplift_steps(system, n_steps) * dt,
+    )
+
+
+def check_storey_height(n_dof: int, storey_height) -> np.ndarray:
+    """`storey_height` [m] as (n_dof - 1,) once checked for a structure of `n_dof` degrees of
+    freedom: `ValueError` naming `system` for a rigid mass (no storeys) and `storey_height`
+    for a value that is not > 0 or not one per storey."""
+    if n_dof < 2:
+        raise ValueError("system: storey results need a building (a base and at least one floor), "
+                         "not a rigid mass.")
+    height = np.asarray(storey_height, float)
+    if height.ndim > 1 or (height.ndim == 1 and height.shape[0] != n_dof - 1) or not np.all(height > 0):
+        raise ValueError(f"storey_height: must be > 0 m, one value or one per storey ({n_dof - 1}), "
+                         f"got {storey_height}.")
+    return np.broadcast_to(height, (n_dof - 1,))
+
+
+def storey_rows(system: StructureOnSliders, storey_height):
+    """(drift rows (n-1, 2n), acceleration rows (n, 2n), acceleration force column (n,)):
+    the linear maps of the state (u, v) to the drift ratios (u_j - u_(j-1)) / h_j of storeys
+    j = 1..n-1, and of the state and the bearing force F [N] to the total accelerations
+    -((C v + K u)_j + delta_j0 F) / m_j of levels j = 0 (base slab) ..n-1 (module docstring).
+
+    **Arguments:** `system`: a building (DOF 0 = base slab, 1.. = floors); `storey_height`
+    [m]: a scalar or one per storey (n-1,), > 0, not traced (the Table 2 building:
+    `load_table2().storey_height`).
+    """
+    n = system.mass.shape[-1]
+    height = jnp.asarray(check_storey_height(n, storey_height), system.mass.dtype)
+    difference = jnp.eye(n)[1:] - jnp.eye(n, k=-1)[1:]
+    drift = jnp.concatenate([difference / height[:, None], jnp.zeros((n - 1, n))], axis=1)
+    acceleration = -jnp.concatenate([system.stiffness, system.damping], axis=1) / system.mass[:, None]
+    force = -jnp.eye(n, dtype=system.mass.dtype)[0] / system.mass[0]
+    return drift, acceleration, force
+
+
+def storey_start(rows, dtype) -> tuple:
+    """The running peaks of `storey_rows`'s quantities at rest: (drifts (n-1,), accelerations
+    (n,)) of zeros, or () without storey results (`rows` None)."""
+    if rows is None:
+        return ()
+    return jnp.zeros(rows[0].shape[0], dtype), jnp.zeros(rows[1].shape[0], dtype)
