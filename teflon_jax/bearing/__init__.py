@@ -44,7 +44,10 @@ from ._pendulum import ConcaveSurface as ConcaveSurface
 from ._pendulum import concave_surface as concave_surface
 from ._series_pendulum import DoublePendulum as DoublePendulum
 from ._series_pendulum import SeriesPendulum as SeriesPendulum
+from ._series_pendulum import SinglePendulum as SinglePendulum
 from ._series_pendulum import check_double_pendulum as check_double_pendulum
+from ._series_pendulum import check_single_pendulum as check_single_pendulum
+from ._series_pendulum import single_pendulum as single_pendulum
 from ._surface import SURFACE_PARTS as SURFACE_PARTS
 from ._surface import SurfaceParts as SurfaceParts
 from ._surface import check_friction as check_friction

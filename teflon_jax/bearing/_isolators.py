@@ -6,7 +6,13 @@ sliders (the isolator file's surfaces), its description and its check. Every lis
 in the library, the file formats and the command line is read from here.
 """
 
-from ._series_pendulum import DoublePendulum, SeriesPendulum, check_double_pendulum
+from ._series_pendulum import (
+    DoublePendulum,
+    SeriesPendulum,
+    SinglePendulum,
+    check_double_pendulum,
+    check_single_pendulum,
+)
 from ._triple_pendulum import TriplePendulum, check_triple_pendulum
 
 SERIES_PENDULUMS: dict[str, type[SeriesPendulum]] = {cls.isolator: cls for cls in (TriplePendulum, DoublePendulum)}
@@ -16,8 +22,12 @@ ISOLATORS = ("flat", "single-fp", *SERIES_PENDULUMS)
 """Every isolator's name: flat sliders, the single friction pendulum (a `SlidingBearing` on a
 `ConcaveSurface`) and the series pendulums."""
 
-SERIES_CHECKS = {TriplePendulum: check_triple_pendulum, DoublePendulum: check_double_pendulum}
-"""Class -> the check of its constants (`ValueError` naming the constant)."""
+SERIES_CHECKS = {TriplePendulum: check_triple_pendulum, DoublePendulum: check_double_pendulum,
+                 SinglePendulum: check_single_pendulum}
+"""Class -> the check of its constants (`ValueError` naming the constant); the one-surface
+`SinglePendulum` (a single pendulum, or a flat slider at R = inf) runs on the series engine
+but is not yet an isolator of the command line, whose "flat" and "single-fp" are the
+`SlidingBearing`'s."""
 
 
 def check_series_pendulum(bearing: SeriesPendulum) -> None:

@@ -13,17 +13,21 @@ surfaces' own velocities (Fenz & Constantinou 2006, Earthquake Engng Struct. Dyn
 1403-1424): for mu_1 < mu_2 it slides on surface 1 alone from F/W = mu_1 (slope 1 / R_1), on
 both from F/W = mu_2 (slope 1 / (R_1 + R_2)), and on surface 2 alone once surface 1 meets its
 restrainer (slope 1 / R_2).
+
+The single friction pendulum is the case S = 1 (`SinglePendulum`): one surface of radius R,
+or R = inf for the flat slider, with the flat bearing's whole interface law.
 """
 
 import abc
+import math
 from typing import ClassVar
 
 import equinox as eqx
 import jax.numpy as jnp
 from jaxtyping import ArrayLike
 
-from ..validation import require_positive
-from ._bearing import check_heating
+from ..validation import require, require_positive
+from ._bearing import SlidingBearing, check_heating
 from ._effects import FrictionalHeating
 from ._friction import FrictionParameters
 from ._hysteresis import BoucWen
@@ -200,6 +204,96 @@ class DoublePendulum(SeriesPendulum):
     def reference_radius(self):
         """R_1 + R_2 [m]: both surfaces sliding together."""
         return self.bottom_radius + self.top_radius
+
+
+class SinglePendulum(SeriesPendulum):
+    """One sliding surface as an isolator of sliders in series (S = 1): the single friction
+    pendulum of effective radius R, or with R = inf the flat slider, F = N (u / R + mu Z) (and
+    the restrainer beyond the capacity), the surface's whole interface law: Eq. 1, Bouc-Wen
+    (Park's model in two components), heating and the `SurfaceParts` (breakaway, anisotropy,
+    wear, direction asymmetry, pressure dependence). `single_pendulum` makes one of a flat
+    `SlidingBearing`.
+
+    **Fields:** `surface_radius` R [m] (> 0; inf: flat), `surface_friction`
+    (`FrictionParameters`), `hysteresis` (`BoucWen`), `surface_capacity` d [m] where the
+    restrainer engages (`None`: none), `surface_heating` (`FrictionalHeating` or `None`) with
+    `surface_pressure` [Pa], the contact pressure under the static load, `surface_parts`
+    ((`SurfaceParts`,) or `None`), as the double's and the triple's.
+    """
+
+    isolator: ClassVar[str] = "single-fp"
+    keyword: ClassVar[str] = "single"
+    slider_names: ClassVar[tuple[str, ...]] = ("surface",)
+    description: ClassVar[str] = "single friction pendulums or flat sliders"
+    surface_radius: ArrayLike
+    surface_friction: FrictionParameters
+    hysteresis: BoucWen
+    surface_capacity: ArrayLike | None = None
+    surface_heating: FrictionalHeating | None = None
+    surface_pressure: ArrayLike | None = None
+    surface_parts: tuple | None = None
+
+    def series_radii(self):
+        """(R,) [m] (inf for a flat slider)."""
+        return jnp.asarray(self.surface_radius, float)[None]
+
+    def series_capacities(self):
+        """(d,) [m]; inf without a restrainer."""
+        if self.surface_capacity is None:
+            return jnp.full((1,), jnp.inf)
+        return jnp.asarray(self.surface_capacity, float)[None]
+
+    def velocity_factors(self):
+        """(1,): the slider is its surface."""
+        return jnp.ones(1)
+
+    def frictions(self) -> FrictionParameters:
+        """Eq. 1 constants (1,)."""
+        return stack_frictions((self.surface_friction,))
+
+    def reference_radius(self):
+        """R [m] (inf for a flat slider: no reference spring)."""
+        return jnp.asarray(self.surface_radius, float)
+
+
+def single_pendulum(bearing: SlidingBearing, *, radius=math.inf, capacity=None, contact_pressure=None) -> SinglePendulum:
+    """The `SinglePendulum` of the flat bearing `bearing` (its Eq. 1, Bouc-Wen constants,
+    heating and every other part as the surface's) on a surface of `radius` R [m] (inf, the
+    default: a flat slider) with a restrainer at `capacity` [m] (`None`: none);
+    `contact_pressure` [Pa] under the static load, needed for heating and pressure dependence.
+    `ValueError` naming `n_interfaces` or `backlash`, which a structure's surface does not
+    take (a stack of interfaces, a test rig's gap)."""
+    if bearing.n_interfaces != 1:
+        raise ValueError(f"n_interfaces: a single pendulum's surface is one interface, got {bearing.n_interfaces}.")
+    if bearing.backlash is not None:
+        raise ValueError("backlash: a gap of the test rig, not a part of a structure's surface.")
+    parts = SurfaceParts(breakaway_ratio=bearing.breakaway_ratio,
+                         friction_perpendicular=bearing.friction_perpendicular, lay_angle=bearing.lay_angle,
+                         pressure_dependence=bearing.pressure_dependence, wear=bearing.wear,
+                         asymmetry=bearing.asymmetry)
+    plain = all(getattr(parts, name) is None for name in ("breakaway_ratio", "friction_perpendicular",
+                                                          "pressure_dependence", "wear", "asymmetry"))
+    return SinglePendulum(surface_radius=jnp.asarray(radius, float), surface_friction=bearing.friction,
+                          hysteresis=bearing.hysteresis,
+                          surface_capacity=None if capacity is None else jnp.asarray(capacity, float),
+                          surface_heating=bearing.heating,
+                          surface_pressure=None if contact_pressure is None else jnp.asarray(contact_pressure, float),
+                          surface_parts=None if plain else (parts,))
+
+
+def check_single_pendulum(bearing: SinglePendulum) -> None:
+    """`ValueError` naming the constant the model cannot take: `surface_radius` > 0 (inf: a
+    flat slider), `surface_capacity` > 0 or `None`, the yield displacement > 0, the surface's
+    friction what Eq. 1 takes (`check_friction`), its heating and parts
+    (`check_surface_heating`)."""
+    if not isinstance(bearing, SinglePendulum):
+        raise ValueError(f"single: expected a SinglePendulum, got {type(bearing).__name__}.")
+    require(bearing.surface_radius, lambda x: x > 0, "surface_radius", "must be > 0 [m] (inf: a flat slider)")
+    if bearing.surface_capacity is not None:
+        require_positive(bearing.surface_capacity, "surface_capacity", " [m] (None: no restrainer)")
+    check_friction(bearing.surface_friction, "surface_friction")
+    require_positive(bearing.hysteresis.yield_disp, "yield_disp", " [m]")
+    check_surface_heating(bearing)
 
 
 def check_double_pendulum(bearing: DoublePendulum) -> None:

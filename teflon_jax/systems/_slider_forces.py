@@ -13,14 +13,16 @@ direction of the increment (its sign in one component), mu_e Eq. 1 at the surfac
 speed over the step v_e = |d_e| c_e / dt (`velocity_factors`; the speed OpenSees'
 `TripleFrictionPendulum` takes too), f_min Eq. 1 at rest, and k_stop = `STOP_STIFFNESS_RATIO`.
 The friction term is Eq. 1 where the slider moves the way its Z points and f_min while Z still
-points back after a reversal: without that exception the force of a reversing slider would
+points back after a reversal (the law "mean" of `FRICTION_VELOCITIES`): without that exception the force of a reversing slider would
 fall as its increment grows (Eq. 1's rise with the increment against Z's elastic slope, for
 steps below a few ms), and the massless sliders would have no unique balance. A surface with
 parts beyond Eq. 1 (`SurfaceParts`: breakaway, anisotropy, wear, direction asymmetry, pressure
 dependence) takes its coefficients at rest and sliding from `surface_coefficients`, the flat
 bearing's law; breakaway and wear read the slider's history (its largest |Z| up to the
 step's start and its surface's travel), which the steppers carry (`initial_history`,
-`step_history`, `next_history`).
+`step_history`, `next_history`). One surface (`SinglePendulum`, S = 1) may take the flat
+sliders' law instead, "end": Eq. 1 at the isolator's velocity at the step's end, on the whole
+of Z, F = N (s / R + mu(v) Z + stop).
 
 References: Constantinou, Mokha & Reinhorn (1990), Eqs. 1, 3; Park, Wen & Ang (1986); Fenz &
 Constantinou (2006, 2008).
@@ -39,13 +41,16 @@ from ..solver import park_exact_update
 
 
 def slider_forces(pendulum: SeriesPendulum, load, slider0, z0, increment, time_step, factors=None, history=None,
-                  load_factor=1.0):
+                  load_factor=1.0, velocity=None):
     """Forces F_e [N] of the sliders after the increments `increment` [m] from displacements
     `slider0` [m] and Z `z0` [-] over a step of `time_step` [s] (module docstring), and their
     Z at the step's end. Arrays (S,) in one component, (S, 2) in two; `load` N [N]; `factors`
     (S,) [-]: each surface's friction scaled by it (heating), or `None`; `history`: the
     sliders' `step_history` where a surface's part needs it; `load_factor` N / W [-] (the
-    contact pressure of pressure dependence)."""
+    contact pressure of pressure dependence). `velocity` (S,) or (S, 2) [m/s]: the sliders'
+    velocities at the step's end, for the law "end" (`FRICTION_VELOCITIES`: Eq. 1 at the
+    surface's speed |v_e| c_e there, anisotropy in the direction of v_e, and mu_e on the whole
+    of Z_e, F_e = N (s_e / R_e + mu_e Z_e + stop)); `None`: the law "mean" (module docstring)."""
     planar = increment.ndim == 2
     u = slider0 + increment
     if planar:
@@ -57,9 +62,13 @@ def slider_forces(pendulum: SeriesPendulum, load, slider0, z0, increment, time_s
     slide, direction = _length_and_direction(increment)
     reach, outward = _length_and_direction(u)
     friction = pendulum.frictions() if factors is None else pendulum.frictions().scaled(factors)
-    speed = slide * pendulum.velocity_factors() / time_step
+    if velocity is None:
+        speed, heading = slide * pendulum.velocity_factors() / time_step, direction
+    else:
+        speed, heading = _length_and_direction(velocity)
+        speed = speed * pendulum.velocity_factors()
     if pendulum.has_parts:
-        f_min, mu = surface_coefficients(friction, pendulum.parts(), speed, direction, z, history,
+        f_min, mu = surface_coefficients(friction, pendulum.parts(), speed, heading, z, history,
                                          pendulum.contact_pressures(), load_factor)
     else:
         f_min, mu = friction.f_max - friction.delta_f, sliding_friction(friction, speed)
@@ -70,7 +79,10 @@ def slider_forces(pendulum: SeriesPendulum, load, slider0, z0, increment, time_s
     else:
         along = jnp.maximum(direction * z, 0.0)
         over = jnp.maximum(reach - capacities, 0.0) * outward
-    friction_term = f_min * z + (mu - f_min) * along * direction
+    if velocity is None:
+        friction_term = f_min * z + (mu - f_min) * along * direction
+    else:
+        friction_term = mu * z
     return load * (u / radii + friction_term + STOP_STIFFNESS_RATIO * over / radii), z
 
 
@@ -91,10 +103,36 @@ def slider_lengths(x):
 
 def balance_forces(p, increment, time_step):
     """`slider_forces` of a step's balance from its parameters `p` (the pendulum, N, the
-    sliders' start, Z, and where present the heating factors "k", the history and the load
-    factor "s")."""
+    sliders' start, Z, and where present the heating factors "k", the history, the load
+    factor "s" and, for the law "end", "v" = (v_free, v_gain): the one slider's velocity at
+    the step's end v_free + v_gain d, linear in its increment d, `end_velocity`)."""
+    velocity = None
+    if "v" in p:
+        velocity = p["v"][0] + p["v"][1] * increment
     return slider_forces(p["pendulum"], p["N"], p["s0"], p["z0"], increment, time_step, p.get("k"),
-                         p.get("history"), p.get("s", 1.0))
+                         p.get("history"), p.get("s", 1.0), velocity)
+
+
+FRICTION_VELOCITIES = ("mean", "end")
+"""The velocity at which a step takes Eq. 1 (`StructureOnTriple.friction_velocity`): "mean",
+each surface's mean speed over the step, |d_e| c_e / dt, with f_min while Z_e still points back
+(the law of sliders in series, whose massless sliders have no velocity of their own); "end",
+the isolator's velocity at the step's end from the structure's linear step, with mu on the
+whole of Z (the flat sliders' law, `StructureOnSliders`; one surface only, S = 1, whose slider
+is the isolator)."""
+
+
+def end_velocity(velocity_free, velocity_gain, start, displacement_free, compliance, reference_stiffness):
+    """(v_free, v_gain) of the law "end": the isolator's velocity at the step's end
+    v = v_free + v_gain d [m/s], linear in the one slider's increment d [m] ((,) or (2,)).
+
+    The linear step gives the isolator's end state x = x_free + g F_r, v = `velocity_free` +
+    `velocity_gain` F_r for the force F_r [N] beyond the reference spring k_ref
+    (`reference_stiffness`); with the balance's F = (D - d) / G (`displacement_free` D [m],
+    `compliance` G [m/N]) and F_r = F - k_ref (`start` + d):
+    v_free = v_lin + gain (D / G - k_ref start), v_gain = -gain (1 / G + k_ref)."""
+    free = velocity_free + velocity_gain * (displacement_free / compliance - reference_stiffness * start)
+    return free, -velocity_gain * (1 / compliance + reference_stiffness)
 
 
 def initial_history(pendulum: SeriesPendulum, shape, dtype):
@@ -123,3 +161,17 @@ def next_history(pendulum: SeriesPendulum, history, increment):
         return None
     slide = jnp.abs(increment) if increment.ndim == history["travel"].ndim else slider_lengths(increment)
     return {"z_peak": history["z_peak"], "travel": history["travel"] + slide * pendulum.velocity_factors()}
+
+
+FLOOR_RADIUS = 1e3
+"""Radius [m] at which Newton's floor of a slider's slope, its pendulum stiffness W / R_e
+(`floor_stiffnesses`), is taken for flatter surfaces (a flat slider's W / R = 0 would leave
+Newton's matrix of a sliding slider singular): W / 1000 m is 4e-7 of the rigid mass's
+m / dt^2 at 5 ms, so its Newton step is that close to the exact one."""
+
+
+def floor_stiffnesses(pendulum: SeriesPendulum, load):
+    """W / R_e (S,) [N/m] under the load `load` W [N], with R_e at most `FLOOR_RADIUS`: the
+    sliders' pendulum stiffnesses, the floor of their slopes in Newton's matrix (exactly
+    W / R_e for every surface of a double or triple pendulum)."""
+    return load / jnp.minimum(pendulum.series_radii(), FLOOR_RADIUS)

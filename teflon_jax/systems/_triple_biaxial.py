@@ -31,7 +31,7 @@ import numpy as np
 from ..bearing import SeriesPendulum
 from ..excitation import Signal
 from ..units import STANDARD_GRAVITY
-from ._slider_forces import balance_forces, initial_history
+from ._slider_forces import balance_forces, floor_stiffnesses, initial_history
 from ._storey_peaks import storey_rows
 from ._structure_response import check_duration
 from ._triple_structure import (
@@ -96,8 +96,9 @@ class BiaxialStructureOnTriple(eqx.Module):
         step_matrix, force_column = system.step_matrices() if matrices is None else matrices
         w = jnp.concatenate([x0, jnp.stack([ground0, isolator[3], ground1], -1)], -1)
         linear = w @ step_matrix.T
+        n = system.mass.shape[-1]
         state, converged, bearing = isolator_step(system, isolator, linear[:, 0], x0[:, 0], -force_column[0], load,
-                                                  _balanced)
+                                                  _balanced, (linear[:, n], force_column[n]))
         return linear + state[3][:, None] * force_column, state, converged, bearing
 
 
@@ -141,8 +142,9 @@ def _differenced_blocks(d, force, p, dt):
 
 
 def _pendulum_blocks(p):
-    """(W / R_e) I (S, 2, 2): the sliders' pendulum stiffnesses, Newton's matrix at uplift."""
-    return (p["W"] / p["pendulum"].series_radii())[:, None, None] * jnp.eye(2, dtype=p["s0"].dtype)
+    """(W / R_e) I (S, 2, 2): the sliders' pendulum stiffnesses (`floor_stiffnesses`), Newton's
+    matrix at uplift."""
+    return floor_stiffnesses(p["pendulum"], p["W"])[:, None, None] * jnp.eye(2, dtype=p["s0"].dtype)
 
 
 def _planar_newton(p, dt, guess, tolerance, iterations: int):
@@ -196,7 +198,11 @@ def _inverse2(m):
 
 def _woodbury(residual, blocks, compliance):
     """J^-1 r for J = blockdiag(K_e) + U U^T / G: C_e (r_e - s), C_e = K_e^-1,
-    s = (G I + sum C_e)^-1 sum C_e r_e."""
+    s = (G I + sum C_e)^-1 sum C_e r_e. One slider: (G K + I)^-1 G r, without the
+    cancellation of C (r - s) where K is near singular (a flat slider's along its sliding)."""
+    if residual.shape[0] == 1:
+        eye = jnp.eye(2, dtype=residual.dtype)
+        return jnp.einsum("eij,ej->ei", _inverse2(compliance * blocks + eye), compliance * residual)
     c = _inverse2(blocks)
     cr = jnp.einsum("eij,ej->ei", c, residual)
     s = _inverse2(compliance * jnp.eye(2, dtype=residual.dtype) + jnp.sum(c, 0)) @ jnp.sum(cr, 0)
@@ -223,7 +229,9 @@ def _balanced_jvp(iterations, primals, tangents):
     _, blocks = _residual_and_blocks(d, p, p["dt"])
     r_p = jax.jvp(lambda q: _residual(d, q, q["dt"]), (p,), (tangents[0],))[1]
     tangent = -_woodbury(r_p, blocks, balance_compliance(p))
-    if "G" not in p:  # an imposed path: sum dd = dD, shared as C_e (sum C)^-1 dD
+    if "G" not in p and d.shape[0] == 1:  # an imposed path on one slider: dd = dD
+        tangent = tangent + tangents[0]["D"][None]
+    elif "G" not in p:  # an imposed path: sum dd = dD, shared as C_e (sum C)^-1 dD
         c = _inverse2(blocks)
         tangent = tangent + jnp.einsum("eij,j->ei", c, _inverse2(jnp.sum(c, 0)) @ tangents[0]["D"])
     return (d, converged), (tangent, np.zeros(np.shape(converged), jax.dtypes.float0))

@@ -45,7 +45,10 @@ from ..units import STANDARD_GRAVITY
 from ._models import rigid_mass, six_storey_building
 from ._series_heat import heated_step, series_heat_kernel
 from ._slider_forces import (
+    FRICTION_VELOCITIES,
     balance_forces,
+    end_velocity,
+    floor_stiffnesses,
     initial_history,
     next_history,
     slider_lengths,
@@ -87,7 +90,9 @@ class StructureOnTriple(eqx.Module):
     `newton_tolerance` (static) [-]: the force imbalance at which a step stops, over W;
     `vertical_acceleration`: `Signal` of a_v(t) [m/s^2, up +] or `None` (N = W throughout);
     `heat_rates`, `heat_weights`: the 1/sqrt(t) kernel (`heat_kernel_exponentials`, one step
-    to `HEAT_HORIZON`) of a pendulum with heated surfaces (`SeriesPendulum.heated`), else `None`.
+    to `HEAT_HORIZON`) of a pendulum with heated surfaces (`SeriesPendulum.heated`), else `None`;
+    `friction_velocity` (static): the velocity of Eq. 1 (`FRICTION_VELOCITIES`), "mean" or,
+    for one surface, "end".
     """
 
     linear: StructureOnSliders
@@ -98,6 +103,7 @@ class StructureOnTriple(eqx.Module):
     vertical_acceleration: Signal | None = None
     heat_rates: jnp.ndarray | None = None
     heat_weights: jnp.ndarray | None = None
+    friction_velocity: str = eqx.field(static=True, default="mean")
 
     def load_factor(self, t):
         """N / W = max(1 + a_v(t) / g, 0) at time t [s] (None without a vertical record)."""
@@ -157,18 +163,21 @@ class StructureOnTriple(eqx.Module):
         friction factors at the step's start and hold them over it (`heated_step`)."""
         step_matrix, force_column = self.step_matrices() if matrices is None else matrices
         linear = step_matrix @ jnp.concatenate([x0, jnp.stack([ground0, isolator[3], ground1])])
+        n = self.mass.shape[-1]
         state, converged, bearing = isolator_step(self, isolator, linear[0], x0[0], -force_column[0], load,
-                                                  _balanced_increments)
+                                                  _balanced_increments, (linear[n], force_column[n]))
         return linear + force_column * state[3], state, converged, bearing
 
 
-def isolator_step(system: StructureOnTriple, isolator, linear, start, compliance, load, solve):
+def isolator_step(system: StructureOnTriple, isolator, linear, start, compliance, load, solve, velocity=None):
     """The isolator's part of a step in one component (arrays (S,)) or two ((S, 2)): the
     sliders' increments that balance their forces with the linear step, whose isolator
     displacement is `linear` [m] at the end without the force beyond the reference spring and
     `start` at the step's start, with that force's compliance `compliance` [m/N]; `load` N / W
     at the step's end (`None`: W); `solve` the balance (`_balanced_increments` in one
-    component, the planar one in two).
+    component, the planar one in two); `velocity`: (the isolator's velocity at the end
+    without that force [m/s], its change per unit force [m/(N s)]), which the law "end" reads
+    (`end_velocity`).
 
     **Returns:** (the isolator's state at the end (`initial_isolator`), whether the balance
     converged, the bearing force F [N])."""
@@ -177,6 +186,8 @@ def isolator_step(system: StructureOnTriple, isolator, linear, start, compliance
     scale = 1 - compliance * system.reference_stiffness  # the step without the reference spring: x = X - G F
     p = {"pendulum": pendulum, "W": weight, "N": weight if load is None else load * weight, "s0": slider0,
          "z0": z0, "D": linear / scale - start, "G": compliance / scale}
+    if system.friction_velocity == "end":
+        p["v"] = end_velocity(*velocity, start, p["D"], p["G"], system.reference_stiffness)
     if pendulum.heated:
         p["k"] = pendulum.heat_factors(isolator[4], system.heat_weights)
     if pendulum.remembers:
@@ -204,13 +215,15 @@ def isolator_step(system: StructureOnTriple, isolator, linear, start, compliance
 
 def triple_structure(kind: str, pendulum: SeriesPendulum, ground_acceleration: Signal, *, time_step: float,
                      weight=100e3, newton_iterations: int = TRIPLE_NEWTON_ITERATIONS,
-                     newton_tolerance: float = TRIPLE_TOLERANCE) -> StructureOnTriple:
+                     newton_tolerance: float = TRIPLE_TOLERANCE, friction_velocity: str = "mean") -> StructureOnTriple:
     """The rigid mass of `weight` W [N] ("rigid") or the Table 2 building ("building", W its
-    total weight) on the friction pendulums `pendulum` (a `TriplePendulum` or `DoublePendulum`,
-    to be checked first: `check_triple_pendulum`, `check_double_pendulum`), with no viscous
-    damping at the isolator, stepped by the exact linear rule at `time_step` [s]."""
+    total weight) on the friction pendulums `pendulum` (a `TriplePendulum`, `DoublePendulum` or
+    `SinglePendulum`, to be checked first: `check_series_pendulum`), with no viscous damping
+    and no spring at the isolator but the reference spring W / R_ref (none on a flat slider),
+    stepped by the exact linear rule at `time_step` [s]; `friction_velocity`:
+    `StructureOnTriple`'s. A structure with its own springs and dampers at the isolator:
+    `structure_on_isolator`."""
     reference = pendulum.reference_radius()
-    heat = series_heat_kernel(pendulum, time_step)
     if kind == "rigid":
         linear = rigid_mass(weight=weight, bearing=None, ground_acceleration=ground_acceleration,
                             time_step=time_step, radius=reference, friction_model="none",
@@ -220,10 +233,32 @@ def triple_structure(kind: str, pendulum: SeriesPendulum, ground_acceleration: S
         linear = six_storey_building(bearing=None, ground_acceleration=ground_acceleration,
                                      time_step=time_step, isolation_period=period, isolation_damping=0.0,
                                      friction_model="none", linear_rule="exact")
+    return structure_on_isolator(linear, pendulum, newton_iterations=newton_iterations,
+                                 newton_tolerance=newton_tolerance, friction_velocity=friction_velocity)
+
+
+def structure_on_isolator(linear: StructureOnSliders, pendulum: SeriesPendulum, *,
+                          newton_iterations: int = TRIPLE_NEWTON_ITERATIONS, newton_tolerance: float = TRIPLE_TOLERANCE,
+                          friction_velocity: str = "mean") -> StructureOnTriple:
+    """The linear structure `linear` (a `StructureOnSliders`, stepped by its `linear_rule`; its
+    friction is not read) on the isolator `pendulum`, whose surfaces' forces beyond the
+    reference spring W / R_ref (`reference_radius`; 0 on a flat slider) enter each step.
+    `linear`'s stiffness at the isolator holds that spring and whatever else acts there (a flat
+    slider's restoring springs, a viscous damper), as `rigid_mass` and `six_storey_building`
+    build them for the flat sliders and the single pendulum; its vertical record, if any,
+    loads the surfaces. `friction_velocity` (`FRICTION_VELOCITIES`): "end" needs one surface
+    (`ValueError` naming it otherwise)."""
+    if friction_velocity not in FRICTION_VELOCITIES:
+        raise ValueError(f"friction_velocity: unknown {friction_velocity!r}; accepted: {', '.join(FRICTION_VELOCITIES)}.")
+    if friction_velocity == "end" and pendulum.slider_count != 1:
+        raise ValueError(f"friction_velocity: 'end' reads the isolator's own velocity, which only a one-surface "
+                         f"isolator's slider has; the {pendulum.description} have {pendulum.slider_count} sliders.")
+    heat = series_heat_kernel(pendulum, linear.time_step)
     return StructureOnTriple(linear=linear, pendulum=pendulum,
-                             reference_stiffness=linear.bearing_load / reference,
-                             newton_iterations=int(newton_iterations),
-                             newton_tolerance=float(newton_tolerance), heat_rates=heat[0], heat_weights=heat[1])
+                             reference_stiffness=linear.bearing_load / pendulum.reference_radius(),
+                             newton_iterations=int(newton_iterations), newton_tolerance=float(newton_tolerance),
+                             vertical_acceleration=linear.vertical_acceleration,
+                             heat_rates=heat[0], heat_weights=heat[1], friction_velocity=friction_velocity)
 
 
 def predicted_increments(previous):
@@ -238,9 +273,10 @@ def uplift_increments(pendulum: SeriesPendulum, load, total, increments, converg
     """(increments, converged) of a step under the load factor `load`: at `load` <= 0 (uplift)
     the sliders carry no force, the isolator's increment `total` [m] ((,) or (2,)) is theirs
     and they share it as their pendulum stiffnesses W / R_e in series would, d_e = total
-    R_e / sum R (a smooth rule where the balance leaves the split open); else unchanged."""
+    R_e / sum R (a smooth rule where the balance leaves the split open; one surface takes it
+    all, also a flat one); else unchanged."""
     radii = pendulum.series_radii()
-    share = radii / jnp.sum(radii)
+    share = jnp.ones_like(radii) if pendulum.slider_count == 1 else radii / jnp.sum(radii)
     lifted = load <= 0
     split = share * total if jnp.ndim(total) == 0 else share[:, None] * total
     return jnp.where(lifted, split, increments), converged | lifted
@@ -279,7 +315,11 @@ def _residual_and_slopes(d, p, dt):
 
 def _newton_direction(residual, slope, compliance):
     """J^-1 r for J = diag(slope) + 1 1^T / G (Sherman-Morrison): c (r - s), c = 1 / slope,
-    s = sum(c r) / (G + sum c). At G = 0 (an imposed path) the step keeps sum d."""
+    s = sum(c r) / (G + sum c). At G = 0 (an imposed path) the step keeps sum d. One slider:
+    G r / (G k + 1), without the cancellation of c (r - s) where its slope k is small (a flat
+    slider sliding)."""
+    if residual.shape[0] == 1:
+        return compliance * residual / (compliance * slope + 1)
     c = 1.0 / slope
     return c * (residual - jnp.sum(c * residual) / (compliance + jnp.sum(c)))
 
@@ -295,7 +335,7 @@ def _balanced_increments(dt, iterations: int, p, guess, tolerance):
 def _balanced_root(iterations, p, guess, tolerance):
     """`_balanced_increments` with the step's length in `p["dt"]`."""
     dt = p["dt"]
-    floor = p["W"] / p["pendulum"].series_radii()  # the pendulum's own stiffness, a floor of the slope
+    floor = floor_stiffnesses(p["pendulum"], p["W"])  # the pendulum's own stiffness, a floor of the slope
 
     def evaluate(d):
         r, k = _residual_and_slopes(d, p, dt)
@@ -346,7 +386,7 @@ def _balanced_jvp(iterations, primals, tangents):
     p, guess, tolerance = primals
     d, converged = _balanced_root(iterations, p, guess, tolerance)
     _, slope = _residual_and_slopes(d, p, p["dt"])
-    slope = jnp.where(slope > 0, slope, p["W"] / p["pendulum"].series_radii())  # 0 only at uplift
+    slope = jnp.where(slope > 0, slope, floor_stiffnesses(p["pendulum"], p["W"]))  # 0 only at uplift
     r_p = jax.jvp(lambda q: _residual(d, q, q["dt"]), (p,), (tangents[0],))[1]
     no_tangent = np.zeros(np.shape(converged), jax.dtypes.float0)
     tangent = -_newton_direction(r_p, slope, balance_compliance(p))
