@@ -26,8 +26,9 @@ from teflon_jax.bearing import (
 from teflon_jax.formats import isolator_to_dict
 from teflon_jax.studies import GRADIENT_TOLERANCE, percentile_disp_gradient_check
 from teflon_jax.systems import (
-    check_double_box,
-    designed_double,
+    TripleIsolatedStructure,
+    design_space,
+    designed_isolator,
     isolated_structure,
     simulate_triple_test,
 )
@@ -40,7 +41,7 @@ DOUBLE = TRUE
 
 
 def test_each_variable_changes_the_bearing_as_defined():
-    new = designed_double(DOUBLE, {"radius_scale": 1.3, "surface_f_max": 0.07, "capacity_scale": 0.6})
+    new = designed_isolator(TripleIsolatedStructure(DOUBLE), {"radius_scale": 1.3, "surface_f_max": 0.07, "capacity_scale": 0.6})
     assert (float(new.bottom_radius), float(new.top_radius)) == pytest.approx((1.3 * 2.0, 1.3 * 2.6))
     assert (float(new.bottom_capacity), float(new.top_capacity)) == pytest.approx((0.18, 0.18))
     speeds = jnp.array([0.0, 0.01, 0.1, 1.0])
@@ -57,7 +58,7 @@ def test_the_radius_scale_divides_the_slopes_of_the_closed_form_backbone():
                              bottom_friction=coulomb_friction(0.04), top_friction=coulomb_friction(0.08),
                              hysteresis=BoucWen(1e-5))
     s = 1.4
-    designed = jax.tree_util.tree_map(jnp.asarray, designed_double(coulomb, {"radius_scale": s}))
+    designed = jax.tree_util.tree_map(jnp.asarray, designed_isolator(TripleIsolatedStructure(coulomb), {"radius_scale": s}))
     t = np.linspace(0.0, 100.0, 1001)
     u = 0.2 * t / t[-1]
     force = np.asarray(simulate_triple_test(designed, t, u, 1.0).force)
@@ -71,15 +72,16 @@ def test_the_radius_scale_divides_the_slopes_of_the_closed_form_backbone():
 
 def test_unknown_variables_and_boxes_outside_the_model_are_refused():
     structure = isolated_structure("rigid", isolator="double-fp", double=DOUBLE)
+    check = design_space("double-fp").check
     with pytest.raises(ValueError, match="unknown variable.*'outer_radius_scale'.*radius_scale"):
         structure(jnp.zeros(10), {"outer_radius_scale": 1.0})
     with pytest.raises(ValueError, match="surface_f_max: bounds"):
-        check_double_box(DOUBLE, {"surface_f_max": (0.04, 0.6)})  # the top's f_max would pass 1
+        check(structure, {"surface_f_max": (0.04, 0.6)})  # the top's f_max would pass 1
     with pytest.raises(ValueError, match="radius_scale: bounds"):
-        check_double_box(DOUBLE, {"radius_scale": (0.0, 2.0)})
+        check(structure, {"radius_scale": (0.0, 2.0)})
     with pytest.raises(ValueError, match="design: unknown variable 'inner_f_max'"):
-        check_double_box(DOUBLE, {"inner_f_max": (0.01, 0.02)})
-    check_double_box(DOUBLE, {"surface_f_max": (0.03, 0.5), "radius_scale": (0.5, 2.0)})
+        check(structure, {"inner_f_max": (0.01, 0.02)})
+    check(structure, {"surface_f_max": (0.03, 0.5), "radius_scale": (0.5, 2.0)})
 
 
 def test_the_95th_percentile_displacements_gradient_is_the_central_difference():

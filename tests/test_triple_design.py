@@ -25,7 +25,12 @@ from teflon_jax.cli import main
 from teflon_jax.excitation import StochasticGroundMotion, sample
 from teflon_jax.formats import isolator_to_dict
 from teflon_jax.studies import GRADIENT_TOLERANCE, percentile_disp_gradient_check
-from teflon_jax.systems import check_triple_box, designed_triple, isolated_structure
+from teflon_jax.systems import (
+    TripleIsolatedStructure,
+    design_space,
+    designed_isolator,
+    isolated_structure,
+)
 
 
 def _friction(f_max, delta_f, rate_a):
@@ -41,7 +46,7 @@ TRIPLE = TriplePendulum(
 
 def test_each_variable_changes_the_bearing_as_defined():
     design = {"outer_radius_scale": 1.3, "inner_f_max": 0.02, "outer_f_max": 0.08, "capacity_scale": 0.7}
-    new = designed_triple(TRIPLE, design)
+    new = designed_isolator(TripleIsolatedStructure(TRIPLE), design)
     assert float(new.inner_radius) == pytest.approx(0.4)
     assert (float(new.bottom_radius), float(new.top_radius)) == pytest.approx((1.3 * 2.2, 1.3 * 2.5))
     assert [float(new.inner_capacity), float(new.bottom_capacity), float(new.top_capacity)] == pytest.approx(
@@ -54,13 +59,14 @@ def test_each_variable_changes_the_bearing_as_defined():
 
 
 def test_the_outer_radius_scale_softens_regimes_two_to_four_as_the_closed_forms():
-    coulomb = designed_triple(TRIPLE, {})
+    coulomb = designed_isolator(TripleIsolatedStructure(TRIPLE), {})
     coulomb = TriplePendulum(**{**{f: getattr(coulomb, f) for f in (
         "inner_radius", "bottom_radius", "top_radius", "inner_capacity", "bottom_capacity", "top_capacity",
         "hysteresis")}, **{f"{s}_friction": _friction(m, 0.0, 0.0) for s, m in (
             ("inner", 0.03), ("bottom", 0.06), ("top", 0.10))}})
     s, a, b, c = 1.5, 0.4, 2.2, 2.5
-    slopes = [slope for _, _, slope in triple_pendulum_backbone(designed_triple(coulomb, {"outer_radius_scale": s}))[0]]
+    designed = designed_isolator(TripleIsolatedStructure(coulomb), {"outer_radius_scale": s})
+    slopes = [slope for _, _, slope in triple_pendulum_backbone(designed)[0]]
     assert slopes == pytest.approx([1 / (2 * a), 1 / (a + s * b), 1 / (s * b + s * c), 1 / (a + s * c), 1 / (2 * a)])
 
 
@@ -68,13 +74,16 @@ def test_unknown_variables_and_boxes_outside_the_series_model_are_refused():
     structure = isolated_structure("rigid", isolator="triple-fp", triple=TRIPLE)
     with pytest.raises(ValueError, match="unknown variable.*'radius'.*outer_radius_scale"):
         structure(jnp.zeros(10), {"radius": 1.0})
+    check = design_space("triple-fp").check
+    with pytest.raises(ValueError, match="unknown variable 'radius' for the triple-fp isolator"):
+        check(structure, {"radius": (1.0, 2.0)})
     with pytest.raises(ValueError, match="inner_f_max: bounds"):
-        check_triple_box(TRIPLE, {"inner_f_max": (0.01, 0.05), "outer_f_max": (0.04, 0.08)})
+        check(structure, {"inner_f_max": (0.01, 0.05), "outer_f_max": (0.04, 0.08)})
     with pytest.raises(ValueError, match="outer_radius_scale: bounds"):
-        check_triple_box(TRIPLE, {"outer_radius_scale": (0.1, 2.0)})  # 0.1 b < a
+        check(structure, {"outer_radius_scale": (0.1, 2.0)})  # 0.1 b < a
     with pytest.raises(ValueError, match="outer_f_max: bounds"):
-        check_triple_box(TRIPLE, {"outer_f_max": (0.04, 0.7)})  # the top's f_max would pass 1
-    check_triple_box(TRIPLE, {"inner_f_max": (0.01, 0.04), "outer_f_max": (0.04, 0.08)})
+        check(structure, {"outer_f_max": (0.04, 0.7)})  # the top's f_max would pass 1
+    check(structure, {"inner_f_max": (0.01, 0.04), "outer_f_max": (0.04, 0.08)})
 
 
 def test_the_95th_percentile_displacements_gradient_is_the_central_difference():

@@ -17,12 +17,12 @@ from ._common import (
     output_units,
     warn_time_step,
 )
-from ._design_triple import add_triple_design_flags
 from ._design_variables import (
+    ISOLATOR_DESIGNS,
     add_design_variable_flags,
-    check_f_max_range,
     design_fields,
     design_text,
+    flag_error,
     pendulum_start,
     plot_units,
     resolve_design_variables,
@@ -30,7 +30,6 @@ from ._design_variables import (
     structure_options,
 )
 from ._montecarlo import _add_common, _motion_model
-from ._triple import SERIES_ISOLATORS
 
 HELP = "gradient-based design: minimise expected base shear under a displacement limit"
 """The line of this command in `teflon-jax --help`."""
@@ -43,10 +42,12 @@ def add_design_parser(subparsers) -> argparse.ArgumentParser:
     parser = subparsers.add_parser(
         "design",
         help=HELP,
-        description="BFGS over the isolation period (flat sliders; the radius R of a single "
-        "friction pendulum with --isolator single-fp, and its displacement capacity with "
-        "--capacity-range) and the bearing pressure or f_max (bounded; "
-        "--pressure holds the friction), started from "
+        description="BFGS over the design variables of --isolator, each within the bounds of "
+        "its range flag: the isolation period of flat sliders, the radius R of a single "
+        "friction pendulum (and its displacement capacity with --capacity-range), with the "
+        "bearing pressure or f_max of either (--pressure holds the friction); scales of the "
+        "radii and capacities and f_max of the surfaces of a triple or double pendulum's "
+        "--isolator-file; started from "
         "the best point of a grid sweep of the same objective, with a gradient check at the "
         "optimum against central differences. BFGS sees smoothed peaks, which lie below the "
         "true ones; the limit on them is lowered until the mean TRUE peak base displacement "
@@ -69,7 +70,6 @@ def add_design_parser(subparsers) -> argparse.ArgumentParser:
                         "--disp-limit applies to: the mean, or the 95th percentile (linear "
                         "interpolation between the motions' peaks) (default mean)")
     add_design_variable_flags(parser)
-    add_triple_design_flags(parser)
     add_quantity(parser, "--isolation-damping", "dimensionless", None, "viscous damping ratio "
                  "zeta_b of the isolation system (default 5% on flat sliders, 0 on a friction "
                  "pendulum)", minimum=0.0, strict=False, maximum=1.0)
@@ -127,8 +127,9 @@ def run_design(args) -> int:
     dt = args.record_step
     grid = {name: np.linspace(*bounds, args.grid) for name, bounds in variables.items()}
     bar.set_postfix_str(f"grid sweep, {args.grid}x{args.grid} designs x {args.motions} motions")
+    design = ISOLATOR_DESIGNS[args.isolator]
     attrs = {"structure": args.structure, "isolator": args.isolator, "seed": args.seed, "pga_m_s2": args.pga,
-             **({"isolator_file": str(args.isolator_file)} if args.isolator in SERIES_ISOLATORS else
+             **({"isolator_file": str(args.isolator_file)} if design.uses_file else
                 {"ptfe": args.ptfe} if args.bearing is None else {"bearing": str(args.bearing)}),
              "motion_duration_s": args.duration, "isolation_damping": args.isolation_damping,
              "limit_statistic": args.limit_statistic}
@@ -153,20 +154,17 @@ def run_design(args) -> int:
     stages["grid"] = time.perf_counter() - tic
     bar.update(1)
     bar.set_postfix_str("BFGS from the best grid point")
-    start = sweep_start(sweep, design_bounds(structure, variables))
-    if args.isolator == "single-fp":
-        start = pendulum_start(sweep, design_bounds(structure, variables), structure, records, dt,
-                               args.disp_limit, args.penalty, args.limit_statistic)
+    bounds = design_bounds(structure, variables)
+    start = (pendulum_start(sweep, bounds, structure, records, dt, args.disp_limit, args.penalty,
+                            args.limit_statistic) if design.lowered_start else sweep_start(sweep, bounds))
     result = optimise_design(structure, records, dt, variables=variables, disp_limit=args.disp_limit,
                              penalty=args.penalty, start=start, limit_statistic=args.limit_statistic)
     bar.update(1)
     bar.close()
     stages.update(result.stages_s)
     payload = _payload(args, result, sweep, units, time.perf_counter() - tic)
-    if args.isolator in SERIES_ISOLATORS:
-        from ._design_triple import percentile_check
-
-        payload.update(percentile_check(args, structure, result, records))
+    if design.percentile_check:
+        payload.update(_percentile_check(args, structure, result, records))
         args.p95_rel_error = payload["p95_disp_gradient_rel_error"]
     if args.plot is not None:
         first = time.perf_counter()
@@ -193,10 +191,9 @@ def _plot(args, sweep, result, units) -> None:
     from ..report import plot_design
     from ..studies import sweep_objective
 
-    isolator = {"single-fp": "a single friction pendulum", "triple-fp": f"triple friction pendulums "
-                f"of {args.isolator_file}", "double-fp": f"double friction pendulums of "
-                f"{args.isolator_file}"}.get(args.isolator, "flat sliders")
-    friction = ("" if args.isolator in SERIES_ISOLATORS else f"{args.ptfe} PTFE, " if args.bearing is None
+    design = ISOLATOR_DESIGNS[args.isolator]
+    isolator = design.words.format(file=args.isolator_file)
+    friction = ("" if design.uses_file else f"{args.ptfe} PTFE, " if args.bearing is None
                 else f"bearing {args.bearing}, ")
     stamp = (f"{args.structure} on {isolator}, {friction}zeta_b = {args.isolation_damping_text}, "
              f"{args.motions} Clough-Penzien motions (PGA {args.pga_text}, {args.duration_text}, "
@@ -217,22 +214,29 @@ _CHECK_WORDS = {"one-sided": "(one-sided at the restrainer contact) ",
 
 def _variables_and_structure(args):
     """({design variable: (low, high)} [SI], the structure they change) of the flags, each
-    checked (`ValueError` naming the flag)."""
-    from ..systems import isolated_structure
-    from ._design_triple import (
-        refuse_triple_flags,
-        resolve_triple_design,
-        triple_structure_for_design,
-    )
+    checked (`ValueError` naming the flag): the variables of `--isolator`'s design space
+    (`resolve_design_variables`), the structure at the low end of their bounds, and the box
+    of bounds checked by the design space (`teflon_jax.systems.design_space`)."""
+    from ..systems import design_space
 
-    if args.isolator in SERIES_ISOLATORS:
-        variables, triple = resolve_triple_design(args)
-        return variables, triple_structure_for_design(args, triple)
-    refuse_triple_flags(args)
     variables = resolve_design_variables(args)
+    build = _pendulum_structure if ISOLATOR_DESIGNS[args.isolator].uses_file else _slider_structure
+    structure = build(args, variables)
+    try:
+        design_space(args.isolator).check(structure, variables)
+    except ValueError as error:
+        raise flag_error(error) from None
+    return variables, structure
+
+
+def _slider_structure(args, variables):
+    """The `IsolatedStructure` of flat sliders or a single pendulum at the low ends of the
+    bounds (Table 1's rows checked against the pressure flags, by name)."""
+    from ..systems import isolated_structure
+
     bearing = _design_bearing(args)
-    for pressure, text in zip(args.pressure_range, args.pressure_range_text):
-        if bearing is None and "pressure" in variables:
+    if bearing is None and "pressure" in variables:
+        for pressure, text in zip(args.pressure_range, args.pressure_range_text):
             check_table1(args.ptfe, pressure, text, "--pressure-range")
     if bearing is None and args.pressure_text is not None:
         check_table1(args.ptfe, args.pressure, args.pressure_text)
@@ -249,8 +253,23 @@ def _variables_and_structure(args):
     structure = isolated_structure(args.structure, **options)
     if "capacity" in variables:  # the surface with its restrainer, scaled by the weight carried
         structure = isolated_structure(args.structure, **restrained_options(args, variables, structure, options))
-    check_f_max_range(args, structure)
-    return variables, structure
+    return structure
+
+
+def _pendulum_structure(args, variables):
+    """The `TripleIsolatedStructure` of the pendulum of `--isolator-file` (`ValueError` naming
+    the flag for a file of another isolator): its sliders balanced to rounding (so that central
+    differences see no trace of where Newton's loop stopped)."""
+    import jax
+    import jax.numpy as jnp
+
+    from ..systems import isolated_structure
+    from ._triple import _load
+
+    pendulum = jax.tree_util.tree_map(lambda x: jnp.asarray(x, float), _load(args.isolator_file, args.isolator))
+    return isolated_structure(args.structure, isolator=args.isolator, **{pendulum.keyword: pendulum},
+                              time_step=0.005 if args.time_step is None else args.time_step,
+                              newton_tolerance=0.0)
 
 
 def _design_bearing(args):
@@ -327,6 +346,18 @@ def _payload(args, result, sweep, units, wall_s: float) -> dict:
         "sweep_file": None if args.out is None else str(args.out),
     }
     return payload
+
+
+def _percentile_check(args, structure, result, records) -> dict:
+    """The 95th percentile over the motions of the smooth peak base displacement at the
+    optimum, its derivative in each design variable and central differences
+    (`percentile_disp_gradient_check`), as JSON entries."""
+    from ..studies import percentile_disp_gradient_check
+
+    check = percentile_disp_gradient_check(structure, result.optimum, records, args.record_step)
+    return {"p95_smooth_base_disp_m": check["value"], "p95_disp_gradient": check["gradient"],
+            "p95_disp_finite_differences": check["finite_differences"],
+            "p95_disp_gradient_rel_error": check["rel_error"]}
 
 
 def _contact_fields(contact, central: float, units) -> dict | None:

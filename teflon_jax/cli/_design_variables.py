@@ -1,111 +1,228 @@
-"""The design variables of `teflon-jax design`: the isolator's (the period T_b of the flat
-sliders' springs, or the radius R of a single friction pendulum's concave surface, whose
-period is T_b = 2 pi sqrt(R / g), Zayas, Low & Mahin 1990) and the friction's (the contact
-pressure, through Table 1's rows, or f_max of Eq. 1 itself). Each pair of bounds is a flag;
-a flag of the other isolator or of the other friction variable is refused by name."""
+"""The design variables of `teflon-jax design`, one flow for every isolator: the variables of
+`--isolator` are those of its design space (`teflon_jax.systems.design_space`), each designed
+over the bounds of its range flag (`VARIABLE_FLAGS`); a flag of another isolator's variables
+or options is refused by name. The isolators: flat sliders (the period T_b of their springs),
+a single friction pendulum (the radius R of its concave surface, period T_b = 2 pi sqrt(R / g),
+Zayas, Low & Mahin 1990, and its displacement capacity), the friction of either (the contact
+pressure, through Table 1's rows, or f_max of Eq. 1 itself), and the triple and double
+friction pendulums of an isolator file (scales of their radii and capacities, f_max of their
+surfaces; `teflon_jax.systems.designed_isolator`)."""
 
 import math
+import pathlib
+from typing import NamedTuple
 
 from ..units import INCH, PSI, STANDARD_GRAVITY
-from ._common import ISOLATORS, add_quantity
-from ._design_triple import ALL_FLAGS
+from ._common import add_quantity
 
-TRIPLE_DESIGN_VARIABLES = tuple(ALL_FLAGS)
-"""The design variables of the triple and double pendulums (their names, as the JSON writes them)."""
 
-DEFAULT_RANGES = {
-    "period_range": (("1s", "4s"), (1.0, 4.0)),
-    "radius_range": (("40in", "160in"), (40 * INCH, 160 * INCH)),
-    "pressure_range": (("1000psi", "2000psi"), (1000 * PSI, 2000 * PSI)),
+class VariableFlag(NamedTuple):
+    """The range flag of one design variable: `flag`, its `dimension` (`add_quantity`'s),
+    `help` (naming the isolators whose design space has the variable), `default` bounds
+    ((text, SI values), designed without the flag) or None, `maximum` of each bound, the
+    printed `label` and significant `digits` of a value."""
+
+    flag: str
+    dimension: str
+    help: str
+    default: tuple | None = None
+    maximum: float | None = None
+    label: str = ""
+    digits: int = 4
+
+
+_TRIPLE, _SERIES = "--isolator triple-fp: bounds of the", "--isolator triple-fp or double-fp: bounds of the"
+VARIABLE_FLAGS = {
+    "radius": VariableFlag(
+        "--radius-range", "length", "--isolator single-fp: bounds of the radius R of the concave "
+        "surface, period 2 pi sqrt(R / g)", (("40in", "160in"), (40 * INCH, 160 * INCH)), label="R"),
+    "capacity": VariableFlag(
+        "--capacity-range", "length", "--isolator single-fp: bounds of the displacement capacity d "
+        "of the surface, beyond which a stiffening restrainer adds k_r (|u| - d) (default: no "
+        "restrainer, d not designed)", label="d"),
+    "isolation_period": VariableFlag(
+        "--period-range", "time", "--isolator flat: bounds of the isolation period Tb of the "
+        "sliders' springs", (("1s", "4s"), (1.0, 4.0)), label="Tb"),
+    "outer_radius_scale": VariableFlag(
+        "--outer-radius-scale-range", "dimensionless", f"{_TRIPLE} factor on the outer surfaces' "
+        "effective radii b and c (regimes II-IV soften as it grows)", digits=5),
+    "inner_f_max": VariableFlag(
+        "--inner-f-max-range", "dimensionless", f"{_TRIPLE} f_max of the inner surfaces (their "
+        "Eq. 1 scaled to it; at most the bottom's)", digits=5),
+    "outer_f_max": VariableFlag(
+        "--outer-f-max-range", "dimensionless", f"{_TRIPLE} f_max of the bottom surface, the top's "
+        "Eq. 1 scaled by the same factor", digits=5),
+    "capacity_scale": VariableFlag(
+        "--capacity-scale-range", "dimensionless", f"{_SERIES} factor on the effective displacement "
+        "capacities (all of the isolator's)", digits=5),
+    "radius_scale": VariableFlag(
+        "--radius-scale-range", "dimensionless", "--isolator double-fp: bounds of the factor on both "
+        "effective radii R_1 and R_2 (every slope of the loop falls as it grows)", digits=5),
+    "surface_f_max": VariableFlag(
+        "--surface-f-max-range", "dimensionless", "--isolator double-fp: bounds of the f_max of the "
+        "bottom surface, the top's Eq. 1 scaled by the same factor (which surface slides first "
+        "kept)", digits=5),
+    "pressure": VariableFlag(
+        "--pressure-range", "pressure", "--isolator flat or single-fp: bounds of the bearing pressure "
+        "(inside Table 1's rows; one interval of the table keeps the friction constants smooth in "
+        "it)", (("1000psi", "2000psi"), (1000 * PSI, 2000 * PSI)), label="pressure"),
+    "f_max": VariableFlag(
+        "--f-max-range", "dimensionless", "--isolator flat or single-fp: design f_max of Eq. 1 over "
+        "these bounds instead of the pressure: delta_f, a and b stay Table 1's at 1000 psi (or the "
+        "--bearing file's)", maximum=1.0, label="f_max"),
 }
-"""Bounds of each range flag when it is not given: (text, SI values)."""
+"""The range flag of each design variable (in the order the JSON and the summary show them)."""
 
-FLAG_OF = {"isolation_period": "--period-range", "radius": "--radius-range", "capacity": "--capacity-range",
-           "pressure": "--pressure-range", "f_max": "--f-max-range"}
-"""The range flag of each design variable."""
+
+class IsolatorDesign(NamedTuple):
+    """What `teflon-jax design` does with one `--isolator` beyond its design space: `words`
+    of the plot ("{file}": --isolator-file), its `options` (flags besides the range flags),
+    its viscous `damping` (SI, text) when --isolation-damping is not given, `why` another
+    isolator's flag does not apply, whether BFGS starts from the grid's best point for the
+    lowered limit (`lowered_start`, `pendulum_start`), and whether the 95th percentile's
+    derivative is checked at the optimum (`percentile_check`)."""
+
+    words: str
+    options: tuple[str, ...]
+    damping: tuple[float, str]
+    why: str
+    lowered_start: bool = False
+    percentile_check: bool = False
+
+    @property
+    def uses_file(self) -> bool:
+        """Whether the isolator is the pendulum of an isolator file (`--isolator-file`)."""
+        return "--isolator-file" in self.options
+
+
+_SLIDER_OPTIONS = ("--pressure", "--isolation-damping", "--bearing")
+_SERIES_WHY = "its friction, period and damping are its surfaces'"
+ISOLATOR_DESIGNS = {
+    "flat": IsolatorDesign("flat sliders", _SLIDER_OPTIONS, (0.05, "5%"),
+                           "flat sliders have no concave surface"),
+    "single-fp": IsolatorDesign("a single friction pendulum", (*_SLIDER_OPTIONS, "--restrainer-ratio"),
+                                (0.0, "0%"), "its period is 2 pi sqrt(R / g) of its radius",
+                                lowered_start=True),
+    "triple-fp": IsolatorDesign("triple friction pendulums of {file}", ("--isolator-file",),
+                                (0.0, "0 (friction only)"), _SERIES_WHY, percentile_check=True),
+    "double-fp": IsolatorDesign("double friction pendulums of {file}", ("--isolator-file",),
+                                (0.0, "0 (friction only)"), _SERIES_WHY, percentile_check=True),
+}
+"""The command's choices for each `--isolator` (`IsolatorDesign`)."""
 
 
 def add_design_variable_flags(parser) -> None:
-    """`--isolator`, `--period-range` or `--radius-range`, `--pressure-range` or `--f-max-range`."""
-    parser.add_argument("--isolator", default="flat", choices=ISOLATORS,
-                        help="flat sliders on springs of period Tb (designed over --period-range), "
-                        "a single friction pendulum, restoring force W u / R (designed over "
-                        "--radius-range), the triple friction pendulum of --isolator-file "
-                        "(designed over --outer-radius-scale-range, --inner-f-max-range, "
-                        "--outer-f-max-range and --capacity-scale-range) or the double one "
-                        "(over --radius-scale-range, --surface-f-max-range and "
-                        "--capacity-scale-range) (default flat)")
-    add_quantity(parser, "--period-range", "time", None, "flat sliders: bounds of the isolation "
-                 "period Tb (default 1s 4s)", minimum=0.0, nargs=2)
-    add_quantity(parser, "--radius-range", "length", None, "--isolator single-fp: bounds of the "
-                 "radius R of the concave surface, period 2 pi sqrt(R / g) (default 40in 160in: "
-                 "2.0-4.0 s)", minimum=0.0, nargs=2)
-    add_quantity(parser, "--capacity-range", "length", None, "--isolator single-fp: bounds of the "
-                 "displacement capacity d of the surface, beyond which a stiffening restrainer adds "
-                 "k_r (|u| - d) (default: no restrainer, d not designed)", minimum=0.0, nargs=2)
+    """`--isolator`, `--isolator-file`, the range flag of each design variable
+    (`VARIABLE_FLAGS`), `--restrainer-ratio` and `--pressure`."""
+    parser.add_argument("--isolator", default="flat", choices=tuple(ISOLATOR_DESIGNS),
+                        help="flat sliders on springs of period Tb, a single friction pendulum "
+                        "(restoring force W u / R), or the triple or double friction pendulum of "
+                        "--isolator-file; each designed over the range flags that name it "
+                        "(default flat)")
+    parser.add_argument("--isolator-file", default=None, metavar="FILE",
+                        type=pathlib.Path,
+                        help="with --isolator triple-fp or double-fp: the isolator file whose bearing "
+                        "is designed (each variable a change of it)")
+    for spec in VARIABLE_FLAGS.values():
+        add_quantity(parser, spec.flag, spec.dimension, None, spec.help + (
+            f" (default {' '.join(spec.default[0])})" if spec.default else ""), minimum=0.0, nargs=2,
+            maximum=spec.maximum)
     add_quantity(parser, "--restrainer-ratio", "dimensionless", None, "with --capacity-range: the "
                  "restrainer's stiffness k_r as a multiple of the surface's W / R at the low end of "
                  "--radius-range (k_r is held as R is designed) (default 10)", minimum=0.0)
-    add_quantity(parser, "--pressure-range", "pressure", None, "bounds of the bearing pressure "
-                 "(inside Table 1's rows; one interval of the table keeps the friction constants "
-                 "smooth in it) (default 1000psi 2000psi)", minimum=0.0, nargs=2)
-    add_quantity(parser, "--f-max-range", "dimensionless", None, "design f_max of Eq. 1 over these "
-                 "bounds instead of the pressure: delta_f, a and b stay Table 1's at 1000 psi (or "
-                 "the --bearing file's)", minimum=0.0, nargs=2, maximum=1.0)
     add_quantity(parser, "--pressure", "pressure", None, "design the isolator alone, on bearings "
                  "at this pressure (Table 1's friction there), instead of over --pressure-range",
                  minimum=0.0)
 
 
+def _given(args, flag: str) -> bool:
+    dest = flag[2:].replace("-", "_")
+    return getattr(args, dest + "_text") is not None if hasattr(args, dest + "_text") else (
+        getattr(args, dest, None) is not None)
+
+
+def _own_flags(isolator: str) -> tuple[str, ...]:
+    """The range flags of `isolator`'s design space, in its order."""
+    from ..systems import design_space
+
+    return tuple(VARIABLE_FLAGS[n].flag for n in design_space(isolator).variables if n in VARIABLE_FLAGS)
+
+
+def _refuse_other_flags(args) -> None:
+    """`ValueError` naming the first flag given that `--isolator` does not take (a range flag
+    of a variable outside its design space, or an option of another isolator)."""
+    isolator, design = args.isolator, ISOLATOR_DESIGNS[args.isolator]
+    ranges = _own_flags(isolator)
+    options = dict.fromkeys(o for d in ISOLATOR_DESIGNS.values() for o in d.options)
+    for flag in ("--isolator-file", *(s.flag for s in VARIABLE_FLAGS.values()), *options):
+        if not _given(args, flag) or flag in ranges + design.options:
+            continue
+        owners = [k for k, d in ISOLATOR_DESIGNS.items() if flag in _own_flags(k) + d.options]
+        if not design.uses_file and all(ISOLATOR_DESIGNS[k].uses_file for k in owners):
+            raise ValueError(f"{flag}: applies to --isolator {' or '.join(owners)} only, not {isolator}; "
+                             f"add --isolator {owners[0]} or leave {flag} out.")
+        raise ValueError(f"{flag}: does not apply to --isolator {isolator} ({design.why}); design it over "
+                         f"{', '.join(ranges)}, or add --isolator {' or '.join(owners)}.")
+
+
 def resolve_design_variables(args) -> dict:
-    """{design variable: (low, high)} [SI] of the flags, with the defaults of the flags not
-    given in place (no friction variable with `--pressure`); `ValueError` naming a flag that
-    does not apply (a period range on the pendulum, a radius range on flat sliders, two
-    friction flags at once)."""
-    pendulum = args.isolator == "single-fp"
-    wrong, right = ("--period-range", "--radius-range") if pendulum else ("--radius-range", "--period-range")
-    if getattr(args, wrong.lstrip("-").replace("-", "_") + "_text") is not None:
-        what = ("the single-fp isolator's period is 2 pi sqrt(R / g) of its radius" if pendulum
-                else "flat sliders have no radius")
-        raise ValueError(f"{wrong}: does not apply to --isolator {args.isolator} ({what}); give {right} "
-                         f"instead{'' if pendulum else ' or add --isolator single-fp'}.")
-    _check_restrainer_flags(args, pendulum)
+    """{design variable: (low, high)} [SI] of the flags, in the order of `--isolator`'s design
+    space, with the default bounds of the variables not given in place (no friction variable
+    with `--pressure` or `--f-max-range`); `ValueError` naming a flag that does not apply, two
+    friction flags at once, or a design without variables. Sets `args.design_flags` and the
+    isolator's damping when `--isolation-damping` is not given."""
+    from ..systems import design_space
+
+    _refuse_other_flags(args)
+    design = ISOLATOR_DESIGNS[args.isolator]
+    _check_restrainer_flags(args, "--restrainer-ratio" in design.options)
     if args.f_max_range_text is not None and args.pressure_range_text is not None:
         raise ValueError("--f-max-range: designs f_max instead of the pressure; give --f-max-range "
                          "or --pressure-range, not both.")
     for flag in ("--pressure-range", "--f-max-range"):
-        if args.pressure_text is not None and getattr(args, flag[2:].replace("-", "_") + "_text") is not None:
+        if args.pressure_text is not None and _given(args, flag):
             raise ValueError(f"--pressure: fixes the friction, which {flag} designs; give one of them.")
-    for name in DEFAULT_RANGES:
-        if getattr(args, name + "_text") is None:
-            text, values = DEFAULT_RANGES[name]
-            setattr(args, name, values)
-            setattr(args, name + "_text", text)
-    variables = {"radius": args.radius_range} if pendulum else {"isolation_period": args.period_range}
-    if args.capacity_range_text is not None:
-        variables["capacity"] = args.capacity_range
-    if args.f_max_range_text is not None:
-        variables["f_max"] = args.f_max_range
-    elif args.pressure_text is None:
-        variables["pressure"] = args.pressure_range
+    if design.uses_file and args.isolator_file is None:
+        raise ValueError(f"--isolator-file: --isolator {args.isolator} designs the bearing of an isolator "
+                         "file (docs/formats.md#isolator-file); give one.")
+    friction_fixed = args.pressure_text is not None or args.f_max_range_text is not None
+    variables = {}
+    for name in design_space(args.isolator).variables:
+        spec = VARIABLE_FLAGS.get(name)
+        if spec is None:
+            continue
+        dest = spec.flag[2:].replace("-", "_")
+        if getattr(args, dest + "_text") is None:
+            if spec.default is None or (name == "pressure" and friction_fixed):
+                continue
+            setattr(args, dest + "_text", spec.default[0])
+            setattr(args, dest, spec.default[1])
+        variables[name] = tuple(float(v) for v in getattr(args, dest))
+    if not variables:
+        raise ValueError(f"--isolator {args.isolator}: give at least one of "
+                         f"{', '.join(_own_flags(args.isolator))} (the variables to design, with their bounds).")
     if args.isolation_damping_text is None:  # a pendulum's damping is its friction
-        args.isolation_damping = 0.0 if pendulum else 0.05
-        args.isolation_damping_text = "0%" if pendulum else "5%"
-    args.design_flags = tuple(FLAG_OF[name] for name in variables)
-    return {name: tuple(float(v) for v in bounds) for name, bounds in variables.items()}
+        args.isolation_damping, args.isolation_damping_text = design.damping
+    args.design_flags = tuple(VARIABLE_FLAGS[name].flag for name in variables)
+    return variables
 
 
-def _check_restrainer_flags(args, pendulum: bool) -> None:
-    """`ValueError` naming `--capacity-range` on flat sliders, or `--restrainer-ratio` without
-    it; the default ratio (10) set."""
-    if args.capacity_range_text is not None and not pendulum:
-        raise ValueError(f"--capacity-range: does not apply to --isolator {args.isolator} (flat sliders "
-                         "have no surface to leave); add --isolator single-fp.")
+def _check_restrainer_flags(args, takes_it: bool) -> None:
+    """`ValueError` naming `--restrainer-ratio` without `--capacity-range`; the default ratio
+    (10) set on an isolator that `takes_it`."""
     if args.restrainer_ratio_text is not None and args.capacity_range_text is None:
         raise ValueError("--restrainer-ratio: sets the restrainer beyond the capacity, which only "
                          "--capacity-range designs; add --capacity-range LOW HIGH or leave it out.")
-    if args.restrainer_ratio_text is None:
+    if args.restrainer_ratio_text is None and takes_it:
         args.restrainer_ratio, args.restrainer_ratio_text = 10.0, "10"
+
+
+def flag_error(error: ValueError) -> ValueError:
+    """`error` of a design space's box check ("name: ...") with the variable's range flag in
+    place of its name."""
+    name, _, rest = str(error).partition(":")
+    spec = VARIABLE_FLAGS.get(name)
+    return ValueError(f"{spec.flag}:{rest}") if spec is not None else error
 
 
 def restrained_options(args, variables: dict, structure, options: dict) -> dict:
@@ -123,24 +240,11 @@ def restrained_options(args, variables: dict, structure, options: dict) -> dict:
     return {**options, "radius": None, "surface": surface}
 
 
-def check_f_max_range(args, structure) -> None:
-    """f_min = f_max - delta_f must stay >= 0 at the low end of `--f-max-range` (delta_f of
-    Table 1 at the structure's pressure, or of the bearing file)."""
-    if args.f_max_range_text is None:
-        return
-    bearing, _, _ = structure.isolation({})
-    delta_f = float(bearing.friction.delta_f)
-    if not args.f_max_range[0] >= delta_f:
-        raise ValueError(f"--f-max-range: the low end {args.f_max_range_text[0]} lies below "
-                         f"delta_f = {delta_f:.4g} of the bearing (f_min = f_max - delta_f would be "
-                         f"negative); raise it to at least {delta_f:.4g}.")
-
-
 def structure_options(args, variables: dict) -> dict:
     """Keywords of `isolated_structure` that place the structure at the low ends of the
     design ranges (the design overrides them)."""
     pressure = args.pressure if args.pressure_text is not None else (
-        variables.get("pressure", DEFAULT_RANGES["pressure_range"][1])[0])
+        variables.get("pressure", VARIABLE_FLAGS["pressure"].default[1])[0])
     options = {"isolation_damping": args.isolation_damping, "pressure": pressure}
     if "radius" in variables:
         options.update(isolator="single-fp", radius=variables["radius"][0], isolation_period=None)
@@ -155,47 +259,44 @@ def pendulum_period(radius: float) -> float:
 
 
 def design_fields(values: dict, units) -> dict:
-    """JSON entries of a design point (name -> SI value): R in `units` and its period, or
-    T_b; the pressure in `units` or f_max."""
+    """JSON entries of a design point (name -> SI value), in `VARIABLE_FLAGS`' order: a length
+    or pressure in `units` (a radius with its period), a time in seconds, a ratio as it is."""
     fields = {}
-    if "radius" in values:
-        fields[f"radius_{units.length[0]}"] = values["radius"] / units.length[1]
-        fields["isolation_period_s"] = pendulum_period(values["radius"])
-        if "capacity" in values:
-            fields[f"capacity_{units.length[0]}"] = values["capacity"] / units.length[1]
-    elif "isolation_period" in values:
-        fields["isolation_period_s"] = values["isolation_period"]
-    fields.update({n: values[n] for n in TRIPLE_DESIGN_VARIABLES if n in values})
-    if "pressure" in values:
-        fields[f"pressure_{units.pressure[0]}"] = values["pressure"] / units.pressure[1]
-    if "f_max" in values:
-        fields["f_max"] = values["f_max"]
+    for name, spec in VARIABLE_FLAGS.items():
+        if name not in values:
+            continue
+        if spec.dimension in ("length", "pressure"):
+            unit, scale = getattr(units, spec.dimension)
+            fields[f"{name}_{unit}"] = values[name] / scale
+        elif spec.dimension == "time":
+            fields[f"{name}_s"] = values[name]
+        else:
+            fields[name] = values[name]
+        if name == "radius":
+            fields["isolation_period_s"] = pendulum_period(values["radius"])
     return fields
 
 
 def design_text(values: dict, units) -> str:
     """'Tb = 3.267 s, pressure = 2000 psi' or 'R = 61.2 in (Tb = 2.5 s), f_max = 0.08'."""
-    if "radius" in values:
-        parts = [f"R = {units.show(values['radius'], 'length')} (Tb = {pendulum_period(values['radius']):.4g} s)"]
-        if "capacity" in values:
-            parts.append(f"d = {units.show(values['capacity'], 'length')}")
-    elif "isolation_period" in values:
-        parts = [f"Tb = {values['isolation_period']:.4g} s"]
-    else:
-        parts = [f"{n} = {values[n]:.5g}" for n in TRIPLE_DESIGN_VARIABLES if n in values]
-    if "pressure" in values:
-        parts.append(f"pressure = {units.show(values['pressure'], 'pressure')}")
-    if "f_max" in values:
-        parts.append(f"f_max = {values['f_max']:.4g}")
+    parts = []
+    for name, spec in VARIABLE_FLAGS.items():
+        if name not in values:
+            continue
+        value = values[name]
+        shown = (units.show(value, spec.dimension) if spec.dimension in ("length", "pressure")
+                 else f"{value:.{spec.digits}g} s" if spec.dimension == "time" else f"{value:.{spec.digits}g}")
+        if name == "radius":
+            shown += f" (Tb = {pendulum_period(value):.4g} s)"
+        parts.append(f"{spec.label or name} = {shown}")
     return ", ".join(parts)
 
 
 def plot_units(units) -> dict:
-    """`plot_design`'s units of the design variables and of lengths."""
-    return {"isolation_period": (1.0, "s"), "pressure": units.pressure[::-1], "radius": units.length[::-1],
-            "capacity": units.length[::-1],
-            "f_max": (1.0, "-"), "length": units.length[::-1],
-            **{n: (1.0, "-") for n in TRIPLE_DESIGN_VARIABLES}}
+    """`plot_design`'s units (SI factor, name) of the design variables and of lengths."""
+    of = {"length": units.length[::-1], "pressure": units.pressure[::-1], "time": (1.0, "s")}
+    return {**{name: of.get(spec.dimension, (1.0, "-")) for name, spec in VARIABLE_FLAGS.items()},
+            "length": units.length[::-1]}
 
 
 def pendulum_start(sweep, bounds, structure, records, record_step: float, disp_limit: float,

@@ -35,7 +35,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..excitation import uniform_signal
-from ..systems import IsolatedStructure, check_design, design_ranges, peak_response
+from ..systems import IsolatedStructure, design_space, peak_response
 from ._design_box import BoxSolution, minimise_in_box
 from ._design_check import GRADIENT_TOLERANCE, design_gradient_check
 from ._design_result import DesignResult
@@ -162,20 +162,22 @@ class Bounds:
 
 
 def design_bounds(structure: IsolatedStructure, variables: Mapping) -> Bounds:
-    """Checked `Bounds`: every (low, high) must be finite, low < high, and inside the data's
-    range (`design_ranges`, e.g. Table 1's pressures); otherwise a `ValueError` naming it."""
+    """Checked `Bounds`: every (low, high) must be finite, low < high, and a box the isolator
+    of `structure` takes (its `design_space`: each variable inside the data's range, e.g.
+    Table 1's pressures, and the corners inside the isolator's model); otherwise a
+    `ValueError` naming it."""
     if not variables:
         raise ValueError("variables: give at least one design variable with its (low, high) bounds.")
-    admissible = design_ranges(structure)
+    space = design_space(structure.isolator)
     ranges = {}
     for name, bound in variables.items():
-        if name not in admissible:
-            raise ValueError(f"variables: unknown design variable {name!r}; accepted: {', '.join(admissible)}.")
+        if name not in space.variables:
+            raise ValueError(f"variables: unknown design variable {name!r}; accepted: {', '.join(space.variables)}.")
         lo, hi = (float(b) for b in bound)
         if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
             raise ValueError(f"{name}: bounds must be finite with low < high, got ({lo}, {hi}).")
-        check_design(structure, {name: np.array([lo, hi])})
         ranges[name] = (lo, hi)
+    space.check(structure, ranges)
     return Bounds(ranges)
 
 

@@ -1,6 +1,7 @@
 """Design variables of a triple friction pendulum (`TriplePendulum`) and of a double one
 (`DoublePendulum`, `DOUBLE_DESIGN_VARIABLES`), each a smooth change of the isolator file's
-bearing. The triple's:
+bearing: the "triple-fp" and "double-fp" entries of the design spaces (`DESIGN_SPACES`, read
+through `design_space` and `designed_isolator`). The triple's:
 
 - `outer_radius_scale` s [-]: the outer surfaces' effective radii b, c -> s b, s c (the
   stiffness of regimes II-IV, 1 / (a + b), 1 / (b + c), 1 / (a + c), falls as s grows);
