@@ -75,16 +75,9 @@ from ._structure_build import structure_on_sliders as structure_on_sliders
 from ._triple_biaxial import BiaxialStructureOnTriple as BiaxialStructureOnTriple
 from ._triple_biaxial import biaxial_histories as biaxial_histories
 from ._triple_biaxial import biaxial_peaks as biaxial_peaks
-from ._triple_design import DOUBLE_DESIGN_VARIABLES as DOUBLE_DESIGN_VARIABLES
 from ._triple_design import FRICTION_FACTOR as FRICTION_FACTOR
-from ._triple_design import TRIPLE_DESIGN_VARIABLES as TRIPLE_DESIGN_VARIABLES
-from ._triple_design import check_double_box as check_double_box
-from ._triple_design import check_triple_box as check_triple_box
 from ._triple_design import designed_double as designed_double
 from ._triple_design import designed_pendulum as designed_pendulum
-from ._triple_design import designed_triple as designed_triple
-from ._triple_design import double_design_ranges as double_design_ranges
-from ._triple_design import triple_design_ranges as triple_design_ranges
 from ._triple_isolated import TRIPLE_MONTE_CARLO_TOLERANCE as TRIPLE_MONTE_CARLO_TOLERANCE
 from ._triple_isolated import TripleIsolatedStructure as TripleIsolatedStructure
 from ._triple_structure import TRIPLE_TOLERANCE as TRIPLE_TOLERANCE
