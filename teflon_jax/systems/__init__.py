@@ -62,6 +62,7 @@ from ._slab_series import SlabOnSeries as SlabOnSeries
 from ._slab_series_build import SlabSeriesResponse as SlabSeriesResponse
 from ._slab_series_build import simulate_slab_series as simulate_slab_series
 from ._slab_series_build import stack_pendulums as stack_pendulums
+from ._slider_forces import FRICTION_VELOCITIES as FRICTION_VELOCITIES
 from ._structure import FRICTION_MODELS as FRICTION_MODELS
 from ._structure import StructureOnSliders as StructureOnSliders
 from ._structure import initial_state as initial_state
@@ -84,6 +85,7 @@ from ._triple_structure import TRIPLE_TOLERANCE as TRIPLE_TOLERANCE
 from ._triple_structure import StructureOnTriple as StructureOnTriple
 from ._triple_structure import TripleStructureResponse as TripleStructureResponse
 from ._triple_structure import simulate_triple_structure as simulate_triple_structure
+from ._triple_structure import structure_on_isolator as structure_on_isolator
 from ._triple_structure import triple_structure as triple_structure
 from ._triple_test import TripleResponse as TripleResponse
 from ._triple_test import imposed_isolator_force as imposed_isolator_force
