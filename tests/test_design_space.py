@@ -93,10 +93,12 @@ def test_a_box_whose_f_max_falls_below_delta_f_is_refused():
         space.check(flat, {"f_max": (0.999 * delta_f, 0.3)})
     with pytest.raises(ValueError, match="f_max: the low end"):  # delta_f designed up to above it
         space.check(flat, {"f_max": (delta_f, 0.3), "delta_f": (0.0, 1.01 * delta_f)})
-    other = float(designed_isolator(flat, {"pressure": 2000 * PSI})[0].friction.delta_f)
-    assert other != delta_f
-    with pytest.raises(ValueError, match="f_max: the low end"):  # below delta_f at one end of the pressure
-        space.check(flat, {"f_max": (min(delta_f, other), 0.3), "pressure": (1000 * PSI, 2000 * PSI)})
+    ends = {p: float(designed_isolator(flat, {"pressure": p})[0].friction.delta_f) for p in (1000 * PSI, 2000 * PSI)}
+    low_end = min(ends, key=ends.get)  # the structure at the pressure of the smaller delta_f
+    assert ends[low_end] < max(ends.values())
+    at_low = isolated_structure("rigid", pressure=low_end, isolation_period=2.5)
+    with pytest.raises(ValueError, match="f_max: the low end"):  # below delta_f at the box's other pressure
+        space.check(at_low, {"f_max": (ends[low_end], 0.3), "pressure": (1000 * PSI, 2000 * PSI)})
 
 
 def test_each_range_flag_names_the_isolators_whose_space_holds_its_variable():
