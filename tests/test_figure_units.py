@@ -8,7 +8,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 import pytest
 
-from teflon_jax.cli._fit import fit_status
+from teflon_jax.cli._isolator_table import fit_status
 from teflon_jax.paper._structure_figures import fig11_panels
 from teflon_jax.report import fit_figure, montecarlo_figure, residual_maps
 from teflon_jax.studies import MonteCarloResult

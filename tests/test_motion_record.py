@@ -5,7 +5,7 @@ units fitted parameters are shown in, shared by `teflon-jax fit` and the fit plo
 import numpy as np
 import pytest
 
-from teflon_jax.cli._fit import _shown
+from teflon_jax.cli._isolator_table import _shown
 from teflon_jax.cli._main import main
 from teflon_jax.excitation import TabulatedBiaxialMotion
 from teflon_jax.formats import read_motion_record, read_test_record

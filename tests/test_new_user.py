@@ -230,7 +230,7 @@ def test_posterior_table_is_in_the_units_asked_for(family, rate, disp, noise):
 def test_correlation_notes_are_told_from_warnings():
     """The fitter's own texts: a high correlation is a note (the fit stays clean); a poorly
     determined constant or a bound is a warning."""
-    from teflon_jax.cli._fit import _is_correlation_note
+    from teflon_jax.cli._isolator_table import _is_correlation_note
 
     assert _is_correlation_note("f_max, delta_f: correlation 0.998; the records hardly separate them.")
     assert _is_correlation_note("rate_a, yield_disp: correlation -0.995; the records hardly separate them.")
@@ -245,7 +245,7 @@ def test_one_flag_name_for_one_thing_and_every_default_shown():
     import contextlib
     import io
 
-    from teflon_jax.cli._fit import _parse_fixed
+    from teflon_jax.cli._isolator_table import _parse_fixed
     from teflon_jax.cli._main import _parser
     from teflon_jax.units import INCH
 

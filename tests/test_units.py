@@ -123,7 +123,7 @@ def test_flags_are_read_in_the_users_units():
 
 
 def test_fixed_fit_parameters_take_units():
-    from teflon_jax.cli._fit import _parse_fixed
+    from teflon_jax.cli._isolator_table import _parse_fixed
 
     fixed = _parse_fixed("yield_disp=0.005in,rate_a=0.6s/in,breakaway_ratio=1.5")
     assert fixed == pytest.approx({"yield_disp": 0.005 * INCH, "rate_a": 0.6 / INCH, "breakaway_ratio": 1.5})

@@ -1,31 +1,27 @@
 """`teflon-jax fit`: fit the bearing model to test records from the command line.
 
-Messages go to stderr; the JSON report (SI, with a "units" map) and the plot are the outputs.
+One flow for every isolator: what differs (the flags an isolator refuses or needs, the
+constants `--fixed` takes, the fitter, the printed, plotted and saved result) is its row of
+`_isolator_table.FIT_ROWS`, looked up by `--isolator`. Messages go to stderr; the JSON report
+(SI, with a "units" map) and the plot are the outputs.
 """
 
 import argparse
 import pathlib
-import re
 import sys
 
-from ..units import INCH, parse_quantity
 from ._bearing_flags import add_save_bearing_flag, check_output_file
 from ._common import (
     ISOLATORS,
     _write_json,
     add_quantity,
     add_units_flag,
-    output_units,
     read_bearing_record,
     read_quantities,
 )
 from ._fit_bayes import _unit_of as _unit_of
 from ._fit_bayes import add_bayes_file_flags, check_bayes_flags
-from ._triple import SERIES_ISOLATORS
-
-PARAMETER_DIMENSIONS = {"f_max": "dimensionless", "delta_f": "dimensionless", "rate_a": "slowness",
-                        "yield_disp": "length", "breakaway_ratio": "dimensionless"}
-"""Dimension of each fitted parameter, for `--fixed NAME=VALUE` (e.g. yield_disp=0.005in)."""
+from ._isolator_table import FIT_ROWS, refused, required
 
 FIT_HELP = "fit f_max, delta_f, rate_a, yield_disp, breakaway_ratio to bearing test records"
 
@@ -110,120 +106,67 @@ def add_fit_parser(subparsers) -> argparse.ArgumentParser:
     return parser
 
 
-def _parse_fixed(text):
-    from identification.bearing_fit import PARAMETER_NAMES
-
-    fixed = {}
-    if not text:
-        return fixed
-    if not isinstance(text, str):  # the repeated flag: one list
-        text = ",".join(text)
-    for item in text.split(","):
-        name, sep, value = item.partition("=")
-        name = name.strip()
-        if not sep:
-            raise ValueError(f"--fixed: '{item}' is not NAME=VALUE.")
-        if name not in PARAMETER_NAMES:
-            raise ValueError(f"--fixed: unknown parameter '{name}'; the parameters are "
-                             f"{', '.join(PARAMETER_NAMES)}.")
-        fixed[name] = parse_quantity(value, PARAMETER_DIMENSIONS.get(name, "dimensionless"),
-                                     where=f"--fixed {name}")
-    return fixed
-
-
-DEFAULT_STARTS = 8
-"""`--starts` of a flat slider's or single pendulum's fit."""
-
-
 def run_fit(args) -> int:
     """Run `teflon-jax fit`; returns the exit status (0 ok, 1 not converged, 2 bad input)."""
-    from identification.bearing_fit import fit_bearing_test, parse_free
-
-    from ..report import plot_fit
-
+    row = FIT_ROWS[args.isolator]
     try:
-        check_bayes_flags(args)
+        check_bayes_flags(args, posterior=row.posterior)
+        read_quantities(args, "fit")
+        _check_isolator_flags(args, row)
     except ValueError as error:
         print(f"teflon-jax fit: error: {error}", file=sys.stderr)
         return 2
-    if args.isolator in SERIES_ISOLATORS:
-        from ._fit_triple import run_fit_triple
-
-        return run_fit_triple(args)
-    args.starts = DEFAULT_STARTS if args.starts is None else args.starts
-    for flag, value in (("--isolator-file", args.isolator_file), ("--save-isolator", args.save_isolator)):
-        if value is not None:
-            print(f"teflon-jax fit: error: {flag}: applies to --isolator triple-fp or "
-                  f"double-fp only; add --isolator triple-fp (or double-fp) or leave {flag} out.", file=sys.stderr)
-            return 2
-    if args.isolator == "single-fp":
-        from ._fit_pendulum import run_fit_pendulum
-
-        return run_fit_pendulum(args, check_counts=_check_counts, parse_fixed=_parse_fixed,
-                                save_fitted=_save_fitted, shown_as=_shown)
-    if args.effects is not None:
+    args.starts = row.starts if args.starts is None else args.starts  # as the JSON's settings say
+    if args.effects is not None:  # the rows that cannot take --effects refused it above
         from ._fit_effects import run_fit_effects
 
         return run_fit_effects(args)
     try:
-        read_quantities(args, "fit")
         check_output_file(args.save_bearing, "--save-bearing")
         _check_counts(args)  # before the fit, as the output paths (`check_outputs`)
-        free = parse_free(args.free) if args.free is not None else None
-        fixed = _parse_fixed(args.fixed)
+        inputs = row.read(args, row.own)
         records = [read_bearing_record(p) for p in args.records]
-        if args.each:
+        if args.each:  # a row without a posterior refused --each above
             from ._fit_bayes import run_fit_each
 
-            return run_fit_each(args, free, fixed, records, _save_fitted)
-        print(f"teflon-jax fit: {len(records)} record(s), {args.starts} least-squares starts "
-              "(compiling first)...", file=sys.stderr)
-        fit = fit_bearing_test(records, free=free, fixed=fixed, normal_load=args.normal_load,
-                               n_starts=args.starts, reduce=not args.full_model)
+            return run_fit_each(args, inputs.free, inputs.fixed, records, _save_fitted)
+        print(f"teflon-jax fit: {row.announce(args, inputs, records)}", file=sys.stderr)
+        fit = row.solve(args, inputs, records)
     except ValueError as error:
         print(f"teflon-jax fit: error: {error}", file=sys.stderr)
         return 2
     _write_json(args.json, fit.to_json_dict())
-    _save_fitted(args, fit, records)
-    us = args.units == "us"
+    friction = row.friction(fit)
+    if friction is not None:
+        _save_fitted(args, friction, records)
+    if args.save_isolator is not None:
+        from ..formats import write_isolator
+
+        write_isolator(args.save_isolator, fit.bearing)
     if args.plot:
-        units = output_units(args.units)
-        stamp = f"{', '.join(pathlib.Path(r).name for r in args.records)}" + (
-            f", normal load {args.normal_load_text}" if args.normal_load_text else "")
-        plot_fit(args.plot, fit, length=units.length, force=units.force, title=stamp)
-    notes = [w for w in fit.warnings if _is_correlation_note(w)]
-    for warning in fit.warnings:
-        kind = "note" if warning in notes else "warning"
-        print(f"teflon-jax fit: {kind}: {warning}", file=sys.stderr)
-    if fit.reduced:
-        print(f"teflon-jax fit: reduced model: {fit.reduction} Reduced: " + "; ".join(
-            f"{k} {v}" for k, v in fit.reduced.items()) + ".", file=sys.stderr)
-    summary = ", ".join(_shown(k, fit.parameters[k], fit.std_errors[k], us) for k in fit.free)
-    print(f"{summary}; nrmse = {fit.nrmse:.4f} [-]; {fit.message}; {fit_status(fit, len(notes), args.records)}",
-          file=sys.stderr)
-    if args.bayes is None or not fit.converged:
+        row.plot(args, fit, records)
+    for line in row.report(args, fit):
+        print(line, file=sys.stderr)
+    if args.bayes is None or not fit.converged:  # a row without a posterior refused --bayes above
         return 0 if fit.converged else 1
     from ._fit_bayes import run_bayes
 
-    return run_bayes(args, records, fixed, fit, _save_fitted)
+    return run_bayes(args, records, inputs.fixed, friction, _save_fitted)
 
 
-def fit_status(fit, notes: int, records) -> str:
-    """The last words of `fit`'s summary line, which say what its exit status means: "clean"
-    (exit 0); converged but not clean, a result with the limits its warnings name (exit 0),
-    with the `diagnose` command that looks for the effects the model lacks; or NOT CONVERGED,
-    no result (exit 1). `notes`: how many of the warnings are notes on correlations."""
-    if fit.clean:
-        return "clean" + (f" ({notes} note(s) on correlations above)" if notes else "")
-    names = [str(r) for r in records]
-    command = (f"`teflon-jax diagnose {names[0]}`" if len(names) == 1
-               else f"`teflon-jax diagnose RECORD` on each of {', '.join(names)}")
-    if fit.converged:
-        return (f"converged, not clean ({len(fit.warnings) - notes} warning(s) above): the constants are the "
-                f"best this model reaches, with the limits the warnings name; {command} looks for the effects "
-                "the model lacks")
-    return (f"NOT CONVERGED: the least-squares solve stopped before reaching a minimum, so the constants are "
-            f"no result (exit status 1); see the warnings above and {command}")
+def _check_isolator_flags(args, row) -> None:
+    """`ValueError` naming the first flag the isolator's row needs and is missing (or names a
+    missing file), refuses, or the record count or an output path it cannot take."""
+    required(args, row.requires)
+    for name, _ in row.requires:
+        value = getattr(args, name)
+        if isinstance(value, pathlib.Path) and not value.is_file():
+            raise ValueError(f"--{name.replace('_', '-')}: {value} does not exist.")
+    refused(args, row.refuses)
+    if row.one_record and len(args.records) != 1:
+        raise ValueError(f"RECORD: --isolator {args.isolator} fits one record, got {len(args.records)}.")
+    check_output_file(args.save_isolator, "--save-isolator")
+    check_output_file(args.plot, "--plot")
 
 
 def _save_fitted(args, fit, records, *, posterior=None, bayes=None, path=None,
@@ -247,26 +190,12 @@ def _save_fitted(args, fit, records, *, posterior=None, bayes=None, path=None,
                  posterior=posterior)
 
 
-def _is_correlation_note(text: str) -> bool:
-    """A high correlation between two fitted constants: a note, which leaves a fit clean
-    (`BearingFit.clean`), not a warning."""
-    return bool(re.match(r"^[a-z_]+, [a-z_]+: correlation -?[0-9.]+; ", text))
-
-
 def _check_counts(args) -> None:
-    """--starts >= 1; with --bayes, --draws >= 10 and --chains >= 2 (R-hat needs two chains)."""
-    if args.starts < 1:
+    """--starts >= 1 (where the fit makes starts); with --bayes, --draws >= 10 and --chains >= 2
+    (R-hat needs two chains)."""
+    if args.starts is not None and args.starts < 1:
         raise ValueError(f"--starts: must be an integer >= 1 (least-squares starts), got {args.starts}.")
     if args.bayes is not None and args.draws < 10:
         raise ValueError(f"--draws: must be >= 10 (warm-up steps and draws per chain), got {args.draws}.")
     if args.bayes is not None and args.chains < 2:
         raise ValueError(f"--chains: must be >= 2 (R-hat compares chains), got {args.chains}.")
-
-
-def _shown(name, value, error, us):
-    """`name = value +- error unit` in the family chosen by --units."""
-    from ..report import parameter_unit
-
-    unit, factor = parameter_unit(name, ("in", INCH) if us else ("mm", 1e-3))
-    error = float("nan") if error is None else error
-    return f"{name} = {value / factor:.5g} +- {error / factor:.2g}{' ' + unit if unit else ''}"

@@ -32,9 +32,10 @@ def add_bayes_file_flags(parser) -> None:
                              "exits 1 (2 if one was refused as bad input) after the others")
 
 
-def check_bayes_flags(args) -> None:
+def check_bayes_flags(args, *, posterior: bool = True) -> None:
     """`ValueError` naming the flag, before any work, for --posterior-draws and --each given
-    where they do not apply or with values they cannot take."""
+    where they do not apply or with values they cannot take; `posterior`: whether the
+    isolator's law is one the sampler knows (the flat slider's, `_isolator_table.FitRow`)."""
     each, draws = getattr(args, "each", False), getattr(args, "posterior_draws", None)
     if args.bayes is None:
         for flag, given in (("--each", each), ("--posterior-draws", draws is not None)):
@@ -49,7 +50,7 @@ def check_bayes_flags(args) -> None:
                          "--save-bearing FILE (or --each), or leave --posterior-draws out.")
     if not each:
         return
-    if args.isolator != "flat" or args.effects is not None:
+    if not posterior or args.effects is not None:
         raise ValueError("--each: the posterior is sampled for the flat slider's law (Eq. 1 with "
                          "Bouc-Wen); leave --each out with --isolator or --effects.")
     for flag, value, where in (("--save-bearing", args.save_bearing, "bearing.json"),

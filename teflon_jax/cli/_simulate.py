@@ -1,19 +1,29 @@
-"""`teflon-jax simulate-test`: simulate a bearing test and write it as a test-record CSV."""
+"""`teflon-jax simulate-test`: simulate a bearing test and write it as a test-record CSV.
+
+One flow for every isolator: the flags each one refuses or needs are its row of
+`_isolator_table.TEST_ROWS`, looked up by `--isolator`. A flat slider or a single friction
+pendulum is the bearing of the flags (or of `--bearing`) under the imposed motion, the
+pendulum's concave surface adding its restoring force (small rotations, Zayas, Low & Mahin
+1990)
+
+    F = N u / R + mu(v) N Z,
+
+to the friction mu N Z of the same liner on a flat surface (Eq. 1 and Bouc-Wen / Park's Z;
+Constantinou, Mokha & Reinhorn 1990), in two directions N u / R along each displacement
+component; a triple or double friction pendulum is the series model of its `--isolator-file`.
+`fit --isolator ...` recovers the constants from such a record.
+"""
 
 import pathlib
 
 import numpy as np
 
-from ..units import INCH, parse_quantity
+from ..units import INCH, STANDARD_GRAVITY, parse_quantity
 from ._bearing_flags import add_bearing_flag, read_bearing_flag
-from ._common import add_quantity, add_units_flag, check_table1, output_units
+from ._common import ISOLATORS, add_quantity, add_units_flag, check_table1, output_units
+from ._isolator_table import TEST_ROWS, refused, required
 from ._provenance import record_metadata
-from ._simulate_pendulum import (
-    add_pendulum_test_flags,
-    check_pendulum_test_flags,
-    pendulum_metadata,
-    pendulum_result,
-)
+from ._triple import _load
 
 DEFAULT_DIAMETER = 10 * INCH  # specimens of the paper's tests: 10 in diameter
 MIN_SAMPLES_PER_CYCLE = 8  # fewer cannot show the shape of a loop
@@ -64,7 +74,11 @@ def add_simulate_parser(subparsers) -> None:
                    help="simulate a triple or double friction pendulum whose surfaces (radius, capacity, "
                    "friction of each) this isolator file gives, instead of a flat slider; "
                    "give --normal-load")
-    add_pendulum_test_flags(p)
+    p.add_argument("--isolator", default="flat", choices=ISOLATORS,
+                   help="a flat slider, or a single friction pendulum: the slider on a "
+                   "concave surface of --radius, force N u / R + friction (default flat)")
+    add_quantity(p, "--radius", "length", None, "with --isolator single-fp: radius of "
+                 "curvature R of the concave surface, e.g. 88in", minimum=0.0)
     p.add_argument("--samples-per-cycle", type=int, default=400, help="saved samples per cycle, at "
                    f"least {MIN_SAMPLES_PER_CYCLE} (default 400)")
     p.add_argument("--out", default="test_record.csv", help="output test-record CSV (default test_record.csv)")
@@ -185,7 +199,7 @@ def _read_motion_file(path: pathlib.Path):
     return read_motion_record(path)
 
 
-def _triple_pendulum(args):
+def _series_pendulum(args):
     """(isolator, motion, normal load) of `--isolator-file`; the flat slider's flags refused."""
     from ..formats import load_isolator
 
@@ -210,12 +224,12 @@ def _triple_pendulum(args):
     return isolator, _motion(args), args.normal_load
 
 
-def _run_triple_pendulum(args) -> int:
+def _run_series_pendulum(args) -> int:
     """`simulate-test --isolator-file`: the triple or double pendulum's loop as a test record."""
     from ..formats import test_record_from_arrays, write_test_record
     from ..systems import triple_pendulum_test
 
-    isolator, motion, normal_load = _triple_pendulum(args)
+    isolator, motion, normal_load = _series_pendulum(args)
     time, displacement, response = triple_pendulum_test(
         isolator, motion, normal_load, samples_per_cycle=args.samples_per_cycle)
     failed = int(np.count_nonzero(~np.asarray(response.converged)))
@@ -230,8 +244,7 @@ def _run_triple_pendulum(args) -> int:
         normal_load=np.full(len(time), float(normal_load)),
         metadata={"specimen": f"{isolator.description[:-1]} of {args.isolator_file} (simulated by "
                               "teflon-jax)",
-                  "source": "teflon-jax simulate-test --isolator-file; series model of Fenz & "
-                            f"Constantinou ({'2008' if isolator.isolator == 'triple-fp' else '2006'})",
+                  "source": f"teflon-jax simulate-test --isolator-file; {TEST_ROWS[isolator.isolator].model}",
                   **record_metadata()})
     write_test_record(args.out, record, units=None if args.units == "us" else "SI")
     peak = float(np.max(np.abs(f)) / normal_load)
@@ -244,9 +257,14 @@ def run_simulate(args) -> int:
     from ..formats import test_record_from_arrays, write_test_record
     from ..systems import simulate_bearing_test
 
-    radius = check_pendulum_test_flags(args)
-    if args.isolator_file is not None:
-        return _run_triple_pendulum(args)
+    row = TEST_ROWS[args.isolator]
+    refused(args, row.refuses)
+    required(args, row.requires)
+    if row.file_of_it:
+        _load(args.isolator_file, args.isolator)  # a file of the other pendulum is refused by name
+    if args.isolator_file is not None:  # the flat slider's row takes the pendulum the file holds
+        return _run_series_pendulum(args)
+    radius = None if args.radius is None else float(args.radius)  # the flat slider's row refused it
     bearing, motion, normal_load, metadata = build_test(args)
     metadata = pendulum_metadata(metadata, radius, args.radius_text)
     result = simulate_bearing_test(bearing, motion, normal_load,
@@ -291,3 +309,27 @@ def _bearing_words(args, metadata) -> str:
     lay = ("parallel to lay along x, perpendicular along y (anisotropic)" if args.anisotropic
            else f"{'parallel' if metadata['direction'] == 'P' else 'perpendicular'} to lay")
     return f"{metadata['ptfe']} PTFE at {args.pressure_text}, {lay}, Y = {args.yield_disp_text}"
+
+
+def pendulum_result(result, radius: float | None):
+    """`result` (a `BearingTestResult`) with the surface's N u / R added to fx and fy
+    (unchanged for a flat slider, `radius` None)."""
+    import equinox as eqx
+
+    if radius is None:
+        return result
+    load = result.normal_load
+    return eqx.tree_at(lambda r: (r.fx, r.fy), result,
+                       (result.fx + load * result.ux / radius, result.fy + load * result.uy / radius))
+
+
+def pendulum_metadata(metadata: dict, radius: float | None, radius_text) -> dict:
+    """The record's metadata of a pendulum test: its specimen and source say so (unchanged for
+    a flat slider, `radius` None)."""
+    if radius is None:
+        return metadata
+    period = 2 * np.pi * np.sqrt(radius / STANDARD_GRAVITY)
+    return {**metadata,
+            "specimen": f"single friction pendulum, R = {radius_text} (T = {period:.4g} s), "
+                        + metadata["specimen"].replace("flat slider", "liner"),
+            "source": metadata["source"] + "; restoring force N u / R (Zayas, Low & Mahin 1990)"}
