@@ -5,7 +5,8 @@ rule, `_propagators.py`), with F = mu(v) W Z the bearing force at the end of the
 velocity there (linear in x, `end_velocity`) and Z updated exactly along the step's path
 (`bearing_force`); the root is found by a bracketed Newton iteration with written-out slopes and
 differentiated implicitly (`isolator_root`). Used by `StructureOnSliders`; Eqs. 1, 3 and 17 of
-Constantinou, Mokha & Reinhorn (1990).
+Constantinou, Mokha & Reinhorn (1990). The one-surface isolator of the series engine solves its
+slider's balance with the same safeguard, a bracket found on the way (`bracketed_newton`).
 """
 
 import functools
@@ -208,3 +209,33 @@ def _root_jvp(rule, iterations, primals, tangents):
     r_p = -dp["ub_linear"] + dp["g0"] * force_at_root + p["g0"] * force_p
     dx = -r_p / (1 + p["g0"] * d_force_x)
     return (x, force, z), (dx, force_p + d_force_x * dx, z_p + d_z_x * dx)
+
+
+def bracketed_newton(evaluate, guess, tolerance, iterations: int):
+    """Root of a scalar residual r(x) that tends to -inf and +inf at either end (the balance of
+    one slider: its force less the force the linear step leaves, whose compliance term
+    (x - D) / G outgrows the bounded friction), by Newton's steps x <- x - dir safeguarded by
+    the bracket [lo, hi] of the iterates' signs (open, (-inf, inf), until both are seen):
+    a step that leaves the bracket bisects it. `evaluate(x)` returns (r, dir) for x (1,), dir
+    = r / J with J > 0 (a floored slope), so a step goes the way the root lies while the
+    bracket is open; no merit function (r may fall as x grows, e.g. while Eq. 1 falls with a
+    reversing speed, where a line search on r^2 stalls). Stops when |r| <= `tolerance` or
+    after `iterations` steps.
+
+    **Returns:** (x, whether |r| <= tolerance)."""
+    def cond(carry):
+        _, (r, _), _, _, k = carry
+        return (jnp.abs(r[0]) > tolerance) & (k < iterations)
+
+    def body(carry):
+        x, (r, direction), lo, hi, k = carry
+        lo = jnp.where(r < 0, x, lo)
+        hi = jnp.where(r > 0, x, hi)
+        step = x - direction
+        inside = (step > lo) & (step < hi) & jnp.isfinite(step)
+        x = jnp.where(inside, step, 0.5 * (lo + hi))
+        return x, evaluate(x), lo, hi, k + 1
+
+    infinite = jnp.full_like(guess, jnp.inf)
+    x, (r, _), _, _, _ = jax.lax.while_loop(cond, body, (guess, evaluate(guess), -infinite, infinite, 0))
+    return x, jnp.abs(r[0]) <= tolerance

@@ -42,6 +42,7 @@ import numpy as np
 from ..bearing import SeriesPendulum
 from ..excitation import Signal
 from ..units import STANDARD_GRAVITY
+from ._isolator_solve import bracketed_newton
 from ._models import rigid_mass, six_storey_building
 from ._series_heat import heated_step, series_heat_kernel
 from ._slider_forces import (
@@ -341,6 +342,8 @@ def _balanced_root(iterations, p, guess, tolerance):
         r, k = _residual_and_slopes(d, p, dt)
         return r, jnp.sum(r**2), _newton_direction(r, jnp.maximum(k, floor), balance_compliance(p))
 
+    if guess.shape[0] == 1 and "G" in p:  # one slider: bracketed (`bracketed_newton`)
+        return bracketed_newton(lambda d: evaluate(d)[::2], guess, tolerance, iterations + RESCUE_ITERATIONS)
     return damped_newton(evaluate, guess, tolerance, iterations)
 
 
