@@ -16,7 +16,12 @@ from test_triple_design import TRIPLE
 
 from teflon_jax.bearing import ISOLATORS, concave_surface
 from teflon_jax.cli._common import output_units
-from teflon_jax.cli._design_variables import VARIABLE_FLAGS, design_fields, design_text
+from teflon_jax.cli._design_variables import (
+    ISOLATOR_DESIGNS,
+    VARIABLE_FLAGS,
+    design_fields,
+    design_text,
+)
 from teflon_jax.systems import (
     DESIGN_SPACES,
     design_space,
@@ -44,7 +49,7 @@ def _structure(isolator):
 
 
 def test_every_isolator_has_one_space():
-    assert tuple(DESIGN_SPACES) == tuple(ISOLATORS)
+    assert tuple(DESIGN_SPACES) == tuple(ISOLATORS) == tuple(ISOLATOR_DESIGNS)  # the command's row of each
     with pytest.raises(ValueError, match="isolator: unknown 'quad-fp'; accepted: flat, single-fp"):
         design_space("quad-fp")
 

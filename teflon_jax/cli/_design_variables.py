@@ -119,8 +119,7 @@ def add_design_variable_flags(parser) -> None:
                         "(restoring force W u / R), or the triple or double friction pendulum of "
                         "--isolator-file; each designed over the range flags that name it "
                         "(default flat)")
-    parser.add_argument("--isolator-file", default=None, metavar="FILE",
-                        type=pathlib.Path,
+    parser.add_argument("--isolator-file", default=None, metavar="FILE", type=pathlib.Path,
                         help="with --isolator triple-fp or double-fp: the isolator file whose bearing "
                         "is designed (each variable a change of it)")
     for spec in VARIABLE_FLAGS.values():
