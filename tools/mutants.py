@@ -241,7 +241,7 @@ MUTANTS = (
            "speed = jnp.abs(increment) * pendulum.velocity_factors() / time_step",
            "speed = jnp.abs(increment) / time_step",
            ("tests/test_triple_structure.py",), "triple pendulum in a structure: Eq. 1 at the slider's speed, not the surface's"),
-    Mutant("P4", "teflon_jax/cli/_simulate_pendulum.py",
+    Mutant("P4", "teflon_jax/cli/_simulate.py",
            "(result.fx + load * result.ux / radius, result.fy + load * result.uy / radius)",
            "(result.fx + load * result.ux / (2 * radius), result.fy + load * result.uy / (2 * radius))",
            ("tests/test_pendulum_fit.py",), "pendulum's test record: restoring force N u / (2 R)"),
