@@ -1,42 +1,102 @@
-"""`teflon-jax diagnose RECORD --json OUT.json --report DIR [--baseline paper1990|coulomb]`.
+"""`teflon-jax diagnose RECORD --json OUT.json --report DIR [--isolator ISOLATOR]`.
 
-Fits the baseline model to a test record, names the missing effects one at a time (see
-`identification._discovery`), and writes the JSON summary and a Markdown report with figures.
+Fits the baseline model to a test record, names the missing effects one at a time
+(`identification.discovery`), and writes the JSON summary, a Markdown report with figures and,
+when asked, what it found (a bearing file, or the isolator file of a series pendulum).
+
+The command's flow is written once (`run_diagnose`); what differs between isolators is the
+table `DIAGNOSES`, looked up by `--isolator`:
+
+- `flat`: the record as it is; `discover_effects` from `--baseline` (default paper1990).
+- `single-fp`: the surface's restoring force N u / R (Zayas, Low & Mahin 1990) belongs to the
+  baseline and is taken off the force before the search, with R given by `--radius` or fitted
+  beside the baseline's friction (Eq. 1 with Bouc-Wen, `identification.bearing_fit.
+  fit_pendulum_test`). A fitted R is refitted beside the effects the search found
+  (`refit_pendulum_radius`) and the search run again until R settles: the fixed point of the
+  alternation is a stationary point of the squared error in R and the final model's constants
+  together, as in `fit_pendulum_test`.
+- `triple-fp`, `double-fp`: the baseline is the series fit of `--isolator-file` (`fit
+  --isolator triple-fp|double-fp`, from the start file's values) and the candidates are the
+  effects the series model represents on its surfaces (`identification.discovery.
+  SERIES_EFFECTS`), judged by the flat slider's evidence and decision rule
+  (`discover_series_effects`).
 """
 
 import argparse
 import dataclasses
 import pathlib
 import sys
+import typing
 
 from ..units import INCH, parse_quantity
 from ._bearing_flags import add_save_bearing_flag, check_output_file, save_bearing_flag
 from ._common import (
+    ISOLATORS,
     _write_json,
     add_quantity,
     add_units_flag,
     output_units,
     read_bearing_record,
 )
-from ._diagnose_pendulum import add_pendulum_diagnose_flags, search_pendulum
-from ._diagnose_series import (
-    add_series_diagnose_flags,
-    check_series_flags,
-    run_series_diagnose,
-)
-from ._triple import SERIES_ISOLATORS
+from ._triple import _load as load_isolator_file
 
 _DIMENSIONS = {"-": "dimensionless", "m": "length", "s/m": "slowness"}
+
+RADIUS_ROUNDS = 3
+"""Most searches a single friction pendulum runs with a refitted radius after the first."""
+
+RADIUS_RTOL = 1e-4
+"""Relative change of R below which it has settled."""
 
 
 HELP = "find the effects a bearing test shows beyond the 1990 model"
 """The line of this command in `teflon-jax --help`."""
 
+EFFECT_NAMES = ("velocity_dependence", "breakaway", "pressure_dependence", "heating", "anisotropy",
+                "asymmetry", "wear", "interfaces", "backlash")
+"""The candidate effects (`identification.discovery.EFFECT_NAMES`), written out so that `--help`
+answers without loading JAX (`tests/test_diagnose_help.py` holds the two equal)."""
+
+BASELINES = ("paper1990", "coulomb")
+"""The baselines (`identification.discovery.BASELINES`), written out likewise."""
+
+
+class Found(typing.NamedTuple):
+    """What one isolator's search found: `result` (`DiscoveryResult` or
+    `SeriesDiscoveryResult`), `entries` added to its JSON document, `failure` (the message
+    of a search that could not finish what was asked: exit status 1) or None."""
+
+    result: object
+    entries: dict
+    failure: str | None = None
+
+
+class Diagnosis(typing.NamedTuple):
+    """How `diagnose` treats one `--isolator`.
+
+    - `search(args, diagnosis, candidates, say) -> Found`: read the inputs and run the search;
+    - `report`: the writer of `identification.discovery` for its result;
+    - `saves`: (flag, attribute, what) of the file it writes what it found to;
+    - `save(args, result)`: write it there;
+    - `notes(result)`: lines said after the files are written;
+    - `isolator_file`: whether `--isolator-file` is required (the series start file);
+    - `refused`: (flag, attribute, message) of each flag it cannot take, in the order checked
+      (the message formatted with `flag` and `isolator`);
+    - `restoring_force`: the record holds a concave surface's N u / R.
+    """
+
+    search: typing.Callable
+    report: str
+    saves: tuple
+    save: typing.Callable
+    notes: typing.Callable
+    isolator_file: bool
+    refused: tuple
+    restoring_force: bool = False
+
 
 def add_diagnose_parser(subparsers) -> argparse.ArgumentParser:
     """Add the `diagnose` sub-command to an `argparse` sub-parser collection."""
-    from identification.discovery import BASELINES, EFFECT_NAMES
-
     parser = subparsers.add_parser(
         "diagnose",
         help=HELP,
@@ -54,51 +114,25 @@ def add_diagnose_parser(subparsers) -> argparse.ArgumentParser:
     add_quantity(parser, "--normal-load", "force", None, "normal load for records without one "
                  "(e.g. a friction damper): one that puts force / N near 0.1, as the friction "
                  "constants are bounded (f_max <= 0.5)", minimum=0.0)
-    parser.add_argument(
-        "--json",
-        type=pathlib.Path,
-        required=True,
-        dest="json_path",
-        metavar="OUT.json",
-        help="where to write the JSON summary",
-    )
-    parser.add_argument(
-        "--report",
-        type=pathlib.Path,
-        required=True,
-        metavar="DIR",
-        help="folder for report.md and the figures",
-    )
+    parser.add_argument("--json", type=pathlib.Path, required=True, dest="json_path",
+                        metavar="OUT.json", help="where to write the JSON summary")
+    parser.add_argument("--report", type=pathlib.Path, required=True, metavar="DIR",
+                        help="folder for report.md and the figures")
     parser.add_argument(
         "--baseline",
-        choices=tuple(BASELINES),
+        choices=BASELINES,
         default=None,
         help="model to start from (default: paper1990 = Eq. 1 + Bouc-Wen; with --isolator "
         "triple-fp|double-fp the baseline is the series fit of --isolator-file)",
     )
-    parser.add_argument(
-        "--candidates",
-        default=None,
-        help="comma-separated effects to consider (default: all applicable)",
-    )
-    parser.add_argument(
-        "--bic-threshold",
-        type=float,
-        default=10.0,
-        help="smallest BIC drop that adds an effect (default 10, 'very strong')",
-    )
-    parser.add_argument(
-        "--max-effects",
-        type=int,
-        default=4,
-        help="at most this many effects are added (default 4)",
-    )
-    parser.add_argument(
-        "--max-samples",
-        type=int,
-        default=3000,
-        help="longer records are decimated to about this many samples (default 3000)",
-    )
+    parser.add_argument("--candidates", default=None,
+                        help="comma-separated effects to consider (default: all applicable)")
+    parser.add_argument("--bic-threshold", type=float, default=10.0,
+                        help="smallest BIC drop that adds an effect (default 10, 'very strong')")
+    parser.add_argument("--max-effects", type=int, default=4,
+                        help="at most this many effects are added (default 4)")
+    parser.add_argument("--max-samples", type=int, default=3000,
+                        help="longer records are decimated to about this many samples (default 3000)")
     parser.add_argument(
         "--known",
         "--fixed",
@@ -111,19 +145,39 @@ def add_diagnose_parser(subparsers) -> argparse.ArgumentParser:
     )
     parser.add_argument("--quiet", "--no-progress", action="store_true",
                         help="no progress lines (--no-progress is the same flag, as in the other commands)")
-    add_pendulum_diagnose_flags(parser)
-    add_series_diagnose_flags(parser)
+    _add_isolator_flags(parser)
     add_save_bearing_flag(parser)
     add_units_flag(parser)
     parser.set_defaults(func=run_diagnose)
     return parser
 
 
-def run_diagnose(args) -> int:
-    """Run `diagnose` for parsed arguments; returns the exit status (0 ok, 1 a fitted radius that did not
-    settle beside the effects found, 2 bad input)."""
+def _add_isolator_flags(parser) -> None:
+    """`--isolator`, `--radius R`, `--isolator-file START.json` and `--save-isolator FILE`."""
+    parser.add_argument("--isolator", default="flat", choices=ISOLATORS,
+                        help="single-fp: the record is of a single friction pendulum; its "
+                        "restoring force N u / R joins the baseline and the search looks at the "
+                        "friction; triple-fp, double-fp: the baseline is the series fit of "
+                        "--isolator-file and the candidates its surfaces' effects (default flat)")
+    add_quantity(parser, "--radius", "length", None, "with --isolator single-fp: the radius R of "
+                 "the concave surface, when known (default: fitted with the baseline's friction)",
+                 minimum=0.0)
+    parser.add_argument("--isolator-file", default=None, metavar="START.json", type=pathlib.Path,
+                        help="with --isolator triple-fp|double-fp: the isolator file the series "
+                        "fit starts from (a surface's 'heating' entry gives the heating candidate "
+                        "its contact pressure; docs/formats.md)")
+    parser.add_argument("--save-isolator", default=None, metavar="FILE", type=pathlib.Path,
+                        help="with --isolator triple-fp|double-fp: write the final model as an "
+                        "isolator file (with the surfaces' heating when it was added)")
 
-    from identification.discovery import discover_effects, write_report
+
+def run_diagnose(args) -> int:
+    """Run `diagnose` for parsed arguments; returns the exit status (0 ok, 1 a search that could
+    not finish what was asked, e.g. a fitted radius that did not settle beside the effects
+    found, 2 bad input)."""
+    from identification import discovery
+
+    diagnosis = DIAGNOSES[args.isolator]
 
     def say(text):
         if not args.quiet:
@@ -132,59 +186,208 @@ def run_diagnose(args) -> int:
     candidates = None
     if args.candidates:
         candidates = [c.strip() for c in args.candidates.split(",") if c.strip()]
-    if args.isolator in SERIES_ISOLATORS:
-        return run_series_diagnose(args, candidates, say)
-    args.baseline = args.baseline or "paper1990"
     try:
-        check_series_flags(args)
-        check_output_file(args.save_bearing, "--save-bearing")
-        known = _parse_known(args.known)
-        record = with_normal_load(read_bearing_record(args.record), args.record, args.normal_load)
-
-        def search(friction_record):
-            return discover_effects(
-                friction_record,
-                baseline=args.baseline,
-                candidates=candidates,
-                bic_threshold=args.bic_threshold,
-                max_effects=args.max_effects,
-                max_samples=args.max_samples,
-                known=known,
-                callback=say,
-            )
-
-        result, radius, radius_entries = search_pendulum(args, record, search, say)
+        check_flags(args, diagnosis)
+        found = diagnosis.search(args, diagnosis, candidates, say)
     except (ValueError, FileNotFoundError) as error:
         print(f"teflon-jax diagnose: {error}", file=sys.stderr)
         return 2
+    result = found.result
     document = result.to_json()
-    if radius is not None:
-        document.update(isolator="single-fp", radius_m=radius,
-                        radius_given=args.radius is not None, **radius_entries)
+    document.update(found.entries)
     _write_json(args.json_path, document)
-    report = write_report(result, args.report, record_name=args.record.name,
-                          length=output_units(args.units).length)
-    save_bearing_flag(args, result.bearing(), standard_errors=result.bearing_errors(),
-                      sources=[args.record], fit=_fit_summary(result))
-    stack = result.stack_check
-    if stack and not stack["consistent_with_stated"]:
-        say(
-            f"stack check: the fitted rate_a is rate_a / n = {stack['rate_effective'] * INCH:.3g} "
-            f"s/in; with a single-interface rate_a within Table 1's range, n is in "
-            f"[{stack['n_low']:.1f}, {stack['n_high']:.1f}] interfaces in series (not separable "
-            "from rate_a; give --known rate_a=... to identify n)."
-        )
-    say(
-        f"{document['conclusion']}; nrmse {result.nrmse_initial:.4f} -> {result.nrmse_final:.4f}; "
+    report = getattr(discovery, diagnosis.report)(result, args.report, record_name=args.record.name,
+                                                  length=output_units(args.units).length)
+    flag, attribute, what = diagnosis.saves
+    saved = getattr(args, attribute)
+    if saved is not None:
+        diagnosis.save(args, result)
+    for line in diagnosis.notes(result):
+        say(line)
+    say(f"{document['conclusion']}; nrmse {result.nrmse_initial:.4f} -> {result.nrmse_final:.4f}; "
         f"{result.runtime_s:.1f} s. Wrote {args.json_path} and {report}"
-        + (f" and the bearing to {args.save_bearing}." if args.save_bearing else ".")
-    )
-    if radius_entries.get("radius_settled") is False:
-        print(f"teflon-jax diagnose: the radius did not settle beside the effects found "
-            f"({radius / INCH:.6g} in, refitted {radius_entries['radius_last_refit_m'] / INCH:.6g} in "
-            "after the last search); give it with --radius.", file=sys.stderr)
+        + (f" and the {what} to {saved}." if saved else "."))
+    if found.failure is not None:
+        print(f"teflon-jax diagnose: {found.failure}", file=sys.stderr)
         return 1
     return 0
+
+
+def check_flags(args, diagnosis: Diagnosis) -> None:
+    """`ValueError` naming the first flag `args.isolator` cannot take, before any work: a
+    missing or absent start file, a flag of another isolator, an output that cannot be
+    written."""
+    isolator = args.isolator
+    if diagnosis.isolator_file and args.isolator_file is None:
+        raise ValueError(f"--isolator-file: --isolator {isolator} starts the series fit from an "
+                         "isolator file (radius, capacity and friction of each surface; docs/formats.md).")
+    for flag, attribute, message in diagnosis.refused:
+        value = getattr(args, attribute)
+        if value is not None and value != []:
+            raise ValueError(message.format(flag=flag, isolator=isolator))
+    if diagnosis.isolator_file and not args.isolator_file.is_file():
+        raise ValueError(f"--isolator-file: {args.isolator_file} does not exist.")
+    flag, attribute, _ = diagnosis.saves
+    check_output_file(getattr(args, attribute), flag)
+
+
+# ------------------------------------------------------------------ flat and single-fp sliders
+
+
+def _search_slider(args, diagnosis, candidates, say) -> Found:
+    """The flat slider's search, on the record less N u / R for a single friction pendulum."""
+    from identification.discovery import discover_effects
+
+    args.baseline = args.baseline or "paper1990"
+    known = _parse_known(args.known)
+    record = with_normal_load(read_bearing_record(args.record), args.record, args.normal_load)
+
+    def search(friction_record):
+        return discover_effects(friction_record, baseline=args.baseline, candidates=candidates,
+                                bic_threshold=args.bic_threshold, max_effects=args.max_effects,
+                                max_samples=args.max_samples, known=known, callback=say)
+
+    if not diagnosis.restoring_force:
+        return Found(search(record), {})
+    result, radius, entries = _search_pendulum(args, record, search, say)
+    failure = None
+    if entries.get("radius_settled") is False:
+        failure = (f"the radius did not settle beside the effects found ({radius / INCH:.6g} in, "
+                   f"refitted {entries['radius_last_refit_m'] / INCH:.6g} in after the last search); "
+                   "give it with --radius.")
+    return Found(result, {"isolator": args.isolator, "radius_m": radius,
+                          "radius_given": args.radius is not None, **entries}, failure)
+
+
+def _pendulum_radius(args, record, say) -> float:
+    """R [m] of `--radius`, or fitted with the baseline's friction (Eq. 1 with Bouc-Wen)."""
+    from identification.bearing_fit import fit_pendulum_test
+
+    if args.radius is not None:
+        say(f"single friction pendulum: R = {args.radius_text} (--radius); the search looks at the "
+            "force less N u / R.")
+        return args.radius
+    fit = fit_pendulum_test(record, n_starts=4)
+    if not fit.converged:
+        raise ValueError(f"{args.record}: the radius could not be fitted with the baseline's "
+                         "friction (the fit did not converge); give it with --radius.")
+    say(f"single friction pendulum: R = {fit.radius / INCH:.5g} in +- {fit.radius_std_error / INCH:.2g} in, "
+        "fitted with Eq. 1 friction and held; the search looks at the force less N u / R.")
+    return fit.radius
+
+
+def _search_pendulum(args, record, search, say):
+    """`search(friction record)` on `record` less N u / R; a fitted R refitted beside what each
+    search found and the search rerun, at most `RADIUS_ROUNDS` times.
+
+    **Returns:** (the last search's result, R [m], the JSON entries of a fitted radius: the
+    baseline's R, the reruns and whether R settled within `RADIUS_RTOL`)."""
+    from identification.bearing_fit import pendulum_friction_record, refit_pendulum_radius
+
+    radius = _pendulum_radius(args, record, say)
+    result = search(pendulum_friction_record(record, radius))
+    if args.radius is not None:
+        return result, radius, {}
+    entries = {"radius_with_baseline_m": radius}
+    for rounds in range(RADIUS_ROUNDS + 1):
+        new = refit_pendulum_radius(result.data, result.forces["final"], radius)
+        settled = abs(new - radius) <= RADIUS_RTOL * radius
+        if settled or rounds == RADIUS_ROUNDS:
+            break
+        say(f"single friction pendulum: R refitted beside the effects found: {new / INCH:.6g} in "
+            f"(was {radius / INCH:.6g} in); searching again.")
+        radius = new
+        result = search(pendulum_friction_record(record, radius))
+    entries.update(radius_reruns=rounds, radius_settled=bool(settled), radius_last_refit_m=new)
+    return result, radius, entries
+
+
+def _save_bearing(args, result) -> None:
+    save_bearing_flag(args, result.bearing(), standard_errors=result.bearing_errors(),
+                      sources=[args.record], fit={"command": "diagnose", "effects": result.effects,
+                                                  "nrmse_before": result.nrmse_initial,
+                                                  "nrmse": result.nrmse_final,
+                                                  "fit_convergence": dict(result.fit_convergence)})
+
+
+def _stack_notes(result) -> list:
+    stack = result.stack_check
+    if not stack or stack["consistent_with_stated"]:
+        return []
+    return [f"stack check: the fitted rate_a is rate_a / n = {stack['rate_effective'] * INCH:.3g} "
+            f"s/in; with a single-interface rate_a within Table 1's range, n is in "
+            f"[{stack['n_low']:.1f}, {stack['n_high']:.1f}] interfaces in series (not separable "
+            "from rate_a; give --known rate_a=... to identify n)."]
+
+
+# ------------------------------------------------------------------ triple and double pendulums
+
+
+def _search_series(args, diagnosis, candidates, say) -> Found:
+    """The series pendulum's search from the start file of `--isolator-file`."""
+    from identification.discovery import discover_series_effects
+
+    start = load_isolator_file(args.isolator_file, args.isolator, command="diagnose")
+    record = read_bearing_record(args.record)
+    say(f"teflon-jax diagnose: {start.description}, the series fit and each candidate on the "
+        "record and two folds of its cycles (compiling first)...")
+    return Found(discover_series_effects(
+        record, start, candidates=candidates, bic_threshold=args.bic_threshold,
+        max_effects=args.max_effects, max_samples=args.max_samples,
+        normal_load=args.normal_load, callback=say), {})
+
+
+def _save_isolator(args, result) -> None:
+    from ..formats import write_isolator
+
+    write_isolator(args.save_isolator, result.pendulum())
+
+
+def _held_notes(result) -> list:
+    return [f"held: {reason}" for reason in dict.fromkeys(result.held.values())]
+
+
+# ------------------------------------------------------------------ the table
+
+
+def _not_series(flag):
+    return (flag, flag[2:].replace("-", "_"), "{flag}: applies to --isolator triple-fp or double-fp "
+            "only (the {isolator} bearing has no isolator file); leave {flag} out.")
+
+
+def _not_with_series(flag, attribute, why):
+    return (flag, attribute, "{flag}: not with --isolator {isolator} (" + why + "); leave {flag} out.")
+
+
+_SLIDER = Diagnosis(
+    search=_search_slider, report="write_report", saves=("--save-bearing", "save_bearing", "bearing"),
+    save=_save_bearing, notes=_stack_notes, isolator_file=False,
+    refused=(_not_series("--isolator-file"), _not_series("--save-isolator")))
+
+_SERIES = Diagnosis(
+    search=_search_series, report="write_series_report",
+    saves=("--save-isolator", "save_isolator", "isolator"), save=_save_isolator, notes=_held_notes,
+    isolator_file=True,
+    refused=(_not_with_series("--radius", "radius", "the radii come from --isolator-file"),
+             _not_with_series("--baseline", "baseline", "the baseline is the series fit of "
+                              "--isolator-file"),
+             _not_with_series("--known", "known", "the series fit holds what the record cannot "
+                              "tell at --isolator-file's values"),
+             _not_with_series("--save-bearing", "save_bearing", "a bearing file holds one flat "
+                              "slider: give --save-isolator")))
+
+DIAGNOSES = {
+    "flat": _SLIDER._replace(refused=_SLIDER.refused + (
+        ("--radius", "radius", "--radius: applies to --isolator single-fp only (a flat slider has "
+         "no radius); add --isolator single-fp or leave --radius out."),)),
+    "single-fp": _SLIDER._replace(restoring_force=True),
+    "triple-fp": _SERIES,
+    "double-fp": _SERIES,
+}
+"""`--isolator` -> its `Diagnosis`: every isolator `diagnose` takes (`ISOLATORS`)."""
+
+
+# ------------------------------------------------------------------ shared with fit --effects
 
 
 def with_normal_load(record, path, normal_load):
@@ -198,12 +401,6 @@ def with_normal_load(record, path, normal_load):
                          "load that presses the surfaces together, or one that puts force / N "
                          "near 0.1 (e.g. ten times the typical force).")
     return dataclasses.replace(record, normal_load=np.full(np.shape(record.ux), float(normal_load)))
-
-
-def _fit_summary(result) -> dict:
-    return {"command": "diagnose", "effects": result.effects,
-            "nrmse_before": result.nrmse_initial, "nrmse": result.nrmse_final,
-            "fit_convergence": dict(result.fit_convergence)}
 
 
 def _parse_known(items) -> dict:
@@ -226,7 +423,7 @@ def _parse_known(items) -> dict:
 
 
 def main(argv=None) -> int:
-    """Stand-alone entry point (`python -m identification._cli_diagnose ...`)."""
+    """Stand-alone entry point (`python -m teflon_jax.cli._diagnose ...`)."""
     parser = argparse.ArgumentParser(prog="teflon-jax")
     subparsers = parser.add_subparsers(dest="command", required=True)
     add_diagnose_parser(subparsers)
