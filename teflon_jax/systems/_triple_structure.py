@@ -389,11 +389,14 @@ def _balanced_jvp(iterations, primals, tangents):
     p, guess, tolerance = primals
     d, converged = _balanced_root(iterations, p, guess, tolerance)
     _, slope = _residual_and_slopes(d, p, p["dt"])
-    slope = jnp.where(slope > 0, slope, floor_stiffnesses(p["pendulum"], p["W"]))  # 0 only at uplift
+    if d.shape[0] > 1:  # one slider keeps its slope: G k + 1 > 0 where its balance has a root
+        slope = jnp.where(slope > 0, slope, floor_stiffnesses(p["pendulum"], p["W"]))  # 0 only at uplift
     r_p = jax.jvp(lambda q: _residual(d, q, q["dt"]), (p,), (tangents[0],))[1]
     no_tangent = np.zeros(np.shape(converged), jax.dtypes.float0)
     tangent = -_newton_direction(r_p, slope, balance_compliance(p))
-    if "G" not in p:  # an imposed path: sum dd = dD, shared as the sliders' compliances
+    if "G" not in p and d.shape[0] == 1:  # an imposed path on one slider: dd = dD
+        tangent = tangent + tangents[0]["D"]
+    elif "G" not in p:  # an imposed path: sum dd = dD, shared as the sliders' compliances
         tangent = tangent + tangents[0]["D"] / slope / jnp.sum(1.0 / slope)
     return (d, converged), (tangent, no_tangent)
 

@@ -21,8 +21,10 @@ import numpy as np
 from ..bearing import SeriesPendulum
 from ..excitation import AbstractBiaxialMotion
 from ._bearing_test import save_times
+from ._sampled_path import sample_velocity
 from ._series_heat import heated_step, series_heat_kernel
 from ._slider_forces import (
+    FRICTION_VELOCITIES,
     balance_forces,
     initial_history,
     next_history,
@@ -53,16 +55,19 @@ class TripleResponse(eqx.Module):
     converged: jnp.ndarray
 
 
-def _path_step(pendulum, load, dt, kernel, state, target, *, tolerance=TEST_TOLERANCE,
+def _path_step(pendulum, load, dt, kernel, state, target, velocity=None, *, tolerance=TEST_TOLERANCE,
                iterations: int = TRIPLE_NEWTON_ITERATIONS):
     """One step of the isolator to the path's displacement `target` ((,) or (2,) [m]) from the
     state (sliders (S[, 2]), Z, the last two increments[, heat states][, the sliders'
     history]): the structures' balance (`_balanced_increments` in one component,
     `_balanced_planar` in two) with the sliders' increments adding up to
     D = target - sum(sliders), from the extrapolated increments with their misfit to D shared
-    evenly."""
+    evenly; `velocity` [m/s]: the path's at `target`, for the law "end" (one surface), else
+    `None`."""
     slider, z, previous = state[:3]
     p = {"pendulum": pendulum, "W": load, "N": load, "s0": slider, "z0": z, "D": target - jnp.sum(slider, axis=0)}
+    if velocity is not None:
+        p["v"] = (velocity, jnp.zeros_like(velocity))
     if kernel is not None:
         p["k"] = pendulum.heat_factors(state[3], kernel[1])
     if pendulum.remembers:
@@ -82,9 +87,10 @@ def _path_step(pendulum, load, dt, kernel, state, target, *, tolerance=TEST_TOLE
     return new, (jnp.mean(force, axis=0), slider + d, z1, converged)
 
 
-def _along_path(pendulum, load, time_step, path, kernel, **solve):
-    """Scan `_path_step` along `path` (nt,) or (nt, 2) [m] from rest: (force, slider, z,
-    converged) of the steps after the first sample."""
+def _along_path(pendulum, load, time_step, path, kernel, velocity=None, **solve):
+    """Scan `_path_step` along `path` (nt,) or (nt, 2) [m] from rest (with the path's
+    `velocity`, like it, for the law "end"): (force, slider, z, converged) of the steps after
+    the first sample."""
     shape = (pendulum.slider_count,) + path.shape[1:]
     zeros = jnp.zeros(shape, path.dtype)
     start = (zeros, zeros, jnp.stack([zeros, zeros]))
@@ -93,14 +99,14 @@ def _along_path(pendulum, load, time_step, path, kernel, **solve):
     if pendulum.remembers:
         start = start + (initial_history(pendulum, shape[:1], path.dtype),)
 
-    def body(state, target):
-        return _path_step(pendulum, load, time_step, kernel, state, target, **solve)
+    def body(state, inputs):
+        return _path_step(pendulum, load, time_step, kernel, state, *inputs, **solve)
 
-    return jax.lax.scan(body, start, path[1:])[1]
+    return jax.lax.scan(body, start, (path[1:],) if velocity is None else (path[1:], velocity[1:]))[1]
 
 
 def simulate_triple_test(bearing: SeriesPendulum, time, displacement, normal_load, *,
-                         heat_kernel=None) -> TripleResponse:
+                         heat_kernel=None, friction_velocity: str = "mean", velocity=None) -> TripleResponse:
     """Force of a triple or double pendulum bearing [N] along an imposed displacement [m] at the
     sample times [s] (uniform), under normal load W [N]: `displacement` (nt,) along one axis or
     (nt, 2) in the plane (an orbit); the path starts at rest at its first sample (module
@@ -110,18 +116,44 @@ def simulate_triple_test(bearing: SeriesPendulum, time, displacement, normal_loa
     its temperature (`_series_heat.py`; in the plane the flux takes the length of each
     surface's increment), with `heat_kernel` (rates, weights) =
     `heat_kernel_exponentials(dt, horizon)`, by default from concrete `time` (one step to
-    `HEAT_HORIZON`)."""
+    `HEAT_HORIZON`). `friction_velocity` (`FRICTION_VELOCITIES`): "mean", or for a one-surface
+    isolator "end", Eq. 1 at the path's velocity at each sample, `velocity` [m/s] like
+    `displacement` (default: `sample_velocity`, central differences), as a flat bearing's
+    test (`respond_along_path`) takes it."""
     time = jnp.asarray(time, float)
     path = jnp.asarray(displacement, float)
     kernel = _test_heat_kernel(bearing, time, heat_kernel)
     load = jnp.asarray(normal_load, float)
-    force, slider, z, converged = _along_path(bearing, load, time[1] - time[0], path, kernel)
+    velocity = _path_velocity(bearing, friction_velocity, time, path, velocity)
+    force, slider, z, converged = _along_path(bearing, load, time[1] - time[0], path, kernel, velocity)
 
     def first(rest):
         return jnp.concatenate([jnp.zeros((1,) + rest.shape[1:], rest.dtype), rest])
 
     return TripleResponse(force=first(force), slider=first(slider), z=first(z),
                           converged=jnp.concatenate([jnp.array([True]), converged]))
+
+
+def _path_velocity(bearing: SeriesPendulum, friction_velocity: str, time, path, velocity):
+    """The path's velocity [m/s] for the law "end" (given, or `sample_velocity` of each
+    component), `None` for "mean"; `ValueError` naming `friction_velocity` or `velocity`."""
+    if friction_velocity not in FRICTION_VELOCITIES:
+        raise ValueError(f"friction_velocity: unknown {friction_velocity!r}; accepted: {', '.join(FRICTION_VELOCITIES)}.")
+    if friction_velocity == "mean":
+        if velocity is not None:
+            raise ValueError("velocity: the law 'mean' takes each surface's mean speed over a step; "
+                             "give friction_velocity='end' to use the path's velocity.")
+        return None
+    if bearing.slider_count != 1:
+        raise ValueError(f"friction_velocity: 'end' needs a one-surface isolator; the {bearing.description} "
+                         f"have {bearing.slider_count} sliders.")
+    if velocity is None:
+        columns = path[:, None] if path.ndim == 1 else path
+        velocity = jnp.stack([sample_velocity(time, c) for c in columns.T], -1).reshape(path.shape)
+    velocity = jnp.asarray(velocity, float)
+    if velocity.shape != path.shape:
+        raise ValueError(f"velocity: one per sample like the displacement {path.shape}, got {velocity.shape}.")
+    return velocity
 
 
 def imposed_isolator_force(pendulum: SeriesPendulum, load, displacement, time_step: float, *,
