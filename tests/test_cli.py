@@ -249,8 +249,8 @@ def test_montecarlo_reports_the_rate_after_the_first_chunk(tmp_path):
 def test_the_command_lines_isolators_are_the_registrys():
     # the parser's names are written out (no JAX for --help); the registry is the source
     from teflon_jax.bearing import ISOLATORS, SERIES_PENDULUMS
-    from teflon_jax.cli._common import ISOLATORS as CLI_ISOLATORS
-    from teflon_jax.cli._triple import SERIES_ISOLATORS
+    from teflon_jax.cli._isolator_flags import ISOLATORS as CLI_ISOLATORS
+    from teflon_jax.cli._isolator_flags import SERIES_ISOLATORS
 
     assert SERIES_ISOLATORS == tuple(SERIES_PENDULUMS)
     assert CLI_ISOLATORS == ISOLATORS

@@ -5,7 +5,7 @@ import sys
 
 from identification.discovery import BASELINES, EFFECT_NAMES
 from teflon_jax.cli import _diagnose
-from teflon_jax.cli._common import ISOLATORS
+from teflon_jax.cli._isolator_flags import ISOLATORS
 
 HEAVY = ("jax", "diffrax", "optimistix", "equinox", "numpyro", "matplotlib", "identification")
 

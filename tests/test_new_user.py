@@ -135,7 +135,7 @@ def test_run_warns_of_a_step_that_does_not_divide_its_record(tmp_path, capsys):
 ])
 def test_run_prints_its_peaks_in_the_units_asked_for(family, shown):
     from teflon_jax.cli._common import output_units
-    from teflon_jax.cli._run import _shown_peaks
+    from teflon_jax.cli._run_output import _shown_peaks
 
     peak = {"base_disp_resultant_m": 0.0254, "base_shear_ratio_resultant": 0.125,
             "floor_acceleration_resultant_g": [0.2, 0.3], "group_disp_resultant_m": {"A": 0.0127}}

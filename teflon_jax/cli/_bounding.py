@@ -12,7 +12,8 @@ import sys
 import numpy as np
 
 from ..units import STANDARD_GRAVITY, parse_quantity
-from ._common import SERIES_ISOLATORS, _write_json, motion_bar
+from ._common import _write_json, motion_bar
+from ._isolator_flags import SERIES_ISOLATORS
 
 POSTERIOR_WORD = "posterior"
 """The `--property-factors` value that takes the bounds from the posterior of `--bearing`."""
@@ -228,7 +229,7 @@ def run_bounding(args, structure, model, units) -> int:
         friction_bounding_design,
         governing_cases,
     )
-    from ._montecarlo_vertical import uplift_message, uplift_payload
+    from ._normal_load import uplift_message, uplift_payload
 
     bounds = read_property_factors(args)
     if bounds.from_posterior:

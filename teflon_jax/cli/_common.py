@@ -21,7 +21,6 @@ from ._provenance import command_line as command_line
 from ._provenance import project_version as project_version
 from ._provenance import provenance as provenance
 from ._provenance import set_command_line as set_command_line
-from ._triple import SERIES_ISOLATORS
 
 
 @dataclasses.dataclass(frozen=True)
@@ -166,49 +165,6 @@ def add_units_flag(parser, *, default: str = "us") -> None:
     parser.add_argument("--units", default=default, type=str.lower, choices=("si", "us"),
                         help="units of printed and plotted output: si (mm, kN, MPa) or us (in, kip, "
                         f"psi, as in the paper) (default {default})")
-
-
-ISOLATORS = ("flat", "single-fp", *SERIES_ISOLATORS)
-
-
-def add_isolator_flags(parser) -> None:
-    """`--isolator flat|single-fp|triple-fp|double-fp`, `--radius R` (a length) of the single
-    friction pendulum and `--isolator-file FILE` of the triple and double ones."""
-    parser.add_argument("--isolator", default="flat", choices=ISOLATORS,
-                        help="flat sliders (with springs of --isolation-period, or none), a single "
-                        "friction pendulum (a concave surface of --radius, restoring force W u / R) "
-                        "or a triple or double friction pendulum (the surfaces of --isolator-file) "
-                        "(default flat)")
-    parser.add_argument("--isolator-file", default=None, metavar="FILE", type=pathlib.Path,
-                        help="with --isolator triple-fp or double-fp: the isolator file of its surfaces (radius, "
-                        "capacity and Eq. 1 friction of each; docs/formats.md#isolator-file)")
-    add_quantity(parser, "--radius", "length", None, "with --isolator single-fp: radius of curvature R "
-                 "of the concave surface, period 2 pi sqrt(R / g), e.g. 88in (3 s)", minimum=0.0)
-
-
-def pendulum_period(args) -> float | None:
-    """2 pi sqrt(R / g) [s] of `--radius` for `--isolator single-fp` (None for flat sliders),
-    with the flags checked first: `ValueError` naming the flag for a radius without the
-    pendulum, a pendulum without a radius, or a pendulum with `--isolation-period`."""
-    from ..bearing import concave_surface
-
-    if args.isolator in SERIES_ISOLATORS or getattr(args, "isolator_file", None) is not None:
-        from ._triple import read_isolator_flag
-
-        read_isolator_flag(args)  # its flags checked and its file read; no single period
-        return None
-    if args.isolator == "flat":
-        if args.radius is not None:
-            raise ValueError("--radius: applies to --isolator single-fp only (flat sliders have no "
-                             "radius); add --isolator single-fp or leave --radius out.")
-        return None
-    if args.radius is None:
-        raise ValueError("--radius: --isolator single-fp needs the radius of its concave surface, "
-                         "e.g. --radius 88in.")
-    if getattr(args, "isolation_period_text", args.isolation_period) is not None:
-        raise ValueError("--isolation-period: conflicts with --isolator single-fp, whose period is "
-                         "2 pi sqrt(R / g) of --radius; leave --isolation-period out.")
-    return float(concave_surface(args.radius).isolation_period())
 
 
 @dataclasses.dataclass(frozen=True)

@@ -264,7 +264,7 @@ def _pendulum_structure(args, variables):
     import jax.numpy as jnp
 
     from ..systems import isolated_structure
-    from ._triple import _load
+    from ._isolator_flags import load_isolator_file as _load
 
     pendulum = jax.tree_util.tree_map(lambda x: jnp.asarray(x, float), _load(args.isolator_file, args.isolator))
     return isolated_structure(args.structure, isolator=args.isolator, **{pendulum.keyword: pendulum},

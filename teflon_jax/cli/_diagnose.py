@@ -31,14 +31,13 @@ import typing
 from ..units import INCH, parse_quantity
 from ._bearing_flags import add_save_bearing_flag, check_output_file, save_bearing_flag
 from ._common import (
-    ISOLATORS,
     _write_json,
     add_quantity,
     add_units_flag,
     output_units,
     read_bearing_record,
 )
-from ._triple import _load as load_isolator_file
+from ._isolator_flags import ISOLATORS, load_isolator_file
 
 _DIMENSIONS = {"-": "dimensionless", "m": "length", "s/m": "slowness"}
 

@@ -12,7 +12,6 @@ import sys
 
 from ._bearing_flags import add_save_bearing_flag, check_output_file
 from ._common import (
-    ISOLATORS,
     _write_json,
     add_quantity,
     add_units_flag,
@@ -21,6 +20,7 @@ from ._common import (
 )
 from ._fit_bayes import _unit_of as _unit_of
 from ._fit_bayes import add_bayes_file_flags, check_bayes_flags
+from ._isolator_flags import ISOLATORS
 from ._isolator_table import FIT_ROWS, refused, required
 
 FIT_HELP = "fit f_max, delta_f, rate_a, yield_disp, breakaway_ratio to bearing test records"

@@ -19,7 +19,7 @@ from typing import NamedTuple
 
 from ..units import INCH, parse_quantity
 from ._common import output_units
-from ._triple import _load
+from ._isolator_flags import load_isolator_file as _load
 
 PARAMETER_DIMENSIONS = {"f_max": "dimensionless", "delta_f": "dimensionless", "rate_a": "slowness",
                         "yield_disp": "length", "breakaway_ratio": "dimensionless"}

@@ -173,7 +173,7 @@ def run_levels(args, structure, model, units, statistics, posterior=None) -> int
     from ..report import plot_fragility, plot_montecarlo
     from ..studies import save_levels
     from ..tables import load_table2
-    from ._montecarlo_vertical import uplift_of, uplift_payload
+    from ._normal_load import uplift_of, uplift_payload
 
     levels = np.asarray(args.pga_levels, float)
     limits = parse_limits(args.limit, args.structure, args.components)

@@ -8,27 +8,32 @@ Every quantity on the command line carries its unit (`--pga 0.3g`, `--pressure 1
 import argparse
 import math
 import pathlib
-import sys
 import time
 
 from ..units import STANDARD_GRAVITY
-from ._bearing_flags import add_bearing_flag, read_bearing_flag
+from ._bearing_flags import add_bearing_flag
 from ._common import (
-    SERIES_ISOLATORS,
     _positive_int,
     _write_json,
-    add_isolator_flags,
     add_quantity,
     add_units_flag,
     check_table1,
     motion_bar,
     output_units,
-    pendulum_period,
     warn_time_step,
 )
 from ._engineering import add_engineering_flags, check_bounding_flags
+from ._isolator_flags import add_isolator_flags, check_combination, read_isolator
 from ._main import compile_cache_dir
-from ._montecarlo_vertical import (
+from ._montecarlo_summary import (
+    report,
+    run_attributes,
+    stamp,
+    statistics,
+    steady_rate,
+    summary_payload,
+)
+from ._normal_load import (
     add_vertical_flags,
     check_vertical_flags,
     uplift_message,
@@ -187,18 +192,17 @@ def run_montecarlo(args) -> int:
     converge: the results are written all the same, with their `converged` flags, and the
     statistics rest on the converged runs only)."""
     import jax
-    import numpy as np
 
     from ..excitation import TwoComponentGroundMotion
     from ..report import plot_montecarlo
     from ..studies import monte_carlo, save_montecarlo
 
     units = output_units(args.units)
-    _check_flags(args)
+    isolator = _check_flags(args)
     check_bounding_flags(args)  # --property-factors, --posterior-quantiles: before any work
     posterior = read_posterior_flags(args)  # the bearing file's draws, or None
     two = args.components == 2
-    structure = vertical_structure(args, _structure(args, two))
+    structure = vertical_structure(args, _structure(args, isolator, two))  # the vertical: a load on it
     if args.time_step is not None:
         warn_time_step("montecarlo", args.time_step, args.time_step_text, args.record_step,
                        f"{args.record_step_text} of --record-step")
@@ -217,7 +221,7 @@ def run_montecarlo(args) -> int:
     if len(args.pga_levels) > 1 or args.limit or args.storeys or args.pelicun_demands is not None:
         from ._levels import run_levels
 
-        return run_levels(args, structure, model, units, _statistics, posterior)
+        return run_levels(args, structure, model, units, statistics, posterior)
     bar = motion_bar(runs_of(args, posterior), args.no_progress)
     marks = []  # (time, motions done) after each chunk: the rate once compiled and warm
 
@@ -226,7 +230,7 @@ def run_montecarlo(args) -> int:
         bar.update(done - bar.n)
 
     chunk_size = args.chunk_size
-    attrs = {**_run_attributes(args), **posterior_attributes(posterior)}
+    attrs = {**run_attributes(args), **posterior_attributes(posterior)}
     if args.scheduler is None:
         result = monte_carlo(
             structure, model, args.motions, key=jax.random.key(args.seed),
@@ -244,121 +248,49 @@ def run_montecarlo(args) -> int:
         )
         files = [str(args.out)]
     bar.close()
-    converged = np.asarray(result.converged, bool).reshape(-1)
-    stats = _statistics(result, units)
-    length = units.length[0]
-    payload = _payload(args, result, structure, horizontal, units, stats, files)
-    payload["records_per_s_after_first_chunk"] = _steady_rate(marks)
+    stats = statistics(result, units)
+    payload = summary_payload(args, result, structure, horizontal, units, stats, files)
+    payload["records_per_s_after_first_chunk"] = steady_rate(marks)
     payload.update(uplift_payload(result, model))
     posterior_entry, posterior_lines = posterior_report(result, posterior, units)
     payload.update(posterior_entry)
     _write_json(args.json, payload)
-    bearing_words = (f"{args.ptfe} PTFE at {args.pressure_text}" if args.bearing is None
-                     else f"bearing {args.bearing}")
-    stamp = (f"{args.structure}, {bearing_words}, Tb = "
-             f"{args.isolation_period_text}, zeta_b = {args.isolation_damping_text}; "
-             f"Clough-Penzien motions, PGA {args.pga_text}, {args.duration_text}, seed {args.seed}"
-             + (f"; 2 components, major at {math.degrees(float(horizontal.principal_angle)):g} deg, minor "
-                f"ratio {float(horizontal.minor_ratio):g}" if two else "")
-             + (f"; vertical {args.vertical_ratio:g} x PGA" if args.vertical_ratio is not None else ""))
     if args.plot is not None:
-        plot_montecarlo(result, args.plot, title=stamp, length=units.length)
-    print(f"{result.n_motions} motions on {result.n_devices} device(s) in {result.wall_s:.1f} s; "
-          f"statistics over the {int(converged.sum())} of {converged.size} runs that converged:")
-    for name, values in stats.items():
-        unit = f" {length}" if name.startswith("base_disp") else ""
-        print(f"  {name}: " + ", ".join(f"{k} {v:.4g}{unit}" for k, v in values.items()
-                                       if k != "n" and v is not None))
-    if uplift_message(payload):
-        print(uplift_message(payload))
-    for line in posterior_lines:
-        print(line)
-    failed = np.flatnonzero(~converged)
-    if failed.size:
-        named = ", ".join(str(i) for i in failed[:20]) + (" ..." if failed.size > 20 else "")
-        print(
-            f"teflon-jax montecarlo: {failed.size} of {converged.size} runs had a time step whose "
-            f"Newton solve did not converge (motion indices {named}); they are left out of the "
-            "statistics and flagged in the results ('converged'). "
-            + ("Single precision is too coarse for the bearing's Newton solve: drop --float32."
-               if getattr(args, "float32", False) else "Try a smaller --time-step."),
-            file=sys.stderr,
-        )
-        return 1
-    return 0
+        plot_montecarlo(result, args.plot, title=stamp(args, horizontal), length=units.length)
+    return report(args, result, stats, units, [uplift_message(payload)] * bool(uplift_message(payload))
+                  + posterior_lines)
 
 
-def _steady_rate(marks) -> float | None:
-    """Motions per second from the end of the first chunk to the end of the last, as B3
-    counts them (`benchmarks/bench_gpu.py`): without the compilation and the first chunk's
-    start-up on the device; `None` with a single chunk."""
-    if len(marks) < 2 or marks[-1][0] <= marks[0][0]:
-        return None
-    return (marks[-1][1] - marks[0][1]) / (marks[-1][0] - marks[0][0])
-
-
-def _structure(args, two: bool):
-    """The isolated structure of the flags (one or two ground components)."""
+def _structure(args, isolator, two: bool):
+    """The isolated structure of the flags on `isolator` (`read_isolator`), under one or two
+    ground components: flat sliders and single pendulums with --ptfe and --pressure (or
+    --bearing) and the isolation system of `_resolve_isolation`, series pendulums with their
+    surfaces, each solved to its Monte Carlo tolerance."""
     from ..studies import bidirectional_isolated_structure
-    from ..systems import MONTE_CARLO_NEWTON_TOLERANCE, isolated_structure
+    from ..systems import (
+        MONTE_CARLO_NEWTON_TOLERANCE,
+        TRIPLE_MONTE_CARLO_TOLERANCE,
+        isolated_structure,
+    )
 
-    if args.isolator in SERIES_ISOLATORS:
-        from ._triple import triple_montecarlo_structure
-
-        return triple_montecarlo_structure(args)
-
+    options = isolator.structure_options()
     solver = {} if args.newton_iterations is None else {"newton_iterations": args.newton_iterations}
-    if not two:
-        solver["newton_tolerance"] = (MONTE_CARLO_NEWTON_TOLERANCE if args.newton_tolerance is None
-                                      else args.newton_tolerance)
+    if isolator.pendulum is not None:  # its sliders' force imbalance over W, in one and two components
+        solver["newton_tolerance"] = TRIPLE_MONTE_CARLO_TOLERANCE
+    else:
+        options.update(ptfe=args.ptfe, pressure=args.pressure, isolation_damping=args.isolation_damping,
+                       isolation_period=None if isolator.restores else args.isolation_period)
+        if not two:
+            solver["newton_tolerance"] = (MONTE_CARLO_NEWTON_TOLERANCE if args.newton_tolerance is None
+                                          else args.newton_tolerance)
     return (bidirectional_isolated_structure if two else isolated_structure)(
-        args.structure, ptfe=args.ptfe, pressure=args.pressure,
-        isolation_period=None if args.isolator != "flat" else args.isolation_period,
-        isolation_damping=args.isolation_damping, time_step=args.time_step,
-        bearing=read_bearing_flag(args), isolator=args.isolator, radius=args.radius, **solver)
+        args.structure, time_step=args.time_step, **options, **solver)
 
 
-def _payload(args, result, structure, model, units, stats, files) -> dict:
-    """The summary JSON of `teflon-jax montecarlo` (displacements in `units`)."""
-    import jax
-    import numpy as np
-
-    from ._provenance import isolator_as_run
-
-    converged, two, length = np.asarray(result.converged, bool).reshape(-1), args.components == 2, units.length[0]
-    payload = {
-        "n_motions": result.n_motions,
-        "n_converged": int(converged.sum()),
-        "not_converged": np.flatnonzero(~converged).tolist(),
-        "structure": args.structure,
-        "devices": result.n_devices,
-        "device_kind": jax.devices()[0].device_kind,
-        "wall_s": result.wall_s,
-        "compile_s": result.compile_s,
-        "records_per_s": result.n_motions / max(result.wall_s - result.compile_s, 1e-9),
-        "chunk_size": result.chunk_size,
-        "time_step_s": structure.time_step,
-        "all_converged": bool(converged.all()),
-        "statistics": stats,
-        "design": isolator_as_run(args, units.pressure),
-        "motions": {"model": "Clough-Penzien, Jennings-Housner-Tsai envelope",
-                    "pga_g": args.pga / STANDARD_GRAVITY, "duration_s": args.duration,
-                    "seed": args.seed, "components": args.components},
-        "units": {"base_disp": length, "base_shear_ratio": "-", "wall_s": "s"},
-        "files": files,
-    }
-    if two:
-        payload["motions"].update({
-            "principal_angle_deg": math.degrees(float(model.principal_angle)),
-            "minor_ratio": float(model.minor_ratio),
-            "peaks": "resultants of the x and y components: |(d_x, d_y)| and |(V_x, V_y)| / W, V the "
-                     "force on the structure above the bearings"})
-    return payload
-
-
-def _check_flags(args) -> None:
-    """Before the runs and before any cluster starts: the results file, the Table 1 row and
-    the flags that only one or two ground components use."""
+def _check_flags(args):
+    """Before the runs and before any cluster starts: the results file, the isolator
+    (`read_isolator`, returned), the Table 1 row, what cannot run together
+    (`check_combination`) and the flags that only one or two ground components use."""
     if args.scheduler is not None:
         from ..studies import check_netcdf_output
 
@@ -370,24 +302,24 @@ def _check_flags(args) -> None:
         from ..studies import check_output_path
 
         check_output_path(args.out)
-    if args.bearing is None and args.isolator not in SERIES_ISOLATORS:  # else the file's friction
+    isolator = read_isolator(args)
+    if args.bearing is None and isolator.pendulum is None:  # else the file's or the surfaces' friction
         check_table1(args.ptfe, args.pressure, args.pressure_text)
-    _resolve_isolation(args)
+    _resolve_isolation(args, isolator)
+    check_combination(args, isolator)
     check_vertical_flags(args)
-    two = args.components == 2
     for flag, value in (("--principal-angle", args.principal_angle), ("--minor-ratio", args.minor_ratio)):
-        if value is not None and not two:
+        if value is not None and args.components != 2:
             raise ValueError(f"{flag}: describes the second ground component; add --components 2.")
-    if args.newton_tolerance is not None and two:
-        raise ValueError("--newton-tolerance: applies to one-component runs (the two-component "
-                         "solve has its own); leave it out with --components 2.")
+    return isolator
 
 
-def _resolve_isolation(args) -> None:
-    """The isolator's flags checked (`pendulum_period`) and the defaults of the isolation
-    system in place: Tb = 2 s and 5 % on flat sliders; 2 pi sqrt(R / g) and 0 on a pendulum."""
-    period = pendulum_period(args)
-    if args.isolator in SERIES_ISOLATORS:  # its period and damping follow from its surfaces
+def _resolve_isolation(args, isolator) -> None:
+    """The defaults of the isolation system of `isolator` in place: Tb = 2 s and 5 % on flat
+    sliders; 2 pi sqrt(R / g) and 0 on a single pendulum; a series pendulum's follow from its
+    surfaces."""
+    period = isolator.period
+    if isolator.pendulum is not None:  # its period and damping follow from its surfaces
         args.isolation_period, args.isolation_period_text = None, f"of {args.isolator_file}"
         args.isolation_damping, args.isolation_damping_text = 0.0, "0"
     elif period is not None:
@@ -422,27 +354,3 @@ def _device_chunk(args, structure, model) -> int:
     return monte_carlo_chunk_size(structure, model)
 
 
-def _run_attributes(args) -> dict:
-    """What was run, as the results file's attributes: the structure, the isolator and bearings
-    as run (`isolator_as_run`, SI: a bearing or isolator file by its path and SHA-256, not the
-    flags it replaced), the motions and their seed, each also as the user typed it, and the
-    provenance of every result (`provenance_attributes`: version, command line, inputs)."""
-    from ._provenance import isolator_as_run, provenance_attributes, replaced_flags
-
-    replaced = replaced_flags(args)
-    typed = [k for k in ("pressure", "isolation_period", "isolation_damping", "pga", "duration")
-             if "--" + k.replace("_", "-") not in replaced]
-    return {"structure": args.structure, **isolator_as_run(args), "pga_m_s2": args.pga, "duration_s": args.duration,
-            "record_step_s": args.record_step, "seed": args.seed, "site_frequency_hz": args.site_frequency,
-            "site_damping": args.site_damping, "strong_motion_s": args.strong_motion, "components": args.components,
-            "inputs_as_given": " ".join(f"{k}={getattr(args, k + '_text')}" for k in typed),
-            **provenance_attributes()}
-
-
-def _statistics(result, units) -> dict:
-    """The converged runs' percentiles, mean and standard deviation (`result.percentiles()`,
-    each with the count `n` it rests on), the displacement in the output units."""
-    stats = result.percentiles()
-    factor = units.length[1]
-    disp = {k: (v if k == "n" or v is None else v / factor) for k, v in stats["base_disp_m"].items()}
-    return {f"base_disp_{units.length[0]}": disp, "base_shear_ratio": stats["base_shear_ratio"]}

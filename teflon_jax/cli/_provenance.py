@@ -132,7 +132,7 @@ def _plain(value):
 def replaced_flags(args) -> dict:
     """{flag: the file that replaced it} of the bearing flags at their defaults (and the
     isolation period and damping) when a bearing file or a series isolator's file is run."""
-    from ._triple import SERIES_ISOLATORS
+    from ..bearing import SERIES_PENDULUMS as SERIES_ISOLATORS
 
     defaults = getattr(args, "bearing_option_defaults", {})
     bearing = getattr(args, "bearing", None)

@@ -99,3 +99,55 @@ def non_finite(value, where="") -> list:
     if isinstance(value, float) and not math.isfinite(value):
         return [where]
     return []
+
+
+def series_stop(response, time, converged):
+    """(response cut to the steps before the first whose sliders' balance did not converge
+    (`kept_steps`), its end (time (nt,) [s], kept, tipped (nt,), unconverged (nt,)) for
+    `stop_entries`, message ('' when every step balanced)) of a series pendulum structure's
+    response (`converged` (nt,) at `time` (nt,) [s])."""
+    time, converged = np.asarray(time), np.asarray(converged)
+    kept = kept_steps(converged)
+    end = (time, kept, np.zeros(time.size, bool), ~converged)
+    if kept == time.size:
+        return response, end, ""
+    problem = (f"the sliders' balance did not converge on {int(np.sum(~converged))} steps (first at "
+               f"t = {time[kept]:.4g} s); try a smaller --time-step; {WRITTEN.format(time[kept])}.")
+    return cut(response, time.size, kept), end, problem
+
+
+def series_slab_stop(system, response):
+    """((time (nt,) [s], kept steps, tipped (nt,), unconverged (nt,)) for `stop_entries`, the
+    `SlabSeriesResponse` cut to the steps before the first unbalanced one, `kept_steps`, its
+    groups' uplift times counting those steps only)."""
+    time, converged = np.asarray(response.time), np.asarray(response.converged)
+    tipped = np.asarray(response.tipped)
+    kept = kept_steps(converged)
+    if kept == time.size:
+        return (time, kept, tipped, ~converged & ~tipped), response
+    short = cut(response, time.size, kept)
+    uplift = np.sum(np.asarray(short.normal_load)[1:] <= 0, axis=0) * float(system.time_step)
+    return (time, kept, tipped, ~converged & ~tipped), dataclasses.replace(short, group_uplift_time=uplift)
+
+
+def unbalanced_message(response, height) -> str:
+    """Why the run cannot be trusted ('' when every step balanced): the steps on which the slab
+    tipped (`SlabSeriesResponse.tipped`) and those whose sliders' balance did not converge, each
+    with its count and first time [s]."""
+    time, converged = np.asarray(response.time), np.asarray(response.converged)
+    tipped = np.asarray(response.tipped)
+    newton = ~converged & ~tipped
+    parts = []
+    if tipped.any():
+        parts.append(f"the slab tips on {int(tipped.sum())} steps (first at t = {time[tipped][0]:.4g} s): "
+                     f"the overturning moment of its horizontal force at the centre of mass "
+                     f"{height:g} m above the sliding surface exceeds what its weight holds back "
+                     "about the leaning groups (they take no tension), which a rigid slab without "
+                     "rocking cannot balance; lower height_of_centre_of_mass in the plan, spread "
+                     "the groups, or give a weaker record")
+    if newton.any():
+        parts.append(f"the sliders' balance did not converge on {int(newton.sum())} steps (first at "
+                     f"t = {time[newton][0]:.4g} s); try a smaller --time-step")
+    if not parts:
+        return ""
+    return "; ".join(parts) + f"; {WRITTEN.format(time[~converged][0])}."

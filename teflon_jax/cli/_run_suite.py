@@ -14,12 +14,11 @@ import numpy as np
 
 from ._common import _positive_int, _write_json
 from ._engineering import add_suite_pelicun_flag, suite_pelicun_peaks
+from ._normal_load import NORMAL_LOAD_NOTE, suite_normal_load
 from ._provenance import note_input_file, provenance_attributes
 from ._record_checks import check_record_units
-from ._run_slab import NORMAL_LOAD_NOTE, suite_normal_load
 from ._spectrum import add_spectrum_flags, check_unscaled, read_target, scale_to_target
 from ._suite_bounding import add_suite_bounding_flag, read_suite_factors
-from ._suite_build import suite_build
 
 
 def add_suite_arguments(parser) -> None:
@@ -132,8 +131,8 @@ def check_pairs(args, pairs) -> list:
     return pairs
 
 
-def run_suite(args, load_components, build_structure) -> int:
-    """Run the suite; `load_components` and `build_structure` are those of `teflon-jax run`."""
+def run_suite(args, isolator) -> int:
+    """Run the suite on `isolator` (`read_isolator`) through the structure of `run`'s flags."""
     from ..studies import (
         check_netcdf_output,
         save_suite,
@@ -154,6 +153,10 @@ def run_suite(args, load_components, build_structure) -> int:
     spectrum = read_target(args)  # target, range and limits checked before any record is read
     bounding = read_suite_factors(args)
     pairs = check_pairs(args, read_suite(args.suite))
+    from ._run_records import load_components
+    from ._run_structure import read_structure, suite_build
+
+    read_structure(args, isolator)  # the structure flags and the plan, before any record
     if spectrum is not None:
         check_unscaled(pairs, args)
     records, notes = [], []
@@ -179,9 +182,8 @@ def run_suite(args, load_components, build_structure) -> int:
     if bounding is not None:
         from ._suite_bounding import run_suite_bounding
 
-        return run_suite_bounding(args, bounding, build_structure, [r[0] for r in records], ax, ay, dt, notes,
-                                  scaling)
-    build, dofs, base_index, plan = suite_build(args, build_structure, ax[0], ay[0], dt)
+        return run_suite_bounding(args, bounding, isolator, [r[0] for r in records], ax, ay, dt, notes, scaling)
+    build, dofs, base_index, plan = suite_build(args, isolator, ax[0], ay[0], dt)
     overturning = plan is not None and plan["height_of_centre_of_mass"] > 0  # each group's normal load
     group_names = [g["name"] for g in plan["groups"]] if overturning else None
     names = [r[0] for r in records]

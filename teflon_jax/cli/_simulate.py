@@ -20,10 +20,11 @@ import numpy as np
 
 from ..units import INCH, STANDARD_GRAVITY, parse_quantity
 from ._bearing_flags import add_bearing_flag, read_bearing_flag
-from ._common import ISOLATORS, add_quantity, add_units_flag, check_table1, output_units
+from ._common import add_quantity, add_units_flag, check_table1, output_units
+from ._isolator_flags import ISOLATORS
+from ._isolator_flags import load_isolator_file as _load
 from ._isolator_table import TEST_ROWS, refused, required
 from ._provenance import record_metadata
-from ._triple import _load
 
 DEFAULT_DIAMETER = 10 * INCH  # specimens of the paper's tests: 10 in diameter
 MIN_SAMPLES_PER_CYCLE = 8  # fewer cannot show the shape of a loop

@@ -43,18 +43,7 @@ def _case_factors(bounds) -> dict:
     return {case: {k: v for k, v in row.items() if k != "f_min"} for case, row in bounds.factor_table().items()}
 
 
-def _with_factors(build_structure, factors):
-    """`build_structure` whose structure runs its bearings' Eq. 1 constants times `factors`."""
-    from ..studies import with_friction_factors
-
-    def build(args, ax, ay, dt):
-        structure, plan = build_structure(args, ax, ay, dt)
-        return with_friction_factors(structure, factors), plan
-
-    return build
-
-
-def _case_results(args, bounds, build_structure, names, ax, ay, dt, stem):
+def _case_results(args, bounds, isolator, names, ax, ay, dt, stem):
     """({case: `SuiteResult`}, the slab's plan or None, {case: its files}, the NetCDF file of
     every case or None): the three cases in this process (a table and a NetCDF file per case,
     and with --out one file of all three) or on the cluster of --scheduler (a table per case,
@@ -69,7 +58,7 @@ def _case_results(args, bounds, build_structure, names, ax, ay, dt, stem):
         suite_peaks,
     )
     from ..tables import load_table2
-    from ._suite_build import suite_build
+    from ._run_structure import suite_build
 
     height = load_table2().storey_height if args.structure == "building" else None
     table = _case_factors(bounds)
@@ -77,10 +66,9 @@ def _case_results(args, bounds, build_structure, names, ax, ay, dt, stem):
     for case in BOUNDING_CASES:  # the structure of each case, built once
         if args.bearing is None:  # Table 1's or an isolator file's friction times the factor
             case_args = argparse.Namespace(**{**vars(args), "friction_factor": table[case]["f_max"]})
-            builds[case], _, base_index, plan = suite_build(case_args, build_structure, ax[0], ay[0], dt)
+            builds[case], _, base_index, plan = suite_build(case_args, isolator, ax[0], ay[0], dt)
         else:  # the bearing file's constants, wherever the structure carries them
-            builds[case], _, base_index, plan = suite_build(args, _with_factors(build_structure, table[case]),
-                                                            ax[0], ay[0], dt)
+            builds[case], _, base_index, plan = suite_build(args, isolator, ax[0], ay[0], dt, table[case])
     groups = None if plan is None else [g["name"] for g in plan["groups"]]
     duration = (ax.shape[1] - 1) * dt
     attrs = {"structure": args.structure, "suite": str(args.suite), **provenance_attributes()}
@@ -118,21 +106,21 @@ def _file_attrs(attrs, bounds) -> dict:
     return out | {"property_factor_lower": bounds.factors[0], "property_factor_upper": bounds.factors[1]}
 
 
-def run_suite_bounding(args, bounds, build_structure, names, ax, ay, dt, notes, scaling) -> int:
+def run_suite_bounding(args, bounds, isolator, names, ax, ay, dt, notes, scaling) -> int:
     """The suite's pairs (ax, ay) (P, n) [m/s^2] through the nominal, upper- and lower-bound
-    bearings of `bounds` (`read_suite_factors`; `build_structure` of `teflon-jax run` with
-    `friction_factor`, or a --bearing file's bearing with the case's factors), one table per case
+    bearings of `bounds` (`read_suite_factors`; the structure of `run`'s flags on `isolator`
+    with `friction_factor`, or a --bearing file's bearing with the case's factors), one table per case
     (<stem>-<case>.csv; in this process also <stem>-<case>.nc), the NetCDF file of every case
     (--out) and the JSON with the governing cases; 1 when a pair failed in some case."""
     import pathlib
     import time
 
     from ..studies import BOUNDING_CASES, governing_cases
-    from ._run_slab import NORMAL_LOAD_NOTE, suite_normal_load
+    from ._normal_load import NORMAL_LOAD_NOTE, suite_normal_load
 
     stem = pathlib.Path(args.json).with_suffix("") if args.json else pathlib.Path("suite")
     start = time.perf_counter()
-    results, plan, files, netcdf = _case_results(args, bounds, build_structure, names, ax, ay, dt, stem)
+    results, plan, files, netcdf = _case_results(args, bounds, isolator, names, ax, ay, dt, stem)
     if args.pelicun_demands is not None:  # one demand file per case: <FILE stem>-<case>.csv
         from ..formats import write_pelicun_demands
         from ._engineering import suite_pelicun_peaks

@@ -1,0 +1,264 @@
+"""The isolator of the command line, read in one place: `--isolator flat|single-fp|triple-fp|
+double-fp`, `--radius` of the single friction pendulum, `--isolator-file` of the triple and
+double ones and `--bearing` of the sliders' friction become one `Isolator` value (`read_isolator`),
+which every structure builder of `run` and `montecarlo` takes; a slab's bearing groups get
+theirs from the plan (`slab_isolators`). `check_combination` is the one check, before any
+work, of an isolator, structure, ground components and solver flags that cannot run together.
+
+Every message names the flag (or the plan's key) as the user wrote it and says what to do.
+"""
+
+import dataclasses
+import pathlib
+
+from ._common import add_quantity
+
+SERIES_ISOLATORS = ("triple-fp", "double-fp")
+"""The isolators whose surfaces an isolator file gives (`--isolator-file`): the names of the
+registry `teflon_jax.bearing.SERIES_PENDULUMS`, written out so that `--help` answers without
+loading JAX (`tests/test_cli.py` holds the two equal)."""
+
+ISOLATORS = ("flat", "single-fp", *SERIES_ISOLATORS)
+"""Every `--isolator` (`teflon_jax.bearing.ISOLATORS`, written out for the same reason)."""
+
+
+def add_isolator_flags(parser) -> None:
+    """`--isolator flat|single-fp|triple-fp|double-fp`, `--radius R` (a length) of the single
+    friction pendulum and `--isolator-file FILE` of the triple and double ones."""
+    parser.add_argument("--isolator", default="flat", choices=ISOLATORS,
+                        help="flat sliders (with springs of --isolation-period, or none), a single "
+                        "friction pendulum (a concave surface of --radius, restoring force W u / R) "
+                        "or a triple or double friction pendulum (the surfaces of --isolator-file) "
+                        "(default flat)")
+    parser.add_argument("--isolator-file", default=None, metavar="FILE", type=pathlib.Path,
+                        help="with --isolator triple-fp or double-fp: the isolator file of its surfaces (radius, "
+                        "capacity and Eq. 1 friction of each; docs/formats.md#isolator-file)")
+    add_quantity(parser, "--radius", "length", None, "with --isolator single-fp: radius of curvature R "
+                 "of the concave surface, period 2 pi sqrt(R / g), e.g. 88in (3 s)", minimum=0.0)
+
+
+@dataclasses.dataclass(frozen=True)
+class Isolator:
+    """The isolator of the flags: `name` (an `ISOLATORS` entry), `radius` R [m] of a single
+    friction pendulum, `pendulum` (the `TriplePendulum` or `DoublePendulum` of `file`, the
+    isolator file), `bearing` (the `SlidingBearing` of `--bearing`, or None for Table 1's row of
+    --ptfe and --pressure) of flat sliders and the single pendulum, whose friction the flags give."""
+
+    name: str
+    radius: float | None = None
+    pendulum: object = None
+    file: pathlib.Path | None = None
+    bearing: object = None
+
+    @property
+    def period(self) -> float | None:
+        """2 pi sqrt(R / g) [s] of a single pendulum; None for flat sliders (the springs of
+        --isolation-period) and series pendulums (their period changes with their regime)."""
+        if self.radius is None:
+            return None
+        from ..bearing import concave_surface
+
+        return float(concave_surface(self.radius).isolation_period())
+
+    @property
+    def restores(self) -> bool:
+        """Whether the isolator restores the structure itself (a pendulum), without springs."""
+        return self.radius is not None or self.pendulum is not None
+
+    @property
+    def description(self) -> str | None:
+        """The series pendulum's words (for titles), None for the others."""
+        return None if self.pendulum is None else self.pendulum.description
+
+    def structure_options(self) -> dict:
+        """The isolator's keywords of `systems.isolated_structure` (and of
+        `studies.bidirectional_isolated_structure`)."""
+        if self.pendulum is None:
+            return {"isolator": self.name, "radius": self.radius, "bearing": self.bearing}
+        from ..bearing import SERIES_PENDULUMS
+
+        return {"isolator": self.name, SERIES_PENDULUMS[self.name].keyword: self.pendulum}
+
+    def entries(self, args) -> dict:
+        """The run JSON's isolator entries: name, isolator file, radius [m], the anisotropy and
+        lay angle [deg] of the sliders' bearing (None where the isolator has none)."""
+        import numpy as np
+
+        from ..units import parse_quantity
+
+        lay = getattr(args, "lay_angle", None)
+        return {"isolator": self.name, "isolator_file": None if self.file is None else str(self.file),
+                "radius_m": self.radius, "anisotropic": bool(getattr(args, "anisotropic", False)),
+                "lay_angle_deg": None if lay is None else float(
+                    np.degrees(parse_quantity(lay, "angle", where="--lay-angle")))}
+
+
+def read_isolator(args) -> Isolator:
+    """The `Isolator` of `--isolator`, `--radius`, `--isolator-file` and `--bearing`, with the
+    flags checked first: `ValueError` naming an isolator file without a series pendulum, a
+    radius without the single pendulum, the flags a pendulum takes from its own geometry (and a
+    series pendulum from its file), and a file of another isolator."""
+    path = getattr(args, "isolator_file", None)
+    if path is not None and args.isolator not in SERIES_ISOLATORS:
+        raise ValueError(f"--isolator-file: applies to --isolator triple-fp only, or double-fp "
+                         f"(the pendulums whose surfaces it gives), not {args.isolator}; add --isolator "
+                         "triple-fp (or double-fp) or leave --isolator-file out.")
+    return _READERS[args.isolator](args)
+
+
+def _flat(args) -> Isolator:
+    if getattr(args, "radius", None) is not None:
+        raise ValueError("--radius: applies to --isolator single-fp only (flat sliders have no "
+                         "radius); add --isolator single-fp or leave --radius out.")
+    return Isolator("flat", bearing=_bearing(args))
+
+
+def _single(args) -> Isolator:
+    if args.radius is None:
+        raise ValueError("--radius: --isolator single-fp needs the radius of its concave surface, "
+                         "e.g. --radius 88in.")
+    if getattr(args, "isolation_period_text", args.isolation_period) is not None:
+        raise ValueError("--isolation-period: conflicts with --isolator single-fp, whose period is "
+                         "2 pi sqrt(R / g) of --radius; leave --isolation-period out.")
+    return Isolator("single-fp", radius=args.radius, bearing=_bearing(args))
+
+
+def _series(args) -> Isolator:
+    isolator, path = args.isolator, args.isolator_file
+    if path is None:
+        raise ValueError(f"--isolator-file: --isolator {isolator} needs the isolator file of its "
+                         "surfaces (radius, capacity and friction of each; see docs/formats.md).")
+    if args.radius is not None:
+        raise ValueError(f"--radius: does not apply to --isolator {isolator} (its radii are in "
+                         "--isolator-file); leave --radius out.")
+    conflicting = [("--isolation-period", getattr(args, "isolation_period_text", args.isolation_period)),
+                   ("--isolation-damping", getattr(args, "isolation_damping_text", args.isolation_damping)),
+                   ("--bearing", args.bearing)]
+    conflicting += [("--" + name.replace("_", "-"), None if getattr(args, name + "_text", getattr(args, name))
+                     == default else name)
+                    for name, default in getattr(args, "bearing_option_defaults", {}).items()]
+    for flag, value in conflicting:
+        if value is not None:
+            raise ValueError(f"{flag}: does not apply to --isolator {isolator}, whose friction, "
+                             f"period and damping are its surfaces' in --isolator-file; leave {flag} out.")
+    return Isolator(isolator, pendulum=load_isolator_file(path, isolator), file=path)
+
+
+_READERS = {"flat": _flat, "single-fp": _single, **dict.fromkeys(SERIES_ISOLATORS, _series)}
+"""How each `--isolator` is read from the flags."""
+
+
+def _bearing(args):
+    from ._bearing_flags import read_bearing_flag
+
+    return read_bearing_flag(args)
+
+
+def load_isolator_file(path, isolator, command=None):
+    """The pendulum of the isolator file `path`; `ValueError` naming the flag, also for a file
+    of another isolator than `--isolator`'s (a start file of `command`, fit or diagnose, is
+    named as such)."""
+    from ..formats import load_isolator
+
+    try:
+        pendulum = load_isolator(path)
+    except ValueError as error:
+        raise ValueError(f"--isolator-file {error}") from None
+    if pendulum.isolator != isolator:
+        if command is not None:
+            raise ValueError(f"--isolator-file: {path} holds a {pendulum.isolator} isolator; {command} "
+                             f"--isolator {isolator} starts from a file of that isolator (or give "
+                             f"--isolator {pendulum.isolator}).")
+        raise ValueError(f"--isolator-file: {path} holds a {pendulum.isolator} isolator, not the "
+                         f"{isolator} of --isolator; give --isolator {pendulum.isolator} or another file.")
+    return pendulum
+
+
+def read_isolator_flag(args):
+    """The `TriplePendulum` or `DoublePendulum` of `--isolator-file` (None for the other
+    isolators), the flags checked as `read_isolator` does."""
+    return read_isolator(args).pendulum
+
+
+def pendulum_period(args) -> float | None:
+    """2 pi sqrt(R / g) [s] of `--radius` for `--isolator single-fp` (None for the others), the
+    flags checked as `read_isolator` does."""
+    return read_isolator(args).period
+
+
+def check_combination(args, isolator: Isolator) -> None:
+    """`ValueError` naming the flag, before any work, for what cannot run together: a plan
+    without the slab or the slab without one, the building on flat sliders without springs, and
+    a Newton tolerance in a flat bearing's units on series pendulums or under two components."""
+    structure, plan = args.structure, getattr(args, "plan", None)
+    if plan is not None and structure != "slab":
+        raise ValueError("--plan: only used with --structure slab.")
+    if plan is None and structure == "slab":
+        raise ValueError("--plan: --structure slab needs a plan file (bearing groups and loads).")
+    if structure == "building" and not isolator.restores and args.isolation_period is None:
+        raise ValueError("--isolation-period: the building needs its springs (Fig. 11: 0.2-4 s), e.g. 2.5s, "
+                         "or a friction pendulum (--isolator single-fp --radius 88in).")
+    if getattr(args, "newton_tolerance", None) is None:
+        return
+    if isolator.pendulum is not None:
+        raise ValueError("--newton-tolerance: is in units of a flat bearing's yield displacement; "
+                         f"the {isolator.name} isolator's sliders are solved to their own tolerance "
+                         "(a force imbalance of 1e-7 W); leave --newton-tolerance out.")
+    if getattr(args, "components", 1) == 2:
+        raise ValueError("--newton-tolerance: applies to one-component runs (the two-component "
+                         "solve has its own); leave it out with --components 2.")
+
+
+_NOT_SERIES = ("--plan: {group}.isolator_file applies with --isolator triple-fp or double-fp only, not "
+               "{isolator}; leave it out or give that isolator.")
+_SERIES_KEY = ("--plan: {group}.{key} does not apply to --isolator {isolator} ({why}); leave '{key}' out "
+               "of the group.")
+_SERIES_KEYS = (("radius", _SERIES_KEY, "its radii are in the isolator file"),
+                ("springs", _SERIES_KEY, "each group restores with its pendulum"),
+                ("ptfe", _SERIES_KEY, "its friction is in the isolator file"),
+                ("pressure", _SERIES_KEY, "its friction is in the isolator file"))
+_GROUP_KEYS_REFUSED = {
+    "flat": (("isolator_file", _NOT_SERIES, ""),
+             ("radius", "--plan: {group}.radius applies with --isolator single-fp only (flat sliders have "
+                        "none); add it or leave the radius out.", "")),
+    "single-fp": (("isolator_file", _NOT_SERIES, ""),
+                  ("springs", "--plan: {group}.springs conflicts with --isolator single-fp (each group restores "
+                              "with its pendulum, W_g / R_g); leave 'springs' out.", "")),
+    **dict.fromkeys(SERIES_ISOLATORS, _SERIES_KEYS),
+}
+"""The keys of a plan's group that each isolator refuses, with the message that says why."""
+
+
+def slab_isolators(args, isolator: Isolator, plan: dict, period: float | None = None) -> dict:
+    """The isolator keywords of `systems.slab_on_bearings` for the groups of `plan`
+    (`read_plan`): flat sliders' springs (of `period` [s], shared by the groups' `springs`),
+    single pendulums' radii (`--radius`, a group's `radius` overriding it; kept as
+    `plan["radii"]`) or series pendulums (`--isolator-file`, a group's `isolator_file`
+    overriding it; kept as `plan["isolator_files"]`). `ValueError` naming the group's key that
+    the isolator does not take, or its isolator file that is missing or of another isolator."""
+    groups = plan["groups"]
+    for key, message, why in _GROUP_KEYS_REFUSED[isolator.name]:
+        for g in groups:
+            if g[key] is not None:
+                raise ValueError(message.format(group=g["name"], key=key, isolator=isolator.name, why=why))
+    if isolator.radius is not None:
+        plan["radii"] = [isolator.radius if g["radius"] is None else g["radius"] for g in groups]
+        return {"isolator": isolator.name, "radii": plan["radii"]}
+    if isolator.pendulum is None:
+        return {"isolation_period": period,
+                "spring_shares": [1.0 if g["springs"] is None else g["springs"] for g in groups]}
+    pendulums = [isolator.pendulum if g["isolator_file"] is None else _group_pendulum(args, isolator, g)
+                 for g in groups]
+    plan["isolator_files"] = [str(g["isolator_file"] or isolator.file) for g in groups]
+    return {"isolator": isolator.name, "pendulums": pendulums}
+
+
+def _group_pendulum(args, isolator: Isolator, group: dict):
+    path = group["isolator_file"]
+    if not pathlib.Path(path).is_file():
+        raise ValueError(f"--plan: {args.plan}: {group['name']}.isolator_file {path} is not a file "
+                         "(a path relative to the plan's folder).")
+    try:
+        return load_isolator_file(path, isolator.name)
+    except ValueError as error:
+        raise ValueError(f"--plan: {group['name']}.isolator_file: {error}") from None

@@ -1,0 +1,122 @@
+"""What a Monte Carlo at one intensity reports: the summary JSON (`summary_payload`), the
+results file's attributes (`run_attributes`), the converged runs' statistics (`statistics`),
+the plot's title (`stamp`) and the printed lines with the exit status (`report`)."""
+
+import math
+import sys
+
+from ..units import STANDARD_GRAVITY
+
+
+def steady_rate(marks) -> float | None:
+    """Motions per second from the end of the first chunk to the end of the last, as B3
+    counts them (`benchmarks/bench_gpu.py`): without the compilation and the first chunk's
+    start-up on the device; `None` with a single chunk."""
+    if len(marks) < 2 or marks[-1][0] <= marks[0][0]:
+        return None
+    return (marks[-1][1] - marks[0][1]) / (marks[-1][0] - marks[0][0])
+
+
+def summary_payload(args, result, structure, model, units, stats, files) -> dict:
+    """The summary JSON of `teflon-jax montecarlo` (displacements in `units`)."""
+    import jax
+    import numpy as np
+
+    from ._provenance import isolator_as_run
+
+    converged, two, length = np.asarray(result.converged, bool).reshape(-1), args.components == 2, units.length[0]
+    payload = {
+        "n_motions": result.n_motions,
+        "n_converged": int(converged.sum()),
+        "not_converged": np.flatnonzero(~converged).tolist(),
+        "structure": args.structure,
+        "devices": result.n_devices,
+        "device_kind": jax.devices()[0].device_kind,
+        "wall_s": result.wall_s,
+        "compile_s": result.compile_s,
+        "records_per_s": result.n_motions / max(result.wall_s - result.compile_s, 1e-9),
+        "chunk_size": result.chunk_size,
+        "time_step_s": structure.time_step,
+        "all_converged": bool(converged.all()),
+        "statistics": stats,
+        "design": isolator_as_run(args, units.pressure),
+        "motions": {"model": "Clough-Penzien, Jennings-Housner-Tsai envelope",
+                    "pga_g": args.pga / STANDARD_GRAVITY, "duration_s": args.duration,
+                    "seed": args.seed, "components": args.components},
+        "units": {"base_disp": length, "base_shear_ratio": "-", "wall_s": "s"},
+        "files": files,
+    }
+    if two:
+        payload["motions"].update({
+            "principal_angle_deg": math.degrees(float(model.principal_angle)),
+            "minor_ratio": float(model.minor_ratio),
+            "peaks": "resultants of the x and y components: |(d_x, d_y)| and |(V_x, V_y)| / W, V the "
+                     "force on the structure above the bearings"})
+    return payload
+
+
+def run_attributes(args) -> dict:
+    """What was run, as the results file's attributes: the structure, the isolator and bearings
+    as run (`isolator_as_run`, SI: a bearing or isolator file by its path and SHA-256, not the
+    flags it replaced), the motions and their seed, each also as the user typed it, and the
+    provenance of every result (`provenance_attributes`: version, command line, inputs)."""
+    from ._provenance import isolator_as_run, provenance_attributes, replaced_flags
+
+    replaced = replaced_flags(args)
+    typed = [k for k in ("pressure", "isolation_period", "isolation_damping", "pga", "duration")
+             if "--" + k.replace("_", "-") not in replaced]
+    return {"structure": args.structure, **isolator_as_run(args), "pga_m_s2": args.pga, "duration_s": args.duration,
+            "record_step_s": args.record_step, "seed": args.seed, "site_frequency_hz": args.site_frequency,
+            "site_damping": args.site_damping, "strong_motion_s": args.strong_motion, "components": args.components,
+            "inputs_as_given": " ".join(f"{k}={getattr(args, k + '_text')}" for k in typed),
+            **provenance_attributes()}
+
+
+def statistics(result, units) -> dict:
+    """The converged runs' percentiles, mean and standard deviation (`result.percentiles()`,
+    each with the count `n` it rests on), the displacement in the output units."""
+    stats = result.percentiles()
+    factor = units.length[1]
+    disp = {k: (v if k == "n" or v is None else v / factor) for k, v in stats["base_disp_m"].items()}
+    return {f"base_disp_{units.length[0]}": disp, "base_shear_ratio": stats["base_shear_ratio"]}
+
+
+def stamp(args, horizontal) -> str:
+    """The plot's title: structure, bearing, isolation system and motions as typed."""
+    bearing_words = (f"{args.ptfe} PTFE at {args.pressure_text}" if args.bearing is None
+                     else f"bearing {args.bearing}")
+    return (f"{args.structure}, {bearing_words}, Tb = "
+            f"{args.isolation_period_text}, zeta_b = {args.isolation_damping_text}; "
+            f"Clough-Penzien motions, PGA {args.pga_text}, {args.duration_text}, seed {args.seed}"
+            + (f"; 2 components, major at {math.degrees(float(horizontal.principal_angle)):g} deg, minor "
+               f"ratio {float(horizontal.minor_ratio):g}" if args.components == 2 else "")
+            + (f"; vertical {args.vertical_ratio:g} x PGA" if args.vertical_ratio is not None else ""))
+
+
+def report(args, result, stats, units, more_lines) -> int:
+    """Print the runs' statistics (and `more_lines`: the uplift, the bearing posterior) and name
+    the runs that did not converge; the exit status (1 when some did not)."""
+    import numpy as np
+
+    converged = np.asarray(result.converged, bool).reshape(-1)
+    print(f"{result.n_motions} motions on {result.n_devices} device(s) in {result.wall_s:.1f} s; "
+          f"statistics over the {int(converged.sum())} of {converged.size} runs that converged:")
+    for name, values in stats.items():
+        unit = f" {units.length[0]}" if name.startswith("base_disp") else ""
+        print(f"  {name}: " + ", ".join(f"{k} {v:.4g}{unit}" for k, v in values.items()
+                                       if k != "n" and v is not None))
+    for line in more_lines:
+        print(line)
+    failed = np.flatnonzero(~converged)
+    if not failed.size:
+        return 0
+    named = ", ".join(str(i) for i in failed[:20]) + (" ..." if failed.size > 20 else "")
+    print(
+        f"teflon-jax montecarlo: {failed.size} of {converged.size} runs had a time step whose "
+        f"Newton solve did not converge (motion indices {named}); they are left out of the "
+        "statistics and flagged in the results ('converged'). "
+        + ("Single precision is too coarse for the bearing's Newton solve: drop --float32."
+           if getattr(args, "float32", False) else "Try a smaller --time-step."),
+        file=sys.stderr,
+    )
+    return 1

@@ -1,0 +1,167 @@
+"""A run's response, whatever its structure and isolator. The library steps flat sliders and
+single pendulums (rigid mass, building, slab) as a `BidirectionalStructure`, and series
+pendulums as a `StructureOnTriple` (one component), a `BiaxialStructureOnTriple` (two) or a
+`SlabOnSeries`; one table keyed by that type says how to simulate the system and cut it at the
+first step that did not balance (`_run_stop`), how to reduce its response to peaks and
+histories (`_run_peaks`) and its uplift (`_normal_load`), where its base is and how to put
+another ground motion under it (a suite's pairs)."""
+
+import typing
+
+import numpy as np
+
+from ._normal_load import (
+    load_factors,
+    normal_load_summary,
+    response_uplift,
+    series_uplift,
+    uplift_line,
+)
+from ._run_peaks import (
+    biaxial_peaks,
+    bidirectional_peaks,
+    slab_series_peaks,
+    slider_peaks,
+    surface_temperature_summary,
+    triple_peaks,
+)
+from ._run_stop import bidirectional_stop, series_slab_stop, series_stop, unbalanced_message
+
+
+class Run(typing.NamedTuple):
+    """A simulated run: its `response` (cut to the steps that balanced), its `end` (time (nt,)
+    [s], kept steps, tipped (nt,), unconverged (nt,): `stop_entries`), `problem` (why it
+    stopped, '' when complete) and the `duration` [s] it kept."""
+
+    response: object
+    end: tuple
+    problem: str
+    duration: float
+
+
+class _Engine(typing.NamedTuple):
+    """What a run needs of one system type (module docstring)."""
+
+    simulate: typing.Callable  # (system, duration [s], plan) -> Run
+    peaks: typing.Callable  # (structure, system, response, plan) -> (peak, histories)
+    uplift: typing.Callable  # (system, response, duration [s]) -> (JSON entries, N / W history or None)
+    ground: typing.Callable  # system -> its (ground x, ground y) Signals, for `eqx.tree_at`
+    base: typing.Callable  # system -> the base's coordinates in x and y
+    extras: typing.Callable = lambda plan, system, response, histories: ({}, [])  # more JSON entries, lines
+
+
+def _bidirectional(system, duration, plan) -> Run:
+    from ..systems import simulate_bidirectional
+
+    response = simulate_bidirectional(system, duration, throw=False)
+    if bool(response.succeeded):
+        return Run(response, (response.time, np.size(response.time), (), ()), "", duration)
+    return Run(*bidirectional_stop(system, response), duration)
+
+
+def _triple(system, duration, plan) -> Run:
+    from ..systems import simulate_triple_structure
+
+    response = simulate_triple_structure(system, duration)
+    return _series_run(response, response.time, response.converged, duration)
+
+
+def _biaxial(system, duration, plan) -> Run:
+    from ..systems import biaxial_histories
+
+    response = biaxial_histories(system, duration)
+    return _series_run(response, response[0], response[-1], duration)
+
+
+def _series_run(response, time, converged, duration) -> Run:
+    response, end, problem = series_stop(response, time, converged)
+    return Run(response, end, problem, float(end[0][end[1] - 1]) if problem else duration)
+
+
+def _slab_series(system, duration, plan) -> Run:
+    import jax
+
+    from ..systems import simulate_slab_series
+
+    response = jax.jit(simulate_slab_series, static_argnums=1)(system, duration)
+    problem = unbalanced_message(response, plan["height_of_centre_of_mass"])
+    end, response = series_slab_stop(system, response)  # the steps before the first unbalanced one
+    return Run(response, end, problem, float(end[0][end[1] - 1]) if problem else duration)
+
+
+def _response_uplift(system, response, duration):
+    entries = response_uplift(response)
+    return entries, np.asarray(response.load_factor) if entries else None
+
+
+def _series_uplift(system, duration):
+    entries = series_uplift(system, duration)
+    return entries, load_factors(system, duration) if entries else None
+
+
+def _slab_series_extras(plan, system, response, histories):
+    """The sliders' peaks of every group and the heated surfaces' temperature rise."""
+    rises = surface_temperature_summary(plan, system, response, histories)
+    lines = [f"surface temperature rise {name}: " + ", ".join(f"{e} {v:.4g} K" for e, v in row.items())
+             for name, row in (rises or {}).items()]
+    return {"slider_disp_m": slider_peaks(plan, system, response), "surface_temperature_rise_K": rises}, lines
+
+
+def _engines() -> dict:
+    from ..systems import (
+        BiaxialStructureOnTriple,
+        BidirectionalStructure,
+        SlabOnSeries,
+        StructureOnTriple,
+    )
+
+    ground = lambda s: (s.ground_x, s.ground_y)  # noqa: E731
+    return {
+        BidirectionalStructure: _Engine(_bidirectional, bidirectional_peaks, _response_uplift, ground,
+                                        lambda s: (0, s.mass.shape[0] // 2)),
+        StructureOnTriple: _Engine(_triple, triple_peaks, lambda s, r, d: _series_uplift(s, d), None, None),
+        BiaxialStructureOnTriple: _Engine(_biaxial, biaxial_peaks, lambda s, r, d: _series_uplift(s.uniaxial, d),
+                                          lambda s: (s.uniaxial.linear.ground_acceleration, s.ground_y),
+                                          lambda s: (0, 1)),
+        SlabOnSeries: _Engine(_slab_series, slab_series_peaks, lambda s, r, d: _series_uplift(s, d), ground,
+                              lambda s: (0, 1), _slab_series_extras),
+    }
+
+
+def _engine(system) -> _Engine:
+    return _engines()[type(system)]
+
+
+def simulate_run(system, duration: float, plan=None) -> Run:
+    """The `Run` of `system` over `duration` [s] from rest (`plan`: the slab's, or None)."""
+    return _engine(system).simulate(system, duration, plan)
+
+
+def reduce_run(structure: str, system, run: Run, plan, units):
+    """(peak, histories, the JSON entries after the peak, printed lines) of `run`: the peaks and
+    histories in SI, the uplift of a vertical component (and its N / W history), each slab
+    group's normal load (`plan`) and what the system adds (a slab on series pendulums: its
+    sliders and heated surfaces)."""
+    engine = _engine(system)
+    peak, histories = engine.peaks(structure, system, run.response, plan)
+    entries, load_factor = engine.uplift(system, run.response, run.duration)
+    if load_factor is not None:
+        histories["load_factor"] = load_factor
+    lines = [uplift_line(entries)] * bool(entries)
+    if plan is not None:  # each group's normal load (overturning, vertical record)
+        normal, normal_lines = normal_load_summary(plan, system, run.response, units)
+        entries, lines = {**entries, **normal}, lines + normal_lines
+    more, more_lines = engine.extras(plan, system, run.response, histories)
+    return peak, histories, {**entries, **more}, lines + more_lines
+
+
+def base_index(system) -> tuple:
+    """The coordinates of the base of `system` in x and y (`studies.suite_peaks`)."""
+    return _engine(system).base(system)
+
+
+def with_ground(system, ground_x, ground_y):
+    """`system` under the ground `Signal`s `ground_x`, `ground_y` [m/s^2] instead of its own."""
+    import equinox as eqx
+
+    return eqx.tree_at(_engine(system).ground, system, (ground_x, ground_y))

@@ -1,0 +1,135 @@
+"""The structure `teflon-jax run` builds from its flags: the rigid mass, the Table 2 building or
+a rigid slab on bearing groups (`--plan`), on any isolator of `read_isolator`, under the ground
+components; for a suite, that structure under each record pair (`suite_build`). The numbers of
+the flags and the plan are read and checked before any record (`read_structure`)."""
+
+import typing
+
+from ..units import parse_quantity
+from ._isolator_flags import slab_isolators
+from ._plan_file import read_plan
+from ._run_bearing import bearing_of_flags, fraction
+
+STRUCTURES = ("rigid", "building", "slab")
+
+
+class StructureFlags(typing.NamedTuple):
+    """The structure flags in SI: solver `time_step` [s], `weight` [N] of the rigid mass, the
+    flat sliders' spring `period` [s] (a single pendulum's 2 pi sqrt(R / g); None: no springs),
+    the isolation `damping` ratio, the bearings' contact `pressure` [Pa]; the slab's `plan`
+    (`read_plan`) and its groups' isolator keywords `slab` (`slab_isolators`), else None."""
+
+    time_step: float
+    weight: float
+    period: float | None
+    damping: float
+    pressure: float
+    plan: dict | None
+    slab: dict | None
+
+
+def read_structure(args, isolator) -> StructureFlags:
+    """`StructureFlags` of `run`'s flags and `isolator`; `ValueError` naming the flag (or the
+    plan's file and key)."""
+    time_step = parse_quantity(args.time_step, "time", where="--time-step")
+    if not time_step > 0:
+        raise ValueError(f"--time-step: must be > 0, got {args.time_step}.")
+    weight = parse_quantity(args.weight, "force", where="--weight")
+    if not weight > 0:
+        raise ValueError(f"--weight: must be > 0, got {args.weight}.")
+    period = isolator.period
+    if args.isolation_period is not None:
+        period = parse_quantity(args.isolation_period, "time", where="--isolation-period")
+        if not period > 0:
+            raise ValueError(f"--isolation-period: must be > 0, got {args.isolation_period}.")
+    damping = 0.0 if args.isolation_damping is None else fraction(args.isolation_damping, "--isolation-damping")
+    if damping > 0 and period is None:
+        raise ValueError("--isolation-damping: dampers need springs; give --isolation-period too.")
+    pressure = parse_quantity(args.pressure, "pressure", where="--pressure")  # heating's p
+    plan = None if args.plan is None else read_plan(args.plan)
+    slab = None if plan is None else slab_isolators(args, isolator, plan, period)
+    return StructureFlags(time_step, weight, period, damping, pressure, plan, slab)
+
+
+def build_structure(args, isolator, flags: StructureFlags, ground_x, ground_y, two: bool = True):
+    """The system of `args.structure` on `isolator` under the ground `Signal`s [m/s^2]: flat
+    sliders and single pendulums in both directions (`bidirectional_rigid_mass`,
+    `bidirectional_building`, `slab_on_bearings`), series pendulums in one direction, or in
+    two with `two` (`triple_structure`, `BiaxialStructureOnTriple`; on a slab always two). The
+    friction of a bounding case (`args.friction_factor`) scales Table 1's row or each surface's."""
+    if flags.plan is not None:
+        return _slab(args, isolator, flags, ground_x, ground_y)
+    if isolator.pendulum is not None:
+        from ..systems import BiaxialStructureOnTriple, triple_structure
+
+        pendulum = _scaled(args, [isolator.pendulum])[0]
+        system = triple_structure(args.structure, pendulum, ground_x, time_step=flags.time_step,
+                                  weight=flags.weight)
+        return BiaxialStructureOnTriple(system, ground_y) if two else system
+    from ..systems import bidirectional_building, bidirectional_rigid_mass
+
+    bearing = bearing_of_flags(args, args.ptfe, args.pressure, "--pressure")
+    common = dict(bearing=bearing, ground_x=ground_x, ground_y=ground_y, time_step=flags.time_step,
+                  isolation_period=flags.period, contact_pressure=flags.pressure)
+    if args.structure == "rigid":
+        return bidirectional_rigid_mass(weight=flags.weight, damping_ratio=flags.damping, **common)
+    return bidirectional_building(isolation_damping=flags.damping, **common)
+
+
+def _scaled(args, pendulums):
+    """`pendulums` with every surface's f_max and delta_f times `args.friction_factor` (a
+    bounding case; 1 otherwise): `SeriesPendulum.scaled_friction`."""
+    factor = getattr(args, "friction_factor", 1.0)
+    return pendulums if factor == 1.0 else [p.scaled_friction(factor) for p in pendulums]
+
+
+def _slab(args, isolator, flags: StructureFlags, ground_x, ground_y):
+    """`slab_on_bearings` of the plan: its groups' isolators (`flags.slab`), and on flat sliders
+    and single pendulums each group's bearing at its pressure and the isolation damping."""
+    from ..systems import slab_on_bearings
+
+    plan, groups = flags.plan, flags.plan["groups"]
+    options = dict(flags.slab)
+    if "pendulums" in options:
+        options["pendulums"] = _scaled(args, options["pendulums"])
+    else:
+        pressures = [g["pressure"] or args.pressure for g in groups]
+        options.update(
+            bearings=[bearing_of_flags(args, g["ptfe"] or args.ptfe, p, f"--plan {g['name']}")
+                      for g, p in zip(groups, pressures)],
+            contact_pressures=[parse_quantity(p, "pressure", where=f"--plan {g['name']}")
+                               for g, p in zip(groups, pressures)],
+            isolation_damping=flags.damping)
+    stiffness = [g["vertical_stiffness"] for g in groups]
+    return slab_on_bearings(
+        length_x=plan["length_x"], length_y=plan["length_y"], weight=plan["weight"],
+        centre_of_mass=plan["centre_of_mass"], positions=[(g["x"], g["y"]) for g in groups],
+        loads=[g["load"] for g in groups], ground_x=ground_x, ground_y=ground_y,
+        time_step=flags.time_step, names=[g["name"] for g in groups],
+        height_of_centre_of_mass=plan["height_of_centre_of_mass"],
+        vertical_stiffness=None if all(k is None for k in stiffness) else [1.0 if k is None else k
+                                                                         for k in stiffness],
+        **options)
+
+
+def suite_build(args, isolator, ax0, ay0, dt, friction_factors=None):
+    """(build(ground_x, ground_y) -> the structure of one pair, its degrees of freedom, the
+    base's coordinates in x and y, the slab's plan or None) of `run --suite`: the structure
+    of the flags (`build_structure`, under both components) built once on the first pair
+    (`ax0`, `ay0` [m/s^2], step `dt` [s]), its ground motion replaced by each pair's; with
+    `friction_factors` ({"f_max", "delta_f", "rate_a": factor}) a `--bearing` file's Eq. 1
+    constants scaled wherever the structure carries them (`studies.with_friction_factors`)."""
+    from ..excitation import uniform_signal
+    from ._run_response import base_index, with_ground
+
+    flags = read_structure(args, isolator)
+    template = build_structure(args, isolator, flags, uniform_signal(ax0, dt), uniform_signal(ay0, dt))
+    if friction_factors is not None:
+        from ..studies import with_friction_factors
+
+        template = with_friction_factors(template, friction_factors)
+
+    def build(ground_x, ground_y):
+        return with_ground(template, ground_x, ground_y)
+
+    return build, template.mass.shape[-1], base_index(template), flags.plan
