@@ -1,9 +1,10 @@
-"""A structure isolated on triple or double friction pendulums, in one horizontal direction.
+"""A structure isolated on friction pendulums of sliders in series, in one horizontal direction.
 
 The bearings are the series model of a `SeriesPendulum`: S sliders carry one force F and their
 displacements add up to the isolator's; three for the `TriplePendulum` (the inner pair, the
 bottom and the top surface; Fenz & Constantinou 2008), two for the `DoublePendulum` (bottom and
-top; Fenz & Constantinou 2006). Slider e carries
+top; Fenz & Constantinou 2006), one for the `SinglePendulum` (a single pendulum, or a flat
+slider at R = inf, on any linear structure: `structure_on_isolator`). Slider e carries
 
     F_e = W (s_e / R_e + mu_e(v_e) Z_e + k_stop <|s_e| - d_e>_+ sgn(s_e) / R_e),
 
@@ -28,8 +29,10 @@ linear step leaves, F = (D - sum d_e) / G, with D the isolator's increment witho
 and G its compliance over the step (the structure's exact step, `_propagators.py`). Newton's
 matrix diag(k_e) + 1 1^T / G (k_e = dF_e/dd_e) is inverted in closed form (Sherman-Morrison),
 with a halving line search on the force residual, continued with much shorter steps where a
-slider's reversal kink makes Newton's step overshoot (`damped_newton`); the root is
-differentiated implicitly.
+slider's reversal kink makes Newton's step overshoot (`damped_newton`); one slider's balance
+is bracketed instead (`bracketed_newton`). The root is differentiated implicitly. A one-surface
+isolator may take Eq. 1 at the isolator's velocity at the step's end, the flat sliders' law
+(`friction_velocity="end"`, `FRICTION_VELOCITIES`).
 """
 
 import functools
