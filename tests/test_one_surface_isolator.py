@@ -122,6 +122,19 @@ def test_one_surface_in_two_components_gives_the_flat_engines_histories(isolator
     assert _relative(q[:, :n], np.asarray(histories[1])[:, 0, :n]) <= AGREEMENT  # every level along x
 
 
+def test_a_flat_slider_sliding_in_two_components_balances_every_step():
+    # along its sliding the flat slider's 2 x 2 slope is near singular (|Z| = 1, no W / R): its
+    # Newton step is (G K + I)^-1 G r, which the Woodbury form C (r - s) loses to cancellation
+    motion = StochasticGroundMotion(peak_ground_acceleration=0.6 * STANDARD_GRAVITY, duration=12.0,
+                                    time_step=0.01)
+    ground = [uniform_signal(scale * np.asarray(sample(motion, jax.random.PRNGKey(seed), 1))[0], 0.01)
+              for seed, scale in ((1, 1.0), (2, 0.8))]
+    builder = isolated_structure("rigid", isolator="flat", linear_rule="newmark", time_step=0.0025)
+    series = BiaxialStructureOnTriple(_on_one_surface(builder, "flat", builder(ground[0]), "mean"), ground[1])
+    series = dataclasses.replace(series, uniaxial=dataclasses.replace(series.uniaxial, newton_tolerance=1e-9))
+    assert bool(np.all(jax.jit(biaxial_histories, static_argnums=1)(series, 12.0)[-1]))
+
+
 def test_with_coulomb_friction_the_series_law_is_the_flat_law():
     # f_min = mu at every speed: "mean" and "end" both carry f_min Z
     bearing = paper_bearing(coulomb_friction(0.06))
