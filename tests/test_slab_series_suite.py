@@ -60,7 +60,7 @@ def test_each_series_slab_suite_pair_is_its_single_run(tmp_path):
     overturning moves load between the sides."""
     suite = _write_pairs(tmp_path)
     plan, default = _files(tmp_path, "2m")
-    result = _run(tmp_path, plan, default, "suite", "--suite", suite)
+    result = _run(tmp_path, plan, default, "results", "--suite", suite)  # the tables beside: results.*
     assert result["failed"] == 0 and "normal_load_note" in result
     for name in ("calm", "strong"):
         single = _run(tmp_path, plan, default, name, "--record-x", tmp_path / f"{name}_x.txt",
@@ -77,7 +77,7 @@ def test_each_series_slab_suite_pair_is_its_single_run(tmp_path):
     assert groups["SE"]["isolator_file"].endswith("slippery.json")
     assert max(g["peak_N"] for g in groups.values()) > 1.5 * STATIC  # the leaning side takes load
     assert min(g["min_N"] for g in groups.values()) == 0.0 and max(g["uplift_time_s"] for g in groups.values()) > 0
-    with (tmp_path / "suite.csv").open() as handle:
+    with (tmp_path / "results.csv").open() as handle:
         rows = list(csv.DictReader(handle))
     assert float(rows[1]["NE_min_N"]) == pytest.approx(groups["NE"]["min_N"], rel=1e-5)
 
@@ -86,14 +86,14 @@ def test_each_series_slab_suite_pair_is_its_single_run(tmp_path):
 def test_series_slab_suite_without_height_is_its_single_run_without_group_loads(tmp_path):
     suite = _write_pairs(tmp_path)
     plan, default = _files(tmp_path, "0m")
-    result = _run(tmp_path, plan, default, "suite", "--suite", suite)
+    result = _run(tmp_path, plan, default, "results", "--suite", suite)
     single = _run(tmp_path, plan, default, "strong", "--record-x", tmp_path / "strong_x.txt",
                   "--record-y", tmp_path / "strong_y.txt")
     pair = result["pairs"]["strong_x"]
     assert set(pair) == {*PEAKS, "converged"} and "normal_load_note" not in result
     for key in PEAKS:
         assert pair[key] == pytest.approx(single["peak"][key], rel=1e-9, abs=1e-12), key
-    header = (tmp_path / "suite.csv").read_text().splitlines()[0]
+    header = (tmp_path / "results.csv").read_text().splitlines()[0]
     assert header == "pair," + ",".join(PEAKS) + ",converged"
 
 
