@@ -25,7 +25,14 @@ from ._effects import EFFECT_NAMES as EFFECT_NAMES
 from ._effects import EFFECTS as EFFECTS
 from ._effects import Effect as Effect
 from ._effects import EffectParameter as EffectParameter
+from ._mixture import MIN_MIXTURE_WEIGHT as MIN_MIXTURE_WEIGHT
+from ._mixture import MIXTURE_DRAWS as MIXTURE_DRAWS
+from ._mixture import DiscoveryMixture as DiscoveryMixture
+from ._mixture import composition_bic as composition_bic
+from ._mixture import composition_weights as composition_weights
+from ._mixture import discovery_mixture as discovery_mixture
 from ._report import write_report as write_report
+from ._result import CompositionFit as CompositionFit
 from ._result import DiscoveryResult as DiscoveryResult
 from ._result import DiscoveryStep as DiscoveryStep
 from ._result import confidence_wording as confidence_wording

@@ -44,12 +44,15 @@ from ._augmented import (
     AugmentedData,
     BiaxialAugmentedData,
     RecordInfo,
+    active_mask,
     prepare_record,
 )
+from ._batch_fit import _free_mask
 from ._diagnostics import effective_samples
 from ._effects import BASELINES, EFFECT_NAMES, EFFECTS
 from ._result import (
     DEFAULT_BIC_THRESHOLD,
+    CompositionFit,
     DiscoveryResult,
     DiscoveryStep,
     confidence_wording,
@@ -180,10 +183,11 @@ def discover_effects(
     fit, nrmse_initial, fit_log = _fit_baseline(setup, list(base_effects), fit_log)
     say(f"baseline {baseline}: nrmse {nrmse_initial:.4f}")
     baseline_fit = fit
+    compositions = [_composition(setup, base_effects, fit)]
 
     fit, current, steps, final_round, fit_log = _add_effects(
-        setup, fit, list(base_effects), pool, max_effects, bic_threshold, say, fit_log
-    )
+        setup, fit, list(base_effects), pool, max_effects, bic_threshold, say, fit_log,
+        compositions)
     fit_log["final_converged"] = fit.converged
 
     force, scale = setup.force, setup.scale
@@ -215,11 +219,23 @@ def discover_effects(
         skipped=skipped,
         stack_check=stack,
         fit_convergence=fit_log,
+        compositions=compositions,
     )
 
 
-def _add_effects(setup, fit, current, pool, max_effects, bic_threshold, say, fit_log):
-    """Add the candidate with the strongest evidence, round after round, while it passes.
+def _composition(setup, effects, fit) -> CompositionFit:
+    """The `CompositionFit` of `fit`, a fit of `effects` to the whole record."""
+    return CompositionFit(
+        effects=tuple(effects), values=np.asarray(fit.values, float),
+        free=_free_mask(np.asarray(active_mask(list(effects)))) * setup.fixed,
+        jacobian=np.asarray(fit.jacobian, float),
+        residual=(np.asarray(fit.force) - setup.force) / setup.scale, converged=bool(fit.converged))
+
+
+def _add_effects(setup, fit, current, pool, max_effects, bic_threshold, say, fit_log,
+                 compositions):
+    """Add the candidate with the strongest evidence, round after round, while it passes;
+    every candidate's fit to the whole record is appended to `compositions`.
 
     Returns (fit, effects of the final model, steps, evidence of the refused last round, fit_log).
     """
@@ -229,6 +245,7 @@ def _add_effects(setup, fit, current, pool, max_effects, bic_threshold, say, fit
         evid, nrmse_before, candidate_fits, fit_log = _fit_round(
             setup, fit.values, current, pool, fit_log
         )
+        compositions += [_composition(setup, current + [c], candidate_fits[c]) for c in pool]
         summary = ", ".join(f"{c} {evid[c]['delta_bic']:.1f}" for c in pool)
         say(f"round {len(steps) + 1}: delta_bic {summary}")
         chosen = chosen_effect(evid, pool, bic_threshold)

@@ -112,9 +112,10 @@ def _baseline_simulation(result) -> dict:
 
 
 def write_report(result, directory, *, record_name: str = "record",
-                 length=("mm", 1e-3)) -> pathlib.Path:
+                 length=("mm", 1e-3), mixture=None) -> pathlib.Path:
     """Write `directory/report.md` (with the figures of `write_plots`, displacements in
-    `length` = (unit name, its size in m)) for a `DiscoveryResult`."""
+    `length` = (unit name, its size in m)) for a `DiscoveryResult`, with the table of the
+    compositions' weights of a `DiscoveryMixture` when given."""
     directory = pathlib.Path(directory)
     files = write_plots(result, directory, length=length)
     data = result.data
@@ -126,12 +127,31 @@ def write_report(result, directory, *, record_name: str = "record",
     lines += _step_lines(result)
     lines += _parameter_lines(result)
     lines += _residual_location_lines(where)
+    lines += _mixture_lines(mixture)
     lines += ["", "## Figures", ""]
     lines += [f"![{name}]({fname})" for name, fname in files.items()]
     lines += _heating_note(result.info)
     path = directory / "report.md"
     path.write_text("\n".join(lines) + "\n")
     return path
+
+
+def _mixture_lines(mixture) -> list:
+    """The compositions weighed by BIC (`DiscoveryMixture`), heaviest first; none without one."""
+    if mixture is None:
+        return []
+    lines = ["", "## Compositions weighed by their evidence", "",
+             f"Every composition the search fitted, with w = exp(-dBIC / 2) normalised over all of "
+             f"them (BIC = n_eff ln(SSR / n) + p ln(n_eff), n_eff = {mixture.effective_samples:.1f} "
+             f"of the chosen model's residual); those of weight {mixture.min_weight:g} or more, with "
+             "draws of their constants, make the bearing file's mixture.", "",
+             "| composition | p | nrmse | dBIC | weight | in the mixture |", "|---|---|---|---|---|---|"]
+    for row in mixture.table:
+        name = " + ".join(row["effects"]) or "baseline"
+        lines.append(f"| {'**' + name + '**' if row['selected'] else name} | {row['free_parameters']} "
+                     f"| {row['nrmse']:.4f} | {row['delta_bic']:.2f} | {row['weight']:.3g} | "
+                     f"{'yes' if row['in_mixture'] else 'no'}{': ' + row['note'] if row['note'] else ''} |")
+    return lines
 
 
 def _summary_lines(result, record_name: str) -> list:

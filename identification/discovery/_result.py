@@ -44,6 +44,24 @@ class DiscoveryStep:
 
 
 @dataclasses.dataclass
+class CompositionFit:
+    """One composition of effects the search fitted to the whole record.
+
+    `effects` (names, the baseline's first), `values` (P,) every parameter of the augmented
+    model in the order of `PARAMETER_NAMES` [SI] (those of effects that are off at their
+    start), `free` (P,) 1 where the parameter was fitted (active and not known), `jacobian`
+    (n_r, P) of the residual in the physical parameters, `residual` (n_r,) the force residual
+    (F_model - F_measured) / RMS(F_measured), `converged` whether its fit met the test."""
+
+    effects: tuple
+    values: object
+    free: object
+    jacobian: object
+    residual: object
+    converged: bool
+
+
+@dataclasses.dataclass
 class DiscoveryResult:
     """Outcome of `discover_effects`.
 
@@ -58,7 +76,10 @@ class DiscoveryResult:
     - `fit_convergence`: how many inner fits ran, how many did not meet the convergence test
       within the iteration limit, the most iterations one took,
     - `stack_check`: while `interfaces` is not separable (rate_a fitted), the interval of
-      interfaces in series that the fitted rate_a implies (`stack_check` of `_discovery`).
+      interfaces in series that the fitted rate_a implies (`stack_check` of `_discovery`);
+    - `compositions`: every composition fitted to the whole record (`CompositionFit`s: the
+      baseline and each round's candidates; the final model among them), which
+      `discovery_mixture` weighs.
     """
 
     baseline: str
@@ -79,21 +100,25 @@ class DiscoveryResult:
     fit_convergence: dict = dataclasses.field(default_factory=dict)
     baseline_effects: list = dataclasses.field(default_factory=list)
     stack_check: dict = dataclasses.field(default_factory=dict)
+    compositions: list = dataclasses.field(default_factory=list)
 
     @property
     def effects(self) -> list:
         """Every effect of the final model: the baseline's and those added."""
         return list(self.baseline_effects) + list(self.effects_added)
 
-    def bearing(self):
-        """The final model as a `teflon_jax.bearing.SlidingBearing` (its parts only). A
+    def bearing(self, parameters=None, effects=None):
+        """The final model as a `teflon_jax.bearing.SlidingBearing` (its parts only), or the
+        model of `effects` with `parameters` (name -> value [SI], arrays of draws too). A
         pressure dependence carries the record's contact area when the record states one (a
         structure needs it to take the dependence at its own contact pressure)."""
         import equinox as eqx
 
         from ._augmented import discovered_bearing
 
-        bearing = discovered_bearing(self.parameters, self.data, self.effects)
+        parameters = self.parameters if parameters is None else parameters
+        effects = self.effects if effects is None else effects
+        bearing = discovered_bearing(parameters, self.data, effects)
         if bearing.pressure_dependence is None or self.info.contact_area_assumed:
             return bearing
         return eqx.tree_at(lambda b: b.pressure_dependence.contact_area, bearing,

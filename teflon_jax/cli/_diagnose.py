@@ -29,13 +29,21 @@ import sys
 import typing
 
 from ..units import INCH, parse_quantity
-from ._bearing_flags import add_save_bearing_flag, check_output_file, save_bearing_flag
+from ._bearing_flags import add_save_bearing_flag, check_output_file
 from ._common import (
     _write_json,
     add_quantity,
     add_units_flag,
     output_units,
     read_bearing_record,
+)
+from ._diagnose_mixture import (
+    add_mixture_flags,
+    check_mixture_flags,
+    mixture_failure,
+    mixture_lines,
+    mixture_of,
+    save_found_bearing,
 )
 from ._isolator_flags import ISOLATORS, load_isolator_file
 
@@ -76,7 +84,7 @@ class Diagnosis(typing.NamedTuple):
     - `search(args, diagnosis, candidates, say) -> Found`: read the inputs and run the search;
     - `report`: the writer of `identification.discovery` for its result;
     - `saves`: (flag, attribute, what) of the file it writes what it found to;
-    - `save(args, result)`: write it there;
+    - `save(args, result, mixture)`: write it there (with the `--mixture` of a bearing);
     - `notes(result)`: lines said after the files are written;
     - `isolator_file`: whether `--isolator-file` is required (the series start file);
     - `refused`: (flag, attribute, message) of each flag it cannot take, in the order checked
@@ -146,6 +154,7 @@ def add_diagnose_parser(subparsers) -> argparse.ArgumentParser:
                         help="no progress lines (--no-progress is the same flag, as in the other commands)")
     _add_isolator_flags(parser)
     add_save_bearing_flag(parser)
+    add_mixture_flags(parser)
     add_units_flag(parser)
     parser.set_defaults(func=run_diagnose)
     return parser
@@ -188,28 +197,32 @@ def run_diagnose(args) -> int:
     try:
         check_flags(args, diagnosis)
         found = diagnosis.search(args, diagnosis, candidates, say)
+        mixture = mixture_of(args, found.result)
     except (ValueError, FileNotFoundError) as error:
         print(f"teflon-jax diagnose: {error}", file=sys.stderr)
         return 2
     result = found.result
     document = result.to_json()
     document.update(found.entries)
+    if mixture is not None:
+        document["mixture"] = mixture.to_json()
     _write_json(args.json_path, document)
-    report = getattr(discovery, diagnosis.report)(result, args.report, record_name=args.record.name,
-                                                  length=output_units(args.units).length)
+    report = getattr(discovery, diagnosis.report)(
+        result, args.report, record_name=args.record.name, length=output_units(args.units).length,
+        **({} if mixture is None else {"mixture": mixture}))
     flag, attribute, what = diagnosis.saves
     saved = getattr(args, attribute)
     if saved is not None:
-        diagnosis.save(args, result)
-    for line in diagnosis.notes(result):
+        diagnosis.save(args, result, mixture)
+    for line in diagnosis.notes(result) + mixture_lines(mixture):
         say(line)
     say(f"{document['conclusion']}; nrmse {result.nrmse_initial:.4f} -> {result.nrmse_final:.4f}; "
         f"{result.runtime_s:.1f} s. Wrote {args.json_path} and {report}"
         + (f" and the {what} to {saved}." if saved else "."))
-    if found.failure is not None:
-        print(f"teflon-jax diagnose: {found.failure}", file=sys.stderr)
-        return 1
-    return 0
+    failures = [f for f in (found.failure, mixture_failure(args, mixture)) if f is not None]
+    for failure in failures:
+        print(f"teflon-jax diagnose: {failure}", file=sys.stderr)
+    return 1 if failures else 0
 
 
 def check_flags(args, diagnosis: Diagnosis) -> None:
@@ -228,6 +241,7 @@ def check_flags(args, diagnosis: Diagnosis) -> None:
         raise ValueError(f"--isolator-file: {args.isolator_file} does not exist.")
     flag, attribute, _ = diagnosis.saves
     check_output_file(getattr(args, attribute), flag)
+    check_mixture_flags(args)
 
 
 # ------------------------------------------------------------------ flat and single-fp sliders
@@ -301,14 +315,6 @@ def _search_pendulum(args, record, search, say):
     return result, radius, entries
 
 
-def _save_bearing(args, result) -> None:
-    save_bearing_flag(args, result.bearing(), standard_errors=result.bearing_errors(),
-                      sources=[args.record], fit={"command": "diagnose", "effects": result.effects,
-                                                  "nrmse_before": result.nrmse_initial,
-                                                  "nrmse": result.nrmse_final,
-                                                  "fit_convergence": dict(result.fit_convergence)})
-
-
 def _stack_notes(result) -> list:
     stack = result.stack_check
     if not stack or stack["consistent_with_stated"]:
@@ -336,7 +342,7 @@ def _search_series(args, diagnosis, candidates, say) -> Found:
         normal_load=args.normal_load, callback=say), {})
 
 
-def _save_isolator(args, result) -> None:
+def _save_isolator(args, result, mixture) -> None:
     from ..formats import write_isolator
 
     write_isolator(args.save_isolator, result.pendulum())
@@ -360,7 +366,7 @@ def _not_with_series(flag, attribute, why):
 
 _SLIDER = Diagnosis(
     search=_search_slider, report="write_report", saves=("--save-bearing", "save_bearing", "bearing"),
-    save=_save_bearing, notes=_stack_notes, isolator_file=False,
+    save=save_found_bearing, notes=_stack_notes, isolator_file=False,
     refused=(_not_series("--isolator-file"), _not_series("--save-isolator")))
 
 _SERIES = Diagnosis(
@@ -373,7 +379,9 @@ _SERIES = Diagnosis(
              _not_with_series("--known", "known", "the series fit holds what the record cannot "
                               "tell at --isolator-file's values"),
              _not_with_series("--save-bearing", "save_bearing", "a bearing file holds one flat "
-                              "slider: give --save-isolator")))
+                              "slider: give --save-isolator"),
+             _not_with_series("--mixture", "mixture", "the compositions' mixture is a bearing "
+                              "file's, and a bearing file holds one flat slider")))
 
 DIAGNOSES = {
     "flat": _SLIDER._replace(refused=_SLIDER.refused + (

@@ -28,6 +28,10 @@ The optional `posterior` object holds the thinned draws of a Bayesian fit (`Bear
       "sampler": {"method": "NUTS", "chains": 4, "seed": 0}}
 
 Each sampled constant's part must be in `parts`; "parts" keeps the point estimate.
+
+The optional `mixture` object (not with `posterior`) holds bearings of several compositions of
+parts, each with its `effects`, `weight`, `delta_bic`, `parts`, `posterior` and `note`
+(`BearingMixture`; docs/formats.md).
 """
 
 import json
@@ -48,6 +52,13 @@ from ..bearing import (
     check_bearing,
 )
 from ..units import unit_factor
+from ._bearing_mixture import (
+    COMPOSITION_KEYS,
+    MIXTURE_KEYS,
+    BearingMixture,
+    MixtureComposition,
+    object_keys,
+)
 from ._bearing_posterior import POSTERIOR_FIELDS, BearingPosterior
 from ._text import read_json_document
 
@@ -267,8 +278,43 @@ def _check_posterior(posterior: BearingPosterior, bearing: SlidingBearing, where
         raise ValueError(f"{where}: posterior.draws: {error}") from None
 
 
-def _read_document(document, where, *, read_posterior: bool):
-    """(bearing, posterior or None) of a bearing-file object, every key checked."""
+def _read_mixture(entry, where) -> BearingMixture:
+    """The `BearingMixture` of a file's `mixture` object: each composition's parts, posterior
+    draws (every draw a valid bearing) and weight, the weights checked together."""
+    object_keys(entry, MIXTURE_KEYS, f"{where}: mixture")
+    items = []
+    for i, item in enumerate(entry["compositions"]):
+        at = f"{where}: mixture.compositions[{i}]"
+        object_keys(item, COMPOSITION_KEYS, at)
+        values, errors = _read_parts(item["parts"], at)
+        bearing = _checked(_bearing_from_values(values), at)
+        posterior = _read_posterior(item["posterior"], values, at)
+        _check_posterior(posterior, bearing, at)
+        try:
+            items.append(MixtureComposition(
+                effects=item["effects"], weight=item["weight"], delta_bic=item["delta_bic"],
+                bearing=bearing, posterior=posterior, note=str(item["note"]),
+                standard_errors={k: e for k, e in errors.items() if e is not None}))
+        except ValueError as error:
+            raise ValueError(f"{at}.{error}") from None
+    try:
+        return BearingMixture(tuple(items), criterion=entry["criterion"],
+                              left_out=tuple(entry["left_out"]), min_weight=entry["min_weight"])
+    except ValueError as error:
+        raise ValueError(f"{where}: {error}") from None
+
+
+def _checked(bearing: SlidingBearing, where) -> SlidingBearing:
+    """`bearing`, or `ValueError` at `where` when its constants are out of range."""
+    try:
+        check_bearing(bearing)
+    except ValueError as error:
+        raise ValueError(f"{where}: {error}") from None
+    return bearing
+
+
+def _read_document(document, where, *, read_draws: bool):
+    """(bearing, posterior or None, mixture or None) of a bearing-file object, every key checked."""
     if not isinstance(document, dict):
         raise ValueError(f"{where}: a bearing file is a JSON object; see the format in the manual.")
     if document.get("format") != FORMAT_NAME:
@@ -281,29 +327,30 @@ def _read_document(document, where, *, read_posterior: bool):
         raise ValueError(f"{where}: format_version {version} is newer than this teflon-jax reads "
                          f"({FORMAT_VERSION}); update teflon-jax.")
     unknown = set(document) - {"format", "format_version", "teflon_jax_version", "parts",
-                               "sources", "fit", "posterior"}
+                               "sources", "fit", "posterior", "mixture"}
     if unknown:
         raise ValueError(f"{where}: unknown key(s) {sorted(unknown)}.")
     if "parts" not in document:
         raise ValueError(f"{where}: the key 'parts' is missing.")
+    if "posterior" in document and "mixture" in document:
+        raise ValueError(f"{where}: a bearing file holds a 'posterior' (the draws of one "
+                         "composition) or a 'mixture' (several compositions), not both.")
     values, _ = _read_parts(document["parts"], where)
-    bearing = _bearing_from_values(values)
-    try:
-        check_bearing(bearing)
-    except ValueError as error:
-        raise ValueError(f"{where}: {error}") from None
-    posterior = None
-    if read_posterior and "posterior" in document:
+    bearing = _checked(_bearing_from_values(values), where)
+    posterior = mixture = None
+    if read_draws and "posterior" in document:
         posterior = _read_posterior(document["posterior"], values, where)
         _check_posterior(posterior, bearing, where)
-    return bearing, posterior
+    if read_draws and "mixture" in document:
+        mixture = _read_mixture(document["mixture"], where)
+    return bearing, posterior, mixture
 
 
 def bearing_from_dict(document: dict, *, where: str = "bearing") -> SlidingBearing:
     """The `SlidingBearing` of a bearing-file object (see the module docstring); `ValueError`
     naming `where` and the key for anything missing, unknown, unitless or out of range
-    (the `posterior` object included, when there is one)."""
-    return _read_document(document, where, read_posterior=True)[0]
+    (the `posterior` or `mixture` object included, when there is one)."""
+    return _read_document(document, where, read_draws=True)[0]
 
 
 def load_bearing(path) -> SlidingBearing:
@@ -319,7 +366,15 @@ def load_bearing_posterior(path) -> BearingPosterior | None:
     k's bearing. `ValueError` naming the file and the key for a posterior that is not a
     valid one (`BearingPosterior`), or whose draws make an invalid bearing."""
     document = read_json_document(path, "bearing file")
-    return _read_document(document, str(path), read_posterior=True)[1]
+    return _read_document(document, str(path), read_draws=True)[1]
+
+
+def load_bearing_mixture(path) -> BearingMixture | None:
+    """The `BearingMixture` of a bearing file's `mixture` object (SI), or `None` when the file has
+    none (`load_bearing` reads its point estimate, `parts`: the composition the search chose).
+    `ValueError` naming the file and the key for a mixture that is not a valid one."""
+    document = read_json_document(path, "bearing file")
+    return _read_document(document, str(path), read_draws=True)[2]
 
 
 def _version() -> str:
@@ -364,15 +419,31 @@ def _posterior_to_dict(posterior: BearingPosterior) -> dict:
                     "seed": posterior.seed}}
 
 
+def _mixture_to_dict(mixture: BearingMixture) -> dict:
+    def composition(c):
+        _check_posterior(c.posterior, c.bearing, f"mixture.compositions[{c.label}]")
+        return {"effects": list(c.effects), "weight": c.weight, "delta_bic": c.delta_bic,
+                "parts": bearing_to_dict(c.bearing, standard_errors=c.standard_errors)["parts"],
+                "posterior": _posterior_to_dict(c.posterior), "note": c.note}
+
+    return {"criterion": mixture.criterion, "min_weight": mixture.min_weight,
+            "compositions": [composition(c) for c in mixture.compositions],
+            "left_out": [dict(entry) for entry in mixture.left_out]}
+
+
 def bearing_to_dict(bearing: SlidingBearing, *, standard_errors=None, sources=(),
-                    fit=None, posterior: BearingPosterior | None = None) -> dict:
+                    fit=None, posterior: BearingPosterior | None = None,
+                    mixture: BearingMixture | None = None) -> dict:
     """A bearing-file object for `bearing` (SI units).
 
     **Arguments:** `standard_errors` mapping `(part, constant)` -> standard error [SI];
     `sources` the records the bearing came from; `fit` a JSON-able summary of the fit;
     `posterior` the draws of a Bayesian fit (`BearingPosterior`), whose constants must be
-    constants of `bearing`'s parts and make a valid bearing draw by draw.
+    constants of `bearing`'s parts and make a valid bearing draw by draw; or `mixture` the
+    compositions' bearings with their weights and draws (`BearingMixture`).
     """
+    if mixture is not None and (posterior is not None or not isinstance(mixture, BearingMixture)):
+        raise ValueError("mixture: must be a BearingMixture, and not given with a posterior.")
     if posterior is not None:
         if not isinstance(posterior, BearingPosterior):
             raise ValueError(f"posterior: must be a BearingPosterior, got {type(posterior).__name__}.")
@@ -408,15 +479,18 @@ def bearing_to_dict(bearing: SlidingBearing, *, standard_errors=None, sources=()
     return {"format": FORMAT_NAME, "format_version": FORMAT_VERSION,
             "teflon_jax_version": _version(), "parts": parts,
             "sources": [str(s) for s in sources], **({"fit": fit} if fit is not None else {}),
-            **({"posterior": _posterior_to_dict(posterior)} if posterior is not None else {})}
+            **({"posterior": _posterior_to_dict(posterior)} if posterior is not None else {}),
+            **({"mixture": _mixture_to_dict(mixture)} if mixture is not None else {})}
 
 
 def save_bearing(path, bearing: SlidingBearing, *, standard_errors=None, sources=(),
-                 fit=None, posterior: BearingPosterior | None = None) -> pathlib.Path:
+                 fit=None, posterior: BearingPosterior | None = None,
+                 mixture: BearingMixture | None = None) -> pathlib.Path:
     """Write `bearing` as a bearing file (JSON; see `bearing_to_dict`), with the draws of
-    `posterior` (a `BearingPosterior`) beside the point estimate when given."""
+    `posterior` (a `BearingPosterior`) or the compositions of `mixture` (a `BearingMixture`)
+    beside the point estimate when given."""
     path = pathlib.Path(path)
     document = bearing_to_dict(bearing, standard_errors=standard_errors, sources=sources, fit=fit,
-                               posterior=posterior)
+                               posterior=posterior, mixture=mixture)
     path.write_text(json.dumps(document, indent=2, allow_nan=False) + "\n")
     return path

@@ -37,6 +37,15 @@ def _getter(name):
     return lambda b: None if getattr(b, part) is None else getattr(getattr(b, part), constant)
 
 
+def posterior_constant(bearing: SlidingBearing, name: str):
+    """Constant `name` (a key of `POSTERIOR_FIELDS`) of `bearing` [SI], or `None` when the
+    bearing lacks its part."""
+    if name not in POSTERIOR_FIELDS:
+        raise ValueError(f"posterior: unknown constant {name!r}; the constants a posterior can "
+                         f"hold are {', '.join(POSTERIOR_FIELDS)}.")
+    return _getter(name)(bearing)
+
+
 def _count(value, key, minimum):
     if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < minimum:
         raise ValueError(f"posterior.{key}: must be an integer >= {minimum}, got {value!r}.")
