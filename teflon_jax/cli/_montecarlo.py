@@ -41,6 +41,7 @@ from ._normal_load import (
     vertical_model,
     vertical_structure,
 )
+from ._mixture_runs import runner_of
 from ._posterior_flags import (
     add_posterior_flags,
     posterior_arguments,
@@ -232,7 +233,7 @@ def run_montecarlo(args) -> int:
     chunk_size = args.chunk_size
     attrs = {**run_attributes(args), **posterior_attributes(posterior)}
     if args.scheduler is None:
-        result = monte_carlo(
+        result = runner_of(posterior, monte_carlo)(  # a bearing file's mixture: its compositions
             structure, model, args.motions, key=jax.random.key(args.seed),
             chunk_size=chunk_size, progress=progress, **posterior_arguments(posterior, args.motions),
         )

@@ -17,6 +17,8 @@ band.
 import argparse
 import typing
 
+from ._mixture_runs import MIXTURE, mixture_attributes, mixture_report, read_mixture_run
+
 POINT, MOTION = "point", "motion"
 
 BAND = (5.0, 95.0)
@@ -72,12 +74,12 @@ def add_posterior_flags(parser) -> None:
 
 
 def read_posterior_flags(args) -> PosteriorRun | None:
-    """The posterior run the flags ask for, or `None` (the point bearing, as without a
-    posterior): `ValueError` naming the flag, before any work, for --bearing-draws without a
-    --bearing file that holds a posterior, K above its number of draws, and the flags whose
-    runs do not take draws (--storeys and the storey limits of --limit, --pelicun-demands,
-    --scheduler, --property-factors given with --bearing-draws); several --pga levels and
-    the --limit of base_disp and base_shear_ratio take them."""
+    """The posterior run the flags ask for (a `MixtureRun` for a file with a mixture), or `None`
+    (the point bearing, as without a posterior): `ValueError` naming the flag, before any work,
+    for --bearing-draws without a --bearing file that holds a posterior, K above its number of
+    draws, and the flags whose runs do not take draws (--storeys and the storey limits of
+    --limit, --pelicun-demands, --scheduler, --property-factors given with --bearing-draws);
+    several --pga levels and the --limit of base_disp and base_shear_ratio take them."""
     from ..formats import load_bearing_posterior
 
     given = args.bearing_draws
@@ -91,11 +93,12 @@ def read_posterior_flags(args) -> PosteriorRun | None:
     except ValueError as error:
         raise ValueError(f"--bearing {error}") from None
     if posterior is None:
-        if given not in (None, POINT):
+        mixture = read_mixture_run(args, _refuse_other_runs)  # a mixture of compositions, or None
+        if mixture is None and given not in (None, POINT):
             raise ValueError(f"--bearing-draws {given}: --bearing {args.bearing} holds no posterior "
                              "draws (no 'posterior' section); write one with fit --bayes DIR "
                              "--save-bearing FILE, or leave --bearing-draws out.")
-        return None
+        return mixture
     if given == POINT or (given is None and args.property_factors is not None):
         return None  # the point estimate; bounding cases take the bearing as a whole
     if isinstance(given, int) and given > posterior.size:
@@ -135,7 +138,7 @@ def posterior_arguments(run: PosteriorRun | None, n_motions: int) -> dict:
     from ..formats import load_bearing
     from ..studies import motion_draws, nested_draws
 
-    if run is None:
+    if run is None or run.mode == MIXTURE:  # a mixture: runner_of runs its compositions
         return {}
     stacked, size = run.posterior.bearings(load_bearing(run.path)), run.posterior.size
     if run.mode == MOTION:
@@ -147,6 +150,8 @@ def posterior_attributes(run: PosteriorRun | None) -> dict:
     """What a results file says of the draws (beside the file's path and SHA-256)."""
     if run is None:
         return {}
+    if run.mode == MIXTURE:
+        return mixture_attributes(run)
     return {"bearing_draws": run.mode, "bearing_seed": run.seed, "posterior_draws": run.posterior.size,
             "posterior_constants": ",".join(run.posterior.names),
             **({} if run.bearings is None else {"bearings": run.bearings})}
@@ -161,6 +166,8 @@ def posterior_report(result, run: PosteriorRun | None, units) -> tuple[dict, lis
 
     if run is None:
         return {}, []
+    if run.mode == MIXTURE:
+        return mixture_report(result, run, units)
     length, factor = units.length
     entry = {**posterior_attributes(run), "bearing_draw": [int(k) for k in result.bearing_draw]}
     lines = [f"bearing posterior of {run.path}: {run.posterior.size} draws of "
