@@ -131,6 +131,32 @@ def check_pairs(args, pairs) -> list:
     return pairs
 
 
+def _pair_records(args, pairs):
+    """(records [(name, ax, ay, dt)], ax, ay (P, n) [m/s^2] on one grid, its step dt [s], notes)
+    of the suite's `pairs`, each read as `run` reads one pair (`load_components`) and the
+    shorter ones continued with zero ground acceleration; `ValueError` naming --suite for
+    pairs of different time steps."""
+    from ._run_records import load_components
+
+    records, notes = [], []
+    for name, x, y, scale in pairs:
+        one = argparse.Namespace(**{**vars(args), "record_x": x, "record_y": y, "scale": scale * args.scale})
+        ax, ay, dt, pair_notes = load_components(one)
+        records.append((name, ax, ay, dt))
+        notes += [f"{name}: {n}" for n in pair_notes]
+    steps = {dt for *_, dt in records}
+    if len(steps) > 1:
+        listing = ", ".join(f"{name} {dt:g} s" for name, _, _, dt in records)
+        raise ValueError(f"--suite: the pairs have different time steps ({listing}); resample them first.")
+    dt = steps.pop()
+    n = max(ax.size for _, ax, _, _ in records)
+    if any(ax.size != n for _, ax, _, _ in records):
+        notes.append(f"pairs shorter than {(n - 1) * dt:g} s continue with zero ground acceleration")
+    ax = np.stack([np.pad(a, (0, n - a.size)) for _, a, _, _ in records])
+    ay = np.stack([np.pad(a, (0, n - a.size)) for _, _, a, _ in records])
+    return records, ax, ay, dt, notes
+
+
 def run_suite(args, isolator) -> int:
     """Run the suite on `isolator` (`read_isolator`) through the structure of `run`'s flags."""
     from ..studies import (
@@ -153,28 +179,13 @@ def run_suite(args, isolator) -> int:
     spectrum = read_target(args)  # target, range and limits checked before any record is read
     bounding = read_suite_factors(args)
     pairs = check_pairs(args, read_suite(args.suite))
-    from ._run_records import load_components
     from ._run_structure import read_structure, suite_build
 
     read_structure(args, isolator)  # the structure flags and the plan, before any record
     if spectrum is not None:
         check_unscaled(pairs, args)
-    records, notes = [], []
-    for name, x, y, scale in pairs:
-        one = argparse.Namespace(**{**vars(args), "record_x": x, "record_y": y, "scale": scale * args.scale})
-        ax, ay, dt, pair_notes = load_components(one)
-        records.append((name, ax, ay, dt))
-        notes += [f"{name}: {n}" for n in pair_notes]
-    steps = {dt for *_, dt in records}
-    if len(steps) > 1:
-        listing = ", ".join(f"{name} {dt:g} s" for name, _, _, dt in records)
-        raise ValueError(f"--suite: the pairs have different time steps ({listing}); resample them first.")
-    dt = steps.pop()
-    n = max(ax.size for _, ax, _, _ in records)
-    if any(ax.size != n for _, ax, _, _ in records):
-        notes.append(f"pairs shorter than {(n - 1) * dt:g} s continue with zero ground acceleration")
-    ax = np.stack([np.pad(a, (0, n - a.size)) for _, a, _, _ in records])
-    ay = np.stack([np.pad(a, (0, n - a.size)) for _, _, a, _ in records])
+    records, ax, ay, dt, notes = _pair_records(args, pairs)
+    n = ax.shape[1]
     scaling = None
     if spectrum is not None:  # factors checked against --max-factor before any run
         factors, scaling = scale_to_target(args, spectrum, [r[0] for r in records], ax, ay, dt)
