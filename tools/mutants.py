@@ -237,9 +237,9 @@ MUTANTS = (
            "inner = 2 * (self.inner_capacity + a * jnp.maximum(self.bottom_capacity / b,",
            ("tests/test_triple_pendulum.py",), "series model: inner ring at the later outer ring"),
     # the triple pendulum in a structure, the vertical component, the pendulum's test record
-    Mutant("P3", "teflon_jax/systems/_triple_structure.py",
-           "speed = jnp.abs(increment) * pendulum.velocity_factors() / time_step",
-           "speed = jnp.abs(increment) / time_step",
+    Mutant("P3", "teflon_jax/systems/_slider_forces.py",
+           "speed, heading = slide * pendulum.velocity_factors() / time_step, direction",
+           "speed, heading = slide / time_step, direction",
            ("tests/test_triple_structure.py",), "triple pendulum in a structure: Eq. 1 at the slider's speed, not the surface's"),
     Mutant("P4", "teflon_jax/cli/_simulate.py",
            "(result.fx + load * result.ux / radius, result.fy + load * result.uy / radius)",
@@ -288,9 +288,9 @@ MUTANTS = (
            ("tests/test_series_bounding.py",), "bounding of a series pendulum: only the first "
            "surface's friction is scaled"),
     Mutant("O4", "teflon_jax/systems/_slab_series.py",
-           "self.pendulum, state[\"heat\"], p[\"k\"], _length(d)[..., 0], self.time_step, self.heat_rates,\n"
+           "self.pendulum, state[\"heat\"], p[\"k\"], slider_lengths(d), self.time_step, self.heat_rates,\n"
            "                factor)",
-           "self.pendulum, state[\"heat\"], p[\"k\"], _length(d)[..., 0], self.time_step, self.heat_rates,\n"
+           "self.pendulum, state[\"heat\"], p[\"k\"], slider_lengths(d), self.time_step, self.heat_rates,\n"
            "                jnp.ones_like(factor))",
            ("tests/test_slab_series_heat.py",), "heated slab: each group's surfaces heat under the "
            "weight W_g, not its own normal load N_g"),

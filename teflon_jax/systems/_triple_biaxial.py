@@ -32,8 +32,7 @@ from ..bearing import SeriesPendulum
 from ..excitation import Signal
 from ..units import STANDARD_GRAVITY
 from ._slider_forces import balance_forces, floor_stiffnesses, initial_history
-from ._storey_peaks import storey_rows
-from ._structure_response import check_duration
+from ._structure_build import check_duration, storey_rows
 from ._triple_structure import (
     RESCUE_ITERATIONS,
     StructureOnTriple,

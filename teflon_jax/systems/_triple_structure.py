@@ -59,7 +59,7 @@ from ._slider_forces import (
     step_history,
 )
 from ._structure import StructureOnSliders
-from ._structure_response import check_duration
+from ._structure_build import check_duration
 from ._vertical import load_factor_at, uplift_steps
 
 TRIPLE_NEWTON_ITERATIONS = 60
