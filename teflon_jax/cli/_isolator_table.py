@@ -364,6 +364,9 @@ FIT_ROWS: dict[str, FitRow] = {
 _SERIES_FILE = ("{flag}: --isolator {isolator} needs the isolator file of its surfaces (radius, capacity "
                 "and friction of each; docs/formats.md), e.g. --isolator-file {example}.")
 
+_SERIES_RADIUS = ("radius", "{flag}: does not apply to --isolator {isolator} (its radii are in --isolator-file); "
+                  "leave {flag} out.")
+
 TEST_ROWS: dict[str, SimulationRow] = {
     "flat": SimulationRow(refuses=(("radius", "{flag}: applies to --isolator single-fp only (a flat slider has "
                                    "no radius); add --isolator single-fp or leave {flag} out."),)),
@@ -372,9 +375,11 @@ TEST_ROWS: dict[str, SimulationRow] = {
                   "triple or double pendulum, as the file says); leave --isolator single-fp out."),),
         requires=(("radius", "{flag}: --isolator single-fp needs the radius of its concave surface, e.g. "
                    "--radius 88in."),)),
-    "triple-fp": SimulationRow(requires=(("isolator_file", _SERIES_FILE.replace("{example}", "tfp.json")),),
+    "triple-fp": SimulationRow(refuses=(_SERIES_RADIUS,),
+                               requires=(("isolator_file", _SERIES_FILE.replace("{example}", "tfp.json")),),
                                file_of_it=True, model="series model of Fenz & Constantinou (2008)"),
-    "double-fp": SimulationRow(requires=(("isolator_file", _SERIES_FILE.replace("{example}", "dfp.json")),),
+    "double-fp": SimulationRow(refuses=(_SERIES_RADIUS,),
+                               requires=(("isolator_file", _SERIES_FILE.replace("{example}", "dfp.json")),),
                                file_of_it=True, model="series model of Fenz & Constantinou (2006)"),
 }
 """`simulate-test`'s row of each isolator (the keys: `_common.ISOLATORS`); an --isolator-file
