@@ -420,7 +420,7 @@ def check_structure_bearing(bearing: SlidingBearing, pressure=1.0) -> None:
 def design_ranges(structure: IsolatedStructure) -> dict[str, tuple[float, float]]:
     """Admissible range [low, high] of each design variable (SI): the pressure within the
     Table 1 rows (any positive contact pressure for a given bearing), positive periods, damping in [0, 1), friction constants in their physical
-    ranges; a triple or double pendulum's: `triple_design_ranges`, `double_design_ranges`)."""
+    ranges; a triple or double pendulum's: those of its `design_space`)."""
     if isinstance(structure, TripleIsolatedStructure):
         return pendulum_design_ranges(structure.pendulum)
     if structure.bearing is None:

@@ -25,11 +25,11 @@ class TripleIsolatedStructure(eqx.Module):
     one motion (`triple_structure`), called as `structure(ground_acceleration, design)` like
     `IsolatedStructure` (a `StructureOnTriple`), or as `structure((ground_x, ground_y))` for
     two components (a `BiaxialStructureOnTriple`, what `monte_carlo` builds for
-    `TwoComponentGroundMotion`); on a triple pendulum `design` may set `TRIPLE_DESIGN_VARIABLES`
-    (the outer radii's scale, the inner and outer f_max, the capacities' scale;
-    `designed_triple`), on a double pendulum `DOUBLE_DESIGN_VARIABLES` (the radii's scale,
-    the surfaces' f_max, the capacities' scale; `designed_double`), on either `FRICTION_FACTOR`
-    (every surface's friction times a bounding case's factor; `designed_pendulum`).
+    `TwoComponentGroundMotion`); `design` may set the variables of the pendulum's design space
+    (`design_space("triple-fp")`: the outer radii's scale, the inner and outer f_max, the
+    capacities' scale; `design_space("double-fp")`: the radii's scale, the surfaces' f_max, the
+    capacities' scale), and on either `FRICTION_FACTOR` (every surface's friction times a
+    bounding case's factor; `designed_pendulum`).
 
     **Fields:** `pendulum` (`TriplePendulum` or `DoublePendulum`; also read as `triple`),
     `kind` (static) "rigid" or "building", `time_step` [s] (static), `weight` [N] of the
