@@ -244,7 +244,8 @@ def run_montecarlo(args) -> int:
 
         result = monte_carlo_distributed(
             structure, model, args.motions, out=args.out, seed=args.seed,
-            scheduler=args.scheduler, chunk_size=chunk_size, progress=progress, attrs=attrs,
+            scheduler=args.scheduler, chunk_size=chunk_size, progress=progress,
+            attrs={k: "none" if v is None else v for k, v in attrs.items()},  # as the file written here says None
             compilation_cache=None if args.no_compile_cache else str(compile_cache_dir()),
         )
         files = [str(args.out)]
