@@ -19,8 +19,10 @@ POSTERIOR_WORD = "posterior"
 """The `--property-factors` value that takes the bounds from the posterior of `--bearing`."""
 
 
-def add_posterior_quantiles_flag(parser) -> None:
-    """`--posterior-quantiles LOWER,UPPER` (with `--property-factors posterior`)."""
+def add_bounding_flags(parser, help: str) -> None:
+    """`--property-factors LOWER,UPPER|posterior` (its `help` says what the three cases run)
+    and `--posterior-quantiles LOWER,UPPER` (with `--property-factors posterior`)."""
+    parser.add_argument("--property-factors", metavar="LOWER,UPPER|posterior", default=None, help=help)
     parser.add_argument("--posterior-quantiles", metavar="LOWER,UPPER", default=None,
                         help="with --property-factors posterior: the quantiles of each friction constant's "
                         "posterior draws that the bound cases take (the upper case the upper quantile of f_max "

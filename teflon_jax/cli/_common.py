@@ -186,14 +186,44 @@ def output_units(family: str) -> OutputUnits:
     return OutputUnits(length=("in", INCH), force=("kip", KIP), pressure=("psi", PSI))
 
 
-def _positive_int(text: str) -> int:
+def name_value_items(text) -> list[str]:
+    """The non-empty items of a NAME=VALUE[,...] flag: its text, or the list the repeated flag
+    gives, split at the commas."""
+    parts = [] if not text else [text] if isinstance(text, str) else text
+    return [item for part in parts for item in part.split(",") if item.strip()]
+
+
+def parse_name_values(text, dimensions: dict, flag: str) -> dict:
+    """`flag` NAME=VALUE[,...] (`name_value_items`) -> {name: SI value}, each value a quantity
+    of `dimensions[name]` (`parse_quantity`: e.g. rate_a=0.6s/in); `ValueError` naming `flag`
+    and the item that is not NAME=VALUE, or the unknown name with the known ones (the keys of
+    `dimensions`, in their order). The one reader of `--fixed` and `--known`."""
+    values = {}
+    for item in name_value_items(text):
+        name, sep, value = item.partition("=")
+        name = name.strip()
+        if not sep:
+            raise ValueError(f"{flag}: expected NAME=VALUE (e.g. rate_a=0.6s/in), got '{item}'.")
+        if name not in dimensions:
+            raise ValueError(f"{flag}: unknown parameter '{name}'; the parameters are {', '.join(dimensions)}.")
+        values[name] = parse_quantity(value, dimensions[name], where=f"{flag} {name}")
+    return values
+
+
+def integer_at_least(text: str, minimum: int, words: str) -> int:
+    """The integer of a flag's `text`, at least `minimum`; `argparse.ArgumentTypeError`
+    "expected `words`, got ..." otherwise."""
     try:
         value = int(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a positive integer, got {text!r}") from None
-    if value <= 0:
-        raise argparse.ArgumentTypeError(f"expected a positive integer, got {value}")
+        raise argparse.ArgumentTypeError(f"expected {words}, got {text!r}") from None
+    if value < minimum:
+        raise argparse.ArgumentTypeError(f"expected {words}, got {value}")
     return value
+
+
+def _positive_int(text: str) -> int:
+    return integer_at_least(text, 1, "a positive integer")
 
 
 def _write_json(path, payload: dict, **dumps) -> None:
@@ -203,6 +233,23 @@ def _write_json(path, payload: dict, **dumps) -> None:
         path = pathlib.Path(path)
         path.parent.mkdir(parents=True, exist_ok=True)
         path.write_text(json.dumps({**provenance(), **payload}, indent=2, **dumps) + "\n")
+
+
+def add_scheduler_flag(parser, tasks: str, after: str = "") -> None:
+    """`--scheduler local:N|ADDRESS`: `tasks` ("run the chunks as tasks") on a Dask cluster,
+    its help ending with `after`."""
+    parser.add_argument("--scheduler", default=None, metavar="local:N|ADDRESS",
+                        help=f"{tasks} on a Dask cluster: 'local:N' starts N worker processes here, an "
+                        "address (tcp://host:8786) uses a running scheduler (SLURM/PBS: see "
+                        f"docs/distributed.md); needs --out FILE.nc{after}")
+
+
+def add_cluster_flags(parser, tasks: str, after: str, out: str, chunk_size: str) -> None:
+    """`--scheduler` (`add_scheduler_flag` of `tasks`, `after`), `--out FILE.nc` and
+    `--chunk-size N`, with the helps `out` and `chunk_size`."""
+    add_scheduler_flag(parser, tasks, after)
+    parser.add_argument("--out", type=pathlib.Path, default=None, metavar="FILE.nc", help=out)
+    parser.add_argument("--chunk-size", type=_positive_int, default=None, metavar="N", help=chunk_size)
 
 
 def check_scheduler(args) -> None:

@@ -3,7 +3,6 @@ this process, or with `--scheduler local:N|ADDRESS` as chunks of design points o
 cluster (`teflon_jax.studies.design_sweep_distributed`); `--out FILE.nc` keeps the sweep."""
 
 import argparse
-import pathlib
 import sys
 import time
 
@@ -12,6 +11,7 @@ from ._bearing_flags import add_bearing_flag, read_bearing_flag
 from ._common import (
     _positive_int,
     _write_json,
+    add_cluster_flags,
     add_quantity,
     check_table1,
     output_units,
@@ -76,18 +76,14 @@ def add_design_parser(subparsers) -> argparse.ArgumentParser:
     parser.add_argument("--penalty", type=float, default=100.0,
                         help="weight rho of the displacement-limit penalty [-] (default 100)")
     parser.add_argument("--grid", type=_positive_int, default=7, help="sweep points per variable (default 7)")
-    parser.add_argument("--scheduler", default=None, metavar="local:N|ADDRESS",
-                        help="evaluate the grid sweep as tasks on a Dask cluster: 'local:N' starts N "
-                        "worker processes here, an address (tcp://host:8786) uses a running scheduler "
-                        "(SLURM/PBS: see docs/distributed.md); needs --out FILE.nc (default: this process)")
-    parser.add_argument("--out", type=pathlib.Path, default=None, metavar="FILE.nc",
-                        help="write the grid sweep (objective, mean smooth peaks, convergence on the "
-                        "grid of Tb x pressure) as NetCDF; with --scheduler it streams there")
-    parser.add_argument("--chunk-size", type=_positive_int, default=None, metavar="N",
-                        help="design points per compiled call, a task with --scheduler (default 16 "
-                        "on a CPU and on a cluster; on a GPU the largest power of two up to 65536 "
-                        "whose points, each over all the motions, fit in half its free memory); "
-                        "the same N gives the same sweep bit for bit here and on a cluster")
+    add_cluster_flags(
+        parser, "evaluate the grid sweep as tasks", " (default: this process)",
+        out="write the grid sweep (objective, mean smooth peaks, convergence on the grid of Tb x "
+        "pressure) as NetCDF; with --scheduler it streams there",
+        chunk_size="design points per compiled call, a task with --scheduler (default 16 on a CPU "
+        "and on a cluster; on a GPU the largest power of two up to 65536 whose points, each over all "
+        "the motions, fit in half its free memory); the same N gives the same sweep bit for bit here "
+        "and on a cluster")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
     add_bearing_flag(parser, replaces="--ptfe's Table 1 rows; the bearing needs a heating or "
                      "pressure-dependence part, whose contact pressure --pressure-range then spans")

@@ -28,13 +28,14 @@ import pathlib
 import sys
 import typing
 
-from ..units import INCH, parse_quantity
+from ..units import INCH
 from ._bearing_flags import add_save_bearing_flag, check_output_file
 from ._common import (
     _write_json,
     add_quantity,
     add_units_flag,
     output_units,
+    parse_name_values,
     read_bearing_record,
 )
 from ._diagnose_mixture import (
@@ -252,7 +253,7 @@ def _search_slider(args, diagnosis, candidates, say) -> Found:
     from identification.discovery import discover_effects
 
     args.baseline = args.baseline or "paper1990"
-    known = _parse_known(args.known)
+    known = parse_name_values(args.known, known_dimensions(), "--known")
     record = with_normal_load(read_bearing_record(args.record), args.record, args.normal_load)
 
     def search(friction_record):
@@ -410,23 +411,14 @@ def with_normal_load(record, path, normal_load):
     return dataclasses.replace(record, normal_load=np.full(np.shape(record.ux), float(normal_load)))
 
 
-def _parse_known(items) -> dict:
+def known_dimensions() -> dict:
+    """{name: dimension} of the constants `--known` holds: f_max, yield_disp and every
+    effect's parameters (`identification.discovery.EFFECTS`)."""
     from identification.discovery import EFFECTS
 
     units = {"f_max": "-", "yield_disp": "m"}
     units.update({p.name: p.unit for e in EFFECTS.values() for p in e.parameters})
-    known = {}
-    for item in items:
-        name, sep, value = item.partition("=")
-        name = name.strip()
-        if not sep:
-            raise ValueError(f"--known: expected NAME=VALUE (e.g. rate_a=0.6s/in), got '{item}'.")
-        if name not in units:
-            raise ValueError(f"--known: unknown parameter '{name}'; the parameters are "
-                             f"{', '.join(units)}.")
-        known[name] = parse_quantity(value, _DIMENSIONS.get(units[name], "dimensionless"),
-                                     where=f"--known {name}")
-    return known
+    return {name: _DIMENSIONS.get(unit, "dimensionless") for name, unit in units.items()}
 
 
 def main(argv=None) -> int:

@@ -15,7 +15,7 @@ import re
 import numpy as np
 
 from ..units import STANDARD_GRAVITY, parse_quantity
-from ._bounding import add_posterior_quantiles_flag
+from ._bounding import add_bounding_flags
 
 LIMITS = {
     "base_disp": ("length", "peak isolator displacement"),
@@ -62,15 +62,13 @@ def add_engineering_flags(parser) -> None:
                         help="write the peaks as demand samples in pelicun's format (PFA per level, PID "
                         "per storey, the isolators' displacement as BRD, failed runs flagged in ERROR); "
                         "with several --pga levels one file per level, FILE-level1.csv, ...")
-    parser.add_argument("--property-factors", metavar="LOWER,UPPER|posterior", default=None,
-                        help="bounding analysis: run the nominal bearing and its lower- and upper-bound "
-                        "variants (f_max and delta_f of Eq. 1 times LOWER and UPPER, e.g. 0.85,1.3; on every "
-                        "surface of a triple or double pendulum, its radii and capacities kept; 'posterior': "
-                        "each constant at a quantile of the posterior draws of the --bearing file, see "
-                        "--posterior-quantiles) under the same motions, and report which case governs "
-                        "displacement, base shear and drift; with --scheduler the three cases are the design "
-                        "axis of the distributed run (--out FILE.nc)")
-    add_posterior_quantiles_flag(parser)
+    add_bounding_flags(parser, "bounding analysis: run the nominal bearing and its lower- and upper-bound "
+                       "variants (f_max and delta_f of Eq. 1 times LOWER and UPPER, e.g. 0.85,1.3; on every "
+                       "surface of a triple or double pendulum, its radii and capacities kept; 'posterior': "
+                       "each constant at a quantile of the posterior draws of the --bearing file, see "
+                       "--posterior-quantiles) under the same motions, and report which case governs "
+                       "displacement, base shear and drift; with --scheduler the three cases are the design "
+                       "axis of the distributed run (--out FILE.nc)")
 
 
 def parse_limits(texts, structure: str, components: int) -> list[Limit]:

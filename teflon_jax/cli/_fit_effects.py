@@ -8,8 +8,8 @@ has the parameters with standard errors (SI), the nrmse and the convergence of t
 import sys
 
 from ._bearing_flags import check_output_file, save_bearing_flag
-from ._common import _write_json, read_bearing_record, read_quantities
-from ._diagnose import with_normal_load
+from ._common import _write_json, parse_name_values, read_bearing_record, read_quantities
+from ._diagnose import known_dimensions, with_normal_load
 
 
 def _effect_names(text: str) -> list[str]:
@@ -23,16 +23,6 @@ def _effect_names(text: str) -> list[str]:
         raise ValueError(f"--effects: unknown effect(s) {', '.join(unknown)}; the known "
                          f"effects are {', '.join(EFFECT_NAMES)}.")
     return names
-
-
-def _known(text: str | None) -> dict:
-    from ._diagnose import _parse_known
-
-    items = [item for item in (text or "").split(",") if item.strip()]
-    try:
-        return _parse_known(items)
-    except ValueError as error:
-        raise ValueError(str(error).replace("--known", "--fixed")) from None
 
 
 def run_fit_effects(args) -> int:
@@ -52,7 +42,7 @@ def run_fit_effects(args) -> int:
             if value is not None:
                 raise ValueError(f"{flag}: not available with --effects (every constant of the "
                                  "named parts is fitted; hold some with --fixed).")
-        known = _known(args.fixed)
+        known = parse_name_values(args.fixed, known_dimensions(), "--fixed")
         record = with_normal_load(read_bearing_record(args.records[0]), args.records[0],
                                   args.normal_load)
         composition = ["velocity_dependence", *[e for e in effects if e != "velocity_dependence"]]

@@ -18,7 +18,7 @@ from collections.abc import Callable
 from typing import NamedTuple
 
 from ..units import INCH, parse_quantity
-from ._common import output_units
+from ._common import name_value_items, output_units, parse_name_values
 from ._isolator_flags import load_isolator_file as _load
 
 PARAMETER_DIMENSIONS = {"f_max": "dimensionless", "delta_f": "dimensionless", "rate_a": "slowness",
@@ -92,25 +92,12 @@ class SimulationRow:
 
 
 def _parse_fixed(text):
-    """--fixed NAME=VALUE[,...] (text, or the repeated flag's list) -> {name: SI value}."""
+    """--fixed NAME=VALUE[,...] of the friction law's constants (text, or the repeated flag's
+    list) -> {name: SI value} (`parse_name_values`)."""
     from identification.bearing_fit import PARAMETER_NAMES
 
-    fixed = {}
-    if not text:
-        return fixed
-    if not isinstance(text, str):  # the repeated flag: one list
-        text = ",".join(text)
-    for item in text.split(","):
-        name, sep, value = item.partition("=")
-        name = name.strip()
-        if not sep:
-            raise ValueError(f"--fixed: '{item}' is not NAME=VALUE.")
-        if name not in PARAMETER_NAMES:
-            raise ValueError(f"--fixed: unknown parameter '{name}'; the parameters are "
-                             f"{', '.join(PARAMETER_NAMES)}.")
-        fixed[name] = parse_quantity(value, PARAMETER_DIMENSIONS.get(name, "dimensionless"),
-                                     where=f"--fixed {name}")
-    return fixed
+    return parse_name_values(text, {name: PARAMETER_DIMENSIONS.get(name, "dimensionless")
+                                    for name in PARAMETER_NAMES}, "--fixed")
 
 
 def _own_constants(text, own: dict) -> tuple[dict, object]:
@@ -119,10 +106,8 @@ def _own_constants(text, own: dict) -> tuple[dict, object]:
     A bad value is refused naming it."""
     if not own:
         return {}, text
-    items = [] if not text else [i for part in ([text] if isinstance(text, str) else text)
-                                 for i in part.split(",") if i.strip()]
     values, others = {}, []
-    for item in items:
+    for item in name_value_items(text):
         name, _, value = item.partition("=")
         name = name.strip()
         if name not in own:

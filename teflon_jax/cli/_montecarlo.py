@@ -16,6 +16,7 @@ from ._common import (
     _positive_int,
     _write_json,
     add_quantity,
+    add_scheduler_flag,
     add_units_flag,
     check_table1,
     motion_bar,
@@ -25,6 +26,7 @@ from ._common import (
 from ._engineering import add_engineering_flags, check_bounding_flags
 from ._isolator_flags import add_isolator_flags, check_combination, read_isolator
 from ._main import compile_cache_dir
+from ._mixture_runs import runner_of
 from ._montecarlo_summary import (
     report,
     run_attributes,
@@ -41,7 +43,6 @@ from ._normal_load import (
     vertical_model,
     vertical_structure,
 )
-from ._mixture_runs import runner_of
 from ._posterior_flags import (
     add_posterior_flags,
     posterior_arguments,
@@ -138,11 +139,8 @@ def add_montecarlo_parser(subparsers) -> argparse.ArgumentParser:
                         "Newton solve stops, in units of the yield displacement Y (default 1e-3: on the "
                         "100 benchmark motions the worst peak error against 0.5 ms steps is the same as "
                         "with 1e-5, 0.1-0.2 %%; 0 solves to rounding)")
-    parser.add_argument("--scheduler", default=None, metavar="local:N|ADDRESS",
-                        help="run the chunks as tasks on a Dask cluster: 'local:N' starts N worker "
-                        "processes here, an address (tcp://host:8786) uses a running scheduler "
-                        "(SLURM/PBS: see docs/distributed.md); needs --out FILE.nc, where results "
-                        "stream as chunks finish (default: this process)")
+    add_scheduler_flag(parser, "run the chunks as tasks", ", where results stream as chunks finish "
+                       "(default: this process)")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
     add_engineering_flags(parser)
     add_vertical_flags(parser)

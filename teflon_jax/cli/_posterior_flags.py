@@ -17,6 +17,7 @@ band.
 import argparse
 import typing
 
+from ._common import integer_at_least
 from ._mixture_runs import MIXTURE, mixture_attributes, mixture_report, read_mixture_run
 
 POINT, MOTION = "point", "motion"
@@ -52,13 +53,7 @@ def _draws_value(text: str):
 
 
 def _seed(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected an integer >= 0, got {text!r}") from None
-    if value < 0:
-        raise argparse.ArgumentTypeError(f"expected an integer >= 0, got {text}")
-    return value
+    return integer_at_least(text, 0, "an integer >= 0")
 
 
 def add_posterior_flags(parser) -> None:

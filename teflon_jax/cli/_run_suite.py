@@ -12,7 +12,7 @@ import sys
 
 import numpy as np
 
-from ._common import _positive_int, _write_json
+from ._common import _write_json, add_cluster_flags
 from ._engineering import add_suite_pelicun_flag, suite_pelicun_peaks
 from ._normal_load import NORMAL_LOAD_NOTE, suite_normal_load
 from ._provenance import note_input_file, provenance_attributes
@@ -23,18 +23,14 @@ from ._suite_bounding import add_suite_bounding_flag, read_suite_factors
 
 def add_suite_arguments(parser) -> None:
     """The flags of a suite run on a Dask cluster (`teflon-jax run --suite`)."""
-    parser.add_argument("--scheduler", default=None, metavar="local:N|ADDRESS",
-                        help="with --suite: run chunks of pairs as tasks on a Dask cluster: 'local:N' "
-                        "starts N worker processes here, an address (tcp://host:8786) uses a running "
-                        "scheduler (SLURM/PBS: see docs/distributed.md); needs --out FILE.nc")
-    parser.add_argument("--out", type=pathlib.Path, default=None, metavar="FILE.nc",
-                        help="with --suite: the NetCDF file of the per-pair peaks (default <json stem>.nc; with "
-                        "--property-factors the file of all three cases, written only when given)")
-    parser.add_argument("--chunk-size", type=_positive_int, default=None, metavar="N",
-                        help="with --suite: record pairs per compiled call, a task with --scheduler "
-                        "(default: all in one call on a CPU, on a GPU the largest power of two up to "
-                        "65536 that fits in half its free memory; 8 per task on a cluster); the same N gives the "
-                        "same peaks bit for bit here and on a cluster")
+    add_cluster_flags(
+        parser, "with --suite: run chunks of pairs as tasks", "",
+        out="with --suite: the NetCDF file of the per-pair peaks (default <json stem>.nc; with "
+        "--property-factors the file of all three cases, written only when given)",
+        chunk_size="with --suite: record pairs per compiled call, a task with --scheduler (default: "
+        "all in one call on a CPU, on a GPU the largest power of two up to 65536 that fits in half "
+        "its free memory; 8 per task on a cluster); the same N gives the same peaks bit for bit here "
+        "and on a cluster")
     add_spectrum_flags(parser)
     add_suite_bounding_flag(parser)
     add_suite_pelicun_flag(parser)

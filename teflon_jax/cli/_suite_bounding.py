@@ -13,21 +13,19 @@ import sys
 
 import numpy as np
 
-from ._bounding import add_posterior_quantiles_flag, print_governing, read_bounds
+from ._bounding import add_bounding_flags, print_governing, read_bounds
 from ._common import _write_json
 from ._provenance import provenance_attributes
 
 
 def add_suite_bounding_flag(parser) -> None:
     """`--property-factors LOWER,UPPER|posterior` and `--posterior-quantiles` on `teflon-jax run --suite`."""
-    parser.add_argument("--property-factors", metavar="LOWER,UPPER|posterior", default=None,
-                        help="with --suite: run the suite with the nominal bearing and its lower- and "
-                        "upper-bound variants (f_max and delta_f of Eq. 1 times LOWER and UPPER, e.g. "
-                        "0.85,1.3; 'posterior': each constant at a quantile of the posterior draws of the "
-                        "--bearing file, see --posterior-quantiles), and report which case governs "
-                        "displacement, base shear and drift; with --scheduler the three cases run on the "
-                        "cluster, all in --out FILE.nc")
-    add_posterior_quantiles_flag(parser)
+    add_bounding_flags(parser, "with --suite: run the suite with the nominal bearing and its lower- and "
+                       "upper-bound variants (f_max and delta_f of Eq. 1 times LOWER and UPPER, e.g. "
+                       "0.85,1.3; 'posterior': each constant at a quantile of the posterior draws of the "
+                       "--bearing file, see --posterior-quantiles), and report which case governs "
+                       "displacement, base shear and drift; with --scheduler the three cases run on the "
+                       "cluster, all in --out FILE.nc")
 
 
 def read_suite_factors(args):
