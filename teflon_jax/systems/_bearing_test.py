@@ -23,7 +23,12 @@ from ..excitation import (
     TabulatedMotion,
     as_signal,
 )
-from ..solver import AbstractSteppedSystem, RiccatiNewmark, require_riccati_form
+from ..solver import (
+    AbstractSteppedSystem,
+    RiccatiNewmark,
+    require_riccati_form,
+    solve_with_controller,
+)
 from ..validation import require_positive
 from ._sampled_path import respond_along_path, sample_velocity, sampled_path
 
@@ -171,19 +176,8 @@ def simulate_bearing_test(
 @eqx.filter_jit
 def _solve(system, solver, controller, dt0, times, normal_load, max_steps, adjoint, throw):
     y0 = {"z": _z_at_rest(system.motion), "z_peak": jnp.zeros(())}
-    solution = diffrax.diffeqsolve(
-        diffrax.ODETerm(system),
-        solver,
-        t0=times[0],
-        t1=times[-1],
-        dt0=dt0,
-        y0=y0,
-        saveat=diffrax.SaveAt(ts=times),
-        stepsize_controller=controller,
-        max_steps=max_steps,
-        adjoint=adjoint,
-        throw=throw,
-    )
+    solution = solve_with_controller(system, solver, controller, t0=times[0], t1=times[-1], dt0=dt0, y0=y0,
+                                     save_times=times, max_steps=max_steps, adjoint=adjoint, throw=throw)
     return _result(system.bearing, system.motion, normal_load, solution)
 
 
