@@ -40,9 +40,9 @@ def problem():
                                    strong_motion_duration=1.5)
     records = sample(model, jax.random.key(3), 2)
     surface = concave_surface(RADIUS, displacement_capacity=0.05, restrainer_stiffness=10 * WEIGHT / RADIUS)
-    structure = isolated_structure("rigid", isolator="single-fp", surface=surface, isolation_period=None,
+    structure = isolated_structure("rigid", isolator=surface, isolation_period=None,
                                    **SETTINGS)
-    free = isolated_structure("rigid", isolator="single-fp", radius=RADIUS, isolation_period=None, **SETTINGS)
+    free = isolated_structure("rigid", isolator=concave_surface(RADIUS), isolation_period=None, **SETTINGS)
     peaks = sorted(float(expected_response(free, {}, records[i:i + 1], DT)["peak_disp_max"]) for i in range(2))
     return structure, records, design_bounds(structure, VARIABLES), peaks
 

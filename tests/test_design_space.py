@@ -41,10 +41,10 @@ SAMPLE = {"isolation_period": 3.0, "pressure": 2000 * PSI, "isolation_damping": 
 def _structure(isolator):
     return {
         "flat": lambda: isolated_structure("rigid", pressure=1000 * PSI, isolation_period=2.5),
-        "single-fp": lambda: isolated_structure("rigid", isolator="single-fp", surface=concave_surface(
+        "single-fp": lambda: isolated_structure("rigid", isolator=concave_surface(
             2.0, displacement_capacity=0.1, restrainer_stiffness=1e6)),
-        "triple-fp": lambda: isolated_structure("rigid", isolator="triple-fp", triple=TRIPLE),
-        "double-fp": lambda: isolated_structure("rigid", isolator="double-fp", double=DOUBLE),
+        "triple-fp": lambda: isolated_structure("rigid", isolator=TRIPLE),
+        "double-fp": lambda: isolated_structure("rigid", isolator=DOUBLE),
     }[isolator]()
 
 

@@ -71,7 +71,7 @@ def test_the_radius_scale_divides_the_slopes_of_the_closed_form_backbone():
 
 
 def test_unknown_variables_and_boxes_outside_the_model_are_refused():
-    structure = isolated_structure("rigid", isolator="double-fp", double=DOUBLE)
+    structure = isolated_structure("rigid", isolator=DOUBLE)
     check = design_space("double-fp").check
     with pytest.raises(ValueError, match="unknown variable.*'outer_radius_scale'.*radius_scale"):
         structure(jnp.zeros(10), {"outer_radius_scale": 1.0})
@@ -88,7 +88,7 @@ def test_the_95th_percentile_displacements_gradient_is_the_central_difference():
     """Three short motions strong enough to reach the restrainers (capacities scaled down), so
     that every variable moves the percentile."""
     double = jax.tree_util.tree_map(lambda x: jnp.asarray(x, float), DOUBLE)
-    structure = isolated_structure("rigid", isolator="double-fp", double=double, time_step=0.005,
+    structure = isolated_structure("rigid", isolator=double, time_step=0.005,
                                    newton_tolerance=0.0)
     records = strong_motions()
     design = {"radius_scale": 1.1, "surface_f_max": 0.045, "capacity_scale": 0.3}

@@ -119,7 +119,7 @@ def _swinging(vertical=None):
     bearing = _bearing(bottom_radius=RADIUS, top_radius=RADIUS, bottom_capacity=1.0, top_capacity=1.0,
                        bottom_friction=coulomb_friction(MU), top_friction=coulomb_friction(MU))
     pulse = np.where(TIME < 0.5, 0.2 * STANDARD_GRAVITY * np.sin(np.pi * TIME / 0.5), 0.0)
-    structure = isolated_structure("rigid", isolator="double-fp", double=bearing, time_step=DT)
+    structure = isolated_structure("rigid", isolator=bearing, time_step=DT)
     system = structure(uniform_signal(pulse, DT))
     if vertical is not None:
         system = dataclasses.replace(system, vertical_acceleration=uniform_signal(vertical, DT))
@@ -204,7 +204,7 @@ def test_the_peak_is_differentiable_in_the_bottom_radius(uplift):
     """d(smooth peak displacement)/dR_1 by reverse mode against central differences, also
     through 0.4 s of uplift (a_v = -1.5 g)."""
     acc = 2.0 * np.asarray(jax.random.normal(jax.random.key(1), (601,))) * np.sin(np.pi * np.arange(601) / 600)
-    system = isolated_structure("rigid", isolator="double-fp", double=EQ1)(uniform_signal(acc, 0.01))
+    system = isolated_structure("rigid", isolator=EQ1)(uniform_signal(acc, 0.01))
     if uplift:
         t = 0.01 * np.arange(601)
         vertical = np.where((t > 2.0) & (t < 2.4), -1.5 * STANDARD_GRAVITY, 0.0)
@@ -245,5 +245,5 @@ def test_a_double_pendulum_needs_its_own_isolator_name():
         isolated_structure("rigid", isolator="triple-fp", double=_bearing())
     with pytest.raises(ValueError, match="radius: does not apply to the double-fp isolator"):
         isolated_structure("rigid", isolator="double-fp", double=_bearing(), radius=2.0)
-    structure = isolated_structure("building", isolator="double-fp", double=_bearing())
+    structure = isolated_structure("building", isolator=_bearing())
     assert structure.isolator == "double-fp" and structure.isolation_period is None

@@ -11,6 +11,7 @@ import jax
 import jax.numpy as jnp
 import pytest
 
+from teflon_jax.bearing import concave_surface
 from teflon_jax.cli import main
 from teflon_jax.excitation import StochasticGroundMotion, sample, uniform_signal
 from teflon_jax.studies import expected_response, gradient_check, penalised_objective
@@ -28,7 +29,7 @@ def problem():
     model = StochasticGroundMotion(peak_ground_acceleration=3.0, duration=4.0, time_step=DT, rise_time=0.5,
                                    strong_motion_duration=2.0)
     records = sample(model, jax.random.key(3), 4)
-    structure = isolated_structure("rigid", isolator="single-fp", radius=RADIUS, isolation_period=None,
+    structure = isolated_structure("rigid", isolator=concave_surface(RADIUS), isolation_period=None,
                                    pressure=1000 * PSI, time_step=0.0025, split_at_turn=False,
                                    newton_tolerance=0.0, linear_rule="newmark")
     return structure, records

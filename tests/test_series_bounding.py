@@ -92,7 +92,7 @@ def test_every_surface_friction_is_scaled_and_the_geometry_kept():
 
 
 def test_bounding_design_of_a_series_pendulum_and_its_refusals():
-    structure = isolated_structure("rigid", isolator="triple-fp", triple=isolator_from_dict(_triple(NOMINAL)))
+    structure = isolated_structure("rigid", isolator=isolator_from_dict(_triple(NOMINAL)))
     design = bounding_design(structure, lower=LOWER, upper=UPPER)
     assert list(design) == ["friction_factor"]
     np.testing.assert_array_equal(design["friction_factor"], [1.0, UPPER, LOWER])
@@ -130,7 +130,7 @@ def test_each_bound_is_the_run_on_the_friction_scaled_by_hand():
     plain run on the isolator file with every friction constant multiplied by hand; more
     friction moves the rigid mass less and pushes it harder."""
     def structure(friction):
-        return isolated_structure("rigid", isolator="triple-fp", triple=isolator_from_dict(_triple(friction)),
+        return isolated_structure("rigid", isolator=isolator_from_dict(_triple(friction)),
                                   time_step=0.005, newton_tolerance=TRIPLE_MONTE_CARLO_TOLERANCE)
 
     key = jax.random.key(1)

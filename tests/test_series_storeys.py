@@ -48,7 +48,7 @@ def _document():
 
 
 def _building():
-    return isolated_structure("building", isolator="triple-fp", triple=isolator_from_dict(_document()),
+    return isolated_structure("building", isolator=isolator_from_dict(_document()),
                               time_step=0.005, newton_tolerance=TRIPLE_MONTE_CARLO_TOLERANCE)
 
 

@@ -62,7 +62,7 @@ def test_a_record_along_any_line_is_the_one_direction_response_along_it(kind, ac
 
 
 def test_two_component_monte_carlo_runs_the_triple_pendulum():
-    structure = isolated_structure("building", isolator="triple-fp", triple=TRIPLE)
+    structure = isolated_structure("building", isolator=TRIPLE)
     model = TwoComponentGroundMotion(MOTION)
     result = monte_carlo(structure, model, 2, key=jax.random.key(0), chunk_size=2)
     assert result.converged.all()
@@ -78,7 +78,7 @@ def test_two_component_monte_carlo_runs_the_triple_pendulum():
 @pytest.mark.slow
 def test_the_two_component_peak_is_differentiable_in_the_outer_radii(acc):
     short = acc[:801] * np.sin(np.pi * np.arange(801) / 800)
-    system = isolated_structure("rigid", isolator="triple-fp", triple=TRIPLE)(
+    system = isolated_structure("rigid", isolator=TRIPLE)(
         (uniform_signal(short, 0.01), uniform_signal(0.7 * short[::-1], 0.01)))
 
     def peak(radius):
@@ -100,7 +100,7 @@ def test_two_component_peaks_converge_in_the_time_step(kind):
     model = TwoComponentGroundMotion(MOTION)
 
     def peaks(step):
-        structure = isolated_structure(kind, isolator="triple-fp", triple=TRIPLE, time_step=step)
+        structure = isolated_structure(kind, isolator=TRIPLE, time_step=step)
         result = monte_carlo(structure, model, 3, key=jax.random.key(2), chunk_size=3)
         assert result.converged.all()
         return np.stack([result.base_disp, result.base_shear_ratio])

@@ -71,7 +71,7 @@ def test_the_outer_radius_scale_softens_regimes_two_to_four_as_the_closed_forms(
 
 
 def test_unknown_variables_and_boxes_outside_the_series_model_are_refused():
-    structure = isolated_structure("rigid", isolator="triple-fp", triple=TRIPLE)
+    structure = isolated_structure("rigid", isolator=TRIPLE)
     with pytest.raises(ValueError, match="unknown variable.*'radius'.*outer_radius_scale"):
         structure(jnp.zeros(10), {"radius": 1.0})
     check = design_space("triple-fp").check
@@ -90,7 +90,7 @@ def test_the_95th_percentile_displacements_gradient_is_the_central_difference():
     """Three short motions strong enough to reach the restrainers (capacities halved), so that
     every variable moves the percentile."""
     triple = jax.tree_util.tree_map(lambda x: jnp.asarray(x, float), TRIPLE)
-    structure = isolated_structure("rigid", isolator="triple-fp", triple=triple, time_step=0.005,
+    structure = isolated_structure("rigid", isolator=triple, time_step=0.005,
                                    newton_tolerance=0.0)
     records = strong_motions()
     design = {"outer_radius_scale": 1.1, "outer_f_max": 0.07, "inner_f_max": 0.025, "capacity_scale": 0.4}

@@ -94,7 +94,7 @@ def _free_vibration(bearing, pulse, duration=30.0, dt=0.01):
     """A rigid mass on `bearing` after a ground pulse of `pulse` [m/s^2] for 0.5 s."""
     t = dt * np.arange(int(round(duration / dt)) + 1)
     ground = uniform_signal(np.where(t < 0.5, pulse, 0.0), dt)
-    system = isolated_structure("rigid", isolator="triple-fp", triple=bearing)(ground)
+    system = isolated_structure("rigid", isolator=bearing)(ground)
     response = jax.jit(simulate_triple_structure, static_argnums=1)(system, duration)
     return np.asarray(response.time), np.asarray(response.displacement[:, 0]), response
 
@@ -144,7 +144,7 @@ def test_peaks_converge_in_the_time_step(kind, record):
     _, acc = record
 
     def peaks(step):
-        structure = isolated_structure(kind, isolator="triple-fp", triple=_eq1_bearing(), time_step=step)
+        structure = isolated_structure(kind, isolator=_eq1_bearing(), time_step=step)
         p = jax.jit(peak_response, static_argnums=1)(structure(uniform_signal(acc, 0.01)), 20.0)
         assert bool(p.converged)
         return float(p.base_disp), float(p.base_shear_ratio)
@@ -156,7 +156,7 @@ def test_peaks_converge_in_the_time_step(kind, record):
 
 def test_histories_and_the_peak_loop_agree(record):
     _, acc = record
-    structure = isolated_structure("building", isolator="triple-fp", triple=_eq1_bearing())
+    structure = isolated_structure("building", isolator=_eq1_bearing())
     system = structure(uniform_signal(acc, 0.01))
     p = peak_response(system, 20.0)
     h = simulate_triple_structure(system, 20.0)
@@ -169,7 +169,7 @@ def test_histories_and_the_peak_loop_agree(record):
 
 def test_monte_carlo_runs_the_triple_pendulum(record):
     motion, _ = record
-    structure = isolated_structure("rigid", isolator="triple-fp", triple=_eq1_bearing())
+    structure = isolated_structure("rigid", isolator=_eq1_bearing())
     result = monte_carlo(structure, motion, 4, key=jax.random.key(0), chunk_size=2)
     assert result.converged.all()
     one = jax.random.fold_in(jax.random.key(0), 2)
@@ -181,7 +181,7 @@ def test_the_peak_is_differentiable_in_the_outer_radii():
     """d(smooth peak displacement)/d(b = c) by reverse and forward mode against central
     differences of the peak loop."""
     acc = 2.0 * np.asarray(jax.random.normal(jax.random.key(1), (801,))) * np.sin(np.pi * np.arange(801) / 800)
-    system = isolated_structure("rigid", isolator="triple-fp", triple=_eq1_bearing())(uniform_signal(acc, 0.01))
+    system = isolated_structure("rigid", isolator=_eq1_bearing())(uniform_signal(acc, 0.01))
 
     def peak(radius):
         moved = eqx.tree_at(lambda s: (s.triple.bottom_radius, s.triple.top_radius), system, (radius, radius))
@@ -213,7 +213,7 @@ def test_bad_triple_structures_are_refused_by_name(changes, message):
 def test_a_triple_pendulum_with_another_isolator_or_another_isolators_design_is_refused():
     with pytest.raises(ValueError, match="triple: applies to the triple-fp isolator only"):
         isolated_structure("rigid", isolator="single-fp", radius=2.0, triple=_bearing())
-    structure = isolated_structure("rigid", isolator="triple-fp", triple=_bearing())
+    structure = isolated_structure("rigid", isolator=_bearing())
     with pytest.raises(ValueError, match=r"design: unknown variable\(s\) \[.radius.\] for the triple-fp isolator"):
         structure(uniform_signal(jnp.zeros(10), 0.01), {"radius": 2.0})
 

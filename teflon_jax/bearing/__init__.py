@@ -36,9 +36,14 @@ from ._hysteresis import bouc_wen_exact_update as bouc_wen_exact_update
 from ._hysteresis import bouc_wen_rate as bouc_wen_rate
 from ._hysteresis import bouc_wen_reversal_length as bouc_wen_reversal_length
 from ._hysteresis import park_rate as park_rate
+from ._isolators import ISOLATOR_VALUES as ISOLATOR_VALUES
 from ._isolators import ISOLATORS as ISOLATORS
 from ._isolators import SERIES_PENDULUMS as SERIES_PENDULUMS
 from ._isolators import check_series_pendulum as check_series_pendulum
+from ._isolators import isolator_kind as isolator_kind
+from ._isolators import named_isolator as named_isolator
+from ._isolators import one_surface as one_surface
+from ._isolators import runs_in_series as runs_in_series
 from ._isolators import series_pendulum_class as series_pendulum_class
 from ._pendulum import ConcaveSurface as ConcaveSurface
 from ._pendulum import concave_surface as concave_surface

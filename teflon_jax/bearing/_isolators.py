@@ -1,11 +1,30 @@
-"""The isolators teflon-jax runs, listed once.
+"""The isolators teflon-jax runs, listed once, and the isolator value every structure builder takes.
 
 Each isolator has a name (the command line's `--isolator`, the isolator file's `"isolator"`),
 and a series pendulum its class, whose class attributes carry the rest: the names of its
 sliders (the isolator file's surfaces), its description and its check. Every list of isolators
 in the library, the file formats and the command line is read from here.
+
+A structure builder's one `isolator=` is a value, whose type says the isolator
+(`isolator_kind`) and the engine that runs it (`runs_in_series`):
+
+- `None`: flat sliders of Table 1's bearing (the builder's PTFE row at its pressure);
+- a `SlidingBearing`: flat sliders of that bearing;
+- a `ConcaveSurface`: single friction pendulums of Table 1's bearing on that surface;
+  a (`SlidingBearing`, `ConcaveSurface`) pair: of that bearing;
+- a `SinglePendulum` (one surface of sliders in series): flat sliders (R = inf) or the single
+  friction pendulum of its surface's bearing;
+- a `TriplePendulum` or `DoublePendulum`: the series pendulum.
+
+One surface (static: a class with one slider) runs on the flat sliders' engine, the fastest for
+it (benchmarks/one_surface_engine.py: the series engine is 2-6x slower there); S > 1 sliders on
+the series engine.
 """
 
+import math
+
+from ._bearing import SlidingBearing
+from ._pendulum import ConcaveSurface, concave_surface
 from ._series_pendulum import (
     DoublePendulum,
     SeriesPendulum,
@@ -25,9 +44,13 @@ ISOLATORS = ("flat", "single-fp", *SERIES_PENDULUMS)
 SERIES_CHECKS = {TriplePendulum: check_triple_pendulum, DoublePendulum: check_double_pendulum,
                  SinglePendulum: check_single_pendulum}
 """Class -> the check of its constants (`ValueError` naming the constant); the one-surface
-`SinglePendulum` (a single pendulum, or a flat slider at R = inf) runs on the series engine
-but is not yet an isolator of the command line, whose "flat" and "single-fp" are the
-`SlidingBearing`'s."""
+`SinglePendulum` (a single pendulum, or a flat slider at R = inf) is an isolator value too
+(`isolator_kind`), run on the flat sliders' engine (`one_surface`)."""
+
+ISOLATOR_VALUES = ("None (Table 1's flat sliders), a SlidingBearing (flat sliders), a ConcaveSurface or "
+                   "(SlidingBearing, ConcaveSurface) (single friction pendulum), a SinglePendulum, a "
+                   "TriplePendulum or a DoublePendulum")
+"""What `isolator=` takes, as errors say it."""
 
 
 def check_series_pendulum(bearing: SeriesPendulum) -> None:
@@ -44,3 +67,128 @@ def series_pendulum_class(isolator: str) -> type[SeriesPendulum]:
         raise ValueError(f"isolator: {isolator!r} is not a friction pendulum of sliders in series; "
                          f"accepted: {', '.join(SERIES_PENDULUMS)}.")
     return SERIES_PENDULUMS[isolator]
+
+
+def _pair_kind(value) -> str | None:
+    """"single-fp" for a (`SlidingBearing`, `ConcaveSurface`) pair, else None."""
+    if isinstance(value, tuple) and len(value) == 2 and isinstance(value[0], SlidingBearing) \
+            and isinstance(value[1], ConcaveSurface):
+        return "single-fp"
+    return None
+
+
+def _single_kind(value: SinglePendulum) -> str:
+    """"flat" for a `SinglePendulum` of infinite radius (a traced radius: "single-fp")."""
+    try:
+        return "flat" if math.isinf(float(value.surface_radius)) else "single-fp"
+    except (TypeError, ValueError, ArithmeticError):  # traced or not a scalar: a pendulum
+        return "single-fp"
+
+
+_KINDS = {type(None): lambda value: "flat", SlidingBearing: lambda value: "flat",
+          ConcaveSurface: lambda value: "single-fp", tuple: _pair_kind, SinglePendulum: _single_kind,
+          **{cls: lambda value: value.isolator for cls in SERIES_PENDULUMS.values()}}
+"""Type of an isolator value -> its name (`ISOLATORS`)."""
+
+
+def isolator_kind(value, where: str = "isolator") -> str:
+    """The name (`ISOLATORS`) of the isolator value `value` (module docstring); `ValueError`
+    naming `where` and what it takes for a value of any other type."""
+    kind = _KINDS.get(type(value), lambda value: None)(value)
+    if kind is None:
+        raise ValueError(f"{where}: expected {ISOLATOR_VALUES}; got {_shown(value)}.")
+    return kind
+
+
+def _shown(value) -> str:
+    if isinstance(value, tuple):
+        return f"a tuple of ({', '.join(type(v).__name__ for v in value)})"
+    return f"{value!r}" if isinstance(value, str) else f"a {type(value).__name__}"
+
+
+def runs_in_series(value) -> bool:
+    """Whether the isolator `value` runs on the series engine: its class has more than one
+    slider (static). One surface runs on the flat sliders' engine (`one_surface`)."""
+    isolator_kind(value)
+    return isinstance(value, SeriesPendulum) and value.slider_count > 1
+
+
+def one_surface(value, where: str = "isolator") -> tuple[SlidingBearing | None, ConcaveSurface | None]:
+    """(bearing, surface) of the one-surface isolator `value` for the flat sliders' engine: the
+    bearing `None` for Table 1's, the surface `None` for flat sliders. A `SinglePendulum` gives
+    its surface's `SlidingBearing` back (the inverse of `single_pendulum`) on
+    `concave_surface(R)` (flat at R = inf); `ValueError` naming `where` for one with a
+    restrainer or a contact pressure (give (bearing, concave_surface(R, displacement_capacity=d,
+    restrainer_stiffness=k)) and `pressure`) and for a series pendulum."""
+    kind = isolator_kind(value, where)
+    if isinstance(value, SinglePendulum):
+        return _single_parts(value, kind, where)
+    if runs_in_series(value):
+        raise ValueError(f"{where}: a {type(value).__name__} has {value.slider_count} sliders in series; "
+                         "it is not one surface.")
+    if isinstance(value, tuple):
+        return value
+    return (value, None) if isinstance(value, SlidingBearing) or value is None else (None, value)
+
+
+def _single_parts(value: SinglePendulum, kind: str, where: str):
+    for name in ("surface_capacity", "surface_pressure"):
+        if getattr(value, name) is not None:
+            raise ValueError(f"{where}: the SinglePendulum's {name} has no place on the flat sliders' "
+                             "engine; give (bearing, concave_surface(R, displacement_capacity=d, "
+                             "restrainer_stiffness=k)) and the contact pressure as pressure.")
+    part = {} if value.surface_parts is None else {
+        name: getattr(value.surface_parts[0], name) for name in (
+            "breakaway_ratio", "friction_perpendicular", "lay_angle", "pressure_dependence", "wear", "asymmetry")}
+    bearing = SlidingBearing(friction=value.surface_friction, hysteresis=value.hysteresis,
+                             heating=value.surface_heating, **part)
+    return bearing, (None if kind == "flat" else concave_surface(value.surface_radius))
+
+
+_KEYWORDS = {cls.keyword: cls for cls in SERIES_PENDULUMS.values()}
+"""A series pendulum's keyword ("triple", "double") -> its class."""
+
+
+def named_isolator(name: str, *, bearing=None, radius=None, surface=None, pendulums=None):
+    """The isolator value of the isolator named `name` (`ISOLATORS`) and its parts given apart
+    (the keywords of the builders before the one value: `bearing`, `radius` R [m] or `surface`
+    of the single pendulum, `pendulums` {keyword: value} of the series ones, e.g.
+    {"triple": ..., "double": ...}), with `ValueError` naming the part that the named isolator
+    does not take or lacks."""
+    if not isinstance(name, str) or name not in ISOLATORS:
+        raise ValueError(f"isolator: unknown {name!r}; accepted: {', '.join(ISOLATORS)} (or an isolator value).")
+    pendulums = pendulums or {}
+    for keyword, value in pendulums.items():
+        owner = _KEYWORDS[keyword].isolator
+        if value is not None and owner != name:
+            raise ValueError(f"{keyword}: applies to the {owner} isolator only, not {name!r}.")
+    if name in SERIES_PENDULUMS:
+        cls = SERIES_PENDULUMS[name]
+        value = pendulums.get(cls.keyword)
+        if value is None:
+            raise ValueError(f"{cls.keyword}: the {name} isolator needs its {cls.__name__} (e.g. "
+                             "formats.load_isolator(path)).")
+        if not isinstance(value, cls):
+            raise ValueError(f"{cls.keyword}: expected a {cls.__name__}, got {type(value).__name__}.")
+        held = type(value).__name__
+        for part, given, reason in (("radius", radius, f"its radii are in the {held}"),
+                                    ("surface", surface, f"its surfaces are in the {held}"),
+                                    ("bearing", bearing, f"the friction of its surfaces is in the {held}")):
+            if given is not None:
+                raise ValueError(f"{part}: does not apply to the {name} isolator ({reason}).")
+        return value
+    return _named_one_surface(name, bearing, radius, surface)
+
+
+def _named_one_surface(name, bearing, radius, surface):
+    if name == ISOLATORS[0]:  # flat: neither radius nor surface
+        for part, given in (("radius", radius), ("surface", surface)):
+            if given is not None:
+                raise ValueError(f"{part}: applies to the single-fp isolator only (flat sliders have none).")
+        return bearing
+    if surface is not None and radius is not None:
+        raise ValueError("radius: give the radius or a surface (which has its radius), not both.")
+    if surface is None and radius is None:
+        raise ValueError("radius: the single-fp isolator needs the radius R [m] > 0 of its surface.")
+    surface = concave_surface(radius) if surface is None else surface
+    return surface if bearing is None else (bearing, surface)

@@ -70,14 +70,22 @@ class Isolator:
         """The series pendulum's words (for titles), None for the others."""
         return None if self.pendulum is None else self.pendulum.description
 
+    @property
+    def value(self):
+        """The library's isolator value (`teflon_jax.bearing.isolator_kind`): the series
+        pendulum of the file; a single pendulum's `concave_surface(R)`, or (bearing, surface)
+        with --bearing; flat sliders' --bearing (None: Table 1's row)."""
+        if self.pendulum is not None or self.radius is None:
+            return self.bearing if self.pendulum is None else self.pendulum
+        from ..bearing import concave_surface
+
+        surface = concave_surface(self.radius)
+        return surface if self.bearing is None else (self.bearing, surface)
+
     def structure_options(self) -> dict:
         """The isolator's keywords of `systems.isolated_structure` (and of
-        `studies.bidirectional_isolated_structure`)."""
-        if self.pendulum is None:
-            return {"isolator": self.name, "radius": self.radius, "bearing": self.bearing}
-        from ..bearing import SERIES_PENDULUMS
-
-        return {"isolator": self.name, SERIES_PENDULUMS[self.name].keyword: self.pendulum}
+        `studies.bidirectional_isolated_structure`): its `value`."""
+        return {"isolator": self.value}
 
     def entries(self, args) -> dict:
         """The run JSON's isolator entries: name, isolator file, radius [m], the anisotropy and
@@ -230,7 +238,8 @@ _GROUP_KEYS_REFUSED = {
 
 
 def slab_isolators(args, isolator: Isolator, plan: dict, period: float | None = None) -> dict:
-    """The isolator keywords of `systems.slab_on_bearings` for the groups of `plan`
+    """The isolator parts of the groups of `plan` (`_run_structure` makes them the isolator values
+    of `systems.slab_on_bearings`)
     (`read_plan`): flat sliders' springs (of `period` [s], shared by the groups' `springs`),
     single pendulums' radii (`--radius`, a group's `radius` overriding it; kept as
     `plan["radii"]`) or series pendulums (`--isolator-file`, a group's `isolator_file`
@@ -243,14 +252,14 @@ def slab_isolators(args, isolator: Isolator, plan: dict, period: float | None = 
                 raise ValueError(message.format(group=g["name"], key=key, isolator=isolator.name, why=why))
     if isolator.radius is not None:
         plan["radii"] = [isolator.radius if g["radius"] is None else g["radius"] for g in groups]
-        return {"isolator": isolator.name, "radii": plan["radii"]}
+        return {"radii": plan["radii"]}
     if isolator.pendulum is None:
         return {"isolation_period": period,
                 "spring_shares": [1.0 if g["springs"] is None else g["springs"] for g in groups]}
     pendulums = [isolator.pendulum if g["isolator_file"] is None else _group_pendulum(args, isolator, g)
                  for g in groups]
     plan["isolator_files"] = [str(g["isolator_file"] or isolator.file) for g in groups]
-    return {"isolator": isolator.name, "pendulums": pendulums}
+    return {"pendulums": pendulums}
 
 
 def _group_pendulum(args, isolator: Isolator, group: dict):

@@ -17,7 +17,7 @@ class StructureFlags(typing.NamedTuple):
     """The structure flags in SI: solver `time_step` [s], `weight` [N] of the rigid mass, the
     flat sliders' spring `period` [s] (a single pendulum's 2 pi sqrt(R / g); None: no springs),
     the isolation `damping` ratio, the bearings' contact `pressure` [Pa]; the slab's `plan`
-    (`read_plan`) and its groups' isolator keywords `slab` (`slab_isolators`), else None."""
+    (`read_plan`) and its groups' isolator parts `slab` (`slab_isolators`), else None."""
 
     time_step: float
     weight: float
@@ -84,19 +84,24 @@ def _scaled(args, pendulums):
 
 
 def _slab(args, isolator, flags: StructureFlags, ground_x, ground_y):
-    """`slab_on_bearings` of the plan: its groups' isolators (`flags.slab`), and on flat sliders
-    and single pendulums each group's bearing at its pressure and the isolation damping."""
+    """`slab_on_bearings` of the plan on its groups' isolator values: series pendulums
+    (`flags.slab`), or each group's bearing at its pressure, alone (flat sliders) or on the
+    group's surface (single pendulums), with the isolation damping."""
     from ..systems import slab_on_bearings
 
     plan, groups = flags.plan, flags.plan["groups"]
     options = dict(flags.slab)
     if "pendulums" in options:
-        options["pendulums"] = _scaled(args, options["pendulums"])
+        values = _scaled(args, options.pop("pendulums"))
     else:
+        from ..bearing import concave_surface
+
         pressures = [g["pressure"] or args.pressure for g in groups]
+        bearings = [bearing_of_flags(args, g["ptfe"] or args.ptfe, p, f"--plan {g['name']}")
+                    for g, p in zip(groups, pressures)]
+        radii = options.pop("radii", None)  # single pendulums: each group's (bearing, surface)
+        values = bearings if radii is None else [(b, concave_surface(r)) for b, r in zip(bearings, radii)]
         options.update(
-            bearings=[bearing_of_flags(args, g["ptfe"] or args.ptfe, p, f"--plan {g['name']}")
-                      for g, p in zip(groups, pressures)],
             contact_pressures=[parse_quantity(p, "pressure", where=f"--plan {g['name']}")
                                for g, p in zip(groups, pressures)],
             isolation_damping=flags.damping)
@@ -105,7 +110,7 @@ def _slab(args, isolator, flags: StructureFlags, ground_x, ground_y):
         length_x=plan["length_x"], length_y=plan["length_y"], weight=plan["weight"],
         centre_of_mass=plan["centre_of_mass"], positions=[(g["x"], g["y"]) for g in groups],
         loads=[g["load"] for g in groups], ground_x=ground_x, ground_y=ground_y,
-        time_step=flags.time_step, names=[g["name"] for g in groups],
+        time_step=flags.time_step, names=[g["name"] for g in groups], isolator=values,
         height_of_centre_of_mass=plan["height_of_centre_of_mass"],
         vertical_stiffness=None if all(k is None for k in stiffness) else [1.0 if k is None else k
                                                                          for k in stiffness],

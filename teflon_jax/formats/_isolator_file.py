@@ -46,7 +46,6 @@ from ..bearing import (
     SERIES_PENDULUMS,
     BoucWen,
     DirectionAsymmetry,
-    DoublePendulum,
     FrictionalHeating,
     FrictionParameters,
     PressureDependence,
@@ -54,9 +53,8 @@ from ..bearing import (
     SurfaceParts,
     TriplePendulum,
     Wear,
-    check_double_pendulum,
+    check_series_pendulum,
     check_surface_parts,
-    check_triple_pendulum,
 )
 from ._bearing_file import BEARING_PARTS, read_constant
 from ._text import read_json_document
@@ -197,7 +195,8 @@ def _heating_fields(parts) -> dict:
 def isolator_from_dict(document, *, where: str = "isolator") -> SeriesPendulum:
     """The `TriplePendulum` or `DoublePendulum` of an isolator-file object (module docstring);
     `ValueError` naming `where` and the key for anything missing, unknown, unitless or that
-    the series model cannot take (`check_triple_pendulum`, `check_double_pendulum`)."""
+    the series model cannot take (`check_series_pendulum`): the class of its "isolator"
+    (`SERIES_PENDULUMS`) of its surfaces' fields."""
     if not isinstance(document, dict):
         raise ValueError(f"{where}: an isolator file is a JSON object; see the format in the manual.")
     if document.get("format") != FORMAT_NAME:
@@ -213,19 +212,10 @@ def isolator_from_dict(document, *, where: str = "isolator") -> SeriesPendulum:
     parts = {name: _surface(document["surfaces"][name], f"{where}: surfaces.{name}")
              for name in ISOLATOR_SURFACES[isolator]}
     yield_disp = _value(document["yield_disp"], "length", f"{where}: yield_disp")
-    if isolator == "double-fp":
-        return _checked(DoublePendulum(
-            bottom_radius=parts["bottom"][0], top_radius=parts["top"][0],
-            bottom_capacity=parts["bottom"][1], top_capacity=parts["top"][1],
-            bottom_friction=parts["bottom"][2], top_friction=parts["top"][2],
-            hysteresis=BoucWen(yield_disp), **_heating_fields(parts)), check_double_pendulum, where)
-    return _checked(TriplePendulum(
-        inner_radius=parts["inner"][0], bottom_radius=parts["bottom"][0],
-        top_radius=parts["top"][0], inner_capacity=parts["inner"][1],
-        bottom_capacity=parts["bottom"][1], top_capacity=parts["top"][1],
-        inner_friction=parts["inner"][2], bottom_friction=parts["bottom"][2],
-        top_friction=parts["top"][2], hysteresis=BoucWen(yield_disp), **_heating_fields(parts)),
-        check_triple_pendulum, where)
+    fields = {f"{name}_{field}": parts[name][index] for name in ISOLATOR_SURFACES[isolator]
+              for index, field in enumerate(("radius", "capacity", "friction"))}
+    pendulum = SERIES_PENDULUMS[isolator](hysteresis=BoucWen(yield_disp), **fields, **_heating_fields(parts))
+    return _checked(pendulum, check_series_pendulum, where)
 
 
 def _check_isolator(isolator, surfaces, where) -> None:

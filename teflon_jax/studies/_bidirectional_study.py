@@ -23,12 +23,12 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 
-from ..bearing import SERIES_PENDULUMS
 from ..systems import (
     BIDIRECTIONAL_TIME_STEP,
     BiaxialStructureOnTriple,
     BidirectionalStructure,
     IsolatedStructure,
+    TripleIsolatedStructure,
     biaxial_peaks,
     bidirectional_building,
     bidirectional_initial_state,
@@ -104,10 +104,10 @@ def bidirectional_isolated_structure(kind: str = "rigid", **options) -> Bidirect
     **options)` (checked there, `ValueError` naming the parameter), stepped at
     `BIDIRECTIONAL_TIME_STEP` unless `time_step` is given. The friction models of one
     component run in two (Park's Z, Coulomb, none), and so do a pendulum's restrainer and
-    large-displacement form. With `isolator="triple-fp"` or "double-fp" the
+    large-displacement form. On a triple or double friction pendulum the
     `TripleIsolatedStructure` of `isolated_structure`, which takes both components itself."""
-    if options.get("isolator") in SERIES_PENDULUMS:  # builds both: called with (ground_x, ground_y)
-        return isolated_structure(kind, **options)
+    if isinstance(structure := isolated_structure(kind, **options), TripleIsolatedStructure):
+        return structure  # the series engine builds both: called with (ground_x, ground_y)
     if options.get("time_step") is None:  # the uniaxial default steps are not the bidirectional one
         options = {**options, "time_step": BIDIRECTIONAL_TIME_STEP}
     newton_iterations = options.get("newton_iterations")

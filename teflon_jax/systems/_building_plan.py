@@ -33,7 +33,6 @@ import dataclasses
 import jax.numpy as jnp
 import numpy as np
 
-from ..bearing import SlidingBearing
 from ..excitation import Signal
 from ..tables import BuildingData, load_table2
 from ..units import STANDARD_GRAVITY
@@ -41,10 +40,13 @@ from ._bidirectional import BidirectionalStructure
 from ._bidirectional_models import _zero_signal, bidirectional_structure
 from ._models import superstructure_matrices
 from ._overturning import overturning_map, support_plan
-from ._slab import _pendulum_radii, check_plan, plan_bearing_map, stack_bearings
+from ._plan_isolators import plan_isolator, refuse_springs
+from ._slab import check_plan, plan_bearing_map, stack_bearings
 
-BUILDING_ISOLATORS = ("flat", "single-fp")
-"""Isolators of the building on a plan: flat sliders with springs, single friction pendulums."""
+SERIES_REFUSED = ("isolator: the building on a plan stands on 'flat' or 'single-fp' groups, got {isolator!r}; "
+                  "series pendulums carry the rigid slab (slab_on_bearings).")
+"""The building on a plan stands on one surface per group (flat sliders with springs, single
+friction pendulums), not on series pendulums."""
 
 HEIGHT_NAMES = "storey_heights, base_height"
 """The arguments that place the levels above the sliding surface, as errors name them."""
@@ -79,7 +81,7 @@ def building_on_plan(
     isolation_period=None,
     isolation_damping=0.05,
     spring_shares=None,
-    isolator: str = "flat",
+    isolator=None,
     radii=None,
     storey_heights=None,
     base_height=0.0,
@@ -99,10 +101,13 @@ def building_on_plan(
     - `positions` (G, 2) [m]; `loads` (G,) [N] the groups' tributary loads, adding up to the
       building's weight W (Table 2: 672 kip); `bearings`: G `SlidingBearing`s (or one for all).
     - `ground_x`, `ground_y`: `Signal`s [m/s^2] (`ground_y` `None`: no y motion); `time_step` [s].
-    - `isolator` "flat": springs of period `isolation_period` T_b [s] shared among the groups by
-      `spring_shares` (G,) [-] (default equal); "single-fp": each group a single friction
-      pendulum of radius `radii` R_g [m] (one, or (G,)), no springs. `isolation_damping`
-      zeta_b [-] of the rigid-body mode (default 0.05, the paper's sliding system).
+    - `isolator`: the groups' isolator value, one for all groups or one per group
+      (`plan_isolator`): `SlidingBearing`s, flat sliders with springs of period
+      `isolation_period` T_b [s] shared among the groups by `spring_shares` (G,) [-] (default
+      equal); (`SlidingBearing`, `concave_surface(R_g)`) pairs, single friction pendulums, no
+      springs. Or its name ("flat", the default, or "single-fp") with `bearings` and `radii`
+      R_g [m] (one, or (G,)) apart. `isolation_damping` zeta_b [-] of the rigid-body mode
+      (default 0.05, the paper's sliding system).
     - `storey_heights` [m] (one, or one per storey, >= 0; default the `building`'s storey
       height, Table 2's 12 ft) and `base_height` h_0 [m] (>= 0, default 0) of the base's
       inertia force: the levels' heights above the sliding surface for the overturning loads
@@ -123,8 +128,10 @@ def building_on_plan(
     weight = float(building.total_weight)
     check_plan(length_x=length_x, length_y=length_y, weight=weight, centre_of_mass=centre,
                positions=positions, loads=loads, names=names)
-    bearing = _stacked_bearings(bearings, positions.shape[0], isolator)
-    radii = _pendulum_radii(isolator, radii, positions.shape[0], isolation_period, spring_shares)
+    plan_isolators = plan_isolator(isolator, positions.shape[0], bearings=bearings, radii=radii,
+                                   series_refused=SERIES_REFUSED)
+    bearing, radii = stack_bearings(plan_isolators.bearings), plan_isolators.radii
+    refuse_springs(radii, isolation_period, spring_shares)
     zeta = float(isolation_damping)
     if not (np.isfinite(zeta) and zeta >= 0):
         raise ValueError(f"isolation_damping: must be >= 0, got {isolation_damping}.")
@@ -136,8 +143,7 @@ def building_on_plan(
     if not (np.isfinite(inertia) and inertia > 0):
         raise ValueError(f"rotational_inertia: must be > 0 kg m^2, got {rotational_inertia}.")
     bearing_map = plan_bearing_map(positions - centre, 2 * n + 1, (0, n, 2 * n))
-    isolation = _isolation_stiffness(bearing_map, loads, weight, isolator, isolation_period, spring_shares,
-                                     radii, zeta)
+    isolation = _isolation_stiffness(bearing_map, loads, weight, isolation_period, spring_shares, radii, zeta)
     influence = np.zeros((2 * n + 1, 2))
     influence[:n, 0] = influence[n:2 * n, 1] = 1.0
     system = bidirectional_structure(
@@ -167,20 +173,6 @@ def building_on_plan(
                               levels=np.concatenate([heights, heights, [0.0]]) / centre_height))
 
 
-def _stacked_bearings(bearings, groups: int, isolator: str):
-    """The groups' `SlidingBearing`s stacked (`stack_bearings`; one bearing serves all groups),
-    with `ValueError` naming `isolator` or `bearings` for what the building cannot stand on."""
-    if isolator not in BUILDING_ISOLATORS:
-        raise ValueError(f"isolator: the building on a plan stands on {' or '.join(map(repr, BUILDING_ISOLATORS))} "
-                         f"groups, got {isolator!r}; series pendulums carry the rigid slab (slab_on_bearings).")
-    if bearings is None:
-        raise ValueError(f"bearings: isolator {isolator!r} needs the groups' SlidingBearing(s).")
-    bearings = [bearings] * groups if isinstance(bearings, SlidingBearing) else list(bearings)
-    if len(bearings) != groups:
-        raise ValueError(f"bearings: {len(bearings)} given for {groups} groups.")
-    return stack_bearings(bearings)
-
-
 def _frame(building: BuildingData):
     """(level masses (S + 1,) [kg], base first; the frame's stiffness and damping in x and y,
     diag(E^T K_s E, E^T K_s E, 0) and the same of C_s (2S + 3, 2S + 3), E = [-1 | I] the
@@ -204,12 +196,13 @@ def _two_directions(block) -> np.ndarray:
     return out
 
 
-def _isolation_stiffness(bearing_map, loads, weight, isolator, isolation_period, spring_shares, radii, zeta):
+def _isolation_stiffness(bearing_map, loads, weight, isolation_period, spring_shares, radii, zeta):
     """(K_b, C_b) (N, N): the isolation's stiffness at the groups, k_g = (W / g) omega_b^2 share_g
     (springs) or W_g / R_g (pendulums), and its damping (2 zeta_b / omega_b) K_b,
-    omega_b^2 = g sum_g k_g / W (`ValueError` naming the argument for a missing one)."""
+    omega_b^2 = g sum_g k_g / W (`ValueError` naming the argument for a missing one); springs
+    where the groups have no `radii` (flat sliders)."""
     groups = loads.shape[0]
-    if isolator == "flat":
+    if radii is None:
         if isolation_period is None:
             raise ValueError("isolation_period: the building's springs need their period T_b [s] "
                              "(Table 2's rubber springs carry no vertical load).")

@@ -9,15 +9,14 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..bearing import (
-    ISOLATORS,
-    SERIES_PENDULUMS,
     ConcaveSurface,
-    DoublePendulum,
     FrictionParameters,
     SlidingBearing,
-    TriplePendulum,
-    concave_surface,
+    isolator_kind,
+    named_isolator,
+    one_surface,
     paper_bearing,
+    runs_in_series,
 )
 from ..tables import friction_table
 from ..units import PSI
@@ -233,29 +232,13 @@ class IsolatedStructure(eqx.Module):
 
     def __call__(self, ground_acceleration, design: Mapping | None = None) -> StructureOnSliders:
         bearing, period, damping = self.isolation(design)
+        common = dict(bearing=bearing, ground_acceleration=ground_acceleration, time_step=self.time_step,
+                      isolation_period=period, friction_model=self.friction_model, linear_rule=self.linear_rule,
+                      contact_pressure=self.contact_pressure(design))
         if self.kind == "rigid":
-            system = rigid_mass(
-                weight=self.weight,
-                bearing=bearing,
-                ground_acceleration=ground_acceleration,
-                time_step=self.time_step,
-                isolation_period=period,
-                damping_ratio=damping if period is not None else 0.0,
-                friction_model=self.friction_model,
-                linear_rule=self.linear_rule,
-                contact_pressure=self.contact_pressure(design),
-            )
+            system = rigid_mass(weight=self.weight, damping_ratio=damping if period is not None else 0.0, **common)
         else:
-            system = six_storey_building(
-                bearing=bearing,
-                ground_acceleration=ground_acceleration,
-                time_step=self.time_step,
-                isolation_period=period,
-                isolation_damping=damping,
-                friction_model=self.friction_model,
-                linear_rule=self.linear_rule,
-                contact_pressure=self.contact_pressure(design),
-            )
+            system = six_storey_building(isolation_damping=damping, **common)
         if self.surface is not None:  # W / R: the part of K a vertical record's load scales
             system = dataclasses.replace(system, pendulum_stiffness=system.bearing_load / self.designed_surface(design).radius)
         if self.surface is not None and not self.surface.is_linear:
@@ -282,12 +265,8 @@ def isolated_structure(
     newton_tolerance: float = NEWTON_TOLERANCE,
     split_at_turn: bool = True,
     linear_rule: str = "exact",
-    bearing: SlidingBearing | None = None,
-    isolator: str = "flat",
-    radius=None,
-    surface: ConcaveSurface | None = None,
-    triple: TriplePendulum | None = None,
-    double: DoublePendulum | None = None,
+    isolator=None,
+    **parts,
 ) -> IsolatedStructure | TripleIsolatedStructure:
     """An `IsolatedStructure` with its inputs checked (`ValueError` naming the parameter).
 
@@ -297,40 +276,36 @@ def isolated_structure(
     0 on a friction pendulum, whose damping is its friction), `time_step` > 0 [s]
     (default `RECOMMENDED_TIME_STEPS[kind]`), `newton_iterations` a positive integer (the
     default lets every step converge; 1 cuts the solve short: runs are then reported as not
-    converged). `isolator`: "flat" (the default) or "single-fp", a single friction pendulum of
-    `radius` R [m] > 0 (then `isolation_period` must be `None`: the period is 2 pi sqrt(R / g)),
-    or of `surface`, a `ConcaveSurface` (`concave_surface`) with a restrainer or the
-    large-displacement form (with hysteretic friction). "triple-fp": a triple friction
-    pendulum `triple` (`TriplePendulum`), "double-fp": a double friction pendulum `double`
-    (`DoublePendulum`): a `TripleIsolatedStructure` for one or two ground components (its
-    friction is its surfaces' Eq. 1; `newton_tolerance` is then the sliders' force imbalance
-    over W, default `TRIPLE_TOLERANCE`); the other isolators' inputs are refused with it.
+    converged).
+
+    `isolator`: the isolator value (`bearing.isolator_kind`), whose type picks the engine:
+    `None` (the default) Table 1's flat sliders; a `SlidingBearing`: flat sliders of that
+    bearing; a `ConcaveSurface` (`concave_surface`, with a restrainer or the large-displacement
+    form only with hysteretic friction) or a (`SlidingBearing`, `ConcaveSurface`) pair: the
+    single friction pendulum (then `isolation_period` must be `None`: the period is
+    2 pi sqrt(R / g)); a `SinglePendulum`: either of these on the flat sliders' engine. A
+    `TriplePendulum` or `DoublePendulum`: a `TripleIsolatedStructure` for one or two ground
+    components on the series engine (its friction is its surfaces' Eq. 1; `newton_tolerance`
+    is then the sliders' force imbalance over W, default `TRIPLE_TOLERANCE`); the flat
+    sliders' period, damping and friction model are refused with it.
+
+    `parts`: the isolator named (`isolator` "flat", "single-fp", "triple-fp", "double-fp") with
+    its parts given apart, `bearing`, `radius` R [m], `surface`, `triple`, `double`
+    (`bearing.named_isolator`), as the command line names them.
     """
     if kind not in STRUCTURES:
         raise ValueError(f"structure: unknown {kind!r}; accepted: {', '.join(STRUCTURES)}.")
-    pendulums = {"triple": triple, "double": double}  # the arguments, by each class's `keyword`
-    series = {name: (cls.keyword, pendulums[cls.keyword]) for name, cls in SERIES_PENDULUMS.items()}
-    for name, value in series.values():
-        if value is not None and isolator != f"{name}-fp":
-            raise ValueError(f"{name}: applies to the {name}-fp isolator only, not {isolator!r}.")
-    if isolator in series:
-        held = type(series[isolator][1]).__name__ if series[isolator][1] is not None else "pendulum"
-        given = {"radius": (radius, f"its radii are in the {held}"),
-                 "surface": (surface, f"its surfaces are in the {held}"),
-                 "bearing": (bearing, f"the friction of its surfaces is in the {held}"),
-                 "isolation_period": (isolation_period if isolation_period is not DEFAULT_ISOLATION_PERIOD
-                                      else None, "its period follows from its radii"),
-                 "isolation_damping": (isolation_damping or None, "its damping is its friction")}
-        if friction_model != "hysteretic":
-            given["friction_model"] = (friction_model, "its sliders follow Bouc-Wen's Z")
-        return triple_isolated_structure(
-            kind, series[isolator][1], isolator=isolator,
-            time_step=RECOMMENDED_TIME_STEPS[kind] if time_step is None else time_step,
-            newton_iterations=newton_iterations if newton_iterations != NEWTON_ITERATIONS else TRIPLE_NEWTON_ITERATIONS,
-            newton_tolerance=None if newton_tolerance == NEWTON_TOLERANCE else newton_tolerance,
-            conflicting={name: reason for name, (value, reason) in given.items() if value is not None})
+    isolator = _isolator_value(isolator, parts)
+    if runs_in_series(isolator):
+        return _on_series_pendulum(kind, isolator, isolation_period=isolation_period,
+                                   isolation_damping=isolation_damping, friction_model=friction_model,
+                                   time_step=time_step, newton_iterations=newton_iterations,
+                                   newton_tolerance=newton_tolerance)
+    bearing, surface = one_surface(isolator)
     given_period = isolation_period is not DEFAULT_ISOLATION_PERIOD
-    surface = _surface(isolator, radius, isolation_period if given_period else None, surface)
+    if surface is not None and given_period and isolation_period is not None:
+        raise ValueError("isolation_period: the single-fp isolator's period is 2 pi sqrt(R / g) of "
+                         "its radius; give isolation_period=None.")
     if surface is not None and not surface.is_linear and friction_model != "hysteretic":
         raise ValueError(f"surface: its restrainer or large-displacement force is solved with the "
                          f"hysteretic friction model, not {friction_model!r}.")
@@ -374,26 +349,44 @@ def isolated_structure(
     return _checked_isolation(structure, kind, isolation_period, isolation_damping)
 
 
-def _surface(isolator, radius, isolation_period, surface=None):
-    """The `ConcaveSurface` of `isolator` "single-fp" of `radius` [m] or `surface` (None for
-    "flat"), with the conflicting inputs refused (`ValueError` naming them)."""
-    if isolator not in ISOLATORS:
-        raise ValueError(f"isolator: unknown {isolator!r}; accepted: {', '.join(ISOLATORS)}.")
-    if isolator == "flat":
-        for name, value in (("radius", radius), ("surface", surface)):
-            if value is not None:
-                raise ValueError(f"{name}: applies to the single-fp isolator only (flat sliders have none).")
-        return None
-    if surface is not None:
-        if radius is not None:
-            raise ValueError("radius: give the radius or a surface (which has its radius), not both.")
-        radius = surface.radius
-    if radius is None:
-        raise ValueError("radius: the single-fp isolator needs the radius R [m] > 0 of its surface.")
-    if isolation_period is not None:
-        raise ValueError("isolation_period: the single-fp isolator's period is 2 pi sqrt(R / g) of "
-                         "its radius; give isolation_period=None.")
-    return concave_surface(radius) if surface is None else surface
+ISOLATOR_PARTS = ("bearing", "radius", "surface", "triple", "double")
+"""The parts of a named isolator that `isolated_structure` takes apart from `isolator`."""
+
+
+def _isolator_value(isolator, parts):
+    """The isolator value of `isolated_structure`'s `isolator` and `parts`: a name with its
+    parts (`named_isolator`; `None` with parts names "flat"), or a value given alone
+    (`ValueError` naming a part given beside it, or an unknown keyword)."""
+    unknown = sorted(set(parts) - set(ISOLATOR_PARTS))
+    if unknown:
+        raise TypeError(f"isolated_structure() got unexpected keyword argument(s) {', '.join(unknown)}.")
+    given = {name: value for name, value in parts.items() if value is not None}
+    if isinstance(isolator, str) or (isolator is None and given):
+        return named_isolator("flat" if isolator is None else isolator, bearing=parts.get("bearing"),
+                              radius=parts.get("radius"), surface=parts.get("surface"),
+                              pendulums={name: parts.get(name) for name in ("triple", "double")})
+    isolator_kind(isolator)
+    for name in given:
+        raise ValueError(f"{name}: the isolator value ({type(isolator).__name__}) carries the whole isolator; "
+                         f"leave {name} out (or give its name, isolator=\"...\", with {name}=).")
+    return isolator
+
+
+def _on_series_pendulum(kind, pendulum, *, isolation_period, isolation_damping, friction_model, time_step,
+                        newton_iterations, newton_tolerance) -> TripleIsolatedStructure:
+    """`isolated_structure` on a series pendulum (`triple_isolated_structure`), the flat
+    sliders' inputs given with it refused by name."""
+    given = {"isolation_period": (isolation_period if isolation_period is not DEFAULT_ISOLATION_PERIOD
+                                  else None, "its period follows from its radii"),
+             "isolation_damping": (isolation_damping or None, "its damping is its friction")}
+    if friction_model != "hysteretic":
+        given["friction_model"] = (friction_model, "its sliders follow Bouc-Wen's Z")
+    return triple_isolated_structure(
+        kind, pendulum,
+        time_step=RECOMMENDED_TIME_STEPS[kind] if time_step is None else time_step,
+        newton_iterations=newton_iterations if newton_iterations != NEWTON_ITERATIONS else TRIPLE_NEWTON_ITERATIONS,
+        newton_tolerance=None if newton_tolerance == NEWTON_TOLERANCE else newton_tolerance,
+        conflicting={name: reason for name, (value, reason) in given.items() if value is not None})
 
 
 def _checked_isolation(structure, kind, isolation_period, isolation_damping):

@@ -11,7 +11,7 @@ normal load of Eq. 1, F_g = mu_g W_g Z_g). Linear springs (isolation period T of
 slab, shared among the groups) and viscous dampers proportional to them (ratio zeta) sit at
 the bearing positions, so the centre of stiffness is the spring-weighted centroid of the
 groups; its offset from C (and any offset of the friction centroid) drives the torsion.
-On single friction pendulums (`isolator="single-fp"`) each group restores with W_g / R_g d_g
+On single friction pendulums (`isolator=(bearing, concave_surface(R))`) each group restores with W_g / R_g d_g
 instead (Zayas, Low & Mahin 1990), so the centre of stiffness is the load-weighted centroid of
 the groups (for equal radii), which follows the loads: no torsion from stiffness eccentricity
 when the loads' centroid is the centre of mass. With the centre of mass at a height h above
@@ -27,12 +27,13 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..bearing import ISOLATORS, SlidingBearing
+from ..bearing import SlidingBearing
 from ..excitation import Signal
 from ..units import STANDARD_GRAVITY
 from ._bidirectional_models import bidirectional_structure
 from ._overturning import overturning_map, support_plan
-from ._slab_series_build import SERIES_SLAB_ISOLATORS, slab_on_series
+from ._plan_isolators import plan_isolator, refuse_springs
+from ._slab_series_build import slab_on_series
 
 LOAD_TOLERANCE = 1e-3
 """Relative mismatch allowed between the sum of the tributary loads and the weight."""
@@ -103,7 +104,7 @@ def slab_on_bearings(
     rotational_inertia=None,
     names=None,
     contact_pressures=None,
-    isolator: str = "flat",
+    isolator=None,
     radii=None,
     height_of_centre_of_mass=0.0,
     vertical_stiffness=None,
@@ -125,16 +126,19 @@ def slab_on_bearings(
     - `rotational_inertia` [kg m^2] about C (default m (Lx^2 + Ly^2) / 12, a uniform slab).
     - `contact_pressures` (G,) [Pa] (or one for all): the bearings' contact pressure per group,
       for bearings with heating (each group's steel heats at its own mu p |v|).
-    - `isolator`: "flat" (sliders, with the springs above) or "single-fp": every group a single
-      friction pendulum of radius `radii` R_g [m] (one for all, or (G,)), stiffness W_g / R_g
-      at its position, no springs (`isolation_damping` zeta then acts on the pendulum's
-      stiffness at omega = sqrt(g / R_e), W / R_e = sum W_g / R_g).
+    - `isolator`: the groups' isolator value, one for all groups or a list of one per group
+      (`plan_isolator`, `bearing.isolator_kind`): `SlidingBearing`s, flat sliders with the
+      springs above; (`SlidingBearing`, `concave_surface(R_g)`) pairs, single friction
+      pendulums of stiffness W_g / R_g at their positions, no springs (`isolation_damping`
+      zeta then acts on the pendulums' stiffness at omega = sqrt(g / R_e),
+      W / R_e = sum W_g / R_g); `TriplePendulum`s or `DoublePendulum`s, below. Or its name
+      ("flat", the default, "single-fp", "triple-fp", "double-fp") with the parts apart:
+      `bearings`, `radii` R_g [m] (one for all, or (G,)), `pendulums`.
     - `height_of_centre_of_mass` h [m] >= 0 above the sliding surface: the normal loads vary
       with the overturning moment (0: constant loads); `vertical_stiffness` (G,) relative
       vertical stiffness of the groups (default equal) for the lever rule (`overturning_map`).
-    - `isolator` "triple-fp" or "double-fp": every group a series pendulum of `pendulums` (one
-      `TriplePendulum` or `DoublePendulum` for all groups, or one per group) instead of
-      `bearings`; no springs, radii or contact pressures (heated surfaces take theirs from the
+    - series pendulums (`TriplePendulum` or `DoublePendulum`, one for all groups or one per
+      group) run on the series slab's engine: no springs, radii or contact pressures (heated surfaces take theirs from the
       pendulums, each group's times its N_g / W_g; `_slab_series.py`).
     - `friction_model`: "hysteretic" (Park's Z), "coulomb" or "none" for flat sliders and
       single pendulums (`_bidirectional_laws.py`); the series pendulums' sliders follow Park's Z.
@@ -151,25 +155,18 @@ def slab_on_bearings(
     mass = weight / STANDARD_GRAVITY
     inertia = mass * (length_x**2 + length_y**2) / 12 if rotational_inertia is None else rotational_inertia
     height = _height(height_of_centre_of_mass)
-    if isolator in SERIES_SLAB_ISOLATORS:
-        _refuse_for_series(isolator, bearings=bearings, radii=radii, isolation_period=isolation_period,
+    plan_isolators = plan_isolator(isolator, groups, bearings=bearings, radii=radii, pendulums=pendulums)
+    if plan_isolators.pendulums is not None:  # series pendulums (S > 1 sliders): the series slab
+        _refuse_for_series(plan_isolators.name, bearings=bearings, radii=radii, isolation_period=isolation_period,
                            spring_shares=spring_shares, isolation_damping=isolation_damping or None,
                            contact_pressures=contact_pressures,
                            friction_model=None if friction_model == "hysteretic" else friction_model)
         return slab_on_series(weight=weight, mass_inertia=inertia, centre_of_mass=centre, positions=positions,
-                              loads=loads, pendulums=pendulums, isolator=isolator, ground_x=ground_x,
-                              ground_y=ground_y, time_step=time_step, height=height,
+                              loads=loads, pendulums=plan_isolators.pendulums, isolator=plan_isolators.name,
+                              ground_x=ground_x, ground_y=ground_y, time_step=time_step, height=height,
                               vertical_stiffness=vertical_stiffness, names=names)
-    if pendulums is not None:
-        raise ValueError(f"pendulums: apply to isolator {' or '.join(map(repr, SERIES_SLAB_ISOLATORS))}, "
-                         f"not {isolator!r}.")
-    if bearings is None:
-        raise ValueError(f"bearings: isolator {isolator!r} needs the groups' SlidingBearing(s).")
-    if isinstance(bearings, SlidingBearing):
-        bearings = [bearings] * groups
-    if len(bearings) != groups:
-        raise ValueError(f"bearings: {len(bearings)} given for {groups} groups.")
-    radii = _pendulum_radii(isolator, radii, groups, isolation_period, spring_shares)
+    bearings, radii = plan_isolators.bearings, plan_isolators.radii
+    refuse_springs(radii, isolation_period, spring_shares)
     overturning = None if height == 0 else overturning_map(positions, centre, height, vertical_stiffness, names)
     bearing_map = plan_bearing_map(positions - centre, 3, (0, 1, 2))
     stiffness = np.zeros((3, 3))
@@ -235,28 +232,6 @@ def _refuse_for_series(isolator, **given):
         if value is not None:
             raise ValueError(f"{name}: does not apply to isolator {isolator!r} (each group is the series "
                              "pendulum of `pendulums`, with its own radii and friction); leave it out.")
-
-
-def _pendulum_radii(isolator, radii, groups, isolation_period, spring_shares):
-    """The radii R_g (G,) [m] of `isolator` "single-fp" (None for "flat"), checked."""
-    if isolator not in ("flat", "single-fp"):
-        raise ValueError(f"isolator: one of {', '.join(map(repr, ISOLATORS))}, got {isolator!r}.")
-    if isolator == "flat":
-        if radii is not None:
-            raise ValueError("radii: apply to isolator 'single-fp' only (flat sliders have none).")
-        return None
-    if isolation_period is not None or spring_shares is not None:
-        raise ValueError("isolation_period, spring_shares: a slab on single friction pendulums has no "
-                         "springs (each group restores with W_g / R_g); leave them out.")
-    if radii is None:
-        raise ValueError("radii: isolator 'single-fp' needs the radius R [m] of the groups' surfaces.")
-    radii = np.asarray(radii, dtype=float).reshape(-1)
-    if radii.size not in (1, groups):
-        raise ValueError(f"radii: give one radius for all groups or one per group ({groups}).")
-    radii = np.broadcast_to(radii, (groups,)).copy()
-    if not np.all(np.isfinite(radii) & (radii > 0)):
-        raise ValueError(f"radii: must be > 0 m, got {radii.tolist()}.")
-    return radii
 
 
 def slab_point_displacement(q, points, centre_of_mass):

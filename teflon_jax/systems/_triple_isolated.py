@@ -6,7 +6,7 @@ from collections.abc import Mapping
 import equinox as eqx
 import jax
 
-from ..bearing import SeriesPendulum, check_series_pendulum, series_pendulum_class
+from ..bearing import SeriesPendulum, check_series_pendulum
 from ..validation import concrete
 from ._triple_biaxial import BiaxialStructureOnTriple
 from ._triple_design import designed_pendulum
@@ -69,27 +69,19 @@ class TripleIsolatedStructure(eqx.Module):
         return BiaxialStructureOnTriple(system, ground_acceleration[1]) if two else system
 
 
-def triple_isolated_structure(kind: str, pendulum: SeriesPendulum | None, *, time_step: float,
+def triple_isolated_structure(kind: str, pendulum: SeriesPendulum, *, time_step: float,
                               newton_iterations: int, newton_tolerance: float | None,
-                              conflicting: Mapping, isolator: str = "triple-fp") -> TripleIsolatedStructure:
-    """`isolated_structure(kind, isolator="triple-fp", triple=...)` (or `isolator="double-fp",
-    double=...`), checked: `ValueError` naming a missing pendulum (`triple` or `double`), one of
-    the wrong class or that the series model cannot take (`check_triple_pendulum`,
-    `check_double_pendulum`), and each name in `conflicting` (inputs of the other isolators
-    given with this one)."""
-    kind_of = series_pendulum_class(isolator)
-    name = kind_of.keyword
-    if pendulum is None:
-        raise ValueError(f"{name}: the {isolator} isolator needs its {kind_of.__name__} (e.g. "
-                         "formats.load_isolator(path)).")
-    if not isinstance(pendulum, kind_of):
-        raise ValueError(f"{name}: expected a {kind_of.__name__}, got {type(pendulum).__name__}.")
+                              conflicting: Mapping) -> TripleIsolatedStructure:
+    """`isolated_structure(kind, isolator=pendulum)` of a `TriplePendulum` or `DoublePendulum`,
+    checked: `ValueError` naming the constant the series model cannot take
+    (`check_triple_pendulum`, `check_double_pendulum`), the time step, and each name in
+    `conflicting` (inputs of the flat sliders given with the pendulum)."""
     if all(concrete(leaf) is not None for leaf in jax.tree_util.tree_leaves(pendulum)):
         check_series_pendulum(pendulum)  # traced constants (gradients): the caller's to check
     if isinstance(time_step, bool) or not isinstance(time_step, (int, float)) or not time_step > 0:
         raise ValueError(f"time_step: must be a positive number of seconds, got {time_step!r}.")
     for conflict, reason in conflicting.items():
-        raise ValueError(f"{conflict}: does not apply to the {isolator} isolator ({reason}).")
+        raise ValueError(f"{conflict}: does not apply to the {pendulum.isolator} isolator ({reason}).")
     tolerance = TRIPLE_TOLERANCE if newton_tolerance is None else float(newton_tolerance)
     return TripleIsolatedStructure(pendulum=pendulum, kind=kind, time_step=float(time_step),
                                    newton_iterations=int(newton_iterations), newton_tolerance=tolerance)
