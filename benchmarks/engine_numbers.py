@@ -48,6 +48,12 @@ TRIPLE = TriplePendulum(inner_radius=0.3, bottom_radius=2.1, top_radius=2.1, inn
                         top_friction=FrictionParameters(0.11, 0.05, 20.0), hysteresis=BoucWen(1e-4))
 
 
+def _field(response, *names):
+    """The first of the fields `names` that `response` has: the same history under the names
+    of this and of earlier versions of the response types."""
+    return next(getattr(response, name) for name in names if hasattr(response, name))
+
+
 def _ground(seed, scale=1.0):
     motion = StochasticGroundMotion(peak_ground_acceleration=0.6 * STANDARD_GRAVITY, duration=DURATION,
                                     time_step=RECORD_STEP)
@@ -90,7 +96,7 @@ def _flat_cases(out):
                 else:
                     system = planar(pair)
                 response = jax.jit(simulate_bidirectional, static_argnums=1)(system, DURATION)
-                out[f"{isolator}-{kind}-vertical{int(with_vertical)}-2d-q"] = np.asarray(response.q)
+                out[f"{isolator}-{kind}-vertical{int(with_vertical)}-2d-q"] = np.asarray(_field(response, "q", "displacement"))
                 out[f"{isolator}-{kind}-vertical{int(with_vertical)}-2d-force"] = np.asarray(response.friction_force)
     _slab_cases(out)
 
@@ -109,7 +115,7 @@ def _slab_cases(out):
                 time_step=TIME_STEP, height_of_centre_of_mass=height, **extra)
             slab = with_vertical_motion(slab, uniform_signal(0.5 * _ground(9), RECORD_STEP))
             response = jax.jit(simulate_bidirectional, static_argnums=1)(slab, DURATION)
-            out[f"slab-{isolator}-h{height:g}-q"] = np.asarray(response.q)
+            out[f"slab-{isolator}-h{height:g}-q"] = np.asarray(_field(response, "q", "displacement"))
 
 
 def dump(path, cases="all"):

@@ -116,8 +116,6 @@ _EXPORTS = {
         "FRICTION_MODELS",
         "BearingTestResult",
         "BearingTestSystem",
-        "BuildingResponse",
-        "PathResponse",
         "SampledPath",
         "StructureOnSliders",
         "StructureResponse",

@@ -78,8 +78,8 @@ def test_motion_along_a_line_at_30_degrees_is_the_uniaxial_response():
     biaxial = simulate_bidirectional(dataclasses.replace(plane, newton_tolerance=0.0), 6.0)
     uniaxial = simulate_structure(dataclasses.replace(line, newton_tolerance=0.0), 6.0)
     u = np.asarray(uniaxial.displacement[:, 0])
-    along = np.cos(angle) * biaxial.q[:, 0] + np.sin(angle) * biaxial.q[:, 1]
-    across = -np.sin(angle) * biaxial.q[:, 0] + np.cos(angle) * biaxial.q[:, 1]
+    along = np.cos(angle) * biaxial.displacement[:, 0] + np.sin(angle) * biaxial.displacement[:, 1]
+    across = -np.sin(angle) * biaxial.displacement[:, 0] + np.cos(angle) * biaxial.displacement[:, 1]
     peak = np.max(np.abs(u))
     assert peak > 0.01  # it slides
     np.testing.assert_allclose(along, u, rtol=0, atol=1e-6 * peak)
@@ -122,8 +122,8 @@ def test_zero_y_record_gives_the_uniaxial_result_to_rounding(structure):
         biaxial = simulate_bidirectional(dataclasses.replace(plane, newton_tolerance=tolerance), 4.0)
         uniaxial = simulate_structure(dataclasses.replace(line, newton_tolerance=tolerance), 4.0)
         peak = np.max(np.abs(uniaxial.displacement))
-        assert np.max(np.abs(biaxial.q[:, n:])) == 0.0  # nothing moves across
-        errors.append(np.max(np.abs(biaxial.q[:, :n] - uniaxial.displacement)) / peak)
+        assert np.max(np.abs(biaxial.displacement[:, n:])) == 0.0  # nothing moves across
+        errors.append(np.max(np.abs(biaxial.displacement[:, :n] - uniaxial.displacement)) / peak)
     assert errors[1] < 1e-11, errors
     assert errors[0] < 1e-6, errors
 
@@ -131,7 +131,7 @@ def test_zero_y_record_gives_the_uniaxial_result_to_rounding(structure):
 def energy_terms(system, response):
     """Input, kinetic, strain, damping and friction energies [J] by the trapezoidal rule."""
     t = np.asarray(response.time)
-    q, v = np.asarray(response.q), np.asarray(response.v)
+    q, v = np.asarray(response.displacement), np.asarray(response.velocity)
     m, K, C = np.asarray(system.mass), np.asarray(system.stiffness), np.asarray(system.damping)
     R = np.asarray(system.influence)
     ag = np.asarray(response.ground)
@@ -175,5 +175,5 @@ def test_fast_solver_matches_tsit5_on_a_short_pair():
     )
     fast = simulate_bidirectional(system, 6.0)
     reference = simulate_bidirectional(system, 6.0, solver=diffrax.Tsit5(), rtol=1e-9, atol=1e-12)
-    peaks = [float(np.max(np.hypot(r.q[:, 0], r.q[:, 1]))) for r in (fast, reference)]
+    peaks = [float(np.max(np.hypot(r.displacement[:, 0], r.displacement[:, 1]))) for r in (fast, reference)]
     assert abs(peaks[0] - peaks[1]) < 5e-3 * peaks[1]

@@ -67,7 +67,7 @@ def _compare_along(line, plane, duration, rtol):
     uniaxial = simulate_structure(line, duration)
     biaxial = simulate_bidirectional(plane, duration)
     u = np.asarray(uniaxial.displacement)
-    qx, qy = np.asarray(biaxial.q[:, :n]), np.asarray(biaxial.q[:, n:])
+    qx, qy = np.asarray(biaxial.displacement[:, :n]), np.asarray(biaxial.displacement[:, n:])
     along = np.cos(ANGLE) * qx + np.sin(ANGLE) * qy
     across = -np.sin(ANGLE) * qx + np.cos(ANGLE) * qy
     peak = np.max(np.abs(u))
@@ -103,7 +103,7 @@ def test_coulomb_sliding_under_a_ramped_ground_acceleration_is_the_closed_form()
         plane = bidirectional_rigid_mass(weight=1e5, bearing=paper_bearing(constant), ground_x=gx,
                                          ground_y=gy, time_step=0.0025, friction_model="coulomb")
         response = simulate_bidirectional(plane, duration)
-        q, v = np.asarray(response.q), np.asarray(response.v)
+        q, v = np.asarray(response.displacement), np.asarray(response.velocity)
         t = np.asarray(response.time)
         if peak < mu_g:
             assert np.max(np.abs(q)) < 1e-15 and np.max(np.abs(v)) < 1e-15

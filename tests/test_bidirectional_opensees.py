@@ -75,10 +75,10 @@ def _peaks(system, duration):
     """(peak resultant base displacement [m], peak resultant base shear ratio [-]) of teflon-jax."""
     response = simulate_bidirectional(system, duration)
     m, R = np.asarray(system.mass), np.asarray(system.influence)
-    total = np.asarray(response.acceleration) + np.asarray(response.ground) @ R.T
+    total = np.asarray(response.total_acceleration)
     force = np.einsum("tn,n,nd->td", total, m, R)
     n = m.size // 2
-    disp = np.max(np.hypot(response.q[:, 0], response.q[:, n]))
+    disp = np.max(np.hypot(response.displacement[:, 0], response.displacement[:, n]))
     return float(disp), float(np.max(np.hypot(*force.T)) / (np.sum(m * R[:, 0]) * STANDARD_GRAVITY))
 
 

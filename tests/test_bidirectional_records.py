@@ -48,9 +48,9 @@ def structure(kind, ax, ay, dt, time_step):
 def peaks(system, response):
     """(peak resultant base displacement [m], peak resultant base shear ratio [-], base x history)."""
     n = system.mass.shape[0] // 2
-    q = np.asarray(response.q)
+    q = np.asarray(response.displacement)
     m, R = np.asarray(system.mass), np.asarray(system.influence)
-    total = np.asarray(response.acceleration) + np.asarray(response.ground) @ R.T
+    total = np.asarray(response.total_acceleration)
     force = np.einsum("tn,n,nd->td", total, m, R)
     weight = float(np.sum(m * R[:, 0])) * STANDARD_GRAVITY
     return (float(np.max(np.hypot(q[:, 0], q[:, n]))),

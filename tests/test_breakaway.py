@@ -66,7 +66,7 @@ def test_breakaway_acts_once_in_a_structure():
     assert len(set(half_cycles(v)[sliding])) >= 4
     # Newmark's average-acceleration relations with the reported accelerations, at every step
     u = np.asarray(r.displacement[:, 0])
-    a = np.asarray(r.total_acceleration[:, 0]) - np.asarray(r.ground_acceleration)
+    a = np.asarray(r.total_acceleration[:, 0]) - np.asarray(r.ground[:, 0])
     velocity_error = v[1:] - v[:-1] - dt / 2 * (a[1:] + a[:-1])
     displacement_error = u[1:] - u[:-1] - dt * v[:-1] - dt**2 / 4 * (a[1:] + a[:-1])
     # as accelerations: within the Newton tolerance (~1e-6 m/s^2); a force switched between the

@@ -52,10 +52,9 @@ def _level_moment(system, response, heights):
     written out from the levels' heights `heights` (7,) [m] (q = x: base, floors; y: the same;
     theta)."""
     mass = np.asarray(system.mass)
-    ground = np.asarray(response.ground)
-    acc = np.asarray(response.acceleration)
-    fx = mass[:7] * (acc[:, :7] + ground[:, :1])
-    fy = mass[7:14] * (acc[:, 7:14] + ground[:, 1:])
+    total = np.asarray(response.total_acceleration)
+    fx = mass[:7] * total[:, :7]
+    fy = mass[7:14] * total[:, 7:14]
     return np.stack([fx @ heights, fy @ heights], axis=-1)
 
 
@@ -77,8 +76,8 @@ def test_symmetric_plan_without_overturning_is_the_building_on_one_group(isolato
     assert plan.overturning is None
     one = bidirectional_building(bearing=BEARING, ground_x=ax, ground_y=ground_y, time_step=STEP,
                                  isolation_period=PERIOD)
-    q = np.asarray(simulate_bidirectional(_exact(plan), DURATION).q)
-    expected = np.asarray(simulate_bidirectional(_exact(one), DURATION).q)
+    q = np.asarray(simulate_bidirectional(_exact(plan), DURATION).displacement)
+    expected = np.asarray(simulate_bidirectional(_exact(one), DURATION).displacement)
     peak = np.max(np.abs(expected[:, [0, 7]]))
     assert peak > 0.1
     assert np.max(np.abs(q[:, :14] - expected)) < 1e-6 * peak
@@ -112,7 +111,7 @@ def test_rigid_frame_is_the_slab_with_its_centre_of_mass_at_the_building_height(
                             height_of_centre_of_mass=masses @ heights / masses.sum())
     b = simulate_bidirectional(building, DURATION)
     s = simulate_bidirectional(slab, DURATION)
-    qb, qs = np.asarray(b.q)[:, [0, 7, 14]], np.asarray(s.q)
+    qb, qs = np.asarray(b.displacement)[:, [0, 7, 14]], np.asarray(s.displacement)
     assert np.max(np.abs(qs[:, 2])) > 1e-3  # the plan's eccentricity turns the slab
     assert np.all(np.max(np.abs(qb - qs), axis=0) < 1e-5 * np.max(np.abs(qs), axis=0))
     assert np.max(np.abs(np.asarray(b.normal_load) - np.asarray(s.normal_load))) < 1e-5 * W
@@ -176,8 +175,8 @@ def test_a_strong_pulse_lifts_either_pair_and_the_base_moves_as_without_overturn
     leaning = np.abs(moment[:-1]) > 0.1 * W
     assert np.all(np.sign(west[1:, 0] - east[1:, 0])[leaning] == np.sign(moment[:-1])[leaning])
     one = bidirectional_building(bearing=BEARING, ground_x=ax, time_step=STEP, isolation_period=PERIOD)
-    expected = np.asarray(simulate_bidirectional(_exact(one), DURATION).q)
-    q = np.asarray(response.q)
+    expected = np.asarray(simulate_bidirectional(_exact(one), DURATION).displacement)
+    q = np.asarray(response.displacement)
     assert np.max(np.abs(q[:, :14] - expected)) < 1e-6 * np.max(np.abs(expected[:, 0]))
 
 

@@ -61,7 +61,7 @@ def test_along_x_two_directions_are_the_one_direction_structure(wear):
     a = simulate_structure(dataclasses.replace(one, newton_tolerance=0.0), 9.0)
     two = dataclasses.replace(_two(bearing, ag, 0 * ag), newton_tolerance=0.0)
     b = simulate_bidirectional(two, 9.0)
-    np.testing.assert_allclose(b.q[:, 0], a.displacement[:, 0], rtol=0, atol=1e-10)
+    np.testing.assert_allclose(b.displacement[:, 0], a.displacement[:, 0], rtol=0, atol=1e-10)
     np.testing.assert_allclose(b.friction_force[:, 0, 0], a.friction_force, rtol=1e-7, atol=1e-6)
     cold = simulate_structure(dataclasses.replace(
         one, newton_tolerance=0.0, bearing=tj.paper_bearing(UF, breakaway_ratio=UF_B)), 9.0)
@@ -75,8 +75,8 @@ def test_the_flux_follows_the_resultant_speed():
     ag = _record()
     along_x = simulate_bidirectional(_two(_bearing(), ag, 0 * ag), 9.0)
     diagonal = simulate_bidirectional(_two(_bearing(), ag / math.sqrt(2), ag / math.sqrt(2)), 9.0)
-    resultant = np.hypot(diagonal.q[:, 0], diagonal.q[:, 1])
-    np.testing.assert_allclose(resultant, np.abs(along_x.q[:, 0]), rtol=0, atol=1e-8)
+    resultant = np.hypot(diagonal.displacement[:, 0], diagonal.displacement[:, 1])
+    np.testing.assert_allclose(resultant, np.abs(along_x.displacement[:, 0]), rtol=0, atol=1e-8)
 
 
 def test_heating_in_two_directions_lowers_friction_and_the_peak_loop_agrees():
@@ -90,7 +90,7 @@ def test_heating_in_two_directions_lowers_friction_and_the_peak_loop_agrees():
     peak_hot, peak_cold = bidirectional_peak_response(hot, 9.0), bidirectional_peak_response(cold, 9.0)
     assert float(peak_hot.base_disp) > 1.02 * float(peak_cold.base_disp)
     full = simulate_bidirectional(hot, 9.0)
-    resultant = np.hypot(full.q[:, 0], full.q[:, 1])
+    resultant = np.hypot(full.displacement[:, 0], full.displacement[:, 1])
     assert float(np.max(resultant)) == pytest.approx(float(peak_hot.base_disp), rel=1e-9)
     plain = _two(tj.paper_bearing(UF, breakaway_ratio=UF_B), ax, ay)
     assert float(bidirectional_peak_response(plain, 9.0).base_disp) == pytest.approx(
@@ -114,7 +114,7 @@ def test_each_slab_group_heats_at_its_own_pressure():
 
     mixed = simulate_bidirectional(slab([1000 * PSI, 4000 * PSI]), 7.0)
     low = simulate_bidirectional(slab([1000 * PSI, 1000 * PSI]), 7.0)
-    assert float(np.max(np.abs(mixed.q[:, 0] - low.q[:, 0]))) > 1e-4
+    assert float(np.max(np.abs(mixed.displacement[:, 0] - low.displacement[:, 0]))) > 1e-4
     # the same sliding in both groups (no rotation excited at first): the hotter one slides
     # with less force at the end
     fx = np.abs(mixed.friction_force[-200:, :, 0]).max(axis=0)

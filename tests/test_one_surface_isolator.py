@@ -113,7 +113,7 @@ def test_one_surface_in_two_components_gives_the_flat_engines_histories(isolator
     builder = isolated_structure(kind, isolator=isolator, linear_rule="newmark", time_step=dt, **ISOLATORS[isolator])
     linear = builder(ground[0])
     series = BiaxialStructureOnTriple(_on_one_surface(builder, isolator, linear), ground[1])
-    q = np.asarray(jax.jit(simulate_bidirectional, static_argnums=1)(flat, DURATION).q)
+    q = np.asarray(jax.jit(simulate_bidirectional, static_argnums=1)(flat, DURATION).displacement)
     n = linear.mass.shape[0]
     histories = jax.jit(biaxial_histories, static_argnums=1)(series, DURATION)
     assert bool(np.all(histories[-1]))
@@ -169,7 +169,7 @@ def test_along_an_imposed_path_the_end_law_is_the_flat_bearing_test(radius):
     path = 0.05 * np.sin(2 * np.pi * time / 2.0) * np.minimum(time, 1.0)
     load = 1e6
     series = simulate_triple_test(single_pendulum(bearing, radius=radius), time, path, load, friction_velocity="end")
-    flat = np.asarray(respond_along_path(bearing, sampled_path(time, path, load)).force_x) + load * path / radius
+    flat = np.asarray(respond_along_path(bearing, sampled_path(time, path, load)).fx) + load * path / radius
     assert _relative(flat, np.asarray(series.force)) <= 1e-12
     mean = simulate_triple_test(single_pendulum(bearing, radius=radius), time, path, load)
     assert _relative(flat, np.asarray(mean.force)) > 1e-3  # the mean speed lags the path's

@@ -155,7 +155,7 @@ def _energies(dt):
     system = isolated_structure("rigid", isolator="double-fp", double=_both_heated(), time_step=dt)(_ground(dt))
     r = jax.jit(simulate_triple_structure, static_argnums=1)(system, 6.0)
     u, v, force, ground = (np.asarray(a) for a in (r.displacement[:, 0], r.velocity[:, 0], r.bearing_force,
-                                                   r.ground_acceleration))
+                                                   r.ground[:, 0]))
     mass, du = float(system.mass[0]), np.diff(u)
     work = np.concatenate([[0.0], np.cumsum(0.5 * (force[1:] + force[:-1]) * du)])
     supplied = np.concatenate([[0.0], np.cumsum(-mass * 0.5 * (ground[1:] + ground[:-1]) * du)])

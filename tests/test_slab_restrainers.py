@@ -53,13 +53,13 @@ def _check_in_restrainers_as_the_rigid_mass(pendulum, heights):
     reference = _rigid(pendulum)
     for height in heights:
         response = simulate(_slab(height, pendulum), SECONDS)
-        force = -np.asarray(response.group_force).sum(axis=1)  # H (nt, 2) [N]
+        force = -np.asarray(response.bearing_force).sum(axis=1)  # H (nt, 2) [N]
         loads = np.asarray(response.normal_load)
         assert np.max(np.abs(force[:, 0])) > RESTRAINED * W and ARM * W > height * np.max(np.abs(force[:, 0]))
         assert bool(np.all(response.converged)) and not np.asarray(response.tipped).any()
         assert np.max(np.abs(loads.sum(axis=1) - W)) < 1e-9 * W
-        assert np.max(np.abs(np.asarray(response.q[:, 0]) - reference)) < 1e-9
-        assert np.max(np.abs(np.asarray(response.q[:, 1:]) * [1.0, LX])) < 1e-8  # y and twist at the edges [m]
+        assert np.max(np.abs(np.asarray(response.displacement[:, 0]) - reference)) < 1e-9
+        assert np.max(np.abs(np.asarray(response.displacement[:, 1:]) * [1.0, LX])) < 1e-8  # y and twist at the edges [m]
         if height > 0:  # the lever rule of H of the step before: dN_g = -h H_x rx_g / sum rx^2
             r = CORNERS[:, 0] - CENTRE[0]
             assert np.allclose(loads[1:] - W / 4, -height * np.outer(force[:-1, 0], r) / np.sum(r**2),
@@ -93,9 +93,9 @@ def test_a_slab_that_tips_on_a_restrainer_is_reported_and_stays_finite(pendulum)
     response = simulate(_slab(height, pendulum), SECONDS)
     if pendulum.heated:
         assert np.all(np.isfinite(np.asarray(response.surface_temperature_rise)))
-    q, loads = np.asarray(response.q), np.asarray(response.normal_load)
+    q, loads = np.asarray(response.displacement), np.asarray(response.normal_load)
     tipped, converged = np.asarray(response.tipped), np.asarray(response.converged)
-    force = -np.asarray(response.group_force).sum(axis=1)
+    force = -np.asarray(response.bearing_force).sum(axis=1)
     assert np.all(np.isfinite(q)) and np.all(np.isfinite(loads)) and np.all(np.isfinite(force))
     assert tipped.sum() > 5 and np.array_equal(~converged, tipped)
     assert np.array_equal(tipped[1:], height * np.abs(force[:-1, 0]) > ARM * W)
@@ -169,8 +169,8 @@ def test_an_eccentric_slab_driven_into_its_restrainers_in_two_components_balance
     assert bool(np.all(response.converged)) and not np.asarray(response.tipped).any()
     sliders = np.asarray(response.slider).sum(axis=2)  # (nt, G, 2)
     assert np.max(np.abs(np.asarray(response.bearing_displacement) - sliders)) < 1e-9
-    force = -np.asarray(response.group_force).sum(axis=1)
-    inertia = W / G * (np.asarray(response.acceleration)[:, :2] + np.asarray(response.ground))
+    force = -np.asarray(response.bearing_force).sum(axis=1)
+    inertia = W / G * np.asarray(response.total_acceleration)[:, :2]
     assert np.max(np.abs(force - inertia)) < 1e-6 * W
     assert np.max(np.abs(force) / W) > RESTRAINED  # in the restrainers
-    assert np.max(np.abs(np.asarray(response.q)[:, 2])) > 1e-4
+    assert np.max(np.abs(np.asarray(response.displacement)[:, 2])) > 1e-4

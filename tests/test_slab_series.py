@@ -81,8 +81,8 @@ def test_symmetric_slab_moves_as_the_rigid_mass_on_one_pendulum(isolator):
     for height in (0.0, 4.0):
         response = simulate(_slab(ax, ay, height, pendulum), DURATION)
         assert bool(np.all(response.converged))
-        assert np.max(np.abs(np.asarray(response.q[:, 0]) - reference)) < 1e-9
-        assert np.max(np.abs(response.q[:, 1:])) < 1e-12
+        assert np.max(np.abs(np.asarray(response.displacement[:, 0]) - reference)) < 1e-9
+        assert np.max(np.abs(response.displacement[:, 1:])) < 1e-12
     loads = np.asarray(response.normal_load)
     assert np.ptp(loads[:, 0]) > 0.05 * W / 4  # the loads did move
     assert np.allclose(loads.sum(axis=1), W, rtol=1e-12)
@@ -97,14 +97,14 @@ def _check_lever_rule(response, ax, ay, height, sign):
     hand = -height * M * (ax[-1] * r[:, 0] / spacing[0] ** 2 + ay[-1] * r[:, 1] / spacing[1] ** 2)
     assert np.allclose(expected, hand, rtol=1e-12)
     # dN sums to zero and balances the moment of the isolators' force one step earlier
-    force = -np.asarray(response.group_force).sum(axis=1)
+    force = -np.asarray(response.bearing_force).sum(axis=1)
     assert np.max(np.abs(dn.sum(axis=1))) < 1e-9 * W
     assert np.allclose(dn[1:] @ r, -height * force[:-1], rtol=0, atol=1e-9 * W * LX)
     unloaded = {name for name, d in zip(("SW", "SE", "NE", "NW"), dn[-1]) if d < 0}
     assert unloaded == ({"SE", "NE"} if sign > 0 else {"SW", "NW"})
     # every group's force over its own N_g is the same (the groups move together): friction
     # and W / R_e of every slider scale with N_g, not with the static W_g
-    ratio = np.asarray(response.group_force)[1:] / np.asarray(response.normal_load)[1:, :, None]
+    ratio = np.asarray(response.bearing_force)[1:] / np.asarray(response.normal_load)[1:, :, None]
     assert np.max(np.abs(ratio - ratio[:, :1])) < 1e-9
     assert np.max(np.abs(ratio[-1, :, 0])) > 0.02
 
@@ -133,11 +133,11 @@ def test_a_lifted_group_carries_no_shear_and_its_sliders_share_its_motion():
     response = simulate(_slab(ax, ay, 20.0, positions=positions), DURATION)
     loads = np.asarray(response.normal_load)
     lifted = loads <= 0
-    assert lifted.any() and np.all(np.isfinite(np.asarray(response.q)))
+    assert lifted.any() and np.all(np.isfinite(np.asarray(response.displacement)))
     assert np.array_equal(~np.asarray(response.converged), np.asarray(response.tipped))
     assert np.array_equal(np.asarray(response.tipped)[1:], lifted[1:].any(axis=1))
     assert np.max(np.abs(loads.sum(axis=1) - W)) < 1e-9 * W
-    assert np.all(np.asarray(response.group_force)[lifted] == 0.0)
+    assert np.all(np.asarray(response.bearing_force)[lifted] == 0.0)
     steps = np.diff(np.asarray(response.slider), axis=0)[lifted[1:]]  # (n, S, 2)
     radii = np.array([0.6, 1.8, 1.8])
     assert np.max(np.abs(steps.sum(axis=1))) > 1e-4
@@ -164,10 +164,10 @@ def test_a_lifted_groups_share_goes_to_the_others():
     lifted = loads[:, 2] <= 0
     assert lifted[-1] and np.all(loads[lifted, 2] == 0.0)
     assert np.max(np.abs(loads.sum(axis=1) - W)) < 1e-9 * W
-    force = -np.asarray(response.group_force).sum(axis=1)
+    force = -np.asarray(response.bearing_force).sum(axis=1)
     assert np.allclose(loads[1:] @ (SQUARE - CENTRE), -height * force[:-1], rtol=0, atol=1e-9 * W * LX)
     assert np.allclose(loads[-1], [0.8 * W, 0.1 * W, 0.0, 0.1 * W], rtol=0, atol=0.01 * W)
-    assert np.all(np.asarray(response.group_force)[1:][lifted[1:], 2] == 0.0)
+    assert np.all(np.asarray(response.bearing_force)[1:][lifted[1:], 2] == 0.0)
 
 
 def test_redistribution_by_statics_and_where_the_slab_cannot_rest():
@@ -234,7 +234,7 @@ def test_the_slab_response_is_differentiable_in_a_surface_friction():
             ground_x=base.ground_x, ground_y=base.ground_y, time_step=STEP, isolator="triple-fp",
             pendulums=eqx.tree_at(lambda p: p.top_friction, TRIPLE, friction),
             height_of_centre_of_mass=3.0)
-        return simulate_slab_series(system, 2.0).q[-1, 0]
+        return simulate_slab_series(system, 2.0).displacement[-1, 0]
 
     value, slope = jax.jit(jax.value_and_grad(displacement))(0.12)
     h = 1e-5

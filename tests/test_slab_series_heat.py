@@ -73,8 +73,8 @@ def test_symmetric_heated_slab_is_the_heated_rigid_mass(pendulum):
     reference = np.asarray(rigid(one, DURATION).displacement[:, 0])
     response = simulate(_slab(ax, ay, 0.0, hot), DURATION)
     assert bool(np.all(response.converged))
-    assert np.max(np.abs(np.asarray(response.q[:, 0]) - reference)) < 1e-10
-    assert np.max(np.abs(response.q[:, 1:])) < 1e-12
+    assert np.max(np.abs(np.asarray(response.displacement[:, 0]) - reference)) < 1e-10
+    assert np.max(np.abs(response.displacement[:, 1:])) < 1e-12
     cold = triple_structure("rigid", _heated(pendulum, heat_scale=0.0), uniform_signal(ax, DT_RECORD), time_step=STEP,
                             weight=W)  # the unheated rigid mass (tests/test_series_heating.py)
     assert np.max(np.abs(np.asarray(rigid(cold, DURATION).displacement[:, 0]) - reference)) > 0.01
@@ -112,7 +112,7 @@ def test_the_more_loaded_groups_heat_more():
     peak = np.asarray(response.surface_temperature_rise).max(axis=0)  # (G, S)
     assert np.allclose(peak[0], peak[3], rtol=1e-9) and np.allclose(peak[1], peak[2], rtol=1e-9)
     assert np.all(peak[0] > 1.02 * peak[1]) and peak.min() > 20.0
-    assert np.max(np.abs(np.asarray(response.q[:, 0]) - np.asarray(neutral.q[:, 0]))) > 0.01
+    assert np.max(np.abs(np.asarray(response.displacement[:, 0]) - np.asarray(neutral.displacement[:, 0]))) > 0.01
 
 
 def test_a_lifted_group_generates_no_heat():
@@ -126,7 +126,7 @@ def test_a_lifted_group_generates_no_heat():
     change = np.diff(np.asarray(response.surface_temperature_rise), axis=0)  # (nt - 1, G, S)
     assert lifted.sum() > 20
     assert np.all(change[lifted] < 0) and change[~lifted].max() > 1.0
-    assert np.all(np.asarray(response.group_force)[1:][lifted] == 0.0)
+    assert np.all(np.asarray(response.bearing_force)[1:][lifted] == 0.0)
 
 
 def test_groups_whose_surfaces_heat_differently_are_refused_by_name():
@@ -205,7 +205,7 @@ def test_the_heated_slab_is_differentiable_in_a_surface_friction():
             length_x=20.0, length_y=12.0, weight=W, centre_of_mass=[10.0, 6.0], positions=CORNERS,
             loads=[W / 4] * 4, ground_x=base.ground_x, ground_y=base.ground_y, time_step=STEP,
             isolator="double-fp", pendulums=pendulum, height_of_centre_of_mass=3.0)
-        return simulate_slab_series(system, 2.0).q[-1, 0]
+        return simulate_slab_series(system, 2.0).displacement[-1, 0]
 
     value, slope = jax.jit(jax.value_and_grad(displacement))(0.06)
     h = 1e-5

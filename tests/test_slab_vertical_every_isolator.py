@@ -70,9 +70,9 @@ def _slab(isolator, gx, gy, friction_model="hysteretic"):
 def _run_slab(system):
     if isinstance(system, SlabOnSeries):
         response = simulate_slab_series(system, DURATION)
-        return np.asarray(response.q), np.asarray(response.converged)
+        return np.asarray(response.displacement), np.asarray(response.converged)
     response = simulate_bidirectional(system, DURATION)  # raises unless every step converged
-    return np.asarray(response.q), np.array([True])
+    return np.asarray(response.displacement), np.array([True])
 
 
 def _rigid_mass_response(isolator, gx, gv, friction_model="hysteretic"):

@@ -92,7 +92,7 @@ def test_energy_balance_rigid_mass():
     u = np.asarray(r.displacement[:, 0])
     t = np.asarray(r.time)
     k, c = float(system.stiffness[0, 0]), float(system.damping[0, 0])
-    input_energy = -np.trapezoid(MASS * np.asarray(r.ground_acceleration) * v, t)
+    input_energy = -np.trapezoid(MASS * np.asarray(r.ground[:, 0]) * v, t)
     kinetic = 0.5 * MASS * v[-1] ** 2
     strain = 0.5 * k * u[-1] ** 2
     viscous = np.trapezoid(c * v**2, t)

@@ -60,5 +60,5 @@ def simulate_record_force(values: Mapping[str, Any], time, ux, load, *, velocity
     response = respond_along_path(bearing, path, z0=None if planar else jnp.asarray(z0),
                                   z_peak0=0.0 if planar else z_peak0)
     if not planar:
-        return interfaces_in_parallel * response.force_x
-    return interfaces_in_parallel * response.force_x, interfaces_in_parallel * response.force_y
+        return interfaces_in_parallel * response.fx
+    return interfaces_in_parallel * response.fx, interfaces_in_parallel * response.fy

@@ -77,7 +77,7 @@ def check_free(free, known=PARAMETER_NAMES) -> tuple:
 
 def triple_fit_plan(start, response, time, *, full_model: bool = False) -> tuple[tuple, dict]:
     """(free names, {held name: reason}) for a record whose simulation with the `start`
-    constants (`TriplePendulum` or `DoublePendulum`) is `response` (`TripleResponse`) at the sample `time` [s]
+    constants (`TriplePendulum` or `DoublePendulum`) is `response` (`BearingTestResult`) at the sample `time` [s]
     (module docstring). `full_model`: free delta_f and rate_a of every sliding surface
     whatever the speeds."""
     slider = np.asarray(response.slider)

@@ -389,11 +389,11 @@ def simulate_augmented(params, data: AugmentedData, active, *, conductivity=None
                                 diffusivity=diffusivity)
     response = respond_along_path(bearing, data.path, z_peak0=candidate_start(active))
     return {
-        "force": data.in_parallel * response.force_x,
-        "force_y": data.in_parallel * response.force_y,
+        "force": data.in_parallel * response.fx,
+        "force_y": data.in_parallel * response.fy,
         "coefficient": response.coefficient,
-        "z": response.z_x,
-        "z_y": response.z_y,
+        "z": response.z[:, 0],
+        "z_y": response.z[:, 1],
         "temperature_rise": response.temperature_rise,
         "heat_index": response.heat_index,
         "gap_position": response.gap_position,

@@ -33,11 +33,11 @@ def _storey_ratios(system, response) -> dict:
 
 
 def bidirectional_peaks(structure, system, response, plan):
-    """(peak dict, histories dict) in SI of a `BidirectionalResponse` (flat sliders or single
-    pendulums under the rigid mass, the building or the slab of `plan`)."""
-    q = np.asarray(response.q)
+    """(peak dict, histories dict) in SI of the `StructureResponse` of flat sliders or single
+    pendulums under two components (the rigid mass, the building or the slab of `plan`)."""
+    q = np.asarray(response.displacement)
     m, R = np.asarray(system.mass), np.asarray(system.influence)
-    total_acc = np.asarray(response.acceleration) + np.asarray(response.ground) @ R.T
+    total_acc = np.asarray(response.total_acceleration)
     force = np.einsum("tn,n,nd->td", total_acc, m, R)  # on the structure above the bearings
     weight = float(np.sum(m * R[:, 0])) * STANDARD_GRAVITY
     n = q.shape[1] // 2
@@ -79,7 +79,8 @@ def bidirectional_peaks(structure, system, response, plan):
 
 
 def triple_peaks(structure, system, response, plan=None):
-    """(peak dict, histories dict) in SI of a `TripleStructureResponse`: the base displacement,
+    """(peak dict, histories dict) in SI of series pendulums' `StructureResponse` under one
+    component (`simulate_triple_structure`): the base displacement,
     the base shear over the weight above the isolators, the bearing force over W and, for the
     building, the storeys' peaks; the y components zero."""
     m = np.asarray(system.mass)
@@ -104,7 +105,7 @@ def triple_peaks(structure, system, response, plan=None):
         peak["first_storey_shear_ratio_resultant"] = peak["base_shear_ratio_resultant"]
     zeros = np.zeros_like(force)
     histories = {"time_s": np.asarray(response.time),
-                 "ground_x_mps2": np.asarray(response.ground_acceleration), "ground_y_mps2": zeros,
+                 "ground_x_mps2": np.asarray(response.ground)[:, 0], "ground_y_mps2": zeros,
                  "base_disp_x_m": u[:, 0], "base_disp_y_m": zeros, "bearing_force_x_N": force,
                  "bearing_force_y_N": zeros, "base_shear_ratio_x": shear, "base_shear_ratio_y": zeros}
     for index, name in enumerate(system.pendulum.slider_names):
@@ -113,13 +114,15 @@ def triple_peaks(structure, system, response, plan=None):
 
 
 def biaxial_peaks(structure, system, response, plan=None):
-    """(peak dict, histories dict) in SI of `biaxial_histories`: resultant peaks of the base
-    displacement, of the force on all masses over W (as the two-component Monte Carlo), of the
-    bearing force over W, per slider, and for the building per storey and level."""
+    """(peak dict, histories dict) in SI of series pendulums' `StructureResponse` under two
+    components (`biaxial_response`): resultant peaks of the base displacement, of the force on
+    all masses over W (as the two-component Monte Carlo), of the bearing force over W, per
+    slider, and for the building per storey and level."""
     system = system.uniaxial  # a `BiaxialStructureOnTriple`'s structure and isolator
-    time, x, force, sliders, acc, _ = (np.asarray(a) for a in response)
+    time, force, sliders = (np.asarray(a) for a in (response.time, response.bearing_force, response.slider))
     m, n = np.asarray(system.mass), np.asarray(system.mass).size
-    u = x[:, :, :n]  # (nt, 2, n)
+    u = np.asarray(response.displacement).reshape(time.size, 2, n)  # (nt, 2, n)
+    acc = np.asarray(response.total_acceleration).reshape(time.size, 2, n)
     total = np.einsum("tkn,n->tk", acc, m)
     load = float(system.bearing_load)
     weight = float(m.sum()) * STANDARD_GRAVITY
@@ -149,11 +152,11 @@ def biaxial_peaks(structure, system, response, plan=None):
 def slab_series_peaks(structure, system, response, plan):
     """(peak dict, histories dict) in SI: the slab's peaks of `run --structure slab`, with the
     isolators' whole force (`bearing_force_ratio_resultant`) in place of the friction's."""
-    q = np.asarray(response.q)
+    q = np.asarray(response.displacement)
     weight = float(np.sum(system.bearing_load))
     mass = weight / STANDARD_GRAVITY
-    total = mass * (np.asarray(response.acceleration)[:, :2] + np.asarray(response.ground))
-    force = np.asarray(response.group_force).sum(axis=1)
+    total = mass * np.asarray(response.total_acceleration)[:, :2]
+    force = np.asarray(response.bearing_force).sum(axis=1)
     peak = {"base_disp_resultant_m": float(np.max(np.hypot(q[:, 0], q[:, 1]))),
             "base_disp_x_m": float(np.max(np.abs(q[:, 0]))), "base_disp_y_m": float(np.max(np.abs(q[:, 1]))),
             "base_shear_ratio_resultant": float(np.max(np.hypot(*total.T))) / weight,

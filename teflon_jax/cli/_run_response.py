@@ -67,10 +67,10 @@ def _triple(system, duration, plan) -> Run:
 
 
 def _biaxial(system, duration, plan) -> Run:
-    from ..systems import biaxial_histories
+    from ..systems import biaxial_response
 
-    response = biaxial_histories(system, duration)
-    return _series_run(response, response[0], response[-1], duration)
+    response = biaxial_response(system, duration)
+    return _series_run(response, response.time, response.converged, duration)
 
 
 def _series_run(response, time, converged, duration) -> Run:

@@ -56,12 +56,12 @@ def stop_entries(time, kept: int, tipped, unconverged, fields) -> dict:
 
 def bidirectional_stop(system, response):
     """(response cut to the steps before the failed one, its end (time (nt,) [s], kept, tipped
-    (nt,), unconverged (nt,)) for `stop_entries`, message) of a failed `BidirectionalResponse` saved at every step: the
+    (nt,), unconverged (nt,)) for `stop_entries`, message) of a failed two-component `StructureResponse` saved at every step: the
     solver keeps the failed step's end and stops (`tipped_at_failure`); its uplift times
     count the kept steps only."""
     from ..systems import tipped_at_failure
 
-    q = np.asarray(response.q)
+    q = np.asarray(response.displacement)
     finite = np.all(np.isfinite(q), axis=-1)
     failed = finite.size - 1 if finite.all() else int(np.argmin(finite)) - 1
     kept = max(failed, 1)
@@ -118,7 +118,7 @@ def series_stop(response, time, converged):
 
 def series_slab_stop(system, response):
     """((time (nt,) [s], kept steps, tipped (nt,), unconverged (nt,)) for `stop_entries`, the
-    `SlabSeriesResponse` cut to the steps before the first unbalanced one, `kept_steps`, its
+    `StructureResponse` cut to the steps before the first unbalanced one, `kept_steps`, its
     groups' uplift times counting those steps only)."""
     time, converged = np.asarray(response.time), np.asarray(response.converged)
     tipped = np.asarray(response.tipped)
@@ -132,7 +132,7 @@ def series_slab_stop(system, response):
 
 def unbalanced_message(response, height) -> str:
     """Why the run cannot be trusted ('' when every step balanced): the steps on which the slab
-    tipped (`SlabSeriesResponse.tipped`) and those whose sliders' balance did not converge, each
+    tipped (`StructureResponse.tipped`) and those whose sliders' balance did not converge, each
     with its count and first time [s]."""
     time, converged = np.asarray(response.time), np.asarray(response.converged)
     tipped = np.asarray(response.tipped)

@@ -39,7 +39,7 @@ def _convergence(results, records):
             system = six_storey_building(bearing=bearing, ground_acceleration=signal, time_step=dt,
                                          isolation_period=2.0)
             q = building_response_quantities(system, simulate_structure(system, motion.duration))
-            values[dt] = (float(jnp.max(jnp.abs(q.base_displacement))), float(jnp.max(jnp.abs(q.base_shear_ratio))))
+            values[dt] = (float(jnp.max(jnp.abs(q["base_displacement"]))), float(jnp.max(jnp.abs(q["base_shear_ratio"]))))
         coarse, fine = values[STRUCTURE_TIME_STEP], values[STRUCTURE_TIME_STEP / 4]
         checks.append({"record": key, "system": "sliding_1000psi", "Tb_s": 2.0,
                        "time_step_s": STRUCTURE_TIME_STEP, "reference_time_step_s": STRUCTURE_TIME_STEP / 4,

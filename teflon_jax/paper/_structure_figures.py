@@ -63,7 +63,7 @@ def _fig7_9(out, results, record):
     stamp = (f"Record: {motion.name}, PGA {record['pga_g']:.3f} g, PGD {record['pgd_in']:.2f} in; rigid mass on "
              f"UF PTFE bearings at 1000 psi, parallel to lay (Table 1), Y = 0.005 in, no breakaway; "
              f"RiccatiNewmark, step {STRUCTURE_TIME_STEP:g} s.")
-    _columns(out / "fig7_8_histories.csv", {"time_s": time, "ground_acc_g": np.asarray(r.ground_acceleration) / STANDARD_GRAVITY,
+    _columns(out / "fig7_8_histories.csv", {"time_s": time, "ground_acc_g": np.asarray(r.ground[:, 0]) / STANDARD_GRAVITY,
               **{f"{n}_disp_over_pgd": h[0] / pgd for n, h in histories.items()},
               **{f"{n}_acc_over_pga": h[1] / pga for n, h in histories.items()}})
     figures.histories(out / "fig7_displacement.png", time,

@@ -6,7 +6,6 @@ from ._bearing_variance import variance_split as variance_split
 from ._bidirectional_study import (
     BidirectionalIsolatedStructure as BidirectionalIsolatedStructure,
 )
-from ._bidirectional_study import BidirectionalPeaks as BidirectionalPeaks
 from ._bidirectional_study import (
     bidirectional_isolated_structure as bidirectional_isolated_structure,
 )

@@ -4,8 +4,8 @@
 springs and dampers of period T_b and ratio zeta_b, Eq. 17 breakaway) built as a
 `BidirectionalStructure` (`bidirectional_rigid_mass`, `bidirectional_building`): one group
 of isotropic bearings with Park's biaxial Z (Eqs. 8-9) and Eq. 1 at the resultant sliding
-speed. `bidirectional_peak_response` keeps only the peaks of a run, as `peak_response` does
-for one component, with the displacement and the shear taken as resultants:
+speed. `bidirectional_peak_response` keeps only the peaks of a run (a `PeakResponse`), as
+`peak_response` does for one component, with the displacement and the shear taken as resultants:
 
     base_disp        = max_t |d(t)|,          d = (d_x, d_y) the bearings' displacement,
     base_shear_ratio = max_t |V(t)| / W,      V = sum_n m_n a_n^total R_n,
@@ -28,6 +28,7 @@ from ..systems import (
     BiaxialStructureOnTriple,
     BidirectionalStructure,
     IsolatedStructure,
+    PeakResponse,
     TripleIsolatedStructure,
     biaxial_peaks,
     bidirectional_building,
@@ -36,25 +37,10 @@ from ..systems import (
     directional_storeys,
     isolated_structure,
     series_uplift_time,
+    smooth_max_update,
+    smooth_max_value,
 )
 from ..units import STANDARD_GRAVITY
-
-
-class BidirectionalPeaks(eqx.Module):
-    """Peaks of a two-component run (the fields of `PeakResponse`, as resultants):
-    `base_disp` [m], `base_shear_ratio` [-], their smooth maxima, `converged`; with
-    `storey_height`, the building's `storey_drift` (2, S) [-] and `floor_acceleration`
-    (2, S + 1) [m/s^2] in x and y (`directional_storeys`), else `None`; with a vertical
-    record, `uplift_time` [s] (`PeakResponse`), else `None`."""
-
-    base_disp: jnp.ndarray
-    base_shear_ratio: jnp.ndarray
-    smooth_base_disp: jnp.ndarray
-    smooth_base_shear_ratio: jnp.ndarray
-    converged: jnp.ndarray
-    storey_drift: jnp.ndarray | None = None
-    floor_acceleration: jnp.ndarray | None = None
-    uplift_time: jnp.ndarray | None = None
 
 
 class BidirectionalIsolatedStructure(eqx.Module):
@@ -122,7 +108,7 @@ def bidirectional_peak_response(
     shear_width=None,
     read_every: int = 1,
     storey_height=None,
-) -> BidirectionalPeaks:
+) -> PeakResponse:
     """Integrate `system` from rest over `duration` [s] with `RiccatiNewmark`'s step
     (`newmark_step`) in a `lax.scan` and keep the peaks of the resultant bearing displacement
     of group 0 and of the resultant base shear ratio (module docstring), and their smooth
@@ -134,13 +120,13 @@ def bidirectional_peak_response(
     acceleration per level in x and y (`directional_storeys`; on triple or double friction
     pendulums, a `BiaxialStructureOnTriple`, `biaxial_peaks`).
 
-    **Returns:** a `BidirectionalPeaks`.
+    **Returns:** a `PeakResponse` (`storey_drift` (2, S), `floor_acceleration` (2, S + 1)).
     """
     if isinstance(system, BiaxialStructureOnTriple):  # triple or double friction pendulums
         widths = (1e-3 if disp_width is None else disp_width, 1e-3 if shear_width is None else shear_width)
         uplift = series_uplift_time(system, duration)  # with the uniaxial structure's vertical record
-        return BidirectionalPeaks(*biaxial_peaks(system, duration, widths, read_every, storey_height),
-                                  **({} if uplift is None else {"uplift_time": uplift}))
+        return PeakResponse(*biaxial_peaks(system, duration, widths, read_every, storey_height),
+                            **({} if uplift is None else {"uplift_time": uplift}))
     if system.overturning is not None:
         raise ValueError("system: the peaks in a scan do not carry the slab's overturning loads; "
                          "run it with simulate_bidirectional (teflon-jax run without --suite).")
@@ -162,11 +148,6 @@ def bidirectional_peak_response(
         force = jnp.sum((total * mass)[:, None] * influence, axis=0)
         return jnp.sqrt(jnp.sum(disp**2)), jnp.sqrt(jnp.sum(force**2)) / weight
 
-    def lse_update(top, total, x, width):
-        new_top = jnp.maximum(top, jax.lax.stop_gradient(x))
-        return new_top, total * jnp.exp((top - new_top) / width) + 0.5 * (
-            jnp.exp((x - new_top) / width) + jnp.exp((-x - new_top) / width))
-
     def storeys(ground, y, a):
         if storey_height is None:
             return ()
@@ -182,7 +163,7 @@ def bidirectional_peak_response(
         now = values(ground1, y1, a1) + storeys(ground1, y1, a1)  # smooth maxima: the first two
         read = (step + 1) % read_every == 0
         peaks = tuple(jnp.where(read, jnp.maximum(p, v), p) for p, v in zip(peaks, now))
-        updated = [lse_update(*args) for args in zip(tops, totals, now, widths)]
+        updated = [smooth_max_update(*args) for args in zip(tops, totals, now, widths)]
         return (y1, a1, peaks, tuple(u[0] for u in updated), tuple(u[1] for u in updated),
                 ok & converged), None
 
@@ -199,12 +180,12 @@ def bidirectional_peak_response(
     carry = (y0, a0, (zero, zero) + floors, (zero, zero), (one, one), jnp.array(True))
     (_, _, peaks, tops, totals, ok), _ = jax.lax.scan(
         body, carry, (jnp.arange(n_steps), ground[1:], None if loads is None else loads[1:]))
-    smooth = [top + w * jnp.log(s / (n_steps + 1)) for top, s, w in zip(tops, totals, widths)]
-    return BidirectionalPeaks(base_disp=peaks[0], base_shear_ratio=peaks[1], smooth_base_disp=smooth[0],
-                              smooth_base_shear_ratio=smooth[1], converged=ok,
-                              **({} if storey_height is None else {"storey_drift": peaks[2],
-                                                                   "floor_acceleration": peaks[3]}),
-                              **({} if loads is None else {"uplift_time": uplift_time(system, loads, dt)}))
+    smooth = [smooth_max_value(top, s, n_steps + 1, w) for top, s, w in zip(tops, totals, widths)]
+    return PeakResponse(base_disp=peaks[0], base_shear_ratio=peaks[1], smooth_base_disp=smooth[0],
+                        smooth_base_shear_ratio=smooth[1], converged=ok,
+                        **({} if storey_height is None else {"storey_drift": peaks[2],
+                                                             "floor_acceleration": peaks[3]}),
+                        **({} if loads is None else {"uplift_time": uplift_time(system, loads, dt)}))
 
 
 def uplift_time(system, loads, dt):

@@ -15,7 +15,6 @@ import dataclasses
 import json
 import uuid
 
-import diffrax
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -25,7 +24,7 @@ from ..systems import (
     BiaxialStructureOnTriple,
     BidirectionalStructure,
     SlabOnSeries,
-    biaxial_histories,
+    biaxial_response,
     directional_storeys,
     simulate_bidirectional,
     simulate_slab_series,
@@ -105,29 +104,28 @@ def _suite_function(build, time_step: float, duration: float, base_index, storey
         if isinstance(system, SlabOnSeries):
             return _series_slab_peaks(system, duration)
         r = simulate_bidirectional(system, duration, throw=False)
-        total = r.acceleration + r.ground @ system.influence.T
+        total = r.total_acceleration
         force = jnp.einsum("tn,n,nd->td", total, system.mass, system.influence)
         weight = jnp.sum(system.mass * system.influence[:, 0]) * STANDARD_GRAVITY
-        bx, by = r.q[:, ix], r.q[:, iy]
+        bx, by = r.displacement[:, ix], r.displacement[:, iy]
         return {
             "base_disp_resultant_m": jnp.max(jnp.hypot(bx, by)),
             "base_disp_x_m": jnp.max(jnp.abs(bx)),
             "base_disp_y_m": jnp.max(jnp.abs(by)),
             "base_shear_ratio_resultant": jnp.max(jnp.hypot(force[:, 0], force[:, 1])) / weight,
-        } | _storey_peaks(r.q, total, storey_height) | _group_peaks(r), r.result == diffrax.RESULTS.successful
+        } | _storey_peaks(r.displacement, total, storey_height) | _group_peaks(r), r.succeeded
 
     return jax.jit(jax.vmap(one))
 
 
 def _series_pendulum_peaks(system, duration: float, storey_height):
     """The suite's peaks of a structure on triple or double pendulums under two components
-    (`biaxial_histories`), in the layout of the bidirectional structures: q = (x: base,
+    (`biaxial_response`), in the layout of the bidirectional structures: q = (x: base,
     floors; y: the same), the base shear the force on every mass over the weight, and whether
     every step's sliders balanced."""
-    _, state, _, _, total, converged = biaxial_histories(system, duration)
+    r = biaxial_response(system, duration)
     n = system.mass.shape[-1]
-    q = jnp.concatenate([state[:, 0, :n], state[:, 1, :n]], axis=-1)  # (nt, 2n)
-    total = jnp.concatenate([total[:, 0], total[:, 1]], axis=-1)
+    q, total, converged = r.displacement, r.total_acceleration, r.converged  # (nt, 2n)
     force = jnp.stack([total[:, :n] @ system.mass, total[:, n:] @ system.mass], axis=-1)
     weight = jnp.sum(system.mass) * STANDARD_GRAVITY
     bx, by = q[:, 0], q[:, n]
@@ -145,8 +143,8 @@ def _series_slab_peaks(system: SlabOnSeries, duration: float):
     m |q'' + a_g| / W, each group's normal load where the slab overturns (`_group_peaks`), and
     whether every step's sliders balanced."""
     r = simulate_slab_series(system, duration)
-    total = r.acceleration[:, :2] + r.ground  # (nt, 2) [m/s^2]; the slab's mass is W / g
-    bx, by = r.q[:, 0], r.q[:, 1]
+    total = r.total_acceleration[:, :2]  # (nt, 2) [m/s^2]; the slab's mass is W / g
+    bx, by = r.displacement[:, 0], r.displacement[:, 1]
     return {
         "base_disp_resultant_m": jnp.max(jnp.hypot(bx, by)),
         "base_disp_x_m": jnp.max(jnp.abs(bx)),
@@ -165,7 +163,7 @@ def _storey_peaks(q, total, storey_height) -> dict:
 
 def _group_peaks(response) -> dict:
     """A slab with overturning: each group's largest and least N_g [N] over the saved steps and
-    its uplift time [s] (`BidirectionalResponse.normal_load`, `group_uplift_time`), else {}."""
+    its uplift time [s] (`StructureResponse.normal_load`, `group_uplift_time`), else {}."""
     if response.normal_load is None:
         return {}
     return {"group_peak_N": jnp.max(response.normal_load, axis=0),

@@ -115,11 +115,11 @@ def building_peaks(system: StructureOnSliders, duration: float, own_duration):
     quantities = building_response_quantities(system, response)
     mask = response.time <= own_duration + 1e-9
     return {
-        "base_disp": _masked_peak(quantities.base_displacement, mask),
-        "base_shear_ratio": _masked_peak(quantities.base_shear_ratio, mask),
-        "max_drift": _masked_peak(quantities.storey_drifts, mask),
-        "max_floor_acc": _masked_peak(quantities.floor_accelerations, mask),
-        "max_friction_ratio": _masked_peak(quantities.friction_force, mask) / system.bearing_load,
+        "base_disp": _masked_peak(quantities["base_displacement"], mask),
+        "base_shear_ratio": _masked_peak(quantities["base_shear_ratio"], mask),
+        "max_drift": _masked_peak(quantities["storey_drifts"], mask),
+        "max_floor_acc": _masked_peak(quantities["floor_accelerations"], mask),
+        "max_friction_ratio": _masked_peak(quantities["friction_force"], mask) / system.bearing_load,
         "succeeded": response.succeeded,
     }
 

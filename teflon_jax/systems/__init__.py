@@ -1,13 +1,12 @@
 """Systems as diffrax vector fields: imposed-motion bearing tests, structures on sliders (rigid
-mass, the Table 2 building), and the isolated structures of the studies with their peak responses."""
+mass, the Table 2 building), and the isolated structures of the studies; every structure's
+history is a `StructureResponse` (`simulate_history`), its peaks a `PeakResponse`."""
 
-from ._bearing_test import BearingTestResult as BearingTestResult
 from ._bearing_test import BearingTestSystem as BearingTestSystem
 from ._bearing_test import force_along_path as force_along_path
 from ._bearing_test import simulate_bearing_test as simulate_bearing_test
 from ._bidirectional import BidirectionalStructure as BidirectionalStructure
 from ._bidirectional_models import BIDIRECTIONAL_TIME_STEP as BIDIRECTIONAL_TIME_STEP
-from ._bidirectional_models import BidirectionalResponse as BidirectionalResponse
 from ._bidirectional_models import bidirectional_building as bidirectional_building
 from ._bidirectional_models import (
     bidirectional_initial_state as bidirectional_initial_state,
@@ -22,6 +21,8 @@ from ._design_space import DESIGN_SPACES as DESIGN_SPACES
 from ._design_space import DesignSpace as DesignSpace
 from ._design_space import design_space as design_space
 from ._design_space import designed_isolator as designed_isolator
+from ._history import biaxial_response as biaxial_response
+from ._history import simulate_history as simulate_history
 from ._isolated import MONTE_CARLO_NEWTON_TOLERANCE as MONTE_CARLO_NEWTON_TOLERANCE
 from ._isolated import RECOMMENDED_TIME_STEPS as RECOMMENDED_TIME_STEPS
 from ._isolated import IsolatedStructure as IsolatedStructure
@@ -29,7 +30,6 @@ from ._isolated import check_design as check_design
 from ._isolated import check_structure_bearing as check_structure_bearing
 from ._isolated import design_ranges as design_ranges
 from ._isolated import isolated_structure as isolated_structure
-from ._models import BuildingResponse as BuildingResponse
 from ._models import building_response_quantities as building_response_quantities
 from ._models import rigid_mass as rigid_mass
 from ._models import signal_from_motion as signal_from_motion
@@ -43,12 +43,16 @@ from ._overturning import support_plan as support_plan
 from ._overturning import tipped_at_failure as tipped_at_failure
 from ._peaks import RESPONSE_NAMES as RESPONSE_NAMES
 from ._peaks import STEPS_PER_LOOP_PASS as STEPS_PER_LOOP_PASS
+from ._peaks import PeakResponse as PeakResponse
 from ._peaks import peak_response as peak_response
 from ._peaks import series_uplift_time as series_uplift_time
 from ._peaks import smooth_max as smooth_max
+from ._peaks import smooth_max_update as smooth_max_update
+from ._peaks import smooth_max_value as smooth_max_value
 from ._peaks import step_propagator as step_propagator
 from ._propagators import LINEAR_RULES as LINEAR_RULES
-from ._sampled_path import PathResponse as PathResponse
+from ._response import BearingTestResult as BearingTestResult
+from ._response import StructureResponse as StructureResponse
 from ._sampled_path import SampledPath as SampledPath
 from ._sampled_path import respond_along_path as respond_along_path
 from ._sampled_path import sample_velocity as sample_velocity
@@ -59,7 +63,6 @@ from ._slab import slab_on_bearings as slab_on_bearings
 from ._slab import slab_point_displacement as slab_point_displacement
 from ._slab import stack_bearings as stack_bearings
 from ._slab_series import SlabOnSeries as SlabOnSeries
-from ._slab_series_build import SlabSeriesResponse as SlabSeriesResponse
 from ._slab_series_build import simulate_slab_series as simulate_slab_series
 from ._slab_series_build import stack_pendulums as stack_pendulums
 from ._slider_forces import FRICTION_VELOCITIES as FRICTION_VELOCITIES
@@ -68,7 +71,6 @@ from ._structure import StructureOnSliders as StructureOnSliders
 from ._structure import initial_state as initial_state
 from ._structure_build import HEAT_HORIZON as HEAT_HORIZON
 from ._structure_build import STRUCTURE_EFFECTS as STRUCTURE_EFFECTS
-from ._structure_build import StructureResponse as StructureResponse
 from ._structure_build import check_storey_height as check_storey_height
 from ._structure_build import simulate_structure as simulate_structure
 from ._structure_build import storey_rows as storey_rows
@@ -83,11 +85,9 @@ from ._triple_isolated import TRIPLE_MONTE_CARLO_TOLERANCE as TRIPLE_MONTE_CARLO
 from ._triple_isolated import TripleIsolatedStructure as TripleIsolatedStructure
 from ._triple_structure import TRIPLE_TOLERANCE as TRIPLE_TOLERANCE
 from ._triple_structure import StructureOnTriple as StructureOnTriple
-from ._triple_structure import TripleStructureResponse as TripleStructureResponse
 from ._triple_structure import simulate_triple_structure as simulate_triple_structure
 from ._triple_structure import structure_on_isolator as structure_on_isolator
 from ._triple_structure import triple_structure as triple_structure
-from ._triple_test import TripleResponse as TripleResponse
 from ._triple_test import imposed_isolator_force as imposed_isolator_force
 from ._triple_test import simulate_triple_test as simulate_triple_test
 from ._triple_test import triple_pendulum_test as triple_pendulum_test

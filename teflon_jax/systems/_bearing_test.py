@@ -30,6 +30,7 @@ from ..solver import (
     solve_with_controller,
 )
 from ..validation import require_positive
+from ._response import BearingTestResult
 from ._sampled_path import respond_along_path, sample_velocity, sampled_path
 
 
@@ -74,33 +75,6 @@ class BearingTestSystem(AbstractSteppedSystem):
         z1 = bouc_wen_exact_update(h, y0["z"], du)
         z_peak1 = jnp.maximum(y0["z_peak"], jnp.abs(z1[0]))
         return {"z": z1, "z_peak": z_peak1}, jnp.array(True)
-
-
-class BearingTestResult(eqx.Module):
-    """Histories of a simulated bearing test (SI). Arrays have the save times as last axis.
-
-    - `time` [s]; `ux`, `uy` [m]; `vx`, `vy` [m/s]; `fx`, `fy` [N] (the force the bearing
-      resists with, positive while sliding in +x); `normal_load` [N];
-    - `z` (n, 2) hysteretic variable; `coefficient` mu [-]; `z_peak` running max |Z|;
-    - `result`: `diffrax.RESULTS` code of the solve (0 = successful).
-    """
-
-    time: jnp.ndarray
-    ux: jnp.ndarray
-    uy: jnp.ndarray
-    vx: jnp.ndarray
-    vy: jnp.ndarray
-    fx: jnp.ndarray
-    fy: jnp.ndarray
-    normal_load: jnp.ndarray
-    z: jnp.ndarray
-    coefficient: jnp.ndarray
-    z_peak: jnp.ndarray
-    result: diffrax.RESULTS
-
-    @property
-    def succeeded(self):
-        return self.result == diffrax.RESULTS.successful
 
 
 def simulate_bearing_test(
@@ -194,8 +168,7 @@ def _along_samples(bearing, motion, normal_load, times, steps_per_sample):
     keep = slice(None, None, steps_per_sample)
     return BearingTestResult(
         time=times[keep], ux=u[keep, 0], uy=u[keep, 1], vx=v[keep, 0], vy=v[keep, 1],
-        fx=r.force_x[keep], fy=r.force_y[keep], normal_load=load[keep],
-        z=jnp.stack([r.z_x, r.z_y], axis=-1)[keep], coefficient=r.coefficient[keep],
+        fx=r.fx[keep], fy=r.fy[keep], normal_load=load[keep], z=r.z[keep], coefficient=r.coefficient[keep],
         z_peak=r.z_peak[keep], result=diffrax.RESULTS.successful,
     )
 
@@ -331,7 +304,7 @@ def force_along_path(
     if solver is None and _riccati_admitted(bearing.hysteresis):
         path = sampled_path(time, ux, normal_load)
         response = respond_along_path(bearing, path, z0=z0, z_peak0=z_peak0)
-        return response.force_x, response.z_x, response.z_peak
+        return response.fx, response.z[:, 0], response.z_peak
     if bearing.effects:
         raise ValueError(
             f"bearing: its optional parts ({', '.join(bearing.effects)}) are driven along a path "

@@ -8,8 +8,6 @@ step: `_bidirectional.py`. Reference: Constantinou, Mokha & Reinhorn (1990), Eqs
 Figs. 7-11, Table 2 (MODEL.md Sections 4 and 8).
 """
 
-import diffrax
-import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -22,6 +20,7 @@ from ._bidirectional import NEWTON_ITERATIONS, BidirectionalStructure
 from ._bidirectional_laws import check_planar_law
 from ._models import rigid_mass, six_storey_building
 from ._overturning import initial_normal_load
+from ._response import StructureResponse
 from ._structure_build import (
     HEAT_HORIZON,
     PRESSURE_HINT,
@@ -263,40 +262,6 @@ def bidirectional_building(
                            friction_model=friction_model, surface=surface)
 
 
-class BidirectionalResponse(eqx.Module):
-    """Histories of a `BidirectionalStructure` (SI; time along the first axis).
-
-    - `time` (nt,) [s]; `q`, `v` (nt, N) relative coordinates and velocities;
-    - `acceleration` (nt, N) relative accelerations; `ground` (nt, 2) [m/s^2];
-    - `bearing_displacement` (nt, G, 2) [m]; `friction_force` (nt, G, 2) [N];
-    - `z` (nt, G, 2) [-]; `z_peak` (nt, G) [-]; `result`: `diffrax.RESULTS` (0 = successful);
-    - `load_factor` (nt,) [-]: N / W, 0 while uplifted, and `uplift_time` [s] (the steps with
-      N <= 0 times the step), with a vertical record; else `None`;
-    - `normal_load` (nt, G) [N]: each group's N_g, and `group_uplift_time` (G,) [s] (the saved
-      steps with N_g <= 0 times the step between them), with overturning (`_overturning.py`);
-      else `None`.
-    """
-
-    time: jnp.ndarray
-    q: jnp.ndarray
-    v: jnp.ndarray
-    acceleration: jnp.ndarray
-    ground: jnp.ndarray
-    bearing_displacement: jnp.ndarray
-    friction_force: jnp.ndarray
-    z: jnp.ndarray
-    z_peak: jnp.ndarray
-    result: object
-    load_factor: jnp.ndarray | None = None
-    uplift_time: jnp.ndarray | None = None
-    normal_load: jnp.ndarray | None = None
-    group_uplift_time: jnp.ndarray | None = None
-
-    @property
-    def succeeded(self):
-        return self.result == diffrax.RESULTS.successful
-
-
 def simulate_bidirectional(
     system: BidirectionalStructure,
     duration: float,
@@ -307,13 +272,16 @@ def simulate_bidirectional(
     atol: float = 1e-10,
     max_steps: int | None = None,
     throw: bool = True,
-) -> BidirectionalResponse:
+) -> StructureResponse:
     """Integrate a `BidirectionalStructure` from rest over `duration` [s].
 
     **Arguments:** `solver`: `RiccatiNewmark()` (default, fixed step `system.time_step`) or an
     adaptive diffrax solver (e.g. `diffrax.Tsit5()` with `rtol`, `atol`) for reference
     solutions; `save_every`: keep every k-th step; `throw`: raise on solver failure (with
     `False`, e.g. under `vmap`, the outcome of each member is in `result`).
+
+    **Returns:** a `StructureResponse` (two ground components; the coordinates q of the
+    system, the groups' bearing displacements, friction forces and Z).
     """
     dt = float(system.time_step)
     n_steps = int(round(duration / dt + 1e-9))
@@ -338,22 +306,22 @@ def simulate_bidirectional(
     bearing_d = jax.vmap(system.bearing_motion)(ys["q"])
     forces = jax.vmap(lambda t, y: system.at_load(system.load_at(t, y)).bearing_forces(y))(save_times, ys)
     loads = None if system.vertical_acceleration is None else jax.vmap(system.load_factor)(save_times)
-    return BidirectionalResponse(
+    return StructureResponse(
         time=save_times,
-        q=ys["q"],
-        v=ys["v"],
-        acceleration=acceleration,
+        displacement=ys["q"],
+        velocity=ys["v"],
+        total_acceleration=acceleration + ground @ system.influence.T,
         ground=ground,
-        bearing_displacement=bearing_d,
         friction_force=forces,
         z=ys["z"],
         z_peak=ys["z_peak"],
-        result=solution.result,
-        load_factor=loads,
-        uplift_time=None if loads is None else uplift_steps(system, n_steps) * dt,
+        bearing_displacement=bearing_d,
         normal_load=ys.get("normal_load"),
         group_uplift_time=None if system.overturning is None else (
             jnp.sum(ys["normal_load"][1:] <= 0, axis=0) * dt * save_every),
+        load_factor=loads,
+        uplift_time=None if loads is None else uplift_steps(system, n_steps) * dt,
+        result=solution.result,
     )
 
 
@@ -380,8 +348,8 @@ def bidirectional_storey_peaks(response, system, storey_height) -> dict:
     - `level_acceleration` (2, S + 1) [m/s^2]: max_t |a_j + a_g| in x and y, level 0 the base slab;
     - `level_acceleration_resultant` (S + 1,) [m/s^2]: max_t of the total acceleration's length.
     """
-    q = jnp.asarray(response.q)
-    total = jnp.asarray(response.acceleration) + jnp.asarray(response.ground) @ jnp.asarray(system.influence).T
+    q = jnp.asarray(response.displacement)
+    total = jnp.asarray(response.total_acceleration)
     drift, acc = (np.asarray(v) for v in directional_storeys(q, total, storey_height))  # (nt, 2, .)
     return {"storey_drift": np.abs(drift).max(axis=0), "storey_drift_resultant": np.hypot(*np.moveaxis(drift, 1, 0)).max(axis=0),
             "level_acceleration": np.abs(acc).max(axis=0),

@@ -7,7 +7,6 @@ Reference: Constantinou, Mokha & Reinhorn (1990), "Teflon bearings in base isola
 Modeling", J. Struct. Eng. 116(2), Figs. 7-11 and Table 2 (MODEL.md Section 8).
 """
 
-import equinox as eqx
 import jax.numpy as jnp
 import numpy as np
 
@@ -16,8 +15,9 @@ from ..excitation import Signal, uniform_signal
 from ..tables import BuildingData, load_table2
 from ..units import STANDARD_GRAVITY
 from ..validation import concrete, require
+from ._response import StructureResponse
 from ._structure import FRICTION_MODELS, StructureOnSliders
-from ._structure_build import StructureResponse, structure_on_sliders
+from ._structure_build import structure_on_sliders
 
 
 def _check(value, name: str, rule, text: str) -> None:
@@ -215,35 +215,21 @@ def six_storey_building(
     )
 
 
-class BuildingResponse(eqx.Module):
-    """Engineering quantities of a building response (SI; time along the first axis).
+def building_response_quantities(system: StructureOnSliders, response: StructureResponse) -> dict:
+    """Engineering quantities of a building's history (SI; time along the first axis), for any
+    `StructureOnSliders` whose DOF 0 is the base and DOFs 1.. are floors stacked from the base
+    up (e.g. `six_storey_building`). jit/vmap-safe.
+
+    **Returns:** a dict of
 
     - `time` [s]; `base_displacement` (nt,) [m] relative to the ground;
-    - `storey_drifts` (nt, 6) [m]: floor j minus floor j-1 (floor 0 = base);
-    - `floor_accelerations` (nt, 6) [m/s^2]: total accelerations of floors 1-6;
+    - `storey_drifts` (nt, n - 1) [m]: floor j minus floor j-1 (floor 0 = base);
+    - `floor_accelerations` (nt, n - 1) [m/s^2]: total accelerations of floors 1..;
     - `base_shear_ratio` (nt,) [-]: first-storey shear / superstructure weight, with the
-      first-storey shear V_1 = sum_j m_j a_j^total over floors 1-6 (the inertia force of the
+      first-storey shear V_1 = sum_j m_j a_j^total over the floors (the inertia force of the
       superstructure; positive when the floors accelerate in +x, so V_1 is the force the
       first storey applies to the floors above with its sign reversed);
     - `friction_force` (nt,) [N]; `z` (nt,) [-].
-    """
-
-    time: jnp.ndarray
-    base_displacement: jnp.ndarray
-    storey_drifts: jnp.ndarray
-    floor_accelerations: jnp.ndarray
-    base_shear_ratio: jnp.ndarray
-    friction_force: jnp.ndarray
-    z: jnp.ndarray
-
-
-def building_response_quantities(
-    system: StructureOnSliders, response: StructureResponse
-) -> BuildingResponse:
-    """Base displacement, drifts, floor accelerations, base shear ratio, friction force and Z.
-
-    Works for any `StructureOnSliders` whose DOF 0 is the base and DOFs 1.. are floors
-    stacked from the base up (e.g. `six_storey_building`). jit/vmap-safe.
     """
     floor_masses = system.mass[..., 1:]
     floors = response.displacement[..., 1:]
@@ -251,12 +237,12 @@ def building_response_quantities(
     accelerations = response.total_acceleration[..., 1:]
     shear = jnp.sum(floor_masses[..., None, :] * accelerations, axis=-1)
     weight = jnp.sum(floor_masses, axis=-1)[..., None] * STANDARD_GRAVITY
-    return BuildingResponse(
-        time=response.time,
-        base_displacement=response.displacement[..., 0],
-        storey_drifts=floors - below,
-        floor_accelerations=accelerations,
-        base_shear_ratio=shear / weight,
-        friction_force=response.friction_force,
-        z=response.z,
-    )
+    return {
+        "time": response.time,
+        "base_displacement": response.displacement[..., 0],
+        "storey_drifts": floors - below,
+        "floor_accelerations": accelerations,
+        "base_shear_ratio": shear / weight,
+        "friction_force": response.friction_force,
+        "z": response.z,
+    }

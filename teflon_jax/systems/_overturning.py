@@ -210,13 +210,15 @@ def initial_normal_load(system):
 
 
 def tipped_at_failure(system, response) -> bool:
-    """Whether the step on which a failed `BidirectionalResponse` of `system` (with overturning,
+    """Whether the step on which a failed `StructureResponse` of `system` (with overturning,
     saved at every step) stopped is one on which the slab tips (`supported_loads`). The failed
     step is the last saved one (the solver keeps its end, then stops); its loads come from H at
     the state before it and the vertical record at its end."""
-    finite = np.all(np.isfinite(np.asarray(response.q)), axis=-1)
+    finite = np.all(np.isfinite(np.asarray(response.displacement)), axis=-1)
     last = finite.size - 1 if finite.all() else int(np.argmin(finite)) - 1
     if system.overturning is None or last < 1:
         return False
-    force = overturning_force(system, response.acceleration[last - 1], response.ground[last - 1])
+    ground = response.ground[last - 1]
+    relative = response.total_acceleration[last - 1] - system.influence @ ground
+    force = overturning_force(system, relative, ground)
     return not bool(supported_loads(system, force, response.time[last])[1])

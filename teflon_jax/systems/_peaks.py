@@ -23,19 +23,22 @@ RESPONSE_NAMES = ("base_disp", "base_shear_ratio")
 
 
 class PeakResponse(eqx.Module):
-    """Peaks of one response history (scalars, or batched by `monte_carlo`).
+    """Peaks of one run (scalars, or batched by `monte_carlo`), under one ground component
+    (`peak_response`) or two (`bidirectional_peak_response`, displacement and shear as
+    resultants).
 
     - `base_disp` max_t |u_0(t)| [m]: isolator displacement relative to the ground.
     - `base_shear_ratio` max_t |V(t)| / W_s [-]: V = sum_j m_j a_j^total over the masses
       above the isolators (floors 1.. of a building: the first-storey shear), or m a^total for
-      a rigid mass; W_s their weight.
+      a rigid mass; W_s their weight (two components: the force on every mass over the
+      whole weight).
     - `smooth_base_disp`, `smooth_base_shear_ratio`: the same maxima through `smooth_max`
       (differentiable); equal to the peaks' lower bounds when no width is given.
     - `converged`: every step's Newton iteration converged.
-    - `storey_drift` (n-1,) [-]: a building's peak interstorey drift ratio per storey (storey 1
-      from the base slab to floor 1), and `floor_acceleration` (n,) [m/s^2] its peak total
-      acceleration per level (0 the base slab on the isolators, 1.. the floors) (`storey_rows`),
-      when `peak_response` was given `storey_height`; else `None`.
+    - `storey_drift` [-]: a building's peak interstorey drift ratio per storey (storey 1 from
+      the base slab to floor 1), (n-1,) or (2, n-1) in x and y, and `floor_acceleration`
+      [m/s^2] its peak total acceleration per level (0 the base slab on the isolators, 1.. the
+      floors), (n,) or (2, n) (`storey_rows`), when given `storey_height`; else `None`.
     - `uplift_time` [s]: with a vertical record, the steps whose end has N <= 0 (the isolators
       uplifted, carrying no shear) times the step (0: no uplift); else `None`.
     """
@@ -153,7 +156,7 @@ def peak_response(
         values = (base_disp, shear_ratio) + storeys  # the smooth maxima below take the first two
         read = (step + 1) % read_every == 0
         peaks = tuple(jnp.where(read, jnp.maximum(p, jnp.abs(v)), p) for p, v in zip(peaks, values))
-        updated = [_log_sum_exp_update(a, s, v, w) for a, s, v, w in zip(tops, totals, values, widths)]
+        updated = [smooth_max_update(a, s, v, w) for a, s, v, w in zip(tops, totals, values, widths)]
         tops = tuple(u[0] for u in updated)
         totals = tuple(u[1] for u in updated)
         return (state, peaks, tops, totals, ok & converged), None
@@ -166,7 +169,7 @@ def peak_response(
     (_, peaks, tops, totals, ok), _ = jax.lax.scan(
         body, carry, (jnp.arange(n_steps), ground[1:], None if loads is None else loads[1:]),
         unroll=steps_per_pass)
-    smooth = [a + w * jnp.log(s / (n_steps + 1)) for a, s, w in zip(tops, totals, widths)]
+    smooth = [smooth_max_value(a, s, n_steps + 1, w) for a, s, w in zip(tops, totals, widths)]
     return PeakResponse(
         base_disp=peaks[0],
         base_shear_ratio=peaks[1],
@@ -185,13 +188,21 @@ def _check_loop_settings(read_every, steps_per_pass) -> None:
         raise ValueError(f"steps_per_pass: must be a positive integer, got {steps_per_pass!r}.")
 
 
-def _log_sum_exp_update(top, total, x, width):
-    """Running (top, total) of `smooth_max` with the sample x added."""
+def smooth_max_update(top, total, x, width):
+    """The running (top, total) of `smooth_max` with the sample x added (start: (0, 1) for a
+    run from rest, x = 0 at t = 0): top = max |x| so far (no gradient), total = sum_t
+    cosh(x_t / w) exp(-top / w) [-]."""
     new_top = jnp.maximum(top, jax.lax.stop_gradient(jnp.abs(x)))
     total = total * jnp.exp((top - new_top) / width) + 0.5 * (
         jnp.exp((x - new_top) / width) + jnp.exp((-x - new_top) / width)
     )
     return new_top, total
+
+
+def smooth_max_value(top, total, count, width):
+    """`smooth_max` M_w = top + w log(total / count) of `count` samples from their running
+    (top, total) (`smooth_max_update`)."""
+    return top + width * jnp.log(total / count)
 
 
 def _advance(system, propagator, state, ground1, load1=None):

@@ -45,6 +45,7 @@ from ..bearing import (
 )
 from ..bearing import heat_kernel_exponentials as _kernel
 from ..solver import park_path_update, park_substeps, require_riccati_form
+from ._response import BearingTestResult
 
 
 def sample_velocity(time, u):
@@ -133,25 +134,6 @@ def sampled_path(time, ux, normal_load, *, uy=None, velocity=None, velocity_y=No
                        park_elements=16 if park_elements is None else int(park_elements))
 
 
-class PathResponse(eqx.Module):
-    """The bearing's response at the samples of a `SampledPath` (each (n,)).
-
-    `force_x`, `force_y` [N] (zeros along x only), `z_x`, `z_y` [-], `z_peak` running max |Z|
-    [-], `coefficient` mu [-], `temperature_rise` the rise that enters the heating factor
-    (scaled) [K], `heat_index` the unscaled rise [K] (0 without heating), `gap_position` [m].
-    """
-
-    force_x: jnp.ndarray
-    force_y: jnp.ndarray
-    z_x: jnp.ndarray
-    z_y: jnp.ndarray
-    z_peak: jnp.ndarray
-    coefficient: jnp.ndarray
-    temperature_rise: jnp.ndarray
-    heat_index: jnp.ndarray
-    gap_position: jnp.ndarray
-
-
 def _increments(path: SampledPath):
     """Per-sample inputs of the scan; the first sample has a zero increment."""
     time = path.time
@@ -169,7 +151,7 @@ def _increments(path: SampledPath):
 
 
 def respond_along_path(bearing: SlidingBearing, path: SampledPath, *, z0=None,
-                       z_peak0=0.0) -> PathResponse:
+                       z_peak0=0.0) -> BearingTestResult:
     """Force of `bearing` at the samples of `path` (jit/vmap/grad-safe in the bearing):
 
         F = mu(v, theta, max|Z|) k(N, travel, Z_x, dT) N Z       (Eqs. 1, 17; k the optional
@@ -181,7 +163,9 @@ def respond_along_path(bearing: SlidingBearing, path: SampledPath, *, z0=None,
     in the plane), `z_peak0` the running max |Z| before the first sample (1: already
     mobilised, no breakaway).
 
-    **Returns:** a `PathResponse`.
+    **Returns:** a `BearingTestResult` at the path's samples: the path (`time`, `ux`, `uy`,
+    `vx`, `vy`, `normal_load`), `fx`, `fy` [N] (zeros along x only), `z` (n, 2) [-], `z_peak`,
+    `coefficient` mu, `temperature_rise` (scaled), `heat_index` and `gap_position`.
     """
     h = require_riccati_form(bearing.hysteresis)
     planar, heating = path.planar, bearing.heating
@@ -229,12 +213,13 @@ def respond_along_path(bearing: SlidingBearing, path: SampledPath, *, z0=None,
     xs = (increments, dt, lengths, speed, path.normal_load, path.velocity_x, velocity_y, rise_in)
     _, (force, mu, z, z_peak, rise, heat_index, gap_position) = jax.lax.scan(step, init, xs)
     if planar:
-        force_x, force_y, z_x, z_y = force[:, 0], force[:, 1], z[:, 0], z[:, 1]
+        force_x, force_y = force[:, 0], force[:, 1]
     else:
-        force_x, force_y, z_x, z_y = force, jnp.zeros_like(force), z, jnp.zeros_like(z)
-    return PathResponse(force_x=force_x, force_y=force_y, z_x=z_x, z_y=z_y, z_peak=z_peak,
-                        coefficient=mu, temperature_rise=rise, heat_index=heat_index,
-                        gap_position=gap_position)
+        force_x, force_y, z = force, jnp.zeros_like(force), jnp.stack([z, jnp.zeros_like(z)], axis=-1)
+    return BearingTestResult(time=path.time, fx=force_x, fy=force_y, z=z, normal_load=path.normal_load,
+                             ux=path.ux, uy=path.uy, vx=path.velocity_x, vy=path.velocity_y, coefficient=mu,
+                             z_peak=z_peak, temperature_rise=rise, heat_index=heat_index,
+                             gap_position=gap_position)
 
 
 # --------------------------------------------------------------------------- in a structure

@@ -1,7 +1,6 @@
 """The slab on triple or double friction pendulum groups (`_slab_series.py`): its construction
 from a plan, and its histories from rest."""
 
-import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -11,6 +10,7 @@ from ..excitation import Signal
 from ..units import STANDARD_GRAVITY
 from ..validation import concrete
 from ._overturning import overturning_map, support_plan
+from ._response import StructureResponse
 from ._series_heat import series_heat_kernel, surface_temperature_rises
 from ._slab_series import SlabOnSeries
 from ._triple_structure import TRIPLE_NEWTON_ITERATIONS, TRIPLE_TOLERANCE
@@ -99,33 +99,6 @@ def slab_on_series(*, weight, mass_inertia, centre_of_mass, positions, loads, pe
                         heat_weights=heat_weights)
 
 
-class SlabSeriesResponse(eqx.Module):
-    """Histories of a `SlabOnSeries` from rest (SI, time first): `time` (nt,) [s], `q`,
-    `velocity`, `acceleration` (nt, 3) [m, rad, ...] (relative to the ground), `ground`
-    (nt, 2) [m/s^2], `group_force` (nt, G, 2) [N] (each group's isolator force, resisting its
-    displacement), `bearing_displacement` (nt, G, 2) [m], `slider` (nt, G, S, 2) [m],
-    `normal_load` (nt, G) [N] (a step's load at its end), `group_uplift_time` (G,) [s] (the
-    time of the steps with N_g <= 0), `converged` (nt,) (the step balanced: the sliders' balance
-    converged and the slab rested), `tipped` (nt,) (the slab could not rest on its groups: the
-    overturning moment beyond what they hold without tension, `supported_loads`); `surface_temperature_rise` (nt, G, S)
-    [K]: each surface's rise s dT at each time (`surface_temperature_rises`; 0 on a surface
-    without heating), `None` where no surface heats."""
-
-    time: jnp.ndarray
-    q: jnp.ndarray
-    velocity: jnp.ndarray
-    acceleration: jnp.ndarray
-    ground: jnp.ndarray
-    group_force: jnp.ndarray
-    bearing_displacement: jnp.ndarray
-    slider: jnp.ndarray
-    normal_load: jnp.ndarray
-    group_uplift_time: jnp.ndarray
-    converged: jnp.ndarray
-    tipped: jnp.ndarray
-    surface_temperature_rise: jnp.ndarray | None = None
-
-
 def slab_steps(system: SlabOnSeries, duration: float) -> int:
     """Whole steps in `duration` [s], after checking that the records last that long."""
     dt = float(system.time_step)
@@ -139,9 +112,18 @@ def slab_steps(system: SlabOnSeries, duration: float) -> int:
     return n_steps
 
 
-def simulate_slab_series(system: SlabOnSeries, duration: float) -> SlabSeriesResponse:
+def simulate_slab_series(system: SlabOnSeries, duration: float) -> StructureResponse:
     """Integrate the slab from rest over `duration` [s] (whole steps), every step kept.
-    jit/vmap/grad-safe."""
+    jit/vmap/grad-safe.
+
+    **Returns:** a `StructureResponse` (two ground components; coordinates (x, y, rotation)):
+    `bearing_force` (nt, G, 2) [N], each group's isolator force resisting its displacement;
+    `bearing_displacement` (nt, G, 2) [m]; `slider` (nt, G, S, 2) [m]; `normal_load` (nt, G)
+    [N] (a step's load at its end) and `group_uplift_time` (G,) [s]; `converged` (nt,) (the
+    sliders' balance converged and the slab rested); `tipped` (nt,) (the slab could not rest on
+    its groups: the overturning moment beyond what they hold without tension,
+    `supported_loads`); `surface_temperature_rise` (nt, G, S) [K] (`surface_temperature_rises`;
+    0 on a surface without heating), `None` where no surface heats."""
     dt = float(system.time_step)
     n_steps = slab_steps(system, duration)
     time = jnp.arange(n_steps + 1) * dt
@@ -166,8 +148,9 @@ def simulate_slab_series(system: SlabOnSeries, duration: float) -> SlabSeriesRes
         None if b is None else jnp.concatenate([a[None], b]) for a, b in zip(first, out))
     q = x[:, :3]
     acceleration = -(q @ system.stiffness.T + extra) / system.mass - ground @ system.influence.T
-    return SlabSeriesResponse(
-        time=time, q=q, velocity=x[:, 3:], acceleration=acceleration, ground=ground, group_force=force,
-        bearing_displacement=jnp.einsum("gdn,tn->tgd", system.bearing_map, q), slider=slider,
-        normal_load=loads, group_uplift_time=jnp.sum(loads[1:] <= 0, axis=0) * dt, converged=converged,
-        tipped=tipped, surface_temperature_rise=rise)
+    return StructureResponse(
+        time=time, displacement=q, velocity=x[:, 3:], total_acceleration=acceleration + ground @ system.influence.T,
+        ground=ground, bearing_force=force, slider=slider,
+        bearing_displacement=jnp.einsum("gdn,tn->tgd", system.bearing_map, q), normal_load=loads,
+        group_uplift_time=jnp.sum(loads[1:] <= 0, axis=0) * dt, surface_temperature_rise=rise, tipped=tipped,
+        converged=converged)

@@ -16,7 +16,6 @@ displacement, which is the base peak `base_disp`. Reference for the building: Co
 Mokha & Reinhorn (1990), J. Struct. Eng. 116(2), Table 2 and Fig. 11.
 """
 
-import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -25,6 +24,7 @@ from ..bearing import SlidingBearing, check_bearing, heat_kernel_exponentials
 from ..excitation import Signal
 from ..solver import require_riccati_form
 from ._propagators import LINEAR_RULES, exact_step_matrices
+from ._response import StructureResponse
 from ._structure import (
     FRICTION_MODELS,
     NEWTON_ITERATIONS,
@@ -163,36 +163,6 @@ def _exact_step_matrix(mass, stiffness, damping, time_step):
     return jnp.vectorize(one, signature="(n),(n,n),(n,n)->(m,k)")(mass, stiffness, damping)
 
 
-class StructureResponse(eqx.Module):
-    """Response histories of a `StructureOnSliders` (SI; time along the first axis).
-
-    - `time` [s]; `displacement`, `velocity` (nt, n) relative to the ground [m, m/s];
-    - `total_acceleration` (nt, n) [m/s^2] (relative + ground);
-    - `friction_force` (nt,) [N] on the isolator; `z`, `z_peak` (nt,) [-];
-    - `ground_acceleration` (nt,) [m/s^2]; `result`: `diffrax.RESULTS` (0 = successful).
-    - `load_factor` (nt,) [-]: N / W on the isolators, 0 while uplifted (with a vertical
-      record, else `None`); `uplift_time` [s]: time steps with N <= 0 times the step.
-    """
-
-    time: jnp.ndarray
-    displacement: jnp.ndarray
-    velocity: jnp.ndarray
-    total_acceleration: jnp.ndarray
-    friction_force: jnp.ndarray
-    z: jnp.ndarray
-    z_peak: jnp.ndarray
-    ground_acceleration: jnp.ndarray
-    result: object
-    load_factor: jnp.ndarray | None = None
-    uplift_time: jnp.ndarray | None = None
-
-    @property
-    def succeeded(self):
-        import diffrax
-
-        return self.result == diffrax.RESULTS.successful
-
-
 def check_duration(system: StructureOnSliders, duration: float) -> int:
     """Number of `time_step`s in `duration` [s] (rounded down), after checking that it is at
     least one step and that the ground-acceleration record lasts that long (a `Signal` is zero
@@ -234,7 +204,7 @@ def simulate_structure(
       pass `diffrax.ForwardMode()` for `jax.jvp`/`jax.jacfwd` (cheaper with few parameters).
     - `throw`: raise on solver failure; with `False` (e.g. under vmap) the code is in `result`.
 
-    **Returns:** a `StructureResponse` sampled every `save_every` steps.
+    **Returns:** a `StructureResponse` sampled every `save_every` steps (one ground component).
     """
 
     from ..solver import RiccatiNewmark, solve_on_grid
@@ -262,10 +232,10 @@ def simulate_structure(
         displacement=ys["u"],
         velocity=ys["v"],
         total_acceleration=relative + ag[:, None],
+        ground=ag[:, None],
         friction_force=friction,
         z=ys["z"],
         z_peak=ys["z_peak"],
-        ground_acceleration=ag,
         result=solution.result,
         load_factor=loads,
         uplift_time=None if loads is None else uplift_steps(system, n_steps) * dt,

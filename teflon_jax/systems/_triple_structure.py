@@ -47,6 +47,7 @@ from ..excitation import Signal
 from ..units import STANDARD_GRAVITY
 from ._isolator_solve import bracketed_newton
 from ._models import rigid_mass, six_storey_building
+from ._response import StructureResponse
 from ._series_heat import heated_step, series_heat_kernel
 from ._slider_forces import (
     FRICTION_VELOCITIES,
@@ -404,28 +405,6 @@ def _balanced_jvp(iterations, primals, tangents):
     return (d, converged), (tangent, no_tangent)
 
 
-class TripleStructureResponse(eqx.Module):
-    """Histories of a `StructureOnTriple` (SI; time along the first axis): `time` [s],
-    `displacement`, `velocity`, `total_acceleration` (nt, n) [m, m/s, m/s^2], `bearing_force`
-    (nt,) [N] on the isolator, `slider` (nt, S) [m] and `z` (nt, S) [-] of the sliders (in the
-    order of the pendulum's `slider_names`), `ground_acceleration` (nt,) [m/s^2], `converged` (nt,);
-    with a vertical record `load_factor` (nt,) [-], N / W at each time (a step holds its
-    start's), and `uplift_time` [s], the time of the steps whose end has N <= 0 (as
-    `peak_response` counts it; else `None`)."""
-
-    time: jnp.ndarray
-    displacement: jnp.ndarray
-    velocity: jnp.ndarray
-    total_acceleration: jnp.ndarray
-    bearing_force: jnp.ndarray
-    slider: jnp.ndarray
-    z: jnp.ndarray
-    ground_acceleration: jnp.ndarray
-    converged: jnp.ndarray
-    load_factor: jnp.ndarray | None = None
-    uplift_time: jnp.ndarray | None = None
-
-
 def total_acceleration(system: StructureOnTriple, x, extra):
     """Total accelerations (n,) [m/s^2] of the masses at state `x` = (u, v) with the force
     `extra` [N] beyond the reference spring at the isolator: -(K u + C v + e0 extra) / m."""
@@ -434,9 +413,13 @@ def total_acceleration(system: StructureOnTriple, x, extra):
     return -force.at[0].add(extra) / system.mass
 
 
-def simulate_triple_structure(system: StructureOnTriple, duration: float) -> TripleStructureResponse:
+def simulate_triple_structure(system: StructureOnTriple, duration: float) -> StructureResponse:
     """Integrate `system` from rest over `duration` [s] (rounded down to whole steps) and keep
-    every step. jit/vmap/grad-safe."""
+    every step. jit/vmap/grad-safe.
+
+    **Returns:** a `StructureResponse` (one ground component): the isolator's `bearing_force`
+    (nt,) [N], its sliders' `slider` and `z` (nt, S), `converged` (nt,); with a vertical record
+    `load_factor` (nt,) (a step holds its start's) and `uplift_time` [s]."""
     dt = float(system.time_step)
     n_steps = check_duration(system, duration)
     n = system.mass.shape[-1]
@@ -461,9 +444,9 @@ def simulate_triple_structure(system: StructureOnTriple, duration: float) -> Tri
         return jnp.concatenate([a[None], b])
 
     zeros_s = jnp.zeros(system.pendulum.slider_count, x0.dtype)
-    return TripleStructureResponse(
+    return StructureResponse(
         time=time, displacement=first(x0[:n], x[:, :n]), velocity=first(x0[n:], x[:, n:]),
-        total_acceleration=first(jnp.zeros(n, x0.dtype), acc), bearing_force=first(jnp.zeros(()), force),
-        slider=first(zeros_s, slider), z=first(zeros_s, z), ground_acceleration=ground,
+        total_acceleration=first(jnp.zeros(n, x0.dtype), acc), ground=ground[:, None],
+        bearing_force=first(jnp.zeros(()), force), slider=first(zeros_s, slider), z=first(zeros_s, z),
         converged=first(jnp.array(True), converged), load_factor=loads,
         uplift_time=None if loads is None else uplift_steps(system, n_steps) * dt)

@@ -13,7 +13,6 @@ Earthquake Engng Struct. Dyn. 35; (2008), Earthquake Spectra 24(4); Constantinou
 Reinhorn (1990), Eqs. 1, 3.
 """
 
-import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -21,6 +20,7 @@ import numpy as np
 from ..bearing import SeriesPendulum
 from ..excitation import AbstractBiaxialMotion
 from ._bearing_test import save_times
+from ._response import BearingTestResult
 from ._sampled_path import sample_velocity
 from ._series_heat import heated_step, series_heat_kernel
 from ._slider_forces import (
@@ -41,18 +41,6 @@ from ._triple_structure import (
 TEST_TOLERANCE = 1e-12
 """The sliders' force imbalance [-] over W at which a test step stops: a record simulated for
 a fit is balanced to rounding, far below the structures' `TRIPLE_TOLERANCE`."""
-
-
-class TripleResponse(eqx.Module):
-    """Response of a `SeriesPendulum` along an imposed path (SI): `force` (nt,) or (nt, 2)
-    [N], `slider` (nt, S) or (nt, S, 2) displacements of the sliders of the series model (in
-    the order of the pendulum's `slider_names`) [m], `z` like `slider` [-], `converged` (nt,)
-    whether each step's force balance met its tolerance."""
-
-    force: jnp.ndarray
-    slider: jnp.ndarray
-    z: jnp.ndarray
-    converged: jnp.ndarray
 
 
 def _path_step(pendulum, load, dt, kernel, state, target, velocity=None, *, tolerance=TEST_TOLERANCE,
@@ -106,7 +94,7 @@ def _along_path(pendulum, load, time_step, path, kernel, velocity=None, **solve)
 
 
 def simulate_triple_test(bearing: SeriesPendulum, time, displacement, normal_load, *,
-                         heat_kernel=None, friction_velocity: str = "mean", velocity=None) -> TripleResponse:
+                         heat_kernel=None, friction_velocity: str = "mean", velocity=None) -> BearingTestResult:
     """Force of a triple or double pendulum bearing [N] along an imposed displacement [m] at the
     sample times [s] (uniform), under normal load W [N]: `displacement` (nt,) along one axis or
     (nt, 2) in the plane (an orbit); the path starts at rest at its first sample (module
@@ -119,7 +107,12 @@ def simulate_triple_test(bearing: SeriesPendulum, time, displacement, normal_loa
     `HEAT_HORIZON`). `friction_velocity` (`FRICTION_VELOCITIES`): "mean", or for a one-surface
     isolator "end", Eq. 1 at the path's velocity at each sample, `velocity` [m/s] like
     `displacement` (default: `sample_velocity`, central differences), as a flat bearing's
-    test (`respond_along_path`) takes it."""
+    test (`respond_along_path`) takes it.
+
+    **Returns:** a `BearingTestResult`: the path (`time`, `ux`, `uy`; `vx`, `vy` for the law
+    "end"), `normal_load`, the force `fx`, `fy` [N] (`fy` zeros along one axis), the sliders'
+    displacements `slider` and `z`, (nt, S) or (nt, S, 2), in the order of the pendulum's
+    `slider_names`, and `converged` (nt,), whether each step's force balance met its tolerance."""
     time = jnp.asarray(time, float)
     path = jnp.asarray(displacement, float)
     kernel = _test_heat_kernel(bearing, time, heat_kernel)
@@ -130,8 +123,13 @@ def simulate_triple_test(bearing: SeriesPendulum, time, displacement, normal_loa
     def first(rest):
         return jnp.concatenate([jnp.zeros((1,) + rest.shape[1:], rest.dtype), rest])
 
-    return TripleResponse(force=first(force), slider=first(slider), z=first(z),
-                          converged=jnp.concatenate([jnp.array([True]), converged]))
+    force, planar = first(force), path.ndim == 2
+    vx, vy = (None, None) if velocity is None else ((velocity[:, 0], velocity[:, 1]) if planar else (velocity, None))
+    return BearingTestResult(
+        time=time, fx=force[:, 0] if planar else force, fy=force[:, 1] if planar else jnp.zeros_like(force),
+        z=first(z), normal_load=jnp.broadcast_to(load, time.shape), ux=path[:, 0] if planar else path,
+        uy=path[:, 1] if planar else None, vx=vx, vy=vy, slider=first(slider),
+        converged=jnp.concatenate([jnp.array([True]), converged]))
 
 
 def _path_velocity(bearing: SeriesPendulum, friction_velocity: str, time, path, velocity):
@@ -190,7 +188,7 @@ def triple_pendulum_test(bearing: SeriesPendulum, motion, normal_load, *,
     triangle, figure-eight or tabulated) sampled `samples_per_cycle` times a cycle (a tabulated
     motion at its own samples), under the constant normal load [N].
 
-    **Returns:** (time (nt,) [s], displacement (nt,) or (nt, 2) [m], `TripleResponse`).
+    **Returns:** (time (nt,) [s], displacement (nt,) or (nt, 2) [m], `BearingTestResult`).
     """
     time = save_times(motion, motion.duration, samples_per_cycle)
     path = jax.vmap(motion.displacement)(time)

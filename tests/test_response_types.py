@@ -1,0 +1,144 @@
+"""One response type for every structure's history (`StructureResponse`, `simulate_history`),
+one for the peaks (`PeakResponse`, the smooth maximum written once) and one for imposed-path
+tests (`BearingTestResult`): the drivers only package their engines' histories."""
+
+import dataclasses
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+
+from teflon_jax.bearing import BoucWen, FrictionParameters, TriplePendulum
+from teflon_jax.excitation import uniform_signal
+from teflon_jax.studies import bidirectional_isolated_structure, bidirectional_peak_response
+from teflon_jax.systems import (
+    BiaxialStructureOnTriple,
+    PeakResponse,
+    StructureResponse,
+    biaxial_histories,
+    isolated_structure,
+    peak_response,
+    simulate_bidirectional,
+    simulate_history,
+    simulate_structure,
+    simulate_triple_structure,
+    simulate_triple_test,
+    smooth_max,
+    smooth_max_update,
+    smooth_max_value,
+    triple_structure,
+)
+
+STEP = 0.01
+TIME = np.arange(0.0, 1.5 + 1e-9, STEP)
+AX = 4.0 * np.sin(2 * np.pi * TIME) * np.minimum(TIME / 0.3, 1.0)
+AY = 3.0 * np.cos(2 * np.pi * 1.3 * TIME) * np.minimum(TIME / 0.3, 1.0)
+TRIPLE = TriplePendulum(inner_radius=0.3, bottom_radius=2.1, top_radius=2.1, inner_capacity=0.05,
+                        bottom_capacity=0.4, top_capacity=0.4, inner_friction=FrictionParameters(0.03, 0.015, 20.0),
+                        bottom_friction=FrictionParameters(0.07, 0.03, 20.0),
+                        top_friction=FrictionParameters(0.11, 0.05, 20.0), hysteresis=BoucWen(1e-4))
+
+
+def _signals():
+    return uniform_signal(AX, STEP), uniform_signal(AY, STEP)
+
+
+def _same_tree(a, b):
+    leaves_a, tree_a = jax.tree_util.tree_flatten(a)
+    leaves_b, tree_b = jax.tree_util.tree_flatten(b)
+    assert tree_a == tree_b
+    for x, y in zip(leaves_a, leaves_b):
+        np.testing.assert_array_equal(np.asarray(x), np.asarray(y))
+
+
+def test_one_driver_returns_each_engines_response():
+    gx, gy = _signals()
+    flat = isolated_structure("building", isolator="flat")(gx)
+    _same_tree(simulate_history(flat, 1.0), simulate_structure(flat, 1.0))
+    planar = bidirectional_isolated_structure("rigid", isolator="flat")((gx, gy))
+    _same_tree(simulate_history(planar, 1.0), simulate_bidirectional(planar, 1.0))
+    series = triple_structure("rigid", TRIPLE, gx, time_step=0.005)
+    _same_tree(simulate_history(series, 1.0), simulate_triple_structure(series, 1.0))
+    with pytest.raises(TypeError, match="system: no history driver"):
+        simulate_history(TRIPLE, 1.0)
+
+
+def test_every_history_has_the_ground_as_an_axis_and_total_accelerations():
+    """One component: ground (nt, 1), the total acceleration of the rigid mass is the relative
+    one plus a_g; two: ground (nt, 2) and the x, y blocks of the coordinates."""
+    gx, gy = _signals()
+    one = simulate_history(isolated_structure("rigid", isolator="flat")(gx), 1.0)
+    assert isinstance(one, StructureResponse) and one.ground.shape == (one.time.size, 1)
+    np.testing.assert_allclose(np.asarray(one.ground[:, 0]), np.interp(np.asarray(one.time), TIME, AX), atol=1e-12)
+    two = simulate_history(bidirectional_isolated_structure("building", isolator="flat")((gx, gy)), 1.0)
+    assert two.ground.shape == (two.time.size, 2) and two.displacement.shape == (two.time.size, 14)
+    assert two.slider is None and two.bearing_force is None and two.friction_force.shape == (two.time.size, 1, 2)
+    assert bool(two.succeeded) and bool(one.succeeded)
+
+
+def test_two_components_on_series_pendulums_are_their_engines_histories_repackaged():
+    gx, gy = _signals()
+    system = BiaxialStructureOnTriple(triple_structure("building", TRIPLE, gx, time_step=0.005), gy)
+    time, x, force, slider, acceleration, converged = biaxial_histories(system, 1.0)
+    r = simulate_history(system, 1.0)
+    n = 7
+    for k in (0, 1):  # the x block, then the y block
+        np.testing.assert_array_equal(r.displacement[:, k * n:(k + 1) * n], x[:, k, :n])
+        np.testing.assert_array_equal(r.velocity[:, k * n:(k + 1) * n], x[:, k, n:])
+        np.testing.assert_array_equal(r.total_acceleration[:, k * n:(k + 1) * n], acceleration[:, k])
+    np.testing.assert_array_equal(r.bearing_force, force)
+    np.testing.assert_array_equal(r.slider, slider)
+    np.testing.assert_array_equal(r.converged, converged)
+    assert float(jnp.max(jnp.abs(r.displacement[:, n]))) > 1e-3  # the y component moved the base
+
+
+def test_succeeded_reads_the_steps_convergence():
+    gx, _ = _signals()
+    r = simulate_history(triple_structure("rigid", TRIPLE, gx, time_step=0.005), 1.0)
+    assert bool(r.succeeded)
+    failed = dataclasses.replace(r, converged=r.converged.at[3].set(False))
+    assert not bool(failed.succeeded)
+
+
+def test_the_running_smooth_maximum_is_the_smooth_maximum():
+    """`smooth_max_update` sample by sample, then `smooth_max_value`, is the log-mean-cosh of
+    `smooth_max`: M_w = w log(mean cosh(x / w)), to rounding."""
+    x = jnp.asarray(np.random.default_rng(2).normal(size=300) * 0.02)
+    for width in (1e-3, 1e-2):
+        top, total = jnp.zeros(()), jnp.ones(())  # the rest state x = 0 at t = 0
+        for value in x:
+            top, total = smooth_max_update(top, total, value, width)
+        running = smooth_max_value(top, total, x.size + 1, width)
+        direct = smooth_max(jnp.concatenate([jnp.zeros(1), x]), width)
+        np.testing.assert_allclose(float(running), float(direct), rtol=1e-13)
+        expected = width * np.log(np.mean(np.cosh(np.concatenate([[0.0], np.asarray(x)]) / width)))
+        np.testing.assert_allclose(float(running), expected, rtol=1e-12)
+
+
+def test_peaks_of_one_and_two_components_are_one_type_and_match_the_histories():
+    gx, gy = _signals()
+    one = isolated_structure("rigid", isolator="flat")(gx)
+    peaks = peak_response(one, 1.0, disp_width=1e-3)
+    history = simulate_history(one, 1.0)
+    u = history.displacement[:, 0]
+    np.testing.assert_allclose(float(peaks.smooth_base_disp), float(smooth_max(u, 1e-3)), rtol=1e-6)
+    two = bidirectional_isolated_structure("rigid", isolator="flat")((gx, gy))
+    planar = bidirectional_peak_response(two, 1.0, disp_width=1e-3)
+    assert isinstance(peaks, PeakResponse) and isinstance(planar, PeakResponse)
+    resultant = jnp.hypot(*simulate_history(two, 1.0).bearing_displacement[:, 0].T)
+    np.testing.assert_allclose(float(planar.base_disp), float(jnp.max(resultant)), rtol=1e-9)
+    np.testing.assert_allclose(float(planar.smooth_base_disp), float(smooth_max(resultant, 1e-3)), rtol=1e-6)
+
+
+def test_a_series_pendulum_test_is_a_bearing_test_result():
+    t = np.arange(0.0, 2.0 + 1e-9, 0.01)
+    u = 0.1 * np.sin(np.pi * t)
+    along = simulate_triple_test(TRIPLE, t, u, 1e6)
+    assert along.force.shape == t.shape and along.uy is None and along.slider.shape == (t.size, 3)
+    np.testing.assert_array_equal(along.ux, u)
+    np.testing.assert_array_equal(along.fy, 0.0)
+    orbit = simulate_triple_test(TRIPLE, t, np.stack([u, 0 * u], -1), 1e6)
+    assert orbit.force.shape == (t.size, 2) and orbit.slider.shape == (t.size, 3, 2)
+    np.testing.assert_allclose(orbit.fx, along.fx, rtol=0, atol=1e-9 * 1e6)  # a plane orbit along x
+    assert bool(along.succeeded) and bool(orbit.succeeded)
