@@ -91,20 +91,24 @@ def test_cli_storeys_and_demand_file_with_a_zero_vertical_ratio(tmp_path, capsys
     assert "uplift (N <= 0), motions per level: 0.3g: 0/2" in printed
 
 
-def _assert_same_numbers(loaded, plain, where=""):
-    """The JSON values `loaded` and `plain` alike: the same keys and texts, numbers to `ROUNDING`."""
-    if isinstance(plain, dict):
-        assert loaded.keys() == plain.keys(), where
-        for key in plain:
-            _assert_same_numbers(loaded[key], plain[key], f"{where}.{key}")
-    elif isinstance(plain, list):
-        assert len(loaded) == len(plain), where
-        for i, (a, b) in enumerate(zip(loaded, plain)):
-            _assert_same_numbers(a, b, f"{where}[{i}]")
-    elif isinstance(plain, float):
-        np.testing.assert_allclose(loaded, plain, rtol=ROUNDING, atol=0, err_msg=where)
-    else:
-        assert loaded == plain, where
+def _leaves(value, path=""):
+    """[(path, leaf)] of a JSON value, depth first."""
+    if isinstance(value, dict):
+        return [leaf for key in value for leaf in _leaves(value[key], f"{path}.{key}")]
+    if isinstance(value, list):
+        return [leaf for i, item in enumerate(value) for leaf in _leaves(item, f"{path}[{i}]")]
+    return [(path, value)]
+
+
+def _assert_same_numbers(loaded, plain):
+    """The JSON values `loaded` and `plain` alike: the same paths and texts, numbers to `ROUNDING`."""
+    loaded, plain = _leaves(loaded), _leaves(plain)
+    assert [path for path, _ in loaded] == [path for path, _ in plain]
+    numbers = [(path, a, b) for (path, a), (_, b) in zip(loaded, plain) if isinstance(b, float)]
+    texts = [(a, b) for (_, a), (_, b) in zip(loaded, plain) if not isinstance(b, float)]
+    assert [a for a, _ in texts] == [b for _, b in texts]
+    np.testing.assert_allclose([a for _, a, _ in numbers], [b for _, _, b in numbers], rtol=ROUNDING, atol=0,
+                               err_msg=", ".join(path for path, _, _ in numbers[:3]))
 
 
 def _assert_same_csv(loaded, plain):
