@@ -327,20 +327,10 @@ def isolated_structure(
     structure = IsolatedStructure(
         pressure=jnp.asarray(pressure, dtype=float),
         isolation_period=None if isolation_period is None else jnp.asarray(isolation_period, float),
-        isolation_damping=jnp.asarray(isolation_damping, dtype=float),
-        kind=kind,
-        ptfe=ptfe,
-        direction=direction,
-        breakaway=breakaway,
-        friction_model=friction_model,
-        time_step=float(time_step),
-        newton_iterations=int(newton_iterations),
-        newton_tolerance=float(newton_tolerance),
-        split_at_turn=bool(split_at_turn),
-        linear_rule=linear_rule,
-        bearing=bearing,
-        surface=surface,
-    )
+        isolation_damping=jnp.asarray(isolation_damping, dtype=float), bearing=bearing, surface=surface,
+        kind=kind, ptfe=ptfe, direction=direction, breakaway=breakaway, friction_model=friction_model,
+        linear_rule=linear_rule, time_step=float(time_step), newton_iterations=int(newton_iterations),
+        newton_tolerance=float(newton_tolerance), split_at_turn=bool(split_at_turn))
     if bearing is not None:
         require_positive(pressure, "pressure", " [Pa] (the bearings' contact pressure)")
         check_structure_bearing(bearing, pressure)
