@@ -198,6 +198,7 @@ def test_a_flat_bearing_becomes_one_surface_with_all_its_parts():
                                              hysteresis=BoucWen(1e-4), surface_capacity=-0.1))
 
 
+@pytest.mark.slow
 def test_the_one_surface_peak_has_the_flat_engines_gradient():
     # the bracketed balance is differentiated implicitly: d(final displacement)/d(f_max)
     params, _ = interface_parameters("UF", 1000 * PSI, "P")

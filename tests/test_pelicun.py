@@ -99,6 +99,7 @@ def test_pelicun_loads_the_file_and_runs_a_p58_damage_assessment(tmp_path):
     assert set(damage.columns.get_level_values("cmp")) == {"B.10.41.001a", "C.30.32.001a"}
 
 
+@pytest.mark.slow
 def test_run_suite_writes_the_buildings_demands_per_direction(tmp_path, capsys):
     """`run --suite --structure building --pelicun-demands`: one row per pair, the ground's
     PFA in x and y as read from the records, PID per storey and direction equal to the

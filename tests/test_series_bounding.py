@@ -125,6 +125,7 @@ def _model():
                                   strong_motion_duration=1.5)
 
 
+@pytest.mark.slow
 def test_each_bound_is_the_run_on_the_friction_scaled_by_hand():
     """The three cases in one call: the upper bound's peaks are, motion by motion, those of a
     plain run on the isolator file with every friction constant multiplied by hand; more

@@ -65,6 +65,7 @@ def _check_percentile_design(structure, records, optimum: dict, p95_peak: float,
         assert gradient[name] == pytest.approx((plus - minus) / (2 * h), rel=GRADIENT_TOLERANCE), name
 
 
+@pytest.mark.slow
 def test_a_short_p95_design_of_the_outer_friction_meets_its_limit():
     """Three 4 s motions of 0.4 g, a 10 ms step; the limit 0.28 m on the 95th percentile binds
     inside the outer f_max range (0.35 m at 0.04, 0.26 m at 0.065)."""

@@ -106,6 +106,7 @@ def test_the_friction_falls_as_the_constant_flux_rise_of_carslaw_and_jaeger():
     assert np.all(np.diff(mu[later]) < 0)
 
 
+@pytest.mark.slow
 def test_a_heated_surface_slides_further_and_a_zero_heat_scale_changes_nothing():
     """Heating lowers the friction, so the isolator moves further; with heat_scale 0 the
     factor is exactly 1 and the response is bit for bit the unheated one (structure and
@@ -163,6 +164,7 @@ def _energies(dt):
     return u, work[-1], gap, bool(np.all(r.converged))
 
 
+@pytest.mark.slow
 def test_a_strong_heating_balances_every_step_and_converges_in_the_step():
     """30 MPa on both surfaces: the sliding surface's friction drops by several per cent in a
     step while the other reverses, where a full Newton step overshoots the reversal's kink;

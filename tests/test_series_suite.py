@@ -46,6 +46,7 @@ def _write_pairs(folder, motions):
     return folder / "suite.csv"
 
 
+@pytest.mark.slow
 def test_triple_suite_base_shear_is_the_isolator_force_over_the_weight():
     """Rigid mass on triple pendulums: m a_total = -F_isolator, so the suite's base shear (from
     the accelerations) is max |F| / W of each pair's own histories, and its displacements are
@@ -74,6 +75,7 @@ def test_triple_suite_base_shear_is_the_isolator_force_over_the_weight():
     assert result.peaks["base_disp_resultant_m"].min() > 0.02  # the pendulums slid
 
 
+@pytest.mark.slow
 def test_double_suite_matches_the_run_of_each_pair(tmp_path, capsys):
     suite = _write_pairs(tmp_path, _motions(seconds=5.0, seed=9))
     isolator = ["--isolator", "double-fp", "--isolator-file", str(BENCHMARKS / "double_isolator.json")]

@@ -105,6 +105,7 @@ def test_pressure_dependence_on_a_surface_takes_its_contact_pressure():
     assert _plateau(u, f, True) == pytest.approx(MU_BOTTOM * 1.2, abs=5e-5)  # (1 / 1.44)^-0.5
 
 
+@pytest.mark.slow
 def test_anisotropy_on_a_surface_takes_the_constants_across_its_lay():
     across = 0.03
     pendulum = _double(bottom=SurfaceParts(friction_perpendicular=coulomb_friction(across)))
@@ -136,6 +137,7 @@ def _held(pendulum, acceleration, components=1, duration=6.0):
     return np.max(np.linalg.norm(np.asarray(x[:, :, 0]), axis=1))
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("components", [1, 2])
 def test_breakaway_on_both_surfaces_holds_the_mass_below_b_mu_g(components):
     b = 2.0  # b mu_1 = 0.1, b mu_2 = 0.16
@@ -150,6 +152,7 @@ def _limits():
     return (_double(**heated), _double(bottom=SurfaceParts(breakaway_ratio=1.0), **heated))
 
 
+@pytest.mark.slow
 def test_a_breakaway_ratio_of_one_on_coulomb_heated_surfaces_changes_nothing():
     t = np.arange(0.0, 8.0 + 0.005, 0.01)
     ground = 0.3 * STANDARD_GRAVITY * np.sin(2 * np.pi * t / 1.7) * np.minimum(t / 2.0, 1.0)
@@ -161,6 +164,7 @@ def test_a_breakaway_ratio_of_one_on_coulomb_heated_surfaces_changes_nothing():
     np.testing.assert_allclose(runs[1], runs[0], rtol=0, atol=1e-12)
 
 
+@pytest.mark.slow
 def test_the_slab_carries_the_surfaces_parts_in_two_components():
     t = np.arange(0.0, 6.0 + 0.005, 0.01)
     ramp = 0.085 / np.sqrt(2) * STANDARD_GRAVITY * np.minimum(t, 1.0)

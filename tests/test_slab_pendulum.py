@@ -65,6 +65,7 @@ def _isolation_force(system, response):
     return -(np.asarray(response.friction_force) + pendulum).sum(axis=1)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("sign", [1.0, -1.0])
 def test_static_lever_rule_and_which_groups_unload(sign):
     """Under a slowly ramped constant ground acceleration the slab comes to move with the
@@ -108,6 +109,7 @@ def test_uplifted_group_carries_no_shear_and_the_run_stays_finite():
     assert np.allclose(np.asarray(response.group_uplift_time), lifted[1:].sum(axis=0) * STEP)
 
 
+@pytest.mark.slow
 def test_a_slab_that_tips_is_reported_not_balanced():
     """The same square under an x pulse: lifting the west pair leaves the slab on the east pair,
     one line it cannot rest on (h |H| > W times the 2 m arm): the run stops at the first step
@@ -131,6 +133,7 @@ def test_a_slab_that_tips_is_reported_not_balanced():
         simulate_bidirectional(system, DURATION)
 
 
+@pytest.mark.slow
 def test_symmetric_slab_under_one_component_equals_the_rigid_mass():
     """Equal radii and loads, centre of mass on the plan's centre, x motion alone: the
     overturning shifts load from one side to the other but the sums sum_g N_g mu Z and

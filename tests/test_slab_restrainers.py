@@ -151,6 +151,7 @@ def test_run_exits_non_zero_naming_the_tipping(tmp_path, capsys):
     assert peak["base_disp_resultant_m"] > 0.1  # into the restrainers before it tipped
 
 
+@pytest.mark.slow
 def test_an_eccentric_slab_driven_into_its_restrainers_in_two_components_balances_every_step():
     """The mass 2 m east and 1 m north of the plan's centre (h = 0), the drive along x with
     0.1 g + 0.35 g along y a radian out of phase: the sliders hit their restrainers along a

@@ -109,6 +109,7 @@ def _check_lever_rule(response, ax, ay, height, sign):
     assert np.max(np.abs(ratio[-1, :, 0])) > 0.02
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(("isolator", "sign"), [("triple-fp", 1.0), ("triple-fp", -1.0), ("double-fp", 1.0)])
 def test_lever_rule_under_a_slow_ramp_and_the_leaning_side_loads(isolator, sign):
     """Under a slowly ramped, then held ground acceleration the slab comes to move with the

@@ -94,6 +94,7 @@ def test_a_zero_heat_scale_is_the_unheated_slab():
     assert cold.surface_temperature_rise is None and np.all(np.asarray(neutral.surface_temperature_rise) == 0)
 
 
+@pytest.mark.slow
 def test_the_more_loaded_groups_heat_more():
     """h = 4 m under x motion about a mean of +0.08 g: the mean inertia force leans the slab
     towards -x, so the west pair carries more than W / 4 on average and the east pair less.

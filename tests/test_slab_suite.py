@@ -94,6 +94,7 @@ def test_each_suite_pair_is_its_single_run_with_overturning(tmp_path, isolator, 
     assert float(rows[1]["SW_peak_N"]) == pytest.approx(strong["normal_load"]["groups"]["SW"]["peak_N"], rel=1e-5)
 
 
+@pytest.mark.slow
 def test_a_pair_whose_slab_tips_is_named_and_left_out_of_the_summary(tmp_path, capsys):
     """Height 30 m: the strong pair tips the slab (h |H| beyond the weight's hold about the
     leaning pair), so its steps are reported unbalanced: the suite exits 1, names the pair on

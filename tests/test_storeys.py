@@ -23,6 +23,7 @@ def _building(seed=3):
     return structure(uniform_signal(record, 0.01))
 
 
+@pytest.mark.slow
 def test_storey_peaks_match_the_full_history():
     """Peak |u_j - u_(j-1)| / h and peak |a_j + a_g| per floor equal those of the saved history;
     the base peaks equal `peak_response`'s."""
@@ -90,6 +91,7 @@ def test_monte_carlo_keeps_storey_peaks_and_writes_them(tmp_path):
         monte_carlo(isolated_structure("rigid"), model, 2, key=key, storey_height=height)
 
 
+@pytest.mark.slow
 def test_run_building_reports_storey_results_per_direction(tmp_path, capsys):
     """`run --structure building`: drift ratios per storey and accelerations per level in x, y
     and as resultants; the resultant drift ratio is the resultant drift over the storey height,

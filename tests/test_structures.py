@@ -141,6 +141,7 @@ def _peak_acceleration(friction, b, n_interfaces=1, duration=1.5):
     return float(jnp.max(jnp.abs(r.total_acceleration[:, 0]))), mu_max
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(
     "ptfe, pressure, n_interfaces",
     [("UF", 1000, 1), ("25GF", 6500, 1), ("UF", 1000, 24)],
@@ -158,6 +159,7 @@ def test_breakaway_raises_peak_only_above_experienced_ratio(ptfe, pressure, n_in
             assert peak == pytest.approx(b * float(friction.f_min) * G, rel=0.02)
 
 
+@pytest.mark.slow
 def test_coulomb_max_approximates_full_model_coulomb_min_overestimates(elcentro):
     friction = _uf(1000)
     signal = signal_from_motion(elcentro)

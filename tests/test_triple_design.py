@@ -86,6 +86,7 @@ def test_unknown_variables_and_boxes_outside_the_series_model_are_refused():
     check(structure, {"inner_f_max": (0.01, 0.04), "outer_f_max": (0.04, 0.08)})
 
 
+@pytest.mark.slow
 def test_the_95th_percentile_displacements_gradient_is_the_central_difference():
     """Three short motions strong enough to reach the restrainers (capacities halved), so that
     every variable moves the percentile."""

@@ -167,6 +167,7 @@ def test_histories_and_the_peak_loop_agree(record):
     assert float(np.max(np.abs(h.slider.sum(axis=1) - h.displacement[:, 0]))) < 1e-9  # rounding
 
 
+@pytest.mark.slow
 def test_monte_carlo_runs_the_triple_pendulum(record):
     motion, _ = record
     structure = isolated_structure("rigid", isolator=_eq1_bearing())
@@ -177,6 +178,7 @@ def test_monte_carlo_runs_the_triple_pendulum(record):
     assert result.base_disp[2] == pytest.approx(float(alone.base_disp), rel=1e-9)
 
 
+@pytest.mark.slow
 def test_the_peak_is_differentiable_in_the_outer_radii():
     """d(smooth peak displacement)/d(b = c) by reverse and forward mode against central
     differences of the peak loop."""

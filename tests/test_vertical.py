@@ -157,6 +157,7 @@ def test_zero_vertical_record_changes_nothing(kind):
         assert float(loaded.uplift_time) == 0.0 and plain.uplift_time is None
 
 
+@pytest.mark.slow
 def test_gradients_through_uplift_finite_and_match_differences():
     """d(peak) / d(vertical scale) is finite with uplift, and equals central differences
     where the vertical motion does not lift the isolators."""
@@ -272,6 +273,7 @@ def test_uplifted_bearing_neither_heats_nor_wears(directions):
     assert not np.all(decays[~uplifted])
 
 
+@pytest.mark.slow
 def test_varying_load_step_matches_an_adaptive_solver():
     """A pendulum under a harmonic a_v (a parametrically excited oscillator,
     u'' + (g + a_v(t)) u / R = -a_g): the Newmark step with the load change moved into the
@@ -294,6 +296,7 @@ def test_varying_load_step_matches_an_adaptive_solver():
     assert np.max(np.abs(plain - reference)) > 1e-2 * np.max(np.abs(reference))  # a_v matters
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("directions", [1, 2])
 def test_a_pendulum_holds_the_stiffness_its_load_scales(directions):
     """A single pendulum built with its radius (one component) or surface (two) holds W / R,

@@ -29,6 +29,7 @@ def _records(tmp_path, dt_z=0.01, n_z=801):
     return x, z
 
 
+@pytest.mark.slow
 def test_run_reports_the_uplift_of_a_vertical_record(tmp_path, capsys):
     """a_v = -1.5 g on the samples 4.00-4.50 s: N <= 0 for 0.5067 s (linear between samples);
     the JSON and the printout say so, the load factor history is 0 there and the peaks finite."""
@@ -61,6 +62,7 @@ def test_run_vertical_record_refused_by_name(tmp_path, capsys):
     assert "--record-z" in err and "--resample" in err
 
 
+@pytest.mark.slow
 def test_montecarlo_counts_uplifted_motions(tmp_path, capsys):
     """A vertical component of 1.8 times the horizontal peak lifts some motions' isolators:
     the summary counts and lists them, the results file has each motion's uplift time, and
