@@ -11,11 +11,17 @@ rate counted after the first chunk, which compiles; alternating the isolators `-
 times); the record rate of each and each pendulum's share of the flat slider's are printed and
 written as JSON with the machine.
 
+With `--components 2`, `--balances newton secant` times the triple pendulum once per way of
+iterating its planar balance (`BiaxialStructureOnTriple.balance`), alternated with the others.
+
 Usage: `python benchmarks/bench_pendulum.py [--motions 2048] [--repeats 2] [--chunk 512]
-[--components 2] [--isolators flat triple-fp] [--structures rigid] [--json OUT]`.
+[--components 2] [--isolators flat triple-fp] [--balances newton secant] [--structures rigid]
+[--json OUT]`.
 """
 
 import argparse
+import dataclasses
+import functools
 import json
 import math
 import os
@@ -48,15 +54,22 @@ def _motions(components=1):
     return model if components == 1 else TwoComponentGroundMotion(model)
 
 
-def _structure(kind, isolator, components=1):
+def _balanced(structure, balance, grounds, design=None):
+    """`structure(grounds, design)` (a `BiaxialStructureOnTriple`) iterating its balance by
+    `balance`."""
+    return dataclasses.replace(structure(grounds, design), balance=balance)
+
+
+def _structure(kind, isolator, components=1, balance="newton"):
     period = 2 * math.pi * math.sqrt(RADIUS / STANDARD_GRAVITY)
     build = isolated_structure if components == 1 else bidirectional_isolated_structure
     if isolator == "flat":
         return build(kind, time_step=TIME_STEP, pressure=1000 * PSI, isolation_period=period,
                      isolation_damping=0.0)
     if isolator == "triple-fp":
-        return isolated_structure(kind, time_step=TIME_STEP, isolator="triple-fp", triple=TRIPLE,
-                                  newton_tolerance=TRIPLE_MONTE_CARLO_TOLERANCE)
+        structure = isolated_structure(kind, time_step=TIME_STEP, isolator="triple-fp", triple=TRIPLE,
+                                       newton_tolerance=TRIPLE_MONTE_CARLO_TOLERANCE)
+        return structure if balance == "newton" else functools.partial(_balanced, structure, balance)
     return build(kind, time_step=TIME_STEP, pressure=1000 * PSI, isolator="single-fp", radius=RADIUS)
 
 
@@ -80,6 +93,9 @@ def main() -> None:
                         "resultant peaks) (default 1)")
     parser.add_argument("--isolators", nargs="+", default=list(ISOLATORS), choices=ISOLATORS,
                         help="isolators to time, flat first (default all three)")
+    parser.add_argument("--balances", nargs="+", default=["newton"], choices=("newton", "secant"),
+                        help="with --components 2: the triple pendulum's planar balance, each timed as an "
+                        "isolator 'triple-fp/BALANCE' (default newton, timed as 'triple-fp')")
     parser.add_argument("--structures", nargs="+", default=["rigid", "building"], choices=("rigid", "building"),
                         help="structures to run (default both)")
     parser.add_argument("--json", default=None)
@@ -88,25 +104,32 @@ def main() -> None:
         parser.error(f"--motions: at least two chunks of --chunk {args.chunk} are needed (the first compiles)")
     if args.isolators[0] != "flat":
         parser.error("--isolators: the shares are of the flat slider's rate; list flat first.")
+    if args.balances != ["newton"] and (args.components != 2 or "triple-fp" not in args.isolators):
+        parser.error("--balances: applies to the triple pendulum (--isolators ... triple-fp) with --components 2.")
+    isolators = [(i, "newton") for i in args.isolators if i != "triple-fp"]
+    if "triple-fp" in args.isolators:
+        isolators += [("triple-fp", b) for b in args.balances]
+    names = {(i, b): i if args.balances == ["newton"] or i != "triple-fp" else f"{i}/{b}" for i, b in isolators}
     motions = _motions(args.components)
     out = {"machine": {"platform": platform.platform(), "processor": platform.processor(),
                        "cpus": os.cpu_count(), "devices": [d.device_kind for d in jax.devices()],
                        "load_average": os.getloadavg()},
            "motions": args.motions, "components": args.components, "chunk": args.chunk, "radius_m": RADIUS, "time_step_s": TIME_STEP, "rates": {}}
     for kind in args.structures:
-        rates = {isolator: [] for isolator in args.isolators}
+        rates = {names[i]: [] for i in isolators}
         means = {}
         for _ in range(args.repeats):
-            for isolator in args.isolators:
-                rate, mean = _rate(_structure(kind, isolator, args.components), motions, args.motions,
-                                  args.chunk)
-                rates[isolator].append(rate)
-                means[isolator] = mean
-        shares = {isolator: max(rates[isolator]) / max(rates["flat"]) for isolator in args.isolators[1:]}
+            for isolator, balance in isolators:
+                rate, mean = _rate(_structure(kind, isolator, args.components, balance), motions, args.motions,
+                                   args.chunk)
+                rates[names[isolator, balance]].append(rate)
+                means[names[isolator, balance]] = mean
+        shares = {name: max(rates[name]) / max(rates["flat"]) for name in rates if name != "flat"}
         out["rates"][kind] = {"records_per_s": rates, "pendulum_share": shares.get("single-fp"),
-                              "triple_share": shares.get("triple-fp"), "mean_peak_base_disp_m": means}
-        print(f"{kind}: " + "; ".join(f"{isolator} {', '.join(f'{r:.0f}' for r in rates[isolator])} records/s"
-                                      for isolator in args.isolators)
+                              "triple_share": shares.get("triple-fp"), "shares": shares,
+                              "mean_peak_base_disp_m": means}
+        print(f"{kind}: " + "; ".join(f"{name} {', '.join(f'{r:.0f}' for r in rates[name])} records/s"
+                                      for name in rates)
               + "; shares of flat " + ", ".join(f"{k} {v:.2f}" for k, v in shares.items())
               + "; mean peaks " + ", ".join(f"{k} {v:.4f} m" for k, v in means.items()))
     if args.json:

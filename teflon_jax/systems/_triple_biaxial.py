@@ -43,12 +43,27 @@ from ._triple_structure import (
 )
 
 
+BALANCES = ("newton", "secant")
+"""How a step's planar balance is iterated (`BiaxialStructureOnTriple.balance`): "newton",
+fresh 2 x 2 blocks by differences at every point (three force evaluations a step); "secant",
+Broyden's update of the blocks after the first step (one force evaluation a step, Newton's
+iteration taking over where it stalls; `_planar_newton`). Both balance to the same tolerance;
+"newton" along one axis follows the one-direction iteration to rounding, "secant" agrees
+with it to that tolerance."""
+
+
 class BiaxialStructureOnTriple(eqx.Module):
     """`StructureOnTriple` (its linear structure in x and in y alike) with the ground's y
-    component `ground_y` (module docstring)."""
+    component `ground_y` (module docstring); `balance` (static, `BALANCES`): how each step's
+    balance is iterated (`ValueError` naming it if unknown)."""
 
     uniaxial: StructureOnTriple
     ground_y: Signal
+    balance: str = eqx.field(static=True, default="newton")
+
+    def __check_init__(self):
+        if self.balance not in BALANCES:
+            raise ValueError(f"balance: unknown {self.balance!r}; accepted: {', '.join(BALANCES)}.")
 
     @property
     def mass(self):
@@ -96,8 +111,9 @@ class BiaxialStructureOnTriple(eqx.Module):
         w = jnp.concatenate([x0, jnp.stack([ground0, isolator[3], ground1], -1)], -1)
         linear = w @ step_matrix.T
         n = system.mass.shape[-1]
+        solve = functools.partial(_balanced, secant=self.balance == "secant")
         state, converged, bearing = isolator_step(system, isolator, linear[:, 0], x0[:, 0], -force_column[0], load,
-                                                  _balanced, (linear[:, n], force_column[n]))
+                                                  solve, (linear[:, n], force_column[n]))
         return linear + state[3][:, None] * force_column, state, converged, bearing
 
 
@@ -146,7 +162,7 @@ def _pendulum_blocks(p):
     return floor_stiffnesses(p["pendulum"], p["W"])[:, None, None] * jnp.eye(2, dtype=p["s0"].dtype)
 
 
-def _planar_newton(p, dt, guess, tolerance, iterations: int):
+def _planar_newton(p, dt, guess, tolerance, iterations: int, secant: bool = False):
     """Newton's iteration with step halving on the planar balance: d <- d - f J(d)^-1 r(d),
     J's blocks by differences (`_differenced_blocks`; the pendulum's own (W / R_e) I where they
     give no finite direction), f halved until the merit sum(r^2) falls (or f reaches
@@ -155,6 +171,12 @@ def _planar_newton(p, dt, guess, tolerance, iterations: int):
     halving f down to `RESCUE_SMALLEST` (as `damped_newton`). Three force evaluations per
     step, one at the start.
 
+    With `secant`, a first stage takes the blocks by differences at `guess` only and after
+    each step Broyden's update of each slider's block (`_secant_blocks`): full steps while the
+    merit falls, at most min(`SECANT_ITERATIONS`, `iterations`), one force evaluation each;
+    Newton's iteration above continues from where it stops short of `tolerance`, counting its
+    steps (a vmapped chunk runs it only while one of its lanes needs it).
+
     **Returns:** (d, whether max |r| <= tolerance, the number of steps taken)."""
     def forces(d):
         return balance_forces(p, d, dt)[0]
@@ -162,29 +184,66 @@ def _planar_newton(p, dt, guess, tolerance, iterations: int):
     def residual(d, force):
         return force - carried_force(d, force, p)
 
+    def direction_of(r, blocks):
+        direction = _woodbury(r, blocks, balance_compliance(p))
+        fallback = _woodbury(r, _pendulum_blocks(p), balance_compliance(p))
+        return jnp.where(jnp.all(jnp.isfinite(direction)), direction, fallback)
+
+    def trial_of(d, r, merit, step):
+        trial = d - step
+        force_trial = forces(trial)
+        r_trial = residual(trial, force_trial)
+        merit_trial = jnp.sum(r_trial**2)
+        return merit_trial < merit, (trial, force_trial, r_trial, merit_trial)
+
+    def secant_cond(carry):
+        _, _, r, _, _, k, falling = carry
+        return falling & (jnp.max(jnp.abs(r)) > tolerance) & (k < min(SECANT_ITERATIONS, iterations))
+
+    def secant_body(carry):
+        d, force, r, merit, blocks, k, _ = carry
+        lower, new = trial_of(d, r, merit, direction_of(r, blocks))
+        blocks = jnp.where(lower, _secant_blocks(blocks, new[0] - d, new[1] - force, d, p), blocks)
+        new = tuple(jnp.where(lower, a, b) for a, b in zip(new, (d, force, r, merit)))
+        return (*new, blocks, k + 1, lower)
+
     def cond(carry):
         _, _, r, _, _, k = carry
         return (jnp.max(jnp.abs(r)) > tolerance) & (k < iterations + RESCUE_ITERATIONS)
 
     def body(carry):
         d, force, r, merit, fraction, k = carry
-        direction = _woodbury(r, _differenced_blocks(d, force, p, dt), balance_compliance(p))
-        fallback = _woodbury(r, _pendulum_blocks(p), balance_compliance(p))
-        direction = jnp.where(jnp.all(jnp.isfinite(direction)), direction, fallback)
-        trial = d - fraction * direction
-        force_trial = forces(trial)
-        r_trial = residual(trial, force_trial)
-        merit_trial = jnp.sum(r_trial**2)
-        accept = (merit_trial < merit) | (fraction <= shortest_fraction(k, iterations))
-        new = tuple(jnp.where(accept, a, b) for a, b in
-                    zip((trial, force_trial, r_trial, merit_trial), (d, force, r, merit)))
+        lower, new = trial_of(d, r, merit, fraction * direction_of(r, _differenced_blocks(d, force, p, dt)))
+        accept = lower | (fraction <= shortest_fraction(k, iterations))
+        new = tuple(jnp.where(accept, a, b) for a, b in zip(new, (d, force, r, merit)))
         return (*new, jnp.where(accept, 1.0, 0.5 * fraction), k + 1)
 
     force = forces(guess)
     r = residual(guess, force)
-    carry = (guess, force, r, jnp.sum(r**2), jnp.ones((), guess.dtype), 0)
-    d, _, r, _, _, taken = jax.lax.while_loop(cond, body, carry)
+    d, merit, k = guess, jnp.sum(r**2), 0
+    if secant:
+        carry = (d, force, r, merit, _differenced_blocks(d, force, p, dt), k, jnp.array(True))
+        d, force, r, merit, _, k, _ = jax.lax.while_loop(secant_cond, secant_body, carry)
+    d, _, r, _, _, taken = jax.lax.while_loop(cond, body, (d, force, r, merit, jnp.ones((), guess.dtype), k))
     return d, jnp.max(jnp.abs(r)) <= tolerance, taken
+
+
+SECANT_ITERATIONS = 8
+"""Most steps of the secant stage of `_planar_newton` (each one evaluation of the forces)."""
+
+
+def _secant_blocks(blocks, step, change, d, p):
+    """Broyden's update of each slider's block K_e (S, 2, 2) after its increment moved by
+    `step` s_e (S, 2) from `d` and its force by `change` y_e (S, 2) (F_e depends on d_e
+    alone): K_e + (y_e - K_e s_e) s_e^T / (s_e . s_e), so that K_e s_e = y_e (Broyden 1965);
+    a slider whose step is within the differences' own step (`NEWTON_DIFFERENCE_STEP`
+    (Y + max |d_e|)), where y_e is mostly rounding, keeps its block."""
+    size = jnp.sum(step**2, axis=-1)
+    floor = NEWTON_DIFFERENCE_STEP * (p["pendulum"].hysteresis.yield_disp + jnp.max(jnp.abs(d), axis=-1))
+    moved = size > floor**2
+    miss = change - jnp.einsum("eij,ej->ei", blocks, step)
+    update = miss[:, :, None] * step[:, None, :] / jnp.where(moved, size, 1.0)[:, None, None]
+    return blocks + jnp.where(moved[:, None, None], update, 0.0)
 
 
 def _inverse2(m):
@@ -208,23 +267,24 @@ def _woodbury(residual, blocks, compliance):
     return cr - jnp.einsum("eij,j->ei", c, s)
 
 
-def _balanced(dt, iterations: int, p, guess, tolerance):
+def _balanced(dt, iterations: int, p, guess, tolerance, secant: bool = False):
     """The sliders' increments (S, 2) [m] that balance their forces with the linear step over
-    a step of `dt` [s] (a float, or traced), and whether the balance met `tolerance` [N];
-    differentiated implicitly."""
-    return _balanced_root(iterations, {**p, "dt": dt}, guess, tolerance)
+    a step of `dt` [s] (a float, or traced), and whether the balance met `tolerance` [N]
+    (`_planar_newton`, with its secant stage where `secant`); differentiated implicitly, with
+    exact blocks, whichever way the root was iterated."""
+    return _balanced_root(iterations, secant, {**p, "dt": dt}, guess, tolerance)
 
 
-@functools.partial(jax.custom_jvp, nondiff_argnums=(0,))
-def _balanced_root(iterations, p, guess, tolerance):
+@functools.partial(jax.custom_jvp, nondiff_argnums=(0, 1))
+def _balanced_root(iterations, secant, p, guess, tolerance):
     """`_balanced` with the step's length in `p["dt"]`."""
-    return _planar_newton(p, p["dt"], guess, tolerance, iterations)[:2]
+    return _planar_newton(p, p["dt"], guess, tolerance, iterations, secant)[:2]
 
 
 @_balanced_root.defjvp
-def _balanced_jvp(iterations, primals, tangents):
+def _balanced_jvp(iterations, secant, primals, tangents):
     p, guess, tolerance = primals
-    d, converged = _balanced_root(iterations, p, guess, tolerance)
+    d, converged = _balanced_root(iterations, secant, p, guess, tolerance)
     _, blocks = _residual_and_blocks(d, p, p["dt"])
     r_p = jax.jvp(lambda q: _residual(d, q, q["dt"]), (p,), (tangents[0],))[1]
     tangent = -_woodbury(r_p, blocks, balance_compliance(p))
