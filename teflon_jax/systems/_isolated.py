@@ -1,12 +1,10 @@
 """The isolated structures of the studies (rigid mass, building) built from design variables."""
 
 import dataclasses
-import math
 from collections.abc import Mapping
 
 import equinox as eqx
 import jax.numpy as jnp
-import numpy as np
 
 from ..bearing import (
     ConcaveSurface,
@@ -20,12 +18,12 @@ from ..bearing import (
 )
 from ..tables import friction_table
 from ..units import PSI
-from ..validation import concrete, require_positive
+from ..validation import require_positive
+from ._design_space import DESIGN_VARIABLES, check_design
 from ._models import rigid_mass, six_storey_building
 from ._propagators import LINEAR_RULES
 from ._structure import NEWTON_ITERATIONS, NEWTON_TOLERANCE, StructureOnSliders
 from ._structure_build import check_structure_parts
-from ._triple_design import pendulum_design_ranges
 from ._triple_isolated import TripleIsolatedStructure, triple_isolated_structure
 from ._triple_structure import TRIPLE_NEWTON_ITERATIONS
 
@@ -36,22 +34,6 @@ single friction pendulum (a concave surface of radius R, `ConcaveSurface`), the 
 double friction pendulum (`TriplePendulum`, `DoublePendulum`: `TripleIsolatedStructure`, one or
 two components)."""
 
-
-DESIGN_VARIABLES = (
-    "isolation_period",
-    "pressure",
-    "isolation_damping",
-    "f_max",
-    "delta_f",
-    "rate_a",
-    "breakaway_ratio",
-    "radius",
-    "capacity",
-)
-"""Names a design dict may set: T_b [s] (flat sliders), contact pressure [Pa] (Eq. 1 constants
-and b from Table 1 at that pressure), zeta_b [-], Eq. 1 / Eq. 17 constants overriding Table 1,
-the radius R [m] of a friction pendulum's surface and its displacement capacity d [m] (where
-its restrainer engages; the surface must have one)."""
 
 RECOMMENDED_TIME_STEPS = {"rigid": 0.005, "building": 0.005}
 """Structure step [s] per structure, a divisor of the 0.01 s record step (a step that is not
@@ -398,56 +380,3 @@ def check_structure_bearing(bearing: SlidingBearing, pressure=1.0) -> None:
     check_structure_parts(eqx.tree_at(lambda b: b.pressure_dependence, bearing, None,
                                       is_leaf=lambda x: x is None))
     bearing.at_contact_pressure(pressure)  # a pressure dependence needs the contact area
-
-
-def design_ranges(structure: IsolatedStructure) -> dict[str, tuple[float, float]]:
-    """Admissible range [low, high] of each design variable (SI): the pressure within the
-    Table 1 rows (any positive contact pressure for a given bearing), positive periods, damping in [0, 1), friction constants in their physical
-    ranges; a triple or double pendulum's: those of its `design_space`)."""
-    if isinstance(structure, TripleIsolatedStructure):
-        return pendulum_design_ranges(structure.pendulum)
-    if structure.bearing is None:
-        pressures = np.asarray(structure.table().pressures)
-        pressure = (float(pressures[0]), float(pressures[-1]))
-    else:  # a given bearing's contact pressure (through its heating or pressure dependence)
-        pressure = (1.0, math.inf)
-    return {
-        "isolation_period": (1e-3, math.inf),
-        "pressure": pressure,
-        "isolation_damping": (0.0, 1.0),
-        "f_max": (1e-6, 1.0),
-        "delta_f": (0.0, 1.0),
-        "rate_a": (0.0, math.inf),
-        "breakaway_ratio": (1.0, math.inf),
-        "radius": (1e-3, math.inf),
-        "capacity": (1e-6, math.inf),
-    }
-
-
-def check_design(structure: IsolatedStructure, design: Mapping) -> None:
-    """`ValueError` naming the variable when a concrete design value is outside its range
-    (`design_ranges`), e.g. a pressure outside Table 1's 1000-6500 psi for UF."""
-    ranges = design_ranges(structure)
-    for name, value in design.items():
-        if name not in ranges:
-            raise ValueError(
-                f"design: unknown variable {name!r}; accepted: {', '.join(ranges)}."
-            )
-        array = concrete(value)
-        if array is None:  # traced: checked by the caller's bounds instead
-            continue
-        array = array.astype(float)
-        lo, hi = ranges[name]
-        tolerance = 1e-6 * max(abs(lo), abs(hi) if math.isfinite(hi) else 0.0, 1.0)  # float32 rounding
-        bad = ~np.isfinite(array) | (array < lo - tolerance) | (array > hi + tolerance)
-        if np.any(bad):
-            if name == "pressure":
-                text = (
-                    f"outside the Table 1 rows of {structure.ptfe}/{structure.direction}, "
-                    f"{lo / PSI:.0f}-{hi / PSI:.0f} psi ({lo:.4g}-{hi:.4g} Pa)"
-                )
-                shown = (array[bad] / PSI).tolist()
-                raise ValueError(f"pressure: {text}; got {shown} psi.")
-            raise ValueError(
-                f"{name}: must lie in [{lo}, {hi}]; got {array[bad].tolist()}."
-            )

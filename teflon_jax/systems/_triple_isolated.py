@@ -8,8 +8,8 @@ import jax
 
 from ..bearing import SeriesPendulum, check_series_pendulum
 from ..validation import concrete
+from ._design_space import designed_pendulum
 from ._triple_biaxial import BiaxialStructureOnTriple
-from ._triple_design import designed_pendulum
 from ._triple_structure import (
     TRIPLE_NEWTON_ITERATIONS,
     TRIPLE_TOLERANCE,
