@@ -61,6 +61,7 @@ def test_a_record_along_any_line_is_the_one_direction_response_along_it(kind, ac
     np.testing.assert_allclose(np.asarray(sliders).sum(axis=1), np.asarray(x[:, :, 0]), atol=1e-9)
 
 
+@pytest.mark.slow
 def test_two_component_monte_carlo_runs_the_triple_pendulum():
     structure = isolated_structure("building", isolator=TRIPLE)
     model = TwoComponentGroundMotion(MOTION)

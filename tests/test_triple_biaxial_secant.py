@@ -70,6 +70,7 @@ def test_secant_balance_follows_newton_to_the_tolerance():
     np.testing.assert_allclose(np.asarray(secant[3]).sum(axis=1), x_secant, atol=1e-12)
 
 
+@pytest.mark.slow
 def test_secant_balance_has_newtons_implicit_derivative():
     """d(peak |x|)/d(inner f_max) by forward mode: the same under both balances (the root is
     differentiated with exact blocks whichever way it was iterated)."""
