@@ -89,7 +89,7 @@ def test_a_zero_heat_scale_is_the_unheated_slab():
     ax, ay = _pulse(0.35, 0.0)
     neutral = simulate(_slab(ax, ay, 0.0, _heated(heat_scale=0.0)), DURATION)
     cold = simulate(_slab(ax, ay, 0.0, DOUBLE), DURATION)
-    for name in ("q", "group_force", "slider", "normal_load"):
+    for name in ("displacement", "bearing_force", "slider", "normal_load"):
         assert np.array_equal(np.asarray(getattr(neutral, name)), np.asarray(getattr(cold, name)))
     assert cold.surface_temperature_rise is None and np.all(np.asarray(neutral.surface_temperature_rise) == 0)
 
