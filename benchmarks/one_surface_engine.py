@@ -33,7 +33,7 @@ jax.config.update("jax_enable_x64", True)
 import jax.numpy as jnp  # noqa: E402
 import numpy as np  # noqa: E402
 
-from teflon_jax.bearing import single_pendulum  # noqa: E402
+from teflon_jax.bearing import concave_surface, single_pendulum  # noqa: E402
 from teflon_jax.excitation import StochasticGroundMotion, sample, uniform_signal  # noqa: E402
 from teflon_jax.studies import bidirectional_isolated_structure, bidirectional_peak_response  # noqa: E402
 from teflon_jax.systems import (  # noqa: E402
@@ -50,7 +50,14 @@ from teflon_jax.systems import (  # noqa: E402
 from teflon_jax.units import STANDARD_GRAVITY  # noqa: E402
 
 RECORD_STEP = 0.01
-ISOLATORS = {"flat": {}, "single-fp": {"radius": 1.5}}
+ISOLATORS = {"flat": None, "single-fp": 1.5}
+"""Each isolator's radius [m] (flat sliders: None)."""
+
+
+def _value(isolator):
+    """The isolator value of `isolator` (`ISOLATORS`): Table 1's flat sliders or `concave_surface(R)`."""
+    radius = ISOLATORS[isolator]
+    return None if radius is None else concave_surface(radius)
 
 
 def _grounds(count, duration, seed):
@@ -63,12 +70,12 @@ def _grounds(count, duration, seed):
 def _engines(kind, isolator, components, duration, series_tolerance=TRIPLE_MONTE_CARLO_TOLERANCE):
     """(flat, series): functions of a batch of ground records (M, nt) or ((M, nt), (M, nt))
     to their peak base displacements (M,) and whether every step balanced."""
-    options = ISOLATORS[isolator]
+    radius = np.inf if ISOLATORS[isolator] is None else ISOLATORS[isolator]
     dt = 0.005 if components == 1 else 0.0025
     rule = "exact" if components == 1 else "newmark"
-    linear = isolated_structure(kind, isolator=isolator, split_at_turn=False, time_step=dt, linear_rule=rule,
-                                newton_tolerance=MONTE_CARLO_NEWTON_TOLERANCE, **options)
-    pendulum = single_pendulum(linear.isolation()[0], radius=options.get("radius", np.inf))
+    linear = isolated_structure(kind, isolator=_value(isolator), split_at_turn=False, time_step=dt, linear_rule=rule,
+                                newton_tolerance=MONTE_CARLO_NEWTON_TOLERANCE)
+    pendulum = single_pendulum(linear.isolation()[0], radius=radius)
 
     def series_system(ground_x):
         return structure_on_isolator(linear(uniform_signal(ground_x, RECORD_STEP)), pendulum,
@@ -83,8 +90,8 @@ def _engines(kind, isolator, components, duration, series_tolerance=TRIPLE_MONTE
             peaks = peak_response(series_system(ground), duration)
             return peaks.base_disp, peaks.converged
     else:
-        planar = bidirectional_isolated_structure(kind, isolator=isolator, time_step=dt,
-                                                  newton_tolerance=MONTE_CARLO_NEWTON_TOLERANCE, **options)
+        planar = bidirectional_isolated_structure(kind, isolator=_value(isolator), time_step=dt,
+                                                  newton_tolerance=MONTE_CARLO_NEWTON_TOLERANCE)
 
         def flat(ground):
             system = planar((uniform_signal(ground[0], RECORD_STEP), uniform_signal(ground[1], RECORD_STEP)))
@@ -137,14 +144,14 @@ def speed(args):
 
 
 def _law_run(isolator, dt, law, ground, duration):
-    options = ISOLATORS[isolator]
-    builder = isolated_structure("rigid", isolator=isolator, split_at_turn=law == "flat-split", newton_tolerance=0.0,
-                                 time_step=dt, **options)
+    builder = isolated_structure("rigid", isolator=_value(isolator), split_at_turn=law == "flat-split",
+                                 newton_tolerance=0.0, time_step=dt)
     flat = builder(ground)
     if law.startswith("flat"):
         response = jax.jit(simulate_structure, static_argnums=1)(flat, duration)
     else:
-        pendulum = single_pendulum(builder.isolation()[0], radius=options.get("radius", np.inf))
+        radius = np.inf if ISOLATORS[isolator] is None else ISOLATORS[isolator]
+        pendulum = single_pendulum(builder.isolation()[0], radius=radius)
         system = structure_on_isolator(flat, pendulum, friction_velocity=law, newton_tolerance=1e-13)
         response = jax.jit(simulate_triple_structure, static_argnums=1)(system, duration)
     return np.asarray(response.displacement)[:: int(round(RECORD_STEP / dt)), 0]

@@ -19,6 +19,18 @@ from teflon_jax.excitation import uniform_signal  # noqa: E402
 from teflon_jax.studies import bidirectional_isolated_structure, bidirectional_peak_response  # noqa: E402
 
 
+def _one_surface(name: str, radius=None) -> dict:
+    """The isolator keywords of `isolated_structure` for flat sliders ("flat", `radius` None)
+    or single pendulums of radius `radius` [m] ("single-fp"): the isolator value; under a
+    version whose builders take isolator names (no `teflon_jax.bearing.one_surface`), the name
+    and the radius, so that both versions build the same structure."""
+    try:
+        from teflon_jax.bearing import concave_surface, one_surface  # noqa: F401
+    except ImportError:
+        return {"isolator": name, **({} if radius is None else {"radius": radius})}
+    return {"isolator": None if radius is None else concave_surface(radius)}
+
+
 def program_hash(structure, record) -> tuple[str, int]:
     """SHA-256 (first 16 hex digits) and length of the lowered peak run's text."""
     def run(a, b):
@@ -32,8 +44,9 @@ def program_hash(structure, record) -> tuple[str, int]:
 def main():
     record = 3.0 * np.sin(np.arange(2001) * 0.01)
     for kind in ("rigid", "building"):
-        for isolator, extra in (("flat", {}), ("single-fp", {"radius": 1.5})):
-            digest, size = program_hash(bidirectional_isolated_structure(kind, isolator=isolator, **extra), record)
+        for isolator, radius in (("flat", None), ("single-fp", 1.5)):
+            structure = bidirectional_isolated_structure(kind, **_one_surface(isolator, radius))
+            digest, size = program_hash(structure, record)
             print(f"{kind:9s} {isolator:10s} {digest} ({size} characters)")
 
 

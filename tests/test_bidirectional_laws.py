@@ -191,7 +191,7 @@ def test_the_pendulums_nonlinear_surface_along_a_line_is_the_uniaxial_one(form):
     surface = (concave_surface(1.0, displacement_capacity=0.05, restrainer_stiffness=20 * weight)
                if form == "restrainer" else concave_surface(0.25, large_displacement=True))
     record = _pulse(peak=0.5)
-    options = dict(isolator="single-fp", surface=surface, time_step=0.0025, newton_tolerance=0.0)
+    options = dict(isolator=surface, time_step=0.0025, newton_tolerance=0.0)
     line = isolated_structure("rigid", linear_rule="newmark", split_at_turn=False, **options)(uniform_signal(record, 0.01))
     plane = bidirectional_isolated_structure("rigid", **options)(_along_a_line(record))
     plane = dataclasses.replace(plane, newton_tolerance=0.0)
@@ -213,7 +213,7 @@ def test_the_restrainer_bounds_the_planar_displacement_and_counts_in_the_shear()
     for name, capacity in (("free", None), ("restrained", 0.04)):
         surface = (concave_surface(1.0) if capacity is None else
                    concave_surface(1.0, displacement_capacity=capacity, restrainer_stiffness=50 * WEIGHT))
-        structure = bidirectional_isolated_structure("rigid", isolator="single-fp", surface=surface)
+        structure = bidirectional_isolated_structure("rigid", isolator=surface)
         peaks[name] = bidirectional_peak_response(structure(ground), 4.0)
     free, restrained = (float(peaks[k].base_disp) for k in ("free", "restrained"))
     assert free > 0.06 and restrained < free

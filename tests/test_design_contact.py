@@ -42,10 +42,10 @@ def problem():
                                    strong_motion_duration=1.5)
     records = sample(model, jax.random.key(3), 2)
     surface = concave_surface(RADIUS, displacement_capacity=0.05, restrainer_stiffness=10 * WEIGHT / RADIUS)
-    structure = isolated_structure("rigid", isolator="single-fp", surface=surface, isolation_period=None,
+    structure = isolated_structure("rigid", isolator=surface, isolation_period=None,
                                    **SETTINGS)
     # the largest peak of the pendulum without any restrainer (an independent structure)
-    free = isolated_structure("rigid", isolator="single-fp", radius=RADIUS, isolation_period=None, **SETTINGS)
+    free = isolated_structure("rigid", isolator=concave_surface(RADIUS), isolation_period=None, **SETTINGS)
     largest = float(expected_response(free, {}, records, DT)["peak_disp_max"])
     return structure, records, design_bounds(structure, VARIABLES), largest
 

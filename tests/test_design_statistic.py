@@ -41,7 +41,7 @@ def records():
 
 def _pendulum(capacity):
     surface = concave_surface(RADIUS, displacement_capacity=capacity, restrainer_stiffness=10 * WEIGHT / RADIUS)
-    return isolated_structure("rigid", isolator="single-fp", surface=surface, isolation_period=None, **SETTINGS)
+    return isolated_structure("rigid", isolator=surface, isolation_period=None, **SETTINGS)
 
 
 def test_capacity_derivatives_of_the_mean_and_95th_percentile_match_central_differences(records):
@@ -69,7 +69,7 @@ def test_capacity_derivatives_of_the_mean_and_95th_percentile_match_central_diff
     assert float(derivative["disp_p95"]) > float(derivative["disp"])  # only the largest peaks reach it
 
     # beyond every peak the restrainer never engages: the linear pendulum, derivative zero
-    free = expected_response(isolated_structure("rigid", isolator="single-fp", radius=RADIUS,
+    free = expected_response(isolated_structure("rigid", isolator=concave_surface(RADIUS),
                                                 isolation_period=None, **SETTINGS), {}, records, DT)
     far = value(jnp.asarray(0.2))
     assert float(far["disp"]) == pytest.approx(float(free["disp"]), rel=1e-12)
@@ -92,7 +92,7 @@ def test_the_95th_percentile_is_numpys_linear_interpolation(records):
 
 
 def test_a_capacity_on_a_surface_without_restrainer_or_on_flat_sliders_is_refused():
-    plain = isolated_structure("rigid", isolator="single-fp", radius=RADIUS, isolation_period=None)
+    plain = isolated_structure("rigid", isolator=concave_surface(RADIUS), isolation_period=None)
     with pytest.raises(ValueError, match="'capacity' needs a surface with a restrainer"):
         plain(jnp.zeros(10), {"capacity": 0.1})
     with pytest.raises(ValueError, match="'capacity' does not apply to the flat isolator"):

@@ -235,15 +235,9 @@ def test_what_the_model_cannot_take_is_refused_by_name(changes, message):
     with pytest.raises(ValueError, match=message):
         check_double_pendulum(_bearing(**changes))
     with pytest.raises(ValueError, match=message):
-        isolated_structure("rigid", isolator="double-fp", double=_bearing(**changes))
+        isolated_structure("rigid", isolator=_bearing(**changes))
 
 
-def test_a_double_pendulum_needs_its_own_isolator_name():
-    with pytest.raises(ValueError, match="double: the double-fp isolator needs its DoublePendulum"):
-        isolated_structure("rigid", isolator="double-fp")
-    with pytest.raises(ValueError, match="double: applies to the double-fp isolator only"):
-        isolated_structure("rigid", isolator="triple-fp", double=_bearing())
-    with pytest.raises(ValueError, match="radius: does not apply to the double-fp isolator"):
-        isolated_structure("rigid", isolator="double-fp", double=_bearing(), radius=2.0)
+def test_a_double_pendulum_builds_the_series_structure():
     structure = isolated_structure("building", isolator=_bearing())
     assert structure.isolator == "double-fp" and structure.isolation_period is None

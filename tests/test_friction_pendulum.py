@@ -55,8 +55,9 @@ def _kicked(duration, dt=0.005, amplitude=3.0, pulse=0.25):
 
 def _free_vibration(friction_model, bearing=None, duration=12.0, radius=RADIUS):
     ground, pulse = _kicked(duration)
-    structure = isolated_structure("rigid", isolator="single-fp", radius=radius, time_step=0.001,
-                                   friction_model=friction_model, bearing=bearing)
+    surface = concave_surface(radius)
+    structure = isolated_structure("rigid", isolator=surface if bearing is None else (bearing, surface),
+                                   time_step=0.001, friction_model=friction_model)
     response = simulate_structure(structure(ground), duration)
     t = np.asarray(response.time)
     u = np.asarray(response.displacement[:, 0])
@@ -110,7 +111,7 @@ def test_bidirectional_structure_pulls_back_along_the_displacement():
     """The two-direction rigid mass on the pendulum: the restoring force K q of its springs is
     the surface's W q / R, along q, in any direction."""
     ground = uniform_signal(np.zeros(11), 0.01)
-    structure = bidirectional_isolated_structure("rigid", isolator="single-fp", radius=RADIUS)
+    structure = bidirectional_isolated_structure("rigid", isolator=concave_surface(RADIUS))
     system = structure((ground, ground))
     q = np.array([0.3, -0.4])
     force = np.asarray(system.stiffness @ jnp.asarray(q))
@@ -158,26 +159,27 @@ def test_radius_sets_the_period_and_the_spring_of_the_structures():
     np.testing.assert_allclose(surface.isolation_period(), 2 * np.pi * np.sqrt(88 * INCH / G), rtol=1e-14)
     ground = uniform_signal(np.zeros(11), 0.01)
     for kind in ("rigid", "building"):
-        system = isolated_structure(kind, isolator="single-fp", radius=88 * INCH)(ground)
+        system = isolated_structure(kind, isolator=concave_surface(88 * INCH))(ground)
         flat = isolated_structure(kind, isolation_period=float(surface.isolation_period()),
                                   isolation_damping=0.0)(ground)
         np.testing.assert_allclose(system.stiffness, flat.stiffness, rtol=1e-12)
         # the bearings carry the whole weight W: the base spring is W / R (R -> 2 R halves it)
-        wide = isolated_structure(kind, isolator="single-fp", radius=2 * 88 * INCH)(ground)
+        wide = isolated_structure(kind, isolator=concave_surface(2 * 88 * INCH))(ground)
         np.testing.assert_allclose(system.stiffness[0, 0] - wide.stiffness[0, 0],
                                    float(system.bearing_load) / (2 * 88 * INCH), rtol=1e-9)
 
 
 @pytest.mark.parametrize("options, message", [
-    ({"isolator": "curved"}, "isolator: unknown"),
-    ({"radius": 1.0}, "radius: applies to the single-fp"),
-    ({"isolator": "single-fp"}, "radius: the single-fp isolator needs"),
-    ({"isolator": "single-fp", "radius": 0.0}, "radius: must be > 0"),
-    ({"isolator": "single-fp", "radius": 1.0, "isolation_period": 2.0}, "isolation_period:"),
+    ({"isolator": "curved"}, "isolator: expected None"),
+    ({"isolator": concave_surface(1.0), "isolation_period": 2.0}, "isolation_period: the single-fp"),
+    ({"isolator": concave_surface(1.0), "bearing": paper_bearing(FrictionParameters(0.1, 0.05, 25.0))},
+     r"bearing: the isolator value \(ConcaveSurface\)"),
 ])
 def test_bad_pendulum_inputs_are_refused_naming_the_parameter(options, message):
     with pytest.raises(ValueError, match=message):
         isolated_structure("rigid", **options)
+    with pytest.raises(ValueError, match="radius: must be > 0"):
+        concave_surface(0.0)
 
 
 def test_surface_inputs_are_checked():
@@ -197,7 +199,7 @@ def _strong_pulse(duration=6.0, dt=0.01):
 def _on_restrained_surface(large_displacement, duration=6.0):
     surface = concave_surface(RADIUS, displacement_capacity=0.15, restrainer_stiffness=2e6,
                               large_displacement=large_displacement)
-    structure = isolated_structure("rigid", isolator="single-fp", surface=surface, time_step=0.001)
+    structure = isolated_structure("rigid", isolator=surface, time_step=0.001)
     return structure(_strong_pulse(duration)), duration
 
 
@@ -237,7 +239,7 @@ def test_restrainer_holds_the_mass_back_and_the_peak_loop_sees_its_force():
     peaks = peak_response(system, duration)
     np.testing.assert_allclose(peaks.base_disp, np.max(np.abs(u)), rtol=1e-9)
     np.testing.assert_allclose(peaks.base_shear_ratio, shear, rtol=1e-9)
-    free = isolated_structure("rigid", isolator="single-fp", radius=RADIUS, time_step=0.001)(_strong_pulse())
+    free = isolated_structure("rigid", isolator=concave_surface(RADIUS), time_step=0.001)(_strong_pulse())
     assert np.max(np.abs(u)) > 0.18  # beyond the capacity
     assert np.max(np.abs(simulate_structure(free, duration).displacement[:, 0])) > 1.1 * np.max(np.abs(u))
 
@@ -245,11 +247,9 @@ def test_restrainer_holds_the_mass_back_and_the_peak_loop_sees_its_force():
 def test_nonlinear_surface_is_refused_where_it_does_not_run():
     surface = concave_surface(RADIUS, displacement_capacity=0.15, restrainer_stiffness=2e6)
     with pytest.raises(ValueError, match="surface: its restrainer"):
-        isolated_structure("rigid", isolator="single-fp", surface=surface, friction_model="coulomb")
+        isolated_structure("rigid", isolator=surface, friction_model="coulomb")
     with pytest.raises(ValueError, match="surface: its restrainer"):  # in two components too
-        bidirectional_isolated_structure("rigid", isolator="single-fp", surface=surface, friction_model="coulomb")
-    with pytest.raises(ValueError, match="radius: give the radius or a surface"):
-        isolated_structure("rigid", isolator="single-fp", surface=surface, radius=RADIUS)
+        bidirectional_isolated_structure("rigid", isolator=surface, friction_model="coulomb")
 
 
 @pytest.mark.slow
@@ -263,7 +263,7 @@ def test_design_gradient_in_the_radius_matches_central_differences():
     model = StochasticGroundMotion(peak_ground_acceleration=3.0, duration=4.0, time_step=dt, rise_time=0.5,
                                    strong_motion_duration=2.0)
     records = sample(model, jax.random.key(2), 2)
-    structure = isolated_structure("rigid", isolator="single-fp", radius=1.5, time_step=dt)
+    structure = isolated_structure("rigid", isolator=concave_surface(1.5), time_step=dt)
 
     def statistic(x):
         r = expected_response(structure, x, records, dt, disp_width=2e-4, shear_width=2e-3)
@@ -311,8 +311,8 @@ def test_rigid_mass_with_coulomb_friction_agrees_with_opensees(external_data):
     disp_os, shear_os, _ = peer.rigid_mass_on_pendulum(ax, dt, weight=WEIGHT, radius=radius, mu_slow=mu,
                                                        yield_disp=1e-7, time_step=step)
     bearing = paper_bearing(FrictionParameters(f_max=mu, delta_f=0.0, rate_a=1.0))
-    structure = isolated_structure("rigid", isolator="single-fp", radius=radius, friction_model="coulomb",
-                                   bearing=bearing, time_step=step)
+    structure = isolated_structure("rigid", isolator=(bearing, concave_surface(radius)), friction_model="coulomb",
+                                   time_step=step)
     response = simulate_structure(structure(uniform_signal(ax, dt)), (ax.size - 1) * dt)
     disp = float(np.max(np.abs(response.displacement[:, 0])))
     shear = float(np.max(np.abs(response.total_acceleration[:, 0]))) / G
@@ -331,7 +331,7 @@ def test_rigid_mass_under_the_rsn6_pair_agrees_with_opensees(external_data):
         yield_disp=yield_disp, time_step=step, ay=ay)
     bearing = paper_bearing(FrictionParameters(f_max=f_max, delta_f=f_max - f_min, rate_a=rate_a),
                             yield_disp=yield_disp)
-    structure = bidirectional_isolated_structure("rigid", isolator="single-fp", radius=radius, bearing=bearing,
+    structure = bidirectional_isolated_structure("rigid", isolator=(bearing, concave_surface(radius)),
                                                  breakaway=False, time_step=step)
     system = structure((uniform_signal(ax, dt), uniform_signal(ay, dt)))
     response = simulate_bidirectional(system, (ax.size - 1) * dt)

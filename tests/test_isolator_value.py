@@ -1,9 +1,9 @@
 """One isolator value picks the structure's engine: its type says the isolator
 (`isolator_kind`), one surface (flat sliders, the single friction pendulum, a `SinglePendulum`)
 runs on the flat sliders' engine and S > 1 sliders in series on the series engine
-(`runs_in_series`). The value builds the same structure, leaf for leaf, as the isolator named
-with its parts apart (the command line's names), for the rigid mass, the building, the slab
-and the building on a plan; what contradicts the value is refused by name."""
+(`runs_in_series`). The rigid mass and the building hold the value's parts; a plan's values
+build the same structure, leaf for leaf, as the isolator named with its parts apart, for the
+slab and the building on a plan; what contradicts the value is refused by name."""
 
 import pathlib
 
@@ -67,18 +67,18 @@ def test_the_type_of_the_value_names_the_isolator_and_its_engine():
 
 
 @pytest.mark.parametrize("kind", ["rigid", "building"])
-def test_the_value_builds_the_named_isolators_structure(kind):
-    pairs = [(dict(), dict(isolator="flat")),
-             (dict(isolator=BEARING), dict(bearing=BEARING)),
-             (dict(isolator=concave_surface(RADIUS)), dict(isolator="single-fp", radius=RADIUS)),
-             (dict(isolator=(BEARING, concave_surface(RADIUS))), dict(isolator="single-fp", radius=RADIUS, bearing=BEARING)),
-             (dict(isolator=TRIPLE), dict(isolator="triple-fp", triple=TRIPLE)),
-             (dict(isolator=DOUBLE), dict(isolator="double-fp", double=DOUBLE))]
-    for value, named in pairs:
+def test_the_structure_holds_the_values_parts_on_its_engine(kind):
+    surface = concave_surface(RADIUS)
+    for value, parts in ((None, (None, None)), (BEARING, (BEARING, None)), (surface, (None, surface)),
+                         ((BEARING, surface), (BEARING, surface))):
+        built = isolated_structure(kind, isolator=value)
+        assert type(built) is IsolatedStructure and _same((built.bearing, built.surface), parts), value
+        assert built.isolator == isolator_kind(value)
+    assert _same(isolated_structure(kind, bearing=BEARING), isolated_structure(kind, isolator=BEARING))
+    for pendulum in (TRIPLE, DOUBLE):
         for build in (isolated_structure, bidirectional_isolated_structure):
-            built = build(kind, **value)
-            assert _same(built, build(kind, **named)), (value, named)
-            assert isinstance(built, TripleIsolatedStructure) == any(value.get("isolator") is p for p in (TRIPLE, DOUBLE))
+            built = build(kind, isolator=pendulum)
+            assert isinstance(built, TripleIsolatedStructure) and built.pendulum is pendulum
 
 
 def test_a_single_pendulum_runs_on_the_flat_engine_with_its_bearings_numbers():
@@ -97,15 +97,15 @@ def test_a_single_pendulum_runs_on_the_flat_engine_with_its_bearings_numbers():
 
 
 @pytest.mark.parametrize(("options", "message"), [
-    (dict(isolator=TRIPLE, radius=2.0), r"radius: the isolator value \(TriplePendulum\) carries the whole isolator"),
+    (dict(isolator=TRIPLE, bearing=BEARING), r"bearing: the isolator value \(TriplePendulum\) carries the whole isolator"),
     (dict(isolator=BEARING, bearing=BEARING), r"bearing: the isolator value \(SlidingBearing\)"),
+    (dict(bearing=TRIPLE), "bearing: expected a SlidingBearing, got a TriplePendulum"),
     (dict(isolator=DOUBLE, isolation_period=2.5), r"isolation_period: does not apply to the double-fp isolator"),
     (dict(isolator=TRIPLE, friction_model="coulomb"), r"friction_model: does not apply to the triple-fp isolator"),
     (dict(isolator=concave_surface(RADIUS), isolation_period=2.5), "isolation_period: the single-fp isolator's period"),
     (dict(isolator=single_pendulum(BEARING, radius=RADIUS, capacity=0.2)), "isolator: the SinglePendulum's surface_capacity"),
-    (dict(isolator="triple-fp", double=DOUBLE), "double: applies to the double-fp isolator only, not 'triple-fp'"),
     (dict(isolator=3.0), "isolator: expected None"),
-    (dict(isolator="rubber"), "isolator: unknown 'rubber'"),
+    (dict(isolator="single-fp"), "isolator: expected None .*; got 'single-fp'"),
 ])
 def test_what_contradicts_the_isolator_is_refused_by_name(options, message):
     with pytest.raises(ValueError, match=message):

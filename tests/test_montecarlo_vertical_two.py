@@ -14,6 +14,7 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
+from teflon_jax.bearing import concave_surface
 from teflon_jax.cli import main
 from teflon_jax.excitation import (
     StochasticGroundMotion,
@@ -62,11 +63,10 @@ def _horizontal(components, pga=0.4):
 def _structure(isolator, components, kind="rigid"):
     if isolator in ("triple-fp", "double-fp"):
         pendulum = load_isolator(BENCHMARKS / f"{isolator.split('-')[0]}_isolator.json")
-        return isolated_structure(kind, isolator=isolator, **{isolator.split("-")[0]: pendulum},
-                                  time_step=0.005)
-    options = {"radius": 2.0} if isolator == "single-fp" else {"isolation_period": 2.5}
+        return isolated_structure(kind, isolator=pendulum, time_step=0.005)
+    options = {"isolator": concave_surface(2.0)} if isolator == "single-fp" else {"isolation_period": 2.5}
     build = bidirectional_isolated_structure if components == 2 else isolated_structure
-    return build(kind, isolator=isolator, **options)
+    return build(kind, **options)
 
 
 def _run(structure, motions):

@@ -29,6 +29,7 @@ from teflon_jax.bearing import (
     SurfaceParts,
     Wear,
     check_single_pendulum,
+    concave_surface,
     coulomb_friction,
     paper_bearing,
     single_pendulum,
@@ -53,9 +54,20 @@ from teflon_jax.units import PSI, STANDARD_GRAVITY
 
 DURATION = 8.0
 RADIUS = 1.5
-ISOLATORS = {"flat": {}, "single-fp": {"radius": RADIUS}}
+ISOLATORS = {"flat": np.inf, "single-fp": RADIUS}
+"""Each one-surface isolator's radius [m] (flat sliders: R = inf)."""
+
 AGREEMENT = 1e-9
 """Largest difference of the two engines' displacement histories over the peak."""
+
+
+def _value(isolator, bearing=None):
+    """The isolator value of `isolator`: flat sliders or the single pendulum of `bearing`
+    (`None`: Table 1's)."""
+    if isolator == "flat":
+        return bearing
+    surface = concave_surface(ISOLATORS[isolator])
+    return surface if bearing is None else (bearing, surface)
 
 
 def _ground(seed, scale=1.0):
@@ -67,13 +79,13 @@ def _ground(seed, scale=1.0):
 def _on_one_surface(flat_builder, isolator, linear, law="end", **surface):
     """The series engine on `linear` with the one-surface isolator of `flat_builder`'s bearing."""
     bearing = flat_builder.isolation()[0]
-    pendulum = single_pendulum(bearing, radius=ISOLATORS[isolator].get("radius", np.inf), **surface)
+    pendulum = single_pendulum(bearing, radius=ISOLATORS[isolator], **surface)
     return structure_on_isolator(linear, pendulum, friction_velocity=law, newton_tolerance=1e-13)
 
 
-def _one_component(isolator, kind, vertical=None, law="end", **options):
-    builder = isolated_structure(kind, isolator=isolator, split_at_turn=False, newton_tolerance=0.0,
-                                 time_step=0.005, **ISOLATORS[isolator], **options)
+def _one_component(isolator, kind, vertical=None, law="end", bearing=None, **options):
+    builder = isolated_structure(kind, isolator=_value(isolator, bearing), split_at_turn=False, newton_tolerance=0.0,
+                                 time_step=0.005, **options)
     flat = builder(_ground(1))
     series = _on_one_surface(builder, isolator, flat, law)
     if vertical is not None:
@@ -108,9 +120,9 @@ def test_one_surface_under_a_vertical_record_gives_the_flat_engines_histories():
 def test_one_surface_in_two_components_gives_the_flat_engines_histories(isolator, kind):
     dt = 0.0025
     ground = (_ground(1), _ground(2, 0.8))
-    planar = bidirectional_isolated_structure(kind, isolator=isolator, time_step=dt, **ISOLATORS[isolator])
+    planar = bidirectional_isolated_structure(kind, isolator=_value(isolator), time_step=dt)
     flat = dataclasses.replace(planar(ground), newton_tolerance=0.0)
-    builder = isolated_structure(kind, isolator=isolator, linear_rule="newmark", time_step=dt, **ISOLATORS[isolator])
+    builder = isolated_structure(kind, isolator=_value(isolator), linear_rule="newmark", time_step=dt)
     linear = builder(ground[0])
     series = BiaxialStructureOnTriple(_on_one_surface(builder, isolator, linear), ground[1])
     q = np.asarray(jax.jit(simulate_bidirectional, static_argnums=1)(flat, DURATION).displacement)
@@ -129,7 +141,7 @@ def test_a_flat_slider_sliding_in_two_components_balances_every_step():
                                     time_step=0.01)
     ground = [uniform_signal(scale * np.asarray(sample(motion, jax.random.PRNGKey(seed), 1))[0], 0.01)
               for seed, scale in ((1, 1.0), (2, 0.8))]
-    builder = isolated_structure("rigid", isolator="flat", linear_rule="newmark", time_step=0.0025)
+    builder = isolated_structure("rigid", linear_rule="newmark", time_step=0.0025)
     series = BiaxialStructureOnTriple(_on_one_surface(builder, "flat", builder(ground[0]), "mean"), ground[1])
     series = dataclasses.replace(series, uniaxial=dataclasses.replace(series.uniaxial, newton_tolerance=1e-9))
     assert bool(np.all(jax.jit(biaxial_histories, static_argnums=1)(series, 12.0)[-1]))
@@ -152,7 +164,7 @@ def test_the_end_law_needs_one_surface():
     double = DoublePendulum(bottom_radius=1.5, top_radius=2.0, bottom_capacity=0.3, top_capacity=0.3,
                             bottom_friction=FrictionParameters(0.06, 0.03, 25.0),
                             top_friction=FrictionParameters(0.09, 0.04, 15.0), hysteresis=BoucWen(2e-4))
-    linear = isolated_structure("rigid", isolator="single-fp", radius=3.5)(_ground(1))
+    linear = isolated_structure("rigid", isolator=concave_surface(3.5))(_ground(1))
     with pytest.raises(ValueError, match="friction_velocity"):
         structure_on_isolator(linear, double, friction_velocity="end")
     with pytest.raises(ValueError, match="friction_velocity"):
@@ -202,7 +214,7 @@ def test_a_flat_bearing_becomes_one_surface_with_all_its_parts():
 def test_the_one_surface_peak_has_the_flat_engines_gradient():
     # the bracketed balance is differentiated implicitly: d(final displacement)/d(f_max)
     params, _ = interface_parameters("UF", 1000 * PSI, "P")
-    builder = isolated_structure("rigid", isolator="single-fp", radius=RADIUS, split_at_turn=False,
+    builder = isolated_structure("rigid", isolator=concave_surface(RADIUS), split_at_turn=False,
                                  time_step=0.005, newton_tolerance=0.0)
     ground = _ground(4)
 

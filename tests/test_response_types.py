@@ -54,9 +54,9 @@ def _same_tree(a, b):
 
 def test_one_driver_returns_each_engines_response():
     gx, gy = _signals()
-    flat = isolated_structure("building", isolator="flat")(gx)
+    flat = isolated_structure("building")(gx)
     _same_tree(simulate_history(flat, 1.0), simulate_structure(flat, 1.0))
-    planar = bidirectional_isolated_structure("rigid", isolator="flat")((gx, gy))
+    planar = bidirectional_isolated_structure("rigid")((gx, gy))
     _same_tree(simulate_history(planar, 1.0), simulate_bidirectional(planar, 1.0))
     series = triple_structure("rigid", TRIPLE, gx, time_step=0.005)
     _same_tree(simulate_history(series, 1.0), simulate_triple_structure(series, 1.0))
@@ -68,10 +68,10 @@ def test_every_history_has_the_ground_as_an_axis_and_total_accelerations():
     """One component: ground (nt, 1), the total acceleration of the rigid mass is the relative
     one plus a_g; two: ground (nt, 2) and the x, y blocks of the coordinates."""
     gx, gy = _signals()
-    one = simulate_history(isolated_structure("rigid", isolator="flat")(gx), 1.0)
+    one = simulate_history(isolated_structure("rigid")(gx), 1.0)
     assert isinstance(one, StructureResponse) and one.ground.shape == (one.time.size, 1)
     np.testing.assert_allclose(np.asarray(one.ground[:, 0]), np.interp(np.asarray(one.time), TIME, AX), atol=1e-12)
-    two = simulate_history(bidirectional_isolated_structure("building", isolator="flat")((gx, gy)), 1.0)
+    two = simulate_history(bidirectional_isolated_structure("building")((gx, gy)), 1.0)
     assert two.ground.shape == (two.time.size, 2) and two.displacement.shape == (two.time.size, 14)
     assert two.slider is None and two.bearing_force is None and two.friction_force.shape == (two.time.size, 1, 2)
     assert bool(two.succeeded) and bool(one.succeeded)
@@ -118,12 +118,12 @@ def test_the_running_smooth_maximum_is_the_smooth_maximum():
 
 def test_peaks_of_one_and_two_components_are_one_type_and_match_the_histories():
     gx, gy = _signals()
-    one = isolated_structure("rigid", isolator="flat")(gx)
+    one = isolated_structure("rigid")(gx)
     peaks = peak_response(one, 1.0, disp_width=1e-3)
     history = simulate_history(one, 1.0)
     u = history.displacement[:, 0]
     np.testing.assert_allclose(float(peaks.smooth_base_disp), float(smooth_max(u, 1e-3)), rtol=1e-6)
-    two = bidirectional_isolated_structure("rigid", isolator="flat")((gx, gy))
+    two = bidirectional_isolated_structure("rigid")((gx, gy))
     planar = bidirectional_peak_response(two, 1.0, disp_width=1e-3)
     assert isinstance(peaks, PeakResponse) and isinstance(planar, PeakResponse)
     resultant = jnp.hypot(*simulate_history(two, 1.0).bearing_displacement[:, 0].T)

@@ -32,7 +32,7 @@ limit (`teflon_jax.studies._design.PEAK_MARGIN` twice)."""
 
 def _structure(time_step=0.005):
     triple = jax.tree_util.tree_map(lambda x: jnp.asarray(x, float), TRIPLE)
-    return isolated_structure("rigid", isolator="triple-fp", triple=triple, time_step=time_step,
+    return isolated_structure("rigid", isolator=triple, time_step=time_step,
                               newton_tolerance=0.0)
 
 

@@ -13,6 +13,7 @@ from teflon_jax.bearing import (
     DoublePendulum,
     FrictionalHeating,
     check_double_pendulum,
+    concave_surface,
     coulomb_friction,
     kumar_temperature_factor,
     paper_bearing,
@@ -50,7 +51,7 @@ def _ground(dt, duration=6.0):
 
 
 def _double(dt, heating):
-    system = isolated_structure("rigid", isolator="double-fp", double=_locked_top(heating), time_step=dt)
+    system = isolated_structure("rigid", isolator=_locked_top(heating), time_step=dt)
     response = jax.jit(simulate_triple_structure, static_argnums=1)(system(_ground(dt)), 6.0)
     assert bool(np.all(response.converged))
     return np.asarray(response.displacement[:, 0])
@@ -60,7 +61,7 @@ def _single(dt, heating):
     bearing = paper_bearing(coulomb_friction(MU))
     if heating is not None:
         bearing = eqx.tree_at(lambda b: b.heating, bearing, heating, is_leaf=lambda x: x is None)
-    system = isolated_structure("rigid", isolator="single-fp", radius=R1, bearing=bearing, pressure=PRESSURE,
+    system = isolated_structure("rigid", isolator=(bearing, concave_surface(R1)), pressure=PRESSURE,
                                 time_step=dt, split_at_turn=False, breakaway=False)
     return np.asarray(jax.jit(simulate_structure, static_argnums=1)(system(_ground(dt)), 6.0).displacement[:, 0])
 
@@ -129,7 +130,7 @@ def test_the_heated_peak_is_differentiable_in_the_bottom_radius():
     """d(smooth peak)/dR_1 by reverse mode through the heat states, against central differences."""
     dt = 0.01
     bearing = _locked_top(top_friction=coulomb_friction(0.09), top_heating=HEAT, top_pressure=PRESSURE)
-    system = isolated_structure("rigid", isolator="double-fp", double=bearing, time_step=dt)(_ground(dt))
+    system = isolated_structure("rigid", isolator=bearing, time_step=dt)(_ground(dt))
 
     def peak(radius):
         moved = eqx.tree_at(lambda s: s.pendulum.bottom_radius, system, radius)
@@ -153,7 +154,7 @@ def _energies(dt):
     """Histories of the rigid mass on `_both_heated` at step dt: (u, the bearing's work
     int F du [J], the energy balance's largest gap |E_in - E_k - int F du| over max E_in, all
     steps balanced); E_in = -int m a_g du, E_k = m v^2 / 2 (trapezoids)."""
-    system = isolated_structure("rigid", isolator="double-fp", double=_both_heated(), time_step=dt)(_ground(dt))
+    system = isolated_structure("rigid", isolator=_both_heated(), time_step=dt)(_ground(dt))
     r = jax.jit(simulate_triple_structure, static_argnums=1)(system, 6.0)
     u, v, force, ground = (np.asarray(a) for a in (r.displacement[:, 0], r.velocity[:, 0], r.bearing_force,
                                                    r.ground[:, 0]))
@@ -207,7 +208,7 @@ def test_the_derivative_through_a_rebalanced_step_is_the_central_difference():
     """d(smooth peak)/dR_1 at 5 ms, where one step of `_both_heated` needs the second stage:
     the implicit derivative at the balanced root against central differences."""
     dt = 0.005
-    system = isolated_structure("rigid", isolator="double-fp", double=_both_heated(), time_step=dt)(_ground(dt))
+    system = isolated_structure("rigid", isolator=_both_heated(), time_step=dt)(_ground(dt))
 
     def peak(radius):
         return peak_response(eqx.tree_at(lambda s: s.pendulum.bottom_radius, system, radius), 6.0).smooth_base_disp
@@ -239,7 +240,7 @@ def test_two_components_along_a_line_are_the_heated_one_direction_response():
     bearing = _locked_top(pressure=10e6, top_friction=coulomb_friction(0.09), top_heating=HEAT, top_pressure=10e6)
     ground = _ground(dt)
     acc = np.asarray(jax.vmap(ground)(np.arange(0, 6 + dt / 2, dt)))
-    structure = isolated_structure("rigid", isolator="double-fp", double=bearing, time_step=dt)
+    structure = isolated_structure("rigid", isolator=bearing, time_step=dt)
     one = jax.jit(simulate_triple_structure, static_argnums=1)(structure(ground), 6.0)
     u, slider = np.asarray(one.displacement[:, 0]), np.asarray(one.slider)
     assert np.abs(slider).max(axis=0).min() > 0.05  # both surfaces slide

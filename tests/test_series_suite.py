@@ -51,8 +51,7 @@ def test_triple_suite_base_shear_is_the_isolator_force_over_the_weight():
     """Rigid mass on triple pendulums: m a_total = -F_isolator, so the suite's base shear (from
     the accelerations) is max |F| / W of each pair's own histories, and its displacements are
     the histories' peaks."""
-    structure = isolated_structure("rigid", isolator="triple-fp",
-                                   triple=load_isolator(BENCHMARKS / "triple_isolator.json"), time_step=0.005)
+    structure = isolated_structure("rigid", isolator=load_isolator(BENCHMARKS / "triple_isolator.json"), time_step=0.005)
     motions = _motions()
     ax, ay = (np.stack([m[k] for m in motions]) for k in (0, 1))
     duration = (ax.shape[1] - 1) * DT

@@ -21,6 +21,7 @@ from teflon_jax.bearing import (
     FrictionParameters,
     TriplePendulum,
     coulomb_friction,
+    paper_bearing,
     triple_pendulum_backbone,
 )
 from teflon_jax.excitation import StochasticGroundMotion, sample, uniform_signal
@@ -198,23 +199,20 @@ def test_the_peak_is_differentiable_in_the_outer_radii():
 
 
 @pytest.mark.parametrize("changes, message", [
-    (dict(radius=1.0), "radius: does not apply to the triple-fp"),
+    (dict(bearing=paper_bearing(coulomb_friction(0.05))), r"bearing: the isolator value \(TriplePendulum\)"),
     (dict(isolation_period=2.0), "isolation_period: does not apply to the triple-fp"),
     (dict(isolation_damping=0.05), "isolation_damping: does not apply"),
     (dict(friction_model="coulomb"), "friction_model: does not apply"),
-    (dict(triple=None), "triple: the triple-fp isolator needs"),
-    (dict(triple=_bearing(inner_radius=3.0)), "bottom_radius: must be larger"),
+    (dict(isolator=_bearing(inner_radius=3.0)), "bottom_radius: must be larger"),
     (dict(time_step=0.0), "time_step"),
 ])
 def test_bad_triple_structures_are_refused_by_name(changes, message):
-    arguments = {"isolator": "triple-fp", "triple": _bearing(), **changes}
+    arguments = {"isolator": _bearing(), **changes}
     with pytest.raises(ValueError, match=message):
         isolated_structure("rigid", **arguments)
 
 
-def test_a_triple_pendulum_with_another_isolator_or_another_isolators_design_is_refused():
-    with pytest.raises(ValueError, match="triple: applies to the triple-fp isolator only"):
-        isolated_structure("rigid", isolator="single-fp", radius=2.0, triple=_bearing())
+def test_a_triple_pendulum_refuses_another_isolators_design():
     structure = isolated_structure("rigid", isolator=_bearing())
     with pytest.raises(ValueError, match=r"design: unknown variable\(s\) \[.radius.\] for the triple-fp isolator"):
         structure(uniform_signal(jnp.zeros(10), 0.01), {"radius": 2.0})

@@ -14,7 +14,7 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
-from teflon_jax.bearing import coulomb_friction, paper_bearing
+from teflon_jax.bearing import concave_surface, coulomb_friction, paper_bearing
 from teflon_jax.excitation import uniform_signal
 from teflon_jax.systems import (
     isolated_structure,
@@ -55,7 +55,7 @@ def test_pendulum_period_under_constant_vertical_acceleration(linear_rule, verti
     """T = 2 pi sqrt(R / (g + a_v)): the pendulum's stiffness N / R with N = W (1 + a_v / g)."""
     duration = 16.0
     t = _times(duration)
-    structure = isolated_structure("rigid", isolator="single-fp", radius=RADIUS, friction_model="none",
+    structure = isolated_structure("rigid", isolator=concave_surface(RADIUS), friction_model="none",
                                    linear_rule=linear_rule, time_step=0.005)
     ground = (_record(np.where(t < 0.5, 1.0, 0.0)), _record(np.full(t.shape, vertical)))
     response = simulate_structure(with_vertical_component(structure)(ground), duration)
@@ -100,7 +100,7 @@ def _uplift_case(kind="rigid"):
     t = _times(duration)
     horizontal = 3.0 * np.sin(2 * np.pi * 0.8 * t)
     vertical = np.where((t > 4.0 - 1e-9) & (t < 4.5 + 1e-9), -1.5 * G, 0.0)
-    structure = isolated_structure(kind, isolator="single-fp", radius=RADIUS)
+    structure = isolated_structure(kind, isolator=concave_surface(RADIUS))
     return with_vertical_component(structure), (_record(horizontal), _record(vertical)), duration
 
 
@@ -148,8 +148,8 @@ def test_zero_vertical_record_changes_nothing(kind):
     duration = 6.0
     t = _times(duration)
     horizontal = _record(3.0 * np.sin(2 * np.pi * 0.8 * t) * np.minimum(t, 1.0))
-    for isolator, options in (("single-fp", {"radius": RADIUS}), ("flat", {})):
-        structure = isolated_structure(kind, isolator=isolator, **options)
+    for isolator in (concave_surface(RADIUS), None):
+        structure = isolated_structure(kind, isolator=isolator)
         plain = peak_response(structure(horizontal), duration)
         loaded = peak_response(with_vertical_component(structure)((horizontal, _record(0 * t))), duration)
         for name in ("base_disp", "base_shear_ratio", "smooth_base_disp"):
@@ -180,7 +180,7 @@ def test_gradients_through_uplift_finite_and_match_differences():
 
 
 def test_vertical_inputs_refused():
-    structure = isolated_structure("rigid", isolator="single-fp", radius=RADIUS)
+    structure = isolated_structure("rigid", isolator=concave_surface(RADIUS))
     system = structure(_record(np.zeros(301)))
     with pytest.raises(ValueError, match="vertical_acceleration"):
         with_vertical_motion(system, np.zeros(301))

@@ -41,7 +41,6 @@ from ._isolators import ISOLATORS as ISOLATORS
 from ._isolators import SERIES_PENDULUMS as SERIES_PENDULUMS
 from ._isolators import check_series_pendulum as check_series_pendulum
 from ._isolators import isolator_kind as isolator_kind
-from ._isolators import named_isolator as named_isolator
 from ._isolators import one_surface as one_surface
 from ._isolators import runs_in_series as runs_in_series
 from ._isolators import series_pendulum_class as series_pendulum_class

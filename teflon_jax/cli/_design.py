@@ -237,14 +237,14 @@ def _slider_structure(args, variables):
     if bearing is None and args.pressure_text is not None:
         check_table1(args.ptfe, args.pressure, args.pressure_text)
     options = dict(
-        ptfe=args.ptfe, **structure_options(args, variables),
+        ptfe=args.ptfe, **structure_options(args, variables, bearing),
         # Design differentiates the peaks: the turning-point split of the Monte Carlo default
         # switches branch when a design change moves a velocity reversal across a step, and the
         # gradient check at the optimum then fails; the plain update at 2.5 ms with Newmark's
         # rule passes it, with the isolator's equilibrium solved to rounding (no trace of where
         # Newton's loop stopped in the check's central differences; see `default_design_problem`).
         time_step=0.0025 if args.time_step is None else args.time_step, split_at_turn=False,
-        newton_tolerance=0.0, linear_rule="newmark", bearing=bearing,
+        newton_tolerance=0.0, linear_rule="newmark",
     )
     structure = isolated_structure(args.structure, **options)
     if "capacity" in variables:  # the surface with its restrainer, scaled by the weight carried
@@ -263,7 +263,7 @@ def _pendulum_structure(args, variables):
     from ._isolator_flags import load_isolator_file as _load
 
     pendulum = jax.tree_util.tree_map(lambda x: jnp.asarray(x, float), _load(args.isolator_file, args.isolator))
-    return isolated_structure(args.structure, isolator=args.isolator, **{pendulum.keyword: pendulum},
+    return isolated_structure(args.structure, isolator=pendulum,
                               time_step=0.005 if args.time_step is None else args.time_step,
                               newton_tolerance=0.0)
 

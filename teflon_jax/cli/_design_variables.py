@@ -230,26 +230,40 @@ def restrained_options(args, variables: dict, structure, options: dict) -> dict:
     k_r = ratio W / R_low, W the weight the bearings carry in `structure` [N]."""
     import numpy as np
 
-    from ..bearing import concave_surface
+    from ..bearing import concave_surface, one_surface
 
     weight = float(structure(np.zeros(2)).bearing_load)
     radius = variables["radius"][0]
     surface = concave_surface(radius, displacement_capacity=variables["capacity"][0],
                               restrainer_stiffness=args.restrainer_ratio * weight / radius)
-    return {**options, "radius": None, "surface": surface}
+    bearing, _ = one_surface(options["isolator"])
+    return {**options, "isolator": one_surface_isolator(bearing, surface)}
 
 
-def structure_options(args, variables: dict) -> dict:
+def structure_options(args, variables: dict, bearing=None) -> dict:
     """Keywords of `isolated_structure` that place the structure at the low ends of the
-    design ranges (the design overrides them)."""
+    design ranges (the design overrides them): its isolator value flat sliders of `bearing`
+    (`None`: Table 1's) or, with a radius range, the single pendulum of that bearing on
+    `concave_surface(R_low)`."""
     pressure = args.pressure if args.pressure_text is not None else (
         variables.get("pressure", VARIABLE_FLAGS["pressure"].default[1])[0])
     options = {"isolation_damping": args.isolation_damping, "pressure": pressure}
     if "radius" in variables:
-        options.update(isolator="single-fp", radius=variables["radius"][0], isolation_period=None)
+        from ..bearing import concave_surface
+
+        options.update(isolator=one_surface_isolator(bearing, concave_surface(variables["radius"][0])),
+                       isolation_period=None)
     else:
-        options["isolation_period"] = variables["isolation_period"][0]
+        options.update(isolator=bearing, isolation_period=variables["isolation_period"][0])
     return options
+
+
+def one_surface_isolator(bearing, surface):
+    """The isolator value (`teflon_jax.bearing.isolator_kind`) of `bearing` (`None`: Table 1's)
+    on `surface` (`None`: flat sliders): `bearing`, `surface` or the pair."""
+    if surface is None:
+        return bearing
+    return surface if bearing is None else (bearing, surface)
 
 
 def pendulum_period(radius: float) -> float:

@@ -11,7 +11,6 @@ from ..bearing import (
     FrictionParameters,
     SlidingBearing,
     isolator_kind,
-    named_isolator,
     one_surface,
     paper_bearing,
     runs_in_series,
@@ -248,7 +247,7 @@ def isolated_structure(
     split_at_turn: bool = True,
     linear_rule: str = "exact",
     isolator=None,
-    **parts,
+    bearing: SlidingBearing | None = None,
 ) -> IsolatedStructure | TripleIsolatedStructure:
     """An `IsolatedStructure` with its inputs checked (`ValueError` naming the parameter).
 
@@ -271,13 +270,12 @@ def isolated_structure(
     is then the sliders' force imbalance over W, default `TRIPLE_TOLERANCE`); the flat
     sliders' period, damping and friction model are refused with it.
 
-    `parts`: the isolator named (`isolator` "flat", "single-fp", "triple-fp", "double-fp") with
-    its parts given apart, `bearing`, `radius` R [m], `surface`, `triple`, `double`
-    (`bearing.named_isolator`), as the command line names them.
+    `bearing`: flat sliders of that `SlidingBearing`, the same as `isolator=bearing` (no
+    other isolator with it: a single pendulum of that bearing is `isolator=(bearing, surface)`).
     """
     if kind not in STRUCTURES:
         raise ValueError(f"structure: unknown {kind!r}; accepted: {', '.join(STRUCTURES)}.")
-    isolator = _isolator_value(isolator, parts)
+    isolator = _isolator_value(isolator, bearing)
     if runs_in_series(isolator):
         return _on_series_pendulum(kind, isolator, isolation_period=isolation_period,
                                    isolation_damping=isolation_damping, friction_model=friction_model,
@@ -321,27 +319,20 @@ def isolated_structure(
     return _checked_isolation(structure, kind, isolation_period, isolation_damping)
 
 
-ISOLATOR_PARTS = ("bearing", "radius", "surface", "triple", "double")
-"""The parts of a named isolator that `isolated_structure` takes apart from `isolator`."""
-
-
-def _isolator_value(isolator, parts):
-    """The isolator value of `isolated_structure`'s `isolator` and `parts`: a name with its
-    parts (`named_isolator`; `None` with parts names "flat"), or a value given alone
-    (`ValueError` naming a part given beside it, or an unknown keyword)."""
-    unknown = sorted(set(parts) - set(ISOLATOR_PARTS))
-    if unknown:
-        raise TypeError(f"isolated_structure() got unexpected keyword argument(s) {', '.join(unknown)}.")
-    given = {name: value for name, value in parts.items() if value is not None}
-    if isinstance(isolator, str) or (isolator is None and given):
-        return named_isolator("flat" if isolator is None else isolator, bearing=parts.get("bearing"),
-                              radius=parts.get("radius"), surface=parts.get("surface"),
-                              pendulums={name: parts.get(name) for name in ("triple", "double")})
+def _isolator_value(isolator, bearing):
+    """The isolator value of `isolated_structure`'s `isolator` and `bearing` (`ValueError`
+    naming `isolator` for a value of another type, `bearing` for one that is not a
+    `SlidingBearing` or is given beside an isolator value)."""
     isolator_kind(isolator)
-    for name in given:
-        raise ValueError(f"{name}: the isolator value ({type(isolator).__name__}) carries the whole isolator; "
-                         f"leave {name} out (or give its name, isolator=\"...\", with {name}=).")
-    return isolator
+    if bearing is None:
+        return isolator
+    if not isinstance(bearing, SlidingBearing):
+        raise ValueError(f"bearing: expected a SlidingBearing, got a {type(bearing).__name__} (give an "
+                         "isolator value as isolator=).")
+    if isolator is not None:
+        raise ValueError(f"bearing: the isolator value ({type(isolator).__name__}) carries the whole isolator; "
+                         "leave bearing out (a single pendulum of that bearing: isolator=(bearing, surface)).")
+    return bearing
 
 
 def _on_series_pendulum(kind, pendulum, *, isolation_period, isolation_damping, friction_model, time_step,
