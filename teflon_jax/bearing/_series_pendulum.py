@@ -38,8 +38,7 @@ class SeriesPendulum(eqx.Module):
     """A friction pendulum isolator as sliders in series (module docstring).
 
     **Class attributes:** `isolator` (the CLI's and the isolator file's name, e.g.
-    "double-fp"; the registry `SERIES_PENDULUMS` lists them), `keyword` (the argument of
-    `isolated_structure` that takes it, e.g. "double"), `slider_names` (one per slider, in the order of the arrays below),
+    "double-fp"; the registry `SERIES_PENDULUMS` lists them), `slider_names` (one per slider, in the order of the arrays below),
     `description` (plural, for messages). **Field:** `hysteresis`, the `BoucWen` of every
     slider. **Methods** (arrays (S,) over the S sliders): `series_radii` [m],
     `series_capacities` [m], `velocity_factors` [-] (surface velocity over slider velocity),
@@ -50,7 +49,6 @@ class SeriesPendulum(eqx.Module):
     """
 
     isolator: ClassVar[str]
-    keyword: ClassVar[str]
     slider_names: ClassVar[tuple[str, ...]]
     description: ClassVar[str]
     hysteresis: eqx.AbstractVar[BoucWen]
@@ -169,7 +167,6 @@ class DoublePendulum(SeriesPendulum):
     """
 
     isolator: ClassVar[str] = "double-fp"
-    keyword: ClassVar[str] = "double"
     slider_names: ClassVar[tuple[str, ...]] = ("bottom", "top")
     description: ClassVar[str] = "double friction pendulums"
     bottom_radius: ArrayLike
@@ -222,7 +219,6 @@ class SinglePendulum(SeriesPendulum):
     """
 
     isolator: ClassVar[str] = "single-fp"
-    keyword: ClassVar[str] = "single"
     slider_names: ClassVar[tuple[str, ...]] = ("surface",)
     description: ClassVar[str] = "single friction pendulums or flat sliders"
     surface_radius: ArrayLike

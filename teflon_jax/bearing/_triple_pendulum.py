@@ -53,7 +53,6 @@ class TriplePendulum(SeriesPendulum):
     """
 
     isolator: ClassVar[str] = "triple-fp"
-    keyword: ClassVar[str] = "triple"
     slider_names: ClassVar[tuple[str, ...]] = ("inner", "bottom", "top")
     description: ClassVar[str] = "triple friction pendulums"
     inner_radius: ArrayLike

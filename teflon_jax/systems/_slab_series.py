@@ -11,7 +11,7 @@ tension, is reported as unbalanced); while N_g <= 0 the group carries no shear a
 (`uplift_increments`).
 
 Heated surfaces (`SeriesPendulum.heated`) heat with their own group's load: surface e of group
-g takes the flux q_ge = mu_ge p_e (N_g / W_g) v_ge (`_series_heat.heated_step`, p_e its contact
+g takes the flux q_ge = mu_ge p_e (N_g / W_g) v_ge (`_slider_forces.heated_step`, p_e its contact
 pressure under the static W_g, v_ge the length of its increment over the step times its
 velocity factor), none while the group is lifted, and its friction is scaled by k_T at its
 own temperature, taken at the step's start and held over the step, as on the rigid mass.
@@ -42,8 +42,8 @@ import numpy as np
 from ..bearing import SeriesPendulum
 from ..excitation import Signal
 from ._overturning import SupportPlan, group_factor, overturned_loads, supported_loads
-from ._series_heat import heated_step
 from ._slider_forces import (
+    heated_step,
     initial_history,
     next_history,
     slider_forces,

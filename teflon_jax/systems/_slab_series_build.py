@@ -11,8 +11,8 @@ from ..units import STANDARD_GRAVITY
 from ..validation import concrete
 from ._overturning import overturning_map, support_plan
 from ._response import StructureResponse
-from ._series_heat import series_heat_kernel, surface_temperature_rises
 from ._slab_series import SlabOnSeries
+from ._slider_forces import series_heat_kernel, surface_temperature_rises
 from ._triple_structure import TRIPLE_NEWTON_ITERATIONS, TRIPLE_TOLERANCE
 
 SERIES_SLAB_ISOLATORS = tuple(SERIES_PENDULUMS)

@@ -48,14 +48,15 @@ from ..units import STANDARD_GRAVITY
 from ._isolator_solve import bracketed_newton
 from ._models import rigid_mass, six_storey_building
 from ._response import StructureResponse
-from ._series_heat import heated_step, series_heat_kernel
 from ._slider_forces import (
     FRICTION_VELOCITIES,
     balance_forces,
     end_velocity,
     floor_stiffnesses,
+    heated_step,
     initial_history,
     next_history,
+    series_heat_kernel,
     slider_lengths,
     step_history,
 )

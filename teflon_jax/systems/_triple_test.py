@@ -22,12 +22,13 @@ from ..excitation import AbstractBiaxialMotion
 from ._bearing_test import save_times
 from ._response import BearingTestResult
 from ._sampled_path import sample_velocity
-from ._series_heat import heated_step, series_heat_kernel
 from ._slider_forces import (
     FRICTION_VELOCITIES,
     balance_forces,
+    heated_step,
     initial_history,
     next_history,
+    series_heat_kernel,
     slider_lengths,
     step_history,
 )
@@ -101,7 +102,7 @@ def simulate_triple_test(bearing: SeriesPendulum, time, displacement, normal_loa
     docstring). jit-, vmap- and grad-safe once the bearing is checked
     (`check_triple_pendulum`, `check_double_pendulum`). A pendulum with heated surfaces
     (`SeriesPendulum.heated`; contact pressures at this W) scales each surface's friction by
-    its temperature (`_series_heat.py`; in the plane the flux takes the length of each
+    its temperature (`_slider_forces.heated_step`; in the plane the flux takes the length of each
     surface's increment), with `heat_kernel` (rates, weights) =
     `heat_kernel_exponentials(dt, horizon)`, by default from concrete `time` (one step to
     `HEAT_HORIZON`). `friction_velocity` (`FRICTION_VELOCITIES`): "mean", or for a one-surface

@@ -77,7 +77,7 @@ def with_vertical_motion(system, vertical_acceleration: Signal, radius=None):
     A single friction pendulum's structure holds the part W / R of its stiffness that the
     normal load carries (`pendulum_stiffness`, scaled by N / W in each step; W_g / R per group
     in two components) when built with its radius or surface (`rigid_mass(radius=...)`,
-    `isolated_structure(isolator="single-fp")`, `bidirectional_rigid_mass(surface=...)`, the
+    `isolated_structure(kind, isolator=concave_surface(R))`, `bidirectional_rigid_mass(surface=...)`, the
     slab, the building on a plan); flat sliders' restoring springs keep their stiffness.
     `radius` R [m] sets W / R on a `StructureOnSliders` or `BidirectionalStructure` built
     without it (a pendulum given by its period alone); `None` keeps what the structure holds.
@@ -151,7 +151,7 @@ class VerticalIsolatedStructure(eqx.Module):
 def with_vertical_component(structure) -> VerticalIsolatedStructure:
     """`structure` taking (horizontal, vertical) ground motions (`VerticalIsolatedStructure`):
     an `IsolatedStructure`, a `BidirectionalIsolatedStructure` (`bidirectional_isolated_structure`)
-    or a `TripleIsolatedStructure` (`isolated_structure(kind, isolator="triple-fp", ...)`): an
+    or a `TripleIsolatedStructure` (`isolated_structure(kind, isolator=triple_pendulum)`): an
     isolated structure of the studies, called with a motion and a design, with its `kind`,
     `isolator` and `time_step`."""
     inner = getattr(structure, "uniaxial", structure)
