@@ -42,7 +42,6 @@ from ._triple_structure import (
     shortest_fraction,
 )
 
-
 BALANCES = ("newton", "secant")
 """How a step's planar balance is iterated (`BiaxialStructureOnTriple.balance`): "newton",
 fresh 2 x 2 blocks by differences at every point (three force evaluations a step); "secant",
