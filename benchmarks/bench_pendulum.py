@@ -67,10 +67,21 @@ def _structure(kind, isolator, components=1, balance="newton"):
         return build(kind, time_step=TIME_STEP, pressure=1000 * PSI, isolation_period=period,
                      isolation_damping=0.0)
     if isolator == "triple-fp":
-        structure = isolated_structure(kind, time_step=TIME_STEP, isolator="triple-fp", triple=TRIPLE,
+        structure = isolated_structure(kind, time_step=TIME_STEP, **_isolator_keywords("triple-fp"),
                                        newton_tolerance=TRIPLE_MONTE_CARLO_TOLERANCE)
         return structure if balance == "newton" else functools.partial(_balanced, structure, balance)
-    return build(kind, time_step=TIME_STEP, pressure=1000 * PSI, isolator="single-fp", radius=RADIUS)
+    return build(kind, time_step=TIME_STEP, pressure=1000 * PSI, **_isolator_keywords("single-fp"))
+
+
+def _isolator_keywords(name):
+    """The isolator of `isolated_structure`: the value (`TRIPLE`, or a concave surface of
+    `RADIUS`); under a version whose builders take isolator names, the name and its part, so
+    that both versions time the same structure."""
+    try:
+        from teflon_jax.bearing import concave_surface, one_surface  # noqa: F401
+    except ImportError:
+        return {"isolator": name, **({"triple": TRIPLE} if name == "triple-fp" else {"radius": RADIUS})}
+    return {"isolator": TRIPLE if name == "triple-fp" else concave_surface(RADIUS)}
 
 
 def _rate(structure, motions, n, chunk):
