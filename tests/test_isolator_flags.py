@@ -10,6 +10,7 @@ import re
 import numpy as np
 import pytest
 
+from teflon_jax.bearing import isolator_kind
 from teflon_jax.cli._isolator_flags import (
     ISOLATORS,
     check_combination,
@@ -50,15 +51,15 @@ def test_each_isolator_is_one_value(isolator):
     value = read_isolator(_args("run", "--isolator", isolator, *FLAGS[isolator]))
     assert value.name == isolator and value.restores == (isolator != "flat")
     options = value.structure_options()
-    assert options["isolator"] == isolator
+    assert list(options) == ["isolator"] and isolator_kind(options["isolator"]) == isolator
     if isolator == "single-fp":
         assert value.period == pytest.approx(2 * np.pi * np.sqrt(88 * INCH / STANDARD_GRAVITY), rel=1e-12)
+        assert options["isolator"].radius == pytest.approx(88 * INCH, rel=1e-12)
     else:
         assert value.period is None
     if isolator in FILES:
         assert value.pendulum.isolator == isolator and value.file == FILES[isolator]
-        assert options[{"triple-fp": "triple", "double-fp": "double"}[isolator]] is value.pendulum
-        assert "bearing" not in options and "radius" not in options
+        assert options["isolator"] is value.pendulum
 
 
 @pytest.mark.parametrize(("flags", "message"), [
