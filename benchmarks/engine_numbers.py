@@ -55,7 +55,7 @@ def _field(response, *names):
 
 
 
-def _one_surface(name: str, radius=None) -> dict:
+def one_surface_keywords(name: str, radius=None) -> dict:
     """The isolator keywords of `isolated_structure` for flat sliders ("flat", `radius` None)
     or single pendulums of radius `radius` [m] ("single-fp"): the isolator value; under a
     version whose builders take isolator names (no `teflon_jax.bearing.one_surface`), the name
@@ -97,7 +97,7 @@ def _series_cases(out):
 def _flat_cases(out):
     for isolator, radius in (("flat", None), ("single-fp", 1.5)):
         for kind in ("rigid", "building"):
-            extra = _one_surface(isolator, radius)
+            extra = one_surface_keywords(isolator, radius)
             system = isolated_structure(kind, **extra)(uniform_signal(_ground(1), RECORD_STEP))
             response = jax.jit(simulate_structure, static_argnums=1)(system, DURATION)
             out[f"{isolator}-{kind}-1d-displacement"] = np.asarray(response.displacement)

@@ -15,20 +15,10 @@ import numpy as np
 
 jax.config.update("jax_enable_x64", True)
 
+from engine_numbers import one_surface_keywords  # noqa: E402  (the same isolator keywords under both versions)
+
 from teflon_jax.excitation import uniform_signal  # noqa: E402
 from teflon_jax.studies import bidirectional_isolated_structure, bidirectional_peak_response  # noqa: E402
-
-
-def _one_surface(name: str, radius=None) -> dict:
-    """The isolator keywords of `isolated_structure` for flat sliders ("flat", `radius` None)
-    or single pendulums of radius `radius` [m] ("single-fp"): the isolator value; under a
-    version whose builders take isolator names (no `teflon_jax.bearing.one_surface`), the name
-    and the radius, so that both versions build the same structure."""
-    try:
-        from teflon_jax.bearing import concave_surface, one_surface  # noqa: F401
-    except ImportError:
-        return {"isolator": name, **({} if radius is None else {"radius": radius})}
-    return {"isolator": None if radius is None else concave_surface(radius)}
 
 
 def program_hash(structure, record) -> tuple[str, int]:
@@ -45,7 +35,7 @@ def main():
     record = 3.0 * np.sin(np.arange(2001) * 0.01)
     for kind in ("rigid", "building"):
         for isolator, radius in (("flat", None), ("single-fp", 1.5)):
-            structure = bidirectional_isolated_structure(kind, **_one_surface(isolator, radius))
+            structure = bidirectional_isolated_structure(kind, **one_surface_keywords(isolator, radius))
             digest, size = program_hash(structure, record)
             print(f"{kind:9s} {isolator:10s} {digest} ({size} characters)")
 
