@@ -1,4 +1,4 @@
-"""The design space of each isolator (`teflon_jax.systems.design_space`): its variables are
+"""The design space of each isolator (`teflon_jax.bearing.design_space`): its variables are
 exactly those its isolated structure takes, the designed isolator follows each variable's
 definition (T_b of the springs, T_b = 2 pi sqrt(R / g) of the surface, Table 1's Eq. 1 at
 the pressure, the restrainer's capacity), a box whose low f_max lies below delta_f
@@ -14,7 +14,13 @@ import pytest
 from test_double_design import DOUBLE
 from test_triple_design import TRIPLE
 
-from teflon_jax.bearing import ISOLATORS, concave_surface
+from teflon_jax.bearing import (
+    DESIGN_SPACES,
+    ISOLATORS,
+    concave_surface,
+    design_space,
+    designed_isolator,
+)
 from teflon_jax.cli._common import output_units
 from teflon_jax.cli._design_variables import (
     ISOLATOR_DESIGNS,
@@ -22,12 +28,7 @@ from teflon_jax.cli._design_variables import (
     design_fields,
     design_text,
 )
-from teflon_jax.systems import (
-    DESIGN_SPACES,
-    design_space,
-    designed_isolator,
-    isolated_structure,
-)
+from teflon_jax.systems import isolated_structure
 from teflon_jax.tables import friction_table
 from teflon_jax.units import INCH, PSI, STANDARD_GRAVITY
 

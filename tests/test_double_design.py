@@ -21,14 +21,14 @@ from teflon_jax.bearing import (
     BoucWen,
     DoublePendulum,
     coulomb_friction,
+    design_space,
+    designed_isolator,
     sliding_friction,
 )
 from teflon_jax.formats import isolator_to_dict
 from teflon_jax.studies import GRADIENT_TOLERANCE, percentile_disp_gradient_check
 from teflon_jax.systems import (
     TripleIsolatedStructure,
-    design_space,
-    designed_isolator,
     isolated_structure,
     simulate_triple_test,
 )

@@ -22,10 +22,11 @@ from teflon_jax.bearing import (
     FrictionalHeating,
     SurfaceParts,
     coulomb_friction,
+    designed_double,
 )
 from teflon_jax.cli import main
 from teflon_jax.formats import isolator_from_dict, isolator_to_dict, read_test_record
-from teflon_jax.systems import designed_double, simulate_triple_test
+from teflon_jax.systems import simulate_triple_test
 
 MU_BOTTOM, MU_TOP = 0.05, 0.08
 

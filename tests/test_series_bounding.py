@@ -20,6 +20,7 @@ from teflon_jax.bearing import (
     DoublePendulum,
     FrictionalHeating,
     coulomb_friction,
+    designed_pendulum,
     paper_bearing,
 )
 from teflon_jax.cli import main
@@ -33,7 +34,6 @@ from teflon_jax.studies import (
 )
 from teflon_jax.systems import (
     TRIPLE_MONTE_CARLO_TOLERANCE,
-    designed_pendulum,
     isolated_structure,
     with_vertical_component,
 )

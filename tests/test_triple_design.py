@@ -18,6 +18,8 @@ from teflon_jax.bearing import (
     BoucWen,
     FrictionParameters,
     TriplePendulum,
+    design_space,
+    designed_isolator,
     sliding_friction,
     triple_pendulum_backbone,
 )
@@ -27,8 +29,6 @@ from teflon_jax.formats import isolator_to_dict
 from teflon_jax.studies import GRADIENT_TOLERANCE, percentile_disp_gradient_check
 from teflon_jax.systems import (
     TripleIsolatedStructure,
-    design_space,
-    designed_isolator,
     isolated_structure,
 )
 

@@ -1,7 +1,8 @@
 """Bearing physics: Eq. 1 friction, the hysteretic variable Z (Eqs. 3, 8-9), breakaway (Eq. 17),
 anisotropy, stacks, and the optional parts beyond the 1990 model (pressure dependence,
 frictional heating, wear, direction asymmetry, backlash), and the concave surface of the
-friction pendulum (single, and double or triple as sliders in series)."""
+friction pendulum (single, and double or triple as sliders in series); the registry of the
+isolators by name and the design space of each (the variables a design may set on it)."""
 
 from ._bearing import BREAKAWAY_THRESHOLD as BREAKAWAY_THRESHOLD
 from ._bearing import DEFAULT_YIELD_DISP as DEFAULT_YIELD_DISP
@@ -13,6 +14,16 @@ from ._bearing import paper_bearing as paper_bearing
 from ._bearing import sliding_speed as sliding_speed
 from ._bounds import PARAMETER_BOUNDS as PARAMETER_BOUNDS
 from ._bounds import ConstantBounds as ConstantBounds
+from ._design_space import DESIGN_SPACES as DESIGN_SPACES
+from ._design_space import DESIGN_VARIABLES as DESIGN_VARIABLES
+from ._design_space import FRICTION_FACTOR as FRICTION_FACTOR
+from ._design_space import DesignSpace as DesignSpace
+from ._design_space import check_design as check_design
+from ._design_space import design_ranges as design_ranges
+from ._design_space import design_space as design_space
+from ._design_space import designed_double as designed_double
+from ._design_space import designed_isolator as designed_isolator
+from ._design_space import designed_pendulum as designed_pendulum
 from ._effects import AMBIENT_TEMPERATURE as AMBIENT_TEMPERATURE
 from ._effects import STEEL_CONDUCTIVITY as STEEL_CONDUCTIVITY
 from ._effects import STEEL_DIFFUSIVITY as STEEL_DIFFUSIVITY

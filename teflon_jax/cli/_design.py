@@ -212,8 +212,8 @@ def _variables_and_structure(args):
     """({design variable: (low, high)} [SI], the structure they change) of the flags, each
     checked (`ValueError` naming the flag): the variables of `--isolator`'s design space
     (`resolve_design_variables`), the structure at the low end of their bounds, and the box
-    of bounds checked by the design space (`teflon_jax.systems.design_space`)."""
-    from ..systems import design_space
+    of bounds checked by the design space (`teflon_jax.bearing.design_space`)."""
+    from ..bearing import design_space
 
     variables = resolve_design_variables(args)
     build = _pendulum_structure if ISOLATOR_DESIGNS[args.isolator].uses_file else _slider_structure

@@ -1,12 +1,12 @@
 """The design variables of `teflon-jax design`, one flow for every isolator: the variables of
-`--isolator` are those of its design space (`teflon_jax.systems.design_space`), each designed
+`--isolator` are those of its design space (`teflon_jax.bearing.design_space`), each designed
 over the bounds of its range flag (`VARIABLE_FLAGS`); a flag of another isolator's variables
 or options is refused by name. The isolators: flat sliders (the period T_b of their springs),
 a single friction pendulum (the radius R of its concave surface, period T_b = 2 pi sqrt(R / g),
 Zayas, Low & Mahin 1990, and its displacement capacity), the friction of either (the contact
 pressure, through Table 1's rows, or f_max of Eq. 1 itself), and the triple and double
 friction pendulums of an isolator file (scales of their radii and capacities, f_max of their
-surfaces; `teflon_jax.systems.designed_isolator`)."""
+surfaces; `teflon_jax.bearing.designed_isolator`)."""
 
 import math
 import pathlib
@@ -142,7 +142,7 @@ def _given(args, flag: str) -> bool:
 
 def _own_flags(isolator: str) -> tuple[str, ...]:
     """The range flags of `isolator`'s design space, in its order."""
-    from ..systems import design_space
+    from ..bearing import design_space
 
     return tuple(VARIABLE_FLAGS[n].flag for n in design_space(isolator).variables if n in VARIABLE_FLAGS)
 
@@ -170,7 +170,7 @@ def resolve_design_variables(args) -> dict:
     with `--pressure` or `--f-max-range`); `ValueError` naming a flag that does not apply, two
     friction flags at once, or a design without variables. Sets `args.design_flags` and the
     isolator's damping when `--isolation-damping` is not given."""
-    from ..systems import design_space
+    from ..bearing import design_space
 
     _refuse_other_flags(args)
     design = ISOLATOR_DESIGNS[args.isolator]

@@ -37,8 +37,8 @@ import equinox as eqx
 import jax
 import numpy as np
 
-from ..bearing import FrictionParameters, SeriesPendulum, SlidingBearing
-from ..systems import FRICTION_FACTOR, TripleIsolatedStructure, VerticalIsolatedStructure
+from ..bearing import FRICTION_FACTOR, FrictionParameters, SeriesPendulum, SlidingBearing
+from ..systems import TripleIsolatedStructure, VerticalIsolatedStructure
 
 BOUNDING_CASES = ("nominal", "upper", "lower")
 """The design variants of `bounding_design`, in order."""

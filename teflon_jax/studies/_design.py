@@ -34,8 +34,9 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from ..bearing import design_space
 from ..excitation import uniform_signal
-from ..systems import IsolatedStructure, design_space, peak_response
+from ..systems import IsolatedStructure, peak_response
 from ._design_box import BoxSolution, minimise_in_box
 from ._design_check import GRADIENT_TOLERANCE, design_gradient_check
 from ._design_result import DesignResult

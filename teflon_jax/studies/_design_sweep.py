@@ -16,7 +16,8 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..systems import IsolatedStructure, check_design
+from ..bearing import check_design
+from ..systems import IsolatedStructure
 from ._cluster import (
     check_count,
     check_netcdf_output,

@@ -32,6 +32,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from ..bearing import check_design
 from ..excitation import (
     StochasticGroundMotion,
     TwoComponentGroundMotion,
@@ -44,7 +45,6 @@ from ..systems import (
     BidirectionalStructure,
     IsolatedStructure,
     VerticalIsolatedStructure,
-    check_design,
     check_storey_height,
     peak_response,
 )

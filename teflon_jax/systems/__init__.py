@@ -17,15 +17,6 @@ from ._bidirectional_models import bidirectional_structure as bidirectional_stru
 from ._bidirectional_models import directional_storeys as directional_storeys
 from ._bidirectional_models import simulate_bidirectional as simulate_bidirectional
 from ._building_plan import building_on_plan as building_on_plan
-from ._design_space import DESIGN_SPACES as DESIGN_SPACES
-from ._design_space import FRICTION_FACTOR as FRICTION_FACTOR
-from ._design_space import DesignSpace as DesignSpace
-from ._design_space import check_design as check_design
-from ._design_space import design_ranges as design_ranges
-from ._design_space import design_space as design_space
-from ._design_space import designed_double as designed_double
-from ._design_space import designed_isolator as designed_isolator
-from ._design_space import designed_pendulum as designed_pendulum
 from ._history import biaxial_response as biaxial_response
 from ._history import simulate_history as simulate_history
 from ._isolated import MONTE_CARLO_NEWTON_TOLERANCE as MONTE_CARLO_NEWTON_TOLERANCE

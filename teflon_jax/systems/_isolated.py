@@ -7,9 +7,11 @@ import equinox as eqx
 import jax.numpy as jnp
 
 from ..bearing import (
+    DESIGN_VARIABLES,
     ConcaveSurface,
     FrictionParameters,
     SlidingBearing,
+    check_design,
     isolator_kind,
     one_surface,
     paper_bearing,
@@ -18,7 +20,6 @@ from ..bearing import (
 from ..tables import friction_table
 from ..units import PSI
 from ..validation import require_positive
-from ._design_space import DESIGN_VARIABLES, check_design
 from ._models import rigid_mass, six_storey_building
 from ._propagators import LINEAR_RULES
 from ._structure import NEWTON_ITERATIONS, NEWTON_TOLERANCE, StructureOnSliders

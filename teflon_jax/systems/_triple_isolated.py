@@ -6,9 +6,8 @@ from collections.abc import Mapping
 import equinox as eqx
 import jax
 
-from ..bearing import SeriesPendulum, check_series_pendulum
+from ..bearing import SeriesPendulum, check_series_pendulum, designed_pendulum
 from ..validation import concrete
-from ._design_space import designed_pendulum
 from ._triple_biaxial import BiaxialStructureOnTriple
 from ._triple_structure import (
     TRIPLE_NEWTON_ITERATIONS,

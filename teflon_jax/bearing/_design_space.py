@@ -2,7 +2,7 @@
 an isolated structure of that isolator, their admissible ranges, the check of a box of
 bounds, and the isolator a design gives. Every consumer (the isolated structures, the design
 study, the command line) looks the isolator up here (`design_space`, `designed_isolator`);
-this module depends on the bearings only, and the structures on it.
+it depends on the isolator types only (duck-typed structures), and the structures on it.
 
 - "flat": sliders on springs (`IsolatedStructure`): the period T_b [s] of the springs, the
   contact pressure [Pa] (Table 1's Eq. 1 constants there), zeta_b [-] and Eq. 1 / Eq. 17
@@ -35,9 +35,11 @@ from typing import NamedTuple
 import equinox as eqx
 import numpy as np
 
-from ..bearing import DoublePendulum, FrictionParameters, TriplePendulum
 from ..units import PSI
 from ..validation import concrete
+from ._friction import FrictionParameters
+from ._series_pendulum import DoublePendulum
+from ._triple_pendulum import TriplePendulum
 
 DESIGN_VARIABLES = (
     "isolation_period",
