@@ -21,7 +21,9 @@ from ._history import biaxial_response as biaxial_response
 from ._history import simulate_history as simulate_history
 from ._isolated import MONTE_CARLO_NEWTON_TOLERANCE as MONTE_CARLO_NEWTON_TOLERANCE
 from ._isolated import RECOMMENDED_TIME_STEPS as RECOMMENDED_TIME_STEPS
+from ._isolated import TRIPLE_MONTE_CARLO_TOLERANCE as TRIPLE_MONTE_CARLO_TOLERANCE
 from ._isolated import IsolatedStructure as IsolatedStructure
+from ._isolated import TripleIsolatedStructure as TripleIsolatedStructure
 from ._isolated import check_structure_bearing as check_structure_bearing
 from ._isolated import isolated_structure as isolated_structure
 from ._models import building_response_quantities as building_response_quantities
@@ -72,8 +74,6 @@ from ._structure_build import structure_on_sliders as structure_on_sliders
 from ._triple_biaxial import BiaxialStructureOnTriple as BiaxialStructureOnTriple
 from ._triple_biaxial import biaxial_histories as biaxial_histories
 from ._triple_biaxial import biaxial_peaks as biaxial_peaks
-from ._triple_isolated import TRIPLE_MONTE_CARLO_TOLERANCE as TRIPLE_MONTE_CARLO_TOLERANCE
-from ._triple_isolated import TripleIsolatedStructure as TripleIsolatedStructure
 from ._triple_structure import TRIPLE_TOLERANCE as TRIPLE_TOLERANCE
 from ._triple_structure import StructureOnTriple as StructureOnTriple
 from ._triple_structure import simulate_triple_structure as simulate_triple_structure
