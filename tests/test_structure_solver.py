@@ -1,6 +1,7 @@
 """RiccatiNewmark on structures: convergence order, energy balance, Coulomb limits, vmap."""
 
 import dataclasses
+import itertools
 
 import diffrax
 import jax
@@ -155,10 +156,19 @@ def test_solver_failure_is_reported_not_hidden():
         )
 
 
-@pytest.mark.parametrize("gain", ["newmark", "exact"])
-@pytest.mark.parametrize("split_at_turn", [True, False])
-@pytest.mark.parametrize("breakaway", [None, 1.6])
-@pytest.mark.parametrize("extra", [None, "pendulum", "asymmetry"])
+# Every value of each of the four options, and every pair of values of any two, is in the six
+# fast cases (each case compiles two programs, about 5 s); the other 18 of the product run
+# with the slow tests.
+_SLOPE_FAST = {(None, None, True, "newmark"), (None, 1.6, False, "exact"),
+               ("pendulum", None, False, "exact"), ("pendulum", 1.6, True, "newmark"),
+               ("asymmetry", None, True, "exact"), ("asymmetry", 1.6, False, "newmark")}
+_SLOPE_CASES = [pytest.param(*case, id="-".join(map(str, case)),
+                             marks=() if case in _SLOPE_FAST else pytest.mark.slow)
+                for case in itertools.product([None, "pendulum", "asymmetry"], [None, 1.6],
+                                              [True, False], ["newmark", "exact"])]
+
+
+@pytest.mark.parametrize(("extra", "breakaway", "split_at_turn", "gain"), _SLOPE_CASES)
 def test_newton_slope_is_the_derivative_of_the_residual(split_at_turn, breakaway, gain, extra):
     """The slope written out for Newton's steps (flow derivatives of Bouc-Wen, with and without
     a turn inside the step; the end velocity of Newmark's step, 2 / dt per metre, or of the
