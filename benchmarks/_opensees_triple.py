@@ -26,7 +26,7 @@ import time
 import numpy as np
 from _opensees_models import _step, import_opensees
 
-from teflon_jax.systems import superstructure_matrices
+from teflon_jax.structures import superstructure_matrices
 from teflon_jax.tables import load_table2
 from teflon_jax.units import STANDARD_GRAVITY
 

@@ -7,7 +7,7 @@ import pathlib
 
 import numpy as np
 
-from teflon_jax.systems import superstructure_matrices
+from teflon_jax.structures import superstructure_matrices
 from teflon_jax.tables import interface_parameters, load_table2
 from teflon_jax.units import INCH, PSI, STANDARD_GRAVITY
 

@@ -35,6 +35,7 @@ import numpy as np
 
 from teflon_jax.bearing import paper_bearing
 from teflon_jax.excitation import StochasticGroundMotion, sample, uniform_signal
+from teflon_jax.structures import superstructure_matrices
 from teflon_jax.systems import (
     bidirectional_building,
     bidirectional_rigid_mass,
@@ -42,7 +43,6 @@ from teflon_jax.systems import (
     simulate_bidirectional,
     simulate_structure,
     six_storey_building,
-    superstructure_matrices,
 )
 from teflon_jax.tables import interface_parameters, load_table2
 from teflon_jax.units import INCH, PSI, STANDARD_GRAVITY

@@ -16,6 +16,7 @@ _SUBPACKAGES = (
     "paper",
     "report",
     "solver",
+    "structures",
     "studies",
     "systems",
     "tables",
@@ -99,6 +100,10 @@ _EXPORTS = {
         "AbstractSteppedSystem",
         "RiccatiNewmark",
     ),
+    "structures": (
+        "signal_from_motion",
+        "superstructure_matrices",
+    ),
     "studies": (
         "MonteCarloResult",
         "SweepResult",
@@ -127,12 +132,10 @@ _EXPORTS = {
         "rigid_mass",
         "sample_velocity",
         "sampled_path",
-        "signal_from_motion",
         "simulate_bearing_test",
         "simulate_structure",
         "six_storey_building",
         "structure_on_sliders",
-        "superstructure_matrices",
     ),
     "tables": (
         "BuildingData",

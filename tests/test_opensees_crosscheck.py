@@ -13,12 +13,11 @@ import numpy as np
 import pytest
 
 import teflon_jax as tj
+from teflon_jax.structures import signal_from_motion, superstructure_matrices
 from teflon_jax.systems import (
     building_response_quantities,
     rigid_mass,
-    signal_from_motion,
     six_storey_building,
-    superstructure_matrices,
 )
 
 sys.path.insert(0, str(tj.__file__).rsplit("/teflon_jax/", 1)[0])

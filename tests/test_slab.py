@@ -7,13 +7,8 @@ from scipy.integrate import solve_ivp
 
 from teflon_jax.bearing import paper_bearing
 from teflon_jax.excitation import uniform_signal
-from teflon_jax.systems import (
-    check_plan,
-    simulate_bidirectional,
-    slab_corners,
-    slab_on_bearings,
-    slab_point_displacement,
-)
+from teflon_jax.structures import check_plan, slab_corners, slab_point_displacement
+from teflon_jax.systems import simulate_bidirectional, slab_on_bearings
 from teflon_jax.tables import interface_parameters
 from teflon_jax.units import PSI, STANDARD_GRAVITY
 

@@ -10,12 +10,11 @@ import pytest
 from teflon_jax.bearing import paper_bearing
 from teflon_jax.cli import main
 from teflon_jax.excitation import uniform_signal
+from teflon_jax.structures import overturning_map, tipped_at_failure
 from teflon_jax.systems import (
     bidirectional_rigid_mass,
-    overturning_map,
     simulate_bidirectional,
     slab_on_bearings,
-    tipped_at_failure,
 )
 from teflon_jax.tables import interface_parameters
 from teflon_jax.units import PSI, STANDARD_GRAVITY

@@ -16,14 +16,16 @@ import pytest
 from teflon_jax.bearing import BoucWen, DoublePendulum, FrictionParameters, TriplePendulum
 from teflon_jax.cli import main
 from teflon_jax.excitation import uniform_signal
-from teflon_jax.systems import (
+from teflon_jax.structures import (
     overturning_map,
     redistributed_loads,
     resting_loads,
+    support_plan,
+)
+from teflon_jax.systems import (
     simulate_slab_series,
     simulate_triple_structure,
     slab_on_bearings,
-    support_plan,
     triple_structure,
 )
 from teflon_jax.units import STANDARD_GRAVITY

@@ -8,6 +8,7 @@ import pytest
 import scipy.linalg
 
 import teflon_jax as tj
+from teflon_jax.structures import signal_from_motion, superstructure_matrices
 from teflon_jax.studies import (
     building_peaks,
     building_sweep,
@@ -18,9 +19,7 @@ from teflon_jax.studies import (
 from teflon_jax.systems import (
     building_response_quantities,
     rigid_mass,
-    signal_from_motion,
     six_storey_building,
-    superstructure_matrices,
 )
 
 G = tj.units.STANDARD_GRAVITY

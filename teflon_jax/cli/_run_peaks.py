@@ -196,7 +196,7 @@ def surface_temperature_summary(plan, system, response, histories):
 
 def slab_peaks(plan, q, response) -> dict:
     """The slab's peak rotation, corner and group displacements (SI) from coordinates q."""
-    from ..systems import slab_corners, slab_point_displacement
+    from ..structures import slab_corners, slab_point_displacement
 
     corners = slab_corners(plan["length_x"], plan["length_y"])
     corner = np.asarray(slab_point_displacement(q, corners, plan["centre_of_mass"]))

@@ -59,7 +59,7 @@ def bidirectional_stop(system, response):
     (nt,), unconverged (nt,)) for `stop_entries`, message) of a failed two-component `StructureResponse` saved at every step: the
     solver keeps the failed step's end and stops (`tipped_at_failure`); its uplift times
     count the kept steps only."""
-    from ..systems import tipped_at_failure
+    from ..structures import tipped_at_failure
 
     q = np.asarray(response.displacement)
     finite = np.all(np.isfinite(q), axis=-1)

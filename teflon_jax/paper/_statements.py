@@ -4,9 +4,9 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..bearing import paper_bearing
+from ..structures import signal_from_motion
 from ..systems import (
     building_response_quantities,
-    signal_from_motion,
     simulate_structure,
     six_storey_building,
 )

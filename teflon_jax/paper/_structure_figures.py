@@ -5,8 +5,9 @@ import numpy as np
 
 from ..bearing import coulomb_friction, paper_bearing
 from ..excitation import Signal, fourier_amplitude
+from ..structures import signal_from_motion
 from ..studies import building_sweep
-from ..systems import rigid_mass, signal_from_motion, simulate_structure
+from ..systems import rigid_mass, simulate_structure
 from ..tables import friction_table
 from ..units import INCH, PSI, STANDARD_GRAVITY
 from . import _figures as figures

@@ -23,10 +23,10 @@ import numpy as np
 
 from ..bearing import FrictionParameters, paper_bearing
 from ..excitation import Signal
+from ..structures import signal_from_motion
 from ..systems import (
     StructureOnSliders,
     building_response_quantities,
-    signal_from_motion,
     simulate_structure,
     six_storey_building,
 )

@@ -1,6 +1,9 @@
-"""Systems as diffrax vector fields: imposed-motion bearing tests, structures on sliders (rigid
-mass, the Table 2 building), and the isolated structures of the studies; every structure's
-history is a `StructureResponse` (`simulate_history`), its peaks a `PeakResponse`."""
+"""Stepped systems: the isolators of `teflon_jax.bearing` under the linear structures of
+`teflon_jax.structures`, stepped by `teflon_jax.solver` (imposed-motion bearing tests,
+structures on sliders and on series pendulums, two-component structures, the slab and the
+building on bearing groups, vertical records), their drivers, and the isolated structures of
+the studies; every structure's history is a `StructureResponse` (`simulate_history`), its
+peaks a `PeakResponse`."""
 
 from ._bearing_test import BearingTestSystem as BearingTestSystem
 from ._bearing_test import force_along_path as force_along_path
@@ -26,17 +29,6 @@ from ._isolated import IsolatedStructure as IsolatedStructure
 from ._isolated import TripleIsolatedStructure as TripleIsolatedStructure
 from ._isolated import check_structure_bearing as check_structure_bearing
 from ._isolated import isolated_structure as isolated_structure
-from ._models import building_response_quantities as building_response_quantities
-from ._models import rigid_mass as rigid_mass
-from ._models import signal_from_motion as signal_from_motion
-from ._models import six_storey_building as six_storey_building
-from ._models import superstructure_matrices as superstructure_matrices
-from ._overturning import SupportPlan as SupportPlan
-from ._overturning import overturning_map as overturning_map
-from ._overturning import redistributed_loads as redistributed_loads
-from ._overturning import resting_loads as resting_loads
-from ._overturning import support_plan as support_plan
-from ._overturning import tipped_at_failure as tipped_at_failure
 from ._peaks import RESPONSE_NAMES as RESPONSE_NAMES
 from ._peaks import STEPS_PER_LOOP_PASS as STEPS_PER_LOOP_PASS
 from ._peaks import PeakResponse as PeakResponse
@@ -53,11 +45,7 @@ from ._sampled_path import SampledPath as SampledPath
 from ._sampled_path import respond_along_path as respond_along_path
 from ._sampled_path import sample_velocity as sample_velocity
 from ._sampled_path import sampled_path as sampled_path
-from ._slab import check_plan as check_plan
-from ._slab import slab_corners as slab_corners
 from ._slab import slab_on_bearings as slab_on_bearings
-from ._slab import slab_point_displacement as slab_point_displacement
-from ._slab import stack_bearings as stack_bearings
 from ._slab_series import SlabOnSeries as SlabOnSeries
 from ._slab_series_build import simulate_slab_series as simulate_slab_series
 from ._slab_series_build import stack_pendulums as stack_pendulums
@@ -67,8 +55,11 @@ from ._structure import StructureOnSliders as StructureOnSliders
 from ._structure import initial_state as initial_state
 from ._structure_build import HEAT_HORIZON as HEAT_HORIZON
 from ._structure_build import STRUCTURE_EFFECTS as STRUCTURE_EFFECTS
+from ._structure_build import building_response_quantities as building_response_quantities
 from ._structure_build import check_storey_height as check_storey_height
+from ._structure_build import rigid_mass as rigid_mass
 from ._structure_build import simulate_structure as simulate_structure
+from ._structure_build import six_storey_building as six_storey_building
 from ._structure_build import storey_rows as storey_rows
 from ._structure_build import structure_on_sliders as structure_on_sliders
 from ._triple_biaxial import BiaxialStructureOnTriple as BiaxialStructureOnTriple

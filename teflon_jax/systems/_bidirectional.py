@@ -33,6 +33,7 @@ from ..solver import (
     AbstractSteppedSystem,
     park_exact_update,
 )
+from ..structures import SupportPlan, group_factor, overturning_force, supported_loads
 from ._bearing_test import running_peak_rate
 from ._bidirectional_laws import (
     affine,
@@ -45,7 +46,6 @@ from ._bidirectional_laws import (
     surface_tangent,
     with_surface_forces,
 )
-from ._overturning import SupportPlan, group_factor, overturning_step
 from ._propagators import small_dot
 from ._sampled_path import has_history, history_factor, history_rates, next_history
 from ._vertical import (
@@ -94,7 +94,7 @@ class BidirectionalStructure(AbstractSteppedSystem):
     (the part of K the load carries), `_vertical.py`; `load` is the s of a copy
     at one time (`at_load`), one per group (G,) with `overturning` L (G, 2) [-]: the groups'
     loads N_g = s W_g + (L H)_g under the horizontal force H of the step's start, held over the
-    step and kept in the state "normal_load" (G,) [N] (`_overturning.py`), redistributed
+    step and kept in the state "normal_load" (G,) [N] (`teflon_jax.structures`: `supported_loads`), redistributed
     over the groups that stay down while others lift with `supports` (`SupportPlan`).
     `friction_model` (static): "hysteretic" (Park's Z), "coulomb" or "none"; `surface`: a
     friction pendulum's `ConcaveSurface` whose restrainer and large-displacement force act
@@ -475,3 +475,13 @@ class BidirectionalStructure(AbstractSteppedSystem):
 def _largest(r):
     """Largest |r| over the x and y parts of a residual."""
     return jnp.maximum(jnp.max(jnp.abs(r[0])), jnp.max(jnp.abs(r[1])))
+
+
+def overturning_step(system, t0, t1, y0, a0):
+    """One step of `system` (a `BidirectionalStructure` with `overturning`) from (t0, y0) with
+    acceleration a0: the groups' loads from H at t0 and the vertical record at t1, held over the
+    step; the loads are kept in the state ("normal_load"). A step on which the slab tips
+    (`supported_loads`) is not balanced."""
+    loads, rests = supported_loads(system, overturning_force(system, a0, system.ground(t0)), t1)
+    y1, converged = system.at_load(group_factor(system, loads)).newmark_update(y0, a0, system.ground(t1))
+    return {**y1, "normal_load": loads}, converged & rests

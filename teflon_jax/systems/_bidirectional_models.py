@@ -15,17 +15,18 @@ import numpy as np
 from ..bearing import SlidingBearing, heat_kernel_exponentials
 from ..excitation import Signal
 from ..solver import RiccatiNewmark, require_riccati_form, solve_on_grid
+from ..structures import initial_normal_load
 from ..tables import BuildingData
 from ._bidirectional import NEWTON_ITERATIONS, BidirectionalStructure
 from ._bidirectional_laws import check_planar_law
-from ._models import rigid_mass, six_storey_building
-from ._overturning import initial_normal_load
 from ._response import StructureResponse
 from ._structure_build import (
     HEAT_HORIZON,
     PRESSURE_HINT,
     STRUCTURE_EFFECTS,
     check_storey_height,
+    rigid_mass,
+    six_storey_building,
 )
 from ._vertical import uplift_steps
 
@@ -119,7 +120,7 @@ def bidirectional_initial_state(system: BidirectionalStructure) -> dict:
     if system.history:
         n_heat = 0 if system.heat_rates is None else system.heat_rates.shape[0]
         state.update(heat=jnp.zeros((groups, n_heat)), travel=jnp.zeros(groups))
-    if system.overturning is not None:  # the groups' normal loads N_g [N] (`_overturning.py`)
+    if system.overturning is not None:  # the groups' normal loads N_g [N] (`teflon_jax.structures`: `supported_loads`)
         state["normal_load"] = initial_normal_load(system)
     return state
 

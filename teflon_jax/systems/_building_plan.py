@@ -22,7 +22,7 @@ K_b = sum_g k_g B_g^T B_g sits at the groups: springs of period T_b shared among
 Overturning: level i (the base, floors 1-6) lies at height h_i above the sliding surface
 (h_0 = `base_height`, h_i = h_0 + the storey heights below it); the groups' normal loads follow
 the moment sum_i h_i F_i of the levels' inertia forces F_i = m_i (q_i'' + a_g) by the lever rule
-of the slab on vertical supports, redistributed while groups lift (`_overturning.py`, with the
+of the slab on vertical supports, redistributed while groups lift (`teflon_jax.structures`, with the
 levels h_i / h_c about the height h_c = sum m_i h_i / sum m_i of the whole mass's centre).
 References: Constantinou, Mokha & Reinhorn (1990), Table 2 and Fig. 11; Nagarajaiah, Reinhorn &
 Constantinou (1991), 3D-BASIS, NCEER-91-0005 (a superstructure on a rigid base over bearings).
@@ -34,14 +34,21 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..excitation import Signal
+from ..structures import (
+    check_plan,
+    level_heights,
+    overturning_map,
+    plan_bearing_map,
+    plan_isolator,
+    refuse_springs,
+    stack_bearings,
+    superstructure_matrices,
+    support_plan,
+)
 from ..tables import BuildingData, load_table2
 from ..units import STANDARD_GRAVITY
 from ._bidirectional import BidirectionalStructure
 from ._bidirectional_models import _zero_signal, bidirectional_structure
-from ._models import superstructure_matrices
-from ._overturning import overturning_map, support_plan
-from ._plan_isolators import plan_isolator, refuse_springs
-from ._slab import check_plan, plan_bearing_map, stack_bearings
 
 SERIES_REFUSED = ("isolator: the building on a plan stands on 'flat' or 'single-fp' groups, got {isolator!r}; "
                   "series pendulums carry the rigid slab (slab_on_bearings).")
@@ -50,21 +57,6 @@ friction pendulums), not on series pendulums."""
 
 HEIGHT_NAMES = "storey_heights, base_height"
 """The arguments that place the levels above the sliding surface, as errors name them."""
-
-
-def level_heights(storey_heights, base_height, storeys: int) -> np.ndarray:
-    """h_i (storeys + 1,) [m] of the base and the floors above the sliding surface:
-    h_0 = `base_height`, h_i = h_0 + sum_{j <= i} `storey_heights`_j (one value, or one per
-    storey). `ValueError` naming the argument for a value that is not finite and >= 0."""
-    heights = np.asarray(storey_heights, dtype=float)
-    if heights.ndim > 1 or (heights.ndim == 1 and heights.shape[0] != storeys):
-        raise ValueError(f"storey_heights: one value or one per storey ({storeys}), got {storey_heights}.")
-    if not np.all(np.isfinite(heights) & (heights >= 0)):
-        raise ValueError(f"storey_heights: must be >= 0 m, got {storey_heights}.")
-    base = float(base_height)
-    if not (np.isfinite(base) and base >= 0):
-        raise ValueError(f"base_height: must be >= 0 m, got {base_height}.")
-    return base + np.concatenate([[0.0], np.cumsum(np.broadcast_to(heights, (storeys,)))])
 
 
 def building_on_plan(

@@ -26,10 +26,9 @@ from ..bearing import (
 from ..tables import friction_table
 from ..units import PSI
 from ..validation import concrete, require_positive
-from ._models import rigid_mass, six_storey_building
 from ._propagators import LINEAR_RULES
 from ._structure import NEWTON_ITERATIONS, NEWTON_TOLERANCE, StructureOnSliders
-from ._structure_build import check_structure_parts
+from ._structure_build import check_structure_parts, rigid_mass, six_storey_building
 from ._triple_biaxial import BiaxialStructureOnTriple
 from ._triple_structure import TRIPLE_NEWTON_ITERATIONS, TRIPLE_TOLERANCE, triple_structure
 

@@ -16,74 +16,29 @@ instead (Zayas, Low & Mahin 1990), so the centre of stiffness is the load-weight
 the groups (for equal radii), which follows the loads: no torsion from stiffness eccentricity
 when the loads' centroid is the centre of mass. With the centre of mass at a height h above
 the sliding surface, the overturning moment changes each group's normal load
-(`_overturning.py`), on its friction and its pendulum alike.
+(`teflon_jax.structures`: `supported_loads`), on its friction and its pendulum alike.
 Reference: Constantinou, Mokha & Reinhorn (1990), Eqs. 1, 8-9, 17 (bidirectional model);
 plan kinematics as in 3D-BASIS (Nagarajaiah, Reinhorn & Constantinou 1991).
 """
 
 import dataclasses
 
-import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..bearing import SlidingBearing
 from ..excitation import Signal
+from ..structures import (
+    check_plan,
+    overturning_map,
+    plan_bearing_map,
+    plan_isolator,
+    refuse_springs,
+    stack_bearings,
+    support_plan,
+)
 from ..units import STANDARD_GRAVITY
 from ._bidirectional_models import bidirectional_structure
-from ._overturning import overturning_map, support_plan
-from ._plan_isolators import plan_isolator, refuse_springs
 from ._slab_series_build import slab_on_series
-
-LOAD_TOLERANCE = 1e-3
-"""Relative mismatch allowed between the sum of the tributary loads and the weight."""
-
-
-def stack_bearings(bearings) -> SlidingBearing:
-    """One `SlidingBearing` whose array leaves hold the constants of every group (G,).
-
-    All groups must agree on the structure: all with or all without breakaway, all isotropic
-    or all anisotropic, the same number of interfaces."""
-    bearings = list(bearings)
-    structures = {jax.tree_util.tree_structure(b) for b in bearings}
-    if len(structures) != 1:
-        raise ValueError(
-            "bearings: the groups differ in kind (breakaway on some, anisotropy or stack height "
-            "on others); give every group the same options."
-        )
-    return jax.tree_util.tree_map(
-        lambda *leaves: jnp.stack([jnp.asarray(x, dtype=float) for x in leaves]), *bearings
-    )
-
-
-def check_plan(*, length_x, length_y, weight, centre_of_mass, positions, loads, names=None) -> None:
-    """Refuse a plan whose loads do not add up to the weight or whose points lie off the slab.
-
-    `ValueError` naming the group (or the centre of mass) and giving both numbers."""
-    positions = np.asarray(positions, dtype=float).reshape(-1, 2)
-    loads = np.asarray(loads, dtype=float).reshape(-1)
-    names = [f"group {i + 1}" for i in range(len(loads))] if names is None else list(names)
-    if not (length_x > 0 and length_y > 0):
-        raise ValueError(f"plan: slab dimensions must be > 0 m, got {length_x} x {length_y} m.")
-    if not weight > 0:
-        raise ValueError(f"plan: weight must be > 0 N, got {weight} N.")
-    if positions.shape[0] != loads.shape[0] or positions.shape[0] == 0:
-        raise ValueError("plan: give one position and one load per bearing group (at least one group).")
-    for name, (x, y) in zip(names + ["centre of mass"], [*positions, centre_of_mass]):
-        if not (-1e-9 <= x <= length_x + 1e-9 and -1e-9 <= y <= length_y + 1e-9):
-            raise ValueError(
-                f"plan: {name} at ({x:g}, {y:g}) m lies outside the slab, which spans "
-                f"0-{length_x:g} m in x and 0-{length_y:g} m in y."
-            )
-    for name, load in zip(names, loads):
-        if not load > 0:
-            raise ValueError(f"plan: {name} has load {load:g} N; tributary loads must be > 0.")
-    total = float(np.sum(loads))
-    if abs(total - weight) > LOAD_TOLERANCE * weight:
-        raise ValueError(
-            f"plan: the tributary loads add up to {total / 1e3:.6g} kN but the slab weighs "
-            f"{weight / 1e3:.6g} kN; they must agree within {LOAD_TOLERANCE:.1%}."
-        )
 
 
 def slab_on_bearings(
@@ -205,18 +160,6 @@ def slab_on_bearings(
                                    positions, centre, height, vertical_stiffness))
 
 
-def plan_bearing_map(arms, size: int, indices) -> np.ndarray:
-    """B (G, 2, `size`) of groups at arms r_g = P_g - C [m] from the centre of a rigid base whose
-    x, y translations and rotation theta are the coordinates `indices` = (ix, iy, itheta):
-    group g slides by (u_x - theta r_y, u_y + theta r_x)."""
-    ix, iy, itheta = indices
-    bearing_map = np.zeros((arms.shape[0], 2, size))
-    bearing_map[:, 0, ix] = bearing_map[:, 1, iy] = 1.0
-    bearing_map[:, 0, itheta] = -arms[:, 1]
-    bearing_map[:, 1, itheta] = arms[:, 0]
-    return bearing_map
-
-
 def _height(height_of_centre_of_mass) -> float:
     """h [m], checked: `ValueError` unless finite and >= 0."""
     height = float(height_of_centre_of_mass)
@@ -232,15 +175,3 @@ def _refuse_for_series(isolator, **given):
         if value is not None:
             raise ValueError(f"{name}: does not apply to isolator {isolator!r} (each group is the series "
                              "pendulum of `pendulums`, with its own radii and friction); leave it out.")
-
-
-def slab_point_displacement(q, points, centre_of_mass):
-    """Displacement (..., P, 2) [m] of plan points (P, 2) [m] for slab coordinates q (..., 3)."""
-    r = jnp.asarray(points) - jnp.asarray(centre_of_mass)
-    ux, uy, theta = q[..., 0:1], q[..., 1:2], q[..., 2:3]
-    return jnp.stack([ux - theta * r[:, 1], uy + theta * r[:, 0]], axis=-1)
-
-
-def slab_corners(length_x: float, length_y: float) -> np.ndarray:
-    """The four corners (4, 2) [m] of the slab, counter-clockwise from the origin."""
-    return np.array([[0.0, 0.0], [length_x, 0.0], [length_x, length_y], [0.0, length_y]])

@@ -41,7 +41,7 @@ import numpy as np
 
 from ..bearing import SeriesPendulum
 from ..excitation import Signal
-from ._overturning import SupportPlan, group_factor, overturned_loads, supported_loads
+from ..structures import SupportPlan, group_factor, overturned_loads, supported_loads
 from ._slider_forces import (
     heated_step,
     initial_history,

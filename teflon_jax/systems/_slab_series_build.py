@@ -7,9 +7,9 @@ import numpy as np
 
 from ..bearing import SERIES_PENDULUMS, SeriesPendulum, check_series_pendulum
 from ..excitation import Signal
+from ..structures import overturning_map, support_plan
 from ..units import STANDARD_GRAVITY
 from ..validation import concrete
-from ._overturning import overturning_map, support_plan
 from ._response import StructureResponse
 from ._slab_series import SlabOnSeries
 from ._slider_forces import series_heat_kernel, surface_temperature_rises

@@ -1,7 +1,8 @@
 """A `StructureOnSliders` built and run: shapes checked, the step's matrices prefactored, the
 optional bearing parts a structure runs (heating, wear) with the heat kernel they need; its
 histories over a record (`simulate_structure`); and a building's storey results as linear maps
-of its state.
+of its state; the paper's two structures on sliders (`rigid_mass`, `six_storey_building`, their
+linear parts `teflon_jax.structures.rigid_mass_matrices`, `building_matrices`).
 
 Storey results, for a building with degrees of freedom 0 = base slab (on the isolators) and
 1..n-1 = floors, displacements u relative to the ground:
@@ -23,6 +24,9 @@ import numpy as np
 from ..bearing import SlidingBearing, check_bearing, heat_kernel_exponentials
 from ..excitation import Signal
 from ..solver import require_riccati_form
+from ..structures import building_matrices, rigid_mass_matrices
+from ..tables import BuildingData
+from ..units import STANDARD_GRAVITY
 from ._propagators import LINEAR_RULES, exact_step_matrices
 from ._response import StructureResponse
 from ._structure import (
@@ -281,3 +285,86 @@ def storey_start(rows, dtype) -> tuple:
     if rows is None:
         return ()
     return jnp.zeros(rows[0].shape[0], dtype), jnp.zeros(rows[1].shape[0], dtype)
+
+
+def _check_friction_model(friction_model: str) -> None:
+    if friction_model not in FRICTION_MODELS:
+        raise ValueError(
+            f"friction_model: unknown {friction_model!r}; accepted values: "
+            f"{', '.join(repr(m) for m in FRICTION_MODELS)}."
+        )
+
+
+def rigid_mass(*, weight, bearing: SlidingBearing | None, ground_acceleration: Signal, time_step: float,
+               isolation_period=None, damping_ratio=0.0, radius=None, friction_model: str = "hysteretic",
+               linear_rule: str = "newmark", contact_pressure=None) -> StructureOnSliders:
+    """A rigid mass W/g on sliding bearings (Figs. 7-10 of the paper; TASS-type system):
+
+        m u'' + c u' + (k + W/R) u + mu(u') W Z = -m a_g(t),   m = W/g,
+
+    the linear part `rigid_mass_matrices` (`weight` W [N], `isolation_period` T [s] or `None`,
+    `damping_ratio` zeta [-], `radius` R [m] of a spherical sliding surface or `None`) on
+    `bearing` (a `SlidingBearing`; `None` allowed with `friction_model="none"`) under the
+    `Signal` `ground_acceleration` a_g(t) [m/s^2] (`signal_from_motion`), stepped at
+    `time_step` [s] (0.005 s recommended for 0.02 s records). `friction_model`: "hysteretic"
+    (the paper's model), "coulomb" (Eq. 2) or "none". Returns a 1-degree-of-freedom
+    `StructureOnSliders`."""
+    _check_friction_model(friction_model)
+    linear = rigid_mass_matrices(weight=weight, isolation_period=isolation_period, damping_ratio=damping_ratio,
+                                 radius=radius)
+    return structure_on_sliders(**linear._asdict(), bearing=bearing, ground_acceleration=ground_acceleration,
+                                time_step=time_step, friction_model=friction_model, linear_rule=linear_rule,
+                                contact_pressure=contact_pressure)
+
+
+def six_storey_building(*, bearing: SlidingBearing | None, ground_acceleration: Signal, time_step: float,
+                        isolation_period, isolation_damping=0.05, friction_model: str = "hysteretic",
+                        linear_rule: str = "newmark", contact_pressure=None,
+                        building: BuildingData | None = None) -> StructureOnSliders:
+    """The six-storey frame of Table 2 on an isolation system (Fig. 11 of the paper): the
+    linear part `building_matrices` (`isolation_period` T_b [s] > 0, `isolation_damping`
+    zeta_b [-] >= 0: 0.05 for the sliding system, 0.10 for the paper's linear high-damping
+    rubber system; `building` default Table 2) on `bearing` (paper: UF PTFE parallel to lay at
+    1000-3000 psi with breakaway b = 4; `None` allowed with `friction_model="none"`), carrying
+    the total weight W, under `ground_acceleration` a_g(t) [m/s^2], stepped at `time_step` [s].
+    `friction_model`: "hysteretic", "coulomb", or "none" (linear isolation system). Returns a
+    7-degree-of-freedom `StructureOnSliders` (0 = base, 1-6 = floors)."""
+    _check_friction_model(friction_model)
+    linear = building_matrices(isolation_period=isolation_period, isolation_damping=isolation_damping,
+                               building=building)
+    return structure_on_sliders(**linear._asdict(), bearing=bearing, ground_acceleration=ground_acceleration,
+                                time_step=time_step, friction_model=friction_model, linear_rule=linear_rule,
+                                contact_pressure=contact_pressure)
+
+
+def building_response_quantities(system: StructureOnSliders, response: StructureResponse) -> dict:
+    """Engineering quantities of a building's history (SI; time along the first axis), for any
+    `StructureOnSliders` whose DOF 0 is the base and DOFs 1.. are floors stacked from the base
+    up (e.g. `six_storey_building`). jit/vmap-safe.
+
+    **Returns:** a dict of
+
+    - `time` [s]; `base_displacement` (nt,) [m] relative to the ground;
+    - `storey_drifts` (nt, n - 1) [m]: floor j minus floor j-1 (floor 0 = base);
+    - `floor_accelerations` (nt, n - 1) [m/s^2]: total accelerations of floors 1..;
+    - `base_shear_ratio` (nt,) [-]: first-storey shear / superstructure weight, with the
+      first-storey shear V_1 = sum_j m_j a_j^total over the floors (the inertia force of the
+      superstructure; positive when the floors accelerate in +x, so V_1 is the force the
+      first storey applies to the floors above with its sign reversed);
+    - `friction_force` (nt,) [N]; `z` (nt,) [-].
+    """
+    floor_masses = system.mass[..., 1:]
+    floors = response.displacement[..., 1:]
+    below = response.displacement[..., :-1]
+    accelerations = response.total_acceleration[..., 1:]
+    shear = jnp.sum(floor_masses[..., None, :] * accelerations, axis=-1)
+    weight = jnp.sum(floor_masses, axis=-1)[..., None] * STANDARD_GRAVITY
+    return {
+        "time": response.time,
+        "base_displacement": response.displacement[..., 0],
+        "storey_drifts": floors - below,
+        "floor_accelerations": accelerations,
+        "base_shear_ratio": shear / weight,
+        "friction_force": response.friction_force,
+        "z": response.z,
+    }

@@ -46,7 +46,6 @@ from ..bearing import SeriesPendulum
 from ..excitation import Signal
 from ..units import STANDARD_GRAVITY
 from ._isolator_solve import bracketed_newton
-from ._models import rigid_mass, six_storey_building
 from ._response import StructureResponse
 from ._slider_forces import (
     FRICTION_VELOCITIES,
@@ -61,7 +60,7 @@ from ._slider_forces import (
     step_history,
 )
 from ._structure import StructureOnSliders
-from ._structure_build import check_duration
+from ._structure_build import check_duration, rigid_mass, six_storey_building
 from ._vertical import load_factor_at, uplift_steps
 
 TRIPLE_NEWTON_ITERATIONS = 60

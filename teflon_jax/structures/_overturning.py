@@ -17,7 +17,7 @@ of the supports' stiffness). The normal load of group g is
     N_g = (1 + a_v / g) W_g + dN_g    (N_g = (1 + a_v / g) W_g while a_v <= -g),
 
 on its friction mu N_g Z_g and its pendulum's N_g / R_g d_g (the factor s_g = max(N_g / W_g, 0)
-of `_vertical.py`, one per group). The equilibrium of the step needs H at its
+of the vertical record's load, one per group). The equilibrium of the step needs H at its
 end, which needs the loads: H is taken at the start of the step (the isolation's force of the
 step before) and held over it, as the vertical record's load is held; the lag is one step,
 an error of order dt (it vanishes under a steady ground acceleration). The supports take no
@@ -192,16 +192,6 @@ def supported_loads(system, force, t):
 def group_factor(system, normal_load):
     """s_g = max(N_g / W_g, 0) (G,) [-]: the load factor of each group (0 while lifted)."""
     return jnp.maximum(normal_load, 0.0) / system.bearing_load
-
-
-def overturning_step(system, t0, t1, y0, a0):
-    """One step of `system` (a `BidirectionalStructure` with `overturning`) from (t0, y0) with
-    acceleration a0: the groups' loads from H at t0 and the vertical record at t1, held over the
-    step; the loads are kept in the state ("normal_load"). A step on which the slab tips
-    (`supported_loads`) is not balanced."""
-    loads, rests = supported_loads(system, overturning_force(system, a0, system.ground(t0)), t1)
-    y1, converged = system.at_load(group_factor(system, loads)).newmark_update(y0, a0, system.ground(t1))
-    return {**y1, "normal_load": loads}, converged & rests
 
 
 def initial_normal_load(system):
