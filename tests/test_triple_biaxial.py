@@ -41,7 +41,11 @@ def acc():
     return np.asarray(sample(MOTION, jax.random.key(3), 1)[0])
 
 
-@pytest.mark.parametrize("kind", ["rigid", "building"])
+@pytest.mark.parametrize("kind", [
+    "rigid",
+    # the building on the same two-component stepper: tests/test_triple_opensees.py's
+    # test_two_components_agree_with_opensees[building] runs it in the fast set
+    pytest.param("building", marks=pytest.mark.slow)])
 def test_a_record_along_any_line_is_the_one_direction_response_along_it(kind, acc):
     """Along x: the one-direction run to rounding; along a line at 0.6 rad: the same response
     turned by 0.6 rad (the bearing is isotropic)."""
