@@ -44,7 +44,10 @@ def _smooth(structure, records):
     return forward_mode_gradient(statistics)
 
 
-@pytest.mark.parametrize("friction", [{"pressure": 1500 * PSI}, {"f_max": 0.1}])
+@pytest.mark.parametrize("friction", [
+    {"pressure": 1500 * PSI},
+    # d/dR and d/df_max against central differences: in the fast set by the next test
+    pytest.param({"f_max": 0.1}, marks=pytest.mark.slow)])
 def test_objective_gradient_in_radius_and_friction_matches_central_differences(problem, friction):
     """J = E[V_s] + rho max(0, E[D_s] / D_limit - 1)^2 with the penalty active, and its two
     parts: d/dR and d/d(friction) against (f(x + h) - f(x - h)) / (2 h), h = 1e-5 |x|."""
