@@ -75,7 +75,11 @@ def test_in_the_restrainers_the_resting_slab_is_the_rigid_mass(pendulum):
     _check_in_restrainers_as_the_rigid_mass(pendulum, (0.0, 0.25))
 
 
-@pytest.mark.parametrize("pendulum", [DOUBLE, pytest.param(TRIPLE, marks=pytest.mark.slow), "heated"],
+# the heated slab (its own compilation, about 20 s) runs with the slow tests: the tipping is
+# checked here on the unheated double pendulum, and a heated slab that tips, its tipped steps
+# reported, in test_slab_series_heat.py::test_a_lifted_group_generates_no_heat
+@pytest.mark.parametrize("pendulum", [DOUBLE, pytest.param(TRIPLE, marks=pytest.mark.slow),
+                                      pytest.param("heated", marks=pytest.mark.slow)],
                          ids=["double-fp", "triple-fp", "double-fp-heated"])
 def test_a_slab_that_tips_on_a_restrainer_is_reported_and_stays_finite(pendulum):
     """h = 4 m: a restrainer's impact (|H| of several W) gives h |H| > 8 m W, the slab would rest
