@@ -21,11 +21,13 @@ import pytest
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 TUTORIALS = ROOT / "docs" / "tutorials"
-# Pages that take more than about a minute on two cores run only with the slow tests; the
-# Monte Carlo page (about 80 s) too: records.md and fit.md keep this runner in the fast
-# set, and the `montecarlo` command under the page's flags runs in tests/test_cli.py and
-# tests/test_montecarlo_*.py.
-SLOW = {"bearing-file.md", "design.md", "diagnose.md", "montecarlo.md", "pendulum.md"}
+# Pages that take more than about a minute on two cores run only with the slow tests, and
+# so do the Monte Carlo page (about 80 s) and the records page (about 25 s): fit.md keeps
+# this runner in the fast set; the `montecarlo` command under the page's flags runs in
+# tests/test_cli.py and tests/test_montecarlo_*.py, the record formats in
+# tests/test_records.py and tests/test_ground_motion.py.
+SLOW = {"bearing-file.md", "design.md", "diagnose.md", "montecarlo.md", "pendulum.md",
+        "records.md"}
 _BLOCK = re.compile(r"^```(\w*)[^\n]*\n(.*?)^```", flags=re.DOTALL | re.MULTILINE)
 
 
