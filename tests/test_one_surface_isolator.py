@@ -100,8 +100,12 @@ def _relative(a, b):
     return float(np.max(np.abs(a - b)) / np.max(np.abs(a)))
 
 
-@pytest.mark.parametrize("kind", ["rigid", "building"])
-@pytest.mark.parametrize("isolator", ISOLATORS)
+# each isolator and each structure once in the fast set (each case compiles two programs);
+# the other two pairs run with the slow tests
+@pytest.mark.parametrize(("isolator", "kind"), [
+    ("flat", "rigid"), ("single-fp", "building"),
+    pytest.param("flat", "building", marks=pytest.mark.slow),
+    pytest.param("single-fp", "rigid", marks=pytest.mark.slow)])
 def test_one_surface_in_one_component_gives_the_flat_engines_histories(isolator, kind):
     flat, series = _one_component(isolator, kind)
     assert _relative(flat, series) <= AGREEMENT
@@ -115,8 +119,12 @@ def test_one_surface_under_a_vertical_record_gives_the_flat_engines_histories():
     assert _relative(flat, series) <= AGREEMENT
 
 
-@pytest.mark.parametrize("kind", ["rigid", "building"])
-@pytest.mark.parametrize("isolator", ISOLATORS)
+# each isolator and each structure once in the fast set (each case compiles two programs);
+# the other two pairs run with the slow tests
+@pytest.mark.parametrize(("isolator", "kind"), [
+    ("flat", "rigid"), ("single-fp", "building"),
+    pytest.param("flat", "building", marks=pytest.mark.slow),
+    pytest.param("single-fp", "rigid", marks=pytest.mark.slow)])
 def test_one_surface_in_two_components_gives_the_flat_engines_histories(isolator, kind):
     dt = 0.0025
     ground = (_ground(1), _ground(2, 0.8))
