@@ -128,6 +128,7 @@ def test_uplift_carries_no_shear_and_is_reported():
     assert float(peaks.base_shear_ratio) == pytest.approx(np.max(np.abs(shear)) / G, rel=1e-9)
 
 
+@pytest.mark.slow  # the same engine and checks on the rigid mass: test_uplift_carries_no_shear_and_is_reported
 def test_building_uplift_finite_and_peaks_agree():
     """The building on a friction pendulum through the same uplift: finite, the bearing's
     friction zero while uplifted, and the peak loop's peaks those of the history."""
