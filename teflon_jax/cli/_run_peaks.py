@@ -1,180 +1,105 @@
 """Peaks and histories of a run's response, in SI (each key names its unit): the base's
-displacement and shear, the bearings' force, the building's storeys and levels, the slab's
+displacement and shear, the isolators' force, the building's storeys and levels, the slab's
 rotation, corners and groups, the sliders of series pendulums and their surfaces' heating.
-One reducer per response layout (`_run_response` picks it by the system's type)."""
+One formatter for every isolator, structure and number of components: the numbers are the
+reducers of `teflon_jax.studies` (`response_peaks`) over the run's `StructureResponse`; a part
+the response does not hold is absent."""
 
 import numpy as np
 
 from ..units import STANDARD_GRAVITY
 
 
-def _peak(values):
-    return float(np.max(np.abs(values)))
+def _floats(values) -> list:
+    return np.asarray(values, dtype=float).tolist()
 
 
-def _resultant(x, y):
-    return np.hypot(np.asarray(x), np.asarray(y))
+def _components(values, axis: int = 0) -> tuple:
+    """(x, y) of the components along `axis` of a peak (C, ...) or history (nt, C, ...), y
+    zeros under one component (C = 1)."""
+    values = np.asarray(values)
+    x = np.take(values, 0, axis=axis)
+    return x, (np.take(values, 1, axis=axis) if values.shape[axis] == 2 else np.zeros_like(x))
 
 
-def _storey_ratios(system, response) -> dict:
-    """The building's peak drift ratio per storey and total acceleration per level (0 the base
-    slab), in x, in y and as resultants (`bidirectional_storey_peaks`)."""
-    from ..systems import bidirectional_storey_peaks
+def run_peaks(system, response, plan=None):
+    """(peak dict, histories dict) in SI of any structure's `StructureResponse` (`plan`: the
+    slab's, or None): resultant peaks of the base displacement and base shear (V / W, the
+    force the bearings carry over the weight they carry: `studies.base_shear_ratio`), of the
+    isolators' force over W (`friction_force_ratio_resultant` of flat sliders and single
+    pendulums, `bearing_force_ratio_resultant` of series pendulums), per slider, per storey
+    and level of a building, and of a slab's rotation, corners and groups. Under one component
+    the y entries are zeros."""
+    from ..studies import (
+        base_displacement,
+        base_shear_ratio,
+        isolator_force,
+        response_layout,
+        response_peaks,
+    )
     from ..tables import load_table2
 
-    peaks = bidirectional_storey_peaks(response, system, load_table2().storey_height)
-    out = {}
-    for key, name, scale in (("storey_drift", "storey_drift_ratio", 1.0),
+    layout = response_layout(system)
+    values = response_peaks(layout, response, load_table2().storey_height if layout.building else None)
+    base_x, base_y = _components(values["base_disp"])
+    peak = {"base_disp_resultant_m": float(values["base_disp_resultant"]), "base_disp_x_m": float(base_x),
+            "base_disp_y_m": float(base_y), "base_shear_ratio_resultant": float(values["base_shear_ratio_resultant"])}
+    if "isolator_force_ratio_resultant" in values:
+        kind = "friction" if response.friction_force is not None else "bearing"
+        peak[f"{kind}_force_ratio_resultant"] = float(values["isolator_force_ratio_resultant"])
+    if "slider_travel" in values and np.ndim(values["slider_travel"]) == 1:
+        peak["slider_disp_m"] = dict(zip(system.pendulum.slider_names, _floats(values["slider_travel"])))
+    if layout.building:
+        peak.update(_storey_peaks(values))
+    if layout.rotation is not None:
+        peak.update(slab_peaks(plan, np.asarray(response.displacement), values))
+    return peak, _histories(system, response, layout, base_displacement(layout, response),
+                            base_shear_ratio(layout, response), isolator_force(response))
+
+
+def _storey_peaks(values) -> dict:
+    """A building's peaks: per storey (drift [m], drift ratio [-]) and level (total
+    acceleration [g], 0 the base slab; `floor_acceleration_resultant_g` the floors 1..)."""
+    out = {"storey_drift_resultant_m": _floats(values["storey_drift_resultant"]),
+           "floor_acceleration_resultant_g": _floats(np.asarray(values["level_acceleration_resultant"])[1:]
+                                                     / STANDARD_GRAVITY),
+           "first_storey_shear_ratio_resultant": float(values["first_storey_shear_ratio_resultant"])}
+    for key, name, scale in (("storey_drift_ratio", "storey_drift_ratio", 1.0),
                              ("level_acceleration", "level_acceleration_g", STANDARD_GRAVITY)):
-        for index, axis in enumerate("xy"):
-            out[f"{name}_{axis}"] = (peaks[key][index] / scale).tolist()
-        out[f"{name}_resultant"] = (peaks[f"{key}_resultant"] / scale).tolist()
+        for axis, part in zip("xy", _components(values[key])):
+            out[f"{name}_{axis}"] = _floats(part / scale)
+        out[f"{name}_resultant"] = _floats(np.asarray(values[f"{key}_resultant"]) / scale)
     return out
 
 
-def bidirectional_peaks(structure, system, response, plan):
-    """(peak dict, histories dict) in SI of the `StructureResponse` of flat sliders or single
-    pendulums under two components (the rigid mass, the building or the slab of `plan`)."""
-    q = np.asarray(response.displacement)
-    m, R = np.asarray(system.mass), np.asarray(system.influence)
-    total_acc = np.asarray(response.total_acceleration)
-    force = np.einsum("tn,n,nd->td", total_acc, m, R)  # on the structure above the bearings
-    weight = float(np.sum(m * R[:, 0])) * STANDARD_GRAVITY
-    n = q.shape[1] // 2
-    ix, iy = (0, 1) if structure == "slab" else (0, n)
-    base_x, base_y = q[:, ix], q[:, iy]
-    bearing_force = -np.asarray(response.friction_force).sum(axis=1)
-    peak = {
-        "base_disp_resultant_m": float(np.max(_resultant(base_x, base_y))),
-        "base_disp_x_m": _peak(base_x),
-        "base_disp_y_m": _peak(base_y),
-        "base_shear_ratio_resultant": float(np.max(_resultant(force[:, 0], force[:, 1]))) / weight,
-        "friction_force_ratio_resultant": float(np.max(_resultant(*bearing_force.T))) / weight,
-    }
-    if structure == "building":
-        drift = _resultant(q[:, 1:n] - q[:, 0:n - 1], q[:, n + 1:] - q[:, n:-1])
-        floor_acc = _resultant(total_acc[:, 1:n], total_acc[:, n + 1:])
-        floors = m[1:n]
-        storey = _resultant((floors * total_acc[:, 1:n]).sum(1), (floors * total_acc[:, n + 1:]).sum(1))
-        peak["storey_drift_resultant_m"] = [float(v) for v in drift.max(axis=0)]
-        peak["floor_acceleration_resultant_g"] = [float(v) for v in floor_acc.max(axis=0) / STANDARD_GRAVITY]
-        peak["first_storey_shear_ratio_resultant"] = float(storey.max()) / (float(floors.sum()) * STANDARD_GRAVITY)
-        peak.update(_storey_ratios(system, response))
-    if structure == "slab":
-        peak.update(slab_peaks(plan, q, response))
-    histories = {
-        "time_s": np.asarray(response.time),
-        "ground_x_mps2": np.asarray(response.ground)[:, 0],
-        "ground_y_mps2": np.asarray(response.ground)[:, 1],
-        "base_disp_x_m": base_x,
-        "base_disp_y_m": base_y,
-        "bearing_force_x_N": bearing_force[:, 0],
-        "bearing_force_y_N": bearing_force[:, 1],
-        "base_shear_ratio_x": force[:, 0] / weight,
-        "base_shear_ratio_y": force[:, 1] / weight,
-    }
-    if structure == "slab":
-        histories["rotation_rad"] = q[:, 2]
-    return peak, histories
-
-
-def triple_peaks(structure, system, response, plan=None):
-    """(peak dict, histories dict) in SI of series pendulums' `StructureResponse` under one
-    component (`simulate_triple_structure`): the base displacement,
-    the base shear over the weight above the isolators, the bearing force over W and, for the
-    building, the storeys' peaks; the y components zero."""
-    m = np.asarray(system.mass)
-    u, acc = np.asarray(response.displacement), np.asarray(response.total_acceleration)
-    above = m if m.size == 1 else m[1:]
-    shear = (acc if m.size == 1 else acc[:, 1:]) @ above / (above.sum() * STANDARD_GRAVITY)
-    force = np.asarray(response.bearing_force)
-    load = float(system.bearing_load)
-    peak = {"base_disp_resultant_m": float(np.max(np.abs(u[:, 0]))),
-            "base_disp_x_m": float(np.max(np.abs(u[:, 0]))), "base_disp_y_m": 0.0,
-            "base_shear_ratio_resultant": float(np.max(np.abs(shear))),
-            "bearing_force_ratio_resultant": float(np.max(np.abs(force))) / load,
-            "slider_disp_m": {name: float(v) for name, v in
-                              zip(system.pendulum.slider_names, np.max(np.abs(np.asarray(response.slider)), 0))}}
-    if structure == "building":
-        from ..tables import load_table2
-
-        height = np.broadcast_to(np.asarray(load_table2().storey_height, float), (m.size - 1,))
-        peak["storey_drift_resultant_m"] = np.max(np.abs(np.diff(u, axis=1)), 0).tolist()
-        peak["storey_drift_ratio_x"] = (np.max(np.abs(np.diff(u, axis=1)), 0) / height).tolist()
-        peak["floor_acceleration_resultant_g"] = (np.max(np.abs(acc[:, 1:]), 0) / STANDARD_GRAVITY).tolist()
-        peak["first_storey_shear_ratio_resultant"] = peak["base_shear_ratio_resultant"]
-    zeros = np.zeros_like(force)
-    histories = {"time_s": np.asarray(response.time),
-                 "ground_x_mps2": np.asarray(response.ground)[:, 0], "ground_y_mps2": zeros,
-                 "base_disp_x_m": u[:, 0], "base_disp_y_m": zeros, "bearing_force_x_N": force,
-                 "bearing_force_y_N": zeros, "base_shear_ratio_x": shear, "base_shear_ratio_y": zeros}
-    for index, name in enumerate(system.pendulum.slider_names):
-        histories[f"slider_{name}_m"] = np.asarray(response.slider)[:, index]
-    return peak, histories
-
-
-def biaxial_peaks(structure, system, response, plan=None):
-    """(peak dict, histories dict) in SI of series pendulums' `StructureResponse` under two
-    components (`biaxial_response`): resultant peaks of the base displacement, of the force on
-    all masses over W (as the two-component Monte Carlo), of the bearing force over W, per
-    slider, and for the building per storey and level."""
-    system = system.uniaxial  # a `BiaxialStructureOnTriple`'s structure and isolator
-    time, force, sliders = (np.asarray(a) for a in (response.time, response.bearing_force, response.slider))
-    m, n = np.asarray(system.mass), np.asarray(system.mass).size
-    u = np.asarray(response.displacement).reshape(time.size, 2, n)  # (nt, 2, n)
-    acc = np.asarray(response.total_acceleration).reshape(time.size, 2, n)
-    total = np.einsum("tkn,n->tk", acc, m)
-    load = float(system.bearing_load)
-    weight = float(m.sum()) * STANDARD_GRAVITY
-    base = np.linalg.norm(u[:, :, 0], axis=1)
-    peak = {"base_disp_resultant_m": float(base.max()), "base_disp_x_m": float(np.abs(u[:, 0, 0]).max()),
-            "base_disp_y_m": float(np.abs(u[:, 1, 0]).max()),
-            "base_shear_ratio_resultant": float(np.linalg.norm(total, axis=1).max()) / weight,
-            "bearing_force_ratio_resultant": float(np.linalg.norm(force, axis=1).max()) / load,
-            "slider_disp_m": {name: float(v) for name, v in
-                              zip(system.pendulum.slider_names, np.linalg.norm(sliders, axis=2).max(axis=0))}}
-    if structure == "building":
-        floors = np.einsum("tkn,n->tk", acc[:, :, 1:], m[1:])
-        peak["storey_drift_resultant_m"] = np.linalg.norm(np.diff(u, axis=2), axis=1).max(axis=0).tolist()
-        peak["floor_acceleration_resultant_g"] = (np.linalg.norm(acc[:, :, 1:], axis=1).max(axis=0)
-                                                  / STANDARD_GRAVITY).tolist()
-        peak["first_storey_shear_ratio_resultant"] = float(np.linalg.norm(floors, axis=1).max()) / (
-            float(m[1:].sum()) * STANDARD_GRAVITY)
-    histories = {"time_s": time, "base_disp_x_m": u[:, 0, 0], "base_disp_y_m": u[:, 1, 0],
-                 "bearing_force_x_N": force[:, 0], "bearing_force_y_N": force[:, 1],
-                 "base_shear_ratio_x": total[:, 0] / weight, "base_shear_ratio_y": total[:, 1] / weight}
-    for index, name in enumerate(system.pendulum.slider_names):
-        for axis, label in enumerate("xy"):
-            histories[f"slider_{name}_{label}_m"] = sliders[:, index, axis]
-    return peak, histories
-
-
-def slab_series_peaks(structure, system, response, plan):
-    """(peak dict, histories dict) in SI: the slab's peaks of `run --structure slab`, with the
-    isolators' whole force (`bearing_force_ratio_resultant`) in place of the friction's."""
-    q = np.asarray(response.displacement)
-    weight = float(np.sum(system.bearing_load))
-    mass = weight / STANDARD_GRAVITY
-    total = mass * np.asarray(response.total_acceleration)[:, :2]
-    force = np.asarray(response.bearing_force).sum(axis=1)
-    peak = {"base_disp_resultant_m": float(np.max(np.hypot(q[:, 0], q[:, 1]))),
-            "base_disp_x_m": float(np.max(np.abs(q[:, 0]))), "base_disp_y_m": float(np.max(np.abs(q[:, 1]))),
-            "base_shear_ratio_resultant": float(np.max(np.hypot(*total.T))) / weight,
-            "bearing_force_ratio_resultant": float(np.max(np.hypot(*force.T))) / weight,
-            **slab_peaks(plan, q, response)}
-    ground = np.asarray(response.ground)
-    histories = {"time_s": np.asarray(response.time), "ground_x_mps2": ground[:, 0], "ground_y_mps2": ground[:, 1],
-                 "base_disp_x_m": q[:, 0], "base_disp_y_m": q[:, 1], "bearing_force_x_N": force[:, 0],
-                 "bearing_force_y_N": force[:, 1], "base_shear_ratio_x": total[:, 0] / weight,
-                 "base_shear_ratio_y": total[:, 1] / weight, "rotation_rad": q[:, 2]}
-    return peak, histories
+def _histories(system, response, layout, base, shear, force) -> dict:
+    """The run's histories (SI): time, ground, base displacement, isolator force and base
+    shear ratio in x and y, a slab's rotation and each slider's displacement (not per group)."""
+    histories = {"time_s": np.asarray(response.time)}
+    for name, values in (("ground_{}_mps2", response.ground), ("base_disp_{}_m", base),
+                         ("bearing_force_{}_N", force), ("base_shear_ratio_{}", shear)):
+        if values is not None:
+            for axis, part in zip("xy", _components(values, axis=1)):
+                histories[name.format(axis)] = part
+    if layout.rotation is not None:
+        histories["rotation_rad"] = np.asarray(response.displacement)[:, layout.rotation]
+    slider = None if response.slider is None else np.asarray(response.slider)
+    if slider is not None and slider.ndim == 1 + layout.components:  # one isolator's sliders, not groups
+        for index, name in enumerate(system.pendulum.slider_names):
+            if layout.components == 1:
+                histories[f"slider_{name}_m"] = slider[:, index]
+            else:
+                histories[f"slider_{name}_x_m"], histories[f"slider_{name}_y_m"] = slider[:, index].T
+    return histories
 
 
 def slider_peaks(plan, system, response) -> dict:
-    """{group: {slider: peak resultant displacement [m]}}."""
-    sliders = np.linalg.norm(np.asarray(response.slider), axis=-1).max(axis=0)  # (G, S)
+    """{group: {slider: peak resultant displacement [m]}} of a slab's groups of sliders."""
+    from ..studies import peak, slider_travel
+
+    rows = np.asarray(peak(slider_travel(response)))  # (G, S)
     names = system.pendulum.slider_names
-    return {g["name"]: {n: float(v) for n, v in zip(names, row)} for g, row in zip(plan["groups"], sliders)}
+    return {g["name"]: dict(zip(names, _floats(row))) for g, row in zip(plan["groups"], rows)}
 
 
 def surface_temperature_summary(plan, system, response, histories):
@@ -186,26 +111,25 @@ def surface_temperature_summary(plan, system, response, histories):
     rise = np.asarray(response.surface_temperature_rise)  # (nt, G, S)
     heated = [(e, name) for e, (name, h) in enumerate(zip(system.pendulum.slider_names,
                                                           system.pendulum.surface_heatings())) if h is not None]
+    peaks = rise.max(axis=0)  # (G, S)
     summary = {}
     for j, g in enumerate(plan["groups"]):
-        summary[g["name"]] = {name: float(rise[:, j, e].max()) for e, name in heated}
+        summary[g["name"]] = {name: float(peaks[j, e]) for e, name in heated}
         for e, name in heated:
             histories[f"temperature_rise_{g['name']}_{name}_K"] = rise[:, j, e]
     return summary
 
 
-def slab_peaks(plan, q, response) -> dict:
-    """The slab's peak rotation, corner and group displacements (SI) from coordinates q."""
+def slab_peaks(plan, q, values) -> dict:
+    """The slab's peak rotation, corner and group displacements (SI) from coordinates q and
+    the reducers' peaks `values` (`response_peaks`)."""
     from ..structures import slab_corners, slab_point_displacement
 
     corners = slab_corners(plan["length_x"], plan["length_y"])
     corner = np.asarray(slab_point_displacement(q, corners, plan["centre_of_mass"]))
-    bearing = np.asarray(response.bearing_displacement)
     return {
-        "rotation_rad": float(np.max(np.abs(q[:, 2]))),
-        "corner_disp_resultant_m": [float(v) for v in np.hypot(corner[..., 0], corner[..., 1]).max(axis=0)],
-        "group_disp_resultant_m": {g["name"]: float(v) for g, v in
-                                   zip(plan["groups"], np.hypot(bearing[..., 0], bearing[..., 1]).max(axis=0))},
+        "rotation_rad": float(values["rotation"]),
+        "corner_disp_resultant_m": _floats(np.hypot(corner[..., 0], corner[..., 1]).max(axis=0)),
+        "group_disp_resultant_m": dict(zip([g["name"] for g in plan["groups"]],
+                                           _floats(values["group_disp_resultant"]))),
     }
-
-

@@ -2,9 +2,9 @@
 single pendulums (rigid mass, building, slab) as a `BidirectionalStructure`, and series
 pendulums as a `StructureOnTriple` (one component), a `BiaxialStructureOnTriple` (two) or a
 `SlabOnSeries`; one table keyed by that type says how to simulate the system and cut it at the
-first step that did not balance (`_run_stop`), how to reduce its response to peaks and
-histories (`_run_peaks`) and its uplift (`_normal_load`), where its base is and how to put
-another ground motion under it (a suite's pairs)."""
+first step that did not balance (`_run_stop`), its uplift (`_normal_load`), where its base is and how to put
+another ground motion under it (a suite's pairs). The peaks and histories are one set of
+reducers over the response, whatever the system (`_run_peaks`)."""
 
 import typing
 
@@ -17,14 +17,7 @@ from ._normal_load import (
     series_uplift,
     uplift_line,
 )
-from ._run_peaks import (
-    biaxial_peaks,
-    bidirectional_peaks,
-    slab_series_peaks,
-    slider_peaks,
-    surface_temperature_summary,
-    triple_peaks,
-)
+from ._run_peaks import run_peaks, slider_peaks, surface_temperature_summary
 from ._run_stop import bidirectional_stop, series_slab_stop, series_stop, unbalanced_message
 
 
@@ -43,7 +36,6 @@ class _Engine(typing.NamedTuple):
     """What a run needs of one system type (module docstring)."""
 
     simulate: typing.Callable  # (system, duration [s], plan) -> Run
-    peaks: typing.Callable  # (structure, system, response, plan) -> (peak, histories)
     uplift: typing.Callable  # (system, response, duration [s]) -> (JSON entries, N / W history or None)
     ground: typing.Callable  # system -> its (ground x, ground y) Signals, for `eqx.tree_at`
     base: typing.Callable  # system -> the base's coordinates in x and y
@@ -117,13 +109,13 @@ def _engines() -> dict:
 
     ground = lambda s: (s.ground_x, s.ground_y)  # noqa: E731
     return {
-        BidirectionalStructure: _Engine(_bidirectional, bidirectional_peaks, _response_uplift, ground,
+        BidirectionalStructure: _Engine(_bidirectional, _response_uplift, ground,
                                         lambda s: (0, s.mass.shape[0] // 2)),
-        StructureOnTriple: _Engine(_triple, triple_peaks, lambda s, r, d: _series_uplift(s, d), None, None),
-        BiaxialStructureOnTriple: _Engine(_biaxial, biaxial_peaks, lambda s, r, d: _series_uplift(s.uniaxial, d),
+        StructureOnTriple: _Engine(_triple, lambda s, r, d: _series_uplift(s, d), None, None),
+        BiaxialStructureOnTriple: _Engine(_biaxial, lambda s, r, d: _series_uplift(s.uniaxial, d),
                                           lambda s: (s.uniaxial.linear.ground_acceleration, s.ground_y),
                                           lambda s: (0, 1)),
-        SlabOnSeries: _Engine(_slab_series, slab_series_peaks, lambda s, r, d: _series_uplift(s, d), ground,
+        SlabOnSeries: _Engine(_slab_series, lambda s, r, d: _series_uplift(s, d), ground,
                               lambda s: (0, 1), _slab_series_extras),
     }
 
@@ -143,7 +135,7 @@ def reduce_run(structure: str, system, run: Run, plan, units):
     group's normal load (`plan`) and what the system adds (a slab on series pendulums: its
     sliders and heated surfaces)."""
     engine = _engine(system)
-    peak, histories = engine.peaks(structure, system, run.response, plan)
+    peak, histories = run_peaks(system, run.response, plan)
     entries, load_factor = engine.uplift(system, run.response, run.duration)
     if load_factor is not None:
         histories["load_factor"] = load_factor

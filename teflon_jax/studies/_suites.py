@@ -20,16 +20,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..excitation import uniform_signal
-from ..systems import (
-    BiaxialStructureOnTriple,
-    BidirectionalStructure,
-    SlabOnSeries,
-    biaxial_response,
-    directional_storeys,
-    simulate_bidirectional,
-    simulate_slab_series,
-)
-from ..units import STANDARD_GRAVITY
+from ..systems import BidirectionalStructure, simulate_history
 from ._cluster import (
     add_attributes,
     check_count,
@@ -41,6 +32,7 @@ from ._cluster import (
     stream_to_netcdf,
     worker_cached,
 )
+from ._reducers import response_layout, response_peaks
 
 SUITE_PEAKS = ("base_disp_resultant_m", "base_disp_x_m", "base_disp_y_m", "base_shear_ratio_resultant")
 SUITE_UNITS = {
@@ -91,84 +83,35 @@ class SuiteResult:
 
 
 def _suite_function(build, time_step: float, duration: float, base_index, storey_height=None):
-    """The jitted function (ax (B, n), ay (B, n)) -> (peaks {name: (B, ...)}, converged (B,));
-    with `storey_height` [m] (the building) also the largest resultant drift ratio over the
-    storeys, |(q_j - q_(j-1))_x, (q_j - q_(j-1))_y| / h, and the peaks per storey, level and
-    direction (`directional_storeys`)."""
-    ix, iy = base_index
+    """The jitted function (ax (B, n), ay (B, n)) -> (peaks {name: (B, ...)}, converged (B,)):
+    the reducers (`response_peaks`) over each pair's `StructureResponse`, whatever the
+    structure and isolator; with `storey_height` [m] (the building) also the largest resultant
+    drift ratio over the storeys, |(q_j - q_(j-1))_x, (q_j - q_(j-1))_y| / h, and the peaks per
+    storey, level and direction. `base_index` is kept for the callers: the base's coordinates
+    come from the structure (`response_layout`)."""
 
     def one(x, y):
-        system: BidirectionalStructure = build(uniform_signal(x, time_step), uniform_signal(y, time_step))
-        if isinstance(system, BiaxialStructureOnTriple):
-            return _series_pendulum_peaks(system, duration, storey_height)
-        if isinstance(system, SlabOnSeries):
-            return _series_slab_peaks(system, duration)
-        r = simulate_bidirectional(system, duration, throw=False)
-        total = r.total_acceleration
-        force = jnp.einsum("tn,n,nd->td", total, system.mass, system.influence)
-        weight = jnp.sum(system.mass * system.influence[:, 0]) * STANDARD_GRAVITY
-        bx, by = r.displacement[:, ix], r.displacement[:, iy]
-        return {
-            "base_disp_resultant_m": jnp.max(jnp.hypot(bx, by)),
-            "base_disp_x_m": jnp.max(jnp.abs(bx)),
-            "base_disp_y_m": jnp.max(jnp.abs(by)),
-            "base_shear_ratio_resultant": jnp.max(jnp.hypot(force[:, 0], force[:, 1])) / weight,
-        } | _storey_peaks(r.displacement, total, storey_height) | _group_peaks(r), r.succeeded
+        system = build(uniform_signal(x, time_step), uniform_signal(y, time_step))
+        options = {"throw": False} if isinstance(system, BidirectionalStructure) else {}
+        response = simulate_history(system, duration, **options)
+        layout = response_layout(system)
+        return suite_values(response_peaks(layout, response, storey_height)), response.succeeded
 
     return jax.jit(jax.vmap(one))
 
 
-def _series_pendulum_peaks(system, duration: float, storey_height):
-    """The suite's peaks of a structure on triple or double pendulums under two components
-    (`biaxial_response`), in the layout of the bidirectional structures: q = (x: base,
-    floors; y: the same), the base shear the force on every mass over the weight, and whether
-    every step's sliders balanced."""
-    r = biaxial_response(system, duration)
-    n = system.mass.shape[-1]
-    q, total, converged = r.displacement, r.total_acceleration, r.converged  # (nt, 2n)
-    force = jnp.stack([total[:, :n] @ system.mass, total[:, n:] @ system.mass], axis=-1)
-    weight = jnp.sum(system.mass) * STANDARD_GRAVITY
-    bx, by = q[:, 0], q[:, n]
-    return {
-        "base_disp_resultant_m": jnp.max(jnp.hypot(bx, by)),
-        "base_disp_x_m": jnp.max(jnp.abs(bx)),
-        "base_disp_y_m": jnp.max(jnp.abs(by)),
-        "base_shear_ratio_resultant": jnp.max(jnp.hypot(force[:, 0], force[:, 1])) / weight,
-    } | _storey_peaks(q, total, storey_height), jnp.all(converged)
-
-
-def _series_slab_peaks(system: SlabOnSeries, duration: float):
-    """The suite's peaks of a rigid slab on groups of triple or double pendulums
-    (`simulate_slab_series`): the base (the slab's centre of mass) in x and y, the base shear
-    m |q'' + a_g| / W, each group's normal load where the slab overturns (`_group_peaks`), and
-    whether every step's sliders balanced."""
-    r = simulate_slab_series(system, duration)
-    total = r.total_acceleration[:, :2]  # (nt, 2) [m/s^2]; the slab's mass is W / g
-    bx, by = r.displacement[:, 0], r.displacement[:, 1]
-    return {
-        "base_disp_resultant_m": jnp.max(jnp.hypot(bx, by)),
-        "base_disp_x_m": jnp.max(jnp.abs(bx)),
-        "base_disp_y_m": jnp.max(jnp.abs(by)),
-        "base_shear_ratio_resultant": jnp.max(jnp.hypot(total[:, 0], total[:, 1])) / STANDARD_GRAVITY,
-    } | (_group_peaks(r) if system.supports is not None else {}), jnp.all(r.converged)
-
-
-def _storey_peaks(q, total, storey_height) -> dict:
-    if storey_height is None:
-        return {}
-    drift, acc = directional_storeys(q, total, storey_height)  # (nt, 2, S), (nt, 2, S + 1)
-    return {"storey_drift_max_resultant": jnp.max(jnp.hypot(drift[:, 0], drift[:, 1])),
-            "storey_drift": jnp.max(jnp.abs(drift), axis=0), "level_acceleration": jnp.max(jnp.abs(acc), axis=0)}
-
-
-def _group_peaks(response) -> dict:
-    """A slab with overturning: each group's largest and least N_g [N] over the saved steps and
-    its uplift time [s] (`StructureResponse.normal_load`, `group_uplift_time`), else {}."""
-    if response.normal_load is None:
-        return {}
-    return {"group_peak_N": jnp.max(response.normal_load, axis=0),
-            "group_min_N": jnp.min(response.normal_load, axis=0),
-            "group_uplift_time_s": response.group_uplift_time}
+def suite_values(peaks: dict) -> dict:
+    """A suite's variables of one pair from its reducers' peaks (`response_peaks`): the base's
+    displacement and shear (`SUITE_PEAKS`), a building's storeys (`storey_drift_max_resultant`,
+    `storey_drift` (2, S) [-], `level_acceleration` (2, S + 1) [m/s^2]) where its storey height
+    was given, a slab's group loads with overturning (`group_peak_N`, `group_min_N`,
+    `group_uplift_time_s`)."""
+    out = {"base_disp_resultant_m": peaks["base_disp_resultant"], "base_disp_x_m": peaks["base_disp"][0],
+           "base_disp_y_m": peaks["base_disp"][1], "base_shear_ratio_resultant": peaks["base_shear_ratio_resultant"]}
+    if "storey_drift_ratio" in peaks:
+        out |= {"storey_drift_max_resultant": jnp.max(peaks["storey_drift_ratio_resultant"]),
+                "storey_drift": peaks["storey_drift_ratio"], "level_acceleration": peaks["level_acceleration"]}
+    return out | {f"group_{k}": v for k, v in peaks.get("group_normal_load", {}).items()}
 
 
 def _summary(peaks: dict, ok: np.ndarray) -> dict:

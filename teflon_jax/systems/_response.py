@@ -4,8 +4,9 @@ sliders, single pendulums or series pendulums, under one or two ground component
 Every history driver (`simulate_structure`, `simulate_bidirectional`,
 `simulate_triple_structure`, `simulate_slab_series`, and `simulate_history` for any of their
 systems) returns a `StructureResponse`; the parts a structure does not have are `None`. The
-peaks (`peak_response`, `bidirectional_peak_response`) are a `PeakResponse`; the reducers over a
-history (base displacement and shear, storeys, groups, sliders, heating, uplift) read its fields.
+peaks kept along a run (`peak_response`, `bidirectional_peak_response`) are a `PeakResponse`;
+the reducers over a saved history (base displacement and shear, storeys, groups, sliders,
+heating: `teflon_jax.studies.response_peaks`) read its fields, the same for every structure.
 """
 
 import diffrax
