@@ -19,7 +19,6 @@ from ._bidirectional_models import bidirectional_storey_peaks as bidirectional_s
 from ._bidirectional_models import bidirectional_structure as bidirectional_structure
 from ._bidirectional_models import directional_storeys as directional_storeys
 from ._bidirectional_models import simulate_bidirectional as simulate_bidirectional
-from ._building_plan import building_on_plan as building_on_plan
 from ._history import biaxial_response as biaxial_response
 from ._history import simulate_history as simulate_history
 from ._isolated import MONTE_CARLO_NEWTON_TOLERANCE as MONTE_CARLO_NEWTON_TOLERANCE
@@ -29,6 +28,8 @@ from ._isolated import IsolatedStructure as IsolatedStructure
 from ._isolated import TripleIsolatedStructure as TripleIsolatedStructure
 from ._isolated import check_structure_bearing as check_structure_bearing
 from ._isolated import isolated_structure as isolated_structure
+from ._on_plan import building_on_plan as building_on_plan
+from ._on_plan import slab_on_bearings as slab_on_bearings
 from ._peaks import RESPONSE_NAMES as RESPONSE_NAMES
 from ._peaks import STEPS_PER_LOOP_PASS as STEPS_PER_LOOP_PASS
 from ._peaks import PeakResponse as PeakResponse
@@ -45,7 +46,6 @@ from ._sampled_path import SampledPath as SampledPath
 from ._sampled_path import respond_along_path as respond_along_path
 from ._sampled_path import sample_velocity as sample_velocity
 from ._sampled_path import sampled_path as sampled_path
-from ._slab import slab_on_bearings as slab_on_bearings
 from ._slab_series import SlabOnSeries as SlabOnSeries
 from ._slab_series_build import simulate_slab_series as simulate_slab_series
 from ._slab_series_build import stack_pendulums as stack_pendulums
