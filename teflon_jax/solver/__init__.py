@@ -1,5 +1,7 @@
-"""`RiccatiNewmark`: the diffrax solver whose step is not bounded by the stiffness of Z."""
+"""`RiccatiNewmark`: the diffrax solver whose step is not bounded by the stiffness of Z;
+`implicit_root`: the implicit derivative of a step's balance, whatever iteration found it."""
 
+from ._implicit import implicit_root as implicit_root
 from ._park_path import park_path_update as park_path_update
 from ._park_path import park_substeps as park_substeps
 from ._park_update import park_exact_update as park_exact_update

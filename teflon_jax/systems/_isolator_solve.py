@@ -15,6 +15,7 @@ import jax
 import jax.numpy as jnp
 
 from ..bearing import bouc_wen_exact_update
+from ..solver import implicit_root
 
 
 def bearing_force(x, p, rule):
@@ -118,7 +119,7 @@ def residual_and_slope(x, p, rule):
 def force_and_slopes(x, p, rule):
     """`bearing_force` (F, Z) and their derivatives in x, written out (no automatic
     differentiation, so that Newton's loop costs one evaluation of the exact Z update, and the
-    custom JVP of `isolator_root` none with tangents in x):
+    implicit derivative of `isolator_root` none with tangents in x):
 
         dF/dx = W (mu'(v) dv/dx Z + mu dZ/dx),  dv/dx = `velocity_gain`.
 
@@ -127,7 +128,7 @@ def force_and_slopes(x, p, rule):
     Without a turn Z = Z(z0, du) and dZ/dx = G(Z). With a turn at u* (forth f = u* - ub0,
     df/dx = vb0^2 / (4 c^2 dt^2), see `bearing_force`) and back b = du - f:
         dZ/dx = G_b(Z) / G_b(Z*) G_f(Z*) df/dx + G_b(Z) (1 - df/dx).
-    Newton's steps and the custom JVP of `isolator_root` use these slopes (checked against
+    Newton's steps and the implicit derivative of `isolator_root` use these slopes (checked against
     automatic derivatives in the tests)."""
     h = p["bearing"].hysteresis
     vb0 = p["vb0"]
@@ -152,20 +153,39 @@ def force_and_slopes(x, p, rule):
     return force, z, d_force, dz
 
 
-@functools.partial(jax.custom_jvp, nondiff_argnums=(0, 1))
 def isolator_root(rule, iterations, p, x0, lo, hi, tolerance):
     """Root x [m] of `isolator_residual` and the bearing force F [N] and Z [-] there, by
-    Newton's method safeguarded by the bracket [lo, hi] (bisection when a Newton step leaves
-    it), iterating until |residual| <= tolerance or `max_iterations`, with `iterations` =
-    (unrolled, max_iterations): the first `unrolled` iterations are written out in line
-    (straight-line code that XLA fuses with the rest of the step; a member already at
-    tolerance keeps its iterate), the rest run in a `lax.while_loop` that stops as soon as
-    every member is at tolerance (in a batch, most steps need no iteration there). The
-    iterates are those of a plain loop that stops at tolerance, whatever `unrolled` is; F and
-    Z are those of the last iterate (no evaluation after the loop). Differentiated implicitly
-    (custom JVP: dx = -r_p dp / r_x, and F, Z through `bearing_force`), so forward and
-    reverse mode work and cost one linear solve whatever the number of iterations: one
-    evaluation of F with tangents in p and the slopes of `force_and_slopes` at the root)."""
+    Newton's method safeguarded by the bracket [lo, hi] (`_bracketed_root`), differentiated
+    implicitly (`solver.implicit_root`: dx = -r_p dp / r_x with r_x = 1 + g0 dF/dx from the
+    written-out slopes of `force_and_slopes`, and F, Z through `bearing_force` at the root),
+    so forward and reverse mode work and cost one evaluation of F with tangents whatever the
+    number of iterations. `rule` = (dt, split_at_turn), `iterations` = (unrolled,
+    max_iterations), both static."""
+    x, (force, z) = implicit_root(functools.partial(_bracketed_root, rule, iterations),
+                                  functools.partial(isolator_residual, rule=rule),
+                                  functools.partial(_residual_slope_solve, rule), p, x0, lo, hi, tolerance,
+                                  outputs=functools.partial(bearing_force, rule=rule))
+    return x, force, z
+
+
+def _residual_slope_solve(rule, x, p, r, dp):
+    """r / r_x at the root x, r_x = 1 + g0 dF/dx (`force_and_slopes`): the scalar balance's
+    linear solve for `isolator_root` (`dp` unused: the residual holds the whole balance)."""
+    return r / (1 + p["g0"] * force_and_slopes(x, p, rule)[2])
+
+
+def _bracketed_root(rule, iterations, p, x0, lo, hi, tolerance):
+    """Newton's method on `isolator_residual` safeguarded by the bracket [lo, hi] (bisection
+    when a Newton step leaves it), iterating until |residual| <= tolerance or
+    `max_iterations`, with `iterations` = (unrolled, max_iterations): the first `unrolled`
+    iterations are written out in line (straight-line code that XLA fuses with the rest of the
+    step; a member already at tolerance keeps its iterate), the rest run in a
+    `lax.while_loop` that stops as soon as every member is at tolerance (in a batch, most
+    steps need no iteration there). The iterates are those of a plain loop that stops at
+    tolerance, whatever `unrolled` is.
+
+    **Returns:** (x, (F, Z)), F and Z those of the last iterate (no evaluation after the
+    loop)."""
     unrolled, max_iterations = iterations
 
     def evaluate(x):
@@ -194,21 +214,7 @@ def isolator_root(rule, iterations, p, x0, lo, hi, tolerance):
     if max_iterations > unrolled:
         carry = jax.lax.while_loop(cond, body, carry)
     x, _, _, (_, _, force, z), _ = carry
-    return x, force, z
-
-
-@isolator_root.defjvp
-def _root_jvp(rule, iterations, primals, tangents):
-    # r(x, p) = x - ub_linear + g0 F(x, p): r_p dp = -d ub_linear + d g0 F + g0 F_p dp and
-    # r_x = 1 + g0 F_x; then dx = -r_p dp / r_x, dF = F_p dp + F_x dx, dZ = Z_p dp + Z_x dx
-    p, x0, lo, hi, tolerance = primals
-    dp = tangents[0]
-    x, force, z = isolator_root(rule, iterations, p, x0, lo, hi, tolerance)
-    _, _, d_force_x, d_z_x = force_and_slopes(x, p, rule)
-    (force_at_root, _), (force_p, z_p) = jax.jvp(lambda q: bearing_force(x, q, rule), (p,), (dp,))
-    r_p = -dp["ub_linear"] + dp["g0"] * force_at_root + p["g0"] * force_p
-    dx = -r_p / (1 + p["g0"] * d_force_x)
-    return (x, force, z), (dx, force_p + d_force_x * dx, z_p + d_z_x * dx)
+    return x, (force, z)
 
 
 def bracketed_newton(evaluate, guess, tolerance, iterations: int):

@@ -37,10 +37,10 @@ import functools
 import equinox as eqx
 import jax
 import jax.numpy as jnp
-import numpy as np
 
 from ..bearing import SeriesPendulum
 from ..excitation import Signal
+from ..solver import implicit_root
 from ..structures import SupportPlan, group_factor, overturned_loads, supported_loads
 from ._slider_forces import (
     heated_step,
@@ -259,19 +259,31 @@ def _newton_restarted(evaluate, guess, restart, tolerance, iterations: int):
     return x, jnp.max(jnp.abs(r)) <= tolerance
 
 
-@functools.partial(jax.custom_jvp, nondiff_argnums=(0, 1))
 def _balanced(dt, iterations, p, guess, tolerance):
-    """The sliders' increments and the group forces (G, S + 1, 2) that balance the step.
-    Newton's iteration starts from `guess` (the increments and forces extrapolated from the
-    last two steps, `predicted_increments`); where it stalls there (at a minimum of sum(r^2)
-    with r != 0: the line search, which asks that sum to fall, ends where the sliders' kinked
-    friction turns Newton's direction away from descent, as a slider reverses under a
-    two-component impact), it starts once more from
-    each group's increment d_g = B_g D - d_g0 shared evenly among its S sliders, the forces
-    those of `guess` (`_newton_restarted`). A step balanced from `guess` is as before."""
+    """The sliders' increments and the group forces (G, S + 1, 2) that balance the step, and
+    whether they met `tolerance` [N] (`_iterate_balance`), over a step of `dt` [s] (a float);
+    differentiated implicitly (`solver.implicit_root`) with exact blocks (`_balance_solve`)."""
+    return implicit_root(functools.partial(_iterate_balance, dt, iterations), functools.partial(_residual, dt=dt),
+                         functools.partial(_balance_solve, dt), p, guess, tolerance)
+
+
+def _iterate_balance(dt, iterations, p, guess, tolerance):
+    """Newton's iteration on the step's balance from `guess` (the increments and forces
+    extrapolated from the last two steps, `predicted_increments`); where it stalls there (at a
+    minimum of sum(r^2) with r != 0: the line search, which asks that sum to fall, ends where
+    the sliders' kinked friction turns Newton's direction away from descent, as a slider
+    reverses under a two-component impact), it starts once more from each group's increment
+    d_g = B_g D - d_g0 shared evenly among its S sliders, the forces those of `guess`
+    (`_newton_restarted`). A step balanced from `guess` is as before."""
     even = jnp.broadcast_to(p["E"][:, None] / (guess.shape[1] - 1), guess[:, :-1].shape)
     restart = jnp.concatenate([even, guess[:, -1:]], axis=1)
     return _newton_restarted(lambda x: _evaluate(x, p, dt), guess, restart, tolerance, iterations)
+
+
+def _balance_solve(dt, x, p, r, dp):
+    """J^-1 r at the root x (`_direction`) with the sliders' exact blocks (`_exact_blocks`)
+    (`dp` unused: the residual holds the whole balance)."""
+    return _direction(r, _exact_blocks(x, p, dt), p)
 
 
 def _exact_blocks(x, p, dt):
@@ -287,12 +299,3 @@ def _exact_blocks(x, p, dt):
     blocks = jnp.moveaxis(columns, 0, -1)
     pendulum = jax.vmap(_pendulum_blocks)(_group_parameters(p))
     return jnp.where((p["N"] > 0)[:, None, None, None], blocks, pendulum)
-
-
-@_balanced.defjvp
-def _balanced_jvp(dt, iterations, primals, tangents):
-    p, guess, tolerance = primals
-    x, converged = _balanced(dt, iterations, p, guess, tolerance)
-    r_p = jax.jvp(lambda q: _residual(x, q, dt), (p,), (tangents[0],))[1]
-    no_tangent = np.zeros(np.shape(converged), jax.dtypes.float0)
-    return (x, converged), (-_direction(r_p, _exact_blocks(x, p, dt), p), no_tangent)

@@ -26,10 +26,10 @@ import functools
 import equinox as eqx
 import jax
 import jax.numpy as jnp
-import numpy as np
 
 from ..bearing import SeriesPendulum
 from ..excitation import Signal
+from ..solver import implicit_root
 from ..units import STANDARD_GRAVITY
 from ._slider_forces import balance_forces, floor_stiffnesses, initial_history
 from ._structure_build import check_duration, storey_rows
@@ -269,30 +269,36 @@ def _woodbury(residual, blocks, compliance):
 def _balanced(dt, iterations: int, p, guess, tolerance, secant: bool = False):
     """The sliders' increments (S, 2) [m] that balance their forces with the linear step over
     a step of `dt` [s] (a float, or traced), and whether the balance met `tolerance` [N]
-    (`_planar_newton`, with its secant stage where `secant`); differentiated implicitly, with
-    exact blocks, whichever way the root was iterated."""
-    return _balanced_root(iterations, secant, {**p, "dt": dt}, guess, tolerance)
+    (`_planar_newton`, with its secant stage where `secant`); differentiated implicitly
+    (`solver.implicit_root`), with exact blocks, whichever way the root was iterated
+    (`_balance_solve`)."""
+    return implicit_root(functools.partial(_iterate_balance, iterations, secant), _balance_residual, _balance_solve,
+                         {**p, "dt": dt}, guess, tolerance)
 
 
-@functools.partial(jax.custom_jvp, nondiff_argnums=(0, 1))
-def _balanced_root(iterations, secant, p, guess, tolerance):
-    """`_balanced` with the step's length in `p["dt"]`."""
+def _iterate_balance(iterations, secant, p, guess, tolerance):
+    """`_planar_newton` with the step's length in `p["dt"]`: (d, converged)."""
     return _planar_newton(p, p["dt"], guess, tolerance, iterations, secant)[:2]
 
 
-@_balanced_root.defjvp
-def _balanced_jvp(iterations, secant, primals, tangents):
-    p, guess, tolerance = primals
-    d, converged = _balanced_root(iterations, secant, p, guess, tolerance)
+def _balance_residual(d, p):
+    """`_residual` with the step's length in `p["dt"]`."""
+    return _residual(d, p, p["dt"])
+
+
+def _balance_solve(d, p, r, dp):
+    """J^-1 r at the root d for J = blockdiag(K_e) + U U^T / G (`_woodbury`), K_e the exact
+    2 x 2 blocks (`_residual_and_blocks`). An imposed path (no G in `p`) holds sum d = D
+    outside the residual: that constraint's tangent -dD is shared as C_e (sum C)^-1,
+    C_e = K_e^-1 (all of it on one slider)."""
     _, blocks = _residual_and_blocks(d, p, p["dt"])
-    r_p = jax.jvp(lambda q: _residual(d, q, q["dt"]), (p,), (tangents[0],))[1]
-    tangent = -_woodbury(r_p, blocks, balance_compliance(p))
-    if "G" not in p and d.shape[0] == 1:  # an imposed path on one slider: dd = dD
-        tangent = tangent + tangents[0]["D"][None]
-    elif "G" not in p:  # an imposed path: sum dd = dD, shared as C_e (sum C)^-1 dD
+    direction = _woodbury(r, blocks, balance_compliance(p))
+    if "G" not in p and d.shape[0] == 1:
+        return direction - dp["D"][None]
+    if "G" not in p:
         c = _inverse2(blocks)
-        tangent = tangent + jnp.einsum("eij,j->ei", c, _inverse2(jnp.sum(c, 0)) @ tangents[0]["D"])
-    return (d, converged), (tangent, np.zeros(np.shape(converged), jax.dtypes.float0))
+        return direction - jnp.einsum("eij,j->ei", c, _inverse2(jnp.sum(c, 0)) @ dp["D"])
+    return direction
 
 
 def held_loads(structure, n_steps: int):

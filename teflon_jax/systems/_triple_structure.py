@@ -40,10 +40,10 @@ import functools
 import equinox as eqx
 import jax
 import jax.numpy as jnp
-import numpy as np
 
 from ..bearing import SeriesPendulum
 from ..excitation import Signal
+from ..solver import implicit_root
 from ..units import STANDARD_GRAVITY
 from ._isolator_solve import bracketed_newton
 from ._response import StructureResponse
@@ -332,13 +332,15 @@ def _newton_direction(residual, slope, compliance):
 def _balanced_increments(dt, iterations: int, p, guess, tolerance):
     """The sliders' increments (S,) [m] that balance their forces with the linear step (module
     docstring) over a step of `dt` [s] (a float, or traced), from `guess`, and whether
-    |residual| <= `tolerance` [N] was reached; differentiated implicitly."""
-    return _balanced_root(iterations, {**p, "dt": dt}, guess, tolerance)
+    |residual| <= `tolerance` [N] was reached; differentiated implicitly
+    (`solver.implicit_root`, `_balance_solve`)."""
+    return implicit_root(functools.partial(_iterate_balance, iterations), _balance_residual, _balance_solve,
+                         {**p, "dt": dt}, guess, tolerance)
 
 
-@functools.partial(jax.custom_jvp, nondiff_argnums=(0,))
-def _balanced_root(iterations, p, guess, tolerance):
-    """`_balanced_increments` with the step's length in `p["dt"]`."""
+def _iterate_balance(iterations, p, guess, tolerance):
+    """`_balanced_increments`' iteration, with the step's length in `p["dt"]`: one slider's
+    balance bracketed (`bracketed_newton`), several sliders' by `damped_newton`."""
     dt = p["dt"]
     floor = floor_stiffnesses(p["pendulum"], p["W"])  # the pendulum's own stiffness, a floor of the slope
 
@@ -349,6 +351,29 @@ def _balanced_root(iterations, p, guess, tolerance):
     if guess.shape[0] == 1 and "G" in p:  # one slider: bracketed (`bracketed_newton`)
         return bracketed_newton(lambda d: evaluate(d)[::2], guess, tolerance, iterations + RESCUE_ITERATIONS)
     return damped_newton(evaluate, guess, tolerance, iterations)
+
+
+def _balance_residual(d, p):
+    """`_residual` with the step's length in `p["dt"]`."""
+    return _residual(d, p, p["dt"])
+
+
+def _balance_solve(d, p, r, dp):
+    """J^-1 r at the root d for J = diag(k_e) + 1 1^T / G (`_newton_direction`), k_e the
+    sliders' exact slopes dF_e/dd_e (several sliders: floored by W / R_e where not positive,
+    which happens only at uplift; one slider keeps its slope: G k + 1 > 0 where its balance has
+    a root). An imposed path (no G in `p`) holds sum d = D outside the residual: that
+    constraint's tangent -dD is shared as the sliders' compliances 1 / k_e (all of it on one
+    slider)."""
+    _, slope = _residual_and_slopes(d, p, p["dt"])
+    if d.shape[0] > 1:
+        slope = jnp.where(slope > 0, slope, floor_stiffnesses(p["pendulum"], p["W"]))
+    direction = _newton_direction(r, slope, balance_compliance(p))
+    if "G" not in p and d.shape[0] == 1:
+        return direction - dp["D"]
+    if "G" not in p:
+        return direction - dp["D"] / slope / jnp.sum(1.0 / slope)
+    return direction
 
 
 def damped_newton(evaluate, guess, tolerance, iterations: int, *, finite_direction: bool = False):
@@ -385,24 +410,6 @@ def shortest_fraction(k, iterations: int):
     """The fraction of a Newton step the line search takes as it is at evaluation `k`:
     `SMALLEST_STEP` within the first `iterations`, `RESCUE_SMALLEST` after them."""
     return jnp.where(k < iterations, SMALLEST_STEP, RESCUE_SMALLEST)
-
-
-@_balanced_root.defjvp
-def _balanced_jvp(iterations, primals, tangents):
-    # r(d, p) = 0: dd = -J^-1 r_p dp (Sherman-Morrison), the guess and tolerance carry none
-    p, guess, tolerance = primals
-    d, converged = _balanced_root(iterations, p, guess, tolerance)
-    _, slope = _residual_and_slopes(d, p, p["dt"])
-    if d.shape[0] > 1:  # one slider keeps its slope: G k + 1 > 0 where its balance has a root
-        slope = jnp.where(slope > 0, slope, floor_stiffnesses(p["pendulum"], p["W"]))  # 0 only at uplift
-    r_p = jax.jvp(lambda q: _residual(d, q, q["dt"]), (p,), (tangents[0],))[1]
-    no_tangent = np.zeros(np.shape(converged), jax.dtypes.float0)
-    tangent = -_newton_direction(r_p, slope, balance_compliance(p))
-    if "G" not in p and d.shape[0] == 1:  # an imposed path on one slider: dd = dD
-        tangent = tangent + tangents[0]["D"]
-    elif "G" not in p:  # an imposed path: sum dd = dD, shared as the sliders' compliances
-        tangent = tangent + tangents[0]["D"] / slope / jnp.sum(1.0 / slope)
-    return (d, converged), (tangent, no_tangent)
 
 
 def total_acceleration(system: StructureOnTriple, x, extra):
