@@ -161,6 +161,9 @@ def test_an_imposed_paths_force_has_the_implicit_derivative(planar):
     _check_derivatives(force, [0.12, 1.0], forward=not planar)
 
 
+# About 37 s: the fast set checks the same two-component balance and its linear solve through the
+# imposed planar path (test_an_imposed_paths_force_has_the_implicit_derivative[True]).
+@pytest.mark.slow
 def test_two_components_displacement_has_the_implicit_derivative():
     """Three sliders in two components (Woodbury's 2 x 2 blocks): the final displacement in
     y in the top surface's f_max and the outer radii."""
