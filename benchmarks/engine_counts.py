@@ -9,10 +9,17 @@ bearing law is written out.
 - the lines that branch on an isolator's name (`isolator ==` or `!=`);
 - the places that spell an isolator's name as a string literal ("triple-fp", "double-fp");
 - the hand-written implicit derivatives (`custom_jvp`);
-- the response types of `systems/` (classes whose name ends in `Response` or `Result`).
+- the response types of `systems/` (classes whose name ends in `Response` or `Result`);
+- the stepped systems of `systems/` (classes with a `step`, `newmark_update` or `propagated_step`
+  method);
+- the equilibrium iterations of `systems/` and `solver/` (`while_loop` call sites);
+- the history drivers (functions of `systems/` that `scan` and are named `simulate_*` or
+  `*_histories`) and the peak drivers (functions of `systems/` and `studies/` that `scan` and are
+  named after peaks or uplift).
 Nothing is run: the counts are read from the files.
 """
 
+import ast
 import pathlib
 import re
 import sys
@@ -27,6 +34,28 @@ RESPONSE_CLASS = re.compile(r"^class\s+\w*(?:Response|Result)\b", re.MULTILINE)
 
 def _modules(folder: pathlib.Path) -> list[pathlib.Path]:
     return sorted(p for p in folder.glob("_*.py") if p.name != "__init__.py")
+
+
+STEP_METHODS = {"step", "newmark_update", "propagated_step"}
+
+
+def _stepped_systems(text: str) -> int:
+    classes = [n for n in ast.walk(ast.parse(text)) if isinstance(n, ast.ClassDef)]
+    return sum(1 for c in classes
+               if STEP_METHODS & {f.name for f in c.body if isinstance(f, ast.FunctionDef)})
+
+
+def _scanning(text: str, named) -> int:
+    functions = [n for n in ast.walk(ast.parse(text)) if isinstance(n, ast.FunctionDef)]
+    return sum(1 for f in functions if named(f.name) and "scan(" in ast.unparse(f))
+
+
+def _is_history(name: str) -> bool:
+    return name.startswith("simulate_") or name.endswith("_histories")
+
+
+def _is_peaks(name: str) -> bool:
+    return "peak" in name or "uplift" in name
 
 
 def counts(root: pathlib.Path) -> dict:
@@ -44,6 +73,12 @@ def counts(root: pathlib.Path) -> dict:
         "isolator names as string literals": sum(len(NAME_LITERAL.findall(t)) for t in texts.values()),
         "custom_jvp": sum(len(CUSTOM_JVP.findall(t)) for t in texts.values()),
         "response types in systems/": sum(len(RESPONSE_CLASS.findall(texts[p])) for p in systems),
+        "stepped systems in systems/": sum(_stepped_systems(texts[p]) for p in systems),
+        "equilibrium iterations (while_loop) in systems/, solver/": sum(
+            texts[p].count("while_loop(") for p in _modules(package / "systems") + _modules(package / "solver")),
+        "history drivers in systems/": sum(_scanning(texts[p], _is_history) for p in systems),
+        "peak drivers in systems/, studies/": sum(
+            _scanning(texts[p], _is_peaks) for p in systems + _modules(package / "studies")),
         "variant modules": ", ".join(f"{p.parent.name}/{p.name}" for p in variant),
     }
 
@@ -53,7 +88,7 @@ def main(argv=None) -> int:
     table = {str(root): counts(root) for root in roots}
     keys = list(next(iter(table.values())))
     for key in keys[:-1]:
-        print(f"{key:48s}" + "".join(f"{row[key]:>14}" for row in table.values()))
+        print(f"{key:58s}" + "".join(f"{row[key]:>14}" for row in table.values()))
     for root, row in table.items():
         print(f"\n{root}: {row['variant modules']}")
     return 0
