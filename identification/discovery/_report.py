@@ -189,8 +189,11 @@ def _summary_lines(result, record_name: str) -> list:
     return lines
 
 
-def _step_lines(result) -> list:
-    """Each added effect with its evidence, the refused candidates and those not considered."""
+def _step_lines(result, equation=lambda effect: EFFECTS[effect].equation, naming: bool = True,
+                always_skipped: bool = False) -> list:
+    """Each added effect of a discovery `result` with its evidence (`equation(effect)` its law;
+    with `naming`, the evidence that it is this effect rather than the runner-up), the refused
+    candidates and those not considered (a line even when none, with `always_skipped`)."""
     lines = []
     if not result.steps:
         lines.append("No candidate earned its parameters: no missing effect.")
@@ -199,7 +202,7 @@ def _step_lines(result) -> list:
         lines += [
             f"### {k}. {step.effect} — {e['confidence']} evidence",
             "",
-            f"{EFFECTS[step.effect].equation}",
+            f"{equation(step.effect)}",
             "",
             (
                 f"nrmse {step.nrmse_before:.4f} -> {step.nrmse_after:.4f}; "
@@ -208,18 +211,21 @@ def _step_lines(result) -> list:
                 f"residual correlation with its regressor {e['residual_correlation']:+.2f}"
             ),
             "",
-            (
-                f"Naming: {e['naming_confidence']} evidence that it is {step.effect} rather "
-                f"than {e['runner_up'] or 'nothing'} "
-                f"(delta_bic margin {e['margin_over_runner_up']:.1f})."
-            ),
-            "",
         ]
+        if naming:
+            lines += [
+                (
+                    f"Naming: {e['naming_confidence']} evidence that it is {step.effect} rather "
+                    f"than {e['runner_up'] or 'nothing'} "
+                    f"(delta_bic margin {e['margin_over_runner_up']:.1f})."
+                ),
+                "",
+            ]
         lines += _candidate_table(step.candidates)
     if result.final_round:
         lines += ["", "### Candidates refused in the last round", ""]
         lines += _candidate_table(result.final_round)
-    if result.skipped:
+    if result.skipped or always_skipped:
         lines += [
             "",
             "Not considered: " + "; ".join(f"{k} ({v})" for k, v in result.skipped.items()),

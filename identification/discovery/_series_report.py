@@ -6,7 +6,7 @@ import pathlib
 
 import numpy as np
 
-from ._report import _candidate_table
+from ._report import _step_lines
 from ._series_discovery import SERIES_EFFECTS
 
 
@@ -54,26 +54,6 @@ def write_series_plots(result, directory, *, length=("mm", 1e-3)) -> dict:
     return {"loops": "loops.png", "history": "history.png"}
 
 
-def _step_lines(result) -> list:
-    lines = []
-    if not result.steps:
-        lines.append("No candidate earned its parameters: no missing effect.")
-    for k, step in enumerate(result.steps, start=1):
-        e = step.evidence
-        lines += [f"### {k}. {step.effect} — {e['confidence']} evidence", "",
-                  SERIES_EFFECTS[step.effect], "",
-                  f"nrmse {step.nrmse_before:.4f} -> {step.nrmse_after:.4f}; delta_bic "
-                  f"{e['delta_bic']:.1f} (n_eff {e['n_eff']:.0f}); held-out gain "
-                  f"{100 * e['holdout_gain']:.1f} %; residual correlation with its regressor "
-                  f"{e['residual_correlation']:+.2f}", ""]
-        lines += _candidate_table(step.candidates)
-    if result.final_round:
-        lines += ["", "### Candidates refused in the last round", ""]
-        lines += _candidate_table(result.final_round)
-    lines += ["", "Not considered: " + "; ".join(f"{k} ({v})" for k, v in result.skipped.items())]
-    return lines
-
-
 def _parameter_lines(result) -> list:
     lines = ["", "## Fitted constants (SI)", "", "| constant | value | standard error |",
              "|---|---|---|"]
@@ -112,7 +92,8 @@ def write_series_report(result, directory, *, record_name: str = "record",
              "effective number of independent residual samples) exceeds the threshold (10, 'very "
              "strong' on the Kass & Raftery scale) and its prediction error on held-out cycles "
              "falls (two-fold blocked cross-validation).", "", "## Steps", ""]
-    lines += _step_lines(result) + _parameter_lines(result)
+    lines += _step_lines(result, SERIES_EFFECTS.__getitem__, naming=False, always_skipped=True)
+    lines += _parameter_lines(result)
     lines += ["", "## Figures", ""] + [f"![{n}]({f})" for n, f in files.items()]
     path = directory / "report.md"
     path.write_text("\n".join(lines) + "\n")

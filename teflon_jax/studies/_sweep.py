@@ -128,27 +128,19 @@ def building_peaks(system: StructureOnSliders, duration: float, own_duration):
 def _sweep_functions(duration, time_step, breakaway_ratio, isolation_damping, linear_damping):
     """Jitted, vmapped peak functions of the sweep, compiled once per set of settings."""
 
-    def sliding(times, values, own_duration, friction, period):
-        bearing = paper_bearing(friction, breakaway_ratio=breakaway_ratio)
-        system = six_storey_building(
-            bearing=bearing,
-            ground_acceleration=Signal(times, values, uniform=True),
-            time_step=time_step,
-            isolation_period=period,
-            isolation_damping=isolation_damping,
-        )
+    def peaks(times, values, own_duration, period, bearing, damping, friction_model):
+        """`building_peaks` of the Table 2 building on `bearing` (T_b `period`, zeta_b `damping`)."""
+        system = six_storey_building(bearing=bearing, ground_acceleration=Signal(times, values, uniform=True),
+                                     time_step=time_step, isolation_period=period, isolation_damping=damping,
+                                     friction_model=friction_model)
         return building_peaks(system, duration, own_duration)
 
+    def sliding(times, values, own_duration, friction, period):
+        bearing = paper_bearing(friction, breakaway_ratio=breakaway_ratio)
+        return peaks(times, values, own_duration, period, bearing, isolation_damping, "hysteretic")
+
     def linear(times, values, own_duration, period):
-        system = six_storey_building(
-            bearing=None,
-            ground_acceleration=Signal(times, values, uniform=True),
-            time_step=time_step,
-            isolation_period=period,
-            isolation_damping=linear_damping,
-            friction_model="none",
-        )
-        return building_peaks(system, duration, own_duration)
+        return peaks(times, values, own_duration, period, None, linear_damping, "none")
 
     return jax.jit(jax.vmap(sliding)), jax.jit(jax.vmap(linear))
 

@@ -22,11 +22,11 @@ from ._bidirectional_laws import check_planar_law
 from ._response import StructureResponse
 from ._structure_build import (
     HEAT_HORIZON,
-    PRESSURE_HINT,
-    STRUCTURE_EFFECTS,
     check_storey_height,
+    check_structure_parts,
     rigid_mass,
     six_storey_building,
+    time_grid,
 )
 from ._vertical import uplift_steps
 
@@ -68,13 +68,7 @@ def bidirectional_structure(
         raise ValueError(f"time_step: must be > 0 s, got {time_step}.")
     require_riccati_form(bearing.hysteresis)
     check_planar_law(friction_model, surface, bearing)
-    other = [name for name in bearing.effects if name not in STRUCTURE_EFFECTS]
-    if other:
-        raise ValueError(
-            f"bearing: the structures in two directions do not run its "
-            f"{', '.join(other)} (they run Eq. 1 at the resultant speed, Park's Z, "
-            "breakaway, anisotropy, stacks, heating, wear and asymmetry)"
-            + (PRESSURE_HINT if "pressure_dependence" in other else "."))
+    check_structure_parts(bearing, _two_direction_refusal)
     rates = weights = None
     if bearing.heating is not None and friction_model == "hysteretic":
         if contact_pressure is None:
@@ -132,6 +126,11 @@ PEER RSN6 pair and the SCT 1985 pair (tests/test_bidirectional_records.py); at 1
 building is 1.2 % off."""
 
 
+def _two_direction_refusal(names: str) -> str:
+    return (f"bearing: the structures in two directions do not run its {names} (they run Eq. 1 at the "
+            "resultant speed, Park's Z, breakaway, anisotropy, stacks, heating, wear and asymmetry)")
+
+
 def _zero_signal(like: Signal) -> Signal:
     return Signal(times=like.times, values=jnp.zeros_like(like.values), uniform=like.uniform)
 
@@ -167,6 +166,13 @@ def _two_directions(x, y, bearing, ground_x, ground_y, time_step,
     )
 
 
+def _one_direction(model, ground, time_step: float, **linear):
+    """The linear part of one horizontal direction: `model` (`rigid_mass` or
+    `six_storey_building`) with its `linear` keywords, no bearing and no friction, whose mass,
+    stiffness, damping and bearing load `_two_directions` joins."""
+    return model(bearing=None, ground_acceleration=ground, time_step=time_step, friction_model="none", **linear)
+
+
 def bidirectional_rigid_mass(
     *,
     weight,
@@ -196,15 +202,8 @@ def bidirectional_rigid_mass(
 
     **Returns:** a `BidirectionalStructure` with q = (u_x, u_y).
     """
-    one = rigid_mass(
-        weight=weight,
-        bearing=None,
-        ground_acceleration=ground_x,
-        time_step=time_step,
-        isolation_period=isolation_period,
-        damping_ratio=damping_ratio,
-        friction_model="none",
-    )
+    one = _one_direction(rigid_mass, ground_x, time_step, weight=weight, isolation_period=isolation_period,
+                         damping_ratio=damping_ratio)
     return _two_directions(one, one, bearing, ground_x, ground_y, time_step, contact_pressure,
                            friction_model=friction_model, surface=surface)
 
@@ -235,25 +234,14 @@ def bidirectional_building(
 
     **Returns:** a `BidirectionalStructure` with q = (x: base, floors 1-6; y: base, floors 1-6).
     """
-    x = six_storey_building(
-        bearing=None,
-        ground_acceleration=ground_x,
-        time_step=time_step,
-        isolation_period=isolation_period,
-        isolation_damping=isolation_damping,
-        friction_model="none",
-        building=building,
-    )
+    x = _one_direction(six_storey_building, ground_x, time_step, isolation_period=isolation_period,
+                       isolation_damping=isolation_damping, building=building)
     y = x
     if building_y is not None or isolation_period_y is not None:
-        y = six_storey_building(
-            bearing=None,
-            ground_acceleration=ground_x,
-            time_step=time_step,
+        y = _one_direction(
+            six_storey_building, ground_x, time_step,
             isolation_period=isolation_period if isolation_period_y is None else isolation_period_y,
-            isolation_damping=isolation_damping,
-            friction_model="none",
-            building=building if building_y is None else building_y,
+            isolation_damping=isolation_damping, building=building if building_y is None else building_y,
         )
         if not np.isclose(float(jnp.sum(y.mass)), float(jnp.sum(x.mass))):
             raise ValueError(
@@ -284,14 +272,9 @@ def simulate_bidirectional(
     **Returns:** a `StructureResponse` (two ground components; the coordinates q of the
     system, the groups' bearing displacements, friction forces and Z).
     """
+    n_steps, steps, save_times = time_grid(system.time_step, duration, save_every,
+                                           ((system.vertical_acceleration, "duration (vertical record)"),))
     dt = float(system.time_step)
-    n_steps = int(round(duration / dt + 1e-9))
-    if n_steps < 1:
-        raise ValueError(f"duration: must be at least one time step ({dt} s), got {duration}.")
-    if system.vertical_acceleration is not None:
-        system.vertical_acceleration.require_covers(n_steps * dt, "duration (vertical record)")
-    steps = jnp.arange(n_steps + 1) * dt
-    save_times = steps[::save_every]
     solver = RiccatiNewmark() if solver is None else solver
     if system.overturning is not None and not isinstance(solver, RiccatiNewmark):
         raise ValueError("solver: the overturning loads are held over the fixed steps of "

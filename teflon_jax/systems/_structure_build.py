@@ -122,15 +122,19 @@ HEAT_HORIZON = 3600.0
 accurate from one time step to this; an earthquake record is far shorter)."""
 
 
-def check_structure_parts(bearing: SlidingBearing) -> None:
-    """`ValueError` naming the optional parts of `bearing` a structure does not run."""
+def _one_direction_refusal(names: str) -> str:
+    return (f"bearing: the structures do not run its {names} (they run Eq. 1, breakaway, anisotropy, "
+            f"stacks, {', '.join(STRUCTURE_EFFECTS)}); simulate the bearing test with `simulate-test "
+            "--bearing`, or fit without these effects")
+
+
+def check_structure_parts(bearing: SlidingBearing, refusal=_one_direction_refusal) -> None:
+    """`ValueError` naming the optional parts of `bearing` a structure does not run (those
+    not in `STRUCTURE_EFFECTS`): `refusal(their names)` and, for pressure dependence,
+    `PRESSURE_HINT` (default: the message of the structures in one direction)."""
     other = [name for name in bearing.effects if name not in STRUCTURE_EFFECTS]
     if other:
-        raise ValueError(
-            f"bearing: the structures do not run its {', '.join(other)} (they run Eq. 1, "
-            f"breakaway, anisotropy, stacks, {', '.join(STRUCTURE_EFFECTS)}); simulate the "
-            "bearing test with `simulate-test --bearing`, or fit without these effects"
-            + (PRESSURE_HINT if "pressure_dependence" in other else "."))
+        raise ValueError(refusal(", ".join(other)) + (PRESSURE_HINT if "pressure_dependence" in other else "."))
 
 
 PRESSURE_HINT = ("; a pressure dependence is a constant factor at the bearings' contact "
@@ -167,18 +171,38 @@ def _exact_step_matrix(mass, stiffness, damping, time_step):
     return jnp.vectorize(one, signature="(n),(n,n),(n,n)->(m,k)")(mass, stiffness, damping)
 
 
-def check_duration(system: StructureOnSliders, duration: float) -> int:
-    """Number of `time_step`s in `duration` [s] (rounded down), after checking that it is at
-    least one step and that the ground-acceleration record lasts that long (a `Signal` is zero
-    past its last sample; ask for a shorter duration or append zeros on purpose)."""
-    dt = float(system.time_step)
+def step_count(time_step: float, duration: float, records=()) -> int:
+    """Number n of steps `time_step` dt [s] in `duration` [s], n = round(duration / dt)
+    (rounded down), after checking that it is at least one step and that each (`Signal` or
+    `None`, name in the message) of `records` lasts n dt (a `Signal` is zero past its last
+    sample; ask for a shorter duration or append zeros on purpose)."""
+    dt = float(time_step)
     n_steps = int(round(duration / dt + 1e-9))
     if n_steps < 1:
         raise ValueError(f"duration: must be at least one time step ({dt} s), got {duration}.")
-    system.ground_acceleration.require_covers(n_steps * dt, "duration")
-    if system.vertical_acceleration is not None:
-        system.vertical_acceleration.require_covers(n_steps * dt, "duration (vertical record)")
+    for record, name in records:
+        if record is not None:
+            record.require_covers(n_steps * dt, name)
     return n_steps
+
+
+def time_grid(time_step: float, duration: float, save_every: int, records=()):
+    """(n, t (n + 1,), saved t (every `save_every`-th)) [s] of the fixed steps t_k = k dt over
+    `duration`, n and `records` checked by `step_count`."""
+    n_steps = step_count(time_step, duration, records)
+    steps = jnp.arange(n_steps + 1) * float(time_step)
+    return n_steps, steps, steps[::save_every]
+
+
+def check_duration(system: StructureOnSliders, duration: float) -> int:
+    """Number of `time_step`s in `duration` [s] (rounded down), after checking that it is at
+    least one step and that the ground-acceleration record (and the vertical one) lasts that
+    long (`step_count`)."""
+    return step_count(system.time_step, duration, _records(system))
+
+
+def _records(system: StructureOnSliders) -> tuple:
+    return ((system.ground_acceleration, "duration"), (system.vertical_acceleration, "duration (vertical record)"))
 
 
 def simulate_structure(
@@ -213,10 +237,8 @@ def simulate_structure(
 
     from ..solver import RiccatiNewmark, solve_on_grid
 
-    n_steps = check_duration(system, duration)
+    n_steps, steps, save_times = time_grid(system.time_step, duration, save_every, _records(system))
     dt = float(system.time_step)
-    steps = jnp.arange(n_steps + 1) * dt
-    save_times = steps[::save_every]
     solver = RiccatiNewmark() if solver is None else solver
     if isinstance(solver, RiccatiNewmark) and system.friction_model == "hysteretic":
         require_riccati_form(system.bearing.hysteresis)
