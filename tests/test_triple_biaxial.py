@@ -71,9 +71,10 @@ def test_a_record_along_any_line_is_the_one_direction_response_along_it(kind, ac
 
 def test_one_class_steps_one_and_two_components_alike_along_x(acc):
     """`StructureOnSeries` with a zero y record is its one-component run along x: every
-    coordinate, total acceleration, bearing force and slider to rounding, nothing along y,
+    coordinate, total acceleration, bearing force, slider and Z to rounding, nothing along y,
     under a vertical record that loads the sliders in both (the double pendulum, the rigid
-    mass); the two names of the one class tell the number of components apart."""
+    mass; the same load factors and uplift time); the two names of the one class tell the
+    number of components apart."""
     from teflon_jax.bearing import DoublePendulum
 
     double = DoublePendulum(bottom_radius=1.5, top_radius=2.0, bottom_capacity=0.3, top_capacity=0.3,
@@ -98,6 +99,9 @@ def test_one_class_steps_one_and_two_components_alike_along_x(acc):
     np.testing.assert_allclose(np.asarray(b.bearing_force[:, 0]), np.asarray(a.bearing_force), rtol=0, atol=1e-6)
     np.testing.assert_allclose(np.asarray(b.slider[..., 0]), np.asarray(a.slider), rtol=0, atol=1e-12)
     np.testing.assert_array_equal(np.asarray(b.slider[..., 1]), 0.0)
+    np.testing.assert_allclose(np.asarray(b.z[..., 0]), np.asarray(a.z), rtol=0, atol=1e-9)
+    np.testing.assert_array_equal(np.asarray(b.load_factor), np.asarray(a.load_factor))
+    assert float(b.uplift_time) == float(a.uplift_time)
 
 
 @pytest.mark.slow

@@ -311,8 +311,8 @@ def simulate_series(system: StructureOnSeries, duration: float) -> StructureResp
 
     **Returns:** a `StructureResponse`: coordinates (nt, n), or (nt, 2n) the x block then the
     y block; `ground` (nt, C); the isolator's `bearing_force` (nt[, 2]) [N], its sliders'
-    `slider` (nt, S[, 2]), `converged` (nt,); under one component also `z` (nt, S) and, with a
-    vertical record, `load_factor` (nt,) (a step holds its end's) and `uplift_time` [s]."""
+    `slider` and `z` (nt, S[, 2]), `converged` (nt,); with a vertical record `load_factor`
+    (nt,) (a step holds its end's) and `uplift_time` [s]."""
     dt = float(system.time_step)
     n_steps = check_duration(system, duration)
     n = system.mass.shape[-1]
@@ -335,12 +335,11 @@ def simulate_series(system: StructureOnSeries, duration: float) -> StructureResp
     first = (x0, jnp.zeros(plane), zeros_s, zeros_s, jnp.array(True), jnp.zeros(plane + (n,), x0.dtype))
     x, force, slider, z, converged, acc = (jnp.concatenate([a[None], b]) for a, b in zip(first, out))
     nt = n_steps + 1
-    one = system.ground_y is None
     return StructureResponse(
         time=time, displacement=x[..., :n].reshape(nt, -1), velocity=x[..., n:].reshape(nt, -1),
         total_acceleration=acc.reshape(nt, -1), ground=ground.reshape(nt, -1), bearing_force=force,
-        slider=slider, z=z if one else None, converged=converged, load_factor=loads if one else None,
-        uplift_time=None if loads is None or not one else uplift_steps(system, n_steps) * dt)
+        slider=slider, z=z, converged=converged, load_factor=loads,
+        uplift_time=None if loads is None else uplift_steps(system, n_steps) * dt)
 
 
 simulate_triple_structure = simulate_series
