@@ -104,8 +104,14 @@ def path1(theta):  # imposed path, one component: top f_max, amplitude
     return jnp.stack([r.fx[-1], r.fx[len(T_PATH) // 3]])
 
 
+def _one_component(s):
+    """The part of a two-component series structure that holds its pendulum: the structure
+    itself, or its one-component structure where it is a field (`uniaxial`)."""
+    return s.uniaxial if "uniaxial" in {f.name for f in dataclasses.fields(s)} else s
+
+
 def biaxial(theta):  # series, two components
-    s = eqx.tree_at(lambda s: s.uniaxial.pendulum, S2, with_triple(theta))
+    s = eqx.tree_at(lambda s: _one_component(s).pendulum, S2, with_triple(theta))
     x = biaxial_histories(s, DUR)[1]
     return jnp.stack([x[-1, 0, 0], x[-1, 1, 0], smooth_peak(jnp.hypot(x[:, 0, 0], x[:, 1, 0]))])
 

@@ -7,7 +7,7 @@ building, B7's forty-second two-component motions, 5 ms steps) on `--motions` mo
 vectorised call and reports the mean count per motion and step, the mean over steps of the
 largest count across groups of 64, 1,024, 16,384 motions and the whole call, both
 histograms, and the seconds of a second call on new motions (the first compiles). The counts
-are the line-searched Newton steps of `_planar_newton` (each three evaluations of the sliders'
+are the line-searched Newton steps of `planar_newton` (each three evaluations of the sliders'
 forces), read by putting them where the step's convergence flag goes; nothing else changes.
 
 Usage: `python benchmarks/newton_iterations.py [--structure rigid] [--motions 64] [--json OUT]`.
@@ -27,13 +27,13 @@ import jax.numpy as jnp  # noqa: E402
 import numpy as np  # noqa: E402
 
 from teflon_jax.excitation import sample_two_components, uniform_signal  # noqa: E402
-from teflon_jax.systems import _triple_biaxial as biaxial  # noqa: E402
+from teflon_jax.systems import _isolator_balance as balance  # noqa: E402
 
 DURATION = 40.0
 
 
-def _counting(dt, iterations, p, guess, tolerance):
-    d, _, taken = biaxial._planar_newton(p, dt, guess, tolerance, iterations)
+def _counting(dt, iterations, p, guess, tolerance, secant=False):
+    d, _, taken = balance.planar_iteration({**p, "dt": dt}, guess, tolerance, iterations, secant)
     return d, taken
 
 
@@ -43,7 +43,7 @@ def main() -> None:
     parser.add_argument("--motions", type=int, default=64)
     parser.add_argument("--json", default=None, help="write the figures here")
     args = parser.parse_args()
-    biaxial._balanced = _counting
+    balance.balance = _counting
     factory = b7._structure(args.structure, "triple-fp")
     motion = b7._motions(2)
     dt = float(motion.model.time_step)
@@ -52,7 +52,7 @@ def main() -> None:
     def counts(record):
         system = factory((uniform_signal(record[0], dt), uniform_signal(record[1], dt)))
         ground = jax.vmap(system.ground)(jnp.arange(n_steps + 1) * b7.TIME_STEP)
-        matrices = system.uniaxial.step_matrices()
+        matrices = system.step_matrices()
 
         def body(carry, grounds):
             x1, isolator1, taken, _ = system.step(*carry, grounds[0], grounds[1], matrices, None)

@@ -170,7 +170,7 @@ def test_two_components_displacement_has_the_implicit_derivative():
     two = isolated_structure("rigid", isolator=TRIPLE, newton_tolerance=TIGHT)((GX, GY))
 
     def final(theta):
-        system = eqx.tree_at(lambda s: s.uniaxial.pendulum, two, _triple(theta))
+        system = eqx.tree_at(lambda s: s.pendulum, two, _triple(theta))
         return biaxial_histories(system, 1.0)[1][-1, 1, 0]
 
     _check_derivatives(final, [0.12, 2.1], forward=False)

@@ -20,10 +20,14 @@ from teflon_jax.excitation import (
 from teflon_jax.studies import bidirectional_peak_response, monte_carlo
 from teflon_jax.systems import (
     BiaxialStructureOnTriple,
+    StructureOnSeries,
+    StructureOnTriple,
     biaxial_histories,
     isolated_structure,
+    simulate_series,
     simulate_triple_structure,
     triple_structure,
+    with_vertical_motion,
 )
 from teflon_jax.units import STANDARD_GRAVITY
 
@@ -65,6 +69,41 @@ def test_a_record_along_any_line_is_the_one_direction_response_along_it(kind, ac
     np.testing.assert_allclose(np.asarray(sliders).sum(axis=1), np.asarray(x[:, :, 0]), atol=1e-9)
 
 
+def test_one_class_steps_one_and_two_components_alike_along_x(acc):
+    """`StructureOnSeries` with a zero y record is its one-component run along x: every
+    coordinate, total acceleration, bearing force, slider and Z to rounding, nothing along y,
+    under a vertical record that loads the sliders in both (the double pendulum, the rigid
+    mass; the same load factors and uplift time); the two names of the one class tell the
+    number of components apart."""
+    from teflon_jax.bearing import DoublePendulum
+
+    double = DoublePendulum(bottom_radius=1.5, top_radius=2.0, bottom_capacity=0.3, top_capacity=0.3,
+                            bottom_friction=FrictionParameters(0.06, 0.03, 25.0),
+                            top_friction=FrictionParameters(0.09, 0.04, 15.0), hysteresis=BoucWen(2e-4))
+    short = acc[:601]
+    one = with_vertical_motion(triple_structure("rigid", double, uniform_signal(short, 0.01), time_step=0.005),
+                               uniform_signal(0.6 * short[::-1], 0.01))
+    two = triple_structure("rigid", double, uniform_signal(short, 0.01), time_step=0.005,
+                           ground_y=uniform_signal(0 * short, 0.01))
+    two = with_vertical_motion(two, uniform_signal(0.6 * short[::-1], 0.01))
+    assert type(one) is type(two) is StructureOnSeries and (one.components, two.components) == (1, 2)
+    assert isinstance(one, StructureOnTriple) and not isinstance(one, BiaxialStructureOnTriple)
+    assert isinstance(two, BiaxialStructureOnTriple) and not isinstance(two, StructureOnTriple)
+    run = jax.jit(simulate_series, static_argnums=1)
+    a, b = run(one, 6.0), run(two, 6.0)
+    assert np.max(np.abs(np.asarray(a.displacement[:, 0]))) > 0.02 and bool(np.all(b.converged))
+    for x, y in ((a.displacement, b.displacement), (a.velocity, b.velocity),
+                 (a.total_acceleration, b.total_acceleration)):
+        np.testing.assert_allclose(np.asarray(y[:, 0]), np.asarray(x[:, 0]), rtol=0, atol=1e-10 * np.max(np.abs(x)))
+        np.testing.assert_array_equal(np.asarray(y[:, 1]), 0.0)
+    np.testing.assert_allclose(np.asarray(b.bearing_force[:, 0]), np.asarray(a.bearing_force), rtol=0, atol=1e-6)
+    np.testing.assert_allclose(np.asarray(b.slider[..., 0]), np.asarray(a.slider), rtol=0, atol=1e-12)
+    np.testing.assert_array_equal(np.asarray(b.slider[..., 1]), 0.0)
+    np.testing.assert_allclose(np.asarray(b.z[..., 0]), np.asarray(a.z), rtol=0, atol=1e-9)
+    np.testing.assert_array_equal(np.asarray(b.load_factor), np.asarray(a.load_factor))
+    assert float(b.uplift_time) == float(a.uplift_time)
+
+
 @pytest.mark.slow
 def test_two_component_monte_carlo_runs_the_triple_pendulum():
     structure = isolated_structure("building", isolator=TRIPLE)
@@ -87,7 +126,7 @@ def test_the_two_component_peak_is_differentiable_in_the_outer_radii(acc):
         (uniform_signal(short, 0.01), uniform_signal(0.7 * short[::-1], 0.01)))
 
     def peak(radius):
-        moved = eqx.tree_at(lambda s: (s.uniaxial.triple.bottom_radius, s.uniaxial.triple.top_radius), system,
+        moved = eqx.tree_at(lambda s: (s.pendulum.bottom_radius, s.pendulum.top_radius), system,
                             (radius, radius))
         return bidirectional_peak_response(moved, 8.0).smooth_base_disp
 

@@ -1,7 +1,6 @@
 """A run's response, whatever its structure and isolator. The library steps flat sliders and
 single pendulums (rigid mass, building, slab) as a `BidirectionalStructure`, and series
-pendulums as a `StructureOnTriple` (one component), a `BiaxialStructureOnTriple` (two) or a
-`SlabOnSeries`; one table keyed by that type says how to simulate the system and cut it at the
+pendulums as a `StructureOnSeries` (one or two components) or a `SlabOnSeries`; one table keyed by that type says how to simulate the system and cut it at the
 first step that did not balance (`_run_stop`), its uplift (`_normal_load`), where its base is and how to put
 another ground motion under it (a suite's pairs). The peaks and histories are one set of
 reducers over the response, whatever the system (`_run_peaks`)."""
@@ -51,17 +50,10 @@ def _bidirectional(system, duration, plan) -> Run:
     return Run(*bidirectional_stop(system, response), duration)
 
 
-def _triple(system, duration, plan) -> Run:
-    from ..systems import simulate_triple_structure
+def _series(system, duration, plan) -> Run:
+    from ..systems import simulate_series
 
-    response = simulate_triple_structure(system, duration)
-    return _series_run(response, response.time, response.converged, duration)
-
-
-def _biaxial(system, duration, plan) -> Run:
-    from ..systems import biaxial_response
-
-    response = biaxial_response(system, duration)
+    response = simulate_series(system, duration)
     return _series_run(response, response.time, response.converged, duration)
 
 
@@ -101,20 +93,17 @@ def _slab_series_extras(plan, system, response, histories):
 
 def _engines() -> dict:
     from ..systems import (
-        BiaxialStructureOnTriple,
         BidirectionalStructure,
         SlabOnSeries,
-        StructureOnTriple,
+        StructureOnSeries,
     )
 
     ground = lambda s: (s.ground_x, s.ground_y)  # noqa: E731
     return {
         BidirectionalStructure: _Engine(_bidirectional, _response_uplift, ground,
                                         lambda s: (0, s.mass.shape[0] // 2)),
-        StructureOnTriple: _Engine(_triple, lambda s, r, d: _series_uplift(s, d), None, None),
-        BiaxialStructureOnTriple: _Engine(_biaxial, lambda s, r, d: _series_uplift(s.uniaxial, d),
-                                          lambda s: (s.uniaxial.linear.ground_acceleration, s.ground_y),
-                                          lambda s: (0, 1)),
+        StructureOnSeries: _Engine(_series, lambda s, r, d: _series_uplift(s, d),
+                                   lambda s: (s.linear.ground_acceleration, s.ground_y), lambda s: (0, 1)),
         SlabOnSeries: _Engine(_slab_series, lambda s, r, d: _series_uplift(s, d), ground,
                               lambda s: (0, 1), _slab_series_extras),
     }

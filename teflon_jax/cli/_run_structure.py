@@ -55,17 +55,16 @@ def build_structure(args, isolator, flags: StructureFlags, ground_x, ground_y, t
     """The system of `args.structure` on `isolator` under the ground `Signal`s [m/s^2]: flat
     sliders and single pendulums in both directions (`bidirectional_rigid_mass`,
     `bidirectional_building`, `slab_on_bearings`), series pendulums in one direction, or in
-    two with `two` (`triple_structure`, `BiaxialStructureOnTriple`; on a slab always two). The
+    two with `two` (`triple_structure`; on a slab always two). The
     friction of a bounding case (`args.friction_factor`) scales Table 1's row or each surface's."""
     if flags.plan is not None:
         return _slab(args, isolator, flags, ground_x, ground_y)
     if isolator.pendulum is not None:
-        from ..systems import BiaxialStructureOnTriple, triple_structure
+        from ..systems import triple_structure
 
         pendulum = _scaled(args, [isolator.pendulum])[0]
-        system = triple_structure(args.structure, pendulum, ground_x, time_step=flags.time_step,
-                                  weight=flags.weight)
-        return BiaxialStructureOnTriple(system, ground_y) if two else system
+        return triple_structure(args.structure, pendulum, ground_x, time_step=flags.time_step,
+                                weight=flags.weight, ground_y=ground_y if two else None)
     from ..systems import bidirectional_building, bidirectional_rigid_mass
 
     bearing = bearing_of_flags(args, args.ptfe, args.pressure, "--pressure")

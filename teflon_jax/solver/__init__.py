@@ -1,10 +1,25 @@
 """`RiccatiNewmark`: the diffrax solver whose step is not bounded by the stiffness of Z;
-`implicit_root`: the implicit derivative of a step's balance, whatever iteration found it."""
+`implicit_root`: the implicit derivative of a step's balance, whatever iteration found it;
+the iterations on a step's balance, chosen by the shape of its unknowns (`damped_newton`,
+`restarted_newton`, `planar_newton`) with their structured solves (`sherman_morrison`,
+`woodbury`)."""
 
 from ._implicit import implicit_root as implicit_root
+from ._newton import RESCUE_ITERATIONS as RESCUE_ITERATIONS
+from ._newton import RESCUE_SMALLEST as RESCUE_SMALLEST
+from ._newton import SMALLEST_STEP as SMALLEST_STEP
+from ._newton import damped_newton as damped_newton
+from ._newton import restarted_newton as restarted_newton
+from ._newton import sherman_morrison as sherman_morrison
+from ._newton import shortest_fraction as shortest_fraction
 from ._park_path import park_path_update as park_path_update
 from ._park_path import park_substeps as park_substeps
 from ._park_update import park_exact_update as park_exact_update
+from ._planar import SECANT_ITERATIONS as SECANT_ITERATIONS
+from ._planar import broyden_blocks as broyden_blocks
+from ._planar import inverse2 as inverse2
+from ._planar import planar_newton as planar_newton
+from ._planar import woodbury as woodbury
 from ._riccati_newmark import AbstractSteppedSystem as AbstractSteppedSystem
 from ._riccati_newmark import RiccatiNewmark as RiccatiNewmark
 from ._riccati_newmark import require_riccati_form as require_riccati_form

@@ -26,11 +26,11 @@ from ..bearing import (
 from ..tables import friction_table
 from ..units import PSI
 from ..validation import concrete, require_positive
+from ._isolator_balance import TRIPLE_NEWTON_ITERATIONS, TRIPLE_TOLERANCE
 from ._propagators import LINEAR_RULES
 from ._structure import NEWTON_ITERATIONS, NEWTON_TOLERANCE, StructureOnSliders
 from ._structure_build import check_structure_parts, rigid_mass, six_storey_building
-from ._triple_biaxial import BiaxialStructureOnTriple
-from ._triple_structure import TRIPLE_NEWTON_ITERATIONS, TRIPLE_TOLERANCE, triple_structure
+from ._triple_structure import triple_structure
 
 STRUCTURES = ("rigid", "building")
 
@@ -245,8 +245,8 @@ imbalance over W (a displacement error below 1e-7 R_e of each slider)."""
 class TripleIsolatedStructure(eqx.Module):
     """Builds the rigid mass or the Table 2 building on triple or double friction pendulums for
     one motion (`triple_structure`), called as `structure(ground_acceleration, design)` like
-    `IsolatedStructure` (a `StructureOnTriple`), or as `structure((ground_x, ground_y))` for
-    two components (a `BiaxialStructureOnTriple`, what `monte_carlo` builds for
+    `IsolatedStructure` (a `StructureOnSeries` of one component), or as
+    `structure((ground_x, ground_y))` for two components (what `monte_carlo` builds for
     `TwoComponentGroundMotion`); `design` may set the variables of the pendulum's design space
     (`design_space("triple-fp")`: the outer radii's scale, the inner and outer f_max, the
     capacities' scale; `design_space("double-fp")`: the radii's scale, the surfaces' f_max, the
@@ -255,7 +255,7 @@ class TripleIsolatedStructure(eqx.Module):
 
     **Fields:** `pendulum` (`TriplePendulum` or `DoublePendulum`; also read as `triple`),
     `kind` (static) "rigid" or "building", `time_step` [s] (static), `weight` [N] of the
-    rigid mass (static), `newton_iterations`, `newton_tolerance` (static): `StructureOnTriple`'s.
+    rigid mass (static), `newton_iterations`, `newton_tolerance` (static): `StructureOnSeries`'.
     """
 
     pendulum: SeriesPendulum
@@ -285,10 +285,10 @@ class TripleIsolatedStructure(eqx.Module):
         if design:
             pendulum = designed_pendulum(pendulum, design)
         two = isinstance(ground_acceleration, tuple)  # (x, y): two components
-        system = triple_structure(self.kind, pendulum, ground_acceleration[0] if two else ground_acceleration,
-                                  time_step=self.time_step, weight=self.weight,
-                                  newton_iterations=self.newton_iterations, newton_tolerance=self.newton_tolerance)
-        return BiaxialStructureOnTriple(system, ground_acceleration[1]) if two else system
+        return triple_structure(self.kind, pendulum, ground_acceleration[0] if two else ground_acceleration,
+                                time_step=self.time_step, weight=self.weight,
+                                newton_iterations=self.newton_iterations, newton_tolerance=self.newton_tolerance,
+                                ground_y=ground_acceleration[1] if two else None)
 
 
 def triple_isolated_structure(kind: str, pendulum: SeriesPendulum, *, time_step: float,

@@ -1,7 +1,7 @@
 """A rigid slab (x, y, rotation) on groups of triple or double friction pendulums.
 
 Each group g at plan position P_g (r_g = P_g - C) slides by d_g = B_g q, B_g = [[1, 0, -r_y],
-[0, 1, r_x]], and is one multi-surface pendulum of the series model (`_triple_biaxial.py`):
+[0, 1, r_x]], and is one multi-surface pendulum of the series model (`_isolator_balance.py`):
 S sliders (e) with their own planar displacements, Z and restrainers, all carrying the
 group's force F_g, their displacements adding up to d_g. Every slider's force is taken under
 the group's normal load N_g = s_g W_g (friction and N_g / R_e alike), the load of a rigid slab
@@ -40,8 +40,16 @@ import jax.numpy as jnp
 
 from ..bearing import SeriesPendulum
 from ..excitation import Signal
-from ..solver import implicit_root
+from ..solver import implicit_root, inverse2, restarted_newton
 from ..structures import SupportPlan, group_factor, overturned_loads, supported_loads
+from ._isolator_balance import (
+    NEWTON_DIFFERENCE_STEP,
+    TRIPLE_NEWTON_ITERATIONS,
+    TRIPLE_TOLERANCE,
+    pendulum_blocks,
+    predicted_increments,
+    uplift_increments,
+)
 from ._slider_forces import (
     heated_step,
     initial_history,
@@ -49,15 +57,6 @@ from ._slider_forces import (
     slider_forces,
     slider_lengths,
     step_history,
-)
-from ._triple_biaxial import NEWTON_DIFFERENCE_STEP, _inverse2, _pendulum_blocks
-from ._triple_structure import (
-    RESCUE_ITERATIONS,
-    TRIPLE_NEWTON_ITERATIONS,
-    TRIPLE_TOLERANCE,
-    predicted_increments,
-    shortest_fraction,
-    uplift_increments,
 )
 from ._vertical import load_factor_at
 
@@ -192,7 +191,7 @@ def _residual(x, p, dt):
 
 
 def _group_parameters(p):
-    """The per-group part of `p` as `_triple_biaxial`'s sliders read it (to vmap over G)."""
+    """The per-group part of `p` as one isolator's sliders read it (`isolator_parameters`) (to vmap over G)."""
     return {key: p[key] for key in ("pendulum", "W", "N", "s0", "z0")}
 
 
@@ -201,7 +200,7 @@ def _direction(r, blocks, p):
     (G, S, 2, 2): the forces' change solves (blockdiag sum_e C_ge + B G_q B^T) dF
     = r2 / k - sum_e C_ge r1_ge (C = blocks^-1), then dd_ge = C_ge (r1_ge + dF_g)."""
     groups = r.shape[0]
-    c = _inverse2(blocks)
+    c = inverse2(blocks)
     cr = jnp.einsum("gsij,gsj->gsi", c, r[:, :-1])
     diagonal = jnp.einsum("gij,gh->gihj", jnp.sum(c, axis=1), jnp.eye(groups, dtype=r.dtype))
     matrix = (diagonal + p["flex"]).reshape(2 * groups, 2 * groups)
@@ -213,7 +212,7 @@ def _direction(r, blocks, p):
 def _evaluate(x, p, dt):
     """(residual, merit sum(r^2), Newton's direction) at x. Newton's 2 x 2 blocks come from
     one-sided differences along x and y, h = `NEWTON_DIFFERENCE_STEP` (Y + max |d_ge|), as
-    for one isolator (`_triple_biaxial._differenced_blocks`), with the forces at x and at both
+    for one isolator (`differenced_blocks`), with the forces at x and at both
     shifts in one evaluation of the force law (the compiled step holds fewer copies of it);
     the pendulums' own W / R_e blocks where a group carries no load or the blocks give no
     finite direction."""
@@ -226,37 +225,10 @@ def _evaluate(x, p, dt):
     misfit = jnp.sum(d, axis=1) - p["E"] + jnp.einsum("gihj,hj->gi", p["flex"], force)
     r = jnp.concatenate([forces[0] - force[:, None], (p["stiffness"][:, None] * misfit)[:, None]], axis=1)
     blocks = jnp.moveaxis((forces[1:] - forces[0]) / jnp.moveaxis(steps, -1, 0)[..., None], 0, -1)
-    pendulum = jax.vmap(_pendulum_blocks)(_group_parameters(p))
+    pendulum = jax.vmap(pendulum_blocks)(_group_parameters(p))
     direction = _direction(r, jnp.where((p["N"] > 0)[:, None, None, None], blocks, pendulum), p)
     fallback = _direction(r, pendulum, p)
     return r, jnp.sum(r**2), jnp.where(jnp.all(jnp.isfinite(direction)), direction, fallback)
-
-
-def _newton_restarted(evaluate, guess, restart, tolerance, iterations: int):
-    """`damped_newton` from `guess`; where its evaluations (`iterations` and the
-    `RESCUE_ITERATIONS`) run out short of `tolerance`, the same once more from `restart`. One
-    loop, so the compiled step holds one copy of the force law; up to the restart every
-    operation is `damped_newton`'s. **Returns:** (x, whether max |r| <= tolerance)."""
-    budget = iterations + RESCUE_ITERATIONS
-
-    def cond(carry):
-        _, (r, _, _), _, k, restarted = carry
-        return (jnp.max(jnp.abs(r)) > tolerance) & ((k < budget) | ~restarted)
-
-    def body(carry):
-        x, (r, merit, direction), fraction, k, restarted = carry
-        again = k >= budget  # reached only before the restart
-        trial = jnp.where(again, restart, x - fraction * direction)
-        new = evaluate(trial)
-        accept = again | (new[1] < merit) | (fraction <= shortest_fraction(k, iterations))
-        x = jnp.where(accept, trial, x)
-        values = tuple(jnp.where(accept, a, b) for a, b in zip(new, (r, merit, direction)))
-        return (x, values, jnp.where(accept, 1.0, 0.5 * fraction), jnp.where(again, 0, k + 1).astype(k.dtype),
-                restarted | again)
-
-    carry = (guess, evaluate(guess), jnp.ones((), guess.dtype), jnp.zeros((), jnp.int32), jnp.zeros((), bool))
-    x, (r, _, _), _, _, _ = jax.lax.while_loop(cond, body, carry)
-    return x, jnp.max(jnp.abs(r)) <= tolerance
 
 
 def _balanced(dt, iterations, p, guess, tolerance):
@@ -274,10 +246,10 @@ def _iterate_balance(dt, iterations, p, guess, tolerance):
     the sliders' kinked friction turns Newton's direction away from descent, as a slider
     reverses under a two-component impact), it starts once more from each group's increment
     d_g = B_g D - d_g0 shared evenly among its S sliders, the forces those of `guess`
-    (`_newton_restarted`). A step balanced from `guess` is as before."""
+    (`restarted_newton`). A step balanced from `guess` is as before."""
     even = jnp.broadcast_to(p["E"][:, None] / (guess.shape[1] - 1), guess[:, :-1].shape)
     restart = jnp.concatenate([even, guess[:, -1:]], axis=1)
-    return _newton_restarted(lambda x: _evaluate(x, p, dt), guess, restart, tolerance, iterations)
+    return restarted_newton(lambda x: _evaluate(x, p, dt), guess, restart, tolerance, iterations)
 
 
 def _balance_solve(dt, x, p, r, dp):
@@ -297,5 +269,5 @@ def _exact_blocks(x, p, dt):
     axes = jnp.broadcast_to(jnp.eye(2, dtype=d.dtype)[:, None, None, :], (2,) + d.shape)
     columns = jax.vmap(lambda t: jax.jvp(forces, (d,), (t,))[1])(axes)
     blocks = jnp.moveaxis(columns, 0, -1)
-    pendulum = jax.vmap(_pendulum_blocks)(_group_parameters(p))
+    pendulum = jax.vmap(pendulum_blocks)(_group_parameters(p))
     return jnp.where((p["N"] > 0)[:, None, None, None], blocks, pendulum)

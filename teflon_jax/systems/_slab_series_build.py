@@ -10,10 +10,10 @@ from ..excitation import Signal
 from ..structures import overturning_map, support_plan
 from ..units import STANDARD_GRAVITY
 from ..validation import concrete
+from ._isolator_balance import TRIPLE_NEWTON_ITERATIONS, TRIPLE_TOLERANCE
 from ._response import StructureResponse
 from ._slab_series import SlabOnSeries
 from ._slider_forces import series_heat_kernel, surface_temperature_rises
-from ._triple_structure import TRIPLE_NEWTON_ITERATIONS, TRIPLE_TOLERANCE
 
 SERIES_SLAB_ISOLATORS = tuple(SERIES_PENDULUMS)
 """`slab_on_bearings`'s isolators whose groups are series pendulums."""

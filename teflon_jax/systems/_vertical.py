@@ -71,8 +71,7 @@ def with_vertical_motion(system, vertical_acceleration: Signal, radius=None):
 
     `system`: any stepped structure, one that has a `vertical_acceleration` field (a
     `StructureOnSliders`, `BidirectionalStructure` — the slab on flat sliders or single
-    pendulums among them —, `StructureOnTriple` or `SlabOnSeries`), or a
-    `BiaxialStructureOnTriple`, whose one-component structure takes the record.
+    pendulums among them —, `StructureOnSeries` in one or two components, or `SlabOnSeries`).
 
     A single friction pendulum's structure holds the part W / R of its stiffness that the
     normal load carries (`pendulum_stiffness`, scaled by N / W in each step; W_g / R per group
@@ -88,12 +87,9 @@ def with_vertical_motion(system, vertical_acceleration: Signal, radius=None):
         raise ValueError("vertical_acceleration: expected a Signal of the vertical ground "
                          f"acceleration [m/s^2], got {type(vertical_acceleration).__name__}.")
     fields = {field.name for field in dataclasses.fields(system)} if dataclasses.is_dataclass(system) else set()
-    if "uniaxial" in fields:  # two components on series pendulums: the uniaxial structure's record
-        _no_radius(radius)
-        return dataclasses.replace(system, uniaxial=with_vertical_motion(system.uniaxial, vertical_acceleration))
     if "vertical_acceleration" not in fields:
         raise ValueError("system: expected a stepped structure (StructureOnSliders, BidirectionalStructure, "
-                         f"StructureOnTriple, BiaxialStructureOnTriple, SlabOnSeries), got {type(system).__name__}.")
+                         f"StructureOnSeries, SlabOnSeries), got {type(system).__name__}.")
     if "pendulum_stiffness" not in fields:  # series pendulums
         _no_radius(radius)
         return dataclasses.replace(system, vertical_acceleration=vertical_acceleration)

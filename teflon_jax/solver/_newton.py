@@ -1,0 +1,107 @@
+"""Newton's iterations on a step's balance r(x) = 0, given as callables: the strategies the
+stepped systems choose by the static shape of their unknowns.
+
+- `damped_newton`: x <- x - f J^-1 r with f halved until the merit sum(r^2) falls, then a
+  second stage with much shorter steps where the first leaves the balance short (a slider's
+  reversal kink: a full step from the sliding side overshoots by the ratio of the slopes);
+  J^-1 r comes with each evaluation (`sherman_morrison` for J = diag(k) + 1 1^T / G).
+- `restarted_newton`: the same, started once more from a second point where the first run
+  ends short (a minimum of sum(r^2) with r != 0).
+- `planar_newton` (`_planar.py`): the same line search on unknowns with 2 x 2 blocks per
+  element, J = blockdiag(K_e) + U U^T / G inverted by the Woodbury identity, with an optional
+  secant (Broyden) first stage.
+
+Each returns its iterate bit for bit as written here; `implicit_root` differentiates the root.
+References: Dennis & Schnabel (1996), Numerical Methods for Unconstrained Optimization,
+Sec. 6.3 (line search by backtracking); Sherman & Morrison (1950).
+"""
+
+import jax
+import jax.numpy as jnp
+
+SMALLEST_STEP = 1.0 / 64
+"""Shortest fraction of a Newton step the line search tries; it is then taken as it is."""
+
+RESCUE_ITERATIONS = 120
+"""Most further evaluations of the residual in a step whose balance the first `iterations`
+left short (the line search's second stage)."""
+
+RESCUE_SMALLEST = 2.0**-40
+"""Shortest fraction of a Newton step the second stage tries before it takes it as it is: where
+a slider's force has a kink (Z's elastic slope on a reversal against W / R_e while it slides),
+a full Newton step from the sliding side overshoots the root by up to the ratio of the slopes
+(mu R_e / Y, ~10^3), and only a short enough one lowers the imbalance."""
+
+
+def shortest_fraction(k, iterations: int):
+    """The fraction of a Newton step the line search takes as it is at evaluation `k`:
+    `SMALLEST_STEP` within the first `iterations`, `RESCUE_SMALLEST` after them."""
+    return jnp.where(k < iterations, SMALLEST_STEP, RESCUE_SMALLEST)
+
+
+def damped_newton(evaluate, guess, tolerance, iterations: int, *, finite_direction: bool = False):
+    """Newton's iteration with step halving: from `guess`, steps x <- x - f dir with f halved
+    until the merit sum(r^2) falls (or f reaches `SMALLEST_STEP`; also until the new direction
+    is finite where `finite_direction`), while max |r| > `tolerance` and fewer than `iterations`
+    steps were taken. `evaluate(x)` returns (residual r, merit, direction J^-1 r). Where that
+    leaves the balance short, at most `RESCUE_ITERATIONS` more steps halve f down to
+    `RESCUE_SMALLEST` (`shortest_fraction`); a step balanced within `iterations` is as before.
+
+    **Returns:** (x, whether max |r| <= tolerance)."""
+    def cond(carry):
+        _, (r, _, _), _, k = carry
+        return (jnp.max(jnp.abs(r)) > tolerance) & (k < iterations + RESCUE_ITERATIONS)
+
+    def body(carry):
+        d, (r, merit, direction), fraction, k = carry
+        trial = d - fraction * direction
+        new = evaluate(trial)
+        lower = new[1] < merit
+        if finite_direction:
+            lower = lower & jnp.all(jnp.isfinite(new[2]))
+        accept = lower | (fraction <= shortest_fraction(k, iterations))
+        d = jnp.where(accept, trial, d)
+        values = tuple(jnp.where(accept, a, b) for a, b in zip(new, (r, merit, direction)))
+        return d, values, jnp.where(accept, 1.0, 0.5 * fraction), k + 1
+
+    carry = (guess, evaluate(guess), jnp.ones((), guess.dtype), 0)
+    d, (r, _, _), _, _ = jax.lax.while_loop(cond, body, carry)
+    return d, jnp.max(jnp.abs(r)) <= tolerance
+
+
+def restarted_newton(evaluate, guess, restart, tolerance, iterations: int):
+    """`damped_newton` from `guess`; where its evaluations (`iterations` and the
+    `RESCUE_ITERATIONS`) run out short of `tolerance`, the same once more from `restart`. One
+    loop, so the compiled step holds one copy of the residual; up to the restart every
+    operation is `damped_newton`'s. **Returns:** (x, whether max |r| <= tolerance)."""
+    budget = iterations + RESCUE_ITERATIONS
+
+    def cond(carry):
+        _, (r, _, _), _, k, restarted = carry
+        return (jnp.max(jnp.abs(r)) > tolerance) & ((k < budget) | ~restarted)
+
+    def body(carry):
+        x, (r, merit, direction), fraction, k, restarted = carry
+        again = k >= budget  # reached only before the restart
+        trial = jnp.where(again, restart, x - fraction * direction)
+        new = evaluate(trial)
+        accept = again | (new[1] < merit) | (fraction <= shortest_fraction(k, iterations))
+        x = jnp.where(accept, trial, x)
+        values = tuple(jnp.where(accept, a, b) for a, b in zip(new, (r, merit, direction)))
+        return (x, values, jnp.where(accept, 1.0, 0.5 * fraction), jnp.where(again, 0, k + 1).astype(k.dtype),
+                restarted | again)
+
+    carry = (guess, evaluate(guess), jnp.ones((), guess.dtype), jnp.zeros((), jnp.int32), jnp.zeros((), bool))
+    x, (r, _, _), _, _, _ = jax.lax.while_loop(cond, body, carry)
+    return x, jnp.max(jnp.abs(r)) <= tolerance
+
+
+def sherman_morrison(residual, slope, compliance):
+    """J^-1 r for J = diag(slope) + 1 1^T / G (Sherman-Morrison): c (r - s), c = 1 / slope,
+    s = sum(c r) / (G + sum c). At G = 0 (an imposed sum of the unknowns) the step keeps that
+    sum. One unknown: G r / (G k + 1), without the cancellation of c (r - s) where its slope k
+    is small."""
+    if residual.shape[0] == 1:
+        return compliance * residual / (compliance * slope + 1)
+    c = 1.0 / slope
+    return c * (residual - jnp.sum(c * residual) / (compliance + jnp.sum(c)))

@@ -1,0 +1,106 @@
+"""Newton's iteration on a balance of S elements, each with a planar unknown d_e (S, 2) and a
+2 x 2 block K_e = dF_e/dd_e of its own (F_e depends on d_e alone), coupled through one
+compliance G: J = blockdiag(K_e) + U U^T / G, inverted by the Woodbury identity
+(`woodbury`). `planar_newton` takes the blocks by differences at every point, or, with a
+secant stage, by Broyden's update of each block after the first (`broyden_blocks`).
+References: Woodbury (1950); Broyden (1965), Math. Comp. 19; Dennis & Schnabel (1996),
+Sec. 6.3.
+"""
+
+import jax
+import jax.numpy as jnp
+
+from ._newton import RESCUE_ITERATIONS, shortest_fraction
+
+SECANT_ITERATIONS = 8
+"""Most steps of the secant stage of `planar_newton` (each one evaluation of the forces)."""
+
+
+def planar_newton(forces, residual, direction, blocks, guess, tolerance, iterations: int, *, secant=None):
+    """Newton's iteration with step halving on a planar balance: d <- d - f J(d)^-1 r(d), f
+    halved until the merit sum(r^2) falls (or f reaches `SMALLEST_STEP`), while max |r| >
+    `tolerance` and fewer than `iterations` steps were taken; then, where the balance is still
+    short, at most `RESCUE_ITERATIONS` more steps halving f down to `RESCUE_SMALLEST` (as
+    `damped_newton`).
+
+    **Arguments:** `forces(d)` -> F (S, 2), the one costly evaluation; `residual(d, F)` -> r;
+    `direction(r, K)` -> J^-1 r for the blocks K (S, 2, 2); `blocks(d, F)` -> K at d (by
+    differences: the iteration needs J only to about sqrt(eps), the balance being judged on
+    the exact r); `secant`: `None`, or `update(K, step, change, d)` -> K after d moved by
+    `step` and F by `change` (`broyden_blocks`): a first stage takes `blocks` at `guess` only
+    and then that update, full steps while the merit falls, at most min(`SECANT_ITERATIONS`,
+    `iterations`), one evaluation each; the Newton stage continues where it stops short,
+    counting its steps.
+
+    **Returns:** (d, whether max |r| <= tolerance, the number of steps taken)."""
+    def trial_of(d, r, merit, step):
+        trial = d - step
+        force_trial = forces(trial)
+        r_trial = residual(trial, force_trial)
+        merit_trial = jnp.sum(r_trial**2)
+        return merit_trial < merit, (trial, force_trial, r_trial, merit_trial)
+
+    def secant_cond(carry):
+        _, _, r, _, _, k, falling = carry
+        return falling & (jnp.max(jnp.abs(r)) > tolerance) & (k < min(SECANT_ITERATIONS, iterations))
+
+    def secant_body(carry):
+        d, force, r, merit, matrix, k, _ = carry
+        lower, new = trial_of(d, r, merit, direction(r, matrix))
+        matrix = jnp.where(lower, secant(matrix, new[0] - d, new[1] - force, d), matrix)
+        new = tuple(jnp.where(lower, a, b) for a, b in zip(new, (d, force, r, merit)))
+        return (*new, matrix, k + 1, lower)
+
+    def cond(carry):
+        _, _, r, _, _, k = carry
+        return (jnp.max(jnp.abs(r)) > tolerance) & (k < iterations + RESCUE_ITERATIONS)
+
+    def body(carry):
+        d, force, r, merit, fraction, k = carry
+        lower, new = trial_of(d, r, merit, fraction * direction(r, blocks(d, force)))
+        accept = lower | (fraction <= shortest_fraction(k, iterations))
+        new = tuple(jnp.where(accept, a, b) for a, b in zip(new, (d, force, r, merit)))
+        return (*new, jnp.where(accept, 1.0, 0.5 * fraction), k + 1)
+
+    force = forces(guess)
+    r = residual(guess, force)
+    d, merit, k = guess, jnp.sum(r**2), 0
+    if secant is not None:
+        carry = (d, force, r, merit, blocks(d, force), k, jnp.array(True))
+        d, force, r, merit, _, k, _ = jax.lax.while_loop(secant_cond, secant_body, carry)
+    d, _, r, _, _, taken = jax.lax.while_loop(cond, body, (d, force, r, merit, jnp.ones((), guess.dtype), k))
+    return d, jnp.max(jnp.abs(r)) <= tolerance, taken
+
+
+def broyden_blocks(blocks, step, change, floor):
+    """Broyden's update of each element's block K_e (S, 2, 2) after its unknown moved by
+    `step` s_e (S, 2) and its force by `change` y_e (S, 2) (F_e depends on d_e alone):
+    K_e + (y_e - K_e s_e) s_e^T / (s_e . s_e), so that K_e s_e = y_e (Broyden 1965); an
+    element whose step is within `floor` (S,) (the differences' own step, where y_e is mostly
+    rounding) keeps its block."""
+    size = jnp.sum(step**2, axis=-1)
+    moved = size > floor**2
+    miss = change - jnp.einsum("eij,ej->ei", blocks, step)
+    update = miss[:, :, None] * step[:, None, :] / jnp.where(moved, size, 1.0)[:, None, None]
+    return blocks + jnp.where(moved[:, None, None], update, 0.0)
+
+
+def inverse2(m):
+    """Inverses of 2 x 2 matrices (..., 2, 2), by the adjugate."""
+    det = m[..., 0, 0] * m[..., 1, 1] - m[..., 0, 1] * m[..., 1, 0]
+    adjugate = jnp.stack([jnp.stack([m[..., 1, 1], -m[..., 0, 1]], -1),
+                          jnp.stack([-m[..., 1, 0], m[..., 0, 0]], -1)], -2)
+    return adjugate / det[..., None, None]
+
+
+def woodbury(residual, blocks, compliance):
+    """J^-1 r for J = blockdiag(K_e) + U U^T / G: C_e (r_e - s), C_e = K_e^-1,
+    s = (G I + sum C_e)^-1 sum C_e r_e. One element: (G K + I)^-1 G r, without the
+    cancellation of C (r - s) where K is near singular (a flat slider's along its sliding)."""
+    if residual.shape[0] == 1:
+        eye = jnp.eye(2, dtype=residual.dtype)
+        return jnp.einsum("eij,ej->ei", inverse2(compliance * blocks + eye), compliance * residual)
+    c = inverse2(blocks)
+    cr = jnp.einsum("eij,ej->ei", c, residual)
+    s = inverse2(compliance * jnp.eye(2, dtype=residual.dtype) + jnp.sum(c, 0)) @ jnp.sum(cr, 0)
+    return cr - jnp.einsum("eij,j->ei", c, s)

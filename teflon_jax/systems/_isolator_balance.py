@@ -1,0 +1,467 @@
+"""The sliders' balance of a friction pendulum of sliders in series over one step, in one or two
+horizontal components: what a structure on the isolator (`StructureOnSeries`) and the
+isolator's bearing test along an imposed path (`simulate_triple_test`) step through.
+
+S sliders carry one force F and their increments d_e add up to the isolator's; slider e
+carries F_e(d_e) (`slider_forces`: Eq. 1 at the surface's mean velocity over the step, f_min
+while Z still points back after a reversal, the restrainer beyond its capacity), a scalar
+under one component and a vector in the plane under two (Park's biaxial Z along the
+increment). Each step solves
+
+    F_e(d_e) = F,   F = (D - sum_e d_e) / G,
+
+D the isolator's increment that the linear step leaves without the bearing and G its
+compliance over the step (a structure), or with sum_e d_e = D held exactly and F the sliders'
+mean force (an imposed path: the limit G -> 0 of an actuator). The iteration is chosen by the
+static shape of the unknowns (`teflon_jax.solver`): one slider in one component, a bracketed
+scalar Newton (`bracketed_newton`); several, Newton's iteration with a halving line search
+and J = diag(k_e) + 1 1^T / G inverted by Sherman-Morrison (`damped_newton`); two
+components, the same on 2 x 2 blocks K_e by differences, inverted by Woodbury, with an
+optional Broyden first stage (`planar_newton`, `BALANCES`). The root is differentiated
+implicitly with exact slopes (`implicit_root`). At a normal load N <= 0 (uplift) the sliders
+carry nothing and share the isolator's increment as their pendulum stiffnesses W / R_e in
+series would (`uplift_increments`).
+
+The bearing test (`simulate_triple_test`) drives the isolator along a displacement path: the
+same step with the structure replaced by the path, the sliders' increments adding up to the
+path's increment exactly, their forces equal to `TEST_TOLERANCE` W. References: Fenz &
+Constantinou (2006), Earthquake Engng Struct. Dyn. 35; (2008), Earthquake Spectra 24(4); Park,
+Wen & Ang (1986); Constantinou, Mokha & Reinhorn (1990), Eqs. 1, 3.
+"""
+
+import functools
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from ..bearing import SeriesPendulum
+from ..excitation import AbstractBiaxialMotion
+from ..solver import (
+    RESCUE_ITERATIONS,
+    broyden_blocks,
+    damped_newton,
+    implicit_root,
+    inverse2,
+    planar_newton,
+    sherman_morrison,
+    woodbury,
+)
+from ._bearing_test import save_times
+from ._isolator_solve import bracketed_newton
+from ._response import BearingTestResult
+from ._sampled_path import sample_velocity
+from ._slider_forces import (
+    FRICTION_VELOCITIES,
+    balance_forces,
+    floor_stiffnesses,
+    heated_step,
+    initial_history,
+    next_history,
+    series_heat_kernel,
+    slider_lengths,
+    step_history,
+)
+
+TRIPLE_NEWTON_ITERATIONS = 60
+"""Most evaluations of the sliders' forces per step (Newton iterations and line-search halvings)."""
+
+TRIPLE_TOLERANCE = 1e-9
+"""Default `StructureOnSeries.newton_tolerance`: the sliders' force imbalance over the weight W."""
+
+BALANCES = ("newton", "secant")
+"""How a step's planar balance is iterated (`StructureOnSeries.balance`, two components):
+"newton", fresh 2 x 2 blocks by differences at every point (three force evaluations a step);
+"secant", Broyden's update of the blocks after the first step (one force evaluation a step,
+Newton's iteration taking over where it stalls; `planar_newton`). Both balance to the same
+tolerance; "newton" along one axis follows the one-component iteration to rounding, "secant"
+agrees with it to that tolerance."""
+
+NEWTON_DIFFERENCE_STEP = 2.0**-26
+"""Relative step h / (Y + |d_e|) of the one-sided differences that give Newton's 2 x 2 blocks."""
+
+
+def isolator_parameters(pendulum: SeriesPendulum, isolator, weight, normal, increment, compliance=None,
+                        heat_weights=None):
+    """The balance's parameters `p` from the isolator's state (sliders, Z, the last two
+    increments, the force beyond the reference spring[, heat states][, history]; arrays (S,)
+    or (S, 2)): total normal load W [N], its value N [N] over the step, the isolator's increment
+    D [m] and the compliance G [m/N] (`None`: an imposed path), the heat kernel's weights of a
+    heated pendulum."""
+    slider0, z0 = isolator[:2]
+    p = {"pendulum": pendulum, "W": weight, "N": normal, "s0": slider0, "z0": z0, "D": increment}
+    if compliance is not None:
+        p["G"] = compliance
+    if pendulum.heated:
+        p["k"] = pendulum.heat_factors(isolator[4], heat_weights)
+    if pendulum.remembers:
+        p["history"] = step_history(isolator[-1], z0)
+    return p
+
+
+def slider_step(isolator, p, guess, tolerance, dt, iterations: int, *, heat_rates=None, load=None,
+                secant: bool = False, reference=None):
+    """One step of the isolator: the sliders' increments that balance `p`
+    (`isolator_parameters`) from `guess` to `tolerance` [N] (`balance`), over `dt` [s], under
+    the load factor `load` N / W at the step's end (`None`: N = W throughout;
+    `uplift_increments`); `reference`: (k_ref [N/m], the isolator's displacement at the step's
+    start [m]) of a structure, whose state keeps the force beyond k_ref u; `None` keeps F.
+
+    **Returns:** (the isolator's state at the end, whether the balance converged, the bearing
+    force F [N])."""
+    pendulum = p["pendulum"]
+    d, converged = balance(dt, iterations, p, guess, tolerance, secant)
+    if load is not None:
+        d, converged = uplift_increments(pendulum, load, p["D"], d, converged)
+    force, z1 = balance_forces(p, d, dt)
+    bearing = jnp.mean(force, axis=0)  # equal to rounding
+    extra = bearing if reference is None else bearing - reference[0] * (reference[1] + jnp.sum(d, axis=0))
+    state = (isolator[0] + d, z1, jnp.stack([d, isolator[2][0]]), extra)
+    if pendulum.heated:
+        slide = jnp.abs(d) if d.ndim == 1 else slider_lengths(d)
+        state = state + (heated_step(pendulum, isolator[4], p["k"], slide, dt, heat_rates,
+                                     1.0 if load is None else load),)
+    if pendulum.remembers:
+        state = state + (next_history(pendulum, p["history"], d),)
+    return state, converged, bearing
+
+
+def predicted_increments(previous):
+    """The sliders' increments a step's Newton iteration starts from: 2 d_-1 - d_-2, the linear
+    extrapolation of the last two steps' increments `previous` (2, ...) [m]. It starts the
+    balance closer than d_-1 alone (B7's triple pendulum under two components: 1.47 instead of
+    1.84 Newton steps per time step on average; benchmarks/README.md)."""
+    return 2 * previous[0] - previous[1]
+
+
+def uplift_increments(pendulum: SeriesPendulum, load, total, increments, converged):
+    """(increments, converged) of a step under the load factor `load`: at `load` <= 0 (uplift)
+    the sliders carry no force, the isolator's increment `total` [m] ((,) or (2,)) is theirs
+    and they share it as their pendulum stiffnesses W / R_e in series would, d_e = total
+    R_e / sum R (a smooth rule where the balance leaves the split open; one surface takes it
+    all, also a flat one); else unchanged."""
+    radii = pendulum.series_radii()
+    share = jnp.ones_like(radii) if pendulum.slider_count == 1 else radii / jnp.sum(radii)
+    lifted = load <= 0
+    split = share * total if jnp.ndim(total) == 0 else share[:, None] * total
+    return jnp.where(lifted, split, increments), converged | lifted
+
+
+def carried_force(d, force, p):
+    """The force the sliders must carry after the increments `d` (S[, 2]) [m], whose own
+    forces are `force`: (D - sum d) / G, what the linear step leaves, where `p` holds the
+    compliance G [m/N]; else (an imposed path, sum d = D held by the iteration) the mean of
+    the sliders' forces."""
+    if "G" in p:
+        return (p["D"] - jnp.sum(d, axis=0)) / p["G"]
+    return jnp.mean(force, axis=0)
+
+
+def balance_compliance(p):
+    """G [m/N] of the balance: the linear step's, or 0 for an imposed path (module docstring)."""
+    return p.get("G", jnp.zeros((), p["s0"].dtype))
+
+
+def balance(dt, iterations: int, p, guess, tolerance, secant: bool = False):
+    """The sliders' increments (S,) or (S, 2) [m] that balance their forces with the linear
+    step or the imposed path (module docstring) over a step of `dt` [s] (a float, or traced),
+    from `guess`, and whether |residual| <= `tolerance` [N] was reached; the iteration by the
+    shape of `guess` (one component: `_iterate_line`; two: `_iterate_plane`, with Broyden's
+    first stage where `secant`); differentiated implicitly (`solver.implicit_root`) with
+    exact slopes, whichever way the root was iterated."""
+    if guess.ndim == 1:
+        return implicit_root(functools.partial(_iterate_line, iterations), _balance_residual, _line_solve,
+                             {**p, "dt": dt}, guess, tolerance)
+    return implicit_root(functools.partial(_iterate_plane, iterations, secant), _balance_residual, _plane_solve,
+                         {**p, "dt": dt}, guess, tolerance)
+
+
+def _balance_residual(d, p):
+    """F_e(d_e) - F(d), F(d) the force the linear step or the imposed path leaves
+    (`carried_force`), with the step's length in `p["dt"]`."""
+    force, _ = balance_forces(p, d, p["dt"])
+    return force - carried_force(d, force, p)
+
+
+# --------------------------------------------------------------------------- one component
+
+
+def _residual_and_slopes(d, p):
+    """(residual (S,), dF_e/dd_e (S,)): each slider's force depends on its own increment."""
+    def forces(x):
+        return balance_forces(p, x, p["dt"])[0]
+
+    force, slope = jax.jvp(forces, (d,), (jnp.ones_like(d),))
+    return force - carried_force(d, force, p), slope
+
+
+def _iterate_line(iterations, p, guess, tolerance):
+    """One component: one slider's balance bracketed (`bracketed_newton`), several sliders'
+    by `damped_newton` with J^-1 r by Sherman-Morrison, the slopes floored by the pendulum's
+    own W / R_e."""
+    floor = floor_stiffnesses(p["pendulum"], p["W"])  # the pendulum's own stiffness, a floor of the slope
+
+    def evaluate(d):
+        r, k = _residual_and_slopes(d, p)
+        return r, jnp.sum(r**2), sherman_morrison(r, jnp.maximum(k, floor), balance_compliance(p))
+
+    if guess.shape[0] == 1 and "G" in p:  # one slider: bracketed (`bracketed_newton`)
+        return bracketed_newton(lambda d: evaluate(d)[::2], guess, tolerance, iterations + RESCUE_ITERATIONS)
+    return damped_newton(evaluate, guess, tolerance, iterations)
+
+
+def _line_solve(d, p, r, dp):
+    """J^-1 r at the root d for J = diag(k_e) + 1 1^T / G (`sherman_morrison`), k_e the
+    sliders' exact slopes dF_e/dd_e (several sliders: floored by W / R_e where not positive,
+    which happens only at uplift; one slider keeps its slope: G k + 1 > 0 where its balance has
+    a root). An imposed path (no G in `p`) holds sum d = D outside the residual: that
+    constraint's tangent -dD is shared as the sliders' compliances 1 / k_e (all of it on one
+    slider)."""
+    _, slope = _residual_and_slopes(d, p)
+    if d.shape[0] > 1:
+        slope = jnp.where(slope > 0, slope, floor_stiffnesses(p["pendulum"], p["W"]))
+    direction = sherman_morrison(r, slope, balance_compliance(p))
+    if "G" not in p and d.shape[0] == 1:
+        return direction - dp["D"]
+    if "G" not in p:
+        return direction - dp["D"] / slope / jnp.sum(1.0 / slope)
+    return direction
+
+
+# --------------------------------------------------------------------------- two components
+
+
+def _exact_blocks(d, p):
+    """dF_e/dd_e (S, 2, 2): a forward pass with the two axes' tangents (each slider's force
+    depends on its own increment only); the pendulum's (W / R_e) I at uplift."""
+    def forces(x):
+        return balance_forces(p, x, p["dt"])[0]
+
+    axes = jnp.broadcast_to(jnp.eye(2, dtype=d.dtype)[:, None, :], (2,) + d.shape)
+    _, columns = jax.vmap(lambda t: jax.jvp(forces, (d,), (t,)), out_axes=(None, 0))(axes)
+    blocks = jnp.moveaxis(columns, 0, -1)
+    return jnp.where(p["N"] > 0, blocks, pendulum_blocks(p))
+
+
+def differenced_blocks(d, force, p, dt):
+    """dF_e/dd_e (S, 2, 2) at the increments `d` (S, 2) whose forces are `force`, from one-sided
+    differences along x and y, h = `NEWTON_DIFFERENCE_STEP` (Y + max |d_e|) (relative error
+    ~ sqrt(eps)): two evaluations of the forces (each slider's force depends on its own
+    increment only). Forward-mode tangents through Park's three segments cost tens of
+    evaluations on CPU; Newton's iteration only needs its matrix to about sqrt(eps), the
+    balance being judged on the exact residual (the implicit derivative keeps exact blocks)."""
+    h = difference_steps(d, p)
+    shifted = d + h[:, None]
+    steps = shifted - d  # h as the sum represents it
+    trials = jnp.stack([jnp.stack([shifted[:, 0], d[:, 1]], -1), jnp.stack([d[:, 0], shifted[:, 1]], -1)])
+    forces = jax.vmap(lambda x: balance_forces(p, x, dt)[0])(trials)
+    blocks = jnp.moveaxis((forces - force) / jnp.moveaxis(steps, -1, 0)[:, :, None], 0, -1)
+    return jnp.where(p["N"] > 0, blocks, pendulum_blocks(p))
+
+
+def difference_steps(d, p):
+    """h = `NEWTON_DIFFERENCE_STEP` (Y + max |d_e|) (S,) [m] of each slider's differences."""
+    return NEWTON_DIFFERENCE_STEP * (p["pendulum"].hysteresis.yield_disp + jnp.max(jnp.abs(d), axis=-1))
+
+
+def pendulum_blocks(p):
+    """(W / R_e) I (S, 2, 2): the sliders' pendulum stiffnesses (`floor_stiffnesses`), Newton's
+    matrix at uplift."""
+    return floor_stiffnesses(p["pendulum"], p["W"])[:, None, None] * jnp.eye(2, dtype=p["s0"].dtype)
+
+
+def planar_iteration(p, guess, tolerance, iterations: int, secant: bool = False):
+    """`planar_newton` on the sliders' planar balance, with the step's length in `p["dt"]`:
+    blocks by differences (`differenced_blocks`; the pendulum's own (W / R_e) I where they
+    give no finite direction), J^-1 r by Woodbury; with `secant`, Broyden's update after the
+    first (`broyden_blocks`, within the differences' own step a block is kept).
+
+    **Returns:** (d, converged, the number of Newton steps taken)."""
+    dt = p["dt"]
+
+    def forces(d):
+        return balance_forces(p, d, dt)[0]
+
+    def residual(d, force):
+        return force - carried_force(d, force, p)
+
+    def direction(r, blocks):
+        found = woodbury(r, blocks, balance_compliance(p))
+        fallback = woodbury(r, pendulum_blocks(p), balance_compliance(p))
+        return jnp.where(jnp.all(jnp.isfinite(found)), found, fallback)
+
+    def update(blocks, step, change, d):
+        return broyden_blocks(blocks, step, change, difference_steps(d, p))
+
+    return planar_newton(forces, residual, direction, lambda d, force: differenced_blocks(d, force, p, dt),
+                         guess, tolerance, iterations, secant=update if secant else None)
+
+
+def _iterate_plane(iterations, secant, p, guess, tolerance):
+    """`planar_iteration`: (d, converged)."""
+    return planar_iteration(p, guess, tolerance, iterations, secant)[:2]
+
+
+def _plane_solve(d, p, r, dp):
+    """J^-1 r at the root d for J = blockdiag(K_e) + U U^T / G (`woodbury`), K_e the exact
+    2 x 2 blocks (`_exact_blocks`). An imposed path (no G in `p`) holds sum d = D outside the
+    residual: that constraint's tangent -dD is shared as C_e (sum C)^-1, C_e = K_e^-1 (all of
+    it on one slider)."""
+    blocks = _exact_blocks(d, p)
+    direction = woodbury(r, blocks, balance_compliance(p))
+    if "G" not in p and d.shape[0] == 1:
+        return direction - dp["D"][None]
+    if "G" not in p:
+        c = inverse2(blocks)
+        return direction - jnp.einsum("eij,j->ei", c, inverse2(jnp.sum(c, 0)) @ dp["D"])
+    return direction
+
+
+# --------------------------------------------------------------------------- the imposed path
+
+
+TEST_TOLERANCE = 1e-12
+"""The sliders' force imbalance [-] over W at which a test step stops: a record simulated for
+a fit is balanced to rounding, far below the structures' `TRIPLE_TOLERANCE`."""
+
+
+def _path_step(pendulum, load, dt, kernel, state, target, velocity=None, *, tolerance=TEST_TOLERANCE,
+               iterations: int = TRIPLE_NEWTON_ITERATIONS):
+    """One step of the isolator to the path's displacement `target` ((,) or (2,) [m]) from its
+    state (`StructureOnSeries.initial_isolator`'s, the force F in place of the force beyond a
+    reference spring): the structures' step of the isolator (`slider_step`) with the sliders'
+    increments adding up to D = target - sum(sliders), from the extrapolated increments with
+    their misfit to D shared evenly; `velocity` [m/s]: the path's at `target`, for the law
+    "end" (one surface), else `None`."""
+    slider = state[0]
+    p = isolator_parameters(pendulum, state, load, load, target - jnp.sum(slider, axis=0),
+                            heat_weights=None if kernel is None else kernel[1])
+    if velocity is not None:
+        p["v"] = (velocity, jnp.zeros_like(velocity))
+    guess = predicted_increments(state[2])
+    guess = guess + (p["D"] - jnp.sum(guess, axis=0)) / pendulum.slider_count
+    limit = jnp.maximum(tolerance, 32 * jnp.finfo(slider.dtype).eps) * load
+    new, converged, force = slider_step(state, p, guess, limit, dt, iterations,
+                                        heat_rates=None if kernel is None else kernel[0])
+    return new, (force, new[0], new[1], converged)
+
+
+def _along_path(pendulum, load, time_step, path, kernel, velocity=None, **solve):
+    """Scan `_path_step` along `path` (nt,) or (nt, 2) [m] from rest (with the path's
+    `velocity`, like it, for the law "end"): (force, slider, z, converged) of the steps after
+    the first sample."""
+    shape = (pendulum.slider_count,) + path.shape[1:]
+    zeros = jnp.zeros(shape, path.dtype)
+    start = (zeros, zeros, jnp.stack([zeros, zeros]), jnp.zeros(path.shape[1:], path.dtype))
+    if kernel is not None:
+        start = start + (jnp.zeros((pendulum.slider_count, kernel[0].shape[0]), path.dtype),)
+    if pendulum.remembers:
+        start = start + (initial_history(pendulum, shape[:1], path.dtype),)
+
+    def body(state, inputs):
+        return _path_step(pendulum, load, time_step, kernel, state, *inputs, **solve)
+
+    return jax.lax.scan(body, start, (path[1:],) if velocity is None else (path[1:], velocity[1:]))[1]
+
+
+def simulate_triple_test(bearing: SeriesPendulum, time, displacement, normal_load, *,
+                         heat_kernel=None, friction_velocity: str = "mean", velocity=None) -> BearingTestResult:
+    """Force of a triple or double pendulum bearing [N] along an imposed displacement [m] at the
+    sample times [s] (uniform), under normal load W [N]: `displacement` (nt,) along one axis or
+    (nt, 2) in the plane (an orbit); the path starts at rest at its first sample (module
+    docstring). jit-, vmap- and grad-safe once the bearing is checked
+    (`check_triple_pendulum`, `check_double_pendulum`). A pendulum with heated surfaces
+    (`SeriesPendulum.heated`; contact pressures at this W) scales each surface's friction by
+    its temperature (`_slider_forces.heated_step`; in the plane the flux takes the length of each
+    surface's increment), with `heat_kernel` (rates, weights) =
+    `heat_kernel_exponentials(dt, horizon)`, by default from concrete `time` (one step to
+    `HEAT_HORIZON`). `friction_velocity` (`FRICTION_VELOCITIES`): "mean", or for a one-surface
+    isolator "end", Eq. 1 at the path's velocity at each sample, `velocity` [m/s] like
+    `displacement` (default: `sample_velocity`, central differences), as a flat bearing's
+    test (`respond_along_path`) takes it.
+
+    **Returns:** a `BearingTestResult`: the path (`time`, `ux`, `uy`; `vx`, `vy` for the law
+    "end"), `normal_load`, the force `fx`, `fy` [N] (`fy` zeros along one axis), the sliders'
+    displacements `slider` and `z`, (nt, S) or (nt, S, 2), in the order of the pendulum's
+    `slider_names`, and `converged` (nt,), whether each step's force balance met its tolerance."""
+    time = jnp.asarray(time, float)
+    path = jnp.asarray(displacement, float)
+    kernel = _test_heat_kernel(bearing, time, heat_kernel)
+    load = jnp.asarray(normal_load, float)
+    velocity = _path_velocity(bearing, friction_velocity, time, path, velocity)
+    force, slider, z, converged = _along_path(bearing, load, time[1] - time[0], path, kernel, velocity)
+
+    def first(rest):
+        return jnp.concatenate([jnp.zeros((1,) + rest.shape[1:], rest.dtype), rest])
+
+    force, planar = first(force), path.ndim == 2
+    vx, vy = (None, None) if velocity is None else ((velocity[:, 0], velocity[:, 1]) if planar else (velocity, None))
+    return BearingTestResult(
+        time=time, fx=force[:, 0] if planar else force, fy=force[:, 1] if planar else jnp.zeros_like(force),
+        z=first(z), normal_load=jnp.broadcast_to(load, time.shape), ux=path[:, 0] if planar else path,
+        uy=path[:, 1] if planar else None, vx=vx, vy=vy, slider=first(slider),
+        converged=jnp.concatenate([jnp.array([True]), converged]))
+
+
+def _path_velocity(bearing: SeriesPendulum, friction_velocity: str, time, path, velocity):
+    """The path's velocity [m/s] for the law "end" (given, or `sample_velocity` of each
+    component), `None` for "mean"; `ValueError` naming `friction_velocity` or `velocity`."""
+    if friction_velocity not in FRICTION_VELOCITIES:
+        raise ValueError(f"friction_velocity: unknown {friction_velocity!r}; accepted: {', '.join(FRICTION_VELOCITIES)}.")
+    if friction_velocity == "mean":
+        if velocity is not None:
+            raise ValueError("velocity: the law 'mean' takes each surface's mean speed over a step; "
+                             "give friction_velocity='end' to use the path's velocity.")
+        return None
+    if bearing.slider_count != 1:
+        raise ValueError(f"friction_velocity: 'end' needs a one-surface isolator; the {bearing.description} "
+                         f"have {bearing.slider_count} sliders.")
+    if velocity is None:
+        columns = path[:, None] if path.ndim == 1 else path
+        velocity = jnp.stack([sample_velocity(time, c) for c in columns.T], -1).reshape(path.shape)
+    velocity = jnp.asarray(velocity, float)
+    if velocity.shape != path.shape:
+        raise ValueError(f"velocity: one per sample like the displacement {path.shape}, got {velocity.shape}.")
+    return velocity
+
+
+def imposed_isolator_force(pendulum: SeriesPendulum, load, displacement, time_step: float, *,
+                           newton_iterations: int = TRIPLE_NEWTON_ITERATIONS,
+                           tolerance: float = TEST_TOLERANCE):
+    """The structures' isolator solve driven along a displacement path (nt,) [m] sampled at
+    `time_step` [s], under normal load W [N] (the bearing test, `simulate_triple_test`, with
+    the balance's settings: `newton_iterations`, `tolerance` [-] over W).
+
+    **Returns:** (isolator displacement (nt,) [m], force (nt,) [N], converged (nt,))."""
+    load = jnp.asarray(load, float)
+    force, slider, _, ok = _along_path(pendulum, load, float(time_step), jnp.asarray(displacement, float), None,
+                                       tolerance=tolerance, iterations=newton_iterations)
+    at_rest = jnp.zeros(1, force.dtype)
+    return (jnp.concatenate([at_rest, jnp.sum(slider, axis=1)]), jnp.concatenate([at_rest, force]),
+            jnp.concatenate([jnp.ones(1, bool), ok]))
+
+
+def _test_heat_kernel(bearing: SeriesPendulum, time, heat_kernel):
+    """(rates, weights) of a heated pendulum's kernel (`simulate_triple_test`), else None."""
+    if not bearing.heated:
+        return None
+    if heat_kernel is not None:
+        return tuple(jnp.asarray(a, float) for a in heat_kernel)
+    if isinstance(time, jax.core.Tracer):
+        raise ValueError("heat_kernel: a heated pendulum under traced sample times needs "
+                         "heat_kernel=heat_kernel_exponentials(time_step, horizon) (or concrete times).")
+    return series_heat_kernel(bearing, float(np.min(np.diff(np.asarray(time)))))
+
+
+def triple_pendulum_test(bearing: SeriesPendulum, motion, normal_load, *,
+                         samples_per_cycle: int = 400):
+    """A bearing test of a triple or double pendulum: the imposed `motion` (`AbstractMotion`: sine,
+    triangle, figure-eight or tabulated) sampled `samples_per_cycle` times a cycle (a tabulated
+    motion at its own samples), under the constant normal load [N].
+
+    **Returns:** (time (nt,) [s], displacement (nt,) or (nt, 2) [m], `BearingTestResult`).
+    """
+    time = save_times(motion, motion.duration, samples_per_cycle)
+    path = jax.vmap(motion.displacement)(time)
+    displacement = path if isinstance(motion, AbstractBiaxialMotion) else path[:, 0]
+    return time, displacement, simulate_triple_test(bearing, time, displacement, normal_load)
