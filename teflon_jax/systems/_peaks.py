@@ -11,9 +11,10 @@ import jax.numpy as jnp
 
 from ._bidirectional import BidirectionalStructure
 from ._bidirectional_models import bidirectional_initial_state
+from ._propagators import small_dot
 from ._response import REDUCERS, ResponseLayout, StructureResponse, uplifted
 from ._slab_series import SlabOnSeries
-from ._structure import StructureOnSliders, initial_state
+from ._structure import WRITTEN_OUT_PRODUCT, StructureOnSliders, initial_state
 from ._structure_build import check_duration
 from ._triple_biaxial import BiaxialStructureOnTriple, held_loads
 from ._triple_structure import StructureOnTriple
@@ -224,7 +225,8 @@ def _total_acceleration(system, x, force):
     whose force beyond K u is F [N]: the equation of motion with the ground's inertia moved
     to the left, M (a + 1 a_g) + C v + K u + F e_0 = 0."""
     n = system.mass.shape[-1]
-    inner = system.stiffness @ x[:n] + system.damping @ x[n:]
+    inner = small_dot(system.stiffness, x[:n], WRITTEN_OUT_PRODUCT) + small_dot(system.damping, x[n:],
+                                                                                WRITTEN_OUT_PRODUCT)
     return -inner.at[0].add(force) / system.mass
 
 

@@ -199,7 +199,8 @@ def carried_weight(layout: ResponseLayout):
 def base_shear_ratio(layout: ResponseLayout, response):
     """(..., C) [-]: V / W, the force the bearings carry, sum_j m_j a_j^total, over the
     weight they carry (module docstring)."""
-    force = response.total_acceleration @ (layout.mass[:, None] * layout.influence)
+    weights = layout.mass[:, None] * layout.influence  # (N, C) [kg]
+    force = jnp.sum(response.total_acceleration[..., :, None] * weights, axis=-2)  # no dot kernel per sample
     return force / carried_weight(layout)
 
 
