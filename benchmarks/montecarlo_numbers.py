@@ -1,10 +1,11 @@
 """The `teflon-jax montecarlo` outputs of every isolator, structure and component count, dumped
 from one tree and compared with another's.
 
-    PYTHONPATH=<tree> python benchmarks/montecarlo_numbers.py dump DIR [--cases flat,...]
+    PYTHONPATH=<tree> python benchmarks/montecarlo_numbers.py dump DIR [--cases flat,...] [--no-csv]
     python benchmarks/montecarlo_numbers.py compare DIR_A DIR_B
 
-Each case writes its summary JSON and its results as .nc and .csv (3 motions of 6 s); `compare`
+Each case writes its summary JSON and its results as .nc and .csv (3 motions of 6 s; files
+already there are kept); `compare`
 prints, per case and file, the largest relative difference of every number, naming the key
 where it exceeds 1e-12.
 """
@@ -21,6 +22,8 @@ HERE = Path(__file__).resolve().parent
 ISOLATORS = {"flat": [], "single-fp": ["--radius", "2.24m"],
              "double-fp": ["--isolator-file", str(HERE / "double_isolator.json")],
              "triple-fp": ["--isolator-file", str(HERE / "triple_isolator.json")]}
+TIMING = ("wall", "compile", "records_per_s", "elapsed", "seconds")
+"""Keys of the summary JSON that are timings, not results (left out of `compare`)."""
 BASE = ["--motions", "3", "--duration", "6s", "--strong-motion", "3s", "--no-progress", "--seed", "3"]
 
 
@@ -35,13 +38,15 @@ def cases():
                                                     "--vertical-ratio", "1.5"])
 
 
-def dump(directory, only=None):
+def dump(directory, only=None, suffixes=(".nc", ".csv")):
     directory = Path(directory)
     directory.mkdir(parents=True, exist_ok=True)
     for name, flags in cases():
         if only and not any(name.startswith(o) for o in only):
             continue
-        for suffix in (".nc", ".csv"):
+        for suffix in suffixes:
+            if (directory / f"{name}{suffix}").exists():
+                continue
             argv = [sys.executable, "-m", "teflon_jax", "montecarlo", *BASE, *flags,
                     "--out", str(directory / f"{name}{suffix}")]
             if suffix == ".nc":
@@ -85,7 +90,7 @@ def compare(first, second):
             a = dict(_numbers(json.loads(path.read_text())))
             b = dict(_numbers(json.loads(other.read_text())))
             for key in a.keys() | b.keys():
-                if "wall" in key or "_s" == key[-2:] and "time" in key and "uplift" not in key or "compile" in key:
+                if any(word in key for word in TIMING):
                     continue
                 worst[key] = np.inf if key not in a or key not in b else _rel(a[key], b[key])
         elif path.suffix == ".nc":
@@ -110,6 +115,6 @@ def compare(first, second):
 if __name__ == "__main__":
     if sys.argv[1] == "dump":
         only = sys.argv[sys.argv.index("--cases") + 1].split(",") if "--cases" in sys.argv else None
-        dump(sys.argv[2], only)
+        dump(sys.argv[2], only, (".nc",) if "--no-csv" in sys.argv else (".nc", ".csv"))
     else:
         compare(sys.argv[2], sys.argv[3])

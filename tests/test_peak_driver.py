@@ -86,3 +86,11 @@ def test_the_peaks_along_a_run_are_the_reducers_over_its_history(engine):
         ends = np.arange(1, round(DURATION / dt) + 1) * dt
         lifted = np.sum(1 + np.interp(ends, TIME, AZ) / STANDARD_GRAVITY <= 0) * dt
         assert lifted > 0 and float(folded.uplift_time) == pytest.approx(lifted, abs=1e-12)
+
+
+def test_unknown_reducers_are_refused_by_name():
+    system = _system("flat-1c")
+    with pytest.raises(ValueError, match="reducers: unknown 'base_sheer'"):
+        peak_response(system, DURATION, reducers=("base_sheer",))
+    with pytest.raises(ValueError, match="smooth: 'base_disp' not among"):
+        peak_response(system, DURATION, reducers=("base_disp_resultant",), smooth={"base_disp": 1e-3})

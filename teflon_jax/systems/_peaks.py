@@ -15,7 +15,7 @@ from ._propagators import small_dot
 from ._response import REDUCERS, ResponseLayout, StructureResponse, uplifted
 from ._slab_series import SlabOnSeries
 from ._structure import WRITTEN_OUT_PRODUCT, StructureOnSliders, initial_state
-from ._structure_build import check_duration
+from ._structure_build import check_duration, check_storey_height
 from ._triple_biaxial import BiaxialStructureOnTriple, held_loads
 from ._triple_structure import StructureOnTriple
 
@@ -145,6 +145,10 @@ def peak_response(system, duration: float, *, reducers=None, smooth=None, disp_w
     if smooth is None:
         smooth = {"base_disp_resultant": 1e-3 if disp_width is None else disp_width,
                   "base_shear_ratio_resultant": 1e-3 if shear_width is None else shear_width}
+        smooth = {name: width for name, width in smooth.items() if name in reducers}
+    _check_reducers(reducers, smooth)
+    if storey_height is not None:  # refused for a rigid mass, or unless > 0 (one or one per storey)
+        check_storey_height(len(layout.levels[0]), storey_height)
     n_steps, run = _engine_run(system, duration)
     vertical = system.vertical_acceleration is not None if not isinstance(system, BiaxialStructureOnTriple) \
         else system.uniaxial.vertical_acceleration is not None
@@ -181,6 +185,15 @@ def peak_response(system, duration: float, *, reducers=None, smooth=None, disp_w
     if vertical:
         out["uplift_time"] = lifted * float(system.time_step)
     return out
+
+
+def _check_reducers(reducers, smooth) -> None:
+    unknown = [name for name in reducers if name not in REDUCERS]
+    if unknown:
+        raise ValueError(f"reducers: unknown {', '.join(map(repr, unknown))}; accepted: {', '.join(REDUCERS)}.")
+    unread = [name for name in smooth if name not in reducers]
+    if unread:
+        raise ValueError(f"smooth: {', '.join(map(repr, unread))} not among the reducers kept ({', '.join(reducers)}).")
 
 
 def _check_loop_settings(read_every, steps_per_pass) -> None:
