@@ -17,7 +17,8 @@ from teflon_jax.studies import monte_carlo, monte_carlo_motion  # noqa: E402
 from teflon_jax.systems import isolated_structure, simulate_history  # noqa: E402
 
 MOTIONS, DT = 3, 0.01
-MODEL = StochasticGroundMotion(peak_ground_acceleration=2.94, duration=8.0, time_step=DT)
+MODEL = StochasticGroundMotion(peak_ground_acceleration=2.94, duration=8.0, time_step=DT,
+                               strong_motion_duration=4.0)
 KEY = jax.random.key(5)
 out = {}
 for name, options in (("flat", {}), ("triple-fp", {"isolator": load_isolator(Path(__file__).with_name(

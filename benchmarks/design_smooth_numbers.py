@@ -23,7 +23,8 @@ def dump(path):
     from teflon_jax.systems import isolated_structure
     from teflon_jax.units import PSI
 
-    model = StochasticGroundMotion(peak_ground_acceleration=2.94, duration=6.0, time_step=DT)
+    model = StochasticGroundMotion(peak_ground_acceleration=2.94, duration=6.0, time_step=DT,
+                                    strong_motion_duration=3.0)
     records = sample(model, jax.random.key(7), 3)
     out = {}
     for kind in ("rigid", "building"):
