@@ -111,7 +111,7 @@ def opensees_triple_structure(kind, acc, dt, values, *, uy, time_step, weight=1.
     `histories=True` also a dict of `time`, `base`, `shear`. With `acc_y` (the y component,
     same samples) both directions: resultant peaks, the shear as the resultant force on all
     masses above the ground (base slab included) over their weight W (as
-    `teflon_jax.studies.bidirectional_peak_response` reads it)."""
+    `teflon_jax.studies.peak_response` reads it)."""
     two = acc_y is not None
     ops = import_opensees()
     ops.wipe()

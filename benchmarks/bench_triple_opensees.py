@@ -45,7 +45,7 @@ from teflon_jax.excitation import uniform_signal  # noqa: E402
 from teflon_jax.formats import read_at2  # noqa: E402
 from teflon_jax.systems import (  # noqa: E402
     BiaxialStructureOnTriple,
-    biaxial_peaks,
+    peak_response,
     simulate_triple_structure,
     triple_structure,
 )
@@ -108,7 +108,8 @@ def teflon_peaks_two(kind, triple, acc, acc_y, dt, weight=1.0e6):
     system = BiaxialStructureOnTriple(
         triple_structure(kind, triple, uniform_signal(acc, dt), time_step=TIME_STEP, weight=weight),
         uniform_signal(acc_y, dt))
-    disp, shear, _, _, ok = jax.jit(biaxial_peaks, static_argnums=1)(system, (len(acc) - 1) * dt)
+    peaks = jax.jit(peak_response, static_argnums=1)(system, (len(acc) - 1) * dt)
+    disp, shear, ok = peaks.base_disp, peaks.base_shear_ratio, peaks.converged
     if not bool(ok):
         raise RuntimeError("teflon-jax: a step's sliders did not balance.")
     return float(disp), float(shear)

@@ -35,12 +35,11 @@ import numpy as np  # noqa: E402
 
 from teflon_jax.bearing import concave_surface, single_pendulum  # noqa: E402
 from teflon_jax.excitation import StochasticGroundMotion, sample, uniform_signal  # noqa: E402
-from teflon_jax.studies import bidirectional_isolated_structure, bidirectional_peak_response  # noqa: E402
+from teflon_jax.studies import bidirectional_isolated_structure  # noqa: E402
 from teflon_jax.systems import (  # noqa: E402
     MONTE_CARLO_NEWTON_TOLERANCE,
     TRIPLE_MONTE_CARLO_TOLERANCE,
     BiaxialStructureOnTriple,
-    biaxial_peaks,
     isolated_structure,
     peak_response,
     simulate_structure,
@@ -95,13 +94,13 @@ def _engines(kind, isolator, components, duration, series_tolerance=TRIPLE_MONTE
 
         def flat(ground):
             system = planar((uniform_signal(ground[0], RECORD_STEP), uniform_signal(ground[1], RECORD_STEP)))
-            peaks = bidirectional_peak_response(system, duration)
+            peaks = peak_response(system, duration)
             return peaks.base_disp, peaks.converged
 
         def series(ground):
             system = BiaxialStructureOnTriple(series_system(ground[0]), uniform_signal(ground[1], RECORD_STEP))
-            peaks = biaxial_peaks(system, duration)
-            return peaks[0], peaks[4]
+            peaks = peak_response(system, duration)
+            return peaks.base_disp, peaks.converged
     return jax.jit(jax.vmap(flat)), jax.jit(jax.vmap(series))
 
 

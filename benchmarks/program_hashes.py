@@ -1,6 +1,6 @@
 """The compiled programs' text, for showing that a change leaves a structure's run untouched.
 
-`python benchmarks/program_hashes.py` lowers the planar peak driver (`bidirectional_peak_response`
+`python benchmarks/program_hashes.py` lowers the planar peak driver (`peak_response`
 of the rigid mass and the Table 2 building, on flat sliders and on single pendulums, 20 s of a
 two-component record) and prints the SHA-256 of each lowered program's text, its source locations
 removed. Run it under two versions (`PYTHONPATH=/path/to/other/checkout`): equal hashes mean XLA
@@ -18,13 +18,13 @@ jax.config.update("jax_enable_x64", True)
 from engine_numbers import one_surface_keywords  # noqa: E402  (the same isolator keywords under both versions)
 
 from teflon_jax.excitation import uniform_signal  # noqa: E402
-from teflon_jax.studies import bidirectional_isolated_structure, bidirectional_peak_response  # noqa: E402
+from teflon_jax.studies import bidirectional_isolated_structure, peak_response  # noqa: E402
 
 
 def program_hash(structure, record) -> tuple[str, int]:
     """SHA-256 (first 16 hex digits) and length of the lowered peak run's text."""
     def run(a, b):
-        return bidirectional_peak_response(structure((uniform_signal(a, 0.01), uniform_signal(b, 0.01))), 20.0)
+        return peak_response(structure((uniform_signal(a, 0.01), uniform_signal(b, 0.01))), 20.0)
 
     text = jax.jit(run).lower(record, record).as_text()
     text = re.sub(r"#loc\d*|loc\(.*?\)", "", text)

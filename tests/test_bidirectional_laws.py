@@ -13,11 +13,12 @@ from scipy.optimize import minimize
 
 from teflon_jax.bearing import concave_surface, paper_bearing
 from teflon_jax.excitation import uniform_signal
-from teflon_jax.studies import bidirectional_isolated_structure, bidirectional_peak_response
+from teflon_jax.studies import bidirectional_isolated_structure
 from teflon_jax.systems import (
     bidirectional_building,
     bidirectional_rigid_mass,
     isolated_structure,
+    peak_response,
     rigid_mass,
     simulate_bidirectional,
     simulate_structure,
@@ -214,7 +215,7 @@ def test_the_restrainer_bounds_the_planar_displacement_and_counts_in_the_shear()
         surface = (concave_surface(1.0) if capacity is None else
                    concave_surface(1.0, displacement_capacity=capacity, restrainer_stiffness=50 * WEIGHT))
         structure = bidirectional_isolated_structure("rigid", isolator=surface)
-        peaks[name] = bidirectional_peak_response(structure(ground), 4.0)
+        peaks[name] = peak_response(structure(ground), 4.0)
     free, restrained = (float(peaks[k].base_disp) for k in ("free", "restrained"))
     assert free > 0.06 and restrained < free
     assert float(peaks["restrained"].base_shear_ratio) >= 50 * (restrained - 0.04) * 0.99

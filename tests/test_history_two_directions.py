@@ -80,20 +80,19 @@ def test_the_flux_follows_the_resultant_speed():
 
 
 def test_heating_in_two_directions_lowers_friction_and_the_peak_loop_agrees():
-    from teflon_jax.studies import bidirectional_peak_response
-    from teflon_jax.systems import simulate_bidirectional
+    from teflon_jax.systems import peak_response, simulate_bidirectional
 
     ax, ay = _record(), 0.7 * _record(peak=3.0)[::-1].copy()
     hot = _two(_bearing(), ax, ay)
     cold = _two(_bearing(heat_scale=0.0), ax, ay)
     assert hot.history and cold.history
-    peak_hot, peak_cold = bidirectional_peak_response(hot, 9.0), bidirectional_peak_response(cold, 9.0)
+    peak_hot, peak_cold = peak_response(hot, 9.0), peak_response(cold, 9.0)
     assert float(peak_hot.base_disp) > 1.02 * float(peak_cold.base_disp)
     full = simulate_bidirectional(hot, 9.0)
     resultant = np.hypot(full.displacement[:, 0], full.displacement[:, 1])
     assert float(np.max(resultant)) == pytest.approx(float(peak_hot.base_disp), rel=1e-9)
     plain = _two(tj.paper_bearing(UF, breakaway_ratio=UF_B), ax, ay)
-    assert float(bidirectional_peak_response(plain, 9.0).base_disp) == pytest.approx(
+    assert float(peak_response(plain, 9.0).base_disp) == pytest.approx(
         float(peak_cold.base_disp), rel=1e-12)
 
 

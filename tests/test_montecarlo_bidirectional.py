@@ -24,11 +24,10 @@ from teflon_jax.excitation import (
 from teflon_jax.studies import (
     MonteCarloResult,
     bidirectional_isolated_structure,
-    bidirectional_peak_response,
     monte_carlo,
     monte_carlo_motion,
 )
-from teflon_jax.systems import isolated_structure, simulate_bidirectional
+from teflon_jax.systems import isolated_structure, peak_response, simulate_bidirectional
 from teflon_jax.units import PSI, STANDARD_GRAVITY
 
 MODEL = StochasticGroundMotion(peak_ground_acceleration=3.0, duration=3.0, time_step=0.01, rise_time=0.5,
@@ -44,7 +43,7 @@ def test_peaks_are_the_resultants_of_the_full_history():
     structure = bidirectional_isolated_structure("rigid", time_step=0.005, pressure=2000 * PSI,
                                                  isolation_period=1.5)
     system = structure((uniform_signal(ax, 0.01), uniform_signal(ay, 0.01)))
-    peaks = bidirectional_peak_response(system, 3.0)
+    peaks = peak_response(system, 3.0)
     history = simulate_bidirectional(system, 3.0)
     disp = np.hypot(*np.asarray(history.bearing_displacement)[:, 0].T)
     mass = np.asarray(system.mass)[0]

@@ -89,17 +89,15 @@ def test_design_gradient_in_pressure_reaches_the_pressure_dependence():
 
 
 def test_two_directions_run_the_bearing_at_its_pressure():
-    from teflon_jax.studies import (
-        bidirectional_isolated_structure,
-        bidirectional_peak_response,
-    )
+    from teflon_jax.studies import bidirectional_isolated_structure
+    from teflon_jax.systems import peak_response
 
     gx, gy = _signal(6.0), _signal(6.0, peak=2.0)
     options = dict(isolation_period=2.5, pressure=3000 * PSI)
     a = bidirectional_isolated_structure("rigid", bearing=_pressure_bearing(), **options)((gx, gy))
     b = bidirectional_isolated_structure("rigid", bearing=_scaled_by_hand(3.0**-EXPONENT),
                                          **options)((gx, gy))
-    pa, pb = bidirectional_peak_response(a, 5.5), bidirectional_peak_response(b, 5.5)
+    pa, pb = peak_response(a, 5.5), peak_response(b, 5.5)
     assert float(pa.base_disp) == pytest.approx(float(pb.base_disp), rel=1e-12)
 
 

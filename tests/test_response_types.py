@@ -1,5 +1,5 @@
 """One response type for every structure's history (`StructureResponse`, `simulate_history`),
-one for the peaks (`PeakResponse`, the smooth maximum written once) and one for imposed-path
+one mapping of the peaks (`Peaks` of `peak_response`, the smooth maximum written once) and one for imposed-path
 tests (`BearingTestResult`): the drivers only package their engines' histories."""
 
 import dataclasses
@@ -11,10 +11,10 @@ import pytest
 
 from teflon_jax.bearing import BoucWen, FrictionParameters, TriplePendulum
 from teflon_jax.excitation import uniform_signal
-from teflon_jax.studies import bidirectional_isolated_structure, bidirectional_peak_response
+from teflon_jax.studies import bidirectional_isolated_structure
 from teflon_jax.systems import (
     BiaxialStructureOnTriple,
-    PeakResponse,
+    Peaks,
     StructureResponse,
     biaxial_histories,
     isolated_structure,
@@ -124,8 +124,8 @@ def test_peaks_of_one_and_two_components_are_one_type_and_match_the_histories():
     u = history.displacement[:, 0]
     np.testing.assert_allclose(float(peaks.smooth_base_disp), float(smooth_max(u, 1e-3)), rtol=1e-6)
     two = bidirectional_isolated_structure("rigid")((gx, gy))
-    planar = bidirectional_peak_response(two, 1.0, disp_width=1e-3)
-    assert isinstance(peaks, PeakResponse) and isinstance(planar, PeakResponse)
+    planar = peak_response(two, 1.0, disp_width=1e-3)
+    assert isinstance(peaks, Peaks) and isinstance(planar, Peaks)
     resultant = jnp.hypot(*simulate_history(two, 1.0).bearing_displacement[:, 0].T)
     np.testing.assert_allclose(float(planar.base_disp), float(jnp.max(resultant)), rtol=1e-9)
     np.testing.assert_allclose(float(planar.smooth_base_disp), float(smooth_max(resultant, 1e-3)), rtol=1e-6)

@@ -1,5 +1,5 @@
 """Storey results of the Table 2 building on triple friction pendulums under two horizontal
-components (`bidirectional_peak_response(storey_height=...)`, `monte_carlo(...,
+components (`peak_response(storey_height=...)`, `monte_carlo(...,
 storey_height=...)`, `montecarlo --components 2 --storeys`): each storey's peak drift ratio
 and each level's peak total acceleration in x and in y.
 
@@ -22,7 +22,7 @@ from teflon_jax.excitation import (
     uniform_signal,
 )
 from teflon_jax.formats import isolator_from_dict
-from teflon_jax.studies import bidirectional_peak_response, monte_carlo, monte_carlo_motion
+from teflon_jax.studies import monte_carlo, monte_carlo_motion
 from teflon_jax.systems import (
     TRIPLE_MONTE_CARLO_TOLERANCE,
     biaxial_histories,
@@ -67,7 +67,7 @@ def test_a_motion_along_x_alone_gives_the_one_component_storey_peaks():
     t = 0.01 * np.arange(151)
     ax = 3.0 * np.sin(2 * np.pi * t) * np.sin(np.pi * t / t[-1]) ** 2
     structure = _building()
-    two = bidirectional_peak_response(structure((uniform_signal(ax, 0.01), uniform_signal(0 * ax, 0.01))), 1.5,
+    two = peak_response(structure((uniform_signal(ax, 0.01), uniform_signal(0 * ax, 0.01))), 1.5,
                                       storey_height=HEIGHT)
     one = jax.jit(lambda s: peak_response(s, 1.5, storey_height=HEIGHT))(structure(uniform_signal(ax, 0.01)))
     assert two.storey_drift.shape == (2, 6) and two.floor_acceleration.shape == (2, 7)

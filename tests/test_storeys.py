@@ -119,15 +119,15 @@ def test_run_building_reports_storey_results_per_direction(tmp_path, capsys):
 
 @pytest.mark.slow
 def test_two_component_storey_peaks_match_the_histories():
-    """`bidirectional_peak_response(storey_height=...)` in x and y equals the peaks of
+    """`peak_response(storey_height=...)` in x and y equals the peaks of
     `simulate_bidirectional`'s saved histories (`bidirectional_storey_peaks`)."""
     from teflon_jax.excitation import TwoComponentGroundMotion
-    from teflon_jax.studies import (
-        bidirectional_isolated_structure,
-        bidirectional_peak_response,
-        monte_carlo_motion,
+    from teflon_jax.studies import bidirectional_isolated_structure, monte_carlo_motion
+    from teflon_jax.systems import (
+        bidirectional_storey_peaks,
+        peak_response,
+        simulate_bidirectional,
     )
-    from teflon_jax.systems import bidirectional_storey_peaks, simulate_bidirectional
 
     model = TwoComponentGroundMotion(StochasticGroundMotion(peak_ground_acceleration=3.0, duration=2.0, time_step=0.01,
                                                             rise_time=0.5, strong_motion_duration=1.0), minor_ratio=0.7)
@@ -135,7 +135,7 @@ def test_two_component_storey_peaks_match_the_histories():
     structure = bidirectional_isolated_structure("building", pressure=2000 * PSI, isolation_period=1.5)
     system = structure((uniform_signal(values[0], 0.01), uniform_signal(values[1], 0.01)))
     height = load_table2().storey_height
-    peaks = bidirectional_peak_response(system, 2.0, storey_height=height)
+    peaks = peak_response(system, 2.0, storey_height=height)
     history = bidirectional_storey_peaks(simulate_bidirectional(system, 2.0), system, height)
     assert peaks.storey_drift.shape == (2, 6) and peaks.floor_acceleration.shape == (2, 7)
     np.testing.assert_allclose(peaks.storey_drift, history["storey_drift"], rtol=1e-6)

@@ -17,13 +17,14 @@ from teflon_jax.excitation import (
     sample,
     uniform_signal,
 )
-from teflon_jax.studies import bidirectional_peak_response, monte_carlo
+from teflon_jax.studies import monte_carlo
 from teflon_jax.systems import (
     BiaxialStructureOnTriple,
     StructureOnSeries,
     StructureOnTriple,
     biaxial_histories,
     isolated_structure,
+    peak_response,
     simulate_series,
     simulate_triple_structure,
     triple_structure,
@@ -113,7 +114,7 @@ def test_two_component_monte_carlo_runs_the_triple_pendulum():
     from teflon_jax.studies import monte_carlo_motion
 
     pair = monte_carlo_motion(model, jax.random.key(0), 1)
-    alone = bidirectional_peak_response(structure((uniform_signal(pair[0], 0.01), uniform_signal(pair[1], 0.01))),
+    alone = peak_response(structure((uniform_signal(pair[0], 0.01), uniform_signal(pair[1], 0.01))),
                                         20.0)
     assert result.base_disp[1] == pytest.approx(float(alone.base_disp), rel=1e-9)
     assert result.base_shear_ratio[1] == pytest.approx(float(alone.base_shear_ratio), rel=1e-9)
@@ -128,7 +129,7 @@ def test_the_two_component_peak_is_differentiable_in_the_outer_radii(acc):
     def peak(radius):
         moved = eqx.tree_at(lambda s: (s.pendulum.bottom_radius, s.pendulum.top_radius), system,
                             (radius, radius))
-        return bidirectional_peak_response(moved, 8.0).smooth_base_disp
+        return peak_response(moved, 8.0).smooth_base_disp
 
     reverse = float(jax.jit(jax.grad(peak))(2.1))
     h = 1e-4

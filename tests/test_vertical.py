@@ -198,7 +198,6 @@ def test_two_directions_under_one_component_reproduce_one_direction():
     vertical record with uplift: the same response as the one-direction structure (Park's Z
     reduces to Eq. 3 along one axis), zero shear while uplifted, the same uplift time."""
     from teflon_jax.bearing import FrictionParameters
-    from teflon_jax.studies import bidirectional_peak_response
     from teflon_jax.systems import bidirectional_rigid_mass, simulate_bidirectional
 
     duration = 10.0
@@ -219,7 +218,7 @@ def test_two_directions_under_one_component_reproduce_one_direction():
     uplifted = np.asarray(r2.load_factor) == 0
     assert uplifted.sum() > 50 and np.max(np.abs(shear[uplifted])) < 1e-9 * np.max(np.abs(shear))
     assert float(r2.uplift_time) == float(r1.uplift_time)
-    peaks = bidirectional_peak_response(two, duration)
+    peaks = peak_response(two, duration)
     assert float(peaks.base_disp) == pytest.approx(np.max(np.abs(u1)), rel=1e-6)
     assert float(peaks.uplift_time) == float(r1.uplift_time) and bool(peaks.converged)
 

@@ -119,13 +119,15 @@ def load_factors(system, duration):
 
 def series_uplift(system, duration) -> dict:
     """The JSON entries of the uplift (`response_uplift`) of a series pendulum structure, {}
-    without a vertical record: the time of the steps whose end has N <= 0."""
+    without a vertical record: the time of the steps whose end has N <= 0 (`systems.uplift_time`)."""
     import types
+
+    from ..systems import uplift_time
 
     if system.vertical_acceleration is None:
         return {}
     loads = load_factors(system, duration)
-    counted = types.SimpleNamespace(uplift_time=float(np.sum(loads[1:] <= 0)) * float(system.time_step),
+    counted = types.SimpleNamespace(uplift_time=float(uplift_time(loads, float(system.time_step))),
                                     load_factor=loads)
     return response_uplift(counted)
 

@@ -9,7 +9,6 @@ from ._bidirectional_study import (
 from ._bidirectional_study import (
     bidirectional_isolated_structure as bidirectional_isolated_structure,
 )
-from ._bidirectional_study import bidirectional_peak_response as bidirectional_peak_response
 from ._bounding import BOUNDING_CASES as BOUNDING_CASES
 from ._bounding import FRICTION_CONSTANTS as FRICTION_CONSTANTS
 from ._bounding import POSTERIOR_QUANTILES as POSTERIOR_QUANTILES

@@ -233,7 +233,7 @@ def percentile_disp_gradient_check(structure, design: dict, records, record_time
     def percentile(x):
         def one(values):
             system = structure(uniform_signal(values, record_time_step), x)
-            return peak_response(system, duration, disp_width=disp_width).smooth_base_disp
+            return peak_response(system, duration, disp_width=disp_width)["smooth_base_disp_resultant"]
 
         return jnp.percentile(jax.vmap(one)(records), q)
 

@@ -9,9 +9,9 @@ by the chunk and not by N. Each chunk is sharded along its batch axis over all J
 so the same call runs on one CPU, one device per CPU core, a GPU or several devices; a chunk
 is rounded up to a multiple of the device count.
 
-The structure is integrated with the `RiccatiNewmark` step of `StructureOnSliders`
-(`advance`) inside a `lax.scan` that keeps only running peaks and smooth maxima, never
-the response histories: the memory per motion is that of its record.
+Each structure runs through the one peak driver (`systems.peak_response`), which folds the
+response's reducers along the run keeping only running peaks and smooth maxima, never the
+response histories: the memory per motion is that of its record.
 
 Multi-host runs: call `jax.distributed.initialize()` (coordinator address, number of
 processes and process id, or the cluster's environment variables) in every process before
@@ -46,12 +46,10 @@ from ..systems import (
     IsolatedStructure,
     VerticalIsolatedStructure,
     check_storey_height,
+    peak_arrays,
     peak_response,
 )
-from ._bidirectional_study import (
-    BidirectionalIsolatedStructure,
-    bidirectional_peak_response,
-)
+from ._bidirectional_study import BidirectionalIsolatedStructure
 from ._montecarlo_parts import (
     _check_chunk_and_first_motion,
     _chunk_counts,
@@ -149,7 +147,7 @@ def _get(tree):
 
 class ChunkRunner:
     """One compiled function that runs `chunk` motions (vmapped, sharded over `devices`) and
-    returns their `PeakResponse` and peak |a_g|: compiled at the first call, reused after
+    returns their peaks (`peak_arrays` of `peak_response`) and peak |a_g|: compiled at the first call, reused after
     (a Dask worker keeps one per run, so it compiles once whatever the number of chunks).
     The expected peak ground acceleration of generated motions is an argument of the call,
     not a constant of the program: one compilation serves every intensity level. With stacked
@@ -161,7 +159,6 @@ class ChunkRunner:
                  read_every=1, storey_height=None, bearings=None):
         self.devices, self.chunk, self.compile_s = list(devices), int(chunk), 0.0
         mesh = jax.sharding.Mesh(np.array(self.devices), ("batch",))
-        peaks_of = bidirectional_peak_response if source.components == 2 else peak_response
         # no gradients are taken here: two steps per pass of the uniaxial peak loop
         loop_options = {} if source.components == 2 else {"steps_per_pass": STEPS_PER_LOOP_PASS}
         if storey_height is not None:  # the building's peak drifts and floor accelerations too
@@ -176,8 +173,9 @@ class ChunkRunner:
 
                 def one(design_one):
                     system = built(signal, design_one)
-                    return peaks_of(system, duration, disp_width=disp_width, shear_width=shear_width,
-                                    read_every=read_every, **loop_options)
+                    peaks = peak_response(system, duration, disp_width=disp_width, shear_width=shear_width,
+                                          read_every=read_every, **loop_options)
+                    return peak_arrays(peaks)
 
                 peaks = one(None) if design_all is None else jax.vmap(one)(design_all)
                 horizontal = signal[0] if source.vertical else signal  # pga: the horizontal one's
@@ -274,7 +272,7 @@ def monte_carlo(
       `isolated_structure("building", ...)`; `ground_acceleration` is a uniform `Signal`. For
       two-component motions a callable `((ground_x, ground_y), design) ->
       BidirectionalStructure`, e.g. `bidirectional_isolated_structure("rigid", ...)`; the
-      peaks are then resultants (`bidirectional_peak_response`) and `pga` the peak |(a_x, a_y)|.
+      peaks are then resultants (`peak_response`) and `pga` the peak |(a_x, a_y)|.
     - `motions`: a `StochasticGroundMotion` or a `TwoComponentGroundMotion` (with `n_motions`
       and `key`; motion i's major component is then the one-component motion i), either inside a
       `VerticalGroundMotion` (with `structure = with_vertical_component(...)`; the horizontal
@@ -294,8 +292,8 @@ def monte_carlo(
       step, e.g. the record step, to compare with a program that records there); default
       every step.
     - `storey_height` [m]: a building: also keep each storey's peak drift ratio and each
-      level's peak total acceleration (`peak_response`; with two components in x and y,
-      `bidirectional_peak_response`), e.g. `load_table2().storey_height`; default `None`.
+      level's peak total acceleration (`peak_response`; with two components in x and y),
+      e.g. `load_table2().storey_height`; default `None`.
     - `bearings`: S draws of the structure's bearing stacked as one `SlidingBearing` whose
       leaves lead with an axis of S (`BearingPosterior.bearings(point)`), run in place of the
       structure's own (built with `bearing=point`) as traced values; not with `design`.

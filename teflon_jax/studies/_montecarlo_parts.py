@@ -47,12 +47,12 @@ def _peak_fields(peaks, with_designs: bool, with_storeys: bool, vertical: bool =
         return np.moveaxis(x, 0, 1) if with_designs else x
 
     return {
-        "base_disp": arrange(peaks.base_disp),
-        "base_shear_ratio": arrange(peaks.base_shear_ratio),
-        "smooth_base_disp": arrange(peaks.smooth_base_disp),
-        "smooth_base_shear_ratio": arrange(peaks.smooth_base_shear_ratio),
-        "converged": arrange(peaks.converged),
-        "storey_drift": arrange(peaks.storey_drift) if with_storeys else None,
-        "floor_acceleration": arrange(peaks.floor_acceleration) if with_storeys else None,
-        **({"uplift_time": arrange(peaks.uplift_time)} if vertical else {}),
+        "base_disp": arrange(peaks["base_disp"]),
+        "base_shear_ratio": arrange(peaks["base_shear_ratio"]),
+        "smooth_base_disp": arrange(peaks["smooth_base_disp"]),
+        "smooth_base_shear_ratio": arrange(peaks["smooth_base_shear_ratio"]),
+        "converged": arrange(peaks["converged"]),
+        "storey_drift": arrange(peaks["storey_drift"]) if with_storeys else None,
+        "floor_acceleration": arrange(peaks["floor_acceleration"]) if with_storeys else None,
+        **({"uplift_time": arrange(peaks["uplift_time"])} if vertical else {}),
     }

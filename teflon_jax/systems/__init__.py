@@ -3,7 +3,7 @@
 structures on sliders and on series pendulums, two-component structures, the slab and the
 building on bearing groups, vertical records), their drivers, and the isolated structures of
 the studies; every structure's history is a `StructureResponse` (`simulate_history`), its
-peaks a `PeakResponse`."""
+peaks the `REDUCERS` over it, folded along a run by one driver (`peak_response`)."""
 
 from ._bearing_test import BearingTestSystem as BearingTestSystem
 from ._bearing_test import force_along_path as force_along_path
@@ -34,18 +34,33 @@ from ._isolator_balance import simulate_triple_test as simulate_triple_test
 from ._isolator_balance import triple_pendulum_test as triple_pendulum_test
 from ._on_plan import building_on_plan as building_on_plan
 from ._on_plan import slab_on_bearings as slab_on_bearings
+from ._peaks import MONTE_CARLO_PEAKS as MONTE_CARLO_PEAKS
+from ._peaks import PEAK_REDUCERS as PEAK_REDUCERS
 from ._peaks import RESPONSE_NAMES as RESPONSE_NAMES
 from ._peaks import STEPS_PER_LOOP_PASS as STEPS_PER_LOOP_PASS
-from ._peaks import PeakResponse as PeakResponse
+from ._peaks import Peaks as Peaks
+from ._peaks import peak_arrays as peak_arrays
 from ._peaks import peak_response as peak_response
-from ._peaks import series_uplift_time as series_uplift_time
+from ._peaks import response_layout as response_layout
 from ._peaks import smooth_max as smooth_max
 from ._peaks import smooth_max_update as smooth_max_update
 from ._peaks import smooth_max_value as smooth_max_value
-from ._peaks import step_propagator as step_propagator
 from ._propagators import LINEAR_RULES as LINEAR_RULES
+from ._response import REDUCERS as REDUCERS
 from ._response import BearingTestResult as BearingTestResult
+from ._response import ResponseLayout as ResponseLayout
 from ._response import StructureResponse as StructureResponse
+from ._response import base_displacement as base_displacement
+from ._response import base_shear_ratio as base_shear_ratio
+from ._response import carried_weight as carried_weight
+from ._response import first_storey_shear_ratio as first_storey_shear_ratio
+from ._response import isolator_force as isolator_force
+from ._response import level_acceleration as level_acceleration
+from ._response import resultant as resultant
+from ._response import slider_travel as slider_travel
+from ._response import storey_drift as storey_drift
+from ._response import uplift_time as uplift_time
+from ._response import uplifted as uplifted
 from ._sampled_path import SampledPath as SampledPath
 from ._sampled_path import respond_along_path as respond_along_path
 from ._sampled_path import sample_velocity as sample_velocity
@@ -66,7 +81,6 @@ from ._structure_build import simulate_structure as simulate_structure
 from ._structure_build import six_storey_building as six_storey_building
 from ._structure_build import storey_rows as storey_rows
 from ._structure_build import structure_on_sliders as structure_on_sliders
-from ._triple_biaxial import biaxial_peaks as biaxial_peaks
 from ._triple_structure import BiaxialStructureOnTriple as BiaxialStructureOnTriple
 from ._triple_structure import StructureOnSeries as StructureOnSeries
 from ._triple_structure import StructureOnTriple as StructureOnTriple

@@ -96,7 +96,7 @@ class IsolatedStructure(eqx.Module):
     - `time_step` [s] (static): structure step; `weight` [N] of the rigid mass.
     - `newton_iterations` (static): the most Newton iterations of the bearing's solve per
       step (`StructureOnSliders.newton_iterations`); a run whose solve is cut short is reported
-      as not converged (its `PeakResponse.converged` is False), e.g. to check that failures
+      as not converged (its `converged` peak is False), e.g. to check that failures
       are reported and kept out of statistics.
     - `newton_tolerance` (static) [-]: `StructureOnSliders.newton_tolerance`, the isolator's
       equilibrium residual in units of Y (1e-5 by default, as `structure_on_sliders`; the

@@ -1,15 +1,22 @@
-"""Peak responses of an isolated structure along a run (running and smooth maxima)."""
+"""One peak driver for every stepped structure: `peak_response` runs a rigid mass or a building
+on flat sliders, single, double or triple pendulums, under one or two ground components and a
+vertical record, and folds the response's peak quantities (`REDUCERS`, written once on one
+sample of a `StructureResponse`) along the run, keeping running and smooth maxima and never
+the history: the memory per run is that of its record."""
 
-import equinox as eqx
+import typing
+
 import jax
 import jax.numpy as jnp
 
-from ..units import STANDARD_GRAVITY
+from ._bidirectional import BidirectionalStructure
+from ._bidirectional_models import bidirectional_initial_state
 from ._propagators import small_dot
+from ._response import REDUCERS, ResponseLayout, StructureResponse, uplifted
+from ._slab_series import SlabOnSeries
 from ._structure import WRITTEN_OUT_PRODUCT, StructureOnSliders, initial_state
-from ._structure_build import check_duration, storey_rows, storey_start
-from ._triple_structure import StructureOnTriple
-from ._vertical import uplift_steps
+from ._structure_build import check_duration, check_storey_height
+from ._triple_structure import BiaxialStructureOnTriple, StructureOnTriple
 
 STEPS_PER_LOOP_PASS = 2
 """`peak_response(steps_per_pass=...)` of the Monte Carlo runs (`monte_carlo`): two steps
@@ -19,38 +26,37 @@ building Monte Carlo needed 5 % and 4 % less CPU (same peaks), four no less than
 derivatives: forward-mode gradients through the unrolled loop took 8 times as long (B5)."""
 
 RESPONSE_NAMES = ("base_disp", "base_shear_ratio")
-"""Peak |base displacement| [m] and peak |base shear| / weight above the isolators [-]."""
+"""The Monte Carlo peaks: |base displacement| [m] and |base shear| / weight above the
+isolators [-], as resultants (`REDUCERS` "base_disp_resultant", "base_shear_ratio_resultant")."""
+
+PEAK_REDUCERS = ("base_disp_resultant", "base_shear_ratio_resultant")
+"""The peaks `peak_response` keeps unless told: the resultant base displacement and base shear
+ratio (with a storey height also "storey_drift_ratio" and "level_acceleration")."""
 
 
-class PeakResponse(eqx.Module):
-    """Peaks of one run (scalars, or batched by `monte_carlo`), under one ground component
-    (`peak_response`) or two (`bidirectional_peak_response`, displacement and shear as
-    resultants).
-
-    - `base_disp` max_t |u_0(t)| [m]: isolator displacement relative to the ground.
-    - `base_shear_ratio` max_t |V(t)| / W_s [-]: V = sum_j m_j a_j^total over the masses
-      above the isolators (floors 1.. of a building: the first-storey shear), or m a^total for
-      a rigid mass; W_s their weight (two components: the force on every mass over the
-      whole weight).
-    - `smooth_base_disp`, `smooth_base_shear_ratio`: the same maxima through `smooth_max`
-      (differentiable); equal to the peaks' lower bounds when no width is given.
-    - `converged`: every step's Newton iteration converged.
-    - `storey_drift` [-]: a building's peak interstorey drift ratio per storey (storey 1 from
-      the base slab to floor 1), (n-1,) or (2, n-1) in x and y, and `floor_acceleration`
-      [m/s^2] its peak total acceleration per level (0 the base slab on the isolators, 1.. the
-      floors), (n,) or (2, n) (`storey_rows`), when given `storey_height`; else `None`.
-    - `uplift_time` [s]: with a vertical record, the steps whose end has N <= 0 (the isolators
-      uplifted, carrying no shear) times the step (0: no uplift); else `None`.
-    """
-
-    base_disp: jnp.ndarray
-    base_shear_ratio: jnp.ndarray
-    smooth_base_disp: jnp.ndarray
-    smooth_base_shear_ratio: jnp.ndarray
-    converged: jnp.ndarray
-    storey_drift: jnp.ndarray | None = None
-    floor_acceleration: jnp.ndarray | None = None
-    uplift_time: jnp.ndarray | None = None
+def response_layout(system) -> ResponseLayout:
+    """The `ResponseLayout` of any structure `systems` builds: a `StructureOnSliders` or
+    `StructureOnTriple` (one component: coordinates base, floors), a `BiaxialStructureOnTriple`
+    (x block then y block), and a `BidirectionalStructure` or `SlabOnSeries`, which carry their
+    own `mass` and `influence` (a rigid mass or building: x block then y block; a slab: x, y,
+    rotation). Only shapes are read (static under jit)."""
+    if isinstance(system, (StructureOnSliders, StructureOnTriple)):
+        n = system.mass.shape[-1]
+        return ResponseLayout((tuple(range(n)),), system.mass, jnp.ones((n, 1), system.mass.dtype))
+    if isinstance(system, BiaxialStructureOnTriple):
+        m = system.mass
+        n = m.shape[-1]
+        blocks = jnp.repeat(jnp.eye(2, dtype=m.dtype), n, axis=0)
+        return ResponseLayout((tuple(range(n)), tuple(range(n, 2 * n))), jnp.concatenate([m, m]), blocks)
+    if isinstance(system, (BidirectionalStructure, SlabOnSeries)):
+        count = system.mass.shape[-1]
+        if count % 2:  # a slab: (x, y, rotation)
+            return ResponseLayout(((0,), (1,)), system.mass, system.influence, rotation=2,
+                                  overturning=system.supports is not None)
+        n = count // 2
+        return ResponseLayout((tuple(range(n)), tuple(range(n, 2 * n))), system.mass, system.influence)
+    raise TypeError(f"system: no response layout for a {type(system).__name__}; give a structure built by "
+                    "teflon_jax.systems (rigid mass, building or slab on its isolators).")
 
 
 def smooth_max(x, width, axis=-1):
@@ -59,126 +65,134 @@ def smooth_max(x, width, axis=-1):
         M_w(x) = w log( (1/n) sum_t cosh(x_t / w) ),
 
     with max|x| - w log(2 n) <= M_w(x) <= max|x| and M_w -> max|x| as w -> 0; smooth in x for
-    w > 0 (its gradient is a softmax weighting of the samples near the peak).
+    w > 0 (its gradient is a softmax weighting of the samples near the peak). Along a run it is
+    kept as a running (top, total) (`smooth_max_update`, `smooth_max_value`).
 
     **Arguments:** `x` (any shape); `width` w > 0 [units of x]; `axis`: time axis.
 
     **Returns:** M_w(x) with `axis` removed.
     """
-    x = jnp.asarray(x)
-    n = x.shape[axis]
-    top = jax.lax.stop_gradient(jnp.max(jnp.abs(x), axis=axis, keepdims=True))
-    terms = 0.5 * (jnp.exp((x - top) / width) + jnp.exp((-x - top) / width))
-    return jnp.squeeze(top, axis) + width * jnp.log(jnp.sum(terms, axis=axis) / n)
+    x = jnp.moveaxis(jnp.asarray(x), axis, 0)
+    top = jax.lax.stop_gradient(jnp.max(jnp.abs(x), axis=0))
+    total = jnp.sum(_cosh_terms(x, top, width), axis=0)
+    return smooth_max_value(top, total, x.shape[0], width)
 
 
-def step_propagator(system: StructureOnSliders):
-    """One step of `system` (`StructureOnSliders.newmark_update`, by its `linear_rule`) as a
-    linear map of w = (u0, v0, g0, F_r0, g1) (2n + 3,) [m, m/s, m/s^2, N, m/s^2]: the
-    displacements and velocities at its start, the ground acceleration at its start, the
-    bearing force of the start state (`friction_force`) and the ground acceleration at its end;
-    and of the bearing force F [N] on the isolator (DOF 0) solved for at its end:
-
-        (u1, v1) = R w + f F
-
-    (`_propagators.py`). One (2n, 2n + 3) product per step; the same step to rounding.
-
-    **Returns:** (R (2n, 2n + 3), f (2n,), shear_row (2n,), shear_force); rows 0 and n of R w
-    are the isolator's displacement and velocity without the bearing force that
-    `isolator_force` takes, and shear_row . (u1, v1) + shear_force F_r1 the base shear over the
-    weight above the isolators (`PeakResponse`), F_r1 the bearing force of the end state: for
-    a building the first-storey shear, -sum_{j>=1} (C v + K u)_j / (g sum_{j>=1} m_j) (floors
-    carry no friction force, so m_j (a_j + g) = -(C v + K u)_j; shear_force = 0); for a rigid
-    mass -(c v + k u + F_r) / (m g).
-    """
-    m, damping, stiffness = system.mass, system.damping, system.stiffness
-    n = m.shape[-1]
-    step_matrix, force_column = system.step_matrices()
-    if n == 1:  # a rigid mass: m (a + g) = -(c v + k u + F)
-        weight = STANDARD_GRAVITY * m[0]
-        return step_matrix, force_column, -jnp.concatenate([stiffness[0], damping[0]]) / weight, -1 / weight
-    floors = jnp.arange(n) >= 1
-    weight = STANDARD_GRAVITY * jnp.sum(jnp.where(floors, m, 0.0))
-    shear_row = -jnp.concatenate([floors @ stiffness, floors @ damping]) / weight
-    return step_matrix, force_column, shear_row, jnp.zeros((), m.dtype)
+def _cosh_terms(x, top, width):
+    """cosh(x / w) exp(-top / w) [-], written so that no term overflows for |x| <= top."""
+    return 0.5 * (jnp.exp((x - top) / width) + jnp.exp((-x - top) / width))
 
 
-def peak_response(
-    system: StructureOnSliders,
-    duration: float,
-    *,
-    disp_width=None,
-    shear_width=None,
-    read_every: int = 1,
-    steps_per_pass: int = 1,
-    storey_height=None,
-) -> PeakResponse:
-    """Integrate `system` from rest over `duration` [s] and keep only peaks.
+def smooth_max_update(top, total, x, width):
+    """The running (top, total) of `smooth_max` with the sample x added (start: (0, 1) for a
+    run from rest, x = 0 at t = 0): top = max |x| so far (no gradient), total = sum_t
+    cosh(x_t / w) exp(-top / w) [-]."""
+    new_top = jnp.maximum(top, jax.lax.stop_gradient(jnp.abs(x)))
+    return new_top, total * jnp.exp((top - new_top) / width) + _cosh_terms(x, new_top, width)
 
-    The same `RiccatiNewmark` step as `simulate_structure` (Newmark average acceleration
-    with the exact Bouc-Wen update), advanced in a `lax.scan` whose carry holds the state,
-    the running maxima and a running log-sum-exp for `smooth_max` (the t = 0 rest state
-    included, as in `simulate_structure`'s saved times); for more than one degree of freedom
-    the linear part of the step is one (2n, 2n + 3) product (`step_propagator`).
-    jit/vmap/grad-safe.
+
+def smooth_max_value(top, total, count, width):
+    """`smooth_max` M_w = top + w log(total / count) of `count` samples from their running
+    (top, total) (`smooth_max_update`)."""
+    return top + width * jnp.log(total / count)
+
+
+class _Run(typing.NamedTuple):
+    """How an engine runs from rest: `start` state, per-step `inputs` (leading axis n_steps),
+    `step(state, inputs) -> (state, sample StructureResponse, converged)`."""
+
+    start: object
+    inputs: object
+    step: typing.Callable
+
+
+def peak_response(system, duration: float, *, reducers=None, smooth=None, disp_width=None, shear_width=None,
+                  read_every: int = 1, steps_per_pass: int = 1, storey_height=None) -> "Peaks":
+    """Integrate `system` from rest over `duration` [s] with its engine's step and keep only
+    the peaks of the `REDUCERS` named in `reducers`, folded step by step in a `lax.scan`.
+
+    The engines: a `StructureOnSliders` (flat sliders, single pendulums; the linear part of
+    its step one (2n, 2n + 3) product, `StructureOnSliders.step_matrices`), a
+    `StructureOnTriple` (series pendulums), a `BidirectionalStructure` (flat sliders and
+    single pendulums under two components, without a slab's overturning) and a
+    `BiaxialStructureOnTriple` (series pendulums under two components); each with its
+    vertical record if it has one. jit/vmap/grad-safe.
 
     **Arguments:**
 
-    - `system`: a `StructureOnSliders` (rigid mass or building; DOF 0 = isolator).
     - `duration` [s]: end time, rounded down to a multiple of `system.time_step`.
-    - `disp_width` [m], `shear_width` [-]: widths w of `smooth_max` for the base displacement
-      and base shear ratio (default: 1e-3 m and 1e-3).
-    - `read_every`: the peaks `base_disp`, `base_shear_ratio` are read every `read_every`
-      steps (e.g. at a record's samples, as a program that records at the record step reads
-      them; the smooth maxima still see every step).
-    - `steps_per_pass`: steps written out in each pass of the loop (the same results; see
-      `STEPS_PER_LOOP_PASS`, what `monte_carlo` takes; 1 where the run is differentiated).
-    - `storey_height` [m]: also keep a building's storey drifts and level accelerations (`storey_rows`).
+    - `reducers`: names of `REDUCERS` (default `PEAK_REDUCERS`, with `storey_height` also
+      "storey_drift_ratio" and "level_acceleration"); those a structure lacks are left out.
+    - `smooth`: {reducer name: width w} of the smooth maxima `smooth_max` kept along
+      (log-mean-cosh over every step, t = 0 included); default the base displacement's
+      (`disp_width` [m]) and the base shear ratio's (`shear_width` [-]), 1e-3 each.
+    - `read_every`: the peaks are read every `read_every` steps (at a record's samples, as a
+      program that records there reads them; the smooth maxima still see every step).
+    - `steps_per_pass`: steps written out in each pass of the loop (the same results,
+      `STEPS_PER_LOOP_PASS`; 1 where the run is differentiated).
+    - `storey_height` [m]: a building's storey height (scalar or per storey) for the drift ratio.
 
-    **Returns:** a `PeakResponse`.
+    **Returns:** `Peaks` {name: peak} of each reducer ((C, ...) per component where the
+    reducer is), {"smooth_" + name: M_w}, "converged": every step's balance converged, and with
+    a vertical record "uplift_time" [s]: the steps 1..n whose end has N <= 0 times the step.
     """
-    dt = float(system.time_step)
-    n_steps = check_duration(system, duration)  # at least a step, within the record
     _check_loop_settings(read_every, steps_per_pass)
-    dtype = system.mass.dtype
-    widths = (
-        jnp.asarray(1e-3 if disp_width is None else disp_width, dtype),
-        jnp.asarray(1e-3 if shear_width is None else shear_width, dtype),
-    )
-    propagator = step_propagator(system)
-    rows = None if storey_height is None else storey_rows(system, storey_height)
+    layout = response_layout(system)
+    dtype = layout.mass.dtype
+    if reducers is None:
+        reducers = PEAK_REDUCERS + (() if storey_height is None else ("storey_drift_ratio", "level_acceleration"))
+    if smooth is None:
+        smooth = {"base_disp_resultant": 1e-3 if disp_width is None else disp_width,
+                  "base_shear_ratio_resultant": 1e-3 if shear_width is None else shear_width}
+        smooth = {name: width for name, width in smooth.items() if name in reducers}
+    _check_reducers(reducers, smooth)
+    if storey_height is not None:  # refused for a rigid mass, or unless > 0 (one or one per storey)
+        check_storey_height(len(layout.levels[0]), storey_height)
+    n_steps, run = _engine_run(system, duration)
+    vertical = system.vertical_acceleration is not None if not isinstance(system, BiaxialStructureOnTriple) \
+        else system.uniaxial.vertical_acceleration is not None
+    widths = {name: jnp.asarray(width, dtype) for name, width in smooth.items()}
 
-    def body(carry, step_and_ground):
-        step, ground1, load1 = step_and_ground
-        state, peaks, tops, totals, ok = carry
-        state, base_disp, shear_ratio, converged, force = _advance(system, propagator, state, ground1, load1)
-        storeys = () if rows is None else (rows[0] @ state[0], rows[1] @ state[0] + rows[2] * force)
-        values = (base_disp, shear_ratio) + storeys  # the smooth maxima below take the first two
+    def quantities(sample):
+        values = {name: REDUCERS[name](layout, sample, storey_height) for name in reducers}
+        return {name: value for name, value in values.items() if value is not None}
+
+    def body(carry, step_inputs):
+        step, inputs = step_inputs
+        state, peaks, tops, totals, lifted, ok = carry
+        state, sample, converged = run.step(state, inputs)
+        values = quantities(sample)
         read = (step + 1) % read_every == 0
-        peaks = tuple(jnp.where(read, jnp.maximum(p, jnp.abs(v)), p) for p, v in zip(peaks, values))
-        updated = [smooth_max_update(a, s, v, w) for a, s, v, w in zip(tops, totals, values, widths)]
-        tops = tuple(u[0] for u in updated)
-        totals = tuple(u[1] for u in updated)
-        return (state, peaks, tops, totals, ok & converged), None
+        peaks = {k: jnp.where(read, jnp.maximum(p, values[k]), p) for k, p in peaks.items()}
+        updated = {k: smooth_max_update(tops[k], totals[k], values[k], widths[k]) for k in tops}
+        if vertical:
+            lifted = lifted + uplifted(sample.load_factor)
+        return (state, peaks, {k: u[0] for k, u in updated.items()}, {k: u[1] for k, u in updated.items()},
+                lifted, ok & converged), None
 
-    # the record at every step's end, evaluated at once outside the loop
-    times = jnp.arange(n_steps + 1) * dt
-    ground = jax.vmap(system.ground_acceleration)(times)
-    loads = None if system.vertical_acceleration is None else jax.vmap(system.load_factor)(times)
-    carry = _start_carry(system, ground[0], rows, dtype, None if loads is None else loads[0])
-    (_, peaks, tops, totals, ok), _ = jax.lax.scan(
-        body, carry, (jnp.arange(n_steps), ground[1:], None if loads is None else loads[1:]),
-        unroll=steps_per_pass)
-    smooth = [smooth_max_value(a, s, n_steps + 1, w) for a, s, w in zip(tops, totals, widths)]
-    return PeakResponse(
-        base_disp=peaks[0],
-        base_shear_ratio=peaks[1],
-        smooth_base_disp=smooth[0],
-        smooth_base_shear_ratio=smooth[1],
-        converged=ok,
-        **({} if rows is None else {"storey_drift": peaks[2], "floor_acceleration": peaks[3]}),
-        **({} if loads is None else {"uplift_time": uplift_steps(system, n_steps) * dt}),
-    )
+    shapes = jax.eval_shape(lambda: quantities(run.step(run.start, jax.tree_util.tree_map(lambda a: a[0],
+                                                                                          run.inputs))[1]))
+    peaks = {k: jnp.zeros(s.shape, s.dtype) for k, s in shapes.items()}
+    tops = {k: jnp.zeros(shapes[k].shape, dtype) for k in widths if k in shapes}
+    totals = {k: jnp.ones(shapes[k].shape, dtype) for k in tops}
+    carry = (run.start, peaks, tops, totals, jnp.zeros((), jnp.int32), jnp.array(True))
+    (_, peaks, tops, totals, lifted, ok), _ = jax.lax.scan(body, carry, (jnp.arange(n_steps), run.inputs),
+                                                              unroll=steps_per_pass)
+    out = Peaks(peaks, layout.components)
+    out.update({"smooth_" + k: smooth_max_value(tops[k], totals[k], n_steps + 1, widths[k]) for k in tops})
+    out["converged"] = ok
+    if vertical:
+        out["uplift_time"] = lifted * float(system.time_step)
+    return out
+
+
+def _check_reducers(reducers, smooth) -> None:
+    unknown = [name for name in reducers if name not in REDUCERS]
+    if unknown:
+        raise ValueError(f"reducers: unknown {', '.join(map(repr, unknown))}; accepted: {', '.join(REDUCERS)}.")
+    unread = [name for name in smooth if name not in reducers]
+    if unread:
+        raise ValueError(f"smooth: {', '.join(map(repr, unread))} not among the reducers kept ({', '.join(reducers)}).")
 
 
 def _check_loop_settings(read_every, steps_per_pass) -> None:
@@ -188,41 +202,85 @@ def _check_loop_settings(read_every, steps_per_pass) -> None:
         raise ValueError(f"steps_per_pass: must be a positive integer, got {steps_per_pass!r}.")
 
 
-def smooth_max_update(top, total, x, width):
-    """The running (top, total) of `smooth_max` with the sample x added (start: (0, 1) for a
-    run from rest, x = 0 at t = 0): top = max |x| so far (no gradient), total = sum_t
-    cosh(x_t / w) exp(-top / w) [-]."""
-    new_top = jnp.maximum(top, jax.lax.stop_gradient(jnp.abs(x)))
-    total = total * jnp.exp((top - new_top) / width) + 0.5 * (
-        jnp.exp((x - new_top) / width) + jnp.exp((-x - new_top) / width)
-    )
-    return new_top, total
+def _engine_run(system, duration):
+    """(n_steps, `_Run`) of `system`'s engine over `duration` [s] (checked)."""
+    if isinstance(system, (StructureOnSliders, StructureOnTriple)):
+        n_steps = check_duration(system, duration)
+        return n_steps, _uniaxial_run(system, n_steps)
+    if isinstance(system, BiaxialStructureOnTriple):
+        n_steps = check_duration(system.uniaxial, duration)
+        return n_steps, _biaxial_run(system, n_steps)
+    if isinstance(system, BidirectionalStructure):
+        if system.overturning is not None:
+            raise ValueError("system: the peaks in a scan do not carry the slab's overturning loads; "
+                             "run it with simulate_bidirectional (teflon-jax run without --suite).")
+        dt = float(system.time_step)
+        n_steps = int(duration / dt + 1e-9)
+        if n_steps < 1:
+            raise ValueError(f"duration: must be at least one time step ({dt} s), got {duration}.")
+        if system.vertical_acceleration is not None:
+            system.vertical_acceleration.require_covers(n_steps * dt, "duration (vertical record)")
+        return n_steps, _bidirectional_run(system, n_steps)
+    raise TypeError(f"system: no peak driver for a {type(system).__name__}; give a rigid mass or building "
+                    "built by teflon_jax.systems (a slab runs with simulate_history).")
 
 
-def smooth_max_value(top, total, count, width):
-    """`smooth_max` M_w = top + w log(total / count) of `count` samples from their running
-    (top, total) (`smooth_max_update`)."""
-    return top + width * jnp.log(total / count)
+def _sample(time, x, total_acceleration, ground, load, **parts):
+    """One sample of a `StructureResponse` from the state x = (u, v) (2N,)."""
+    count = x.shape[-1] // 2
+    return StructureResponse(time=time, displacement=x[:count], velocity=x[count:],
+                             total_acceleration=total_acceleration, ground=ground, load_factor=load, **parts)
 
 
-def _advance(system, propagator, state, ground1, load1=None):
-    """One step of the peak loop: (state, base displacement, base shear ratio, converged,
-    isolator force of the stored state: F = mu W Z and the pendulum's force beyond K u).
+def _total_acceleration(system, x, force):
+    """a^total = -(K u + C v + F e_0) / m (n,) [m/s^2] of a structure on one isolator (DOF 0)
+    whose force beyond K u is F [N]: the equation of motion with the ground's inertia moved
+    to the left, M (a + 1 a_g) + C v + K u + F e_0 = 0."""
+    n = system.mass.shape[-1]
+    inner = small_dot(system.stiffness, x[:n], WRITTEN_OUT_PRODUCT) + small_dot(system.damping, x[n:],
+                                                                                WRITTEN_OUT_PRODUCT)
+    return -inner.at[0].add(force) / system.mass
+
+
+def _uniaxial_run(system, n_steps) -> _Run:
+    """A `StructureOnSliders` or `StructureOnTriple` stepped by its step matrices (one
+    product per step) with the record at every step's end evaluated outside the loop."""
+    dt = float(system.time_step)
+    times = jnp.arange(n_steps + 1) * dt
+    ground = jax.vmap(system.ground_acceleration)(times)
+    loads = None if system.vertical_acceleration is None else jax.vmap(system.load_factor)(times)
+    matrices = system.step_matrices()
+    series = isinstance(system, StructureOnTriple)
+
+    def step(state, inputs):
+        time1, ground1, load1 = inputs
+        state, x1, converged, force, part = (_series_advance if series else _sliders_advance)(
+            system, matrices, state, ground1, load1)
+        sample = _sample(time1, x1, _total_acceleration(system, x1, force), ground1[None], load1, **part)
+        return state, sample, converged
+
+    start = _uniaxial_start(system, ground[0], None if loads is None else loads[0])
+    return _Run(start, (times[1:], ground[1:], None if loads is None else loads[1:]), step)
+
+
+def _series_advance(system, matrices, state, ground1, load1):
+    """One step of series pendulums: (state, x1, converged, isolator force beyond K u [N],
+    the sample's bearing force and sliders)."""
+    x, isolator, ground0, _ = state
+    x1, isolator1, converged, bearing = system.step(x, isolator, ground0, ground1, matrices, load1)
+    return (x1, isolator1, ground1, load1), x1, converged, isolator1[3], {"bearing_force": bearing,
+                                                                          "slider": isolator1[0]}
+
+
+def _sliders_advance(system, matrices, state, ground1, load1):
+    """One step of flat sliders or single pendulums (`StructureOnSliders.propagated_step`):
+    (state, x1, converged, bearing force F = mu W Z plus the pendulum's force beyond K u [N],
+    the sample's friction force mu W Z).
 
     The state (u, v), the bearing force per unit Z and its slope of the stored state
-    (`friction_factors`) and the ground acceleration at the start of the step, advanced by
-    `step_propagator` (one product per step); the same step as `newmark_update` to rounding.
-    A bearing with history (heating, wear) steps with its friction at the start of the step
-    (`at_history`) and carries its heat states and travel in `history`. With a vertical
-    record the state also carries the load factor N / W of its time (`load1` at the end).
-    """
-    step_matrix, force_column, shear_row, shear_force = propagator
-    if isinstance(system, StructureOnTriple):  # the isolator's state in place of Z
-        x, isolator, ground0, _ = state  # the load at the step's end
-        x1, isolator1, converged, bearing = system.step(x, isolator, ground0, ground1, (step_matrix, force_column),
-                                                        load1)
-        shear = small_dot(shear_row, x1, WRITTEN_OUT_PRODUCT) + shear_force * isolator1[3]
-        return (x1, isolator1, ground1, load1), x1[0], shear, converged, isolator1[3]
+    (`friction_factors`) and the ground acceleration at the start of the step; a bearing with
+    history (heating, wear) steps with its friction at the start of the step (`at_history`)
+    and carries its heat states and travel; with a vertical record the load factor N / W."""
     n = system.mass.shape[-1]
     x, z, z_peak, start_factors, ground0, history, load0 = state
     stepped = system
@@ -230,39 +288,117 @@ def _advance(system, propagator, state, ground1, load1=None):
         stepped = system.at_history(*history)
         start_factors = stepped.friction_factors(x[n], z_peak, load0)
     x1, z1, z_peak1, converged = stepped.propagated_step(x, z, z_peak, start_factors, ground0, ground1,
-                                                         (step_matrix, force_column), load0, load1)
+                                                         matrices, load0, load1)
     factors1 = stepped.friction_factors(x1[n], z_peak1, load1)  # of the stored state: F = mu W Z
     friction = factors1[0] * z1 * system.asymmetry_factor(z1)
-    bearing_force = friction
+    force = friction
     if system.surface is not None or load1 is not None:  # the pendulum's force beyond W u / R
-        bearing_force = bearing_force + system.surface_force(x1[0], load1)
-    shear = small_dot(shear_row, x1, WRITTEN_OUT_PRODUCT) + shear_force * bearing_force
+        force = force + system.surface_force(x1[0], load1)
     if history:
         history = system.next_history(*history, x[0], x1[0], x[n], z_peak, z, load0)
-    return (x1, z1, z_peak1, factors1, ground1, history, load1), x1[0], shear, converged, bearing_force
+    return (x1, z1, z_peak1, factors1, ground1, history, load1), x1, converged, force, {"friction_force": friction}
 
 
-def _start_carry(system, ground0, rows, dtype, load0=None):
-    """Carry of the peak loop at rest: (state, peaks, tops, totals, all converged)."""
-    zero = jnp.zeros((), dtype)
-    one = jnp.ones((), dtype)
+def _uniaxial_start(system, ground0, load0):
+    """The state at rest of `_uniaxial_run`."""
+    dtype = system.mass.dtype
     if isinstance(system, StructureOnTriple):
-        state = (jnp.zeros(2 * system.mass.shape[-1], dtype), system.initial_isolator(), ground0, load0)
-        return (state, (zero, zero) + storey_start(rows, dtype), (zero, zero), (one, one), jnp.array(True))
+        return jnp.zeros(2 * system.mass.shape[-1], dtype), system.initial_isolator(), ground0, load0
     y0 = initial_state(system)
     start_factors = system.friction_factors(y0["v"][0], y0["z_peak"], load0)
     history = (y0["heat"], y0["travel"]) if system.history else ()
-    state = (jnp.concatenate([y0["u"], y0["v"]]), y0["z"], y0["z_peak"], start_factors, ground0,
-             history, load0)
-    return (state, (zero, zero) + storey_start(rows, dtype), (zero, zero), (one, one), jnp.array(True))
+    return (jnp.concatenate([y0["u"], y0["v"]]), y0["z"], y0["z_peak"], start_factors, ground0, history, load0)
 
 
-def series_uplift_time(system, duration: float):
-    """Time [s] of the steps 1..n (n = duration / dt, `check_duration`) whose end has N <= 0 in
-    a two-direction series-pendulum structure (`BiaxialStructureOnTriple`), as `peak_response`
-    counts it in one direction; `None` without a vertical record."""
-    uniaxial = system.uniaxial
-    if uniaxial.vertical_acceleration is None:
-        return None
-    n_steps = check_duration(uniaxial, duration)
-    return uplift_steps(uniaxial, n_steps) * float(uniaxial.time_step)
+def _biaxial_run(system: BiaxialStructureOnTriple, n_steps) -> _Run:
+    """Series pendulums under two components (`BiaxialStructureOnTriple.step`)."""
+    dt = float(system.time_step)
+    times = jnp.arange(n_steps + 1) * dt
+    ground = jax.vmap(system.ground)(times)
+    linear = system.uniaxial
+    matrices = linear.step_matrices()
+    n = system.mass.shape[-1]
+
+    def step(state, inputs):
+        x, isolator = state
+        time1, ground0, ground1, load1 = inputs
+        x1, isolator1, converged, force = system.step(x, isolator, ground0, ground1, matrices, load1)
+        acceleration = jax.vmap(lambda xd, f: _total_acceleration(linear, xd, f))(x1, isolator1[3])
+        sample = StructureResponse(time=time1, displacement=x1[:, :n].reshape(2 * n),
+                                   velocity=x1[:, n:].reshape(2 * n), total_acceleration=acceleration.reshape(2 * n),
+                                   ground=ground1, bearing_force=force, slider=isolator1[0], load_factor=load1)
+        return (x1, isolator1), sample, converged
+
+    start = (jnp.zeros((2, 2 * n), system.mass.dtype), system.initial_isolator())
+    loads = None if system.vertical_acceleration is None else jax.vmap(system.load_factor)(times[1:])
+    return _Run(start, (times[1:], ground[:-1], ground[1:], loads), step)
+
+
+def _bidirectional_run(system: BidirectionalStructure, n_steps) -> _Run:
+    """Flat sliders or single pendulums under two components (`newmark_update`), the
+    accelerations the equation of motion's at each step's end."""
+    dt = float(system.time_step)
+    times = jnp.arange(n_steps + 1) * dt
+    ground = jax.vmap(system.ground)(times)
+    loads = None if system.vertical_acceleration is None else jax.vmap(system.load_factor)(times)
+    y0 = bidirectional_initial_state(system)
+    a0 = system.at_load(None if loads is None else loads[0]).acceleration_at(ground[0], y0)
+
+    def step(state, inputs):
+        y, a = state
+        time1, ground1, load1 = inputs
+        loaded = system.at_load(load1)  # the normal load at the step's end (vertical record)
+        y1, converged = loaded.newmark_update(y, a, ground1)
+        a1 = loaded.acceleration_at(ground1, y1)
+        sample = StructureResponse(time=time1, displacement=y1["q"], velocity=y1["v"],
+                                   total_acceleration=a1 + system.influence @ ground1, ground=ground1,
+                                   load_factor=load1)
+        return (y1, a1), sample, converged
+
+    return _Run((y0, a0), (times[1:], ground[1:], None if loads is None else loads[1:]), step)
+
+
+MONTE_CARLO_PEAKS = {"base_disp": "base_disp_resultant", "base_shear_ratio": "base_shear_ratio_resultant",
+                     "smooth_base_disp": "smooth_base_disp_resultant",
+                     "smooth_base_shear_ratio": "smooth_base_shear_ratio_resultant", "converged": "converged",
+                     "storey_drift": "storey_drift_ratio", "floor_acceleration": "level_acceleration",
+                     "uplift_time": "uplift_time"}
+"""The Monte Carlo's names of `peak_response`'s peaks (`MonteCarloResult` fields) -> their
+reducer names."""
+
+
+@jax.tree_util.register_pytree_node_class
+class Peaks(dict):
+    """The peaks of one run of `peak_response` (or batched), keyed by reducer name, with
+    `components` (1 or 2) the ground components of its structure. The Monte Carlo's names
+    (`MONTE_CARLO_PEAKS`) read as attributes: `base_disp` [m] and `base_shear_ratio` [-]
+    (resultants), their smooth maxima `smooth_base_disp`, `smooth_base_shear_ratio`,
+    `converged`, a building's `storey_drift` [-] (drift ratio) and `floor_acceleration`
+    [m/s^2] per storey and level ((S,), (S + 1,) under one component; (2, S), (2, S + 1) under
+    two) and `uplift_time` [s]; `None` where not kept."""
+
+    def __init__(self, values=(), components: int = 1):
+        super().__init__(values)
+        self.components = components
+
+    def __getattr__(self, name):
+        if name not in MONTE_CARLO_PEAKS:
+            raise AttributeError(name)
+        value = self.get(MONTE_CARLO_PEAKS[name])
+        if value is not None and self.components == 1 and name in ("storey_drift", "floor_acceleration"):
+            value = jnp.squeeze(value, axis=-2)
+        return value
+
+    def tree_flatten(self):
+        keys = tuple(self.keys())
+        return tuple(self[k] for k in keys), (keys, self.components)
+
+    @classmethod
+    def tree_unflatten(cls, aux, children):
+        keys, components = aux
+        return cls(zip(keys, children), components)
+
+
+def peak_arrays(peaks: Peaks, components=None) -> dict:
+    """{Monte Carlo name: array} (`MONTE_CARLO_PEAKS`) of the peaks kept in `peaks`."""
+    return {name: getattr(peaks, name) for name, key in MONTE_CARLO_PEAKS.items() if key in peaks}

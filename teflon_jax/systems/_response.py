@@ -3,15 +3,34 @@ sliders, single pendulums or series pendulums, under one or two ground component
 
 Every history driver (`simulate_structure`, `simulate_bidirectional`,
 `simulate_triple_structure`, `simulate_slab_series`, and `simulate_history` for any of their
-systems) returns a `StructureResponse`; the parts a structure does not have are `None`. The
-peaks kept along a run (`peak_response`, `bidirectional_peak_response`) are a `PeakResponse`;
-the reducers over a saved history (base displacement and shear, storeys, groups, sliders,
-heating: `teflon_jax.studies.response_peaks`) read its fields, the same for every structure.
+systems) returns a `StructureResponse`; the parts a structure does not have are `None`.
+
+The response's quantities (base displacement, base shear, storey drift, level acceleration,
+isolator force, slider travel, ...) are written here once, each on one sample of a
+`StructureResponse` (no time axis) and, the same code, on a history (time along the first
+axis: the component and level axes are counted from the last). `REDUCERS` names the
+magnitudes whose peaks are kept: `peak_response` folds them along a run step by step, and
+`teflon_jax.studies.response_peaks` takes their maxima over a saved history.
+
+**Base shear ratio** (every engine, one and two components): the horizontal force the
+bearings carry, the sum over the masses above them of m_j a_j^total (the base slab's included),
+over the weight they carry W = g sum_j m_j,
+
+    V(t) / W = sum_j m_j (a_j(t) + a_g(t)) / (g sum_j m_j),
+
+as the paper's figures give it (Mokha, Constantinou & Reinhorn 1990); for a rigid mass or a
+slab m (a + a_g) / (m g). The first-storey shear (`first_storey_shear_ratio`) is that sum over
+the floors alone over their weight.
 """
+
+import typing
 
 import diffrax
 import equinox as eqx
 import jax.numpy as jnp
+import numpy as np
+
+from ..units import STANDARD_GRAVITY
 
 
 class StructureResponse(eqx.Module):
@@ -131,3 +150,176 @@ class BearingTestResult(eqx.Module):
         if self.converged is not None:
             return jnp.all(self.converged, axis=-1)
         return jnp.array(True)
+
+
+class ResponseLayout(typing.NamedTuple):
+    """Where a structure's parts sit in its `StructureResponse` coordinates (N of them).
+
+    - `levels` (C, L) static ints: row d the coordinates along ground component d (C = 1 or
+      2) of the base (column 0) and, for a building, its floors 1..L-1 (L = 1 otherwise);
+    - `mass` (N,) [kg]: each coordinate's translating mass (0 for a slab's rotation);
+    - `influence` (N, C) [-]: the direction of each coordinate (1 along its component);
+    - `rotation`: the coordinate of a slab's rotation [rad], else `None`;
+    - `overturning`: the groups share the weight unevenly (a slab's `supports`), so their
+      normal loads are a result (`group_normal_load`).
+    """
+
+    levels: tuple
+    mass: jnp.ndarray
+    influence: jnp.ndarray
+    rotation: int | None = None
+    overturning: bool = False
+
+    @property
+    def components(self) -> int:
+        return len(self.levels)
+
+    @property
+    def building(self) -> bool:
+        return len(self.levels[0]) > 1
+
+
+def resultant(values, axis: int = -1):
+    """|h| over the ground components along `axis` (C = 1 or 2 long; removed): |h_x| for
+    C = 1, hypot(h_x, h_y) for C = 2."""
+    values = jnp.moveaxis(values, axis, 0)
+    return jnp.abs(values[0]) if values.shape[0] == 1 else jnp.hypot(values[0], values[1])
+
+
+def base_displacement(layout: ResponseLayout, response):
+    """(..., C) [m]: the base's displacement relative to the ground along each component."""
+    return response.displacement[..., np.array([row[0] for row in layout.levels])]
+
+
+def carried_weight(layout: ResponseLayout):
+    """W = g sum_j m_j [N]: the weight of the masses above the bearings."""
+    return STANDARD_GRAVITY * jnp.sum(layout.mass * layout.influence[:, 0])
+
+
+def base_shear_ratio(layout: ResponseLayout, response):
+    """(..., C) [-]: V / W, the force the bearings carry, sum_j m_j a_j^total, over the
+    weight they carry (module docstring)."""
+    weights = layout.mass[:, None] * layout.influence  # (N, C) [kg]
+    force = jnp.sum(response.total_acceleration[..., :, None] * weights, axis=-2)  # no dot kernel per sample
+    return force / carried_weight(layout)
+
+
+def first_storey_shear_ratio(layout: ResponseLayout, response):
+    """(..., C) [-] of a building: sum_{j>=1} m_j a_j^total over g sum_{j>=1} m_j (the
+    floors); `None` for a rigid mass or a slab."""
+    if not layout.building:
+        return None
+    floors = np.array([row[1:] for row in layout.levels])  # (C, L - 1)
+    masses = layout.mass[floors]
+    force = jnp.sum(response.total_acceleration[..., floors] * masses, axis=-1)
+    return force / (STANDARD_GRAVITY * jnp.sum(masses[0]))
+
+
+def storey_drift(layout: ResponseLayout, response):
+    """(..., C, L - 1) [m] of a building: q_j - q_(j-1) per storey (storey 1 from the base
+    slab to floor 1) along each component; `None` for a rigid mass or a slab."""
+    if not layout.building:
+        return None
+    return jnp.diff(response.displacement[..., np.array(layout.levels)], axis=-1)
+
+
+def level_acceleration(layout: ResponseLayout, response):
+    """(..., C, L) [m/s^2] of a building: each level's total acceleration a_j + a_g (level 0
+    the base slab) along each component; `None` for a rigid mass or a slab."""
+    if not layout.building:
+        return None
+    return response.total_acceleration[..., np.array(layout.levels)]
+
+
+def isolator_force(response):
+    """(..., C) [N]: the isolators' whole force resisting the base's motion, summed over
+    bearing groups (flat sliders and single pendulums: the friction force; series pendulums:
+    the force beyond the reference spring); `None` without either."""
+    lead = jnp.ndim(response.time)  # 1 on a history, 0 on one sample
+    if response.friction_force is not None:
+        force = response.friction_force  # (...,) resisting, or (..., G, 2) on the structure
+        return force[..., None] if force.ndim == lead else -jnp.sum(force, axis=-2)
+    force = response.bearing_force
+    if force is None:
+        return None
+    if force.ndim == lead:
+        return force[..., None]
+    return jnp.sum(force, axis=-2) if force.ndim == lead + 2 else force
+
+
+def slider_travel(response):
+    """(..., S) or (..., G, S) [m]: each slider's displacement magnitude (|s| under one
+    component, the length of (s_x, s_y) under two; per group of a slab); `None` without
+    sliders."""
+    slider = response.slider
+    if slider is None:
+        return None
+    lead = jnp.ndim(response.time)
+    return jnp.abs(slider) if slider.ndim == lead + 1 else jnp.linalg.norm(slider, axis=-1)
+
+
+def uplifted(load_factor):
+    """Whether the isolators are uplifted, N <= 0, at the sample(s) of a vertical record's load
+    factor N / W [-] (`StructureResponse.load_factor`): they then carry no shear."""
+    return load_factor <= 0
+
+
+def uplift_time(load_factor, time_step):
+    """Time [s] of the steps 1..n whose end has N <= 0, from the load factors (n + 1,) at the
+    saved times 0..n of a run stepped by `time_step` [s] (`uplifted`)."""
+    return jnp.sum(uplifted(load_factor[1:])) * time_step
+
+
+def _drift_ratio(layout, response, storey_height):
+    drift = storey_drift(layout, response)
+    if drift is None or storey_height is None:
+        return None
+    return drift / jnp.broadcast_to(jnp.asarray(storey_height, drift.dtype), drift.shape[-1:])
+
+
+def _abs(values):
+    return None if values is None else jnp.abs(values)
+
+
+def _resultant(values, axis=-1):
+    return None if values is None else resultant(values, axis)
+
+
+def _isolator_force_ratio(layout, response):
+    force = isolator_force(response)
+    return None if force is None else resultant(force) / carried_weight(layout)
+
+
+def _group_disp(response):
+    displacement = response.bearing_displacement
+    return None if displacement is None else jnp.linalg.norm(displacement, axis=-1)
+
+
+def _rotation(layout, response):
+    return None if layout.rotation is None else jnp.abs(response.displacement[..., layout.rotation])
+
+
+REDUCERS = {
+    "base_disp": lambda layout, r, h: jnp.abs(base_displacement(layout, r)),
+    "base_disp_resultant": lambda layout, r, h: resultant(base_displacement(layout, r)),
+    "base_shear_ratio_resultant": lambda layout, r, h: resultant(base_shear_ratio(layout, r)),
+    "isolator_force_ratio_resultant": lambda layout, r, h: _isolator_force_ratio(layout, r),
+    "storey_drift_resultant": lambda layout, r, h: _resultant(storey_drift(layout, r), -2),
+    "level_acceleration": lambda layout, r, h: _abs(level_acceleration(layout, r)),
+    "level_acceleration_resultant": lambda layout, r, h: _resultant(level_acceleration(layout, r), -2),
+    "first_storey_shear_ratio_resultant": lambda layout, r, h: _resultant(first_storey_shear_ratio(layout, r)),
+    "storey_drift_ratio": lambda layout, r, h: _abs(_drift_ratio(layout, r, h)),
+    "storey_drift_ratio_resultant": lambda layout, r, h: _resultant(_drift_ratio(layout, r, h), -2),
+    "slider_travel": lambda layout, r, h: slider_travel(r),
+    "surface_temperature_rise": lambda layout, r, h: r.surface_temperature_rise,
+    "rotation": lambda layout, r, h: _rotation(layout, r),
+    "group_disp_resultant": lambda layout, r, h: _group_disp(r),
+}
+"""The peak quantities of a response: name -> `(layout, response, storey_height) ->` the
+non-negative magnitude whose maximum over time is the peak (on one sample or on a history,
+`None` where the response has no such part): the base displacement per component [m] and as
+a resultant, the base shear ratio V / W [-], the isolator force over W [-], a building's
+storey drift [m] and drift ratio [-] (with `storey_height` [m], scalar or per storey), level
+acceleration [m/s^2] per component and as resultants and first-storey shear ratio [-], each
+slider's travel [m], each surface's temperature rise [K], a slab's rotation [rad] and each
+group's displacement [m]."""
