@@ -44,7 +44,6 @@ from teflon_jax.bearing import BoucWen, FrictionParameters, TriplePendulum, coul
 from teflon_jax.excitation import uniform_signal  # noqa: E402
 from teflon_jax.formats import read_at2  # noqa: E402
 from teflon_jax.systems import (  # noqa: E402
-    BiaxialStructureOnTriple,
     peak_response,
     simulate_triple_structure,
     triple_structure,
@@ -105,9 +104,8 @@ def compare(kind, case, scale, folder):
 
 def teflon_peaks_two(kind, triple, acc, acc_y, dt, weight=1.0e6):
     """Resultant peaks (displacement [m], force on the masses over W) under both components."""
-    system = BiaxialStructureOnTriple(
-        triple_structure(kind, triple, uniform_signal(acc, dt), time_step=TIME_STEP, weight=weight),
-        uniform_signal(acc_y, dt))
+    along_x = triple_structure(kind, triple, uniform_signal(acc, dt), time_step=TIME_STEP, weight=weight)
+    system = along_x.with_y_component(uniform_signal(acc_y, dt))
     peaks = jax.jit(peak_response, static_argnums=1)(system, (len(acc) - 1) * dt)
     disp, shear, ok = peaks.base_disp, peaks.base_shear_ratio, peaks.converged
     if not bool(ok):

@@ -23,7 +23,6 @@ from teflon_jax.bearing import BoucWen, DoublePendulum, FrictionParameters, Trip
 from teflon_jax.excitation import StochasticGroundMotion, sample, uniform_signal  # noqa: E402
 from teflon_jax.studies import bidirectional_isolated_structure  # noqa: E402
 from teflon_jax.systems import (  # noqa: E402
-    BiaxialStructureOnTriple,
     biaxial_histories,
     isolated_structure,
     simulate_bidirectional,
@@ -36,6 +35,18 @@ from teflon_jax.systems import (  # noqa: E402
     with_vertical_motion,
 )
 from teflon_jax.tables import interface_parameters  # noqa: E402
+
+
+def _with_y(system, ground_y):
+    """`system` (series pendulums along x) under the y component too, in this version's API."""
+    if hasattr(system, "with_y_component"):
+        return system.with_y_component(ground_y)
+    from teflon_jax.systems import (
+        BiaxialStructureOnTriple,  # versions before `with_y_component`
+    )
+
+    return BiaxialStructureOnTriple(system, ground_y)
+
 from teflon_jax.units import PSI, STANDARD_GRAVITY  # noqa: E402
 
 DURATION, RECORD_STEP, TIME_STEP = 12.0, 0.01, 0.005
@@ -85,7 +96,7 @@ def _series_cases(out):
                 response = jax.jit(simulate_triple_structure, static_argnums=1)(system, DURATION)
                 out[f"{key}-1d-displacement"] = np.asarray(response.displacement)
                 out[f"{key}-1d-force"] = np.asarray(response.bearing_force)
-                both = BiaxialStructureOnTriple(system, uniform_signal(_ground(2, 0.8), RECORD_STEP))
+                both = _with_y(system, uniform_signal(_ground(2, 0.8), RECORD_STEP))
                 histories = jax.jit(biaxial_histories, static_argnums=1)(both, DURATION)
                 out[f"{key}-2d-state"] = np.asarray(histories[1])
                 out[f"{key}-2d-force"] = np.asarray(histories[2])

@@ -39,7 +39,6 @@ from teflon_jax.studies import bidirectional_isolated_structure  # noqa: E402
 from teflon_jax.systems import (  # noqa: E402
     MONTE_CARLO_NEWTON_TOLERANCE,
     TRIPLE_MONTE_CARLO_TOLERANCE,
-    BiaxialStructureOnTriple,
     isolated_structure,
     peak_response,
     simulate_structure,
@@ -98,7 +97,7 @@ def _engines(kind, isolator, components, duration, series_tolerance=TRIPLE_MONTE
             return peaks.base_disp, peaks.converged
 
         def series(ground):
-            system = BiaxialStructureOnTriple(series_system(ground[0]), uniform_signal(ground[1], RECORD_STEP))
+            system = series_system(ground[0]).with_y_component(uniform_signal(ground[1], RECORD_STEP))
             peaks = peak_response(system, duration)
             return peaks.base_disp, peaks.converged
     return jax.jit(jax.vmap(flat)), jax.jit(jax.vmap(series))

@@ -29,7 +29,6 @@ from teflon_jax.bearing import (
 )
 from teflon_jax.excitation import StochasticGroundMotion, sample, uniform_signal
 from teflon_jax.systems import (
-    BiaxialStructureOnTriple,
     biaxial_histories,
     imposed_isolator_force,
     isolated_structure,
@@ -190,8 +189,8 @@ def test_two_components_along_a_line_are_the_one_direction_response():
     u = np.asarray(jax.jit(simulate_triple_structure, static_argnums=1)(one, 10.0).displacement[:, 0])
     assert np.max(np.abs(u)) > 0.05  # both surfaces slide
     c, s = np.cos(0.6), np.sin(0.6)
-    turned = BiaxialStructureOnTriple(triple_structure("rigid", EQ1, uniform_signal(c * acc, 0.01), time_step=0.005),
-                                      uniform_signal(s * acc, 0.01))
+    turned = triple_structure("rigid", EQ1, uniform_signal(c * acc, 0.01), time_step=0.005)
+    turned = turned.with_y_component(uniform_signal(s * acc, 0.01))
     _, x, _, sliders, _, ok = jax.jit(biaxial_histories, static_argnums=1)(turned, 10.0)
     assert bool(np.all(ok)) and sliders.shape[1:] == (2, 2)
     np.testing.assert_allclose(x[:, 0, 0], c * u, rtol=0, atol=1e-9)

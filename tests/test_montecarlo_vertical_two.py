@@ -29,7 +29,6 @@ from teflon_jax.studies import (
     monte_carlo_motion,
 )
 from teflon_jax.systems import (
-    BiaxialStructureOnTriple,
     biaxial_histories,
     bidirectional_initial_state,
     isolated_structure,
@@ -161,7 +160,7 @@ def test_series_pendulum_vertical_runs_are_the_direct_simulations(isolator, comp
         system = triple_structure("rigid", pendulum, uniform_signal(rows[0], 0.01), time_step=dt,
                                   newton_tolerance=structure.newton_tolerance)
         if components == 2:
-            system = with_vertical_motion(BiaxialStructureOnTriple(system, uniform_signal(rows[1], 0.01)),
+            system = with_vertical_motion(system.with_y_component(uniform_signal(rows[1], 0.01)),
                                           uniform_signal(rows[-1], 0.01))
             _, x, _, _, acc, ok = (np.asarray(a) for a in biaxial_histories(system, DURATION))
             disp = np.hypot(x[:, 0, 0], x[:, 1, 0]).max()
@@ -218,7 +217,7 @@ def test_an_isolator_lifted_off_throughout_carries_no_shear():
     t = dt * np.arange(round(duration / dt) + 1)
     ax, ay = 3.0 * np.sin(2 * np.pi * 1.3 * t), 2.0 * np.cos(2 * np.pi * 0.7 * t) - 2.0
     system = triple_structure("rigid", pendulum, uniform_signal(ax, dt), time_step=dt)
-    lifted = with_vertical_motion(BiaxialStructureOnTriple(system, uniform_signal(ay, dt)),
+    lifted = with_vertical_motion(system.with_y_component(uniform_signal(ay, dt)),
                                   uniform_signal(np.full(t.size, -2 * STANDARD_GRAVITY), dt))
     peaks = peak_response(lifted, duration)
     ground = np.hypot(_ground_displacement(ax, dt), _ground_displacement(ay, dt)).max()

@@ -37,7 +37,6 @@ from teflon_jax.bearing import (
 from teflon_jax.excitation import StochasticGroundMotion, sample, uniform_signal
 from teflon_jax.studies import bidirectional_isolated_structure
 from teflon_jax.systems import (
-    BiaxialStructureOnTriple,
     biaxial_histories,
     isolated_structure,
     respond_along_path,
@@ -132,7 +131,7 @@ def test_one_surface_in_two_components_gives_the_flat_engines_histories(isolator
     flat = dataclasses.replace(planar(ground), newton_tolerance=0.0)
     builder = isolated_structure(kind, isolator=_value(isolator), linear_rule="newmark", time_step=dt)
     linear = builder(ground[0])
-    series = BiaxialStructureOnTriple(_on_one_surface(builder, isolator, linear), ground[1])
+    series = _on_one_surface(builder, isolator, linear).with_y_component(ground[1])
     q = np.asarray(jax.jit(simulate_bidirectional, static_argnums=1)(flat, DURATION).displacement)
     n = linear.mass.shape[0]
     histories = jax.jit(biaxial_histories, static_argnums=1)(series, DURATION)
@@ -150,7 +149,7 @@ def test_a_flat_slider_sliding_in_two_components_balances_every_step():
     ground = [uniform_signal(scale * np.asarray(sample(motion, jax.random.PRNGKey(seed), 1))[0], 0.01)
               for seed, scale in ((1, 1.0), (2, 0.8))]
     builder = isolated_structure("rigid", linear_rule="newmark", time_step=0.0025)
-    series = BiaxialStructureOnTriple(_on_one_surface(builder, "flat", builder(ground[0]), "mean"), ground[1])
+    series = _on_one_surface(builder, "flat", builder(ground[0]), "mean").with_y_component(ground[1])
     series = dataclasses.replace(series, newton_tolerance=1e-9)
     assert bool(np.all(jax.jit(biaxial_histories, static_argnums=1)(series, 12.0)[-1]))
 

@@ -13,7 +13,6 @@ from teflon_jax.excitation import uniform_signal
 from teflon_jax.studies import bidirectional_isolated_structure, response_peaks
 from teflon_jax.systems import (
     REDUCERS,
-    BiaxialStructureOnTriple,
     isolated_structure,
     peak_response,
     response_layout,
@@ -48,7 +47,7 @@ def _system(engine):
     if engine == "series-1c":
         return series
     if engine == "series-2c":
-        return BiaxialStructureOnTriple(series, gy)
+        return series.with_y_component(gy)
     return with_vertical_motion(triple_structure("rigid", TRIPLE, gx, time_step=STEP), gz)  # series-1c-vertical
 
 

@@ -13,7 +13,6 @@ from teflon_jax.bearing import BoucWen, FrictionParameters, TriplePendulum
 from teflon_jax.excitation import uniform_signal
 from teflon_jax.studies import bidirectional_isolated_structure
 from teflon_jax.systems import (
-    BiaxialStructureOnTriple,
     Peaks,
     StructureResponse,
     biaxial_histories,
@@ -79,7 +78,7 @@ def test_every_history_has_the_ground_as_an_axis_and_total_accelerations():
 
 def test_two_components_on_series_pendulums_are_their_engines_histories_repackaged():
     gx, gy = _signals()
-    system = BiaxialStructureOnTriple(triple_structure("building", TRIPLE, gx, time_step=0.005), gy)
+    system = triple_structure("building", TRIPLE, gx, time_step=0.005).with_y_component(gy)
     time, x, force, slider, acceleration, converged = biaxial_histories(system, 1.0)
     r = simulate_history(system, 1.0)
     n = 7

@@ -20,7 +20,6 @@ from teflon_jax.bearing import BoucWen, DoublePendulum, FrictionParameters, Trip
 from teflon_jax.excitation import StochasticGroundMotion, sample, uniform_signal
 from teflon_jax.formats import test_record_from_arrays
 from teflon_jax.systems import (
-    BiaxialStructureOnTriple,
     biaxial_histories,
     simulate_triple_structure,
     simulate_triple_test,
@@ -69,7 +68,7 @@ def test_the_test_force_along_the_structures_path_is_the_structures_force(name):
 
 def test_the_planar_test_force_along_the_structures_orbit_is_the_structures_force():
     one = _structure(TRIPLE, _ground(5))
-    system = BiaxialStructureOnTriple(one, uniform_signal(_ground(6, 0.8), 0.01))
+    system = one.with_y_component(uniform_signal(_ground(6, 0.8), 0.01))
     time, x, force, sliders, _, converged = jax.jit(biaxial_histories, static_argnums=1)(system, DURATION)
     weight = float(one.bearing_load)
     orbit = np.asarray(x[:, :, 0])

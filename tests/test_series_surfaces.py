@@ -29,7 +29,6 @@ from teflon_jax.bearing import (
 )
 from teflon_jax.excitation import uniform_signal
 from teflon_jax.systems import (
-    BiaxialStructureOnTriple,
     biaxial_histories,
     simulate_slab_series,
     simulate_triple_structure,
@@ -131,7 +130,7 @@ def _held(pendulum, acceleration, components=1, duration=6.0):
         response = jax.jit(simulate_triple_structure, static_argnums=1)(system, duration)
         assert bool(np.all(response.converged))
         return np.max(np.abs(np.asarray(response.displacement[:, 0])))
-    both = BiaxialStructureOnTriple(system, uniform_signal(ground, 0.01))
+    both = system.with_y_component(uniform_signal(ground, 0.01))
     _, x, _, _, _, converged = jax.jit(biaxial_histories, static_argnums=1)(both, duration)
     assert bool(np.all(converged))
     return np.max(np.linalg.norm(np.asarray(x[:, :, 0]), axis=1))

@@ -19,9 +19,7 @@ from teflon_jax.excitation import (
 )
 from teflon_jax.studies import monte_carlo
 from teflon_jax.systems import (
-    BiaxialStructureOnTriple,
     StructureOnSeries,
-    StructureOnTriple,
     biaxial_histories,
     isolated_structure,
     peak_response,
@@ -58,11 +56,11 @@ def test_a_record_along_any_line_is_the_one_direction_response_along_it(kind, ac
     u = np.asarray(jax.jit(simulate_triple_structure, static_argnums=1)(one, 20.0).displacement[:, 0])
     assert np.max(np.abs(u)) > 0.05  # the outer surfaces slide
     histories = jax.jit(biaxial_histories, static_argnums=1)
-    along_x = histories(BiaxialStructureOnTriple(one, uniform_signal(0 * acc, 0.01)), 20.0)
+    along_x = histories(one.with_y_component(uniform_signal(0 * acc, 0.01)), 20.0)
     np.testing.assert_allclose(along_x[1][:, 0, 0], u, rtol=0, atol=1e-12)
     c, s = np.cos(0.6), np.sin(0.6)
-    turned = BiaxialStructureOnTriple(triple_structure(kind, TRIPLE, uniform_signal(c * acc, 0.01), time_step=0.005),
-                                      uniform_signal(s * acc, 0.01))
+    turned = triple_structure(kind, TRIPLE, uniform_signal(c * acc, 0.01), time_step=0.005)
+    turned = turned.with_y_component(uniform_signal(s * acc, 0.01))
     _, x, force, sliders, _, ok = histories(turned, 20.0)
     assert bool(np.all(ok))
     np.testing.assert_allclose(x[:, 0, 0], c * u, rtol=0, atol=1e-9)
@@ -88,8 +86,6 @@ def test_one_class_steps_one_and_two_components_alike_along_x(acc):
                            ground_y=uniform_signal(0 * short, 0.01))
     two = with_vertical_motion(two, uniform_signal(0.6 * short[::-1], 0.01))
     assert type(one) is type(two) is StructureOnSeries and (one.components, two.components) == (1, 2)
-    assert isinstance(one, StructureOnTriple) and not isinstance(one, BiaxialStructureOnTriple)
-    assert isinstance(two, BiaxialStructureOnTriple) and not isinstance(two, StructureOnTriple)
     run = jax.jit(simulate_series, static_argnums=1)
     a, b = run(one, 6.0), run(two, 6.0)
     assert np.max(np.abs(np.asarray(a.displacement[:, 0]))) > 0.02 and bool(np.all(b.converged))

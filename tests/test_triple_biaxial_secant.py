@@ -1,5 +1,5 @@
 """The secant balance of the triple pendulum under two ground components
-(`BiaxialStructureOnTriple(balance="secant")`): Broyden's update of the sliders' 2 x 2
+(`StructureOnSeries.with_y_component(ground_y, balance="secant")`): Broyden's update of the sliders' 2 x 2
 blocks, exact identities of the update, the same histories as Newton's iteration to the
 balance's tolerance, and the same implicit derivative.
 
@@ -15,7 +15,7 @@ import pytest
 from teflon_jax.bearing import BoucWen, FrictionParameters, TriplePendulum
 from teflon_jax.excitation import StochasticGroundMotion, sample, uniform_signal
 from teflon_jax.solver import broyden_blocks
-from teflon_jax.systems import BiaxialStructureOnTriple, biaxial_histories, triple_structure
+from teflon_jax.systems import biaxial_histories, triple_structure
 from teflon_jax.systems._isolator_balance import difference_steps
 from teflon_jax.units import STANDARD_GRAVITY
 
@@ -36,7 +36,7 @@ def _records():
 def _pair(pendulum, balance):
     acc = _records()
     one = triple_structure("rigid", pendulum, uniform_signal(acc[0], 0.01), time_step=0.005)
-    return BiaxialStructureOnTriple(one, uniform_signal(0.8 * acc[1], 0.01), balance=balance)
+    return one.with_y_component(uniform_signal(0.8 * acc[1], 0.01), balance=balance)
 
 
 def test_broyden_update_meets_the_secant_condition_and_keeps_other_directions():

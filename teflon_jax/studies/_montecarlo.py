@@ -41,9 +41,9 @@ from ..excitation import (
 )
 from ..systems import (
     STEPS_PER_LOOP_PASS,
-    BiaxialStructureOnTriple,
     BidirectionalStructure,
     IsolatedStructure,
+    StructureOnSeries,
     VerticalIsolatedStructure,
     check_storey_height,
     peak_arrays,
@@ -123,10 +123,17 @@ def probe_structure(structure, source: _Source, design):
         return structure((horizontal, ground) if source.vertical else horizontal, design)
 
     probe = jax.eval_shape(build, shape)
-    if two != isinstance(probe, (BidirectionalStructure, BiaxialStructureOnTriple)):
+    if two != _two_components(probe):
         raise ValueError(f"structure: builds a {type(probe).__name__}, which does not take "
                          f"{source.components}-component motions.")
     return probe
+
+
+def _two_components(system) -> bool:
+    """Whether `system` steps under two horizontal ground components."""
+    if isinstance(system, StructureOnSeries):
+        return system.components == 2
+    return isinstance(system, BidirectionalStructure)
 
 
 def _put(array: np.ndarray, sharding):
@@ -353,7 +360,7 @@ def _plan(structure, motions, n_motions, *, key=None, duration=None, design=None
     read_every = _read_every(peak_interval, probe.time_step)
     if storey_height is not None:  # refused here, before the compile, for a rigid mass
         # x and y: 2 n coordinates, but one set of masses for a series pendulum's structure
-        per_direction = n_dof if isinstance(probe, BiaxialStructureOnTriple) else n_dof // source.components
+        per_direction = n_dof if isinstance(probe, StructureOnSeries) else n_dof // source.components
         check_storey_height(per_direction, storey_height)
     runner = ChunkRunner(structure, source, duration, design_arrays, devices, chunk, disp_width,
                          shear_width, read_every, storey_height, bearings=None if draws is None else bearings)

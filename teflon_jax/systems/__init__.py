@@ -81,9 +81,7 @@ from ._structure_build import simulate_structure as simulate_structure
 from ._structure_build import six_storey_building as six_storey_building
 from ._structure_build import storey_rows as storey_rows
 from ._structure_build import structure_on_sliders as structure_on_sliders
-from ._triple_structure import BiaxialStructureOnTriple as BiaxialStructureOnTriple
 from ._triple_structure import StructureOnSeries as StructureOnSeries
-from ._triple_structure import StructureOnTriple as StructureOnTriple
 from ._triple_structure import biaxial_histories as biaxial_histories
 from ._triple_structure import simulate_series as simulate_series
 from ._triple_structure import simulate_triple_structure as simulate_triple_structure

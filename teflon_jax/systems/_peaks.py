@@ -16,7 +16,18 @@ from ._response import REDUCERS, ResponseLayout, StructureResponse, uplifted
 from ._slab_series import SlabOnSeries
 from ._structure import WRITTEN_OUT_PRODUCT, StructureOnSliders, initial_state
 from ._structure_build import check_duration, check_storey_height
-from ._triple_structure import BiaxialStructureOnTriple, StructureOnTriple
+from ._triple_structure import StructureOnSeries
+
+
+def _series_of(system, components: int) -> bool:
+    """Whether `system` is a structure on series pendulums under `components` ground components."""
+    return isinstance(system, StructureOnSeries) and system.components == components
+
+
+def _one_component(system) -> bool:
+    """Whether `system` is stepped in one component: on sliders, or on series pendulums along x."""
+    return isinstance(system, StructureOnSliders) or _series_of(system, 1)
+
 
 STEPS_PER_LOOP_PASS = 2
 """`peak_response(steps_per_pass=...)` of the Monte Carlo runs (`monte_carlo`): two steps
@@ -36,14 +47,14 @@ ratio (with a storey height also "storey_drift_ratio" and "level_acceleration").
 
 def response_layout(system) -> ResponseLayout:
     """The `ResponseLayout` of any structure `systems` builds: a `StructureOnSliders` or
-    `StructureOnTriple` (one component: coordinates base, floors), a `BiaxialStructureOnTriple`
-    (x block then y block), and a `BidirectionalStructure` or `SlabOnSeries`, which carry their
-    own `mass` and `influence` (a rigid mass or building: x block then y block; a slab: x, y,
+    `StructureOnSeries` along x (one component: coordinates base, floors), a
+    `StructureOnSeries` with `ground_y` (x block then y block), and a
+    `BidirectionalStructure` or `SlabOnSeries`, which carry their own `mass` and `influence` (a rigid mass or building: x block then y block; a slab: x, y,
     rotation). Only shapes are read (static under jit)."""
-    if isinstance(system, (StructureOnSliders, StructureOnTriple)):
+    if _one_component(system):
         n = system.mass.shape[-1]
         return ResponseLayout((tuple(range(n)),), system.mass, jnp.ones((n, 1), system.mass.dtype))
-    if isinstance(system, BiaxialStructureOnTriple):
+    if _series_of(system, 2):
         m = system.mass
         n = m.shape[-1]
         blocks = jnp.repeat(jnp.eye(2, dtype=m.dtype), n, axis=0)
@@ -113,9 +124,9 @@ def peak_response(system, duration: float, *, reducers=None, smooth=None, disp_w
 
     The engines: a `StructureOnSliders` (flat sliders, single pendulums; the linear part of
     its step one (2n, 2n + 3) product, `StructureOnSliders.step_matrices`), a
-    `StructureOnTriple` (series pendulums), a `BidirectionalStructure` (flat sliders and
-    single pendulums under two components, without a slab's overturning) and a
-    `BiaxialStructureOnTriple` (series pendulums under two components); each with its
+    `StructureOnSeries` (series pendulums, one or two components) and a
+    `BidirectionalStructure` (flat sliders and single pendulums under two components,
+    without a slab's overturning); each with its
     vertical record if it has one. jit/vmap/grad-safe.
 
     **Arguments:**
@@ -149,8 +160,7 @@ def peak_response(system, duration: float, *, reducers=None, smooth=None, disp_w
     if storey_height is not None:  # refused for a rigid mass, or unless > 0 (one or one per storey)
         check_storey_height(len(layout.levels[0]), storey_height)
     n_steps, run = _engine_run(system, duration)
-    vertical = system.vertical_acceleration is not None if not isinstance(system, BiaxialStructureOnTriple) \
-        else system.uniaxial.vertical_acceleration is not None
+    vertical = system.vertical_acceleration is not None
     widths = {name: jnp.asarray(width, dtype) for name, width in smooth.items()}
 
     def quantities(sample):
@@ -204,10 +214,10 @@ def _check_loop_settings(read_every, steps_per_pass) -> None:
 
 def _engine_run(system, duration):
     """(n_steps, `_Run`) of `system`'s engine over `duration` [s] (checked)."""
-    if isinstance(system, (StructureOnSliders, StructureOnTriple)):
+    if _one_component(system):
         n_steps = check_duration(system, duration)
         return n_steps, _uniaxial_run(system, n_steps)
-    if isinstance(system, BiaxialStructureOnTriple):
+    if _series_of(system, 2):
         n_steps = check_duration(system.uniaxial, duration)
         return n_steps, _biaxial_run(system, n_steps)
     if isinstance(system, BidirectionalStructure):
@@ -243,14 +253,14 @@ def _total_acceleration(system, x, force):
 
 
 def _uniaxial_run(system, n_steps) -> _Run:
-    """A `StructureOnSliders` or `StructureOnTriple` stepped by its step matrices (one
+    """A `StructureOnSliders` or one-component `StructureOnSeries` stepped by its step matrices (one
     product per step) with the record at every step's end evaluated outside the loop."""
     dt = float(system.time_step)
     times = jnp.arange(n_steps + 1) * dt
     ground = jax.vmap(system.ground_acceleration)(times)
     loads = None if system.vertical_acceleration is None else jax.vmap(system.load_factor)(times)
     matrices = system.step_matrices()
-    series = isinstance(system, StructureOnTriple)
+    series = _series_of(system, 1)
 
     def step(state, inputs):
         time1, ground1, load1 = inputs
@@ -302,7 +312,7 @@ def _sliders_advance(system, matrices, state, ground1, load1):
 def _uniaxial_start(system, ground0, load0):
     """The state at rest of `_uniaxial_run`."""
     dtype = system.mass.dtype
-    if isinstance(system, StructureOnTriple):
+    if _series_of(system, 1):
         return jnp.zeros(2 * system.mass.shape[-1], dtype), system.initial_isolator(), ground0, load0
     y0 = initial_state(system)
     start_factors = system.friction_factors(y0["v"][0], y0["z_peak"], load0)
@@ -310,8 +320,8 @@ def _uniaxial_start(system, ground0, load0):
     return (jnp.concatenate([y0["u"], y0["v"]]), y0["z"], y0["z_peak"], start_factors, ground0, history, load0)
 
 
-def _biaxial_run(system: BiaxialStructureOnTriple, n_steps) -> _Run:
-    """Series pendulums under two components (`BiaxialStructureOnTriple.step`)."""
+def _biaxial_run(system: StructureOnSeries, n_steps) -> _Run:
+    """Series pendulums under two components (`StructureOnSeries.step` with `ground_y`)."""
     dt = float(system.time_step)
     times = jnp.arange(n_steps + 1) * dt
     ground = jax.vmap(system.ground)(times)

@@ -108,6 +108,11 @@ class StructureOnSeries(eqx.Module):
         """The same structure under the x component alone."""
         return dataclasses.replace(self, ground_y=None)
 
+    def with_y_component(self, ground_y: Signal, balance: str = "newton") -> "StructureOnSeries":
+        """The same structure (the same in x and in y) under the y ground component `ground_y`
+        [m/s^2] too, its planar balance iterated by `balance` (`BALANCES`)."""
+        return dataclasses.replace(self, ground_y=ground_y, balance=balance)
+
     def load_factor(self, t):
         """N / W = max(1 + a_v(t) / g, 0) at time t [s] (None without a vertical record)."""
         return load_factor_at(self.vertical_acceleration, t)
@@ -203,34 +208,6 @@ class StructureOnSeries(eqx.Module):
         return slider_step(isolator, p, predicted_increments(isolator[2]), tolerance, self.time_step,
                            self.newton_iterations, heat_rates=self.heat_rates, load=load,
                            secant=self.balance == "secant", reference=(stiffness, start))
-
-
-class _OfComponents(type):
-    """The type of a name for the `StructureOnSeries` of a given number of components:
-    `isinstance(s, name)` is true for exactly those."""
-
-    def __instancecheck__(cls, instance):
-        return isinstance(instance, StructureOnSeries) and instance.components == cls.components
-
-
-class StructureOnTriple(metaclass=_OfComponents):
-    """The `StructureOnSeries` of one ground component: calling it builds one (its fields)."""
-
-    components = 1
-
-    def __new__(cls, **fields):
-        return StructureOnSeries(**fields)
-
-
-class BiaxialStructureOnTriple(metaclass=_OfComponents):
-    """The `StructureOnSeries` of two ground components: `BiaxialStructureOnTriple(structure,
-    ground_y, balance="newton")` is `structure` (one component) with the y component
-    `ground_y` and the planar balance `balance` (`BALANCES`)."""
-
-    components = 2
-
-    def __new__(cls, uniaxial: StructureOnSeries, ground_y: Signal, balance: str = "newton"):
-        return dataclasses.replace(uniaxial, ground_y=ground_y, balance=balance)
 
 
 def _times(extra, column):
