@@ -209,8 +209,8 @@ def test_draws_are_arguments_of_one_compiled_program():
     peaks_second, _ = runner(np.array([0, 1]), draws=np.array([0, 3]))
     assert runner.compiled is compiled
     alone = monte_carlo(isolated_structure("rigid", bearing=second.bearing(point, 3)), model, 2, chunk_size=2)
-    np.testing.assert_allclose(np.asarray(peaks_second.base_disp)[1], alone.base_disp[1], rtol=1e-12)
-    assert not np.allclose(np.asarray(peaks_first.base_disp), np.asarray(peaks_second.base_disp))
+    np.testing.assert_allclose(np.asarray(peaks_second["base_disp"])[1], alone.base_disp[1], rtol=1e-12)
+    assert not np.allclose(np.asarray(peaks_first["base_disp"]), np.asarray(peaks_second["base_disp"]))
 
 
 def test_identical_draws_give_no_bearing_share_in_a_run():
