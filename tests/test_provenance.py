@@ -185,3 +185,22 @@ def test_a_netcdf_file_in_an_output_folder_is_stamped(tmp_path):
         clear_arguments()
     with xarray.open_dataset(folder / "posterior.nc") as stored:
         assert stored.attrs["teflon_jax_version"] and stored.attrs["command_line"].startswith("teflon-jax")
+
+
+@pytest.mark.parametrize("command, required", [
+    ("reproduce", ["--out", "out"]), ("run", []), ("montecarlo", ["--motions", "8"]), ("design", []),
+    ("fit", ["test.csv", "--json", "fit.json"]), ("diagnose", ["test.csv", "--json", "d.json", "--report", "d.md"]),
+    ("simulate-test", [])])
+def test_the_settings_of_every_command_are_flags_not_code(command, required):
+    """Every setting a command records is a flag's value as JSON takes it, never a Python object
+    of the parser's (a function's text would differ from run to run)."""
+    from teflon_jax.cli._main import _parser
+
+    parser = _parser(command)
+    args, _ = parser.parse_known_args([command, *required])
+    set_arguments(args, output_flags(command))
+    try:
+        settings = run_inputs()["settings"]
+    finally:
+        clear_arguments()
+    assert settings and not [flag for flag, value in settings.items() if "<function" in str(value)]

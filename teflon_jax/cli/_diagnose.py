@@ -157,7 +157,6 @@ def add_diagnose_parser(subparsers) -> argparse.ArgumentParser:
     add_save_bearing_flag(parser)
     add_mixture_flags(parser)
     add_units_flag(parser)
-    parser.set_defaults(func=run_diagnose)
     return parser
 
 
@@ -427,7 +426,7 @@ def main(argv=None) -> int:
     subparsers = parser.add_subparsers(dest="command", required=True)
     add_diagnose_parser(subparsers)
     args = parser.parse_args(argv)
-    return args.func(args)
+    return run_diagnose(args)
 
 
 if __name__ == "__main__":

@@ -23,7 +23,6 @@ def add_reproduce_parser(subparsers) -> argparse.ArgumentParser:
     parser.add_argument("--allow-missing", action="store_true",
                         help="exit with status 0 even when a figure had to be skipped (a record "
                         "could not be read); the skipped figures are still listed")
-    parser.set_defaults(handler=run_reproduce)
     return parser
 
 
