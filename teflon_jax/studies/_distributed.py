@@ -87,7 +87,7 @@ def _chunk_task(spec: dict, start: int, stop: int, payload):
         values = np.asarray(values)[indices - start]
     peaks, pga = _get(runner(indices, values, level))
     n = stop - start
-    out = {name: np.asarray(getattr(peaks, name))[:n] for name in _variables(spec["model"], spec["storey_height"])}
+    out = {name: np.asarray(peaks[name])[:n] for name in _variables(spec["model"], spec["storey_height"])}
     if spec["design"] is not None:  # (motion, design, ...) -> (design, motion, ...)
         out = {k: np.moveaxis(v, 0, 1) for k, v in out.items()}
     out["pga"] = np.asarray(pga)[:n]
