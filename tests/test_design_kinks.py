@@ -122,6 +122,7 @@ def _capacity_report(check):
     return next(r for r in check["kink_checks"] if r["variable"] == "capacity")
 
 
+@pytest.mark.slow
 def test_a_smaller_peak_touching_the_restrainer_is_found_and_checked_on_the_designs_side(problem):
     structure, records, bounds, (smaller, largest) = problem
     x = {"radius": RADIUS, "capacity": smaller * (1 - 1e-7)}
@@ -146,6 +147,7 @@ def test_a_smaller_peak_touching_the_restrainer_is_found_and_checked_on_the_desi
     assert not any("gradient check failed" in m for m in check["messages"])
 
 
+@pytest.mark.slow
 def test_a_wrong_derivative_at_the_kink_still_fails(problem, capsys):
     structure, records, bounds, (smaller, _) = problem
     x = {"radius": RADIUS, "capacity": smaller * (1 - 1e-7)}

@@ -118,6 +118,7 @@ def _twin_record(noise=0.015, seed=4, cycles=3, samples_per_cycle=150, frequency
                            temperature=lambda s: float(np.interp(s, t, temperature)))
 
 
+@pytest.mark.slow
 def test_the_weights_split_between_compositions_the_record_cannot_tell_apart():
     result = discover_effects(_twin_record(), candidates=["heating", "wear"])
     weights = _weights(discovery_mixture(result, draws=200))

@@ -343,6 +343,7 @@ def test_noise_only_record_adds_nothing(seed):
     assert status["max_iterations_used"] < status["iteration_limit"], status
 
 
+@pytest.mark.slow
 def test_correlated_noise_adds_nothing():
     # Noise correlated from sample to sample (AR(1), rho = 0.9) looks like structure to a
     # criterion that counts every sample as independent; n_eff must absorb it.
@@ -369,6 +370,7 @@ def test_noise_only_other_protocols_add_nothing(protocol, seed):
     assert result.effects_added == [], result.to_json()["steps"]
 
 
+@pytest.mark.slow
 def test_two_hidden_effects_are_both_found():
     record = generate_record(asymmetry=0.10, wear_change=-0.3, seed=5)
     result = discover_effects(record)
@@ -389,6 +391,7 @@ def no191_record(seed=0, noise=0.015):
     )
 
 
+@pytest.mark.slow
 def test_coulomb_baseline_rediscovers_the_paper_model():
     result = discover_effects(no191_record(), baseline="coulomb")
     assert set(result.effects_added[:2]) == {"velocity_dependence", "breakaway"}

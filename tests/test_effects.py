@@ -153,6 +153,7 @@ def test_asymmetry_has_no_force_step_at_reversals():
     np.testing.assert_allclose(ratio[sliding], 1 + asym * z[sliding], rtol=1e-9)
 
 
+@pytest.mark.slow
 def test_hidden_asymmetry_gap_closes_to_the_noise_level():
     hidden = {"asymmetry": 0.12, "seed": 4}
     record = generate_record(**hidden)
@@ -286,6 +287,7 @@ def bouc_wen_reversal_length_m(h):
     return bouc_wen_reversal_length(h, 1.0) * h.yield_disp
 
 
+@pytest.mark.slow
 def test_hidden_backlash_is_named_and_its_gap_closes():
     hidden = {"backlash_gap": 0.05 * INCH, "seed": 3}
     record = generate_record(**hidden)

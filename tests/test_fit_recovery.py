@@ -67,6 +67,7 @@ def test_sample_velocity_is_second_order():
     assert errors[0] / errors[1] == pytest.approx(4.0, rel=0.1)
 
 
+@pytest.mark.slow
 def test_fit_and_diagnose_give_the_same_baseline(paper_records):
     record = paper_records[62]
     fit = fit_bearing_test(record, free=FREE, n_starts=2)

@@ -224,6 +224,7 @@ def test_restrainer_and_large_displacement_in_the_step_agree_with_an_adaptive_so
     np.testing.assert_allclose(shear, shear_ref, rtol=2e-4)
 
 
+@pytest.mark.slow
 def test_restrainer_holds_the_mass_back_and_the_peak_loop_sees_its_force():
     from teflon_jax.systems import peak_response
 

@@ -132,6 +132,7 @@ def test_the_series_engines_displacement_has_the_implicit_derivative():
     _check_derivatives(final, [0.12, 2.1])
 
 
+@pytest.mark.slow
 def test_one_slider_on_the_series_engine_has_the_implicit_derivative():
     """One slider's bracketed balance on the series engine: the final displacement in f_max
     and the surface's radius."""
@@ -147,7 +148,7 @@ def test_one_slider_on_the_series_engine_has_the_implicit_derivative():
     _check_derivatives(final, [0.10, 1.5])
 
 
-@pytest.mark.parametrize("planar", [False, True])
+@pytest.mark.parametrize("planar", [False, pytest.param(True, marks=pytest.mark.slow)])
 def test_an_imposed_paths_force_has_the_implicit_derivative(planar):
     """Sliders in series along an imposed path, where the iteration holds sum d = D outside
     the residual (the share of dD as the sliders' compliances): the force at the end in the

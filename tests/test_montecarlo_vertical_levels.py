@@ -173,7 +173,7 @@ def test_cli_levels_with_the_vertical_component(tmp_path, capsys):
     assert f"uplift (N <= 0), motions per level: 0.3g: {counts[0]}/3, 1g: {counts[1]}/3" in printed
 
 
-@pytest.mark.parametrize("ratio", ["0", "1.2"])
+@pytest.mark.parametrize("ratio", [pytest.param("0", marks=pytest.mark.slow), "1.2"])
 def test_cli_property_factors_with_the_vertical_component(tmp_path, ratio):
     """`--property-factors 0.8,1.25` on the friction-only rigid mass: with `--vertical-ratio 0`
     the three cases' table is the run's without the flag (to rounding), and no case's peak shear exceeds its

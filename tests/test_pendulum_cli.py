@@ -30,6 +30,7 @@ def _peaks(tmp_path, capsys, name, *flags):
     return json.loads(out.read_text())
 
 
+@pytest.mark.slow
 def test_run_on_a_pendulum_is_the_spring_of_its_period(tmp_path, capsys):
     radius = 88 * INCH
     period = 2 * math.pi * math.sqrt(radius / STANDARD_GRAVITY)

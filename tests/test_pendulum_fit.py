@@ -58,6 +58,7 @@ def test_fit_recovers_radius_and_friction_from_its_own_record(records, tmp_path,
     assert "R = 88 in" in err and "(T = 3 s)" in err
 
 
+@pytest.mark.slow
 def test_fit_with_noise_finds_the_radius_within_its_standard_error(records):
     record = read_test_record(records["fp"])
     fx = np.asarray(record.fx)

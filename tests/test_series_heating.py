@@ -232,6 +232,7 @@ def test_bad_heating_is_refused_by_name(changes, message):
         check_double_pendulum(bearing)
 
 
+@pytest.mark.slow
 def test_two_components_along_a_line_are_the_heated_one_direction_response():
     """Both surfaces heated and sliding: a record along x (y at rest) gives the one-direction
     histories to the sliders' balance tolerance (as it does unheated), one along 0.6 rad the same response turned (the heat flux takes the

@@ -88,6 +88,7 @@ def test_static_lever_rule_and_which_groups_unload(sign):
     assert unloaded == ({"SE", "NE"} if sign > 0 else {"SW", "NW"})
 
 
+@pytest.mark.slow
 def test_uplifted_group_carries_no_shear_and_the_run_stays_finite():
     """Groups 4 m apart under a tall centre of mass (h = 20 m) and a ramped diagonal ground
     acceleration of 0.08 g: the lever rule asks tension of the NE group, the slab rests on the
