@@ -19,15 +19,16 @@ import numpy as np
 
 jax.config.update("jax_enable_x64", True)
 
+import teflon_jax.systems as systems  # noqa: E402
 from teflon_jax.bearing import BoucWen, DoublePendulum, FrictionParameters, TriplePendulum  # noqa: E402
 from teflon_jax.excitation import StochasticGroundMotion, sample, uniform_signal  # noqa: E402
 from teflon_jax.studies import bidirectional_isolated_structure  # noqa: E402
 from teflon_jax.systems import (  # noqa: E402
-    biaxial_histories,
     isolated_structure,
+    peak_response,
     simulate_bidirectional,
+    simulate_history,
     simulate_structure,
-    simulate_triple_structure,
     simulate_triple_test,
     slab_on_bearings,
     triple_structure,
@@ -57,6 +58,22 @@ TRIPLE = TriplePendulum(inner_radius=0.3, bottom_radius=2.1, top_radius=2.1, inn
                         bottom_capacity=0.4, top_capacity=0.4, inner_friction=FrictionParameters(0.03, 0.015, 20.0),
                         bottom_friction=FrictionParameters(0.07, 0.03, 20.0),
                         top_friction=FrictionParameters(0.11, 0.05, 20.0), hysteresis=BoucWen(1e-4))
+
+
+def _series_1d(system, duration):
+    """The response of `system` (series pendulums along x): `simulate_triple_structure` where
+    this version has it, else the one history driver `simulate_history`."""
+    return getattr(systems, "simulate_triple_structure", simulate_history)(system, duration)
+
+
+def _series_2d(system, duration):
+    """(state history, bearing-force history) of `system` under two components:
+    `biaxial_histories` where this version has it, else the state and force of `simulate_history`."""
+    if hasattr(systems, "biaxial_histories"):
+        histories = systems.biaxial_histories(system, duration)
+        return histories[1], histories[2]
+    response = simulate_history(system, duration)
+    return _field(response, "state", "states"), response.bearing_force
 
 
 def _field(response, *names):
@@ -93,13 +110,13 @@ def _series_cases(out):
                     system = eqx.tree_at(lambda s: s.vertical_acceleration, system, vertical,
                                          is_leaf=lambda x: x is None)
                 key = f"{name}-{kind}-vertical{int(with_vertical)}"
-                response = jax.jit(simulate_triple_structure, static_argnums=1)(system, DURATION)
+                response = jax.jit(_series_1d, static_argnums=1)(system, DURATION)
                 out[f"{key}-1d-displacement"] = np.asarray(response.displacement)
                 out[f"{key}-1d-force"] = np.asarray(response.bearing_force)
                 both = _with_y(system, uniform_signal(_ground(2, 0.8), RECORD_STEP))
-                histories = jax.jit(biaxial_histories, static_argnums=1)(both, DURATION)
-                out[f"{key}-2d-state"] = np.asarray(histories[1])
-                out[f"{key}-2d-force"] = np.asarray(histories[2])
+                state, force = jax.jit(_series_2d, static_argnums=1)(both, DURATION)
+                out[f"{key}-2d-state"] = np.asarray(state)
+                out[f"{key}-2d-force"] = np.asarray(force)
         time = np.arange(0.0, 8.0 + 1e-9, RECORD_STEP)
         path = 0.15 * np.sin(2 * np.pi * time / 4.0)
         out[f"{name}-test-1d-force"] = np.asarray(jax.jit(simulate_triple_test)(pendulum, time, path, 1e6).force)
@@ -142,12 +159,47 @@ def _slab_cases(out):
             out[f"slab-{isolator}-h{height:g}-q"] = np.asarray(_field(response, "q", "displacement"))
 
 
+def _peak_structures():
+    """(name, structure) pairs for `peak_response`: the rigid mass and the building on flat
+    sliders and on double pendulums, in one and two components, with and without a vertical
+    record (0.5 times a third stochastic motion [m/s^2])."""
+    ground_x = uniform_signal(_ground(1), RECORD_STEP)
+    ground_y = uniform_signal(_ground(2, 0.8), RECORD_STEP)
+    vertical = uniform_signal(0.5 * _ground(9), RECORD_STEP)
+    extra = one_surface_keywords("flat")
+    for kind in ("rigid", "building"):
+        one = isolated_structure(kind, **extra)
+        two = bidirectional_isolated_structure(kind, **extra)
+        yield f"flat-{kind}-vertical0-1d", one(ground_x)
+        yield f"flat-{kind}-vertical1-1d", with_vertical_component(one)((ground_x, vertical))
+        yield f"flat-{kind}-vertical0-2d", two((ground_x, ground_y))
+        yield f"flat-{kind}-vertical1-2d", with_vertical_component(two)(((ground_x, ground_y), vertical))
+        series = triple_structure(kind, DOUBLE, ground_x, time_step=TIME_STEP)
+        for with_vertical in (False, True):
+            system = eqx.tree_at(lambda s: s.vertical_acceleration, series, vertical,
+                                 is_leaf=lambda x: x is None) if with_vertical else series
+            yield f"double-{kind}-vertical{int(with_vertical)}-1d", system
+            yield f"double-{kind}-vertical{int(with_vertical)}-2d", _with_y(system, ground_y)
+
+
+def _peak_cases(out):
+    for name, system in _peak_structures():
+        peaks = jax.jit(peak_response, static_argnums=1)(system, DURATION)
+        values = dict(peaks)
+        for field, value in values.items():
+            if value is not None:
+                for index, leaf in enumerate(jax.tree_util.tree_leaves(value)):
+                    out[f"peaks-{name}-{field}-{index}"] = np.asarray(leaf)
+
+
 def dump(path, cases="all"):
     out = {}
     if cases in ("all", "series"):
         _series_cases(out)
     if cases in ("all", "flat"):
         _flat_cases(out)
+    if cases == "peaks":
+        _peak_cases(out)
     np.savez(path, **out)
     print(f"{len(out)} histories -> {path}")
 
@@ -159,8 +211,9 @@ def compare(old_path, new_path, tolerance):
         if key not in old.files or key not in new.files:
             print(f"{key:40s} only in {'new' if key in new.files else 'old'}")
             continue
-        scale = max(np.max(np.abs(old[key])), 1e-300)
-        relative = float(np.max(np.abs(old[key] - new[key])) / scale)
+        before, after = old[key].astype(float), new[key].astype(float)
+        scale = max(np.max(np.abs(before)), 1e-300)
+        relative = float(np.max(np.abs(before - after)) / scale)
         worst = max(worst, relative)
         print(f"{key:40s} {relative:.2e}")
     print(f"largest relative difference {worst:.2e} (tolerance {tolerance:g})")
@@ -172,8 +225,9 @@ def main(argv=None):
     sub = parser.add_subparsers(dest="command", required=True)
     dumping = sub.add_parser("dump")
     dumping.add_argument("out")
-    dumping.add_argument("--cases", choices=("all", "series", "flat"), default="all",
-                         help="all, the series pendulums, or the flat sliders, single pendulums and slabs")
+    dumping.add_argument("--cases", choices=("all", "series", "flat", "peaks"), default="all",
+                         help="all, the series pendulums, the flat sliders, single pendulums and slabs, "
+                              "or the peaks of `peak_response` (not in all)")
     both = sub.add_parser("compare")
     both.add_argument("old")
     both.add_argument("new")
