@@ -233,7 +233,7 @@ def compare(old_path, new_path, tolerance):
             print(f"{key:40s} only in {'new' if key in new.files else 'old'}")
             continue
         scale = max(np.max(np.abs(old[key])), 1e-300)
-        relative = float(np.max(np.abs(old[key] - new[key])) / scale)
+        relative = float(np.max(np.abs(old[key].astype(float) - new[key].astype(float))) / scale)  # booleans too
         worst = max(worst, relative)
         print(f"{key:40s} {relative:.2e}")
     print(f"largest relative difference {worst:.2e} (tolerance {tolerance:g})")
