@@ -192,6 +192,77 @@ def _peak_cases(out):
                     out[f"peaks-{name}-{field}-{index}"] = np.asarray(leaf)
 
 
+GROUP_DURATION = 8.0  # [s] of the slabs on bearing groups
+
+
+def _slab_history(slab, duration):
+    """The slab's history under this version's driver (`simulate_history`; a slab on series
+    pendulums through `simulate_slab_series` where the version has it)."""
+    import teflon_jax.systems as systems
+
+    series = getattr(systems, "SlabOnSeries", None)
+    driver = systems.simulate_slab_series if series is not None and isinstance(slab, series) else systems.simulate_history
+    return jax.jit(driver, static_argnums=1)(slab, duration)
+
+
+def _save_history(out, key, response):
+    """Every array of `response` (a `StructureResponse`) under `key`-field."""
+    for name, value in vars(response).items():
+        if value is not None and not isinstance(value, (str, bool, int, float)):
+            leaves = jax.tree_util.tree_leaves(value)
+            if leaves and all(hasattr(leaf, "shape") for leaf in leaves):
+                for index, leaf in enumerate(leaves):
+                    out[f"{key}-{name}" + (f"-{index}" if len(leaves) > 1 else "")] = np.asarray(leaf)
+
+
+def _group_isolators():
+    """(name, `slab_on_bearings` isolator keywords) of every isolator of the groups: flat
+    sliders with springs, single pendulums, double and triple pendulums, a heated double."""
+    from teflon_jax.bearing import FrictionalHeating, paper_bearing
+
+    params, _ = interface_parameters("UF", 1000 * PSI)
+    heating = FrictionalHeating(contact_area=0.05)
+    heated = eqx.tree_at(lambda p: (p.bottom_heating, p.bottom_pressure, p.top_heating, p.top_pressure), DOUBLE,
+                         (heating, 20e6, heating, 20e6), is_leaf=lambda x: x is None)
+    return (("flat", {"bearings": paper_bearing(params), "isolator": "flat", "isolation_period": 2.5}),
+            ("single-fp", {"bearings": paper_bearing(params), "isolator": "single-fp", "radii": 1.5}),
+            ("double-fp", {"isolator": "double-fp", "pendulums": DOUBLE}),
+            ("triple-fp", {"isolator": "triple-fp", "pendulums": TRIPLE}),
+            ("double-fp-heated", {"isolator": "double-fp", "pendulums": heated}))
+
+
+def _group_cases(out):
+    """`slab_on_bearings` on every isolator's groups, at heights 0 and 3 m (overturning and
+    uplift), without and with a vertical record, and the series groups driven into their
+    restrainers (a biased 0.2 g + 0.35 g sine, heights 0 and 0.25 m), and every isolator's
+    groups lifting under a vertical record beyond g; every history."""
+    corners = np.array([[2.0, 1.0], [18.0, 1.0], [18.0, 11.0], [2.0, 11.0]])
+    plan = {"length_x": 20.0, "length_y": 12.0, "weight": 1e6, "centre_of_mass": (9.0, 6.5), "positions": corners,
+            "loads": [2.6e5, 2.4e5, 2.4e5, 2.6e5], "time_step": TIME_STEP}
+    pair = {"ground_x": uniform_signal(1.5 * _ground(1), RECORD_STEP),
+            "ground_y": uniform_signal(1.2 * _ground(2), RECORD_STEP)}
+    vertical = uniform_signal(0.8 * _ground(9), RECORD_STEP)
+    for name, isolator in _group_isolators():
+        for height in (0.0, 3.0):
+            for with_vertical in (False, True):
+                slab = slab_on_bearings(**plan, **pair, **isolator, height_of_centre_of_mass=height)
+                if with_vertical:
+                    slab = with_vertical_motion(slab, vertical)
+                key = f"groups-{name}-h{height:g}-vertical{int(with_vertical)}"
+                _save_history(out, key, _slab_history(slab, GROUP_DURATION))
+    time = np.arange(0.0, 4.0 + 1e-9, RECORD_STEP)
+    drive = {"ground_x": uniform_signal((0.2 + 0.35 * np.sin(2 * np.pi * 0.7 * time)) * STANDARD_GRAVITY, RECORD_STEP),
+             "ground_y": uniform_signal(0 * time, RECORD_STEP)}
+    for name, isolator in _group_isolators()[2:4]:
+        for height in (0.0, 0.25):
+            slab = slab_on_bearings(**plan, **drive, **isolator, height_of_centre_of_mass=height)
+            _save_history(out, f"groups-{name}-restrainers-h{height:g}", _slab_history(slab, 3.0))
+    lifting = uniform_signal(2.2 * _ground(9), RECORD_STEP)  # a_v beyond g: groups lift
+    for name, isolator in _group_isolators():
+        slab = with_vertical_motion(slab_on_bearings(**plan, **pair, **isolator, height_of_centre_of_mass=3.0), lifting)
+        _save_history(out, f"groups-{name}-uplift", _slab_history(slab, GROUP_DURATION))
+
+
 def dump(path, cases="all"):
     out = {}
     if cases in ("all", "series"):
@@ -200,6 +271,8 @@ def dump(path, cases="all"):
         _flat_cases(out)
     if cases == "peaks":
         _peak_cases(out)
+    if cases == "groups":
+        _group_cases(out)
     np.savez(path, **out)
     print(f"{len(out)} histories -> {path}")
 
@@ -225,9 +298,9 @@ def main(argv=None):
     sub = parser.add_subparsers(dest="command", required=True)
     dumping = sub.add_parser("dump")
     dumping.add_argument("out")
-    dumping.add_argument("--cases", choices=("all", "series", "flat", "peaks"), default="all",
-                         help="all, the series pendulums, the flat sliders, single pendulums and slabs, "
-                              "or the peaks of `peak_response` (not in all)")
+    dumping.add_argument("--cases", choices=("all", "series", "flat", "peaks", "groups"), default="all",
+                         help="all, the series pendulums, the flat sliders, single pendulums and slabs; "
+                              "or (not in all) the peaks of `peak_response`, or the slabs on every isolator's groups")
     both = sub.add_parser("compare")
     both.add_argument("old")
     both.add_argument("new")

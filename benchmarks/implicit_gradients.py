@@ -31,7 +31,7 @@ from teflon_jax.systems import (  # noqa: E402
     biaxial_histories,
     isolated_structure,
     peak_response,
-    simulate_slab_series,
+    simulate_history,
     simulate_triple_structure,
     simulate_triple_test,
     slab_on_bearings,
@@ -130,7 +130,7 @@ def slab(theta):  # slab on series pendulums: top f_max, outer radii
     s = slab_on_bearings(length_x=20.0, length_y=12.0, weight=1e6, centre_of_mass=np.array([10.0, 6.0]),
                          positions=CORNERS, loads=[0.25e6] * 4, ground_x=GX, ground_y=GY, time_step=0.005,
                          isolator=TRIPLE.isolator, pendulums=with_triple(theta), height_of_centre_of_mass=3.0)
-    q = simulate_slab_series(dataclasses.replace(s, newton_tolerance=1e-13), 2.0).displacement
+    q = simulate_history(dataclasses.replace(s, newton_tolerance=1e-13), 2.0).displacement
     return jnp.stack([q[-1, 0], q[-1, 1], q[-1, 2]])
 
 

@@ -23,7 +23,7 @@ from teflon_jax.structures import (
     support_plan,
 )
 from teflon_jax.systems import (
-    simulate_slab_series,
+    simulate_bidirectional,
     simulate_triple_structure,
     slab_on_bearings,
     triple_structure,
@@ -46,7 +46,7 @@ DOUBLE = DoublePendulum(bottom_radius=2.1, top_radius=2.1, bottom_capacity=0.3, 
                         bottom_friction=FrictionParameters(0.06, 0.03, 20.0),
                         top_friction=FrictionParameters(0.09, 0.04, 20.0), hysteresis=BoucWen(1.27e-4))
 PENDULUMS = {"triple-fp": TRIPLE, "double-fp": DOUBLE}
-simulate = jax.jit(simulate_slab_series, static_argnums=1)  # one compilation per pendulum kind
+simulate = jax.jit(simulate_bidirectional, static_argnums=1)  # one compilation per pendulum kind
 
 
 def _ramp(peak_x, peak_y, rise=3.0):
@@ -237,7 +237,7 @@ def test_the_slab_response_is_differentiable_in_a_surface_friction():
             ground_x=base.ground_x, ground_y=base.ground_y, time_step=STEP, isolator="triple-fp",
             pendulums=eqx.tree_at(lambda p: p.top_friction, TRIPLE, friction),
             height_of_centre_of_mass=3.0)
-        return simulate_slab_series(system, 2.0).displacement[-1, 0]
+        return simulate_bidirectional(system, 2.0).displacement[-1, 0]
 
     value, slope = jax.jit(jax.value_and_grad(displacement))(0.12)
     h = 1e-5
@@ -337,3 +337,13 @@ def test_run_reports_each_groups_normal_load_on_series_pendulums(tmp_path, capsy
     assert peak["rotation_rad"] > 0  # the slipperier SE group twists the slab
     assert set(payload["slider_disp_m"]["SE"]) == {"inner", "bottom", "top"}
     assert peak["base_disp_x_m"] > 0.01 and peak["bearing_force_ratio_resultant"] > 0.03
+
+
+def test_the_peak_driver_refuses_a_slab_on_series_groups_by_name():
+    """`peak_response` folds flat-slider and single-pendulum groups only: a slab on double
+    pendulum groups is refused before any step, with the driver that runs it named."""
+    from teflon_jax.systems import peak_response
+
+    ax, ay = _pulse(0.1, 0.05)
+    with pytest.raises(TypeError, match="simulate_history"):
+        peak_response(_slab(ax, ay, 0.0, DOUBLE), DURATION)

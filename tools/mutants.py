@@ -264,20 +264,20 @@ MUTANTS = (
         return 2 * jnp.ones(2)''',
            ("tests/test_double_pendulum.py", "tests/test_double_fit.py"),
            "double pendulum: Eq. 1 at twice the surface's velocity"),
-    Mutant("O1", "teflon_jax/systems/_overturning.py",
+    Mutant("O1", "teflon_jax/structures/_overturning.py",
            "return -float(height) * k[:, None] * (p @ columns)",
            "return float(height) * k[:, None] * (p @ columns)",
            ("tests/test_slab_pendulum.py",), "overturning: the side the slab leans toward unloads"),
-    Mutant("O2", "teflon_jax/systems/_overturning.py",
+    Mutant("O2", "teflon_jax/structures/_overturning.py",
            "return jnp.maximum(normal_load, 0.0) / system.bearing_load",
            "return jnp.mean(jnp.maximum(normal_load, 0.0) / system.bearing_load) * jnp.ones_like(system.bearing_load)",
            ("tests/test_slab_pendulum.py",), "overturning: one load factor for every group (their mean)"),
-    Mutant("O3", "teflon_jax/systems/_overturning.py",
+    Mutant("O3", "teflon_jax/structures/_overturning.py",
            "return jnp.where(ok & lifts, n, jnp.where(rests, linear, tipped)), rests",
            "return jnp.where(ok & lifts, linear, jnp.where(rests, linear, tipped)), rests",
            ("tests/test_slab_series.py",), "uplift: a lifted group's share stays with the lever rule "
            "(the other supports take no more)"),
-    Mutant("O5", "teflon_jax/systems/_overturning.py",
+    Mutant("O5", "teflon_jax/structures/_overturning.py",
            "tipped = pressed * total / jnp.where(pressed_sum > 0, pressed_sum, 1.0)",
            "tipped = pressed",
            ("tests/test_slab_series.py",), "a slab that tips: the groups still down carry the lever "
@@ -287,11 +287,11 @@ MUTANTS = (
            "[getattr(self, n).scaled(factor if i == 0 else 1.0) for i, n in enumerate(names)])",
            ("tests/test_series_bounding.py",), "bounding of a series pendulum: only the first "
            "surface's friction is scaled"),
-    Mutant("O4", "teflon_jax/systems/_slab_series.py",
-           "self.pendulum, state[\"heat\"], p[\"k\"], slider_lengths(d), self.time_step, self.heat_rates,\n"
-           "                factor)",
-           "self.pendulum, state[\"heat\"], p[\"k\"], slider_lengths(d), self.time_step, self.heat_rates,\n"
-           "                jnp.ones_like(factor))",
+    Mutant("O4", "teflon_jax/systems/_series_groups.py",
+           "system.bearing, state[\"heat\"], p[\"k\"], slider_lengths(d), system.time_step, system.heat_rates,\n"
+           "            factor)",
+           "system.bearing, state[\"heat\"], p[\"k\"], slider_lengths(d), system.time_step, system.heat_rates,\n"
+           "            jnp.ones_like(factor))",
            ("tests/test_slab_series_heat.py",), "heated slab: each group's surfaces heat under the "
            "weight W_g, not its own normal load N_g"),
 ) + LAWS

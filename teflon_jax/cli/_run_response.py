@@ -1,6 +1,6 @@
 """A run's response, whatever its structure and isolator. The library steps flat sliders and
 single pendulums (rigid mass, building, slab) as a `BidirectionalStructure`, and series
-pendulums as a `StructureOnSeries` (one or two components) or a `SlabOnSeries`; one table keyed by that type says how to simulate the system and cut it at the
+pendulums as a `StructureOnSeries` (one or two components) or a slab on them (a `BidirectionalStructure` whose `bearing` is a `SeriesPendulum`); one table keyed by that type says how to simulate the system and cut it at the
 first step that did not balance (`_run_stop`), its uplift (`_normal_load`), where its base is and how to put
 another ground motion under it (a suite's pairs). The peaks and histories are one set of
 reducers over the response, whatever the system (`_run_peaks`)."""
@@ -65,9 +65,9 @@ def _series_run(response, time, converged, duration) -> Run:
 def _slab_series(system, duration, plan) -> Run:
     import jax
 
-    from ..systems import simulate_slab_series
+    from ..systems import simulate_bidirectional
 
-    response = jax.jit(simulate_slab_series, static_argnums=1)(system, duration)
+    response = jax.jit(simulate_bidirectional, static_argnums=1)(system, duration)
     problem = unbalanced_message(response, plan["height_of_centre_of_mass"])
     end, response = series_slab_stop(system, response)  # the steps before the first unbalanced one
     return Run(response, end, problem, float(end[0][end[1] - 1]) if problem else duration)
@@ -92,9 +92,9 @@ def _slab_series_extras(plan, system, response, histories):
 
 
 def _engines() -> dict:
+    from ..bearing import SeriesPendulum
     from ..systems import (
         BidirectionalStructure,
-        SlabOnSeries,
         StructureOnSeries,
     )
 
@@ -104,13 +104,16 @@ def _engines() -> dict:
                                         lambda s: (0, s.mass.shape[0] // 2)),
         StructureOnSeries: _Engine(_series, lambda s, r, d: _series_uplift(s, d),
                                    lambda s: (s.linear.ground_acceleration, s.ground_y), lambda s: (0, 1)),
-        SlabOnSeries: _Engine(_slab_series, lambda s, r, d: _series_uplift(s, d), ground,
+        SeriesPendulum: _Engine(_slab_series, lambda s, r, d: _series_uplift(s, d), ground,
                               lambda s: (0, 1), _slab_series_extras),
     }
 
 
 def _engine(system) -> _Engine:
-    return _engines()[type(system)]
+    from ..bearing import SeriesPendulum
+
+    series = isinstance(getattr(system, "bearing", None), SeriesPendulum)  # a slab on series pendulums
+    return _engines()[SeriesPendulum if series else type(system)]
 
 
 def simulate_run(system, duration: float, plan=None) -> Run:

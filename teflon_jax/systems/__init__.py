@@ -34,6 +34,7 @@ from ._isolator_balance import simulate_triple_test as simulate_triple_test
 from ._isolator_balance import triple_pendulum_test as triple_pendulum_test
 from ._on_plan import building_on_plan as building_on_plan
 from ._on_plan import slab_on_bearings as slab_on_bearings
+from ._on_plan import stack_pendulums as stack_pendulums
 from ._peaks import MONTE_CARLO_PEAKS as MONTE_CARLO_PEAKS
 from ._peaks import PEAK_REDUCERS as PEAK_REDUCERS
 from ._peaks import RESPONSE_NAMES as RESPONSE_NAMES
@@ -65,9 +66,6 @@ from ._sampled_path import SampledPath as SampledPath
 from ._sampled_path import respond_along_path as respond_along_path
 from ._sampled_path import sample_velocity as sample_velocity
 from ._sampled_path import sampled_path as sampled_path
-from ._slab_series import SlabOnSeries as SlabOnSeries
-from ._slab_series_build import simulate_slab_series as simulate_slab_series
-from ._slab_series_build import stack_pendulums as stack_pendulums
 from ._slider_forces import FRICTION_VELOCITIES as FRICTION_VELOCITIES
 from ._structure import FRICTION_MODELS as FRICTION_MODELS
 from ._structure import StructureOnSliders as StructureOnSliders

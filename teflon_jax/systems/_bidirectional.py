@@ -27,7 +27,7 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 
-from ..bearing import ConcaveSurface, SlidingBearing, park_rate
+from ..bearing import ConcaveSurface, SeriesPendulum, SlidingBearing, park_rate
 from ..excitation import Signal
 from ..solver import (
     AbstractSteppedSystem,
@@ -98,7 +98,10 @@ class BidirectionalStructure(AbstractSteppedSystem):
     over the groups that stay down while others lift with `supports` (`SupportPlan`).
     `friction_model` (static): "hysteretic" (Park's Z), "coulomb" or "none"; `surface`: a
     friction pendulum's `ConcaveSurface` whose restrainer and large-displacement force act
-    beyond its W_g / R in K, or `None` (`_bidirectional_laws.py`).
+    beyond its W_g / R in K, or `None` (`_bidirectional_laws.py`). A slab on groups of triple
+    or double pendulums holds a `SeriesPendulum` (leaves (G,)) as `bearing` and the exact
+    step's (free, start, end) blocks (6, 16) as `step_matrix`; its balance and state are
+    `_series_groups.py`'s.
     """
 
     mass: jnp.ndarray
@@ -106,7 +109,7 @@ class BidirectionalStructure(AbstractSteppedSystem):
     damping: jnp.ndarray
     influence: jnp.ndarray
     bearing_map: jnp.ndarray
-    bearing: SlidingBearing
+    bearing: SlidingBearing | SeriesPendulum
     bearing_load: jnp.ndarray
     ground_x: Signal
     ground_y: Signal
@@ -124,6 +127,12 @@ class BidirectionalStructure(AbstractSteppedSystem):
     supports: SupportPlan | None = None
     friction_model: str = eqx.field(static=True, default="hysteretic")
     surface: ConcaveSurface | None = None
+    step_matrix: jnp.ndarray | None = None
+
+    @property
+    def pendulum(self) -> SeriesPendulum | None:
+        """The groups' series pendulums (leaves (G,)), `None` on sliding bearings."""
+        return self.bearing if isinstance(self.bearing, SeriesPendulum) else None
 
     def load_factor(self, t):
         """N(t) / W [-] at time t [s]; `None` without a vertical record."""

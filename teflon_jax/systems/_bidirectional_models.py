@@ -12,7 +12,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..bearing import SlidingBearing, heat_kernel_exponentials
+from ..bearing import SeriesPendulum, SlidingBearing, heat_kernel_exponentials
 from ..excitation import Signal
 from ..solver import RiccatiNewmark, require_riccati_form, solve_on_grid
 from ..structures import initial_normal_load
@@ -20,6 +20,7 @@ from ..tables import BuildingData
 from ._bidirectional import NEWTON_ITERATIONS, BidirectionalStructure
 from ._bidirectional_laws import check_planar_law
 from ._response import StructureResponse
+from ._series_groups import simulate_series_groups
 from ._structure_build import (
     HEAT_HORIZON,
     check_storey_height,
@@ -107,7 +108,9 @@ def bidirectional_structure(
 
 def bidirectional_initial_state(system: BidirectionalStructure) -> dict:
     """At rest relative to the ground, Z = 0 in every group (and cold, unworn bearings; with
-    overturning, the groups' normal loads under the vertical record at t = 0)."""
+    overturning, the groups' normal loads under the vertical record at t = 0). `TypeError` for
+    groups of series pendulums, whose state is `series_initial_state`'s."""
+    check_sliding_groups(system)
     n, groups = system.mass.shape[0], system.bearing_load.shape[0]
     state = {"q": jnp.zeros(n), "v": jnp.zeros(n), "z": jnp.zeros((groups, 2)),
              "z_peak": jnp.zeros(groups)}
@@ -117,6 +120,15 @@ def bidirectional_initial_state(system: BidirectionalStructure) -> dict:
     if system.overturning is not None:  # the groups' normal loads N_g [N] (`teflon_jax.structures`: `supported_loads`)
         state["normal_load"] = initial_normal_load(system)
     return state
+
+
+def check_sliding_groups(system: BidirectionalStructure) -> None:
+    """`TypeError` naming the structure where its groups are series pendulums (`SeriesPendulum`):
+    their slab runs with `simulate_bidirectional` / `simulate_history` alone, not with the
+    drivers of sliding groups (`peak_response`)."""
+    if isinstance(system.bearing, SeriesPendulum):
+        raise TypeError("system: a slab on triple or double pendulum groups runs with simulate_history "
+                        "(simulate_bidirectional); peak_response does not run it.")
 
 
 BIDIRECTIONAL_TIME_STEP = 0.0025
@@ -270,8 +282,14 @@ def simulate_bidirectional(
     `False`, e.g. under `vmap`, the outcome of each member is in `result`).
 
     **Returns:** a `StructureResponse` (two ground components; the coordinates q of the
-    system, the groups' bearing displacements, friction forces and Z).
+    system, the groups' bearing displacements, friction forces and Z). Groups of series
+    pendulums balance their sliders at each step (`simulate_series_groups`: fixed steps, every
+    step kept; `save_every` 1 and `solver` `None` alone).
     """
+    if isinstance(system.bearing, SeriesPendulum):
+        if save_every != 1 or solver is not None:
+            raise ValueError("save_every, solver: a slab on series pendulums keeps every fixed step; leave them out.")
+        return simulate_series_groups(system, duration)
     n_steps, steps, save_times = time_grid(system.time_step, duration, save_every,
                                            ((system.vertical_acceleration, "duration (vertical record)"),))
     dt = float(system.time_step)

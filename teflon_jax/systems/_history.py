@@ -5,8 +5,6 @@ returns its `StructureResponse`."""
 from ._bidirectional import BidirectionalStructure
 from ._bidirectional_models import simulate_bidirectional
 from ._response import StructureResponse
-from ._slab_series import SlabOnSeries
-from ._slab_series_build import simulate_slab_series
 from ._structure import StructureOnSliders
 from ._structure_build import simulate_structure
 from ._triple_structure import StructureOnSeries, simulate_series
@@ -15,11 +13,10 @@ from ._triple_structure import StructureOnSeries, simulate_series
 def simulate_history(system, duration: float, **options) -> StructureResponse:
     """Integrate `system` from rest over `duration` [s] with its engine and return its
     `StructureResponse`: a `StructureOnSliders` (`simulate_structure`; `options` are its
-    keywords), a `BidirectionalStructure` (`simulate_bidirectional`), a `StructureOnSeries`
-    in one or two components (`simulate_series`) or a `SlabOnSeries` (`simulate_slab_series`)."""
+    keywords), a `BidirectionalStructure` on sliders or series pendulums (`simulate_bidirectional`) or a
+    `StructureOnSeries` in one or two components (`simulate_series`)."""
     drivers = {StructureOnSliders: simulate_structure, BidirectionalStructure: simulate_bidirectional,
-               StructureOnSeries: simulate_series,
-               SlabOnSeries: simulate_slab_series}
+               StructureOnSeries: simulate_series}
     for kind, driver in drivers.items():
         if isinstance(system, kind):
             return driver(system, duration, **options)

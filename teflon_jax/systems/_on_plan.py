@@ -51,9 +51,11 @@ Constantinou (1991), 3D-BASIS, NCEER-91-0005 (a superstructure on a rigid base o
 
 import dataclasses
 
+import jax
 import jax.numpy as jnp
 import numpy as np
 
+from ..bearing import SeriesPendulum, check_series_pendulum
 from ..excitation import Signal
 from ..structures import (
     check_plan,
@@ -68,9 +70,11 @@ from ..structures import (
 )
 from ..tables import BuildingData, load_table2
 from ..units import STANDARD_GRAVITY
+from ..validation import concrete
 from ._bidirectional import BidirectionalStructure
 from ._bidirectional_models import _zero_signal, bidirectional_structure
-from ._slab_series_build import slab_on_series
+from ._isolator_balance import TRIPLE_NEWTON_ITERATIONS, TRIPLE_TOLERANCE
+from ._slider_forces import series_heat_kernel
 
 
 def slab_on_bearings(
@@ -125,13 +129,13 @@ def slab_on_bearings(
       with the overturning moment (0: constant loads); `vertical_stiffness` (G,) relative
       vertical stiffness of the groups (default equal) for the lever rule (`overturning_map`).
     - series pendulums (`TriplePendulum` or `DoublePendulum`, one for all groups or one per
-      group) run on the series slab's engine: no springs, radii or contact pressures (heated surfaces take theirs from the
-      pendulums, each group's times its N_g / W_g; `_slab_series.py`).
+      group) balance their sliders at each step: no springs, radii or contact pressures (heated surfaces take theirs from the
+      pendulums, each group's times its N_g / W_g; `_series_groups.py`).
     - `friction_model`: "hysteretic" (Park's Z), "coulomb" or "none" for flat sliders and
       single pendulums (`_bidirectional_laws.py`); the series pendulums' sliders follow Park's Z.
 
-    **Returns:** a `BidirectionalStructure` with q = (u_x [m], u_y [m], theta [rad]); a
-    `SlabOnSeries` (`simulate_slab_series`) for the series pendulums.
+    **Returns:** a `BidirectionalStructure` with q = (u_x [m], u_y [m], theta [rad]) for every
+    isolator (`simulate_bidirectional`); series pendulums as its stacked `bearing`.
     """
     positions = np.asarray(positions, dtype=float).reshape(-1, 2)
     loads = np.asarray(loads, dtype=float).reshape(-1)
@@ -148,10 +152,10 @@ def slab_on_bearings(
                            spring_shares=spring_shares, isolation_damping=isolation_damping or None,
                            contact_pressures=contact_pressures,
                            friction_model=None if friction_model == "hysteretic" else friction_model)
-        return slab_on_series(weight=weight, mass_inertia=inertia, centre_of_mass=centre, positions=positions,
-                              loads=loads, pendulums=plan_isolators.pendulums, isolator=plan_isolators.name,
-                              ground_x=ground_x, ground_y=ground_y, time_step=time_step, height=height,
-                              vertical_stiffness=vertical_stiffness, names=names)
+        return _slab_on_series(weight=weight, mass_inertia=inertia, centre_of_mass=centre, positions=positions,
+                               loads=loads, pendulums=plan_isolators.pendulums, isolator=plan_isolators.name,
+                               ground_x=ground_x, ground_y=ground_y, time_step=time_step, height=height,
+                               vertical_stiffness=vertical_stiffness, names=names)
     bearings, radii = plan_isolators.bearings, plan_isolators.radii
     refuse_springs(radii, isolation_period, spring_shares)
     overturning = None if height == 0 else overturning_map(positions, centre, height, vertical_stiffness, names)
@@ -369,3 +373,85 @@ def _isolation_stiffness(bearing_map, loads, weight, isolation_period, spring_sh
     stiffness = np.einsum("g,gdn,gdm->nm", k, bearing_map, bearing_map)
     omega = np.sqrt(STANDARD_GRAVITY * np.sum(k) / weight)
     return stiffness, 2 * zeta / omega * stiffness
+
+
+def stack_pendulums(pendulums, isolator: str, groups: int) -> SeriesPendulum:
+    """One `SeriesPendulum` whose array leaves hold every group's constants (G,), from one
+    pendulum (all groups) or one per group, each of the kind `isolator` ("triple-fp" or
+    "double-fp") and checked (`check_series_pendulum`); `ValueError` naming `pendulums`
+    otherwise (another kind, a count other than G, groups that differ in their options, e.g.
+    heating on different surfaces)."""
+    if pendulums is None:
+        raise ValueError(f"pendulums: isolator {isolator!r} needs its pendulum (one for all groups, or "
+                         "one per group; e.g. formats.load_isolator(path)).")
+    if isinstance(pendulums, SeriesPendulum):
+        pendulums = [pendulums] * groups
+    pendulums = list(pendulums)
+    if len(pendulums) != groups:
+        raise ValueError(f"pendulums: {len(pendulums)} given for {groups} groups; give one for all or one per group.")
+    for index, pendulum in enumerate(pendulums):
+        kind = getattr(pendulum, "isolator", type(pendulum).__name__)
+        if not isinstance(pendulum, SeriesPendulum) or kind != isolator:
+            raise ValueError(f"pendulums: group {index + 1} is a {kind}, not the {isolator} of isolator; "
+                             "give every group a pendulum of that kind.")
+        if all(concrete(leaf) is not None for leaf in jax.tree_util.tree_leaves(pendulum)):
+            check_series_pendulum(pendulum)
+    if len({jax.tree_util.tree_structure(p) for p in pendulums}) != 1:
+        raise ValueError("pendulums: the groups' pendulums differ in their options (e.g. which surfaces "
+                         "heat); give them the same.")
+    return jax.tree_util.tree_map(lambda *leaves: jnp.stack([jnp.asarray(x, float) for x in leaves]),
+                                  *pendulums)
+
+
+def _slab_step_matrix(mass, stiffness, influence, time_step):
+    """(6, 16) [free (6, 6), start (6, 5), end (6, 5)] of the exact step of
+    M q'' + K q = -M R a_g - f with x = (q, q') and the inputs (a_g (2,), f (3,)) varying
+    linearly over `time_step` [s]: x1 = free x0 + start u0 + end u1. The blocks of the
+    exponential of [[A, B, 0], [0, 0, I], [0, 0, 0]] dt (Van Loan 1978; as
+    `exact_step_matrices` for one force)."""
+    m = jnp.asarray(mass, float)
+    eye, zeros = jnp.eye(3), jnp.zeros((3, 3))
+    a = jnp.block([[zeros, eye], [-stiffness / m[:, None], zeros]])
+    b = jnp.concatenate([jnp.zeros((3, 5)), jnp.concatenate([-jnp.asarray(influence, float), -jnp.diag(1 / m)], 1)])
+    augmented = jnp.zeros((16, 16)).at[:6, :6].set(a).at[:6, 6:11].set(b).at[6:11, 11:].set(jnp.eye(5))
+    e = jax.scipy.linalg.expm(augmented * time_step)
+    end = e[:6, 11:] / time_step
+    return jnp.concatenate([e[:6, :6], e[:6, 6:11] - end, end], axis=1)
+
+
+def _slab_on_series(*, weight, mass_inertia, centre_of_mass, positions, loads, pendulums, isolator,
+                   ground_x: Signal, ground_y: Signal, time_step: float, height=0.0, vertical_stiffness=None,
+                   names=None, newton_iterations: int = TRIPLE_NEWTON_ITERATIONS,
+                   newton_tolerance: float = TRIPLE_TOLERANCE) -> BidirectionalStructure:
+    """`slab_on_bearings` with `isolator` "triple-fp" or "double-fp" (the plan already checked):
+    weight W [N], rotational inertia `mass_inertia` [kg m^2], positions (G, 2) [m], loads W_g
+    (G,) [N], `pendulums` (`stack_pendulums`), the centre of mass at `height` h [m] above the
+    sliding surface (0: constant loads). Heated surfaces carry the heat kernel of one step to
+    `HEAT_HORIZON` (`series_heat_kernel`). A `BidirectionalStructure` whose `bearing` is the
+    stacked pendulum, no springs or damping beyond the pendulums' reference springs K_ref
+    (`_series_groups.py`)."""
+    positions = np.asarray(positions, dtype=float).reshape(-1, 2)
+    loads = np.asarray(loads, dtype=float).reshape(-1)
+    groups = loads.size
+    pendulum = stack_pendulums(pendulums, isolator, groups)
+    overturning = (np.zeros((groups, 2)) if height == 0 else
+                   overturning_map(positions, centre_of_mass, height, vertical_stiffness, names))
+    supports = None if height == 0 else support_plan(positions, centre_of_mass, height, vertical_stiffness)
+    r = positions - np.asarray(centre_of_mass, dtype=float).reshape(2)
+    bearing_map = np.zeros((groups, 2, 3))
+    bearing_map[:, 0, 0] = bearing_map[:, 1, 1] = 1.0
+    bearing_map[:, 0, 2], bearing_map[:, 1, 2] = -r[:, 1], r[:, 0]
+    if isinstance(time_step, bool) or not (isinstance(time_step, (int, float)) and time_step > 0):
+        raise ValueError(f"time_step: must be a positive number of seconds, got {time_step!r}.")
+    heat_rates, heat_weights = series_heat_kernel(pendulum, time_step)
+    reference = loads / pendulum.reference_radius()
+    stiffness = jnp.einsum("g,gdn,gdm->nm", reference, bearing_map, bearing_map)
+    mass = jnp.array([weight / STANDARD_GRAVITY] * 2 + [mass_inertia])
+    influence = np.array([[1.0, 0.0], [0.0, 1.0], [0.0, 0.0]])
+    return BidirectionalStructure(
+        mass=mass, stiffness=stiffness, damping=jnp.zeros((3, 3)), influence=jnp.asarray(influence),
+        bearing_map=jnp.asarray(bearing_map), bearing=pendulum, bearing_load=jnp.asarray(loads), ground_x=ground_x,
+        ground_y=ground_y, newmark_inverse=jnp.zeros((3, 3)), time_step=float(time_step),
+        newton_iterations=int(newton_iterations), newton_tolerance=float(newton_tolerance), heat_rates=heat_rates,
+        heat_weights=heat_weights, overturning=None if height == 0 else jnp.asarray(overturning), supports=supports,
+        step_matrix=_slab_step_matrix(mass, stiffness, influence, time_step))

@@ -13,7 +13,6 @@ from ._bidirectional import BidirectionalStructure
 from ._bidirectional_models import bidirectional_initial_state
 from ._propagators import small_dot
 from ._response import REDUCERS, ResponseLayout, StructureResponse, uplifted
-from ._slab_series import SlabOnSeries
 from ._structure import WRITTEN_OUT_PRODUCT, StructureOnSliders, initial_state
 from ._structure_build import check_duration, check_storey_height
 from ._triple_structure import StructureOnSeries
@@ -49,8 +48,8 @@ def response_layout(system) -> ResponseLayout:
     """The `ResponseLayout` of any structure `systems` builds: a `StructureOnSliders` or
     `StructureOnSeries` along x (one component: coordinates base, floors), a
     `StructureOnSeries` with `ground_y` (x block then y block), and a
-    `BidirectionalStructure` or `SlabOnSeries`, which carry their own `mass` and `influence` (a rigid mass or building: x block then y block; a slab: x, y,
-    rotation). Only shapes are read (static under jit)."""
+    `BidirectionalStructure`, which carries its own `mass` and `influence` (a rigid mass or
+    building: x block then y block; a slab on any isolator's groups: x, y, rotation). Only shapes are read (static under jit)."""
     if _one_component(system):
         n = system.mass.shape[-1]
         return ResponseLayout((tuple(range(n)),), system.mass, jnp.ones((n, 1), system.mass.dtype))
@@ -59,7 +58,7 @@ def response_layout(system) -> ResponseLayout:
         n = m.shape[-1]
         blocks = jnp.repeat(jnp.eye(2, dtype=m.dtype), n, axis=0)
         return ResponseLayout((tuple(range(n)), tuple(range(n, 2 * n))), jnp.concatenate([m, m]), blocks)
-    if isinstance(system, (BidirectionalStructure, SlabOnSeries)):
+    if isinstance(system, BidirectionalStructure):
         count = system.mass.shape[-1]
         if count % 2:  # a slab: (x, y, rotation)
             return ResponseLayout(((0,), (1,)), system.mass, system.influence, rotation=2,

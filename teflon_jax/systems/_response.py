@@ -2,7 +2,7 @@
 sliders, single pendulums or series pendulums, under one or two ground components.
 
 Every history driver (`simulate_structure`, `simulate_bidirectional`,
-`simulate_triple_structure`, `simulate_slab_series`, and `simulate_history` for any of their
+`simulate_triple_structure`, and `simulate_history` for any of their
 systems) returns a `StructureResponse`; the parts a structure does not have are `None`.
 
 The response's quantities (base displacement, base shear, storey drift, level acceleration,
