@@ -3,8 +3,10 @@ the paper's rigid mass and Table 2 building (`rigid_mass_matrices`, `building_ma
 `superstructure_matrices`), the ground motion as a load signal (`signal_from_motion`), the plan
 of a rigid base on bearing groups (arms, bearing map, tributary loads, level heights), the
 isolator of each group (`plan_isolator`), and the groups' normal loads under the overturning
-moment (`overturning_map`, `SupportPlan`, `supported_loads`). Nothing here steps in time: the
-systems (`teflon_jax.systems`) put the sliders under these structures and step them."""
+moment (`overturning_map`, `SupportPlan`, `supported_loads`). The linear structure's step
+rules (`LINEAR_RULES`: Newmark's and the exact step as linear maps, `newmark_step_matrices`,
+`exact_step_matrices`) are here too; the systems (`teflon_jax.systems`) put the sliders under
+these structures and step them."""
 
 from ._linear import LinearStructure as LinearStructure
 from ._linear import building_matrices as building_matrices
@@ -33,3 +35,7 @@ from ._plan import stack_bearings as stack_bearings
 from ._plan_isolators import PlanIsolator as PlanIsolator
 from ._plan_isolators import plan_isolator as plan_isolator
 from ._plan_isolators import refuse_springs as refuse_springs
+from ._step_rules import LINEAR_RULES as LINEAR_RULES
+from ._step_rules import exact_step_matrices as exact_step_matrices
+from ._step_rules import newmark_step_matrices as newmark_step_matrices
+from ._step_rules import small_dot as small_dot

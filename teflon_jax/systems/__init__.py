@@ -5,6 +5,7 @@ building on bearing groups, vertical records), their drivers, and the isolated s
 the studies; every structure's history is a `StructureResponse` (`simulate_history`), its
 peaks the `REDUCERS` over it, folded along a run by one driver (`peak_response`)."""
 
+from ..structures import LINEAR_RULES as LINEAR_RULES
 from ._bearing_test import BearingTestSystem as BearingTestSystem
 from ._bearing_test import force_along_path as force_along_path
 from ._bearing_test import simulate_bearing_test as simulate_bearing_test
@@ -46,7 +47,6 @@ from ._peaks import response_layout as response_layout
 from ._peaks import smooth_max as smooth_max
 from ._peaks import smooth_max_update as smooth_max_update
 from ._peaks import smooth_max_value as smooth_max_value
-from ._propagators import LINEAR_RULES as LINEAR_RULES
 from ._response import REDUCERS as REDUCERS
 from ._response import BearingTestResult as BearingTestResult
 from ._response import ResponseLayout as ResponseLayout

@@ -29,11 +29,14 @@ import jax.numpy as jnp
 
 from ..bearing import ConcaveSurface, SeriesPendulum, SlidingBearing, park_rate
 from ..excitation import Signal
-from ..solver import (
-    AbstractSteppedSystem,
-    park_exact_update,
+from ..solver import AbstractSteppedSystem, park_exact_update
+from ..structures import (
+    SupportPlan,
+    group_factor,
+    overturning_force,
+    small_dot,
+    supported_loads,
 )
-from ..structures import SupportPlan, group_factor, overturning_force, supported_loads
 from ._bearing_test import running_peak_rate
 from ._bidirectional_laws import (
     affine,
@@ -46,7 +49,6 @@ from ._bidirectional_laws import (
     surface_tangent,
     with_surface_forces,
 )
-from ._propagators import small_dot
 from ._sampled_path import has_history, history_factor, history_rates, next_history
 from ._vertical import (
     load_factor_at,

@@ -33,7 +33,7 @@ References: Constantinou, Mokha & Reinhorn (1990), J. Struct. Eng. 116(2), Eq. 2
 import jax
 import jax.numpy as jnp
 
-from ._propagators import small_dot
+from ..structures import small_dot
 
 FRICTION_MODELS = ("hysteretic", "coulomb", "none")
 """Friction laws of a structure in two directions: Park's biaxial Z, Coulomb, none."""

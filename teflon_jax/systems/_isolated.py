@@ -23,11 +23,11 @@ from ..bearing import (
     paper_bearing,
     runs_in_series,
 )
+from ..structures import LINEAR_RULES
 from ..tables import friction_table
 from ..units import PSI
 from ..validation import concrete, require_positive
 from ._isolator_balance import TRIPLE_NEWTON_ITERATIONS, TRIPLE_TOLERANCE
-from ._propagators import LINEAR_RULES
 from ._structure import NEWTON_ITERATIONS, NEWTON_TOLERANCE, StructureOnSliders
 from ._structure_build import check_structure_parts, rigid_mass, six_storey_building
 from ._triple_structure import triple_structure

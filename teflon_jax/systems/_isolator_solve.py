@@ -1,7 +1,7 @@
 """The isolator's equilibrium at the end of a step, solved for its displacement.
 
 The step's isolator displacement is x = u_linear - g0 F(x) (Newmark's rule or the exact linear
-rule, `_propagators.py`), with F = mu(v) W Z the bearing force at the end of the step, v its
+rule, `structures.newmark_step_matrices`, `structures.exact_step_matrices`), with F = mu(v) W Z the bearing force at the end of the step, v its
 velocity there (linear in x, `end_velocity`) and Z updated exactly along the step's path
 (`bearing_force`); the root is found by a bracketed Newton iteration with written-out slopes and
 differentiated implicitly (`isolator_root`). Used by `StructureOnSliders`; Eqs. 1, 3 and 17 of

@@ -9,9 +9,9 @@ import typing
 import jax
 import jax.numpy as jnp
 
+from ..structures import small_dot
 from ._bidirectional import BidirectionalStructure
 from ._bidirectional_models import bidirectional_initial_state
-from ._propagators import small_dot
 from ._response import REDUCERS, ResponseLayout, StructureResponse, uplifted
 from ._structure import WRITTEN_OUT_PRODUCT, StructureOnSliders, initial_state
 from ._structure_build import check_duration, check_storey_height

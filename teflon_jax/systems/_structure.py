@@ -24,9 +24,9 @@ from ..bearing import (
 )
 from ..excitation import Signal
 from ..solver import AbstractSteppedSystem, require_riccati_form
+from ..structures import newmark_step_matrices, small_dot
 from ._bearing_test import running_peak_rate
 from ._isolator_solve import isolator_root, predicted_root
-from ._propagators import newmark_step_matrices, small_dot
 from ._sampled_path import has_history, history_factor, history_rates, next_history
 from ._vertical import load_factor_at, loaded_isolator_force, loaded_surface_force
 
@@ -88,7 +88,7 @@ class StructureOnSliders(AbstractSteppedSystem):
     - `linear_rule` (static): how the linear structure is advanced over a step (`LINEAR_RULES`):
       "newmark" (average acceleration, the default) or "exact" (exact for ground acceleration
       and bearing force linear over the step; `exact_step` holds its matrices).
-    - `exact_step`: (R | f) (2n, 2n + 4) of `_propagators.exact_step_matrices` for "exact", else None.
+    - `exact_step`: (R | f) (2n, 2n + 4) of `structures.exact_step_matrices` for "exact", else None.
     - `contact_pressure` [Pa]: pressure of the bearings on the steel, for a bearing with
       `heating` (the heat flux q = mu p |v| / n); `heat_rates`, `heat_weights`: its 1/sqrt(t)
       kernel (`heat_kernel_exponentials`). A bearing with heating or wear adds the state
@@ -258,7 +258,7 @@ class StructureOnSliders(AbstractSteppedSystem):
                                    self.load_factor(t0), self.load_factor(t1))
 
     def step_matrices(self):
-        """(R (2n, 2n + 3), f (2n,)) of one step by `linear_rule` (`_propagators.py`):
+        """(R (2n, 2n + 3), f (2n,)) of one step by `linear_rule` (`structures.newmark_step_matrices`, `structures.exact_step_matrices`):
         (u1, v1) = R (u0, v0, a_g0, F_r0, a_g1) + f F."""
         if self.linear_rule == "exact":
             return self.exact_step[:, :-1], self.exact_step[:, -1]

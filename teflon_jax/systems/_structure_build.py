@@ -24,10 +24,14 @@ import numpy as np
 from ..bearing import SlidingBearing, check_bearing, heat_kernel_exponentials
 from ..excitation import Signal
 from ..solver import require_riccati_form
-from ..structures import building_matrices, rigid_mass_matrices
+from ..structures import (
+    LINEAR_RULES,
+    building_matrices,
+    exact_step_matrices,
+    rigid_mass_matrices,
+)
 from ..tables import BuildingData
 from ..units import STANDARD_GRAVITY
-from ._propagators import LINEAR_RULES, exact_step_matrices
 from ._response import StructureResponse
 from ._structure import (
     FRICTION_MODELS,
@@ -58,7 +62,7 @@ def structure_on_sliders(
     """Build a `StructureOnSliders`, checking shapes and prefactoring the step's matrices.
 
     Newmark (average acceleration): K_eff = K + (2/dt) C + (4/dt^2) M, inverted once for
-    `time_step`; with `linear_rule="exact"` also the exact step's matrices (`_propagators.exact_step_matrices`).
+    `time_step`; with `linear_rule="exact"` also the exact step's matrices (`structures.exact_step_matrices`).
     A bearing with `heating` needs `contact_pressure` [Pa] (its kernel spans one time step to
     `HEAT_HORIZON`); of the optional parts, structures run `STRUCTURE_EFFECTS`. `surface`: a
     friction pendulum's `ConcaveSurface` whose force beyond W u / R the step solves
@@ -163,7 +167,7 @@ def _heat_kernel(bearing, friction_model, contact_pressure, time_step):
 
 
 def _exact_step_matrix(mass, stiffness, damping, time_step):
-    """(R | f) of `_propagators.exact_step_matrices`, for a structure or a batch of them."""
+    """(R | f) of `structures.exact_step_matrices`, for a structure or a batch of them."""
     def one(m, k, c):
         step, force = exact_step_matrices(m, k, c, time_step)
         return jnp.concatenate([step, force[:, None]], 1)

@@ -24,7 +24,7 @@ x alone, C = 2 with `ground_y` (the structure the same in x and in y, the rigid 
 Table 2 building along each axis, the bearings coupling the two). The linear structure carries
 a reference spring W / R_ref at the isolator (R_ref = `reference_radius()`: b + c of the
 triple, R_1 + R_2 of the double), and each step advances it by its exact linear rule
-(`_propagators.py`) with the force beyond that spring, the sliders' balance
+(`structures.newmark_step_matrices`, `structures.exact_step_matrices`) with the force beyond that spring, the sliders' balance
 (`_isolator_balance.py`) solved in between. With a vertical ground acceleration a_v (up +)
 every slider's force is taken under the normal load N = s W, s = max(1 + a_v / g, 0) at the
 end of the step; at s = 0 (uplift) the sliders carry nothing and share the isolator's

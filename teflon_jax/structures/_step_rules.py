@@ -4,7 +4,7 @@ linearly over the step.
 Both give the state at the end of a step as (u1, v1) = R w + f F, with
 w = (u0, v0, a_g0, F_r0, a_g1) the start state, the ground acceleration at both ends and the
 bearing force at the start, and F the bearing force at the end (solved for by
-`StructureOnSliders.isolator_force`). Equations of motion: `_structure.py`. Products over
+the isolator's balance in `teflon_jax.systems`), M a + C v + K u = -M r a_g - B F. Products over
 short axes are written out as sums of element products (`small_dot`), which XLA fuses with
 the element-wise work around them on a CPU.
 """
