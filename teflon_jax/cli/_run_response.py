@@ -1,7 +1,9 @@
 """A run's response, whatever its structure and isolator. The library steps flat sliders and
 single pendulums (rigid mass, building, slab) as a `BidirectionalStructure`, and series
-pendulums as a `StructureOnSeries` (one or two components) or a slab on them (a `BidirectionalStructure` whose `bearing` is a `SeriesPendulum`); one table keyed by that type says how to simulate the system and cut it at the
-first step that did not balance (`_run_stop`), its uplift (`_normal_load`), where its base is and how to put
+pendulums as a `StructureOnSeries` (one or two components) or a slab on them (a
+`BidirectionalStructure` whose `bearing` is a `SeriesPendulum`); one table keyed by that type
+says how to simulate the system and cut it at the first step that did not balance
+(`_run_stop`), its uplift (`_normal_load`), where its base is and how to put
 another ground motion under it (a suite's pairs). The peaks and histories are one set of
 reducers over the response, whatever the system (`_run_peaks`)."""
 

@@ -13,8 +13,9 @@ from ._triple_structure import StructureOnSeries, simulate_series
 def simulate_history(system, duration: float, **options) -> StructureResponse:
     """Integrate `system` from rest over `duration` [s] with its engine and return its
     `StructureResponse`: a `StructureOnSliders` (`simulate_structure`; `options` are its
-    keywords), a `BidirectionalStructure` on sliders or series pendulums (`simulate_bidirectional`) or a
-    `StructureOnSeries` in one or two components (`simulate_series`)."""
+    keywords), a `BidirectionalStructure` on sliders or series pendulums
+    (`simulate_bidirectional`) or a `StructureOnSeries` in one or two components
+    (`simulate_series`)."""
     drivers = {StructureOnSliders: simulate_structure, BidirectionalStructure: simulate_bidirectional,
                StructureOnSeries: simulate_series}
     for kind, driver in drivers.items():
