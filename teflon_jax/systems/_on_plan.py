@@ -437,10 +437,7 @@ def _slab_on_series(*, weight, mass_inertia, centre_of_mass, positions, loads, p
     overturning = (np.zeros((groups, 2)) if height == 0 else
                    overturning_map(positions, centre_of_mass, height, vertical_stiffness, names))
     supports = None if height == 0 else support_plan(positions, centre_of_mass, height, vertical_stiffness)
-    r = positions - np.asarray(centre_of_mass, dtype=float).reshape(2)
-    bearing_map = np.zeros((groups, 2, 3))
-    bearing_map[:, 0, 0] = bearing_map[:, 1, 1] = 1.0
-    bearing_map[:, 0, 2], bearing_map[:, 1, 2] = -r[:, 1], r[:, 0]
+    bearing_map = plan_bearing_map(positions - np.asarray(centre_of_mass, dtype=float).reshape(2), 3, (0, 1, 2))
     if isinstance(time_step, bool) or not (isinstance(time_step, (int, float)) and time_step > 0):
         raise ValueError(f"time_step: must be a positive number of seconds, got {time_step!r}.")
     heat_rates, heat_weights = series_heat_kernel(pendulum, time_step)
