@@ -12,7 +12,7 @@ times); the record rate of each and each pendulum's share of the flat slider's a
 written as JSON with the machine.
 
 With `--components 2`, `--balances newton secant` times the triple pendulum once per way of
-iterating its planar balance (`StructureOnSeries.balance`), alternated with the others.
+iterating its planar balance (`StructureOnSliders.balance`), alternated with the others.
 
 Usage: `python benchmarks/bench_pendulum.py [--motions 2048] [--repeats 2] [--chunk 512]
 [--components 2] [--isolators flat triple-fp] [--balances newton secant] [--structures rigid]
@@ -55,7 +55,7 @@ def _motions(components=1):
 
 
 def _balanced(structure, balance, grounds, design=None):
-    """`structure(grounds, design)` (a `StructureOnSeries` with `ground_y`) iterating its balance by
+    """`structure(grounds, design)` (a `StructureOnSliders` on series pendulums with `ground_y`) iterating its balance by
     `balance`."""
     return dataclasses.replace(structure(grounds, design), balance=balance)
 

@@ -14,7 +14,7 @@ Cases (`CASES`):
   against `VelDependent`, Y = uy = 1 mm (the element does not converge with VelDependent at
   uy = 0.1 or 0.5 mm on this record). The laws differ in form: the element takes mu at the
   slider's mean velocity of its previous iteration, teflon-jax at the step's own, and f_min
-  while a slider's Z still points back after a reversal (`_triple_structure.slider_forces`).
+  while a slider's Z still points back after a reversal (`_slider_forces.slider_forces`).
 
 The bearing: inner effective radius 0.3 m, outer 2.1 m (both), capacities 0.05 m and 0.3 m
 (the outer ones alike, so that both programs give the inner slider the same travel).
@@ -45,7 +45,7 @@ from teflon_jax.excitation import uniform_signal  # noqa: E402
 from teflon_jax.formats import read_at2  # noqa: E402
 from teflon_jax.systems import (  # noqa: E402
     peak_response,
-    simulate_triple_structure,
+    simulate_history,
     triple_structure,
 )
 from teflon_jax.units import STANDARD_GRAVITY  # noqa: E402
@@ -81,7 +81,7 @@ def record(folder: pathlib.Path, scale: float, path=RECORD):
 def teflon_peaks(kind, triple, acc, dt, weight=1.0e6):
     """(peak |base displacement| [m], peak base shear over the weight above the isolator)."""
     system = triple_structure(kind, triple, uniform_signal(acc, dt), time_step=TIME_STEP, weight=weight)
-    response = jax.jit(simulate_triple_structure, static_argnums=1)(system, (len(acc) - 1) * dt)
+    response = jax.jit(simulate_history, static_argnums=1)(system, (len(acc) - 1) * dt)
     if not bool(np.all(response.converged)):
         raise RuntimeError("teflon-jax: a step's sliders did not balance.")
     m, a = np.asarray(system.mass), np.asarray(response.total_acceleration)

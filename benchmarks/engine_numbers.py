@@ -15,6 +15,7 @@ import sys
 
 import equinox as eqx
 import jax
+import jax.numpy as jnp
 import numpy as np
 
 jax.config.update("jax_enable_x64", True)
@@ -62,7 +63,7 @@ TRIPLE = TriplePendulum(inner_radius=0.3, bottom_radius=2.1, top_radius=2.1, inn
 
 def _series_1d(system, duration):
     """The response of `system` (series pendulums along x): `simulate_triple_structure` where
-    this version has it, else the one history driver `simulate_history`."""
+    this version has it (before the one structure), else the one history driver."""
     return getattr(systems, "simulate_triple_structure", simulate_history)(system, duration)
 
 
@@ -73,7 +74,10 @@ def _series_2d(system, duration):
         histories = systems.biaxial_histories(system, duration)
         return histories[1], histories[2]
     response = simulate_history(system, duration)
-    return _field(response, "state", "states"), response.bearing_force
+    nt, n = response.time.shape[0], system.mass.shape[-1]
+    state = jnp.concatenate([response.displacement.reshape(nt, 2, n),
+                             response.velocity.reshape(nt, 2, n)], -1)  # (u, v) in x and in y
+    return state, response.bearing_force
 
 
 def _field(response, *names):

@@ -28,6 +28,7 @@ import numpy as np  # noqa: E402
 
 from teflon_jax.excitation import sample_two_components, uniform_signal  # noqa: E402
 from teflon_jax.systems import _isolator_balance as balance  # noqa: E402
+from teflon_jax.systems import _series_step as series  # noqa: E402
 
 DURATION = 40.0
 
@@ -55,10 +56,10 @@ def main() -> None:
         matrices = system.step_matrices()
 
         def body(carry, grounds):
-            x1, isolator1, taken, _ = system.step(*carry, grounds[0], grounds[1], matrices, None)
+            x1, isolator1, taken, _ = series.series_step(system, *carry, grounds[0], grounds[1], matrices, None)
             return (x1, isolator1), taken.astype(jnp.int16)
 
-        start = (jnp.zeros((2, 2 * system.mass.shape[-1]), system.mass.dtype), system.initial_isolator())
+        start = (jnp.zeros((2, 2 * system.mass.shape[-1]), system.mass.dtype), series.initial_isolator(system))
         return jax.lax.scan(body, start, (ground[:-1], ground[1:]))[1]
 
     run = jax.jit(jax.vmap(counts))

@@ -41,8 +41,8 @@ from teflon_jax.systems import (  # noqa: E402
     TRIPLE_MONTE_CARLO_TOLERANCE,
     isolated_structure,
     peak_response,
+    simulate_history,
     simulate_structure,
-    simulate_triple_structure,
     structure_on_isolator,
 )
 from teflon_jax.units import STANDARD_GRAVITY  # noqa: E402
@@ -151,7 +151,7 @@ def _law_run(isolator, dt, law, ground, duration):
         radius = np.inf if ISOLATORS[isolator] is None else ISOLATORS[isolator]
         pendulum = single_pendulum(builder.isolation()[0], radius=radius)
         system = structure_on_isolator(flat, pendulum, friction_velocity=law, newton_tolerance=1e-13)
-        response = jax.jit(simulate_triple_structure, static_argnums=1)(system, duration)
+        response = jax.jit(simulate_history, static_argnums=1)(system, duration)
     return np.asarray(response.displacement)[:: int(round(RECORD_STEP / dt)), 0]
 
 

@@ -1,5 +1,5 @@
 """Whether the set of arrays a jitted history returns changes its rounding: the same
-`simulate_triple_structure` (the rigid mass on the triple pendulum of `engine_numbers.py`, its
+`simulate_history` (the rigid mass on the triple pendulum of `engine_numbers.py`, its
 record and step) compiled once returning its whole response and once returning only the
 displacement and the bearing force. Prints the largest difference of each over its largest value.
 
@@ -15,13 +15,16 @@ import numpy as np
 jax.config.update("jax_enable_x64", True)
 
 from teflon_jax.excitation import uniform_signal  # noqa: E402
-from teflon_jax.systems import simulate_triple_structure, triple_structure  # noqa: E402
+from teflon_jax.systems import (  # noqa: E402
+    simulate_history,
+    triple_structure,
+)
 
 spec = importlib.util.spec_from_file_location("en", pathlib.Path(__file__).with_name("engine_numbers.py"))
 en = importlib.util.module_from_spec(spec)
 spec.loader.exec_module(en)
 system = triple_structure("rigid", en.TRIPLE, uniform_signal(en._ground(1), en.RECORD_STEP), time_step=en.TIME_STEP)
-full = jax.jit(simulate_triple_structure, static_argnums=1)(system, en.DURATION)
-two = jax.jit(lambda s: (lambda r: (r.displacement, r.bearing_force))(simulate_triple_structure(s, en.DURATION)))(system)
+full = jax.jit(simulate_history, static_argnums=1)(system, en.DURATION)
+two = jax.jit(lambda s: (lambda r: (r.displacement, r.bearing_force))(simulate_history(s, en.DURATION)))(system)
 for name, a, b in (("displacement", full.displacement, two[0]), ("bearing_force", full.bearing_force, two[1])):
     print(name, float(np.max(np.abs(np.asarray(a) - np.asarray(b))) / np.max(np.abs(np.asarray(a)))))

@@ -19,6 +19,7 @@ import equinox as eqx
 import jax
 import numpy as np
 import pytest
+from histories import planar_histories
 
 from teflon_jax.bearing import (
     BoucWen,
@@ -29,11 +30,10 @@ from teflon_jax.bearing import (
 )
 from teflon_jax.excitation import StochasticGroundMotion, sample, uniform_signal
 from teflon_jax.systems import (
-    biaxial_histories,
     imposed_isolator_force,
     isolated_structure,
     peak_response,
-    simulate_triple_structure,
+    simulate_history,
     simulate_triple_test,
     triple_structure,
 )
@@ -122,7 +122,7 @@ def _swinging(vertical=None):
     system = structure(uniform_signal(pulse, DT))
     if vertical is not None:
         system = dataclasses.replace(system, vertical_acceleration=uniform_signal(vertical, DT))
-    response = jax.jit(simulate_triple_structure, static_argnums=1)(system, 8.0)
+    response = jax.jit(simulate_history, static_argnums=1)(system, 8.0)
     assert np.asarray(response.converged).all()
     return system, response
 
@@ -186,12 +186,12 @@ def test_two_components_along_a_line_are_the_one_direction_response():
     bearing is isotropic), the sliders adding up to the isolator's displacement."""
     acc = np.asarray(sample(MOTION, jax.random.key(3), 1)[0])
     one = triple_structure("rigid", EQ1, uniform_signal(acc, 0.01), time_step=0.005)
-    u = np.asarray(jax.jit(simulate_triple_structure, static_argnums=1)(one, 10.0).displacement[:, 0])
+    u = np.asarray(jax.jit(simulate_history, static_argnums=1)(one, 10.0).displacement[:, 0])
     assert np.max(np.abs(u)) > 0.05  # both surfaces slide
     c, s = np.cos(0.6), np.sin(0.6)
     turned = triple_structure("rigid", EQ1, uniform_signal(c * acc, 0.01), time_step=0.005)
     turned = turned.with_y_component(uniform_signal(s * acc, 0.01))
-    _, x, _, sliders, _, ok = jax.jit(biaxial_histories, static_argnums=1)(turned, 10.0)
+    _, x, _, sliders, _, ok = jax.jit(planar_histories, static_argnums=1)(turned, 10.0)
     assert bool(np.all(ok)) and sliders.shape[1:] == (2, 2)
     np.testing.assert_allclose(x[:, 0, 0], c * u, rtol=0, atol=1e-9)
     np.testing.assert_allclose(x[:, 1, 0], s * u, rtol=0, atol=1e-9)

@@ -14,6 +14,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
+from histories import planar_histories
 
 from teflon_jax.bearing import (
     BoucWen,
@@ -25,11 +26,10 @@ from teflon_jax.bearing import (
 from teflon_jax.excitation import uniform_signal
 from teflon_jax.solver import implicit_root
 from teflon_jax.systems import (
-    biaxial_histories,
     isolated_structure,
     peak_response,
     simulate_bidirectional,
-    simulate_triple_structure,
+    simulate_history,
     simulate_triple_test,
     slab_on_bearings,
     structure_on_isolator,
@@ -127,7 +127,7 @@ def test_the_series_engines_displacement_has_the_implicit_derivative():
     surface's f_max and the outer radii."""
     def final(theta):
         system = eqx.tree_at(lambda s: s.pendulum, ONE_COMPONENT, _triple(theta))
-        return simulate_triple_structure(system, 1.5).displacement[-1, 0]
+        return simulate_history(system, 1.5).displacement[-1, 0]
 
     _check_derivatives(final, [0.12, 2.1])
 
@@ -143,7 +143,7 @@ def test_one_slider_on_the_series_engine_has_the_implicit_derivative():
         linear = flat(GX, {"f_max": theta[0], "radius": theta[1]})
         system = structure_on_isolator(linear, single_pendulum(linear.bearing, radius=theta[1]),
                                        friction_velocity="end", newton_tolerance=TIGHT)
-        return simulate_triple_structure(system, 1.5).displacement[-1, 0]
+        return simulate_history(system, 1.5).displacement[-1, 0]
 
     _check_derivatives(final, [0.10, 1.5])
 
@@ -172,7 +172,7 @@ def test_two_components_displacement_has_the_implicit_derivative():
 
     def final(theta):
         system = eqx.tree_at(lambda s: s.pendulum, two, _triple(theta))
-        return biaxial_histories(system, 1.0)[1][-1, 1, 0]
+        return planar_histories(system, 1.0)[1][-1, 1, 0]
 
     _check_derivatives(final, [0.12, 2.1], forward=False)
 

@@ -19,6 +19,7 @@ import dataclasses
 import jax
 import numpy as np
 import pytest
+from histories import planar_histories
 
 from teflon_jax.bearing import (
     Backlash,
@@ -37,13 +38,12 @@ from teflon_jax.bearing import (
 from teflon_jax.excitation import StochasticGroundMotion, sample, uniform_signal
 from teflon_jax.studies import bidirectional_isolated_structure
 from teflon_jax.systems import (
-    biaxial_histories,
     isolated_structure,
     respond_along_path,
     sampled_path,
     simulate_bidirectional,
+    simulate_history,
     simulate_structure,
-    simulate_triple_structure,
     simulate_triple_test,
     structure_on_isolator,
     with_vertical_motion,
@@ -90,7 +90,7 @@ def _one_component(isolator, kind, vertical=None, law="end", bearing=None, **opt
     if vertical is not None:
         flat, series = with_vertical_motion(flat, vertical), with_vertical_motion(series, vertical)
     flat_run = jax.jit(simulate_structure, static_argnums=1)(flat, DURATION)
-    series_run = jax.jit(simulate_triple_structure, static_argnums=1)(series, DURATION)
+    series_run = jax.jit(simulate_history, static_argnums=1)(series, DURATION)
     assert bool(np.all(series_run.converged))
     return np.asarray(flat_run.displacement), np.asarray(series_run.displacement)
 
@@ -134,7 +134,7 @@ def test_one_surface_in_two_components_gives_the_flat_engines_histories(isolator
     series = _on_one_surface(builder, isolator, linear).with_y_component(ground[1])
     q = np.asarray(jax.jit(simulate_bidirectional, static_argnums=1)(flat, DURATION).displacement)
     n = linear.mass.shape[0]
-    histories = jax.jit(biaxial_histories, static_argnums=1)(series, DURATION)
+    histories = jax.jit(planar_histories, static_argnums=1)(series, DURATION)
     assert bool(np.all(histories[-1]))
     flat_base = np.stack([q[:, 0], q[:, n]], -1)
     assert _relative(flat_base, np.asarray(histories[1])[:, :, 0]) <= AGREEMENT
@@ -151,7 +151,7 @@ def test_a_flat_slider_sliding_in_two_components_balances_every_step():
     builder = isolated_structure("rigid", linear_rule="newmark", time_step=0.0025)
     series = _on_one_surface(builder, "flat", builder(ground[0]), "mean").with_y_component(ground[1])
     series = dataclasses.replace(series, newton_tolerance=1e-9)
-    assert bool(np.all(jax.jit(biaxial_histories, static_argnums=1)(series, 12.0)[-1]))
+    assert bool(np.all(jax.jit(planar_histories, static_argnums=1)(series, 12.0)[-1]))
 
 
 def test_with_coulomb_friction_the_series_law_is_the_flat_law():
@@ -233,7 +233,7 @@ def test_the_one_surface_peak_has_the_flat_engines_gradient():
         system = builder(ground, {"f_max": f_max})
         series = structure_on_isolator(system, single_pendulum(system.bearing, radius=RADIUS),
                                        friction_velocity="end", newton_tolerance=1e-13)
-        return simulate_triple_structure(series, 3.0).displacement[-1, 0]
+        return simulate_history(series, 3.0).displacement[-1, 0]
 
     f_max = float(params.f_max)
     flat_slope = float(jax.grad(flat_end)(f_max))

@@ -1,6 +1,7 @@
 """One response type for every structure's history (`StructureResponse`, `simulate_history`),
 one mapping of the peaks (`Peaks` of `peak_response`, the smooth maximum written once) and one for imposed-path
-tests (`BearingTestResult`): the drivers only package their engines' histories."""
+tests (`BearingTestResult`): the drivers only package their engines' histories; the structure
+on series pendulums is a `StructureOnSliders` whose steps `simulate_history` chooses."""
 
 import dataclasses
 
@@ -14,14 +15,13 @@ from teflon_jax.excitation import uniform_signal
 from teflon_jax.studies import bidirectional_isolated_structure
 from teflon_jax.systems import (
     Peaks,
+    StructureOnSliders,
     StructureResponse,
-    biaxial_histories,
     isolated_structure,
     peak_response,
     simulate_bidirectional,
     simulate_history,
     simulate_structure,
-    simulate_triple_structure,
     simulate_triple_test,
     smooth_max,
     smooth_max_update,
@@ -58,7 +58,11 @@ def test_one_driver_returns_each_engines_response():
     planar = bidirectional_isolated_structure("rigid")((gx, gy))
     _same_tree(simulate_history(planar, 1.0), simulate_bidirectional(planar, 1.0))
     series = triple_structure("rigid", TRIPLE, gx, time_step=0.005)
-    _same_tree(simulate_history(series, 1.0), simulate_triple_structure(series, 1.0))
+    assert isinstance(series, StructureOnSliders) and series.pendulum is TRIPLE
+    with pytest.raises(TypeError, match="run it with simulate_history"):
+        simulate_structure(series, 1.0)
+    with pytest.raises(ValueError, match="save_every: a structure on series pendulums"):
+        simulate_history(series, 1.0, save_every=2)
     with pytest.raises(TypeError, match="system: no history driver"):
         simulate_history(TRIPLE, 1.0)
 
@@ -74,22 +78,6 @@ def test_every_history_has_the_ground_as_an_axis_and_total_accelerations():
     assert two.ground.shape == (two.time.size, 2) and two.displacement.shape == (two.time.size, 14)
     assert two.slider is None and two.bearing_force is None and two.friction_force.shape == (two.time.size, 1, 2)
     assert bool(two.succeeded) and bool(one.succeeded)
-
-
-def test_two_components_on_series_pendulums_are_their_engines_histories_repackaged():
-    gx, gy = _signals()
-    system = triple_structure("building", TRIPLE, gx, time_step=0.005).with_y_component(gy)
-    time, x, force, slider, acceleration, converged = biaxial_histories(system, 1.0)
-    r = simulate_history(system, 1.0)
-    n = 7
-    for k in (0, 1):  # the x block, then the y block
-        np.testing.assert_array_equal(r.displacement[:, k * n:(k + 1) * n], x[:, k, :n])
-        np.testing.assert_array_equal(r.velocity[:, k * n:(k + 1) * n], x[:, k, n:])
-        np.testing.assert_array_equal(r.total_acceleration[:, k * n:(k + 1) * n], acceleration[:, k])
-    np.testing.assert_array_equal(r.bearing_force, force)
-    np.testing.assert_array_equal(r.slider, slider)
-    np.testing.assert_array_equal(r.converged, converged)
-    assert float(jnp.max(jnp.abs(r.displacement[:, n]))) > 1e-3  # the y component moved the base
 
 
 def test_succeeded_reads_the_steps_convergence():

@@ -8,6 +8,7 @@ import equinox as eqx
 import jax
 import numpy as np
 import pytest
+from histories import planar_histories
 
 from teflon_jax.bearing import (
     DoublePendulum,
@@ -21,11 +22,10 @@ from teflon_jax.bearing import (
 )
 from teflon_jax.excitation import uniform_signal
 from teflon_jax.systems import (
-    biaxial_histories,
     isolated_structure,
     peak_response,
+    simulate_history,
     simulate_structure,
-    simulate_triple_structure,
     simulate_triple_test,
 )
 
@@ -52,7 +52,7 @@ def _ground(dt, duration=6.0):
 
 def _double(dt, heating):
     system = isolated_structure("rigid", isolator=_locked_top(heating), time_step=dt)
-    response = jax.jit(simulate_triple_structure, static_argnums=1)(system(_ground(dt)), 6.0)
+    response = jax.jit(simulate_history, static_argnums=1)(system(_ground(dt)), 6.0)
     assert bool(np.all(response.converged))
     return np.asarray(response.displacement[:, 0])
 
@@ -155,7 +155,7 @@ def _energies(dt):
     int F du [J], the energy balance's largest gap |E_in - E_k - int F du| over max E_in, all
     steps balanced); E_in = -int m a_g du, E_k = m v^2 / 2 (trapezoids)."""
     system = isolated_structure("rigid", isolator=_both_heated(), time_step=dt)(_ground(dt))
-    r = jax.jit(simulate_triple_structure, static_argnums=1)(system, 6.0)
+    r = jax.jit(simulate_history, static_argnums=1)(system, 6.0)
     u, v, force, ground = (np.asarray(a) for a in (r.displacement[:, 0], r.velocity[:, 0], r.bearing_force,
                                                    r.ground[:, 0]))
     mass, du = float(system.mass[0]), np.diff(u)
@@ -242,11 +242,11 @@ def test_two_components_along_a_line_are_the_heated_one_direction_response():
     ground = _ground(dt)
     acc = np.asarray(jax.vmap(ground)(np.arange(0, 6 + dt / 2, dt)))
     structure = isolated_structure("rigid", isolator=bearing, time_step=dt)
-    one = jax.jit(simulate_triple_structure, static_argnums=1)(structure(ground), 6.0)
+    one = jax.jit(simulate_history, static_argnums=1)(structure(ground), 6.0)
     u, slider = np.asarray(one.displacement[:, 0]), np.asarray(one.slider)
     assert np.abs(slider).max(axis=0).min() > 0.05  # both surfaces slide
     assert bool(np.all(one.converged))
-    histories = jax.jit(biaxial_histories, static_argnums=1)
+    histories = jax.jit(planar_histories, static_argnums=1)
     along_x = histories(structure((ground, uniform_signal(0 * acc, dt))), 6.0)
     np.testing.assert_allclose(along_x[1][:, 0, 0], u, rtol=0, atol=1e-9)
     c, s = np.cos(0.6), np.sin(0.6)

@@ -14,14 +14,14 @@ structure's peaks of the bearing it was fitted from.
 import jax
 import numpy as np
 import pytest
+from histories import planar_histories
 
 from identification.bearing_fit import fit_series_pendulum_test
 from teflon_jax.bearing import BoucWen, DoublePendulum, FrictionParameters, TriplePendulum
 from teflon_jax.excitation import StochasticGroundMotion, sample, uniform_signal
 from teflon_jax.formats import test_record_from_arrays
 from teflon_jax.systems import (
-    biaxial_histories,
-    simulate_triple_structure,
+    simulate_history,
     simulate_triple_test,
     triple_structure,
 )
@@ -55,7 +55,7 @@ def _structure(pendulum, ground):
 def test_the_test_force_along_the_structures_path_is_the_structures_force(name):
     pendulum = PENDULUMS[name]
     system = _structure(pendulum, _ground(3))
-    response = jax.jit(simulate_triple_structure, static_argnums=1)(system, DURATION)
+    response = jax.jit(simulate_history, static_argnums=1)(system, DURATION)
     weight = float(system.bearing_load)
     path = np.asarray(response.displacement[:, 0])
     assert np.ptp(path) > 0.05 and bool(np.all(response.converged))  # the outer surfaces slide
@@ -69,7 +69,7 @@ def test_the_test_force_along_the_structures_path_is_the_structures_force(name):
 def test_the_planar_test_force_along_the_structures_orbit_is_the_structures_force():
     one = _structure(TRIPLE, _ground(5))
     system = one.with_y_component(uniform_signal(_ground(6, 0.8), 0.01))
-    time, x, force, sliders, _, converged = jax.jit(biaxial_histories, static_argnums=1)(system, DURATION)
+    time, x, force, sliders, _, converged = jax.jit(planar_histories, static_argnums=1)(system, DURATION)
     weight = float(one.bearing_load)
     orbit = np.asarray(x[:, :, 0])
     assert bool(np.all(converged)) and np.min(np.ptp(orbit, axis=0)) > 0.03
@@ -80,7 +80,7 @@ def test_the_planar_test_force_along_the_structures_orbit_is_the_structures_forc
 
 
 def _peak(pendulum, ground):
-    response = jax.jit(simulate_triple_structure, static_argnums=1)(_structure(pendulum, ground), DURATION)
+    response = jax.jit(simulate_history, static_argnums=1)(_structure(pendulum, ground), DURATION)
     return np.max(np.abs(np.asarray(response.displacement[:, 0]))), np.max(np.abs(np.asarray(response.bearing_force)))
 
 

@@ -3,7 +3,7 @@ components (`peak_response(storey_height=...)`, `monte_carlo(...,
 storey_height=...)`, `montecarlo --components 2 --storeys`): each storey's peak drift ratio
 and each level's peak total acceleration in x and in y.
 
-Peers: the saved histories of the same runs (`biaxial_histories`: drifts and total
+Peers: the saved histories of the same runs (`planar_histories`: drifts and total
 accelerations taken with NumPy); the one-component building on the same pendulums
 (`peak_response`), which a motion along x alone must reproduce, with nothing in y.
 """
@@ -14,6 +14,7 @@ import jax
 import numpy as np
 import pytest
 import xarray
+from histories import planar_histories
 
 from teflon_jax.cli import main
 from teflon_jax.excitation import (
@@ -25,7 +26,6 @@ from teflon_jax.formats import isolator_from_dict
 from teflon_jax.studies import monte_carlo, monte_carlo_motion
 from teflon_jax.systems import (
     TRIPLE_MONTE_CARLO_TOLERANCE,
-    biaxial_histories,
     isolated_structure,
     peak_response,
 )
@@ -54,7 +54,7 @@ def _building():
 
 def _history_peaks(system, duration):
     """(drift ratios (2, 6), total accelerations (2, 7)) peaks of the saved histories."""
-    _, x, _, _, acc, ok = jax.jit(biaxial_histories, static_argnums=1)(system, duration)
+    _, x, _, _, acc, ok = jax.jit(planar_histories, static_argnums=1)(system, duration)
     assert bool(np.all(ok))
     u = np.asarray(x)[:, :, :7]  # (nt, x|y, base slab and floors)
     return np.abs(np.diff(u, axis=2)).max(axis=0) / HEIGHT, np.abs(np.asarray(acc)).max(axis=0)

@@ -14,6 +14,7 @@ import equinox as eqx
 import jax
 import numpy as np
 import pytest
+from histories import planar_histories
 
 from teflon_jax.bearing import (
     BoucWen,
@@ -29,9 +30,8 @@ from teflon_jax.bearing import (
 )
 from teflon_jax.excitation import uniform_signal
 from teflon_jax.systems import (
-    biaxial_histories,
     simulate_bidirectional,
-    simulate_triple_structure,
+    simulate_history,
     simulate_triple_test,
     slab_on_bearings,
     triple_structure,
@@ -127,11 +127,11 @@ def _held(pendulum, acceleration, components=1, duration=6.0):
     ground = acceleration * STANDARD_GRAVITY * np.minimum(t, 1.0)
     system = triple_structure("rigid", pendulum, uniform_signal(ground, 0.01), time_step=0.005)
     if components == 1:
-        response = jax.jit(simulate_triple_structure, static_argnums=1)(system, duration)
+        response = jax.jit(simulate_history, static_argnums=1)(system, duration)
         assert bool(np.all(response.converged))
         return np.max(np.abs(np.asarray(response.displacement[:, 0])))
     both = system.with_y_component(uniform_signal(ground, 0.01))
-    _, x, _, _, _, converged = jax.jit(biaxial_histories, static_argnums=1)(both, duration)
+    _, x, _, _, _, converged = jax.jit(planar_histories, static_argnums=1)(both, duration)
     assert bool(np.all(converged))
     return np.max(np.linalg.norm(np.asarray(x[:, :, 0]), axis=1))
 
@@ -158,7 +158,7 @@ def test_a_breakaway_ratio_of_one_on_coulomb_heated_surfaces_changes_nothing():
     runs = []
     for pendulum in _limits():
         system = triple_structure("building", pendulum, uniform_signal(ground, 0.01), time_step=0.005)
-        runs.append(np.asarray(jax.jit(simulate_triple_structure, static_argnums=1)(system, 8.0).displacement))
+        runs.append(np.asarray(jax.jit(simulate_history, static_argnums=1)(system, 8.0).displacement))
     assert np.max(np.abs(runs[0][:, 0])) > 0.05
     np.testing.assert_allclose(runs[1], runs[0], rtol=0, atol=1e-12)
 

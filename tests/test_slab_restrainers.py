@@ -7,7 +7,7 @@ pair (8 m here), the symmetric slab is the rigid mass of the same weight on one 
 (every slider's force scales with its group's N_g and the N_g add up to W); above it, the slab
 on four corners would rest on one line (tension-free supports): it tips, a rigid slab without
 rocking cannot balance it, and exactly those steps are reported, the loads still adding up to W.
-Peer: `simulate_triple_structure` (its own tests against closed forms and OpenSees)."""
+Peer: `simulate_history` (its own tests against closed forms and OpenSees)."""
 
 import numpy as np
 import pytest
@@ -27,7 +27,11 @@ from test_slab_series import (
 
 from teflon_jax.cli import main
 from teflon_jax.excitation import uniform_signal
-from teflon_jax.systems import simulate_triple_structure, slab_on_bearings, triple_structure
+from teflon_jax.systems import (
+    simulate_history,
+    slab_on_bearings,
+    triple_structure,
+)
 from teflon_jax.units import STANDARD_GRAVITY as G
 
 SECONDS = 3.0
@@ -46,7 +50,7 @@ def _slab(height, pendulum):
 
 def _rigid(pendulum):
     one = triple_structure("rigid", pendulum, uniform_signal(DRIVE, DT_RECORD), time_step=STEP, weight=W)
-    return np.asarray(simulate_triple_structure(one, SECONDS).displacement[:, 0])
+    return np.asarray(simulate_history(one, SECONDS).displacement[:, 0])
 
 
 def _check_in_restrainers_as_the_rigid_mass(pendulum, heights):

@@ -3,7 +3,7 @@ with its own sliders, every slider's force under the group's normal load N_g = W
 the lever rule of the overturning moment h H (held from the step's start); no shear while
 N_g <= 0.
 
-Peers: the rigid mass on one pendulum of the same total weight (`simulate_triple_structure`,
+Peers: the rigid mass on one pendulum of the same total weight (`simulate_history`,
 its own tests against closed forms and OpenSees); the hand lever rule; central differences."""
 
 import json
@@ -24,7 +24,7 @@ from teflon_jax.structures import (
 )
 from teflon_jax.systems import (
     simulate_bidirectional,
-    simulate_triple_structure,
+    simulate_history,
     slab_on_bearings,
     triple_structure,
 )
@@ -78,7 +78,7 @@ def test_symmetric_slab_moves_as_the_rigid_mass_on_one_pendulum(isolator):
     pendulum = PENDULUMS[isolator]
     ax, ay = _pulse(0.35, 0.0)
     one = triple_structure("rigid", pendulum, uniform_signal(ax, DT_RECORD), time_step=STEP, weight=W)
-    reference = np.asarray(simulate_triple_structure(one, DURATION).displacement[:, 0])
+    reference = np.asarray(simulate_history(one, DURATION).displacement[:, 0])
     assert np.max(np.abs(reference)) > 0.1  # the outer surfaces slide
     for height in (0.0, 4.0):
         response = simulate(_slab(ax, ay, height, pendulum), DURATION)
@@ -342,7 +342,9 @@ def test_run_reports_each_groups_normal_load_on_series_pendulums(tmp_path, capsy
 def test_the_peak_driver_refuses_a_slab_on_series_groups_by_name():
     """`peak_response` folds flat-slider and single-pendulum groups only: a slab on double
     pendulum groups is refused before any step, with the driver that runs it named."""
-    from teflon_jax.systems import peak_response
+    from teflon_jax.systems import (
+    peak_response,
+)
 
     ax, ay = _pulse(0.1, 0.05)
     with pytest.raises(TypeError, match="simulate_history"):

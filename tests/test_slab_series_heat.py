@@ -2,7 +2,7 @@
 group g takes the flux mu p (N_g / W_g) v of its own group's normal load and its friction
 falls with its own temperature (Kumar et al. 2015; Carslaw & Jaeger's semi-infinite body).
 
-Peers: the rigid mass on one heated pendulum of the same weight (`simulate_triple_structure`,
+Peers: the rigid mass on one heated pendulum of the same weight (`simulate_history`,
 whose heating has its own tests against the heated single pendulum and the constant-flux
 closed form, tests/test_series_heating.py); the unheated slab; the sign of the overturning
 (the side the ground accelerates towards unloads); a lifted group's heat only decays."""
@@ -37,7 +37,7 @@ from teflon_jax.cli import main
 from teflon_jax.excitation import uniform_signal
 from teflon_jax.systems import (
     simulate_bidirectional,
-    simulate_triple_structure,
+    simulate_history,
     slab_on_bearings,
     triple_structure,
 )
@@ -68,7 +68,7 @@ def test_symmetric_heated_slab_is_the_heated_rigid_mass(pendulum):
     four groups' surfaces reach the same rise."""
     ax, ay = _pulse(0.35, 0.0)
     hot = _heated(pendulum)
-    rigid = jax.jit(simulate_triple_structure, static_argnums=1)
+    rigid = jax.jit(simulate_history, static_argnums=1)
     one = triple_structure("rigid", hot, uniform_signal(ax, DT_RECORD), time_step=STEP, weight=W)
     reference = np.asarray(rigid(one, DURATION).displacement[:, 0])
     response = simulate(_slab(ax, ay, 0.0, hot), DURATION)

@@ -29,8 +29,8 @@ from teflon_jax.excitation import uniform_signal
 from teflon_jax.systems import (
     rigid_mass,
     simulate_bidirectional,
+    simulate_history,
     simulate_structure,
-    simulate_triple_structure,
     slab_on_bearings,
     triple_structure,
     with_vertical_motion,
@@ -77,7 +77,7 @@ def _rigid_mass_response(isolator, gx, gv, friction_model="hysteretic"):
     """x displacement of the rigid mass of weight W on one isolator under (gx, gv)."""
     if isolator in PENDULUMS:
         one = triple_structure("rigid", PENDULUMS[isolator], gx, time_step=STEP, weight=W)
-        return np.asarray(simulate_triple_structure(with_vertical_motion(one, gv), DURATION).displacement[:, 0])
+        return np.asarray(simulate_history(with_vertical_motion(one, gv), DURATION).displacement[:, 0])
     common = dict(weight=W, bearing=_bearing(), ground_acceleration=gx, time_step=STEP)
     if isolator == "flat":
         one = rigid_mass(isolation_period=PERIOD, friction_model=friction_model, **common)

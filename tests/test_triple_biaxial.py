@@ -2,13 +2,14 @@
 x, isotropy (a record along any horizontal line is the one-direction response along that line),
 the two-component Monte Carlo, and the gradient through the planar sliders' balance.
 
-Peers: `simulate_triple_structure` (one direction, its own tests); the rotation of the plane;
+Peers: `simulate_history` (one direction, its own tests); the rotation of the plane;
 central differences. OpenSees 3D: `tests/test_triple_opensees.py`."""
 
 import equinox as eqx
 import jax
 import numpy as np
 import pytest
+from histories import planar_histories
 
 from teflon_jax.bearing import BoucWen, FrictionParameters, TriplePendulum
 from teflon_jax.excitation import (
@@ -19,12 +20,10 @@ from teflon_jax.excitation import (
 )
 from teflon_jax.studies import monte_carlo
 from teflon_jax.systems import (
-    StructureOnSeries,
-    biaxial_histories,
+    StructureOnSliders,
     isolated_structure,
     peak_response,
-    simulate_series,
-    simulate_triple_structure,
+    simulate_history,
     triple_structure,
     with_vertical_motion,
 )
@@ -53,9 +52,9 @@ def test_a_record_along_any_line_is_the_one_direction_response_along_it(kind, ac
     """Along x: the one-direction run to rounding; along a line at 0.6 rad: the same response
     turned by 0.6 rad (the bearing is isotropic)."""
     one = triple_structure(kind, TRIPLE, uniform_signal(acc, 0.01), time_step=0.005)
-    u = np.asarray(jax.jit(simulate_triple_structure, static_argnums=1)(one, 20.0).displacement[:, 0])
+    u = np.asarray(jax.jit(simulate_history, static_argnums=1)(one, 20.0).displacement[:, 0])
     assert np.max(np.abs(u)) > 0.05  # the outer surfaces slide
-    histories = jax.jit(biaxial_histories, static_argnums=1)
+    histories = jax.jit(planar_histories, static_argnums=1)
     along_x = histories(one.with_y_component(uniform_signal(0 * acc, 0.01)), 20.0)
     np.testing.assert_allclose(along_x[1][:, 0, 0], u, rtol=0, atol=1e-12)
     c, s = np.cos(0.6), np.sin(0.6)
@@ -69,10 +68,10 @@ def test_a_record_along_any_line_is_the_one_direction_response_along_it(kind, ac
 
 
 def test_one_class_steps_one_and_two_components_alike_along_x(acc):
-    """`StructureOnSeries` with a zero y record is its one-component run along x: every
+    """`StructureOnSliders` with a zero y record is its one-component run along x: every
     coordinate, total acceleration, bearing force, slider and Z to rounding, nothing along y,
     under a vertical record that loads the sliders in both (the double pendulum, the rigid
-    mass; the same load factors and uplift time); the two names of the one class tell the
+    mass; the same load factors and uplift time); the structure's `components` tell the
     number of components apart."""
     from teflon_jax.bearing import DoublePendulum
 
@@ -85,8 +84,8 @@ def test_one_class_steps_one_and_two_components_alike_along_x(acc):
     two = triple_structure("rigid", double, uniform_signal(short, 0.01), time_step=0.005,
                            ground_y=uniform_signal(0 * short, 0.01))
     two = with_vertical_motion(two, uniform_signal(0.6 * short[::-1], 0.01))
-    assert type(one) is type(two) is StructureOnSeries and (one.components, two.components) == (1, 2)
-    run = jax.jit(simulate_series, static_argnums=1)
+    assert type(one) is type(two) is StructureOnSliders and (one.components, two.components) == (1, 2)
+    run = jax.jit(simulate_history, static_argnums=1)
     a, b = run(one, 6.0), run(two, 6.0)
     assert np.max(np.abs(np.asarray(a.displacement[:, 0]))) > 0.02 and bool(np.all(b.converged))
     for x, y in ((a.displacement, b.displacement), (a.velocity, b.velocity),

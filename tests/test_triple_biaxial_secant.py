@@ -1,5 +1,5 @@
 """The secant balance of the triple pendulum under two ground components
-(`StructureOnSeries.with_y_component(ground_y, balance="secant")`): Broyden's update of the sliders' 2 x 2
+(`StructureOnSliders.with_y_component(ground_y, balance="secant")`): Broyden's update of the sliders' 2 x 2
 blocks, exact identities of the update, the same histories as Newton's iteration to the
 balance's tolerance, and the same implicit derivative.
 
@@ -11,11 +11,14 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
+from histories import planar_histories
 
 from teflon_jax.bearing import BoucWen, FrictionParameters, TriplePendulum
 from teflon_jax.excitation import StochasticGroundMotion, sample, uniform_signal
 from teflon_jax.solver import broyden_blocks
-from teflon_jax.systems import biaxial_histories, triple_structure
+from teflon_jax.systems import (
+    triple_structure,
+)
 from teflon_jax.systems._isolator_balance import difference_steps
 from teflon_jax.units import STANDARD_GRAVITY
 
@@ -60,7 +63,7 @@ def test_secant_balance_follows_newton_to_the_tolerance():
     """Both balances to the default tolerance (1e-9 W): the histories agree to a displacement
     error far below it would allow at the pendulum's stiffness, every step balanced, and the
     two iterations are different (the secant one ends elsewhere within the tolerance)."""
-    histories = jax.jit(biaxial_histories, static_argnums=1)
+    histories = jax.jit(planar_histories, static_argnums=1)
     newton = histories(_pair(TRIPLE, "newton"), 8.0)
     secant = histories(_pair(TRIPLE, "secant"), 8.0)
     assert bool(np.all(secant[-1])) and bool(np.all(newton[-1]))
@@ -81,7 +84,7 @@ def test_secant_balance_has_newtons_implicit_derivative():
                                   bottom_capacity=0.3, top_capacity=0.3, inner_friction=friction,
                                   bottom_friction=TRIPLE.bottom_friction, top_friction=TRIPLE.top_friction,
                                   hysteresis=TRIPLE.hysteresis)
-        x = biaxial_histories(_pair(pendulum, balance), 3.0)[1][:, :, 0]
+        x = planar_histories(_pair(pendulum, balance), 3.0)[1][:, :, 0]
         return jnp.max(jnp.sum(x**2, axis=-1))
 
     _records()

@@ -30,7 +30,7 @@ from teflon_jax.systems import (
     imposed_isolator_force,
     isolated_structure,
     peak_response,
-    simulate_triple_structure,
+    simulate_history,
 )
 from teflon_jax.units import STANDARD_GRAVITY
 
@@ -96,7 +96,7 @@ def _free_vibration(bearing, pulse, duration=30.0, dt=0.01):
     t = dt * np.arange(int(round(duration / dt)) + 1)
     ground = uniform_signal(np.where(t < 0.5, pulse, 0.0), dt)
     system = isolated_structure("rigid", isolator=bearing)(ground)
-    response = jax.jit(simulate_triple_structure, static_argnums=1)(system, duration)
+    response = jax.jit(simulate_history, static_argnums=1)(system, duration)
     return np.asarray(response.time), np.asarray(response.displacement[:, 0]), response
 
 
@@ -160,7 +160,7 @@ def test_histories_and_the_peak_loop_agree(record):
     structure = isolated_structure("building", isolator=_eq1_bearing())
     system = structure(uniform_signal(acc, 0.01))
     p = peak_response(system, 20.0)
-    h = simulate_triple_structure(system, 20.0)
+    h = simulate_history(system, 20.0)
     assert float(p.base_disp) == pytest.approx(float(np.max(np.abs(h.displacement[:, 0]))), rel=1e-12)
     mass = np.asarray(system.mass)  # the base shear: every mass above the bearings, the base slab's included
     shear = np.abs(np.asarray(h.total_acceleration) @ mass) / (mass.sum() * STANDARD_GRAVITY)
@@ -187,7 +187,7 @@ def test_the_peak_is_differentiable_in_the_outer_radii():
     system = isolated_structure("rigid", isolator=_eq1_bearing())(uniform_signal(acc, 0.01))
 
     def peak(radius):
-        moved = eqx.tree_at(lambda s: (s.triple.bottom_radius, s.triple.top_radius), system, (radius, radius))
+        moved = eqx.tree_at(lambda s: (s.pendulum.bottom_radius, s.pendulum.top_radius), system, (radius, radius))
         return peak_response(moved, 8.0).smooth_base_disp
 
     reverse = float(jax.jit(jax.grad(peak))(2.2))

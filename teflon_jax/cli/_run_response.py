@@ -1,6 +1,6 @@
 """A run's response, whatever its structure and isolator. The library steps flat sliders and
 single pendulums (rigid mass, building, slab) as a `BidirectionalStructure`, and series
-pendulums as a `StructureOnSeries` (one or two components) or a slab on them (a
+pendulums as a `StructureOnSliders` on them (one or two components) or a slab on them (a
 `BidirectionalStructure` whose `bearing` is a `SeriesPendulum`); one table keyed by that type
 says how to simulate the system and cut it at the first step that did not balance
 (`_run_stop`), its uplift (`_normal_load`), where its base is and how to put
@@ -53,9 +53,9 @@ def _bidirectional(system, duration, plan) -> Run:
 
 
 def _series(system, duration, plan) -> Run:
-    from ..systems import simulate_series
+    from ..systems import simulate_history
 
-    response = simulate_series(system, duration)
+    response = simulate_history(system, duration)
     return _series_run(response, response.time, response.converged, duration)
 
 
@@ -95,17 +95,14 @@ def _slab_series_extras(plan, system, response, histories):
 
 def _engines() -> dict:
     from ..bearing import SeriesPendulum
-    from ..systems import (
-        BidirectionalStructure,
-        StructureOnSeries,
-    )
+    from ..systems import BidirectionalStructure, StructureOnSliders
 
     ground = lambda s: (s.ground_x, s.ground_y)  # noqa: E731
     return {
         BidirectionalStructure: _Engine(_bidirectional, _response_uplift, ground,
                                         lambda s: (0, s.mass.shape[0] // 2)),
-        StructureOnSeries: _Engine(_series, lambda s, r, d: _series_uplift(s, d),
-                                   lambda s: (s.linear.ground_acceleration, s.ground_y), lambda s: (0, 1)),
+        StructureOnSliders: _Engine(_series, lambda s, r, d: _series_uplift(s, d),
+                                    lambda s: (s.ground_acceleration, s.ground_y), lambda s: (0, 1)),
         SeriesPendulum: _Engine(_slab_series, lambda s, r, d: _series_uplift(s, d), ground,
                               lambda s: (0, 1), _slab_series_extras),
     }
@@ -113,9 +110,10 @@ def _engines() -> dict:
 
 def _engine(system) -> _Engine:
     from ..bearing import SeriesPendulum
+    from ..systems import BidirectionalStructure
 
-    series = isinstance(getattr(system, "bearing", None), SeriesPendulum)  # a slab on series pendulums
-    return _engines()[SeriesPendulum if series else type(system)]
+    slab = isinstance(system, BidirectionalStructure) and isinstance(system.bearing, SeriesPendulum)
+    return _engines()[SeriesPendulum if slab else type(system)]
 
 
 def simulate_run(system, duration: float, plan=None) -> Run:

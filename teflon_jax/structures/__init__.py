@@ -37,5 +37,6 @@ from ._plan_isolators import plan_isolator as plan_isolator
 from ._plan_isolators import refuse_springs as refuse_springs
 from ._step_rules import LINEAR_RULES as LINEAR_RULES
 from ._step_rules import exact_step_matrices as exact_step_matrices
+from ._step_rules import first_order_hold as first_order_hold
 from ._step_rules import newmark_step_matrices as newmark_step_matrices
 from ._step_rules import small_dot as small_dot

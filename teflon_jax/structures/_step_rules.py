@@ -42,6 +42,22 @@ LINEAR_RULES = ("newmark", "exact")
 """
 
 
+def first_order_hold(a, b, time_step):
+    """(free, start, end) of the exact step of x' = A x + B q(s) with the inputs q varying
+    linearly from q0 to q1 over `time_step` dt [s]: x1 = free x0 + start q0 + end q1, where
+    free = e^(A dt), end = (1/dt) int_0^dt e^(A (dt - s)) s ds B and start + end =
+    int_0^dt e^(A s) ds B, all blocks of the exponential of the augmented matrix
+    [[A, B, 0], [0, 0, I], [0, 0, 0]] dt (Van Loan, 1978). `a` (N, N), `b` (N, k)."""
+    size, inputs = a.shape[0], b.shape[1]
+    total = size + 2 * inputs
+    augmented = jnp.zeros((total, total), a.dtype)
+    augmented = augmented.at[:size, :size].set(a).at[:size, size:size + inputs].set(b)
+    augmented = augmented.at[size:size + inputs, size + inputs:].set(jnp.eye(inputs, dtype=a.dtype))
+    e = jax.scipy.linalg.expm(augmented * time_step)
+    end = e[:size, size + inputs:] / time_step
+    return e[:size, :size], e[:size, size:size + inputs] - end, end
+
+
 def exact_step_matrices(mass, stiffness, damping, time_step):
     """(R, f) of the exact step for inputs linear over the step (first-order hold).
 
@@ -61,15 +77,8 @@ def exact_step_matrices(mass, stiffness, damping, time_step):
     a = jnp.block([[zeros, eye], [-stiffness / m[:, None], -damping / m[:, None]]])
     b = jnp.concatenate([jnp.zeros((n, 2), m.dtype),
                          jnp.stack([-jnp.ones(n, m.dtype), -eye[:, 0] / m[0]], 1)], 0)
-    size = 2 * n + 4
-    augmented = jnp.zeros((size, size), m.dtype)
-    augmented = augmented.at[:2 * n, :2 * n].set(a).at[:2 * n, 2 * n:2 * n + 2].set(b)
-    augmented = augmented.at[2 * n:2 * n + 2, 2 * n + 2:].set(jnp.eye(2, dtype=m.dtype))
-    e = jax.scipy.linalg.expm(augmented * time_step)
-    free, g0 = e[:2 * n, :2 * n], e[:2 * n, 2 * n:2 * n + 2]
-    g1 = e[:2 * n, 2 * n + 2:] / time_step
-    start = g0 - g1
-    return jnp.concatenate([free, start, g1[:, :1]], 1), g1[:, 1]
+    free, start, end = first_order_hold(a, b, time_step)
+    return jnp.concatenate([free, start, end[:, :1]], 1), end[:, 1]
 
 
 def newmark_step_matrices(mass, stiffness, damping, newmark_inverse, time_step):

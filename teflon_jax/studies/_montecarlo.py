@@ -43,7 +43,7 @@ from ..systems import (
     STEPS_PER_LOOP_PASS,
     BidirectionalStructure,
     IsolatedStructure,
-    StructureOnSeries,
+    StructureOnSliders,
     VerticalIsolatedStructure,
     check_storey_height,
     peak_arrays,
@@ -131,7 +131,7 @@ def probe_structure(structure, source: _Source, design):
 
 def _two_components(system) -> bool:
     """Whether `system` steps under two horizontal ground components."""
-    if isinstance(system, StructureOnSeries):
+    if isinstance(system, StructureOnSliders):
         return system.components == 2
     return isinstance(system, BidirectionalStructure)
 
@@ -360,7 +360,7 @@ def _plan(structure, motions, n_motions, *, key=None, duration=None, design=None
     read_every = _read_every(peak_interval, probe.time_step)
     if storey_height is not None:  # refused here, before the compile, for a rigid mass
         # x and y: 2 n coordinates, but one set of masses for a series pendulum's structure
-        per_direction = n_dof if isinstance(probe, StructureOnSeries) else n_dof // source.components
+        per_direction = n_dof if isinstance(probe, StructureOnSliders) else n_dof // source.components
         check_storey_height(per_direction, storey_height)
     runner = ChunkRunner(structure, source, duration, design_arrays, devices, chunk, disp_width,
                          shear_width, read_every, storey_height, bearings=None if draws is None else bearings)

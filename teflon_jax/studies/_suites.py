@@ -129,7 +129,7 @@ def suite_peaks(build, names, ax, ay, time_step: float, duration: float, base_in
     (or in calls of `batch_size` pairs, the last padded: one compilation).
 
     **Arguments:** `build`: a function of two `Signal`s returning a `BidirectionalStructure` (or
-    a `StructureOnSeries` with `ground_y`: triple or double pendulums);
+    a `StructureOnSliders` on series pendulums with `ground_y`: triple or double pendulums);
     `names` (P,); `ax`, `ay` (P, n) ground accelerations [m/s^2] (already scaled, common step);
     `time_step` [s] of the records; `duration` [s]; `base_index`: the coordinates of the base in
     x and y (rigid mass (0, 1), building (0, 7), slab (0, 1)); `storey_height` [m]: the

@@ -20,9 +20,9 @@ from ..tables import BuildingData
 from ._bidirectional import NEWTON_ITERATIONS, BidirectionalStructure
 from ._bidirectional_laws import check_planar_law
 from ._response import StructureResponse
+from ._sampled_path import HEAT_HORIZON
 from ._series_groups import simulate_series_groups
 from ._structure_build import (
-    HEAT_HORIZON,
     check_storey_height,
     check_structure_parts,
     rigid_mass,

@@ -28,9 +28,9 @@ from ..tables import friction_table
 from ..units import PSI
 from ..validation import concrete, require_positive
 from ._isolator_balance import TRIPLE_NEWTON_ITERATIONS, TRIPLE_TOLERANCE
+from ._series_step import triple_structure
 from ._structure import NEWTON_ITERATIONS, NEWTON_TOLERANCE, StructureOnSliders
 from ._structure_build import check_structure_parts, rigid_mass, six_storey_building
-from ._triple_structure import triple_structure
 
 STRUCTURES = ("rigid", "building")
 
@@ -245,7 +245,7 @@ imbalance over W (a displacement error below 1e-7 R_e of each slider)."""
 class TripleIsolatedStructure(eqx.Module):
     """Builds the rigid mass or the Table 2 building on triple or double friction pendulums for
     one motion (`triple_structure`), called as `structure(ground_acceleration, design)` like
-    `IsolatedStructure` (a `StructureOnSeries` of one component), or as
+    `IsolatedStructure` (a `StructureOnSliders` on the pendulum, one component), or as
     `structure((ground_x, ground_y))` for two components (what `monte_carlo` builds for
     `TwoComponentGroundMotion`); `design` may set the variables of the pendulum's design space
     (`design_space("triple-fp")`: the outer radii's scale, the inner and outer f_max, the
@@ -255,7 +255,7 @@ class TripleIsolatedStructure(eqx.Module):
 
     **Fields:** `pendulum` (`TriplePendulum` or `DoublePendulum`; also read as `triple`),
     `kind` (static) "rigid" or "building", `time_step` [s] (static), `weight` [N] of the
-    rigid mass (static), `newton_iterations`, `newton_tolerance` (static): `StructureOnSeries`'.
+    rigid mass (static), `newton_iterations`, `newton_tolerance` (static): `StructureOnSliders`'.
     """
 
     pendulum: SeriesPendulum

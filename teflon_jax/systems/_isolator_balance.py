@@ -1,5 +1,5 @@
 """The sliders' balance of a friction pendulum of sliders in series over one step, in one or two
-horizontal components: what a structure on the isolator (`StructureOnSeries`) and the
+horizontal components: what a structure on the isolator (`_series_step.py`) and the
 isolator's bearing test along an imposed path (`simulate_triple_test`) step through.
 
 S sliders carry one force F and their increments d_e add up to the isolator's; slider e
@@ -67,10 +67,10 @@ TRIPLE_NEWTON_ITERATIONS = 60
 """Most evaluations of the sliders' forces per step (Newton iterations and line-search halvings)."""
 
 TRIPLE_TOLERANCE = 1e-9
-"""Default `StructureOnSeries.newton_tolerance`: the sliders' force imbalance over the weight W."""
+"""Default `structure_on_isolator(newton_tolerance=...)`: the sliders' force imbalance over the weight W."""
 
 BALANCES = ("newton", "secant")
-"""How a step's planar balance is iterated (`StructureOnSeries.balance`, two components):
+"""How a step's planar balance is iterated (`StructureOnSliders.balance`, two components):
 "newton", fresh 2 x 2 blocks by differences at every point (three force evaluations a step);
 "secant", Broyden's update of the blocks after the first step (one force evaluation a step,
 Newton's iteration taking over where it stalls; `planar_newton`). Both balance to the same
@@ -330,7 +330,7 @@ a fit is balanced to rounding, far below the structures' `TRIPLE_TOLERANCE`."""
 def _path_step(pendulum, load, dt, kernel, state, target, velocity=None, *, tolerance=TEST_TOLERANCE,
                iterations: int = TRIPLE_NEWTON_ITERATIONS):
     """One step of the isolator to the path's displacement `target` ((,) or (2,) [m]) from its
-    state (`StructureOnSeries.initial_isolator`'s, the force F in place of the force beyond a
+    state (`_series_step.initial_isolator`'s, the force F in place of the force beyond a
     reference spring): the structures' step of the isolator (`slider_step`) with the sliders'
     increments adding up to D = target - sum(sliders), from the extrapolated increments with
     their misfit to D shared evenly; `velocity` [m/s]: the path's at `target`, for the law

@@ -59,6 +59,7 @@ from ..bearing import SeriesPendulum, check_series_pendulum
 from ..excitation import Signal
 from ..structures import (
     check_plan,
+    first_order_hold,
     level_heights,
     overturning_map,
     plan_bearing_map,
@@ -406,17 +407,13 @@ def stack_pendulums(pendulums, isolator: str, groups: int) -> SeriesPendulum:
 def _slab_step_matrix(mass, stiffness, influence, time_step):
     """(6, 16) [free (6, 6), start (6, 5), end (6, 5)] of the exact step of
     M q'' + K q = -M R a_g - f with x = (q, q') and the inputs (a_g (2,), f (3,)) varying
-    linearly over `time_step` [s]: x1 = free x0 + start u0 + end u1. The blocks of the
-    exponential of [[A, B, 0], [0, 0, I], [0, 0, 0]] dt (Van Loan 1978; as
-    `exact_step_matrices` for one force)."""
+    linearly over `time_step` [s]: x1 = free x0 + start u0 + end u1
+    (`structures.first_order_hold`)."""
     m = jnp.asarray(mass, float)
     eye, zeros = jnp.eye(3), jnp.zeros((3, 3))
     a = jnp.block([[zeros, eye], [-stiffness / m[:, None], zeros]])
     b = jnp.concatenate([jnp.zeros((3, 5)), jnp.concatenate([-jnp.asarray(influence, float), -jnp.diag(1 / m)], 1)])
-    augmented = jnp.zeros((16, 16)).at[:6, :6].set(a).at[:6, 6:11].set(b).at[6:11, 11:].set(jnp.eye(5))
-    e = jax.scipy.linalg.expm(augmented * time_step)
-    end = e[:6, 11:] / time_step
-    return jnp.concatenate([e[:6, :6], e[:6, 6:11] - end, end], axis=1)
+    return jnp.concatenate(first_order_hold(a, b, time_step), axis=1)
 
 
 def _slab_on_series(*, weight, mass_inertia, centre_of_mass, positions, loads, pendulums, isolator,

@@ -13,19 +13,20 @@ from ..structures import small_dot
 from ._bidirectional import BidirectionalStructure
 from ._bidirectional_models import bidirectional_initial_state
 from ._response import REDUCERS, ResponseLayout, StructureResponse, uplifted
+from ._series_step import initial_isolator, series_step
 from ._structure import WRITTEN_OUT_PRODUCT, StructureOnSliders, initial_state
 from ._structure_build import check_duration, check_storey_height
-from ._triple_structure import StructureOnSeries
 
 
 def _series_of(system, components: int) -> bool:
     """Whether `system` is a structure on series pendulums under `components` ground components."""
-    return isinstance(system, StructureOnSeries) and system.components == components
+    return (isinstance(system, StructureOnSliders) and system.pendulum is not None
+            and system.components == components)
 
 
 def _one_component(system) -> bool:
     """Whether `system` is stepped in one component: on sliders, or on series pendulums along x."""
-    return isinstance(system, StructureOnSliders) or _series_of(system, 1)
+    return isinstance(system, StructureOnSliders) and system.components == 1
 
 
 STEPS_PER_LOOP_PASS = 2
@@ -45,9 +46,9 @@ ratio (with a storey height also "storey_drift_ratio" and "level_acceleration").
 
 
 def response_layout(system) -> ResponseLayout:
-    """The `ResponseLayout` of any structure `systems` builds: a `StructureOnSliders` or
-    `StructureOnSeries` along x (one component: coordinates base, floors), a
-    `StructureOnSeries` with `ground_y` (x block then y block), and a
+    """The `ResponseLayout` of any structure `systems` builds: a `StructureOnSliders` along x
+    (one component: coordinates base, floors), one on series pendulums with `ground_y` (x
+    block then y block), and a
     `BidirectionalStructure`, which carries its own `mass` and `influence` (a rigid mass or
     building: x block then y block; a slab on any isolator's groups: x, y, rotation). Only shapes are read (static under jit)."""
     if _one_component(system):
@@ -123,7 +124,7 @@ def peak_response(system, duration: float, *, reducers=None, smooth=None, disp_w
 
     The engines: a `StructureOnSliders` (flat sliders, single pendulums; the linear part of
     its step one (2n, 2n + 3) product, `StructureOnSliders.step_matrices`), a
-    `StructureOnSeries` (series pendulums, one or two components) and a
+    `StructureOnSliders` on series pendulums (one or two components) and a
     `BidirectionalStructure` (flat sliders and single pendulums under two components,
     without a slab's overturning); each with its
     vertical record if it has one. jit/vmap/grad-safe.
@@ -252,7 +253,7 @@ def _total_acceleration(system, x, force):
 
 
 def _uniaxial_run(system, n_steps) -> _Run:
-    """A `StructureOnSliders` or one-component `StructureOnSeries` stepped by its step matrices (one
+    """A `StructureOnSliders` on any isolator along x stepped by its step matrices (one
     product per step) with the record at every step's end evaluated outside the loop."""
     dt = float(system.time_step)
     times = jnp.arange(n_steps + 1) * dt
@@ -276,7 +277,7 @@ def _series_advance(system, matrices, state, ground1, load1):
     """One step of series pendulums: (state, x1, converged, isolator force beyond K u [N],
     the sample's bearing force and sliders)."""
     x, isolator, ground0, _ = state
-    x1, isolator1, converged, bearing = system.step(x, isolator, ground0, ground1, matrices, load1)
+    x1, isolator1, converged, bearing = series_step(system, x, isolator, ground0, ground1, matrices, load1)
     return (x1, isolator1, ground1, load1), x1, converged, isolator1[3], {"bearing_force": bearing,
                                                                           "slider": isolator1[0]}
 
@@ -312,15 +313,15 @@ def _uniaxial_start(system, ground0, load0):
     """The state at rest of `_uniaxial_run`."""
     dtype = system.mass.dtype
     if _series_of(system, 1):
-        return jnp.zeros(2 * system.mass.shape[-1], dtype), system.initial_isolator(), ground0, load0
+        return jnp.zeros(2 * system.mass.shape[-1], dtype), initial_isolator(system), ground0, load0
     y0 = initial_state(system)
     start_factors = system.friction_factors(y0["v"][0], y0["z_peak"], load0)
     history = (y0["heat"], y0["travel"]) if system.history else ()
     return (jnp.concatenate([y0["u"], y0["v"]]), y0["z"], y0["z_peak"], start_factors, ground0, history, load0)
 
 
-def _biaxial_run(system: StructureOnSeries, n_steps) -> _Run:
-    """Series pendulums under two components (`StructureOnSeries.step` with `ground_y`)."""
+def _biaxial_run(system: StructureOnSliders, n_steps) -> _Run:
+    """Series pendulums under two components (`series_step` with `ground_y`)."""
     dt = float(system.time_step)
     times = jnp.arange(n_steps + 1) * dt
     ground = jax.vmap(system.ground)(times)
@@ -331,14 +332,14 @@ def _biaxial_run(system: StructureOnSeries, n_steps) -> _Run:
     def step(state, inputs):
         x, isolator = state
         time1, ground0, ground1, load1 = inputs
-        x1, isolator1, converged, force = system.step(x, isolator, ground0, ground1, matrices, load1)
+        x1, isolator1, converged, force = series_step(system, x, isolator, ground0, ground1, matrices, load1)
         acceleration = jax.vmap(lambda xd, f: _total_acceleration(linear, xd, f))(x1, isolator1[3])
         sample = StructureResponse(time=time1, displacement=x1[:, :n].reshape(2 * n),
                                    velocity=x1[:, n:].reshape(2 * n), total_acceleration=acceleration.reshape(2 * n),
                                    ground=ground1, bearing_force=force, slider=isolator1[0], load_factor=load1)
         return (x1, isolator1), sample, converged
 
-    start = (jnp.zeros((2, 2 * n), system.mass.dtype), system.initial_isolator())
+    start = (jnp.zeros((2, 2 * n), system.mass.dtype), initial_isolator(system))
     loads = None if system.vertical_acceleration is None else jax.vmap(system.load_factor)(times[1:])
     return _Run(start, (times[1:], ground[:-1], ground[1:], loads), step)
 

@@ -1,9 +1,8 @@
 """One response type for every structure history: a rigid mass, a building or a slab, on flat
 sliders, single pendulums or series pendulums, under one or two ground components.
 
-Every history driver (`simulate_structure`, `simulate_bidirectional`,
-`simulate_triple_structure`, and `simulate_history` for any of their
-systems) returns a `StructureResponse`; the parts a structure does not have are `None`.
+Every history driver (`simulate_history` for any structure, `simulate_structure` and
+`simulate_bidirectional` behind it) returns a `StructureResponse`; the parts a structure does not have are `None`.
 
 The response's quantities (base displacement, base shear, storey drift, level acceleration,
 isolator force, slider travel, ...) are written here once, each on one sample of a

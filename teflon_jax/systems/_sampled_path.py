@@ -47,6 +47,10 @@ from ..bearing import heat_kernel_exponentials as _kernel
 from ..solver import park_path_update, park_substeps, require_riccati_form
 from ._response import BearingTestResult
 
+HEAT_HORIZON = 3600.0
+"""Longest time [s] the heat kernel of a structure represents (the 1/sqrt(t) kernel is
+accurate from one time step to this; an earthquake record is far shorter)."""
+
 
 def sample_velocity(time, u):
     """Velocity [m/s] at the samples of a path: second-order central differences.

@@ -49,7 +49,7 @@ from ..bearing import (
     surface_coefficients,
 )
 from ..solver import park_exact_update
-from ._structure_build import HEAT_HORIZON
+from ._sampled_path import HEAT_HORIZON
 
 
 def slider_forces(pendulum: SeriesPendulum, load, slider0, z0, increment, time_step, factors=None, history=None,
@@ -126,7 +126,7 @@ def balance_forces(p, increment, time_step):
 
 
 FRICTION_VELOCITIES = ("mean", "end")
-"""The velocity at which a step takes Eq. 1 (`StructureOnSeries.friction_velocity`): "mean",
+"""The velocity at which a step takes Eq. 1 (`StructureOnSliders.friction_velocity`): "mean",
 each surface's mean speed over the step, |d_e| c_e / dt, with f_min while Z_e still points back
 (the law of sliders in series, whose massless sliders have no velocity of their own); "end",
 the isolator's velocity at the step's end from the structure's linear step, with mu on the

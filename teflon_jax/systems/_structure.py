@@ -12,12 +12,14 @@ six-storey building of Fig. 11 has 7 (base + six floors).
 Reference: Constantinou, Mokha & Reinhorn (1990), J. Struct. Eng. 116(2), Eqs. 2, 10-13.
 """
 
+import dataclasses
 
 import equinox as eqx
 import jax.numpy as jnp
 
 from ..bearing import (
     ConcaveSurface,
+    SeriesPendulum,
     SlidingBearing,
     bouc_wen_rate,
     bouc_wen_reversal_length,
@@ -26,6 +28,7 @@ from ..excitation import Signal
 from ..solver import AbstractSteppedSystem, require_riccati_form
 from ..structures import newmark_step_matrices, small_dot
 from ._bearing_test import running_peak_rate
+from ._isolator_balance import BALANCES
 from ._isolator_solve import isolator_root, predicted_root
 from ._sampled_path import has_history, history_factor, history_rates, next_history
 from ._vertical import load_factor_at, loaded_isolator_force, loaded_surface_force
@@ -66,7 +69,10 @@ class StructureOnSliders(AbstractSteppedSystem):
 
     - `mass` (n,) [kg]; `stiffness` (n, n) [N/m]; `damping` (n, n) [N s/m] — including
       any restoring spring and viscous damper of the isolation system at index 0.
-    - `bearing`: `SlidingBearing` (ignored when `friction_model == "none"`).
+    - `bearing`: the isolator: a `SlidingBearing` (flat sliders or a single pendulum with
+      `surface`; ignored when `friction_model == "none"`), or a `SeriesPendulum` (S sliders in
+      series, `pendulum`), whose steps balance its sliders (`_series_step.py`: the structure's
+      stiffness then holds the reference spring `reference_stiffness` at the isolator).
     - `bearing_load` W [N]: total normal load on the bearings.
     - `ground_acceleration`: `Signal` of a_g(t) [m/s^2].
     - `time_step` [s] (static): the step `RiccatiNewmark` uses (its Newmark matrix
@@ -101,12 +107,16 @@ class StructureOnSliders(AbstractSteppedSystem):
     - `vertical_acceleration`: `Signal` of a_v(t) [m/s^2, up +] or `None`: the normal load is
       then N = W max(1 + a_v / g, 0), on the friction and on `pendulum_stiffness` W / R [N/m]
       (the part of K[0, 0] the load carries), `_vertical.py` (`with_vertical_motion`).
+    - On a `SeriesPendulum` only: `reference_stiffness` W / R_ref [N/m] held in `stiffness`;
+      `friction_velocity` (static, `FRICTION_VELOCITIES`): "mean" or, one surface, "end";
+      `ground_y`: the y component's `Signal` [m/s^2] (the structure the same along y), or
+      `None`; `balance` (static, `BALANCES`): how a two-component balance is iterated.
     """
 
     mass: jnp.ndarray
     stiffness: jnp.ndarray
     damping: jnp.ndarray
-    bearing: SlidingBearing
+    bearing: SlidingBearing | SeriesPendulum | None
     bearing_load: jnp.ndarray
     ground_acceleration: Signal
     newmark_inverse: jnp.ndarray
@@ -124,6 +134,43 @@ class StructureOnSliders(AbstractSteppedSystem):
     surface: ConcaveSurface | None = None
     vertical_acceleration: Signal | None = None
     pendulum_stiffness: jnp.ndarray | None = None
+    reference_stiffness: jnp.ndarray | None = None
+    friction_velocity: str = eqx.field(static=True, default="mean")
+    ground_y: Signal | None = None
+    balance: str = eqx.field(static=True, default="newton")
+
+    def __check_init__(self):
+        if self.balance not in BALANCES:
+            raise ValueError(f"balance: unknown {self.balance!r}; accepted: {', '.join(BALANCES)}.")
+        if self.ground_y is not None and self.pendulum is None:
+            raise ValueError("ground_y: a structure on flat sliders or single pendulums takes two "
+                             "components as a BidirectionalStructure (bidirectional_structure).")
+
+    @property
+    def pendulum(self) -> SeriesPendulum | None:
+        """The isolator when it is a `SeriesPendulum` (stepped by its sliders' balance), else None."""
+        return self.bearing if isinstance(self.bearing, SeriesPendulum) else None
+
+    @property
+    def components(self) -> int:
+        """C: 1 (the ground along x) or 2 (with `ground_y`)."""
+        return 1 if self.ground_y is None else 2
+
+    @property
+    def uniaxial(self) -> "StructureOnSliders":
+        """The same structure under the x component alone."""
+        return dataclasses.replace(self, ground_y=None)
+
+    def with_y_component(self, ground_y: Signal, balance: str = "newton") -> "StructureOnSliders":
+        """The same structure on series pendulums (the same in x and in y) under the y ground
+        component `ground_y` [m/s^2] too, its planar balance iterated by `balance` (`BALANCES`)."""
+        return dataclasses.replace(self, ground_y=ground_y, balance=balance)
+
+    def ground(self, t):
+        """The ground acceleration at time t [s]: a_x (one component) or (a_x, a_y) [m/s^2]."""
+        if self.ground_y is None:
+            return self.ground_acceleration(t)
+        return jnp.stack([self.ground_acceleration(t), self.ground_y(t)])
 
     def load_factor(self, t):
         """N(t) / W [-] at time t [s] (`normal_load_factor`); `None` without a vertical record."""

@@ -33,6 +33,7 @@ from ..structures import (
 from ..tables import BuildingData
 from ..units import STANDARD_GRAVITY
 from ._response import StructureResponse
+from ._sampled_path import HEAT_HORIZON
 from ._structure import (
     FRICTION_MODELS,
     NEWTON_ITERATIONS,
@@ -120,10 +121,6 @@ STRUCTURE_EFFECTS = ("heating", "wear", "asymmetry")
 stacks): heating and wear, factors on mu held over each step, and the direction asymmetry
 1 + a Z, part of the bearing force solved for in each step. Only the hysteretic friction
 model runs them."""
-
-HEAT_HORIZON = 3600.0
-"""Longest time [s] the heat kernel of a structure represents (the 1/sqrt(t) kernel is
-accurate from one time step to this; an earthquake record is far shorter)."""
 
 
 def _one_direction_refusal(names: str) -> str:
@@ -241,6 +238,9 @@ def simulate_structure(
 
     from ..solver import RiccatiNewmark, solve_on_grid
 
+    if system.pendulum is not None:
+        raise TypeError(f"system: a structure on {system.pendulum.description} balances their sliders at "
+                        "each step; run it with simulate_history.")
     n_steps, steps, save_times = time_grid(system.time_step, duration, save_every, _records(system))
     dt = float(system.time_step)
     solver = RiccatiNewmark() if solver is None else solver

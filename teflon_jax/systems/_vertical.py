@@ -71,8 +71,8 @@ def with_vertical_motion(system, vertical_acceleration: Signal, radius=None):
 
     `system`: any stepped structure, one that has a `vertical_acceleration` field (a
     `StructureOnSliders`, `BidirectionalStructure` — the slab on flat sliders or single
-    pendulums among them, and the slab on series pendulums —, `StructureOnSeries` in one or two
-    components).
+    pendulums among them, and the slab on series pendulums —; a `StructureOnSliders` on series
+    pendulums in one or two components).
 
     A single friction pendulum's structure holds the part W / R of its stiffness that the
     normal load carries (`pendulum_stiffness`, scaled by N / W in each step; W_g / R per group
@@ -90,8 +90,8 @@ def with_vertical_motion(system, vertical_acceleration: Signal, radius=None):
     fields = {field.name for field in dataclasses.fields(system)} if dataclasses.is_dataclass(system) else set()
     if "vertical_acceleration" not in fields:
         raise ValueError("system: expected a stepped structure (StructureOnSliders, BidirectionalStructure, "
-                         f"StructureOnSeries), got {type(system).__name__}.")
-    if "pendulum_stiffness" not in fields or getattr(system, "step_matrix", None) is not None:  # series pendulums
+                         f"on any isolator), got {type(system).__name__}.")
+    if getattr(system, "pendulum", None) is not None:  # series pendulums: the load acts on their sliders
         _no_radius(radius)
         return dataclasses.replace(system, vertical_acceleration=vertical_acceleration)
     stiffness = system.pendulum_stiffness
