@@ -185,7 +185,7 @@ def test_the_monte_carlo_runs_each_composition_on_its_motions_and_joins_them():
                                       progress=lambda done, total: ticks.append((done, total)))
     assert [c[1] for c in calls] == [int(n) for n in counts if n]
     assert [c[2] for c in calls] == list(np.cumsum([0, *counts])[:-1][counts > 0])
-    for (bearing, n, first, bearings, draws), c in zip(calls, mixture.compositions):
+    for (bearing, n, _first, bearings, draws), c in zip(calls, mixture.compositions):
         assert (bearing.breakaway_ratio is None) == (c.bearing.breakaway_ratio is None)
         np.testing.assert_array_equal(draws, motion_draws(n, c.posterior.size, seed=4))
         np.testing.assert_array_equal(np.asarray(bearings.friction.f_max), c.posterior.draws["f_max"])

@@ -337,15 +337,3 @@ def test_run_reports_each_groups_normal_load_on_series_pendulums(tmp_path, capsy
     assert peak["rotation_rad"] > 0  # the slipperier SE group twists the slab
     assert set(payload["slider_disp_m"]["SE"]) == {"inner", "bottom", "top"}
     assert peak["base_disp_x_m"] > 0.01 and peak["bearing_force_ratio_resultant"] > 0.03
-
-
-def test_the_peak_driver_refuses_a_slab_on_series_groups_by_name():
-    """`peak_response` folds flat-slider and single-pendulum groups only: a slab on double
-    pendulum groups is refused before any step, with the driver that runs it named."""
-    from teflon_jax.systems import (
-    peak_response,
-)
-
-    ax, ay = _pulse(0.1, 0.05)
-    with pytest.raises(TypeError, match="simulate_history"):
-        peak_response(_slab(ax, ay, 0.0, DOUBLE), DURATION)

@@ -124,11 +124,11 @@ def bidirectional_initial_state(system: BidirectionalStructure) -> dict:
 
 def check_sliding_groups(system: BidirectionalStructure) -> None:
     """`TypeError` naming the structure where its groups are series pendulums (`SeriesPendulum`):
-    their slab runs with `simulate_bidirectional` / `simulate_history` alone, not with the
-    drivers of sliding groups (`peak_response`)."""
+    their slab steps from `series_initial_state` (`_series_groups.py`), not from the state of
+    sliding groups."""
     if isinstance(system.bearing, SeriesPendulum):
-        raise TypeError("system: a slab on triple or double pendulum groups runs with simulate_history "
-                        "(simulate_bidirectional); peak_response does not run it.")
+        raise TypeError("system: a slab on triple or double pendulum groups starts from series_initial_state; "
+                        "run it with simulate_history or peak_response.")
 
 
 BIDIRECTIONAL_TIME_STEP = 0.0025

@@ -251,6 +251,21 @@ def series_steps(system, duration: float) -> int:
     return n_steps
 
 
+def series_sample(system, time, state, ground) -> StructureResponse:
+    """One sample (no time axis) of the slab's `StructureResponse` at `time` [s] from the step
+    state `state` (`series_initial_state`) and the ground (2,) [m/s^2] then; the driver adds
+    whether the step balanced and the groups' uplift time."""
+    q = state["x"][:3]
+    relative = -(q @ system.stiffness.T + state["extra"]) / system.mass - ground @ system.influence.T
+    rise = None if system.heat_rates is None else jax.vmap(surface_temperature_rises, in_axes=(0, 0, None))(
+        system.bearing, state["heat"], system.heat_weights)
+    return StructureResponse(
+        time=time, displacement=q, velocity=state["x"][3:], total_acceleration=relative + ground @ system.influence.T,
+        ground=ground, bearing_force=state["force"], slider=state["slider"],
+        bearing_displacement=jnp.einsum("gdn,n->gd", system.bearing_map, q), normal_load=state["normal_load"],
+        surface_temperature_rise=rise, tipped=state["tipped"])
+
+
 def simulate_series_groups(system, duration: float) -> StructureResponse:
     """Integrate the slab from rest over `duration` [s] (whole steps), every step kept.
     jit/vmap/grad-safe.
@@ -268,28 +283,13 @@ def simulate_series_groups(system, duration: float) -> StructureResponse:
     time = jnp.arange(n_steps + 1) * dt
     ground = jax.vmap(system.ground)(time)
 
-    def rises(state):
-        if system.heat_rates is None:
-            return None
-        return jax.vmap(surface_temperature_rises, in_axes=(0, 0, None))(system.bearing, state["heat"],
-                                                                          system.heat_weights)
-
     def body(state, inputs):
         new, converged = series_step(system, state, *inputs)
-        return new, (new["x"], new["extra"], new["force"], new["slider"], new["normal_load"], converged,
-                     new["tipped"], rises(new))
+        return new, (series_sample(system, inputs[2], new, inputs[1]), converged)
 
     start = series_initial_state(system)
-    _, out = jax.lax.scan(body, start, (ground[:-1], ground[1:], time[1:]))
-    first = (start["x"], start["extra"], start["force"], start["slider"], start["normal_load"], jnp.array(True),
-             start["tipped"], rises(start))
-    x, extra, force, slider, loads, converged, tipped, rise = (
-        None if b is None else jnp.concatenate([a[None], b]) for a, b in zip(first, out))
-    q = x[:, :3]
-    acceleration = -(q @ system.stiffness.T + extra) / system.mass - ground @ system.influence.T
-    return StructureResponse(
-        time=time, displacement=q, velocity=x[:, 3:], total_acceleration=acceleration + ground @ system.influence.T,
-        ground=ground, bearing_force=force, slider=slider,
-        bearing_displacement=jnp.einsum("gdn,tn->tgd", system.bearing_map, q), normal_load=loads,
-        group_uplift_time=jnp.sum(loads[1:] <= 0, axis=0) * dt, surface_temperature_rise=rise, tipped=tipped,
-        converged=converged)
+    _, (samples, converged) = jax.lax.scan(body, start, (ground[:-1], ground[1:], time[1:]))
+    first = series_sample(system, time[0], start, ground[0])
+    response = jax.tree_util.tree_map(lambda a, b: jnp.concatenate([a[None], b]), first, samples)
+    return dataclasses.replace(response, converged=jnp.concatenate([jnp.array([True]), converged]),
+                               group_uplift_time=jnp.sum(response.normal_load[1:] <= 0, axis=0) * dt)

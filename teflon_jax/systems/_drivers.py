@@ -1,8 +1,10 @@
-"""One peak driver for every stepped structure: `peak_response` runs a rigid mass or a building
-on flat sliders, single, double or triple pendulums, under one or two ground components and a
-vertical record, and folds the response's peak quantities (`REDUCERS`, written once on one
-sample of a `StructureResponse`) along the run, keeping running and smooth maxima and never
-the history: the memory per run is that of its record."""
+"""The drivers of every stepped structure, a rigid mass, a building or a slab on flat sliders,
+single, double or triple pendulums, under one or two ground components and a vertical record:
+one history driver (`simulate_history`, every step's `StructureResponse`) and one peak driver
+(`peak_response`, which folds the response's peak quantities, `REDUCERS` written once on one
+sample of a `StructureResponse`, along the run, keeping running and smooth maxima and never
+the history: the memory per run is that of its record). Each chooses the structure's step by
+its type and its isolator's."""
 
 import typing
 
@@ -11,11 +13,13 @@ import jax.numpy as jnp
 
 from ..structures import small_dot
 from ._bidirectional import BidirectionalStructure
-from ._bidirectional_models import bidirectional_initial_state
+from ._bidirectional_models import bidirectional_initial_state, simulate_bidirectional
 from ._response import REDUCERS, ResponseLayout, StructureResponse, uplifted
-from ._series_step import initial_isolator, series_step
+from ._series_groups import series_initial_state, series_sample, series_steps
+from ._series_groups import series_step as group_step
+from ._series_step import initial_isolator, series_step, simulate_on_series
 from ._structure import WRITTEN_OUT_PRODUCT, StructureOnSliders, initial_state
-from ._structure_build import check_duration, check_storey_height
+from ._structure_build import check_duration, check_storey_height, simulate_structure
 
 
 def _series_of(system, components: int) -> bool:
@@ -126,8 +130,8 @@ def peak_response(system, duration: float, *, reducers=None, smooth=None, disp_w
     its step one (2n, 2n + 3) product, `StructureOnSliders.step_matrices`), a
     `StructureOnSliders` on series pendulums (one or two components) and a
     `BidirectionalStructure` (flat sliders and single pendulums under two components,
-    without a slab's overturning); each with its
-    vertical record if it has one. jit/vmap/grad-safe.
+    without a slab's overturning; a slab on groups of series pendulums, with its overturning);
+    each with its vertical record if it has one. jit/vmap/grad-safe.
 
     **Arguments:**
 
@@ -220,6 +224,9 @@ def _engine_run(system, duration):
     if _series_of(system, 2):
         n_steps = check_duration(system.uniaxial, duration)
         return n_steps, _biaxial_run(system, n_steps)
+    if isinstance(system, BidirectionalStructure) and system.pendulum is not None:
+        n_steps = series_steps(system, duration)
+        return n_steps, _series_groups_run(system, n_steps)
     if isinstance(system, BidirectionalStructure):
         if system.overturning is not None:
             raise ValueError("system: the peaks in a scan do not carry the slab's overturning loads; "
@@ -231,8 +238,8 @@ def _engine_run(system, duration):
         if system.vertical_acceleration is not None:
             system.vertical_acceleration.require_covers(n_steps * dt, "duration (vertical record)")
         return n_steps, _bidirectional_run(system, n_steps)
-    raise TypeError(f"system: no peak driver for a {type(system).__name__}; give a rigid mass or building "
-                    "built by teflon_jax.systems (a slab runs with simulate_history).")
+    raise TypeError(f"system: no peak driver for a {type(system).__name__}; give a structure built by "
+                    "teflon_jax.systems (rigid mass, building or slab on its isolators).")
 
 
 def _sample(time, x, total_acceleration, ground, load, **parts):
@@ -344,6 +351,20 @@ def _biaxial_run(system: StructureOnSliders, n_steps) -> _Run:
     return _Run(start, (times[1:], ground[:-1], ground[1:], loads), step)
 
 
+def _series_groups_run(system: BidirectionalStructure, n_steps) -> _Run:
+    """A slab on groups of series pendulums (`_series_groups.py`), its overturning and vertical
+    loads in the step, each sample the history's (`series_sample`)."""
+    times = jnp.arange(n_steps + 1) * float(system.time_step)
+    ground = jax.vmap(system.ground)(times)
+
+    def step(state, inputs):
+        time1, ground0, ground1 = inputs
+        new, converged = group_step(system, state, ground0, ground1, time1)
+        return new, series_sample(system, time1, new, ground1), converged
+
+    return _Run(series_initial_state(system), (times[1:], ground[:-1], ground[1:]), step)
+
+
 def _bidirectional_run(system: BidirectionalStructure, n_steps) -> _Run:
     """Flat sliders or single pendulums under two components (`newmark_update`), the
     accelerations the equation of motion's at each step's end."""
@@ -412,3 +433,22 @@ class Peaks(dict):
 def peak_arrays(peaks: Peaks, components=None) -> dict:
     """{Monte Carlo name: array} (`MONTE_CARLO_PEAKS`) of the peaks kept in `peaks`."""
     return {name: getattr(peaks, name) for name, key in MONTE_CARLO_PEAKS.items() if key in peaks}
+
+
+def simulate_history(system, duration: float, **options) -> StructureResponse:
+    """Integrate `system` from rest over `duration` [s] with its engine and return its
+    `StructureResponse`: a `StructureOnSliders` on flat sliders or single pendulums
+    (`simulate_structure`; `options` are its keywords) or on series pendulums in one or two
+    components (their sliders balanced at each step, `_series_step.py`; no options), or a
+    `BidirectionalStructure` on any isolator's groups (`simulate_bidirectional`)."""
+    if isinstance(system, StructureOnSliders) and system.pendulum is not None:
+        if options:
+            raise ValueError(f"{', '.join(options)}: a structure on series pendulums steps at its time_step and "
+                             "keeps every step; drop these options.")
+        return simulate_on_series(system, duration)
+    drivers = {StructureOnSliders: simulate_structure, BidirectionalStructure: simulate_bidirectional}
+    for kind, driver in drivers.items():
+        if isinstance(system, kind):
+            return driver(system, duration, **options)
+    raise TypeError(f"system: no history driver for a {type(system).__name__}; give a structure built by "
+                    "teflon_jax.systems (rigid mass, building or slab on its isolators).")
