@@ -148,6 +148,7 @@ def test_away_from_the_kink_there_is_no_contact_and_central_differences_agree(pr
     assert gradient["disp"]["capacity"] == 0.0 and gradient["shear"]["radius"] != 0.0
 
 
+@pytest.mark.slow
 def test_a_wrong_derivative_in_the_capacity_fails_the_one_sided_check(problem):
     """Through `design_gradient_check`, as `optimise_design` calls it."""
     structure, records, bounds, largest = problem

@@ -80,7 +80,7 @@ def _weights(mixture) -> dict:
     return {frozenset(row["effects"]): row["weight"] for row in mixture.table}
 
 
-@pytest.mark.parametrize("noise", [0.0, 0.015])
+@pytest.mark.parametrize("noise", [0.0, pytest.param(0.015, marks=pytest.mark.slow)])
 def test_the_weights_favour_the_composition_the_record_was_made_with(noise):
     """A record made with breakaway (Eq. 17), without noise and with 1.5 % noise: the
     composition of Eq. 1 with breakaway carries most of the weight, and Eq. 1 alone none; the

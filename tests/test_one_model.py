@@ -205,6 +205,7 @@ def test_a_given_bearing_runs_as_table_1s_in_a_structure():
         given.isolation({"pressure": 2000 * PSI})
 
 
+@pytest.mark.slow
 def test_a_cold_unworn_bearing_with_history_runs_as_the_plain_one():
     """Heating at heat_scale 0 and wear at change 0 carry their states through every step and
     leave the peaks of the plain bearing (Monte Carlo's peak loop and the full simulation)."""

@@ -265,6 +265,7 @@ def test_run_refuses_bad_plans_by_key(tmp_path, capsys, flags, group, height, me
     assert message in capsys.readouterr().err
 
 
+@pytest.mark.slow
 def test_run_reports_each_groups_normal_load(tmp_path, capsys):
     """`run --structure slab --isolator single-fp` with a height: per group the static, peak
     and least normal load and the uplift time; the plan's radius overrides --radius; x motion
