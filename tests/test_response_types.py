@@ -26,6 +26,7 @@ from teflon_jax.systems import (
     smooth_max,
     smooth_max_update,
     smooth_max_value,
+    structure_on_sliders,
     triple_structure,
 )
 
@@ -65,6 +66,19 @@ def test_one_driver_returns_each_engines_response():
         simulate_history(series, 1.0, save_every=2)
     with pytest.raises(TypeError, match="system: no history driver"):
         simulate_history(TRIPLE, 1.0)
+
+
+def test_the_one_structure_refuses_by_name_what_its_isolator_does_not_take():
+    """Series pendulums go on a linear structure through `structure_on_isolator`; a y component
+    on flat sliders is the `BidirectionalStructure`'s; a planar balance is one of `BALANCES`."""
+    gx, gy = _signals()
+    with pytest.raises(ValueError, match="bearing: triple friction pendulums .* structure_on_isolator"):
+        structure_on_sliders(mass=1e4, stiffness=0.0, damping=0.0, bearing=TRIPLE, bearing_load=1e5,
+                             ground_acceleration=gx, time_step=0.01)
+    with pytest.raises(ValueError, match="ground_y: .* BidirectionalStructure"):
+        isolated_structure("rigid")(gx).with_y_component(gy)
+    with pytest.raises(ValueError, match="balance: unknown 'broyden'; accepted: newton, secant"):
+        triple_structure("rigid", TRIPLE, gx, time_step=0.005, ground_y=gy, balance="broyden")
 
 
 def test_every_history_has_the_ground_as_an_axis_and_total_accelerations():

@@ -21,7 +21,12 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..bearing import SlidingBearing, check_bearing, heat_kernel_exponentials
+from ..bearing import (
+    SeriesPendulum,
+    SlidingBearing,
+    check_bearing,
+    heat_kernel_exponentials,
+)
 from ..excitation import Signal
 from ..solver import require_riccati_form
 from ..structures import (
@@ -82,6 +87,10 @@ def structure_on_sliders(
     damping = jnp.asarray(damping, dtype=float).reshape(mass.shape[:-1] + (n, n))
     if not time_step > 0:
         raise ValueError(f"time_step: must be > 0 s, got {time_step}.")
+    if isinstance(bearing, SeriesPendulum):
+        raise ValueError(f"bearing: {bearing.description} balance their sliders at each step; build the linear "
+                         "structure with bearing=None, friction_model='none' and put it on them with "
+                         "structure_on_isolator(linear, pendulum).")
     if friction_model != "none":
         if bearing is None:
             raise ValueError("bearing: a SlidingBearing is needed unless friction_model='none'.")
