@@ -4,9 +4,12 @@ one history driver (`simulate_history`, every step's `StructureResponse`) and on
 (`peak_response`, which folds the response's peak quantities, `REDUCERS` written once on one
 sample of a `StructureResponse`, along the run, keeping running and smooth maxima and never
 the history: the memory per run is that of its record). Each chooses the structure's step by
-its type and its isolator's."""
+its type and its isolator's. A stepped engine gives its run as an `EngineRun` (start, inputs,
+step, sample at rest): the peak driver folds its samples, and `run_history` keeps them, so a
+history and its peaks are the same samples; the flat sliders' histories come from their solve
+on a grid (`simulate_structure`, `simulate_bidirectional`: any diffrax solver)."""
 
-import typing
+import dataclasses
 
 import jax
 import jax.numpy as jnp
@@ -14,12 +17,19 @@ import jax.numpy as jnp
 from ..structures import small_dot
 from ._bidirectional import BidirectionalStructure
 from ._bidirectional_models import bidirectional_initial_state, simulate_bidirectional
-from ._response import REDUCERS, ResponseLayout, StructureResponse, uplifted
-from ._series_groups import series_initial_state, series_sample, series_steps
-from ._series_groups import series_step as group_step
-from ._series_step import initial_isolator, series_step, simulate_on_series
+from ._response import (
+    REDUCERS,
+    EngineRun,
+    ResponseLayout,
+    StructureResponse,
+    run_history,
+    uplifted,
+)
+from ._series_groups import series_groups_run, series_steps
+from ._series_step import series_run
 from ._structure import WRITTEN_OUT_PRODUCT, StructureOnSliders, initial_state
 from ._structure_build import check_duration, check_storey_height, simulate_structure
+from ._vertical import uplift_steps
 
 
 def _series_of(system, components: int) -> bool:
@@ -110,15 +120,6 @@ def smooth_max_value(top, total, count, width):
     """`smooth_max` M_w = top + w log(total / count) of `count` samples from their running
     (top, total) (`smooth_max_update`)."""
     return top + width * jnp.log(total / count)
-
-
-class _Run(typing.NamedTuple):
-    """How an engine runs from rest: `start` state, per-step `inputs` (leading axis n_steps),
-    `step(state, inputs) -> (state, sample StructureResponse, converged)`."""
-
-    start: object
-    inputs: object
-    step: typing.Callable
 
 
 def peak_response(system, duration: float, *, reducers=None, smooth=None, disp_width=None, shear_width=None,
@@ -217,16 +218,16 @@ def _check_loop_settings(read_every, steps_per_pass) -> None:
 
 
 def _engine_run(system, duration):
-    """(n_steps, `_Run`) of `system`'s engine over `duration` [s] (checked)."""
+    """(n_steps, `EngineRun`) of `system`'s engine over `duration` [s] (checked)."""
+    if isinstance(system, StructureOnSliders) and system.pendulum is not None:  # one or two components
+        n_steps = check_duration(system, duration)
+        return n_steps, series_run(system, n_steps)
     if _one_component(system):
         n_steps = check_duration(system, duration)
         return n_steps, _uniaxial_run(system, n_steps)
-    if _series_of(system, 2):
-        n_steps = check_duration(system.uniaxial, duration)
-        return n_steps, _biaxial_run(system, n_steps)
     if isinstance(system, BidirectionalStructure) and system.pendulum is not None:
         n_steps = series_steps(system, duration)
-        return n_steps, _series_groups_run(system, n_steps)
+        return n_steps, series_groups_run(system, n_steps)
     if isinstance(system, BidirectionalStructure):
         if system.overturning is not None:
             raise ValueError("system: the peaks in a scan do not carry the slab's overturning loads; "
@@ -259,34 +260,23 @@ def _total_acceleration(system, x, force):
     return -inner.at[0].add(force) / system.mass
 
 
-def _uniaxial_run(system, n_steps) -> _Run:
-    """A `StructureOnSliders` on any isolator along x stepped by its step matrices (one
-    product per step) with the record at every step's end evaluated outside the loop."""
+def _uniaxial_run(system, n_steps) -> EngineRun:
+    """A `StructureOnSliders` on flat sliders or single pendulums stepped by its step matrices
+    (one product per step) with the record at every step's end evaluated outside the loop."""
     dt = float(system.time_step)
     times = jnp.arange(n_steps + 1) * dt
     ground = jax.vmap(system.ground_acceleration)(times)
     loads = None if system.vertical_acceleration is None else jax.vmap(system.load_factor)(times)
     matrices = system.step_matrices()
-    series = _series_of(system, 1)
 
     def step(state, inputs):
         time1, ground1, load1 = inputs
-        state, x1, converged, force, part = (_series_advance if series else _sliders_advance)(
-            system, matrices, state, ground1, load1)
+        state, x1, converged, force, part = _sliders_advance(system, matrices, state, ground1, load1)
         sample = _sample(time1, x1, _total_acceleration(system, x1, force), ground1[None], load1, **part)
         return state, sample, converged
 
     start = _uniaxial_start(system, ground[0], None if loads is None else loads[0])
-    return _Run(start, (times[1:], ground[1:], None if loads is None else loads[1:]), step)
-
-
-def _series_advance(system, matrices, state, ground1, load1):
-    """One step of series pendulums: (state, x1, converged, isolator force beyond K u [N],
-    the sample's bearing force and sliders)."""
-    x, isolator, ground0, _ = state
-    x1, isolator1, converged, bearing = series_step(system, x, isolator, ground0, ground1, matrices, load1)
-    return (x1, isolator1, ground1, load1), x1, converged, isolator1[3], {"bearing_force": bearing,
-                                                                          "slider": isolator1[0]}
+    return EngineRun(start, (times[1:], ground[1:], None if loads is None else loads[1:]), step)
 
 
 def _sliders_advance(system, matrices, state, ground1, load1):
@@ -318,54 +308,13 @@ def _sliders_advance(system, matrices, state, ground1, load1):
 
 def _uniaxial_start(system, ground0, load0):
     """The state at rest of `_uniaxial_run`."""
-    dtype = system.mass.dtype
-    if _series_of(system, 1):
-        return jnp.zeros(2 * system.mass.shape[-1], dtype), initial_isolator(system), ground0, load0
     y0 = initial_state(system)
     start_factors = system.friction_factors(y0["v"][0], y0["z_peak"], load0)
     history = (y0["heat"], y0["travel"]) if system.history else ()
     return (jnp.concatenate([y0["u"], y0["v"]]), y0["z"], y0["z_peak"], start_factors, ground0, history, load0)
 
 
-def _biaxial_run(system: StructureOnSliders, n_steps) -> _Run:
-    """Series pendulums under two components (`series_step` with `ground_y`)."""
-    dt = float(system.time_step)
-    times = jnp.arange(n_steps + 1) * dt
-    ground = jax.vmap(system.ground)(times)
-    linear = system.uniaxial
-    matrices = linear.step_matrices()
-    n = system.mass.shape[-1]
-
-    def step(state, inputs):
-        x, isolator = state
-        time1, ground0, ground1, load1 = inputs
-        x1, isolator1, converged, force = series_step(system, x, isolator, ground0, ground1, matrices, load1)
-        acceleration = jax.vmap(lambda xd, f: _total_acceleration(linear, xd, f))(x1, isolator1[3])
-        sample = StructureResponse(time=time1, displacement=x1[:, :n].reshape(2 * n),
-                                   velocity=x1[:, n:].reshape(2 * n), total_acceleration=acceleration.reshape(2 * n),
-                                   ground=ground1, bearing_force=force, slider=isolator1[0], load_factor=load1)
-        return (x1, isolator1), sample, converged
-
-    start = (jnp.zeros((2, 2 * n), system.mass.dtype), initial_isolator(system))
-    loads = None if system.vertical_acceleration is None else jax.vmap(system.load_factor)(times[1:])
-    return _Run(start, (times[1:], ground[:-1], ground[1:], loads), step)
-
-
-def _series_groups_run(system: BidirectionalStructure, n_steps) -> _Run:
-    """A slab on groups of series pendulums (`_series_groups.py`), its overturning and vertical
-    loads in the step, each sample the history's (`series_sample`)."""
-    times = jnp.arange(n_steps + 1) * float(system.time_step)
-    ground = jax.vmap(system.ground)(times)
-
-    def step(state, inputs):
-        time1, ground0, ground1 = inputs
-        new, converged = group_step(system, state, ground0, ground1, time1)
-        return new, series_sample(system, time1, new, ground1), converged
-
-    return _Run(series_initial_state(system), (times[1:], ground[:-1], ground[1:]), step)
-
-
-def _bidirectional_run(system: BidirectionalStructure, n_steps) -> _Run:
+def _bidirectional_run(system: BidirectionalStructure, n_steps) -> EngineRun:
     """Flat sliders or single pendulums under two components (`newmark_update`), the
     accelerations the equation of motion's at each step's end."""
     dt = float(system.time_step)
@@ -386,7 +335,7 @@ def _bidirectional_run(system: BidirectionalStructure, n_steps) -> _Run:
                                    load_factor=load1)
         return (y1, a1), sample, converged
 
-    return _Run((y0, a0), (times[1:], ground[1:], None if loads is None else loads[1:]), step)
+    return EngineRun((y0, a0), (times[1:], ground[1:], None if loads is None else loads[1:]), step)
 
 
 MONTE_CARLO_PEAKS = {"base_disp": "base_disp_resultant", "base_shear_ratio": "base_shear_ratio_resultant",
@@ -445,7 +394,11 @@ def simulate_history(system, duration: float, **options) -> StructureResponse:
         if options:
             raise ValueError(f"{', '.join(options)}: a structure on series pendulums steps at its time_step and "
                              "keeps every step; drop these options.")
-        return simulate_on_series(system, duration)
+        n_steps = check_duration(system, duration)
+        response = run_history(series_run(system, n_steps))
+        if system.vertical_acceleration is None:
+            return response
+        return dataclasses.replace(response, uplift_time=uplift_steps(system, n_steps) * system.time_step)
     drivers = {StructureOnSliders: simulate_structure, BidirectionalStructure: simulate_bidirectional}
     for kind, driver in drivers.items():
         if isinstance(system, kind):

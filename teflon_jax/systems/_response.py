@@ -1,8 +1,9 @@
 """One response type for every structure history: a rigid mass, a building or a slab, on flat
 sliders, single pendulums or series pendulums, under one or two ground components.
 
-Every history driver (`simulate_history` for any structure, `simulate_structure` and
-`simulate_bidirectional` behind it) returns a `StructureResponse`; the parts a structure does not have are `None`.
+Every history (`simulate_history` for any structure; behind it `simulate_structure`,
+`simulate_bidirectional` and `run_history` of a stepped engine's `EngineRun`) is a
+`StructureResponse`; the parts a structure does not have are `None`.
 
 The response's quantities (base displacement, base shear, storey drift, level acceleration,
 isolator force, slider travel, ...) are written here once, each on one sample of a
@@ -22,10 +23,12 @@ slab m (a + a_g) / (m g). The first-storey shear (`first_storey_shear_ratio`) is
 the floors alone over their weight.
 """
 
+import dataclasses
 import typing
 
 import diffrax
 import equinox as eqx
+import jax
 import jax.numpy as jnp
 import numpy as np
 
@@ -94,6 +97,30 @@ class StructureResponse(eqx.Module):
         if self.result is not None:
             return self.result == diffrax.RESULTS.successful
         return jnp.all(self.converged, axis=-1)
+
+
+class EngineRun(typing.NamedTuple):
+    """How a stepped engine runs from rest: its `start` state, the per-step `inputs` (leading
+    axis n_steps), `step(state, inputs) -> (state, sample, converged)` with the sample a
+    `StructureResponse` without a time axis, and `first`, the sample at rest (t = 0), which a
+    history keeps (`run_history`) and the peak driver does not need (`None`)."""
+
+    start: object
+    inputs: object
+    step: typing.Callable
+    first: "StructureResponse | None" = None
+
+
+def run_history(run: EngineRun) -> "StructureResponse":
+    """Every step of `run` kept after its sample at rest, each with whether its step converged
+    (True at rest): the same samples the peak driver folds. jit/vmap/grad-safe."""
+    def body(state, inputs):
+        state, sample, converged = run.step(state, inputs)
+        return state, dataclasses.replace(sample, converged=converged)
+
+    _, samples = jax.lax.scan(body, run.start, run.inputs)
+    first = dataclasses.replace(run.first, converged=jnp.array(True))
+    return jax.tree_util.tree_map(lambda a, b: jnp.concatenate([a[None], b]), first, samples)
 
 
 class BearingTestResult(eqx.Module):

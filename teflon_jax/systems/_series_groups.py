@@ -47,7 +47,7 @@ from ._isolator_balance import (
     predicted_increments,
     uplift_increments,
 )
-from ._response import StructureResponse
+from ._response import EngineRun, StructureResponse, run_history
 from ._slider_forces import (
     heated_step,
     initial_history,
@@ -266,6 +266,21 @@ def series_sample(system, time, state, ground) -> StructureResponse:
         surface_temperature_rise=rise, tipped=state["tipped"])
 
 
+def series_groups_run(system, n_steps: int) -> EngineRun:
+    """The `EngineRun` of the slab on series pendulum groups over `n_steps` steps from rest,
+    each sample `series_sample`'s."""
+    time = jnp.arange(n_steps + 1) * float(system.time_step)
+    ground = jax.vmap(system.ground)(time)
+
+    def step(state, inputs):
+        ground0, ground1, time1 = inputs
+        new, converged = series_step(system, state, ground0, ground1, time1)
+        return new, series_sample(system, time1, new, ground1), converged
+
+    start = series_initial_state(system)
+    return EngineRun(start, (ground[:-1], ground[1:], time[1:]), step, series_sample(system, time[0], start, ground[0]))
+
+
 def simulate_series_groups(system, duration: float) -> StructureResponse:
     """Integrate the slab from rest over `duration` [s] (whole steps), every step kept.
     jit/vmap/grad-safe.
@@ -279,17 +294,5 @@ def simulate_series_groups(system, duration: float) -> StructureResponse:
     `supported_loads`); `surface_temperature_rise` (nt, G, S) [K] (`surface_temperature_rises`;
     0 on a surface without heating), `None` where no surface heats."""
     dt = float(system.time_step)
-    n_steps = series_steps(system, duration)
-    time = jnp.arange(n_steps + 1) * dt
-    ground = jax.vmap(system.ground)(time)
-
-    def body(state, inputs):
-        new, converged = series_step(system, state, *inputs)
-        return new, (series_sample(system, inputs[2], new, inputs[1]), converged)
-
-    start = series_initial_state(system)
-    _, (samples, converged) = jax.lax.scan(body, start, (ground[:-1], ground[1:], time[1:]))
-    first = series_sample(system, time[0], start, ground[0])
-    response = jax.tree_util.tree_map(lambda a, b: jnp.concatenate([a[None], b]), first, samples)
-    return dataclasses.replace(response, converged=jnp.concatenate([jnp.array([True]), converged]),
-                               group_uplift_time=jnp.sum(response.normal_load[1:] <= 0, axis=0) * dt)
+    response = run_history(series_groups_run(system, series_steps(system, duration)))
+    return dataclasses.replace(response, group_uplift_time=jnp.sum(response.normal_load[1:] <= 0, axis=0) * dt)

@@ -51,7 +51,7 @@ from ._isolator_balance import (
     predicted_increments,
     slider_step,
 )
-from ._response import StructureResponse
+from ._response import EngineRun, StructureResponse
 from ._slider_forces import (
     FRICTION_VELOCITIES,
     end_velocity,
@@ -59,8 +59,7 @@ from ._slider_forces import (
     series_heat_kernel,
 )
 from ._structure import StructureOnSliders
-from ._structure_build import check_duration, rigid_mass, six_storey_building
-from ._vertical import uplift_steps
+from ._structure_build import rigid_mass, six_storey_building
 
 
 def initial_isolator(system):
@@ -191,39 +190,34 @@ def total_acceleration(system: StructureOnSliders, x, extra):
     return -force.at[..., 0].add(extra) / system.mass
 
 
-def simulate_on_series(system: StructureOnSliders, duration: float) -> StructureResponse:
-    """Integrate `system` (a structure on a `SeriesPendulum`; `simulate_history`) from rest over `duration` [s] (rounded down to whole steps) and keep
-    every step. jit/vmap/grad-safe.
-
-    **Returns:** a `StructureResponse`: coordinates (nt, n), or (nt, 2n) the x block then the
-    y block; `ground` (nt, C); the isolator's `bearing_force` (nt[, 2]) [N], its sliders'
-    `slider` and `z` (nt, S[, 2]), `converged` (nt,); with a vertical record `load_factor`
-    (nt,) (a step holds its end's) and `uplift_time` [s]."""
+def series_run(system: StructureOnSliders, n_steps: int) -> EngineRun:
+    """The `EngineRun` of `system` (a structure on a `SeriesPendulum`, one or two components)
+    over `n_steps` steps from rest: each sample's coordinates (n,), or (2n,) the x block then
+    the y block; `ground` (C,); the isolator's `bearing_force` [N] ((,) or (2,)), its
+    sliders' `slider` and `z` (S[, 2]); with a vertical record `load_factor` (a step holds its
+    end's)."""
     dt = float(system.time_step)
-    n_steps = check_duration(system, duration)
-    n = system.mass.shape[-1]
     time = jnp.arange(n_steps + 1) * dt
     ground = jax.vmap(system.ground)(time)
     matrices = system.step_matrices()
     loads = None if system.vertical_acceleration is None else jax.vmap(system.load_factor)(time)
+    n = system.mass.shape[-1]
 
-    def body(carry, grounds):
-        x, isolator = carry
-        x1, isolator1, converged, force = series_step(system, x, isolator, grounds[0], grounds[1], matrices,
-                                                     grounds[2])
-        out = (x1, force, isolator1[0], isolator1[1], converged, total_acceleration(system, x1, isolator1[3]))
-        return (x1, isolator1), out
+    def sample(time1, x, force, isolator, acceleration, ground1, load):
+        return StructureResponse(time=time1, displacement=x[..., :n].reshape(-1), velocity=x[..., n:].reshape(-1),
+                                 total_acceleration=acceleration.reshape(-1), ground=jnp.reshape(ground1, (-1,)),
+                                 bearing_force=force, slider=isolator[0], z=isolator[1], load_factor=load)
+
+    def step(state, inputs):
+        x, isolator = state
+        time1, ground0, ground1, load1 = inputs
+        x1, isolator1, converged, force = series_step(system, x, isolator, ground0, ground1, matrices, load1)
+        acceleration = total_acceleration(system, x1, isolator1[3])
+        return (x1, isolator1), sample(time1, x1, force, isolator1, acceleration, ground1, load1), converged
 
     plane = () if system.ground_y is None else (2,)
     x0 = jnp.zeros(plane + (2 * n,), system.mass.dtype)
     start = (x0, initial_isolator(system))
-    _, out = jax.lax.scan(body, start, (ground[:-1], ground[1:], None if loads is None else loads[1:]))
-    zeros_s = jnp.zeros((system.pendulum.slider_count,) + plane, x0.dtype)
-    first = (x0, jnp.zeros(plane), zeros_s, zeros_s, jnp.array(True), jnp.zeros(plane + (n,), x0.dtype))
-    x, force, slider, z, converged, acc = (jnp.concatenate([a[None], b]) for a, b in zip(first, out))
-    nt = n_steps + 1
-    return StructureResponse(
-        time=time, displacement=x[..., :n].reshape(nt, -1), velocity=x[..., n:].reshape(nt, -1),
-        total_acceleration=acc.reshape(nt, -1), ground=ground.reshape(nt, -1), bearing_force=force,
-        slider=slider, z=z, converged=converged, load_factor=loads,
-        uplift_time=None if loads is None else uplift_steps(system, n_steps) * dt)
+    first = sample(time[0], x0, jnp.zeros(plane), start[1], jnp.zeros(plane + (n,), x0.dtype), ground[0],
+                   None if loads is None else loads[0])
+    return EngineRun(start, (time[1:], ground[:-1], ground[1:], None if loads is None else loads[1:]), step, first)
