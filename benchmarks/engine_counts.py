@@ -13,8 +13,8 @@ bearing law is written out.
 - the stepped systems of `systems/` (classes with a `step`, `newmark_update` or `propagated_step`
   method);
 - the equilibrium iterations of `systems/` and `solver/` (`while_loop` call sites);
-- the history drivers (functions of `systems/` that `scan` and are named `simulate_*` or
-  `*_histories`) and the peak drivers (functions of `systems/` and `studies/` that `scan` and are
+- the history drivers (functions of `systems/` that `scan` and are named `simulate_*`,
+  `*_history` or `*_histories`) and the peak drivers (functions of `systems/` and `studies/` that `scan` and are
   named after peaks or uplift).
 Nothing is run: the counts are read from the files.
 """
@@ -51,7 +51,7 @@ def _scanning(text: str, named) -> int:
 
 
 def _is_history(name: str) -> bool:
-    return name.startswith("simulate_") or name.endswith("_histories")
+    return name.startswith("simulate_") or name.endswith(("_histories", "_history"))
 
 
 def _is_peaks(name: str) -> bool:
