@@ -1,4 +1,7 @@
-"""Linear structures on sliding bearings under ground acceleration.
+"""Linear structures on sliding bearings under ground acceleration: the one structure on a
+single isolator, whose step below serves flat sliders and single pendulums, and whose isolator
+may be a friction pendulum of sliders in series instead (`bearing` a `SeriesPendulum`, stepped by
+`_series_step.py`).
 
 Equations of motion in displacements relative to the ground (degree of freedom 0 is the
 isolator, i.e. the base slab sliding on the bearings):
