@@ -79,6 +79,9 @@ def test_the_one_structure_refuses_by_name_what_its_isolator_does_not_take():
         isolated_structure("rigid")(gx).with_y_component(gy)
     with pytest.raises(ValueError, match="balance: unknown 'broyden'; accepted: newton, secant"):
         triple_structure("rigid", TRIPLE, gx, time_step=0.005, ground_y=gy, balance="broyden")
+    short_y = uniform_signal(AY[:50], STEP)  # the y record ends at 0.49 s
+    with pytest.raises(ValueError, match=r"duration \(y record\)"):
+        simulate_history(triple_structure("rigid", TRIPLE, gx, time_step=0.005, ground_y=short_y), 1.0)
 
 
 def test_every_history_has_the_ground_as_an_axis_and_total_accelerations():

@@ -212,7 +212,8 @@ def check_duration(system: StructureOnSliders, duration: float) -> int:
 
 
 def _records(system: StructureOnSliders) -> tuple:
-    return ((system.ground_acceleration, "duration"), (system.vertical_acceleration, "duration (vertical record)"))
+    return ((system.ground_acceleration, "duration"), (system.ground_y, "duration (y record)"),
+            (system.vertical_acceleration, "duration (vertical record)"))
 
 
 def simulate_structure(
