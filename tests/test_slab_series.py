@@ -78,13 +78,17 @@ def test_symmetric_slab_moves_as_the_rigid_mass_on_one_pendulum(isolator):
     pendulum = PENDULUMS[isolator]
     ax, ay = _pulse(0.35, 0.0)
     one = triple_structure("rigid", pendulum, uniform_signal(ax, DT_RECORD), time_step=STEP, weight=W)
-    reference = np.asarray(simulate_history(one, DURATION).displacement[:, 0])
+    rigid = simulate_history(one, DURATION)
+    reference = np.asarray(rigid.displacement[:, 0])
+    acceleration = np.asarray(rigid.total_acceleration[:, 0])  # the base shear over the mass
     assert np.max(np.abs(reference)) > 0.1  # the outer surfaces slide
     for height in (0.0, 4.0):
         response = simulate(_slab(ax, ay, height, pendulum), DURATION)
         assert bool(np.all(response.converged))
         assert np.max(np.abs(np.asarray(response.displacement[:, 0]) - reference)) < 1e-9
         assert np.max(np.abs(response.displacement[:, 1:])) < 1e-12
+        np.testing.assert_allclose(np.asarray(response.total_acceleration[:, 0]), acceleration, rtol=0,
+                                   atol=1e-6 * np.max(np.abs(acceleration)))
     loads = np.asarray(response.normal_load)
     assert np.ptp(loads[:, 0]) > 0.05 * W / 4  # the loads did move
     assert np.allclose(loads.sum(axis=1), W, rtol=1e-12)

@@ -32,15 +32,10 @@ from ._structure_build import check_duration, check_storey_height, simulate_stru
 from ._vertical import uplift_steps
 
 
-def _series_of(system, components: int) -> bool:
-    """Whether `system` is a structure on series pendulums under `components` ground components."""
-    return (isinstance(system, StructureOnSliders) and system.pendulum is not None
-            and system.components == components)
-
-
-def _one_component(system) -> bool:
-    """Whether `system` is stepped in one component: on sliders, or on series pendulums along x."""
-    return isinstance(system, StructureOnSliders) and system.components == 1
+def _on_series(system) -> bool:
+    """Whether `system` is a structure on series pendulums (one or two components), stepped
+    by `series_run`."""
+    return isinstance(system, StructureOnSliders) and system.pendulum is not None
 
 
 STEPS_PER_LOOP_PASS = 2
@@ -65,13 +60,12 @@ def response_layout(system) -> ResponseLayout:
     block then y block), and a
     `BidirectionalStructure`, which carries its own `mass` and `influence` (a rigid mass or
     building: x block then y block; a slab on any isolator's groups: x, y, rotation). Only shapes are read (static under jit)."""
-    if _one_component(system):
-        n = system.mass.shape[-1]
-        return ResponseLayout((tuple(range(n)),), system.mass, jnp.ones((n, 1), system.mass.dtype))
-    if _series_of(system, 2):
+    if isinstance(system, StructureOnSliders):
         m = system.mass
         n = m.shape[-1]
-        blocks = jnp.repeat(jnp.eye(2, dtype=m.dtype), n, axis=0)
+        if system.components == 1:
+            return ResponseLayout((tuple(range(n)),), m, jnp.ones((n, 1), m.dtype))
+        blocks = jnp.repeat(jnp.eye(2, dtype=m.dtype), n, axis=0)  # series pendulums, x and y
         return ResponseLayout((tuple(range(n)), tuple(range(n, 2 * n))), jnp.concatenate([m, m]), blocks)
     if isinstance(system, BidirectionalStructure):
         count = system.mass.shape[-1]
@@ -219,12 +213,9 @@ def _check_loop_settings(read_every, steps_per_pass) -> None:
 
 def _engine_run(system, duration):
     """(n_steps, `EngineRun`) of `system`'s engine over `duration` [s] (checked)."""
-    if isinstance(system, StructureOnSliders) and system.pendulum is not None:  # one or two components
+    if isinstance(system, StructureOnSliders):
         n_steps = check_duration(system, duration)
-        return n_steps, series_run(system, n_steps)
-    if _one_component(system):
-        n_steps = check_duration(system, duration)
-        return n_steps, _uniaxial_run(system, n_steps)
+        return n_steps, (series_run if _on_series(system) else _uniaxial_run)(system, n_steps)
     if isinstance(system, BidirectionalStructure) and system.pendulum is not None:
         n_steps = series_steps(system, duration)
         return n_steps, series_groups_run(system, n_steps)
@@ -390,12 +381,12 @@ def simulate_history(system, duration: float, **options) -> StructureResponse:
     (`simulate_structure`; `options` are its keywords) or on series pendulums in one or two
     components (their sliders balanced at each step, `_series_step.py`; no options), or a
     `BidirectionalStructure` on any isolator's groups (`simulate_bidirectional`)."""
-    if isinstance(system, StructureOnSliders) and system.pendulum is not None:
+    if _on_series(system):
         if options:
             raise ValueError(f"{', '.join(options)}: a structure on series pendulums steps at its time_step and "
                              "keeps every step; drop these options.")
-        n_steps = check_duration(system, duration)
-        response = run_history(series_run(system, n_steps))
+        n_steps, run = _engine_run(system, duration)
+        response = run_history(run)
         if system.vertical_acceleration is None:
             return response
         return dataclasses.replace(response, uplift_time=uplift_steps(system, n_steps) * system.time_step)

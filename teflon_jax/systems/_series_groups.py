@@ -256,11 +256,10 @@ def series_sample(system, time, state, ground) -> StructureResponse:
     state `state` (`series_initial_state`) and the ground (2,) [m/s^2] then; the driver adds
     whether the step balanced and the groups' uplift time."""
     q = state["x"][:3]
-    relative = -(q @ system.stiffness.T + state["extra"]) / system.mass - ground @ system.influence.T
     rise = None if system.heat_rates is None else jax.vmap(surface_temperature_rises, in_axes=(0, 0, None))(
         system.bearing, state["heat"], system.heat_weights)
     return StructureResponse(
-        time=time, displacement=q, velocity=state["x"][3:], total_acceleration=relative + ground @ system.influence.T,
+        time=time, displacement=q, velocity=state["x"][3:], total_acceleration=-(q @ system.stiffness.T + state["extra"]) / system.mass,
         ground=ground, bearing_force=state["force"], slider=state["slider"],
         bearing_displacement=jnp.einsum("gdn,n->gd", system.bearing_map, q), normal_load=state["normal_load"],
         surface_temperature_rise=rise, tipped=state["tipped"])

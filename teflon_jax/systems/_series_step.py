@@ -44,7 +44,6 @@ from ..bearing import SeriesPendulum
 from ..excitation import Signal
 from ..units import STANDARD_GRAVITY
 from ._isolator_balance import (
-    BALANCES,
     TRIPLE_NEWTON_ITERATIONS,
     TRIPLE_TOLERANCE,
     isolator_parameters,
@@ -172,8 +171,6 @@ def structure_on_isolator(linear: StructureOnSliders, pendulum: SeriesPendulum, 
     if friction_velocity == "end" and pendulum.slider_count != 1:
         raise ValueError(f"friction_velocity: 'end' reads the isolator's own velocity, which only a one-surface "
                          f"isolator's slider has; the {pendulum.description} have {pendulum.slider_count} sliders.")
-    if balance not in BALANCES:
-        raise ValueError(f"balance: unknown {balance!r}; accepted: {', '.join(BALANCES)}.")
     heat = series_heat_kernel(pendulum, linear.time_step)
     return dataclasses.replace(linear, bearing=pendulum, friction_model="none",
                                reference_stiffness=linear.bearing_load / pendulum.reference_radius(),
