@@ -250,7 +250,29 @@ def test_the_command_lines_isolators_are_the_registrys():
     # the parser's names are written out (no JAX for --help); the registry is the source
     from teflon_jax.bearing import ISOLATORS, SERIES_PENDULUMS
     from teflon_jax.cli._isolator_flags import ISOLATORS as CLI_ISOLATORS
-    from teflon_jax.cli._isolator_flags import SERIES_ISOLATORS
+    from teflon_jax.cli._isolator_flags import SERIES, SERIES_ISOLATORS
 
     assert SERIES_ISOLATORS == tuple(SERIES_PENDULUMS)
     assert CLI_ISOLATORS == ISOLATORS
+    for name, facts in SERIES.items():  # the words the commands print are the class's
+        assert facts.description == SERIES_PENDULUMS[name].description
+
+
+def test_every_command_table_is_keyed_by_the_one_list_of_isolators():
+    from teflon_jax.cli import (
+        _design_variables,
+        _diagnose,
+        _isolator_flags,
+        _isolator_table,
+    )
+
+    tables = {"fit": _isolator_table.FIT_ROWS, "simulate-test": _isolator_table.TEST_ROWS,
+              "diagnose": _diagnose.DIAGNOSES, "design": _design_variables.ISOLATOR_DESIGNS,
+              "flags": _isolator_flags._READERS, "plan": _isolator_flags._GROUP_KEYS_REFUSED}
+    for command, table in tables.items():
+        assert tuple(table) == _isolator_flags.ISOLATORS, command
+    # each series pendulum's facts reach its rows
+    for name, facts in _isolator_flags.SERIES.items():
+        assert _isolator_table.TEST_ROWS[name].model == facts.model
+        assert facts.file_example in _isolator_table.TEST_ROWS[name].requires[0][1]
+        assert _design_variables.ISOLATOR_DESIGNS[name].words.startswith(facts.description)

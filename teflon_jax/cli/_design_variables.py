@@ -14,6 +14,7 @@ from typing import NamedTuple
 
 from ..units import INCH, PSI, STANDARD_GRAVITY
 from ._common import add_quantity
+from ._isolator_flags import per_isolator
 
 
 class VariableFlag(NamedTuple):
@@ -97,17 +98,13 @@ class IsolatorDesign(NamedTuple):
 
 _SLIDER_OPTIONS = ("--pressure", "--isolation-damping", "--bearing")
 _SERIES_WHY = "its friction, period and damping are its surfaces'"
-ISOLATOR_DESIGNS = {
-    "flat": IsolatorDesign("flat sliders", _SLIDER_OPTIONS, (0.05, "5%"),
-                           "flat sliders have no concave surface"),
-    "single-fp": IsolatorDesign("a single friction pendulum", (*_SLIDER_OPTIONS, "--restrainer-ratio"),
-                                (0.0, "0%"), "its period is 2 pi sqrt(R / g) of its radius",
-                                lowered_start=True),
-    "triple-fp": IsolatorDesign("triple friction pendulums of {file}", ("--isolator-file",),
-                                (0.0, "0 (friction only)"), _SERIES_WHY, percentile_check=True),
-    "double-fp": IsolatorDesign("double friction pendulums of {file}", ("--isolator-file",),
-                                (0.0, "0 (friction only)"), _SERIES_WHY, percentile_check=True),
-}
+ISOLATOR_DESIGNS = per_isolator(
+    flat=IsolatorDesign("flat sliders", _SLIDER_OPTIONS, (0.05, "5%"), "flat sliders have no concave surface"),
+    single=IsolatorDesign("a single friction pendulum", (*_SLIDER_OPTIONS, "--restrainer-ratio"),
+                          (0.0, "0%"), "its period is 2 pi sqrt(R / g) of its radius", lowered_start=True),
+    series=lambda name, facts: IsolatorDesign(f"{facts.description} of {{file}}", ("--isolator-file",),
+                                              (0.0, "0 (friction only)"), _SERIES_WHY, percentile_check=True),
+)
 """The command's choices for each `--isolator` (`IsolatorDesign`)."""
 
 

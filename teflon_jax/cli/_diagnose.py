@@ -46,7 +46,7 @@ from ._diagnose_mixture import (
     mixture_of,
     save_found_bearing,
 )
-from ._isolator_flags import ISOLATORS, load_isolator_file
+from ._isolator_flags import ISOLATORS, load_isolator_file, per_isolator
 
 _DIMENSIONS = {"-": "dimensionless", "m": "length", "s/m": "slowness"}
 
@@ -383,15 +383,14 @@ _SERIES = Diagnosis(
              _not_with_series("--mixture", "mixture", "the compositions' mixture is a bearing "
                               "file's, and a bearing file holds one flat slider")))
 
-DIAGNOSES = {
-    "flat": _SLIDER._replace(refused=_SLIDER.refused + (
+DIAGNOSES = per_isolator(
+    flat=_SLIDER._replace(refused=_SLIDER.refused + (
         ("--radius", "radius", "--radius: applies to --isolator single-fp only (a flat slider has "
          "no radius); add --isolator single-fp or leave --radius out."),)),
-    "single-fp": _SLIDER._replace(restoring_force=True),
-    "triple-fp": _SERIES,
-    "double-fp": _SERIES,
-}
-"""`--isolator` -> its `Diagnosis`: every isolator `diagnose` takes (`ISOLATORS`)."""
+    single=_SLIDER._replace(restoring_force=True),
+    series=lambda name, facts: _SERIES,
+)
+"""`--isolator` -> its `Diagnosis`: every isolator `diagnose` takes (`per_isolator`)."""
 
 
 # ------------------------------------------------------------------ shared with fit --effects

@@ -10,16 +10,54 @@ Every message names the flag (or the plan's key) as the user wrote it and says w
 
 import dataclasses
 import pathlib
+from collections.abc import Callable
+from typing import NamedTuple
 
 from ._common import add_quantity
 
-SERIES_ISOLATORS = ("triple-fp", "double-fp")
-"""The isolators whose surfaces an isolator file gives (`--isolator-file`): the names of the
-registry `teflon_jax.bearing.SERIES_PENDULUMS`, written out so that `--help` answers without
-loading JAX (`tests/test_cli.py` holds the two equal)."""
 
-ISOLATORS = ("flat", "single-fp", *SERIES_ISOLATORS)
-"""Every `--isolator` (`teflon_jax.bearing.ISOLATORS`, written out for the same reason)."""
+class SeriesIsolator(NamedTuple):
+    """What the command line says of one friction pendulum of sliders in series: the
+    `description` of its bearings (the class's), the `file_example` of its --isolator-file, the
+    `model` a simulated test record of it names, and `order_note`, what a fit of its loop cannot
+    tell apart (None: nothing)."""
+
+    description: str
+    file_example: str
+    model: str
+    order_note: str | None = None
+
+
+SERIES: dict[str, SeriesIsolator] = {
+    "triple-fp": SeriesIsolator("triple friction pendulums", "tfp.json",
+                                "series model of Fenz & Constantinou (2008)"),
+    "double-fp": SeriesIsolator("double friction pendulums", "dfp.json",
+                                "series model of Fenz & Constantinou (2006)",
+                                "a loop cannot tell the bottom surface from the top one; they are reported "
+                                "in the start file's order of f_max"),
+}
+"""The series pendulums of the command line, whose surfaces an isolator file gives
+(`--isolator-file`): the registry `teflon_jax.bearing.SERIES_PENDULUMS` (names and
+descriptions), written out so that `--help` answers without loading JAX (`tests/test_cli.py`
+holds the two equal)."""
+
+SERIES_ISOLATORS = tuple(SERIES)
+"""The names of `SERIES`."""
+
+ONE_SURFACE = ("flat", "single-fp")
+"""The isolators of one sliding surface: flat sliders and the single friction pendulum."""
+
+ISOLATORS = (*ONE_SURFACE, *SERIES_ISOLATORS)
+"""Every `--isolator` (`teflon_jax.bearing.ISOLATORS`, written out for the same reason); the one
+list of them in the command line: every table keyed by isolator is `per_isolator`'s."""
+
+
+def per_isolator(flat, single, series: Callable[[str, SeriesIsolator], object]) -> dict:
+    """{--isolator: row} of a command's table, in `ISOLATORS` order: the row of `flat` sliders,
+    of the `single` friction pendulum and `series(name, facts)` of each series pendulum
+    (`SERIES`), so that a pendulum added there has its row in every command."""
+    return {ONE_SURFACE[0]: flat, ONE_SURFACE[1]: single,
+            **{name: series(name, facts) for name, facts in SERIES.items()}}
 
 
 def add_isolator_flags(parser) -> None:
@@ -152,7 +190,7 @@ def _series(args) -> Isolator:
     return Isolator(isolator, pendulum=load_isolator_file(path, isolator), file=path)
 
 
-_READERS = {"flat": _flat, "single-fp": _single, **dict.fromkeys(SERIES_ISOLATORS, _series)}
+_READERS = per_isolator(_flat, _single, lambda name, facts: _series)
 """How each `--isolator` is read from the flags."""
 
 
@@ -225,15 +263,15 @@ _SERIES_KEYS = (("radius", _SERIES_KEY, "its radii are in the isolator file"),
                 ("springs", _SERIES_KEY, "each group restores with its pendulum"),
                 ("ptfe", _SERIES_KEY, "its friction is in the isolator file"),
                 ("pressure", _SERIES_KEY, "its friction is in the isolator file"))
-_GROUP_KEYS_REFUSED = {
-    "flat": (("isolator_file", _NOT_SERIES, ""),
-             ("radius", "--plan: {group}.radius applies with --isolator single-fp only (flat sliders have "
-                        "none); add it or leave the radius out.", "")),
-    "single-fp": (("isolator_file", _NOT_SERIES, ""),
-                  ("springs", "--plan: {group}.springs conflicts with --isolator single-fp (each group restores "
-                              "with its pendulum, W_g / R_g); leave 'springs' out.", "")),
-    **dict.fromkeys(SERIES_ISOLATORS, _SERIES_KEYS),
-}
+_GROUP_KEYS_REFUSED = per_isolator(
+    flat=(("isolator_file", _NOT_SERIES, ""),
+          ("radius", "--plan: {group}.radius applies with --isolator single-fp only (flat sliders have "
+                     "none); add it or leave the radius out.", "")),
+    single=(("isolator_file", _NOT_SERIES, ""),
+            ("springs", "--plan: {group}.springs conflicts with --isolator single-fp (each group restores "
+                        "with its pendulum, W_g / R_g); leave 'springs' out.", "")),
+    series=lambda name, facts: _SERIES_KEYS,
+)
 """The keys of a plan's group that each isolator refuses, with the message that says why."""
 
 

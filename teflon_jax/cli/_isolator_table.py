@@ -1,6 +1,6 @@
 """What `teflon-jax fit` and `simulate-test` do differently for each isolator: one row per
-`--isolator` name (`FIT_ROWS`, `TEST_ROWS`; the names of `_common.ISOLATORS`, which the
-registry `teflon_jax.bearing.ISOLATORS` lists). The commands' flows (`_fit.run_fit`,
+`--isolator` name (`FIT_ROWS`, `TEST_ROWS`, keyed by `_isolator_flags.per_isolator` from the
+command line's one list of isolators, which mirrors the registry `teflon_jax.bearing.ISOLATORS`). The commands' flows (`_fit.run_fit`,
 `_simulate.run_simulate`) look the row up once and read these facts from it: the flags the
 isolator refuses or needs, the constants `--fixed` takes beside the friction law's, how its
 inputs are read, how it is fitted, printed, plotted and saved.
@@ -20,6 +20,7 @@ from typing import NamedTuple
 from ..units import INCH, parse_quantity
 from ._common import name_value_items, output_units, parse_name_values
 from ._isolator_flags import load_isolator_file as _load
+from ._isolator_flags import per_isolator
 
 PARAMETER_DIMENSIONS = {"f_max": "dimensionless", "delta_f": "dimensionless", "rate_a": "slowness",
                         "yield_disp": "length", "breakaway_ratio": "dimensionless"}
@@ -326,13 +327,13 @@ def _series_fit(order_note: str | None = None) -> FitRow:
 
 _RADIUS = OwnConstant("length", "88in", "a positive radius of curvature")
 
-FIT_ROWS: dict[str, FitRow] = {
-    "flat": FitRow(
+FIT_ROWS: dict[str, FitRow] = per_isolator(
+    flat=FitRow(
         read=_read_friction, solve=_fit_flat, friction=lambda fit: fit, plot=_plot_friction,
         report=_report_flat, refuses=_NOT_SERIES, posterior=True,
         announce=lambda args, inputs, records: f"{len(records)} record(s), {args.starts} least-squares "
                                                "starts (compiling first)..."),
-    "single-fp": FitRow(
+    single=FitRow(
         read=_read_friction, solve=_fit_single, friction=lambda fit: fit.friction, plot=_plot_single,
         report=_report_single, own={"radius": _RADIUS},
         refuses=(*_NOT_SERIES, *((name, "{flag}: not available with --isolator {isolator}; leave {flag} out.")
@@ -340,11 +341,9 @@ FIT_ROWS: dict[str, FitRow] = {
         announce=lambda args, inputs, records: f"{len(records)} record(s) of a single friction pendulum, "
                                                f"{'R held' if inputs.own else 'R and the friction alternated'} "
                                                "(compiling first)..."),
-    "triple-fp": _series_fit(),
-    "double-fp": _series_fit("a loop cannot tell the bottom surface from the top one; they are reported "
-                             "in the start file's order of f_max"),
-}
-"""`fit`'s row of each isolator (the keys: `_common.ISOLATORS`)."""
+    series=lambda name, facts: _series_fit(facts.order_note),
+)
+"""`fit`'s row of each isolator (`per_isolator`)."""
 
 _SERIES_FILE = ("{flag}: --isolator {isolator} needs the isolator file of its surfaces (radius, capacity "
                 "and friction of each; docs/formats.md), e.g. --isolator-file {example}.")
@@ -352,22 +351,19 @@ _SERIES_FILE = ("{flag}: --isolator {isolator} needs the isolator file of its su
 _SERIES_RADIUS = ("radius", "{flag}: does not apply to --isolator {isolator} (its radii are in --isolator-file); "
                   "leave {flag} out.")
 
-TEST_ROWS: dict[str, SimulationRow] = {
-    "flat": SimulationRow(refuses=(("radius", "{flag}: applies to --isolator single-fp only (a flat slider has "
-                                   "no radius); add --isolator single-fp or leave {flag} out."),)),
-    "single-fp": SimulationRow(
+TEST_ROWS: dict[str, SimulationRow] = per_isolator(
+    flat=SimulationRow(refuses=(("radius", "{flag}: applies to --isolator single-fp only (a flat slider has "
+                                "no radius); add --isolator single-fp or leave {flag} out."),)),
+    single=SimulationRow(
         refuses=(("isolator_file", "--isolator: the isolator comes from --isolator-file {isolator_file} (a "
                   "triple or double pendulum, as the file says); leave --isolator single-fp out."),),
         requires=(("radius", "{flag}: --isolator single-fp needs the radius of its concave surface, e.g. "
                    "--radius 88in."),)),
-    "triple-fp": SimulationRow(refuses=(_SERIES_RADIUS,),
-                               requires=(("isolator_file", _SERIES_FILE.replace("{example}", "tfp.json")),),
-                               file_of_it=True, model="series model of Fenz & Constantinou (2008)"),
-    "double-fp": SimulationRow(refuses=(_SERIES_RADIUS,),
-                               requires=(("isolator_file", _SERIES_FILE.replace("{example}", "dfp.json")),),
-                               file_of_it=True, model="series model of Fenz & Constantinou (2006)"),
-}
-"""`simulate-test`'s row of each isolator (the keys: `_common.ISOLATORS`); an --isolator-file
+    series=lambda name, facts: SimulationRow(
+        refuses=(_SERIES_RADIUS,), requires=(("isolator_file", _SERIES_FILE.replace("{example}", facts.file_example)),),
+        file_of_it=True, model=facts.model),
+)
+"""`simulate-test`'s row of each isolator (`per_isolator`); an --isolator-file
 given with the flat slider's row simulates the pendulum the file holds."""
 
 
