@@ -235,6 +235,27 @@ def test_a_plan_groups_springs_with_a_unit_are_refused(tmp_path, capsys):
     assert "got '3s'" in out.err
 
 
+@pytest.mark.parametrize("keys, message", [
+    ({"isolator": "triple-fp"}, "A.isolator is not a key of a plan group; accepted: name, x, y, load"),
+    ({"isolator_fle": "tfp.json"}, "A.isolator_fle is not a key of a plan group"),
+    ({"spring": 0.5}, "A.spring is not a key of a plan group"),
+])
+def test_a_plan_key_that_is_misspelt_or_unknown_is_refused_not_left_out(tmp_path, capsys, keys, message):
+    plan = _plan(tmp_path / "plan.json", **keys)
+    code, out = _run(capsys, "run", "--structure", "slab", "--plan", plan, "--isolation-period", "3s",
+                     "--record-x", _at2(tmp_path / "x.AT2"))
+    assert code == 2 and f"--plan: {plan}: {message}" in out.err
+    assert ("--isolator's" in out.err) == ("isolator" in next(iter(keys)))
+
+
+def test_a_plans_own_key_that_is_unknown_is_refused(tmp_path, capsys):
+    plan = _plan(tmp_path / "plan.json")
+    plan.write_text(plan.read_text().replace('"weight"', '"height_of_center_of_mass": "6m", "weight"'))
+    code, out = _run(capsys, "run", "--structure", "slab", "--plan", plan, "--isolation-period", "3s",
+                     "--record-x", _at2(tmp_path / "x.AT2"))
+    assert code == 2 and f"--plan: {plan}: height_of_center_of_mass is not a key of a plan; accepted:" in out.err
+
+
 # ------------------------------------------------------------------ files and flags of the wrong kind
 
 

@@ -30,9 +30,14 @@ def read_plan(path_text):
     def q(value, dimension, key):
         return parse_quantity(value, dimension, where=f"{where}: {key}")
 
+    if not isinstance(plan, dict):
+        raise ValueError(f"--plan: {path}: expected a JSON object with {', '.join(PLAN_KEYS)}.")
+    _refuse_unknown(path, plan, PLAN_KEYS, "")
     for key in ("length_x", "length_y", "weight", "groups"):
         if key not in plan:
             raise ValueError(f"--plan: {path} lacks '{key}'.")
+    if not isinstance(plan["groups"], list) or not all(isinstance(g, dict) for g in plan["groups"]):
+        raise ValueError(f"--plan: {path}: 'groups' must be a list of objects, one per bearing group.")
     out = {
         "length_x": q(plan["length_x"], "length", "length_x"),
         "length_y": q(plan["length_y"], "length", "length_y"),
@@ -55,6 +60,7 @@ def read_plan(path_text):
         if any(name == other["name"] for other in groups):
             raise ValueError(f"--plan: {path}: two groups are named {name!r} (groups {_index(groups, name) + 1} "
                              f"and {i + 1}); give each group its own name.")
+        _refuse_unknown(path, g, GROUP_KEYS, f"{name}.")
         for key in ("x", "y", "load"):
             if key not in g:
                 raise ValueError(f"--plan: {path}: {name} lacks '{key}'.")
@@ -78,6 +84,27 @@ def read_plan(path_text):
             note_input_file(f"--plan {path}: {name}.isolator_file", groups[-1]["isolator_file"])
     out["groups"] = groups
     return out
+
+
+PLAN_KEYS = ("length_x", "length_y", "weight", "centre_of_mass", "height_of_centre_of_mass", "groups")
+"""The keys of a plan (docs/tutorials/pendulum.md)."""
+
+GROUP_KEYS = ("name", "x", "y", "load", "ptfe", "pressure", "springs", "radius", "vertical_stiffness",
+              "isolator_file")
+"""The keys of a plan's group; the isolator is the run's `--isolator` (a group may give its own
+`isolator_file` of that isolator)."""
+
+
+def _refuse_unknown(path, entries: dict, known: tuple, prefix: str) -> None:
+    """`ValueError` naming the plan file and the first key of `entries` that is not `known`
+    (a misspelt key would otherwise be left out without a word)."""
+    unknown = [key for key in entries if key not in known]
+    if unknown:
+        key = unknown[0]
+        hint = (" The groups' isolator is --isolator's (a group of series pendulums may give its own "
+                "isolator_file).") if "isolator" in key else ""
+        raise ValueError(f"--plan: {path}: {prefix}{key} is not a key of a plan{' group' if prefix else ''}; "
+                         f"accepted: {', '.join(known)}.{hint}")
 
 
 def _index(groups, name) -> int:
