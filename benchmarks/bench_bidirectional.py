@@ -40,8 +40,7 @@ from teflon_jax.systems import (
     bidirectional_building,
     bidirectional_rigid_mass,
     rigid_mass,
-    simulate_bidirectional,
-    simulate_structure,
+    simulate_history,
     six_storey_building,
 )
 from teflon_jax.tables import interface_parameters, load_table2
@@ -81,7 +80,7 @@ def _peak_function(kind, bidirectional, duration):
             else:
                 s = bidirectional_building(bearing=bearing, ground_x=gx, ground_y=gy, time_step=TIME_STEP,
                                            isolation_period=PERIOD)
-            r = simulate_bidirectional(s, duration, throw=False)
+            r = simulate_history(s, duration, throw=False)
             n = s.mass.shape[0] // 2
             return jnp.max(jnp.hypot(r.displacement[:, 0], r.displacement[:, n])), r.result._value
         if kind == "rigid":
@@ -90,7 +89,7 @@ def _peak_function(kind, bidirectional, duration):
         else:
             s = six_storey_building(bearing=bearing, ground_acceleration=gx, time_step=TIME_STEP,
                                     isolation_period=PERIOD)
-        r = simulate_structure(s, duration, throw=False)
+        r = simulate_history(s, duration, throw=False)
         return jnp.max(jnp.abs(r.displacement[:, 0])), r.result._value
 
     return jax.jit(jax.vmap(one))
@@ -327,7 +326,7 @@ def _peer_function(kind, duration):
         else:
             s = bidirectional_building(bearing=bearing, ground_x=gx, ground_y=gy, time_step=TIME_STEP,
                                        isolation_period=PERIOD, isolation_damping=0.05)
-        r = simulate_bidirectional(s, duration, throw=False)
+        r = simulate_history(s, duration, throw=False)
         total = r.total_acceleration
         force = jnp.einsum("tn,n,nd->td", total, s.mass, s.influence)
         weight = jnp.sum(s.mass * s.influence[:, 0]) * STANDARD_GRAVITY

@@ -15,7 +15,11 @@ bearing law is written out.
 - the equilibrium iterations of `systems/` and `solver/` (`while_loop` call sites);
 - the history drivers (functions of `systems/` that `scan` and are named `simulate_*`,
   `*_history` or `*_histories`) and the peak drivers (functions of `systems/` and `studies/` that `scan` and are
-  named after peaks or uplift).
+  named after peaks or uplift);
+- the structure history functions `teflon_jax.systems` exports (functions annotated to return a
+  `StructureResponse`);
+- the tables keyed by isolator name (dict literals with "flat", "single-fp", "triple-fp" or
+  "double-fp" as a key) and where they are.
 Nothing is run: the counts are read from the files.
 """
 
@@ -58,6 +62,27 @@ def _is_peaks(name: str) -> bool:
     return "peak" in name or "uplift" in name
 
 
+ISOLATOR_NAMES = {"flat", "single-fp", "triple-fp", "double-fp"}
+
+
+def _name_tables(text: str) -> int:
+    """Dict literals with an isolator's name as a key."""
+    return sum(1 for n in ast.walk(ast.parse(text)) if isinstance(n, ast.Dict) and any(
+        isinstance(k, ast.Constant) and k.value in ISOLATOR_NAMES for k in n.keys))
+
+
+def _exported_histories(package: pathlib.Path, texts: dict) -> int:
+    """Functions exported by `systems/__init__.py` whose return annotation is a `StructureResponse`."""
+    exported = set(re.findall(r"import (\w+) as \1", texts[package / "systems" / "__init__.py"]))
+    found = set()
+    for path in _modules(package / "systems"):
+        for f in ast.walk(ast.parse(texts[path])):
+            if isinstance(f, ast.FunctionDef) and f.name in exported and f.returns is not None \
+                    and "StructureResponse" in ast.unparse(f.returns):
+                found.add(f.name)
+    return len(found)
+
+
 def counts(root: pathlib.Path) -> dict:
     package = root / "teflon_jax"
     sources = sorted(package.rglob("*.py"))
@@ -79,6 +104,8 @@ def counts(root: pathlib.Path) -> dict:
         "history drivers in systems/": sum(_scanning(texts[p], _is_history) for p in systems),
         "peak drivers in systems/, studies/": sum(
             _scanning(texts[p], _is_peaks) for p in systems + _modules(package / "studies")),
+        "structure history functions exported by systems": _exported_histories(package, texts),
+        "tables keyed by isolator name": sum(_name_tables(t) for t in texts.values()),
         "variant modules": ", ".join(f"{p.parent.name}/{p.name}" for p in variant),
     }
 

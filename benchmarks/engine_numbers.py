@@ -27,9 +27,7 @@ from teflon_jax.studies import bidirectional_isolated_structure  # noqa: E402
 from teflon_jax.systems import (  # noqa: E402
     isolated_structure,
     peak_response,
-    simulate_bidirectional,
     simulate_history,
-    simulate_structure,
     simulate_triple_test,
     slab_on_bearings,
     triple_structure,
@@ -131,7 +129,7 @@ def _flat_cases(out):
         for kind in ("rigid", "building"):
             extra = one_surface_keywords(isolator, radius)
             system = isolated_structure(kind, **extra)(uniform_signal(_ground(1), RECORD_STEP))
-            response = jax.jit(simulate_structure, static_argnums=1)(system, DURATION)
+            response = jax.jit(simulate_history, static_argnums=1)(system, DURATION)
             out[f"{isolator}-{kind}-1d-displacement"] = np.asarray(response.displacement)
             planar = bidirectional_isolated_structure(kind, **extra)
             pair = (uniform_signal(_ground(1), RECORD_STEP), uniform_signal(_ground(2, 0.8), RECORD_STEP))
@@ -140,7 +138,7 @@ def _flat_cases(out):
                     system = with_vertical_component(planar)((pair, uniform_signal(0.5 * _ground(9), RECORD_STEP)))
                 else:
                     system = planar(pair)
-                response = jax.jit(simulate_bidirectional, static_argnums=1)(system, DURATION)
+                response = jax.jit(simulate_history, static_argnums=1)(system, DURATION)
                 out[f"{isolator}-{kind}-vertical{int(with_vertical)}-2d-q"] = np.asarray(_field(response, "q", "displacement"))
                 out[f"{isolator}-{kind}-vertical{int(with_vertical)}-2d-force"] = np.asarray(response.friction_force)
     _slab_cases(out)
@@ -159,7 +157,7 @@ def _slab_cases(out):
                 ground_x=uniform_signal(_ground(1), RECORD_STEP), ground_y=uniform_signal(_ground(2, 0.8), RECORD_STEP),
                 time_step=TIME_STEP, height_of_centre_of_mass=height, **extra)
             slab = with_vertical_motion(slab, uniform_signal(0.5 * _ground(9), RECORD_STEP))
-            response = jax.jit(simulate_bidirectional, static_argnums=1)(slab, DURATION)
+            response = jax.jit(simulate_history, static_argnums=1)(slab, DURATION)
             out[f"slab-{isolator}-h{height:g}-q"] = np.asarray(_field(response, "q", "displacement"))
 
 

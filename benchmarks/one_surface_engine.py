@@ -42,7 +42,6 @@ from teflon_jax.systems import (  # noqa: E402
     isolated_structure,
     peak_response,
     simulate_history,
-    simulate_structure,
     structure_on_isolator,
 )
 from teflon_jax.units import STANDARD_GRAVITY  # noqa: E402
@@ -146,7 +145,7 @@ def _law_run(isolator, dt, law, ground, duration):
                                  newton_tolerance=0.0, time_step=dt)
     flat = builder(ground)
     if law.startswith("flat"):
-        response = jax.jit(simulate_structure, static_argnums=1)(flat, duration)
+        response = jax.jit(simulate_history, static_argnums=1)(flat, duration)
     else:
         radius = np.inf if ISOLATORS[isolator] is None else ISOLATORS[isolator]
         pendulum = single_pendulum(builder.isolation()[0], radius=radius)

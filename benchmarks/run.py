@@ -113,7 +113,7 @@ def bench_b1(quick: bool) -> dict:
 
     @jax.jit
     def peak(s):
-        r = tj.simulate_structure(s, duration, throw=False)
+        r = tj.simulate_history(s, duration, throw=False)
         return jnp.max(jnp.abs(r.displacement[:, 0])), r.result
 
     sys_step = system(step)
@@ -125,7 +125,7 @@ def bench_b1(quick: bool) -> dict:
     ours, result = peak(sys_step)
 
     start = time.perf_counter()
-    reference = tj.simulate_structure(system(step), duration, solver=diffrax.Tsit5(),
+    reference = tj.simulate_history(system(step), duration, solver=diffrax.Tsit5(),
                                       rtol=1e-10, atol=1e-12, save_every=1)
     reference_s = time.perf_counter() - start
     ref_peak = float(jnp.max(jnp.abs(reference.displacement[:, 0])))

@@ -133,7 +133,7 @@ _EXPORTS = {
         "sample_velocity",
         "sampled_path",
         "simulate_bearing_test",
-        "simulate_structure",
+        "simulate_history",
         "six_storey_building",
         "structure_on_sliders",
     ),

@@ -36,7 +36,7 @@ def test_sliding_under_a_constant_ground_acceleration_is_the_closed_form(sense):
     ground = tj.Signal(jnp.asarray(t), jnp.asarray([-sense * 0.3 * STANDARD_GRAVITY] * 2))
     bearing = _asymmetric(tj.paper_bearing(tj.coulomb_friction(MU)), a)
     system = tj.rigid_mass(weight=1e5, bearing=bearing, ground_acceleration=ground, time_step=0.005)
-    r = tj.simulate_structure(system, 2.0)
+    r = tj.simulate_history(system, 2.0)
     t1, t2 = float(r.time[100]), float(r.time[-1])
     u1, v1, u2 = float(r.displacement[100, 0]), float(r.velocity[100, 0]), float(r.displacement[-1, 0])
     rate = sense * (0.3 - MU * (1 + sense * a)) * STANDARD_GRAVITY
@@ -49,7 +49,7 @@ def _signal(duration=8.0, peak=3.0):
 
 
 def test_no_asymmetry_is_the_plain_bearing_and_the_peak_loop_is_the_simulation():
-    from teflon_jax.systems import isolated_structure, peak_response, simulate_structure
+    from teflon_jax.systems import isolated_structure, peak_response, simulate_history
 
     plain = tj.paper_bearing(UF, breakaway_ratio=UF_B)
     signal = _signal()
@@ -60,7 +60,7 @@ def test_no_asymmetry_is_the_plain_bearing_and_the_peak_loop_is_the_simulation()
     assert float(b.base_shear_ratio) == pytest.approx(float(a.base_shear_ratio), rel=1e-12)
     skewed = isolated_structure("rigid", bearing=_asymmetric(plain, 0.3), isolation_period=2.5)(signal)
     peaks = peak_response(skewed, 7.5)
-    full = simulate_structure(skewed, 7.5)
+    full = simulate_history(skewed, 7.5)
     assert float(jnp.max(jnp.abs(full.displacement[:, 0]))) == pytest.approx(float(peaks.base_disp),
                                                                             rel=1e-9)
     # the mass drifts towards the weaker sense (-x for a > 0)
@@ -73,8 +73,7 @@ def test_two_directions_along_x_are_the_one_direction_structure():
     from teflon_jax.systems import (
         bidirectional_rigid_mass,
         rigid_mass,
-        simulate_bidirectional,
-        simulate_structure,
+        simulate_history,
     )
 
     bearing = _asymmetric(tj.paper_bearing(UF, breakaway_ratio=UF_B), 0.25)
@@ -83,8 +82,8 @@ def test_two_directions_along_x_are_the_one_direction_structure():
                      isolation_period=2.5)
     two = bidirectional_rigid_mass(weight=1e5, bearing=bearing, ground_x=signal, time_step=0.005,
                                    isolation_period=2.5)
-    a = simulate_structure(dataclasses.replace(one, newton_tolerance=0.0), 5.5)
-    b = simulate_bidirectional(dataclasses.replace(two, newton_tolerance=0.0), 5.5)
+    a = simulate_history(dataclasses.replace(one, newton_tolerance=0.0), 5.5)
+    b = simulate_history(dataclasses.replace(two, newton_tolerance=0.0), 5.5)
     np.testing.assert_allclose(b.displacement[:, 0], a.displacement[:, 0], rtol=0, atol=1e-10)
     np.testing.assert_allclose(b.friction_force[:, 0, 0], a.friction_force, rtol=1e-7, atol=1e-6)
 

@@ -17,8 +17,7 @@ from teflon_jax.systems import (
     bidirectional_building,
     bidirectional_rigid_mass,
     rigid_mass,
-    simulate_bidirectional,
-    simulate_structure,
+    simulate_history,
 )
 from teflon_jax.tables import interface_parameters
 from teflon_jax.units import PSI, STANDARD_GRAVITY
@@ -75,8 +74,8 @@ def test_motion_along_a_line_at_30_degrees_is_the_uniaxial_response():
     )
     line = rigid_mass(ground_acceleration=ground, **kwargs)
     # both equilibria solved to rounding (newton_tolerance 0), so that what is left is the law
-    biaxial = simulate_bidirectional(dataclasses.replace(plane, newton_tolerance=0.0), 6.0)
-    uniaxial = simulate_structure(dataclasses.replace(line, newton_tolerance=0.0), 6.0)
+    biaxial = simulate_history(dataclasses.replace(plane, newton_tolerance=0.0), 6.0)
+    uniaxial = simulate_history(dataclasses.replace(line, newton_tolerance=0.0), 6.0)
     u = np.asarray(uniaxial.displacement[:, 0])
     along = np.cos(angle) * biaxial.displacement[:, 0] + np.sin(angle) * biaxial.displacement[:, 1]
     across = -np.sin(angle) * biaxial.displacement[:, 0] + np.cos(angle) * biaxial.displacement[:, 1]
@@ -119,8 +118,8 @@ def test_zero_y_record_gives_the_uniaxial_result_to_rounding(structure):
     n = line.mass.shape[0]
     errors = []
     for tolerance in (1e-6, 0.0):
-        biaxial = simulate_bidirectional(dataclasses.replace(plane, newton_tolerance=tolerance), 4.0)
-        uniaxial = simulate_structure(dataclasses.replace(line, newton_tolerance=tolerance), 4.0)
+        biaxial = simulate_history(dataclasses.replace(plane, newton_tolerance=tolerance), 4.0)
+        uniaxial = simulate_history(dataclasses.replace(line, newton_tolerance=tolerance), 4.0)
         peak = np.max(np.abs(uniaxial.displacement))
         assert np.max(np.abs(biaxial.displacement[:, n:])) == 0.0  # nothing moves across
         errors.append(np.max(np.abs(biaxial.displacement[:, :n] - uniaxial.displacement)) / peak)
@@ -157,7 +156,7 @@ def test_energy_balance_of_a_bidirectional_run():
         time_step=0.0025,
         isolation_period=2.5,
     )
-    response = simulate_bidirectional(system, 6.0)
+    response = simulate_history(system, 6.0)
     e_in, kinetic, strain, damping, friction = energy_terms(system, response)
     assert friction > 0.2 * e_in  # the bearings do work in this run
     assert abs(e_in - (kinetic + strain + damping + friction)) < 0.01 * e_in
@@ -173,7 +172,7 @@ def test_fast_solver_matches_tsit5_on_a_short_pair():
         ground_y=uniform_signal(_pulse(frequency=0.55, phase=1.0, peak=0.25), 0.01),
         time_step=0.0025,
     )
-    fast = simulate_bidirectional(system, 6.0)
-    reference = simulate_bidirectional(system, 6.0, solver=diffrax.Tsit5(), rtol=1e-9, atol=1e-12)
+    fast = simulate_history(system, 6.0)
+    reference = simulate_history(system, 6.0, solver=diffrax.Tsit5(), rtol=1e-9, atol=1e-12)
     peaks = [float(np.max(np.hypot(r.displacement[:, 0], r.displacement[:, 1]))) for r in (fast, reference)]
     assert abs(peaks[0] - peaks[1]) < 5e-3 * peaks[1]

@@ -20,8 +20,7 @@ from teflon_jax.systems import (
     isolated_structure,
     peak_response,
     rigid_mass,
-    simulate_bidirectional,
-    simulate_structure,
+    simulate_history,
     six_storey_building,
 )
 from teflon_jax.tables import interface_parameters
@@ -65,8 +64,8 @@ def _line_and_plane(kind, record, **law):
 def _compare_along(line, plane, duration, rtol):
     """The plane's motion along ANGLE equals the line's, nothing moves across it."""
     n = line.mass.shape[0]
-    uniaxial = simulate_structure(line, duration)
-    biaxial = simulate_bidirectional(plane, duration)
+    uniaxial = simulate_history(line, duration)
+    biaxial = simulate_history(plane, duration)
     u = np.asarray(uniaxial.displacement)
     qx, qy = np.asarray(biaxial.displacement[:, :n]), np.asarray(biaxial.displacement[:, n:])
     along = np.cos(ANGLE) * qx + np.sin(ANGLE) * qy
@@ -103,7 +102,7 @@ def test_coulomb_sliding_under_a_ramped_ground_acceleration_is_the_closed_form()
         gx, gy = _along_a_line(peak * ramp)
         plane = bidirectional_rigid_mass(weight=1e5, bearing=paper_bearing(constant), ground_x=gx,
                                          ground_y=gy, time_step=0.0025, friction_model="coulomb")
-        response = simulate_bidirectional(plane, duration)
+        response = simulate_history(plane, duration)
         q, v = np.asarray(response.displacement), np.asarray(response.velocity)
         t = np.asarray(response.time)
         if peak < mu_g:

@@ -46,7 +46,7 @@ from teflon_jax.formats import read_at2
 from teflon_jax.systems import (
     bidirectional_building,
     bidirectional_rigid_mass,
-    simulate_bidirectional,
+    simulate_history,
 )
 from teflon_jax.tables import interface_parameters
 from teflon_jax.units import INCH, PSI, STANDARD_GRAVITY
@@ -73,7 +73,7 @@ def _friction():
 
 def _peaks(system, duration):
     """(peak resultant base displacement [m], peak resultant base shear ratio [-]) of teflon-jax."""
-    response = simulate_bidirectional(system, duration)
+    response = simulate_history(system, duration)
     m, R = np.asarray(system.mass), np.asarray(system.influence)
     total = np.asarray(response.total_acceleration)
     force = np.einsum("tn,n,nd->td", total, m, R)

@@ -11,7 +11,7 @@ from teflon_jax.formats import read_at2, read_two_column
 from teflon_jax.systems import (
     bidirectional_building,
     bidirectional_rigid_mass,
-    simulate_bidirectional,
+    simulate_history,
 )
 from teflon_jax.tables import interface_parameters
 from teflon_jax.units import PSI, STANDARD_GRAVITY
@@ -64,14 +64,14 @@ def test_fast_solver_agrees_with_tsit5_and_converges(external_data, pair, kind):
     error falls as the step is halved (5, 2.5, 1.25 ms) at an observed order of at least 1."""
     ax, ay, dt, duration = record_pair(external_data, pair)
     reference_system = structure(kind, ax, ay, dt, 0.005)
-    reference = simulate_bidirectional(reference_system, duration, solver=diffrax.Tsit5(),
+    reference = simulate_history(reference_system, duration, solver=diffrax.Tsit5(),
                                        rtol=1e-9, atol=1e-12)
     ref_disp, ref_shear, ref_q = peaks(reference_system, reference)
     errors = []
     for step in (0.005, 0.0025, 0.00125):
         system = structure(kind, ax, ay, dt, step)
         save_every = int(round(0.005 / step))
-        response = simulate_bidirectional(system, duration, save_every=save_every)
+        response = simulate_history(system, duration, save_every=save_every)
         disp, shear, q = peaks(system, response)
         errors.append(np.max(np.abs(q - ref_q)) / np.max(np.abs(ref_q)))
         if step == 0.0025:
@@ -90,7 +90,7 @@ def test_building_converges_at_a_10_ms_step_on_rsn6(external_data):
     runs = []
     for step in (0.01, 0.0025):
         system = structure("building", ax, ay, dt, step)
-        response = simulate_bidirectional(system, duration, throw=False)
+        response = simulate_history(system, duration, throw=False)
         assert bool(response.succeeded), step
         runs.append(peaks(system, response)[0])
     assert abs(runs[0] - runs[1]) < 0.02 * runs[1]

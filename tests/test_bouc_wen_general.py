@@ -90,8 +90,8 @@ def test_rigid_mass_with_eta_3_matches_scipy():
     system = rigid_mass(weight=1.0e5, bearing=bearing(shape), ground_acceleration=signal, time_step=1e-3,
                         isolation_period=2.0, damping_ratio=0.05)
     with pytest.raises(ValueError, match="eta: RiccatiNewmark"):
-        tj.simulate_structure(system, duration)  # the closed form cannot, and says so
-    ours = tj.simulate_structure(system, duration, solver=diffrax.Tsit5(), rtol=1e-8, atol=1e-11)
+        tj.simulate_history(system, duration)  # the closed form cannot, and says so
+    ours = tj.simulate_history(system, duration, solver=diffrax.Tsit5(), rtol=1e-8, atol=1e-11)
     m, k, c = float(system.mass[0]), float(system.stiffness[0, 0]), float(system.damping[0, 0])
     f_max, delta_f, rate_a = float(FRICTION.f_max), float(FRICTION.delta_f), float(FRICTION.rate_a)
 
@@ -115,10 +115,10 @@ def test_riccati_newmark_with_a_above_beta_plus_gamma_agrees_with_tsit5():
     times = np.arange(0.0, 1.2 + 1e-9, 1e-3)
     signal = tj.Signal(jnp.asarray(times), jnp.asarray(0.3 * STANDARD_GRAVITY * np.sin(3.14 * times)))
     system = rigid_mass(weight=1.0e5, bearing=bearing(shape), ground_acceleration=signal, time_step=1e-3)
-    newmark = tj.simulate_structure(system, 1.2)
+    newmark = tj.simulate_history(system, 1.2)
     assert bool(newmark.succeeded)
     assert float(jnp.max(jnp.abs(newmark.z))) == pytest.approx(np.sqrt(1.5), rel=1e-4)
-    reference = tj.simulate_structure(system, 1.2, solver=diffrax.Tsit5(), rtol=1e-8, atol=1e-11)
+    reference = tj.simulate_history(system, 1.2, solver=diffrax.Tsit5(), rtol=1e-8, atol=1e-11)
     u_ref = np.asarray(reference.displacement[:, 0])
     np.testing.assert_allclose(np.asarray(newmark.displacement[:, 0]), u_ref, atol=5e-3 * np.max(np.abs(u_ref)))
 

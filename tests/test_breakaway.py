@@ -54,7 +54,7 @@ def test_breakaway_acts_once_in_a_structure():
     weight = 1.0e5
     bearing = tj.paper_bearing(UF_T_1000, breakaway_ratio=B_191)
     system = rigid_mass(weight=weight, bearing=bearing, ground_acceleration=ground, time_step=dt)
-    r = tj.simulate_structure(system, duration)
+    r = tj.simulate_history(system, duration)
     assert bool(r.succeeded)
     mu = np.asarray(r.friction_force) / weight
     z, v, z_peak = np.asarray(r.z), np.asarray(r.velocity[:, 0]), np.asarray(r.z_peak)

@@ -13,7 +13,7 @@ from teflon_jax.excitation import uniform_signal
 from teflon_jax.systems import (
     bidirectional_building,
     building_on_plan,
-    simulate_bidirectional,
+    simulate_history,
     slab_on_bearings,
     with_vertical_motion,
 )
@@ -76,8 +76,8 @@ def test_symmetric_plan_without_overturning_is_the_building_on_one_group(isolato
     assert plan.overturning is None
     one = bidirectional_building(bearing=BEARING, ground_x=ax, ground_y=ground_y, time_step=STEP,
                                  isolation_period=PERIOD)
-    q = np.asarray(simulate_bidirectional(_exact(plan), DURATION).displacement)
-    expected = np.asarray(simulate_bidirectional(_exact(one), DURATION).displacement)
+    q = np.asarray(simulate_history(_exact(plan), DURATION).displacement)
+    expected = np.asarray(simulate_history(_exact(one), DURATION).displacement)
     peak = np.max(np.abs(expected[:, [0, 7]]))
     assert peak > 0.1
     assert np.max(np.abs(q[:, :14] - expected)) < 1e-6 * peak
@@ -109,8 +109,8 @@ def test_rigid_frame_is_the_slab_with_its_centre_of_mass_at_the_building_height(
     building = building_on_plan(**common, building=stiff, storey_heights=storey, base_height=base_height)
     slab = slab_on_bearings(**common, weight=W, rotational_inertia=inertia,
                             height_of_centre_of_mass=masses @ heights / masses.sum())
-    b = simulate_bidirectional(building, DURATION)
-    s = simulate_bidirectional(slab, DURATION)
+    b = simulate_history(building, DURATION)
+    s = simulate_history(slab, DURATION)
     qb, qs = np.asarray(b.displacement)[:, [0, 7, 14]], np.asarray(s.displacement)
     assert np.max(np.abs(qs[:, 2])) > 1e-3  # the plan's eccentricity turns the slab
     assert np.all(np.max(np.abs(qb - qs), axis=0) < 1e-5 * np.max(np.abs(qs), axis=0))
@@ -134,7 +134,7 @@ def test_groups_balance_the_moment_of_the_levels_inertia_forces():
         length_x=lx, length_y=ly, centre_of_mass=centre, positions=positions, loads=loads, bearings=BEARING,
         ground_x=uniform_signal(_pulse(0.15), DT), ground_y=uniform_signal(_pulse(0.12, 0.5, 1.0), DT),
         time_step=STEP, isolation_period=PERIOD, base_height=0.5, vertical_stiffness=[1.0, 2.0, 1.0, 0.5, 3.0])
-    response = simulate_bidirectional(with_vertical_motion(system, av), DURATION)
+    response = simulate_history(with_vertical_motion(system, av), DURATION)
     n = np.asarray(response.normal_load)
     factor = 1 + np.asarray(av(response.time)) / G
     assert np.max(np.abs(n.sum(axis=1) - factor * W)) < 1e-9 * W
@@ -162,7 +162,7 @@ def test_a_strong_pulse_lifts_either_pair_and_the_base_moves_as_without_overturn
     offsets = [[-a, -4.0], [0.0, -4.0], [a, -4.0], [-a, 4.0], [0.0, 4.0], [a, 4.0]]
     ax = uniform_signal(_pulse(0.4), DT)
     _, system = _symmetric(offsets, 22.0, 10.0, ground_x=ax, isolation_period=PERIOD)
-    response = simulate_bidirectional(_exact(system), DURATION)
+    response = simulate_history(_exact(system), DURATION)
     n = np.asarray(response.normal_load)
     assert np.max(np.abs(n.sum(axis=1) - W)) < 1e-9 * W
     assert np.max(np.abs(n[:, :3] - n[:, 3:])) < 1e-9 * W
@@ -175,7 +175,7 @@ def test_a_strong_pulse_lifts_either_pair_and_the_base_moves_as_without_overturn
     leaning = np.abs(moment[:-1]) > 0.1 * W
     assert np.all(np.sign(west[1:, 0] - east[1:, 0])[leaning] == np.sign(moment[:-1])[leaning])
     one = bidirectional_building(bearing=BEARING, ground_x=ax, time_step=STEP, isolation_period=PERIOD)
-    expected = np.asarray(simulate_bidirectional(_exact(one), DURATION).displacement)
+    expected = np.asarray(simulate_history(_exact(one), DURATION).displacement)
     q = np.asarray(response.displacement)
     assert np.max(np.abs(q[:, :14] - expected)) < 1e-6 * np.max(np.abs(expected[:, 0]))
 

@@ -152,7 +152,7 @@ def test_forward_mode_gradient_equals_reverse_mode_on_a_simulation():
             mass=[mass], stiffness=[[k]], damping=[[0.0]], bearing=tj.paper_bearing(friction),
             bearing_load=mass * STANDARD_GRAVITY, ground_acceleration=ground, time_step=0.01,
         )
-        r = tj.simulate_structure(system, 4.0, throw=False, adjoint=adjoint)
+        r = tj.simulate_history(system, 4.0, throw=False, adjoint=adjoint)
         return jnp.sum(r.displacement[:, 0] ** 2)
 
     x = {"pressure": jnp.asarray(1500 * PSI), "period": jnp.asarray(2.0)}

@@ -14,7 +14,7 @@ def _ramp_oscillator(rule, dt, duration=4.0, rate=0.8, period=1.3, zeta=0.07):
     ground = uniform_signal(rate * np.arange(0.0, duration + 1e-9, 0.5), 0.5)  # a_g = rate t [m/s^2]
     system = tj.rigid_mass(weight=1e5, bearing=None, ground_acceleration=ground, time_step=dt,
                            isolation_period=period, damping_ratio=zeta, friction_model="none", linear_rule=rule)
-    return tj.simulate_structure(system, duration), rate, 2 * np.pi / period, zeta
+    return tj.simulate_history(system, duration), rate, 2 * np.pi / period, zeta
 
 
 @pytest.mark.parametrize("rule", ["exact", "newmark"])
@@ -45,7 +45,7 @@ def test_exact_rule_does_not_depend_on_the_step_for_a_record_linear_between_samp
     def run(rule, dt):
         system = tj.six_storey_building(bearing=None, ground_acceleration=ground, time_step=dt,
                                         isolation_period=2.0, friction_model="none", linear_rule=rule)
-        response = tj.simulate_structure(system, 3.0)
+        response = tj.simulate_history(system, 3.0)
         every = int(round(0.01 / dt))
         return np.asarray(response.displacement)[::every]
 

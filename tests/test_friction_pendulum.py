@@ -37,8 +37,7 @@ from teflon_jax.systems import (
     isolated_structure,
     respond_along_path,
     sampled_path,
-    simulate_bidirectional,
-    simulate_structure,
+    simulate_history,
 )
 from teflon_jax.units import INCH, STANDARD_GRAVITY
 
@@ -58,7 +57,7 @@ def _free_vibration(friction_model, bearing=None, duration=12.0, radius=RADIUS):
     surface = concave_surface(radius)
     structure = isolated_structure("rigid", isolator=surface if bearing is None else (bearing, surface),
                                    time_step=0.001, friction_model=friction_model)
-    response = simulate_structure(structure(ground), duration)
+    response = simulate_history(structure(ground), duration)
     t = np.asarray(response.time)
     u = np.asarray(response.displacement[:, 0])
     after = t > pulse + 0.01
@@ -213,8 +212,8 @@ def test_restrainer_and_large_displacement_in_the_step_agree_with_an_adaptive_so
     import diffrax
 
     system, duration = _on_restrained_surface(large_displacement)
-    stepped = simulate_structure(system, duration)
-    reference = simulate_structure(system, duration, solver=diffrax.Tsit5(), rtol=1e-9, atol=1e-12,
+    stepped = simulate_history(system, duration)
+    reference = simulate_history(system, duration, solver=diffrax.Tsit5(), rtol=1e-9, atol=1e-12,
                                    max_steps=2_000_000)
     u, u_ref = np.asarray(stepped.displacement[:, 0]), np.asarray(reference.displacement[:, 0])
     assert np.max(np.abs(u)) > 0.18  # beyond the capacity
@@ -229,7 +228,7 @@ def test_restrainer_holds_the_mass_back_and_the_peak_loop_sees_its_force():
     from teflon_jax.systems import peak_response
 
     system, duration = _on_restrained_surface(False)
-    response = simulate_structure(system, duration)
+    response = simulate_history(system, duration)
     u = np.asarray(response.displacement[:, 0])
     shear = np.max(np.abs(response.total_acceleration[:, 0])) / G
     # m a_total = -(W u / R + E(u) + F): the base shear holds the restrainer's force
@@ -242,7 +241,7 @@ def test_restrainer_holds_the_mass_back_and_the_peak_loop_sees_its_force():
     np.testing.assert_allclose(peaks.base_shear_ratio, shear, rtol=1e-9)
     free = isolated_structure("rigid", isolator=concave_surface(RADIUS), time_step=0.001)(_strong_pulse())
     assert np.max(np.abs(u)) > 0.18  # beyond the capacity
-    assert np.max(np.abs(simulate_structure(free, duration).displacement[:, 0])) > 1.1 * np.max(np.abs(u))
+    assert np.max(np.abs(simulate_history(free, duration).displacement[:, 0])) > 1.1 * np.max(np.abs(u))
 
 
 def test_nonlinear_surface_is_refused_where_it_does_not_run():
@@ -314,7 +313,7 @@ def test_rigid_mass_with_coulomb_friction_agrees_with_opensees(external_data):
     bearing = paper_bearing(FrictionParameters(f_max=mu, delta_f=0.0, rate_a=1.0))
     structure = isolated_structure("rigid", isolator=(bearing, concave_surface(radius)), friction_model="coulomb",
                                    time_step=step)
-    response = simulate_structure(structure(uniform_signal(ax, dt)), (ax.size - 1) * dt)
+    response = simulate_history(structure(uniform_signal(ax, dt)), (ax.size - 1) * dt)
     disp = float(np.max(np.abs(response.displacement[:, 0])))
     shear = float(np.max(np.abs(response.total_acceleration[:, 0]))) / G
     assert disp > 0.04
@@ -335,7 +334,7 @@ def test_rigid_mass_under_the_rsn6_pair_agrees_with_opensees(external_data):
     structure = bidirectional_isolated_structure("rigid", isolator=(bearing, concave_surface(radius)),
                                                  breakaway=False, time_step=step)
     system = structure((uniform_signal(ax, dt), uniform_signal(ay, dt)))
-    response = simulate_bidirectional(system, (ax.size - 1) * dt)
+    response = simulate_history(system, (ax.size - 1) * dt)
     q = np.asarray(response.displacement)
     total = np.asarray(response.total_acceleration)
     disp = float(np.max(np.hypot(q[:, 0], q[:, 1])))

@@ -50,7 +50,7 @@ def _two(bearing, ax, ay, **options):
 
 @pytest.mark.parametrize("wear", [pytest.param(None, marks=pytest.mark.slow), 0.5])
 def test_along_x_two_directions_are_the_one_direction_structure(wear):
-    from teflon_jax.systems import rigid_mass, simulate_bidirectional, simulate_structure
+    from teflon_jax.systems import rigid_mass, simulate_history
 
     ag = _record()
     bearing = _bearing(wear=wear)
@@ -58,29 +58,29 @@ def test_along_x_two_directions_are_the_one_direction_structure(wear):
                      ground_acceleration=tj.uniform_signal(jnp.asarray(ag), 0.01),
                      contact_pressure=PRESSURE)
     # both solved to rounding, so that the two codes' tolerances do not show
-    a = simulate_structure(dataclasses.replace(one, newton_tolerance=0.0), 9.0)
+    a = simulate_history(dataclasses.replace(one, newton_tolerance=0.0), 9.0)
     two = dataclasses.replace(_two(bearing, ag, 0 * ag), newton_tolerance=0.0)
-    b = simulate_bidirectional(two, 9.0)
+    b = simulate_history(two, 9.0)
     np.testing.assert_allclose(b.displacement[:, 0], a.displacement[:, 0], rtol=0, atol=1e-10)
     np.testing.assert_allclose(b.friction_force[:, 0, 0], a.friction_force, rtol=1e-7, atol=1e-6)
-    cold = simulate_structure(dataclasses.replace(
+    cold = simulate_history(dataclasses.replace(
         one, newton_tolerance=0.0, bearing=tj.paper_bearing(UF, breakaway_ratio=UF_B)), 9.0)
     assert float(np.max(np.abs(cold.displacement[:, 0] - a.displacement[:, 0]))) > 1e-3
 
 
 def test_the_flux_follows_the_resultant_speed():
     """A record along 45 degrees gives the resultant of the record along x (isotropic bearing)."""
-    from teflon_jax.systems import simulate_bidirectional
+    from teflon_jax.systems import simulate_history
 
     ag = _record()
-    along_x = simulate_bidirectional(_two(_bearing(), ag, 0 * ag), 9.0)
-    diagonal = simulate_bidirectional(_two(_bearing(), ag / math.sqrt(2), ag / math.sqrt(2)), 9.0)
+    along_x = simulate_history(_two(_bearing(), ag, 0 * ag), 9.0)
+    diagonal = simulate_history(_two(_bearing(), ag / math.sqrt(2), ag / math.sqrt(2)), 9.0)
     resultant = np.hypot(diagonal.displacement[:, 0], diagonal.displacement[:, 1])
     np.testing.assert_allclose(resultant, np.abs(along_x.displacement[:, 0]), rtol=0, atol=1e-8)
 
 
 def test_heating_in_two_directions_lowers_friction_and_the_peak_loop_agrees():
-    from teflon_jax.systems import peak_response, simulate_bidirectional
+    from teflon_jax.systems import peak_response, simulate_history
 
     ax, ay = _record(), 0.7 * _record(peak=3.0)[::-1].copy()
     hot = _two(_bearing(), ax, ay)
@@ -88,7 +88,7 @@ def test_heating_in_two_directions_lowers_friction_and_the_peak_loop_agrees():
     assert hot.history and cold.history
     peak_hot, peak_cold = peak_response(hot, 9.0), peak_response(cold, 9.0)
     assert float(peak_hot.base_disp) > 1.02 * float(peak_cold.base_disp)
-    full = simulate_bidirectional(hot, 9.0)
+    full = simulate_history(hot, 9.0)
     resultant = np.hypot(full.displacement[:, 0], full.displacement[:, 1])
     assert float(np.max(resultant)) == pytest.approx(float(peak_hot.base_disp), rel=1e-9)
     plain = _two(tj.paper_bearing(UF, breakaway_ratio=UF_B), ax, ay)
@@ -99,7 +99,7 @@ def test_heating_in_two_directions_lowers_friction_and_the_peak_loop_agrees():
 def test_each_slab_group_heats_at_its_own_pressure():
     """Two groups at 1000 and 4000 psi: the slab with both at 1000 psi differs, and the high
     pressure group's friction ends lower (hotter steel)."""
-    from teflon_jax.systems import simulate_bidirectional, slab_on_bearings
+    from teflon_jax.systems import simulate_history, slab_on_bearings
 
     ag = _record(8.0)
     signal = tj.uniform_signal(jnp.asarray(ag), 0.01)
@@ -111,8 +111,8 @@ def test_each_slab_group_heats_at_its_own_pressure():
             ground_x=signal, ground_y=tj.uniform_signal(jnp.asarray(0.5 * ag), 0.01),
             time_step=DT, isolation_period=2.5, contact_pressures=pressures)
 
-    mixed = simulate_bidirectional(slab([1000 * PSI, 4000 * PSI]), 7.0)
-    low = simulate_bidirectional(slab([1000 * PSI, 1000 * PSI]), 7.0)
+    mixed = simulate_history(slab([1000 * PSI, 4000 * PSI]), 7.0)
+    low = simulate_history(slab([1000 * PSI, 1000 * PSI]), 7.0)
     assert float(np.max(np.abs(mixed.displacement[:, 0] - low.displacement[:, 0]))) > 1e-4
     # the same sliding in both groups (no rotation excited at first): the hotter one slides
     # with less force at the end

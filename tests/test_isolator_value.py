@@ -29,7 +29,7 @@ from teflon_jax.systems import (
     TripleIsolatedStructure,
     building_on_plan,
     isolated_structure,
-    simulate_structure,
+    simulate_history,
     slab_on_bearings,
 )
 from teflon_jax.tables import interface_parameters, load_table2
@@ -90,8 +90,8 @@ def test_a_single_pendulum_runs_on_the_flat_engine_with_its_bearings_numbers():
         assert type(structure) is IsolatedStructure
         expected = isolated_structure("rigid", isolator=alone, **options)
         assert _same(structure, expected)
-        history = simulate_structure(structure(GROUND), 4.0).displacement
-        assert np.array_equal(history, simulate_structure(expected(GROUND), 4.0).displacement)
+        history = simulate_history(structure(GROUND), 4.0).displacement
+        assert np.array_equal(history, simulate_history(expected(GROUND), 4.0).displacement)
         assert np.max(np.abs(history)) > 1e-3  # it slides
     assert _same(one_surface(single_pendulum(BEARING, radius=RADIUS))[0], BEARING)
 

@@ -1,6 +1,6 @@
 """Tests of the chunked, sharded Monte Carlo (teflon_jax.studies).
 
-References: the full response histories of `simulate_structure` (peaks taken with NumPy),
+References: the full response histories of `simulate_history` (peaks taken with NumPy),
 NumPy percentiles, a second process with two host CPU devices, and the process's peak
 resident memory.
 """
@@ -16,7 +16,7 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
-from teflon_jax import simulate_structure, uniform_signal
+from teflon_jax import simulate_history, uniform_signal
 from teflon_jax.excitation import StochasticGroundMotion, sample
 from teflon_jax.studies import MonteCarloResult, RecordSet, monte_carlo, save_montecarlo
 from teflon_jax.systems import isolated_structure, peak_response, smooth_max
@@ -49,7 +49,7 @@ def test_peaks_match_full_history(kind):
     structure = isolated_structure(kind, time_step=0.005, pressure=2000 * PSI, isolation_period=1.5)
     system = structure(uniform_signal(record, 0.01))
     peaks = peak_response(system, 4.0, disp_width=1e-4, shear_width=1e-3)
-    history = simulate_structure(system, 4.0)
+    history = simulate_history(system, 4.0)
     disp = np.abs(np.asarray(history.displacement[:, 0]))
     mass = np.asarray(system.mass)
     acc = np.asarray(history.total_acceleration)  # the base shear: every mass, the base slab's included

@@ -1,6 +1,6 @@
 """Monte Carlo with two ground components on the bidirectional rigid mass and building.
 
-References: the full histories of `simulate_bidirectional` (peaks taken with NumPy), the
+References: the full histories of `simulate_history` (peaks taken with NumPy), the
 uniaxial Monte Carlo (a motion along one line on isotropic bearings is the uniaxial motion,
 Park's Z reducing to Bouc-Wen's), and `monte_carlo_motion` for the motions a run used.
 """
@@ -27,7 +27,7 @@ from teflon_jax.studies import (
     monte_carlo,
     monte_carlo_motion,
 )
-from teflon_jax.systems import isolated_structure, peak_response, simulate_bidirectional
+from teflon_jax.systems import isolated_structure, peak_response, simulate_history
 from teflon_jax.units import PSI, STANDARD_GRAVITY
 
 MODEL = StochasticGroundMotion(peak_ground_acceleration=3.0, duration=3.0, time_step=0.01, rise_time=0.5,
@@ -37,14 +37,14 @@ MODEL = StochasticGroundMotion(peak_ground_acceleration=3.0, duration=3.0, time_
 @pytest.mark.slow
 def test_peaks_are_the_resultants_of_the_full_history():
     """Peak resultant bearing displacement and base shear (force on everything above the
-    bearings over its weight) equal those of `simulate_bidirectional`'s histories."""
+    bearings over its weight) equal those of `simulate_history`'s histories."""
     motion = TwoComponentGroundMotion(MODEL, principal_angle=0.6, minor_ratio=0.7)
     ax, ay = np.asarray(monte_carlo_motion(motion, jax.random.key(4), 0))
     structure = bidirectional_isolated_structure("rigid", time_step=0.005, pressure=2000 * PSI,
                                                  isolation_period=1.5)
     system = structure((uniform_signal(ax, 0.01), uniform_signal(ay, 0.01)))
     peaks = peak_response(system, 3.0)
-    history = simulate_bidirectional(system, 3.0)
+    history = simulate_history(system, 3.0)
     disp = np.hypot(*np.asarray(history.bearing_displacement)[:, 0].T)
     mass = np.asarray(system.mass)[0]
     total = np.asarray(history.total_acceleration)  # rigid mass: q = (u_x, u_y)

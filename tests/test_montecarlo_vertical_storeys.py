@@ -2,7 +2,7 @@
 
 The superstructure is rigid vertically, so the vertical record acts through the isolators'
 normal load N = W max(1 + a_v / g, 0) alone; the storey drifts and level accelerations stay
-horizontal. Reference: the full response histories of `simulate_structure` of each motion
+horizontal. Reference: the full response histories of `simulate_history` of each motion
 built into the building with the public `with_vertical_motion` (drifts and total
 accelerations taken with NumPy from the saved states), and the horizontal-only run, which a
 vertical record of zeros reproduces (the CLI's summary and demand file too) to `ROUNDING`."""
@@ -13,7 +13,7 @@ import jax
 import numpy as np
 import pytest
 
-from teflon_jax import simulate_structure, uniform_signal
+from teflon_jax import simulate_history, uniform_signal
 from teflon_jax.cli import main
 from teflon_jax.excitation import StochasticGroundMotion, VerticalGroundMotion
 from teflon_jax.studies import monte_carlo, monte_carlo_motion
@@ -59,14 +59,14 @@ def test_storey_peaks_under_the_vertical_component_are_the_direct_simulations():
     for i in range(N):
         rows = np.asarray(monte_carlo_motion(motions, jax.random.key(7), i))
         system = with_vertical_motion(structure(uniform_signal(rows[0], 0.01)), uniform_signal(rows[1], 0.01))
-        history = simulate_structure(system, DURATION)
+        history = simulate_history(system, DURATION)
         u = np.asarray(history.displacement)
         np.testing.assert_allclose(loaded.storey_drift[i], np.abs(np.diff(u, axis=1)).max(axis=0) / height,
                                    rtol=1e-8)
         np.testing.assert_allclose(loaded.floor_acceleration[i],
                                    np.abs(np.asarray(history.total_acceleration)).max(axis=0), rtol=1e-8)
         assert loaded.uplift_time[i] == pytest.approx(float(history.uplift_time), abs=1e-12)
-    horizontal = np.asarray(simulate_structure(structure(uniform_signal(rows[0], 0.01)), DURATION).displacement)
+    horizontal = np.asarray(simulate_history(structure(uniform_signal(rows[0], 0.01)), DURATION).displacement)
     assert not np.allclose(loaded.storey_drift[-1], np.abs(np.diff(horizontal, axis=1)).max(axis=0) / height,
                            rtol=1e-3)
 

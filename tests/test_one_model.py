@@ -209,7 +209,7 @@ def test_a_given_bearing_runs_as_table_1s_in_a_structure():
 def test_a_cold_unworn_bearing_with_history_runs_as_the_plain_one():
     """Heating at heat_scale 0 and wear at change 0 carry their states through every step and
     leave the peaks of the plain bearing (Monte Carlo's peak loop and the full simulation)."""
-    from teflon_jax.systems import isolated_structure, peak_response, simulate_structure
+    from teflon_jax.systems import isolated_structure, peak_response, simulate_history
 
     plain = isolated_structure("building").isolation()[0]
     neutral = with_parts(plain, heating=FrictionalHeating(contact_area=AREA, heat_scale=0.0),
@@ -223,7 +223,7 @@ def test_a_cold_unworn_bearing_with_history_runs_as_the_plain_one():
     pa, pb = peak_response(a, 9.0), peak_response(b, 9.0)
     assert float(pb.base_disp) == pytest.approx(float(pa.base_disp), rel=1e-12)
     assert float(pb.base_shear_ratio) == pytest.approx(float(pa.base_shear_ratio), rel=1e-12)
-    ra, rb = simulate_structure(a, 5.0), simulate_structure(b, 5.0)
+    ra, rb = simulate_history(a, 5.0), simulate_history(b, 5.0)
     np.testing.assert_allclose(rb.displacement, ra.displacement, rtol=0, atol=1e-12)
 
 
@@ -231,7 +231,7 @@ def test_a_cold_unworn_bearing_with_history_runs_as_the_plain_one():
 def test_heating_in_a_structure_lowers_friction_and_raises_the_displacement():
     """The heating bearing's peak displacement exceeds the cold one's (less friction as the
     steel warms), and the peak loop agrees with the full simulation step for step."""
-    from teflon_jax.systems import isolated_structure, peak_response, simulate_structure
+    from teflon_jax.systems import isolated_structure, peak_response, simulate_history
 
     plain = isolated_structure("rigid", isolation_period=2.5).isolation()[0]
     hot = with_parts(plain, heating=FrictionalHeating(contact_area=AREA / 4, heat_scale=3.0))
@@ -243,7 +243,7 @@ def test_heating_in_a_structure_lowers_friction_and_raises_the_displacement():
                                  pressure=3000 * PSI)(signal)
     cold, warm = peak_response(cold_run, 11.0), peak_response(hot_run, 11.0)
     assert float(warm.base_disp) > 1.02 * float(cold.base_disp)
-    full = simulate_structure(hot_run, 11.0)
+    full = simulate_history(hot_run, 11.0)
     assert float(jnp.max(jnp.abs(full.displacement[:, 0]))) == pytest.approx(
         float(warm.base_disp), rel=1e-9)
 

@@ -41,9 +41,7 @@ from teflon_jax.systems import (
     isolated_structure,
     respond_along_path,
     sampled_path,
-    simulate_bidirectional,
     simulate_history,
-    simulate_structure,
     simulate_triple_test,
     structure_on_isolator,
     with_vertical_motion,
@@ -89,7 +87,7 @@ def _one_component(isolator, kind, vertical=None, law="end", bearing=None, **opt
     series = _on_one_surface(builder, isolator, flat, law)
     if vertical is not None:
         flat, series = with_vertical_motion(flat, vertical), with_vertical_motion(series, vertical)
-    flat_run = jax.jit(simulate_structure, static_argnums=1)(flat, DURATION)
+    flat_run = jax.jit(simulate_history, static_argnums=1)(flat, DURATION)
     series_run = jax.jit(simulate_history, static_argnums=1)(series, DURATION)
     assert bool(np.all(series_run.converged))
     return np.asarray(flat_run.displacement), np.asarray(series_run.displacement)
@@ -132,7 +130,7 @@ def test_one_surface_in_two_components_gives_the_flat_engines_histories(isolator
     builder = isolated_structure(kind, isolator=_value(isolator), linear_rule="newmark", time_step=dt)
     linear = builder(ground[0])
     series = _on_one_surface(builder, isolator, linear).with_y_component(ground[1])
-    q = np.asarray(jax.jit(simulate_bidirectional, static_argnums=1)(flat, DURATION).displacement)
+    q = np.asarray(jax.jit(simulate_history, static_argnums=1)(flat, DURATION).displacement)
     n = linear.mass.shape[0]
     histories = jax.jit(planar_histories, static_argnums=1)(series, DURATION)
     assert bool(np.all(histories[-1]))
@@ -227,7 +225,7 @@ def test_the_one_surface_peak_has_the_flat_engines_gradient():
 
     def flat_end(f_max):
         system = builder(ground, {"f_max": f_max})
-        return simulate_structure(system, 3.0).displacement[-1, 0]
+        return simulate_history(system, 3.0).displacement[-1, 0]
 
     def series_end(f_max):
         system = builder(ground, {"f_max": f_max})

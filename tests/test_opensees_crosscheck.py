@@ -58,7 +58,7 @@ def test_rigid_mass_matches_opensees(opensees_models, record):
     assert peer["n_failed"] == 0
     system = rigid_mass(weight=weight, bearing=tj.paper_bearing(friction), ground_acceleration=signal_from_motion(record),
                         time_step=0.005, isolation_period=period, damping_ratio=0.05)
-    ours = tj.simulate_structure(system, record.duration)
+    ours = tj.simulate_history(system, record.duration)
     np.testing.assert_allclose(float(jnp.max(jnp.abs(ours.displacement))), np.max(np.abs(peer["displacement"])), rtol=0.03)
     np.testing.assert_allclose(float(jnp.max(jnp.abs(ours.total_acceleration))),
                                np.max(np.abs(peer["total_acceleration"])), rtol=0.05)
@@ -80,7 +80,7 @@ def test_building_matches_opensees(opensees_models, record):
     assert peer["n_failed"] == 0
     system = six_storey_building(bearing=tj.paper_bearing(friction), ground_acceleration=signal_from_motion(record),
                                  time_step=0.005, isolation_period=period)
-    q = building_response_quantities(system, tj.simulate_structure(system, record.duration))
+    q = building_response_quantities(system, tj.simulate_history(system, record.duration))
     np.testing.assert_allclose(float(jnp.max(jnp.abs(q["base_displacement"]))),
                                np.max(np.abs(peer["base_displacement"])), rtol=0.03)
     superstructure_weight = masses.sum() * G

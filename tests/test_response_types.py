@@ -19,9 +19,7 @@ from teflon_jax.systems import (
     StructureResponse,
     isolated_structure,
     peak_response,
-    simulate_bidirectional,
     simulate_history,
-    simulate_structure,
     simulate_triple_test,
     smooth_max,
     smooth_max_update,
@@ -52,18 +50,24 @@ def _same_tree(a, b):
         np.testing.assert_array_equal(np.asarray(x), np.asarray(y))
 
 
-def test_one_driver_returns_each_engines_response():
+def test_one_driver_takes_every_structure_and_refuses_by_name_what_its_engine_does_not():
+    """`simulate_history` solves flat sliders in one and two components on their grid (keeping
+    every `save_every`-th step) and steps series pendulums, refusing the solve's options there."""
     gx, gy = _signals()
-    flat = isolated_structure("building")(gx)
-    _same_tree(simulate_history(flat, 1.0), simulate_structure(flat, 1.0))
-    planar = bidirectional_isolated_structure("rigid")((gx, gy))
-    _same_tree(simulate_history(planar, 1.0), simulate_bidirectional(planar, 1.0))
+    building = isolated_structure("building")(gx)
+    flat = simulate_history(building, 1.0, save_every=2)
+    np.testing.assert_allclose(np.diff(np.asarray(flat.time)), 2 * building.time_step, rtol=1e-12)
+    assert flat.displacement.shape == (flat.time.size, 7) and flat.result is not None
+    planar = simulate_history(bidirectional_isolated_structure("rigid")((gx, gy)), 1.0)
+    assert planar.ground.shape == (planar.time.size, 2) and planar.bearing_displacement.shape[1:] == (1, 2)
     series = triple_structure("rigid", TRIPLE, gx, time_step=0.005)
     assert isinstance(series, StructureOnSliders) and series.pendulum is TRIPLE
-    with pytest.raises(TypeError, match="run it with simulate_history"):
-        simulate_structure(series, 1.0)
+    stepped = simulate_history(series, 1.0)
+    assert stepped.slider.shape == (stepped.time.size, 3) and stepped.converged.shape == stepped.time.shape
     with pytest.raises(ValueError, match="save_every: a structure on series pendulums"):
         simulate_history(series, 1.0, save_every=2)
+    with pytest.raises(ValueError, match="rtol, throw: a structure on series pendulums"):
+        simulate_history(series, 1.0, rtol=1e-6, throw=False)
     with pytest.raises(TypeError, match="system: no history driver"):
         simulate_history(TRIPLE, 1.0)
 
@@ -82,6 +86,34 @@ def test_the_one_structure_refuses_by_name_what_its_isolator_does_not_take():
     short_y = uniform_signal(AY[:50], STEP)  # the y record ends at 0.49 s
     with pytest.raises(ValueError, match=r"duration \(y record\)"):
         simulate_history(triple_structure("rigid", TRIPLE, gx, time_step=0.005, ground_y=short_y), 1.0)
+
+
+def test_a_two_component_run_longer_than_a_record_is_refused_by_name():
+    """A `Signal` is zero past its last sample: a history or a peak run of a structure on
+    sliding groups that outlasts its x or y record is refused naming the record, before any
+    step, as on one component; within the records it runs."""
+    gx, gy = _signals()
+    short_y = uniform_signal(AY[:50], STEP)  # ends at 0.49 s
+    planar = bidirectional_isolated_structure("rigid")
+    for run in (simulate_history, peak_response):
+        with pytest.raises(ValueError, match=r"duration \(y record\): 1 s asked, but the record lasts only 0.49 s"):
+            run(planar((gx, short_y)), 1.0)
+        with pytest.raises(ValueError, match=r"^duration: 1 s asked, but the record lasts only 0.49 s"):
+            run(planar((uniform_signal(AX[:50], STEP), gy)), 1.0)
+    assert bool(peak_response(planar((gx, short_y)), 0.45)["converged"])
+
+
+def test_every_engine_runs_the_whole_steps_within_the_duration():
+    """The duration is rounded down to whole steps on every engine (1.0049 s of 5 ms steps:
+    200 steps, not the 201 of the nearest whole number, whose end lies past the duration)."""
+    gx, gy = _signals()
+    structures = {"flat": isolated_structure("rigid", time_step=0.005)(gx),
+                  "planar": bidirectional_isolated_structure("rigid", time_step=0.005)((gx, gy)),
+                  "series": triple_structure("rigid", TRIPLE, gx, time_step=0.005)}
+    for name, system in structures.items():
+        response = simulate_history(system, 1.0049)
+        assert response.time.size == 201, name
+        np.testing.assert_allclose(float(response.time[-1]), 1.0, rtol=1e-12, err_msg=name)
 
 
 def test_every_history_has_the_ground_as_an_axis_and_total_accelerations():

@@ -25,7 +25,6 @@ from teflon_jax.systems import (
     isolated_structure,
     peak_response,
     simulate_history,
-    simulate_structure,
     simulate_triple_test,
 )
 
@@ -63,7 +62,7 @@ def _single(dt, heating):
         bearing = eqx.tree_at(lambda b: b.heating, bearing, heating, is_leaf=lambda x: x is None)
     system = isolated_structure("rigid", isolator=(bearing, concave_surface(R1)), pressure=PRESSURE,
                                 time_step=dt, split_at_turn=False, breakaway=False)
-    return np.asarray(jax.jit(simulate_structure, static_argnums=1)(system(_ground(dt)), 6.0).displacement[:, 0])
+    return np.asarray(jax.jit(simulate_history, static_argnums=1)(system(_ground(dt)), 6.0).displacement[:, 0])
 
 
 @pytest.mark.slow

@@ -29,10 +29,10 @@ def test_simulations_refuse_a_duration_longer_than_the_record():
     system = rigid_mass(weight=1e5, bearing=tj.paper_bearing(FRICTION), ground_acceleration=ground,
                         time_step=0.01)
     with pytest.raises(ValueError, match=r"duration: 6 s asked, but the record lasts only 5 s"):
-        tj.simulate_structure(system, 6.0)
+        tj.simulate_history(system, 6.0)
     with pytest.raises(ValueError, match=r"duration: 6 s asked, but the record lasts only 5 s"):
         peak_response(system, 6.0)
-    assert bool(tj.simulate_structure(system, 5.0).succeeded)  # the whole record is fine
+    assert bool(tj.simulate_history(system, 5.0).succeeded)  # the whole record is fine
     load = tj.uniform_signal(np.full(11, 1e5), 0.1)  # 1 s of normal load
     with pytest.raises(ValueError, match=r"normal_load: 2 s asked, but the record lasts only 1 s"):
         tj.simulate_bearing_test(tj.paper_bearing(FRICTION), tj.SineMotion(INCH, 0.5, cycles=1), load)

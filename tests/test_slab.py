@@ -8,7 +8,7 @@ from scipy.integrate import solve_ivp
 from teflon_jax.bearing import paper_bearing
 from teflon_jax.excitation import uniform_signal
 from teflon_jax.structures import check_plan, slab_corners, slab_point_displacement
-from teflon_jax.systems import simulate_bidirectional, slab_on_bearings
+from teflon_jax.systems import simulate_history, slab_on_bearings
 from teflon_jax.tables import interface_parameters
 from teflon_jax.units import PSI, STANDARD_GRAVITY
 
@@ -96,7 +96,7 @@ def test_symmetric_slab_does_not_twist():
         loads=loads, ground_x=uniform_signal(ax, 0.01), ground_y=uniform_signal(ay, 0.01),
         time_step=0.0025, isolation_period=T, isolation_damping=ZETA,
     )
-    response = simulate_bidirectional(system, 4.0)
+    response = simulate_history(system, 4.0)
     assert np.max(np.abs(response.displacement[:, :2])) > 0.01
     assert np.max(np.abs(response.displacement[:, 2])) < 1e-12
     spread = np.max(np.abs(response.bearing_displacement - response.bearing_displacement[:, :1]))
@@ -110,7 +110,7 @@ def test_eccentric_slab_twists_like_an_independent_scipy_model():
     independent numpy/scipy model (LSODA) within 1 %."""
     centre = (13.0, 7.0)
     ax, ay = _pulse(5.0, 0.8, 0.0, 0.3), _pulse(5.0, 0.55, 1.0, 0.25)
-    response = simulate_bidirectional(_system(centre, ax, ay), 5.0)
+    response = simulate_history(_system(centre, ax, ay), 5.0)
     corners = slab_corners(LX, LY)
     corner = np.asarray(slab_point_displacement(response.displacement, corners, centre))
     corner_peak = np.max(np.hypot(corner[..., 0], corner[..., 1]))

@@ -13,7 +13,7 @@ from teflon_jax.excitation import uniform_signal
 from teflon_jax.structures import overturning_map, tipped_at_failure
 from teflon_jax.systems import (
     bidirectional_rigid_mass,
-    simulate_bidirectional,
+    simulate_history,
     slab_on_bearings,
 )
 from teflon_jax.tables import interface_parameters
@@ -74,7 +74,7 @@ def test_static_lever_rule_and_which_groups_unload(sign):
     height = 4.0
     ax, ay = _ramp(sign * 0.06, -0.03)
     system = _slab(ax, ay, height)
-    response = simulate_bidirectional(system, DURATION)
+    response = simulate_history(system, DURATION)
     dn = np.asarray(response.normal_load) - W / 4
     expected = _lever_rule(CORNERS, height, M * np.array([ax[-1], ay[-1]]))
     assert np.max(np.abs(dn[-1] - expected)) < 0.01 * np.max(np.abs(expected))
@@ -98,7 +98,7 @@ def test_uplifted_group_carries_no_shear_and_the_run_stays_finite():
     positions = np.array([[8.0, 4.0], [12.0, 4.0], [12.0, 8.0], [8.0, 8.0]])
     ax, ay = _ramp(0.08, 0.08)
     system = _slab(ax, ay, 20.0, positions=positions)
-    response = simulate_bidirectional(system, DURATION)
+    response = simulate_history(system, DURATION)
     loads = np.asarray(response.normal_load)
     lifted = loads <= 0
     assert lifted[:, 2].any() and not lifted[:, [0, 1, 3]].any() and np.all(np.isfinite(np.asarray(response.displacement)))
@@ -119,7 +119,7 @@ def test_a_slab_that_tips_is_reported_not_balanced():
     positions = np.array([[8.0, 4.0], [12.0, 4.0], [12.0, 8.0], [8.0, 8.0]])
     ax, ay = _pulse(0.5, 0.0)
     system = _slab(ax, ay, 20.0, positions=positions)
-    response = simulate_bidirectional(system, DURATION, throw=False)
+    response = simulate_history(system, DURATION, throw=False)
     assert not bool(response.succeeded) and tipped_at_failure(system, response)
     saved = np.all(np.isfinite(np.asarray(response.displacement)), axis=-1)
     k = int(np.argmin(saved)) - 1  # the failed step, the last one kept
@@ -130,7 +130,7 @@ def test_a_slab_that_tips_is_reported_not_balanced():
     assert np.all(loads[:-1] > 0) and np.max(np.abs(loads.sum(axis=1) - W)) < 1e-9 * W
     assert np.allclose(loads[-1], [0.0, W / 2, W / 2, 0.0], rtol=1e-12, atol=0)
     with pytest.raises(Exception, match="Nonlinear solve diverged"):
-        simulate_bidirectional(system, DURATION)
+        simulate_history(system, DURATION)
 
 
 @pytest.mark.slow
@@ -140,11 +140,11 @@ def test_symmetric_slab_under_one_component_equals_the_rigid_mass():
     sum_g N_g / R d are unchanged, so the slab moves as the rigid mass on a single friction
     pendulum of the same R (period 2 pi sqrt(R / g)) and does not twist."""
     ax, ay = _pulse(0.35, 0.0)
-    response = simulate_bidirectional(_slab(ax, ay, 4.0), DURATION)
+    response = simulate_history(_slab(ax, ay, 4.0), DURATION)
     mass = bidirectional_rigid_mass(weight=W, bearing=BEARING, ground_x=uniform_signal(ax, DT_RECORD),
                                     ground_y=uniform_signal(ay, DT_RECORD), time_step=STEP,
                                     isolation_period=2 * np.pi * np.sqrt(R / G))
-    reference = simulate_bidirectional(mass, DURATION)
+    reference = simulate_history(mass, DURATION)
     assert np.max(np.abs(reference.displacement[:, 0])) > 0.02
     assert np.max(np.abs(np.asarray(response.displacement[:, :2]) - np.asarray(reference.displacement))) < 1e-9
     assert np.max(np.abs(response.displacement[:, 2])) < 1e-12
@@ -157,14 +157,14 @@ def test_zero_height_is_todays_slab_and_the_rigid_mass():
     response to rounding; the symmetric slab under two components then equals the rigid mass on
     a single friction pendulum of the same R and does not twist."""
     ax, ay = _pulse(0.35, 0.25)
-    today = simulate_bidirectional(_slab(ax, ay, 0.0), DURATION)
+    today = simulate_history(_slab(ax, ay, 0.0), DURATION)
     assert today.normal_load is None
-    tiny = simulate_bidirectional(_slab(ax, ay, 1e-9), DURATION)
+    tiny = simulate_history(_slab(ax, ay, 1e-9), DURATION)
     assert np.max(np.abs(np.asarray(tiny.displacement) - np.asarray(today.displacement))) < 1e-12
     mass = bidirectional_rigid_mass(weight=W, bearing=BEARING, ground_x=uniform_signal(ax, DT_RECORD),
                                     ground_y=uniform_signal(ay, DT_RECORD), time_step=STEP,
                                     isolation_period=2 * np.pi * np.sqrt(R / G))
-    reference = simulate_bidirectional(mass, DURATION)
+    reference = simulate_history(mass, DURATION)
     assert np.max(np.abs(np.asarray(today.displacement[:, :2]) - np.asarray(reference.displacement))) < 1e-9
     assert np.max(np.abs(today.displacement[:, 2])) < 1e-12
 
@@ -180,7 +180,7 @@ def test_peaks_with_overturning_converge_as_the_step_halves():
     peaks = []
     for step in (0.01, 0.005, 0.0025, 0.00125):
         system = _slab(ax, ay, 5.0, radii=[1.5, 2.0, 2.5, 2.0], step=step, centre=(11.5, 7.0))
-        response = simulate_bidirectional(system, DURATION)
+        response = simulate_history(system, DURATION)
         loads = np.asarray(response.normal_load)
         peaks.append(np.array([*loads.max(axis=0), *(W / 4 - loads.min(axis=0)),
                                np.max(np.hypot(response.displacement[:, 0], response.displacement[:, 1])),

@@ -23,7 +23,6 @@ from teflon_jax.structures import (
     support_plan,
 )
 from teflon_jax.systems import (
-    simulate_bidirectional,
     simulate_history,
     slab_on_bearings,
     triple_structure,
@@ -46,7 +45,7 @@ DOUBLE = DoublePendulum(bottom_radius=2.1, top_radius=2.1, bottom_capacity=0.3, 
                         bottom_friction=FrictionParameters(0.06, 0.03, 20.0),
                         top_friction=FrictionParameters(0.09, 0.04, 20.0), hysteresis=BoucWen(1.27e-4))
 PENDULUMS = {"triple-fp": TRIPLE, "double-fp": DOUBLE}
-simulate = jax.jit(simulate_bidirectional, static_argnums=1)  # one compilation per pendulum kind
+simulate = jax.jit(simulate_history, static_argnums=1)  # one compilation per pendulum kind
 
 
 def _ramp(peak_x, peak_y, rise=3.0):
@@ -241,7 +240,7 @@ def test_the_slab_response_is_differentiable_in_a_surface_friction():
             ground_x=base.ground_x, ground_y=base.ground_y, time_step=STEP, isolator="triple-fp",
             pendulums=eqx.tree_at(lambda p: p.top_friction, TRIPLE, friction),
             height_of_centre_of_mass=3.0)
-        return simulate_bidirectional(system, 2.0).displacement[-1, 0]
+        return simulate_history(system, 2.0).displacement[-1, 0]
 
     value, slope = jax.jit(jax.value_and_grad(displacement))(0.12)
     h = 1e-5

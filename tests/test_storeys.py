@@ -1,6 +1,6 @@
 """Tests of the building's storey results (teflon_jax.systems.peak_response with storey_height).
 
-Reference: the full response histories of `simulate_structure` (drifts and total floor
+Reference: the full response histories of `simulate_history` (drifts and total floor
 accelerations taken with NumPy from the saved displacements and accelerations).
 """
 
@@ -8,7 +8,7 @@ import jax
 import numpy as np
 import pytest
 
-from teflon_jax import simulate_structure, uniform_signal
+from teflon_jax import simulate_history, uniform_signal
 from teflon_jax.excitation import StochasticGroundMotion, sample
 from teflon_jax.systems import isolated_structure, peak_response
 from teflon_jax.tables import load_table2
@@ -30,7 +30,7 @@ def test_storey_peaks_match_the_full_history():
     system = _building()
     height = load_table2().storey_height
     peaks = peak_response(system, 3.0, storey_height=height)
-    history = simulate_structure(system, 3.0)
+    history = simulate_history(system, 3.0)
     u = np.asarray(history.displacement)
     drift = np.abs(np.diff(u, axis=1)).max(axis=0) / height
     floor_acc = np.abs(np.asarray(history.total_acceleration)).max(axis=0)  # base slab first
@@ -120,13 +120,13 @@ def test_run_building_reports_storey_results_per_direction(tmp_path, capsys):
 @pytest.mark.slow
 def test_two_component_storey_peaks_match_the_histories():
     """`peak_response(storey_height=...)` in x and y equals the peaks of
-    `simulate_bidirectional`'s saved histories (`bidirectional_storey_peaks`)."""
+    `simulate_history`'s saved histories (`bidirectional_storey_peaks`)."""
     from teflon_jax.excitation import TwoComponentGroundMotion
     from teflon_jax.studies import bidirectional_isolated_structure, monte_carlo_motion
     from teflon_jax.systems import (
         bidirectional_storey_peaks,
         peak_response,
-        simulate_bidirectional,
+        simulate_history,
     )
 
     model = TwoComponentGroundMotion(StochasticGroundMotion(peak_ground_acceleration=3.0, duration=2.0, time_step=0.01,
@@ -136,7 +136,7 @@ def test_two_component_storey_peaks_match_the_histories():
     system = structure((uniform_signal(values[0], 0.01), uniform_signal(values[1], 0.01)))
     height = load_table2().storey_height
     peaks = peak_response(system, 2.0, storey_height=height)
-    history = bidirectional_storey_peaks(simulate_bidirectional(system, 2.0), system, height)
+    history = bidirectional_storey_peaks(simulate_history(system, 2.0), system, height)
     assert peaks.storey_drift.shape == (2, 6) and peaks.floor_acceleration.shape == (2, 7)
     np.testing.assert_allclose(peaks.storey_drift, history["storey_drift"], rtol=1e-6)
     np.testing.assert_allclose(peaks.floor_acceleration, history["level_acceleration"], rtol=1e-6)

@@ -35,12 +35,12 @@ def rigid_mass(dt, ground, model="hysteretic", bearing=None, period=2.0, damping
 @pytest.mark.slow
 def test_newmark_with_exact_z_converges_at_second_order():
     ground = sine_ground()
-    reference = tj.simulate_structure(rigid_mass(1e-3, ground), 6.0, solver=diffrax.Tsit5(),
+    reference = tj.simulate_history(rigid_mass(1e-3, ground), 6.0, solver=diffrax.Tsit5(),
                                       rtol=1e-9, atol=1e-11)
     u_ref = float(reference.displacement[-1, 0])
     errors = []
     for dt in (0.01, 0.005, 0.0025):
-        response = tj.simulate_structure(rigid_mass(dt, ground), 6.0)
+        response = tj.simulate_history(rigid_mass(dt, ground), 6.0)
         errors.append(abs(float(response.displacement[-1, 0]) - u_ref))
     orders = np.log2(np.array(errors[:-1]) / np.array(errors[1:]))
     assert np.all(orders > 1.6), (errors, orders)
@@ -67,7 +67,7 @@ def test_turning_point_update_converges_at_second_order_through_reversals():
     def system(dt, split=True):
         return dataclasses.replace(rigid_mass(dt, ground), split_at_turn=split)
 
-    reference = tj.simulate_structure(system(0.01), duration, solver=diffrax.Tsit5(), rtol=1e-8, atol=1e-10)
+    reference = tj.simulate_history(system(0.01), duration, solver=diffrax.Tsit5(), rtol=1e-8, atol=1e-10)
     u_ref = np.asarray(reference.displacement[:, 0])
     v_ref = np.asarray(reference.velocity[:, 0])
     sliding = v_ref[np.abs(v_ref) > 1e-3]
@@ -77,7 +77,7 @@ def test_turning_point_update_converges_at_second_order_through_reversals():
     for split in (True, False):
         rms = []
         for k, dt in enumerate(steps):
-            response = tj.simulate_structure(system(dt, split), duration, save_every=2**k)
+            response = tj.simulate_history(system(dt, split), duration, save_every=2**k)
             rms.append(np.sqrt(np.mean((np.asarray(response.displacement[:, 0]) - u_ref) ** 2)))
         errors[split] = np.array(rms)
     order = np.polyfit(np.log(steps), np.log(errors[True]), 1)[0]
@@ -88,7 +88,7 @@ def test_turning_point_update_converges_at_second_order_through_reversals():
 def test_energy_balance_rigid_mass():
     ground = sine_ground()
     system = rigid_mass(0.002, ground)
-    r = tj.simulate_structure(system, 6.0)
+    r = tj.simulate_history(system, 6.0)
     v = np.asarray(r.velocity[:, 0])
     u = np.asarray(r.displacement[:, 0])
     t = np.asarray(r.time)
@@ -109,7 +109,7 @@ def test_coulomb_sliding_acceleration_closed_form():
     ground = tj.Signal(jnp.asarray(t), jnp.asarray([0.3 * STANDARD_GRAVITY] * 2))
     system = rigid_mass(0.01, ground, model="coulomb", bearing=tj.paper_bearing(tj.coulomb_friction(mu)),
                         period=1e9, damping_ratio=0.0)
-    r = tj.simulate_structure(system, 2.0)
+    r = tj.simulate_history(system, 2.0)
     total = np.asarray(r.total_acceleration[5:, 0])
     np.testing.assert_allclose(total, mu * STANDARD_GRAVITY, rtol=1e-9)  # friction pulls it along
     # relative motion with constant acceleration -(a_g - mu g) once sliding
@@ -124,7 +124,7 @@ def test_coulomb_sticks_below_capacity():
     ground = sine_ground(amplitude_g=0.05)
     system = rigid_mass(0.01, ground, model="coulomb", bearing=tj.paper_bearing(tj.coulomb_friction(mu)),
                         period=1e9, damping_ratio=0.0)
-    r = tj.simulate_structure(system, 6.0)
+    r = tj.simulate_history(system, 6.0)
     assert float(jnp.max(jnp.abs(r.displacement))) < 1e-12
     assert float(jnp.max(jnp.abs(r.z))) < 0.51
 
@@ -136,7 +136,7 @@ def test_vmap_over_pressures_equals_separate_runs():
 
     def peak(pressure):
         bearing = tj.paper_bearing(table.at(pressure)[0])
-        r = tj.simulate_structure(rigid_mass(0.01, ground, bearing=bearing), 6.0, throw=False)
+        r = tj.simulate_history(rigid_mass(0.01, ground, bearing=bearing), 6.0, throw=False)
         return jnp.max(jnp.abs(r.displacement[:, 0]))
 
     pressures = jnp.array([1000.0, 2000.0, 3000.0]) * PSI
@@ -230,8 +230,8 @@ def test_newton_in_line_iterations_give_the_loop_iterates():
     from teflon_jax.systems import peak_response
 
     system = rigid_mass(0.01, sine_ground(duration=3.0))
-    loop = tj.simulate_structure(system, 3.0)
-    inline = tj.simulate_structure(dataclasses.replace(system, newton_unrolled=3), 3.0)
+    loop = tj.simulate_history(system, 3.0)
+    inline = tj.simulate_history(dataclasses.replace(system, newton_unrolled=3), 3.0)
     np.testing.assert_allclose(inline.displacement, loop.displacement, rtol=1e-12, atol=1e-15)
     np.testing.assert_allclose(inline.z, loop.z, rtol=1e-12, atol=1e-14)
     for unrolled in (0, 1):

@@ -69,7 +69,7 @@ def test_rigid_mass_linear_spring_matches_harmonic_closed_form():
         weight=1.0e5, bearing=None, ground_acceleration=_sine_signal(amplitude, forcing, duration),
         time_step=1e-3, isolation_period=period, friction_model="none",
     )
-    response = tj.simulate_structure(system, duration)
+    response = tj.simulate_history(system, duration)
     t = np.asarray(response.time)
     exact = -amplitude / (omega**2 - forcing**2) * (np.sin(forcing * t) - forcing / omega * np.sin(omega * t))
     error = np.max(np.abs(np.asarray(response.displacement[:, 0]) - exact))
@@ -84,7 +84,7 @@ def test_rigid_mass_coulomb_under_constant_acceleration_pulse():
         weight=1.0e5, bearing=tj.paper_bearing(tj.coulomb_friction(mu)), ground_acceleration=signal,
         time_step=1e-3, friction_model="coulomb",
     )
-    response = tj.simulate_structure(system, 3.0)
+    response = tj.simulate_history(system, 3.0)
     t, u = np.asarray(response.time), np.asarray(response.displacement[:, 0])
     sliding = (t > 0.01) & (t < t1 - 0.01)
     # Start-up error of the first Newmark step (its initial acceleration has Z = 0, i.e. no
@@ -113,7 +113,7 @@ def test_building_energy_balance_over_el_centro(elcentro):
         bearing=bearing, ground_acceleration=signal_from_motion(elcentro), time_step=0.005,
         isolation_period=2.0,
     )
-    r = tj.simulate_structure(system, 40.0)
+    r = tj.simulate_history(system, 40.0)
     m, K, C = np.asarray(system.mass), np.asarray(system.stiffness), np.asarray(system.damping)
     u, v = np.asarray(r.displacement), np.asarray(r.velocity)
     du = np.diff(u, axis=0)
@@ -135,7 +135,7 @@ def _peak_acceleration(friction, b, n_interfaces=1, duration=1.5):
     signal = _sine_signal(0.25 * G, 3.14, duration)
     bearing = tj.paper_bearing(friction, breakaway_ratio=b, n_interfaces=n_interfaces)
     system = rigid_mass(weight=1.0e5, bearing=bearing, ground_acceleration=signal, time_step=1e-3)
-    r = tj.simulate_structure(system, duration)
+    r = tj.simulate_history(system, duration)
     mu_max = float(jnp.max(jnp.abs(r.friction_force))) / 1.0e5
     return float(jnp.max(jnp.abs(r.total_acceleration[:, 0]))), mu_max
 
@@ -167,7 +167,7 @@ def test_coulomb_max_approximates_full_model_coulomb_min_overestimates(elcentro)
         system = rigid_mass(
             weight=1.0e6, bearing=bearing, ground_acceleration=signal, time_step=0.005, friction_model=model
         )
-        return float(jnp.max(jnp.abs(tj.simulate_structure(system, 10.0).displacement)))
+        return float(jnp.max(jnp.abs(tj.simulate_history(system, 10.0).displacement)))
 
     exact = peak(tj.paper_bearing(friction), "hysteretic")
     coulomb_max = peak(tj.paper_bearing(tj.coulomb_friction(friction.f_max)), "coulomb")
@@ -185,7 +185,7 @@ def test_sct_building_converged_at_recommended_step(external_data):
         system = six_storey_building(
             bearing=bearing, ground_acceleration=sct, time_step=dt, isolation_period=2.0
         )
-        q = building_response_quantities(system, tj.simulate_structure(system, 50.0))
+        q = building_response_quantities(system, tj.simulate_history(system, 50.0))
         return float(jnp.max(jnp.abs(q["base_displacement"]))), float(jnp.max(jnp.abs(q["base_shear_ratio"])))
 
     coarse, fine = peaks(0.005), peaks(0.00125)
@@ -202,7 +202,7 @@ def test_sct_rigid_mass_converged_at_recommended_step(external_data):
             weight=1.0e6, bearing=bearing, ground_acceleration=sct, time_step=dt, isolation_period=2.0,
             damping_ratio=0.05,
         )
-        return float(jnp.max(jnp.abs(tj.simulate_structure(system, 50.0).displacement)))
+        return float(jnp.max(jnp.abs(tj.simulate_history(system, 50.0).displacement)))
 
     np.testing.assert_allclose(peak(0.005), peak(0.0025), rtol=0.005)
 
@@ -233,7 +233,7 @@ def test_batch_equals_separate_calls_and_padding_is_masked():
     ]
     batch = simulate_batch(stack_systems(systems), 3.0)
     for j, system in enumerate(systems):
-        alone = tj.simulate_structure(system, 3.0)
+        alone = tj.simulate_history(system, 3.0)
         np.testing.assert_allclose(batch.displacement[j], alone.displacement, rtol=1e-9, atol=1e-12)
     padded, own = pad_signals([long, short])
     np.testing.assert_allclose(own, [3.0, 2.0])
@@ -271,7 +271,7 @@ def test_builders_are_differentiable_in_isolation_period():
     def peak(period):
         system = rigid_mass(weight=1e5, bearing=None, ground_acceleration=signal, time_step=0.01,
                             isolation_period=period, damping_ratio=0.05, friction_model="none")
-        return jnp.max(jnp.abs(tj.simulate_structure(system, 2.0).displacement))
+        return jnp.max(jnp.abs(tj.simulate_history(system, 2.0).displacement))
 
     grad = jax.grad(peak)(1.5)
     step = 1e-5

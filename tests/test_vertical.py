@@ -20,7 +20,7 @@ from teflon_jax.systems import (
     isolated_structure,
     peak_response,
     rigid_mass,
-    simulate_structure,
+    simulate_history,
     with_vertical_component,
     with_vertical_motion,
 )
@@ -58,7 +58,7 @@ def test_pendulum_period_under_constant_vertical_acceleration(linear_rule, verti
     structure = isolated_structure("rigid", isolator=concave_surface(RADIUS), friction_model="none",
                                    linear_rule=linear_rule, time_step=0.005)
     ground = (_record(np.where(t < 0.5, 1.0, 0.0)), _record(np.full(t.shape, vertical)))
-    response = simulate_structure(with_vertical_component(structure)(ground), duration)
+    response = simulate_history(with_vertical_component(structure)(ground), duration)
     period = _zero_crossing_period(np.asarray(response.time), np.asarray(response.displacement[:, 0]))
     expected = 2 * np.pi * np.sqrt(RADIUS / (G + vertical))
     assert period == pytest.approx(expected, rel=2e-4)
@@ -79,7 +79,7 @@ def test_sliding_threshold_scales_with_normal_load(friction_model, load):
                             ground_acceleration=_record(factor * mu * G * load * ramp),
                             friction_model=friction_model)
         system = with_vertical_motion(system, _record(np.full(t.shape, (load - 1) * G)))
-        response = simulate_structure(system, duration)
+        response = simulate_history(system, duration)
         results[factor] = (np.asarray(response.time), np.asarray(response.velocity[:, 0]),
                            np.asarray(response.displacement[:, 0]))
     time, _, stuck = results[0.9]
@@ -109,7 +109,7 @@ def test_uplift_carries_no_shear_and_is_reported():
     zero, never NaN; the run reports the time with N <= 0."""
     structure, ground, duration = _uplift_case()
     system = structure(ground)
-    response = simulate_structure(system, duration)
+    response = simulate_history(system, duration)
     shear = np.asarray(response.total_acceleration[:, 0])
     loads = np.asarray(response.load_factor)
     assert np.all(np.isfinite(shear)) and np.all(np.isfinite(np.asarray(response.z)))
@@ -134,7 +134,7 @@ def test_building_uplift_finite_and_peaks_agree():
     friction zero while uplifted, and the peak loop's peaks those of the history."""
     structure, ground, duration = _uplift_case("building")
     system = structure(ground)
-    response = simulate_structure(system, duration)
+    response = simulate_history(system, duration)
     uplifted = np.asarray(response.load_factor) == 0
     assert np.all(np.isfinite(np.asarray(response.displacement)))
     assert np.all(np.asarray(response.friction_force)[uplifted] == 0)
@@ -198,7 +198,7 @@ def test_two_directions_under_one_component_reproduce_one_direction():
     vertical record with uplift: the same response as the one-direction structure (Park's Z
     reduces to Eq. 3 along one axis), zero shear while uplifted, the same uplift time."""
     from teflon_jax.bearing import FrictionParameters
-    from teflon_jax.systems import bidirectional_rigid_mass, simulate_bidirectional
+    from teflon_jax.systems import bidirectional_rigid_mass, simulate_history
 
     duration = 10.0
     t = _times(duration)
@@ -211,7 +211,7 @@ def test_two_directions_under_one_component_reproduce_one_direction():
     two = bidirectional_rigid_mass(weight=WEIGHT, bearing=bearing, ground_x=ground, time_step=0.005,
                                    isolation_period=2 * np.pi * np.sqrt(RADIUS / G))
     two = with_vertical_motion(two, vertical, radius=RADIUS)
-    r1, r2 = simulate_structure(one, duration), simulate_bidirectional(two, duration)
+    r1, r2 = simulate_history(one, duration), simulate_history(two, duration)
     u1 = np.asarray(r1.displacement[:, 0])
     assert np.max(np.abs(u1 - np.asarray(r2.displacement[:, 0]))) < 1e-6 * np.max(np.abs(u1))
     shear = np.asarray(r2.total_acceleration[:, 0])
@@ -287,11 +287,11 @@ def test_varying_load_step_matches_an_adaptive_solver():
     system = rigid_mass(weight=WEIGHT, bearing=None, ground_acceleration=ground, time_step=0.001,
                         radius=RADIUS, friction_model="none")
     system = with_vertical_motion(system, vertical, radius=RADIUS)
-    stepped = np.asarray(simulate_structure(system, duration, save_every=10).displacement[:, 0])
-    reference = np.asarray(simulate_structure(system, duration, save_every=10, solver=diffrax.Tsit5(),
+    stepped = np.asarray(simulate_history(system, duration, save_every=10).displacement[:, 0])
+    reference = np.asarray(simulate_history(system, duration, save_every=10, solver=diffrax.Tsit5(),
                                               rtol=1e-9, atol=1e-12).displacement[:, 0])
     assert np.max(np.abs(stepped - reference)) < 1e-3 * np.max(np.abs(reference))
-    plain = np.asarray(simulate_structure(with_vertical_motion(system, _record(0 * t), radius=RADIUS),
+    plain = np.asarray(simulate_history(with_vertical_motion(system, _record(0 * t), radius=RADIUS),
                                           duration, save_every=10).displacement[:, 0])
     assert np.max(np.abs(plain - reference)) > 1e-2 * np.max(np.abs(reference))  # a_v matters
 
@@ -306,7 +306,7 @@ def test_a_pendulum_holds_the_stiffness_its_load_scales(directions):
     import dataclasses
 
     from teflon_jax.bearing import FrictionParameters, concave_surface
-    from teflon_jax.systems import bidirectional_rigid_mass, simulate_bidirectional
+    from teflon_jax.systems import bidirectional_rigid_mass, simulate_history
 
     duration = 2.0
     t = _times(duration)
@@ -316,12 +316,12 @@ def test_a_pendulum_holds_the_stiffness_its_load_scales(directions):
     if directions == 1:
         system = rigid_mass(weight=WEIGHT, bearing=bearing, ground_acceleration=ground, time_step=0.005,
                             radius=RADIUS)
-        run = simulate_structure
+        run = simulate_history
     else:
         system = bidirectional_rigid_mass(weight=WEIGHT, bearing=bearing, ground_x=ground, time_step=0.005,
                                           isolation_period=2 * np.pi * np.sqrt(RADIUS / G),
                                           surface=concave_surface(RADIUS))
-        run = simulate_bidirectional
+        run = simulate_history
     assert np.allclose(np.asarray(system.pendulum_stiffness), WEIGHT / RADIUS, rtol=1e-15, atol=0)
 
     def displacement(s):

@@ -113,7 +113,7 @@ def load_factors(system, duration):
     import jax
     import jax.numpy as jnp
 
-    steps = round(duration / float(system.time_step))
+    steps = int(duration / float(system.time_step) + 1e-9)  # whole steps, as the drivers run
     return np.asarray(jax.vmap(system.load_factor)(jnp.arange(steps + 1) * float(system.time_step)))
 
 

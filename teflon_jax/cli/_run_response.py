@@ -44,9 +44,9 @@ class _Engine(typing.NamedTuple):
 
 
 def _bidirectional(system, duration, plan) -> Run:
-    from ..systems import simulate_bidirectional
+    from ..systems import simulate_history
 
-    response = simulate_bidirectional(system, duration, throw=False)
+    response = simulate_history(system, duration, throw=False)
     if bool(response.succeeded):
         return Run(response, (response.time, np.size(response.time), (), ()), "", duration)
     return Run(*bidirectional_stop(system, response), duration)
@@ -67,9 +67,9 @@ def _series_run(response, time, converged, duration) -> Run:
 def _slab_series(system, duration, plan) -> Run:
     import jax
 
-    from ..systems import simulate_bidirectional
+    from ..systems import simulate_history
 
-    response = jax.jit(simulate_bidirectional, static_argnums=1)(system, duration)
+    response = jax.jit(simulate_history, static_argnums=1)(system, duration)
     problem = unbalanced_message(response, plan["height_of_centre_of_mass"])
     end, response = series_slab_stop(system, response)  # the steps before the first unbalanced one
     return Run(response, end, problem, float(end[0][end[1] - 1]) if problem else duration)

@@ -7,7 +7,7 @@ from ..bearing import paper_bearing
 from ..structures import signal_from_motion
 from ..systems import (
     building_response_quantities,
-    simulate_structure,
+    simulate_history,
     six_storey_building,
 )
 from ..tables import friction_table
@@ -38,7 +38,7 @@ def _convergence(results, records):
         for dt in (STRUCTURE_TIME_STEP, STRUCTURE_TIME_STEP / 4):
             system = six_storey_building(bearing=bearing, ground_acceleration=signal, time_step=dt,
                                          isolation_period=2.0)
-            q = building_response_quantities(system, simulate_structure(system, motion.duration))
+            q = building_response_quantities(system, simulate_history(system, motion.duration))
             values[dt] = (float(jnp.max(jnp.abs(q["base_displacement"]))), float(jnp.max(jnp.abs(q["base_shear_ratio"]))))
         coarse, fine = values[STRUCTURE_TIME_STEP], values[STRUCTURE_TIME_STEP / 4]
         checks.append({"record": key, "system": "sliding_1000psi", "Tb_s": 2.0,

@@ -7,7 +7,7 @@ from ..bearing import coulomb_friction, paper_bearing
 from ..excitation import Signal, fourier_amplitude
 from ..structures import signal_from_motion
 from ..studies import building_sweep
-from ..systems import rigid_mass, simulate_structure
+from ..systems import rigid_mass, simulate_history
 from ..tables import friction_table
 from ..units import INCH, PSI, STANDARD_GRAVITY
 from . import _figures as figures
@@ -44,7 +44,7 @@ def _fig7_9(out, results, record):
     for name, (bearing, model) in models.items():
         system = rigid_mass(weight=1.0e6, bearing=bearing, ground_acceleration=signal,
                             time_step=STRUCTURE_TIME_STEP, friction_model=model)
-        r = simulate_structure(system, FIG7_DURATION)
+        r = simulate_history(system, FIG7_DURATION)
         u = np.asarray(r.displacement[:, 0])
         a = np.asarray(r.total_acceleration[:, 0])
         histories[name] = (u, a)
@@ -113,7 +113,7 @@ def _fig10(out, results):
         for b in (None, 2.0, 4.0, 6.0):
             bearing = paper_bearing(friction, breakaway_ratio=b, n_interfaces=n)
             system = rigid_mass(weight=1.0e6, bearing=bearing, ground_acceleration=signal, time_step=dt)
-            r = simulate_structure(system, FIG10_DURATION)
+            r = simulate_history(system, FIG10_DURATION)
             t = np.asarray(r.time)
             a = np.asarray(r.total_acceleration[:, 0]) / pga
             early = t <= FIG10_EARLY

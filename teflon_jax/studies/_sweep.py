@@ -27,7 +27,7 @@ from ..structures import signal_from_motion
 from ..systems import (
     StructureOnSliders,
     building_response_quantities,
-    simulate_structure,
+    simulate_history,
     six_storey_building,
 )
 from ..tables import friction_table
@@ -91,12 +91,12 @@ def pad_signals(signals: Sequence[Signal], duration: float | None = None) -> tup
 
 
 def simulate_batch(systems: StructureOnSliders, duration: float, **kwargs):
-    """`simulate_structure` vmapped over a stacked batch of systems (see `stack_systems`).
+    """`simulate_history` vmapped over a stacked batch of systems (see `stack_systems`).
 
     Solver failures do not raise; check `response.result` per member.
     """
     kwargs.setdefault("throw", False)
-    return jax.jit(jax.vmap(lambda s: simulate_structure(s, duration, **kwargs)))(systems)
+    return jax.jit(jax.vmap(lambda s: simulate_history(s, duration, **kwargs)))(systems)
 
 
 def _masked_peak(values, mask):
@@ -111,7 +111,7 @@ def building_peaks(system: StructureOnSliders, duration: float, own_duration):
 
     **Returns:** dict of `PEAK_NAMES` -> scalar and `"succeeded"` -> bool.
     """
-    response = simulate_structure(system, duration, throw=False)
+    response = simulate_history(system, duration, throw=False)
     quantities = building_response_quantities(system, response)
     mask = response.time <= own_duration + 1e-9
     return {

@@ -19,7 +19,6 @@ from ._bidirectional_models import bidirectional_rigid_mass as bidirectional_rig
 from ._bidirectional_models import bidirectional_storey_peaks as bidirectional_storey_peaks
 from ._bidirectional_models import bidirectional_structure as bidirectional_structure
 from ._bidirectional_models import directional_storeys as directional_storeys
-from ._bidirectional_models import simulate_bidirectional as simulate_bidirectional
 from ._drivers import MONTE_CARLO_PEAKS as MONTE_CARLO_PEAKS
 from ._drivers import PEAK_REDUCERS as PEAK_REDUCERS
 from ._drivers import RESPONSE_NAMES as RESPONSE_NAMES
@@ -77,7 +76,6 @@ from ._structure_build import STRUCTURE_EFFECTS as STRUCTURE_EFFECTS
 from ._structure_build import building_response_quantities as building_response_quantities
 from ._structure_build import check_storey_height as check_storey_height
 from ._structure_build import rigid_mass as rigid_mass
-from ._structure_build import simulate_structure as simulate_structure
 from ._structure_build import six_storey_building as six_storey_building
 from ._structure_build import storey_rows as storey_rows
 from ._structure_build import structure_on_sliders as structure_on_sliders

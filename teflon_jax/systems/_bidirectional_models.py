@@ -14,20 +14,18 @@ import numpy as np
 
 from ..bearing import SeriesPendulum, SlidingBearing, heat_kernel_exponentials
 from ..excitation import Signal
-from ..solver import RiccatiNewmark, require_riccati_form, solve_on_grid
+from ..solver import require_riccati_form
 from ..structures import initial_normal_load
 from ..tables import BuildingData
 from ._bidirectional import NEWTON_ITERATIONS, BidirectionalStructure
 from ._bidirectional_laws import check_planar_law
 from ._response import StructureResponse
 from ._sampled_path import HEAT_HORIZON
-from ._series_groups import simulate_series_groups
 from ._structure_build import (
     check_storey_height,
     check_structure_parts,
     rigid_mass,
     six_storey_building,
-    time_grid,
 )
 from ._vertical import uplift_steps
 
@@ -263,46 +261,22 @@ def bidirectional_building(
                            friction_model=friction_model, surface=surface)
 
 
-def simulate_bidirectional(
-    system: BidirectionalStructure,
-    duration: float,
-    *,
-    save_every: int = 1,
-    solver=None,
-    rtol: float = 1e-8,
-    atol: float = 1e-10,
-    max_steps: int | None = None,
-    throw: bool = True,
-) -> StructureResponse:
-    """Integrate a `BidirectionalStructure` from rest over `duration` [s].
+def planar_records(system: BidirectionalStructure) -> tuple:
+    """(record, what its length bounds) of a two-component structure's records (`step_count`):
+    the x and y ground records and the vertical one (a `Signal` is zero past its end, so a run
+    longer than a record is refused by name, not padded)."""
+    return ((system.ground_x, "duration"), (system.ground_y, "duration (y record)"),
+            (system.vertical_acceleration, "duration (vertical record)"))
 
-    **Arguments:** `solver`: `RiccatiNewmark()` (default, fixed step `system.time_step`) or an
-    adaptive diffrax solver (e.g. `diffrax.Tsit5()` with `rtol`, `atol`) for reference
-    solutions; `save_every`: keep every k-th step; `throw`: raise on solver failure (with
-    `False`, e.g. under `vmap`, the outcome of each member is in `result`).
 
-    **Returns:** a `StructureResponse` (two ground components; the coordinates q of the
-    system, the groups' bearing displacements, friction forces and Z). Groups of series
-    pendulums balance their sliders at each step (`simulate_series_groups`: fixed steps, every
-    step kept; `save_every` 1 and `solver` `None` alone).
-    """
-    if isinstance(system.bearing, SeriesPendulum):
-        if save_every != 1 or solver is not None:
-            raise ValueError("save_every, solver: a slab on series pendulums keeps every fixed step; leave them out.")
-        return simulate_series_groups(system, duration)
-    n_steps, steps, save_times = time_grid(system.time_step, duration, save_every,
-                                           ((system.vertical_acceleration, "duration (vertical record)"),))
-    dt = float(system.time_step)
-    solver = RiccatiNewmark() if solver is None else solver
-    if system.overturning is not None and not isinstance(solver, RiccatiNewmark):
-        raise ValueError("solver: the overturning loads are held over the fixed steps of "
-                         "RiccatiNewmark; leave solver out (or give height 0).")
-    solution = solve_on_grid(
-        system, solver, steps, save_times, bidirectional_initial_state(system),
-        jump_times=jnp.concatenate([system.ground_x.times, system.ground_y.times]),
-        rtol=rtol, atol=atol, max_steps=max_steps, throw=throw, adaptive_steps_per_step=200,
-    )
+def solved_planar_response(system: BidirectionalStructure, save_times, solution, n_steps: int,
+                           save_every: int) -> StructureResponse:
+    """The `StructureResponse` (two ground components; the coordinates q of the system, the
+    groups' bearing displacements, friction forces and Z) of a structure on sliding bearing
+    groups from its diffrax `solution` saved at `save_times` [s], every `save_every`-th of
+    `n_steps` steps (`simulate_history`)."""
     ys = solution.ys
+    dt = float(system.time_step)
     ground = jax.vmap(system.ground)(save_times)
     acceleration = jax.vmap(system._acceleration)(save_times, ys)
     bearing_d = jax.vmap(system.bearing_motion)(ys["q"])
@@ -343,7 +317,7 @@ def directional_storeys(q, total_acceleration, storey_height):
 
 def bidirectional_storey_peaks(response, system, storey_height) -> dict:
     """Peak storey results of a run of the two-direction building (`bidirectional_building`)
-    from its histories (`simulate_bidirectional`), by `directional_storeys`:
+    from its histories (`simulate_history`), by `directional_storeys`:
 
     - `storey_drift` (2, S) [-]: max_t |q_j - q_(j-1)| / h_j in x and in y, storey 1 first;
     - `storey_drift_resultant` (S,) [-]: max_t of the drift vector's length over h_j;

@@ -6,17 +6,22 @@ sample of a `StructureResponse`, along the run, keeping running and smooth maxim
 the history: the memory per run is that of its record). Each chooses the structure's step by
 its type and its isolator's. A stepped engine gives its run as an `EngineRun` (start, inputs,
 step, sample at rest): the peak driver folds its samples, and `run_history` keeps them, so a
-history and its peaks are the same samples; the flat sliders' histories come from their solve
-on a grid (`simulate_structure`, `simulate_bidirectional`: any diffrax solver)."""
+history and its peaks are the same samples; the flat sliders' and single pendulums'
+histories come from their solve on a grid (any diffrax solver)."""
 
 import dataclasses
 
 import jax
 import jax.numpy as jnp
 
+from ..solver import RiccatiNewmark, require_riccati_form, solve_on_grid
 from ..structures import small_dot
 from ._bidirectional import BidirectionalStructure
-from ._bidirectional_models import bidirectional_initial_state, simulate_bidirectional
+from ._bidirectional_models import (
+    bidirectional_initial_state,
+    planar_records,
+    solved_planar_response,
+)
 from ._response import (
     REDUCERS,
     EngineRun,
@@ -25,17 +30,24 @@ from ._response import (
     run_history,
     uplifted,
 )
-from ._series_groups import series_groups_run, series_steps
+from ._series_groups import series_groups_run
 from ._series_step import series_run
 from ._structure import WRITTEN_OUT_PRODUCT, StructureOnSliders, initial_state
-from ._structure_build import check_duration, check_storey_height, simulate_structure
+from ._structure_build import (
+    check_duration,
+    check_storey_height,
+    records,
+    solved_structure_response,
+    step_count,
+    time_grid,
+)
 from ._vertical import uplift_steps
 
 
 def _on_series(system) -> bool:
-    """Whether `system` is a structure on series pendulums (one or two components), stepped
-    by `series_run`."""
-    return isinstance(system, StructureOnSliders) and system.pendulum is not None
+    """Whether `system` is a structure on series pendulums: one or two components (stepped by
+    `series_run`) or a slab on their groups (`series_groups_run`)."""
+    return isinstance(system, (StructureOnSliders, BidirectionalStructure)) and system.pendulum is not None
 
 
 STEPS_PER_LOOP_PASS = 2
@@ -216,19 +228,13 @@ def _engine_run(system, duration):
     if isinstance(system, StructureOnSliders):
         n_steps = check_duration(system, duration)
         return n_steps, (series_run if _on_series(system) else _uniaxial_run)(system, n_steps)
-    if isinstance(system, BidirectionalStructure) and system.pendulum is not None:
-        n_steps = series_steps(system, duration)
-        return n_steps, series_groups_run(system, n_steps)
     if isinstance(system, BidirectionalStructure):
+        n_steps = step_count(system.time_step, duration, planar_records(system))
+        if system.pendulum is not None:
+            return n_steps, series_groups_run(system, n_steps)
         if system.overturning is not None:
             raise ValueError("system: the peaks in a scan do not carry the slab's overturning loads; "
-                             "run it with simulate_bidirectional (teflon-jax run without --suite).")
-        dt = float(system.time_step)
-        n_steps = int(duration / dt + 1e-9)
-        if n_steps < 1:
-            raise ValueError(f"duration: must be at least one time step ({dt} s), got {duration}.")
-        if system.vertical_acceleration is not None:
-            system.vertical_acceleration.require_covers(n_steps * dt, "duration (vertical record)")
+                             "run it with simulate_history (teflon-jax run without --suite).")
         return n_steps, _bidirectional_run(system, n_steps)
     raise TypeError(f"system: no peak driver for a {type(system).__name__}; give a structure built by "
                     "teflon_jax.systems (rigid mass, building or slab on its isolators).")
@@ -375,24 +381,84 @@ def peak_arrays(peaks: Peaks, components=None) -> dict:
     return {name: getattr(peaks, name) for name, key in MONTE_CARLO_PEAKS.items() if key in peaks}
 
 
-def simulate_history(system, duration: float, **options) -> StructureResponse:
-    """Integrate `system` from rest over `duration` [s] with its engine and return its
-    `StructureResponse`: a `StructureOnSliders` on flat sliders or single pendulums
-    (`simulate_structure`; `options` are its keywords) or on series pendulums in one or two
-    components (their sliders balanced at each step, `_series_step.py`; no options), or a
-    `BidirectionalStructure` on any isolator's groups (`simulate_bidirectional`)."""
+def simulate_history(
+    system,
+    duration: float,
+    *,
+    save_every: int = 1,
+    solver=None,
+    rtol: float = 1e-8,
+    atol: float = 1e-10,
+    max_steps: int | None = None,
+    adjoint=None,
+    throw: bool = True,
+) -> StructureResponse:
+    """Integrate any structure `systems` builds from rest over `duration` [s] and return its
+    `StructureResponse`.
+
+    A structure on series pendulums (one or two components, or a slab on their groups, with
+    each group's `group_uplift_time`) balances its sliders at each fixed step and keeps every
+    one (its `EngineRun`, the samples the peak driver folds); the options are then refused by
+    name. Flat sliders and single pendulums, in one component (`StructureOnSliders`) or two
+    (`BidirectionalStructure`), are solved on their grid by diffrax:
+
+    - `duration` [s]: rounded down to a whole number of `system.time_step`s (for every
+      structure, as in `peak_response`); the records must last that long (`ValueError` naming
+      the one that does not);
+    - `save_every`: keep every k-th step;
+    - `solver`: `RiccatiNewmark()` (default; fixed step `system.time_step`; Bouc-Wen with
+      eta = 2 and gamma > beta only; the only solver of the slab's overturning loads, held over
+      its steps) or an adaptive diffrax solver (e.g. `diffrax.Tsit5()` with `rtol`, `atol`),
+      for converged reference solutions and any other Bouc-Wen shape;
+    - `adjoint`: a diffrax adjoint; default `RecursiveCheckpointAdjoint()` (reverse mode);
+      `diffrax.ForwardMode()` for `jax.jvp`/`jax.jacfwd`;
+    - `throw`: raise on solver failure; with `False` (e.g. under `vmap`) the outcome is in the
+      response's `result`.
+    """
+    options = {"save_every": (save_every, 1), "solver": (solver, None), "rtol": (rtol, 1e-8),
+               "atol": (atol, 1e-10), "max_steps": (max_steps, None), "adjoint": (adjoint, None),
+               "throw": (throw, True)}
     if _on_series(system):
-        if options:
-            raise ValueError(f"{', '.join(options)}: a structure on series pendulums steps at its time_step and "
+        given = [name for name, (value, default) in options.items()
+                 if (value is not None if default is None else value != default)]
+        if given:
+            raise ValueError(f"{', '.join(given)}: a structure on series pendulums steps at its time_step and "
                              "keeps every step; drop these options.")
         n_steps, run = _engine_run(system, duration)
         response = run_history(run)
+        if isinstance(system, BidirectionalStructure):  # a slab on groups: the steps each group is lifted
+            return dataclasses.replace(response, group_uplift_time=jnp.sum(response.normal_load[1:] <= 0, axis=0)
+                                       * float(system.time_step))
         if system.vertical_acceleration is None:
             return response
         return dataclasses.replace(response, uplift_time=uplift_steps(system, n_steps) * system.time_step)
-    drivers = {StructureOnSliders: simulate_structure, BidirectionalStructure: simulate_bidirectional}
-    for kind, driver in drivers.items():
-        if isinstance(system, kind):
-            return driver(system, duration, **options)
-    raise TypeError(f"system: no history driver for a {type(system).__name__}; give a structure built by "
-                    "teflon_jax.systems (rigid mass, building or slab on its isolators).")
+    if not isinstance(system, (StructureOnSliders, BidirectionalStructure)):
+        raise TypeError(f"system: no history driver for a {type(system).__name__}; give a structure built by "
+                        "teflon_jax.systems (rigid mass, building or slab on its isolators).")
+    planar = isinstance(system, BidirectionalStructure)
+    n_steps, steps, save_times = time_grid(system.time_step, duration, save_every,
+                                           planar_records(system) if planar else records(system))
+    solver = RiccatiNewmark() if solver is None else solver
+    _check_solver(system, solver)
+    if planar:
+        y0, jumps = bidirectional_initial_state(system), jnp.concatenate([system.ground_x.times,
+                                                                          system.ground_y.times])
+    else:
+        y0, jumps = initial_state(system), system.ground_acceleration.times
+    solution = solve_on_grid(system, solver, steps, save_times, y0, jump_times=jumps, rtol=rtol, atol=atol,
+                             max_steps=max_steps, adjoint=adjoint, throw=throw,
+                             adaptive_steps_per_step=200 if planar else 100)
+    if planar:
+        return solved_planar_response(system, save_times, solution, n_steps, save_every)
+    return solved_structure_response(system, save_times, solution, n_steps)
+
+
+def _check_solver(system, solver) -> None:
+    """`ValueError` naming `solver` where the structure's step needs `RiccatiNewmark`: the
+    slab's overturning loads (held over its fixed steps) and a hysteresis outside its form."""
+    fixed = isinstance(solver, RiccatiNewmark)
+    if isinstance(system, BidirectionalStructure) and system.overturning is not None and not fixed:
+        raise ValueError("solver: the overturning loads are held over the fixed steps of "
+                         "RiccatiNewmark; leave solver out (or give height 0).")
+    if isinstance(system, StructureOnSliders) and fixed and system.friction_model == "hysteretic":
+        require_riccati_form(system.bearing.hysteresis)

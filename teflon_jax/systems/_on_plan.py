@@ -136,7 +136,7 @@ def slab_on_bearings(
       single pendulums (`_bidirectional_laws.py`); the series pendulums' sliders follow Park's Z.
 
     **Returns:** a `BidirectionalStructure` with q = (u_x [m], u_y [m], theta [rad]) for every
-    isolator (`simulate_bidirectional`); series pendulums as its stacked `bearing`.
+    isolator (`simulate_history`); series pendulums as its stacked `bearing`.
     """
     positions = np.asarray(positions, dtype=float).reshape(-1, 2)
     loads = np.asarray(loads, dtype=float).reshape(-1)
@@ -275,7 +275,7 @@ def building_on_plan(
       "coulomb" or "none".
 
     **Returns:** a `BidirectionalStructure` with q = (x: base, floors 1-6; y: base, floors 1-6;
-    theta [rad]) (`simulate_bidirectional`; a vertical record by `with_vertical_motion`).
+    theta [rad]) (`simulate_history`; a vertical record by `with_vertical_motion`).
     """
     building = load_table2() if building is None else building
     positions = np.asarray(positions, dtype=float).reshape(-1, 2)

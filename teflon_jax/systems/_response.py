@@ -1,9 +1,9 @@
 """One response type for every structure history: a rigid mass, a building or a slab, on flat
 sliders, single pendulums or series pendulums, under one or two ground components.
 
-Every history (`simulate_history` for any structure; behind it `simulate_structure`,
-`simulate_bidirectional` and `run_history` of a stepped engine's `EngineRun`) is a
-`StructureResponse`; the parts a structure does not have are `None`.
+Every history (`simulate_history` for any structure: a diffrax solve on the time grid, or
+`run_history` of a stepped engine's `EngineRun`) is a `StructureResponse`; the parts a
+structure does not have are `None`.
 
 The response's quantities (base displacement, base shear, storey drift, level acceleration,
 isolator force, slider travel, ...) are written here once, each on one sample of a
@@ -66,7 +66,7 @@ class StructureResponse(eqx.Module):
     and `uplift_time` [s], the steps whose end has N <= 0 times the step.
 
     **Outcome:** `converged` (nt,): each step's balance converged (stepped engines), or
-    `result`, the `diffrax.RESULTS` of a solve (`simulate_structure`, `simulate_bidirectional`);
+    `result`, the `diffrax.RESULTS` of a solve on the time grid (`simulate_history`);
     `succeeded` reads either.
     """
 

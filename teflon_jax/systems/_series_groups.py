@@ -47,7 +47,7 @@ from ._isolator_balance import (
     predicted_increments,
     uplift_increments,
 )
-from ._response import EngineRun, StructureResponse, run_history
+from ._response import EngineRun, StructureResponse
 from ._slider_forces import (
     heated_step,
     initial_history,
@@ -238,19 +238,6 @@ def _exact_blocks(x, p, dt):
     return jnp.where((p["N"] > 0)[:, None, None, None], blocks, pendulum)
 
 
-def series_steps(system, duration: float) -> int:
-    """Whole steps in `duration` [s], after checking that the records last that long."""
-    dt = float(system.time_step)
-    n_steps = int(round(duration / dt + 1e-9))
-    if n_steps < 1:
-        raise ValueError(f"duration: must be at least one time step ({dt} s), got {duration}.")
-    for name, signal in (("ground_x", system.ground_x), ("ground_y", system.ground_y),
-                         ("vertical_acceleration", system.vertical_acceleration)):
-        if signal is not None:
-            signal.require_covers(n_steps * dt, f"duration ({name})")
-    return n_steps
-
-
 def series_sample(system, time, state, ground) -> StructureResponse:
     """One sample (no time axis) of the slab's `StructureResponse` at `time` [s] from the step
     state `state` (`series_initial_state`) and the ground (2,) [m/s^2] then; the driver adds
@@ -278,20 +265,3 @@ def series_groups_run(system, n_steps: int) -> EngineRun:
 
     start = series_initial_state(system)
     return EngineRun(start, (ground[:-1], ground[1:], time[1:]), step, series_sample(system, time[0], start, ground[0]))
-
-
-def simulate_series_groups(system, duration: float) -> StructureResponse:
-    """Integrate the slab from rest over `duration` [s] (whole steps), every step kept.
-    jit/vmap/grad-safe.
-
-    **Returns:** a `StructureResponse` (two ground components; coordinates (x, y, rotation)):
-    `bearing_force` (nt, G, 2) [N], each group's isolator force resisting its displacement;
-    `bearing_displacement` (nt, G, 2) [m]; `slider` (nt, G, S, 2) [m]; `normal_load` (nt, G)
-    [N] (a step's load at its end) and `group_uplift_time` (G,) [s]; `converged` (nt,) (the
-    sliders' balance converged and the slab rested); `tipped` (nt,) (the slab could not rest on
-    its groups: the overturning moment beyond what they hold without tension,
-    `supported_loads`); `surface_temperature_rise` (nt, G, S) [K] (`surface_temperature_rises`;
-    0 on a surface without heating), `None` where no surface heats."""
-    dt = float(system.time_step)
-    response = run_history(series_groups_run(system, series_steps(system, duration)))
-    return dataclasses.replace(response, group_uplift_time=jnp.sum(response.normal_load[1:] <= 0, axis=0) * dt)

@@ -1,6 +1,6 @@
 """A `StructureOnSliders` built and run: shapes checked, the step's matrices prefactored, the
 optional bearing parts a structure runs (heating, wear) with the heat kernel they need; its
-histories over a record (`simulate_structure`); and a building's storey results as linear maps
+histories over a record (`simulate_history`); and a building's storey results as linear maps
 of its state; the paper's two structures on sliders (`rigid_mass`, `six_storey_building`, their
 linear parts `teflon_jax.structures.rigid_mass_matrices`, `building_matrices`).
 
@@ -28,7 +28,6 @@ from ..bearing import (
     heat_kernel_exponentials,
 )
 from ..excitation import Signal
-from ..solver import require_riccati_form
 from ..structures import (
     LINEAR_RULES,
     building_matrices,
@@ -43,7 +42,6 @@ from ._structure import (
     FRICTION_MODELS,
     NEWTON_ITERATIONS,
     StructureOnSliders,
-    initial_state,
 )
 from ._vertical import uplift_steps
 
@@ -182,12 +180,12 @@ def _exact_step_matrix(mass, stiffness, damping, time_step):
 
 
 def step_count(time_step: float, duration: float, records=()) -> int:
-    """Number n of steps `time_step` dt [s] in `duration` [s], n = round(duration / dt)
-    (rounded down), after checking that it is at least one step and that each (`Signal` or
+    """Number n of steps `time_step` dt [s] in `duration` [s], n = floor(duration / dt) (up to
+    1e-9 of a step of rounding), after checking that it is at least one step and that each (`Signal` or
     `None`, name in the message) of `records` lasts n dt (a `Signal` is zero past its last
     sample; ask for a shorter duration or append zeros on purpose)."""
     dt = float(time_step)
-    n_steps = int(round(duration / dt + 1e-9))
+    n_steps = int(duration / dt + 1e-9)
     if n_steps < 1:
         raise ValueError(f"duration: must be at least one time step ({dt} s), got {duration}.")
     for record, name in records:
@@ -208,59 +206,20 @@ def check_duration(system: StructureOnSliders, duration: float) -> int:
     """Number of `time_step`s in `duration` [s] (rounded down), after checking that it is at
     least one step and that the ground-acceleration record (and the vertical one) lasts that
     long (`step_count`)."""
-    return step_count(system.time_step, duration, _records(system))
+    return step_count(system.time_step, duration, records(system))
 
 
-def _records(system: StructureOnSliders) -> tuple:
+def records(system: StructureOnSliders) -> tuple:
+    """(record, what its length bounds) of the structure's records (`step_count`)."""
     return ((system.ground_acceleration, "duration"), (system.ground_y, "duration (y record)"),
             (system.vertical_acceleration, "duration (vertical record)"))
 
 
-def simulate_structure(
-    system: StructureOnSliders,
-    duration: float,
-    *,
-    save_every: int = 1,
-    solver=None,
-    rtol: float = 1e-8,
-    atol: float = 1e-10,
-    max_steps: int | None = None,
-    adjoint=None,
-    throw: bool = True,
-) -> StructureResponse:
-    """Integrate a structure on sliders from rest over `duration` [s].
-
-    **Arguments:**
-
-    - `system`: from `structure_on_sliders` or the model builders (rigid mass, building).
-    - `duration` [s]: end time; a multiple of `system.time_step` is used (rounded down). It
-      may not exceed the ground-acceleration record (see `check_duration`).
-    - `save_every`: keep every k-th step.
-    - `solver`: `RiccatiNewmark()` (default; fixed step `system.time_step`; Bouc-Wen with
-      eta = 2 and gamma > beta only) or an adaptive diffrax solver (e.g. `diffrax.Tsit5()` with
-      `rtol`, `atol`), for converged reference solutions and for any other Bouc-Wen shape.
-    - `adjoint`: a diffrax adjoint; default `RecursiveCheckpointAdjoint()` (reverse mode);
-      pass `diffrax.ForwardMode()` for `jax.jvp`/`jax.jacfwd` (cheaper with few parameters).
-    - `throw`: raise on solver failure; with `False` (e.g. under vmap) the code is in `result`.
-
-    **Returns:** a `StructureResponse` sampled every `save_every` steps (one ground component).
-    """
-
-    from ..solver import RiccatiNewmark, solve_on_grid
-
-    if system.pendulum is not None:
-        raise TypeError(f"system: a structure on {system.pendulum.description} balances their sliders at "
-                        "each step; run it with simulate_history.")
-    n_steps, steps, save_times = time_grid(system.time_step, duration, save_every, _records(system))
-    dt = float(system.time_step)
-    solver = RiccatiNewmark() if solver is None else solver
-    if isinstance(solver, RiccatiNewmark) and system.friction_model == "hysteretic":
-        require_riccati_form(system.bearing.hysteresis)
-    solution = solve_on_grid(
-        system, solver, steps, save_times, initial_state(system),
-        jump_times=system.ground_acceleration.times, rtol=rtol, atol=atol, max_steps=max_steps,
-        adjoint=adjoint, throw=throw,
-    )
+def solved_structure_response(system: StructureOnSliders, save_times, solution, n_steps: int) -> StructureResponse:
+    """The `StructureResponse` (one ground component) of a flat-slider or single-pendulum
+    structure from its diffrax `solution` saved at `save_times` [s] over `n_steps` steps
+    (`simulate_history`): the states, the total accelerations of the equation of motion, the
+    friction force mu W Z and, with a vertical record, the load factor and the uplift time."""
     ys = solution.ys
     ag = jax.vmap(system.ground_acceleration)(save_times)
     relative = jax.vmap(system._acceleration)(save_times, ys)
@@ -278,7 +237,7 @@ def simulate_structure(
         z_peak=ys["z_peak"],
         result=solution.result,
         load_factor=loads,
-        uplift_time=None if loads is None else uplift_steps(system, n_steps) * dt,
+        uplift_time=None if loads is None else uplift_steps(system, n_steps) * float(system.time_step),
     )
 
 
