@@ -228,11 +228,12 @@ def _series_pendulum(args):
 def _run_series_pendulum(args) -> int:
     """`simulate-test --isolator-file`: the triple or double pendulum's loop as a test record."""
     from ..formats import test_record_from_arrays, write_test_record
-    from ..systems import triple_pendulum_test
+    from ..systems import simulate_bearing_test
 
     isolator, motion, normal_load = _series_pendulum(args)
-    time, displacement, response = triple_pendulum_test(
-        isolator, motion, normal_load, samples_per_cycle=args.samples_per_cycle)
+    response = simulate_bearing_test(isolator, motion, normal_load, samples_per_cycle=args.samples_per_cycle)
+    time = response.time
+    displacement = response.ux if response.uy is None else np.stack([response.ux, response.uy], -1)
     failed = int(np.count_nonzero(~np.asarray(response.converged)))
     if failed:
         raise RuntimeError(f"the sliders' force balance did not converge at {failed} samples; "

@@ -42,7 +42,6 @@ from ._isolator_balance import BALANCES as BALANCES
 from ._isolator_balance import TRIPLE_TOLERANCE as TRIPLE_TOLERANCE
 from ._isolator_balance import imposed_isolator_force as imposed_isolator_force
 from ._isolator_balance import simulate_triple_test as simulate_triple_test
-from ._isolator_balance import triple_pendulum_test as triple_pendulum_test
 from ._on_plan import building_on_plan as building_on_plan
 from ._on_plan import slab_on_bearings as slab_on_bearings
 from ._on_plan import stack_pendulums as stack_pendulums

@@ -9,6 +9,7 @@ import jax
 import jax.numpy as jnp
 
 from ..bearing import (
+    SeriesPendulum,
     SlidingBearing,
     bouc_wen_exact_update,
     bouc_wen_rate,
@@ -30,6 +31,7 @@ from ..solver import (
     solve_with_controller,
 )
 from ..validation import require_positive
+from ._isolator_balance import simulate_triple_test
 from ._response import BearingTestResult
 from ._sampled_path import respond_along_path, sample_velocity, sampled_path
 
@@ -78,7 +80,7 @@ class BearingTestSystem(AbstractSteppedSystem):
 
 
 def simulate_bearing_test(
-    bearing: SlidingBearing,
+    bearing: SlidingBearing | SeriesPendulum,
     motion: AbstractMotion,
     normal_load,
     *,
@@ -92,14 +94,17 @@ def simulate_bearing_test(
     adjoint: diffrax.AbstractAdjoint | None = None,
     throw: bool = True,
 ) -> BearingTestResult:
-    """Simulate a bearing test under an imposed motion.
+    """Simulate a bearing test of any isolator under an imposed motion.
 
     **Arguments:**
 
-    - `bearing`: the `SlidingBearing` (vmap this function over a batched bearing to run many).
+    - `bearing`: the `SlidingBearing` of flat sliders (vmap this function over a batched
+      bearing to run many), or a `SeriesPendulum` (triple or double friction pendulum), whose
+      sliders are balanced at each sample by the structures' solve (`simulate_triple_test`;
+      the solve's options below are then refused by name).
     - `motion`: an `AbstractMotion` (sine, triangle, figure-eight, tabulated).
-    - `normal_load` [N]: a constant or a `Signal` (time-varying normal load), which must
-      cover `duration` (a recorded load is not extended past its last sample).
+    - `normal_load` [N]: a constant or, for a `SlidingBearing`, a `Signal` (time-varying normal
+      load), which must cover `duration` (a recorded load is not extended past its last sample).
     - `duration` [s]: defaults to `motion.duration`.
     - `samples_per_cycle`: saved samples per cycle of the motion (tabulated: per input sample
       interval the sample spacing of the table is used instead).
@@ -117,8 +122,14 @@ def simulate_bearing_test(
     the motion's own velocity, by `respond_along_path` (Z exact between samples along x, Park
     along the Hermite path in the plane); `solver` and its tolerances do not apply.
 
-    **Returns:** a `BearingTestResult`.
+    **Returns:** a `BearingTestResult` (of a series pendulum: the path, the force, each slider's
+    displacement and Z, and whether each sample's balance converged).
     """
+    if isinstance(bearing, SeriesPendulum):
+        options = {"steps_per_sample": (steps_per_sample, 1), "solver": (solver, None), "rtol": (rtol, 1e-8),
+                   "atol": (atol, 1e-10), "max_steps": (max_steps, 1_000_000), "adjoint": (adjoint, None),
+                   "throw": (throw, True)}
+        return _series_test(bearing, motion, normal_load, duration, samples_per_cycle, options)
     check_bearing(bearing)
     motion.check()
     if duration is None:
@@ -145,6 +156,26 @@ def simulate_bearing_test(
         dt0 = None
     adjoint = diffrax.RecursiveCheckpointAdjoint() if adjoint is None else adjoint
     return _solve(system, solver, controller, dt0, times, normal_load, max_steps, adjoint, throw)
+
+
+def _series_test(bearing: SeriesPendulum, motion, normal_load, duration, samples_per_cycle, options):
+    """The test of a series pendulum (`simulate_bearing_test`): its balance along the motion
+    sampled `samples_per_cycle` times a cycle (a tabulated motion at its own samples), under a
+    constant normal load; `ValueError` naming the options of the flat bearing's solve and a
+    normal load that varies."""
+    given = [name for name, (value, default) in options.items()
+             if (value is not None if default is None else value != default)]
+    if given:
+        raise ValueError(f"{', '.join(given)}: the {bearing.description} balance their sliders at each "
+                         "sample (the structures' solve); drop these options.")
+    if isinstance(normal_load, Signal):
+        raise ValueError(f"normal_load: the test of {bearing.description} runs under a constant normal "
+                         "load [N]; give one number.")
+    motion.check()
+    time = save_times(motion, motion.duration if duration is None else duration, samples_per_cycle)
+    path = jax.vmap(motion.displacement)(time)
+    displacement = path if isinstance(motion, AbstractBiaxialMotion) else path[:, 0]
+    return simulate_triple_test(bearing, time, displacement, normal_load)
 
 
 @eqx.filter_jit

@@ -36,7 +36,6 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..bearing import SeriesPendulum
-from ..excitation import AbstractBiaxialMotion
 from ..solver import (
     RESCUE_ITERATIONS,
     broyden_blocks,
@@ -47,7 +46,6 @@ from ..solver import (
     sherman_morrison,
     woodbury,
 )
-from ._bearing_test import save_times
 from ._isolator_solve import bracketed_newton
 from ._response import BearingTestResult
 from ._sampled_path import sample_velocity
@@ -453,17 +451,3 @@ def _test_heat_kernel(bearing: SeriesPendulum, time, heat_kernel):
         raise ValueError("heat_kernel: a heated pendulum under traced sample times needs "
                          "heat_kernel=heat_kernel_exponentials(time_step, horizon) (or concrete times).")
     return series_heat_kernel(bearing, float(np.min(np.diff(np.asarray(time)))))
-
-
-def triple_pendulum_test(bearing: SeriesPendulum, motion, normal_load, *,
-                         samples_per_cycle: int = 400):
-    """A bearing test of a triple or double pendulum: the imposed `motion` (`AbstractMotion`: sine,
-    triangle, figure-eight or tabulated) sampled `samples_per_cycle` times a cycle (a tabulated
-    motion at its own samples), under the constant normal load [N].
-
-    **Returns:** (time (nt,) [s], displacement (nt,) or (nt, 2) [m], `BearingTestResult`).
-    """
-    time = save_times(motion, motion.duration, samples_per_cycle)
-    path = jax.vmap(motion.displacement)(time)
-    displacement = path if isinstance(motion, AbstractBiaxialMotion) else path[:, 0]
-    return time, displacement, simulate_triple_test(bearing, time, displacement, normal_load)
