@@ -16,8 +16,9 @@ bearing law is written out.
 - the history drivers (functions of `systems/` that `scan` and are named `simulate_*`,
   `*_history` or `*_histories`) and the peak drivers (functions of `systems/` and `studies/` that `scan` and are
   named after peaks or uplift);
-- the structure history functions `teflon_jax.systems` exports (functions annotated to return a
-  `StructureResponse`);
+- the structure history functions and the imposed-path test functions `teflon_jax.systems`
+  exports (functions that return a `StructureResponse` or a `BearingTestResult`, by their
+  annotation or their docstring's **Returns:**);
 - the tables keyed by isolator name (dict literals with "flat", "single-fp", "triple-fp" or
   "double-fp" as a key) and where they are.
 Nothing is run: the counts are read from the files.
@@ -71,14 +72,18 @@ def _name_tables(text: str) -> int:
         isinstance(k, ast.Constant) and k.value in ISOLATOR_NAMES for k in n.keys))
 
 
-def _exported_histories(package: pathlib.Path, texts: dict) -> int:
-    """Functions exported by `systems/__init__.py` whose return annotation is a `StructureResponse`."""
+def _exported_histories(package: pathlib.Path, texts: dict, returns: str = "StructureResponse") -> int:
+    """Functions exported by `systems/__init__.py` that return `returns` (by their annotation,
+    or by their docstring's **Returns:** where it names it)."""
     exported = set(re.findall(r"import (\w+) as \1", texts[package / "systems" / "__init__.py"]))
     found = set()
     for path in _modules(package / "systems"):
         for f in ast.walk(ast.parse(texts[path])):
-            if isinstance(f, ast.FunctionDef) and f.name in exported and f.returns is not None \
-                    and "StructureResponse" in ast.unparse(f.returns):
+            if not (isinstance(f, ast.FunctionDef) and f.name in exported):
+                continue
+            annotated = f.returns is not None and returns in ast.unparse(f.returns)
+            documented = returns in (ast.get_docstring(f) or "").partition("**Returns:**")[2]
+            if annotated or documented:
                 found.add(f.name)
     return len(found)
 
@@ -105,6 +110,8 @@ def counts(root: pathlib.Path) -> dict:
         "peak drivers in systems/, studies/": sum(
             _scanning(texts[p], _is_peaks) for p in systems + _modules(package / "studies")),
         "structure history functions exported by systems": _exported_histories(package, texts),
+        "imposed-path test functions exported by systems": _exported_histories(package, texts,
+                                                                              "BearingTestResult"),
         "tables keyed by isolator name": sum(_name_tables(t) for t in texts.values()),
         "variant modules": ", ".join(f"{p.parent.name}/{p.name}" for p in variant),
     }
