@@ -2,18 +2,26 @@
 are the `REDUCERS` of the response, the same as `studies.response_peaks` takes over the saved
 history of the same system and motion (`simulate_history`), for flat sliders and series
 pendulums in one and two components and with a vertical record, and for a slab on groups of
-double pendulums whose overturning moves load between them; and its base shear is the
+double pendulums and the building on a plan of flat sliders, whose overturning moves load
+between the groups; and its base shear is the
 force the bearings carry over the weight, sum_j m_j a_j^total / (g sum_j m_j), computed here by
 hand from the history."""
 
 import numpy as np
 import pytest
 
-from teflon_jax.bearing import BoucWen, DoublePendulum, FrictionParameters, TriplePendulum
+from teflon_jax.bearing import (
+    BoucWen,
+    DoublePendulum,
+    FrictionParameters,
+    SlidingBearing,
+    TriplePendulum,
+)
 from teflon_jax.excitation import uniform_signal
 from teflon_jax.studies import bidirectional_isolated_structure, response_peaks
 from teflon_jax.systems import (
     REDUCERS,
+    building_on_plan,
     isolated_structure,
     peak_response,
     response_layout,
@@ -41,6 +49,8 @@ DOUBLE = DoublePendulum(bottom_radius=2.1, top_radius=2.1, bottom_capacity=0.3, 
                         bottom_friction=FrictionParameters(0.06, 0.03, 20.0),
                         top_friction=FrictionParameters(0.09, 0.04, 20.0), hysteresis=BoucWen(1.27e-4))
 
+SLIDERS = SlidingBearing(friction=FrictionParameters(0.08, 0.04, 20.0), hysteresis=BoucWen(1.27e-4))
+
 
 def _system(engine):
     gx, gy, gz = (uniform_signal(a, STEP) for a in (AX, AY, AZ))
@@ -49,6 +59,12 @@ def _system(engine):
                                 positions=[[2.0, 1.0], [18.0, 1.0], [18.0, 11.0], [2.0, 11.0]], loads=[2.5e5] * 4,
                                 ground_x=gx, ground_y=gy, time_step=STEP, isolator="double-fp", pendulums=DOUBLE,
                                 height_of_centre_of_mass=4.0)
+    if engine == "flat-building-plan":  # Table 2's building on the plan: its groups' loads move with the
+        # overturning moment of the levels' inertia forces at their own heights
+        return building_on_plan(
+            length_x=20.0, length_y=12.0, centre_of_mass=[10.0, 6.0],
+            positions=[[2.0, 1.0], [18.0, 1.0], [18.0, 11.0], [2.0, 11.0]], loads=[672 * 4448.2216152605 / 4] * 4,
+            bearings=SLIDERS, ground_x=gx, ground_y=gy, time_step=STEP, isolation_period=2.5)
     if engine == "flat-1c":
         return isolated_structure("building")(gx)
     if engine == "flat-2c":
@@ -63,7 +79,8 @@ def _system(engine):
     return with_vertical_motion(triple_structure("rigid", TRIPLE, gx, time_step=STEP), gz)  # series-1c-vertical
 
 
-ENGINES = ["flat-1c", "flat-2c", "flat-1c-vertical", "series-1c", "series-2c", "series-1c-vertical", "series-slab"]
+ENGINES = ["flat-1c", "flat-2c", "flat-1c-vertical", "series-1c", "series-2c", "series-1c-vertical", "series-slab",
+           "flat-building-plan"]
 
 
 @pytest.mark.parametrize("engine", ENGINES)

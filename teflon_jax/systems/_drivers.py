@@ -16,7 +16,7 @@ import jax.numpy as jnp
 
 from ..solver import RiccatiNewmark, require_riccati_form, solve_on_grid
 from ..structures import small_dot
-from ._bidirectional import BidirectionalStructure
+from ._bidirectional import BidirectionalStructure, overturning_step
 from ._bidirectional_models import (
     bidirectional_initial_state,
     planar_records,
@@ -136,9 +136,9 @@ def peak_response(system, duration: float, *, reducers=None, smooth=None, disp_w
     The engines: a `StructureOnSliders` (flat sliders, single pendulums; the linear part of
     its step one (2n, 2n + 3) product, `StructureOnSliders.step_matrices`), a
     `StructureOnSliders` on series pendulums (one or two components) and a
-    `BidirectionalStructure` (flat sliders and single pendulums under two components,
-    without a slab's overturning; a slab on groups of series pendulums, with its overturning);
-    each with its vertical record if it has one. jit/vmap/grad-safe.
+    `BidirectionalStructure` (flat sliders and single pendulums under two components; a slab
+    or a building on a plan of any isolator's groups, with its overturning loads); each with
+    its vertical record if it has one. jit/vmap/grad-safe.
 
     **Arguments:**
 
@@ -232,9 +232,6 @@ def _engine_run(system, duration):
         n_steps = step_count(system.time_step, duration, planar_records(system))
         if system.pendulum is not None:
             return n_steps, series_groups_run(system, n_steps)
-        if system.overturning is not None:
-            raise ValueError("system: the peaks in a scan do not carry the slab's overturning loads; "
-                             "run it with simulate_history (teflon-jax run without --suite).")
         return n_steps, _bidirectional_run(system, n_steps)
     raise TypeError(f"system: no peak driver for a {type(system).__name__}; give a structure built by "
                     "teflon_jax.systems (rigid mass, building or slab on its isolators).")
@@ -312,13 +309,16 @@ def _uniaxial_start(system, ground0, load0):
 
 
 def _bidirectional_run(system: BidirectionalStructure, n_steps) -> EngineRun:
-    """Flat sliders or single pendulums under two components (`newmark_update`), the
-    accelerations the equation of motion's at each step's end."""
+    """Flat sliders or single pendulums under two components (`newmark_update`; a slab's
+    overturning loads: `_overturning_run`), the accelerations the equation of motion's at each
+    step's end."""
     dt = float(system.time_step)
     times = jnp.arange(n_steps + 1) * dt
     ground = jax.vmap(system.ground)(times)
     loads = None if system.vertical_acceleration is None else jax.vmap(system.load_factor)(times)
     y0 = bidirectional_initial_state(system)
+    if system.overturning is not None:
+        return _overturning_run(system, times, ground, loads, y0)
     a0 = system.at_load(None if loads is None else loads[0]).acceleration_at(ground[0], y0)
 
     def step(state, inputs):
@@ -333,6 +333,28 @@ def _bidirectional_run(system: BidirectionalStructure, n_steps) -> EngineRun:
         return (y1, a1), sample, converged
 
     return EngineRun((y0, a0), (times[1:], ground[1:], None if loads is None else loads[1:]), step)
+
+
+def _overturning_run(system: BidirectionalStructure, times, ground, loads, y0) -> EngineRun:
+    """A slab on sliding groups whose loads move with the overturning moment: each step as the
+    history's (`overturning_step`: the groups' loads from the horizontal force at the step's
+    start and the vertical record at its end, held over the step, a step on which the slab
+    tips not converged), the accelerations under the loads of the step's end."""
+    def acceleration(time, ground_now, y):
+        return system.at_load(system.load_at(time, y)).acceleration_at(ground_now, y)
+
+    def step(state, inputs):
+        y, a = state
+        time0, time1, ground1, load1 = inputs
+        y1, converged = overturning_step(system, time0, time1, y, a)
+        a1 = acceleration(time1, ground1, y1)
+        sample = StructureResponse(time=time1, displacement=y1["q"], velocity=y1["v"],
+                                   total_acceleration=a1 + system.influence @ ground1, ground=ground1,
+                                   normal_load=y1["normal_load"], load_factor=load1)
+        return (y1, a1), sample, converged
+
+    inputs = (times[:-1], times[1:], ground[1:], None if loads is None else loads[1:])
+    return EngineRun((y0, acceleration(times[0], ground[0], y0)), inputs, step)
 
 
 MONTE_CARLO_PEAKS = {"base_disp": "base_disp_resultant", "base_shear_ratio": "base_shear_ratio_resultant",
