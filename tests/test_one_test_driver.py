@@ -2,6 +2,8 @@
 is solved by diffrax along the motion, a series pendulum's balances its sliders at each sample
 with the structures' solve; the solve's options are refused there by name."""
 
+import dataclasses
+
 import jax
 import numpy as np
 import pytest
@@ -43,6 +45,8 @@ def test_the_flat_bearings_solve_options_are_refused_on_a_series_pendulum_by_nam
             simulate_bearing_test(DOUBLE, MOTION, W, **options)
     with pytest.raises(ValueError, match="normal_load: the test of double friction pendulums runs under a constant"):
         simulate_bearing_test(DOUBLE, MOTION, uniform_signal(np.full(100, W), 0.1))
+    with pytest.raises(ValueError, match="bottom_radius"):  # checked like a flat bearing's constants
+        simulate_bearing_test(dataclasses.replace(DOUBLE, bottom_radius=-1.5), MOTION, W)
 
 
 def test_a_flat_bearing_and_a_series_pendulum_give_one_result_type():

@@ -14,6 +14,7 @@ from ..bearing import (
     bouc_wen_exact_update,
     bouc_wen_rate,
     check_bearing,
+    check_series_pendulum,
     park_rate,
     sliding_speed,
 )
@@ -161,8 +162,8 @@ def simulate_bearing_test(
 def _series_test(bearing: SeriesPendulum, motion, normal_load, duration, samples_per_cycle, options):
     """The test of a series pendulum (`simulate_bearing_test`): its balance along the motion
     sampled `samples_per_cycle` times a cycle (a tabulated motion at its own samples), under a
-    constant normal load; `ValueError` naming the options of the flat bearing's solve and a
-    normal load that varies."""
+    constant normal load; `ValueError` naming the options of the flat bearing's solve, a
+    normal load that varies and a constant of the pendulum out of range."""
     given = [name for name, (value, default) in options.items()
              if (value is not None if default is None else value != default)]
     if given:
@@ -171,6 +172,7 @@ def _series_test(bearing: SeriesPendulum, motion, normal_load, duration, samples
     if isinstance(normal_load, Signal):
         raise ValueError(f"normal_load: the test of {bearing.description} runs under a constant normal "
                          "load [N]; give one number.")
+    check_series_pendulum(bearing)
     motion.check()
     time = save_times(motion, motion.duration if duration is None else duration, samples_per_cycle)
     path = jax.vmap(motion.displacement)(time)
