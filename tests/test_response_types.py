@@ -74,6 +74,9 @@ def test_one_driver_takes_every_structure_and_refuses_by_name_what_its_engine_do
         simulate_history(series, 1.0, rtol=1e-6, throw=False)
     with pytest.raises(TypeError, match="system: no history driver"):
         simulate_history(TRIPLE, 1.0)
+    for bad in (0, 1.5):
+        with pytest.raises(ValueError, match=f"save_every: must be a positive integer number of steps, got {bad}"):
+            simulate_history(rigid, 1.0, save_every=bad)
 
 
 def test_the_one_structure_refuses_by_name_what_its_isolator_does_not_take():

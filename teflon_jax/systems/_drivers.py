@@ -457,6 +457,8 @@ def simulate_history(
     if not isinstance(system, (StructureOnSliders, BidirectionalStructure)):
         raise TypeError(f"system: no history driver for a {type(system).__name__}; give a structure built by "
                         "teflon_jax.systems (rigid mass, building or slab on its isolators).")
+    if isinstance(save_every, bool) or not isinstance(save_every, int) or save_every < 1:
+        raise ValueError(f"save_every: must be a positive integer number of steps, got {save_every!r}.")
     planar = isinstance(system, BidirectionalStructure)
     n_steps, steps, save_times = time_grid(system.time_step, duration, save_every,
                                            planar_records(system) if planar else records(system))
