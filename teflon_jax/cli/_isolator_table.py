@@ -1,6 +1,7 @@
 """What `teflon-jax fit` and `simulate-test` do differently for each isolator: one row per
 `--isolator` name (`FIT_ROWS`, `TEST_ROWS`, keyed by `_isolator_flags.per_isolator` from the
-command line's one list of isolators, which mirrors the registry `teflon_jax.bearing.ISOLATORS`). The commands' flows (`_fit.run_fit`,
+command line's one list of isolators, which mirrors the registry
+`teflon_jax.bearing.ISOLATORS`). The commands' flows (`_fit.run_fit`,
 `_simulate.run_simulate`) look the row up once and read these facts from it: the flags the
 isolator refuses or needs, the constants `--fixed` takes beside the friction law's, how its
 inputs are read, how it is fitted, printed, plotted and saved.
