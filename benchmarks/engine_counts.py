@@ -72,7 +72,7 @@ def _name_tables(text: str) -> int:
         isinstance(k, ast.Constant) and k.value in ISOLATOR_NAMES for k in n.keys))
 
 
-def _exported_histories(package: pathlib.Path, texts: dict, returns: str = "StructureResponse") -> int:
+def _exported_returning(package: pathlib.Path, texts: dict, returns: str = "StructureResponse") -> int:
     """Functions exported by `systems/__init__.py` that return `returns` (by their annotation,
     or by their docstring's **Returns:** where it names it)."""
     exported = set(re.findall(r"import (\w+) as \1", texts[package / "systems" / "__init__.py"]))
@@ -109,8 +109,8 @@ def counts(root: pathlib.Path) -> dict:
         "history drivers in systems/": sum(_scanning(texts[p], _is_history) for p in systems),
         "peak drivers in systems/, studies/": sum(
             _scanning(texts[p], _is_peaks) for p in systems + _modules(package / "studies")),
-        "structure history functions exported by systems": _exported_histories(package, texts),
-        "imposed-path test functions exported by systems": _exported_histories(package, texts,
+        "structure history functions exported by systems": _exported_returning(package, texts),
+        "imposed-path test functions exported by systems": _exported_returning(package, texts,
                                                                               "BearingTestResult"),
         "tables keyed by isolator name": sum(_name_tables(t) for t in texts.values()),
         "variant modules": ", ".join(f"{p.parent.name}/{p.name}" for p in variant),

@@ -113,7 +113,9 @@ def load_factors(system, duration):
     import jax
     import jax.numpy as jnp
 
-    steps = int(duration / float(system.time_step) + 1e-9)  # whole steps, as the drivers run
+    from ..systems import step_count
+
+    steps = step_count(system.time_step, duration)  # the whole steps the drivers run
     return np.asarray(jax.vmap(system.load_factor)(jnp.arange(steps + 1) * float(system.time_step)))
 
 

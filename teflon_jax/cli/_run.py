@@ -100,6 +100,7 @@ def run_run(args) -> int:
     if args.histories is not None and pathlib.Path(args.histories).suffix not in (".nc", ".csv"):
         raise ValueError(f"--histories: {args.histories} must end in .nc or .csv.")
     from ..excitation import uniform_signal
+    from ..systems import step_count
     from ._normal_load import with_vertical
     from ._run_output import write_run_outputs
     from ._run_records import load_components, vertical_component
@@ -115,7 +116,7 @@ def run_run(args) -> int:
     warn_time_step("run", flags.time_step, args.time_step, dt, f"{dt:g}s of the records")
     duration = (ax.size - 1) * dt
     title = args.structure if isolator.description is None else f"{args.structure} on {isolator.description}"
-    print(f"teflon-jax run: {title}, {int(duration / flags.time_step + 1e-9)} steps of {args.time_step} over "
+    print(f"teflon-jax run: {title}, {step_count(flags.time_step, duration)} steps of {args.time_step} over "
           f"{duration:g} s of record (compiling first)...", file=sys.stderr)
     run = simulate_run(system, duration, flags.plan)
     peak, histories, entries, lines = reduce_run(args.structure, system, run, flags.plan, output_units(args.units))

@@ -76,6 +76,7 @@ from ._structure_build import building_response_quantities as building_response_
 from ._structure_build import check_storey_height as check_storey_height
 from ._structure_build import rigid_mass as rigid_mass
 from ._structure_build import six_storey_building as six_storey_building
+from ._structure_build import step_count as step_count
 from ._structure_build import storey_rows as storey_rows
 from ._structure_build import structure_on_sliders as structure_on_sliders
 from ._vertical import VerticalIsolatedStructure as VerticalIsolatedStructure

@@ -31,7 +31,7 @@ from ..solver import (
     require_riccati_form,
     solve_with_controller,
 )
-from ..validation import require_positive
+from ..validation import given_options, require_positive
 from ._isolator_balance import simulate_triple_test
 from ._response import BearingTestResult
 from ._sampled_path import respond_along_path, sample_velocity, sampled_path
@@ -164,8 +164,7 @@ def _series_test(bearing: SeriesPendulum, motion, normal_load, duration, samples
     sampled `samples_per_cycle` times a cycle (a tabulated motion at its own samples), under a
     constant normal load; `ValueError` naming the options of the flat bearing's solve, a
     normal load that varies and a constant of the pendulum out of range."""
-    given = [name for name, (value, default) in options.items()
-             if (value is not None if default is None else value != default)]
+    given = given_options(options)
     if given:
         raise ValueError(f"{', '.join(given)}: the {bearing.description} balance their sliders at each "
                          "sample (the structures' solve); drop these options.")

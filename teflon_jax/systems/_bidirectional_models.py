@@ -19,7 +19,7 @@ from ..structures import initial_normal_load
 from ..tables import BuildingData
 from ._bidirectional import NEWTON_ITERATIONS, BidirectionalStructure
 from ._bidirectional_laws import check_planar_law
-from ._response import StructureResponse
+from ._response import StructureResponse, group_uplift_time
 from ._sampled_path import HEAT_HORIZON
 from ._structure_build import (
     check_storey_height,
@@ -294,7 +294,7 @@ def solved_planar_response(system: BidirectionalStructure, save_times, solution,
         bearing_displacement=bearing_d,
         normal_load=ys.get("normal_load"),
         group_uplift_time=None if system.overturning is None else (
-            jnp.sum(ys["normal_load"][1:] <= 0, axis=0) * dt * save_every),
+            group_uplift_time(ys["normal_load"], dt) * save_every),
         load_factor=loads,
         uplift_time=None if loads is None else uplift_steps(system, n_steps) * dt,
         result=solution.result,

@@ -16,6 +16,7 @@ import jax.numpy as jnp
 
 from ..solver import RiccatiNewmark, require_riccati_form, solve_on_grid
 from ..structures import small_dot
+from ..validation import given_options
 from ._bidirectional import BidirectionalStructure, overturning_step
 from ._bidirectional_models import (
     bidirectional_initial_state,
@@ -27,6 +28,7 @@ from ._response import (
     EngineRun,
     ResponseLayout,
     StructureResponse,
+    group_uplift_time,
     run_history,
     uplifted,
 )
@@ -309,52 +311,37 @@ def _uniaxial_start(system, ground0, load0):
 
 
 def _bidirectional_run(system: BidirectionalStructure, n_steps) -> EngineRun:
-    """Flat sliders or single pendulums under two components (`newmark_update`; a slab's
-    overturning loads: `_overturning_run`), the accelerations the equation of motion's at each
-    step's end."""
+    """Flat sliders or single pendulums under two components, each step as the history's
+    (`newmark_update` under the load factor of the step's end; with a slab's overturning,
+    `overturning_step`: the groups' loads from the horizontal force at the step's start and
+    the vertical record at its end, held over the step, a step on which the slab tips not
+    converged), the accelerations the equation of motion's at each step's end."""
     dt = float(system.time_step)
     times = jnp.arange(n_steps + 1) * dt
     ground = jax.vmap(system.ground)(times)
     loads = None if system.vertical_acceleration is None else jax.vmap(system.load_factor)(times)
+    overturning = system.overturning is not None
     y0 = bidirectional_initial_state(system)
-    if system.overturning is not None:
-        return _overturning_run(system, times, ground, loads, y0)
-    a0 = system.at_load(None if loads is None else loads[0]).acceleration_at(ground[0], y0)
-
-    def step(state, inputs):
-        y, a = state
-        time1, ground1, load1 = inputs
-        loaded = system.at_load(load1)  # the normal load at the step's end (vertical record)
-        y1, converged = loaded.newmark_update(y, a, ground1)
-        a1 = loaded.acceleration_at(ground1, y1)
-        sample = StructureResponse(time=time1, displacement=y1["q"], velocity=y1["v"],
-                                   total_acceleration=a1 + system.influence @ ground1, ground=ground1,
-                                   load_factor=load1)
-        return (y1, a1), sample, converged
-
-    return EngineRun((y0, a0), (times[1:], ground[1:], None if loads is None else loads[1:]), step)
-
-
-def _overturning_run(system: BidirectionalStructure, times, ground, loads, y0) -> EngineRun:
-    """A slab on sliding groups whose loads move with the overturning moment: each step as the
-    history's (`overturning_step`: the groups' loads from the horizontal force at the step's
-    start and the vertical record at its end, held over the step, a step on which the slab
-    tips not converged), the accelerations under the loads of the step's end."""
-    def acceleration(time, ground_now, y):
-        return system.at_load(system.load_at(time, y)).acceleration_at(ground_now, y)
+    load0 = system.load_at(times[0], y0) if overturning else None if loads is None else loads[0]
+    a0 = system.at_load(load0).acceleration_at(ground[0], y0)
 
     def step(state, inputs):
         y, a = state
         time0, time1, ground1, load1 = inputs
-        y1, converged = overturning_step(system, time0, time1, y, a)
-        a1 = acceleration(time1, ground1, y1)
+        if overturning:
+            y1, converged = overturning_step(system, time0, time1, y, a)
+            loaded = system.at_load(system.load_at(time1, y1))  # the groups' loads kept in the state
+        else:
+            loaded = system.at_load(load1)  # the normal load at the step's end (vertical record)
+            y1, converged = loaded.newmark_update(y, a, ground1)
+        a1 = loaded.acceleration_at(ground1, y1)
         sample = StructureResponse(time=time1, displacement=y1["q"], velocity=y1["v"],
                                    total_acceleration=a1 + system.influence @ ground1, ground=ground1,
-                                   normal_load=y1["normal_load"], load_factor=load1)
+                                   normal_load=y1.get("normal_load"), load_factor=load1)
         return (y1, a1), sample, converged
 
     inputs = (times[:-1], times[1:], ground[1:], None if loads is None else loads[1:])
-    return EngineRun((y0, acceleration(times[0], ground[0], y0)), inputs, step)
+    return EngineRun((y0, a0), inputs, step)
 
 
 MONTE_CARLO_PEAKS = {"base_disp": "base_disp_resultant", "base_shear_ratio": "base_shear_ratio_resultant",
@@ -441,16 +428,15 @@ def simulate_history(
                "atol": (atol, 1e-10), "max_steps": (max_steps, None), "adjoint": (adjoint, None),
                "throw": (throw, True)}
     if _on_series(system):
-        given = [name for name, (value, default) in options.items()
-                 if (value is not None if default is None else value != default)]
+        given = given_options(options)
         if given:
             raise ValueError(f"{', '.join(given)}: a structure on series pendulums steps at its time_step and "
                              "keeps every step; drop these options.")
         n_steps, run = _engine_run(system, duration)
         response = run_history(run)
         if isinstance(system, BidirectionalStructure):  # a slab on groups: the steps each group is lifted
-            return dataclasses.replace(response, group_uplift_time=jnp.sum(response.normal_load[1:] <= 0, axis=0)
-                                       * float(system.time_step))
+            return dataclasses.replace(response, group_uplift_time=group_uplift_time(response.normal_load,
+                                                                                     float(system.time_step)))
         if system.vertical_acceleration is None:
             return response
         return dataclasses.replace(response, uplift_time=uplift_steps(system, n_steps) * system.time_step)

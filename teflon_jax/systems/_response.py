@@ -123,6 +123,12 @@ def run_history(run: EngineRun) -> "StructureResponse":
     return jax.tree_util.tree_map(lambda a, b: jnp.concatenate([a[None], b]), first, samples)
 
 
+def group_uplift_time(normal_load, interval: float):
+    """Each group's uplift time (G,) [s]: the saved samples after the first whose normal load
+    `normal_load` (nt, G) [N] is <= 0, times the `interval` [s] between them."""
+    return jnp.sum(normal_load[1:] <= 0, axis=0) * interval
+
+
 class BearingTestResult(eqx.Module):
     """Histories of a bearing, or of an isolator of sliders in series, driven along an imposed
     path (SI; the samples along the first axis, nt of them).

@@ -32,3 +32,11 @@ def require(value, test, name: str, rule: str) -> None:
 def require_positive(value, name: str, unit: str = "") -> None:
     """`value > 0` (and finite) everywhere, else a `ValueError` naming `name`."""
     require(value, lambda x: np.isfinite(x) & (x > 0), name, f"must be a finite number > 0{unit}")
+
+
+def given_options(options: dict) -> list[str]:
+    """The names in `options` ({name: (value, default)}) whose value was given: not `None`
+    where the default is `None`, else different from the default; for refusing, by name, the
+    options an engine does not take."""
+    return [name for name, (value, default) in options.items()
+            if (value is not None if default is None else value != default)]
