@@ -19,6 +19,8 @@ from ..systems import (
     base_shear_ratio,
     carried_weight,
     first_storey_shear_ratio,
+    group_load_extremes,
+    group_load_peaks,
     isolator_force,
     level_acceleration,
     response_layout,
@@ -40,11 +42,10 @@ def peak(history):
 def group_normal_load(layout: ResponseLayout, response):
     """{"peak_N", "min_N": (G,) [N], "uplift_time_s": (G,) [s]}: each bearing group's largest
     and least N_g and its time at N_g <= 0, where the groups share the weight unevenly
-    (`ResponseLayout.overturning`), else `None`."""
-    if not layout.overturning or response.normal_load is None:
-        return None
-    return {"peak_N": jnp.max(response.normal_load, axis=0), "min_N": jnp.min(response.normal_load, axis=0),
-            "uplift_time_s": response.group_uplift_time}
+    (`ResponseLayout.overturning`), else `None`; what `systems.peak_response` folds along a
+    run (`group_load_peaks`)."""
+    extremes = group_load_extremes(layout, response)
+    return None if extremes is None else group_load_peaks(extremes, response.group_uplift_time)
 
 
 def response_peaks(layout: ResponseLayout, response, storey_height=None) -> dict:

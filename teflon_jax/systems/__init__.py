@@ -53,6 +53,8 @@ from ._response import base_displacement as base_displacement
 from ._response import base_shear_ratio as base_shear_ratio
 from ._response import carried_weight as carried_weight
 from ._response import first_storey_shear_ratio as first_storey_shear_ratio
+from ._response import group_load_extremes as group_load_extremes
+from ._response import group_load_peaks as group_load_peaks
 from ._response import isolator_force as isolator_force
 from ._response import level_acceleration as level_acceleration
 from ._response import resultant as resultant

@@ -28,6 +28,9 @@ from ._response import (
     EngineRun,
     ResponseLayout,
     StructureResponse,
+    combined_load_extremes,
+    group_load_extremes,
+    group_load_peaks,
     group_uplift_time,
     run_history,
     uplifted,
@@ -158,7 +161,10 @@ def peak_response(system, duration: float, *, reducers=None, smooth=None, disp_w
 
     **Returns:** `Peaks` {name: peak} of each reducer ((C, ...) per component where the
     reducer is), {"smooth_" + name: M_w}, "converged": every step's balance converged, and with
-    a vertical record "uplift_time" [s]: the steps 1..n whose end has N <= 0 times the step.
+    a vertical record "uplift_time" [s]: the steps 1..n whose end has N <= 0 times the step;
+    where the groups share the weight unevenly (a slab or a building on a plan with its
+    overturning loads), "group_normal_load": each group's largest and least N_g [N] (the rest
+    included) and its uplift time [s] (`group_load_peaks`).
     """
     _check_loop_settings(read_every, steps_per_pass)
     layout = response_layout(system)
@@ -182,7 +188,7 @@ def peak_response(system, duration: float, *, reducers=None, smooth=None, disp_w
 
     def body(carry, step_inputs):
         step, inputs = step_inputs
-        state, peaks, tops, totals, lifted, ok = carry
+        state, peaks, tops, totals, lifted, ok, loads = carry
         state, sample, converged = run.step(state, inputs)
         values = quantities(sample)
         read = (step + 1) % read_every == 0
@@ -190,22 +196,28 @@ def peak_response(system, duration: float, *, reducers=None, smooth=None, disp_w
         updated = {k: smooth_max_update(tops[k], totals[k], values[k], widths[k]) for k in tops}
         if vertical:
             lifted = lifted + uplifted(sample.load_factor)
+        if loads is not None:
+            loads = combined_load_extremes(loads, group_load_extremes(layout, sample))
         return (state, peaks, {k: u[0] for k, u in updated.items()}, {k: u[1] for k, u in updated.items()},
-                lifted, ok & converged), None
+                lifted, ok & converged, loads), None
 
     shapes = jax.eval_shape(lambda: quantities(run.step(run.start, jax.tree_util.tree_map(lambda a: a[0],
                                                                                           run.inputs))[1]))
     peaks = {k: jnp.zeros(s.shape, s.dtype) for k, s in shapes.items()}
     tops = {k: jnp.zeros(shapes[k].shape, dtype) for k in widths if k in shapes}
     totals = {k: jnp.ones(shapes[k].shape, dtype) for k in tops}
-    carry = (run.start, peaks, tops, totals, jnp.zeros((), jnp.int32), jnp.array(True))
-    (_, peaks, tops, totals, lifted, ok), _ = jax.lax.scan(body, carry, (jnp.arange(n_steps), run.inputs),
-                                                              unroll=steps_per_pass)
+    loads = None if run.first is None else group_load_extremes(layout, run.first)  # the rest's, none lifted
+    loads = None if loads is None else loads[:2] + (jnp.zeros_like(loads[2]),)
+    carry = (run.start, peaks, tops, totals, jnp.zeros((), jnp.int32), jnp.array(True), loads)
+    (_, peaks, tops, totals, lifted, ok, loads), _ = jax.lax.scan(
+        body, carry, (jnp.arange(n_steps), run.inputs), unroll=steps_per_pass)
     out = Peaks(peaks, layout.components)
     out.update({"smooth_" + k: smooth_max_value(tops[k], totals[k], n_steps + 1, widths[k]) for k in tops})
     out["converged"] = ok
     if vertical:
         out["uplift_time"] = lifted * float(system.time_step)
+    if loads is not None:
+        out["group_normal_load"] = group_load_peaks(loads, loads[2] * float(system.time_step))
     return out
 
 
@@ -341,7 +353,10 @@ def _bidirectional_run(system: BidirectionalStructure, n_steps) -> EngineRun:
         return (y1, a1), sample, converged
 
     inputs = (times[:-1], times[1:], ground[1:], None if loads is None else loads[1:])
-    return EngineRun((y0, a0), inputs, step)
+    first = StructureResponse(time=times[0], displacement=y0["q"], velocity=y0["v"],
+                              total_acceleration=a0 + system.influence @ ground[0], ground=ground[0],
+                              normal_load=y0.get("normal_load"), load_factor=load0)
+    return EngineRun((y0, a0), inputs, step, first)
 
 
 MONTE_CARLO_PEAKS = {"base_disp": "base_disp_resultant", "base_shear_ratio": "base_shear_ratio_resultant",

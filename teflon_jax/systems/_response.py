@@ -129,6 +129,28 @@ def group_uplift_time(normal_load, interval: float):
     return jnp.sum(normal_load[1:] <= 0, axis=0) * interval
 
 
+def group_load_extremes(layout: "ResponseLayout", response):
+    """(largest N_g, least N_g, count of N_g <= 0) (G,) over the samples of `response` (time
+    along the first axis; one sample: itself, count 0 or 1) of each bearing group whose
+    normal load is a result (`ResponseLayout.overturning`), else `None`. Two of them combine
+    by `combined_load_extremes`, which is how `peak_response` folds them step by step."""
+    if not layout.overturning or response.normal_load is None:
+        return None
+    load = jnp.atleast_2d(response.normal_load)
+    return jnp.max(load, axis=0), jnp.min(load, axis=0), jnp.sum(load <= 0, axis=0)
+
+
+def combined_load_extremes(first, second):
+    """The `group_load_extremes` of two runs of samples taken together."""
+    return jnp.maximum(first[0], second[0]), jnp.minimum(first[1], second[1]), first[2] + second[2]
+
+
+def group_load_peaks(extremes, uplift_time) -> dict:
+    """{"peak_N", "min_N": (G,) [N], "uplift_time_s": (G,) [s]}: each group's largest and least
+    normal load from its `group_load_extremes` over a run, and its `uplift_time` [s]."""
+    return {"peak_N": extremes[0], "min_N": extremes[1], "uplift_time_s": uplift_time}
+
+
 class BearingTestResult(eqx.Module):
     """Histories of a bearing, or of an isolator of sliders in series, driven along an imposed
     path (SI; the samples along the first axis, nt of them).
