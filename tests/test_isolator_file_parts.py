@@ -22,7 +22,6 @@ from teflon_jax.bearing import (
     FrictionalHeating,
     SurfaceParts,
     coulomb_friction,
-    designed_double,
 )
 from teflon_jax.cli import main
 from teflon_jax.formats import isolator_from_dict, isolator_to_dict, read_test_record
@@ -104,7 +103,7 @@ def test_a_design_and_a_fits_parameters_keep_the_surfaces_heating_and_parts():
     heated = _document(breakaway=PARTS["breakaway"])
     heated["surfaces"]["top"]["heating"] = _heating(30)
     pendulum = isolator_from_dict(heated, where="dfp.json")
-    for changed in (designed_double(pendulum, {"radius_scale": 1.1}),
+    for changed in (pendulum.designed({"radius_scale": 1.1}),
                     series_with_parameters(pendulum, {"bottom_f_max": 0.06})):
         assert changed.parts() == pendulum.parts()
         assert isinstance(changed.top_heating, FrictionalHeating) and float(changed.top_pressure) == 30e6

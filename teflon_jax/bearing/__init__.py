@@ -21,7 +21,6 @@ from ._design_space import DesignSpace as DesignSpace
 from ._design_space import check_design as check_design
 from ._design_space import design_ranges as design_ranges
 from ._design_space import design_space as design_space
-from ._design_space import designed_double as designed_double
 from ._design_space import designed_isolator as designed_isolator
 from ._design_space import designed_pendulum as designed_pendulum
 from ._effects import AMBIENT_TEMPERATURE as AMBIENT_TEMPERATURE

@@ -11,18 +11,12 @@ it depends on the isolator types only (duck-typed structures), and the structure
 - "single-fp": a concave surface of radius R [m], T_b = 2 pi sqrt(R / g) (Zayas, Low &
   Mahin 1990), and its displacement capacity d [m] where a restrainer engages; the friction
   variables of the flat sliders.
-- "triple-fp" (`TRIPLE_DESIGN_VARIABLES`, `designed_triple`): a smooth change of the isolator
-  file's `TriplePendulum` (Fenz & Constantinou 2008): `outer_radius_scale` s [-] (the outer
-  surfaces' effective radii b, c -> s b, s c: the stiffness of regimes II-IV, 1 / (a + b),
-  1 / (b + c), 1 / (a + c), falls as s grows); `inner_f_max` [-] (Eq. 1 of the inner surfaces
-  scaled so that their f_max is this value, delta_f in proportion: mu(v) -> (f / f_max) mu(v),
-  f_min >= 0 kept); `outer_f_max` [-] (Eq. 1 of the bottom surface scaled to this f_max, the
-  top's by the same factor: their ratio, which orders regimes II and III, kept);
-  `capacity_scale` [-] (the three effective displacement capacities times it). The series
-  model needs a < s min(b, c) and inner f_max <= bottom f_max <= top f_max
-  (`check_triple_pendulum`); `check_triple_box` refuses ranges that leave them.
-- "double-fp" (`DOUBLE_DESIGN_VARIABLES`, `designed_double`): both radii's scale, the
-  surfaces' f_max, the capacities' scale of the `DoublePendulum` (Fenz & Constantinou 2006).
+- a series pendulum ("triple-fp", "double-fp"): the variables of its class
+  (`SeriesPendulum.design_variables`, `designed`, `design_ranges`, `check_design_box`): for
+  the `TriplePendulum` the outer radii's scale, the inner and the outer f_max and the
+  capacities' scale (Fenz & Constantinou 2008), for the `DoublePendulum` both radii's scale,
+  the surfaces' f_max and the capacities' scale (Fenz & Constantinou 2006). A pendulum added
+  to `SERIES_PENDULUMS` brings its space with it.
 
 Either series pendulum also takes `FRICTION_FACTOR` (a bounding case: every surface's Eq. 1
 friction times a property modification factor; `designed_pendulum`).
@@ -32,14 +26,11 @@ import math
 from collections.abc import Callable, Mapping
 from typing import NamedTuple
 
-import equinox as eqx
 import numpy as np
 
 from ..units import PSI
 from ..validation import concrete
-from ._friction import FrictionParameters
-from ._series_pendulum import DoublePendulum
-from ._triple_pendulum import TriplePendulum
+from ._isolators import SERIES_PENDULUMS
 
 DESIGN_VARIABLES = (
     "isolation_period",
@@ -65,7 +56,7 @@ def design_ranges(structure) -> dict[str, tuple[float, float]]:
     their physical ranges; a triple or double pendulum's (a structure with a `pendulum`):
     those of its `design_space`."""
     if getattr(structure, "pendulum", None) is not None:
-        return pendulum_design_ranges(structure.pendulum)
+        return structure.pendulum.design_ranges()
     if structure.bearing is None:
         pressures = np.asarray(structure.table().pressures)
         pressure = (float(pressures[0]), float(pressures[-1]))
@@ -113,101 +104,6 @@ def check_design(structure, design: Mapping) -> None:
             )
 
 
-TRIPLE_DESIGN_VARIABLES = ("outer_radius_scale", "inner_f_max", "outer_f_max", "capacity_scale")
-"""Names a design dict of a `TripleIsolatedStructure` on a `TriplePendulum` may set (module docstring)."""
-
-
-def _scaled(friction: FrictionParameters, factor) -> FrictionParameters:
-    return FrictionParameters(friction.f_max * factor, friction.delta_f * factor, friction.rate_a)
-
-
-def designed_triple(triple: TriplePendulum, design: Mapping) -> TriplePendulum:
-    """`triple` with the design variables of `design` applied (module docstring; values may
-    be traced). `ValueError` naming an unknown variable."""
-    unknown = sorted(set(design) - set(TRIPLE_DESIGN_VARIABLES))
-    if unknown:
-        raise ValueError(f"design: unknown variable(s) {unknown} for the triple-fp isolator; "
-                         f"accepted: {', '.join(TRIPLE_DESIGN_VARIABLES)}.")
-    s = design.get("outer_radius_scale", 1.0)
-    inner = design.get("inner_f_max", triple.inner_friction.f_max) / triple.inner_friction.f_max
-    outer = design.get("outer_f_max", triple.bottom_friction.f_max) / triple.bottom_friction.f_max
-    k = design.get("capacity_scale", 1.0)
-    return with_fields(
-        triple, bottom_radius=s * triple.bottom_radius,
-        top_radius=s * triple.top_radius, inner_capacity=k * triple.inner_capacity,
-        bottom_capacity=k * triple.bottom_capacity, top_capacity=k * triple.top_capacity,
-        inner_friction=_scaled(triple.inner_friction, inner),
-        bottom_friction=_scaled(triple.bottom_friction, outer),
-        top_friction=_scaled(triple.top_friction, outer))
-
-
-def with_fields(pendulum, **fields):
-    """`pendulum` with the named fields replaced (values may be traced), everything else (its
-    heating, contact pressures and surface parts) kept."""
-    names = list(fields)
-    return eqx.tree_at(lambda p: [getattr(p, name) for name in names], pendulum, [fields[n] for n in names])
-
-
-def triple_design_ranges(triple: TriplePendulum) -> dict:
-    """Admissible (low, high) of each design variable of `triple` taken alone: the outer
-    radii above the inner one, friction within (0, 1] in the series model's order, positive
-    capacities."""
-    a, b, c = (float(np.asarray(x)) for x in (triple.inner_radius, triple.bottom_radius, triple.top_radius))
-    m2, m1, m4 = (float(np.asarray(f.f_max)) for f in (triple.inner_friction, triple.bottom_friction,
-                                                       triple.top_friction))
-    return {"outer_radius_scale": (a / min(b, c) * (1 + 1e-9), math.inf),
-            "inner_f_max": (1e-6, m1),
-            "outer_f_max": (m2, m1 / m4),
-            "capacity_scale": (1e-6, math.inf)}
-
-
-def check_triple_box(triple: TriplePendulum, variables: Mapping) -> None:
-    """`ValueError` naming the variable whose bounds (low, high) leave the series model's
-    order at a corner of the box (`designed_triple`, module docstring)."""
-    ranges = triple_design_ranges(triple)
-    m1 = float(np.asarray(triple.bottom_friction.f_max))
-    for name, (lo, hi) in variables.items():
-        if name not in ranges:
-            raise ValueError(f"design: unknown variable {name!r} for the triple-fp isolator; "
-                             f"accepted: {', '.join(TRIPLE_DESIGN_VARIABLES)}.")
-        low, high = ranges[name]
-        if name == "inner_f_max" and "outer_f_max" in variables:
-            high = variables["outer_f_max"][0]  # the inner surfaces stay the slipperier
-        if name == "outer_f_max":
-            low = max(variables.get("inner_f_max", (0.0, 0.0))[1], low)
-            high = m1 / float(np.asarray(triple.top_friction.f_max))  # top f_max <= 1
-        if not (low <= lo and hi <= high):
-            raise ValueError(
-                f"{name}: bounds ({lo:.6g}, {hi:.6g}) leave the admissible ({low:.6g}, {high:.6g}) "
-                "of this isolator (the outer radii above the inner one; inner f_max <= bottom "
-                "f_max <= top f_max <= 1; positive capacities); narrow them.")
-
-
-DOUBLE_DESIGN_VARIABLES = ("radius_scale", "surface_f_max", "capacity_scale")
-"""Names a design dict of a `TripleIsolatedStructure` on a `DoublePendulum` may set:
-`radius_scale` s [-] (R_1, R_2 -> s R_1, s R_2: every slope 1 / R_1, 1 / (R_1 + R_2),
-1 / R_2 of the backbone falls by 1 / s), `surface_f_max` [-] (Eq. 1 of the bottom surface
-scaled to this f_max, the top's by the same factor: their ratio, and so which surface slides
-first, kept), `capacity_scale` [-] (d_1, d_2 times it). Fenz & Constantinou (2006), Earthquake
-Engng Struct. Dyn. 35."""
-
-
-def designed_double(double: DoublePendulum, design: Mapping) -> DoublePendulum:
-    """`double` with the design variables of `design` applied (`DOUBLE_DESIGN_VARIABLES`;
-    values may be traced). `ValueError` naming an unknown variable."""
-    unknown = sorted(set(design) - set(DOUBLE_DESIGN_VARIABLES))
-    if unknown:
-        raise ValueError(f"design: unknown variable(s) {unknown} for the double-fp isolator; "
-                         f"accepted: {', '.join(DOUBLE_DESIGN_VARIABLES)}.")
-    s, k = design.get("radius_scale", 1.0), design.get("capacity_scale", 1.0)
-    factor = design.get("surface_f_max", double.bottom_friction.f_max) / double.bottom_friction.f_max
-    return with_fields(
-        double, bottom_radius=s * double.bottom_radius, top_radius=s * double.top_radius,
-        bottom_capacity=k * double.bottom_capacity, top_capacity=k * double.top_capacity,
-        bottom_friction=_scaled(double.bottom_friction, factor),
-        top_friction=_scaled(double.top_friction, factor))
-
-
 FRICTION_FACTOR = "friction_factor"
 """The design variable of a bounding case on a triple or double pendulum (`designed_pendulum`):
 the property modification factor lambda [-] on every surface's Eq. 1 friction coefficient,
@@ -215,50 +111,13 @@ f_max -> lambda f_max and delta_f -> lambda delta_f (`SeriesPendulum.scaled_fric
 
 
 def designed_pendulum(pendulum, design: Mapping):
-    """`designed_triple` or `designed_double` of `pendulum`, whichever its type, after
-    `FRICTION_FACTOR` (if set) has scaled every surface's friction; with that variable alone
-    the isolator keeps everything else, heating included."""
+    """`pendulum` (a series pendulum) with the design applied (`SeriesPendulum.designed`),
+    after `FRICTION_FACTOR` (if set) has scaled every surface's friction; with that variable
+    alone the isolator keeps everything else, heating included."""
     rest = {k: v for k, v in design.items() if k != FRICTION_FACTOR}
     if FRICTION_FACTOR in design:
         pendulum = pendulum.scaled_friction(design[FRICTION_FACTOR])
-    if not rest:
-        return pendulum
-    if isinstance(pendulum, DoublePendulum):
-        return designed_double(pendulum, rest)
-    return designed_triple(pendulum, rest)
-
-
-def double_design_ranges(double: DoublePendulum) -> dict:
-    """Admissible (low, high) of each design variable of `double`: positive scales, the bottom
-    f_max such that the top's (scaled alike) stays at most 1."""
-    m1, m2 = (float(np.asarray(f.f_max)) for f in (double.bottom_friction, double.top_friction))
-    return {"radius_scale": (1e-6, math.inf), "surface_f_max": (1e-6, min(1.0, m1 / m2)),
-            "capacity_scale": (1e-6, math.inf)}
-
-
-def pendulum_design_ranges(pendulum) -> dict:
-    """`triple_design_ranges` or `double_design_ranges` of `pendulum`, whichever its type."""
-    if isinstance(pendulum, DoublePendulum):
-        return double_design_ranges(pendulum)
-    return triple_design_ranges(pendulum)
-
-
-def check_double_box(double: DoublePendulum, variables: Mapping) -> None:
-    """`ValueError` naming the variable whose bounds (low, high) leave what the double pendulum
-    takes: positive radii and capacities, both f_max within (0, 1] (the top's is the bottom's
-    times f_top / f_bottom)."""
-    m1, m2 = (float(np.asarray(f.f_max)) for f in (double.bottom_friction, double.top_friction))
-    ranges = double_design_ranges(double)
-    for name, (lo, hi) in variables.items():
-        if name not in ranges:
-            raise ValueError(f"design: unknown variable {name!r} for the double-fp isolator; "
-                             f"accepted: {', '.join(DOUBLE_DESIGN_VARIABLES)}.")
-        low, high = ranges[name]
-        if not (low <= lo and hi <= high):
-            raise ValueError(
-                f"{name}: bounds ({lo:.6g}, {hi:.6g}) leave the admissible ({low:.6g}, {high:.6g}) "
-                "of this isolator (positive radii and capacities; the bottom f_max and the top's, "
-                f"{m2 / m1:.4g} times it, within (0, 1]); narrow them.")
+    return pendulum.designed(rest) if rest else pendulum
 
 
 class DesignSpace(NamedTuple):
@@ -333,21 +192,21 @@ def _check_f_min(structure, box: Mapping) -> None:
                          f"(f_min = f_max - delta_f would be negative); raise it to at least {delta_f:.4g}.")
 
 
-def _pendulum_space(variables, ranges, check, designed) -> DesignSpace:
-    """The `DesignSpace` of a series pendulum (`TripleIsolatedStructure`), its functions taking
+def _pendulum_space(variables) -> DesignSpace:
+    """The `DesignSpace` of a series pendulum (`TripleIsolatedStructure`) of `variables`: its
+    class's own (`SeriesPendulum.design_ranges`, `check_design_box`, `designed`), read from
     the structure's `pendulum`."""
-    return DesignSpace(variables, lambda structure: ranges(structure.pendulum),
-                       lambda structure, box: check(structure.pendulum, box),
-                       lambda structure, design: designed(structure.pendulum, design))
+    return DesignSpace(variables, lambda structure: structure.pendulum.design_ranges(),
+                       lambda structure, box: structure.pendulum.check_design_box(box),
+                       lambda structure, design: structure.pendulum.designed(design))
 
 
 DESIGN_SPACES: Mapping[str, DesignSpace] = {
-    "flat": _sliders_space(_FLAT),
-    "single-fp": _sliders_space(_SINGLE),
-    "triple-fp": _pendulum_space(TRIPLE_DESIGN_VARIABLES, triple_design_ranges, check_triple_box, designed_triple),
-    "double-fp": _pendulum_space(DOUBLE_DESIGN_VARIABLES, double_design_ranges, check_double_box, designed_double),
-}
-"""The `DesignSpace` of each isolator (`teflon_jax.bearing.ISOLATORS`), keyed by its name."""
+    "flat": _sliders_space(_FLAT), "single-fp": _sliders_space(_SINGLE),
+    **{name: _pendulum_space(cls.design_variables) for name, cls in SERIES_PENDULUMS.items()}}
+"""The `DesignSpace` of each isolator (`teflon_jax.bearing.ISOLATORS`), keyed by its name: the
+flat sliders' and the single pendulum's (the variables of `IsolatedStructure`) here, each
+series pendulum's from its class (`SERIES_PENDULUMS`)."""
 
 
 def design_space(isolator: str) -> DesignSpace:

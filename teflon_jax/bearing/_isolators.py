@@ -29,10 +29,8 @@ from ._series_pendulum import (
     DoublePendulum,
     SeriesPendulum,
     SinglePendulum,
-    check_double_pendulum,
-    check_single_pendulum,
 )
-from ._triple_pendulum import TriplePendulum, check_triple_pendulum
+from ._triple_pendulum import TriplePendulum
 
 SERIES_PENDULUMS: dict[str, type[SeriesPendulum]] = {cls.isolator: cls for cls in (TriplePendulum, DoublePendulum)}
 """Name -> class of the friction pendulums of sliders in series ("triple-fp", "double-fp")."""
@@ -41,11 +39,10 @@ ISOLATORS = ("flat", "single-fp", *SERIES_PENDULUMS)
 """Every isolator's name: flat sliders, the single friction pendulum (a `SlidingBearing` on a
 `ConcaveSurface`) and the series pendulums."""
 
-SERIES_CHECKS = {TriplePendulum: check_triple_pendulum, DoublePendulum: check_double_pendulum,
-                 SinglePendulum: check_single_pendulum}
-"""Class -> the check of its constants (`ValueError` naming the constant); the one-surface
-`SinglePendulum` (a single pendulum, or a flat slider at R = inf) is an isolator value too
-(`isolator_kind`), run on the flat sliders' engine (`one_surface`)."""
+SERIES_CLASSES = (*SERIES_PENDULUMS.values(), SinglePendulum)
+"""The classes of series pendulums, each with its own check (`SeriesPendulum.check`); the
+one-surface `SinglePendulum` (a single pendulum, or a flat slider at R = inf) is an isolator
+value too (`isolator_kind`), run on the flat sliders' engine (`one_surface`)."""
 
 ISOLATOR_VALUES = ("None (Table 1's flat sliders), a SlidingBearing (flat sliders), a ConcaveSurface or "
                    "(SlidingBearing, ConcaveSurface) (single friction pendulum), a SinglePendulum, a "
@@ -54,11 +51,11 @@ ISOLATOR_VALUES = ("None (Table 1's flat sliders), a SlidingBearing (flat slider
 
 
 def check_series_pendulum(bearing: SeriesPendulum) -> None:
-    """The check of `bearing`'s class (`SERIES_CHECKS`); `ValueError` for anything else."""
-    if type(bearing) not in SERIES_CHECKS:
-        raise ValueError(f"bearing: expected one of {', '.join(c.__name__ for c in SERIES_CHECKS)}, "
+    """The check of `bearing`'s class (`SeriesPendulum.check`); `ValueError` for anything else."""
+    if type(bearing) not in SERIES_CLASSES:
+        raise ValueError(f"bearing: expected one of {', '.join(c.__name__ for c in SERIES_CLASSES)}, "
                          f"got {type(bearing).__name__}.")
-    SERIES_CHECKS[type(bearing)](bearing)
+    bearing.check()
 
 
 def series_pendulum_class(isolator: str) -> type[SeriesPendulum]:

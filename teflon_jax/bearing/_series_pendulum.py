@@ -20,10 +20,12 @@ or R = inf for the flat slider, with the flat bearing's whole interface law.
 
 import abc
 import math
+from collections.abc import Mapping
 from typing import ClassVar
 
 import equinox as eqx
 import jax.numpy as jnp
+import numpy as np
 from jaxtyping import ArrayLike
 
 from ..validation import require, require_positive
@@ -46,11 +48,14 @@ class SeriesPendulum(eqx.Module):
     reference spring W / R_ref that the structures' linear step carries); for heated surfaces
     (fields `<slider>_heating`, `<slider>_pressure`) `surface_heatings`, `heated`,
     `heat_factors`, `heat_fluxes`; `scaled_friction` (every surface's friction times a factor).
+    **Design space** (`teflon_jax.bearing.design_space`): `design_variables` (class attribute),
+    `designed`, `design_ranges`, `check_design_box`, each pendulum's own.
     """
 
     isolator: ClassVar[str]
     slider_names: ClassVar[tuple[str, ...]]
     description: ClassVar[str]
+    design_variables: ClassVar[tuple[str, ...]] = ()
     hysteresis: eqx.AbstractVar[BoucWen]
 
     @property
@@ -124,6 +129,55 @@ class SeriesPendulum(eqx.Module):
         return eqx.tree_at(lambda p: [getattr(p, n) for n in names], self,
                            [getattr(self, n).scaled(factor) for n in names])
 
+    def check(self) -> None:
+        """`ValueError` naming the constant this isolator's model cannot take (its class's check)."""
+        raise NotImplementedError
+
+    def with_fields(self, **fields) -> "SeriesPendulum":
+        """This isolator with the named fields replaced (values may be traced), everything else
+        (its heating, contact pressures and surface parts) kept."""
+        names = list(fields)
+        return eqx.tree_at(lambda p: [getattr(p, name) for name in names], self, [fields[n] for n in names])
+
+    def designed(self, design: Mapping) -> "SeriesPendulum":
+        """This isolator with the variables of `design` (`design_variables`; values may be
+        traced) applied; `ValueError` naming an unknown variable."""
+        unknown = sorted(set(design) - set(self.design_variables))
+        if unknown:
+            raise ValueError(f"design: unknown variable(s) {unknown} for the {self.isolator} isolator; "
+                             f"accepted: {', '.join(self.design_variables) or 'none'}.")
+        return self._designed(design)
+
+    def _designed(self, design: Mapping) -> "SeriesPendulum":
+        return self
+
+    def design_ranges(self) -> dict:
+        """Admissible (low, high) of each design variable taken alone."""
+        return {}
+
+    def _box_ranges(self, box: Mapping) -> dict:
+        """(low, high) of each variable at the corners of `box` (`design_ranges`, unless the
+        variables bound each other)."""
+        return self.design_ranges()
+
+    _design_rule: ClassVar[str] = ""
+
+    def check_design_box(self, box: Mapping) -> None:
+        """`ValueError` naming the variable whose bounds (low, high) in `box` leave what this
+        isolator takes at a corner of the box (`design_ranges`), or one it does not have."""
+        ranges = self._box_ranges(box)
+        for name, (lo, hi) in box.items():
+            if name not in ranges:
+                raise ValueError(f"design: unknown variable {name!r} for the {self.isolator} isolator; "
+                                 f"accepted: {', '.join(self.design_variables) or 'none'}.")
+            low, high = ranges[name]
+            if not (low <= lo and hi <= high):
+                raise ValueError(f"{name}: bounds ({lo:.6g}, {hi:.6g}) leave the admissible ({low:.6g}, "
+                                 f"{high:.6g}) of this isolator ({self._rule()}); narrow them.")
+
+    def _rule(self) -> str:
+        return self._design_rule
+
     @property
     def heated(self) -> bool:
         """Whether any surface heats up (static)."""
@@ -148,6 +202,11 @@ class SeriesPendulum(eqx.Module):
             for e, (name, h) in enumerate(zip(self.slider_names, self.surface_heatings()))])
 
 
+def scaled_to(friction: FrictionParameters, factor) -> FrictionParameters:
+    """Eq. 1 constants with f_max and delta_f times `factor` (rate a kept)."""
+    return FrictionParameters(friction.f_max * factor, friction.delta_f * factor, friction.rate_a)
+
+
 def stack_frictions(parts) -> FrictionParameters:
     """`FrictionParameters` of several surfaces stacked along a first axis."""
     return FrictionParameters(*(jnp.stack([jnp.asarray(getattr(p, name), float) for p in parts])
@@ -169,6 +228,12 @@ class DoublePendulum(SeriesPendulum):
     isolator: ClassVar[str] = "double-fp"
     slider_names: ClassVar[tuple[str, ...]] = ("bottom", "top")
     description: ClassVar[str] = "double friction pendulums"
+    design_variables: ClassVar[tuple[str, ...]] = ("radius_scale", "surface_f_max", "capacity_scale")
+    """`radius_scale` s [-] (R_1, R_2 -> s R_1, s R_2: every slope 1 / R_1, 1 / (R_1 + R_2),
+    1 / R_2 of the backbone falls by 1 / s), `surface_f_max` [-] (Eq. 1 of the bottom surface
+    scaled to this f_max, the top's by the same factor: their ratio, and so which surface
+    slides first, kept), `capacity_scale` [-] (d_1, d_2 times it). Fenz & Constantinou (2006),
+    Earthquake Engng Struct. Dyn. 35."""
     bottom_radius: ArrayLike
     top_radius: ArrayLike
     bottom_capacity: ArrayLike
@@ -201,6 +266,29 @@ class DoublePendulum(SeriesPendulum):
     def reference_radius(self):
         """R_1 + R_2 [m]: both surfaces sliding together."""
         return self.bottom_radius + self.top_radius
+
+    def check(self) -> None:
+        """`check_double_pendulum`."""
+        check_double_pendulum(self)
+
+    def _designed(self, design: Mapping) -> "DoublePendulum":
+        s, k = design.get("radius_scale", 1.0), design.get("capacity_scale", 1.0)
+        factor = design.get("surface_f_max", self.bottom_friction.f_max) / self.bottom_friction.f_max
+        return self.with_fields(
+            bottom_radius=s * self.bottom_radius, top_radius=s * self.top_radius,
+            bottom_capacity=k * self.bottom_capacity, top_capacity=k * self.top_capacity,
+            bottom_friction=scaled_to(self.bottom_friction, factor), top_friction=scaled_to(self.top_friction, factor))
+
+    def design_ranges(self) -> dict:
+        """Positive scales; the bottom f_max such that the top's (scaled alike) stays at most 1."""
+        m1, m2 = (float(np.asarray(f.f_max)) for f in (self.bottom_friction, self.top_friction))
+        return {"radius_scale": (1e-6, math.inf), "surface_f_max": (1e-6, min(1.0, m1 / m2)),
+                "capacity_scale": (1e-6, math.inf)}
+
+    def _rule(self) -> str:
+        m1, m2 = (float(np.asarray(f.f_max)) for f in (self.bottom_friction, self.top_friction))
+        return (f"positive radii and capacities; the bottom f_max and the top's, {m2 / m1:.4g} times it, "
+                "within (0, 1]")
 
 
 class SinglePendulum(SeriesPendulum):
@@ -250,6 +338,10 @@ class SinglePendulum(SeriesPendulum):
     def reference_radius(self):
         """R [m] (inf for a flat slider: no reference spring)."""
         return jnp.asarray(self.surface_radius, float)
+
+    def check(self) -> None:
+        """`check_single_pendulum`."""
+        check_single_pendulum(self)
 
 
 def single_pendulum(bearing: SlidingBearing, *, radius=math.inf, capacity=None, contact_pressure=None) -> SinglePendulum:

@@ -15,6 +15,8 @@ Earthquake Engng Struct. Dyn. 37, 163-183). Each slider follows Eq. 1 (at its su
 velocity) and Bouc-Wen's Z, like the flat bearing of the 1990 paper.
 """
 
+import math
+from collections.abc import Mapping
 from typing import ClassVar
 
 import jax.numpy as jnp
@@ -28,6 +30,7 @@ from ._hysteresis import BoucWen
 from ._series_pendulum import (
     SeriesPendulum,
     check_surface_heating,
+    scaled_to,
     stack_frictions,
 )
 from ._surface import check_friction
@@ -55,6 +58,18 @@ class TriplePendulum(SeriesPendulum):
     isolator: ClassVar[str] = "triple-fp"
     slider_names: ClassVar[tuple[str, ...]] = ("inner", "bottom", "top")
     description: ClassVar[str] = "triple friction pendulums"
+    design_variables: ClassVar[tuple[str, ...]] = ("outer_radius_scale", "inner_f_max", "outer_f_max",
+                                                   "capacity_scale")
+    """A smooth change of the isolator (Fenz & Constantinou 2008): `outer_radius_scale` s [-]
+    (the outer surfaces' effective radii b, c -> s b, s c: the stiffness of regimes II-IV,
+    1 / (a + b), 1 / (b + c), 1 / (a + c), falls as s grows); `inner_f_max` [-] (Eq. 1 of the
+    inner surfaces scaled so that their f_max is this value, delta_f in proportion);
+    `outer_f_max` [-] (Eq. 1 of the bottom surface scaled to this f_max, the top's by the same
+    factor: their ratio, which orders regimes II and III, kept); `capacity_scale` [-] (the
+    three effective displacement capacities times it). The series model needs a < s min(b, c)
+    and inner f_max <= bottom f_max <= top f_max (`check_triple_pendulum`)."""
+    _design_rule: ClassVar[str] = ("the outer radii above the inner one; inner f_max <= bottom f_max <= top "
+                                   "f_max <= 1; positive capacities")
     inner_radius: ArrayLike
     bottom_radius: ArrayLike
     top_radius: ArrayLike
@@ -102,6 +117,41 @@ class TriplePendulum(SeriesPendulum):
     def reference_radius(self):
         """b + c [m]: the effective radius of the outer surfaces sliding together."""
         return self.bottom_radius + self.top_radius
+
+    def check(self) -> None:
+        """`check_triple_pendulum`."""
+        check_triple_pendulum(self)
+
+    def _designed(self, design: Mapping) -> "TriplePendulum":
+        s = design.get("outer_radius_scale", 1.0)
+        inner = design.get("inner_f_max", self.inner_friction.f_max) / self.inner_friction.f_max
+        outer = design.get("outer_f_max", self.bottom_friction.f_max) / self.bottom_friction.f_max
+        k = design.get("capacity_scale", 1.0)
+        return self.with_fields(
+            bottom_radius=s * self.bottom_radius, top_radius=s * self.top_radius,
+            inner_capacity=k * self.inner_capacity, bottom_capacity=k * self.bottom_capacity,
+            top_capacity=k * self.top_capacity, inner_friction=scaled_to(self.inner_friction, inner),
+            bottom_friction=scaled_to(self.bottom_friction, outer), top_friction=scaled_to(self.top_friction, outer))
+
+    def design_ranges(self) -> dict:
+        """The outer radii above the inner one, friction within (0, 1] in the series model's
+        order, positive capacities."""
+        a, b, c = (float(np.asarray(x)) for x in (self.inner_radius, self.bottom_radius, self.top_radius))
+        m2, m1, m4 = (float(np.asarray(f.f_max)) for f in (self.inner_friction, self.bottom_friction,
+                                                           self.top_friction))
+        return {"outer_radius_scale": (a / min(b, c) * (1 + 1e-9), math.inf), "inner_f_max": (1e-6, m1),
+                "outer_f_max": (m2, m1 / m4), "capacity_scale": (1e-6, math.inf)}
+
+    def _box_ranges(self, box: Mapping) -> dict:
+        """The inner f_max below the box's least outer f_max, the outer above its largest inner
+        one, the top's f_max (scaled alike) at most 1."""
+        ranges = self.design_ranges()
+        if "inner_f_max" in box and "outer_f_max" in box:
+            ranges["inner_f_max"] = (ranges["inner_f_max"][0], box["outer_f_max"][0])
+        if "outer_f_max" in box:
+            m1, m4 = (float(np.asarray(f.f_max)) for f in (self.bottom_friction, self.top_friction))
+            ranges["outer_f_max"] = (max(box.get("inner_f_max", (0.0, 0.0))[1], ranges["outer_f_max"][0]), m1 / m4)
+        return ranges
 
 
 def check_triple_pendulum(bearing: TriplePendulum) -> None:
