@@ -172,3 +172,19 @@ def test_a_series_pendulum_test_is_a_bearing_test_result():
     assert orbit.force.shape == (t.size, 2) and orbit.slider.shape == (t.size, 3, 2)
     np.testing.assert_allclose(orbit.fx, along.fx, rtol=0, atol=1e-9 * 1e6)  # a plane orbit along x
     assert bool(along.succeeded) and bool(orbit.succeeded)
+
+
+def test_one_study_structure_takes_one_or_two_components_and_refuses_the_other_by_name():
+    """Flat sliders and single pendulums of the studies are one type in one or two components
+    (`IsolatedStructure.components`), each building its engine's structure and refusing the
+    other number of components by name instead of failing inside the engine."""
+    gx, gy = _signals()
+    one, two = isolated_structure("building"), bidirectional_isolated_structure("building", isolator=None)
+    assert type(one) is type(two) and (one.components, two.components) == (1, 2)
+    assert isinstance(one(gx), StructureOnSliders)
+    planar = two((gx, gy), {"f_max": 0.09})
+    assert planar.mass.shape == (14,) and np.asarray(planar.bearing.friction.f_max) == pytest.approx([0.09])
+    with pytest.raises(ValueError, match=r"ground_acceleration: this structure takes 1 horizontal"):
+        one((gx, gy))
+    with pytest.raises(ValueError, match=r"ground_acceleration: this structure takes 2 horizontal"):
+        two(gx)

@@ -4,9 +4,6 @@ fragility fits) and gradient-based design."""
 from ._bearing_variance import percentile_band as percentile_band
 from ._bearing_variance import variance_split as variance_split
 from ._bidirectional_study import (
-    BidirectionalIsolatedStructure as BidirectionalIsolatedStructure,
-)
-from ._bidirectional_study import (
     bidirectional_isolated_structure as bidirectional_isolated_structure,
 )
 from ._bounding import BOUNDING_CASES as BOUNDING_CASES

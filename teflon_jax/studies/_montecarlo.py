@@ -49,7 +49,6 @@ from ..systems import (
     peak_arrays,
     peak_response,
 )
-from ._bidirectional_study import BidirectionalIsolatedStructure
 from ._montecarlo_parts import (
     _check_chunk_and_first_motion,
     _chunk_counts,
@@ -109,10 +108,10 @@ def probe_structure(structure, source: _Source, design):
         raise ValueError("structure: motions with a vertical component (VerticalGroundMotion) need "
                          "with_vertical_component(isolated_structure(...)), and only they.")
     inner = structure.structure if source.vertical else structure
-    if two and isinstance(inner, IsolatedStructure):
+    if two and isinstance(inner, IsolatedStructure) and inner.components == 1:
         raise ValueError("structure: two-component motions need bidirectional_isolated_structure(...), "
                          "not isolated_structure(...).")
-    if not two and isinstance(inner, BidirectionalIsolatedStructure):
+    if not two and isinstance(inner, IsolatedStructure) and inner.components == 2:
         raise ValueError("structure: a bidirectional structure needs two-component motions "
                          "(TwoComponentGroundMotion).")
     shape = jax.ShapeDtypeStruct((source.samples,), jnp.result_type(float))
@@ -452,8 +451,8 @@ def check_design_of(structure, design_arrays) -> None:
     """`check_design` of the flat-slider or single-pendulum structure inside `structure` (one or
     two components, with or without a vertical one); series pendulums check their own."""
     inner = structure.structure if isinstance(structure, VerticalIsolatedStructure) else structure
-    if isinstance(inner, (IsolatedStructure, BidirectionalIsolatedStructure)):
-        check_design(getattr(inner, "uniaxial", inner), design_arrays)
+    if isinstance(inner, IsolatedStructure):
+        check_design(inner, design_arrays)
 
 
 def _check_chunk_memory(chunk, per_motion, memory_limit_bytes, devices) -> None:

@@ -26,7 +26,6 @@ import numpy as np
 from ..bearing import check_bearing
 from ..systems import IsolatedStructure, VerticalIsolatedStructure
 from ..validation import concrete
-from ._bidirectional_study import BidirectionalIsolatedStructure
 
 
 def _count(value, name: str) -> int:
@@ -66,12 +65,10 @@ def nested_draws(n_bearings: int, n_draws: int, *, seed: int = 0) -> np.ndarray:
 
 def structure_bearing(structure):
     """The `SlidingBearing` a structure of the studies runs (an `IsolatedStructure` built with
-    `bearing=...`, also inside a bidirectional or vertical one), or `None` (Table 1's, or a
+    `bearing=...`, in one or two components, also inside a vertical one), or `None` (Table 1's, or a
     series pendulum's surfaces)."""
     if isinstance(structure, VerticalIsolatedStructure):
         return structure_bearing(structure.structure)
-    if isinstance(structure, BidirectionalIsolatedStructure):
-        return structure_bearing(structure.uniaxial)
     if isinstance(structure, IsolatedStructure):
         return structure.bearing
     return None
@@ -82,8 +79,6 @@ def with_bearing(structure, bearing):
     or not) in place of its own bearing; see `structure_bearing`."""
     if isinstance(structure, VerticalIsolatedStructure):
         return eqx.tree_at(lambda s: s.structure, structure, with_bearing(structure.structure, bearing))
-    if isinstance(structure, BidirectionalIsolatedStructure):
-        return eqx.tree_at(lambda s: s.uniaxial, structure, with_bearing(structure.uniaxial, bearing))
     return eqx.tree_at(lambda s: s.bearing, structure, bearing)
 
 

@@ -58,7 +58,7 @@ from ._vertical import (
     pendulum_change,
 )
 
-NEWTON_ITERATIONS = 100
+PLANAR_NEWTON_ITERATIONS = 100
 """Most iterations per step, all kinds together (fixed, Broyden loop, finite-difference Newton
 loop; the loops run only for members still above tolerance)."""
 
@@ -117,7 +117,7 @@ class BidirectionalStructure(AbstractSteppedSystem):
     ground_y: Signal
     newmark_inverse: jnp.ndarray
     time_step: float = eqx.field(static=True)
-    newton_iterations: int = eqx.field(static=True, default=NEWTON_ITERATIONS)
+    newton_iterations: int = eqx.field(static=True, default=PLANAR_NEWTON_ITERATIONS)
     newton_tolerance: float = eqx.field(static=True, default=NEWTON_TOLERANCE)
     contact_pressure: jnp.ndarray | None = None
     heat_rates: jnp.ndarray | None = None

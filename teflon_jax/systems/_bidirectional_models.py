@@ -17,7 +17,7 @@ from ..excitation import Signal
 from ..solver import require_riccati_form
 from ..structures import initial_normal_load
 from ..tables import BuildingData
-from ._bidirectional import NEWTON_ITERATIONS, BidirectionalStructure
+from ._bidirectional import PLANAR_NEWTON_ITERATIONS, BidirectionalStructure
 from ._bidirectional_laws import check_planar_law
 from ._response import StructureResponse, group_uplift_time
 from ._sampled_path import HEAT_HORIZON
@@ -42,7 +42,7 @@ def bidirectional_structure(
     ground_x: Signal,
     ground_y: Signal,
     time_step: float,
-    newton_iterations: int = NEWTON_ITERATIONS,
+    newton_iterations: int = PLANAR_NEWTON_ITERATIONS,
     contact_pressure=None,
     friction_model: str = "hysteretic",
     surface=None,

@@ -27,6 +27,8 @@ from ..structures import LINEAR_RULES
 from ..tables import friction_table
 from ..units import PSI
 from ..validation import concrete, require_positive
+from ._bidirectional import BidirectionalStructure
+from ._bidirectional_models import bidirectional_building, bidirectional_rigid_mass
 from ._isolator_balance import TRIPLE_NEWTON_ITERATIONS, TRIPLE_TOLERANCE
 from ._series_step import triple_structure
 from ._structure import NEWTON_ITERATIONS, NEWTON_TOLERANCE, StructureOnSliders
@@ -72,10 +74,14 @@ none on a friction pendulum (its period comes from the radius)."""
 
 
 class IsolatedStructure(eqx.Module):
-    """Builds the rigid mass or the six-storey building for one motion and one design.
+    """Builds the rigid mass or the six-storey building for one motion and one design, under
+    one or two horizontal ground components (`components`).
 
     Call as `structure(ground_acceleration, design)` with `design` a dict of some of
-    `DESIGN_VARIABLES` (arrays, traced or not; missing ones take the defaults below).
+    `DESIGN_VARIABLES` (arrays, traced or not; missing ones take the defaults below) and
+    `ground_acceleration` a `Signal` [m/s^2] (one component: a `StructureOnSliders`) or an
+    (x, y) pair of them (two: a `BidirectionalStructure`, one group of bearings with Park's
+    biaxial Z, `bidirectional_isolated_structure`).
 
     **Fields:**
 
@@ -105,6 +111,9 @@ class IsolatedStructure(eqx.Module):
       (False: the update along the net increment, e.g. to compare with it).
     - `linear_rule` (static): `StructureOnSliders.linear_rule`, "exact" by default here (the
       storey modes without period error; "newmark" to compare with the average-acceleration step).
+      One component only, as `split_at_turn` and `newton_tolerance`: under two the planar
+      solve's own (`newton_iterations` bounds its iterations).
+    - `components` (static): 1 or 2 horizontal ground components.
     - `bearing`: a `SlidingBearing` to run instead of Table 1's at `pressure` (e.g. from a
       bearing file); `None` (the default) builds the paper's bearing from `ptfe`, `direction`,
       `pressure` and `breakaway`. The design variables f_max, delta_f, rate_a and
@@ -125,6 +134,7 @@ class IsolatedStructure(eqx.Module):
     newton_tolerance: float = eqx.field(static=True, default=NEWTON_TOLERANCE)
     split_at_turn: bool = eqx.field(static=True, default=True)
     linear_rule: str = eqx.field(static=True, default="exact")
+    components: int = eqx.field(static=True, default=1)
     bearing: SlidingBearing | None = None
     surface: ConcaveSurface | None = None
 
@@ -217,7 +227,12 @@ class IsolatedStructure(eqx.Module):
                            (friction, None if b is None else jnp.asarray(b, float)),
                            is_leaf=lambda x: x is None)
 
-    def __call__(self, ground_acceleration, design: Mapping | None = None) -> StructureOnSliders:
+    def __call__(self, ground_acceleration, design: Mapping | None = None) -> StructureOnSliders | BidirectionalStructure:
+        if isinstance(ground_acceleration, tuple) != (self.components == 2):
+            raise ValueError(f"ground_acceleration: this structure takes {self.components} horizontal component(s) "
+                             "(isolated_structure: one Signal; bidirectional_isolated_structure: an (x, y) pair).")
+        if self.components == 2:
+            return self._in_two_components(*ground_acceleration, design)
         bearing, period, damping = self.isolation(design)
         common = dict(bearing=bearing, ground_acceleration=ground_acceleration, time_step=self.time_step,
                       isolation_period=period, friction_model=self.friction_model, linear_rule=self.linear_rule,
@@ -234,6 +249,23 @@ class IsolatedStructure(eqx.Module):
         if settings != (system.newton_iterations, system.split_at_turn, system.newton_tolerance):
             system = dataclasses.replace(system, newton_iterations=self.newton_iterations,
                                          split_at_turn=self.split_at_turn, newton_tolerance=self.newton_tolerance)
+        return system
+
+    def _in_two_components(self, ground_x, ground_y, design) -> BidirectionalStructure:
+        """The same structure under (a_x, a_y) (`bidirectional_rigid_mass`, `bidirectional_building`:
+        one group with Park's biaxial Z); its `newton_iterations` bound the planar solve."""
+        bearing, period, damping = self.isolation(design)
+        common = dict(bearing=bearing, ground_x=ground_x, ground_y=ground_y, time_step=self.time_step,
+                      isolation_period=period, contact_pressure=self.contact_pressure(design),
+                      friction_model=self.friction_model,
+                      surface=None if self.surface is None else self.designed_surface(design))
+        if self.kind == "rigid":
+            system = bidirectional_rigid_mass(weight=self.weight, damping_ratio=damping if period is not None else 0.0,
+                                              **common)
+        else:
+            system = bidirectional_building(isolation_damping=damping, **common)
+        if system.newton_iterations != self.newton_iterations:
+            system = dataclasses.replace(system, newton_iterations=self.newton_iterations)
         return system
 
 

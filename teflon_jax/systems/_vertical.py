@@ -114,21 +114,15 @@ class VerticalIsolatedStructure(eqx.Module):
     """`structure` with the vertical ground acceleration on its isolators' normal load
     (`with_vertical_motion`; a single friction pendulum's W / R scales with it).
 
-    `structure`: an `IsolatedStructure` (one horizontal component), a
-    `BidirectionalIsolatedStructure` (two), or a `TripleIsolatedStructure` (triple or double
-    pendulums, one or two). Call as `structure((horizontal, ground_vertical), design)` with
+    `structure`: an `IsolatedStructure` (flat sliders or single pendulums, one horizontal
+    component or two: `bidirectional_isolated_structure`), or a `TripleIsolatedStructure`
+    (triple or double pendulums, one or two). Call as `structure((horizontal, ground_vertical), design)` with
     `horizontal` what `structure` takes (a `Signal`, or the (x, y) pair of `Signal`s) and
     `ground_vertical` a `Signal` [m/s^2, up positive]; returns the structure's system with
     the vertical record.
     """
 
     structure: eqx.Module
-
-    @property
-    def uniaxial(self):
-        """The one-direction `IsolatedStructure` inside (that of a bidirectional one), or the
-        `TripleIsolatedStructure`."""
-        return getattr(self.structure, "uniaxial", self.structure)
 
     @property
     def time_step(self) -> float:
@@ -138,7 +132,7 @@ class VerticalIsolatedStructure(eqx.Module):
     @property
     def kind(self) -> str:
         """"rigid" or "building"."""
-        return self.uniaxial.kind
+        return self.structure.kind
 
     def __call__(self, ground, design=None):
         horizontal, vertical = ground
@@ -147,13 +141,12 @@ class VerticalIsolatedStructure(eqx.Module):
 
 def with_vertical_component(structure) -> VerticalIsolatedStructure:
     """`structure` taking (horizontal, vertical) ground motions (`VerticalIsolatedStructure`):
-    an `IsolatedStructure`, a `BidirectionalIsolatedStructure` (`bidirectional_isolated_structure`)
-    or a `TripleIsolatedStructure` (`isolated_structure(kind, isolator=triple_pendulum)`): an
+    an `IsolatedStructure` (one or two components: `bidirectional_isolated_structure`) or a
+    `TripleIsolatedStructure` (`isolated_structure(kind, isolator=triple_pendulum)`): an
     isolated structure of the studies, called with a motion and a design, with its `kind`,
     `isolator` and `time_step`."""
-    inner = getattr(structure, "uniaxial", structure)
-    if not (callable(structure) and all(hasattr(inner, name) for name in ("kind", "isolator", "time_step"))):
-        raise ValueError(f"structure: expected an IsolatedStructure, a BidirectionalIsolatedStructure or a "
+    if not (callable(structure) and all(hasattr(structure, name) for name in ("kind", "isolator", "time_step"))):
+        raise ValueError(f"structure: expected an IsolatedStructure or a "
                          f"TripleIsolatedStructure (isolated_structure(...)), got {type(structure).__name__}.")
     return VerticalIsolatedStructure(structure)
 
