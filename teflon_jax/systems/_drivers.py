@@ -164,7 +164,7 @@ def peak_response(system, duration: float, *, reducers=None, smooth=None, disp_w
     a vertical record "uplift_time" [s]: the steps 1..n whose end has N <= 0 times the step;
     where the groups share the weight unevenly (a slab or a building on a plan with its
     overturning loads), "group_normal_load": each group's largest and least N_g [N] (the rest
-    included) and its uplift time [s] (`group_load_peaks`).
+    included, read as the peaks are) and its uplift time [s] (`group_load_peaks`).
     """
     _check_loop_settings(read_every, steps_per_pass)
     layout = response_layout(system)
@@ -196,8 +196,9 @@ def peak_response(system, duration: float, *, reducers=None, smooth=None, disp_w
         updated = {k: smooth_max_update(tops[k], totals[k], values[k], widths[k]) for k in tops}
         if vertical:
             lifted = lifted + uplifted(sample.load_factor)
-        if loads is not None:
-            loads = combined_load_extremes(loads, group_load_extremes(layout, sample))
+        if loads is not None:  # the extremes read as the peaks are, uplift counted at every step
+            new = combined_load_extremes(loads, group_load_extremes(layout, sample))
+            loads = (jnp.where(read, new[0], loads[0]), jnp.where(read, new[1], loads[1]), new[2])
         return (state, peaks, {k: u[0] for k, u in updated.items()}, {k: u[1] for k, u in updated.items()},
                 lifted, ok & converged, loads), None
 
