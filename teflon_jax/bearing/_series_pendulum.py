@@ -160,8 +160,6 @@ class SeriesPendulum(eqx.Module):
         variables bound each other)."""
         return self.design_ranges()
 
-    _design_rule: ClassVar[str] = ""
-
     def check_design_box(self, box: Mapping) -> None:
         """`ValueError` naming the variable whose bounds (low, high) in `box` leave what this
         isolator takes at a corner of the box (`design_ranges`), or one it does not have."""
@@ -176,7 +174,8 @@ class SeriesPendulum(eqx.Module):
                                  f"{high:.6g}) of this isolator ({self._rule()}); narrow them.")
 
     def _rule(self) -> str:
-        return self._design_rule
+        """What the design variables must keep, as the box's error says it."""
+        return "positive scales"
 
     @property
     def heated(self) -> bool:

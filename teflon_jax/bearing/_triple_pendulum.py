@@ -68,8 +68,6 @@ class TriplePendulum(SeriesPendulum):
     factor: their ratio, which orders regimes II and III, kept); `capacity_scale` [-] (the
     three effective displacement capacities times it). The series model needs a < s min(b, c)
     and inner f_max <= bottom f_max <= top f_max (`check_triple_pendulum`)."""
-    _design_rule: ClassVar[str] = ("the outer radii above the inner one; inner f_max <= bottom f_max <= top "
-                                   "f_max <= 1; positive capacities")
     inner_radius: ArrayLike
     bottom_radius: ArrayLike
     top_radius: ArrayLike
@@ -141,6 +139,9 @@ class TriplePendulum(SeriesPendulum):
                                                            self.top_friction))
         return {"outer_radius_scale": (a / min(b, c) * (1 + 1e-9), math.inf), "inner_f_max": (1e-6, m1),
                 "outer_f_max": (m2, m1 / m4), "capacity_scale": (1e-6, math.inf)}
+
+    def _rule(self) -> str:
+        return "the outer radii above the inner one; inner f_max <= bottom f_max <= top f_max <= 1; positive capacities"
 
     def _box_ranges(self, box: Mapping) -> dict:
         """The inner f_max below the box's least outer f_max, the outer above its largest inner
