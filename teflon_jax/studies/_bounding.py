@@ -63,8 +63,8 @@ def scaled_friction(params: FrictionParameters, factor: float) -> FrictionParame
 
 def bounding_design(structure, *, lower: float, upper: float) -> dict:
     """The `monte_carlo` design dict of the three `BOUNDING_CASES`: f_max and delta_f of `structure`'s
-    bearing (its given bearing's, else Table 1's at its pressure; an `IsolatedStructure` or a
-    bidirectional one built on it) times 1, `upper` and `lower` (module docstring). Values that leave the physical range
+    bearing (its given bearing's, else Table 1's at its pressure; an `IsolatedStructure` in one
+    or two components) times 1, `upper` and `lower` (module docstring). Values that leave the physical range
     (f_max' > 1) are refused when the run checks its design. On triple or double friction
     pendulums (a `TripleIsolatedStructure`) every surface's friction is scaled:
     `series_bounding_design`. A structure with a vertical component is read through to the
@@ -73,8 +73,7 @@ def bounding_design(structure, *, lower: float, upper: float) -> dict:
     inner = structure.structure if isinstance(structure, VerticalIsolatedStructure) else structure
     if isinstance(inner, TripleIsolatedStructure):
         return series_bounding_design(inner.pendulum, lower=lower, upper=upper)
-    base = getattr(inner, "uniaxial", inner)
-    params = base.bearing.friction if base.bearing is not None else base.table().at(base.pressure)[0]
+    params = inner.bearing.friction if inner.bearing is not None else inner.table().at(inner.pressure)[0]
     cases = [scaled_friction(params, factor) for factor in (1.0, upper, lower)]
     return {"f_max": np.array([float(c.f_max) for c in cases]), "delta_f": np.array([float(c.delta_f) for c in cases])}
 
