@@ -126,8 +126,7 @@ class SeriesPendulum(eqx.Module):
         factor (`teflon_jax.studies.bounding_design`); a factor > 0 keeps the surfaces' order
         of friction. `factor` may be traced."""
         names = [f"{name}_friction" for name in self.slider_names]
-        return eqx.tree_at(lambda p: [getattr(p, n) for n in names], self,
-                           [getattr(self, n).scaled(factor) for n in names])
+        return self.with_fields(**{n: getattr(self, n).scaled(factor) for n in names})
 
     def check(self) -> None:
         """`ValueError` naming the constant this isolator's model cannot take (its class's check)."""
@@ -201,11 +200,6 @@ class SeriesPendulum(eqx.Module):
             for e, (name, h) in enumerate(zip(self.slider_names, self.surface_heatings()))])
 
 
-def scaled_to(friction: FrictionParameters, factor) -> FrictionParameters:
-    """Eq. 1 constants with f_max and delta_f times `factor` (rate a kept)."""
-    return FrictionParameters(friction.f_max * factor, friction.delta_f * factor, friction.rate_a)
-
-
 def stack_frictions(parts) -> FrictionParameters:
     """`FrictionParameters` of several surfaces stacked along a first axis."""
     return FrictionParameters(*(jnp.stack([jnp.asarray(getattr(p, name), float) for p in parts])
@@ -276,7 +270,7 @@ class DoublePendulum(SeriesPendulum):
         return self.with_fields(
             bottom_radius=s * self.bottom_radius, top_radius=s * self.top_radius,
             bottom_capacity=k * self.bottom_capacity, top_capacity=k * self.top_capacity,
-            bottom_friction=scaled_to(self.bottom_friction, factor), top_friction=scaled_to(self.top_friction, factor))
+            bottom_friction=self.bottom_friction.scaled(factor), top_friction=self.top_friction.scaled(factor))
 
     def design_ranges(self) -> dict:
         """Positive scales; the bottom f_max such that the top's (scaled alike) stays at most 1."""

@@ -30,7 +30,6 @@ from ._hysteresis import BoucWen
 from ._series_pendulum import (
     SeriesPendulum,
     check_surface_heating,
-    scaled_to,
     stack_frictions,
 )
 from ._surface import check_friction
@@ -128,8 +127,8 @@ class TriplePendulum(SeriesPendulum):
         return self.with_fields(
             bottom_radius=s * self.bottom_radius, top_radius=s * self.top_radius,
             inner_capacity=k * self.inner_capacity, bottom_capacity=k * self.bottom_capacity,
-            top_capacity=k * self.top_capacity, inner_friction=scaled_to(self.inner_friction, inner),
-            bottom_friction=scaled_to(self.bottom_friction, outer), top_friction=scaled_to(self.top_friction, outer))
+            top_capacity=k * self.top_capacity, inner_friction=self.inner_friction.scaled(inner),
+            bottom_friction=self.bottom_friction.scaled(outer), top_friction=self.top_friction.scaled(outer))
 
     def design_ranges(self) -> dict:
         """The outer radii above the inner one, friction within (0, 1] in the series model's
@@ -150,8 +149,8 @@ class TriplePendulum(SeriesPendulum):
         if "inner_f_max" in box and "outer_f_max" in box:
             ranges["inner_f_max"] = (ranges["inner_f_max"][0], box["outer_f_max"][0])
         if "outer_f_max" in box:
-            m1, m4 = (float(np.asarray(f.f_max)) for f in (self.bottom_friction, self.top_friction))
-            ranges["outer_f_max"] = (max(box.get("inner_f_max", (0.0, 0.0))[1], ranges["outer_f_max"][0]), m1 / m4)
+            low, high = ranges["outer_f_max"]
+            ranges["outer_f_max"] = (max(box.get("inner_f_max", (0.0, 0.0))[1], low), high)
         return ranges
 
 
