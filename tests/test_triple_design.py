@@ -83,6 +83,8 @@ def test_unknown_variables_and_boxes_outside_the_series_model_are_refused():
         check(structure, {"outer_radius_scale": (0.1, 2.0)})  # 0.1 b < a
     with pytest.raises(ValueError, match="outer_f_max: bounds"):
         check(structure, {"outer_f_max": (0.04, 0.7)})  # the top's f_max would pass 1
+    with pytest.raises(ValueError, match="outer_f_max: bounds"):  # its low end below the inner box's high end
+        check(structure, {"outer_f_max": (0.04, 0.08), "inner_f_max": (0.01, 0.05)})
     check(structure, {"inner_f_max": (0.01, 0.04), "outer_f_max": (0.04, 0.08)})
 
 
