@@ -67,8 +67,8 @@ def _structure(kind, isolator, components=1, balance="newton"):
         return build(kind, time_step=TIME_STEP, pressure=1000 * PSI, isolation_period=period,
                      isolation_damping=0.0)
     if isolator == "triple-fp":
-        structure = isolated_structure(kind, time_step=TIME_STEP, **_isolator_keywords("triple-fp"),
-                                       newton_tolerance=TRIPLE_MONTE_CARLO_TOLERANCE)
+        structure = build(kind, time_step=TIME_STEP, **_isolator_keywords("triple-fp"),
+                          newton_tolerance=TRIPLE_MONTE_CARLO_TOLERANCE)
         return structure if balance == "newton" else functools.partial(_balanced, structure, balance)
     return build(kind, time_step=TIME_STEP, pressure=1000 * PSI, **_isolator_keywords("single-fp"))
 

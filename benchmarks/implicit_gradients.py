@@ -27,6 +27,7 @@ from teflon_jax.bearing import (  # noqa: E402
     single_pendulum,
 )
 from teflon_jax.excitation import StochasticGroundMotion, sample, uniform_signal  # noqa: E402
+from teflon_jax.studies import bidirectional_isolated_structure  # noqa: E402
 from teflon_jax.systems import (  # noqa: E402
     isolated_structure,
     peak_response,
@@ -63,7 +64,7 @@ SINGLE = isolated_structure("rigid", isolator=concave_surface(1.5), time_step=0.
 ONE = isolated_structure("rigid", isolator=concave_surface(1.5), split_at_turn=False, time_step=0.005,
                          newton_tolerance=0.0)
 S1 = isolated_structure("rigid", isolator=TRIPLE, newton_tolerance=1e-13)(GX)
-S2 = isolated_structure("rigid", isolator=TRIPLE, newton_tolerance=1e-13)((GX, GY))
+S2 = bidirectional_isolated_structure("rigid", isolator=TRIPLE, newton_tolerance=1e-13)((GX, GY))
 
 
 def flat(theta):  # flat sliders: f_max, isolation period

@@ -1,4 +1,4 @@
-"""Design of a double friction pendulum (`TripleIsolatedStructure` on a `DoublePendulum` with
+"""Design of a double friction pendulum (`IsolatedStructure` on a `DoublePendulum` with
 design variables, `design --isolator double-fp`): each variable changes the bearing as its
 definition says, the radius scale s divides every slope of the closed-form backbone (F/W =
 mu_1 + u / R_1 on surface 1 alone, then slope 1 / (R_1 + R_2) on both; Fenz & Constantinou
@@ -28,7 +28,6 @@ from teflon_jax.bearing import (
 from teflon_jax.formats import isolator_to_dict
 from teflon_jax.studies import GRADIENT_TOLERANCE, percentile_disp_gradient_check
 from teflon_jax.systems import (
-    TripleIsolatedStructure,
     isolated_structure,
     simulate_triple_test,
 )
@@ -41,7 +40,7 @@ DOUBLE = TRUE
 
 
 def test_each_variable_changes_the_bearing_as_defined():
-    new = designed_isolator(TripleIsolatedStructure(DOUBLE), {"radius_scale": 1.3, "surface_f_max": 0.07, "capacity_scale": 0.6})
+    new = designed_isolator(isolated_structure("rigid", isolator=DOUBLE), {"radius_scale": 1.3, "surface_f_max": 0.07, "capacity_scale": 0.6})
     assert (float(new.bottom_radius), float(new.top_radius)) == pytest.approx((1.3 * 2.0, 1.3 * 2.6))
     assert (float(new.bottom_capacity), float(new.top_capacity)) == pytest.approx((0.18, 0.18))
     speeds = jnp.array([0.0, 0.01, 0.1, 1.0])
@@ -58,7 +57,7 @@ def test_the_radius_scale_divides_the_slopes_of_the_closed_form_backbone():
                              bottom_friction=coulomb_friction(0.04), top_friction=coulomb_friction(0.08),
                              hysteresis=BoucWen(1e-5))
     s = 1.4
-    designed = jax.tree_util.tree_map(jnp.asarray, designed_isolator(TripleIsolatedStructure(coulomb), {"radius_scale": s}))
+    designed = jax.tree_util.tree_map(jnp.asarray, designed_isolator(isolated_structure("rigid", isolator=coulomb), {"radius_scale": s}))
     t = np.linspace(0.0, 100.0, 1001)
     u = 0.2 * t / t[-1]
     force = np.asarray(simulate_triple_test(designed, t, u, 1.0).force)

@@ -26,7 +26,6 @@ from teflon_jax.formats import load_isolator
 from teflon_jax.studies import bidirectional_isolated_structure
 from teflon_jax.systems import (
     IsolatedStructure,
-    TripleIsolatedStructure,
     building_on_plan,
     isolated_structure,
     simulate_history,
@@ -76,9 +75,10 @@ def test_the_structure_holds_the_values_parts_on_its_engine(kind):
         assert built.isolator == isolator_kind(value)
     assert _same(isolated_structure(kind, bearing=BEARING), isolated_structure(kind, isolator=BEARING))
     for pendulum in (TRIPLE, DOUBLE):
-        for build in (isolated_structure, bidirectional_isolated_structure):
+        for build, components in ((isolated_structure, 1), (bidirectional_isolated_structure, 2)):
             built = build(kind, isolator=pendulum)
-            assert isinstance(built, TripleIsolatedStructure) and built.pendulum is pendulum
+            assert type(built) is IsolatedStructure and built.pendulum is pendulum
+            assert built.components == components and built.isolator == isolator_kind(pendulum)
 
 
 def test_a_single_pendulum_runs_on_the_flat_engine_with_its_bearings_numbers():

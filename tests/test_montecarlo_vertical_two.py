@@ -60,11 +60,11 @@ def _horizontal(components, pga=0.4):
 
 
 def _structure(isolator, components, kind="rigid"):
+    build = bidirectional_isolated_structure if components == 2 else isolated_structure
     if isolator in ("triple-fp", "double-fp"):
         pendulum = load_isolator(BENCHMARKS / f"{isolator.split('-')[0]}_isolator.json")
-        return isolated_structure(kind, isolator=pendulum, time_step=0.005)
+        return build(kind, isolator=pendulum, time_step=0.005)
     options = {"isolator": concave_surface(2.0)} if isolator == "single-fp" else {"isolation_period": 2.5}
-    build = bidirectional_isolated_structure if components == 2 else isolated_structure
     return build(kind, **options)
 
 

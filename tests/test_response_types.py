@@ -175,16 +175,23 @@ def test_a_series_pendulum_test_is_a_bearing_test_result():
 
 
 def test_one_study_structure_takes_one_or_two_components_and_refuses_the_other_by_name():
-    """Flat sliders and single pendulums of the studies are one type in one or two components
-    (`IsolatedStructure.components`), each building its engine's structure and refusing the
-    other number of components by name instead of failing inside the engine."""
+    """Every isolator of the studies is one type in one or two components
+    (`IsolatedStructure.components`): flat sliders build their engine's structure, a triple
+    pendulum its sliders in series, each refusing the other number of components by name
+    instead of failing inside the engine; a design reaches the pendulum's surfaces."""
     gx, gy = _signals()
     one, two = isolated_structure("building"), bidirectional_isolated_structure("building", isolator=None)
     assert type(one) is type(two) and (one.components, two.components) == (1, 2)
     assert isinstance(one(gx), StructureOnSliders)
     planar = two((gx, gy), {"f_max": 0.09})
     assert planar.mass.shape == (14,) and np.asarray(planar.bearing.friction.f_max) == pytest.approx([0.09])
-    with pytest.raises(ValueError, match=r"ground_acceleration: this structure takes 1 horizontal"):
-        one((gx, gy))
-    with pytest.raises(ValueError, match=r"ground_acceleration: this structure takes 2 horizontal"):
-        two(gx)
+    series_one = isolated_structure("building", isolator=TRIPLE)
+    series_two = bidirectional_isolated_structure("building", isolator=TRIPLE)
+    assert type(series_one) is type(series_two) is type(one) and (series_one.components, series_two.components) == (1, 2)
+    assert series_one(gx).ground_y is None and series_two((gx, gy)).ground_y is gy
+    designed = series_two((gx, gy), {"outer_f_max": 0.09}).bearing
+    assert [float(designed.bottom_friction.f_max), float(designed.top_friction.f_max)] == pytest.approx(
+        [0.09, 0.11 * 0.09 / 0.07])  # the outer surfaces scaled together, the bottom's f_max to the value
+    for structure, components in ((one, 1), (two, 2), (series_one, 1), (series_two, 2)):
+        with pytest.raises(ValueError, match=rf"ground_acceleration: this structure takes {components} horizontal"):
+            structure(gx if components == 2 else (gx, gy))

@@ -23,7 +23,11 @@ from teflon_jax.excitation import (
     uniform_signal,
 )
 from teflon_jax.formats import isolator_from_dict
-from teflon_jax.studies import monte_carlo, monte_carlo_motion
+from teflon_jax.studies import (
+    bidirectional_isolated_structure,
+    monte_carlo,
+    monte_carlo_motion,
+)
 from teflon_jax.systems import (
     TRIPLE_MONTE_CARLO_TOLERANCE,
     isolated_structure,
@@ -47,9 +51,10 @@ def _document():
             "yield_disp": {"value": 0.004, "unit": "in"}}
 
 
-def _building():
-    return isolated_structure("building", isolator=isolator_from_dict(_document()),
-                              time_step=0.005, newton_tolerance=TRIPLE_MONTE_CARLO_TOLERANCE)
+def _building(components=1):
+    build = isolated_structure if components == 1 else bidirectional_isolated_structure
+    return build("building", isolator=isolator_from_dict(_document()), time_step=0.005,
+                 newton_tolerance=TRIPLE_MONTE_CARLO_TOLERANCE)
 
 
 def _history_peaks(system, duration):
@@ -66,10 +71,9 @@ def test_a_motion_along_x_alone_gives_the_one_component_storey_peaks():
     to the same tolerance)."""
     t = 0.01 * np.arange(151)
     ax = 3.0 * np.sin(2 * np.pi * t) * np.sin(np.pi * t / t[-1]) ** 2
-    structure = _building()
-    two = peak_response(structure((uniform_signal(ax, 0.01), uniform_signal(0 * ax, 0.01))), 1.5,
-                                      storey_height=HEIGHT)
-    one = jax.jit(lambda s: peak_response(s, 1.5, storey_height=HEIGHT))(structure(uniform_signal(ax, 0.01)))
+    two = peak_response(_building(2)((uniform_signal(ax, 0.01), uniform_signal(0 * ax, 0.01))), 1.5,
+                        storey_height=HEIGHT)
+    one = jax.jit(lambda s: peak_response(s, 1.5, storey_height=HEIGHT))(_building()(uniform_signal(ax, 0.01)))
     assert two.storey_drift.shape == (2, 6) and two.floor_acceleration.shape == (2, 7)
     np.testing.assert_allclose(two.storey_drift[0], one.storey_drift, rtol=1e-8)
     np.testing.assert_allclose(two.floor_acceleration[0], one.floor_acceleration, rtol=1e-8)
@@ -85,7 +89,7 @@ def test_monte_carlo_storey_peaks_are_those_of_each_motion_history():
     zero and the major along x, those of the one-component Monte Carlo of the same motions."""
     one = StochasticGroundMotion(peak_ground_acceleration=4.0, duration=2.0, time_step=0.01, rise_time=0.5,
                                  strong_motion_duration=1.0)
-    structure, key = _building(), jax.random.key(3)
+    structure, key = _building(2), jax.random.key(3)
     model = TwoComponentGroundMotion(one, principal_angle=0.4, minor_ratio=0.7)
     result = monte_carlo(structure, model, 2, key=key, storey_height=HEIGHT)
     assert result.storey_drift.shape == (2, 2, 6) and result.floor_acceleration.shape == (2, 2, 7)
@@ -96,7 +100,7 @@ def test_monte_carlo_storey_peaks_are_those_of_each_motion_history():
         np.testing.assert_allclose(result.floor_acceleration[i], acc, rtol=1e-8)
     along_x = monte_carlo(structure, TwoComponentGroundMotion(one, principal_angle=0.0, minor_ratio=0.0), 2, key=key,
                           storey_height=HEIGHT)
-    uniaxial = monte_carlo(structure, one, 2, key=key, storey_height=HEIGHT)
+    uniaxial = monte_carlo(_building(), one, 2, key=key, storey_height=HEIGHT)
     np.testing.assert_allclose(along_x.storey_drift[:, 0], uniaxial.storey_drift, rtol=1e-8)
     np.testing.assert_allclose(along_x.floor_acceleration[:, 0], uniaxial.floor_acceleration, rtol=1e-8)
     assert np.all(along_x.storey_drift[:, 1] == 0) and np.all(along_x.floor_acceleration[:, 1] == 0)

@@ -1,4 +1,4 @@
-"""Design of a triple friction pendulum (`TripleIsolatedStructure` with design variables,
+"""Design of a triple friction pendulum (`IsolatedStructure` on it with design variables,
 `design --isolator triple-fp`): each variable changes the bearing as its definition says (the
 outer radii, Eq. 1 of the inner and outer surfaces, the capacities), the 95th-percentile peak
 displacement's derivative in every variable agrees with central differences (with the
@@ -28,7 +28,6 @@ from teflon_jax.excitation import StochasticGroundMotion, sample
 from teflon_jax.formats import isolator_to_dict
 from teflon_jax.studies import GRADIENT_TOLERANCE, percentile_disp_gradient_check
 from teflon_jax.systems import (
-    TripleIsolatedStructure,
     isolated_structure,
 )
 
@@ -46,7 +45,7 @@ TRIPLE = TriplePendulum(
 
 def test_each_variable_changes_the_bearing_as_defined():
     design = {"outer_radius_scale": 1.3, "inner_f_max": 0.02, "outer_f_max": 0.08, "capacity_scale": 0.7}
-    new = designed_isolator(TripleIsolatedStructure(TRIPLE), design)
+    new = designed_isolator(isolated_structure("rigid", isolator=TRIPLE), design)
     assert float(new.inner_radius) == pytest.approx(0.4)
     assert (float(new.bottom_radius), float(new.top_radius)) == pytest.approx((1.3 * 2.2, 1.3 * 2.5))
     assert [float(new.inner_capacity), float(new.bottom_capacity), float(new.top_capacity)] == pytest.approx(
@@ -59,13 +58,13 @@ def test_each_variable_changes_the_bearing_as_defined():
 
 
 def test_the_outer_radius_scale_softens_regimes_two_to_four_as_the_closed_forms():
-    coulomb = designed_isolator(TripleIsolatedStructure(TRIPLE), {})
+    coulomb = designed_isolator(isolated_structure("rigid", isolator=TRIPLE), {})
     coulomb = TriplePendulum(**{**{f: getattr(coulomb, f) for f in (
         "inner_radius", "bottom_radius", "top_radius", "inner_capacity", "bottom_capacity", "top_capacity",
         "hysteresis")}, **{f"{s}_friction": _friction(m, 0.0, 0.0) for s, m in (
             ("inner", 0.03), ("bottom", 0.06), ("top", 0.10))}})
     s, a, b, c = 1.5, 0.4, 2.2, 2.5
-    designed = designed_isolator(TripleIsolatedStructure(coulomb), {"outer_radius_scale": s})
+    designed = designed_isolator(isolated_structure("rigid", isolator=coulomb), {"outer_radius_scale": s})
     slopes = [slope for _, _, slope in triple_pendulum_backbone(designed)[0]]
     assert slopes == pytest.approx([1 / (2 * a), 1 / (a + s * b), 1 / (s * b + s * c), 1 / (a + s * c), 1 / (2 * a)])
 

@@ -193,7 +193,7 @@ def _check_f_min(structure, box: Mapping) -> None:
 
 
 def _pendulum_space(variables) -> DesignSpace:
-    """The `DesignSpace` of a series pendulum (`TripleIsolatedStructure`) of `variables`: its
+    """The `DesignSpace` of a series pendulum (`IsolatedStructure.pendulum`) of `variables`: its
     class's own (`SeriesPendulum.design_ranges`, `check_design_box`, `designed`), read from
     the structure's `pendulum`."""
     return DesignSpace(variables, lambda structure: structure.pendulum.design_ranges(),

@@ -253,7 +253,7 @@ def _slider_structure(args, variables):
 
 
 def _pendulum_structure(args, variables):
-    """The `TripleIsolatedStructure` of the pendulum of `--isolator-file` (`ValueError` naming
+    """The `IsolatedStructure` on the pendulum of `--isolator-file` (`ValueError` naming
     the flag for a file of another isolator): its sliders balanced to rounding (so that central
     differences see no trace of where Newton's loop stopped)."""
     import jax

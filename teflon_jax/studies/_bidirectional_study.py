@@ -15,7 +15,6 @@ from ..systems import (
     BIDIRECTIONAL_TIME_STEP,
     PLANAR_NEWTON_ITERATIONS,
     IsolatedStructure,
-    TripleIsolatedStructure,
     isolated_structure,
 )
 
@@ -26,10 +25,10 @@ def bidirectional_isolated_structure(kind: str = "rigid", **options) -> Isolated
     ground_y)), stepped at `BIDIRECTIONAL_TIME_STEP` unless `time_step` is given, its planar
     solve bounded by `newton_iterations` (default the solve's own). The friction models of one
     component run in two (Park's Z, Coulomb, none), and so do a pendulum's restrainer and
-    large-displacement form. On a triple or double friction pendulum the
-    `TripleIsolatedStructure` of `isolated_structure`, which takes both components itself."""
-    if isinstance(structure := isolated_structure(kind, **options), TripleIsolatedStructure):
-        return structure  # the series engine builds both: called with (ground_x, ground_y)
+    large-displacement form. On a triple or double friction pendulum the series engine's own
+    step in two components, at the time step and balance of `isolated_structure`."""
+    if (structure := isolated_structure(kind, **options)).pendulum is not None:
+        return dataclasses.replace(structure, components=2)
     if options.get("time_step") is None:  # the uniaxial default steps are not the bidirectional one
         options = {**options, "time_step": BIDIRECTIONAL_TIME_STEP}
     newton_iterations = options.get("newton_iterations", PLANAR_NEWTON_ITERATIONS)

@@ -451,7 +451,7 @@ def check_design_of(structure, design_arrays) -> None:
     """`check_design` of the flat-slider or single-pendulum structure inside `structure` (one or
     two components, with or without a vertical one); series pendulums check their own."""
     inner = structure.structure if isinstance(structure, VerticalIsolatedStructure) else structure
-    if isinstance(inner, IsolatedStructure):
+    if isinstance(inner, IsolatedStructure) and inner.pendulum is None:
         check_design(inner, design_arrays)
 
 

@@ -36,7 +36,6 @@ from ._isolated import MONTE_CARLO_NEWTON_TOLERANCE as MONTE_CARLO_NEWTON_TOLERA
 from ._isolated import RECOMMENDED_TIME_STEPS as RECOMMENDED_TIME_STEPS
 from ._isolated import TRIPLE_MONTE_CARLO_TOLERANCE as TRIPLE_MONTE_CARLO_TOLERANCE
 from ._isolated import IsolatedStructure as IsolatedStructure
-from ._isolated import TripleIsolatedStructure as TripleIsolatedStructure
 from ._isolated import check_structure_bearing as check_structure_bearing
 from ._isolated import isolated_structure as isolated_structure
 from ._isolator_balance import BALANCES as BALANCES

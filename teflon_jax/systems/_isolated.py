@@ -1,6 +1,6 @@
-"""The isolated structures of the studies (rigid mass, building) built from design variables:
-on one surface (flat sliders, the single friction pendulum: `IsolatedStructure`) or on triple or
-double friction pendulums (`TripleIsolatedStructure`)."""
+"""The isolated structure of the studies (rigid mass, building) built from design variables, on
+any isolator (flat sliders, the single, double or triple friction pendulum) under one or two
+horizontal ground components: `IsolatedStructure`, checked by `isolated_structure`."""
 
 import dataclasses
 from collections.abc import Mapping
@@ -38,8 +38,8 @@ STRUCTURES = ("rigid", "building")
 
 """Isolators of the structures: flat sliders (with springs of period T_b, or none), the
 single friction pendulum (a concave surface of radius R, `ConcaveSurface`), the triple and the
-double friction pendulum (`TriplePendulum`, `DoublePendulum`: `TripleIsolatedStructure`, one or
-two components)."""
+double friction pendulum (`TriplePendulum`, `DoublePendulum`: `IsolatedStructure.pendulum`, one
+or two components)."""
 
 
 RECOMMENDED_TIME_STEPS = {"rigid": 0.005, "building": 0.005}
@@ -74,14 +74,17 @@ none on a friction pendulum (its period comes from the radius)."""
 
 
 class IsolatedStructure(eqx.Module):
-    """Builds the rigid mass or the six-storey building for one motion and one design, under
-    one or two horizontal ground components (`components`).
+    """Builds the rigid mass or the six-storey building on its isolator for one motion and one
+    design, under one or two horizontal ground components (`components`).
 
-    Call as `structure(ground_acceleration, design)` with `design` a dict of some of
-    `DESIGN_VARIABLES` (arrays, traced or not; missing ones take the defaults below) and
-    `ground_acceleration` a `Signal` [m/s^2] (one component: a `StructureOnSliders`) or an
-    (x, y) pair of them (two: a `BidirectionalStructure`, one group of bearings with Park's
-    biaxial Z, `bidirectional_isolated_structure`).
+    Call as `structure(ground_acceleration, design)` with `design` a dict of some of the
+    isolator's design variables (`DESIGN_VARIABLES` on flat sliders and the single pendulum,
+    `design_space(isolator)` on a series pendulum; arrays, traced or not; missing ones take the
+    defaults below) and `ground_acceleration` a `Signal` [m/s^2] (one component) or an (x, y)
+    pair of them (two, `bidirectional_isolated_structure`). Flat sliders and the single
+    pendulum build a `StructureOnSliders` (one component) or a `BidirectionalStructure` (two:
+    one group of bearings with Park's biaxial Z); a triple or double pendulum (`pendulum`) a
+    `StructureOnSliders` on its sliders in series (`triple_structure`), in one or two.
 
     **Fields:**
 
@@ -118,9 +121,14 @@ class IsolatedStructure(eqx.Module):
       bearing file); `None` (the default) builds the paper's bearing from `ptfe`, `direction`,
       `pressure` and `breakaway`. The design variables f_max, delta_f, rate_a and
       breakaway_ratio still override its constants; `pressure` does not apply to it.
+    - `pendulum`: a `TriplePendulum` or `DoublePendulum` (every surface with its own friction),
+      or `None` (flat sliders or the single pendulum). With it `pressure`, `isolation_period`
+      are `None` and `isolation_damping` 0 (its period follows from its radii, its damping
+      is its friction), and `newton_iterations`, `newton_tolerance` are its sliders' balance's
+      (`structure_on_isolator`: the force imbalance over W).
     """
 
-    pressure: jnp.ndarray
+    pressure: jnp.ndarray | None
     isolation_period: jnp.ndarray | None
     isolation_damping: jnp.ndarray
     kind: str = eqx.field(static=True, default="rigid")
@@ -137,10 +145,13 @@ class IsolatedStructure(eqx.Module):
     components: int = eqx.field(static=True, default=1)
     bearing: SlidingBearing | None = None
     surface: ConcaveSurface | None = None
+    pendulum: SeriesPendulum | None = None
 
     @property
     def isolator(self) -> str:
-        """"flat" or "single-fp" (`ISOLATORS`)."""
+        """The isolator's name (`ISOLATORS`): "flat", "single-fp", or the pendulum's."""
+        if self.pendulum is not None:
+            return self.pendulum.isolator
         return "flat" if self.surface is None else "single-fp"
 
     def table(self):
@@ -231,6 +242,8 @@ class IsolatedStructure(eqx.Module):
         if isinstance(ground_acceleration, tuple) != (self.components == 2):
             raise ValueError(f"ground_acceleration: this structure takes {self.components} horizontal component(s) "
                              "(isolated_structure: one Signal; bidirectional_isolated_structure: an (x, y) pair).")
+        if self.pendulum is not None:
+            return self._on_sliders_in_series(ground_acceleration, design)
         if self.components == 2:
             return self._in_two_components(*ground_acceleration, design)
         bearing, period, damping = self.isolation(design)
@@ -251,6 +264,16 @@ class IsolatedStructure(eqx.Module):
                                          split_at_turn=self.split_at_turn, newton_tolerance=self.newton_tolerance)
         return system
 
+    def _on_sliders_in_series(self, ground_acceleration, design) -> StructureOnSliders:
+        """The structure on the series pendulum with the design's variables (`designed_pendulum`:
+        its design space, a bounding case's `FRICTION_FACTOR`), under one or two components."""
+        pendulum = designed_pendulum(self.pendulum, design) if design else self.pendulum
+        two = self.components == 2
+        return triple_structure(self.kind, pendulum, ground_acceleration[0] if two else ground_acceleration,
+                                time_step=self.time_step, weight=self.weight,
+                                newton_iterations=self.newton_iterations, newton_tolerance=self.newton_tolerance,
+                                ground_y=ground_acceleration[1] if two else None)
+
     def _in_two_components(self, ground_x, ground_y, design) -> BidirectionalStructure:
         """The same structure under (a_x, a_y) (`bidirectional_rigid_mass`, `bidirectional_building`:
         one group with Park's biaxial Z); its `newton_iterations` bound the planar solve."""
@@ -270,75 +293,8 @@ class IsolatedStructure(eqx.Module):
 
 
 TRIPLE_MONTE_CARLO_TOLERANCE = 1e-7
-"""`TripleIsolatedStructure.newton_tolerance` of the Monte Carlo command: the sliders' force
-imbalance over W (a displacement error below 1e-7 R_e of each slider)."""
-
-
-class TripleIsolatedStructure(eqx.Module):
-    """Builds the rigid mass or the Table 2 building on triple or double friction pendulums for
-    one motion (`triple_structure`), called as `structure(ground_acceleration, design)` like
-    `IsolatedStructure` (a `StructureOnSliders` on the pendulum, one component), or as
-    `structure((ground_x, ground_y))` for two components (what `monte_carlo` builds for
-    `TwoComponentGroundMotion`); `design` may set the variables of the pendulum's design space
-    (`design_space("triple-fp")`: the outer radii's scale, the inner and outer f_max, the
-    capacities' scale; `design_space("double-fp")`: the radii's scale, the surfaces' f_max, the
-    capacities' scale), and on either `FRICTION_FACTOR` (every surface's friction times a
-    bounding case's factor; `designed_pendulum`).
-
-    **Fields:** `pendulum` (`TriplePendulum` or `DoublePendulum`; also read as `triple`),
-    `kind` (static) "rigid" or "building", `time_step` [s] (static), `weight` [N] of the
-    rigid mass (static), `newton_iterations`, `newton_tolerance` (static): `StructureOnSliders`'.
-    """
-
-    pendulum: SeriesPendulum
-    kind: str = eqx.field(static=True, default="rigid")
-    time_step: float = eqx.field(static=True, default=0.005)
-    weight: float = eqx.field(static=True, default=100e3)
-    newton_iterations: int = eqx.field(static=True, default=TRIPLE_NEWTON_ITERATIONS)
-    newton_tolerance: float = eqx.field(static=True, default=TRIPLE_TOLERANCE)
-
-    @property
-    def triple(self) -> SeriesPendulum:
-        """The isolator (`pendulum`), under the name the triple pendulum gave it first."""
-        return self.pendulum
-
-    @property
-    def isolator(self) -> str:
-        """"triple-fp" or "double-fp"."""
-        return self.pendulum.isolator
-
-    @property
-    def isolation_period(self):
-        """None: the period of a multi-surface pendulum changes with its regime."""
-        return None
-
-    def __call__(self, ground_acceleration, design: Mapping | None = None):
-        pendulum = self.pendulum
-        if design:
-            pendulum = designed_pendulum(pendulum, design)
-        two = isinstance(ground_acceleration, tuple)  # (x, y): two components
-        return triple_structure(self.kind, pendulum, ground_acceleration[0] if two else ground_acceleration,
-                                time_step=self.time_step, weight=self.weight,
-                                newton_iterations=self.newton_iterations, newton_tolerance=self.newton_tolerance,
-                                ground_y=ground_acceleration[1] if two else None)
-
-
-def triple_isolated_structure(kind: str, pendulum: SeriesPendulum, *, time_step: float,
-                              newton_iterations: int, newton_tolerance: float | None,
-                              conflicting: Mapping) -> TripleIsolatedStructure:
-    """`isolated_structure(kind, isolator=pendulum)` of a `TriplePendulum` or `DoublePendulum`,
-    checked: `ValueError` naming the constant the series model cannot take
-    (`check_triple_pendulum`, `check_double_pendulum`), the time step, and each name in
-    `conflicting` (inputs of the flat sliders given with the pendulum)."""
-    if all(concrete(leaf) is not None for leaf in jax.tree_util.tree_leaves(pendulum)):
-        check_series_pendulum(pendulum)  # traced constants (gradients): the caller's to check
-    if isinstance(time_step, bool) or not isinstance(time_step, (int, float)) or not time_step > 0:
-        raise ValueError(f"time_step: must be a positive number of seconds, got {time_step!r}.")
-    for conflict, reason in conflicting.items():
-        raise ValueError(f"{conflict}: does not apply to the {pendulum.isolator} isolator ({reason}).")
-    tolerance = TRIPLE_TOLERANCE if newton_tolerance is None else float(newton_tolerance)
-    return TripleIsolatedStructure(pendulum=pendulum, kind=kind, time_step=float(time_step),
-                                   newton_iterations=int(newton_iterations), newton_tolerance=tolerance)
+"""`IsolatedStructure.newton_tolerance` of the Monte Carlo command on a series pendulum: the
+sliders' force imbalance over W (a displacement error below 1e-7 R_e of each slider)."""
 
 
 def isolated_structure(
@@ -358,7 +314,7 @@ def isolated_structure(
     linear_rule: str = "exact",
     isolator=None,
     bearing: SlidingBearing | None = None,
-) -> IsolatedStructure | TripleIsolatedStructure:
+) -> IsolatedStructure:
     """An `IsolatedStructure` with its inputs checked (`ValueError` naming the parameter).
 
     **Arguments:** see `IsolatedStructure`; `pressure` [Pa] must lie inside the Table 1 rows
@@ -375,10 +331,10 @@ def isolated_structure(
     form only with hysteretic friction) or a (`SlidingBearing`, `ConcaveSurface`) pair: the
     single friction pendulum (then `isolation_period` must be `None`: the period is
     2 pi sqrt(R / g)); a `SinglePendulum`: either of these on the flat sliders' engine. A
-    `TriplePendulum` or `DoublePendulum`: a `TripleIsolatedStructure` for one or two ground
-    components on the series engine (its friction is its surfaces' Eq. 1; `newton_tolerance`
-    is then the sliders' force imbalance over W, default `TRIPLE_TOLERANCE`); the flat
-    sliders' period, damping and friction model are refused with it.
+    `TriplePendulum` or `DoublePendulum`: the structure on its sliders in series
+    (`IsolatedStructure.pendulum`; its friction is its surfaces' Eq. 1; `newton_tolerance` is
+    then the sliders' force imbalance over W, default `TRIPLE_TOLERANCE`); the flat sliders'
+    period, damping and friction model are refused with it.
 
     `bearing`: flat sliders of that `SlidingBearing`, the same as `isolator=bearing` (no
     other isolator with it: a single pendulum of that bearing is `isolator=(bearing, surface)`).
@@ -386,6 +342,10 @@ def isolated_structure(
     if kind not in STRUCTURES:
         raise ValueError(f"structure: unknown {kind!r}; accepted: {', '.join(STRUCTURES)}.")
     isolator = _isolator_value(isolator, bearing)
+    if isinstance(newton_iterations, bool) or not isinstance(newton_iterations, int) or newton_iterations < 1:
+        raise ValueError(f"newton_iterations: must be a positive integer, got {newton_iterations!r}.")
+    if isinstance(newton_tolerance, bool) or not isinstance(newton_tolerance, (int, float)) or not newton_tolerance >= 0:
+        raise ValueError(f"newton_tolerance: must be a number >= 0 (in units of Y; the force imbalance over W on a series pendulum), got {newton_tolerance!r}.")
     if runs_in_series(isolator):
         return _on_series_pendulum(kind, isolator, isolation_period=isolation_period,
                                    isolation_damping=isolation_damping, friction_model=friction_model,
@@ -410,10 +370,6 @@ def isolated_structure(
         raise ValueError(f"time_step: must be a positive number of seconds, got {time_step!r}.")
     if linear_rule not in LINEAR_RULES:
         raise ValueError(f"linear_rule: unknown {linear_rule!r}; accepted values: {', '.join(LINEAR_RULES)}.")
-    if isinstance(newton_iterations, bool) or not isinstance(newton_iterations, int) or newton_iterations < 1:
-        raise ValueError(f"newton_iterations: must be a positive integer, got {newton_iterations!r}.")
-    if isinstance(newton_tolerance, bool) or not isinstance(newton_tolerance, (int, float)) or not newton_tolerance >= 0:
-        raise ValueError(f"newton_tolerance: must be a number >= 0 (in units of Y), got {newton_tolerance!r}.")
     structure = IsolatedStructure(
         pressure=jnp.asarray(pressure, dtype=float),
         isolation_period=None if isolation_period is None else jnp.asarray(isolation_period, float),
@@ -446,20 +402,29 @@ def _isolator_value(isolator, bearing):
 
 
 def _on_series_pendulum(kind, pendulum, *, isolation_period, isolation_damping, friction_model, time_step,
-                        newton_iterations, newton_tolerance) -> TripleIsolatedStructure:
-    """`isolated_structure` on a series pendulum (`triple_isolated_structure`), the flat
-    sliders' inputs given with it refused by name."""
+                        newton_iterations, newton_tolerance) -> IsolatedStructure:
+    """`isolated_structure` on a series pendulum, checked: `ValueError` naming the constant the
+    series model cannot take (`check_series_pendulum`; traced constants, under a gradient,
+    are the caller's to check), the time step, and the flat sliders' inputs given with it.
+    `newton_tolerance` at the flat sliders' default means the sliders' `TRIPLE_TOLERANCE`."""
+    if all(concrete(leaf) is not None for leaf in jax.tree_util.tree_leaves(pendulum)):
+        check_series_pendulum(pendulum)
     given = {"isolation_period": (isolation_period if isolation_period is not DEFAULT_ISOLATION_PERIOD
                                   else None, "its period follows from its radii"),
              "isolation_damping": (isolation_damping or None, "its damping is its friction")}
     if friction_model != "hysteretic":
         given["friction_model"] = (friction_model, "its sliders follow Bouc-Wen's Z")
-    return triple_isolated_structure(
-        kind, pendulum,
-        time_step=RECOMMENDED_TIME_STEPS[kind] if time_step is None else time_step,
-        newton_iterations=newton_iterations if newton_iterations != NEWTON_ITERATIONS else TRIPLE_NEWTON_ITERATIONS,
-        newton_tolerance=None if newton_tolerance == NEWTON_TOLERANCE else newton_tolerance,
-        conflicting={name: reason for name, (value, reason) in given.items() if value is not None})
+    for name, (value, reason) in given.items():
+        if value is not None:
+            raise ValueError(f"{name}: does not apply to the {pendulum.isolator} isolator ({reason}).")
+    time_step = RECOMMENDED_TIME_STEPS[kind] if time_step is None else time_step
+    if isinstance(time_step, bool) or not isinstance(time_step, (int, float)) or not time_step > 0:
+        raise ValueError(f"time_step: must be a positive number of seconds, got {time_step!r}.")
+    return IsolatedStructure(
+        pressure=None, isolation_period=None, isolation_damping=jnp.asarray(0.0), pendulum=pendulum, kind=kind,
+        time_step=float(time_step),
+        newton_iterations=int(newton_iterations if newton_iterations != NEWTON_ITERATIONS else TRIPLE_NEWTON_ITERATIONS),
+        newton_tolerance=TRIPLE_TOLERANCE if newton_tolerance == NEWTON_TOLERANCE else float(newton_tolerance))
 
 
 def _checked_isolation(structure, kind, isolation_period, isolation_damping):

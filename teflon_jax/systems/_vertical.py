@@ -114,9 +114,8 @@ class VerticalIsolatedStructure(eqx.Module):
     """`structure` with the vertical ground acceleration on its isolators' normal load
     (`with_vertical_motion`; a single friction pendulum's W / R scales with it).
 
-    `structure`: an `IsolatedStructure` (flat sliders or single pendulums, one horizontal
-    component or two: `bidirectional_isolated_structure`), or a `TripleIsolatedStructure`
-    (triple or double pendulums, one or two). Call as `structure((horizontal, ground_vertical), design)` with
+    `structure`: an `IsolatedStructure` (any isolator, one horizontal component or two:
+    `bidirectional_isolated_structure`). Call as `structure((horizontal, ground_vertical), design)` with
     `horizontal` what `structure` takes (a `Signal`, or the (x, y) pair of `Signal`s) and
     `ground_vertical` a `Signal` [m/s^2, up positive]; returns the structure's system with
     the vertical record.
@@ -141,13 +140,12 @@ class VerticalIsolatedStructure(eqx.Module):
 
 def with_vertical_component(structure) -> VerticalIsolatedStructure:
     """`structure` taking (horizontal, vertical) ground motions (`VerticalIsolatedStructure`):
-    an `IsolatedStructure` (one or two components: `bidirectional_isolated_structure`) or a
-    `TripleIsolatedStructure` (`isolated_structure(kind, isolator=triple_pendulum)`): an
-    isolated structure of the studies, called with a motion and a design, with its `kind`,
-    `isolator` and `time_step`."""
+    an `IsolatedStructure` of any isolator (one or two components:
+    `bidirectional_isolated_structure`), or another isolated structure of the studies, called
+    with a motion and a design, with its `kind`, `isolator` and `time_step`."""
     if not (callable(structure) and all(hasattr(structure, name) for name in ("kind", "isolator", "time_step"))):
-        raise ValueError(f"structure: expected an IsolatedStructure or a "
-                         f"TripleIsolatedStructure (isolated_structure(...)), got {type(structure).__name__}.")
+        raise ValueError(f"structure: expected an IsolatedStructure (isolated_structure(...)), "
+                         f"got {type(structure).__name__}.")
     return VerticalIsolatedStructure(structure)
 
 
