@@ -25,6 +25,7 @@ from teflon_jax.bearing import (
 )
 from teflon_jax.excitation import uniform_signal
 from teflon_jax.solver import implicit_root
+from teflon_jax.studies import bidirectional_isolated_structure
 from teflon_jax.systems import (
     isolated_structure,
     peak_response,
@@ -167,7 +168,7 @@ def test_an_imposed_paths_force_has_the_implicit_derivative(planar):
 def test_two_components_displacement_has_the_implicit_derivative():
     """Three sliders in two components (Woodbury's 2 x 2 blocks): the final displacement in
     y in the top surface's f_max and the outer radii."""
-    two = isolated_structure("rigid", isolator=TRIPLE, newton_tolerance=TIGHT)((GX, GY))
+    two = bidirectional_isolated_structure("rigid", isolator=TRIPLE, newton_tolerance=TIGHT)((GX, GY))
 
     def final(theta):
         system = eqx.tree_at(lambda s: s.pendulum, two, _triple(theta))

@@ -4,6 +4,8 @@ constant-flux temperature rise of Carslaw & Jaeger in a bearing test, the neutra
 scale, the derivative in a radius, a strong heating's steps balanced and converged in the
 step, a test path along a line in the plane, and what is refused."""
 
+import dataclasses
+
 import equinox as eqx
 import jax
 import numpy as np
@@ -246,10 +248,11 @@ def test_two_components_along_a_line_are_the_heated_one_direction_response():
     assert np.abs(slider).max(axis=0).min() > 0.05  # both surfaces slide
     assert bool(np.all(one.converged))
     histories = jax.jit(planar_histories, static_argnums=1)
-    along_x = histories(structure((ground, uniform_signal(0 * acc, dt))), 6.0)
+    planar = dataclasses.replace(structure, components=2)  # bidirectional_isolated_structure's
+    along_x = histories(planar((ground, uniform_signal(0 * acc, dt))), 6.0)
     np.testing.assert_allclose(along_x[1][:, 0, 0], u, rtol=0, atol=1e-9)
     c, s = np.cos(0.6), np.sin(0.6)
-    _, x, _, sliders, _, ok = histories(structure((uniform_signal(c * acc, dt), uniform_signal(s * acc, dt))), 6.0)
+    _, x, _, sliders, _, ok = histories(planar((uniform_signal(c * acc, dt), uniform_signal(s * acc, dt))), 6.0)
     assert bool(np.all(ok))
     np.testing.assert_allclose(x[:, 0, 0], c * u, rtol=0, atol=1e-9)
     np.testing.assert_allclose(x[:, 1, 0], s * u, rtol=0, atol=1e-9)

@@ -19,10 +19,7 @@ from histories import planar_histories
 from teflon_jax.cli import main
 from teflon_jax.excitation import uniform_signal
 from teflon_jax.formats import load_isolator
-from teflon_jax.studies import suite_peaks
-from teflon_jax.systems import (
-    isolated_structure,
-)
+from teflon_jax.studies import bidirectional_isolated_structure, suite_peaks
 from teflon_jax.units import STANDARD_GRAVITY
 
 BENCHMARKS = pathlib.Path(__file__).resolve().parents[1] / "benchmarks"
@@ -54,7 +51,8 @@ def test_triple_suite_base_shear_is_the_isolator_force_over_the_weight():
     """Rigid mass on triple pendulums: m a_total = -F_isolator, so the suite's base shear (from
     the accelerations) is max |F| / W of each pair's own histories, and its displacements are
     the histories' peaks."""
-    structure = isolated_structure("rigid", isolator=load_isolator(BENCHMARKS / "triple_isolator.json"), time_step=0.005)
+    structure = bidirectional_isolated_structure("rigid", isolator=load_isolator(BENCHMARKS / "triple_isolator.json"),
+                                                 time_step=0.005)
     motions = _motions()
     ax, ay = (np.stack([m[k] for m in motions]) for k in (0, 1))
     duration = (ax.shape[1] - 1) * DT

@@ -18,10 +18,9 @@ from teflon_jax.excitation import (
     sample,
     uniform_signal,
 )
-from teflon_jax.studies import monte_carlo
+from teflon_jax.studies import bidirectional_isolated_structure, monte_carlo
 from teflon_jax.systems import (
     StructureOnSliders,
-    isolated_structure,
     peak_response,
     simulate_history,
     triple_structure,
@@ -102,7 +101,7 @@ def test_one_class_steps_one_and_two_components_alike_along_x(acc):
 
 @pytest.mark.slow
 def test_two_component_monte_carlo_runs_the_triple_pendulum():
-    structure = isolated_structure("building", isolator=TRIPLE)
+    structure = bidirectional_isolated_structure("building", isolator=TRIPLE)
     model = TwoComponentGroundMotion(MOTION)
     result = monte_carlo(structure, model, 2, key=jax.random.key(0), chunk_size=2)
     assert result.converged.all()
@@ -118,7 +117,7 @@ def test_two_component_monte_carlo_runs_the_triple_pendulum():
 @pytest.mark.slow
 def test_the_two_component_peak_is_differentiable_in_the_outer_radii(acc):
     short = acc[:801] * np.sin(np.pi * np.arange(801) / 800)
-    system = isolated_structure("rigid", isolator=TRIPLE)(
+    system = bidirectional_isolated_structure("rigid", isolator=TRIPLE)(
         (uniform_signal(short, 0.01), uniform_signal(0.7 * short[::-1], 0.01)))
 
     def peak(radius):
@@ -140,7 +139,7 @@ def test_two_component_peaks_converge_in_the_time_step(kind):
     model = TwoComponentGroundMotion(MOTION)
 
     def peaks(step):
-        structure = isolated_structure(kind, isolator=TRIPLE, time_step=step)
+        structure = bidirectional_isolated_structure(kind, isolator=TRIPLE, time_step=step)
         result = monte_carlo(structure, model, 3, key=jax.random.key(2), chunk_size=3)
         assert result.converged.all()
         return np.stack([result.base_disp, result.base_shear_ratio])
