@@ -344,3 +344,28 @@ def test_a_vertical_record_goes_on_structures_only():
         with_vertical_motion(isolated_structure("rigid"), _record(np.zeros(101)))
     with pytest.raises(ValueError, match="structure: expected an IsolatedStructure"):
         with_vertical_component(system)
+
+
+def test_the_vertical_component_is_a_field_of_the_one_study_structure():
+    """`with_vertical_component` gives the same `IsolatedStructure` with `vertical` set, whose
+    system is the horizontal one's with the record on its normal load, on flat sliders and on a
+    series pendulum alike; applied twice, or called without the (horizontal, vertical) pair,
+    it is refused by name."""
+    from teflon_jax.bearing import BoucWen, FrictionParameters, TriplePendulum
+
+    triple = TriplePendulum(inner_radius=0.3, bottom_radius=2.1, top_radius=2.1, inner_capacity=0.05,
+                            bottom_capacity=0.4, top_capacity=0.4,
+                            inner_friction=FrictionParameters(0.03, 0.015, 20.0),
+                            bottom_friction=FrictionParameters(0.07, 0.03, 20.0),
+                            top_friction=FrictionParameters(0.11, 0.05, 20.0), hysteresis=BoucWen(1e-4))
+    horizontal, vertical = _record(np.zeros(101)), _record(np.full(101, 0.3 * STANDARD_GRAVITY))
+    for structure in (isolated_structure("rigid"), isolated_structure("rigid", isolator=triple)):
+        loaded = with_vertical_component(structure)
+        assert type(loaded) is type(structure) and loaded.vertical and not structure.vertical
+        system = loaded((horizontal, vertical))
+        assert system.vertical_acceleration is vertical and structure(horizontal).vertical_acceleration is None
+        assert float(system.load_factor(0.5)) == pytest.approx(1.3)
+        with pytest.raises(ValueError, match="structure: it takes a vertical component already"):
+            with_vertical_component(loaded)
+        with pytest.raises(ValueError, match=r"ground_acceleration: this structure takes \(horizontal, vertical\)"):
+            loaded(horizontal)

@@ -336,5 +336,4 @@ def _case_friction(structure, design, index, factors, bounds) -> dict:
     if "f_max" in design:
         return {"friction_factor": factor, "f_max": float(design["f_max"][index]),
                 "delta_f": float(design["delta_f"][index])}
-    pendulum = getattr(structure, "structure", structure).pendulum  # through a vertical component's wrapper
-    return {"friction_factor": factor, **surface_frictions(pendulum, factor)}
+    return {"friction_factor": factor, **surface_frictions(structure.pendulum, factor)}

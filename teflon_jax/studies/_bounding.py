@@ -38,7 +38,6 @@ import jax
 import numpy as np
 
 from ..bearing import FRICTION_FACTOR, FrictionParameters, SeriesPendulum, SlidingBearing
-from ..systems import VerticalIsolatedStructure
 
 BOUNDING_CASES = ("nominal", "upper", "lower")
 """The design variants of `bounding_design`, in order."""
@@ -67,13 +66,12 @@ def bounding_design(structure, *, lower: float, upper: float) -> dict:
     or two components) times 1, `upper` and `lower` (module docstring). Values that leave the physical range
     (f_max' > 1) are refused when the run checks its design. On triple or double friction
     pendulums (an `IsolatedStructure` with a `pendulum`) every surface's friction is scaled:
-    `series_bounding_design`. A structure with a vertical component is read through to the
-    one inside."""
+    `series_bounding_design`. A structure with a vertical component has the same cases."""
     lower, upper = check_property_factors(lower, upper)
-    inner = structure.structure if isinstance(structure, VerticalIsolatedStructure) else structure
-    if inner.pendulum is not None:
-        return series_bounding_design(inner.pendulum, lower=lower, upper=upper)
-    params = inner.bearing.friction if inner.bearing is not None else inner.table().at(inner.pressure)[0]
+    if structure.pendulum is not None:
+        return series_bounding_design(structure.pendulum, lower=lower, upper=upper)
+    bearing = structure.bearing
+    params = bearing.friction if bearing is not None else structure.table().at(structure.pressure)[0]
     cases = [scaled_friction(params, factor) for factor in (1.0, upper, lower)]
     return {"f_max": np.array([float(c.f_max) for c in cases]), "delta_f": np.array([float(c.delta_f) for c in cases])}
 

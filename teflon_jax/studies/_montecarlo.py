@@ -44,7 +44,6 @@ from ..systems import (
     BidirectionalStructure,
     IsolatedStructure,
     StructureOnSliders,
-    VerticalIsolatedStructure,
     check_storey_height,
     peak_arrays,
     peak_response,
@@ -104,14 +103,13 @@ def probe_structure(structure, source: _Source, design):
     """The shapes of one system `structure` builds for `source`'s motions (nothing computed);
     `ValueError` naming `structure` when it does not take that number of components."""
     two = source.components == 2
-    if source.vertical != isinstance(structure, VerticalIsolatedStructure):
+    if source.vertical != bool(getattr(structure, "vertical", False)):
         raise ValueError("structure: motions with a vertical component (VerticalGroundMotion) need "
                          "with_vertical_component(isolated_structure(...)), and only they.")
-    inner = structure.structure if source.vertical else structure
-    if two and isinstance(inner, IsolatedStructure) and inner.components == 1:
+    if two and isinstance(structure, IsolatedStructure) and structure.components == 1:
         raise ValueError("structure: two-component motions need bidirectional_isolated_structure(...), "
                          "not isolated_structure(...).")
-    if not two and isinstance(inner, IsolatedStructure) and inner.components == 2:
+    if not two and isinstance(structure, IsolatedStructure) and structure.components == 2:
         raise ValueError("structure: a bidirectional structure needs two-component motions "
                          "(TwoComponentGroundMotion).")
     shape = jax.ShapeDtypeStruct((source.samples,), jnp.result_type(float))
@@ -450,9 +448,8 @@ def _design_arrays(design, structure) -> tuple:
 def check_design_of(structure, design_arrays) -> None:
     """`check_design` of the flat-slider or single-pendulum structure inside `structure` (one or
     two components, with or without a vertical one); series pendulums check their own."""
-    inner = structure.structure if isinstance(structure, VerticalIsolatedStructure) else structure
-    if isinstance(inner, IsolatedStructure) and inner.pendulum is None:
-        check_design(inner, design_arrays)
+    if isinstance(structure, IsolatedStructure) and structure.pendulum is None:
+        check_design(structure, design_arrays)
 
 
 def _check_chunk_memory(chunk, per_motion, memory_limit_bytes, devices) -> None:

@@ -24,7 +24,7 @@ import jax
 import numpy as np
 
 from ..bearing import check_bearing
-from ..systems import IsolatedStructure, VerticalIsolatedStructure
+from ..systems import IsolatedStructure
 from ..validation import concrete
 
 
@@ -67,8 +67,6 @@ def structure_bearing(structure):
     """The `SlidingBearing` a structure of the studies runs (an `IsolatedStructure` built with
     `bearing=...`, in one or two components, also inside a vertical one), or `None` (Table 1's, or a
     series pendulum's surfaces)."""
-    if isinstance(structure, VerticalIsolatedStructure):
-        return structure_bearing(structure.structure)
     if isinstance(structure, IsolatedStructure):
         return structure.bearing
     return None
@@ -77,8 +75,6 @@ def structure_bearing(structure):
 def with_bearing(structure, bearing):
     """`structure` running `bearing` (a `SlidingBearing` of the same parts as its own, traced
     or not) in place of its own bearing; see `structure_bearing`."""
-    if isinstance(structure, VerticalIsolatedStructure):
-        return eqx.tree_at(lambda s: s.structure, structure, with_bearing(structure.structure, bearing))
     return eqx.tree_at(lambda s: s.bearing, structure, bearing)
 
 

@@ -38,6 +38,7 @@ from ._isolated import TRIPLE_MONTE_CARLO_TOLERANCE as TRIPLE_MONTE_CARLO_TOLERA
 from ._isolated import IsolatedStructure as IsolatedStructure
 from ._isolated import check_structure_bearing as check_structure_bearing
 from ._isolated import isolated_structure as isolated_structure
+from ._isolated import with_vertical_component as with_vertical_component
 from ._isolator_balance import BALANCES as BALANCES
 from ._isolator_balance import TRIPLE_TOLERANCE as TRIPLE_TOLERANCE
 from ._isolator_balance import imposed_isolator_force as imposed_isolator_force
@@ -81,7 +82,5 @@ from ._structure_build import six_storey_building as six_storey_building
 from ._structure_build import step_count as step_count
 from ._structure_build import storey_rows as storey_rows
 from ._structure_build import structure_on_sliders as structure_on_sliders
-from ._vertical import VerticalIsolatedStructure as VerticalIsolatedStructure
 from ._vertical import normal_load_factor as normal_load_factor
-from ._vertical import with_vertical_component as with_vertical_component
 from ._vertical import with_vertical_motion as with_vertical_motion

@@ -33,6 +33,7 @@ from ._isolator_balance import TRIPLE_NEWTON_ITERATIONS, TRIPLE_TOLERANCE
 from ._series_step import triple_structure
 from ._structure import NEWTON_ITERATIONS, NEWTON_TOLERANCE, StructureOnSliders
 from ._structure_build import check_structure_parts, rigid_mass, six_storey_building
+from ._vertical import with_vertical_motion
 
 STRUCTURES = ("rigid", "building")
 
@@ -81,7 +82,8 @@ class IsolatedStructure(eqx.Module):
     isolator's design variables (`DESIGN_VARIABLES` on flat sliders and the single pendulum,
     `design_space(isolator)` on a series pendulum; arrays, traced or not; missing ones take the
     defaults below) and `ground_acceleration` a `Signal` [m/s^2] (one component) or an (x, y)
-    pair of them (two, `bidirectional_isolated_structure`). Flat sliders and the single
+    pair of them (two, `bidirectional_isolated_structure`); with `vertical`, the pair
+    (horizontal, vertical) of that and the vertical `Signal`. Flat sliders and the single
     pendulum build a `StructureOnSliders` (one component) or a `BidirectionalStructure` (two:
     one group of bearings with Park's biaxial Z); a triple or double pendulum (`pendulum`) a
     `StructureOnSliders` on its sliders in series (`triple_structure`), in one or two.
@@ -117,6 +119,8 @@ class IsolatedStructure(eqx.Module):
       One component only, as `split_at_turn` and `newton_tolerance`: under two the planar
       solve's own (`newton_iterations` bounds its iterations).
     - `components` (static): 1 or 2 horizontal ground components.
+    - `vertical` (static): whether the structure takes a vertical ground acceleration too, on
+      its isolators' normal load (`with_vertical_component`, `with_vertical_motion`).
     - `bearing`: a `SlidingBearing` to run instead of Table 1's at `pressure` (e.g. from a
       bearing file); `None` (the default) builds the paper's bearing from `ptfe`, `direction`,
       `pressure` and `breakaway`. The design variables f_max, delta_f, rate_a and
@@ -143,6 +147,7 @@ class IsolatedStructure(eqx.Module):
     split_at_turn: bool = eqx.field(static=True, default=True)
     linear_rule: str = eqx.field(static=True, default="exact")
     components: int = eqx.field(static=True, default=1)
+    vertical: bool = eqx.field(static=True, default=False)
     bearing: SlidingBearing | None = None
     surface: ConcaveSurface | None = None
     pendulum: SeriesPendulum | None = None
@@ -239,6 +244,16 @@ class IsolatedStructure(eqx.Module):
                            is_leaf=lambda x: x is None)
 
     def __call__(self, ground_acceleration, design: Mapping | None = None) -> StructureOnSliders | BidirectionalStructure:
+        if self.vertical:
+            if not (isinstance(ground_acceleration, tuple) and len(ground_acceleration) == 2):
+                raise ValueError("ground_acceleration: this structure takes (horizontal, vertical) ground motions "
+                                 "(with_vertical_component).")
+            horizontal, vertical = ground_acceleration
+            return with_vertical_motion(self._horizontal(horizontal, design), vertical)
+        return self._horizontal(ground_acceleration, design)
+
+    def _horizontal(self, ground_acceleration, design) -> StructureOnSliders | BidirectionalStructure:
+        """The structure under the horizontal ground motion (one `Signal` or an (x, y) pair)."""
         if isinstance(ground_acceleration, tuple) != (self.components == 2):
             raise ValueError(f"ground_acceleration: this structure takes {self.components} horizontal component(s) "
                              "(isolated_structure: one Signal; bidirectional_isolated_structure: an (x, y) pair).")
@@ -446,3 +461,17 @@ def check_structure_bearing(bearing: SlidingBearing, pressure=1.0) -> None:
     check_structure_parts(eqx.tree_at(lambda b: b.pressure_dependence, bearing, None,
                                       is_leaf=lambda x: x is None))
     bearing.at_contact_pressure(pressure)  # a pressure dependence needs the contact area
+
+
+def with_vertical_component(structure: IsolatedStructure) -> IsolatedStructure:
+    """`structure` (an `IsolatedStructure` of any isolator, one or two horizontal components)
+    taking (horizontal, vertical) ground motions, the vertical acceleration [m/s^2, up +] on its
+    isolators' normal load (`IsolatedStructure.vertical`, `with_vertical_motion`); `ValueError`
+    naming `structure` for anything else, or one that takes a vertical component already."""
+    if not isinstance(structure, IsolatedStructure):
+        raise ValueError(f"structure: expected an IsolatedStructure (isolated_structure(...)), "
+                         f"got {type(structure).__name__}.")
+    if structure.vertical:
+        raise ValueError("structure: it takes a vertical component already (with_vertical_component "
+                         "was applied to it once).")
+    return dataclasses.replace(structure, vertical=True)

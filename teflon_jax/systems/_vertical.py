@@ -15,8 +15,8 @@ which its force is reported and uplift counted.
 
 One record, one function: `with_vertical_motion` puts it on any stepped structure (the rigid
 mass, the building, the slab; one or two components; flat sliders, single, double and triple
-pendulums), `with_vertical_component` on the isolated structures of the studies, which then
-take (horizontal, vertical) ground motions. The stepped structures take the load at the step's
+pendulums), `with_vertical_component` on the isolated structure of the studies
+(`IsolatedStructure.vertical`), which then takes (horizontal, vertical) ground motions. The stepped structures take the load at the step's
 end from `load_factor_at`; the flat sliders and single pendulums solve their step under it with
 `loaded_isolator_force` (one component) and `loaded_solve` (two; `loaded_bidirectional`).
 
@@ -27,7 +27,6 @@ Reinhorn (1990), J. Struct. Eng. 116(2), 438-454 (the normal load's effect on PT
 
 import dataclasses
 
-import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -108,45 +107,6 @@ def _no_radius(radius) -> None:
     if radius is not None:
         raise ValueError("radius: a triple or double pendulum's radii are its surfaces' (its "
                          "SeriesPendulum); leave radius out.")
-
-
-class VerticalIsolatedStructure(eqx.Module):
-    """`structure` with the vertical ground acceleration on its isolators' normal load
-    (`with_vertical_motion`; a single friction pendulum's W / R scales with it).
-
-    `structure`: an `IsolatedStructure` (any isolator, one horizontal component or two:
-    `bidirectional_isolated_structure`). Call as `structure((horizontal, ground_vertical), design)` with
-    `horizontal` what `structure` takes (a `Signal`, or the (x, y) pair of `Signal`s) and
-    `ground_vertical` a `Signal` [m/s^2, up positive]; returns the structure's system with
-    the vertical record.
-    """
-
-    structure: eqx.Module
-
-    @property
-    def time_step(self) -> float:
-        """The structure's step [s]."""
-        return self.structure.time_step
-
-    @property
-    def kind(self) -> str:
-        """"rigid" or "building"."""
-        return self.structure.kind
-
-    def __call__(self, ground, design=None):
-        horizontal, vertical = ground
-        return with_vertical_motion(self.structure(horizontal, design), vertical)
-
-
-def with_vertical_component(structure) -> VerticalIsolatedStructure:
-    """`structure` taking (horizontal, vertical) ground motions (`VerticalIsolatedStructure`):
-    an `IsolatedStructure` of any isolator (one or two components:
-    `bidirectional_isolated_structure`), or another isolated structure of the studies, called
-    with a motion and a design, with its `kind`, `isolator` and `time_step`."""
-    if not (callable(structure) and all(hasattr(structure, name) for name in ("kind", "isolator", "time_step"))):
-        raise ValueError(f"structure: expected an IsolatedStructure (isolated_structure(...)), "
-                         f"got {type(structure).__name__}.")
-    return VerticalIsolatedStructure(structure)
 
 
 # --------------------------------------------------------------------------- one component
