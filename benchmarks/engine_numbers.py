@@ -194,6 +194,35 @@ def _peak_cases(out):
                     out[f"peaks-{name}-{field}-{index}"] = np.asarray(leaf)
 
 
+def _study_cases(out):
+    """Monte Carlo peaks through the study structure on the double and triple pendulums
+    (rigid mass and building; one and two components, the three bounding cases, a vertical
+    component), four 8 s motions each; in versions whose single study structure takes one or
+    two components by its own type, the two-component one is that of `isolated_structure`."""
+    from teflon_jax.excitation import TwoComponentGroundMotion, VerticalGroundMotion
+    from teflon_jax.studies import bounding_design, monte_carlo
+
+    model = StochasticGroundMotion(peak_ground_acceleration=3.0, duration=8.0, time_step=0.01, rise_time=1.0,
+                                   strong_motion_duration=3.0)
+    two_by_type = hasattr(systems, "TripleIsolatedStructure")
+    for name, pendulum in (("double", DOUBLE), ("triple", TRIPLE)):
+        for kind in ("rigid", "building"):
+            for components in (1, 2):
+                build = isolated_structure if components == 1 or two_by_type else bidirectional_isolated_structure
+                structure = build(kind, isolator=pendulum, time_step=TIME_STEP)
+                motions = model if components == 1 else TwoComponentGroundMotion(model)
+                for design in (None, bounding_design(structure, lower=0.85, upper=1.3)):
+                    result = monte_carlo(structure, motions, 4, design=design, key=jax.random.key(3), chunk_size=4)
+                    label = f"study-{name}-{kind}-{components}c-{'nominal' if design is None else 'bounding'}"
+                    for field in ("base_disp", "base_shear_ratio", "smooth_base_disp", "converged"):
+                        out[f"{label}-{field}"] = np.asarray(getattr(result, field))
+            structure = with_vertical_component(isolated_structure(kind, isolator=pendulum, time_step=TIME_STEP))
+            result = monte_carlo(structure, VerticalGroundMotion(model, vertical_ratio=0.67), 4, key=jax.random.key(3),
+                                 chunk_size=4)
+            for field in ("base_disp", "uplift_time"):
+                out[f"study-{name}-{kind}-vertical-{field}"] = np.asarray(getattr(result, field))
+
+
 GROUP_DURATION = 8.0  # [s] of the slabs on bearing groups
 
 
@@ -275,6 +304,8 @@ def dump(path, cases="all"):
         _peak_cases(out)
     if cases == "groups":
         _group_cases(out)
+    if cases == "study":
+        _study_cases(out)
     np.savez(path, **out)
     print(f"{len(out)} histories -> {path}")
 
@@ -300,9 +331,10 @@ def main(argv=None):
     sub = parser.add_subparsers(dest="command", required=True)
     dumping = sub.add_parser("dump")
     dumping.add_argument("out")
-    dumping.add_argument("--cases", choices=("all", "series", "flat", "peaks", "groups"), default="all",
+    dumping.add_argument("--cases", choices=("all", "series", "flat", "peaks", "groups", "study"), default="all",
                          help="all, the series pendulums, the flat sliders, single pendulums and slabs; "
-                              "or (not in all) the peaks of `peak_response`, or the slabs on every isolator's groups")
+                              "or (not in all) the peaks of `peak_response`, the slabs on every isolator's groups, "
+                              "or the Monte Carlo peaks through the study structure on series pendulums")
     both = sub.add_parser("compare")
     both.add_argument("old")
     both.add_argument("new")
