@@ -79,6 +79,9 @@ def test_the_structure_holds_the_values_parts_on_its_engine(kind):
             built = build(kind, isolator=pendulum)
             assert type(built) is IsolatedStructure and built.pendulum is pendulum
             assert built.components == components and built.isolator == isolator_kind(pendulum)
+        for bad in ({"newton_iterations": 0}, {"newton_tolerance": -1.0}):  # checked as on flat sliders
+            with pytest.raises(ValueError, match=next(iter(bad))):
+                isolated_structure(kind, isolator=pendulum, **bad)
 
 
 def test_a_single_pendulum_runs_on_the_flat_engine_with_its_bearings_numbers():

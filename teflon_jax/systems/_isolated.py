@@ -360,7 +360,8 @@ def isolated_structure(
     if isinstance(newton_iterations, bool) or not isinstance(newton_iterations, int) or newton_iterations < 1:
         raise ValueError(f"newton_iterations: must be a positive integer, got {newton_iterations!r}.")
     if isinstance(newton_tolerance, bool) or not isinstance(newton_tolerance, (int, float)) or not newton_tolerance >= 0:
-        raise ValueError(f"newton_tolerance: must be a number >= 0 (in units of Y; the force imbalance over W on a series pendulum), got {newton_tolerance!r}.")
+        raise ValueError(f"newton_tolerance: must be a number >= 0 (in units of Y; on a series pendulum the "
+                         f"force imbalance over W), got {newton_tolerance!r}.")
     if runs_in_series(isolator):
         return _on_series_pendulum(kind, isolator, isolation_period=isolation_period,
                                    isolation_damping=isolation_damping, friction_model=friction_model,
