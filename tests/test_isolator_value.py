@@ -79,7 +79,8 @@ def test_the_structure_holds_the_values_parts_on_its_engine(kind):
             built = build(kind, isolator=pendulum)
             assert type(built) is IsolatedStructure and built.pendulum is pendulum
             assert built.components == components and built.isolator == isolator_kind(pendulum)
-        for bad in ({"newton_iterations": 0}, {"newton_tolerance": -1.0}):  # checked as on flat sliders
+        for bad in ({"newton_iterations": 0}, {"newton_tolerance": -1.0},  # checked as on flat sliders
+                    {"pressure": 2e7}, {"ptfe": "PTFE"}, {"breakaway": False}, {"linear_rule": "newmark"}):  # refused
             with pytest.raises(ValueError, match=next(iter(bad))):
                 isolated_structure(kind, isolator=pendulum, **bad)
 

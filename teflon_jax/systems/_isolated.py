@@ -66,6 +66,11 @@ Newton's loop for one more iteration). Not for gradients checked against finite 
 of the peaks: those need the root to ~1e-5 Y (the default)."""
 
 
+DEFAULT_PRESSURE = 1000 * PSI
+"""`isolated_structure`'s contact pressure [Pa] where none is given (flat sliders and the single
+pendulum: Table 1's row at 1000 psi)."""
+
+
 DEFAULT_ISOLATION_PERIOD = "2 s on flat sliders"
 """Marks `isolated_structure`'s `isolation_period` as not given: T_b = 2 s on flat sliders,
 none on a friction pendulum (its period comes from the radius)."""
@@ -317,7 +322,7 @@ def isolated_structure(
     *,
     ptfe: str = "UF",
     direction: str = "P",
-    pressure=1000 * PSI,
+    pressure=DEFAULT_PRESSURE,
     isolation_period=DEFAULT_ISOLATION_PERIOD,
     isolation_damping=None,
     breakaway: bool = True,
@@ -363,10 +368,14 @@ def isolated_structure(
         raise ValueError(f"newton_tolerance: must be a number >= 0 (in units of Y; on a series pendulum the "
                          f"force imbalance over W), got {newton_tolerance!r}.")
     if runs_in_series(isolator):
+        flat_only = {"pressure": pressure is not DEFAULT_PRESSURE, "ptfe": ptfe != "UF", "direction": direction != "P",
+                     "breakaway": breakaway is not True, "split_at_turn": split_at_turn is not True,
+                     "linear_rule": linear_rule != "exact"}
         return _on_series_pendulum(kind, isolator, isolation_period=isolation_period,
                                    isolation_damping=isolation_damping, friction_model=friction_model,
                                    time_step=time_step, newton_iterations=newton_iterations,
-                                   newton_tolerance=newton_tolerance)
+                                   newton_tolerance=newton_tolerance,
+                                   flat_only=[name for name, given in flat_only.items() if given])
     bearing, surface = one_surface(isolator)
     given_period = isolation_period is not DEFAULT_ISOLATION_PERIOD
     if surface is not None and given_period and isolation_period is not None:
@@ -418,10 +427,11 @@ def _isolator_value(isolator, bearing):
 
 
 def _on_series_pendulum(kind, pendulum, *, isolation_period, isolation_damping, friction_model, time_step,
-                        newton_iterations, newton_tolerance) -> IsolatedStructure:
+                        newton_iterations, newton_tolerance, flat_only=()) -> IsolatedStructure:
     """`isolated_structure` on a series pendulum, checked: `ValueError` naming the constant the
     series model cannot take (`check_series_pendulum`; traced constants, under a gradient,
-    are the caller's to check), the time step, and the flat sliders' inputs given with it.
+    are the caller's to check), the time step, and the flat sliders' inputs given with it (those
+    of Table 1's bearing and of the flat engine's solve, `flat_only`: the names given).
     `newton_tolerance` at the flat sliders' default means the sliders' `TRIPLE_TOLERANCE`."""
     if all(concrete(leaf) is not None for leaf in jax.tree_util.tree_leaves(pendulum)):
         check_series_pendulum(pendulum)
@@ -433,6 +443,9 @@ def _on_series_pendulum(kind, pendulum, *, isolation_period, isolation_damping, 
     for name, (value, reason) in given.items():
         if value is not None:
             raise ValueError(f"{name}: does not apply to the {pendulum.isolator} isolator ({reason}).")
+    for name in flat_only:
+        raise ValueError(f"{name}: does not apply to the {pendulum.isolator} isolator (its surfaces carry their "
+                         "own friction and its sliders their own balance); leave it out.")
     time_step = RECOMMENDED_TIME_STEPS[kind] if time_step is None else time_step
     if isinstance(time_step, bool) or not isinstance(time_step, (int, float)) or not time_step > 0:
         raise ValueError(f"time_step: must be a positive number of seconds, got {time_step!r}.")
