@@ -446,8 +446,8 @@ def _design_arrays(design, structure) -> tuple:
 
 
 def check_design_of(structure, design_arrays) -> None:
-    """`check_design` of the flat-slider or single-pendulum structure inside `structure` (one or
-    two components, with or without a vertical one); series pendulums check their own."""
+    """`check_design` of a flat-slider or single-pendulum `structure` (one or two components,
+    with or without a vertical one); series pendulums check their own."""
     if isinstance(structure, IsolatedStructure) and structure.pendulum is None:
         check_design(structure, design_arrays)
 

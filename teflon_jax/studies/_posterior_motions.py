@@ -65,8 +65,8 @@ def nested_draws(n_bearings: int, n_draws: int, *, seed: int = 0) -> np.ndarray:
 
 def structure_bearing(structure):
     """The `SlidingBearing` a structure of the studies runs (an `IsolatedStructure` built with
-    `bearing=...`, in one or two components, also inside a vertical one), or `None` (Table 1's, or a
-    series pendulum's surfaces)."""
+    `bearing=...`, in one or two components, with or without a vertical component), or `None`
+    (Table 1's, or a series pendulum's surfaces)."""
     if isinstance(structure, IsolatedStructure):
         return structure.bearing
     return None
