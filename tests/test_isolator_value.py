@@ -74,6 +74,10 @@ def test_the_structure_holds_the_values_parts_on_its_engine(kind):
         assert type(built) is IsolatedStructure and _same((built.bearing, built.surface), parts), value
         assert built.isolator == isolator_kind(value)
     assert _same(isolated_structure(kind, bearing=BEARING), isolated_structure(kind, isolator=BEARING))
+    for step in (0.0, True):  # one time-step check for every isolator
+        for value in (None, TRIPLE):
+            with pytest.raises(ValueError, match="time_step: must be a positive number"):
+                isolated_structure(kind, isolator=value, time_step=step)
     for pendulum in (TRIPLE, DOUBLE):
         for build, components in ((isolated_structure, 1), (bidirectional_isolated_structure, 2)):
             built = build(kind, isolator=pendulum)

@@ -367,15 +367,22 @@ def isolated_structure(
     if isinstance(newton_tolerance, bool) or not isinstance(newton_tolerance, (int, float)) or not newton_tolerance >= 0:
         raise ValueError(f"newton_tolerance: must be a number >= 0 (in units of Y; on a series pendulum the "
                          f"force imbalance over W), got {newton_tolerance!r}.")
+    time_step = RECOMMENDED_TIME_STEPS[kind] if time_step is None else time_step
+    if isinstance(time_step, bool) or not isinstance(time_step, (int, float)) or not time_step > 0:
+        raise ValueError(f"time_step: must be a positive number of seconds, got {time_step!r}.")
     if runs_in_series(isolator):
-        flat_only = {"pressure": pressure is not DEFAULT_PRESSURE, "ptfe": ptfe != "UF", "direction": direction != "P",
-                     "breakaway": breakaway is not True, "split_at_turn": split_at_turn is not True,
-                     "linear_rule": linear_rule != "exact"}
-        return _on_series_pendulum(kind, isolator, isolation_period=isolation_period,
-                                   isolation_damping=isolation_damping, friction_model=friction_model,
-                                   time_step=time_step, newton_iterations=newton_iterations,
+        own = "its surfaces carry their own friction and its sliders their own balance; leave it out"
+        flat_inputs = {
+            "isolation_period": (isolation_period is not DEFAULT_ISOLATION_PERIOD and isolation_period is not None,
+                                 "its period follows from its radii"),
+            "isolation_damping": (bool(isolation_damping), "its damping is its friction"),
+            "friction_model": (friction_model != "hysteretic", "its sliders follow Bouc-Wen's Z"),
+            "pressure": (pressure is not DEFAULT_PRESSURE, own), "ptfe": (ptfe != "UF", own),
+            "direction": (direction != "P", own), "breakaway": (breakaway is not True, own),
+            "split_at_turn": (split_at_turn is not True, own), "linear_rule": (linear_rule != "exact", own)}
+        return _on_series_pendulum(kind, isolator, time_step=time_step, newton_iterations=newton_iterations,
                                    newton_tolerance=newton_tolerance,
-                                   flat_only=[name for name, given in flat_only.items() if given])
+                                   refused={name: why for name, (given, why) in flat_inputs.items() if given})
     bearing, surface = one_surface(isolator)
     given_period = isolation_period is not DEFAULT_ISOLATION_PERIOD
     if surface is not None and given_period and isolation_period is not None:
@@ -390,9 +397,6 @@ def isolated_structure(
         isolation_period = 2.0
     if isolation_damping is None:
         isolation_damping = 0.05 if surface is None else 0.0
-    time_step = RECOMMENDED_TIME_STEPS[kind] if time_step is None else time_step
-    if not (isinstance(time_step, (int, float)) and time_step > 0):
-        raise ValueError(f"time_step: must be a positive number of seconds, got {time_step!r}.")
     if linear_rule not in LINEAR_RULES:
         raise ValueError(f"linear_rule: unknown {linear_rule!r}; accepted values: {', '.join(LINEAR_RULES)}.")
     structure = IsolatedStructure(
@@ -426,29 +430,17 @@ def _isolator_value(isolator, bearing):
     return bearing
 
 
-def _on_series_pendulum(kind, pendulum, *, isolation_period, isolation_damping, friction_model, time_step,
-                        newton_iterations, newton_tolerance, flat_only=()) -> IsolatedStructure:
+def _on_series_pendulum(kind, pendulum, *, time_step, newton_iterations, newton_tolerance,
+                        refused) -> IsolatedStructure:
     """`isolated_structure` on a series pendulum, checked: `ValueError` naming the constant the
     series model cannot take (`check_series_pendulum`; traced constants, under a gradient,
-    are the caller's to check), the time step, and the flat sliders' inputs given with it (those
-    of Table 1's bearing and of the flat engine's solve, `flat_only`: the names given).
-    `newton_tolerance` at the flat sliders' default means the sliders' `TRIPLE_TOLERANCE`."""
+    are the caller's to check) and each flat sliders' input given with it (`refused`: name ->
+    why it does not apply). `newton_tolerance` at the flat sliders' default means the sliders'
+    `TRIPLE_TOLERANCE`."""
     if all(concrete(leaf) is not None for leaf in jax.tree_util.tree_leaves(pendulum)):
         check_series_pendulum(pendulum)
-    given = {"isolation_period": (isolation_period if isolation_period is not DEFAULT_ISOLATION_PERIOD
-                                  else None, "its period follows from its radii"),
-             "isolation_damping": (isolation_damping or None, "its damping is its friction")}
-    if friction_model != "hysteretic":
-        given["friction_model"] = (friction_model, "its sliders follow Bouc-Wen's Z")
-    for name, (value, reason) in given.items():
-        if value is not None:
-            raise ValueError(f"{name}: does not apply to the {pendulum.isolator} isolator ({reason}).")
-    for name in flat_only:
-        raise ValueError(f"{name}: does not apply to the {pendulum.isolator} isolator (its surfaces carry their "
-                         "own friction and its sliders their own balance); leave it out.")
-    time_step = RECOMMENDED_TIME_STEPS[kind] if time_step is None else time_step
-    if isinstance(time_step, bool) or not isinstance(time_step, (int, float)) or not time_step > 0:
-        raise ValueError(f"time_step: must be a positive number of seconds, got {time_step!r}.")
+    for name, why in refused.items():
+        raise ValueError(f"{name}: does not apply to the {pendulum.isolator} isolator ({why}).")
     return IsolatedStructure(
         pressure=None, isolation_period=None, isolation_damping=jnp.asarray(0.0), pendulum=pendulum, kind=kind,
         time_step=float(time_step),
