@@ -444,9 +444,6 @@ class BidirectionalStructure(AbstractSteppedSystem):
         def split(flat):
             return flat[:n_groups], flat[n_groups:]
 
-        def residual(flat):
-            return jnp.concatenate(self._residual_forces(split(flat), p)[0])
-
         def residual_forces(flat):
             r, forces, z = self._residual_forces(split(flat), p)
             return jnp.concatenate(r), forces, z
@@ -459,9 +456,10 @@ class BidirectionalStructure(AbstractSteppedSystem):
             return (size(r) > tolerance) & (k < self.newton_iterations)
 
         def body(carry):
-            x, (r, _, _), k = carry
-            d0 = jnp.concatenate(p["d0"])
-            step = -jnp.linalg.solve(difference_jacobian(residual, x, r, d0, yield_disp), r)
+            x, (r, forces, z), k = carry
+            jacobian = difference_jacobian(lambda d: self._forces_at(d, p)[0], split(x), forces,
+                                           p["flexibility"], p["d0"], yield_disp)
+            step = -jnp.linalg.solve(jnp.block(jacobian), r)
             step = jnp.where(jnp.all(jnp.isfinite(step)), step, -r)
             norm = jnp.sqrt(jnp.sum(r * r))
 
@@ -472,10 +470,11 @@ class BidirectionalStructure(AbstractSteppedSystem):
 
             def worse(c):  # Armijo on |r|_2; below alpha = 2^-30 the step is taken as it is
                 alpha, _, (r_trial, _, _) = c
-                return (jnp.sqrt(jnp.sum(r_trial * r_trial)) > (1 - 1e-4 * alpha) * norm) & (alpha > 2.0**-30)
+                return (alpha > 1.0) | ((jnp.sqrt(jnp.sum(r_trial * r_trial)) > (1 - 1e-4 * alpha) * norm)
+                                        & (alpha > 2.0**-30))
 
-            trial = x + step
-            _, x_new, out = jax.lax.while_loop(worse, shrink, (1.0, trial, residual_forces(trial)))
+            # the full step is the loop's first trial (alpha = 1): one evaluation in the program
+            _, x_new, out = jax.lax.while_loop(worse, shrink, (2.0, x, (r, forces, z)))
             return x_new, out, k + 1
 
         start = (jnp.concatenate(x), (jnp.concatenate(r), forces, z), done)
