@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 from scipy.optimize import minimize
 
-from teflon_jax.bearing import concave_surface, paper_bearing
+from teflon_jax.bearing import BoucWen, concave_surface, paper_bearing
 from teflon_jax.excitation import uniform_signal
 from teflon_jax.studies import bidirectional_isolated_structure
 from teflon_jax.systems import (
@@ -219,3 +219,35 @@ def test_the_restrainer_bounds_the_planar_displacement_and_counts_in_the_shear()
     assert free > 0.06 and restrained < free
     assert float(peaks["restrained"].base_shear_ratio) >= 50 * (restrained - 0.04) * 0.99
     assert bool(peaks["restrained"].converged)
+
+
+def test_the_fallback_newton_matrix_is_the_residuals_jacobian_for_several_groups():
+    """The flat sliders' fallback Newton matrix (`difference_jacobian`: I + G_b K, the groups'
+    2 x 2 blocks K from one batched evaluation of two trials) is dr/dd of r = d - d_lin +
+    G_b F(d) for three groups sliding in different directions, exactly by forward-mode AD,
+    to the differences' own accuracy."""
+    from teflon_jax.solver import park_exact_update
+    from teflon_jax.systems._bidirectional_laws import affine, difference_jacobian
+
+    hysteresis = BoucWen(1.27e-4)  # the paper's Y = 0.005 in
+    rng = np.random.default_rng(3)
+    d0 = tuple(jnp.asarray(rng.normal(0, 1e-3, 3)) for _ in range(2))
+    d = tuple(d0[i] + jnp.asarray(rng.normal(0, 4e-3, 3)) for i in range(2))
+    z0 = jnp.asarray(rng.uniform(-0.9, 0.9, (3, 2)))
+    capacity = jnp.asarray([1.1e5, 0.8e5, 1.3e5])
+    flexibility = [[jnp.asarray(rng.normal(0, 1e-6, (3, 3))) + (2e-6 * jnp.eye(3) if i == j else 0.0)
+                    for j in range(2)] for i in range(2)]
+    d_linear = tuple(jnp.zeros(3) for _ in range(2))
+
+    def forces_at(x):
+        z = park_exact_update(hysteresis, z0, jnp.stack([x[0] - d0[0], x[1] - d0[1]], -1))
+        return capacity * z[:, 0], capacity * z[:, 1]
+
+    def residual(flat):
+        return jnp.concatenate(affine(flexibility, forces_at((flat[:3], flat[3:])), (flat[:3], flat[3:]), d_linear))
+
+    exact = jax.jacfwd(residual)(jnp.concatenate(d))
+    blocks = difference_jacobian(forces_at, d, forces_at(d), flexibility, d0, hysteresis.yield_disp)
+    assert exact.shape == jnp.block(blocks).shape
+    np.testing.assert_allclose(np.asarray(jnp.block(blocks)), np.asarray(exact), rtol=1e-5, atol=1e-6)
+    assert np.abs(np.asarray(exact) - np.eye(6)).max() > 1e-2  # the bearings' part matters
