@@ -210,6 +210,10 @@ class ChunkRunner:
         self.bearings = None if bearings is None else jax.device_put(bearings, replicated)
         self.replicated, self.default_level = replicated, 0.0 if source.model is None else level_of(source.model)
         self.compiled = None
+        # On a CPU a series pendulum's program runs about 1.5 x faster compiled with XLA's older
+        # fusion emitters, flat sliders' slower (benchmarks/README.md, "Fusion emitters").
+        series = getattr(structure, "pendulum", None) is not None
+        self.options = {"xla_cpu_use_fusion_emitters": False} if series and self.devices[0].platform == "cpu" else None
 
     def __call__(self, indices, values=None, level=None, draws=None):
         """Peaks of the motions `indices` (a chunk's worth; `values` (chunk, nt) [m/s^2] for
@@ -227,7 +231,7 @@ class ChunkRunner:
             args += (_put(np.asarray(draws).astype(np.int32), self.batched), self.bearings)
         if self.compiled is None:
             tic = time.perf_counter()
-            self.compiled = self.function.lower(*args).compile()
+            self.compiled = self.function.lower(*args).compile(compiler_options=self.options)
             self.compile_s = time.perf_counter() - tic
         return self.compiled(*args)
 
