@@ -34,8 +34,8 @@ DURATION = 40.0
 
 
 def _counting(dt, iterations, p, guess, tolerance, secant=False):
-    d, _, taken = balance.planar_iteration({**p, "dt": dt}, guess, tolerance, iterations, secant)
-    return d, taken
+    d, _, taken, evaluation = balance.planar_iteration({**p, "dt": dt}, guess, tolerance, iterations, secant)
+    return d, taken, evaluation
 
 
 def main() -> None:
@@ -45,7 +45,7 @@ def main() -> None:
     parser.add_argument("--json", default=None, help="write the figures here")
     args = parser.parse_args()
     balance.balance = _counting
-    factory = b7._structure(args.structure, "triple-fp")
+    factory = b7._structure(args.structure, "triple-fp", 2)
     motion = b7._motions(2)
     dt = float(motion.model.time_step)
     n_steps = round(DURATION / b7.TIME_STEP)

@@ -96,3 +96,38 @@ def test_secant_balance_has_newtons_implicit_derivative():
 def test_an_unknown_balance_is_refused_by_name():
     with pytest.raises(ValueError, match="balance"):
         _pair(TRIPLE, "broyden")
+
+
+@pytest.mark.parametrize("secant", [False, True])
+def test_the_planar_balance_returns_the_forces_of_its_root_with_their_derivative(secant):
+    """The planar balance hands back the sliders' forces and Z of its last evaluation (no
+    evaluation after the loop): they are the force law's at the root it returns, and their
+    tangent in the linear step's increment D and compliance G is the implicit one (central
+    differences of the whole balance)."""
+    from teflon_jax.systems._isolator_balance import balance
+    from teflon_jax.systems._slider_forces import balance_forces
+
+    rng = np.random.default_rng(3)
+    weight = 1e6
+    start = {"pendulum": TRIPLE, "W": weight, "N": weight, "s0": jnp.asarray(rng.normal(0, 0.02, (3, 2))),
+             "z0": jnp.asarray(rng.uniform(-0.6, 0.6, (3, 2)))}
+    increment = jnp.array([4e-3, -2.5e-3])
+
+    def solved(theta):
+        p = {**start, "D": theta[0] * increment, "G": theta[1] * 2.5e-10}
+        return balance(0.005, 60, p, jnp.zeros((3, 2)), 1e-8, secant), p
+
+    theta = jnp.array([1.0, 1.0])
+    (d, converged, (force, z)), p = solved(theta)
+    assert bool(converged)
+    law_force, law_z = balance_forces(p, d, 0.005)
+    np.testing.assert_allclose(force, law_force, rtol=1e-13, atol=1e-9 * weight)
+    np.testing.assert_allclose(z, law_z, rtol=1e-13, atol=1e-13)
+    for axis in range(2):
+        tangent = jnp.zeros(2).at[axis].set(1.0)
+        _, (d_force, d_z) = jax.jvp(lambda t: solved(t)[0][2], (theta,), (tangent,))
+        h = 1e-4
+        plus, minus = solved(theta + h * tangent)[0][2], solved(theta - h * tangent)[0][2]
+        assert float(jnp.max(jnp.abs(d_force))) > 1.0  # the sliding forces move with D and G
+        np.testing.assert_allclose(d_force, (plus[0] - minus[0]) / (2 * h), rtol=1e-4, atol=1e-2)
+        np.testing.assert_allclose(d_z, (plus[1] - minus[1]) / (2 * h), rtol=1e-4, atol=1e-7)

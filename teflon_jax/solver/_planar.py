@@ -1,7 +1,7 @@
 """Newton's iteration on a balance of S elements, each with a planar unknown d_e (S, 2) and a
 2 x 2 block K_e = dF_e/dd_e of its own (F_e depends on d_e alone), coupled through one
 compliance G: J = blockdiag(K_e) + U U^T / G, inverted by the Woodbury identity
-(`woodbury`). `planar_newton` takes the blocks by differences at every point, or, with a
+(`woodbury`). `planar_newton` takes the blocks the caller gives at every point, or, with a
 secant stage, by Broyden's update of each block after the first (`broyden_blocks`).
 References: Woodbury (1950); Broyden (1965), Math. Comp. 19; Dennis & Schnabel (1996),
 Sec. 6.3.
@@ -23,32 +23,36 @@ def planar_newton(forces, residual, direction, blocks, guess, tolerance, iterati
     short, at most `RESCUE_ITERATIONS` more steps halving f down to `RESCUE_SMALLEST` (as
     `damped_newton`).
 
-    **Arguments:** `forces(d)` -> F (S, 2), the one costly evaluation; `residual(d, F)` -> r;
-    `direction(r, K)` -> J^-1 r for the blocks K (S, 2, 2); `blocks(d, F)` -> K at d (by
-    differences: the iteration needs J only to about sqrt(eps), the balance being judged on
-    the exact r); `secant`: `None`, or `update(K, step, change, d)` -> K after d moved by
-    `step` and F by `change` (`broyden_blocks`): a first stage takes `blocks` at `guess` only
-    and then that update, full steps while the merit falls, at most min(`SECANT_ITERATIONS`,
-    `iterations`), one evaluation each; the Newton stage continues where it stops short,
-    counting its steps.
+    **Arguments:** `forces(d)` -> an evaluation (F (S, 2), whatever else the blocks read, such
+    as Z), the one costly call; `residual(d, evaluation)` -> r; `direction(r, K)` -> J^-1 r for
+    the blocks K (S, 2, 2); `blocks(d, evaluation)` -> K at d (the iteration needs J only to
+    about sqrt(eps), the balance being judged on the exact r); `secant`: `None`, or
+    `update(K, step, change, d)` -> K after d moved by `step` and F by `change`
+    (`broyden_blocks`): a first stage takes `blocks` at `guess` only and then that update,
+    full steps while the merit falls, at most min(`SECANT_ITERATIONS`, `iterations`), one
+    evaluation each; the Newton stage continues where it stops short, counting its steps.
 
-    **Returns:** (d, whether max |r| <= tolerance, the number of steps taken)."""
+    **Returns:** (d, whether max |r| <= tolerance, the number of steps taken, the evaluation at
+    d)."""
+    def choose(keep, new, old):
+        return jax.tree_util.tree_map(lambda a, b: jnp.where(keep, a, b), new, old)
+
     def trial_of(d, r, merit, step):
         trial = d - step
-        force_trial = forces(trial)
-        r_trial = residual(trial, force_trial)
+        evaluation = forces(trial)
+        r_trial = residual(trial, evaluation)
         merit_trial = jnp.sum(r_trial**2)
-        return merit_trial < merit, (trial, force_trial, r_trial, merit_trial)
+        return merit_trial < merit, (trial, evaluation, r_trial, merit_trial)
 
     def secant_cond(carry):
         _, _, r, _, _, k, falling = carry
         return falling & (jnp.max(jnp.abs(r)) > tolerance) & (k < min(SECANT_ITERATIONS, iterations))
 
     def secant_body(carry):
-        d, force, r, merit, matrix, k, _ = carry
+        d, evaluation, r, merit, matrix, k, _ = carry
         lower, new = trial_of(d, r, merit, direction(r, matrix))
-        matrix = jnp.where(lower, secant(matrix, new[0] - d, new[1] - force, d), matrix)
-        new = tuple(jnp.where(lower, a, b) for a, b in zip(new, (d, force, r, merit)))
+        matrix = jnp.where(lower, secant(matrix, new[0] - d, new[1][0] - evaluation[0], d), matrix)
+        new = choose(lower, new, (d, evaluation, r, merit))
         return (*new, matrix, k + 1, lower)
 
     def cond(carry):
@@ -56,20 +60,21 @@ def planar_newton(forces, residual, direction, blocks, guess, tolerance, iterati
         return (jnp.max(jnp.abs(r)) > tolerance) & (k < iterations + RESCUE_ITERATIONS)
 
     def body(carry):
-        d, force, r, merit, fraction, k = carry
-        lower, new = trial_of(d, r, merit, fraction * direction(r, blocks(d, force)))
+        d, evaluation, r, merit, fraction, k = carry
+        lower, new = trial_of(d, r, merit, fraction * direction(r, blocks(d, evaluation)))
         accept = lower | (fraction <= shortest_fraction(k, iterations))
-        new = tuple(jnp.where(accept, a, b) for a, b in zip(new, (d, force, r, merit)))
+        new = choose(accept, new, (d, evaluation, r, merit))
         return (*new, jnp.where(accept, 1.0, 0.5 * fraction), k + 1)
 
-    force = forces(guess)
-    r = residual(guess, force)
+    evaluation = forces(guess)
+    r = residual(guess, evaluation)
     d, merit, k = guess, jnp.sum(r**2), 0
     if secant is not None:
-        carry = (d, force, r, merit, blocks(d, force), k, jnp.array(True))
-        d, force, r, merit, _, k, _ = jax.lax.while_loop(secant_cond, secant_body, carry)
-    d, _, r, _, _, taken = jax.lax.while_loop(cond, body, (d, force, r, merit, jnp.ones((), guess.dtype), k))
-    return d, jnp.max(jnp.abs(r)) <= tolerance, taken
+        carry = (d, evaluation, r, merit, blocks(d, evaluation), k, jnp.array(True))
+        d, evaluation, r, merit, _, k, _ = jax.lax.while_loop(secant_cond, secant_body, carry)
+    start = (d, evaluation, r, merit, jnp.ones((), guess.dtype), k)
+    d, evaluation, r, _, _, taken = jax.lax.while_loop(cond, body, start)
+    return d, jnp.max(jnp.abs(r)) <= tolerance, taken, evaluation
 
 
 def broyden_blocks(blocks, step, change, floor):

@@ -108,10 +108,10 @@ def slider_step(isolator, p, guess, tolerance, dt, iterations: int, *, heat_rate
     **Returns:** (the isolator's state at the end, whether the balance converged, the bearing
     force F [N])."""
     pendulum = p["pendulum"]
-    d, converged = balance(dt, iterations, p, guess, tolerance, secant)
-    if load is not None:
+    d, converged, (force, z1) = balance(dt, iterations, p, guess, tolerance, secant)
+    if load is not None:  # at uplift the sliders' increments change: their forces are taken again
         d, converged = uplift_increments(pendulum, load, p["D"], d, converged)
-    force, z1 = balance_forces(p, d, dt)
+        force, z1 = balance_forces(p, d, dt)
     bearing = jnp.mean(force, axis=0)  # equal to rounding
     extra = bearing if reference is None else bearing - reference[0] * (reference[1] + jnp.sum(d, axis=0))
     state = (isolator[0] + d, z1, jnp.stack([d, isolator[2][0]]), extra)
@@ -163,15 +163,25 @@ def balance_compliance(p):
 def balance(dt, iterations: int, p, guess, tolerance, secant: bool = False):
     """The sliders' increments (S,) or (S, 2) [m] that balance their forces with the linear
     step or the imposed path (module docstring) over a step of `dt` [s] (a float, or traced),
-    from `guess`, and whether |residual| <= `tolerance` [N] was reached; the iteration by the
-    shape of `guess` (one component: `_iterate_line`; two: `_iterate_plane`, with Broyden's
-    first stage where `secant`); differentiated implicitly (`solver.implicit_root`) with
-    exact slopes, whichever way the root was iterated."""
+    from `guess`, whether |residual| <= `tolerance` [N] was reached, and the sliders' (forces,
+    Z) there; the iteration by the shape of `guess` (one component: `_iterate_line`; two:
+    `_iterate_plane`, with Broyden's first stage where `secant`, whose last evaluation of the
+    forces is the one returned: none is repeated after the loop); differentiated implicitly
+    (`solver.implicit_root`) with exact slopes, whichever way the root was iterated."""
     if guess.ndim == 1:
-        return implicit_root(functools.partial(_iterate_line, iterations), _balance_residual, _line_solve,
-                             {**p, "dt": dt}, guess, tolerance)
-    return implicit_root(functools.partial(_iterate_plane, iterations, secant), _balance_residual, _plane_solve,
-                         {**p, "dt": dt}, guess, tolerance)
+        d, converged = implicit_root(functools.partial(_iterate_line, iterations), _balance_residual, _line_solve,
+                                     {**p, "dt": dt}, guess, tolerance)
+        return d, converged, balance_forces(p, d, dt)
+    d, (converged, evaluation) = implicit_root(
+        functools.partial(_iterate_plane, iterations, secant), _balance_residual, _plane_solve, {**p, "dt": dt},
+        guess, tolerance, outputs=_flagged_forces)
+    return d, converged, evaluation
+
+
+def _flagged_forces(d, p):
+    """(a flag, (forces, Z)) at the increments `d`: the planar balance's outputs, the forces
+    and Z differentiated along the root's tangent (`implicit_root`; the flag carries none)."""
+    return jnp.array(True), balance_forces(p, d, p["dt"])
 
 
 def _balance_residual(d, p):
@@ -276,14 +286,14 @@ def planar_iteration(p, guess, tolerance, iterations: int, secant: bool = False)
     give no finite direction), J^-1 r by Woodbury; with `secant`, Broyden's update after the
     first (`broyden_blocks`, within the differences' own step a block is kept).
 
-    **Returns:** (d, converged, the number of Newton steps taken)."""
+    **Returns:** (d, converged, the number of Newton steps taken, (forces, Z) at d)."""
     dt = p["dt"]
 
     def forces(d):
-        return balance_forces(p, d, dt)[0]
+        return balance_forces(p, d, dt)
 
-    def residual(d, force):
-        return force - carried_force(d, force, p)
+    def residual(d, evaluation):
+        return evaluation[0] - carried_force(d, evaluation[0], p)
 
     def direction(r, blocks):
         found = woodbury(r, blocks, balance_compliance(p))
@@ -293,13 +303,15 @@ def planar_iteration(p, guess, tolerance, iterations: int, secant: bool = False)
     def update(blocks, step, change, d):
         return broyden_blocks(blocks, step, change, difference_steps(d, p))
 
-    return planar_newton(forces, residual, direction, lambda d, force: differenced_blocks(d, force, p, dt),
+    return planar_newton(forces, residual, direction,
+                         lambda d, evaluation: differenced_blocks(d, evaluation[0], p, dt),
                          guess, tolerance, iterations, secant=update if secant else None)
 
 
 def _iterate_plane(iterations, secant, p, guess, tolerance):
-    """`planar_iteration`: (d, converged)."""
-    return planar_iteration(p, guess, tolerance, iterations, secant)[:2]
+    """`planar_iteration`: (d, (converged, (forces, Z) at d))."""
+    d, converged, _, evaluation = planar_iteration(p, guess, tolerance, iterations, secant)
+    return d, (converged, evaluation)
 
 
 def _plane_solve(d, p, r, dp):
