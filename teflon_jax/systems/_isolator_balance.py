@@ -108,10 +108,16 @@ def slider_step(isolator, p, guess, tolerance, dt, iterations: int, *, heat_rate
     **Returns:** (the isolator's state at the end, whether the balance converged, the bearing
     force F [N])."""
     pendulum = p["pendulum"]
-    d, converged, (force, z1) = balance(dt, iterations, p, guess, tolerance, secant)
-    if load is not None:  # at uplift the sliders' increments change: their forces are taken again
+    d, converged, evaluation = balance(dt, iterations, p, guess, tolerance, secant)
+    if load is not None:
         d, converged = uplift_increments(pendulum, load, p["D"], d, converged)
+    if evaluation is None:  # one component: the forces at the increments kept
         force, z1 = balance_forces(p, d, dt)
+    elif load is None:
+        force, z1 = evaluation
+    else:  # the balance's own evaluation, except at uplift, where the increments were shared out again
+        again = balance_forces(p, d, dt)
+        force, z1 = (jnp.where(load <= 0, a, b) for a, b in zip(again, evaluation))
     bearing = jnp.mean(force, axis=0)  # equal to rounding
     extra = bearing if reference is None else bearing - reference[0] * (reference[1] + jnp.sum(d, axis=0))
     state = (isolator[0] + d, z1, jnp.stack([d, isolator[2][0]]), extra)
@@ -163,15 +169,16 @@ def balance_compliance(p):
 def balance(dt, iterations: int, p, guess, tolerance, secant: bool = False):
     """The sliders' increments (S,) or (S, 2) [m] that balance their forces with the linear
     step or the imposed path (module docstring) over a step of `dt` [s] (a float, or traced),
-    from `guess`, whether |residual| <= `tolerance` [N] was reached, and the sliders' (forces,
-    Z) there; the iteration by the shape of `guess` (one component: `_iterate_line`; two:
-    `_iterate_plane`, with Broyden's first stage where `secant`, whose last evaluation of the
-    forces is the one returned: none is repeated after the loop); differentiated implicitly
-    (`solver.implicit_root`) with exact slopes, whichever way the root was iterated."""
+    from `guess`, whether |residual| <= `tolerance` [N] was reached, and in two components the
+    sliders' (forces, Z) there (`None` in one); the iteration by the shape of `guess` (one
+    component: `_iterate_line`; two: `_iterate_plane`, with Broyden's first stage where
+    `secant`, whose last evaluation of the forces is the one returned: none is repeated after
+    the loop); differentiated implicitly (`solver.implicit_root`) with exact slopes, whichever
+    way the root was iterated."""
     if guess.ndim == 1:
         d, converged = implicit_root(functools.partial(_iterate_line, iterations), _balance_residual, _line_solve,
                                      {**p, "dt": dt}, guess, tolerance)
-        return d, converged, balance_forces(p, d, dt)
+        return d, converged, None
     d, (converged, evaluation) = implicit_root(
         functools.partial(_iterate_plane, iterations, secant), _balance_residual, _plane_solve, {**p, "dt": dt},
         guess, tolerance, outputs=_flagged_forces)
