@@ -34,8 +34,9 @@ def implicit_root(solve, residual, linear_solve, p, guess, *args, outputs=None):
       D), its inverse takes that constraint's tangent from `dp` as well.
     - `p`: the differentiable parameters (a pytree); `guess` and `args` (a bracket, a
       tolerance) carry no tangent.
-    - `outputs(x, p)` -> the part of `aux` that is differentiable, a function of the root and
-      p (its tangent is taken along (dx, dp)); `None`: `aux` carries no tangent.
+    - `outputs(x, p)` -> `aux` again, as a function of the root and p, the same structure
+      (its tangent is taken along (dx, dp); a flag or a count in it gets none); `None`: `aux`
+      carries no tangent.
 
     **Returns:** (x, aux), x and aux bit for bit those of `solve`; tangent dx = -J^-1 (r_p dp)
     (module docstring)."""
