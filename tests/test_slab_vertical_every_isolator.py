@@ -75,7 +75,9 @@ def _rigid_mass_response(isolator, gx, gv, friction_model="hysteretic"):
     """x displacement of the rigid mass of weight W on one isolator under (gx, gv)."""
     if isolator in PENDULUMS:
         one = triple_structure("rigid", PENDULUMS[isolator], gx, time_step=STEP, weight=W)
-        return np.asarray(simulate_history(with_vertical_motion(one, gv), DURATION).displacement[:, 0])
+        response = simulate_history(with_vertical_motion(one, gv), DURATION)
+        assert np.all(np.asarray(response.converged))  # also the light loads just after landing
+        return np.asarray(response.displacement[:, 0])
     common = dict(weight=W, bearing=_bearing(), ground_acceleration=gx, time_step=STEP)
     if isolator == "flat":
         one = rigid_mass(isolation_period=PERIOD, friction_model=friction_model, **common)
@@ -96,10 +98,11 @@ def test_symmetric_slab_under_a_vertical_record_is_the_rigid_mass(isolator, fric
     q, converged = _run_slab(with_vertical_motion(_slab(isolator, gx, gy, friction_model), gv))
     assert np.all(converged)
     peak = np.max(np.abs(reference))
-    # the series slab's balance and the rigid mass's are the same solver, stopped at their
-    # force tolerance (measured 3.6e-9 m of a 4 cm peak; 1.8 mm while the series structures held
-    # the step's starting load and the slab its end's); the flat and single-pendulum rigid mass
-    # is the one-component solver, the slab the two-component one: equal to their tolerance
+    # the series pendulums' rigid mass is the one-component balance, the slab the planar one,
+    # each stopped at its force tolerance (triple: 1.2e-7 m of a 30 cm peak while the
+    # one-component balance left four steps after landing unconverged; 1.8 mm while the series
+    # structures held the step's starting load and the slab its end's); the flat and
+    # single-pendulum rigid mass is the one-component solver, the slab the two-component one
     tolerance = 1e-7 * peak if isolator in PENDULUMS else 1e-6 * peak
     assert np.max(np.abs(q[:, 0] - reference)) < tolerance
     assert np.max(np.abs(q[:, 1:])) < 1e-12

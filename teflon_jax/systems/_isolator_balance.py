@@ -213,8 +213,11 @@ def _residual_and_slopes(d, p):
 def _iterate_line(iterations, p, guess, tolerance):
     """One component: one slider's balance bracketed (`bracketed_newton`), several sliders'
     by `damped_newton` with J^-1 r by Sherman-Morrison, the slopes floored by the pendulum's
-    own W / R_e."""
-    floor = floor_stiffnesses(p["pendulum"], p["W"])  # the pendulum's own stiffness, a floor of the slope
+    own N / R_e under the step's normal load N (W / R_e at uplift, where the increments are
+    shared out afterwards: `uplift_increments`). A floor of W / R_e under a light load (N a
+    few per cent of W just after landing) shortens every step by N / W and leaves the balance
+    unconverged."""
+    floor = floor_stiffnesses(p["pendulum"], jnp.where(p["N"] > 0, p["N"], p["W"]))
 
     def evaluate(d):
         r, k = _residual_and_slopes(d, p)
