@@ -107,12 +107,17 @@ def test_a_fit_with_the_pairs_velocity_on_the_inner_surfaces_misses_the_inner_ra
     jax.clear_caches()
     try:
         fit = fit_triple_pendulum_test(record, start)
+        from_truth = fit_triple_pendulum_test(record, TRUE)
     finally:
         monkeypatch.undo()
         jax.clear_caches()
     errors = _relative_errors(fit)
     assert errors["inner_rate_a"] > 0.4  # not recovered ...
-    assert fit.parameters["inner_rate_a"] == pytest.approx(10.0, rel=1e-5)  # ... but a / 2 exactly
+    # ... but about a / 2 (9.95: from this start the wrong law's fit stops in a local minimum,
+    # nrmse 3.6e-5, which a restart keeps), and a / 2 exactly from the true constants, where the
+    # wrong law's exact optimum lies (a c v, c the velocity factor, is all Eq. 1 reads)
+    assert fit.parameters["inner_rate_a"] == pytest.approx(10.0, rel=1e-2)
+    assert from_truth.parameters["inner_rate_a"] == pytest.approx(10.0, rel=1e-9) and from_truth.nrmse < 1e-12
 
 
 def _plan(bearing, record):

@@ -423,8 +423,9 @@ def simulate_history(
 
     A structure on series pendulums (one or two components, or a slab on their groups, with
     each group's `group_uplift_time`) balances its sliders at each fixed step and keeps every
-    one (its `EngineRun`, the samples the peak driver folds); the options are then refused by
-    name. Flat sliders and single pendulums, in one component (`StructureOnSliders`) or two
+    one (its `EngineRun`, the samples the peak driver folds); it never raises (each step's
+    balance is in the response's `converged`, the run's in `succeeded`), so `throw` is taken
+    either way and the other options are refused by name. Flat sliders and single pendulums, in one component (`StructureOnSliders`) or two
     (`BidirectionalStructure`), are solved on their grid by diffrax:
 
     - `duration` [s]: rounded down to a whole number of `system.time_step`s (for every
@@ -444,7 +445,7 @@ def simulate_history(
                "atol": (atol, 1e-10), "max_steps": (max_steps, None), "adjoint": (adjoint, None),
                "throw": (throw, True)}
     if _on_series(system):
-        given = given_options(options)
+        given = given_options({name: option for name, option in options.items() if name != "throw"})
         if given:
             raise ValueError(f"{', '.join(given)}: a structure on series pendulums steps at its time_step and "
                              "keeps every step; drop these options.")
