@@ -145,6 +145,11 @@ class SeriesDiscoveryResult:
         })
 
 
+def _nrmse(fit, problem) -> float:
+    """RMS(model - measured) / RMS(measured) force [-] of a series fit on `problem`."""
+    return float(np.sqrt(np.mean((fit.force - problem.force) ** 2)) / problem.scale)
+
+
 def heat_regressor(problem) -> np.ndarray:
     """Temperature-rise index [K-like] of a flux proportional to the bearing's speed |v|: the
     heat kernel of the model (`problem.kernel`) applied to |v|; heating's signature."""
@@ -276,7 +281,7 @@ def discover_series_effects(record, start, *, candidates=None,
     current, steps, final_round = [], [], {}
     fits = rounds.fit([current] + [[c] for c in pool], optimiser_start(problem)[0], current)
     baseline = fits[0][0]
-    nrmse_initial = float(np.sqrt(np.mean((baseline.force - problem.force) ** 2)) / problem.scale)
+    nrmse_initial = _nrmse(baseline, problem)
     say(f"baseline {SERIES_BASELINE} ({start.description[:-1]}): nrmse {nrmse_initial:.4f}")
     fit = baseline
     while pool and len(steps) < max_effects:
@@ -303,7 +308,7 @@ def discover_series_effects(record, start, *, candidates=None,
     return SeriesDiscoveryResult(
         isolator=start.isolator, baseline=SERIES_BASELINE, effects_added=list(current),
         steps=steps, final_round=final_round, nrmse_initial=nrmse_initial,
-        nrmse_final=float(np.sqrt(np.mean(residual**2))),
+        nrmse_final=_nrmse(fit, problem),  # the baseline's own number where nothing was added
         parameters=member_parameters(problem, fit.values, current),
         std_errors=member_std_errors(problem, fit, current, effective_samples(residual)),
         baseline_parameters=member_parameters(problem, baseline.values, ()),
