@@ -425,8 +425,9 @@ def simulate_history(
     each group's `group_uplift_time`) balances its sliders at each fixed step and keeps every
     one (its `EngineRun`, the samples the peak driver folds); it never raises (each step's
     balance is in the response's `converged`, the run's in `succeeded`), so `throw` is taken
-    either way and the other options are refused by name. Flat sliders and single pendulums, in one component (`StructureOnSliders`) or two
-    (`BidirectionalStructure`), are solved on their grid by diffrax:
+    either way and the other options are refused by name. Flat sliders and single pendulums,
+    in one component (`StructureOnSliders`) or two (`BidirectionalStructure`), are solved on
+    their grid by diffrax:
 
     - `duration` [s]: rounded down to a whole number of `system.time_step`s (for every
       structure, as in `peak_response`); the records must last that long (`ValueError` naming
