@@ -10,7 +10,7 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
-from teflon_jax.bearing import BoucWen, FrictionParameters, TriplePendulum
+from teflon_jax.bearing import BoucWen, DoublePendulum, FrictionParameters, TriplePendulum
 from teflon_jax.excitation import uniform_signal
 from teflon_jax.studies import bidirectional_isolated_structure
 from teflon_jax.systems import (
@@ -72,8 +72,7 @@ def test_one_driver_takes_every_structure_and_refuses_by_name_what_its_engine_do
         simulate_history(series, 1.0, save_every=2)
     with pytest.raises(ValueError, match="rtol: a structure on series pendulums"):
         simulate_history(series, 1.0, rtol=1e-6, throw=False)
-    # it never raises (its steps' convergence is in the response), so throw=False is its own
-    # behaviour, as the suites ask of every structure under vmap
+    # every step balanced: throw=False (the suites' option under vmap) gives the same history
     np.testing.assert_array_equal(np.asarray(simulate_history(series, 1.0, throw=False).slider),
                                   np.asarray(stepped.slider))
     with pytest.raises(TypeError, match="system: no history driver"):
@@ -81,6 +80,25 @@ def test_one_driver_takes_every_structure_and_refuses_by_name_what_its_engine_do
     for bad in (0, 1.5):
         with pytest.raises(ValueError, match=f"save_every: must be a positive integer number of steps, got {bad}"):
             simulate_history(rigid, 1.0, save_every=bad)
+
+
+def test_a_series_structure_raises_where_a_step_missed_its_balance_unless_told_to_keep_it():
+    """A step whose sliders' balance misses its tolerance raises, as a diffrax solve that fails
+    does; with throw=False the response is kept and `converged` names the step. A real miss: a
+    double pendulum under two components of 0.6 g at 10 ms steps with no Newton iteration
+    beyond the rescue stage leaves one step (at 2.71 s) short; with them every step balances."""
+    double = DoublePendulum(bottom_radius=2.1, top_radius=1.8, bottom_capacity=0.3, top_capacity=0.3,
+                            bottom_friction=FrictionParameters(0.06, 0.03, 20.0),
+                            top_friction=FrictionParameters(0.09, 0.04, 20.0), hysteresis=BoucWen(1.27e-4))
+    time = np.arange(0.0, 3.0 + 1e-9, STEP)
+    gx, gy = (uniform_signal(6.0 * f(2 * np.pi * time), STEP) for f in (np.sin, np.cos))
+    short = triple_structure("rigid", double, gx, time_step=0.01, ground_y=gy, newton_iterations=0)
+    kept = simulate_history(short, 2.9, throw=False)
+    assert np.flatnonzero(~np.asarray(kept.converged)).size >= 1 and not bool(kept.succeeded)
+    with pytest.raises(Exception, match="the sliders' balance of a series pendulum missed its tolerance"):
+        simulate_history(short, 2.9)
+    balanced = simulate_history(triple_structure("rigid", double, gx, time_step=0.01, ground_y=gy), 2.9)
+    assert bool(np.all(balanced.converged)) and bool(balanced.succeeded)
 
 
 def test_the_one_structure_refuses_by_name_what_its_isolator_does_not_take():

@@ -56,7 +56,7 @@ def _rigid(pendulum):
 def _check_in_restrainers_as_the_rigid_mass(pendulum, heights):
     reference = _rigid(pendulum)
     for height in heights:
-        response = simulate(_slab(height, pendulum), SECONDS)
+        response = simulate(_slab(height, pendulum), SECONDS, throw=False)
         force = -np.asarray(response.bearing_force).sum(axis=1)  # H (nt, 2) [N]
         loads = np.asarray(response.normal_load)
         assert np.max(np.abs(force[:, 0])) > RESTRAINED * W and ARM * W > height * np.max(np.abs(force[:, 0]))
@@ -98,7 +98,7 @@ def test_a_slab_that_tips_on_a_restrainer_is_reported_and_stays_finite(pendulum)
         from test_slab_series_heat import _heated
 
         pendulum = _heated()
-    response = simulate(_slab(height, pendulum), SECONDS)
+    response = simulate(_slab(height, pendulum), SECONDS, throw=False)
     if pendulum.heated:
         assert np.all(np.isfinite(np.asarray(response.surface_temperature_rise)))
     q, loads = np.asarray(response.displacement), np.asarray(response.normal_load)

@@ -120,7 +120,7 @@ def test_a_lifted_group_generates_no_heat():
     while a group's N_g <= 0 it carries no shear, and its surfaces' temperature only decays (no flux enters the steel), while they rise on the
     steps it carries load."""
     ax, ay = _pulse(0.5, 0.0)
-    response = simulate(_slab(ax, ay, 20.0, _heated(), positions=SQUARE), DURATION)
+    response = simulate(_slab(ax, ay, 20.0, _heated(), positions=SQUARE), DURATION, throw=False)
     assert np.array_equal(~np.asarray(response.converged), np.asarray(response.tipped))  # on two groups
     lifted = np.asarray(response.normal_load)[1:] <= 0
     change = np.diff(np.asarray(response.surface_temperature_rise), axis=0)  # (nt - 1, G, S)

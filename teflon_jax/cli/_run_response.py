@@ -55,7 +55,7 @@ def _bidirectional(system, duration, plan) -> Run:
 def _series(system, duration, plan) -> Run:
     from ..systems import simulate_history
 
-    response = simulate_history(system, duration)
+    response = simulate_history(system, duration, throw=False)
     return _series_run(response, response.time, response.converged, duration)
 
 
@@ -69,7 +69,7 @@ def _slab_series(system, duration, plan) -> Run:
 
     from ..systems import simulate_history
 
-    response = jax.jit(simulate_history, static_argnums=1)(system, duration)
+    response = jax.jit(simulate_history, static_argnums=1, static_argnames="throw")(system, duration, throw=False)
     problem = unbalanced_message(response, plan["height_of_centre_of_mass"])
     end, response = series_slab_stop(system, response)  # the steps before the first unbalanced one
     return Run(response, end, problem, float(end[0][end[1] - 1]) if problem else duration)

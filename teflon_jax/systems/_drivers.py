@@ -11,6 +11,7 @@ histories come from their solve on a grid (any diffrax solver)."""
 
 import dataclasses
 
+import equinox as eqx
 import jax
 import jax.numpy as jnp
 
@@ -423,9 +424,10 @@ def simulate_history(
 
     A structure on series pendulums (one or two components, or a slab on their groups, with
     each group's `group_uplift_time`) balances its sliders at each fixed step and keeps every
-    one (its `EngineRun`, the samples the peak driver folds); it never raises (each step's
-    balance is in the response's `converged`, the run's in `succeeded`), so `throw` is taken
-    either way and the other options are refused by name. Flat sliders and single pendulums,
+    one (its `EngineRun`, the samples the peak driver folds); with `throw` a step whose balance
+    missed its tolerance, or at which a slab tipped, raises; with `throw=False` each step's
+    outcome is in the response's `converged` (and `tipped`; the run's in `succeeded`); the
+    other options are refused by name. Flat sliders and single pendulums,
     in one component (`StructureOnSliders`) or two (`BidirectionalStructure`), are solved on
     their grid by diffrax:
 
@@ -452,6 +454,8 @@ def simulate_history(
                              "keeps every step; drop these options.")
         n_steps, run = _engine_run(system, duration)
         response = run_history(run)
+        if throw:
+            response = _raise_unbalanced(response)
         if isinstance(system, BidirectionalStructure):  # a slab on groups: the steps each group is lifted
             return dataclasses.replace(response, group_uplift_time=group_uplift_time(response.normal_load,
                                                                                      float(system.time_step)))
@@ -479,6 +483,23 @@ def simulate_history(
     if planar:
         return solved_planar_response(system, save_times, solution, n_steps, save_every)
     return solved_structure_response(system, save_times, solution, n_steps)
+
+
+_UNBALANCED = ("simulate_history: the sliders' balance of a series pendulum missed its tolerance at a step; "
+               "give throw=False to keep the response, whose `converged` says which steps, or a shorter "
+               "time_step or more newton_iterations to the structure's builder.")
+_TIPPED = ("simulate_history: the slab tipped: at a step the groups still loaded lay on one line and could not "
+           "carry its overturning moment; give throw=False to keep the response, whose `tipped` says which "
+           "steps, or place groups off that line.")
+
+
+def _raise_unbalanced(response: StructureResponse) -> StructureResponse:
+    """`response`, raising (at run time, under jit too) where a step did not balance: a slab
+    that tipped (`tipped`) or a sliders' balance that missed its tolerance (`converged`)."""
+    missed = ~jnp.all(response.converged)
+    if response.tipped is None:
+        return eqx.error_if(response, missed, _UNBALANCED)
+    return eqx.branched_error_if(response, missed, jnp.any(response.tipped).astype(int), (_UNBALANCED, _TIPPED))
 
 
 def _check_solver(system, solver) -> None:
