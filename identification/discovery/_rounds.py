@@ -153,8 +153,7 @@ def _fit_baseline(setup: _FitSetup, effects, fit_log):
     sse = np.sum((stacked - setup.force) ** 2, axis=1)
     best = int(np.argmin(sse))
     fit = _fit_of_member(extra, fitted, best, stacked[best].copy())
-    nrmse = float(np.sqrt(sse[best] / setup.force.size) / setup.scale)
-    return fit, nrmse, fit_log
+    return fit, nrmse(float(sse[best]), setup.force.size, setup.scale), fit_log
 
 
 def _candidate_start(setup: _FitSetup, values, current, config) -> dict:
@@ -209,6 +208,13 @@ def _held_out_rms(setup: _FitSetup, err, i) -> float:
     return held_out_rms(err[i + 1], err[i + 2], setup.held_a, setup.held_b)
 
 
+def nrmse(sse: float, n: int, scale: float) -> float:
+    """RMS(model - measured) / RMS(measured) force [-]: sqrt(SSE / n) / `scale`, from the sum of
+    squared residuals `sse` [N^2] over `n` samples; the one formula of every nrmse a discovery
+    reports (a baseline refitted with nothing added reads the same number to the bit)."""
+    return float(math.sqrt(sse / n) / scale)
+
+
 def held_out_rms(err_a, err_b, held_a, held_b) -> float:
     """Root-mean-square prediction error on the cycles each fold's fit left out: `err_a` the
     error of the fit to fold a (weights `held_a`), read on fold b (`held_b`), and the reverse."""
@@ -229,8 +235,8 @@ def candidate_evidence(ref_sse: float, ref_cv: float, full, cv: float, k: int, s
         "delta_bic": float(delta_bic),
         "holdout_gain": float(1.0 - cv / ref_cv) if ref_cv > 0 else 0.0,
         "n_eff": float(n_eff),
-        "nrmse_before": float(math.sqrt(ref_sse / n_total) / scale),
-        "nrmse_after": float(math.sqrt(sse_c / n_total) / scale),
+        "nrmse_before": nrmse(ref_sse, n_total, scale),
+        "nrmse_after": nrmse(sse_c, n_total, scale),
         "confidence": confidence_wording(delta_bic),
     }
 
@@ -240,7 +246,7 @@ def _round_evidence(setup: _FitSetup, err, fitted, sims, pool):
     n_total, scale, data = setup.force.size, setup.scale, setup.data
     ref_cv = _held_out_rms(setup, err, 0)
     ref_sse = float(np.sum(err[0] ** 2))
-    nrmse_before = math.sqrt(ref_sse / n_total) / scale
+    nrmse_before = nrmse(ref_sse, n_total, scale)
     regress = regressors(data, sims_row(sims, 0), setup.half_cycles)
     evid = {}
     for j, name in enumerate(pool, start=1):

@@ -37,7 +37,7 @@ from ._diagnostics import effective_samples, half_cycle_index
 from ._discovery import check_settings, chosen_effect
 from ._effects import EFFECT_NAMES
 from ._result import DEFAULT_BIC_THRESHOLD, DiscoveryStep
-from ._rounds import candidate_evidence, held_out_rms
+from ._rounds import candidate_evidence, held_out_rms, nrmse
 
 SERIES_BASELINE = "series"
 """The baseline's name in the results: the series fit of the pendulum."""
@@ -147,7 +147,7 @@ class SeriesDiscoveryResult:
 
 def _nrmse(fit, problem) -> float:
     """RMS(model - measured) / RMS(measured) force [-] of a series fit on `problem`."""
-    return float(np.sqrt(np.mean((fit.force - problem.force) ** 2)) / problem.scale)
+    return nrmse(float(np.sum((fit.force - problem.force) ** 2)), problem.force.size, problem.scale)
 
 
 def heat_regressor(problem) -> np.ndarray:
