@@ -11,7 +11,6 @@ histories come from their solve on a grid (any diffrax solver)."""
 
 import dataclasses
 
-import equinox as eqx
 import jax
 import jax.numpy as jnp
 
@@ -33,6 +32,7 @@ from ._response import (
     group_load_extremes,
     group_load_peaks,
     group_uplift_time,
+    raise_unbalanced,
     run_history,
     uplifted,
 )
@@ -455,7 +455,7 @@ def simulate_history(
         n_steps, run = _engine_run(system, duration)
         response = run_history(run)
         if throw:
-            response = _raise_unbalanced(response)
+            response = raise_unbalanced(response)
         if isinstance(system, BidirectionalStructure):  # a slab on groups: the steps each group is lifted
             return dataclasses.replace(response, group_uplift_time=group_uplift_time(response.normal_load,
                                                                                      float(system.time_step)))
@@ -483,23 +483,6 @@ def simulate_history(
     if planar:
         return solved_planar_response(system, save_times, solution, n_steps, save_every)
     return solved_structure_response(system, save_times, solution, n_steps)
-
-
-_UNBALANCED = ("simulate_history: the sliders' balance of a series pendulum missed its tolerance at a step; "
-               "give throw=False to keep the response, whose `converged` says which steps, or a shorter "
-               "time_step or more newton_iterations to the structure's builder.")
-_TIPPED = ("simulate_history: the slab tipped: at a step the groups still loaded lay on one line and could not "
-           "carry its overturning moment; give throw=False to keep the response, whose `tipped` says which "
-           "steps, or place groups off that line.")
-
-
-def _raise_unbalanced(response: StructureResponse) -> StructureResponse:
-    """`response`, raising (at run time, under jit too) where a step did not balance: a slab
-    that tipped (`tipped`) or a sliders' balance that missed its tolerance (`converged`)."""
-    missed = ~jnp.all(response.converged)
-    if response.tipped is None:
-        return eqx.error_if(response, missed, _UNBALANCED)
-    return eqx.branched_error_if(response, missed, jnp.any(response.tipped).astype(int), (_UNBALANCED, _TIPPED))
 
 
 def _check_solver(system, solver) -> None:

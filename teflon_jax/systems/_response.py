@@ -123,6 +123,23 @@ def run_history(run: EngineRun) -> "StructureResponse":
     return jax.tree_util.tree_map(lambda a, b: jnp.concatenate([a[None], b]), first, samples)
 
 
+_UNBALANCED = ("simulate_history: the sliders' balance of a series pendulum missed its tolerance at a step; "
+               "give throw=False to keep the response, whose `converged` says which steps, or a shorter "
+               "time_step or more newton_iterations to the structure's builder.")
+_TIPPED = ("simulate_history: the slab tipped: at a step the groups still loaded lay on one line and could not "
+           "carry its overturning moment; give throw=False to keep the response, whose `tipped` says which "
+           "steps, or place groups off that line.")
+
+
+def raise_unbalanced(response: StructureResponse) -> StructureResponse:
+    """`response`, raising (at run time, under jit too) where a step did not balance: a slab
+    that tipped (`tipped`) or a sliders' balance that missed its tolerance (`converged`)."""
+    missed = ~jnp.all(response.converged)
+    if response.tipped is None:
+        return eqx.error_if(response, missed, _UNBALANCED)
+    return eqx.branched_error_if(response, missed, jnp.any(response.tipped).astype(int), (_UNBALANCED, _TIPPED))
+
+
 def group_uplift_time(normal_load, interval: float):
     """Each group's uplift time (G,) [s]: the saved samples after the first whose normal load
     `normal_load` (nt, G) [N] is <= 0, times the `interval` [s] between them."""
