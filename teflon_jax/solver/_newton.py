@@ -7,6 +7,9 @@ stepped systems choose by the static shape of their unknowns.
   J^-1 r comes with each evaluation (`sherman_morrison` for J = diag(k) + 1 1^T / G).
 - `restarted_newton`: the same, started once more from a second point where the first run
   ends short (a minimum of sum(r^2) with r != 0).
+- `bracketed_newton`: one scalar unknown whose residual changes sign across the root (one
+  slider in one direction, the flat isolator's displacement): Newton's steps kept inside the
+  bracket of the iterates' signs, bisecting it where a step would leave it.
 - `planar_newton` (`_planar.py`): the same line search on unknowns with 2 x 2 blocks per
   element, J = blockdiag(K_e) + U U^T / G inverted by the Woodbury identity, with an optional
   secant (Broyden) first stage.
@@ -94,6 +97,55 @@ def restarted_newton(evaluate, guess, restart, tolerance, iterations: int):
     carry = (guess, evaluate(guess), jnp.ones((), guess.dtype), jnp.zeros((), jnp.int32), jnp.zeros((), bool))
     x, (r, _, _), _, _, _ = jax.lax.while_loop(cond, body, carry)
     return x, jnp.max(jnp.abs(r)) <= tolerance
+
+
+def bracketed_newton(evaluate, guess, tolerance, iterations: int, *, lower=None, upper=None, unrolled: int = 0):
+    """Root of a residual r(x) of one unknown (`guess` a scalar or (1,)) whose sign changes
+    across it, by Newton's steps x <- x - dir kept inside the bracket (lo, hi) of the iterates'
+    signs: a step that is not finite or not strictly inside bisects the bracket. The bracket
+    starts at [`lower`, `upper`] where the caller knows one, else open, (-inf, inf), until
+    both signs are seen (r tending to -inf and +inf at either end: the balance of one slider,
+    whose compliance term outgrows the bounded friction). `evaluate(x)` returns
+    (r, dir, *more) with dir = r / J (not finite where no slope is to be trusted), so a step
+    goes the way the root lies while the bracket is open; no merit function (r may fall as x
+    grows, e.g. while Eq. 1 falls with a reversing speed, where a line search on r^2 stalls).
+    Stops when |r| <= `tolerance` or after `iterations` steps; the first `unrolled` of them
+    are written out in line (straight-line code that XLA fuses with the rest of the step; a
+    member already at tolerance keeps its iterate), the rest run in a `lax.while_loop`. The
+    iterates are those of a plain loop that stops at tolerance, whatever `unrolled` is.
+
+    **Returns:** (x, whether |r| <= tolerance, `evaluate`'s values at x: no evaluation after
+    the loop)."""
+    def short(values):
+        return jnp.max(jnp.abs(values[0])) > tolerance
+
+    def cond(carry):
+        _, _, _, values, k = carry
+        return short(values) & (k < iterations)
+
+    def body(carry):
+        x, lo, hi, values, k = carry
+        r, direction = values[0], values[1]
+        active = short(values)  # always True in the while loop's body
+        lo = jnp.where(r < 0, x, lo)
+        hi = jnp.where(r > 0, x, hi)
+        step = x - direction
+        inside = (step > lo) & (step < hi) & jnp.isfinite(step)
+        x_new = jnp.where(inside, step, 0.5 * (lo + hi))
+        new = evaluate(x_new)
+        return (jnp.where(active, x_new, x), lo, hi, tuple(jnp.where(active, a, b) for a, b in zip(new, values)),
+                k + 1)
+
+    infinite = jnp.full_like(guess, jnp.inf)
+    lo = -infinite if lower is None else lower
+    hi = infinite if upper is None else upper
+    carry = (guess, lo, hi, evaluate(guess), 0)
+    for _ in range(min(unrolled, iterations)):
+        carry = body(carry)
+    if iterations > unrolled:
+        carry = jax.lax.while_loop(cond, body, carry)
+    x, _, _, values, _ = carry
+    return x, ~short(values), values
 
 
 def sherman_morrison(residual, slope, compliance):

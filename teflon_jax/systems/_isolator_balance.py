@@ -38,6 +38,7 @@ import numpy as np
 from ..bearing import SeriesPendulum
 from ..solver import (
     RESCUE_ITERATIONS,
+    bracketed_newton,
     broyden_blocks,
     damped_newton,
     implicit_root,
@@ -46,7 +47,6 @@ from ..solver import (
     sherman_morrison,
     woodbury,
 )
-from ._isolator_solve import bracketed_newton
 from ._response import BearingTestResult
 from ._sampled_path import sample_velocity
 from ._slider_forces import (
@@ -224,7 +224,7 @@ def _iterate_line(iterations, p, guess, tolerance):
         return r, jnp.sum(r**2), sherman_morrison(r, jnp.maximum(k, floor), balance_compliance(p))
 
     if guess.shape[0] == 1 and "G" in p:  # one slider: bracketed (`bracketed_newton`)
-        return bracketed_newton(lambda d: evaluate(d)[::2], guess, tolerance, iterations + RESCUE_ITERATIONS)
+        return bracketed_newton(lambda d: evaluate(d)[::2], guess, tolerance, iterations + RESCUE_ITERATIONS)[:2]
     return damped_newton(evaluate, guess, tolerance, iterations)
 
 

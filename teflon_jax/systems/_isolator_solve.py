@@ -3,10 +3,11 @@
 The step's isolator displacement is x = u_linear - g0 F(x) (Newmark's rule or the exact linear
 rule, `structures.newmark_step_matrices`, `structures.exact_step_matrices`), with F = mu(v) W Z the bearing force at the end of the step, v its
 velocity there (linear in x, `end_velocity`) and Z updated exactly along the step's path
-(`bearing_force`); the root is found by a bracketed Newton iteration with written-out slopes and
-differentiated implicitly (`isolator_root`). Used by `StructureOnSliders`; Eqs. 1, 3 and 17 of
-Constantinou, Mokha & Reinhorn (1990). The one-surface isolator of the series engine solves its
-slider's balance with the same safeguard, a bracket found on the way (`bracketed_newton`).
+(`bearing_force`); the root is found by the bracketed Newton iteration (`solver.bracketed_newton`)
+with written-out slopes and differentiated implicitly (`isolator_root`). Used by
+`StructureOnSliders`; Eqs. 1, 3 and 17 of Constantinou, Mokha & Reinhorn (1990). The
+one-surface isolator of the series engine solves its slider's balance by the same iteration,
+its bracket found on the way.
 """
 
 import functools
@@ -15,7 +16,7 @@ import jax
 import jax.numpy as jnp
 
 from ..bearing import bouc_wen_exact_update
-from ..solver import implicit_root
+from ..solver import bracketed_newton, implicit_root
 
 
 def bearing_force(x, p, rule):
@@ -175,73 +176,16 @@ def _residual_slope_solve(rule, x, p, r, dp):
 
 
 def _bracketed_root(rule, iterations, p, x0, lo, hi, tolerance):
-    """Newton's method on `isolator_residual` safeguarded by the bracket [lo, hi] (bisection
-    when a Newton step leaves it), iterating until |residual| <= tolerance or
-    `max_iterations`, with `iterations` = (unrolled, max_iterations): the first `unrolled`
-    iterations are written out in line (straight-line code that XLA fuses with the rest of the
-    step; a member already at tolerance keeps its iterate), the rest run in a
-    `lax.while_loop` that stops as soon as every member is at tolerance (in a batch, most
-    steps need no iteration there). The iterates are those of a plain loop that stops at
-    tolerance, whatever `unrolled` is.
-
-    **Returns:** (x, (F, Z)), F and Z those of the last iterate (no evaluation after the
-    loop)."""
+    """`solver.bracketed_newton` on `isolator_residual` from x0 in the bracket [lo, hi], with
+    `iterations` = (unrolled, max_iterations) and Newton's step r / r_x where the slope r_x is
+    positive (a bisection elsewhere). **Returns:** (x, (F, Z)), F and Z those of the last
+    iterate (no evaluation after the loop)."""
     unrolled, max_iterations = iterations
 
     def evaluate(x):
-        return residual_and_slope(x, p, rule)
+        r, dr, force, z = residual_and_slope(x, p, rule)
+        return r, jnp.where(dr > 0, r / jnp.where(dr > 0, dr, 1.0), jnp.nan), force, z
 
-    def cond(carry):
-        x, lo, hi, (r, dr, force, z), k = carry
-        return (jnp.abs(r) > tolerance) & (k < max_iterations)
-
-    def body(carry):
-        x, lo, hi, values, k = carry
-        r, dr = values[0], values[1]
-        active = jnp.abs(r) > tolerance  # always True in the while loop's body
-        lo = jnp.where(r < 0, x, lo)
-        hi = jnp.where(r > 0, x, hi)
-        step = x - r / jnp.where(dr > 0, dr, 1.0)
-        inside = (step >= lo) & (step <= hi) & (dr > 0)
-        x_new = jnp.where(inside, step, 0.5 * (lo + hi))
-        new = evaluate(x_new)
-        return (jnp.where(active, x_new, x), lo, hi,
-                tuple(jnp.where(active, a, b) for a, b in zip(new, values)), k + 1)
-
-    carry = (x0, lo, hi, evaluate(x0), 0)
-    for _ in range(min(unrolled, max_iterations)):
-        carry = body(carry)
-    if max_iterations > unrolled:
-        carry = jax.lax.while_loop(cond, body, carry)
-    x, _, _, (_, _, force, z), _ = carry
+    x, _, (_, _, force, z) = bracketed_newton(evaluate, x0, tolerance, max_iterations, lower=lo, upper=hi,
+                                              unrolled=unrolled)
     return x, (force, z)
-
-
-def bracketed_newton(evaluate, guess, tolerance, iterations: int):
-    """Root of a scalar residual r(x) that tends to -inf and +inf at either end (the balance of
-    one slider: its force less the force the linear step leaves, whose compliance term
-    (x - D) / G outgrows the bounded friction), by Newton's steps x <- x - dir safeguarded by
-    the bracket [lo, hi] of the iterates' signs (open, (-inf, inf), until both are seen):
-    a step that leaves the bracket bisects it. `evaluate(x)` returns (r, dir) for x (1,), dir
-    = r / J with J > 0 (a floored slope), so a step goes the way the root lies while the
-    bracket is open; no merit function (r may fall as x grows, e.g. while Eq. 1 falls with a
-    reversing speed, where a line search on r^2 stalls). Stops when |r| <= `tolerance` or
-    after `iterations` steps.
-
-    **Returns:** (x, whether |r| <= tolerance)."""
-    def cond(carry):
-        _, (r, _), _, _, k = carry
-        return (jnp.abs(r[0]) > tolerance) & (k < iterations)
-
-    def body(carry):
-        x, (r, direction), lo, hi, k = carry
-        lo = jnp.where(r < 0, x, lo)
-        hi = jnp.where(r > 0, x, hi)
-        step = x - direction
-        inside = (step > lo) & (step < hi) & jnp.isfinite(step)
-        x = jnp.where(inside, step, 0.5 * (lo + hi))
-        return x, evaluate(x), lo, hi, k + 1
-
-    infinite = jnp.full_like(guess, jnp.inf)
-    x, (r, _), _, _, _ = jax.lax.while_loop(cond, body, (guess, evaluate(guess), -infinite, infinite, 0))
-    return x, jnp.abs(r[0]) <= tolerance
