@@ -57,7 +57,7 @@ from ._result import (
     DiscoveryStep,
     confidence_wording,
 )
-from ._rounds import _fit_baseline, _fit_round, _fit_setup, nrmse
+from ._rounds import _fit_baseline, _fit_round, _fit_setup, fit_nrmse
 
 INTERFACES_NOT_SEPARABLE = (
     "not separable from rate_a: Eq. 1 at |v| / n depends on rate_a and n only through "
@@ -191,7 +191,7 @@ def discover_effects(
     fit_log["final_converged"] = fit.converged
 
     force, scale = setup.force, setup.scale
-    nrmse_final = nrmse(float(np.sum((fit.force - force) ** 2)), force.size, scale)
+    nrmse_final = fit_nrmse(fit.force, force, scale)
     stack = {}
     if skipped.get("interfaces") == INTERFACES_NOT_SEPARABLE and "velocity_dependence" in current:
         stack = stack_check(float(fit.values[PARAMETER_NAMES.index("rate_a")]),

@@ -215,6 +215,11 @@ def nrmse(sse: float, n: int, scale: float) -> float:
     return float(math.sqrt(sse / n) / scale)
 
 
+def fit_nrmse(model, measured, scale: float) -> float:
+    """`nrmse` of a fit's force `model` against the `measured` force [N] (arrays alike)."""
+    return nrmse(float(np.sum((np.asarray(model) - measured) ** 2)), np.size(measured), scale)
+
+
 def held_out_rms(err_a, err_b, held_a, held_b) -> float:
     """Root-mean-square prediction error on the cycles each fold's fit left out: `err_a` the
     error of the fit to fold a (weights `held_a`), read on fold b (`held_b`), and the reverse."""

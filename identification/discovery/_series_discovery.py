@@ -37,7 +37,7 @@ from ._diagnostics import effective_samples, half_cycle_index
 from ._discovery import check_settings, chosen_effect
 from ._effects import EFFECT_NAMES
 from ._result import DEFAULT_BIC_THRESHOLD, DiscoveryStep
-from ._rounds import candidate_evidence, held_out_rms, nrmse
+from ._rounds import candidate_evidence, fit_nrmse, held_out_rms
 
 SERIES_BASELINE = "series"
 """The baseline's name in the results: the series fit of the pendulum."""
@@ -143,11 +143,6 @@ class SeriesDiscoveryResult:
                 "contact_pressure_assumed": list(problem.pressure_assumed),
             },
         })
-
-
-def _nrmse(fit, problem) -> float:
-    """RMS(model - measured) / RMS(measured) force [-] of a series fit on `problem`."""
-    return nrmse(float(np.sum((fit.force - problem.force) ** 2)), problem.force.size, problem.scale)
 
 
 def heat_regressor(problem) -> np.ndarray:
@@ -281,7 +276,7 @@ def discover_series_effects(record, start, *, candidates=None,
     current, steps, final_round = [], [], {}
     fits = rounds.fit([current] + [[c] for c in pool], optimiser_start(problem)[0], current)
     baseline = fits[0][0]
-    nrmse_initial = _nrmse(baseline, problem)
+    nrmse_initial = fit_nrmse(baseline.force, problem.force, problem.scale)
     say(f"baseline {SERIES_BASELINE} ({start.description[:-1]}): nrmse {nrmse_initial:.4f}")
     fit = baseline
     while pool and len(steps) < max_effects:
@@ -308,7 +303,7 @@ def discover_series_effects(record, start, *, candidates=None,
     return SeriesDiscoveryResult(
         isolator=start.isolator, baseline=SERIES_BASELINE, effects_added=list(current),
         steps=steps, final_round=final_round, nrmse_initial=nrmse_initial,
-        nrmse_final=_nrmse(fit, problem),  # the baseline's own number where nothing was added
+        nrmse_final=fit_nrmse(fit.force, problem.force, problem.scale),  # the baseline's where nothing was added
         parameters=member_parameters(problem, fit.values, current),
         std_errors=member_std_errors(problem, fit, current, effective_samples(residual)),
         baseline_parameters=member_parameters(problem, baseline.values, ()),
