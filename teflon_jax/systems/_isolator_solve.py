@@ -184,7 +184,7 @@ def _bracketed_root(rule, iterations, p, x0, lo, hi, tolerance):
 
     def evaluate(x):
         r, dr, force, z = residual_and_slope(x, p, rule)
-        return r, jnp.where(dr > 0, r / jnp.where(dr > 0, dr, 1.0), jnp.nan), force, z
+        return r, r / jnp.where(dr > 0, dr, jnp.nan), force, z
 
     x, _, (_, _, force, z) = bracketed_newton(evaluate, x0, tolerance, max_iterations, lower=lo, upper=hi,
                                               unrolled=unrolled)
