@@ -19,7 +19,7 @@ from teflon_jax.solver import broyden_blocks
 from teflon_jax.systems import (
     triple_structure,
 )
-from teflon_jax.systems._isolator_balance import difference_steps
+from teflon_jax.systems._isolator_balance import secant_floors
 from teflon_jax.units import STANDARD_GRAVITY
 
 TRIPLE = TriplePendulum(inner_radius=0.3, bottom_radius=2.1, top_radius=2.1, inner_capacity=0.05,
@@ -44,18 +44,18 @@ def _pair(pendulum, balance):
 
 def test_broyden_update_meets_the_secant_condition_and_keeps_other_directions():
     """K' s = y, and K' v = K v for v orthogonal to s (the update is rank one along s); a step
-    within the differences' own step keeps the block."""
+    within its floor (`secant_floors`) keeps the block."""
     key = jax.random.key(0)
     blocks = jax.random.normal(key, (3, 2, 2)) * 1e6
     step = jax.random.normal(jax.random.fold_in(key, 1), (3, 2)) * 1e-4
     change = jax.random.normal(jax.random.fold_in(key, 2), (3, 2)) * 1e2
     p = {"pendulum": TRIPLE}
-    new = broyden_blocks(blocks, step, change, difference_steps(jnp.zeros((3, 2)), p))
+    new = broyden_blocks(blocks, step, change, secant_floors(jnp.zeros((3, 2)), p))
     np.testing.assert_allclose(jnp.einsum("eij,ej->ei", new, step), change, rtol=1e-12, atol=1e-12)
     normal = jnp.stack([-step[:, 1], step[:, 0]], -1)
     np.testing.assert_allclose(jnp.einsum("eij,ej->ei", new, normal), jnp.einsum("eij,ej->ei", blocks, normal),
                                rtol=1e-12, atol=1e-6)
-    tiny = broyden_blocks(blocks, step * 1e-12, change, difference_steps(jnp.zeros((3, 2)), p))
+    tiny = broyden_blocks(blocks, step * 1e-12, change, secant_floors(jnp.zeros((3, 2)), p))
     np.testing.assert_array_equal(tiny, blocks)
 
 

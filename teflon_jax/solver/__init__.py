@@ -16,6 +16,7 @@ from ._newton import shortest_fraction as shortest_fraction
 from ._park_path import park_path_update as park_path_update
 from ._park_path import park_substeps as park_substeps
 from ._park_update import park_exact_update as park_exact_update
+from ._park_update import park_exact_update_and_slope as park_exact_update_and_slope
 from ._planar import SECANT_ITERATIONS as SECANT_ITERATIONS
 from ._planar import broyden_blocks as broyden_blocks
 from ._planar import inverse2 as inverse2

@@ -100,15 +100,16 @@ def _crossing_tau(z_i, a_i, c, k2):
 
 def _segment(h, zx, zy, ex, ey, remaining, last):
     """One stretch of the increment with fixed signs of e_i Z_i (all arrays elementwise):
-    up to the first crossing of zero by an opposing component, or to the end."""
-    sx = jnp.where(ex * zx >= 0, 1.0, -1.0)
-    sy = jnp.where(ey * zy >= 0, 1.0, -1.0)
-    wx = (h.gamma * sx + h.beta) * ex
-    wy = (h.gamma * sy + h.beta) * ey
+    up to the first crossing of zero by an opposing component, or to the end. **Returns:**
+    (Zx, Zy, the length left after it, and the stretch's (gx, gy, c, k2, tau, length, D)
+    for its slope, `_segment_slope`)."""
+    gx, gy = _sign_factors(h, zx, zy, ex, ey)
+    wx, wy = gx * ex, gy * ey
     c = wx * zx + wy * zy
     ax, ay = h.A * ex, h.A * ey
     k2 = wx * ax + wy * ay
     tau = _tau_of_length(remaining, k2)
+    length = remaining
     if not last:
         tau_x = _crossing_tau(zx, ax, c, k2)
         tau_y = _crossing_tau(zy, ay, c, k2)
@@ -121,12 +122,19 @@ def _segment(h, zx, zy, ex, ey, remaining, last):
     zx_new = (zx * (1 - k2t2) + ax * grow) / denominator
     zy_new = (zy * (1 - k2t2) + ay * grow) / denominator
     if last:
-        return zx_new, zy_new, jnp.zeros_like(remaining)
+        return zx_new, zy_new, jnp.zeros_like(remaining), (gx, gy, c, k2, tau, length, denominator)
     zx_new = jnp.where(crossing & (tau_x <= tau_cross), 0.0, zx_new)
     zy_new = jnp.where(crossing & (tau_y <= tau_cross), 0.0, zy_new)
     used = _length_of_tau(jnp.where(crossing, tau_cross, 0.0), k2)
+    length = jnp.where(crossing, used, remaining)
     remaining = jnp.where(crossing, jnp.maximum(remaining - used, 0.0), 0.0)
-    return zx_new, zy_new, remaining
+    return zx_new, zy_new, remaining, (gx, gy, c, k2, tau, length, denominator)
+
+
+def _sign_factors(h, zx, zy, ex, ey):
+    """(gamma s_x + beta, gamma s_y + beta), s_i = sign(e_i Z_i) (+1 at 0): w_i = g_i e_i."""
+    return (h.gamma * jnp.where(ex * zx >= 0, 1.0, -1.0) + h.beta,
+            h.gamma * jnp.where(ey * zy >= 0, 1.0, -1.0) + h.beta)
 
 
 def park_exact_update(h, z0, displacement_increment):
@@ -152,5 +160,86 @@ def park_exact_update(h, z0, displacement_increment):
     ey = jnp.where(moving, dy / norm, 0.0)
     remaining = jnp.where(moving, norm, 0.0) / h.yield_disp
     for k in range(3):
-        zx, zy, remaining = _segment(h, zx, zy, ex, ey, remaining, last=k == 2)
+        zx, zy, remaining, _ = _segment(h, zx, zy, ex, ey, remaining, last=k == 2)
     return jnp.stack([zx, zy], axis=-1)
+
+
+_SLOPE_SINH = [(n + 1) / math.factorial(2 * n + 3) for n in range(11)]  # S'(q)
+_SLOPE_COSH = [(n + 1) / math.factorial(2 * n + 2) for n in range(12)]  # C'(q)
+
+
+def _tau_slope(length, k2, tau):
+    """d tau / d k2 [-] at a fixed length x [-]: ((x / 2)(1 - k2 tau^2) - tau) / (2 k2), from
+    tau = tanh(k x / 2) / k on both branches; for |q| <= 1 (q = k2 x^2 / 4, where that
+    difference cancels) the derivative of tau = (x / 2) S(q) / C(q) written out in q."""
+    q = 0.25 * k2 * length * length
+    small = jnp.abs(q) <= _SERIES_Q
+    q_series = jnp.where(small, q, 0.0)
+    sine, cosine = _horner(_SINH_TERMS, q_series), _horner(_COSH_TERMS, q_series)
+    sine_slope, cosine_slope = _horner(_SLOPE_SINH, q_series), _horner(_SLOPE_COSH, q_series)
+    series = 0.125 * length**3 * (sine_slope * cosine - sine * cosine_slope) / (cosine * cosine)
+    closed = (0.5 * length * (1 - k2 * tau * tau) - tau) / (2 * jnp.where(small, 1.0, k2))
+    return jnp.where(small, series, closed)
+
+
+def _segment_slope(h, zx, zy, ex, ey, zx_new, zy_new, parts, dzx, dzy, dex, dey):
+    """Tangents of (Zx, Zy) at a stretch's end from those at its start (`dzx`, `dzy`) and of the
+    direction (`dex`, `dey`), its length and signs held (each (..., m) for m tangents):
+    Z = N / D with N = Z0 (1 - k2 tau^2) + 2 A e tau (1 + c tau), D = 1 + k2 tau^2 + 2 c tau
+    differentiated in Z0 and e (c = w . Z0, k2 = A w . e, w_i = g_i e_i, tau through k2)."""
+    gx, gy, c, k2, tau, length, denominator = (part[..., None] for part in parts)
+    zx, zy, ex, ey, zx_new, zy_new = (a[..., None] for a in (zx, zy, ex, ey, zx_new, zy_new))
+    a = jnp.asarray(h.A)[..., None]
+    dc = gx * (dex * zx + ex * dzx) + gy * (dey * zy + ey * dzy)
+    dk2 = 2 * a * (gx * ex * dex + gy * ey * dey)
+    dtau = _tau_slope(length, k2, tau) * dk2
+    grow = 1 + c * tau
+    d_k2t2 = dk2 * tau * tau + 2 * k2 * tau * dtau
+    d_grow = 2 * (dtau * grow + tau * (dc * tau + c * dtau))  # d[2 tau (1 + c tau)]
+    d_denominator = d_k2t2 + 2 * (dc * tau + c * dtau)
+    dnx = dzx * (1 - k2 * tau * tau) - zx * d_k2t2 + a * (2 * dex * tau * grow + ex * d_grow)
+    dny = dzy * (1 - k2 * tau * tau) - zy * d_k2t2 + a * (2 * dey * tau * grow + ey * d_grow)
+    return (dnx - zx_new * d_denominator) / denominator, (dny - zy_new * d_denominator) / denominator
+
+
+def park_exact_update_and_slope(h, z0, displacement_increment):
+    """`park_exact_update` and its slope with respect to the increment.
+
+    **Returns:** (Z (..., 2) [-] at the end of the increment, dZ/dU (..., 2, 2) [1/m], rows
+    the components of Z, columns those of the increment). Along the increment the slope is the
+    end's rate (A e - Z (w . Z)) / Y; across it, the tangent of the path's turning carried
+    through each stretch at its fixed length (Park's rate is continuous where a component
+    crosses zero, so the crossings' moving carries no slope). At a zero increment, the
+    one-sided slope along +x and +y (each column the end rate of a motion that way)."""
+    du = jnp.asarray(displacement_increment)
+    z0 = jnp.asarray(z0)
+    zx, zy = z0[..., 0], z0[..., 1]
+    dx, dy = du[..., 0], du[..., 1]
+    norm2 = dx * dx + dy * dy
+    moving = norm2 > 0
+    norm = jnp.sqrt(jnp.where(moving, norm2, 1.0))
+    ex = jnp.where(moving, dx / norm, 1.0)
+    ey = jnp.where(moving, dy / norm, 0.0)
+    remaining = jnp.where(moving, norm, 0.0) / h.yield_disp
+    # tangents along the increment's x and y (last axis): Z0 is held; e turns by (I - e e^T) / |dU|
+    eye = jnp.eye(2, dtype=zx.dtype)
+    turn = jnp.where(moving, 1 / norm, 0.0)[..., None]
+    dex = (eye[0] - ex[..., None] * jnp.stack([ex, ey], -1)) * turn
+    dey = (eye[1] - ey[..., None] * jnp.stack([ex, ey], -1)) * turn
+    dzx = dzy = jnp.zeros(zx.shape + (2,), zx.dtype)
+    for k in range(3):
+        zx1, zy1, remaining, parts = _segment(h, zx, zy, ex, ey, remaining, last=k == 2)
+        dzx, dzy = _segment_slope(h, zx, zy, ex, ey, zx1, zy1, parts, dzx, dzy, dex, dey)
+        zx, zy = zx1, zy1
+    # the length: the end's rate, along e (a zero increment: along +x and along +y apart)
+    ux = jnp.where(moving[..., None], ex[..., None], eye[0])  # the motion's x part per column
+    uy = jnp.where(moving[..., None], ey[..., None], eye[1])
+    a, gamma, beta, y = (jnp.asarray(v)[..., None] for v in (h.A, h.gamma, h.beta, h.yield_disp))
+    zx, zy = zx[..., None], zy[..., None]
+    gx = gamma * jnp.where(ux * zx >= 0, 1.0, -1.0) + beta
+    gy = gamma * jnp.where(uy * zy >= 0, 1.0, -1.0) + beta
+    load = gx * ux * zx + gy * uy * zy
+    rate_x, rate_y = (a * ux - zx * load) / y, (a * uy - zy * load) / y
+    along = jnp.where(moving[..., None], jnp.stack([ex, ey], -1), 1.0)  # e_j per column, 1 at rest
+    slope = jnp.stack([dzx + rate_x * along, dzy + rate_y * along], axis=-2)
+    return jnp.stack([zx[..., 0], zy[..., 0]], axis=-1), slope

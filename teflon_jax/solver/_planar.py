@@ -81,8 +81,8 @@ def broyden_blocks(blocks, step, change, floor):
     """Broyden's update of each element's block K_e (S, 2, 2) after its unknown moved by
     `step` s_e (S, 2) and its force by `change` y_e (S, 2) (F_e depends on d_e alone):
     K_e + (y_e - K_e s_e) s_e^T / (s_e . s_e), so that K_e s_e = y_e (Broyden 1965); an
-    element whose step is within `floor` (S,) (the differences' own step, where y_e is mostly
-    rounding) keeps its block."""
+    element whose step is within `floor` (S,) (so short that y_e is mostly rounding) keeps its
+    block."""
     size = jnp.sum(step**2, axis=-1)
     moved = size > floor**2
     miss = change - jnp.einsum("eij,ej->ei", blocks, step)

@@ -16,8 +16,9 @@ mean force (an imposed path: the limit G -> 0 of an actuator). The iteration is 
 static shape of the unknowns (`teflon_jax.solver`): one slider in one component, a bracketed
 scalar Newton (`bracketed_newton`); several, Newton's iteration with a halving line search
 and J = diag(k_e) + 1 1^T / G inverted by Sherman-Morrison (`damped_newton`); two
-components, the same on 2 x 2 blocks K_e by differences, inverted by Woodbury, with an
-optional Broyden first stage (`planar_newton`, `BALANCES`). The root is differentiated
+components, the same on the exact 2 x 2 blocks K_e that each evaluation of the forces brings
+(Park's slope written out, `balance_forces`), inverted by Woodbury, with an optional Broyden
+first stage (`planar_newton`, `BALANCES`). The root is differentiated
 implicitly with exact slopes (`implicit_root`). At a normal load N <= 0 (uplift) the sliders
 carry nothing and share the isolator's increment as their pendulum stiffnesses W / R_e in
 series would (`uplift_increments`).
@@ -69,14 +70,15 @@ TRIPLE_TOLERANCE = 1e-9
 
 BALANCES = ("newton", "secant")
 """How a step's planar balance is iterated (`StructureOnSliders.balance`, two components):
-"newton", fresh 2 x 2 blocks by differences at every point (three force evaluations a step);
-"secant", Broyden's update of the blocks after the first step (one force evaluation a step,
+"newton", the exact 2 x 2 blocks of every point (each evaluation of the forces brings them);
+"secant", Broyden's update of the blocks after the first step (the forces alone at each step,
 Newton's iteration taking over where it stalls; `planar_newton`). Both balance to the same
 tolerance; "newton" along one axis follows the one-component iteration to rounding, "secant"
 agrees with it to that tolerance."""
 
-NEWTON_DIFFERENCE_STEP = 2.0**-26
-"""Relative step h / (Y + |d_e|) of the one-sided differences that give Newton's 2 x 2 blocks."""
+SECANT_FLOOR = 2.0**-26
+"""Relative step h / (Y + |d_e|) within which a secant update keeps a slider's block (the
+change of its force over so short a step is mostly rounding; `secant_floors`)."""
 
 
 def isolator_parameters(pendulum: SeriesPendulum, isolator, weight, normal, increment, compliance=None,
@@ -250,38 +252,19 @@ def _line_solve(d, p, r, dp):
 
 
 def _exact_blocks(d, p):
-    """dF_e/dd_e (S, 2, 2): a forward pass with the two axes' tangents (each slider's force
-    depends on its own increment only); the pendulum's (W / R_e) I at uplift."""
-    def forces(x):
-        return balance_forces(p, x, p["dt"])[0]
+    """dF_e/dd_e (S, 2, 2) at the increments `d` (`balance_forces` with `blocks`); the
+    pendulum's (W / R_e) I at uplift."""
+    return _loaded_blocks(balance_forces(p, d, p["dt"], blocks=True)[2], p)
 
-    axes = jnp.broadcast_to(jnp.eye(2, dtype=d.dtype)[:, None, :], (2,) + d.shape)
-    _, columns = jax.vmap(lambda t: jax.jvp(forces, (d,), (t,)), out_axes=(None, 0))(axes)
-    blocks = jnp.moveaxis(columns, 0, -1)
+
+def _loaded_blocks(blocks, p):
+    """`blocks` where the sliders carry a load, the pendulum's (W / R_e) I at uplift."""
     return jnp.where(p["N"] > 0, blocks, pendulum_blocks(p))
 
 
-def differenced_blocks(d, force, p, dt):
-    """dF_e/dd_e (S, 2, 2) at the increments `d` (S, 2) whose forces are `force`, from one-sided
-    differences along x and y, h = `NEWTON_DIFFERENCE_STEP` (Y + max |d_e|) (relative error
-    ~ sqrt(eps)): two evaluations of the forces (each slider's force depends on its own
-    increment only). Forward-mode tangents through Park's three segments cost tens of
-    evaluations on CPU; Newton's iteration only needs its matrix to about sqrt(eps), the
-    balance being judged on the exact residual (the implicit derivative keeps exact blocks)."""
-    h = difference_steps(d, p)
-    shifted = d + h[:, None]
-    steps = shifted - d  # h as the sum represents it
-    trials = jnp.stack([jnp.stack([shifted[:, 0], d[:, 1]], -1), jnp.stack([d[:, 0], shifted[:, 1]], -1)])
-    # Two calls, not a vmap over the trials: under the outer vmap over motions, a batched call
-    # lays the sliders out (lanes, trials, S) and costs about twice two plain calls on a CPU.
-    forces = jnp.stack([balance_forces(p, trials[0], dt)[0], balance_forces(p, trials[1], dt)[0]])
-    blocks = jnp.moveaxis((forces - force) / jnp.moveaxis(steps, -1, 0)[:, :, None], 0, -1)
-    return jnp.where(p["N"] > 0, blocks, pendulum_blocks(p))
-
-
-def difference_steps(d, p):
-    """h = `NEWTON_DIFFERENCE_STEP` (Y + max |d_e|) (S,) [m] of each slider's differences."""
-    return NEWTON_DIFFERENCE_STEP * (p["pendulum"].hysteresis.yield_disp + jnp.max(jnp.abs(d), axis=-1))
+def secant_floors(d, p):
+    """h = `SECANT_FLOOR` (Y + max |d_e|) (S,) [m] of each slider."""
+    return SECANT_FLOOR * (p["pendulum"].hysteresis.yield_disp + jnp.max(jnp.abs(d), axis=-1))
 
 
 def pendulum_blocks(p):
@@ -292,15 +275,20 @@ def pendulum_blocks(p):
 
 def planar_iteration(p, guess, tolerance, iterations: int, secant: bool = False):
     """`planar_newton` on the sliders' planar balance, with the step's length in `p["dt"]`:
-    blocks by differences (`differenced_blocks`; the pendulum's own (W / R_e) I where they
-    give no finite direction), J^-1 r by Woodbury; with `secant`, Broyden's update after the
-    first (`broyden_blocks`, within the differences' own step a block is kept).
+    every evaluation of the forces brings their exact 2 x 2 blocks (`balance_forces` with
+    `blocks`; the pendulum's own (W / R_e) I where they give no finite direction), J^-1 r by
+    Woodbury; with `secant`, the forces alone and Broyden's update of the first blocks
+    (`broyden_blocks`, within `secant_floors` of a point a block is kept), the blocks evaluated
+    again where Newton's stage takes over.
 
     **Returns:** (d, converged, the number of Newton steps taken, (forces, Z) at d)."""
     dt = p["dt"]
 
-    def forces(d):
-        return balance_forces(p, d, dt)
+    def forces(d):  # the secant stage needs the forces alone
+        return balance_forces(p, d, dt, blocks=not secant)
+
+    def blocks(d, evaluation):
+        return _loaded_blocks(evaluation[2] if len(evaluation) == 3 else balance_forces(p, d, dt, blocks=True)[2], p)
 
     def residual(d, evaluation):
         return evaluation[0] - carried_force(d, evaluation[0], p)
@@ -311,11 +299,11 @@ def planar_iteration(p, guess, tolerance, iterations: int, secant: bool = False)
         return jnp.where(jnp.all(jnp.isfinite(found)), found, fallback)
 
     def update(blocks, step, change, d):
-        return broyden_blocks(blocks, step, change, difference_steps(d, p))
+        return broyden_blocks(blocks, step, change, secant_floors(d, p))
 
-    return planar_newton(forces, residual, direction,
-                         lambda d, evaluation: differenced_blocks(d, evaluation[0], p, dt),
-                         guess, tolerance, iterations, secant=update if secant else None)
+    d, converged, taken, evaluation = planar_newton(
+        forces, residual, direction, blocks, guess, tolerance, iterations, secant=update if secant else None)
+    return d, converged, taken, evaluation[:2]
 
 
 def _iterate_plane(iterations, secant, p, guess, tolerance):

@@ -42,13 +42,13 @@ import jax.numpy as jnp
 from ..solver import implicit_root, inverse2, restarted_newton
 from ..structures import group_factor, overturned_loads, supported_loads
 from ._isolator_balance import (
-    NEWTON_DIFFERENCE_STEP,
     pendulum_blocks,
     predicted_increments,
     uplift_increments,
 )
 from ._response import EngineRun, StructureResponse
 from ._slider_forces import (
+    balance_forces,
     heated_step,
     initial_history,
     next_history,
@@ -175,25 +175,26 @@ def _direction(r, blocks, p):
 
 
 def _evaluate(x, p, dt):
-    """(residual, merit sum(r^2), Newton's direction) at x. Newton's 2 x 2 blocks come from
-    one-sided differences along x and y, h = `NEWTON_DIFFERENCE_STEP` (Y + max |d_ge|), as
-    for one isolator (`differenced_blocks`), with the forces at x and at both
-    shifts in one evaluation of the force law (the compiled step holds fewer copies of it);
-    the pendulums' own W / R_e blocks where a group carries no load or the blocks give no
-    finite direction."""
-    d, force = x[:, :-1], x[:, -1]
-    h = NEWTON_DIFFERENCE_STEP * (p["pendulum"].hysteresis.yield_disp[:, None] + jnp.max(jnp.abs(d), axis=-1))
-    shifted = d + h[..., None]
-    steps = shifted - d  # h as the sum represents it
-    trials = jnp.stack([d, jnp.stack([shifted[..., 0], d[..., 1]], -1), jnp.stack([d[..., 0], shifted[..., 1]], -1)])
-    forces = jax.vmap(lambda t: _group_forces(p, t, dt)[0])(trials)
-    misfit = jnp.sum(d, axis=1) - p["E"] + jnp.einsum("gihj,hj->gi", p["flex"], force)
-    r = jnp.concatenate([forces[0] - force[:, None], (p["stiffness"][:, None] * misfit)[:, None]], axis=1)
-    blocks = jnp.moveaxis((forces[1:] - forces[0]) / jnp.moveaxis(steps, -1, 0)[..., None], 0, -1)
-    pendulum = jax.vmap(pendulum_blocks)(_group_parameters(p))
-    direction = _direction(r, jnp.where((p["N"] > 0)[:, None, None, None], blocks, pendulum), p)
-    fallback = _direction(r, pendulum, p)
+    """(residual, merit sum(r^2), Newton's direction) at x, with the sliders' exact 2 x 2
+    blocks (`_forces_and_blocks`); the pendulums' own W / R_e blocks where a group carries no
+    load or the blocks give no finite direction."""
+    force = x[:, -1]
+    forces, blocks = _forces_and_blocks(x, p, dt)
+    misfit = jnp.sum(x[:, :-1], axis=1) - p["E"] + jnp.einsum("gihj,hj->gi", p["flex"], force)
+    r = jnp.concatenate([forces - force[:, None], (p["stiffness"][:, None] * misfit)[:, None]], axis=1)
+    direction = _direction(r, blocks, p)
+    fallback = _direction(r, jax.vmap(pendulum_blocks)(_group_parameters(p)), p)
     return r, jnp.sum(r**2), jnp.where(jnp.all(jnp.isfinite(direction)), direction, fallback)
+
+
+def _forces_and_blocks(x, p, dt):
+    """The sliders' forces (G, S, 2) [N] at the increments of x and their exact blocks
+    dF_ge/dd_ge (G, S, 2, 2) (`balance_forces` with `blocks`, each group under its own load,
+    heating factors and history); the pendulums' W / R_e where a group carries no load."""
+    groups = {key: p[key] for key in ("pendulum", "N", "s0", "z0", "k", "history", "s") if key in p}
+    forces, _, blocks = jax.vmap(lambda q, d: balance_forces(q, d, dt, blocks=True))(groups, x[:, :-1])
+    pendulum = jax.vmap(pendulum_blocks)(_group_parameters(p))
+    return forces, jnp.where((p["N"] > 0)[:, None, None, None], blocks, pendulum)
 
 
 def _balanced(dt, iterations, p, guess, tolerance):
@@ -218,24 +219,9 @@ def _iterate_balance(dt, iterations, p, guess, tolerance):
 
 
 def _balance_solve(dt, x, p, r, dp):
-    """J^-1 r at the root x (`_direction`) with the sliders' exact blocks (`_exact_blocks`)
+    """J^-1 r at the root x (`_direction`) with the sliders' exact blocks (`_forces_and_blocks`)
     (`dp` unused: the residual holds the whole balance)."""
-    return _direction(r, _exact_blocks(x, p, dt), p)
-
-
-def _exact_blocks(x, p, dt):
-    """dF_ge/dd_ge (G, S, 2, 2) at x from forward tangents along x and y (implicit derivative);
-    the pendulums' W / R_e where a group carries no load."""
-    d = x[:, :-1]
-
-    def forces(increments):
-        return _group_forces(p, increments, dt)[0]
-
-    axes = jnp.broadcast_to(jnp.eye(2, dtype=d.dtype)[:, None, None, :], (2,) + d.shape)
-    columns = jax.vmap(lambda t: jax.jvp(forces, (d,), (t,))[1])(axes)
-    blocks = jnp.moveaxis(columns, 0, -1)
-    pendulum = jax.vmap(pendulum_blocks)(_group_parameters(p))
-    return jnp.where((p["N"] > 0)[:, None, None, None], blocks, pendulum)
+    return _direction(r, _forces_and_blocks(x, p, dt)[1], p)
 
 
 def series_sample(system, time, state, ground) -> StructureResponse:

@@ -37,6 +37,7 @@ References: Constantinou, Mokha & Reinhorn (1990), Eqs. 1, 3; Park, Wen & Ang (1
 Constantinou (2006, 2008).
 """
 
+import jax
 import jax.numpy as jnp
 
 from ..bearing import (
@@ -48,7 +49,7 @@ from ..bearing import (
     sliding_friction,
     surface_coefficients,
 )
-from ..solver import park_exact_update
+from ..solver import park_exact_update, park_exact_update_and_slope
 from ._sampled_path import HEAT_HORIZON
 
 
@@ -63,13 +64,26 @@ def slider_forces(pendulum: SeriesPendulum, load, slider0, z0, increment, time_s
     velocities at the step's end, for the law "end" (`FRICTION_VELOCITIES`: Eq. 1 at the
     surface's speed |v_e| c_e there, anisotropy in the direction of v_e, and mu_e on the whole
     of Z_e, F_e = N (s_e / R_e + mu_e Z_e + stop)); `None`: the law "mean" (module docstring)."""
+    z = _z_update(pendulum, z0, increment)
+    return forces_at_z(pendulum, load, slider0, z, increment, time_step, factors, history, load_factor,
+                       velocity), z
+
+
+def _z_update(pendulum: SeriesPendulum, z0, increment):
+    """The sliders' Z after `increment` (S,) or (S, 2) [m]: Bouc-Wen or Park updated exactly."""
+    if increment.ndim == 2:
+        return park_exact_update(pendulum.hysteresis, z0, increment)
+    return bouc_wen_exact_update(pendulum.hysteresis, z0, increment, tangent="rational")
+
+
+def forces_at_z(pendulum: SeriesPendulum, load, slider0, z, increment, time_step, factors=None, history=None,
+                load_factor=1.0, velocity=None):
+    """`slider_forces`' forces (S,) or (S, 2) [N] with the sliders' Z `z` at the step's end given."""
     planar = increment.ndim == 2
     u = slider0 + increment
     if planar:
-        z = park_exact_update(pendulum.hysteresis, z0, increment)
         radii, capacities = pendulum.series_radii()[:, None], pendulum.series_capacities()[:, None]
     else:
-        z = bouc_wen_exact_update(pendulum.hysteresis, z0, increment, tangent="rational")
         radii, capacities = pendulum.series_radii(), pendulum.series_capacities()
     slide, direction = _length_and_direction(increment)
     reach, outward = _length_and_direction(u)
@@ -95,7 +109,7 @@ def slider_forces(pendulum: SeriesPendulum, load, slider0, z0, increment, time_s
         friction_term = f_min * z + (mu - f_min) * along * direction
     else:
         friction_term = mu * z
-    return load * (u / radii + friction_term + STOP_STIFFNESS_RATIO * over / radii), z
+    return load * (u / radii + friction_term + STOP_STIFFNESS_RATIO * over / radii)
 
 
 def _length_and_direction(x):
@@ -113,16 +127,27 @@ def slider_lengths(x):
     return jnp.where(squared > 0, jnp.sqrt(jnp.where(squared > 0, squared, 1.0)), 0.0)
 
 
-def balance_forces(p, increment, time_step):
+def balance_forces(p, increment, time_step, blocks: bool = False):
     """`slider_forces` of a step's balance from its parameters `p` (the pendulum, N, the
     sliders' start, Z, and where present the heating factors "k", the history, the load
     factor "s" and, for the law "end", "v" = (v_free, v_gain): the one slider's velocity at
-    the step's end v_free + v_gain d, linear in its increment d, `end_velocity`)."""
-    velocity = None
-    if "v" in p:
-        velocity = p["v"][0] + p["v"][1] * increment
-    return slider_forces(p["pendulum"], p["N"], p["s0"], p["z0"], increment, time_step, p.get("k"),
-                         p.get("history"), p.get("s", 1.0), velocity)
+    the step's end v_free + v_gain d, linear in its increment d, `end_velocity`): (forces, Z).
+    With `blocks` (two components), also dF_e/dd_e (S, 2, 2) [N/m], exact: Park's slope written
+    out (`park_exact_update_and_slope`, about one more update where forward mode through it
+    costs tens) carried through the rest of the law by forward mode."""
+    def law(x, z):
+        velocity = None if "v" not in p else p["v"][0] + p["v"][1] * x
+        return forces_at_z(p["pendulum"], p["N"], p["s0"], z, x, time_step, p.get("k"), p.get("history"),
+                           p.get("s", 1.0), velocity)
+
+    if not blocks:
+        z = _z_update(p["pendulum"], p["z0"], increment)
+        return law(increment, z), z
+    z, slope = park_exact_update_and_slope(p["pendulum"].hysteresis, p["z0"], increment)
+    axes = jnp.eye(2, dtype=increment.dtype)
+    columns = [jax.jvp(law, (increment, z), (jnp.broadcast_to(axes[j], increment.shape), slope[..., j]))[1]
+               for j in range(2)]
+    return law(increment, z), z, jnp.stack(columns, -1)
 
 
 FRICTION_VELOCITIES = ("mean", "end")
