@@ -137,6 +137,22 @@ def _sign_factors(h, zx, zy, ex, ey):
             h.gamma * jnp.where(ey * zy >= 0, 1.0, -1.0) + h.beta)
 
 
+def _start(h, z0, displacement_increment):
+    """(Zx, Zy, ex, ey, the path length |dU| / Y [-], whether dU != 0, |dU| [m] (1 at rest)) of
+    an increment: its unit direction e, (1, 0) at rest."""
+    du = jnp.asarray(displacement_increment)
+    z0 = jnp.asarray(z0)
+    zx, zy = z0[..., 0], z0[..., 1]
+    dx, dy = du[..., 0], du[..., 1]
+    norm2 = dx * dx + dy * dy
+    moving = norm2 > 0
+    norm = jnp.sqrt(jnp.where(moving, norm2, 1.0))
+    ex = jnp.where(moving, dx / norm, 1.0)
+    ey = jnp.where(moving, dy / norm, 0.0)
+    remaining = jnp.where(moving, norm, 0.0) / h.yield_disp
+    return zx, zy, ex, ey, remaining, moving, norm
+
+
 def park_exact_update(h, z0, displacement_increment):
     """(Zx, Zy) after a straight displacement increment, exactly (Park's model, eta = 2).
 
@@ -149,16 +165,7 @@ def park_exact_update(h, z0, displacement_increment):
     and reverse) in all arguments; at a zero increment the derivative with respect to it is
     taken as zero (the update is only directionally differentiable there).
     """
-    du = jnp.asarray(displacement_increment)
-    z0 = jnp.asarray(z0)
-    zx, zy = z0[..., 0], z0[..., 1]
-    dx, dy = du[..., 0], du[..., 1]
-    norm2 = dx * dx + dy * dy
-    moving = norm2 > 0
-    norm = jnp.sqrt(jnp.where(moving, norm2, 1.0))
-    ex = jnp.where(moving, dx / norm, 1.0)
-    ey = jnp.where(moving, dy / norm, 0.0)
-    remaining = jnp.where(moving, norm, 0.0) / h.yield_disp
+    zx, zy, ex, ey, remaining, moving, norm = _start(h, z0, displacement_increment)
     for k in range(3):
         zx, zy, remaining, _ = _segment(h, zx, zy, ex, ey, remaining, last=k == 2)
     return jnp.stack([zx, zy], axis=-1)
@@ -211,16 +218,7 @@ def park_exact_update_and_slope(h, z0, displacement_increment):
     through each stretch at its fixed length (Park's rate is continuous where a component
     crosses zero, so the crossings' moving carries no slope). At a zero increment, the
     one-sided slope along +x and +y (each column the end rate of a motion that way)."""
-    du = jnp.asarray(displacement_increment)
-    z0 = jnp.asarray(z0)
-    zx, zy = z0[..., 0], z0[..., 1]
-    dx, dy = du[..., 0], du[..., 1]
-    norm2 = dx * dx + dy * dy
-    moving = norm2 > 0
-    norm = jnp.sqrt(jnp.where(moving, norm2, 1.0))
-    ex = jnp.where(moving, dx / norm, 1.0)
-    ey = jnp.where(moving, dy / norm, 0.0)
-    remaining = jnp.where(moving, norm, 0.0) / h.yield_disp
+    zx, zy, ex, ey, remaining, moving, norm = _start(h, z0, displacement_increment)
     # tangents along the increment's x and y (last axis): Z0 is held; e turns by (I - e e^T) / |dU|
     eye = jnp.eye(2, dtype=zx.dtype)
     turn = jnp.where(moving, 1 / norm, 0.0)[..., None]
