@@ -103,7 +103,7 @@ def _segment(h, zx, zy, ex, ey, remaining, last):
     up to the first crossing of zero by an opposing component, or to the end. **Returns:**
     (Zx, Zy, the length left after it, and the stretch's (gx, gy, c, k2, tau, length, D)
     for its slope, `_segment_slope`)."""
-    gx, gy = _sign_factors(h, zx, zy, ex, ey)
+    gx, gy = _sign_factors(h.gamma, h.beta, zx, zy, ex, ey)
     wx, wy = gx * ex, gy * ey
     c = wx * zx + wy * zy
     ax, ay = h.A * ex, h.A * ey
@@ -131,10 +131,10 @@ def _segment(h, zx, zy, ex, ey, remaining, last):
     return zx_new, zy_new, remaining, (gx, gy, c, k2, tau, length, denominator)
 
 
-def _sign_factors(h, zx, zy, ex, ey):
+def _sign_factors(gamma, beta, zx, zy, ex, ey):
     """(gamma s_x + beta, gamma s_y + beta), s_i = sign(e_i Z_i) (+1 at 0): w_i = g_i e_i."""
-    return (h.gamma * jnp.where(ex * zx >= 0, 1.0, -1.0) + h.beta,
-            h.gamma * jnp.where(ey * zy >= 0, 1.0, -1.0) + h.beta)
+    return (gamma * jnp.where(ex * zx >= 0, 1.0, -1.0) + beta,
+            gamma * jnp.where(ey * zy >= 0, 1.0, -1.0) + beta)
 
 
 def _start(h, z0, displacement_increment):
@@ -234,8 +234,7 @@ def park_exact_update_and_slope(h, z0, displacement_increment):
     uy = jnp.where(moving[..., None], ey[..., None], eye[1])
     a, gamma, beta, y = (jnp.asarray(v)[..., None] for v in (h.A, h.gamma, h.beta, h.yield_disp))
     zx, zy = zx[..., None], zy[..., None]
-    gx = gamma * jnp.where(ux * zx >= 0, 1.0, -1.0) + beta
-    gy = gamma * jnp.where(uy * zy >= 0, 1.0, -1.0) + beta
+    gx, gy = _sign_factors(gamma, beta, zx, zy, ux, uy)
     load = gx * ux * zx + gy * uy * zy
     rate_x, rate_y = (a * ux - zx * load) / y, (a * uy - zy * load) / y
     along = jnp.where(moving[..., None], jnp.stack([ex, ey], -1), 1.0)  # e_j per column, 1 at rest

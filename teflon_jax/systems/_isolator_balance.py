@@ -254,10 +254,10 @@ def _line_solve(d, p, r, dp):
 def _exact_blocks(d, p):
     """dF_e/dd_e (S, 2, 2) at the increments `d` (`balance_forces` with `blocks`); the
     pendulum's (W / R_e) I at uplift."""
-    return _loaded_blocks(balance_forces(p, d, p["dt"], blocks=True)[2], p)
+    return loaded_blocks(balance_forces(p, d, p["dt"], blocks=True)[2], p)
 
 
-def _loaded_blocks(blocks, p):
+def loaded_blocks(blocks, p):
     """`blocks` where the sliders carry a load, the pendulum's (W / R_e) I at uplift."""
     return jnp.where(p["N"] > 0, blocks, pendulum_blocks(p))
 
@@ -288,7 +288,7 @@ def planar_iteration(p, guess, tolerance, iterations: int, secant: bool = False)
         return balance_forces(p, d, dt, blocks=not secant)
 
     def blocks(d, evaluation):
-        return _loaded_blocks(evaluation[2] if len(evaluation) == 3 else balance_forces(p, d, dt, blocks=True)[2], p)
+        return loaded_blocks(evaluation[2] if len(evaluation) == 3 else balance_forces(p, d, dt, blocks=True)[2], p)
 
     def residual(d, evaluation):
         return evaluation[0] - carried_force(d, evaluation[0], p)

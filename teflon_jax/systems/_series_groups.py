@@ -42,6 +42,7 @@ import jax.numpy as jnp
 from ..solver import implicit_root, inverse2, restarted_newton
 from ..structures import group_factor, overturned_loads, supported_loads
 from ._isolator_balance import (
+    loaded_blocks,
     pendulum_blocks,
     predicted_increments,
     uplift_increments,
@@ -191,10 +192,13 @@ def _forces_and_blocks(x, p, dt):
     """The sliders' forces (G, S, 2) [N] at the increments of x and their exact blocks
     dF_ge/dd_ge (G, S, 2, 2) (`balance_forces` with `blocks`, each group under its own load,
     heating factors and history); the pendulums' W / R_e where a group carries no load."""
-    groups = {key: p[key] for key in ("pendulum", "N", "s0", "z0", "k", "history", "s") if key in p}
-    forces, _, blocks = jax.vmap(lambda q, d: balance_forces(q, d, dt, blocks=True))(groups, x[:, :-1])
-    pendulum = jax.vmap(pendulum_blocks)(_group_parameters(p))
-    return forces, jnp.where((p["N"] > 0)[:, None, None, None], blocks, pendulum)
+    groups = {key: p[key] for key in ("pendulum", "W", "N", "s0", "z0", "k", "history", "s") if key in p}
+
+    def group(q, d):
+        forces, _, blocks = balance_forces(q, d, dt, blocks=True)
+        return forces, loaded_blocks(blocks, q)
+
+    return jax.vmap(group)(groups, x[:, :-1])
 
 
 def _balanced(dt, iterations, p, guess, tolerance):

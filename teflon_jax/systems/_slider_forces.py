@@ -145,9 +145,9 @@ def balance_forces(p, increment, time_step, blocks: bool = False):
         return law(increment, z), z
     z, slope = park_exact_update_and_slope(p["pendulum"].hysteresis, p["z0"], increment)
     axes = jnp.eye(2, dtype=increment.dtype)
-    columns = [jax.jvp(law, (increment, z), (jnp.broadcast_to(axes[j], increment.shape), slope[..., j]))[1]
-               for j in range(2)]
-    return law(increment, z), z, jnp.stack(columns, -1)
+    (force, along_x), (_, along_y) = (
+        jax.jvp(law, (increment, z), (jnp.broadcast_to(axes[j], increment.shape), slope[..., j])) for j in range(2))
+    return force, z, jnp.stack([along_x, along_y], -1)
 
 
 FRICTION_VELOCITIES = ("mean", "end")
