@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 from scipy.optimize import minimize
 
-from teflon_jax.bearing import BoucWen, concave_surface, paper_bearing
+from teflon_jax.bearing import concave_surface, paper_bearing
 from teflon_jax.excitation import uniform_signal
 from teflon_jax.studies import bidirectional_isolated_structure
 from teflon_jax.systems import (
@@ -221,33 +221,55 @@ def test_the_restrainer_bounds_the_planar_displacement_and_counts_in_the_shear()
     assert bool(peaks["restrained"].converged)
 
 
-def test_the_fallback_newton_matrix_is_the_residuals_jacobian_for_several_groups():
-    """The flat sliders' fallback Newton matrix (`difference_jacobian`: I + G_b K, the groups'
-    2 x 2 blocks K from one batched evaluation of two trials) is dr/dd of r = d - d_lin +
-    G_b F(d) for three groups sliding in different directions, exactly by forward-mode AD,
-    to the differences' own accuracy."""
-    from teflon_jax.solver import park_exact_update
-    from teflon_jax.systems._bidirectional_laws import affine, difference_jacobian
+def _planar_systems():
+    """A slab on three groups of flat sliders (velocity-dependent, anisotropic friction with
+    breakaway and a direction asymmetry, different in each group) and a rigid mass on a
+    restrained pendulum (its restrainer engaged at the trial point): (system, the bearings'
+    step parameters `p`, d)."""
+    from teflon_jax.bearing import DirectionAsymmetry, FrictionParameters
+    from teflon_jax.systems import slab_on_bearings
 
-    hysteresis = BoucWen(1.27e-4)  # the paper's Y = 0.005 in
     rng = np.random.default_rng(3)
-    d0 = tuple(jnp.asarray(rng.normal(0, 1e-3, 3)) for _ in range(2))
-    d = tuple(d0[i] + jnp.asarray(rng.normal(0, 4e-3, 3)) for i in range(2))
-    z0 = jnp.asarray(rng.uniform(-0.9, 0.9, (3, 2)))
-    capacity = jnp.asarray([1.1e5, 0.8e5, 1.3e5])
-    flexibility = [[jnp.asarray(rng.normal(0, 1e-6, (3, 3))) + (2e-6 * jnp.eye(3) if i == j else 0.0)
-                    for j in range(2)] for i in range(2)]
-    d_linear = tuple(jnp.zeros(3) for _ in range(2))
+    ground = uniform_signal(np.zeros(11), 0.01)
+    sliders = [dataclasses.replace(paper_bearing(FrictionParameters(0.10 + 0.01 * g, 0.05, 20.0), breakaway_ratio=1.3,
+                                                 friction_perpendicular=FrictionParameters(0.14, 0.07, 30.0)),
+                                   asymmetry=DirectionAsymmetry(0.1 * g)) for g in range(3)]
+    slab = slab_on_bearings(length_x=20.0, length_y=12.0, weight=3e5, centre_of_mass=[10.0, 6.0],
+                            positions=[[2.0, 1.0], [18.0, 1.0], [10.0, 11.0]], loads=[1e5] * 3, bearings=sliders,
+                            ground_x=ground, ground_y=ground, time_step=0.005, isolation_period=3.0)
+    restrained = bidirectional_isolated_structure("rigid", isolator=concave_surface(
+        1.0, displacement_capacity=0.04, restrainer_stiffness=50 * WEIGHT))((ground, ground))
+    out = []
+    for system, offset in ((slab, 0.0), (restrained, 0.05)):
+        n = system.bearing_load.shape[0]
+        d0 = tuple(jnp.asarray(offset + rng.normal(0, 1e-3, n)) for _ in range(2))
+        p = {"d_linear": tuple(jnp.zeros(n) for _ in range(2)),
+             "flexibility": [[jnp.asarray(rng.normal(0, 1e-7, (n, n))) + (2e-7 * jnp.eye(n) if i == j else 0.0)
+                              for j in range(2)] for i in range(2)],
+             "d0": d0, "vb0": tuple(jnp.asarray(rng.normal(0, 0.2, n)) for _ in range(2)),
+             "z0": tuple(jnp.asarray(rng.uniform(-0.6, 0.6, n)) for _ in range(2)),
+             "z_peak0": jnp.asarray(rng.uniform(0.5, 1.0, n))}
+        d = tuple(d0[i] + jnp.asarray(rng.normal(0, 2e-3, n)) for i in range(2))
+        out.append((system, p, d))
+    return out
 
-    def forces_at(x):
-        z = park_exact_update(hysteresis, z0, jnp.stack([x[0] - d0[0], x[1] - d0[1]], -1))
-        return capacity * z[:, 0], capacity * z[:, 1]
+
+@pytest.mark.parametrize("case", [0, 1], ids=["slab-of-three-groups", "restrained-pendulum"])
+def test_the_newton_matrix_is_the_residuals_jacobian(case):
+    """The flat sliders' Newton matrix (`_tangent_jacobian` with `exact`: I + G_b K, the groups'
+    2 x 2 blocks K from Park's slope written out, dmu/dv of Eq. 1, the asymmetry and the
+    surface's restrainer) is dr/dd of r = d - d_lin + G_b F(d) by forward-mode AD through the
+    whole force, for several groups sliding in different directions; the start's tangent (the
+    Broyden stage's, without `exact`) is not."""
+    system, p, d = _planar_systems()[case]
+    n = d[0].shape[0]
 
     def residual(flat):
-        return jnp.concatenate(affine(flexibility, forces_at((flat[:3], flat[3:])), (flat[:3], flat[3:]), d_linear))
+        return jnp.concatenate(system._residual_forces((flat[:n], flat[n:]), p)[0])
 
-    exact = jax.jacfwd(residual)(jnp.concatenate(d))
-    blocks = difference_jacobian(forces_at, d, forces_at(d), flexibility, d0, hysteresis.yield_disp)
-    assert exact.shape == jnp.block(blocks).shape
-    np.testing.assert_allclose(np.asarray(jnp.block(blocks)), np.asarray(exact), rtol=1e-5, atol=1e-6)
-    assert np.abs(np.asarray(exact) - np.eye(6)).max() > 1e-2  # the bearings' part matters
+    exact = np.asarray(jax.jacfwd(residual)(jnp.concatenate(d)))
+    blocks = np.asarray(jnp.block(system._tangent_jacobian(d, p, exact=True)[1]))
+    np.testing.assert_allclose(blocks, exact, rtol=1e-9, atol=1e-9 * np.abs(exact).max())
+    tangent = np.asarray(jnp.block(system._tangent_jacobian(d, p)[1]))
+    assert np.abs(tangent - exact).max() > 1e-3 * np.abs(exact).max()
+    assert np.abs(exact - np.eye(2 * n)).max() > 1e-2  # the bearings' part matters

@@ -29,7 +29,7 @@ import jax.numpy as jnp
 
 from ..bearing import ConcaveSurface, SeriesPendulum, SlidingBearing, park_rate
 from ..excitation import Signal
-from ..solver import AbstractSteppedSystem, park_exact_update
+from ..solver import AbstractSteppedSystem, park_exact_update, park_exact_update_and_slope
 from ..structures import (
     SupportPlan,
     group_factor,
@@ -42,7 +42,6 @@ from ._bidirectional_laws import (
     affine,
     block_matvec,
     coulomb_solve,
-    difference_jacobian,
     matvec,
     no_friction_solve,
     solve_blocks,
@@ -59,8 +58,7 @@ from ._vertical import (
 )
 
 PLANAR_NEWTON_ITERATIONS = 100
-"""Most iterations per step, all kinds together (fixed, Broyden loop, finite-difference Newton
-loop; the loops run only for members still above tolerance)."""
+"""Most iterations per step, all kinds together (fixed, Broyden loop, Newton loop; the loops run only for members still above tolerance)."""
 
 FIXED_ITERATIONS = 1
 """Newton-Broyden iterations per step, unrolled (the same work for every batch member); from
@@ -73,7 +71,7 @@ rounding units of the displacements, whichever is larger)."""
 
 BROYDEN_ITERATIONS = 8
 """Most further Newton-Broyden iterations per step, in a loop that runs while a member is
-above tolerance (before the finite-difference Newton loop)."""
+above tolerance (before the Newton loop)."""
 
 
 class BidirectionalStructure(AbstractSteppedSystem):
@@ -323,16 +321,21 @@ class BidirectionalStructure(AbstractSteppedSystem):
         forces, z = self._forces_at(d, p)
         return affine(p["flexibility"], forces, d, p["d_linear"]), forces, z
 
-    def _tangent_jacobian(self, d, p):
-        """Residual r at d = (dx, dy) and an approximate Jacobian dr/dd (blocks ((xx, xy),
-        (yx, yy)), each (G, G)) built from the tangent of Park's law at the end of the
-        increment, dZ/dU = (A I - Z w^T) / Y with w_i = (gamma s_i + beta) Z_i (exact along
-        the increment, too stiff across a long one: the secant updates of `_solve_bearings`
-        correct it), and dmu/dv of Eq. 1."""
+    def _tangent_jacobian(self, d, p, exact: bool = False):
+        """Residual r at d = (dx, dy) and the Jacobian dr/dd (blocks ((xx, xy), (yx, yy)), each
+        (G, G)) from each group's 2 x 2 block of the forces: W ((1 + a Z_x) (mu dZ/dU +
+        Z dmu/dU^T) + a mu Z dZ_x/dU^T) with dmu/dv of Eq. 1 and, by default, the tangent of
+        Park's law at the end of the increment, dZ/dU = (A I - Z w^T) / Y with
+        w_i = (gamma s_i + beta) Z_i (exact along the increment, too stiff across a long one:
+        the secant updates of `_solve_bearings` correct it); with `exact`, Park's slope
+        written out (`park_exact_update_and_slope`), the exact Jacobian of Newton's stage."""
         dt = self.time_step
         h = self.bearing.hysteresis
         increment = [d[i] - p["d0"][i] for i in range(2)]
-        z = park_exact_update(h, jnp.stack(p["z0"], -1), jnp.stack(increment, -1))
+        if exact:
+            z, slope = park_exact_update_and_slope(h, jnp.stack(p["z0"], -1), jnp.stack(increment, -1))
+        else:
+            z = park_exact_update(h, jnp.stack(p["z0"], -1), jnp.stack(increment, -1))
         zs = (z[:, 0], z[:, 1])
         vx, vy = (2 / dt * increment[i] - p["vb0"][i] for i in range(2))
 
@@ -345,11 +348,14 @@ class BidirectionalStructure(AbstractSteppedSystem):
         a, k = self._asymmetry(zs[0])
         forces = with_surface_forces(self, (mu * load * k * zs[0], mu * load * k * zs[1]), d)
         r = affine(p["flexibility"], forces, d, p["d_linear"])
-        w = [(h.gamma * jnp.where(increment[i] * zs[i] >= 0, 1.0, -1.0) + h.beta) * zs[i] for i in range(2)]
         dmu = (dmu_x * (2 / dt), dmu_y * (2 / dt))
         # local 2 x 2 block per group: W ((1 + a Z_x) (mu dZ/dU + Z dmu/dU^T) + a mu Z dZ_x/dU^T)
-        dz = [[((h.A if i == j else 0.0) - zs[i] * w[j]) / h.yield_disp for j in range(2)]
-              for i in range(2)]
+        if exact:
+            dz = [[slope[:, i, j] for j in range(2)] for i in range(2)]
+        else:
+            w = [(h.gamma * jnp.where(increment[i] * zs[i] >= 0, 1.0, -1.0) + h.beta) * zs[i] for i in range(2)]
+            dz = [[((h.A if i == j else 0.0) - zs[i] * w[j]) / h.yield_disp for j in range(2)]
+                  for i in range(2)]
         local = [[load * (k * (mu * dz[i][j] + zs[i] * dmu[j]) + a * mu * zs[i] * dz[0][j])
                   for j in range(2)] for i in range(2)]
         if self.surface is not None:
@@ -366,23 +372,23 @@ class BidirectionalStructure(AbstractSteppedSystem):
         that holds the start-of-step forces, `FIXED_ITERATIONS` Newton-Broyden iterations
         (unrolled, no loop under `vmap`) from the tangent of Park's law at the end state, up to
         `BROYDEN_ITERATIONS` more while a member is above tolerance, then, for members still
-        above it, Newton's method (Jacobian by forward differences) with an Armijo
+        above it, Newton's method (the exact Jacobian) with an Armijo
         backtracking line search on |r|. Converged when max|r| <= tolerance. Coulomb and
         no friction: `_bidirectional_laws.py`."""
         if self.friction_model == "coulomb":
             return coulomb_solve(self, p)
         if self.friction_model == "none":
             return no_friction_solve(self, p)
-        x, tolerance, yield_disp = self._predictor(p)
+        x, tolerance = self._predictor(p)
         r, jacobian = self._tangent_jacobian(x, p)
         x, r, forces, z, done = self._broyden_iterations(x, r, jacobian, p, tolerance)
-        r, forces, z = self._newton_iterations(x, r, forces, z, done, p, tolerance, yield_disp)
+        r, forces, z = self._newton_iterations(x, r, forces, z, done, p, tolerance)
         return forces, z, jnp.max(jnp.abs(r)) <= tolerance
 
     def _predictor(self, p):
         """Bearing displacements (x, y parts) with the bearing forces held at their
-        start-of-step values (exact while sliding at constant Z and speed), the tolerance on
-        the residual and the smallest yield displacement."""
+        start-of-step values (exact while sliding at constant Z and speed) and the tolerance on
+        the residual."""
         capacity = self.bearing.coefficient(p["vb0"][0], p["vb0"][1], p["z_peak0"]) * self.bearing_load
         capacity = capacity * self._asymmetry(p["z0"][0])[1]
         held = block_matvec(p["flexibility"], with_surface_forces(
@@ -393,7 +399,7 @@ class BidirectionalStructure(AbstractSteppedSystem):
         scale = jnp.maximum(jnp.max(jnp.abs(x[0]) + jnp.abs(p["d_linear"][0])),
                             jnp.max(jnp.abs(x[1]) + jnp.abs(p["d_linear"][1])))
         tolerance = jnp.maximum(self.newton_tolerance * yield_disp, 1e3 * eps * scale)
-        return x, tolerance, yield_disp
+        return x, tolerance
 
     def _broyden_update(self, x, r, jacobian, p, tolerance):
         """One Newton step with the current Jacobian, then its secant (Broyden) update;
@@ -427,7 +433,7 @@ class BidirectionalStructure(AbstractSteppedSystem):
             return x, r, jacobian, forces, z, k + 1, best
 
         # more secant iterations, one batch-wide residual each, while a member is off; a secant
-        # step can lead away from the root, so the finite-difference loop starts from the best
+        # step can lead away from the root, so Newton's loop starts from the best
         # iterate seen
         broyden_limit = fixed + min(BROYDEN_ITERATIONS, self.newton_iterations - fixed)
         *_, done, (x, r, forces, z) = jax.lax.while_loop(
@@ -436,9 +442,10 @@ class BidirectionalStructure(AbstractSteppedSystem):
         )
         return x, r, forces, z, done
 
-    def _newton_iterations(self, x, r, forces, z, done, p, tolerance, yield_disp):
-        """Newton's method (Jacobian by forward differences) with an Armijo backtracking line
-        search on |r|, while a member is above tolerance; returns (r flat, forces, Z)."""
+    def _newton_iterations(self, x, r, forces, z, done, p, tolerance):
+        """Newton's method (the exact Jacobian, `_tangent_jacobian` with `exact`) with an Armijo
+        backtracking line search on |r|, while a member is above tolerance; returns (r flat,
+        forces, Z)."""
         n_groups = self.bearing_load.shape[0]
 
         def split(flat):
@@ -457,8 +464,7 @@ class BidirectionalStructure(AbstractSteppedSystem):
 
         def body(carry):
             x, (r, forces, z), k = carry
-            jacobian = difference_jacobian(lambda d: self._forces_at(d, p)[0], split(x), forces,
-                                           p["flexibility"], p["d0"], yield_disp)
+            _, jacobian = self._tangent_jacobian(split(x), p, exact=True)
             step = -jnp.linalg.solve(jnp.block(jacobian), r)
             step = jnp.where(jnp.all(jnp.isfinite(step)), step, -r)
             norm = jnp.sqrt(jnp.sum(r * r))

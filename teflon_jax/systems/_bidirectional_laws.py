@@ -173,24 +173,3 @@ def solve_blocks(blocks, rhs):
     flat = jnp.linalg.solve(full, jnp.concatenate(rhs))
     n = rhs[0].shape[0]
     return flat[:n], flat[n:]
-
-
-def difference_jacobian(forces_at, d, forces, flexibility, d0, scale):
-    """dr/dd ((xx, xy), (yx, yy)), each (G, G), of the residual r = d - d_lin + G_b F(d)
-    (`affine`) at the displacements `d` (x, y parts) whose bearing forces are `forces`:
-    I + G_b K, K the groups' 2 x 2 blocks dF_g/dd_g by forward differences, steps
-    h_g = 1e-7 max(`scale`, |d_g - d0_g|) [m] (relative error about 1e-7: Newton's convergence
-    is then quadratic down to far below the tolerance). A group's force depends on its own
-    displacements only, so `forces_at` on two trials (every group moved along x; along y),
-    batched into one evaluation, gives all blocks whatever G (before: 2G evaluations, each
-    inlined in the compiled step). Forward-mode differentiation through the closed-form
-    Park update would be exact, but XLA's CPU fusion emitter recomputes its shared
-    subexpressions, making it ~20x dearer than the two extra evaluations."""
-    steps = tuple(1e-7 * jnp.maximum(scale, jnp.abs(d[i] - d0[i])) for i in range(2))
-    moved_x = jnp.stack([d[0] + steps[0], d[0]])  # every group along x, then along y
-    moved_y = jnp.stack([d[1], d[1] + steps[1]])
-    columns = jax.vmap(lambda x, y: forces_at((x, y)))(moved_x, moved_y)  # columns[i][j]: F_i moved along j
-    local = [[(columns[i][j] - forces[i]) / steps[j] for j in range(2)] for i in range(2)]
-    eye = jnp.eye(d[0].shape[0], dtype=d[0].dtype)
-    return [[(eye if i == j else 0.0) + sum(flexibility[i][k] * local[k][j][None, :] for k in range(2))
-             for j in range(2)] for i in range(2)]
