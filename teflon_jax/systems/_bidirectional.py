@@ -58,7 +58,8 @@ from ._vertical import (
 )
 
 PLANAR_NEWTON_ITERATIONS = 100
-"""Most iterations per step, all kinds together (fixed, Broyden loop, Newton loop; the loops run only for members still above tolerance)."""
+"""Most iterations per step, all kinds together (fixed, Broyden loop, Newton loop; the loops
+run only for members still above tolerance)."""
 
 FIXED_ITERATIONS = 1
 """Newton-Broyden iterations per step, unrolled (the same work for every batch member); from
@@ -91,17 +92,16 @@ class BidirectionalStructure(AbstractSteppedSystem):
     taken at the start of each step and held over it. `vertical_acceleration`: `Signal` of
     a_v(t) [m/s^2, up +] or `None`: the groups' normal loads are then s W_g with
     s = max(1 + a_v / g, 0), on the friction and on `pendulum_stiffness` W_g / R (G,) [N/m]
-    (the part of K the load carries), `_vertical.py`; `load` is the s of a copy
-    at one time (`at_load`), one per group (G,) with `overturning` L (G, 2) [-]: the groups'
-    loads N_g = s W_g + (L H)_g under the horizontal force H of the step's start, held over the
-    step and kept in the state "normal_load" (G,) [N] (`teflon_jax.structures`: `supported_loads`), redistributed
-    over the groups that stay down while others lift with `supports` (`SupportPlan`).
+    (the part of K the load carries), `_vertical.py`; `load` is the s of a copy at one time
+    (`at_load`), one per group (G,) with `overturning` L (G, 2) [-]: the groups' loads
+    N_g = s W_g + (L H)_g under the horizontal force H of the step's start, held over the step,
+    kept in the state "normal_load" (G,) [N] and redistributed over the groups that stay down
+    while others lift with `supports` (`SupportPlan`; `teflon_jax.structures.supported_loads`).
     `friction_model` (static): "hysteretic" (Park's Z), "coulomb" or "none"; `surface`: a
     friction pendulum's `ConcaveSurface` whose restrainer and large-displacement force act
-    beyond its W_g / R in K, or `None` (`_bidirectional_laws.py`). A slab on groups of triple
-    or double pendulums holds a `SeriesPendulum` (leaves (G,)) as `bearing` and the exact
-    step's (free, start, end) blocks (6, 16) as `step_matrix`; its balance and state are
-    `_series_groups.py`'s.
+    beyond its W_g / R in K, or `None` (`_bidirectional_laws.py`). A slab on groups of triple or
+    double pendulums holds a `SeriesPendulum` (leaves (G,)) as `bearing` and the exact step's
+    (free, start, end) blocks (6, 16) as `step_matrix` (`_series_groups.py`).
     """
 
     mass: jnp.ndarray
@@ -394,12 +394,10 @@ class BidirectionalStructure(AbstractSteppedSystem):
         held = block_matvec(p["flexibility"], with_surface_forces(
             self, (capacity * p["z0"][0], capacity * p["z0"][1]), p["d0"]))
         x = tuple(p["d_linear"][i] - held[i] for i in range(2))
-        yield_disp = jnp.min(jnp.asarray(self.bearing.hysteresis.yield_disp))
+        scale = jnp.maximum(*(jnp.max(jnp.abs(x[i]) + jnp.abs(p["d_linear"][i])) for i in range(2)))
         eps = jnp.finfo(jnp.result_type(x[0])).eps
-        scale = jnp.maximum(jnp.max(jnp.abs(x[0]) + jnp.abs(p["d_linear"][0])),
-                            jnp.max(jnp.abs(x[1]) + jnp.abs(p["d_linear"][1])))
-        tolerance = jnp.maximum(self.newton_tolerance * yield_disp, 1e3 * eps * scale)
-        return x, tolerance
+        yield_disp = jnp.min(jnp.asarray(self.bearing.hysteresis.yield_disp))
+        return x, jnp.maximum(self.newton_tolerance * yield_disp, 1e3 * eps * scale)
 
     def _broyden_update(self, x, r, jacobian, p, tolerance):
         """One Newton step with the current Jacobian, then its secant (Broyden) update;
@@ -433,8 +431,7 @@ class BidirectionalStructure(AbstractSteppedSystem):
             return x, r, jacobian, forces, z, k + 1, best
 
         # more secant iterations, one batch-wide residual each, while a member is off; a secant
-        # step can lead away from the root, so Newton's loop starts from the best
-        # iterate seen
+        # step can lead away from the root, so Newton's loop starts from the best iterate seen
         broyden_limit = fixed + min(BROYDEN_ITERATIONS, self.newton_iterations - fixed)
         *_, done, (x, r, forces, z) = jax.lax.while_loop(
             lambda c: (_largest(c[1]) > tolerance) & (c[5] < broyden_limit), broyden_body,
