@@ -7,8 +7,9 @@ building, B7's forty-second two-component motions, 5 ms steps) on `--motions` mo
 vectorised call and reports the mean count per motion and step, the mean over steps of the
 largest count across groups of 64, 1,024, 16,384 motions and the whole call, both
 histograms, and the seconds of a second call on new motions (the first compiles). The counts
-are the line-searched Newton steps of `planar_newton` (each three evaluations of the sliders'
-forces), read by putting them where the step's convergence flag goes; nothing else changes.
+are the line-searched Newton steps of `planar_newton` (each one evaluation of the sliders'
+forces with their exact blocks), read by putting them where the step's convergence flag goes;
+nothing else changes.
 
 Usage: `python benchmarks/newton_iterations.py [--structure rigid] [--motions 64] [--json OUT]`.
 """

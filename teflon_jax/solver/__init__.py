@@ -1,7 +1,7 @@
 """`RiccatiNewmark`: the diffrax solver whose step is not bounded by the stiffness of Z;
 `implicit_root`: the implicit derivative of a step's balance, whatever iteration found it;
 the iterations on a step's balance, chosen by the shape of its unknowns (`bracketed_newton`,
-`damped_newton`, `restarted_newton`, `planar_newton`) with their structured solves (`sherman_morrison`,
+`damped_newton`, `planar_newton`) with their structured solves (`sherman_morrison`,
 `woodbury`)."""
 
 from ._implicit import implicit_root as implicit_root
@@ -10,7 +10,6 @@ from ._newton import RESCUE_SMALLEST as RESCUE_SMALLEST
 from ._newton import SMALLEST_STEP as SMALLEST_STEP
 from ._newton import bracketed_newton as bracketed_newton
 from ._newton import damped_newton as damped_newton
-from ._newton import restarted_newton as restarted_newton
 from ._newton import sherman_morrison as sherman_morrison
 from ._newton import shortest_fraction as shortest_fraction
 from ._park_path import park_path_update as park_path_update

@@ -5,14 +5,14 @@ stepped systems choose by the static shape of their unknowns.
   second stage with much shorter steps where the first leaves the balance short (a slider's
   reversal kink: a full step from the sliding side overshoots by the ratio of the slopes);
   J^-1 r comes with each evaluation (`sherman_morrison` for J = diag(k) + 1 1^T / G).
-- `restarted_newton`: the same, started once more from a second point where the first run
-  ends short (a minimum of sum(r^2) with r != 0).
+  With a `restart`, the same started once more from a second point where the first run ends
+  short (a minimum of sum(r^2) with r != 0).
 - `bracketed_newton`: one scalar unknown whose residual changes sign across the root (one
   slider in one direction, the flat isolator's displacement): Newton's steps kept inside the
   bracket of the iterates' signs, bisecting it where a step would leave it.
-- `planar_newton` (`_planar.py`): the same line search on unknowns with 2 x 2 blocks per
-  element, J = blockdiag(K_e) + U U^T / G inverted by the Woodbury identity, with an optional
-  secant (Broyden) first stage.
+- `planar_newton` (`_planar.py`): on unknowns with 2 x 2 blocks per element,
+  J = blockdiag(K_e) + U U^T / G inverted by the Woodbury identity, an optional secant
+  (Broyden) first stage, then `damped_newton`.
 
 Each returns its iterate bit for bit as written here; `implicit_root` differentiates the root.
 References: Dennis & Schnabel (1996), Numerical Methods for Unconstrained Optimization,
@@ -42,61 +42,53 @@ def shortest_fraction(k, iterations: int):
     return jnp.where(k < iterations, SMALLEST_STEP, RESCUE_SMALLEST)
 
 
-def damped_newton(evaluate, guess, tolerance, iterations: int, *, finite_direction: bool = False):
+def damped_newton(evaluate, guess, tolerance, iterations: int, *, finite_direction: bool = False, restart=None,
+                  first=None, taken=0):
     """Newton's iteration with step halving: from `guess`, steps x <- x - f dir with f halved
     until the merit sum(r^2) falls (or f reaches `SMALLEST_STEP`; also until the new direction
     is finite where `finite_direction`), while max |r| > `tolerance` and fewer than `iterations`
-    steps were taken. `evaluate(x)` returns (residual r, merit, direction J^-1 r). Where that
+    steps were taken. `evaluate(x)` returns (residual r, merit, direction J^-1 r, ...), anything
+    after the direction carried along (such as the forces the residual came from). Where that
     leaves the balance short, at most `RESCUE_ITERATIONS` more steps halve f down to
     `RESCUE_SMALLEST` (`shortest_fraction`); a step balanced within `iterations` is as before.
+    With `restart` (an x like `guess`), where those run out short of `tolerance` (a minimum of
+    sum(r^2) with r != 0), the same once more from `restart`. `first`: `evaluate(guess)` where
+    the caller has it; `taken`: the steps already taken before `guess` (a first stage's).
 
-    **Returns:** (x, whether max |r| <= tolerance)."""
+    **Returns:** (x, whether max |r| <= tolerance, the steps taken, `evaluate`'s values at x)."""
+    budget = iterations + RESCUE_ITERATIONS
+
     def cond(carry):
-        _, (r, _, _), _, k = carry
-        return (jnp.max(jnp.abs(r)) > tolerance) & (k < iterations + RESCUE_ITERATIONS)
+        _, values, _, k, restarted = carry
+        return (jnp.max(jnp.abs(values[0])) > tolerance) & ((k < budget) | ~restarted)
 
     def body(carry):
-        d, (r, merit, direction), fraction, k = carry
-        trial = d - fraction * direction
+        x, values, fraction, k, restarted = carry
+        merit, direction = values[1], values[2]
+        if restart is None:
+            trial = x - fraction * direction
+        else:
+            again = k >= budget  # reached only before the restart
+            trial = jnp.where(again, restart, x - fraction * direction)
         new = evaluate(trial)
         lower = new[1] < merit
         if finite_direction:
             lower = lower & jnp.all(jnp.isfinite(new[2]))
         accept = lower | (fraction <= shortest_fraction(k, iterations))
-        d = jnp.where(accept, trial, d)
-        values = tuple(jnp.where(accept, a, b) for a, b in zip(new, (r, merit, direction)))
-        return d, values, jnp.where(accept, 1.0, 0.5 * fraction), k + 1
-
-    carry = (guess, evaluate(guess), jnp.ones((), guess.dtype), 0)
-    d, (r, _, _), _, _ = jax.lax.while_loop(cond, body, carry)
-    return d, jnp.max(jnp.abs(r)) <= tolerance
-
-
-def restarted_newton(evaluate, guess, restart, tolerance, iterations: int):
-    """`damped_newton` from `guess`; where its evaluations (`iterations` and the
-    `RESCUE_ITERATIONS`) run out short of `tolerance`, the same once more from `restart`. One
-    loop, so the compiled step holds one copy of the residual; up to the restart every
-    operation is `damped_newton`'s. **Returns:** (x, whether max |r| <= tolerance)."""
-    budget = iterations + RESCUE_ITERATIONS
-
-    def cond(carry):
-        _, (r, _, _), _, k, restarted = carry
-        return (jnp.max(jnp.abs(r)) > tolerance) & ((k < budget) | ~restarted)
-
-    def body(carry):
-        x, (r, merit, direction), fraction, k, restarted = carry
-        again = k >= budget  # reached only before the restart
-        trial = jnp.where(again, restart, x - fraction * direction)
-        new = evaluate(trial)
-        accept = again | (new[1] < merit) | (fraction <= shortest_fraction(k, iterations))
+        if restart is not None:
+            accept = accept | again
         x = jnp.where(accept, trial, x)
-        values = tuple(jnp.where(accept, a, b) for a, b in zip(new, (r, merit, direction)))
-        return (x, values, jnp.where(accept, 1.0, 0.5 * fraction), jnp.where(again, 0, k + 1).astype(k.dtype),
-                restarted | again)
+        values = jax.tree_util.tree_map(lambda a, b: jnp.where(accept, a, b), new, values)
+        fraction = jnp.where(accept, 1.0, 0.5 * fraction)
+        if restart is None:
+            return x, values, fraction, k + 1, restarted
+        return x, values, fraction, jnp.where(again, 0, k + 1).astype(k.dtype), restarted | again
 
-    carry = (guess, evaluate(guess), jnp.ones((), guess.dtype), jnp.zeros((), jnp.int32), jnp.zeros((), bool))
-    x, (r, _, _), _, _, _ = jax.lax.while_loop(cond, body, carry)
-    return x, jnp.max(jnp.abs(r)) <= tolerance
+    values = evaluate(guess) if first is None else first
+    carry = (guess, values, jnp.ones((), guess.dtype), jnp.asarray(taken, jnp.int32),
+             jnp.asarray(restart is None))
+    x, values, _, k, _ = jax.lax.while_loop(cond, body, carry)
+    return x, jnp.max(jnp.abs(values[0])) <= tolerance, k, values
 
 
 def bracketed_newton(evaluate, guess, tolerance, iterations: int, *, lower=None, upper=None, unrolled: int = 0):

@@ -10,18 +10,15 @@ Sec. 6.3.
 import jax
 import jax.numpy as jnp
 
-from ._newton import RESCUE_ITERATIONS, shortest_fraction
+from ._newton import damped_newton
 
 SECANT_ITERATIONS = 8
 """Most steps of the secant stage of `planar_newton` (each one evaluation of the forces)."""
 
 
 def planar_newton(forces, residual, direction, blocks, guess, tolerance, iterations: int, *, secant=None):
-    """Newton's iteration with step halving on a planar balance: d <- d - f J(d)^-1 r(d), f
-    halved until the merit sum(r^2) falls (or f reaches `SMALLEST_STEP`), while max |r| >
-    `tolerance` and fewer than `iterations` steps were taken; then, where the balance is still
-    short, at most `RESCUE_ITERATIONS` more steps halving f down to `RESCUE_SMALLEST` (as
-    `damped_newton`).
+    """Newton's iteration with step halving on a planar balance (`damped_newton`):
+    d <- d - f J(d)^-1 r(d), J(d) from the blocks at d, after an optional secant stage.
 
     **Arguments:** `forces(d)` -> an evaluation (F (S, 2), whatever else the blocks read, such
     as Z), the one costly call; `residual(d, evaluation)` -> r; `direction(r, K)` -> J^-1 r for
@@ -55,16 +52,10 @@ def planar_newton(forces, residual, direction, blocks, guess, tolerance, iterati
         new = choose(lower, new, (d, evaluation, r, merit))
         return (*new, matrix, k + 1, lower)
 
-    def cond(carry):
-        _, _, r, _, _, k = carry
-        return (jnp.max(jnp.abs(r)) > tolerance) & (k < iterations + RESCUE_ITERATIONS)
-
-    def body(carry):
-        d, evaluation, r, merit, fraction, k = carry
-        lower, new = trial_of(d, r, merit, fraction * direction(r, blocks(d, evaluation)))
-        accept = lower | (fraction <= shortest_fraction(k, iterations))
-        new = choose(accept, new, (d, evaluation, r, merit))
-        return (*new, jnp.where(accept, 1.0, 0.5 * fraction), k + 1)
+    def evaluate(d):  # damped_newton's (r, merit, direction, evaluation) at d
+        evaluation = forces(d)
+        r = residual(d, evaluation)
+        return r, jnp.sum(r**2), direction(r, blocks(d, evaluation)), evaluation
 
     evaluation = forces(guess)
     r = residual(guess, evaluation)
@@ -72,9 +63,9 @@ def planar_newton(forces, residual, direction, blocks, guess, tolerance, iterati
     if secant is not None:
         carry = (d, evaluation, r, merit, blocks(d, evaluation), k, jnp.array(True))
         d, evaluation, r, merit, _, k, _ = jax.lax.while_loop(secant_cond, secant_body, carry)
-    start = (d, evaluation, r, merit, jnp.ones((), guess.dtype), k)
-    d, evaluation, r, _, _, taken = jax.lax.while_loop(cond, body, start)
-    return d, jnp.max(jnp.abs(r)) <= tolerance, taken, evaluation
+    first = (r, merit, direction(r, blocks(d, evaluation)), evaluation)
+    d, converged, taken, values = damped_newton(evaluate, d, tolerance, iterations, first=first, taken=k)
+    return d, converged, taken, values[3]
 
 
 def broyden_blocks(blocks, step, change, floor):

@@ -18,9 +18,9 @@ sliding increment (`park_exact_update`); the 2G bearing displacements solve
 d - d_lin + G_b F(d) = 0 (G_b = B K_eff^-1 B^T): from a predictor that holds the start-of-step forces, a
 fixed number of Newton-Broyden iterations from the tangent of Park's law (the same work for
 every member of a batch, no loop), further Broyden iterations while a member is above
-tolerance, then Newton's method with backtracking for the members still above it (loops that
-run only while one of them is). A member within tolerance keeps its iterate. A step that does
-not converge is reported per batch member.
+tolerance, then Newton's method on the exact Jacobian with step halving (`damped_newton`) for
+the members still above it (loops that run only while one of them is). A member within
+tolerance keeps its iterate. A step that does not converge is reported per batch member.
 """
 
 import equinox as eqx
@@ -29,7 +29,7 @@ import jax.numpy as jnp
 
 from ..bearing import ConcaveSurface, SeriesPendulum, SlidingBearing, park_rate
 from ..excitation import Signal
-from ..solver import AbstractSteppedSystem, park_exact_update, park_exact_update_and_slope
+from ..solver import AbstractSteppedSystem, damped_newton, park_exact_update, park_exact_update_and_slope
 from ..structures import (
     SupportPlan,
     group_factor,
@@ -322,8 +322,8 @@ class BidirectionalStructure(AbstractSteppedSystem):
         return affine(p["flexibility"], forces, d, p["d_linear"]), forces, z
 
     def _tangent_jacobian(self, d, p, exact: bool = False):
-        """Residual r at d = (dx, dy) and the Jacobian dr/dd (blocks ((xx, xy), (yx, yy)), each
-        (G, G)) from each group's 2 x 2 block of the forces: W ((1 + a Z_x) (mu dZ/dU +
+        """Residual r at d = (dx, dy), the Jacobian dr/dd (blocks ((xx, xy), (yx, yy)), each
+        (G, G)), the forces and Z there; the Jacobian from each group's 2 x 2 block of the forces: W ((1 + a Z_x) (mu dZ/dU +
         Z dmu/dU^T) + a mu Z dZ_x/dU^T) with dmu/dv of Eq. 1 and, by default, the tangent of
         Park's law at the end of the increment, dZ/dU = (A I - Z w^T) / Y with
         w_i = (gamma s_i + beta) Z_i (exact along the increment, too stiff across a long one:
@@ -365,22 +365,21 @@ class BidirectionalStructure(AbstractSteppedSystem):
         eye = jnp.eye(load.shape[0])
         jacobian = [[(eye if i == j else 0.0) + sum(flex[i][k] * local[k][j][None, :] for k in range(2))
                      for j in range(2)] for i in range(2)]
-        return r, jacobian
+        return r, jacobian, forces, z
 
     def _solve_bearings(self, p):
         """Bearing forces (x, y parts), Z (G, 2) and convergence at t1: from the predictor
         that holds the start-of-step forces, `FIXED_ITERATIONS` Newton-Broyden iterations
         (unrolled, no loop under `vmap`) from the tangent of Park's law at the end state, up to
         `BROYDEN_ITERATIONS` more while a member is above tolerance, then, for members still
-        above it, Newton's method (the exact Jacobian) with an Armijo
-        backtracking line search on |r|. Converged when max|r| <= tolerance. Coulomb and
+        above it, Newton's method (the exact Jacobian) with step halving (`damped_newton`). Converged when max|r| <= tolerance. Coulomb and
         no friction: `_bidirectional_laws.py`."""
         if self.friction_model == "coulomb":
             return coulomb_solve(self, p)
         if self.friction_model == "none":
             return no_friction_solve(self, p)
         x, tolerance = self._predictor(p)
-        r, jacobian = self._tangent_jacobian(x, p)
+        r, jacobian, _, _ = self._tangent_jacobian(x, p)
         x, r, forces, z, done = self._broyden_iterations(x, r, jacobian, p, tolerance)
         r, forces, z = self._newton_iterations(x, r, forces, z, done, p, tolerance)
         return forces, z, jnp.max(jnp.abs(r)) <= tolerance
@@ -440,48 +439,29 @@ class BidirectionalStructure(AbstractSteppedSystem):
         return x, r, forces, z, done
 
     def _newton_iterations(self, x, r, forces, z, done, p, tolerance):
-        """Newton's method (the exact Jacobian, `_tangent_jacobian` with `exact`) with an Armijo
-        backtracking line search on |r|, while a member is above tolerance; returns (r flat,
-        forces, Z)."""
+        """Newton's method (the exact Jacobian, `_tangent_jacobian` with `exact`; the residual
+        itself where that gives no finite direction) with step halving (`damped_newton`), while
+        a member is above tolerance, counting on from the `done` iterations before it; returns
+        (r flat, forces, Z)."""
         n_groups = self.bearing_load.shape[0]
 
         def split(flat):
             return flat[:n_groups], flat[n_groups:]
 
-        def residual_forces(flat):
-            r, forces, z = self._residual_forces(split(flat), p)
-            return jnp.concatenate(r), forces, z
+        def direction(r, jacobian):
+            step = jnp.linalg.solve(jnp.block(jacobian), r)
+            return jnp.where(jnp.all(jnp.isfinite(step)), step, r)
 
-        def size(r):
-            return jnp.max(jnp.abs(r))
+        def evaluate(flat):
+            r, jacobian, forces, z = self._tangent_jacobian(split(flat), p, exact=True)
+            r = jnp.concatenate(r)
+            return r, jnp.sum(r**2), direction(r, jacobian), forces, z
 
-        def cond(carry):
-            x, (r, _, _), k = carry
-            return (size(r) > tolerance) & (k < self.newton_iterations)
-
-        def body(carry):
-            x, (r, forces, z), k = carry
-            _, jacobian = self._tangent_jacobian(split(x), p, exact=True)
-            step = -jnp.linalg.solve(jnp.block(jacobian), r)
-            step = jnp.where(jnp.all(jnp.isfinite(step)), step, -r)
-            norm = jnp.sqrt(jnp.sum(r * r))
-
-            def shrink(c):
-                alpha = 0.5 * c[0]
-                trial = x + alpha * step
-                return alpha, trial, residual_forces(trial)
-
-            def worse(c):  # Armijo on |r|_2; below alpha = 2^-30 the step is taken as it is
-                alpha, _, (r_trial, _, _) = c
-                return (alpha > 1.0) | ((jnp.sqrt(jnp.sum(r_trial * r_trial)) > (1 - 1e-4 * alpha) * norm)
-                                        & (alpha > 2.0**-30))
-
-            # the full step is the loop's first trial (alpha = 1): one evaluation in the program
-            _, x_new, out = jax.lax.while_loop(worse, shrink, (2.0, x, (r, forces, z)))
-            return x_new, out, k + 1
-
-        start = (jnp.concatenate(x), (jnp.concatenate(r), forces, z), done)
-        _, (r, forces, z), _ = jax.lax.while_loop(cond, body, start)
+        r = jnp.concatenate(r)
+        start = jnp.concatenate(x)
+        first = (r, jnp.sum(r**2), direction(r, self._tangent_jacobian(x, p, exact=True)[1]), forces, z)
+        *_, (r, _, _, forces, z) = damped_newton(evaluate, start, tolerance, self.newton_iterations, first=first,
+                                                  taken=done)
         return r, forces, z
 
 

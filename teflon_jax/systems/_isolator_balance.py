@@ -227,7 +227,7 @@ def _iterate_line(iterations, p, guess, tolerance):
 
     if guess.shape[0] == 1 and "G" in p:  # one slider: bracketed (`bracketed_newton`)
         return bracketed_newton(lambda d: evaluate(d)[::2], guess, tolerance, iterations + RESCUE_ITERATIONS)[:2]
-    return damped_newton(evaluate, guess, tolerance, iterations)
+    return damped_newton(evaluate, guess, tolerance, iterations)[:2]
 
 
 def _line_solve(d, p, r, dp):

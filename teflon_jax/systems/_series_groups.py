@@ -39,7 +39,7 @@ import functools
 import jax
 import jax.numpy as jnp
 
-from ..solver import implicit_root, inverse2, restarted_newton
+from ..solver import damped_newton, implicit_root, inverse2
 from ..structures import group_factor, overturned_loads, supported_loads
 from ._isolator_balance import (
     loaded_blocks,
@@ -216,10 +216,10 @@ def _iterate_balance(dt, iterations, p, guess, tolerance):
     the sliders' kinked friction turns Newton's direction away from descent, as a slider
     reverses under a two-component impact), it starts once more from each group's increment
     d_g = B_g D - d_g0 shared evenly among its S sliders, the forces those of `guess`
-    (`restarted_newton`). A step balanced from `guess` is as before."""
+    (`damped_newton` with its `restart`). A step balanced from `guess` is as before."""
     even = jnp.broadcast_to(p["E"][:, None] / (guess.shape[1] - 1), guess[:, :-1].shape)
     restart = jnp.concatenate([even, guess[:, -1:]], axis=1)
-    return restarted_newton(lambda x: _evaluate(x, p, dt), guess, restart, tolerance, iterations)
+    return damped_newton(lambda x: _evaluate(x, p, dt), guess, tolerance, iterations, restart=restart)[:2]
 
 
 def _balance_solve(dt, x, p, r, dp):
