@@ -29,7 +29,12 @@ import jax.numpy as jnp
 
 from ..bearing import ConcaveSurface, SeriesPendulum, SlidingBearing, park_rate
 from ..excitation import Signal
-from ..solver import AbstractSteppedSystem, damped_newton, park_exact_update, park_exact_update_and_slope
+from ..solver import (
+    AbstractSteppedSystem,
+    damped_newton,
+    park_exact_update,
+    park_exact_update_and_slope,
+)
 from ..structures import (
     SupportPlan,
     group_factor,
