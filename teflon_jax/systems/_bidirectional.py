@@ -462,9 +462,11 @@ class BidirectionalStructure(AbstractSteppedSystem):
             r = jnp.concatenate(r)
             return r, jnp.sum(r**2), direction(r, jacobian), forces, z
 
+        # the start's direction zero and its merit infinite: the loop's first pass evaluates the
+        # start itself (one copy of the exact Jacobian in the compiled step, not two)
         r = jnp.concatenate(r)
         start = jnp.concatenate(x)
-        first = (r, jnp.sum(r**2), direction(r, self._tangent_jacobian(x, p, exact=True)[1]), forces, z)
+        first = (r, jnp.asarray(jnp.inf, r.dtype), jnp.zeros_like(r), forces, z)
         *_, (r, _, _, forces, z) = damped_newton(evaluate, start, tolerance, self.newton_iterations, first=first,
                                                   taken=done)
         return r, forces, z
