@@ -43,7 +43,7 @@ def shortest_fraction(k, iterations: int):
 
 
 def damped_newton(evaluate, guess, tolerance, iterations: int, *, finite_direction: bool = False, restart=None,
-                  first=None, taken=0):
+                  first=None, taken=0, direction=None):
     """Newton's iteration with step halving: from `guess`, steps x <- x - f dir with f halved
     until the merit sum(r^2) falls (or f reaches `SMALLEST_STEP`; also until the new direction
     is finite where `finite_direction`), while max |r| > `tolerance` and fewer than `iterations`
@@ -53,7 +53,10 @@ def damped_newton(evaluate, guess, tolerance, iterations: int, *, finite_directi
     `RESCUE_SMALLEST` (`shortest_fraction`); a step balanced within `iterations` is as before.
     With `restart` (an x like `guess`), where those run out short of `tolerance` (a minimum of
     sum(r^2) with r != 0), the same once more from `restart`. `first`: `evaluate(guess)` where
-    the caller has it; `taken`: the steps already taken before `guess` (a first stage's).
+    the caller has it; `taken`: the steps already taken before `guess` (a first stage's);
+    `direction(x, values)`: J^-1 r from `evaluate`'s values at x, taken where a step starts
+    (`evaluate` then returns (r, merit, ...) without it: no direction at the trials the line
+    search turns down, nor at the root).
 
     **Returns:** (x, whether max |r| <= tolerance, the steps taken, `evaluate`'s values at x)."""
     budget = iterations + RESCUE_ITERATIONS
@@ -64,14 +67,14 @@ def damped_newton(evaluate, guess, tolerance, iterations: int, *, finite_directi
 
     def body(carry):
         x, values, fraction, k, restarted = carry
-        merit, direction = values[1], values[2]
+        step = values[2] if direction is None else direction(x, values)
         if restart is None:
-            trial = x - fraction * direction
+            trial = x - fraction * step
         else:
             again = k >= budget  # reached only before the restart
-            trial = jnp.where(again, restart, x - fraction * direction)
+            trial = jnp.where(again, restart, x - fraction * step)
         new = evaluate(trial)
-        lower = new[1] < merit
+        lower = new[1] < values[1]
         if finite_direction:
             lower = lower & jnp.all(jnp.isfinite(new[2]))
         accept = lower | (fraction <= shortest_fraction(k, iterations))

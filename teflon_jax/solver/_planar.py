@@ -52,10 +52,13 @@ def planar_newton(forces, residual, direction, blocks, guess, tolerance, iterati
         new = choose(lower, new, (d, evaluation, r, merit))
         return (*new, matrix, k + 1, lower)
 
-    def evaluate(d):  # damped_newton's (r, merit, direction, evaluation) at d
+    def evaluate(d):  # damped_newton's (r, merit, evaluation) at d, its direction where a step starts
         evaluation = forces(d)
         r = residual(d, evaluation)
-        return r, jnp.sum(r**2), direction(r, blocks(d, evaluation)), evaluation
+        return r, jnp.sum(r**2), evaluation
+
+    def newton_direction(d, values):
+        return direction(values[0], blocks(d, values[2]))
 
     evaluation = forces(guess)
     r = residual(guess, evaluation)
@@ -63,9 +66,9 @@ def planar_newton(forces, residual, direction, blocks, guess, tolerance, iterati
     if secant is not None:
         carry = (d, evaluation, r, merit, blocks(d, evaluation), k, jnp.array(True))
         d, evaluation, r, merit, _, k, _ = jax.lax.while_loop(secant_cond, secant_body, carry)
-    first = (r, merit, direction(r, blocks(d, evaluation)), evaluation)
-    d, converged, taken, values = damped_newton(evaluate, d, tolerance, iterations, first=first, taken=k)
-    return d, converged, taken, values[3]
+    d, converged, taken, values = damped_newton(evaluate, d, tolerance, iterations, first=(r, merit, evaluation),
+                                                taken=k, direction=newton_direction)
+    return d, converged, taken, values[2]
 
 
 def broyden_blocks(blocks, step, change, floor):
