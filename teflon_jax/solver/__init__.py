@@ -11,7 +11,6 @@ from ._newton import SMALLEST_STEP as SMALLEST_STEP
 from ._newton import bracketed_newton as bracketed_newton
 from ._newton import damped_newton as damped_newton
 from ._newton import sherman_morrison as sherman_morrison
-from ._newton import shortest_fraction as shortest_fraction
 from ._park_path import park_path_update as park_path_update
 from ._park_path import park_substeps as park_substeps
 from ._park_update import park_exact_update as park_exact_update

@@ -287,8 +287,9 @@ def planar_iteration(p, guess, tolerance, iterations: int, secant: bool = False)
     def forces(d):  # the secant stage needs the forces alone
         return balance_forces(p, d, dt, blocks=not secant)
 
-    def blocks(d, evaluation):
-        return loaded_blocks(evaluation[2] if len(evaluation) == 3 else balance_forces(p, d, dt, blocks=True)[2], p)
+    def blocks(d, evaluation):  # the evaluation's own, or (the secant's forces alone) evaluated here
+        exact = balance_forces(p, d, dt, blocks=True)[2] if secant else evaluation[2]
+        return loaded_blocks(exact, p)
 
     def residual(d, evaluation):
         return evaluation[0] - carried_force(d, evaluation[0], p)
