@@ -42,20 +42,21 @@ def shortest_fraction(k, iterations: int):
     return jnp.where(k < iterations, SMALLEST_STEP, RESCUE_SMALLEST)
 
 
-def damped_newton(evaluate, guess, tolerance, iterations: int, *, finite_direction: bool = False, restart=None,
-                  first=None, taken=0, direction=None):
+def damped_newton(evaluate, guess, tolerance, iterations: int, *, restart=None, first=None, taken=0,
+                  direction=None):
     """Newton's iteration with step halving: from `guess`, steps x <- x - f dir with f halved
-    until the merit sum(r^2) falls (or f reaches `SMALLEST_STEP`; also until the new direction
-    is finite where `finite_direction`), while max |r| > `tolerance` and fewer than `iterations`
-    steps were taken. `evaluate(x)` returns (residual r, merit, direction J^-1 r, ...), anything
-    after the direction carried along (such as the forces the residual came from). Where that
-    leaves the balance short, at most `RESCUE_ITERATIONS` more steps halve f down to
-    `RESCUE_SMALLEST` (`shortest_fraction`); a step balanced within `iterations` is as before.
-    With `restart` (an x like `guess`), where those run out short of `tolerance` (a minimum of
-    sum(r^2) with r != 0), the same once more from `restart`. `first`: `evaluate(guess)` where
-    the caller has it; `taken`: the steps already taken before `guess` (a first stage's);
-    `direction(x, values)`: J^-1 r from `evaluate`'s values at x, taken where a step starts
-    (`evaluate` then returns (r, merit, ...) without it: no direction at the trials the line
+    until the merit sum(r^2) falls (or f reaches `SMALLEST_STEP`), while max |r| > `tolerance`
+    and fewer than `iterations` steps were taken. `evaluate(x)` returns (residual r, merit,
+    direction J^-1 r, ...), anything after the direction carried along (such as the forces the
+    residual came from). Where that leaves the balance short, at most `RESCUE_ITERATIONS` more
+    steps halve f down to `RESCUE_SMALLEST` (`shortest_fraction`); a step balanced within
+    `iterations` is as before.
+
+    **Options:** `restart` (an x like `guess`): where those steps run out short of `tolerance`
+    (a minimum of sum(r^2) with r != 0), the same once more from `restart`; `first`:
+    `evaluate(guess)` where the caller has it; `taken`: the steps taken before `guess` (a first
+    stage's); `direction(x, values)`: J^-1 r from `evaluate`'s values at x, solved where a step
+    starts (`evaluate` then returns (r, merit, ...) without it: no solve at the trials the line
     search turns down, nor at the root).
 
     **Returns:** (x, whether max |r| <= tolerance, the steps taken, `evaluate`'s values at x)."""
@@ -74,10 +75,7 @@ def damped_newton(evaluate, guess, tolerance, iterations: int, *, finite_directi
             again = k >= budget  # reached only before the restart
             trial = jnp.where(again, restart, x - fraction * step)
         new = evaluate(trial)
-        lower = new[1] < values[1]
-        if finite_direction:
-            lower = lower & jnp.all(jnp.isfinite(new[2]))
-        accept = lower | (fraction <= shortest_fraction(k, iterations))
+        accept = (new[1] < values[1]) | (fraction <= shortest_fraction(k, iterations))
         if restart is not None:
             accept = accept | again
         x = jnp.where(accept, trial, x)
