@@ -377,8 +377,8 @@ class BidirectionalStructure(AbstractSteppedSystem):
         that holds the start-of-step forces, `FIXED_ITERATIONS` Newton-Broyden iterations
         (unrolled, no loop under `vmap`) from the tangent of Park's law at the end state, up to
         `BROYDEN_ITERATIONS` more while a member is above tolerance, then, for members still
-        above it, Newton's method (the exact Jacobian) with step halving (`damped_newton`). Converged when max|r| <= tolerance. Coulomb and
-        no friction: `_bidirectional_laws.py`."""
+        above it, Newton's method (the exact Jacobian) with step halving (`damped_newton`).
+        Converged when max|r| <= tolerance. Coulomb and no friction: `_bidirectional_laws.py`."""
         if self.friction_model == "coulomb":
             return coulomb_solve(self, p)
         if self.friction_model == "none":
