@@ -328,12 +328,13 @@ class BidirectionalStructure(AbstractSteppedSystem):
 
     def _tangent_jacobian(self, d, p, exact: bool = False):
         """Residual r at d = (dx, dy), the Jacobian dr/dd (blocks ((xx, xy), (yx, yy)), each
-        (G, G)), the forces and Z there; the Jacobian from each group's 2 x 2 block of the forces: W ((1 + a Z_x) (mu dZ/dU +
-        Z dmu/dU^T) + a mu Z dZ_x/dU^T) with dmu/dv of Eq. 1 and, by default, the tangent of
-        Park's law at the end of the increment, dZ/dU = (A I - Z w^T) / Y with
-        w_i = (gamma s_i + beta) Z_i (exact along the increment, too stiff across a long one:
-        the secant updates of `_solve_bearings` correct it); with `exact`, Park's slope
-        written out (`park_exact_update_and_slope`), the exact Jacobian of Newton's stage."""
+        (G, G)), the forces and Z there. The Jacobian is I + G_b K, K each group's 2 x 2 block
+        of the forces, W ((1 + a Z_x) (mu dZ/dU + Z dmu/dU^T) + a mu Z dZ_x/dU^T) with dmu/dv of
+        Eq. 1, and by default the tangent of Park's law at the end of the increment,
+        dZ/dU = (A I - Z w^T) / Y with w_i = (gamma s_i + beta) Z_i (exact along the increment,
+        too stiff across a long one: the secant updates of `_solve_bearings` correct it); with
+        `exact`, Park's slope written out (`park_exact_update_and_slope`), the exact Jacobian
+        of Newton's stage."""
         dt = self.time_step
         h = self.bearing.hysteresis
         increment = [d[i] - p["d0"][i] for i in range(2)]
