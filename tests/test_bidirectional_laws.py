@@ -308,3 +308,18 @@ def test_a_run_balanced_by_the_newton_stage_is_the_broyden_run():
     scale = np.abs(q[0]).max()
     assert scale > 0.02  # it slides
     np.testing.assert_allclose(q[1], q[0], rtol=0, atol=1e-9 * scale)
+
+
+def test_the_tolerance_given_reaches_the_planar_solve():
+    """`newton_tolerance` of an isolated structure on flat sliders ends the planar solve under
+    two components as under one (in units of Y): a loose one (0.5 Y) moves the peak, one solved
+    to rounding does not move from the default's by more than the default's tolerance."""
+    record = _pulse(peak=0.5)
+    ground = (uniform_signal(record, 0.01), uniform_signal(0.7 * record[::-1].copy(), 0.01))
+    peaks = {}
+    for tolerance in (0.0, 1e-5, 0.5):
+        system = bidirectional_isolated_structure("rigid", newton_tolerance=tolerance)(ground)
+        assert system.newton_tolerance == tolerance
+        peaks[tolerance] = float(peak_response(system, 4.0).base_disp)
+    assert abs(peaks[1e-5] - peaks[0.0]) < 1e-6 * peaks[0.0]
+    assert abs(peaks[0.5] - peaks[0.0]) > 1e-3 * abs(peaks[1e-5] - peaks[0.0]) + 1e-9 * peaks[0.0]

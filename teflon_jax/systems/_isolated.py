@@ -121,8 +121,8 @@ class IsolatedStructure(eqx.Module):
       (False: the update along the net increment, e.g. to compare with it).
     - `linear_rule` (static): `StructureOnSliders.linear_rule`, "exact" by default here (the
       storey modes without period error; "newmark" to compare with the average-acceleration step).
-      One component only, as `split_at_turn` and `newton_tolerance`: under two the planar
-      solve's own (`newton_iterations` bounds its iterations).
+      One component only, as `split_at_turn`: under two the planar solve's Newmark step
+      (`newton_iterations` bounds its iterations, `newton_tolerance` ends them).
     - `components` (static): 1 or 2 horizontal ground components.
     - `vertical` (static): whether the structure takes a vertical ground acceleration too, on
       its isolators' normal load (`with_vertical_component`, `with_vertical_motion`).
@@ -296,7 +296,8 @@ class IsolatedStructure(eqx.Module):
 
     def _in_two_components(self, ground_x, ground_y, design) -> BidirectionalStructure:
         """The same structure under (a_x, a_y) (`bidirectional_rigid_mass`, `bidirectional_building`:
-        one group with Park's biaxial Z); its `newton_iterations` bound the planar solve."""
+        one group with Park's biaxial Z); its `newton_iterations` bound the planar solve and its
+        `newton_tolerance` (in units of Y, as under one component) ends it."""
         bearing, period, damping = self.isolation(design)
         common = dict(bearing=bearing, ground_x=ground_x, ground_y=ground_y, time_step=self.time_step,
                       isolation_period=period, contact_pressure=self.contact_pressure(design),
@@ -307,8 +308,9 @@ class IsolatedStructure(eqx.Module):
                                               **common)
         else:
             system = bidirectional_building(isolation_damping=damping, **common)
-        if system.newton_iterations != self.newton_iterations:
-            system = dataclasses.replace(system, newton_iterations=self.newton_iterations)
+        settings = (self.newton_iterations, self.newton_tolerance)
+        if (system.newton_iterations, system.newton_tolerance) != settings:
+            system = dataclasses.replace(system, newton_iterations=settings[0], newton_tolerance=settings[1])
         return system
 
 
