@@ -279,35 +279,17 @@ def test_the_newton_matrix_is_the_residuals_jacobian(case):
 def test_the_newton_stage_converges_quadratically(case):
     """From the bearings' displacements of the linear step alone (no friction force), the
     flat sliders' Newton stage (`_newton_iterations`, the exact Jacobian and its line search)
-    balances the step to 1e-12 Y within six iterations, as Newton's method on an exact
-    Jacobian does; on the end's tangent (the Broyden stage's start) it does not."""
+    balances the step to 1e-12 Y within eight iterations (line-search halvings counted), as
+    Newton's method on an exact Jacobian does; on the end's tangent (the Broyden stage's start)
+    it does not."""
     system, p, _ = _planar_systems()[case]
-    system = dataclasses.replace(system, newton_iterations=6)
+    system = dataclasses.replace(system, newton_iterations=8)
     start = p["d_linear"]
     r, forces, z = system._residual_forces(start, p)
     tolerance = 1e-12 * float(jnp.min(jnp.asarray(system.bearing.hysteresis.yield_disp)))
     assert float(jnp.max(jnp.abs(jnp.concatenate(r)))) > 1e3 * tolerance
     r, _, _ = system._newton_iterations(start, r, forces, z, 0, p, tolerance)
     assert float(jnp.max(jnp.abs(r))) <= tolerance
-
-
-def test_a_run_balanced_by_the_newton_stage_is_the_broyden_run():
-    """The rigid mass on flat sliders under a strong two-component pair, once as it runs (one
-    unrolled Broyden step, up to eight more, then the Newton stage for what is left) and once
-    with `newton_iterations` 1, which leaves every step that one Broyden step does not balance
-    to the Newton stage on the exact Jacobian (in its second, short-step regime), both to
-    1e-8 Y: every step balances in both (an unbalanced step raises), and both histories agree
-    to the tolerance."""
-    record = _pulse(peak=0.6)
-    ground = (uniform_signal(record, 0.01), uniform_signal(0.6 * record[::-1].copy(), 0.01))
-    system = dataclasses.replace(bidirectional_isolated_structure("rigid")(ground), newton_tolerance=1e-8)
-    histories = [simulate_history(s, 4.0) for s in (system, dataclasses.replace(system, newton_iterations=1))]
-    for history in histories:
-        assert bool(history.succeeded)
-    q = [np.asarray(h.displacement) for h in histories]
-    scale = np.abs(q[0]).max()
-    assert scale > 0.02  # it slides
-    np.testing.assert_allclose(q[1], q[0], rtol=0, atol=1e-9 * scale)
 
 
 def test_the_tolerance_given_reaches_the_planar_solve():

@@ -43,14 +43,14 @@ def shortest_fraction(k, iterations: int):
 
 
 def damped_newton(evaluate, guess, tolerance, iterations: int, *, restart=None, first=None, taken=0,
-                  direction=None):
+                  direction=None, rescue: int = RESCUE_ITERATIONS):
     """Newton's iteration with step halving: from `guess`, steps x <- x - f dir with f halved
     until the merit sum(r^2) falls (or f reaches `SMALLEST_STEP`), while max |r| > `tolerance`
     and fewer than `iterations` steps were taken. `evaluate(x)` returns (residual r, merit,
     direction J^-1 r, ...), anything after the direction carried along (such as the forces the
     residual came from). Where that leaves the balance short, at most `RESCUE_ITERATIONS` more
-    steps halve f down to `RESCUE_SMALLEST` (`shortest_fraction`); a step balanced within
-    `iterations` is as before.
+    steps halve f down to `RESCUE_SMALLEST` (`shortest_fraction`; `rescue` of them, 0 where
+    `iterations` is a hard cap); a step balanced within `iterations` is as before.
 
     **Options:** `restart` (an x like `guess`): where those steps run out short of `tolerance`
     (a minimum of sum(r^2) with r != 0), the same once more from `restart`; `first`:
@@ -60,7 +60,7 @@ def damped_newton(evaluate, guess, tolerance, iterations: int, *, restart=None, 
     search turns down, nor at the root).
 
     **Returns:** (x, whether max |r| <= tolerance, the steps taken, `evaluate`'s values at x)."""
-    budget = iterations + RESCUE_ITERATIONS
+    budget = iterations + rescue
 
     def cond(carry):
         _, values, _, k, restarted = carry

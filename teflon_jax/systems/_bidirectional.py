@@ -464,12 +464,13 @@ class BidirectionalStructure(AbstractSteppedSystem):
             return r, jnp.sum(r**2), direction(r, jacobian), forces, z
 
         # the start's direction zero and its merit infinite: the loop's first pass evaluates the
-        # start itself (one copy of the exact Jacobian in the compiled step, not two)
+        # start itself (one copy of the exact Jacobian in the compiled step, not two), and is not
+        # counted; `newton_iterations` caps the steps of every stage together (no rescue steps)
         r = jnp.concatenate(r)
         start = jnp.concatenate(x)
         first = (r, jnp.asarray(jnp.inf, r.dtype), jnp.zeros_like(r), forces, z)
         *_, (r, _, _, forces, z) = damped_newton(evaluate, start, tolerance, self.newton_iterations, first=first,
-                                                  taken=done)
+                                                  taken=done - 1, rescue=0)
         return r, forces, z
 
 
