@@ -48,9 +48,9 @@ def damped_newton(evaluate, guess, tolerance, iterations: int, *, restart=None, 
     until the merit sum(r^2) falls (or f reaches `SMALLEST_STEP`), while max |r| > `tolerance`
     and fewer than `iterations` steps were taken. `evaluate(x)` returns (residual r, merit,
     direction J^-1 r, ...), anything after the direction carried along (such as the forces the
-    residual came from). Where that leaves the balance short, at most `RESCUE_ITERATIONS` more
-    steps halve f down to `RESCUE_SMALLEST` (`shortest_fraction`; `rescue` of them, 0 where
-    `iterations` is a hard cap); a step balanced within `iterations` is as before.
+    residual came from). Where that leaves the balance short, at most `rescue` more steps
+    (`RESCUE_ITERATIONS` by default; 0 where `iterations` is a hard cap) halve f down to
+    `RESCUE_SMALLEST` (`shortest_fraction`); a step balanced within `iterations` is as before.
 
     **Options:** `restart` (an x like `guess`): where those steps run out short of `tolerance`
     (a minimum of sum(r^2) with r != 0), the same once more from `restart`; `first`:

@@ -308,10 +308,8 @@ class IsolatedStructure(eqx.Module):
                                               **common)
         else:
             system = bidirectional_building(isolation_damping=damping, **common)
-        settings = (self.newton_iterations, self.newton_tolerance)
-        if (system.newton_iterations, system.newton_tolerance) != settings:
-            system = dataclasses.replace(system, newton_iterations=settings[0], newton_tolerance=settings[1])
-        return system
+        return dataclasses.replace(system, newton_iterations=self.newton_iterations,
+                                   newton_tolerance=self.newton_tolerance)
 
 
 TRIPLE_MONTE_CARLO_TOLERANCE = 1e-7
