@@ -27,8 +27,9 @@ from teflon_jax.studies import bidirectional_isolated_structure  # noqa: E402
 from teflon_jax.systems import (  # noqa: E402
     isolated_structure,
     peak_response,
+    respond_along_path,
+    sampled_path,
     simulate_history,
-    simulate_triple_test,
     slab_on_bearings,
     triple_structure,
     with_vertical_component,
@@ -121,7 +122,8 @@ def _series_cases(out):
                 out[f"{key}-2d-force"] = np.asarray(force)
         time = np.arange(0.0, 8.0 + 1e-9, RECORD_STEP)
         path = 0.15 * np.sin(2 * np.pi * time / 4.0)
-        out[f"{name}-test-1d-force"] = np.asarray(jax.jit(simulate_triple_test)(pendulum, time, path, 1e6).force)
+        test = jax.jit(respond_along_path)(pendulum, sampled_path(time, path, 1e6))
+        out[f"{name}-test-1d-force"] = np.asarray(test.force)
 
 
 def _flat_cases(out):

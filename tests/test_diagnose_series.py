@@ -25,7 +25,7 @@ from teflon_jax.formats import (
     test_record_from_arrays,
     write_test_record,
 )
-from teflon_jax.systems import simulate_triple_test
+from teflon_jax.systems import respond_along_path, sampled_path
 
 PRESSURE = 30e6
 """Contact pressure of the hidden heating [Pa]."""
@@ -90,14 +90,14 @@ def test_the_candidate_heats_each_surface_by_the_constant_flux_rise_at_1000_psi(
     mu, radius, load, speed = 0.06, 1.5, 1e6, 0.05
     start = isolator_from_dict(_double(bottom=(radius, mu, 0.0), top=(2.0, 0.5, 0.0)))
     time = np.linspace(0.0, 2.0, 401)
-    unheated = simulate_triple_test(start, time, speed * time, load)
+    unheated = respond_along_path(start, sampled_path(time, speed * time, load))
     record = test_record_from_arrays(speed * time, np.asarray(unheated.force), time=time,
                                      normal_load=np.full(time.size, load))
     problem = prepare_series_problem(record, start)
     assert problem.pressures == {"bottom": pytest.approx(NOMINAL), "top": pytest.approx(NOMINAL)}
     for s in (0.0, 2.0):
         bearing = heated_pendulum(problem.start, problem.heating, problem.pressures, s)
-        response = simulate_triple_test(bearing, time, speed * time, load, heat_kernel=problem.kernel)
+        response = respond_along_path(bearing, sampled_path(time, speed * time, load), heat_kernel=problem.kernel)
         assert bool(np.all(response.converged))
         if s == 0.0:
             np.testing.assert_allclose(np.asarray(response.force), np.asarray(unheated.force), rtol=1e-12)
@@ -111,13 +111,13 @@ def test_the_candidate_heats_each_surface_by_the_constant_flux_rise_at_1000_psi(
         np.testing.assert_allclose(mu - friction[later], mu - expected[later], rtol=5e-2)
 
 
-def _sine_record(path, biaxial=False):
+def _sine_record(path, biaxial=False, varying_load=False):
     time = np.linspace(0.0, 4.0, 201)
     u = 0.3 * np.sin(np.pi * time)
     f = 1e6 * (u / 2.1 + 0.06 * np.tanh(np.cos(np.pi * time) * 20))
     extra = {"uy": 0.5 * u, "fy": 0.5 * f} if biaxial else {}
-    write_test_record(path, test_record_from_arrays(u, f, time=time, normal_load=np.full(time.size, 1e6),
-                                                    **extra), units="SI")
+    load = 1e6 * (1.0 + (0.2 * np.sin(time) if varying_load else 0.0 * time))
+    write_test_record(path, test_record_from_arrays(u, f, time=time, normal_load=load, **extra), units="SI")
     return path
 
 
@@ -135,12 +135,13 @@ def _sine_record(path, biaxial=False):
      r"heating; not wear \(the series model of the pendulum has no wear part"),
     (["--candidates", "heating,grip"], r"candidates: unknown \['grip'\]"),
     (["--biaxial"], "runs in the plane .* along one axis"),
+    (["--varying-load"], "heated surfaces take their contact pressures at one load; .* constant positive normal"),
 ])
 def test_what_the_series_diagnose_cannot_take_is_refused_by_name(tmp_path, capsys, flags, message):
     start = _write(tmp_path / "start.json", _double())
     flags = list(flags)
-    biaxial = "--biaxial" in flags
-    flags = [f for f in flags if f != "--biaxial"]
+    biaxial, varying_load = "--biaxial" in flags, "--varying-load" in flags
+    flags = [f for f in flags if f not in ("--biaxial", "--varying-load")]
     if "--isolator" not in flags:
         flags = ["--isolator", "double-fp"] + flags
     if "--isolator-file" in flags:
@@ -148,7 +149,7 @@ def test_what_the_series_diagnose_cannot_take_is_refused_by_name(tmp_path, capsy
         del flags[i:i + 2]
     else:
         flags += ["--isolator-file", str(start)]
-    record = _sine_record(tmp_path / "r.csv", biaxial=biaxial)
+    record = _sine_record(tmp_path / "r.csv", biaxial=biaxial, varying_load=varying_load)
     code = main(["diagnose", str(record), "--json", str(tmp_path / "d.json"), "--report",
                  str(tmp_path / "rep"), "--quiet", *flags])
     assert code == 2

@@ -33,8 +33,9 @@ from teflon_jax.systems import (
     imposed_isolator_force,
     isolated_structure,
     peak_response,
+    respond_along_path,
+    sampled_path,
     simulate_history,
-    simulate_triple_test,
     triple_structure,
 )
 from teflon_jax.units import STANDARD_GRAVITY
@@ -69,7 +70,7 @@ def loading(request):
     t = np.linspace(0, period, n + 1)
     u = 0.29 * np.sin(2 * np.pi * t / period)
     if request.param == "bearing test":
-        response = jax.jit(simulate_triple_test)(_bearing(), t, u, W)
+        response = jax.jit(respond_along_path)(_bearing(), sampled_path(t, u, W))
         x, force, ok = u, response.force, response.converged
     else:
         x, force, ok = jax.jit(imposed_isolator_force, static_argnums=3)(_bearing(), W, u, float(t[1]))

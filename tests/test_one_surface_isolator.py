@@ -42,7 +42,6 @@ from teflon_jax.systems import (
     respond_along_path,
     sampled_path,
     simulate_history,
-    simulate_triple_test,
     structure_on_isolator,
     with_vertical_motion,
 )
@@ -173,7 +172,7 @@ def test_the_end_law_needs_one_surface():
     with pytest.raises(ValueError, match="friction_velocity"):
         structure_on_isolator(linear, double, friction_velocity="end")
     with pytest.raises(ValueError, match="friction_velocity"):
-        simulate_triple_test(double, np.arange(3) * 0.01, np.zeros(3), 1e6, friction_velocity="end")
+        respond_along_path(double, sampled_path(np.arange(3) * 0.01, np.zeros(3), 1e6), friction_velocity="end")
     with pytest.raises(ValueError, match="friction_velocity"):
         structure_on_isolator(linear, double, friction_velocity="start")
 
@@ -185,10 +184,10 @@ def test_along_an_imposed_path_the_end_law_is_the_flat_bearing_test(radius):
     time = np.arange(0.0, 6.0 + 1e-9, 0.01)
     path = 0.05 * np.sin(2 * np.pi * time / 2.0) * np.minimum(time, 1.0)
     load = 1e6
-    series = simulate_triple_test(single_pendulum(bearing, radius=radius), time, path, load, friction_velocity="end")
+    series = respond_along_path(single_pendulum(bearing, radius=radius), sampled_path(time, path, load), friction_velocity="end")
     flat = np.asarray(respond_along_path(bearing, sampled_path(time, path, load)).fx) + load * path / radius
     assert _relative(flat, np.asarray(series.force)) <= 1e-12
-    mean = simulate_triple_test(single_pendulum(bearing, radius=radius), time, path, load)
+    mean = respond_along_path(single_pendulum(bearing, radius=radius), sampled_path(time, path, load))
     assert _relative(flat, np.asarray(mean.force)) > 1e-3  # the mean speed lags the path's
 
 

@@ -43,8 +43,8 @@ def test_the_flat_bearings_solve_options_are_refused_on_a_series_pendulum_by_nam
                                                                "steps_per_sample, rtol")):
         with pytest.raises(ValueError, match=f"^{named}: the double friction pendulums balance their sliders"):
             simulate_bearing_test(DOUBLE, MOTION, W, **options)
-    with pytest.raises(ValueError, match="normal_load: the test of double friction pendulums runs under a constant"):
-        simulate_bearing_test(DOUBLE, MOTION, uniform_signal(np.full(100, W), 0.1))
+    with pytest.raises(ValueError, match="normal_load: 10 s asked, but the record lasts only 9.9 s"):
+        simulate_bearing_test(DOUBLE, MOTION, uniform_signal(np.full(100, W), 0.1))  # a record, too short
     with pytest.raises(ValueError, match="bottom_radius"):  # checked like a flat bearing's constants
         simulate_bearing_test(dataclasses.replace(DOUBLE, bottom_radius=-1.5), MOTION, W)
 

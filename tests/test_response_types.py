@@ -19,8 +19,9 @@ from teflon_jax.systems import (
     StructureResponse,
     isolated_structure,
     peak_response,
+    respond_along_path,
+    sampled_path,
     simulate_history,
-    simulate_triple_test,
     smooth_max,
     smooth_max_update,
     smooth_max_value,
@@ -186,11 +187,11 @@ def test_peaks_of_one_and_two_components_are_one_type_and_match_the_histories():
 def test_a_series_pendulum_test_is_a_bearing_test_result():
     t = np.arange(0.0, 2.0 + 1e-9, 0.01)
     u = 0.1 * np.sin(np.pi * t)
-    along = simulate_triple_test(TRIPLE, t, u, 1e6)
+    along = respond_along_path(TRIPLE, sampled_path(t, u, 1e6))
     assert along.force.shape == t.shape and along.uy is None and along.slider.shape == (t.size, 3)
     np.testing.assert_array_equal(along.ux, u)
     np.testing.assert_array_equal(along.fy, 0.0)
-    orbit = simulate_triple_test(TRIPLE, t, np.stack([u, 0 * u], -1), 1e6)
+    orbit = respond_along_path(TRIPLE, sampled_path(t, np.stack([u, 0 * u], -1), 1e6))
     assert orbit.force.shape == (t.size, 2) and orbit.slider.shape == (t.size, 3, 2)
     np.testing.assert_allclose(orbit.fx, along.fx, rtol=0, atol=1e-9 * 1e6)  # a plane orbit along x
     assert bool(along.succeeded) and bool(orbit.succeeded)

@@ -49,7 +49,7 @@ from teflon_jax.bearing import (
     heat_kernel_exponentials,
 )
 from teflon_jax.formats import TestRecord
-from teflon_jax.systems import HEAT_HORIZON, simulate_triple_test
+from teflon_jax.systems import HEAT_HORIZON, respond_along_path, sampled_path
 from teflon_jax.units import INCH, PSI
 
 from ..least_squares import covariance_from_jacobian, fit_least_squares_batch
@@ -166,7 +166,8 @@ def prepare_series_problem(record: TestRecord, start: SeriesPendulum, *, normal_
                          "its surfaces along one axis only, so diagnose takes a record along one axis.")
     if not (isinstance(max_samples, int) and max_samples >= 10):
         raise ValueError(f"max_samples: must be an integer >= 10, got {max_samples!r}.")
-    time, path, force, load = _arrays(record, normal_load)
+    time, path, force, load = _arrays(record, normal_load, one_step_and_load=True)
+    load = float(load[0])
     decimation = max(1, math.ceil(time.size / max_samples))
     time, path, force = time[::decimation], path[::decimation], force[::decimation]
     scale = float(np.sqrt(np.mean(force**2)))
@@ -174,7 +175,7 @@ def prepare_series_problem(record: TestRecord, start: SeriesPendulum, *, normal_
         raise ValueError(f"{name}: the measured force is zero throughout.")
     heating, pressures, assumed = _surface_heating(start, dict(record.metadata or {}), load)
     bare = jax.tree_util.tree_map(lambda x: jnp.asarray(x, float), _without_heating(start))
-    response = jax.jit(simulate_triple_test)(bare, time, path, load)
+    response = jax.jit(respond_along_path)(bare, sampled_path(time, path, load))
     if not bool(np.all(np.asarray(response.converged))):
         raise ValueError(f"{name}: the start's series solve does not balance at "
                          f"{int(np.sum(~np.asarray(response.converged)))} samples; use a finer "
@@ -241,11 +242,11 @@ def candidate_start(problem: SeriesProblem, values: dict, effects) -> dict:
 
 
 def _model(params, shared):
-    problem_start, heating, pressures, kernel, time, path, load = shared
+    problem_start, heating, pressures, kernel, path = shared
     values = {k: v for k, v in params.items() if k != HEAT_SCALE}
     bearing = heated_pendulum(triple_with_parameters(problem_start, values), heating, pressures,
                               params[HEAT_SCALE])
-    return simulate_triple_test(bearing, time, path, load, heat_kernel=kernel)
+    return respond_along_path(bearing, path, heat_kernel=kernel)
 
 
 def _residual(params, args):
@@ -256,7 +257,7 @@ def _residual(params, args):
 
 def _shared(problem: SeriesProblem):
     return ((problem.start, problem.heating, problem.pressures, problem.kernel,
-             jnp.asarray(problem.time), jnp.asarray(problem.path), problem.load),
+             sampled_path(jnp.asarray(problem.time), jnp.asarray(problem.path), problem.load)),
             jnp.asarray(problem.force), problem.scale)
 
 

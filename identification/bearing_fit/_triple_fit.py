@@ -1,13 +1,13 @@
 """Fit a triple or double friction pendulum's radii and friction to a bearing test record.
 
-The record's displacement drives the series model of the bearing (`simulate_triple_test`:
+The record's displacement drives the series model of the bearing (`respond_along_path`:
 the triple's three sliders of radii 2 a, b - a and c - a, or the double's two of radii R_1 and
 R_2, carrying one force, each with Eq. 1 friction at its surface's velocity and Bouc-Wen's Z;
 Fenz & Constantinou 2006, Earthquake Engng Struct. Dyn. 35; 2008, Earthquake Spectra 24(4);
 Constantinou, Mokha & Reinhorn 1990, Eqs. 1, 3), and Levenberg-Marquardt (optimistix,
 `fit_least_squares`) minimises
 
-    S(theta) = sum_i ((F_model,i(theta) - F_i) / N)^2
+    S(theta) = sum_i ((F_model,i(theta) - F_i) / N_i)^2
 
 over the constants theta the record can tell (`triple_fit_plan`), differentiating the simulation in
 forward mode. The optimiser sees a, b - a and c - a of a triple (all > 0, so the inner
@@ -37,7 +37,7 @@ from teflon_jax.bearing import (
     check_series_pendulum,
 )
 from teflon_jax.formats import TestRecord
-from teflon_jax.systems import simulate_triple_test
+from teflon_jax.systems import respond_along_path, sampled_path
 
 from ..least_squares import covariance_from_jacobian, fit_least_squares
 from ._prepare import _normal_load, _record_name
@@ -147,27 +147,36 @@ def _leaves_of(bearing: SeriesPendulum) -> dict:
 
 
 def _residual(params, args):
-    start, time, path, force, load = args
-    response = simulate_triple_test(triple_with_parameters(start, params), time, path, load)
-    return ((response.force - force) / load).reshape(-1)
+    start, path, force, load = args
+    response = respond_along_path(triple_with_parameters(start, params), path)
+    return ((response.force - force) / (load if force.ndim == 1 else load[:, None])).reshape(-1)
 
 
-def _arrays(record: TestRecord, normal_load):
-    """(time, displacement (nt,) or (nt, 2), force like it, N) of a time-history record;
-    `ValueError` naming what the fit cannot take."""
+def _arrays(record: TestRecord, normal_load, *, one_step_and_load: bool = False):
+    """(time, displacement (nt,) or (nt, 2), force like it, N (nt,)) of a time-history record
+    at increasing sample times under a positive normal load at each sample (with
+    `one_step_and_load`, as a heated start's kernel and contact pressures need: at a uniform
+    time step under a constant load); `ValueError` naming what the fit cannot take."""
     name = _record_name(record, 0)
     if record.is_digitised or record.time is None:
         raise ValueError(f"{name}: the series pendulum fit takes a time history (time, ux, fx); "
                          "this record is a digitised loop.")
     time = np.asarray(record.time, dtype=float)
     steps = np.diff(time)
-    if time.size < 10 or not (np.all(steps > 0) and np.ptp(steps) <= 1e-6 * steps.mean()):
-        raise ValueError(f"{name}: the series pendulum fit needs at least 10 samples at a uniform "
-                         "time step (the series model is stepped at the record's samples); resample it.")
+    if time.size < 10 or not np.all(steps > 0):
+        raise ValueError(f"{name}: the series pendulum fit needs at least 10 samples at increasing times "
+                         "(the series model is stepped at the record's samples).")
+    if one_step_and_load and not np.ptp(steps) <= 1e-6 * steps.mean():
+        raise ValueError(f"{name}: heated surfaces are stepped at one interval; this record needs a uniform "
+                         "time step: resample it.")
     load = _normal_load(record, name, normal_load)
-    if np.ptp(load) > 1e-9 * np.max(np.abs(load)) or not load[0] > 0:
-        raise ValueError(f"{name}: the series pendulum fit takes a constant positive normal load; "
+    if not np.all(load > 0):
+        raise ValueError(f"{name}: the series pendulum fit needs a positive normal load at every sample; "
                          f"the record's N spans {load.min():.6g}-{load.max():.6g} N.")
+    if one_step_and_load and np.ptp(load) > 1e-9 * np.max(load):
+        raise ValueError(f"{name}: heated surfaces take their contact pressures at one load; this record "
+                         f"needs a constant positive normal load (its N spans {load.min():.6g}-"
+                         f"{load.max():.6g} N).")
     if record.is_biaxial:
         path = np.stack([record.ux, record.uy], axis=-1)
         force = np.stack([record.fx, record.fy], axis=-1)
@@ -176,7 +185,7 @@ def _arrays(record: TestRecord, normal_load):
     if np.max(np.abs(path[0])) > 1e-6 * np.max(np.abs(path)):
         raise ValueError(f"{name}: the record starts off the centre (u = {np.ravel(path[0]).tolist()} m); "
                          "the series model starts at rest at u = 0: trim or shift the record.")
-    return time, path, force, float(load[0])
+    return time, path, force, load
 
 
 def _bounds(names, values):
@@ -197,8 +206,9 @@ def fit_series_pendulum_test(record: TestRecord, initial: SeriesPendulum, *, fre
     where the loop reaches them, its capacities to one test record (module docstring).
 
     **Arguments:** `record`: a `TestRecord` time history (uniaxial, or biaxial along an
-    orbit) at a uniform time step, under a constant normal load (its N column or metadata,
-    else `normal_load` [N]); `initial`: the start (`TriplePendulum` or `DoublePendulum`, e.g.
+    orbit) at increasing sample times, under its normal load at each sample (its N column or
+    metadata, else `normal_load` [N]; the force is homogeneous in N, so a load that varies
+    is followed sample by sample); `initial`: the start (`TriplePendulum` or `DoublePendulum`, e.g.
     `load_isolator`); the constants it does not free are held at its values; `free`: names to
     fit (`parameter_names` of its surfaces; default: what the record can tell,
     `triple_fit_plan`); `full_model`: free delta_f and rate_a whatever the record's speeds;
@@ -215,8 +225,9 @@ def fit_series_pendulum_test(record: TestRecord, initial: SeriesPendulum, *, fre
         raise ValueError(f"max_steps: must be an integer >= 1, got {max_steps!r}.")
     time, path, force, load = _arrays(record, normal_load)
     start = jax.tree_util.tree_map(lambda x: jnp.asarray(x, float), initial)
-    simulate = eqx.filter_jit(simulate_triple_test)
-    response = simulate(start, time, path, load)
+    simulate = eqx.filter_jit(respond_along_path)
+    sampled = sampled_path(time, path, load)
+    response = simulate(start, sampled)
     if not bool(np.all(np.asarray(response.converged))):
         raise ValueError(f"{_record_name(record, 0)}: the start's series solve does not balance at "
                          f"{int(np.sum(~np.asarray(response.converged)))} samples; use a finer time step.")
@@ -227,9 +238,9 @@ def fit_series_pendulum_test(record: TestRecord, initial: SeriesPendulum, *, fre
         held = {n: "held: not in free" for n in known if n not in names}
     values = triple_parameters(start)
     x0, bounds = _bounds(names, values)
-    result = fit_least_squares(_residual, x0, bounds, args=(start, time, path, force, load),
+    result = fit_least_squares(_residual, x0, bounds, args=(start, sampled, force, load),
                                max_steps=max_steps, rtol=rtol, atol=atol)
-    return _result(start, result, names, held, (time, path, force, load), simulate)
+    return _result(start, result, names, held, (sampled, force), simulate)
 
 
 def fit_triple_pendulum_test(record: TestRecord, initial: TriplePendulum, **options) -> TripleFit:
@@ -276,8 +287,8 @@ def _reported_jacobian(result, names):
 def _result(start, result, names, held, data, simulate) -> TripleFit:
     """The `TripleFit` of an optimiser's result (errors in the reported constants)."""
     bearing = triple_with_parameters(start, {k: jnp.asarray(v) for k, v in result.parameters.items()})
-    time, path, force, load = data
-    response = simulate(bearing, time, path, load)
+    path, force = data
+    response = simulate(bearing, path)
     model = np.asarray(response.force)
     nrmse = float(np.sqrt(np.mean((model - force) ** 2) / np.mean(force**2)))
     cov, _ = covariance_from_jacobian(_reported_jacobian(result, names), result.residual)

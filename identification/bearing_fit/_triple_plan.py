@@ -86,7 +86,7 @@ def triple_fit_plan(start, response, time, *, full_model: bool = False) -> tuple
     reach = np.sqrt(np.sum(slider**2, axis=-1))  # (nt, S)
     travel = np.sum(np.sqrt(np.sum(np.diff(slider, axis=0) ** 2, axis=-1)), axis=0)
     capacities = np.asarray(start.series_capacities())
-    dt = float(time[1] - time[0])
+    dt = np.diff(np.asarray(time, float))[:, None]
     speed = np.sqrt(np.sum(np.diff(slider, axis=0) ** 2, axis=-1)) / dt * np.asarray(start.velocity_factors())
     yield_disp = float(np.asarray(start.hysteresis.yield_disp))
     held = {}

@@ -8,6 +8,7 @@ peaks the `REDUCERS` over it, folded along a run by one driver (`peak_response`)
 from ..structures import LINEAR_RULES as LINEAR_RULES
 from ._bearing_test import BearingTestSystem as BearingTestSystem
 from ._bearing_test import force_along_path as force_along_path
+from ._bearing_test import respond_along_path as respond_along_path
 from ._bearing_test import simulate_bearing_test as simulate_bearing_test
 from ._bidirectional import PLANAR_NEWTON_ITERATIONS as PLANAR_NEWTON_ITERATIONS
 from ._bidirectional import BidirectionalStructure as BidirectionalStructure
@@ -42,7 +43,6 @@ from ._isolated import with_vertical_component as with_vertical_component
 from ._isolator_balance import BALANCES as BALANCES
 from ._isolator_balance import TRIPLE_TOLERANCE as TRIPLE_TOLERANCE
 from ._isolator_balance import imposed_isolator_force as imposed_isolator_force
-from ._isolator_balance import simulate_triple_test as simulate_triple_test
 from ._on_plan import building_on_plan as building_on_plan
 from ._on_plan import slab_on_bearings as slab_on_bearings
 from ._on_plan import stack_pendulums as stack_pendulums
@@ -65,7 +65,6 @@ from ._response import uplift_time as uplift_time
 from ._response import uplifted as uplifted
 from ._sampled_path import HEAT_HORIZON as HEAT_HORIZON
 from ._sampled_path import SampledPath as SampledPath
-from ._sampled_path import respond_along_path as respond_along_path
 from ._sampled_path import sample_velocity as sample_velocity
 from ._sampled_path import sampled_path as sampled_path
 from ._series_step import structure_on_isolator as structure_on_isolator

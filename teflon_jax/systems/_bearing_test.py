@@ -32,9 +32,9 @@ from ..solver import (
     solve_with_controller,
 )
 from ..validation import given_options, require_positive
-from ._isolator_balance import simulate_triple_test
+from ._isolator_balance import series_along_path
 from ._response import BearingTestResult
-from ._sampled_path import respond_along_path, sample_velocity, sampled_path
+from ._sampled_path import SampledPath, sample_velocity, sampled_path, sliding_along_path
 
 
 def running_peak_rate(z_abs, z_peak, z_abs_rate):
@@ -101,11 +101,12 @@ def simulate_bearing_test(
 
     - `bearing`: the `SlidingBearing` of flat sliders (vmap this function over a batched
       bearing to run many), or a `SeriesPendulum` (triple or double friction pendulum), whose
-      sliders are balanced at each sample by the structures' solve (`simulate_triple_test`;
+      sliders are balanced at each sample by the structures' solve (`respond_along_path`;
       the solve's options below are then refused by name).
     - `motion`: an `AbstractMotion` (sine, triangle, figure-eight, tabulated).
-    - `normal_load` [N]: a constant or, for a `SlidingBearing`, a `Signal` (time-varying normal
-      load), which must cover `duration` (a recorded load is not extended past its last sample).
+    - `normal_load` [N]: a constant or a `Signal` (time-varying normal load), which must cover
+      `duration` (a recorded load is not extended past its last sample); a series pendulum
+      with heated surfaces takes a constant one.
     - `duration` [s]: defaults to `motion.duration`.
     - `samples_per_cycle`: saved samples per cycle of the motion (tabulated: per input sample
       interval the sample spacing of the table is used instead).
@@ -159,24 +160,66 @@ def simulate_bearing_test(
     return _solve(system, solver, controller, dt0, times, normal_load, max_steps, adjoint, throw)
 
 
+def respond_along_path(isolator: SlidingBearing | SeriesPendulum, path: SampledPath, *, z0=None, z_peak0=None,
+                       heat_kernel=None, friction_velocity: str | None = None) -> BearingTestResult:
+    """The force of any isolator [N] at the samples of an imposed path (a `SampledPath`, along
+    x or in the plane, under the path's normal load N [N] at each sample): the one test that
+    the fitters, the posterior, model discovery and `diagnose` run. jit-, vmap- and grad-safe
+    in the isolator.
+
+    - A `SlidingBearing` (flat sliders; a single pendulum adds N u / R outside):
+      F = mu(v, theta, max|Z|) k N Z (Eqs. 1, 17; k its optional parts) with v the path's
+      velocity at each sample and Z exact between samples (`sliding_along_path`); `z0` Z at
+      the first sample (default 0; (2,) in the plane) and `z_peak0` the running max |Z|
+      before it (default 0; 1: already mobilised, no breakaway).
+    - A `SeriesPendulum` (single, double, triple): its sliders balanced at each sample by the
+      structures' step of the isolator from rest (`series_along_path`), with the same slider
+      forces and solver the structures run; `heat_kernel` (rates, weights) of heated surfaces
+      and `friction_velocity` ("mean", the default, or for one surface "end") as there.
+
+    Options one kind does not take are refused by name (`ValueError`), as is a measured
+    temperature rise on the path of a series pendulum, whose surfaces heat by their own flux.
+
+    **Returns:** a `BearingTestResult` at the path's samples.
+    """
+    if isinstance(isolator, SeriesPendulum):
+        given = given_options({"z0": (z0, None), "z_peak0": (z_peak0, None)})
+        if given:
+            raise ValueError(f"{', '.join(given)}: the {isolator.description} start from rest at the path's "
+                             "first sample; drop these options.")
+        if path.temperature_rise is not None:
+            raise ValueError(f"path.temperature_rise: the {isolator.description} heat by their own flux; "
+                             "build the path without a measured temperature rise.")
+        return series_along_path(isolator, path, heat_kernel=heat_kernel,
+                                 friction_velocity="mean" if friction_velocity is None else friction_velocity)
+    if heat_kernel is not None:
+        raise ValueError("heat_kernel: a sliding bearing's test takes the path's own kernel "
+                         "(`sampled_path`); drop this option.")
+    if friction_velocity not in (None, "end"):
+        raise ValueError(f"friction_velocity: a sliding bearing's test takes Eq. 1 at the path's velocity at "
+                         f"each sample ('end'), got {friction_velocity!r}.")
+    return sliding_along_path(isolator, path, z0=z0, z_peak0=0.0 if z_peak0 is None else z_peak0)
+
+
 def _series_test(bearing: SeriesPendulum, motion, normal_load, duration, samples_per_cycle, options):
     """The test of a series pendulum (`simulate_bearing_test`): its balance along the motion
-    sampled `samples_per_cycle` times a cycle (a tabulated motion at its own samples), under a
-    constant normal load; `ValueError` naming the options of the flat bearing's solve, a
-    normal load that varies and a constant of the pendulum out of range."""
+    sampled `samples_per_cycle` times a cycle (a tabulated motion at its own samples), under
+    the normal load at each sample (`respond_along_path`); `ValueError` naming the options of
+    the flat bearing's solve and a constant of the pendulum out of range."""
     given = given_options(options)
     if given:
         raise ValueError(f"{', '.join(given)}: the {bearing.description} balance their sliders at each "
                          "sample (the structures' solve); drop these options.")
-    if isinstance(normal_load, Signal):
-        raise ValueError(f"normal_load: the test of {bearing.description} runs under a constant normal "
-                         "load [N]; give one number.")
     check_series_pendulum(bearing)
     motion.check()
-    time = save_times(motion, motion.duration if duration is None else duration, samples_per_cycle)
+    duration = motion.duration if duration is None else duration
+    time = save_times(motion, duration, samples_per_cycle)
     path = jax.vmap(motion.displacement)(time)
-    displacement = path if isinstance(motion, AbstractBiaxialMotion) else path[:, 0]
-    return simulate_triple_test(bearing, time, displacement, normal_load)
+    signal = _normal_load_signal(normal_load, duration)
+    load = jax.vmap(signal)(time) if isinstance(normal_load, Signal) else normal_load
+    planar = isinstance(motion, AbstractBiaxialMotion)
+    return series_along_path(bearing, sampled_path(time, path[:, 0], load, uy=path[:, 1] if planar else None,
+                                                   park_elements=1))
 
 
 @eqx.filter_jit
@@ -196,7 +239,7 @@ def _along_samples(bearing, motion, normal_load, times, steps_per_sample):
                             velocity_y=v[:, 1])
     else:
         path = sampled_path(times, u[:, 0], load, velocity=v[:, 0])
-    r = respond_along_path(bearing, path)
+    r = sliding_along_path(bearing, path)
     keep = slice(None, None, steps_per_sample)
     return BearingTestResult(
         time=times[keep], ux=u[keep, 0], uy=u[keep, 1], vx=v[keep, 0], vy=v[keep, 1],
@@ -335,7 +378,7 @@ def force_along_path(
     z_peak0 = jnp.asarray(z_peak0, dtype=ux.dtype)
     if solver is None and _riccati_admitted(bearing.hysteresis):
         path = sampled_path(time, ux, normal_load)
-        response = respond_along_path(bearing, path, z0=z0, z_peak0=z_peak0)
+        response = sliding_along_path(bearing, path, z0=z0, z_peak0=z_peak0)
         return response.fx, response.z[:, 0], response.z_peak
     if bearing.effects:
         raise ValueError(

@@ -1,6 +1,6 @@
 """The sliders' balance of a friction pendulum of sliders in series over one step, in one or two
 horizontal components: what a structure on the isolator (`_series_step.py`) and the
-isolator's bearing test along an imposed path (`simulate_triple_test`) step through.
+isolator's bearing test along an imposed path (`series_along_path`) step through.
 
 S sliders carry one force F and their increments d_e add up to the isolator's; slider e
 carries F_e(d_e) (`slider_forces`: Eq. 1 at the surface's mean velocity over the step, f_min
@@ -23,7 +23,7 @@ implicitly with exact slopes (`implicit_root`). At a normal load N <= 0 (uplift)
 carry nothing and share the isolator's increment as their pendulum stiffnesses W / R_e in
 series would (`uplift_increments`).
 
-The bearing test (`simulate_triple_test`) drives the isolator along a displacement path: the
+The bearing test (`series_along_path`) drives the isolator along a displacement path: the
 same step with the structure replaced by the path, the sliders' increments adding up to the
 path's increment exactly, their forces equal to `TEST_TOLERANCE` W. References: Fenz &
 Constantinou (2006), Earthquake Engng Struct. Dyn. 35; (2008), Earthquake Spectra 24(4); Park,
@@ -32,6 +32,7 @@ Wen & Ang (1986); Constantinou, Mokha & Reinhorn (1990), Eqs. 1, 3.
 
 import functools
 
+import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -49,7 +50,7 @@ from ..solver import (
     woodbury,
 )
 from ._response import BearingTestResult
-from ._sampled_path import sample_velocity
+from ._sampled_path import SampledPath
 from ._slider_forces import (
     FRICTION_VELOCITIES,
     balance_forces,
@@ -336,14 +337,15 @@ TEST_TOLERANCE = 1e-12
 a fit is balanced to rounding, far below the structures' `TRIPLE_TOLERANCE`."""
 
 
-def _path_step(pendulum, load, dt, kernel, state, target, velocity=None, *, tolerance=TEST_TOLERANCE,
+def _path_step(pendulum, kernel, state, target, load, dt, velocity=None, *, tolerance=TEST_TOLERANCE,
                iterations: int = TRIPLE_NEWTON_ITERATIONS):
     """One step of the isolator to the path's displacement `target` ((,) or (2,) [m]) from its
     state (`_series_step.initial_isolator`'s, the force F in place of the force beyond a
-    reference spring): the structures' step of the isolator (`slider_step`) with the sliders'
-    increments adding up to D = target - sum(sliders), from the extrapolated increments with
-    their misfit to D shared evenly; `velocity` [m/s]: the path's at `target`, for the law
-    "end" (one surface), else `None`."""
+    reference spring) over `dt` [s], under the path's normal load `load` [N] at the step's
+    end: the structures' step of the isolator (`slider_step`) with the sliders' increments
+    adding up to D = target - sum(sliders), from the extrapolated increments with their misfit
+    to D shared evenly; `velocity` [m/s]: the path's at `target`, for the law "end" (one
+    surface), else `None`."""
     slider = state[0]
     p = isolator_parameters(pendulum, state, load, load, target - jnp.sum(slider, axis=0),
                             heat_weights=None if kernel is None else kernel[1])
@@ -357,10 +359,11 @@ def _path_step(pendulum, load, dt, kernel, state, target, velocity=None, *, tole
     return new, (force, new[0], new[1], converged)
 
 
-def _along_path(pendulum, load, time_step, path, kernel, velocity=None, **solve):
-    """Scan `_path_step` along `path` (nt,) or (nt, 2) [m] from rest (with the path's
-    `velocity`, like it, for the law "end"): (force, slider, z, converged) of the steps after
-    the first sample."""
+def _along_path(pendulum, loads, steps, path, kernel, velocity=None, **solve):
+    """Scan `_path_step` along `path` (nt,) or (nt, 2) [m] from rest, under the normal loads
+    `loads` (nt,) [N] of its samples, over the steps `steps` (nt - 1,) [s] between them (with
+    the path's `velocity`, like it, for the law "end"): (force, slider, z, converged) of the
+    steps after the first sample."""
     shape = (pendulum.slider_count,) + path.shape[1:]
     zeros = jnp.zeros(shape, path.dtype)
     start = (zeros, zeros, jnp.stack([zeros, zeros]), jnp.zeros(path.shape[1:], path.dtype))
@@ -370,69 +373,77 @@ def _along_path(pendulum, load, time_step, path, kernel, velocity=None, **solve)
         start = start + (initial_history(pendulum, shape[:1], path.dtype),)
 
     def body(state, inputs):
-        return _path_step(pendulum, load, time_step, kernel, state, *inputs, **solve)
+        return _path_step(pendulum, kernel, state, *inputs, **solve)
 
-    return jax.lax.scan(body, start, (path[1:],) if velocity is None else (path[1:], velocity[1:]))[1]
+    inputs = (path[1:], loads[1:], steps) + (() if velocity is None else (velocity[1:],))
+    return jax.lax.scan(body, start, inputs)[1]
 
 
-def simulate_triple_test(bearing: SeriesPendulum, time, displacement, normal_load, *,
-                         heat_kernel=None, friction_velocity: str = "mean", velocity=None) -> BearingTestResult:
-    """Force of a triple or double pendulum bearing [N] along an imposed displacement [m] at the
-    sample times [s] (uniform), under normal load W [N]: `displacement` (nt,) along one axis or
-    (nt, 2) in the plane (an orbit); the path starts at rest at its first sample (module
-    docstring). jit-, vmap- and grad-safe once the bearing is checked
-    (`check_triple_pendulum`, `check_double_pendulum`). A pendulum with heated surfaces
-    (`SeriesPendulum.heated`; contact pressures at this W) scales each surface's friction by
-    its temperature (`_slider_forces.heated_step`; in the plane the flux takes the length of each
-    surface's increment), with `heat_kernel` (rates, weights) =
-    `heat_kernel_exponentials(dt, horizon)`, by default from concrete `time` (one step to
-    `HEAT_HORIZON`). `friction_velocity` (`FRICTION_VELOCITIES`): "mean", or for a one-surface
-    isolator "end", Eq. 1 at the path's velocity at each sample, `velocity` [m/s] like
-    `displacement` (default: `sample_velocity`, central differences), as a flat bearing's
-    test (`respond_along_path`) takes it.
+def series_along_path(bearing: SeriesPendulum, path: SampledPath, *, heat_kernel=None,
+                      friction_velocity: str = "mean") -> BearingTestResult:
+    """Force of a series pendulum [N] along the imposed displacement of `path` (a
+    `SampledPath`: along x, or in the plane), from rest at its first sample, under the path's
+    normal load N [N] at each sample (module docstring); `respond_along_path` for a
+    `SeriesPendulum`. jit-, vmap- and grad-safe once the bearing is checked
+    (`check_series_pendulum`). A pendulum with heated surfaces (`SeriesPendulum.heated`;
+    contact pressures at this N, which must then be constant) scales each surface's friction
+    by its temperature (`_slider_forces.heated_step`; in the plane the flux takes the length of
+    each surface's increment), with `heat_kernel` (rates, weights) =
+    `heat_kernel_exponentials(dt, horizon)`, by default from concrete sample times (the
+    shortest step to `HEAT_HORIZON`). `friction_velocity` (`FRICTION_VELOCITIES`): "mean",
+    or for a one-surface isolator "end", Eq. 1 at the path's velocity at each sample, as a
+    flat bearing's test takes it.
 
-    **Returns:** a `BearingTestResult`: the path (`time`, `ux`, `uy`; `vx`, `vy` for the law
-    "end"), `normal_load`, the force `fx`, `fy` [N] (`fy` zeros along one axis), the sliders'
+    **Returns:** a `BearingTestResult`: the path (`time`, `ux`, `uy`, `vx`, `vy`),
+    `normal_load`, the force `fx`, `fy` [N] (`fy` zeros along one axis), the sliders'
     displacements `slider` and `z`, (nt, S) or (nt, S, 2), in the order of the pendulum's
     `slider_names`, and `converged` (nt,), whether each step's force balance met its tolerance."""
-    time = jnp.asarray(time, float)
-    path = jnp.asarray(displacement, float)
+    planar, time = path.planar, path.time
+    displacement = jnp.stack([path.ux, path.uy], -1) if planar else path.ux
+    velocity = jnp.stack([path.velocity_x, path.velocity_y], -1) if planar else path.velocity_x
     kernel = _test_heat_kernel(bearing, time, heat_kernel)
-    load = jnp.asarray(normal_load, float)
-    velocity = _path_velocity(bearing, friction_velocity, time, path, velocity)
-    force, slider, z, converged = _along_path(bearing, load, time[1] - time[0], path, kernel, velocity)
+    load = _path_load(bearing, path)
+    use = _path_velocity(bearing, friction_velocity, velocity)
+    force, slider, z, converged = _along_path(bearing, load, jnp.diff(time), displacement, kernel, use)
 
     def first(rest):
         return jnp.concatenate([jnp.zeros((1,) + rest.shape[1:], rest.dtype), rest])
 
-    force, planar = first(force), path.ndim == 2
-    vx, vy = (None, None) if velocity is None else ((velocity[:, 0], velocity[:, 1]) if planar else (velocity, None))
+    force = first(force)
     return BearingTestResult(
         time=time, fx=force[:, 0] if planar else force, fy=force[:, 1] if planar else jnp.zeros_like(force),
-        z=first(z), normal_load=jnp.broadcast_to(load, time.shape), ux=path[:, 0] if planar else path,
-        uy=path[:, 1] if planar else None, vx=vx, vy=vy, slider=first(slider),
-        converged=jnp.concatenate([jnp.array([True]), converged]))
+        z=first(z), normal_load=load, ux=path.ux, uy=path.uy, vx=path.velocity_x, vy=path.velocity_y,
+        slider=first(slider), converged=jnp.concatenate([jnp.array([True]), converged]))
 
 
-def _path_velocity(bearing: SeriesPendulum, friction_velocity: str, time, path, velocity):
-    """The path's velocity [m/s] for the law "end" (given, or `sample_velocity` of each
-    component), `None` for "mean"; `ValueError` naming `friction_velocity` or `velocity`."""
+def _path_load(bearing: SeriesPendulum, path: SampledPath):
+    """The path's normal loads (nt,) [N]; a load that is not positive, or one that varies under
+    a heated pendulum (whose contact pressures are given at one load), is refused by name
+    (`ValueError` where the loads are concrete, else a runtime error)."""
+    load = path.normal_load
+    message = "path.normal_load: a series pendulum's test needs a positive normal load at every sample."
+    if bearing.heated:
+        message += (" A pendulum with heated surfaces takes its contact pressures at one load: give a "
+                    "constant normal load.")
+    if isinstance(load, jax.core.Tracer):
+        bad = jnp.any(load <= 0) | (bearing.heated & jnp.any(load != load[0]))
+        return eqx.error_if(load, bad, message)
+    values = np.asarray(load)
+    if np.any(values <= 0) or (bearing.heated and np.any(values != values[0])):
+        raise ValueError(message)
+    return load
+
+
+def _path_velocity(bearing: SeriesPendulum, friction_velocity: str, velocity):
+    """The path's velocity [m/s] for the law "end", `None` for "mean"; `ValueError` naming
+    `friction_velocity`."""
     if friction_velocity not in FRICTION_VELOCITIES:
         raise ValueError(f"friction_velocity: unknown {friction_velocity!r}; accepted: {', '.join(FRICTION_VELOCITIES)}.")
     if friction_velocity == "mean":
-        if velocity is not None:
-            raise ValueError("velocity: the law 'mean' takes each surface's mean speed over a step; "
-                             "give friction_velocity='end' to use the path's velocity.")
         return None
     if bearing.slider_count != 1:
         raise ValueError(f"friction_velocity: 'end' needs a one-surface isolator; the {bearing.description} "
                          f"have {bearing.slider_count} sliders.")
-    if velocity is None:
-        columns = path[:, None] if path.ndim == 1 else path
-        velocity = jnp.stack([sample_velocity(time, c) for c in columns.T], -1).reshape(path.shape)
-    velocity = jnp.asarray(velocity, float)
-    if velocity.shape != path.shape:
-        raise ValueError(f"velocity: one per sample like the displacement {path.shape}, got {velocity.shape}.")
     return velocity
 
 
@@ -440,12 +451,14 @@ def imposed_isolator_force(pendulum: SeriesPendulum, load, displacement, time_st
                            newton_iterations: int = TRIPLE_NEWTON_ITERATIONS,
                            tolerance: float = TEST_TOLERANCE):
     """The structures' isolator solve driven along a displacement path (nt,) [m] sampled at
-    `time_step` [s], under normal load W [N] (the bearing test, `simulate_triple_test`, with
+    `time_step` [s], under normal load W [N] (the bearing test, `series_along_path`, with
     the balance's settings: `newton_iterations`, `tolerance` [-] over W).
 
     **Returns:** (isolator displacement (nt,) [m], force (nt,) [N], converged (nt,))."""
-    load = jnp.asarray(load, float)
-    force, slider, _, ok = _along_path(pendulum, load, float(time_step), jnp.asarray(displacement, float), None,
+    displacement = jnp.asarray(displacement, float)
+    loads = jnp.broadcast_to(jnp.asarray(load, float), displacement.shape[:1])
+    steps = jnp.full(displacement.shape[0] - 1, float(time_step))
+    force, slider, _, ok = _along_path(pendulum, loads, steps, displacement, None,
                                        tolerance=tolerance, iterations=newton_iterations)
     at_rest = jnp.zeros(1, force.dtype)
     return (jnp.concatenate([at_rest, jnp.sum(slider, axis=1)]), jnp.concatenate([at_rest, force]),
@@ -453,7 +466,7 @@ def imposed_isolator_force(pendulum: SeriesPendulum, load, displacement, time_st
 
 
 def _test_heat_kernel(bearing: SeriesPendulum, time, heat_kernel):
-    """(rates, weights) of a heated pendulum's kernel (`simulate_triple_test`), else None."""
+    """(rates, weights) of a heated pendulum's kernel (`series_along_path`), else None."""
     if not bearing.heated:
         return None
     if heat_kernel is not None:

@@ -2,7 +2,8 @@
 
 Every consumer that needs the force of a bearing at the samples of a test (the fitter, the
 posterior, model discovery, `force_along_path`) calls `respond_along_path` with the same
-`SlidingBearing` the structures run.
+`SlidingBearing` the structures run; for a `SlidingBearing` that is `sliding_along_path`,
+here.
 
 **Velocity convention.** The force of a sample at time t_i is mu(v(t_i)) N Z(t_i), with v(t_i)
 the velocity *at* the sample: given with the path, or estimated from the samples by
@@ -66,6 +67,12 @@ def sample_velocity(time, u):
     time, u = jnp.asarray(time), jnp.asarray(u)
     if time.shape[0] < 3:
         raise ValueError(f"time: need at least 3 samples for a velocity, got {time.shape[0]}.")
+    return _central_differences(time, u)
+
+
+@jax.jit
+def _central_differences(time, u):
+    """`sample_velocity`'s differences, one compiled program per shape."""
     h = jnp.diff(time)
     h1, h2 = h[:-1], h[1:]
     inner = (-h2 / (h1 * (h1 + h2)) * u[:-2] + (h2 - h1) / (h1 * h2) * u[1:-1]
@@ -111,13 +118,19 @@ def sampled_path(time, ux, normal_load, *, uy=None, velocity=None, velocity_y=No
                  yield_disp=DEFAULT_YIELD_DISP) -> SampledPath:
     """Build a `SampledPath` from sampled arrays.
 
-    **Arguments:** `time` [s], `ux` [m] (n,); `normal_load` [N] scalar or (n,); `uy` [m] for a
-    path in the plane; `velocity`, `velocity_y` [m/s] (default `sample_velocity`);
+    **Arguments:** `time` [s], `ux` [m] (n,), or (n, 2) a path in the plane (its columns x and
+    y, without `uy`); `normal_load` [N] scalar or (n,); `uy` [m] for a path in the plane;
+    `velocity`, `velocity_y` [m/s] (default `sample_velocity`);
     `temperature_rise` [K] measured (n,) or `None`; the heat kernel is built when `time` is
     concrete (`heat_terms_per_decade`); `park_elements` (default from the longest chord over
     Y / 4, `park_substeps`, with `yield_disp` Y [m]).
     """
     time, ux = jnp.asarray(time), jnp.asarray(ux)
+    if ux.ndim == 2:
+        if uy is not None or ux.shape[1] != 2:
+            raise ValueError(f"ux: a path in the plane is (n, 2) without uy, got {ux.shape}"
+                             f"{' and uy' if uy is not None else ''}.")
+        ux, uy = ux[:, 0], ux[:, 1]
     load = jnp.broadcast_to(jnp.asarray(normal_load, dtype=ux.dtype), ux.shape)
     velocity = sample_velocity(time, ux) if velocity is None else jnp.asarray(velocity)
     rates = weights = None
@@ -128,6 +141,9 @@ def sampled_path(time, ux, normal_load, *, uy=None, velocity=None, velocity_y=No
     if uy is not None:
         uy = jnp.asarray(uy)
         velocity_y = sample_velocity(time, uy) if velocity_y is None else jnp.asarray(velocity_y)
+        if park_elements is None and any(isinstance(a, jax.core.Tracer) for a in (ux, uy)):
+            raise ValueError("park_elements: a planar path's elements per sample interval follow from "
+                             "concrete displacements; under tracing give park_elements (e.g. 16).")
         if park_elements is None:
             park_elements = park_substeps(ux, uy, yield_disp)
     return SampledPath(time=time, ux=ux, velocity_x=velocity, normal_load=load, uy=uy,
@@ -154,9 +170,10 @@ def _increments(path: SampledPath):
     return du_x, dt, jnp.abs(du_x), jnp.zeros_like(path.ux)
 
 
-def respond_along_path(bearing: SlidingBearing, path: SampledPath, *, z0=None,
+def sliding_along_path(bearing: SlidingBearing, path: SampledPath, *, z0=None,
                        z_peak0=0.0) -> BearingTestResult:
-    """Force of `bearing` at the samples of `path` (jit/vmap/grad-safe in the bearing):
+    """Force of `bearing` at the samples of `path` (jit/vmap/grad-safe in the bearing;
+    `respond_along_path` for a `SlidingBearing`):
 
         F = mu(v, theta, max|Z|) k(N, travel, Z_x, dT) N Z       (Eqs. 1, 17; k the optional
                                                                   factors, 1 without them)

@@ -1,0 +1,146 @@
+"""One imposed-path test for every isolator: `respond_along_path` drives a sliding bearing or a
+series pendulum along a `SampledPath`, under the path's normal load at each sample.
+
+The series pendulum's forces are homogeneous of degree one in the normal load N (friction
+mu N Z and the pendulum's N u / R alike, no pressure dependence here): the sliders' balance
+at a sample does not depend on N, so along any path the force over N is the same whatever N
+does. A test that held the first sample's load, or any other, breaks that. Under a vertical
+ground record a structure's isolator carries N = s(t) W; its path and load imposed on the
+test give the structure's force (the law fitted is the law run, also under a vertical
+record). Options one kind of isolator does not take are refused by name.
+"""
+
+import dataclasses
+
+import jax
+import numpy as np
+import pytest
+from test_series_one_law import DOUBLE, TRIPLE
+
+from teflon_jax.bearing import (
+    FrictionalHeating,
+    FrictionParameters,
+    heat_kernel_exponentials,
+    paper_bearing,
+    single_pendulum,
+)
+from teflon_jax.excitation import SineMotion, StochasticGroundMotion, sample, uniform_signal
+from teflon_jax.systems import (
+    respond_along_path,
+    sampled_path,
+    simulate_bearing_test,
+    simulate_history,
+    triple_structure,
+    with_vertical_motion,
+)
+from teflon_jax.units import STANDARD_GRAVITY
+
+WEIGHT = 1e6
+
+
+def _path(planar=False):
+    time = np.arange(0.0, 6.0 + 1e-9, 0.01)
+    u = 0.2 * np.sin(2 * np.pi * time / 3.0) * np.minimum(time / 1.5, 1.0)
+    if planar:
+        u = np.stack([u, 0.5 * np.roll(u, 40)], -1)
+    load = WEIGHT * (1.0 + 0.4 * np.sin(2 * np.pi * time / 0.7))  # 0.6 to 1.4 W
+    return time, u, load
+
+
+@pytest.mark.parametrize("pendulum, planar", [(DOUBLE, False), (TRIPLE, False), (TRIPLE, True)],
+                         ids=["double", "triple", "triple-planar"])
+def test_a_series_pendulums_force_follows_the_normal_load_of_each_sample(pendulum, planar):
+    time, u, load = _path(planar)
+    run = jax.jit(respond_along_path)
+    varying = run(pendulum, sampled_path(time, u, load))
+    constant = run(pendulum, sampled_path(time, u, WEIGHT))
+    assert bool(np.all(varying.converged)) and bool(np.all(constant.converged))
+    np.testing.assert_array_equal(np.asarray(varying.normal_load), load)
+    scale = load if not planar else load[:, None]
+    ratio = np.asarray(varying.force) / scale
+    np.testing.assert_allclose(ratio, np.asarray(constant.force) / WEIGHT, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(np.asarray(varying.slider), np.asarray(constant.slider), rtol=0, atol=1e-9)
+
+
+def test_a_pendulum_test_under_a_recorded_load_is_the_same_force_over_n():
+    """`simulate_bearing_test` takes a recorded normal load (a `Signal`) for a series pendulum too."""
+    motion = SineMotion(0.15, 0.5, cycles=2)
+    time = np.linspace(0.0, 4.0, 801)
+    recorded = uniform_signal(WEIGHT * (1.0 + 0.3 * np.cos(2 * np.pi * time / 0.9)), float(time[1]))
+    varying = simulate_bearing_test(DOUBLE, motion, recorded)
+    constant = simulate_bearing_test(DOUBLE, motion, WEIGHT)
+    load = np.asarray(varying.normal_load)
+    assert np.ptp(load) > 0.5 * WEIGHT and bool(np.all(varying.converged))
+    np.testing.assert_allclose(np.asarray(varying.force) / load, np.asarray(constant.force) / WEIGHT,
+                               rtol=0, atol=1e-9)
+
+
+def test_under_a_vertical_record_the_test_along_the_structures_path_is_its_force():
+    ground = StochasticGroundMotion(peak_ground_acceleration=0.5 * STANDARD_GRAVITY, duration=8.0,
+                                    time_step=0.01, rise_time=1.0, strong_motion_duration=5.0)
+    horizontal, vertical = (np.asarray(sample(ground, jax.random.PRNGKey(k), 1))[0] for k in (3, 4))
+    system = triple_structure("rigid", TRIPLE, uniform_signal(horizontal, 0.01), time_step=0.005)
+    system = with_vertical_motion(system, uniform_signal(0.6 * vertical, 0.01))
+    response = jax.jit(simulate_history, static_argnums=1)(system, 8.0)
+    weight = float(system.bearing_load)
+    factor = np.asarray(response.load_factor)
+    assert bool(np.all(response.converged)) and factor.min() > 0.3 and np.ptp(factor) > 0.5
+    path = np.asarray(response.displacement[:, 0])
+    test = jax.jit(respond_along_path)(TRIPLE, sampled_path(np.asarray(response.time), path, weight * factor))
+    assert bool(np.all(test.converged))
+    np.testing.assert_allclose(np.asarray(test.force) / weight, np.asarray(response.bearing_force) / weight,
+                               rtol=0, atol=1e-9)
+
+
+def test_a_heated_pendulum_takes_one_load_and_every_load_must_be_positive():
+    time, u, load = _path()
+    with pytest.raises(ValueError, match="path.normal_load: .*positive"):
+        respond_along_path(DOUBLE, sampled_path(time, u, load - 0.7 * WEIGHT))
+    heated = dataclasses.replace(DOUBLE, bottom_heating=FrictionalHeating(contact_area=0.05), bottom_pressure=30e6)
+    assert heated.heated
+    with pytest.raises(ValueError, match="path.normal_load: .*constant"):
+        respond_along_path(heated, sampled_path(time, u, load))
+    assert bool(np.all(respond_along_path(heated, sampled_path(time, u, WEIGHT)).converged))
+    kernel = heat_kernel_exponentials(0.01, 3600.0)
+    traced = jax.jit(lambda b, p: respond_along_path(b, p, heat_kernel=kernel))
+    with pytest.raises(Exception, match="constant normal load"):  # traced: refused when run
+        jax.block_until_ready(traced(heated, sampled_path(time, u, load)).force)
+
+
+def test_options_one_kind_does_not_take_are_refused_by_name():
+    time, u, load = _path()
+    path = sampled_path(time, u, WEIGHT)
+    with pytest.raises(ValueError, match="z0"):
+        respond_along_path(DOUBLE, path, z0=0.5)
+    with pytest.raises(ValueError, match="z_peak0"):
+        respond_along_path(DOUBLE, path, z_peak0=1.0)
+    with pytest.raises(ValueError, match="temperature_rise"):
+        respond_along_path(DOUBLE, sampled_path(time, u, WEIGHT, temperature_rise=0 * time))
+    flat = paper_bearing(FrictionParameters(0.1, 0.05, 20.0))
+    with pytest.raises(ValueError, match="heat_kernel"):
+        respond_along_path(flat, path, heat_kernel=(np.ones(1), np.ones(1)))
+    with pytest.raises(ValueError, match="friction_velocity"):
+        respond_along_path(flat, path, friction_velocity="mean")
+    with pytest.raises(ValueError, match="ux: .*n, 2"):
+        sampled_path(time, np.stack([u, u, u], -1), WEIGHT)
+    with pytest.raises(ValueError, match="park_elements: .*under tracing"):
+        jax.jit(lambda v: sampled_path(time, v, WEIGHT).ux)(np.stack([u, u], -1))
+    assert jax.jit(lambda v: sampled_path(time, v, WEIGHT, park_elements=16).park_elements)(u) == 16
+
+
+def test_the_mean_speed_of_a_step_is_its_increment_over_its_own_interval():
+    """On samples at uneven intervals, one surface's force is Eq. 1 at |du| / dt of each step's
+    own interval: F = N (u / R + f_min Z + (mu(|du| / dt) - f_min) <sgn(du) Z>_+ sgn(du))."""
+    friction = FrictionParameters(0.10, 0.05, 20.0)
+    pendulum = single_pendulum(paper_bearing(friction), radius=2.0, capacity=1.0)
+    rng = np.random.default_rng(4)
+    time = np.concatenate([[0.0], np.cumsum(rng.uniform(0.004, 0.02, 500))])
+    u = 0.1 * np.sin(2 * np.pi * time / 2.0)
+    test = respond_along_path(pendulum, sampled_path(time, u, WEIGHT))
+    z = np.asarray(test.z)[:, 0]
+    du, dt = np.diff(u), np.diff(time)
+    mu = friction.f_max - friction.delta_f * np.exp(-friction.rate_a * np.abs(du) / dt)
+    f_min = friction.f_max - friction.delta_f
+    n = np.sign(du)
+    expected = WEIGHT * (u[1:] / 2.0 + f_min * z[1:] + (mu - f_min) * np.maximum(n * z[1:], 0.0) * n)
+    np.testing.assert_allclose(np.asarray(test.force)[1:] / WEIGHT, expected / WEIGHT, rtol=0, atol=1e-11)
