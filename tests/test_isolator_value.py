@@ -120,6 +120,19 @@ def test_what_contradicts_the_isolator_is_refused_by_name(options, message):
         isolated_structure("rigid", **options)
 
 
+@pytest.mark.parametrize(("options", "named"), [
+    (dict(split_at_turn=False), "split_at_turn"),
+    (dict(linear_rule="newmark"), "linear_rule"),
+    (dict(isolator=concave_surface(RADIUS), split_at_turn=False, linear_rule="newmark"), "split_at_turn, linear_rule"),
+])
+def test_settings_of_one_component_are_refused_under_two_by_name(options, named):
+    assert isolated_structure("rigid", **options)(GROUND) is not None  # one component takes them
+    with pytest.raises(ValueError, match=f"^{named}: a setting of one horizontal component"):
+        bidirectional_isolated_structure("rigid", **options)
+    series = bidirectional_isolated_structure("rigid", isolator=DOUBLE)  # refused there under one already
+    assert series.components == 2 and series.split_at_turn
+
+
 def _plan(build, **isolator):
     """The slab (with overturning) or the building on four groups at the corners of a plan."""
     corners = np.array([[2.0, 1.0], [18.0, 1.0], [18.0, 11.0], [2.0, 11.0]])

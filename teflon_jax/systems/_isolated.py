@@ -157,6 +157,17 @@ class IsolatedStructure(eqx.Module):
     surface: ConcaveSurface | None = None
     pendulum: SeriesPendulum | None = None
 
+    def __check_init__(self):
+        """Settings of one component are refused by name on flat sliders under two (their
+        planar solve takes Park's Z along each step's increment and the Newmark step)."""
+        if self.components == 2 and self.pendulum is None:
+            given = [name for name, set_ in (("split_at_turn", not self.split_at_turn),
+                                             ("linear_rule", self.linear_rule != "exact")) if set_]
+            if given:
+                raise ValueError(f"{', '.join(given)}: a setting of one horizontal component; under two the flat "
+                                 "sliders' planar solve takes Park's Z along each step's increment and the "
+                                 "Newmark step. Leave it at its default (split_at_turn=True, linear_rule='exact').")
+
     @property
     def isolator(self) -> str:
         """The isolator's name (`ISOLATORS`): "flat", "single-fp", or the pendulum's."""
