@@ -134,3 +134,21 @@ def test_plan_checks_name_the_problem():
     with pytest.raises(ValueError, match=r"group 3 at \(21, 3\) m lies outside the slab"):
         check_plan(length_x=LX, length_y=LY, weight=W, centre_of_mass=(10, 6),
                    positions=bad, loads=loads)
+
+
+@pytest.mark.parametrize("settings, message", [
+    ({"isolation_period": -2.0}, r"isolation_period: must be > 0 s, got -2.0"),
+    ({"isolation_period": 0.0}, r"isolation_period: must be > 0 s, got 0.0"),
+    ({"isolation_damping": -0.05}, r"isolation_damping: must be >= 0, got -0.05"),
+    ({"isolation_period": None, "isolation_damping": 0.05}, r"isolation_damping: needs springs"),
+])
+def test_slab_isolation_settings_are_refused_by_name(settings, message):
+    """A spring period that is not positive, or a negative damping ratio, names its argument
+    (as the building on a plan does), before any work."""
+    positions, loads = _plan((LX / 2, LY / 2))
+    ground = uniform_signal(_pulse(1.0, 1.0, 0.0, 0.1), 0.01)
+    keywords = {"isolation_period": T, "isolation_damping": ZETA, **settings}
+    with pytest.raises(ValueError, match=message):
+        slab_on_bearings(length_x=LX, length_y=LY, weight=W, centre_of_mass=(LX / 2, LY / 2), positions=positions,
+                         bearings=_bearings(4), loads=loads, ground_x=ground, ground_y=ground, time_step=0.0025,
+                         **keywords)

@@ -166,7 +166,8 @@ def prepare_series_problem(record: TestRecord, start: SeriesPendulum, *, normal_
                          "its surfaces along one axis only, so diagnose takes a record along one axis.")
     if not (isinstance(max_samples, int) and max_samples >= 10):
         raise ValueError(f"max_samples: must be an integer >= 10, got {max_samples!r}.")
-    time, path, force, load = _arrays(record, normal_load, one_step_and_load=True)
+    time, path, force, load = _arrays(record, normal_load)
+    _check_one_step_and_load(name, time, load)
     load = float(load[0])
     decimation = max(1, math.ceil(time.size / max_samples))
     time, path, force = time[::decimation], path[::decimation], force[::decimation]
@@ -187,6 +188,20 @@ def prepare_series_problem(record: TestRecord, start: SeriesPendulum, *, normal_
                          free=tuple(free), held=held, pressures=pressures, heating=heating,
                          pressure_assumed=assumed, kernel=kernel, decimation=decimation,
                          source=name, rate_surfaces=_coulomb_surfaces(bare, free))
+
+
+def _check_one_step_and_load(name: str, time, load) -> None:
+    """Heated surfaces are stepped by one kernel, at one interval, and take their contact
+    pressures at one load: `ValueError` naming the record `name` where the sample times (nt,)
+    [s] are not uniform or the normal load (nt,) [N] is not constant."""
+    steps = np.diff(time)
+    if not np.ptp(steps) <= 1e-6 * steps.mean():
+        raise ValueError(f"{name}: heated surfaces are stepped at one interval; this record needs a uniform "
+                         "time step: resample it.")
+    if np.ptp(load) > 1e-9 * np.max(load):
+        raise ValueError(f"{name}: heated surfaces take their contact pressures at one load; this record "
+                         f"needs a constant positive normal load (its N spans {load.min():.6g}-"
+                         f"{load.max():.6g} N).")
 
 
 def _coulomb_surfaces(start: SeriesPendulum, free) -> tuple:

@@ -152,11 +152,10 @@ def _residual(params, args):
     return ((response.force - force) / (load if force.ndim == 1 else load[:, None])).reshape(-1)
 
 
-def _arrays(record: TestRecord, normal_load, *, one_step_and_load: bool = False):
+def _arrays(record: TestRecord, normal_load):
     """(time, displacement (nt,) or (nt, 2), force like it, N (nt,)) of a time-history record
-    at increasing sample times under a positive normal load at each sample (with
-    `one_step_and_load`, as a heated start's kernel and contact pressures need: at a uniform
-    time step under a constant load); `ValueError` naming what the fit cannot take."""
+    at increasing sample times under a positive normal load at each sample; `ValueError`
+    naming what the fit cannot take."""
     name = _record_name(record, 0)
     if record.is_digitised or record.time is None:
         raise ValueError(f"{name}: the series pendulum fit takes a time history (time, ux, fx); "
@@ -166,17 +165,10 @@ def _arrays(record: TestRecord, normal_load, *, one_step_and_load: bool = False)
     if time.size < 10 or not np.all(steps > 0):
         raise ValueError(f"{name}: the series pendulum fit needs at least 10 samples at increasing times "
                          "(the series model is stepped at the record's samples).")
-    if one_step_and_load and not np.ptp(steps) <= 1e-6 * steps.mean():
-        raise ValueError(f"{name}: heated surfaces are stepped at one interval; this record needs a uniform "
-                         "time step: resample it.")
     load = _normal_load(record, name, normal_load)
     if not np.all(load > 0):
         raise ValueError(f"{name}: the series pendulum fit needs a positive normal load at every sample; "
                          f"the record's N spans {load.min():.6g}-{load.max():.6g} N.")
-    if one_step_and_load and np.ptp(load) > 1e-9 * np.max(load):
-        raise ValueError(f"{name}: heated surfaces take their contact pressures at one load; this record "
-                         f"needs a constant positive normal load (its N spans {load.min():.6g}-"
-                         f"{load.max():.6g} N).")
     if record.is_biaxial:
         path = np.stack([record.ux, record.uy], axis=-1)
         force = np.stack([record.fx, record.fy], axis=-1)

@@ -340,23 +340,27 @@ a fit is balanced to rounding, far below the structures' `TRIPLE_TOLERANCE`."""
 def _path_step(pendulum, kernel, state, target, load, dt, velocity=None, *, tolerance=TEST_TOLERANCE,
                iterations: int = TRIPLE_NEWTON_ITERATIONS):
     """One step of the isolator to the path's displacement `target` ((,) or (2,) [m]) from its
-    state (`_series_step.initial_isolator`'s, the force F in place of the force beyond a
-    reference spring) over `dt` [s], under the path's normal load `load` [N] at the step's
-    end: the structures' step of the isolator (`slider_step`) with the sliders' increments
-    adding up to D = target - sum(sliders), from the extrapolated increments with their misfit
-    to D shared evenly; `velocity` [m/s]: the path's at `target`, for the law "end" (one
-    surface), else `None`."""
-    slider = state[0]
-    p = isolator_parameters(pendulum, state, load, load, target - jnp.sum(slider, axis=0),
+    state (`_series_step.initial_isolator`'s, the force per unit normal load F / N in place of
+    the force beyond a reference spring) over `dt` [s], under the path's normal load `load` [N]
+    at the step's end: the structures' step of the isolator (`slider_step`) with the sliders'
+    increments adding up to D = target - sum(sliders), from the extrapolated increments with
+    their misfit to D shared evenly; `velocity` [m/s]: the path's at `target`, for the law
+    "end" (one surface), else `None`. The sliders' forces are N times their forces under a
+    unit load (`slider_forces`; a surface's contact pressure is its own, not N's), so the
+    balance is solved once per unit load, to `tolerance` [-], and its force scaled by N: the
+    same increments, with the balance's work free of N (a load that changes from step to step
+    would otherwise be carried through every iteration)."""
+    slider, unit = state[0], jnp.ones((), state[0].dtype)
+    p = isolator_parameters(pendulum, state, unit, unit, target - jnp.sum(slider, axis=0),
                             heat_weights=None if kernel is None else kernel[1])
     if velocity is not None:
         p["v"] = (velocity, jnp.zeros_like(velocity))
     guess = predicted_increments(state[2])
     guess = guess + (p["D"] - jnp.sum(guess, axis=0)) / pendulum.slider_count
-    limit = jnp.maximum(tolerance, 32 * jnp.finfo(slider.dtype).eps) * load
+    limit = jnp.maximum(tolerance, 32 * jnp.finfo(slider.dtype).eps)
     new, converged, force = slider_step(state, p, guess, limit, dt, iterations,
                                         heat_rates=None if kernel is None else kernel[0])
-    return new, (force, new[0], new[1], converged)
+    return new, (load * force, new[0], new[1], converged)
 
 
 def _along_path(pendulum, loads, steps, path, kernel, velocity=None, **solve):
@@ -400,11 +404,10 @@ def series_along_path(bearing: SeriesPendulum, path: SampledPath, *, heat_kernel
     `slider_names`, and `converged` (nt,), whether each step's force balance met its tolerance."""
     planar, time = path.planar, path.time
     displacement = jnp.stack([path.ux, path.uy], -1) if planar else path.ux
-    velocity = jnp.stack([path.velocity_x, path.velocity_y], -1) if planar else path.velocity_x
     kernel = _test_heat_kernel(bearing, time, heat_kernel)
     load = _path_load(bearing, path)
-    use = _path_velocity(bearing, friction_velocity, velocity)
-    force, slider, z, converged = _along_path(bearing, load, jnp.diff(time), displacement, kernel, use)
+    velocity = _path_velocity(bearing, friction_velocity, path)
+    force, slider, z, converged = _along_path(bearing, load, jnp.diff(time), displacement, kernel, velocity)
 
     def first(rest):
         return jnp.concatenate([jnp.zeros((1,) + rest.shape[1:], rest.dtype), rest])
@@ -434,9 +437,9 @@ def _path_load(bearing: SeriesPendulum, path: SampledPath):
     return load
 
 
-def _path_velocity(bearing: SeriesPendulum, friction_velocity: str, velocity):
-    """The path's velocity [m/s] for the law "end", `None` for "mean"; `ValueError` naming
-    `friction_velocity`."""
+def _path_velocity(bearing: SeriesPendulum, friction_velocity: str, path: SampledPath):
+    """The path's velocity [m/s] (nt,) or (nt, 2) for the law "end", `None` for "mean";
+    `ValueError` naming `friction_velocity`."""
     if friction_velocity not in FRICTION_VELOCITIES:
         raise ValueError(f"friction_velocity: unknown {friction_velocity!r}; accepted: {', '.join(FRICTION_VELOCITIES)}.")
     if friction_velocity == "mean":
@@ -444,7 +447,7 @@ def _path_velocity(bearing: SeriesPendulum, friction_velocity: str, velocity):
     if bearing.slider_count != 1:
         raise ValueError(f"friction_velocity: 'end' needs a one-surface isolator; the {bearing.description} "
                          f"have {bearing.slider_count} sliders.")
-    return velocity
+    return jnp.stack([path.velocity_x, path.velocity_y], -1) if path.planar else path.velocity_x
 
 
 def imposed_isolator_force(pendulum: SeriesPendulum, load, displacement, time_step: float, *,

@@ -161,36 +161,13 @@ def slab_on_bearings(
     refuse_springs(radii, isolation_period, spring_shares)
     overturning = None if height == 0 else overturning_map(positions, centre, height, vertical_stiffness, names)
     bearing_map = plan_bearing_map(positions - centre, 3, (0, 1, 2))
-    stiffness = np.zeros((3, 3))
-    damping = np.zeros((3, 3))
-    if isolation_period is not None:
-        shares = np.ones(groups) if spring_shares is None else np.asarray(spring_shares, float)
-        if shares.shape != (groups,) or np.any(shares < 0) or not np.sum(shares) > 0:
-            raise ValueError("spring_shares: one share >= 0 per group, not all zero.")
-        omega = 2 * np.pi / float(isolation_period)
-        k = mass * omega**2 * shares / np.sum(shares)
-        stiffness = np.einsum("g,gdn,gdm->nm", k, bearing_map, bearing_map)
-        damping = 2 * float(isolation_damping) / omega * stiffness
-    elif radii is not None:
-        k = loads / radii
-        stiffness = np.einsum("g,gdn,gdm->nm", k, bearing_map, bearing_map)
-        damping = 2 * float(isolation_damping) / np.sqrt(STANDARD_GRAVITY * np.sum(k) / weight) * stiffness
-    elif float(isolation_damping) > 0:
-        raise ValueError("isolation_damping: needs springs (isolation_period), or 0.")
+    stiffness, damping = _isolation_stiffness(bearing_map, loads, weight, isolation_period, spring_shares, radii,
+                                              isolation_damping, springs_needed=False)
     system = bidirectional_structure(
-        mass=jnp.array([mass, mass, inertia]),
-        stiffness=stiffness,
-        damping=damping,
-        influence=np.array([[1.0, 0.0], [0.0, 1.0], [0.0, 0.0]]),
-        bearing_map=bearing_map,
-        bearing=stack_bearings(bearings),
-        bearing_load=loads,
-        ground_x=ground_x,
-        ground_y=ground_y,
-        time_step=time_step,
-        contact_pressure=contact_pressures,
-        friction_model=friction_model,
-    )
+        mass=jnp.array([mass, mass, inertia]), stiffness=stiffness, damping=damping,
+        influence=np.array([[1.0, 0.0], [0.0, 1.0], [0.0, 0.0]]), bearing_map=bearing_map,
+        bearing=stack_bearings(bearings), bearing_load=loads, ground_x=ground_x, ground_y=ground_y,
+        time_step=time_step, contact_pressure=contact_pressures, friction_model=friction_model)
     return dataclasses.replace(system, pendulum_stiffness=None if radii is None else jnp.asarray(loads / radii),
                                overturning=None if overturning is None else jnp.asarray(overturning),
                                supports=None if overturning is None else support_plan(
@@ -288,9 +265,6 @@ def building_on_plan(
                                    series_refused=SERIES_REFUSED)
     bearing, radii = stack_bearings(plan_isolators.bearings), plan_isolators.radii
     refuse_springs(radii, isolation_period, spring_shares)
-    zeta = float(isolation_damping)
-    if not (np.isfinite(zeta) and zeta >= 0):
-        raise ValueError(f"isolation_damping: must be >= 0, got {isolation_damping}.")
     level_mass, frame_k, frame_c = _frame(building)
     n = level_mass.shape[0]
     heights = level_heights(building.storey_height if storey_heights is None else storey_heights,
@@ -299,23 +273,15 @@ def building_on_plan(
     if not (np.isfinite(inertia) and inertia > 0):
         raise ValueError(f"rotational_inertia: must be > 0 kg m^2, got {rotational_inertia}.")
     bearing_map = plan_bearing_map(positions - centre, 2 * n + 1, (0, n, 2 * n))
-    isolation = _isolation_stiffness(bearing_map, loads, weight, isolation_period, spring_shares, radii, zeta)
+    isolation = _isolation_stiffness(bearing_map, loads, weight, isolation_period, spring_shares, radii,
+                                     isolation_damping)
     influence = np.zeros((2 * n + 1, 2))
     influence[:n, 0] = influence[n:2 * n, 1] = 1.0
     system = bidirectional_structure(
-        mass=np.concatenate([level_mass, level_mass, [inertia]]),
-        stiffness=frame_k + isolation[0],
-        damping=frame_c + isolation[1],
-        influence=influence,
-        bearing_map=bearing_map,
-        bearing=bearing,
-        bearing_load=loads,
-        ground_x=ground_x,
-        ground_y=_zero_signal(ground_x) if ground_y is None else ground_y,
-        time_step=time_step,
-        contact_pressure=contact_pressures,
-        friction_model=friction_model,
-    )
+        mass=np.concatenate([level_mass, level_mass, [inertia]]), stiffness=frame_k + isolation[0],
+        damping=frame_c + isolation[1], influence=influence, bearing_map=bearing_map, bearing=bearing,
+        bearing_load=loads, ground_x=ground_x, ground_y=_zero_signal(ground_x) if ground_y is None else ground_y,
+        time_step=time_step, contact_pressure=contact_pressures, friction_model=friction_model)
     system = dataclasses.replace(system, pendulum_stiffness=None if radii is None else jnp.asarray(loads / radii))
     if not np.any(heights > 0):
         return system
@@ -352,12 +318,20 @@ def _two_directions(block) -> np.ndarray:
     return out
 
 
-def _isolation_stiffness(bearing_map, loads, weight, isolation_period, spring_shares, radii, zeta):
+def _isolation_stiffness(bearing_map, loads, weight, isolation_period, spring_shares, radii, isolation_damping, *,
+                         springs_needed: bool = True):
     """(K_b, C_b) (N, N): the isolation's stiffness at the groups, k_g = (W / g) omega_b^2 share_g
     (springs) or W_g / R_g (pendulums), and its damping (2 zeta_b / omega_b) K_b,
     omega_b^2 = g sum_g k_g / W (`ValueError` naming the argument for a missing one); springs
-    where the groups have no `radii` (flat sliders)."""
-    groups = loads.shape[0]
+    where the groups have no `radii` (flat sliders), none where `springs_needed` is false and
+    no `isolation_period` is given (zeros, with `isolation_damping` zeta_b 0)."""
+    zeta, groups, size = float(isolation_damping), loads.shape[0], bearing_map.shape[-1]
+    if not (np.isfinite(zeta) and zeta >= 0):
+        raise ValueError(f"isolation_damping: must be >= 0, got {isolation_damping}.")
+    if radii is None and isolation_period is None and not springs_needed:
+        if zeta > 0:
+            raise ValueError("isolation_damping: needs springs (isolation_period), or 0.")
+        return np.zeros((size, size)), np.zeros((size, size))
     if radii is None:
         if isolation_period is None:
             raise ValueError("isolation_period: the building's springs need their period T_b [s] "
