@@ -26,6 +26,7 @@ from teflon_jax.bearing import (
 )
 from teflon_jax.excitation import SineMotion, StochasticGroundMotion, sample, uniform_signal
 from teflon_jax.systems import (
+    normal_load_varies,
     respond_along_path,
     sampled_path,
     simulate_bearing_test,
@@ -101,6 +102,9 @@ def test_a_heated_pendulum_takes_one_load_and_every_load_must_be_positive():
     with pytest.raises(ValueError, match="path.normal_load: .*constant"):
         respond_along_path(heated, sampled_path(time, u, load))
     assert bool(np.all(respond_along_path(heated, sampled_path(time, u, WEIGHT)).converged))
+    rounded = WEIGHT * (1 + 1e-12 * np.sin(time))  # one load to rounding, as diagnose takes it
+    assert not bool(normal_load_varies(rounded)) and bool(normal_load_varies(load))
+    assert bool(np.all(respond_along_path(heated, sampled_path(time, u, rounded)).converged))
     kernel = heat_kernel_exponentials(0.01, 3600.0)
     traced = jax.jit(lambda b, p: respond_along_path(b, p, heat_kernel=kernel))
     with pytest.raises(Exception, match="constant normal load"):  # traced: refused when run

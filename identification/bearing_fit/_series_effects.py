@@ -49,7 +49,12 @@ from teflon_jax.bearing import (
     heat_kernel_exponentials,
 )
 from teflon_jax.formats import TestRecord
-from teflon_jax.systems import HEAT_HORIZON, respond_along_path, sampled_path
+from teflon_jax.systems import (
+    HEAT_HORIZON,
+    normal_load_varies,
+    respond_along_path,
+    sampled_path,
+)
 from teflon_jax.units import INCH, PSI
 
 from ..least_squares import covariance_from_jacobian, fit_least_squares_batch
@@ -198,7 +203,7 @@ def _check_one_step_and_load(name: str, time, load) -> None:
     if not np.ptp(steps) <= 1e-6 * steps.mean():
         raise ValueError(f"{name}: heated surfaces are stepped at one interval; this record needs a uniform "
                          "time step: resample it.")
-    if np.ptp(load) > 1e-9 * np.max(load):
+    if bool(normal_load_varies(load)):
         raise ValueError(f"{name}: heated surfaces take their contact pressures at one load; this record "
                          f"needs a constant positive normal load (its N spans {load.min():.6g}-"
                          f"{load.max():.6g} N).")

@@ -42,7 +42,7 @@ from ._isolated import isolated_structure as isolated_structure
 from ._isolated import with_vertical_component as with_vertical_component
 from ._isolator_balance import BALANCES as BALANCES
 from ._isolator_balance import TRIPLE_TOLERANCE as TRIPLE_TOLERANCE
-from ._isolator_balance import imposed_isolator_force as imposed_isolator_force
+from ._isolator_balance import normal_load_varies as normal_load_varies
 from ._on_plan import building_on_plan as building_on_plan
 from ._on_plan import slab_on_bearings as slab_on_bearings
 from ._on_plan import stack_pendulums as stack_pendulums

@@ -337,8 +337,7 @@ TEST_TOLERANCE = 1e-12
 a fit is balanced to rounding, far below the structures' `TRIPLE_TOLERANCE`."""
 
 
-def _path_step(pendulum, kernel, state, target, load, dt, velocity=None, *, tolerance=TEST_TOLERANCE,
-               iterations: int = TRIPLE_NEWTON_ITERATIONS):
+def _path_step(pendulum, kernel, state, target, load, dt, velocity=None):
     """One step of the isolator to the path's displacement `target` ((,) or (2,) [m]) from its
     state (`_series_step.initial_isolator`'s, the force per unit normal load F / N in place of
     the force beyond a reference spring) over `dt` [s], under the path's normal load `load` [N]
@@ -347,7 +346,7 @@ def _path_step(pendulum, kernel, state, target, load, dt, velocity=None, *, tole
     their misfit to D shared evenly; `velocity` [m/s]: the path's at `target`, for the law
     "end" (one surface), else `None`. The sliders' forces are N times their forces under a
     unit load (`slider_forces`; a surface's contact pressure is its own, not N's), so the
-    balance is solved once per unit load, to `tolerance` [-], and its force scaled by N: the
+    balance is solved once per unit load, to `TEST_TOLERANCE` [-], and its force scaled by N: the
     same increments, with the balance's work free of N (a load that changes from step to step
     would otherwise be carried through every iteration)."""
     slider, unit = state[0], jnp.ones((), state[0].dtype)
@@ -357,13 +356,13 @@ def _path_step(pendulum, kernel, state, target, load, dt, velocity=None, *, tole
         p["v"] = (velocity, jnp.zeros_like(velocity))
     guess = predicted_increments(state[2])
     guess = guess + (p["D"] - jnp.sum(guess, axis=0)) / pendulum.slider_count
-    limit = jnp.maximum(tolerance, 32 * jnp.finfo(slider.dtype).eps)
-    new, converged, force = slider_step(state, p, guess, limit, dt, iterations,
+    limit = jnp.maximum(TEST_TOLERANCE, 32 * jnp.finfo(slider.dtype).eps)
+    new, converged, force = slider_step(state, p, guess, limit, dt, TRIPLE_NEWTON_ITERATIONS,
                                         heat_rates=None if kernel is None else kernel[0])
     return new, (load * force, new[0], new[1], converged)
 
 
-def _along_path(pendulum, loads, steps, path, kernel, velocity=None, **solve):
+def _along_path(pendulum, loads, steps, path, kernel, velocity=None):
     """Scan `_path_step` along `path` (nt,) or (nt, 2) [m] from rest, under the normal loads
     `loads` (nt,) [N] of its samples, over the steps `steps` (nt - 1,) [s] between them (with
     the path's `velocity`, like it, for the law "end"): (force, slider, z, converged) of the
@@ -377,7 +376,7 @@ def _along_path(pendulum, loads, steps, path, kernel, velocity=None, **solve):
         start = start + (initial_history(pendulum, shape[:1], path.dtype),)
 
     def body(state, inputs):
-        return _path_step(pendulum, kernel, state, *inputs, **solve)
+        return _path_step(pendulum, kernel, state, *inputs)
 
     inputs = (path[1:], loads[1:], steps) + (() if velocity is None else (velocity[1:],))
     return jax.lax.scan(body, start, inputs)[1]
@@ -419,20 +418,32 @@ def series_along_path(bearing: SeriesPendulum, path: SampledPath, *, heat_kernel
         slider=first(slider), converged=jnp.concatenate([jnp.array([True]), converged]))
 
 
+LOAD_SPREAD = 1e-9
+"""Largest spread of the normal load [-], over its largest value, that a heated pendulum's test
+takes as one load (its surfaces' contact pressures are given at one load)."""
+
+
+def normal_load_varies(load):
+    """Whether the normal loads (nt,) [N] of a path spread by more than `LOAD_SPREAD` of the
+    largest: a bool array, of concrete loads or of traced ones."""
+    load = jnp.asarray(load)
+    return jnp.ptp(load) > LOAD_SPREAD * jnp.max(load)
+
+
 def _path_load(bearing: SeriesPendulum, path: SampledPath):
-    """The path's normal loads (nt,) [N]; a load that is not positive, or one that varies under
-    a heated pendulum (whose contact pressures are given at one load), is refused by name
-    (`ValueError` where the loads are concrete, else a runtime error)."""
+    """The path's normal loads (nt,) [N]; a load that is not positive, or one that varies
+    (`normal_load_varies`) under a heated pendulum, is refused by name (`ValueError` where the
+    loads are concrete, else a runtime error)."""
     load = path.normal_load
     message = "path.normal_load: a series pendulum's test needs a positive normal load at every sample."
+    bad = jnp.any(jnp.asarray(load) <= 0)
     if bearing.heated:
         message += (" A pendulum with heated surfaces takes its contact pressures at one load: give a "
                     "constant normal load.")
+        bad = bad | normal_load_varies(load)
     if isinstance(load, jax.core.Tracer):
-        bad = jnp.any(load <= 0) | (bearing.heated & jnp.any(load != load[0]))
         return eqx.error_if(load, bad, message)
-    values = np.asarray(load)
-    if np.any(values <= 0) or (bearing.heated and np.any(values != values[0])):
+    if bool(bad):
         raise ValueError(message)
     return load
 
@@ -448,24 +459,6 @@ def _path_velocity(bearing: SeriesPendulum, friction_velocity: str, path: Sample
         raise ValueError(f"friction_velocity: 'end' needs a one-surface isolator; the {bearing.description} "
                          f"have {bearing.slider_count} sliders.")
     return jnp.stack([path.velocity_x, path.velocity_y], -1) if path.planar else path.velocity_x
-
-
-def imposed_isolator_force(pendulum: SeriesPendulum, load, displacement, time_step: float, *,
-                           newton_iterations: int = TRIPLE_NEWTON_ITERATIONS,
-                           tolerance: float = TEST_TOLERANCE):
-    """The structures' isolator solve driven along a displacement path (nt,) [m] sampled at
-    `time_step` [s], under normal load W [N] (the bearing test, `series_along_path`, with
-    the balance's settings: `newton_iterations`, `tolerance` [-] over W).
-
-    **Returns:** (isolator displacement (nt,) [m], force (nt,) [N], converged (nt,))."""
-    displacement = jnp.asarray(displacement, float)
-    loads = jnp.broadcast_to(jnp.asarray(load, float), displacement.shape[:1])
-    steps = jnp.full(displacement.shape[0] - 1, float(time_step))
-    force, slider, _, ok = _along_path(pendulum, loads, steps, displacement, None,
-                                       tolerance=tolerance, iterations=newton_iterations)
-    at_rest = jnp.zeros(1, force.dtype)
-    return (jnp.concatenate([at_rest, jnp.sum(slider, axis=1)]), jnp.concatenate([at_rest, force]),
-            jnp.concatenate([jnp.ones(1, bool), ok]))
 
 
 def _test_heat_kernel(bearing: SeriesPendulum, time, heat_kernel):
