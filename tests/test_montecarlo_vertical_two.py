@@ -95,6 +95,7 @@ def test_a_zero_vertical_ratio_gives_the_horizontal_only_peaks(isolator, compone
                                                                                         else None)
 
 
+@pytest.mark.as_shipped
 @pytest.mark.parametrize("isolator, kind", [("single-fp", "rigid"), pytest.param("flat", "building",
                                                                               marks=pytest.mark.slow)])
 def test_a_zero_vertical_record_steps_bit_for_bit(isolator, kind):
