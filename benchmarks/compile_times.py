@@ -7,7 +7,8 @@ of each program (its jaxpr's equations, loops included).
 
 Run it once per tree and per XLA setting to compare them (both sides on one machine, in
 separate processes, alternated); e.g. XLA_FLAGS=--xla_cpu_use_fusion_emitters=false for the
-CPU compiler's older fusion emitters, which the test suite uses (tests/conftest.py).
+CPU compiler's older fusion emitters, and with --xla_backend_optimization_level=0 beside it
+(LLVM's optimisation passes off) as the test suite compiles (tests/conftest.py).
 """
 
 import argparse
