@@ -31,7 +31,7 @@ def _root_two(params, args):
     return jnp.atleast_1d(params["x"] ** 2 - 2.0)
 
 
-@pytest.mark.as_shipped
+@pytest.mark.last_bit
 @pytest.mark.parametrize("solver", ["levenberg_marquardt", "levenberg_marquardt_scaled"])
 def test_a_solve_on_a_minimum_of_the_arithmetic_ends_converged(solver):
     """Tolerances below what the arithmetic can meet by moving (1e-300): only the zero step

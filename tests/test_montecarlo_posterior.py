@@ -162,6 +162,7 @@ def _single_runs(point, posterior, draws, model, n_motions):
 
 
 @pytest.mark.slow
+@pytest.mark.last_bit
 def test_nested_and_per_motion_runs_equal_each_draw_run_alone(tmp_path):
     """Nested: bearing k's row equals draw k's bearing run on its own, to rounding. One draw per
     motion: motion m's peaks equal those of draw k(m)'s run; both written and read back with

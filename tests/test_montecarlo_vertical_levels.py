@@ -131,7 +131,7 @@ def _f_max():
     return float(structure.table().at(structure.pressure)[0].f_max)
 
 
-@pytest.mark.as_shipped
+@pytest.mark.last_bit
 def test_cli_levels_and_limits_with_a_zero_vertical_ratio(tmp_path):
     """`--pga 0.3g,1g --limit base_shear_ratio=1.02 f_max --limit base_disp=5cm` on a
     friction-only rigid mass: with `--vertical-ratio 0` every level's statistics and every

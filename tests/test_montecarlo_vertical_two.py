@@ -95,7 +95,7 @@ def test_a_zero_vertical_ratio_gives_the_horizontal_only_peaks(isolator, compone
                                                                                         else None)
 
 
-@pytest.mark.as_shipped
+@pytest.mark.last_bit
 @pytest.mark.parametrize("isolator, kind", [("single-fp", "rigid"), pytest.param("flat", "building",
                                                                               marks=pytest.mark.slow)])
 def test_a_zero_vertical_record_steps_bit_for_bit(isolator, kind):
@@ -251,7 +251,9 @@ def test_what_the_vertical_component_cannot_run_is_refused_by_flag(flags, named,
 @pytest.mark.slow
 def test_cli_two_components_on_a_triple_pendulum_with_a_zero_vertical_ratio(tmp_path, capsys):
     """`montecarlo --components 2 --isolator triple-fp --vertical-ratio 0`: the statistics are
-    the horizontal-only run's, the summary says no motion lifted off."""
+    the horizontal-only run's to rounding (the sliders' balance under N = 1 x W is a program of
+    another form, whose iterates differ in their last bits), the summary says no motion lifted
+    off."""
     common = ["montecarlo", "--motions", "2", "--duration", "4s", "--strong-motion", "2s", "--components", "2",
               "--isolator", "triple-fp", "--isolator-file", str(BENCHMARKS / "triple_isolator.json"),
               "--no-progress"]
@@ -259,7 +261,11 @@ def test_cli_two_components_on_a_triple_pendulum_with_a_zero_vertical_ratio(tmp_
     assert main([*common, "--vertical-ratio", "0", "--json", str(tmp_path / "b.json")]) == 0
     printed = capsys.readouterr().out
     plain, loaded = (json.loads((tmp_path / name).read_text()) for name in ("a.json", "b.json"))
-    assert loaded["statistics"] == plain["statistics"]
+    assert loaded["statistics"].keys() == plain["statistics"].keys()
+    for name, statistics in plain["statistics"].items():
+        assert loaded["statistics"][name].keys() == statistics.keys()
+        for key, value in statistics.items():
+            assert loaded["statistics"][name][key] == pytest.approx(value, rel=1e-12, abs=0), f"{name} {key}"
     assert loaded["vertical"]["n_uplifted"] == 0 and "uplift (N <= 0): 0 motion(s)" in printed
 
 
