@@ -7,7 +7,9 @@ at a sample does not depend on N, so along any path the force over N is the same
 does. A test that held the first sample's load, or any other, breaks that. Under a vertical
 ground record a structure's isolator carries N = s(t) W; its path and load imposed on the
 test give the structure's force (the law fitted is the law run, also under a vertical
-record). Options one kind of isolator does not take are refused by name.
+record), with surfaces that read their contact pressure (heating, pressure dependence) at
+the pressure given under W times s(t) when the test is told W (`reference_load`). Options one
+kind of isolator does not take are refused by name.
 """
 
 import dataclasses
@@ -20,6 +22,8 @@ from test_series_one_law import DOUBLE, TRIPLE
 from teflon_jax.bearing import (
     FrictionalHeating,
     FrictionParameters,
+    PressureDependence,
+    SurfaceParts,
     heat_kernel_exponentials,
     paper_bearing,
     single_pendulum,
@@ -37,6 +41,10 @@ from teflon_jax.systems import (
 from teflon_jax.units import STANDARD_GRAVITY
 
 WEIGHT = 1e6
+PRESSED = dataclasses.replace(  # a heated bottom surface and a top surface whose friction falls with pressure
+    TRIPLE, bottom_heating=FrictionalHeating(contact_area=0.05), bottom_pressure=30e6, top_pressure=25e6,
+    surface_parts=(None, None, SurfaceParts(pressure_dependence=PressureDependence(
+        exponent=0.3, reference_load=1e6, contact_area=0.05))))
 
 
 def _path(planar=False):
@@ -76,24 +84,32 @@ def test_a_pendulum_test_under_a_recorded_load_is_the_same_force_over_n():
                                rtol=0, atol=1e-9)
 
 
-def test_under_a_vertical_record_the_test_along_the_structures_path_is_its_force():
+@pytest.mark.parametrize("pendulum", [TRIPLE, PRESSED], ids=["triple", "heated-pressure-dependent"])
+def test_under_a_vertical_record_the_test_along_the_structures_path_is_its_force(pendulum):
+    """Also where the surfaces read their contact pressure, given under the structure's W: the
+    test told that load (`reference_load`) scales it by N / W at each sample as the structure
+    does; told another load, it runs another law."""
     ground = StochasticGroundMotion(peak_ground_acceleration=0.5 * STANDARD_GRAVITY, duration=8.0,
                                     time_step=0.01, rise_time=1.0, strong_motion_duration=5.0)
     horizontal, vertical = (np.asarray(sample(ground, jax.random.PRNGKey(k), 1))[0] for k in (3, 4))
-    system = triple_structure("rigid", TRIPLE, uniform_signal(horizontal, 0.01), time_step=0.005)
+    system = triple_structure("rigid", pendulum, uniform_signal(horizontal, 0.01), time_step=0.005)
     system = with_vertical_motion(system, uniform_signal(0.6 * vertical, 0.01))
     response = jax.jit(simulate_history, static_argnums=1)(system, 8.0)
     weight = float(system.bearing_load)
     factor = np.asarray(response.load_factor)
     assert bool(np.all(response.converged)) and factor.min() > 0.3 and np.ptp(factor) > 0.5
     path = np.asarray(response.displacement[:, 0])
-    test = jax.jit(respond_along_path)(TRIPLE, sampled_path(np.asarray(response.time), path, weight * factor))
+    along = sampled_path(np.asarray(response.time), path, weight * factor)  # concrete: the heat kernel from its times
+    test = respond_along_path(pendulum, along, reference_load=weight)
     assert bool(np.all(test.converged))
     np.testing.assert_allclose(np.asarray(test.force) / weight, np.asarray(response.bearing_force) / weight,
                                rtol=0, atol=1e-9)
+    if pendulum.reads_pressure:
+        other = respond_along_path(pendulum, along, reference_load=2 * weight)
+        assert np.max(np.abs(np.asarray(other.force) - np.asarray(response.bearing_force))) > 1e-4 * weight
 
 
-def test_a_heated_pendulum_takes_one_load_and_every_load_must_be_positive():
+def test_a_pendulum_reading_its_pressure_takes_one_load_or_a_reference_and_every_load_must_be_positive():
     time, u, load = _path()
     with pytest.raises(ValueError, match="path.normal_load: .*positive"):
         respond_along_path(DOUBLE, sampled_path(time, u, load - 0.7 * WEIGHT))
@@ -105,6 +121,25 @@ def test_a_heated_pendulum_takes_one_load_and_every_load_must_be_positive():
     rounded = WEIGHT * (1 + 1e-12 * np.sin(time))  # one load to rounding, as diagnose takes it
     assert not bool(normal_load_varies(rounded)) and bool(normal_load_varies(load))
     assert bool(np.all(respond_along_path(heated, sampled_path(time, u, rounded)).converged))
+    pressed = dataclasses.replace(DOUBLE, top_pressure=25e6, surface_parts=(None, SurfaceParts(
+        pressure_dependence=PressureDependence(exponent=0.3, reference_load=WEIGHT, contact_area=0.04))))
+    assert pressed.reads_pressure and not pressed.heated
+    with pytest.raises(ValueError, match="path.normal_load: .*reference_load"):
+        respond_along_path(pressed, sampled_path(time, u, load))
+    for pendulum in (heated, pressed):
+        assert bool(np.all(respond_along_path(pendulum, sampled_path(time, u, load), reference_load=WEIGHT).converged))
+        with pytest.raises(ValueError, match="reference_load: give the positive load"):
+            respond_along_path(pendulum, sampled_path(time, u, load), reference_load=-WEIGHT)
+    motion, recorded = SineMotion(0.15, 0.5, cycles=1), uniform_signal(load, float(time[1]))
+    with pytest.raises(ValueError, match="path.normal_load: .*reference_load"):
+        simulate_bearing_test(pressed, motion, recorded)
+    assert bool(np.all(simulate_bearing_test(pressed, motion, recorded, reference_load=WEIGHT).converged))
+    with pytest.raises(ValueError, match="reference_load: a sliding bearing"):
+        simulate_bearing_test(paper_bearing(FrictionParameters(0.1, 0.05, 20.0)), motion, WEIGHT,
+                              reference_load=WEIGHT)
+    with pytest.raises(ValueError, match="reference_load: a sliding bearing"):
+        respond_along_path(paper_bearing(FrictionParameters(0.1, 0.05, 20.0)), sampled_path(time, u, load),
+                           reference_load=WEIGHT)
     kernel = heat_kernel_exponentials(0.01, 3600.0)
     traced = jax.jit(lambda b, p: respond_along_path(b, p, heat_kernel=kernel))
     with pytest.raises(Exception, match="constant normal load"):  # traced: refused when run

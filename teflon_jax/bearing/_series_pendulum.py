@@ -99,6 +99,13 @@ class SeriesPendulum(eqx.Module):
         return any(part is not None for part in self.parts())
 
     @property
+    def reads_pressure(self) -> bool:
+        """Whether a surface's law reads its contact pressure (static): heating (the flux mu p v)
+        or a part's pressure dependence. Its `<slider>_pressure` is given under the static load,
+        and a normal load N scales it by N / that load."""
+        return self.heated or any(part is not None and part.pressure_dependence is not None for part in self.parts())
+
+    @property
     def remembers(self) -> bool:
         """Whether any surface's part needs the slider's history, its largest |Z| so far
         (breakaway) or its travel (wear) (static)."""

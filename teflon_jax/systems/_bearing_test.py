@@ -94,6 +94,7 @@ def simulate_bearing_test(
     max_steps: int = 1_000_000,
     adjoint: diffrax.AbstractAdjoint | None = None,
     throw: bool = True,
+    reference_load=None,
 ) -> BearingTestResult:
     """Simulate a bearing test of any isolator under an imposed motion.
 
@@ -106,7 +107,9 @@ def simulate_bearing_test(
     - `motion`: an `AbstractMotion` (sine, triangle, figure-eight, tabulated).
     - `normal_load` [N]: a constant or a `Signal` (time-varying normal load), which must cover
       `duration` (a recorded load is not extended past its last sample); a series pendulum
-      with heated surfaces takes a constant one.
+      whose surfaces read their contact pressure (heating, pressure dependence) takes a
+      constant one, or with `reference_load` [N], the load its `<slider>_pressure` are given
+      under, any (`respond_along_path`).
     - `duration` [s]: defaults to `motion.duration`.
     - `samples_per_cycle`: saved samples per cycle of the motion (tabulated: per input sample
       interval the sample spacing of the table is used instead).
@@ -131,7 +134,9 @@ def simulate_bearing_test(
         options = {"steps_per_sample": (steps_per_sample, 1), "solver": (solver, None), "rtol": (rtol, 1e-8),
                    "atol": (atol, 1e-10), "max_steps": (max_steps, 1_000_000), "adjoint": (adjoint, None),
                    "throw": (throw, True)}
-        return _series_test(bearing, motion, normal_load, duration, samples_per_cycle, options)
+        return _series_test(bearing, motion, normal_load, duration, samples_per_cycle, options, reference_load)
+    if reference_load is not None:
+        raise ValueError("reference_load: a sliding bearing's test reads the normal load itself; drop this option.")
     check_bearing(bearing)
     motion.check()
     if duration is None:
@@ -161,7 +166,8 @@ def simulate_bearing_test(
 
 
 def respond_along_path(isolator: SlidingBearing | SeriesPendulum, path: SampledPath, *, z0=None, z_peak0=None,
-                       heat_kernel=None, friction_velocity: str | None = None) -> BearingTestResult:
+                       heat_kernel=None, friction_velocity: str | None = None,
+                       reference_load=None) -> BearingTestResult:
     """The force of any isolator [N] at the samples of an imposed path (a `SampledPath`, along
     x or in the plane, under the path's normal load N [N] at each sample): the one test that
     the fitters, the posterior, model discovery and `diagnose` run. jit-, vmap- and grad-safe
@@ -175,7 +181,9 @@ def respond_along_path(isolator: SlidingBearing | SeriesPendulum, path: SampledP
     - A `SeriesPendulum` (single, double, triple): its sliders balanced at each sample by the
       structures' step of the isolator from rest (`series_along_path`), with the same slider
       forces and solver the structures run; `heat_kernel` (rates, weights) of heated surfaces
-      and `friction_velocity` ("mean", the default, or for one surface "end") as there.
+      and `friction_velocity` ("mean", the default, or for one surface "end") as there;
+      `reference_load` [N]: the load its surfaces' contact pressures are given under, which
+      a varying N scales (heating, pressure dependence; a structure's W).
 
     Options one kind does not take are refused by name (`ValueError`), as is a measured
     temperature rise on the path of a series pendulum, whose surfaces heat by their own flux.
@@ -191,7 +199,11 @@ def respond_along_path(isolator: SlidingBearing | SeriesPendulum, path: SampledP
             raise ValueError(f"path.temperature_rise: the {isolator.description} heat by their own flux; "
                              "build the path without a measured temperature rise.")
         return series_along_path(isolator, path, heat_kernel=heat_kernel,
-                                 friction_velocity="mean" if friction_velocity is None else friction_velocity)
+                                 friction_velocity="mean" if friction_velocity is None else friction_velocity,
+                                 reference_load=reference_load)
+    if reference_load is not None:
+        raise ValueError("reference_load: a sliding bearing's test reads the path's normal load itself "
+                         "(its pressure dependence and heat flux); drop this option.")
     if heat_kernel is not None:
         raise ValueError("heat_kernel: a sliding bearing's test takes the path's own kernel "
                          "(`sampled_path`); drop this option.")
@@ -201,7 +213,8 @@ def respond_along_path(isolator: SlidingBearing | SeriesPendulum, path: SampledP
     return sliding_along_path(isolator, path, z0=z0, z_peak0=0.0 if z_peak0 is None else z_peak0)
 
 
-def _series_test(bearing: SeriesPendulum, motion, normal_load, duration, samples_per_cycle, options):
+def _series_test(bearing: SeriesPendulum, motion, normal_load, duration, samples_per_cycle, options,
+                 reference_load=None):
     """The test of a series pendulum (`simulate_bearing_test`): its balance along the motion
     sampled `samples_per_cycle` times a cycle (a tabulated motion at its own samples), under
     the normal load at each sample (`respond_along_path`); `ValueError` naming the options of
@@ -219,7 +232,7 @@ def _series_test(bearing: SeriesPendulum, motion, normal_load, duration, samples
     load = jax.vmap(signal)(time) if isinstance(normal_load, Signal) else normal_load
     planar = isinstance(motion, AbstractBiaxialMotion)
     return series_along_path(bearing, sampled_path(time, path[:, 0], load, uy=path[:, 1] if planar else None,
-                                                   park_elements=1))
+                                                   park_elements=1), reference_load=reference_load)
 
 
 @eqx.filter_jit

@@ -337,35 +337,40 @@ TEST_TOLERANCE = 1e-12
 a fit is balanced to rounding, far below the structures' `TRIPLE_TOLERANCE`."""
 
 
-def _path_step(pendulum, kernel, state, target, load, dt, velocity=None):
+def _path_step(pendulum, kernel, state, target, load, dt, velocity=None, load_factor=None):
     """One step of the isolator to the path's displacement `target` ((,) or (2,) [m]) from its
     state (`_series_step.initial_isolator`'s, the force per unit normal load F / N in place of
     the force beyond a reference spring) over `dt` [s], under the path's normal load `load` [N]
     at the step's end: the structures' step of the isolator (`slider_step`) with the sliders'
     increments adding up to D = target - sum(sliders), from the extrapolated increments with
     their misfit to D shared evenly; `velocity` [m/s]: the path's at `target`, for the law
-    "end" (one surface), else `None`. The sliders' forces are N times their forces under a
-    unit load (`slider_forces`; a surface's contact pressure is its own, not N's), so the
-    balance is solved once per unit load, to `TEST_TOLERANCE` [-], and its force scaled by N: the
-    same increments, with the balance's work free of N (a load that changes from step to step
-    would otherwise be carried through every iteration)."""
+    "end" (one surface), else `None`; `load_factor` N / W_ref [-] at the step's end, on the
+    contact pressures of surfaces that read them (`SeriesPendulum.reads_pressure`), as a
+    structure's load factor N / W is, or `None` (the pressures as given). The sliders' forces are
+    N times their forces under a unit load at that pressure (`slider_forces`), so the balance is
+    solved once per unit load, to `TEST_TOLERANCE` [-], and its force scaled by N: the same
+    increments, with the balance's work free of N (a load that changes from step to step would
+    otherwise be carried through every iteration)."""
     slider, unit = state[0], jnp.ones((), state[0].dtype)
     p = isolator_parameters(pendulum, state, unit, unit, target - jnp.sum(slider, axis=0),
                             heat_weights=None if kernel is None else kernel[1])
     if velocity is not None:
         p["v"] = (velocity, jnp.zeros_like(velocity))
+    if load_factor is not None:  # positive on a test path: no uplift in `slider_step`
+        p["s"] = load_factor
     guess = predicted_increments(state[2])
     guess = guess + (p["D"] - jnp.sum(guess, axis=0)) / pendulum.slider_count
     limit = jnp.maximum(TEST_TOLERANCE, 32 * jnp.finfo(slider.dtype).eps)
     new, converged, force = slider_step(state, p, guess, limit, dt, TRIPLE_NEWTON_ITERATIONS,
-                                        heat_rates=None if kernel is None else kernel[0])
+                                        heat_rates=None if kernel is None else kernel[0], load=load_factor)
     return new, (load * force, new[0], new[1], converged)
 
 
-def _along_path(pendulum, loads, steps, path, kernel, velocity=None):
+def _along_path(pendulum, loads, steps, path, kernel, velocity=None, reference_load=None):
     """Scan `_path_step` along `path` (nt,) or (nt, 2) [m] from rest, under the normal loads
     `loads` (nt,) [N] of its samples, over the steps `steps` (nt - 1,) [s] between them (with
-    the path's `velocity`, like it, for the law "end"): (force, slider, z, converged) of the
+    the path's `velocity`, like it, for the law "end"; with `reference_load` W_ref [N], the
+    load factors N / W_ref on the contact pressures): (force, slider, z, converged) of the
     steps after the first sample."""
     shape = (pendulum.slider_count,) + path.shape[1:]
     zeros = jnp.zeros(shape, path.dtype)
@@ -376,20 +381,26 @@ def _along_path(pendulum, loads, steps, path, kernel, velocity=None):
         start = start + (initial_history(pendulum, shape[:1], path.dtype),)
 
     def body(state, inputs):
-        return _path_step(pendulum, kernel, state, *inputs)
+        target, load, dt, velocity, load_factor = inputs
+        return _path_step(pendulum, kernel, state, target, load, dt, velocity, load_factor)
 
-    inputs = (path[1:], loads[1:], steps) + (() if velocity is None else (velocity[1:],))
+    factors = None if reference_load is None else loads[1:] / reference_load
+    inputs = (path[1:], loads[1:], steps, None if velocity is None else velocity[1:], factors)
     return jax.lax.scan(body, start, inputs)[1]
 
 
 def series_along_path(bearing: SeriesPendulum, path: SampledPath, *, heat_kernel=None,
-                      friction_velocity: str = "mean") -> BearingTestResult:
+                      friction_velocity: str = "mean", reference_load=None) -> BearingTestResult:
     """Force of a series pendulum [N] along the imposed displacement of `path` (a
     `SampledPath`: along x, or in the plane), from rest at its first sample, under the path's
     normal load N [N] at each sample (module docstring); `respond_along_path` for a
     `SeriesPendulum`. jit-, vmap- and grad-safe once the bearing is checked
-    (`check_series_pendulum`). A pendulum with heated surfaces (`SeriesPendulum.heated`;
-    contact pressures at this N, which must then be constant) scales each surface's friction
+    (`check_series_pendulum`). Surfaces that read their contact pressure
+    (`SeriesPendulum.reads_pressure`: heating, pressure dependence) take it as given
+    (`<slider>_pressure`) times N / `reference_load` [N], the load the pressures are given under
+    (a structure's W), as a structure under a vertical record takes it; without
+    `reference_load` the pressures hold at the path's N, which must then be constant
+    (`normal_load_varies`). A pendulum with heated surfaces scales each surface's friction
     by its temperature (`_slider_forces.heated_step`; in the plane the flux takes the length of
     each surface's increment), with `heat_kernel` (rates, weights) =
     `heat_kernel_exponentials(dt, horizon)`, by default from concrete sample times (the
@@ -404,9 +415,11 @@ def series_along_path(bearing: SeriesPendulum, path: SampledPath, *, heat_kernel
     planar, time = path.planar, path.time
     displacement = jnp.stack([path.ux, path.uy], -1) if planar else path.ux
     kernel = _test_heat_kernel(bearing, time, heat_kernel)
-    load = _path_load(bearing, path)
+    load = _path_load(bearing, path, reference_load)
     velocity = _path_velocity(bearing, friction_velocity, path)
-    force, slider, z, converged = _along_path(bearing, load, jnp.diff(time), displacement, kernel, velocity)
+    reference = None if reference_load is None or not bearing.reads_pressure else reference_load
+    force, slider, z, converged = _along_path(bearing, load, jnp.diff(time), displacement, kernel, velocity,
+                                              reference)
 
     def first(rest):
         return jnp.concatenate([jnp.zeros((1,) + rest.shape[1:], rest.dtype), rest])
@@ -419,8 +432,8 @@ def series_along_path(bearing: SeriesPendulum, path: SampledPath, *, heat_kernel
 
 
 LOAD_SPREAD = 1e-9
-"""Largest spread of the normal load [-], over its largest value, that a heated pendulum's test
-takes as one load (its surfaces' contact pressures are given at one load)."""
+"""Largest spread of the normal load [-], over its largest value, that the test of a pendulum
+whose surfaces read their contact pressure takes as one load, without a reference load."""
 
 
 def normal_load_varies(load):
@@ -430,16 +443,20 @@ def normal_load_varies(load):
     return jnp.ptp(load) > LOAD_SPREAD * jnp.max(load)
 
 
-def _path_load(bearing: SeriesPendulum, path: SampledPath):
+def _path_load(bearing: SeriesPendulum, path: SampledPath, reference_load=None):
     """The path's normal loads (nt,) [N]; a load that is not positive, or one that varies
-    (`normal_load_varies`) under a heated pendulum, is refused by name (`ValueError` where the
-    loads are concrete, else a runtime error)."""
+    (`normal_load_varies`) under a pendulum whose surfaces read their contact pressure without
+    `reference_load`, is refused by name (`ValueError` where the loads are concrete, else a
+    runtime error), as is a `reference_load` that is not positive."""
     load = path.normal_load
     message = "path.normal_load: a series pendulum's test needs a positive normal load at every sample."
     bad = jnp.any(jnp.asarray(load) <= 0)
-    if bearing.heated:
-        message += (" A pendulum with heated surfaces takes its contact pressures at one load: give a "
-                    "constant normal load.")
+    if reference_load is not None:
+        message += " reference_load: give the positive load [N] the contact pressures are given under."
+        bad = bad | ~(jnp.asarray(reference_load) > 0)
+    elif bearing.reads_pressure:
+        message += (f" The {bearing.description}' surfaces read their contact pressure, given under one "
+                    "load: give a constant normal load, or that load as reference_load.")
         bad = bad | normal_load_varies(load)
     if isinstance(load, jax.core.Tracer):
         return eqx.error_if(load, bad, message)
