@@ -19,6 +19,7 @@ import numpy as np
 import pytest
 from test_series_one_law import DOUBLE, TRIPLE
 
+from identification.bearing_fit import fit_series_pendulum_test, prepare_series_problem
 from teflon_jax.bearing import (
     FrictionalHeating,
     FrictionParameters,
@@ -29,6 +30,7 @@ from teflon_jax.bearing import (
     single_pendulum,
 )
 from teflon_jax.excitation import SineMotion, StochasticGroundMotion, sample, uniform_signal
+from teflon_jax.formats import test_record_from_arrays
 from teflon_jax.systems import (
     normal_load_varies,
     respond_along_path,
@@ -144,6 +146,21 @@ def test_a_pendulum_reading_its_pressure_takes_one_load_or_a_reference_and_every
     traced = jax.jit(lambda b, p: respond_along_path(b, p, heat_kernel=kernel))
     with pytest.raises(Exception, match="constant normal load"):  # traced: refused when run
         jax.block_until_ready(traced(heated, sampled_path(time, u, load)).force)
+
+
+def test_a_fit_refuses_a_varying_load_on_a_start_whose_surfaces_read_their_pressure():
+    """The record's N varies and the start's top surface reads its contact pressure, given
+    under a load neither states: refused by the record's name and the surface before any solve
+    (the fit and diagnose alike)."""
+    time, u, load = _path()
+    pressed = dataclasses.replace(DOUBLE, top_pressure=25e6, surface_parts=(None, SurfaceParts(
+        pressure_dependence=PressureDependence(exponent=0.3, reference_load=WEIGHT, contact_area=0.04))))
+    force = np.asarray(respond_along_path(pressed, sampled_path(time, u, load), reference_load=WEIGHT).force)
+    record = test_record_from_arrays(u, force, time=time, normal_load=load)
+    with pytest.raises(ValueError, match=r"record 0: its normal load varies .* surfaces top read"):
+        fit_series_pendulum_test(record, pressed, max_steps=1)
+    with pytest.raises(ValueError, match=r"record 0: its normal load varies .* surfaces top read"):
+        prepare_series_problem(record, pressed)  # diagnose's
 
 
 def test_options_one_kind_does_not_take_are_refused_by_name():

@@ -66,6 +66,7 @@ from ._triple_fit import (
     _in_start_order,
     _reported_jacobian,
     _swap_name,
+    check_pressure_load,
     triple_parameters,
     triple_with_parameters,
 )
@@ -172,6 +173,7 @@ def prepare_series_problem(record: TestRecord, start: SeriesPendulum, *, normal_
     if not (isinstance(max_samples, int) and max_samples >= 10):
         raise ValueError(f"max_samples: must be an integer >= 10, got {max_samples!r}.")
     time, path, force, load = _arrays(record, normal_load)
+    check_pressure_load(record, start, load)
     _check_one_step_and_load(name, time, load)
     load = float(load[0])
     decimation = max(1, math.ceil(time.size / max_samples))

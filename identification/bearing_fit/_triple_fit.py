@@ -37,7 +37,7 @@ from teflon_jax.bearing import (
     check_series_pendulum,
 )
 from teflon_jax.formats import TestRecord
-from teflon_jax.systems import respond_along_path, sampled_path
+from teflon_jax.systems import normal_load_varies, respond_along_path, sampled_path
 
 from ..least_squares import covariance_from_jacobian, fit_least_squares
 from ._prepare import _normal_load, _record_name
@@ -180,6 +180,21 @@ def _arrays(record: TestRecord, normal_load):
     return time, path, force, load
 
 
+def check_pressure_load(record: TestRecord, start: SeriesPendulum, load) -> None:
+    """`ValueError` naming the record and the start's surfaces where surfaces that read their
+    contact pressure (`SeriesPendulum.reads_pressure`: heating, pressure dependence; their
+    `<slider>_pressure` given under one load) meet a record whose normal load (nt,) [N] varies:
+    the test would need the load those pressures are given under, which neither states."""
+    if not (start.reads_pressure and bool(normal_load_varies(load))):
+        return
+    surfaces = [name for name, part, heating in zip(start.slider_names, start.parts(), start.surface_heatings())
+                if heating is not None or (part is not None and part.pressure_dependence is not None)]
+    raise ValueError(f"{_record_name(record, 0)}: its normal load varies ({np.min(load):.6g}-{np.max(load):.6g} N), "
+                     f"and the start's surfaces {', '.join(surfaces)} read their contact pressure (heating or "
+                     "pressure dependence), given under one load: fit a record under a constant normal load, "
+                     "or a start without those parts.")
+
+
 def _bounds(names, values):
     """Bounds and the start of the optimiser's variables (module docstring)."""
     bounds, initial = {}, {}
@@ -216,6 +231,7 @@ def fit_series_pendulum_test(record: TestRecord, initial: SeriesPendulum, *, fre
     if not (isinstance(max_steps, int) and max_steps >= 1):
         raise ValueError(f"max_steps: must be an integer >= 1, got {max_steps!r}.")
     time, path, force, load = _arrays(record, normal_load)
+    check_pressure_load(record, initial, load)
     start = jax.tree_util.tree_map(lambda x: jnp.asarray(x, float), initial)
     simulate = eqx.filter_jit(respond_along_path)
     sampled = sampled_path(time, path, load)
