@@ -6,6 +6,7 @@ commands.
 Peer: the same structure with f_max and delta_f multiplied by the factor written out here.
 """
 
+import dataclasses
 import json
 
 import equinox as eqx
@@ -101,6 +102,80 @@ def test_two_directions_run_the_bearing_at_its_pressure():
     assert float(pa.base_disp) == pytest.approx(float(pb.base_disp), rel=1e-12)
 
 
+def _plain_pressure_bearing():
+    """UF with its pressure dependence and no breakaway (whose switch reads Z's running peak
+    one step apart in a structure and in a test)."""
+    return eqx.tree_at(lambda b: b.pressure_dependence, tj.paper_bearing(UF),
+                       PressureDependence(EXPONENT, TEST_LOAD, AREA), is_leaf=lambda x: x is None)
+
+
+def _vertical_pair(duration=8.0, dt=0.01):
+    t = np.arange(0, duration, dt)
+    vertical = 4.0 * np.sin(2 * np.pi * 2.3 * t) * np.exp(-0.15 * t)  # N from about 0.6 W to 1.4 W
+    return _signal(duration, dt), tj.uniform_signal(jnp.asarray(vertical), dt)
+
+
+def test_under_a_vertical_record_the_friction_follows_the_pressure_as_in_the_bearings_test():
+    """The rigid mass on a pressure-dependent bearing under a vertical record: its friction
+    force at every step is the bearing test's along the structure's path (displacement and
+    velocity of the isolator) under the load of one bearing s p A, scaled to the structure's
+    weight: mu (s p A / N_ref)^-e s W Z. Held at the static pressure, as before, it is not."""
+    from teflon_jax.systems import (
+        isolated_structure,
+        respond_along_path,
+        sampled_path,
+        simulate_history,
+        with_vertical_component,
+    )
+
+    pressure = 2500 * PSI
+    bearing = _plain_pressure_bearing()
+    structure = with_vertical_component(isolated_structure(
+        "rigid", bearing=bearing, pressure=pressure, split_at_turn=False, newton_tolerance=0.0))
+    system = structure(_vertical_pair())
+    assert float(system.pressure_exponent) == EXPONENT
+    response = simulate_history(system, 7.5)
+    weight, s = float(system.bearing_load), np.asarray(response.load_factor)
+    assert bool(response.succeeded) and s.min() > 0.3 and np.ptp(s) > 0.5
+    path = sampled_path(np.asarray(response.time), np.asarray(response.displacement[:, 0]), s * pressure * AREA,
+                        velocity=np.asarray(response.velocity[:, 0]))
+    test = respond_along_path(bearing, path)
+    friction = np.asarray(response.friction_force)
+    np.testing.assert_allclose(np.asarray(test.fx) * weight / (pressure * AREA), friction, rtol=0,
+                               atol=1e-9 * weight)
+    held = simulate_history(dataclasses.replace(system, pressure_exponent=None), 7.5)
+    assert np.max(np.abs(np.asarray(held.friction_force) - friction)) > 1e-3 * weight
+
+
+def test_under_a_vertical_record_two_directions_along_a_line_are_the_one_direction():
+    """The same bearing and vertical record under two components whose y record is zero: the
+    x response is the one-component response (both solved to rounding, Newmark's rule, no
+    split of a step at a turn), the friction following the pressure in both."""
+    from teflon_jax.studies import bidirectional_isolated_structure
+    from teflon_jax.systems import (
+        isolated_structure,
+        simulate_history,
+        with_vertical_component,
+    )
+
+    horizontal, vertical = _vertical_pair()
+    zero = tj.uniform_signal(jnp.zeros(800), 0.01)
+    options = dict(bearing=_plain_pressure_bearing(), pressure=2500 * PSI, time_step=0.0025, newton_tolerance=0.0)
+    line = with_vertical_component(isolated_structure("rigid", linear_rule="newmark", split_at_turn=False,
+                                                      **options))((horizontal, vertical))
+    plane = with_vertical_component(bidirectional_isolated_structure("rigid", **options))(((horizontal, zero),
+                                                                                           vertical))
+    plane = dataclasses.replace(plane, newton_tolerance=0.0)
+    a, b = simulate_history(line, 7.5), simulate_history(plane, 7.5)
+    assert float(plane.pressure_exponent) == EXPONENT
+    assert bool(a.succeeded) and bool(b.succeeded)
+    u_line, u_plane = np.asarray(a.displacement[:, 0]), np.asarray(b.displacement[:, 0])
+    assert np.max(np.abs(u_line)) > 0.02
+    np.testing.assert_allclose(u_plane, u_line, rtol=0, atol=1e-9)
+    held = simulate_history(dataclasses.replace(plane, pressure_exponent=None), 7.5)
+    assert np.max(np.abs(np.asarray(held.displacement[:, 0]) - u_line)) > 1e-4
+
+
 def test_without_the_contact_area_a_structure_refuses_by_key():
     with pytest.raises(ValueError, match="parts.pressure_dependence.contact_area"):
         tj.systems.isolated_structure("rigid", bearing=_pressure_bearing(area=None),
@@ -170,3 +245,17 @@ def test_run_and_the_slab_take_each_pressure(tmp_path):
     assert same == pytest.approx(slab("slab_hand", tmp_path / "hand.json", (None, None)),
                                  rel=1e-12)
     assert slab("slab_mixed", tmp_path / "pd.json", ("1000psi", "2000psi")) < same
+
+
+def test_run_under_a_vertical_record_follows_the_pressure_of_a_bearing_file(tmp_path):
+    """`run --bearing --record-z`: the pressure-dependent file at 2000 psi against the file
+    with its friction written out at that pressure: under a vertical record (N from about 0.5 W
+    to 1.5 W) the pressure-dependent bearing's friction follows N, the other's does not."""
+    t = np.arange(0, 6.0, 0.01)
+    records = ["--record-x", _at2(tmp_path / "x.AT2", 0.3 * np.sin(2 * np.pi * 0.5 * t)),
+               "--record-z", _at2(tmp_path / "z.AT2", 0.5 * np.sin(2 * np.pi * 3.1 * t))]
+    save_bearing(tmp_path / "pd.json", _pressure_bearing())
+    save_bearing(tmp_path / "hand.json", _scaled_by_hand(2.0**-EXPONENT))
+    pd = _run_peak(tmp_path, "pd", records + ["--bearing", tmp_path / "pd.json", "--pressure", "2000psi"])
+    hand = _run_peak(tmp_path, "hand", records + ["--bearing", tmp_path / "hand.json"])
+    assert abs(pd - hand) > 1e-3 * hand

@@ -70,17 +70,18 @@ def vertical_structure(args, structure):
     return with_vertical_component(structure)
 
 
-def with_vertical(system, az, dt, radius=None):
+def with_vertical(system, az, dt, radius=None, pressure_exponent=None):
     """`system` (any structure `run` builds) with the vertical component `az` [m/s^2] on the
     records' grid of step `dt` [s] (unchanged for `None`); `radius` [m] of a single friction
     pendulum whose W / R scales with the normal load (None for the others, and for a slab's
-    groups, which hold their W_g / R_g)."""
+    groups, which hold their W_g / R_g); `pressure_exponent` of a `--bearing` file's pressure
+    dependence, which the normal load acts on (`systems.with_vertical_motion`)."""
     if az is None:
         return system
     from ..excitation import uniform_signal
     from ..systems import with_vertical_motion
 
-    return with_vertical_motion(system, uniform_signal(az, dt), radius=radius)
+    return with_vertical_motion(system, uniform_signal(az, dt), radius=radius, pressure_exponent=pressure_exponent)
 
 
 def response_uplift(response) -> dict:

@@ -101,6 +101,7 @@ def run_run(args) -> int:
         raise ValueError(f"--histories: {args.histories} must end in .nc or .csv.")
     from ..excitation import uniform_signal
     from ..systems import step_count
+    from ._bearing_flags import pressure_exponent
     from ._normal_load import with_vertical
     from ._run_output import write_run_outputs
     from ._run_records import load_components, vertical_component
@@ -112,7 +113,8 @@ def run_run(args) -> int:
     system = build_structure(args, isolator, flags, uniform_signal(ax, dt), uniform_signal(ay, dt),
                              two=args.record_y is not None)
     system = with_vertical(system, vertical_component(args, dt, ax.size), dt,
-                           radius=isolator.radius if flags.plan is None else None)  # a slab's groups hold W_g / R_g
+                           radius=isolator.radius if flags.plan is None else None,  # a slab's groups hold W_g / R_g
+                           pressure_exponent=pressure_exponent(args) if isolator.pendulum is None else None)
     warn_time_step("run", flags.time_step, args.time_step, dt, f"{dt:g}s of the records")
     duration = (ax.size - 1) * dt
     title = args.structure if isolator.description is None else f"{args.structure} on {isolator.description}"

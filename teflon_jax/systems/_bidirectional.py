@@ -97,7 +97,9 @@ class BidirectionalStructure(AbstractSteppedSystem):
     taken at the start of each step and held over it. `vertical_acceleration`: `Signal` of
     a_v(t) [m/s^2, up +] or `None`: the groups' normal loads are then s W_g with
     s = max(1 + a_v / g, 0), on the friction and on `pendulum_stiffness` W_g / R (G,) [N/m]
-    (the part of K the load carries), `_vertical.py`; `load` is the s of a copy at one time
+    (the part of K the load carries), `_vertical.py`, and with `pressure_exponent` e (one, or
+    (G,)) the friction of bearings whose pressure dependence is folded in at the static load
+    follows s^-e (`pressure_factor`); `load` is the s of a copy at one time
     (`at_load`), one per group (G,) with `overturning` L (G, 2) [-]: the groups' loads
     N_g = s W_g + (L H)_g under the horizontal force H of the step's start, held over the step,
     kept in the state "normal_load" (G,) [N] and redistributed over the groups that stay down
@@ -127,6 +129,7 @@ class BidirectionalStructure(AbstractSteppedSystem):
     heat_weights: jnp.ndarray | None = None
     vertical_acceleration: Signal | None = None
     pendulum_stiffness: jnp.ndarray | None = None
+    pressure_exponent: jnp.ndarray | None = None
     load: jnp.ndarray | None = None
     overturning: jnp.ndarray | None = None
     supports: SupportPlan | None = None
@@ -235,8 +238,9 @@ class BidirectionalStructure(AbstractSteppedSystem):
         }
         if self.history:
             speed = jnp.sqrt(jnp.sum(velocity**2, axis=-1))
-            mu = self.at_state(y).bearing.coefficient(velocity[:, 0], velocity[:, 1], y["z_peak"])
-            mu, speed = loaded_heat(self.at_load(self.load_at(t, y)), mu, speed)
+            loaded = self.at_load(self.load_at(t, y))
+            mu = loaded.at_state(y).bearing.coefficient(velocity[:, 0], velocity[:, 1], y["z_peak"])
+            mu, speed = loaded_heat(loaded, mu, speed)
             rates["heat"], rates["travel"] = history_rates(
                 self.bearing, y["heat"], mu, self.contact_pressure, speed, self.heat_rates)
         if self.overturning is not None:  # held over fixed steps (RiccatiNewmark) only

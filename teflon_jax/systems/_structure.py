@@ -34,7 +34,12 @@ from ._bearing_test import running_peak_rate
 from ._isolator_balance import BALANCES
 from ._isolator_solve import isolator_root, predicted_root
 from ._sampled_path import has_history, history_factor, history_rates, next_history
-from ._vertical import load_factor_at, loaded_isolator_force, loaded_surface_force
+from ._vertical import (
+    load_factor_at,
+    loaded_isolator_force,
+    loaded_surface_force,
+    pressure_factor,
+)
 
 FRICTION_MODELS = ("hysteretic", "coulomb", "none")
 
@@ -109,7 +114,10 @@ class StructureOnSliders(AbstractSteppedSystem):
       `stiffness`. `None`: flat sliders, or a pendulum in the small-rotation form alone.
     - `vertical_acceleration`: `Signal` of a_v(t) [m/s^2, up +] or `None`: the normal load is
       then N = W max(1 + a_v / g, 0), on the friction and on `pendulum_stiffness` W / R [N/m]
-      (the part of K[0, 0] the load carries), `_vertical.py` (`with_vertical_motion`).
+      (the part of K[0, 0] the load carries), `_vertical.py` (`with_vertical_motion`);
+      `pressure_exponent` e [-] of a bearing whose pressure dependence is folded into its
+      friction at the static load (`SlidingBearing.at_contact_pressure`), or `None`: under
+      N = s W its friction follows the contact pressure, mu s^-e (`pressure_factor`).
     - On a `SeriesPendulum` only: `reference_stiffness` W / R_ref [N/m] held in `stiffness`;
       `friction_velocity` (static, `FRICTION_VELOCITIES`): "mean" or, one surface, "end";
       `ground_y`: the y component's `Signal` [m/s^2] (the structure the same along y), or
@@ -137,6 +145,7 @@ class StructureOnSliders(AbstractSteppedSystem):
     surface: ConcaveSurface | None = None
     vertical_acceleration: Signal | None = None
     pendulum_stiffness: jnp.ndarray | None = None
+    pressure_exponent: jnp.ndarray | None = None
     reference_stiffness: jnp.ndarray | None = None
     friction_velocity: str = eqx.field(static=True, default="mean")
     ground_y: Signal | None = None
@@ -179,6 +188,15 @@ class StructureOnSliders(AbstractSteppedSystem):
         """N(t) / W [-] at time t [s] (`normal_load_factor`); `None` without a vertical record."""
         return load_factor_at(self.vertical_acceleration, t)
 
+    def loaded(self, value, load):
+        """`value` (a force or a friction factor) times the load factor N / W `load` and, with
+        `pressure_exponent`, the pressure dependence's s^-e (`pressure_factor`); itself for
+        `load` `None`."""
+        if load is None:
+            return value
+        value = value * load
+        return value if self.pressure_exponent is None else value * pressure_factor(self.pressure_exponent, load)
+
     @property
     def history(self) -> bool:
         """True when the bearing's friction depends on the history (heating, wear)."""
@@ -208,7 +226,7 @@ class StructureOnSliders(AbstractSteppedSystem):
         mu0 = mu0 * self.asymmetry_factor(z0)
         slide = jnp.abs(u1 - u0)
         if load0 is not None:
-            mu0, slide = mu0 * load0, jnp.where(load0 > 0, slide, 0.0)
+            mu0, slide = self.loaded(mu0, load0), jnp.where(load0 > 0, slide, 0.0)
         return next_history(self.bearing, heat, travel, slide, mu0,
                             self.contact_pressure, self.time_step, self.heat_rates)
 
@@ -229,7 +247,7 @@ class StructureOnSliders(AbstractSteppedSystem):
             return jnp.zeros_like(z)
         force = self.bearing.coefficient(velocity, 0.0, z_peak) * self.bearing_load * z
         force = force * self.asymmetry_factor(z)
-        return force if load is None else force * load
+        return self.loaded(force, load)
 
     def asymmetry_factor(self, z):
         """1 + a Z [-] of a bearing with direction asymmetry (`DirectionAsymmetry`), else 1."""
@@ -246,7 +264,7 @@ class StructureOnSliders(AbstractSteppedSystem):
             zero = jnp.zeros_like(jnp.asarray(velocity, dtype=float))
             return zero, zero
         mu, slope = self.bearing.uniaxial_coefficient(velocity, z_peak)
-        load = self.bearing_load if load is None else self.bearing_load * load
+        load = self.loaded(self.bearing_load, load)
         return mu * load, slope * load
 
     def _acceleration(self, t, y):
@@ -286,7 +304,7 @@ class StructureOnSliders(AbstractSteppedSystem):
         mu = self.at_state(y).bearing.coefficient(y["v"][0], 0.0, y["z_peak"])
         speed = jnp.abs(y["v"][0])
         if load is not None:
-            mu, speed = mu * load, jnp.where(load > 0, speed, 0.0)
+            mu, speed = self.loaded(mu, load), jnp.where(load > 0, speed, 0.0)
         heat, travel = history_rates(self.bearing, y["heat"], mu, self.contact_pressure,
                                      speed, self.heat_rates)
         return {"heat": heat, "travel": travel}

@@ -48,6 +48,14 @@ def load_factor_at(vertical_acceleration: Signal | None, t):
     return normal_load_factor(vertical_acceleration(t))
 
 
+def pressure_factor(exponent, load):
+    """s^-e [-]: the factor on a bearing's friction of its pressure dependence (N / N_ref)^-e
+    (Mokha, Constantinou & Reinhorn 1990; `PressureDependence`) under the load factor s = N / W,
+    with the friction at the static load W folded in (`SlidingBearing.at_contact_pressure`); 1
+    while uplifted (s = 0), where the bearing carries no force."""
+    return jnp.where(load > 0, load, 1.0) ** -jnp.asarray(exponent)
+
+
 def uplifted(vertical_acceleration):
     """True where N <= 0, i.e. a_v <= -g [m/s^2]."""
     return 1 + jnp.asarray(vertical_acceleration) / STANDARD_GRAVITY <= 0
@@ -64,7 +72,7 @@ def uplift_steps(system, n_steps: int):
 # --------------------------------------------------------------------------- the record on a structure
 
 
-def with_vertical_motion(system, vertical_acceleration: Signal, radius=None):
+def with_vertical_motion(system, vertical_acceleration: Signal, radius=None, pressure_exponent=None):
     """`system` with the vertical ground acceleration `vertical_acceleration` [m/s^2, up +] on
     its isolators' normal load N = W max(1 + a_v / g, 0) (module docstring).
 
@@ -81,7 +89,12 @@ def with_vertical_motion(system, vertical_acceleration: Signal, radius=None):
     `radius` R [m] sets W / R on a `StructureOnSliders` or `BidirectionalStructure` built
     without it (a pendulum given by its period alone); `None` keeps what the structure holds.
     Triple and double pendulums carry their surfaces' radii: `radius` must be `None` there.
-    `ValueError` naming the argument otherwise.
+    `pressure_exponent` e [-] (one, or one per group): the exponent of the pressure dependence
+    of flat sliders or single pendulums whose friction was taken at their static contact
+    pressure (`SlidingBearing.at_contact_pressure`), so that it follows N as mu s^-e
+    (`pressure_factor`), as the bearing's test and a series pendulum's surfaces follow it;
+    `None` for bearings without one (a series pendulum's surfaces carry theirs). `ValueError`
+    naming the argument otherwise.
     """
     if not isinstance(vertical_acceleration, Signal):
         raise ValueError("vertical_acceleration: expected a Signal of the vertical ground "
@@ -92,7 +105,15 @@ def with_vertical_motion(system, vertical_acceleration: Signal, radius=None):
                          f"on any isolator), got {type(system).__name__}.")
     if getattr(system, "pendulum", None) is not None:  # series pendulums: the load acts on their sliders
         _no_radius(radius)
+        if pressure_exponent is not None:
+            raise ValueError("pressure_exponent: a triple or double pendulum's surfaces carry their own pressure "
+                             "dependence (surface_parts); leave pressure_exponent out.")
         return dataclasses.replace(system, vertical_acceleration=vertical_acceleration)
+    if pressure_exponent is not None:
+        value = np.asarray(pressure_exponent) if not isinstance(pressure_exponent, jax.core.Tracer) else None
+        if value is not None and not np.all(np.isfinite(value)):
+            raise ValueError(f"pressure_exponent: must be finite, got {value.tolist()}.")
+        pressure_exponent = jnp.asarray(pressure_exponent, float)
     stiffness = system.pendulum_stiffness
     if radius is not None:
         value = np.asarray(radius) if not isinstance(radius, jax.core.Tracer) else None
@@ -100,7 +121,7 @@ def with_vertical_motion(system, vertical_acceleration: Signal, radius=None):
             raise ValueError(f"radius: must be > 0 [m] (the pendulum's radius), got {value.tolist()}.")
         stiffness = system.bearing_load / jnp.asarray(radius, float)
     return dataclasses.replace(system, vertical_acceleration=vertical_acceleration,
-                               pendulum_stiffness=stiffness)
+                               pendulum_stiffness=stiffness, pressure_exponent=pressure_exponent)
 
 
 def _no_radius(radius) -> None:
@@ -144,6 +165,9 @@ def loaded_isolator_force(system, ub_linear, vb_linear, compliance, y0, start_fa
     ub, vb = ub_linear / c, vb_linear - gv * a * ub_linear / c
     loaded = dataclasses.replace(system, bearing_load=load * system.bearing_load,
                                  vertical_acceleration=None, pendulum_stiffness=None)
+    if system.pressure_exponent is not None:  # the friction at the pressure of N (`pressure_factor`)
+        loaded = dataclasses.replace(loaded, bearing=system.bearing.scaled(pressure_factor(system.pressure_exponent, load)),
+                                     pressure_exponent=None)
     force, z1, z_peak1, converged = loaded.isolator_force(ub, y0, vb, (g0 / c, gv / c), start_factors)
     x = ub - g0 / c * force
     return force + a * x, z1, z_peak1, converged
@@ -154,9 +178,14 @@ def loaded_isolator_force(system, ub_linear, vb_linear, compliance, y0, start_fa
 
 def loaded_bidirectional(system, load):
     """`system` (a `BidirectionalStructure`) under the load factor `load` = N / W [-]: its
-    groups' loads s W_g, with `load` kept for the pendulum's change (`pendulum_change`)."""
-    return dataclasses.replace(system, bearing_load=system.bearing_load * load, load=jnp.asarray(load),
-                               vertical_acceleration=None)
+    groups' loads s W_g, with `load` kept for the pendulum's change (`pendulum_change`), and
+    with `pressure_exponent` the friction at the contact pressure of s W_g (`pressure_factor`)."""
+    loaded = dataclasses.replace(system, bearing_load=system.bearing_load * load, load=jnp.asarray(load),
+                                 vertical_acceleration=None)
+    if system.pressure_exponent is None:
+        return loaded
+    return dataclasses.replace(loaded, bearing=system.bearing.scaled(pressure_factor(system.pressure_exponent, load)),
+                               pressure_exponent=None)
 
 
 def pendulum_change(system):
