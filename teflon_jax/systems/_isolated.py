@@ -242,14 +242,6 @@ class IsolatedStructure(eqx.Module):
         b = self.bearing
         return b is None or b.heating is not None or b.pressure_dependence is not None
 
-    @property
-    def pressure_exponent(self):
-        """e [-] of the given bearing's pressure dependence, which a vertical record's normal load
-        acts on (`with_vertical_motion`); `None` without one."""
-        if self.bearing is None or self.bearing.pressure_dependence is None:
-            return None
-        return self.bearing.pressure_dependence.exponent
-
     def _given_bearing(self, design):
         """`bearing` with the design's friction constants in place of its own."""
         if "pressure" in design and not self.pressure_matters:
@@ -273,8 +265,9 @@ class IsolatedStructure(eqx.Module):
                 raise ValueError("ground_acceleration: this structure takes (horizontal, vertical) ground motions "
                                  "(with_vertical_component).")
             horizontal, vertical = ground_acceleration
+            part = None if self.bearing is None else self.bearing.pressure_dependence  # follows N
             return with_vertical_motion(self._horizontal(horizontal, design), vertical,
-                                        pressure_exponent=self.pressure_exponent)
+                                        pressure_exponent=None if part is None else part.exponent)
         return self._horizontal(ground_acceleration, design)
 
     def _horizontal(self, ground_acceleration, design) -> StructureOnSliders | BidirectionalStructure:
