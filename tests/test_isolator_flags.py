@@ -81,7 +81,6 @@ def test_what_cannot_run_is_refused_by_name(isolator, flags, message):
 
 
 @pytest.mark.parametrize(("isolator", "components", "message"), [
-    ("flat", 2, "--newton-tolerance: applies to one-component runs"),
     ("triple-fp", 1, "--newton-tolerance: is in units of a flat bearing's yield displacement; the triple-fp"),
     ("double-fp", 2, "--newton-tolerance: is in units of a flat bearing's yield displacement; the double-fp"),
 ])
@@ -90,8 +89,9 @@ def test_montecarlo_newton_tolerance_only_where_it_means_something(isolator, com
                  "--components", str(components), "--newton-tolerance", "1e-3")
     with pytest.raises(ValueError, match=re.escape(message)):
         check_combination(args, read_isolator(args))
-    args = _args("montecarlo", "--motions", "2", "--newton-tolerance", "1e-3")
-    check_combination(args, read_isolator(args))  # flat sliders, one component
+    for components in ("1", "2"):  # flat sliders, one or two components
+        args = _args("montecarlo", "--motions", "2", "--components", components, "--newton-tolerance", "1e-3")
+        check_combination(args, read_isolator(args))
 
 
 @pytest.mark.parametrize(("isolator", "group", "message"), [

@@ -235,7 +235,7 @@ def pendulum_period(args) -> float | None:
 def check_combination(args, isolator: Isolator) -> None:
     """`ValueError` naming the flag, before any work, for what cannot run together: a plan
     without the slab or the slab without one, the building on flat sliders without springs, and
-    a Newton tolerance in a flat bearing's units on series pendulums or under two components."""
+    a Newton tolerance in a flat bearing's units on series pendulums."""
     structure, plan = args.structure, getattr(args, "plan", None)
     if plan is not None and structure != "slab":
         raise ValueError("--plan: only used with --structure slab.")
@@ -250,9 +250,6 @@ def check_combination(args, isolator: Isolator) -> None:
         raise ValueError("--newton-tolerance: is in units of a flat bearing's yield displacement; "
                          f"the {isolator.name} isolator's sliders are solved to their own tolerance "
                          "(a force imbalance of 1e-7 W); leave --newton-tolerance out.")
-    if getattr(args, "components", 1) == 2:
-        raise ValueError("--newton-tolerance: applies to one-component runs (the two-component "
-                         "solve has its own); leave it out with --components 2.")
 
 
 _NOT_SERIES = ("--plan: {group}.isolator_file applies with --isolator triple-fp or double-fp only, not "

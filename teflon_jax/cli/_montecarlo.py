@@ -135,10 +135,11 @@ def add_montecarlo_parser(subparsers) -> argparse.ArgumentParser:
                         "the library's, enough for every step; 1 makes runs fail, to see how "
                         "failures are reported)")
     parser.add_argument("--newton-tolerance", type=_tolerance, default=None, metavar="TOL",
-                        help="one component: the bearing's equilibrium residual at which a step's "
-                        "Newton solve stops, in units of the yield displacement Y (default 1e-3: on the "
-                        "100 benchmark motions the worst peak error against 0.5 ms steps is the same as "
-                        "with 1e-5, 0.1-0.2 %%; 0 solves to rounding)")
+                        help="flat sliders and single pendulums: the bearing's equilibrium residual at which "
+                        "a step's Newton solve stops, in units of the yield displacement Y (default, one "
+                        "component, 1e-3: on the 100 benchmark motions the worst peak error against 0.5 ms "
+                        "steps is the same as with 1e-5, 0.1-0.2 %%; two components: the planar solve's "
+                        "1e-5; 0 solves to rounding)")
     add_scheduler_flag(parser, "run the chunks as tasks", ", where results stream as chunks finish "
                        "(default: this process)")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
@@ -280,7 +281,7 @@ def _structure(args, isolator, two: bool):
     else:
         options.update(ptfe=args.ptfe, pressure=args.pressure, isolation_damping=args.isolation_damping,
                        isolation_period=None if isolator.restores else args.isolation_period)
-        if not two:
+        if args.newton_tolerance is not None or not two:  # two components: the planar solve's own by default
             solver["newton_tolerance"] = (MONTE_CARLO_NEWTON_TOLERANCE if args.newton_tolerance is None
                                           else args.newton_tolerance)
     return (bidirectional_isolated_structure if two else isolated_structure)(
