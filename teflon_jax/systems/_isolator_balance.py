@@ -446,22 +446,26 @@ def normal_load_varies(load):
 def _path_load(bearing: SeriesPendulum, path: SampledPath, reference_load=None):
     """The path's normal loads (nt,) [N]; a load that is not positive, or one that varies
     (`normal_load_varies`) under a pendulum whose surfaces read their contact pressure without
-    `reference_load`, is refused by name (`ValueError` where the loads are concrete, else a
-    runtime error), as is a `reference_load` that is not positive."""
+    `reference_load`, is refused by name, as is a `reference_load` that is not positive
+    (`ValueError` with what is wrong where the loads are concrete, else a runtime error naming
+    each check)."""
     load = path.normal_load
-    message = "path.normal_load: a series pendulum's test needs a positive normal load at every sample."
-    bad = jnp.any(jnp.asarray(load) <= 0)
+    checks = [(jnp.any(jnp.asarray(load) <= 0),
+               "path.normal_load: a series pendulum's test needs a positive normal load at every sample.")]
     if reference_load is not None:
-        message += " reference_load: give the positive load [N] the contact pressures are given under."
-        bad = bad | ~(jnp.asarray(reference_load) > 0)
+        checks.append((~(jnp.asarray(reference_load) > 0),
+                       "reference_load: give the positive load [N] the contact pressures are given under."))
     elif bearing.reads_pressure:
-        message += (f" The {bearing.description}' surfaces read their contact pressure, given under one "
-                    "load: give a constant normal load, or that load as reference_load.")
-        bad = bad | normal_load_varies(load)
-    if isinstance(load, jax.core.Tracer):
-        return eqx.error_if(load, bad, message)
-    if bool(bad):
-        raise ValueError(message)
+        checks.append((normal_load_varies(load),
+                       f"path.normal_load: it varies, and the {bearing.description}' surfaces read their contact "
+                       "pressure, given under one load: give a constant normal load, or that load as "
+                       "reference_load."))
+    if isinstance(load, jax.core.Tracer) or isinstance(reference_load, jax.core.Tracer):
+        bad = functools.reduce(jnp.logical_or, [failed for failed, _ in checks])
+        return eqx.error_if(load, bad, " Or: ".join(message for _, message in checks))
+    wrong = [message for failed, message in checks if bool(failed)]
+    if wrong:
+        raise ValueError(" ".join(wrong))
     return load
 
 
