@@ -149,6 +149,21 @@ def test_a_pendulum_reading_its_pressure_takes_one_load_or_a_reference_and_every
         jax.block_until_ready(traced(heated, sampled_path(time, u, load)).force)
 
 
+def test_the_heat_flux_takes_the_pressure_times_n_over_the_reference_load():
+    """q = mu p (N / W_ref) v: a heated double pendulum at N = W told W_ref = W / 2 heats as the
+    same pendulum with twice the contact pressure told nothing, to rounding, and more than the
+    pendulum at its own pressure."""
+    time, u, _ = _path()
+    heated = dataclasses.replace(DOUBLE, bottom_heating=FrictionalHeating(contact_area=0.05, heat_scale=20.0),
+                                 bottom_pressure=30e6)
+    doubled = dataclasses.replace(heated, bottom_pressure=60e6)
+    path = sampled_path(time, u, WEIGHT)
+    halved = np.asarray(respond_along_path(heated, path, reference_load=WEIGHT / 2).force)
+    np.testing.assert_allclose(halved, np.asarray(respond_along_path(doubled, path).force), rtol=0,
+                               atol=1e-12 * WEIGHT)
+    assert np.max(np.abs(halved - np.asarray(respond_along_path(heated, path).force))) > 1e-4 * WEIGHT
+
+
 def test_a_fit_refuses_a_varying_load_on_a_start_whose_surfaces_read_their_pressure():
     """The record's N varies and the start's top surface reads its contact pressure, given
     under a load neither states: refused by the record's name and the surface before any solve

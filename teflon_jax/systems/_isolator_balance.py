@@ -105,7 +105,8 @@ def slider_step(isolator, p, guess, tolerance, dt, iterations: int, *, heat_rate
     """One step of the isolator: the sliders' increments that balance `p`
     (`isolator_parameters`) from `guess` to `tolerance` [N] (`balance`), over `dt` [s], under
     the load factor `load` N / W at the step's end (`None`: N = W throughout;
-    `uplift_increments`); `reference`: (k_ref [N/m], the isolator's displacement at the step's
+    `uplift_increments`), the heat flux at the contact pressure that the load factor `p["s"]`
+    scales (the force law's own, 1 without it); `reference`: (k_ref [N/m], the isolator's displacement at the step's
     start [m]) of a structure, whose state keeps the force beyond k_ref u; `None` keeps F.
 
     **Returns:** (the isolator's state at the end, whether the balance converged, the bearing
@@ -126,8 +127,7 @@ def slider_step(isolator, p, guess, tolerance, dt, iterations: int, *, heat_rate
     state = (isolator[0] + d, z1, jnp.stack([d, isolator[2][0]]), extra)
     if pendulum.heated:
         slide = jnp.abs(d) if d.ndim == 1 else slider_lengths(d)
-        state = state + (heated_step(pendulum, isolator[4], p["k"], slide, dt, heat_rates,
-                                     1.0 if load is None else load),)
+        state = state + (heated_step(pendulum, isolator[4], p["k"], slide, dt, heat_rates, p.get("s", 1.0)),)
     if pendulum.remembers:
         state = state + (next_history(pendulum, p["history"], d),)
     return state, converged, bearing
@@ -356,13 +356,13 @@ def _path_step(pendulum, kernel, state, target, load, dt, velocity=None, load_fa
                             heat_weights=None if kernel is None else kernel[1])
     if velocity is not None:
         p["v"] = (velocity, jnp.zeros_like(velocity))
-    if load_factor is not None:  # positive on a test path: no uplift in `slider_step`
+    if load_factor is not None:  # on the pressures of the force law and the heat flux; positive: no uplift
         p["s"] = load_factor
     guess = predicted_increments(state[2])
     guess = guess + (p["D"] - jnp.sum(guess, axis=0)) / pendulum.slider_count
     limit = jnp.maximum(TEST_TOLERANCE, 32 * jnp.finfo(slider.dtype).eps)
     new, converged, force = slider_step(state, p, guess, limit, dt, TRIPLE_NEWTON_ITERATIONS,
-                                        heat_rates=None if kernel is None else kernel[0], load=load_factor)
+                                        heat_rates=None if kernel is None else kernel[0])
     return new, (load * force, new[0], new[1], converged)
 
 
