@@ -135,7 +135,7 @@ def _sine_record(path, biaxial=False, varying_load=False):
      r"heating; not wear \(the series model of the pendulum has no wear part"),
     (["--candidates", "heating,grip"], r"candidates: unknown \['grip'\]"),
     (["--biaxial"], "runs in the plane .* along one axis"),
-    (["--varying-load"], "heated surfaces take their contact pressures at one load; .* constant positive normal"),
+    (["--varying-load"], "heated surfaces take their contact pressures at one load; .* as --reference-load"),
 ])
 def test_what_the_series_diagnose_cannot_take_is_refused_by_name(tmp_path, capsys, flags, message):
     start = _write(tmp_path / "start.json", _double())

@@ -28,6 +28,7 @@ root-mean-square measured force.
 """
 
 import dataclasses
+import functools
 import math
 from types import SimpleNamespace
 from typing import NamedTuple
@@ -67,6 +68,7 @@ from ._triple_fit import (
     _reported_jacobian,
     _swap_name,
     check_pressure_load,
+    check_reference_load,
     triple_parameters,
     triple_with_parameters,
 )
@@ -90,17 +92,18 @@ FIT_ATOL + FIT_RTOL |r| (as the flat slider's discovery)."""
 
 class SeriesProblem(NamedTuple):
     """A record prepared for the series fits (SI): `time` (n,), `path` (n,), `force` (n,),
-    `load` N, `scale` RMS force [N], `start` the start pendulum (arrays, no heating), `free`
+    `load` N [N] (one value, or (n,) with a `reference_load`), `scale` RMS force [N], `start` the start pendulum (arrays, no heating), `free`
     the constants the record can tell and `held` {name: why} (`triple_fit_plan`), `pressures`
     {surface: p [Pa]}, `heating` {surface: `FrictionalHeating`} (constants of each surface's
     heating, heat_scale 1), `pressure_assumed` (surfaces at `NOMINAL_CONTACT_PRESSURE`),
     `kernel` (rates, weights) of the heat kernel, `decimation`, `source`, `rate_surfaces` the
-    sliding surfaces whose start friction is Coulomb's (the velocity-dependence candidate's)."""
+    sliding surfaces whose start friction is Coulomb's (the velocity-dependence candidate's),
+    `reference_load` [N] the load the contact pressures are given under (None: `load`)."""
 
     time: np.ndarray
     path: np.ndarray
     force: np.ndarray
-    load: float
+    load: float | np.ndarray
     scale: float
     start: SeriesPendulum
     free: tuple
@@ -112,6 +115,7 @@ class SeriesProblem(NamedTuple):
     decimation: int
     source: str
     rate_surfaces: tuple = ()
+    reference_load: float | None = None
 
     def effect_keys(self, effect: str) -> tuple:
         """The optimiser's keys of a candidate's constants."""
@@ -156,11 +160,13 @@ def _surface_heating(start: SeriesPendulum, metadata: dict, load: float):
 
 
 def prepare_series_problem(record: TestRecord, start: SeriesPendulum, *, normal_load=None,
-                           max_samples: int = 3000) -> SeriesProblem:
+                           reference_load=None, max_samples: int = 3000) -> SeriesProblem:
     """The record and start of the series fits (`SeriesProblem`): the series fit's checks of
-    the record (a time history at a uniform step, constant N, from the centre), along one axis
-    (the series model heats its surfaces along one axis only), one in `decimation` samples so
-    that about `max_samples` are used. `ValueError` naming what cannot be taken."""
+    the record (a time history at a uniform step, from the centre, under a constant N or,
+    given `reference_load` [N], the load the contact pressures are given under, an N that
+    varies: each sample's pressure is then the given one times N / `reference_load`), along
+    one axis (the series model heats its surfaces along one axis only), one in `decimation`
+    samples so that about `max_samples` are used. `ValueError` naming what cannot be taken."""
     if type(start) not in (TriplePendulum, DoublePendulum):
         raise ValueError(f"initial: expected a TriplePendulum or DoublePendulum (e.g. "
                          f"formats.load_isolator), got {type(start).__name__}.")
@@ -173,17 +179,25 @@ def prepare_series_problem(record: TestRecord, start: SeriesPendulum, *, normal_
     if not (isinstance(max_samples, int) and max_samples >= 10):
         raise ValueError(f"max_samples: must be an integer >= 10, got {max_samples!r}.")
     time, path, force, load = _arrays(record, normal_load)
-    check_pressure_load(record, start, load)
-    _check_one_step_and_load(name, time, load)
-    load = float(load[0])
+    if reference_load is None:
+        check_pressure_load(record, start, load)
+        _check_one_step_and_load(name, time, load)
+        load = float(load[0])
+    else:
+        check_reference_load(reference_load)
+        _check_one_step_and_load(name, time, None)
+        reference_load = float(reference_load)
     decimation = max(1, math.ceil(time.size / max_samples))
     time, path, force = time[::decimation], path[::decimation], force[::decimation]
+    load = load if reference_load is None else load[::decimation]
     scale = float(np.sqrt(np.mean(force**2)))
     if not scale > 0:
         raise ValueError(f"{name}: the measured force is zero throughout.")
-    heating, pressures, assumed = _surface_heating(start, dict(record.metadata or {}), load)
+    heating, pressures, assumed = _surface_heating(start, dict(record.metadata or {}),
+                                                   load if reference_load is None else reference_load)
     bare = jax.tree_util.tree_map(lambda x: jnp.asarray(x, float), _without_heating(start))
-    response = jax.jit(respond_along_path)(bare, sampled_path(time, path, load))
+    response = jax.jit(functools.partial(respond_along_path, reference_load=reference_load))(
+        bare, sampled_path(time, path, load))
     if not bool(np.all(np.asarray(response.converged))):
         raise ValueError(f"{name}: the start's series solve does not balance at "
                          f"{int(np.sum(~np.asarray(response.converged)))} samples; use a finer "
@@ -194,21 +208,24 @@ def prepare_series_problem(record: TestRecord, start: SeriesPendulum, *, normal_
     return SeriesProblem(time=time, path=path, force=force, load=load, scale=scale, start=bare,
                          free=tuple(free), held=held, pressures=pressures, heating=heating,
                          pressure_assumed=assumed, kernel=kernel, decimation=decimation,
-                         source=name, rate_surfaces=_coulomb_surfaces(bare, free))
+                         source=name, rate_surfaces=_coulomb_surfaces(bare, free),
+                         reference_load=reference_load)
 
 
 def _check_one_step_and_load(name: str, time, load) -> None:
-    """Heated surfaces are stepped by one kernel, at one interval, and take their contact
-    pressures at one load: `ValueError` naming the record `name` where the sample times (nt,)
-    [s] are not uniform or the normal load (nt,) [N] is not constant."""
+    """Heated surfaces are stepped by one kernel, at one interval, and without a reference load
+    take their contact pressures at one load: `ValueError` naming the record `name` where the
+    sample times (nt,) [s] are not uniform or the normal load (nt,) [N] (None: not checked)
+    is not constant."""
     steps = np.diff(time)
     if not np.ptp(steps) <= 1e-6 * steps.mean():
         raise ValueError(f"{name}: heated surfaces are stepped at one interval; this record needs a uniform "
                          "time step: resample it.")
-    if bool(normal_load_varies(load)):
-        raise ValueError(f"{name}: heated surfaces take their contact pressures at one load; this record "
-                         f"needs a constant positive normal load (its N spans {load.min():.6g}-"
-                         f"{load.max():.6g} N).")
+    if load is not None and bool(normal_load_varies(load)):
+        raise ValueError(f"{name}: heated surfaces take their contact pressures at one load; this record's "
+                         f"normal load varies (its N spans {load.min():.6g}-{load.max():.6g} N): state the "
+                         "load the contact pressures are given under as reference_load (the weight W the "
+                         "pendulum will carry), or give a record under a constant normal load.")
 
 
 def _coulomb_surfaces(start: SeriesPendulum, free) -> tuple:
@@ -264,11 +281,11 @@ def candidate_start(problem: SeriesProblem, values: dict, effects) -> dict:
 
 
 def _model(params, shared):
-    problem_start, heating, pressures, kernel, path = shared
+    problem_start, heating, pressures, kernel, path, reference_load = shared
     values = {k: v for k, v in params.items() if k != HEAT_SCALE}
     bearing = heated_pendulum(triple_with_parameters(problem_start, values), heating, pressures,
                               params[HEAT_SCALE])
-    return respond_along_path(bearing, path, heat_kernel=kernel)
+    return respond_along_path(bearing, path, heat_kernel=kernel, reference_load=reference_load)
 
 
 def _residual(params, args):
@@ -279,7 +296,8 @@ def _residual(params, args):
 
 def _shared(problem: SeriesProblem):
     return ((problem.start, problem.heating, problem.pressures, problem.kernel,
-             sampled_path(jnp.asarray(problem.time), jnp.asarray(problem.path), problem.load)),
+             sampled_path(jnp.asarray(problem.time), jnp.asarray(problem.path), problem.load),
+             problem.reference_load),
             jnp.asarray(problem.force), problem.scale)
 
 

@@ -22,7 +22,9 @@ two when the optimiser has crossed them (`swapped`).
 """
 
 import dataclasses
+import functools
 import math
+import numbers
 
 import equinox as eqx
 import jax
@@ -67,7 +69,8 @@ class TripleFit:
       optimiser's status; `n_steps`; `swapped`: bottom and top exchanged to the start's order
       (module docstring);
       `warnings`: why the result may not be usable; `fitted_force` [N]: the model's force
-      at the record's samples (like its fx, or (nt, 2) with fy).
+      at the record's samples (like its fx, or (nt, 2) with fy); `reference_load` [N]: the
+      load the contact pressures are given under (None: the record's constant N).
     """
 
     bearing: SeriesPendulum
@@ -82,6 +85,7 @@ class TripleFit:
     swapped: bool
     warnings: list
     fitted_force: np.ndarray
+    reference_load: float | None = None
 
     def to_json_dict(self) -> dict:
         """The JSON report (SI; a "units" map names each constant's unit)."""
@@ -100,6 +104,7 @@ class TripleFit:
             "bottom_top_swapped": self.swapped,
             "bottom_top_order": "the start file's order of f_max (a loop cannot tell the two apart)",
             "warnings": list(self.warnings),
+            "reference_load": self.reference_load,
         }
 
 
@@ -147,8 +152,8 @@ def _leaves_of(bearing: SeriesPendulum) -> dict:
 
 
 def _residual(params, args):
-    start, path, force, load = args
-    response = respond_along_path(triple_with_parameters(start, params), path)
+    start, path, force, load, reference_load = args
+    response = respond_along_path(triple_with_parameters(start, params), path, reference_load=reference_load)
     return ((response.force - force) / (load if force.ndim == 1 else load[:, None])).reshape(-1)
 
 
@@ -180,19 +185,37 @@ def _arrays(record: TestRecord, normal_load):
     return time, path, force, load
 
 
-def check_pressure_load(record: TestRecord, start: SeriesPendulum, load) -> None:
+def check_reference_load(reference_load) -> None:
+    """`ValueError` naming `reference_load` [N] where it is not a positive finite number."""
+    if not (isinstance(reference_load, numbers.Real) and not isinstance(reference_load, bool)
+            and math.isfinite(reference_load) and reference_load > 0):
+        raise ValueError(f"reference_load: give the positive load [N] the start's contact pressures are "
+                         f"given under, got {reference_load!r}.")
+
+
+def check_pressure_load(record: TestRecord, start: SeriesPendulum, load, reference_load=None) -> None:
     """`ValueError` naming the record and the start's surfaces where surfaces that read their
     contact pressure (`SeriesPendulum.reads_pressure`: heating, pressure dependence; their
-    `<slider>_pressure` given under one load) meet a record whose normal load (nt,) [N] varies:
-    the test would need the load those pressures are given under, which neither states."""
+    `<slider>_pressure` given under one load) meet a record whose normal load (nt,) [N] varies
+    and no `reference_load` [N] states the load those pressures are given under (neither the
+    record nor the start states it); a `reference_load` that is not a positive number, or one
+    given where no surface reads its pressure (it would change nothing), is refused by name."""
+    if reference_load is not None:
+        check_reference_load(reference_load)
+        if not start.reads_pressure:
+            raise ValueError(f"reference_load: no surface of the {start.description[:-1]} reads its contact "
+                             "pressure (heating or pressure dependence), so the load its pressures are given "
+                             "under changes nothing; leave it out.")
+        return
     if not (start.reads_pressure and bool(normal_load_varies(load))):
         return
     surfaces = [name for name, part, heating in zip(start.slider_names, start.parts(), start.surface_heatings())
                 if heating is not None or (part is not None and part.pressure_dependence is not None)]
     raise ValueError(f"{_record_name(record, 0)}: its normal load varies ({np.min(load):.6g}-{np.max(load):.6g} N), "
                      f"and the start's surfaces {', '.join(surfaces)} read their contact pressure (heating or "
-                     "pressure dependence), given under one load: fit a record under a constant normal load, "
-                     "or a start without those parts.")
+                     "pressure dependence), given under one load: state that load as reference_load "
+                     "(the W of the structures the pendulum will carry), or fit a record under a constant "
+                     "normal load.")
 
 
 def _bounds(names, values):
@@ -207,15 +230,20 @@ def _bounds(names, values):
 
 
 def fit_series_pendulum_test(record: TestRecord, initial: SeriesPendulum, *, free=None,
-                             normal_load: float | None = None, full_model: bool = False,
-                             max_steps: int = 200, rtol: float = 1e-10, atol: float = 1e-12) -> TripleFit:
+                             normal_load: float | None = None, reference_load: float | None = None,
+                             full_model: bool = False, max_steps: int = 200, rtol: float = 1e-10,
+                             atol: float = 1e-12) -> TripleFit:
     """Fit a triple or double pendulum's effective radii, its surfaces' friction (Eq. 1) and,
     where the loop reaches them, its capacities to one test record (module docstring).
 
     **Arguments:** `record`: a `TestRecord` time history (uniaxial, or biaxial along an
     orbit) at increasing sample times, under its normal load at each sample (its N column or
     metadata, else `normal_load` [N]; the force is homogeneous in N, so a load that varies
-    is followed sample by sample); `initial`: the start (`TriplePendulum` or `DoublePendulum`, e.g.
+    is followed sample by sample); `reference_load` [N]: the load the start's contact
+    pressures (`<slider>_pressure`) are given under, where its surfaces read them (heating,
+    pressure dependence): each sample's pressure is then that times N / `reference_load`, as
+    in a structure of that weight under a vertical record (`respond_along_path`); without
+    it such a start needs a constant N; `initial`: the start (`TriplePendulum` or `DoublePendulum`, e.g.
     `load_isolator`); the constants it does not free are held at its values; `free`: names to
     fit (`parameter_names` of its surfaces; default: what the record can tell,
     `triple_fit_plan`); `full_model`: free delta_f and rate_a whatever the record's speeds;
@@ -231,9 +259,9 @@ def fit_series_pendulum_test(record: TestRecord, initial: SeriesPendulum, *, fre
     if not (isinstance(max_steps, int) and max_steps >= 1):
         raise ValueError(f"max_steps: must be an integer >= 1, got {max_steps!r}.")
     time, path, force, load = _arrays(record, normal_load)
-    check_pressure_load(record, initial, load)
+    check_pressure_load(record, initial, load, reference_load)
     start = jax.tree_util.tree_map(lambda x: jnp.asarray(x, float), initial)
-    simulate = eqx.filter_jit(respond_along_path)
+    simulate = eqx.filter_jit(functools.partial(respond_along_path, reference_load=reference_load))
     sampled = sampled_path(time, path, load)
     response = simulate(start, sampled)
     if not bool(np.all(np.asarray(response.converged))):
@@ -246,9 +274,10 @@ def fit_series_pendulum_test(record: TestRecord, initial: SeriesPendulum, *, fre
         held = {n: "held: not in free" for n in known if n not in names}
     values = triple_parameters(start)
     x0, bounds = _bounds(names, values)
-    result = fit_least_squares(_residual, x0, bounds, args=(start, sampled, force, load),
+    result = fit_least_squares(_residual, x0, bounds, args=(start, sampled, force, load, reference_load),
                                max_steps=max_steps, rtol=rtol, atol=atol)
-    return _result(start, result, names, held, (sampled, force), simulate)
+    fit = _result(start, result, names, held, (sampled, force), simulate)
+    return dataclasses.replace(fit, reference_load=None if reference_load is None else float(reference_load))
 
 
 def fit_triple_pendulum_test(record: TestRecord, initial: TriplePendulum, **options) -> TripleFit:

@@ -165,7 +165,8 @@ def _residual_correlation(problem, model_force, regressor) -> float:
     where the regressor is large)."""
     velocity = np.gradient(np.asarray(problem.path))
     moving = np.abs(velocity) > 1e-3 * np.max(np.abs(velocity))
-    d_mu = (problem.force - model_force)[moving] / problem.load * np.sign(velocity[moving])
+    load = np.broadcast_to(problem.load, np.shape(problem.force))[moving]
+    d_mu = (problem.force - model_force)[moving] / load * np.sign(velocity[moving])
     g = regressor[moving]
     if d_mu.size < 3 or np.std(g) == 0 or np.std(d_mu) == 0:
         return 0.0
@@ -248,12 +249,14 @@ def _requested(candidates) -> tuple[list, dict]:
 def discover_series_effects(record, start, *, candidates=None,
                             bic_threshold: float = DEFAULT_BIC_THRESHOLD, max_effects: int = 4,
                             max_samples: int = 3000, max_steps: int = 200, normal_load=None,
-                            callback=None) -> SeriesDiscoveryResult:
+                            reference_load=None, callback=None) -> SeriesDiscoveryResult:
     """Find the effects a triple or double friction pendulum's test record shows beyond its
     series fit, one at a time (module docstring).
 
     **Arguments:** `record`: a `TestRecord` time history along one axis at a uniform step,
-    under a constant normal load (its N, else `normal_load` [N]), from the centre; `start`:
+    under a constant normal load (its N, else `normal_load` [N]), or under one that varies
+    given `reference_load` [N], the load the contact pressures are given under
+    (`prepare_series_problem`), from the centre; `start`:
     the `TriplePendulum` or `DoublePendulum` the fit starts from (e.g. `load_isolator`; a
     surface's `heating` entry gives the heating candidate its contact pressure and steel);
     `candidates`: names to consider (default: `SERIES_EFFECTS`); `bic_threshold`,
@@ -265,7 +268,8 @@ def discover_series_effects(record, start, *, candidates=None,
     started = _time.perf_counter()
     say = callback or (lambda text: None)
     pool, skipped = _requested(candidates)
-    problem = prepare_series_problem(record, start, normal_load=normal_load, max_samples=max_samples)
+    problem = prepare_series_problem(record, start, normal_load=normal_load, reference_load=reference_load,
+                                     max_samples=max_samples)
     if "velocity_dependence" in pool and not problem.rate_surfaces:
         pool.remove("velocity_dependence")
         skipped["velocity_dependence"] = RATE_IN_BASELINE

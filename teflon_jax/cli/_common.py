@@ -433,3 +433,9 @@ def motion_bar(total: int, disable: bool):
     from tqdm import tqdm
 
     return tqdm(total=total, unit=" motions", unit_scale=total >= 1000, disable=disable)
+
+
+def as_flags(message: str) -> str:
+    """An API message with its option `reference_load` named as the flag `--reference-load`
+    (not a file key such as `pressure_dependence.reference_load`)."""
+    return re.sub(r"(?<![.\w])reference_load\b", "--reference-load", message)

@@ -34,6 +34,7 @@ from ._common import (
     _write_json,
     add_quantity,
     add_units_flag,
+    as_flags,
     output_units,
     parse_name_values,
     read_bearing_record,
@@ -122,6 +123,11 @@ def add_diagnose_parser(subparsers) -> argparse.ArgumentParser:
     add_quantity(parser, "--normal-load", "force", None, "normal load for records without one "
                  "(e.g. a friction damper): one that puts force / N near 0.1, as the friction "
                  "constants are bounded (f_max <= 0.5)", minimum=0.0)
+    add_quantity(parser, "--reference-load", "force", None, "with --isolator triple-fp or double-fp: "
+                 "the load the contact pressures are given under (the weight W the pendulum will "
+                 "carry); each sample's pressure is then that times N / W, so a record whose N "
+                 "varies can be searched, the heating candidate's included (default: none; such a "
+                 "record is refused)", minimum=0.0)
     parser.add_argument("--json", type=pathlib.Path, required=True, dest="json_path",
                         metavar="OUT.json", help="where to write the JSON summary")
     parser.add_argument("--report", type=pathlib.Path, required=True, metavar="DIR",
@@ -336,10 +342,14 @@ def _search_series(args, diagnosis, candidates, say) -> Found:
     record = read_bearing_record(args.record)
     say(f"teflon-jax diagnose: {start.description}, the series fit and each candidate on the "
         "record and two folds of its cycles (compiling first)...")
-    return Found(discover_series_effects(
-        record, start, candidates=candidates, bic_threshold=args.bic_threshold,
-        max_effects=args.max_effects, max_samples=args.max_samples,
-        normal_load=args.normal_load, callback=say), {})
+    try:
+        result = discover_series_effects(
+            record, start, candidates=candidates, bic_threshold=args.bic_threshold,
+            max_effects=args.max_effects, max_samples=args.max_samples,
+            normal_load=args.normal_load, reference_load=args.reference_load, callback=say)
+    except ValueError as error:
+        raise ValueError(as_flags(str(error))) from None
+    return Found(result, {} if args.reference_load is None else {"reference_load_N": args.reference_load})
 
 
 def _save_isolator(args, result, mixture) -> None:
@@ -367,7 +377,7 @@ def _not_with_series(flag, attribute, why):
 _SLIDER = Diagnosis(
     search=_search_slider, report="write_report", saves=("--save-bearing", "save_bearing", "bearing"),
     save=save_found_bearing, notes=_stack_notes, isolator_file=False,
-    refused=(_not_series("--isolator-file"), _not_series("--save-isolator")))
+    refused=(_not_series("--isolator-file"), _not_series("--save-isolator"), _not_series("--reference-load")))
 
 _SERIES = Diagnosis(
     search=_search_series, report="write_series_report",

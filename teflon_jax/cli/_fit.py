@@ -55,6 +55,11 @@ def add_fit_parser(subparsers) -> argparse.ArgumentParser:
                              "repeatable; --known is the same flag, as in diagnose (default: none)")
     add_quantity(parser, "--normal-load", "force", None, "normal load for records without one; "
                  "'1N' fits the force itself (f_max, delta_f in newtons)", minimum=0.0)
+    add_quantity(parser, "--reference-load", "force", None, "with --isolator triple-fp or double-fp "
+                 "whose surfaces read their contact pressure (heating, pressure dependence): the "
+                 "load --isolator-file's pressures are given under (the weight W the pendulum will "
+                 "carry); each sample's pressure is then that times N / W, so a record whose N "
+                 "varies can be fitted (default: none; such a record is refused)", minimum=0.0)
     parser.add_argument("--starts", type=int, default=None, help="number of least-squares starts of a "
                         "flat slider's or single pendulum's fit (default 8; the triple pendulum's fit "
                         "starts from its --isolator-file)")

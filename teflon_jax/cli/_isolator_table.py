@@ -19,7 +19,7 @@ from collections.abc import Callable
 from typing import NamedTuple
 
 from ..units import INCH, parse_quantity
-from ._common import name_value_items, output_units, parse_name_values
+from ._common import as_flags, name_value_items, output_units, parse_name_values
 from ._isolator_flags import load_isolator_file as _load
 from ._isolator_flags import per_isolator
 
@@ -245,9 +245,10 @@ def _fit_series(args, inputs, records):
 
     try:
         return fit_series_pendulum_test(records[0], inputs.start, free=inputs.free,
-                                        normal_load=args.normal_load, full_model=args.full_model)
+                                        normal_load=args.normal_load, reference_load=args.reference_load,
+                                        full_model=args.full_model)
     except ValueError as error:
-        raise ValueError(f"--free: {error}" if str(error).startswith("free:") else str(error)) from None
+        raise ValueError(f"--free: {error}" if str(error).startswith("free:") else as_flags(str(error))) from None
 
 
 def _report_series(args, fit, *, order_note: str | None) -> list[str]:
@@ -304,7 +305,7 @@ def _plot_series(args, fit, records) -> None:
 
 SERIES_ONLY = ("{flag}: applies to --isolator triple-fp or double-fp only; add --isolator triple-fp (or "
                "double-fp) or leave {flag} out.")
-_NOT_SERIES = (("isolator_file", SERIES_ONLY), ("save_isolator", SERIES_ONLY))
+_NOT_SERIES = (("isolator_file", SERIES_ONLY), ("save_isolator", SERIES_ONLY), ("reference_load", SERIES_ONLY))
 
 
 def _series_fit(order_note: str | None = None) -> FitRow:
