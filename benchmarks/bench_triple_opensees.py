@@ -14,7 +14,7 @@ Cases (`CASES`):
   against `VelDependent`, Y = uy = 1 mm (the element does not converge with VelDependent at
   uy = 0.1 or 0.5 mm on this record). The laws differ in form: the element takes mu at the
   slider's mean velocity of its previous iteration, teflon-jax at the step's own, and f_min
-  while a slider's Z still points back after a reversal (`_slider_forces.slider_forces`).
+  while a slider's Z still points back after a reversal (`_sliders.slider_forces`).
 
 The bearing: inner effective radius 0.3 m, outer 2.1 m (both), capacities 0.05 m and 0.3 m
 (the outer ones alike, so that both programs give the inner slider the same travel).

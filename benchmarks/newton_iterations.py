@@ -29,7 +29,7 @@ import numpy as np  # noqa: E402
 
 from teflon_jax.excitation import sample_two_components, uniform_signal  # noqa: E402
 from teflon_jax.systems import _isolator_balance as balance  # noqa: E402
-from teflon_jax.systems import _series_step as series  # noqa: E402
+from teflon_jax.systems import _series as series  # noqa: E402
 
 DURATION = 40.0
 

@@ -132,7 +132,8 @@ def _sine_record(path, biaxial=False, varying_load=False):
     (["--isolator", "flat", "--isolator-file", None, "--save-isolator", "x.json"],
      "--save-isolator: applies to --isolator triple-fp or double-fp only"),
     (["--candidates", "wear,breakaway"], r"candidates: the series pendulums take velocity_dependence, "
-     r"heating; not wear \(the series model of the pendulum has no wear part"),
+     r"heating; not wear \(not among the series search's candidates; a surface of the start file may "
+     r"carry it \(its \"wear\" entry\)"),
     (["--candidates", "heating,grip"], r"candidates: unknown \['grip'\]"),
     (["--biaxial"], "runs in the plane .* along one axis"),
     (["--varying-load"], "heated surfaces take their contact pressures at one load; .* as --reference-load"),
@@ -197,7 +198,8 @@ def test_hidden_heating_of_a_double_pendulum_is_named_and_the_gap_shrinks(tmp_pa
     scale, error = d["parameters"]["heat_scale"], d["std_errors"]["heat_scale"]
     assert abs(scale - PRESSURE / NOMINAL) < max(3 * error, 0.03 * PRESSURE / NOMINAL)
     assert d["parameters"]["bottom_radius"] == pytest.approx(2.1, rel=0.02)
-    assert d["skipped_candidates"]["breakaway"].startswith("the series model of the pendulum has no")
+    assert d["skipped_candidates"]["breakaway"].startswith("not among the series search's candidates; a surface")
+    assert d["skipped_candidates"]["backlash"] == "the series model has no backlash gap (a flat bearing's part)"
     assert (tmp_path / "report" / "report.md").read_text().count("heating") >= 2
     saved = json.loads(fitted.read_text())["surfaces"]["bottom"]["heating"]
     assert saved["heat_scale"]["value"] == pytest.approx(scale)

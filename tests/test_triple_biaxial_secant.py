@@ -105,7 +105,7 @@ def test_the_planar_balance_returns_the_forces_of_its_root_with_their_derivative
     tangent in the linear step's increment D and compliance G is the implicit one (central
     differences of the whole balance)."""
     from teflon_jax.systems._isolator_balance import balance
-    from teflon_jax.systems._slider_forces import balance_forces
+    from teflon_jax.systems._sliders import balance_forces
 
     rng = np.random.default_rng(3)
     weight = 1e6

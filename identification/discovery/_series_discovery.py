@@ -52,10 +52,15 @@ SERIES_EFFECTS = {
 """The candidates the series model represents on its surfaces, with the law each adds."""
 
 _NOT_IN_SERIES = {
-    "pressure_dependence": "the series fit takes a constant normal load (no contrast to identify it)",
     "anisotropy": "the record runs along one axis",
+    "interfaces": "the series model's surfaces are single interfaces (a stack is a flat bearing's part)",
+    "backlash": "the series model has no backlash gap (a flat bearing's part)",
 }
 """Why an effect of `EFFECTS` outside `SERIES_EFFECTS` is not a candidate here."""
+
+_SURFACE_PARTS = ("breakaway", "pressure_dependence", "wear", "asymmetry")
+"""The effects a surface of the start file may carry as a part (`SurfaceParts`, under the same
+key in the isolator file), which the series search does not add."""
 
 
 RATE_IN_BASELINE = ("no sliding surface has Coulomb friction in the start file: Eq. 1 of each is "
@@ -65,8 +70,10 @@ RATE_IN_BASELINE = ("no sliding surface has Coulomb friction in the start file: 
 
 
 def _skip_reason(name: str) -> str:
-    return _NOT_IN_SERIES.get(name, f"the series model of the pendulum has no {name} part on its "
-                                    "surfaces")
+    if name in _SURFACE_PARTS:
+        return (f"not among the series search's candidates; a surface of the start file may carry it "
+                f"(its \"{name}\" entry), at constants the fit holds")
+    return _NOT_IN_SERIES.get(name, f"the series model of the pendulum has no {name} part")
 
 
 @dataclasses.dataclass

@@ -67,9 +67,9 @@ from ._sampled_path import HEAT_HORIZON as HEAT_HORIZON
 from ._sampled_path import SampledPath as SampledPath
 from ._sampled_path import sample_velocity as sample_velocity
 from ._sampled_path import sampled_path as sampled_path
-from ._series_step import structure_on_isolator as structure_on_isolator
-from ._series_step import triple_structure as triple_structure
-from ._slider_forces import FRICTION_VELOCITIES as FRICTION_VELOCITIES
+from ._series import structure_on_isolator as structure_on_isolator
+from ._series import triple_structure as triple_structure
+from ._sliders import FRICTION_VELOCITIES as FRICTION_VELOCITIES
 from ._structure import FRICTION_MODELS as FRICTION_MODELS
 from ._structure import StructureOnSliders as StructureOnSliders
 from ._structure import initial_state as initial_state

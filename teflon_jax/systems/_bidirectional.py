@@ -108,7 +108,7 @@ class BidirectionalStructure(AbstractSteppedSystem):
     friction pendulum's `ConcaveSurface` whose restrainer and large-displacement force act
     beyond its W_g / R in K, or `None` (`_bidirectional_laws.py`). A slab on groups of triple or
     double pendulums holds a `SeriesPendulum` (leaves (G,)) as `bearing` and the exact step's
-    (free, start, end) blocks (6, 16) as `step_matrix` (`_series_groups.py`).
+    (free, start, end) blocks (6, 16) as `step_matrix` (`_series.py`).
     """
 
     mass: jnp.ndarray

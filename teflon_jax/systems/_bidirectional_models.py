@@ -122,7 +122,7 @@ def bidirectional_initial_state(system: BidirectionalStructure) -> dict:
 
 def check_sliding_groups(system: BidirectionalStructure) -> None:
     """`TypeError` naming the structure where its groups are series pendulums (`SeriesPendulum`):
-    their slab steps from `series_initial_state` (`_series_groups.py`), not from the state of
+    their slab steps from `series_initial_state` (`_series.py`), not from the state of
     sliding groups."""
     if isinstance(system.bearing, SeriesPendulum):
         raise TypeError("system: a slab on triple or double pendulum groups starts from series_initial_state; "

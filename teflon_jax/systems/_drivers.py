@@ -36,8 +36,7 @@ from ._response import (
     run_history,
     uplifted,
 )
-from ._series_groups import series_groups_run
-from ._series_step import series_run
+from ._series import series_groups_run, series_run
 from ._structure import WRITTEN_OUT_PRODUCT, StructureOnSliders, initial_state
 from ._structure_build import (
     check_duration,

@@ -30,7 +30,7 @@ from ..validation import concrete, require_positive
 from ._bidirectional import BidirectionalStructure
 from ._bidirectional_models import bidirectional_building, bidirectional_rigid_mass
 from ._isolator_balance import TRIPLE_NEWTON_ITERATIONS, TRIPLE_TOLERANCE
-from ._series_step import triple_structure
+from ._series import triple_structure
 from ._structure import NEWTON_ITERATIONS, NEWTON_TOLERANCE, StructureOnSliders
 from ._structure_build import check_structure_parts, rigid_mass, six_storey_building
 from ._vertical import with_vertical_motion

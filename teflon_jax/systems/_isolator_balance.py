@@ -1,5 +1,5 @@
 """The sliders' balance of a friction pendulum of sliders in series over one step, in one or two
-horizontal components: what a structure on the isolator (`_series_step.py`) and the
+horizontal components: what a structure on the isolator (`_series.py`) and the
 isolator's bearing test along an imposed path (`series_along_path`) step through.
 
 S sliders carry one force F and their increments d_e add up to the isolator's; slider e
@@ -51,7 +51,7 @@ from ..solver import (
 )
 from ._response import BearingTestResult
 from ._sampled_path import SampledPath
-from ._slider_forces import (
+from ._sliders import (
     FRICTION_VELOCITIES,
     balance_forces,
     floor_stiffnesses,
@@ -339,7 +339,7 @@ a fit is balanced to rounding, far below the structures' `TRIPLE_TOLERANCE`."""
 
 def _path_step(pendulum, kernel, state, target, load, dt, velocity=None, load_factor=None):
     """One step of the isolator to the path's displacement `target` ((,) or (2,) [m]) from its
-    state (`_series_step.initial_isolator`'s, the force per unit normal load F / N in place of
+    state (`_series.initial_isolator`'s, the force per unit normal load F / N in place of
     the force beyond a reference spring) over `dt` [s], under the path's normal load `load` [N]
     at the step's end: the structures' step of the isolator (`slider_step`) with the sliders'
     increments adding up to D = target - sum(sliders), from the extrapolated increments with
@@ -401,7 +401,7 @@ def series_along_path(bearing: SeriesPendulum, path: SampledPath, *, heat_kernel
     (a structure's W), as a structure under a vertical record takes it; without
     `reference_load` the pressures hold at the path's N, which must then be constant
     (`normal_load_varies`). A pendulum with heated surfaces scales each surface's friction
-    by its temperature (`_slider_forces.heated_step`; in the plane the flux takes the length of
+    by its temperature (`_sliders.heated_step`; in the plane the flux takes the length of
     each surface's increment), with `heat_kernel` (rates, weights) =
     `heat_kernel_exponentials(dt, horizon)`, by default from concrete sample times (the
     shortest step to `HEAT_HORIZON`). `friction_velocity` (`FRICTION_VELOCITIES`): "mean",

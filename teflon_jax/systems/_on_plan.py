@@ -75,7 +75,7 @@ from ..validation import concrete
 from ._bidirectional import BidirectionalStructure
 from ._bidirectional_models import _zero_signal, bidirectional_structure
 from ._isolator_balance import TRIPLE_NEWTON_ITERATIONS, TRIPLE_TOLERANCE
-from ._slider_forces import series_heat_kernel
+from ._sliders import series_heat_kernel
 
 
 def slab_on_bearings(
@@ -131,7 +131,7 @@ def slab_on_bearings(
       vertical stiffness of the groups (default equal) for the lever rule (`overturning_map`).
     - series pendulums (`TriplePendulum` or `DoublePendulum`, one for all groups or one per
       group) balance their sliders at each step: no springs, radii or contact pressures (heated surfaces take theirs from the
-      pendulums, each group's times its N_g / W_g; `_series_groups.py`).
+      pendulums, each group's times its N_g / W_g; `_series.py`).
     - `friction_model`: "hysteretic" (Park's Z), "coulomb" or "none" for flat sliders and
       single pendulums (`_bidirectional_laws.py`); the series pendulums' sliders follow Park's Z.
 
@@ -400,7 +400,7 @@ def _slab_on_series(*, weight, mass_inertia, centre_of_mass, positions, loads, p
     sliding surface (0: constant loads). Heated surfaces carry the heat kernel of one step to
     `HEAT_HORIZON` (`series_heat_kernel`). A `BidirectionalStructure` whose `bearing` is the
     stacked pendulum, no springs or damping beyond the pendulums' reference springs K_ref
-    (`_series_groups.py`)."""
+    (`_series.py`)."""
     positions = np.asarray(positions, dtype=float).reshape(-1, 2)
     loads = np.asarray(loads, dtype=float).reshape(-1)
     groups = loads.size

@@ -1,7 +1,7 @@
 """Linear structures on sliding bearings under ground acceleration: the one structure on a
 single isolator, whose step below serves flat sliders and single pendulums, and whose isolator
 may be a friction pendulum of sliders in series instead (`bearing` a `SeriesPendulum`, stepped by
-`_series_step.py`).
+`_series.py`).
 
 Equations of motion in displacements relative to the ground (degree of freedom 0 is the
 isolator, i.e. the base slab sliding on the bearings):
@@ -32,8 +32,8 @@ from ..solver import AbstractSteppedSystem, require_riccati_form
 from ..structures import newmark_step_matrices, small_dot
 from ._bearing_test import running_peak_rate
 from ._isolator_balance import BALANCES
-from ._isolator_solve import isolator_root, predicted_root
 from ._sampled_path import has_history, history_factor, history_rates, next_history
+from ._sliders import isolator_root, predicted_root
 from ._vertical import (
     load_factor_at,
     loaded_isolator_force,
@@ -79,7 +79,7 @@ class StructureOnSliders(AbstractSteppedSystem):
       any restoring spring and viscous damper of the isolation system at index 0.
     - `bearing`: the isolator: a `SlidingBearing` (flat sliders or a single pendulum with
       `surface`; ignored when `friction_model == "none"`), or a `SeriesPendulum` (S sliders in
-      series, `pendulum`), whose steps balance its sliders (`_series_step.py`: the structure's
+      series, `pendulum`), whose steps balance its sliders (`_series.py`: the structure's
       stiffness then holds the reference spring `reference_stiffness` at the isolator).
     - `bearing_load` W [N]: total normal load on the bearings.
     - `ground_acceleration`: `Signal` of a_g(t) [m/s^2].
