@@ -20,7 +20,6 @@ from teflon_jax.studies import monte_carlo, monte_carlo_motion
 from teflon_jax.systems import (
     isolated_structure,
     with_vertical_component,
-    with_vertical_motion,
 )
 from teflon_jax.tables import load_table2
 from teflon_jax.units import PSI, STANDARD_GRAVITY
@@ -58,7 +57,7 @@ def test_storey_peaks_under_the_vertical_component_are_the_direct_simulations():
     assert loaded.converged.all() and loaded.n_uplifted > 0
     for i in range(N):
         rows = np.asarray(monte_carlo_motion(motions, jax.random.key(7), i))
-        system = with_vertical_motion(structure(uniform_signal(rows[0], 0.01)), uniform_signal(rows[1], 0.01))
+        system = with_vertical_component(structure)((uniform_signal(rows[0], 0.01), uniform_signal(rows[1], 0.01)))
         history = simulate_history(system, DURATION)
         u = np.asarray(history.displacement)
         np.testing.assert_allclose(loaded.storey_drift[i], np.abs(np.diff(u, axis=1)).max(axis=0) / height,

@@ -5,6 +5,7 @@ each bearing group's load on a slab, with the overturning of its plan's height."
 
 import numpy as np
 
+from ..units import parse_quantity
 from ._common import add_quantity
 
 MAX_VERTICAL_RATIO = 2.0
@@ -24,8 +25,10 @@ def add_vertical_flag(parser) -> None:
     """`--record-z FILE`: the vertical component (up positive), read and scaled as the others."""
     parser.add_argument("--record-z", default=None, help="vertical component, up positive (PEER .AT2 "
                         "or a two-column file with --record-units; scaled by --scale, windowed by "
-                        "--start/--duration): the isolators' normal load becomes W (1 + a_v / g); at "
-                        "N <= 0 they carry no shear and the run reports the uplift (default: none)")
+                        "--start/--duration): the isolators' normal load becomes W (1 + a_v / g), and "
+                        "their friction follows the contact pressure (Table 1 read at the momentary "
+                        "pressure, or a --bearing file's pressure dependence); at N <= 0 they carry no "
+                        "shear and the run reports the uplift (default: none)")
 
 
 def add_vertical_flags(parser) -> None:
@@ -70,18 +73,70 @@ def vertical_structure(args, structure):
     return with_vertical_component(structure)
 
 
-def with_vertical(system, az, dt, radius=None, pressure_exponent=None):
+def with_vertical(system, az, dt, radius=None, **law):
     """`system` (any structure `run` builds) with the vertical component `az` [m/s^2] on the
     records' grid of step `dt` [s] (unchanged for `None`); `radius` [m] of a single friction
     pendulum whose W / R scales with the normal load (None for the others, and for a slab's
-    groups, which hold their W_g / R_g); `pressure_exponent` of a `--bearing` file's pressure
-    dependence, which the normal load acts on (`systems.with_vertical_motion`)."""
+    groups, which hold their W_g / R_g); `law`: how the friction follows the normal load
+    (`pressure_law`, `systems.with_vertical_motion`)."""
     if az is None:
         return system
     from ..excitation import uniform_signal
     from ..systems import with_vertical_motion
 
-    return with_vertical_motion(system, uniform_signal(az, dt), radius=radius, pressure_exponent=pressure_exponent)
+    return with_vertical_motion(system, uniform_signal(az, dt), radius=radius, **law)
+
+
+def pressure_law(args, isolator, plan=None) -> dict:
+    """How the bearings' friction follows a vertical record's normal load, as the arguments of
+    `systems.with_vertical_motion`: a `--bearing` file's pressure dependence
+    (`pressure_exponent`), else Table 1's rows of each bearing's PTFE read at the momentary
+    contact pressure (`friction_table`, `table_pressure`: --ptfe and --pressure, or each
+    group's of the --plan; across the lay too with --anisotropic); {} for series pendulums,
+    whose surfaces carry their own."""
+    import jax
+    import jax.numpy as jnp
+
+    from ..tables import friction_table
+    from ._bearing_flags import pressure_exponent, read_bearing_flag
+
+    if isolator.pendulum is not None:
+        return {}
+    if read_bearing_flag(args) is not None:
+        exponent = pressure_exponent(args)
+        return {} if exponent is None else {"pressure_exponent": exponent}
+    groups = [{}] if plan is None else plan["groups"]
+    kinds = [(g.get("ptfe") or args.ptfe).upper() for g in groups]
+    pressures = [parse_quantity(g.get("pressure") or args.pressure, "pressure", where="--pressure") for g in groups]
+
+    def tables(direction):
+        rows = [friction_table(kind, direction, extrapolate=True) for kind in kinds]
+        return rows[0] if plan is None else jax.tree_util.tree_map(lambda *a: jnp.stack(a), *rows)
+
+    table = (tables("P"), tables("T")) if args.anisotropic else tables("P")
+    return {"friction_table": table, "table_pressure": pressures[0] if plan is None else jnp.asarray(pressures)}
+
+
+def pressure_note(law: dict, az) -> str | None:
+    """The note of a run whose bearings read Table 1 at the momentary contact pressure s p
+    under the vertical component `az` [m/s^2]: the pressures it reaches, and where they lie
+    beyond the table's rows (its end segments extended); None otherwise."""
+    if az is None or "friction_table" not in law:
+        return None
+    from ..systems import normal_load_factor
+    from ..units import PSI
+
+    s = np.asarray(normal_load_factor(np.asarray(az)))
+    s = s[s > 0] if np.any(s > 0) else np.zeros(1)
+    pressure = np.asarray(law["table_pressure"], float)
+    table = law["friction_table"][0] if isinstance(law["friction_table"], tuple) else law["friction_table"]
+    rows = np.asarray(table.pressures)
+    low, high = s.min() * pressure.min(), s.max() * pressure.max()
+    text = (f"the bearings' friction follows the contact pressure under the vertical component: Table 1 "
+            f"read from {low / PSI:.0f} to {high / PSI:.0f} psi")
+    if low < rows.min() or high > rows.max():
+        text += f", beyond its rows ({rows.min() / PSI:.0f}-{rows.max() / PSI:.0f} psi) on their end segments extended"
+    return text
 
 
 def response_uplift(response) -> dict:

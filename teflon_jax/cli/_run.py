@@ -101,8 +101,7 @@ def run_run(args) -> int:
         raise ValueError(f"--histories: {args.histories} must end in .nc or .csv.")
     from ..excitation import uniform_signal
     from ..systems import step_count
-    from ._bearing_flags import pressure_exponent
-    from ._normal_load import with_vertical
+    from ._normal_load import pressure_law, pressure_note, with_vertical
     from ._run_output import write_run_outputs
     from ._run_records import load_components, vertical_component
     from ._run_response import reduce_run, simulate_run
@@ -112,9 +111,13 @@ def run_run(args) -> int:
     ax, ay, dt, notes = load_components(args)
     system = build_structure(args, isolator, flags, uniform_signal(ax, dt), uniform_signal(ay, dt),
                              two=args.record_y is not None)
-    system = with_vertical(system, vertical_component(args, dt, ax.size), dt,
-                           radius=isolator.radius if flags.plan is None else None,  # a slab's groups hold W_g / R_g
-                           pressure_exponent=pressure_exponent(args) if isolator.pendulum is None else None)
+    az, law = vertical_component(args, dt, ax.size), pressure_law(args, isolator, flags.plan)
+    system = with_vertical(system, az, dt, radius=isolator.radius if flags.plan is None else None,  # a slab's
+                           **law)  # groups hold their W_g / R_g
+    note = pressure_note(law, az)
+    if note is not None:
+        notes.append(note)
+        print(f"teflon-jax run: {note}", file=sys.stderr)
     warn_time_step("run", flags.time_step, args.time_step, dt, f"{dt:g}s of the records")
     duration = (ax.size - 1) * dt
     title = args.structure if isolator.description is None else f"{args.structure} on {isolator.description}"

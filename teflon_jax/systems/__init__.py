@@ -81,5 +81,6 @@ from ._structure_build import six_storey_building as six_storey_building
 from ._structure_build import step_count as step_count
 from ._structure_build import storey_rows as storey_rows
 from ._structure_build import structure_on_sliders as structure_on_sliders
+from ._vertical import TablePressure as TablePressure
 from ._vertical import normal_load_factor as normal_load_factor
 from ._vertical import with_vertical_motion as with_vertical_motion

@@ -55,6 +55,7 @@ from ._bidirectional_laws import (
 )
 from ._sampled_path import has_history, history_factor, history_rates, next_history
 from ._vertical import (
+    TablePressure,
     load_factor_at,
     loaded_bidirectional,
     loaded_heat,
@@ -99,7 +100,8 @@ class BidirectionalStructure(AbstractSteppedSystem):
     s = max(1 + a_v / g, 0), on the friction and on `pendulum_stiffness` W_g / R (G,) [N/m]
     (the part of K the load carries), `_vertical.py`, and with `pressure_exponent` e (one, or
     (G,)) the friction of bearings whose pressure dependence is folded in at the static load
-    follows s^-e (`pressure_factor`); `load` is the s of a copy at one time
+    follows s^-e (`pressure_factor`), or with `pressure_table` Table 1's ratios at the
+    pressure of s W_g (`TablePressure`); `load` is the s of a copy at one time
     (`at_load`), one per group (G,) with `overturning` L (G, 2) [-]: the groups' loads
     N_g = s W_g + (L H)_g under the horizontal force H of the step's start, held over the step,
     kept in the state "normal_load" (G,) [N] and redistributed over the groups that stay down
@@ -130,6 +132,7 @@ class BidirectionalStructure(AbstractSteppedSystem):
     vertical_acceleration: Signal | None = None
     pendulum_stiffness: jnp.ndarray | None = None
     pressure_exponent: jnp.ndarray | None = None
+    pressure_table: TablePressure | None = None
     load: jnp.ndarray | None = None
     overturning: jnp.ndarray | None = None
     supports: SupportPlan | None = None

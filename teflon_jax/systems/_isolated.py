@@ -97,8 +97,7 @@ class IsolatedStructure(eqx.Module):
 
     - `kind` (static): "rigid" (`rigid_mass`) or "building" (`six_storey_building`, Table 2).
     - `ptfe`, `direction` (static): Table 1 rows, e.g. "UF", "P".
-    - `pressure` [Pa]: bearing contact pressure; Eq. 1 constants and the breakaway ratio b
-      are interpolated in Table 1 at it (differentiable).
+    - `pressure` [Pa]: bearing contact pressure, at which Table 1 gives Eq. 1's constants and b.
     - `isolation_period` T_b [s] of the restoring springs (`None` for a rigid mass on flat
       sliders without springs, and for a friction pendulum).
     - `surface`: the `ConcaveSurface` of a single friction pendulum, or `None` (flat sliders).
@@ -110,22 +109,19 @@ class IsolatedStructure(eqx.Module):
     - `breakaway` (static): use Table 1's b (Eq. 17) when True; no breakaway when False.
     - `friction_model` (static): "hysteretic", "coulomb" or "none".
     - `time_step` [s] (static): structure step; `weight` [N] of the rigid mass.
-    - `newton_iterations` (static): the most Newton iterations of the bearing's solve per
-      step (`StructureOnSliders.newton_iterations`); a run whose solve is cut short is reported
-      as not converged (its `converged` peak is False), e.g. to check that failures
-      are reported and kept out of statistics.
-    - `newton_tolerance` (static) [-]: `StructureOnSliders.newton_tolerance`, the isolator's
-      equilibrium residual in units of Y (1e-5 by default, as `structure_on_sliders`; the
-      Monte Carlo command uses `MONTE_CARLO_NEWTON_TOLERANCE`).
-    - `split_at_turn` (static): `StructureOnSliders.split_at_turn`, True by default here
-      (False: the update along the net increment, e.g. to compare with it).
-    - `linear_rule` (static): `StructureOnSliders.linear_rule`, "exact" by default here (the
-      storey modes without period error; "newmark" to compare with the average-acceleration step).
-      One component only, as `split_at_turn`: under two the planar solve's Newmark step
-      (`newton_iterations` bounds its iterations, `newton_tolerance` ends them).
+    - `newton_iterations` (static): the most Newton iterations of the bearing's solve per step
+      (`StructureOnSliders.newton_iterations`); a run cut short is reported as not converged.
+    - `newton_tolerance` (static) [-]: `StructureOnSliders.newton_tolerance`, in units of Y
+      (1e-5 by default; the Monte Carlo command uses `MONTE_CARLO_NEWTON_TOLERANCE`).
+    - `split_at_turn` (static): `StructureOnSliders.split_at_turn`, True by default here.
+    - `linear_rule` (static): `StructureOnSliders.linear_rule`, "exact" by default here (no
+      period error in the storey modes). One component only, as `split_at_turn`: under two the
+      planar solve's Newmark step (`newton_iterations`, `newton_tolerance` bound and end it).
     - `components` (static): 1 or 2 horizontal ground components.
     - `vertical` (static): whether the structure takes a vertical ground acceleration too, on
-      its isolators' normal load (`with_vertical_component`, `with_vertical_motion`).
+      its isolators' normal load (`with_vertical_component`, `with_vertical_motion`); Table 1's
+      bearing then takes its constants at the momentary contact pressure (`TablePressure`), a
+      given bearing follows it by its pressure dependence, if it has one.
     - `bearing`: a `SlidingBearing` to run instead of Table 1's at `pressure` (e.g. from a
       bearing file); `None` (the default) builds the paper's bearing from `ptfe`, `direction`,
       `pressure` and `breakaway`. The design variables f_max, delta_f, rate_a and
@@ -265,10 +261,18 @@ class IsolatedStructure(eqx.Module):
                 raise ValueError("ground_acceleration: this structure takes (horizontal, vertical) ground motions "
                                  "(with_vertical_component).")
             horizontal, vertical = ground_acceleration
-            part = None if self.bearing is None else self.bearing.pressure_dependence  # follows N
             return with_vertical_motion(self._horizontal(horizontal, design), vertical,
-                                        pressure_exponent=None if part is None else part.exponent)
+                                        **self._pressure_law(design))
         return self._horizontal(ground_acceleration, design)
+
+    def _pressure_law(self, design) -> dict:
+        """How the friction follows a vertical record's load (`vertical`; `with_vertical_motion`'s arguments)."""
+        if self.pendulum is not None or self.friction_model == "none":
+            return {}
+        if self.bearing is None:
+            return {"friction_table": self.table(), "table_pressure": (design or {}).get("pressure", self.pressure)}
+        part = self.bearing.pressure_dependence
+        return {} if part is None else {"pressure_exponent": part.exponent}
 
     def _horizontal(self, ground_acceleration, design) -> StructureOnSliders | BidirectionalStructure:
         """The structure under the horizontal ground motion (one `Signal` or an (x, y) pair)."""

@@ -1,7 +1,6 @@
 """Linear structures on sliding bearings under ground acceleration: the one structure on a
-single isolator, whose step below serves flat sliders and single pendulums, and whose isolator
-may be a friction pendulum of sliders in series instead (`bearing` a `SeriesPendulum`, stepped by
-`_series.py`).
+single isolator, whose step below serves flat sliders and single pendulums (a friction
+pendulum of sliders in series, `bearing` a `SeriesPendulum`, is stepped by `_series.py`).
 
 Equations of motion in displacements relative to the ground (degree of freedom 0 is the
 isolator, i.e. the base slab sliding on the bearings):
@@ -35,6 +34,7 @@ from ._isolator_balance import BALANCES
 from ._sampled_path import has_history, history_factor, history_rates, next_history
 from ._sliders import isolator_root, predicted_root
 from ._vertical import (
+    TablePressure,
     load_factor_at,
     loaded_isolator_force,
     loaded_surface_force,
@@ -91,11 +91,9 @@ class StructureOnSliders(AbstractSteppedSystem):
       stops at tolerance); a step whose residual is still above tolerance after them is
       reported as not converged.
     - `split_at_turn` (static): in a step where the isolator's velocity changes sign, update
-      Z along the two monotone pieces of Newmark's path, to the turning point and back (True:
-      `isolated_structure`'s default, what its `RECOMMENDED_TIME_STEPS` rest on), or along the
-      net increment (False, the default here: the update the biaxial systems also use, so
-      that a biaxial system under a one-component record reproduces this one; it needs about
-      half the step for the same accuracy).
+      Z along the two monotone pieces of Newmark's path (True: `isolated_structure`'s default,
+      what its `RECOMMENDED_TIME_STEPS` rest on), or along the net increment (False, the
+      default here, as the biaxial systems: it needs about half the step for that accuracy).
     - `newton_unrolled` (static): how many of the Newton iterations are written out in line
       before the loop (`NEWTON_UNROLLED`); the iterates, and so the results, do not depend on it.
     - `newton_tolerance` (static) [-]: converged when |residual| <= this Y (0: to rounding).
@@ -114,10 +112,10 @@ class StructureOnSliders(AbstractSteppedSystem):
       `stiffness`. `None`: flat sliders, or a pendulum in the small-rotation form alone.
     - `vertical_acceleration`: `Signal` of a_v(t) [m/s^2, up +] or `None`: the normal load is
       then N = W max(1 + a_v / g, 0), on the friction and on `pendulum_stiffness` W / R [N/m]
-      (the part of K[0, 0] the load carries), `_vertical.py` (`with_vertical_motion`);
-      `pressure_exponent` e [-] of a bearing whose pressure dependence is folded into its
-      friction at the static load (`SlidingBearing.at_contact_pressure`), or `None`: under
-      N = s W its friction follows the contact pressure, mu s^-e (`pressure_factor`).
+      (the part of K[0, 0] the load carries), `_vertical.py` (`with_vertical_motion`); the
+      friction then follows the contact pressure by `pressure_exponent` e (mu s^-e of a
+      pressure dependence folded in at W, `pressure_factor`) or `pressure_table` (Table 1's
+      ratios, `TablePressure`, `under_load`), or neither (`None`).
     - On a `SeriesPendulum` only: `reference_stiffness` W / R_ref [N/m] held in `stiffness`;
       `friction_velocity` (static, `FRICTION_VELOCITIES`): "mean" or, one surface, "end";
       `ground_y`: the y component's `Signal` [m/s^2] (the structure the same along y), or
@@ -146,6 +144,7 @@ class StructureOnSliders(AbstractSteppedSystem):
     vertical_acceleration: Signal | None = None
     pendulum_stiffness: jnp.ndarray | None = None
     pressure_exponent: jnp.ndarray | None = None
+    pressure_table: TablePressure | None = None
     reference_stiffness: jnp.ndarray | None = None
     friction_velocity: str = eqx.field(static=True, default="mean")
     ground_y: Signal | None = None
@@ -197,6 +196,12 @@ class StructureOnSliders(AbstractSteppedSystem):
         value = value * load
         return value if self.pressure_exponent is None else value * pressure_factor(self.pressure_exponent, load)
 
+    def under_load(self, load) -> "StructureOnSliders":
+        """This structure, its bearing at the pressure of load factor `load` (`pressure_table`)."""
+        if load is None or self.pressure_table is None:
+            return self
+        return dataclasses.replace(self, bearing=self.pressure_table.bearing_at(self.bearing, load))
+
     @property
     def history(self) -> bool:
         """True when the bearing's friction depends on the history (heating, wear)."""
@@ -222,7 +227,7 @@ class StructureOnSliders(AbstractSteppedSystem):
         heat flux of the friction at the step's start, q = mu(v0) (1 + a z0) p |u1 - u0| /
         (dt n), held over the step (as `respond_along_path` does between samples); with the
         load factor `load0`, q scales with it and an uplifted bearing (0) counts no travel."""
-        mu0 = self.at_history(heat, travel).bearing.coefficient(v0, 0.0, z_peak0)
+        mu0 = self.under_load(load0).at_history(heat, travel).bearing.coefficient(v0, 0.0, z_peak0)
         mu0 = mu0 * self.asymmetry_factor(z0)
         slide = jnp.abs(u1 - u0)
         if load0 is not None:
@@ -245,7 +250,7 @@ class StructureOnSliders(AbstractSteppedSystem):
         load factor N / W `load` when given)."""
         if self.friction_model == "none":
             return jnp.zeros_like(z)
-        force = self.bearing.coefficient(velocity, 0.0, z_peak) * self.bearing_load * z
+        force = self.under_load(load).bearing.coefficient(velocity, 0.0, z_peak) * self.bearing_load * z
         force = force * self.asymmetry_factor(z)
         return self.loaded(force, load)
 
@@ -263,7 +268,7 @@ class StructureOnSliders(AbstractSteppedSystem):
         if self.friction_model == "none":
             zero = jnp.zeros_like(jnp.asarray(velocity, dtype=float))
             return zero, zero
-        mu, slope = self.bearing.uniaxial_coefficient(velocity, z_peak)
+        mu, slope = self.under_load(load).bearing.uniaxial_coefficient(velocity, z_peak)
         load = self.loaded(self.bearing_load, load)
         return mu * load, slope * load
 
@@ -301,7 +306,7 @@ class StructureOnSliders(AbstractSteppedSystem):
     def _history_rates(self, y, load=None):
         """d(heat)/dt = q - lambda heat (the kernel's states), d(travel)/dt = |v| (q times the
         load factor `load`, no travel while uplifted)."""
-        mu = self.at_state(y).bearing.coefficient(y["v"][0], 0.0, y["z_peak"])
+        mu = self.under_load(load).at_state(y).bearing.coefficient(y["v"][0], 0.0, y["z_peak"])
         speed = jnp.abs(y["v"][0])
         if load is not None:
             mu, speed = self.loaded(mu, load), jnp.where(load > 0, speed, 0.0)

@@ -26,12 +26,16 @@ Reinhorn (1990), J. Struct. Eng. 116(2), 438-454 (the normal load's effect on PT
 """
 
 import dataclasses
+import functools
 
+import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
 
+from ..bearing import FrictionParameters
 from ..excitation import Signal
+from ..tables import FrictionTable
 from ..units import STANDARD_GRAVITY
 
 
@@ -56,6 +60,68 @@ def pressure_factor(exponent, load):
     return jnp.where(load > 0, load, 1.0) ** -jnp.asarray(exponent)
 
 
+class TablePressure(eqx.Module):
+    """Table 1's pressure dependence on a bearing folded at its static contact pressure, under
+    a varying normal load.
+
+    A bearing whose Eq. 1 constants (and breakaway ratio) were read off Table 1 at the
+    static contact pressure p (`pressure` [Pa], one, or one per group) takes, under the load
+    factor s = N / W, each constant times its table ratio c(s p) / c(p) (`table` a
+    `FrictionTable`, or one per group stacked along a first axis: linear in the pressure
+    between the tabulated rows, its end segments extended beyond them); an anisotropic
+    bearing's constants across the lay take the ratios of `perpendicular`, the table of
+    sliding across it. For constants taken from the table this is the table at the
+    momentary pressure s p; constants a design or a bounding factor set are scaled alike.
+    While uplifted (s = 0) the bearing carries no force and the ratios are 1. Where an
+    extended segment gives constants Eq. 1 cannot take (f_max <= delta_f, a negative delta_f
+    or rate_a, a breakaway ratio below 1), the run stops with an error, not a clipped value
+    (Mokha, Constantinou & Reinhorn 1990: the friction of PTFE on steel falls as the contact
+    pressure rises; Constantinou, Mokha & Reinhorn 1990, Table 1).
+    """
+
+    table: FrictionTable
+    pressure: jnp.ndarray
+    perpendicular: FrictionTable | None = None
+
+    def bearing_at(self, bearing, load):
+        """`bearing` (a `SlidingBearing` folded at `pressure`) under the load factor `load` s [-]."""
+        pressure = jnp.where(load > 0, load, 1.0) * self.pressure
+        friction, ratio = _scaled_by_table(self.table, self.pressure, pressure, bearing.friction)
+        fields = {"friction": friction}
+        if bearing.breakaway_ratio is not None:
+            fields["breakaway_ratio"] = bearing.breakaway_ratio * ratio
+        if bearing.friction_perpendicular is not None:
+            fields["friction_perpendicular"] = _scaled_by_table(self.perpendicular, self.pressure, pressure,
+                                                                bearing.friction_perpendicular)[0]
+        bad = [~((f.f_max > f.delta_f) & (f.delta_f >= 0) & (f.rate_a >= 0)) for f in
+               (fields["friction"], fields.get("friction_perpendicular", fields["friction"]))]
+        if "breakaway_ratio" in fields:
+            bad.append(~(fields["breakaway_ratio"] >= 1))
+        fields["friction"] = eqx.error_if(
+            fields["friction"], jnp.any(functools.reduce(jnp.logical_or, bad) & (load > 0)),
+            "the vertical record takes the bearings' contact pressure beyond where Table 1's extended end "
+            "segments give Eq. 1 constants (f_max > delta_f >= 0, rate_a >= 0, breakaway ratio >= 1); "
+            "give the bearing's constants at such pressures (a bearing file with a pressure dependence).")
+        return dataclasses.replace(bearing, **fields)
+
+
+def _scaled_by_table(table, static, pressure, friction):
+    """(`friction` with each constant times the table's c(pressure) / c(static), the ratio
+    b(pressure) / b(static) of the breakaway ratio); a table per group (stacked) is read
+    at its group's pressures."""
+    def read(table, static, pressure):
+        (then, b_then), (now, b_now) = table.at(static), table.at(pressure)
+        return then, b_then, now, b_now
+
+    if table.pressures.ndim == 2:
+        read = jax.vmap(read)
+    then, b_then, now, b_now = read(table, static, pressure)
+    scaled = FrictionParameters(f_max=friction.f_max * (now.f_max / then.f_max),
+                                delta_f=friction.delta_f * (now.delta_f / then.delta_f),
+                                rate_a=friction.rate_a * (now.rate_a / then.rate_a))
+    return scaled, b_now / b_then
+
+
 def uplifted(vertical_acceleration):
     """True where N <= 0, i.e. a_v <= -g [m/s^2]."""
     return 1 + jnp.asarray(vertical_acceleration) / STANDARD_GRAVITY <= 0
@@ -72,7 +138,8 @@ def uplift_steps(system, n_steps: int):
 # --------------------------------------------------------------------------- the record on a structure
 
 
-def with_vertical_motion(system, vertical_acceleration: Signal, radius=None, pressure_exponent=None):
+def with_vertical_motion(system, vertical_acceleration: Signal, radius=None, pressure_exponent=None,
+                         friction_table=None, table_pressure=None):
     """`system` with the vertical ground acceleration `vertical_acceleration` [m/s^2, up +] on
     its isolators' normal load N = W max(1 + a_v / g, 0) (module docstring).
 
@@ -93,8 +160,12 @@ def with_vertical_motion(system, vertical_acceleration: Signal, radius=None, pre
     of flat sliders or single pendulums whose friction was taken at their static contact
     pressure (`SlidingBearing.at_contact_pressure`), so that it follows N as mu s^-e
     (`pressure_factor`), as the bearing's test and a series pendulum's surfaces follow it;
-    `None` for bearings without one (a series pendulum's surfaces carry theirs). `ValueError`
-    naming the argument otherwise.
+    `None` for bearings without one (a series pendulum's surfaces carry theirs).
+    `friction_table` (a `FrictionTable`, one per group stacked, or for an anisotropic bearing
+    the pair along and across the lay) and `table_pressure` p [Pa] (one, or one per group):
+    flat sliders or single pendulums whose constants were read off Table 1 at p, so that
+    they follow the momentary contact pressure s p (`TablePressure`); not with
+    `pressure_exponent`. `ValueError` naming the argument otherwise.
     """
     if not isinstance(vertical_acceleration, Signal):
         raise ValueError("vertical_acceleration: expected a Signal of the vertical ground "
@@ -105,10 +176,12 @@ def with_vertical_motion(system, vertical_acceleration: Signal, radius=None, pre
                          f"on any isolator), got {type(system).__name__}.")
     if getattr(system, "pendulum", None) is not None:  # series pendulums: the load acts on their sliders
         _no_radius(radius)
-        if pressure_exponent is not None:
-            raise ValueError("pressure_exponent: a triple or double pendulum's surfaces carry their own pressure "
-                             "dependence (surface_parts); leave pressure_exponent out.")
+        for name, value in (("pressure_exponent", pressure_exponent), ("friction_table", friction_table)):
+            if value is not None:
+                raise ValueError(f"{name}: a triple or double pendulum's surfaces carry their own pressure "
+                                 f"dependence (surface_parts); leave {name} out.")
         return dataclasses.replace(system, vertical_acceleration=vertical_acceleration)
+    table = _table_pressure(system, friction_table, table_pressure, pressure_exponent)
     if pressure_exponent is not None:
         value = np.asarray(pressure_exponent) if not isinstance(pressure_exponent, jax.core.Tracer) else None
         if value is not None and not np.all(np.isfinite(value)):
@@ -121,7 +194,37 @@ def with_vertical_motion(system, vertical_acceleration: Signal, radius=None, pre
             raise ValueError(f"radius: must be > 0 [m] (the pendulum's radius), got {value.tolist()}.")
         stiffness = system.bearing_load / jnp.asarray(radius, float)
     return dataclasses.replace(system, vertical_acceleration=vertical_acceleration,
-                               pendulum_stiffness=stiffness, pressure_exponent=pressure_exponent)
+                               pendulum_stiffness=stiffness, pressure_exponent=pressure_exponent,
+                               pressure_table=table)
+
+
+def _table_pressure(system, friction_table, table_pressure, pressure_exponent):
+    """The `TablePressure` of `with_vertical_motion`'s arguments (None without a table);
+    `ValueError` naming the argument that is missing, not positive or not with the others."""
+    if friction_table is None and table_pressure is None:
+        return None
+    if table_pressure is None:
+        raise ValueError("table_pressure: give the contact pressure [Pa] the bearing's constants were read "
+                         "off friction_table at.")
+    if pressure_exponent is not None:
+        raise ValueError("pressure_exponent: a bearing follows its contact pressure by one law; give "
+                         "pressure_exponent or friction_table, not both.")
+    perpendicular = None
+    if isinstance(friction_table, tuple) and len(friction_table) == 2:
+        friction_table, perpendicular = friction_table
+    if system.bearing is None:
+        raise ValueError("friction_table: the structure has no friction law to follow the table (friction "
+                         "model 'none'); leave it out.")
+    if not all(isinstance(t, FrictionTable) for t in (friction_table, perpendicular) if t is not None):
+        raise ValueError("friction_table: give the FrictionTable the bearing's constants were read off "
+                         f"(tables.friction_table) with table_pressure, got {type(friction_table).__name__}.")
+    if (system.bearing.friction_perpendicular is not None) != (perpendicular is not None):
+        raise ValueError("friction_table: an anisotropic bearing takes the pair (table along the lay, table "
+                         "across it), an isotropic one a single table.")
+    value = np.asarray(table_pressure) if not isinstance(table_pressure, jax.core.Tracer) else None
+    if value is not None and not np.all(np.isfinite(value) & (value > 0)):
+        raise ValueError(f"table_pressure: must be > 0 [Pa], got {value.tolist()}.")
+    return TablePressure(friction_table, jnp.asarray(table_pressure, float), perpendicular)
 
 
 def _no_radius(radius) -> None:
@@ -168,6 +271,9 @@ def loaded_isolator_force(system, ub_linear, vb_linear, compliance, y0, start_fa
     if system.pressure_exponent is not None:  # the friction at the pressure of N (`pressure_factor`)
         loaded = dataclasses.replace(loaded, bearing=system.bearing.scaled(pressure_factor(system.pressure_exponent, load)),
                                      pressure_exponent=None)
+    if system.pressure_table is not None:  # Table 1's constants at the pressure of N
+        loaded = dataclasses.replace(loaded, bearing=system.pressure_table.bearing_at(system.bearing, load),
+                                     pressure_table=None)
     force, z1, z_peak1, converged = loaded.isolator_force(ub, y0, vb, (g0 / c, gv / c), start_factors)
     x = ub - g0 / c * force
     return force + a * x, z1, z_peak1, converged
@@ -179,9 +285,13 @@ def loaded_isolator_force(system, ub_linear, vb_linear, compliance, y0, start_fa
 def loaded_bidirectional(system, load):
     """`system` (a `BidirectionalStructure`) under the load factor `load` = N / W [-]: its
     groups' loads s W_g, with `load` kept for the pendulum's change (`pendulum_change`), and
-    with `pressure_exponent` the friction at the contact pressure of s W_g (`pressure_factor`)."""
+    with `pressure_exponent` or `pressure_table` the friction at the contact pressure of s W_g
+    (`pressure_factor`, `TablePressure`)."""
     loaded = dataclasses.replace(system, bearing_load=system.bearing_load * load, load=jnp.asarray(load),
                                  vertical_acceleration=None)
+    if system.pressure_table is not None:  # Table 1's constants at the pressure of N
+        return dataclasses.replace(loaded, bearing=system.pressure_table.bearing_at(system.bearing, load),
+                                   pressure_table=None)
     if system.pressure_exponent is None:
         return loaded
     return dataclasses.replace(loaded, bearing=system.bearing.scaled(pressure_factor(system.pressure_exponent, load)),
