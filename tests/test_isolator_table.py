@@ -13,7 +13,8 @@ from teflon_jax.cli._main import main
 EXAMPLES = pathlib.Path(__file__).parents[1] / "benchmarks"
 START = {"triple-fp": EXAMPLES / "triple_isolator.json", "double-fp": EXAMPLES / "double_isolator.json"}
 VALUES = {"isolator_file": None, "save_isolator": "fitted.json", "bayes": "posterior", "effects": "backlash",
-          "fixed": "f_max=0.1", "starts": "3", "save_bearing": "bearing.json", "radius": "88in"}
+          "fixed": "f_max=0.1", "starts": "3", "save_bearing": "bearing.json", "radius": "88in",
+          "reference_load": "1000kN"}
 """A value of each flag a row names (an isolator file: the example of the row's isolator)."""
 
 
