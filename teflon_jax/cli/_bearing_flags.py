@@ -40,15 +40,6 @@ def check_output_file(path, flag: str) -> None:
         raise ValueError(f"{flag} {path}: the folder {path.parent} does not exist; create it first.")
 
 
-def pressure_exponent(args):
-    """The exponent [-] of the pressure dependence of `--bearing FILE`, which a vertical
-    component's normal load acts on; `None` without the file or the part."""
-    bearing = read_bearing_flag(args)
-    if bearing is None or bearing.pressure_dependence is None:
-        return None
-    return bearing.pressure_dependence.exponent
-
-
 def read_bearing_flag(args):
     """The `SlidingBearing` of `--bearing FILE`, or `None` when not given. A bearing flag that
     differs from its default as well is refused (the file says what the bearing is), except

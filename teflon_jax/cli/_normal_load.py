@@ -98,13 +98,14 @@ def pressure_law(args, isolator, plan=None) -> dict:
     import jax.numpy as jnp
 
     from ..tables import friction_table
-    from ._bearing_flags import pressure_exponent, read_bearing_flag
+    from ._bearing_flags import read_bearing_flag
 
     if isolator.pendulum is not None:
         return {}
-    if read_bearing_flag(args) is not None:
-        exponent = pressure_exponent(args)
-        return {} if exponent is None else {"pressure_exponent": exponent}
+    bearing = read_bearing_flag(args)
+    if bearing is not None:
+        part = bearing.pressure_dependence
+        return {} if part is None else {"pressure_exponent": part.exponent}
     groups = [{}] if plan is None else plan["groups"]
     kinds = [(g.get("ptfe") or args.ptfe).upper() for g in groups]
     pressures = [parse_quantity(g.get("pressure") or args.pressure, "pressure", where="--pressure") for g in groups]
