@@ -35,10 +35,10 @@ from ._sampled_path import has_history, history_factor, history_rates, next_hist
 from ._sliders import isolator_root, predicted_root
 from ._vertical import (
     TablePressure,
+    bearing_under_load,
     load_factor_at,
     loaded_isolator_force,
     loaded_surface_force,
-    pressure_factor,
 )
 
 FRICTION_MODELS = ("hysteretic", "coulomb", "none")
@@ -188,19 +188,13 @@ class StructureOnSliders(AbstractSteppedSystem):
         return load_factor_at(self.vertical_acceleration, t)
 
     def loaded(self, value, load):
-        """`value` (a force or a friction factor) times the load factor N / W `load` and, with
-        `pressure_exponent`, the pressure dependence's s^-e (`pressure_factor`); itself for
-        `load` `None`."""
-        if load is None:
-            return value
-        value = value * load
-        return value if self.pressure_exponent is None else value * pressure_factor(self.pressure_exponent, load)
+        """`value` (a force or a friction factor) times the load factor N / W `load`; itself
+        for `load` `None`."""
+        return value if load is None else value * load
 
     def under_load(self, load) -> "StructureOnSliders":
-        """This structure, its bearing at the pressure of load factor `load` (`pressure_table`)."""
-        if load is None or self.pressure_table is None:
-            return self
-        return dataclasses.replace(self, bearing=self.pressure_table.bearing_at(self.bearing, load))
+        """This structure, its bearing at the pressure of load factor `load` (`bearing_under_load`)."""
+        return self if load is None else dataclasses.replace(self, **bearing_under_load(self, load))
 
     @property
     def history(self) -> bool:

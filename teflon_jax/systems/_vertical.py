@@ -93,8 +93,8 @@ class TablePressure(eqx.Module):
         if bearing.friction_perpendicular is not None:
             fields["friction_perpendicular"] = _scaled_by_table(self.perpendicular, self.pressure, pressure,
                                                                 bearing.friction_perpendicular)[0]
-        bad = [~((f.f_max > f.delta_f) & (f.delta_f >= 0) & (f.rate_a >= 0)) for f in
-               (fields["friction"], fields.get("friction_perpendicular", fields["friction"]))]
+        bad = [~((f.f_max > f.delta_f) & (f.delta_f >= 0) & (f.rate_a >= 0)) for name, f in fields.items()
+               if name != "breakaway_ratio"]
         if "breakaway_ratio" in fields:
             bad.append(~(fields["breakaway_ratio"] >= 1))
         fields["friction"] = eqx.error_if(
@@ -120,6 +120,20 @@ def _scaled_by_table(table, static, pressure, friction):
                                 delta_f=friction.delta_f * (now.delta_f / then.delta_f),
                                 rate_a=friction.rate_a * (now.rate_a / then.rate_a))
     return scaled, b_now / b_then
+
+
+def bearing_under_load(system, load) -> dict:
+    """The fields of `system` (a stepped structure on flat sliders or single pendulums) whose
+    bearing is at the contact pressure of the load factor `load` s: its bearing by its pressure
+    law (`pressure_exponent`, s^-e on the friction, `pressure_factor`; `pressure_table`,
+    Table 1's ratios, `TablePressure`), the law then spent; {} without one."""
+    if system.pressure_exponent is not None:
+        bearing = system.bearing.scaled(pressure_factor(system.pressure_exponent, load))
+    elif system.pressure_table is not None:
+        bearing = system.pressure_table.bearing_at(system.bearing, load)
+    else:
+        return {}
+    return {"bearing": bearing, "pressure_exponent": None, "pressure_table": None}
 
 
 def uplifted(vertical_acceleration):
@@ -266,14 +280,8 @@ def loaded_isolator_force(system, ub_linear, vb_linear, compliance, y0, start_fa
     a = 0.0 if system.pendulum_stiffness is None else (load - 1) * system.pendulum_stiffness
     c = 1 + g0 * a
     ub, vb = ub_linear / c, vb_linear - gv * a * ub_linear / c
-    loaded = dataclasses.replace(system, bearing_load=load * system.bearing_load,
-                                 vertical_acceleration=None, pendulum_stiffness=None)
-    if system.pressure_exponent is not None:  # the friction at the pressure of N (`pressure_factor`)
-        loaded = dataclasses.replace(loaded, bearing=system.bearing.scaled(pressure_factor(system.pressure_exponent, load)),
-                                     pressure_exponent=None)
-    if system.pressure_table is not None:  # Table 1's constants at the pressure of N
-        loaded = dataclasses.replace(loaded, bearing=system.pressure_table.bearing_at(system.bearing, load),
-                                     pressure_table=None)
+    loaded = dataclasses.replace(system, bearing_load=load * system.bearing_load, vertical_acceleration=None,
+                                 pendulum_stiffness=None, **bearing_under_load(system, load))
     force, z1, z_peak1, converged = loaded.isolator_force(ub, y0, vb, (g0 / c, gv / c), start_factors)
     x = ub - g0 / c * force
     return force + a * x, z1, z_peak1, converged
@@ -287,15 +295,8 @@ def loaded_bidirectional(system, load):
     groups' loads s W_g, with `load` kept for the pendulum's change (`pendulum_change`), and
     with `pressure_exponent` or `pressure_table` the friction at the contact pressure of s W_g
     (`pressure_factor`, `TablePressure`)."""
-    loaded = dataclasses.replace(system, bearing_load=system.bearing_load * load, load=jnp.asarray(load),
-                                 vertical_acceleration=None)
-    if system.pressure_table is not None:  # Table 1's constants at the pressure of N
-        return dataclasses.replace(loaded, bearing=system.pressure_table.bearing_at(system.bearing, load),
-                                   pressure_table=None)
-    if system.pressure_exponent is None:
-        return loaded
-    return dataclasses.replace(loaded, bearing=system.bearing.scaled(pressure_factor(system.pressure_exponent, load)),
-                               pressure_exponent=None)
+    return dataclasses.replace(system, bearing_load=system.bearing_load * load, load=jnp.asarray(load),
+                               vertical_acceleration=None, **bearing_under_load(system, load))
 
 
 def pendulum_change(system):
