@@ -13,8 +13,10 @@ from scipy.optimize import minimize
 
 from teflon_jax.bearing import concave_surface, paper_bearing
 from teflon_jax.excitation import uniform_signal
+from teflon_jax.solver import coupled_newton
 from teflon_jax.studies import bidirectional_isolated_structure
 from teflon_jax.systems import (
+    BidirectionalStructure,
     bidirectional_building,
     bidirectional_rigid_mass,
     isolated_structure,
@@ -131,8 +133,6 @@ def test_the_coulomb_step_solves_its_convex_problem():
     """Groups coupled through an anisotropic compliance H: the step's forces minimise
     F^T H F / 2 - v*^T F over the discs |F_g| <= mu_g W_g (checked against scipy's SLSQP),
     sticking groups have v = 0 and sliding ones move along their force."""
-    from teflon_jax.systems._bidirectional_laws import coulomb_solve
-
     rng = np.random.default_rng(3)
     n = 3
     a = rng.normal(size=(2 * n, 2 * n))
@@ -148,7 +148,7 @@ def test_the_coulomb_step_solves_its_convex_problem():
     p = {"flexibility": blocks, "d_linear": (jnp.asarray(v_star[:n] * dt / 2), jnp.asarray(v_star[n:] * dt / 2)),
          "d0": (jnp.zeros(n), jnp.zeros(n)), "vb0": (jnp.zeros(n), jnp.zeros(n)),
          "z0": (jnp.zeros(n), jnp.zeros(n))}
-    (fx, fy), z, converged = coulomb_solve(system, p)
+    (fx, fy), z, converged = BidirectionalStructure._coulomb_solve(system, p)  # coulomb_disc_forces
     assert bool(converged)
     force = np.concatenate([fx, fy])
     capacity = np.asarray(bearing.coefficient(jnp.asarray(v_star[:n]), jnp.asarray(v_star[n:]), 1.0)) * loads
@@ -278,17 +278,18 @@ def test_the_newton_matrix_is_the_residuals_jacobian(case):
 @pytest.mark.parametrize("case", [0, 1], ids=["slab-of-three-groups", "restrained-pendulum"])
 def test_the_newton_stage_converges_quadratically(case):
     """From the bearings' displacements of the linear step alone (no friction force), the
-    flat sliders' Newton stage (`_newton_iterations`, the exact Jacobian and its line search)
+    flat sliders' Newton stage (`coupled_newton`'s, the exact Jacobian and its line search)
     balances the step to 1e-12 Y within eight iterations (line-search halvings counted), as
     Newton's method on an exact Jacobian does; on the end's tangent (the Broyden stage's start)
     it does not."""
     system, p, _ = _planar_systems()[case]
     system = dataclasses.replace(system, newton_iterations=8)
     start = p["d_linear"]
-    r, forces, z = system._residual_forces(start, p)
+    r, _ = system._residual_forces(start, p)
     tolerance = 1e-12 * float(jnp.min(jnp.asarray(system.bearing.hysteresis.yield_disp)))
     assert float(jnp.max(jnp.abs(jnp.concatenate(r)))) > 1e3 * tolerance
-    r, _, _ = system._newton_iterations(start, r, forces, z, 0, p, tolerance)
+    r, _ = coupled_newton(lambda d: system._residual_forces(d, p), lambda d, exact: system._tangent_jacobian(d, p, exact),
+                          start, tolerance, system.newton_iterations, secant=False)
     assert float(jnp.max(jnp.abs(r))) <= tolerance
 
 

@@ -39,6 +39,7 @@ import numpy as np
 
 from teflon_jax.bearing import (
     AMBIENT_TEMPERATURE,
+    HEAT_HORIZON,
     PARAMETER_BOUNDS,
     STEEL_CONDUCTIVITY,
     STEEL_DIFFUSIVITY,
@@ -51,7 +52,6 @@ from teflon_jax.bearing import (
 )
 from teflon_jax.formats import TestRecord
 from teflon_jax.systems import (
-    HEAT_HORIZON,
     normal_load_varies,
     respond_along_path,
     sampled_path,

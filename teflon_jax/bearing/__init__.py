@@ -24,6 +24,7 @@ from ._design_space import design_space as design_space
 from ._design_space import designed_isolator as designed_isolator
 from ._design_space import designed_pendulum as designed_pendulum
 from ._effects import AMBIENT_TEMPERATURE as AMBIENT_TEMPERATURE
+from ._effects import HEAT_HORIZON as HEAT_HORIZON
 from ._effects import STEEL_CONDUCTIVITY as STEEL_CONDUCTIVITY
 from ._effects import STEEL_DIFFUSIVITY as STEEL_DIFFUSIVITY
 from ._effects import Backlash as Backlash

@@ -116,6 +116,41 @@ class SlidingBearing(eqx.Module):
             factor = factor * self.heating.factor(temperature_rise)
         return factor
 
+    @property
+    def has_history(self) -> bool:
+        """True when the friction depends on the bearing's history (heating, wear): a structure
+        then carries its surface temperature (heat states) and travel from step to step."""
+        return self.heating is not None or self.wear is not None
+
+    def history_factor(self, heat, travel, weights):
+        """Factor on mu [-] at heat states `heat` (..., K) [W/m^2 s] and travel [m]; `weights`
+        (K,) of the kernel (`heat_kernel_exponentials`)."""
+        rise = 0.0 if self.heating is None else self.heating.rise(heat, weights)
+        return self.effect_factor(temperature_rise=rise, travel=travel)
+
+    def heat_flux(self, coefficient, contact_pressure, speed):
+        """q = mu p |v| / n [W/m^2] into the steel of each of the n interfaces of a stack, at
+        sliding speed |v| [m/s] of the bearing and contact pressure p [Pa]."""
+        return self.heating.flux(coefficient, contact_pressure * self.heating.contact_area,
+                                 speed / self.n_interfaces)
+
+    def next_history(self, heat, travel, slide, coefficient, contact_pressure, time_step, rates):
+        """Heat states and travel after a step of `time_step` [s] in which the bearing slid
+        `slide` [m] (the length of its increment), with the friction coefficient `coefficient`
+        [-] of the step's start held over it (flux q = mu p slide / (dt n)); `rates` (K,) [1/s]
+        of the kernel (`FrictionalHeating.advance`)."""
+        if self.heating is not None:
+            flux = self.heat_flux(coefficient, contact_pressure, slide / time_step)
+            heat = self.heating.advance(heat, jnp.expand_dims(flux, -1), time_step, rates)
+        return heat, travel + slide
+
+    def history_rates(self, heat, coefficient, contact_pressure, speed, rates):
+        """(d heat / dt, d travel / dt) = (q - lambda heat, |v|) for an ODE solver."""
+        if self.heating is None:
+            return jnp.zeros_like(heat), speed
+        flux = self.heat_flux(coefficient, contact_pressure, speed)
+        return jnp.expand_dims(flux, -1) - rates * heat, speed
+
     def coefficient(self, velocity_x, velocity_y=0.0, z_peak=1.0):
         """Friction coefficient mu [-] for a sliding velocity [m/s] and the largest |Z| so far."""
         params = self.constants_for(velocity_x, velocity_y)

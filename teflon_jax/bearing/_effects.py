@@ -52,6 +52,11 @@ def surface_temperature_coefficient(conductivity=STEEL_CONDUCTIVITY, diffusivity
     return jnp.sqrt(diffusivity / jnp.pi) / conductivity
 
 
+HEAT_HORIZON = 3600.0
+"""Longest time [s] the heat kernel of a structure represents (the 1/sqrt(t) kernel is
+accurate from one time step to this; an earthquake record is far shorter)."""
+
+
 def heat_kernel_exponentials(t_min: float, t_max: float, *, per_decade: float = 3.0):
     """Rates and weights of a sum of exponentials approximating 1/sqrt(t) on [t_min, t_max].
 

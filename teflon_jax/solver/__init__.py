@@ -1,9 +1,17 @@
 """`RiccatiNewmark`: the diffrax solver whose step is not bounded by the stiffness of Z;
 `implicit_root`: the implicit derivative of a step's balance, whatever iteration found it;
 the iterations on a step's balance, chosen by the shape of its unknowns (`bracketed_newton`,
-`damped_newton`, `planar_newton`) with their structured solves (`sherman_morrison`,
-`woodbury`)."""
+`damped_newton`, `planar_newton`, `coupled_newton`) with their structured solves
+(`sherman_morrison`, `woodbury`, `solve_blocks`), and Coulomb friction's step
+(`coulomb_disc_forces`)."""
 
+from ._coupled import affine as affine
+from ._coupled import block_matvec as block_matvec
+from ._coupled import coulomb_disc_forces as coulomb_disc_forces
+from ._coupled import coupled_newton as coupled_newton
+from ._coupled import largest as largest
+from ._coupled import matvec as matvec
+from ._coupled import solve_blocks as solve_blocks
 from ._implicit import implicit_root as implicit_root
 from ._newton import RESCUE_ITERATIONS as RESCUE_ITERATIONS
 from ._newton import RESCUE_SMALLEST as RESCUE_SMALLEST

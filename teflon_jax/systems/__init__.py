@@ -8,7 +8,6 @@ peaks the `REDUCERS` over it, folded along a run by one driver (`peak_response`)
 from ..structures import LINEAR_RULES as LINEAR_RULES
 from ._bearing_test import BearingTestSystem as BearingTestSystem
 from ._bearing_test import force_along_path as force_along_path
-from ._bearing_test import respond_along_path as respond_along_path
 from ._bearing_test import simulate_bearing_test as simulate_bearing_test
 from ._bidirectional import PLANAR_NEWTON_ITERATIONS as PLANAR_NEWTON_ITERATIONS
 from ._bidirectional import BidirectionalStructure as BidirectionalStructure
@@ -33,6 +32,11 @@ from ._drivers import simulate_history as simulate_history
 from ._drivers import smooth_max as smooth_max
 from ._drivers import smooth_max_update as smooth_max_update
 from ._drivers import smooth_max_value as smooth_max_value
+from ._imposed_path import SampledPath as SampledPath
+from ._imposed_path import normal_load_varies as normal_load_varies
+from ._imposed_path import respond_along_path as respond_along_path
+from ._imposed_path import sample_velocity as sample_velocity
+from ._imposed_path import sampled_path as sampled_path
 from ._isolated import MONTE_CARLO_NEWTON_TOLERANCE as MONTE_CARLO_NEWTON_TOLERANCE
 from ._isolated import RECOMMENDED_TIME_STEPS as RECOMMENDED_TIME_STEPS
 from ._isolated import TRIPLE_MONTE_CARLO_TOLERANCE as TRIPLE_MONTE_CARLO_TOLERANCE
@@ -42,7 +46,6 @@ from ._isolated import isolated_structure as isolated_structure
 from ._isolated import with_vertical_component as with_vertical_component
 from ._isolator_balance import BALANCES as BALANCES
 from ._isolator_balance import TRIPLE_TOLERANCE as TRIPLE_TOLERANCE
-from ._isolator_balance import normal_load_varies as normal_load_varies
 from ._on_plan import building_on_plan as building_on_plan
 from ._on_plan import slab_on_bearings as slab_on_bearings
 from ._on_plan import stack_pendulums as stack_pendulums
@@ -63,10 +66,6 @@ from ._response import slider_travel as slider_travel
 from ._response import storey_drift as storey_drift
 from ._response import uplift_time as uplift_time
 from ._response import uplifted as uplifted
-from ._sampled_path import HEAT_HORIZON as HEAT_HORIZON
-from ._sampled_path import SampledPath as SampledPath
-from ._sampled_path import sample_velocity as sample_velocity
-from ._sampled_path import sampled_path as sampled_path
 from ._series import structure_on_isolator as structure_on_isolator
 from ._series import triple_structure as triple_structure
 from ._sliders import FRICTION_VELOCITIES as FRICTION_VELOCITIES

@@ -32,9 +32,13 @@ from ..solver import (
     solve_with_controller,
 )
 from ..validation import given_options, require_positive
-from ._isolator_balance import series_along_path
+from ._imposed_path import (
+    sample_velocity,
+    sampled_path,
+    series_along_path,
+    sliding_along_path,
+)
 from ._response import BearingTestResult
-from ._sampled_path import SampledPath, sample_velocity, sampled_path, sliding_along_path
 
 
 def running_peak_rate(z_abs, z_peak, z_abs_rate):
@@ -163,54 +167,6 @@ def simulate_bearing_test(
         dt0 = None
     adjoint = diffrax.RecursiveCheckpointAdjoint() if adjoint is None else adjoint
     return _solve(system, solver, controller, dt0, times, normal_load, max_steps, adjoint, throw)
-
-
-def respond_along_path(isolator: SlidingBearing | SeriesPendulum, path: SampledPath, *, z0=None, z_peak0=None,
-                       heat_kernel=None, friction_velocity: str | None = None,
-                       reference_load=None) -> BearingTestResult:
-    """The force of any isolator [N] at the samples of an imposed path (a `SampledPath`, along
-    x or in the plane, under the path's normal load N [N] at each sample): the one test that
-    the fitters, the posterior, model discovery and `diagnose` run. jit-, vmap- and grad-safe
-    in the isolator.
-
-    - A `SlidingBearing` (flat sliders; a single pendulum adds N u / R outside):
-      F = mu(v, theta, max|Z|) k N Z (Eqs. 1, 17; k its optional parts) with v the path's
-      velocity at each sample and Z exact between samples (`sliding_along_path`); `z0` Z at
-      the first sample (default 0; (2,) in the plane) and `z_peak0` the running max |Z|
-      before it (default 0; 1: already mobilised, no breakaway).
-    - A `SeriesPendulum` (single, double, triple): its sliders balanced at each sample by the
-      structures' step of the isolator from rest (`series_along_path`), with the same slider
-      forces and solver the structures run; `heat_kernel` (rates, weights) of heated surfaces
-      and `friction_velocity` ("mean", the default, or for one surface "end") as there;
-      `reference_load` [N]: the load its surfaces' contact pressures are given under, which
-      a varying N scales (heating, pressure dependence; a structure's W).
-
-    Options one kind does not take are refused by name (`ValueError`), as is a measured
-    temperature rise on the path of a series pendulum, whose surfaces heat by their own flux.
-
-    **Returns:** a `BearingTestResult` at the path's samples.
-    """
-    if isinstance(isolator, SeriesPendulum):
-        given = given_options({"z0": (z0, None), "z_peak0": (z_peak0, None)})
-        if given:
-            raise ValueError(f"{', '.join(given)}: the {isolator.description} start from rest at the path's "
-                             "first sample; drop these options.")
-        if path.temperature_rise is not None:
-            raise ValueError(f"path.temperature_rise: the {isolator.description} heat by their own flux; "
-                             "build the path without a measured temperature rise.")
-        return series_along_path(isolator, path, heat_kernel=heat_kernel,
-                                 friction_velocity="mean" if friction_velocity is None else friction_velocity,
-                                 reference_load=reference_load)
-    if reference_load is not None:
-        raise ValueError("reference_load: a sliding bearing's test reads the path's normal load itself "
-                         "(its pressure dependence and heat flux); drop this option.")
-    if heat_kernel is not None:
-        raise ValueError("heat_kernel: a sliding bearing's test takes the path's own kernel "
-                         "(`sampled_path`); drop this option.")
-    if friction_velocity not in (None, "end"):
-        raise ValueError(f"friction_velocity: a sliding bearing's test takes Eq. 1 at the path's velocity at "
-                         f"each sample ('end'), got {friction_velocity!r}.")
-    return sliding_along_path(isolator, path, z0=z0, z_peak0=0.0 if z_peak0 is None else z_peak0)
 
 
 def _series_test(bearing: SeriesPendulum, motion, normal_load, duration, samples_per_cycle, options,

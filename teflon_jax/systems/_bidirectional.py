@@ -15,12 +15,17 @@ Reference: Constantinou, Mokha & Reinhorn (1990), J. Struct. Eng. 116(2), Eqs. 1
 `advance` (used by `RiccatiNewmark`) takes Newmark's average-acceleration rule for q and the
 bearing forces at the end of the step, with each group's Z updated exactly along its straight
 sliding increment (`park_exact_update`); the 2G bearing displacements solve
-d - d_lin + G_b F(d) = 0 (G_b = B K_eff^-1 B^T): from a predictor that holds the start-of-step forces, a
-fixed number of Newton-Broyden iterations from the tangent of Park's law (the same work for
-every member of a batch, no loop), further Broyden iterations while a member is above
-tolerance, then Newton's method on the exact Jacobian with step halving (`damped_newton`) for
-the members still above it (loops that run only while one of them is). A member within
-tolerance keeps its iterate. A step that does not converge is reported per batch member.
+d - d_lin + G_b F(d) = 0 (G_b = B K_eff^-1 B^T) by `coupled_newton` from a predictor that holds
+the start-of-step forces. A member within tolerance keeps its iterate; a step that does not
+converge is reported per batch member.
+
+The other laws of a group: Coulomb friction (Eq. 2 in the plane: each group slides along its
+force F_g = mu_g W_g v_g / |v_g| or sticks with |F_g| <= mu_g W_g; over a step the maximum
+dissipation problem of `coulomb_disc_forces`), no friction (a linear structure), and a friction
+pendulum's `ConcaveSurface`, whose restrainer and large-displacement force add
+`ConcaveSurface.extra_force` at d_g (under the group's normal load) to the friction force, its
+small-rotation part W_g / R being in K.
+References: Moreau (1988); Beck & Teboulle (2009), SIAM J. Imaging Sciences 2(1), 183-202.
 """
 
 import equinox as eqx
@@ -31,7 +36,11 @@ from ..bearing import ConcaveSurface, SeriesPendulum, SlidingBearing, park_rate
 from ..excitation import Signal
 from ..solver import (
     AbstractSteppedSystem,
-    damped_newton,
+    affine,
+    block_matvec,
+    coulomb_disc_forces,
+    coupled_newton,
+    matvec,
     park_exact_update,
     park_exact_update_and_slope,
 )
@@ -43,17 +52,6 @@ from ..structures import (
     supported_loads,
 )
 from ._bearing_test import running_peak_rate
-from ._bidirectional_laws import (
-    affine,
-    block_matvec,
-    coulomb_solve,
-    matvec,
-    no_friction_solve,
-    solve_blocks,
-    surface_tangent,
-    with_surface_forces,
-)
-from ._sampled_path import has_history, history_factor, history_rates, next_history
 from ._vertical import (
     TablePressure,
     load_factor_at,
@@ -64,21 +62,12 @@ from ._vertical import (
 )
 
 PLANAR_NEWTON_ITERATIONS = 100
-"""Most iterations per step, all kinds together (fixed, Broyden loop, Newton loop; the loops
-run only for members still above tolerance)."""
-
-FIXED_ITERATIONS = 1
-"""Newton-Broyden iterations per step, unrolled (the same work for every batch member); from
-the force-held predictor one is enough for most members (3 cost the rigid-mass Monte Carlo
-~20 % more, measured), the loop below takes the others."""
+"""Most iterations per step, all kinds together (`coupled_newton`'s fixed Broyden step, its
+Broyden loop and its Newton loop; the loops run only for members still above tolerance)."""
 
 NEWTON_TOLERANCE = 1e-5
 """Default tolerance on the bearing equilibrium per step, max |residual| <= this * Y (or 1e3
 rounding units of the displacements, whichever is larger)."""
-
-BROYDEN_ITERATIONS = 8
-"""Most further Newton-Broyden iterations per step, in a loop that runs while a member is
-above tolerance (before the Newton loop)."""
 
 
 class BidirectionalStructure(AbstractSteppedSystem):
@@ -92,7 +81,7 @@ class BidirectionalStructure(AbstractSteppedSystem):
     array leaves have shape (G,) (one set of constants per group); `bearing_load` W_g (G,) [N];
     `ground_x`, `ground_y`: `Signal`s of the ground acceleration [m/s^2]; `newmark_inverse`
     K_eff^-1 for `time_step` [s] (static); `newton_iterations`, `newton_tolerance` (static,
-    in units of Y; 0: to rounding); for a bearing with heating or wear (`_sampled_path.py`):
+    in units of Y; 0: to rounding); for a bearing with heating or wear (`SlidingBearing.next_history`):
     `contact_pressure` (G,) [Pa] and the heat kernel's `heat_rates`, `heat_weights` (K,),
     with the state "heat" (G, K) and "travel" (G,) [m] of each group, their factor on mu
     taken at the start of each step and held over it. `vertical_acceleration`: `Signal` of
@@ -108,7 +97,7 @@ class BidirectionalStructure(AbstractSteppedSystem):
     while others lift with `supports` (`SupportPlan`; `teflon_jax.structures.supported_loads`).
     `friction_model` (static): "hysteretic" (Park's Z), "coulomb" or "none"; `surface`: a
     friction pendulum's `ConcaveSurface` whose restrainer and large-displacement force act
-    beyond its W_g / R in K, or `None` (`_bidirectional_laws.py`). A slab on groups of triple or
+    beyond its W_g / R in K, or `None`. A slab on groups of triple or
     double pendulums holds a `SeriesPendulum` (leaves (G,)) as `bearing` and the exact step's
     (free, start, end) blocks (6, 16) as `step_matrix` (`_series.py`).
     """
@@ -164,14 +153,14 @@ class BidirectionalStructure(AbstractSteppedSystem):
     def history(self) -> bool:
         """True when the bearing's friction depends on the history (heating, wear; Park's Z
         only)."""
-        return self.friction_model == "hysteretic" and has_history(self.bearing)
+        return self.friction_model == "hysteretic" and self.bearing.has_history
 
     def at_state(self, y) -> "BidirectionalStructure":
         """This structure with each group's friction at the temperature and travel of state
         `y` (itself for a bearing without history)."""
         if not self.history:
             return self
-        factor = history_factor(self.bearing, y["heat"], y["travel"], self.heat_weights)
+        factor = self.bearing.history_factor(y["heat"], y["travel"], self.heat_weights)
         return eqx.tree_at(lambda s: s.bearing, self, self.bearing.scaled(factor))
 
     def bearing_forces(self, y):
@@ -244,8 +233,8 @@ class BidirectionalStructure(AbstractSteppedSystem):
             loaded = self.at_load(self.load_at(t, y))
             mu = loaded.at_state(y).bearing.coefficient(velocity[:, 0], velocity[:, 1], y["z_peak"])
             mu, speed = loaded_heat(loaded, mu, speed)
-            rates["heat"], rates["travel"] = history_rates(
-                self.bearing, y["heat"], mu, self.contact_pressure, speed, self.heat_rates)
+            rates["heat"], rates["travel"] = self.bearing.history_rates(
+                y["heat"], mu, self.contact_pressure, speed, self.heat_rates)
         if self.overturning is not None:  # held over fixed steps (RiccatiNewmark) only
             rates["normal_load"] = jnp.zeros_like(y["normal_load"])
         return rates
@@ -281,8 +270,8 @@ class BidirectionalStructure(AbstractSteppedSystem):
         slide = jnp.sqrt(jnp.sum((d1 - d0) ** 2, axis=-1))
         mu0 = stepped.bearing.coefficient(v0[:, 0], v0[:, 1], y0["z_peak"])
         mu0, slide = loaded_heat(self, mu0 * self._asymmetry(y0["z"][:, 0])[1], slide)
-        heat, travel = next_history(self.bearing, y0["heat"], y0["travel"], slide, mu0,
-                                    self.contact_pressure, self.time_step, self.heat_rates)
+        heat, travel = self.bearing.next_history(y0["heat"], y0["travel"], slide, mu0,
+                                                 self.contact_pressure, self.time_step, self.heat_rates)
         return {**y1, "heat": heat, "travel": travel}, converged
 
     def _update(self, y0, a0, ground1):
@@ -329,17 +318,17 @@ class BidirectionalStructure(AbstractSteppedSystem):
         return with_surface_forces(self, (capacity * z[:, 0], capacity * z[:, 1]), d), z
 
     def _residual_forces(self, d, p):
-        """(residual, forces, Z) at bearing displacements d = (dx, dy): r = d - d_lin + G_b F(d)."""
+        """(residual, (forces, Z)) at bearing displacements d = (dx, dy): r = d - d_lin + G_b F(d)."""
         forces, z = self._forces_at(d, p)
-        return affine(p["flexibility"], forces, d, p["d_linear"]), forces, z
+        return affine(p["flexibility"], forces, d, p["d_linear"]), (forces, z)
 
     def _tangent_jacobian(self, d, p, exact: bool = False):
         """Residual r at d = (dx, dy), the Jacobian dr/dd (blocks ((xx, xy), (yx, yy)), each
-        (G, G)), the forces and Z there. The Jacobian is I + G_b K, K each group's 2 x 2 block
+        (G, G)), and (the forces, Z) there. The Jacobian is I + G_b K, K each group's 2 x 2 block
         of the forces, W ((1 + a Z_x) (mu dZ/dU + Z dmu/dU^T) + a mu Z dZ_x/dU^T) with dmu/dv of
         Eq. 1, and by default the tangent of Park's law at the end of the increment,
         dZ/dU = (A I - Z w^T) / Y with w_i = (gamma s_i + beta) Z_i (exact along the increment,
-        too stiff across a long one: the secant updates of `_solve_bearings` correct it); with
+        too stiff across a long one: the secant updates of `coupled_newton` correct it); with
         `exact`, Park's slope written out (`park_exact_update_and_slope`), the exact Jacobian
         of Newton's stage."""
         dt = self.time_step
@@ -378,24 +367,42 @@ class BidirectionalStructure(AbstractSteppedSystem):
         eye = jnp.eye(load.shape[0])
         jacobian = [[(eye if i == j else 0.0) + sum(flex[i][k] * local[k][j][None, :] for k in range(2))
                      for j in range(2)] for i in range(2)]
-        return r, jacobian, forces, z
+        return r, jacobian, (forces, z)
 
     def _solve_bearings(self, p):
         """Bearing forces (x, y parts), Z (G, 2) and convergence at t1: from the predictor
-        that holds the start-of-step forces, `FIXED_ITERATIONS` Newton-Broyden iterations
-        (unrolled, no loop under `vmap`) from the tangent of Park's law at the end state, up to
-        `BROYDEN_ITERATIONS` more while a member is above tolerance, then, for members still
-        above it, Newton's method (the exact Jacobian) with step halving (`damped_newton`).
-        Converged when max|r| <= tolerance. Coulomb and no friction: `_bidirectional_laws.py`."""
+        that holds the start-of-step forces, `coupled_newton` (Broyden's secant iterations
+        from the tangent of Park's law at the end state, then Newton's method on the exact
+        Jacobian). Converged when max|r| <= tolerance. Coulomb friction: `coulomb_disc_forces`;
+        no friction: zero forces, Z held."""
         if self.friction_model == "coulomb":
-            return coulomb_solve(self, p)
+            return self._coulomb_solve(p)
         if self.friction_model == "none":
-            return no_friction_solve(self, p)
+            zero = jnp.zeros_like(p["d_linear"][0])
+            return (zero, zero), jnp.stack(p["z0"], -1), jnp.asarray(True)
         x, tolerance = self._predictor(p)
-        r, jacobian, _, _ = self._tangent_jacobian(x, p)
-        x, r, forces, z, done = self._broyden_iterations(x, r, jacobian, p, tolerance)
-        r, forces, z = self._newton_iterations(x, r, forces, z, done, p, tolerance)
+        r, (forces, z) = coupled_newton(lambda d: self._residual_forces(d, p),
+                                        lambda d, exact: self._tangent_jacobian(d, p, exact), x, tolerance,
+                                        self.newton_iterations)
         return forces, z, jnp.max(jnp.abs(r)) <= tolerance
+
+    def _coulomb_solve(self, p):
+        """Coulomb friction (Eq. 2 in the plane) over the step: the velocities at its end are
+        v = v* - H F, H = (2 / dt) G_b, v* those of the step without bearing forces, and F the
+        minimiser of F^T H F / 2 - v*^T F over the discs |F_g| <= mu_g W_g
+        (`coulomb_disc_forces`); mu is Eq. 1 at |v*_g| (as in one direction) and
+        Z_g = F_g / (mu_g W_g), along v* while a group is uplifted (N = 0)."""
+        dt = self.time_step
+        compliance = 2 / dt * jnp.block([list(row) for row in p["flexibility"]])
+        v_star = jnp.concatenate([2 / dt * (p["d_linear"][i] - p["d0"][i]) - p["vb0"][i] for i in range(2)])
+        n = p["d0"][0].shape[0]
+        capacity = self.bearing.coefficient(v_star[:n], v_star[n:], 1.0) * self.bearing_load  # (G,)
+        force, converged = coulomb_disc_forces(compliance, v_star, capacity)
+        loaded = capacity > 0
+        along = jnp.stack([v_star[:n], v_star[n:]], -1)
+        direction = along / jnp.maximum(jnp.sqrt(jnp.sum(along**2, -1)), jnp.finfo(v_star.dtype).tiny)[:, None]
+        z = jnp.where(loaded[:, None], force / jnp.where(loaded, capacity, 1.0)[:, None], direction)
+        return (force[:, 0], force[:, 1]), z, converged
 
     def _predictor(self, p):
         """Bearing displacements (x, y parts) with the bearing forces held at their
@@ -411,80 +418,6 @@ class BidirectionalStructure(AbstractSteppedSystem):
         yield_disp = jnp.min(jnp.asarray(self.bearing.hysteresis.yield_disp))
         return x, jnp.maximum(self.newton_tolerance * yield_disp, 1e3 * eps * scale)
 
-    def _broyden_update(self, x, r, jacobian, p, tolerance):
-        """One Newton step with the current Jacobian, then its secant (Broyden) update;
-        a member already within tolerance keeps its iterate (no step at round-off)."""
-        tiny = jnp.finfo(x[0].dtype).tiny
-        off = _largest(r) > tolerance
-        step = solve_blocks(jacobian, r)
-        finite = jnp.isfinite(step[0]).all() & jnp.isfinite(step[1]).all() & off
-        step = tuple(jnp.where(finite, -step[i], jnp.where(off, -r[i], 0.0)) for i in range(2))
-        x = (x[0] + step[0], x[1] + step[1])
-        r_new, forces, z = self._residual_forces(x, p)
-        predicted = block_matvec(jacobian, step)
-        mismatch = [r_new[i] - r[i] - predicted[i] for i in range(2)]
-        norm2 = jnp.maximum(jnp.sum(step[0] ** 2) + jnp.sum(step[1] ** 2), tiny)
-        jacobian = [[jacobian[i][j] + jnp.outer(mismatch[i], step[j]) / norm2 for j in range(2)]
-                    for i in range(2)]
-        return x, r_new, jacobian, forces, z
-
-    def _broyden_iterations(self, x, r, jacobian, p, tolerance):
-        """`FIXED_ITERATIONS` unrolled secant iterations, then more while a member is above
-        tolerance; returns the best iterate seen (x, r, forces, Z) and the iterations done."""
-        fixed = min(FIXED_ITERATIONS, self.newton_iterations)  # newton_iterations bounds them all
-        for _ in range(fixed):  # unrolled: the same work for every member
-            x, r, jacobian, forces, z = self._broyden_update(x, r, jacobian, p, tolerance)
-
-        def broyden_body(carry):
-            x, r, jacobian, forces, z, k, best = carry
-            x, r, jacobian, forces, z = self._broyden_update(x, r, jacobian, p, tolerance)
-            better = _largest(r) < _largest(best[1])
-            best = jax.tree.map(lambda new, old: jnp.where(better, new, old), (x, r, forces, z), best)
-            return x, r, jacobian, forces, z, k + 1, best
-
-        # more secant iterations, one batch-wide residual each, while a member is off; a secant
-        # step can lead away from the root, so Newton's loop starts from the best iterate seen
-        broyden_limit = fixed + min(BROYDEN_ITERATIONS, self.newton_iterations - fixed)
-        *_, done, (x, r, forces, z) = jax.lax.while_loop(
-            lambda c: (_largest(c[1]) > tolerance) & (c[5] < broyden_limit), broyden_body,
-            (x, r, jacobian, forces, z, fixed, (x, r, forces, z))
-        )
-        return x, r, forces, z, done
-
-    def _newton_iterations(self, x, r, forces, z, done, p, tolerance):
-        """Newton's method (the exact Jacobian, `_tangent_jacobian` with `exact`; the residual
-        itself where that gives no finite direction) with step halving (`damped_newton`), while
-        a member is above tolerance, counting on from the `done` iterations before it; returns
-        (r flat, forces, Z)."""
-        n_groups = self.bearing_load.shape[0]
-
-        def split(flat):
-            return flat[:n_groups], flat[n_groups:]
-
-        def direction(r, jacobian):
-            step = jnp.linalg.solve(jnp.block(jacobian), r)
-            return jnp.where(jnp.all(jnp.isfinite(step)), step, r)
-
-        def evaluate(flat):
-            r, jacobian, forces, z = self._tangent_jacobian(split(flat), p, exact=True)
-            r = jnp.concatenate(r)
-            return r, jnp.sum(r**2), direction(r, jacobian), forces, z
-
-        # the start's direction zero and its merit infinite: the loop's first pass evaluates the
-        # start itself (one copy of the exact Jacobian in the compiled step, not two), and is not
-        # counted; `newton_iterations` caps the steps of every stage together (no rescue steps)
-        r = jnp.concatenate(r)
-        start = jnp.concatenate(x)
-        first = (r, jnp.asarray(jnp.inf, r.dtype), jnp.zeros_like(r), forces, z)
-        *_, (r, _, _, forces, z) = damped_newton(evaluate, start, tolerance, self.newton_iterations, first=first,
-                                                  taken=done - 1, rescue=0)
-        return r, forces, z
-
-
-def _largest(r):
-    """Largest |r| over the x and y parts of a residual."""
-    return jnp.maximum(jnp.max(jnp.abs(r[0])), jnp.max(jnp.abs(r[1])))
-
 
 def overturning_step(system, t0, t1, y0, a0):
     """One step of `system` (a `BidirectionalStructure` with `overturning`) from (t0, y0) with
@@ -494,3 +427,29 @@ def overturning_step(system, t0, t1, y0, a0):
     loads, rests = supported_loads(system, overturning_force(system, a0, system.ground(t0)), t1)
     y1, converged = system.at_load(group_factor(system, loads)).newmark_update(y0, a0, system.ground(t1))
     return {**y1, "normal_load": loads}, converged & rests
+
+
+def _surface_forces(system, dx, dy):
+    """The surface's force beyond W_g d_g / R (x and y parts, each (G,)) [N] at the groups'
+    displacements (dx, dy) [m], under the groups' loads `bearing_load`."""
+    force = system.surface.extra_force(jnp.stack([dx, dy], -1), system.bearing_load)
+    return force[:, 0], force[:, 1]
+
+
+def with_surface_forces(system, forces, d):
+    """`forces` (x, y parts) [N] plus the surface's at the displacements `d` (x, y parts) [m];
+    `forces` themselves without a nonlinear surface (no work added to the flat sliders' step)."""
+    if system.surface is None:
+        return forces
+    extra = _surface_forces(system, d[0], d[1])
+    return forces[0] + extra[0], forces[1] + extra[1]
+
+
+def surface_tangent(system, dx, dy):
+    """d(surface force)/d(d) per group: ((xx, xy), (yx, yy)), each (G,) [N/m]."""
+    def force(dx, dy):
+        return _surface_forces(system, dx, dy)
+
+    _, column_x = jax.jvp(force, (dx, dy), (jnp.ones_like(dx), jnp.zeros_like(dy)))
+    _, column_y = jax.jvp(force, (dx, dy), (jnp.zeros_like(dx), jnp.ones_like(dy)))
+    return (column_x[0], column_y[0]), (column_x[1], column_y[1])

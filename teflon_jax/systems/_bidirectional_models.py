@@ -12,15 +12,14 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..bearing import SeriesPendulum, SlidingBearing, heat_kernel_exponentials
+from ..bearing import HEAT_HORIZON, SeriesPendulum, SlidingBearing, heat_kernel_exponentials
 from ..excitation import Signal
 from ..solver import require_riccati_form
 from ..structures import initial_normal_load
 from ..tables import BuildingData
 from ._bidirectional import PLANAR_NEWTON_ITERATIONS, BidirectionalStructure
-from ._bidirectional_laws import check_planar_law
 from ._response import StructureResponse, group_uplift_time
-from ._sampled_path import HEAT_HORIZON
+from ._structure import FRICTION_MODELS
 from ._structure_build import (
     check_storey_height,
     check_structure_parts,
@@ -134,6 +133,19 @@ BIDIRECTIONAL_TIME_STEP = 0.0025
 shear within 0.5 % of adaptive Tsit5 (rtol 1e-9) for the rigid mass and the building under the
 PEER RSN6 pair and the SCT 1985 pair (tests/test_bidirectional_records.py); at 10 ms the RSN6
 building is 1.2 % off."""
+
+
+def check_planar_law(friction_model, surface, bearing):
+    """`ValueError` naming the argument for an unknown friction model, a Coulomb bearing with
+    parts beyond Eq. 1, or a restrainer or large-displacement surface without Park's Z."""
+    if friction_model not in FRICTION_MODELS:
+        raise ValueError(f"friction_model: unknown {friction_model!r}; accepted: {', '.join(FRICTION_MODELS)}.")
+    if friction_model == "coulomb" and bearing is not None and bearing.effects:
+        raise ValueError(f"bearing: the Coulomb model runs Eq. 1 alone, not its "
+                         f"{', '.join(bearing.effects)}; use friction_model='hysteretic'.")
+    if surface is not None and not surface.is_linear and friction_model != "hysteretic":
+        raise ValueError("surface: its restrainer or large-displacement force is solved with the "
+                         f"hysteretic friction model, not {friction_model!r}.")
 
 
 def _two_direction_refusal(names: str) -> str:

@@ -1,6 +1,6 @@
 """The sliders' balance of a friction pendulum of sliders in series over one step, in one or two
 horizontal components: what a structure on the isolator (`_series.py`) and the
-isolator's bearing test along an imposed path (`series_along_path`) step through.
+isolator's bearing test along an imposed path (`_imposed_path.series_along_path`) step through.
 
 S sliders carry one force F and their increments d_e add up to the isolator's; slider e
 carries F_e(d_e) (`slider_forces`: Eq. 1 at the surface's mean velocity over the step, f_min
@@ -23,19 +23,14 @@ implicitly with exact slopes (`implicit_root`). At a normal load N <= 0 (uplift)
 carry nothing and share the isolator's increment as their pendulum stiffnesses W / R_e in
 series would (`uplift_increments`).
 
-The bearing test (`series_along_path`) drives the isolator along a displacement path: the
-same step with the structure replaced by the path, the sliders' increments adding up to the
-path's increment exactly, their forces equal to `TEST_TOLERANCE` W. References: Fenz &
-Constantinou (2006), Earthquake Engng Struct. Dyn. 35; (2008), Earthquake Spectra 24(4); Park,
-Wen & Ang (1986); Constantinou, Mokha & Reinhorn (1990), Eqs. 1, 3.
+References: Fenz & Constantinou (2006), Earthquake Engng Struct. Dyn. 35; (2008), Earthquake
+Spectra 24(4); Park, Wen & Ang (1986); Constantinou, Mokha & Reinhorn (1990), Eqs. 1, 3.
 """
 
 import functools
 
-import equinox as eqx
 import jax
 import jax.numpy as jnp
-import numpy as np
 
 from ..bearing import SeriesPendulum
 from ..solver import (
@@ -49,16 +44,11 @@ from ..solver import (
     sherman_morrison,
     woodbury,
 )
-from ._response import BearingTestResult
-from ._sampled_path import SampledPath
 from ._sliders import (
-    FRICTION_VELOCITIES,
     balance_forces,
     floor_stiffnesses,
     heated_step,
-    initial_history,
     next_history,
-    series_heat_kernel,
     slider_lengths,
     step_history,
 )
@@ -327,168 +317,3 @@ def _plane_solve(d, p, r, dp):
         c = inverse2(blocks)
         return direction - jnp.einsum("eij,j->ei", c, inverse2(jnp.sum(c, 0)) @ dp["D"])
     return direction
-
-
-# --------------------------------------------------------------------------- the imposed path
-
-
-TEST_TOLERANCE = 1e-12
-"""The sliders' force imbalance [-] over W at which a test step stops: a record simulated for
-a fit is balanced to rounding, far below the structures' `TRIPLE_TOLERANCE`."""
-
-
-def _path_step(pendulum, kernel, state, target, load, dt, velocity=None, load_factor=None):
-    """One step of the isolator to the path's displacement `target` ((,) or (2,) [m]) from its
-    state (`_series.initial_isolator`'s, the force per unit normal load F / N in place of
-    the force beyond a reference spring) over `dt` [s], under the path's normal load `load` [N]
-    at the step's end: the structures' step of the isolator (`slider_step`) with the sliders'
-    increments adding up to D = target - sum(sliders), from the extrapolated increments with
-    their misfit to D shared evenly; `velocity` [m/s]: the path's at `target`, for the law
-    "end" (one surface), else `None`; `load_factor` N / W_ref [-] at the step's end, on the
-    contact pressures of surfaces that read them (`SeriesPendulum.reads_pressure`), as a
-    structure's load factor N / W is, or `None` (the pressures as given). The sliders' forces are
-    N times their forces under a unit load at that pressure (`slider_forces`), so the balance is
-    solved once per unit load, to `TEST_TOLERANCE` [-], and its force scaled by N: the same
-    increments, with the balance's work free of N (a load that changes from step to step would
-    otherwise be carried through every iteration)."""
-    slider, unit = state[0], jnp.ones((), state[0].dtype)
-    p = isolator_parameters(pendulum, state, unit, unit, target - jnp.sum(slider, axis=0),
-                            heat_weights=None if kernel is None else kernel[1])
-    if velocity is not None:
-        p["v"] = (velocity, jnp.zeros_like(velocity))
-    if load_factor is not None:  # on the pressures of the force law and the heat flux; positive: no uplift
-        p["s"] = load_factor
-    guess = predicted_increments(state[2])
-    guess = guess + (p["D"] - jnp.sum(guess, axis=0)) / pendulum.slider_count
-    limit = jnp.maximum(TEST_TOLERANCE, 32 * jnp.finfo(slider.dtype).eps)
-    new, converged, force = slider_step(state, p, guess, limit, dt, TRIPLE_NEWTON_ITERATIONS,
-                                        heat_rates=None if kernel is None else kernel[0])
-    return new, (load * force, new[0], new[1], converged)
-
-
-def _along_path(pendulum, loads, steps, path, kernel, velocity=None, reference_load=None):
-    """Scan `_path_step` along `path` (nt,) or (nt, 2) [m] from rest, under the normal loads
-    `loads` (nt,) [N] of its samples, over the steps `steps` (nt - 1,) [s] between them (with
-    the path's `velocity`, like it, for the law "end"; with `reference_load` W_ref [N], the
-    load factors N / W_ref on the contact pressures): (force, slider, z, converged) of the
-    steps after the first sample."""
-    shape = (pendulum.slider_count,) + path.shape[1:]
-    zeros = jnp.zeros(shape, path.dtype)
-    start = (zeros, zeros, jnp.stack([zeros, zeros]), jnp.zeros(path.shape[1:], path.dtype))
-    if kernel is not None:
-        start = start + (jnp.zeros((pendulum.slider_count, kernel[0].shape[0]), path.dtype),)
-    if pendulum.remembers:
-        start = start + (initial_history(pendulum, shape[:1], path.dtype),)
-
-    def body(state, inputs):
-        target, load, dt, velocity, load_factor = inputs
-        return _path_step(pendulum, kernel, state, target, load, dt, velocity, load_factor)
-
-    factors = None if reference_load is None else loads[1:] / reference_load
-    inputs = (path[1:], loads[1:], steps, None if velocity is None else velocity[1:], factors)
-    return jax.lax.scan(body, start, inputs)[1]
-
-
-def series_along_path(bearing: SeriesPendulum, path: SampledPath, *, heat_kernel=None,
-                      friction_velocity: str = "mean", reference_load=None) -> BearingTestResult:
-    """Force of a series pendulum [N] along the imposed displacement of `path` (a
-    `SampledPath`: along x, or in the plane), from rest at its first sample, under the path's
-    normal load N [N] at each sample (module docstring); `respond_along_path` for a
-    `SeriesPendulum`. jit-, vmap- and grad-safe once the bearing is checked
-    (`check_series_pendulum`). Surfaces that read their contact pressure
-    (`SeriesPendulum.reads_pressure`: heating, pressure dependence) take it as given
-    (`<slider>_pressure`) times N / `reference_load` [N], the load the pressures are given under
-    (a structure's W), as a structure under a vertical record takes it; without
-    `reference_load` the pressures hold at the path's N, which must then be constant
-    (`normal_load_varies`). A pendulum with heated surfaces scales each surface's friction
-    by its temperature (`_sliders.heated_step`; in the plane the flux takes the length of
-    each surface's increment), with `heat_kernel` (rates, weights) =
-    `heat_kernel_exponentials(dt, horizon)`, by default from concrete sample times (the
-    shortest step to `HEAT_HORIZON`). `friction_velocity` (`FRICTION_VELOCITIES`): "mean",
-    or for a one-surface isolator "end", Eq. 1 at the path's velocity at each sample, as a
-    flat bearing's test takes it.
-
-    **Returns:** a `BearingTestResult`: the path (`time`, `ux`, `uy`, `vx`, `vy`),
-    `normal_load`, the force `fx`, `fy` [N] (`fy` zeros along one axis), the sliders'
-    displacements `slider` and `z`, (nt, S) or (nt, S, 2), in the order of the pendulum's
-    `slider_names`, and `converged` (nt,), whether each step's force balance met its tolerance."""
-    planar, time = path.planar, path.time
-    displacement = jnp.stack([path.ux, path.uy], -1) if planar else path.ux
-    kernel = _test_heat_kernel(bearing, time, heat_kernel)
-    load = _path_load(bearing, path, reference_load)
-    velocity = _path_velocity(bearing, friction_velocity, path)
-    reference = None if reference_load is None or not bearing.reads_pressure else reference_load
-    force, slider, z, converged = _along_path(bearing, load, jnp.diff(time), displacement, kernel, velocity,
-                                              reference)
-
-    def first(rest):
-        return jnp.concatenate([jnp.zeros((1,) + rest.shape[1:], rest.dtype), rest])
-
-    force = first(force)
-    return BearingTestResult(
-        time=time, fx=force[:, 0] if planar else force, fy=force[:, 1] if planar else jnp.zeros_like(force),
-        z=first(z), normal_load=load, ux=path.ux, uy=path.uy, vx=path.velocity_x, vy=path.velocity_y,
-        slider=first(slider), converged=jnp.concatenate([jnp.array([True]), converged]))
-
-
-LOAD_SPREAD = 1e-9
-"""Largest spread of the normal load [-], over its largest value, that the test of a pendulum
-whose surfaces read their contact pressure takes as one load, without a reference load."""
-
-
-def normal_load_varies(load):
-    """Whether the normal loads (nt,) [N] of a path spread by more than `LOAD_SPREAD` of the
-    largest: a bool array, of concrete loads or of traced ones."""
-    load = jnp.asarray(load)
-    return jnp.ptp(load) > LOAD_SPREAD * jnp.max(load)
-
-
-def _path_load(bearing: SeriesPendulum, path: SampledPath, reference_load=None):
-    """The path's normal loads (nt,) [N]; a load that is not positive, or one that varies
-    (`normal_load_varies`) under a pendulum whose surfaces read their contact pressure without
-    `reference_load`, is refused by name, as is a `reference_load` that is not positive
-    (`ValueError` with what is wrong where the loads are concrete, else a runtime error naming
-    each check)."""
-    load = path.normal_load
-    checks = [(jnp.any(jnp.asarray(load) <= 0),
-               "path.normal_load: a series pendulum's test needs a positive normal load at every sample.")]
-    if reference_load is not None:
-        checks.append((~(jnp.asarray(reference_load) > 0),
-                       "reference_load: give the positive load [N] the contact pressures are given under."))
-    elif bearing.reads_pressure:
-        checks.append((normal_load_varies(load),
-                       f"path.normal_load: it varies, and the {bearing.description}' surfaces read their contact "
-                       "pressure, given under one load: give a constant normal load, or that load as "
-                       "reference_load."))
-    if isinstance(load, jax.core.Tracer) or isinstance(reference_load, jax.core.Tracer):
-        bad = functools.reduce(jnp.logical_or, [failed for failed, _ in checks])
-        return eqx.error_if(load, bad, " Or: ".join(message for _, message in checks))
-    wrong = [message for failed, message in checks if bool(failed)]
-    if wrong:
-        raise ValueError(" ".join(wrong))
-    return load
-
-
-def _path_velocity(bearing: SeriesPendulum, friction_velocity: str, path: SampledPath):
-    """The path's velocity [m/s] (nt,) or (nt, 2) for the law "end", `None` for "mean";
-    `ValueError` naming `friction_velocity`."""
-    if friction_velocity not in FRICTION_VELOCITIES:
-        raise ValueError(f"friction_velocity: unknown {friction_velocity!r}; accepted: {', '.join(FRICTION_VELOCITIES)}.")
-    if friction_velocity == "mean":
-        return None
-    if bearing.slider_count != 1:
-        raise ValueError(f"friction_velocity: 'end' needs a one-surface isolator; the {bearing.description} "
-                         f"have {bearing.slider_count} sliders.")
-    return jnp.stack([path.velocity_x, path.velocity_y], -1) if path.planar else path.velocity_x
-
-
-def _test_heat_kernel(bearing: SeriesPendulum, time, heat_kernel):
-    """(rates, weights) of a heated pendulum's kernel (`series_along_path`), else None."""
-    if not bearing.heated:
-        return None
-    if heat_kernel is not None:
-        return tuple(jnp.asarray(a, float) for a in heat_kernel)
-    if isinstance(time, jax.core.Tracer):
-        raise ValueError("heat_kernel: a heated pendulum under traced sample times needs "
-                         "heat_kernel=heat_kernel_exponentials(time_step, horizon) (or concrete times).")
-    return series_heat_kernel(bearing, float(np.min(np.diff(np.asarray(time)))))

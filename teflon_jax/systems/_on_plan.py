@@ -133,7 +133,7 @@ def slab_on_bearings(
       group) balance their sliders at each step: no springs, radii or contact pressures (heated surfaces take theirs from the
       pendulums, each group's times its N_g / W_g; `_series.py`).
     - `friction_model`: "hysteretic" (Park's Z), "coulomb" or "none" for flat sliders and
-      single pendulums (`_bidirectional_laws.py`); the series pendulums' sliders follow Park's Z.
+      single pendulums (`_bidirectional.py`); the series pendulums' sliders follow Park's Z.
 
     **Returns:** a `BidirectionalStructure` with q = (u_x [m], u_y [m], theta [rad]) for every
     isolator (`simulate_history`); series pendulums as its stacked `bearing`.

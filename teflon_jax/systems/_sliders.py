@@ -55,6 +55,7 @@ import jax
 import jax.numpy as jnp
 
 from ..bearing import (
+    HEAT_HORIZON,
     STOP_STIFFNESS_RATIO,
     SeriesPendulum,
     advance_heat_states,
@@ -69,7 +70,6 @@ from ..solver import (
     park_exact_update,
     park_exact_update_and_slope,
 )
-from ._sampled_path import HEAT_HORIZON
 
 
 def slider_forces(pendulum: SeriesPendulum, load, slider0, z0, increment, time_step, factors=None, history=None,

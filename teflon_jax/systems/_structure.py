@@ -31,7 +31,6 @@ from ..solver import AbstractSteppedSystem, require_riccati_form
 from ..structures import newmark_step_matrices, small_dot
 from ._bearing_test import running_peak_rate
 from ._isolator_balance import BALANCES
-from ._sampled_path import has_history, history_factor, history_rates, next_history
 from ._sliders import isolator_root, predicted_root
 from ._vertical import (
     TablePressure,
@@ -199,11 +198,11 @@ class StructureOnSliders(AbstractSteppedSystem):
     @property
     def history(self) -> bool:
         """True when the bearing's friction depends on the history (heating, wear)."""
-        return self.friction_model == "hysteretic" and has_history(self.bearing)
+        return self.friction_model == "hysteretic" and self.bearing.has_history
 
     def history_factor(self, heat, travel):
         """Factor on mu [-] of the surface temperature (heat states) and the travel [m]."""
-        return history_factor(self.bearing, heat, travel, self.heat_weights)
+        return self.bearing.history_factor(heat, travel, self.heat_weights)
 
     def at_history(self, heat, travel) -> "StructureOnSliders":
         """This structure with the friction of its bearing at that temperature and travel."""
@@ -226,8 +225,8 @@ class StructureOnSliders(AbstractSteppedSystem):
         slide = jnp.abs(u1 - u0)
         if load0 is not None:
             mu0, slide = self.loaded(mu0, load0), jnp.where(load0 > 0, slide, 0.0)
-        return next_history(self.bearing, heat, travel, slide, mu0,
-                            self.contact_pressure, self.time_step, self.heat_rates)
+        return self.bearing.next_history(heat, travel, slide, mu0, self.contact_pressure, self.time_step,
+                                         self.heat_rates)
 
     def surface_force(self, u0, load=None):
         """E(u0) [N]: the surface's force beyond W u0 / R at isolator displacement u0 [m]
@@ -304,8 +303,7 @@ class StructureOnSliders(AbstractSteppedSystem):
         speed = jnp.abs(y["v"][0])
         if load is not None:
             mu, speed = self.loaded(mu, load), jnp.where(load > 0, speed, 0.0)
-        heat, travel = history_rates(self.bearing, y["heat"], mu, self.contact_pressure,
-                                     speed, self.heat_rates)
+        heat, travel = self.bearing.history_rates(y["heat"], mu, self.contact_pressure, speed, self.heat_rates)
         return {"heat": heat, "travel": travel}
 
     def advance(self, t0, t1, y0, args):

@@ -22,6 +22,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..bearing import (
+    HEAT_HORIZON,
     SeriesPendulum,
     SlidingBearing,
     check_bearing,
@@ -37,7 +38,6 @@ from ..structures import (
 from ..tables import BuildingData
 from ..units import STANDARD_GRAVITY
 from ._response import StructureResponse
-from ._sampled_path import HEAT_HORIZON
 from ._structure import (
     FRICTION_MODELS,
     NEWTON_ITERATIONS,
