@@ -140,6 +140,39 @@ def pressure_note(law: dict, az) -> str | None:
     return text
 
 
+def check_vertical_pressures(system, rows) -> None:
+    """`ValueError` before any run where a vertical component would take the contact pressure of
+    `system`'s bearings (Table 1 read at the momentary pressure, `TablePressure`) to where Eq. 1
+    cannot take their constants: `rows` [(what the user gave, a_v (n,) [m/s^2])], each checked
+    at the least and largest load factor s > 0 of its samples (the steps interpolate between
+    them), at the table's rows between, and near s = 0 where it lifts; nothing for a system
+    without the table."""
+    import jax.numpy as jnp
+
+    from ..systems import normal_load_factor
+    from ..units import PSI
+
+    table = getattr(system, "pressure_table", None)
+    if table is None:
+        return
+    breaks = table.constant_breaks()
+    for where, az in rows:
+        s = np.asarray(normal_load_factor(np.asarray(az)))
+        loaded = s[s > 0]
+        if loaded.size == 0:
+            continue
+        low, high = loaded.min(), loaded.max()
+        points = [high, low, *breaks[(breaks > low) & (breaks < high)]] + ([1e-9] if np.any(s <= 0) else [])
+        for point in points:
+            if not bool(table.valid_at(system.bearing, jnp.asarray(point))):
+                pressure = point * float(np.max(np.asarray(table.pressure)))
+                raise ValueError(
+                    f"{where}: the vertical component takes the bearings' contact pressure to {pressure / PSI:.0f} psi "
+                    f"(N / W = {point:.3g}), where Table 1's extended end segments give no Eq. 1 constants for them "
+                    "(f_max > delta_f >= 0, rate_a >= 0, breakaway ratio >= 1); give the bearing's constants at "
+                    "such pressures (--bearing, a file with a pressure dependence) or a lighter vertical record.")
+
+
 def response_uplift(response) -> dict:
     """The JSON entries of the uplift of a run's response (its `uplift_time` [s] and
     `load_factor` history): whether N <= 0 at any step and for how long [s]; {} without a

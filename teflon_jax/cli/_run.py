@@ -57,7 +57,8 @@ def add_run_parser(subparsers) -> None:
     p.add_argument("--record-x", default=None, help="x component: PEER .AT2 or a two-column "
                    "(time, acceleration) file with --record-units (required unless --suite)")
     p.add_argument("--suite", default=None, help="CSV of record pairs (record_x, record_y, scale, "
-                   "optional name) run in one call; writes <json stem>.csv and .nc (default suite.*)")
+                   "optional name and record_z, a vertical component) run in one call; writes <json stem>.csv "
+                   "and .nc (default suite.*)")
     add_suite_arguments(p)
     p.add_argument("--record-y", default=None, help="y component (default: none)")
     add_vertical_flag(p)
@@ -101,7 +102,12 @@ def run_run(args) -> int:
         raise ValueError(f"--histories: {args.histories} must end in .nc or .csv.")
     from ..excitation import uniform_signal
     from ..systems import step_count
-    from ._normal_load import pressure_law, pressure_note, with_vertical
+    from ._normal_load import (
+        check_vertical_pressures,
+        pressure_law,
+        pressure_note,
+        with_vertical,
+    )
     from ._run_output import write_run_outputs
     from ._run_records import load_components, vertical_component
     from ._run_response import reduce_run, simulate_run
@@ -114,6 +120,8 @@ def run_run(args) -> int:
     az, law = vertical_component(args, dt, ax.size), pressure_law(args, isolator, flags.plan)
     system = with_vertical(system, az, dt, radius=isolator.radius if flags.plan is None else None,  # a slab's
                            **law)  # groups hold their W_g / R_g
+    if az is not None:
+        check_vertical_pressures(system, [(f"--record-z {args.record_z}", az)])
     note = pressure_note(law, az)
     if note is not None:
         notes.append(note)

@@ -144,8 +144,14 @@ def base_index(system) -> tuple:
     return _engine(system).base(system)
 
 
-def with_ground(system, ground_x, ground_y):
-    """`system` under the ground `Signal`s `ground_x`, `ground_y` [m/s^2] instead of its own."""
+def with_ground(system, ground_x, ground_y, ground_z=None):
+    """`system` under the ground `Signal`s `ground_x`, `ground_y` [m/s^2] instead of its own,
+    and `ground_z` [m/s^2, up +] instead of its vertical record (given where it has one)."""
     import equinox as eqx
 
-    return eqx.tree_at(_engine(system).ground, system, (ground_x, ground_y))
+    system = eqx.tree_at(_engine(system).ground, system, (ground_x, ground_y))
+    if ground_z is None:
+        return system
+    if system.vertical_acceleration is None:
+        raise ValueError("ground_z: the structure has no vertical record to replace (with_vertical first).")
+    return eqx.tree_at(lambda s: s.vertical_acceleration, system, ground_z)

@@ -116,14 +116,18 @@ def _slab(args, isolator, flags: StructureFlags, ground_x, ground_y):
         **options)
 
 
-def suite_build(args, isolator, ax0, ay0, dt, friction_factors=None):
-    """(build(ground_x, ground_y) -> the structure of one pair, its degrees of freedom, the
-    base's coordinates in x and y, the slab's plan or None) of `run --suite`: the structure
-    of the flags (`build_structure`, under both components) built once on the first pair
-    (`ax0`, `ay0` [m/s^2], step `dt` [s]), its ground motion replaced by each pair's; with
+def suite_build(args, isolator, ax0, ay0, dt, friction_factors=None, vertical=None):
+    """(build(ground_x, ground_y[, ground_z]) -> the structure of one pair, its degrees of
+    freedom, the base's coordinates in x and y, the slab's plan or None) of `run --suite`: the
+    structure of the flags (`build_structure`, under both components) built once on the first
+    pair (`ax0`, `ay0` [m/s^2], step `dt` [s]), its ground motion replaced by each pair's; with
     `friction_factors` ({"f_max", "delta_f", "rate_a": factor}) a `--bearing` file's Eq. 1
-    constants scaled wherever the structure carries them (`studies.with_friction_factors`)."""
+    constants scaled wherever the structure carries them (`studies.with_friction_factors`);
+    with `vertical` (az (P, n) [m/s^2], the pressure law, the pair names), under each pair's
+    vertical component too, as `run --record-z` puts it (`with_vertical`), each checked before
+    any run (`check_vertical_pressures`)."""
     from ..excitation import uniform_signal
+    from ._normal_load import check_vertical_pressures, with_vertical
     from ._run_response import base_index, with_ground
 
     flags = read_structure(args, isolator)
@@ -132,8 +136,14 @@ def suite_build(args, isolator, ax0, ay0, dt, friction_factors=None):
         from ..studies import with_friction_factors
 
         template = with_friction_factors(template, friction_factors)
+    if vertical is not None:
+        az, law, names = vertical
+        template = with_vertical(template, az[0], dt, radius=isolator.radius if flags.plan is None else None,
+                                 **law)  # a slab's groups hold their W_g / R_g
+        check_vertical_pressures(template, [(f"--suite {args.suite}, pair {name}: record_z", row)
+                                            for name, row in zip(names, az)])
 
-    def build(ground_x, ground_y):
-        return with_ground(template, ground_x, ground_y)
+    def build(ground_x, ground_y, ground_z=None):
+        return with_ground(template, ground_x, ground_y, ground_z)
 
     return build, template.mass.shape[-1], base_index(template), flags.plan

@@ -1,6 +1,8 @@
 """`teflon-jax run --suite FILE`: record pairs with scale factors, listed in a small CSV
-(columns `record_x`, `record_y` (may be empty), `scale`; paths relative to the CSV), through one
-structure in one vmapped call; per-pair peaks, mean and maximum in one table and one NetCDF.
+(columns `record_x`, `record_y` (may be empty), `scale`, optional `name` and `record_z`, the
+vertical component; paths relative to the CSV), through one structure in one vmapped call;
+per-pair peaks (with a vertical component, each pair's uplift too), mean and maximum in one
+table and one NetCDF.
 With `--scheduler local:N|ADDRESS` the pairs run as chunks of `--chunk-size` on a Dask cluster,
 their peaks streamed to `--out FILE.nc` (`teflon_jax.studies.suite_peaks_distributed`)."""
 
@@ -47,14 +49,17 @@ def check_suite_flags(args) -> None:
                 raise ValueError(f"{flag}: only used with --suite FILE (a single record runs here).")
 
 
+SUITE_COLUMNS = ("record_x", "record_y", "scale", "name", "record_z")
+"""The columns of a suite CSV (`record_x` required)."""
+
 SUMMARY_ROWS = ("mean", "max")
 """The rows the suite table adds after the pairs: a pair may not take their names."""
 
 
 def read_suite(path_text):
-    """[(name, x path, y path or None, scale)] from the suite CSV; errors name file and line,
-    also for a file that is not UTF-8 text and for a pair name that is another pair's or a
-    summary row's (`SUMMARY_ROWS`)."""
+    """[(name, x path, y path or None, z path or None, scale)] from the suite CSV; errors name
+    file and line, also for a file that is not UTF-8 text, for a column the suite does not
+    take and for a pair name that is another pair's or a summary row's (`SUMMARY_ROWS`)."""
     path = pathlib.Path(path_text)
     if not path.is_file():
         raise ValueError(f"--suite: {path} is not a file.")
@@ -66,12 +71,17 @@ def read_suite(path_text):
                          "give the CSV of record pairs: record_x, record_y, scale, name.") from None
     if not rows or "record_x" not in rows[0]:
         raise ValueError(f"--suite: {path}, line 1: expected the columns record_x, record_y, scale.")
+    unknown = [c for c in rows[0] if c is not None and c.strip() not in SUITE_COLUMNS]
+    if unknown:
+        raise ValueError(f"--suite: {path}, line 1: unknown column {unknown[0]!r}; the suite takes "
+                         f"{', '.join(SUITE_COLUMNS)}.")
     pairs, lines = [], {}
     for line, row in enumerate(rows, start=2):
         x = (row.get("record_x") or "").strip()
         if not x:
             raise ValueError(f"--suite: {path}, line {line}: record_x is empty.")
         y = (row.get("record_y") or "").strip() or None
+        z = (row.get("record_z") or "").strip() or None
         try:
             scale = float(row.get("scale") or 1.0)
         except ValueError:
@@ -82,11 +92,11 @@ def read_suite(path_text):
         name = (row.get("name") or "").strip() or pathlib.Path(x).stem
         _check_name(path, line, name, lines)
         lines[name] = line
-        pairs.append((name, resolve(x), None if y is None else resolve(y), scale))
-    for name, x, y, _ in pairs:  # inputs of the run, hashed in its results
-        note_input_file(f"--suite {path}: {name}.record_x", x)
-        if y is not None:
-            note_input_file(f"--suite {path}: {name}.record_y", y)
+        pairs.append((name, resolve(x), None if y is None else resolve(y), None if z is None else resolve(z), scale))
+    for name, *records, _ in pairs:  # inputs of the run, hashed in its results
+        for column, record in zip(("record_x", "record_y", "record_z"), records):
+            if record is not None:
+                note_input_file(f"--suite {path}: {name}.{column}", record)
     return pairs
 
 
@@ -111,13 +121,13 @@ def check_pairs(args, pairs) -> list:
 
     from ..studies import BOUNDING_CASES
 
-    check_record_units(args.record_units, [("--suite", path) for _, x, y, _ in pairs for path in (x, y)
+    check_record_units(args.record_units, [("--suite", path) for _, *records, _ in pairs for path in records
                                            if path is not None])
     stem = pathlib.Path(args.json).with_suffix("") if args.json else pathlib.Path("suite")
     tables = [pathlib.Path(f"{stem}{case}{suffix}") for case in ("", *(f"-{c}" for c in BOUNDING_CASES))
               for suffix in (".csv", ".nc")]
-    inputs = [("the --suite file", args.suite), *((f"pair {name}'s record", path) for name, x, y, _ in pairs
-                                                  for path in (x, y) if path is not None)]
+    inputs = [("the --suite file", args.suite), *((f"pair {name}'s record", path) for name, *records, _ in pairs
+                                                  for path in records if path is not None)]
     for table in tables:
         for name, source in inputs:
             if table.exists() and os.path.samefile(table, source):
@@ -128,16 +138,23 @@ def check_pairs(args, pairs) -> list:
 
 
 def _pair_records(args, pairs):
-    """(records [(name, ax, ay, dt)], ax, ay (P, n) [m/s^2] on one grid, its step dt [s], notes)
-    of the suite's `pairs`, each read as `run` reads one pair (`load_components`) and the
-    shorter ones continued with zero ground acceleration; `ValueError` naming --suite for
-    pairs of different time steps."""
-    from ._run_records import load_components
+    """(records [(name, ax, ay, dt)], ax, ay (P, n) [m/s^2] on one grid, its step dt [s], notes,
+    az (P, n) [m/s^2] or None) of the suite's `pairs`, each read as `run` reads one pair
+    (`load_components`, `vertical_component`) and the shorter ones continued with zero ground
+    acceleration; `ValueError` naming --suite for pairs of different time steps, and naming the
+    pair for a vertical record that does not fit its pair. Where some pairs have a vertical
+    component, those without one run without it (N = W), as the notes say."""
+    from ._run_records import load_components, vertical_component
 
-    records, notes = [], []
-    for name, x, y, scale in pairs:
-        one = argparse.Namespace(**{**vars(args), "record_x": x, "record_y": y, "scale": scale * args.scale})
+    records, notes, verticals = [], [], []
+    for name, x, y, z, scale in pairs:
+        one = argparse.Namespace(**{**vars(args), "record_x": x, "record_y": y, "record_z": z,
+                                    "scale": scale * args.scale})
         ax, ay, dt, pair_notes = load_components(one)
+        try:
+            verticals.append(vertical_component(one, dt, ax.size))
+        except ValueError as error:
+            raise ValueError(f"--suite {args.suite}, pair {name}: {error}".replace("--record-z:", "record_z:")) from None
         records.append((name, ax, ay, dt))
         notes += [f"{name}: {n}" for n in pair_notes]
     steps = {dt for *_, dt in records}
@@ -150,7 +167,28 @@ def _pair_records(args, pairs):
         notes.append(f"pairs shorter than {(n - 1) * dt:g} s continue with zero ground acceleration")
     ax = np.stack([np.pad(a, (0, n - a.size)) for _, a, _, _ in records])
     ay = np.stack([np.pad(a, (0, n - a.size)) for _, _, a, _ in records])
-    return records, ax, ay, dt, notes
+    if all(v is None for v in verticals):
+        return records, ax, ay, dt, notes, None
+    missing = [name for (name, *_), v in zip(records, verticals) if v is None]
+    if missing:
+        notes.append(f"pairs without a vertical component (record_z empty) run with N = W: {', '.join(missing)}")
+    az = np.stack([np.zeros(n) if v is None else np.pad(v, (0, n - v.size)) for v in verticals])
+    return records, ax, ay, dt, notes, az
+
+
+def _vertical(args, isolator, plan, az, names, notes):
+    """(az (P, n) [m/s^2], the pressure law of `run --record-z`, the pair `names`) of a suite
+    whose pairs have vertical components, with the note of the contact pressures Table 1 is
+    read at added to `notes`; None without them."""
+    if az is None:
+        return None
+    from ._normal_load import pressure_law, pressure_note
+
+    law = pressure_law(args, isolator, plan)
+    note = pressure_note(law, az.ravel())
+    if note is not None:
+        notes.append(note)
+    return az, law, names
 
 
 def run_suite(args, isolator) -> int:
@@ -177,20 +215,26 @@ def run_suite(args, isolator) -> int:
     pairs = check_pairs(args, read_suite(args.suite))
     from ._run_structure import read_structure, suite_build
 
-    read_structure(args, isolator)  # the structure flags and the plan, before any record
+    flags = read_structure(args, isolator)  # the structure flags and the plan, before any record
     if spectrum is not None:
         check_unscaled(pairs, args)
-    records, ax, ay, dt, notes = _pair_records(args, pairs)
+    records, ax, ay, dt, notes, az = _pair_records(args, pairs)
     n = ax.shape[1]
     scaling = None
     if spectrum is not None:  # factors checked against --max-factor before any run
         factors, scaling = scale_to_target(args, spectrum, [r[0] for r in records], ax, ay, dt)
         ax, ay = factors[:, None] * ax, factors[:, None] * ay
+        if az is not None:
+            az = factors[:, None] * az
+            notes.append("each pair's vertical component is scaled by its pair's factor (the recorded ratio of "
+                         "vertical to horizontal kept)")
+    vertical = _vertical(args, isolator, flags.plan, az, [r[0] for r in records], notes)
     if bounding is not None:
         from ._suite_bounding import run_suite_bounding
 
-        return run_suite_bounding(args, bounding, isolator, [r[0] for r in records], ax, ay, dt, notes, scaling)
-    build, dofs, base_index, plan = suite_build(args, isolator, ax[0], ay[0], dt)
+        return run_suite_bounding(args, bounding, isolator, [r[0] for r in records], ax, ay, dt, notes, scaling,
+                                  vertical)
+    build, dofs, base_index, plan = suite_build(args, isolator, ax[0], ay[0], dt, vertical=vertical)
     overturning = plan is not None and plan["height_of_centre_of_mass"] > 0  # each group's normal load
     group_names = [g["name"] for g in plan["groups"]] if overturning else None
     names = [r[0] for r in records]
@@ -204,10 +248,10 @@ def run_suite(args, isolator) -> int:
         from ..studies import device_chunk_size
 
         # default: all pairs in one call on a CPU; on a GPU as many as fit in half its memory
-        batch = args.chunk_size or device_chunk_size(2 * n, dofs, cpu=len(names))
+        batch = args.chunk_size or device_chunk_size((2 if az is None else 3) * n, dofs, cpu=len(names))
         result = suite_peaks(build, names, ax, ay, dt, (n - 1) * dt, base_index, batch_size=batch,
                              storey_height=load_table2().storey_height if storeys else None,
-                             group_names=group_names)
+                             group_names=group_names, az=az)
         save_suite(result, table_path=stem.with_suffix(".csv"), netcdf_path=netcdf, attrs=attrs)
     else:
         from ._main import compile_cache_dir
@@ -216,10 +260,11 @@ def run_suite(args, isolator) -> int:
             build, names, ax, ay, dt, (n - 1) * dt, base_index, out=args.out, scheduler=args.scheduler,
             chunk_size=8 if args.chunk_size is None else args.chunk_size, attrs=attrs,
             compilation_cache=None if getattr(args, "no_compile_cache", False) else str(compile_cache_dir()),
-            group_names=group_names)
+            group_names=group_names, az=az)
         save_suite(result, table_path=stem.with_suffix(".csv"))
     payload = {"structure": args.structure, "suite": str(args.suite), "notes": notes, "netcdf": str(netcdf),
-               "records": {name: {"record_x": x, "record_y": y, "scale": scale * args.scale} for name, x, y, scale in pairs},
+               "records": {name: {"record_x": x, "record_y": y, "record_z": z, "scale": scale * args.scale}
+                           for name, x, y, z, scale in pairs},
                "pairs": {name: {k: float(v[i]) for k, v in result.peaks.items()} | {"converged": bool(result.converged[i])}
                          | ({} if result.groups is None else suite_normal_load(plan, result.groups, i))
                          for i, name in enumerate(result.names)},

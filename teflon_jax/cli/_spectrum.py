@@ -86,7 +86,7 @@ def check_unscaled(pairs, args) -> None:
     other than 1 would scale them twice; refused naming the pair."""
     if float(args.scale) != 1.0:
         raise ValueError("--scale: the target spectrum sets the amplitude factors; leave --scale out.")
-    for name, _, _, scale in pairs:
+    for name, *_, scale in pairs:
         if scale != 1.0:
             raise ValueError(f"--suite: pair {name} has scale {scale:g}; with a target spectrum the factors are "
                              "computed, so leave the scale column at 1 (or empty).")

@@ -41,11 +41,12 @@ def _case_factors(bounds) -> dict:
     return {case: {k: v for k, v in row.items() if k != "f_min"} for case, row in bounds.factor_table().items()}
 
 
-def _case_results(args, bounds, isolator, names, ax, ay, dt, stem):
+def _case_results(args, bounds, isolator, names, ax, ay, dt, stem, vertical=None):
     """({case: `SuiteResult`}, the slab's plan or None, {case: its files}, the NetCDF file of
     every case or None): the three cases in this process (a table and a NetCDF file per case,
     and with --out one file of all three) or on the cluster of --scheduler (a table per case,
-    the peaks in --out)."""
+    the peaks in --out); `vertical`: the pairs' vertical components, their pressure law and
+    names (`suite_build`), or None."""
     import argparse
 
     from ..studies import (
@@ -64,15 +65,16 @@ def _case_results(args, bounds, isolator, names, ax, ay, dt, stem):
     for case in BOUNDING_CASES:  # the structure of each case, built once
         if args.bearing is None:  # Table 1's or an isolator file's friction times the factor
             case_args = argparse.Namespace(**{**vars(args), "friction_factor": table[case]["f_max"]})
-            builds[case], _, base_index, plan = suite_build(case_args, isolator, ax[0], ay[0], dt)
+            builds[case], _, base_index, plan = suite_build(case_args, isolator, ax[0], ay[0], dt, vertical=vertical)
         else:  # the bearing file's constants, wherever the structure carries them
-            builds[case], _, base_index, plan = suite_build(args, isolator, ax[0], ay[0], dt, table[case])
+            builds[case], _, base_index, plan = suite_build(args, isolator, ax[0], ay[0], dt, table[case], vertical)
+    az = None if vertical is None else vertical[0]
     groups = None if plan is None else [g["name"] for g in plan["groups"]]
     duration = (ax.shape[1] - 1) * dt
     attrs = {"structure": args.structure, "suite": str(args.suite), **provenance_attributes()}
     if args.scheduler is None:
         results = {case: suite_peaks(build, names, ax, ay, dt, duration, base_index, batch_size=args.chunk_size,
-                                     storey_height=height, group_names=groups)
+                                     storey_height=height, group_names=groups, az=az)
                    for case, build in builds.items()}
         files = {case: [f"{stem}-{case}.csv", f"{stem}-{case}.nc"] for case in BOUNDING_CASES}
         for case, result in results.items():
@@ -87,7 +89,7 @@ def _case_results(args, bounds, isolator, names, ax, ay, dt, stem):
         builds, names, ax, ay, dt, duration, base_index, out=args.out, scheduler=args.scheduler,
         chunk_size=8 if args.chunk_size is None else args.chunk_size, attrs=_file_attrs(attrs, bounds),
         compilation_cache=None if getattr(args, "no_compile_cache", False) else str(compile_cache_dir()),
-        storey_height=height, group_names=groups)
+        storey_height=height, group_names=groups, az=az)
     files = {case: [f"{stem}-{case}.csv"] for case in BOUNDING_CASES}
     for case, result in results.items():
         save_suite(result, table_path=files[case][0])
@@ -104,8 +106,9 @@ def _file_attrs(attrs, bounds) -> dict:
     return out | {"property_factor_lower": bounds.factors[0], "property_factor_upper": bounds.factors[1]}
 
 
-def run_suite_bounding(args, bounds, isolator, names, ax, ay, dt, notes, scaling) -> int:
-    """The suite's pairs (ax, ay) (P, n) [m/s^2] through the nominal, upper- and lower-bound
+def run_suite_bounding(args, bounds, isolator, names, ax, ay, dt, notes, scaling, vertical=None) -> int:
+    """The suite's pairs (ax, ay) (P, n) [m/s^2] (and their `vertical` components with their
+    pressure law, or None) through the nominal, upper- and lower-bound
     bearings of `bounds` (`read_suite_factors`; the structure of `run`'s flags on `isolator`
     with `friction_factor`, or a --bearing file's bearing with the case's factors), one table per case
     (<stem>-<case>.csv; in this process also <stem>-<case>.nc), the NetCDF file of every case
@@ -113,12 +116,12 @@ def run_suite_bounding(args, bounds, isolator, names, ax, ay, dt, notes, scaling
     import pathlib
     import time
 
-    from ..studies import BOUNDING_CASES, governing_cases
+    from ..studies import BOUNDING_CASES, SUITE_VERTICAL_UNITS, governing_cases
     from ._normal_load import NORMAL_LOAD_NOTE, suite_normal_load
 
     stem = pathlib.Path(args.json).with_suffix("") if args.json else pathlib.Path("suite")
     start = time.perf_counter()
-    results, plan, files, netcdf = _case_results(args, bounds, isolator, names, ax, ay, dt, stem)
+    results, plan, files, netcdf = _case_results(args, bounds, isolator, names, ax, ay, dt, stem, vertical)
     if args.pelicun_demands is not None:  # one demand file per case: <FILE stem>-<case>.csv
         from ..formats import write_pelicun_demands
         from ._engineering import suite_pelicun_peaks
@@ -128,7 +131,8 @@ def run_suite_bounding(args, bounds, isolator, names, ax, ay, dt, notes, scaling
             write_pelicun_demands(path.with_name(f"{path.stem}-{case}{path.suffix}"),
                                   **suite_pelicun_peaks(results[case], ax, ay))
     wall = time.perf_counter() - start
-    peaks = {k: np.stack([results[c].peaks[k] for c in BOUNDING_CASES]) for k in results["nominal"].peaks}
+    peaks = {k: np.stack([results[c].peaks[k] for c in BOUNDING_CASES]) for k in results["nominal"].peaks
+             if k not in SUITE_VERTICAL_UNITS}  # the uplift is the record's, the same in every case
     converged = np.stack([results[c].converged for c in BOUNDING_CASES])
     by_mean = governing_cases(peaks, converged, statistic="mean")
     by_max = governing_cases(peaks, converged, statistic="max")

@@ -102,6 +102,7 @@ from ._spectrum_match import suite_statistic as suite_statistic
 from ._suite_cases import open_suite_cases as open_suite_cases
 from ._suite_cases import save_suite_cases as save_suite_cases
 from ._suite_cases import suite_cases_distributed as suite_cases_distributed
+from ._suites import SUITE_VERTICAL_UNITS as SUITE_VERTICAL_UNITS
 from ._suites import SuiteResult as SuiteResult
 from ._suites import open_suite as open_suite
 from ._suites import save_suite as save_suite

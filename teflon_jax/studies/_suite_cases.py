@@ -31,6 +31,7 @@ from ._suites import (
     SUITE_GROUP_UNITS,
     SUITE_STOREY_UNITS,
     SUITE_UNITS,
+    SUITE_VERTICAL_UNITS,
     SuiteResult,
     _checked_pairs,
     _chunk_peaks,
@@ -60,6 +61,7 @@ def suite_cases_distributed(
     attrs: dict | None = None,
     storey_height: float | None = None,
     group_names=None,
+    az=None,
 ) -> dict[str, SuiteResult]:
     """`suite_peaks` of every structure of `builds` under the same pairs on a Dask cluster, the
     peaks streamed to the NetCDF file `out` on ("case", "pair").
@@ -67,7 +69,8 @@ def suite_cases_distributed(
     **Arguments** (as `suite_peaks_distributed` otherwise): `builds`: {case name: build(ground_x,
     ground_y) -> structure}, each picklable; `storey_height` [m]: the building's, to keep the
     storey peaks (`suite_peaks(storey_height=...)`); `group_names` (G,): the bearing groups of
-    a slab with overturning (default g0, g1, ...).
+    a slab with overturning (default g0, g1, ...); `az`: the pairs' vertical components (each
+    build then takes three signals, `suite_peaks`).
 
     **Returns:** {case: `SuiteResult`} read back from `out` (`open_suite_cases`); each case's
     peaks are those of `suite_peaks(builds[case], ..., batch_size=chunk_size)` bit for bit.
@@ -76,15 +79,15 @@ def suite_cases_distributed(
     cases = tuple(str(c) for c in builds)
     if not cases:
         raise ValueError("builds: give at least one case.")
-    names, ax, ay, chunk, retries = _checked_pairs(names, ax, ay, chunk_size, retries)
+    names, grounds, chunk, retries = _checked_pairs(names, ax, ay, chunk_size, retries, az)
     count = len(names)
     dtype = run_dtype()
     spec = {"builds": tuple(builds.values()), "n_pairs": count, "time_step": float(time_step),
             "duration": float(duration), "base_index": tuple(int(i) for i in base_index),
             "storey_height": None if storey_height is None else float(storey_height), "chunk": chunk,
             "dtype": dtype, "token": uuid.uuid4().hex}
-    shapes = jax.eval_shape(_case_function(spec, 0), jax.ShapeDtypeStruct((chunk, ax.shape[1]), dtype),
-                            jax.ShapeDtypeStruct((chunk, ax.shape[1]), dtype))[0]
+    shapes = jax.eval_shape(_case_function(spec, 0),
+                            *(jax.ShapeDtypeStruct((chunk, g.shape[1]), dtype) for g in grounds))[0]
     settings = {"n_pairs": count, "cases": ",".join(cases), "record_time_step_s": float(time_step),
                 "duration_s": float(duration), "scheduler": scheduler, "chunk_size": chunk, "precision": dtype}
     layout = _cases_layout(cases, names, shapes, group_names, {**settings, **(attrs or {})})
@@ -95,7 +98,7 @@ def suite_cases_distributed(
             handle.variables[name][case, first:first + stop - start] = (
                 values.astype(np.int8) if name == "converged" else values)
 
-    chunks = [item for c in range(len(cases)) for item in _pair_chunks(ax, ay, chunk, offset=c * count)]
+    chunks = [item for c in range(len(cases)) for item in _pair_chunks(grounds, chunk, offset=c * count)]
     stream_to_netcdf(out, layout, _case_task, spec, chunks, write, scheduler=scheduler,
                      connect_timeout=connect_timeout, compilation_cache=compilation_cache, retries=retries,
                      progress=progress, what="case-pair items")
@@ -139,7 +142,8 @@ def _cases_layout(cases, names, shapes: dict, group_names, attrs: dict) -> dict:
             coords["group"] = ("group", np.array(groups, dtype=str), None, "bearing group")
             variables[name] = (("case", "pair", "group"), *SUITE_GROUP_UNITS[name.removeprefix("group_")], "f8")
         else:
-            variables[name] = (("case", "pair"), *{**SUITE_UNITS, **SUITE_STOREY_UNITS}[name], "f8")
+            variables[name] = (("case", "pair"), *{**SUITE_UNITS, **SUITE_VERTICAL_UNITS, **SUITE_STOREY_UNITS}[name],
+                               "f8")
     return {"dims": dims, "coords": coords, "variables": variables,
             "attrs": file_attributes("teflon-jax record suite peak responses, several structures", attrs)}
 

@@ -1,6 +1,7 @@
 """Record suites: many two-component record pairs (e.g. the 7 or 11 pairs of a design check,
-each with its scale factor) through one bidirectional structure in one vmapped call, with the
-peaks of every pair, their mean and maximum (failed runs kept out of both and reported).
+each with its scale factor, and optionally each with its vertical component) through one
+bidirectional structure in one vmapped call, with the peaks of every pair, their mean and
+maximum (failed runs kept out of both and reported).
 
 `suite_peaks_distributed` runs the same pairs as chunks on a Dask cluster (`_cluster`),
 streaming each chunk's peaks into a NetCDF file of the layout `suite_dataset` writes. A pair's
@@ -20,7 +21,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..excitation import uniform_signal
-from ..systems import simulate_history
+from ..systems import simulate_history, step_count, uplift_time
 from ._cluster import (
     add_attributes,
     check_count,
@@ -58,7 +59,16 @@ SUITE_GROUP_UNITS = {
 """A slab's per-group variables on ("pair", "group") when its plan has overturning: the keys of
 `run`'s "normal_load" groups (`slab_on_bearings(height_of_centre_of_mass=...)`)."""
 
-_ALL_UNITS = {**SUITE_UNITS, **SUITE_STOREY_UNITS}
+SUITE_VERTICAL_UNITS = {
+    "uplift_time_s": ("s", "time the isolators are uplifted, N = W max(1 + a_v / g, 0) <= 0 at a step's end "
+                      "(no shear carried)"),
+    "min_load_factor": ("1", "least normal load over the weight, N / W, under the vertical component"),
+    "max_load_factor": ("1", "largest normal load over the weight, N / W, under the vertical component"),
+}
+"""A suite's variables on the "pair" dimension when its pairs have vertical components
+(`suite_peaks(az=...)`): what `run --record-z` reports as its `uplift`."""
+
+_ALL_UNITS = {**SUITE_UNITS, **SUITE_VERTICAL_UNITS, **SUITE_STOREY_UNITS}
 _STOREY_LAYOUT = {
     "storey_drift": ("storey", "1", "peak |interstorey drift| / storey height (storey j: level j-1 to j)"),
     "level_acceleration": ("level", "m s-2", "peak |total acceleration| of the level (0: base slab)"),
@@ -83,20 +93,34 @@ class SuiteResult:
 
 
 def _suite_function(build, time_step: float, duration: float, base_index, storey_height=None):
-    """The jitted function (ax (B, n), ay (B, n)) -> (peaks {name: (B, ...)}, converged (B,)):
-    the reducers (`response_peaks`) over each pair's `StructureResponse`, whatever the
-    structure and isolator; with `storey_height` [m] (the building) also the largest resultant
-    drift ratio over the storeys, |(q_j - q_(j-1))_x, (q_j - q_(j-1))_y| / h, and the peaks per
-    storey, level and direction. `base_index` is kept for the callers: the base's coordinates
-    come from the structure (`response_layout`)."""
+    """The jitted function (ax (B, n), ay (B, n)[, az (B, n)]) -> (peaks {name: (B, ...)},
+    converged (B,)): the reducers (`response_peaks`) over each pair's `StructureResponse`,
+    whatever the structure and isolator; with `storey_height` [m] (the building) also the
+    largest resultant drift ratio over the storeys, |(q_j - q_(j-1))_x, (q_j - q_(j-1))_y| / h,
+    and the peaks per storey, level and direction; with vertical components, each pair's uplift
+    (`vertical_values`). `base_index` is kept for the callers: the base's coordinates come from
+    the structure (`response_layout`)."""
 
-    def one(x, y):
-        system = build(uniform_signal(x, time_step), uniform_signal(y, time_step))
+    def one(*grounds):
+        system = build(*(uniform_signal(g, time_step) for g in grounds))
         response = simulate_history(system, duration, throw=False)
         layout = response_layout(system)
-        return suite_values(response_peaks(layout, response, storey_height)), response.succeeded
+        values = suite_values(response_peaks(layout, response, storey_height))
+        if len(grounds) == 3:
+            values |= vertical_values(system, duration)
+        return values, response.succeeded
 
     return jax.jit(jax.vmap(one))
+
+
+def vertical_values(system, duration: float) -> dict:
+    """The uplift of one pair under its vertical component (`SUITE_VERTICAL_UNITS`): the load
+    factor N / W (`system.load_factor`) at the structure's steps over `duration` [s], the time
+    of the steps whose end has N <= 0 (`systems.uplift_time`), its least and largest value."""
+    dt = system.time_step
+    loads = jax.vmap(system.load_factor)(jnp.arange(step_count(dt, duration) + 1) * dt)
+    return {"uplift_time_s": uplift_time(loads, dt), "min_load_factor": jnp.min(loads),
+            "max_load_factor": jnp.max(loads)}
 
 
 def suite_values(peaks: dict) -> dict:
@@ -123,13 +147,16 @@ def _summary(peaks: dict, ok: np.ndarray) -> dict:
 
 def suite_peaks(build, names, ax, ay, time_step: float, duration: float, base_index=(0, 1),
                 batch_size: int | None = None, storey_height: float | None = None,
-                group_names=None) -> SuiteResult:
+                group_names=None, az=None) -> SuiteResult:
     """Run P record pairs through the structure `build(ground_x, ground_y)` in one vmapped call
     (or in calls of `batch_size` pairs, the last padded: one compilation).
 
     **Arguments:** `build`: a function of two `Signal`s returning a `BidirectionalStructure` (or
-    a `StructureOnSliders` on series pendulums with `ground_y`: triple or double pendulums);
+    a `StructureOnSliders` on series pendulums with `ground_y`: triple or double pendulums), of
+    three with `az` (the third the vertical component, `systems.with_vertical_motion`);
     `names` (P,); `ax`, `ay` (P, n) ground accelerations [m/s^2] (already scaled, common step);
+    `az` (P, n) [m/s^2, up +] the pairs' vertical components on the same grid, or `None`
+    (the peaks then hold each pair's uplift too, `SUITE_VERTICAL_UNITS`);
     `time_step` [s] of the records; `duration` [s]; `base_index`: the coordinates of the base in
     x and y (rigid mass (0, 1), building (0, 7), slab (0, 1)); `storey_height` [m]: the
     building's storey height, to keep `storey_drift_max_resultant` and `SuiteResult.storeys` too;
@@ -141,12 +168,12 @@ def suite_peaks(build, names, ax, ay, time_step: float, duration: float, base_in
     names = tuple(names)
     count = len(names)
     width = count if batch_size is None else min(check_count("batch_size", batch_size, 1), count)
-    ax, ay = np.asarray(ax), np.asarray(ay)
+    grounds = _grounds(count, ax, ay, az)
     function = _suite_function(build, time_step, duration, base_index, storey_height)
     parts = []
     for start in range(0, count, width):
         index = lanes(start, min(start + width, count), width)
-        parts.append(jax.device_get(function(jnp.asarray(ax[index]), jnp.asarray(ay[index]))))
+        parts.append(jax.device_get(function(*(jnp.asarray(g[index]) for g in grounds))))
     joined = {k: np.concatenate([p[0][k] for p in parts])[:count] for k in parts[0][0]}
     groups = {k.removeprefix("group_"): joined.pop(k) for k in list(joined) if k.startswith("group_")} or None
     if groups is not None:
@@ -161,31 +188,41 @@ def suite_peaks(build, names, ax, ay, time_step: float, duration: float, base_in
                        groups=groups)
 
 
-def _checked_pairs(names, ax, ay, chunk_size, retries):
-    """(names, ax, ay, chunk, retries) of a suite run on a cluster: the P pair names as strings,
-    the (P, n) ground accelerations as float arrays, the chunk width (at most P) and the
-    retries, each refused by name where it is wrong."""
+def _grounds(count: int, ax, ay, az=None) -> tuple:
+    """(ax, ay[, az]) as float arrays (P, n) for the `count` pair names; `ValueError` naming the
+    arrays whose shapes differ."""
+    grounds = tuple(np.asarray(g, dtype=float) for g in (ax, ay) + (() if az is None else (az,)))
+    names = "ax, ay" + ("" if az is None else ", az")
+    if count < 1 or any(g.shape != grounds[0].shape for g in grounds) or grounds[0].ndim != 2 \
+            or grounds[0].shape[0] != count:
+        raise ValueError(f"{names}: need (P, n) arrays of one shape for the {count} pair names, got "
+                         f"{', '.join(str(g.shape) for g in grounds)}.")
+    return grounds
+
+
+def _checked_pairs(names, ax, ay, chunk_size, retries, az=None):
+    """(names, grounds (ax, ay[, az]), chunk, retries) of a suite run on a cluster: the P pair
+    names as strings, the (P, n) ground accelerations as float arrays (`_grounds`), the chunk
+    width (at most P) and the retries, each refused by name where it is wrong."""
     names = tuple(str(n) for n in names)
-    ax, ay = np.asarray(ax, dtype=float), np.asarray(ay, dtype=float)
-    count = len(names)
-    if count < 1 or ax.shape != ay.shape or ax.ndim != 2 or ax.shape[0] != count:
-        raise ValueError(f"ax, ay: need two (P, n) arrays for the {count} pair names, got {ax.shape} and {ay.shape}.")
-    return names, ax, ay, min(check_count("chunk_size", chunk_size, 1), count), check_count("retries", retries, 0)
+    grounds = _grounds(len(names), ax, ay, az)
+    return names, grounds, min(check_count("chunk_size", chunk_size, 1), len(names)), check_count("retries", retries, 0)
 
 
-def _pair_chunks(ax, ay, chunk: int, offset: int = 0) -> list:
-    """`stream_to_netcdf`'s chunks of the pairs: (offset + start, offset + stop, (ax, ay) rows)."""
-    count = ax.shape[0]
-    return [(offset + start, offset + min(start + chunk, count), (ax[start:start + chunk], ay[start:start + chunk]))
+def _pair_chunks(grounds, chunk: int, offset: int = 0) -> list:
+    """`stream_to_netcdf`'s chunks of the pairs: (offset + start, offset + stop, rows of each of
+    `grounds` (ax, ay[, az]))."""
+    count = grounds[0].shape[0]
+    return [(offset + start, offset + min(start + chunk, count), tuple(g[start:start + chunk] for g in grounds))
             for start in range(0, count, chunk)]
 
 
 def _chunk_peaks(function, chunk: int, count: int, payload) -> dict:
-    """The peaks and "converged" of the first `count` pairs of `payload` (ax, ay), run through
-    the chunk function at its width `chunk` (the rest padded with copies of the last pair)."""
-    ax, ay = payload
+    """The peaks and "converged" of the first `count` pairs of `payload` (ax, ay[, az]), run
+    through the chunk function at its width `chunk` (the rest padded with copies of the last
+    pair)."""
     index = lanes(0, count, chunk)
-    peaks, ok = function(jnp.asarray(ax[index]), jnp.asarray(ay[index]))
+    peaks, ok = function(*(jnp.asarray(g[index]) for g in payload))
     out = {k: np.asarray(v)[:count] for k, v in peaks.items()}
     out["converged"] = np.asarray(ok, dtype=bool)[:count]
     return out
@@ -216,6 +253,7 @@ def suite_peaks_distributed(
     progress=None,
     attrs: dict | None = None,
     group_names=None,
+    az=None,
 ) -> SuiteResult:
     """`suite_peaks` on a Dask cluster, chunks of `chunk_size` pairs as tasks, the peaks
     streamed to the NetCDF file `out` (checked writable before anything starts).
@@ -227,7 +265,8 @@ def suite_peaks_distributed(
     persistent compilation cache (local workers); `progress(done, total)` after each chunk;
     `attrs`: more attributes of the file (the run's inputs); `group_names` (G,): the bearing
     groups of a slab with overturning, whose per-group loads are streamed on ("pair", "group")
-    (`SuiteResult.groups`; a structure that reports them needs them).
+    (`SuiteResult.groups`; a structure that reports them needs them); `az`: the pairs' vertical
+    components (`suite_peaks`).
 
     **Returns:** the `SuiteResult` read back from `out` (`open_suite`): each pair's peaks are
     those of `suite_peaks(..., batch_size=chunk_size)` bit for bit, whatever the number of
@@ -235,7 +274,7 @@ def suite_peaks_distributed(
     `ConnectionError` naming the address when no scheduler answers.
     """
     out = check_netcdf_output(out)
-    names, ax, ay, chunk, retries = _checked_pairs(names, ax, ay, chunk_size, retries)
+    names, grounds, chunk, retries = _checked_pairs(names, ax, ay, chunk_size, retries, az)
     count = len(names)
     dtype = run_dtype()
     spec = {"build": build, "time_step": float(time_step), "duration": float(duration),
@@ -252,14 +291,14 @@ def suite_peaks_distributed(
         if width != (0 if groups is None else len(groups)):
             raise ValueError(f"group_names: {0 if groups is None else len(groups)} names for the structure's "
                              f"{width} bearing groups with per-group loads (a slab with overturning).")
-        for name in SUITE_UNITS:
+        for name in (*SUITE_UNITS, *(SUITE_VERTICAL_UNITS if az is not None else ())):
             values = part[name].astype(np.int8) if name == "converged" else part[name]
             handle.variables[name][start:stop] = values
         for name in reported:
             handle.variables[f"group_{name}"][start:stop, :] = part[f"group_{name}"]
 
-    chunks = _pair_chunks(ax, ay, chunk)
-    stream_to_netcdf(out, _suite_layout(names, {**settings, **(attrs or {})}, groups), _suite_task, spec, chunks, write,
+    chunks = _pair_chunks(grounds, chunk)
+    stream_to_netcdf(out, _suite_layout(names, {**settings, **(attrs or {})}, groups, az is not None), _suite_task, spec, chunks, write,
                      scheduler=scheduler, connect_timeout=connect_timeout, compilation_cache=compilation_cache,
                      retries=retries, progress=progress, what="pairs")
     result = open_suite(out)
@@ -271,11 +310,13 @@ def _summary_attrs(summary: dict) -> dict:
     return {f"{k}_{s}": v[s] for k, v in summary.items() for s in ("mean", "max")}
 
 
-def _suite_layout(names, attrs: dict, groups=None) -> dict:
+def _suite_layout(names, attrs: dict, groups=None, vertical: bool = False) -> dict:
     """`create_netcdf`'s arguments for a suite's file (the layout of `suite_dataset`), with the
-    slab's per-group variables on ("pair", "group") where `groups` names them."""
-    variables = {name: (("pair",), units, long_name, "bool" if name == "converged" else "f8")
-                 for name, (units, long_name) in SUITE_UNITS.items()}
+    slab's per-group variables on ("pair", "group") where `groups` names them and the uplift
+    (`SUITE_VERTICAL_UNITS`) with `vertical` components."""
+    units = {**SUITE_UNITS, **(SUITE_VERTICAL_UNITS if vertical else {})}
+    variables = {name: (("pair",), unit, long_name, "bool" if name == "converged" else "f8")
+                 for name, (unit, long_name) in units.items()}
     dims = {"pair": len(names)}
     coords = {"pair": ("pair", np.array(names, dtype=str), None, "record pair")}
     if groups is not None:

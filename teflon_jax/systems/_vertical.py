@@ -84,7 +84,31 @@ class TablePressure(eqx.Module):
     perpendicular: FrictionTable | None = None
 
     def bearing_at(self, bearing, load):
-        """`bearing` (a `SlidingBearing` folded at `pressure`) under the load factor `load` s [-]."""
+        """`bearing` (a `SlidingBearing` folded at `pressure`) under the load factor `load` s [-];
+        a run stops with an error where the constants are invalid (`valid_at`)."""
+        fields, bad = self._fields_at(bearing, load)
+        fields["friction"] = eqx.error_if(
+            fields["friction"], bad,
+            "the vertical record takes the bearings' contact pressure beyond where Table 1's extended end "
+            "segments give Eq. 1 constants (f_max > delta_f >= 0, rate_a >= 0, breakaway ratio >= 1); "
+            "give the bearing's constants at such pressures (a bearing file with a pressure dependence).")
+        return dataclasses.replace(bearing, **fields)
+
+    def valid_at(self, bearing, load):
+        """Whether Eq. 1 can take `bearing`'s constants under the load factor `load` s [-]
+        (f_max > delta_f >= 0, rate_a >= 0 and a breakaway ratio >= 1 in every group; always
+        while uplifted, s = 0): a bool array, for checking a record before it runs."""
+        return ~self._fields_at(bearing, load)[1]
+
+    def constant_breaks(self):
+        """The load factors s [-] at which some group's constants change slope (its table's rows
+        over its static pressure): with the ends of a range of s, where the constants, linear in
+        s between them, are least valid."""
+        tables = [self.table] + ([] if self.perpendicular is None else [self.perpendicular])
+        rows = np.concatenate([np.asarray(t.pressures).reshape(-1) for t in tables])
+        return np.unique(rows[:, None] / np.asarray(self.pressure, float).reshape(-1)[None, :])
+
+    def _fields_at(self, bearing, load):
         pressure = jnp.where(load > 0, load, 1.0) * self.pressure
         friction, ratio = _scaled_by_table(self.table, self.pressure, pressure, bearing.friction)
         fields = {"friction": friction}
@@ -97,12 +121,7 @@ class TablePressure(eqx.Module):
                if name != "breakaway_ratio"]
         if "breakaway_ratio" in fields:
             bad.append(~(fields["breakaway_ratio"] >= 1))
-        fields["friction"] = eqx.error_if(
-            fields["friction"], jnp.any(functools.reduce(jnp.logical_or, bad) & (load > 0)),
-            "the vertical record takes the bearings' contact pressure beyond where Table 1's extended end "
-            "segments give Eq. 1 constants (f_max > delta_f >= 0, rate_a >= 0, breakaway ratio >= 1); "
-            "give the bearing's constants at such pressures (a bearing file with a pressure dependence).")
-        return dataclasses.replace(bearing, **fields)
+        return fields, jnp.any(functools.reduce(jnp.logical_or, bad) & (load > 0))
 
 
 def _scaled_by_table(table, static, pressure, friction):
