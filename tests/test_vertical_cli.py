@@ -116,3 +116,37 @@ def test_vertical_motion_model_matches_its_description():
     assert np.array_equal(np.asarray(both[:, 0]), np.asarray(sample(model, key, 2)))
     with pytest.raises(ValueError, match="vertical_ratio"):
         VerticalGroundMotion(model, vertical_ratio=-1.0)
+
+
+def test_the_message_of_a_check_inside_a_compiled_run_is_read_out():
+    """A check that stops a compiled run (`equinox.error_if`) reaches the command line as its
+    own message, whether the run was compiled by `jax.jit` or `equinox.filter_jit`; any other
+    runtime error is not taken for one."""
+    import equinox as eqx
+    import jax
+    import jax.numpy as jnp
+
+    from teflon_jax.cli._main import runtime_check_message
+
+    def step(x):
+        return eqx.error_if(x, x > 0, "the contact pressure is beyond the table; give the constants")
+
+    for compiled in (jax.jit(step), eqx.filter_jit(step)):
+        with pytest.raises(RuntimeError) as caught:
+            jax.block_until_ready(compiled(jnp.asarray(1.0)))
+        assert runtime_check_message(caught.value) == "the contact pressure is beyond the table; give the constants"
+    assert runtime_check_message(RuntimeError("XLA ran out of memory")) is None
+
+
+@pytest.mark.slow
+def test_a_run_stopped_by_a_check_exits_with_its_message(tmp_path, capsys):
+    """Monte Carlo on Table 1's UF at 6500 psi under vertical components 1.5 times the
+    horizontal: the contact pressure passes where Table 1's extended rows give Eq. 1
+    constants; the command ends with exit status 1 and that message, not a traceback."""
+    code = main(["montecarlo", "--motions", "2", "--duration", "4s", "--strong-motion", "2s", "--pga", "0.6g",
+                 "--vertical-ratio", "1.5", "--pressure", "6500psi", "--json", str(tmp_path / "mc.json"),
+                 "--no-progress"])
+    err = capsys.readouterr().err
+    assert code == 1
+    assert "error: the run stopped: the vertical record takes the bearings' contact pressure beyond" in err
+    assert "Traceback" not in err and not (tmp_path / "mc.json").exists()

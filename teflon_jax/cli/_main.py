@@ -5,6 +5,7 @@ import importlib
 import math
 import os
 import pathlib
+import re
 import sys
 import time
 
@@ -82,6 +83,17 @@ def _split_cpu(jax, requested: int | None) -> None:
             raise ValueError(f"--cpu-devices: {error}") from None
 
 
+_RUNTIME_CHECK = re.compile(r"EquinoxRuntimeError: (.+?)(?:\n\s*\n|\n-{5,}|$)", re.DOTALL)
+
+
+def runtime_check_message(error) -> str | None:
+    """The message of a check that stopped a compiled run (`equinox.error_if` inside the
+    step, such as Table 1's constants beyond its extended rows), out of the runtime error
+    JAX raises around it; None for any other error."""
+    found = _RUNTIME_CHECK.search(str(error))
+    return None if found is None else " ".join(found.group(1).split())
+
+
 def compile_cache_dir() -> pathlib.Path:
     """Folder of the persistent JAX compilation cache: `$XDG_CACHE_HOME/teflon-jax/jax`, or
     `~/.cache/teflon-jax/jax` when XDG_CACHE_HOME is unset or empty."""
@@ -142,6 +154,12 @@ def main(argv=None) -> int:
         return 2
     except ClusterRunError as error:  # the input was fine; the cluster could not finish the run
         print(f"teflon-jax {args.command}: error: {error}", file=sys.stderr)
+        return 1
+    except RuntimeError as error:  # a check inside the compiled run stopped it: its message, no traceback
+        message = runtime_check_message(error)
+        if message is None:
+            raise
+        print(f"teflon-jax {args.command}: error: the run stopped: {message}", file=sys.stderr)
         return 1
     finally:
         clear_arguments()
