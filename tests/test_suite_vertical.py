@@ -247,6 +247,6 @@ def test_a_vertical_record_beyond_the_table_is_refused_before_the_run(tmp_path, 
         record = [("the record", np.where(t > 1.0, STANDARD_GRAVITY, 0.0))]
         if refused:
             with pytest.raises(ValueError, match="the record: .* 12000 psi"):
-                check_vertical_pressures(system, record)
+                check_vertical_pressures(system, record, DT)
         else:
-            check_vertical_pressures(system, record)
+            check_vertical_pressures(system, record, DT)

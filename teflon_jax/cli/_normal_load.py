@@ -140,13 +140,14 @@ def pressure_note(law: dict, az) -> str | None:
     return text
 
 
-def check_vertical_pressures(system, rows) -> None:
+def check_vertical_pressures(system, rows, dt) -> None:
     """`ValueError` before any run where a vertical component would take the contact pressure of
     `system`'s bearings (Table 1 read at the momentary pressure, `TablePressure`) to where Eq. 1
-    cannot take their constants: `rows` [(what the user gave, a_v (n,) [m/s^2])], each checked
-    at the least and largest load factor s > 0 of its samples (the steps interpolate between
-    them), at the table's rows between, and near s = 0 where it lifts; nothing for a system
-    without the table."""
+    cannot take their constants: `rows` [(what the user gave, a_v (n,) [m/s^2] at step `dt`
+    [s])], each read at the structure's steps (linear between the samples, as the run reads
+    it) and checked at the least and largest load factor s > 0 there and at the table's rows
+    between (the constants are linear in s between them); nothing for a system without the
+    table."""
     import jax.numpy as jnp
 
     from ..systems import normal_load_factor
@@ -157,12 +158,14 @@ def check_vertical_pressures(system, rows) -> None:
         return
     breaks = table.constant_breaks()
     for where, az in rows:
-        s = np.asarray(normal_load_factor(np.asarray(az)))
+        times = dt * np.arange(np.size(az))
+        steps = np.arange(0.0, times[-1] + 1e-9 * system.time_step, system.time_step)
+        s = np.asarray(normal_load_factor(np.interp(steps, times, np.asarray(az, float))))
         loaded = s[s > 0]
         if loaded.size == 0:
             continue
         low, high = loaded.min(), loaded.max()
-        points = [high, low, *breaks[(breaks > low) & (breaks < high)]] + ([1e-9] if np.any(s <= 0) else [])
+        points = [high, low, *breaks[(breaks > low) & (breaks < high)]]
         for point in points:
             if not bool(table.valid_at(system.bearing, jnp.asarray(point))):
                 pressure = point * float(np.max(np.asarray(table.pressure)))

@@ -121,7 +121,7 @@ def run_run(args) -> int:
     system = with_vertical(system, az, dt, radius=isolator.radius if flags.plan is None else None,  # a slab's
                            **law)  # groups hold their W_g / R_g
     if az is not None:
-        check_vertical_pressures(system, [(f"--record-z {args.record_z}", az)])
+        check_vertical_pressures(system, [(f"--record-z {args.record_z}", az)], dt)
     note = pressure_note(law, az)
     if note is not None:
         notes.append(note)

@@ -141,7 +141,7 @@ def suite_build(args, isolator, ax0, ay0, dt, friction_factors=None, vertical=No
         template = with_vertical(template, az[0], dt, radius=isolator.radius if flags.plan is None else None,
                                  **law)  # a slab's groups hold their W_g / R_g
         check_vertical_pressures(template, [(f"--suite {args.suite}, pair {name}: record_z", row)
-                                            for name, row in zip(names, az)])
+                                            for name, row in zip(names, az)], dt)
 
     def build(ground_x, ground_y, ground_z=None):
         return with_ground(template, ground_x, ground_y, ground_z)

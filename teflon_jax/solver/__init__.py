@@ -9,7 +9,6 @@ from ._coupled import affine as affine
 from ._coupled import block_matvec as block_matvec
 from ._coupled import coulomb_disc_forces as coulomb_disc_forces
 from ._coupled import coupled_newton as coupled_newton
-from ._coupled import largest as largest
 from ._coupled import matvec as matvec
 from ._coupled import solve_blocks as solve_blocks
 from ._implicit import implicit_root as implicit_root

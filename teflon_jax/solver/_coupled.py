@@ -64,7 +64,7 @@ def coupled_newton(residual, tangent, guess, tolerance, iterations: int, *, seca
     return _newton_stage(tangent, x, r, evaluation, done, tolerance, iterations)
 
 
-def largest(r):
+def _largest(r):
     """Largest |r| over the x and y parts of a residual."""
     return jnp.maximum(jnp.max(jnp.abs(r[0])), jnp.max(jnp.abs(r[1])))
 
@@ -73,7 +73,7 @@ def _broyden_update(residual, x, r, jacobian, tolerance):
     """One Newton step with the current Jacobian, then its secant (Broyden) update; a member
     already within tolerance keeps its iterate (no step at round-off)."""
     tiny = jnp.finfo(x[0].dtype).tiny
-    off = largest(r) > tolerance
+    off = _largest(r) > tolerance
     step = solve_blocks(jacobian, r)
     finite = jnp.isfinite(step[0]).all() & jnp.isfinite(step[1]).all() & off
     step = tuple(jnp.where(finite, -step[i], jnp.where(off, -r[i], 0.0)) for i in range(2))
@@ -97,7 +97,7 @@ def _broyden_stage(residual, x, r, jacobian, evaluation, tolerance, iterations: 
     def body(carry):
         x, r, jacobian, evaluation, k, best = carry
         x, r, jacobian, evaluation = _broyden_update(residual, x, r, jacobian, tolerance)
-        better = largest(r) < largest(best[1])
+        better = _largest(r) < _largest(best[1])
         best = jax.tree.map(lambda new, old: jnp.where(better, new, old), (x, r, evaluation), best)
         return x, r, jacobian, evaluation, k + 1, best
 
@@ -105,7 +105,7 @@ def _broyden_stage(residual, x, r, jacobian, evaluation, tolerance, iterations: 
     # step can lead away from the root, so Newton's stage starts from the best iterate seen
     limit = fixed + min(BROYDEN_ITERATIONS, iterations - fixed)
     *_, done, (x, r, evaluation) = jax.lax.while_loop(
-        lambda c: (largest(c[1]) > tolerance) & (c[4] < limit), body,
+        lambda c: (_largest(c[1]) > tolerance) & (c[4] < limit), body,
         (x, r, jacobian, evaluation, fixed, (x, r, evaluation)))
     return x, r, evaluation, done
 
