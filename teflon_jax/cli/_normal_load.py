@@ -144,13 +144,13 @@ def check_vertical_pressures(system, rows, dt) -> None:
     """`ValueError` before any run where a vertical component would take the contact pressure of
     `system`'s bearings (Table 1 read at the momentary pressure, `TablePressure`) to where Eq. 1
     cannot take their constants: `rows` [(what the user gave, a_v (n,) [m/s^2] at step `dt`
-    [s])], each read at the structure's steps (linear between the samples, as the run reads
-    it) and checked at the least and largest load factor s > 0 there and at the table's rows
-    between (the constants are linear in s between them); nothing for a system without the
-    table."""
+    [s])], each read at the structure's steps as the run reads it (`load_factors`) and checked
+    at the least and largest load factor s > 0 there and at the table's rows between (the
+    constants are linear in s between them); nothing for a system without the table."""
+    import equinox as eqx
     import jax.numpy as jnp
 
-    from ..systems import normal_load_factor
+    from ..excitation import uniform_signal
     from ..units import PSI
 
     table = getattr(system, "pressure_table", None)
@@ -158,9 +158,8 @@ def check_vertical_pressures(system, rows, dt) -> None:
         return
     breaks = table.constant_breaks()
     for where, az in rows:
-        times = dt * np.arange(np.size(az))
-        steps = np.arange(0.0, times[-1] + 1e-9 * system.time_step, system.time_step)
-        s = np.asarray(normal_load_factor(np.interp(steps, times, np.asarray(az, float))))
+        record = eqx.tree_at(lambda s: s.vertical_acceleration, system, uniform_signal(az, dt))
+        s = load_factors(record, (np.size(az) - 1) * dt)
         loaded = s[s > 0]
         if loaded.size == 0:
             continue
@@ -202,14 +201,11 @@ def uplift_line(summary: dict) -> str | None:
 
 
 def load_factors(system, duration):
-    """N / W (nt,) at the solver's times of a series pendulum structure's vertical record."""
-    import jax
-    import jax.numpy as jnp
+    """N / W (nt,) of a structure's vertical record at the ends of the whole steps the drivers
+    run over `duration` [s] (`systems.step_load_factors`)."""
+    from ..systems import step_count, step_load_factors
 
-    from ..systems import step_count
-
-    steps = step_count(system.time_step, duration)  # the whole steps the drivers run
-    return np.asarray(jax.vmap(system.load_factor)(jnp.arange(steps + 1) * float(system.time_step)))
+    return np.asarray(step_load_factors(system, step_count(system.time_step, duration)))
 
 
 def series_uplift(system, duration) -> dict:

@@ -101,18 +101,18 @@ def load_components(args):
     return ax, ay, dt, notes
 
 
-def vertical_component(args, dt, samples):
+def vertical_component(args, dt, samples, where: str = "--record-z"):
     """The windowed, scaled vertical component [m/s^2] on the horizontal components' grid
     (`samples` values at step `dt` [s] from --start), or `None` without --record-z;
-    `ValueError` naming --record-z for a step or a length that does not match (--resample:
-    interpolated to `dt`, extended with zeros)."""
+    `ValueError` naming `where` (--record-z, or a suite pair's record_z) for a step or a length
+    that does not match (--resample: interpolated to `dt`, extended with zeros)."""
     if args.record_z is None:
         return None
-    z = read_component(args.record_z, args.record_units, "--record-z")
+    z = read_component(args.record_z, args.record_units, where)
     az, dtz = np.asarray(z.acceleration, float), float(z.time_step)
     if abs(dtz - dt) > 1e-9 * dt:
         if not args.resample:
-            raise ValueError(f"--record-z: time step {dtz:g} s differs from the horizontal components' "
+            raise ValueError(f"{where}: time step {dtz:g} s differs from the horizontal components' "
                              f"{dt:g} s; resample it, or ask for --resample (linear interpolation).")
         t = dtz * np.arange(az.size)
         az = np.interp(np.arange(0.0, t[-1] + 1e-9 * dt, dt), t, az)
@@ -120,7 +120,7 @@ def vertical_component(args, dt, samples):
     window = az[i0:i0 + samples]
     if window.size < samples:
         if not args.resample:
-            raise ValueError(f"--record-z: lasts {(az.size - 1) * dt:g} s, shorter than the horizontal "
+            raise ValueError(f"{where}: lasts {(az.size - 1) * dt:g} s, shorter than the horizontal "
                              f"window ({i0 * dt:g} s + {(samples - 1) * dt:g} s); choose --duration within "
                              "it, or ask for --resample to extend it with zeros.")
         window = np.pad(window, (0, samples - window.size))

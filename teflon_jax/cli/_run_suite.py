@@ -151,10 +151,7 @@ def _pair_records(args, pairs):
         one = argparse.Namespace(**{**vars(args), "record_x": x, "record_y": y, "record_z": z,
                                     "scale": scale * args.scale})
         ax, ay, dt, pair_notes = load_components(one)
-        try:
-            verticals.append(vertical_component(one, dt, ax.size))
-        except ValueError as error:
-            raise ValueError(f"--suite {args.suite}, pair {name}: {error}".replace("--record-z:", "record_z:")) from None
+        verticals.append(vertical_component(one, dt, ax.size, f"--suite {args.suite}, pair {name}: record_z"))
         records.append((name, ax, ay, dt))
         notes += [f"{name}: {n}" for n in pair_notes]
     steps = {dt for *_, dt in records}

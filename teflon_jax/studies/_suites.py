@@ -21,7 +21,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..excitation import uniform_signal
-from ..systems import simulate_history, step_count, uplift_time
+from ..systems import simulate_history, step_count, step_load_factors, uplift_time
 from ._cluster import (
     add_attributes,
     check_count,
@@ -118,7 +118,7 @@ def vertical_values(system, duration: float) -> dict:
     factor N / W (`system.load_factor`) at the structure's steps over `duration` [s], the time
     of the steps whose end has N <= 0 (`systems.uplift_time`), its least and largest value."""
     dt = system.time_step
-    loads = jax.vmap(system.load_factor)(jnp.arange(step_count(dt, duration) + 1) * dt)
+    loads = step_load_factors(system, step_count(dt, duration))
     return {"uplift_time_s": uplift_time(loads, dt), "min_load_factor": jnp.min(loads),
             "max_load_factor": jnp.max(loads)}
 

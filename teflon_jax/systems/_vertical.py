@@ -155,6 +155,12 @@ def bearing_under_load(system, load) -> dict:
     return {"bearing": bearing, "pressure_exponent": None, "pressure_table": None}
 
 
+def step_load_factors(system, n_steps: int):
+    """N / W (n_steps + 1,) [-] of `system`'s vertical record at the ends 0..n_steps of its steps
+    of `time_step`, as its step reads it (`load_factor`: the record linear between samples)."""
+    return jax.vmap(system.load_factor)(jnp.arange(n_steps + 1) * system.time_step)
+
+
 def uplifted(vertical_acceleration):
     """True where N <= 0, i.e. a_v <= -g [m/s^2]."""
     return 1 + jnp.asarray(vertical_acceleration) / STANDARD_GRAVITY <= 0
