@@ -12,7 +12,7 @@ bearing law is written out.
 - the response types of `systems/` (classes whose name ends in `Response` or `Result`);
 - the stepped systems of `systems/` (classes with a `step`, `newmark_update` or `propagated_step`
   method);
-- the equilibrium iterations of `systems/` and `solver/` (`while_loop` call sites);
+- the equilibrium iterations of `systems/`, `elements/` and `solver/` (`while_loop` call sites);
 - the history drivers (functions of `systems/` that `scan` and are named `simulate_*`,
   `*_history` or `*_histories`) and the peak drivers (functions of `systems/` and `studies/` that `scan` and are
   named after peaks or uplift);
@@ -104,8 +104,9 @@ def counts(root: pathlib.Path) -> dict:
         "custom_jvp": sum(len(CUSTOM_JVP.findall(t)) for t in texts.values()),
         "response types in systems/": sum(len(RESPONSE_CLASS.findall(texts[p])) for p in systems),
         "stepped systems in systems/": sum(_stepped_systems(texts[p]) for p in systems),
-        "equilibrium iterations (while_loop) in systems/, solver/": sum(
-            texts[p].count("while_loop(") for p in _modules(package / "systems") + _modules(package / "solver")),
+        "while_loop iterations in systems/, elements/, solver/": sum(
+            texts[p].count("while_loop(") for p in _modules(package / "systems") + _modules(package / "elements")
+            + _modules(package / "solver")),
         "history drivers in systems/": sum(_scanning(texts[p], _is_history) for p in systems),
         "peak drivers in systems/, studies/": sum(
             _scanning(texts[p], _is_peaks) for p in systems + _modules(package / "studies")),

@@ -27,8 +27,8 @@ import bench_pendulum as b7  # noqa: E402
 import jax.numpy as jnp  # noqa: E402
 import numpy as np  # noqa: E402
 
+from teflon_jax.elements import _balance as balance  # noqa: E402
 from teflon_jax.excitation import sample_two_components, uniform_signal  # noqa: E402
-from teflon_jax.systems import _isolator_balance as balance  # noqa: E402
 from teflon_jax.systems import _series as series  # noqa: E402
 
 DURATION = 40.0

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import teflon_jax as tj
-from teflon_jax.systems._sliders import isolator_residual, predicted_root
+from teflon_jax.elements import isolator_residual, predicted_root
 from teflon_jax.units import PSI
 
 PARALLEL, _ = tj.interface_parameters("UF", 1000 * PSI, "P")

@@ -16,8 +16,8 @@ from teflon_jax.bearing import (
     park_rate,
     single_pendulum,
 )
+from teflon_jax.elements import balance_forces, initial_history, step_history
 from teflon_jax.solver import park_exact_update, park_exact_update_and_slope
-from teflon_jax.systems._sliders import balance_forces, initial_history, step_history
 from teflon_jax.tables import interface_parameters
 from teflon_jax.units import INCH, PSI
 

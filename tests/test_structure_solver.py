@@ -176,7 +176,7 @@ def test_newton_slope_is_the_derivative_of_the_residual(split_at_turn, breakaway
     with a friction pendulum's nonlinear surface (large-displacement form and a restrainer
     engaged about x = 0.01 m) its stiffness is in the slope, and with a direction asymmetry
     (F = mu W Z (1 + a Z)) its term."""
-    from teflon_jax.systems._sliders import isolator_residual, residual_and_slope
+    from teflon_jax.elements import isolator_residual, residual_and_slope
 
     bearing = tj.paper_bearing(FRICTION, breakaway_ratio=breakaway)
     rng = np.random.default_rng(1)
@@ -206,7 +206,7 @@ def test_newton_slope_is_the_derivative_of_the_residual(split_at_turn, breakaway
 
     r, r_auto, slope, slope_auto = jax.jit(jax.vmap(both))(z0, vb0, x, z_peak)
     # the slopes of F and Z that the custom JVP of the root uses, against automatic derivatives
-    from teflon_jax.systems._sliders import bearing_force, force_and_slopes
+    from teflon_jax.elements import bearing_force, force_and_slopes
 
     def slopes(z0, vb0, x, z_peak):
         p = step_state(z0, vb0, z_peak)

@@ -14,12 +14,12 @@ import pytest
 from histories import planar_histories
 
 from teflon_jax.bearing import BoucWen, FrictionParameters, TriplePendulum
+from teflon_jax.elements import secant_floors
 from teflon_jax.excitation import StochasticGroundMotion, sample, uniform_signal
 from teflon_jax.solver import broyden_blocks
 from teflon_jax.systems import (
     triple_structure,
 )
-from teflon_jax.systems._isolator_balance import secant_floors
 from teflon_jax.units import STANDARD_GRAVITY
 
 TRIPLE = TriplePendulum(inner_radius=0.3, bottom_radius=2.1, top_radius=2.1, inner_capacity=0.05,
@@ -104,8 +104,7 @@ def test_the_planar_balance_returns_the_forces_of_its_root_with_their_derivative
     evaluation after the loop): they are the force law's at the root it returns, and their
     tangent in the linear step's increment D and compliance G is the implicit one (central
     differences of the whole balance)."""
-    from teflon_jax.systems._isolator_balance import balance
-    from teflon_jax.systems._sliders import balance_forces
+    from teflon_jax.elements import balance, balance_forces
 
     rng = np.random.default_rng(3)
     weight = 1e6

@@ -221,7 +221,7 @@ MUTANTS = (
     Mutant("S9", "teflon_jax/systems/_bidirectional.py",
            "slide = jnp.sqrt(jnp.sum((d1 - d0) ** 2, axis=-1))", "slide = jnp.abs(d1 - d0)[:, 0]",
            ("tests/test_history_two_directions.py",), "heating in two directions: flux of the x speed only"),
-    Mutant("S10", "teflon_jax/systems/_sliders.py",
+    Mutant("S10", "teflon_jax/elements/_sliders.py",
            "force = force * (1 + a * z)", "force = force * (1 - a * z)",
            ("tests/test_asymmetry_in_structures.py",), "asymmetry in the step's solve: 1 - a Z"),
     Mutant("S11", "teflon_jax/systems/_structure.py",
@@ -237,7 +237,7 @@ MUTANTS = (
            "inner = 2 * (self.inner_capacity + a * jnp.maximum(self.bottom_capacity / b,",
            ("tests/test_triple_pendulum.py",), "series model: inner ring at the later outer ring"),
     # the triple pendulum in a structure, the vertical component, the pendulum's test record
-    Mutant("P3", "teflon_jax/systems/_sliders.py",
+    Mutant("P3", "teflon_jax/elements/_sliders.py",
            "speed, heading = slide * pendulum.velocity_factors() / time_step, direction",
            "speed, heading = slide / time_step, direction",
            ("tests/test_triple_structure.py",), "triple pendulum in a structure: Eq. 1 at the slider's speed, not the surface's"),

@@ -5,6 +5,9 @@ building on bearing groups, vertical records), their drivers, and the isolated s
 the studies; every structure's history is a `StructureResponse` (`simulate_history`), its
 peaks the `REDUCERS` over it, folded along a run by one driver (`peak_response`)."""
 
+from ..elements import BALANCES as BALANCES
+from ..elements import FRICTION_VELOCITIES as FRICTION_VELOCITIES
+from ..elements import TRIPLE_TOLERANCE as TRIPLE_TOLERANCE
 from ..structures import LINEAR_RULES as LINEAR_RULES
 from ._bearing_test import BearingTestSystem as BearingTestSystem
 from ._bearing_test import force_along_path as force_along_path
@@ -44,8 +47,6 @@ from ._isolated import IsolatedStructure as IsolatedStructure
 from ._isolated import check_structure_bearing as check_structure_bearing
 from ._isolated import isolated_structure as isolated_structure
 from ._isolated import with_vertical_component as with_vertical_component
-from ._isolator_balance import BALANCES as BALANCES
-from ._isolator_balance import TRIPLE_TOLERANCE as TRIPLE_TOLERANCE
 from ._on_plan import building_on_plan as building_on_plan
 from ._on_plan import slab_on_bearings as slab_on_bearings
 from ._on_plan import stack_pendulums as stack_pendulums
@@ -68,7 +69,6 @@ from ._response import uplift_time as uplift_time
 from ._response import uplifted as uplifted
 from ._series import structure_on_isolator as structure_on_isolator
 from ._series import triple_structure as triple_structure
-from ._sliders import FRICTION_VELOCITIES as FRICTION_VELOCITIES
 from ._structure import FRICTION_MODELS as FRICTION_MODELS
 from ._structure import StructureOnSliders as StructureOnSliders
 from ._structure import initial_state as initial_state

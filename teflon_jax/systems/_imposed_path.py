@@ -47,16 +47,18 @@ from ..bearing import (
     bouc_wen_exact_update,
 )
 from ..bearing import heat_kernel_exponentials as _kernel
-from ..solver import park_path_update, park_substeps, require_riccati_form
-from ..validation import given_options
-from ._isolator_balance import (
+from ..elements import (
+    FRICTION_VELOCITIES,
     TRIPLE_NEWTON_ITERATIONS,
+    initial_history,
     isolator_parameters,
     predicted_increments,
+    series_heat_kernel,
     slider_step,
 )
+from ..solver import park_path_update, park_substeps, require_riccati_form
+from ..validation import given_options
 from ._response import BearingTestResult
-from ._sliders import FRICTION_VELOCITIES, initial_history, series_heat_kernel
 
 
 def sample_velocity(time, u):
@@ -369,7 +371,7 @@ def series_along_path(bearing: SeriesPendulum, path: SampledPath, *, heat_kernel
     (a structure's W), as a structure under a vertical record takes it; without
     `reference_load` the pressures hold at the path's N, which must then be constant
     (`normal_load_varies`). A pendulum with heated surfaces scales each surface's friction
-    by its temperature (`_sliders.heated_step`; in the plane the flux takes the length of
+    by its temperature (`teflon_jax.elements.heated_step`; in the plane the flux takes the length of
     each surface's increment), with `heat_kernel` (rates, weights) =
     `heat_kernel_exponentials(dt, horizon)`, by default from concrete sample times (the
     shortest step to `HEAT_HORIZON`). `friction_velocity` (`FRICTION_VELOCITIES`): "mean",

@@ -23,13 +23,13 @@ from ..bearing import (
     paper_bearing,
     runs_in_series,
 )
+from ..elements import TRIPLE_NEWTON_ITERATIONS, TRIPLE_TOLERANCE
 from ..structures import LINEAR_RULES
 from ..tables import friction_table
 from ..units import PSI
 from ..validation import concrete, require_positive
 from ._bidirectional import BidirectionalStructure
 from ._bidirectional_models import bidirectional_building, bidirectional_rigid_mass
-from ._isolator_balance import TRIPLE_NEWTON_ITERATIONS, TRIPLE_TOLERANCE
 from ._series import triple_structure
 from ._structure import NEWTON_ITERATIONS, NEWTON_TOLERANCE, StructureOnSliders
 from ._structure_build import check_structure_parts, rigid_mass, six_storey_building

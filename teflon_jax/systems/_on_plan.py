@@ -56,6 +56,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..bearing import SeriesPendulum, check_series_pendulum
+from ..elements import TRIPLE_NEWTON_ITERATIONS, TRIPLE_TOLERANCE, series_heat_kernel
 from ..excitation import Signal
 from ..structures import (
     check_plan,
@@ -74,8 +75,6 @@ from ..units import STANDARD_GRAVITY
 from ..validation import concrete
 from ._bidirectional import BidirectionalStructure
 from ._bidirectional_models import _zero_signal, bidirectional_structure
-from ._isolator_balance import TRIPLE_NEWTON_ITERATIONS, TRIPLE_TOLERANCE
-from ._sliders import series_heat_kernel
 
 
 def slab_on_bearings(

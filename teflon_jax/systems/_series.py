@@ -27,7 +27,7 @@ Table 2 building along each axis, the bearings coupling the two). The linear str
 a reference spring W / R_ref at the isolator (R_ref = `reference_radius()`: b + c of the
 triple, R_1 + R_2 of the double), and each step advances it by its linear rule
 (`structures.newmark_step_matrices`, `structures.exact_step_matrices`) with the force beyond
-that spring, the sliders' balance (`_isolator_balance.py`) solved in between. With a vertical ground acceleration a_v (up +)
+that spring, the sliders' balance (`teflon_jax.elements`) solved in between. With a vertical ground acceleration a_v (up +)
 every slider's force is taken under the normal load N = s W, s = max(1 + a_v / g, 0) at the
 end of the step; at s = 0 (uplift) the sliders carry nothing and share the isolator's
 increment as their pendulum stiffnesses W / R_e in series would. A one-surface isolator may
@@ -40,7 +40,7 @@ pendulums (`bearing` a `SeriesPendulum`; `series_initial_state` to `series_group
 state, its step and its history.
 
 Each group g at plan position P_g (r_g = P_g - C) slides by d_g = B_g q, B_g = [[1, 0, -r_y],
-[0, 1, r_x]], and is one multi-surface pendulum of the series model (`_isolator_balance.py`):
+[0, 1, r_x]], and is one multi-surface pendulum of the series model (`teflon_jax.elements`):
 S sliders (e) with their own planar displacements, Z and restrainers, all carrying the
 group's force F_g, their displacements adding up to d_g. Every slider's force is taken under
 the group's normal load N_g = s_g W_g (friction and N_g / R_e alike), the load of a rigid slab
@@ -50,7 +50,7 @@ tension, is reported as unbalanced); while N_g <= 0 the group carries no shear a
 (`uplift_increments`).
 
 Heated surfaces (`SeriesPendulum.heated`) heat with their own group's load: surface e of group
-g takes the flux q_ge = mu_ge p_e (N_g / W_g) v_ge (`_sliders.heated_step`, p_e its contact
+g takes the flux q_ge = mu_ge p_e (N_g / W_g) v_ge (`teflon_jax.elements.heated_step`, p_e its contact
 pressure under the static W_g, v_ge the length of its increment over the step times its
 velocity factor), none while the group is lifted, and its friction is scaled by k_T at its
 own temperature, taken at the step's start and held over the step, as on the rigid mass.
@@ -77,34 +77,32 @@ import jax
 import jax.numpy as jnp
 
 from ..bearing import SeriesPendulum
-from ..excitation import Signal
-from ..solver import damped_newton, implicit_root, inverse2
-from ..structures import group_factor, overturned_loads, supported_loads
-from ..units import STANDARD_GRAVITY
-from ._isolator_balance import (
+from ..elements import (
+    FRICTION_VELOCITIES,
     TRIPLE_NEWTON_ITERATIONS,
     TRIPLE_TOLERANCE,
-    isolator_parameters,
-    loaded_blocks,
-    pendulum_blocks,
-    predicted_increments,
-    slider_step,
-    uplift_increments,
-)
-from ._response import EngineRun, StructureResponse
-from ._sliders import (
-    FRICTION_VELOCITIES,
     balance_forces,
     end_velocity,
     heated_step,
     initial_history,
+    isolator_parameters,
+    loaded_blocks,
     next_history,
+    pendulum_blocks,
+    predicted_increments,
     series_heat_kernel,
     slider_forces,
     slider_lengths,
+    slider_step,
     step_history,
     surface_temperature_rises,
+    uplift_increments,
 )
+from ..excitation import Signal
+from ..solver import damped_newton, implicit_root, inverse2
+from ..structures import group_factor, overturned_loads, supported_loads
+from ..units import STANDARD_GRAVITY
+from ._response import EngineRun, StructureResponse
 from ._structure import StructureOnSliders
 from ._structure_build import rigid_mass, six_storey_building
 

@@ -26,12 +26,11 @@ from ..bearing import (
     bouc_wen_rate,
     bouc_wen_reversal_length,
 )
+from ..elements import BALANCES, isolator_root, predicted_root
 from ..excitation import Signal
 from ..solver import AbstractSteppedSystem, require_riccati_form
 from ..structures import newmark_step_matrices, small_dot
 from ._bearing_test import running_peak_rate
-from ._isolator_balance import BALANCES
-from ._sliders import isolator_root, predicted_root
 from ._vertical import (
     TablePressure,
     bearing_under_load,

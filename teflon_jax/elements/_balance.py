@@ -1,6 +1,6 @@
 """The sliders' balance of a friction pendulum of sliders in series over one step, in one or two
-horizontal components: what a structure on the isolator (`_series.py`) and the
-isolator's bearing test along an imposed path (`_imposed_path.series_along_path`) step through.
+horizontal components: what a structure on the isolator (`teflon_jax.systems`) and the
+isolator's bearing test along an imposed path (`teflon_jax.systems.respond_along_path`) step through.
 
 S sliders carry one force F and their increments d_e add up to the isolator's; slider e
 carries F_e(d_e) (`slider_forces`: Eq. 1 at the surface's mean velocity over the step, f_min
@@ -75,8 +75,8 @@ change of its force over so short a step is mostly rounding; `secant_floors`).""
 def isolator_parameters(pendulum: SeriesPendulum, isolator, weight, normal, increment, compliance=None,
                         heat_weights=None):
     """The balance's parameters `p` from the isolator's state (sliders, Z, the last two
-    increments, the force beyond the reference spring[, heat states][, history]; arrays (S,)
-    or (S, 2)): total normal load W [N], its value N [N] over the step, the isolator's increment
+    increments, the force beyond the reference spring, then a heated pendulum's heat states and
+    a remembering one's history; arrays (S,) or (S, 2)): total normal load W [N], its value N [N] over the step, the isolator's increment
     D [m] and the compliance G [m/N] (`None`: an imposed path), the heat kernel's weights of a
     heated pendulum."""
     slider0, z0 = isolator[:2]
