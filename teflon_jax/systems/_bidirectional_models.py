@@ -18,7 +18,7 @@ from ..solver import require_riccati_form
 from ..structures import initial_normal_load
 from ..tables import BuildingData
 from ._bidirectional import PLANAR_NEWTON_ITERATIONS, BidirectionalStructure
-from ._response import StructureResponse, group_uplift_time
+from ._response import StructureResponse, group_uplift_time, uplift_time
 from ._structure import FRICTION_MODELS
 from ._structure_build import (
     check_storey_height,
@@ -26,7 +26,7 @@ from ._structure_build import (
     rigid_mass,
     six_storey_building,
 )
-from ._vertical import uplift_steps
+from ._vertical import step_load_factors
 
 
 def bidirectional_structure(
@@ -308,7 +308,7 @@ def solved_planar_response(system: BidirectionalStructure, save_times, solution,
         group_uplift_time=None if system.overturning is None else (
             group_uplift_time(ys["normal_load"], dt) * save_every),
         load_factor=loads,
-        uplift_time=None if loads is None else uplift_steps(system, n_steps) * dt,
+        uplift_time=None if loads is None else uplift_time(step_load_factors(system, n_steps), dt),
         result=solution.result,
     )
 

@@ -34,6 +34,7 @@ from ._response import (
     group_uplift_time,
     raise_unbalanced,
     run_history,
+    uplift_time,
     uplifted,
 )
 from ._series import series_groups_run, series_run
@@ -46,7 +47,7 @@ from ._structure_build import (
     step_count,
     time_grid,
 )
-from ._vertical import uplift_steps
+from ._vertical import step_load_factors
 
 
 def _on_series(system) -> bool:
@@ -460,7 +461,8 @@ def simulate_history(
                                                                                      float(system.time_step)))
         if system.vertical_acceleration is None:
             return response
-        return dataclasses.replace(response, uplift_time=uplift_steps(system, n_steps) * system.time_step)
+        steps = step_load_factors(system, n_steps)
+        return dataclasses.replace(response, uplift_time=uplift_time(steps, system.time_step))
     if not isinstance(system, (StructureOnSliders, BidirectionalStructure)):
         raise TypeError(f"system: no history driver for a {type(system).__name__}; give a structure built by "
                         "teflon_jax.systems (rigid mass, building or slab on its isolators).")

@@ -37,13 +37,13 @@ from ..structures import (
 )
 from ..tables import BuildingData
 from ..units import STANDARD_GRAVITY
-from ._response import StructureResponse
+from ._response import StructureResponse, uplift_time
 from ._structure import (
     FRICTION_MODELS,
     NEWTON_ITERATIONS,
     StructureOnSliders,
 )
-from ._vertical import uplift_steps
+from ._vertical import step_load_factors
 
 
 def structure_on_sliders(
@@ -237,7 +237,8 @@ def solved_structure_response(system: StructureOnSliders, save_times, solution, 
         z_peak=ys["z_peak"],
         result=solution.result,
         load_factor=loads,
-        uplift_time=None if loads is None else uplift_steps(system, n_steps) * float(system.time_step),
+        uplift_time=None if loads is None else uplift_time(step_load_factors(system, n_steps),
+                                                           float(system.time_step)),
     )
 
 

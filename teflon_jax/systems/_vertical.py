@@ -161,19 +161,6 @@ def step_load_factors(system, n_steps: int):
     return jax.vmap(system.load_factor)(jnp.arange(n_steps + 1) * system.time_step)
 
 
-def uplifted(vertical_acceleration):
-    """True where N <= 0, i.e. a_v <= -g [m/s^2]."""
-    return 1 + jnp.asarray(vertical_acceleration) / STANDARD_GRAVITY <= 0
-
-
-def uplift_steps(system, n_steps: int):
-    """Number of the steps 1..n_steps whose end has N <= 0 (`None` without a vertical record)."""
-    if system.vertical_acceleration is None:
-        return None
-    times = jnp.arange(1, n_steps + 1) * system.time_step
-    return jnp.sum(uplifted(jax.vmap(system.vertical_acceleration)(times)))
-
-
 # --------------------------------------------------------------------------- the record on a structure
 
 
