@@ -13,6 +13,7 @@ import equinox as eqx
 import jax.numpy as jnp
 import numpy as np
 import pytest
+from histories import assert_plane_follows_line
 
 import teflon_jax as tj
 from teflon_jax.bearing import PressureDependence
@@ -154,7 +155,6 @@ def test_under_a_vertical_record_two_directions_along_a_line_are_the_one_directi
     from teflon_jax.studies import bidirectional_isolated_structure
     from teflon_jax.systems import (
         isolated_structure,
-        simulate_history,
         with_vertical_component,
     )
 
@@ -166,14 +166,8 @@ def test_under_a_vertical_record_two_directions_along_a_line_are_the_one_directi
     plane = with_vertical_component(bidirectional_isolated_structure("rigid", **options))(((horizontal, zero),
                                                                                            vertical))
     plane = dataclasses.replace(plane, newton_tolerance=0.0)
-    a, b = simulate_history(line, 7.5), simulate_history(plane, 7.5)
     assert float(plane.pressure_exponent) == EXPONENT
-    assert bool(a.succeeded) and bool(b.succeeded)
-    u_line, u_plane = np.asarray(a.displacement[:, 0]), np.asarray(b.displacement[:, 0])
-    assert np.max(np.abs(u_line)) > 0.02
-    np.testing.assert_allclose(u_plane, u_line, rtol=0, atol=1e-9)
-    held = simulate_history(dataclasses.replace(plane, pressure_exponent=None), 7.5)
-    assert np.max(np.abs(np.asarray(held.displacement[:, 0]) - u_line)) > 1e-4
+    assert_plane_follows_line(line, plane, 7.5, moves=0.02, without={"pressure_exponent": None}, changes=1e-4)
 
 
 def test_without_the_contact_area_a_structure_refuses_by_key():

@@ -15,6 +15,7 @@ import json
 import jax.numpy as jnp
 import numpy as np
 import pytest
+from histories import assert_plane_follows_line
 
 from teflon_jax.bearing import FrictionParameters, paper_bearing
 from teflon_jax.excitation import uniform_signal
@@ -110,13 +111,7 @@ def test_two_directions_along_a_line_are_the_one_direction():
                                 newton_tolerance=0.0)
     law = dict(friction_table=table, table_pressure=pressure)
     line, plane = (with_vertical_motion(s, vertical, **law) for s in (line, plane))
-    a, c = simulate_history(line, 7.5), simulate_history(plane, 7.5)
-    assert bool(a.succeeded) and bool(c.succeeded)
-    u_line, u_plane = np.asarray(a.displacement[:, 0]), np.asarray(c.displacement[:, 0])
-    assert np.max(np.abs(u_line)) > 0.05
-    np.testing.assert_allclose(u_plane, u_line, rtol=0, atol=1e-9)
-    held = simulate_history(dataclasses.replace(plane, pressure_table=None), 7.5)
-    assert np.max(np.abs(np.asarray(held.displacement[:, 0]) - u_line)) > 1e-3
+    assert_plane_follows_line(line, plane, 7.5, moves=0.05, without={"pressure_table": None}, changes=1e-3)
 
 
 def test_the_table_law_is_refused_where_it_cannot_apply():
