@@ -9,12 +9,11 @@ friction pendulums of an isolator file (scales of their radii and capacities, f_
 surfaces; `teflon_jax.bearing.designed_isolator`)."""
 
 import math
-import pathlib
 from typing import NamedTuple
 
 from ..units import INCH, PSI, STANDARD_GRAVITY
 from ._common import add_quantity
-from ._isolator_flags import per_isolator
+from ._isolator_flags import add_isolator_flags, per_isolator
 
 
 class VariableFlag(NamedTuple):
@@ -111,14 +110,11 @@ ISOLATOR_DESIGNS = per_isolator(
 def add_design_variable_flags(parser) -> None:
     """`--isolator`, `--isolator-file`, the range flag of each design variable
     (`VARIABLE_FLAGS`), `--restrainer-ratio` and `--pressure`."""
-    parser.add_argument("--isolator", default="flat", choices=tuple(ISOLATOR_DESIGNS),
-                        help="flat sliders on springs of period Tb, a single friction pendulum "
-                        "(restoring force W u / R), or the triple or double friction pendulum of "
-                        "--isolator-file; each designed over the range flags that name it "
-                        "(default flat)")
-    parser.add_argument("--isolator-file", default=None, metavar="FILE", type=pathlib.Path,
-                        help="with --isolator triple-fp or double-fp: the isolator file whose bearing "
-                        "is designed (each variable a change of it)")
+    add_isolator_flags(parser, choices=tuple(ISOLATOR_DESIGNS), radius=None,
+                       isolator="flat sliders on springs of period Tb, a single friction pendulum "
+                       "(restoring force W u / R), or the triple or double friction pendulum of "
+                       "--isolator-file; each designed over the range flags that name it",
+                       file="the isolator file whose bearing is designed (each variable a change of it)")
     for spec in VARIABLE_FLAGS.values():
         add_quantity(parser, spec.flag, spec.dimension, None, spec.help + (
             f" (default {' '.join(spec.default[0])})" if spec.default else ""), minimum=0.0, nargs=2,

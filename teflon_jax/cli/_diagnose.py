@@ -32,7 +32,6 @@ from ..units import INCH
 from ._bearing_flags import add_save_bearing_flag, check_output_file
 from ._common import (
     _write_json,
-    add_quantity,
     add_units_flag,
     as_flags,
     output_units,
@@ -47,7 +46,12 @@ from ._diagnose_mixture import (
     mixture_of,
     save_found_bearing,
 )
-from ._isolator_flags import ISOLATORS, load_isolator_file, per_isolator
+from ._isolator_flags import (
+    add_isolator_flags,
+    add_record_load_flags,
+    load_isolator_file,
+    per_isolator,
+)
 
 _DIMENSIONS = {"-": "dimensionless", "m": "length", "s/m": "slowness"}
 
@@ -120,14 +124,8 @@ def add_diagnose_parser(subparsers) -> argparse.ArgumentParser:
     )
     parser.add_argument("record", type=pathlib.Path,
                         help="test-record CSV file or friction-damper JSON (the inputs of `fit`)")
-    add_quantity(parser, "--normal-load", "force", None, "normal load for records without one "
-                 "(e.g. a friction damper): one that puts force / N near 0.1, as the friction "
-                 "constants are bounded (f_max <= 0.5)", minimum=0.0)
-    add_quantity(parser, "--reference-load", "force", None, "with --isolator triple-fp or double-fp: "
-                 "the load the contact pressures are given under (the weight W the pendulum will "
-                 "carry); each sample's pressure is then that times N / W, so a record whose N "
-                 "varies can be searched, the heating candidate's included (default: none; such a "
-                 "record is refused)", minimum=0.0)
+    add_record_load_flags(parser, normal=" (e.g. a friction damper): one that puts force / N near 0.1, as the "
+                          "friction constants are bounded (f_max <= 0.5)", task="searched")
     parser.add_argument("--json", type=pathlib.Path, required=True, dest="json_path",
                         metavar="OUT.json", help="where to write the JSON summary")
     parser.add_argument("--report", type=pathlib.Path, required=True, metavar="DIR",
@@ -168,21 +166,14 @@ def add_diagnose_parser(subparsers) -> argparse.ArgumentParser:
 
 def _add_isolator_flags(parser) -> None:
     """`--isolator`, `--radius R`, `--isolator-file START.json` and `--save-isolator FILE`."""
-    parser.add_argument("--isolator", default="flat", choices=ISOLATORS,
-                        help="single-fp: the record is of a single friction pendulum; its "
-                        "restoring force N u / R joins the baseline and the search looks at the "
-                        "friction; triple-fp, double-fp: the baseline is the series fit of "
-                        "--isolator-file and the candidates its surfaces' effects (default flat)")
-    add_quantity(parser, "--radius", "length", None, "with --isolator single-fp: the radius R of "
-                 "the concave surface, when known (default: fitted with the baseline's friction)",
-                 minimum=0.0)
-    parser.add_argument("--isolator-file", default=None, metavar="START.json", type=pathlib.Path,
-                        help="with --isolator triple-fp|double-fp: the isolator file the series "
-                        "fit starts from (a surface's 'heating' entry gives the heating candidate "
-                        "its contact pressure; docs/formats.md)")
-    parser.add_argument("--save-isolator", default=None, metavar="FILE", type=pathlib.Path,
-                        help="with --isolator triple-fp|double-fp: write the final model as an "
-                        "isolator file (with the surfaces' heating when it was added)")
+    add_isolator_flags(
+        parser, isolator="single-fp: the record is of a single friction pendulum; its restoring force N u / R "
+        "joins the baseline and the search looks at the friction; triple-fp, double-fp: the baseline is the "
+        "series fit of --isolator-file and the candidates its surfaces' effects",
+        radius="the radius R of the concave surface, when known (default: fitted with the baseline's friction)",
+        file="the isolator file the series fit starts from (a surface's 'heating' entry gives the heating "
+        "candidate its contact pressure; docs/formats.md)", file_metavar="START.json",
+        save="write the final model as an isolator file (with the surfaces' heating when it was added)")
 
 
 def run_diagnose(args) -> int:

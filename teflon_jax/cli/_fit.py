@@ -13,14 +13,13 @@ import sys
 from ._bearing_flags import add_save_bearing_flag, check_output_file
 from ._common import (
     _write_json,
-    add_quantity,
     add_units_flag,
     read_bearing_record,
     read_quantities,
 )
 from ._fit_bayes import _unit_of as _unit_of
 from ._fit_bayes import add_bayes_file_flags, check_bayes_flags
-from ._isolator_flags import ISOLATORS
+from ._isolator_flags import add_isolator_flags, add_record_load_flags
 from ._isolator_table import FIT_ROWS, refused, required
 
 FIT_HELP = "fit f_max, delta_f, rate_a, yield_disp, breakaway_ratio to bearing test records"
@@ -53,13 +52,7 @@ def add_fit_parser(subparsers) -> argparse.ArgumentParser:
                         help="values of parameters held fixed, with units where they have one "
                              "(e.g. yield_disp=0.005in,rate_a=0.6s/in,breakaway_ratio=1.5); "
                              "repeatable; --known is the same flag, as in diagnose (default: none)")
-    add_quantity(parser, "--normal-load", "force", None, "normal load for records without one; "
-                 "'1N' fits the force itself (f_max, delta_f in newtons)", minimum=0.0)
-    add_quantity(parser, "--reference-load", "force", None, "with --isolator triple-fp or double-fp "
-                 "whose surfaces read their contact pressure (heating, pressure dependence): the "
-                 "load --isolator-file's pressures are given under (the weight W the pendulum will "
-                 "carry); each sample's pressure is then that times N / W, so a record whose N "
-                 "varies can be fitted (default: none; such a record is refused)", minimum=0.0)
+    add_record_load_flags(parser, normal="; '1N' fits the force itself (f_max, delta_f in newtons)", task="fitted")
     parser.add_argument("--starts", type=int, default=None, help="number of least-squares starts of a "
                         "flat slider's or single pendulum's fit (default 8; the triple pendulum's fit "
                         "starts from its --isolator-file)")
@@ -90,21 +83,16 @@ def add_fit_parser(subparsers) -> argparse.ArgumentParser:
                              "model (one record; e.g. backlash,asymmetry as `diagnose` names "
                              "them; 'list' prints the known ones); --fixed then also takes "
                              "their constants")
-    parser.add_argument("--isolator", default="flat", choices=ISOLATORS,
-                        help="single-fp: the records are of a single friction pendulum, force "
-                        "N u / R + friction; fit its radius R too ('--fixed radius=88in' holds "
-                        "it). triple-fp: one record of a triple friction pendulum, fitted from "
-                        "--isolator-file's constants (its radii, friction of each surface, "
-                        "and capacities where the loop reaches them; --free names them). double-fp: "
-                        "the same of a double friction pendulum (R_1, R_2 and each surface's "
-                        "friction; bottom and top kept in the start file's order of f_max, which a "
-                        "loop cannot tell) (default flat)")
-    parser.add_argument("--isolator-file", default=None, metavar="START.json", type=pathlib.Path,
-                        help="with --isolator triple-fp or double-fp: the isolator file the fit starts from "
-                        "(and whose constants it holds where the record cannot tell them)")
-    parser.add_argument("--save-isolator", default=None, metavar="FITTED.json", type=pathlib.Path,
-                        help="with --isolator triple-fp or double-fp: write the fitted isolator file (the "
-                        "format of --isolator-file)")
+    add_isolator_flags(
+        parser, radius=None, isolator="single-fp: the records are of a single friction pendulum, force N u / R + "
+        "friction; fit its radius R too ('--fixed radius=88in' holds it). triple-fp: one record of a triple "
+        "friction pendulum, fitted from --isolator-file's constants (its radii, friction of each surface, and "
+        "capacities where the loop reaches them; --free names them). double-fp: the same of a double friction "
+        "pendulum (R_1, R_2 and each surface's friction; bottom and top kept in the start file's order of "
+        "f_max, which a loop cannot tell)",
+        file="the isolator file the fit starts from (and whose constants it holds where the record cannot "
+        "tell them)", file_metavar="START.json",
+        save="write the fitted isolator file (the format of --isolator-file)", save_metavar="FITTED.json")
     add_save_bearing_flag(parser)
     add_units_flag(parser)
     parser.set_defaults(command_function=run_fit)

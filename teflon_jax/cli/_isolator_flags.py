@@ -60,19 +60,50 @@ def per_isolator(flat, single, series: Callable[[str, SeriesIsolator], object]) 
             **{name: series(name, facts) for name, facts in SERIES.items()}}
 
 
-def add_isolator_flags(parser) -> None:
-    """`--isolator flat|single-fp|triple-fp|double-fp`, `--radius R` (a length) of the single
-    friction pendulum and `--isolator-file FILE` of the triple and double ones."""
-    parser.add_argument("--isolator", default="flat", choices=ISOLATORS,
-                        help="flat sliders (with springs of --isolation-period, or none), a single "
-                        "friction pendulum (a concave surface of --radius, restoring force W u / R) "
-                        "or a triple or double friction pendulum (the surfaces of --isolator-file) "
-                        "(default flat)")
-    parser.add_argument("--isolator-file", default=None, metavar="FILE", type=pathlib.Path,
-                        help="with --isolator triple-fp or double-fp: the isolator file of its surfaces (radius, "
-                        "capacity and Eq. 1 friction of each; docs/formats.md#isolator-file)")
-    add_quantity(parser, "--radius", "length", None, "with --isolator single-fp: radius of curvature R "
-                 "of the concave surface, period 2 pi sqrt(R / g), e.g. 88in (3 s)", minimum=0.0)
+_SERIES_ONLY = f"with --isolator {' or '.join(SERIES_ISOLATORS)}: "
+_SINGLE_ONLY = f"with --isolator {ONE_SURFACE[1]}: "
+
+_RUN_ISOLATOR = ("flat sliders (with springs of --isolation-period, or none), a single friction pendulum (a "
+                 "concave surface of --radius, restoring force W u / R) or a triple or double friction "
+                 "pendulum (the surfaces of --isolator-file)")
+_RUN_FILE = ("the isolator file of its surfaces (radius, capacity and Eq. 1 friction of each; "
+             "docs/formats.md#isolator-file)")
+_RUN_RADIUS = "radius of curvature R of the concave surface, period 2 pi sqrt(R / g), e.g. 88in (3 s)"
+
+
+def add_isolator_flags(parser, *, isolator: str = _RUN_ISOLATOR, file: str | None = _RUN_FILE,
+                       radius: str | None = _RUN_RADIUS, save: str | None = None,
+                       choices: tuple = ISOLATORS, file_metavar: str = "FILE",
+                       save_metavar: str = "FILE", file_alone: bool = False) -> None:
+    """`--isolator NAME` (one of `choices`, default flat) and, where a command takes them,
+    `--isolator-file` of the series pendulums, `--radius R` (a length) of the single friction
+    pendulum and `--save-isolator` of a series pendulum's result: each flag defined here
+    once, its help the command's own words (`isolator`, `file`, `radius`, `save`; `None`: the
+    command has no such flag) after the isolators it applies to (`file_alone`: the file
+    names its pendulum whatever --isolator says)."""
+    parser.add_argument("--isolator", default=ONE_SURFACE[0], choices=choices,
+                        help=f"{isolator} (default {ONE_SURFACE[0]})")
+    if file is not None:
+        parser.add_argument("--isolator-file", default=None, metavar=file_metavar, type=pathlib.Path,
+                            help=file if file_alone else _SERIES_ONLY + file)
+    if radius is not None:
+        add_quantity(parser, "--radius", "length", None, _SINGLE_ONLY + radius, minimum=0.0)
+    if save is not None:
+        parser.add_argument("--save-isolator", default=None, metavar=save_metavar, type=pathlib.Path,
+                            help=_SERIES_ONLY + save)
+
+
+def add_record_load_flags(parser, *, normal: str, task: str) -> None:
+    """`--normal-load` (a force) for test records without one, in the command's words
+    (`normal`), and `--reference-load` of a series pendulum whose surfaces read their contact
+    pressure, whose records the command then `task`s ("fitted", "searched") under a varying N."""
+    add_quantity(parser, "--normal-load", "force", None, "normal load for records without one" + normal,
+                 minimum=0.0)
+    add_quantity(parser, "--reference-load", "force", None, _SERIES_ONLY + "the load --isolator-file's "
+                 "contact pressures are given under (the weight W the pendulum will carry); each sample's "
+                 f"pressure is then that times N / W, so a record whose N varies can be {task}, surfaces that "
+                 "read their pressure (heating, pressure dependence) included (default: none; such a record "
+                 "is refused)", minimum=0.0)
 
 
 @dataclasses.dataclass(frozen=True)

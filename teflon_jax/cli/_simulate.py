@@ -21,7 +21,7 @@ import numpy as np
 from ..units import INCH, STANDARD_GRAVITY, parse_quantity
 from ._bearing_flags import add_bearing_flag, read_bearing_flag
 from ._common import add_quantity, add_units_flag, check_table1, output_units
-from ._isolator_flags import ISOLATORS
+from ._isolator_flags import add_isolator_flags
 from ._isolator_flags import load_isolator_file as _load
 from ._isolator_table import TEST_ROWS, refused, required
 from ._provenance import record_metadata
@@ -71,15 +71,12 @@ def add_simulate_parser(subparsers) -> None:
                    "Table 1 for sliding along y and interpolate in the sliding angle")
     add_bearing_flag(p, replaces="--ptfe, --pressure, --direction, --breakaway, "
                      "--interfaces-in-series, --yield-disp and --anisotropic; give --normal-load")
-    p.add_argument("--isolator-file", default=None, metavar="FILE", type=pathlib.Path,
-                   help="simulate a triple or double friction pendulum whose surfaces (radius, capacity, "
-                   "friction of each) this isolator file gives, instead of a flat slider; "
-                   "give --normal-load")
-    p.add_argument("--isolator", default="flat", choices=ISOLATORS,
-                   help="a flat slider, or a single friction pendulum: the slider on a "
-                   "concave surface of --radius, force N u / R + friction (default flat)")
-    add_quantity(p, "--radius", "length", None, "with --isolator single-fp: radius of "
-                 "curvature R of the concave surface, e.g. 88in", minimum=0.0)
+    add_isolator_flags(
+        p, isolator="a flat slider, or a single friction pendulum: the slider on a concave surface of --radius, "
+        "force N u / R + friction",
+        file="simulate a triple or double friction pendulum whose surfaces (radius, capacity, friction of each) "
+        "this isolator file gives, instead of a flat slider; give --normal-load", file_alone=True,
+        radius="radius of curvature R of the concave surface, e.g. 88in")
     p.add_argument("--samples-per-cycle", type=int, default=400, help="saved samples per cycle, at "
                    f"least {MIN_SAMPLES_PER_CYCLE} (default 400)")
     p.add_argument("--out", default="test_record.csv", help="output test-record CSV (default test_record.csv)")
