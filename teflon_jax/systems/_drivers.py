@@ -47,7 +47,6 @@ from ._structure_build import (
     step_count,
     time_grid,
 )
-from ._vertical import step_load_factors
 
 
 def _on_series(system) -> bool:
@@ -452,7 +451,7 @@ def simulate_history(
         if given:
             raise ValueError(f"{', '.join(given)}: a structure on series pendulums steps at its time_step and "
                              "keeps every step; drop these options.")
-        n_steps, run = _engine_run(system, duration)
+        _, run = _engine_run(system, duration)
         response = run_history(run)
         if throw:
             response = raise_unbalanced(response)
@@ -461,8 +460,8 @@ def simulate_history(
                                                                                      float(system.time_step)))
         if system.vertical_acceleration is None:
             return response
-        steps = step_load_factors(system, n_steps)
-        return dataclasses.replace(response, uplift_time=uplift_time(steps, system.time_step))
+        # the run keeps N / W at every step (as the peak driver folds it): the uplift is read there
+        return dataclasses.replace(response, uplift_time=uplift_time(response.load_factor, system.time_step))
     if not isinstance(system, (StructureOnSliders, BidirectionalStructure)):
         raise TypeError(f"system: no history driver for a {type(system).__name__}; give a structure built by "
                         "teflon_jax.systems (rigid mass, building or slab on its isolators).")
