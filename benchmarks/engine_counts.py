@@ -20,7 +20,8 @@ bearing law is written out.
   exports (functions that return a `StructureResponse` or a `BearingTestResult`, by their
   annotation or their docstring's **Returns:**);
 - the tables keyed by isolator name (dict literals with "flat", "single-fp", "triple-fp" or
-  "double-fp" as a key) and where they are.
+  "double-fp" as a key), and the modules whose code (docstrings aside) spells an isolator's name
+  as a string of its own: the places the isolators are listed.
 Nothing is run: the counts are read from the files.
 """
 
@@ -72,6 +73,19 @@ def _name_tables(text: str) -> int:
         isinstance(k, ast.Constant) and k.value in ISOLATOR_NAMES for k in n.keys))
 
 
+def _spells_a_name(text: str) -> bool:
+    """Whether the code (docstrings aside) spells an isolator's name as a string of its own."""
+    tree = ast.parse(text)
+    docs = {id(node.body[0].value) for node in ast.walk(tree)
+            if isinstance(node, (ast.Module, ast.ClassDef, ast.FunctionDef)) and node.body
+            and isinstance(node.body[0], ast.Expr) and isinstance(node.body[0].value, ast.Constant)}
+    docs |= {id(b.value) for node in ast.walk(tree) if hasattr(node, "body") and isinstance(node.body, list)
+             for a, b in zip(node.body, node.body[1:]) if isinstance(a, (ast.Assign, ast.AnnAssign))
+             and isinstance(b, ast.Expr) and isinstance(b.value, ast.Constant)}  # attribute docstrings
+    return any(isinstance(n, ast.Constant) and n.value in ISOLATOR_NAMES and id(n) not in docs
+               for n in ast.walk(tree))
+
+
 def _exported_returning(package: pathlib.Path, texts: dict, returns: str = "StructureResponse") -> int:
     """Functions exported by `systems/__init__.py` that return `returns` (by their annotation,
     or by their docstring's **Returns:** where it names it)."""
@@ -114,6 +128,7 @@ def counts(root: pathlib.Path) -> dict:
         "imposed-path test functions exported by systems": _exported_returning(package, texts,
                                                                               "BearingTestResult"),
         "tables keyed by isolator name": sum(_name_tables(t) for t in texts.values()),
+        "modules that list an isolator by its name": sum(_spells_a_name(t) for t in texts.values()),
         "variant modules": ", ".join(f"{p.parent.name}/{p.name}" for p in variant),
     }
 

@@ -11,6 +11,7 @@ import importlib as _importlib
 
 _SUBPACKAGES = (
     "bearing",
+    "catalogue",
     "elements",
     "excitation",
     "formats",

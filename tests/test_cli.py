@@ -251,16 +251,28 @@ def test_montecarlo_reports_the_rate_after_the_first_chunk(tmp_path):
             assert rate > 0
 
 
-def test_the_command_lines_isolators_are_the_registrys():
-    # the parser's names are written out (no JAX for --help); the registry is the source
-    from teflon_jax.bearing import ISOLATORS, SERIES_PENDULUMS
+def test_the_catalogue_is_the_one_list_of_isolators():
+    # the command line, the bearing package and the design spaces read one catalogue, which
+    # --help loads without JAX; each kind in series has its class, which takes its words from it
+    from teflon_jax import catalogue
+    from teflon_jax.bearing import (
+        DESIGN_SPACES,
+        ISOLATORS,
+        SERIES_PENDULUMS,
+        concave_surface,
+        isolator_kind,
+    )
     from teflon_jax.cli._isolator_flags import ISOLATORS as CLI_ISOLATORS
     from teflon_jax.cli._isolator_flags import SERIES, SERIES_ISOLATORS
 
-    assert SERIES_ISOLATORS == tuple(SERIES_PENDULUMS)
-    assert CLI_ISOLATORS == ISOLATORS
-    for name, facts in SERIES.items():  # the words the commands print are the class's
-        assert facts.description == SERIES_PENDULUMS[name].description
+    assert CLI_ISOLATORS == ISOLATORS == tuple(DESIGN_SPACES) == tuple(catalogue.KINDS)
+    assert SERIES_ISOLATORS == tuple(SERIES_PENDULUMS) == catalogue.IN_SERIES
+    for name, kind in SERIES.items():
+        cls = SERIES_PENDULUMS[name]
+        assert (cls.isolator, cls.description, len(cls.slider_names)) == (name, kind.description, kind.sliders)
+    # the one-surface kinds are the values of flat sliders and of a concave surface
+    assert (isolator_kind(None), isolator_kind(concave_surface(2.0))) == catalogue.ONE_SURFACE
+    assert [kind.curved for kind in catalogue.KINDS.values()] == [False, True, True, True]
 
 
 def test_every_command_table_is_keyed_by_the_one_list_of_isolators():

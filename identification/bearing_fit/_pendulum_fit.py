@@ -25,6 +25,7 @@ import math
 
 import numpy as np
 
+from teflon_jax.catalogue import SINGLE_FP
 from teflon_jax.formats import TestRecord
 from teflon_jax.units import STANDARD_GRAVITY
 
@@ -58,7 +59,7 @@ class PendulumFit:
         """The JSON report (SI): the friction fit's, with the pendulum's entries added."""
         out = self.friction.to_json_dict()
         out.update({
-            "isolator": "single-fp",
+            "isolator": SINGLE_FP.name,
             "radius [m]": self.radius,
             "radius_std_error [m]": None if not math.isfinite(self.radius_std_error) else self.radius_std_error,
             "radius_fixed": self.radius_fixed,

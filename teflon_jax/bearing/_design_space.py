@@ -28,6 +28,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ..catalogue import KINDS, IsolatorKind
 from ..units import PSI
 from ..validation import concrete
 from ._isolators import SERIES_PENDULUMS
@@ -201,12 +202,17 @@ def _pendulum_space(variables) -> DesignSpace:
                        lambda structure, design: structure.pendulum.designed(design))
 
 
-DESIGN_SPACES: Mapping[str, DesignSpace] = {
-    "flat": _sliders_space(_FLAT), "single-fp": _sliders_space(_SINGLE),
-    **{name: _pendulum_space(cls.design_variables) for name, cls in SERIES_PENDULUMS.items()}}
-"""The `DesignSpace` of each isolator (`teflon_jax.bearing.ISOLATORS`), keyed by its name: the
-flat sliders' and the single pendulum's (the variables of `IsolatedStructure`) here, each
-series pendulum's from its class (`SERIES_PENDULUMS`)."""
+def _space_of(kind: IsolatorKind) -> DesignSpace:
+    """The `DesignSpace` of `kind`: a series pendulum's from its class (`SERIES_PENDULUMS`), one
+    surface's from the variables of `IsolatedStructure` (a curved one's with its radius)."""
+    if kind.in_series:
+        return _pendulum_space(SERIES_PENDULUMS[kind.name].design_variables)
+    return _sliders_space(_SINGLE if kind.curved else _FLAT)
+
+
+DESIGN_SPACES: Mapping[str, DesignSpace] = {name: _space_of(kind) for name, kind in KINDS.items()}
+"""The `DesignSpace` of each isolator of the catalogue (`teflon_jax.catalogue.KINDS`), keyed by
+its name."""
 
 
 def design_space(isolator: str) -> DesignSpace:

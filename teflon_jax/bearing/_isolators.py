@@ -1,9 +1,8 @@
-"""The isolators teflon-jax runs, listed once, and the isolator value every structure builder takes.
+"""The isolator value every structure builder takes, and the class of each series pendulum.
 
-Each isolator has a name (the command line's `--isolator`, the isolator file's `"isolator"`),
-and a series pendulum its class, whose class attributes carry the rest: the names of its
-sliders (the isolator file's surfaces), its description and its check. Every list of isolators
-in the library, the file formats and the command line is read from here.
+The kinds of isolator, their names and descriptions, are listed once, in `teflon_jax.catalogue`
+(`ISOLATORS`); a series pendulum's class reads its name and description from there and carries
+the rest: the names of its sliders (the isolator file's surfaces) and its check.
 
 A structure builder's one `isolator=` is a value, whose type says the isolator
 (`isolator_kind`) and the engine that runs it (`runs_in_series`):
@@ -23,6 +22,8 @@ the series engine.
 
 import math
 
+from ..catalogue import FLAT, IN_SERIES, SINGLE_FP
+from ..catalogue import ISOLATORS as ISOLATORS
 from ._bearing import SlidingBearing
 from ._pendulum import ConcaveSurface, concave_surface
 from ._series_pendulum import (
@@ -32,12 +33,13 @@ from ._series_pendulum import (
 )
 from ._triple_pendulum import TriplePendulum
 
-SERIES_PENDULUMS: dict[str, type[SeriesPendulum]] = {cls.isolator: cls for cls in (TriplePendulum, DoublePendulum)}
-"""Name -> class of the friction pendulums of sliders in series ("triple-fp", "double-fp")."""
+_SERIES_CLASSES = {cls.isolator: cls for cls in (TriplePendulum, DoublePendulum)}
+if set(_SERIES_CLASSES) != set(IN_SERIES):  # a kind added to the catalogue needs its class here
+    raise ImportError(f"the catalogue's pendulums in series {IN_SERIES} have the classes of {tuple(_SERIES_CLASSES)}.")
 
-ISOLATORS = ("flat", "single-fp", *SERIES_PENDULUMS)
-"""Every isolator's name: flat sliders, the single friction pendulum (a `SlidingBearing` on a
-`ConcaveSurface`) and the series pendulums."""
+SERIES_PENDULUMS: dict[str, type[SeriesPendulum]] = {name: _SERIES_CLASSES[name] for name in IN_SERIES}
+"""Name -> class of the friction pendulums of sliders in series (`teflon_jax.catalogue.IN_SERIES`,
+in its order)."""
 
 SERIES_CLASSES = (*SERIES_PENDULUMS.values(), SinglePendulum)
 """The classes of series pendulums, each with its own check (`SeriesPendulum.check`); the
@@ -70,20 +72,20 @@ def _pair_kind(value) -> str | None:
     """"single-fp" for a (`SlidingBearing`, `ConcaveSurface`) pair, else None."""
     if isinstance(value, tuple) and len(value) == 2 and isinstance(value[0], SlidingBearing) \
             and isinstance(value[1], ConcaveSurface):
-        return "single-fp"
+        return SINGLE_FP.name
     return None
 
 
 def _single_kind(value: SinglePendulum) -> str:
     """"flat" for a `SinglePendulum` of infinite radius (a traced radius: "single-fp")."""
     try:
-        return "flat" if math.isinf(float(value.surface_radius)) else "single-fp"
+        return FLAT.name if math.isinf(float(value.surface_radius)) else SINGLE_FP.name
     except (TypeError, ValueError, ArithmeticError):  # traced or not a scalar: a pendulum
-        return "single-fp"
+        return SINGLE_FP.name
 
 
-_KINDS = {type(None): lambda value: "flat", SlidingBearing: lambda value: "flat",
-          ConcaveSurface: lambda value: "single-fp", tuple: _pair_kind, SinglePendulum: _single_kind,
+_KINDS = {type(None): lambda value: FLAT.name, SlidingBearing: lambda value: FLAT.name,
+          ConcaveSurface: lambda value: SINGLE_FP.name, tuple: _pair_kind, SinglePendulum: _single_kind,
           **{cls: lambda value: value.isolator for cls in SERIES_PENDULUMS.values()}}
 """Type of an isolator value -> its name (`ISOLATORS`)."""
 
@@ -139,4 +141,4 @@ def _single_parts(value: SinglePendulum, kind: str, where: str):
             "breakaway_ratio", "friction_perpendicular", "lay_angle", "pressure_dependence", "wear", "asymmetry")}
     bearing = SlidingBearing(friction=value.surface_friction, hysteresis=value.hysteresis,
                              heating=value.surface_heating, **part)
-    return bearing, (None if kind == "flat" else concave_surface(value.surface_radius))
+    return bearing, (None if kind == FLAT.name else concave_surface(value.surface_radius))

@@ -28,6 +28,7 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import ArrayLike
 
+from ..catalogue import DOUBLE_FP, SINGLE_FP
 from ..validation import require, require_positive
 from ._bearing import SlidingBearing, check_heating
 from ._effects import FrictionalHeating
@@ -39,8 +40,8 @@ from ._surface import SurfaceParts, check_friction, check_surface_parts
 class SeriesPendulum(eqx.Module):
     """A friction pendulum isolator as sliders in series (module docstring).
 
-    **Class attributes:** `isolator` (the CLI's and the isolator file's name, e.g.
-    "double-fp"; the registry `SERIES_PENDULUMS` lists them), `slider_names` (one per slider, in the order of the arrays below),
+    **Class attributes:** `isolator` (the CLI's and the isolator file's name, its kind's in
+    `teflon_jax.catalogue`; the registry `SERIES_PENDULUMS` lists the classes), `slider_names` (one per slider, in the order of the arrays below),
     `description` (plural, for messages). **Field:** `hysteresis`, the `BoucWen` of every
     slider. **Methods** (arrays (S,) over the S sliders): `series_radii` [m],
     `series_capacities` [m], `velocity_factors` [-] (surface velocity over slider velocity),
@@ -225,9 +226,9 @@ class DoublePendulum(SeriesPendulum):
     `surface_parts`: (bottom, top) `SurfaceParts` or `None` each, or `None`.
     """
 
-    isolator: ClassVar[str] = "double-fp"
+    isolator: ClassVar[str] = DOUBLE_FP.name
     slider_names: ClassVar[tuple[str, ...]] = ("bottom", "top")
-    description: ClassVar[str] = "double friction pendulums"
+    description: ClassVar[str] = DOUBLE_FP.description
     design_variables: ClassVar[tuple[str, ...]] = ("radius_scale", "surface_f_max", "capacity_scale")
     """`radius_scale` s [-] (R_1, R_2 -> s R_1, s R_2: every slope 1 / R_1, 1 / (R_1 + R_2),
     1 / R_2 of the backbone falls by 1 / s), `surface_f_max` [-] (Eq. 1 of the bottom surface
@@ -306,7 +307,7 @@ class SinglePendulum(SeriesPendulum):
     ((`SurfaceParts`,) or `None`), as the double's and the triple's.
     """
 
-    isolator: ClassVar[str] = "single-fp"
+    isolator: ClassVar[str] = SINGLE_FP.name
     slider_names: ClassVar[tuple[str, ...]] = ("surface",)
     description: ClassVar[str] = "single friction pendulums or flat sliders"
     surface_radius: ArrayLike

@@ -23,6 +23,7 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import ArrayLike
 
+from ..catalogue import TRIPLE_FP
 from ..validation import require_positive
 from ._effects import FrictionalHeating
 from ._friction import FrictionParameters
@@ -54,9 +55,9 @@ class TriplePendulum(SeriesPendulum):
     `None` each (breakaway, anisotropy, wear, asymmetry, pressure dependence), or `None`.
     """
 
-    isolator: ClassVar[str] = "triple-fp"
+    isolator: ClassVar[str] = TRIPLE_FP.name
     slider_names: ClassVar[tuple[str, ...]] = ("inner", "bottom", "top")
-    description: ClassVar[str] = "triple friction pendulums"
+    description: ClassVar[str] = TRIPLE_FP.description
     design_variables: ClassVar[tuple[str, ...]] = ("outer_radius_scale", "inner_f_max", "outer_f_max",
                                                    "capacity_scale")
     """A smooth change of the isolator (Fenz & Constantinou 2008): `outer_radius_scale` s [-]

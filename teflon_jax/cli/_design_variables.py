@@ -13,7 +13,7 @@ from typing import NamedTuple
 
 from ..units import INCH, PSI, STANDARD_GRAVITY
 from ._common import add_quantity
-from ._isolator_flags import add_isolator_flags, per_isolator
+from ._isolator_flags import SERIES_NAMES, add_isolator_flags, per_isolator
 
 
 class VariableFlag(NamedTuple):
@@ -31,7 +31,7 @@ class VariableFlag(NamedTuple):
     digits: int = 4
 
 
-_TRIPLE, _SERIES = "--isolator triple-fp: bounds of the", "--isolator triple-fp or double-fp: bounds of the"
+_TRIPLE, _SERIES = "--isolator triple-fp: bounds of the", f"--isolator {SERIES_NAMES}: bounds of the"
 VARIABLE_FLAGS = {
     "radius": VariableFlag(
         "--radius-range", "length", "--isolator single-fp: bounds of the radius R of the concave "

@@ -47,6 +47,7 @@ from ._diagnose_mixture import (
     save_found_bearing,
 )
 from ._isolator_flags import (
+    SERIES_NAMES,
     add_isolator_flags,
     add_record_load_flags,
     load_isolator_file,
@@ -357,8 +358,8 @@ def _held_notes(result) -> list:
 
 
 def _not_series(flag):
-    return (flag, flag[2:].replace("-", "_"), "{flag}: applies to --isolator triple-fp or double-fp "
-            "only (the {isolator} bearing has no isolator file); leave {flag} out.")
+    return (flag, flag[2:].replace("-", "_"), "{flag}: applies to --isolator " + SERIES_NAMES + " only (the "
+            "{isolator} bearing has no isolator file); leave {flag} out.")
 
 
 def _not_with_series(flag, attribute, why):

@@ -11,56 +11,39 @@ Every message names the flag (or the plan's key) as the user wrote it and says w
 import dataclasses
 import pathlib
 from collections.abc import Callable
-from typing import NamedTuple
 
+from ..catalogue import (
+    FLAT,
+    IN_SERIES,
+    ISOLATORS,
+    KINDS,
+    ONE_SURFACE,
+    SINGLE_FP,
+    IsolatorKind,
+)
 from ._common import add_quantity
 
-
-class SeriesIsolator(NamedTuple):
-    """What the command line says of one friction pendulum of sliders in series: the
-    `description` of its bearings (the class's), the `file_example` of its --isolator-file, the
-    `model` a simulated test record of it names, and `order_note`, what a fit of its loop cannot
-    tell apart (None: nothing)."""
-
-    description: str
-    file_example: str
-    model: str
-    order_note: str | None = None
-
-
-SERIES: dict[str, SeriesIsolator] = {
-    "triple-fp": SeriesIsolator("triple friction pendulums", "tfp.json",
-                                "series model of Fenz & Constantinou (2008)"),
-    "double-fp": SeriesIsolator("double friction pendulums", "dfp.json",
-                                "series model of Fenz & Constantinou (2006)",
-                                "a loop cannot tell the bottom surface from the top one; they are reported "
-                                "in the start file's order of f_max"),
-}
+SERIES: dict[str, IsolatorKind] = {name: KINDS[name] for name in IN_SERIES}
 """The series pendulums of the command line, whose surfaces an isolator file gives
-(`--isolator-file`): the registry `teflon_jax.bearing.SERIES_PENDULUMS` (names and
-descriptions), written out so that `--help` answers without loading JAX (`tests/test_cli.py`
-holds the two equal)."""
+(`--isolator-file`), with what the commands say of each (`teflon_jax.catalogue`)."""
 
-SERIES_ISOLATORS = tuple(SERIES)
+SERIES_ISOLATORS = IN_SERIES
 """The names of `SERIES`."""
 
-ONE_SURFACE = ("flat", "single-fp")
-"""The isolators of one sliding surface: flat sliders and the single friction pendulum."""
-
-ISOLATORS = (*ONE_SURFACE, *SERIES_ISOLATORS)
-"""Every `--isolator` (`teflon_jax.bearing.ISOLATORS`, written out for the same reason); the one
-list of them in the command line: every table keyed by isolator is `per_isolator`'s."""
+SERIES_NAMES = " or ".join(IN_SERIES)
+"""The series pendulums as messages name them: "triple-fp or double-fp"."""
 
 
-def per_isolator(flat, single, series: Callable[[str, SeriesIsolator], object]) -> dict:
-    """{--isolator: row} of a command's table, in `ISOLATORS` order: the row of `flat` sliders,
-    of the `single` friction pendulum and `series(name, facts)` of each series pendulum
-    (`SERIES`), so that a pendulum added there has its row in every command."""
+def per_isolator(flat, single, series: Callable[[str, IsolatorKind], object]) -> dict:
+    """{--isolator: row} of a command's table, in `ISOLATORS` order (`teflon_jax.catalogue`, the
+    one list of them: every table keyed by isolator is this function's): the row of `flat`
+    sliders, of the `single` friction pendulum and `series(name, facts)` of each series pendulum
+    (`SERIES`), so that a pendulum added to the catalogue has its row in every command."""
     return {ONE_SURFACE[0]: flat, ONE_SURFACE[1]: single,
             **{name: series(name, facts) for name, facts in SERIES.items()}}
 
 
-_SERIES_ONLY = f"with --isolator {' or '.join(SERIES_ISOLATORS)}: "
+_SERIES_ONLY = f"with --isolator {SERIES_NAMES}: "
 _SINGLE_ONLY = f"with --isolator {ONE_SURFACE[1]}: "
 
 _RUN_ISOLATOR = ("flat sliders (with springs of --isolation-period, or none), a single friction pendulum (a "
@@ -177,9 +160,9 @@ def read_isolator(args) -> Isolator:
     series pendulum from its file), and a file of another isolator."""
     path = getattr(args, "isolator_file", None)
     if path is not None and args.isolator not in SERIES_ISOLATORS:
-        raise ValueError(f"--isolator-file: applies to --isolator triple-fp only, or double-fp "
-                         f"(the pendulums whose surfaces it gives), not {args.isolator}; add --isolator "
-                         "triple-fp (or double-fp) or leave --isolator-file out.")
+        raise ValueError(f"--isolator-file: applies to --isolator {SERIES_NAMES} only (the pendulums whose "
+                         f"surfaces it gives), not {args.isolator}; add --isolator {IN_SERIES[0]} (or another "
+                         "of them) or leave --isolator-file out.")
     return _READERS[args.isolator](args)
 
 
@@ -187,7 +170,7 @@ def _flat(args) -> Isolator:
     if getattr(args, "radius", None) is not None:
         raise ValueError("--radius: applies to --isolator single-fp only (flat sliders have no "
                          "radius); add --isolator single-fp or leave --radius out.")
-    return Isolator("flat", bearing=_bearing(args))
+    return Isolator(FLAT.name, bearing=_bearing(args))
 
 
 def _single(args) -> Isolator:
@@ -197,7 +180,7 @@ def _single(args) -> Isolator:
     if getattr(args, "isolation_period_text", args.isolation_period) is not None:
         raise ValueError("--isolation-period: conflicts with --isolator single-fp, whose period is "
                          "2 pi sqrt(R / g) of --radius; leave --isolation-period out.")
-    return Isolator("single-fp", radius=args.radius, bearing=_bearing(args))
+    return Isolator(SINGLE_FP.name, radius=args.radius, bearing=_bearing(args))
 
 
 def _series(args) -> Isolator:
@@ -283,7 +266,7 @@ def check_combination(args, isolator: Isolator) -> None:
                          "(a force imbalance of 1e-7 W); leave --newton-tolerance out.")
 
 
-_NOT_SERIES = ("--plan: {group}.isolator_file applies with --isolator triple-fp or double-fp only, not "
+_NOT_SERIES = ("--plan: {group}.isolator_file applies with --isolator " + SERIES_NAMES + " only, not "
                "{isolator}; leave it out or give that isolator.")
 _SERIES_KEY = ("--plan: {group}.{key} does not apply to --isolator {isolator} ({why}); leave '{key}' out "
                "of the group.")

@@ -18,10 +18,11 @@ import re
 from collections.abc import Callable
 from typing import NamedTuple
 
+from ..catalogue import IN_SERIES
 from ..units import INCH, parse_quantity
 from ._common import as_flags, name_value_items, output_units, parse_name_values
+from ._isolator_flags import SERIES_NAMES, per_isolator
 from ._isolator_flags import load_isolator_file as _load
-from ._isolator_flags import per_isolator
 
 PARAMETER_DIMENSIONS = {"f_max": "dimensionless", "delta_f": "dimensionless", "rate_a": "slowness",
                         "yield_disp": "length", "breakaway_ratio": "dimensionless"}
@@ -303,8 +304,8 @@ def _plot_series(args, fit, records) -> None:
 
 # --- the table ---------------------------------------------------------------------------------
 
-SERIES_ONLY = ("{flag}: applies to --isolator triple-fp or double-fp only; add --isolator triple-fp (or "
-               "double-fp) or leave {flag} out.")
+SERIES_ONLY = ("{flag}: applies to --isolator " + SERIES_NAMES + " only; add --isolator " + IN_SERIES[0]
+               + " (or another of them) or leave {flag} out.")
 _NOT_SERIES = (("isolator_file", SERIES_ONLY), ("save_isolator", SERIES_ONLY), ("reference_load", SERIES_ONLY))
 
 

@@ -132,7 +132,7 @@ def _plain(value):
 def replaced_flags(args) -> dict:
     """{flag: the file that replaced it} of the bearing flags at their defaults (and the
     isolation period and damping) when a bearing file or a series isolator's file is run."""
-    from ..bearing import SERIES_PENDULUMS as SERIES_ISOLATORS
+    from ..catalogue import IN_SERIES
 
     defaults = getattr(args, "bearing_option_defaults", {})
     bearing = getattr(args, "bearing", None)
@@ -141,7 +141,7 @@ def replaced_flags(args) -> dict:
     if bearing is not None:
         source = f"--bearing {bearing}"
         names = [name for name in defaults if name != "pressure" or not _uses_pressure(bearing)]
-    elif getattr(args, "isolator", None) in SERIES_ISOLATORS and isolator_file is not None:
+    elif getattr(args, "isolator", None) in IN_SERIES and isolator_file is not None:
         source = f"--isolator-file {isolator_file}"
         names = [*defaults, "isolation_period", "isolation_damping"]
     return {_flag(name): source for name in names if hasattr(args, name)}

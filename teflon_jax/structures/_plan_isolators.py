@@ -18,6 +18,7 @@ from ..bearing import (
     one_surface,
     runs_in_series,
 )
+from ..catalogue import FLAT
 
 
 class PlanIsolator(typing.NamedTuple):
@@ -39,7 +40,7 @@ def plan_isolator(isolator, groups: int, *, bearings=None, radii=None, pendulums
     parts the isolator does not take or lacks, and, with `series_refused` (the message), series
     pendulums."""
     if isolator is None or isinstance(isolator, str):
-        return _named(isolator or "flat", groups, bearings, radii, pendulums, series_refused)
+        return _named(isolator or FLAT.name, groups, bearings, radii, pendulums, series_refused)
     for name, value in (("bearings", bearings), ("radii", radii), ("pendulums", pendulums)):
         if value is not None:
             raise ValueError(f"{name}: the isolator value carries the groups' isolators; leave {name} out.")

@@ -23,6 +23,7 @@ from ..bearing import (
     paper_bearing,
     runs_in_series,
 )
+from ..catalogue import FLAT, SINGLE_FP
 from ..elements import TRIPLE_NEWTON_ITERATIONS, TRIPLE_TOLERANCE
 from ..structures import LINEAR_RULES
 from ..tables import friction_table
@@ -42,7 +43,6 @@ single friction pendulum (a concave surface of radius R, `ConcaveSurface`), the 
 double friction pendulum (`TriplePendulum`, `DoublePendulum`: `IsolatedStructure.pendulum`, one
 or two components)."""
 
-
 RECOMMENDED_TIME_STEPS = {"rigid": 0.005, "building": 0.005}
 """Structure step [s] per structure, a divisor of the 0.01 s record step (a step that is not
 one puts the record's kinks inside steps: 1/150 s left 1.8 % error). With Z updated along the
@@ -54,7 +54,6 @@ within 0.2 % of 0.5 ms steps at 5 ms, for the rigid mass and the building alike
 5 ms was 0.8 % off (its storey modes' period error) and it needed 1/300 s. At 10 ms a few
 motions differ by 1.5 %: runs in which |Z| comes within 1e-3 of Eq. 17's breakaway threshold
 (0.999) switch breakaway off at different times."""
-
 
 MONTE_CARLO_NEWTON_TOLERANCE = 1e-3
 """`IsolatedStructure.newton_tolerance` of `teflon-jax montecarlo` and the B3 benchmark [-]: the
@@ -166,10 +165,10 @@ class IsolatedStructure(eqx.Module):
 
     @property
     def isolator(self) -> str:
-        """The isolator's name (`ISOLATORS`): "flat", "single-fp", or the pendulum's."""
+        """The isolator's name (`teflon_jax.catalogue.ISOLATORS`): flat, single or the pendulum's."""
         if self.pendulum is not None:
             return self.pendulum.isolator
-        return "flat" if self.surface is None else "single-fp"
+        return FLAT.name if self.surface is None else SINGLE_FP.name
 
     def table(self):
         """The Table 1 rows (extrapolation switched off by our own range check)."""
