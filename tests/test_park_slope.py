@@ -2,6 +2,8 @@
 (`park_exact_update_and_slope`) against forward mode through the update, against differences
 of Eqs. 8-9 integrated along the increment, at rest, and as the sliders' Newton blocks."""
 
+import dataclasses
+
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -10,13 +12,17 @@ from scipy.integrate import solve_ivp
 
 from teflon_jax.bearing import (
     BoucWen,
+    DirectionAsymmetry,
     FrictionParameters,
+    PressureDependence,
+    SurfaceParts,
     TriplePendulum,
+    Wear,
     paper_bearing,
     park_rate,
     single_pendulum,
 )
-from teflon_jax.elements import balance_forces, initial_history, step_history
+from teflon_jax.elements import balance_forces, initial_history, slider_forces, step_history
 from teflon_jax.solver import park_exact_update, park_exact_update_and_slope
 from teflon_jax.tables import interface_parameters
 from teflon_jax.units import INCH, PSI
@@ -122,3 +128,36 @@ def test_the_sliders_newton_blocks_are_the_jacobian_of_their_forces(pendulum, la
     jacobian = jax.jacfwd(lambda x: balance_forces(p, x, 0.005)[0])(d)
     own = np.stack([np.asarray(jacobian[e, :, e, :]) for e in range(count)])
     assert np.allclose(np.asarray(blocks), own, rtol=1e-10, atol=1e-10 * np.abs(own).max())
+
+
+def _every_part_triple():
+    """B7's triple with a different part on every surface, each at its own contact pressure."""
+    parts = (SurfaceParts(breakaway_ratio=1.6, wear=Wear(0.3, 2.0)),
+             SurfaceParts(friction_perpendicular=FrictionParameters(0.1, 0.04, 25.0), lay_angle=0.4,
+                          asymmetry=DirectionAsymmetry(0.1)),
+             SurfaceParts(pressure_dependence=PressureDependence(0.3, 2e5, contact_area=0.01), breakaway_ratio=1.2,
+                          wear=Wear(-0.2, 1.0)))
+    return dataclasses.replace(_triple(), surface_parts=parts, inner_pressure=30e6, bottom_pressure=20e6,
+                               top_pressure=25e6)
+
+
+def test_the_sliders_one_by_one_are_the_law_of_all_at_once():
+    # a planar step's balance evaluates the sliders one after the other (`balance_forces`):
+    # each slider's force, Z and block are those of the law over all sliders together
+    # (`slider_forces`), with every per-slider input in its own slider's place
+    pendulum = _every_part_triple()
+    rng = np.random.default_rng(5)
+    shape = (3, 2)
+    z0 = jnp.asarray(rng.uniform(-0.9, 0.9, shape))
+    # the inner slider before its breakaway ends, the top one after; each surface's own travel
+    history = step_history({"z_peak": jnp.asarray([0.3, 0.5, 1.0]), "travel": jnp.asarray([0.1, 0.4, 2.0])}, z0)
+    p = {"pendulum": pendulum, "N": 1e5, "s0": jnp.asarray(rng.normal(size=shape) * 0.05), "z0": z0,
+         "k": jnp.asarray([0.9, 1.0, 0.8]), "history": history, "s": 1.3}
+    d = jnp.asarray(rng.normal(size=shape) * 1e-3)
+    together = slider_forces(pendulum, 1e5, p["s0"], z0, d, 0.005, p["k"], history, 1.3)
+    one_by_one = balance_forces(p, d, 0.005, blocks=True)
+    for own, all_at_once in zip(one_by_one, together):
+        np.testing.assert_allclose(np.asarray(own), np.asarray(all_at_once), rtol=1e-13, atol=1e-13)
+    jacobian = jax.jacfwd(lambda x: slider_forces(pendulum, 1e5, p["s0"], z0, x, 0.005, p["k"], history, 1.3)[0])(d)
+    blocks = np.stack([np.asarray(jacobian[e, :, e, :]) for e in range(3)])
+    np.testing.assert_allclose(np.asarray(one_by_one[2]), blocks, rtol=1e-10, atol=1e-10 * np.abs(blocks).max())

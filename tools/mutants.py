@@ -221,7 +221,7 @@ MUTANTS = (
     Mutant("S9", "teflon_jax/systems/_bidirectional.py",
            "slide = jnp.sqrt(jnp.sum((d1 - d0) ** 2, axis=-1))", "slide = jnp.abs(d1 - d0)[:, 0]",
            ("tests/test_history_two_directions.py",), "heating in two directions: flux of the x speed only"),
-    Mutant("S10", "teflon_jax/elements/_sliders.py",
+    Mutant("S10", "teflon_jax/elements/_one_slider.py",
            "force = force * (1 + a * z)", "force = force * (1 - a * z)",
            ("tests/test_asymmetry_in_structures.py",), "asymmetry in the step's solve: 1 - a Z"),
     Mutant("S11", "teflon_jax/systems/_structure.py",

@@ -3,8 +3,9 @@ or of an imposed path, as an element's state determination does in a finite-elem
 
 - `_sliders.py`: the sliders' forces at the end of a step (Eq. 1 with Table 1's parts, Bouc-Wen
   or Park's Z updated along the increment, the restrainer), their heating and their history
-  (largest |Z|, surface travel), and the one slider of a flat-slider or single-pendulum
-  structure solved for the isolator's displacement.
+  (largest |Z|, surface travel).
+- `_one_slider.py`: the one slider of a flat-slider or single-pendulum structure, solved for
+  the isolator's displacement.
 - `_balance.py`: the balance of a pendulum's sliders in series over a step, in one or two
   horizontal components, given the compliance the structure (or an actuator) leaves them.
 
@@ -24,18 +25,18 @@ from ._balance import predicted_increments as predicted_increments
 from ._balance import secant_floors as secant_floors
 from ._balance import slider_step as slider_step
 from ._balance import uplift_increments as uplift_increments
+from ._one_slider import bearing_force as bearing_force
+from ._one_slider import force_and_slopes as force_and_slopes
+from ._one_slider import isolator_residual as isolator_residual
+from ._one_slider import isolator_root as isolator_root
+from ._one_slider import predicted_root as predicted_root
+from ._one_slider import residual_and_slope as residual_and_slope
 from ._sliders import FRICTION_VELOCITIES as FRICTION_VELOCITIES
 from ._sliders import balance_forces as balance_forces
-from ._sliders import bearing_force as bearing_force
 from ._sliders import end_velocity as end_velocity
-from ._sliders import force_and_slopes as force_and_slopes
 from ._sliders import heated_step as heated_step
 from ._sliders import initial_history as initial_history
-from ._sliders import isolator_residual as isolator_residual
-from ._sliders import isolator_root as isolator_root
 from ._sliders import next_history as next_history
-from ._sliders import predicted_root as predicted_root
-from ._sliders import residual_and_slope as residual_and_slope
 from ._sliders import series_heat_kernel as series_heat_kernel
 from ._sliders import slider_forces as slider_forces
 from ._sliders import slider_lengths as slider_lengths
