@@ -35,7 +35,8 @@ from ._triple_pendulum import TriplePendulum
 
 _SERIES_CLASSES = {cls.isolator: cls for cls in (TriplePendulum, DoublePendulum)}
 if set(_SERIES_CLASSES) != set(IN_SERIES):  # a kind added to the catalogue needs its class here
-    raise ImportError(f"the catalogue's pendulums in series {IN_SERIES} have the classes of {tuple(_SERIES_CLASSES)}.")
+    raise ImportError(f"teflon_jax.catalogue lists the pendulums in series {IN_SERIES}, and the bearing package "
+                      f"has classes for {tuple(_SERIES_CLASSES)}; give each kind in series its class.")
 
 SERIES_PENDULUMS: dict[str, type[SeriesPendulum]] = {name: _SERIES_CLASSES[name] for name in IN_SERIES}
 """Name -> class of the friction pendulums of sliders in series (`teflon_jax.catalogue.IN_SERIES`,

@@ -11,4 +11,3 @@ from ._isolators import ONE_SURFACE as ONE_SURFACE
 from ._isolators import SINGLE_FP as SINGLE_FP
 from ._isolators import TRIPLE_FP as TRIPLE_FP
 from ._isolators import IsolatorKind as IsolatorKind
-from ._isolators import kind_named as kind_named

@@ -63,9 +63,3 @@ ONE_SURFACE = tuple(name for name, kind in KINDS.items() if not kind.in_series)
 IN_SERIES = tuple(name for name, kind in KINDS.items() if kind.in_series)
 """The pendulums of sliders in series, each given by its isolator file."""
 
-
-def kind_named(name: str, where: str = "isolator") -> IsolatorKind:
-    """The `IsolatorKind` of `name`; `ValueError` naming `where` and the accepted names."""
-    if name not in KINDS:
-        raise ValueError(f"{where}: unknown {name!r}; accepted: {', '.join(ISOLATORS)}.")
-    return KINDS[name]

@@ -11,9 +11,9 @@ import sys
 
 import numpy as np
 
+from ..catalogue import IN_SERIES
 from ..units import STANDARD_GRAVITY, parse_quantity
 from ._common import _write_json, motion_bar
-from ._isolator_flags import SERIES_ISOLATORS
 
 POSTERIOR_WORD = "posterior"
 """The `--property-factors` value that takes the bounds from the posterior of `--bearing`."""
@@ -195,7 +195,7 @@ def _bearing_posterior(args, text, wants_posterior) -> tuple:
     if posterior is None:
         raise ValueError(f"--property-factors posterior: --bearing {args.bearing} has no posterior section; "
                          "give a bearing file written with its posterior (fit --bayes), or LOWER,UPPER factors.")
-    if getattr(args, "isolator", None) in SERIES_ISOLATORS:
+    if getattr(args, "isolator", None) in IN_SERIES:
         raise ValueError(f"--property-factors posterior: bounds the --bearing file's friction, and --isolator "
                          f"{args.isolator} runs its isolator file's surfaces; give LOWER,UPPER factors.")
     if bearing.friction_perpendicular is not None:

@@ -17,7 +17,6 @@ from ..catalogue import (
     IN_SERIES,
     ISOLATORS,
     KINDS,
-    ONE_SURFACE,
     SINGLE_FP,
     IsolatorKind,
 )
@@ -26,9 +25,6 @@ from ._common import add_quantity
 SERIES: dict[str, IsolatorKind] = {name: KINDS[name] for name in IN_SERIES}
 """The series pendulums of the command line, whose surfaces an isolator file gives
 (`--isolator-file`), with what the commands say of each (`teflon_jax.catalogue`)."""
-
-SERIES_ISOLATORS = IN_SERIES
-"""The names of `SERIES`."""
 
 SERIES_NAMES = " or ".join(IN_SERIES)
 """The series pendulums as messages name them: "triple-fp or double-fp"."""
@@ -39,12 +35,12 @@ def per_isolator(flat, single, series: Callable[[str, IsolatorKind], object]) ->
     one list of them: every table keyed by isolator is this function's): the row of `flat`
     sliders, of the `single` friction pendulum and `series(name, facts)` of each series pendulum
     (`SERIES`), so that a pendulum added to the catalogue has its row in every command."""
-    return {ONE_SURFACE[0]: flat, ONE_SURFACE[1]: single,
+    return {FLAT.name: flat, SINGLE_FP.name: single,
             **{name: series(name, facts) for name, facts in SERIES.items()}}
 
 
 _SERIES_ONLY = f"with --isolator {SERIES_NAMES}: "
-_SINGLE_ONLY = f"with --isolator {ONE_SURFACE[1]}: "
+_SINGLE_ONLY = f"with --isolator {SINGLE_FP.name}: "
 
 _RUN_ISOLATOR = ("flat sliders (with springs of --isolation-period, or none), a single friction pendulum (a "
                  "concave surface of --radius, restoring force W u / R) or a triple or double friction "
@@ -64,8 +60,8 @@ def add_isolator_flags(parser, *, isolator: str = _RUN_ISOLATOR, file: str | Non
     once, its help the command's own words (`isolator`, `file`, `radius`, `save`; `None`: the
     command has no such flag) after the isolators it applies to (`file_alone`: the file
     names its pendulum whatever --isolator says)."""
-    parser.add_argument("--isolator", default=ONE_SURFACE[0], choices=choices,
-                        help=f"{isolator} (default {ONE_SURFACE[0]})")
+    parser.add_argument("--isolator", default=FLAT.name, choices=choices,
+                        help=f"{isolator} (default {FLAT.name})")
     if file is not None:
         parser.add_argument("--isolator-file", default=None, metavar=file_metavar, type=pathlib.Path,
                             help=file if file_alone else _SERIES_ONLY + file)
@@ -159,7 +155,7 @@ def read_isolator(args) -> Isolator:
     radius without the single pendulum, the flags a pendulum takes from its own geometry (and a
     series pendulum from its file), and a file of another isolator."""
     path = getattr(args, "isolator_file", None)
-    if path is not None and args.isolator not in SERIES_ISOLATORS:
+    if path is not None and args.isolator not in IN_SERIES:
         raise ValueError(f"--isolator-file: applies to --isolator {SERIES_NAMES} only (the pendulums whose "
                          f"surfaces it gives), not {args.isolator}; add --isolator {IN_SERIES[0]} (or another "
                          "of them) or leave --isolator-file out.")

@@ -2,8 +2,9 @@
 displacement.
 
 A `StructureOnSliders` on a `SlidingBearing` (`bearing_force` to `predicted_root`): its
-equilibrium at the end of a step is solved for the isolator's displacement, x = u_linear - g0 F(x) (Newmark's rule or the exact
-linear rule, `structures.newmark_step_matrices`, `structures.exact_step_matrices`), with
+equilibrium at the end of a step is solved for the isolator's displacement,
+x = u_linear - g0 F(x) (Newmark's rule or the exact linear rule,
+`structures.newmark_step_matrices`, `structures.exact_step_matrices`), with
 F = mu(v) W Z the bearing force at the end of the step, v its velocity there (linear in x,
 `isolator_end_velocity`) and Z updated exactly along the step's path (`bearing_force`), by the
 bracketed Newton iteration (`solver.bracketed_newton`) with written-out slopes, differentiated
