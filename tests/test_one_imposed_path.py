@@ -14,6 +14,7 @@ kind of isolator does not take are refused by name.
 
 import dataclasses
 
+import diffrax
 import jax
 import numpy as np
 import pytest
@@ -25,12 +26,14 @@ from teflon_jax.bearing import (
     FrictionParameters,
     PressureDependence,
     SurfaceParts,
+    Wear,
     heat_kernel_exponentials,
     paper_bearing,
     single_pendulum,
 )
 from teflon_jax.excitation import SineMotion, StochasticGroundMotion, sample, uniform_signal
 from teflon_jax.formats import test_record_from_arrays
+from teflon_jax.solver import RiccatiNewmark
 from teflon_jax.systems import (
     normal_load_varies,
     respond_along_path,
@@ -193,6 +196,14 @@ def test_options_one_kind_does_not_take_are_refused_by_name():
         respond_along_path(flat, path, heat_kernel=(np.ones(1), np.ones(1)))
     with pytest.raises(ValueError, match="friction_velocity"):
         respond_along_path(flat, path, friction_velocity="mean")
+    worn = dataclasses.replace(flat, wear=Wear(0.1, 1.0))
+    motion = SineMotion(amplitude=0.05, frequency=0.5, cycles=1)
+    for options, named in (({"solver": diffrax.Tsit5()}, "solver"), ({"rtol": 1e-6, "atol": 1e-9}, "rtol, atol"),
+                           ({"max_steps": 10}, "max_steps"), ({"adjoint": diffrax.ForwardMode()}, "adjoint")):
+        with pytest.raises(ValueError, match=f"^{named}: a bearing with wear is driven along the sampled motion"):
+            simulate_bearing_test(worn, motion, WEIGHT, **options)
+    along_x = simulate_bearing_test(worn, motion, WEIGHT, solver=RiccatiNewmark(), samples_per_cycle=50)
+    np.testing.assert_array_equal(along_x.fx, simulate_bearing_test(worn, motion, WEIGHT, samples_per_cycle=50).fx)
     with pytest.raises(ValueError, match="ux: .*n, 2"):
         sampled_path(time, np.stack([u, u, u], -1), WEIGHT)
     with pytest.raises(ValueError, match="park_elements: .*under tracing"):

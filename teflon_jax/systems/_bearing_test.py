@@ -129,7 +129,8 @@ def simulate_bearing_test(
     A bearing with optional parts (heating, wear, pressure dependence, asymmetry, backlash) is
     driven along the motion sampled at the save times (refined by `steps_per_sample`), with
     the motion's own velocity, by `respond_along_path` (Z exact between samples along x, Park
-    along the Hermite path in the plane); `solver` and its tolerances do not apply.
+    along the Hermite path in the plane); the diffrax solve's options (`solver`, but for
+    `RiccatiNewmark` along x, `rtol`, `atol`, `max_steps`, `adjoint`) are refused by name.
 
     **Returns:** a `BearingTestResult` (of a series pendulum: the path, the force, each slider's
     displacement and Z, and whether each sample's balance converged).
@@ -146,14 +147,16 @@ def simulate_bearing_test(
     if duration is None:
         duration = motion.duration
     normal_load = _normal_load_signal(normal_load, duration)
+    times = save_times(motion, duration, samples_per_cycle)
+    if bearing.effects:
+        _refuse_solve_options(bearing, motion, {"solver": (solver, None), "rtol": (rtol, 1e-8), "atol": (atol, 1e-10),
+                                                "max_steps": (max_steps, 1_000_000), "adjoint": (adjoint, None)})
+        return _along_samples(bearing, motion, normal_load, _refine(times, steps_per_sample),
+                              steps_per_sample)
     if solver is None:
         riccati = (not isinstance(motion, AbstractBiaxialMotion)
                    and _riccati_admitted(bearing.hysteresis))
         solver = RiccatiNewmark() if riccati else diffrax.Tsit5()
-    times = save_times(motion, duration, samples_per_cycle)
-    if bearing.effects:
-        return _along_samples(bearing, motion, normal_load, _refine(times, steps_per_sample),
-                              steps_per_sample)
     system = BearingTestSystem(bearing=bearing, motion=motion)
     if isinstance(solver, RiccatiNewmark):
         require_riccati_form(bearing.hysteresis)
@@ -189,6 +192,21 @@ def _series_test(bearing: SeriesPendulum, motion, normal_load, duration, samples
     planar = isinstance(motion, AbstractBiaxialMotion)
     return series_along_path(bearing, sampled_path(time, path[:, 0], load, uy=path[:, 1] if planar else None,
                                                    park_elements=1), reference_load=reference_load)
+
+
+def _refuse_solve_options(bearing, motion, options) -> None:
+    """`ValueError` naming the options of the diffrax solve given for a bearing with optional
+    parts, which is driven along the sampled motion instead (Z exact between samples along x,
+    Park along the Hermite path in the plane; `respond_along_path`): they would change
+    nothing. `RiccatiNewmark` along x names that exact update and is taken."""
+    solver = options["solver"][0]
+    if isinstance(solver, RiccatiNewmark) and not isinstance(motion, AbstractBiaxialMotion):
+        options = {**options, "solver": (None, None)}
+    given = given_options(options)
+    if given:
+        raise ValueError(f"{', '.join(given)}: a bearing with {', '.join(bearing.effects)} is driven along "
+                         "the sampled motion, Z exact between samples (respond_along_path), not by a diffrax "
+                         "solve; drop these options (steps_per_sample refines the samples).")
 
 
 @eqx.filter_jit
