@@ -115,7 +115,7 @@ def _two_weights(a, b):
     (_set(["mixture", "compositions", 0, "posterior", "draws", "breakaway_ratio", 0], 0.5),
      r"mixture.compositions\[0\]: posterior.draws: breakaway_ratio"),
     (_set(["mixture", "compositions", 1, "parts", "friction", "delta_f", "value"], 0.5),
-     r"mixture.compositions\[1\]: delta_f"),
+     r"mixture.compositions\[1\]: parts.friction.delta_f: must be smaller than f_max \(0.1"),
     (_set(["mixture", "compositions", 1, "colour"], "red"), r"mixture.compositions\[1\]: must be an object "
                                                            "with the keys"),
     (_set(["posterior"], {}), "holds a 'posterior'.*or a 'mixture'.*not both"),

@@ -4,6 +4,7 @@ range, values that cannot be right, names that clash, files of the wrong kind; e
 treats a missing output folder alike; JSON results carry the version and the command line."""
 
 import copy
+import dataclasses
 import json
 import math
 import sys
@@ -116,9 +117,9 @@ def test_a_missing_output_folder_is_created_by_every_command(tmp_path, capsys, a
 
 
 @pytest.mark.parametrize("surface, key, value, message", [
-    ("bottom", "delta_f", 0.5, "bottom_friction.delta_f: must be smaller than f_max"),
+    ("bottom", "delta_f", 0.5, "surfaces.bottom.friction.delta_f: must be smaller than f_max"),
     ("top", "f_max", 1.5, "surfaces.top.friction.f_max: must be in (0, 1]"),
-    ("bottom", "rate_a", -20.0, "bottom_friction.rate_a: must be >= 0"),
+    ("bottom", "rate_a", -20.0, "surfaces.bottom.friction.rate_a: must be >= 0"),
 ])
 @pytest.mark.parametrize("command", ["run", "simulate-test"])
 def test_a_triple_pendulums_friction_out_of_range_is_refused_by_file_and_key(tmp_path, capsys, command,
@@ -133,6 +134,33 @@ def test_a_triple_pendulums_friction_out_of_range_is_refused_by_file_and_key(tmp
     assert code == 2
     assert f"--isolator-file {path}: {message}" in out.err
     assert not (tmp_path / "t.csv").exists()
+
+
+@pytest.mark.parametrize("keys, value, message", [
+    (("friction", "delta_f"), 0.2, "parts.friction.delta_f: must be smaller than f_max (0.12: "),
+    (("breakaway", "ratio"), 0.5, "parts.breakaway.ratio: must be >= 1"),
+    (("hysteresis", "yield_disp"), -1.0, "parts.hysteresis.yield_disp: must be a finite number > 0"),
+    (("heating", "contact_area"), 0.0, "parts.heating.contact_area: must be a finite number > 0"),
+    (("friction_perpendicular", "f_max"), -0.1, "parts.friction_perpendicular.f_max: must be a finite number > 0"),
+    (("friction_perpendicular", "delta_f"), 0.3, "parts.friction_perpendicular.delta_f: must be smaller than f_max"),
+    (("stack", "interfaces_in_series"), 0.0, "parts.stack.interfaces_in_series: must be an integer >= 1"),
+])
+def test_a_bearing_files_constant_out_of_range_is_refused_by_file_and_key(tmp_path, capsys, keys, value, message):
+    """The file's key, not the library's name for the constant (`parts.breakaway.ratio`, not
+    `breakaway_ratio`), with the value as written; Eq. 1 across the lay as along it."""
+    from teflon_jax.bearing import FrictionalHeating
+
+    bearing = dataclasses.replace(paper_bearing(FrictionParameters(0.12, 0.06, 20.0)), breakaway_ratio=1.5,
+                                  heating=FrictionalHeating(contact_area=0.05),
+                                  friction_perpendicular=FrictionParameters(0.15, 0.08, 20.0))
+    path = tmp_path / "bearing.json"
+    save_bearing(path, bearing)
+    document = json.loads(path.read_text())
+    document["parts"][keys[0]][keys[1]]["value"] = value
+    path.write_text(json.dumps(document))
+    code, out = _run(capsys, "run", "--record-x", _at2(tmp_path / "x.AT2"), "--bearing", path)
+    assert code == 2
+    assert f"--bearing {path}: {message}" in out.err
 
 
 # ------------------------------------------------------------------ values that cannot be right

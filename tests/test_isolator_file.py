@@ -54,9 +54,9 @@ def _edit(path, value):
     (("surfaces", "top", "capacity", "unit"), "kip", r"surfaces.top.capacity.unit"),
     (("surfaces", "bottom", "friction", "rate_a"), None, r"surfaces.bottom.friction: missing \['rate_a'\]"),
     (("surfaces", "middle"), {}, r"surfaces: unknown \['middle'\]"),
-    (("surfaces", "inner", "radius", "value"), 100.0, "bottom_radius: must be larger than inner_radius"),
+    (("surfaces", "inner", "radius", "value"), 100.0, "surfaces.bottom.radius: must be larger than surfaces.inner.radius"),
     (("surfaces", "inner", "friction", "f_max", "value"), 0.2, "inner <= bottom <= top"),
-    (("surfaces", "top", "capacity", "value"), -1.0, "top_capacity"),
+    (("surfaces", "top", "capacity", "value"), -1.0, "surfaces.top.capacity"),
     (("format_version",), 2, "format_version"),
     (("isolator",), "double-fp", "'isolator' must be"),
 ])

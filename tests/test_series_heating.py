@@ -317,9 +317,9 @@ def test_the_isolator_file_reads_and_writes_a_surface_heating(tmp_path):
 @pytest.mark.parametrize("key, value, message", [
     ("contact_pressure", None, r"surfaces.bottom.heating: missing \['contact_pressure'\]"),
     ("contact_pressure", 30.0, r"surfaces.bottom.heating.contact_pressure: write"),
-    ("contact_pressure", {"value": -1.0, "unit": "MPa"}, "bottom_pressure"),
+    ("contact_pressure", {"value": -1.0, "unit": "MPa"}, "surfaces.bottom.heating.contact_pressure"),
     ("contact_area", {"value": 0.05, "unit": "m"}, r"surfaces.bottom.heating.contact_area.unit"),
-    ("heat_scale", {"value": -1.0, "unit": "1"}, "bottom_heating.heat_scale"),
+    ("heat_scale", {"value": -1.0, "unit": "1"}, "surfaces.bottom.heating.heat_scale"),
     ("speed", {"value": 1.0, "unit": "1"}, r"surfaces.bottom.heating: unknown \['speed'\]"),
 ])
 def test_a_bad_surface_heating_is_refused_by_key(key, value, message):

@@ -180,7 +180,7 @@ def test_run_reports_each_groups_surface_temperature(tmp_path, capsys):
 
 @pytest.mark.parametrize(("changes", "message"), [
     ({"heat_scal": {"value": 1, "unit": "1"}}, r"surfaces.bottom.heating: unknown \['heat_scal'\]"),
-    ({"heat_scale": {"value": -1, "unit": "1"}}, "bottom_heating.heat_scale"),
+    ({"heat_scale": {"value": -1, "unit": "1"}}, "surfaces.bottom.heating.heat_scale: must be >= 0"),
 ])
 def test_run_refuses_a_bad_heating_key_by_name(tmp_path, capsys, changes, message):
     path = _heated_file(tmp_path / "bad.json", **changes)

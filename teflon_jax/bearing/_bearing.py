@@ -246,11 +246,7 @@ def check_bearing(bearing: SlidingBearing) -> None:
 
     Traced values (inside jit/vmap/grad) are not checked here.
     """
-    f = bearing.friction
-    require_positive(f.f_max, "f_max", " (a friction coefficient, e.g. 0.1193)")
-    require(f.delta_f, lambda x: np.isfinite(x) & (x >= 0), "delta_f", "must be >= 0")
-    require(f.f_max - f.delta_f, lambda x: x > 0, "delta_f", "must be smaller than f_max")
-    require(f.rate_a, lambda x: np.isfinite(x) & (x >= 0), "rate_a", "must be >= 0 [s/m]")
+    _check_eq1(bearing.friction)
     check_hysteresis(bearing.hysteresis)
     if bearing.breakaway_ratio is not None:
         require(
@@ -259,6 +255,8 @@ def check_bearing(bearing: SlidingBearing) -> None:
             "breakaway_ratio",
             "must be >= 1 (Table 1: 1.3-4.4), or None for no breakaway",
         )
+    if bearing.friction_perpendicular is not None:
+        _check_eq1(bearing.friction_perpendicular, "friction_perpendicular.")
     if bearing.lay_angle is not None:
         if bearing.friction_perpendicular is None:
             raise ValueError("lay_angle: the lay of the steel matters only for an anisotropic bearing; "
@@ -267,6 +265,18 @@ def check_bearing(bearing: SlidingBearing) -> None:
     _check_parts(bearing)
     if int(bearing.n_interfaces) != bearing.n_interfaces or bearing.n_interfaces < 1:
         raise ValueError(f"n_interfaces: must be an integer >= 1, got {bearing.n_interfaces}.")
+
+
+def _check_eq1(f: FrictionParameters, prefix: str = "") -> None:
+    """`ValueError` naming `prefix` and the constant of Eq. 1 out of range: f_max > 0,
+    0 <= delta_f < f_max (a positive friction at rest), rate_a >= 0 [s/m]."""
+    require_positive(f.f_max, f"{prefix}f_max", " (a friction coefficient, e.g. 0.1193)")
+    require(f.delta_f, lambda x: np.isfinite(x) & (x >= 0), f"{prefix}delta_f", "must be >= 0")
+    f_max, delta_f = concrete(f.f_max), concrete(f.delta_f)
+    if f_max is not None and delta_f is not None and not np.all(delta_f < f_max):
+        raise ValueError(f"{prefix}delta_f: must be smaller than f_max ({np.asarray(f_max).tolist()}: Eq. 1 at "
+                         f"rest, f_max - delta_f, is positive); got {np.asarray(delta_f).tolist()}.")
+    require(f.rate_a, lambda x: np.isfinite(x) & (x >= 0), f"{prefix}rate_a", "must be >= 0 [s/m]")
 
 
 def check_heating(q: FrictionalHeating, name: str) -> None:

@@ -287,7 +287,7 @@ def _read_mixture(entry, where) -> BearingMixture:
         at = f"{where}: mixture.compositions[{i}]"
         object_keys(item, COMPOSITION_KEYS, at)
         values, errors = _read_parts(item["parts"], at)
-        bearing = _checked(_bearing_from_values(values), at)
+        bearing = _checked(values, at)
         posterior = _read_posterior(item["posterior"], values, at)
         _check_posterior(posterior, bearing, at)
         try:
@@ -304,12 +304,32 @@ def _read_mixture(entry, where) -> BearingMixture:
         raise ValueError(f"{where}: {error}") from None
 
 
-def _checked(bearing: SlidingBearing, where) -> SlidingBearing:
-    """`bearing`, or `ValueError` at `where` when its constants are out of range."""
+_FILE_KEYS = {"f_max": "parts.friction.f_max", "delta_f": "parts.friction.delta_f",
+              "rate_a": "parts.friction.rate_a", "breakaway_ratio": "parts.breakaway.ratio",
+              "lay_angle": "parts.lay.angle", "n_interfaces": "parts.stack.interfaces_in_series",
+              **{name: f"parts.hysteresis.{name}" for name in BEARING_PARTS["hysteresis"]}}
+"""A `SlidingBearing`'s constant, as its check names it -> the bearing file's key (a part's
+constant, `heating.contact_area`, is `parts.` and its name)."""
+
+
+def _file_key(name: str) -> str:
+    """The bearing file's key of the constant `check_bearing` names `name`."""
+    if name in _FILE_KEYS:
+        return _FILE_KEYS[name]
+    return f"parts.{name}" if name.split(".")[0] in BEARING_PARTS else name
+
+
+def _checked(values, where) -> SlidingBearing:
+    """The `SlidingBearing` of a file's constants `values`, or `ValueError` at `where` when they
+    are out of range, naming the constant by the file's key (`breakaway_ratio` as
+    `parts.breakaway.ratio`)."""
     try:
+        bearing = _bearing_from_values(values)
         check_bearing(bearing)
     except ValueError as error:
-        raise ValueError(f"{where}: {error}") from None
+        name, _, rule = str(error).partition(": ")
+        message = f"{_file_key(name)}: {rule}" if rule else name
+        raise ValueError(f"{where}: {message}") from None
     return bearing
 
 
@@ -336,7 +356,7 @@ def _read_document(document, where, *, read_draws: bool):
         raise ValueError(f"{where}: a bearing file holds a 'posterior' (the draws of one "
                          "composition) or a 'mixture' (several compositions), not both.")
     values, _ = _read_parts(document["parts"], where)
-    bearing = _checked(_bearing_from_values(values), where)
+    bearing = _checked(values, where)
     posterior = mixture = None
     if read_draws and "posterior" in document:
         posterior = _read_posterior(document["posterior"], values, where)

@@ -40,6 +40,8 @@ must equal its heating's where both are given). `"stack"`, `"backlash"` and a su
 """
 
 
+import re
+
 import jax.numpy as jnp
 
 from ..bearing import (
@@ -215,7 +217,16 @@ def isolator_from_dict(document, *, where: str = "isolator") -> SeriesPendulum:
     fields = {f"{name}_{field}": parts[name][index] for name in ISOLATOR_SURFACES[isolator]
               for index, field in enumerate(("radius", "capacity", "friction"))}
     pendulum = SERIES_PENDULUMS[isolator](hysteresis=BoucWen(yield_disp), **fields, **_heating_fields(parts))
-    return _checked(pendulum, check_series_pendulum, where)
+    keys = {f"{name}_{field}": f"surfaces.{name}.{key}" for name in ISOLATOR_SURFACES[isolator]
+            for field, key in (("radius", "radius"), ("capacity", "capacity"), ("friction", "friction"),
+                               ("heating", "heating"), ("pressure", _pressure_key(parts[name][3])))}
+    return _checked(pendulum, check_series_pendulum, where, keys)
+
+
+def _pressure_key(heating) -> str:
+    """The file's key of a surface's contact pressure: its heating's, else its pressure
+    dependence's (one pressure when both are given, `_surface_parts`)."""
+    return "pressure_dependence.contact_pressure" if heating is None else "heating.contact_pressure"
 
 
 def _check_isolator(isolator, surfaces, where) -> None:
@@ -232,16 +243,19 @@ def _check_isolator(isolator, surfaces, where) -> None:
                                  f"{', '.join(ISOLATOR_SURFACES[isolator])}), got {isolator!r}.")
 
 
-def _checked(bearing, check, where):
+def _checked(bearing, check, where, keys):
     """`bearing` once `check` and a positive yield displacement pass, else the `ValueError`
-    prefixed by `where`."""
+    prefixed by `where`, the pendulum's fields named by the file's `keys` (field -> key:
+    `bottom_friction` -> `surfaces.bottom.friction`)."""
     try:
         check(bearing)
         yield_disp = float(bearing.hysteresis.yield_disp)
         if not yield_disp > 0:
             raise ValueError(f"yield_disp: must be > 0, got {yield_disp}.")
     except ValueError as error:
-        raise ValueError(f"{where}: {error}") from None
+        field = re.compile(rf"\b({'|'.join(keys)})\b")
+        message = field.sub(lambda match: keys[match.group(1)], str(error))
+        raise ValueError(f"{where}: {message}") from None
     return bearing
 
 
