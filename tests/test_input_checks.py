@@ -254,6 +254,26 @@ def test_two_plan_groups_of_one_name_are_refused(tmp_path, capsys):
     assert code == 2 and f"--plan: {plan}: two groups are named 'B' (groups 2 and 4)" in out.err
 
 
+@pytest.mark.parametrize("first, message", [
+    ({"ptfe": "PEEK"}, "A.ptfe is 'PEEK', not a PTFE type of Table 1; accepted: UF, 15GF, 25GF."),
+    ({"pressure": "-3MPa"}, "A.pressure must be > 0 (the bearings' contact pressure), got -3MPa."),
+    ({"x": "25m"}, "A at (25, 1) m lies outside the slab, which spans 0-20 m in x and 0-12 m in y."),
+    ({"load": "100kN"}, "the tributary loads add up to 850 kN but the slab weighs 1000 kN"),
+    ({"radius": "2m"}, "A.radius applies with --isolator single-fp only"),
+])
+def test_a_plan_groups_value_is_refused_naming_the_plan_file_and_the_groups_key(tmp_path, capsys, first, message):
+    """A group's PTFE type or pressure is the plan's, not --ptfe's or --pressure's; each refusal
+    names the plan file and the group, before any record is read."""
+    plan = _plan(tmp_path / "plan.json")
+    document = json.loads(plan.read_text())
+    document["groups"][0].update(first)
+    plan.write_text(json.dumps(document))
+    code, out = _run(capsys, "run", "--structure", "slab", "--plan", plan, "--isolation-period", "3s",
+                     "--record-x", tmp_path / "missing.AT2")
+    assert code == 2
+    assert f"--plan: {plan}: {message}" in out.err and "missing.AT2" not in out.err
+
+
 def test_a_plan_groups_springs_with_a_unit_are_refused(tmp_path, capsys):
     plan = _plan(tmp_path / "plan.json", springs="3s")
     code, out = _run(capsys, "run", "--structure", "slab", "--plan", plan, "--isolation-period", "3s",

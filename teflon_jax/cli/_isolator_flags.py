@@ -262,9 +262,9 @@ def check_combination(args, isolator: Isolator) -> None:
                          "(a force imbalance of 1e-7 W); leave --newton-tolerance out.")
 
 
-_NOT_SERIES = ("--plan: {group}.isolator_file applies with --isolator " + SERIES_NAMES + " only, not "
+_NOT_SERIES = ("--plan: {plan}: {group}.isolator_file applies with --isolator " + SERIES_NAMES + " only, not "
                "{isolator}; leave it out or give that isolator.")
-_SERIES_KEY = ("--plan: {group}.{key} does not apply to --isolator {isolator} ({why}); leave '{key}' out "
+_SERIES_KEY = ("--plan: {plan}: {group}.{key} does not apply to --isolator {isolator} ({why}); leave '{key}' out "
                "of the group.")
 _SERIES_KEYS = (("radius", _SERIES_KEY, "its radii are in the isolator file"),
                 ("springs", _SERIES_KEY, "each group restores with its pendulum"),
@@ -272,10 +272,10 @@ _SERIES_KEYS = (("radius", _SERIES_KEY, "its radii are in the isolator file"),
                 ("pressure", _SERIES_KEY, "its friction is in the isolator file"))
 _GROUP_KEYS_REFUSED = per_isolator(
     flat=(("isolator_file", _NOT_SERIES, ""),
-          ("radius", "--plan: {group}.radius applies with --isolator single-fp only (flat sliders have "
+          ("radius", "--plan: {plan}: {group}.radius applies with --isolator single-fp only (flat sliders have "
                      "none); add it or leave the radius out.", "")),
     single=(("isolator_file", _NOT_SERIES, ""),
-            ("springs", "--plan: {group}.springs conflicts with --isolator single-fp (each group restores "
+            ("springs", "--plan: {plan}: {group}.springs conflicts with --isolator single-fp (each group restores "
                         "with its pendulum, W_g / R_g); leave 'springs' out.", "")),
     series=lambda name, facts: _SERIES_KEYS,
 )
@@ -294,7 +294,7 @@ def slab_isolators(args, isolator: Isolator, plan: dict, period: float | None = 
     for key, message, why in _GROUP_KEYS_REFUSED[isolator.name]:
         for g in groups:
             if g[key] is not None:
-                raise ValueError(message.format(group=g["name"], key=key, isolator=isolator.name, why=why))
+                raise ValueError(message.format(plan=args.plan, group=g["name"], key=key, isolator=isolator.name, why=why))
     if isolator.radius is not None:
         plan["radii"] = [isolator.radius if g["radius"] is None else g["radius"] for g in groups]
         return {"radii": plan["radii"]}
@@ -315,4 +315,4 @@ def _group_pendulum(args, isolator: Isolator, group: dict):
     try:
         return load_isolator_file(path, isolator.name)
     except ValueError as error:
-        raise ValueError(f"--plan: {group['name']}.isolator_file: {error}") from None
+        raise ValueError(f"--plan: {args.plan}: {group['name']}.isolator_file: {error}") from None

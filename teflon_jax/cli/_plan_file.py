@@ -79,10 +79,18 @@ def read_plan(path_text):
             "isolator_file": (None if g.get("isolator_file") is None
                               else path.parent / str(g["isolator_file"])),
         })
-        _check_group(path, groups[-1])
+        _check_group(path, groups[-1], q)
         if groups[-1]["isolator_file"] is not None:  # an input of the run, hashed in its results
             note_input_file(f"--plan {path}: {name}.isolator_file", groups[-1]["isolator_file"])
     out["groups"] = groups
+    from ..structures import check_plan
+
+    try:
+        check_plan(length_x=out["length_x"], length_y=out["length_y"], weight=out["weight"],
+                   centre_of_mass=out["centre_of_mass"], positions=[(g["x"], g["y"]) for g in groups],
+                   loads=[g["load"] for g in groups], names=[g["name"] for g in groups])
+    except ValueError as error:
+        raise ValueError(f"--plan: {path}: {str(error).removeprefix('plan: ')}") from None
     return out
 
 
@@ -126,10 +134,19 @@ def _ratio(path, group: dict, name: str, key: str, meaning: str) -> float | None
     return float(value)
 
 
-def _check_group(path, group) -> None:
-    """`ValueError` naming the plan file and the group's key for a radius <= 0, a share of the
-    springs < 0 or a relative vertical stiffness <= 0."""
+def _check_group(path, group, quantity) -> None:
+    """`ValueError` naming the plan file and the group's key for a PTFE type not in Table 1, a
+    contact pressure that is not a pressure > 0 (read by `quantity(text, dimension, key)`), a
+    radius <= 0, a share of the springs < 0 or a relative vertical stiffness <= 0."""
+    from ..tables import PTFE_TYPES
+
     name = group["name"]
+    if group["ptfe"] is not None and str(group["ptfe"]).upper() not in PTFE_TYPES:
+        raise ValueError(f"--plan: {path}: {name}.ptfe is {group['ptfe']!r}, not a PTFE type of Table 1; "
+                         f"accepted: {', '.join(PTFE_TYPES)}.")
+    if group["pressure"] is not None and not quantity(group["pressure"], "pressure", f"{name}.pressure") > 0:
+        raise ValueError(f"--plan: {path}: {name}.pressure must be > 0 (the bearings' contact pressure), "
+                         f"got {group['pressure']}.")
     if group["radius"] is not None and not group["radius"] > 0:
         raise ValueError(f"--plan: {path}: {name}.radius must be > 0 (the radius of its friction "
                          f"pendulum's surface), got {group['radius']:g} m.")

@@ -96,12 +96,12 @@ def _slab(args, isolator, flags: StructureFlags, ground_x, ground_y):
         from ..bearing import concave_surface
 
         pressures = [g["pressure"] or args.pressure for g in groups]
-        bearings = [bearing_of_flags(args, g["ptfe"] or args.ptfe, p, f"--plan {g['name']}")
+        bearings = [bearing_of_flags(args, g["ptfe"] or args.ptfe, p, f"--plan: {args.plan}: {g['name']}.pressure")
                     for g, p in zip(groups, pressures)]
         radii = options.pop("radii", None)  # single pendulums: each group's (bearing, surface)
         values = bearings if radii is None else [(b, concave_surface(r)) for b, r in zip(bearings, radii)]
         options.update(
-            contact_pressures=[parse_quantity(p, "pressure", where=f"--plan {g['name']}")
+            contact_pressures=[parse_quantity(p, "pressure", where=f"--plan: {args.plan}: {g['name']}.pressure")
                                for g, p in zip(groups, pressures)],
             isolation_damping=flags.damping)
     stiffness = [g["vertical_stiffness"] for g in groups]
