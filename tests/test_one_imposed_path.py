@@ -202,6 +202,9 @@ def test_options_one_kind_does_not_take_are_refused_by_name():
                            ({"max_steps": 10}, "max_steps"), ({"adjoint": diffrax.ForwardMode()}, "adjoint")):
         with pytest.raises(ValueError, match=f"^{named}: a bearing with wear is driven along the sampled motion"):
             simulate_bearing_test(worn, motion, WEIGHT, **options)
+    with pytest.raises(ValueError, match="^rtol: a bearing along x with the paper's Bouc-Wen shape .* give a "
+                                         "diffrax solver"):
+        simulate_bearing_test(flat, motion, WEIGHT, rtol=1e-6)
     along_x = simulate_bearing_test(worn, motion, WEIGHT, solver=RiccatiNewmark(), samples_per_cycle=50)
     np.testing.assert_array_equal(along_x.fx, simulate_bearing_test(worn, motion, WEIGHT, samples_per_cycle=50).fx)
     with pytest.raises(ValueError, match="ux: .*n, 2"):
@@ -209,6 +212,27 @@ def test_options_one_kind_does_not_take_are_refused_by_name():
     with pytest.raises(ValueError, match="park_elements: .*under tracing"):
         jax.jit(lambda v: sampled_path(time, v, WEIGHT).ux)(np.stack([u, u], -1))
     assert jax.jit(lambda v: sampled_path(time, v, WEIGHT, park_elements=16).park_elements)(u) == 16
+
+
+def test_a_sliding_bearings_test_along_x_is_its_force_along_the_sampled_motion():
+    """The test that `simulate-test` writes and the force a fit of that record evaluates are one
+    computation (`respond_along_path`) for every sliding bearing along x, with or without
+    optional parts: bit for bit at the samples, with the motion's own velocity; a diffrax
+    solver, asked for, integrates Eq. 3 instead, to its tolerance."""
+    motion = SineMotion(amplitude=0.05, frequency=0.5, cycles=2)
+    for bearing in (paper_bearing(FrictionParameters(0.1, 0.05, 20.0), breakaway_ratio=1.6),
+                    dataclasses.replace(paper_bearing(FrictionParameters(0.1, 0.05, 20.0)), wear=Wear(0.1, 1.0))):
+        test = simulate_bearing_test(bearing, motion, WEIGHT, samples_per_cycle=200)
+        path = sampled_path(test.time, jax.vmap(motion.displacement)(test.time)[:, 0], test.normal_load,
+                            velocity=jax.vmap(motion.velocity)(test.time)[:, 0])
+        along = respond_along_path(bearing, path)
+        np.testing.assert_array_equal(test.fx, along.fx)
+        np.testing.assert_array_equal(test.z, along.z)
+    plain = paper_bearing(FrictionParameters(0.1, 0.05, 20.0))
+    exact = simulate_bearing_test(plain, motion, WEIGHT, samples_per_cycle=200)
+    general = simulate_bearing_test(plain, motion, WEIGHT, samples_per_cycle=200, solver=diffrax.Tsit5(),
+                                    rtol=1e-10, atol=1e-12)
+    np.testing.assert_allclose(exact.fx, general.fx, rtol=0, atol=1e-6 * WEIGHT)
 
 
 def test_the_mean_speed_of_a_step_is_its_increment_over_its_own_interval():

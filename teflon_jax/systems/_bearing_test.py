@@ -117,20 +117,23 @@ def simulate_bearing_test(
     - `duration` [s]: defaults to `motion.duration`.
     - `samples_per_cycle`: saved samples per cycle of the motion (tabulated: per input sample
       interval the sample spacing of the table is used instead).
-    - `steps_per_sample`: solver steps between saved samples (fixed-step solvers).
-    - `solver`: `RiccatiNewmark()` (default for uniaxial motion with eta = 2, gamma > beta:
-      exact Z along each step; other Bouc-Wen shapes are refused by it) or any diffrax solver;
-      an adaptive one (default for biaxial motion and for other shapes: `Tsit5` with a PID
-      controller at `rtol`, `atol`) is used with adaptive steps.
+    - `steps_per_sample`: steps between saved samples (the sampled motion's, or a fixed-step
+      solver's).
+    - `solver`: `None` or `RiccatiNewmark()` along x with eta = 2, gamma > beta: the bearing is
+      driven along the sampled motion by `respond_along_path`, Z exact between samples (the
+      force a fit of the record evaluates); any diffrax solver integrates Eq. 3 instead, an
+      adaptive one (default in the plane and for other shapes: `Tsit5` with a PID controller
+      at `rtol`, `atol`) with adaptive steps.
     - `adjoint`: diffrax adjoint; default reverse mode (`RecursiveCheckpointAdjoint`), or
       `diffrax.ForwardMode()` for `jax.jvp`/`jax.jacfwd`.
     - `throw`: raise on solver failure; with `False` the failure is in `result`.
 
-    A bearing with optional parts (heating, wear, pressure dependence, asymmetry, backlash) is
-    driven along the motion sampled at the save times (refined by `steps_per_sample`), with
-    the motion's own velocity, by `respond_along_path` (Z exact between samples along x, Park
-    along the Hermite path in the plane); the diffrax solve's options (`solver`, but for
-    `RiccatiNewmark` along x, `rtol`, `atol`, `max_steps`, `adjoint`) are refused by name.
+    A bearing with optional parts (heating, wear, pressure dependence, asymmetry, backlash),
+    and any bearing along x with the paper's shape unless a diffrax solver is given, is driven
+    along the motion sampled at the save times (refined by `steps_per_sample`), with the
+    motion's own velocity, by `respond_along_path` (Z exact between samples along x, Park along
+    the Hermite path in the plane); the diffrax solve's options (`solver`, but for
+    `RiccatiNewmark` along x, `rtol`, `atol`, `max_steps`, `adjoint`) are then refused by name.
 
     **Returns:** a `BearingTestResult` (of a series pendulum: the path, the force, each slider's
     displacement and Z, and whether each sample's balance converged).
@@ -148,15 +151,14 @@ def simulate_bearing_test(
         duration = motion.duration
     normal_load = _normal_load_signal(normal_load, duration)
     times = save_times(motion, duration, samples_per_cycle)
-    if bearing.effects:
+    along_x = not isinstance(motion, AbstractBiaxialMotion) and _riccati_admitted(bearing.hysteresis)
+    if bearing.effects or (along_x and (solver is None or isinstance(solver, RiccatiNewmark))):
         _refuse_solve_options(bearing, motion, {"solver": (solver, None), "rtol": (rtol, 1e-8), "atol": (atol, 1e-10),
                                                 "max_steps": (max_steps, 1_000_000), "adjoint": (adjoint, None)})
         return _along_samples(bearing, motion, normal_load, _refine(times, steps_per_sample),
                               steps_per_sample)
-    if solver is None:
-        riccati = (not isinstance(motion, AbstractBiaxialMotion)
-                   and _riccati_admitted(bearing.hysteresis))
-        solver = RiccatiNewmark() if riccati else diffrax.Tsit5()
+    if solver is None:  # in the plane, or another Bouc-Wen shape
+        solver = diffrax.Tsit5()
     system = BearingTestSystem(bearing=bearing, motion=motion)
     if isinstance(solver, RiccatiNewmark):
         require_riccati_form(bearing.hysteresis)
@@ -204,9 +206,12 @@ def _refuse_solve_options(bearing, motion, options) -> None:
         options = {**options, "solver": (None, None)}
     given = given_options(options)
     if given:
-        raise ValueError(f"{', '.join(given)}: a bearing with {', '.join(bearing.effects)} is driven along "
-                         "the sampled motion, Z exact between samples (respond_along_path), not by a diffrax "
-                         "solve; drop these options (steps_per_sample refines the samples).")
+        which = (f"a bearing with {', '.join(bearing.effects)}" if bearing.effects else
+                 "a bearing along x with the paper's Bouc-Wen shape (eta = 2, gamma > beta)")
+        raise ValueError(f"{', '.join(given)}: {which} is driven along the sampled motion, Z exact between "
+                         "samples (respond_along_path), not by a diffrax solve; drop these options "
+                         "(steps_per_sample refines the samples)" + ("" if bearing.effects else
+                                                                     ", or give a diffrax solver") + ".")
 
 
 @eqx.filter_jit
