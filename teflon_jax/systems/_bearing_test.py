@@ -124,8 +124,9 @@ def simulate_bearing_test(
       force a fit of the record evaluates); any diffrax solver integrates Eq. 3 instead, an
       adaptive one (default in the plane and for other shapes: `Tsit5` with a PID controller
       at `rtol`, `atol`) with adaptive steps.
-    - `adjoint`: diffrax adjoint; default reverse mode (`RecursiveCheckpointAdjoint`), or
-      `diffrax.ForwardMode()` for `jax.jvp`/`jax.jacfwd`.
+    - `adjoint` (a diffrax solve): diffrax adjoint; default reverse mode
+      (`RecursiveCheckpointAdjoint`), or `diffrax.ForwardMode()` for `jax.jvp`/`jax.jacfwd` (the
+      sampled motion's scan takes either mode as it is).
     - `throw`: raise on solver failure; with `False` the failure is in `result`.
 
     A bearing with optional parts (heating, wear, pressure dependence, asymmetry, backlash),
@@ -197,10 +198,11 @@ def _series_test(bearing: SeriesPendulum, motion, normal_load, duration, samples
 
 
 def _refuse_solve_options(bearing, motion, options) -> None:
-    """`ValueError` naming the options of the diffrax solve given for a bearing with optional
-    parts, which is driven along the sampled motion instead (Z exact between samples along x,
-    Park along the Hermite path in the plane; `respond_along_path`): they would change
-    nothing. `RiccatiNewmark` along x names that exact update and is taken."""
+    """`ValueError` naming the options of the diffrax solve given for a bearing that is driven
+    along the sampled motion instead (one with optional parts, or along x with the paper's
+    shape; Z exact between samples along x, Park along the Hermite path in the plane;
+    `respond_along_path`): they would change nothing. `RiccatiNewmark` along x names that exact
+    update and is taken."""
     solver = options["solver"][0]
     if isinstance(solver, RiccatiNewmark) and not isinstance(motion, AbstractBiaxialMotion):
         options = {**options, "solver": (None, None)}
