@@ -4,11 +4,9 @@ JSON, the bundled-record catalogue, study results, target spectra and pelicun de
 from ._at2 import read_at2 as read_at2
 from ._bearing_file import BEARING_PARTS as BEARING_PARTS
 from ._bearing_file import bearing_from_dict as bearing_from_dict
-from ._bearing_file import bearing_to_dict as bearing_to_dict
 from ._bearing_file import load_bearing as load_bearing
 from ._bearing_file import load_bearing_mixture as load_bearing_mixture
 from ._bearing_file import load_bearing_posterior as load_bearing_posterior
-from ._bearing_file import save_bearing as save_bearing
 from ._bearing_mixture import MIXTURE_CRITERIA as MIXTURE_CRITERIA
 from ._bearing_mixture import BearingMixture as BearingMixture
 from ._bearing_mixture import MixtureComposition as MixtureComposition
@@ -17,6 +15,8 @@ from ._bearing_posterior import POSTERIOR_FIELDS as POSTERIOR_FIELDS
 from ._bearing_posterior import BearingPosterior as BearingPosterior
 from ._bearing_posterior import posterior_constant as posterior_constant
 from ._bearing_posterior import thinned_posterior as thinned_posterior
+from ._bearing_write import bearing_to_dict as bearing_to_dict
+from ._bearing_write import save_bearing as save_bearing
 from ._columns import read_single_column as read_single_column
 from ._columns import read_two_column as read_two_column
 from ._damper import read_friction_damper_json as read_friction_damper_json

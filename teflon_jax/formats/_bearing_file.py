@@ -34,9 +34,6 @@ parts, each with its `effects`, `weight`, `delta_bic`, `parts`, `posterior` and 
 (`BearingMixture`; docs/formats.md).
 """
 
-import json
-import math
-import pathlib
 
 import jax.numpy as jnp
 
@@ -91,7 +88,7 @@ needed): the tested bearing's contact area, which a structure needs to use press
 
 REQUIRED_PARTS = ("friction", "hysteresis")
 
-_SI = {"dimensionless": "1", "slowness": "s/m", "angle": "rad", "length": "m", "force": "N",
+SI_UNITS = {"dimensionless": "1", "slowness": "s/m", "angle": "rad", "length": "m", "force": "N",
        "area": "m^2", "thermal conductivity": "W/(m K)", "diffusivity": "m^2/s",
        "temperature": "degC", "pressure": "Pa"}
 _SPECIAL_UNITS = {
@@ -104,7 +101,7 @@ _SPECIAL_UNITS = {
 
 def _factor(unit, kind, where):
     if not isinstance(unit, str):
-        raise ValueError(f"{where}: 'unit' must be a string such as '{_SI[kind]}', got {unit!r}.")
+        raise ValueError(f"{where}: 'unit' must be a string such as '{SI_UNITS[kind]}', got {unit!r}.")
     if unit in _SPECIAL_UNITS.get(kind, {}):
         return _SPECIAL_UNITS[kind][unit]
     if kind in ("thermal conductivity", "diffusivity", "temperature"):
@@ -116,7 +113,7 @@ def _factor(unit, kind, where):
 def read_constant(entry, kind, where):
     """SI value and standard error (or None) of one constant entry."""
     if not isinstance(entry, dict):
-        raise ValueError(f"{where}: write {{\"value\": ..., \"unit\": \"{_SI[kind]}\"}}; "
+        raise ValueError(f"{where}: write {{\"value\": ..., \"unit\": \"{SI_UNITS[kind]}\"}}; "
                          f"got {entry!r} (a value without a unit is not read).")
     unknown = set(entry) - {"value", "unit", "standard_error", "standard_error_note"}
     if unknown:
@@ -124,7 +121,7 @@ def read_constant(entry, kind, where):
                          "standard_error, standard_error_note.")
     for key in ("value", "unit"):
         if key not in entry:
-            raise ValueError(f"{where}: missing '{key}' (e.g. \"unit\": \"{_SI[kind]}\").")
+            raise ValueError(f"{where}: missing '{key}' (e.g. \"unit\": \"{SI_UNITS[kind]}\").")
     factor = _factor(entry["unit"], kind, f"{where}.unit")
     values = []
     for key in ("value", "standard_error"):
@@ -218,7 +215,7 @@ def _posterior_constants(constants, values, where):
         part, constant = POSTERIOR_FIELDS[name]
         if not isinstance(entry, dict) or set(entry) != {"part", "constant", "unit"}:
             raise ValueError(f"{at}.{name}: write {{\"part\": \"{part}\", \"constant\": "
-                             f"\"{constant}\", \"unit\": \"{_SI[BEARING_PARTS[part][constant]]}\"}}; "
+                             f"\"{constant}\", \"unit\": \"{SI_UNITS[BEARING_PARTS[part][constant]]}\"}}; "
                              f"got {entry!r}.")
         if (entry["part"], entry["constant"]) != (part, constant):
             raise ValueError(f"{at}.{name}: is the constant '{constant}' of the part '{part}', "
@@ -269,7 +266,7 @@ def _read_posterior(entry, values, where) -> BearingPosterior:
         raise ValueError(f"{where}: {error}") from None
 
 
-def _check_posterior(posterior: BearingPosterior, bearing: SlidingBearing, where) -> None:
+def check_posterior(posterior: BearingPosterior, bearing: SlidingBearing, where) -> None:
     """Every draw, put into `bearing`, is a valid bearing (`check_bearing`, e.g. delta_f <
     f_max draw by draw)."""
     try:
@@ -289,7 +286,7 @@ def _read_mixture(entry, where) -> BearingMixture:
         values, errors = _read_parts(item["parts"], at)
         bearing = _checked(values, at)
         posterior = _read_posterior(item["posterior"], values, at)
-        _check_posterior(posterior, bearing, at)
+        check_posterior(posterior, bearing, at)
         try:
             items.append(MixtureComposition(
                 effects=item["effects"], weight=item["weight"], delta_bic=item["delta_bic"],
@@ -360,7 +357,7 @@ def _read_document(document, where, *, read_draws: bool):
     posterior = mixture = None
     if read_draws and "posterior" in document:
         posterior = _read_posterior(document["posterior"], values, where)
-        _check_posterior(posterior, bearing, where)
+        check_posterior(posterior, bearing, where)
     if read_draws and "mixture" in document:
         mixture = _read_mixture(document["mixture"], where)
     return bearing, posterior, mixture
@@ -395,122 +392,3 @@ def load_bearing_mixture(path) -> BearingMixture | None:
     `ValueError` naming the file and the key for a mixture that is not a valid one."""
     document = read_json_document(path, "bearing file")
     return _read_document(document, str(path), read_draws=True)[2]
-
-
-def _version() -> str:
-    from importlib.metadata import PackageNotFoundError, version
-
-    try:
-        return version("teflon-jax")
-    except PackageNotFoundError:
-        return "unknown"
-
-
-NOT_IDENTIFIABLE = ("not identifiable: the records do not determine this constant (an infinite or "
-                    "undefined standard error), so its value is the fit's start or a guess")
-"""The `standard_error_note` written beside a `null` standard error."""
-
-
-def _standard_error(error: float) -> dict:
-    """The standard-error keys of a constant: the number, or (strict JSON has no Infinity or
-    NaN) `null` with `standard_error_note` saying why."""
-    if math.isfinite(error):
-        return {"standard_error": error}
-    return {"standard_error": None, "standard_error_note": NOT_IDENTIFIABLE}
-
-
-def _scalar(x) -> float:
-    return float(jnp.asarray(x))
-
-
-def _posterior_to_dict(posterior: BearingPosterior) -> dict:
-    def unit(name):
-        part, constant = POSTERIOR_FIELDS[name]
-        return _SI[BEARING_PARTS[part][constant]]
-
-    return {
-        "constants": {n: dict(zip(("part", "constant"), POSTERIOR_FIELDS[n]), unit=unit(n))
-                      for n in posterior.names},
-        "draws": {n: posterior.draws[n].tolist() for n in posterior.names},
-        "effective_sample_size": dict(posterior.effective_sample_size),
-        "draws_before_thinning": posterior.draws_before_thinning,
-        "thinning": posterior.thinning,
-        "sampler": {"method": posterior.method, "chains": posterior.chains,
-                    "seed": posterior.seed}}
-
-
-def _mixture_to_dict(mixture: BearingMixture) -> dict:
-    def composition(c):
-        _check_posterior(c.posterior, c.bearing, f"mixture.compositions[{c.label}]")
-        return {"effects": list(c.effects), "weight": c.weight, "delta_bic": c.delta_bic,
-                "parts": bearing_to_dict(c.bearing, standard_errors=c.standard_errors)["parts"],
-                "posterior": _posterior_to_dict(c.posterior), "note": c.note}
-
-    return {"criterion": mixture.criterion, "min_weight": mixture.min_weight,
-            "compositions": [composition(c) for c in mixture.compositions],
-            "left_out": [dict(entry) for entry in mixture.left_out]}
-
-
-def bearing_to_dict(bearing: SlidingBearing, *, standard_errors=None, sources=(),
-                    fit=None, posterior: BearingPosterior | None = None,
-                    mixture: BearingMixture | None = None) -> dict:
-    """A bearing-file object for `bearing` (SI units).
-
-    **Arguments:** `standard_errors` mapping `(part, constant)` -> standard error [SI];
-    `sources` the records the bearing came from; `fit` a JSON-able summary of the fit;
-    `posterior` the draws of a Bayesian fit (`BearingPosterior`), whose constants must be
-    constants of `bearing`'s parts and make a valid bearing draw by draw; or `mixture` the
-    compositions' bearings with their weights and draws (`BearingMixture`).
-    """
-    if mixture is not None and (posterior is not None or not isinstance(mixture, BearingMixture)):
-        raise ValueError("mixture: must be a BearingMixture, and not given with a posterior.")
-    if posterior is not None:
-        if not isinstance(posterior, BearingPosterior):
-            raise ValueError(f"posterior: must be a BearingPosterior, got {type(posterior).__name__}.")
-        _check_posterior(posterior, bearing, "posterior")
-    errors = dict(standard_errors or {})
-    parts = {}
-
-    def put(part, constants):
-        parts[part] = {}
-        for key, value in constants.items():
-            entry = {"value": _scalar(value), "unit": _SI[BEARING_PARTS[part][key]]}
-            if (part, key) in errors and errors[part, key] is not None:
-                entry.update(_standard_error(float(errors[part, key])))
-            parts[part][key] = entry
-
-    f = bearing.friction
-    put("friction", {"f_max": f.f_max, "delta_f": f.delta_f, "rate_a": f.rate_a})
-    if bearing.friction_perpendicular is not None:
-        g = bearing.friction_perpendicular
-        put("friction_perpendicular", {"f_max": g.f_max, "delta_f": g.delta_f, "rate_a": g.rate_a})
-    if bearing.lay_angle is not None:
-        put("lay", {"angle": bearing.lay_angle})
-    h = bearing.hysteresis
-    put("hysteresis", {"yield_disp": h.yield_disp, "A": h.A, "beta": h.beta, "gamma": h.gamma,
-                       "eta": h.eta})
-    if bearing.breakaway_ratio is not None:
-        put("breakaway", {"ratio": bearing.breakaway_ratio})
-    put("stack", {"interfaces_in_series": bearing.n_interfaces})
-    for name in bearing.effects:
-        module = getattr(bearing, name)
-        put(name, {key: getattr(module, key) for key in BEARING_PARTS[name]
-                   if getattr(module, key) is not None})
-    return {"format": FORMAT_NAME, "format_version": FORMAT_VERSION,
-            "teflon_jax_version": _version(), "parts": parts,
-            "sources": [str(s) for s in sources], **({"fit": fit} if fit is not None else {}),
-            **({"posterior": _posterior_to_dict(posterior)} if posterior is not None else {}),
-            **({"mixture": _mixture_to_dict(mixture)} if mixture is not None else {})}
-
-
-def save_bearing(path, bearing: SlidingBearing, *, standard_errors=None, sources=(),
-                 fit=None, posterior: BearingPosterior | None = None,
-                 mixture: BearingMixture | None = None) -> pathlib.Path:
-    """Write `bearing` as a bearing file (JSON; see `bearing_to_dict`), with the draws of
-    `posterior` (a `BearingPosterior`) or the compositions of `mixture` (a `BearingMixture`)
-    beside the point estimate when given."""
-    path = pathlib.Path(path)
-    document = bearing_to_dict(bearing, standard_errors=standard_errors, sources=sources, fit=fit,
-                               posterior=posterior, mixture=mixture)
-    path.write_text(json.dumps(document, indent=2, allow_nan=False) + "\n")
-    return path
