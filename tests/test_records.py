@@ -211,6 +211,9 @@ _GOOD_HEADER = "time [s],ux [in],fx [kip]\n"
         ("# contact_area: 78.5\n" + _GOOD_HEADER + "0,0,0\n", ["line 1", "no unit"]),
         ("# contact_area [kip]: 1\n" + _GOOD_HEADER + "0,0,0\n", ["line 1", "area"]),
         ("# normal_load [kip]: -5\n" + _GOOD_HEADER + "0,0,0\n", ["line 1", "positive"]),
+        ("time [s],ux [in],fx [kip],N [kip]\n0,0,0,500\n0.1,0.2,1,-5\n",
+         ["line 3", "'N'", "must be > 0", "got -5 kip"]),
+        ("time [s],ux [in],fx [kip],N [kN]\n0,0,0,0\n", ["line 2", "'N'", "got 0 kN"]),
         ("# a: 1\n# a: 2\n" + _GOOD_HEADER + "0,0,0\n", ["line 2", "twice"]),
         (
             "# protocol: sine amplitude=1 in\nux [in],fx [kip]\n0,0\n",

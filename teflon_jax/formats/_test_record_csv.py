@@ -174,11 +174,12 @@ def _parse_header(line: str, where: str) -> list[tuple[str, str]]:
     return columns
 
 
-def _read_columns(path, columns_required, digitised_columns):
+def _read_columns(path, columns_required, digitised_columns, positive=()):
     """(path, metadata, by_name, extra_units) of a file in the test-record CSV format: the
     metadata in SI, every column in SI by name, the units of the extra columns. A file without
     a `time` column is a digitised loop (needing `digitised_columns` and a protocol) when
-    `digitised_columns` is not `None`, otherwise `time` is required like `columns_required`."""
+    `digitised_columns` is not `None`, otherwise `time` is required like `columns_required`;
+    the columns named in `positive` must be > 0 in every row."""
     path = pathlib.Path(path)
     with open(path, encoding="utf-8-sig", newline=None) as file:
         lines = file.read().split("\n")
@@ -195,6 +196,12 @@ def _read_columns(path, columns_required, digitised_columns):
     by_name = {name: table[:, i] for i, name in enumerate(names)}
     if not digitised:
         _check_time_increases(by_name["time"], path, header_index)
+    for name, unit in columns:
+        if name in positive and np.any(by_name[name] <= 0):
+            row = int(np.argmax(by_name[name] <= 0))
+            cell = lines[header_index + 1 + row].split(",")[names.index(name)].strip()
+            raise ValueError(f"{path}, line {header_index + 2 + row}, column '{name}': must be > 0 "
+                             f"(compression positive), got {cell} {unit}; repair or remove the sample.")
     return path, metadata, by_name, extra_units
 
 
@@ -318,10 +325,10 @@ def read_test_record(path) -> TestRecord:
 
     Raises `ValueError` naming the file, line and column for: a missing or unknown unit, a
     unit of the wrong dimension, empty cells, NaN or non-numeric cells, rows with the wrong
-    number of cells, time that does not increase strictly, a missing required column, or a
-    digitised loop without a protocol. Nothing is dropped or filled in.
+    number of cells, time that does not increase strictly, a normal load N <= 0, a missing
+    required column, or a digitised loop without a protocol. Nothing is dropped or filled in.
     """
-    path, metadata, by_name, extra_units = _read_columns(path, _REQUIRED_COLUMNS, ("ux", "fx"))
+    path, metadata, by_name, extra_units = _read_columns(path, _REQUIRED_COLUMNS, ("ux", "fx"), positive=("N",))
     n_rows = by_name["ux"].shape[0]
     normal_load = by_name.get("N")
     if normal_load is None:
