@@ -246,7 +246,7 @@ def check_bearing(bearing: SlidingBearing) -> None:
 
     Traced values (inside jit/vmap/grad) are not checked here.
     """
-    _check_eq1(bearing.friction)
+    check_eq1(bearing.friction)
     check_hysteresis(bearing.hysteresis)
     if bearing.breakaway_ratio is not None:
         require(
@@ -256,7 +256,7 @@ def check_bearing(bearing: SlidingBearing) -> None:
             "must be >= 1 (Table 1: 1.3-4.4), or None for no breakaway",
         )
     if bearing.friction_perpendicular is not None:
-        _check_eq1(bearing.friction_perpendicular, "friction_perpendicular.")
+        check_eq1(bearing.friction_perpendicular, "friction_perpendicular.")
     if bearing.lay_angle is not None:
         if bearing.friction_perpendicular is None:
             raise ValueError("lay_angle: the lay of the steel matters only for an anisotropic bearing; "
@@ -267,13 +267,18 @@ def check_bearing(bearing: SlidingBearing) -> None:
         raise ValueError(f"n_interfaces: must be an integer >= 1, got {bearing.n_interfaces}.")
 
 
-def _check_eq1(f: FrictionParameters, prefix: str = "") -> None:
-    """`ValueError` naming `prefix` and the constant of Eq. 1 out of range: f_max > 0,
+def check_eq1(f: FrictionParameters, prefix: str = "", frictionless: bool = False) -> None:
+    """`ValueError` naming `prefix` and the constant of Eq. 1 out of range: f_max > 0 (or, with
+    `frictionless`, f_max >= 0: a surface without friction has f_max = delta_f = 0),
     0 <= delta_f < f_max (a positive friction at rest), rate_a >= 0 [s/m]."""
-    require_positive(f.f_max, f"{prefix}f_max", " (a friction coefficient, e.g. 0.1193)")
+    if frictionless:
+        require(f.f_max, lambda x: np.isfinite(x) & (x >= 0), f"{prefix}f_max",
+                "must be a finite number >= 0 (a friction coefficient; 0 for a frictionless surface)")
+    else:
+        require_positive(f.f_max, f"{prefix}f_max", " (a friction coefficient, e.g. 0.1193)")
     require(f.delta_f, lambda x: np.isfinite(x) & (x >= 0), f"{prefix}delta_f", "must be >= 0")
     f_max, delta_f = concrete(f.f_max), concrete(f.delta_f)
-    if f_max is not None and delta_f is not None and not np.all(delta_f < f_max):
+    if f_max is not None and delta_f is not None and not np.all((delta_f < f_max) | ((delta_f == 0) & (f_max == 0))):
         raise ValueError(f"{prefix}delta_f: must be smaller than f_max ({np.asarray(f_max).tolist()}: Eq. 1 at "
                          f"rest, f_max - delta_f, is positive); got {np.asarray(delta_f).tolist()}.")
     require(f.rate_a, lambda x: np.isfinite(x) & (x >= 0), f"{prefix}rate_a", "must be >= 0 [s/m]")

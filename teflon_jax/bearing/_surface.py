@@ -14,8 +14,8 @@ import equinox as eqx
 import jax.numpy as jnp
 import numpy as np
 
-from ..validation import concrete, require, require_positive
-from ._bearing import BREAKAWAY_THRESHOLD, SlidingBearing
+from ..validation import require, require_positive
+from ._bearing import BREAKAWAY_THRESHOLD, SlidingBearing, check_eq1
 from ._effects import DirectionAsymmetry, PressureDependence, Wear
 from ._friction import FrictionParameters, sliding_friction
 
@@ -108,15 +108,8 @@ def _part_factor(part, e, z, history, pressures, load_factor):
 def check_friction(friction: FrictionParameters, name: str) -> None:
     """`ValueError` naming `name`.f_max, .delta_f or .rate_a where Eq. 1 cannot take them:
     f_max >= 0, 0 <= delta_f < f_max (a positive friction at rest) or f_max = delta_f = 0 (a
-    frictionless surface), rate_a >= 0 [s/m]."""
-    require(friction.f_max, lambda x: np.isfinite(x) & (x >= 0), f"{name}.f_max",
-            "must be a finite number >= 0 (a friction coefficient; 0 for a frictionless surface)")
-    require(friction.delta_f, lambda x: np.isfinite(x) & (x >= 0), f"{name}.delta_f", "must be >= 0")
-    f_max, delta_f = concrete(friction.f_max), concrete(friction.delta_f)
-    if f_max is not None and delta_f is not None and not np.all((delta_f < f_max) | ((delta_f == 0) & (f_max == 0))):
-        raise ValueError(f"{name}.delta_f: must be smaller than f_max ({np.asarray(f_max).tolist()}: "
-                         f"Eq. 1 at rest, f_max - delta_f, is positive); got {np.asarray(delta_f).tolist()}.")
-    require(friction.rate_a, lambda x: np.isfinite(x) & (x >= 0), f"{name}.rate_a", "must be >= 0 [s/m]")
+    frictionless surface), rate_a >= 0 [s/m] (`check_eq1`)."""
+    check_eq1(friction, f"{name}.", frictionless=True)
 
 
 def check_surface_parts(part: SurfaceParts, name: str, pressure=None) -> None:
