@@ -122,6 +122,24 @@ def test_simulate_test_writes_the_version_command_line_and_input_hashes_as_metad
     assert metadata["input_files"] == f"--bearing {bearing_file} sha256 {_sha(bearing_file)}"
 
 
+def test_an_output_left_by_an_earlier_run_is_not_named_as_an_input(tmp_path, capsys, bearing_file):
+    out = tmp_path / "t.csv"
+    for _ in range(2):  # the second run finds the first one's record where it writes its own
+        assert _run(capsys, "simulate-test", "--bearing", bearing_file, "--normal-load", "78.5kip",
+                    "--cycles", "1", "--out", out) == 0
+        assert read_test_record(out).metadata["input_files"] == f"--bearing {bearing_file} sha256 {_sha(bearing_file)}"
+    for name in ("mc.json", "mc.png", "mc.nc"):
+        (tmp_path / name).write_text("an earlier run's")
+    args = argparse.Namespace(json=str(tmp_path / "mc.json"), plot=str(tmp_path / "mc.png"),
+                              out=str(tmp_path / "mc.nc"), bearing=str(bearing_file))
+    set_arguments(args, output_flags("montecarlo"))
+    try:
+        files = run_inputs()["files"]
+    finally:
+        clear_arguments()
+    assert [entry["flag"] for entry in files] == ["--bearing"]
+
+
 def test_a_suite_names_each_record_with_its_hash(tmp_path):
     x, y = _at2(tmp_path / "x.AT2"), _at2(tmp_path / "y.AT2", peak=0.2)
     suite = tmp_path / "suite.csv"

@@ -96,7 +96,7 @@ def set_arguments(args, outputs) -> None:
     _RUN.clear()
     _RUN.update(args=args, outputs={dest: kind for dest, _, kind, _ in outputs}, files=[])
     for dest, value in vars(args).items():
-        if dest in outputs or dest in _NOT_SETTINGS or dest.startswith("_"):
+        if dest in _RUN["outputs"] or dest in _NOT_SETTINGS or dest.startswith("_"):
             continue
         for item in value if isinstance(value, (list, tuple)) else (value,):
             if isinstance(item, (str, pathlib.PurePath)) and str(item).strip() and pathlib.Path(item).is_file():
