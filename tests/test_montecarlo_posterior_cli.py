@@ -54,13 +54,20 @@ def files(tmp_path_factory):
     (["--structure", "building", "--pga", "0.1g,0.2g", "--limit", "drift=0.5%", "--bearing-draws", "4"],
      "--limit drift=0.5%: runs without the posterior draws"),
     (["--scheduler", "local:2", "--out", "{folder}/mc.nc"], "--scheduler: runs without the posterior draws"),
-], ids=["no-posterior", "too-many", "zero", "word", "no-motions", "no-file", "storeys", "storey-limit", "scheduler"])
+    (["--no-bearing", "--bearing-seed", "3"], "--bearing-seed 3: orders the posterior draws (or a mixture's) of a "
+                                              "--bearing file, and no --bearing FILE is given"),
+    (["--point", "--bearing-seed", "3"], "--bearing-seed 3: orders the posterior draws (or a "
+                                                      "mixture's) of a --bearing file, and --bearing {point} runs "
+                                                      "as its point estimate here"),
+    (["--bearing-draws", "point", "--bearing-seed", "0"], "--bearing-seed 0: orders the posterior draws"),
+], ids=["no-posterior", "too-many", "zero", "word", "no-motions", "no-file", "storeys", "storey-limit", "scheduler",
+        "seed-no-file", "seed-no-posterior", "seed-point"])
 def test_bad_input_refused_by_name_before_any_work(files, tmp_path, capsys, flags, words):
     posterior, point = files
-    file = point if flags[:2] == ["--bearing-draws", "3"] else posterior
+    file = point if flags[:2] == ["--bearing-draws", "3"] or "--point" in flags else posterior
     flags = [f.format(folder=tmp_path) for f in flags]
     given = [] if "--no-bearing" in flags else ["--bearing", str(file)]
-    flags = [f for f in flags if f != "--no-bearing"]
+    flags = [f for f in flags if f not in ("--no-bearing", "--point")]
     motions = [] if "--motions" in flags else ["--motions", "2"]
     argv = [*COMMON, *motions, *given, *flags, "--json", str(tmp_path / "mc.json")]
     if words.startswith("--bearing-draws:") or words == "--motions":  # the parser's own message

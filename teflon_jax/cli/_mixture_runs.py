@@ -64,8 +64,9 @@ def read_mixture_run(args, refuse_other_runs) -> MixtureRun | None:
         except ValueError as error:
             raise ValueError(f"--bearing {args.bearing}: mixture composition {c.label} (weight "
                              f"{c.weight:.3g}): {error}") from None
-    counts = mixture.motion_counts(args.motions, seed=args.bearing_seed)
-    return MixtureRun(mixture, MIXTURE, None, args.bearing_seed, args.bearing, counts)
+    seed = 0 if args.bearing_seed is None else args.bearing_seed
+    counts = mixture.motion_counts(args.motions, seed=seed)
+    return MixtureRun(mixture, MIXTURE, None, seed, args.bearing, counts)
 
 
 def runner_of(run, monte_carlo):

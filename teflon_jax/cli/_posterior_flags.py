@@ -64,17 +64,34 @@ def add_posterior_flags(parser) -> None:
                         "K runs K draws each on the same --motions motions and splits the variance "
                         "of each peak into a motion part and a bearing part, 'point' runs the "
                         "file's point estimate alone")
-    parser.add_argument("--bearing-seed", type=_seed, default=0, metavar="S",
-                        help="seed of the order in which the posterior's draws are taken (default 0)")
+    parser.add_argument("--bearing-seed", type=_seed, default=None, metavar="S",
+                        help="with a --bearing file's posterior draws or mixture: seed of the order in "
+                        "which they are taken (default 0)")
 
 
 def read_posterior_flags(args) -> PosteriorRun | None:
     """The posterior run the flags ask for (a `MixtureRun` for a file with a mixture), or `None`
     (the point bearing, as without a posterior): `ValueError` naming the flag, before any work,
     for --bearing-draws without a --bearing file that holds a posterior, K above its number of
-    draws, and the flags whose runs do not take draws (--storeys and the storey limits of
-    --limit, --pelicun-demands, --scheduler, --property-factors given with --bearing-draws);
-    several --pga levels and the --limit of base_disp and base_shear_ratio take them."""
+    draws, --bearing-seed where no draws are taken, and the flags whose runs do not take draws
+    (--storeys and the storey limits of --limit, --pelicun-demands, --scheduler,
+    --property-factors given with --bearing-draws); several --pga levels and the --limit of
+    base_disp and base_shear_ratio take them."""
+    run = _posterior_run(args)
+    if run is None and args.bearing_seed is not None:
+        why = ("no --bearing FILE is given" if args.bearing is None else
+               f"--bearing {args.bearing} runs as its point estimate here")
+        raise ValueError(f"--bearing-seed {args.bearing_seed}: orders the posterior draws (or a mixture's) of "
+                         f"a --bearing file, and {why}; leave --bearing-seed out.")
+    return run
+
+
+def seed_of(args) -> int:
+    """`--bearing-seed`, 0 where it is not given."""
+    return 0 if args.bearing_seed is None else args.bearing_seed
+
+
+def _posterior_run(args) -> PosteriorRun | None:
     from ..formats import load_bearing_posterior
 
     given = args.bearing_draws
@@ -101,7 +118,7 @@ def read_posterior_flags(args) -> PosteriorRun | None:
                          f"{posterior.size} draws; ask for at most {posterior.size} bearings.")
     _refuse_other_runs(args, "--bearing-draws " + str(given or MOTION))
     mode = MOTION if given in (None, MOTION) else "nested"
-    return PosteriorRun(posterior, mode, None if mode == MOTION else given, args.bearing_seed, args.bearing)
+    return PosteriorRun(posterior, mode, None if mode == MOTION else given, seed_of(args), args.bearing)
 
 
 def _refuse_other_runs(args, words: str) -> None:
