@@ -47,6 +47,13 @@ def test_components_with_different_time_steps_are_refused(tmp_path, capsys):
     assert "time step 0.02 s differs from --record-x's 0.01 s" in out.err and "--resample" in out.err
 
 
+def test_resample_of_a_record_that_runs_alone_is_refused(tmp_path, capsys):
+    x = _two_column(tmp_path / "x.txt")
+    code, out = _run(capsys, "--record-x", x, "--record-units", "g", "--resample", "--json", tmp_path / "r.json")
+    assert code == 2 and "--resample: brings --record-y or --record-z onto the step" in out.err
+    assert not (tmp_path / "r.json").exists()
+
+
 def test_components_with_different_lengths_are_refused(tmp_path, capsys):
     x = _two_column(tmp_path / "x.txt", n=401)
     y = _two_column(tmp_path / "y.txt", n=301)

@@ -182,6 +182,13 @@ def test_run_suite_scales_each_pair_to_the_target(tmp_path, capsys):
     (["--suite", "{suite}", "--period-range", "0.5s", "2s"], "--period-range: only used with --target-spectrum"),
     (["--suite", "{suite}", "--target-spectrum", "{target}", "--period-range", "0.5s", "2s", "--scale", "2"],
      "--scale: the target spectrum sets the amplitude factors"),
+    (["--suite", "{suite}", "--min-ratio", "90%"], "--min-ratio: only used with --target-spectrum"),
+    (["--suite", "{suite}", "--combination", "rotd100"], "--combination: only used with --target-spectrum"),
+    (["--suite", "{suite}", "--scaling", "suite"], "--scaling: only used with --target-spectrum"),
+    (["--record-x", "{suite}", "--suite-statistic", "max"], "--suite-statistic: only used with --target-spectrum"),
+    (["--suite", "{suite}", "--target-spectrum", "{target}", "--period-range", "0.5s", "2s", "--suite-statistic",
+      "max"], "--suite-statistic max: the statistic one factor for the whole suite lifts to the target; add "
+              "--scaling suite"),
 ])
 def test_run_suite_target_mistakes_are_refused_before_any_run(tmp_path, capsys, argv, message):
     from teflon_jax.cli import main

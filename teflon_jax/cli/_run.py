@@ -98,6 +98,9 @@ def run_run(args) -> int:
         return run_suite(args, isolator)
     if args.record_x is None:
         raise ValueError("--record-x: a record is needed (or a --suite file).")
+    if args.resample and args.record_y is None and args.record_z is None:
+        raise ValueError("--resample: brings --record-y or --record-z onto the step and length of --record-x, "
+                         "and --record-x runs alone here; leave --resample out.")
     if args.histories is not None and pathlib.Path(args.histories).suffix not in (".nc", ".csv"):
         raise ValueError(f"--histories: {args.histories} must end in .nc or .csv.")
     from ..excitation import uniform_signal

@@ -7,6 +7,10 @@ import numpy as np
 from ..units import STANDARD_GRAVITY, parse_quantity
 
 
+SCALING_DEFAULTS = {"combination": "srss", "scaling": "pair", "suite_statistic": "mean", "min_ratio": "1"}
+"""The values of the scaling flags a run with a target leaves out (`read_target`)."""
+
+
 def add_spectrum_flags(parser) -> None:
     """The flags of spectrum scaling on `teflon-jax run --suite`."""
     parser.add_argument("--target-spectrum", default=None, metavar="FILE",
@@ -18,14 +22,14 @@ def add_spectrum_flags(parser) -> None:
     parser.add_argument("--period-range", nargs=2, default=None, metavar=("LOW", "HIGH"),
                         help="periods over which the scaled spectra may not fall below the target by more "
                         "than --min-ratio, e.g. 1.5s 4s (required with a target)")
-    parser.add_argument("--combination", default="srss", choices=("srss", "rotd100"),
+    parser.add_argument("--combination", default=None, choices=("srss", "rotd100"),
                         help="the pair's spectrum: srss of the two components' or rotd100, the largest "
                         "over directions (default srss)")
-    parser.add_argument("--scaling", default="pair", choices=("pair", "suite"),
+    parser.add_argument("--scaling", default=None, choices=("pair", "suite"),
                         help="one amplitude factor per pair, or one for the whole suite (default pair)")
-    parser.add_argument("--suite-statistic", default="mean", choices=("mean", "max"),
+    parser.add_argument("--suite-statistic", default=None, choices=("mean", "max"),
                         help="--scaling suite: the statistic over pairs lifted to the target (default mean)")
-    parser.add_argument("--min-ratio", default="1", help="the scaled spectrum may not fall below this "
+    parser.add_argument("--min-ratio", default=None, help="the scaled spectrum may not fall below this "
                         "fraction of the target in the range, e.g. 0.9 or 90%% (default 1)")
     parser.add_argument("--max-factor", default=None, help="refuse (before any run) pairs that would be "
                         "scaled by more than this (default: no limit)")
@@ -35,17 +39,27 @@ def add_spectrum_flags(parser) -> None:
 
 def read_target(args):
     """(target, check periods [s], description) from the flags, or `None` without a target;
-    `ValueError` naming the flag for every mistake, before records are read."""
+    `ValueError` naming the flag for every mistake, before records are read: a flag of the
+    scaling given without a target, or --suite-statistic without --scaling suite. With a target,
+    the flags left out take their defaults (`SCALING_DEFAULTS`) on `args`."""
     from ..studies import DesignSpectrum, TabulatedSpectrum, check_period_range
 
     given = [f for f, v in (("--target-spectrum", args.target_spectrum), ("--design-spectrum", args.design_spectrum))
              if v is not None]
     extra = [f for f, v in (("--period-range", args.period_range), ("--max-factor", args.max_factor),
-                            ("--spectrum-plot", args.spectrum_plot)) if v is not None]
+                            ("--spectrum-plot", args.spectrum_plot), ("--combination", args.combination),
+                            ("--scaling", args.scaling), ("--suite-statistic", args.suite_statistic),
+                            ("--min-ratio", args.min_ratio)) if v is not None]
     if not given:
         if extra:
             raise ValueError(f"{extra[0]}: only used with --target-spectrum or --design-spectrum.")
         return None
+    if args.suite_statistic is not None and args.scaling != "suite":
+        raise ValueError(f"--suite-statistic {args.suite_statistic}: the statistic one factor for the whole suite "
+                         "lifts to the target; add --scaling suite, or leave --suite-statistic out.")
+    for name, default in SCALING_DEFAULTS.items():
+        if getattr(args, name) is None:
+            setattr(args, name, default)
     if len(given) == 2:
         raise ValueError("--design-spectrum: give a target file or a design spectrum, not both.")
     if args.suite is None:
