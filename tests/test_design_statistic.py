@@ -107,6 +107,12 @@ def test_a_capacity_on_a_surface_without_restrainer_or_on_flat_sliders_is_refuse
     (["--isolator", "triple-fp", "--capacity-range", "1in", "3in", "--capacity-scale-range", "0.5", "1"],
      "--capacity-range: does not apply to --isolator triple-fp"),
     (["--limit-statistic", "p99"], "argument --limit-statistic: invalid choice: 'p99'"),
+    (["--penalty", "-1"], "argument --penalty: expected a finite number > 0 (the weight of the displacement limit), "
+                          "got -1"),
+    (["--penalty", "0"], "argument --penalty: expected a finite number > 0"),
+    (["--penalty", "inf"], "argument --penalty: expected a finite number > 0"),
+    (["--grid", "1"], "argument --grid: expected an integer >= 2 (the sweep runs from LOW to HIGH of each range), "
+                      "got 1"),
 ])
 def test_bad_capacity_and_statistic_flags_are_refused_by_name(flags, message, capsys):
     try:

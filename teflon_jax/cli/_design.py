@@ -14,6 +14,7 @@ from ._common import (
     add_cluster_flags,
     add_quantity,
     check_table1,
+    integer_at_least,
     output_units,
     warn_time_step,
 )
@@ -73,9 +74,10 @@ def add_design_parser(subparsers) -> argparse.ArgumentParser:
     add_quantity(parser, "--isolation-damping", "dimensionless", None, "viscous damping ratio "
                  "zeta_b of the isolation system (default 5% on flat sliders, 0 on a friction "
                  "pendulum)", minimum=0.0, strict=False, maximum=1.0)
-    parser.add_argument("--penalty", type=float, default=100.0,
-                        help="weight rho of the displacement-limit penalty [-] (default 100)")
-    parser.add_argument("--grid", type=_positive_int, default=7, help="sweep points per variable (default 7)")
+    parser.add_argument("--penalty", type=_penalty, default=100.0,
+                        help="weight rho of the displacement-limit penalty, > 0 [-] (default 100)")
+    parser.add_argument("--grid", type=_grid_points, default=7,
+                        help="sweep points per variable, from LOW to HIGH of each range, at least 2 (default 7)")
     add_cluster_flags(
         parser, "evaluate the grid sweep as tasks", " (default: this process)",
         out="write the grid sweep (objective, mean smooth peaks, convergence on the grid of Tb x "
@@ -89,6 +91,23 @@ def add_design_parser(subparsers) -> argparse.ArgumentParser:
                      "pressure-dependence part, whose contact pressure --pressure-range then spans")
     parser.set_defaults(command_function=run_design)
     return parser
+
+
+def _penalty(text: str) -> float:
+    """`--penalty`: a finite number > 0 (0 would drop the displacement limit, a negative one reward
+    breaking it)."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number > 0, got {text!r}") from None
+    if not 0 < value < float("inf"):
+        raise argparse.ArgumentTypeError(f"expected a finite number > 0 (the weight of the displacement "
+                                         f"limit), got {text}")
+    return value
+
+
+def _grid_points(text: str) -> int:
+    return integer_at_least(text, 2, "an integer >= 2 (the sweep runs from LOW to HIGH of each range)")
 
 
 def run_design(args) -> int:
