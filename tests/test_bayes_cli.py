@@ -42,6 +42,10 @@ def _model_record(path, seed, *, fs=100.0, cycles=2, noise=0.02):
 FLAG_ERRORS = [
     (["--each"], "--each: applies with --bayes DIR"),
     (["--posterior-draws", "50"], "--posterior-draws: applies with --bayes DIR"),
+    (["--draws", "500"], "--draws: applies with --bayes DIR"),
+    (["--chains", "2"], "--chains: applies with --bayes DIR"),
+    (["--seed", "0"], "--seed: applies with --bayes DIR"),
+    (["--prior", "table1"], "--prior: applies with --bayes DIR"),
     (["--bayes", "B", "--posterior-draws", "50"], "add --save-bearing FILE"),
     (["--bayes", "B", "--save-bearing", "b.json", "--posterior-draws", "0"],
      "--posterior-draws: must be an integer >= 1"),

@@ -69,13 +69,13 @@ def add_fit_parser(subparsers) -> argparse.ArgumentParser:
                              "and pairs.png into DIR, and with --save-bearing the draws into the "
                              "bearing file beside the point estimate; exits 1 when the chains did "
                              "not converge, 130 on Ctrl-C (the draws so far written, not converged)")
-    parser.add_argument("--prior", choices=("bounds", "table1"), default="bounds",
+    parser.add_argument("--prior", choices=("bounds", "table1"), default=None,
                         help="with --bayes: log-uniform over physical bounds, or Table 1 as an "
                              "informative prior (default bounds)")
-    parser.add_argument("--draws", type=int, default=1000,
+    parser.add_argument("--draws", type=int, default=None,
                         help="with --bayes: warm-up steps and draws per chain (default 1000)")
-    parser.add_argument("--chains", type=int, default=4, help="with --bayes: chains (default 4)")
-    parser.add_argument("--seed", type=int, default=0, help="with --bayes: random seed (default 0)")
+    parser.add_argument("--chains", type=int, default=None, help="with --bayes: chains (default 4)")
+    parser.add_argument("--seed", type=int, default=None, help="with --bayes: random seed (default 0)")
     parser.add_argument("--no-progress", action="store_true", help="with --bayes: no progress bar")
     add_bayes_file_flags(parser)
     parser.add_argument("--effects", default=None, metavar="NAME,...",

@@ -32,17 +32,27 @@ def add_bayes_file_flags(parser) -> None:
                              "exits 1 (2 if one was refused as bad input) after the others")
 
 
+SAMPLER_DEFAULTS = {"prior": "bounds", "draws": 1000, "chains": 4, "seed": 0}
+"""The sampler's flags (--prior, --draws, --chains, --seed) where --bayes is given without them."""
+
+
 def check_bayes_flags(args, *, posterior: bool = True) -> None:
-    """`ValueError` naming the flag, before any work, for --posterior-draws and --each given
-    where they do not apply or with values they cannot take; `posterior`: whether the
-    isolator's law is one the sampler knows (the flat slider's, `_isolator_table.FitRow`)."""
+    """`ValueError` naming the flag, before any work, for --posterior-draws, --each and the
+    sampler's flags (`SAMPLER_DEFAULTS`) given where they do not apply or with values they
+    cannot take; with --bayes, the sampler's flags left out take their defaults on `args`.
+    `posterior`: whether the isolator's law is one the sampler knows (the flat slider's,
+    `_isolator_table.FitRow`)."""
     each, draws = getattr(args, "each", False), getattr(args, "posterior_draws", None)
     if args.bayes is None:
-        for flag, given in (("--each", each), ("--posterior-draws", draws is not None)):
+        for flag, given in (("--each", each), ("--posterior-draws", draws is not None),
+                            *((f"--{name}", getattr(args, name) is not None) for name in SAMPLER_DEFAULTS)):
             if given:
                 raise ValueError(f"{flag}: applies with --bayes DIR (the posterior); add --bayes "
                                  f"DIR or leave {flag} out.")
         return
+    for name, default in SAMPLER_DEFAULTS.items():
+        if getattr(args, name) is None:
+            setattr(args, name, default)
     if draws is not None and draws < 1:
         raise ValueError(f"--posterior-draws: must be an integer >= 1, got {draws}.")
     if draws is not None and args.save_bearing is None and not each:
