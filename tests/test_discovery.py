@@ -462,6 +462,32 @@ def test_diagnose_cli_asks_for_a_normal_load_the_record_lacks(tmp_path, capsys):
     assert "damper.csv" in err and "--normal-load" in err
 
 
+@pytest.mark.parametrize("command", [
+    ["diagnose", "{a}", "--report", "{folder}/r"],
+    ["fit", "{a}"],
+    ["fit", "{a}", "--effects", "backlash"],
+    ["fit", "{a}", "--isolator", "single-fp"],
+    ["fit", "{a}", "{b}"],
+], ids=["diagnose", "fit", "fit-effects", "fit-pendulum", "fit-two"])
+def test_a_normal_load_flag_beside_the_records_own_is_refused(tmp_path, capsys, command):
+    """--normal-load is for records without one: beside a record's N column it would be
+    ignored, so it is refused, naming the records, before any fit."""
+    from teflon_jax.cli import main
+
+    t = np.arange(0.0, 2.0, 0.01)
+    rows = "".join(f"{a:.3f},{np.sin(a):.6f},{0.1 * np.sign(np.cos(a)):.3f},10\n" for a in t)
+    for name in ("a", "b"):
+        (tmp_path / f"{name}.csv").write_text("time [s],ux [in],fx [kip],N [kip]\n" + rows)
+    argv = [w.format(a=tmp_path / "a.csv", b=tmp_path / "b.csv", folder=tmp_path) for w in command]
+    status = main([*argv, "--normal-load", "10kip", "--json", str(tmp_path / "o.json")])
+    err = capsys.readouterr().err
+    assert status == 2
+    records = (f"every record ({tmp_path / 'a.csv'}, {tmp_path / 'b.csv'}) states" if "{b}" in command
+               else f"the record {tmp_path / 'a.csv'} states")
+    assert f"--normal-load 10kip: {records} its normal load (column N)" in err
+    assert not (tmp_path / "o.json").exists()
+
+
 def test_interfaces_without_known_rate_is_absorbed_by_rate_a():
     # Eq. 1 at v / n equals Eq. 1 with rate_a / n: with rate_a fitted, n cannot be named,
     # and the fit shows it as a rate n times smaller; the stack check turns that rate into the

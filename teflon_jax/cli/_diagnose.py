@@ -50,6 +50,7 @@ from ._isolator_flags import (
     SERIES_NAMES,
     add_isolator_flags,
     add_record_load_flags,
+    check_normal_load_used,
     load_isolator_file,
     per_isolator,
 )
@@ -251,7 +252,9 @@ def _search_slider(args, diagnosis, candidates, say) -> Found:
 
     args.baseline = args.baseline or "paper1990"
     known = parse_name_values(args.known, known_dimensions(), "--known")
-    record = with_normal_load(read_bearing_record(args.record), args.record, args.normal_load)
+    record = read_bearing_record(args.record)
+    check_normal_load_used(args, [record], [args.record])
+    record = with_normal_load(record, args.record, args.normal_load)
 
     def search(friction_record):
         return discover_effects(friction_record, baseline=args.baseline, candidates=candidates,
@@ -332,6 +335,7 @@ def _search_series(args, diagnosis, candidates, say) -> Found:
 
     start = load_isolator_file(args.isolator_file, args.isolator, command="diagnose")
     record = read_bearing_record(args.record)
+    check_normal_load_used(args, [record], [args.record])
     say(f"teflon-jax diagnose: {start.description}, the series fit and each candidate on the "
         "record and two folds of its cycles (compiling first)...")
     try:

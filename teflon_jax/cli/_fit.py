@@ -19,7 +19,7 @@ from ._common import (
 )
 from ._fit_bayes import _unit_of as _unit_of
 from ._fit_bayes import add_bayes_file_flags, check_bayes_flags
-from ._isolator_flags import add_isolator_flags, add_record_load_flags
+from ._isolator_flags import add_isolator_flags, add_record_load_flags, check_normal_load_used
 from ._isolator_table import FIT_ROWS, refused, required
 
 FIT_HELP = "fit f_max, delta_f, rate_a, yield_disp, breakaway_ratio to bearing test records"
@@ -119,6 +119,7 @@ def run_fit(args) -> int:
         _check_counts(args)  # before the fit, as the output paths (`check_outputs`)
         inputs = row.read(args, row.own)
         records = [read_bearing_record(p) for p in args.records]
+        check_normal_load_used(args, records, args.records)
         if args.each:  # a row without a posterior refused --each above
             from ._fit_bayes import run_fit_each
 

@@ -10,6 +10,7 @@ import sys
 from ._bearing_flags import check_output_file, save_bearing_flag
 from ._common import _write_json, parse_name_values, read_bearing_record, read_quantities
 from ._diagnose import known_dimensions, with_normal_load
+from ._isolator_flags import check_normal_load_used
 
 
 def _effect_names(text: str) -> list[str]:
@@ -43,8 +44,9 @@ def run_fit_effects(args) -> int:
                 raise ValueError(f"{flag}: not available with --effects (every constant of the "
                                  "named parts is fitted; hold some with --fixed).")
         known = parse_name_values(args.fixed, known_dimensions(), "--fixed")
-        record = with_normal_load(read_bearing_record(args.records[0]), args.records[0],
-                                  args.normal_load)
+        record = read_bearing_record(args.records[0])
+        check_normal_load_used(args, [record], args.records)
+        record = with_normal_load(record, args.records[0], args.normal_load)
         composition = ["velocity_dependence", *[e for e in effects if e != "velocity_dependence"]]
         result = discover_effects(record, baseline=tuple(composition), max_effects=0,
                                   known=known)

@@ -85,6 +85,17 @@ def add_record_load_flags(parser, *, normal: str, task: str) -> None:
                  "is refused)", minimum=0.0)
 
 
+def check_normal_load_used(args, records, paths) -> None:
+    """`ValueError` for `--normal-load` given while every record of `records` (read from
+    `paths`) states its own normal load (column N), which the fit or search takes: the flag
+    would be ignored."""
+    if getattr(args, "normal_load", None) is None or any(r.normal_load is None for r in records):
+        return
+    which = f"the record {paths[0]} states" if len(paths) == 1 else f"every record ({', '.join(map(str, paths))}) states"
+    raise ValueError(f"--normal-load {args.normal_load_text}: {which} its normal load (column N), and that is "
+                     "the load used; the flag is for records without one (a friction damper's); leave it out.")
+
+
 @dataclasses.dataclass(frozen=True)
 class Isolator:
     """The isolator of the flags: `name` (an `ISOLATORS` entry), `radius` R [m] of a single
