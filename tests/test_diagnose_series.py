@@ -131,10 +131,11 @@ def _sine_record(path, biaxial=False, varying_load=False):
     (["--isolator", "single-fp"], "--isolator-file: applies to --isolator triple-fp or double-fp only"),
     (["--isolator", "flat", "--isolator-file", None, "--save-isolator", "x.json"],
      "--save-isolator: applies to --isolator triple-fp or double-fp only"),
-    (["--candidates", "wear,breakaway"], r"candidates: the series pendulums take velocity_dependence, "
+    (["--candidates", "wear,breakaway"], r"--candidates: the series pendulums take velocity_dependence, "
      r"heating; not wear \(not among the series search's candidates; a surface of the start file may "
      r"carry it \(its \"wear\" entry\)"),
-    (["--candidates", "heating,grip"], r"candidates: unknown \['grip'\]"),
+    (["--candidates", "heating,grip"], r"--candidates heating,grip: unknown effect grip; choose among "
+                                       r"velocity_dependence, breakaway"),
     (["--biaxial"], "runs in the plane .* along one axis"),
     (["--varying-load"], "heated surfaces take their contact pressures at one load; .* as --reference-load"),
 ])

@@ -488,6 +488,27 @@ def test_a_normal_load_flag_beside_the_records_own_is_refused(tmp_path, capsys, 
     assert not (tmp_path / "o.json").exists()
 
 
+@pytest.mark.parametrize("flags, message", [
+    (["--bic-threshold", "-5"], "--bic-threshold: must be a finite number >= 0 (the smallest drop of the BIC "
+                                "that adds an effect), got -5."),
+    (["--bic-threshold", "nan"], "--bic-threshold: must be a finite number >= 0"),
+    (["--max-effects", "-1"], "--max-effects: must be >= 0 (0 fits the baseline alone), got -1."),
+    (["--max-samples", "10"], "--max-samples: must be >= 20 (the record is decimated to about this many "
+                              "samples), got 10."),
+    (["--candidates", "heating,grip"], "--candidates heating,grip: unknown effect grip; choose among "
+                                       "velocity_dependence, breakaway"),
+    (["--candidates", ","], "--candidates ,: unknown effect (none named)"),
+])
+def test_diagnose_search_settings_are_refused_by_flag_before_the_record_is_read(tmp_path, capsys, flags, message):
+    from teflon_jax.cli import main
+
+    status = main(["diagnose", str(tmp_path / "not-read.csv"), "--json", str(tmp_path / "o.json"),
+                   "--report", str(tmp_path / "r"), "--quiet", *flags])
+    assert status == 2
+    assert message in capsys.readouterr().err
+    assert not (tmp_path / "o.json").exists()
+
+
 def test_interfaces_without_known_rate_is_absorbed_by_rate_a():
     # Eq. 1 at v / n equals Eq. 1 with rate_a / n: with rate_a fitted, n cannot be named,
     # and the fit shows it as a rate n times smaller; the stack check turns that rate into the

@@ -437,5 +437,7 @@ def motion_bar(total: int, disable: bool):
 
 def as_flags(message: str) -> str:
     """An API message with its option `reference_load` named as the flag `--reference-load`
-    (not a file key such as `pressure_dependence.reference_load`)."""
+    (not a file key such as `pressure_dependence.reference_load`), and one that opens with the
+    search's `candidates` named as `--candidates`."""
+    message = re.sub(r"^candidates:", "--candidates:", message)
     return re.sub(r"(?<![.\w])reference_load\b", "--reference-load", message)

@@ -224,6 +224,10 @@ def run_diagnose(args) -> int:
     return 1 if failures else 0
 
 
+MIN_SAMPLES = 20
+"""The fewest samples `--max-samples` may decimate a record to (`discover_effects`' own bound)."""
+
+
 def check_flags(args, diagnosis: Diagnosis) -> None:
     """`ValueError` naming the first flag `args.isolator` cannot take, before any work: a
     missing or absent start file, a flag of another isolator, an output that cannot be
@@ -241,6 +245,29 @@ def check_flags(args, diagnosis: Diagnosis) -> None:
     flag, attribute, _ = diagnosis.saves
     check_output_file(getattr(args, attribute), flag)
     check_mixture_flags(args)
+    check_search_flags(args)
+
+
+def check_search_flags(args) -> None:
+    """`ValueError` naming the flag for a search setting out of range (--bic-threshold,
+    --max-effects, --max-samples) or an effect --candidates does not know, before any work."""
+    import math
+
+    from identification.discovery import EFFECT_NAMES
+
+    if not (math.isfinite(args.bic_threshold) and args.bic_threshold >= 0):
+        raise ValueError(f"--bic-threshold: must be a finite number >= 0 (the smallest drop of the BIC that "
+                         f"adds an effect), got {args.bic_threshold:g}.")
+    if args.max_effects < 0:
+        raise ValueError(f"--max-effects: must be >= 0 (0 fits the baseline alone), got {args.max_effects}.")
+    if args.max_samples < MIN_SAMPLES:
+        raise ValueError(f"--max-samples: must be >= {MIN_SAMPLES} (the record is decimated to about this many "
+                         f"samples), got {args.max_samples}.")
+    names = [c.strip() for c in (args.candidates or "").split(",") if c.strip()]
+    unknown = [c for c in names if c not in EFFECT_NAMES]
+    if unknown or (args.candidates is not None and not names):
+        raise ValueError(f"--candidates {args.candidates}: unknown effect {', '.join(unknown) or '(none named)'}; "
+                         f"choose among {', '.join(EFFECT_NAMES)}.")
 
 
 # ------------------------------------------------------------------ flat and single-fp sliders
