@@ -53,6 +53,21 @@ def test_bad_motion_files_are_refused_with_file_line_and_column(tmp_path, text, 
     assert "bad.csv" in err and message in err
 
 
+@pytest.mark.parametrize("flags", [["--amplitude", "1in"], ["--frequency", "1Hz"], ["--cycles", "5"],
+                                   ["--pattern", "eight"], ["--samples-per-cycle", "100"],
+                                   ["--isolator", "single-fp", "--radius", "2m", "--normal-load", "100kN",
+                                    "--cycles", "2"]])
+def test_a_generated_motions_flag_beside_a_motion_file_is_refused(tmp_path, capsys, flags):
+    path = tmp_path / "path.csv"
+    path.write_text(FILE)
+    out = tmp_path / "out.csv"
+    assert main(["simulate-test", "--motion-file", str(path), *flags, "--out", str(out)]) == 2
+    flag = flags[-2]
+    assert (f"{flag}: shapes a generated motion, and --motion-file {path} gives the motion, saved at its own "
+            f"samples; leave {flag} out.") in capsys.readouterr().err
+    assert not out.exists()
+
+
 @pytest.mark.slow
 def test_simulate_test_runs_the_motion_file(tmp_path):
     path = tmp_path / "path.csv"

@@ -54,7 +54,8 @@ def add_simulate_parser(subparsers) -> None:
     p.add_argument("--pattern", default="sine", help="sine, triangle (constant velocity) or eight "
                    "(figure-eight, Eq. 16: ux = U0 sin wt, uy = U0 sin 2wt) (default sine)")
     p.add_argument("--motion-file", default=None, help="CSV with columns 'time [s]', 'ux [unit]' "
-                   "(and optionally 'uy [unit]'): any displacement history; replaces --pattern")
+                   "(and optionally 'uy [unit]'): any displacement history, saved at its own samples; replaces "
+                   "--pattern, --amplitude, --frequency, --cycles and --samples-per-cycle")
     add_quantity(p, "--amplitude", "length", "4in", "displacement amplitude U0 (at most 100in, "
                  "beyond any bearing)", minimum=0.0, maximum=100 * INCH)
     add_quantity(p, "--frequency", "frequency", "0.6Hz", "frequency of the motion (cyclic or "
@@ -82,6 +83,7 @@ def add_simulate_parser(subparsers) -> None:
     p.add_argument("--out", default="test_record.csv", help="output test-record CSV (default test_record.csv)")
     add_units_flag(p)
     p.add_argument("--plot", default=None, help="write the force-displacement loop to this PNG")
+    p.set_defaults(_generated_motion={name: p.get_default(name) for name in GENERATED_MOTION_FLAGS})
 
 
 def build_test(args):
@@ -170,10 +172,19 @@ def _from_bearing_file(args, bearing):
     return bearing, motion, normal_load, metadata
 
 
+GENERATED_MOTION_FLAGS = ("pattern", "amplitude", "frequency", "cycles", "samples_per_cycle")
+"""The flags that shape a generated motion, which `--motion-file` replaces (its samples are saved)."""
+
+
 def _motion(args):
     from ..excitation import FigureEightMotion, SineMotion, TriangleMotion
 
     if args.motion_file is not None:
+        for name, default in getattr(args, "_generated_motion", {}).items():
+            if getattr(args, name + "_text", getattr(args, name)) != default:
+                flag = "--" + name.replace("_", "-")
+                raise ValueError(f"{flag}: shapes a generated motion, and --motion-file {args.motion_file} gives "
+                                 f"the motion, saved at its own samples; leave {flag} out.")
         return _read_motion_file(pathlib.Path(args.motion_file))
     amplitude, frequency = args.amplitude, args.frequency
     if not args.cycles > 0:
