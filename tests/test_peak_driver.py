@@ -124,6 +124,12 @@ def test_the_peaks_along_a_run_are_the_reducers_over_its_history(engine):
     base = np.asarray(history.displacement)[:, [row[0] for row in layout.levels]]
     np.testing.assert_allclose(float(folded.base_disp), np.hypot(*base.T).max() if base.shape[1] == 2
                                else np.abs(base).max(), rtol=1e-8)
+    if engine == "flat-building-plan":  # `building_on_plan`'s coordinates: x: base, floors 1-6; y: the same; rotation
+        q = np.asarray(history.displacement)
+        assert layout.building and layout.rotation == 14
+        np.testing.assert_allclose(float(folded.base_disp), np.hypot(q[:, 0], q[:, 7]).max(), rtol=1e-8)
+        drift = np.hypot(np.diff(q[:, 0:7], axis=1), np.diff(q[:, 7:14], axis=1)).max(axis=0) / HEIGHT
+        np.testing.assert_allclose(np.asarray(saved["storey_drift_ratio_resultant"]), drift, rtol=1e-8)
     if layout.building:
         levels = np.asarray(history.displacement)[:, np.array(layout.levels)]
         drift = np.abs(np.diff(levels, axis=-1)).max(axis=0) / HEIGHT

@@ -76,7 +76,9 @@ def response_layout(system) -> ResponseLayout:
     (one component: coordinates base, floors), one on series pendulums with `ground_y` (x
     block then y block), and a
     `BidirectionalStructure`, which carries its own `mass` and `influence` (a rigid mass or
-    building: x block then y block; a slab on any isolator's groups: x, y, rotation). Only shapes are read (static under jit)."""
+    building: x block then y block; a slab on any isolator's groups: x, y, rotation; the
+    building on a plan, `building_on_plan`: x block, y block, the slab's rotation). Only shapes
+    are read (static under jit)."""
     if isinstance(system, StructureOnSliders):
         m = system.mass
         n = m.shape[-1]
@@ -86,11 +88,12 @@ def response_layout(system) -> ResponseLayout:
         return ResponseLayout((tuple(range(n)), tuple(range(n, 2 * n))), jnp.concatenate([m, m]), blocks)
     if isinstance(system, BidirectionalStructure):
         count = system.mass.shape[-1]
-        if count % 2:  # a slab: (x, y, rotation)
-            return ResponseLayout(((0,), (1,)), system.mass, system.influence, rotation=2,
+        n = count // 2  # levels: 1 for a rigid mass or a slab, the base and floors for a building
+        levels = (tuple(range(n)), tuple(range(n, 2 * n)))
+        if count % 2:  # a slab, alone (x, y, rotation) or under a building (x block, y block, rotation)
+            return ResponseLayout(levels, system.mass, system.influence, rotation=2 * n,
                                   overturning=system.supports is not None)
-        n = count // 2
-        return ResponseLayout((tuple(range(n)), tuple(range(n, 2 * n))), system.mass, system.influence)
+        return ResponseLayout(levels, system.mass, system.influence)
     raise TypeError(f"system: no response layout for a {type(system).__name__}; give a structure built by "
                     "teflon_jax.systems (rigid mass, building or slab on its isolators).")
 
