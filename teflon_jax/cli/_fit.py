@@ -19,7 +19,11 @@ from ._common import (
 )
 from ._fit_bayes import _unit_of as _unit_of
 from ._fit_bayes import add_bayes_file_flags, check_bayes_flags
-from ._isolator_flags import add_isolator_flags, add_record_load_flags, check_normal_load_used
+from ._isolator_flags import (
+    add_isolator_flags,
+    add_record_load_flags,
+    check_normal_load_used,
+)
 from ._isolator_table import FIT_ROWS, refused, required
 
 FIT_HELP = "fit f_max, delta_f, rate_a, yield_disp, breakaway_ratio to bearing test records"

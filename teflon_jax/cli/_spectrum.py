@@ -6,7 +6,6 @@ import numpy as np
 
 from ..units import STANDARD_GRAVITY, parse_quantity
 
-
 SCALING_DEFAULTS = {"combination": "srss", "scaling": "pair", "suite_statistic": "mean", "min_ratio": "1"}
 """The values of the scaling flags a run with a target leaves out (`read_target`)."""
 
