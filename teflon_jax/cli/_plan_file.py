@@ -8,13 +8,16 @@ from ..units import parse_quantity
 from ._provenance import note_input_file
 
 
-def read_plan(path_text):
-    """The slab plan in SI: dict with length_x, length_y, weight, centre_of_mass,
-    height_of_centre_of_mass (0 when absent) and groups (each with name, x, y, load, ptfe,
+def read_plan(path_text, structure: str = "slab"):
+    """The plan of the slab (`structure` "slab") or of the Table 2 building's base slab
+    ("building") in SI: dict with length_x, length_y, weight, centre_of_mass,
+    height_of_centre_of_mass (the slab's, 0 when absent; the building's levels' centre of mass,
+    `systems.building_centre_height`) and groups (each with name, x, y, load, ptfe,
     pressure, springs, radius, vertical_stiffness, isolator_file (a path relative to the plan's
     folder, for --isolator triple-fp or double-fp); None where the file leaves them out).
     `ValueError` naming the file and key for a height < 0, a radius <= 0, a share of the
-    springs or a vertical stiffness that is not a number > 0, or two groups of one name."""
+    springs or a vertical stiffness that is not a number > 0, or two groups of one name; under
+    the building, a height (its levels stand at Table 2's storeys) or a weight not the building's."""
     path = pathlib.Path(path_text)
     if not path.is_file():
         raise ValueError(f"--plan: {path} is not a file.")
@@ -48,8 +51,11 @@ def read_plan(path_text):
         (out["length_x"] / 2, out["length_y"] / 2) if com is None
         else tuple(q(v, "length", "centre_of_mass") for v in com)
     )
-    out["height_of_centre_of_mass"] = q(plan.get("height_of_centre_of_mass", "0m"), "length",
-                                        "height_of_centre_of_mass")
+    if structure == "building":
+        _building_plan(path, plan, out)
+    else:
+        out["height_of_centre_of_mass"] = q(plan.get("height_of_centre_of_mass", "0m"), "length",
+                                            "height_of_centre_of_mass")
     if not out["height_of_centre_of_mass"] >= 0:
         raise ValueError(f"--plan: {path}: height_of_centre_of_mass must be >= 0 (the centre of mass "
                          "above the sliding surface; 0 for no overturning), got "
@@ -92,6 +98,23 @@ def read_plan(path_text):
     except ValueError as error:
         raise ValueError(f"--plan: {path}: {str(error).removeprefix('plan: ')}") from None
     return out
+
+
+def _building_plan(path, plan: dict, out: dict) -> None:
+    """The building's plan: no height of its own, Table 2's weight; its centre of mass's height."""
+    from ..systems import building_centre_height
+    from ..tables import load_table2
+
+    if "height_of_centre_of_mass" in plan:
+        raise ValueError(f"--plan: {path}: height_of_centre_of_mass is the building's, from its levels at "
+                         "Table 2's storey heights; leave it out of a plan for --structure building.")
+    weight = float(load_table2().total_weight)
+    if abs(out["weight"] - weight) > 1e-3 * weight:
+        raise ValueError(f"--plan: {path}: weight is {plan['weight']}, and the building on the plan weighs "
+                         f"{weight / 1e3:.6g} kN (Table 2: 672 kip); write that weight, which the groups' "
+                         "loads add up to.")
+    out["weight"] = weight
+    out["height_of_centre_of_mass"] = building_centre_height()
 
 
 PLAN_KEYS = ("length_x", "length_y", "weight", "centre_of_mass", "height_of_centre_of_mass", "groups")

@@ -71,10 +71,13 @@ def add_run_parser(subparsers) -> None:
                    "steps or lengths: both are interpolated linearly to the finer step and the "
                    "shorter is extended with zeros (reported in the JSON)")
     p.add_argument("--time-step", default=f"{DEFAULT_TIME_STEP}s", help="solver step (default 0.0025s)")
-    p.add_argument("--plan", default=None, help="slab plan (JSON: length_x, length_y, weight, "
-                   "centre_of_mass, optional height_of_centre_of_mass (overturning), groups with x, "
-                   "y, load and optional ptfe, pressure, springs, radius (--isolator single-fp), "
-                   "isolator_file (--isolator triple-fp or double-fp), vertical_stiffness)")
+    p.add_argument("--plan", default=None, help="plan of the slab on bearing groups (JSON: length_x, "
+                   "length_y, weight, centre_of_mass, optional height_of_centre_of_mass (overturning), groups "
+                   "with x, y, load and optional ptfe, pressure, springs, radius (--isolator single-fp), "
+                   "isolator_file (--isolator triple-fp or double-fp), vertical_stiffness); with --structure "
+                   "building the building's base slab on the groups (flat sliders or single pendulums; weight "
+                   "Table 2's 672 kip; the overturning from its levels at Table 2's storey heights, so no "
+                   "height_of_centre_of_mass)")
     p.add_argument("--json", default=None, help="write the peaks to this JSON file")
     p.add_argument("--plot", default=None, help="write orbit, x/y loops and histories to this PNG")
     p.add_argument("--histories", default=None, help="write histories to this .nc or .csv file")

@@ -51,8 +51,9 @@ def run_peaks(system, response, plan=None):
         peak["slider_disp_m"] = dict(zip(system.pendulum.slider_names, _floats(values["slider_travel"])))
     if layout.building:
         peak.update(_storey_peaks(values))
-    if layout.rotation is not None:
-        peak.update(slab_peaks(plan, np.asarray(response.displacement), values))
+    if layout.rotation is not None:  # the slab's (x, y, rotation), alone or under the building
+        slab = [layout.levels[0][0], layout.levels[1][0], layout.rotation]
+        peak.update(slab_peaks(plan, np.asarray(response.displacement)[:, slab], values))
     return peak, _histories(system, response, layout, base_displacement(layout, response),
                             base_shear_ratio(layout, response), isolator_force(response))
 

@@ -46,7 +46,7 @@ def read_structure(args, isolator) -> StructureFlags:
     if damping > 0 and period is None:
         raise ValueError("--isolation-damping: dampers need springs; give --isolation-period too.")
     pressure = parse_quantity(args.pressure, "pressure", where="--pressure")  # heating's p
-    plan = None if args.plan is None else read_plan(args.plan)
+    plan = None if args.plan is None else read_plan(args.plan, args.structure)
     slab = None if plan is None else slab_isolators(args, isolator, plan, period)
     return StructureFlags(time_step, weight, period, damping, pressure, plan, slab)
 
@@ -58,7 +58,7 @@ def build_structure(args, isolator, flags: StructureFlags, ground_x, ground_y, t
     two with `two` (`triple_structure`; on a slab always two). The
     friction of a bounding case (`args.friction_factor`) scales Table 1's row or each surface's."""
     if flags.plan is not None:
-        return _slab(args, isolator, flags, ground_x, ground_y)
+        return _on_plan(args, isolator, flags, ground_x, ground_y)
     if isolator.pendulum is not None:
         from ..systems import triple_structure
 
@@ -82,11 +82,12 @@ def _scaled(args, pendulums):
     return pendulums if factor == 1.0 else [p.scaled_friction(factor) for p in pendulums]
 
 
-def _slab(args, isolator, flags: StructureFlags, ground_x, ground_y):
-    """`slab_on_bearings` of the plan on its groups' isolator values: series pendulums
-    (`flags.slab`), or each group's bearing at its pressure, alone (flat sliders) or on the
-    group's surface (single pendulums), with the isolation damping."""
-    from ..systems import slab_on_bearings
+def _on_plan(args, isolator, flags: StructureFlags, ground_x, ground_y):
+    """`slab_on_bearings` (or `building_on_plan` under --structure building) of the plan on its
+    groups' isolator values: series pendulums (`flags.slab`, the slab only), or each group's
+    bearing at its pressure, alone (flat sliders) or on the group's surface (single pendulums),
+    with the isolation damping."""
+    from ..systems import building_on_plan, slab_on_bearings
 
     plan, groups = flags.plan, flags.plan["groups"]
     options = dict(flags.slab)
@@ -105,15 +106,17 @@ def _slab(args, isolator, flags: StructureFlags, ground_x, ground_y):
                                for g, p in zip(groups, pressures)],
             isolation_damping=flags.damping)
     stiffness = [g["vertical_stiffness"] for g in groups]
-    return slab_on_bearings(
-        length_x=plan["length_x"], length_y=plan["length_y"], weight=plan["weight"],
-        centre_of_mass=plan["centre_of_mass"], positions=[(g["x"], g["y"]) for g in groups],
-        loads=[g["load"] for g in groups], ground_x=ground_x, ground_y=ground_y,
-        time_step=flags.time_step, names=[g["name"] for g in groups], isolator=values,
-        height_of_centre_of_mass=plan["height_of_centre_of_mass"],
+    common = dict(
+        length_x=plan["length_x"], length_y=plan["length_y"], centre_of_mass=plan["centre_of_mass"],
+        positions=[(g["x"], g["y"]) for g in groups], loads=[g["load"] for g in groups], ground_x=ground_x,
+        ground_y=ground_y, time_step=flags.time_step, names=[g["name"] for g in groups], isolator=values,
         vertical_stiffness=None if all(k is None for k in stiffness) else [1.0 if k is None else k
                                                                          for k in stiffness],
         **options)
+    if args.structure == "building":  # its levels at Table 2's storey heights (`read_plan`)
+        return building_on_plan(**common)
+    return slab_on_bearings(weight=plan["weight"], height_of_centre_of_mass=plan["height_of_centre_of_mass"],
+                            **common)
 
 
 def suite_build(args, isolator, ax0, ay0, dt, friction_factors=None, vertical=None):

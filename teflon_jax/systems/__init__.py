@@ -47,6 +47,7 @@ from ._isolated import IsolatedStructure as IsolatedStructure
 from ._isolated import check_structure_bearing as check_structure_bearing
 from ._isolated import isolated_structure as isolated_structure
 from ._isolated import with_vertical_component as with_vertical_component
+from ._on_plan import building_centre_height as building_centre_height
 from ._on_plan import building_on_plan as building_on_plan
 from ._on_plan import slab_on_bearings as slab_on_bearings
 from ._on_plan import stack_pendulums as stack_pendulums

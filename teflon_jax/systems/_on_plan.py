@@ -266,8 +266,7 @@ def building_on_plan(
     refuse_springs(radii, isolation_period, spring_shares)
     level_mass, frame_k, frame_c = _frame(building)
     n = level_mass.shape[0]
-    heights = level_heights(building.storey_height if storey_heights is None else storey_heights,
-                            base_height, n - 1)
+    heights = _level_heights(building, storey_heights, base_height, n)
     inertia = level_mass[0] * (length_x**2 + length_y**2) / 12 if rotational_inertia is None else rotational_inertia
     if not (np.isfinite(inertia) and inertia > 0):
         raise ValueError(f"rotational_inertia: must be > 0 kg m^2, got {rotational_inertia}.")
@@ -285,13 +284,31 @@ def building_on_plan(
     if not np.any(heights > 0):
         return system
     # the levels' moment sum_i h_i F_i as h_c H_h at the mass centre's height h_c (`overturning_force`)
-    centre_height = float(level_mass @ heights / np.sum(level_mass))
+    centre_height = _centre_height(level_mass, heights)
     return dataclasses.replace(
         system,
         overturning=jnp.asarray(overturning_map(positions, centre, centre_height, vertical_stiffness, names,
                                                 height_name=HEIGHT_NAMES)),
         supports=support_plan(positions, centre, centre_height, vertical_stiffness,
                               levels=np.concatenate([heights, heights, [0.0]]) / centre_height))
+
+
+def building_centre_height(building: BuildingData | None = None, storey_heights=None, base_height=0.0) -> float:
+    """h_c = sum_i m_i h_i / sum_i m_i [m]: the height above the sliding surface of the centre of
+    mass of `building_on_plan`'s base and floors (default Table 2 at its 12 ft storeys, the
+    base at 0), the lever arm of the horizontal force in the groups' overturning loads."""
+    building = load_table2() if building is None else building
+    level_mass = _frame(building)[0]
+    return _centre_height(level_mass, _level_heights(building, storey_heights, base_height, level_mass.shape[0]))
+
+
+def _level_heights(building: BuildingData, storey_heights, base_height, levels: int) -> np.ndarray:
+    return level_heights(building.storey_height if storey_heights is None else storey_heights, base_height,
+                         levels - 1)
+
+
+def _centre_height(level_mass, heights) -> float:
+    return float(level_mass @ heights / np.sum(level_mass))
 
 
 def _frame(building: BuildingData):

@@ -1,0 +1,89 @@
+"""`teflon-jax run --structure building --plan FILE`: the Table 2 building on its base slab over
+the plan's bearing groups (`building_on_plan`). On a plan symmetric about its centre of mass
+under one component the groups slide as one and the slab does not turn, so the base, storeys
+and floors are those of the building on one group (`run --structure building`), while the
+groups' loads swing with the overturning moment of the levels' inertia forces; and what the
+building on a plan cannot take is refused by name before any record is read."""
+
+import json
+import pathlib
+
+import numpy as np
+import pytest
+from test_run_cli import _at2
+
+from teflon_jax.cli import main
+from teflon_jax.systems import building_centre_height
+from teflon_jax.tables import load_table2
+
+W = load_table2().total_weight
+TRIPLE = pathlib.Path(__file__).parents[1] / "benchmarks" / "triple_isolator.json"
+CORNERS = (("SW", "1m", "1m"), ("SE", "19m", "1m"), ("NE", "19m", "11m"), ("NW", "1m", "11m"))
+
+
+def _plan(path, centre=("10m", "6m"), weight="672kip", **extra):
+    groups = [{"name": n, "x": x, "y": y, "load": "168kip"} for n, x, y in CORNERS]
+    path.write_text(json.dumps({"length_x": "20m", "length_y": "12m", "weight": weight, "centre_of_mass": centre,
+                                "groups": groups, **extra}))
+    return path
+
+
+def _record(tmp_path):
+    t = 0.01 * np.arange(401)
+    return _at2(tmp_path / "x.AT2", 0.35 * np.sin(2 * np.pi * 0.8 * t) * np.sin(np.pi * t / t[-1]) ** 2)
+
+
+def _run(capsys, *argv):
+    code = main(["run", *map(str, argv)])
+    return code, capsys.readouterr()
+
+
+def test_a_symmetric_plan_is_the_building_on_one_group_and_its_groups_carry_the_overturning(tmp_path, capsys):
+    record, plan = _record(tmp_path), _plan(tmp_path / "plan.json")
+    common = ["--structure", "building", "--record-x", record, "--isolation-period", "2.5s",
+              "--isolation-damping", "5%"]
+    code, out = _run(capsys, *common, "--json", tmp_path / "one.json")
+    assert code == 0, out.err
+    code, out = _run(capsys, *common, "--plan", plan, "--json", tmp_path / "plan.json.out")
+    assert code == 0, out.err
+    one = json.loads((tmp_path / "one.json").read_text())["peak"]
+    written = json.loads((tmp_path / "plan.json.out").read_text())
+    on_plan = written["peak"]
+    assert one["base_disp_x_m"] > 0.02
+    for key in ("base_disp_x_m", "base_shear_ratio_resultant"):
+        assert on_plan[key] == pytest.approx(one[key], rel=1e-6), key
+    for key in ("storey_drift_ratio_x", "level_acceleration_g_x"):
+        np.testing.assert_allclose(on_plan[key], one[key], rtol=1e-6, err_msg=key)
+    assert on_plan["base_disp_y_m"] < 1e-9 and on_plan["rotation_rad"] < 1e-9
+    np.testing.assert_allclose(on_plan["corner_disp_resultant_m"], [one["base_disp_x_m"]] * 4, rtol=1e-6)
+    np.testing.assert_allclose(list(on_plan["group_disp_resultant_m"].values()), [one["base_disp_x_m"]] * 4, rtol=1e-6)
+    normal = written["normal_load"]
+    assert normal["height_of_centre_of_mass_m"] == pytest.approx(building_centre_height())
+    assert 0 < normal["height_of_centre_of_mass_m"] < 6 * 12 * 0.3048
+    groups = normal["groups"]
+    for name in ("SW", "SE", "NE", "NW"):  # the loads swing by the moment h_c H over the 18 m lever
+        assert groups[name]["static_N"] == pytest.approx(W / 4)
+        assert groups[name]["min_N"] < 0.9 * W / 4 and groups[name]["peak_N"] > 1.1 * W / 4
+    for a, b in (("SW", "NW"), ("SE", "NE")):  # the plan's symmetry about y = 6 m
+        assert groups[a]["peak_N"] == pytest.approx(groups[b]["peak_N"], rel=1e-9)
+
+
+@pytest.mark.parametrize("flags, message", [
+    (["--plan", "{plan}"], "--plan: stands a slab (--structure slab) or the Table 2 building (--structure building) "
+                           "on bearing groups; not the rigid mass"),
+    (["--structure", "building", "--plan", "{high}"], "--plan: {high}: height_of_centre_of_mass is the building's"),
+    (["--structure", "building", "--plan", "{light}"], "--plan: {light}: weight is 600kip, and the building on the "
+                                                       "plan weighs 2989.2 kN (Table 2: 672 kip)"),
+    (["--structure", "building", "--plan", "{plan}", "--isolator", "triple-fp", "--isolator-file", "{triple}"],
+     "--plan: the building on a plan stands on flat sliders or single pendulums (one surface a group), not on "
+     "--isolator triple-fp"),
+], ids=["rigid", "height", "weight", "series"])
+def test_what_the_building_on_a_plan_cannot_take_is_refused_by_name(tmp_path, capsys, flags, message):
+    files = {"plan": _plan(tmp_path / "plan.json"), "high": _plan(tmp_path / "high.json", height_of_centre_of_mass="9m"),
+             "light": _plan(tmp_path / "light.json", weight="600kip"), "triple": TRIPLE}
+    flags = [f.format(**files) for f in flags]
+    springs = [] if "triple-fp" in flags else ["--isolation-period", "2.5s"]
+    code, out = _run(capsys, "--record-x", tmp_path / "not-read.AT2", *springs, *flags, "--json", tmp_path / "out.json")
+    assert code == 2
+    assert message.format(**files) in out.err
+    assert not (tmp_path / "out.json").exists()
