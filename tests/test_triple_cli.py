@@ -144,7 +144,7 @@ def test_bad_triple_flags_are_refused_by_name_before_any_work(command, flags, me
 
 @pytest.mark.parametrize("command, flags, message", [
     ("run", ["--structure", "slab"], "--plan: --structure slab needs a plan file"),
-    ("run", ["--plan", "plan.json"], "--plan: only used with --structure slab"),
+    ("run", ["--plan", "plan.json"], "--plan: stands a slab (--structure slab) or the Table 2 building"),
     ("montecarlo", ["--newton-tolerance", "1e-3"], "--newton-tolerance"),
 ])
 def test_what_the_triple_pendulum_cannot_run_is_refused(command, flags, message, capsys, tmp_path, isolator_file):
