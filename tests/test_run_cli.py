@@ -128,6 +128,14 @@ def test_run_writes_peaks_plot_and_histories(tmp_path, capsys):
 
 
 @pytest.mark.slow
+@pytest.mark.parametrize("flag, name", [("--plot", "p.png"), ("--histories", "h.nc")])
+def test_a_single_runs_plot_or_histories_on_a_suite_is_refused(tmp_path, capsys, flag, name):
+    (tmp_path / "suite.csv").write_text("name,record_x\na,not-read.txt\n")
+    code, out = _run(capsys, "--suite", tmp_path / "suite.csv", flag, tmp_path / name, "--json", tmp_path / "s.json")
+    assert code == 2 and f"{flag}: belongs to a single record's run (--record-x); a suite writes" in out.err
+    assert not (tmp_path / name).exists() and not (tmp_path / "s.json").exists()
+
+
 def test_suite_of_pairs_gives_per_pair_peaks_mean_and_max(tmp_path, capsys):
     """Three pairs, one scaled by 2, in one call: the table holds every pair, and the mean and
     max rows are those of the per-pair peaks; the scaled pair moves more."""

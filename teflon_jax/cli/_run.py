@@ -79,8 +79,10 @@ def add_run_parser(subparsers) -> None:
                    "Table 2's 672 kip; the overturning from its levels at Table 2's storey heights, so no "
                    "height_of_centre_of_mass)")
     p.add_argument("--json", default=None, help="write the peaks to this JSON file")
-    p.add_argument("--plot", default=None, help="write orbit, x/y loops and histories to this PNG")
-    p.add_argument("--histories", default=None, help="write histories to this .nc or .csv file")
+    p.add_argument("--plot", default=None, help="write orbit, x/y loops and histories to this PNG (a single "
+                   "record's run)")
+    p.add_argument("--histories", default=None, help="write histories to this .nc or .csv file (a single "
+                   "record's run)")
     add_bearing_flag(p, replaces="--ptfe, --pressure, --anisotropic, --lay-angle and --breakaway "
                      "(also for every bearing group of a slab)")
     add_units_flag(p)

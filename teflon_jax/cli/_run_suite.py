@@ -39,7 +39,14 @@ def add_suite_arguments(parser) -> None:
 
 
 def check_suite_flags(args) -> None:
-    """The cluster flags are only for suites: refuse them on a single-record run."""
+    """The cluster flags are only for suites: refuse them on a single-record run; and a single
+    run's plot and histories on a suite, which writes its per-pair peaks instead."""
+    if args.suite is not None:
+        for flag, value in (("--plot", args.plot), ("--histories", args.histories)):
+            if value is not None:
+                raise ValueError(f"{flag}: belongs to a single record's run (--record-x); a suite writes each "
+                                 "pair's peaks (--json, with its .csv and .nc beside it, or --out); leave "
+                                 f"{flag} out, or run the pair alone.")
     if args.suite is None:
         read_target(args)  # a target or its flags without a suite: refused by name
         read_suite_factors(args)
