@@ -77,8 +77,13 @@ def test_a_symmetric_plan_is_the_building_on_one_group_and_its_groups_carry_the_
     (["--structure", "building", "--plan", "{plan}", "--isolator", "triple-fp", "--isolator-file", "{triple}"],
      "--plan: the building on a plan stands on flat sliders or single pendulums (one surface a group), not on "
      "--isolator triple-fp"),
-], ids=["rigid", "height", "weight", "series"])
-def test_what_the_building_on_a_plan_cannot_take_is_refused_by_name(tmp_path, capsys, flags, message):
+    (["--structure", "building", "--weight", "200kN"], "--weight: is the rigid mass's; the building's weight is "
+                                                       "Table 2's (672 kip); leave --weight out."),
+    (["--structure", "slab", "--plan", "{plan}", "--weight", "200kN"], "--weight: is the rigid mass's; the slab's "
+                                                                      "weight is the plan's weight"),
+], ids=["rigid", "height", "weight", "series", "building-weight", "slab-weight"])
+def test_what_the_building_or_a_plan_cannot_take_is_refused_by_name(tmp_path, capsys, flags, message):
+    """Each refused before the record is read (it does not exist)."""
     files = {"plan": _plan(tmp_path / "plan.json"), "high": _plan(tmp_path / "high.json", height_of_centre_of_mass="9m"),
              "light": _plan(tmp_path / "light.json", weight="600kip"), "triple": TRIPLE}
     flags = [f.format(**files) for f in flags]

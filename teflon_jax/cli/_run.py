@@ -53,7 +53,8 @@ def add_run_parser(subparsers) -> None:
     add_isolator_flags(p)
     p.add_argument("--isolation-damping", default=None, help="viscous damping of the isolation "
                    "mode, e.g. 5%% (default: none)")
-    p.add_argument("--weight", default="100kN", help="weight of the rigid mass (default 100kN)")
+    p.add_argument("--weight", default=None, help="weight of the rigid mass (default 100kN; the building's and "
+                   "the slab's are Table 2's and the plan's)")
     p.add_argument("--record-x", default=None, help="x component: PEER .AT2 or a two-column "
                    "(time, acceleration) file with --record-units (required unless --suite)")
     p.add_argument("--suite", default=None, help="CSV of record pairs (record_x, record_y, scale, "

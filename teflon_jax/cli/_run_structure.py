@@ -12,6 +12,9 @@ from ._run_bearing import bearing_of_flags, fraction
 
 STRUCTURES = ("rigid", "building", "slab")
 
+DEFAULT_WEIGHT = "100kN"
+"""The rigid mass's weight where `--weight` is not given."""
+
 
 class StructureFlags(typing.NamedTuple):
     """The structure flags in SI: solver `time_step` [s], `weight` [N] of the rigid mass, the
@@ -34,7 +37,11 @@ def read_structure(args, isolator) -> StructureFlags:
     time_step = parse_quantity(args.time_step, "time", where="--time-step")
     if not time_step > 0:
         raise ValueError(f"--time-step: must be > 0, got {args.time_step}.")
-    weight = parse_quantity(args.weight, "force", where="--weight")
+    if args.weight is not None and args.structure != "rigid":
+        whose = "Table 2's (672 kip)" if args.structure == "building" else "the plan's weight"
+        raise ValueError(f"--weight: is the rigid mass's; the {args.structure}'s weight is {whose}; leave "
+                         "--weight out.")
+    weight = parse_quantity(DEFAULT_WEIGHT if args.weight is None else args.weight, "force", where="--weight")
     if not weight > 0:
         raise ValueError(f"--weight: must be > 0, got {args.weight}.")
     period = isolator.period
