@@ -22,6 +22,7 @@ from teflon_jax.excitation import uniform_signal
 from teflon_jax.studies import bidirectional_isolated_structure, response_peaks
 from teflon_jax.systems import (
     REDUCERS,
+    bidirectional_storey_peaks,
     building_on_plan,
     isolated_structure,
     peak_response,
@@ -130,6 +131,8 @@ def test_the_peaks_along_a_run_are_the_reducers_over_its_history(engine):
         np.testing.assert_allclose(float(folded.base_disp), np.hypot(q[:, 0], q[:, 7]).max(), rtol=1e-8)
         drift = np.hypot(np.diff(q[:, 0:7], axis=1), np.diff(q[:, 7:14], axis=1)).max(axis=0) / HEIGHT
         np.testing.assert_allclose(np.asarray(saved["storey_drift_ratio_resultant"]), drift, rtol=1e-8)
+        storeys = bidirectional_storey_peaks(history, system, HEIGHT)  # the same read of the coordinates
+        np.testing.assert_allclose(storeys["storey_drift_resultant"], drift, rtol=1e-8)
     if layout.building:
         levels = np.asarray(history.displacement)[:, np.array(layout.levels)]
         drift = np.abs(np.diff(levels, axis=-1)).max(axis=0) / HEIGHT

@@ -316,14 +316,15 @@ def solved_planar_response(system: BidirectionalStructure, save_times, solution,
 def directional_storeys(q, total_acceleration, storey_height):
     """Drift ratios (..., 2, S) [-] and total accelerations (..., 2, S + 1) [m/s^2] in x and y
     of the two-direction building (`bidirectional_building`: q = (x: base slab, floors 1..S;
-    y: the same), `total_acceleration` the same layout [m/s^2]): (q_j - q_(j-1)) / h_j per
-    storey and a_j + a_g per level, level 0 the base slab. jit/vmap-safe in q and the
-    accelerations; `storey_height` [m] scalar or (S,), not traced."""
+    y: the same); `building_on_plan`: the same and the slab's rotation last),
+    `total_acceleration` the same layout [m/s^2]: (q_j - q_(j-1)) / h_j per storey and
+    a_j + a_g per level, level 0 the base slab. jit/vmap-safe in q and the accelerations;
+    `storey_height` [m] scalar or (S,), not traced."""
     n = q.shape[-1] // 2
     height = jnp.asarray(check_storey_height(n, storey_height), q.dtype)
-    x, y = q[..., :n], q[..., n:]
+    x, y = q[..., :n], q[..., n:2 * n]
     drift = jnp.stack([jnp.diff(x, axis=-1), jnp.diff(y, axis=-1)], axis=-2) / height
-    acc = jnp.stack([total_acceleration[..., :n], total_acceleration[..., n:]], axis=-2)
+    acc = jnp.stack([total_acceleration[..., :n], total_acceleration[..., n:2 * n]], axis=-2)
     return drift, acc
 
 
