@@ -1,5 +1,6 @@
 """`teflon-jax run`: a user's records through a structure; bad input refused by name."""
 
+import argparse
 import json
 
 import numpy as np
@@ -52,6 +53,22 @@ def test_resample_of_a_record_that_runs_alone_is_refused(tmp_path, capsys):
     code, out = _run(capsys, "--record-x", x, "--record-units", "g", "--resample", "--json", tmp_path / "r.json")
     assert code == 2 and "--resample: brings --record-y or --record-z onto the step" in out.err
     assert not (tmp_path / "r.json").exists()
+
+
+@pytest.mark.parametrize("start, duration, note", [
+    ("0.004s", "2.005s", "the window is 0 s to 2 s, --start and --duration taken to the nearest of the record's "
+                         "samples (step 0.01 s)"),
+    ("0.5s", "2s", None),
+])
+def test_a_window_between_the_samples_is_said_in_the_notes(tmp_path, start, duration, note):
+    from teflon_jax.cli._run_records import load_components
+
+    args = argparse.Namespace(record_x=str(_two_column(tmp_path / "x.txt")), record_y=None, record_z=None,
+                              record_units="g", resample=False, start=start, duration=duration, scale=1.0,
+                              time_step="2.5ms")
+    ax, _, dt, notes = load_components(args)
+    assert ax.size == 201 and dt == 0.01
+    assert notes == ([] if note is None else [note])
 
 
 def test_components_with_different_lengths_are_refused(tmp_path, capsys):

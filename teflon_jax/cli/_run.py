@@ -124,6 +124,8 @@ def run_run(args) -> int:
 
     flags = read_structure(args, isolator)  # the plan too, before any record
     ax, ay, dt, notes = load_components(args)
+    for note in notes:  # how the records were brought to one window and grid
+        print(f"teflon-jax run: {note}", file=sys.stderr)
     system = build_structure(args, isolator, flags, uniform_signal(ax, dt), uniform_signal(ay, dt),
                              two=args.record_y is not None)
     az, law = vertical_component(args, dt, ax.size), pressure_law(args, isolator, flags.plan)

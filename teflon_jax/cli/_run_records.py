@@ -91,6 +91,9 @@ def load_components(args):
             )
     i0 = int(round(start / dt))
     n = int(round(duration / dt)) + 1
+    if abs(i0 * dt - start) > 1e-9 * dt or abs((n - 1) * dt - duration) > 1e-9 * dt:
+        notes.append(f"the window is {i0 * dt:g} s to {(i0 + n - 1) * dt:g} s, --start and --duration taken to "
+                     f"the nearest of the record's samples (step {dt:g} s)")
     scale = float(args.scale)
     if not (np.isfinite(scale) and scale > 0):
         raise ValueError(f"--scale: must be a finite number > 0, got {args.scale:g}.")
