@@ -214,6 +214,14 @@ def test_a_montecarlo_duration_shorter_than_the_envelope_names_the_flags(capsys)
     assert "rise_time" not in out.err
 
 
+@pytest.mark.parametrize("command", ["montecarlo", "design"])
+def test_a_duration_between_the_record_steps_is_refused_naming_both_flags(capsys, command):
+    code, out = _run(capsys, command, "--motions", "2", "--duration", "6.005s", "--strong-motion", "2s")
+    assert code == 2
+    assert ("--duration 6.005s: not a whole number of --record-step 0.01s, so the motions would end at 6 s; give "
+            "--duration 6s or 6.01s.") in out.err
+
+
 def test_a_site_frequency_the_record_step_cannot_resolve_names_both_flags(capsys):
     code, out = _run(capsys, "montecarlo", "--motions", "2", "--site-frequency", "30Hz")
     assert code == 2

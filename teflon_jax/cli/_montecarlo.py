@@ -169,14 +169,19 @@ def _motion_model(args, duration=None):
 def _check_envelope(args, model_type, duration: float) -> None:
     """`ValueError` naming the flags (--duration, --strong-motion, --record-step,
     --site-frequency) whose values the stochastic motions cannot take: a motion shorter than
-    its envelope's rise and strong motion, or than one record step, and a site frequency
-    above a quarter of the sampling rate."""
+    its envelope's rise and strong motion, or than one record step, or not a whole number of
+    record steps, and a site frequency above a quarter of the sampling rate."""
     import dataclasses
 
     rise = next(f.default for f in dataclasses.fields(model_type) if f.name == "rise_time")
     if duration < args.record_step:
         raise ValueError(f"--duration {args.duration_text}: shorter than --record-step {args.record_step_text}; "
                          "lengthen the motions or refine the step.")
+    whole = math.floor(duration / args.record_step + 1e-9)  # the motions' steps (`excitation.sample`)
+    if duration - whole * args.record_step > 1e-6 * args.record_step:
+        raise ValueError(f"--duration {args.duration_text}: not a whole number of --record-step "
+                         f"{args.record_step_text}, so the motions would end at {whole * args.record_step:g} s; give "
+                         f"--duration {whole * args.record_step:g}s or {(whole + 1) * args.record_step:g}s.")
     if rise + args.strong_motion > duration * (1 + 1e-12):
         raise ValueError(f"--duration {args.duration_text}: shorter than the motions' envelope, its rise of "
                          f"{rise:g} s plus --strong-motion {args.strong_motion_text} ({rise + args.strong_motion:g} s); "
