@@ -98,6 +98,8 @@ def test_simulate_then_fit_round_trip(tmp_path):
     [
         (["simulate-test", "--amplitude", "4Hz"], "--amplitude: 'Hz' is a unit of frequency"),
         (["simulate-test", "--ptfe", "PEEK"], "--ptfe: unknown PTFE type 'PEEK'"),
+        (["simulate-test", "--ptfe", "peek"], "--ptfe: unknown PTFE type 'peek'"),
+        (["simulate-test", "--direction", "x"], "--direction: unknown direction 'x'"),
         (["simulate-test", "--pressure", "9000psi"], "--pressure: 9000psi is outside Table 1's rows"),
         (["simulate-test", "--yield-disp", "0in"], "--yield-disp: must be > 0in, got 0in."),
         (["simulate-test", "--yield-disp", "0.005"], "--yield-disp: '0.005' has no unit; write e.g. '0.005in'"),

@@ -411,10 +411,15 @@ def check_table1(ptfe: str, pressure: float, pressure_text: str, flag: str = "--
                  direction: str = "P", extrapolate: bool = False) -> None:
     """A `ValueError` naming `flag` and the pressure as typed when Table 1 has no row for
     `ptfe` at `pressure` [Pa] (or naming --ptfe or --direction when that is unknown)."""
-    from ..tables import interface_parameters
+    from ..tables import DIRECTIONS, PTFE_TYPES, interface_parameters
 
+    if ptfe.upper() not in PTFE_TYPES:  # named as typed (the table reads it in capitals)
+        raise ValueError(f"--ptfe: unknown PTFE type {ptfe!r}; accepted values: {', '.join(PTFE_TYPES)}.")
+    if direction.upper() not in DIRECTIONS:
+        raise ValueError(f"--direction: unknown direction {direction!r}; accepted values: P (parallel to lay), "
+                         "T (perpendicular to lay).")
     try:
-        interface_parameters(ptfe.upper(), pressure, direction, extrapolate=extrapolate)
+        interface_parameters(ptfe.upper(), pressure, direction.upper(), extrapolate=extrapolate)
     except (ValueError, KeyError) as error:
         text = str(error).strip("'\"")
         name, _, reason = text.partition(": ")

@@ -97,7 +97,7 @@ def build_test(args):
     ptfe = args.ptfe.upper()
     direction = args.direction.upper()
     pressure = args.pressure
-    check_table1(ptfe, pressure, args.pressure_text, "--pressure", direction, args.extrapolate)
+    check_table1(args.ptfe, pressure, args.pressure_text, "--pressure", args.direction, args.extrapolate)
     try:
         friction, table_b = interface_parameters(ptfe, pressure, direction, extrapolate=args.extrapolate)
     except ValueError as error:
