@@ -198,7 +198,7 @@ def run_diagnose(args) -> int:
         found = diagnosis.search(args, diagnosis, candidates, say)
         mixture = mixture_of(args, found.result)
     except (ValueError, FileNotFoundError) as error:
-        print(f"teflon-jax diagnose: {error}", file=sys.stderr)
+        print(f"teflon-jax diagnose: error: {error}", file=sys.stderr)
         return 2
     result = found.result
     document = result.to_json()
