@@ -3,6 +3,8 @@ command that simulates), checked before any work starts."""
 
 import pathlib
 
+from ._common import flags_given
+
 BEARING_OPTIONS = ("ptfe", "pressure", "direction", "breakaway", "interfaces", "yield_disp",
                    "anisotropic", "lay_angle")
 """Flags that describe the bearing; with `--bearing FILE` they may not be given as well."""
@@ -55,16 +57,16 @@ def read_bearing_flag(args):
         raise ValueError(f"--bearing {error}") from None
     allowed = ({"pressure"} if bearing.heating is not None or bearing.pressure_dependence
                is not None else set())
-    defaults = getattr(args, "bearing_option_defaults", {})
-    for name, default in defaults.items():
-        given = getattr(args, name + "_text", getattr(args, name, default))
-        if given != default and name not in allowed:
-            flag = "--" + name.replace("_", "-")
-            raise ValueError(f"{flag}: the bearing comes from --bearing {args.bearing}; leave "
-                             f"{flag} out (or edit the bearing file)"
-                             + (" (--pressure is the contact pressure of a bearing with "
-                                "heating or pressure dependence)." if name == "pressure"
-                                else "."))
+    defaults = {name: default for name, default in getattr(args, "bearing_option_defaults", {}).items()
+                if name not in allowed}
+    given = flags_given(args, defaults)
+    if given:
+        flag = given[0]
+        raise ValueError(f"{flag}: the bearing comes from --bearing {args.bearing}; leave "
+                         f"{flag} out (or edit the bearing file)"
+                         + (" (--pressure is the contact pressure of a bearing with "
+                            "heating or pressure dependence)." if flag == "--pressure"
+                            else "."))
     return bearing
 
 

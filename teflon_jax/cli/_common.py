@@ -210,6 +210,13 @@ def parse_name_values(text, dimensions: dict, flag: str) -> dict:
     return values
 
 
+def flags_given(args, defaults: dict) -> list[str]:
+    """The flags (`--name`) among `defaults` ({attribute: its parser default}) whose value as
+    typed (a quantity's `<attribute>_text`) is not that default, in the order of `defaults`."""
+    return ["--" + name.replace("_", "-") for name, default in defaults.items()
+            if getattr(args, name + "_text", getattr(args, name, default)) != default]
+
+
 def integer_at_least(text: str, minimum: int, words: str) -> int:
     """The integer of a flag's `text`, at least `minimum`; `argparse.ArgumentTypeError`
     "expected `words`, got ..." otherwise."""

@@ -20,7 +20,7 @@ from ..catalogue import (
     SINGLE_FP,
     IsolatorKind,
 )
-from ._common import add_quantity
+from ._common import add_quantity, flags_given
 
 SERIES: dict[str, IsolatorKind] = {name: KINDS[name] for name in IN_SERIES}
 """The series pendulums of the command line, whose surfaces an isolator file gives
@@ -201,9 +201,7 @@ def _series(args) -> Isolator:
     conflicting = [("--isolation-period", getattr(args, "isolation_period_text", args.isolation_period)),
                    ("--isolation-damping", getattr(args, "isolation_damping_text", args.isolation_damping)),
                    ("--bearing", args.bearing)]
-    conflicting += [("--" + name.replace("_", "-"), None if getattr(args, name + "_text", getattr(args, name))
-                     == default else name)
-                    for name, default in getattr(args, "bearing_option_defaults", {}).items()]
+    conflicting += [(flag, flag) for flag in flags_given(args, getattr(args, "bearing_option_defaults", {}))]
     for flag, value in conflicting:
         if value is not None:
             raise ValueError(f"{flag}: does not apply to --isolator {isolator}, whose friction, "

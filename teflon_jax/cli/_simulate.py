@@ -20,7 +20,7 @@ import numpy as np
 
 from ..units import INCH, STANDARD_GRAVITY, parse_quantity
 from ._bearing_flags import add_bearing_flag, read_bearing_flag
-from ._common import add_quantity, add_units_flag, check_table1, output_units
+from ._common import add_quantity, add_units_flag, check_table1, flags_given, output_units
 from ._isolator_flags import add_isolator_flags
 from ._isolator_flags import load_isolator_file as _load
 from ._isolator_table import TEST_ROWS, refused, required
@@ -180,11 +180,10 @@ def _motion(args):
     from ..excitation import FigureEightMotion, SineMotion, TriangleMotion
 
     if args.motion_file is not None:
-        for name, default in getattr(args, "_generated_motion", {}).items():
-            if getattr(args, name + "_text", getattr(args, name)) != default:
-                flag = "--" + name.replace("_", "-")
-                raise ValueError(f"{flag}: shapes a generated motion, and --motion-file {args.motion_file} gives "
-                                 f"the motion, saved at its own samples; leave {flag} out.")
+        given = flags_given(args, getattr(args, "_generated_motion", {}))
+        if given:
+            raise ValueError(f"{given[0]}: shapes a generated motion, and --motion-file {args.motion_file} gives "
+                             f"the motion, saved at its own samples; leave {given[0]} out.")
         return _read_motion_file(pathlib.Path(args.motion_file))
     amplitude, frequency = args.amplitude, args.frequency
     if not args.cycles > 0:
@@ -212,12 +211,11 @@ def _series_pendulum(args):
     """(isolator, motion, normal load) of `--isolator-file`; the flat slider's flags refused."""
     from ..formats import load_isolator
 
-    given = [name for name, default in getattr(args, "bearing_option_defaults", {}).items()
-             if getattr(args, name + "_text", getattr(args, name, default)) != default]
+    given = flags_given(args, getattr(args, "bearing_option_defaults", {}))
     if args.bearing is not None:
-        given.append("bearing")
+        given.append("--bearing")
     if given:
-        flag = "--" + given[0].replace("_", "-")
+        flag = given[0]
         raise ValueError(f"{flag}: the isolator comes from --isolator-file {args.isolator_file}; "
                          f"leave {flag} out (or edit the isolator file).")
     if args.normal_load is None:
