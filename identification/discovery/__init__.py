@@ -1,6 +1,7 @@
 """Model discovery: candidate physical effects, the augmented simulator, residual diagnostics
 and forward selection."""
 
+from ._augmented import MIN_SAMPLES as MIN_SAMPLES
 from ._augmented import AugmentedData as AugmentedData
 from ._augmented import BiaxialAugmentedData as BiaxialAugmentedData
 from ._augmented import UniaxialAugmentedData as UniaxialAugmentedData

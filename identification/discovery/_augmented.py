@@ -41,6 +41,9 @@ from teflon_jax.units import PSI
 
 from ._effects import BASELINE_PARAMETERS, EFFECT_NAMES, EFFECTS
 
+MIN_SAMPLES = 20
+"""The fewest samples a record may have, and may be decimated to (`max_samples`), for a search."""
+
 NOMINAL_CONTACT_PRESSURE = 1000.0 * PSI
 """Contact pressure assumed for the heating effect when a record states no contact area [Pa]."""
 
@@ -239,12 +242,12 @@ def _check_diagnosable(record, where: str, max_samples: int) -> None:
             f"{where}: the record states no normal load; add an 'N' column or a "
             "'# normal_load [kip]: ...' line (friction coefficient = force / normal load)."
         )
-    if record.ux.size < 20:
+    if record.ux.size < MIN_SAMPLES:
         raise ValueError(
-            f"{where}: only {record.ux.size} samples; diagnose needs at least 20."
+            f"{where}: only {record.ux.size} samples; diagnose needs at least {MIN_SAMPLES}."
         )
-    if max_samples < 20:
-        raise ValueError(f"max_samples: must be >= 20, got {max_samples}.")
+    if max_samples < MIN_SAMPLES:
+        raise ValueError(f"max_samples: must be >= {MIN_SAMPLES}, got {max_samples}.")
 
 
 def _check_positive_work(record, keep, ux, fx, where: str) -> None:

@@ -224,10 +224,6 @@ def run_diagnose(args) -> int:
     return 1 if failures else 0
 
 
-MIN_SAMPLES = 20
-"""The fewest samples `--max-samples` may decimate a record to (`discover_effects`' own bound)."""
-
-
 def check_flags(args, diagnosis: Diagnosis) -> None:
     """`ValueError` naming the first flag `args.isolator` cannot take, before any work: a
     missing or absent start file, a flag of another isolator, an output that cannot be
@@ -253,7 +249,7 @@ def check_search_flags(args) -> None:
     --max-effects, --max-samples) or an effect --candidates does not know, before any work."""
     import math
 
-    from identification.discovery import EFFECT_NAMES
+    from identification.discovery import EFFECT_NAMES, MIN_SAMPLES
 
     if not (math.isfinite(args.bic_threshold) and args.bic_threshold >= 0):
         raise ValueError(f"--bic-threshold: must be a finite number >= 0 (the smallest drop of the BIC that "

@@ -64,9 +64,14 @@ def read_mixture_run(args, refuse_other_runs) -> MixtureRun | None:
         except ValueError as error:
             raise ValueError(f"--bearing {args.bearing}: mixture composition {c.label} (weight "
                              f"{c.weight:.3g}): {error}") from None
-    seed = 0 if args.bearing_seed is None else args.bearing_seed
+    seed = bearing_seed(args)
     counts = mixture.motion_counts(args.motions, seed=seed)
     return MixtureRun(mixture, MIXTURE, None, seed, args.bearing, counts)
+
+
+def bearing_seed(args) -> int:
+    """`--bearing-seed`, 0 where it is not given."""
+    return 0 if args.bearing_seed is None else args.bearing_seed
 
 
 def runner_of(run, monte_carlo):

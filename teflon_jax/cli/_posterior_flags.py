@@ -18,7 +18,13 @@ import argparse
 import typing
 
 from ._common import integer_at_least
-from ._mixture_runs import MIXTURE, mixture_attributes, mixture_report, read_mixture_run
+from ._mixture_runs import (
+    MIXTURE,
+    bearing_seed,
+    mixture_attributes,
+    mixture_report,
+    read_mixture_run,
+)
 
 POINT, MOTION = "point", "motion"
 
@@ -86,11 +92,6 @@ def read_posterior_flags(args) -> PosteriorRun | None:
     return run
 
 
-def seed_of(args) -> int:
-    """`--bearing-seed`, 0 where it is not given."""
-    return 0 if args.bearing_seed is None else args.bearing_seed
-
-
 def _posterior_run(args) -> PosteriorRun | None:
     from ..formats import load_bearing_posterior
 
@@ -118,7 +119,7 @@ def _posterior_run(args) -> PosteriorRun | None:
                          f"{posterior.size} draws; ask for at most {posterior.size} bearings.")
     _refuse_other_runs(args, "--bearing-draws " + str(given or MOTION))
     mode = MOTION if given in (None, MOTION) else "nested"
-    return PosteriorRun(posterior, mode, None if mode == MOTION else given, seed_of(args), args.bearing)
+    return PosteriorRun(posterior, mode, None if mode == MOTION else given, bearing_seed(args), args.bearing)
 
 
 def _refuse_other_runs(args, words: str) -> None:
