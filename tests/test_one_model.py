@@ -278,6 +278,8 @@ def test_bearing_flags_are_checked_before_any_work(tmp_path, capsys):
          "--ptfe: the bearing comes from --bearing"),
         (["montecarlo", "--motions", "5", "--bearing", str(good), "--pressure", "2000psi"],
          "--pressure: the bearing comes from --bearing"),
+        (["simulate-test", "--bearing", str(good), "--normal-load", "10kN", "--interfaces-in-series", "2"],
+         "--interfaces-in-series: the bearing comes from --bearing"),  # the flag as typed, not its attribute
         (["montecarlo", "--motions", "5", "--bearing", str(hot)],
          "the structures do not run its backlash"),
         (["diagnose", str(tmp_path / "r.csv"), "--json", str(tmp_path / "d.json"), "--report",

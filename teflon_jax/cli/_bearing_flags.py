@@ -5,7 +5,7 @@ import pathlib
 
 from ._common import flags_given
 
-BEARING_OPTIONS = ("ptfe", "pressure", "direction", "breakaway", "interfaces", "yield_disp",
+BEARING_OPTIONS = ("ptfe", "pressure", "direction", "breakaway", "interfaces_in_series", "yield_disp",
                    "anisotropic", "lay_angle")
 """Flags that describe the bearing; with `--bearing FILE` they may not be given as well."""
 

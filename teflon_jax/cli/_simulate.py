@@ -65,7 +65,7 @@ def add_simulate_parser(subparsers) -> None:
                  "x area of a 10 in diameter contact)", minimum=0.0)
     p.add_argument("--breakaway", default=None, help="breakaway ratio b of Eq. 17 (>= 1), or 'table' "
                    "for Table 1's b (default: no breakaway)")
-    p.add_argument("--interfaces-in-series", dest="interfaces", type=int, default=1,
+    p.add_argument("--interfaces-in-series", type=int, default=1,
                    help="number of sliding interfaces stacked in series, sharing the motion (default 1)")
     add_quantity(p, "--yield-disp", "length", "0.005in", "Bouc-Wen yield displacement Y", minimum=0.0)
     p.add_argument("--anisotropic", action="store_true", help="eight pattern: use the T row of "
@@ -124,10 +124,10 @@ def build_test(args):
     if args.motion_file is None and args.samples_per_cycle < MIN_SAMPLES_PER_CYCLE:
         raise ValueError(f"--samples-per-cycle: must be >= {MIN_SAMPLES_PER_CYCLE} (a loop needs "
                          f"them to show its shape), got {args.samples_per_cycle}.")
-    if args.interfaces < 1:
-        raise ValueError(f"--interfaces-in-series: must be an integer >= 1, got {args.interfaces}.")
+    if args.interfaces_in_series < 1:
+        raise ValueError(f"--interfaces-in-series: must be an integer >= 1, got {args.interfaces_in_series}.")
     bearing = paper_bearing(friction, yield_disp=yield_disp, breakaway_ratio=breakaway,
-                               friction_perpendicular=perpendicular, n_interfaces=args.interfaces)
+                               friction_perpendicular=perpendicular, n_interfaces=args.interfaces_in_series)
     area = np.pi * DEFAULT_DIAMETER**2 / 4
     if args.normal_load is None:
         normal_load = pressure * area
@@ -140,7 +140,7 @@ def build_test(args):
         "ptfe": ptfe,
         "direction": direction,
         "contact_area": area,
-        "interfaces_in_series": args.interfaces,
+        "interfaces_in_series": args.interfaces_in_series,
         "source": "teflon-jax simulate-test; model of Constantinou, Mokha & Reinhorn (1990)",
     }
     return bearing, motion, normal_load, metadata
