@@ -184,7 +184,7 @@ def test_a_strong_pulse_lifts_either_pair_and_the_base_moves_as_without_overturn
     (dict(storey_heights=-3.0), "storey_heights: must be >= 0 m"),
     (dict(storey_heights=[3.0] * 5), r"storey_heights: one value or one per storey \(6\)"),
     (dict(base_height=np.nan), "base_height: must be >= 0 m"),
-    (dict(isolator="triple-fp"), "isolator: the building on a plan stands on 'flat' or 'single-fp'"),
+    (dict(isolator="triple-fp"), "pendulums: isolator 'triple-fp' needs its pendulum"),
     (dict(isolation_period=None), "isolation_period: the building's springs need their period"),
     (dict(isolator="single-fp"), "radii: isolator 'single-fp' needs the radius"),
     (dict(loads=[W / 5] * 4), "plan: the tributary loads add up to"),

@@ -1,5 +1,5 @@
 """`teflon-jax run --structure building --plan FILE`: the Table 2 building on its base slab over
-the plan's bearing groups (`building_on_plan`). On a plan symmetric about its centre of mass
+the plan's bearing groups (`building_on_plan`; flat sliders, single, double or triple pendulums). On a plan symmetric about its centre of mass
 under one component the groups slide as one and the slab does not turn, so the base, storeys
 and floors are those of the building on one group (`run --structure building`), while the
 groups' loads swing with the overturning moment of the levels' inertia forces; and what the
@@ -38,16 +38,19 @@ def _run(capsys, *argv):
     return code, capsys.readouterr()
 
 
-def test_a_symmetric_plan_is_the_building_on_one_group_and_its_groups_carry_the_overturning(tmp_path, capsys):
-    record, plan = _record(tmp_path), _plan(tmp_path / "plan.json")
-    common = ["--structure", "building", "--record-x", record, "--isolation-period", "2.5s",
-              "--isolation-damping", "5%"]
+def _without_and_with_plan(tmp_path, capsys, *flags):
+    """(peaks of `run --structure building` on the isolator of `flags`, the JSON written with
+    the symmetric `_plan` of four corner groups), each run checked to succeed."""
+    common = ["--structure", "building", "--record-x", _record(tmp_path), *flags]
     code, out = _run(capsys, *common, "--json", tmp_path / "one.json")
     assert code == 0, out.err
-    code, out = _run(capsys, *common, "--plan", plan, "--json", tmp_path / "plan.json.out")
+    code, out = _run(capsys, *common, "--plan", _plan(tmp_path / "plan.json"), "--json", tmp_path / "plan.json.out")
     assert code == 0, out.err
-    one = json.loads((tmp_path / "one.json").read_text())["peak"]
-    written = json.loads((tmp_path / "plan.json.out").read_text())
+    return json.loads((tmp_path / "one.json").read_text())["peak"], json.loads((tmp_path / "plan.json.out").read_text())
+
+
+def test_a_symmetric_plan_is_the_building_on_one_group_and_its_groups_carry_the_overturning(tmp_path, capsys):
+    one, written = _without_and_with_plan(tmp_path, capsys, "--isolation-period", "2.5s", "--isolation-damping", "5%")
     on_plan = written["peak"]
     assert one["base_disp_x_m"] > 0.02
     for key in ("base_disp_x_m", "base_shear_ratio_resultant"):
@@ -68,20 +71,31 @@ def test_a_symmetric_plan_is_the_building_on_one_group_and_its_groups_carry_the_
         assert groups[a]["peak_N"] == pytest.approx(groups[b]["peak_N"], rel=1e-9)
 
 
+def test_a_symmetric_plan_of_triple_pendulums_is_the_building_on_one_pendulum(tmp_path, capsys):
+    """The same symmetric plan on triple pendulum groups (`--isolator-file`): each group balances
+    its own sliders under its own load, and the building moves as on one pendulum of its weight
+    (`run --structure building --isolator triple-fp`) to 1e-6; the groups' loads swing."""
+    one, written = _without_and_with_plan(tmp_path, capsys, "--isolator", "triple-fp", "--isolator-file", TRIPLE)
+    assert one["base_disp_x_m"] > 0.01
+    for key in ("base_disp_x_m", "base_shear_ratio_resultant", "bearing_force_ratio_resultant"):
+        assert written["peak"][key] == pytest.approx(one[key], rel=1e-6), key
+    np.testing.assert_allclose(written["peak"]["storey_drift_ratio_x"], one["storey_drift_ratio_x"], rtol=1e-6)
+    assert written["peak"]["rotation_rad"] < 1e-9
+    for group in written["normal_load"]["groups"].values():
+        assert group["min_N"] < 0.95 * W / 4 < 1.05 * W / 4 < group["peak_N"]
+
+
 @pytest.mark.parametrize("flags, message", [
     (["--plan", "{plan}"], "--plan: stands a slab (--structure slab) or the Table 2 building (--structure building) "
                            "on bearing groups; not the rigid mass"),
     (["--structure", "building", "--plan", "{high}"], "--plan: {high}: height_of_centre_of_mass is the building's"),
     (["--structure", "building", "--plan", "{light}"], "--plan: {light}: weight is 600kip, and the building on the "
                                                        "plan weighs 2989.2 kN (Table 2: 672 kip)"),
-    (["--structure", "building", "--plan", "{plan}", "--isolator", "triple-fp", "--isolator-file", "{triple}"],
-     "--plan: the building on a plan stands on flat sliders or single pendulums (one surface a group), not on "
-     "--isolator triple-fp"),
     (["--structure", "building", "--weight", "200kN"], "--weight: is the rigid mass's; the building's weight is "
                                                        "Table 2's (672 kip); leave --weight out."),
     (["--structure", "slab", "--plan", "{plan}", "--weight", "200kN"], "--weight: is the rigid mass's; the slab's "
                                                                       "weight is the plan's weight"),
-], ids=["rigid", "height", "weight", "series", "building-weight", "slab-weight"])
+], ids=["rigid", "height", "weight", "building-weight", "slab-weight"])
 def test_what_the_building_or_a_plan_cannot_take_is_refused_by_name(tmp_path, capsys, flags, message):
     """Each refused before the record is read (it does not exist)."""
     files = {"plan": _plan(tmp_path / "plan.json"), "high": _plan(tmp_path / "high.json", height_of_centre_of_mass="9m"),

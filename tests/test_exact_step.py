@@ -80,3 +80,19 @@ def test_exact_rule_with_friction_converges_on_the_building():
     newmark_error = np.abs(peaks("newmark", 0.005) / reference - 1)
     assert np.all(error < 2e-3)
     assert error[1] < 0.5 * newmark_error[1]
+
+
+def test_a_stiff_oscillator_steps_exactly_where_the_exponential_needs_many_halvings():
+    """u'' + 2 zeta w u' + w^2 u = 0 at w = 2e4 rad/s over a 5 ms step (w^2 dt = 2e6: more than
+    the 16 halvings of A dt `expm` takes by default, which return NaN): the step's free block is
+    the closed form e^(-zeta w dt) [[cos + zeta w / w_d sin, sin / w_d], [-w^2 / w_d sin,
+    cos - zeta w / w_d sin]] (of w_d dt) to 1e-7 (measured 3e-9), in units of w and 1."""
+    w, zeta, dt = 2e4, 0.02, 0.005
+    a = np.array([[0.0, 1.0], [-w**2, -2 * zeta * w]])
+    free, start, end = tj.structures.first_order_hold(a, np.array([[0.0], [-1.0]]), dt)
+    wd = w * np.sqrt(1 - zeta**2)
+    decay, c, s = np.exp(-zeta * w * dt), np.cos(wd * dt), np.sin(wd * dt)
+    exact = decay * np.array([[c + zeta * w / wd * s, s / wd], [-w**2 / wd * s, c - zeta * w / wd * s]])
+    assert np.all(np.isfinite(np.asarray(free))) and np.all(np.isfinite(np.asarray(end)))
+    scale = np.array([[1.0, 1 / w], [w, 1.0]])  # displacement and velocity in units of one another
+    assert np.max(np.abs((np.asarray(free) - exact) / scale)) < 1e-7

@@ -253,17 +253,12 @@ def pendulum_period(args) -> float | None:
 
 def check_combination(args, isolator: Isolator) -> None:
     """`ValueError` naming the flag, before any work, for what cannot run together: a plan
-    under the rigid mass, the slab without one, the building on a plan of series pendulums or
-    on flat sliders without springs, and
+    under the rigid mass, the slab without one, the building on flat sliders without springs, and
     a Newton tolerance in a flat bearing's units on series pendulums."""
     structure, plan = args.structure, getattr(args, "plan", None)
     if plan is not None and structure not in ("slab", "building"):
         raise ValueError("--plan: stands a slab (--structure slab) or the Table 2 building (--structure "
                          f"building) on bearing groups; not the {structure} mass.")
-    if plan is not None and structure == "building" and isolator.pendulum is not None:
-        raise ValueError(f"--plan: the building on a plan stands on flat sliders or single pendulums (one "
-                         f"surface a group), not on --isolator {isolator.name}; run that isolator under the "
-                         "building without --plan, or on --structure slab.")
     if plan is None and structure == "slab":
         raise ValueError("--plan: --structure slab needs a plan file (bearing groups and loads).")
     if structure == "building" and not isolator.restores and args.isolation_period is None:

@@ -76,7 +76,7 @@ def add_run_parser(subparsers) -> None:
                    "length_y, weight, centre_of_mass, optional height_of_centre_of_mass (overturning), groups "
                    "with x, y, load and optional ptfe, pressure, springs, radius (--isolator single-fp), "
                    "isolator_file (--isolator triple-fp or double-fp), vertical_stiffness); with --structure "
-                   "building the building's base slab on the groups (flat sliders or single pendulums; weight "
+                   "building the building's base slab on the groups (any --isolator; weight "
                    "Table 2's 672 kip; the overturning from its levels at Table 2's storey heights, so no "
                    "height_of_centre_of_mass)")
     p.add_argument("--json", default=None, help="write the peaks to this JSON file")

@@ -91,7 +91,7 @@ def _scaled(args, pendulums):
 
 def _on_plan(args, isolator, flags: StructureFlags, ground_x, ground_y):
     """`slab_on_bearings` (or `building_on_plan` under --structure building) of the plan on its
-    groups' isolator values: series pendulums (`flags.slab`, the slab only), or each group's
+    groups' isolator values: series pendulums (`flags.slab`), or each group's
     bearing at its pressure, alone (flat sliders) or on the group's surface (single pendulums),
     with the isolation damping."""
     from ..systems import building_on_plan, slab_on_bearings

@@ -32,15 +32,13 @@ class PlanIsolator(typing.NamedTuple):
     pendulums: object = None
 
 
-def plan_isolator(isolator, groups: int, *, bearings=None, radii=None, pendulums=None,
-                  series_refused: str | None = None) -> PlanIsolator:
+def plan_isolator(isolator, groups: int, *, bearings=None, radii=None, pendulums=None) -> PlanIsolator:
     """The `PlanIsolator` of `groups` groups: `isolator` an isolator value for all groups or a
     list of one per group, or a name (`None`: "flat") with `bearings`, `radii`, `pendulums`.
     `ValueError` naming the argument for a count other than G, groups of different isolators,
-    parts the isolator does not take or lacks, and, with `series_refused` (the message), series
-    pendulums."""
+    parts the isolator does not take or lacks."""
     if isolator is None or isinstance(isolator, str):
-        return _named(isolator or FLAT.name, groups, bearings, radii, pendulums, series_refused)
+        return _named(isolator or FLAT.name, groups, bearings, radii, pendulums)
     for name, value in (("bearings", bearings), ("radii", radii), ("pendulums", pendulums)):
         if value is not None:
             raise ValueError(f"{name}: the isolator value carries the groups' isolators; leave {name} out.")
@@ -51,8 +49,6 @@ def plan_isolator(isolator, groups: int, *, bearings=None, radii=None, pendulums
     if len(set(kinds)) > 1:
         raise ValueError(f"isolator: the groups stand on one isolator, got {', '.join(sorted(set(kinds)))}.")
     if runs_in_series(values[0]):
-        if series_refused is not None:
-            raise ValueError(series_refused.format(isolator=kinds[0]))
         return PlanIsolator(kinds[0], pendulums=values)
     parts = [one_surface(value, f"isolator (group {g + 1})") for g, value in enumerate(values)]
     for g, (bearing, surface) in enumerate(parts):
@@ -83,13 +79,11 @@ def _one_value(value) -> bool:
     return not isinstance(value, (list, tuple))
 
 
-def _named(name, groups, bearings, radii, pendulums, series_refused) -> PlanIsolator:
+def _named(name, groups, bearings, radii, pendulums) -> PlanIsolator:
     """The `PlanIsolator` of the isolator `name` and its parts (the messages name the part)."""
     if name not in ISOLATORS:
         raise ValueError(f"isolator: one of {', '.join(map(repr, ISOLATORS))} (or an isolator value), got {name!r}.")
     if name in SERIES_PENDULUMS:
-        if series_refused is not None:
-            raise ValueError(series_refused.format(isolator=name))
         if pendulums is None:
             raise ValueError(f"pendulums: isolator {name!r} needs its pendulum (one for all groups, or "
                              "one per group; e.g. formats.load_isolator(path)).")

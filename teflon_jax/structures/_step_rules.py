@@ -42,18 +42,27 @@ LINEAR_RULES = ("newmark", "exact")
 """
 
 
+EXPONENTIAL_SQUARINGS = 64
+"""Most squarings of the exact step's matrix exponential (`first_order_hold`): the norm of
+A dt halved up to 64 times (the default 16 stops near omega^2 dt = 10^5 and gives NaN beyond).
+Each halving costs some accuracy: a rigid-frame limit of Table 2's building is best taken at
+10^3 times its frequencies at 5 ms steps (tests/test_building_on_plan_series.py)."""
+
+
 def first_order_hold(a, b, time_step):
     """(free, start, end) of the exact step of x' = A x + B q(s) with the inputs q varying
     linearly from q0 to q1 over `time_step` dt [s]: x1 = free x0 + start q0 + end q1, where
     free = e^(A dt), end = (1/dt) int_0^dt e^(A (dt - s)) s ds B and start + end =
     int_0^dt e^(A s) ds B, all blocks of the exponential of the augmented matrix
-    [[A, B, 0], [0, 0, I], [0, 0, 0]] dt (Van Loan, 1978). `a` (N, N), `b` (N, k)."""
+    [[A, B, 0], [0, 0, I], [0, 0, 0]] dt (Van Loan, 1978). `a` (N, N), `b` (N, k). A stiff
+    structure (omega^2 dt far above 1) needs more halvings of A dt than `expm`'s default 16, which
+    return NaN: up to `EXPONENTIAL_SQUARINGS` are allowed."""
     size, inputs = a.shape[0], b.shape[1]
     total = size + 2 * inputs
     augmented = jnp.zeros((total, total), a.dtype)
     augmented = augmented.at[:size, :size].set(a).at[:size, size:size + inputs].set(b)
     augmented = augmented.at[size:size + inputs, size + inputs:].set(jnp.eye(inputs, dtype=a.dtype))
-    e = jax.scipy.linalg.expm(augmented * time_step)
+    e = jax.scipy.linalg.expm(augmented * time_step, max_squarings=EXPONENTIAL_SQUARINGS)
     end = e[:size, size + inputs:] / time_step
     return e[:size, :size], e[:size, size:size + inputs] - end, end
 

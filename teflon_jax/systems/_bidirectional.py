@@ -97,9 +97,10 @@ class BidirectionalStructure(AbstractSteppedSystem):
     while others lift with `supports` (`SupportPlan`; `teflon_jax.structures.supported_loads`).
     `friction_model` (static): "hysteretic" (Park's Z), "coulomb" or "none"; `surface`: a
     friction pendulum's `ConcaveSurface` whose restrainer and large-displacement force act
-    beyond its W_g / R in K, or `None`. A slab on groups of triple or
-    double pendulums holds a `SeriesPendulum` (leaves (G,)) as `bearing` and the exact step's
-    (free, start, end) blocks (6, 16) as `step_matrix` (`_series.py`).
+    beyond its W_g / R in K, or `None`. A slab or the building on a plan on groups of triple
+    or double pendulums holds a `SeriesPendulum` (leaves (G,)) as `bearing`, the part K_ref
+    (N, N) of `stiffness` its reference springs make as `reference_stiffness`, and the exact
+    step's (free (2N, 2N), start and end (2N, N + 2) each) blocks as `step_matrix` (`_series.py`).
     """
 
     mass: jnp.ndarray
@@ -128,6 +129,7 @@ class BidirectionalStructure(AbstractSteppedSystem):
     friction_model: str = eqx.field(static=True, default="hysteretic")
     surface: ConcaveSurface | None = None
     step_matrix: jnp.ndarray | None = None
+    reference_stiffness: jnp.ndarray | None = None
 
     @property
     def pendulum(self) -> SeriesPendulum | None:

@@ -37,8 +37,10 @@ d_g = (u_x - theta r_y, u_y + theta r_x) (`slab_on_bearings`' kinematics) and ca
 tributary load W_g (sum W_g = W, the building's weight); the isolation's stiffness
 K_b = sum_g k_g B_g^T B_g sits at the groups: springs of period T_b shared among them
 (k_g = (W / g) omega_b^2 share_g, carrying no vertical load) or single friction pendulums
-(k_g = W_g / R_g), with zeta_b of the rigid-body mode as in `six_storey_building`. On one group
-(or a symmetric plan without overturning) this is `bidirectional_building`.
+(k_g = W_g / R_g), with zeta_b of the rigid-body mode as in `six_storey_building`, or double
+or triple friction pendulums, each group the series model of `_series.py` with its reference
+spring W_g / R_ref and no other spring or damper. On one group (or a symmetric plan without
+overturning) this is `bidirectional_building` (the series pendulums: `triple_structure`).
 
 Overturning: level i (the base, floors 1-6) lies at height h_i above the sliding surface
 (h_0 = `base_height`, h_i = h_0 + the storey heights below it); the groups' normal loads follow
@@ -152,10 +154,14 @@ def slab_on_bearings(
                            spring_shares=spring_shares, isolation_damping=isolation_damping or None,
                            contact_pressures=contact_pressures,
                            friction_model=None if friction_model == "hysteretic" else friction_model)
-        return _slab_on_series(weight=weight, mass_inertia=inertia, centre_of_mass=centre, positions=positions,
-                               loads=loads, pendulums=plan_isolators.pendulums, isolator=plan_isolators.name,
-                               ground_x=ground_x, ground_y=ground_y, time_step=time_step, height=height,
-                               vertical_stiffness=vertical_stiffness, names=names)
+        loading = {} if height == 0 else dict(
+            overturning=jnp.asarray(overturning_map(positions, centre, height, vertical_stiffness, names)),
+            supports=support_plan(positions, centre, height, vertical_stiffness))
+        return _on_series_groups(
+            mass=np.array([mass, mass, inertia]), influence=np.array([[1.0, 0.0], [0.0, 1.0], [0.0, 0.0]]),
+            bearing_map=plan_bearing_map(positions - centre, 3, (0, 1, 2)), loads=loads,
+            pendulums=plan_isolators.pendulums, isolator=plan_isolators.name, ground_x=ground_x, ground_y=ground_y,
+            time_step=time_step, **loading)
     bearings, radii = plan_isolators.bearings, plan_isolators.radii
     refuse_springs(radii, isolation_period, spring_shares)
     overturning = None if height == 0 else overturning_map(positions, centre, height, vertical_stiffness, names)
@@ -190,11 +196,6 @@ def _refuse_for_series(isolator, **given):
                              "pendulum of `pendulums`, with its own radii and friction); leave it out.")
 
 
-SERIES_REFUSED = ("isolator: the building on a plan stands on 'flat' or 'single-fp' groups, got {isolator!r}; "
-                  "series pendulums carry the rigid slab (slab_on_bearings).")
-"""The building on a plan stands on one surface per group (flat sliders with springs, single
-friction pendulums), not on series pendulums."""
-
 HEIGHT_NAMES = "storey_heights, base_height"
 """The arguments that place the levels above the sliding surface, as errors name them."""
 
@@ -211,10 +212,11 @@ def building_on_plan(
     ground_y: Signal | None = None,
     time_step: float,
     isolation_period=None,
-    isolation_damping=0.05,
+    isolation_damping=None,
     spring_shares=None,
     isolator=None,
     radii=None,
+    pendulums=None,
     storey_heights=None,
     base_height=0.0,
     vertical_stiffness=None,
@@ -239,7 +241,10 @@ def building_on_plan(
       equal); (`SlidingBearing`, `concave_surface(R_g)`) pairs, single friction pendulums, no
       springs. Or its name ("flat", the default, or "single-fp") with `bearings` and `radii`
       R_g [m] (one, or (G,)) apart. `isolation_damping` zeta_b [-] of the rigid-body mode
-      (default 0.05, the paper's sliding system).
+      (default 0.05, the paper's sliding system). Or `TriplePendulum`s or `DoublePendulum`s
+      ("triple-fp", "double-fp" with `pendulums`, one for all groups or one per group): each
+      group balances its sliders at every step (`slab_on_bearings`' series pendulums), without
+      springs, radii, isolation damping or contact pressures.
     - `storey_heights` [m] (one, or one per storey, >= 0; default the `building`'s storey
       height, Table 2's 12 ft) and `base_height` h_0 [m] (>= 0, default 0) of the base's
       inertia force: the levels' heights above the sliding surface for the overturning loads
@@ -260,10 +265,7 @@ def building_on_plan(
     weight = float(building.total_weight)
     check_plan(length_x=length_x, length_y=length_y, weight=weight, centre_of_mass=centre,
                positions=positions, loads=loads, names=names)
-    plan_isolators = plan_isolator(isolator, positions.shape[0], bearings=bearings, radii=radii,
-                                   series_refused=SERIES_REFUSED)
-    bearing, radii = stack_bearings(plan_isolators.bearings), plan_isolators.radii
-    refuse_springs(radii, isolation_period, spring_shares)
+    plan_isolators = plan_isolator(isolator, positions.shape[0], bearings=bearings, radii=radii, pendulums=pendulums)
     level_mass, frame_k, frame_c = _frame(building)
     n = level_mass.shape[0]
     heights = _level_heights(building, storey_heights, base_height, n)
@@ -271,26 +273,37 @@ def building_on_plan(
     if not (np.isfinite(inertia) and inertia > 0):
         raise ValueError(f"rotational_inertia: must be > 0 kg m^2, got {rotational_inertia}.")
     bearing_map = plan_bearing_map(positions - centre, 2 * n + 1, (0, n, 2 * n))
-    isolation = _isolation_stiffness(bearing_map, loads, weight, isolation_period, spring_shares, radii,
-                                     isolation_damping)
     influence = np.zeros((2 * n + 1, 2))
     influence[:n, 0] = influence[n:2 * n, 1] = 1.0
-    system = bidirectional_structure(
-        mass=np.concatenate([level_mass, level_mass, [inertia]]), stiffness=frame_k + isolation[0],
-        damping=frame_c + isolation[1], influence=influence, bearing_map=bearing_map, bearing=bearing,
-        bearing_load=loads, ground_x=ground_x, ground_y=_zero_signal(ground_x) if ground_y is None else ground_y,
-        time_step=time_step, contact_pressure=contact_pressures, friction_model=friction_model)
-    system = dataclasses.replace(system, pendulum_stiffness=None if radii is None else jnp.asarray(loads / radii))
-    if not np.any(heights > 0):
-        return system
+    mass = np.concatenate([level_mass, level_mass, [inertia]])
+    ground_y = _zero_signal(ground_x) if ground_y is None else ground_y
     # the levels' moment sum_i h_i F_i as h_c H_h at the mass centre's height h_c (`overturning_force`)
-    centre_height = _centre_height(level_mass, heights)
-    return dataclasses.replace(
-        system,
+    centre_height = _centre_height(level_mass, heights) if np.any(heights > 0) else 0.0
+    loading = {} if centre_height == 0 else dict(
         overturning=jnp.asarray(overturning_map(positions, centre, centre_height, vertical_stiffness, names,
                                                 height_name=HEIGHT_NAMES)),
         supports=support_plan(positions, centre, centre_height, vertical_stiffness,
                               levels=np.concatenate([heights, heights, [0.0]]) / centre_height))
+    if plan_isolators.pendulums is not None:
+        _refuse_for_series(plan_isolators.name, bearings=bearings, radii=radii, isolation_period=isolation_period,
+                           spring_shares=spring_shares, isolation_damping=isolation_damping,
+                           contact_pressures=contact_pressures,
+                           friction_model=None if friction_model == "hysteretic" else friction_model)
+        return _on_series_groups(
+            mass=mass, frame=(frame_k, frame_c), influence=influence, bearing_map=bearing_map, loads=loads,
+            pendulums=plan_isolators.pendulums, isolator=plan_isolators.name, ground_x=ground_x, ground_y=ground_y,
+            time_step=time_step, **loading)
+    radii = plan_isolators.radii
+    refuse_springs(radii, isolation_period, spring_shares)
+    isolation = _isolation_stiffness(bearing_map, loads, weight, isolation_period, spring_shares, radii,
+                                     0.05 if isolation_damping is None else isolation_damping)
+    system = bidirectional_structure(
+        mass=mass, stiffness=frame_k + isolation[0], damping=frame_c + isolation[1], influence=influence,
+        bearing_map=bearing_map, bearing=stack_bearings(plan_isolators.bearings), bearing_load=loads,
+        ground_x=ground_x, ground_y=ground_y, time_step=time_step, contact_pressure=contact_pressures,
+        friction_model=friction_model)
+    return dataclasses.replace(system, pendulum_stiffness=None if radii is None else jnp.asarray(loads / radii),
+                               **loading)
 
 
 def building_centre_height(building: BuildingData | None = None, storey_heights=None, base_height=0.0) -> float:
@@ -394,48 +407,44 @@ def stack_pendulums(pendulums, isolator: str, groups: int) -> SeriesPendulum:
                                   *pendulums)
 
 
-def _slab_step_matrix(mass, stiffness, influence, time_step):
-    """(6, 16) [free (6, 6), start (6, 5), end (6, 5)] of the exact step of
-    M q'' + K q = -M R a_g - f with x = (q, q') and the inputs (a_g (2,), f (3,)) varying
-    linearly over `time_step` [s]: x1 = free x0 + start u0 + end u1
+def _series_step_matrix(mass, stiffness, damping, influence, time_step):
+    """[free (2N, 2N), start (2N, N + 2), end (2N, N + 2)] of the exact step of
+    M q'' + C q' + K q = -M R a_g - f with x = (q, q') and the inputs (a_g (2,), f (N,))
+    varying linearly over `time_step` [s]: x1 = free x0 + start u0 + end u1
     (`structures.first_order_hold`)."""
     m = jnp.asarray(mass, float)
-    eye, zeros = jnp.eye(3), jnp.zeros((3, 3))
-    a = jnp.block([[zeros, eye], [-stiffness / m[:, None], zeros]])
-    b = jnp.concatenate([jnp.zeros((3, 5)), jnp.concatenate([-jnp.asarray(influence, float), -jnp.diag(1 / m)], 1)])
+    n = m.shape[0]
+    a = jnp.block([[jnp.zeros((n, n)), jnp.eye(n)], [-stiffness / m[:, None], -damping / m[:, None]]])
+    b = jnp.concatenate([jnp.zeros((n, n + 2)),
+                         jnp.concatenate([-jnp.asarray(influence, float), -jnp.diag(1 / m)], 1)])
     return jnp.concatenate(first_order_hold(a, b, time_step), axis=1)
 
 
-def _slab_on_series(*, weight, mass_inertia, centre_of_mass, positions, loads, pendulums, isolator,
-                   ground_x: Signal, ground_y: Signal, time_step: float, height=0.0, vertical_stiffness=None,
-                   names=None, newton_iterations: int = TRIPLE_NEWTON_ITERATIONS,
-                   newton_tolerance: float = TRIPLE_TOLERANCE) -> BidirectionalStructure:
-    """`slab_on_bearings` with `isolator` "triple-fp" or "double-fp" (the plan already checked):
-    weight W [N], rotational inertia `mass_inertia` [kg m^2], positions (G, 2) [m], loads W_g
-    (G,) [N], `pendulums` (`stack_pendulums`), the centre of mass at `height` h [m] above the
-    sliding surface (0: constant loads). Heated surfaces carry the heat kernel of one step to
-    `HEAT_HORIZON` (`series_heat_kernel`). A `BidirectionalStructure` whose `bearing` is the
-    stacked pendulum, no springs or damping beyond the pendulums' reference springs K_ref
-    (`_series.py`)."""
-    positions = np.asarray(positions, dtype=float).reshape(-1, 2)
-    loads = np.asarray(loads, dtype=float).reshape(-1)
+def _on_series_groups(*, mass, influence, bearing_map, loads, pendulums, isolator, ground_x: Signal,
+                      ground_y: Signal, time_step: float, frame=None, overturning=None, supports=None,
+                      newton_iterations: int = TRIPLE_NEWTON_ITERATIONS,
+                      newton_tolerance: float = TRIPLE_TOLERANCE) -> BidirectionalStructure:
+    """The `BidirectionalStructure` of masses `mass` (N,) [kg, kg m^2] (ground `influence`
+    (N, 2)) on groups of series pendulums (`isolator` "triple-fp" or "double-fp", the plan
+    already checked): bearing map B (G, 2, N), loads W_g (G,) [N], `pendulums`
+    (`stack_pendulums`), `frame` the structure's own (K, C) (N, N) (`None`: a rigid slab), and
+    the groups' `overturning` map and `supports` (`None`: constant loads). Heated surfaces carry
+    the heat kernel of one step to `HEAT_HORIZON` (`series_heat_kernel`). Its `bearing` is the
+    stacked pendulum; K adds the reference springs K_ref = sum_g (W_g / R_ref) B_g^T B_g
+    (`_series.py`), and no other spring or damper acts at the groups."""
     groups = loads.size
     pendulum = stack_pendulums(pendulums, isolator, groups)
-    overturning = (np.zeros((groups, 2)) if height == 0 else
-                   overturning_map(positions, centre_of_mass, height, vertical_stiffness, names))
-    supports = None if height == 0 else support_plan(positions, centre_of_mass, height, vertical_stiffness)
-    bearing_map = plan_bearing_map(positions - np.asarray(centre_of_mass, dtype=float).reshape(2), 3, (0, 1, 2))
     if isinstance(time_step, bool) or not (isinstance(time_step, (int, float)) and time_step > 0):
         raise ValueError(f"time_step: must be a positive number of seconds, got {time_step!r}.")
     heat_rates, heat_weights = series_heat_kernel(pendulum, time_step)
-    reference = loads / pendulum.reference_radius()
-    stiffness = jnp.einsum("g,gdn,gdm->nm", reference, bearing_map, bearing_map)
-    mass = jnp.array([weight / STANDARD_GRAVITY] * 2 + [mass_inertia])
-    influence = np.array([[1.0, 0.0], [0.0, 1.0], [0.0, 0.0]])
+    reference = jnp.einsum("g,gdn,gdm->nm", loads / pendulum.reference_radius(), bearing_map, bearing_map)
+    count = mass.shape[0]
+    stiffness, damping = (reference, jnp.zeros((count, count))) if frame is None else (frame[0] + reference, frame[1])
+    mass = jnp.asarray(mass, float)
     return BidirectionalStructure(
-        mass=mass, stiffness=stiffness, damping=jnp.zeros((3, 3)), influence=jnp.asarray(influence),
+        mass=mass, stiffness=stiffness, damping=jnp.asarray(damping, float), influence=jnp.asarray(influence),
         bearing_map=jnp.asarray(bearing_map), bearing=pendulum, bearing_load=jnp.asarray(loads), ground_x=ground_x,
-        ground_y=ground_y, newmark_inverse=jnp.zeros((3, 3)), time_step=float(time_step),
+        ground_y=ground_y, newmark_inverse=jnp.zeros((count, count)), time_step=float(time_step),
         newton_iterations=int(newton_iterations), newton_tolerance=float(newton_tolerance), heat_rates=heat_rates,
-        heat_weights=heat_weights, overturning=None if height == 0 else jnp.asarray(overturning), supports=supports,
-        step_matrix=_slab_step_matrix(mass, stiffness, influence, time_step))
+        heat_weights=heat_weights, overturning=overturning, supports=supports, reference_stiffness=reference,
+        step_matrix=_series_step_matrix(mass, stiffness, damping, influence, time_step))

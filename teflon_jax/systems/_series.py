@@ -35,16 +35,18 @@ take Eq. 1 at the isolator's velocity at the step's end, the flat sliders' law
 (`friction_velocity="end"`, `FRICTION_VELOCITIES`). References: Fenz & Constantinou (2006,
 2008); Park, Wen & Ang (1986).
 
-A `BidirectionalStructure` slab (x, y, rotation) on groups of triple or double friction
-pendulums (`bearing` a `SeriesPendulum`; `series_initial_state` to `series_groups_run`): its
-state, its step and its history.
+A `BidirectionalStructure` on groups of triple or double friction pendulums (`bearing` a
+`SeriesPendulum`; `series_initial_state` to `series_groups_run`), the slab (x, y, rotation) or
+the Table 2 building on a plan (x block, y block, the slab's rotation): its state, its step and
+its history.
 
 Each group g at plan position P_g (r_g = P_g - C) slides by d_g = B_g q, B_g = [[1, 0, -r_y],
 [0, 1, r_x]], and is one multi-surface pendulum of the series model (`teflon_jax.elements`):
 S sliders (e) with their own planar displacements, Z and restrainers, all carrying the
 group's force F_g, their displacements adding up to d_g. Every slider's force is taken under
 the group's normal load N_g = s_g W_g (friction and N_g / R_e alike), the load of a rigid slab
-under the overturning moment of its horizontal force, held over each step (`_overturning.py`;
+under the overturning moment of its horizontal force (of the levels' inertia forces at their
+heights under a building), held over each step (`_overturning.py`;
 a step on which the slab would tip, its moment beyond what the groups can hold without
 tension, is reported as unbalanced); while N_g <= 0 the group carries no shear and its sliders share its motion as R_e
 (`uplift_increments`).
@@ -55,9 +57,10 @@ pressure under the static W_g, v_ge the length of its increment over the step ti
 velocity factor), none while the group is lifted, and its friction is scaled by k_T at its
 own temperature, taken at the step's start and held over the step, as on the rigid mass.
 
-The slab carries a reference spring k_g = W_g / R_ref at each group (R_ref the pendulum's
-`reference_radius`), K_ref = sum_g k_g B_g^T B_g, and is advanced by the exact step of
-M q'' + K_ref q = -M R a_g - f for the ground and the force f = sum_g B_g^T (F_g - k_g d_g)
+The structure carries a reference spring k_g = W_g / R_ref at each group (R_ref the pendulum's
+`reference_radius`), K_ref = sum_g k_g B_g^T B_g (`reference_stiffness`), and is advanced by the
+exact step of M q'' + C q' + K q = -M R a_g - f (K holding K_ref and a building's frame, C the
+frame's damping) for the ground and the force f = sum_g B_g^T (F_g - k_g d_g)
 varying linearly over the step (Van Loan 1978), as the rigid mass on one such pendulum is.
 That step gives q1 = D - G_q sum_g B_g^T F_g at its end. The unknowns of a step are the
 sliders' increments d_ge (G, S, 2) and the group forces F_g (G, 2), with
@@ -277,38 +280,60 @@ def _overturning(system):
 
 
 def series_initial_state(system):
-    """At rest: x = (q, q') (6,), sliders and Z (G, S, 2), the balance's unknowns of the last
+    """At rest: x = (q, q') (2N,), sliders and Z (G, S, 2), the balance's unknowns of the last
     two steps (2, G, S + 1, 2) (each group's slider increments [m] and its force [N];
     `predicted_increments`), group forces F_g (G, 2) [N], the generalized force beyond the
-    springs f (3,) [N, N m], the normal loads N_g (G,) [N], whether the slab tipped on the
+    springs f (N,) [N, N m], the normal loads N_g (G,) [N], whether the slab tipped on the
     step (`supported_loads`), for heated surfaces the heat states (G, S, K) [W s/m^2], and
     where a surface's part needs it the sliders' history (G, S) (`initial_history`)."""
     groups, sliders = system.bearing_load.shape[0], system.bearing.slider_count
-    zeros = jnp.zeros((groups, sliders, 2), system.mass.dtype)
+    count, dtype = system.mass.shape[0], system.mass.dtype
+    zeros = jnp.zeros((groups, sliders, 2), dtype)
     heat = {} if system.heat_rates is None else {
-        "heat": jnp.zeros((groups, sliders, system.heat_rates.shape[0]), system.mass.dtype)}
+        "heat": jnp.zeros((groups, sliders, system.heat_rates.shape[0]), dtype)}
     history = initial_history(system.bearing, zeros.shape[:2], zeros.dtype)
     if history is not None:
         heat["history"] = history
-    return {**heat, "x": jnp.zeros(6, system.mass.dtype), "slider": zeros, "z": zeros,
-            "previous": jnp.zeros((2, groups, sliders + 1, 2), system.mass.dtype),
-            "force": jnp.zeros((groups, 2), system.mass.dtype), "extra": jnp.zeros(3, system.mass.dtype),
-            "normal_load": overturned_loads(_overturning(system), jnp.zeros(2, system.mass.dtype), 0.0),
+    return {**heat, "x": jnp.zeros(2 * count, dtype), "slider": zeros, "z": zeros,
+            "previous": jnp.zeros((2, groups, sliders + 1, 2), dtype),
+            "force": jnp.zeros((groups, 2), dtype), "extra": jnp.zeros(count, dtype),
+            "normal_load": overturned_loads(_overturning(system), jnp.zeros(2, dtype), 0.0),
             "tipped": jnp.zeros((), bool)}
 
 
-def slab_series_step(system, state, ground0, ground1, t1):
+def _groups_total_acceleration(system, state):
+    """q'' + R a_g = -M^-1 (K q + C q' + f) (N,) [m/s^2, rad/s^2] of the step state `state`:
+    the structure's acceleration in space (`stiffness` K and `damping` C hold the reference
+    springs and the structure's own)."""
+    count = system.mass.shape[0]
+    q, v = state["x"][:count], state["x"][count:]
+    return -(q @ system.stiffness.T + v @ system.damping.T + state["extra"]) / system.mass
+
+
+def _groups_overturning_force(system, state):
+    """The horizontal force (2,) [N] whose moment loads the groups at the step's start: the
+    groups' force on the structure, -sum_g F_g, for masses at one height (a slab), or H_h of
+    the levels' inertia forces at their heights (`structures.overturning_force`: the building
+    on a plan)."""
+    if system.supports is None or system.supports.levels is None:
+        return -jnp.sum(state["force"], axis=0)
+    total = _groups_total_acceleration(system, state)
+    return (system.supports.levels * system.mass * total) @ system.influence
+
+
+def groups_series_step(system, state, ground0, ground1, t1):
     """One step from `state` (`series_initial_state`) with the ground (2,) at both ends and t1 its
     end [s]: (state at t1, whether the step balanced: the sliders' balance converged and
     the slab rests on its groups, `supported_loads`)."""
-    free, start, end = system.step_matrix[:, :6], system.step_matrix[:, 6:11], system.step_matrix[:, 11:]
-    q0 = state["x"][:3]
+    n = system.mass.shape[0]
+    free, start, end = jnp.split(system.step_matrix, [2 * n, 3 * n + 2], axis=1)
+    q0 = state["x"][:n]
     linear = free @ state["x"] + start @ jnp.concatenate([ground0, state["extra"]]) + end[:, :2] @ ground1
-    phi = end[:3, 2:]
-    settle = jnp.linalg.inv(jnp.eye(3, dtype=phi.dtype) + phi @ system.stiffness)
-    target, compliance = settle @ linear[:3], -settle @ phi  # q1 = D - G_q P
+    phi = end[:n, 2:]
+    settle = jnp.linalg.inv(jnp.eye(n, dtype=phi.dtype) + phi @ system.reference_stiffness)
+    target, compliance = settle @ linear[:n], -settle @ phi  # q1 = D - G_q P
     b = system.bearing_map
-    loads, rests = supported_loads(_overturning(system), -jnp.sum(state["force"], axis=0), t1)
+    loads, rests = supported_loads(_overturning(system), _groups_overturning_force(system, state), t1)
     factor = group_factor(system, loads)  # N_g / W_g, 0 while lifted
     normal = factor * system.bearing_load
     flex = jnp.einsum("gin,nm,hjm->gihj", b, compliance, b)
@@ -333,7 +358,7 @@ def slab_series_step(system, state, ground0, ground1, t1):
     force = jnp.mean(forces, axis=1)
     total = jnp.einsum("gin,gi->n", b, force)
     q1 = target - compliance @ total
-    extra = total - system.stiffness @ q1
+    extra = total - system.reference_stiffness @ q1
     x1 = linear + end[:, 2:] @ extra
     new = {"x": x1, "slider": state["slider"] + d, "z": z1, "force": force,
            "previous": jnp.stack([jnp.concatenate([d, force[:, None]], axis=1), state["previous"][0]]),
@@ -440,11 +465,12 @@ def series_sample(system, time, state, ground) -> StructureResponse:
     """One sample (no time axis) of the slab's `StructureResponse` at `time` [s] from the step
     state `state` (`series_initial_state`) and the ground (2,) [m/s^2] then; the driver adds
     whether the step balanced and the groups' uplift time."""
-    q = state["x"][:3]
+    n = system.mass.shape[0]
+    q = state["x"][:n]
     rise = None if system.heat_rates is None else jax.vmap(surface_temperature_rises, in_axes=(0, 0, None))(
         system.bearing, state["heat"], system.heat_weights)
     return StructureResponse(
-        time=time, displacement=q, velocity=state["x"][3:], total_acceleration=-(q @ system.stiffness.T + state["extra"]) / system.mass,
+        time=time, displacement=q, velocity=state["x"][n:], total_acceleration=_groups_total_acceleration(system, state),
         ground=ground, bearing_force=state["force"], slider=state["slider"],
         bearing_displacement=jnp.einsum("gdn,n->gd", system.bearing_map, q), normal_load=state["normal_load"],
         surface_temperature_rise=rise, tipped=state["tipped"])
@@ -458,7 +484,7 @@ def series_groups_run(system, n_steps: int) -> EngineRun:
 
     def step(state, inputs):
         ground0, ground1, time1 = inputs
-        new, converged = slab_series_step(system, state, ground0, ground1, time1)
+        new, converged = groups_series_step(system, state, ground0, ground1, time1)
         return new, series_sample(system, time1, new, ground1), converged
 
     start = series_initial_state(system)
