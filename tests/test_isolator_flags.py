@@ -67,19 +67,14 @@ def test_each_isolator_is_one_value(isolator):
     (["--structure", "slab"], "--plan: --structure slab needs a plan file"),
     (["--plan", "plan.json"], "--plan: stands a slab (--structure slab) or the Table 2 building (--structure "
                               "building) on bearing groups; not the rigid mass."),
-    (["--structure", "building", "--plan", "plan.json"],
-     "--plan: the building on a plan stands on flat sliders or single pendulums (one surface a group), not on "
-     "--isolator"),
+    (["--structure", "building", "--plan", "plan.json"], "--isolation-period: the building needs its springs"),
 ])
 @pytest.mark.parametrize("isolator", ISOLATORS)
 def test_what_cannot_run_is_refused_by_name(isolator, flags, message):
-    """Only flat sliders need springs under the building, on a plan too; a plan goes with the slab,
-    whatever the isolator, or with the building on one surface a group."""
+    """Only flat sliders need springs under the building, on a plan too; a plan goes with the slab
+    or the building, whatever the isolator."""
     args = _args("run", "--isolator", isolator, *FLAGS[isolator], *flags)
-    if "--plan" in flags and "building" in flags and isolator == "flat":
-        message = "--isolation-period: the building needs its springs"
-    if (message.startswith("--isolation-period") and isolator != "flat") or (
-            "--plan" in flags and "building" in flags and isolator == "single-fp"):
+    if message.startswith("--isolation-period") and isolator != "flat":
         check_combination(args, read_isolator(args))  # a pendulum restores the building itself, on a plan too
         return
     with pytest.raises(ValueError, match=re.escape(message)):
