@@ -3,8 +3,7 @@ single pendulums (rigid mass, building, slab) as a `BidirectionalStructure`, and
 pendulums as a `StructureOnSliders` on them (one or two components) or a slab on them (a
 `BidirectionalStructure` whose `bearing` is a `SeriesPendulum`); one table keyed by that type
 says how to simulate the system and cut it at the first step that did not balance
-(`_run_stop`), its uplift (`_normal_load`), where its base is and how to put
-another ground motion under it (a suite's pairs). The peaks and histories are one set of
+(`_run_stop`), its uplift (`_normal_load`) and how to put another ground motion under it (a suite's pairs). The peaks and histories are one set of
 reducers over the response, whatever the system (`_run_peaks`)."""
 
 import typing
@@ -39,7 +38,6 @@ class _Engine(typing.NamedTuple):
     simulate: typing.Callable  # (system, duration [s], plan) -> Run
     uplift: typing.Callable  # (system, response, duration [s]) -> (JSON entries, N / W history or None)
     ground: typing.Callable  # system -> its (ground x, ground y) Signals, for `eqx.tree_at`
-    base: typing.Callable  # system -> the base's coordinates in x and y
     extras: typing.Callable = lambda plan, system, response, histories: ({}, [])  # more JSON entries, lines
 
 
@@ -99,12 +97,10 @@ def _engines() -> dict:
 
     ground = lambda s: (s.ground_x, s.ground_y)  # noqa: E731
     return {
-        BidirectionalStructure: _Engine(_bidirectional, _response_uplift, ground,
-                                        lambda s: (0, s.mass.shape[0] // 2)),
+        BidirectionalStructure: _Engine(_bidirectional, _response_uplift, ground),
         StructureOnSliders: _Engine(_series, lambda s, r, d: _series_uplift(s, d),
-                                    lambda s: (s.ground_acceleration, s.ground_y), lambda s: (0, 1)),
-        SeriesPendulum: _Engine(_slab_series, lambda s, r, d: _series_uplift(s, d), ground,
-                              lambda s: (0, 1), _slab_series_extras),
+                                    lambda s: (s.ground_acceleration, s.ground_y)),
+        SeriesPendulum: _Engine(_slab_series, lambda s, r, d: _series_uplift(s, d), ground, _slab_series_extras),
     }
 
 
@@ -137,11 +133,6 @@ def reduce_run(structure: str, system, run: Run, plan, units):
         entries, lines = {**entries, **normal}, lines + normal_lines
     more, more_lines = engine.extras(plan, system, run.response, histories)
     return peak, histories, {**entries, **more}, lines + more_lines
-
-
-def base_index(system) -> tuple:
-    """The coordinates of the base of `system` in x and y (`studies.suite_peaks`)."""
-    return _engine(system).base(system)
 
 
 def with_ground(system, ground_x, ground_y, ground_z=None):

@@ -128,7 +128,7 @@ def _on_plan(args, isolator, flags: StructureFlags, ground_x, ground_y):
 
 def suite_build(args, isolator, ax0, ay0, dt, friction_factors=None, vertical=None):
     """(build(ground_x, ground_y[, ground_z]) -> the structure of one pair, its degrees of
-    freedom, the base's coordinates in x and y, the slab's plan or None) of `run --suite`: the
+    freedom, the slab's plan or None) of `run --suite`: the
     structure of the flags (`build_structure`, under both components) built once on the first
     pair (`ax0`, `ay0` [m/s^2], step `dt` [s]), its ground motion replaced by each pair's; with
     `friction_factors` ({"f_max", "delta_f", "rate_a": factor}) a `--bearing` file's Eq. 1
@@ -138,7 +138,7 @@ def suite_build(args, isolator, ax0, ay0, dt, friction_factors=None, vertical=No
     any run (`check_vertical_pressures`)."""
     from ..excitation import uniform_signal
     from ._normal_load import check_vertical_pressures, with_vertical
-    from ._run_response import base_index, with_ground
+    from ._run_response import with_ground
 
     flags = read_structure(args, isolator)
     template = build_structure(args, isolator, flags, uniform_signal(ax0, dt), uniform_signal(ay0, dt))
@@ -156,4 +156,4 @@ def suite_build(args, isolator, ax0, ay0, dt, friction_factors=None, vertical=No
     def build(ground_x, ground_y, ground_z=None):
         return with_ground(template, ground_x, ground_y, ground_z)
 
-    return build, template.mass.shape[-1], base_index(template), flags.plan
+    return build, template.mass.shape[-1], flags.plan

@@ -238,7 +238,7 @@ def run_suite(args, isolator) -> int:
 
         return run_suite_bounding(args, bounding, isolator, [r[0] for r in records], ax, ay, dt, notes, scaling,
                                   vertical)
-    build, dofs, base_index, plan = suite_build(args, isolator, ax[0], ay[0], dt, vertical=vertical)
+    build, dofs, plan = suite_build(args, isolator, ax[0], ay[0], dt, vertical=vertical)
     overturning = plan is not None and plan["height_of_centre_of_mass"] > 0  # each group's normal load
     group_names = [g["name"] for g in plan["groups"]] if overturning else None
     names = [r[0] for r in records]
@@ -253,7 +253,7 @@ def run_suite(args, isolator) -> int:
 
         # default: all pairs in one call on a CPU; on a GPU as many as fit in half its memory
         batch = args.chunk_size or device_chunk_size((2 if az is None else 3) * n, dofs, cpu=len(names))
-        result = suite_peaks(build, names, ax, ay, dt, (n - 1) * dt, base_index, batch_size=batch,
+        result = suite_peaks(build, names, ax, ay, dt, (n - 1) * dt, batch_size=batch,
                              storey_height=load_table2().storey_height if storeys else None,
                              group_names=group_names, az=az)
         save_suite(result, table_path=stem.with_suffix(".csv"), netcdf_path=netcdf, attrs=attrs)
@@ -261,7 +261,7 @@ def run_suite(args, isolator) -> int:
         from ._main import compile_cache_dir
 
         result = suite_peaks_distributed(
-            build, names, ax, ay, dt, (n - 1) * dt, base_index, out=args.out, scheduler=args.scheduler,
+            build, names, ax, ay, dt, (n - 1) * dt, out=args.out, scheduler=args.scheduler,
             chunk_size=8 if args.chunk_size is None else args.chunk_size, attrs=attrs,
             compilation_cache=None if getattr(args, "no_compile_cache", False) else str(compile_cache_dir()),
             group_names=group_names, az=az)

@@ -61,19 +61,19 @@ def _case_results(args, bounds, isolator, names, ax, ay, dt, stem, vertical=None
 
     height = load_table2().storey_height if args.structure == "building" else None
     table = _case_factors(bounds)
-    builds, plan, base_index = {}, None, None
+    builds, plan = {}, None
     for case in BOUNDING_CASES:  # the structure of each case, built once
         if args.bearing is None:  # Table 1's or an isolator file's friction times the factor
             case_args = argparse.Namespace(**{**vars(args), "friction_factor": table[case]["f_max"]})
-            builds[case], _, base_index, plan = suite_build(case_args, isolator, ax[0], ay[0], dt, vertical=vertical)
+            builds[case], _, plan = suite_build(case_args, isolator, ax[0], ay[0], dt, vertical=vertical)
         else:  # the bearing file's constants, wherever the structure carries them
-            builds[case], _, base_index, plan = suite_build(args, isolator, ax[0], ay[0], dt, table[case], vertical)
+            builds[case], _, plan = suite_build(args, isolator, ax[0], ay[0], dt, table[case], vertical)
     az = None if vertical is None else vertical[0]
     groups = None if plan is None else [g["name"] for g in plan["groups"]]
     duration = (ax.shape[1] - 1) * dt
     attrs = {"structure": args.structure, "suite": str(args.suite), **provenance_attributes()}
     if args.scheduler is None:
-        results = {case: suite_peaks(build, names, ax, ay, dt, duration, base_index, batch_size=args.chunk_size,
+        results = {case: suite_peaks(build, names, ax, ay, dt, duration, batch_size=args.chunk_size,
                                      storey_height=height, group_names=groups, az=az)
                    for case, build in builds.items()}
         files = {case: [f"{stem}-{case}.csv", f"{stem}-{case}.nc"] for case in BOUNDING_CASES}
@@ -86,7 +86,7 @@ def _case_results(args, bounds, isolator, names, ax, ay, dt, stem, vertical=None
     from ._main import compile_cache_dir
 
     results = suite_cases_distributed(
-        builds, names, ax, ay, dt, duration, base_index, out=args.out, scheduler=args.scheduler,
+        builds, names, ax, ay, dt, duration, out=args.out, scheduler=args.scheduler,
         chunk_size=8 if args.chunk_size is None else args.chunk_size, attrs=_file_attrs(attrs, bounds),
         compilation_cache=None if getattr(args, "no_compile_cache", False) else str(compile_cache_dir()),
         storey_height=height, group_names=groups, az=az)

@@ -49,7 +49,6 @@ def suite_cases_distributed(
     ay,
     time_step: float,
     duration: float,
-    base_index=(0, 1),
     *,
     out,
     scheduler: str = "local:2",
@@ -83,8 +82,7 @@ def suite_cases_distributed(
     count = len(names)
     dtype = run_dtype()
     spec = {"builds": tuple(builds.values()), "n_pairs": count, "time_step": float(time_step),
-            "duration": float(duration), "base_index": tuple(int(i) for i in base_index),
-            "storey_height": None if storey_height is None else float(storey_height), "chunk": chunk,
+            "duration": float(duration), "storey_height": None if storey_height is None else float(storey_height), "chunk": chunk,
             "dtype": dtype, "token": uuid.uuid4().hex}
     shapes = jax.eval_shape(_case_function(spec, 0),
                             *(jax.ShapeDtypeStruct((chunk, g.shape[1]), dtype) for g in grounds))[0]
@@ -108,8 +106,7 @@ def suite_cases_distributed(
 
 
 def _case_function(spec: dict, case: int):
-    return _suite_function(spec["builds"][case], spec["time_step"], spec["duration"], spec["base_index"],
-                           spec["storey_height"])
+    return _suite_function(spec["builds"][case], spec["time_step"], spec["duration"], spec["storey_height"])
 
 
 def _case_task(spec: dict, start: int, stop: int, payload):

@@ -92,14 +92,13 @@ class SuiteResult:
     groups: dict | None = None
 
 
-def _suite_function(build, time_step: float, duration: float, base_index, storey_height=None):
+def _suite_function(build, time_step: float, duration: float, storey_height=None):
     """The jitted function (ax (B, n), ay (B, n)[, az (B, n)]) -> (peaks {name: (B, ...)},
     converged (B,)): the reducers (`response_peaks`) over each pair's `StructureResponse`,
     whatever the structure and isolator; with `storey_height` [m] (the building) also the
     largest resultant drift ratio over the storeys, |(q_j - q_(j-1))_x, (q_j - q_(j-1))_y| / h,
     and the peaks per storey, level and direction; with vertical components, each pair's uplift
-    (`vertical_values`). `base_index` is kept for the callers: the base's coordinates come from
-    the structure (`response_layout`)."""
+    (`vertical_values`). The base's coordinates come from the structure (`response_layout`)."""
 
     def one(*grounds):
         system = build(*(uniform_signal(g, time_step) for g in grounds))
@@ -145,7 +144,7 @@ def _summary(peaks: dict, ok: np.ndarray) -> dict:
     }
 
 
-def suite_peaks(build, names, ax, ay, time_step: float, duration: float, base_index=(0, 1),
+def suite_peaks(build, names, ax, ay, time_step: float, duration: float,
                 batch_size: int | None = None, storey_height: float | None = None,
                 group_names=None, az=None) -> SuiteResult:
     """Run P record pairs through the structure `build(ground_x, ground_y)` in one vmapped call
@@ -157,8 +156,7 @@ def suite_peaks(build, names, ax, ay, time_step: float, duration: float, base_in
     `names` (P,); `ax`, `ay` (P, n) ground accelerations [m/s^2] (already scaled, common step);
     `az` (P, n) [m/s^2, up +] the pairs' vertical components on the same grid, or `None`
     (the peaks then hold each pair's uplift too, `SUITE_VERTICAL_UNITS`);
-    `time_step` [s] of the records; `duration` [s]; `base_index`: the coordinates of the base in
-    x and y (rigid mass (0, 1), building (0, 7), slab (0, 1)); `storey_height` [m]: the
+    `time_step` [s] of the records; `duration` [s]; `storey_height` [m]: the
     building's storey height, to keep `storey_drift_max_resultant` and `SuiteResult.storeys` too;
     `group_names` (G,): the bearing groups of a slab with overturning (default g0, g1, ...).
 
@@ -169,7 +167,7 @@ def suite_peaks(build, names, ax, ay, time_step: float, duration: float, base_in
     count = len(names)
     width = count if batch_size is None else min(check_count("batch_size", batch_size, 1), count)
     grounds = _grounds(count, ax, ay, az)
-    function = _suite_function(build, time_step, duration, base_index, storey_height)
+    function = _suite_function(build, time_step, duration, storey_height)
     parts = []
     for start in range(0, count, width):
         index = lanes(start, min(start + width, count), width)
@@ -230,8 +228,7 @@ def _chunk_peaks(function, chunk: int, count: int, payload) -> dict:
 
 def _suite_task(spec: dict, start: int, stop: int, payload):
     """Peaks of pairs start..stop-1 (a Dask task; runs on a worker)."""
-    function = worker_cached(spec, lambda s: _suite_function(s["build"], s["time_step"], s["duration"],
-                                                             s["base_index"]))
+    function = worker_cached(spec, lambda s: _suite_function(s["build"], s["time_step"], s["duration"]))
     return _chunk_peaks(function, spec["chunk"], stop - start, payload)
 
 
@@ -242,7 +239,6 @@ def suite_peaks_distributed(
     ay,
     time_step: float,
     duration: float,
-    base_index=(0, 1),
     *,
     out,
     scheduler: str = "local:2",
@@ -278,7 +274,7 @@ def suite_peaks_distributed(
     count = len(names)
     dtype = run_dtype()
     spec = {"build": build, "time_step": float(time_step), "duration": float(duration),
-            "base_index": tuple(int(i) for i in base_index), "chunk": chunk, "dtype": dtype,
+            "chunk": chunk, "dtype": dtype,
             "token": uuid.uuid4().hex}
     settings = {"n_pairs": count, "record_time_step_s": float(time_step), "duration_s": float(duration),
                 "scheduler": scheduler, "chunk_size": chunk, "precision": dtype}
