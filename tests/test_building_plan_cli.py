@@ -108,18 +108,21 @@ def test_what_the_building_or_a_plan_cannot_take_is_refused_by_name(tmp_path, ca
     assert not (tmp_path / "out.json").exists()
 
 
-def test_a_building_that_tips_on_a_narrow_plan_stops_saying_why(tmp_path, capsys):
+@pytest.mark.parametrize("isolator", [["--isolation-period", "2.5s"], ["--isolator", "triple-fp", "--isolator-file", TRIPLE]],
+                         ids=["flat", "triple-fp"])
+def test_a_building_that_tips_on_a_narrow_plan_stops_saying_why(tmp_path, capsys, isolator):
     """Groups 1.8 m apart under a centre of mass 12 m up: the moment of the levels' inertia
     forces outgrows what the weight holds back, the run stops (exit 1) at the first step it
-    cannot balance and says so in the building's terms (no plan height to lower)."""
+    cannot balance and says so in the building's terms (no plan height to lower), on flat
+    sliders and on triple pendulum groups alike."""
     plan = tmp_path / "narrow.json"
     groups = [{"name": n, "x": x, "y": y, "load": "168kip"}
               for n, x, y in (("SW", "0.1m", "0.1m"), ("SE", "1.9m", "0.1m"), ("NE", "1.9m", "1.9m"), ("NW", "0.1m", "1.9m"))]
     plan.write_text(json.dumps({"length_x": "2m", "length_y": "2m", "weight": "672kip", "groups": groups}))
     code, out = _run(capsys, "--structure", "building", "--plan", plan, "--record-x", _record(tmp_path),
-                     "--isolation-period", "2.5s", "--json", tmp_path / "out.json")
+                     *isolator, "--json", tmp_path / "out.json")
     assert code == 1
-    assert "the building tips (first near t = " in out.err and "spread the groups or give a weaker record" in out.err
-    assert "height_of_centre_of_mass" not in out.err
+    assert "the building tips " in out.err and "spread the groups or give a weaker record" in out.err
+    assert "height_of_centre_of_mass" not in out.err and "slab tips" not in out.err
     written = json.loads((tmp_path / "out.json").read_text())
-    assert written["complete"] is False and written["tipped_steps"] == 1
+    assert written["complete"] is False and written["tipped_steps"] >= 1

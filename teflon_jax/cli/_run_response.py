@@ -68,7 +68,7 @@ def _slab_series(system, duration, plan) -> Run:
     from ..systems import simulate_history
 
     response = jax.jit(simulate_history, static_argnums=1, static_argnames="throw")(system, duration, throw=False)
-    problem = unbalanced_message(response, plan["height_of_centre_of_mass"])
+    problem = unbalanced_message(response, plan["height_of_centre_of_mass"], building=system.mass.shape[-1] > 3)
     end, response = series_slab_stop(system, response)  # the steps before the first unbalanced one
     return Run(response, end, problem, float(end[0][end[1] - 1]) if problem else duration)
 

@@ -71,10 +71,7 @@ def bidirectional_stop(system, response):
     tips = tipped_at_failure(system, response)
     (tipped if tips else unconverged)[kept] = True
     if tips and system.mass.shape[-1] > 3:  # the building on a plan: its levels stand where Table 2 puts them
-        message = (f"the building tips (first near t = {time[kept]:.4g} s): the overturning moment of the "
-                   "inertia forces of its base and floors at their heights exceeds what its weight holds back "
-                   "about the leaning groups (they take no tension), which a rigid base slab without rocking "
-                   "cannot balance; spread the groups or give a weaker record")
+        message = f"the building tips (first near t = {time[kept]:.4g} s): {BUILDING_TIPS}"
     elif tips:
         message = (f"the slab tips (first near t = {time[kept]:.4g} s): the overturning moment of its "
                    "horizontal force "
@@ -135,15 +132,26 @@ def series_slab_stop(system, response):
     return (time, kept, tipped, ~converged & ~tipped), dataclasses.replace(short, group_uplift_time=uplift)
 
 
-def unbalanced_message(response, height) -> str:
+BUILDING_TIPS = ("the overturning moment of the inertia forces of its base and floors at their heights exceeds "
+                 "what its weight holds back about the leaning groups (they take no tension), which a rigid base "
+                 "slab without rocking cannot balance; spread the groups or give a weaker record")
+"""Why the building on a plan tips: its levels stand at Table 2's heights, so there is no plan
+height to lower."""
+
+
+def unbalanced_message(response, height, building: bool = False) -> str:
     """Why the run cannot be trusted ('' when every step balanced): the steps on which the slab
-    tipped (`StructureResponse.tipped`) and those whose sliders' balance did not converge, each
-    with its count and first time [s]."""
+    tipped (`StructureResponse.tipped`; `building`: the building on a plan, whose levels set the
+    moment) and those whose sliders' balance did not converge, each with its count and first
+    time [s]."""
     time, converged = np.asarray(response.time), np.asarray(response.converged)
     tipped = np.asarray(response.tipped)
     newton = ~converged & ~tipped
     parts = []
-    if tipped.any():
+    if tipped.any() and building:
+        parts.append(f"the building tips on {int(tipped.sum())} steps (first at t = {time[tipped][0]:.4g} s): "
+                     + BUILDING_TIPS)
+    elif tipped.any():
         parts.append(f"the slab tips on {int(tipped.sum())} steps (first at t = {time[tipped][0]:.4g} s): "
                      f"the overturning moment of its horizontal force at the centre of mass "
                      f"{height:g} m above the sliding surface exceeds what its weight holds back "
