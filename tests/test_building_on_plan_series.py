@@ -16,6 +16,7 @@ from test_slab_series import DOUBLE, PENDULUMS, TRIPLE
 from teflon_jax.excitation import uniform_signal
 from teflon_jax.systems import (
     building_on_plan,
+    peak_response,
     simulate_history,
     slab_on_bearings,
     triple_structure,
@@ -138,3 +139,21 @@ def test_series_groups_refuse_the_one_surface_inputs_by_name(change, message):
                    ground_x=uniform_signal(_pulse(0.1), DT), isolation_period=2.0)
     with pytest.raises(ValueError, match=message):
         building_on_plan(**{**options, **change})
+
+
+def test_the_peak_driver_reads_the_groups_vertical_record_as_the_history_does():
+    """Under a vertical record of 1.1 g the whole building lifts off its groups at times (and,
+    nearly weightless before and after, tips under the levels' inertia forces, which both
+    report): the peak driver's uplift time is the history's steps with N <= 0 times the step,
+    and each group's largest and least load are the history's."""
+    system, _, _ = _eccentric(DOUBLE, base_height=0.5)
+    system = with_vertical_motion(system, uniform_signal(1.1 * G * np.sin(2 * np.pi * 1.3 * TIME), DT))
+    peaks = peak_response(system, DURATION)
+    history = simulate(system, DURATION, throw=False)
+    factor = np.asarray(history.load_factor)
+    assert bool(peaks.converged) == bool(np.all(history.converged))
+    assert float(peaks.uplift_time) == pytest.approx(np.sum(factor[1:] <= 0) * STEP, abs=1e-12)
+    assert float(peaks.uplift_time) > 0.05
+    loads = np.asarray(history.normal_load)
+    np.testing.assert_allclose(peaks["group_normal_load"]["peak_N"], loads.max(axis=0), rtol=1e-12)
+    np.testing.assert_allclose(peaks["group_normal_load"]["min_N"], loads.min(axis=0), rtol=1e-12, atol=1e-9)

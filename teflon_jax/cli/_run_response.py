@@ -3,7 +3,7 @@ single pendulums (rigid mass, building, slab) as a `BidirectionalStructure`, and
 pendulums as a `StructureOnSliders` on them (one or two components) or a slab on them (a
 `BidirectionalStructure` whose `bearing` is a `SeriesPendulum`); one table keyed by that type
 says how to simulate the system and cut it at the first step that did not balance
-(`_run_stop`), its uplift (`_normal_load`) and how to put another ground motion under it (a suite's pairs). The peaks and histories are one set of
+(`_run_stop`) and its uplift (`_normal_load`) (a suite's pairs). The peaks and histories are one set of
 reducers over the response, whatever the system (`_run_peaks`)."""
 
 import typing
@@ -37,7 +37,6 @@ class _Engine(typing.NamedTuple):
 
     simulate: typing.Callable  # (system, duration [s], plan) -> Run
     uplift: typing.Callable  # (system, response, duration [s]) -> (JSON entries, N / W history or None)
-    ground: typing.Callable  # system -> its (ground x, ground y) Signals, for `eqx.tree_at`
     extras: typing.Callable = lambda plan, system, response, histories: ({}, [])  # more JSON entries, lines
 
 
@@ -95,12 +94,10 @@ def _engines() -> dict:
     from ..bearing import SeriesPendulum
     from ..systems import BidirectionalStructure, StructureOnSliders
 
-    ground = lambda s: (s.ground_x, s.ground_y)  # noqa: E731
     return {
-        BidirectionalStructure: _Engine(_bidirectional, _response_uplift, ground),
-        StructureOnSliders: _Engine(_series, lambda s, r, d: _series_uplift(s, d),
-                                    lambda s: (s.ground_acceleration, s.ground_y)),
-        SeriesPendulum: _Engine(_slab_series, lambda s, r, d: _series_uplift(s, d), ground, _slab_series_extras),
+        BidirectionalStructure: _Engine(_bidirectional, _response_uplift),
+        StructureOnSliders: _Engine(_series, lambda s, r, d: _series_uplift(s, d)),
+        SeriesPendulum: _Engine(_slab_series, lambda s, r, d: _series_uplift(s, d), _slab_series_extras),
     }
 
 
@@ -133,16 +130,3 @@ def reduce_run(structure: str, system, run: Run, plan, units):
         entries, lines = {**entries, **normal}, lines + normal_lines
     more, more_lines = engine.extras(plan, system, run.response, histories)
     return peak, histories, {**entries, **more}, lines + more_lines
-
-
-def with_ground(system, ground_x, ground_y, ground_z=None):
-    """`system` under the ground `Signal`s `ground_x`, `ground_y` [m/s^2] instead of its own,
-    and `ground_z` [m/s^2, up +] instead of its vertical record (given where it has one)."""
-    import equinox as eqx
-
-    system = eqx.tree_at(_engine(system).ground, system, (ground_x, ground_y))
-    if ground_z is None:
-        return system
-    if system.vertical_acceleration is None:
-        raise ValueError("ground_z: the structure has no vertical record to replace (with_vertical first).")
-    return eqx.tree_at(lambda s: s.vertical_acceleration, system, ground_z)

@@ -137,8 +137,8 @@ def suite_build(args, isolator, ax0, ay0, dt, friction_factors=None, vertical=No
     vertical component too, as `run --record-z` puts it (`with_vertical`), each checked before
     any run (`check_vertical_pressures`)."""
     from ..excitation import uniform_signal
+    from ..systems import under_ground
     from ._normal_load import check_vertical_pressures, with_vertical
-    from ._run_response import with_ground
 
     flags = read_structure(args, isolator)
     template = build_structure(args, isolator, flags, uniform_signal(ax0, dt), uniform_signal(ay0, dt))
@@ -154,6 +154,6 @@ def suite_build(args, isolator, ax0, ay0, dt, friction_factors=None, vertical=No
                                             for name, row in zip(names, az)], dt)
 
     def build(ground_x, ground_y, ground_z=None):
-        return with_ground(template, ground_x, ground_y, ground_z)
+        return under_ground(template, ground_x, ground_y, ground_z)
 
     return build, template.mass.shape[-1], flags.plan

@@ -21,6 +21,7 @@ from ._bounding import scaled_friction as scaled_friction
 from ._bounding import series_bounding_design as series_bounding_design
 from ._bounding import surface_frictions as surface_frictions
 from ._bounding import with_friction_factors as with_friction_factors
+from ._built_structure import BuiltStructure as BuiltStructure
 from ._chunks import CPU_CHUNK as CPU_CHUNK
 from ._chunks import LARGEST_CHUNK as LARGEST_CHUNK
 from ._chunks import default_chunk_size as default_chunk_size

@@ -108,6 +108,7 @@ from ..units import STANDARD_GRAVITY
 from ._response import EngineRun, StructureResponse
 from ._structure import StructureOnSliders
 from ._structure_build import rigid_mass, six_storey_building
+from ._vertical import load_factor_at
 
 
 def initial_isolator(system):
@@ -462,9 +463,10 @@ def _balance_solve(dt, x, p, r, dp):
 
 
 def series_sample(system, time, state, ground) -> StructureResponse:
-    """One sample (no time axis) of the slab's `StructureResponse` at `time` [s] from the step
-    state `state` (`series_initial_state`) and the ground (2,) [m/s^2] then; the driver adds
-    whether the step balanced and the groups' uplift time."""
+    """One sample (no time axis) of the groups' structure's `StructureResponse` at `time` [s]
+    from the step state `state` (`series_initial_state`) and the ground (2,) [m/s^2] then, with
+    a vertical record its load factor s = max(1 + a_v / g, 0) (`load_factor_at`); the driver
+    adds whether the step balanced and the groups' uplift time."""
     n = system.mass.shape[0]
     q = state["x"][:n]
     rise = None if system.heat_rates is None else jax.vmap(surface_temperature_rises, in_axes=(0, 0, None))(
@@ -473,7 +475,8 @@ def series_sample(system, time, state, ground) -> StructureResponse:
         time=time, displacement=q, velocity=state["x"][n:], total_acceleration=_groups_total_acceleration(system, state),
         ground=ground, bearing_force=state["force"], slider=state["slider"],
         bearing_displacement=jnp.einsum("gdn,n->gd", system.bearing_map, q), normal_load=state["normal_load"],
-        surface_temperature_rise=rise, tipped=state["tipped"])
+        surface_temperature_rise=rise, tipped=state["tipped"],
+        load_factor=load_factor_at(system.vertical_acceleration, time))
 
 
 def series_groups_run(system, n_steps: int) -> EngineRun:

@@ -13,6 +13,9 @@ that it is the sliding state again at touchdown) and no heat enters the steel, n
 wearing bearing count travel. Every isolator takes N at the end of each step, the time at
 which its force is reported and uplift counted.
 
+Records put under a structure built once: `under_ground` replaces any structure's horizontal
+records and its vertical one (a suite's pairs, a Monte Carlo's motions).
+
 One record, one function: `with_vertical_motion` puts it on any stepped structure (the rigid
 mass, the building, the slab; one or two components; flat sliders, single, double and triple
 pendulums), `with_vertical_component` on the isolated structure of the studies
@@ -349,3 +352,26 @@ def loaded_solve(system, p):
         {**p, "flexibility": blocks, "d_linear": (d_linear[:n], d_linear[n:])})
     d = d_linear - flexibility @ jnp.concatenate([fx, fy])
     return (fx + a * d[:n], fy + a * d[n:]), z, converged
+
+
+def under_ground(system, ground_x: Signal, ground_y: Signal | None = None, ground_z: Signal | None = None):
+    """`system` (any structure `teflon_jax.systems` builds) under other records: the ground
+    `Signal`s `ground_x` and, where it steps under two components, `ground_y` [m/s^2] in place
+    of its own, and `ground_z` [m/s^2, up +] in place of its vertical record (where
+    `with_vertical_motion` gave it one). `ValueError` naming the argument that does not fit."""
+    if hasattr(system, "ground_x"):  # a `BidirectionalStructure`: x and y
+        if ground_y is None:
+            raise ValueError("ground_y: the structure steps under two horizontal components; give its y record.")
+        system = eqx.tree_at(lambda s: (s.ground_x, s.ground_y), system, (ground_x, ground_y))
+    else:  # a `StructureOnSliders`: x, and y on series pendulums under two components
+        if (ground_y is None) != (system.ground_y is None):
+            raise ValueError("ground_y: give it exactly where the structure steps under two components "
+                             f"(it steps under {1 if system.ground_y is None else 2}).")
+        system = eqx.tree_at(lambda s: s.ground_acceleration, system, ground_x)
+        if ground_y is not None:
+            system = eqx.tree_at(lambda s: s.ground_y, system, ground_y)
+    if ground_z is None:
+        return system
+    if system.vertical_acceleration is None:
+        raise ValueError("ground_z: the structure has no vertical record to replace (with_vertical_motion first).")
+    return eqx.tree_at(lambda s: s.vertical_acceleration, system, ground_z)

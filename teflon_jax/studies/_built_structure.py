@@ -1,0 +1,36 @@
+"""A structure built once and run under each motion of a study: any structure of
+`teflon_jax.systems` (the slab or the building on a plan of bearing groups, a structure on
+series pendulums, ...) as the `structure` callable of `monte_carlo`."""
+
+import equinox as eqx
+
+from ..systems import under_ground
+
+
+class BuiltStructure(eqx.Module):
+    """`system` under each motion of a study (`monte_carlo`, `monte_carlo_distributed`): called
+    with a motion's ground `Signal`s [m/s^2] (one, `(ground_x, ground_y)` for a structure that
+    steps under two components, and `(horizontal, ground_z)` with a vertical record), it returns
+    `system` under them (`systems.under_ground`); the structure itself is not rebuilt, so it
+    takes no design variables. A structure with a vertical record (`with_vertical_motion`,
+    any record: each motion's replaces it) takes motions with a vertical component."""
+
+    system: eqx.Module
+
+    @property
+    def vertical(self) -> bool:
+        """Whether the structure takes a vertical component (it has a vertical record)."""
+        return self.system.vertical_acceleration is not None
+
+    @property
+    def pendulum(self):
+        """The structure's series pendulums, or `None` (how a study compiles its runs)."""
+        return self.system.pendulum
+
+    def __call__(self, ground, design=None):
+        if design is not None:
+            raise ValueError("design: a BuiltStructure is built once and takes no design variables; build "
+                             "one per design, or use isolated_structure(...) for design studies.")
+        horizontal, vertical = ground if self.vertical else (ground, None)
+        components = horizontal if isinstance(horizontal, tuple) else (horizontal,)
+        return under_ground(self.system, *components, ground_z=vertical)
