@@ -17,7 +17,12 @@ from teflon_jax.excitation import (
     VerticalGroundMotion,
     uniform_signal,
 )
-from teflon_jax.studies import BuiltStructure, monte_carlo, monte_carlo_motion
+from teflon_jax.studies import (
+    BuiltStructure,
+    monte_carlo,
+    monte_carlo_distributed,
+    monte_carlo_motion,
+)
 from teflon_jax.systems import (
     peak_response,
     slab_on_bearings,
@@ -99,3 +104,16 @@ def test_what_a_built_structure_cannot_take_is_refused_by_name():
         under_ground(slab, ZERO, ZERO, ground_z=ZERO)
     with pytest.raises(ValueError, match="motions with a vertical component"):
         monte_carlo(BuiltStructure(slab), VerticalGroundMotion(TWO), 2)
+
+
+@pytest.mark.slow
+def test_a_slab_on_a_plan_runs_on_a_cluster_as_in_this_process(dask_cluster, tmp_path):
+    """The built slab pickles to the workers: a run on the cluster, chunk for chunk, gives the
+    in-process run's peaks bit for bit."""
+    slab = _slab()
+    here = monte_carlo(BuiltStructure(slab), TWO, 3, key=jax.random.key(3), chunk_size=2)
+    there = monte_carlo_distributed(BuiltStructure(slab), TWO, 3, seed=3, out=tmp_path / "mc.nc",
+                                    scheduler=dask_cluster.scheduler_address, chunk_size=2)
+    assert there.converged.all()
+    np.testing.assert_array_equal(there.base_disp, here.base_disp)
+    np.testing.assert_array_equal(there.base_shear_ratio, here.base_shear_ratio)

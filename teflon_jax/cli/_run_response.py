@@ -2,9 +2,9 @@
 single pendulums (rigid mass, building, slab) as a `BidirectionalStructure`, and series
 pendulums as a `StructureOnSliders` on them (one or two components) or a slab on them (a
 `BidirectionalStructure` whose `bearing` is a `SeriesPendulum`); one table keyed by that type
-says how to simulate the system and cut it at the first step that did not balance
-(`_run_stop`) and its uplift (`_normal_load`) (a suite's pairs). The peaks and histories are one set of
-reducers over the response, whatever the system (`_run_peaks`)."""
+says how to simulate the system, cut it at the first step that did not balance (`_run_stop`)
+and read its uplift (`_normal_load`). The peaks and histories are one set of reducers over the
+response, whatever the system (`_run_peaks`)."""
 
 import typing
 
