@@ -64,10 +64,10 @@ def _series_run(response, time, converged, duration) -> Run:
 def _slab_series(system, duration, plan) -> Run:
     import jax
 
-    from ..systems import simulate_history
+    from ..systems import response_layout, simulate_history
 
     response = jax.jit(simulate_history, static_argnums=1, static_argnames="throw")(system, duration, throw=False)
-    problem = unbalanced_message(response, plan["height_of_centre_of_mass"], building=system.mass.shape[-1] > 3)
+    problem = unbalanced_message(response, plan["height_of_centre_of_mass"], building=response_layout(system).building)
     end, response = series_slab_stop(system, response)  # the steps before the first unbalanced one
     return Run(response, end, problem, float(end[0][end[1] - 1]) if problem else duration)
 

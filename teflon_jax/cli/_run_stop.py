@@ -60,6 +60,7 @@ def bidirectional_stop(system, response):
     solver keeps the failed step's end and stops (`tipped_at_failure`); its uplift times
     count the kept steps only."""
     from ..structures import tipped_at_failure
+    from ..systems import response_layout
 
     q = np.asarray(response.displacement)
     finite = np.all(np.isfinite(q), axis=-1)
@@ -70,7 +71,7 @@ def bidirectional_stop(system, response):
     unconverged = np.zeros(time.size, bool)
     tips = tipped_at_failure(system, response)
     (tipped if tips else unconverged)[kept] = True
-    if tips and system.mass.shape[-1] > 3:  # the building on a plan: its levels stand where Table 2 puts them
+    if tips and response_layout(system).building:  # the building on a plan: its levels stand at Table 2's heights
         message = f"the building tips (first near t = {time[kept]:.4g} s): {BUILDING_TIPS}"
     elif tips:
         message = (f"the slab tips (first near t = {time[kept]:.4g} s): the overturning moment of its "

@@ -149,34 +149,45 @@ def slab_on_bearings(
     inertia = mass * (length_x**2 + length_y**2) / 12 if rotational_inertia is None else rotational_inertia
     height = _height(height_of_centre_of_mass)
     plan_isolators = plan_isolator(isolator, groups, bearings=bearings, radii=radii, pendulums=pendulums)
-    if plan_isolators.pendulums is not None:  # series pendulums (S > 1 sliders): the series slab
+    series = plan_isolators.pendulums is not None  # series pendulums (S > 1 sliders): the series slab
+    if series:
         _refuse_for_series(plan_isolators.name, bearings=bearings, radii=radii, isolation_period=isolation_period,
                            spring_shares=spring_shares, isolation_damping=isolation_damping or None,
                            contact_pressures=contact_pressures,
                            friction_model=None if friction_model == "hysteretic" else friction_model)
-        loading = {} if height == 0 else dict(
-            overturning=jnp.asarray(overturning_map(positions, centre, height, vertical_stiffness, names)),
-            supports=support_plan(positions, centre, height, vertical_stiffness))
+    else:
+        refuse_springs(plan_isolators.radii, isolation_period, spring_shares)
+    loading = _overturning_loads(positions, centre, height, vertical_stiffness, names)
+    bearing_map = plan_bearing_map(positions - centre, 3, (0, 1, 2))
+    influence = np.array([[1.0, 0.0], [0.0, 1.0], [0.0, 0.0]])
+    if series:
         return _on_series_groups(
-            mass=np.array([mass, mass, inertia]), influence=np.array([[1.0, 0.0], [0.0, 1.0], [0.0, 0.0]]),
-            bearing_map=plan_bearing_map(positions - centre, 3, (0, 1, 2)), loads=loads,
+            mass=np.array([mass, mass, inertia]), influence=influence, bearing_map=bearing_map, loads=loads,
             pendulums=plan_isolators.pendulums, isolator=plan_isolators.name, ground_x=ground_x, ground_y=ground_y,
             time_step=time_step, **loading)
     bearings, radii = plan_isolators.bearings, plan_isolators.radii
-    refuse_springs(radii, isolation_period, spring_shares)
-    overturning = None if height == 0 else overturning_map(positions, centre, height, vertical_stiffness, names)
-    bearing_map = plan_bearing_map(positions - centre, 3, (0, 1, 2))
     stiffness, damping = _isolation_stiffness(bearing_map, loads, weight, isolation_period, spring_shares, radii,
                                               isolation_damping, springs_needed=False)
     system = bidirectional_structure(
-        mass=jnp.array([mass, mass, inertia]), stiffness=stiffness, damping=damping,
-        influence=np.array([[1.0, 0.0], [0.0, 1.0], [0.0, 0.0]]), bearing_map=bearing_map,
-        bearing=stack_bearings(bearings), bearing_load=loads, ground_x=ground_x, ground_y=ground_y,
-        time_step=time_step, contact_pressure=contact_pressures, friction_model=friction_model)
+        mass=jnp.array([mass, mass, inertia]), stiffness=stiffness, damping=damping, influence=influence,
+        bearing_map=bearing_map, bearing=stack_bearings(bearings), bearing_load=loads, ground_x=ground_x,
+        ground_y=ground_y, time_step=time_step, contact_pressure=contact_pressures, friction_model=friction_model)
     return dataclasses.replace(system, pendulum_stiffness=None if radii is None else jnp.asarray(loads / radii),
-                               overturning=None if overturning is None else jnp.asarray(overturning),
-                               supports=None if overturning is None else support_plan(
-                                   positions, centre, height, vertical_stiffness))
+                               **loading)
+
+
+def _overturning_loads(positions, centre, height, vertical_stiffness, names, heights=None,
+                       height_name="height_of_centre_of_mass") -> dict:
+    """The groups' `overturning` map and `supports` of a structure whose horizontal force acts at
+    `height` h [m] above the sliding surface (its coordinates' own `heights` h_i [m] for the
+    building: the supports' levels h_i / h); {} at h = 0 (constant loads). Errors name the
+    height as `height_name`."""
+    if height == 0:
+        return {}
+    return {"overturning": jnp.asarray(overturning_map(positions, centre, height, vertical_stiffness, names,
+                                                       height_name=height_name)),
+            "supports": support_plan(positions, centre, height, vertical_stiffness,
+                                     levels=None if heights is None else heights / height)}
 
 
 def _height(height_of_centre_of_mass) -> float:
@@ -279,11 +290,8 @@ def building_on_plan(
     ground_y = _zero_signal(ground_x) if ground_y is None else ground_y
     # the levels' moment sum_i h_i F_i as h_c H_h at the mass centre's height h_c (`overturning_force`)
     centre_height = _centre_height(level_mass, heights) if np.any(heights > 0) else 0.0
-    loading = {} if centre_height == 0 else dict(
-        overturning=jnp.asarray(overturning_map(positions, centre, centre_height, vertical_stiffness, names,
-                                                height_name=HEIGHT_NAMES)),
-        supports=support_plan(positions, centre, centre_height, vertical_stiffness,
-                              levels=np.concatenate([heights, heights, [0.0]]) / centre_height))
+    loading = _overturning_loads(positions, centre, centre_height, vertical_stiffness, names,
+                                 heights=np.concatenate([heights, heights, [0.0]]), height_name=HEIGHT_NAMES)
     if plan_isolators.pendulums is not None:
         _refuse_for_series(plan_isolators.name, bearings=bearings, radii=radii, isolation_period=isolation_period,
                            spring_shares=spring_shares, isolation_damping=isolation_damping,
