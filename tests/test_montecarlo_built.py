@@ -49,26 +49,38 @@ def _slab():
         height_of_centre_of_mass=3.0)
 
 
-def _each_motion(system, model, key, count):
-    """(base displacement, base shear ratio) (count,) of each motion's own run."""
+def _each_motion(system, model, key, count, groups=None):
+    """(base displacement, base shear ratio) (count,) of each motion's own run; with a list
+    `groups`, each run's group loads ((G,) largest, least, uplift time) appended to it."""
     peaks = []
     for index in range(count):
         rows = [uniform_signal(row, DT) for row in np.asarray(monte_carlo_motion(model, key, index))]
         vertical = rows.pop() if isinstance(model, VerticalGroundMotion) else None
         run = peak_response(under_ground(system, *rows, ground_z=vertical), DURATION)
         assert bool(run.converged)
+        if groups is not None:
+            groups.append([np.asarray(run["group_normal_load"][k]) for k in ("peak_N", "min_N", "uplift_time_s")])
         peaks.append((float(run.base_disp), float(run.base_shear_ratio)))
     return np.array(peaks).T
 
 
 def test_a_slab_on_a_plan_runs_each_motion_as_its_own_run():
     """Three two-component motions through the slab on its groups, in chunks of two: each
-    motion's resultant peaks are those of its own run (to 1e-9), whatever the chunking."""
-    key, slab = jax.random.key(3), _slab()
+    motion's resultant peaks and each group's largest and least normal load and uplift time are
+    those of its own run (to 1e-9), whatever the chunking; the groups' loads swing about their
+    static shares (the slab's overturning)."""
+    key, slab, groups = jax.random.key(3), _slab(), []
     result = monte_carlo(BuiltStructure(slab), TWO, 3, key=key, chunk_size=2)
     again = monte_carlo(BuiltStructure(slab), TWO, 3, key=key, chunk_size=3)
-    disp, shear = _each_motion(slab, TWO, key, 3)
+    disp, shear = _each_motion(slab, TWO, key, 3, groups)
     assert result.converged.all() and disp.min() > 0.02
+    peak, least, lifted = (np.array(g) for g in zip(*groups))
+    np.testing.assert_allclose(result.group_peak_load, peak, rtol=1e-9)
+    np.testing.assert_allclose(result.group_min_load, least, rtol=1e-9)
+    np.testing.assert_allclose(result.group_uplift_time, lifted, atol=1e-12)
+    static = np.array([1.5e5, 2.5e5, 3.75e5, 2.25e5])
+    assert (peak > 1.01 * static).all() and (least < 0.99 * static).all()
+    assert result.group_names == ["group 1", "group 2", "group 3", "group 4"]
     np.testing.assert_allclose(result.base_disp, disp, rtol=1e-9)
     np.testing.assert_allclose(result.base_shear_ratio, shear, rtol=1e-9)
     np.testing.assert_allclose(again.base_disp, result.base_disp, rtol=1e-12)
@@ -117,3 +129,5 @@ def test_a_slab_on_a_plan_runs_on_a_cluster_as_in_this_process(dask_cluster, tmp
     assert there.converged.all()
     np.testing.assert_array_equal(there.base_disp, here.base_disp)
     np.testing.assert_array_equal(there.base_shear_ratio, here.base_shear_ratio)
+    for name in ("group_peak_load", "group_min_load", "group_uplift_time"):
+        np.testing.assert_array_equal(getattr(there, name), getattr(here, name))

@@ -173,6 +173,7 @@ def run_levels(args, structure, model, units, statistics, posterior=None) -> int
     from ..report import plot_fragility, plot_montecarlo
     from ..studies import save_levels
     from ..tables import load_table2
+    from ._montecarlo_summary import group_summary
     from ._normal_load import uplift_of, uplift_payload
 
     levels = np.asarray(args.pga_levels, float)
@@ -190,6 +191,8 @@ def run_levels(args, structure, model, units, statistics, posterior=None) -> int
     result, level_index = _run(args, structure, model, levels, height, lambda done, total: bar.update(done - bar.n),
                                posterior_arguments(posterior, args.motions))
     bar.close()
+    if getattr(structure, "group_names", ()):  # a plan's groups label the results' group axis
+        result.attrs["group_names"] = list(structure.group_names)
     converged = np.asarray(result.converged, bool)  # (L N,), or (K, L N) for K bearings
     files = []
     if args.scheduler is not None:  # streamed there by the cluster's chunks, levels included
@@ -217,6 +220,8 @@ def run_levels(args, structure, model, units, statistics, posterior=None) -> int
             entry["storeys"] = _storey_summary(result, rows, units)
         if result.uplift_time is not None:  # the level's vertical records: N = W (1 + a_v / g) <= 0
             entry["uplift"] = uplift_of(_first_bearing(result.uplift_time, result), rows)
+        if result.group_peak_load is not None:  # a plan's groups that share the weight unevenly
+            entry["groups"] = group_summary(part, units)[0]
         per_level.append(entry)
     fragility, curves = {}, {}
     for limit in limits:
@@ -228,6 +233,8 @@ def run_levels(args, structure, model, units, statistics, posterior=None) -> int
     payload["motions"]["pga_levels"] = {"unit": unit, "values": (levels / factor).tolist()}
     payload.update(uplift_payload(result, model))
     payload.update(posterior_levels_entry(result, posterior))
+    if result.group_peak_load is not None:
+        payload["units"]["group_load"] = units.force[0]
     if "vertical" in payload:
         payload["vertical"]["levels"] = ("the vertical component's expected peak is vertical_ratio times "
                                          "each level's; the uplifted motions of each level under levels[j].uplift")
@@ -262,7 +269,8 @@ def _run(args, structure, model, levels, height, progress, draws):
     return monte_carlo_levels_distributed(
         structure, model, levels, args.motions, out=args.out, seed=args.seed, scheduler=args.scheduler,
         chunk_size=args.chunk_size, progress=progress, storey_height=height,
-        compilation_cache=None if args.no_compile_cache else str(compile_cache_dir()))
+        compilation_cache=None if args.no_compile_cache else str(compile_cache_dir()),
+        attrs={"group_names": list(structure.group_names)} if getattr(structure, "group_names", ()) else None)
 
 
 _VERTICAL_STOREYS = ("storey drifts and level accelerations are horizontal: the superstructure is rigid "

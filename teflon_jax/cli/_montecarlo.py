@@ -28,6 +28,7 @@ from ._isolator_flags import add_isolator_flags, check_combination, read_isolato
 from ._main import compile_cache_dir
 from ._mixture_runs import runner_of
 from ._montecarlo_summary import (
+    group_summary,
     report,
     run_attributes,
     stamp,
@@ -66,9 +67,11 @@ def _tolerance(text: str) -> float:
     return value
 
 
-def _add_common(parser, *, levels: bool = False):
-    parser.add_argument("--structure", choices=("rigid", "building"), default="rigid",
-                        help="rigid mass, or the six-storey building of Table 2 (default rigid)")
+def _add_common(parser, *, levels: bool = False, structures=("rigid", "building")):
+    parser.add_argument("--structure", choices=structures, default="rigid",
+                        help="rigid mass, or the six-storey building of Table 2"
+                        + (", or a rigid slab on bearing groups (needs --plan)" if "slab" in structures else "")
+                        + " (default rigid)")
     parser.add_argument("--seed", type=int, default=0, help="PRNG seed of the stochastic motions")
     add_quantity(parser, "--duration", "time", "40s", "length of each motion", minimum=0.0)
     add_quantity(parser, "--record-step", "time", "0.01s", "sampling step of the motions", minimum=0.0)
@@ -104,7 +107,10 @@ def add_montecarlo_parser(subparsers) -> argparse.ArgumentParser:
     )
     parser.add_argument("--motions", type=_positive_int, required=True, help="number of motions N "
                         "(at each --pga level)")
-    _add_common(parser, levels=True)
+    _add_common(parser, levels=True, structures=("rigid", "building", "slab"))
+    parser.add_argument("--plan", default=None, help="plan of bearing groups (JSON, as for `run --plan`): "
+                        "the slab (--structure slab) or the Table 2 building's base slab (--structure "
+                        "building) on the groups, built once and run under every motion; needs --components 2")
     add_quantity(parser, "--pressure", "pressure", "1000psi", "bearing contact pressure (Table 1 "
                  "row of --ptfe)", minimum=0.0)
     add_quantity(parser, "--isolation-period", "time", None, "isolation period Tb of the "
@@ -207,7 +213,7 @@ def run_montecarlo(args) -> int:
     check_bounding_flags(args)  # --property-factors, --posterior-quantiles: before any work
     posterior = read_posterior_flags(args)  # the bearing file's draws, or None
     two = args.components == 2
-    structure = vertical_structure(args, _structure(args, isolator, two))  # the vertical: a load on it
+    structure = _structure(args, isolator, two)  # the vertical: a load on it
     if args.time_step is not None:
         warn_time_step("montecarlo", args.time_step, args.time_step_text, args.record_step,
                        f"{args.record_step_text} of --record-step")
@@ -236,6 +242,8 @@ def run_montecarlo(args) -> int:
 
     chunk_size = args.chunk_size
     attrs = {**run_attributes(args), **posterior_attributes(posterior)}
+    if args.plan is not None:  # the results' group axis, labelled by the plan's names
+        attrs["group_names"] = list(structure.group_names)
     if args.scheduler is None:
         result = runner_of(posterior, monte_carlo)(  # a bearing file's mixture: its compositions
             structure, model, args.motions, key=jax.random.key(args.seed),
@@ -258,13 +266,16 @@ def run_montecarlo(args) -> int:
     payload = summary_payload(args, result, structure, horizontal, units, stats, files)
     payload["records_per_s_after_first_chunk"] = steady_rate(marks)
     payload.update(uplift_payload(result, model))
+    groups, group_lines = group_summary(result, units)
+    if groups:
+        payload["groups"], payload["units"]["group_load"] = groups, units.force[0]
     posterior_entry, posterior_lines = posterior_report(result, posterior, units)
     payload.update(posterior_entry)
     _write_json(args.json, payload)
     if args.plot is not None:
         plot_montecarlo(result, args.plot, title=stamp(args, horizontal), length=units.length)
     return report(args, result, stats, units, [uplift_message(payload)] * bool(uplift_message(payload))
-                  + posterior_lines)
+                  + group_lines + posterior_lines)
 
 
 def _structure(args, isolator, two: bool):
@@ -279,6 +290,13 @@ def _structure(args, isolator, two: bool):
         isolated_structure,
     )
 
+    if args.plan is not None:
+        from ..systems import BIDIRECTIONAL_TIME_STEP
+        from ._run_structure import built_on_plan
+
+        return built_on_plan(args, isolator, time_step=args.time_step or BIDIRECTIONAL_TIME_STEP,
+                             period=args.isolation_period, damping=args.isolation_damping,
+                             record_step=args.record_step, vertical=args.vertical_ratio is not None)
     options = isolator.structure_options()
     solver = {} if args.newton_iterations is None else {"newton_iterations": args.newton_iterations}
     if isolator.pendulum is not None:  # its sliders' force imbalance over W, in one and two components
@@ -289,8 +307,8 @@ def _structure(args, isolator, two: bool):
         if args.newton_tolerance is not None or not two:  # two components: the planar solve's own by default
             solver["newton_tolerance"] = (MONTE_CARLO_NEWTON_TOLERANCE if args.newton_tolerance is None
                                           else args.newton_tolerance)
-    return (bidirectional_isolated_structure if two else isolated_structure)(
-        args.structure, time_step=args.time_step, **options, **solver)
+    return vertical_structure(args, (bidirectional_isolated_structure if two else isolated_structure)(
+        args.structure, time_step=args.time_step, **options, **solver))
 
 
 def _check_flags(args):
@@ -314,10 +332,26 @@ def _check_flags(args):
     _resolve_isolation(args, isolator)
     check_combination(args, isolator)
     check_vertical_flags(args)
+    if args.plan is not None:
+        _check_plan(args)
     for flag, value in (("--principal-angle", args.principal_angle), ("--minor-ratio", args.minor_ratio)):
         if value is not None and args.components != 2:
             raise ValueError(f"{flag}: describes the second ground component; add --components 2.")
     return isolator
+
+
+def _check_plan(args) -> None:
+    """`ValueError` naming the flag that a structure on a plan does not take: one ground
+    component (its groups carry the slab in the plane), and the bound cases and bearing draws,
+    which vary the bearings as design variables of a structure rebuilt per run."""
+    if args.components != 2:
+        raise ValueError("--plan: the groups carry the slab in the plane, under both ground components; "
+                         "add --components 2.")
+    for flag, value in (("--property-factors", args.property_factors), ("--bearing-draws", args.bearing_draws)):
+        if value is not None:
+            raise ValueError(f"{flag}: varies the bearings of a structure rebuilt for each run; a structure on "
+                             "--plan is built once. Run the plan once per bound case (a --bearing file each), "
+                             f"or leave {flag} out.")
 
 
 def _resolve_isolation(args, isolator) -> None:

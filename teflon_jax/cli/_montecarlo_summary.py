@@ -120,3 +120,33 @@ def report(args, result, stats, units, more_lines) -> int:
         file=sys.stderr,
     )
     return 1
+
+
+def group_summary(result, units) -> tuple[dict, list]:
+    """({name: ...}, printed lines) of a structure on a plan whose groups share the
+    weight unevenly, over the converged runs: each group's largest normal load (p50, p84, max),
+    least (min, p16, p50), both in `units`' force, and the runs in which it lifted (N_g <= 0);
+    ({}, []) without groups."""
+    import numpy as np
+
+    if result.group_peak_load is None:
+        return {}, []
+    ok = np.asarray(result.converged, bool)
+    unit, factor = units.force
+    peak, least = np.asarray(result.group_peak_load)[ok] / factor, np.asarray(result.group_min_load)[ok] / factor
+    lifted = np.asarray(result.group_uplift_time)[ok] > 0
+    def stats(values, qs, extreme, word):
+        if not values.size:
+            return {}
+        return {f"p{q}": float(np.percentile(values, q)) for q in qs} | {word: float(extreme(values))}
+
+    groups, lines = {}, [f"bearing groups' normal loads [{unit}] over the {int(ok.sum())} converged runs:"]
+    for j, name in enumerate(result.group_names):
+        groups[name] = {"peak_load": stats(peak[:, j], (50, 84), np.max, "max"),
+                        "min_load": stats(least[:, j], (16, 50), np.min, "min"),
+                        "n_uplifted": int(lifted[:, j].sum())}
+        entry = groups[name]
+        lines.append(f"  {name}: largest " + ", ".join(f"{k} {v:.4g}" for k, v in entry["peak_load"].items())
+                     + "; least " + ", ".join(f"{k} {v:.4g}" for k, v in entry["min_load"].items())
+                     + f"; lifted in {entry['n_uplifted']} runs")
+    return groups, lines

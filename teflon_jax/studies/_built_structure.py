@@ -16,11 +16,17 @@ class BuiltStructure(eqx.Module):
     any record: each motion's replaces it) takes motions with a vertical component."""
 
     system: eqx.Module
+    group_names: tuple = eqx.field(static=True, default=())
 
     @property
     def vertical(self) -> bool:
         """Whether the structure takes a vertical component (it has a vertical record)."""
         return self.system.vertical_acceleration is not None
+
+    @property
+    def time_step(self) -> float:
+        """The structure's solver step [s]."""
+        return self.system.time_step
 
     @property
     def pendulum(self):

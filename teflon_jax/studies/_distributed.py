@@ -37,7 +37,7 @@ from ..excitation import (
     TwoComponentGroundMotion,
     VerticalGroundMotion,
 )
-from ..systems import check_storey_height
+from ..systems import check_storey_height, response_layout
 from ._cluster import (
     add_attributes,
     check_count,
@@ -60,8 +60,15 @@ from ._montecarlo import (
     probe_structure,
     stochastic_grid,
 )
+from ._montecarlo_parts import GROUP_PEAKS
 from ._record_set import RecordSet
-from ._results import DESIGN_UNITS, STOREY_VARIABLES, VARIABLES, MonteCarloResult
+from ._results import (
+    DESIGN_UNITS,
+    GROUP_VARIABLES,
+    STOREY_VARIABLES,
+    VARIABLES,
+    MonteCarloResult,
+)
 
 PGA = ("m s-2", "peak |ground acceleration| of the motion")
 UPLIFT = ("s", "time with the isolators' normal load <= 0")
@@ -87,7 +94,10 @@ def _chunk_task(spec: dict, start: int, stop: int, payload):
         values = np.asarray(values)[indices - start]
     peaks, pga = _get(runner(indices, values, level))
     n = stop - start
-    out = {name: np.asarray(peaks[name])[:n] for name in _variables(spec["model"], spec["storey_height"])}
+    if spec["groups"] is not None:  # each group's peaks as their own variables
+        peaks = {**peaks, **{f"group_{k}": peaks["group_normal_load"][name] for k, name in GROUP_PEAKS.items()}}
+    names = _variables(spec["model"], spec["storey_height"], spec["groups"])
+    out = {name: np.asarray(peaks[name])[:n] for name in names}
     if spec["design"] is not None:  # (motion, design, ...) -> (design, motion, ...)
         out = {k: np.moveaxis(v, 0, 1) for k, v in out.items()}
     out["pga"] = np.asarray(pga)[:n]
@@ -95,21 +105,27 @@ def _chunk_task(spec: dict, start: int, stop: int, payload):
     return out
 
 
-def _variables(model, storey_height=None) -> dict:
-    """The peak variables of a run's file: `VARIABLES`, `uplift_time` with a vertical component
-    and the `STOREY_VARIABLES` with `storey_height`: name -> (units, long name)."""
+def _variables(model, storey_height=None, groups=None) -> dict:
+    """The peak variables of a run's file: `VARIABLES`, `uplift_time` with a vertical component,
+    the `STOREY_VARIABLES` with `storey_height` and the `GROUP_VARIABLES` of a structure whose
+    `groups` (their number, else None) share the weight unevenly: name -> (units, long name)."""
     variables = dict(VARIABLES)
     if isinstance(model, VerticalGroundMotion):
         variables["uplift_time"] = UPLIFT
     if storey_height is not None:
         variables.update({name: (units, long_name) for name, (_, units, long_name) in STOREY_VARIABLES.items()})
+    if groups is not None:
+        variables.update(GROUP_VARIABLES)
     return variables
 
 
-def _layout(n_motions: int, design: Mapping | None, inputs: dict, model=None, storeys=None, levels=None) -> dict:
+def _layout(n_motions: int, design: Mapping | None, inputs: dict, model=None, storeys=None, levels=None,
+            groups=None) -> dict:
     """`create_netcdf`'s arguments for a run's file (the layout of `MonteCarloResult.to_dataset`,
     and of `levels_dataset` with `levels`, each motion's level (L N,) [m/s^2]); `storeys`:
-    (storeys S, horizontal components) of a building whose storey peaks are kept, or `None`."""
+    (storeys S, horizontal components) of a building whose storey peaks are kept, or `None`;
+    `groups`: the number of bearing groups whose loads are kept (named by
+    `inputs["group_names"]` where given), or `None`."""
     dims, peak_dims = {"motion": n_motions}, ("motion",)
     coords = {"motion": ("motion", np.arange(n_motions), None, None)}
     if design is not None:
@@ -129,6 +145,12 @@ def _layout(n_motions: int, design: Mapping | None, inputs: dict, model=None, st
             coords["direction"] = ("direction", np.array(["x", "y"]), None, None)
         variables.update({name: (peak_dims + direction + (dim,), units, long_name, "f8")
                           for name, (dim, units, long_name) in STOREY_VARIABLES.items()})
+    if groups is not None:
+        dims["group"] = groups
+        names = inputs.get("group_names") or [f"group {i + 1}" for i in range(groups)]
+        coords["group"] = ("group", np.array([str(name) for name in names]), None, None)
+        variables.update({name: (peak_dims + ("group",), units, long_name, "f8")
+                          for name, (units, long_name) in GROUP_VARIABLES.items()})
     if levels is not None:
         coords["intensity_level"] = ("motion", np.asarray(levels, float), "m s-2", "expected peak ground "
                                      "acceleration of the motion's level (the model's nominal peak, not the record's)")
@@ -256,7 +278,9 @@ def _spec(structure, motions, n_motions, *, seed, chunk_size, duration, design, 
         check_design_of(structure, design_arrays)
     probe_source = _Source(model, None if model is None else jax.random.key(0), time_step, samples)
     probe_design = None if design_arrays is None else {k: v[0] for k, v in design_arrays.items()}
-    n_dof = int(probe_structure(structure, probe_source, probe_design).mass.shape[-1])
+    probe = probe_structure(structure, probe_source, probe_design)
+    n_dof = int(probe.mass.shape[-1])
+    groups = int(probe.bearing_load.shape[-1]) if response_layout(probe).overturning else None
     components = probe_source.components
     n_storeys = None  # refused here, before a cluster starts, for a rigid mass
     if storey_height is not None:
@@ -264,7 +288,7 @@ def _spec(structure, motions, n_motions, *, seed, chunk_size, duration, design, 
     spec = {"structure": structure, "model": model, "seed": int(seed), "time_step": time_step,
             "samples": samples, "duration": duration, "design": design_arrays, "chunk": chunk,
             "disp_width": disp_width, "shear_width": shear_width, "dtype": run_dtype(),
-            "storey_height": storey_height, "token": uuid.uuid4().hex}
+            "storey_height": storey_height, "groups": groups, "token": uuid.uuid4().hex}
     memory = chunk * bytes_per_motion((components + probe_source.vertical) * samples, n_dof, n_designs)
     return spec, {"n_total": n_total, "n_dof": n_dof, "components": components, "memory": memory,
                   "n_storeys": n_storeys}
@@ -293,8 +317,8 @@ def _run(structure, motions, n_motions, levels, *, out, seed=0, scheduler="local
               for j, level in enumerate(at) for start in range(0, n_per_level, chunk)]
     storeys = None if storey_height is None else (sizes["n_storeys"], sizes["components"])
     layout = _layout(n_total, spec["design"], inputs, model, storeys,
-                     None if levels is None else np.repeat(np.asarray(at), n_per_level))
-    names = list(_variables(model, spec["storey_height"]))
+                     None if levels is None else np.repeat(np.asarray(at), n_per_level), spec["groups"])
+    names = list(_variables(model, spec["storey_height"], spec["groups"]))
     compile_s = [0.0]
 
     def write(handle, start, stop, part):

@@ -55,4 +55,11 @@ def _peak_fields(peaks, with_designs: bool, with_storeys: bool, vertical: bool =
         "storey_drift": arrange(peaks["storey_drift"]) if with_storeys else None,
         "floor_acceleration": arrange(peaks["floor_acceleration"]) if with_storeys else None,
         **({"uplift_time": arrange(peaks["uplift_time"])} if vertical else {}),
+        **({f"group_{key}": arrange(peaks["group_normal_load"][name]) for key, name in GROUP_PEAKS.items()}
+           if "group_normal_load" in peaks else {}),
     }
+
+
+GROUP_PEAKS = {"peak_load": "peak_N", "min_load": "min_N", "uplift_time": "uplift_time_s"}
+"""The `MonteCarloResult` fields of each bearing group's peaks (`group_` + key) -> the name of
+the peak driver's `group_normal_load` entry."""

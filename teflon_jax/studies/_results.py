@@ -11,6 +11,7 @@ on the "design" dimension; with a bearing posterior `bearing_draw`, the draw eac
 attributes.
 """
 
+import csv
 import dataclasses
 import json
 import os
@@ -38,6 +39,15 @@ STOREY_VARIABLES = {
 """A building's storey peaks, when the run kept them: name -> (dimension, units, long name);
 dimension "storey" 1.. (storey 1 from the base slab to floor 1), "level" 0.. (0 the base slab
 on the isolators, j >= 1 floor j)."""
+
+GROUP_VARIABLES = {
+    "group_peak_load": ("N", "largest normal load of the bearing group"),
+    "group_min_load": ("N", "least normal load of the bearing group (0: it lifted)"),
+    "group_uplift_time": ("s", "time with the bearing group's normal load <= 0"),
+}
+"""A structure on a plan's peaks per bearing group (dimension "group", labelled by the group
+names of `attrs["group_names"]` where given), when its groups share the weight unevenly
+(overturning or a vertical component): name -> (units, long name)."""
 
 DESIGN_UNITS = {
     "isolation_period": ("s", "isolation period T_b"),
@@ -81,6 +91,9 @@ class MonteCarloResult:
     - `uplift_time` [s] (N,) or (D, N): with a vertical component, how long each run's
       isolators had N <= 0 (no shear; 0: no uplift); their peaks are kept in the statistics
       (the uplift is part of the modelled response); else `None`.
+    - `group_peak_load`, `group_min_load` [N], `group_uplift_time` [s] (N, G) or (D, N, G): a
+      structure on a plan whose G groups share the weight unevenly, each group's largest and
+      least normal load and its time at N_g <= 0 (`GROUP_VARIABLES`); else `None`.
     - `bearing_draw` (N,) or (K,) ints: the posterior draw each motion, or each bearing of a
       nested run, took (`monte_carlo(bearings=...)`); else `None`.
     """
@@ -103,6 +116,17 @@ class MonteCarloResult:
     floor_acceleration: np.ndarray | None = None
     uplift_time: np.ndarray | None = None
     bearing_draw: np.ndarray | None = None
+    group_peak_load: np.ndarray | None = None
+    group_min_load: np.ndarray | None = None
+    group_uplift_time: np.ndarray | None = None
+
+    @property
+    def group_names(self) -> list:
+        """The bearing groups' names (`attrs["group_names"]`, else "group 1", ...); [] without groups."""
+        if self.group_peak_load is None:
+            return []
+        count = np.shape(self.group_peak_load)[-1]
+        return list(self.attrs.get("group_names") or [f"group {i + 1}" for i in range(count)])
 
     @property
     def nested(self) -> bool:
@@ -223,6 +247,9 @@ class MonteCarloResult:
         if self.uplift_time is not None:
             data["uplift_time"] = (dims, np.asarray(self.uplift_time),
                                    {"units": "s", "long_name": "time with the isolators' normal load <= 0"})
+        for name, (units, long_name) in GROUP_VARIABLES.items():
+            if getattr(self, name) is not None:
+                data[name] = (dims + ("group",), np.asarray(getattr(self, name)), {"units": units, "long_name": long_name})
         data["pga"] = (("motion",), np.asarray(self.pga),
                        {"units": "m s-2", "long_name": "peak |ground acceleration| of the motion"})
         if self.bearing_draw is not None:
@@ -237,6 +264,8 @@ class MonteCarloResult:
             coords["level"] = np.arange(np.shape(self.floor_acceleration)[-1])
             if np.ndim(self.storey_drift) == len(dims) + 2:
                 coords["direction"] = np.array(["x", "y"])
+        if self.group_peak_load is not None:
+            coords["group"] = np.array(self.group_names)
         if dims[0] in ("design", "bearing"):
             coords[dims[0]] = np.arange(np.shape(self.converged)[0])
         attrs = {k: _attribute(v) for k, v in self.attrs.items()}
@@ -268,12 +297,15 @@ class MonteCarloResult:
             **{name: np.asarray(dataset[name].values) for name in STOREY_VARIABLES if name in dataset},
             uplift_time=np.asarray(dataset["uplift_time"].values) if "uplift_time" in dataset else None,
             bearing_draw=np.asarray(dataset["bearing_draw"].values) if "bearing_draw" in dataset else None,
+            **{name: np.asarray(dataset[name].values) for name in GROUP_VARIABLES if name in dataset},
         )
 
     def to_csv(self, path) -> pathlib.Path:
         """The peak table as CSV: one row per motion (and design variant), columns design
         (bearing in a nested run), motion, bearing_draw (with a bearing posterior), the design
-        variables, pga_m_s2, base_disp_m, base_shear_ratio, the smooth maxima and converged."""
+        variables, pga_m_s2, base_disp_m, base_shear_ratio, the smooth maxima and converged, then
+        the uplift time, storey peaks and each bearing group's peaks (`<field>_<unit>_<group>`)
+        where kept."""
         path = pathlib.Path(path)
         rows = np.asarray(self.base_disp).reshape(-1, self.n_motions)
         n_designs = rows.shape[0]
@@ -300,8 +332,14 @@ class MonteCarloResult:
                 for d, axis in enumerate(("_x", "_y") if two else ("",)):
                     for j in range(values.shape[2]):
                         columns[f"{name}{axis}_{j + first}{unit}"] = values[:, d, j]
+        for name, (unit, _) in GROUP_VARIABLES.items():
+            values = getattr(self, name)
+            if values is not None:
+                values = np.asarray(values).reshape(columns["motion"].size, -1)
+                for j, group in enumerate(self.group_names):
+                    columns[f"{name}_{unit}_{group}"] = values[:, j]
         with open(path, "w") as handle:
-            handle.write(",".join(columns) + "\n")
+            csv.writer(handle, lineterminator="\n").writerow(columns)  # a group's name quoted where it must be
             for i in range(columns["motion"].size):
                 handle.write(",".join(_cell(c[i]) for c in columns.values()) + "\n")
         return path

@@ -367,7 +367,7 @@ MONTE_CARLO_PEAKS = {"base_disp": "base_disp_resultant", "base_shear_ratio": "ba
                      "smooth_base_disp": "smooth_base_disp_resultant",
                      "smooth_base_shear_ratio": "smooth_base_shear_ratio_resultant", "converged": "converged",
                      "storey_drift": "storey_drift_ratio", "floor_acceleration": "level_acceleration",
-                     "uplift_time": "uplift_time"}
+                     "uplift_time": "uplift_time", "group_normal_load": "group_normal_load"}
 """The Monte Carlo's names of `peak_response`'s peaks (`MonteCarloResult` fields) -> their
 reducer names."""
 
@@ -380,7 +380,8 @@ class Peaks(dict):
     (resultants), their smooth maxima `smooth_base_disp`, `smooth_base_shear_ratio`,
     `converged`, a building's `storey_drift` [-] (drift ratio) and `floor_acceleration`
     [m/s^2] per storey and level ((S,), (S + 1,) under one component; (2, S), (2, S + 1) under
-    two) and `uplift_time` [s]; `None` where not kept."""
+    two), `uplift_time` [s] and, where groups share the weight unevenly, `group_normal_load`
+    ({"peak_N", "min_N", "uplift_time_s"}: (G,) each); `None` where not kept."""
 
     def __init__(self, values=(), components: int = 1):
         super().__init__(values)
