@@ -8,6 +8,7 @@ for the groups' normal loads."""
 
 import csv
 import json
+import pathlib
 
 import jax
 import numpy as np
@@ -18,6 +19,7 @@ from teflon_jax.excitation import uniform_signal
 from teflon_jax.studies import MonteCarloResult, monte_carlo_motion
 from teflon_jax.systems import peak_response, under_ground
 
+DOUBLE = pathlib.Path(__file__).resolve().parents[1] / "benchmarks" / "double_isolator.json"
 CORNERS = (("SW", "1m", "1m"), ("SE", "19m", "1m"), ("NE", "19m", "11m"), ("NW", "1m", "11m"))
 MOTIONS = ("--motions", "3", "--duration", "6s", "--strong-motion", "3s", "--pga", "0.5g", "--seed", "2",
            "--no-progress")
@@ -29,6 +31,34 @@ def _plan(path, weight, load, centre=("10m", "6m"), names=None):
     path.write_text(json.dumps({"length_x": "20m", "length_y": "12m", "weight": weight, "centre_of_mass": list(centre),
                                 "groups": groups}))
     return path
+
+
+@pytest.mark.parametrize("isolator", [
+    (),
+    pytest.param(("--isolator", "double-fp", "--isolator-file", DOUBLE), marks=pytest.mark.slow),
+], ids=["flat", "double-fp"])
+def test_bound_cases_on_a_symmetric_plan_are_those_of_the_rigid_mass(tmp_path, capsys, isolator):
+    """--property-factors on the slab over the centre of a symmetric plan: each case scales every
+    group's friction (`BuiltStructure` takes the factor), and each case's peaks equal the rigid
+    mass's bound cases, whose bearings take the scaled constants as design variables (flat
+    sliders: f_max and delta_f of Table 1's row; a double pendulum: every surface's), to 1e-8,
+    at the same step (a plan's default is `run --plan`'s 2.5 ms, a series pendulum's own 5 ms);
+    the upper case moves the peaks."""
+    common = (*MOTIONS, "--components", "2", "--property-factors", "0.8,1.3", "--time-step", "2.5ms", *isolator)
+    springs = () if isolator else ("--isolation-period", "2.5s")
+    code, out = _montecarlo(capsys, *common, *springs, "--out", tmp_path / "rigid.nc", "--json", tmp_path / "rigid.json")
+    assert code == 0, out.err
+    plan = _plan(tmp_path / "slab.json", "1000kN", "250kN")
+    code, out = _montecarlo(capsys, *common, *springs, "--structure", "slab", "--plan", plan,
+                            "--out", tmp_path / "slab.nc", "--json", tmp_path / "slab.json.out")
+    assert code == 0, out.err
+    rigid, slab = MonteCarloResult.open(tmp_path / "rigid.nc"), MonteCarloResult.open(tmp_path / "slab.nc")
+    assert slab.dims == ("design", "motion") and slab.converged.all()
+    for name in ("base_disp", "base_shear_ratio"):
+        np.testing.assert_allclose(getattr(slab, name), getattr(rigid, name), rtol=1e-8, err_msg=name)
+    assert np.min(np.abs(slab.base_shear_ratio[1] / slab.base_shear_ratio[0] - 1)) > 0.02
+    cases = json.loads((tmp_path / "slab.json.out").read_text())["cases"]
+    assert [cases[c]["friction_factor"] for c in ("nominal", "upper", "lower")] == [1.0, 1.3, 0.8]
 
 
 def _montecarlo(capsys, *argv):
@@ -104,15 +134,55 @@ def test_the_building_on_a_plan_reports_each_groups_loads_as_its_own_run(tmp_pat
                               "add --components 2."),
     (("--structure", "rigid", "--components", "2"), "--plan: stands a slab (--structure slab) or the Table 2 "
                                                     "building (--structure building) on bearing groups; not the rigid"),
-    (("--structure", "slab", "--components", "2", "--property-factors", "0.9,1.2"),
-     "--property-factors: varies the bearings of a structure rebuilt for each run; a structure on --plan is "
-     "built once."),
+    (("--structure", "slab", "--components", "2", "--property-factors", "posterior"),
+     "--property-factors posterior: takes each Eq. 1 constant of one bearing from its posterior, and the groups "
+     "of --plan each run their own bearings; give LOWER,UPPER factors"),
+    (("--structure", "slab", "--components", "2", "--property-factors", "0.9,9"),
+     "--property-factors 0.9,9: upper: 9 times the bearings' largest f_max 0.1193 is 1.074, above 1; take "
+     "upper <= 8.382."),
     (("--structure", "slab", "--components", "2", "--bearing-draws", "motion"),
      "--bearing-draws: varies the bearings of a structure rebuilt for each run"),
-], ids=["one-component", "rigid", "bounds", "draws"])
+], ids=["one-component", "rigid", "posterior-bounds", "upper", "draws"])
 def test_what_a_structure_on_a_plan_cannot_take_is_refused_by_name(tmp_path, capsys, flags, message):
     """Each before any motion is drawn, and nothing is written."""
     plan = _plan(tmp_path / "slab.json", "1000kN", "250kN")
     code, out = _montecarlo(capsys, "--motions", "2", "--plan", plan, *flags, "--json", tmp_path / "out.json")
     assert code == 2 and message in out.err
     assert not (tmp_path / "out.json").exists()
+
+
+@pytest.mark.slow
+def test_bound_cases_of_the_building_on_a_plan_report_each_cases_group_loads(tmp_path, capsys):
+    """--property-factors on the building on an eccentric plan: the upper case's peaks and group
+    loads are each motion's own run with every group's friction times 1.3
+    (`BuiltStructure.with_friction_factor`), and the JSON's groups per case are the file's."""
+    plan = _plan(tmp_path / "plan.json", "672kip", "168kip", centre=("11m", "6.5m"))
+    common = (*MOTIONS, "--structure", "building", "--plan", plan, "--components", "2",
+              "--isolation-period", "2.5s", "--property-factors", "0.8,1.3")
+    code, out = _montecarlo(capsys, *common, "--out", tmp_path / "mc.nc", "--json", tmp_path / "mc.json")
+    assert code == 0, out.err
+    result = MonteCarloResult.open(tmp_path / "mc.nc")
+
+    from teflon_jax.cli._common import read_quantities
+    from teflon_jax.cli._main import _parser
+    from teflon_jax.cli._montecarlo import _check_flags, _motion_model, _structure
+    from teflon_jax.excitation import TwoComponentGroundMotion
+
+    args = _parser("montecarlo").parse_args(["montecarlo", *map(str, common)])
+    read_quantities(args, "montecarlo")
+    structure = _structure(args, _check_flags(args), True)
+    upper = structure.with_friction_factor({"friction_factor": 1.3})
+    model = TwoComponentGroundMotion(_motion_model(args), principal_angle=0.0, minor_ratio=1.0)
+    for i in range(3):
+        ax, ay = np.asarray(monte_carlo_motion(model, jax.random.key(2), i))
+        run = peak_response(under_ground(upper, uniform_signal(ax, 0.01), uniform_signal(ay, 0.01)), 6.0)
+        np.testing.assert_allclose(result.base_shear_ratio[1, i], run.base_shear_ratio, rtol=1e-9)
+        np.testing.assert_allclose(result.group_peak_load[1, i], run["group_normal_load"]["peak_N"], rtol=1e-9)
+    cases = json.loads((tmp_path / "mc.json").read_text())["cases"]
+    kip = 4448.2216152605
+    for index, case in enumerate(("nominal", "upper", "lower")):
+        for j, name in enumerate(result.group_names):
+            assert cases[case]["groups"][name]["peak_load"]["max"] == pytest.approx(
+                result.group_peak_load[index, :, j].max() / kip, rel=1e-12)
+            assert cases[case]["groups"][name]["min_load"]["min"] == pytest.approx(
+                result.group_min_load[index, :, j].min() / kip, rel=1e-12)

@@ -231,6 +231,7 @@ def run_bounding(args, structure, model, units) -> int:
         friction_bounding_design,
         governing_cases,
     )
+    from ._montecarlo_summary import group_summary
     from ._normal_load import uplift_message, uplift_payload
 
     bounds = read_property_factors(args)
@@ -265,6 +266,10 @@ def run_bounding(args, structure, model, units) -> int:
                     "components": args.components},
         "files": files,
     }
+    if result.group_peak_load is not None:  # a plan's groups: their loads under each case
+        for i, case in enumerate(BOUNDING_CASES):
+            payload["cases"][case]["groups"] = group_summary(_case(result, i), units)[0]
+        payload["units"] = {"group_load": units.force[0]}
     payload.update(uplift_payload(result, model))  # the same vertical records under the three bearings
     _write_json(args.json, payload)
     print(f"{result.n_motions} motions x 3 bearings in {result.wall_s:.1f} s; mean of the converged runs' peaks:")
@@ -277,6 +282,13 @@ def run_bounding(args, structure, model, units) -> int:
               "are flagged in the results and left out of the table. Try a smaller --time-step.", file=sys.stderr)
         return 1
     return 0
+
+
+def _case(result, index):
+    """The `MonteCarloResult` of bounding case `index` alone (its row of the design axis)."""
+    picked = {name: np.asarray(getattr(result, name))[index] for name in
+              ("converged", "group_peak_load", "group_min_load", "group_uplift_time")}
+    return dataclasses.replace(result, **picked)
 
 
 def print_governing(by_mean) -> None:
@@ -301,14 +313,16 @@ def _bounding_runs(args, structure, model, design, bounds) -> tuple:
     from ._main import compile_cache_dir
 
     height = load_table2().storey_height if args.structure == "building" else None
+    names = {"group_names": list(structure.group_names)} if getattr(structure, "group_names", ()) else {}
     bar = motion_bar(args.motions, args.no_progress)
     progress = lambda done, total: bar.update(done - bar.n)  # noqa: E731
     if args.scheduler is None:
         result = monte_carlo(structure, model, args.motions, key=jax.random.key(args.seed), design=design,
                              chunk_size=args.chunk_size, progress=progress, storey_height=height)
+        result.attrs.update(names)  # a plan's groups label the results' group axis
         files = [] if args.out is None else [str(result.save(args.out))]
     else:
-        attrs = {"structure": args.structure, "bounding_cases": ",".join(BOUNDING_CASES)}
+        attrs = {"structure": args.structure, "bounding_cases": ",".join(BOUNDING_CASES), **names}
         if bounds.from_posterior:
             attrs.update({"property_factors": "posterior", "posterior_quantile_lower": bounds.quantiles[0],
                           "posterior_quantile_upper": bounds.quantiles[1]})
@@ -333,6 +347,8 @@ def _case_friction(structure, design, index, factors, bounds) -> dict:
     if bounds.from_posterior:
         return {"friction_factors": factors, **{k: float(v[index]) for k, v in design.items()}}
     factor = factors["f_max"]
+    if getattr(structure, "system", None) is not None:  # built on a plan: every group's bearings alike
+        return {"friction_factor": factor}
     if "f_max" in design:
         return {"friction_factor": factor, "f_max": float(design["f_max"][index]),
                 "delta_f": float(design["delta_f"][index])}

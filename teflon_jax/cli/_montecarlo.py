@@ -12,6 +12,7 @@ import time
 
 from ..units import STANDARD_GRAVITY
 from ._bearing_flags import add_bearing_flag
+from ._bounding import POSTERIOR_WORD
 from ._common import (
     _positive_int,
     _write_json,
@@ -77,7 +78,8 @@ def _add_common(parser, *, levels: bool = False, structures=("rigid", "building"
     add_quantity(parser, "--record-step", "time", "0.01s", "sampling step of the motions", minimum=0.0)
     add_quantity(parser, "--time-step", "time", None, "step of the structure solver (default 5ms: worst "
                  "peak within 0.2 % of converged ones on 100 test motions, see benchmarks B3; 2.5ms with --components 2 and in design, "
-                 "whose gradient check needs the update without the turning-point split)",
+                 "whose gradient check needs the update without the turning-point split"
+                 + ("; 2.5ms on a --plan, as run --plan" if "slab" in structures else "") + ")",
                  minimum=0.0)
     add_quantity(parser, "--pga", "acceleration", "0.3g", "expected peak ground acceleration "
                  "(at most 5g, beyond any recorded motion)"
@@ -282,7 +284,8 @@ def _structure(args, isolator, two: bool):
     """The isolated structure of the flags on `isolator` (`read_isolator`), under one or two
     ground components: flat sliders and single pendulums with --ptfe and --pressure (or
     --bearing) and the isolation system of `_resolve_isolation`, series pendulums with their
-    surfaces, each solved to its Monte Carlo tolerance."""
+    surfaces, each solved to its Monte Carlo tolerance; or the slab or building of --plan on
+    its groups of any of them (`built_on_plan`), solved to the same tolerances."""
     from ..studies import bidirectional_isolated_structure
     from ..systems import (
         MONTE_CARLO_NEWTON_TOLERANCE,
@@ -290,23 +293,23 @@ def _structure(args, isolator, two: bool):
         isolated_structure,
     )
 
-    if args.plan is not None:
+    options = isolator.structure_options()
+    solver = {} if args.newton_iterations is None else {"newton_iterations": args.newton_iterations}
+    if isolator.pendulum is not None:  # its sliders' force imbalance over W, in one and two components
+        solver["newton_tolerance"] = TRIPLE_MONTE_CARLO_TOLERANCE
+    elif args.newton_tolerance is not None or not two:  # two components: the planar solve's own by default
+        solver["newton_tolerance"] = (MONTE_CARLO_NEWTON_TOLERANCE if args.newton_tolerance is None
+                                      else args.newton_tolerance)
+    if args.plan is not None:  # two components (`_check_plan`), at run --plan's step by default
         from ..systems import BIDIRECTIONAL_TIME_STEP
         from ._run_structure import built_on_plan
 
         return built_on_plan(args, isolator, time_step=args.time_step or BIDIRECTIONAL_TIME_STEP,
                              period=args.isolation_period, damping=args.isolation_damping,
-                             record_step=args.record_step, vertical=args.vertical_ratio is not None)
-    options = isolator.structure_options()
-    solver = {} if args.newton_iterations is None else {"newton_iterations": args.newton_iterations}
-    if isolator.pendulum is not None:  # its sliders' force imbalance over W, in one and two components
-        solver["newton_tolerance"] = TRIPLE_MONTE_CARLO_TOLERANCE
-    else:
+                             record_step=args.record_step, vertical=args.vertical_ratio is not None, solver=solver)
+    if isolator.pendulum is None:
         options.update(ptfe=args.ptfe, pressure=args.pressure, isolation_damping=args.isolation_damping,
                        isolation_period=None if isolator.restores else args.isolation_period)
-        if args.newton_tolerance is not None or not two:  # two components: the planar solve's own by default
-            solver["newton_tolerance"] = (MONTE_CARLO_NEWTON_TOLERANCE if args.newton_tolerance is None
-                                          else args.newton_tolerance)
     return vertical_structure(args, (bidirectional_isolated_structure if two else isolated_structure)(
         args.structure, time_step=args.time_step, **options, **solver))
 
@@ -342,16 +345,19 @@ def _check_flags(args):
 
 def _check_plan(args) -> None:
     """`ValueError` naming the flag that a structure on a plan does not take: one ground
-    component (its groups carry the slab in the plane), and the bound cases and bearing draws,
-    which vary the bearings as design variables of a structure rebuilt per run."""
+    component (its groups carry the slab in the plane), a bearing posterior's draws and its
+    quantiles as bounds, which vary one bearing's constants in a structure rebuilt per run
+    (factors, LOWER,UPPER, scale every group's friction)."""
     if args.components != 2:
         raise ValueError("--plan: the groups carry the slab in the plane, under both ground components; "
                          "add --components 2.")
-    for flag, value in (("--property-factors", args.property_factors), ("--bearing-draws", args.bearing_draws)):
-        if value is not None:
-            raise ValueError(f"{flag}: varies the bearings of a structure rebuilt for each run; a structure on "
-                             "--plan is built once. Run the plan once per bound case (a --bearing file each), "
-                             f"or leave {flag} out.")
+    if args.bearing_draws is not None:
+        raise ValueError("--bearing-draws: varies the bearings of a structure rebuilt for each run; a structure "
+                         "on --plan is built once. Run the plan once per bearing file, or leave --bearing-draws out.")
+    if (args.property_factors or "").strip() == POSTERIOR_WORD:
+        raise ValueError(f"--property-factors {POSTERIOR_WORD}: takes each Eq. 1 constant of one bearing from its "
+                         "posterior, and the groups of --plan each run their own bearings; give LOWER,UPPER "
+                         "factors (every group's friction times them).")
 
 
 def _resolve_isolation(args, isolator) -> None:

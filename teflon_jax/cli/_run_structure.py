@@ -159,14 +159,15 @@ def suite_build(args, isolator, ax0, ay0, dt, friction_factors=None, vertical=No
     return build, template.mass.shape[-1], flags.plan
 
 
-def built_on_plan(args, isolator, *, time_step: float, period, damping: float, record_step: float, vertical: bool = False):
+def built_on_plan(args, isolator, *, time_step: float, period, damping: float, record_step: float, vertical: bool = False, solver=None):
     """`montecarlo --plan`: the slab or the building of the plan on its groups' isolators, as
     `run --plan` builds it (`build_structure`), at rest, built once and run under each motion
     (`studies.BuiltStructure`); `args` carries `montecarlo`'s flags in SI with their text
     (`--pressure` as typed) and the bearings are Table 1's rows with breakaway, as its other
     structures take them. `time_step` [s], the flat sliders' spring `period` [s] (None: none)
     and `damping` ratio as resolved; `vertical`: the motions carry a vertical component, on
-    the groups' normal loads with the friction following them (`pressure_law`)."""
+    the groups' normal loads with the friction following them (`pressure_law`); `solver`: the
+    `newton_iterations` and `newton_tolerance` that replace the structure's own."""
     import argparse
     import dataclasses
 
@@ -185,6 +186,5 @@ def built_on_plan(args, isolator, *, time_step: float, period, damping: float, r
     system = build_structure(view, isolator, flags, rest, rest)
     if vertical:
         system = with_vertical(system, np.zeros(2), record_step, **pressure_law(view, isolator, plan))
-    solver = {"newton_iterations": args.newton_iterations, "newton_tolerance": args.newton_tolerance}
-    return BuiltStructure(dataclasses.replace(system, **{k: v for k, v in solver.items() if v is not None}),
+    return BuiltStructure(dataclasses.replace(system, **(solver or {})),
                           group_names=tuple(g["name"] for g in plan["groups"]))

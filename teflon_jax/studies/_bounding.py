@@ -66,14 +66,31 @@ def bounding_design(structure, *, lower: float, upper: float) -> dict:
     or two components) times 1, `upper` and `lower` (module docstring). Values that leave the physical range
     (f_max' > 1) are refused when the run checks its design. On triple or double friction
     pendulums (an `IsolatedStructure` with a `pendulum`) every surface's friction is scaled:
-    `series_bounding_design`. A structure with a vertical component has the same cases."""
+    `series_bounding_design`. A structure with a vertical component has the same cases. A
+    structure built once (`BuiltStructure`: the slab or building on a plan, any isolator) takes
+    the factors themselves (`FRICTION_FACTOR`), on every group's bearings or surfaces."""
     lower, upper = check_property_factors(lower, upper)
+    if getattr(structure, "system", None) is not None:  # a BuiltStructure: its groups' bearings
+        return _factor_design(structure.system, lower, upper)
     if structure.pendulum is not None:
         return series_bounding_design(structure.pendulum, lower=lower, upper=upper)
     bearing = structure.bearing
     params = bearing.friction if bearing is not None else structure.table().at(structure.pressure)[0]
     cases = [scaled_friction(params, factor) for factor in (1.0, upper, lower)]
     return {"f_max": np.array([float(c.f_max) for c in cases]), "delta_f": np.array([float(c.delta_f) for c in cases])}
+
+
+def _factor_design(system, lower: float, upper: float) -> dict:
+    """{`FRICTION_FACTOR`: (1, upper, lower)} for the bearing groups of a built `system`;
+    `ValueError` naming `upper` when it takes a group's f_max above 1."""
+    bearing = system.bearing
+    if isinstance(bearing, SeriesPendulum):
+        return series_bounding_design(bearing, lower=lower, upper=upper)
+    f_max = float(np.max(np.asarray(bearing.friction.f_max, float)))
+    if upper * f_max > 1:
+        raise ValueError(f"upper: {upper:g} times the bearings' largest f_max {f_max:g} is {upper * f_max:.4g}, "
+                         f"above 1; take upper <= {1 / f_max:.4g}.")
+    return {FRICTION_FACTOR: np.array([1.0, upper, lower])}
 
 
 def series_bounding_design(pendulum: SeriesPendulum, *, lower: float, upper: float) -> dict:
@@ -83,7 +100,8 @@ def series_bounding_design(pendulum: SeriesPendulum, *, lower: float, upper: flo
     surface). Radii and capacities are geometry and stay. `ValueError` naming `upper` when
     it takes a surface's f_max above 1."""
     lower, upper = check_property_factors(lower, upper)
-    f_max = np.atleast_1d(np.asarray(pendulum.frictions().f_max, float))
+    count = len(pendulum.slider_names)  # surfaces first, then a plan's groups where stacked
+    f_max = np.asarray(pendulum.frictions().f_max, float).reshape(count, -1).max(axis=1)
     worst = int(np.argmax(f_max))
     if upper * f_max[worst] > 1:
         raise ValueError(f"upper: {upper:g} times the {pendulum.slider_names[worst]} surface's f_max "
