@@ -231,7 +231,7 @@ def run_bounding(args, structure, model, units) -> int:
         friction_bounding_design,
         governing_cases,
     )
-    from ._montecarlo_summary import group_summary
+    from ._montecarlo_summary import beyond_law_words, group_summary
     from ._normal_load import uplift_message, uplift_payload
 
     bounds = read_property_factors(args)
@@ -277,9 +277,16 @@ def run_bounding(args, structure, model, units) -> int:
     bounds.print_factors()
     if uplift_message(payload):
         print(uplift_message(payload) + " (each bearing)")
+    beyond = np.zeros_like(converged) if result.beyond_pressure_law is None else np.asarray(
+        result.beyond_pressure_law, bool)
+    if beyond.any():
+        runs = ", ".join(f"{BOUNDING_CASES[c]}:{m}" for c, m in np.argwhere(beyond)[:20])
+        print(f"teflon-jax montecarlo: {int(beyond.sum())} of {converged.size} runs "
+              + beyond_law_words(f"case:motion {runs}"), file=sys.stderr)
+    if not (converged | beyond).all():
+        print(f"teflon-jax montecarlo: {int((~converged & ~beyond).sum())} of {converged.size} runs did not converge; "
+              "they are flagged in the results and left out of the table. Try a smaller --time-step.", file=sys.stderr)
     if not converged.all():
-        print(f"teflon-jax montecarlo: {int((~converged).sum())} of {converged.size} runs did not converge; they "
-              "are flagged in the results and left out of the table. Try a smaller --time-step.", file=sys.stderr)
         return 1
     return 0
 

@@ -30,6 +30,7 @@ from ._engineering import (
     wants_storeys,
 )
 from ._main import compile_cache_dir
+from ._montecarlo_summary import beyond_law_words
 from ._posterior_flags import (
     MOTION_DRAWS_NO_BAND,
     posterior_arguments,
@@ -228,6 +229,8 @@ def run_levels(args, structure, model, units, statistics, posterior=None) -> int
         fragility[limit.text], curves[limit.text] = _fragility(limit, result, level_index, levels, unit, factor)
     payload.update({"n_motions": result.n_motions, "motions_per_level": args.motions,
                     "n_converged": int(converged.sum()), "not_converged": _failed_runs(converged),
+                    **({} if result.beyond_pressure_law is None else
+                       {"beyond_pressure_law": _failed_runs(~np.asarray(result.beyond_pressure_law, bool))}),
                     "all_converged": bool(converged.all()), "wall_s": result.wall_s, "compile_s": result.compile_s,
                     "levels": per_level, "fragility": fragility, "files": files})
     payload["motions"]["pga_levels"] = {"unit": unit, "values": (levels / factor).tolist()}
@@ -341,12 +344,24 @@ def _report(result, levels, level_index, unit, factor, fragility, per_level) -> 
                   f"median {band['median_band'][0]:.4g} - {band['median_band'][1]:.4g} {unit} ({_end(low)} - "
                   f"{_end(high)} with the motions' sampling), dispersion {band['dispersion_band'][0]:.3g} - "
                   f"{band['dispersion_band'][1]:.3g}")
-    failed = _failed_runs(converged)
+    beyond = np.zeros_like(converged) if result.beyond_pressure_law is None else np.asarray(
+        result.beyond_pressure_law, bool)
+    which = "motion indices" if converged.ndim == 1 else "bearing:motion"
+
+    def names(runs):
+        return ", ".join(str(i) if converged.ndim == 1 else f"{i['bearing']}:{i['motion']}" for i in runs[:20]) + (
+            " ..." if len(runs) > 20 else "")
+
+    if beyond.any():
+        runs = _failed_runs(~beyond)
+        print(f"teflon-jax montecarlo: {len(runs)} of {converged.size} runs {beyond_law_words(f'{which} {names(runs)}')}",
+              file=sys.stderr)
+        status = 1
+    failed = _failed_runs(converged | beyond)  # the Newton solves that failed
     if failed:
-        named = ", ".join(str(i) if converged.ndim == 1 else f"{i['bearing']}:{i['motion']}" for i in failed[:20])
-        which = "motion indices" if converged.ndim == 1 else "bearing:motion"
+        named = names(failed)
         print(f"teflon-jax montecarlo: {len(failed)} of {converged.size} runs had a time step whose Newton "
-              f"solve did not converge ({which} {named}{' ...' if len(failed) > 20 else ''}); they are flagged "
+              f"solve did not converge ({which} {named}); they are flagged "
               "in the files and left out of the counts and statistics. Try a smaller --time-step.", file=sys.stderr)
         status = 1
     return status

@@ -29,6 +29,8 @@ def summary_payload(args, result, structure, model, units, stats, files) -> dict
         "n_motions": result.n_motions,
         "n_converged": int(converged.sum()),
         "not_converged": np.flatnonzero(~converged).tolist(),
+        **({} if result.beyond_pressure_law is None else {
+            "beyond_pressure_law": np.flatnonzero(np.asarray(result.beyond_pressure_law).reshape(-1)).tolist()}),
         "structure": args.structure,
         "devices": result.n_devices,
         "device_kind": jax.devices()[0].device_kind,
@@ -93,6 +95,16 @@ def stamp(args, horizontal) -> str:
             + (f"; vertical {args.vertical_ratio:g} x PGA" if args.vertical_ratio is not None else ""))
 
 
+def beyond_law_words(named: str) -> str:
+    """What the runs beyond Table 1's pressure law (`named`: "motion indices 3, 7", as the
+    user reads them) did, and what to do."""
+    return (f"({named}) took the bearings' contact pressure beyond where Table 1's extended "
+            "end segments give Eq. 1 constants (f_max > delta_f >= 0, rate_a >= 0, breakaway ratio >= 1); "
+            "they are left out of the statistics and flagged in the results ('beyond_pressure_law'). Give the "
+            "bearing's constants at such pressures (--bearing, a file with a pressure dependence) or a "
+            "lighter --vertical-ratio.")
+
+
 def report(args, result, stats, units, more_lines) -> int:
     """Print the runs' statistics (and `more_lines`: the uplift, the bearing posterior) and name
     the runs that did not converge; the exit status (1 when some did not)."""
@@ -107,9 +119,16 @@ def report(args, result, stats, units, more_lines) -> int:
                                        if k != "n" and v is not None))
     for line in more_lines:
         print(line)
-    failed = np.flatnonzero(~converged)
+    beyond = np.zeros_like(converged) if result.beyond_pressure_law is None else np.asarray(
+        result.beyond_pressure_law, bool).reshape(-1)
+    if beyond.any():
+        runs = np.flatnonzero(beyond)
+        named = "motion indices " + ", ".join(str(i) for i in runs[:20]) + (" ..." if runs.size > 20 else "")
+        print(f"teflon-jax montecarlo: {runs.size} of {converged.size} runs {beyond_law_words(named)}",
+              file=sys.stderr)
+    failed = np.flatnonzero(~converged & ~beyond)
     if not failed.size:
-        return 0
+        return int(beyond.any())
     named = ", ".join(str(i) for i in failed[:20]) + (" ..." if failed.size > 20 else "")
     print(
         f"teflon-jax montecarlo: {failed.size} of {converged.size} runs had a time step whose "

@@ -60,9 +60,10 @@ from ._montecarlo import (
     probe_structure,
     stochastic_grid,
 )
-from ._montecarlo_parts import GROUP_PEAKS
+from ._montecarlo_parts import GROUP_PEAKS, with_pressure_law
 from ._record_set import RecordSet
 from ._results import (
+    BEYOND_PRESSURE_LAW,
     DESIGN_UNITS,
     GROUP_VARIABLES,
     STOREY_VARIABLES,
@@ -72,6 +73,8 @@ from ._results import (
 
 PGA = ("m s-2", "peak |ground acceleration| of the motion")
 UPLIFT = ("s", "time with the isolators' normal load <= 0")
+FLAGS = ("converged", "beyond_pressure_law")
+"""The boolean variables of a run's file (written as bytes)."""
 
 
 def _runner(spec: dict) -> ChunkRunner:
@@ -96,7 +99,8 @@ def _chunk_task(spec: dict, start: int, stop: int, payload):
     n = stop - start
     if spec["groups"] is not None:  # each group's peaks as their own variables
         peaks = {**peaks, **{f"group_{k}": peaks["group_normal_load"][name] for k, name in GROUP_PEAKS.items()}}
-    names = _variables(spec["model"], spec["storey_height"], spec["groups"])
+    names = _variables(spec["model"], spec["storey_height"], spec["groups"], spec["pressure_law"])
+    peaks = with_pressure_law(peaks)  # a run beyond Table 1's law: flagged, not converged
     out = {name: np.asarray(peaks[name])[:n] for name in names}
     if spec["design"] is not None:  # (motion, design, ...) -> (design, motion, ...)
         out = {k: np.moveaxis(v, 0, 1) for k, v in out.items()}
@@ -105,10 +109,11 @@ def _chunk_task(spec: dict, start: int, stop: int, payload):
     return out
 
 
-def _variables(model, storey_height=None, groups=None) -> dict:
+def _variables(model, storey_height=None, groups=None, pressure_law=False) -> dict:
     """The peak variables of a run's file: `VARIABLES`, `uplift_time` with a vertical component,
     the `STOREY_VARIABLES` with `storey_height` and the `GROUP_VARIABLES` of a structure whose
-    `groups` (their number, else None) share the weight unevenly: name -> (units, long name)."""
+    `groups` (their number, else None) share the weight unevenly, and `beyond_pressure_law`
+    with Table 1's `pressure_law`: name -> (units, long name)."""
     variables = dict(VARIABLES)
     if isinstance(model, VerticalGroundMotion):
         variables["uplift_time"] = UPLIFT
@@ -116,16 +121,19 @@ def _variables(model, storey_height=None, groups=None) -> dict:
         variables.update({name: (units, long_name) for name, (_, units, long_name) in STOREY_VARIABLES.items()})
     if groups is not None:
         variables.update(GROUP_VARIABLES)
+    if pressure_law:
+        variables["beyond_pressure_law"] = (BEYOND_PRESSURE_LAW["units"], BEYOND_PRESSURE_LAW["long_name"])
     return variables
 
 
 def _layout(n_motions: int, design: Mapping | None, inputs: dict, model=None, storeys=None, levels=None,
-            groups=None) -> dict:
+            groups=None, pressure_law=False) -> dict:
     """`create_netcdf`'s arguments for a run's file (the layout of `MonteCarloResult.to_dataset`,
     and of `levels_dataset` with `levels`, each motion's level (L N,) [m/s^2]); `storeys`:
     (storeys S, horizontal components) of a building whose storey peaks are kept, or `None`;
     `groups`: the number of bearing groups whose loads are kept (named by
-    `inputs["group_names"]` where given), or `None`."""
+    `inputs["group_names"]` where given), or `None`; `pressure_law`: runs beyond Table 1's
+    pressure law are flagged (`beyond_pressure_law`)."""
     dims, peak_dims = {"motion": n_motions}, ("motion",)
     coords = {"motion": ("motion", np.arange(n_motions), None, None)}
     if design is not None:
@@ -133,8 +141,8 @@ def _layout(n_motions: int, design: Mapping | None, inputs: dict, model=None, st
         dims["design"], peak_dims = n_designs, ("design", "motion")
         coords["design"] = ("design", np.arange(n_designs), None, None)
         coords.update({f"design_{k}": ("design", v, *DESIGN_UNITS.get(k, ("1", k))) for k, v in design.items()})
-    variables = {name: (peak_dims, units, long_name, "bool" if name == "converged" else "f8")
-                 for name, (units, long_name) in _variables(model).items()}
+    variables = {name: (peak_dims, units, long_name, "bool" if name in FLAGS else "f8")
+                 for name, (units, long_name) in _variables(model, pressure_law=pressure_law).items()}
     if storeys is not None:
         n_storeys, components = storeys
         direction = ("direction",) if components == 2 else ()
@@ -281,6 +289,7 @@ def _spec(structure, motions, n_motions, *, seed, chunk_size, duration, design, 
     probe = probe_structure(structure, probe_source, probe_design)
     n_dof = int(probe.mass.shape[-1])
     groups = int(probe.bearing_load.shape[-1]) if response_layout(probe).overturning else None
+    pressure_law = getattr(probe, "pressure_table", None) is not None
     components = probe_source.components
     n_storeys = None  # refused here, before a cluster starts, for a rigid mass
     if storey_height is not None:
@@ -288,7 +297,8 @@ def _spec(structure, motions, n_motions, *, seed, chunk_size, duration, design, 
     spec = {"structure": structure, "model": model, "seed": int(seed), "time_step": time_step,
             "samples": samples, "duration": duration, "design": design_arrays, "chunk": chunk,
             "disp_width": disp_width, "shear_width": shear_width, "dtype": run_dtype(),
-            "storey_height": storey_height, "groups": groups, "token": uuid.uuid4().hex}
+            "storey_height": storey_height, "groups": groups, "pressure_law": pressure_law,
+            "token": uuid.uuid4().hex}
     memory = chunk * bytes_per_motion((components + probe_source.vertical) * samples, n_dof, n_designs)
     return spec, {"n_total": n_total, "n_dof": n_dof, "components": components, "memory": memory,
                   "n_storeys": n_storeys}
@@ -317,13 +327,14 @@ def _run(structure, motions, n_motions, levels, *, out, seed=0, scheduler="local
               for j, level in enumerate(at) for start in range(0, n_per_level, chunk)]
     storeys = None if storey_height is None else (sizes["n_storeys"], sizes["components"])
     layout = _layout(n_total, spec["design"], inputs, model, storeys,
-                     None if levels is None else np.repeat(np.asarray(at), n_per_level), spec["groups"])
-    names = list(_variables(model, spec["storey_height"], spec["groups"]))
+                     None if levels is None else np.repeat(np.asarray(at), n_per_level), spec["groups"],
+                     spec["pressure_law"])
+    names = list(_variables(model, spec["storey_height"], spec["groups"], spec["pressure_law"]))
     compile_s = [0.0]
 
     def write(handle, start, stop, part):
         for name in names:
-            values = part[name].astype(np.int8) if name == "converged" else part[name]
+            values = part[name].astype(np.int8) if name in FLAGS else part[name]
             variable = handle.variables[name]
             variable[(slice(None),) * variable.dimensions.index("motion") + (slice(start, stop),)] = values
         handle.variables["pga"][start:stop] = part["pga"]

@@ -46,6 +46,7 @@ def _peak_fields(peaks, with_designs: bool, with_storeys: bool, vertical: bool =
         x = np.asarray(x)
         return np.moveaxis(x, 0, 1) if with_designs else x
 
+    peaks = with_pressure_law(peaks)
     return {
         "base_disp": arrange(peaks["base_disp"]),
         "base_shear_ratio": arrange(peaks["base_shear_ratio"]),
@@ -55,9 +56,19 @@ def _peak_fields(peaks, with_designs: bool, with_storeys: bool, vertical: bool =
         "storey_drift": arrange(peaks["storey_drift"]) if with_storeys else None,
         "floor_acceleration": arrange(peaks["floor_acceleration"]) if with_storeys else None,
         **({"uplift_time": arrange(peaks["uplift_time"])} if vertical else {}),
+        **({"beyond_pressure_law": arrange(peaks["beyond_pressure_law"])} if "beyond_pressure_law" in peaks else {}),
         **({f"group_{key}": arrange(peaks["group_normal_load"][name]) for key, name in GROUP_PEAKS.items()}
            if "group_normal_load" in peaks else {}),
     }
+
+
+def with_pressure_law(peaks: dict) -> dict:
+    """`peaks` whose runs beyond Table 1's pressure law (`within_pressure_law` False) count as
+    not converged, flagged as `beyond_pressure_law`; `peaks` itself without that law."""
+    if "within_pressure_law" not in peaks:
+        return peaks
+    within = np.asarray(peaks["within_pressure_law"])
+    return {**peaks, "converged": np.asarray(peaks["converged"]) & within, "beyond_pressure_law": ~within}
 
 
 GROUP_PEAKS = {"peak_load": "peak_N", "min_load": "min_N", "uplift_time": "uplift_time_s"}

@@ -28,7 +28,8 @@ VARIABLES = {
     "base_shear_ratio": ("1", "peak |base shear| / weight above the isolators"),
     "smooth_base_disp": ("m", "smooth maximum (log-mean-cosh) of |base displacement|"),
     "smooth_base_shear_ratio": ("1", "smooth maximum (log-mean-cosh) of |base shear| / weight"),
-    "converged": ("1", "every time step's Newton solve converged (False: peaks not trusted)"),
+    "converged": ("1", "every time step's Newton solve converged, within the bearings' pressure law (False: peaks "
+                  "not trusted)"),
 }
 """Peak variables of a `MonteCarloResult`: name -> (units, long name)."""
 
@@ -48,6 +49,10 @@ GROUP_VARIABLES = {
 """A structure on a plan's peaks per bearing group (dimension "group", labelled by the group
 names of `attrs["group_names"]` where given), when its groups share the weight unevenly
 (overturning or a vertical component): name -> (units, long name)."""
+
+BEYOND_PRESSURE_LAW = {"units": "1", "long_name": "the contact pressure went beyond where Table 1's extended "
+                       "rows give Eq. 1 constants (peaks not trusted)"}
+"""The attributes of `beyond_pressure_law`."""
 
 DESIGN_UNITS = {
     "isolation_period": ("s", "isolation period T_b"),
@@ -77,7 +82,9 @@ class MonteCarloResult:
 
     - `base_disp` [m], `base_shear_ratio` [-]: shape (N,) or (D, N) with design variants;
     - `smooth_base_disp`, `smooth_base_shear_ratio`: the smooth maxima (same shapes);
-    - `converged` (bool, same shape); `pga` (N,) [m/s^2]: peak |a_g| of each motion;
+    - `converged` (bool, same shape): every step's solve converged and, with Table 1's
+      pressure law under a vertical component, the law gave Eq. 1 constants throughout (see
+      `beyond_pressure_law`); `pga` (N,) [m/s^2]: peak |a_g| of each motion;
     - `design`: dict name -> (D,) values (empty without variants);
     - `dims`: axis names, ("motion",), ("design", "motion"), or ("bearing", "motion") for K
       draws of a bearing posterior each run on the same motions (statistics then pool the
@@ -94,6 +101,9 @@ class MonteCarloResult:
     - `group_peak_load`, `group_min_load` [N], `group_uplift_time` [s] (N, G) or (D, N, G): a
       structure on a plan whose G groups share the weight unevenly, each group's largest and
       least normal load and its time at N_g <= 0 (`GROUP_VARIABLES`); else `None`.
+    - `beyond_pressure_law` (bool, shape of `converged`): with Table 1's pressure law under a
+      vertical component, the runs whose contact pressure went beyond where its extended rows
+      give Eq. 1 constants (left out of the statistics by `converged`); else `None`.
     - `bearing_draw` (N,) or (K,) ints: the posterior draw each motion, or each bearing of a
       nested run, took (`monte_carlo(bearings=...)`); else `None`.
     """
@@ -119,6 +129,7 @@ class MonteCarloResult:
     group_peak_load: np.ndarray | None = None
     group_min_load: np.ndarray | None = None
     group_uplift_time: np.ndarray | None = None
+    beyond_pressure_law: np.ndarray | None = None
 
     @property
     def group_names(self) -> list:
@@ -247,6 +258,8 @@ class MonteCarloResult:
         if self.uplift_time is not None:
             data["uplift_time"] = (dims, np.asarray(self.uplift_time),
                                    {"units": "s", "long_name": "time with the isolators' normal load <= 0"})
+        if self.beyond_pressure_law is not None:
+            data["beyond_pressure_law"] = (dims, np.asarray(self.beyond_pressure_law), BEYOND_PRESSURE_LAW)
         for name, (units, long_name) in GROUP_VARIABLES.items():
             if getattr(self, name) is not None:
                 data[name] = (dims + ("group",), np.asarray(getattr(self, name)), {"units": units, "long_name": long_name})
@@ -298,6 +311,8 @@ class MonteCarloResult:
             uplift_time=np.asarray(dataset["uplift_time"].values) if "uplift_time" in dataset else None,
             bearing_draw=np.asarray(dataset["bearing_draw"].values) if "bearing_draw" in dataset else None,
             **{name: np.asarray(dataset[name].values) for name in GROUP_VARIABLES if name in dataset},
+            beyond_pressure_law=(np.asarray(dataset["beyond_pressure_law"].values, bool)
+                                 if "beyond_pressure_law" in dataset else None),
         )
 
     def to_csv(self, path) -> pathlib.Path:
@@ -324,6 +339,8 @@ class MonteCarloResult:
             columns[label] = np.asarray(getattr(self, name)).reshape(-1)
         if self.uplift_time is not None:
             columns["uplift_time_s"] = np.asarray(self.uplift_time).reshape(-1)
+        if self.beyond_pressure_law is not None:
+            columns["beyond_pressure_law"] = np.asarray(self.beyond_pressure_law).reshape(-1)
         for name, unit, first in (("storey_drift", "", 1), ("floor_acceleration", "_m_s2", 0)):
             values = getattr(self, name)
             if values is not None:

@@ -23,12 +23,9 @@ from ._bidirectional_models import bidirectional_rigid_mass as bidirectional_rig
 from ._bidirectional_models import bidirectional_storey_peaks as bidirectional_storey_peaks
 from ._bidirectional_models import bidirectional_structure as bidirectional_structure
 from ._bidirectional_models import directional_storeys as directional_storeys
-from ._drivers import MONTE_CARLO_PEAKS as MONTE_CARLO_PEAKS
 from ._drivers import PEAK_REDUCERS as PEAK_REDUCERS
 from ._drivers import RESPONSE_NAMES as RESPONSE_NAMES
 from ._drivers import STEPS_PER_LOOP_PASS as STEPS_PER_LOOP_PASS
-from ._drivers import Peaks as Peaks
-from ._drivers import peak_arrays as peak_arrays
 from ._drivers import peak_response as peak_response
 from ._drivers import response_layout as response_layout
 from ._drivers import simulate_history as simulate_history
@@ -51,8 +48,10 @@ from ._on_plan import building_centre_height as building_centre_height
 from ._on_plan import building_on_plan as building_on_plan
 from ._on_plan import slab_on_bearings as slab_on_bearings
 from ._on_plan import stack_pendulums as stack_pendulums
+from ._response import MONTE_CARLO_PEAKS as MONTE_CARLO_PEAKS
 from ._response import REDUCERS as REDUCERS
 from ._response import BearingTestResult as BearingTestResult
+from ._response import Peaks as Peaks
 from ._response import ResponseLayout as ResponseLayout
 from ._response import StructureResponse as StructureResponse
 from ._response import base_displacement as base_displacement
@@ -63,6 +62,7 @@ from ._response import group_load_extremes as group_load_extremes
 from ._response import group_load_peaks as group_load_peaks
 from ._response import isolator_force as isolator_force
 from ._response import level_acceleration as level_acceleration
+from ._response import peak_arrays as peak_arrays
 from ._response import resultant as resultant
 from ._response import slider_travel as slider_travel
 from ._response import storey_drift as storey_drift
@@ -82,6 +82,7 @@ from ._structure_build import step_count as step_count
 from ._structure_build import storey_rows as storey_rows
 from ._structure_build import structure_on_sliders as structure_on_sliders
 from ._vertical import TablePressure as TablePressure
+from ._vertical import flag_pressure_law as flag_pressure_law
 from ._vertical import normal_load_factor as normal_load_factor
 from ._vertical import step_load_factors as step_load_factors
 from ._vertical import under_ground as under_ground

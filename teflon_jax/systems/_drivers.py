@@ -26,6 +26,7 @@ from ._bidirectional_models import (
 from ._response import (
     REDUCERS,
     EngineRun,
+    Peaks,
     ResponseLayout,
     StructureResponse,
     combined_load_extremes,
@@ -47,6 +48,7 @@ from ._structure_build import (
     step_count,
     time_grid,
 )
+from ._vertical import pressure_law_loads, within_pressure_law
 
 
 def _on_series(system) -> bool:
@@ -167,7 +169,9 @@ def peak_response(system, duration: float, *, reducers=None, smooth=None, disp_w
     a vertical record "uplift_time" [s]: the steps 1..n whose end has N <= 0 times the step;
     where the groups share the weight unevenly (a slab or a building on a plan with its
     overturning loads), "group_normal_load": each group's largest and least N_g [N] (the rest
-    included, read as the peaks are) and its uplift time [s] (`group_load_peaks`).
+    included, read as the peaks are) and its uplift time [s] (`group_load_peaks`); with a
+    Table 1 pressure law that does not stop the run (`flag_pressure_law`),
+    "within_pressure_law": whether the law gave Eq. 1 constants at every step's loads.
     """
     _check_loop_settings(read_every, steps_per_pass)
     layout = response_layout(system)
@@ -183,6 +187,8 @@ def peak_response(system, duration: float, *, reducers=None, smooth=None, disp_w
         check_storey_height(len(layout.levels[0]), storey_height)
     n_steps, run = _engine_run(system, duration)
     vertical = system.vertical_acceleration is not None
+    table = getattr(system, "pressure_table", None)
+    flagged = table is not None and not table.stop  # the runs beyond Table 1's law are reported
     widths = {name: jnp.asarray(width, dtype) for name, width in smooth.items()}
 
     def quantities(sample):
@@ -191,7 +197,7 @@ def peak_response(system, duration: float, *, reducers=None, smooth=None, disp_w
 
     def body(carry, step_inputs):
         step, inputs = step_inputs
-        state, peaks, tops, totals, lifted, ok, loads = carry
+        state, peaks, tops, totals, lifted, ok, loads, law = carry
         state, sample, converged = run.step(state, inputs)
         values = quantities(sample)
         read = (step + 1) % read_every == 0
@@ -203,7 +209,11 @@ def peak_response(system, duration: float, *, reducers=None, smooth=None, disp_w
             new = combined_load_extremes(loads, group_load_extremes(layout, sample))
             loads = (jnp.where(read, new[0], loads[0]), jnp.where(read, new[1], loads[1]), new[2])
         return (state, peaks, {k: u[0] for k, u in updated.items()}, {k: u[1] for k, u in updated.items()},
-                lifted, ok & converged, loads), None
+                lifted, ok & converged, loads, law if law is None else _law_extremes(law, sample)), None
+
+    def _law_extremes(law, sample):
+        high, low = pressure_law_loads(system, layout, sample)
+        return jnp.maximum(law[0], high), jnp.minimum(law[1], low)
 
     shapes = jax.eval_shape(lambda: quantities(run.step(run.start, jax.tree_util.tree_map(lambda a: a[0],
                                                                                           run.inputs))[1]))
@@ -212,8 +222,10 @@ def peak_response(system, duration: float, *, reducers=None, smooth=None, disp_w
     totals = {k: jnp.ones(shapes[k].shape, dtype) for k in tops}
     loads = None if run.first is None else group_load_extremes(layout, run.first)  # the rest's, none lifted
     loads = None if loads is None else loads[:2] + (jnp.zeros_like(loads[2]),)
-    carry = (run.start, peaks, tops, totals, jnp.zeros((), jnp.int32), jnp.array(True), loads)
-    (_, peaks, tops, totals, lifted, ok, loads), _ = jax.lax.scan(
+    at_rest = jnp.ones(system.bearing_load.shape if layout.overturning else (), dtype)  # s = 1
+    law = (at_rest, at_rest) if flagged else None
+    carry = (run.start, peaks, tops, totals, jnp.zeros((), jnp.int32), jnp.array(True), loads, law)
+    (_, peaks, tops, totals, lifted, ok, loads, law), _ = jax.lax.scan(
         body, carry, (jnp.arange(n_steps), run.inputs), unroll=steps_per_pass)
     out = Peaks(peaks, layout.components)
     out.update({"smooth_" + k: smooth_max_value(tops[k], totals[k], n_steps + 1, widths[k]) for k in tops})
@@ -222,6 +234,8 @@ def peak_response(system, duration: float, *, reducers=None, smooth=None, disp_w
         out["uplift_time"] = lifted * float(system.time_step)
     if loads is not None:
         out["group_normal_load"] = group_load_peaks(loads, loads[2] * float(system.time_step))
+    if flagged:
+        out["within_pressure_law"] = within_pressure_law(system, law)
     return out
 
 
@@ -361,53 +375,6 @@ def _bidirectional_run(system: BidirectionalStructure, n_steps) -> EngineRun:
                               total_acceleration=a0 + system.influence @ ground[0], ground=ground[0],
                               normal_load=y0.get("normal_load"), load_factor=load0)
     return EngineRun((y0, a0), inputs, step, first)
-
-
-MONTE_CARLO_PEAKS = {"base_disp": "base_disp_resultant", "base_shear_ratio": "base_shear_ratio_resultant",
-                     "smooth_base_disp": "smooth_base_disp_resultant",
-                     "smooth_base_shear_ratio": "smooth_base_shear_ratio_resultant", "converged": "converged",
-                     "storey_drift": "storey_drift_ratio", "floor_acceleration": "level_acceleration",
-                     "uplift_time": "uplift_time", "group_normal_load": "group_normal_load"}
-"""The Monte Carlo's names of `peak_response`'s peaks (`MonteCarloResult` fields) -> their
-reducer names."""
-
-
-@jax.tree_util.register_pytree_node_class
-class Peaks(dict):
-    """The peaks of one run of `peak_response` (or batched), keyed by reducer name, with
-    `components` (1 or 2) the ground components of its structure. The Monte Carlo's names
-    (`MONTE_CARLO_PEAKS`) read as attributes: `base_disp` [m] and `base_shear_ratio` [-]
-    (resultants), their smooth maxima `smooth_base_disp`, `smooth_base_shear_ratio`,
-    `converged`, a building's `storey_drift` [-] (drift ratio) and `floor_acceleration`
-    [m/s^2] per storey and level ((S,), (S + 1,) under one component; (2, S), (2, S + 1) under
-    two), `uplift_time` [s] and, where groups share the weight unevenly, `group_normal_load`
-    ({"peak_N", "min_N", "uplift_time_s"}: (G,) each); `None` where not kept."""
-
-    def __init__(self, values=(), components: int = 1):
-        super().__init__(values)
-        self.components = components
-
-    def __getattr__(self, name):
-        if name not in MONTE_CARLO_PEAKS:
-            raise AttributeError(name)
-        value = self.get(MONTE_CARLO_PEAKS[name])
-        if value is not None and self.components == 1 and name in ("storey_drift", "floor_acceleration"):
-            value = jnp.squeeze(value, axis=-2)
-        return value
-
-    def tree_flatten(self):
-        keys = tuple(self.keys())
-        return tuple(self[k] for k in keys), (keys, self.components)
-
-    @classmethod
-    def tree_unflatten(cls, aux, children):
-        keys, components = aux
-        return cls(zip(keys, children), components)
-
-
-def peak_arrays(peaks: Peaks, components=None) -> dict:
-    """{Monte Carlo name: array} (`MONTE_CARLO_PEAKS`) of the peaks kept in `peaks`."""
-    return {name: getattr(peaks, name) for name, key in MONTE_CARLO_PEAKS.items() if key in peaks}
 
 
 def simulate_history(

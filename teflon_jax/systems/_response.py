@@ -394,3 +394,51 @@ storey drift [m] and drift ratio [-] (with `storey_height` [m], scalar or per st
 acceleration [m/s^2] per component and as resultants and first-storey shear ratio [-], each
 slider's travel [m], each surface's temperature rise [K], a slab's rotation [rad] and each
 group's displacement [m]."""
+
+
+MONTE_CARLO_PEAKS = {"base_disp": "base_disp_resultant", "base_shear_ratio": "base_shear_ratio_resultant",
+                     "smooth_base_disp": "smooth_base_disp_resultant",
+                     "smooth_base_shear_ratio": "smooth_base_shear_ratio_resultant", "converged": "converged",
+                     "storey_drift": "storey_drift_ratio", "floor_acceleration": "level_acceleration",
+                     "uplift_time": "uplift_time", "group_normal_load": "group_normal_load",
+                     "within_pressure_law": "within_pressure_law"}
+"""The Monte Carlo's names of `peak_response`'s peaks (`MonteCarloResult` fields) -> their
+reducer names."""
+
+
+@jax.tree_util.register_pytree_node_class
+class Peaks(dict):
+    """The peaks of one run of `peak_response` (or batched), keyed by reducer name, with
+    `components` (1 or 2) the ground components of its structure. The Monte Carlo's names
+    (`MONTE_CARLO_PEAKS`) read as attributes: `base_disp` [m] and `base_shear_ratio` [-]
+    (resultants), their smooth maxima `smooth_base_disp`, `smooth_base_shear_ratio`,
+    `converged`, a building's `storey_drift` [-] (drift ratio) and `floor_acceleration`
+    [m/s^2] per storey and level ((S,), (S + 1,) under one component; (2, S), (2, S + 1) under
+    two), `uplift_time` [s] and, where groups share the weight unevenly, `group_normal_load`
+    ({"peak_N", "min_N", "uplift_time_s"}: (G,) each); `None` where not kept."""
+
+    def __init__(self, values=(), components: int = 1):
+        super().__init__(values)
+        self.components = components
+
+    def __getattr__(self, name):
+        if name not in MONTE_CARLO_PEAKS:
+            raise AttributeError(name)
+        value = self.get(MONTE_CARLO_PEAKS[name])
+        if value is not None and self.components == 1 and name in ("storey_drift", "floor_acceleration"):
+            value = jnp.squeeze(value, axis=-2)
+        return value
+
+    def tree_flatten(self):
+        keys = tuple(self.keys())
+        return tuple(self[k] for k in keys), (keys, self.components)
+
+    @classmethod
+    def tree_unflatten(cls, aux, children):
+        keys, components = aux
+        return cls(zip(keys, children), components)
+
+
+def peak_arrays(peaks: Peaks, components=None) -> dict:
+    """{Monte Carlo name: array} (`MONTE_CARLO_PEAKS`) of the peaks kept in `peaks`."""
+    return {name: getattr(peaks, name) for name, key in MONTE_CARLO_PEAKS.items() if key in peaks}

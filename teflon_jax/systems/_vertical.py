@@ -79,17 +79,22 @@ class TablePressure(eqx.Module):
     extended segment gives constants Eq. 1 cannot take (f_max <= delta_f, a negative delta_f
     or rate_a, a breakaway ratio below 1), the run stops with an error, not a clipped value
     (Mokha, Constantinou & Reinhorn 1990: the friction of PTFE on steel falls as the contact
-    pressure rises; Constantinou, Mokha & Reinhorn 1990, Table 1).
+    pressure rises; Constantinou, Mokha & Reinhorn 1990, Table 1); with `stop` False (a study
+    of many runs, `flag_pressure_law`) it goes on and the peak driver reports the run as
+    beyond the law (`within_pressure_law`), its peaks not to be trusted.
     """
 
     table: FrictionTable
     pressure: jnp.ndarray
     perpendicular: FrictionTable | None = None
+    stop: bool = eqx.field(static=True, default=True)
 
     def bearing_at(self, bearing, load):
         """`bearing` (a `SlidingBearing` folded at `pressure`) under the load factor `load` s [-];
         a run stops with an error where the constants are invalid (`valid_at`)."""
         fields, bad = self._fields_at(bearing, load)
+        if not self.stop:
+            return dataclasses.replace(bearing, **fields)
         fields["friction"] = eqx.error_if(
             fields["friction"], bad,
             "the vertical record takes the bearings' contact pressure beyond where Table 1's extended end "
@@ -142,6 +147,41 @@ def _scaled_by_table(table, static, pressure, friction):
                                 delta_f=friction.delta_f * (now.delta_f / then.delta_f),
                                 rate_a=friction.rate_a * (now.rate_a / then.rate_a))
     return scaled, b_now / b_then
+
+
+def flag_pressure_law(system):
+    """`system` whose Table 1 pressure law (`TablePressure`) lets a run go on beyond its
+    extended rows, the peak driver then reporting it (`within_pressure_law`): how a study of
+    many runs keeps the others; `system` itself without that law."""
+    table = getattr(system, "pressure_table", None)
+    return system if table is None else dataclasses.replace(system, pressure_table=dataclasses.replace(table, stop=False))
+
+
+def pressure_law_loads(system, layout, sample):
+    """(largest, least positive) load factor s = N / W [-] of each bearing group (or the
+    isolator) at one sample, the second inf where uplifted: the pressures a run's Table 1 law
+    is read at (`within_pressure_law`)."""
+    overturning = layout.overturning and sample.normal_load is not None
+    load = sample.normal_load / system.bearing_load if overturning else sample.load_factor
+    return load, jnp.where(load > 0, load, jnp.inf)
+
+
+def within_pressure_law(system, extremes):
+    """Whether Table 1's law of `system` (`TablePressure`) gives Eq. 1 constants at every load
+    factor between the `extremes` (largest, least positive; `pressure_law_loads` folded over a
+    run): at both ends and at the table's rows between, where the constants, linear in s
+    between rows, change slope; a bool."""
+    table, (high, low) = system.pressure_table, extremes
+    low = jnp.where(jnp.isfinite(low), low, high)  # never loaded: its largest (0) is valid
+    within = table.valid_at(system.bearing, high) & table.valid_at(system.bearing, low)
+    tables = [table.table] + ([] if table.perpendicular is None else [table.perpendicular])
+    rows = jnp.concatenate([jnp.ravel(t.pressures) for t in tables])  # traced in a study: no NumPy here
+    breaks = jnp.ravel(rows[:, None] / jnp.ravel(jnp.asarray(table.pressure))[None, :])
+
+    def valid_inside(row):  # read only where inside a group's range (0: always valid)
+        return table.valid_at(system.bearing, jnp.where((low < row) & (row < high), row, 0.0))
+
+    return within & jnp.all(jax.vmap(valid_inside)(breaks))
 
 
 def bearing_under_load(system, load) -> dict:
