@@ -139,14 +139,17 @@ def test_the_message_of_a_check_inside_a_compiled_run_is_read_out():
 
 
 @pytest.mark.slow
-def test_a_run_stopped_by_a_check_exits_with_its_message(tmp_path, capsys):
+def test_runs_beyond_the_table_end_a_study_with_their_names_not_a_traceback(tmp_path, capsys):
     """Monte Carlo on Table 1's UF at 6500 psi under vertical components 1.5 times the
     horizontal: the contact pressure passes where Table 1's extended rows give Eq. 1
-    constants; the command ends with exit status 1 and that message, not a traceback."""
+    constants; the runs that do are named (stderr, JSON), the command ends with exit status 1,
+    and no traceback is printed (tests/test_montecarlo_pressure_law.py: the flags themselves)."""
     code = main(["montecarlo", "--motions", "2", "--duration", "4s", "--strong-motion", "2s", "--pga", "0.6g",
                  "--vertical-ratio", "1.5", "--pressure", "6500psi", "--json", str(tmp_path / "mc.json"),
                  "--no-progress"])
     err = capsys.readouterr().err
     assert code == 1
-    assert "error: the run stopped: the vertical record takes the bearings' contact pressure beyond" in err
-    assert "Traceback" not in err and not (tmp_path / "mc.json").exists()
+    assert "took the bearings' contact pressure beyond where Table 1's extended end segments give Eq. 1" in err
+    payload = json.loads((tmp_path / "mc.json").read_text())
+    assert payload["beyond_pressure_law"] and payload["beyond_pressure_law"] == payload["not_converged"]
+    assert "Traceback" not in err
