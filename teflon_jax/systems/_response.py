@@ -414,8 +414,9 @@ class Peaks(dict):
     (resultants), their smooth maxima `smooth_base_disp`, `smooth_base_shear_ratio`,
     `converged`, a building's `storey_drift` [-] (drift ratio) and `floor_acceleration`
     [m/s^2] per storey and level ((S,), (S + 1,) under one component; (2, S), (2, S + 1) under
-    two), `uplift_time` [s] and, where groups share the weight unevenly, `group_normal_load`
-    ({"peak_N", "min_N", "uplift_time_s"}: (G,) each); `None` where not kept."""
+    two), `uplift_time` [s], where groups share the weight unevenly `group_normal_load`
+    ({"peak_N", "min_N", "uplift_time_s"}: (G,) each), and with Table 1's pressure law in a
+    study `within_pressure_law` (bool); `None` where not kept."""
 
     def __init__(self, values=(), components: int = 1):
         super().__init__(values)
