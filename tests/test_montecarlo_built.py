@@ -88,6 +88,7 @@ def test_a_slab_on_a_plan_runs_each_motion_as_its_own_run():
                                             for i in range(3)], rtol=1e-12)
 
 
+@pytest.mark.slow  # 30 s on two cores; the fast set runs the built building on flat sliders (test_montecarlo_plan_cli)
 def test_a_building_on_series_groups_runs_each_motion_with_its_vertical_component():
     """The building on five double pendulum groups under two horizontal components and a
     vertical one (each motion's replaces the structure's record): each motion's peaks are its
