@@ -231,7 +231,7 @@ def run_bounding(args, structure, model, units) -> int:
         friction_bounding_design,
         governing_cases,
     )
-    from ._montecarlo_summary import beyond_law_words, group_summary
+    from ._montecarlo_summary import beyond_law_words, group_summary, listed
     from ._normal_load import uplift_message, uplift_payload
 
     bounds = read_property_factors(args)
@@ -277,10 +277,9 @@ def run_bounding(args, structure, model, units) -> int:
     bounds.print_factors()
     if uplift_message(payload):
         print(uplift_message(payload) + " (each bearing)")
-    beyond = np.zeros_like(converged) if result.beyond_pressure_law is None else np.asarray(
-        result.beyond_pressure_law, bool)
+    beyond = result.beyond_flags
     if beyond.any():
-        runs = ", ".join(f"{BOUNDING_CASES[c]}:{m}" for c, m in np.argwhere(beyond)[:20])
+        runs = listed(f"{BOUNDING_CASES[c]}:{m}" for c, m in np.argwhere(beyond))
         print(f"teflon-jax montecarlo: {int(beyond.sum())} of {converged.size} runs "
               + beyond_law_words(f"case:motion {runs}"), file=sys.stderr)
     if not (converged | beyond).all():
@@ -320,16 +319,14 @@ def _bounding_runs(args, structure, model, design, bounds) -> tuple:
     from ._main import compile_cache_dir
 
     height = load_table2().storey_height if args.structure == "building" else None
-    names = {"group_names": list(structure.group_names)} if getattr(structure, "group_names", ()) else {}
     bar = motion_bar(args.motions, args.no_progress)
     progress = lambda done, total: bar.update(done - bar.n)  # noqa: E731
     if args.scheduler is None:
         result = monte_carlo(structure, model, args.motions, key=jax.random.key(args.seed), design=design,
                              chunk_size=args.chunk_size, progress=progress, storey_height=height)
-        result.attrs.update(names)  # a plan's groups label the results' group axis
         files = [] if args.out is None else [str(result.save(args.out))]
     else:
-        attrs = {"structure": args.structure, "bounding_cases": ",".join(BOUNDING_CASES), **names}
+        attrs = {"structure": args.structure, "bounding_cases": ",".join(BOUNDING_CASES)}
         if bounds.from_posterior:
             attrs.update({"property_factors": "posterior", "posterior_quantile_lower": bounds.quantiles[0],
                           "posterior_quantile_upper": bounds.quantiles[1]})

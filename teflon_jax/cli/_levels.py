@@ -30,7 +30,7 @@ from ._engineering import (
     wants_storeys,
 )
 from ._main import compile_cache_dir
-from ._montecarlo_summary import beyond_law_words
+from ._montecarlo_summary import beyond_law_words, listed
 from ._posterior_flags import (
     MOTION_DRAWS_NO_BAND,
     posterior_arguments,
@@ -192,8 +192,6 @@ def run_levels(args, structure, model, units, statistics, posterior=None) -> int
     result, level_index = _run(args, structure, model, levels, height, lambda done, total: bar.update(done - bar.n),
                                posterior_arguments(posterior, args.motions))
     bar.close()
-    if getattr(structure, "group_names", ()):  # a plan's groups label the results' group axis
-        result.attrs["group_names"] = list(structure.group_names)
     converged = np.asarray(result.converged, bool)  # (L N,), or (K, L N) for K bearings
     files = []
     if args.scheduler is not None:  # streamed there by the cluster's chunks, levels included
@@ -230,7 +228,7 @@ def run_levels(args, structure, model, units, statistics, posterior=None) -> int
     payload.update({"n_motions": result.n_motions, "motions_per_level": args.motions,
                     "n_converged": int(converged.sum()), "not_converged": _failed_runs(converged),
                     **({} if result.beyond_pressure_law is None else
-                       {"beyond_pressure_law": _failed_runs(~np.asarray(result.beyond_pressure_law, bool))}),
+                       {"beyond_pressure_law": _failed_runs(~result.beyond_flags)}),
                     "all_converged": bool(converged.all()), "wall_s": result.wall_s, "compile_s": result.compile_s,
                     "levels": per_level, "fragility": fragility, "files": files})
     payload["motions"]["pga_levels"] = {"unit": unit, "values": (levels / factor).tolist()}
@@ -272,8 +270,7 @@ def _run(args, structure, model, levels, height, progress, draws):
     return monte_carlo_levels_distributed(
         structure, model, levels, args.motions, out=args.out, seed=args.seed, scheduler=args.scheduler,
         chunk_size=args.chunk_size, progress=progress, storey_height=height,
-        compilation_cache=None if args.no_compile_cache else str(compile_cache_dir()),
-        attrs={"group_names": list(structure.group_names)} if getattr(structure, "group_names", ()) else None)
+        compilation_cache=None if args.no_compile_cache else str(compile_cache_dir()))
 
 
 _VERTICAL_STOREYS = ("storey drifts and level accelerations are horizontal: the superstructure is rigid "
@@ -344,13 +341,11 @@ def _report(result, levels, level_index, unit, factor, fragility, per_level) -> 
                   f"median {band['median_band'][0]:.4g} - {band['median_band'][1]:.4g} {unit} ({_end(low)} - "
                   f"{_end(high)} with the motions' sampling), dispersion {band['dispersion_band'][0]:.3g} - "
                   f"{band['dispersion_band'][1]:.3g}")
-    beyond = np.zeros_like(converged) if result.beyond_pressure_law is None else np.asarray(
-        result.beyond_pressure_law, bool)
+    beyond = result.beyond_flags
     which = "motion indices" if converged.ndim == 1 else "bearing:motion"
 
     def names(runs):
-        return ", ".join(str(i) if converged.ndim == 1 else f"{i['bearing']}:{i['motion']}" for i in runs[:20]) + (
-            " ..." if len(runs) > 20 else "")
+        return listed(i if converged.ndim == 1 else f"{i['bearing']}:{i['motion']}" for i in runs)
 
     if beyond.any():
         runs = _failed_runs(~beyond)

@@ -244,8 +244,6 @@ def run_montecarlo(args) -> int:
 
     chunk_size = args.chunk_size
     attrs = {**run_attributes(args), **posterior_attributes(posterior)}
-    if args.plan is not None:  # the results' group axis, labelled by the plan's names
-        attrs["group_names"] = list(structure.group_names)
     if args.scheduler is None:
         result = runner_of(posterior, monte_carlo)(  # a bearing file's mixture: its compositions
             structure, model, args.motions, key=jax.random.key(args.seed),

@@ -30,7 +30,7 @@ def summary_payload(args, result, structure, model, units, stats, files) -> dict
         "n_converged": int(converged.sum()),
         "not_converged": np.flatnonzero(~converged).tolist(),
         **({} if result.beyond_pressure_law is None else {
-            "beyond_pressure_law": np.flatnonzero(np.asarray(result.beyond_pressure_law).reshape(-1)).tolist()}),
+            "beyond_pressure_law": np.flatnonzero(result.beyond_flags.reshape(-1)).tolist()}),
         "structure": args.structure,
         "devices": result.n_devices,
         "device_kind": jax.devices()[0].device_kind,
@@ -95,6 +95,13 @@ def stamp(args, horizontal) -> str:
             + (f"; vertical {args.vertical_ratio:g} x PGA" if args.vertical_ratio is not None else ""))
 
 
+def listed(labels) -> str:
+    """The first 20 of `labels` (run indices, "case:motion", ...) as one comma-separated text,
+    "..." after them where there are more."""
+    labels = [str(label) for label in labels]
+    return ", ".join(labels[:20]) + (" ..." if len(labels) > 20 else "")
+
+
 def beyond_law_words(named: str) -> str:
     """What the runs beyond Table 1's pressure law (`named`: "motion indices 3, 7", as the
     user reads them) did, and what to do."""
@@ -119,17 +126,15 @@ def report(args, result, stats, units, more_lines) -> int:
                                        if k != "n" and v is not None))
     for line in more_lines:
         print(line)
-    beyond = np.zeros_like(converged) if result.beyond_pressure_law is None else np.asarray(
-        result.beyond_pressure_law, bool).reshape(-1)
+    beyond = result.beyond_flags.reshape(-1)
     if beyond.any():
         runs = np.flatnonzero(beyond)
-        named = "motion indices " + ", ".join(str(i) for i in runs[:20]) + (" ..." if runs.size > 20 else "")
-        print(f"teflon-jax montecarlo: {runs.size} of {converged.size} runs {beyond_law_words(named)}",
-              file=sys.stderr)
+        print(f"teflon-jax montecarlo: {runs.size} of {converged.size} runs "
+              f"{beyond_law_words('motion indices ' + listed(runs))}", file=sys.stderr)
     failed = np.flatnonzero(~converged & ~beyond)
     if not failed.size:
         return int(beyond.any())
-    named = ", ".join(str(i) for i in failed[:20]) + (" ..." if failed.size > 20 else "")
+    named = listed(failed)
     print(
         f"teflon-jax montecarlo: {failed.size} of {converged.size} runs had a time step whose "
         f"Newton solve did not converge (motion indices {named}); they are left out of the "

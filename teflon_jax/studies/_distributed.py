@@ -60,7 +60,7 @@ from ._montecarlo import (
     probe_structure,
     stochastic_grid,
 )
-from ._montecarlo_parts import GROUP_PEAKS, with_pressure_law
+from ._montecarlo_parts import flat_peaks
 from ._record_set import RecordSet
 from ._results import (
     BEYOND_PRESSURE_LAW,
@@ -97,10 +97,8 @@ def _chunk_task(spec: dict, start: int, stop: int, payload):
         values = np.asarray(values)[indices - start]
     peaks, pga = _get(runner(indices, values, level))
     n = stop - start
-    if spec["groups"] is not None:  # each group's peaks as their own variables
-        peaks = {**peaks, **{f"group_{k}": peaks["group_normal_load"][name] for k, name in GROUP_PEAKS.items()}}
+    peaks = flat_peaks(peaks)  # each group's peaks as variables; a run beyond Table 1's law flagged
     names = _variables(spec["model"], spec["storey_height"], spec["groups"], spec["pressure_law"])
-    peaks = with_pressure_law(peaks)  # a run beyond Table 1's law: flagged, not converged
     out = {name: np.asarray(peaks[name])[:n] for name in names}
     if spec["design"] is not None:  # (motion, design, ...) -> (design, motion, ...)
         out = {k: np.moveaxis(v, 0, 1) for k, v in out.items()}
@@ -122,7 +120,7 @@ def _variables(model, storey_height=None, groups=None, pressure_law=False) -> di
     if groups is not None:
         variables.update(GROUP_VARIABLES)
     if pressure_law:
-        variables["beyond_pressure_law"] = (BEYOND_PRESSURE_LAW["units"], BEYOND_PRESSURE_LAW["long_name"])
+        variables["beyond_pressure_law"] = BEYOND_PRESSURE_LAW
     return variables
 
 
@@ -319,6 +317,8 @@ def _run(structure, motions, n_motions, levels, *, out, seed=0, scheduler="local
     inputs = {"duration_s": spec["duration"], "record_time_step_s": spec["time_step"], "n_dof": sizes["n_dof"],
               "seed": int(seed), "scheduler": scheduler, "n_motions": n_total, "precision": spec["dtype"],
               **motion_attributes(motions), **dict(attrs or {})}
+    if getattr(structure, "group_names", ()):  # a plan's groups name the file's group axis
+        inputs["group_names"] = list(structure.group_names)
     if levels is not None:
         inputs.update({"intensity_levels_m_s2": list(at), "motions_per_level": n_per_level})
     # level j: its motions in chunks of `chunk` from j N, as monte_carlo_levels runs them

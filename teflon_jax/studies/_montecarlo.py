@@ -340,6 +340,7 @@ class _Plan(NamedTuple):
     draws: np.ndarray | None = None  # each run's draw of the stacked bearings
     bearing_draw: np.ndarray | None = None
     nested: bool = False
+    group_names: tuple = ()  # a plan's groups (`BuiltStructure.group_names`): the results' group axis
 
 
 def _plan(structure, motions, n_motions, *, key=None, duration=None, design=None, chunk_size=512, devices=None,
@@ -368,7 +369,8 @@ def _plan(structure, motions, n_motions, *, key=None, duration=None, design=None
                          shear_width, read_every, storey_height, bearings=None if draws is None else bearings)
     return _Plan(runner, n_total, chunk, n_chunks, design_arrays, int(n_dof), duration, source.time_step,
                  source.vertical, storey_height is not None, int(chunk * per_motion), draws,
-                 None if draws is None else np.asarray(bearing_draw), bool(nested and draws is not None))
+                 None if draws is None else np.asarray(bearing_draw), bool(nested and draws is not None),
+                 tuple(getattr(structure, "group_names", ())))
 
 
 def _bearing_runs(structure, design_arrays, bearings, bearing_draw, nested, n_total):
@@ -402,7 +404,7 @@ def _result(plan: _Plan, motions, outputs, wall_s: float) -> MonteCarloResult:
         compile_s=plan.runner.compile_s,
         memory_estimate_bytes=plan.estimate,
         attrs={"duration_s": plan.duration, "record_time_step_s": plan.time_step, "n_dof": plan.n_dof,
-               **motion_attributes(motions)},
+               **motion_attributes(motions), **({"group_names": list(plan.group_names)} if plan.group_names else {})},
     )
 
 

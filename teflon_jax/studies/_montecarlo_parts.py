@@ -46,7 +46,7 @@ def _peak_fields(peaks, with_designs: bool, with_storeys: bool, vertical: bool =
         x = np.asarray(x)
         return np.moveaxis(x, 0, 1) if with_designs else x
 
-    peaks = with_pressure_law(peaks)
+    peaks = flat_peaks(peaks)
     return {
         "base_disp": arrange(peaks["base_disp"]),
         "base_shear_ratio": arrange(peaks["base_shear_ratio"]),
@@ -57,20 +57,23 @@ def _peak_fields(peaks, with_designs: bool, with_storeys: bool, vertical: bool =
         "floor_acceleration": arrange(peaks["floor_acceleration"]) if with_storeys else None,
         **({"uplift_time": arrange(peaks["uplift_time"])} if vertical else {}),
         **({"beyond_pressure_law": arrange(peaks["beyond_pressure_law"])} if "beyond_pressure_law" in peaks else {}),
-        **({f"group_{key}": arrange(peaks["group_normal_load"][name]) for key, name in GROUP_PEAKS.items()}
-           if "group_normal_load" in peaks else {}),
+        **{name: arrange(peaks[name]) for name in GROUP_FIELDS if name in peaks},
     }
 
 
-def with_pressure_law(peaks: dict) -> dict:
-    """`peaks` whose runs beyond Table 1's pressure law (`within_pressure_law` False) count as
-    not converged, flagged as `beyond_pressure_law`; `peaks` itself without that law."""
-    if "within_pressure_law" not in peaks:
-        return peaks
-    within = np.asarray(peaks["within_pressure_law"])
-    return {**peaks, "converged": np.asarray(peaks["converged"]) & within, "beyond_pressure_law": ~within}
+def flat_peaks(peaks: dict) -> dict:
+    """`peaks` (`peak_arrays`) in the `MonteCarloResult`'s fields: each bearing group's peaks
+    of `group_normal_load` as their own entries (`GROUP_FIELDS`), and the runs beyond Table 1's
+    pressure law (`within_pressure_law` False) not converged, flagged as `beyond_pressure_law`."""
+    out = dict(peaks)
+    if "group_normal_load" in out:
+        out.update({field: out["group_normal_load"][name] for field, name in GROUP_FIELDS.items()})
+    if "within_pressure_law" in out:
+        within = np.asarray(out["within_pressure_law"])
+        out.update(converged=np.asarray(out["converged"]) & within, beyond_pressure_law=~within)
+    return out
 
 
-GROUP_PEAKS = {"peak_load": "peak_N", "min_load": "min_N", "uplift_time": "uplift_time_s"}
-"""The `MonteCarloResult` fields of each bearing group's peaks (`group_` + key) -> the name of
-the peak driver's `group_normal_load` entry."""
+GROUP_FIELDS = {"group_peak_load": "peak_N", "group_min_load": "min_N", "group_uplift_time": "uplift_time_s"}
+"""The `MonteCarloResult` fields of each bearing group's peaks -> the name of the peak
+driver's `group_normal_load` entry."""

@@ -50,9 +50,9 @@ GROUP_VARIABLES = {
 names of `attrs["group_names"]` where given), when its groups share the weight unevenly
 (overturning or a vertical component): name -> (units, long name)."""
 
-BEYOND_PRESSURE_LAW = {"units": "1", "long_name": "the contact pressure went beyond where Table 1's extended "
-                       "rows give Eq. 1 constants (peaks not trusted)"}
-"""The attributes of `beyond_pressure_law`."""
+BEYOND_PRESSURE_LAW = ("1", "the contact pressure went beyond where Table 1's extended rows give Eq. 1 "
+                       "constants (peaks not trusted)")
+"""The units and long name of `beyond_pressure_law`."""
 
 DESIGN_UNITS = {
     "isolation_period": ("s", "isolation period T_b"),
@@ -152,6 +152,14 @@ class MonteCarloResult:
             return None
         counts = np.sum(np.asarray(self.uplift_time) > 0, axis=-1)
         return int(counts) if counts.ndim == 0 else counts.tolist()
+
+    @property
+    def beyond_flags(self) -> np.ndarray:
+        """`beyond_pressure_law` as a bool array of `converged`'s shape (all False without
+        Table 1's pressure law)."""
+        if self.beyond_pressure_law is None:
+            return np.zeros(np.shape(self.converged), bool)
+        return np.asarray(self.beyond_pressure_law, bool)
 
     @property
     def n_motions(self) -> int:
@@ -259,7 +267,9 @@ class MonteCarloResult:
             data["uplift_time"] = (dims, np.asarray(self.uplift_time),
                                    {"units": "s", "long_name": "time with the isolators' normal load <= 0"})
         if self.beyond_pressure_law is not None:
-            data["beyond_pressure_law"] = (dims, np.asarray(self.beyond_pressure_law), BEYOND_PRESSURE_LAW)
+            units, long_name = BEYOND_PRESSURE_LAW
+            data["beyond_pressure_law"] = (dims, np.asarray(self.beyond_pressure_law),
+                                           {"units": units, "long_name": long_name})
         for name, (units, long_name) in GROUP_VARIABLES.items():
             if getattr(self, name) is not None:
                 data[name] = (dims + ("group",), np.asarray(getattr(self, name)), {"units": units, "long_name": long_name})

@@ -169,10 +169,9 @@ def pressure_law_loads(system, layout, sample):
 def within_pressure_law(system, extremes):
     """Whether Table 1's law of `system` (`TablePressure`) gives Eq. 1 constants at every load
     factor between the `extremes` (largest, least positive; `pressure_law_loads` folded over a
-    run): at both ends and at the table's rows between, where the constants, linear in s
+    run from s = 1 at rest): at both ends and at the table's rows between, where the constants, linear in s
     between rows, change slope; a bool."""
-    table, (high, low) = system.pressure_table, extremes
-    low = jnp.where(jnp.isfinite(low), low, high)  # never loaded: its largest (0) is valid
+    table, (high, low) = system.pressure_table, extremes  # both folded from s = 1 at rest: finite
     within = table.valid_at(system.bearing, high) & table.valid_at(system.bearing, low)
     tables = [table.table] + ([] if table.perpendicular is None else [table.perpendicular])
     rows = jnp.concatenate([jnp.ravel(t.pressures) for t in tables])  # traced in a study: no NumPy here
