@@ -21,11 +21,17 @@ from teflon_jax.excitation import (
 )
 from teflon_jax.studies import (
     MonteCarloResult,
+    bidirectional_isolated_structure,
     monte_carlo,
     monte_carlo_distributed,
     monte_carlo_motion,
 )
-from teflon_jax.systems import isolated_structure, peak_response, with_vertical_component
+from teflon_jax.systems import (
+    flag_pressure_law,
+    isolated_structure,
+    peak_response,
+    with_vertical_component,
+)
 from teflon_jax.tables import interface_parameters
 from teflon_jax.units import PSI, STANDARD_GRAVITY
 
@@ -61,6 +67,31 @@ def test_runs_beyond_the_table_are_flagged_and_the_others_go_on(tmp_path):
     assert result.percentiles()["base_disp_m"]["n"] == COUNT - beyond.sum()
     result.save(tmp_path / "mc.nc")
     np.testing.assert_array_equal(MonteCarloResult.open(tmp_path / "mc.nc").beyond_pressure_law, beyond)
+
+
+@pytest.mark.parametrize("components", [1, 2])
+def test_the_law_is_checked_at_the_records_first_sample(components):
+    """A vertical record that starts at s = N / W = 6 (UF PTFE at 2500 psi: beyond Table 1's
+    extension) and is 0 after: the first step reads the law there, so a single run stops and
+    a flagged run (`flag_pressure_law`) is reported beyond the law; starting at s = 4 (inside)
+    both run, the flagged one within the law. In one and in two horizontal components."""
+    build = isolated_structure if components == 1 else bidirectional_isolated_structure
+    structure = with_vertical_component(build("rigid", pressure=2500 * PSI, time_step=0.005))
+    time = np.arange(0.0, 2.0, 0.01)
+    horizontal = uniform_signal(0.3 * STANDARD_GRAVITY * np.sin(2 * np.pi * time), 0.01)
+    if components == 2:
+        horizontal = (horizontal, uniform_signal(0.15 * STANDARD_GRAVITY * np.sin(2 * np.pi * time), 0.01))
+    for start, inside in ((4.0, True), (6.0, False)):
+        vertical = np.zeros_like(time)
+        vertical[0] = (start - 1.0) * STANDARD_GRAVITY
+        system = structure((horizontal, uniform_signal(vertical, 0.01)))
+        assert bool(system.pressure_table.valid_at(system.bearing, start)) == inside
+        assert bool(peak_response(flag_pressure_law(system), 1.9)["within_pressure_law"]) == inside
+        if inside:
+            assert bool(peak_response(system, 1.9).converged)
+        else:
+            with pytest.raises(Exception, match=BEYOND):
+                jax.block_until_ready(peak_response(system, 1.9))
 
 
 def test_without_a_pressure_law_nothing_is_flagged():

@@ -171,7 +171,8 @@ def peak_response(system, duration: float, *, reducers=None, smooth=None, disp_w
     overturning loads), "group_normal_load": each group's largest and least N_g [N] (the rest
     included, read as the peaks are) and its uplift time [s] (`group_load_peaks`); with a
     Table 1 pressure law that does not stop the run (`flag_pressure_law`),
-    "within_pressure_law": whether the law gave Eq. 1 constants at every step's loads.
+    "within_pressure_law": whether the law gave Eq. 1 constants at every load the steps read
+    (the record's at t = 0 included).
     """
     _check_loop_settings(read_every, steps_per_pass)
     layout = response_layout(system)
@@ -222,8 +223,7 @@ def peak_response(system, duration: float, *, reducers=None, smooth=None, disp_w
     totals = {k: jnp.ones(shapes[k].shape, dtype) for k in tops}
     loads = None if run.first is None else group_load_extremes(layout, run.first)  # the rest's, none lifted
     loads = None if loads is None else loads[:2] + (jnp.zeros_like(loads[2]),)
-    at_rest = jnp.ones(system.bearing_load.shape if layout.overturning else (), dtype)  # s = 1
-    law = (at_rest, at_rest) if flagged else None
+    law = _law_start(system, layout, run.first) if flagged else None
     carry = (run.start, peaks, tops, totals, jnp.zeros((), jnp.int32), jnp.array(True), loads, law)
     (_, peaks, tops, totals, lifted, ok, loads, law), _ = jax.lax.scan(
         body, carry, (jnp.arange(n_steps), run.inputs), unroll=steps_per_pass)
@@ -237,6 +237,22 @@ def peak_response(system, duration: float, *, reducers=None, smooth=None, disp_w
     if flagged:
         out["within_pressure_law"] = within_pressure_law(system, law)
     return out
+
+
+def _law_start(system, layout, first):
+    """(largest, least positive) load factor of a run's start: s = 1 at rest (one per group
+    under overturning) with the load its first step reads as its start's, the record's at
+    t = 0 (a record need not start at a_v = 0) or the groups' first sample's
+    (`pressure_law_loads`)."""
+    at_rest = jnp.ones(system.bearing_load.shape if layout.overturning else (), layout.mass.dtype)
+    if layout.overturning and first is not None and first.normal_load is not None:
+        high, low = pressure_law_loads(system, layout, first)
+    elif system.vertical_acceleration is not None:
+        high = system.load_factor(jnp.zeros((), layout.mass.dtype))
+        low = jnp.where(high > 0, high, jnp.inf)
+    else:
+        return at_rest, at_rest
+    return jnp.maximum(at_rest, high), jnp.minimum(at_rest, low)
 
 
 def _check_reducers(reducers, smooth) -> None:
