@@ -280,13 +280,8 @@ def building_on_plan(
     level_mass, frame_k, frame_c = _frame(building)
     n = level_mass.shape[0]
     heights = _level_heights(building, storey_heights, base_height, n)
-    inertia = level_mass[0] * (length_x**2 + length_y**2) / 12 if rotational_inertia is None else rotational_inertia
-    if not (np.isfinite(inertia) and inertia > 0):
-        raise ValueError(f"rotational_inertia: must be > 0 kg m^2, got {rotational_inertia}.")
-    bearing_map = plan_bearing_map(positions - centre, 2 * n + 1, (0, n, 2 * n))
-    influence = np.zeros((2 * n + 1, 2))
-    influence[:n, 0] = influence[n:2 * n, 1] = 1.0
-    mass = np.concatenate([level_mass, level_mass, [inertia]])
+    mass, influence, bearing_map = _building_coordinates(level_mass, positions - centre, length_x, length_y,
+                                                         rotational_inertia)
     ground_y = _zero_signal(ground_x) if ground_y is None else ground_y
     # the levels' moment sum_i h_i F_i as h_c H_h at the mass centre's height h_c (`overturning_force`)
     centre_height = _centre_height(level_mass, heights) if np.any(heights > 0) else 0.0
@@ -312,6 +307,20 @@ def building_on_plan(
         friction_model=friction_model)
     return dataclasses.replace(system, pendulum_stiffness=None if radii is None else jnp.asarray(loads / radii),
                                **loading)
+
+
+def _building_coordinates(level_mass, arms, length_x, length_y, rotational_inertia):
+    """(mass (2n + 1,), influence R (2n + 1, 2), bearing map B (G, 2, 2n + 1)) of the building's
+    coordinates (x: base, floors; y: base, floors; the slab's rotation) over the groups at
+    `arms` (G, 2) [m] from the mass centre; J of the uniform slab unless given (> 0)."""
+    n = level_mass.shape[0]
+    inertia = level_mass[0] * (length_x**2 + length_y**2) / 12 if rotational_inertia is None else rotational_inertia
+    if not (np.isfinite(inertia) and inertia > 0):
+        raise ValueError(f"rotational_inertia: must be > 0 kg m^2, got {rotational_inertia}.")
+    influence = np.zeros((2 * n + 1, 2))
+    influence[:n, 0] = influence[n:2 * n, 1] = 1.0
+    mass = np.concatenate([level_mass, level_mass, [inertia]])
+    return mass, influence, plan_bearing_map(arms, 2 * n + 1, (0, n, 2 * n))
 
 
 def building_centre_height(building: BuildingData | None = None, storey_heights=None, base_height=0.0) -> float:
