@@ -157,7 +157,7 @@ def run_run(args) -> int:
         **isolator.entries(args),
         "peak": peak,
         **entries,
-        **stop_entries(*run.end, ["peak", *entries]),
+        **stop_entries(*run.end, ["peak", *entries], beyond_law_s=run.beyond_law_s),
     }
     return write_run_outputs(args, payload, histories, title, lines, run.problem,
                              force_label="friction force" if isolator.pendulum is None else "isolator force")

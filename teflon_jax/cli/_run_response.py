@@ -18,18 +18,26 @@ from ._normal_load import (
     uplift_line,
 )
 from ._run_peaks import run_peaks, slider_peaks, surface_temperature_summary
-from ._run_stop import bidirectional_stop, series_slab_stop, series_stop, unbalanced_message
+from ._run_stop import (
+    bidirectional_stop,
+    law_stop,
+    series_slab_stop,
+    series_stop,
+    unbalanced_message,
+)
 
 
 class Run(typing.NamedTuple):
     """A simulated run: its `response` (cut to the steps that balanced), its `end` (time (nt,)
     [s], kept steps, tipped (nt,), unconverged (nt,): `stop_entries`), `problem` (why it
-    stopped, '' when complete) and the `duration` [s] it kept."""
+    stopped, '' when complete), the `duration` [s] it kept and `beyond_law_s`, the time [s] of
+    the first sample beyond Table 1's pressure law where the run stopped there (`law_stop`)."""
 
     response: object
     end: tuple
     problem: str
     duration: float
+    beyond_law_s: float | None = None
 
 
 class _Engine(typing.NamedTuple):
@@ -110,8 +118,16 @@ def _engine(system) -> _Engine:
 
 
 def simulate_run(system, duration: float, plan=None) -> Run:
-    """The `Run` of `system` over `duration` [s] from rest (`plan`: the slab's, or None)."""
-    return _engine(system).simulate(system, duration, plan)
+    """The `Run` of `system` over `duration` [s] from rest (`plan`: the slab's, or None). A
+    bearing whose friction follows Table 1 at the momentary pressure runs on past the table's
+    reach (`systems.flag_pressure_law`), and the run is cut before the first sample beyond it,
+    naming when and where (`law_stop`)."""
+    from ..systems import flag_pressure_law
+
+    if getattr(system, "pressure_table", None) is None:
+        return _engine(system).simulate(system, duration, plan)
+    run = _engine(system).simulate(flag_pressure_law(system), duration, plan)
+    return law_stop(system, run, plan, None if plan is None else [g["name"] for g in plan["groups"]])
 
 
 def reduce_run(structure: str, system, run: Run, plan, units):

@@ -9,7 +9,8 @@ import math
 import numpy as np
 
 PARTIAL_NOTE = ("the run stopped at stopped_at_s, the first step that did not balance (the slab tipped or "
-                "the balance did not converge): the entries named in partial_fields and the histories "
+                "the balance did not converge) or whose loads took the bearings beyond Table 1's pressure "
+                "law (beyond_pressure_law_s): the entries named in partial_fields and the histories "
                 "cover the steps from 0 s to last_kept_s only; tipped_steps and unconverged_steps count "
                 "the steps solved (flat sliders, single pendulums, the rigid mass and the building stop at "
                 "the first such step; triple and double pendulums solve every step of the record)")
@@ -34,9 +35,10 @@ def cut(tree, size: int, kept: int):
     return jax.tree_util.tree_map(lambda a: a[:kept] if np.ndim(a) >= 1 and np.shape(a)[0] == size else a, tree)
 
 
-def stop_entries(time, kept: int, tipped, unconverged, fields) -> dict:
+def stop_entries(time, kept: int, tipped, unconverged, fields, beyond_law_s=None) -> dict:
     """The JSON entries of a run's end: {"complete": True} when it kept all of `time` (nt,)
-    [s]; else "complete": false, "stopped_at_s" (the first step that did not balance),
+    [s]; else "complete": false, "stopped_at_s" (the first step that did not balance, or
+    whose loads passed Table 1's pressure law, `beyond_law_s` [s]: "beyond_pressure_law_s"),
     "last_kept_s", the counts and first times [s] (None: none) of the `tipped` and
     `unconverged` (nt,) steps, and "partial_fields": the `fields` (JSON keys) that cover
     only the kept steps."""
@@ -51,7 +53,7 @@ def stop_entries(time, kept: int, tipped, unconverged, fields) -> dict:
     return {"complete": False, "stopped_at_s": float(time[kept]), "last_kept_s": float(time[kept - 1]),
             "tipped_steps": int(tipped.sum()), "first_tipped_s": first(tipped),
             "unconverged_steps": int(unconverged.sum()), "first_unconverged_s": first(unconverged),
-            "partial_fields": list(fields), "partial_note": PARTIAL_NOTE}
+            "beyond_pressure_law_s": beyond_law_s, "partial_fields": list(fields), "partial_note": PARTIAL_NOTE}
 
 
 def bidirectional_stop(system, response):
@@ -82,6 +84,14 @@ def bidirectional_stop(system, response):
     else:
         message = (f"the solver did not converge ({response.result}) at t = {time[kept]:.4g} s; try a "
                    "smaller --time-step")
+    return cut_response(system, response, kept), (time, kept, tipped, unconverged), \
+        f"{message}; {WRITTEN.format(time[kept])}."
+
+
+def cut_response(system, response, kept: int):
+    """`response` (saved at every step) cut to its first `kept` samples, its uplift times
+    counting those steps only."""
+    time = np.asarray(response.time)
     short = cut(response, time.size, kept)
     dt = float(system.time_step)
     changes = {}
@@ -89,8 +99,57 @@ def bidirectional_stop(system, response):
         changes["uplift_time"] = np.sum(np.asarray(short.load_factor)[1:] <= 0) * dt
     if short.normal_load is not None:
         changes["group_uplift_time"] = np.sum(np.asarray(short.normal_load)[1:] <= 0, axis=0) * dt
-    return (dataclasses.replace(short, **changes), (time, kept, tipped, unconverged),
-            f"{message}; {WRITTEN.format(time[kept])}.")
+    return dataclasses.replace(short, **changes)
+
+
+def law_stop(system, run, plan, names=None):
+    """`run` (`_run_response.Run`, of `system` with its Table 1 law flagged, `flag_pressure_law`)
+    cut before the first sample whose loads its law gives no Eq. 1 constants at
+    (`systems.pressure_law_valid`), with the time, the group (`names`: the plan's) and the
+    contact pressure named; `run` itself where every sample is within the law."""
+    from ..systems import pressure_law_valid
+    from ..units import PSI
+
+    valid = np.asarray(pressure_law_valid(system, run.response))
+    if valid.all():
+        return run
+    first = int(np.argmin(valid))
+    kept = max(first, 1)
+    time, _, tipped, unconverged = run.end
+    time = np.asarray(time)
+    tipped, unconverged = (np.asarray(flags, bool).copy() for flags in (tipped, unconverged))
+    tipped[kept:], unconverged[kept:] = False, False
+    table, response = system.pressure_table, run.response
+    overturning = response.normal_load is not None and getattr(system, "overturning", None) is not None
+    if overturning:
+        loads = np.asarray(response.normal_load[first]) / np.asarray(system.bearing_load)
+        group = _beyond_group(table, system, loads)
+        where = f"bearing group {names[group] if names else group}'s"
+        load, pressure = loads[group], np.broadcast_to(np.asarray(table.pressure), loads.shape)[group]
+    else:
+        where, load = "the isolators'", float(np.asarray(response.load_factor)[first])
+        pressure = float(np.max(np.asarray(table.pressure)))
+    message = (f"at t = {time[first]:.4g} s {where} normal load reached {load:.4g} times its share of the weight, "
+               f"a contact pressure of {load * pressure / PSI:.0f} psi, beyond where Table 1's extended end "
+               "segments give Eq. 1 constants (f_max > delta_f >= 0, rate_a >= 0, breakaway ratio >= 1), under "
+               f"the vertical record{' and the overturning moment' if overturning else ''}; give the bearings' constants at such pressures "
+               "(a bearing file with a pressure dependence), a lower height_of_centre_of_mass or a weaker record; "
+               + WRITTEN.format(time[kept]) + ".")
+    end = (time, kept, tipped, unconverged)
+    return type(run)(cut_response(system, response, kept), end, message, float(time[kept - 1]),
+                     beyond_law_s=float(time[first]))
+
+
+def _beyond_group(table, system, loads) -> int:
+    """The first group whose load factor in `loads` (G,) the law gives no constants at (the
+    others held at rest, s = 1)."""
+    import jax.numpy as jnp
+
+    for g in range(loads.shape[0]):
+        alone = jnp.where(jnp.arange(loads.shape[0]) == g, loads[g], 1.0)
+        if not bool(table.valid_at(system.bearing, alone)):
+            return g
+    return int(np.argmax(loads))
 
 
 def non_finite(value, where="") -> list:
@@ -165,3 +224,30 @@ def unbalanced_message(response, height, building: bool = False) -> str:
     if not parts:
         return ""
     return "; ".join(parts) + f"; {WRITTEN.format(time[~converged][0])}."
+
+
+BEYOND_LAW = ("took a bearing group's contact pressure beyond where Table 1's extended end segments give Eq. 1 "
+              "constants (f_max > delta_f >= 0, rate_a >= 0, breakaway ratio >= 1), under the vertical component "
+              "and the groups' overturning loads")
+"""What a pair or a run beyond Table 1's pressure law did."""
+
+
+def failed_pairs(names, converged, beyond=None) -> str:
+    """Which of a suite's pairs cannot be trusted and why ('' when all converged): those beyond
+    Table 1's pressure law (`beyond` (P,) bool, or None) and those not balanced in every step,
+    each named, with what to do."""
+    beyond = np.zeros(len(names), bool) if beyond is None else np.asarray(beyond, bool)
+    converged = np.asarray(converged, bool)
+    parts = []
+    law = [n for n, b in zip(names, beyond) if b]
+    if law:
+        parts.append(f"{len(law)} of {len(names)} pairs {BEYOND_LAW} ({', '.join(law)}): run such a pair alone to "
+                     "see where and when, and give the bearings' constants at such pressures (a bearing file with "
+                     "a pressure dependence) or a lower height_of_centre_of_mass")
+    unbalanced = [n for n, ok, b in zip(names, converged, beyond) if not ok and not b]
+    if unbalanced:
+        parts.append(f"{len(unbalanced)} of {len(names)} pairs could not be balanced in every step "
+                     f"({', '.join(unbalanced)}): run such a pair alone to see why (a slab that tips, or try a "
+                     "smaller --time-step)")
+    return "; ".join(parts)
+

@@ -21,7 +21,14 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..excitation import uniform_signal
-from ..systems import simulate_history, step_count, step_load_factors, uplift_time
+from ..systems import (
+    flag_pressure_law,
+    pressure_law_valid,
+    simulate_history,
+    step_count,
+    step_load_factors,
+    uplift_time,
+)
 from ._cluster import (
     add_attributes,
     check_count,
@@ -68,6 +75,11 @@ SUITE_VERTICAL_UNITS = {
 """A suite's variables on the "pair" dimension when its pairs have vertical components
 (`suite_peaks(az=...)`): what `run --record-z` reports as its `uplift`."""
 
+BEYOND_PRESSURE_LAW = ("1", "the vertical component and the overturning moment took a bearing group's contact "
+                       "pressure beyond where Table 1's extended end segments give Eq. 1 constants (True: "
+                       "peaks not trusted, the pair not converged)")
+"""Units and long name of a vertical suite's `beyond_pressure_law` on the "pair" dimension."""
+
 _ALL_UNITS = {**SUITE_UNITS, **SUITE_VERTICAL_UNITS, **SUITE_STOREY_UNITS}
 _STOREY_LAYOUT = {
     "storey_drift": ("storey", "1", "peak |interstorey drift| / storey height (storey j: level j-1 to j)"),
@@ -82,7 +94,9 @@ class SuiteResult:
     `storey_drift` (P, 2, S) [-] and `level_acceleration` (P, 2, S + 1) [m/s^2] in x and y
     (`suite_peaks(storey_height=...)`, `directional_storeys`), else `None`; `groups`: a slab
     with overturning, {"names": (G,), "peak_N", "min_N", "uplift_time_s": (P, G)} (each
-    group's N_g, `SUITE_GROUP_UNITS`), else `None`."""
+    group's N_g, `SUITE_GROUP_UNITS`), else `None`; `beyond_pressure_law` (P,) bool with
+    vertical components: the pairs whose loads took the bearings beyond Table 1's pressure law
+    (`BEYOND_PRESSURE_LAW`; not converged, their peaks not trusted), else `None`."""
 
     names: tuple
     peaks: dict
@@ -90,6 +104,7 @@ class SuiteResult:
     summary: dict
     storeys: dict | None = None
     groups: dict | None = None
+    beyond_pressure_law: np.ndarray | None = None
 
 
 def _suite_function(build, time_step: float, duration: float, storey_height=None):
@@ -98,16 +113,20 @@ def _suite_function(build, time_step: float, duration: float, storey_height=None
     whatever the structure and isolator; with `storey_height` [m] (the building) also the
     largest resultant drift ratio over the storeys, |(q_j - q_(j-1))_x, (q_j - q_(j-1))_y| / h,
     and the peaks per storey, level and direction; with vertical components, each pair's uplift
-    (`vertical_values`). The base's coordinates come from the structure (`response_layout`)."""
+    (`vertical_values`) and whether its loads took the bearings beyond Table 1's pressure law
+    ("beyond_pressure_law": the pair runs on, `flag_pressure_law`, and is not converged). The
+    base's coordinates come from the structure (`response_layout`)."""
 
     def one(*grounds):
-        system = build(*(uniform_signal(g, time_step) for g in grounds))
+        system = flag_pressure_law(build(*(uniform_signal(g, time_step) for g in grounds)))
         response = simulate_history(system, duration, throw=False)
         layout = response_layout(system)
         values = suite_values(response_peaks(layout, response, storey_height))
-        if len(grounds) == 3:
-            values |= vertical_values(system, duration)
-        return values, response.succeeded
+        if len(grounds) == 2:
+            return values, response.succeeded
+        within = jnp.all(pressure_law_valid(system, response))
+        values |= vertical_values(system, duration) | {"beyond_pressure_law": ~within}
+        return values, response.succeeded & within
 
     return jax.jit(jax.vmap(one))
 
@@ -173,6 +192,7 @@ def suite_peaks(build, names, ax, ay, time_step: float, duration: float,
         index = lanes(start, min(start + width, count), width)
         parts.append(jax.device_get(function(*(jnp.asarray(g[index]) for g in grounds))))
     joined = {k: np.concatenate([p[0][k] for p in parts])[:count] for k in parts[0][0]}
+    beyond = joined.pop("beyond_pressure_law", None)
     groups = {k.removeprefix("group_"): joined.pop(k) for k in list(joined) if k.startswith("group_")} or None
     if groups is not None:
         width = groups["peak_N"].shape[1]
@@ -183,7 +203,7 @@ def suite_peaks(build, names, ax, ay, time_step: float, duration: float,
     storeys = {k: v for k, v in joined.items() if v.ndim > 1} or None
     ok = np.concatenate([np.asarray(p[1], dtype=bool) for p in parts])[:count]
     return SuiteResult(names=names, peaks=peaks, converged=ok, summary=_summary(peaks, ok), storeys=storeys,
-                       groups=groups)
+                       groups=groups, beyond_pressure_law=None if beyond is None else beyond.astype(bool))
 
 
 def _grounds(count: int, ax, ay, az=None) -> tuple:
@@ -287,8 +307,10 @@ def suite_peaks_distributed(
         if width != (0 if groups is None else len(groups)):
             raise ValueError(f"group_names: {0 if groups is None else len(groups)} names for the structure's "
                              f"{width} bearing groups with per-group loads (a slab with overturning).")
-        for name in (*SUITE_UNITS, *(SUITE_VERTICAL_UNITS if az is not None else ())):
-            values = part[name].astype(np.int8) if name == "converged" else part[name]
+        flags = ("converged", "beyond_pressure_law")
+        for name in (*SUITE_UNITS, *(SUITE_VERTICAL_UNITS if az is not None else ()),
+                     *(("beyond_pressure_law",) if az is not None else ())):
+            values = part[name].astype(np.int8) if name in flags else part[name]
             handle.variables[name][start:stop] = values
         for name in reported:
             handle.variables[f"group_{name}"][start:stop, :] = part[f"group_{name}"]
@@ -311,7 +333,9 @@ def _suite_layout(names, attrs: dict, groups=None, vertical: bool = False) -> di
     slab's per-group variables on ("pair", "group") where `groups` names them and the uplift
     (`SUITE_VERTICAL_UNITS`) with `vertical` components."""
     units = {**SUITE_UNITS, **(SUITE_VERTICAL_UNITS if vertical else {})}
-    variables = {name: (("pair",), unit, long_name, "bool" if name == "converged" else "f8")
+    if vertical:
+        units["beyond_pressure_law"] = BEYOND_PRESSURE_LAW
+    variables = {name: (("pair",), unit, long_name, "bool" if name in ("converged", "beyond_pressure_law") else "f8")
                  for name, (unit, long_name) in units.items()}
     dims = {"pair": len(names)}
     coords = {"pair": ("pair", np.array(names, dtype=str), None, "record pair")}
@@ -334,6 +358,10 @@ def suite_dataset(result: SuiteResult, attrs: dict | None = None):
             for k, (u, n) in _ALL_UNITS.items() if k in result.peaks}
     units, long_name = SUITE_UNITS["converged"]
     data["converged"] = ("pair", np.asarray(result.converged, bool), {"units": units, "long_name": long_name})
+    if result.beyond_pressure_law is not None:
+        units, long_name = BEYOND_PRESSURE_LAW
+        data["beyond_pressure_law"] = ("pair", np.asarray(result.beyond_pressure_law, bool),
+                                       {"units": units, "long_name": long_name})
     file_attrs = {"Conventions": "CF-1.8", "title": "teflon-jax record suite peak responses",
                   "teflon_jax_attrs": json.dumps(attrs or {}), **(attrs or {}), **_summary_attrs(result.summary)}
     coords = {"pair": ("pair", np.array(result.names, dtype=str), {"long_name": "record pair"})}
@@ -366,8 +394,9 @@ def suite_from_dataset(dataset) -> SuiteResult:
     if "group" in dataset.coords:
         groups = {k: np.asarray(dataset[f"group_{k}"].values, dtype=float) for k in SUITE_GROUP_UNITS}
         groups["names"] = tuple(str(g) for g in dataset["group"].values)
+    beyond = np.asarray(dataset["beyond_pressure_law"].values, bool) if "beyond_pressure_law" in dataset else None
     return SuiteResult(names=names, peaks=peaks, converged=ok, summary=_summary(peaks, ok), storeys=storeys,
-                       groups=groups)
+                       groups=groups, beyond_pressure_law=beyond)
 
 
 def _group_columns(result: SuiteResult) -> dict:
@@ -388,13 +417,14 @@ def save_suite(result: SuiteResult, table_path=None, netcdf_path=None, attrs: di
         path.parent.mkdir(parents=True, exist_ok=True)
         names = [k for k in _ALL_UNITS if k in result.peaks]
         groups = _group_columns(result)
-        lines = ["pair," + ",".join(names + list(groups)) + ",converged"]
+        beyond = result.beyond_pressure_law
+        lines = ["pair," + ",".join(names + list(groups)) + ",converged" + ("" if beyond is None else ",beyond_pressure_law")]
         for i, name in enumerate(result.names):
             row = ",".join([f"{result.peaks[k][i]:.6g}" for k in names] + [f"{v[i]:.6g}" for v in groups.values()])
-            lines.append(f"{name},{row},{bool(result.converged[i])}")
+            lines.append(f"{name},{row},{bool(result.converged[i])}" + ("" if beyond is None else f",{bool(beyond[i])}"))
         for stat in ("mean", "max"):
             lines.append(f"{stat}," + ",".join(f"{result.summary[k][stat]:.6g}" for k in names) + ","
-                         + "," * len(groups))
+                         + "," * len(groups) + ("" if beyond is None else ","))
         path.write_text("\n".join(lines) + "\n")
     if netcdf_path is not None:
         path = pathlib.Path(netcdf_path)

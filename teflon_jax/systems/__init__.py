@@ -84,6 +84,7 @@ from ._structure_build import structure_on_sliders as structure_on_sliders
 from ._vertical import TablePressure as TablePressure
 from ._vertical import flag_pressure_law as flag_pressure_law
 from ._vertical import normal_load_factor as normal_load_factor
+from ._vertical import pressure_law_valid as pressure_law_valid
 from ._vertical import step_load_factors as step_load_factors
 from ._vertical import under_ground as under_ground
 from ._vertical import with_vertical_motion as with_vertical_motion

@@ -183,6 +183,20 @@ def within_pressure_law(system, extremes):
     return within & jnp.all(jax.vmap(valid_inside)(breaks))
 
 
+def pressure_law_valid(system, response):
+    """Whether Table 1's law of `system` (`TablePressure`) gave Eq. 1 constants at the loads of
+    each sample of its `response` (a `StructureResponse` saved at every step, the rest
+    included), which are the loads its steps read: each group's N_g / W_g under overturning
+    (`normal_load`), else the load factor s; a bool (nt,), True throughout without that law
+    (`flag_pressure_law` lets a run go on past the first sample beyond it)."""
+    table = getattr(system, "pressure_table", None)
+    if table is None:
+        return jnp.ones(jnp.shape(response.time), bool)
+    overturning = getattr(system, "overturning", None) is not None and response.normal_load is not None
+    loads = response.normal_load / system.bearing_load if overturning else response.load_factor
+    return jax.vmap(lambda load: table.valid_at(system.bearing, load))(loads)
+
+
 def bearing_under_load(system, load) -> dict:
     """The fields of `system` (a stepped structure on flat sliders or single pendulums) whose
     bearing is at the contact pressure of the load factor `load` s: its bearing by its pressure
