@@ -127,7 +127,7 @@ def simulate_run(system, duration: float, plan=None) -> Run:
     if getattr(system, "pressure_table", None) is None:
         return _engine(system).simulate(system, duration, plan)
     run = _engine(system).simulate(flag_pressure_law(system), duration, plan)
-    return law_stop(system, run, plan, None if plan is None else [g["name"] for g in plan["groups"]])
+    return law_stop(system, run, None if plan is None else [g["name"] for g in plan["groups"]])
 
 
 def reduce_run(structure: str, system, run: Run, plan, units):

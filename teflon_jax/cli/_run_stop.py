@@ -102,7 +102,7 @@ def cut_response(system, response, kept: int):
     return dataclasses.replace(short, **changes)
 
 
-def law_stop(system, run, plan, names=None):
+def law_stop(system, run, names=None):
     """`run` (`_run_response.Run`, of `system` with its Table 1 law flagged, `flag_pressure_law`)
     cut before the first sample whose loads its law gives no Eq. 1 constants at
     (`systems.pressure_law_valid`), with the time, the group (`names`: the plan's) and the
@@ -133,7 +133,8 @@ def law_stop(system, run, plan, names=None):
                f"a contact pressure of {load * pressure / PSI:.0f} psi, beyond where Table 1's extended end "
                "segments give Eq. 1 constants (f_max > delta_f >= 0, rate_a >= 0, breakaway ratio >= 1), under "
                f"the vertical record{' and the overturning moment' if overturning else ''}; give the bearings' constants at such pressures "
-               "(a bearing file with a pressure dependence), a lower height_of_centre_of_mass or a weaker record; "
+               "(a bearing file with a pressure dependence) or a weaker record (on a slab, a lower "
+               "height_of_centre_of_mass); "
                + WRITTEN.format(time[kept]) + ".")
     end = (time, kept, tipped, unconverged)
     return type(run)(cut_response(system, response, kept), end, message, float(time[kept - 1]),
