@@ -112,3 +112,22 @@ def test_a_suite_flags_the_pair_beyond_the_table_and_keeps_the_others(tmp_path, 
     stored = open_suite(tmp_path / "s.nc")
     np.testing.assert_array_equal(stored.beyond_pressure_law, [True, False])
     np.testing.assert_array_equal(stored.converged, [False, True])
+
+
+def test_a_pair_that_tips_the_slab_is_not_taken_for_one_beyond_the_table(tmp_path, capsys):
+    """UF at 1000 psi (the law holds far beyond these loads) and the centre of mass 4 m up: the
+    strong pair tips the slab, and the loads of the steps its solve did not reach are not read
+    as beyond the law; it is named as not balanced, `beyond_pressure_law` false."""
+    _inputs(tmp_path)
+    plan = dict(PLAN, height_of_centre_of_mass="4m")
+    (tmp_path / "plan.json").write_text(json.dumps(plan))
+    (tmp_path / "pairs.csv").write_text("name,record_x,record_y,record_z,scale\n"
+                                        "tip,x.at2,y.at2,z.at2,1\ncalm,x.at2,y.at2,z.at2,0.2\n")
+    flags = ["--plan", str(tmp_path / "plan.json"), "--structure", "slab", "--pressure", "1000psi",
+             "--isolation-period", "2.5s"]
+    assert main(["run", "--suite", str(tmp_path / "pairs.csv"), *flags, "--json", str(tmp_path / "s.json")]) == 1
+    err = capsys.readouterr().err
+    assert "1 of 2 pairs could not be balanced in every step (tip)" in err and "beyond where" not in err
+    pairs = json.loads((tmp_path / "s.json").read_text())["pairs"]
+    assert not pairs["tip"]["converged"] and not pairs["tip"]["beyond_pressure_law"]
+    assert pairs["calm"]["converged"]

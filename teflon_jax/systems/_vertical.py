@@ -188,13 +188,20 @@ def pressure_law_valid(system, response):
     each sample of its `response` (a `StructureResponse` saved at every step, the rest
     included), which are the loads its steps read: each group's N_g / W_g under overturning
     (`normal_load`), else the load factor s; a bool (nt,), True throughout without that law
-    (`flag_pressure_law` lets a run go on past the first sample beyond it)."""
+    (`flag_pressure_law` lets a run go on past the first sample beyond it) and at the samples
+    the run did not reach: after the first step that did not balance (`converged`), and where
+    the loads are not finite (a solve that stopped)."""
     table = getattr(system, "pressure_table", None)
     if table is None:
         return jnp.ones(jnp.shape(response.time), bool)
     overturning = getattr(system, "overturning", None) is not None and response.normal_load is not None
     loads = response.normal_load / system.bearing_load if overturning else response.load_factor
-    return jax.vmap(lambda load: table.valid_at(system.bearing, load))(loads)
+    valid = jax.vmap(lambda load: table.valid_at(system.bearing, load))(loads)
+    reached = jnp.all(jnp.isfinite(loads).reshape(loads.shape[0], -1), axis=-1)
+    if response.converged is not None:
+        failed = ~response.converged
+        reached = reached & (jnp.cumsum(failed) - failed == 0)  # the first failed step's loads were read
+    return valid | ~reached
 
 
 def bearing_under_load(system, load) -> dict:
