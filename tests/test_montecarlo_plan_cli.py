@@ -186,3 +186,21 @@ def test_bound_cases_of_the_building_on_a_plan_report_each_cases_group_loads(tmp
                 result.group_peak_load[index, :, j].max() / kip, rel=1e-12)
             assert cases[case]["groups"][name]["min_load"]["min"] == pytest.approx(
                 result.group_min_load[index, :, j].min() / kip, rel=1e-12)
+
+
+def test_runs_that_tip_a_tall_slab_are_not_sent_to_a_smaller_step(tmp_path, capsys):
+    """A 4 m slab whose centre of mass stands 8 m up, under 1.2 g motions: every run tips it.
+    The runs are named with the slab's tipping and the plan's height as the way out, not a
+    smaller --time-step alone."""
+    plan = {"length_x": "4m", "length_y": "4m", "weight": "400kip", "centre_of_mass": ["2m", "2m"],
+            "height_of_centre_of_mass": "8m",
+            "groups": [{"name": n, "x": x, "y": y, "load": "100kip"}
+                       for n, x, y in (("SW", "0m", "0m"), ("SE", "4m", "0m"), ("NE", "4m", "4m"), ("NW", "0m", "4m"))]}
+    (tmp_path / "plan.json").write_text(json.dumps(plan))
+    code, out = _montecarlo(capsys, "--plan", tmp_path / "plan.json", "--structure", "slab", "--components", "2",
+                            "--motions", "2", "--duration", "4s", "--strong-motion", "2s", "--pga", "1.2g",
+                            "--isolation-period", "2.5s", "--no-progress", "--json", tmp_path / "mc.json")
+    assert code == 1
+    assert "2 of 2 runs had a time step that did not balance: the slab (or the building's base) tipped" in out.err
+    assert "Lower the plan's height_of_centre_of_mass" in out.err
+    assert json.loads((tmp_path / "mc.json").read_text())["not_converged"] == [0, 1]

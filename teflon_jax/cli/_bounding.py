@@ -231,7 +231,12 @@ def run_bounding(args, structure, model, units) -> int:
         friction_bounding_design,
         governing_cases,
     )
-    from ._montecarlo_summary import beyond_law_words, group_summary, listed
+    from ._montecarlo_summary import (
+        beyond_law_words,
+        group_summary,
+        listed,
+        unbalanced_words,
+    )
     from ._normal_load import uplift_message, uplift_payload
 
     bounds = read_property_factors(args)
@@ -283,8 +288,10 @@ def run_bounding(args, structure, model, units) -> int:
         print(f"teflon-jax montecarlo: {int(beyond.sum())} of {converged.size} runs "
               + beyond_law_words(f"case:motion {runs}"), file=sys.stderr)
     if not (converged | beyond).all():
-        print(f"teflon-jax montecarlo: {int((~converged & ~beyond).sum())} of {converged.size} runs did not converge; "
-              "they are flagged in the results and left out of the table. Try a smaller --time-step.", file=sys.stderr)
+        runs = listed(f"{BOUNDING_CASES[c]}:{m}" for c, m in np.argwhere(~converged & ~beyond))
+        why, advice = unbalanced_words(result, f"case:motion {runs}")
+        print(f"teflon-jax montecarlo: {int((~converged & ~beyond).sum())} of {converged.size} runs had a time step "
+              f"{why}; they are flagged in the results and left out of the table. {advice}", file=sys.stderr)
     if not converged.all():
         return 1
     return 0

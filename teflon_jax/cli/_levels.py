@@ -30,7 +30,7 @@ from ._engineering import (
     wants_storeys,
 )
 from ._main import compile_cache_dir
-from ._montecarlo_summary import beyond_law_words, listed
+from ._montecarlo_summary import beyond_law_words, listed, unbalanced_words
 from ._posterior_flags import (
     MOTION_DRAWS_NO_BAND,
     posterior_arguments,
@@ -354,10 +354,9 @@ def _report(result, levels, level_index, unit, factor, fragility, per_level) -> 
         status = 1
     failed = _failed_runs(converged | beyond)  # the Newton solves that failed
     if failed:
-        named = names(failed)
-        print(f"teflon-jax montecarlo: {len(failed)} of {converged.size} runs had a time step whose Newton "
-              f"solve did not converge ({which} {named}); they are flagged "
-              "in the files and left out of the counts and statistics. Try a smaller --time-step.", file=sys.stderr)
+        why, advice = unbalanced_words(result, f"{which} {names(failed)}")
+        print(f"teflon-jax montecarlo: {len(failed)} of {converged.size} runs had a time step {why}; they are "
+              f"flagged in the files and left out of the counts and statistics. {advice}", file=sys.stderr)
         status = 1
     return status
 

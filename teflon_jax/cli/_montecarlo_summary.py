@@ -134,16 +134,27 @@ def report(args, result, stats, units, more_lines) -> int:
     failed = np.flatnonzero(~converged & ~beyond)
     if not failed.size:
         return int(beyond.any())
-    named = listed(failed)
-    print(
-        f"teflon-jax montecarlo: {failed.size} of {converged.size} runs had a time step whose "
-        f"Newton solve did not converge (motion indices {named}); they are left out of the "
-        "statistics and flagged in the results ('converged'). "
-        + ("Single precision is too coarse for the bearing's Newton solve: drop --float32."
-           if getattr(args, "float32", False) else "Try a smaller --time-step."),
-        file=sys.stderr,
-    )
+    why, advice = unbalanced_words(result, f"motion indices {listed(failed)}", getattr(args, "float32", False))
+    print(f"teflon-jax montecarlo: {failed.size} of {converged.size} runs had a time step {why}; they are left "
+          f"out of the statistics and flagged in the results ('converged'). {advice}", file=sys.stderr)
     return 1
+
+
+def unbalanced_words(result, named: str, float32: bool = False) -> tuple[str, str]:
+    """(why, what to do) of runs with a step that did not balance, `named` the runs: on a plan
+    whose groups carry the overturning loads (`result.group_peak_load`) the slab or the
+    building's base may have tipped, which a smaller step does not mend; elsewhere Newton's
+    solve did not converge."""
+    if float32:
+        advice = "Single precision is too coarse for the bearing's Newton solve: drop --float32."
+    else:
+        advice = "Try a smaller --time-step."
+    if getattr(result, "group_peak_load", None) is None:
+        return f"whose Newton solve did not converge ({named})", advice
+    why = ("that did not balance: the slab (or the building's base) tipped, its overturning moment beyond what its "
+           "weight holds back about the leaning groups (they take no tension), or the Newton solve did not "
+           f"converge ({named})")
+    return why, "Lower the plan's height_of_centre_of_mass, spread the groups or weaken the motions; else: " + advice
 
 
 def group_summary(result, units) -> tuple[dict, list]:
