@@ -154,7 +154,8 @@ def unbalanced_words(result, named: str, float32: bool = False) -> tuple[str, st
     why = ("that did not balance: the slab (or the building's base) tipped, its overturning moment beyond what its "
            "weight holds back about the leaning groups (they take no tension), or the Newton solve did not "
            f"converge ({named})")
-    return why, "Lower the plan's height_of_centre_of_mass, spread the groups or weaken the motions; else: " + advice
+    return why, ("Spread the groups, lower a slab's height_of_centre_of_mass in the plan or weaken the motions; "
+                 "else: " + advice)
 
 
 def group_summary(result, units) -> tuple[dict, list]:
