@@ -124,8 +124,6 @@ def simulate_run(system, duration: float, plan=None) -> Run:
     naming when and where (`law_stop`)."""
     from ..systems import flag_pressure_law
 
-    if getattr(system, "pressure_table", None) is None:
-        return _engine(system).simulate(system, duration, plan)
     run = _engine(system).simulate(flag_pressure_law(system), duration, plan)
     return law_stop(system, run, None if plan is None else [g["name"] for g in plan["groups"]])
 

@@ -8,6 +8,8 @@ import math
 
 import numpy as np
 
+from ._normal_load import LAW_REACH
+
 PARTIAL_NOTE = ("the run stopped at stopped_at_s, the first step that did not balance (the slab tipped or "
                 "the balance did not converge) or whose loads took the bearings beyond Table 1's pressure "
                 "law (beyond_pressure_law_s): the entries named in partial_fields and the histories "
@@ -123,15 +125,15 @@ def law_stop(system, run, names=None):
     overturning = response.normal_load is not None and getattr(system, "overturning", None) is not None
     if overturning:
         loads = np.asarray(response.normal_load[first]) / np.asarray(system.bearing_load)
-        group = _beyond_group(table, system, loads)
+        groups_valid = np.broadcast_to(np.asarray(table.groups_valid_at(system.bearing, loads)), loads.shape)
+        group = int(np.argmin(groups_valid))  # the first group the law gives no constants at
         where = f"bearing group {names[group] if names else group}'s"
         load, pressure = loads[group], np.broadcast_to(np.asarray(table.pressure), loads.shape)[group]
     else:
         where, load = "the isolators'", float(np.asarray(response.load_factor)[first])
         pressure = float(np.max(np.asarray(table.pressure)))
     message = (f"at t = {time[first]:.4g} s {where} normal load reached {load:.4g} times its share of the weight, "
-               f"a contact pressure of {load * pressure / PSI:.0f} psi, beyond where Table 1's extended end "
-               "segments give Eq. 1 constants (f_max > delta_f >= 0, rate_a >= 0, breakaway ratio >= 1), under "
+               f"a contact pressure of {load * pressure / PSI:.0f} psi, {LAW_REACH}, under "
                f"the vertical record{' and the overturning moment' if overturning else ''}; give the bearings' constants at such pressures "
                "(a bearing file with a pressure dependence) or a weaker record (on a slab, a lower "
                "height_of_centre_of_mass); "
@@ -139,18 +141,6 @@ def law_stop(system, run, names=None):
     end = (time, kept, tipped, unconverged)
     return type(run)(cut_response(system, response, kept), end, message, float(time[kept - 1]),
                      beyond_law_s=float(time[first]))
-
-
-def _beyond_group(table, system, loads) -> int:
-    """The first group whose load factor in `loads` (G,) the law gives no constants at (the
-    others held at rest, s = 1)."""
-    import jax.numpy as jnp
-
-    for g in range(loads.shape[0]):
-        alone = jnp.where(jnp.arange(loads.shape[0]) == g, loads[g], 1.0)
-        if not bool(table.valid_at(system.bearing, alone)):
-            return g
-    return int(np.argmax(loads))
 
 
 def non_finite(value, where="") -> list:
@@ -227,9 +217,8 @@ def unbalanced_message(response, height, building: bool = False) -> str:
     return "; ".join(parts) + f"; {WRITTEN.format(time[~converged][0])}."
 
 
-BEYOND_LAW = ("took a bearing group's contact pressure beyond where Table 1's extended end segments give Eq. 1 "
-              "constants (f_max > delta_f >= 0, rate_a >= 0, breakaway ratio >= 1), under the vertical component "
-              "and the groups' overturning loads")
+BEYOND_LAW = (f"took a bearing group's contact pressure {LAW_REACH}, under the vertical component and the groups' "
+              "overturning loads")
 """What a pair or a run beyond Table 1's pressure law did."""
 
 

@@ -26,9 +26,9 @@ from ._cluster import (
     stream_to_netcdf,
     worker_cached,
 )
+from ._results import BEYOND_PRESSURE_LAW
 from ._suites import (
     _STOREY_LAYOUT,
-    BEYOND_PRESSURE_LAW,
     SUITE_GROUP_UNITS,
     SUITE_STOREY_UNITS,
     SUITE_UNITS,

@@ -41,6 +41,7 @@ from ._cluster import (
     worker_cached,
 )
 from ._reducers import response_layout, response_peaks
+from ._results import BEYOND_PRESSURE_LAW
 
 SUITE_PEAKS = ("base_disp_resultant_m", "base_disp_x_m", "base_disp_y_m", "base_shear_ratio_resultant")
 SUITE_UNITS = {
@@ -74,11 +75,6 @@ SUITE_VERTICAL_UNITS = {
 }
 """A suite's variables on the "pair" dimension when its pairs have vertical components
 (`suite_peaks(az=...)`): what `run --record-z` reports as its `uplift`."""
-
-BEYOND_PRESSURE_LAW = ("1", "the vertical component and the overturning moment took a bearing group's contact "
-                       "pressure beyond where Table 1's extended end segments give Eq. 1 constants (True: "
-                       "peaks not trusted, the pair not converged)")
-"""Units and long name of a vertical suite's `beyond_pressure_law` on the "pair" dimension."""
 
 _ALL_UNITS = {**SUITE_UNITS, **SUITE_VERTICAL_UNITS, **SUITE_STOREY_UNITS}
 _STOREY_LAYOUT = {

@@ -96,7 +96,7 @@ class TablePressure(eqx.Module):
         if not self.stop:
             return dataclasses.replace(bearing, **fields)
         fields["friction"] = eqx.error_if(
-            fields["friction"], bad,
+            fields["friction"], jnp.any(bad),
             "the vertical record takes the bearings' contact pressure beyond where Table 1's extended end "
             "segments give Eq. 1 constants (f_max > delta_f >= 0, rate_a >= 0, breakaway ratio >= 1); "
             "give the bearing's constants at such pressures (a bearing file with a pressure dependence).")
@@ -106,6 +106,11 @@ class TablePressure(eqx.Module):
         """Whether Eq. 1 can take `bearing`'s constants under the load factor `load` s [-]
         (f_max > delta_f >= 0, rate_a >= 0 and a breakaway ratio >= 1 in every group; always
         while uplifted, s = 0): a bool array, for checking a record before it runs."""
+        return ~jnp.any(self._fields_at(bearing, load)[1])
+
+    def groups_valid_at(self, bearing, load):
+        """`valid_at` of each group apart: a bool per group (the broadcast shape of the bearing's
+        constants and `load`), True where Eq. 1 can take that group's constants."""
         return ~self._fields_at(bearing, load)[1]
 
     def constant_breaks(self):
@@ -129,7 +134,7 @@ class TablePressure(eqx.Module):
                if name != "breakaway_ratio"]
         if "breakaway_ratio" in fields:
             bad.append(~(fields["breakaway_ratio"] >= 1))
-        return fields, jnp.any(functools.reduce(jnp.logical_or, bad) & (load > 0))
+        return fields, functools.reduce(jnp.logical_or, bad) & (load > 0)  # per group
 
 
 def _scaled_by_table(table, static, pressure, friction):
