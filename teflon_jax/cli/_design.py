@@ -30,7 +30,12 @@ from ._design_variables import (
     restrained_options,
     structure_options,
 )
-from ._montecarlo import _add_common, _motion_model
+from ._montecarlo import (
+    _add_common,
+    add_components_flags,
+    check_components_flags,
+    ground_motion_model,
+)
 
 HELP = "gradient-based design: minimise expected base shear under a displacement limit"
 """The line of this command in `teflon-jax --help`."""
@@ -62,6 +67,7 @@ def add_design_parser(subparsers) -> argparse.ArgumentParser:
     )
     parser.add_argument("--motions", type=_positive_int, default=16, help="motions in the set (default 16)")
     _add_common(parser)
+    add_components_flags(parser)
     # defaults: `teflon_jax.studies.default_design_problem()`, a problem whose limit binds
     add_quantity(parser, "--disp-limit", "length", "1.25in", "limit on the mean (over the motions) "
                  "of the true peak base displacement, or on its 95th percentile with "
@@ -117,7 +123,7 @@ def run_design(args) -> int:
     import numpy as np
     from tqdm import tqdm
 
-    from ..excitation import sample
+    from ..excitation import sample, sample_two_components
     from ..studies import (
         check_netcdf_output,
         design_bounds,
@@ -132,18 +138,20 @@ def run_design(args) -> int:
         raise ValueError("--scheduler: a distributed sweep streams its results to a file; add --out FILE.nc.")
     if args.out is not None:
         check_netcdf_output(args.out, "--out")  # before anything is computed
+    check_components_flags(args)
     variables, structure = _variables_and_structure(args)
     if args.time_step is not None:
         warn_time_step("design", args.time_step, args.time_step_text, args.record_step, args.record_step_text)
     tic = time.perf_counter()
     stages = {}
     bar = tqdm(total=2, unit="stage", desc="design", disable=args.no_progress)
-    records = sample(_motion_model(args), jax.random.key(args.seed), args.motions)
+    draw = sample_two_components if args.components == 2 else sample
+    records = draw(ground_motion_model(args), jax.random.key(args.seed), args.motions)
     dt = args.record_step
     grid = {name: np.linspace(*bounds, args.grid) for name, bounds in variables.items()}
     bar.set_postfix_str(f"grid sweep, {args.grid}x{args.grid} designs x {args.motions} motions")
     design = ISOLATOR_DESIGNS[args.isolator]
-    attrs = {"structure": args.structure, "isolator": args.isolator, "seed": args.seed, "pga_m_s2": args.pga,
+    attrs = {"structure": args.structure, "components": args.components, "isolator": args.isolator, "seed": args.seed, "pga_m_s2": args.pga,
              **({"isolator_file": str(args.isolator_file)} if design.uses_file else
                 {"ptfe": args.ptfe} if args.bearing is None else {"bearing": str(args.bearing)}),
              "motion_duration_s": args.duration, "isolation_damping": args.isolation_damping,
@@ -151,7 +159,7 @@ def run_design(args) -> int:
     if args.scheduler is None:
         from ..studies import device_chunk_size
 
-        n_dof = 7 if structure.kind == "building" else 1  # Table 2's six storeys and the base
+        n_dof = (7 if structure.kind == "building" else 1) * args.components  # Table 2's storeys and the base
         batch = args.chunk_size or device_chunk_size(records.size, n_dof, cpu=16)
         sweep = design_sweep(structure, records, dt, grid=grid, disp_limit=args.disp_limit,
                              penalty=args.penalty, batch_size=batch, limit_statistic=args.limit_statistic)
@@ -211,7 +219,8 @@ def _plot(args, sweep, result, units) -> None:
     friction = ("" if design.uses_file else f"{args.ptfe} PTFE, " if args.bearing is None
                 else f"bearing {args.bearing}, ")
     stamp = (f"{args.structure} on {isolator}, {friction}zeta_b = {args.isolation_damping_text}, "
-             f"{args.motions} Clough-Penzien motions (PGA {args.pga_text}, {args.duration_text}, "
+             f"{args.motions} {'two-component ' if args.components == 2 else ''}Clough-Penzien motions "
+             f"(PGA {args.pga_text}, {args.duration_text}, "
              f"seed {args.seed}), limit {args.disp_limit_text} on the {_STATISTIC[args.limit_statistic]} "
              "peak displacement")
     # the grid's objective for the limit on the smoothed statistic that BFGS ended on
@@ -246,7 +255,8 @@ def _variables_and_structure(args):
 
 def _slider_structure(args, variables):
     """The `IsolatedStructure` of flat sliders or a single pendulum at the low ends of the
-    bounds (Table 1's rows checked against the pressure flags, by name)."""
+    bounds (Table 1's rows checked against the pressure flags, by name), for --components."""
+    from ..studies import bidirectional_isolated_structure
     from ..systems import isolated_structure
 
     bearing = _design_bearing(args)
@@ -255,36 +265,37 @@ def _slider_structure(args, variables):
             check_table1(args.ptfe, pressure, text, "--pressure-range")
     if bearing is None and args.pressure_text is not None:
         check_table1(args.ptfe, args.pressure, args.pressure_text)
-    options = dict(
-        ptfe=args.ptfe, **structure_options(args, variables, bearing),
-        # Design differentiates the peaks: the turning-point split of the Monte Carlo default
-        # switches branch when a design change moves a velocity reversal across a step, and the
-        # gradient check at the optimum then fails; the plain update at 2.5 ms with Newmark's
-        # rule passes it, with the isolator's equilibrium solved to rounding (no trace of where
-        # Newton's loop stopped in the check's central differences; see `default_design_problem`).
-        time_step=0.0025 if args.time_step is None else args.time_step, split_at_turn=False,
-        newton_tolerance=0.0, linear_rule="newmark",
-    )
-    structure = isolated_structure(args.structure, **options)
+    options = dict(ptfe=args.ptfe, **structure_options(args, variables, bearing),
+                   time_step=0.0025 if args.time_step is None else args.time_step, newton_tolerance=0.0)
+    # Design differentiates the peaks: the turning-point split of the Monte Carlo default
+    # switches branch when a design change moves a velocity reversal across a step, and the
+    # gradient check at the optimum then fails; the plain update at 2.5 ms with Newmark's
+    # rule passes it, with the isolator's equilibrium solved to rounding (no trace of where
+    # Newton's loop stopped in the check's central differences; see `default_design_problem`).
+    # Two components take Park's Z along each step's increment with Newmark's rule already.
+    one_component = {"split_at_turn": False, "linear_rule": "newmark"}
+    structure = isolated_structure(args.structure, **options, **one_component)
     if "capacity" in variables:  # the surface with its restrainer, scaled by the weight carried
-        structure = isolated_structure(args.structure, **restrained_options(args, variables, structure, options))
-    return structure
+        options = restrained_options(args, variables, structure, options)
+        structure = isolated_structure(args.structure, **options, **one_component)
+    return bidirectional_isolated_structure(args.structure, **options) if args.components == 2 else structure
 
 
 def _pendulum_structure(args, variables):
     """The `IsolatedStructure` on the pendulum of `--isolator-file` (`ValueError` naming
-    the flag for a file of another isolator): its sliders balanced to rounding (so that central
-    differences see no trace of where Newton's loop stopped)."""
+    the flag for a file of another isolator), for --components: its sliders balanced to
+    rounding (so that central differences see no trace of where Newton's loop stopped)."""
     import jax
     import jax.numpy as jnp
 
+    from ..studies import bidirectional_isolated_structure
     from ..systems import isolated_structure
     from ._isolator_flags import load_isolator_file as _load
 
     pendulum = jax.tree_util.tree_map(lambda x: jnp.asarray(x, float), _load(args.isolator_file, args.isolator))
-    return isolated_structure(args.structure, isolator=pendulum,
-                              time_step=0.005 if args.time_step is None else args.time_step,
-                              newton_tolerance=0.0)
+    build = bidirectional_isolated_structure if args.components == 2 else isolated_structure
+    return build(args.structure, isolator=pendulum, time_step=0.005 if args.time_step is None else args.time_step,
+                 newton_tolerance=0.0)
 
 
 def _design_bearing(args):
@@ -321,6 +332,7 @@ def _payload(args, result, sweep, units, wall_s: float) -> dict:
     payload = {
         "n_motions": args.motions,
         "structure": args.structure,
+        "components": args.components,
         "isolator": args.isolator,
         "devices": len(jax.devices()),
         "wall_s": wall_s,

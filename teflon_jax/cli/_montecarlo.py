@@ -122,15 +122,7 @@ def add_montecarlo_parser(subparsers) -> argparse.ArgumentParser:
                  "zeta_b of the isolation system (default 5% on flat sliders, 0 on a friction "
                  "pendulum)", minimum=0.0, strict=False, maximum=1.0)
     add_isolator_flags(parser)
-    parser.add_argument("--components", type=int, choices=(1, 2), default=1,
-                        help="horizontal ground components: 1 (along x, the uniaxial structures) or 2 "
-                        "(x and y on the bidirectional rigid mass or building: Park's biaxial Z; peaks "
-                        "are resultants) (default 1)")
-    add_quantity(parser, "--principal-angle", "angle", None, "two components: angle of the major "
-                 "principal axis from x towards y (Penzien & Watabe 1975) (default 0deg)")
-    add_quantity(parser, "--minor-ratio", "dimensionless", None, "two components: standard deviation "
-                 "of the minor component over the major's, in [0, 1] (default 1: two independent, "
-                 "equally strong components)", minimum=0.0, strict=False, maximum=1.0)
+    add_components_flags(parser)
     parser.add_argument("--chunk-size", type=_positive_int, default=None, help="motions per compiled call "
                         "(split over the devices; about 260 kB each for 40 s motions at 0.01 s) (default: "
                         "512 on a CPU; on a GPU the largest power of two up to 65536 whose motions "
@@ -157,6 +149,40 @@ def add_montecarlo_parser(subparsers) -> argparse.ArgumentParser:
     add_posterior_flags(parser)
     parser.set_defaults(command_function=run_montecarlo)
     return parser
+
+
+def add_components_flags(parser) -> None:
+    """--components, --principal-angle and --minor-ratio: the horizontal ground components of
+    the stochastic motions (`ground_motion_model`)."""
+    parser.add_argument("--components", type=int, choices=(1, 2), default=1,
+                        help="horizontal ground components: 1 (along x, the uniaxial structures) or 2 "
+                        "(x and y on the bidirectional rigid mass or building: Park's biaxial Z; peaks "
+                        "are resultants) (default 1)")
+    add_quantity(parser, "--principal-angle", "angle", None, "two components: angle of the major "
+                 "principal axis from x towards y (Penzien & Watabe 1975) (default 0deg)")
+    add_quantity(parser, "--minor-ratio", "dimensionless", None, "two components: standard deviation "
+                 "of the minor component over the major's, in [0, 1] (default 1: two independent, "
+                 "equally strong components)", minimum=0.0, strict=False, maximum=1.0)
+
+
+def ground_motion_model(args, duration=None):
+    """The stochastic motions of the flags: `_motion_model`'s, as a `TwoComponentGroundMotion`
+    with --principal-angle and --minor-ratio under --components 2."""
+    from ..excitation import TwoComponentGroundMotion
+
+    model = _motion_model(args, duration)
+    if args.components != 2:
+        return model
+    return TwoComponentGroundMotion(
+        model, principal_angle=0.0 if args.principal_angle is None else args.principal_angle,
+        minor_ratio=1.0 if args.minor_ratio is None else args.minor_ratio)
+
+
+def check_components_flags(args) -> None:
+    """`ValueError` naming --principal-angle or --minor-ratio given without --components 2."""
+    for flag, value in (("--principal-angle", args.principal_angle), ("--minor-ratio", args.minor_ratio)):
+        if value is not None and args.components != 2:
+            raise ValueError(f"{flag}: describes the second ground component; add --components 2.")
 
 
 def _motion_model(args, duration=None):
@@ -206,7 +232,6 @@ def run_montecarlo(args) -> int:
     statistics rest on the converged runs only)."""
     import jax
 
-    from ..excitation import TwoComponentGroundMotion
     from ..report import plot_montecarlo
     from ..studies import monte_carlo, save_montecarlo
 
@@ -219,11 +244,7 @@ def run_montecarlo(args) -> int:
     if args.time_step is not None:
         warn_time_step("montecarlo", args.time_step, args.time_step_text, args.record_step,
                        f"{args.record_step_text} of --record-step")
-    model = _motion_model(args)
-    if two:
-        model = TwoComponentGroundMotion(
-            model, principal_angle=0.0 if args.principal_angle is None else args.principal_angle,
-            minor_ratio=1.0 if args.minor_ratio is None else args.minor_ratio)
+    model = ground_motion_model(args)
     horizontal, model = model, vertical_model(args, model)
     # the default fits the device's memory and the workers (--scheduler local:N)
     args.chunk_size = _chunk_size(args, _device_chunk(args, structure, model))
@@ -335,9 +356,7 @@ def _check_flags(args):
     check_vertical_flags(args)
     if args.plan is not None:
         _check_plan(args)
-    for flag, value in (("--principal-angle", args.principal_angle), ("--minor-ratio", args.minor_ratio)):
-        if value is not None and args.components != 2:
-            raise ValueError(f"{flag}: describes the second ground component; add --components 2.")
+    check_components_flags(args)
     return isolator
 
 

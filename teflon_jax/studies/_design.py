@@ -35,22 +35,12 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..bearing import design_space
-from ..excitation import uniform_signal
 from ..systems import IsolatedStructure, peak_response
 from ._design_box import BoxSolution, minimise_in_box
 from ._design_check import GRADIENT_TOLERANCE, design_gradient_check
+from ._design_records import components_of, record_duration, record_ground, records_array
 from ._design_result import DesignResult
-
-
-def _records_array(records, time_step):
-    array = jnp.asarray(records, dtype=float)
-    if array.ndim != 2 or array.shape[0] < 1:
-        raise ValueError(
-            f"records: need an (N >= 1, nt) array of ground accelerations [m/s^2], got shape {array.shape}."
-        )
-    if not time_step > 0:
-        raise ValueError(f"record_time_step: must be > 0 s, got {time_step}.")
-    return array
+from ._forward_jacobian import forward_jacobian
 
 
 def expected_response(
@@ -73,7 +63,9 @@ def expected_response(
 
     - `structure`: an `IsolatedStructure` (`isolated_structure`).
     - `design`: dict of design variables (scalars; traced under grad).
-    - `records` (N, nt) [m/s^2] sampled every `record_time_step` [s].
+    - `records` (N, nt) [m/s^2] sampled every `record_time_step` [s]; (N, 2, nt), x and y, for
+      a structure of two components (`bidirectional_isolated_structure`), whose peaks are the
+      resultants'.
     - `duration` [s]: default the record length.
     - `disp_width` [m], `shear_width` [-]: smoothing widths.
 
@@ -84,11 +76,11 @@ def expected_response(
     motions' peaks do not swap order), "peak_disp_max": the largest true peak, "converged": all steps of all motions converged,
     "n_failed": motions with a step whose Newton solve did not converge}.
     """
-    records = _records_array(records, record_time_step)
-    duration = (records.shape[1] - 1) * record_time_step if duration is None else duration
+    records = records_array(records, record_time_step, components_of(structure))
+    duration = record_duration(records, record_time_step) if duration is None else duration
 
     def one(values):
-        system = structure(uniform_signal(values, record_time_step), design)
+        system = structure(record_ground(values, record_time_step), design)
         return peak_response(system, duration, disp_width=disp_width, shear_width=shear_width)
 
     peaks = jax.vmap(one)(records)
@@ -210,7 +202,7 @@ def forward_mode_gradient(fn):
 
     A time-stepping simulation differentiated in reverse mode must keep (or recompute) every
     step of every motion; with a handful of design variables one forward-mode pass per
-    variable (`jax.jacfwd`, run as one vmapped pass) is far cheaper and needs no tape. The
+    variable (`forward_jacobian`) is far cheaper and needs no tape. The
     returned function has a `jax.custom_vjp`, so `jax.grad`, optimistix and optax use it
     unchanged. Not for many variables (cost grows with their number).
     """
@@ -220,7 +212,7 @@ def forward_mode_gradient(fn):
         return fn(x)
 
     def forward(x):
-        value_and_jacobian = jax.jacfwd(lambda z: (fn(z), fn(z)), has_aux=True)(x)
+        value_and_jacobian = forward_jacobian(lambda z: (fn(z), fn(z)), has_aux=True)(x)
         jacobian, value = value_and_jacobian
         return value, jacobian
 
@@ -261,7 +253,8 @@ def optimise_design(
     **Arguments:**
 
     - `structure`: an `IsolatedStructure` giving the fixed (non-design) properties.
-    - `records` (N, nt) [m/s^2], `record_time_step` [s]: the Monte Carlo set (fixed).
+    - `records` (N, nt) [m/s^2] ((N, 2, nt) under two components), `record_time_step` [s]: the
+      Monte Carlo set (fixed).
     - `variables`: name -> (low, high) bounds [SI] of the design variables, e.g.
       `{"isolation_period": (1.0, 4.0), "pressure": (1000 * PSI, 3000 * PSI)}`.
     - `disp_limit` D_limit [m] > 0 on the mean TRUE peak base displacement (or on its 95th
@@ -338,7 +331,7 @@ def response_derivatives(structure, records, record_time_step: float, names: tup
     `expected_response` at the design x (traceable); `derivatives(x)` (x: name -> float, the
     variables `names`) -> (responses {key: float}, jacobian {"shear", "disp" and, with a
     capacity designed, "peak_disp_max": {name: float}}), one call of the compiled program
-    (`jax.jacfwd`, one forward pass per variable) per new x; the last points are remembered,
+    (`forward_jacobian`, one forward pass per variable) per new x; the last points are remembered,
     so that the optimiser, its restarts and the gradient check never compute one twice.
     """
     keys = ("shear", "disp") + (("peak_disp_max",) if "capacity" in names else ())
@@ -352,7 +345,7 @@ def response_derivatives(structure, records, record_time_step: float, names: tup
         r = response(x)
         return {k: r[k] for k in keys}, r
 
-    compiled = jax.jit(jax.jacfwd(differentiated, has_aux=True))
+    compiled = jax.jit(forward_jacobian(differentiated, has_aux=True))
     remembered = {}
 
     def derivatives(x):
@@ -420,7 +413,7 @@ def _checked_problem(structure, records, record_time_step, variables, disp_limit
     if not (isinstance(corrections, int) and corrections >= 0):
         raise ValueError(f"peak_corrections: must be an integer >= 0, got {corrections!r}.")
     bounds = design_bounds(structure, variables)
-    records = _records_array(records, record_time_step)
+    records = records_array(records, record_time_step, components_of(structure))
     if start is None:
         start = {n: 0.5 * (lo + hi) for n, (lo, hi) in bounds.ranges.items()}
     for name, value in start.items():

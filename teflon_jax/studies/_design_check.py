@@ -26,6 +26,8 @@ import numpy as np
 from ..units import PSI
 from ._design_contact import ROUNDING_FACTOR, restrainer_contact_check
 from ._design_kinks import kink_gradient_check
+from ._design_records import components_of, record_duration, record_ground, records_array
+from ._forward_jacobian import forward_jacobian
 
 GRADIENT_TOLERANCE = 1e-4
 """Largest relative difference between forward-mode and finite-difference derivatives [-]."""
@@ -164,12 +166,12 @@ def design_gradient_check(structure, response, x: dict, bounds, *, relative_step
 
 def _value_and_jacobian(response, keys, derivatives):
     """(z -> {key: float}, z -> {key: {name: float}}) of `design_gradient_check`: from
-    `derivatives` where given, else `response` and its `jax.jacfwd`, each compiled."""
+    `derivatives` where given, else `response` and its `forward_jacobian`, each compiled."""
     if derivatives is not None:
         return (lambda z: {k: derivatives(z)[0][k] for k in keys},
                 lambda z: {k: derivatives(z)[1][k] for k in keys})
     outputs = jax.jit(lambda z: {k: response(z)[k] for k in keys})
-    forward = jax.jit(jax.jacfwd(lambda z: {k: response(z)[k] for k in keys}))
+    forward = jax.jit(forward_jacobian(lambda z: {k: response(z)[k] for k in keys}))
     return (lambda z: {k: float(v) for k, v in outputs(z).items()},
             lambda z: {k: {n: float(v) for n, v in d.items()} for k, d in forward(z).items()})
 
@@ -224,22 +226,21 @@ def percentile_disp_gradient_check(structure, design: dict, records, record_time
     """
     import jax.numpy as jnp
 
-    from ..excitation import uniform_signal
     from ..systems import peak_response
 
-    records = jnp.asarray(records, dtype=float)
-    duration = (records.shape[1] - 1) * record_time_step if duration is None else duration
+    records = records_array(records, record_time_step, components_of(structure))
+    duration = record_duration(records, record_time_step) if duration is None else duration
 
     def percentile(x):
         def one(values):
-            system = structure(uniform_signal(values, record_time_step), x)
+            system = structure(record_ground(values, record_time_step), x)
             return peak_response(system, duration, disp_width=disp_width)["smooth_base_disp_resultant"]
 
         return jnp.percentile(jax.vmap(one)(records), q)
 
     x = {k: jnp.asarray(float(v)) for k, v in design.items()}
     value = jax.jit(percentile)
-    gradient = {k: float(v) for k, v in jax.jit(jax.jacfwd(percentile))(x).items()}
+    gradient = {k: float(v) for k, v in jax.jit(forward_jacobian(percentile))(x).items()}
     differences = {}
     for name in x:
         h = relative_step * max(abs(float(x[name])), 1e-12)

@@ -30,12 +30,12 @@ from ._cluster import (
 )
 from ._design import (
     Bounds,
-    _records_array,
     check_limit_statistic,
     constrained_response,
     expected_response,
     penalised_objective,
 )
+from ._design_records import components_of, records_array
 from ._results import DESIGN_UNITS
 
 SWEEP_VARIABLES = {
@@ -109,7 +109,7 @@ def design_sweep(
     motions with a failed step, "n_motions"}. `sweep_start` skips points that did not converge.
     """
     names, _, mesh, flat = _grid(structure, grid)
-    records = _records_array(records, record_time_step)
+    records = records_array(records, record_time_step, components_of(structure))
     evaluate = _evaluator(structure, records, record_time_step, disp_limit, penalty, duration,
                           disp_width, shear_width, check_limit_statistic(limit_statistic))
     total = mesh[0].size
@@ -169,7 +169,7 @@ def design_sweep_distributed(
     """
     out = check_netcdf_output(out)
     names, axes, mesh, flat = _grid(structure, grid)
-    records = np.asarray(_records_array(records, record_time_step))
+    records = np.asarray(records_array(records, record_time_step, components_of(structure)))
     total = mesh[0].size
     chunk = min(check_count("chunk_size", chunk_size, 1), total)
     retries = check_count("retries", retries, 0)
