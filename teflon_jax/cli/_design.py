@@ -53,7 +53,8 @@ def add_design_parser(subparsers) -> argparse.ArgumentParser:
         "friction pendulum (and its displacement capacity with --capacity-range), with the "
         "bearing pressure or f_max of either (--pressure holds the friction); scales of the "
         "radii and capacities and f_max of the surfaces of a triple or double pendulum's "
-        "--isolator-file; started from "
+        "--isolator-file; under motions of one horizontal component, or of two with "
+        "--components 2 (the peaks then resultants); started from "
         "the best point of a grid sweep of the same objective, with a gradient check at the "
         "optimum against central differences. BFGS sees smoothed peaks, which lie below the "
         "true ones; the limit on them is lowered until the mean TRUE peak base displacement "
@@ -151,7 +152,8 @@ def run_design(args) -> int:
     grid = {name: np.linspace(*bounds, args.grid) for name, bounds in variables.items()}
     bar.set_postfix_str(f"grid sweep, {args.grid}x{args.grid} designs x {args.motions} motions")
     design = ISOLATOR_DESIGNS[args.isolator]
-    attrs = {"structure": args.structure, "components": args.components, "isolator": args.isolator, "seed": args.seed, "pga_m_s2": args.pga,
+    attrs = {"structure": args.structure, "components": args.components, "isolator": args.isolator,
+             "seed": args.seed, "pga_m_s2": args.pga,
              **({"isolator_file": str(args.isolator_file)} if design.uses_file else
                 {"ptfe": args.ptfe} if args.bearing is None else {"bearing": str(args.bearing)}),
              "motion_duration_s": args.duration, "isolation_damping": args.isolation_damping,
