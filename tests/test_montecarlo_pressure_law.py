@@ -94,6 +94,27 @@ def test_the_law_is_checked_at_the_records_first_sample(components):
                 jax.block_until_ready(peak_response(system, 1.9))
 
 
+def test_the_law_is_read_only_as_far_as_the_run_reached():
+    """Two components, UF PTFE at 2500 psi, a vertical record at s = 6 (beyond Table 1's
+    extension) at t = 1.5 s alone: a run that balances every step up to there reads the law
+    there and is reported beyond it; the same run with one Newton iteration per step has a
+    step that does not balance before t = 1.4 s, and the loads after that step, never read
+    (a single run stops there), do not put it beyond the law."""
+    time = np.arange(0.0, 2.0, 0.01)
+    horizontal = (uniform_signal(0.5 * STANDARD_GRAVITY * np.sin(2 * np.pi * time), 0.01),
+                  uniform_signal(0.3 * STANDARD_GRAVITY * np.cos(2 * np.pi * time), 0.01))
+    vertical = np.zeros_like(time)
+    vertical[150] = 5.0 * STANDARD_GRAVITY
+    outcomes = []
+    for iterations in ({}, {"newton_iterations": 1}):
+        structure = with_vertical_component(bidirectional_isolated_structure("rigid", pressure=2500 * PSI,
+                                                                             time_step=0.005, **iterations))
+        system = flag_pressure_law(structure((horizontal, uniform_signal(vertical, 0.01))))
+        outcomes.append((bool(peak_response(system, 1.4).converged),
+                         bool(peak_response(system, 1.9)["within_pressure_law"])))
+    assert outcomes == [(True, False), (False, True)]
+
+
 def test_without_a_pressure_law_nothing_is_flagged():
     """A given bearing whose friction does not follow Table 1 at the momentary pressure (its
     constants at 2500 psi, no pressure dependence) carries no `beyond_pressure_law`, under the

@@ -172,7 +172,8 @@ def peak_response(system, duration: float, *, reducers=None, smooth=None, disp_w
     included, read as the peaks are) and its uplift time [s] (`group_load_peaks`); with a
     Table 1 pressure law that does not stop the run (`flag_pressure_law`),
     "within_pressure_law": whether the law gave Eq. 1 constants at every load the steps read
-    (the record's at t = 0 included).
+    (the record's at t = 0 included), up to the first step that did not balance (where a single
+    run stops; the loads after it are never read).
     """
     _check_loop_settings(read_every, steps_per_pass)
     layout = response_layout(system)
@@ -210,11 +211,15 @@ def peak_response(system, duration: float, *, reducers=None, smooth=None, disp_w
             new = combined_load_extremes(loads, group_load_extremes(layout, sample))
             loads = (jnp.where(read, new[0], loads[0]), jnp.where(read, new[1], loads[1]), new[2])
         return (state, peaks, {k: u[0] for k, u in updated.items()}, {k: u[1] for k, u in updated.items()},
-                lifted, ok & converged, loads, law if law is None else _law_extremes(law, sample)), None
+                lifted, ok & converged, loads, law if law is None else _law_extremes(law, sample, ok)), None
 
-    def _law_extremes(law, sample):
+    def _law_extremes(law, sample, reached):
+        """The law's extremes with the loads of `sample` where the run `reached` it (every
+        earlier step balanced, so this step read them) and they are finite, as the history's
+        check reads them (`pressure_law_valid`)."""
         high, low = pressure_law_loads(system, layout, sample)
-        return jnp.maximum(law[0], high), jnp.minimum(law[1], low)
+        read = reached & jnp.all(jnp.isfinite(high))
+        return jnp.where(read, jnp.maximum(law[0], high), law[0]), jnp.where(read, jnp.minimum(law[1], low), law[1])
 
     shapes = jax.eval_shape(lambda: quantities(run.step(run.start, jax.tree_util.tree_map(lambda a: a[0],
                                                                                           run.inputs))[1]))
