@@ -211,15 +211,7 @@ def peak_response(system, duration: float, *, reducers=None, smooth=None, disp_w
             new = combined_load_extremes(loads, group_load_extremes(layout, sample))
             loads = (jnp.where(read, new[0], loads[0]), jnp.where(read, new[1], loads[1]), new[2])
         return (state, peaks, {k: u[0] for k, u in updated.items()}, {k: u[1] for k, u in updated.items()},
-                lifted, ok & converged, loads, law if law is None else _law_extremes(law, sample, ok)), None
-
-    def _law_extremes(law, sample, reached):
-        """The law's extremes with the loads of `sample` where the run `reached` it (every
-        earlier step balanced, so this step read them) and they are finite, as the history's
-        check reads them (`pressure_law_valid`)."""
-        high, low = pressure_law_loads(system, layout, sample)
-        read = reached & jnp.all(jnp.isfinite(high))
-        return jnp.where(read, jnp.maximum(law[0], high), law[0]), jnp.where(read, jnp.minimum(law[1], low), law[1])
+                lifted, ok & converged, loads, law if law is None else _law_extremes(system, layout, law, sample, ok)), None
 
     shapes = jax.eval_shape(lambda: quantities(run.step(run.start, jax.tree_util.tree_map(lambda a: a[0],
                                                                                           run.inputs))[1]))
@@ -242,6 +234,15 @@ def peak_response(system, duration: float, *, reducers=None, smooth=None, disp_w
     if flagged:
         out["within_pressure_law"] = within_pressure_law(system, law)
     return out
+
+
+def _law_extremes(system, layout, law, sample, reached):
+    """Table 1's law's extremes `law` (largest, least positive load factor) with the loads of
+    `sample` where the run `reached` it (every earlier step balanced, so this step read them)
+    and they are finite, as the history's check reads them (`pressure_law_valid`)."""
+    high, low = pressure_law_loads(system, layout, sample)
+    read = reached & jnp.all(jnp.isfinite(high))
+    return jnp.where(read, jnp.maximum(law[0], high), law[0]), jnp.where(read, jnp.minimum(law[1], low), law[1])
 
 
 def _law_start(system, layout, first):
