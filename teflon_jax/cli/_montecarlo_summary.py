@@ -6,7 +6,6 @@ import math
 import sys
 
 from ..units import STANDARD_GRAVITY
-from ._normal_load import LAW_REACH
 
 
 def steady_rate(marks) -> float | None:
@@ -106,6 +105,8 @@ def listed(labels) -> str:
 def beyond_law_words(named: str) -> str:
     """What the runs beyond Table 1's pressure law (`named`: "motion indices 3, 7", as the
     user reads them) did, and what to do."""
+    from ..systems import LAW_REACH
+
     return (f"({named}) took the bearings' contact pressure {LAW_REACH}; "
             "they are left out of the statistics and flagged in the results ('beyond_pressure_law'). Give the "
             "bearing's constants at such pressures (--bearing, a file with a pressure dependence) or a "

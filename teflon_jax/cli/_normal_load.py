@@ -8,11 +8,6 @@ import numpy as np
 from ..units import parse_quantity
 from ._common import add_quantity
 
-LAW_REACH = ("beyond where Table 1's extended end segments give Eq. 1 constants (f_max > delta_f >= 0, rate_a >= 0, "
-             "breakaway ratio >= 1)")
-"""Where Table 1's pressure law, its end segments extended, stops giving Eq. 1 constants: the
-words of every report of a run or a pair beyond it."""
-
 MAX_VERTICAL_RATIO = 2.0
 """The largest `--vertical-ratio` [-]: twice the horizontal peak, above the vertical-to-horizontal
 ratios of recorded motions (Bozorgnia & Campbell 2004: 0.5 far from the source to above 1 near

@@ -8,8 +8,6 @@ import math
 
 import numpy as np
 
-from ._normal_load import LAW_REACH
-
 PARTIAL_NOTE = ("the run stopped at stopped_at_s, the first step that did not balance (the slab tipped or "
                 "the balance did not converge) or whose loads took the bearings beyond Table 1's pressure "
                 "law (beyond_pressure_law_s): the entries named in partial_fields and the histories "
@@ -109,7 +107,7 @@ def law_stop(system, run, names=None):
     cut before the first sample whose loads its law gives no Eq. 1 constants at
     (`systems.pressure_law_valid`), with the time, the group (`names`: the plan's) and the
     contact pressure named; `run` itself where every sample is within the law."""
-    from ..systems import pressure_law_valid
+    from ..systems import LAW_REACH, pressure_law_valid
     from ..units import PSI
 
     valid = np.asarray(pressure_law_valid(system, run.response))
@@ -217,21 +215,20 @@ def unbalanced_message(response, height, building: bool = False) -> str:
     return "; ".join(parts) + f"; {WRITTEN.format(time[~converged][0])}."
 
 
-BEYOND_LAW = (f"took a bearing group's contact pressure {LAW_REACH}, under the vertical component and the groups' "
-              "overturning loads")
-"""What a pair or a run beyond Table 1's pressure law did."""
-
-
 def failed_pairs(names, converged, beyond=None) -> str:
     """Which of a suite's pairs cannot be trusted and why ('' when all converged): those beyond
     Table 1's pressure law (`beyond` (P,) bool, or None) and those not balanced in every step,
     each named, with what to do."""
+    from ..systems import LAW_REACH
+
     beyond = np.zeros(len(names), bool) if beyond is None else np.asarray(beyond, bool)
     converged = np.asarray(converged, bool)
     parts = []
     law = [n for n, b in zip(names, beyond) if b]
     if law:
-        parts.append(f"{len(law)} of {len(names)} pairs {BEYOND_LAW} ({', '.join(law)}): run such a pair alone to "
+        parts.append(f"{len(law)} of {len(names)} pairs took a bearing group's contact pressure {LAW_REACH}, under "
+                     f"the vertical component and the groups' overturning loads ({', '.join(law)}): run such a pair "
+                     "alone to "
                      "see where and when, and give the bearings' constants at such pressures (a bearing file with "
                      "a pressure dependence) or a lower height_of_centre_of_mass")
     unbalanced = [n for n, ok, b in zip(names, converged, beyond) if not ok and not b]

@@ -81,6 +81,7 @@ from ._structure_build import six_storey_building as six_storey_building
 from ._structure_build import step_count as step_count
 from ._structure_build import storey_rows as storey_rows
 from ._structure_build import structure_on_sliders as structure_on_sliders
+from ._vertical import LAW_REACH as LAW_REACH
 from ._vertical import TablePressure as TablePressure
 from ._vertical import flag_pressure_law as flag_pressure_law
 from ._vertical import normal_load_factor as normal_load_factor

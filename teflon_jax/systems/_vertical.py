@@ -63,6 +63,12 @@ def pressure_factor(exponent, load):
     return jnp.where(load > 0, load, 1.0) ** -jnp.asarray(exponent)
 
 
+LAW_REACH = ("beyond where Table 1's extended end segments give Eq. 1 constants (f_max > delta_f >= 0, rate_a >= 0, "
+             "breakaway ratio >= 1)")
+"""Where Table 1's pressure law, its end segments extended, stops giving Eq. 1 constants
+(`TablePressure.valid_at`): the words of every report of a run or a pair beyond it."""
+
+
 class TablePressure(eqx.Module):
     """Table 1's pressure dependence on a bearing folded at its static contact pressure, under
     a varying normal load.
@@ -97,9 +103,8 @@ class TablePressure(eqx.Module):
             return dataclasses.replace(bearing, **fields)
         fields["friction"] = eqx.error_if(
             fields["friction"], jnp.any(bad),
-            "the vertical record takes the bearings' contact pressure beyond where Table 1's extended end "
-            "segments give Eq. 1 constants (f_max > delta_f >= 0, rate_a >= 0, breakaway ratio >= 1); "
-            "give the bearing's constants at such pressures (a bearing file with a pressure dependence).")
+            f"the vertical record takes the bearings' contact pressure {LAW_REACH}; give the bearing's "
+            "constants at such pressures (a bearing file with a pressure dependence).")
         return dataclasses.replace(bearing, **fields)
 
     def valid_at(self, bearing, load):
