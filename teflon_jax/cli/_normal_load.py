@@ -208,21 +208,6 @@ def load_factors(system, duration):
     return np.asarray(step_load_factors(system, step_count(system.time_step, duration)))
 
 
-def series_uplift(system, duration) -> dict:
-    """The JSON entries of the uplift (`response_uplift`) of a series pendulum structure, {}
-    without a vertical record: the time of the steps whose end has N <= 0 (`systems.uplift_time`)."""
-    import types
-
-    from ..systems import uplift_time
-
-    if system.vertical_acceleration is None:
-        return {}
-    loads = load_factors(system, duration)
-    counted = types.SimpleNamespace(uplift_time=float(uplift_time(loads, float(system.time_step))),
-                                    load_factor=loads)
-    return response_uplift(counted)
-
-
 def uplift_of(times, rows=None) -> dict:
     """The uplifted motions of `rows` (default all) of a result's `uplift_time` (N,) [s]:
     {"n_uplifted", "uplifted_motions" (their indices in the result), "uplift_time_s"}."""

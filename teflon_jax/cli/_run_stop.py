@@ -12,8 +12,7 @@ PARTIAL_NOTE = ("the run stopped at stopped_at_s, the first step that did not ba
                 "the balance did not converge) or whose loads took the bearings beyond Table 1's pressure "
                 "law (beyond_pressure_law_s): the entries named in partial_fields and the histories "
                 "cover the steps from 0 s to last_kept_s only; tipped_steps and unconverged_steps count "
-                "the steps solved (flat sliders, single pendulums, the rigid mass and the building stop at "
-                "the first such step; triple and double pendulums solve every step of the record)")
+                "such steps over the whole record, every step of which is solved)")
 WRITTEN = ('the outputs asked for hold the response before t = {:.4g} s only ("complete": false in the '
            "JSON)")
 
@@ -54,38 +53,6 @@ def stop_entries(time, kept: int, tipped, unconverged, fields, beyond_law_s=None
             "tipped_steps": int(tipped.sum()), "first_tipped_s": first(tipped),
             "unconverged_steps": int(unconverged.sum()), "first_unconverged_s": first(unconverged),
             "beyond_pressure_law_s": beyond_law_s, "partial_fields": list(fields), "partial_note": PARTIAL_NOTE}
-
-
-def bidirectional_stop(system, response):
-    """(response cut to the steps before the failed one, its end (time (nt,) [s], kept, tipped
-    (nt,), unconverged (nt,)) for `stop_entries`, message) of a failed two-component `StructureResponse` saved at every step: the
-    solver keeps the failed step's end and stops (`tipped_at_failure`); its uplift times
-    count the kept steps only."""
-    from ..structures import tipped_at_failure
-    from ..systems import response_layout
-
-    q = np.asarray(response.displacement)
-    finite = np.all(np.isfinite(q), axis=-1)
-    failed = finite.size - 1 if finite.all() else int(np.argmin(finite)) - 1
-    kept = max(failed, 1)
-    time = np.asarray(response.time)
-    tipped = np.zeros(time.size, bool)
-    unconverged = np.zeros(time.size, bool)
-    tips = tipped_at_failure(system, response)
-    (tipped if tips else unconverged)[kept] = True
-    if tips and response_layout(system).building:  # the building on a plan: its levels stand at Table 2's heights
-        message = f"the building tips (first near t = {time[kept]:.4g} s): {BUILDING_TIPS}"
-    elif tips:
-        message = (f"the slab tips (first near t = {time[kept]:.4g} s): the overturning moment of its "
-                   "horizontal force "
-                   "at the plan's height_of_centre_of_mass exceeds what its weight holds back about the "
-                   "leaning groups (they take no tension), which a rigid slab without rocking cannot "
-                   "balance; lower the height, spread the groups or give a weaker record")
-    else:
-        message = (f"the solver did not converge ({response.result}) at t = {time[kept]:.4g} s; try a "
-                   "smaller --time-step")
-    return cut_response(system, response, kept), (time, kept, tipped, unconverged), \
-        f"{message}; {WRITTEN.format(time[kept])}."
 
 
 def cut_response(system, response, kept: int):
@@ -152,33 +119,19 @@ def non_finite(value, where="") -> list:
     return []
 
 
-def series_stop(response, time, converged):
-    """(response cut to the steps before the first whose sliders' balance did not converge
-    (`kept_steps`), its end (time (nt,) [s], kept, tipped (nt,), unconverged (nt,)) for
-    `stop_entries`, message ('' when every step balanced)) of a series pendulum structure's
-    response (`converged` (nt,) at `time` (nt,) [s])."""
-    time, converged = np.asarray(time), np.asarray(converged)
+def balance_stop(system, response, plan=None):
+    """(response cut to the steps before the first that did not balance (`kept_steps`), its
+    uplift times counting those steps only; its end (time (nt,) [s], kept, tipped (nt,),
+    unconverged (nt,)) for `stop_entries`; why it cannot be trusted past there, '' when every
+    step balanced) of a run's `StructureResponse` (every step saved, each with its
+    `converged` and, on bearing groups with overturning loads, `tipped`; `plan`: the slab's)."""
+    time, converged = np.asarray(response.time), np.asarray(response.converged)
+    tipped = np.zeros(time.size, bool) if response.tipped is None else np.asarray(response.tipped)
     kept = kept_steps(converged)
-    end = (time, kept, np.zeros(time.size, bool), ~converged)
+    end = (time, kept, tipped, ~converged & ~tipped)
     if kept == time.size:
         return response, end, ""
-    problem = (f"the sliders' balance did not converge on {int(np.sum(~converged))} steps (first at "
-               f"t = {time[kept]:.4g} s); try a smaller --time-step; {WRITTEN.format(time[kept])}.")
-    return cut(response, time.size, kept), end, problem
-
-
-def series_slab_stop(system, response):
-    """((time (nt,) [s], kept steps, tipped (nt,), unconverged (nt,)) for `stop_entries`, the
-    `StructureResponse` cut to the steps before the first unbalanced one, `kept_steps`, its
-    groups' uplift times counting those steps only)."""
-    time, converged = np.asarray(response.time), np.asarray(response.converged)
-    tipped = np.asarray(response.tipped)
-    kept = kept_steps(converged)
-    if kept == time.size:
-        return (time, kept, tipped, ~converged & ~tipped), response
-    short = cut(response, time.size, kept)
-    uplift = np.sum(np.asarray(short.normal_load)[1:] <= 0, axis=0) * float(system.time_step)
-    return (time, kept, tipped, ~converged & ~tipped), dataclasses.replace(short, group_uplift_time=uplift)
+    return cut_response(system, response, kept), end, _unbalanced_message(system, response, tipped, plan)
 
 
 BUILDING_TIPS = ("the overturning moment of the inertia forces of its base and floors at their heights exceeds "
@@ -188,30 +141,28 @@ BUILDING_TIPS = ("the overturning moment of the inertia forces of its base and f
 height to lower."""
 
 
-def unbalanced_message(response, height, building: bool = False) -> str:
-    """Why the run cannot be trusted ('' when every step balanced): the steps on which the slab
-    tipped (`StructureResponse.tipped`; `building`: the building on a plan, whose levels set the
-    moment) and those whose sliders' balance did not converge, each with its count and first
-    time [s]."""
+def _unbalanced_message(system, response, tipped, plan) -> str:
+    """Why the run cannot be trusted: the steps on which the slab tipped (the building on a
+    plan: its levels set the moment) and those whose balance did not converge, each with its
+    count and first time [s]."""
+    from ..systems import response_layout
+
     time, converged = np.asarray(response.time), np.asarray(response.converged)
-    tipped = np.asarray(response.tipped)
     newton = ~converged & ~tipped
     parts = []
-    if tipped.any() and building:
+    if tipped.any() and response_layout(system).building:
         parts.append(f"the building tips on {int(tipped.sum())} steps (first at t = {time[tipped][0]:.4g} s): "
                      + BUILDING_TIPS)
     elif tipped.any():
         parts.append(f"the slab tips on {int(tipped.sum())} steps (first at t = {time[tipped][0]:.4g} s): "
                      f"the overturning moment of its horizontal force at the centre of mass "
-                     f"{height:g} m above the sliding surface exceeds what its weight holds back "
-                     "about the leaning groups (they take no tension), which a rigid slab without "
-                     "rocking cannot balance; lower height_of_centre_of_mass in the plan, spread "
+                     f"{plan['height_of_centre_of_mass']:g} m above the sliding surface exceeds what its "
+                     "weight holds back about the leaning groups (they take no tension), which a rigid slab "
+                     "without rocking cannot balance; lower height_of_centre_of_mass in the plan, spread "
                      "the groups, or give a weaker record")
     if newton.any():
-        parts.append(f"the sliders' balance did not converge on {int(newton.sum())} steps (first at "
+        parts.append(f"the isolators' balance did not converge on {int(newton.sum())} steps (first at "
                      f"t = {time[newton][0]:.4g} s); try a smaller --time-step")
-    if not parts:
-        return ""
     return "; ".join(parts) + f"; {WRITTEN.format(time[~converged][0])}."
 
 

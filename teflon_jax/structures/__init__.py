@@ -24,7 +24,6 @@ from ._overturning import redistributed_loads as redistributed_loads
 from ._overturning import resting_loads as resting_loads
 from ._overturning import support_plan as support_plan
 from ._overturning import supported_loads as supported_loads
-from ._overturning import tipped_at_failure as tipped_at_failure
 from ._plan import LOAD_TOLERANCE as LOAD_TOLERANCE
 from ._plan import check_plan as check_plan
 from ._plan import level_heights as level_heights

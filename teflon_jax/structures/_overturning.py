@@ -197,18 +197,3 @@ def group_factor(system, normal_load):
 def initial_normal_load(system):
     """N_g (G,) [N] at rest at t = 0 (no inertia force yet)."""
     return overturned_loads(system, np.zeros(2), 0.0)
-
-
-def tipped_at_failure(system, response) -> bool:
-    """Whether the step on which a failed `StructureResponse` of `system` (with overturning,
-    saved at every step) stopped is one on which the slab tips (`supported_loads`). The failed
-    step is the last saved one (the solver keeps its end, then stops); its loads come from H at
-    the state before it and the vertical record at its end."""
-    finite = np.all(np.isfinite(np.asarray(response.displacement)), axis=-1)
-    last = finite.size - 1 if finite.all() else int(np.argmin(finite)) - 1
-    if system.overturning is None or last < 1:
-        return False
-    ground = response.ground[last - 1]
-    relative = response.total_acceleration[last - 1] - system.influence @ ground
-    force = overturning_force(system, relative, ground)
-    return not bool(supported_loads(system, force, response.time[last])[1])

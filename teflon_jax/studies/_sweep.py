@@ -93,7 +93,8 @@ def pad_signals(signals: Sequence[Signal], duration: float | None = None) -> tup
 def simulate_batch(systems: StructureOnSliders, duration: float, **kwargs):
     """`simulate_history` vmapped over a stacked batch of systems (see `stack_systems`).
 
-    Solver failures do not raise; check `response.result` per member.
+    Steps that do not balance do not raise; check `response.succeeded` per member (each
+    step's in `response.converged`).
     """
     kwargs.setdefault("throw", False)
     return jax.jit(jax.vmap(lambda s: simulate_history(s, duration, **kwargs)))(systems)

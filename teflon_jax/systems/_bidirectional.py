@@ -254,7 +254,7 @@ class BidirectionalStructure(AbstractSteppedSystem):
             t1, jnp.abs((t1 - t0) - dt) > slack, "step differs from the structure's time_step"
         )
         if self.overturning is not None:
-            return overturning_step(self, t0, t1, y0, a0)
+            return overturning_step(self, t0, t1, y0, a0)[:2]
         return self.at_load(self.load_factor(t1)).newmark_update(y0, a0, self.ground(t1))
 
     def newmark_update(self, y0, a0, ground1):
@@ -424,11 +424,11 @@ class BidirectionalStructure(AbstractSteppedSystem):
 def overturning_step(system, t0, t1, y0, a0):
     """One step of `system` (a `BidirectionalStructure` with `overturning`) from (t0, y0) with
     acceleration a0: the groups' loads from H at t0 and the vertical record at t1, held over the
-    step; the loads are kept in the state ("normal_load"). A step on which the slab tips
-    (`supported_loads`) is not balanced."""
+    step; the loads are kept in the state ("normal_load"). **Returns:** (state, whether the
+    step balanced, whether the slab tipped on it (`supported_loads`), which is not balanced)."""
     loads, rests = supported_loads(system, overturning_force(system, a0, system.ground(t0)), t1)
     y1, converged = system.at_load(group_factor(system, loads)).newmark_update(y0, a0, system.ground(t1))
-    return {**y1, "normal_load": loads}, converged & rests
+    return {**y1, "normal_load": loads}, converged & rests, ~rests
 
 
 def _surface_forces(system, dx, dy):

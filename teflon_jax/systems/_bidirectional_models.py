@@ -17,8 +17,12 @@ from ..excitation import Signal
 from ..solver import require_riccati_form
 from ..structures import initial_normal_load
 from ..tables import BuildingData
-from ._bidirectional import PLANAR_NEWTON_ITERATIONS, BidirectionalStructure
-from ._response import StructureResponse, group_uplift_time, uplift_time
+from ._bidirectional import (
+    PLANAR_NEWTON_ITERATIONS,
+    BidirectionalStructure,
+    overturning_step,
+)
+from ._response import EngineRun, StructureResponse, group_uplift_time, uplift_time
 from ._structure import FRICTION_MODELS
 from ._structure_build import (
     check_storey_height,
@@ -343,3 +347,50 @@ def bidirectional_storey_peaks(response, system, storey_height) -> dict:
     return {"storey_drift": np.abs(drift).max(axis=0), "storey_drift_resultant": np.hypot(*np.moveaxis(drift, 1, 0)).max(axis=0),
             "level_acceleration": np.abs(acc).max(axis=0),
             "level_acceleration_resultant": np.hypot(*np.moveaxis(acc, 1, 0)).max(axis=0)}
+
+
+def planar_run(system: BidirectionalStructure, n_steps) -> EngineRun:
+    """Flat sliders or single pendulums under two components, each step as the history's
+    (`newmark_update` under the load factor of the step's end; with a slab's overturning,
+    `overturning_step`: the groups' loads from the horizontal force at the step's start and
+    the vertical record at its end, held over the step, a step on which the slab tips not
+    converged), the accelerations the equation of motion's at each step's end."""
+    dt = float(system.time_step)
+    times = jnp.arange(n_steps + 1) * dt
+    ground = jax.vmap(system.ground)(times)
+    loads = None if system.vertical_acceleration is None else jax.vmap(system.load_factor)(times)
+    overturning = system.overturning is not None
+    y0 = bidirectional_initial_state(system)
+    load0 = system.load_at(times[0], y0) if overturning else None if loads is None else loads[0]
+    a0 = system.at_load(load0).acceleration_at(ground[0], y0)
+
+    def step(state, inputs):
+        y, a = state
+        time0, time1, ground1, load1 = inputs
+        tipped = None
+        if overturning:
+            y1, converged, tipped = overturning_step(system, time0, time1, y, a)
+            loaded = system.at_load(system.load_at(time1, y1))  # the groups' loads kept in the state
+        else:
+            loaded = system.at_load(load1)  # the normal load at the step's end (vertical record)
+            y1, converged = loaded.newmark_update(y, a, ground1)
+        a1 = loaded.acceleration_at(ground1, y1)
+        sample = _planar_sample(loaded, time1, y1, a1, ground1, load1, tipped)
+        return (y1, a1), sample, converged
+
+    inputs = (times[:-1], times[1:], ground[1:], None if loads is None else loads[1:])
+    first = _planar_sample(system.at_load(load0), times[0], y0, a0, ground[0], None if loads is None else loads[0],
+                           jnp.array(False) if overturning else None)
+    return EngineRun((y0, a0), inputs, step, first)
+
+
+def _planar_sample(loaded, time, y, acceleration, ground, load, tipped):
+    """One sample of a `BidirectionalStructure`'s run: its coordinates, total accelerations,
+    the groups' bearing displacements, friction forces (under the step's normal loads), Z,
+    running peak of |Z| and, with overturning loads, the groups' loads and whether the slab
+    tipped on the step."""
+    return StructureResponse(time=time, displacement=y["q"], velocity=y["v"],
+                             total_acceleration=acceleration + loaded.influence @ ground, ground=ground,
+                             friction_force=loaded.bearing_forces(y), z=y["z"], z_peak=y["z_peak"],
+                             bearing_displacement=loaded.bearing_motion(y["q"]),
+                             normal_load=y.get("normal_load"), tipped=tipped, load_factor=load)

@@ -6,8 +6,8 @@ sample of a `StructureResponse`, along the run, keeping running and smooth maxim
 the history: the memory per run is that of its record). Each chooses the structure's step by
 its type and its isolator's. A stepped engine gives its run as an `EngineRun` (start, inputs,
 step, sample at rest): the peak driver folds its samples, and `run_history` keeps them, so a
-history and its peaks are the same samples; the flat sliders' and single pendulums'
-histories come from their solve on a grid (any diffrax solver)."""
+history and its peaks are the same samples, each step with its `converged`. An adaptive
+diffrax solver gives reference histories of flat sliders and single pendulums instead."""
 
 import dataclasses
 
@@ -17,10 +17,11 @@ import jax.numpy as jnp
 from ..solver import RiccatiNewmark, require_riccati_form, solve_on_grid
 from ..structures import small_dot
 from ..validation import given_options
-from ._bidirectional import BidirectionalStructure, overturning_step
+from ._bidirectional import BidirectionalStructure
 from ._bidirectional_models import (
     bidirectional_initial_state,
     planar_records,
+    planar_run,
     solved_planar_response,
 )
 from ._response import (
@@ -30,6 +31,7 @@ from ._response import (
     ResponseLayout,
     StructureResponse,
     combined_load_extremes,
+    every_kth,
     group_load_extremes,
     group_load_peaks,
     group_uplift_time,
@@ -286,7 +288,7 @@ def _engine_run(system, duration):
         n_steps = step_count(system.time_step, duration, planar_records(system))
         if system.pendulum is not None:
             return n_steps, series_groups_run(system, n_steps)
-        return n_steps, _bidirectional_run(system, n_steps)
+        return n_steps, planar_run(system, n_steps)
     raise TypeError(f"system: no peak driver for a {type(system).__name__}; give a structure built by "
                     "teflon_jax.systems (rigid mass, building or slab on its isolators).")
 
@@ -324,7 +326,14 @@ def _uniaxial_run(system, n_steps) -> EngineRun:
         return state, sample, converged
 
     start = _uniaxial_start(system, ground[0], None if loads is None else loads[0])
-    return EngineRun(start, (times[1:], ground[1:], None if loads is None else loads[1:]), step)
+    x0, z0, z_peak0, factors0, _, _, load0 = start
+    friction0 = factors0[0] * z0 * system.asymmetry_factor(z0)
+    force0 = friction0
+    if system.surface is not None or load0 is not None:
+        force0 = force0 + system.surface_force(x0[0], load0)
+    first = _sample(times[0], x0, _total_acceleration(system, x0, force0), ground[:1], load0,
+                    friction_force=friction0, z=z0, z_peak=z_peak0)
+    return EngineRun(start, (times[1:], ground[1:], None if loads is None else loads[1:]), step, first)
 
 
 def _sliders_advance(system, matrices, state, ground1, load1):
@@ -344,14 +353,16 @@ def _sliders_advance(system, matrices, state, ground1, load1):
         start_factors = stepped.friction_factors(x[n], z_peak, load0)
     x1, z1, z_peak1, converged = stepped.propagated_step(x, z, z_peak, start_factors, ground0, ground1,
                                                          matrices, load0, load1)
+    if history:  # the step's end under the history there, as the next step starts from it
+        history = system.next_history(*history, x[0], x1[0], x[n], z_peak, z, load0)
+        stepped = system.at_history(*history)
     factors1 = stepped.friction_factors(x1[n], z_peak1, load1)  # of the stored state: F = mu W Z
     friction = factors1[0] * z1 * system.asymmetry_factor(z1)
     force = friction
     if system.surface is not None or load1 is not None:  # the pendulum's force beyond W u / R
         force = force + system.surface_force(x1[0], load1)
-    if history:
-        history = system.next_history(*history, x[0], x1[0], x[n], z_peak, z, load0)
-    return (x1, z1, z_peak1, factors1, ground1, history, load1), x1, converged, force, {"friction_force": friction}
+    return ((x1, z1, z_peak1, factors1, ground1, history, load1), x1, converged, force,
+            {"friction_force": friction, "z": z1, "z_peak": z_peak1})
 
 
 def _uniaxial_start(system, ground0, load0):
@@ -360,43 +371,6 @@ def _uniaxial_start(system, ground0, load0):
     start_factors = system.friction_factors(y0["v"][0], y0["z_peak"], load0)
     history = (y0["heat"], y0["travel"]) if system.history else ()
     return (jnp.concatenate([y0["u"], y0["v"]]), y0["z"], y0["z_peak"], start_factors, ground0, history, load0)
-
-
-def _bidirectional_run(system: BidirectionalStructure, n_steps) -> EngineRun:
-    """Flat sliders or single pendulums under two components, each step as the history's
-    (`newmark_update` under the load factor of the step's end; with a slab's overturning,
-    `overturning_step`: the groups' loads from the horizontal force at the step's start and
-    the vertical record at its end, held over the step, a step on which the slab tips not
-    converged), the accelerations the equation of motion's at each step's end."""
-    dt = float(system.time_step)
-    times = jnp.arange(n_steps + 1) * dt
-    ground = jax.vmap(system.ground)(times)
-    loads = None if system.vertical_acceleration is None else jax.vmap(system.load_factor)(times)
-    overturning = system.overturning is not None
-    y0 = bidirectional_initial_state(system)
-    load0 = system.load_at(times[0], y0) if overturning else None if loads is None else loads[0]
-    a0 = system.at_load(load0).acceleration_at(ground[0], y0)
-
-    def step(state, inputs):
-        y, a = state
-        time0, time1, ground1, load1 = inputs
-        if overturning:
-            y1, converged = overturning_step(system, time0, time1, y, a)
-            loaded = system.at_load(system.load_at(time1, y1))  # the groups' loads kept in the state
-        else:
-            loaded = system.at_load(load1)  # the normal load at the step's end (vertical record)
-            y1, converged = loaded.newmark_update(y, a, ground1)
-        a1 = loaded.acceleration_at(ground1, y1)
-        sample = StructureResponse(time=time1, displacement=y1["q"], velocity=y1["v"],
-                                   total_acceleration=a1 + system.influence @ ground1, ground=ground1,
-                                   normal_load=y1.get("normal_load"), load_factor=load1)
-        return (y1, a1), sample, converged
-
-    inputs = (times[:-1], times[1:], ground[1:], None if loads is None else loads[1:])
-    first = StructureResponse(time=times[0], displacement=y0["q"], velocity=y0["v"],
-                              total_acceleration=a0 + system.influence @ ground[0], ground=ground[0],
-                              normal_load=y0.get("normal_load"), load_factor=load0)
-    return EngineRun((y0, a0), inputs, step, first)
 
 
 def simulate_history(
@@ -414,57 +388,49 @@ def simulate_history(
     """Integrate any structure `systems` builds from rest over `duration` [s] and return its
     `StructureResponse`.
 
-    A structure on series pendulums (one or two components, or a slab on their groups, with
-    each group's `group_uplift_time`) balances its sliders at each fixed step and keeps every
-    one (its `EngineRun`, the samples the peak driver folds); with `throw` a step whose balance
-    missed its tolerance, or at which a slab tipped, raises; with `throw=False` each step's
-    outcome is in the response's `converged` (and `tipped`; the run's in `succeeded`); the
-    other options are refused by name. Flat sliders and single pendulums,
-    in one component (`StructureOnSliders`) or two (`BidirectionalStructure`), are solved on
-    their grid by diffrax:
+    By default every structure is stepped by its own engine at its `time_step` (the
+    `EngineRun` whose samples the peak driver folds: a history and its peaks are the same
+    samples), each step's balance judged: the response's `converged` says which steps balanced
+    and `tipped` (a slab or building on bearing groups with overturning loads) on which the
+    slab could not rest on its groups; with `throw` a step that did neither raises. An
+    adaptive diffrax `solver` gives converged reference solutions of flat sliders and single
+    pendulums instead (one or two components; no overturning loads, no series pendulums):
 
-    - `duration` [s]: rounded down to a whole number of `system.time_step`s (for every
-      structure, as in `peak_response`); the records must last that long (`ValueError` naming
-      the one that does not);
-    - `save_every`: keep every k-th step;
-    - `solver`: `RiccatiNewmark()` (default; fixed step `system.time_step`; Bouc-Wen with
-      eta = 2 and gamma > beta only; the only solver of the slab's overturning loads, held over
-      its steps) or an adaptive diffrax solver (e.g. `diffrax.Tsit5()` with `rtol`, `atol`),
-      for converged reference solutions and any other Bouc-Wen shape;
-    - `adjoint`: a diffrax adjoint; default `RecursiveCheckpointAdjoint()` (reverse mode);
-      `diffrax.ForwardMode()` for `jax.jvp`/`jax.jacfwd`;
-    - `throw`: raise on solver failure; with `False` (e.g. under `vmap`) the outcome is in the
-      response's `result`.
+    - `duration` [s]: rounded down to a whole number of `system.time_step`s (as in
+      `peak_response`); the records must last that long (`ValueError` naming the one that
+      does not);
+    - `save_every`: keep every k-th step (t = 0 included); a kept step's `converged` is whether
+      every step since the previous kept one converged (the last also covers any steps after
+      it), and the uplift times count every step;
+    - `solver`: `None` or `RiccatiNewmark()`: the fixed steps (Bouc-Wen with eta = 2 and
+      gamma > beta on the flat sliders of one component); an adaptive diffrax solver (e.g.
+      `diffrax.Tsit5()`) with `rtol`, `atol`, `max_steps` and `adjoint` (default
+      `RecursiveCheckpointAdjoint()`; `diffrax.ForwardMode()` for `jax.jvp`/`jax.jacfwd`),
+      which are refused by name with the fixed steps (a `lax.scan`: reverse and forward mode
+      alike); the solve's outcome is then the response's `result`;
+    - `throw`: raise on an unbalanced step or solver failure; with `False` (e.g. under `vmap`)
+      the outcome is in the response (`succeeded`).
     """
-    options = {"save_every": (save_every, 1), "solver": (solver, None), "rtol": (rtol, 1e-8),
-               "atol": (atol, 1e-10), "max_steps": (max_steps, None), "adjoint": (adjoint, None),
-               "throw": (throw, True)}
-    if _on_series(system):
-        given = given_options({name: option for name, option in options.items() if name != "throw"})
-        if given:
-            raise ValueError(f"{', '.join(given)}: a structure on series pendulums steps at its time_step and "
-                             "keeps every step; drop these options.")
-        _, run = _engine_run(system, duration)
-        response = run_history(run)
-        if throw:
-            response = raise_unbalanced(response)
-        if isinstance(system, BidirectionalStructure):  # a slab on groups: the steps each group is lifted
-            return dataclasses.replace(response, group_uplift_time=group_uplift_time(response.normal_load,
-                                                                                     float(system.time_step)))
-        if system.vertical_acceleration is None:
-            return response
-        # the run keeps N / W at every step (as the peak driver folds it): the uplift is read there
-        return dataclasses.replace(response, uplift_time=uplift_time(response.load_factor, system.time_step))
     if not isinstance(system, (StructureOnSliders, BidirectionalStructure)):
         raise TypeError(f"system: no history driver for a {type(system).__name__}; give a structure built by "
                         "teflon_jax.systems (rigid mass, building or slab on its isolators).")
     if isinstance(save_every, bool) or not isinstance(save_every, int) or save_every < 1:
         raise ValueError(f"save_every: must be a positive integer number of steps, got {save_every!r}.")
+    if solver is None or isinstance(solver, RiccatiNewmark):
+        given = given_options({"rtol": (rtol, 1e-8), "atol": (atol, 1e-10), "max_steps": (max_steps, None),
+                               "adjoint": (adjoint, None)})
+        if given:
+            raise ValueError(f"{', '.join(given)}: the fixed steps take no tolerances, step limit or adjoint "
+                             "(they are a lax.scan, differentiable in both modes); drop these options, or give "
+                             "an adaptive diffrax solver.")
+        _check_solver(system, RiccatiNewmark())
+        return _stepped_history(system, duration, save_every, throw)
+    if _on_series(system):
+        raise ValueError("solver: a structure on series pendulums steps only at its time_step; leave solver out.")
+    _check_solver(system, solver)
     planar = isinstance(system, BidirectionalStructure)
     n_steps, steps, save_times = time_grid(system.time_step, duration, save_every,
                                            planar_records(system) if planar else records(system))
-    solver = RiccatiNewmark() if solver is None else solver
-    _check_solver(system, solver)
     if planar:
         y0, jumps = bidirectional_initial_state(system), jnp.concatenate([system.ground_x.times,
                                                                           system.ground_y.times])
@@ -476,6 +442,21 @@ def simulate_history(
     if planar:
         return solved_planar_response(system, save_times, solution, n_steps, save_every)
     return solved_structure_response(system, save_times, solution, n_steps)
+
+
+def _stepped_history(system, duration, save_every, throw) -> StructureResponse:
+    """`simulate_history` by the structure's engine: every step's sample (`run_history`), the
+    uplift times over every step, then every `save_every`-th sample kept (`every_kth`)."""
+    _, run = _engine_run(system, duration)
+    response = run_history(run)
+    dt = float(system.time_step)
+    changes = {}
+    if response.normal_load is not None:  # a slab or building on groups: the steps each group is lifted
+        changes["group_uplift_time"] = group_uplift_time(response.normal_load, dt)
+    if response.load_factor is not None:  # a vertical record: N / W at every step's end
+        changes["uplift_time"] = uplift_time(response.load_factor, dt)
+    response = every_kth(dataclasses.replace(response, **changes), save_every)
+    return raise_unbalanced(response) if throw else response
 
 
 def _check_solver(system, solver) -> None:

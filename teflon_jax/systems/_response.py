@@ -123,12 +123,38 @@ def run_history(run: EngineRun) -> "StructureResponse":
     return jax.tree_util.tree_map(lambda a, b: jnp.concatenate([a[None], b]), first, samples)
 
 
-_UNBALANCED = ("simulate_history: the sliders' balance of a series pendulum missed its tolerance at a step; "
+_UNBALANCED = ("simulate_history: the isolators' balance (the bearings' forces, or a series pendulum's sliders) "
+               "missed its tolerance at a step; "
                "give throw=False to keep the response, whose `converged` says which steps, or a shorter "
                "time_step or more newton_iterations to the structure's builder.")
 _TIPPED = ("simulate_history: the slab tipped: at a step the groups still loaded lay on one line and could not "
            "carry its overturning moment; give throw=False to keep the response, whose `tipped` says which "
            "steps, or place groups off that line.")
+
+
+_PER_RUN = ("uplift_time", "group_uplift_time", "result")
+"""The `StructureResponse` fields of the whole run, without a time axis."""
+
+
+def every_kth(response: StructureResponse, k: int) -> StructureResponse:
+    """`response` (every step of a run, t = 0 first) at every `k`-th step: its samples there,
+    `converged` whether every step since the previous kept one converged and `tipped` whether
+    the slab tipped on any of them (the last kept one also covers the steps after it, so that
+    `succeeded` still reads every step)."""
+    if k == 1:
+        return response
+
+    def since_previous(failed):
+        total = jnp.cumsum(failed.astype(int))
+        kept = total[::k].at[-1].set(total[-1])
+        return jnp.concatenate([kept[:1], jnp.diff(kept)]) > 0
+
+    changes = {name: None if getattr(response, name) is None else getattr(response, name)[::k]
+               for name in (f.name for f in dataclasses.fields(response)) if name not in _PER_RUN}
+    changes["converged"] = ~since_previous(~response.converged)
+    if response.tipped is not None:
+        changes["tipped"] = since_previous(response.tipped)
+    return dataclasses.replace(response, **changes)
 
 
 def raise_unbalanced(response: StructureResponse) -> StructureResponse:
