@@ -190,8 +190,9 @@ def test_bound_cases_of_the_building_on_a_plan_report_each_cases_group_loads(tmp
 
 def test_runs_that_tip_a_tall_slab_are_not_sent_to_a_smaller_step(tmp_path, capsys):
     """A 4 m slab whose centre of mass stands 8 m up, under 1.2 g motions: every run tips it.
-    The runs are named with the slab's tipping and the plan's height as the way out, not a
-    smaller --time-step alone."""
+    The runs are named with the slab's tipping and the plan's height as the way out, not as a
+    Newton solve that a smaller --time-step would mend, and the results file flags them
+    `tipped`."""
     plan = {"length_x": "4m", "length_y": "4m", "weight": "400kip", "centre_of_mass": ["2m", "2m"],
             "height_of_centre_of_mass": "8m",
             "groups": [{"name": n, "x": x, "y": y, "load": "100kip"}
@@ -199,8 +200,11 @@ def test_runs_that_tip_a_tall_slab_are_not_sent_to_a_smaller_step(tmp_path, caps
     (tmp_path / "plan.json").write_text(json.dumps(plan))
     code, out = _montecarlo(capsys, "--plan", tmp_path / "plan.json", "--structure", "slab", "--components", "2",
                             "--motions", "2", "--duration", "4s", "--strong-motion", "2s", "--pga", "1.2g",
-                            "--isolation-period", "2.5s", "--no-progress", "--json", tmp_path / "mc.json")
+                            "--isolation-period", "2.5s", "--no-progress", "--json", tmp_path / "mc.json",
+                            "--out", tmp_path / "mc.nc")
     assert code == 1
-    assert "2 of 2 runs had a time step that did not balance: the slab (or the building's base) tipped" in out.err
-    assert "lower a slab's height_of_centre_of_mass in the plan" in out.err
+    assert "2 of 2 runs had a time step on which the slab (or the building's base) tipped" in out.err
+    assert "lower a slab's height_of_centre_of_mass in the plan" in out.err and "Newton" not in out.err
+    result = MonteCarloResult.open(tmp_path / "mc.nc")
+    assert result.tipped.tolist() == [True, True] and result.converged.tolist() == [False, False]
     assert json.loads((tmp_path / "mc.json").read_text())["not_converged"] == [0, 1]

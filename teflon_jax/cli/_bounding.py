@@ -235,7 +235,7 @@ def run_bounding(args, structure, model, units) -> int:
         beyond_law_words,
         group_summary,
         listed,
-        unbalanced_words,
+        unbalanced_parts,
     )
     from ._normal_load import uplift_message, uplift_payload
 
@@ -288,10 +288,12 @@ def run_bounding(args, structure, model, units) -> int:
         print(f"teflon-jax montecarlo: {int(beyond.sum())} of {converged.size} runs "
               + beyond_law_words(f"case:motion {runs}"), file=sys.stderr)
     if not (converged | beyond).all():
-        runs = listed(f"{BOUNDING_CASES[c]}:{m}" for c, m in np.argwhere(~converged & ~beyond))
-        why, advice = unbalanced_words(result, f"case:motion {runs}")
-        print(f"teflon-jax montecarlo: {int((~converged & ~beyond).sum())} of {converged.size} runs had a time step "
-              f"{why}; they are flagged in the results and left out of the table. {advice}", file=sys.stderr)
+        def names(runs):
+            return "case:motion " + listed(f"{BOUNDING_CASES[c]}:{m}" for c, m in np.argwhere(runs))
+
+        for count, why, advice in unbalanced_parts(~converged & ~beyond, result.tipped_flags, names):
+            print(f"teflon-jax montecarlo: {count} of {converged.size} runs had a time step "
+                  f"{why}; they are flagged in the results and left out of the table. {advice}", file=sys.stderr)
     if not converged.all():
         return 1
     return 0

@@ -30,7 +30,7 @@ from ._engineering import (
     wants_storeys,
 )
 from ._main import compile_cache_dir
-from ._montecarlo_summary import beyond_law_words, listed, unbalanced_words
+from ._montecarlo_summary import beyond_law_words, listed, unbalanced_parts
 from ._posterior_flags import (
     MOTION_DRAWS_NO_BAND,
     posterior_arguments,
@@ -352,10 +352,9 @@ def _report(result, levels, level_index, unit, factor, fragility, per_level) -> 
         print(f"teflon-jax montecarlo: {len(runs)} of {converged.size} runs {beyond_law_words(f'{which} {names(runs)}')}",
               file=sys.stderr)
         status = 1
-    failed = _failed_runs(converged | beyond)  # the Newton solves that failed
-    if failed:
-        why, advice = unbalanced_words(result, f"{which} {names(failed)}")
-        print(f"teflon-jax montecarlo: {len(failed)} of {converged.size} runs had a time step {why}; they are "
+    for count, why, advice in unbalanced_parts(~(converged | beyond), result.tipped_flags,
+                                               lambda runs: f"{which} {names(_failed_runs(~runs))}"):
+        print(f"teflon-jax montecarlo: {count} of {converged.size} runs had a time step {why}; they are "
               f"flagged in the files and left out of the counts and statistics. {advice}", file=sys.stderr)
         status = 1
     return status

@@ -132,31 +132,39 @@ def report(args, result, stats, units, more_lines) -> int:
         runs = np.flatnonzero(beyond)
         print(f"teflon-jax montecarlo: {runs.size} of {converged.size} runs "
               f"{beyond_law_words('motion indices ' + listed(runs))}", file=sys.stderr)
-    failed = np.flatnonzero(~converged & ~beyond)
-    if not failed.size:
+    failed = ~converged & ~beyond
+    if not failed.any():
         return int(beyond.any())
-    why, advice = unbalanced_words(result, f"motion indices {listed(failed)}", getattr(args, "float32", False))
-    print(f"teflon-jax montecarlo: {failed.size} of {converged.size} runs had a time step {why}; they are left "
-          f"out of the statistics and flagged in the results ('converged'). {advice}", file=sys.stderr)
+    parts = unbalanced_parts(failed, result.tipped_flags.reshape(-1),
+                             lambda runs: "motion indices " + listed(np.flatnonzero(runs)), getattr(args, "float32", False))
+    for count, why, advice in parts:
+        print(f"teflon-jax montecarlo: {count} of {converged.size} runs had a time step {why}; they are left "
+              f"out of the statistics and flagged in the results ('converged'). {advice}", file=sys.stderr)
     return 1
 
 
-def unbalanced_words(result, named: str, float32: bool = False) -> tuple[str, str]:
-    """(why, what to do) of runs with a step that did not balance, `named` the runs: on a plan
-    whose groups carry the overturning loads (`result.group_peak_load`) the slab or the
-    building's base may have tipped, which a smaller step does not mend; elsewhere Newton's
-    solve did not converge."""
-    if float32:
-        advice = "Single precision is too coarse for the bearing's Newton solve: drop --float32."
-    else:
-        advice = "Try a smaller --time-step."
-    if getattr(result, "group_peak_load", None) is None:
-        return f"whose Newton solve did not converge ({named})", advice
-    why = ("that did not balance: the slab (or the building's base) tipped, its overturning moment beyond what its "
-           "weight holds back about the leaning groups (they take no tension), or the Newton solve did not "
-           f"converge ({named})")
-    return why, ("Spread the groups, lower a slab's height_of_centre_of_mass in the plan or weaken the motions; "
-                 "else: " + advice)
+def unbalanced_parts(failed, tipped, names, float32: bool = False) -> list[tuple[int, str, str]]:
+    """[(count, why, what to do)] of the runs `failed` (bool) with a step that did not balance,
+    `names(mask)` naming a set of them: those whose first unbalanced step tipped the slab or
+    the building's base on a plan's overturning loads (`tipped`, bool of the same shape:
+    `MonteCarloResult.tipped_flags`), which a smaller step does not mend, and those whose
+    Newton solve did not converge."""
+    import numpy as np
+
+    failed = np.asarray(failed, bool)
+    tipped = failed & np.asarray(tipped, bool)
+    newton = failed & ~tipped
+    parts = []
+    if tipped.any():
+        parts.append((int(tipped.sum()), "on which the slab (or the building's base) tipped, its overturning moment "
+                      "beyond what its weight holds back about the leaning groups (they take no tension) "
+                      f"({names(tipped)})", "Spread the groups, lower a slab's height_of_centre_of_mass in the plan "
+                      "or weaken the motions; a smaller --time-step does not mend it."))
+    if newton.any():
+        advice = ("Single precision is too coarse for the bearing's Newton solve: drop --float32." if float32
+                  else "Try a smaller --time-step.")
+        parts.append((int(newton.sum()), f"whose Newton solve did not converge ({names(newton)})", advice))
+    return parts
 
 
 def group_summary(result, units) -> tuple[dict, list]:

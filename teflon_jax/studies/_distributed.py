@@ -67,13 +67,14 @@ from ._results import (
     DESIGN_UNITS,
     GROUP_VARIABLES,
     STOREY_VARIABLES,
+    TIPPED,
     VARIABLES,
     MonteCarloResult,
 )
 
 PGA = ("m s-2", "peak |ground acceleration| of the motion")
 UPLIFT = ("s", "time with the isolators' normal load <= 0")
-FLAGS = ("converged", "beyond_pressure_law")
+FLAGS = ("converged", "beyond_pressure_law", "tipped")
 """The boolean variables of a run's file (written as bytes)."""
 
 
@@ -110,7 +111,7 @@ def _chunk_task(spec: dict, start: int, stop: int, payload):
 def _variables(model, storey_height=None, groups=None, pressure_law=False) -> dict:
     """The peak variables of a run's file: `VARIABLES`, `uplift_time` with a vertical component,
     the `STOREY_VARIABLES` with `storey_height` and the `GROUP_VARIABLES` of a structure whose
-    `groups` (their number, else None) share the weight unevenly, and `beyond_pressure_law`
+    `groups` (their number, else None) share the weight unevenly (and `tipped`), and `beyond_pressure_law`
     with Table 1's `pressure_law`: name -> (units, long name)."""
     variables = dict(VARIABLES)
     if isinstance(model, VerticalGroundMotion):
@@ -119,6 +120,7 @@ def _variables(model, storey_height=None, groups=None, pressure_law=False) -> di
         variables.update({name: (units, long_name) for name, (_, units, long_name) in STOREY_VARIABLES.items()})
     if groups is not None:
         variables.update(GROUP_VARIABLES)
+        variables["tipped"] = TIPPED
     if pressure_law:
         variables["beyond_pressure_law"] = BEYOND_PRESSURE_LAW
     return variables

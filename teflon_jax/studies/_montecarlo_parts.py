@@ -57,6 +57,7 @@ def _peak_fields(peaks, with_designs: bool, with_storeys: bool, vertical: bool =
         "floor_acceleration": arrange(peaks["floor_acceleration"]) if with_storeys else None,
         **({"uplift_time": arrange(peaks["uplift_time"])} if vertical else {}),
         **({"beyond_pressure_law": arrange(peaks["beyond_pressure_law"])} if "beyond_pressure_law" in peaks else {}),
+        **({"tipped": arrange(peaks["tipped"])} if "tipped" in peaks else {}),
         **{name: arrange(peaks[name]) for name in GROUP_FIELDS if name in peaks},
     }
 

@@ -54,6 +54,10 @@ BEYOND_PRESSURE_LAW = ("1", "the contact pressure went beyond where Table 1's ex
                        "constants (peaks not trusted)")
 """The units and long name of `beyond_pressure_law`."""
 
+TIPPED = ("1", "the run's first unbalanced step was one on which the slab (or the building's base) could not "
+          "rest on its bearing groups (peaks not trusted)")
+"""The units and long name of `tipped`."""
+
 DESIGN_UNITS = {
     "isolation_period": ("s", "isolation period T_b"),
     "pressure": ("Pa", "bearing contact pressure"),
@@ -104,6 +108,10 @@ class MonteCarloResult:
     - `beyond_pressure_law` (bool, shape of `converged`): with Table 1's pressure law under a
       vertical component, the runs whose contact pressure went beyond where its extended rows
       give Eq. 1 constants (left out of the statistics by `converged`); else `None`.
+    - `tipped` (bool, shape of `converged`): on a plan whose groups carry the overturning
+      loads, the runs whose first unbalanced step was one on which the slab (or the building's
+      base) could not rest on its groups (`TIPPED`); the other unconverged runs' Newton balance
+      missed its tolerance; else `None`.
     - `bearing_draw` (N,) or (K,) ints: the posterior draw each motion, or each bearing of a
       nested run, took (`monte_carlo(bearings=...)`); else `None`.
     """
@@ -130,6 +138,7 @@ class MonteCarloResult:
     group_min_load: np.ndarray | None = None
     group_uplift_time: np.ndarray | None = None
     beyond_pressure_law: np.ndarray | None = None
+    tipped: np.ndarray | None = None
 
     @property
     def group_names(self) -> list:
@@ -160,6 +169,13 @@ class MonteCarloResult:
         if self.beyond_pressure_law is None:
             return np.zeros(np.shape(self.converged), bool)
         return np.asarray(self.beyond_pressure_law, bool)
+
+    @property
+    def tipped_flags(self) -> np.ndarray:
+        """`tipped` as a bool array of `converged`'s shape (all False without overturning loads)."""
+        if self.tipped is None:
+            return np.zeros(np.shape(self.converged), bool)
+        return np.asarray(self.tipped, bool)
 
     @property
     def n_motions(self) -> int:
@@ -266,10 +282,9 @@ class MonteCarloResult:
         if self.uplift_time is not None:
             data["uplift_time"] = (dims, np.asarray(self.uplift_time),
                                    {"units": "s", "long_name": "time with the isolators' normal load <= 0"})
-        if self.beyond_pressure_law is not None:
-            units, long_name = BEYOND_PRESSURE_LAW
-            data["beyond_pressure_law"] = (dims, np.asarray(self.beyond_pressure_law),
-                                           {"units": units, "long_name": long_name})
+        for name, (units, long_name) in (("beyond_pressure_law", BEYOND_PRESSURE_LAW), ("tipped", TIPPED)):
+            if getattr(self, name) is not None:
+                data[name] = (dims, np.asarray(getattr(self, name)), {"units": units, "long_name": long_name})
         for name, (units, long_name) in GROUP_VARIABLES.items():
             if getattr(self, name) is not None:
                 data[name] = (dims + ("group",), np.asarray(getattr(self, name)), {"units": units, "long_name": long_name})
@@ -321,8 +336,8 @@ class MonteCarloResult:
             uplift_time=np.asarray(dataset["uplift_time"].values) if "uplift_time" in dataset else None,
             bearing_draw=np.asarray(dataset["bearing_draw"].values) if "bearing_draw" in dataset else None,
             **{name: np.asarray(dataset[name].values) for name in GROUP_VARIABLES if name in dataset},
-            beyond_pressure_law=(np.asarray(dataset["beyond_pressure_law"].values, bool)
-                                 if "beyond_pressure_law" in dataset else None),
+            **{name: np.asarray(dataset[name].values, bool) if name in dataset else None
+               for name in ("beyond_pressure_law", "tipped")},
         )
 
     def to_csv(self, path) -> pathlib.Path:
@@ -349,8 +364,9 @@ class MonteCarloResult:
             columns[label] = np.asarray(getattr(self, name)).reshape(-1)
         if self.uplift_time is not None:
             columns["uplift_time_s"] = np.asarray(self.uplift_time).reshape(-1)
-        if self.beyond_pressure_law is not None:
-            columns["beyond_pressure_law"] = np.asarray(self.beyond_pressure_law).reshape(-1)
+        for name in ("beyond_pressure_law", "tipped"):
+            if getattr(self, name) is not None:
+                columns[name] = np.asarray(getattr(self, name)).reshape(-1)
         for name, unit, first in (("storey_drift", "", 1), ("floor_acceleration", "_m_s2", 0)):
             values = getattr(self, name)
             if values is not None:

@@ -171,7 +171,9 @@ def peak_response(system, duration: float, *, reducers=None, smooth=None, disp_w
     a vertical record "uplift_time" [s]: the steps 1..n whose end has N <= 0 times the step;
     where the groups share the weight unevenly (a slab or a building on a plan with its
     overturning loads), "group_normal_load": each group's largest and least N_g [N] (the rest
-    included, read as the peaks are) and its uplift time [s] (`group_load_peaks`); with a
+    included, read as the peaks are) and its uplift time [s] (`group_load_peaks`), and
+    "tipped": whether the run's first unbalanced step was one on which the slab could not rest
+    on its groups (else Newton's balance missed its tolerance there); with a
     Table 1 pressure law that does not stop the run (`flag_pressure_law`),
     "within_pressure_law": whether the law gave Eq. 1 constants at every load the steps read
     (the record's at t = 0 included), up to the first step that did not balance (where a single
@@ -194,6 +196,7 @@ def peak_response(system, duration: float, *, reducers=None, smooth=None, disp_w
     table = getattr(system, "pressure_table", None)
     flagged = table is not None and not table.stop  # the runs beyond Table 1's law are reported
     widths = {name: jnp.asarray(width, dtype) for name, width in smooth.items()}
+    tips = layout.overturning and run.first.tipped is not None  # a slab or building with overturning loads
 
     def quantities(sample):
         values = {name: REDUCERS[name](layout, sample, storey_height) for name in reducers}
@@ -201,8 +204,10 @@ def peak_response(system, duration: float, *, reducers=None, smooth=None, disp_w
 
     def body(carry, step_inputs):
         step, inputs = step_inputs
-        state, peaks, tops, totals, lifted, ok, loads, law = carry
+        state, peaks, tops, totals, lifted, ok, loads, law, tipped = carry
         state, sample, converged = run.step(state, inputs)
+        if tips:  # whether the run's first unbalanced step is one on which the slab tipped
+            tipped = tipped | (ok & sample.tipped)
         values = quantities(sample)
         read = (step + 1) % read_every == 0
         peaks = {k: jnp.where(read, jnp.maximum(p, values[k]), p) for k, p in peaks.items()}
@@ -213,7 +218,8 @@ def peak_response(system, duration: float, *, reducers=None, smooth=None, disp_w
             new = combined_load_extremes(loads, group_load_extremes(layout, sample))
             loads = (jnp.where(read, new[0], loads[0]), jnp.where(read, new[1], loads[1]), new[2])
         return (state, peaks, {k: u[0] for k, u in updated.items()}, {k: u[1] for k, u in updated.items()},
-                lifted, ok & converged, loads, law if law is None else _law_extremes(system, layout, law, sample, ok)), None
+                lifted, ok & converged, loads, law if law is None else _law_extremes(system, layout, law, sample, ok),
+                tipped), None
 
     shapes = jax.eval_shape(lambda: quantities(run.step(run.start, jax.tree_util.tree_map(lambda a: a[0],
                                                                                           run.inputs))[1]))
@@ -223,8 +229,8 @@ def peak_response(system, duration: float, *, reducers=None, smooth=None, disp_w
     loads = None if run.first is None else group_load_extremes(layout, run.first)  # the rest's, none lifted
     loads = None if loads is None else loads[:2] + (jnp.zeros_like(loads[2]),)
     law = _law_start(system, layout, run.first) if flagged else None
-    carry = (run.start, peaks, tops, totals, jnp.zeros((), jnp.int32), jnp.array(True), loads, law)
-    (_, peaks, tops, totals, lifted, ok, loads, law), _ = jax.lax.scan(
+    carry = (run.start, peaks, tops, totals, jnp.zeros((), jnp.int32), jnp.array(True), loads, law, jnp.array(False))
+    (_, peaks, tops, totals, lifted, ok, loads, law, tipped), _ = jax.lax.scan(
         body, carry, (jnp.arange(n_steps), run.inputs), unroll=steps_per_pass)
     out = Peaks(peaks, layout.components)
     out.update({"smooth_" + k: smooth_max_value(tops[k], totals[k], n_steps + 1, widths[k]) for k in tops})
@@ -233,6 +239,8 @@ def peak_response(system, duration: float, *, reducers=None, smooth=None, disp_w
         out["uplift_time"] = lifted * float(system.time_step)
     if loads is not None:
         out["group_normal_load"] = group_load_peaks(loads, loads[2] * float(system.time_step))
+    if tips:
+        out["tipped"] = tipped
     if flagged:
         out["within_pressure_law"] = within_pressure_law(system, law)
     return out
