@@ -145,12 +145,8 @@ def peak_response(system, duration: float, *, reducers=None, smooth=None, disp_w
     """Integrate `system` from rest over `duration` [s] with its engine's step and keep only
     the peaks of the `REDUCERS` named in `reducers`, folded step by step in a `lax.scan`.
 
-    The engines: a `StructureOnSliders` (flat sliders, single pendulums; the linear part of
-    its step one (2n, 2n + 3) product, `StructureOnSliders.step_matrices`), a
-    `StructureOnSliders` on series pendulums (one or two components) and a
-    `BidirectionalStructure` (flat sliders and single pendulums under two components; a slab
-    or a building on a plan of any isolator's groups, with its overturning loads); each with
-    its vertical record if it has one. jit/vmap/grad-safe.
+    The engines are `simulate_history`'s (the same samples), each with its vertical record if
+    it has one. jit/vmap/grad-safe.
 
     **Arguments:**
 
@@ -172,9 +168,9 @@ def peak_response(system, duration: float, *, reducers=None, smooth=None, disp_w
     where the groups share the weight unevenly (a slab or a building on a plan with its
     overturning loads), "group_normal_load": each group's largest and least N_g [N] (the rest
     included, read as the peaks are) and its uplift time [s] (`group_load_peaks`), and
-    "tipped": whether the run's first unbalanced step was one on which the slab could not rest
-    on its groups (else Newton's balance missed its tolerance there); with a
-    Table 1 pressure law that does not stop the run (`flag_pressure_law`),
+    "tipped": whether the run's first unbalanced step tipped the slab (else Newton's balance
+    missed its tolerance there); with a Table 1 pressure law that does not stop the run
+    (`flag_pressure_law`),
     "within_pressure_law": whether the law gave Eq. 1 constants at every load the steps read
     (the record's at t = 0 included), up to the first step that did not balance (where a single
     run stops; the loads after it are never read).
