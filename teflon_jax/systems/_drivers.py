@@ -396,7 +396,7 @@ def simulate_history(
     `EngineRun` whose samples the peak driver folds: a history and its peaks are the same
     samples), each step's balance judged: the response's `converged` says which steps balanced
     and `tipped` (a slab or building on bearing groups with overturning loads) on which the
-    slab could not rest on its groups; with `throw` a step that did neither raises. An
+    slab could not rest on its groups; with `throw` a step that did not balance raises. An
     adaptive diffrax `solver` gives converged reference solutions of flat sliders and single
     pendulums instead (one or two components; no overturning loads, no series pendulums):
 
@@ -410,8 +410,9 @@ def simulate_history(
       gamma > beta on the flat sliders of one component); an adaptive diffrax solver (e.g.
       `diffrax.Tsit5()`) with `rtol`, `atol`, `max_steps` and `adjoint` (default
       `RecursiveCheckpointAdjoint()`; `diffrax.ForwardMode()` for `jax.jvp`/`jax.jacfwd`),
-      which are refused by name with the fixed steps (a `lax.scan`: reverse and forward mode
-      alike); the solve's outcome is then the response's `result`;
+      which are refused by name with the fixed steps (a `lax.scan`, differentiated directly:
+      forward mode always, reverse mode in one component); the solve's outcome is then the
+      response's `result`;
     - `throw`: raise on an unbalanced step or solver failure; with `False` (e.g. under `vmap`)
       the outcome is in the response (`succeeded`).
     """
@@ -425,7 +426,7 @@ def simulate_history(
                                "adjoint": (adjoint, None)})
         if given:
             raise ValueError(f"{', '.join(given)}: the fixed steps take no tolerances, step limit or adjoint "
-                             "(they are a lax.scan, differentiable in both modes); drop these options, or give "
+                             "(they are a lax.scan, differentiated directly); drop these options, or give "
                              "an adaptive diffrax solver.")
         _check_solver(system, RiccatiNewmark())
         return _stepped_history(system, duration, save_every, throw)
