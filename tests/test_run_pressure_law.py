@@ -117,7 +117,8 @@ def test_a_suite_flags_the_pair_beyond_the_table_and_keeps_the_others(tmp_path, 
 def test_a_pair_that_tips_the_slab_is_not_taken_for_one_beyond_the_table(tmp_path, capsys):
     """UF at 1000 psi (the law holds far beyond these loads) and the centre of mass 4 m up: the
     strong pair tips the slab, and the loads of the steps its solve did not reach are not read
-    as beyond the law; it is named as not balanced, `beyond_pressure_law` false."""
+    as beyond the law; it is named as one that tipped the slab (`tipped` true), not as one
+    beyond the law or one whose Newton balance missed (`beyond_pressure_law` false)."""
     _inputs(tmp_path)
     plan = dict(PLAN, height_of_centre_of_mass="4m")
     (tmp_path / "plan.json").write_text(json.dumps(plan))
@@ -127,7 +128,8 @@ def test_a_pair_that_tips_the_slab_is_not_taken_for_one_beyond_the_table(tmp_pat
              "--isolation-period", "2.5s"]
     assert main(["run", "--suite", str(tmp_path / "pairs.csv"), *flags, "--json", str(tmp_path / "s.json")]) == 1
     err = capsys.readouterr().err
-    assert "1 of 2 pairs could not be balanced in every step (tip)" in err and "beyond where" not in err
+    assert "1 of 2 pairs tipped the slab (or the building's base)" in err and "(tip)" in err
+    assert "beyond where" not in err and "could not be balanced" not in err
     pairs = json.loads((tmp_path / "s.json").read_text())["pairs"]
-    assert not pairs["tip"]["converged"] and not pairs["tip"]["beyond_pressure_law"]
-    assert pairs["calm"]["converged"]
+    assert not pairs["tip"]["converged"] and not pairs["tip"]["beyond_pressure_law"] and pairs["tip"]["tipped"]
+    assert pairs["calm"]["converged"] and not pairs["calm"]["tipped"]

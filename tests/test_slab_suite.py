@@ -98,17 +98,19 @@ def test_each_suite_pair_is_its_single_run_with_overturning(tmp_path, isolator, 
 def test_a_pair_whose_slab_tips_is_named_and_left_out_of_the_summary(tmp_path, capsys):
     """Height 30 m: the strong pair tips the slab (h |H| beyond the weight's hold about the
     leaning pair), so its steps are reported unbalanced: the suite exits 1, names the pair on
-    stderr, marks it converged: false and keeps it out of the summary (the calm pair's alone)."""
+    stderr as one that tipped the slab, marks it converged: false and tipped: true and keeps it
+    out of the summary (the calm pair's alone)."""
     suite = _write_pairs(tmp_path)
     out = tmp_path / "tips.json"
     code = main(["run", "--structure", "slab", "--plan", str(_plan(tmp_path, "30m")), "--record-units", "g",
                  "--time-step", "0.01s", "--json", str(out), *ISOLATORS["single-fp"], "--suite", str(suite)])
     assert code == 1
     err = capsys.readouterr().err
-    assert "1 of 2 pairs could not be balanced" in err and "(strong_x)" in err
+    assert "1 of 2 pairs tipped the slab" in err and "(strong_x)" in err and "could not be balanced" not in err
     result = json.loads(out.read_text())
     assert result["failed"] == 1
     assert result["pairs"]["strong_x"]["converged"] is False and result["pairs"]["calm_x"]["converged"] is True
+    assert result["pairs"]["strong_x"]["tipped"] is True and result["pairs"]["calm_x"]["tipped"] is False
     calm = result["pairs"]["calm_x"]["base_disp_resultant_m"]
     assert result["summary"]["base_disp_resultant_m"] == {"mean": calm, "max": calm}
 

@@ -166,26 +166,40 @@ def _unbalanced_message(system, response, tipped, plan) -> str:
     return "; ".join(parts) + f"; {WRITTEN.format(time[~converged][0])}."
 
 
-def failed_pairs(names, converged, beyond=None) -> str:
+def failed_pairs(result) -> str:
     """Which of a suite's pairs cannot be trusted and why ('' when all converged): those beyond
-    Table 1's pressure law (`beyond` (P,) bool, or None) and those not balanced in every step,
-    each named, with what to do."""
+    Table 1's pressure law (`result.beyond_pressure_law`), those whose first unbalanced step
+    tipped the slab (`result.tipped`) and those whose balance missed its tolerance, each named,
+    with what to do (`result`: a `studies.SuiteResult`)."""
     from ..systems import LAW_REACH
 
-    beyond = np.zeros(len(names), bool) if beyond is None else np.asarray(beyond, bool)
-    converged = np.asarray(converged, bool)
+    names, count = result.names, len(result.names)
+    beyond, tipped = (np.zeros(count, bool) if flags is None else np.asarray(flags, bool)
+                      for flags in (result.beyond_pressure_law, result.tipped))
+    unbalanced = ~np.asarray(result.converged, bool) & ~beyond
     parts = []
     law = [n for n, b in zip(names, beyond) if b]
     if law:
-        parts.append(f"{len(law)} of {len(names)} pairs took a bearing group's contact pressure {LAW_REACH}, under "
+        parts.append(f"{len(law)} of {count} pairs took a bearing group's contact pressure {LAW_REACH}, under "
                      f"the vertical component and the groups' overturning loads ({', '.join(law)}): run such a pair "
                      "alone to "
                      "see where and when, and give the bearings' constants at such pressures (a bearing file with "
                      "a pressure dependence) or a lower height_of_centre_of_mass")
-    unbalanced = [n for n, ok, b in zip(names, converged, beyond) if not ok and not b]
-    if unbalanced:
-        parts.append(f"{len(unbalanced)} of {len(names)} pairs could not be balanced in every step "
-                     f"({', '.join(unbalanced)}): run such a pair alone to see why (a slab that tips, or try a "
-                     "smaller --time-step)")
+    tips = [n for n, f in zip(names, unbalanced & tipped) if f]
+    if tips:
+        parts.append(f"{len(tips)} of {count} pairs tipped the slab (or the building's base), its overturning moment "
+                     f"beyond what its weight holds back about the leaning groups ({', '.join(tips)}): spread the "
+                     "groups, lower height_of_centre_of_mass in the plan or run such a pair alone to see when; a "
+                     "smaller --time-step does not mend it")
+    newton = [n for n, f in zip(names, unbalanced & ~tipped) if f]
+    if newton:
+        parts.append(f"{len(newton)} of {count} pairs could not be balanced in every step "
+                     f"({', '.join(newton)}): run such a pair alone to see when, or try a smaller --time-step")
     return "; ".join(parts)
 
+
+def pair_flags(result, i: int) -> dict:
+    """A suite pair's JSON flags beside "converged": `beyond_pressure_law` and `tipped` where
+    the `SuiteResult` keeps them."""
+    return {name: bool(flags[i]) for name, flags in (("beyond_pressure_law", result.beyond_pressure_law),
+                                                     ("tipped", result.tipped)) if flags is not None}

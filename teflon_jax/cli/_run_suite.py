@@ -19,7 +19,7 @@ from ._engineering import add_suite_pelicun_flag, suite_pelicun_peaks
 from ._normal_load import NORMAL_LOAD_NOTE, suite_normal_load
 from ._provenance import note_input_file, provenance_attributes
 from ._record_checks import check_record_units
-from ._run_stop import failed_pairs
+from ._run_stop import failed_pairs, pair_flags
 from ._spectrum import add_spectrum_flags, check_unscaled, read_target, scale_to_target
 from ._suite_bounding import add_suite_bounding_flag, read_suite_factors
 
@@ -271,8 +271,7 @@ def run_suite(args, isolator) -> int:
                "records": {name: {"record_x": x, "record_y": y, "record_z": z, "scale": scale * args.scale}
                            for name, x, y, z, scale in pairs},
                "pairs": {name: {k: float(v[i]) for k, v in result.peaks.items()} | {"converged": bool(result.converged[i])}
-                         | ({} if result.beyond_pressure_law is None
-                            else {"beyond_pressure_law": bool(result.beyond_pressure_law[i])})
+                         | pair_flags(result, i)
                          | ({} if result.groups is None else suite_normal_load(plan, result.groups, i))
                          for i, name in enumerate(result.names)},
                "summary": result.summary, "failed": int(np.sum(~result.converged))}
@@ -287,7 +286,7 @@ def run_suite(args, isolator) -> int:
     print(json.dumps(payload["summary"], indent=2))
     if args.json:
         _write_json(args.json, payload)
-    failed = failed_pairs(result.names, result.converged, result.beyond_pressure_law)
+    failed = failed_pairs(result)
     if failed:
         print(f"teflon-jax run: error: {failed}; they are marked converged: false and left out of the summary.",
               file=sys.stderr)

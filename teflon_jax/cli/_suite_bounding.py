@@ -16,7 +16,7 @@ import numpy as np
 from ._bounding import add_bounding_flags, print_governing, read_bounds
 from ._common import _write_json
 from ._provenance import provenance_attributes
-from ._run_stop import failed_pairs
+from ._run_stop import failed_pairs, pair_flags
 
 
 def add_suite_bounding_flag(parser) -> None:
@@ -141,8 +141,7 @@ def run_suite_bounding(args, bounds, isolator, names, ax, ay, dt, notes, scaling
                "property_factors": bounds.payload(args.bearing),
                "cases": {c: {**_case_entry(bounds, c), "summary": results[c].summary, "failed": int(np.sum(~results[c].converged)),
                              "pairs": {n: {k: float(v[i]) for k, v in results[c].peaks.items()}
-                                       | ({} if results[c].beyond_pressure_law is None
-                                          else {"beyond_pressure_law": bool(results[c].beyond_pressure_law[i])})
+                                       | pair_flags(results[c], i)
                                        | ({} if results[c].groups is None else suite_normal_load(plan, results[c].groups, i))
                                        for i, n in enumerate(names)},
                              "files": files[c]}
@@ -161,7 +160,7 @@ def run_suite_bounding(args, bounds, isolator, names, ax, ay, dt, notes, scaling
     print(f"{len(names)} pairs x 3 bearings in {wall:.1f} s; mean over the converged pairs:")
     print_governing(by_mean)
     bounds.print_factors()
-    failed = {c: failed_pairs(names, results[c].converged, results[c].beyond_pressure_law) for c in BOUNDING_CASES}
+    failed = {c: failed_pairs(results[c]) for c in BOUNDING_CASES}
     if any(failed.values()):
         print("teflon-jax run: error: pairs left out of the statistics, by case: "
               + " | ".join(f"{c}: {m}" for c, m in failed.items() if m) + ".", file=sys.stderr)

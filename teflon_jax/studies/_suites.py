@@ -41,7 +41,11 @@ from ._cluster import (
     worker_cached,
 )
 from ._reducers import response_layout, response_peaks
-from ._results import BEYOND_PRESSURE_LAW
+from ._results import BEYOND_PRESSURE_LAW, TIPPED
+
+SUITE_FLAGS = {"beyond_pressure_law": BEYOND_PRESSURE_LAW, "tipped": TIPPED}
+"""A suite's flags of each pair beside `converged` (bool, "pair"), each kept where the structure
+has it: `beyond_pressure_law` with vertical components, `tipped` on a plan's overturning loads."""
 
 SUITE_PEAKS = ("base_disp_resultant_m", "base_disp_x_m", "base_disp_y_m", "base_shear_ratio_resultant")
 SUITE_UNITS = {
@@ -92,7 +96,10 @@ class SuiteResult:
     with overturning, {"names": (G,), "peak_N", "min_N", "uplift_time_s": (P, G)} (each
     group's N_g, `SUITE_GROUP_UNITS`), else `None`; `beyond_pressure_law` (P,) bool with
     vertical components: the pairs whose loads took the bearings beyond Table 1's pressure law
-    (`BEYOND_PRESSURE_LAW`; not converged, their peaks not trusted), else `None`."""
+    (`BEYOND_PRESSURE_LAW`; not converged, their peaks not trusted), else `None`; `tipped`
+    (P,) bool on a plan's overturning loads: the pairs whose first unbalanced step tipped the
+    slab (`TIPPED`; the other unconverged pairs' Newton balance missed its tolerance), else
+    `None`."""
 
     names: tuple
     peaks: dict
@@ -101,6 +108,7 @@ class SuiteResult:
     storeys: dict | None = None
     groups: dict | None = None
     beyond_pressure_law: np.ndarray | None = None
+    tipped: np.ndarray | None = None
 
 
 def _suite_function(build, time_step: float, duration: float, storey_height=None):
@@ -118,6 +126,8 @@ def _suite_function(build, time_step: float, duration: float, storey_height=None
         response = simulate_history(system, duration, throw=False)
         layout = response_layout(system)
         values = suite_values(response_peaks(layout, response, storey_height))
+        if layout.overturning and response.tipped is not None:  # did the first unbalanced step tip the slab
+            values["tipped"] = ~response.succeeded & response.tipped[jnp.argmin(response.converged)]
         if len(grounds) == 2:
             return values, response.succeeded
         within = jnp.all(pressure_law_valid(system, response))
@@ -188,7 +198,7 @@ def suite_peaks(build, names, ax, ay, time_step: float, duration: float,
         index = lanes(start, min(start + width, count), width)
         parts.append(jax.device_get(function(*(jnp.asarray(g[index]) for g in grounds))))
     joined = {k: np.concatenate([p[0][k] for p in parts])[:count] for k in parts[0][0]}
-    beyond = joined.pop("beyond_pressure_law", None)
+    flags = {name: None if name not in joined else joined.pop(name).astype(bool) for name in SUITE_FLAGS}
     groups = {k.removeprefix("group_"): joined.pop(k) for k in list(joined) if k.startswith("group_")} or None
     if groups is not None:
         width = groups["peak_N"].shape[1]
@@ -199,7 +209,7 @@ def suite_peaks(build, names, ax, ay, time_step: float, duration: float,
     storeys = {k: v for k, v in joined.items() if v.ndim > 1} or None
     ok = np.concatenate([np.asarray(p[1], dtype=bool) for p in parts])[:count]
     return SuiteResult(names=names, peaks=peaks, converged=ok, summary=_summary(peaks, ok), storeys=storeys,
-                       groups=groups, beyond_pressure_law=None if beyond is None else beyond.astype(bool))
+                       groups=groups, **flags)
 
 
 def _grounds(count: int, ax, ay, az=None) -> tuple:
@@ -303,9 +313,9 @@ def suite_peaks_distributed(
         if width != (0 if groups is None else len(groups)):
             raise ValueError(f"group_names: {0 if groups is None else len(groups)} names for the structure's "
                              f"{width} bearing groups with per-group loads (a slab with overturning).")
-        flags = ("converged", "beyond_pressure_law")
+        flags = ("converged", *SUITE_FLAGS)
         for name in (*SUITE_UNITS, *(SUITE_VERTICAL_UNITS if az is not None else ()),
-                     *(("beyond_pressure_law",) if az is not None else ())):
+                     *(("beyond_pressure_law",) if az is not None else ()), *(("tipped",) if reported else ())):
             values = part[name].astype(np.int8) if name in flags else part[name]
             handle.variables[name][start:stop] = values
         for name in reported:
@@ -331,7 +341,9 @@ def _suite_layout(names, attrs: dict, groups=None, vertical: bool = False) -> di
     units = {**SUITE_UNITS, **(SUITE_VERTICAL_UNITS if vertical else {})}
     if vertical:
         units["beyond_pressure_law"] = BEYOND_PRESSURE_LAW
-    variables = {name: (("pair",), unit, long_name, "bool" if name in ("converged", "beyond_pressure_law") else "f8")
+    if groups is not None:
+        units["tipped"] = TIPPED
+    variables = {name: (("pair",), unit, long_name, "bool" if name in ("converged", *SUITE_FLAGS) else "f8")
                  for name, (unit, long_name) in units.items()}
     dims = {"pair": len(names)}
     coords = {"pair": ("pair", np.array(names, dtype=str), None, "record pair")}
@@ -354,10 +366,9 @@ def suite_dataset(result: SuiteResult, attrs: dict | None = None):
             for k, (u, n) in _ALL_UNITS.items() if k in result.peaks}
     units, long_name = SUITE_UNITS["converged"]
     data["converged"] = ("pair", np.asarray(result.converged, bool), {"units": units, "long_name": long_name})
-    if result.beyond_pressure_law is not None:
-        units, long_name = BEYOND_PRESSURE_LAW
-        data["beyond_pressure_law"] = ("pair", np.asarray(result.beyond_pressure_law, bool),
-                                       {"units": units, "long_name": long_name})
+    for name, (units, long_name) in SUITE_FLAGS.items():
+        if getattr(result, name) is not None:
+            data[name] = ("pair", np.asarray(getattr(result, name), bool), {"units": units, "long_name": long_name})
     file_attrs = {"Conventions": "CF-1.8", "title": "teflon-jax record suite peak responses",
                   "teflon_jax_attrs": json.dumps(attrs or {}), **(attrs or {}), **_summary_attrs(result.summary)}
     coords = {"pair": ("pair", np.array(result.names, dtype=str), {"long_name": "record pair"})}
@@ -390,9 +401,9 @@ def suite_from_dataset(dataset) -> SuiteResult:
     if "group" in dataset.coords:
         groups = {k: np.asarray(dataset[f"group_{k}"].values, dtype=float) for k in SUITE_GROUP_UNITS}
         groups["names"] = tuple(str(g) for g in dataset["group"].values)
-    beyond = np.asarray(dataset["beyond_pressure_law"].values, bool) if "beyond_pressure_law" in dataset else None
+    flags = {name: np.asarray(dataset[name].values, bool) if name in dataset else None for name in SUITE_FLAGS}
     return SuiteResult(names=names, peaks=peaks, converged=ok, summary=_summary(peaks, ok), storeys=storeys,
-                       groups=groups, beyond_pressure_law=beyond)
+                       groups=groups, **flags)
 
 
 def _group_columns(result: SuiteResult) -> dict:
@@ -413,14 +424,14 @@ def save_suite(result: SuiteResult, table_path=None, netcdf_path=None, attrs: di
         path.parent.mkdir(parents=True, exist_ok=True)
         names = [k for k in _ALL_UNITS if k in result.peaks]
         groups = _group_columns(result)
-        beyond = result.beyond_pressure_law
-        lines = ["pair," + ",".join(names + list(groups)) + ",converged" + ("" if beyond is None else ",beyond_pressure_law")]
+        flags = {name: getattr(result, name) for name in SUITE_FLAGS if getattr(result, name) is not None}
+        lines = ["pair," + ",".join(names + list(groups)) + ",converged" + "".join(f",{k}" for k in flags)]
         for i, name in enumerate(result.names):
             row = ",".join([f"{result.peaks[k][i]:.6g}" for k in names] + [f"{v[i]:.6g}" for v in groups.values()])
-            lines.append(f"{name},{row},{bool(result.converged[i])}" + ("" if beyond is None else f",{bool(beyond[i])}"))
+            lines.append(f"{name},{row},{bool(result.converged[i])}" + "".join(f",{bool(v[i])}" for v in flags.values()))
         for stat in ("mean", "max"):
             lines.append(f"{stat}," + ",".join(f"{result.summary[k][stat]:.6g}" for k in names) + ","
-                         + "," * len(groups) + ("" if beyond is None else ","))
+                         + "," * len(groups) + "," * len(flags))
         path.write_text("\n".join(lines) + "\n")
     if netcdf_path is not None:
         path = pathlib.Path(netcdf_path)
