@@ -343,3 +343,27 @@ def test_run_exits_non_zero_naming_a_slab_that_tips(tmp_path, capsys):
         np.hypot(h["base_shear_ratio_x"], h["base_shear_ratio_y"]).max(), rel=1e-12)
     assert peak["rotation_rad"] == pytest.approx(np.abs(h["rotation_rad"]).max(), rel=1e-9, abs=1e-15)
     assert peak["base_disp_resultant_m"] > 0.1  # the pulse moved the slab before it tipped
+
+
+def test_a_suite_pair_whose_balance_misses_is_not_said_to_tip():
+    """Two pairs on the square 2 m up with one Newton iteration per 10 ms step: both miss the
+    balance's tolerance before any step tips the slab, so the suite flags them not converged
+    and not tipped (`SuiteResult.tipped`), as the peak run does."""
+    from teflon_jax.studies import suite_peaks
+
+    positions = np.array([[8.0, 4.0], [12.0, 4.0], [12.0, 8.0], [8.0, 8.0]])
+
+    def build(ground_x, ground_y):
+        system = slab_on_bearings(
+            length_x=LX, length_y=LY, weight=W, centre_of_mass=CENTRE, positions=positions, bearings=BEARING,
+            loads=[W / 4] * 4, ground_x=ground_x, ground_y=ground_y, time_step=0.01, isolator="single-fp",
+            radii=R, height_of_centre_of_mass=2.0)
+        return dataclasses.replace(system, newton_iterations=1)
+
+    pulses = [_pulse(peak, 0.6 * peak) for peak in (0.3, 0.6)]
+    result = suite_peaks(build, ("weak", "strong"), np.stack([p[0] for p in pulses]),
+                         np.stack([p[1] for p in pulses]), DT_RECORD, DURATION)
+    assert result.converged.tolist() == [False, False] and result.tipped.tolist() == [False, False]
+    single = peak_response(build(uniform_signal(pulses[1][0], DT_RECORD), uniform_signal(pulses[1][1], DT_RECORD)),
+                           DURATION)
+    assert not bool(single["converged"]) and not bool(single["tipped"])
