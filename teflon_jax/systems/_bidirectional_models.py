@@ -8,6 +8,8 @@ step: `_bidirectional.py`. Reference: Constantinou, Mokha & Reinhorn (1990), Eqs
 Figs. 7-11, Table 2 (MODEL.md Sections 4 and 8).
 """
 
+import dataclasses
+
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -22,7 +24,7 @@ from ._bidirectional import (
     BidirectionalStructure,
     overturning_step,
 )
-from ._response import EngineRun, StructureResponse, group_uplift_time, uplift_time
+from ._response import EngineRun, StructureResponse, uplift_time
 from ._structure import FRICTION_MODELS
 from ._structure_build import (
     check_storey_height,
@@ -285,36 +287,21 @@ def planar_records(system: BidirectionalStructure) -> tuple:
             (system.vertical_acceleration, "duration (vertical record)"))
 
 
-def solved_planar_response(system: BidirectionalStructure, save_times, solution, n_steps: int,
-                           save_every: int) -> StructureResponse:
-    """The `StructureResponse` (two ground components; the coordinates q of the system, the
-    groups' bearing displacements, friction forces and Z) of a structure on sliding bearing
-    groups from its diffrax `solution` saved at `save_times` [s], every `save_every`-th of
-    `n_steps` steps (`simulate_history`)."""
-    ys = solution.ys
-    dt = float(system.time_step)
-    ground = jax.vmap(system.ground)(save_times)
-    acceleration = jax.vmap(system._acceleration)(save_times, ys)
-    bearing_d = jax.vmap(system.bearing_motion)(ys["q"])
-    forces = jax.vmap(lambda t, y: system.at_load(system.load_at(t, y)).bearing_forces(y))(save_times, ys)
+def solved_planar_response(system: BidirectionalStructure, save_times, solution, n_steps: int) -> StructureResponse:
+    """The `StructureResponse` (two ground components) of a structure on sliding bearing groups
+    from an adaptive diffrax `solution` saved at `save_times` [s] over `n_steps` steps
+    (`simulate_history`; no overturning loads, which only the fixed steps carry): at each saved
+    time the sample of `planar_run`, under the load factor there."""
     loads = None if system.vertical_acceleration is None else jax.vmap(system.load_factor)(save_times)
-    return StructureResponse(
-        time=save_times,
-        displacement=ys["q"],
-        velocity=ys["v"],
-        total_acceleration=acceleration + ground @ system.influence.T,
-        ground=ground,
-        friction_force=forces,
-        z=ys["z"],
-        z_peak=ys["z_peak"],
-        bearing_displacement=bearing_d,
-        normal_load=ys.get("normal_load"),
-        group_uplift_time=None if system.overturning is None else (
-            group_uplift_time(ys["normal_load"], dt) * save_every),
-        load_factor=loads,
-        uplift_time=None if loads is None else uplift_time(step_load_factors(system, n_steps), dt),
-        result=solution.result,
-    )
+
+    def sample(time, y, load):
+        return _planar_sample(system.at_load(load), time, y, system._acceleration(time, y), system.ground(time),
+                              load, None)
+
+    response = jax.vmap(sample)(save_times, solution.ys, loads)
+    dt = float(system.time_step)
+    return dataclasses.replace(response, result=solution.result, uplift_time=None if loads is None else uplift_time(
+        step_load_factors(system, n_steps), dt))
 
 
 def directional_storeys(q, total_acceleration, storey_height):

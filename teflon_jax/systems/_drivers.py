@@ -445,7 +445,7 @@ def simulate_history(
                              max_steps=max_steps, adjoint=adjoint, throw=throw,
                              adaptive_steps_per_step=200 if planar else 100)
     if planar:
-        return solved_planar_response(system, save_times, solution, n_steps, save_every)
+        return solved_planar_response(system, save_times, solution, n_steps)
     return solved_structure_response(system, save_times, solution, n_steps)
 
 
