@@ -66,6 +66,7 @@ from ._results import (
     BEYOND_PRESSURE_LAW,
     DESIGN_UNITS,
     GROUP_VARIABLES,
+    RUN_FLAGS,
     STOREY_VARIABLES,
     TIPPED,
     VARIABLES,
@@ -74,7 +75,7 @@ from ._results import (
 
 PGA = ("m s-2", "peak |ground acceleration| of the motion")
 UPLIFT = ("s", "time with the isolators' normal load <= 0")
-FLAGS = ("converged", "beyond_pressure_law", "tipped")
+FLAGS = ("converged", *RUN_FLAGS)
 """The boolean variables of a run's file (written as bytes)."""
 
 

@@ -58,6 +58,11 @@ TIPPED = ("1", "the run's first unbalanced step was one on which the slab (or th
           "rest on its bearing groups (peaks not trusted)")
 """The units and long name of `tipped`."""
 
+RUN_FLAGS = {"beyond_pressure_law": BEYOND_PRESSURE_LAW, "tipped": TIPPED}
+"""The flags of a run (or a suite pair) beside `converged`, each kept where the structure has it:
+`beyond_pressure_law` under Table 1's pressure law, `tipped` on a plan's overturning loads ->
+(units, long name)."""
+
 DESIGN_UNITS = {
     "isolation_period": ("s", "isolation period T_b"),
     "pressure": ("Pa", "bearing contact pressure"),
@@ -282,7 +287,7 @@ class MonteCarloResult:
         if self.uplift_time is not None:
             data["uplift_time"] = (dims, np.asarray(self.uplift_time),
                                    {"units": "s", "long_name": "time with the isolators' normal load <= 0"})
-        for name, (units, long_name) in (("beyond_pressure_law", BEYOND_PRESSURE_LAW), ("tipped", TIPPED)):
+        for name, (units, long_name) in RUN_FLAGS.items():
             if getattr(self, name) is not None:
                 data[name] = (dims, np.asarray(getattr(self, name)), {"units": units, "long_name": long_name})
         for name, (units, long_name) in GROUP_VARIABLES.items():
@@ -337,7 +342,7 @@ class MonteCarloResult:
             bearing_draw=np.asarray(dataset["bearing_draw"].values) if "bearing_draw" in dataset else None,
             **{name: np.asarray(dataset[name].values) for name in GROUP_VARIABLES if name in dataset},
             **{name: np.asarray(dataset[name].values, bool) if name in dataset else None
-               for name in ("beyond_pressure_law", "tipped")},
+               for name in RUN_FLAGS},
         )
 
     def to_csv(self, path) -> pathlib.Path:
@@ -364,7 +369,7 @@ class MonteCarloResult:
             columns[label] = np.asarray(getattr(self, name)).reshape(-1)
         if self.uplift_time is not None:
             columns["uplift_time_s"] = np.asarray(self.uplift_time).reshape(-1)
-        for name in ("beyond_pressure_law", "tipped"):
+        for name in RUN_FLAGS:
             if getattr(self, name) is not None:
                 columns[name] = np.asarray(getattr(self, name)).reshape(-1)
         for name, unit, first in (("storey_drift", "", 1), ("floor_acceleration", "_m_s2", 0)):

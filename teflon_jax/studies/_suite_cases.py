@@ -26,9 +26,9 @@ from ._cluster import (
     stream_to_netcdf,
     worker_cached,
 )
+from ._results import RUN_FLAGS
 from ._suites import (
     _STOREY_LAYOUT,
-    SUITE_FLAGS,
     SUITE_GROUP_UNITS,
     SUITE_STOREY_UNITS,
     SUITE_UNITS,
@@ -95,7 +95,7 @@ def suite_cases_distributed(
         case, first = divmod(start, count)
         for name, values in part.items():
             handle.variables[name][case, first:first + stop - start] = (
-                values.astype(np.int8) if name in ("converged", *SUITE_FLAGS) else values)
+                values.astype(np.int8) if name in ("converged", *RUN_FLAGS) else values)
 
     chunks = [item for c in range(len(cases)) for item in _pair_chunks(grounds, chunk, offset=c * count)]
     stream_to_netcdf(out, layout, _case_task, spec, chunks, write, scheduler=scheduler,
@@ -131,8 +131,8 @@ def _cases_layout(cases, names, shapes: dict, group_names, attrs: dict) -> dict:
             dims |= {"direction": 2, axis: shape.shape[-1]}
             coords["direction"] = ("direction", np.array(["x", "y"]), None, None)
             variables[name] = (("case", "pair", "direction", axis), units, long_name, "f8")
-        elif name in SUITE_FLAGS:
-            variables[name] = (("case", "pair"), *SUITE_FLAGS[name], "bool")
+        elif name in RUN_FLAGS:
+            variables[name] = (("case", "pair"), *RUN_FLAGS[name], "bool")
         elif name.startswith("group_"):
             width = shape.shape[-1]
             groups = [f"g{i}" for i in range(width)] if group_names is None else [str(g) for g in group_names]

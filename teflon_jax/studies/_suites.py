@@ -41,11 +41,7 @@ from ._cluster import (
     worker_cached,
 )
 from ._reducers import response_layout, response_peaks
-from ._results import BEYOND_PRESSURE_LAW, TIPPED
-
-SUITE_FLAGS = {"beyond_pressure_law": BEYOND_PRESSURE_LAW, "tipped": TIPPED}
-"""A suite's flags of each pair beside `converged` (bool, "pair"), each kept where the structure
-has it: `beyond_pressure_law` with vertical components, `tipped` on a plan's overturning loads."""
+from ._results import BEYOND_PRESSURE_LAW, RUN_FLAGS, TIPPED
 
 SUITE_PEAKS = ("base_disp_resultant_m", "base_disp_x_m", "base_disp_y_m", "base_shear_ratio_resultant")
 SUITE_UNITS = {
@@ -198,7 +194,7 @@ def suite_peaks(build, names, ax, ay, time_step: float, duration: float,
         index = lanes(start, min(start + width, count), width)
         parts.append(jax.device_get(function(*(jnp.asarray(g[index]) for g in grounds))))
     joined = {k: np.concatenate([p[0][k] for p in parts])[:count] for k in parts[0][0]}
-    flags = {name: None if name not in joined else joined.pop(name).astype(bool) for name in SUITE_FLAGS}
+    flags = {name: None if name not in joined else joined.pop(name).astype(bool) for name in RUN_FLAGS}
     groups = {k.removeprefix("group_"): joined.pop(k) for k in list(joined) if k.startswith("group_")} or None
     if groups is not None:
         width = groups["peak_N"].shape[1]
@@ -313,7 +309,7 @@ def suite_peaks_distributed(
         if width != (0 if groups is None else len(groups)):
             raise ValueError(f"group_names: {0 if groups is None else len(groups)} names for the structure's "
                              f"{width} bearing groups with per-group loads (a slab with overturning).")
-        flags = ("converged", *SUITE_FLAGS)
+        flags = ("converged", *RUN_FLAGS)
         for name in (*SUITE_UNITS, *(SUITE_VERTICAL_UNITS if az is not None else ()),
                      *(("beyond_pressure_law",) if az is not None else ()), *(("tipped",) if reported else ())):
             values = part[name].astype(np.int8) if name in flags else part[name]
@@ -343,7 +339,7 @@ def _suite_layout(names, attrs: dict, groups=None, vertical: bool = False) -> di
         units["beyond_pressure_law"] = BEYOND_PRESSURE_LAW
     if groups is not None:
         units["tipped"] = TIPPED
-    variables = {name: (("pair",), unit, long_name, "bool" if name in ("converged", *SUITE_FLAGS) else "f8")
+    variables = {name: (("pair",), unit, long_name, "bool" if name in ("converged", *RUN_FLAGS) else "f8")
                  for name, (unit, long_name) in units.items()}
     dims = {"pair": len(names)}
     coords = {"pair": ("pair", np.array(names, dtype=str), None, "record pair")}
@@ -366,7 +362,7 @@ def suite_dataset(result: SuiteResult, attrs: dict | None = None):
             for k, (u, n) in _ALL_UNITS.items() if k in result.peaks}
     units, long_name = SUITE_UNITS["converged"]
     data["converged"] = ("pair", np.asarray(result.converged, bool), {"units": units, "long_name": long_name})
-    for name, (units, long_name) in SUITE_FLAGS.items():
+    for name, (units, long_name) in RUN_FLAGS.items():
         if getattr(result, name) is not None:
             data[name] = ("pair", np.asarray(getattr(result, name), bool), {"units": units, "long_name": long_name})
     file_attrs = {"Conventions": "CF-1.8", "title": "teflon-jax record suite peak responses",
@@ -401,7 +397,7 @@ def suite_from_dataset(dataset) -> SuiteResult:
     if "group" in dataset.coords:
         groups = {k: np.asarray(dataset[f"group_{k}"].values, dtype=float) for k in SUITE_GROUP_UNITS}
         groups["names"] = tuple(str(g) for g in dataset["group"].values)
-    flags = {name: np.asarray(dataset[name].values, bool) if name in dataset else None for name in SUITE_FLAGS}
+    flags = {name: np.asarray(dataset[name].values, bool) if name in dataset else None for name in RUN_FLAGS}
     return SuiteResult(names=names, peaks=peaks, converged=ok, summary=_summary(peaks, ok), storeys=storeys,
                        groups=groups, **flags)
 
@@ -424,7 +420,7 @@ def save_suite(result: SuiteResult, table_path=None, netcdf_path=None, attrs: di
         path.parent.mkdir(parents=True, exist_ok=True)
         names = [k for k in _ALL_UNITS if k in result.peaks]
         groups = _group_columns(result)
-        flags = {name: getattr(result, name) for name in SUITE_FLAGS if getattr(result, name) is not None}
+        flags = {name: getattr(result, name) for name in RUN_FLAGS if getattr(result, name) is not None}
         lines = ["pair," + ",".join(names + list(groups)) + ",converged" + "".join(f",{k}" for k in flags)]
         for i, name in enumerate(result.names):
             row = ",".join([f"{result.peaks[k][i]:.6g}" for k in names] + [f"{v[i]:.6g}" for v in groups.values()])
