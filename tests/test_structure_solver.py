@@ -243,23 +243,35 @@ def test_newton_in_line_iterations_give_the_loop_iterates():
 @pytest.mark.slow
 @pytest.mark.parametrize("linear_rule", ["newmark", "exact"])
 def test_step_matrix_is_the_step(linear_rule):
-    """`step_matrices` (the peak loop's step) takes the step `newmark_update` takes, by either
-    linear rule."""
+    """`step_from` (the engine's step) is the linear map of `step_matrices` with the bearing
+    force solved at the step's end, and by Newmark's rule it is Newmark's average-acceleration
+    step written out: K_eff u_lin = -M a_g1 + M (4/dt^2 u0 + 4/dt v0 + a0) + C (2/dt u0 + v0),
+    u1 = u_lin - K_eff^-1 e0 F, v1 = 2/dt (u1 - u0) - v0."""
     system = tj.isolated_structure("building", linear_rule=linear_rule)(sine_ground())
     n = system.mass.shape[0]
     rng = np.random.default_rng(2)
     y0 = {"u": jnp.asarray(1e-2 * rng.normal(size=n)), "v": jnp.asarray(0.1 * rng.normal(size=n)),
           "z": jnp.asarray(0.4), "z_peak": jnp.asarray(1.0)}
     ground0, ground1 = -1.5, 2.0
-    a0 = system.acceleration_at(ground0, y0)
-    y1, _ = system.newmark_update(y0, a0, ground1, ground0)
+    y1, converged = system.step_from(y0, ground0, ground1)
+    assert bool(converged)
+    stepped = jnp.concatenate([y1["u"], y1["v"]])
     matrix, force_column = system.step_matrices()
     start_force = system.friction_force(y0["v"][0], y0["z"], y0["z_peak"])
     linear = matrix @ jnp.concatenate([y0["u"], y0["v"], jnp.stack([ground0, start_force, ground1])])
-    force, z1, z_peak1, _ = system.isolator_force(linear[0], y0, linear[n], (-force_column[0], -force_column[n]))
-    x1 = linear + force_column * force
-    np.testing.assert_allclose(x1, jnp.concatenate([y1["u"], y1["v"]]), rtol=1e-10, atol=1e-12)
+    force, z1, _, _ = system.isolator_force(linear[0], y0, linear[n], (-force_column[0], -force_column[n]))
+    np.testing.assert_allclose(linear + force_column * force, stepped, rtol=1e-10, atol=1e-12)
     assert abs(float(force)) > 0.1 * float(system.bearing_load) * 0.05  # the bearing force takes part
+    if linear_rule == "newmark":
+        dt, m, u0, v0 = system.time_step, system.mass, y0["u"], y0["v"]
+        a0 = system.acceleration_at(ground0, y0)
+        rhs = -m * ground1 + m * (4 / dt**2 * u0 + 4 / dt * v0 + a0) + system.damping @ (2 / dt * u0 + v0)
+        u_linear = system.newmark_inverse @ rhs
+        g0 = system.newmark_inverse[0, 0]
+        force, _, _, _ = system.isolator_force(u_linear[0], y0, 2 / dt * (u_linear[0] - u0[0]) - v0[0],
+                                               (g0, 2 / dt * g0))
+        u1 = u_linear - system.newmark_inverse[:, 0] * force
+        np.testing.assert_allclose(jnp.concatenate([u1, 2 / dt * (u1 - u0) - v0]), stepped, rtol=1e-9, atol=1e-12)
 
 
 def test_vector_arctan_is_the_arctan_to_an_ulp():

@@ -224,19 +224,18 @@ def test_two_directions_under_one_component_reproduce_one_direction():
 
 
 def _history_run(system, n_steps):
-    """(load factors, travel, heat states) at the end of each `newmark_step` from rest."""
+    """(load factors, travel, heat states) at the end of each step (`advance`) from rest."""
     from teflon_jax.systems import bidirectional_initial_state, initial_state
 
     dt = system.time_step
     two = hasattr(system, "ground_x")
     y0 = bidirectional_initial_state(system) if two else initial_state(system)
 
-    def body(carry, k):
-        y, a = carry
-        y1, _ = system.newmark_step(k * dt, (k + 1) * dt, y, a)
-        return (y1, system._acceleration((k + 1) * dt, y1)), (y1["travel"], y1["heat"])
+    def body(y, k):
+        y1, _ = system.advance(k * dt, (k + 1) * dt, y, None)
+        return y1, (y1["travel"], y1["heat"])
 
-    _, (travel, heat) = jax.lax.scan(body, (y0, system._acceleration(0.0, y0)), jnp.arange(n_steps))
+    _, (travel, heat) = jax.lax.scan(body, y0, jnp.arange(n_steps))
     loads = jax.vmap(system.load_factor)(jnp.arange(1, n_steps + 1) * dt)
     return np.asarray(loads), np.asarray(travel).reshape(n_steps, -1)[:, 0], np.asarray(heat).reshape(n_steps, -1)
 

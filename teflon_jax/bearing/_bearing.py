@@ -128,6 +128,11 @@ class SlidingBearing(eqx.Module):
         rise = 0.0 if self.heating is None else self.heating.rise(heat, weights)
         return self.effect_factor(temperature_rise=rise, travel=travel)
 
+    def surface_temperature_rise(self, heat, weights):
+        """The surface temperature rise s dT [K] (...) that enters k_T (`FrictionalHeating`,
+        heat_scale s) at heat states `heat` (..., K) of the kernel of `weights` (K,)."""
+        return self.heating.heat_scale * self.heating.rise(heat, weights)
+
     def heat_flux(self, coefficient, contact_pressure, speed):
         """q = mu p |v| / n [W/m^2] into the steel of each of the n interfaces of a stack, at
         sliding speed |v| [m/s] of the bearing and contact pressure p [Pa]."""

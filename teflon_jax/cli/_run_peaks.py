@@ -1,6 +1,7 @@
 """Peaks and histories of a run's response, in SI (each key names its unit): the base's
 displacement and shear, the isolators' force, the building's storeys and levels, the slab's
-rotation, corners and groups, the sliders of series pendulums and their surfaces' heating.
+rotation, corners and groups, the sliders of series pendulums and every heated surface's
+temperature rise.
 One formatter for every isolator, structure and number of components: the numbers are the
 reducers of `teflon_jax.studies` (`response_peaks`) over the run's `StructureResponse`; a part
 the response does not hold is absent."""
@@ -104,21 +105,34 @@ def slider_peaks(plan, system, response) -> dict:
 
 
 def surface_temperature_summary(plan, system, response, histories):
-    """{group: {heated surface: peak temperature rise [K]}} of a slab whose pendulums have
-    heated surfaces (each group's surfaces under that group's own normal load), else None; adds
-    each heated surface's history `temperature_rise_<group>_<surface>_K` to `histories`."""
+    """The peak surface temperature rise [K] of each heated surface, or None without heating:
+    {surface: K} of one isolator (flat sliders and single pendulums: "surface"; a series
+    pendulum's by its slider names), {group: {surface: K}} of a slab's groups (`plan`, each
+    under its own normal load); adds each heated surface's history
+    `temperature_rise_[<group>_]<surface>_K` to `histories`."""
     if response.surface_temperature_rise is None:
         return None
     rise = np.asarray(response.surface_temperature_rise)  # (nt, G, S)
-    heated = [(e, name) for e, (name, h) in enumerate(zip(system.pendulum.slider_names,
-                                                          system.pendulum.surface_heatings())) if h is not None]
+    pendulum = system.pendulum
+    surfaces = [(0, "surface")] if pendulum is None else [
+        (e, name) for e, (name, h) in enumerate(zip(pendulum.slider_names, pendulum.surface_heatings()))
+        if h is not None]
     peaks = rise.max(axis=0)  # (G, S)
+    groups = [None] if plan is None else [g["name"] for g in plan["groups"]]
     summary = {}
-    for j, g in enumerate(plan["groups"]):
-        summary[g["name"]] = {name: float(peaks[j, e]) for e, name in heated}
-        for e, name in heated:
-            histories[f"temperature_rise_{g['name']}_{name}_K"] = rise[:, j, e]
+    for j, group in enumerate(groups):
+        row = {name: float(peaks[j, e]) for e, name in surfaces}
+        for e, name in surfaces:
+            histories["_".join(["temperature_rise", *([group] if group else []), name, "K"])] = rise[:, j, e]
+        summary.update(row if group is None else {group: row})
     return summary
+
+
+def temperature_lines(plan, rises) -> list:
+    """The printed lines of `surface_temperature_summary`'s peaks."""
+    rows = {"": rises} if plan is None else {f" {name}": row for name, row in rises.items()}
+    return [f"surface temperature rise{name}: " + ", ".join(f"{e} {v:.4g} K" for e, v in row.items())
+            for name, row in rows.items()]
 
 
 def slab_peaks(plan, q, values) -> dict:

@@ -3,15 +3,20 @@ engine (`systems.simulate_history`), each step's balance judged, and the run is 
 step that did not balance (`_run_stop`: the slab tipped, or the isolators' balance did not
 converge) or whose loads passed Table 1's pressure law. The peaks and histories are one set of
 reducers over the response, whatever the system (`_run_peaks`); the uplift of a vertical
-component is read from the response (`_normal_load`), and a slab on series pendulums adds its
-sliders and heated surfaces."""
+component is read from the response (`_normal_load`), a slab on series pendulums adds its
+sliders, and every heated isolator its surfaces' temperature rise."""
 
 import typing
 
 import numpy as np
 
 from ._normal_load import normal_load_summary, response_uplift, uplift_line
-from ._run_peaks import run_peaks, slider_peaks, surface_temperature_summary
+from ._run_peaks import (
+    run_peaks,
+    slider_peaks,
+    surface_temperature_summary,
+    temperature_lines,
+)
 from ._run_stop import balance_stop, law_stop
 
 
@@ -39,14 +44,6 @@ def _stepped(system, duration, plan) -> Run:
     return Run(response, end, problem, float(end[0][end[1] - 1]) if problem else duration)
 
 
-def _slab_series_extras(plan, system, response, histories):
-    """The sliders' peaks of every group and the heated surfaces' temperature rise."""
-    rises = surface_temperature_summary(plan, system, response, histories)
-    lines = [f"surface temperature rise {name}: " + ", ".join(f"{e} {v:.4g} K" for e, v in row.items())
-             for name, row in (rises or {}).items()]
-    return {"slider_disp_m": slider_peaks(plan, system, response), "surface_temperature_rise_K": rises}, lines
-
-
 def _on_series_groups(system) -> bool:
     from ..bearing import SeriesPendulum
     from ..systems import BidirectionalStructure
@@ -68,8 +65,8 @@ def simulate_run(system, duration: float, plan=None) -> Run:
 def reduce_run(structure: str, system, run: Run, plan, units):
     """(peak, histories, the JSON entries after the peak, printed lines) of `run`: the peaks and
     histories in SI, the uplift of a vertical component (and its N / W history), each slab
-    group's normal load (`plan`) and what the system adds (a slab on series pendulums: its
-    sliders and heated surfaces)."""
+    group's normal load (`plan`), a slab's series pendulums' sliders and every heated surface's
+    temperature rise."""
     peak, histories = run_peaks(system, run.response, plan)
     entries = response_uplift(run.response)  # over the steps kept
     if entries:
@@ -78,7 +75,9 @@ def reduce_run(structure: str, system, run: Run, plan, units):
     if plan is not None:  # each group's normal load (overturning, vertical record)
         normal, normal_lines = normal_load_summary(plan, system, run.response, units)
         entries, lines = {**entries, **normal}, lines + normal_lines
-    if not _on_series_groups(system):
-        return peak, histories, entries, lines
-    more, more_lines = _slab_series_extras(plan, system, run.response, histories)
-    return peak, histories, {**entries, **more}, lines + more_lines
+    if _on_series_groups(system):
+        entries = {**entries, "slider_disp_m": slider_peaks(plan, system, run.response)}
+    rises = surface_temperature_summary(plan, system, run.response, histories)
+    if rises is not None:
+        entries, lines = {**entries, "surface_temperature_rise_K": rises}, lines + temperature_lines(plan, rises)
+    return peak, histories, entries, lines

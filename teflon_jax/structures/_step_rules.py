@@ -94,7 +94,7 @@ def newmark_step_matrices(mass, stiffness, damping, newmark_inverse, time_step):
     """(R, f) of Newmark's average-acceleration step, with the start acceleration
     a0 = -1 a_g0 - M^-1 (C v0 + K u0) - e0 F_r0 / m0 folded in:
     u1 = K_eff^-1 (M (4/dt^2 u0 + 4/dt v0 + a0) + C (2/dt u0 + v0) - M 1 a_g1 - e0 F),
-    v1 = 2/dt (u1 - u0) - v0 (`StructureOnSliders.newmark_update` to rounding)."""
+    v1 = 2/dt (u1 - u0) - v0 (Newmark written out in `test_step_matrix_is_the_step`)."""
     dt, m, inverse = time_step, mass, newmark_inverse
     n = m.shape[-1]
     diagonal = jnp.diag(m)

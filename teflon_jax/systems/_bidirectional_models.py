@@ -374,10 +374,14 @@ def planar_run(system: BidirectionalStructure, n_steps) -> EngineRun:
 def _planar_sample(loaded, time, y, acceleration, ground, load, tipped):
     """One sample of a `BidirectionalStructure`'s run: its coordinates, total accelerations,
     the groups' bearing displacements, friction forces (under the step's normal loads), Z,
-    running peak of |Z| and, with overturning loads, the groups' loads and whether the slab
-    tipped on the step."""
+    running peak of |Z|, heated bearings' surface temperature rise (G, 1) and, with
+    overturning loads, the groups' loads and whether the slab tipped on the step."""
+    rise = None
+    if loaded.bearing.heating is not None:
+        rise = loaded.bearing.surface_temperature_rise(y["heat"], loaded.heat_weights)[:, None]
     return StructureResponse(time=time, displacement=y["q"], velocity=y["v"],
                              total_acceleration=acceleration + loaded.influence @ ground, ground=ground,
                              friction_force=loaded.bearing_forces(y), z=y["z"], z_peak=y["z_peak"],
                              bearing_displacement=loaded.bearing_motion(y["q"]),
-                             normal_load=y.get("normal_load"), tipped=tipped, load_factor=load)
+                             normal_load=y.get("normal_load"), surface_temperature_rise=rise, tipped=tipped,
+                             load_factor=load)

@@ -336,7 +336,7 @@ def _uniaxial_run(system, n_steps) -> EngineRun:
     if system.surface is not None or load0 is not None:
         force0 = force0 + system.surface_force(x0[0], load0)
     first = _sample(times[0], x0, _total_acceleration(system, x0, force0), ground[:1], load0,
-                    friction_force=friction0, z=z0, z_peak=z_peak0)
+                    friction_force=friction0, z=z0, z_peak=z_peak0, **_temperature_rise(system, start[5]))
     return EngineRun(start, (times[1:], ground[1:], None if loads is None else loads[1:]), step, first)
 
 
@@ -366,7 +366,15 @@ def _sliders_advance(system, matrices, state, ground1, load1):
     if system.surface is not None or load1 is not None:  # the pendulum's force beyond W u / R
         force = force + system.surface_force(x1[0], load1)
     return ((x1, z1, z_peak1, factors1, ground1, history, load1), x1, converged, force,
-            {"friction_force": friction, "z": z1, "z_peak": z_peak1})
+            {"friction_force": friction, "z": z1, "z_peak": z_peak1, **_temperature_rise(system, history)})
+
+
+def _temperature_rise(system, history) -> dict:
+    """{"surface_temperature_rise": (1, 1) [K]} of a heated bearing (one group, one surface) at
+    the history (heat states, travel); {} without heating."""
+    if system.bearing.heating is None:
+        return {}
+    return {"surface_temperature_rise": system.bearing.surface_temperature_rise(history[0], system.heat_weights)[None, None]}
 
 
 def _uniaxial_start(system, ground0, load0):

@@ -59,8 +59,10 @@ class StructureResponse(eqx.Module):
     - `bearing_displacement` (nt, G, 2) [m]: each group's displacement (slabs, two components);
     - `normal_load` (nt, G) [N] of each group and `group_uplift_time` (G,) [s] (the steps with
       N_g <= 0 times the step), with groups that share the weight unevenly (overturning);
-    - `surface_temperature_rise` (nt, G, S) [K]: each surface's rise on heated series
-      pendulums; `tipped` (nt,): the slab could not rest on its groups.
+    - `surface_temperature_rise` (nt, G, S) [K]: each surface's rise s dT (the one that
+      enters k_T) on heated bearings, G = S = 1 for flat sliders and single pendulums under one
+      component, S = 1 for sliding groups under two, G = 1 for one series pendulum; `tipped`
+      (nt,): the slab could not rest on its groups.
 
     **Vertical record:** `load_factor` (nt,) [-], N / W on the isolators (0 while uplifted),
     and `uplift_time` [s], the steps whose end has N <= 0 times the step.

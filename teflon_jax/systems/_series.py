@@ -241,8 +241,8 @@ def series_run(system: StructureOnSliders, n_steps: int) -> EngineRun:
     """The `EngineRun` of `system` (a structure on a `SeriesPendulum`, one or two components)
     over `n_steps` steps from rest: each sample's coordinates (n,), or (2n,) the x block then
     the y block; `ground` (C,); the isolator's `bearing_force` [N] ((,) or (2,)), its
-    sliders' `slider` and `z` (S[, 2]); with a vertical record `load_factor` (a step holds its
-    end's)."""
+    sliders' `slider` and `z` (S[, 2]); heated surfaces' `surface_temperature_rise` (1, S)
+    [K]; with a vertical record `load_factor` (a step holds its end's)."""
     dt = float(system.time_step)
     time = jnp.arange(n_steps + 1) * dt
     ground = jax.vmap(system.ground)(time)
@@ -251,9 +251,13 @@ def series_run(system: StructureOnSliders, n_steps: int) -> EngineRun:
     n = system.mass.shape[-1]
 
     def sample(time1, x, force, isolator, acceleration, ground1, load):
+        rise = None
+        if system.pendulum.heated:  # (1, S): the one isolator's surfaces
+            rise = surface_temperature_rises(system.pendulum, isolator[4], system.heat_weights)[None]
         return StructureResponse(time=time1, displacement=x[..., :n].reshape(-1), velocity=x[..., n:].reshape(-1),
                                  total_acceleration=acceleration.reshape(-1), ground=jnp.reshape(ground1, (-1,)),
-                                 bearing_force=force, slider=isolator[0], z=isolator[1], load_factor=load)
+                                 bearing_force=force, slider=isolator[0], z=isolator[1],
+                                 surface_temperature_rise=rise, load_factor=load)
 
     def step(state, inputs):
         x, isolator = state

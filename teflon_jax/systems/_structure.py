@@ -66,7 +66,7 @@ class StructureOnSliders(AbstractSteppedSystem):
 
     State: {"u": (n,) [m], "v": (n,) [m/s], "z": () [-], "z_peak": () [-]}, relative to the
     ground; index 0 is the isolator. `z_peak` is the running max |Z| that switches breakaway
-    (Eq. 17) off: continuous for ODE solvers; for `RiccatiNewmark` the max up to the start of
+    (Eq. 17) off: continuous for ODE solvers; for the stepped engine the max up to the start of
     each step, so that the force solved for and the force reported are one and the same.
     Bouc-Wen in the vector field (`__call__`) takes any A, beta, gamma, eta; `advance`
     (`RiccatiNewmark`) needs eta = 2 and gamma > beta and refuses other shapes.
@@ -306,11 +306,8 @@ class StructureOnSliders(AbstractSteppedSystem):
         return {"heat": heat, "travel": travel}
 
     def advance(self, t0, t1, y0, args):
-        return self.newmark_step(t0, t1, y0, self._acceleration(t0, y0))
-
-    def newmark_step(self, t0, t1, y0, a0):
-        """`advance` given the relative acceleration a0 [m/s^2] at (t0, y0), which a loop
-        that also needs the acceleration at the end of each step can carry along."""
+        """`step_from` over [t0, t1], one `time_step` (checked), with the records evaluated at
+        both ends (`RiccatiNewmark`)."""
         dt = self.time_step
         t0, t1 = jnp.asarray(t0), jnp.asarray(t1)
         eps = jnp.finfo(jnp.result_type(t1, float)).eps
@@ -318,8 +315,8 @@ class StructureOnSliders(AbstractSteppedSystem):
         t1 = eqx.error_if(
             t1, jnp.abs((t1 - t0) - dt) > slack, "step differs from the structure's time_step"
         )
-        return self.newmark_update(y0, a0, self.ground_acceleration(t1), self.ground_acceleration(t0),
-                                   self.load_factor(t0), self.load_factor(t1))
+        return self.step_from(y0, self.ground_acceleration(t0), self.ground_acceleration(t1),
+                              self.load_factor(t0), self.load_factor(t1))
 
     def step_matrices(self):
         """(R (2n, 2n + 3), f (2n,)) of one step by `linear_rule` (`structures.newmark_step_matrices`, `structures.exact_step_matrices`):
@@ -328,48 +325,24 @@ class StructureOnSliders(AbstractSteppedSystem):
             return self.exact_step[:, :-1], self.exact_step[:, -1]
         return newmark_step_matrices(self.mass, self.stiffness, self.damping, self.newmark_inverse, self.time_step)
 
-    def newmark_update(self, y0, a0, ground1, ground0=None, load0=None, load1=None):
-        """One step of `time_step` (by `linear_rule`) from state `y0` with relative
-        acceleration `a0` [m/s^2], given the ground acceleration `ground1` [m/s^2] at its end
-        and, for the "exact" rule, `ground0` at its start (a loop over a grid of steps can
-        evaluate the record at all of them at once, outside the loop). A bearing with history
-        steps with its friction at the start of the step (`at_state`), then advances the
-        history (`next_history`). `load0`, `load1`: the load factors N / W at both ends (with
-        `vertical_acceleration`; `a0` then is the acceleration under `load0`)."""
-        if not self.history:
-            return self._update(y0, a0, ground1, ground0, load0, load1)
-        y1, converged = self.at_state(y0)._update(y0, a0, ground1, ground0, load0, load1)
-        heat, travel = self.next_history(y0["heat"], y0["travel"], y0["u"][0], y1["u"][0],
-                                         y0["v"][0], y0["z_peak"], y0["z"], load0)
-        return {**y1, "heat": heat, "travel": travel}, converged
-
-    def _update(self, y0, a0, ground1, ground0, load0=None, load1=None):
-        if self.linear_rule == "exact":
-            return self._exact_update(y0, ground0, ground1, load0, load1)
-        dt = self.time_step
-        m, u0, v0 = self.mass, y0["u"], y0["v"]
-        rhs = (
-            -m * ground1
-            + m * (4 / dt**2 * u0 + 4 / dt * v0 + a0)
-            + self.damping @ (2 / dt * u0 + v0)
-        )
-        u_linear = self.newmark_inverse @ rhs  # response with the bearing force removed
-        compliance = self.newmark_inverse[:, 0]  # response to a unit force at the isolator
-        force, z1, z_peak1, converged = self.isolator_force(u_linear[0], y0, load=load1)
-        u1 = u_linear - compliance * force
-        v1 = 2 / dt * (u1 - u0) - v0
-        return {"u": u1, "v": v1, "z": z1, "z_peak": z_peak1}, converged
-
-    def _exact_update(self, y0, ground0, ground1, load0=None, load1=None):
-        if ground0 is None:
-            raise ValueError("newmark_update: the exact linear rule needs ground0, the ground "
-                             "acceleration at the start of the step.")
+    def step_from(self, y0, ground0, ground1, load0=None, load1=None):
+        """One step of `time_step` from the state `y0` (dict) by the engine's step
+        (`propagated_step`, the step of `simulate_history` and `peak_response`), given the
+        ground acceleration `ground0`, `ground1` [m/s^2] and, with `vertical_acceleration`, the
+        load factors N / W `load0`, `load1` at its two ends. A bearing with history steps with
+        the friction of the step's start (`at_state`), then advances the history
+        (`next_history`). **Returns:** (state at the step's end, whether its balance converged)."""
         n = self.mass.shape[-1]
-        start_factors = self.friction_factors(y0["v"][0], y0["z_peak"], load0)
-        x1, z1, z_peak1, converged = self.propagated_step(
+        stepped = self.at_state(y0)
+        start_factors = stepped.friction_factors(y0["v"][0], y0["z_peak"], load0)
+        x1, z1, z_peak1, converged = stepped.propagated_step(
             jnp.concatenate([y0["u"], y0["v"]]), y0["z"], y0["z_peak"], start_factors, ground0, ground1,
             load0=load0, load1=load1)
-        return {"u": x1[:n], "v": x1[n:], "z": z1, "z_peak": z_peak1}, converged
+        y1 = {"u": x1[:n], "v": x1[n:], "z": z1, "z_peak": z_peak1}
+        if self.history:
+            y1["heat"], y1["travel"] = self.next_history(y0["heat"], y0["travel"], y0["u"][0], x1[0], y0["v"][0],
+                                                         y0["z_peak"], y0["z"], load0)
+        return y1, converged
 
     def propagated_step(self, x0, z0, z_peak0, start_factors, ground0, ground1, matrices=None,
                         load0=None, load1=None):
@@ -396,23 +369,17 @@ class StructureOnSliders(AbstractSteppedSystem):
             (-force_column[0], -force_column[n]), start_factors, load1)
         return linear + force_column * force, z1, z_peak1, converged
 
-    def isolator_force(self, ub_linear, y0, vb_linear=None, compliance=None, start_factors=None, load=None):
+    def isolator_force(self, ub_linear, y0, vb_linear, compliance, start_factors=None, load=None):
         """The bearing force F [N] at the end of a step (and Z, the running peak of |Z| and
         whether the solve converged), given the isolator's displacement `ub_linear` [m] and
         velocity `vb_linear` [m/s] at the end of the step without the force and the state `y0`
         at its start. The isolator's displacement and velocity at the end are
-        (ub_linear, vb_linear) - (g0, gv) F with `compliance` = (g0 [m/N], gv [m/(N s)]);
-        Newmark's (the default): g0 = K_eff^-1[0, 0], gv = 2 g0 / dt and
-        vb_linear = 2 / dt (ub_linear - ub0) - vb0. `start_factors`: `friction_factors` of
+        (ub_linear, vb_linear) - (g0, gv) F with `compliance` = (g0 [m/N], gv [m/(N s)]) (the
+        force column of `step_matrices`; Newmark's: g0 = K_eff^-1[0, 0], gv = 2 g0 / dt).
+        `start_factors`: `friction_factors` of
         `y0` (computed when not given), for the Newton iteration's first guess. `load`: the
         load factor N / W at the end of the step (`loaded_isolator_force`)."""
-        dt = self.time_step
         ub0, vb0 = y0["u"][0], y0["v"][0]
-        if compliance is None:
-            g0 = self.newmark_inverse[0, 0]
-            compliance = (g0, 2 / dt * g0)
-        if vb_linear is None:
-            vb_linear = 2 / dt * (ub_linear - ub0) - vb0
         g0, gv = compliance
         if load is not None:
             return loaded_isolator_force(self, ub_linear, vb_linear, compliance, y0, start_factors, load)

@@ -219,13 +219,17 @@ def solved_structure_response(system: StructureOnSliders, save_times, solution, 
     """The `StructureResponse` (one ground component) of a flat-slider or single-pendulum
     structure from its diffrax `solution` saved at `save_times` [s] over `n_steps` steps
     (`simulate_history`): the states, the total accelerations of the equation of motion, the
-    friction force mu W Z and, with a vertical record, the load factor and the uplift time."""
+    friction force mu W Z, a heated bearing's surface temperature rise and, with a vertical
+    record, the load factor and the uplift time."""
     ys = solution.ys
     ag = jax.vmap(system.ground_acceleration)(save_times)
     relative = jax.vmap(system._acceleration)(save_times, ys)
     loads = None if system.vertical_acceleration is None else jax.vmap(system.load_factor)(save_times)
     friction = jax.vmap(lambda y, s: system.at_state(y).friction_force(y["v"][0], y["z"], y["z_peak"], s))(
         ys, loads)
+    rise = None
+    if system.bearing.heating is not None:  # (nt, 1, 1): one group, one surface
+        rise = system.bearing.surface_temperature_rise(ys["heat"], system.heat_weights)[:, None, None]
     return StructureResponse(
         time=save_times,
         displacement=ys["u"],
@@ -235,6 +239,7 @@ def solved_structure_response(system: StructureOnSliders, save_times, solution, 
         friction_force=friction,
         z=ys["z"],
         z_peak=ys["z_peak"],
+        surface_temperature_rise=rise,
         result=solution.result,
         load_factor=loads,
         uplift_time=None if loads is None else uplift_time(step_load_factors(system, n_steps),
