@@ -30,5 +30,6 @@ from ._planar import woodbury as woodbury
 from ._riccati_newmark import AbstractSteppedSystem as AbstractSteppedSystem
 from ._riccati_newmark import RiccatiNewmark as RiccatiNewmark
 from ._riccati_newmark import require_riccati_form as require_riccati_form
+from ._riccati_newmark import structure_step_end as structure_step_end
 from ._solve import solve_on_grid as solve_on_grid
 from ._solve import solve_with_controller as solve_with_controller

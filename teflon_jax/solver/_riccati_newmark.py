@@ -46,6 +46,16 @@ class AbstractSteppedSystem(eqx.Module):
         """Advance from t0 to t1; returns (y1, converged) with `converged` a boolean scalar."""
 
 
+def structure_step_end(t0, t1, time_step):
+    """`t1`, checked to lie one structure `time_step` [s] after `t0` (to 1e-6 of the step, or
+    the rounding of float32 times): a structure's step matrices are factored for that step, so
+    a `RiccatiNewmark` solve on another grid is an error (`eqx.error_if`), not a silent result."""
+    t0, t1 = jnp.asarray(t0), jnp.asarray(t1)
+    eps = jnp.finfo(jnp.result_type(t1, float)).eps
+    slack = jnp.maximum(1e-6 * time_step, 16 * eps * jnp.abs(t1))
+    return eqx.error_if(t1, jnp.abs((t1 - t0) - time_step) > slack, "step differs from the structure's time_step")
+
+
 class RiccatiNewmark(diffrax.AbstractSolver):
     """Fixed-step solver for `AbstractSteppedSystem` vector fields (see module docstring).
 

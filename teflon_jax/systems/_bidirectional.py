@@ -12,7 +12,7 @@ resultant sliding speed (interpolated in the angle to the lay for anisotropic be
 breakaway friction of Eq. 17 until the group's |Z| first reaches 0.999.
 Reference: Constantinou, Mokha & Reinhorn (1990), J. Struct. Eng. 116(2), Eqs. 1, 8-9, 17.
 
-`advance` (used by `RiccatiNewmark`) takes Newmark's average-acceleration rule for q and the
+`advance` (used by `RiccatiNewmark`) and the engine take Newmark's average-acceleration rule for q and the
 bearing forces at the end of the step, with each group's Z updated exactly along its straight
 sliding increment (`park_exact_update`); the 2G bearing displacements solve
 d - d_lin + G_b F(d) = 0 (G_b = B K_eff^-1 B^T) by `coupled_newton` from a predictor that holds
@@ -43,6 +43,7 @@ from ..solver import (
     matvec,
     park_exact_update,
     park_exact_update_and_slope,
+    structure_step_end,
 )
 from ..structures import (
     SupportPlan,
@@ -242,17 +243,12 @@ class BidirectionalStructure(AbstractSteppedSystem):
         return rates
 
     def advance(self, t0, t1, y0, args):
-        return self.newmark_step(t0, t1, y0, self._acceleration(t0, y0))
-
-    def newmark_step(self, t0, t1, y0, a0):
-        """`advance` given the acceleration a0 at (t0, y0)."""
-        dt = self.time_step
-        t0, t1 = jnp.asarray(t0), jnp.asarray(t1)
-        eps = jnp.finfo(jnp.result_type(t1, float)).eps
-        slack = jnp.maximum(1e-6 * dt, 16 * eps * jnp.abs(t1))
-        t1 = eqx.error_if(
-            t1, jnp.abs((t1 - t0) - dt) > slack, "step differs from the structure's time_step"
-        )
+        """One `time_step` over [t0, t1] (checked) from the state `y0`, the engine's step
+        (`newmark_update` under the load factor at t1; `overturning_step` with overturning
+        loads), with the acceleration at (t0, y0) from the equation of motion
+        (`RiccatiNewmark`)."""
+        t1 = structure_step_end(t0, t1, self.time_step)
+        a0 = self._acceleration(t0, y0)
         if self.overturning is not None:
             return overturning_step(self, t0, t1, y0, a0)[:2]
         return self.at_load(self.load_factor(t1)).newmark_update(y0, a0, self.ground(t1))
