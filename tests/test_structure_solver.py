@@ -4,6 +4,7 @@ import dataclasses
 import itertools
 
 import diffrax
+import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -288,3 +289,64 @@ def test_vector_arctan_is_the_arctan_to_an_ulp():
     points = jnp.array([0.0, 0.3, 0.66, 1.0, 2.5, -9.0])
     slope = jax.vmap(jax.grad(vector_arctan))(points)
     np.testing.assert_allclose(slope, 1 / (1 + np.asarray(points) ** 2), rtol=1e-14)
+
+
+def _stepped_structure(case):
+    """A structure of each case of the test below, whose `advance` steps it."""
+    from teflon_jax.bearing import FrictionalHeating, Wear
+    from teflon_jax.systems import (
+        bidirectional_rigid_mass,
+        slab_on_bearings,
+        with_vertical_motion,
+    )
+
+    t = np.arange(0.0, 3.0 + 1e-9, 0.01)
+    shaking = tj.uniform_signal(0.5 * STANDARD_GRAVITY * np.sin(2 * np.pi * t / 0.9), 0.01)
+    across = tj.uniform_signal(0.3 * STANDARD_GRAVITY * np.cos(2 * np.pi * t / 1.3), 0.01)
+    vertical = tj.uniform_signal(1.2 * STANDARD_GRAVITY * np.sin(2 * np.pi * 1.7 * t), 0.01)
+    if case == "rigid mass":
+        return rigid_mass(0.005, shaking)
+    if case == "building, pendulum":
+        return tj.isolated_structure("building", isolator=tj.concave_surface(2.0), linear_rule="newmark")(shaking)
+    heated = eqx.tree_at(lambda b: (b.heating, b.wear), tj.paper_bearing(FRICTION),
+                         (FrictionalHeating(contact_area=0.05, heat_scale=2.0), Wear(0.5, 1.0)),
+                         is_leaf=lambda x: x is None)
+    options = dict(weight=WEIGHT, bearing=heated, time_step=0.005, isolation_period=2.5, contact_pressure=20e6)
+    if case == "heated, vertical":
+        return with_vertical_motion(tj.rigid_mass(ground_acceleration=shaking, **options), vertical)
+    if case == "heated, two components, vertical":
+        return with_vertical_motion(bidirectional_rigid_mass(ground_x=shaking, ground_y=across, **options), vertical)
+    return slab_on_bearings(length_x=20.0, length_y=12.0, weight=3e5, centre_of_mass=[10.0, 6.0],
+                            positions=[[2.0, 1.0], [18.0, 1.0], [18.0, 11.0], [2.0, 11.0]], loads=[75e3] * 4,
+                            bearings=tj.paper_bearing(FRICTION), ground_x=shaking, ground_y=across, time_step=0.005,
+                            isolation_period=3.0, height_of_centre_of_mass=2.0)
+
+
+@pytest.mark.parametrize("case", ["rigid mass", "building, pendulum", "heated, vertical",
+                                  "heated, two components, vertical", "slab, overturning"])
+def test_riccati_newmark_on_a_structure_takes_the_engines_step(case):
+    """`diffrax.diffeqsolve` with `RiccatiNewmark` steps a structure by its `advance`, the
+    engine's own step (`StructureOnSliders.step_from`, `BidirectionalStructure.newmark_update`
+    or `overturning_step`): its states are `simulate_history`'s to rounding's order (1e-10 of
+    the peak displacement; the engine's matrices and records evaluated once outside its loop
+    round differently in the last bits), under one and two
+    components, with a heated, wearing bearing under a vertical record that lifts it (in one and
+    two components), and on a slab whose groups carry the overturning loads."""
+    system = _stepped_structure(case)
+    duration = 2.0
+    history = tj.simulate_history(system, duration)
+    y0 = tj.initial_state(system) if isinstance(system, tj.StructureOnSliders) else \
+        tj.systems.bidirectional_initial_state(system)
+    solution = diffrax.diffeqsolve(diffrax.ODETerm(system), tj.RiccatiNewmark(), 0.0, duration, system.time_step, y0,
+                                   saveat=diffrax.SaveAt(t0=True, steps=True), max_steps=int(duration / system.time_step))
+    coordinates = solution.ys["u"] if "u" in solution.ys else solution.ys["q"]
+    assert bool(np.all(history.converged))
+    if "vertical" in case:
+        assert np.any(np.asarray(history.load_factor) == 0)  # the bearing lifts
+    if case == "slab, overturning":
+        loads = np.asarray(history.normal_load)
+        assert np.ptp(loads[:, 0]) > 0.1 * loads[0, 0]  # the groups' loads swing
+        np.testing.assert_allclose(solution.ys["normal_load"], loads, rtol=1e-10)
+    peak = np.max(np.abs(history.displacement))
+    np.testing.assert_allclose(coordinates, history.displacement, rtol=0, atol=1e-10 * peak)  # rounding's order
+    np.testing.assert_allclose(solution.ys["z"], history.z, rtol=0, atol=1e-9)
