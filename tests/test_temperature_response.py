@@ -129,3 +129,29 @@ def test_run_prints_and_writes_the_rise_of_a_heated_flat_bearing(tmp_path, capsy
     assert f"surface temperature rise: surface {rise['surface']:.4g} K" in capsys.readouterr().out
     table = np.genfromtxt(histories, delimiter=",", names=True)
     assert table["temperature_rise_surface_K"].max() == pytest.approx(rise["surface"], rel=1e-12)
+
+
+def test_run_reports_the_heated_surfaces_of_a_double_pendulum(tmp_path, capsys):
+    """`teflon-jax run --isolator double-fp` with an isolator file whose bottom surface heats:
+    that surface's peak rise alone (the top has no heating) in the JSON and on the terminal,
+    its history in the CSV."""
+    from teflon_jax.cli import main
+    from teflon_jax.formats import write_isolator
+
+    double = DoublePendulum(bottom_radius=RADIUS, top_radius=2.0, bottom_capacity=1.0, top_capacity=1.0,
+                            bottom_friction=coulomb_friction(MU), top_friction=coulomb_friction(0.12),
+                            hysteresis=_heated().hysteresis, bottom_heating=HEAT, bottom_pressure=PRESSURE)
+    isolator = tmp_path / "double.json"
+    write_isolator(isolator, double)
+    t = np.arange(0, DURATION + 0.01 / 2, 0.01)
+    record = tmp_path / "ground.txt"
+    np.savetxt(record, np.c_[t, 0.4 * np.sin(2 * np.pi * t / 1.5) * np.exp(-0.1 * t)])
+    out, histories = tmp_path / "run.json", tmp_path / "run.csv"
+    code = main(["run", "--record-x", str(record), "--record-units", "g", "--isolator", "double-fp",
+                 "--isolator-file", str(isolator), "--json", str(out), "--histories", str(histories)])
+    assert code == 0
+    rise = json.loads(out.read_text())["surface_temperature_rise_K"]
+    assert set(rise) == {"bottom"} and rise["bottom"] > 5.0
+    assert f"surface temperature rise: bottom {rise['bottom']:.4g} K" in capsys.readouterr().out
+    table = np.genfromtxt(histories, delimiter=",", names=True)
+    assert table["temperature_rise_bottom_K"].max() == pytest.approx(rise["bottom"], rel=1e-12)
