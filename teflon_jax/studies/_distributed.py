@@ -143,7 +143,7 @@ def _layout(n_motions: int, design: Mapping | None, inputs: dict, model=None, st
         coords["design"] = ("design", np.arange(n_designs), None, None)
         coords.update({f"design_{k}": ("design", v, *DESIGN_UNITS.get(k, ("1", k))) for k, v in design.items()})
     variables = {name: (peak_dims, units, long_name, "bool" if name in FLAGS else "f8")
-                 for name, (units, long_name) in _variables(model, pressure_law=pressure_law).items()}
+                 for name, (units, long_name) in _variables(model, groups=groups, pressure_law=pressure_law).items()}
     if storeys is not None:
         n_storeys, components = storeys
         direction = ("direction",) if components == 2 else ()
