@@ -107,35 +107,40 @@ def test_a_cold_bearing_reports_no_rise():
     assert response.surface_temperature_rise is None
 
 
-@pytest.mark.parametrize("components", [1, 2])
-def test_run_prints_and_writes_the_rise_of_a_heated_flat_bearing(tmp_path, capsys, components):
-    """`teflon-jax run --bearing FILE` whose bearing has a heating part: the peak rise in the
-    JSON and on the terminal, its history in the CSV (the JSON's peak is the history's)."""
+def _run_reports_the_rise(tmp_path, capsys, flags, surface, components=1):
+    """`teflon-jax run` with `flags` under a decaying pulse: the peak rise of `surface` alone
+    in the JSON and on the terminal, the CSV history's peak the JSON's."""
     from teflon_jax.cli import main
-    from teflon_jax.formats import save_bearing
 
-    bearing = tmp_path / "hot.json"
-    save_bearing(bearing, _heated())
     t = np.arange(0, DURATION + 0.01 / 2, 0.01)
     record = tmp_path / "ground.txt"
     np.savetxt(record, np.c_[t, 0.4 * np.sin(2 * np.pi * t / 1.5) * np.exp(-0.1 * t)])
     records = ["--record-x", str(record)] + ["--record-y", str(record)] * (components == 2)
     out, histories = tmp_path / "run.json", tmp_path / "run.csv"
-    code = main(["run", *records, "--record-units", "g", "--bearing", str(bearing), "--json", str(out),
-                 "--histories", str(histories)])
+    code = main(["run", *records, "--record-units", "g", *flags, "--json", str(out), "--histories", str(histories)])
     assert code == 0
     rise = json.loads(out.read_text())["surface_temperature_rise_K"]
-    assert set(rise) == {"surface"} and rise["surface"] > 5.0
-    assert f"surface temperature rise: surface {rise['surface']:.4g} K" in capsys.readouterr().out
+    assert set(rise) == {surface} and rise[surface] > 5.0
+    assert f"surface temperature rise: {surface} {rise[surface]:.4g} K" in capsys.readouterr().out
     table = np.genfromtxt(histories, delimiter=",", names=True)
-    assert table["temperature_rise_surface_K"].max() == pytest.approx(rise["surface"], rel=1e-12)
+    assert table[f"temperature_rise_{surface}_K"].max() == pytest.approx(rise[surface], rel=1e-12)
+
+
+@pytest.mark.parametrize("components", [1, 2])
+def test_run_prints_and_writes_the_rise_of_a_heated_flat_bearing(tmp_path, capsys, components):
+    """`teflon-jax run --bearing FILE` whose bearing has a heating part: the peak rise in the
+    JSON and on the terminal, its history in the CSV (the JSON's peak is the history's)."""
+    from teflon_jax.formats import save_bearing
+
+    bearing = tmp_path / "hot.json"
+    save_bearing(bearing, _heated())
+    _run_reports_the_rise(tmp_path, capsys, ["--bearing", str(bearing)], "surface", components)
 
 
 def test_run_reports_the_heated_surfaces_of_a_double_pendulum(tmp_path, capsys):
     """`teflon-jax run --isolator double-fp` with an isolator file whose bottom surface heats:
     that surface's peak rise alone (the top has no heating) in the JSON and on the terminal,
     its history in the CSV."""
-    from teflon_jax.cli import main
     from teflon_jax.formats import write_isolator
 
     double = DoublePendulum(bottom_radius=RADIUS, top_radius=2.0, bottom_capacity=1.0, top_capacity=1.0,
@@ -143,15 +148,4 @@ def test_run_reports_the_heated_surfaces_of_a_double_pendulum(tmp_path, capsys):
                             hysteresis=_heated().hysteresis, bottom_heating=HEAT, bottom_pressure=PRESSURE)
     isolator = tmp_path / "double.json"
     write_isolator(isolator, double)
-    t = np.arange(0, DURATION + 0.01 / 2, 0.01)
-    record = tmp_path / "ground.txt"
-    np.savetxt(record, np.c_[t, 0.4 * np.sin(2 * np.pi * t / 1.5) * np.exp(-0.1 * t)])
-    out, histories = tmp_path / "run.json", tmp_path / "run.csv"
-    code = main(["run", "--record-x", str(record), "--record-units", "g", "--isolator", "double-fp",
-                 "--isolator-file", str(isolator), "--json", str(out), "--histories", str(histories)])
-    assert code == 0
-    rise = json.loads(out.read_text())["surface_temperature_rise_K"]
-    assert set(rise) == {"bottom"} and rise["bottom"] > 5.0
-    assert f"surface temperature rise: bottom {rise['bottom']:.4g} K" in capsys.readouterr().out
-    table = np.genfromtxt(histories, delimiter=",", names=True)
-    assert table["temperature_rise_bottom_K"].max() == pytest.approx(rise["bottom"], rel=1e-12)
+    _run_reports_the_rise(tmp_path, capsys, ["--isolator", "double-fp", "--isolator-file", str(isolator)], "bottom")
