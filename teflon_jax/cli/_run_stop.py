@@ -199,7 +199,8 @@ def failed_pairs(result) -> str:
 
 
 def pair_flags(result, i: int) -> dict:
-    """A suite pair's JSON flags beside "converged": `beyond_pressure_law` and `tipped` where
-    the `SuiteResult` keeps them."""
-    return {name: bool(flags[i]) for name, flags in (("beyond_pressure_law", result.beyond_pressure_law),
-                                                     ("tipped", result.tipped)) if flags is not None}
+    """A suite pair's JSON flags beside "converged" (`studies.RUN_FLAGS`: `beyond_pressure_law`,
+    `tipped`) where the `SuiteResult` keeps them."""
+    from ..studies import RUN_FLAGS
+
+    return {name: bool(getattr(result, name)[i]) for name in RUN_FLAGS if getattr(result, name) is not None}

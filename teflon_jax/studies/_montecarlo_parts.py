@@ -3,6 +3,8 @@ readings' interval and the arrangement of the peaks in a `MonteCarloResult`."""
 
 import numpy as np
 
+from ._results import RUN_FLAGS
+
 
 def _check_chunk_and_first_motion(chunk_size, first_motion) -> None:
     if isinstance(chunk_size, bool) or not isinstance(chunk_size, (int, np.integer)) or chunk_size <= 0:
@@ -56,8 +58,7 @@ def _peak_fields(peaks, with_designs: bool, with_storeys: bool, vertical: bool =
         "storey_drift": arrange(peaks["storey_drift"]) if with_storeys else None,
         "floor_acceleration": arrange(peaks["floor_acceleration"]) if with_storeys else None,
         **({"uplift_time": arrange(peaks["uplift_time"])} if vertical else {}),
-        **({"beyond_pressure_law": arrange(peaks["beyond_pressure_law"])} if "beyond_pressure_law" in peaks else {}),
-        **({"tipped": arrange(peaks["tipped"])} if "tipped" in peaks else {}),
+        **{name: arrange(peaks[name]) for name in RUN_FLAGS if name in peaks},
         **{name: arrange(peaks[name]) for name in GROUP_FIELDS if name in peaks},
     }
 

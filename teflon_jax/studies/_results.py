@@ -171,16 +171,16 @@ class MonteCarloResult:
     def beyond_flags(self) -> np.ndarray:
         """`beyond_pressure_law` as a bool array of `converged`'s shape (all False without
         Table 1's pressure law)."""
-        if self.beyond_pressure_law is None:
-            return np.zeros(np.shape(self.converged), bool)
-        return np.asarray(self.beyond_pressure_law, bool)
+        return self._flags(self.beyond_pressure_law)
 
     @property
     def tipped_flags(self) -> np.ndarray:
         """`tipped` as a bool array of `converged`'s shape (all False without overturning loads)."""
-        if self.tipped is None:
-            return np.zeros(np.shape(self.converged), bool)
-        return np.asarray(self.tipped, bool)
+        return self._flags(self.tipped)
+
+    def _flags(self, values) -> np.ndarray:
+        """A run flag (`RUN_FLAGS`) as bools of `converged`'s shape, all False where not kept."""
+        return np.zeros(np.shape(self.converged), bool) if values is None else np.asarray(values, bool)
 
     @property
     def n_motions(self) -> int:

@@ -341,7 +341,7 @@ def _uniaxial_run(system, n_steps) -> EngineRun:
 
 
 def _sliders_advance(system, matrices, state, ground1, load1):
-    """One step of flat sliders or single pendulums (`StructureOnSliders.propagated_step`):
+    """One step of flat sliders or single pendulums (`StructureOnSliders.history_step`):
     (state, x1, converged, bearing force F = mu W Z plus the pendulum's force beyond K u [N],
     the sample's friction force mu W Z).
 
@@ -351,15 +351,9 @@ def _sliders_advance(system, matrices, state, ground1, load1):
     and carries its heat states and travel; with a vertical record the load factor N / W."""
     n = system.mass.shape[-1]
     x, z, z_peak, start_factors, ground0, history, load0 = state
-    stepped = system
-    if history:  # the force at the step's start with the friction of the start's history
-        stepped = system.at_history(*history)
-        start_factors = stepped.friction_factors(x[n], z_peak, load0)
-    x1, z1, z_peak1, converged = stepped.propagated_step(x, z, z_peak, start_factors, ground0, ground1,
-                                                         matrices, load0, load1)
-    if history:  # the step's end under the history there, as the next step starts from it
-        history = system.next_history(*history, x[0], x1[0], x[n], z_peak, z, load0)
-        stepped = system.at_history(*history)
+    x1, z1, z_peak1, converged, history = system.history_step(x, z, z_peak, start_factors, ground0, ground1,
+                                                              history, load0, load1, matrices)
+    stepped = system.at_history(*history) if history else system  # the step's end, as the next starts from it
     factors1 = stepped.friction_factors(x1[n], z_peak1, load1)  # of the stored state: F = mu W Z
     friction = factors1[0] * z1 * system.asymmetry_factor(z1)
     force = friction

@@ -321,22 +321,33 @@ class StructureOnSliders(AbstractSteppedSystem):
 
     def step_from(self, y0, ground0, ground1, load0=None, load1=None):
         """One step of `time_step` from the state `y0` (dict) by the engine's step
-        (`propagated_step`, the step of `simulate_history` and `peak_response`), given the
-        ground acceleration `ground0`, `ground1` [m/s^2] and, with `vertical_acceleration`, the
-        load factors N / W `load0`, `load1` at its two ends. A bearing with history steps with
-        the friction of the step's start (`at_state`), then advances the history
-        (`next_history`). **Returns:** (state at the step's end, whether its balance converged)."""
+        (`history_step`, the step of `simulate_history` and `peak_response`), given the ground
+        acceleration `ground0`, `ground1` [m/s^2] and, with `vertical_acceleration`, the load
+        factors N / W `load0`, `load1` at its two ends. **Returns:** (state at the step's end,
+        whether its balance converged)."""
         n = self.mass.shape[-1]
-        stepped = self.at_state(y0)
-        start_factors = stepped.friction_factors(y0["v"][0], y0["z_peak"], load0)
-        x1, z1, z_peak1, converged = stepped.propagated_step(
-            jnp.concatenate([y0["u"], y0["v"]]), y0["z"], y0["z_peak"], start_factors, ground0, ground1,
-            load0=load0, load1=load1)
-        y1 = {"u": x1[:n], "v": x1[n:], "z": z1, "z_peak": z_peak1}
-        if self.history:
-            y1["heat"], y1["travel"] = self.next_history(y0["heat"], y0["travel"], y0["u"][0], x1[0], y0["v"][0],
-                                                         y0["z_peak"], y0["z"], load0)
-        return y1, converged
+        history = (y0["heat"], y0["travel"]) if self.history else ()
+        x1, z1, z_peak1, converged, history = self.history_step(
+            jnp.concatenate([y0["u"], y0["v"]]), y0["z"], y0["z_peak"], None, ground0, ground1, history, load0, load1)
+        return {"u": x1[:n], "v": x1[n:], "z": z1, "z_peak": z_peak1, **dict(zip(("heat", "travel"), history))}, converged
+
+    def history_step(self, x0, z0, z_peak0, start_factors, ground0, ground1, history=(), load0=None, load1=None,
+                     matrices=None):
+        """`propagated_step` of a bearing with or without history (heating, wear): with
+        `history` (heat states, travel) the step takes the friction of its start's history
+        (`at_history`; `start_factors` recomputed under it), then advances the history
+        (`next_history`); without, `start_factors` (`None`: `friction_factors` of the start).
+        **Returns:** ((u1, v1), Z, running peak of |Z|, whether the solve converged, the
+        history at the step's end (`()` without))."""
+        n = self.mass.shape[-1]
+        stepped = self.at_history(*history) if history else self
+        if history or start_factors is None:  # the force at the step's start under the start's history
+            start_factors = stepped.friction_factors(x0[n], z_peak0, load0)
+        x1, z1, z_peak1, converged = stepped.propagated_step(x0, z0, z_peak0, start_factors, ground0, ground1,
+                                                             matrices, load0, load1)
+        if history:
+            history = self.next_history(*history, x0[0], x1[0], x0[n], z_peak0, z0, load0)
+        return x1, z1, z_peak1, converged, history
 
     def propagated_step(self, x0, z0, z_peak0, start_factors, ground0, ground1, matrices=None,
                         load0=None, load1=None):
