@@ -36,6 +36,7 @@ from ._montecarlo_summary import (
     statistics,
     steady_rate,
     summary_payload,
+    surface_summary,
 )
 from ._normal_load import (
     add_vertical_flags,
@@ -290,13 +291,16 @@ def run_montecarlo(args) -> int:
     groups, group_lines = group_summary(result, units)
     if groups:
         payload["groups"], payload["units"]["group_load"] = groups, units.force[0]
+    surfaces, surface_lines = surface_summary(result, units)
+    if surfaces:
+        payload["surfaces"] = surfaces
     posterior_entry, posterior_lines = posterior_report(result, posterior, units)
     payload.update(posterior_entry)
     _write_json(args.json, payload)
     if args.plot is not None:
         plot_montecarlo(result, args.plot, title=stamp(args, horizontal), length=units.length)
     return report(args, result, stats, units, [uplift_message(payload)] * bool(uplift_message(payload))
-                  + group_lines + posterior_lines)
+                  + group_lines + surface_lines + posterior_lines)
 
 
 def _structure(args, isolator, two: bool):

@@ -195,3 +195,31 @@ def group_summary(result, units) -> tuple[dict, list]:
                      + "; least " + ", ".join(f"{k} {v:.4g}" for k, v in entry["min_load"].items())
                      + f"; lifted in {entry['n_uplifted']} runs")
     return groups, lines
+
+
+def surface_summary(result, units) -> tuple[dict, list]:
+    """({name: {[group: ]{surface: {"p50", "p84", "max"}}}}, printed lines) of the isolator's
+    surfaces over the converged runs: each series-pendulum slider's peak travel in `units`'
+    length ("slider_travel_<unit>") and each heated surface's peak temperature rise
+    ("surface_temperature_rise_K"), per bearing group where a plan has several; ({}, [])
+    without them."""
+    import numpy as np
+
+    ok = np.asarray(result.converged, bool)
+    summary, lines = {}, []
+    for name, (_, labels) in result.surfaces.items():
+        unit, factor = units.length if name == "slider_travel" else ("K", 1.0)
+        values = np.asarray(getattr(result, name))[ok] / factor  # (runs, G, S)
+        words = name.replace("_", " ")
+        per_group = {}
+        for j, group in enumerate(result.group_names):
+            row = {label: ({} if not values.size else
+                           {"p50": float(np.percentile(values[:, j, e], 50)),
+                            "p84": float(np.percentile(values[:, j, e], 84)), "max": float(values[:, j, e].max())})
+                   for e, label in enumerate(labels)}
+            per_group[group] = row
+            where = f" ({group})" if len(result.group_names) > 1 else ""
+            lines.append(f"{words}{where} [{unit}] over the {int(ok.sum())} converged runs: " + "; ".join(
+                f"{label} " + ", ".join(f"{k} {v:.4g}" for k, v in stats.items()) for label, stats in row.items()))
+        summary[f"{name}_{unit}"] = per_group if len(per_group) > 1 else next(iter(per_group.values()))
+    return summary, lines

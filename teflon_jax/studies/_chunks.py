@@ -2,12 +2,8 @@
 
 import jax
 
-from ._montecarlo import (
-    _motion_source,
-    available_memory_bytes,
-    bytes_per_motion,
-    probe_structure,
-)
+from ._montecarlo import _motion_source, probe_structure
+from ._montecarlo_parts import available_memory_bytes, bytes_per_motion
 
 CPU_CHUNK = 512
 """Motions per call on a CPU: past a few hundred the rate (motions per second) no longer grows."""

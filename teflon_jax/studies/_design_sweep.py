@@ -36,7 +36,7 @@ from ._design import (
     penalised_objective,
 )
 from ._design_records import components_of, records_array
-from ._results import DESIGN_UNITS
+from ._result_variables import DESIGN_UNITS
 
 SWEEP_VARIABLES = {
     "objective": ("1", "penalised objective E[V_s] + rho max(0, E[D_s] / limit - 1)^2"),

@@ -54,24 +54,29 @@ from ._montecarlo import (
     ChunkRunner,
     _get,
     _Source,
-    bytes_per_motion,
     check_design_of,
     motion_attributes,
     probe_structure,
     stochastic_grid,
 )
-from ._montecarlo_parts import flat_peaks
+from ._montecarlo_parts import (
+    bytes_per_motion,
+    flat_peaks,
+    surface_attributes,
+    surface_groups,
+)
 from ._record_set import RecordSet
-from ._results import (
+from ._result_variables import (
     BEYOND_PRESSURE_LAW,
     DESIGN_UNITS,
     GROUP_VARIABLES,
     RUN_FLAGS,
     STOREY_VARIABLES,
+    SURFACE_VARIABLES,
     TIPPED,
     VARIABLES,
-    MonteCarloResult,
 )
+from ._results import MonteCarloResult
 
 PGA = ("m s-2", "peak |ground acceleration| of the motion")
 UPLIFT = ("s", "time with the isolators' normal load <= 0")
@@ -100,7 +105,7 @@ def _chunk_task(spec: dict, start: int, stop: int, payload):
     peaks, pga = _get(runner(indices, values, level))
     n = stop - start
     peaks = flat_peaks(peaks)  # each group's peaks as variables; a run beyond Table 1's law flagged
-    names = _variables(spec["model"], spec["storey_height"], spec["groups"], spec["pressure_law"])
+    names = _variables(spec["model"], spec["storey_height"], spec["groups"], spec["pressure_law"], spec["surfaces"])
     out = {name: np.asarray(peaks[name])[:n] for name in names}
     if spec["design"] is not None:  # (motion, design, ...) -> (design, motion, ...)
         out = {k: np.moveaxis(v, 0, 1) for k, v in out.items()}
@@ -109,11 +114,12 @@ def _chunk_task(spec: dict, start: int, stop: int, payload):
     return out
 
 
-def _variables(model, storey_height=None, groups=None, pressure_law=False) -> dict:
+def _variables(model, storey_height=None, groups=None, pressure_law=False, surfaces=None) -> dict:
     """The peak variables of a run's file: `VARIABLES`, `uplift_time` with a vertical component,
     the `STOREY_VARIABLES` with `storey_height` and the `GROUP_VARIABLES` of a structure whose
     `groups` (their number, else None) share the weight unevenly (and `tipped`), and `beyond_pressure_law`
-    with Table 1's `pressure_law`: name -> (units, long name)."""
+    with Table 1's `pressure_law`, and the `SURFACE_VARIABLES` of the `surfaces` kept
+    ((G, `surface_attributes`), else None): name -> (units, long name)."""
     variables = dict(VARIABLES)
     if isinstance(model, VerticalGroundMotion):
         variables["uplift_time"] = UPLIFT
@@ -124,17 +130,21 @@ def _variables(model, storey_height=None, groups=None, pressure_law=False) -> di
         variables["tipped"] = TIPPED
     if pressure_law:
         variables["beyond_pressure_law"] = BEYOND_PRESSURE_LAW
+    labelled = {} if surfaces is None else surfaces[1]
+    variables.update({name: (units, long_name) for name, (dim, units, long_name) in SURFACE_VARIABLES.items()
+                      if f"{dim}_names" in labelled})
     return variables
 
 
 def _layout(n_motions: int, design: Mapping | None, inputs: dict, model=None, storeys=None, levels=None,
-            groups=None, pressure_law=False) -> dict:
+            groups=None, pressure_law=False, surfaces=None) -> dict:
     """`create_netcdf`'s arguments for a run's file (the layout of `MonteCarloResult.to_dataset`,
     and of `levels_dataset` with `levels`, each motion's level (L N,) [m/s^2]); `storeys`:
     (storeys S, horizontal components) of a building whose storey peaks are kept, or `None`;
     `groups`: the number of bearing groups whose loads are kept (named by
     `inputs["group_names"]` where given), or `None`; `pressure_law`: runs beyond Table 1's
-    pressure law are flagged (`beyond_pressure_law`)."""
+    pressure law are flagged (`beyond_pressure_law`); `surfaces`: (G groups,
+    `surface_attributes`) of the surfaces whose peaks are kept, or `None`."""
     dims, peak_dims = {"motion": n_motions}, ("motion",)
     coords = {"motion": ("motion", np.arange(n_motions), None, None)}
     if design is not None:
@@ -143,7 +153,8 @@ def _layout(n_motions: int, design: Mapping | None, inputs: dict, model=None, st
         coords["design"] = ("design", np.arange(n_designs), None, None)
         coords.update({f"design_{k}": ("design", v, *DESIGN_UNITS.get(k, ("1", k))) for k, v in design.items()})
     variables = {name: (peak_dims, units, long_name, "bool" if name in FLAGS else "f8")
-                 for name, (units, long_name) in _variables(model, groups=groups, pressure_law=pressure_law).items()}
+                 for name, (units, long_name) in _variables(model, groups=groups, pressure_law=pressure_law,
+                                                            surfaces=surfaces).items()}
     if storeys is not None:
         n_storeys, components = storeys
         direction = ("direction",) if components == 2 else ()
@@ -160,12 +171,30 @@ def _layout(n_motions: int, design: Mapping | None, inputs: dict, model=None, st
         coords["group"] = ("group", np.array([str(name) for name in names]), None, None)
         variables.update({name: (peak_dims + ("group",), units, long_name, "f8")
                           for name, (units, long_name) in GROUP_VARIABLES.items()})
+    if surfaces is not None:
+        _surface_layout(surfaces, inputs, peak_dims, dims, coords, variables)
     if levels is not None:
         coords["intensity_level"] = ("motion", np.asarray(levels, float), "m s-2", "expected peak ground "
                                      "acceleration of the motion's level (the model's nominal peak, not the record's)")
     variables["pga"] = (("motion",), *PGA, "f8")
     return {"dims": dims, "coords": coords, "variables": variables,
             "attrs": file_attributes("teflon-jax Monte Carlo peak responses", inputs)}
+
+
+def _surface_layout(surfaces, inputs, peak_dims, dims, coords, variables) -> None:
+    """Add the `SURFACE_VARIABLES` of `surfaces` (G groups, `surface_attributes`) to a run
+    file's `_layout` (`dims`, `coords`, `variables`, changed in place)."""
+    groups, labelled = surfaces
+    if "group" not in dims:
+        dims["group"] = groups
+        names = inputs.get("group_names") or [f"group {i + 1}" for i in range(groups)]
+        coords["group"] = ("group", np.array([str(name) for name in names]), None, None)
+    for name, (dim, units, long_name) in SURFACE_VARIABLES.items():
+        labels = labelled.get(f"{dim}_names")
+        if labels is not None:
+            dims[dim] = len(labels)
+            coords[dim] = (dim, np.array([str(label) for label in labels]), None, None)
+            variables[name] = (peak_dims + ("group", dim), units, long_name, "f8")
 
 
 def _source_of(motions, n_motions):
@@ -291,6 +320,7 @@ def _spec(structure, motions, n_motions, *, seed, chunk_size, duration, design, 
     n_dof = int(probe.mass.shape[-1])
     groups = int(probe.bearing_load.shape[-1]) if response_layout(probe).overturning else None
     pressure_law = getattr(probe, "pressure_table", None) is not None
+    surfaces = surface_attributes(probe)
     components = probe_source.components
     n_storeys = None  # refused here, before a cluster starts, for a rigid mass
     if storey_height is not None:
@@ -299,6 +329,7 @@ def _spec(structure, motions, n_motions, *, seed, chunk_size, duration, design, 
             "samples": samples, "duration": duration, "design": design_arrays, "chunk": chunk,
             "disp_width": disp_width, "shear_width": shear_width, "dtype": run_dtype(),
             "storey_height": storey_height, "groups": groups, "pressure_law": pressure_law,
+            "surfaces": (surface_groups(probe), surfaces) if surfaces else None,
             "token": uuid.uuid4().hex}
     memory = chunk * bytes_per_motion((components + probe_source.vertical) * samples, n_dof, n_designs)
     return spec, {"n_total": n_total, "n_dof": n_dof, "components": components, "memory": memory,
@@ -322,6 +353,8 @@ def _run(structure, motions, n_motions, levels, *, out, seed=0, scheduler="local
               **motion_attributes(motions), **dict(attrs or {})}
     if getattr(structure, "group_names", ()):  # a plan's groups name the file's group axis
         inputs["group_names"] = list(structure.group_names)
+    if spec["surfaces"] is not None:  # the sliders' and heated surfaces' names
+        inputs.update(spec["surfaces"][1])
     if levels is not None:
         inputs.update({"intensity_levels_m_s2": list(at), "motions_per_level": n_per_level})
     # level j: its motions in chunks of `chunk` from j N, as monte_carlo_levels runs them
@@ -331,8 +364,8 @@ def _run(structure, motions, n_motions, levels, *, out, seed=0, scheduler="local
     storeys = None if storey_height is None else (sizes["n_storeys"], sizes["components"])
     layout = _layout(n_total, spec["design"], inputs, model, storeys,
                      None if levels is None else np.repeat(np.asarray(at), n_per_level), spec["groups"],
-                     spec["pressure_law"])
-    names = list(_variables(model, spec["storey_height"], spec["groups"], spec["pressure_law"]))
+                     spec["pressure_law"], spec["surfaces"])
+    names = list(_variables(model, spec["storey_height"], spec["groups"], spec["pressure_law"], spec["surfaces"]))
     compile_s = [0.0]
 
     def write(handle, start, stop, part):

@@ -23,7 +23,6 @@ Reference for the structures: Constantinou, Mokha & Reinhorn (1990), "Teflon bea
 isolation II: Modeling", J. Struct. Eng. 116(2), Figs. 7-11.
 """
 
-import os
 import time
 from collections.abc import Callable, Mapping, Sequence
 from typing import NamedTuple
@@ -40,7 +39,9 @@ from ..excitation import (
     uniform_signal,
 )
 from ..systems import (
+    PEAK_REDUCERS,
     STEPS_PER_LOOP_PASS,
+    SURFACE_REDUCERS,
     BidirectionalStructure,
     IsolatedStructure,
     StructureOnSliders,
@@ -55,6 +56,10 @@ from ._montecarlo_parts import (
     _peak_fields,
     _read_every,
     _run_duration,
+    bytes_per_motion,
+    check_chunk_memory,
+    surface_attributes,
+    surface_peaks,
 )
 from ._motion_source import _Source, level_of, motion_attributes, stochastic_grid
 from ._posterior_motions import (
@@ -68,36 +73,6 @@ from ._record_set import RecordSet
 from ._results import MonteCarloResult
 
 # --------------------------------------------------------------------------- batch runs
-
-
-def available_memory_bytes(device=None) -> int | None:
-    """Free memory [bytes] of `device` (its allocator's limit minus use), or for a CPU the
-    host's MemAvailable from /proc/meminfo; `None` when unknown."""
-    device = jax.devices()[0] if device is None else device
-    try:
-        stats = device.memory_stats()
-    except Exception:  # backends without memory statistics
-        stats = None
-    if stats and "bytes_limit" in stats:
-        return int(stats["bytes_limit"] - stats.get("bytes_in_use", 0))
-    try:
-        with open("/proc/meminfo") as handle:
-            for line in handle:
-                if line.startswith("MemAvailable:"):
-                    return int(line.split()[1]) * 1024
-    except OSError:
-        pass
-    try:
-        return os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
-    except (ValueError, OSError, AttributeError):
-        return None
-
-
-def bytes_per_motion(record_samples: int, n_dof: int, n_designs: int) -> int:
-    """Estimate of the memory one motion of a chunk needs [bytes] (float64): the record and
-    the temporaries of its generation (about 8 record-sized arrays), and per design the
-    structure's matrices (3 n^2) and scan carry."""
-    return 8 * (8 * record_samples + max(n_designs, 1) * (4 * n_dof**2 + 64))
 
 
 def probe_structure(structure, source: _Source, design):
@@ -168,6 +143,9 @@ class ChunkRunner:
         loop_options = {} if source.components == 2 else {"steps_per_pass": STEPS_PER_LOOP_PASS}
         if storey_height is not None:  # the building's peak drifts and floor accelerations too
             loop_options["storey_height"] = storey_height
+        # the sliders' travel and the heated surfaces' temperature rise, where the isolator has them
+        loop_options["reducers"] = PEAK_REDUCERS + SURFACE_REDUCERS + (
+            () if storey_height is None else ("storey_drift_ratio", "level_acceleration"))
         self.batched = jax.sharding.NamedSharding(mesh, jax.sharding.PartitionSpec("batch"))
         replicated = jax.sharding.NamedSharding(mesh, jax.sharding.PartitionSpec())
 
@@ -180,7 +158,7 @@ class ChunkRunner:
                     system = flag_pressure_law(built(signal, design_one))  # a run beyond Table 1: flagged
                     peaks = peak_response(system, duration, disp_width=disp_width, shear_width=shear_width,
                                           read_every=read_every, **loop_options)
-                    return peak_arrays(peaks)
+                    return surface_peaks(system, peak_arrays(peaks))
 
                 peaks = one(None) if design_all is None else jax.vmap(one)(design_all)
                 horizontal = signal[0] if source.vertical else signal  # pga: the horizontal one's
@@ -341,6 +319,7 @@ class _Plan(NamedTuple):
     bearing_draw: np.ndarray | None = None
     nested: bool = False
     group_names: tuple = ()  # a plan's groups (`BuiltStructure.group_names`): the results' group axis
+    surface_names: dict = {}  # the surfaces' labels (`surface_attributes`)
 
 
 def _plan(structure, motions, n_motions, *, key=None, duration=None, design=None, chunk_size=512, devices=None,
@@ -359,7 +338,7 @@ def _plan(structure, motions, n_motions, *, key=None, duration=None, design=None
     probe = probe_structure(structure, source, probe_design)
     n_dof = probe.mass.shape[-1]
     per_motion = bytes_per_motion((source.components + source.vertical) * source.samples, n_dof, n_designs)
-    _check_chunk_memory(chunk, per_motion, memory_limit_bytes, devices)
+    check_chunk_memory(chunk, per_motion, memory_limit_bytes, devices)
     read_every = _read_every(peak_interval, probe.time_step)
     if storey_height is not None:  # refused here, before the compile, for a rigid mass
         # x and y: 2 n coordinates, but one set of masses for a series pendulum's structure
@@ -370,7 +349,7 @@ def _plan(structure, motions, n_motions, *, key=None, duration=None, design=None
     return _Plan(runner, n_total, chunk, n_chunks, design_arrays, int(n_dof), duration, source.time_step,
                  source.vertical, storey_height is not None, int(chunk * per_motion), draws,
                  None if draws is None else np.asarray(bearing_draw), bool(nested and draws is not None),
-                 tuple(getattr(structure, "group_names", ())))
+                 tuple(getattr(structure, "group_names", ())), surface_attributes(probe))
 
 
 def _bearing_runs(structure, design_arrays, bearings, bearing_draw, nested, n_total):
@@ -404,7 +383,8 @@ def _result(plan: _Plan, motions, outputs, wall_s: float) -> MonteCarloResult:
         compile_s=plan.runner.compile_s,
         memory_estimate_bytes=plan.estimate,
         attrs={"duration_s": plan.duration, "record_time_step_s": plan.time_step, "n_dof": plan.n_dof,
-               **motion_attributes(motions), **({"group_names": list(plan.group_names)} if plan.group_names else {})},
+               **motion_attributes(motions), **({"group_names": list(plan.group_names)} if plan.group_names else {}),
+               **plan.surface_names},
     )
 
 
@@ -457,24 +437,6 @@ def check_design_of(structure, design_arrays) -> None:
     with or without a vertical one); series pendulums check their own."""
     if isinstance(structure, IsolatedStructure) and structure.pendulum is None:
         check_design(structure, design_arrays)
-
-
-def _check_chunk_memory(chunk, per_motion, memory_limit_bytes, devices) -> None:
-    """Raise when a chunk needs more memory than allowed (default: half of the free memory)."""
-    estimate = chunk * per_motion
-    n_devices = len(devices)
-    if memory_limit_bytes is None:
-        free = available_memory_bytes(devices[0])
-        # devices with their own memory (GPUs) each hold 1 / n_devices of a chunk
-        own_memory = devices[0].platform != "cpu"
-        memory_limit_bytes = None if free is None else free // 2 * (n_devices if own_memory else 1)
-    if memory_limit_bytes is not None and estimate > memory_limit_bytes:
-        largest = max(memory_limit_bytes // per_motion, 1)
-        raise ValueError(
-            f"chunk_size: {chunk} motions need about {estimate / 2**20:.0f} MiB "
-            f"({per_motion} bytes each) but only {memory_limit_bytes / 2**20:.0f} MiB may be "
-            f"used; take chunk_size <= {largest}."
-        )
 
 
 def _run_chunks(runner, motions, n_total, chunk, n_chunks, first_motion, progress, level=None, draws=None) -> list:

@@ -1,9 +1,13 @@
-"""Checks and small helpers of `monte_carlo`: chunk counts, the run's duration, the peak
-readings' interval and the arrangement of the peaks in a `MonteCarloResult`."""
+"""Checks and small helpers of `monte_carlo`: chunk counts and memory, the run's duration, the
+peak readings' interval and the arrangement of the peaks in a `MonteCarloResult`, the
+surfaces whose peaks a run keeps."""
 
+import os
+
+import jax
 import numpy as np
 
-from ._results import RUN_FLAGS
+from ._result_variables import RUN_FLAGS, SURFACE_VARIABLES
 
 
 def _check_chunk_and_first_motion(chunk_size, first_motion) -> None:
@@ -60,6 +64,7 @@ def _peak_fields(peaks, with_designs: bool, with_storeys: bool, vertical: bool =
         **({"uplift_time": arrange(peaks["uplift_time"])} if vertical else {}),
         **{name: arrange(peaks[name]) for name in RUN_FLAGS if name in peaks},
         **{name: arrange(peaks[name]) for name in GROUP_FIELDS if name in peaks},
+        **{name: arrange(peaks[name]) for name in SURFACE_VARIABLES if name in peaks},
     }
 
 
@@ -79,3 +84,89 @@ def flat_peaks(peaks: dict) -> dict:
 GROUP_FIELDS = {"group_peak_load": "peak_N", "group_min_load": "min_N", "group_uplift_time": "uplift_time_s"}
 """The `MonteCarloResult` fields of each bearing group's peaks -> the name of the peak
 driver's `group_normal_load` entry."""
+
+
+def surface_axes(system) -> dict:
+    """The surfaces whose peaks a run keeps (`SURFACE_VARIABLES`): {"slider": names} of a
+    series pendulum's sliders, {"heated_surface": names} of the heated surfaces ("surface"
+    for a heated flat slider or single pendulum); {} for neither."""
+    pendulum = system.pendulum
+    if pendulum is None:
+        return {"heated_surface": ("surface",)} if system.bearing.heating is not None else {}
+    heated = tuple(name for name, heating in zip(pendulum.slider_names, pendulum.surface_heatings())
+                   if heating is not None)
+    return {"slider": tuple(pendulum.slider_names), **({"heated_surface": heated} if heated else {})}
+
+
+def surface_attributes(system) -> dict:
+    """{"<dimension>_names": labels} of `surface_axes`, as a result's attributes."""
+    return {f"{dim}_names": list(labels) for dim, labels in surface_axes(system).items()}
+
+
+def surface_groups(system) -> int:
+    """The number G of bearing groups whose surfaces' peaks are kept: a plan's groups, else 1."""
+    load = system.bearing_load
+    return 1 if np.ndim(load) == 0 else int(np.shape(load)[-1])
+
+
+def surface_peaks(system, peaks: dict) -> dict:
+    """`peaks` (`peak_arrays`) with each surface peak on its (group, surface) axes: the sliders'
+    travel (G, S) (one group's (S,) given a group axis) and the heated surfaces' temperature
+    rise (G, H), the unheated surfaces (whose rise is 0) left out."""
+    out = dict(peaks)
+    if "slider_travel" in out:
+        travel = out["slider_travel"]
+        out["slider_travel"] = travel[None] if travel.ndim == 1 else travel
+    if "surface_temperature_rise" in out:
+        pendulum = system.pendulum
+        heated = [0] if pendulum is None else [e for e, h in enumerate(pendulum.surface_heatings()) if h is not None]
+        out["surface_temperature_rise"] = out["surface_temperature_rise"][..., np.array(heated)]
+    return out
+
+
+def available_memory_bytes(device=None) -> int | None:
+    """Free memory [bytes] of `device` (its allocator's limit minus use), or for a CPU the
+    host's MemAvailable from /proc/meminfo; `None` when unknown."""
+    device = jax.devices()[0] if device is None else device
+    try:
+        stats = device.memory_stats()
+    except Exception:  # backends without memory statistics
+        stats = None
+    if stats and "bytes_limit" in stats:
+        return int(stats["bytes_limit"] - stats.get("bytes_in_use", 0))
+    try:
+        with open("/proc/meminfo") as handle:
+            for line in handle:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except OSError:
+        pass
+    try:
+        return os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+    except (ValueError, OSError, AttributeError):
+        return None
+
+
+def bytes_per_motion(record_samples: int, n_dof: int, n_designs: int) -> int:
+    """Estimate of the memory one motion of a chunk needs [bytes] (float64): the record and
+    the temporaries of its generation (about 8 record-sized arrays), and per design the
+    structure's matrices (3 n^2) and scan carry."""
+    return 8 * (8 * record_samples + max(n_designs, 1) * (4 * n_dof**2 + 64))
+
+
+def check_chunk_memory(chunk, per_motion, memory_limit_bytes, devices) -> None:
+    """Raise when a chunk needs more memory than allowed (default: half of the free memory)."""
+    estimate = chunk * per_motion
+    n_devices = len(devices)
+    if memory_limit_bytes is None:
+        free = available_memory_bytes(devices[0])
+        # devices with their own memory (GPUs) each hold 1 / n_devices of a chunk
+        own_memory = devices[0].platform != "cpu"
+        memory_limit_bytes = None if free is None else free // 2 * (n_devices if own_memory else 1)
+    if memory_limit_bytes is not None and estimate > memory_limit_bytes:
+        largest = max(memory_limit_bytes // per_motion, 1)
+        raise ValueError(
+            f"chunk_size: {chunk} motions need about {estimate / 2**20:.0f} MiB "
+            f"({per_motion} bytes each) but only {memory_limit_bytes / 2**20:.0f} MiB may be "
+            f"used; take chunk_size <= {largest}."
+        )

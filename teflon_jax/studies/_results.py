@@ -5,7 +5,8 @@ Dataset layout: dimensions "motion" (index i of the motion: motion i of a stocha
 drawn from `fold_in(key, i)`) and, with design variants, "design" (or, in a nested run of a
 bearing posterior's draws, "bearing"); data variables the peaks
 (`base_disp` [m], `base_shear_ratio` [1], their smooth maxima), `converged` (bool) and `pga`
-[m s-2], each with `units` and `long_name` attributes (CF conventions); the design variables
+[m s-2], each with `units` and `long_name` attributes (CF conventions), and where kept the
+storeys', the bearing groups' and the surfaces' peaks (`_result_variables`); the design variables
 on the "design" dimension; with a bearing posterior `bearing_draw`, the draw each motion
 ("motion") or each bearing ("bearing") ran; the run's inputs and settings in the Dataset's
 attributes.
@@ -22,67 +23,20 @@ import numpy as np
 
 from ..systems import RESPONSE_NAMES
 from ._bearing_variance import percentile_band, variance_split
-
-VARIABLES = {
-    "base_disp": ("m", "peak |base displacement| relative to the ground"),
-    "base_shear_ratio": ("1", "peak |base shear| / weight above the isolators"),
-    "smooth_base_disp": ("m", "smooth maximum (log-mean-cosh) of |base displacement|"),
-    "smooth_base_shear_ratio": ("1", "smooth maximum (log-mean-cosh) of |base shear| / weight"),
-    "converged": ("1", "every time step's Newton solve converged, within the bearings' pressure law (False: peaks "
-                  "not trusted)"),
-}
-"""Peak variables of a `MonteCarloResult`: name -> (units, long name)."""
-
-STOREY_VARIABLES = {
-    "storey_drift": ("storey", "1", "peak |interstorey drift| / storey height (storey j: level j-1 to j)"),
-    "floor_acceleration": ("level", "m s-2", "peak |total acceleration| of the level (0: base slab)"),
-}
-"""A building's storey peaks, when the run kept them: name -> (dimension, units, long name);
-dimension "storey" 1.. (storey 1 from the base slab to floor 1), "level" 0.. (0 the base slab
-on the isolators, j >= 1 floor j)."""
-
-GROUP_VARIABLES = {
-    "group_peak_load": ("N", "largest normal load of the bearing group"),
-    "group_min_load": ("N", "least normal load of the bearing group (0: it lifted)"),
-    "group_uplift_time": ("s", "time with the bearing group's normal load <= 0"),
-}
-"""A structure on a plan's peaks per bearing group (dimension "group", labelled by the group
-names of `attrs["group_names"]` where given), when its groups share the weight unevenly
-(overturning or a vertical component): name -> (units, long name)."""
-
-BEYOND_PRESSURE_LAW = ("1", "the contact pressure went beyond where Table 1's extended rows give Eq. 1 "
-                       "constants (peaks not trusted)")
-"""The units and long name of `beyond_pressure_law`."""
-
-TIPPED = ("1", "the run's first unbalanced step was one on which the slab (or the building's base) could not "
-          "rest on its bearing groups (peaks not trusted)")
-"""The units and long name of `tipped`."""
-
-RUN_FLAGS = {"beyond_pressure_law": BEYOND_PRESSURE_LAW, "tipped": TIPPED}
-"""The flags of a run (or a suite pair) beside `converged`, each kept where the structure has it:
-`beyond_pressure_law` under Table 1's pressure law, `tipped` on a plan's overturning loads ->
-(units, long name)."""
-
-DESIGN_UNITS = {
-    "isolation_period": ("s", "isolation period T_b"),
-    "pressure": ("Pa", "bearing contact pressure"),
-    "isolation_damping": ("1", "isolation damping ratio zeta_b"),
-    "f_max": ("1", "Eq. 1 friction coefficient at high velocity f_max"),
-    "delta_f": ("1", "Eq. 1 f_max - f_min"),
-    "rate_a": ("s m-1", "Eq. 1 rate parameter a"),
-    "breakaway_ratio": ("1", "Eq. 17 breakaway ratio b"),
-    "radius": ("m", "radius of curvature R of the friction pendulum's surface"),
-    "capacity": ("m", "displacement capacity d of the friction pendulum's surface (its restrainer beyond)"),
-    "friction_factor": ("1", "property modification factor on every surface's Eq. 1 friction (f_max, delta_f)"),
-}
+from ._result_variables import (
+    BEARING_DRAW,
+    DESIGN_UNITS,
+    GROUP_VARIABLES,
+    RUN_FLAGS,
+    STOREY_VARIABLES,
+    SURFACE_VARIABLES,
+    VARIABLES,
+)
 
 FORMATS = (".nc", ".zarr", ".csv", ".npz")
 """File suffixes `save` writes: NetCDF, Zarr (needs the zarr package), CSV, NumPy."""
 
 _SETTINGS = ("n_devices", "chunk_size", "wall_s", "compile_s", "memory_estimate_bytes")
-
-BEARING_DRAW = ("1", "index of the bearing posterior's draw the run took (its constants in place of "
-                     "the bearing file's point values)")
 
 
 @dataclasses.dataclass
@@ -119,6 +73,11 @@ class MonteCarloResult:
       missed its tolerance; else `None`.
     - `bearing_draw` (N,) or (K,) ints: the posterior draw each motion, or each bearing of a
       nested run, took (`monte_carlo(bearings=...)`); else `None`.
+    - `slider_travel` [m] (N, G, S) or (D, N, G, S): a series pendulum's peak travel of each
+      of its S sliders on its surface (`attrs["slider_names"]`), per bearing group (G = 1
+      without a plan); else `None`.
+    - `surface_temperature_rise` [K] (N, G, H) or (D, N, G, H): the peak temperature rise s dT
+      of each of the H heated surfaces (`attrs["heated_surface_names"]`), per group; else `None`.
     """
 
     base_disp: np.ndarray
@@ -144,14 +103,32 @@ class MonteCarloResult:
     group_uplift_time: np.ndarray | None = None
     beyond_pressure_law: np.ndarray | None = None
     tipped: np.ndarray | None = None
+    slider_travel: np.ndarray | None = None
+    surface_temperature_rise: np.ndarray | None = None
 
     @property
     def group_names(self) -> list:
-        """The bearing groups' names (`attrs["group_names"]`, else "group 1", ...); [] without groups."""
-        if self.group_peak_load is None:
+        """The bearing groups' names (`attrs["group_names"]`, else "group 1", ...); [] without
+        a peak per group."""
+        if self.group_peak_load is not None:
+            count = np.shape(self.group_peak_load)[-1]
+        elif self.surfaces:
+            count = np.shape(getattr(self, next(iter(self.surfaces))))[-2]
+        else:
             return []
-        count = np.shape(self.group_peak_load)[-1]
         return list(self.attrs.get("group_names") or [f"group {i + 1}" for i in range(count)])
+
+    @property
+    def surfaces(self) -> dict:
+        """{name: (dimension, labels)} of the `SURFACE_VARIABLES` kept, their labels
+        `attrs["<dimension>_names"]` (else "1", "2", ...)."""
+        out = {}
+        for name, (dim, _, _) in SURFACE_VARIABLES.items():
+            values = getattr(self, name)
+            if values is not None:
+                count = np.shape(values)[-1]
+                out[name] = (dim, list(self.attrs.get(f"{dim}_names") or [str(i + 1) for i in range(count)]))
+        return out
 
     @property
     def nested(self) -> bool:
@@ -293,6 +270,9 @@ class MonteCarloResult:
         for name, (units, long_name) in GROUP_VARIABLES.items():
             if getattr(self, name) is not None:
                 data[name] = (dims + ("group",), np.asarray(getattr(self, name)), {"units": units, "long_name": long_name})
+        for name, (dim, _) in self.surfaces.items():
+            units, long_name = SURFACE_VARIABLES[name][1:]
+            data[name] = (dims + ("group", dim), np.asarray(getattr(self, name)), {"units": units, "long_name": long_name})
         data["pga"] = (("motion",), np.asarray(self.pga),
                        {"units": "m s-2", "long_name": "peak |ground acceleration| of the motion"})
         if self.bearing_draw is not None:
@@ -307,8 +287,9 @@ class MonteCarloResult:
             coords["level"] = np.arange(np.shape(self.floor_acceleration)[-1])
             if np.ndim(self.storey_drift) == len(dims) + 2:
                 coords["direction"] = np.array(["x", "y"])
-        if self.group_peak_load is not None:
+        if self.group_names:
             coords["group"] = np.array(self.group_names)
+        coords.update({dim: np.array(labels) for dim, labels in self.surfaces.values()})
         if dims[0] in ("design", "bearing"):
             coords[dims[0]] = np.arange(np.shape(self.converged)[0])
         attrs = {k: _attribute(v) for k, v in self.attrs.items()}
@@ -343,14 +324,15 @@ class MonteCarloResult:
             **{name: np.asarray(dataset[name].values) for name in GROUP_VARIABLES if name in dataset},
             **{name: np.asarray(dataset[name].values, bool) if name in dataset else None
                for name in RUN_FLAGS},
+            **{name: np.asarray(dataset[name].values) for name in SURFACE_VARIABLES if name in dataset},
         )
 
     def to_csv(self, path) -> pathlib.Path:
         """The peak table as CSV: one row per motion (and design variant), columns design
         (bearing in a nested run), motion, bearing_draw (with a bearing posterior), the design
         variables, pga_m_s2, base_disp_m, base_shear_ratio, the smooth maxima and converged, then
-        the uplift time, storey peaks and each bearing group's peaks (`<field>_<unit>_<group>`)
-        where kept."""
+        the uplift time, storey peaks, each bearing group's peaks (`<field>_<unit>_<group>`) and
+        the surfaces' peaks (`<field>_<unit>_[<group>_]<surface>`) where kept."""
         path = pathlib.Path(path)
         rows = np.asarray(self.base_disp).reshape(-1, self.n_motions)
         n_designs = rows.shape[0]
@@ -386,11 +368,25 @@ class MonteCarloResult:
                 values = np.asarray(values).reshape(columns["motion"].size, -1)
                 for j, group in enumerate(self.group_names):
                     columns[f"{name}_{unit}_{group}"] = values[:, j]
+        columns.update(self._surface_columns(columns["motion"].size))
         with open(path, "w") as handle:
             csv.writer(handle, lineterminator="\n").writerow(columns)  # a group's name quoted where it must be
             for i in range(columns["motion"].size):
                 handle.write(",".join(_cell(c[i]) for c in columns.values()) + "\n")
         return path
+
+    def _surface_columns(self, rows: int) -> dict:
+        """The CSV columns `<name>_<unit>_[<group>_]<surface>` of the surface peaks (the group
+        named where there are several or the plan names them)."""
+        columns = {}
+        named = len(self.group_names) > 1 or bool(self.attrs.get("group_names"))
+        for name, (_, labels) in self.surfaces.items():
+            values = np.asarray(getattr(self, name)).reshape(rows, len(self.group_names), len(labels))
+            for j, group in enumerate(self.group_names):
+                for e, label in enumerate(labels):
+                    columns["_".join([name, SURFACE_VARIABLES[name][1], *([group] if named else []), label])] = \
+                        values[:, j, e]
+        return columns
 
     def save(self, path) -> pathlib.Path:
         """Write the result in the format its suffix names (`FORMATS`): ".nc" NetCDF, ".zarr"

@@ -26,7 +26,7 @@ from ._cluster import (
     stream_to_netcdf,
     worker_cached,
 )
-from ._results import RUN_FLAGS
+from ._result_variables import RUN_FLAGS
 from ._suites import (
     _STOREY_LAYOUT,
     SUITE_GROUP_UNITS,

@@ -41,7 +41,7 @@ from ._cluster import (
     worker_cached,
 )
 from ._reducers import response_layout, response_peaks
-from ._results import BEYOND_PRESSURE_LAW, RUN_FLAGS, TIPPED
+from ._result_variables import BEYOND_PRESSURE_LAW, RUN_FLAGS, TIPPED
 
 SUITE_PEAKS = ("base_disp_resultant_m", "base_disp_x_m", "base_disp_y_m", "base_shear_ratio_resultant")
 SUITE_UNITS = {

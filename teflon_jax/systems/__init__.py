@@ -26,6 +26,7 @@ from ._bidirectional_models import directional_storeys as directional_storeys
 from ._drivers import PEAK_REDUCERS as PEAK_REDUCERS
 from ._drivers import RESPONSE_NAMES as RESPONSE_NAMES
 from ._drivers import STEPS_PER_LOOP_PASS as STEPS_PER_LOOP_PASS
+from ._drivers import SURFACE_REDUCERS as SURFACE_REDUCERS
 from ._drivers import peak_response as peak_response
 from ._drivers import response_layout as response_layout
 from ._drivers import simulate_history as simulate_history

@@ -74,6 +74,10 @@ PEAK_REDUCERS = ("base_disp_resultant", "base_shear_ratio_resultant")
 """The peaks `peak_response` keeps unless told: the resultant base displacement and base shear
 ratio (with a storey height also "storey_drift_ratio" and "level_acceleration")."""
 
+SURFACE_REDUCERS = ("slider_travel", "surface_temperature_rise")
+"""The peaks of the isolator's surfaces a Monte Carlo keeps where it has them: each slider's
+travel and each surface's temperature rise."""
+
 
 def response_layout(system) -> ResponseLayout:
     """The `ResponseLayout` of any structure `systems` builds: a `StructureOnSliders` along x

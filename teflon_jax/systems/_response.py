@@ -429,7 +429,8 @@ MONTE_CARLO_PEAKS = {"base_disp": "base_disp_resultant", "base_shear_ratio": "ba
                      "smooth_base_shear_ratio": "smooth_base_shear_ratio_resultant", "converged": "converged",
                      "storey_drift": "storey_drift_ratio", "floor_acceleration": "level_acceleration",
                      "uplift_time": "uplift_time", "group_normal_load": "group_normal_load",
-                     "within_pressure_law": "within_pressure_law", "tipped": "tipped"}
+                     "within_pressure_law": "within_pressure_law", "tipped": "tipped",
+                     "slider_travel": "slider_travel", "surface_temperature_rise": "surface_temperature_rise"}
 """The Monte Carlo's names of `peak_response`'s peaks (`MonteCarloResult` fields) -> their
 reducer names."""
 
@@ -444,8 +445,10 @@ class Peaks(dict):
     [m/s^2] per storey and level ((S,), (S + 1,) under one component; (2, S), (2, S + 1) under
     two), `uplift_time` [s], where groups share the weight unevenly `group_normal_load`
     ({"peak_N", "min_N", "uplift_time_s"}: (G,) each) and `tipped` (bool, whether the run's
-    first unbalanced step tipped the slab), and with Table 1's pressure law in a study
-    `within_pressure_law` (bool); `None` where not kept."""
+    first unbalanced step tipped the slab), with Table 1's pressure law in a study
+    `within_pressure_law` (bool), and where kept each slider's travel `slider_travel` [m]
+    ((S,), or (G, S) per group) and each surface's temperature rise
+    `surface_temperature_rise` [K] ((G, S)); `None` where not kept."""
 
     def __init__(self, values=(), components: int = 1):
         super().__init__(values)
