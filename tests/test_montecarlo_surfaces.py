@@ -201,3 +201,20 @@ def test_montecarlo_reports_the_sliders_and_the_heated_surface(tmp_path, capsys)
         result.surface_temperature_rise.max(), rel=1e-12)
     assert "slider travel [in] over the 3 converged runs: bottom p50" in out
     assert "surface temperature rise [K] over the 3 converged runs: bottom p50" in out
+
+
+@pytest.mark.slow  # three bearings of the double pendulum in one compiled run
+def test_montecarlo_bounding_names_the_case_that_heats_the_surface_most(tmp_path, capsys):
+    """`montecarlo --property-factors`: each slider's travel and the heated surface's rise are
+    in the governing table; the upper-bound friction heats the surface most (the flux is
+    mu p |v|)."""
+    code = main(["montecarlo", "--motions", "3", "--duration", "6s", "--strong-motion", "2s", "--pga", "0.4g",
+                 "--isolator", "double-fp", "--isolator-file", str(_heated_file(tmp_path / "dfp.json")),
+                 "--property-factors", "0.8,1.25", "--no-progress", "--json", str(tmp_path / "b.json")])
+    assert code == 0, capsys.readouterr().err
+    payload = json.loads((tmp_path / "b.json").read_text())
+    rise = "surface_temperature_rise_K_bottom"
+    means = {case: entry["mean"][rise] for case, entry in payload["cases"].items()}
+    assert means["lower"] < means["nominal"] < means["upper"]
+    assert payload["governs"][rise]["by_mean"] == "upper"
+    assert {"slider_travel_m_bottom", "slider_travel_m_top"} <= set(payload["governs"])

@@ -255,6 +255,7 @@ def run_bounding(args, structure, model, units) -> int:
         worst = lambda values: np.max(np.reshape(values, np.shape(values)[:2] + (-1,)), axis=-1)  # noqa: E731
         peaks["storey_drift_max"] = worst(result.storey_drift)  # every storey (and direction)
         peaks["level_acceleration_max_g"] = worst(result.floor_acceleration) / STANDARD_GRAVITY
+    peaks.update(result.surface_peaks)  # a series pendulum's sliders, the heated surfaces (SI)
     by_mean = governing_cases(peaks, result.converged, statistic="mean")
     by_max = governing_cases(peaks, result.converged, statistic="max")
     converged = np.asarray(result.converged, bool)

@@ -270,7 +270,8 @@ def run_suite(args, isolator) -> int:
     payload = {"structure": args.structure, "suite": str(args.suite), "notes": notes, "netcdf": str(netcdf),
                "records": {name: {"record_x": x, "record_y": y, "record_z": z, "scale": scale * args.scale}
                            for name, x, y, z, scale in pairs},
-               "pairs": {name: {k: float(v[i]) for k, v in result.peaks.items()} | {"converged": bool(result.converged[i])}
+               "pairs": {name: {k: float(v[i]) for k, v in (result.peaks | result.surface_peaks).items()}
+                         | {"converged": bool(result.converged[i])}
                          | pair_flags(result, i)
                          | ({} if result.groups is None else suite_normal_load(plan, result.groups, i))
                          for i, name in enumerate(result.names)},

@@ -132,7 +132,8 @@ def run_suite_bounding(args, bounds, isolator, names, ax, ay, dt, notes, scaling
             write_pelicun_demands(path.with_name(f"{path.stem}-{case}{path.suffix}"),
                                   **suite_pelicun_peaks(results[case], ax, ay))
     wall = time.perf_counter() - start
-    peaks = {k: np.stack([results[c].peaks[k] for c in BOUNDING_CASES]) for k in results["nominal"].peaks
+    every = {c: results[c].peaks | results[c].surface_peaks for c in BOUNDING_CASES}  # with the sliders, surfaces
+    peaks = {k: np.stack([every[c][k] for c in BOUNDING_CASES]) for k in every["nominal"]
              if k not in SUITE_VERTICAL_UNITS}  # the uplift is the record's, the same in every case
     converged = np.stack([results[c].converged for c in BOUNDING_CASES])
     by_mean = governing_cases(peaks, converged, statistic="mean")
@@ -140,7 +141,7 @@ def run_suite_bounding(args, bounds, isolator, names, ax, ay, dt, notes, scaling
     payload = {"structure": args.structure, "suite": str(args.suite), "notes": notes, "wall_s": wall,
                "property_factors": bounds.payload(args.bearing),
                "cases": {c: {**_case_entry(bounds, c), "summary": results[c].summary, "failed": int(np.sum(~results[c].converged)),
-                             "pairs": {n: {k: float(v[i]) for k, v in results[c].peaks.items()}
+                             "pairs": {n: {k: float(v[i]) for k, v in every[c].items()}
                                        | pair_flags(results[c], i)
                                        | ({} if results[c].groups is None else suite_normal_load(plan, results[c].groups, i))
                                        for i, n in enumerate(names)},

@@ -90,9 +90,10 @@ def surface_axes(system) -> dict:
     """The surfaces whose peaks a run keeps (`SURFACE_VARIABLES`): {"slider": names} of a
     series pendulum's sliders, {"heated_surface": names} of the heated surfaces ("surface"
     for a heated flat slider or single pendulum); {} for neither."""
-    pendulum = system.pendulum
+    pendulum = getattr(system, "pendulum", None)
     if pendulum is None:
-        return {"heated_surface": ("surface",)} if system.bearing.heating is not None else {}
+        heating = getattr(getattr(system, "bearing", None), "heating", None)
+        return {"heated_surface": ("surface",)} if heating is not None else {}
     heated = tuple(name for name, heating in zip(pendulum.slider_names, pendulum.surface_heatings())
                    if heating is not None)
     return {"slider": tuple(pendulum.slider_names), **({"heated_surface": heated} if heated else {})}

@@ -1,5 +1,8 @@
 """The variables of a Monte Carlo's results (`MonteCarloResult`, its Dataset and files, the
-distributed runs' NetCDF files, the suites' flags): name -> units (CF/UDUNITS) and long name."""
+distributed runs' NetCDF files, the suites' flags and surfaces): name -> units (CF/UDUNITS)
+and long name; the table columns of the surfaces' peaks."""
+
+import numpy as np
 
 VARIABLES = {
     "base_disp": ("m", "peak |base displacement| relative to the ground"),
@@ -67,3 +70,17 @@ DESIGN_UNITS = {
 
 BEARING_DRAW = ("1", "index of the bearing posterior's draw the run took (its constants in place of "
                      "the bearing file's point values)")
+
+
+def surface_columns(arrays: dict, labels: dict, groups) -> dict:
+    """{"<name>_<unit>_[<group>_]<surface>": (...)}: the surface peaks `arrays` {name: (..., G,
+    S)} of `SURFACE_VARIABLES` one column per group and surface, labelled by `labels`
+    {"<dimension>_names": ...} and the G `groups` (named where there are several)."""
+    columns = {}
+    for name, (dim, unit, _) in SURFACE_VARIABLES.items():
+        if arrays.get(name) is not None:
+            values = np.asarray(arrays[name])
+            for j, group in enumerate(groups):
+                for e, label in enumerate(labels[f"{dim}_names"]):
+                    columns["_".join([name, unit, *([group] if len(groups) > 1 else []), label])] = values[..., j, e]
+    return columns

@@ -31,6 +31,7 @@ from ._result_variables import (
     STOREY_VARIABLES,
     SURFACE_VARIABLES,
     VARIABLES,
+    surface_columns,
 )
 
 FORMATS = (".nc", ".zarr", ".csv", ".npz")
@@ -129,6 +130,14 @@ class MonteCarloResult:
                 count = np.shape(values)[-1]
                 out[name] = (dim, list(self.attrs.get(f"{dim}_names") or [str(i + 1) for i in range(count)]))
         return out
+
+    @property
+    def surface_peaks(self) -> dict:
+        """{"<name>_<unit>_[<group>_]<surface>": array of `converged`'s shape} [SI]: the surface
+        peaks one per group and surface (`surface_columns`), as the CSV's columns."""
+        arrays = {name: getattr(self, name) for name in self.surfaces}
+        labels = {f"{dim}_names": names for dim, names in self.surfaces.values()}
+        return surface_columns(arrays, labels, self.group_names)
 
     @property
     def nested(self) -> bool:
@@ -368,25 +377,12 @@ class MonteCarloResult:
                 values = np.asarray(values).reshape(columns["motion"].size, -1)
                 for j, group in enumerate(self.group_names):
                     columns[f"{name}_{unit}_{group}"] = values[:, j]
-        columns.update(self._surface_columns(columns["motion"].size))
+        columns.update({k: np.reshape(v, -1) for k, v in self.surface_peaks.items()})
         with open(path, "w") as handle:
             csv.writer(handle, lineterminator="\n").writerow(columns)  # a group's name quoted where it must be
             for i in range(columns["motion"].size):
                 handle.write(",".join(_cell(c[i]) for c in columns.values()) + "\n")
         return path
-
-    def _surface_columns(self, rows: int) -> dict:
-        """The CSV columns `<name>_<unit>_[<group>_]<surface>` of the surface peaks (the group
-        named where there are several or the plan names them)."""
-        columns = {}
-        named = len(self.group_names) > 1 or bool(self.attrs.get("group_names"))
-        for name, (_, labels) in self.surfaces.items():
-            values = np.asarray(getattr(self, name)).reshape(rows, len(self.group_names), len(labels))
-            for j, group in enumerate(self.group_names):
-                for e, label in enumerate(labels):
-                    columns["_".join([name, SURFACE_VARIABLES[name][1], *([group] if named else []), label])] = \
-                        values[:, j, e]
-        return columns
 
     def save(self, path) -> pathlib.Path:
         """Write the result in the format its suffix names (`FORMATS`): ".nc" NetCDF, ".zarr"

@@ -26,7 +26,8 @@ from ._cluster import (
     stream_to_netcdf,
     worker_cached,
 )
-from ._result_variables import RUN_FLAGS
+from ._result_variables import RUN_FLAGS, SURFACE_VARIABLES
+from ._suite_surfaces import suite_surface_labels, surface_layout
 from ._suites import (
     _STOREY_LAYOUT,
     SUITE_GROUP_UNITS,
@@ -89,7 +90,8 @@ def suite_cases_distributed(
                             *(jax.ShapeDtypeStruct((chunk, g.shape[1]), dtype) for g in grounds))[0]
     settings = {"n_pairs": count, "cases": ",".join(cases), "record_time_step_s": float(time_step),
                 "duration_s": float(duration), "scheduler": scheduler, "chunk_size": chunk, "precision": dtype}
-    layout = _cases_layout(cases, names, shapes, group_names, {**settings, **(attrs or {})})
+    labels = suite_surface_labels(spec["builds"][0], time_step, grounds)[1]  # every case: the same isolator
+    layout = _cases_layout(cases, names, shapes, group_names, {**settings, **(attrs or {})}, labels)
 
     def write(handle, start, stop, part):
         case, first = divmod(start, count)
@@ -119,13 +121,16 @@ def _case_task(spec: dict, start: int, stop: int, payload):
     return _chunk_peaks(functions[case], spec["chunk"], stop - start, payload)
 
 
-def _cases_layout(cases, names, shapes: dict, group_names, attrs: dict) -> dict:
-    """`create_netcdf`'s arguments: every reported peak on ("case", "pair") and its own axes."""
+def _cases_layout(cases, names, shapes: dict, group_names, attrs: dict, labels: dict) -> dict:
+    """`create_netcdf`'s arguments: every reported peak on ("case", "pair") and its own axes
+    (the surfaces' labelled by `labels`, `surface_attributes`)."""
     dims = {"case": len(cases), "pair": len(names)}
     coords = {"case": ("case", np.array(cases, dtype=str), None, "structure (bounding case)"),
               "pair": ("pair", np.array(names, dtype=str), None, "record pair")}
     variables = {"converged": (("case", "pair"), *SUITE_UNITS["converged"], "bool")}
     for name, shape in shapes.items():
+        if name in SURFACE_VARIABLES:
+            continue  # below
         if name in _STOREY_LAYOUT:
             axis, units, long_name = _STOREY_LAYOUT[name]
             dims |= {"direction": 2, axis: shape.shape[-1]}
@@ -144,6 +149,9 @@ def _cases_layout(cases, names, shapes: dict, group_names, attrs: dict) -> dict:
         else:
             variables[name] = (("case", "pair"), *{**SUITE_UNITS, **SUITE_VERTICAL_UNITS, **SUITE_STOREY_UNITS}[name],
                                "f8")
+    surfaces = {name: shape.shape for name, shape in shapes.items() if name in SURFACE_VARIABLES}
+    surface_dims, surface_coords, surface_variables = surface_layout(surfaces, labels, group_names, ("case", "pair"))
+    dims, coords, variables = dims | surface_dims, surface_coords | coords, variables | surface_variables
     return {"dims": dims, "coords": coords, "variables": variables,
             "attrs": file_attributes("teflon-jax record suite peak responses, several structures", attrs)}
 

@@ -40,8 +40,18 @@ from ._cluster import (
     stream_to_netcdf,
     worker_cached,
 )
+from ._montecarlo_parts import surface_peaks
 from ._reducers import response_layout, response_peaks
-from ._result_variables import BEYOND_PRESSURE_LAW, RUN_FLAGS, TIPPED
+from ._result_variables import BEYOND_PRESSURE_LAW, RUN_FLAGS, SURFACE_VARIABLES, TIPPED
+from ._suite_surfaces import (
+    split_surfaces,
+    suite_surface_columns,
+    suite_surface_labels,
+    surface_dataset_parts,
+    surface_layout,
+    surface_shapes,
+    surfaces_from_dataset,
+)
 
 SUITE_PEAKS = ("base_disp_resultant_m", "base_disp_x_m", "base_disp_y_m", "base_shear_ratio_resultant")
 SUITE_UNITS = {
@@ -95,7 +105,10 @@ class SuiteResult:
     (`BEYOND_PRESSURE_LAW`; not converged, their peaks not trusted), else `None`; `tipped`
     (P,) bool on a plan's overturning loads: the pairs whose first unbalanced step tipped the
     slab (`TIPPED`; the other unconverged pairs' Newton balance missed its tolerance), else
-    `None`."""
+    `None`; `surfaces`: a series pendulum's sliders' peak travel `slider_travel` (P, G, S) [m]
+    and the heated surfaces' peak temperature rise `surface_temperature_rise` (P, G, H) [K]
+    where the isolator has them, with their labels "slider_names", "heated_surface_names" and
+    "group_names" (`_suite_surfaces`; in `summary` as their table columns), else `None`."""
 
     names: tuple
     peaks: dict
@@ -105,6 +118,12 @@ class SuiteResult:
     groups: dict | None = None
     beyond_pressure_law: np.ndarray | None = None
     tipped: np.ndarray | None = None
+    surfaces: dict | None = None
+
+    @property
+    def surface_peaks(self) -> dict:
+        """{"<name>_<unit>_[<group>_]<surface>": (P,)}: the `surfaces` as the table's columns."""
+        return suite_surface_columns(self.surfaces)
 
 
 def _suite_function(build, time_step: float, duration: float, storey_height=None):
@@ -121,7 +140,7 @@ def _suite_function(build, time_step: float, duration: float, storey_height=None
         system = flag_pressure_law(build(*(uniform_signal(g, time_step) for g in grounds)))
         response = simulate_history(system, duration, throw=False)
         layout = response_layout(system)
-        values = suite_values(response_peaks(layout, response, storey_height))
+        values = suite_values(surface_peaks(system, response_peaks(layout, response, storey_height)))
         if layout.overturning and response.tipped is not None:  # did the first unbalanced step tip the slab
             values["tipped"] = ~response.succeeded & response.tipped[jnp.argmin(response.converged)]
         if len(grounds) == 2:
@@ -148,12 +167,14 @@ def suite_values(peaks: dict) -> dict:
     displacement and shear (`SUITE_PEAKS`), a building's storeys (`storey_drift_max_resultant`,
     `storey_drift` (2, S) [-], `level_acceleration` (2, S + 1) [m/s^2]) where its storey height
     was given, a slab's group loads with overturning (`group_peak_N`, `group_min_N`,
-    `group_uplift_time_s`)."""
+    `group_uplift_time_s`), the isolator's surfaces (`SURFACE_VARIABLES`, (G, S) each) where
+    it has them."""
     out = {"base_disp_resultant_m": peaks["base_disp_resultant"], "base_disp_x_m": peaks["base_disp"][0],
            "base_disp_y_m": peaks["base_disp"][1], "base_shear_ratio_resultant": peaks["base_shear_ratio_resultant"]}
     if "storey_drift_ratio" in peaks:
         out |= {"storey_drift_max_resultant": jnp.max(peaks["storey_drift_ratio_resultant"]),
                 "storey_drift": peaks["storey_drift_ratio"], "level_acceleration": peaks["level_acceleration"]}
+    out |= {name: peaks[name] for name in SURFACE_VARIABLES if name in peaks}
     return out | {f"group_{k}": v for k, v in peaks.get("group_normal_load", {}).items()}
 
 
@@ -179,7 +200,8 @@ def suite_peaks(build, names, ax, ay, time_step: float, duration: float,
     (the peaks then hold each pair's uplift too, `SUITE_VERTICAL_UNITS`);
     `time_step` [s] of the records; `duration` [s]; `storey_height` [m]: the
     building's storey height, to keep `storey_drift_max_resultant` and `SuiteResult.storeys` too;
-    `group_names` (G,): the bearing groups of a slab with overturning (default g0, g1, ...).
+    `group_names` (G,): the bearing groups of a slab with overturning (default g0, g1, ...),
+    the labels of the groups' loads and surfaces.
 
     **Returns:** a `SuiteResult`; the base shear ratio is the total horizontal force on the
     structure above the bearings over its weight.
@@ -194,6 +216,7 @@ def suite_peaks(build, names, ax, ay, time_step: float, duration: float,
         index = lanes(start, min(start + width, count), width)
         parts.append(jax.device_get(function(*(jnp.asarray(g[index]) for g in grounds))))
     joined = {k: np.concatenate([p[0][k] for p in parts])[:count] for k in parts[0][0]}
+    surfaces = split_surfaces(joined, suite_surface_labels(build, time_step, grounds)[1], group_names)
     flags = {name: None if name not in joined else joined.pop(name).astype(bool) for name in RUN_FLAGS}
     groups = {k.removeprefix("group_"): joined.pop(k) for k in list(joined) if k.startswith("group_")} or None
     if groups is not None:
@@ -204,8 +227,8 @@ def suite_peaks(build, names, ax, ay, time_step: float, duration: float,
     peaks = {k: v for k, v in joined.items() if v.ndim == 1}
     storeys = {k: v for k, v in joined.items() if v.ndim > 1} or None
     ok = np.concatenate([np.asarray(p[1], dtype=bool) for p in parts])[:count]
-    return SuiteResult(names=names, peaks=peaks, converged=ok, summary=_summary(peaks, ok), storeys=storeys,
-                       groups=groups, **flags)
+    return SuiteResult(names=names, peaks=peaks, converged=ok, summary=_summary({**peaks, **suite_surface_columns(surfaces)}, ok),
+                       storeys=storeys, groups=groups, surfaces=surfaces, **flags)
 
 
 def _grounds(count: int, ax, ay, az=None) -> tuple:
@@ -302,6 +325,7 @@ def suite_peaks_distributed(
                 "scheduler": scheduler, "chunk_size": chunk, "precision": dtype}
 
     groups = None if group_names is None else tuple(str(g) for g in group_names)
+    surfaces = surface_shapes(*suite_surface_labels(build, time_step, grounds))
 
     def write(handle, start, stop, part):
         reported = {k.removeprefix("group_") for k in part if k.startswith("group_")}
@@ -316,9 +340,12 @@ def suite_peaks_distributed(
             handle.variables[name][start:stop] = values
         for name in reported:
             handle.variables[f"group_{name}"][start:stop, :] = part[f"group_{name}"]
+        for name in surfaces[0]:
+            handle.variables[name][start:stop] = part[name]
 
     chunks = _pair_chunks(grounds, chunk)
-    stream_to_netcdf(out, _suite_layout(names, {**settings, **(attrs or {})}, groups, az is not None), _suite_task, spec, chunks, write,
+    layout = _suite_layout(names, {**settings, **(attrs or {})}, groups, az is not None, surfaces)
+    stream_to_netcdf(out, layout, _suite_task, spec, chunks, write,
                      scheduler=scheduler, connect_timeout=connect_timeout, compilation_cache=compilation_cache,
                      retries=retries, progress=progress, what="pairs")
     result = open_suite(out)
@@ -330,10 +357,11 @@ def _summary_attrs(summary: dict) -> dict:
     return {f"{k}_{s}": v[s] for k, v in summary.items() for s in ("mean", "max")}
 
 
-def _suite_layout(names, attrs: dict, groups=None, vertical: bool = False) -> dict:
+def _suite_layout(names, attrs: dict, groups=None, vertical: bool = False, surfaces=({}, {})) -> dict:
     """`create_netcdf`'s arguments for a suite's file (the layout of `suite_dataset`), with the
-    slab's per-group variables on ("pair", "group") where `groups` names them and the uplift
-    (`SUITE_VERTICAL_UNITS`) with `vertical` components."""
+    slab's per-group variables on ("pair", "group") where `groups` names them, the uplift
+    (`SUITE_VERTICAL_UNITS`) with `vertical` components and the isolator's `surfaces`
+    (`surface_shapes`) on ("pair", "group", surface)."""
     units = {**SUITE_UNITS, **(SUITE_VERTICAL_UNITS if vertical else {})}
     if vertical:
         units["beyond_pressure_law"] = BEYOND_PRESSURE_LAW
@@ -348,6 +376,8 @@ def _suite_layout(names, attrs: dict, groups=None, vertical: bool = False) -> di
         coords["group"] = ("group", np.array(groups, dtype=str), None, "bearing group")
         variables |= {f"group_{name}": (("pair", "group"), units, long_name, "f8")
                       for name, (units, long_name) in SUITE_GROUP_UNITS.items()}
+    surface_dims, surface_coords, surface_variables = surface_layout(*surfaces, groups, ("pair",))
+    dims, coords, variables = dims | surface_dims, surface_coords | coords, variables | surface_variables
     return {"dims": dims, "coords": coords, "variables": variables,
             "attrs": file_attributes("teflon-jax record suite peak responses", attrs)}
 
@@ -377,6 +407,8 @@ def suite_dataset(result: SuiteResult, attrs: dict | None = None):
         for name, (units, long_name) in SUITE_GROUP_UNITS.items():
             data[f"group_{name}"] = (("pair", "group"), np.asarray(result.groups[name]),
                                      {"units": units, "long_name": long_name})
+    surface_data, surface_coords = surface_dataset_parts(result.surfaces)
+    data, coords = data | surface_data, surface_coords | coords
     return xarray.Dataset(data, coords=coords, attrs=file_attrs)
 
 
@@ -394,12 +426,13 @@ def suite_from_dataset(dataset) -> SuiteResult:
     names = tuple(str(n) for n in dataset["pair"].values)
     storeys = {k: np.asarray(dataset[k].values, dtype=float) for k in _STOREY_LAYOUT if k in dataset} or None
     groups = None
-    if "group" in dataset.coords:
+    if "group_peak_N" in dataset:
         groups = {k: np.asarray(dataset[f"group_{k}"].values, dtype=float) for k in SUITE_GROUP_UNITS}
         groups["names"] = tuple(str(g) for g in dataset["group"].values)
     flags = {name: np.asarray(dataset[name].values, bool) if name in dataset else None for name in RUN_FLAGS}
-    return SuiteResult(names=names, peaks=peaks, converged=ok, summary=_summary(peaks, ok), storeys=storeys,
-                       groups=groups, **flags)
+    surfaces = surfaces_from_dataset(dataset)
+    return SuiteResult(names=names, peaks=peaks, converged=ok, summary=_summary({**peaks, **suite_surface_columns(surfaces)}, ok),
+                       storeys=storeys, groups=groups, surfaces=surfaces, **flags)
 
 
 def _group_columns(result: SuiteResult) -> dict:
@@ -420,14 +453,18 @@ def save_suite(result: SuiteResult, table_path=None, netcdf_path=None, attrs: di
         path.parent.mkdir(parents=True, exist_ok=True)
         names = [k for k in _ALL_UNITS if k in result.peaks]
         groups = _group_columns(result)
+        surfaces = result.surface_peaks
         flags = {name: getattr(result, name) for name in RUN_FLAGS if getattr(result, name) is not None}
-        lines = ["pair," + ",".join(names + list(groups)) + ",converged" + "".join(f",{k}" for k in flags)]
+        lines = ["pair," + ",".join(names + list(groups) + list(surfaces)) + ",converged"
+                 + "".join(f",{k}" for k in flags)]
         for i, name in enumerate(result.names):
-            row = ",".join([f"{result.peaks[k][i]:.6g}" for k in names] + [f"{v[i]:.6g}" for v in groups.values()])
+            row = ",".join([f"{result.peaks[k][i]:.6g}" for k in names] + [f"{v[i]:.6g}" for v in groups.values()]
+                           + [f"{v[i]:.6g}" for v in surfaces.values()])
             lines.append(f"{name},{row},{bool(result.converged[i])}" + "".join(f",{bool(v[i])}" for v in flags.values()))
         for stat in ("mean", "max"):
-            lines.append(f"{stat}," + ",".join(f"{result.summary[k][stat]:.6g}" for k in names) + ","
-                         + "," * len(groups) + "," * len(flags))
+            lines.append(f"{stat}," + ",".join([f"{result.summary[k][stat]:.6g}" for k in names] + [""] * len(groups)
+                                               + [f"{result.summary[k][stat]:.6g}" for k in surfaces])
+                         + "," + "," * len(flags))
         path.write_text("\n".join(lines) + "\n")
     if netcdf_path is not None:
         path = pathlib.Path(netcdf_path)
