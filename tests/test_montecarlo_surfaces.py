@@ -161,14 +161,15 @@ def test_a_distributed_run_writes_the_surface_peaks(dask_cluster, tmp_path):
     assert spread.attrs["heated_surface_names"] == ["bottom"]
 
 
-def _heated_file(path):
-    """A double pendulum's isolator file, its bottom surface heated."""
+def _heated_file(path, bottom_capacity=12.0):
+    """A double pendulum's isolator file, its bottom surface (capacity `bottom_capacity` [in])
+    heated."""
     def surface(radius, capacity, mu):
         return {"radius": {"value": radius, "unit": "in"}, "capacity": {"value": capacity, "unit": "in"},
                 "friction": {"f_max": {"value": mu, "unit": "1"}, "delta_f": {"value": 0.0, "unit": "1"},
                              "rate_a": {"value": 0.0, "unit": "s/in"}}}
 
-    bottom = surface(60.0, 12.0, 0.04)
+    bottom = surface(60.0, bottom_capacity, 0.04)
     bottom["heating"] = {"contact_area": {"value": 0.05, "unit": "m^2"},
                          "contact_pressure": {"value": 30, "unit": "MPa"}, "heat_scale": {"value": 1, "unit": "1"},
                          "conductivity": {"value": 16.2, "unit": "W/(m K)"},
@@ -181,11 +182,13 @@ def _heated_file(path):
 
 
 def test_montecarlo_reports_the_sliders_and_the_heated_surface(tmp_path, capsys):
-    """`teflon-jax montecarlo` of a double pendulum heated on its bottom surface: the summary
-    JSON's percentiles of each slider's travel and of the bottom surface's rise are those of the
-    results file's converged runs, in the output units; the printed lines name them."""
+    """`teflon-jax montecarlo` of a double pendulum heated on its bottom surface, whose 4 in
+    capacity some runs exceed: the summary JSON's percentiles of each slider's travel and of the
+    bottom surface's rise are those of the results file's converged runs, in the output units,
+    with the runs beyond each slider's capacity (on its restrainer); the printed lines name them."""
+    isolator = _heated_file(tmp_path / "dfp.json", bottom_capacity=4.0)
     code = main(["montecarlo", "--motions", "3", "--duration", "6s", "--strong-motion", "2s", "--pga", "0.5g",
-                 "--isolator", "double-fp", "--isolator-file", str(_heated_file(tmp_path / "dfp.json")),
+                 "--isolator", "double-fp", "--isolator-file", str(isolator),
                  "--no-progress", "--units", "us", "--json", str(tmp_path / "mc.json"),
                  "--out", str(tmp_path / "mc.nc")])
     out = capsys.readouterr().out
@@ -196,6 +199,9 @@ def test_montecarlo_reports_the_sliders_and_the_heated_surface(tmp_path, capsys)
     for e, name in enumerate(("bottom", "top")):
         assert surfaces["slider_travel_in"][name]["max"] == pytest.approx(travel[:, e].max(), rel=1e-12)
         assert surfaces["slider_travel_in"][name]["p50"] == pytest.approx(np.median(travel[:, e]), rel=1e-12)
+        assert surfaces["slider_travel_in"][name]["n_on_restrainer"] == int(np.sum(travel[:, e] > (4.0, 12.0)[e]))
+    assert surfaces["slider_travel_in"]["bottom"]["n_on_restrainer"] >= 1  # the 4 in bottom surface is reached
+    assert surfaces["slider_travel_in"]["top"]["n_on_restrainer"] == 0
     assert list(surfaces["surface_temperature_rise_K"]) == ["bottom"]
     assert surfaces["surface_temperature_rise_K"]["bottom"]["max"] == pytest.approx(
         result.surface_temperature_rise.max(), rel=1e-12)

@@ -174,7 +174,7 @@ def run_levels(args, structure, model, units, statistics, posterior=None) -> int
     from ..report import plot_fragility, plot_montecarlo
     from ..studies import save_levels
     from ..tables import load_table2
-    from ._montecarlo_summary import group_summary, surface_summary
+    from ._montecarlo_summary import group_summary, slider_capacities, surface_summary
     from ._normal_load import uplift_of, uplift_payload
 
     levels = np.asarray(args.pga_levels, float)
@@ -222,7 +222,7 @@ def run_levels(args, structure, model, units, statistics, posterior=None) -> int
         if result.group_peak_load is not None:  # a plan's groups that share the weight unevenly
             entry["groups"] = group_summary(part, units)[0]
         if result.surfaces:  # a series pendulum's sliders, the heated surfaces
-            entry["surfaces"] = surface_summary(part, units)[0]
+            entry["surfaces"] = surface_summary(part, units, slider_capacities(structure))[0]
         per_level.append(entry)
     fragility, curves = {}, {}
     for limit in limits:

@@ -32,6 +32,7 @@ from ._montecarlo_summary import (
     group_summary,
     report,
     run_attributes,
+    slider_capacities,
     stamp,
     statistics,
     steady_rate,
@@ -291,7 +292,7 @@ def run_montecarlo(args) -> int:
     groups, group_lines = group_summary(result, units)
     if groups:
         payload["groups"], payload["units"]["group_load"] = groups, units.force[0]
-    surfaces, surface_lines = surface_summary(result, units)
+    surfaces, surface_lines = surface_summary(result, units, slider_capacities(structure))
     if surfaces:
         payload["surfaces"] = surfaces
     posterior_entry, posterior_lines = posterior_report(result, posterior, units)

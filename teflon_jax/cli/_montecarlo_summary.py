@@ -197,29 +197,55 @@ def group_summary(result, units) -> tuple[dict, list]:
     return groups, lines
 
 
-def surface_summary(result, units) -> tuple[dict, list]:
+def slider_capacities(structure):
+    """(G, S) [m]: each slider's displacement capacity d (its restrainer beyond) of the series
+    pendulum of `structure` (stacked on a plan: per group), or `None` without sliders."""
+    import numpy as np
+
+    pendulum = getattr(structure, "pendulum", None)
+    if pendulum is None:
+        return None
+    capacities = np.asarray(pendulum.series_capacities(), float)
+    return capacities.T if capacities.ndim == 2 else capacities[None]
+
+
+def surface_summary(result, units, capacities=None) -> tuple[dict, list]:
     """({name: {[group: ]{surface: {"p50", "p84", "max"}}}}, printed lines) of the isolator's
     surfaces over the converged runs: each series-pendulum slider's peak travel in `units`'
-    length ("slider_travel_<unit>") and each heated surface's peak temperature rise
-    ("surface_temperature_rise_K"), per bearing group where a plan has several; ({}, [])
-    without them."""
+    length ("slider_travel_<unit>"), with `capacities` (`slider_capacities`) also the runs in
+    which it went beyond its capacity onto the restrainer ("n_on_restrainer"), and each heated
+    surface's peak temperature rise ("surface_temperature_rise_K"), per bearing group where a
+    plan has several; ({}, []) without them."""
     import numpy as np
 
     ok = np.asarray(result.converged, bool)
     summary, lines = {}, []
     for name, (_, labels) in result.surfaces.items():
         unit, factor = units.length if name == "slider_travel" else ("K", 1.0)
-        values = np.asarray(getattr(result, name))[ok] / factor  # (runs, G, S)
+        values = np.asarray(getattr(result, name))[ok]  # (runs, G, S) [SI]
+        limits = capacities if name == "slider_travel" else None
         words = name.replace("_", " ")
         per_group = {}
         for j, group in enumerate(result.group_names):
-            row = {label: ({} if not values.size else
-                           {"p50": float(np.percentile(values[:, j, e], 50)),
-                            "p84": float(np.percentile(values[:, j, e], 84)), "max": float(values[:, j, e].max())})
+            row = {label: _surface_stats(values[:, j, e], factor, None if limits is None else limits[j, e])
                    for e, label in enumerate(labels)}
             per_group[group] = row
             where = f" ({group})" if len(result.group_names) > 1 else ""
             lines.append(f"{words}{where} [{unit}] over the {int(ok.sum())} converged runs: " + "; ".join(
-                f"{label} " + ", ".join(f"{k} {v:.4g}" for k, v in stats.items()) for label, stats in row.items()))
+                f"{label} " + ", ".join(f"{k} {v:.4g}" for k, v in stats.items() if k != "n_on_restrainer")
+                + (f" (on its restrainer in {stats['n_on_restrainer']} runs)" if "n_on_restrainer" in stats else "")
+                for label, stats in row.items()))
         summary[f"{name}_{unit}"] = per_group if len(per_group) > 1 else next(iter(per_group.values()))
     return summary, lines
+
+
+def _surface_stats(values, factor: float, capacity=None) -> dict:
+    """p50, p84 and max of `values` [SI] in units of `factor`, with a `capacity` [m] the runs
+    beyond it; {} over no run."""
+    import numpy as np
+
+    if not values.size:
+        return {}
+    stats = {"p50": float(np.percentile(values, 50)) / factor, "p84": float(np.percentile(values, 84)) / factor,
+             "max": float(values.max()) / factor}
+    return stats if capacity is None else stats | {"n_on_restrainer": int(np.sum(values > capacity))}
