@@ -199,6 +199,7 @@ def test_montecarlo_reports_the_sliders_and_the_heated_surface(tmp_path, capsys)
     for e, name in enumerate(("bottom", "top")):
         assert surfaces["slider_travel_in"][name]["max"] == pytest.approx(travel[:, e].max(), rel=1e-12)
         assert surfaces["slider_travel_in"][name]["p50"] == pytest.approx(np.median(travel[:, e]), rel=1e-12)
+        assert surfaces["slider_travel_in"][name]["capacity"] == pytest.approx((4.0, 12.0)[e], rel=1e-12)
         assert surfaces["slider_travel_in"][name]["n_on_restrainer"] == int(np.sum(travel[:, e] > (4.0, 12.0)[e]))
     assert surfaces["slider_travel_in"]["bottom"]["n_on_restrainer"] >= 1  # the 4 in bottom surface is reached
     assert surfaces["slider_travel_in"]["top"]["n_on_restrainer"] == 0

@@ -198,8 +198,10 @@ def group_summary(result, units) -> tuple[dict, list]:
 
 
 def slider_capacities(structure):
-    """(G, S) [m]: each slider's displacement capacity d (its restrainer beyond) of the series
-    pendulum of `structure` (stacked on a plan: per group), or `None` without sliders."""
+    """(G, S) [m]: each slider's travel before its restrainer in the series model
+    (`series_capacities`: a double pendulum's surface capacities d; a triple pendulum's inner
+    pair together) of the pendulum of `structure` (stacked on a plan: per group), or `None`
+    without sliders."""
     import numpy as np
 
     pendulum = getattr(structure, "pendulum", None)
@@ -212,8 +214,9 @@ def slider_capacities(structure):
 def surface_summary(result, units, capacities=None) -> tuple[dict, list]:
     """({name: {[group: ]{surface: {"p50", "p84", "max"}}}}, printed lines) of the isolator's
     surfaces over the converged runs: each series-pendulum slider's peak travel in `units`'
-    length ("slider_travel_<unit>"), with `capacities` (`slider_capacities`) also the runs in
-    which it went beyond its capacity onto the restrainer ("n_on_restrainer"), and each heated
+    length ("slider_travel_<unit>"), with `capacities` (`slider_capacities`) also its capacity
+    ("capacity", in the same unit) and the runs in which it went beyond it onto the restrainer
+    ("n_on_restrainer"), and each heated
     surface's peak temperature rise ("surface_temperature_rise_K"), per bearing group where a
     plan has several; ({}, []) without them."""
     import numpy as np
@@ -232,8 +235,9 @@ def surface_summary(result, units, capacities=None) -> tuple[dict, list]:
             per_group[group] = row
             where = f" ({group})" if len(result.group_names) > 1 else ""
             lines.append(f"{words}{where} [{unit}] over the {int(ok.sum())} converged runs: " + "; ".join(
-                f"{label} " + ", ".join(f"{k} {v:.4g}" for k, v in stats.items() if k != "n_on_restrainer")
-                + (f" (on its restrainer in {stats['n_on_restrainer']} runs)" if "n_on_restrainer" in stats else "")
+                f"{label} " + ", ".join(f"{k} {stats[k]:.4g}" for k in ("p50", "p84", "max") if k in stats)
+                + (f" (capacity {stats['capacity']:.4g}, on its restrainer in {stats['n_on_restrainer']} runs)"
+                   if "n_on_restrainer" in stats else "")
                 for label, stats in row.items()))
         summary[f"{name}_{unit}"] = per_group if len(per_group) > 1 else next(iter(per_group.values()))
     return summary, lines
@@ -248,4 +252,6 @@ def _surface_stats(values, factor: float, capacity=None) -> dict:
         return {}
     stats = {"p50": float(np.percentile(values, 50)) / factor, "p84": float(np.percentile(values, 84)) / factor,
              "max": float(values.max()) / factor}
-    return stats if capacity is None else stats | {"n_on_restrainer": int(np.sum(values > capacity))}
+    if capacity is None:
+        return stats
+    return stats | {"capacity": float(capacity) / factor, "n_on_restrainer": int(np.sum(values > capacity))}
