@@ -225,3 +225,32 @@ def test_montecarlo_bounding_names_the_case_that_heats_the_surface_most(tmp_path
     assert means["lower"] < means["nominal"] < means["upper"]
     assert payload["governs"][rise]["by_mean"] == "upper"
     assert {"slider_travel_m_bottom", "slider_travel_m_top"} <= set(payload["governs"])
+
+
+def test_a_slider_capacity_fragility_counts_the_runs_on_a_restrainer(tmp_path, capsys):
+    """`--limit slider_capacity_ratio=1` over five levels: at each level, the runs counted as
+    exceeding are those of the results file whose largest slider travel over its capacity
+    passes 1, more of them as the level rises (4 in bottom capacity, 12 in top), and the
+    fitted fragility's median lies inside the levels."""
+    isolator = _heated_file(tmp_path / "dfp.json", bottom_capacity=4.0)
+    code = main(["montecarlo", "--motions", "6", "--duration", "6s", "--strong-motion", "2s",
+                 "--pga", "0.2g,0.3g,0.4g,0.5g,0.6g", "--limit", "slider_capacity_ratio=1", "--isolator", "double-fp",
+                 "--isolator-file", str(isolator), "--no-progress", "--json", str(tmp_path / "f.json"),
+                 "--out", str(tmp_path / "f.nc")])
+    assert code == 0, capsys.readouterr().err
+    entry = json.loads((tmp_path / "f.json").read_text())["fragility"]["slider_capacity_ratio=1"]
+    result = MonteCarloResult.open(tmp_path / "f.nc")
+    np.testing.assert_allclose(result.attrs["slider_capacities_m"], [[4.0 * INCH, 12.0 * INCH]], rtol=1e-12)
+    ratio = np.max(result.slider_travel[:, 0] / np.array([4.0, 12.0]) / INCH, axis=-1).reshape(5, 6)
+    assert entry["n_exceed"] == np.sum(ratio > 1.0, axis=1).tolist()
+    assert entry["n_exceed"][0] < entry["n_exceed"][-1]
+    assert 0.2 < entry["median"] < 0.6
+
+
+def test_a_slider_capacity_limit_needs_sliders(tmp_path, capsys):
+    code = main(["montecarlo", "--motions", "2", "--pga", "0.2g,0.4g", "--limit", "slider_capacity_ratio=1",
+                 "--no-progress", "--json", str(tmp_path / "f.json")])
+    assert code == 2
+    assert ("--limit slider_capacity_ratio=1: the isolator has no sliders in series; it needs --isolator "
+            "double-fp or triple-fp.") in capsys.readouterr().err
+    assert not (tmp_path / "f.json").exists()

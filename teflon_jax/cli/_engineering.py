@@ -22,6 +22,8 @@ LIMITS = {
     "base_shear_ratio": ("dimensionless", "peak base shear / weight above the isolators"),
     "drift": ("dimensionless", "peak interstorey drift ratio of the worst storey"),
     "floor_acceleration": ("acceleration", "peak total acceleration of the worst level (base slab, floors)"),
+    "slider_capacity_ratio": ("dimensionless", "largest peak slider travel over its capacity, over the sliders of "
+                              "a double or triple pendulum (1: a slider reaches its restrainer)"),
 }
 """Names a `--limit` may take: name -> (dimension, what is compared)."""
 
@@ -41,8 +43,11 @@ class Limit:
         (K, N) for K bearing draws each run on the N motions (`result.nested`)."""
         if self.name in ("base_disp", "base_shear_ratio"):
             return np.asarray(getattr(result, self.name))
-        values = np.asarray(result.storey_drift if self.name == "drift" else result.floor_acceleration)
         lead = 2 if getattr(result, "nested", False) else 1
+        if self.name == "slider_capacity_ratio":  # every group's every slider over its capacity
+            values = np.asarray(result.slider_travel) / np.asarray(result.attrs["slider_capacities_m"])
+        else:
+            values = np.asarray(result.storey_drift if self.name == "drift" else result.floor_acceleration)
         return np.max(values.reshape(values.shape[:lead] + (-1,)), axis=-1)  # every storey (and direction)
 
 
@@ -52,7 +57,9 @@ def add_engineering_flags(parser) -> None:
     parser.add_argument("--limit", action="append", default=[], metavar="NAME=VALUE",
                         help="a response limit for a fragility curve, repeatable: base_disp=2in, "
                         "base_shear_ratio=0.15, drift=1%%, floor_acceleration=0.5g (drift and "
-                        "floor_acceleration: building only); with two or more --pga levels each "
+                        "floor_acceleration: building only), slider_capacity_ratio=1 (the largest slider "
+                        "travel over its capacity: a double or triple pendulum's sliders reaching their "
+                        "restrainers); with two or more --pga levels each "
                         "gets a lognormal fragility fitted by maximum likelihood (Baker 2015) (default: none)")
     parser.add_argument("--storeys", action="store_true",
                         help="building: also keep each storey's peak drift ratio and each level's peak "

@@ -179,6 +179,11 @@ def run_levels(args, structure, model, units, statistics, posterior=None) -> int
 
     levels = np.asarray(args.pga_levels, float)
     limits = parse_limits(args.limit, args.structure, args.components)
+    capacities = slider_capacities(structure)
+    for limit in limits:
+        if limit.name == "slider_capacity_ratio" and capacities is None:
+            raise ValueError(f"--limit {limit.text}: the isolator has no sliders in series; it needs --isolator "
+                             "double-fp or triple-fp.")
     height = load_table2().storey_height if wants_storeys(args, limits) else None
     check_level_outputs(args, levels.size)
     unit, factor = intensity_unit(args.pga_text)
@@ -192,6 +197,8 @@ def run_levels(args, structure, model, units, statistics, posterior=None) -> int
     result, level_index = _run(args, structure, model, levels, height, lambda done, total: bar.update(done - bar.n),
                                posterior_arguments(posterior, args.motions))
     bar.close()
+    if capacities is not None:  # each slider's travel before its restrainer, as the results file says
+        result.attrs["slider_capacities_m"] = capacities.tolist()
     converged = np.asarray(result.converged, bool)  # (L N,), or (K, L N) for K bearings
     files = []
     if args.scheduler is not None:  # streamed there by the cluster's chunks, levels included
@@ -222,7 +229,7 @@ def run_levels(args, structure, model, units, statistics, posterior=None) -> int
         if result.group_peak_load is not None:  # a plan's groups that share the weight unevenly
             entry["groups"] = group_summary(part, units)[0]
         if result.surfaces:  # a series pendulum's sliders, the heated surfaces
-            entry["surfaces"] = surface_summary(part, units, slider_capacities(structure))[0]
+            entry["surfaces"] = surface_summary(part, units, capacities)[0]
         per_level.append(entry)
     fragility, curves = {}, {}
     for limit in limits:
