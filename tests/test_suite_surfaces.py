@@ -11,7 +11,7 @@ import json
 import jax
 import numpy as np
 import pytest
-from test_montecarlo_surfaces import _heated_file
+from test_montecarlo_surfaces import _heated_file, _slab
 from test_series_suite import _write_pairs
 
 from teflon_jax.bearing import (
@@ -30,7 +30,7 @@ from teflon_jax.studies import (
     suite_peaks,
     suite_peaks_distributed,
 )
-from teflon_jax.systems import simulate_history, slider_travel
+from teflon_jax.systems import simulate_history, slider_travel, under_ground
 from teflon_jax.units import STANDARD_GRAVITY
 
 DT, SECONDS = 0.01, 4.0
@@ -133,3 +133,25 @@ def test_run_suite_bounding_reports_the_surfaces(tmp_path, capsys):
             assert max(pair["slider_travel_m_bottom"], pair["slider_travel_m_top"]) < 12 * 0.0254
     assert "surface_temperature_rise_K_bottom" in capsys.readouterr().out
     jax.clear_caches()
+
+
+@pytest.mark.slow  # the slab's suite compiles in about 20 s
+def test_a_plans_names_label_the_surfaces_of_a_slab_without_overturning():
+    """A slab at no height on four groups of heated single pendulums: the groups report no loads
+    of their own, yet each group's surfaces are kept under the plan's names, each that of the
+    pair's own history; names of another number of groups are refused by name."""
+    slab = _slab()
+    names, ax, ay = _pairs()
+
+    def on_slab(gx, gy):
+        return under_ground(slab, gx, gy)
+
+    result = suite_peaks(on_slab, names, ax, ay, DT, SECONDS, group_names=["SW", "SE", "NE", "NW"])
+    assert result.converged.all() and result.groups is None
+    assert result.surfaces["group_names"] == ("SW", "SE", "NE", "NW")
+    response = simulate_history(on_slab(uniform_signal(ax[1], DT), uniform_signal(ay[1], DT)), SECONDS)
+    np.testing.assert_allclose(result.surfaces["surface_temperature_rise"][1],
+                               np.max(np.asarray(response.surface_temperature_rise), axis=0), rtol=1e-9)
+    assert "surface_temperature_rise_K_NE_surface" in result.summary
+    with pytest.raises(ValueError, match="group_names: 2 names for the structure's 4 bearing groups"):
+        suite_peaks(on_slab, names, ax, ay, DT, SECONDS, group_names=["A", "B"])

@@ -240,8 +240,7 @@ def run_suite(args, isolator) -> int:
         return run_suite_bounding(args, bounding, isolator, [r[0] for r in records], ax, ay, dt, notes, scaling,
                                   vertical)
     build, dofs, plan = suite_build(args, isolator, ax[0], ay[0], dt, vertical=vertical)
-    overturning = plan is not None and plan["height_of_centre_of_mass"] > 0  # each group's normal load
-    group_names = [g["name"] for g in plan["groups"]] if overturning else None
+    group_names = None if plan is None else [g["name"] for g in plan["groups"]]  # loads', surfaces' labels
     names = [r[0] for r in records]
     stem = pathlib.Path(args.json).with_suffix("") if args.json else pathlib.Path("suite")
     netcdf = stem.with_suffix(".nc") if args.out is None else args.out

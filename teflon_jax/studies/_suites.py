@@ -200,8 +200,8 @@ def suite_peaks(build, names, ax, ay, time_step: float, duration: float,
     (the peaks then hold each pair's uplift too, `SUITE_VERTICAL_UNITS`);
     `time_step` [s] of the records; `duration` [s]; `storey_height` [m]: the
     building's storey height, to keep `storey_drift_max_resultant` and `SuiteResult.storeys` too;
-    `group_names` (G,): the bearing groups of a slab with overturning (default g0, g1, ...),
-    the labels of the groups' loads and surfaces.
+    `group_names` (G,): the bearing groups of a plan (default g0, g1, ...), the labels of a
+    slab's loads with overturning and of the surfaces.
 
     **Returns:** a `SuiteResult`; the base shear ratio is the total horizontal force on the
     structure above the bearings over its weight.
@@ -305,8 +305,9 @@ def suite_peaks_distributed(
     rerun whatever this is); `connect_timeout` [s]; `compilation_cache`: folder of JAX's
     persistent compilation cache (local workers); `progress(done, total)` after each chunk;
     `attrs`: more attributes of the file (the run's inputs); `group_names` (G,): the bearing
-    groups of a slab with overturning, whose per-group loads are streamed on ("pair", "group")
-    (`SuiteResult.groups`; a structure that reports them needs them); `az`: the pairs' vertical
+    groups of a plan, the labels of the "group" axis of the per-group loads of a slab with
+    overturning (`SuiteResult.groups`; a structure that reports them needs them) and of the
+    surfaces (default g0, g1, ...); `az`: the pairs' vertical
     components (`suite_peaks`).
 
     **Returns:** the `SuiteResult` read back from `out` (`open_suite`): each pair's peaks are
@@ -330,7 +331,7 @@ def suite_peaks_distributed(
     def write(handle, start, stop, part):
         reported = {k.removeprefix("group_") for k in part if k.startswith("group_")}
         width = part["group_peak_N"].shape[1] if reported else 0
-        if width != (0 if groups is None else len(groups)):
+        if reported and width != (0 if groups is None else len(groups)):
             raise ValueError(f"group_names: {0 if groups is None else len(groups)} names for the structure's "
                              f"{width} bearing groups with per-group loads (a slab with overturning).")
         flags = ("converged", *RUN_FLAGS)
