@@ -6,6 +6,7 @@ import math
 import sys
 
 from ..units import STANDARD_GRAVITY
+from ._run_stop import TIPPING, TIPPING_REMEDY
 
 
 def steady_rate(marks) -> float | None:
@@ -157,8 +158,7 @@ def unbalanced_parts(failed, tipped, names, float32: bool = False) -> list[tuple
     parts = []
     if tipped.any():
         parts.append((int(tipped.sum()), "on which the slab (or the building's base) tipped, its overturning moment "
-                      "beyond what its weight holds back about the leaning groups (they take no tension) "
-                      f"({names(tipped)})", "Spread the groups, lower a slab's height_of_centre_of_mass in the plan "
+                      f"beyond {TIPPING} ({names(tipped)})", f"{TIPPING_REMEDY.capitalize()} "
                       "or weaken the motions; a smaller --time-step does not mend it."))
     if newton.any():
         advice = ("Single precision is too coarse for the bearing's Newton solve: drop --float32." if float32

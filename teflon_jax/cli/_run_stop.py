@@ -134,9 +134,16 @@ def balance_stop(system, response, plan=None):
     return cut_response(system, response, kept), end, _unbalanced_message(system, response, tipped, plan)
 
 
+TIPPING = "what its weight holds back about the leaning groups (they take no tension)"
+"""What the overturning moment of a slab (or a building's base) on a plan's groups exceeds when
+it tips: the words of every message that names a tipped run."""
+
+TIPPING_REMEDY = "spread the groups, lower height_of_centre_of_mass in the plan"
+"""What mends a tipped slab (a smaller time step does not)."""
+
 BUILDING_TIPS = ("the overturning moment of the inertia forces of its base and floors at their heights exceeds "
-                 "what its weight holds back about the leaning groups (they take no tension), which a rigid base "
-                 "slab without rocking cannot balance; spread the groups or give a weaker record")
+                 f"{TIPPING}, which a rigid base slab without rocking cannot balance; spread the groups or give a "
+                 "weaker record")
 """Why the building on a plan tips: its levels stand at Table 2's heights, so there is no plan
 height to lower."""
 
@@ -156,10 +163,8 @@ def _unbalanced_message(system, response, tipped, plan) -> str:
     elif tipped.any():
         parts.append(f"the slab tips on {int(tipped.sum())} steps (first at t = {time[tipped][0]:.4g} s): "
                      f"the overturning moment of its horizontal force at the centre of mass "
-                     f"{plan['height_of_centre_of_mass']:g} m above the sliding surface exceeds what its "
-                     "weight holds back about the leaning groups (they take no tension), which a rigid slab "
-                     "without rocking cannot balance; lower height_of_centre_of_mass in the plan, spread "
-                     "the groups, or give a weaker record")
+                     f"{plan['height_of_centre_of_mass']:g} m above the sliding surface exceeds {TIPPING}, "
+                     f"which a rigid slab without rocking cannot balance; {TIPPING_REMEDY} or give a weaker record")
     if newton.any():
         parts.append(f"the isolators' balance did not converge on {int(newton.sum())} steps (first at "
                      f"t = {time[newton][0]:.4g} s); try a smaller --time-step")
@@ -188,9 +193,8 @@ def failed_pairs(result) -> str:
     tips = [n for n, f in zip(names, unbalanced & tipped) if f]
     if tips:
         parts.append(f"{len(tips)} of {count} pairs tipped the slab (or the building's base), its overturning moment "
-                     f"beyond what its weight holds back about the leaning groups ({', '.join(tips)}): spread the "
-                     "groups, lower height_of_centre_of_mass in the plan or run such a pair alone to see when; a "
-                     "smaller --time-step does not mend it")
+                     f"beyond {TIPPING} ({', '.join(tips)}): {TIPPING_REMEDY} or run such a pair alone to see when; "
+                     "a smaller --time-step does not mend it")
     newton = [n for n, f in zip(names, unbalanced & ~tipped) if f]
     if newton:
         parts.append(f"{len(newton)} of {count} pairs could not be balanced in every step "
