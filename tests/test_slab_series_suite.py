@@ -90,11 +90,16 @@ def test_series_slab_suite_without_height_is_its_single_run_without_group_loads(
     single = _run(tmp_path, plan, default, "strong", "--record-x", tmp_path / "strong_x.txt",
                   "--record-y", tmp_path / "strong_y.txt")
     pair = result["pairs"]["strong_x"]
-    assert set(pair) == {*PEAKS, "converged"} and "normal_load_note" not in result
+    sliders = [f"slider_travel_m_{group}_{slider}" for group in NAMES for slider in ("bottom", "top")]
+    assert set(pair) == {*PEAKS, *sliders, "converged"} and "normal_load_note" not in result
     for key in PEAKS:
         assert pair[key] == pytest.approx(single["peak"][key], rel=1e-9, abs=1e-12), key
+    for group in NAMES:  # each group's sliders under the plan's names, as the single run gives them
+        for slider in ("bottom", "top"):
+            assert pair[f"slider_travel_m_{group}_{slider}"] == pytest.approx(
+                single["slider_disp_m"][group][slider], rel=1e-9, abs=1e-12), (group, slider)
     header = (tmp_path / "results.csv").read_text().splitlines()[0]
-    assert header == "pair," + ",".join(PEAKS) + ",converged"
+    assert header == "pair," + ",".join([*PEAKS, *sliders]) + ",converged"
 
 
 @pytest.mark.slow  # three bounding cases and the suite of the scaled files (about 90 s on two cores)
