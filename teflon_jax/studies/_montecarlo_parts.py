@@ -86,17 +86,25 @@ GROUP_FIELDS = {"group_peak_load": "peak_N", "group_min_load": "min_N", "group_u
 driver's `group_normal_load` entry."""
 
 
-def surface_axes(system) -> dict:
-    """The surfaces whose peaks a run keeps (`SURFACE_VARIABLES`): {"slider": names} of a
-    series pendulum's sliders, {"heated_surface": names} of the heated surfaces ("surface"
-    for a heated flat slider or single pendulum); {} for neither."""
+def _heated_surfaces(system) -> list:
+    """[(index, name)] of the heated surfaces: a series pendulum's sliders whose surface is
+    heated, or (0, "surface") of a heated flat slider or single pendulum."""
     pendulum = getattr(system, "pendulum", None)
     if pendulum is None:
         heating = getattr(getattr(system, "bearing", None), "heating", None)
-        return {"heated_surface": ("surface",)} if heating is not None else {}
-    heated = tuple(name for name, heating in zip(pendulum.slider_names, pendulum.surface_heatings())
-                   if heating is not None)
-    return {"slider": tuple(pendulum.slider_names), **({"heated_surface": heated} if heated else {})}
+        return [] if heating is None else [(0, "surface")]
+    return [(e, name) for e, (name, heating) in enumerate(zip(pendulum.slider_names, pendulum.surface_heatings()))
+            if heating is not None]
+
+
+def surface_axes(system) -> dict:
+    """The surfaces whose peaks a run keeps (`SURFACE_VARIABLES`): {"slider": names} of a
+    series pendulum's sliders, {"heated_surface": names} of the heated surfaces (`_heated_surfaces`);
+    {} for neither."""
+    pendulum = getattr(system, "pendulum", None)
+    heated = tuple(name for _, name in _heated_surfaces(system))
+    return ({} if pendulum is None else {"slider": tuple(pendulum.slider_names)}) | (
+        {"heated_surface": heated} if heated else {})
 
 
 def surface_attributes(system) -> dict:
@@ -119,9 +127,8 @@ def surface_peaks(system, peaks: dict) -> dict:
         travel = out["slider_travel"]
         out["slider_travel"] = travel[None] if travel.ndim == 1 else travel
     if "surface_temperature_rise" in out:
-        pendulum = system.pendulum
-        heated = [0] if pendulum is None else [e for e, h in enumerate(pendulum.surface_heatings()) if h is not None]
-        out["surface_temperature_rise"] = out["surface_temperature_rise"][..., np.array(heated)]
+        heated = np.array([e for e, _ in _heated_surfaces(system)])
+        out["surface_temperature_rise"] = out["surface_temperature_rise"][..., heated]
     return out
 
 
