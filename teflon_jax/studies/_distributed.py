@@ -75,6 +75,8 @@ from ._result_variables import (
     SURFACE_VARIABLES,
     TIPPED,
     VARIABLES,
+    surface_layout,
+    surface_shapes,
 )
 from ._results import MonteCarloResult
 
@@ -171,30 +173,20 @@ def _layout(n_motions: int, design: Mapping | None, inputs: dict, model=None, st
         coords["group"] = ("group", np.array([str(name) for name in names]), None, None)
         variables.update({name: (peak_dims + ("group",), units, long_name, "f8")
                           for name, (units, long_name) in GROUP_VARIABLES.items()})
-    if surfaces is not None:
-        _surface_layout(surfaces, inputs, peak_dims, dims, coords, variables)
+    if surfaces is not None:  # the group axis named as the result names it (`MonteCarloResult.group_names`)
+        count, labelled = surfaces
+        names = inputs.get("group_names") or [f"group {i + 1}" for i in range(count)]
+        surface_dims, surface_coords, surface_variables = surface_layout(*surface_shapes(count, labelled), names,
+                                                                         peak_dims)
+        dims.update(surface_dims)
+        coords = surface_coords | coords
+        variables.update(surface_variables)
     if levels is not None:
         coords["intensity_level"] = ("motion", np.asarray(levels, float), "m s-2", "expected peak ground "
                                      "acceleration of the motion's level (the model's nominal peak, not the record's)")
     variables["pga"] = (("motion",), *PGA, "f8")
     return {"dims": dims, "coords": coords, "variables": variables,
             "attrs": file_attributes("teflon-jax Monte Carlo peak responses", inputs)}
-
-
-def _surface_layout(surfaces, inputs, peak_dims, dims, coords, variables) -> None:
-    """Add the `SURFACE_VARIABLES` of `surfaces` (G groups, `surface_attributes`) to a run
-    file's `_layout` (`dims`, `coords`, `variables`, changed in place)."""
-    groups, labelled = surfaces
-    if "group" not in dims:
-        dims["group"] = groups
-        names = inputs.get("group_names") or [f"group {i + 1}" for i in range(groups)]
-        coords["group"] = ("group", np.array([str(name) for name in names]), None, None)
-    for name, (dim, units, long_name) in SURFACE_VARIABLES.items():
-        labels = labelled.get(f"{dim}_names")
-        if labels is not None:
-            dims[dim] = len(labels)
-            coords[dim] = (dim, np.array([str(label) for label in labels]), None, None)
-            variables[name] = (peak_dims + ("group", dim), units, long_name, "f8")
 
 
 def _source_of(motions, n_motions):

@@ -1,6 +1,6 @@
 """The variables of a Monte Carlo's results (`MonteCarloResult`, its Dataset and files, the
 distributed runs' NetCDF files, the suites' flags and surfaces): name -> units (CF/UDUNITS)
-and long name; the table columns of the surfaces' peaks."""
+and long name; the table columns and the streamed files' layout of the surfaces' peaks."""
 
 import numpy as np
 
@@ -84,3 +84,38 @@ def surface_columns(arrays: dict, labels: dict, groups) -> dict:
                 for e, label in enumerate(labels[f"{dim}_names"]):
                     columns["_".join([name, unit, *([group] if len(groups) > 1 else []), label])] = values[..., j, e]
     return columns
+
+
+def surface_shapes(groups: int, labels: dict) -> tuple[dict, dict]:
+    """({name: (G, S)} of the surface peaks a structure of `groups` groups with the surfaces
+    `labels` (`surface_attributes`) reports, `labels`): `surface_layout`'s first arguments."""
+    shapes = {name: (groups, len(labels[f"{dim}_names"])) for name, (dim, _, _) in SURFACE_VARIABLES.items()
+              if f"{dim}_names" in labels}
+    return shapes, labels
+
+
+def group_labels(count: int, group_names=None) -> tuple:
+    """The labels of `count` bearing groups: `group_names` where given (`ValueError` naming
+    them when there are not `count`), else g0, g1, ..."""
+    groups = tuple(f"g{i}" for i in range(count)) if group_names is None else tuple(str(g) for g in group_names)
+    if len(groups) != count:
+        raise ValueError(f"group_names: {len(groups)} names for the structure's {count} bearing groups.")
+    return groups
+
+
+def surface_layout(shape_of: dict, labels: dict, group_names, lead: tuple) -> tuple[dict, dict, dict]:
+    """(dims, coords, variables) of the surfaces in a streamed results file (`create_netcdf`'s
+    form; a Monte Carlo's or a suite's), on `lead` + ("group", surface): `shape_of` {name: (...,
+    G, S)} of the peaks the structure reports, `labels` (`surface_attributes`), `group_names`
+    (`group_labels`: or g0, g1, ...)."""
+    dims, coords, variables = {}, {}, {}
+    for name, (dim, units, long_name) in SURFACE_VARIABLES.items():
+        if name not in shape_of:
+            continue
+        count, names = shape_of[name][-2], labels[f"{dim}_names"]
+        groups = group_labels(count, group_names)
+        dims |= {"group": count, dim: len(names)}
+        coords["group"] = ("group", np.array(groups, dtype=str), None, "bearing group")
+        coords[dim] = (dim, np.array(names, dtype=str), None, None)
+        variables[name] = (lead + ("group", dim), units, long_name, "f8")
+    return dims, coords, variables

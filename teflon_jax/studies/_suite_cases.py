@@ -26,8 +26,8 @@ from ._cluster import (
     stream_to_netcdf,
     worker_cached,
 )
-from ._result_variables import RUN_FLAGS, SURFACE_VARIABLES
-from ._suite_surfaces import suite_surface_labels, surface_layout
+from ._result_variables import RUN_FLAGS, SURFACE_VARIABLES, surface_layout
+from ._suite_surfaces import suite_surface_labels
 from ._suites import (
     _STOREY_LAYOUT,
     SUITE_GROUP_UNITS,

@@ -7,7 +7,7 @@ import numpy as np
 
 from ..excitation import uniform_signal
 from ._montecarlo_parts import surface_attributes, surface_groups
-from ._result_variables import SURFACE_VARIABLES, surface_columns
+from ._result_variables import SURFACE_VARIABLES, group_labels, surface_columns
 
 
 def suite_surface_labels(build, time_step: float, grounds) -> tuple[int, dict]:
@@ -22,29 +22,13 @@ def suite_surface_labels(build, time_step: float, grounds) -> tuple[int, dict]:
     return (surface_groups(probe) if labels else 1), labels
 
 
-def surface_shapes(groups: int, labels: dict) -> tuple[dict, dict]:
-    """({name: (G, S)} of the surface peaks a structure of `groups` groups with the surfaces
-    `labels` (`suite_surface_labels`) reports, `labels`): `surface_layout`'s first arguments."""
-    shapes = {name: (groups, len(labels[f"{dim}_names"])) for name, (dim, _, _) in SURFACE_VARIABLES.items()
-              if f"{dim}_names" in labels}
-    return shapes, labels
-
-
-def group_labels(count: int, group_names=None) -> tuple:
-    """The labels of `count` bearing groups: `group_names` where given, else g0, g1, ..."""
-    return tuple(f"g{i}" for i in range(count)) if group_names is None else tuple(str(g) for g in group_names)
-
-
 def split_surfaces(joined: dict, labels: dict, group_names=None) -> dict | None:
     """The surface peaks popped from a suite's `joined` peaks (name -> (P, G, S)) with their
     labels (`labels`: `surface_attributes`; "group_names": `group_labels`), or `None`."""
     surfaces = {name: joined.pop(name) for name in SURFACE_VARIABLES if name in joined}
     if not surfaces:
         return None
-    count = next(iter(surfaces.values())).shape[1]
-    groups = group_labels(count, group_names)
-    if len(groups) != count:
-        raise ValueError(f"group_names: {len(groups)} names for the structure's {count} bearing groups.")
+    groups = group_labels(next(iter(surfaces.values())).shape[1], group_names)
     return surfaces | {key: tuple(values) for key, values in labels.items()} | {"group_names": groups}
 
 
@@ -78,22 +62,3 @@ def surfaces_from_dataset(dataset) -> dict | None:
     labels = {f"{dim}_names": tuple(str(v) for v in dataset[dim].values)
               for name, (dim, _, _) in SURFACE_VARIABLES.items() if name in surfaces}
     return surfaces | labels | {"group_names": tuple(str(g) for g in dataset["group"].values)}
-
-
-def surface_layout(shape_of: dict, labels: dict, group_names, lead: tuple) -> tuple[dict, dict, dict]:
-    """(dims, coords, variables) of the surfaces in a streamed suite file (`create_netcdf`'s
-    form), on `lead` + ("group", surface): `shape_of` {name: (..., G, S)} of the peaks the
-    structure reports, `labels` (`surface_attributes`), `group_names` (or g0, g1, ...)."""
-    dims, coords, variables = {}, {}, {}
-    for name, (dim, units, long_name) in SURFACE_VARIABLES.items():
-        if name not in shape_of:
-            continue
-        count, names = shape_of[name][-2], labels[f"{dim}_names"]
-        groups = group_labels(count, group_names)
-        if len(groups) != count:
-            raise ValueError(f"group_names: {len(groups)} names for the structure's {count} bearing groups.")
-        dims |= {"group": count, dim: len(names)}
-        coords["group"] = ("group", np.array(groups, dtype=str), None, "bearing group")
-        coords[dim] = (dim, np.array(names, dtype=str), None, None)
-        variables[name] = (lead + ("group", dim), units, long_name, "f8")
-    return dims, coords, variables

@@ -42,14 +42,19 @@ from ._cluster import (
 )
 from ._montecarlo_parts import surface_peaks
 from ._reducers import response_layout, response_peaks
-from ._result_variables import BEYOND_PRESSURE_LAW, RUN_FLAGS, SURFACE_VARIABLES, TIPPED
+from ._result_variables import (
+    BEYOND_PRESSURE_LAW,
+    RUN_FLAGS,
+    SURFACE_VARIABLES,
+    TIPPED,
+    surface_layout,
+    surface_shapes,
+)
 from ._suite_surfaces import (
     split_surfaces,
     suite_surface_columns,
     suite_surface_labels,
     surface_dataset_parts,
-    surface_layout,
-    surface_shapes,
     surfaces_from_dataset,
 )
 
