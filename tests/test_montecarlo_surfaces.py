@@ -9,6 +9,7 @@ CSV) reads back the same numbers under the surfaces' and groups' names; a distri
 writes the same variables as the in-process one."""
 
 import csv
+import dataclasses
 import json
 
 import equinox as eqx
@@ -208,6 +209,33 @@ def test_montecarlo_reports_the_sliders_and_the_heated_surface(tmp_path, capsys)
         result.surface_temperature_rise.max(), rel=1e-12)
     assert "slider travel [in] over the 3 converged runs: bottom p50" in out
     assert "surface temperature rise [K] over the 3 converged runs: bottom p50" in out
+    np.testing.assert_allclose(result.attrs["slider_capacities_m"], [[4.0 * INCH, 12.0 * INCH]], rtol=1e-12)
+
+
+def test_the_statistics_and_exceedance_of_each_surface_are_those_of_the_converged_runs():
+    """`percentiles` and `exceedance` read a slider's travel and a heated surface's rise by
+    their columns (as `surface_peaks` and the CSV name them), over the converged runs alone
+    (a run marked unconverged leaves every statistic, its count "n" included); an unknown
+    column is refused by name, the accepted ones listed."""
+    result = monte_carlo(_structure(1), MODEL, N, key=jax.random.key(5), chunk_size=2)
+    stats = result.percentiles(q=(50, 84))
+    travel = result.slider_travel[:, 0, 1]
+    assert stats["slider_travel_m_top"]["p84"] == pytest.approx(np.percentile(travel, 84), rel=1e-12)
+    assert stats["slider_travel_m_top"]["n"] == N
+    assert stats["surface_temperature_rise_K_bottom"]["mean"] == pytest.approx(
+        result.surface_temperature_rise[:, 0, 0].mean(), rel=1e-12)
+    levels, probability = result.exceedance("slider_travel_m_bottom")
+    np.testing.assert_array_equal(levels, np.sort(result.slider_travel[:, 0, 0]))
+    np.testing.assert_allclose(probability, [2 / 3, 1 / 3, 0.0])
+
+    failed = dataclasses.replace(result, converged=np.array([True, False, True]))
+    assert failed.percentiles()["slider_travel_m_top"]["n"] == 2
+    assert failed.percentiles()["slider_travel_m_top"]["p50"] == pytest.approx(np.mean(travel[[0, 2]]), rel=1e-12)
+    np.testing.assert_array_equal(failed.exceedance("slider_travel_m_top")[0], np.sort(travel[[0, 2]]))
+    with pytest.raises(ValueError, match="unknown 'slider_travel_m_middle'; accepted: base_disp, "
+                                         "base_shear_ratio, slider_travel_m_bottom, slider_travel_m_top, "
+                                         "surface_temperature_rise_K_bottom"):
+        result.exceedance("slider_travel_m_middle")
 
 
 @pytest.mark.slow  # three bearings of the double pendulum in one compiled run
@@ -254,3 +282,16 @@ def test_a_slider_capacity_limit_needs_sliders(tmp_path, capsys):
     assert ("--limit slider_capacity_ratio=1: the isolator has no sliders in series; it needs --isolator "
             "double-fp or triple-fp.") in capsys.readouterr().err
     assert not (tmp_path / "f.json").exists()
+
+
+@pytest.mark.slow
+def test_a_streamed_levels_file_keeps_the_slider_capacities(dask_cluster, tmp_path, capsys):
+    """`montecarlo --scheduler` over two levels: the NetCDF file the cluster's chunks stream
+    keeps each slider's capacity, as the file written in this process does."""
+    code = main(["montecarlo", "--motions", "2", "--duration", "4s", "--strong-motion", "2s", "--pga", "0.2g,0.4g",
+                 "--isolator", "double-fp", "--isolator-file", str(_heated_file(tmp_path / "dfp.json", 4.0)),
+                 "--no-progress", "--json", str(tmp_path / "f.json"), "--out", str(tmp_path / "f.nc"),
+                 "--scheduler", dask_cluster.scheduler_address])
+    assert code == 0, capsys.readouterr().err
+    back = MonteCarloResult.open(tmp_path / "f.nc")
+    np.testing.assert_allclose(back.attrs["slider_capacities_m"], [[4.0 * INCH, 12.0 * INCH]], rtol=1e-12)

@@ -174,7 +174,12 @@ def run_levels(args, structure, model, units, statistics, posterior=None) -> int
     from ..report import plot_fragility, plot_montecarlo
     from ..studies import save_levels
     from ..tables import load_table2
-    from ._montecarlo_summary import group_summary, slider_capacities, surface_summary
+    from ._montecarlo_summary import (
+        capacity_attributes,
+        group_summary,
+        slider_capacities,
+        surface_summary,
+    )
     from ._normal_load import uplift_of, uplift_payload
 
     levels = np.asarray(args.pga_levels, float)
@@ -197,8 +202,7 @@ def run_levels(args, structure, model, units, statistics, posterior=None) -> int
     result, level_index = _run(args, structure, model, levels, height, lambda done, total: bar.update(done - bar.n),
                                posterior_arguments(posterior, args.motions))
     bar.close()
-    if capacities is not None:  # each slider's travel before its restrainer, as the results file says
-        result.attrs["slider_capacities_m"] = capacities.tolist()
+    result.attrs.update(capacity_attributes(structure))  # as a file streamed by --scheduler says
     converged = np.asarray(result.converged, bool)  # (L N,), or (K, L N) for K bearings
     files = []
     if args.scheduler is not None:  # streamed there by the cluster's chunks, levels included
@@ -275,11 +279,13 @@ def _run(args, structure, model, levels, height, progress, draws):
         return monte_carlo_levels(structure, model, levels, args.motions, key=jax.random.key(args.seed),
                                   chunk_size=args.chunk_size, progress=progress, storey_height=height, **draws)
     from ..studies import monte_carlo_levels_distributed
+    from ._montecarlo_summary import capacity_attributes
 
     return monte_carlo_levels_distributed(
         structure, model, levels, args.motions, out=args.out, seed=args.seed, scheduler=args.scheduler,
         chunk_size=args.chunk_size, progress=progress, storey_height=height,
-        compilation_cache=None if args.no_compile_cache else str(compile_cache_dir()))
+        compilation_cache=None if args.no_compile_cache else str(compile_cache_dir()),
+        attrs=capacity_attributes(structure))
 
 
 _VERTICAL_STOREYS = ("storey drifts and level accelerations are horizontal: the superstructure is rigid "

@@ -29,6 +29,7 @@ from ._isolator_flags import add_isolator_flags, check_combination, read_isolato
 from ._main import compile_cache_dir
 from ._mixture_runs import runner_of
 from ._montecarlo_summary import (
+    capacity_attributes,
     group_summary,
     report,
     run_attributes,
@@ -266,7 +267,7 @@ def run_montecarlo(args) -> int:
         bar.update(done - bar.n)
 
     chunk_size = args.chunk_size
-    attrs = {**run_attributes(args), **posterior_attributes(posterior)}
+    attrs = {**run_attributes(args), **posterior_attributes(posterior), **capacity_attributes(structure)}
     if args.scheduler is None:
         result = runner_of(posterior, monte_carlo)(  # a bearing file's mixture: its compositions
             structure, model, args.motions, key=jax.random.key(args.seed),

@@ -211,6 +211,13 @@ def slider_capacities(structure):
     return capacities.T if capacities.ndim == 2 else capacities[None]
 
 
+def capacity_attributes(structure) -> dict:
+    """{"slider_capacities_m": (G, S) nested lists} of `slider_capacities`, a results file's
+    record of each slider's travel before its restrainer; {} without sliders."""
+    capacities = slider_capacities(structure)
+    return {} if capacities is None else {"slider_capacities_m": capacities.tolist()}
+
+
 def surface_summary(result, units, capacities=None) -> tuple[dict, list]:
     """({name: {[group: ]{surface: {"p50", "p84", "max"}}}}, printed lines) of the isolator's
     surfaces over the converged runs: each series-pendulum slider's peak travel in `units`'
@@ -221,10 +228,13 @@ def surface_summary(result, units, capacities=None) -> tuple[dict, list]:
     plan has several; ({}, []) without them."""
     import numpy as np
 
+    from ..studies import SURFACE_VARIABLES
+
     ok = np.asarray(result.converged, bool)
     summary, lines = {}, []
     for name, (_, labels) in result.surfaces.items():
-        unit, factor = units.length if name == "slider_travel" else ("K", 1.0)
+        si_unit = SURFACE_VARIABLES[name][1]
+        unit, factor = units.length if si_unit == "m" else (si_unit, 1.0)
         values = np.asarray(getattr(result, name))[ok]  # (runs, G, S) [SI]
         limits = capacities if name == "slider_travel" else None
         words = name.replace("_", " ")

@@ -89,6 +89,7 @@ from ._reducers import resultant as resultant
 from ._reducers import slider_travel as slider_travel
 from ._reducers import storey_drift as storey_drift
 from ._result_variables import RUN_FLAGS as RUN_FLAGS
+from ._result_variables import SURFACE_VARIABLES as SURFACE_VARIABLES
 from ._results import FORMATS as FORMATS
 from ._results import MonteCarloResult as MonteCarloResult
 from ._results import check_output_path as check_output_path

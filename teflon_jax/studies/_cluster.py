@@ -231,10 +231,12 @@ def open_finished(path):
 
 def file_attributes(title: str, inputs: Mapping) -> dict:
     """The attributes of a streamed results file: CF conventions, `title`, the run's `inputs`
-    (numbers and strings, also as JSON in `teflon_jax_attrs`) and `complete` = 0, set to 1 by
+    (numbers, strings and their lists; a nested list, which NetCDF's attributes cannot hold, as
+    JSON; all of them also as JSON in `teflon_jax_attrs`) and `complete` = 0, set to 1 by
     `stream_to_netcdf` once every chunk is in."""
+    flat = {key: json.dumps(value) if np.ndim(value) > 1 else value for key, value in inputs.items()}
     return {"Conventions": "CF-1.8", "title": title, "teflon_jax_attrs": json.dumps(dict(inputs), default=str),
-            **inputs, "complete": 0}
+            **flat, "complete": 0}
 
 
 def stream_to_netcdf(

@@ -187,10 +187,10 @@ class MonteCarloResult:
     def converged_values(self, name: str, variant: int | None = None) -> np.ndarray:
         """The peaks `name` of the converged runs only, for one design `variant` (index into
         the "design" axis; required when there are variants, ignored otherwise); of a nested
-        run the K x N runs pooled (`variant` None) or bearing `variant`'s."""
-        if name not in RESPONSE_NAMES + ("smooth_base_disp", "smooth_base_shear_ratio"):
-            raise ValueError(f"name: unknown {name!r}; accepted: {', '.join(RESPONSE_NAMES)}.")
-        values = np.asarray(getattr(self, name))
+        run the K x N runs pooled (`variant` None) or bearing `variant`'s. `name`: a peak of
+        `RESPONSE_NAMES` (or its smooth maximum), or a surface column of `surface_peaks`
+        (e.g. "slider_travel_m_inner") [SI]."""
+        values = np.asarray(self._peaks(name))
         ok = np.asarray(self.converged, bool)
         if self.nested and variant is None:
             return values[ok]
@@ -200,24 +200,28 @@ class MonteCarloResult:
             values, ok = values[variant], ok[variant]
         return values[ok]
 
+    def _peaks(self, name: str) -> np.ndarray:
+        """The peaks `name` of every run (`converged_values`' names); `ValueError` naming the
+        accepted ones."""
+        if name in RESPONSE_NAMES + ("smooth_base_disp", "smooth_base_shear_ratio"):
+            return getattr(self, name)
+        columns = self.surface_peaks
+        if name not in columns:
+            raise ValueError(f"name: unknown {name!r}; accepted: {', '.join(RESPONSE_NAMES + tuple(columns))}.")
+        return columns[name]
+
     def percentiles(self, q: Sequence[float] = (5, 16, 50, 84, 95)) -> dict:
         """{"base_disp_m": {"p50": .., "mean": .., "std": .., "n": ..}, "base_shear_ratio": {..},
-        "n_converged": .., "n_failed": ..} over the motions whose solve converged (runs with a
-        failed step are left out; "n" says how many runs each statistic rests on). Per design
-        variant (lists) when there are several; a nested run's K x N runs pooled. A statistic
-        over no converged run is `None`."""
+        each surface column of `surface_peaks` [SI], "n_converged": .., "n_failed": ..} over the
+        converged runs ("n" of them; a run with a failed step left out). Per design variant
+        (lists) when there are several; a nested run's K x N runs pooled; `None` over no run."""
         pooled = np.ndim(self.converged) == 1 or self.nested
         variants = [None] if pooled else list(range(np.shape(self.converged)[0]))
+        names = {"base_disp_m": "base_disp", "base_shear_ratio": "base_shear_ratio"}
+        names |= {column: column for column in self.surface_peaks}
         out = {}
-        for key, name in (("base_disp_m", "base_disp"), ("base_shear_ratio", "base_shear_ratio")):
-            per_variant = []
-            for variant in variants:
-                values = self.converged_values(name, variant)
-                stats = {f"p{g:g}": (float(np.percentile(values, g)) if values.size else None) for g in q}
-                stats["mean"] = float(np.mean(values)) if values.size else None
-                stats["std"] = float(np.std(values)) if values.size else None
-                stats["n"] = int(values.size)
-                per_variant.append(stats)
+        for key, name in names.items():
+            per_variant = [_statistics(self.converged_values(name, variant), q) for variant in variants]
             if variants == [None]:
                 out[key] = per_variant[0]
             else:
@@ -227,11 +231,13 @@ class MonteCarloResult:
         return out
 
     def exceedance(self, name: str, variant: int | None = None) -> tuple[np.ndarray, np.ndarray]:
-        """Empirical exceedance curve of `name` ("base_disp" or "base_shear_ratio") over the
-        n converged runs (of design `variant` when there are several): sorted levels x_(k) and
-        P[X > x] estimated as (n - k) / n, k = 1..n."""
-        if name not in RESPONSE_NAMES:
-            raise ValueError(f"name: unknown {name!r}; accepted: {', '.join(RESPONSE_NAMES)}.")
+        """Empirical exceedance curve of `name` ("base_disp", "base_shear_ratio" or a surface
+        column of `surface_peaks`, e.g. "slider_travel_m_inner") over the n converged runs (of
+        design `variant` when there are several): sorted levels x_(k) and P[X > x] estimated
+        as (n - k) / n, k = 1..n."""
+        accepted = RESPONSE_NAMES + tuple(self.surface_peaks)
+        if name not in accepted:
+            raise ValueError(f"name: unknown {name!r}; accepted: {', '.join(accepted)}.")
         values = np.sort(self.converged_values(name, variant))
         n = values.shape[-1]
         return values, (n - np.arange(1, n + 1)) / max(n, 1)
@@ -250,9 +256,7 @@ class MonteCarloResult:
         if not self.nested:
             raise ValueError("the result is not a nested run of bearing draws (dims ('bearing', "
                              f"'motion')); its dims are {tuple(self.dims)}.")
-        if name not in RESPONSE_NAMES + ("smooth_base_disp", "smooth_base_shear_ratio"):
-            raise ValueError(f"name: unknown {name!r}; accepted: {', '.join(RESPONSE_NAMES)}.")
-        return getattr(self, name)
+        return self._peaks(name)
 
     # ----------------------------------------------------------------------- files
 
@@ -486,3 +490,11 @@ def _cell(value):
     if isinstance(value, (np.integer, int)):
         return str(int(value))
     return f"{float(value):.17g}"
+
+
+def _statistics(values: np.ndarray, q: Sequence[float]) -> dict:
+    """The percentiles `q` ("p<q>"), mean, std and count "n" of `values` (`None` over none)."""
+    stats = {f"p{g:g}": (float(np.percentile(values, g)) if values.size else None) for g in q}
+    stats["mean"] = float(np.mean(values)) if values.size else None
+    stats["std"] = float(np.std(values)) if values.size else None
+    return stats | {"n": int(values.size)}
