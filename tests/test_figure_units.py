@@ -2,6 +2,7 @@
 units, the residual maps follow `--units`, `fit.png` marks a constant the records do not
 determine, Fig. 11's dimensionless axes say [-], and `fit` says what its exit status means."""
 
+import dataclasses
 import types
 
 import matplotlib.pyplot as plt
@@ -35,6 +36,43 @@ def test_montecarlo_legend_values_carry_their_units():
         assert all(t.get_text().endswith(("[-]", "runs")) for t in shear)
     finally:
         plt.close(fig)
+
+
+def test_montecarlo_figure_draws_each_slider_against_its_capacity():
+    """A double pendulum's result: a third column holds each slider's exceedance curve in the
+    output length unit, its capacity a dashed line of the curve's colour, the runs beyond it
+    counted in the legend, and below the heated surface's rise in K; runs that did not
+    converge are left out of both."""
+    rng = np.random.default_rng(1)
+    travel = rng.uniform(1.0, 6.0, (40, 1, 2)) * INCH
+    rise = rng.uniform(10.0, 90.0, (40, 1, 1))
+    converged = np.ones(40, bool)
+    converged[:3] = False
+    result = dataclasses.replace(_result(), converged=converged, slider_travel=travel,
+                                 surface_temperature_rise=rise,
+                                 attrs={"slider_names": ["bottom", "top"], "heated_surface_names": ["bottom"],
+                                        "slider_capacities_m": [[4.0 * INCH, 12.0 * INCH]]})
+    fig = montecarlo_figure(result, length=("in", INCH))
+    try:
+        assert len(fig.axes) == 6
+        sliders, heated = fig.axes[2], fig.axes[5]
+        assert sliders.get_xlabel() == "peak slider travel [in]"
+        curves = [line for line in sliders.lines if line.get_linestyle() == "-"]
+        limits = [line for line in sliders.lines if line.get_linestyle() == "--"]
+        for e, (curve, limit) in enumerate(zip(curves, limits)):
+            np.testing.assert_allclose(curve.get_xdata(), np.sort(travel[3:, 0, e]) / INCH)
+            assert limit.get_xdata()[0] == pytest.approx((4.0, 12.0)[e])
+            assert limit.get_color() == curve.get_color()
+        beyond = int(np.sum(travel[3:, 0, 0] > 4.0 * INCH))
+        assert 0 < beyond < 37
+        texts = [t.get_text() for t in sliders.get_legend().get_texts()]
+        assert texts == [f"bottom (capacity 4 in, {beyond} runs beyond)", "top (capacity 12 in, 0 runs beyond)"]
+        assert heated.get_xlabel() == "peak surface temperature rise [K]"
+        np.testing.assert_allclose(heated.lines[0].get_xdata(), np.sort(rise[3:, 0, 0]))
+    finally:
+        plt.close(fig)
+    assert len(montecarlo_figure(_result()).axes) == 4  # flat sliders: the base's two columns
+    plt.close("all")
 
 
 def test_residual_maps_draw_speeds_in_the_output_length_unit():
