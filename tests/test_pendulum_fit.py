@@ -9,10 +9,11 @@ import pathlib
 
 import numpy as np
 import pytest
+from test_bayes import TRUTH
 
 from identification.bearing_fit import fit_pendulum_test
 from teflon_jax.cli import main
-from teflon_jax.formats import read_test_record, test_record_from_arrays
+from teflon_jax.formats import read_test_record, test_record_from_arrays, write_test_record
 from teflon_jax.tables import interface_parameters
 from teflon_jax.units import INCH, PSI, STANDARD_GRAVITY
 
@@ -84,7 +85,7 @@ def test_a_held_radius_fits_the_friction_alone(records):
     (["--fixed", "radius=-88in"], "--fixed radius: must be a positive radius of curvature"),
     (["--fixed", "radius=88"], "--fixed radius"),
     (["--fixed", "radis=88in"], "unknown parameter 'radis'"),
-    (["--bayes", "post"], "--bayes: not available with --isolator single-fp"),
+    (["--effects", "temperature"], "--effects: not available with --isolator single-fp"),
 ])
 def test_bad_radius_is_refused_by_name(records, flags, message, tmp_path, capsys):
     code = main(["fit", str(records["fp"]), "--isolator", "single-fp", "--json", str(tmp_path / "f.json"), *flags])
@@ -184,3 +185,44 @@ def test_diagnose_refits_the_radius_beside_the_effect_it_finds(tmp_path, capsys)
     assert document["radius_settled"] is True and document["radius_reruns"] >= 1
     assert document["effects_added"] == ["heating"]
     assert "R refitted beside the effects found" in err
+
+
+@pytest.mark.slow  # a least-squares fit, NUTS (2 chains x 600 + 600 steps) and a Monte Carlo: 2-3 minutes
+def test_the_liners_posterior_travels_from_a_pendulum_test_into_a_monte_carlo(tmp_path, capsys):
+    """From a pendulum's test to its Monte Carlo: `fit --isolator single-fp --bayes` samples the
+    liner's friction on the record less N u / R at the fitted radius; on a record of known
+    constants with 2 % noise the 5-95 % intervals hold the truth and the mean lies within two
+    posterior sd of it; the bearing file it saves carries the draws, which `montecarlo
+    --isolator single-fp` runs one bearing per motion. Sampled on the whole force instead (N u /
+    R left in), the posterior misses the truth (delta_f's 90 % interval ends near half of it)."""
+    from test_bayes_cli import _model_record
+
+    from teflon_jax.formats import load_bearing_posterior
+
+    flat = read_test_record(_model_record(tmp_path / "flat.csv", 3))
+    fx = np.asarray(flat.fx) + np.asarray(flat.normal_load) * np.asarray(flat.ux) / RADIUS
+    record = tmp_path / "fp.csv"
+    write_test_record(record, test_record_from_arrays(np.asarray(flat.ux), fx, time=np.asarray(flat.time),
+                                                      normal_load=np.asarray(flat.normal_load)))
+    bearing = tmp_path / "liner.json"
+    code = main(["fit", str(record), "--isolator", "single-fp", "--json", str(tmp_path / "f.json"), "--starts", "2",
+                 "--free", "f_max,delta_f,rate_a", "--fixed", "yield_disp=0.005in", "--bayes", str(tmp_path / "post"),
+                 "--draws", "600", "--chains", "2", "--no-progress", "--save-bearing", str(bearing),
+                 "--posterior-draws", "40"])
+    summary = json.loads((tmp_path / "post" / "posterior.json").read_text())
+    assert code == 0, summary["messages"]
+    fit = json.loads((tmp_path / "f.json").read_text())
+    assert fit["radius [m]"] == pytest.approx(RADIUS, rel=0.01)
+    for name in ("f_max", "delta_f", "rate_a"):
+        row, truth = summary["posterior"][name], TRUTH[name]
+        assert row["q05"] <= truth <= row["q95"], (name, row, truth)
+        assert abs(row["mean"] - truth) < 2 * row["sd"], (name, row, truth)
+    assert summary["posterior"]["f_max"]["sd"] < 0.02 * TRUTH["f_max"]
+    assert load_bearing_posterior(bearing).size == 40
+
+    code = main(["montecarlo", "--isolator", "single-fp", "--radius", "88in", "--bearing", str(bearing),
+                 "--motions", "4", "--duration", "4s", "--strong-motion", "2s", "--no-progress",
+                 "--json", str(tmp_path / "mc.json")])
+    assert code == 0, capsys.readouterr().err
+    draws = json.loads((tmp_path / "mc.json").read_text())["bearing_posterior"]["bearing_draw"]
+    assert len(draws) == 4 and len(set(draws)) > 1

@@ -72,7 +72,9 @@ def add_fit_parser(subparsers) -> argparse.ArgumentParser:
                              "5-95 %% interval, R-hat, ESS), posterior.nc (draws, ArviZ layout) "
                              "and pairs.png into DIR, and with --save-bearing the draws into the "
                              "bearing file beside the point estimate; exits 1 when the chains did "
-                             "not converge, 130 on Ctrl-C (the draws so far written, not converged)")
+                             "not converge, 130 on Ctrl-C (the draws so far written, not converged). "
+                             "With --isolator single-fp: the liner's friction, sampled on the records "
+                             "less N u / R at the fitted radius (R held there)")
     parser.add_argument("--prior", choices=("bounds", "table1"), default=None,
                         help="with --bayes: log-uniform over physical bounds, or Table 1 as an "
                              "informative prior (default bounds)")
@@ -149,7 +151,7 @@ def run_fit(args) -> int:
         return 0 if fit.converged else 1
     from ._fit_bayes import run_bayes
 
-    return run_bayes(args, records, inputs.fixed, friction, _save_fitted)
+    return run_bayes(args, row.sampled(args, fit, records), inputs.fixed, friction, _save_fitted)
 
 
 def _check_isolator_flags(args, row) -> None:

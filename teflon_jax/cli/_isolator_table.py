@@ -58,12 +58,13 @@ class FitRow:
     """How `fit` treats one isolator. `requires` and `refuses`: the flags it needs and those it
     cannot take (`required`, `refused`: attribute of the parsed arguments, message), checked in
     that order; `one_record`: it fits one record; `starts`: default --starts (None: no
-    starts); `own`: `OwnConstant`s by name; `posterior`: --bayes and --each can sample its
-    law. The callables take the parsed arguments `args`: `read(args, own) -> FitInputs`,
-    `announce(args, inputs, records) -> str`, `solve(args, inputs, records) -> result`,
-    `friction(result)` -> the friction law's `BearingFit` (saved with --save-bearing, sampled
-    with --bayes) or None, `plot(args, result, records)` and `report(args, result) -> lines`
-    for stderr."""
+    starts); `own`: `OwnConstant`s by name; `posterior`: --each can fit and sample its law
+    record by record. The callables take the parsed arguments `args`: `read(args, own) ->
+    FitInputs`, `announce(args, inputs, records) -> str`, `solve(args, inputs, records) ->
+    result`, `friction(result)` -> the friction law's `BearingFit` (saved with --save-bearing,
+    sampled with --bayes) or None, `sampled(args, result, records)` -> the records --bayes
+    samples that law on (by default the records themselves), `plot(args, result,
+    records)` and `report(args, result) -> lines` for stderr."""
 
     read: Callable
     announce: Callable
@@ -77,6 +78,7 @@ class FitRow:
     starts: int | None = DEFAULT_STARTS
     own: dict = dataclasses.field(default_factory=dict)
     posterior: bool = False
+    sampled: Callable = lambda args, result, records: records
 
 
 @dataclasses.dataclass(frozen=True)
@@ -151,6 +153,15 @@ def _fit_single(args, inputs, records):
     return fit_pendulum_test(records, free=inputs.free, fixed=inputs.fixed, radius=inputs.own.get("radius"),
                              normal_load=args.normal_load, n_starts=args.starts,
                              reduce=not args.full_model)
+
+
+def _friction_parts(args, fit, records) -> list:
+    """The friction part of each pendulum record at the fitted radius, fx less N u / R
+    (`pendulum_friction_record`): what the liner's posterior is sampled on, R held at its
+    least-squares value."""
+    from identification.bearing_fit import pendulum_friction_record
+
+    return [pendulum_friction_record(r, fit.radius, normal_load=args.normal_load) for r in records]
 
 
 def _plot_friction(args, fit, records) -> None:
@@ -338,9 +349,8 @@ FIT_ROWS: dict[str, FitRow] = per_isolator(
                                                "starts (compiling first)..."),
     single=FitRow(
         read=_read_friction, solve=_fit_single, friction=lambda fit: fit.friction, plot=_plot_single,
-        report=_report_single, own={"radius": _RADIUS},
-        refuses=(*_NOT_SERIES, *((name, "{flag}: not available with --isolator {isolator}; leave {flag} out.")
-                                 for name in ("bayes", "effects"))),
+        report=_report_single, own={"radius": _RADIUS}, sampled=_friction_parts,
+        refuses=(*_NOT_SERIES, ("effects", "{flag}: not available with --isolator {isolator}; leave {flag} out.")),
         announce=lambda args, inputs, records: f"{len(records)} record(s) of a single friction pendulum, "
                                                f"{'R held' if inputs.own else 'R and the friction alternated'} "
                                                "(compiling first)..."),
