@@ -233,7 +233,7 @@ def run_levels(args, structure, model, units, statistics, posterior=None) -> int
         if result.group_peak_load is not None:  # a plan's groups that share the weight unevenly
             entry["groups"] = group_summary(part, units)[0]
         if result.surfaces:  # a series pendulum's sliders, the heated surfaces
-            entry["surfaces"] = surface_summary(part, units, capacities)[0]
+            entry["surfaces"] = surface_summary(part, units)[0]
         per_level.append(entry)
     fragility, curves = {}, {}
     for limit in limits:

@@ -33,7 +33,6 @@ from ._montecarlo_summary import (
     group_summary,
     report,
     run_attributes,
-    slider_capacities,
     stamp,
     statistics,
     steady_rate,
@@ -293,7 +292,7 @@ def run_montecarlo(args) -> int:
     groups, group_lines = group_summary(result, units)
     if groups:
         payload["groups"], payload["units"]["group_load"] = groups, units.force[0]
-    surfaces, surface_lines = surface_summary(result, units, slider_capacities(structure))
+    surfaces, surface_lines = surface_summary(result, units)  # the capacities its attributes keep
     if surfaces:
         payload["surfaces"] = surfaces
     posterior_entry, posterior_lines = posterior_report(result, posterior, units)

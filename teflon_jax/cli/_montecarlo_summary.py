@@ -218,11 +218,12 @@ def capacity_attributes(structure) -> dict:
     return {} if capacities is None else {"slider_capacities_m": capacities.tolist()}
 
 
-def surface_summary(result, units, capacities=None) -> tuple[dict, list]:
+def surface_summary(result, units) -> tuple[dict, list]:
     """({name: {[group: ]{surface: {"p50", "p84", "max"}}}}, printed lines) of the isolator's
     surfaces over the converged runs: each series-pendulum slider's peak travel in `units`'
-    length ("slider_travel_<unit>"), with `capacities` (`slider_capacities`) also its capacity
-    ("capacity", in the same unit) and the runs in which it went beyond it onto the restrainer
+    length ("slider_travel_<unit>"), with the capacities the result keeps
+    (`attrs["slider_capacities_m"]`, `capacity_attributes`) also its capacity ("capacity", in
+    the same unit) and the runs in which it went beyond it onto the restrainer
     ("n_on_restrainer"), and each heated
     surface's peak temperature rise ("surface_temperature_rise_K"), per bearing group where a
     plan has several; ({}, []) without them."""
@@ -231,6 +232,8 @@ def surface_summary(result, units, capacities=None) -> tuple[dict, list]:
     from ..studies import SURFACE_VARIABLES
 
     ok = np.asarray(result.converged, bool)
+    capacities = result.attrs.get("slider_capacities_m")
+    capacities = None if capacities is None else np.asarray(capacities, float)
     summary, lines = {}, []
     for name, (_, labels) in result.surfaces.items():
         si_unit = SURFACE_VARIABLES[name][1]
