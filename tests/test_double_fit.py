@@ -189,7 +189,6 @@ def files(tmp_path):
     ([], "--isolator-file: --isolator double-fp starts"),
     (["--isolator-file", "TRIPLE"], "holds a triple-fp isolator; fit --isolator double-fp"),
     (["--isolator-file", "START", "--fixed", "f_max=0.1"], "--fixed: not with --isolator double-fp"),
-    (["--isolator-file", "START", "--bayes", "dir"], "--bayes: not with --isolator double-fp"),
     (["--isolator-file", "START", "--free", "inner_radius"], "--free: free: unknown"),
     (["--isolator-file", "START", "RECORD"], "RECORD: --isolator double-fp fits one record"),
 ])

@@ -95,7 +95,8 @@ def test_two_outputs_of_one_path_are_refused(tmp_path, capsys):
 
 
 # Each command gets an output in a missing folder and one flag it refuses: the refusal is
-# that flag's (the folder is created, not refused), the same for every command.
+# that flag's (a missing folder is not refused), the same for every command, and the folders
+# made for its outputs are taken back, so a refused command leaves nothing behind.
 @pytest.mark.parametrize("argv, refused", [
     (["simulate-test", "--out", "{missing}/x.csv", "--pattern", "zigzag"], "--pattern"),
     (["montecarlo", "--motions", "2", "--out", "{missing}/mc.nc", "--principal-angle", "10deg"],
@@ -104,13 +105,26 @@ def test_two_outputs_of_one_path_are_refused(tmp_path, capsys):
     (["fit", "{missing}/../nowhere.csv", "--json", "f.json", "--save-bearing", "{missing}/b.json"],
      "{missing}/../nowhere.csv: no such file"),
 ])
-def test_a_missing_output_folder_is_created_by_every_command(tmp_path, capsys, argv, refused):
+def test_a_missing_output_folder_is_no_refusal_and_a_refused_command_leaves_none(tmp_path, capsys, argv,
+                                                                               refused):
     record = _at2(tmp_path / "x.AT2")
     missing = tmp_path / "missing" / "dir"
     code, out = _run(capsys, *(a.format(missing=missing, record=record) for a in argv))
     assert code == 2
     assert out.err.startswith(f"teflon-jax {argv[0]}: error: {refused.format(missing=missing)}")
-    assert missing.is_dir()
+    assert not (tmp_path / "missing").exists()
+
+
+def test_a_missing_output_folder_is_created_for_a_command_that_runs(tmp_path, capsys):
+    """The folders above an output are made, and those a refusal would take back stay where
+    the command writes into them (an existing folder is never removed)."""
+    out = tmp_path / "new" / "deeper" / "x.csv"
+    code, _ = _run(capsys, "simulate-test", "--amplitude", "1in", "--frequency", "0.5Hz", "--cycles", "1",
+                   "--out", out)
+    assert code == 0 and out.is_file()
+    (tmp_path / "kept").mkdir()
+    code, _ = _run(capsys, "simulate-test", "--out", tmp_path / "kept" / "x.csv", "--pattern", "zigzag")
+    assert code == 2 and (tmp_path / "kept").is_dir()
 
 
 # ------------------------------------------------------------------ a triple pendulum's friction

@@ -124,6 +124,18 @@ def test_a_part_a_surface_cannot_take_is_refused_by_key(part, value, message):
         isolator_from_dict(_document(**{part: value}), where="dfp.json")
 
 
+def test_a_misspelt_part_is_refused_with_the_parts_a_surface_takes():
+    """A part's name that is off by a letter: the message lists the optional parts beside the
+    required keys, and names the part it is closest to."""
+    with pytest.raises(ValueError) as error:
+        isolator_from_dict(_document(breakway=PARTS["breakaway"]), where="dfp.json")
+    message = str(error.value)
+    assert "surfaces.bottom: unknown ['breakway']" in message
+    assert "optional heating, breakaway, " in message and "'breakway' is not 'breakaway'" in message
+    with pytest.raises(ValueError, match=r"unknown \['spin'\] \(expected radius.*nothing is defaulted\)\.$"):
+        isolator_from_dict(_document(spin=PARTS["breakaway"]), where="dfp.json")
+
+
 def test_two_contact_pressures_of_one_surface_are_refused():
     document = _document(pressure_dependence=PARTS["pressure_dependence"])
     document["surfaces"]["bottom"]["heating"] = _heating(25)

@@ -55,10 +55,10 @@ def files(tmp_path_factory):
      "--limit drift=0.5%: runs without the posterior draws"),
     (["--scheduler", "local:2", "--out", "{folder}/mc.nc"], "--scheduler: runs without the posterior draws"),
     (["--no-bearing", "--bearing-seed", "3"], "--bearing-seed 3: orders the posterior draws (or a mixture's) of a "
-                                              "--bearing file, and no --bearing FILE is given"),
+                                              "--bearing file or an --isolator-file, and no --bearing FILE is given"),
     (["--point", "--bearing-seed", "3"], "--bearing-seed 3: orders the posterior draws (or a "
-                                                      "mixture's) of a --bearing file, and --bearing {point} runs "
-                                                      "as its point estimate here"),
+                                                      "mixture's) of a --bearing file or an --isolator-file, and "
+                                                      "--bearing {point} runs as its point estimate here"),
     (["--bearing-draws", "point", "--bearing-seed", "0"], "--bearing-seed 0: orders the posterior draws"),
 ], ids=["no-posterior", "too-many", "zero", "word", "no-motions", "no-file", "storeys", "storey-limit", "scheduler",
         "seed-no-file", "seed-no-posterior", "seed-point"])

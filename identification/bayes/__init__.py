@@ -8,3 +8,6 @@ from ._priors import PHYSICAL as PHYSICAL
 from ._priors import ParameterPrior as ParameterPrior
 from ._priors import build_priors as build_priors
 from ._result import BayesResult as BayesResult
+from ._series import F_MAX_RANGE as F_MAX_RANGE
+from ._series import fit_series_bayes as fit_series_bayes
+from ._series import series_priors as series_priors

@@ -84,20 +84,27 @@ def _forward_mode_force(n_interfaces: tuple[int, int], names: tuple[str, ...]):
                                      interfaces_in_parallel=n_interfaces[0],
                                      interfaces_in_series=n_interfaces[1])
 
-    @jax.custom_vjp
-    def force(theta, rec):
-        return simulate(theta, rec)
+    return forward_mode(simulate)
 
-    def fwd(theta, rec):
-        jac, value = jax.jacfwd(lambda th: (simulate(th, rec),) * 2, has_aux=True)(theta)
-        return value, (jac, rec)
+
+def forward_mode(simulate):
+    """`simulate(theta, data)` -> a vector, with its vector-Jacobian product in `theta` taken
+    in forward mode: `J^T g`, `J` from `jax.jacfwd` (the data get no cotangent)."""
+
+    @jax.custom_vjp
+    def value(theta, data):
+        return simulate(theta, data)
+
+    def fwd(theta, data):
+        jac, out = jax.jacfwd(lambda th: (simulate(th, data),) * 2, has_aux=True)(theta)
+        return out, (jac, data)
 
     def bwd(res, g):
-        jac, rec = res
-        return jac.T @ g, jax.tree_util.tree_map(jnp.zeros_like, rec)
+        jac, data = res
+        return jac.T @ g, jax.tree_util.tree_map(jnp.zeros_like, data)
 
-    force.defvjp(fwd, bwd)
-    return force
+    value.defvjp(fwd, bwd)
+    return value
 
 
 def make_model(shapes: dict, fixed_names: tuple, n_interfaces: tuple):

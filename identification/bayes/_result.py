@@ -7,7 +7,7 @@ import warnings as _warnings
 import numpy as np
 
 from teflon_jax.bearing import PARAMETER_BOUNDS
-from teflon_jax.formats import BearingPosterior, thinned_posterior
+from teflon_jax.formats import BearingPosterior, IsolatorPosterior, thinned_posterior
 
 from ..bearing_fit import PARAMETER_NAMES
 from ._model import base_name, to_base, to_physical
@@ -48,6 +48,8 @@ class BayesResult:
     - `interrupted`: why sampling stopped before all the draws asked for (e.g. "interrupted
       after 100 of 1000 draws per chain"), else None; an interrupted run is not converged.
     - `seed`: the sampler's random seed.
+    - `units`: the unit of each constant's name where they are not the flat bearing's
+      (`UNITS`): a series pendulum's `<surface>_<constant>`.
     """
 
     draws: dict
@@ -67,6 +69,12 @@ class BayesResult:
     ess_min: float
     interrupted: str | None = None
     seed: int = 0
+    units: dict | None = None
+
+    @property
+    def unit_names(self) -> dict:
+        """The unit of each reported name: `units`, or the flat bearing's `UNITS`."""
+        return UNITS if self.units is None else {**self.units, "noise_level": "N"}
 
     def bearing_posterior(self, max_draws: int = 1000) -> BearingPosterior:
         """The draws of the free constants as a `teflon_jax.formats.BearingPosterior` for the
@@ -76,6 +84,15 @@ class BayesResult:
         return thinned_posterior({n: self.draws[n] for n in self.free},
                                  {n: self.table[n]["ess_bulk"] for n in self.free},
                                  max_draws=max_draws, chains=self.num_chains, seed=self.seed)
+
+    def isolator_posterior(self, max_draws: int = 1000) -> IsolatorPosterior:
+        """The draws of a series pendulum's surface friction (`fit_series_bayes`) as a
+        `teflon_jax.formats.IsolatorPosterior` for the isolator file, thinned as
+        `bearing_posterior`'s."""
+        return thinned_posterior({n: self.draws[n] for n in self.free},
+                                 {n: self.table[n]["ess_bulk"] for n in self.free},
+                                 max_draws=max_draws, chains=self.num_chains, seed=self.seed,
+                                 kind=IsolatorPosterior)
 
     def summary(self, unit_of=None) -> str:
         """Text table: mean, median, 5-95 % interval, R-hat, ESS, identification; SI, or in
@@ -87,10 +104,10 @@ class BayesResult:
         ls = self.least_squares
         for name, row in self.table.items():
             base = name.rsplit("_", 1)[0] if name.startswith("noise") else name
-            unit, factor = (UNITS.get(base, "-"), 1.0) if unit_of is None else unit_of(base)
+            unit, factor = (self.unit_names.get(base, "-"), 1.0) if unit_of is None else unit_of(base)
             unit = unit or "-"
-            est = ls.parameters.get(name) if name in PARAMETER_NAMES else None
-            se = ls.std_errors.get(name) if name in PARAMETER_NAMES else None
+            est = ls.parameters.get(name) if name in self.free else None
+            se = ls.std_errors.get(name) if name in self.free else None
             lines.append(
                 f"{name:<16}{unit:>5}{row['mean'] / factor:>12.5g}{row['median'] / factor:>12.5g}"
                 f"{row['q05'] / factor:>12.5g}{row['q95'] / factor:>12.5g}"
@@ -109,7 +126,7 @@ class BayesResult:
 
         return {
             "posterior": {k: {kk: clean(vv) for kk, vv in v.items()} for k, v in self.table.items()},
-            "units": dict(UNITS), "prior": self.prior,
+            "units": dict(self.unit_names), "prior": self.prior,
             "prior_ranges": {k: [p.low, p.high] for k, p in self.priors.items()},
             "divergences": int(self.divergences), "converged": bool(self.converged),
             "status": self.interrupted or ("converged" if self.converged else "not converged"),
@@ -124,7 +141,7 @@ class BayesResult:
         return az.from_dict(
             posterior={k: np.asarray(v) for k, v in self.draws.items()},
             sample_stats={"diverging": self._diverging},
-            attrs={"prior": self.prior, "units": str(UNITS),
+            attrs={"prior": self.prior, "units": str(self.unit_names),
                    "model": "Constantinou, Mokha & Reinhorn (1990), Eq. 1, 3, 17"},
         )
 
@@ -145,7 +162,7 @@ class BayesResult:
         az = _arviz()
         shown = {}
         for name in self.free:
-            unit, factor = (UNITS.get(name, "-"), 1.0) if unit_of is None else unit_of(name)
+            unit, factor = (self.unit_names.get(name, "-"), 1.0) if unit_of is None else unit_of(name)
             shown[f"{name} [{unit or '-'}]"] = np.asarray(self.draws[name]) / factor
         data = az.from_dict(posterior=shown, sample_stats={"diverging": self._diverging})
         with _warnings.catch_warnings():  # ArviZ 0.23 calls a deprecated matplotlib helper
@@ -198,21 +215,26 @@ def _prior_sd(p) -> float:
 
 
 def diagnose_run(base, diverging, priors, fit, data, *, rhat_max, ess_min, elapsed,
-                 elapsed_least_squares, prior, interrupted=None, seed=0) -> BayesResult:
+                 elapsed_least_squares, prior, interrupted=None, seed=0, order=PARAMETER_NAMES,
+                 ratios=(("delta_f", "f_max"),), units=None) -> BayesResult:
     """Summaries and convergence checks of a numpyro run: `base`, site -> (chains, draws, ...)
     draws of the sampled sites; `diverging`, (chains, draws) flags; `interrupted`, why the run
-    stopped early (then it is not converged), or None."""
+    stopped early (then it is not converged), or None. `order`: the constants' names in the
+    order reported; `ratios`: (name, of) pairs of the constants sampled as a ratio to another
+    (delta_f as delta_f / f_max), `of` read from the draws or, held, from `fit`; `units`: the
+    unit of each name (`None`: `UNITS`)."""
     az = _arviz()
     base = {k: np.asarray(v) for k, v in base.items()}
     samples = {name: np.asarray(to_physical(p, base[base_name(p)])) for name, p in priors.items()}
-    if "delta_f" in samples:
-        f_max = samples.get("f_max", fit.parameters["f_max"])
-        samples["delta_ratio"] = samples["delta_f"]
-        samples["delta_f"] = samples["delta_f"] * f_max
+    sampled_ratio = {}
+    for name, of in ratios:
+        if name in samples:
+            sampled_ratio[name] = samples[name]
+            samples[name] = samples[name] * samples.get(of, fit.parameters[of])
     for i, rec in enumerate(data):
         samples[f"noise_level_{i}"] = base["noise_rel"][..., i] * rec["scale"]
     diverging = np.asarray(diverging)
-    free = tuple(n for n in PARAMETER_NAMES if n in priors)
+    free = tuple(n for n in order if n in priors)
     draws = {n: samples[n] for n in free}
     for i in range(len(data)):
         draws[f"noise_level_{i}"] = samples[f"noise_level_{i}"]
@@ -230,7 +252,7 @@ def diagnose_run(base, diverging, priors, fit, data, *, rhat_max, ess_min, elaps
                    identified="yes", sd_ratio=float("nan"))
         if name in priors:
             p = priors[name]
-            site = samples["delta_ratio"] if name == "delta_f" else x
+            site = sampled_ratio.get(name, x)
             ratio = float(np.std(np.asarray(to_base(p, site))) / _prior_sd(p))
             row["sd_ratio"] = ratio
             if ratio > NOT_IDENTIFIED_RATIO:
@@ -266,6 +288,7 @@ def diagnose_run(base, diverging, priors, fit, data, *, rhat_max, ess_min, elaps
         least_squares=fit, prior=prior, priors=priors, free=free,
         num_chains=int(diverging.shape[0]), num_samples=int(diverging.shape[1]),
         elapsed_s=float(elapsed), elapsed_least_squares_s=float(elapsed_least_squares),
-        rhat_max=float(rhat_max), ess_min=float(ess_min), interrupted=interrupted, seed=int(seed))
+        rhat_max=float(rhat_max), ess_min=float(ess_min), interrupted=interrupted, seed=int(seed),
+        units=units)
     result._diverging = diverging
     return result

@@ -36,6 +36,7 @@ from ._triple_fit import TripleFit as TripleFit
 from ._triple_fit import fit_double_pendulum_test as fit_double_pendulum_test
 from ._triple_fit import fit_series_pendulum_test as fit_series_pendulum_test
 from ._triple_fit import fit_triple_pendulum_test as fit_triple_pendulum_test
+from ._triple_fit import series_arrays as series_arrays
 from ._triple_fit import series_parameters as series_parameters
 from ._triple_fit import series_with_parameters as series_with_parameters
 from ._triple_fit import triple_parameters as triple_parameters
@@ -44,5 +45,6 @@ from ._triple_plan import DOUBLE_PARAMETER_NAMES as DOUBLE_PARAMETER_NAMES
 from ._triple_plan import DOUBLE_PARAMETER_UNITS as DOUBLE_PARAMETER_UNITS
 from ._triple_plan import TRIPLE_PARAMETER_NAMES as TRIPLE_PARAMETER_NAMES
 from ._triple_plan import TRIPLE_PARAMETER_UNITS as TRIPLE_PARAMETER_UNITS
+from ._triple_plan import parameter_units as parameter_units
 from ._triple_plan import series_fit_plan as series_fit_plan
 from ._triple_plan import triple_fit_plan as triple_fit_plan

@@ -61,7 +61,6 @@ from teflon_jax.units import INCH, PSI
 from ..least_squares import covariance_from_jacobian, fit_least_squares_batch
 from ._prepare import _record_name
 from ._triple_fit import (
-    _arrays,
     _bounds,
     _check_apart,
     _in_start_order,
@@ -69,6 +68,7 @@ from ._triple_fit import (
     _swap_name,
     check_pressure_load,
     check_reference_load,
+    series_arrays,
     triple_parameters,
     triple_with_parameters,
 )
@@ -178,7 +178,7 @@ def prepare_series_problem(record: TestRecord, start: SeriesPendulum, *, normal_
                          "its surfaces along one axis only, so diagnose takes a record along one axis.")
     if not (isinstance(max_samples, int) and max_samples >= 10):
         raise ValueError(f"max_samples: must be an integer >= 10, got {max_samples!r}.")
-    time, path, force, load = _arrays(record, normal_load)
+    time, path, force, load = series_arrays(record, normal_load)
     if reference_load is None:
         check_pressure_load(record, start, load)
         _check_one_step_and_load(name, time, load)

@@ -157,7 +157,7 @@ def _residual(params, args):
     return ((response.force - force) / (load if force.ndim == 1 else load[:, None])).reshape(-1)
 
 
-def _arrays(record: TestRecord, normal_load):
+def series_arrays(record: TestRecord, normal_load):
     """(time, displacement (nt,) or (nt, 2), force like it, N (nt,)) of a time-history record
     at increasing sample times under a positive normal load at each sample; `ValueError`
     naming what the fit cannot take."""
@@ -258,7 +258,7 @@ def fit_series_pendulum_test(record: TestRecord, initial: SeriesPendulum, *, fre
     _check_apart(initial)
     if not (isinstance(max_steps, int) and max_steps >= 1):
         raise ValueError(f"max_steps: must be an integer >= 1, got {max_steps!r}.")
-    time, path, force, load = _arrays(record, normal_load)
+    time, path, force, load = series_arrays(record, normal_load)
     check_pressure_load(record, initial, load, reference_load)
     start = jax.tree_util.tree_map(lambda x: jnp.asarray(x, float), initial)
     simulate = eqx.filter_jit(functools.partial(respond_along_path, reference_load=reference_load))

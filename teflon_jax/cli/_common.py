@@ -357,13 +357,16 @@ def check_no_clash(args, command: str) -> None:
                                  "would replace it. Give another name for the output.")
 
 
-def check_outputs(args, command: str) -> None:
+def check_outputs(args, command: str) -> list[pathlib.Path]:
     """Before any work: every output path of `command` on `args` can be written and is none
     of its inputs (`check_no_clash`). A file (or image) must not be a folder, a folder not a
     file; the nearest existing folder above must be writable, and the missing folders are
     created here, the same for every command; an image needs a suffix matplotlib writes. A
-    `ValueError` names the flag and echoes the path as typed otherwise."""
+    `ValueError` names the flag and echoes the path as typed otherwise. **Returns:** the
+    folders created, deepest first (`remove_empty_folders` takes them back where the command
+    then refuses its input)."""
     check_no_clash(args, command)
+    created = []
     for dest, flag, kind, example in output_flags(command):
         text = getattr(args, dest, None)
         if text is None:
@@ -385,7 +388,21 @@ def check_outputs(args, command: str) -> None:
             raise ValueError(f"{flag} {text}: cannot write results there, {above} is a file, not a folder.")
         if not os.access(above, os.W_OK | os.X_OK) or (path.exists() and not os.access(path, os.W_OK)):
             raise ValueError(f"{flag} {text}: cannot write results there (permission denied).")
-        (path if kind == "folder" else path.parent).mkdir(parents=True, exist_ok=True)
+        folder = path if kind == "folder" else path.parent
+        missing = [folder, *folder.parents][:len(folder.parents) + 1]
+        created += [f for f in missing if not f.exists()]
+        folder.mkdir(parents=True, exist_ok=True)
+    return sorted(set(created), key=lambda f: len(f.parts), reverse=True)
+
+
+def remove_empty_folders(folders) -> None:
+    """Remove those of `folders` (deepest first) that are still empty: the output folders a
+    command created before it refused its input, so that a refused command leaves nothing."""
+    for folder in folders:
+        try:
+            folder.rmdir()
+        except OSError:  # not empty (the command wrote there), or gone
+            pass
 
 
 def check_time_step(time_step: float, time_text: str, record_step: float, record_text: str) -> None:

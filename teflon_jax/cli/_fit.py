@@ -109,7 +109,7 @@ def run_fit(args) -> int:
     """Run `teflon-jax fit`; returns the exit status (0 ok, 1 not converged, 2 bad input)."""
     row = FIT_ROWS[args.isolator]
     try:
-        check_bayes_flags(args, posterior=row.posterior)
+        check_bayes_flags(args, posterior=row.posterior, series=row.bayes is not None)
         read_quantities(args, "fit")
         _check_isolator_flags(args, row)
     except ValueError as error:
@@ -149,6 +149,8 @@ def run_fit(args) -> int:
         print(line, file=sys.stderr)
     if args.bayes is None or not fit.converged:  # a row without a posterior refused --bayes above
         return 0 if fit.converged else 1
+    if row.bayes is not None:
+        return row.bayes(args, fit, records)
     from ._fit_bayes import run_bayes
 
     return run_bayes(args, row.sampled(args, fit, records), inputs.fixed, friction, _save_fitted)

@@ -36,12 +36,13 @@ SAMPLER_DEFAULTS = {"prior": "bounds", "draws": 1000, "chains": 4, "seed": 0}
 """The sampler's flags (--prior, --draws, --chains, --seed) where --bayes is given without them."""
 
 
-def check_bayes_flags(args, *, posterior: bool = True) -> None:
+def check_bayes_flags(args, *, posterior: bool = True, series: bool = False) -> None:
     """`ValueError` naming the flag, before any work, for --posterior-draws, --each and the
     sampler's flags (`SAMPLER_DEFAULTS`) given where they do not apply or with values they
     cannot take; with --bayes, the sampler's flags left out take their defaults on `args`.
     `posterior`: whether the isolator's law is one the sampler knows (the flat slider's,
-    `_isolator_table.FitRow`)."""
+    `_isolator_table.FitRow`); `series`: the posterior of a double or triple pendulum's
+    surfaces (`run_series_bayes`: its own prior, its draws kept by --save-isolator)."""
     each, draws = getattr(args, "each", False), getattr(args, "posterior_draws", None)
     if args.bayes is None:
         for flag, given in (("--each", each), ("--posterior-draws", draws is not None),
@@ -55,7 +56,13 @@ def check_bayes_flags(args, *, posterior: bool = True) -> None:
             setattr(args, name, default)
     if draws is not None and draws < 1:
         raise ValueError(f"--posterior-draws: must be an integer >= 1, got {draws}.")
-    if draws is not None and args.save_bearing is None and not each:
+    if series and args.prior != "bounds":
+        raise ValueError(f"--prior {args.prior}: Table 1's prior is that of one flat interface; a "
+                         "series pendulum's surfaces take the bounded prior (--prior bounds, the default).")
+    if series and draws is not None and getattr(args, "save_isolator", None) is None:
+        raise ValueError("--posterior-draws: sets the draws kept in the isolator file; add "
+                         "--save-isolator FILE, or leave --posterior-draws out.")
+    if not series and draws is not None and args.save_bearing is None and not each:
         raise ValueError("--posterior-draws: sets the draws kept in the bearing file; add "
                          "--save-bearing FILE (or --each), or leave --posterior-draws out.")
     if not each:
@@ -239,3 +246,61 @@ def _fit_one(args, free, fixed, name, record, out, save_fitted, fit_bearing_test
     words = {0: "converged", 1: "not converged", 2: "refused", 130: "interrupted"}
     return status, {**row, "status": words[status],
                     "bearing": str(out / "bearing.json")}
+
+
+def _series_unit_of(family: str):
+    """name -> (unit, SI value of one unit) of `--units` for a series pendulum's constants
+    (`<surface>_<constant>`: the unit of the constant)."""
+    unit_of = _unit_of(family)
+    return lambda name: unit_of(name if name == "noise_level" else name.split("_", 1)[1])
+
+
+def run_series_bayes(args, fit, records) -> int:
+    """`fit --isolator double-fp|triple-fp --bayes DIR` after its least-squares fit: the
+    posterior of its surfaces' Eq. 1 constants (`identification.bayes.fit_series_bayes`) in
+    DIR; with --save-isolator, a converged run's draws in the isolator file. Exit status 0
+    when converged, else 1."""
+    from identification.bayes import fit_series_bayes
+
+    out = pathlib.Path(args.bayes)
+    print(f"{PREFIX}: NUTS on the {fit.bearing.description[:-1]}'s surface friction (radii and "
+          f"capacities held at the least-squares values), {args.chains} chains x ({args.draws} warm-up "
+          f"steps + {args.draws} draws), each step a simulation of the series model along the record: "
+          "minutes to hours.", file=sys.stderr)
+    try:
+        result = fit_series_bayes(records[0], fit, normal_load=args.normal_load, num_warmup=args.draws,
+                                  num_samples=args.draws, num_chains=args.chains, seed=args.seed,
+                                  progress_bar=not args.no_progress)
+    except ValueError as error:
+        print(f"{PREFIX}: error: {error}", file=sys.stderr)
+        return 2
+    out.mkdir(parents=True, exist_ok=True)
+    _write_json(out / "posterior.json", result.to_json_dict())
+    result.to_netcdf(out / "posterior.nc")
+    result.plot_pairs(out / "pairs.png", unit_of=_series_unit_of(args.units))
+    print(result.summary(unit_of=_series_unit_of(args.units)), file=sys.stderr)
+    if args.save_isolator is not None:
+        if not _save_isolator_posterior(args, fit, result):
+            return 1
+    return 0 if result.converged else 1
+
+
+def _save_isolator_posterior(args, fit, result) -> bool:
+    """--save-isolator again, with a converged run's draws (thinned to --posterior-draws)
+    beside the least-squares constants; True when written."""
+    from ..formats import write_isolator
+
+    path = args.save_isolator
+    if not result.converged:
+        print(f"{PREFIX}: {path} holds the least-squares isolator only: a posterior whose chains did "
+              "not converge is not added to it.", file=sys.stderr)
+        return False
+    try:
+        posterior = result.isolator_posterior(args.posterior_draws or DEFAULT_POSTERIOR_DRAWS)
+    except ValueError as error:
+        print(f"{PREFIX}: {path} holds the least-squares isolator only: {error}", file=sys.stderr)
+        return False
+    write_isolator(path, fit.bearing, posterior=posterior)
+    print(f"{PREFIX}: {path}: the isolator with {posterior.size} posterior draws (every "
+          f"{posterior.thinning}-th of {posterior.draws_before_thinning}).", file=sys.stderr)
+    return True

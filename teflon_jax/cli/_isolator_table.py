@@ -64,7 +64,9 @@ class FitRow:
     result`, `friction(result)` -> the friction law's `BearingFit` (saved with --save-bearing,
     sampled with --bayes) or None, `sampled(args, result, records)` -> the records --bayes
     samples that law on (by default the records themselves), `plot(args, result,
-    records)` and `report(args, result) -> lines` for stderr."""
+    records)` and `report(args, result) -> lines` for stderr; `bayes(args, result, records)
+    -> exit status`: the isolator's own posterior run after its fit (`None`: the friction
+    law's, `_fit_bayes.run_bayes`)."""
 
     read: Callable
     announce: Callable
@@ -79,6 +81,7 @@ class FitRow:
     own: dict = dataclasses.field(default_factory=dict)
     posterior: bool = False
     sampled: Callable = lambda args, result, records: records
+    bayes: Callable | None = None
 
 
 @dataclasses.dataclass(frozen=True)
@@ -322,8 +325,7 @@ _NOT_SERIES = (("isolator_file", SERIES_ONLY), ("save_isolator", SERIES_ONLY), (
 
 def _series_fit(order_note: str | None = None) -> FitRow:
     """The row of a series pendulum's fit: one record, from --isolator-file's constants."""
-    refused = (("bayes", "no posterior sampling of the {isolator} pendulum"),
-               ("effects", "the series model has no optional parts"),
+    refused = (("effects", "the series model has no optional parts"),
                ("fixed", "held constants keep --isolator-file's values: name the fitted ones with --free"),
                ("starts", "the fit starts from --isolator-file's values"),
                ("save_bearing", "a bearing file holds one flat slider: give --save-isolator"))
@@ -336,7 +338,13 @@ def _series_fit(order_note: str | None = None) -> FitRow:
                    "capacity and friction of each surface; docs/formats.md)."),),
         refuses=tuple((name, "{flag}: not with --isolator {isolator} (" + why + "); leave {flag} out.")
                       for name, why in refused),
-        one_record=True, starts=None)
+        one_record=True, starts=None, bayes=_bayes_series)
+
+
+def _bayes_series(args, fit, records) -> int:
+    from ._fit_bayes import run_series_bayes
+
+    return run_series_bayes(args, fit, records)
 
 
 _RADIUS = OwnConstant("length", "88in", "a positive radius of curvature")

@@ -15,6 +15,7 @@ from ._common import (
     output_flags,
     project_version,
     read_quantities,
+    remove_empty_folders,
     set_command_line,
 )
 from ._provenance import clear_arguments, set_arguments, stamp_outputs
@@ -140,17 +141,21 @@ def main(argv=None) -> int:
     runner = getattr(_command_module(args.command), _COMMANDS[args.command][2])
     from ..studies import ClusterRunError
 
+    created = []
     try:
         read_quantities(args, args.command)
-        check_outputs(args, args.command)  # before any work
+        created = check_outputs(args, args.command)  # before any work
         check_scheduler(args)
         set_arguments(args, output_flags(args.command))  # its input files hashed, for every result it writes
         started = math.floor(time.time()) - 1  # file times may be whole seconds
         status = runner(args)
         stamp_outputs(started)
+        if status == 2:  # refused: the folders made for its outputs go again
+            remove_empty_folders(created)
         return status
     except (ValueError, FileNotFoundError, ConnectionError) as error:
         print(f"teflon-jax {args.command}: error: {error}", file=sys.stderr)
+        remove_empty_folders(created)
         return 2
     except ClusterRunError as error:  # the input was fine; the cluster could not finish the run
         print(f"teflon-jax {args.command}: error: {error}", file=sys.stderr)

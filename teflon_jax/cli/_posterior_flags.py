@@ -1,7 +1,7 @@
 """The bearing posterior in `teflon-jax montecarlo`: `--bearing-draws` and `--bearing-seed`,
 checked before any work, the run's arguments, and what the summary says of the draws.
 
-A bearing file whose `posterior` section holds S draws of the fitted constants runs one draw
+A bearing file (or a series pendulum's isolator file) whose `posterior` section holds S draws of the fitted constants runs one draw
 per motion by default (motion m takes draw k(m), a seeded permutation cycled: without
 replacement while N <= S); `--bearing-draws K` runs K draws each on the same N motions and
 splits each peak's variance into a motion part and a bearing part (law of total variance);
@@ -85,44 +85,53 @@ def read_posterior_flags(args) -> PosteriorRun | None:
     base_disp and base_shear_ratio take them."""
     run = _posterior_run(args)
     if run is None and args.bearing_seed is not None:
-        why = ("no --bearing FILE is given" if args.bearing is None else
-               f"--bearing {args.bearing} runs as its point estimate here")
+        isolator_file = getattr(args, "isolator_file", None)
+        why = (f"--bearing {args.bearing} runs as its point estimate here" if args.bearing is not None else
+               f"--isolator-file {isolator_file} runs as its point estimate here" if isolator_file is not None
+               else "no --bearing FILE is given")
         raise ValueError(f"--bearing-seed {args.bearing_seed}: orders the posterior draws (or a mixture's) of "
-                         f"a --bearing file, and {why}; leave --bearing-seed out.")
+                         f"a --bearing file or an --isolator-file, and {why}; leave --bearing-seed out.")
     return run
 
 
 def _posterior_run(args) -> PosteriorRun | None:
-    from ..formats import load_bearing_posterior
+    from ..formats import load_bearing_posterior, load_isolator_posterior
 
     given = args.bearing_draws
-    if args.bearing is None:
+    isolator_file = getattr(args, "isolator_file", None)
+    if args.bearing is None and isolator_file is not None:  # a series pendulum's draws, if its file has them
+        flag, path, load = "--isolator-file", isolator_file, load_isolator_posterior
+    elif args.bearing is None:
         if given is not None:
             raise ValueError(f"--bearing-draws {given}: needs --bearing FILE, a bearing file with "
-                             "posterior draws (fit --bayes DIR --save-bearing FILE).")
+                             "posterior draws (fit --bayes DIR --save-bearing FILE), or --isolator-file FILE "
+                             "with them (fit --isolator double-fp|triple-fp --bayes DIR --save-isolator FILE).")
         return None
+    else:
+        flag, path, load = "--bearing", args.bearing, load_bearing_posterior
     try:
-        posterior = load_bearing_posterior(args.bearing)
+        posterior = load(path)
     except ValueError as error:
-        raise ValueError(f"--bearing {error}") from None
+        raise ValueError(f"{flag} {error}") from None
     if posterior is None:
-        mixture = read_mixture_run(args, _refuse_other_runs)  # a mixture of compositions, or None
+        mixture = read_mixture_run(args, _refuse_other_runs) if flag == "--bearing" else None
         if mixture is None and given not in (None, POINT):
-            raise ValueError(f"--bearing-draws {given}: --bearing {args.bearing} holds no posterior "
+            raise ValueError(f"--bearing-draws {given}: {flag} {path} holds no posterior "
                              "draws (no 'posterior' section); write one with fit --bayes DIR "
-                             "--save-bearing FILE, or leave --bearing-draws out.")
+                             f"{'--save-bearing' if flag == '--bearing' else '--save-isolator'} FILE, "
+                             "or leave --bearing-draws out.")
         return mixture
     if given == POINT or (given is None and args.property_factors is not None):
         return None  # the point estimate; bounding cases take the bearing as a whole
     if isinstance(given, int) and given > posterior.size:
-        raise ValueError(f"--bearing-draws {given}: the posterior of --bearing {args.bearing} has "
+        raise ValueError(f"--bearing-draws {given}: the posterior of {flag} {path} has "
                          f"{posterior.size} draws; ask for at most {posterior.size} bearings.")
-    _refuse_other_runs(args, "--bearing-draws " + str(given or MOTION))
+    _refuse_other_runs(args, "--bearing-draws " + str(given or MOTION), f"{flag} {path}")
     mode = MOTION if given in (None, MOTION) else "nested"
-    return PosteriorRun(posterior, mode, None if mode == MOTION else given, bearing_seed(args), args.bearing)
+    return PosteriorRun(posterior, mode, None if mode == MOTION else given, bearing_seed(args), path)
 
 
-def _refuse_other_runs(args, words: str) -> None:
+def _refuse_other_runs(args, words: str, source: str | None = None) -> None:
     from ._engineering import STOREY_LIMITS, parse_limits
 
     storey_limits = [lim.text for lim in parse_limits(args.limit, args.structure, args.components)
@@ -134,7 +143,7 @@ def _refuse_other_runs(args, words: str) -> None:
     for flag, given in others:
         if given:
             why = " (a storey limit keeps the storey results)" if flag.startswith("--limit") else ""
-            raise ValueError(f"{flag}: runs without the posterior draws of --bearing {args.bearing}{why} "
+            raise ValueError(f"{flag}: runs without the posterior draws of {source or '--bearing ' + str(args.bearing)}{why} "
                              f"({words}); give --bearing-draws point to run its point estimate, or "
                              f"leave {flag} out.")
 
@@ -148,12 +157,13 @@ def posterior_arguments(run: PosteriorRun | None, n_motions: int) -> dict:
     """The keyword arguments of `monte_carlo` that run the draws of `run` with `n_motions`
     motions: the posterior's bearings stacked on the file's point bearing (the structure's own)
     and the draws each motion (`motion_draws`) or each bearing (`nested_draws`) takes."""
-    from ..formats import load_bearing
+    from ..formats import IsolatorPosterior, load_bearing, load_isolator
     from ..studies import motion_draws, nested_draws
 
     if run is None or run.mode == MIXTURE:  # a mixture: runner_of runs its compositions
         return {}
-    stacked, size = run.posterior.bearings(load_bearing(run.path)), run.posterior.size
+    point = (load_isolator if isinstance(run.posterior, IsolatorPosterior) else load_bearing)(run.path)
+    stacked, size = run.posterior.bearings(point), run.posterior.size
     if run.mode == MOTION:
         return {"bearings": stacked, "bearing_draw": motion_draws(n_motions, size, seed=run.seed)}
     return {"bearings": stacked, "bearing_draw": nested_draws(run.bearings, size, seed=run.seed), "nested": True}

@@ -24,6 +24,8 @@ from ._external import external_data_dir as external_data_dir
 from ._external import load_record as load_record
 from ._isolator_file import isolator_from_dict as isolator_from_dict
 from ._isolator_file import load_isolator as load_isolator
+from ._isolator_file import load_isolator_posterior as load_isolator_posterior
+from ._isolator_posterior import IsolatorPosterior as IsolatorPosterior
 from ._isolator_write import isolator_to_dict as isolator_to_dict
 from ._isolator_write import write_isolator as write_isolator
 from ._pelicun import PELICUN_UNITS as PELICUN_UNITS

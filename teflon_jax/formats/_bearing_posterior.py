@@ -152,7 +152,7 @@ class BearingPosterior:
     method: str = "NUTS"
 
     def __post_init__(self):
-        names = _check_names(self.names)
+        names = self.checked_names(self.names)
         draws = _check_draws(names, self.draws)
         ess = _check_ess(names, self.effective_sample_size)
         total = _count(self.draws_before_thinning, "draws_before_thinning", 1)
@@ -172,6 +172,11 @@ class BearingPosterior:
                            ("draws_before_thinning", total), ("thinning", thinning),
                            ("chains", int(self.chains)), ("seed", int(self.seed))):
             object.__setattr__(self, key, value)
+
+    @staticmethod
+    def checked_names(names) -> tuple:
+        """The sampled constants' names as a tuple; `ValueError` for an unknown or repeated one."""
+        return _check_names(names)
 
     @property
     def size(self) -> int:
@@ -224,15 +229,15 @@ class BearingPosterior:
 
 
 def thinned_posterior(samples: dict, effective_sample_size: dict, *, max_draws: int,
-                      chains: int, seed: int, method: str = "NUTS") -> BearingPosterior:
-    """A `BearingPosterior` of at most `max_draws` draws from `samples`, name -> (chains,
-    draws) arrays [SI]: the chains one after the other, every `thinning`-th draw kept with
-    `thinning = ceil(chains * draws / max_draws)`."""
+                      chains: int, seed: int, method: str = "NUTS", kind=BearingPosterior) -> BearingPosterior:
+    """A `BearingPosterior` (or the subclass `kind`) of at most `max_draws` draws from
+    `samples`, name -> (chains, draws) arrays [SI]: the chains one after the other, every
+    `thinning`-th draw kept with `thinning = ceil(chains * draws / max_draws)`."""
     max_draws = _count(max_draws, "max_draws", 1)
     flat = {name: np.asarray(x, dtype=float).reshape(-1) for name, x in samples.items()}
     total = next(iter(flat.values())).size
     thinning = -(-total // max_draws)
-    return BearingPosterior(
+    return kind(
         names=tuple(flat), draws={n: x[::thinning] for n, x in flat.items()},
         effective_sample_size=dict(effective_sample_size), draws_before_thinning=total,
         thinning=thinning, chains=chains, seed=seed, method=method)

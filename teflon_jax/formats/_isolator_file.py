@@ -37,9 +37,13 @@ object of the bearing file's constants under the bearing file's name: `"breakawa
 the tested bearing's constants and the surface's contact pressure under the static load, which
 must equal its heating's where both are given). `"stack"`, `"backlash"` and a surface's own
 `"hysteresis"` are the whole bearing's, not a surface's, and are refused.
+
+An optional top-level `"posterior"` holds the draws of a Bayesian fit of the surfaces'
+friction (`_isolator_posterior.py`).
 """
 
 
+import difflib
 import re
 
 import jax.numpy as jnp
@@ -59,6 +63,7 @@ from ..bearing import (
     check_surface_parts,
 )
 from ._bearing_file import BEARING_PARTS, read_constant
+from ._isolator_posterior import IsolatorPosterior, isolator_posterior_from_dict
 from ._text import read_json_document
 
 FORMAT_NAME = "teflon-jax isolator"
@@ -104,15 +109,22 @@ def _value(entry, kind, where) -> float:
 
 
 def _keys(part, expected, where, optional=()):
+    """`ValueError` naming `where` where the object `part` lacks one of `expected` or has a key
+    that is neither expected nor `optional`: the keys it takes, and for a misspelt one the
+    key it is closest to."""
     if not isinstance(part, dict):
         raise ValueError(f"{where}: must be an object with {', '.join(expected)}.")
     missing = [key for key in expected if key not in part]
     unknown = [key for key in part if key not in expected and key not in optional]
     if missing or unknown:
+        guesses = [f"'{key}' is not '{close[0]}'" for key in unknown
+                   for close in [difflib.get_close_matches(str(key), [*expected, *optional], n=1)] if close]
+        also = f"; optional {', '.join(optional)}" if optional else ""
         raise ValueError(f"{where}: " + "; ".join(
             text for text in (f"missing {missing}" if missing else "",
                               f"unknown {unknown}" if unknown else "") if text)
-            + f" (expected {', '.join(expected)}; nothing is defaulted).")
+            + f" (expected {', '.join(expected)}{also}; nothing is defaulted)"
+            + (f"; check the spelling: {', '.join(guesses)}." if guesses else "."))
 
 
 def _surface(part, where):
@@ -207,7 +219,8 @@ def isolator_from_dict(document, *, where: str = "isolator") -> SeriesPendulum:
     if not isinstance(version, int) or isinstance(version, bool) or version > FORMAT_VERSION:
         raise ValueError(f"{where}: 'format_version' must be an integer up to {FORMAT_VERSION}, "
                          f"got {version!r}.")
-    _keys(document, ("format", "format_version", "isolator", "surfaces", "yield_disp"), where)
+    _keys(document, ("format", "format_version", "isolator", "surfaces", "yield_disp"), where,
+          optional=("posterior",))
     isolator = document["isolator"]
     _check_isolator(isolator, document["surfaces"], where)
     _keys(document["surfaces"], ISOLATOR_SURFACES[isolator], f"{where}: surfaces")
@@ -261,6 +274,19 @@ def _checked(bearing, check, where, keys):
 
 def load_isolator(path) -> SeriesPendulum:
     """Read an isolator file (JSON) into a `TriplePendulum` or `DoublePendulum` (SI), as its
-    "isolator" says."""
+    "isolator" says; a `posterior` section is checked (`load_isolator_posterior`)."""
     document = read_json_document(path, "isolator file")
-    return isolator_from_dict(document, where=str(path))
+    pendulum = isolator_from_dict(document, where=str(path))
+    if "posterior" in document:
+        isolator_posterior_from_dict(document["posterior"], pendulum, str(path))
+    return pendulum
+
+
+def load_isolator_posterior(path) -> IsolatorPosterior | None:
+    """The posterior draws an isolator file holds (`IsolatorPosterior`, its `posterior`
+    section: `_isolator_posterior.py`), or `None` where it holds none."""
+    document = read_json_document(path, "isolator file")
+    pendulum = isolator_from_dict(document, where=str(path))
+    if "posterior" not in document:
+        return None
+    return isolator_posterior_from_dict(document["posterior"], pendulum, str(path))

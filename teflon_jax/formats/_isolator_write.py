@@ -8,6 +8,7 @@ import numpy as np
 
 from ..bearing import SeriesPendulum, check_series_pendulum
 from ._isolator_file import FORMAT_NAME, FORMAT_VERSION, ISOLATOR_SURFACES
+from ._isolator_posterior import IsolatorPosterior, isolator_posterior_to_dict
 
 _FRICTION_UNITS = {"f_max": "1", "delta_f": "1", "rate_a": "s/m"}
 _HEATING_UNITS = {"contact_area": "m^2", "heat_scale": "1", "conductivity": "W/(m K)",
@@ -69,6 +70,11 @@ def _parts_entries(part, pressure) -> dict:
     return entries
 
 
-def write_isolator(path, bearing: SeriesPendulum) -> None:
-    """Write `bearing` as an isolator file (JSON, `isolator_to_dict`) at `path`."""
-    pathlib.Path(path).write_text(json.dumps(isolator_to_dict(bearing), indent=2) + "\n")
+def write_isolator(path, bearing: SeriesPendulum, *, posterior: IsolatorPosterior | None = None) -> None:
+    """Write `bearing` as an isolator file (JSON, `isolator_to_dict`) at `path`, with the draws
+    of `posterior` (checked in `bearing`) where given."""
+    document = isolator_to_dict(bearing)
+    if posterior is not None:
+        posterior.check_draws(bearing)
+        document["posterior"] = isolator_posterior_to_dict(posterior)
+    pathlib.Path(path).write_text(json.dumps(document, indent=2) + "\n")

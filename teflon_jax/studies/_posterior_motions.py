@@ -1,8 +1,9 @@
 """Monte Carlo over bearing uncertainty and ground motion together.
 
-A posterior of a bearing's constants (S draws, e.g. of a Bayesian fit: `BearingPosterior`)
-enters `monte_carlo` as one `SlidingBearing` whose leaves carry a leading axis of the S
-draws (`BearingPosterior.bearings(point)`), with the index of the draw each run takes. The
+A posterior of a bearing's constants (S draws, e.g. of a Bayesian fit: `BearingPosterior`,
+or `IsolatorPosterior` of a series pendulum's surfaces) enters `monte_carlo` as one
+`SlidingBearing` (or `SeriesPendulum`) whose leaves carry a leading axis of the S draws
+(`.bearings(point)`), with the index of the draw each run takes. The
 compiled chunk function receives the stacked bearings as an argument and the draw indices as
 a batched input; inside the vmap a run's bearing is the draw's slice of every leaf, put in
 place of the structure's own (`with_bearing`). The friction constants are thus traced values:
@@ -23,7 +24,7 @@ import equinox as eqx
 import jax
 import numpy as np
 
-from ..bearing import check_bearing
+from ..bearing import SeriesPendulum, check_bearing, check_series_pendulum
 from ..systems import IsolatedStructure
 from ..validation import concrete
 
@@ -64,17 +65,20 @@ def nested_draws(n_bearings: int, n_draws: int, *, seed: int = 0) -> np.ndarray:
 
 
 def structure_bearing(structure):
-    """The `SlidingBearing` a structure of the studies runs (an `IsolatedStructure` built with
-    `bearing=...`, in one or two components, with or without a vertical component), or `None`
-    (Table 1's, or a series pendulum's surfaces)."""
+    """The bearing whose constants a posterior's draws vary in a structure of the studies (an
+    `IsolatedStructure` built with `bearing=...`, or on a triple or double pendulum, in one or
+    two components, with or without a vertical component): its `SlidingBearing`, or its
+    `SeriesPendulum`; `None` where it runs Table 1's bearing."""
     if isinstance(structure, IsolatedStructure):
-        return structure.bearing
+        return structure.bearing if structure.pendulum is None else structure.pendulum
     return None
 
 
 def with_bearing(structure, bearing):
-    """`structure` running `bearing` (a `SlidingBearing` of the same parts as its own, traced
-    or not) in place of its own bearing; see `structure_bearing`."""
+    """`structure` running `bearing` (of the same parts as its own `structure_bearing`, traced
+    or not) in place of its own."""
+    if isinstance(structure, IsolatedStructure) and structure.pendulum is not None:
+        return eqx.tree_at(lambda s: s.pendulum, structure, bearing)
     return eqx.tree_at(lambda s: s.bearing, structure, bearing)
 
 
@@ -91,9 +95,9 @@ def check_bearings(structure, bearings) -> int:
     other shapes, values that are not finite or outside the bearing's ranges: `check_bearing`)."""
     point = structure_bearing(structure)
     if point is None:
-        raise ValueError("bearings: the structure runs no bearing of its own (Table 1's or a series "
-                         "pendulum's); build it with isolated_structure(..., bearing=point) from the "
-                         "bearing the posterior's draws vary.")
+        raise ValueError("bearings: the structure runs no bearing of its own (Table 1's); build it with "
+                         "isolated_structure(..., bearing=point) (or isolator=pendulum, a triple or double "
+                         "pendulum) from the bearing the posterior's draws vary.")
     if jax.tree_util.tree_structure(bearings) != jax.tree_util.tree_structure(point):
         raise ValueError("bearings: their parts differ from the structure's bearing's; stack draws of "
                          "the same bearing (BearingPosterior.bearings(point) of the structure's bearing).")
@@ -109,11 +113,17 @@ def check_bearings(structure, bearings) -> int:
             raise ValueError("bearings: a constant of a draw is not finite (NaN or inf).")
     if len(sizes) != 1 or 0 in sizes:
         raise ValueError(f"bearings: the leaves stack different numbers of draws {sorted(sizes)}.")
-    try:  # the bearing's ranges, draw by draw (the checks take arrays)
-        check_bearing(bearings)
+    size = sizes.pop()
+    try:  # the bearing's ranges, draw by draw (a flat bearing's checks take arrays)
+        if isinstance(point, SeriesPendulum):
+            if concrete(jax.tree_util.tree_leaves(bearings)[0]) is not None:
+                for k in range(size):
+                    check_series_pendulum(jax.tree_util.tree_map(lambda leaf, k=k: leaf[k], bearings))
+        else:
+            check_bearing(bearings)
     except ValueError as error:
         raise ValueError(f"bearings: a draw is outside the bearing's ranges: {error}") from None
-    return sizes.pop()
+    return size
 
 
 def run_draws(bearing_draw, n_draws: int, n_motions: int, nested: bool) -> np.ndarray:

@@ -430,7 +430,7 @@ def _path_load(bearing: SeriesPendulum, path: SampledPath, reference_load=None):
                        f"path.normal_load: it varies, and the {bearing.description}' surfaces read their contact "
                        "pressure, given under one load: give a constant normal load, or that load as "
                        "reference_load."))
-    if isinstance(load, jax.core.Tracer) or isinstance(reference_load, jax.core.Tracer):
+    if any(isinstance(failed, jax.core.Tracer) for failed, _ in checks):  # traced (inside a jit or a sampler)
         bad = functools.reduce(jnp.logical_or, [failed for failed, _ in checks])
         return eqx.error_if(load, bad, " Or: ".join(message for _, message in checks))
     wrong = [message for failed, message in checks if bool(failed)]
