@@ -156,6 +156,29 @@ def test_draws_asked_of_an_isolator_file_without_them_are_refused(tmp_path, caps
     assert not (tmp_path / "mc.json").exists()
 
 
+def test_a_plan_runs_an_isolator_files_point_and_refuses_its_draws(tmp_path, capsys):
+    """A structure on --plan is built once: an isolator file with draws is refused until
+    --bearing-draws point asks for its constants, which then run as the file without draws does."""
+    plain, drawn = tmp_path / "plain.json", tmp_path / "drawn.json"
+    write_isolator(plain, TRUE)
+    write_isolator(drawn, TRUE, posterior=_posterior({"bottom_f_max": [0.05, 0.051, 0.049, 0.052]}))
+    groups = [{"name": n, "x": x, "y": y, "load": "50kip"}
+              for n, x, y in (("SW", "0m", "0m"), ("SE", "20m", "0m"), ("NE", "20m", "12m"), ("NW", "0m", "12m"))]
+    plan = tmp_path / "plan.json"
+    plan.write_text(json.dumps({"length_x": "20m", "length_y": "12m", "weight": "200kip",
+                                "centre_of_mass": ["10m", "6m"], "groups": groups}))
+    common = ["montecarlo", "--motions", "2", "--duration", "8s", "--strong-motion", "4s", "--structure", "slab",
+              "--plan", str(plan),
+              "--components", "2", "--isolator", "double-fp"]
+    assert main([*common, "--isolator-file", str(drawn), "--json", str(tmp_path / "a.json")]) == 2
+    assert "holds posterior draws" in capsys.readouterr().err and not (tmp_path / "a.json").exists()
+    peaks = []
+    for file, extra, out in ((drawn, ["--bearing-draws", "point"], "b.json"), (plain, [], "c.json")):
+        assert main([*common, "--isolator-file", str(file), *extra, "--json", str(tmp_path / out)]) == 0
+        peaks.append(json.loads((tmp_path / out).read_text())["statistics"])
+    assert peaks[0] == peaks[1]
+
+
 @pytest.mark.slow
 def test_the_surfaces_posterior_covers_the_truth_and_travels_into_a_monte_carlo(record_files, capsys):
     """A noisy (1 %) test of a double pendulum, fitted from a start 8-10 % off: each surface's

@@ -373,9 +373,10 @@ def _check_plan(args) -> None:
     if args.components != 2:
         raise ValueError("--plan: the groups carry the slab in the plane, under both ground components; "
                          "add --components 2.")
-    if args.bearing_draws is not None:
+    if args.bearing_draws not in (None, "point"):
         raise ValueError("--bearing-draws: varies the bearings of a structure rebuilt for each run; a structure "
-                         "on --plan is built once. Run the plan once per bearing file, or leave --bearing-draws out.")
+                         "on --plan is built once. Give --bearing-draws point (the file's own constants), run the "
+                         "plan once per bearing file, or leave --bearing-draws out.")
     if (args.property_factors or "").strip() == POSTERIOR_WORD:
         raise ValueError(f"--property-factors {POSTERIOR_WORD}: takes each Eq. 1 constant of one bearing from its "
                          "posterior, and the groups of --plan each run their own bearings; give LOWER,UPPER "

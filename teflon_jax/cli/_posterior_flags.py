@@ -123,6 +123,10 @@ def _posterior_run(args) -> PosteriorRun | None:
         return mixture
     if given == POINT or (given is None and args.property_factors is not None):
         return None  # the point estimate; bounding cases take the bearing as a whole
+    if getattr(args, "plan", None) is not None:
+        raise ValueError(f"{flag} {path}: holds posterior draws, which vary the bearing of a structure rebuilt "
+                         "for each run, and a structure on --plan is built once; give --bearing-draws point to "
+                         "run the file's own constants.")
     if isinstance(given, int) and given > posterior.size:
         raise ValueError(f"--bearing-draws {given}: the posterior of {flag} {path} has "
                          f"{posterior.size} draws; ask for at most {posterior.size} bearings.")
