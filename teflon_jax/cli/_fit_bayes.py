@@ -103,12 +103,18 @@ def _unit_of(family: str):
     return unit_of
 
 
-def _write_posterior(args, out, result) -> None:
-    """posterior.json, posterior.nc, pairs.png and the table on stderr."""
+def _posterior_files(out, result, unit_of) -> None:
+    """posterior.json, posterior.nc and pairs.png (axes in the units `unit_of` gives) in `out`,
+    and the table on stderr."""
     _write_json(out / "posterior.json", result.to_json_dict())
     result.to_netcdf(out / "posterior.nc")
-    result.plot_pairs(out / "pairs.png", unit_of=_unit_of(args.units))
-    print(result.summary(unit_of=_unit_of(args.units)), file=sys.stderr)
+    result.plot_pairs(out / "pairs.png", unit_of=unit_of)
+    print(result.summary(unit_of=unit_of), file=sys.stderr)
+
+
+def _write_posterior(args, out, result) -> None:
+    """posterior.json, posterior.nc, pairs.png and the table on stderr."""
+    _posterior_files(out, result, _unit_of(args.units))
     for message in result.messages:
         print(f"{PREFIX}: {message}", file=sys.stderr)
 
@@ -275,10 +281,7 @@ def run_series_bayes(args, fit, records) -> int:
         print(f"{PREFIX}: error: {error}", file=sys.stderr)
         return 2
     out.mkdir(parents=True, exist_ok=True)
-    _write_json(out / "posterior.json", result.to_json_dict())
-    result.to_netcdf(out / "posterior.nc")
-    result.plot_pairs(out / "pairs.png", unit_of=_series_unit_of(args.units))
-    print(result.summary(unit_of=_series_unit_of(args.units)), file=sys.stderr)
+    _posterior_files(out, result, _series_unit_of(args.units))
     if args.save_isolator is not None:
         if not _save_isolator_posterior(args, fit, result):
             return 1
