@@ -207,25 +207,18 @@ def test_unconverged_run_exits_non_zero(tmp_path, capsys):
     assert "2 chains x (10 warm-up steps + 10 draws)" in err.split("NOT converged")[0]  # said up front
 
 
-@pytest.mark.slow  # a least-squares fit and a NUTS compilation in a new process: 30-60 s
-def test_ctrl_c_keeps_the_draws_so_far_and_says_not_converged(tmp_path):
-    # A real SIGINT to the command once it has said that a block of draws is done: the draws
-    # finished are written (posterior.json, posterior.nc) as not converged, and it exits 130.
-    import json
+def interrupted_at_a_block(arguments, cwd):
+    """`teflon-jax ARGUMENTS` in a new process, sent a real SIGINT (Ctrl-C) once it says that
+    a block of draws is done: (the stderr lines up to then, its exit status, the rest of its
+    stderr)."""
     import os
     import signal
     import subprocess
     import sys
 
-    import xarray as xr
-
-    tj.write_test_record(tmp_path / "test.csv", _record(4, fs=100.0))
     env = dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path))
-    command = [sys.executable, "-m", "teflon_jax.cli", "fit", str(tmp_path / "test.csv"),
-               "--json", str(tmp_path / "f.json"), "--starts", "1", "--bayes",
-               str(tmp_path / "bayes"), "--draws", "40", "--chains", "2"]
-    proc = subprocess.Popen(command, stderr=subprocess.PIPE, stdout=subprocess.DEVNULL,
-                            text=True, env=env, cwd=tmp_path)
+    proc = subprocess.Popen([sys.executable, "-m", "teflon_jax.cli", *arguments], stderr=subprocess.PIPE,
+                            stdout=subprocess.DEVNULL, text=True, env=env, cwd=cwd)
     seen = []
     try:
         for line in proc.stderr:
@@ -236,8 +229,23 @@ def test_ctrl_c_keeps_the_draws_so_far_and_says_not_converged(tmp_path):
         rest = proc.communicate(timeout=300)[1]
     finally:
         proc.kill()
+    return seen, proc.returncode, rest
+
+
+@pytest.mark.slow  # a least-squares fit and a NUTS compilation in a new process: 30-60 s
+def test_ctrl_c_keeps_the_draws_so_far_and_says_not_converged(tmp_path):
+    # A real SIGINT to the command once it has said that a block of draws is done: the draws
+    # finished are written (posterior.json, posterior.nc) as not converged, and it exits 130.
+    import json
+
+    import xarray as xr
+
+    tj.write_test_record(tmp_path / "test.csv", _record(4, fs=100.0))
+    seen, code, rest = interrupted_at_a_block(["fit", str(tmp_path / "test.csv"), "--json", str(tmp_path / "f.json"),
+                                               "--starts", "1", "--bayes", str(tmp_path / "bayes"), "--draws", "40",
+                                               "--chains", "2"], tmp_path)
     assert any("10 of 40 draws per chain done" in line for line in seen), "".join(seen)
-    assert proc.returncode == 130, rest
+    assert code == 130, rest
     posterior = json.loads((tmp_path / "bayes" / "posterior.json").read_text())
     assert posterior["converged"] is False
     assert posterior["status"].startswith("interrupted after"), posterior["status"]

@@ -11,6 +11,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
+from test_bayes import interrupted_at_a_block
 from test_double_fit import TRUE, _record, _start
 
 from identification.bayes import fit_series_bayes, series_priors
@@ -79,11 +80,14 @@ def _another(name, unit):
     (_another("inner_f_max", "1"), "has no surface 'inner'"),
     (lambda d: d["draws"]["bottom_f_max"].__setitem__(2, 0.01), "draw 2: "),
     (lambda d: d["effective_sample_size"].update({"bottom_f_max": 20.0}), "below the floor of 100"),
-    (lambda d: d.pop("sampler"), "must be an object with the keys"),
+    (lambda d: d.pop("sampler"), r"missing key\(s\) \['sampler'\]"),
+    (lambda d: d.update({"effective_sample_size": [812.0]}), "effective_sample_size: must be an object"),
+    (lambda d: d["draws"].update({"bottom_f_max": "0.05"}), "draws.bottom_f_max: must be a list of numbers"),
 ])
 def test_a_posterior_the_pendulum_cannot_take_is_refused_naming_it(tmp_path, change, message):
     """Unknown constants or surfaces, a draw whose delta_f exceeds its f_max (draw 2: f_max
-    0.01 < delta_f 0.025), too few effective draws, a missing key: refused naming the file."""
+    0.01 < delta_f 0.025), too few effective draws, a missing key, effective sample sizes not
+    given by name, draws not a list: refused naming the file (the bearing file's reader)."""
     path = tmp_path / "post.json"
     write_isolator(path, TRUE, posterior=_posterior({"bottom_f_max": [0.05, 0.051, 0.049, 0.052]}))
     document = json.loads(path.read_text())
@@ -222,3 +226,27 @@ def test_the_sampler_needs_the_fitted_radii():
     truth = series_parameters(TRUE)
     off = max(abs(result.table[n]["mean"] - truth[n]) / result.table[n]["sd"] for n in SAMPLED)
     assert off > 5, "the friction's posterior does not depend on the radii it is sampled at"
+
+
+@pytest.mark.slow  # a least-squares fit and the series model's NUTS compiled in a new process: about a minute
+def test_ctrl_c_keeps_the_surfaces_draws_so_far_and_says_not_converged(record_files):
+    """A real SIGINT once a block of draws is done: the draws finished are written
+    (posterior.json, posterior.nc) as not converged, the isolator file keeps the least-squares
+    constants without draws, and the command exits 130."""
+    import xarray as xr
+
+    out = record_files
+    seen, code, rest = interrupted_at_a_block(
+        ["fit", str(out / "test.csv"), "--isolator", "double-fp", "--isolator-file", str(out / "start.json"),
+         "--json", str(out / "f.json"), "--save-isolator", str(out / "fitted.json"), "--bayes", str(out / "post"),
+         "--draws", "40", "--chains", "2", "--no-progress"], out)
+    assert any("10 of 40 draws per chain done" in line for line in seen), "".join(seen)
+    assert code == 130, rest
+    posterior = json.loads((out / "post" / "posterior.json").read_text())
+    assert posterior["converged"] is False and posterior["status"].startswith("interrupted after")
+    assert 10 <= posterior["num_samples"] < 40
+    with xr.open_dataset(out / "post" / "posterior.nc", group="posterior") as ds:
+        assert ds.sizes["draw"] == posterior["num_samples"]
+        assert set(SAMPLED) <= set(ds.data_vars)
+    assert load_isolator_posterior(out / "fitted.json") is None
+    assert "interrupted after" in rest and "holds the least-squares isolator only" in rest

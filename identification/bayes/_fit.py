@@ -39,29 +39,10 @@ from ._model import (
 )
 from ._priors import PHYSICAL, _checked_range, build_priors
 from ._result import BayesResult, diagnose_run
-from ._sampler import compiled_sampler, sample_uncached
+from ._sampler import SamplingInterrupted, block_length, compiled_sampler, sample_uncached
 
 MIN_SAMPLES_PER_PARAMETER = 20
 """A record set needs at least this many samples per sampled variable (constants + noise)."""
-
-BLOCKS = 10
-"""The draws are taken in at most this many blocks (after the warm-up, which runs in blocks of
-the same length) of at least `MIN_BLOCK` draws, so that an interrupted run keeps the blocks it
-finished."""
-
-MIN_BLOCK = 10
-"""Fewest draws per chain in a block (all of them when fewer are asked for)."""
-
-
-class SamplingInterrupted(KeyboardInterrupt):
-    """Ctrl-C (`KeyboardInterrupt`) during `fit_bayes`; `result` is the `BayesResult` of the
-    blocks of draws finished before it (`converged=False`, `interrupted` set), or None when
-    no block had finished (interrupted in the warm-up)."""
-
-    def __init__(self, result):
-        super().__init__("sampling interrupted")
-        self.result = result
-
 
 def _as_records(records):
     records = as_records(records)
@@ -279,7 +260,7 @@ def fit_bayes(
     - `progress_bar`: numpyro's bar on stderr (warm-up, then each block of draws, with the
       time left).
     - `on_block`: called as `on_block(done, total)` (draws per chain) after the warm-up
-      (`done = 0`) and after each block of draws (`BLOCKS`, `MIN_BLOCK`).
+      (`done = 0`) and after each block of draws (`block_length`).
     - `reuse_compiled`: run the compiled sampler kept for records of this shape (same sample
       counts, free set, interfaces, chains and warm-up; `identification.bayes._sampler`),
       so that many fits in one process compile once and keep their memory flat; `False`
@@ -314,7 +295,7 @@ def fit_bayes(
     shapes = {name: p.shape for name, p in priors.items()}
     statics = (shapes, tuple(fixed_values), tuple(d["n_interfaces"] for d in data))
     args = model_args(priors, fixed_values, arrays)
-    block = max(-(-num_samples // BLOCKS), min(num_samples, MIN_BLOCK))
+    block = block_length(num_samples)
     starts = _chain_starts(priors, fit, data, num_chains, seed)
     inverse_mass = _initial_mass(priors, fit, data)
     t1 = _time.perf_counter()

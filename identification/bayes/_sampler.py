@@ -32,6 +32,30 @@ MAX_SAMPLERS = 4
 
 _SAMPLERS: collections.OrderedDict = collections.OrderedDict()
 
+BLOCKS = 10
+"""The draws are taken in at most this many blocks (after the warm-up, which runs in blocks of
+the same length) of at least `MIN_BLOCK` draws, so that an interrupted run keeps the blocks it
+finished."""
+
+MIN_BLOCK = 10
+"""Fewest draws per chain in a block (all of them when fewer are asked for)."""
+
+
+class SamplingInterrupted(KeyboardInterrupt):
+    """Ctrl-C (`KeyboardInterrupt`) during `fit_bayes` or `fit_series_bayes`; `result` is the `BayesResult` of the
+    blocks of draws finished before it (`converged=False`, `interrupted` set), or None when
+    no block had finished (interrupted in the warm-up)."""
+
+    def __init__(self, result):
+        super().__init__("sampling interrupted")
+        self.result = result
+
+
+def block_length(num_samples: int) -> int:
+    """Draws per chain in a block: `num_samples` in at most `BLOCKS` blocks of at least
+    `MIN_BLOCK` (all of them when fewer are asked for)."""
+    return max(-(-num_samples // BLOCKS), min(num_samples, MIN_BLOCK))
+
 
 class NutsSampler:
     """NUTS over all chains at once (vectorised), compiled once for one model shape.
@@ -169,13 +193,26 @@ def sample_uncached(shapes, fixed_names, n_interfaces, key, starts, inverse_mass
     model = make_model(dict(shapes), tuple(fixed_names), tuple(n_interfaces))
     kernel = NUTS(model, dense_mass=True, target_accept_prob=target_accept,
                   inverse_mass_matrix=inverse_mass)
+    return run_in_blocks(kernel, key, starts, args, num_warmup=num_warmup, num_samples=num_samples,
+                         num_chains=num_chains, block=block, postprocess=postprocess,
+                         on_block=on_block, progress_bar=progress_bar)
+
+
+def run_in_blocks(kernel, key, init_params, args=(), *, num_warmup, num_samples, num_chains, block,
+                  postprocess=None, on_block=None, progress_bar=False):
+    """NUTS `kernel` (a numpyro `NUTS` of a model, or of a `potential_fn` with `args` empty)
+    through a numpyro `MCMC`: warm-up from `init_params` (one per chain), then `num_samples`
+    draws per chain in blocks of `block`, the chains vectorised; `on_block(done, total)` after
+    the warm-up (`done = 0`) and each block. A `KeyboardInterrupt` (Ctrl-C) ends the run and
+    keeps the blocks finished. **Returns:** as `NutsSampler.run` (the draws through
+    `postprocess`, the model's base scale, where given)."""
     mcmc = MCMC(kernel, num_warmup=num_warmup, num_samples=block, num_chains=num_chains,
                 chain_method="vectorized", progress_bar=progress_bar,
-                postprocess_fn=postprocess)
+                **({} if postprocess is None else {"postprocess_fn": postprocess}))
     parts, flags, done = [], [], 0
     try:
         key, warm_key = jax.random.split(key)
-        mcmc.warmup(warm_key, *args, init_params=starts)
+        mcmc.warmup(warm_key, *args, init_params=init_params)
         if on_block is not None:
             on_block(0, num_samples)
         while done < num_samples:

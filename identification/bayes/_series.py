@@ -24,6 +24,7 @@ coordinates whitened by the least-squares curvature (`_Laplace`), from the least
 constants; the force's gradient is taken in forward mode (`forward_mode`: a handful of
 tangents through the record's scan cost about one more simulation, where reverse mode would
 store the history).
+The draws are taken in blocks, so that Ctrl-C keeps those finished (`SamplingInterrupted`).
 The run is checked as the flat bearing's is (`diagnose_run`: rank-normalised R-hat, bulk and
 tail ESS, divergences; Vehtari et al. 2021).
 """
@@ -34,7 +35,7 @@ import time as _time
 import jax
 import jax.numpy as jnp
 import numpy as np
-from numpyro.infer import MCMC, NUTS
+from numpyro.infer import NUTS
 
 from teflon_jax.bearing import PARAMETER_BOUNDS
 from teflon_jax.systems import respond_along_path, sampled_path
@@ -43,6 +44,7 @@ from ..bearing_fit import SeriesFit, parameter_units, series_arrays, series_with
 from ._model import NOISE_RANGE, base_name, forward_mode, to_base, to_physical
 from ._priors import ParameterPrior
 from ._result import BayesResult, diagnose_run
+from ._sampler import SamplingInterrupted, block_length, run_in_blocks
 
 F_MAX_RANGE = (1e-3, 0.5)
 """Range of the log-uniform prior of each surface's f_max [-]: from a polished stainless
@@ -138,14 +140,14 @@ class _Laplace:
         return b, math.log(self.noise0) + self.noise_spread * z[..., -1]
 
     def potential(self, force_of_base):
-        """-log posterior(z) + const: the Gaussian likelihood of the record at noise sigma
+        """-log posterior(z) + const (of {"z": z}): the Gaussian likelihood of the record at noise sigma
         (relative to the RMS force) and the priors, uniform in b and in log sigma on their
         bounded ranges (+inf outside); z -> (b, log sigma) is linear, so no Jacobian."""
         low, high = (math.log(v) for v in NOISE_RANGE)
         bounds = jnp.asarray(self.bounds)
 
-        def potential(z):
-            b, log_noise = self.base(z)
+        def potential(params):
+            b, log_noise = self.base(params["z"])
             r = force_of_base(b) - self.measured
             energy = self.n * log_noise + 0.5 * jnp.sum(r**2) * jnp.exp(-2 * log_noise)
             inside = jnp.all((b > bounds[:, 0]) & (b < bounds[:, 1])) & (log_noise > low) & (log_noise < high)
@@ -157,15 +159,18 @@ class _Laplace:
 def fit_series_bayes(record, fit: SeriesFit, *, normal_load=None, num_warmup: int = 500,
                      num_samples: int = 500, num_chains: int = 2, seed: int = 0,
                      target_accept: float = 0.9, rhat_max: float = 1.01,
-                     ess_min_per_chain: float = 100.0, progress_bar: bool = False) -> BayesResult:
+                     ess_min_per_chain: float = 100.0, progress_bar: bool = False,
+                     on_block=None) -> BayesResult:
     """The posterior of the Eq. 1 constants of a double or triple pendulum's surfaces from one
     test record (module docstring), started from its least-squares `fit`
     (`identification.bearing_fit.fit_series_pendulum_test` of the same record and
     `normal_load` [N]). `num_warmup`, `num_samples` per chain, `num_chains` (vectorised),
     `seed`, `target_accept`; `rhat_max` and `ess_min_per_chain` (times the chains) the
-    convergence checks. **Returns:** a `BayesResult` named by the pendulum's constants
-    (`<surface>_f_max`, ...). `ValueError` where the fit did not converge or freed no Eq. 1
-    constant, or the counts are too small."""
+    convergence checks; `on_block(done, total)` after the warm-up (`done = 0`) and after each
+    block of draws (`block_length`). **Returns:** a `BayesResult` named by the pendulum's
+    constants (`<surface>_f_max`, ...). `ValueError` where the fit did not converge or freed no
+    Eq. 1 constant, or the counts are too small. **Raises:** `SamplingInterrupted` on Ctrl-C,
+    carrying the result of the blocks of draws finished so far (not converged)."""
     if not isinstance(fit, SeriesFit):
         raise ValueError(f"fit: expected the SeriesFit of fit_series_pendulum_test, got {type(fit).__name__}.")
     if not fit.converged:
@@ -185,19 +190,23 @@ def fit_series_bayes(record, fit: SeriesFit, *, normal_load=None, num_warmup: in
     laplace = _Laplace(priors, fit, force_of, path, measured, scale)
     potential = laplace.potential(_base_force(priors, fit, forward_mode(force_of), path, scale))
     kernel = NUTS(potential_fn=potential, dense_mass=True, target_accept_prob=target_accept)
-    mcmc = MCMC(kernel, num_warmup=num_warmup, num_samples=num_samples, num_chains=num_chains,
-                chain_method="vectorized", progress_bar=progress_bar)
     rng = np.random.default_rng(seed)
+    starts = {"z": jnp.asarray(0.5 * rng.standard_normal((num_chains, len(names) + 1)))}
     began = _time.perf_counter()
-    mcmc.run(jax.random.key(seed), init_params=jnp.asarray(0.5 * rng.standard_normal((num_chains, len(names) + 1))),
-             extra_fields=("diverging",))
+    draws, diverging, interrupted = run_in_blocks(
+        kernel, jax.random.key(seed), starts, num_warmup=num_warmup, num_samples=num_samples,
+        num_chains=num_chains, block=block_length(num_samples), on_block=on_block, progress_bar=progress_bar)
     elapsed = _time.perf_counter() - began
-    b, log_noise = laplace.base(mcmc.get_samples(group_by_chain=True))
+    if draws is None:
+        raise SamplingInterrupted(None)
+    b, log_noise = laplace.base(jnp.asarray(draws["z"]))
     base = {site: b[..., i] for i, site in enumerate(laplace.sites)}
     base["noise_rel"] = jnp.exp(log_noise)[..., None]
-    diverging = mcmc.get_extra_fields(group_by_chain=True)["diverging"]
     ratios = tuple((n, n.replace("delta_f", "f_max")) for n in names if n.endswith("delta_f"))
-    return diagnose_run(base, diverging, priors, fit, [{"scale": scale}], rhat_max=rhat_max,
-                        ess_min=ess_min_per_chain * num_chains, elapsed=elapsed, elapsed_least_squares=math.nan,
-                        prior="bounds", seed=seed, order=names, ratios=ratios,
-                        units=parameter_units(fit.bearing.slider_names))
+    result = diagnose_run(base, diverging, priors, fit, [{"scale": scale}], rhat_max=rhat_max,
+                          ess_min=ess_min_per_chain * num_chains, elapsed=elapsed, elapsed_least_squares=math.nan,
+                          prior="bounds", seed=seed, order=names, ratios=ratios,
+                          units=parameter_units(fit.bearing.slider_names), interrupted=interrupted)
+    if interrupted is not None:
+        raise SamplingInterrupted(result)
+    return result

@@ -112,9 +112,10 @@ def _posterior_files(out, result, unit_of) -> None:
     print(result.summary(unit_of=unit_of), file=sys.stderr)
 
 
-def _write_posterior(args, out, result) -> None:
-    """posterior.json, posterior.nc, pairs.png and the table on stderr."""
-    _posterior_files(out, result, _unit_of(args.units))
+def _write_posterior(out, result, unit_of) -> None:
+    """posterior.json, posterior.nc, pairs.png and the table on stderr (`_posterior_files`),
+    then the run's messages (why it is not converged)."""
+    _posterior_files(out, result, unit_of)
     for message in result.messages:
         print(f"{PREFIX}: {message}", file=sys.stderr)
 
@@ -124,15 +125,25 @@ def sample(args, records, fixed, least_squares, out: pathlib.Path, fit_json):
 
     **Returns:** (exit status: 0 converged, 1 not, 2 refused, 130 interrupted; the
     `BayesResult` or None)."""
-    from identification.bayes import SamplingInterrupted, fit_bayes
+    from identification.bayes import fit_bayes
+
+    return _sampled(lambda: fit_bayes(
+        records, free=least_squares.free, fixed=fixed, normal_load=args.normal_load, prior=args.prior,
+        num_warmup=args.draws, num_samples=args.draws, num_chains=args.chains, seed=args.seed,
+        least_squares=least_squares, progress_bar=not args.no_progress, on_block=_print_block),
+        out, fit_json, lambda result: _write_posterior(out, result, _unit_of(args.units)))
+
+
+def _sampled(run, out: pathlib.Path, fit_json, write):
+    """`run()` (a sampler taking `on_block`) with `out` made first and its result written by
+    `write(result)`; a Ctrl-C (`SamplingInterrupted`) writes the draws finished so far, as not
+    converged. **Returns:** (exit status: 0 converged, 1 not, 2 refused, 130 interrupted; the
+    `BayesResult` or None)."""
+    from identification.bayes import SamplingInterrupted
 
     try:
         out.mkdir(parents=True, exist_ok=True)
-        result = fit_bayes(records, free=least_squares.free, fixed=fixed,
-                           normal_load=args.normal_load, prior=args.prior,
-                           num_warmup=args.draws, num_samples=args.draws, num_chains=args.chains,
-                           seed=args.seed, least_squares=least_squares,
-                           progress_bar=not args.no_progress, on_block=_print_block)
+        result = run()
     except (ValueError, OSError) as error:
         print(f"{PREFIX}: error: {error}", file=sys.stderr)
         return 2, None
@@ -142,12 +153,12 @@ def sample(args, records, fixed, least_squares, out: pathlib.Path, fit_json):
                 "converged": False, "status": "interrupted in the warm-up: no draws",
                 "least_squares": str(fit_json)})
         else:
-            _write_posterior(args, out, stop.result)
+            write(stop.result)
         why = stop.result.interrupted if stop.result else "interrupted in the warm-up"
         print(f"{PREFIX}: {why}; {out / 'posterior.json'} says so (not converged); the "
               f"least-squares fit is in {fit_json}.", file=sys.stderr)
         return 130, stop.result
-    _write_posterior(args, out, result)
+    write(result)
     return (0 if result.converged else 1), result
 
 
@@ -265,27 +276,27 @@ def run_series_bayes(args, fit, records) -> int:
     """`fit --isolator double-fp|triple-fp --bayes DIR` after its least-squares fit: the
     posterior of its surfaces' Eq. 1 constants (`identification.bayes.fit_series_bayes`) in
     DIR; with --save-isolator, a converged run's draws in the isolator file. Exit status 0
-    when converged, else 1."""
+    when converged, 1 when not, 130 when interrupted (Ctrl-C), with the draws finished so far
+    written as not converged."""
     from identification.bayes import fit_series_bayes
 
     out = pathlib.Path(args.bayes)
     print(f"{PREFIX}: NUTS on the {fit.bearing.description[:-1]}'s surface friction (radii and "
           f"capacities held at the least-squares values), {args.chains} chains x ({args.draws} warm-up "
           f"steps + {args.draws} draws), each step a simulation of the series model along the record: "
-          "minutes to hours.", file=sys.stderr)
-    try:
-        result = fit_series_bayes(records[0], fit, normal_load=args.normal_load, num_warmup=args.draws,
-                                  num_samples=args.draws, num_chains=args.chains, seed=args.seed,
-                                  progress_bar=not args.no_progress)
-    except ValueError as error:
-        print(f"{PREFIX}: error: {error}", file=sys.stderr)
-        return 2
-    out.mkdir(parents=True, exist_ok=True)
-    _posterior_files(out, result, _series_unit_of(args.units))
-    if args.save_isolator is not None:
+          "minutes to hours (Ctrl-C stops, keeping the draws so far, reported as not converged).",
+          file=sys.stderr)
+    status, result = _sampled(lambda: fit_series_bayes(
+        records[0], fit, normal_load=args.normal_load, num_warmup=args.draws, num_samples=args.draws,
+        num_chains=args.chains, seed=args.seed, progress_bar=not args.no_progress, on_block=_print_block),
+        out, args.json, lambda result: _write_posterior(out, result, _series_unit_of(args.units)))
+    if status == 0 and args.save_isolator is not None:
         if not _save_isolator_posterior(args, fit, result):
             return 1
-    return 0 if result.converged else 1
+    elif status in (1, 130) and args.save_isolator is not None:
+        print(f"{PREFIX}: {args.save_isolator} holds the least-squares isolator only (no converged "
+              "posterior).", file=sys.stderr)
+    return status
 
 
 def _save_isolator_posterior(args, fit, result) -> bool:

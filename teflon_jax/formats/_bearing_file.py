@@ -56,7 +56,7 @@ from ._bearing_mixture import (
     MixtureComposition,
     object_keys,
 )
-from ._bearing_posterior import POSTERIOR_FIELDS, BearingPosterior
+from ._bearing_posterior import POSTERIOR_FIELDS, BearingPosterior, posterior_from_entry
 from ._text import read_json_document
 
 FORMAT_NAME = "teflon-jax bearing"
@@ -197,10 +197,6 @@ def _bearing_from_values(v) -> SlidingBearing:
     )
 
 
-_POSTERIOR_KEYS = ("constants", "draws", "effective_sample_size", "draws_before_thinning",
-                   "thinning", "sampler")
-
-
 def _posterior_constants(constants, values, where):
     """name -> SI factor of the `posterior.constants` object, each checked against `parts`."""
     at = f"{where}: posterior.constants"
@@ -229,41 +225,7 @@ def _posterior_constants(constants, values, where):
 
 def _read_posterior(entry, values, where) -> BearingPosterior:
     """The `BearingPosterior` of a file's `posterior` object; `values` the file's parts."""
-    if not isinstance(entry, dict):
-        raise ValueError(f"{where}: posterior: must be an object with the keys "
-                         f"{', '.join(_POSTERIOR_KEYS)}.")
-    unknown = sorted(set(entry) - set(_POSTERIOR_KEYS))
-    missing = [key for key in _POSTERIOR_KEYS if key not in entry]
-    if unknown or missing:
-        raise ValueError(f"{where}: posterior: " + "; ".join(
-            ([f"unknown key(s) {unknown}"] if unknown else [])
-            + ([f"missing key(s) {missing}"] if missing else []))
-            + f" (the keys are {', '.join(_POSTERIOR_KEYS)}).")
-    factors = _posterior_constants(entry["constants"], values, where)
-    draws, sampler = entry["draws"], entry["sampler"]
-    if not isinstance(draws, dict):
-        raise ValueError(f"{where}: posterior.draws: must be an object, name -> list of draws.")
-    if not isinstance(entry["effective_sample_size"], dict):
-        raise ValueError(f"{where}: posterior.effective_sample_size: must be an object, name -> "
-                         "effective sample size.")
-    if not isinstance(sampler, dict) or set(sampler) != {"method", "chains", "seed"}:
-        raise ValueError(f"{where}: posterior.sampler: write {{\"method\": \"NUTS\", "
-                         f"\"chains\": 4, \"seed\": 0}}; got {sampler!r}.")
-    try:
-        scaled = {}
-        for name, x in draws.items():
-            if isinstance(x, list) and all(isinstance(v, int | float) and not isinstance(v, bool)
-                                           for v in x):
-                scaled[name] = [v * factors.get(name, 1.0) for v in x]
-            else:
-                raise ValueError(f"posterior.draws.{name}: must be a list of numbers.")
-        return BearingPosterior(
-            names=tuple(factors), draws=scaled,
-            effective_sample_size=entry["effective_sample_size"],
-            draws_before_thinning=entry["draws_before_thinning"], thinning=entry["thinning"],
-            chains=sampler["chains"], seed=sampler["seed"], method=sampler["method"])
-    except ValueError as error:
-        raise ValueError(f"{where}: {error}") from None
+    return posterior_from_entry(entry, lambda constants, at: _posterior_constants(constants, values, at), where)
 
 
 def check_posterior(posterior: BearingPosterior, bearing: SlidingBearing, where) -> None:

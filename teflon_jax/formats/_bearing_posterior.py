@@ -241,3 +241,47 @@ def thinned_posterior(samples: dict, effective_sample_size: dict, *, max_draws: 
         names=tuple(flat), draws={n: x[::thinning] for n, x in flat.items()},
         effective_sample_size=dict(effective_sample_size), draws_before_thinning=total,
         thinning=thinning, chains=chains, seed=seed, method=method)
+
+
+POSTERIOR_KEYS = ("constants", "draws", "effective_sample_size", "draws_before_thinning", "thinning",
+                  "sampler")
+"""The keys of a file's `posterior` object (a bearing file's or an isolator file's)."""
+
+
+def posterior_from_entry(entry, factors_of, where: str, kind=BearingPosterior) -> BearingPosterior:
+    """The `kind` (`BearingPosterior` or a subclass) of a file's `posterior` object: its keys
+    (`POSTERIOR_KEYS`), the SI factor of each sampled constant from `factors_of(constants,
+    where)` (the file's own check of `constants`), each draw list a list of numbers, scaled to
+    SI, and the sampler's settings; checked as `kind` checks them. `ValueError` naming `where`
+    and the key."""
+    if not isinstance(entry, dict):
+        raise ValueError(f"{where}: posterior: must be an object with the keys {', '.join(POSTERIOR_KEYS)}.")
+    unknown = sorted(set(entry) - set(POSTERIOR_KEYS))
+    missing = [key for key in POSTERIOR_KEYS if key not in entry]
+    if unknown or missing:
+        raise ValueError(f"{where}: posterior: " + "; ".join(
+            ([f"unknown key(s) {unknown}"] if unknown else [])
+            + ([f"missing key(s) {missing}"] if missing else []))
+            + f" (the keys are {', '.join(POSTERIOR_KEYS)}).")
+    factors = factors_of(entry["constants"], where)
+    draws, sampler = entry["draws"], entry["sampler"]
+    if not isinstance(draws, dict):
+        raise ValueError(f"{where}: posterior.draws: must be an object, name -> list of draws.")
+    if not isinstance(entry["effective_sample_size"], dict):
+        raise ValueError(f"{where}: posterior.effective_sample_size: must be an object, name -> "
+                         "effective sample size.")
+    if not isinstance(sampler, dict) or set(sampler) != {"method", "chains", "seed"}:
+        raise ValueError(f'{where}: posterior.sampler: write {{"method": "NUTS", "chains": 4, "seed": 0}}; '
+                         f"got {sampler!r}.")
+    try:
+        scaled = {}
+        for name, x in draws.items():
+            if not isinstance(x, list) or not all(isinstance(v, int | float) and not isinstance(v, bool)
+                                                  for v in x):
+                raise ValueError(f"posterior.draws.{name}: must be a list of numbers.")
+            scaled[name] = [v * factors.get(name, 1.0) for v in x]
+        return kind(names=tuple(factors), draws=scaled, effective_sample_size=entry["effective_sample_size"],
+                    draws_before_thinning=entry["draws_before_thinning"], thinning=entry["thinning"],
+                    chains=sampler["chains"], seed=sampler["seed"], method=sampler["method"])
+    except ValueError as error:
+        raise ValueError(f"{where}: {error}") from None

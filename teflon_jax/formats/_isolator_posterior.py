@@ -19,17 +19,16 @@ a bearing file's posterior (`BearingPosterior`). SI inside.
 import dataclasses
 
 import jax
+import numpy as np
 
 from ..bearing import SeriesPendulum, check_series_pendulum
 from ..units import unit_factor
-from ._bearing_posterior import BearingPosterior
+from ._bearing_posterior import BearingPosterior, posterior_from_entry
 
 SURFACE_CONSTANTS = {"f_max": "dimensionless", "delta_f": "dimensionless", "rate_a": "slowness"}
 """The constants of a surface a posterior may hold, and their dimensions."""
 
 SI_UNIT = {"dimensionless": "1", "slowness": "s/m"}
-
-_KEYS = ("constants", "draws", "effective_sample_size", "draws_before_thinning", "thinning", "sampler")
 
 
 def _split(name: str) -> tuple[str, str]:
@@ -71,7 +70,7 @@ class IsolatorPosterior(BearingPosterior):
 
     def check_draws(self, point: SeriesPendulum) -> None:
         """`ValueError` naming the first draw that, put into `point`, the series model cannot take."""
-        stacked = self.bearings(point)
+        stacked = jax.tree_util.tree_map(np.asarray, self.bearings(point))  # draw k read in NumPy: no dispatch
         for k in range(self.size):
             try:
                 check_series_pendulum(jax.tree_util.tree_map(lambda leaf, k=k: leaf[k], stacked))
@@ -89,16 +88,11 @@ def isolator_posterior_to_dict(posterior: IsolatorPosterior) -> dict:
         "sampler": {"method": posterior.method, "chains": posterior.chains, "seed": posterior.seed}}
 
 
-def isolator_posterior_from_dict(entry, point: SeriesPendulum, where: str) -> IsolatorPosterior:
-    """The `IsolatorPosterior` of an isolator file's `posterior` object, its draws checked in
-    the file's pendulum `point`; `ValueError` naming `where` and the key."""
-    at = f"{where}: posterior"
-    if not isinstance(entry, dict) or set(entry) != set(_KEYS):
-        given = sorted(entry) if isinstance(entry, dict) else type(entry).__name__
-        raise ValueError(f"{at}: must be an object with the keys {', '.join(_KEYS)}; got {given}.")
-    constants, draws, sampler = entry["constants"], entry["draws"], entry["sampler"]
+def _surface_factors(constants, where: str) -> dict:
+    """name -> SI factor of an isolator file's `posterior.constants` (`<surface>_<constant>`)."""
+    at = f"{where}: posterior.constants"
     if not isinstance(constants, dict) or not constants:
-        raise ValueError(f'{at}.constants: must name the sampled constants, e.g. {{"bottom_f_max": {{"unit": "1"}}}}.')
+        raise ValueError(f'{at}: must name the sampled constants, e.g. {{"bottom_f_max": {{"unit": "1"}}}}.')
     factors = {}
     for name, value in constants.items():
         try:
@@ -106,23 +100,16 @@ def isolator_posterior_from_dict(entry, point: SeriesPendulum, where: str) -> Is
         except ValueError as error:
             raise ValueError(f"{where}: {error}") from None
         if not isinstance(value, dict) or set(value) != {"unit"} or not isinstance(value["unit"], str):
-            raise ValueError(f'{at}.constants.{name}: write {{"unit": "{SI_UNIT[dimension]}"}}; got {value!r}.')
-        factors[name] = unit_factor(value["unit"], dimension, where=f"{at}.constants.{name}.unit")
-    if not isinstance(draws, dict) or not all(isinstance(x, list) for x in draws.values()):
-        raise ValueError(f"{at}.draws: must be an object, name -> list of draws.")
-    if not isinstance(sampler, dict) or set(sampler) != {"method", "chains", "seed"}:
-        raise ValueError(f'{at}.sampler: write {{"method": "NUTS", "chains": 4, "seed": 0}}; got {sampler!r}.')
+            raise ValueError(f'{at}.{name}: write {{"unit": "{SI_UNIT[dimension]}"}}; got {value!r}.')
+        factors[name] = unit_factor(value["unit"], dimension, where=f"{at}.{name}.unit")
+    return factors
+
+
+def isolator_posterior_from_dict(entry, point: SeriesPendulum, where: str) -> IsolatorPosterior:
+    """The `IsolatorPosterior` of an isolator file's `posterior` object (`posterior_from_entry`),
+    its draws checked in the file's pendulum `point`; `ValueError` naming `where` and the key."""
+    posterior = posterior_from_entry(entry, _surface_factors, where, IsolatorPosterior)
     try:
-        scaled = {}
-        for name, x in draws.items():
-            if not all(isinstance(v, int | float) and not isinstance(v, bool) for v in x):
-                raise ValueError(f"posterior.draws.{name}: must be a list of numbers.")
-            scaled[name] = [v * factors.get(name, 1.0) for v in x]
-        posterior = IsolatorPosterior(
-            names=tuple(factors), draws=scaled, effective_sample_size=entry["effective_sample_size"]
-            if isinstance(entry["effective_sample_size"], dict) else {},
-            draws_before_thinning=entry["draws_before_thinning"], thinning=entry["thinning"],
-            chains=sampler["chains"], seed=sampler["seed"], method=sampler["method"])
         posterior.check_draws(point)
     except ValueError as error:
         raise ValueError(f"{where}: {error}") from None
