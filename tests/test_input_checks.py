@@ -326,6 +326,23 @@ def test_a_plans_own_key_that_is_unknown_is_refused(tmp_path, capsys):
     assert code == 2 and f"--plan: {plan}: height_of_center_of_mass is not a key of a plan; accepted:" in out.err
 
 
+def test_a_plan_key_given_twice_is_refused_naming_the_line(tmp_path, capsys):
+    plan = _plan(tmp_path / "plan.json")
+    plan.write_text(plan.read_text().replace('"weight": "1000kN"', '"weight": "1000kN",\n"weight": "900kN"'))
+    code, out = _run(capsys, "run", "--structure", "slab", "--plan", plan, "--isolation-period", "3s",
+                     "--record-x", _at2(tmp_path / "x.AT2"))
+    assert code == 2
+    assert f"--plan: {plan}, line 2, column 1: the key 'weight' appears a second time at the top level" in out.err
+
+
+def test_a_bearing_file_key_given_twice_is_refused(tmp_path):
+    path = save_bearing(tmp_path / "b.json", paper_bearing(FrictionParameters(0.12, 0.06, 20.0)))
+    path.write_text(path.read_text().replace('"f_max": {', '"f_max": {"value": 0.2}, "f_max": {', 1))
+    with pytest.raises(ValueError, match=r"b.json, line \d+, column \d+: the key 'f_max' appears a second time "
+                                         r"in 'parts.friction'"):
+        load_bearing(path)
+
+
 # ------------------------------------------------------------------ files and flags of the wrong kind
 
 

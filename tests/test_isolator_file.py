@@ -65,6 +65,19 @@ def test_a_bad_file_is_refused_by_key(path, value, message):
         isolator_from_dict(_edit(path, value), where="tfp.json")
 
 
+def test_a_key_given_twice_is_refused_with_its_line_and_object(tmp_path):
+    from teflon_jax.formats import load_isolator
+
+    path = tmp_path / "tfp.json"
+    text = json.dumps(_document(), indent=1)
+    path.write_text(text.replace('"capacity": {', '"radius": {"value": 20.0, "unit": "in"},\n"capacity": {', 1))
+    line = text.splitlines().index(next(t for t in text.splitlines() if '"capacity"' in t)) + 1
+    with pytest.raises(ValueError) as error:
+        load_isolator(path)
+    assert (f"{path}, line {line}, column 4: the key 'radius' appears a second time in 'surfaces.inner' "
+            f"(first on line {line - 4}); JSON would keep only the last one") in str(error.value)
+
+
 def _cli(tmp_path, capsys, *argv):
     from teflon_jax.cli import main
 

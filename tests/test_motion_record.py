@@ -14,12 +14,12 @@ from teflon_jax.units import INCH
 
 FILE = """# source: a hand-written path
 # direction: T
-time [s],ux [in],uy [mm],fx [kip]
-0.0,0.0,0.0,0.0
-0.5,1.0,5.0,0.1
-1.0,0.0,10.0,0.0
-1.5,-1.0,5.0,-0.1
-2.0,0.0,0.0,0.0
+time [s],ux [in],uy [mm]
+0.0,0.0,0.0
+0.5,1.0,5.0
+1.0,0.0,10.0
+1.5,-1.0,5.0
+2.0,0.0,0.0
 """
 
 
@@ -27,7 +27,10 @@ def test_motion_file_is_read_by_the_test_record_reader(tmp_path):
     path = tmp_path / "path.csv"
     path.write_text(FILE)
     motion = read_motion_record(path)
-    record = read_test_record(path)
+    tested = tmp_path / "tested.csv"  # the same path with the force a test measures
+    tested.write_text("\n".join(line + (",fx [kip]" if line.startswith("time") else ",0" * line[0].isdigit())
+                                for line in FILE.splitlines()) + "\n")
+    record = read_test_record(tested)
     np.testing.assert_allclose(motion.ux, record.ux)
     np.testing.assert_allclose(motion.uy, record.uy)
     np.testing.assert_allclose(motion.ux[1], 1.0 * INCH, rtol=1e-15)
@@ -51,6 +54,19 @@ def test_bad_motion_files_are_refused_with_file_line_and_column(tmp_path, text, 
     assert main(["simulate-test", "--motion-file", str(path), "--out", str(tmp_path / "o.csv")]) == 2
     err = capsys.readouterr().err
     assert "bad.csv" in err and message in err
+
+
+@pytest.mark.parametrize("column, hint", [("y [in]", ", or name it 'uy' if it is the displacement along y."),
+                                          ("fx [N]", ".")])
+def test_a_column_the_motion_does_not_take_is_refused_not_left_out(tmp_path, capsys, column, hint):
+    path = tmp_path / "m.csv"
+    path.write_text(f"time [s],ux [in],{column}\n0,0,0\n0.1,0.5,0.5\n0.2,1,1\n0.3,0.5,0.5\n0.4,0,0\n")
+    out = tmp_path / "b.csv"
+    assert main(["simulate-test", "--motion-file", str(path), "--out", str(out)]) == 2
+    name = column.split()[0]
+    assert (f"{path}, line 1, column '{name}': an imposed motion takes only the columns 'time', 'ux', "
+            f"'uy' ('uy' for a biaxial path), so this one would be left out; remove it{hint}") in capsys.readouterr().err
+    assert not out.exists()
 
 
 @pytest.mark.parametrize("flags", [["--amplitude", "1in"], ["--frequency", "1Hz"], ["--cycles", "5"],

@@ -34,7 +34,7 @@ def _synthetic_record(*, biaxial=True, with_n=True):
     metadata = {
         "specimen": "PTFE-steel flat slider, unfilled sheet PTFE",
         "contact_area": 0.0506,
-        "normal_load": 3.49e5,
+        **({} if with_n else {"normal_load": 3.49e5}),
         "direction": "P",
         "interfaces_in_parallel": 2,
         "interfaces_in_series": 3,
@@ -211,6 +211,9 @@ _GOOD_HEADER = "time [s],ux [in],fx [kip]\n"
         ("# contact_area: 78.5\n" + _GOOD_HEADER + "0,0,0\n", ["line 1", "no unit"]),
         ("# contact_area [kip]: 1\n" + _GOOD_HEADER + "0,0,0\n", ["line 1", "area"]),
         ("# normal_load [kip]: -5\n" + _GOOD_HEADER + "0,0,0\n", ["line 1", "positive"]),
+        ("# ptfe: UF\n# normal_load [kip]: 100\ntime [s],ux [in],fx [kip],N [kN]\n0,0,0,444.822162\n"
+         "0.1,0,1,400\n", ["line 2: '# normal_load [kip]: 100' contradicts the N column ('N [kN]'), which "
+                           "holds 400 on line 5", "remove the metadata line or make the two agree"]),
         ("time [s],ux [in],fx [kip],N [kip]\n0,0,0,500\n0.1,0.2,1,-5\n",
          ["line 3", "'N'", "must be > 0", "got -5 kip"]),
         ("time [s],ux [in],fx [kip],N [kN]\n0,0,0,0\n", ["line 2", "'N'", "got 0 kN"]),
@@ -242,6 +245,28 @@ def test_bad_input_is_reported_with_its_place(tmp_path, text, expected):
     assert "bad_record.csv" in message
     for piece in expected:
         assert piece in message, (piece, message)
+
+
+def test_a_normal_load_line_that_agrees_with_the_n_column_is_read(tmp_path):
+    path = tmp_path / "agree.csv"
+    path.write_text("# normal_load [kip]: 100\ntime [s],ux [in],fx [kip],N [kN]\n0,0,0,444.822162\n"
+                    "0.1,0,1,444.8222\n")
+    np.testing.assert_allclose(read_test_record(path).normal_load, 444822.162, rtol=1e-6)
+
+
+def test_a_normal_load_the_history_contradicts_is_not_written(tmp_path):
+    record = _synthetic_record()
+    record = records.test_record_from_arrays(record.ux, record.fx, time=record.time, normal_load=record.normal_load,
+                                             metadata={"normal_load": 3.49e5})
+    with pytest.raises(ValueError, match="metadata 'normal_load' .349000 N. contradicts the normal-load history"):
+        write_test_record(tmp_path / "r.csv", record)
+
+
+def test_damper_json_with_a_repeated_key_is_refused(tmp_path):
+    path = _damper_json(tmp_path)
+    path.write_text(path.read_text().replace('"dt":', '"dt": 0.5, "dt":', 1))
+    with pytest.raises(ValueError, match=r"line 1, column \d+: the key 'dt' appears a second time at the top"):
+        read_friction_damper_json(path)
 
 
 def test_digitised_loop(tmp_path):

@@ -1,6 +1,5 @@
 """`run --structure slab --plan FILE`: the slab's plan (bearing groups and loads), read in SI."""
 
-import json
 import math
 import pathlib
 
@@ -21,13 +20,12 @@ def read_plan(path_text, structure: str = "slab"):
     path = pathlib.Path(path_text)
     if not path.is_file():
         raise ValueError(f"--plan: {path} is not a file.")
+    from ..formats._text import read_json_document
+
     try:
-        plan = json.loads(path.read_text(encoding="utf-8"))
-    except UnicodeDecodeError as error:
-        raise ValueError(f"--plan: {path}: not a text (UTF-8) JSON file (byte {error.start} cannot be read); "
-                         "give the slab's plan (docs/tutorials/pendulum.md).") from None
-    except json.JSONDecodeError as error:
-        raise ValueError(f"--plan: {path}, line {error.lineno}: not valid JSON ({error.msg}).") from None
+        plan = read_json_document(path, "slab's plan (docs/tutorials/pendulum.md)")
+    except ValueError as error:
+        raise ValueError(f"--plan: {error}") from None
     where = f"{path}"
 
     def q(value, dimension, key):

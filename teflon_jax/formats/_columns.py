@@ -18,6 +18,7 @@ import numpy as np
 
 from ..excitation import GroundMotion
 from ._at2 import _acceleration_factor
+from ._column_units import header_time_factor
 from ._text import _read_lines, _to_float
 
 _FIELD_SPLIT = re.compile(r"\s*,\s*|\s+")
@@ -104,7 +105,9 @@ def read_two_column(
     The time step is `(t_last - t_first) / (npts - 1)` rounded to 12 significant digits, and the
     first time becomes `start_time`. Other columns than the two selected are read and checked
     for shape but not used, so a 4-column file (time, N-S, E-W, vertical) can be read one
-    component at a time (the unused columns are not checked).
+    component at a time (the unused columns are not checked). A unit in brackets in a text
+    header (`time [ms]`, `acc (g)`) is read: a time unit converts the times to seconds, and an
+    acceleration unit must be `units`; bracketed text that is no unit (`(N-S)`) is a label.
 
     **Arguments:**
 
@@ -121,7 +124,8 @@ def read_two_column(
 
     **Raises:** `ValueError` naming the file and line for an empty file, ragged rows, a value
     that is not a finite number, a time that does not increase, non-uniform sampling, or a
-    number of columns other than `columns`.
+    number of columns other than `columns`, or a header unit of the wrong dimension or, for
+    the acceleration, other than `units`.
     """
     factor = _acceleration_factor(units, f"{path}: units")
     path, lines = _read_lines(path)
@@ -146,8 +150,10 @@ def read_two_column(
         raise ValueError(
             f"{path}: time_column and acceleration_column are both {time_column}."
         )
+    time_factor = header_time_factor(lines, rows[0][0], width, path, time_column,
+                                     acceleration_column, units)
     line_numbers = [line_no for line_no, _ in rows]
-    time = np.array(
+    time = time_factor * np.array(
         [
             _to_float(f[time_column], path, n, f"time (column {time_column + 1})")
             for n, f in rows

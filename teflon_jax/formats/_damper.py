@@ -9,7 +9,6 @@ serves to try the identification tools on laboratory data, not to obtain PTFE fr
 constants.
 """
 
-import json
 import math
 import pathlib
 import re
@@ -19,6 +18,7 @@ import numpy as np
 from ..units import INCH, unit_factor
 from ._protocol import Protocol
 from ._test_record import TestRecord
+from ._text import read_json_document
 
 DAMPER_SOURCE = (
     "D. Coble, P. Huggins, L. Cao, J. Ricles, A. Downey, 'Dataset-Friction-Damper-with-"
@@ -118,10 +118,7 @@ def read_friction_damper_json(path) -> TestRecord:
 
 def _load_damper_object(path: pathlib.Path) -> dict:
     """The file's JSON object, checked to hold every key the damper files have."""
-    try:
-        content = json.loads(path.read_text(encoding="utf-8"))
-    except json.JSONDecodeError as error:
-        raise ValueError(f"{path}: not valid JSON ({error}).") from None
+    content = read_json_document(path, "friction-damper JSON file")
     if not isinstance(content, dict):
         raise ValueError(f"{path}: expected a JSON object with the key 'data'.")
     for key in ("data", "dt", "sampling freq", *_UNIT_KEYS):

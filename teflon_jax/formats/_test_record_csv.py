@@ -32,12 +32,9 @@ from ._test_record import (
 
 _HEADER_CELL = re.compile(r"^\s*(?P<name>[^\[\]]*?)\s*(?:\[(?P<unit>[^\[\]]*)\])?\s*$")
 
-
 _METADATA_LINE = re.compile(
     r"^#\s*(?P<key>[^\[\]:]*?)\s*(?:\[(?P<unit>[^\[\]]*)\])?\s*:\s*(?P<value>.*?)\s*$"
 )
-
-
 
 
 # ----------------------------------------------------------------------------------------
@@ -174,12 +171,13 @@ def _parse_header(line: str, where: str) -> list[tuple[str, str]]:
     return columns
 
 
-def _read_columns(path, columns_required, digitised_columns, positive=()):
+def _read_columns(path, columns_required, digitised_columns, positive=(), only=None):
     """(path, metadata, by_name, extra_units) of a file in the test-record CSV format: the
     metadata in SI, every column in SI by name, the units of the extra columns. A file without
     a `time` column is a digitised loop (needing `digitised_columns` and a protocol) when
     `digitised_columns` is not `None`, otherwise `time` is required like `columns_required`;
-    the columns named in `positive` must be > 0 in every row."""
+    the columns named in `positive` must be > 0 in every row; a column not in `only` (when
+    given) is refused."""
     path = pathlib.Path(path)
     with open(path, encoding="utf-8-sig", newline=None) as file:
         lines = file.read().split("\n")
@@ -191,11 +189,15 @@ def _read_columns(path, columns_required, digitised_columns, positive=()):
     digitised = "time" not in names and digitised_columns is not None
     required = digitised_columns if digitised else columns_required
     _check_required_columns(names, required, digitised, metadata, path, header_index)
+    if only is not None:
+        _refuse_unread_columns(names, only, path, header_index)
     factors, extra_units = _column_factors(columns, path, header_index)
     table = _read_data_rows(lines, header_index, names, factors, path)
     by_name = {name: table[:, i] for i, name in enumerate(names)}
     if not digitised:
         _check_time_increases(by_name["time"], path, header_index)
+    if "N" in by_name and "normal_load" in metadata:
+        _check_normal_load_agrees(lines, header_index, metadata["normal_load"], by_name["N"], path)
     for name, unit in columns:
         if name in positive and np.any(by_name[name] <= 0):
             row = int(np.argmax(by_name[name] <= 0))
@@ -203,6 +205,25 @@ def _read_columns(path, columns_required, digitised_columns, positive=()):
             raise ValueError(f"{path}, line {header_index + 2 + row}, column '{name}': must be > 0 "
                              f"(compression positive), got {cell} {unit}; repair or remove the sample.")
     return path, metadata, by_name, extra_units
+
+
+def _check_normal_load_agrees(lines, header_index, load, column, path) -> None:
+    """Raise when a sample of the `N` column differs from the `# normal_load` line's `load`
+    [N] by more than 1e-6 of it: the file would state two loads."""
+    bad = np.flatnonzero(np.abs(column - load) > 1e-6 * load)
+    if not bad.size:
+        return
+    line_no = next(index + 1 for index, line in enumerate(lines[:header_index])
+                   if (match := _METADATA_LINE.match(line.strip()))
+                   and _KEY_ALIASES.get(match.group("key"), match.group("key")) == "normal_load")
+    column_index = [name for name, _ in _parse_header(lines[header_index], "")].index("N")
+    cell = lines[header_index + 1 + bad[0]].split(",")[column_index].strip()
+    unit = lines[header_index].split(",")[column_index].strip()
+    raise ValueError(
+        f"{path}, line {line_no}: '{lines[line_no - 1].strip()}' contradicts the N column ('{unit}'), "
+        f"which holds {cell} on line {header_index + 2 + bad[0]}; the N column is the load used, so "
+        "remove the metadata line or make the two agree."
+    )
 
 
 def _metadata_and_header(lines, path) -> tuple:
@@ -242,6 +263,15 @@ def _check_required_columns(names, required, digitised, metadata, path, header_i
             f"'# protocol: sine amplitude=1 in frequency=0.16 Hz cycles=3'; if the test "
             f"has a time history, add a 'time [s]' column instead."
         )
+
+
+def _refuse_unread_columns(names, only, path, header_index) -> None:
+    """Raise at the first column of `names` that is not in `only`, the columns a reader takes."""
+    for name in (name for name in names if name not in only):
+        hint = ", or name it 'uy' if it is the displacement along y" if name in ("y", "dy") else ""
+        raise ValueError(f"{path}, line {header_index + 1}, column '{name}': an imposed motion takes only the "
+                         f"columns {', '.join(repr(n) for n in only)} ('uy' for a biaxial path), so this one "
+                         f"would be left out; remove it{hint}.")
 
 
 def _column_factors(columns, path, header_index) -> tuple:
@@ -351,13 +381,13 @@ def read_test_record(path) -> TestRecord:
 def read_motion_record(path) -> TabulatedMotion | TabulatedBiaxialMotion:
     """Read an imposed displacement history in the test-record CSV format (`FORMATS.md`):
     the same metadata lines, header (`name [unit]`) and checks as `read_test_record`, with
-    the columns `time` and `ux` required and `uy` optional (a biaxial path); force columns
-    are allowed and ignored by the motion.
+    the columns `time` and `ux` required and `uy` optional (a biaxial path); any other
+    column (a force, a `y`) is refused rather than left out.
 
     **Returns:** a `TabulatedMotion` (along x) or, with `uy`, a `TabulatedBiaxialMotion` [m]
     (linear between samples); `ValueError` naming the file, line and column for anything `read_test_record` refuses.
     """
-    path, _, by_name, _ = _read_columns(path, ("time", "ux"), None)
+    path, _, by_name, _ = _read_columns(path, ("time", "ux"), None, only=("time", "ux", "uy"))
     try:
         return tabulated_motion(by_name["time"], by_name["ux"], by_name.get("uy"))
     except ValueError as error:
@@ -404,7 +434,8 @@ def write_test_record(path, record: TestRecord, *, units=None, digits: int = 9) 
 
     **Returns:** nothing. Reading the file back gives the record again to `digits`
     significant digits. The `N` column is left out when the normal load is the constant that
-    the metadata (`normal_load`, or `contact_area` times `contact_pressure`) already states.
+    the metadata (`normal_load`, or `contact_area` times `contact_pressure`) already states; a
+    metadata `normal_load` that the history contradicts is a `ValueError`.
     """
     if not isinstance(record, TestRecord):
         raise TypeError(f"record: expected a TestRecord, got {type(record).__name__}.")
@@ -433,6 +464,10 @@ def write_test_record(path, record: TestRecord, *, units=None, digits: int = 9) 
             implied = _normal_load_from_metadata(record.metadata, len(record))
             if implied is not None and np.array_equal(implied, values):
                 continue
+            load = record.metadata.get("normal_load")
+            if load is not None and np.any(np.abs(values - load) > 1e-6 * load):
+                raise ValueError(f"record: metadata 'normal_load' ({load:g} N) contradicts the normal-load "
+                                 "history (column N), which a reader would refuse; drop one of them.")
         columns.append((name, chosen[_COLUMN_DIMENSIONS[name]], values))
     for name, values in record.extra_columns.items():
         unit = record.extra_units[name]

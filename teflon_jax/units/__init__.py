@@ -14,5 +14,6 @@ from ._constants import PSI as PSI
 from ._constants import STANDARD_GRAVITY as STANDARD_GRAVITY
 from ._quantity import UNITS as UNITS
 from ._quantity import example as example
+from ._quantity import is_unit as is_unit
 from ._quantity import parse_quantity as parse_quantity
 from ._quantity import unit_factor as unit_factor

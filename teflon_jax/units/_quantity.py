@@ -178,6 +178,12 @@ def unit_factor(unit: str, dimension: str, *, where: str) -> float:
     return value
 
 
+def is_unit(text: str) -> bool:
+    """Whether `text` reads as a unit of any dimension (`'ms'`, `'g'`, `'cm/s^2'`, `'m'`),
+    rather than a word or label (`'N-S'`, `'E-W'`)."""
+    return any(_pint_units(text, dimension) is not None for dimension in ("acceleration", "force"))
+
+
 def parse_quantity(
     text: str, dimension: str, *, where: str, default_unit: str | None = None
 ) -> float:

@@ -1,0 +1,58 @@
+"""The units a two-column record's text header states in brackets (`time [ms]`, `acc (g)`),
+checked against the units the reader is given."""
+
+import math
+import re
+
+from ..units import is_unit, unit_factor
+
+_BRACKETED = re.compile(r"\[([^\[\]]*)\]|\(([^()]*)\)")
+_WHITESPACE_CELL = re.compile(r"[^\s,()\[\]]+(?:\s*(?:\[[^\[\]]*\]|\([^()]*\)))*|\[[^\[\]]*\]|\([^()]*\)")
+
+
+def _header_cells(line: str) -> list[str]:
+    """The cells of a header line: split at commas, else at spaces outside brackets."""
+    if "," in line:
+        return [cell.strip() for cell in line.split(",")]
+    return _WHITESPACE_CELL.findall(line)
+
+
+def _header_unit(cell: str) -> str | None:
+    """The last bracketed text of `cell` that reads as a unit, or None (`(N-S)` is a label)."""
+    units = [a or b for a, b in _BRACKETED.findall(cell) if is_unit((a or b).strip())]
+    return units[-1].strip() if units else None
+
+
+def header_time_factor(lines, first_data_line, width, path, time_column, acceleration_column,
+                       units) -> float:
+    """The factor [s] of the time column's unit in the header (1 without one), after checking
+    the acceleration column's unit, where the header states it, against `units`.
+
+    The header is the last line before `first_data_line` (1-based) that is neither blank nor a
+    `#` comment; it is read only when it has one cell per column. `ValueError` naming the file,
+    line and column for a unit of the wrong dimension, or an acceleration unit other than `units`."""
+    header = next(((number, line.strip()) for number, line in
+                   reversed(list(enumerate(lines[:first_data_line - 1], start=1)))
+                   if line.strip() and not line.strip().startswith("#")), None)
+    if header is None:
+        return 1.0
+    line_no, text = header
+    cells = _header_cells(text)
+    if len(cells) != width:
+        return 1.0
+    time_unit = _header_unit(cells[time_column])
+    acceleration_unit = _header_unit(cells[acceleration_column])
+    where = f"{path}, line {line_no}, column {{}} ('{{}}')"
+    if acceleration_unit is not None:
+        stated = unit_factor(acceleration_unit, "acceleration",
+                             where=where.format(acceleration_column + 1, cells[acceleration_column]))
+        if not math.isclose(stated, unit_factor(units, "acceleration", where=f"{path}: units"),
+                            rel_tol=1e-9):
+            raise ValueError(
+                f"{where.format(acceleration_column + 1, cells[acceleration_column])}: the header gives "
+                f"the acceleration in {acceleration_unit}, but the record is read in {units}; fix the "
+                f"header, or read the record in {acceleration_unit} (--record-units {acceleration_unit})."
+            )
+    if time_unit is None:
+        return 1.0
+    return unit_factor(time_unit, "time", where=where.format(time_column + 1, cells[time_column]))
