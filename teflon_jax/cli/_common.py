@@ -186,11 +186,19 @@ def output_units(family: str) -> OutputUnits:
     return OutputUnits(length=("in", INCH), force=("kip", KIP), pressure=("psi", PSI))
 
 
-def name_value_items(text) -> list[str]:
+def name_value_items(text, flag: str = "--fixed") -> list[str]:
     """The non-empty items of a NAME=VALUE[,...] flag: its text, or the list the repeated flag
-    gives, split at the commas."""
+    gives, split at the commas; `ValueError` naming `flag` and a NAME given twice."""
     parts = [] if not text else [text] if isinstance(text, str) else text
-    return [item for part in parts for item in part.split(",") if item.strip()]
+    items = [item for part in parts for item in part.split(",") if item.strip()]
+    seen = {}
+    for item in items:
+        name = item.partition("=")[0].strip()
+        if name in seen:
+            raise ValueError(f"{flag}: {name} given twice ({seen[name].strip()}, then {item.strip()}); "
+                             "give each parameter once.")
+        seen[name] = item
+    return items
 
 
 def parse_name_values(text, dimensions: dict, flag: str) -> dict:
@@ -199,7 +207,7 @@ def parse_name_values(text, dimensions: dict, flag: str) -> dict:
     and the item that is not NAME=VALUE, or the unknown name with the known ones (the keys of
     `dimensions`, in their order). The one reader of `--fixed` and `--known`."""
     values = {}
-    for item in name_value_items(text):
+    for item in name_value_items(text, flag):
         name, sep, value = item.partition("=")
         name = name.strip()
         if not sep:
@@ -231,6 +239,20 @@ def integer_at_least(text: str, minimum: int, words: str) -> int:
 
 def _positive_int(text: str) -> int:
     return integer_at_least(text, 1, "a positive integer")
+
+
+MAX_SEED = 2**32 - 1
+"""Largest seed a command takes (a 32-bit unsigned integer, as JAX's and NumPy's generators
+take on every platform)."""
+
+
+def seed_value(text: str) -> int:
+    """A `--seed`-like flag: an integer from 0 to `MAX_SEED`; `argparse.ArgumentTypeError`
+    otherwise."""
+    value = integer_at_least(text, 0, f"an integer from 0 to {MAX_SEED}")
+    if value > MAX_SEED:
+        raise argparse.ArgumentTypeError(f"expected an integer from 0 to {MAX_SEED}, got {value}")
+    return value
 
 
 def _write_json(path, payload: dict, **dumps) -> None:
@@ -310,6 +332,12 @@ OTHER_OUTPUTS = (("save_bearing", "--save-bearing", "file", "bearing.json"),
                  ("pelicun_demands", "--pelicun-demands", "file", "demands.csv"))
 """Output files that some commands write beside those of `OUTPUT_FLAGS`, in its form."""
 
+_FILE_SUFFIXES = {(None, "--json"): (".json",), (None, "--save-bearing"): (".json",),
+                  (None, "--save-isolator"): (".json",), (None, "--pelicun-demands"): (".csv",),
+                  ("simulate-test", "--out"): (".csv",)}
+"""The suffixes an output file of a flag (of one command, or of every command: None) must end in,
+where its format is fixed: the first is the one written."""
+
 _INPUT_NAMES = {"records": "the record", "record": "the record"}
 """Positional inputs, named in messages as the user knows them."""
 
@@ -357,6 +385,20 @@ def check_no_clash(args, command: str) -> None:
                                  "would replace it. Give another name for the output.")
 
 
+def check_distinct_files(named, why: str) -> None:
+    """`ValueError` naming both where two of `named` ((flag or name, path as typed), None paths
+    skipped) are one file, however spelled (`./x.csv`, a link); `why` says why each must be
+    its own."""
+    seen = []
+    for name, text in named:
+        if text is None or not pathlib.Path(text).is_file():
+            continue
+        for other, other_text in seen:
+            if os.path.samefile(text, other_text):
+                raise ValueError(f"{name} {text}: is the file of {other} {other_text}; {why}.")
+        seen.append((name, text))
+
+
 def check_outputs(args, command: str) -> list[pathlib.Path]:
     """Before any work: every output path of `command` on `args` can be written and is none
     of its inputs (`check_no_clash`). A file (or image) must not be a folder, a folder not a
@@ -378,6 +420,10 @@ def check_outputs(args, command: str) -> list[pathlib.Path]:
             raise ValueError(f"{flag} {text}: is a folder; give a file name, e.g. {path / example}.")
         if kind == "folder" and path.exists() and not path.is_dir():
             raise ValueError(f"{flag} {text}: is a file; give a folder (it is created if missing).")
+        suffixes = _FILE_SUFFIXES.get((command, flag), _FILE_SUFFIXES.get((None, flag)))
+        if suffixes is not None and path.suffix.lower() not in suffixes:
+            raise ValueError(f"{flag} {text}: writes a {suffixes[0][1:].upper()} file; end the name in "
+                             f"{' or '.join(suffixes)}, e.g. {path.with_suffix(suffixes[0]).name}.")
         if kind == "image" and path.suffix.lower() not in _IMAGE_SUFFIXES:
             raise ValueError(f"{flag} {text}: unknown image format {path.suffix or '(no suffix)'!r}; "
                              f"end the name in {', '.join(_IMAGE_SUFFIXES[:3])}.")

@@ -14,8 +14,10 @@ from ._bearing_flags import add_save_bearing_flag, check_output_file
 from ._common import (
     _write_json,
     add_units_flag,
+    check_distinct_files,
     read_bearing_record,
     read_quantities,
+    seed_value,
 )
 from ._fit_bayes import _unit_of as _unit_of
 from ._fit_bayes import add_bayes_file_flags, check_bayes_flags
@@ -81,7 +83,7 @@ def add_fit_parser(subparsers) -> argparse.ArgumentParser:
     parser.add_argument("--draws", type=int, default=None,
                         help="with --bayes: warm-up steps and draws per chain (default 1000)")
     parser.add_argument("--chains", type=int, default=None, help="with --bayes: chains (default 4)")
-    parser.add_argument("--seed", type=int, default=None, help="with --bayes: random seed (default 0)")
+    parser.add_argument("--seed", type=seed_value, default=None, help="with --bayes: random seed, 0 to 4294967295 (default 0)")
     parser.add_argument("--no-progress", action="store_true", help="with --bayes: no progress bar")
     add_bayes_file_flags(parser)
     parser.add_argument("--effects", default=None, metavar="NAME,...",
@@ -124,6 +126,8 @@ def run_fit(args) -> int:
         check_output_file(args.save_bearing, "--save-bearing")
         _check_counts(args)  # before the fit, as the output paths (`check_outputs`)
         inputs = row.read(args, row.own)
+        check_distinct_files([("the record", p) for p in args.records], "give each record once (one given twice counts its "
+                             "samples twice and shrinks the standard errors by a factor of sqrt(2))")
         records = [read_bearing_record(p) for p in args.records]
         check_normal_load_used(args, records, args.records)
         if args.each:  # a row without a posterior refused --each above

@@ -140,6 +140,10 @@ def _read_friction(args, own: dict) -> FitInputs:
             raise
         also = ", ".join(f"{name} (e.g. {name}={c.example})" for name, c in own.items())
         raise ValueError(f"{error} With --isolator {args.isolator} also {also}.") from None
+    both = [name for name in (free or ()) if name in fixed or name in values]
+    if both:
+        raise ValueError(f"--free and --fixed both name {', '.join(both)}; a constant is either fitted or "
+                         "held: leave it out of one of them.")
     return FitInputs(free, fixed, values)
 
 

@@ -36,12 +36,40 @@ def _command_module(command: str):
     return importlib.import_module(f".{_COMMANDS[command][0]}", __package__)
 
 
+class _StoreOnce(argparse.Action):
+    """argparse's default action (store the flag's value) for a flag given at most once: a
+    second value is refused naming both, where argparse would keep the last silently."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        given = namespace.__dict__.setdefault("_given_once", {})
+        if option_string is not None and self.dest in given:
+            parser.error(f"{option_string}: given twice ({given[self.dest]}, then {option_string} "
+                         f"{_shown(values)}); give it once.")
+        if option_string is not None:
+            given[self.dest] = f"{option_string} {_shown(values)}"
+        setattr(namespace, self.dest, values)
+
+
+def _shown(values) -> str:
+    return " ".join(map(str, values)) if isinstance(values, list) else str(values)
+
+
+class _Parser(argparse.ArgumentParser):
+    """`argparse.ArgumentParser` whose flags store once (`_StoreOnce`); its sub-commands'
+    parsers are of this class too."""
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self.register("action", None, _StoreOnce)
+        self.register("action", "store", _StoreOnce)
+
+
 def _parser(only: str | None = None) -> argparse.ArgumentParser:
     """The whole parser, or (`only` a command name, or "" for none) the full parser of that
     command alone beside one-line stubs of the others: enough to parse a command line that
     names `only`, or to print `--help`, without importing what the other commands need
     (JAX itself is imported by the commands' runners, not here)."""
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="teflon-jax",
         description="Differentiable simulation of PTFE sliding bearings (Constantinou, Mokha & "
         "Reinhorn 1990) on JAX.",

@@ -22,6 +22,7 @@ from ._common import (
     check_table1,
     motion_bar,
     output_units,
+    seed_value,
     warn_time_step,
 )
 from ._engineering import add_engineering_flags, check_bounding_flags
@@ -75,7 +76,7 @@ def _add_common(parser, *, levels: bool = False, structures=("rigid", "building"
                         help="rigid mass, or the six-storey building of Table 2"
                         + (", or a rigid slab on bearing groups (needs --plan)" if "slab" in structures else "")
                         + " (default rigid)")
-    parser.add_argument("--seed", type=int, default=0, help="PRNG seed of the stochastic motions")
+    parser.add_argument("--seed", type=seed_value, default=0, help="PRNG seed of the stochastic motions (0 to 4294967295)")
     add_quantity(parser, "--duration", "time", "40s", "length of each motion", minimum=0.0)
     add_quantity(parser, "--record-step", "time", "0.01s", "sampling step of the motions", minimum=0.0)
     add_quantity(parser, "--time-step", "time", None, "step of the structure solver (default 5ms: worst "

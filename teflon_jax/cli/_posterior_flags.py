@@ -17,7 +17,7 @@ band.
 import argparse
 import typing
 
-from ._common import integer_at_least
+from ._common import seed_value
 from ._mixture_runs import (
     MIXTURE,
     bearing_seed,
@@ -58,10 +58,6 @@ def _draws_value(text: str):
     return value
 
 
-def _seed(text: str) -> int:
-    return integer_at_least(text, 0, "an integer >= 0")
-
-
 def add_posterior_flags(parser) -> None:
     """`--bearing-draws point|motion|K` and `--bearing-seed S`."""
     parser.add_argument("--bearing-draws", type=_draws_value, default=None, metavar="point|motion|K",
@@ -70,7 +66,7 @@ def add_posterior_flags(parser) -> None:
                         "K runs K draws each on the same --motions motions and splits the variance "
                         "of each peak into a motion part and a bearing part, 'point' runs the "
                         "file's point estimate alone")
-    parser.add_argument("--bearing-seed", type=_seed, default=None, metavar="S",
+    parser.add_argument("--bearing-seed", type=seed_value, default=None, metavar="S",
                         help="with a --bearing file's posterior draws or mixture: seed of the order in "
                         "which they are taken (default 0)")
 

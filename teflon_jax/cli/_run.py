@@ -10,10 +10,16 @@ import pathlib
 import sys
 
 from ._bearing_flags import add_bearing_flag
-from ._common import _NEGATIVE_QUANTITY, add_units_flag, output_units, warn_time_step
+from ._common import (
+    _NEGATIVE_QUANTITY,
+    add_units_flag,
+    check_distinct_files,
+    output_units,
+    warn_time_step,
+)
 from ._isolator_flags import add_isolator_flags, check_combination, read_isolator
 from ._normal_load import add_vertical_flag
-from ._record_checks import check_record_units, run_records
+from ._record_checks import RECORD_FLAGS, check_record_units, run_records
 from ._run_stop import stop_entries
 from ._run_structure import STRUCTURES
 from ._run_suite import add_suite_arguments, check_suite_flags
@@ -66,7 +72,8 @@ def add_run_parser(subparsers) -> None:
     p.add_argument("--record-units", default=None, help="acceleration unit of two-column files: "
                    "g, m/s^2, cm/s^2 or in/s^2 (required for them)")
     p.add_argument("--scale", type=float, default=1.0, help="scale factor on both components, > 0 (default 1)")
-    p.add_argument("--start", default="0s", help="start of the window, e.g. 25s (default 0s)")
+    p.add_argument("--start", default="0s", help="start of the window, counted from the record's first "
+                   "sample (whatever time the file gives it), e.g. 25s (default 0s)")
     p.add_argument("--duration", default=None, help="length of the window (default: the whole record)")
     p.add_argument("--resample", action="store_true", help="allow components with different time "
                    "steps or lengths: both are interpolated linearly to the finer step and the "
@@ -104,6 +111,8 @@ def run_run(args) -> int:
         return run_suite(args, isolator)
     if args.record_x is None:
         raise ValueError("--record-x: a record is needed (or a --suite file).")
+    check_distinct_files([(flag, getattr(args, dest)) for dest, flag in RECORD_FLAGS],
+                         "each ground component needs its own record")
     if args.resample and args.record_y is None and args.record_z is None:
         raise ValueError("--resample: brings --record-y or --record-z onto the step and length of --record-x, "
                          "and --record-x runs alone here; leave --resample out.")

@@ -76,8 +76,14 @@ def load_components(args):
                 notes.append(f"shorter component extended with zeros to {(n - 1) * dt:g} s")
     total = (ax.size - 1) * dt
     start = parse_quantity(args.start, "time", where="--start")
+    first = float(x.start_time or 0.0)  # the file's own time of its first sample
     if not 0 <= start < total:
-        raise ValueError(f"--start: {args.start} is outside the record (0 to {total:g} s).")
+        own = "" if first == 0 else (f", counted from its first sample: the file's times run {first:g} to "
+                                     f"{first + total:g} s; file time T is --start (T - {first:g}) s")
+        raise ValueError(f"--start: {args.start} is outside the record (0 to {total:g} s{own}).")
+    if first != 0 and start > 0:
+        notes.append(f"--start {args.start} is counted from the first sample of --record-x, whose file time is "
+                     f"{first:g} s: the window begins at file time {first + start:g} s")
     if args.duration is None:
         duration = total - start
     else:

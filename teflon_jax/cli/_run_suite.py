@@ -18,7 +18,7 @@ from ._common import _write_json, add_cluster_flags
 from ._engineering import add_suite_pelicun_flag, suite_pelicun_peaks
 from ._normal_load import NORMAL_LOAD_NOTE, suite_normal_load
 from ._provenance import note_input_file, provenance_attributes
-from ._record_checks import check_record_units
+from ._record_checks import RECORD_FLAGS, check_record_units
 from ._run_stop import failed_pairs, pair_flags
 from ._spectrum import add_spectrum_flags, check_unscaled, read_target, scale_to_target
 from ._suite_bounding import add_suite_bounding_flag, read_suite_factors
@@ -94,9 +94,14 @@ def read_suite(path_text):
             scale = float(row.get("scale") or 1.0)
         except ValueError:
             raise ValueError(f"--suite: {path}, line {line}: scale {row.get('scale')!r} is not a number.") from None
-        if not np.isfinite(scale):
-            raise ValueError(f"--suite: {path}, line {line}: scale must be finite.")
+        if not (np.isfinite(scale) and scale > 0):
+            raise ValueError(f"--suite: {path}, line {line}: scale must be a finite number > 0, got "
+                             f"{row.get('scale').strip()}.")
         resolve = lambda p: str(p if pathlib.Path(p).is_absolute() else path.parent / p)  # noqa: E731
+        for column, record in (("record_x", x), ("record_y", y), ("record_z", z)):
+            if record is not None and not pathlib.Path(resolve(record)).is_file():
+                raise ValueError(f"--suite: {path}, line {line}: {column} {record} is not a file (looked for "
+                                 f"{resolve(record)}: a relative path is read from the suite file's folder).")
         name = (row.get("name") or "").strip() or pathlib.Path(x).stem
         _check_name(path, line, name, lines)
         lines[name] = line
@@ -158,7 +163,13 @@ def _pair_records(args, pairs):
     for name, x, y, z, scale in pairs:
         one = argparse.Namespace(**{**vars(args), "record_x": x, "record_y": y, "record_z": z,
                                     "scale": scale * args.scale})
-        ax, ay, dt, pair_notes = load_components(one)
+        try:
+            ax, ay, dt, pair_notes = load_components(one)
+        except ValueError as error:  # worded for run's flags: named here by the suite's columns
+            text = str(error)
+            for dest, flag in RECORD_FLAGS:
+                text = text.replace(flag, dest)
+            raise ValueError(f"--suite: {args.suite}, pair {name!r}: {text}") from None
         verticals.append(vertical_component(one, dt, ax.size, f"--suite {args.suite}, pair {name}: record_z"))
         records.append((name, ax, ay, dt))
         notes += [f"{name}: {n}" for n in pair_notes]
