@@ -15,7 +15,7 @@ from test_run_cli import _at2 as write_at2
 
 from teflon_jax.bearing import FrictionParameters, paper_bearing
 from teflon_jax.cli import main
-from teflon_jax.cli._common import output_flags
+from teflon_jax.cli._paths import output_flags
 from teflon_jax.cli._plan_file import read_plan
 from teflon_jax.cli._provenance import (
     clear_arguments,

@@ -14,7 +14,6 @@ from ._bearing_flags import add_save_bearing_flag, check_output_file
 from ._common import (
     _write_json,
     add_units_flag,
-    check_distinct_files,
     read_bearing_record,
     read_quantities,
     seed_value,
@@ -27,6 +26,7 @@ from ._isolator_flags import (
     check_normal_load_used,
 )
 from ._isolator_table import FIT_ROWS, refused, required
+from ._paths import check_distinct_files
 
 FIT_HELP = "fit f_max, delta_f, rate_a, yield_disp, breakaway_ratio to bearing test records"
 

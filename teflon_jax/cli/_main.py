@@ -10,14 +10,12 @@ import sys
 import time
 
 from ._common import (
-    check_outputs,
     check_scheduler,
-    output_flags,
     project_version,
     read_quantities,
-    remove_empty_folders,
     set_command_line,
 )
+from ._paths import check_outputs, output_flags, remove_empty_folders
 from ._provenance import clear_arguments, set_arguments, stamp_outputs
 
 _COMMANDS = {

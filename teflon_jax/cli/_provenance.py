@@ -91,7 +91,7 @@ def _flag(dest: str) -> str:
 
 def set_arguments(args, outputs) -> None:
     """Record `args` as those of the command being run, `outputs` its output flags as
-    (attribute, flag, "file" | "image" | "folder", example) (`_common.OUTPUT_FLAGS`), with the
+    (attribute, flag, "file" | "image" | "folder", example) (`_paths.OUTPUT_FLAGS`), with the
     SHA-256 of each input file (hashed now, before any work, as the command reads them)."""
     _RUN.clear()
     _RUN.update(args=args, outputs={dest: kind for dest, _, kind, _ in outputs}, files=[])

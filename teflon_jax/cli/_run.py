@@ -13,12 +13,12 @@ from ._bearing_flags import add_bearing_flag
 from ._common import (
     _NEGATIVE_QUANTITY,
     add_units_flag,
-    check_distinct_files,
     output_units,
     warn_time_step,
 )
 from ._isolator_flags import add_isolator_flags, check_combination, read_isolator
 from ._normal_load import add_vertical_flag
+from ._paths import check_distinct_files
 from ._record_checks import RECORD_FLAGS, check_record_units, run_records
 from ._run_stop import stop_entries
 from ._run_structure import STRUCTURES
