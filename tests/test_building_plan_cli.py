@@ -44,9 +44,9 @@ def _without_and_with_plan(tmp_path, capsys, *flags):
     common = ["--structure", "building", "--record-x", _record(tmp_path), *flags]
     code, out = _run(capsys, *common, "--json", tmp_path / "one.json")
     assert code == 0, out.err
-    code, out = _run(capsys, *common, "--plan", _plan(tmp_path / "plan.json"), "--json", tmp_path / "plan.json.out")
+    code, out = _run(capsys, *common, "--plan", _plan(tmp_path / "plan.json"), "--json", tmp_path / "plan.out.json")
     assert code == 0, out.err
-    return json.loads((tmp_path / "one.json").read_text())["peak"], json.loads((tmp_path / "plan.json.out").read_text())
+    return json.loads((tmp_path / "one.json").read_text())["peak"], json.loads((tmp_path / "plan.out.json").read_text())
 
 
 def test_a_symmetric_plan_is_the_building_on_one_group_and_its_groups_carry_the_overturning(tmp_path, capsys):

@@ -112,6 +112,7 @@ def test_two_equal_components_are_the_diagonal_record(tmp_path, capsys):
     common = ["run", "--record-x", str(tmp_path / "x.txt"), "--record-units", "g", "--isolator", "double-fp",
               "--isolator-file", str(EXAMPLE), "--time-step", "5ms"]
     assert main([*common, "--record-y", str(tmp_path / "x.txt"), "--json", str(tmp_path / "two.json")]) == 0
+    assert "--record-y is the file of --record-x" in capsys.readouterr().err  # said, as the diagonal record
     assert main([*common, "--scale", repr(2**0.5), "--json", str(tmp_path / "one.json")]) == 0
     capsys.readouterr()
     two = json.loads((tmp_path / "two.json").read_text())["peak"]

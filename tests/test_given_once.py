@@ -50,8 +50,8 @@ def test_a_flag_given_twice_is_refused_naming_both_values(argv, message, record,
     (["fit", "{t}", "--json", "{d}/f.json", "--fixed", "f_max=0.1", "--free", "f_max,delta_f"],
      "--free and --fixed both name f_max"),
     (["fit", "{t}", "{d}/./{tn}", "--json", "{d}/f.json"], "is the file of the record"),
-    (["run", "--record-x", "{r}", "--record-y", "{d}/./r.csv", "--record-units", "g", "--json", "{d}/f.json"],
-     "is the file of --record-x"),
+    (["run", "--record-x", "{r}", "--record-z", "{d}/./r.csv", "--record-units", "g", "--json", "{d}/f.json"],
+     "--record-z {d}/./r.csv: is the file of --record-x {r}; the vertical component needs its own record"),
     (["montecarlo", "--motions", "2", "--json", "{d}/f.nc"], "--json {d}/f.nc: writes a JSON file; end the name in .json"),
     (["run", "--record-x", "{r}", "--record-units", "g", "--json", "{d}/f.txt"], "end the name in .json"),
     (["fit", "{t}", "--json", "{d}/f.png"], "--json {d}/f.png: writes a JSON file"),
@@ -85,7 +85,7 @@ def _suite(tmp_path, rows):
 @pytest.mark.parametrize("rows, message", [
     (["ec.csv,,1", "ec.csv,,-1"], "line 3: scale must be a finite number > 0, got -1"),
     (["ec.csv,,0"], "line 2: scale must be a finite number > 0, got 0"),
-    (["ec.csv,missing.csv,1"], "line 2: record_y missing.csv is not a file"),
+    (["ec.csv,missing.csv,1"], "line 2, pair ec: record_y missing.csv is not a file"),
     (["ec.csv,,1", "late.csv,,1"], "pair 'late': record_x "),
 ])
 def test_a_suite_row_is_named_by_its_file_line_and_column(rows, message, tmp_path, capsys):
@@ -114,3 +114,33 @@ def test_start_is_counted_from_the_first_sample_and_said_in_the_files_own_times(
         peaks.append(json.loads((tmp_path / f"{name}.json").read_text())["peak"])
         assert ("the window begins at file time 10.2 s" in out.err) == (name == "late.csv"), out.err
     assert peaks[0] == peaks[1] and peaks[0]
+
+
+@pytest.mark.parametrize("displacement, said", [
+    (0.2, None),
+    (0.3, "0.3 of the radius R, where the sphere's restoring force W u / sqrt(R^2 - u^2) is 4.8 % above"),
+    (2.0, "2 times the radius R: no point of the concave surface lies that far out"),
+])
+def test_a_pendulum_run_says_when_its_displacement_leaves_the_small_rotation_range(displacement, said):
+    """Against the closed form of a sphere of radius R: W u / sqrt(R^2 - u^2) over W u / R is
+    1 / sqrt(1 - 0.09) = 1.048 at u = 0.3 R; past R the sphere has no point (probe: u = 2 R
+    under a scaled El Centro was reported with no word)."""
+    from teflon_jax.cli._run import slope_note
+
+    note = slope_note(displacement * 1.5, 1.5)
+    assert (note is None) if said is None else (said in note), note
+    assert slope_note(displacement, None) is None
+
+
+def test_the_suite_summary_on_the_console_is_in_the_units_asked_for():
+    """A suite's summary (SI inside) printed as `run` prints one record's peaks: lengths in the
+    --units family (0.0254 m is 1 in, 25.4 mm), times in seconds, ratios as they are."""
+    from teflon_jax.cli._common import output_units
+    from teflon_jax.cli._run_suite import summary_lines
+
+    summary = {"base_disp_resultant_m": {"mean": 0.0254, "max": 0.0508}, "uplift_time_s": {"mean": 0.5, "max": 1.0},
+               "base_shear_ratio_resultant": {"mean": 0.1, "max": 0.125}}
+    assert summary_lines(summary, output_units("us")) == [
+        "base disp resultant: mean 1 in, max 2 in", "uplift time: mean 0.5 s, max 1 s",
+        "base shear ratio resultant: mean 0.1, max 0.125"]
+    assert summary_lines(summary, output_units("si"))[0] == "base disp resultant: mean 25.4 mm, max 50.8 mm"

@@ -421,3 +421,19 @@ def test_a_bearing_file_writes_null_for_a_standard_error_that_is_not_identifiabl
     assert rate["standard_error"] is None and rate["standard_error_note"].startswith("not identifiable")
     assert document["parts"]["friction"]["f_max"]["standard_error"] == 0.001
     assert float(load_bearing(path).friction.rate_a) == 20.0
+
+
+def test_a_run_warns_of_a_bearing_files_constant_that_its_fit_could_not_determine(tmp_path, capsys):
+    """A constant saved with a null standard error (the fit's start or a guess) is named, with
+    its value, by every command that runs the file; a determined one is not."""
+    import argparse
+
+    from teflon_jax.cli._bearing_flags import warn_unidentified
+
+    bearing = paper_bearing(FrictionParameters(0.12, 0.06, 20.0))
+    path = save_bearing(tmp_path / "b.json", bearing, standard_errors={("friction", "f_max"): 0.001,
+                                                                        ("friction", "rate_a"): math.inf})
+    warn_unidentified(argparse.Namespace(bearing=path, command="run"))
+    err = capsys.readouterr().err
+    assert f"warning: --bearing {path}: friction.rate_a = 20 was not determined by the fit" in err
+    assert "f_max" not in err

@@ -50,14 +50,14 @@ def test_bound_cases_on_a_symmetric_plan_are_those_of_the_rigid_mass(tmp_path, c
     assert code == 0, out.err
     plan = _plan(tmp_path / "slab.json", "1000kN", "250kN")
     code, out = _montecarlo(capsys, *common, *springs, "--structure", "slab", "--plan", plan,
-                            "--out", tmp_path / "slab.nc", "--json", tmp_path / "slab.json.out")
+                            "--out", tmp_path / "slab.nc", "--json", tmp_path / "slab.out.json")
     assert code == 0, out.err
     rigid, slab = MonteCarloResult.open(tmp_path / "rigid.nc"), MonteCarloResult.open(tmp_path / "slab.nc")
     assert slab.dims == ("design", "motion") and slab.converged.all()
     for name in ("base_disp", "base_shear_ratio"):
         np.testing.assert_allclose(getattr(slab, name), getattr(rigid, name), rtol=1e-8, err_msg=name)
     assert np.min(np.abs(slab.base_shear_ratio[1] / slab.base_shear_ratio[0] - 1)) > 0.02
-    cases = json.loads((tmp_path / "slab.json.out").read_text())["cases"]
+    cases = json.loads((tmp_path / "slab.out.json").read_text())["cases"]
     assert [cases[c]["friction_factor"] for c in ("nominal", "upper", "lower")] == [1.0, 1.3, 0.8]
 
 

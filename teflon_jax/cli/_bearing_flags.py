@@ -2,6 +2,7 @@
 command that simulates), checked before any work starts."""
 
 import pathlib
+import sys
 
 from ._common import flags_given
 
@@ -40,6 +41,25 @@ def check_output_file(path, flag: str) -> None:
         raise ValueError(f"{flag} {path}: is a folder; give a file name, e.g. {path / 'out.json'}.")
     if not path.parent.exists():
         raise ValueError(f"{flag} {path}: the folder {path.parent} does not exist; create it first.")
+
+
+def warn_unidentified(args) -> None:
+    """A warning on stderr for each constant of `--bearing FILE` that the fit which wrote the
+    file could not determine (`formats.unidentified_constants`): the run takes its value, that
+    fit's start or a guess, as written."""
+    path = getattr(args, "bearing", None)
+    if path is None or not pathlib.Path(path).is_file():
+        return
+    from ..formats import unidentified_constants
+
+    try:
+        found = unidentified_constants(path)
+    except (ValueError, AttributeError):  # not a bearing file: read_bearing_flag names what is wrong
+        return
+    for name, value in found:
+        print(f"teflon-jax {args.command}: warning: --bearing {path}: {name} = {value:.6g} was not determined by "
+              "the fit that wrote the file (the records did not constrain it: its standard error is null), so "
+              "it is that fit's start or a guess; it is run as written (edit the file to set it).", file=sys.stderr)
 
 
 def read_bearing_flag(args):

@@ -135,8 +135,9 @@ def add_montecarlo_parser(subparsers) -> argparse.ArgumentParser:
                         ".nc (NetCDF), .zarr, .csv or .npz")
     parser.add_argument("--newton-iterations", type=_positive_int, default=None, metavar="N",
                         help="the most Newton iterations of the bearing's solve per step (default: "
-                        "the library's, enough for every step; 1 makes runs fail, to see how "
-                        "failures are reported)")
+                        "the library's, enough for every step; a step still above --newton-tolerance "
+                        "after them fails its run: 1 with --newton-tolerance 0 shows how failures are "
+                        "reported)")
     parser.add_argument("--newton-tolerance", type=_tolerance, default=None, metavar="TOL",
                         help="flat sliders and single pendulums: the bearing's equilibrium residual at which "
                         "a step's Newton solve stops, in units of the yield displacement Y (default, one "

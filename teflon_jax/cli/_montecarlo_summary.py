@@ -137,19 +137,22 @@ def report(args, result, stats, units, more_lines) -> int:
     if not failed.any():
         return int(beyond.any())
     parts = unbalanced_parts(failed, result.tipped_flags.reshape(-1),
-                             lambda runs: "motion indices " + listed(np.flatnonzero(runs)), getattr(args, "float32", False))
+                             lambda runs: "motion indices " + listed(np.flatnonzero(runs)), getattr(args, "float32", False),
+                             getattr(args, "newton_iterations", None) is not None)
     for count, why, advice in parts:
         print(f"teflon-jax montecarlo: {count} of {converged.size} runs had a time step {why}; they are left "
               f"out of the statistics and flagged in the results ('converged'). {advice}", file=sys.stderr)
     return 1
 
 
-def unbalanced_parts(failed, tipped, names, float32: bool = False) -> list[tuple[int, str, str]]:
+def unbalanced_parts(failed, tipped, names, float32: bool = False,
+                     capped: bool = False) -> list[tuple[int, str, str]]:
     """[(count, why, what to do)] of the runs `failed` (bool) with a step that did not balance,
     `names(mask)` naming a set of them: those whose first unbalanced step tipped the slab or
     the building's base on a plan's overturning loads (`tipped`, bool of the same shape:
     `MonteCarloResult.tipped_flags`), which a smaller step does not mend, and those whose
-    Newton solve did not converge."""
+    Newton solve did not converge (`float32`: run in single precision; `capped`: under a
+    --newton-iterations of the user's)."""
     import numpy as np
 
     failed = np.asarray(failed, bool)
@@ -162,7 +165,8 @@ def unbalanced_parts(failed, tipped, names, float32: bool = False) -> list[tuple
                       "or weaken the motions; a smaller --time-step does not mend it."))
     if newton.any():
         advice = ("Single precision is too coarse for the bearing's Newton solve: drop --float32." if float32
-                  else "Try a smaller --time-step.")
+                  else "Raise --newton-iterations (or leave it out, for the library's), or try a smaller "
+                  "--time-step." if capped else "Try a smaller --time-step.")
         parts.append((int(newton.sum()), f"whose Newton solve did not converge ({names(newton)})", advice))
     return parts
 

@@ -29,8 +29,7 @@ OTHER_OUTPUTS = (("save_bearing", "--save-bearing", "file", "bearing.json"),
 """Output files that some commands write beside those of `OUTPUT_FLAGS`, in its form."""
 
 _FILE_SUFFIXES = {(None, "--json"): (".json",), (None, "--save-bearing"): (".json",),
-                  (None, "--save-isolator"): (".json",), (None, "--pelicun-demands"): (".csv",),
-                  ("simulate-test", "--out"): (".csv",)}
+                  (None, "--save-isolator"): (".json",), ("simulate-test", "--out"): (".csv",)}
 """The suffixes an output file of a flag (of one command, or of every command: None) must end in,
 where its format is fixed: the first is the one written."""
 

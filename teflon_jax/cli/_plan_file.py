@@ -20,7 +20,7 @@ def read_plan(path_text, structure: str = "slab"):
     path = pathlib.Path(path_text)
     if not path.is_file():
         raise ValueError(f"--plan: {path} is not a file.")
-    from ..formats._text import read_json_document
+    from ..formats import read_json_document
 
     try:
         plan = read_json_document(path, "slab's plan (docs/tutorials/pendulum.md)")

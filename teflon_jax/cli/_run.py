@@ -6,6 +6,7 @@ pendulums). One flow for every combination: the isolator and structure flags rea
 composed onto the structure (`_normal_load`), the run and its reduction picked by the type of the
 system built (`_run_response`), the outputs (`_run_output`). Peaks in JSON, plots, histories."""
 
+import os
 import pathlib
 import sys
 
@@ -19,7 +20,7 @@ from ._common import (
 from ._isolator_flags import add_isolator_flags, check_combination, read_isolator
 from ._normal_load import add_vertical_flag
 from ._paths import check_distinct_files
-from ._record_checks import RECORD_FLAGS, check_record_units, run_records
+from ._record_checks import check_record_units, run_records
 from ._run_stop import stop_entries
 from ._run_structure import STRUCTURES
 from ._run_suite import add_suite_arguments, check_suite_flags
@@ -96,6 +97,27 @@ def add_run_parser(subparsers) -> None:
     add_units_flag(p)
 
 
+SMALL_ROTATION_REACH = 0.25
+"""Peak base displacement over a single pendulum's radius, u / R, beyond which a run says that the
+small-rotation force W u / R departs from the sphere's W u / sqrt(R^2 - u^2) (by 3 % at 0.25)."""
+
+
+def slope_note(peak_displacement, radius) -> str | None:
+    """What a run says of a single pendulum whose peak base displacement `peak_displacement` [m]
+    reaches `SMALL_ROTATION_REACH` of its radius `radius` [m] (None: not a single pendulum), or
+    passes the radius itself, where no point of the sphere lies; None below."""
+    if radius is None or peak_displacement is None or not peak_displacement >= SMALL_ROTATION_REACH * radius:
+        return None
+    ratio = peak_displacement / radius
+    if ratio >= 1:
+        return (f"the peak base displacement is {ratio:.3g} times the radius R: no point of the concave surface "
+                "lies that far out, so these results are not physical; give the pendulum a larger R or a "
+                "displacement capacity (restrainer), or weaken the motion")
+    return (f"the peak base displacement is {ratio:.3g} of the radius R, where the sphere's restoring force "
+            f"W u / sqrt(R^2 - u^2) is {100 * (1 / (1 - ratio**2) ** 0.5 - 1):.2g} % above the small-rotation "
+            "W u / R this run takes")
+
+
 def run_run(args) -> int:
     """Run `teflon-jax run` (module docstring); returns the exit status (0; 1 when the run
     stopped early, its outputs holding the steps before, `_run_stop`)."""
@@ -111,8 +133,9 @@ def run_run(args) -> int:
         return run_suite(args, isolator)
     if args.record_x is None:
         raise ValueError("--record-x: a record is needed (or a --suite file).")
-    check_distinct_files([(flag, getattr(args, dest)) for dest, flag in RECORD_FLAGS],
-                         "each ground component needs its own record")
+    for horizontal in ("--record-x", "--record-y"):
+        check_distinct_files([(horizontal, getattr(args, horizontal[2:].replace("-", "_"))), ("--record-z", args.record_z)],
+                             "the vertical component needs its own record")
     if args.resample and args.record_y is None and args.record_z is None:
         raise ValueError("--resample: brings --record-y or --record-z onto the step and length of --record-x, "
                          "and --record-x runs alone here; leave --resample out.")
@@ -133,6 +156,9 @@ def run_run(args) -> int:
 
     flags = read_structure(args, isolator)  # the plan too, before any record
     ax, ay, dt, notes = load_components(args)
+    if args.record_y is not None and os.path.samefile(args.record_x, args.record_y):
+        notes.append(f"--record-y is the file of --record-x ({args.record_x}): one record along the diagonal, "
+                     "sqrt(2) times it in the resultant")
     for note in notes:  # how the records were brought to one window and grid
         print(f"teflon-jax run: {note}", file=sys.stderr)
     system = build_structure(args, isolator, flags, uniform_signal(ax, dt), uniform_signal(ay, dt),
@@ -153,6 +179,10 @@ def run_run(args) -> int:
           f"{duration:g} s of record (compiling first)...", file=sys.stderr)
     run = simulate_run(system, duration, flags.plan)
     peak, histories, entries, lines = reduce_run(args.structure, system, run, flags.plan, output_units(args.units))
+    note = slope_note(peak.get("base_disp_resultant_m"), isolator.radius if flags.plan is None else None)
+    if note is not None:
+        notes.append(note)
+        print(f"teflon-jax run: {note}", file=sys.stderr)
     payload = {
         "structure": args.structure,
         "record_x": str(args.record_x),

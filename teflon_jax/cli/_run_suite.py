@@ -8,13 +8,12 @@ their peaks streamed to `--out FILE.nc` (`teflon_jax.studies.suite_peaks_distrib
 
 import argparse
 import csv
-import json
 import pathlib
 import sys
 
 import numpy as np
 
-from ._common import _write_json, add_cluster_flags
+from ._common import _write_json, add_cluster_flags, output_units
 from ._engineering import add_suite_pelicun_flag, suite_pelicun_peaks
 from ._normal_load import NORMAL_LOAD_NOTE, suite_normal_load
 from ._provenance import note_input_file, provenance_attributes
@@ -98,11 +97,11 @@ def read_suite(path_text):
             raise ValueError(f"--suite: {path}, line {line}: scale must be a finite number > 0, got "
                              f"{row.get('scale').strip()}.")
         resolve = lambda p: str(p if pathlib.Path(p).is_absolute() else path.parent / p)  # noqa: E731
+        name = (row.get("name") or "").strip() or pathlib.Path(x).stem
         for column, record in (("record_x", x), ("record_y", y), ("record_z", z)):
             if record is not None and not pathlib.Path(resolve(record)).is_file():
-                raise ValueError(f"--suite: {path}, line {line}: {column} {record} is not a file (looked for "
-                                 f"{resolve(record)}: a relative path is read from the suite file's folder).")
-        name = (row.get("name") or "").strip() or pathlib.Path(x).stem
+                raise ValueError(f"--suite: {path}, line {line}, pair {name}: {column} {record} is not a file (looked "
+                                 f"for {resolve(record)}: a relative path is read from the suite file's folder).")
         _check_name(path, line, name, lines)
         lines[name] = line
         pairs.append((name, resolve(x), None if y is None else resolve(y), None if z is None else resolve(z), scale))
@@ -207,6 +206,20 @@ def _vertical(args, isolator, plan, az, names, notes):
     return az, law, names
 
 
+def summary_lines(summary: dict, units) -> list[str]:
+    """The suite's summary ({name: {"mean": ..., "max": ...}}, SI) as lines on the console, a
+    length (a name ending in _m) in the `--units` family `units`, a time (_s) in seconds."""
+    lines = []
+    for name, stats in summary.items():
+        if name.endswith("_m"):
+            shown = {row: units.show(value, "length") for row, value in stats.items()}
+        else:
+            shown = {row: f"{value:.4g}{' s' if name.endswith('_s') else ''}" for row, value in stats.items()}
+        label = name[:-2] if name.endswith(("_m", "_s")) else name
+        lines.append(f"{label.replace('_', ' ')}: " + ", ".join(f"{row} {text}" for row, text in shown.items()))
+    return lines
+
+
 def run_suite(args, isolator) -> int:
     """Run the suite on `isolator` (`read_isolator`) through the structure of `run`'s flags."""
     from ..studies import (
@@ -294,7 +307,7 @@ def run_suite(args, isolator) -> int:
         from ..formats import write_pelicun_demands
 
         payload["pelicun_demands"] = str(write_pelicun_demands(args.pelicun_demands, **suite_pelicun_peaks(result, ax, ay)))
-    print(json.dumps(payload["summary"], indent=2))
+    print("\n".join(summary_lines(payload["summary"], output_units(args.units))))
     if args.json:
         _write_json(args.json, payload)
     failed = failed_pairs(result)

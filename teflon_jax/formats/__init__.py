@@ -7,6 +7,7 @@ from ._bearing_file import bearing_from_dict as bearing_from_dict
 from ._bearing_file import load_bearing as load_bearing
 from ._bearing_file import load_bearing_mixture as load_bearing_mixture
 from ._bearing_file import load_bearing_posterior as load_bearing_posterior
+from ._bearing_file import unidentified_constants as unidentified_constants
 from ._bearing_mixture import MIXTURE_CRITERIA as MIXTURE_CRITERIA
 from ._bearing_mixture import BearingMixture as BearingMixture
 from ._bearing_mixture import MixtureComposition as MixtureComposition
@@ -42,3 +43,4 @@ from ._test_record import test_record_from_arrays as test_record_from_arrays
 from ._test_record_csv import read_motion_record as read_motion_record
 from ._test_record_csv import read_test_record as read_test_record
 from ._test_record_csv import write_test_record as write_test_record
+from ._text import read_json_document as read_json_document

@@ -339,6 +339,19 @@ def load_bearing(path) -> SlidingBearing:
     return bearing_from_dict(document, where=str(path))
 
 
+def unidentified_constants(path) -> list[tuple[str, float]]:
+    """(`part.constant`, value [SI]) of each constant of a bearing file's `parts` whose standard
+    error is null with a `standard_error_note`: the fit that wrote it could not determine it, so
+    its value is that fit's start or a guess."""
+    parts = read_json_document(path, "bearing file").get("parts")
+    found = []
+    for part, constants in (parts.items() if isinstance(parts, dict) else ()):
+        for constant, entry in (constants.items() if isinstance(constants, dict) else ()):
+            if isinstance(entry, dict) and entry.get("standard_error", 0) is None and "standard_error_note" in entry:
+                found.append((f"{part}.{constant}", entry.get("value")))
+    return found
+
+
 def load_bearing_posterior(path) -> BearingPosterior | None:
     """The `BearingPosterior` of a bearing file's `posterior` object (SI), or `None` when the
     file has none; with `load_bearing`'s point bearing, `posterior.bearing(point, k)` is draw
