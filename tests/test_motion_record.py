@@ -31,6 +31,7 @@ def test_motion_file_is_read_by_the_test_record_reader(tmp_path):
     tested.write_text("\n".join(line + (",fx [kip]" if line.startswith("time") else ",0" * line[0].isdigit())
                                 for line in FILE.splitlines()) + "\n")
     record = read_test_record(tested)
+    np.testing.assert_array_equal(read_motion_record(tested).ux, motion.ux)  # a test's own file replays it
     np.testing.assert_allclose(motion.ux, record.ux)
     np.testing.assert_allclose(motion.uy, record.uy)
     np.testing.assert_allclose(motion.ux[1], 1.0 * INCH, rtol=1e-15)
@@ -57,7 +58,7 @@ def test_bad_motion_files_are_refused_with_file_line_and_column(tmp_path, text, 
 
 
 @pytest.mark.parametrize("column, hint", [("y [in]", ", or name it 'uy' if it is the displacement along y."),
-                                          ("fx [N]", ".")])
+                                          ("force [N]", ".")])
 def test_a_column_the_motion_does_not_take_is_refused_not_left_out(tmp_path, capsys, column, hint):
     path = tmp_path / "m.csv"
     path.write_text(f"time [s],ux [in],{column}\n0,0,0\n0.1,0.5,0.5\n0.2,1,1\n0.3,0.5,0.5\n0.4,0,0\n")

@@ -189,8 +189,7 @@ def _read_columns(path, columns_required, digitised_columns, positive=(), only=N
     digitised = "time" not in names and digitised_columns is not None
     required = digitised_columns if digitised else columns_required
     _check_required_columns(names, required, digitised, metadata, path, header_index)
-    if only is not None:
-        _refuse_unread_columns(names, only, path, header_index)
+    _refuse_unread_columns(names, only or names, path, header_index)
     factors, extra_units = _column_factors(columns, path, header_index)
     table = _read_data_rows(lines, header_index, names, factors, path)
     by_name = {name: table[:, i] for i, name in enumerate(names)}
@@ -265,9 +264,12 @@ def _check_required_columns(names, required, digitised, metadata, path, header_i
         )
 
 
+_MEASURED_COLUMNS = ("fx", "fy", "N", "temperature")  # a test's own file replays its displacement
+
+
 def _refuse_unread_columns(names, only, path, header_index) -> None:
-    """Raise at the first column of `names` that is not in `only`, the columns a reader takes."""
-    for name in (name for name in names if name not in only):
+    """Raise at the first column of `names` neither in `only` nor measured (`_MEASURED_COLUMNS`)."""
+    for name in (name for name in names if name not in only and name not in _MEASURED_COLUMNS):
         hint = ", or name it 'uy' if it is the displacement along y" if name in ("y", "dy") else ""
         raise ValueError(f"{path}, line {header_index + 1}, column '{name}': an imposed motion takes only the "
                          f"columns {', '.join(repr(n) for n in only)} ('uy' for a biaxial path), so this one "
@@ -381,8 +383,8 @@ def read_test_record(path) -> TestRecord:
 def read_motion_record(path) -> TabulatedMotion | TabulatedBiaxialMotion:
     """Read an imposed displacement history in the test-record CSV format (`FORMATS.md`):
     the same metadata lines, header (`name [unit]`) and checks as `read_test_record`, with
-    the columns `time` and `ux` required and `uy` optional (a biaxial path); any other
-    column (a force, a `y`) is refused rather than left out.
+    the columns `time` and `ux` required and `uy` optional (a biaxial path); a test's measured
+    columns (fx, fy, N, temperature) may stay, and any other (a `y`) is refused, not left out.
 
     **Returns:** a `TabulatedMotion` (along x) or, with `uy`, a `TabulatedBiaxialMotion` [m]
     (linear between samples); `ValueError` naming the file, line and column for anything `read_test_record` refuses.
