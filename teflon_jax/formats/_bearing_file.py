@@ -347,7 +347,8 @@ def unidentified_constants(path) -> list[tuple[str, float]]:
     found = []
     for part, constants in (parts.items() if isinstance(parts, dict) else ()):
         for constant, entry in (constants.items() if isinstance(constants, dict) else ()):
-            if isinstance(entry, dict) and entry.get("standard_error", 0) is None and "standard_error_note" in entry:
+            if isinstance(entry, dict) and entry.get("standard_error", 0) is None and "standard_error_note" in entry \
+                    and isinstance(entry.get("value"), int | float):  # a bad value: load_bearing names it
                 found.append((f"{part}.{constant}", entry.get("value")))
     return found
 
