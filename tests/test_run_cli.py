@@ -169,6 +169,7 @@ def test_suite_of_pairs_gives_per_pair_peaks_mean_and_max(tmp_path, capsys):
     assert disp[2] > disp[0] > 0
     assert payload["summary"]["base_disp_resultant_m"]["max"] == pytest.approx(max(disp))
     assert payload["summary"]["base_disp_resultant_m"]["mean"] == pytest.approx(np.mean(disp))
+    assert payload["summary"]["base_disp_resultant_m"]["min"] == pytest.approx(min(disp))
     table = (tmp_path / "s.csv").read_text().splitlines()
-    assert len(table) == 1 + 3 + 2 and table[-1].startswith("max,")
+    assert len(table) == 1 + 3 + 3 and [row.split(",")[0] for row in table[-3:]] == ["mean", "min", "max"]
     assert (tmp_path / "s.nc").stat().st_size > 0

@@ -112,7 +112,7 @@ def test_a_pair_whose_slab_tips_is_named_and_left_out_of_the_summary(tmp_path, c
     assert result["pairs"]["strong_x"]["converged"] is False and result["pairs"]["calm_x"]["converged"] is True
     assert result["pairs"]["strong_x"]["tipped"] is True and result["pairs"]["calm_x"]["tipped"] is False
     calm = result["pairs"]["calm_x"]["base_disp_resultant_m"]
-    assert result["summary"]["base_disp_resultant_m"] == {"mean": calm, "max": calm}
+    assert result["summary"]["base_disp_resultant_m"] == {"mean": calm, "min": calm, "max": calm}
 
 
 @pytest.mark.slow

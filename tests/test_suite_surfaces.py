@@ -86,9 +86,10 @@ def test_each_pair_keeps_its_sliders_and_heated_surface(tmp_path):
         rows = list(csv.DictReader(handle))
     assert [float(r["surface_temperature_rise_K_bottom"]) for r in rows[:2]] == pytest.approx(
         surfaces["surface_temperature_rise"][:, 0, 0], rel=1e-5)
-    assert [r["pair"] for r in rows[2:]] == ["mean", "max"]
-    assert float(rows[3]["slider_travel_m_top"]) == pytest.approx(surfaces["slider_travel"][:, 0, 1].max(), rel=1e-5)
-    assert rows[3]["converged"] == ""  # the summary rows leave the pair-only columns empty
+    assert [r["pair"] for r in rows[2:]] == ["mean", "min", "max"]
+    assert float(rows[3]["slider_travel_m_top"]) == pytest.approx(surfaces["slider_travel"][:, 0, 1].min(), rel=1e-5)
+    assert float(rows[4]["slider_travel_m_top"]) == pytest.approx(surfaces["slider_travel"][:, 0, 1].max(), rel=1e-5)
+    assert rows[4]["converged"] == ""  # the summary rows leave the pair-only columns empty
     back = open_suite(tmp_path / "s.nc")
     np.testing.assert_array_equal(back.surfaces["slider_travel"], surfaces["slider_travel"])
     assert back.surfaces["heated_surface_names"] == ("bottom",) and back.groups is None

@@ -54,6 +54,7 @@ def test_each_pair_runs_as_run_does_with_its_vertical_record(tmp_path, capsys):
     _records(tmp_path)
     suite = _suite(tmp_path, ["up,x.at2,y.at2,z.at2,1", "flat,x.at2,y.at2,,1"])
     assert main(["run", "--suite", str(suite), "--json", str(tmp_path / "s.json")]) == 0
+    printed = capsys.readouterr().out
     assert main(["run", "--record-x", str(tmp_path / "x.at2"), "--record-y", str(tmp_path / "y.at2"),
                  "--record-z", str(tmp_path / "z.at2"), "--json", str(tmp_path / "r.json")]) == 0
     assert main(["run", "--record-x", str(tmp_path / "x.at2"), "--record-y", str(tmp_path / "y.at2"),
@@ -72,6 +73,9 @@ def test_each_pair_runs_as_run_does_with_its_vertical_record(tmp_path, capsys):
         == (0.0, 1.0, 1.0)
     assert abs(pairs["up"]["base_disp_resultant_m"] / pairs["flat"]["base_disp_resultant_m"] - 1) > 0.01
     payload = _json(tmp_path / "s.json")
+    # the summary keeps the least load factor, the one uplift is read from, beside the largest
+    assert payload["summary"]["min_load_factor"] == {"mean": 0.5, "min": 0.0, "max": 1.0}
+    assert "min load factor: mean 0.5, min 0, max 1" in printed
     assert payload["records"]["up"]["record_z"] == str(tmp_path / "z.at2")
     assert payload["records"]["flat"]["record_z"] is None
     assert any("flat" in n and "N = W" in n for n in payload["notes"])

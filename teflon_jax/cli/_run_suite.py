@@ -1,7 +1,7 @@
 """`teflon-jax run --suite FILE`: record pairs with scale factors, listed in a small CSV
 (columns `record_x`, `record_y` (may be empty), `scale`, optional `name` and `record_z`, the
 vertical component; paths relative to the CSV), through one structure in one vmapped call;
-per-pair peaks (with a vertical component, each pair's uplift too), mean and maximum in one
+per-pair peaks (with a vertical component, each pair's uplift too), mean, least and largest in one
 table and one NetCDF.
 With `--scheduler local:N|ADDRESS` the pairs run as chunks of `--chunk-size` on a Dask cluster,
 their peaks streamed to `--out FILE.nc` (`teflon_jax.studies.suite_peaks_distributed`)."""
@@ -59,7 +59,7 @@ def check_suite_flags(args) -> None:
 SUITE_COLUMNS = ("record_x", "record_y", "scale", "name", "record_z")
 """The columns of a suite CSV (`record_x` required)."""
 
-SUMMARY_ROWS = ("mean", "max")
+SUMMARY_ROWS = ("mean", "min", "max")
 """The rows the suite table adds after the pairs: a pair may not take their names."""
 
 
@@ -207,7 +207,7 @@ def _vertical(args, isolator, plan, az, names, notes):
 
 
 def summary_lines(summary: dict, units) -> list[str]:
-    """The suite's summary ({name: {"mean": ..., "max": ...}}, SI) as lines on the console, a
+    """The suite's summary ({name: {"mean": ..., "min": ..., "max": ...}}, SI) as lines on the console, a
     length (a name ending in _m) in the `--units` family `units`, a time (_s) in seconds."""
     lines = []
     for name, stats in summary.items():

@@ -34,6 +34,7 @@ from ._suites import (
     SUITE_STOREY_UNITS,
     SUITE_UNITS,
     SUITE_VERTICAL_UNITS,
+    SUMMARY_STATISTICS,
     SuiteResult,
     _checked_pairs,
     _chunk_peaks,
@@ -158,7 +159,7 @@ def _cases_layout(cases, names, shapes: dict, group_names, attrs: dict, labels: 
 
 def _case_summary_attrs(results: Mapping[str, SuiteResult]) -> dict:
     return {f"{case}_{k}_{s}": v[s] for case, r in results.items() for k, v in r.summary.items()
-            for s in ("mean", "max")}
+            for s in SUMMARY_STATISTICS}
 
 
 def open_suite_cases(path) -> dict[str, SuiteResult]:
@@ -170,7 +171,7 @@ def open_suite_cases(path) -> dict[str, SuiteResult]:
 
 def save_suite_cases(results: Mapping[str, SuiteResult], path, attrs: dict | None = None) -> None:
     """One NetCDF file of every case (`suite_dataset` of each, stacked on "case"), with each
-    case's mean and maximum in the attributes `<case>_<peak>_<stat>` and `attrs` added."""
+    case's mean, least and largest value in the attributes `<case>_<peak>_<stat>` and `attrs` added."""
     import pathlib
 
     import xarray

@@ -1,7 +1,7 @@
 """Record suites: many two-component record pairs (e.g. the 7 or 11 pairs of a design check,
 each with its scale factor, and optionally each with its vertical component) through one
-bidirectional structure in one vmapped call, with the peaks of every pair, their mean and
-maximum (failed runs kept out of both and reported).
+bidirectional structure in one vmapped call, with the peaks of every pair, their mean, least
+and largest value (failed runs kept out of all three and reported).
 
 `suite_peaks_distributed` runs the same pairs as chunks on a Dask cluster (`_cluster`),
 streaming each chunk's peaks into a NetCDF file of the layout `suite_dataset` writes. A pair's
@@ -101,7 +101,7 @@ _STOREY_LAYOUT = {
 @dataclasses.dataclass(frozen=True)
 class SuiteResult:
     """Peaks per pair (arrays (P,)), `converged` (P,), the pair `names`, and `summary`:
-    {peak name: {"mean": ..., "max": ...}} over the converged pairs; `storeys`: the building's
+    {peak name: {"mean": ..., "min": ..., "max": ...}} over the converged pairs; `storeys`: the building's
     `storey_drift` (P, 2, S) [-] and `level_acceleration` (P, 2, S + 1) [m/s^2] in x and y
     (`suite_peaks(storey_height=...)`, `directional_storeys`), else `None`; `groups`: a slab
     with overturning, {"names": (G,), "peak_N", "min_N", "uplift_time_s": (P, G)} (each
@@ -183,12 +183,15 @@ def suite_values(peaks: dict) -> dict:
     return out | {f"group_{k}": v for k, v in peaks.get("group_normal_load", {}).items()}
 
 
+SUMMARY_STATISTICS = ("mean", "min", "max")
+"""The rows of a suite's summary over its converged pairs: the least one is the worst of a
+variable that matters when small (`min_load_factor`), the largest of a peak."""
+
+
 def _summary(peaks: dict, ok: np.ndarray) -> dict:
-    return {
-        k: {"mean": float(np.mean(v[ok])) if ok.any() else float("nan"),
-            "max": float(np.max(v[ok])) if ok.any() else float("nan")}
-        for k, v in peaks.items()
-    }
+    reducers = {"mean": np.mean, "min": np.min, "max": np.max}
+    return {k: {stat: float(reducers[stat](v[ok])) if ok.any() else float("nan") for stat in SUMMARY_STATISTICS}
+            for k, v in peaks.items()}
 
 
 def suite_peaks(build, names, ax, ay, time_step: float, duration: float,
@@ -360,7 +363,7 @@ def suite_peaks_distributed(
 
 
 def _summary_attrs(summary: dict) -> dict:
-    return {f"{k}_{s}": v[s] for k, v in summary.items() for s in ("mean", "max")}
+    return {f"{k}_{s}": v[s] for k, v in summary.items() for s in SUMMARY_STATISTICS}
 
 
 def _suite_layout(names, attrs: dict, groups=None, vertical: bool = False, surfaces=({}, {})) -> dict:
@@ -390,8 +393,8 @@ def _suite_layout(names, attrs: dict, groups=None, vertical: bool = False, surfa
 
 def suite_dataset(result: SuiteResult, attrs: dict | None = None):
     """The suite as an `xarray.Dataset`: the peaks and `converged` on the "pair" dimension
-    (labelled by the pair names) with units and long names, the mean and maximum over the
-    converged pairs in the attributes (`<peak>_mean`, `<peak>_max`), `attrs` added."""
+    (labelled by the pair names) with units and long names, the mean, least and largest
+    value over the converged pairs in the attributes (`<peak>_mean`, `<peak>_min`, `<peak>_max`), `attrs` added."""
     import xarray
 
     data = {k: ("pair", np.asarray(result.peaks[k]), {"units": u, "long_name": n})
@@ -450,7 +453,7 @@ def _group_columns(result: SuiteResult) -> dict:
 
 
 def save_suite(result: SuiteResult, table_path=None, netcdf_path=None, attrs: dict | None = None) -> None:
-    """One CSV table (a row per pair, then mean and max rows) and one NetCDF file
+    """One CSV table (a row per pair, then mean, min and max rows) and one NetCDF file
     (`suite_dataset`, `attrs` the run's inputs)."""
     import pathlib
 
@@ -467,7 +470,7 @@ def save_suite(result: SuiteResult, table_path=None, netcdf_path=None, attrs: di
             row = ",".join([f"{result.peaks[k][i]:.6g}" for k in names] + [f"{v[i]:.6g}" for v in groups.values()]
                            + [f"{v[i]:.6g}" for v in surfaces.values()])
             lines.append(f"{name},{row},{bool(result.converged[i])}" + "".join(f",{bool(v[i])}" for v in flags.values()))
-        for stat in ("mean", "max"):
+        for stat in SUMMARY_STATISTICS:
             lines.append(f"{stat}," + ",".join([f"{result.summary[k][stat]:.6g}" for k in names] + [""] * len(groups)
                                                + [f"{result.summary[k][stat]:.6g}" for k in surfaces])
                          + "," + "," * len(flags))
