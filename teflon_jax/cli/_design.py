@@ -87,8 +87,10 @@ def add_design_parser(subparsers) -> argparse.ArgumentParser:
                         help="sweep points per variable, from LOW to HIGH of each range, at least 2 (default 7)")
     add_cluster_flags(
         parser, "evaluate the grid sweep as tasks", " (default: this process)",
-        out="write the grid sweep (objective, mean smooth peaks, convergence on the grid of Tb x "
-        "pressure) as NetCDF; with --scheduler it streams there",
+        out="write the grid sweep (objective, mean smooth peaks, convergence on the grid of the design "
+        "variables) as NetCDF; with --scheduler it streams there. Once BFGS ends, its 'objective' is "
+        "the one grid_best is the least of, at the optimiser's lowered limit (attribute "
+        "smooth_disp_limit_m); 'objective_at_disp_limit' keeps the sweep's, at --disp-limit as given",
         chunk_size="design points per compiled call, a task with --scheduler (default 16 on a CPU "
         "and on a cluster; on a GPU the largest power of two up to 65536 whose points, each over all "
         "the motions, fit in half its free memory); the same N gives the same sweep bit for bit here "
@@ -133,6 +135,7 @@ def run_design(args) -> int:
         optimise_design,
         sweep_dataset,
         sweep_start,
+        write_design_objective,
     )
     units = output_units(args.units)
     if args.scheduler is not None and args.out is None:
@@ -184,6 +187,8 @@ def run_design(args) -> int:
                             args.limit_statistic) if design.lowered_start else sweep_start(sweep, bounds))
     result = optimise_design(structure, records, dt, variables=variables, disp_limit=args.disp_limit,
                              penalty=args.penalty, start=start, limit_statistic=args.limit_statistic)
+    if args.out is not None:  # the file's objective: the one grid_best is chosen by
+        write_design_objective(args.out, sweep, result.smooth_disp_limit, args.penalty)
     bar.update(1)
     bar.close()
     stages.update(result.stages_s)

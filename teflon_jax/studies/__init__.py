@@ -53,6 +53,7 @@ from ._design_sweep import open_sweep as open_sweep
 from ._design_sweep import sweep_dataset as sweep_dataset
 from ._design_sweep import sweep_objective as sweep_objective
 from ._design_sweep import sweep_start as sweep_start
+from ._design_sweep import write_design_objective as write_design_objective
 from ._distributed import monte_carlo_distributed as monte_carlo_distributed
 from ._distributed import monte_carlo_levels_distributed as monte_carlo_levels_distributed
 from ._fragility import FragilityBand as FragilityBand

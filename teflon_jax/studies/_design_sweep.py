@@ -39,7 +39,8 @@ from ._design_records import components_of, records_array
 from ._result_variables import DESIGN_UNITS
 
 SWEEP_VARIABLES = {
-    "objective": ("1", "penalised objective E[V_s] + rho max(0, E[D_s] / limit - 1)^2"),
+    "objective": ("1", "penalised objective E[V_s] + rho max(0, D_s / limit - 1)^2, with the limit "
+                       "on the smoothed statistic D_s that the sweep ran on (attribute disp_limit_m)"),
     "shear": ("1", "mean smooth peak base shear / weight E[V_s] over the motions"),
     "disp": ("m", "smooth peak base displacement over the motions: its mean E[D_s], or its 95th "
                   "percentile with limit_statistic p95"),
@@ -47,6 +48,15 @@ SWEEP_VARIABLES = {
     "n_failed": ("1", "motions with a time step whose Newton solve did not converge"),
 }
 """Variables of a sweep's NetCDF file on the grid dimensions: name -> (units, long name)."""
+
+DESIGN_OBJECTIVES = {
+    "objective": ("1", "penalised objective E[V_s] + rho max(0, D_s / limit - 1)^2 with the limit on the "
+                       "smoothed statistic D_s lowered as the optimiser's (attribute smooth_disp_limit_m), "
+                       "the objective grid_best is the least of; NaN where converged is 0"),
+    "objective_at_disp_limit": ("1", "penalised objective with the limit as given (attribute disp_limit_m) on "
+                                     "the smoothed statistic D_s, which lies below the true peaks: the sweep's own"),
+}
+"""The objectives of a sweep's file once `write_design_objective` has run: name -> (units, long name)."""
 
 
 def _evaluator(structure, records, record_time_step, disp_limit, penalty, duration, disp_width, shear_width,
@@ -233,7 +243,8 @@ def sweep_dataset(sweep: Mapping, attrs: dict | None = None):
 
 
 def open_sweep(path) -> dict:
-    """The `design_sweep` dict a sweep NetCDF file holds (`sweep_dataset`, `design_sweep_distributed`)."""
+    """The `design_sweep` dict a sweep NetCDF file holds (`sweep_dataset`, `design_sweep_distributed`);
+    its "objective" is the file's, at the lowered limit once `write_design_objective` has run."""
     dataset = open_finished(path)
     names = list(dataset["objective"].dims)
     mesh = np.meshgrid(*[np.asarray(dataset[n].values, dtype=float) for n in names], indexing="ij")
@@ -268,3 +279,23 @@ def sweep_objective(sweep: Mapping, disp_limit: float, penalty: float = 100.0) -
     shear, disp = (np.asarray(sweep[k], dtype=float) for k in ("shear", "disp"))
     objective = shear + penalty * np.maximum(disp / disp_limit - 1.0, 0.0) ** 2
     return np.where(np.asarray(sweep.get("converged", True)), objective, np.nan)
+
+
+def write_design_objective(path, sweep: Mapping, smooth_disp_limit: float, penalty: float = 100.0) -> None:
+    """Make the objective of the sweep file `path` (of `sweep`) the one a design chooses by:
+    `sweep_objective` at the optimiser's lowered limit `smooth_disp_limit` [m] (a
+    `DesignResult`'s, NaN where a motion did not converge), the file's attribute
+    `smooth_disp_limit_m`; the sweep's own objective, at the limit as given, stays as
+    `objective_at_disp_limit` (`DESIGN_OBJECTIVES`)."""
+    import netCDF4
+
+    lowered = sweep_objective(sweep, smooth_disp_limit, penalty)
+    with netCDF4.Dataset(path, "a") as handle:
+        given = handle.variables["objective"]
+        if "objective_at_disp_limit" not in handle.variables:  # a second call keeps the sweep's own
+            kept = handle.createVariable("objective_at_disp_limit", "f8", given.dimensions)
+            kept[...] = np.ma.filled(given[...], np.nan)
+        for name, (units, long_name) in DESIGN_OBJECTIVES.items():
+            handle.variables[name].setncatts({"units": units, "long_name": long_name})
+        given[...] = lowered
+        handle.setncatts({"smooth_disp_limit_m": float(smooth_disp_limit)})
