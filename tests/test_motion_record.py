@@ -57,6 +57,16 @@ def test_bad_motion_files_are_refused_with_file_line_and_column(tmp_path, text, 
     assert "bad.csv" in err and message in err
 
 
+def test_a_motion_file_whose_rows_miss_a_header_cell_is_refused_naming_the_header(tmp_path, capsys):
+    path = tmp_path / "m.csv"
+    path.write_text("# direction: P\ntime [s],ux [in],uy [in]\n0,0,0\n0.1,0.5\n0.2,1,1\n")
+    out = tmp_path / "b.csv"
+    assert main(["simulate-test", "--motion-file", str(path), "--out", str(out)]) == 2
+    assert (f"{path}, line 4: 2 cell(s) but the header (line 2) has 3 columns (time, ux, uy); make the header and "
+            "every row hold the same number of cells.") in capsys.readouterr().err
+    assert not out.exists()
+
+
 @pytest.mark.parametrize("column, hint", [("y [in]", ", or name it 'uy' if it is the displacement along y."),
                                           ("force [N]", ".")])
 def test_a_column_the_motion_does_not_take_is_refused_not_left_out(tmp_path, capsys, column, hint):

@@ -214,6 +214,14 @@ _GOOD_HEADER = "time [s],ux [in],fx [kip]\n"
         ("# ptfe: UF\n# normal_load [kip]: 100\ntime [s],ux [in],fx [kip],N [kN]\n0,0,0,444.822162\n"
          "0.1,0,1,400\n", ["line 2: '# normal_load [kip]: 100' contradicts the N column ('N [kN]'), which "
                            "holds 400 on line 5", "remove the metadata line or make the two agree"]),
+        ("# contact_area [in^2]: 50\n# pressure [psi]: 2000\ntime [s],ux [in],fx [kip],N [kip]\n0,0,0,100\n"
+         "0.1,0,1,90\n", ["lines 1, 2 and 5: '# contact_area [in^2]: 50' times '# pressure [psi]: 2000' is a normal "
+                          "load of 100 kip, but the N column ('N [kip]') holds 90 on line 5", "to 1e-6 of it",
+                          "remove the pressure line", "or correct the contact area or the pressure"]),
+        ("# pressure: 2000psi\n# ptfe: UF\n# normal_load [kN]: 400\n# contact_area [in^2]: 50\n" + _GOOD_HEADER
+         + "0,0,0\n", ["lines 1, 3 and 4: '# contact_area [in^2]: 50' times '# pressure: 2000psi' is a normal load "
+                       "of 444.822162 kN, but line 3 states '# normal_load [kN]: 400'", "to 1e-6 of it",
+                       "'# normal_load' is the load used"]),
         ("time [s],ux [in],fx [kip],N [kip]\n0,0,0,500\n0.1,0.2,1,-5\n",
          ["line 3", "'N'", "must be > 0", "got -5 kip"]),
         ("time [s],ux [in],fx [kip],N [kN]\n0,0,0,0\n", ["line 2", "'N'", "got 0 kN"]),
@@ -260,6 +268,32 @@ def test_a_normal_load_the_history_contradicts_is_not_written(tmp_path):
                                              metadata={"normal_load": 3.49e5})
     with pytest.raises(ValueError, match="metadata 'normal_load' .349000 N. contradicts the normal-load history"):
         write_test_record(tmp_path / "r.csv", record)
+
+
+def test_a_contact_area_and_pressure_that_agree_with_the_normal_load_are_read(tmp_path):
+    path = tmp_path / "agree.csv"
+    path.write_text("# contact_area [in^2]: 50\n# pressure [psi]: 2000\n# normal_load [kip]: 100\n"
+                    "time [s],ux [in],fx [kip],N [kN]\n0,0,0,444.822162\n0.1,0,1,444.8222\n")
+    record = read_test_record(path)
+    np.testing.assert_allclose(record.normal_load, 1.0e5 * N_PER_LBF, rtol=1e-6)
+    path.write_text("# contact_area [in^2]: 50\n# pressure [psi]: 2000\n# normal_load: 100.00005kip\n"
+                    + _GOOD_HEADER + "0,0,0\n")
+    np.testing.assert_allclose(read_test_record(path).normal_load, 1.0e5 * N_PER_LBF, rtol=1e-6)
+
+
+@pytest.mark.parametrize("normal_load, metadata, words", [
+    (1.1e5, {}, "is 100000 N, but the normal-load history (column N) is 110000 N, more than 1e-6 of it apart"),
+    (None, {"normal_load": 1.2e5}, "is 100000 N, but metadata 'normal_load' is 120000 N"),
+])
+def test_a_contact_pressure_the_normal_load_contradicts_is_not_written(tmp_path, normal_load, metadata, words):
+    time = np.linspace(0.0, 1.0, 5)
+    record = records.test_record_from_arrays(time, time, time=time, normal_load=normal_load, metadata={
+        "contact_area": 0.05, "contact_pressure": 2e6, **metadata})
+    with pytest.raises(ValueError) as error:
+        write_test_record(tmp_path / "r.csv", record)
+    assert "record: metadata 'contact_area' (0.05 m^2) times 'contact_pressure' (2e+06 Pa) " + words in str(error.value)
+    assert "drop 'contact_pressure' from the metadata or make the two agree" in str(error.value)
+    assert not (tmp_path / "r.csv").exists()
 
 
 def test_damper_json_with_a_repeated_key_is_refused(tmp_path):

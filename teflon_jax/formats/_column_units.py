@@ -7,7 +7,16 @@ import re
 from ..units import is_unit, unit_factor
 
 _BRACKETED = re.compile(r"\[([^\[\]]*)\]|\(([^()]*)\)")
+_FIELD_SPLIT = re.compile(r"\s*,\s*|\s+")
 _WHITESPACE_CELL = re.compile(r"[^\s,()\[\]]+(?:\s*(?:\[[^\[\]]*\]|\([^()]*\)))*|\[[^\[\]]*\]|\([^()]*\)")
+
+
+def _is_number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
 
 
 def _header_cells(line: str) -> list[str]:
@@ -29,8 +38,10 @@ def header_time_factor(lines, first_data_line, width, path, time_column, acceler
     the acceleration column's unit, where the header states it, against `units`.
 
     The header is the last line before `first_data_line` (1-based) that is neither blank nor a
-    `#` comment; it is read only when it has one cell per column. `ValueError` naming the file,
-    line and column for a unit of the wrong dimension, or an acceleration unit other than `units`."""
+    `#` comment. `ValueError` naming the file, line and column for a unit of the wrong dimension,
+    or an acceleration unit other than `units`; naming the file and line for a header whose
+    number of cells differs from the rows' `width` (a line holding a number is no header, but a
+    line skipped by `skip_header`, and is left alone)."""
     header = next(((number, line.strip()) for number, line in
                    reversed(list(enumerate(lines[:first_data_line - 1], start=1)))
                    if line.strip() and not line.strip().startswith("#")), None)
@@ -39,7 +50,14 @@ def header_time_factor(lines, first_data_line, width, path, time_column, acceler
     line_no, text = header
     cells = _header_cells(text)
     if len(cells) != width:
-        return 1.0
+        if any(_is_number(field) for field in _FIELD_SPLIT.split(text)):
+            return 1.0
+        raise ValueError(
+            f"{path}, line {line_no}: the header '{text}' has {len(cells)} cell(s), but the data rows "
+            f"(from line {first_data_line}) have {width}, so its names and units cannot be matched to "
+            f"the columns; make them match, one name per column (e.g. 'time [s],acc [g]'), or turn "
+            "the line into a '#' comment."
+        )
     time_unit = _header_unit(cells[time_column])
     acceleration_unit = _header_unit(cells[acceleration_column])
     where = f"{path}, line {line_no}, column {{}} ('{{}}')"

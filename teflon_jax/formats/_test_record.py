@@ -57,6 +57,10 @@ _QUANTITY_KEYS = {
 
 _KEY_ALIASES = {"pressure": "contact_pressure"}
 
+_METADATA_LINE = re.compile(
+    r"^#\s*(?P<key>[^\[\]:]*?)\s*(?:\[(?P<unit>[^\[\]]*)\])?\s*:\s*(?P<value>.*?)\s*$"
+)
+
 
 _TEXT_KEYS = ("specimen", "source")
 

@@ -13,10 +13,12 @@ from ..excitation import TabulatedBiaxialMotion, TabulatedMotion, tabulated_moti
 from ..tables import DIRECTIONS, PTFE_TYPES
 from ..units import UNITS, parse_quantity, unit_factor
 from ._protocol import parse_protocol
+from ._record_loads import check_loads_agree, check_written_loads
 from ._test_record import (
     _COLUMN_DIMENSIONS,
     _COMMENT_KEY,
     _KEY_ALIASES,
+    _METADATA_LINE,
     _QUANTITY_KEYS,
     _REQUIRED_COLUMNS,
     _TEXT_KEYS,
@@ -31,11 +33,6 @@ from ._test_record import (
 )
 
 _HEADER_CELL = re.compile(r"^\s*(?P<name>[^\[\]]*?)\s*(?:\[(?P<unit>[^\[\]]*)\])?\s*$")
-
-_METADATA_LINE = re.compile(
-    r"^#\s*(?P<key>[^\[\]:]*?)\s*(?:\[(?P<unit>[^\[\]]*)\])?\s*:\s*(?P<value>.*?)\s*$"
-)
-
 
 # ----------------------------------------------------------------------------------------
 # Reading
@@ -195,8 +192,7 @@ def _read_columns(path, columns_required, digitised_columns, positive=(), only=N
     by_name = {name: table[:, i] for i, name in enumerate(names)}
     if not digitised:
         _check_time_increases(by_name["time"], path, header_index)
-    if "N" in by_name and "normal_load" in metadata:
-        _check_normal_load_agrees(lines, header_index, metadata["normal_load"], by_name["N"], path)
+    check_loads_agree(lines, header_index, metadata, by_name, path)
     for name, unit in columns:
         if name in positive and np.any(by_name[name] <= 0):
             row = int(np.argmax(by_name[name] <= 0))
@@ -204,25 +200,6 @@ def _read_columns(path, columns_required, digitised_columns, positive=(), only=N
             raise ValueError(f"{path}, line {header_index + 2 + row}, column '{name}': must be > 0 "
                              f"(compression positive), got {cell} {unit}; repair or remove the sample.")
     return path, metadata, by_name, extra_units
-
-
-def _check_normal_load_agrees(lines, header_index, load, column, path) -> None:
-    """Raise when a sample of the `N` column differs from the `# normal_load` line's `load`
-    [N] by more than 1e-6 of it: the file would state two loads."""
-    bad = np.flatnonzero(np.abs(column - load) > 1e-6 * load)
-    if not bad.size:
-        return
-    line_no = next(index + 1 for index, line in enumerate(lines[:header_index])
-                   if (match := _METADATA_LINE.match(line.strip()))
-                   and _KEY_ALIASES.get(match.group("key"), match.group("key")) == "normal_load")
-    column_index = [name for name, _ in _parse_header(lines[header_index], "")].index("N")
-    cell = lines[header_index + 1 + bad[0]].split(",")[column_index].strip()
-    unit = lines[header_index].split(",")[column_index].strip()
-    raise ValueError(
-        f"{path}, line {line_no}: '{lines[line_no - 1].strip()}' contradicts the N column ('{unit}'), "
-        f"which holds {cell} on line {header_index + 2 + bad[0]}; the N column is the load used, so "
-        "remove the metadata line or make the two agree."
-    )
 
 
 def _metadata_and_header(lines, path) -> tuple:
@@ -313,8 +290,8 @@ def _read_data_rows(lines, header_index, names, factors, path) -> np.ndarray:
         cells = line.split(",")
         if len(cells) != len(names):
             raise ValueError(
-                f"{where}: {len(cells)} cell(s) but the header has {len(names)} columns "
-                f"({', '.join(names)})."
+                f"{where}: {len(cells)} cell(s) but the header (line {header_index + 1}) has {len(names)} "
+                f"columns ({', '.join(names)}); make the header and every row hold the same number of cells."
             )
         data.append(
             [
@@ -358,7 +335,9 @@ def read_test_record(path) -> TestRecord:
     Raises `ValueError` naming the file, line and column for: a missing or unknown unit, a
     unit of the wrong dimension, empty cells, NaN or non-numeric cells, rows with the wrong
     number of cells, time that does not increase strictly, a normal load N <= 0, a missing
-    required column, or a digitised loop without a protocol. Nothing is dropped or filled in.
+    required column, a digitised loop without a protocol, or a `# normal_load` (or a
+    `# contact_area` times `# pressure`) that differs from the `N` column (or from
+    `# normal_load`) by more than 1e-6 of it. Nothing is dropped or filled in.
     """
     path, metadata, by_name, extra_units = _read_columns(path, _REQUIRED_COLUMNS, ("ux", "fx"), positive=("N",))
     n_rows = by_name["ux"].shape[0]
@@ -437,11 +416,13 @@ def write_test_record(path, record: TestRecord, *, units=None, digits: int = 9) 
     **Returns:** nothing. Reading the file back gives the record again to `digits`
     significant digits. The `N` column is left out when the normal load is the constant that
     the metadata (`normal_load`, or `contact_area` times `contact_pressure`) already states; a
-    metadata `normal_load` that the history contradicts is a `ValueError`.
+    metadata `normal_load`, or `contact_area` times `contact_pressure`, that the history (or
+    `normal_load`) contradicts by more than 1e-6 of it is a `ValueError`.
     """
     if not isinstance(record, TestRecord):
         raise TypeError(f"record: expected a TestRecord, got {type(record).__name__}.")
     chosen = _resolve_units(units)
+    check_written_loads(record.metadata, record.normal_load)
     fmt = f"{{:.{digits}g}}".format
 
     lines = []
@@ -466,10 +447,6 @@ def write_test_record(path, record: TestRecord, *, units=None, digits: int = 9) 
             implied = _normal_load_from_metadata(record.metadata, len(record))
             if implied is not None and np.array_equal(implied, values):
                 continue
-            load = record.metadata.get("normal_load")
-            if load is not None and np.any(np.abs(values - load) > 1e-6 * load):
-                raise ValueError(f"record: metadata 'normal_load' ({load:g} N) contradicts the normal-load "
-                                 "history (column N), which a reader would refuse; drop one of them.")
         columns.append((name, chosen[_COLUMN_DIMENSIONS[name]], values))
     for name, values in record.extra_columns.items():
         unit = record.extra_units[name]
