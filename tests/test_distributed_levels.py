@@ -94,6 +94,8 @@ def test_cli_levels_on_the_cluster_write_what_the_in_process_run_writes(dask_clu
         disp = stored["base_disp"].values
     assert np.flatnonzero(~ok).tolist() == failed
     for j, (entry, x) in enumerate(zip(there["levels"], np.unique(level))):  # counts and statistics: converged runs
+        rows = np.flatnonzero(level == x)  # the level's motions, as a range
+        assert entry["motions"] == {"first": int(rows[0]), "last": int(rows[-1]), "count": rows.size}
         assert entry["n_converged"] == int(np.sum(ok & (level == x)))
         assert entry["statistics"]["base_shear_ratio"]["n"] == entry["n_converged"]
         assert there["fragility"]["base_disp=0.4in"]["n_exceed"][j] == int(np.sum(ok & (level == x)

@@ -30,7 +30,12 @@ from ._engineering import (
     wants_storeys,
 )
 from ._main import compile_cache_dir
-from ._montecarlo_summary import beyond_law_words, listed, unbalanced_parts
+from ._montecarlo_summary import (
+    beyond_law_words,
+    listed,
+    statistics_lines,
+    unbalanced_parts,
+)
 from ._posterior_flags import (
     MOTION_DRAWS_NO_BAND,
     posterior_arguments,
@@ -152,6 +157,37 @@ def _storey_summary(result, rows, units) -> dict:
             "levels": "0: base slab on the isolators, j: floor j; storeys from 1 (base slab to floor 1)"}
 
 
+def _motion_range(rows) -> dict:
+    """{"first", "last", "count"} of the consecutive motion indices `rows` (one level's)."""
+    return {"first": int(rows[0]), "last": int(rows[-1]), "count": int(rows.size)}
+
+
+def _one_level(per_level) -> dict:
+    """The peaks of a one-level run at the top of its summary, as a run without the level
+    flags writes them (`statistics`, and `groups` and `surfaces` where it has them); {} over
+    several levels, whose peaks are under `levels` only."""
+    if len(per_level) != 1:
+        return {}
+    return {key: per_level[0][key] for key in ("statistics", "groups", "surfaces") if key in per_level[0]}
+
+
+def _storey_lines(summary) -> list[str]:
+    """The printed lines of `_storey_summary`: median and largest peak drift ratio per storey
+    [%] and total acceleration per level [g], per direction with two components."""
+    if not summary["n"]:
+        return []
+    lines = []
+    for name, key, count, fmt in (("storey drift ratio", "storey_drift", "storeys 1", "{:.3%}"),
+                                  ("level acceleration [g]", "level_acceleration_g", "levels 0", "{:.3g}")):
+        p50, top = np.asarray(summary[f"{key}_p50"]), np.asarray(summary[f"{key}_max"])
+        axes = [("", p50, top)] if p50.ndim == 1 else [(f" in {a}", p50[k], top[k]) for k, a in enumerate("xy")]
+        for where, middle, largest in axes:
+            end = largest.size if key == "storey_drift" else largest.size - 1
+            lines.append(f"  {name}{where}, {count}-{end}: p50 " + " ".join(fmt.format(v) for v in middle)
+                         + "; max " + " ".join(fmt.format(v) for v in largest))
+    return lines
+
+
 def _payload(args, structure, units) -> dict:
     from ..units import STANDARD_GRAVITY
     from ._provenance import isolator_as_run
@@ -220,21 +256,26 @@ def run_levels(args, structure, model, units, statistics, posterior=None) -> int
             rows = np.flatnonzero(level_index == j)
             files.append(str(write_pelicun_demands(path, **pelicun_peaks(result, rows, args.components),
                                                    length_unit=length)))
-    per_level = []
+    per_level, printed = [], []  # each level's JSON entry and printed lines
     for j, level in enumerate(levels):
         rows = np.flatnonzero(level_index == j)
         part = _select(result, rows)
-        entry = {f"pga_{unit}": level / factor, "motions": [int(rows[0]), int(rows[-1])],
+        entry = {f"pga_{unit}": level / factor, "motions": _motion_range(rows),
                  "n_converged": int(converged[..., rows].sum()), "statistics": statistics(part, units)}
+        lines = ["  " + line for line in statistics_lines(entry["statistics"], units)]
         if result.storey_drift is not None:
             entry["storeys"] = _storey_summary(result, rows, units)
+            lines += _storey_lines(entry["storeys"])
         if result.uplift_time is not None:  # the level's vertical records: N = W (1 + a_v / g) <= 0
             entry["uplift"] = uplift_of(_first_bearing(result.uplift_time, result), rows)
         if result.group_peak_load is not None:  # a plan's groups that share the weight unevenly
-            entry["groups"] = group_summary(part, units)[0]
+            entry["groups"], more = group_summary(part, units)
+            lines += more
         if result.surfaces:  # a series pendulum's sliders, the heated surfaces
-            entry["surfaces"] = surface_summary(part, units)[0]
+            entry["surfaces"], more = surface_summary(part, units)
+            lines += more
         per_level.append(entry)
+        printed.append(lines)
     fragility, curves = {}, {}
     for limit in limits:
         fragility[limit.text], curves[limit.text] = _fragility(limit, result, level_index, levels, unit, factor)
@@ -243,7 +284,7 @@ def run_levels(args, structure, model, units, statistics, posterior=None) -> int
                     **({} if result.beyond_pressure_law is None else
                        {"beyond_pressure_law": _failed_runs(~result.beyond_flags)}),
                     "all_converged": bool(converged.all()), "wall_s": result.wall_s, "compile_s": result.compile_s,
-                    "levels": per_level, "fragility": fragility, "files": files})
+                    **_one_level(per_level), "levels": per_level, "fragility": fragility, "files": files})
     payload["motions"]["pga_levels"] = {"unit": unit, "values": (levels / factor).tolist()}
     payload.update(uplift_payload(result, model))
     payload.update(posterior_levels_entry(result, posterior))
@@ -263,7 +304,7 @@ def run_levels(args, structure, model, units, statistics, posterior=None) -> int
             plot_fragility(curves, args.plot, unit=unit, factor=1.0, title=stamp)
         else:
             plot_montecarlo(result, args.plot, title=stamp, length=units.length)
-    return _report(result, levels, level_index, unit, factor, fragility, per_level)
+    return _report(result, levels, unit, factor, fragility, per_level, printed)
 
 
 def _run(args, structure, model, levels, height, progress, draws):
@@ -325,13 +366,24 @@ def _draws_words(posterior) -> str:
     return f" ({posterior.bearings} posterior draws on every level's motions)"
 
 
-def _report(result, levels, level_index, unit, factor, fragility, per_level) -> int:
+def _report(result, levels, unit, factor, fragility, per_level, printed) -> int:
+    """Print the runs, each level's peaks (`printed`: its lines, those of a one-level run
+    without the level flags), uplift counts and fragilities, and name the failed runs; the
+    exit status."""
     converged = np.asarray(result.converged, bool)
     bearings = f"{converged.shape[0]} bearings x " if converged.ndim == 2 else ""
     print(f"{bearings}{result.n_motions} motions at {levels.size} level(s) in {result.wall_s:.1f} s; "
-          f"{int(converged.sum())} of {converged.size} runs converged.")
+          f"{int(converged.sum())} of {converged.size} runs converged; statistics over the converged runs"
+          + (" of each level:" if levels.size > 1 else ":"))
+    for x, entry, lines in zip(levels, per_level, printed):
+        if levels.size > 1:
+            motions = entry["motions"]
+            print(f"  {x / factor:g}{unit} (motions {motions['first']} to {motions['last']}, "
+                  f"{entry['n_converged']} runs converged):")
+        for line in lines:
+            print("  " * (levels.size > 1) + line)
     if result.uplift_time is not None:
-        counts = ", ".join(f"{x / factor:g}{unit}: {e['uplift']['n_uplifted']}/{e['motions'][1] - e['motions'][0] + 1}"
+        counts = ", ".join(f"{x / factor:g}{unit}: {e['uplift']['n_uplifted']}/{e['motions']['count']}"
                            for x, e in zip(levels, per_level))
         print(f"  uplift (N <= 0), motions per level: {counts}; kept in the statistics and counts")
     status = 0

@@ -84,6 +84,17 @@ def statistics(result, units) -> dict:
     return {f"base_disp_{units.length[0]}": disp, "base_shear_ratio": stats["base_shear_ratio"]}
 
 
+def statistics_lines(stats, units) -> list[str]:
+    """The printed lines of `statistics` (one per peak: "base_disp_in: p5 0.55 in, ..."), as
+    every Monte Carlo prints them, over one level or each of several."""
+    lines = []
+    for name, values in stats.items():
+        unit = f" {units.length[0]}" if name.startswith("base_disp") else ""
+        lines.append(f"{name}: " + ", ".join(f"{k} {v:.4g}{unit}" for k, v in values.items()
+                                             if k != "n" and v is not None))
+    return lines
+
+
 def stamp(args, horizontal) -> str:
     """The plot's title: structure, bearing, isolation system and motions as typed."""
     bearing_words = (f"{args.ptfe} PTFE at {args.pressure_text}" if args.bearing is None
@@ -122,10 +133,8 @@ def report(args, result, stats, units, more_lines) -> int:
     converged = np.asarray(result.converged, bool).reshape(-1)
     print(f"{result.n_motions} motions on {result.n_devices} device(s) in {result.wall_s:.1f} s; "
           f"statistics over the {int(converged.sum())} of {converged.size} runs that converged:")
-    for name, values in stats.items():
-        unit = f" {units.length[0]}" if name.startswith("base_disp") else ""
-        print(f"  {name}: " + ", ".join(f"{k} {v:.4g}{unit}" for k, v in values.items()
-                                       if k != "n" and v is not None))
+    for line in statistics_lines(stats, units):
+        print("  " + line)
     for line in more_lines:
         print(line)
     beyond = result.beyond_flags.reshape(-1)

@@ -1,0 +1,68 @@
+"""What `teflon-jax montecarlo` writes and prints with the level flags (`--storeys`, several
+`--pga` levels): one level's peaks at the top of the summary and on the console as
+a run without the flags has them, and each level's motions as a range that reads as one."""
+
+import json
+import re
+
+import pytest
+
+from teflon_jax.cli import main
+
+COMMON = ["montecarlo", "--motions", "2", "--duration", "3s", "--strong-motion", "1s", "--no-progress"]
+
+
+def _peak_lines(printed: str) -> list[str]:
+    """The printed lines of the base peaks' statistics, without their indentation."""
+    return [line.strip() for line in printed.splitlines() if re.match(r"\s*(base_disp_\w+|base_shear_ratio): ", line)]
+
+
+def _printed_statistics(stats) -> list[str]:
+    """The peak lines a Monte Carlo prints of `statistics` (inches)."""
+    return [f"{name}: " + ", ".join(f"{k} {v:.4g}{' in' if name.startswith('base_disp') else ''}"
+                                   for k, v in values.items() if k != "n") for name, values in stats.items()]
+
+
+def test_one_level_keeps_the_plain_runs_statistics_and_prints_them(tmp_path, capsys):
+    """One level with a level flag (--limit): the summary's top-level `statistics` are the
+    plain run's (same motions, to rounding), the console prints the same peak lines, and the
+    level's motions are {"first", "last", "count"}."""
+    assert main([*COMMON, "--json", str(tmp_path / "plain.json")]) == 0
+    plain_out = capsys.readouterr().out
+    assert main([*COMMON, "--limit", "base_disp=1in", "--json", str(tmp_path / "limit.json")]) == 0
+    limit_out = capsys.readouterr().out
+    plain, limit = (json.loads((tmp_path / f"{n}.json").read_text()) for n in ("plain", "limit"))
+    assert limit["statistics"].keys() == plain["statistics"].keys()
+    for name, values in plain["statistics"].items():
+        assert limit["statistics"][name] == pytest.approx(values, rel=1e-9)
+    assert limit["levels"][0]["statistics"] == limit["statistics"]
+    assert limit["levels"][0]["motions"] == {"first": 0, "last": 1, "count": 2}
+    assert len(_peak_lines(plain_out)) == 2 and _peak_lines(limit_out) == _peak_lines(plain_out)
+
+
+def test_storeys_write_and_print_the_peaks_at_the_top(tmp_path, capsys):
+    """The building with --storeys: `statistics` at the top of the summary (those of its one
+    level), their peak lines printed as a plain run prints them, then the storeys' lines."""
+    assert main([*COMMON, "--structure", "building", "--storeys", "--json", str(tmp_path / "s.json")]) == 0
+    printed = capsys.readouterr().out
+    payload = json.loads((tmp_path / "s.json").read_text())
+    assert payload["statistics"] == payload["levels"][0]["statistics"]
+    assert _peak_lines(printed) == _printed_statistics(payload["statistics"])
+    drift = payload["levels"][0]["storeys"]["storey_drift_p50"]
+    assert "storey drift ratio, storeys 1-6: p50 " + " ".join(f"{d:.3%}" for d in drift) + "; max " in printed
+    assert "level acceleration [g], levels 0-6: p50 " in printed
+
+
+def test_each_level_prints_its_peaks_and_names_its_motions(tmp_path, capsys):
+    """Two --pga levels on the rigid mass: each level's motions are a range
+    (level j: motions 2j to 2j + 1), its peak lines are printed under its heading with the
+    values of its `statistics`, and no top-level `statistics` mixes the levels."""
+    assert main([*COMMON, "--pga", "0.2g,0.4g", "--json", str(tmp_path / "l.json")]) == 0
+    printed = capsys.readouterr().out
+    payload = json.loads((tmp_path / "l.json").read_text())
+    assert "statistics" not in payload
+    for j, (entry, level) in enumerate(zip(payload["levels"], ("0.2g", "0.4g"))):
+        assert entry["motions"] == {"first": 2 * j, "last": 2 * j + 1, "count": 2}
+        assert f"  {level} (motions {2 * j} to {2 * j + 1}, 2 runs converged):" in printed
+    assert _peak_lines(printed) == [line for entry in payload["levels"]
+                                    for line in _printed_statistics(entry["statistics"])]
