@@ -210,13 +210,8 @@ def run_levels(args, structure, model, units, statistics, posterior=None) -> int
     from ..report import plot_fragility, plot_montecarlo
     from ..studies import save_levels
     from ..tables import load_table2
-    from ._montecarlo_summary import (
-        capacity_attributes,
-        group_summary,
-        slider_capacities,
-        surface_summary,
-    )
-    from ._normal_load import uplift_of, uplift_payload
+    from ._montecarlo_summary import capacity_attributes, slider_capacities
+    from ._normal_load import uplift_payload
 
     levels = np.asarray(args.pga_levels, float)
     limits = parse_limits(args.limit, args.structure, args.components)
@@ -258,22 +253,8 @@ def run_levels(args, structure, model, units, statistics, posterior=None) -> int
                                                    length_unit=length)))
     per_level, printed = [], []  # each level's JSON entry and printed lines
     for j, level in enumerate(levels):
-        rows = np.flatnonzero(level_index == j)
-        part = _select(result, rows)
-        entry = {f"pga_{unit}": level / factor, "motions": _motion_range(rows),
-                 "n_converged": int(converged[..., rows].sum()), "statistics": statistics(part, units)}
-        lines = ["  " + line for line in statistics_lines(entry["statistics"], units)]
-        if result.storey_drift is not None:
-            entry["storeys"] = _storey_summary(result, rows, units)
-            lines += _storey_lines(entry["storeys"])
-        if result.uplift_time is not None:  # the level's vertical records: N = W (1 + a_v / g) <= 0
-            entry["uplift"] = uplift_of(_first_bearing(result.uplift_time, result), rows)
-        if result.group_peak_load is not None:  # a plan's groups that share the weight unevenly
-            entry["groups"], more = group_summary(part, units)
-            lines += more
-        if result.surfaces:  # a series pendulum's sliders, the heated surfaces
-            entry["surfaces"], more = surface_summary(part, units)
-            lines += more
+        entry, lines = _level_entry(result, np.flatnonzero(level_index == j), statistics, units,
+                                    {f"pga_{unit}": level / factor})
         per_level.append(entry)
         printed.append(lines)
     fragility, curves = {}, {}
@@ -305,6 +286,32 @@ def run_levels(args, structure, model, units, statistics, posterior=None) -> int
         else:
             plot_montecarlo(result, args.plot, title=stamp, length=units.length)
     return _report(result, levels, unit, factor, fragility, per_level, printed)
+
+
+def _level_entry(result, rows, statistics, units, intensity: dict) -> tuple[dict, list]:
+    """One level's JSON entry (its `intensity`, the range of its motions `rows`, the converged
+    count, `statistics`, and where the run has them its storeys, uplift, groups and surfaces)
+    and its printed lines."""
+    from ._montecarlo_summary import group_summary, surface_summary
+    from ._normal_load import uplift_of
+
+    part = _select(result, rows)
+    entry = {**intensity, "motions": _motion_range(rows),
+             "n_converged": int(np.asarray(result.converged, bool)[..., rows].sum()),
+             "statistics": statistics(part, units)}
+    lines = ["  " + line for line in statistics_lines(entry["statistics"], units)]
+    if result.storey_drift is not None:
+        entry["storeys"] = _storey_summary(result, rows, units)
+        lines += _storey_lines(entry["storeys"])
+    if result.uplift_time is not None:  # the level's vertical records: N = W (1 + a_v / g) <= 0
+        entry["uplift"] = uplift_of(_first_bearing(result.uplift_time, result), rows)
+    if result.group_peak_load is not None:  # a plan's groups that share the weight unevenly
+        entry["groups"], more = group_summary(part, units)
+        lines += more
+    if result.surfaces:  # a series pendulum's sliders, the heated surfaces
+        entry["surfaces"], more = surface_summary(part, units)
+        lines += more
+    return entry, lines
 
 
 def _run(args, structure, model, levels, height, progress, draws):
