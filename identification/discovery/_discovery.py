@@ -50,6 +50,7 @@ from ._augmented import (
 from ._batch_fit import _free_mask
 from ._diagnostics import effective_samples
 from ._effects import BASELINES, EFFECT_NAMES, EFFECTS
+from ._progress import FLAT_COST, Progress, candidate_lines
 from ._result import (
     DEFAULT_BIC_THRESHOLD,
     CompositionFit,
@@ -180,14 +181,20 @@ def discover_effects(
     fit_log = {"fits": 0, "unconverged": 0, "max_iterations_used": 0,
                "iteration_limit": int(max_steps)}
 
+    name = baseline if isinstance(baseline, str) else " + ".join(base_effects) or "coulomb"
+    progress = _announce(say, data, setup, name, pool, [s for s in skipped if s not in base_effects],
+                         max_effects, max_steps)
+    progress.calling(f"baseline {name}: fitting from {setup.n_members} starts")
     fit, nrmse_initial, fit_log = _fit_baseline(setup, list(base_effects), fit_log)
     say(f"baseline {baseline}: nrmse {nrmse_initial:.4f}")
+    progress.took(f"baseline {name}", progress.called(), min(max_effects, len(pool)))
     baseline_fit = fit
     compositions = [_composition(setup, base_effects, fit)]
 
     fit, current, steps, final_round, fit_log = _add_effects(
-        setup, fit, list(base_effects), pool, max_effects, bic_threshold, say, fit_log,
+        setup, fit, list(base_effects), pool, max_effects, bic_threshold, progress, fit_log,
         compositions)
+    progress.done()
     fit_log["final_converged"] = fit.converged
 
     force, scale = setup.force, setup.scale
@@ -232,25 +239,51 @@ def _composition(setup, effects, fit) -> CompositionFit:
         residual=(np.asarray(fit.force) - setup.force) / setup.scale, converged=bool(fit.converged))
 
 
-def _add_effects(setup, fit, current, pool, max_effects, bic_threshold, say, fit_log,
+def _announce(say, data, setup, baseline, pool, skipped, max_effects, max_steps) -> Progress:
+    """The `Progress` of a search from the baseline named `baseline`, its plan said: the
+    baseline, then at most one round per effect added, each one batched call of
+    `setup.n_members` fits; `skipped` the candidates named as not tried."""
+    progress = Progress(say, FLAT_COST, (type(data).__name__, setup.n_members, data.n_samples,
+                                         max_steps), setup.n_members, data.n_samples, label=baseline)
+    rounds = min(max_effects, len(pool))
+    work = f"baseline {baseline} alone"
+    if rounds:
+        work = (f"baseline {baseline}, then up to {rounds} round{'s' if rounds != 1 else ''} over "
+                f"{len(pool)} candidate{'s' if len(pool) != 1 else ''} ({', '.join(pool)}), each "
+                "fitting the model alone and with each candidate, on the record and on two folds "
+                "of its cycles")
+    progress.plan(work, 1 + rounds, skipped)
+    return progress
+
+
+def _add_effects(setup, fit, current, pool, max_effects, bic_threshold, progress, fit_log,
                  compositions):
     """Add the candidate with the strongest evidence, round after round, while it passes;
-    every candidate's fit to the whole record is appended to `compositions`.
+    every candidate's fit to the whole record is appended to `compositions`; each round said
+    through `progress` (`Progress`).
 
     Returns (fit, effects of the final model, steps, evidence of the refused last round, fit_log).
     """
+    say = progress.say
     current, pool = list(current), list(pool)
     steps, final_round = [], {}
     while pool and len(steps) < max_effects:
+        number = len(steps) + 1
+        progress.calling(f"round {number}: trying {', '.join(pool)}, each added to "
+                         f"{' + '.join([progress.label, *(s.effect for s in steps)])}")
         evid, nrmse_before, candidate_fits, fit_log = _fit_round(
             setup, fit.values, current, pool, fit_log
         )
+        took = progress.called()
         compositions += [_composition(setup, current + [c], candidate_fits[c]) for c in pool]
+        for line in candidate_lines(evid, pool):
+            say(line)
         summary = ", ".join(f"{c} {evid[c]['delta_bic']:.1f}" for c in pool)
-        say(f"round {len(steps) + 1}: delta_bic {summary}")
+        say(f"round {number}: delta_bic {summary}")
         chosen = chosen_effect(evid, pool, bic_threshold)
         if chosen is None:
             final_round = evid
+            progress.took(f"round {number}", took, 0)
             break
         fit = candidate_fits[chosen]
         current.append(chosen)
@@ -268,6 +301,7 @@ def _add_effects(setup, fit, current, pool, max_effects, bic_threshold, say, fit
         say(
             f"added {chosen}: nrmse {nrmse_before:.4f} -> {evid[chosen]['nrmse_after']:.4f}"
         )
+        progress.took(f"round {number}", took, min(max_effects - len(steps), len(pool)))
     return fit, current, steps, final_round, fit_log
 
 

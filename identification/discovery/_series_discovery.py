@@ -36,6 +36,7 @@ from ._batch_fit import _finite_or_null, _fold_weights
 from ._diagnostics import effective_samples, half_cycle_index
 from ._discovery import check_settings, chosen_effect
 from ._effects import EFFECT_NAMES
+from ._progress import SERIES_COST, Progress, candidate_lines
 from ._result import DEFAULT_BIC_THRESHOLD, DiscoveryStep
 from ._rounds import candidate_evidence, fit_nrmse, held_out_rms
 
@@ -253,6 +254,29 @@ def _requested(candidates) -> tuple[list, dict]:
     return [c for c in SERIES_EFFECTS if c in names], skipped
 
 
+def _calls_left(pool, added: int, max_effects: int) -> int:
+    """The batched calls a series search may still make after the one that fitted the
+    candidates `pool`, `added` effects added so far: one after each effect added while
+    candidates are left and `max_effects` is not reached."""
+    return max(0, min(len(pool) - 1, max_effects - added - 1))
+
+
+def _series_progress(say, start, problem, rounds, pool, skipped, max_effects) -> Progress:
+    """The `Progress` of a series search, its plan said: the series fit with every candidate,
+    then one call over the candidates left after each effect added."""
+    n = problem.time.size
+    progress = Progress(say, SERIES_COST, ("series", start.isolator, rounds.n_members, n, rounds.max_steps),
+                        rounds.n_members, n, label=SERIES_BASELINE)
+    calls = 1 + _calls_left(pool, 0, max_effects)
+    work = f"the {start.description[:-1]}'s series fit"
+    if pool:
+        work += (f" alone and with each candidate added ({', '.join(pool)}), on the record and on two "
+                 "folds of its cycles" + (", then again over the candidates left after each effect "
+                                          "added" if calls > 1 else ""))
+    progress.plan(work, calls, [name for name in skipped if name in SERIES_EFFECTS])
+    return progress
+
+
 def discover_series_effects(record, start, *, candidates=None,
                             bic_threshold: float = DEFAULT_BIC_THRESHOLD, max_effects: int = 4,
                             max_samples: int = 3000, max_steps: int = 200, normal_load=None,
@@ -285,14 +309,22 @@ def discover_series_effects(record, start, *, candidates=None,
     regressor = {"heating": heat_regressor(problem),
                  "velocity_dependence": np.abs(np.gradient(np.asarray(problem.path), problem.time))}
     current, steps, final_round = [], [], {}
+    progress = _series_progress(say, start, problem, rounds, pool, skipped, max_effects)
+    progress.calling(f"baseline {SERIES_BASELINE}: the {start.description[:-1]} alone"
+                     + (f" and with each of {', '.join(pool)} added (round 1)" if pool else ""))
     fits = rounds.fit([current] + [[c] for c in pool], optimiser_start(problem)[0], current)
+    took = progress.called()
     baseline = fits[0][0]
     nrmse_initial = fit_nrmse(baseline.force, problem.force, problem.scale)
     say(f"baseline {SERIES_BASELINE} ({start.description[:-1]}): nrmse {nrmse_initial:.4f}")
+    progress.took(f"baseline {SERIES_BASELINE} and round 1", took, _calls_left(pool, 0, max_effects))
     fit = baseline
     while pool and len(steps) < max_effects:
+        number = len(steps) + 1
         evid = _evidence(problem, fits, pool, regressor, rounds.weights[1:])
-        say(f"round {len(steps) + 1}: delta_bic "
+        for line in candidate_lines(evid, pool):
+            say(line)
+        say(f"round {number}: delta_bic "
             + ", ".join(f"{c} {evid[c]['delta_bic']:.1f}" for c in pool))
         chosen = chosen_effect(evid, pool, bic_threshold)
         if chosen is None:
@@ -307,8 +339,13 @@ def discover_series_effects(record, start, *, candidates=None,
             candidates=evid, parameters=member_parameters(problem, fit.values, current)))
         say(f"added {chosen}: nrmse {evid[chosen]['nrmse_before']:.4f} -> "
             f"{evid[chosen]['nrmse_after']:.4f}")
-        if pool:
+        if pool and len(steps) < max_effects:
+            progress.calling(f"round {number + 1}: trying {', '.join(pool)}, each added to "
+                             f"{' + '.join([SERIES_BASELINE, *current])}")
             fits = rounds.fit([current] + [current + [c] for c in pool], fit.values, current)
+            progress.took(f"round {number + 1}", progress.called(),
+                          _calls_left(pool, len(steps), max_effects))
+    progress.done()
     residual = (fit.force - problem.force) / problem.scale
     rounds.log["final_converged"] = fit.converged
     return SeriesDiscoveryResult(

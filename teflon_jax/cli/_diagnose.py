@@ -20,6 +20,12 @@ table `DIAGNOSES`, looked up by `--isolator`:
   effects the series model represents on its surfaces (`identification.discovery.
   SERIES_EFFECTS`), judged by the flat slider's evidence and decision rule
   (`discover_series_effects`).
+
+On stderr (not with `--quiet`) it says its plan before any fit: the candidates, the batched fits
+and roughly how long they take, from their number and the record's samples; then each round's
+candidates as they are tried and, as the round's fits return, each one's residual and evidence,
+with the time the round took and the time the rounds left would take at its pace; the last line
+is the result with the search's and the whole command's time. stdout stays empty.
 """
 
 import argparse
@@ -182,13 +188,19 @@ def run_diagnose(args) -> int:
     """Run `diagnose` for parsed arguments; returns the exit status (0 ok, 1 a search that could
     not finish what was asked, e.g. a fitted radius that did not settle beside the effects
     found, 2 bad input)."""
-    from identification import discovery
+    import time
 
-    diagnosis = DIAGNOSES[args.isolator]
+    started = time.perf_counter()
 
     def say(text):
         if not args.quiet:
-            print(text, file=sys.stderr)
+            print(text, file=sys.stderr, flush=True)
+
+    say(f"teflon-jax diagnose {args.record}: loading JAX, then reading the record and planning "
+        "the search...")
+    from identification import discovery
+
+    diagnosis = DIAGNOSES[args.isolator]
 
     candidates = None
     if args.candidates:
@@ -201,6 +213,7 @@ def run_diagnose(args) -> int:
         print(f"teflon-jax diagnose: error: {error}", file=sys.stderr)
         return 2
     result = found.result
+    say(f"writing {args.json_path}, {args.report / 'report.md'} and its figures...")
     document = result.to_json()
     document.update(found.entries)
     if mixture is not None:
@@ -216,7 +229,8 @@ def run_diagnose(args) -> int:
     for line in diagnosis.notes(result) + mixture_lines(mixture):
         say(line)
     say(f"{document['conclusion']}; nrmse {result.nrmse_initial:.4f} -> {result.nrmse_final:.4f}; "
-        f"{result.runtime_s:.1f} s. Wrote {args.json_path} and {report}"
+        f"search {result.runtime_s:.1f} s, total {time.perf_counter() - started:.1f} s. "
+        f"Wrote {args.json_path} and {report}"
         + (f" and the {what} to {saved}." if saved else "."))
     failures = [f for f in (found.failure, mixture_failure(args, mixture)) if f is not None]
     for failure in failures:
@@ -304,6 +318,8 @@ def _pendulum_radius(args, record, say) -> float:
         say(f"single friction pendulum: R = {args.radius_text} (--radius); the search looks at the "
             "force less N u / R.")
         return args.radius
+    say("single friction pendulum: fitting R with the baseline's friction (Eq. 1 with Bouc-Wen, "
+        "4 starts; compiling first), before the search...")
     fit = fit_pendulum_test(record, n_starts=4)
     if not fit.converged:
         raise ValueError(f"{args.record}: the radius could not be fitted with the baseline's "
@@ -359,8 +375,6 @@ def _search_series(args, diagnosis, candidates, say) -> Found:
     start = load_isolator_file(args.isolator_file, args.isolator, command="diagnose")
     record = read_bearing_record(args.record)
     check_normal_load_used(args, [record], [args.record])
-    say(f"teflon-jax diagnose: {start.description}, the series fit and each candidate on the "
-        "record and two folds of its cycles (compiling first)...")
     try:
         result = discover_series_effects(
             record, start, candidates=candidates, bic_threshold=args.bic_threshold,
