@@ -12,28 +12,17 @@ Every problem with a file is a `ValueError` that names the file and the line (1-
 """
 
 import math
-import re
 
 import numpy as np
 
 from ..excitation import GroundMotion
 from ._at2 import _acceleration_factor
-from ._column_units import header_time_factor
+from ._column_units import _FIELD_SPLIT, _is_number, header_time_factor
 from ._text import _read_lines, _to_float
-
-_FIELD_SPLIT = re.compile(r"\s*,\s*|\s+")
 
 
 def _split_fields(line: str) -> list[str]:
     return _FIELD_SPLIT.split(line.strip())
-
-
-def _is_number(token: str) -> bool:
-    try:
-        float(token)
-    except ValueError:
-        return False
-    return True
 
 
 def _data_rows(path, lines, skip_header):
