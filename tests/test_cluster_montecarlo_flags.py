@@ -22,7 +22,8 @@ distributed = pytest.importorskip("distributed")
 
 COMMON = ["montecarlo", "--motions", "4", "--duration", "4s", "--strong-motion", "1.5s", "--chunk-size", "2",
           "--no-progress"]
-OWN = {"wall_s", "compile_s", "files", "records_per_s_after_first_chunk", "command_line", "inputs"}  # times, file names and flags differ by design
+OWN = {"wall_s", "compile_s", "files", "records_per_s", "records_per_s_after_first_chunk", "devices", "command_line",
+       "inputs"}  # times, devices (a cluster's workers), file names and flags differ by design
 
 
 def _here_and_there(tmp_path, address, extra):

@@ -32,8 +32,11 @@ from ._engineering import (
 from ._main import compile_cache_dir
 from ._montecarlo_summary import (
     beyond_law_words,
+    chunk_marks,
     listed,
+    run_words,
     statistics_lines,
+    throughput,
     unbalanced_parts,
 )
 from ._posterior_flags import (
@@ -230,7 +233,8 @@ def run_levels(args, structure, model, units, statistics, posterior=None) -> int
              f"{args.pga_text}, {args.duration_text}, seed {args.seed}"
              + (f"; vertical {args.vertical_ratio:g} x PGA" if args.vertical_ratio is not None else ""))
     bar = motion_bar(levels.size * runs_of(args, posterior), args.no_progress)
-    result, level_index = _run(args, structure, model, levels, height, lambda done, total: bar.update(done - bar.n),
+    progress, marks = chunk_marks(bar)  # the rate after the first chunk, as a run without levels gives it
+    result, level_index = _run(args, structure, model, levels, height, progress,
                                posterior_arguments(posterior, args.motions))
     bar.close()
     result.attrs.update(capacity_attributes(structure))  # as a file streamed by --scheduler says
@@ -264,7 +268,7 @@ def run_levels(args, structure, model, units, statistics, posterior=None) -> int
                     "n_converged": int(converged.sum()), "not_converged": _failed_runs(converged),
                     **({} if result.beyond_pressure_law is None else
                        {"beyond_pressure_law": _failed_runs(~result.beyond_flags)}),
-                    "all_converged": bool(converged.all()), "wall_s": result.wall_s, "compile_s": result.compile_s,
+                    "all_converged": bool(converged.all()), **throughput(result, marks),
                     **_one_level(per_level), "levels": per_level, "fragility": fragility, "files": files})
     payload["motions"]["pga_levels"] = {"unit": unit, "values": (levels / factor).tolist()}
     payload.update(uplift_payload(result, model))
@@ -379,7 +383,7 @@ def _report(result, levels, unit, factor, fragility, per_level, printed) -> int:
     exit status."""
     converged = np.asarray(result.converged, bool)
     bearings = f"{converged.shape[0]} bearings x " if converged.ndim == 2 else ""
-    print(f"{bearings}{result.n_motions} motions at {levels.size} level(s) in {result.wall_s:.1f} s; "
+    print(f"{bearings}{result.n_motions} motions at {levels.size} level(s) {run_words(result)}; "
           f"{int(converged.sum())} of {converged.size} runs converged; statistics over the converged runs"
           + (" of each level:" if levels.size > 1 else ":"))
     for x, entry, lines in zip(levels, per_level, printed):

@@ -8,7 +8,6 @@ Every quantity on the command line carries its unit (`--pga 0.3g`, `--pressure 1
 import argparse
 import math
 import pathlib
-import time
 
 from ..units import STANDARD_GRAVITY
 from ._bearing_flags import add_bearing_flag
@@ -31,12 +30,12 @@ from ._main import compile_cache_dir
 from ._mixture_runs import runner_of
 from ._montecarlo_summary import (
     capacity_attributes,
+    chunk_marks,
     group_summary,
     report,
     run_attributes,
     stamp,
     statistics,
-    steady_rate,
     summary_payload,
     surface_summary,
 )
@@ -261,12 +260,7 @@ def run_montecarlo(args) -> int:
 
         return run_levels(args, structure, model, units, statistics, posterior)
     bar = motion_bar(runs_of(args, posterior), args.no_progress)
-    marks = []  # (time, motions done) after each chunk: the rate once compiled and warm
-
-    def progress(done, total):
-        marks.append((time.perf_counter(), done))
-        bar.update(done - bar.n)
-
+    progress, marks = chunk_marks(bar)  # (time, runs done) after each chunk: the rate once compiled and warm
     chunk_size = args.chunk_size
     attrs = {**run_attributes(args), **posterior_attributes(posterior), **capacity_attributes(structure)}
     if args.scheduler is None:
@@ -288,8 +282,7 @@ def run_montecarlo(args) -> int:
         files = [str(args.out)]
     bar.close()
     stats = statistics(result, units)
-    payload = summary_payload(args, result, structure, horizontal, units, stats, files)
-    payload["records_per_s_after_first_chunk"] = steady_rate(marks)
+    payload = summary_payload(args, result, structure, horizontal, units, stats, files, marks)
     payload.update(uplift_payload(result, model))
     groups, group_lines = group_summary(result, units)
     if groups:

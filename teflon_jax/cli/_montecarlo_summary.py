@@ -1,9 +1,11 @@
-"""What a Monte Carlo at one intensity reports: the summary JSON (`summary_payload`), the
+"""What a Monte Carlo at one intensity reports: the summary JSON (`summary_payload`, with the
+run's devices and speed of `throughput`, which a run over intensity levels writes too), the
 results file's attributes (`run_attributes`), the converged runs' statistics (`statistics`),
 the plot's title (`stamp`) and the printed lines with the exit status (`report`)."""
 
 import math
 import sys
+import time
 
 from ..units import STANDARD_GRAVITY
 from ._run_stop import TIPPING, TIPPING_REMEDY
@@ -18,9 +20,44 @@ def steady_rate(marks) -> float | None:
     return (marks[-1][1] - marks[0][1]) / (marks[-1][0] - marks[0][0])
 
 
-def summary_payload(args, result, structure, model, units, stats, files) -> dict:
-    """The summary JSON of `teflon-jax montecarlo` (displacements in `units`)."""
+def chunk_marks(bar) -> tuple:
+    """(progress(done, total), marks): the progress callback of a Monte Carlo, which moves `bar`
+    (a tqdm bar) to `done` runs and appends (time [s], runs done) to `marks` after each chunk,
+    the list `steady_rate` reads."""
+    marks = []
+
+    def progress(done, _total):
+        marks.append((time.perf_counter(), done))
+        bar.update(done - bar.n)
+
+    return progress, marks
+
+
+def throughput(result, marks) -> dict:
+    """The run's devices and speed in a Monte Carlo's summary JSON, one level or several:
+    `devices` (JAX devices, or a cluster's workers), `device_kind` (this process's first
+    device), `wall_s` and `compile_s` [s], `records_per_s` (runs per second less compilation:
+    N motions, K N with K bearing draws, over all levels) and
+    `records_per_s_after_first_chunk` (`steady_rate` of `marks`, `chunk_marks`)."""
     import jax
+    import numpy as np
+
+    runs = int(np.size(result.converged))  # (N,) or (K, N): every run, over all levels
+    return {"devices": result.n_devices, "device_kind": jax.devices()[0].device_kind,
+            "wall_s": result.wall_s, "compile_s": result.compile_s,
+            "records_per_s": runs / max(result.wall_s - result.compile_s, 1e-9),
+            "records_per_s_after_first_chunk": steady_rate(marks)}
+
+
+def run_words(result) -> str:
+    """"on D device(s) in T s": where and how long a Monte Carlo ran, as its first printed line
+    says it."""
+    return f"on {result.n_devices} device(s) in {result.wall_s:.1f} s"
+
+
+def summary_payload(args, result, structure, model, units, stats, files, marks) -> dict:
+    """The summary JSON of `teflon-jax montecarlo` (displacements in `units`; `marks`: the
+    progress marks of `chunk_marks`)."""
     import numpy as np
 
     from ._provenance import isolator_as_run
@@ -33,11 +70,7 @@ def summary_payload(args, result, structure, model, units, stats, files) -> dict
         **({} if result.beyond_pressure_law is None else {
             "beyond_pressure_law": np.flatnonzero(result.beyond_flags.reshape(-1)).tolist()}),
         "structure": args.structure,
-        "devices": result.n_devices,
-        "device_kind": jax.devices()[0].device_kind,
-        "wall_s": result.wall_s,
-        "compile_s": result.compile_s,
-        "records_per_s": result.n_motions / max(result.wall_s - result.compile_s, 1e-9),
+        **throughput(result, marks),
         "chunk_size": result.chunk_size,
         "time_step_s": structure.time_step,
         "all_converged": bool(converged.all()),
@@ -131,7 +164,7 @@ def report(args, result, stats, units, more_lines) -> int:
     import numpy as np
 
     converged = np.asarray(result.converged, bool).reshape(-1)
-    print(f"{result.n_motions} motions on {result.n_devices} device(s) in {result.wall_s:.1f} s; "
+    print(f"{result.n_motions} motions {run_words(result)}; "
           f"statistics over the {int(converged.sum())} of {converged.size} runs that converged:")
     for line in statistics_lines(stats, units):
         print("  " + line)
