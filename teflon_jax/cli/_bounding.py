@@ -235,6 +235,8 @@ def run_bounding(args, structure, model, units) -> int:
         beyond_law_words,
         group_summary,
         listed,
+        run_words,
+        throughput,
         unbalanced_parts,
     )
     from ._normal_load import uplift_message, uplift_payload
@@ -248,7 +250,7 @@ def run_bounding(args, structure, model, units) -> int:
         except ValueError as error:
             raise ValueError(f"--property-factors {args.property_factors}: {error}") from None
     building = args.structure == "building"
-    result, files = _bounding_runs(args, structure, model, design, bounds)
+    result, files, marks = _bounding_runs(args, structure, model, design, bounds)
     length, factor = units.length
     peaks = {f"base_disp_{length}": result.base_disp / factor, "base_shear_ratio": result.base_shear_ratio}
     if building:
@@ -261,7 +263,7 @@ def run_bounding(args, structure, model, units) -> int:
     converged = np.asarray(result.converged, bool)
     table = bounds.factor_table()
     payload = {
-        "structure": args.structure, "n_motions": result.n_motions, "wall_s": result.wall_s,
+        "structure": args.structure, "n_motions": result.n_motions, **throughput(result, marks),
         "property_factors": bounds.payload(args.bearing),
         "cases": {case: {**_case_friction(structure, design, i, table[case], bounds), "n_converged": int(converged[i].sum()),
                          "mean": {k: v[case] for k, v in by_mean.items()},
@@ -278,7 +280,7 @@ def run_bounding(args, structure, model, units) -> int:
         payload["units"] = {"group_load": units.force[0]}
     payload.update(uplift_payload(result, model))  # the same vertical records under the three bearings
     _write_json(args.json, payload)
-    print(f"{result.n_motions} motions x 3 bearings in {result.wall_s:.1f} s; mean of the converged runs' peaks:")
+    print(f"{result.n_motions} motions x 3 bearings {run_words(result)}; mean of the converged runs' peaks:")
     print_governing(by_mean)
     bounds.print_factors()
     if uplift_message(payload):
@@ -318,7 +320,8 @@ def print_governing(by_mean) -> None:
 
 
 def _bounding_runs(args, structure, model, design, bounds) -> tuple:
-    """(the `MonteCarloResult` of the three cases, design variants (3, N), the files written):
+    """(the `MonteCarloResult` of the three cases, design variants (3, N), the files written,
+    the progress marks in runs, `chunk_marks`):
     in this process (`monte_carlo`), or with --scheduler as the design axis of one distributed
     run (`monte_carlo_distributed`: every task runs its motions under the three bearings, the
     peaks streamed to --out), the same motions either way (motion i from fold_in(key(seed), i))."""
@@ -327,10 +330,13 @@ def _bounding_runs(args, structure, model, design, bounds) -> tuple:
     from ..studies import BOUNDING_CASES, monte_carlo, monte_carlo_distributed
     from ..tables import load_table2
     from ._main import compile_cache_dir
+    from ._montecarlo_summary import chunk_marks
 
     height = load_table2().storey_height if args.structure == "building" else None
-    bar = motion_bar(args.motions, args.no_progress)
-    progress = lambda done, total: bar.update(done - bar.n)  # noqa: E731
+    cases = len(BOUNDING_CASES)
+    bar = motion_bar(cases * args.motions, args.no_progress)  # runs: each motion under the three bearings
+    mark, marks = chunk_marks(bar)
+    progress = lambda done, total: mark(cases * done, cases * total)  # noqa: E731
     if args.scheduler is None:
         result = monte_carlo(structure, model, args.motions, key=jax.random.key(args.seed), design=design,
                              chunk_size=args.chunk_size, progress=progress, storey_height=height)
@@ -348,7 +354,7 @@ def _bounding_runs(args, structure, model, design, bounds) -> tuple:
             compilation_cache=None if args.no_compile_cache else str(compile_cache_dir()))
         files = [str(args.out)]
     bar.close()
-    return result, files
+    return result, files, marks
 
 
 def _case_friction(structure, design, index, factors, bounds) -> dict:
