@@ -21,6 +21,7 @@ from teflon_jax.bearing import STEEL_CONDUCTIVITY, STEEL_DIFFUSIVITY
 from teflon_jax.cli import main
 from teflon_jax.formats import (
     isolator_from_dict,
+    load_isolator,
     read_test_record,
     test_record_from_arrays,
     write_test_record,
@@ -258,3 +259,24 @@ def test_velocity_dependence_is_a_candidate_on_the_sliding_surfaces_with_coulomb
     assert coulomb.effect_keys("velocity_dependence") == ("bottom_delta_f", "bottom_rate_a")
     assert "bottom_delta_f" in coulomb.held and "top_delta_f" in coulomb.free
     assert prepare_series_problem(record, isolator_from_dict(_double())).rate_surfaces == ()
+
+
+@pytest.mark.slow
+def test_the_sine_records_fitted_pendulum_keeps_delta_f_below_f_max_and_is_saved(tmp_path):
+    """The sine record's friction is a smoothed Coulomb one, which the series fit once matched
+    with delta_f above f_max (a negative friction at rest, which no isolator file may hold), so
+    that --save-isolator failed after the JSON and the report were written: the fit keeps
+    0 <= delta_f <= f_max on every surface and the saved file loads."""
+    start = _write(tmp_path / "start.json", _double())
+    record = _sine_record(tmp_path / "r.csv")
+    fitted = tmp_path / "fitted.json"
+    d = _diagnose(tmp_path, "double-fp", start, record, "--candidates", "heating", "--max-effects", "1",
+                  "--save-isolator", str(fitted))
+    for surface in ("bottom", "top"):
+        assert 0 <= d["parameters"][f"{surface}_delta_f"] <= d["parameters"][f"{surface}_f_max"], surface
+    saved = json.loads(fitted.read_text())["surfaces"]
+    loaded = load_isolator(fitted)
+    for surface in ("bottom", "top"):
+        friction = getattr(loaded, f"{surface}_friction")
+        assert float(friction.delta_f) < float(friction.f_max), surface
+        assert saved[surface]["friction"]["f_max"]["value"] == pytest.approx(d["parameters"][f"{surface}_f_max"])

@@ -208,3 +208,22 @@ def test_simulate_then_fit_from_the_command_line(files, capsys):
     again, truth = series_parameters(load_isolator(fitted)), series_parameters(TRUE)
     for name in FITTED:
         assert again[name] == pytest.approx(truth[name], rel=1e-6), name
+
+
+def test_a_smoothed_coulomb_loop_is_fitted_with_delta_f_below_f_max_and_saved(tmp_path):
+    """`test_diagnose_series`'s sine record (friction 0.06 tanh(20 cos): a smoothed Coulomb
+    law), which the fit once matched with delta_f above f_max, a negative friction at rest that
+    --save-isolator refused after the JSON was written: every surface keeps
+    0 <= delta_f <= f_max, and the saved file loads."""
+    from test_diagnose_series import _double, _sine_record, _write
+
+    start = _write(tmp_path / "start.json", _double())
+    record = _sine_record(tmp_path / "r.csv")
+    fitted = tmp_path / "fitted.json"
+    assert main(["fit", "--isolator", "double-fp", "--isolator-file", str(start), str(record),
+                 "--json", str(tmp_path / "f.json"), "--save-isolator", str(fitted)]) == 0
+    parameters = json.loads((tmp_path / "f.json").read_text())["parameters"]
+    loaded = series_parameters(load_isolator(fitted))
+    for surface in ("bottom", "top"):
+        assert 0 <= parameters[f"{surface}_delta_f"] <= parameters[f"{surface}_f_max"], surface
+        assert loaded[f"{surface}_delta_f"] < loaded[f"{surface}_f_max"], surface

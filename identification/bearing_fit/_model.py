@@ -6,6 +6,7 @@ import jax.numpy as jnp
 from teflon_jax.bearing import PARAMETER_BOUNDS
 
 from ._loop_features import RecordConfig as RecordConfig
+from ._ratio import RATIO_PAIRS, deltas_of
 from ._record_force import PERPENDICULAR_NAMES
 
 PARAMETER_NAMES = ("f_max", "delta_f", "rate_a", "yield_disp", "breakaway_ratio",
@@ -16,9 +17,6 @@ mu is interpolated linearly in the sliding angle between them and the parallel o
 
 PARAMETER_UNITS = {name: PARAMETER_BOUNDS[name].unit for name in PARAMETER_NAMES}
 
-RATIO_PAIRS = (("delta_f", "f_max", "delta_ratio"),
-               ("delta_f_perpendicular", "f_max_perpendicular", "delta_ratio_perpendicular"))
-"""(delta_f, f_max, internal name): inside the optimiser delta_f = ratio x f_max, 0 < ratio < 1."""
 
 
 class BearingModel(eqx.Module):
@@ -40,9 +38,7 @@ class BearingModel(eqx.Module):
         names = PARAMETER_NAMES if self.anisotropic else PARAMETER_NAMES[:5]
         values = {name: params.get(name, fixed[name]) for name in names}
         if self.ratio:
-            for delta, f_max, internal in RATIO_PAIRS:
-                if internal in params:
-                    values[delta] = params[internal] * values[f_max]
+            values.update(deltas_of(params, RATIO_PAIRS, values))
         return values
 
     def forces(self, params, args):

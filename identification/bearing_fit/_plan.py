@@ -17,7 +17,8 @@ from ..least_squares import (
     covariance_from_jacobian,
 )
 from ._loop_features import _MIN_ELASTIC_SAMPLES, PreparedBiaxialRecord, PreparedRecord
-from ._model import PARAMETER_NAMES, PARAMETER_UNITS, RATIO_PAIRS
+from ._model import PARAMETER_NAMES, PARAMETER_UNITS
+from ._ratio import RATIO_PAIRS, from_ratios, to_ratios
 from ._record_force import PERPENDICULAR_NAMES
 
 ASYMMETRY_LIMIT = 0.05
@@ -302,15 +303,7 @@ def _internal(free, values, start, bounds):
             internal_bounds[name] = (lo, hi)
 
     def to_internal(s):
-        out = {}
-        for name in free:
-            if name in pairs:
-                f_max, internal = pairs[name]
-                f = s[f_max] if f_max in free else values[f_max]
-                out[internal] = s[name] / f
-            else:
-                out[name] = s[name]
-        return out
+        return to_ratios({name: s[name] for name in free}, RATIO_PAIRS, values)
 
     return tuple(names), internal_bounds, to_internal, ratio
 
@@ -383,14 +376,7 @@ def _finish(prepared, model_user, free, values, raw: LeastSquaresResult, args, w
             n_starts):
     """Standard errors in the user's parameters, residual metrics and warnings."""
     estimate = {k: v for k, v in values.items() if k in PARAMETER_NAMES}
-    pairs = {delta: (f_max, internal) for delta, f_max, internal in RATIO_PAIRS}
-    for name in free:
-        if name in pairs:
-            f_max, internal = pairs[name]
-            estimate[name] = raw.parameters[internal] * (
-                raw.parameters[f_max] if f_max in free else values[f_max])
-        else:
-            estimate[name] = raw.parameters[name]
+    estimate.update(from_ratios(raw.parameters, RATIO_PAIRS, values))
     if not model_user.anisotropic:
         for name in PERPENDICULAR_NAMES:
             estimate.pop(name, None)

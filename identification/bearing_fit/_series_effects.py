@@ -25,6 +25,8 @@ heating holds heat_scale at 0, where k_T(T0) / k_T(T0) = 1 makes it exactly the 
 model, and one without velocity dependence holds the start's delta_f and rate_a. The residual of member b
 is w_b (F_model - F) / s, with w_b its 0/1 sample weights (a fold of cycles) and s the
 root-mean-square measured force.
+Inside the optimiser a free delta_f is its ratio to f_max in (0, 1), as in the series fit
+(`_ratio`), so that no member's friction at rest, f_max - delta_f, is negative.
 """
 
 import dataclasses
@@ -60,10 +62,19 @@ from teflon_jax.units import INCH, PSI
 
 from ..least_squares import covariance_from_jacobian, fit_least_squares_batch
 from ._prepare import _record_name
+from ._ratio import (
+    from_ratios,
+    ratio_bounds,
+    ratio_name,
+    result_from_ratios,
+    series_ratio_pairs,
+    to_ratios,
+)
 from ._triple_fit import (
     _bounds,
     _check_apart,
     _in_start_order,
+    _leaves_of,
     _reported_jacobian,
     _swap_name,
     check_pressure_load,
@@ -290,6 +301,8 @@ def _model(params, shared):
 
 def _residual(params, args):
     (free, start, weight), (shared, force, scale) = args
+    bearing = shared[0]
+    params = from_ratios(params, series_ratio_pairs(bearing.slider_names), _leaves_of(bearing))
     values = {k: jnp.where(free[k] > 0, params[k], start[k]) for k in params}
     return weight * (_model(values, shared).force - force) / scale
 
@@ -338,22 +351,33 @@ def fit_series_members(problem: SeriesProblem, starts, effects, weights, *,
             for k in keys}
     start = {k: np.array([float(off[k]) if not free[k][i] else float(s[k])
                           for i, s in enumerate(starts)]) for k in keys}
-    guess = {k: np.array([float(s[k]) if free[k][i] else float(initial[k])
-                          for i, s in enumerate(starts)]) for k in keys}
     batch = ({k: jnp.asarray(v) for k, v in free.items()},
              {k: jnp.asarray(v) for k, v in start.items()}, jnp.asarray(np.asarray(weights, float)))
-    fits = fit_least_squares_batch(_residual, guess, bounds, args=(batch, _shared(problem)),
+    pairs, held = series_ratio_pairs(problem.start.slider_names), triple_parameters(problem.start)
+    fits = fit_least_squares_batch(_residual, _ratio_guess(initial, starts, free, pairs, held),
+                                   ratio_bounds(bounds, pairs), args=(batch, _shared(problem)),
                                    args_batched=(True, False), max_steps=max_steps,
                                    rtol=FIT_RTOL, atol=FIT_ATOL,
                                    solver="levenberg_marquardt_scaled", converged_on="residuals")
     members = []
     for i, fit in enumerate(fits):
+        fit = result_from_ratios(fit, pairs, held)
         values = {k: (float(fit.parameters[k]) if free[k][i] else float(start[k][i])) for k in keys}
         members.append(SeriesMember(values=values, force=None, jacobian=np.asarray(fit.jacobian),
                                     keys=tuple(fit.names), converged=bool(fit.converged),
                                     n_steps=int(fit.n_steps)))
     forces = _member_forces(problem, [m.values for m in members])
     return [m._replace(force=f) for m, f in zip(members, forces)]
+
+
+def _ratio_guess(initial, starts, free, pairs, held) -> dict:
+    """The optimiser's start of each member (`to_ratios`): its own start where it frees a
+    constant, else `initial`'s (so that a held delta_f's ratio starts inside its bounds)."""
+    inner = to_ratios(initial, pairs, held)
+    own = [to_ratios({k: s[k] for k in initial if free[k][i]}, pairs, held) for i, s in enumerate(starts)]
+    return {ratio_name(k, pairs): np.array([float(o[ratio_name(k, pairs)]) if free[k][i]
+                                            else float(inner[ratio_name(k, pairs)]) for i, o in enumerate(own)])
+            for k in initial}
 
 
 @jax.jit

@@ -10,12 +10,13 @@ Constantinou, Mokha & Reinhorn 1990, Eqs. 1, 3), and Levenberg-Marquardt (optimi
     S(theta) = sum_i ((F_model,i(theta) - F_i) / N_i)^2
 
 over the constants theta the record can tell (`triple_fit_plan`), differentiating the simulation in
-forward mode. The optimiser sees a, b - a and c - a of a triple (all > 0, so the inner
-surfaces stay the tighter ones), R_1 and R_2 of a double (> 0); f_max, delta_f in (0, 1);
-rate_a and the capacities > 0. Standard errors are
-the asymptotic ones, sigma^2 (J^T J)^-1 with sigma^2 = S / (n - p) (Seber & Wild 1989,
-Ch. 2), with J taken in the reported constants (a, b, c, ...). The force of sliders in
-series does not depend on their order, so a loop cannot tell the bottom surface from the top
+forward mode, with Marquardt's scaled damping (`SOLVER`, as the flat slider's fit). The
+optimiser sees a, b - a and c - a of a triple (all > 0, so the inner surfaces stay the tighter
+ones), R_1 and R_2 of a double (> 0); f_max in (0, 1) and delta_f as its ratio to f_max in
+(0, 1), so that 0 <= delta_f <= f_max (`_ratio`; a held delta_f bounds f_max from below
+instead); rate_a and the capacities > 0. Standard errors are the asymptotic ones,
+sigma^2 (J^T J)^-1 with sigma^2 = S / (n - p) (Seber & Wild 1989, Ch. 2), with J taken in the
+reported constants (a, b, c, ...). The force of sliders in series does not depend on their order, so a loop cannot tell the bottom surface from the top
 one: the fit reports them in the start file's order of f_max (a triple's bottom the
 slipperier, as its series model needs; a double's as its start file has them), swapping the
 two when the optimiser has crossed them (`swapped`).
@@ -42,7 +43,15 @@ from teflon_jax.formats import TestRecord
 from teflon_jax.systems import normal_load_varies, respond_along_path, sampled_path
 
 from ..least_squares import covariance_from_jacobian, fit_least_squares
+from ._fit import SOLVER
 from ._prepare import _normal_load, _record_name
+from ._ratio import (
+    from_ratios,
+    ratio_bounds,
+    result_from_ratios,
+    series_ratio_pairs,
+    to_ratios,
+)
 from ._triple_plan import (
     FRICTION_CONSTANTS,
     check_free,
@@ -153,7 +162,8 @@ def _leaves_of(bearing: SeriesPendulum) -> dict:
 
 def _residual(params, args):
     start, path, force, load, reference_load = args
-    response = respond_along_path(triple_with_parameters(start, params), path, reference_load=reference_load)
+    values = from_ratios(params, series_ratio_pairs(start.slider_names), _leaves_of(start))
+    response = respond_along_path(triple_with_parameters(start, values), path, reference_load=reference_load)
     return ((response.force - force) / (load if force.ndim == 1 else load[:, None])).reshape(-1)
 
 
@@ -219,13 +229,18 @@ def check_pressure_load(record: TestRecord, start: SeriesPendulum, load, referen
 
 
 def _bounds(names, values):
-    """Bounds and the start of the optimiser's variables (module docstring)."""
+    """Bounds and the start of the optimiser's variables (module docstring), delta_f as
+    itself (`to_ratios`, `ratio_bounds` make it the optimiser's ratio); the f_max of a
+    surface whose delta_f is held is bounded below by it."""
     bounds, initial = {}, {}
     excess = _EXCESS if "inner_radius" in values else {}
     for name in names:
         key = excess.get(name, name)
         initial[key] = values[name] - values["inner_radius"] if key in excess.values() else values[name]
         bounds[key] = (0.0, 1.0) if name.endswith(("f_max", "delta_f")) else (0.0, math.inf)
+        delta = name.replace("f_max", "delta_f")
+        if name.endswith("f_max") and delta not in names:
+            bounds[key] = (values[delta], 1.0)
     return initial, bounds
 
 
@@ -274,8 +289,11 @@ def fit_series_pendulum_test(record: TestRecord, initial: SeriesPendulum, *, fre
         held = {n: "held: not in free" for n in known if n not in names}
     values = triple_parameters(start)
     x0, bounds = _bounds(names, values)
-    result = fit_least_squares(_residual, x0, bounds, args=(start, sampled, force, load, reference_load),
-                               max_steps=max_steps, rtol=rtol, atol=atol)
+    pairs = series_ratio_pairs(start.slider_names)
+    result = fit_least_squares(_residual, to_ratios(x0, pairs, values), ratio_bounds(bounds, pairs),
+                               args=(start, sampled, force, load, reference_load),
+                               max_steps=max_steps, rtol=rtol, atol=atol, solver=SOLVER)
+    result = result_from_ratios(result, pairs, values)
     fit = _result(start, result, names, held, (sampled, force), simulate)
     return dataclasses.replace(fit, reference_load=None if reference_load is None else float(reference_load))
 
