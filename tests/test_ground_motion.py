@@ -429,6 +429,12 @@ def test_two_column_errors(tmp_path, body, line, words):
         ("Time(sec)  Acc(cm/s/s)", "cm/s^2", 20.0, 0.5 * CM),
         ("time (s),acc (N-S)", "m/s^2", 20.0, 0.5),
         ("t,a [m/s**2]", "m/s^2", 20.0, 0.5),
+        ("time_ms,acc_g", "g", 0.02, 0.5 * STANDARD_GRAVITY),
+        ("time_s  acc_cm/s^2", "cm/s^2", 20.0, 0.5 * CM),
+        ("t_min,ground_acc_g_n", "g", 1200.0, 0.5 * STANDARD_GRAVITY),
+        ("time_ms,acc_g (N-S)", "g", 0.02, 0.5 * STANDARD_GRAVITY),
+        ("time_step,ground_acc", "m/s^2", 20.0, 0.5),
+        ("time_h2o,acc_m", "m/s^2", 20.0, 0.5),
     ],
 )
 def test_two_column_header_units_are_read(tmp_path, header, units, time_step, peak):
@@ -445,6 +451,10 @@ def test_two_column_header_units_are_read(tmp_path, header, units, time_step, pe
          "the record is read in m/s^2; fix the header, or read the record in g (--record-units g)"),
         ("time,acc [m]", "g", "column 2 ('acc [m]'): 'm' is a unit of length, but an acceleration"),
         ("time [kip],acc (g)", "g", "column 1 ('time [kip]'): 'kip' is a unit of force, but a time"),
+        ("time_ms,acc_g", "m/s^2", "column 2 ('acc_g'): the header gives the acceleration in g, but "
+         "the record is read in m/s^2; fix the header, or read the record in g (--record-units g)"),
+        ("time_s acc_cm/s^2", "g", "column 2 ('acc_cm/s^2'): the header gives the acceleration in "
+         "cm/s^2, but the record is read in g"),
     ],
 )
 def test_two_column_header_units_that_disagree_are_refused(tmp_path, header, units, words):

@@ -1,5 +1,5 @@
-"""The units a two-column record's text header states in brackets (`time [ms]`, `acc (g)`),
-checked against the units the reader is given."""
+"""The units a two-column record's text header states in brackets (`time [ms]`, `acc (g)`) or
+after an underscore (`time_ms`, `acc_g`), checked against the units the reader is given."""
 
 import math
 import re
@@ -26,10 +26,28 @@ def _header_cells(line: str) -> list[str]:
     return _WHITESPACE_CELL.findall(line)
 
 
-def _header_unit(cell: str) -> str | None:
-    """The last bracketed text of `cell` that reads as a unit, or None (`(N-S)` is a label)."""
+def _suffix_unit(cell: str, dimension: str) -> str | None:
+    """The longest text after an underscore in `cell` that is a unit of `dimension` (`time_ms`,
+    `acc_g`, `acc_g_n`), or None: a name that merely holds an underscore (`ground_acc`,
+    `time_step`) states no unit."""
+    parts = cell.split("_")
+    for start in range(1, len(parts)):
+        suffix = "_".join(parts[start:])
+        try:
+            unit_factor(suffix, dimension, where=cell)
+        except ValueError:
+            continue
+        return suffix
+    return None
+
+
+def _header_unit(cell: str, dimension: str) -> str | None:
+    """The last bracketed text of `cell` that reads as a unit (`(N-S)` is a label), else the
+    unit of `dimension` after an underscore, or None."""
     units = [a or b for a, b in _BRACKETED.findall(cell) if is_unit((a or b).strip())]
-    return units[-1].strip() if units else None
+    if units:
+        return units[-1].strip()
+    return _suffix_unit(_BRACKETED.sub("", cell).strip(), dimension)
 
 
 def header_time_factor(lines, first_data_line, width, path, time_column, acceleration_column,
@@ -58,8 +76,8 @@ def header_time_factor(lines, first_data_line, width, path, time_column, acceler
             f"the columns; make them match, one name per column (e.g. 'time [s],acc [g]'), or turn "
             "the line into a '#' comment."
         )
-    time_unit = _header_unit(cells[time_column])
-    acceleration_unit = _header_unit(cells[acceleration_column])
+    time_unit = _header_unit(cells[time_column], "time")
+    acceleration_unit = _header_unit(cells[acceleration_column], "acceleration")
     where = f"{path}, line {line_no}, column {{}} ('{{}}')"
     if acceleration_unit is not None:
         stated = unit_factor(acceleration_unit, "acceleration",
