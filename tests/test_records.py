@@ -296,6 +296,33 @@ def test_a_contact_pressure_the_normal_load_contradicts_is_not_written(tmp_path,
     assert not (tmp_path / "r.csv").exists()
 
 
+@pytest.mark.parametrize("normal_load, metadata", [
+    (None, {"normal_load": 78.54 * 1234.5 * N_PER_LBF}),
+    (78.54 * 1234.5 * N_PER_LBF * (1.0 + 4e-7 * np.sin(np.arange(5.0))), {}),
+])
+def test_what_the_writer_writes_with_few_digits_the_reader_reads(tmp_path, normal_load, metadata):
+    # contact_area x contact_pressure equals the load to 1e-6, but the three numbers rounded to a
+    # few digits each do not: the writer refuses (naming digits) rather than write a file the
+    # reader refuses, and with enough digits the file reads back
+    time = np.linspace(0.0, 1.0, 5)
+    record = records.test_record_from_arrays(time, time, time=time, normal_load=normal_load, metadata={
+        "contact_area": 78.54 * M_PER_IN**2, "contact_pressure": 1234.5 * PA_PER_PSI, **metadata})
+    refused = []
+    for digits in range(1, 13):
+        path = tmp_path / f"r{digits}.csv"
+        try:
+            write_test_record(path, record, digits=digits)
+        except ValueError as error:
+            assert f"record: written with {digits} significant digits, metadata 'contact_area'" in str(error)
+            assert "or pass a larger `digits`" in str(error)
+            assert not path.exists()
+            refused.append(digits)
+            continue
+        read = read_test_record(path)
+        np.testing.assert_allclose(read.normal_load, record.normal_load, rtol=10.0 ** (1 - digits))
+    assert refused and max(refused) < 9
+
+
 def test_damper_json_with_a_repeated_key_is_refused(tmp_path):
     path = _damper_json(tmp_path)
     path.write_text(path.read_text().replace('"dt":', '"dt": 0.5, "dt":', 1))

@@ -122,3 +122,15 @@ def check_written_loads(metadata, normal_load) -> None:
                 "file would state two loads, which a reader refuses; drop 'contact_pressure' from the metadata "
                 "or make the two agree."
             )
+
+
+def check_loads_as_written(metadata, normal_load, digits: int) -> None:
+    """Raise `ValueError` naming `digits` when the normal load, as a file states it after each
+    number is rounded to `digits` significant digits (`metadata` and `normal_load` [N] as read
+    back), contradicts itself: the reader would refuse what the writer wrote."""
+    try:
+        check_written_loads(metadata, normal_load)
+    except ValueError as error:
+        detail = str(error).removeprefix("record: ").removesuffix(".")
+        raise ValueError(f"record: written with {digits} significant digits, {detail}; or pass a "
+                         "larger `digits`.") from None

@@ -13,7 +13,7 @@ from ..excitation import TabulatedBiaxialMotion, TabulatedMotion, tabulated_moti
 from ..tables import DIRECTIONS, PTFE_TYPES
 from ..units import UNITS, parse_quantity, unit_factor
 from ._protocol import parse_protocol
-from ._record_loads import check_loads_agree, check_written_loads
+from ._record_loads import check_loads_agree, check_loads_as_written, check_written_loads
 from ._test_record import (
     _COLUMN_DIMENSIONS,
     _COMMENT_KEY,
@@ -414,7 +414,10 @@ def write_test_record(path, record: TestRecord, *, units=None, digits: int = 9) 
     - `digits`: significant digits written for every number (`%.{digits}g`).
 
     **Returns:** nothing. Reading the file back gives the record again to `digits`
-    significant digits. The `N` column is left out when the normal load is the constant that
+    significant digits; a record whose normal load, as written to `digits` digits, the file
+    would state twice in ways more than 1e-6 apart (`contact_area` times `contact_pressure`
+    against `normal_load` or the `N` column) is a `ValueError` naming `digits`, and nothing is
+    written. The `N` column is left out when the normal load is the constant that
     the metadata (`normal_load`, or `contact_area` times `contact_pressure`) already states; a
     metadata `normal_load`, or `contact_area` times `contact_pressure`, that the history (or
     `normal_load`) contradicts by more than 1e-6 of it is a `ValueError`.
@@ -426,6 +429,7 @@ def write_test_record(path, record: TestRecord, *, units=None, digits: int = 9) 
     fmt = f"{{:.{digits}g}}".format
 
     lines = []
+    as_written = dict(record.metadata)
     for key, value in record.metadata.items():
         if key == _COMMENT_KEY:
             lines += [f"# {_COMMENT_KEY}: {text}" for text in value.split("\n")]
@@ -433,6 +437,7 @@ def write_test_record(path, record: TestRecord, *, units=None, digits: int = 9) 
             unit = chosen[_QUANTITY_KEYS[key]]
             factor = unit_factor(unit, _QUANTITY_KEYS[key], where=f"metadata '{key}'")
             lines.append(f"# {key} [{unit}]: {fmt(value / factor)}")
+            as_written[key] = float(fmt(value / factor)) * factor
         elif key == "protocol":
             lines.append(f"# protocol: {value.to_text(chosen['length'], digits=digits)}")
         else:
@@ -457,6 +462,7 @@ def write_test_record(path, record: TestRecord, *, units=None, digits: int = 9) 
 
     header = []
     scaled = []
+    factors = []
     for name, unit, values in columns:
         if "," in name or "[" in name or "]" in name:
             raise ValueError(f"record: column name '{name}' cannot hold ',', '[' or ']'.")
@@ -464,6 +470,7 @@ def write_test_record(path, record: TestRecord, *, units=None, digits: int = 9) 
         factor = 1.0 if dimension is None else unit_factor(unit, dimension, where=name)
         header.append(f"{name} [{unit}]")
         scaled.append(values / factor)
+        factors.append(factor)
     lines.append(",".join(header))
     text_columns = [[fmt(v) for v in values] for values in scaled]
     if record.time is not None:
@@ -473,5 +480,8 @@ def write_test_record(path, record: TestRecord, *, units=None, digits: int = 9) 
                 f"record: time written with {digits} significant digits no longer "
                 f"increases strictly; pass a larger `digits`."
             )
+    load_column = next((index for index, (name, _, _) in enumerate(columns) if name == "N"), None)
+    check_loads_as_written(as_written, None if load_column is None else
+                           factors[load_column] * np.array(text_columns[load_column], dtype=float), digits)
     lines += [",".join(row) for row in zip(*text_columns)]
     pathlib.Path(path).write_text("\n".join(lines) + "\n", encoding="utf-8")
