@@ -24,7 +24,7 @@ from ._design_variables import (
     design_fields,
     design_text,
     flag_error,
-    pendulum_start,
+    lowered_start,
     plot_units,
     resolve_design_variables,
     restrained_options,
@@ -134,7 +134,6 @@ def run_design(args) -> int:
         design_sweep_distributed,
         optimise_design,
         sweep_dataset,
-        sweep_start,
         write_design_objective,
     )
     units = output_units(args.units)
@@ -183,8 +182,8 @@ def run_design(args) -> int:
     bar.update(1)
     bar.set_postfix_str("BFGS from the best grid point")
     bounds = design_bounds(structure, variables)
-    start = (pendulum_start(sweep, bounds, structure, records, dt, args.disp_limit, args.penalty,
-                            args.limit_statistic) if design.lowered_start else sweep_start(sweep, bounds))
+    start = lowered_start(sweep, bounds, structure, records, dt, args.disp_limit, args.penalty,
+                          args.limit_statistic)
     result = optimise_design(structure, records, dt, variables=variables, disp_limit=args.disp_limit,
                              penalty=args.penalty, start=start, limit_statistic=args.limit_statistic)
     if args.out is not None:  # the file's objective: the one grid_best is chosen by
@@ -378,6 +377,7 @@ def _payload(args, result, sweep, units, wall_s: float) -> dict:
             "objective": float(at_limit[best]),
         },
         "optimum_beats_grid": None if best is None else bool(result.objective <= at_limit[best] * (1 + 1e-9)),
+        "bfgs_start": design_fields(result.start, units),
         "motions": {"pga_g": args.pga / STANDARD_GRAVITY, "duration_s": args.duration, "seed": args.seed},
         "sweep_file": None if args.out is None else str(args.out),
     }

@@ -78,15 +78,14 @@ class IsolatorDesign(NamedTuple):
     """What `teflon-jax design` does with one `--isolator` beyond its design space: `words`
     of the plot ("{file}": --isolator-file), its `options` (flags besides the range flags),
     its viscous `damping` (SI, text) when --isolation-damping is not given, `why` another
-    isolator's flag does not apply, whether BFGS starts from the grid's best point for the
-    lowered limit (`lowered_start`, `pendulum_start`), and whether the 95th percentile's
-    derivative is checked at the optimum (`percentile_check`)."""
+    isolator's flag does not apply, and whether the 95th percentile's derivative is checked at
+    the optimum (`percentile_check`). BFGS starts from the grid's best point for the lowered
+    limit on every isolator (`lowered_start`)."""
 
     words: str
     options: tuple[str, ...]
     damping: tuple[float, str]
     why: str
-    lowered_start: bool = False
     percentile_check: bool = False
 
     @property
@@ -100,7 +99,7 @@ _SERIES_WHY = "its friction, period and damping are its surfaces'"
 ISOLATOR_DESIGNS = per_isolator(
     flat=IsolatorDesign("flat sliders", _SLIDER_OPTIONS, (0.05, "5%"), "flat sliders have no concave surface"),
     single=IsolatorDesign("a single friction pendulum", (*_SLIDER_OPTIONS, "--restrainer-ratio"),
-                          (0.0, "0%"), "its period is 2 pi sqrt(R / g) of its radius", lowered_start=True),
+                          (0.0, "0%"), "its period is 2 pi sqrt(R / g) of its radius"),
     series=lambda name, facts: IsolatorDesign(f"{facts.description} of {{file}}", ("--isolator-file",),
                                               (0.0, "0 (friction only)"), _SERIES_WHY, percentile_check=True),
 )
@@ -305,13 +304,14 @@ def plot_units(units) -> dict:
             "length": units.length[::-1]}
 
 
-def pendulum_start(sweep, bounds, structure, records, record_step: float, disp_limit: float,
-                   penalty: float, statistic: str = "mean") -> dict:
-    """BFGS's start on a pendulum: the grid's best point for the limit on the smoothed mean
-    lowered by the gap between the true and the smoothed mean peak at the grid's best point
-    for `disp_limit` (the limit BFGS then starts on, `optimise_design`). The unlowered limit
-    binds nowhere on a grid whose smoothed peaks lie below it, and its best point is then the
-    largest radius, far from the design that meets the limit on the true peaks."""
+def lowered_start(sweep, bounds, structure, records, record_step: float, disp_limit: float,
+                  penalty: float, statistic: str = "mean") -> dict:
+    """BFGS's start on any isolator: the grid's best point for the limit on the smoothed
+    statistic lowered by the gap between the true and the smoothed peak at the grid's best
+    point for `disp_limit` (the limit BFGS then starts on, `optimise_design`), the objective
+    `grid_best` is read on too. The unlowered limit binds too late on a grid whose smoothed
+    peaks lie below the true ones: its best point is then too soft a design (the largest
+    radius or period), far from the one that meets the limit on the true peaks."""
     from ..studies import (
         constrained_response,
         expected_response,
