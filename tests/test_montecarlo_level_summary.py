@@ -74,6 +74,15 @@ def test_one_level_writes_the_plain_runs_keys_with_its_devices_and_speed(plain_a
     assert limit_out.startswith(f"2 motions at 1 level(s) on {limit['devices']} device(s) in ")
 
 
+def test_the_motions_pga_is_a_list_of_the_levels_in_every_run(plain_and_limit):
+    """`motions.pga_g` has one shape in every run: the list of the --pga levels [g], one value
+    with or without a level flag (`test_each_level_prints_its_peaks_and_names_its_motions`: two)."""
+    (plain, _), (limit, _) = plain_and_limit["plain"], plain_and_limit["limit"]
+    assert isinstance(plain["motions"]["pga_g"], list) and len(plain["motions"]["pga_g"]) == 1
+    assert limit["motions"]["pga_g"] == plain["motions"]["pga_g"]
+    assert plain["motions"]["pga_g"][0] == pytest.approx(limit["motions"]["pga_levels"]["values"][0], rel=1e-12)
+
+
 def test_storeys_write_and_print_the_peaks_at_the_top(tmp_path, capsys):
     """The building with --storeys: `statistics` at the top of the summary (those of its one
     level), their peak lines printed as a plain run prints them, then the storeys' lines."""
@@ -95,6 +104,7 @@ def test_each_level_prints_its_peaks_and_names_its_motions(tmp_path, capsys):
     printed = capsys.readouterr().out
     payload = json.loads((tmp_path / "l.json").read_text())
     assert "statistics" not in payload
+    assert payload["motions"]["pga_g"] == pytest.approx([0.2, 0.4], rel=1e-12)
     assert SPEED <= set(payload) and payload["records_per_s_after_first_chunk"] > 0  # a chunk per level
     assert payload["records_per_s"] == pytest.approx(4 / (payload["wall_s"] - payload["compile_s"]), rel=1e-12)
     for j, (entry, level) in enumerate(zip(payload["levels"], ("0.2g", "0.4g"))):

@@ -34,6 +34,7 @@ from ._montecarlo_summary import (
     beyond_law_words,
     chunk_marks,
     listed,
+    pga_levels_g,
     run_words,
     statistics_lines,
     throughput,
@@ -192,14 +193,13 @@ def _storey_lines(summary) -> list[str]:
 
 
 def _payload(args, structure, units) -> dict:
-    from ..units import STANDARD_GRAVITY
     from ._provenance import isolator_as_run
 
     return {"structure": args.structure, "time_step_s": structure.time_step, "chunk_size": args.chunk_size,
             "design": isolator_as_run(args, units.pressure),
             "motions": {"model": "Clough-Penzien, Jennings-Housner-Tsai envelope", "duration_s": args.duration,
                         "seed": args.seed, "components": args.components,
-                        "pga_g": [v / STANDARD_GRAVITY for v in args.pga_levels]},
+                        "pga_g": pga_levels_g(args)},
             "units": {"base_disp": units.length[0], "base_shear_ratio": "-", "storey_drift": "-",
                       "level_acceleration": "g", "wall_s": "s"}}
 

@@ -77,7 +77,7 @@ def summary_payload(args, result, structure, model, units, stats, files, marks) 
         "statistics": stats,
         "design": isolator_as_run(args, units.pressure),
         "motions": {"model": "Clough-Penzien, Jennings-Housner-Tsai envelope",
-                    "pga_g": args.pga / STANDARD_GRAVITY, "duration_s": args.duration,
+                    "pga_g": pga_levels_g(args), "duration_s": args.duration,
                     "seed": args.seed, "components": args.components},
         "units": {"base_disp": length, "base_shear_ratio": "-", "wall_s": "s"},
         "files": files,
@@ -89,6 +89,12 @@ def summary_payload(args, result, structure, model, units, stats, files, marks) 
             "peaks": "resultants of the x and y components: |(d_x, d_y)| and |(V_x, V_y)| / W, V the "
                      "force on the structure above the bearings"})
     return payload
+
+
+def pga_levels_g(args) -> list[float]:
+    """The summary's `motions.pga_g`: the PGA of every `--pga` level [g], a list in every run
+    (one value without levels)."""
+    return [level / STANDARD_GRAVITY for level in args.pga_levels]
 
 
 def run_attributes(args) -> dict:
