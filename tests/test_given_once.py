@@ -144,3 +144,18 @@ def test_the_suite_summary_on_the_console_is_in_the_units_asked_for():
         "base disp resultant: mean 1 in, max 2 in", "uplift time: mean 0.5 s, max 1 s",
         "base shear ratio resultant: mean 0.1, max 0.125"]
     assert summary_lines(summary, output_units("si"))[0] == "base disp resultant: mean 25.4 mm, max 50.8 mm"
+
+
+def test_the_namespace_holds_the_flags_alone_and_each_parse_starts_afresh(capsys):
+    # the flags seen twice are tracked per parse, outside the namespace the commands read
+    from teflon_jax.cli._main import _parser
+
+    parser = _parser(only="montecarlo")
+    argv = ["montecarlo", "--motions", "2", "--seed", "3"]
+    for _ in range(2):  # a second parse of the same flags by the same parser is no repeat
+        args = parser.parse_args(argv)
+        assert (args.motions, args.seed) == (2, 3)
+        assert not [name for name in vars(args) if "given" in name]
+    with pytest.raises(SystemExit):
+        parser.parse_args([*argv, "--seed", "4"])
+    assert "--seed: given twice (--seed 3, then --seed 4); give it once." in capsys.readouterr().err

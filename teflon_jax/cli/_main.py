@@ -37,10 +37,12 @@ def _command_module(command: str):
 
 class _StoreOnce(argparse.Action):
     """argparse's default action (store the flag's value) for a flag given at most once: a
-    second value is refused naming both, where argparse would keep the last silently."""
+    second value is refused naming both, where argparse would keep the last silently. The
+    flags seen are the parser's, for the parse under way (`_Parser.parse_known_args`): the
+    namespace holds the flags alone."""
 
     def __call__(self, parser, namespace, values, option_string=None):
-        given = namespace.__dict__.setdefault("_given_once", {})
+        given = parser.__dict__.setdefault("given_once", {})
         if option_string is not None and self.dest in given:
             parser.error(f"{option_string}: given twice ({given[self.dest]}, then {option_string} "
                          f"{_shown(values)}); give it once.")
@@ -61,6 +63,11 @@ class _Parser(argparse.ArgumentParser):
         super().__init__(*args, **kwargs)
         self.register("action", None, _StoreOnce)
         self.register("action", "store", _StoreOnce)
+
+    def parse_known_args(self, args=None, namespace=None):
+        """argparse's, with the flags seen (`_StoreOnce`) forgotten before each parse."""
+        self.given_once = {}
+        return super().parse_known_args(args, namespace)
 
 
 def _parser(only: str | None = None) -> argparse.ArgumentParser:
