@@ -128,6 +128,7 @@ _EXPORTS = {
         "StructureResponse",
         "building_response_quantities",
         "force_along_path",
+        "imposed_path_test",
         "initial_state",
         "isolated_structure",
         "respond_along_path",

@@ -28,7 +28,7 @@ def _record(seed, *, fs=200.0, cycles=2, from_rest=True, noise=0.02, n=None, fin
     u_fine = 4 * INCH * ((1.0 - np.cos(phase)) if from_rest else np.sin(phase))
     bearing = tj.paper_bearing(tj.FrictionParameters(ROW.f_max, ROW.delta_f, ROW.rate_a),
                                yield_disp=Y_PAPER, breakaway_ratio=ROW.breakaway_ratio)
-    force = np.asarray(tj.simulate_bearing_test(bearing, tj.tabulated_motion(t_fine, u_fine),
+    force = np.asarray(tj.imposed_path_test(bearing, tj.tabulated_motion(t_fine, u_fine),
                                                 NORMAL_LOAD).fx)[::fine]
     t, u = t_fine[::fine], u_fine[::fine]
     if n is not None:

@@ -22,7 +22,7 @@ def last_cycle(result, samples_per_cycle=400):
 def test_75_peak_friction_and_rectangular_loop():
     """Test No. 75: UF 1000 psi P, 4 in at 0.6 Hz (15 in/s): peak mu = f_max = 0.1193, square loop."""
     bearing = tj.paper_bearing(UF_P_1000)
-    result = tj.simulate_bearing_test(bearing, tj.SineMotion(4 * INCH, 0.6, cycles=3), LOAD)
+    result = tj.imposed_path_test(bearing, tj.SineMotion(4 * INCH, 0.6, cycles=3), LOAD)
     cycle = last_cycle(result)
     mu = np.asarray(cycle.fx / cycle.normal_load)
     assert np.max(np.abs(mu)) == pytest.approx(0.1193, rel=0.01)
@@ -36,7 +36,7 @@ def test_75_peak_friction_and_rectangular_loop():
 def test_62_friction_at_peak_velocity():
     """Test No. 62: 1 in at 0.16 Hz, peak velocity 1 in/s: mu = f_max - Df exp(-a 1 in/s) = 0.0684."""
     bearing = tj.paper_bearing(UF_P_1000)
-    result = tj.simulate_bearing_test(bearing, tj.SineMotion(1 * INCH, 0.16, cycles=3), LOAD)
+    result = tj.imposed_path_test(bearing, tj.SineMotion(1 * INCH, 0.16, cycles=3), LOAD)
     cycle = last_cycle(result)
     i = int(np.argmax(np.asarray(cycle.vx)))
     assert float(cycle.vx[i]) == pytest.approx(2 * np.pi * 0.16 * INCH, rel=1e-3)
@@ -49,7 +49,7 @@ def test_62_friction_at_peak_velocity():
 def eight(amplitude, omega, anisotropic):
     bearing = tj.paper_bearing(UF_P_1000, friction_perpendicular=UF_T_1000 if anisotropic else None)
     motion = tj.FigureEightMotion(amplitude, omega, cycles=2)
-    return tj.simulate_bearing_test(bearing, motion, LOAD, samples_per_cycle=800)
+    return tj.imposed_path_test(bearing, motion, LOAD, samples_per_cycle=800)
 
 
 def test_figure_eight_isotropic_z_follows_velocity_direction():
@@ -90,7 +90,7 @@ def test_191_breakaway_first_peak_only():
     """Test No. 191: UF 1000 psi T, 0.5 in at 0.03 Hz, 78.5 kip, b = 3."""
     bearing = tj.paper_bearing(UF_T_1000, breakaway_ratio=3.0)
     load = 78.5 * KIP
-    result = tj.simulate_bearing_test(bearing, tj.SineMotion(0.5 * INCH, 0.03, cycles=3), load)
+    result = tj.imposed_path_test(bearing, tj.SineMotion(0.5 * INCH, 0.03, cycles=3), load)
     mu = np.asarray(result.fx) / load
     t = np.asarray(result.time)
     first = np.max(np.abs(mu[t < 0.25 / 0.03]))
@@ -104,7 +104,7 @@ def test_191_breakaway_first_peak_only():
 def test_stack_of_24_interfaces_follows_eq1_at_v_over_n():
     n = 24
     stack = tj.paper_bearing(UF_P_1000, n_interfaces=n)
-    result = tj.simulate_bearing_test(stack, tj.TriangleMotion(4 * INCH, 0.5, cycles=2), LOAD)
+    result = tj.imposed_path_test(stack, tj.TriangleMotion(4 * INCH, 0.5, cycles=2), LOAD)
     v = np.abs(np.asarray(result.vx))
     sliding = np.abs(np.asarray(result.z[:, 0])) > 0.9999
     mu = np.abs(np.asarray(result.fx))[sliding] / LOAD
@@ -121,7 +121,7 @@ def test_vmap_over_table1_equals_separate_calls():
 
     def run(friction, ratio):
         bearing = tj.paper_bearing(friction, breakaway_ratio=ratio)
-        return tj.simulate_bearing_test(bearing, motion, LOAD, samples_per_cycle=200).fx
+        return tj.imposed_path_test(bearing, motion, LOAD, samples_per_cycle=200).fx
 
     batched = jax.vmap(run)(params, b)
     for k in (0, 7, 15):
@@ -159,7 +159,7 @@ def test_independent_scipy_integration_of_test_62():
     sol = solve_ivp(rhs, (0, times[-1]), [0.0], t_eval=times, rtol=1e-10, atol=1e-12, method="LSODA")
     v = U0 * w * np.cos(w * times)
     force = (f_max - delta_f * np.exp(-rate_a * np.abs(v))) * LOAD * sol.y[0]
-    ours = tj.simulate_bearing_test(
+    ours = tj.imposed_path_test(
         tj.paper_bearing(f), tj.SineMotion(U0, 0.16, cycles=3), LOAD, samples_per_cycle=400
     )
     np.testing.assert_allclose(np.asarray(ours.fx), force, atol=1e-5 * LOAD)
@@ -168,8 +168,8 @@ def test_independent_scipy_integration_of_test_62():
 def test_riccati_agrees_with_adaptive_tsit5():
     bearing = tj.paper_bearing(UF_P_1000, breakaway_ratio=2.2)
     motion = tj.SineMotion(2 * INCH, 0.4, cycles=1.25)
-    exact = tj.simulate_bearing_test(bearing, motion, LOAD)
-    general = tj.simulate_bearing_test(
+    exact = tj.imposed_path_test(bearing, motion, LOAD)
+    general = tj.imposed_path_test(
         bearing, motion, LOAD, solver=diffrax.Tsit5(), rtol=1e-9, atol=1e-11
     )
     np.testing.assert_allclose(np.asarray(exact.fx), np.asarray(general.fx), atol=1e-6 * LOAD)
@@ -178,11 +178,11 @@ def test_riccati_agrees_with_adaptive_tsit5():
 def test_tabulated_motion_matches_the_analytic_protocol():
     """A finely tabulated sine reproduces the analytic sine test (loop energy within 0.2 %)."""
     bearing = tj.paper_bearing(UF_P_1000)
-    analytic = tj.simulate_bearing_test(bearing, tj.SineMotion(1 * INCH, 0.5, cycles=1), LOAD,
+    analytic = tj.imposed_path_test(bearing, tj.SineMotion(1 * INCH, 0.5, cycles=1), LOAD,
                                         samples_per_cycle=800)
     t = np.linspace(0.0, 2.0, 801)
     motion = tj.tabulated_motion(t, 1 * INCH * np.sin(2 * np.pi * 0.5 * t))
-    tabulated = tj.simulate_bearing_test(bearing, motion, LOAD)
+    tabulated = tj.imposed_path_test(bearing, motion, LOAD)
     e1 = np.trapezoid(np.asarray(analytic.fx), np.asarray(analytic.ux))
     e2 = np.trapezoid(np.asarray(tabulated.fx), np.asarray(tabulated.ux))
     assert e2 == pytest.approx(e1, rel=2e-3)
@@ -202,8 +202,8 @@ def test_a_diagonal_path_is_the_one_direction_test_along_its_line():
     diagonal = tj.tabulated_motion(t, u / np.sqrt(2.0), u / np.sqrt(2.0))
     assert isinstance(along, tj.AbstractUniaxialMotion)
     assert isinstance(diagonal, tj.AbstractBiaxialMotion)
-    one = tj.simulate_bearing_test(bearing, along, LOAD)
-    plane = tj.simulate_bearing_test(bearing, diagonal, LOAD)
+    one = tj.imposed_path_test(bearing, along, LOAD)
+    plane = tj.imposed_path_test(bearing, diagonal, LOAD)
     assert np.all(np.asarray(one.fy) == 0.0)
     np.testing.assert_allclose(np.asarray(plane.fx), np.asarray(plane.fy), rtol=0, atol=1e-10 * LOAD)
     resultant = np.sign(np.asarray(plane.fx)) * np.hypot(np.asarray(plane.fx), np.asarray(plane.fy))
@@ -226,7 +226,7 @@ def loop_energy():
             yield_disp=p["yield_disp"],
             breakaway_ratio=p["breakaway_ratio"],
         )
-        result = tj.simulate_bearing_test(bearing, motion, LOAD, samples_per_cycle=400)
+        result = tj.imposed_path_test(bearing, motion, LOAD, samples_per_cycle=400)
         return jnp.trapezoid(result.fx, result.ux)
 
     params = {k: jnp.asarray(v) for k, v in GRADIENT_BASE.items()}
@@ -253,11 +253,11 @@ def test_energy_gradient_matches_finite_differences(loop_energy, name):
         (lambda: tj.interface_parameters("UF", 7000 * PSI), "extrapolat"),
         (lambda: tj.interface_parameters("25GF", 1000 * PSI, "T"), "direction: Table 1 has no T rows for 25GF"),
         (lambda: tj.interface_parameters("UF", 1000 * PSI, "X"), "direction: unknown direction 'X'"),
-        (lambda: tj.simulate_bearing_test(tj.paper_bearing(UF_P_1000, yield_disp=0.0), tj.SineMotion(INCH, 1.0), LOAD), "yield_disp: must be"),
-        (lambda: tj.simulate_bearing_test(tj.paper_bearing(UF_P_1000, breakaway_ratio=0.5), tj.SineMotion(INCH, 1.0), LOAD), "breakaway_ratio: must be >= 1"),
-        (lambda: tj.simulate_bearing_test(tj.paper_bearing(UF_P_1000), tj.SineMotion(-INCH, 1.0), LOAD), "amplitude: must be"),
-        (lambda: tj.simulate_bearing_test(tj.paper_bearing(UF_P_1000), tj.SineMotion(INCH, 0.0), LOAD), "frequency: must be"),
-        (lambda: tj.simulate_bearing_test(tj.paper_bearing(UF_P_1000), tj.SineMotion(INCH, 1.0), -1.0), "normal_load: must be"),
+        (lambda: tj.imposed_path_test(tj.paper_bearing(UF_P_1000, yield_disp=0.0), tj.SineMotion(INCH, 1.0), LOAD), "yield_disp: must be"),
+        (lambda: tj.imposed_path_test(tj.paper_bearing(UF_P_1000, breakaway_ratio=0.5), tj.SineMotion(INCH, 1.0), LOAD), "breakaway_ratio: must be >= 1"),
+        (lambda: tj.imposed_path_test(tj.paper_bearing(UF_P_1000), tj.SineMotion(-INCH, 1.0), LOAD), "amplitude: must be"),
+        (lambda: tj.imposed_path_test(tj.paper_bearing(UF_P_1000), tj.SineMotion(INCH, 0.0), LOAD), "frequency: must be"),
+        (lambda: tj.imposed_path_test(tj.paper_bearing(UF_P_1000), tj.SineMotion(INCH, 1.0), -1.0), "normal_load: must be"),
         (lambda: tj.units.parse_quantity("4Hz", "length", where="--amplitude"), "--amplitude: 'Hz' is a unit of frequency, but a length is expected"),
     ],
 )

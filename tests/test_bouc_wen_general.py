@@ -41,7 +41,7 @@ def test_uniaxial_sine_test_matches_scipy(name):
     shape = SHAPES[name]
     U0, f = 1 * INCH, 0.5
     w = 2 * np.pi * f
-    result = tj.simulate_bearing_test(bearing(shape), tj.SineMotion(U0, f, cycles=0.75), 1.0,
+    result = tj.imposed_path_test(bearing(shape), tj.SineMotion(U0, f, cycles=0.75), 1.0,
                                       samples_per_cycle=200, rtol=1e-10, atol=1e-12)  # default: Tsit5 for eta != 2
     t = np.asarray(result.time)
     sol = solve_ivp(lambda s, z: [eq3(z[0], U0 * w * np.cos(w * s), **shape) / Y], (0, t[-1]), [0.0],
@@ -66,7 +66,7 @@ def test_figure_eight_matches_scipy(name):
     shape = SHAPES[name]
     U0, w = 1 * INCH, 2.0
     motion = tj.FigureEightMotion(U0, w, cycles=0.75)
-    result = tj.simulate_bearing_test(bearing(shape), motion, 1.0, samples_per_cycle=200, rtol=1e-10, atol=1e-12)
+    result = tj.imposed_path_test(bearing(shape), motion, 1.0, samples_per_cycle=200, rtol=1e-10, atol=1e-12)
     t = np.asarray(result.time)
 
     def rhs(s, z):
@@ -126,9 +126,9 @@ def test_riccati_newmark_with_a_above_beta_plus_gamma_agrees_with_tsit5():
 def test_closed_form_solver_refuses_other_shapes():
     motion = tj.SineMotion(INCH, 0.5, cycles=1)
     with pytest.raises(ValueError, match="eta: RiccatiNewmark.*Tsit5"):
-        tj.simulate_bearing_test(bearing(SHAPES["eta3"]), motion, 1.0, solver=tj.RiccatiNewmark())
+        tj.imposed_path_test(bearing(SHAPES["eta3"]), motion, 1.0, solver=tj.RiccatiNewmark())
     with pytest.raises(ValueError, match="gamma: RiccatiNewmark"):
-        tj.simulate_bearing_test(bearing(dict(A=1.0, beta=0.5, gamma=0.5, eta=2.0)), motion, 1.0,
+        tj.imposed_path_test(bearing(dict(A=1.0, beta=0.5, gamma=0.5, eta=2.0)), motion, 1.0,
                                  solver=tj.RiccatiNewmark())
     # traced constants: a runtime error, not a silent eta = 2
     t = jnp.linspace(0.0, 1.0, 51)
@@ -168,7 +168,7 @@ def test_check_bearing_names_each_bouc_wen_constant(shape, match):
     with pytest.raises(ValueError, match=match):
         tj.check_bearing(bearing(full))
     with pytest.raises(ValueError, match=match):
-        tj.simulate_bearing_test(bearing(full), tj.SineMotion(INCH, 1.0), 1.0)
+        tj.imposed_path_test(bearing(full), tj.SineMotion(INCH, 1.0), 1.0)
 
 
 def test_newton_bracket_holds_a_step_that_saturates_z_above_one():

@@ -28,7 +28,7 @@ def half_cycles(velocity):
 
 def test_191_breakaway_then_eq1_on_every_half_cycle():
     bearing = tj.paper_bearing(UF_T_1000, breakaway_ratio=B_191)
-    r = tj.simulate_bearing_test(bearing, tj.SineMotion(0.5 * INCH, 0.03, cycles=2.5), LOAD_191)
+    r = tj.imposed_path_test(bearing, tj.SineMotion(0.5 * INCH, 0.03, cycles=2.5), LOAD_191)
     mu = np.asarray(r.fx) / LOAD_191
     z, v, z_peak = np.asarray(r.z[:, 0]), np.asarray(r.vx), np.asarray(r.z_peak)
     broken = z_peak >= THRESHOLD
@@ -86,7 +86,7 @@ def test_anisotropy_at_45_degrees_is_the_mean_of_the_two_laws():
     mean = dict(f_max=(F_MAX_P + F_MAX_T) / 2, delta_f=(DELTA_F_P + DELTA_F_T) / 2,
                 rate_a=(RATE_A_P + RATE_A_T) / 2)
     for sign in (1.0, -1.0):  # along (1, 1) and (1, -1)
-        r = tj.simulate_bearing_test(bearing, tj.tabulated_motion(t, u, sign * u), LOAD_191)
+        r = tj.imposed_path_test(bearing, tj.tabulated_motion(t, u, sign * u), LOAD_191)
         speed = np.hypot(np.asarray(r.vx), np.asarray(r.vy))
         sliding = np.hypot(np.asarray(r.z[:, 0]), np.asarray(r.z[:, 1])) > 0.9999
         mu = np.asarray(r.coefficient)

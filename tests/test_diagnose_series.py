@@ -26,7 +26,7 @@ from teflon_jax.formats import (
     test_record_from_arrays,
     write_test_record,
 )
-from teflon_jax.systems import respond_along_path, sampled_path
+from teflon_jax.systems import imposed_path_test, sampled_path
 
 PRESSURE = 30e6
 """Contact pressure of the hidden heating [Pa]."""
@@ -91,14 +91,14 @@ def test_the_candidate_heats_each_surface_by_the_constant_flux_rise_at_1000_psi(
     mu, radius, load, speed = 0.06, 1.5, 1e6, 0.05
     start = isolator_from_dict(_double(bottom=(radius, mu, 0.0), top=(2.0, 0.5, 0.0)))
     time = np.linspace(0.0, 2.0, 401)
-    unheated = respond_along_path(start, sampled_path(time, speed * time, load))
+    unheated = imposed_path_test(start, sampled_path(time, speed * time, load))
     record = test_record_from_arrays(speed * time, np.asarray(unheated.force), time=time,
                                      normal_load=np.full(time.size, load))
     problem = prepare_series_problem(record, start)
     assert problem.pressures == {"bottom": pytest.approx(NOMINAL), "top": pytest.approx(NOMINAL)}
     for s in (0.0, 2.0):
         bearing = heated_pendulum(problem.start, problem.heating, problem.pressures, s)
-        response = respond_along_path(bearing, sampled_path(time, speed * time, load), heat_kernel=problem.kernel)
+        response = imposed_path_test(bearing, sampled_path(time, speed * time, load), heat_kernel=problem.kernel)
         assert bool(np.all(response.converged))
         if s == 0.0:
             np.testing.assert_allclose(np.asarray(response.force), np.asarray(unheated.force), rtol=1e-12)

@@ -23,7 +23,7 @@ def _time_history(row, seed):
     bearing = tj.paper_bearing(tj.FrictionParameters(row.f_max, row.delta_f, row.rate_a),
                                yield_disp=Y_PAPER)
     motion = tj.SineMotion(amplitude=AMPLITUDE, frequency=FREQUENCY, cycles=CYCLES)
-    result = tj.simulate_bearing_test(bearing, motion, NORMAL_LOAD, samples_per_cycle=3000)
+    result = tj.imposed_path_test(bearing, motion, NORMAL_LOAD, samples_per_cycle=3000)
     force = np.asarray(result.fx)
     rng = np.random.default_rng(seed)
     force = force + 0.01 * np.sqrt(np.mean(force**2)) * rng.standard_normal(force.size)

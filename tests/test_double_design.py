@@ -28,8 +28,8 @@ from teflon_jax.bearing import (
 from teflon_jax.formats import isolator_to_dict
 from teflon_jax.studies import GRADIENT_TOLERANCE, percentile_disp_gradient_check
 from teflon_jax.systems import (
+    imposed_path_test,
     isolated_structure,
-    respond_along_path,
     sampled_path,
 )
 
@@ -61,7 +61,7 @@ def test_the_radius_scale_divides_the_slopes_of_the_closed_form_backbone():
     designed = jax.tree_util.tree_map(jnp.asarray, designed_isolator(isolated_structure("rigid", isolator=coulomb), {"radius_scale": s}))
     t = np.linspace(0.0, 100.0, 1001)
     u = 0.2 * t / t[-1]
-    force = np.asarray(respond_along_path(designed, sampled_path(t, u, 1.0)).force)
+    force = np.asarray(imposed_path_test(designed, sampled_path(t, u, 1.0)).force)
     r1, r2 = s * 1.5, s * 2.5
     both = r1 * 0.04
     closed = np.where(u < both, 0.04 + u / r1, 0.08 + (u - both) / (r1 + r2))

@@ -32,7 +32,7 @@ from teflon_jax.formats import (
     load_isolator,
     test_record_from_arrays,
 )
-from teflon_jax.systems import respond_along_path, sampled_path
+from teflon_jax.systems import imposed_path_test, sampled_path
 
 FITTED = [n for n in DOUBLE_PARAMETER_NAMES if not n.endswith("capacity")]
 TRIPLE_FILE = pathlib.Path(__file__).parents[1] / "benchmarks" / "triple_isolator.json"
@@ -102,13 +102,13 @@ def test_the_series_models_own_record_is_recovered_to_rounding(noise_free):
 
 def test_a_record_under_a_varying_load_at_uneven_steps_is_recovered_to_rounding():
     """Real tests are neither at one load nor at one step: the series model follows N and the
-    interval of each sample (`respond_along_path`), so its own record under a load that swings
+    interval of each sample (`imposed_path_test`), so its own record under a load that swings
     by +-30 % at uneven steps is recovered to rounding as the constant one is."""
     rng = np.random.default_rng(7)
     t = np.concatenate([[0.0], np.cumsum(rng.uniform(0.006, 0.014, 400))])
     u = 0.3 * np.sin(np.pi * t)
     load = W * (1.0 + 0.3 * np.sin(2 * np.pi * t / 1.3))
-    force = np.asarray(respond_along_path(TRUE, sampled_path(t, u, load)).force)
+    force = np.asarray(imposed_path_test(TRUE, sampled_path(t, u, load)).force)
     fit = fit_double_pendulum_test(test_record_from_arrays(u, force, time=t, normal_load=load), _start())
     assert fit.converged and fit.nrmse < 1e-8 and set(fit.free) == set(FITTED)
     truth = series_parameters(TRUE)
@@ -140,8 +140,8 @@ def test_the_surfaces_in_series_are_indistinguishable_and_keep_the_start_files_o
     a start ordered the mirrored way is answered in that order."""
     t = np.linspace(0.0, 4.0, 401)
     u = 0.3 * np.sin(np.pi * t)
-    np.testing.assert_allclose(respond_along_path(_mirrored(TRUE), sampled_path(t, u, W)).force,
-                               respond_along_path(TRUE, sampled_path(t, u, W)).force, rtol=1e-9, atol=1e-6 * W)
+    np.testing.assert_allclose(imposed_path_test(_mirrored(TRUE), sampled_path(t, u, W)).force,
+                               imposed_path_test(TRUE, sampled_path(t, u, W)).force, rtol=1e-9, atol=1e-6 * W)
     fit = fit_double_pendulum_test(_record(), _mirrored(_start()))
     truth = series_parameters(_mirrored(TRUE))
     assert fit.converged and fit.parameters["bottom_f_max"] > fit.parameters["top_f_max"]

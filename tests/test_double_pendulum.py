@@ -30,9 +30,9 @@ from teflon_jax.bearing import (
 )
 from teflon_jax.excitation import StochasticGroundMotion, sample, uniform_signal
 from teflon_jax.systems import (
+    imposed_path_test,
     isolated_structure,
     peak_response,
-    respond_along_path,
     sampled_path,
     simulate_history,
     triple_structure,
@@ -68,7 +68,7 @@ def loading():
     n, period = 4000, 400.0
     t = np.linspace(0, period, n + 1)
     u = 0.29 * np.sin(2 * np.pi * t / period)
-    response = jax.jit(respond_along_path)(_bearing(), sampled_path(t, u, W))
+    response = jax.jit(imposed_path_test)(_bearing(), sampled_path(t, u, W))
     x, force, ok = u, response.force, response.converged
     quarter = slice(0, n // 4 + 1)
     return np.asarray(x)[quarter], np.asarray(force)[quarter] / W, np.asarray(ok)

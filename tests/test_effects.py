@@ -89,7 +89,7 @@ def noisy_figure_eight(amplitude, frequency, cycles, noise=0.01, seed=0):
     )
     load = 78.5e3 * PSI * INCH**2
     motion = tj.FigureEightMotion(amplitude, frequency, cycles=cycles)
-    run = tj.simulate_bearing_test(bearing, motion, load)
+    run = tj.imposed_path_test(bearing, motion, load)
     fx, fy = np.asarray(run.fx), np.asarray(run.fy)
     rms = np.sqrt(np.mean(np.concatenate([fx, fy]) ** 2))
     nx, ny = noise * rms * np.random.default_rng(seed).standard_normal((2, fx.size))

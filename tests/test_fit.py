@@ -65,7 +65,7 @@ def _synthetic(row, seed, noise=0.02, fs=1000.0, amplitude=4 * INCH, frequency=0
     bearing = tj.paper_bearing(
         tj.FrictionParameters(row.f_max, row.delta_f, row.rate_a),
         yield_disp=Y_PAPER, breakaway_ratio=row.breakaway_ratio)
-    result = tj.simulate_bearing_test(bearing, _FromRest(amplitude, frequency, cycles),
+    result = tj.imposed_path_test(bearing, _FromRest(amplitude, frequency, cycles),
                                       NORMAL_LOAD, samples_per_cycle=round(fs / frequency))
     t, u, force = (np.asarray(x) for x in (result.time, result.ux, result.fx))
     rng = np.random.default_rng(seed)
@@ -145,7 +145,7 @@ def test_record_force_equals_core_simulator():
     row = tj.load_table1()[12]
     bearing = tj.paper_bearing(tj.FrictionParameters(row.f_max, row.delta_f, row.rate_a),
                                yield_disp=Y_PAPER, breakaway_ratio=row.breakaway_ratio)
-    core = tj.simulate_bearing_test(bearing, tj.SineMotion(1 * INCH, 0.16, cycles=2),
+    core = tj.imposed_path_test(bearing, tj.SineMotion(1 * INCH, 0.16, cycles=2),
                                     NORMAL_LOAD, samples_per_cycle=400)
     t, u, f = (np.asarray(x) for x in (core.time, core.ux, core.fx))
     mine = np.asarray(simulate_record_force(_truth(row), t, u, np.full(t.size, NORMAL_LOAD)))
@@ -295,7 +295,7 @@ def test_record_without_sliding_is_rejected():
     row = tj.load_table1()[0]
     t, u = _protocol(amplitude=0.4 * Y_PAPER, fs=100.0)
     bearing = tj.paper_bearing(tj.FrictionParameters(row.f_max, row.delta_f, row.rate_a))
-    force = np.asarray(tj.simulate_bearing_test(bearing, tj.tabulated_motion(t, u), NORMAL_LOAD).fx)
+    force = np.asarray(tj.imposed_path_test(bearing, tj.tabulated_motion(t, u), NORMAL_LOAD).fx)
     record = test_record_from_arrays(u, force, time=t, normal_load=NORMAL_LOAD)
     with pytest.raises(ValueError, match="never slides"):
         fit_bearing_test(record)
@@ -324,7 +324,7 @@ def test_identifiability_warnings():
     # Starts mid-cycle (no first excursion) and coarse sampling (elastic branch unseen).
     t, u = _protocol(fs=25.0)
     bearing = tj.paper_bearing(tj.FrictionParameters(row.f_max, row.delta_f, row.rate_a))
-    force = np.asarray(tj.simulate_bearing_test(bearing, tj.tabulated_motion(t, u), NORMAL_LOAD).fx)
+    force = np.asarray(tj.imposed_path_test(bearing, tj.tabulated_motion(t, u), NORMAL_LOAD).fx)
     keep = t > 0.5
     record = test_record_from_arrays(u[keep], force[keep], time=t[keep], normal_load=NORMAL_LOAD)
     fit = fit_bearing_test(record, n_starts=1)
@@ -335,7 +335,7 @@ def test_identifiability_warnings():
     assert any(w.startswith("breakaway_ratio: not identifiable") for w in fit.warnings)
     # Constant velocity above the plateau: rate_a cannot be seen.
     motion = tj.TriangleMotion(amplitude=4 * INCH, frequency=1.0, cycles=2)
-    result = tj.simulate_bearing_test(bearing, motion, NORMAL_LOAD, samples_per_cycle=800)
+    result = tj.imposed_path_test(bearing, motion, NORMAL_LOAD, samples_per_cycle=800)
     record = test_record_from_arrays(np.asarray(result.ux), np.asarray(result.fx),
                                      time=np.asarray(result.time), normal_load=NORMAL_LOAD)
     fit = fit_bearing_test(record, n_starts=1, reduce=False)
@@ -353,7 +353,7 @@ def test_narrow_speed_range_fits_the_reduced_law():
     bearing = tj.paper_bearing(tj.FrictionParameters(row.f_max, row.delta_f, row.rate_a),
                                yield_disp=Y_PAPER)
     motion = tj.TriangleMotion(amplitude=1 * INCH, frequency=0.4, cycles=2)
-    result = tj.simulate_bearing_test(bearing, motion, NORMAL_LOAD, samples_per_cycle=400)
+    result = tj.imposed_path_test(bearing, motion, NORMAL_LOAD, samples_per_cycle=400)
     keep = np.asarray(result.time) > 0.7  # steady cycling (no first excursion)
     fx = np.asarray(result.fx)[keep]
     fx = fx + 0.01 * np.sqrt(np.mean(fx**2)) * np.random.default_rng(1).standard_normal(fx.size)

@@ -25,7 +25,7 @@ def test_95_percent_intervals_cover_the_truth():
                  rate_a=float(friction.rate_a), yield_disp=Y_PAPER)
     load = 1000 * PSI * np.pi * (5 * INCH) ** 2
     bearing = tj.paper_bearing(friction, yield_disp=Y_PAPER)
-    result = tj.simulate_bearing_test(bearing, tj.SineMotion(1 * INCH, 0.16, cycles=2), load,
+    result = tj.imposed_path_test(bearing, tj.SineMotion(1 * INCH, 0.16, cycles=2), load,
                                       samples_per_cycle=300)
     t, u, f = (np.asarray(x) for x in (result.time, result.ux, result.fx))
     sigma = 0.02 * np.sqrt(np.mean(f**2))

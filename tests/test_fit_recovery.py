@@ -25,7 +25,7 @@ TRUTH_T = dict(f_max_perpendicular=float(UF_T.f_max), delta_f_perpendicular=floa
 
 def _simulated_file(tmp_path, bearing, motion, metadata=None, name="test.csv"):
     """What `teflon-jax simulate-test` writes (400 samples per cycle, paper units), read back."""
-    result = tj.simulate_bearing_test(bearing, motion, PRESSURE * AREA)
+    result = tj.imposed_path_test(bearing, motion, PRESSURE * AREA)
     record = tj.test_record_from_arrays(
         np.asarray(result.ux), np.asarray(result.fx), time=np.asarray(result.time),
         uy=np.asarray(result.uy) if isinstance(motion, tj.AbstractBiaxialMotion) else None,
@@ -94,7 +94,7 @@ def test_figure_eight_fits_parallel_and_perpendicular_constants(tmp_path):
 def test_biaxial_force_equals_simulator_on_its_path():
     # Park's equations along the sampled path: the simulator's force to 1e-4 of its RMS.
     bearing = tj.paper_bearing(UF_P, yield_disp=Y_PAPER, friction_perpendicular=UF_T)
-    r = tj.simulate_bearing_test(bearing, tj.FigureEightMotion(1 * INCH, 1.0, cycles=2), 1.0)
+    r = tj.imposed_path_test(bearing, tj.FigureEightMotion(1 * INCH, 1.0, cycles=2), 1.0)
     t, ux, uy = (np.asarray(x) for x in (r.time, r.ux, r.uy))
     fx, fy = simulate_record_force({**TRUTH, **TRUTH_T, "breakaway_ratio": None}, t, ux, 1.0,
                                    uy=uy, park_elements=32)
@@ -106,7 +106,7 @@ def test_two_interfaces_in_parallel_give_the_true_friction(tmp_path):
     # The paper's rig: two identical interfaces, forces recorded together (fx = 2 mu N Z).
     bearing = tj.paper_bearing(UF_P, yield_disp=Y_PAPER)
     motion = tj.SineMotion(*PAPER_TESTS[75], cycles=3)
-    result = tj.simulate_bearing_test(bearing, motion, PRESSURE * AREA)
+    result = tj.imposed_path_test(bearing, motion, PRESSURE * AREA)
     record = tj.test_record_from_arrays(
         np.asarray(result.ux), 2 * np.asarray(result.fx), time=np.asarray(result.time),
         normal_load=PRESSURE * AREA, metadata={"interfaces_in_parallel": 2})
@@ -139,7 +139,7 @@ def test_poorly_determined_fit_is_not_clean():
     # Constant velocity far above the plateau: rate_a and delta_f cannot be seen.
     bearing = tj.paper_bearing(UF_P, yield_disp=Y_PAPER)
     motion = tj.TriangleMotion(amplitude=4 * INCH, frequency=1.0, cycles=2)
-    result = tj.simulate_bearing_test(bearing, motion, PRESSURE * AREA, samples_per_cycle=400)
+    result = tj.imposed_path_test(bearing, motion, PRESSURE * AREA, samples_per_cycle=400)
     rng = np.random.default_rng(0)
     fx = np.asarray(result.fx)
     record = tj.test_record_from_arrays(

@@ -34,8 +34,8 @@ from teflon_jax.excitation import uniform_signal
 from teflon_jax.formats import read_at2
 from teflon_jax.studies import bidirectional_isolated_structure
 from teflon_jax.systems import (
+    imposed_path_test,
     isolated_structure,
-    respond_along_path,
     sampled_path,
     simulate_history,
 )
@@ -97,7 +97,7 @@ def test_restoring_force_lies_along_the_displacement_and_friction_along_the_velo
     np.testing.assert_allclose(restoring, WEIGHT * r / RADIUS * radial, rtol=1e-12)
     bearing = paper_bearing(FrictionParameters(f_max=mu, delta_f=0.0, rate_a=1.0))
     path = sampled_path(time, u[:, 0], WEIGHT, uy=u[:, 1], velocity=v[:, 0], velocity_y=v[:, 1])
-    response = respond_along_path(bearing, path, z_peak0=1.0)
+    response = imposed_path_test(bearing, path, z_peak0=1.0)
     friction = np.stack([response.fx, response.fy], axis=-1)
     total = restoring + friction
     settled = time > 2 * np.pi / w  # the second turn: Z has reached the circle

@@ -25,7 +25,7 @@ from teflon_jax.bearing import (
 )
 from teflon_jax.cli import main
 from teflon_jax.formats import isolator_from_dict, isolator_to_dict, read_test_record
-from teflon_jax.systems import respond_along_path, sampled_path
+from teflon_jax.systems import imposed_path_test, sampled_path
 
 MU_BOTTOM, MU_TOP = 0.05, 0.08
 
@@ -65,7 +65,7 @@ def _heating(pressure_mpa):
 
 def _force(pendulum):
     t = np.linspace(0.0, 100.0, 2001)
-    return np.asarray(jax.jit(respond_along_path)(pendulum, sampled_path(t, 0.01 * np.sin(2 * np.pi * t / 50.0), 1e6)).force)
+    return np.asarray(jax.jit(imposed_path_test)(pendulum, sampled_path(t, 0.01 * np.sin(2 * np.pi * t / 50.0), 1e6)).force)
 
 
 def test_the_files_parts_are_the_surface_parts_and_are_written_back():

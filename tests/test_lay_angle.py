@@ -17,7 +17,7 @@ import pytest
 from teflon_jax.bearing import paper_bearing
 from teflon_jax.cli._main import main
 from teflon_jax.excitation import AbstractBiaxialMotion, FigureEightMotion
-from teflon_jax.systems import simulate_bearing_test
+from teflon_jax.systems import imposed_path_test
 from teflon_jax.tables import interface_parameters
 from teflon_jax.units import INCH, PSI
 
@@ -92,14 +92,14 @@ def test_imposed_figure_eight_turns_with_the_lay():
     bearing with lay phi: the friction force turns by phi (Park's Z, Eq. 17 breakaway)."""
     phi = math.radians(35)
     path = FigureEightMotion(amplitude=2 * INCH, angular_frequency=2.0, cycles=1.0)
-    reference = simulate_bearing_test(_bearing(breakaway=2.0), path, 1e5, samples_per_cycle=200)
-    turned = simulate_bearing_test(_bearing(phi, breakaway=2.0), _Turned(path, phi), 1e5, samples_per_cycle=200)
+    reference = imposed_path_test(_bearing(breakaway=2.0), path, 1e5, samples_per_cycle=200)
+    turned = imposed_path_test(_bearing(phi, breakaway=2.0), _Turned(path, phi), 1e5, samples_per_cycle=200)
     fx, fy = _rotate(phi, np.asarray(reference.fx), np.asarray(reference.fy))
     scale = float(np.max(np.hypot(fx, fy)))
     np.testing.assert_allclose(turned.fx, fx, atol=1e-6 * scale)
     np.testing.assert_allclose(turned.fy, fy, atol=1e-6 * scale)
     # the lay matters here: the same turned path on the lay-along-x bearing differs
-    other = simulate_bearing_test(_bearing(breakaway=2.0), _Turned(path, phi), 1e5, samples_per_cycle=200)
+    other = imposed_path_test(_bearing(breakaway=2.0), _Turned(path, phi), 1e5, samples_per_cycle=200)
     assert np.max(np.abs(np.asarray(other.fx) - fx)) > 1e-3 * scale
 
 

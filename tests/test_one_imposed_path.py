@@ -1,4 +1,4 @@
-"""One imposed-path test for every isolator: `respond_along_path` drives a sliding bearing or a
+"""One imposed-path test for every isolator: `imposed_path_test` drives a sliding bearing or a
 series pendulum along a `SampledPath`, under the path's normal load at each sample.
 
 The series pendulum's forces are homogeneous of degree one in the normal load N (friction
@@ -35,10 +35,9 @@ from teflon_jax.excitation import SineMotion, StochasticGroundMotion, sample, un
 from teflon_jax.formats import test_record_from_arrays
 from teflon_jax.solver import RiccatiNewmark
 from teflon_jax.systems import (
+    imposed_path_test,
     normal_load_varies,
-    respond_along_path,
     sampled_path,
-    simulate_bearing_test,
     simulate_history,
     triple_structure,
     with_vertical_motion,
@@ -65,7 +64,7 @@ def _path(planar=False):
                          ids=["double", "triple", "triple-planar"])
 def test_a_series_pendulums_force_follows_the_normal_load_of_each_sample(pendulum, planar):
     time, u, load = _path(planar)
-    run = jax.jit(respond_along_path)
+    run = jax.jit(imposed_path_test)
     varying = run(pendulum, sampled_path(time, u, load))
     constant = run(pendulum, sampled_path(time, u, WEIGHT))
     assert bool(np.all(varying.converged)) and bool(np.all(constant.converged))
@@ -77,12 +76,12 @@ def test_a_series_pendulums_force_follows_the_normal_load_of_each_sample(pendulu
 
 
 def test_a_pendulum_test_under_a_recorded_load_is_the_same_force_over_n():
-    """`simulate_bearing_test` takes a recorded normal load (a `Signal`) for a series pendulum too."""
+    """`imposed_path_test` takes a recorded normal load (a `Signal`) for a series pendulum too."""
     motion = SineMotion(0.15, 0.5, cycles=2)
     time = np.linspace(0.0, 4.0, 801)
     recorded = uniform_signal(WEIGHT * (1.0 + 0.3 * np.cos(2 * np.pi * time / 0.9)), float(time[1]))
-    varying = simulate_bearing_test(DOUBLE, motion, recorded)
-    constant = simulate_bearing_test(DOUBLE, motion, WEIGHT)
+    varying = imposed_path_test(DOUBLE, motion, recorded)
+    constant = imposed_path_test(DOUBLE, motion, WEIGHT)
     load = np.asarray(varying.normal_load)
     assert np.ptp(load) > 0.5 * WEIGHT and bool(np.all(varying.converged))
     np.testing.assert_allclose(np.asarray(varying.force) / load, np.asarray(constant.force) / WEIGHT,
@@ -105,49 +104,49 @@ def test_under_a_vertical_record_the_test_along_the_structures_path_is_its_force
     assert bool(np.all(response.converged)) and factor.min() > 0.3 and np.ptp(factor) > 0.5
     path = np.asarray(response.displacement[:, 0])
     along = sampled_path(np.asarray(response.time), path, weight * factor)  # concrete: the heat kernel from its times
-    test = respond_along_path(pendulum, along, reference_load=weight)
+    test = imposed_path_test(pendulum, along, reference_load=weight)
     assert bool(np.all(test.converged))
     np.testing.assert_allclose(np.asarray(test.force) / weight, np.asarray(response.bearing_force) / weight,
                                rtol=0, atol=1e-9)
     if pendulum.reads_pressure:
-        other = respond_along_path(pendulum, along, reference_load=2 * weight)
+        other = imposed_path_test(pendulum, along, reference_load=2 * weight)
         assert np.max(np.abs(np.asarray(other.force) - np.asarray(response.bearing_force))) > 1e-4 * weight
 
 
 def test_a_pendulum_reading_its_pressure_takes_one_load_or_a_reference_and_every_load_must_be_positive():
     time, u, load = _path()
     with pytest.raises(ValueError, match="path.normal_load: .*positive"):
-        respond_along_path(DOUBLE, sampled_path(time, u, load - 0.7 * WEIGHT))
+        imposed_path_test(DOUBLE, sampled_path(time, u, load - 0.7 * WEIGHT))
     heated = dataclasses.replace(DOUBLE, bottom_heating=FrictionalHeating(contact_area=0.05), bottom_pressure=30e6)
     assert heated.heated
     with pytest.raises(ValueError, match="path.normal_load: .*constant"):
-        respond_along_path(heated, sampled_path(time, u, load))
-    assert bool(np.all(respond_along_path(heated, sampled_path(time, u, WEIGHT)).converged))
+        imposed_path_test(heated, sampled_path(time, u, load))
+    assert bool(np.all(imposed_path_test(heated, sampled_path(time, u, WEIGHT)).converged))
     rounded = WEIGHT * (1 + 1e-12 * np.sin(time))  # one load to rounding, as diagnose takes it
     assert not bool(normal_load_varies(rounded)) and bool(normal_load_varies(load))
-    assert bool(np.all(respond_along_path(heated, sampled_path(time, u, rounded)).converged))
+    assert bool(np.all(imposed_path_test(heated, sampled_path(time, u, rounded)).converged))
     pressed = dataclasses.replace(DOUBLE, top_pressure=25e6, surface_parts=(None, SurfaceParts(
         pressure_dependence=PressureDependence(exponent=0.3, reference_load=WEIGHT, contact_area=0.04))))
     assert pressed.reads_pressure and not pressed.heated
     with pytest.raises(ValueError, match="path.normal_load: it varies, .*reference_load") as refused:
-        respond_along_path(pressed, sampled_path(time, u, load))
+        imposed_path_test(pressed, sampled_path(time, u, load))
     assert "positive" not in str(refused.value)  # what is wrong, and only that
     for pendulum in (heated, pressed):
-        assert bool(np.all(respond_along_path(pendulum, sampled_path(time, u, load), reference_load=WEIGHT).converged))
+        assert bool(np.all(imposed_path_test(pendulum, sampled_path(time, u, load), reference_load=WEIGHT).converged))
         with pytest.raises(ValueError, match="reference_load: give the positive load"):
-            respond_along_path(pendulum, sampled_path(time, u, load), reference_load=-WEIGHT)
+            imposed_path_test(pendulum, sampled_path(time, u, load), reference_load=-WEIGHT)
     motion, recorded = SineMotion(0.15, 0.5, cycles=1), uniform_signal(load, float(time[1]))
     with pytest.raises(ValueError, match="path.normal_load: .*reference_load"):
-        simulate_bearing_test(pressed, motion, recorded)
-    assert bool(np.all(simulate_bearing_test(pressed, motion, recorded, reference_load=WEIGHT).converged))
+        imposed_path_test(pressed, motion, recorded)
+    assert bool(np.all(imposed_path_test(pressed, motion, recorded, reference_load=WEIGHT).converged))
     with pytest.raises(ValueError, match="reference_load: a sliding bearing"):
-        simulate_bearing_test(paper_bearing(FrictionParameters(0.1, 0.05, 20.0)), motion, WEIGHT,
+        imposed_path_test(paper_bearing(FrictionParameters(0.1, 0.05, 20.0)), motion, WEIGHT,
                               reference_load=WEIGHT)
     with pytest.raises(ValueError, match="reference_load: a sliding bearing"):
-        respond_along_path(paper_bearing(FrictionParameters(0.1, 0.05, 20.0)), sampled_path(time, u, load),
+        imposed_path_test(paper_bearing(FrictionParameters(0.1, 0.05, 20.0)), sampled_path(time, u, load),
                            reference_load=WEIGHT)
     kernel = heat_kernel_exponentials(0.01, 3600.0)
-    traced = jax.jit(lambda b, p: respond_along_path(b, p, heat_kernel=kernel))
+    traced = jax.jit(lambda b, p: imposed_path_test(b, p, heat_kernel=kernel))
     with pytest.raises(Exception, match="constant normal load"):  # traced: refused when run
         jax.block_until_ready(traced(heated, sampled_path(time, u, load)).force)
 
@@ -161,10 +160,10 @@ def test_the_heat_flux_takes_the_pressure_times_n_over_the_reference_load():
                                  bottom_pressure=30e6)
     doubled = dataclasses.replace(heated, bottom_pressure=60e6)
     path = sampled_path(time, u, WEIGHT)
-    halved = np.asarray(respond_along_path(heated, path, reference_load=WEIGHT / 2).force)
-    np.testing.assert_allclose(halved, np.asarray(respond_along_path(doubled, path).force), rtol=0,
+    halved = np.asarray(imposed_path_test(heated, path, reference_load=WEIGHT / 2).force)
+    np.testing.assert_allclose(halved, np.asarray(imposed_path_test(doubled, path).force), rtol=0,
                                atol=1e-12 * WEIGHT)
-    assert np.max(np.abs(halved - np.asarray(respond_along_path(heated, path).force))) > 1e-4 * WEIGHT
+    assert np.max(np.abs(halved - np.asarray(imposed_path_test(heated, path).force))) > 1e-4 * WEIGHT
 
 
 def test_a_fit_refuses_a_varying_load_on_a_start_whose_surfaces_read_their_pressure():
@@ -174,7 +173,7 @@ def test_a_fit_refuses_a_varying_load_on_a_start_whose_surfaces_read_their_press
     time, u, load = _path()
     pressed = dataclasses.replace(DOUBLE, top_pressure=25e6, surface_parts=(None, SurfaceParts(
         pressure_dependence=PressureDependence(exponent=0.3, reference_load=WEIGHT, contact_area=0.04))))
-    force = np.asarray(respond_along_path(pressed, sampled_path(time, u, load), reference_load=WEIGHT).force)
+    force = np.asarray(imposed_path_test(pressed, sampled_path(time, u, load), reference_load=WEIGHT).force)
     record = test_record_from_arrays(u, force, time=time, normal_load=load)
     with pytest.raises(ValueError, match=r"record 0: its normal load varies .* surfaces top read"):
         fit_series_pendulum_test(record, pressed, max_steps=1)
@@ -186,27 +185,27 @@ def test_options_one_kind_does_not_take_are_refused_by_name():
     time, u, load = _path()
     path = sampled_path(time, u, WEIGHT)
     with pytest.raises(ValueError, match="z0"):
-        respond_along_path(DOUBLE, path, z0=0.5)
+        imposed_path_test(DOUBLE, path, z0=0.5)
     with pytest.raises(ValueError, match="z_peak0"):
-        respond_along_path(DOUBLE, path, z_peak0=1.0)
+        imposed_path_test(DOUBLE, path, z_peak0=1.0)
     with pytest.raises(ValueError, match="temperature_rise"):
-        respond_along_path(DOUBLE, sampled_path(time, u, WEIGHT, temperature_rise=0 * time))
+        imposed_path_test(DOUBLE, sampled_path(time, u, WEIGHT, temperature_rise=0 * time))
     flat = paper_bearing(FrictionParameters(0.1, 0.05, 20.0))
     with pytest.raises(ValueError, match="heat_kernel"):
-        respond_along_path(flat, path, heat_kernel=(np.ones(1), np.ones(1)))
+        imposed_path_test(flat, path, heat_kernel=(np.ones(1), np.ones(1)))
     with pytest.raises(ValueError, match="friction_velocity"):
-        respond_along_path(flat, path, friction_velocity="mean")
+        imposed_path_test(flat, path, friction_velocity="mean")
     worn = dataclasses.replace(flat, wear=Wear(0.1, 1.0))
     motion = SineMotion(amplitude=0.05, frequency=0.5, cycles=1)
     for options, named in (({"solver": diffrax.Tsit5()}, "solver"), ({"rtol": 1e-6, "atol": 1e-9}, "rtol, atol"),
                            ({"max_steps": 10}, "max_steps"), ({"adjoint": diffrax.ForwardMode()}, "adjoint")):
         with pytest.raises(ValueError, match=f"^{named}: a bearing with wear is driven along the sampled motion"):
-            simulate_bearing_test(worn, motion, WEIGHT, **options)
+            imposed_path_test(worn, motion, WEIGHT, **options)
     with pytest.raises(ValueError, match="^rtol: a bearing along x with the paper's Bouc-Wen shape .* give a "
                                          "diffrax solver"):
-        simulate_bearing_test(flat, motion, WEIGHT, rtol=1e-6)
-    along_x = simulate_bearing_test(worn, motion, WEIGHT, solver=RiccatiNewmark(), samples_per_cycle=50)
-    np.testing.assert_array_equal(along_x.fx, simulate_bearing_test(worn, motion, WEIGHT, samples_per_cycle=50).fx)
+        imposed_path_test(flat, motion, WEIGHT, rtol=1e-6)
+    along_x = imposed_path_test(worn, motion, WEIGHT, solver=RiccatiNewmark(), samples_per_cycle=50)
+    np.testing.assert_array_equal(along_x.fx, imposed_path_test(worn, motion, WEIGHT, samples_per_cycle=50).fx)
     with pytest.raises(ValueError, match="ux: .*n, 2"):
         sampled_path(time, np.stack([u, u, u], -1), WEIGHT)
     with pytest.raises(ValueError, match="park_elements: .*under tracing"):
@@ -216,21 +215,21 @@ def test_options_one_kind_does_not_take_are_refused_by_name():
 
 def test_a_sliding_bearings_test_along_x_is_its_force_along_the_sampled_motion():
     """The test that `simulate-test` writes and the force a fit of that record evaluates are one
-    computation (`respond_along_path`) for every sliding bearing along x, with or without
+    computation (`imposed_path_test`) for every sliding bearing along x, with or without
     optional parts: bit for bit at the samples, with the motion's own velocity; a diffrax
     solver, asked for, integrates Eq. 3 instead, to its tolerance."""
     motion = SineMotion(amplitude=0.05, frequency=0.5, cycles=2)
     for bearing in (paper_bearing(FrictionParameters(0.1, 0.05, 20.0), breakaway_ratio=1.6),
                     dataclasses.replace(paper_bearing(FrictionParameters(0.1, 0.05, 20.0)), wear=Wear(0.1, 1.0))):
-        test = simulate_bearing_test(bearing, motion, WEIGHT, samples_per_cycle=200)
+        test = imposed_path_test(bearing, motion, WEIGHT, samples_per_cycle=200)
         path = sampled_path(test.time, jax.vmap(motion.displacement)(test.time)[:, 0], test.normal_load,
                             velocity=jax.vmap(motion.velocity)(test.time)[:, 0])
-        along = respond_along_path(bearing, path)
+        along = imposed_path_test(bearing, path)
         np.testing.assert_array_equal(test.fx, along.fx)
         np.testing.assert_array_equal(test.z, along.z)
     plain = paper_bearing(FrictionParameters(0.1, 0.05, 20.0))
-    exact = simulate_bearing_test(plain, motion, WEIGHT, samples_per_cycle=200)
-    general = simulate_bearing_test(plain, motion, WEIGHT, samples_per_cycle=200, solver=diffrax.Tsit5(),
+    exact = imposed_path_test(plain, motion, WEIGHT, samples_per_cycle=200)
+    general = imposed_path_test(plain, motion, WEIGHT, samples_per_cycle=200, solver=diffrax.Tsit5(),
                                     rtol=1e-10, atol=1e-12)
     np.testing.assert_allclose(exact.fx, general.fx, rtol=0, atol=1e-6 * WEIGHT)
 
@@ -243,7 +242,7 @@ def test_the_mean_speed_of_a_step_is_its_increment_over_its_own_interval():
     rng = np.random.default_rng(4)
     time = np.concatenate([[0.0], np.cumsum(rng.uniform(0.004, 0.02, 500))])
     u = 0.1 * np.sin(2 * np.pi * time / 2.0)
-    test = respond_along_path(pendulum, sampled_path(time, u, WEIGHT))
+    test = imposed_path_test(pendulum, sampled_path(time, u, WEIGHT))
     z = np.asarray(test.z)[:, 0]
     du, dt = np.diff(u), np.diff(time)
     mu = friction.f_max - friction.delta_f * np.exp(-friction.rate_a * np.abs(du) / dt)

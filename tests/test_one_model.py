@@ -2,7 +2,7 @@
 bearing file, and what discovery and the fitter hand on to the commands that simulate.
 
 Peers: numpy's second-order gradient, closed forms of each factor, the plain bearing (a part at
-its neutral constants gives its numbers), the ODE simulator (`simulate_bearing_test` without
+its neutral constants gives its numbers), the ODE simulator (`imposed_path_test` without
 parts) and the forces discovery reports for its own model.
 """
 
@@ -25,7 +25,7 @@ from teflon_jax.bearing import (
     kumar_temperature_factor,
 )
 from teflon_jax.formats import bearing_from_dict, bearing_to_dict
-from teflon_jax.systems import respond_along_path, sample_velocity, sampled_path
+from teflon_jax.systems import imposed_path_test, sample_velocity, sampled_path
 from teflon_jax.units import INCH, KIP, PSI
 
 UF, UF_B = tj.interface_parameters("UF", 1000 * PSI, "P")
@@ -67,8 +67,8 @@ def test_a_part_at_its_neutral_constants_is_the_plain_bearing(part):
     }[part]
     t, u, v, load = sine_path()
     path = sampled_path(t, u, load, velocity=v)
-    base = respond_along_path(plain, path)
-    other = respond_along_path(with_parts(plain, **neutral), path)
+    base = imposed_path_test(plain, path)
+    other = imposed_path_test(with_parts(plain, **neutral), path)
     scale = float(jnp.max(jnp.abs(base.fx)))
     np.testing.assert_allclose(other.fx, base.fx, rtol=0, atol=1e-12 * scale)
 
@@ -78,9 +78,9 @@ def test_the_path_of_a_plain_bearing_is_the_ode_simulator():
     record (RiccatiNewmark at the same samples) to rounding."""
     bearing = tj.paper_bearing(UF, breakaway_ratio=UF_B)
     motion = tj.SineMotion(INCH, 0.5, cycles=2)
-    result = tj.simulate_bearing_test(bearing, motion, LOAD, samples_per_cycle=200)
+    result = tj.imposed_path_test(bearing, motion, LOAD, samples_per_cycle=200)
     path = sampled_path(result.time, result.ux, LOAD, velocity=result.vx)
-    response = respond_along_path(bearing, path)
+    response = imposed_path_test(bearing, path)
     np.testing.assert_allclose(response.fx, result.fx, rtol=0,
                                atol=1e-10 * float(jnp.max(jnp.abs(result.fx))))
 
@@ -116,8 +116,8 @@ def test_heating_in_a_simulated_test_lowers_friction_cycle_by_cycle():
     bearing = tj.paper_bearing(UF)
     hot = with_parts(bearing, heating=FrictionalHeating(contact_area=AREA / 3))
     motion = tj.SineMotion(4 * INCH, 0.6, cycles=3)
-    cold = tj.simulate_bearing_test(bearing, motion, LOAD)
-    warm = tj.simulate_bearing_test(hot, motion, LOAD)
+    cold = tj.imposed_path_test(bearing, motion, LOAD)
+    warm = tj.imposed_path_test(hot, motion, LOAD)
     n = cold.time.shape[0]
     one_cycle = (n - 1) // 3
     peak = [float(jnp.max(jnp.abs(warm.fx[i * one_cycle:(i + 1) * one_cycle]))) for i in range(3)]
@@ -301,7 +301,7 @@ def test_simulate_test_runs_a_bearing_file(tmp_path, capsys):
                       "--out", str(out)], capsys)
     assert code == 0, err
     record = tj.read_test_record(out)
-    direct = tj.simulate_bearing_test(hot, tj.SineMotion(4 * INCH, 0.6, cycles=1), LOAD)
+    direct = tj.imposed_path_test(hot, tj.SineMotion(4 * INCH, 0.6, cycles=1), LOAD)
     np.testing.assert_allclose(record.fx, direct.fx, rtol=1e-6, atol=1e-6 * LOAD)
     assert float(record.metadata["contact_area"]) == pytest.approx(AREA / 3)
 

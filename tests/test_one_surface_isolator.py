@@ -11,7 +11,7 @@ whole of Z) gives the flat engine's histories (Z along the step's net increment,
 too. The series law "mean" (Eq. 1 at each surface's mean speed over the step, f_min while Z
 points back) is another law: with Coulomb friction, where both laws are f_min Z, it too gives
 the flat engine's numbers. Along an imposed path the law "end" is the flat bearing test's
-(`respond_along_path`).
+(`imposed_path_test`).
 """
 
 import dataclasses
@@ -38,8 +38,8 @@ from teflon_jax.bearing import (
 from teflon_jax.excitation import StochasticGroundMotion, sample, uniform_signal
 from teflon_jax.studies import bidirectional_isolated_structure
 from teflon_jax.systems import (
+    imposed_path_test,
     isolated_structure,
-    respond_along_path,
     sampled_path,
     simulate_history,
     structure_on_isolator,
@@ -172,7 +172,7 @@ def test_the_end_law_needs_one_surface():
     with pytest.raises(ValueError, match="friction_velocity"):
         structure_on_isolator(linear, double, friction_velocity="end")
     with pytest.raises(ValueError, match="friction_velocity"):
-        respond_along_path(double, sampled_path(np.arange(3) * 0.01, np.zeros(3), 1e6), friction_velocity="end")
+        imposed_path_test(double, sampled_path(np.arange(3) * 0.01, np.zeros(3), 1e6), friction_velocity="end")
     with pytest.raises(ValueError, match="friction_velocity"):
         structure_on_isolator(linear, double, friction_velocity="start")
 
@@ -184,10 +184,10 @@ def test_along_an_imposed_path_the_end_law_is_the_flat_bearing_test(radius):
     time = np.arange(0.0, 6.0 + 1e-9, 0.01)
     path = 0.05 * np.sin(2 * np.pi * time / 2.0) * np.minimum(time, 1.0)
     load = 1e6
-    series = respond_along_path(single_pendulum(bearing, radius=radius), sampled_path(time, path, load), friction_velocity="end")
-    flat = np.asarray(respond_along_path(bearing, sampled_path(time, path, load)).fx) + load * path / radius
+    series = imposed_path_test(single_pendulum(bearing, radius=radius), sampled_path(time, path, load), friction_velocity="end")
+    flat = np.asarray(imposed_path_test(bearing, sampled_path(time, path, load)).fx) + load * path / radius
     assert _relative(flat, np.asarray(series.force)) <= 1e-12
-    mean = respond_along_path(single_pendulum(bearing, radius=radius), sampled_path(time, path, load))
+    mean = imposed_path_test(single_pendulum(bearing, radius=radius), sampled_path(time, path, load))
     assert _relative(flat, np.asarray(mean.force)) > 1e-3  # the mean speed lags the path's
 
 

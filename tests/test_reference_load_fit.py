@@ -32,7 +32,7 @@ from teflon_jax.formats import (
     test_record_from_arrays,
     write_test_record,
 )
-from teflon_jax.systems import respond_along_path, sampled_path
+from teflon_jax.systems import imposed_path_test, sampled_path
 
 W = 1e6
 """The static load [N] the surfaces' contact pressures are given under."""
@@ -48,7 +48,7 @@ def _loaded_record(bearing, reference_load=W, n=400):
     time = np.linspace(0.0, 4.0, n + 1)
     u = 0.3 * np.sin(np.pi * time)
     load = W * (1.0 + 0.4 * np.sin(2 * np.pi * time / 0.7))
-    force = np.asarray(respond_along_path(bearing, sampled_path(time, u, load), reference_load=reference_load).force)
+    force = np.asarray(imposed_path_test(bearing, sampled_path(time, u, load), reference_load=reference_load).force)
     return test_record_from_arrays(u, force, time=time, normal_load=load)
 
 

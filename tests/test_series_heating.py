@@ -24,9 +24,9 @@ from teflon_jax.bearing import (
 )
 from teflon_jax.excitation import uniform_signal
 from teflon_jax.systems import (
+    imposed_path_test,
     isolated_structure,
     peak_response,
-    respond_along_path,
     sampled_path,
     simulate_history,
 )
@@ -97,7 +97,7 @@ def test_the_friction_falls_as_the_constant_flux_rise_of_carslaw_and_jaeger():
     speed, pressure = 0.05, 3e6
     time = np.linspace(0.0, 2.0, 801)
     bearing = _locked_top(pressure=pressure)
-    response = respond_along_path(bearing, sampled_path(time, speed * time, 1e6))
+    response = imposed_path_test(bearing, sampled_path(time, speed * time, 1e6))
     assert bool(np.all(response.converged))
     slider = np.asarray(response.slider[:, 0])
     mu = np.asarray(response.force) / 1e6 - slider / R1
@@ -123,8 +123,8 @@ def test_a_heated_surface_slides_further_and_a_zero_heat_scale_changes_nothing()
     path = 0.3 * np.sin(2 * np.pi * time / 3.0)
     both = _locked_top(neutral, top_friction=coulomb_friction(0.08), top_heating=neutral, top_pressure=1e7)
     plain = _locked_top(None, top_friction=coulomb_friction(0.08))
-    np.testing.assert_array_equal(np.asarray(respond_along_path(both, sampled_path(time, path, 1e6)).force),
-                                  np.asarray(respond_along_path(plain, sampled_path(time, path, 1e6)).force))
+    np.testing.assert_array_equal(np.asarray(imposed_path_test(both, sampled_path(time, path, 1e6)).force),
+                                  np.asarray(imposed_path_test(plain, sampled_path(time, path, 1e6)).force))
 
 
 @pytest.mark.slow
@@ -196,7 +196,7 @@ def test_a_strong_heating_balances_the_bearing_test_in_the_step():
     for n in (1200, 4800):
         time = np.linspace(0.0, 6.0, n + 1)
         path = 0.3 * np.sin(2 * np.pi * time / 3.0)
-        response = respond_along_path(_both_heated(), sampled_path(time, path, 1e6))
+        response = imposed_path_test(_both_heated(), sampled_path(time, path, 1e6))
         assert bool(np.all(response.converged))
         force = np.asarray(response.force)
         runs.append((force, np.sum(0.5 * (force[1:] + force[:-1]) * np.diff(path))))
@@ -267,12 +267,12 @@ def test_a_test_path_along_a_line_in_the_plane_is_the_heated_one_axis_test():
     length of its increment, Park's Z along a line is Bouc-Wen's), while the heating itself moves the force by > 1e4 N."""
     time = np.linspace(0.0, 3.0, 601)
     path = 0.3 * np.sin(2 * np.pi * time / 3.0)
-    one = respond_along_path(_both_heated(), sampled_path(time, path, 1e6))
+    one = imposed_path_test(_both_heated(), sampled_path(time, path, 1e6))
     c, s = np.cos(0.6), np.sin(0.6)
-    two = respond_along_path(_both_heated(), sampled_path(time, np.stack([c * path, s * path], -1), 1e6))
+    two = imposed_path_test(_both_heated(), sampled_path(time, np.stack([c * path, s * path], -1), 1e6))
     assert bool(np.all(one.converged)) and bool(np.all(two.converged))
     force, turned = np.asarray(one.force), np.asarray(two.force)
-    cold = np.asarray(respond_along_path(_locked_top(None, top_friction=coulomb_friction(0.09)), sampled_path(time, path, 1e6)).force)
+    cold = np.asarray(imposed_path_test(_locked_top(None, top_friction=coulomb_friction(0.09)), sampled_path(time, path, 1e6)).force)
     assert np.abs(force - cold).max() > 1e4
     np.testing.assert_allclose(turned[:, 0], c * force, rtol=0, atol=2e-5)
     np.testing.assert_allclose(turned[:, 1], s * force, rtol=0, atol=2e-5)

@@ -30,7 +30,7 @@ from teflon_jax.bearing import (
 )
 from teflon_jax.excitation import uniform_signal
 from teflon_jax.systems import (
-    respond_along_path,
+    imposed_path_test,
     sampled_path,
     simulate_history,
     slab_on_bearings,
@@ -56,7 +56,7 @@ def _slow_cycles(pendulum, amplitude=0.01, cycles=2, samples=4000):
     """A slow sine of `amplitude` [m] (the bottom surface alone slides), F / W."""
     t = np.linspace(0.0, 100.0 * cycles, samples * cycles + 1)
     u = amplitude * np.sin(2 * np.pi * t / 100.0)
-    response = jax.jit(respond_along_path)(pendulum, sampled_path(t, u, W))
+    response = jax.jit(imposed_path_test)(pendulum, sampled_path(t, u, W))
     assert bool(np.all(response.converged))
     return t, u, np.asarray(response.force) / W
 
@@ -115,7 +115,7 @@ def test_anisotropy_on_a_surface_takes_the_constants_across_its_lay():
         for axis, expected in ((0, along_x), (1, along_y)):
             path = np.zeros((t.size, 2))
             path[:, axis] = s
-            response = jax.jit(respond_along_path)(bearing, sampled_path(t, path, W))
+            response = jax.jit(imposed_path_test)(bearing, sampled_path(t, path, W))
             force = np.asarray(response.force)[:, axis] / W
             assert _plateau(s, force, True) == pytest.approx(expected, abs=5e-5)
 
@@ -206,6 +206,6 @@ def test_a_triple_pendulum_takes_parts_on_each_of_its_sliders():
     check_series_pendulum(broken)
     t = np.linspace(0.0, 25.0, 1001)
     u = 0.005 * np.sin(2 * np.pi * t / 100.0)  # regime I only: the inner pair slides
-    force = np.asarray(jax.jit(respond_along_path)(broken, sampled_path(t, u, W)).force) / W
+    force = np.asarray(jax.jit(imposed_path_test)(broken, sampled_path(t, u, W)).force) / W
     assert np.max(force[t < 10]) == pytest.approx(2 * 0.02, abs=2e-4)  # the inner pair's breakaway
     assert force[-1] == pytest.approx(0.02 + u[-1] / 0.6, abs=2e-4)  # then mu_2 + u / (2 a)

@@ -35,7 +35,7 @@ def test_simulations_refuse_a_duration_longer_than_the_record():
     assert bool(tj.simulate_history(system, 5.0).succeeded)  # the whole record is fine
     load = tj.uniform_signal(np.full(11, 1e5), 0.1)  # 1 s of normal load
     with pytest.raises(ValueError, match=r"normal_load: 2 s asked, but the record lasts only 1 s"):
-        tj.simulate_bearing_test(tj.paper_bearing(FRICTION), tj.SineMotion(INCH, 0.5, cycles=1), load)
+        tj.imposed_path_test(tj.paper_bearing(FRICTION), tj.SineMotion(INCH, 0.5, cycles=1), load)
     with pytest.raises(ValueError, match="duration"):
         tj.as_signal(1.0)
 

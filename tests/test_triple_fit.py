@@ -29,7 +29,7 @@ from teflon_jax.formats import (
     load_isolator,
     test_record_from_arrays,
 )
-from teflon_jax.systems import respond_along_path, sampled_path
+from teflon_jax.systems import imposed_path_test, sampled_path
 
 W = 1e6
 FITTED = [n for n in TRIPLE_PARAMETER_NAMES if not n.endswith("capacity")]
@@ -50,7 +50,7 @@ def _record(bearing=TRUE, amplitude=0.3, noise=0.0, n=400):
     """Two cycles of a 0.5 Hz sine (surface speeds up to ~0.5 m/s: exp(-a v) spans 0-1)."""
     t = np.linspace(0.0, 4.0, n + 1)
     u = amplitude * np.sin(np.pi * t)
-    force = np.asarray(respond_along_path(bearing, sampled_path(t, u, W)).force)
+    force = np.asarray(imposed_path_test(bearing, sampled_path(t, u, W)).force)
     force = force + noise * np.abs(force).max() * np.random.default_rng(1).standard_normal(force.shape)
     return test_record_from_arrays(u, force, time=t, normal_load=np.full(t.size, W))
 
@@ -121,7 +121,7 @@ def test_a_fit_with_the_pairs_velocity_on_the_inner_surfaces_misses_the_inner_ra
 
 
 def _plan(bearing, record):
-    response = respond_along_path(bearing, sampled_path(record.time, record.ux, W))
+    response = imposed_path_test(bearing, sampled_path(record.time, record.ux, W))
     return triple_fit_plan(bearing, response, record.time)
 
 

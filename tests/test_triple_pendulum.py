@@ -18,7 +18,7 @@ from teflon_jax.bearing import (
     coulomb_friction,
     triple_pendulum_backbone,
 )
-from teflon_jax.systems import respond_along_path, sampled_path
+from teflon_jax.systems import imposed_path_test, sampled_path
 
 W = 1e6
 
@@ -42,7 +42,7 @@ def loading():
     bearing = _bearing()
     regimes, end = triple_pendulum_backbone(bearing)
     t, u = _slow_cycle(1.02 * end)
-    response = jax.jit(respond_along_path)(bearing, sampled_path(t, u, W))
+    response = jax.jit(imposed_path_test)(bearing, sampled_path(t, u, W))
     quarter = slice(0, len(t) // 4)
     return regimes, end, u[quarter], np.asarray(response.force)[quarter] / W, response
 
@@ -105,8 +105,8 @@ def test_the_loop_is_symmetric_and_dissipates(loading):
 def test_an_orbit_along_x_is_the_one_direction_path():
     bearing = _bearing()
     t, u = _slow_cycle(0.5, n=2000)
-    one = respond_along_path(bearing, sampled_path(t, u, W))
-    two = respond_along_path(bearing, sampled_path(t, np.stack([u, 0 * u], -1), W))
+    one = imposed_path_test(bearing, sampled_path(t, u, W))
+    two = imposed_path_test(bearing, sampled_path(t, np.stack([u, 0 * u], -1), W))
     np.testing.assert_allclose(two.force[:, 0], one.force, rtol=0, atol=1e-6 * W)
     np.testing.assert_allclose(two.force[:, 1], 0.0, atol=1e-9 * W)
 
@@ -125,7 +125,7 @@ def test_an_orbit_at_the_capacity_stays_inside_every_ring():
     def orbit(scale):
         radius = np.minimum(t / 150, 1.0) * scale * end
         path = np.stack([radius * np.cos(angle), radius * np.sin(angle)], -1)
-        return jax.jit(respond_along_path)(bearing, sampled_path(t, path, W))
+        return jax.jit(imposed_path_test)(bearing, sampled_path(t, path, W))
 
     response = orbit(1.0)
     assert bool(np.all(response.converged))
@@ -162,7 +162,7 @@ def test_the_force_is_differentiable_in_the_radii():
     t, u = _slow_cycle(0.3, n=800)
 
     def peak(radius):
-        response = respond_along_path(_bearing(bottom_radius=radius, top_radius=radius), sampled_path(t, u, W))
+        response = imposed_path_test(_bearing(bottom_radius=radius, top_radius=radius), sampled_path(t, u, W))
         return jnp.max(response.force) / W
 
     grad = float(jax.jvp(peak, (2.2,), (1.0,))[1])

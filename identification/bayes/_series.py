@@ -2,7 +2,7 @@
 through the same series model the least-squares fit and the structures run.
 
 For one test record with force samples F_k under the normal load N_k and the series model's
-force M_k(theta) along the record's displacement (`teflon_jax.systems.respond_along_path`,
+force M_k(theta) along the record's displacement (`teflon_jax.systems.imposed_path_test`,
 the sliders of the pendulum in series: Fenz & Constantinou 2006, 2008; Eq. 1 of Constantinou,
 Mokha & Reinhorn 1990 on each surface),
 
@@ -38,7 +38,7 @@ import numpy as np
 from numpyro.infer import NUTS
 
 from teflon_jax.bearing import PARAMETER_BOUNDS
-from teflon_jax.systems import respond_along_path, sampled_path
+from teflon_jax.systems import imposed_path_test, sampled_path
 
 from ..bearing_fit import SeriesFit, parameter_units, series_arrays, series_with_parameters
 from ._model import NOISE_RANGE, base_name, forward_mode, to_base, to_physical
@@ -85,7 +85,7 @@ def _series_force(fit: SeriesFit, names: tuple, reference_load):
     path."""
     def force(theta, path):
         bearing = series_with_parameters(fit.bearing, dict(zip(names, theta)))
-        return respond_along_path(bearing, path, reference_load=reference_load).force.reshape(-1)
+        return imposed_path_test(bearing, path, reference_load=reference_load).force.reshape(-1)
 
     return force
 

@@ -1,6 +1,6 @@
 """The fitter's force model: a parameter dict as the one bearing model, driven along a record.
 
-The force at the samples is `teflon_jax.respond_along_path` (its velocity convention: the
+The force at the samples is `teflon_jax.imposed_path_test` (its velocity convention: the
 velocity at the sample by second-order central differences, `sample_velocity`; Z exact between
 samples, Park's Eqs. 8-9 along the Hermite path in the plane). This module only maps the
 fitter's parameter names onto a `SlidingBearing` and multiplies by the interfaces recorded in
@@ -15,7 +15,7 @@ from typing import Any
 import jax.numpy as jnp
 
 from teflon_jax.bearing import BoucWen, FrictionParameters, SlidingBearing
-from teflon_jax.systems import respond_along_path, sampled_path
+from teflon_jax.systems import imposed_path_test, sampled_path
 
 PERPENDICULAR_NAMES = ("f_max_perpendicular", "delta_f_perpendicular", "rate_a_perpendicular")
 """Eq. 1 constants for sliding perpendicular to the lay (along y) in biaxial fits."""
@@ -57,7 +57,7 @@ def simulate_record_force(values: Mapping[str, Any], time, ux, load, *, velocity
     path = sampled_path(time, ux, load, uy=uy, velocity=velocity, velocity_y=velocity_y,
                         park_elements=park_elements)
     planar = uy is not None
-    response = respond_along_path(bearing, path, z0=None if planar else jnp.asarray(z0),
+    response = imposed_path_test(bearing, path, z0=None if planar else jnp.asarray(z0),
                                   z_peak0=0.0 if planar else z_peak0)
     if not planar:
         return interfaces_in_parallel * response.fx

@@ -54,8 +54,8 @@ from teflon_jax.bearing import (
 )
 from teflon_jax.formats import TestRecord
 from teflon_jax.systems import (
+    imposed_path_test,
     normal_load_varies,
-    respond_along_path,
     sampled_path,
 )
 from teflon_jax.units import INCH, PSI
@@ -207,7 +207,7 @@ def prepare_series_problem(record: TestRecord, start: SeriesPendulum, *, normal_
     heating, pressures, assumed = _surface_heating(start, dict(record.metadata or {}),
                                                    load if reference_load is None else reference_load)
     bare = jax.tree_util.tree_map(lambda x: jnp.asarray(x, float), _without_heating(start))
-    response = jax.jit(functools.partial(respond_along_path, reference_load=reference_load))(
+    response = jax.jit(functools.partial(imposed_path_test, reference_load=reference_load))(
         bare, sampled_path(time, path, load))
     if not bool(np.all(np.asarray(response.converged))):
         raise ValueError(f"{name}: the start's series solve does not balance at "
@@ -296,7 +296,7 @@ def _model(params, shared):
     values = {k: v for k, v in params.items() if k != HEAT_SCALE}
     bearing = heated_pendulum(triple_with_parameters(problem_start, values), heating, pressures,
                               params[HEAT_SCALE])
-    return respond_along_path(bearing, path, heat_kernel=kernel, reference_load=reference_load)
+    return imposed_path_test(bearing, path, heat_kernel=kernel, reference_load=reference_load)
 
 
 def _residual(params, args):

@@ -1,6 +1,6 @@
 """Fit a triple or double friction pendulum's radii and friction to a bearing test record.
 
-The record's displacement drives the series model of the bearing (`respond_along_path`:
+The record's displacement drives the series model of the bearing (`imposed_path_test`:
 the triple's three sliders of radii 2 a, b - a and c - a, or the double's two of radii R_1 and
 R_2, carrying one force, each with Eq. 1 friction at its surface's velocity and Bouc-Wen's Z;
 Fenz & Constantinou 2006, Earthquake Engng Struct. Dyn. 35; 2008, Earthquake Spectra 24(4);
@@ -40,7 +40,7 @@ from teflon_jax.bearing import (
     check_series_pendulum,
 )
 from teflon_jax.formats import TestRecord
-from teflon_jax.systems import normal_load_varies, respond_along_path, sampled_path
+from teflon_jax.systems import imposed_path_test, normal_load_varies, sampled_path
 
 from ..least_squares import covariance_from_jacobian, fit_least_squares
 from ._fit import SOLVER
@@ -163,7 +163,7 @@ def _leaves_of(bearing: SeriesPendulum) -> dict:
 def _residual(params, args):
     start, path, force, load, reference_load = args
     values = from_ratios(params, series_ratio_pairs(start.slider_names), _leaves_of(start))
-    response = respond_along_path(triple_with_parameters(start, values), path, reference_load=reference_load)
+    response = imposed_path_test(triple_with_parameters(start, values), path, reference_load=reference_load)
     return ((response.force - force) / (load if force.ndim == 1 else load[:, None])).reshape(-1)
 
 
@@ -257,7 +257,7 @@ def fit_series_pendulum_test(record: TestRecord, initial: SeriesPendulum, *, fre
     is followed sample by sample); `reference_load` [N]: the load the start's contact
     pressures (`<slider>_pressure`) are given under, where its surfaces read them (heating,
     pressure dependence): each sample's pressure is then that times N / `reference_load`, as
-    in a structure of that weight under a vertical record (`respond_along_path`); without
+    in a structure of that weight under a vertical record (`imposed_path_test`); without
     it such a start needs a constant N; `initial`: the start (`TriplePendulum` or `DoublePendulum`, e.g.
     `load_isolator`); the constants it does not free are held at its values; `free`: names to
     fit (`parameter_names` of its surfaces; default: what the record can tell,
@@ -276,7 +276,7 @@ def fit_series_pendulum_test(record: TestRecord, initial: SeriesPendulum, *, fre
     time, path, force, load = series_arrays(record, normal_load)
     check_pressure_load(record, initial, load, reference_load)
     start = jax.tree_util.tree_map(lambda x: jnp.asarray(x, float), initial)
-    simulate = eqx.filter_jit(functools.partial(respond_along_path, reference_load=reference_load))
+    simulate = eqx.filter_jit(functools.partial(imposed_path_test, reference_load=reference_load))
     sampled = sampled_path(time, path, load)
     response = simulate(start, sampled)
     if not bool(np.all(np.asarray(response.converged))):

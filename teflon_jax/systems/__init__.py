@@ -9,8 +9,12 @@ from ..elements import BALANCES as BALANCES
 from ..elements import FRICTION_VELOCITIES as FRICTION_VELOCITIES
 from ..elements import TRIPLE_TOLERANCE as TRIPLE_TOLERANCE
 from ..structures import LINEAR_RULES as LINEAR_RULES
+from ._bearing_test import PATH_STRATEGIES as PATH_STRATEGIES
 from ._bearing_test import BearingTestSystem as BearingTestSystem
 from ._bearing_test import force_along_path as force_along_path
+from ._bearing_test import imposed_path_test as imposed_path_test
+from ._bearing_test import path_strategy as path_strategy
+from ._bearing_test import respond_along_path as respond_along_path
 from ._bearing_test import simulate_bearing_test as simulate_bearing_test
 from ._bidirectional import PLANAR_NEWTON_ITERATIONS as PLANAR_NEWTON_ITERATIONS
 from ._bidirectional import BidirectionalStructure as BidirectionalStructure
@@ -35,7 +39,6 @@ from ._drivers import smooth_max_update as smooth_max_update
 from ._drivers import smooth_max_value as smooth_max_value
 from ._imposed_path import SampledPath as SampledPath
 from ._imposed_path import normal_load_varies as normal_load_varies
-from ._imposed_path import respond_along_path as respond_along_path
 from ._imposed_path import sample_velocity as sample_velocity
 from ._imposed_path import sampled_path as sampled_path
 from ._isolated import MONTE_CARLO_NEWTON_TOLERANCE as MONTE_CARLO_NEWTON_TOLERANCE

@@ -1,4 +1,7 @@
-"""Imposed-motion bearing tests: the friction force of a bearing driven along a known path.
+"""The imposed-path test of any isolator (`imposed_path_test`): its force along a motion or
+along the samples of a record, by the strategy its static structure picks (`path_strategy`):
+the structures' balance of a series pendulum's sliders, a sliding bearing's Z exact between
+samples (`_imposed_path`), or Eq. 3 integrated by diffrax (`BearingTestSystem`).
 
 Reference: Constantinou, Mokha & Reinhorn (1990), tests No. 62, 75, 191 and Figs. 3-6.
 """
@@ -33,7 +36,7 @@ from ..solver import (
 )
 from ..validation import given_options, require_positive
 from ._imposed_path import (
-    sample_velocity,
+    SampledPath,
     sampled_path,
     series_along_path,
     sliding_along_path,
@@ -84,10 +87,45 @@ class BearingTestSystem(AbstractSteppedSystem):
         return {"z": z1, "z_peak": z_peak1}, jnp.array(True)
 
 
-def simulate_bearing_test(
-    bearing: SlidingBearing | SeriesPendulum,
-    motion: AbstractMotion,
-    normal_load,
+PATH_STRATEGIES = ("balanced", "sampled", "integrated")
+"""How `imposed_path_test` drives an isolator (`path_strategy`): "balanced", the sliders of a
+`SeriesPendulum` balanced at each sample by the structures' step (`series_along_path`);
+"sampled", a `SlidingBearing` with Z exact between samples (`sliding_along_path`); "integrated",
+a `SlidingBearing` whose Eq. 3 a diffrax solver integrates along the path (`BearingTestSystem`)."""
+
+MOTION_OPTIONS = {"normal_load": None, "duration": None, "samples_per_cycle": 400, "steps_per_sample": 1}
+SOLVE_OPTIONS = {"solver": None, "rtol": 1e-8, "atol": 1e-10, "max_steps": 1_000_000, "adjoint": None,
+                 "throw": True}
+STATE_OPTIONS = {"z0": None, "z_peak0": None}
+SERIES_OPTIONS = {"heat_kernel": None, "friction_velocity": None, "reference_load": None}
+"""The options of `imposed_path_test` with their defaults, by what they shape: the samples of a
+motion, a diffrax solve, a sliding bearing's state at the first sample, a series pendulum's test."""
+
+
+def path_strategy(isolator, path, solver=None) -> str:
+    """The `PATH_STRATEGIES` entry that drives `isolator` along `path` (an `AbstractMotion` or a
+    `SampledPath`), from static structure only: a `SeriesPendulum` is "balanced"; a
+    `SlidingBearing` with optional parts, or with the paper's Bouc-Wen shape (eta = 2,
+    gamma > beta) and no solver (or `RiccatiNewmark` along x), is "sampled", except along a
+    motion in the plane, which a diffrax solver integrates ("integrated", as any other shape or
+    a given diffrax solver)."""
+    if isinstance(isolator, SeriesPendulum):
+        return "balanced"
+    if isolator.effects:
+        return "sampled"
+    closed_form = _riccati_admitted(isolator.hysteresis)
+    if isinstance(path, SampledPath):
+        along_x = not path.planar
+        return "sampled" if closed_form and (solver is None or along_x and isinstance(solver, RiccatiNewmark)) \
+            else "integrated"
+    along_x = closed_form and not isinstance(path, AbstractBiaxialMotion)
+    return "sampled" if along_x and (solver is None or isinstance(solver, RiccatiNewmark)) else "integrated"
+
+
+def imposed_path_test(
+    isolator: SlidingBearing | SeriesPendulum,
+    path: AbstractMotion | SampledPath,
+    normal_load=None,
     *,
     duration: float | None = None,
     samples_per_cycle: int = 400,
@@ -98,133 +136,217 @@ def simulate_bearing_test(
     max_steps: int = 1_000_000,
     adjoint: diffrax.AbstractAdjoint | None = None,
     throw: bool = True,
+    z0=None,
+    z_peak0=None,
+    heat_kernel=None,
+    friction_velocity: str | None = None,
     reference_load=None,
 ) -> BearingTestResult:
-    """Simulate a bearing test of any isolator under an imposed motion.
+    """The imposed-path test of any isolator: its force along a path, the one test that a user,
+    the fitters, the posterior and `diagnose` run, with the slider forces the structures run.
 
     **Arguments:**
 
-    - `bearing`: the `SlidingBearing` of flat sliders (vmap this function over a batched
-      bearing to run many), or a `SeriesPendulum` (triple or double friction pendulum), whose
-      sliders are balanced at each sample by the structures' solve (`respond_along_path`;
-      the solve's options below are then refused by name).
-    - `motion`: an `AbstractMotion` (sine, triangle, figure-eight, tabulated).
-    - `normal_load` [N]: a constant or a `Signal` (time-varying normal load), which must cover
-      `duration` (a recorded load is not extended past its last sample); a series pendulum
-      whose surfaces read their contact pressure (heating, pressure dependence) takes a
-      constant one, or with `reference_load` [N], the load its `<slider>_pressure` are given
-      under, any (`respond_along_path`).
-    - `duration` [s]: defaults to `motion.duration`.
-    - `samples_per_cycle`: saved samples per cycle of the motion (tabulated: per input sample
-      interval the sample spacing of the table is used instead).
-    - `steps_per_sample`: steps between saved samples (the sampled motion's, or a fixed-step
-      solver's).
-    - `solver`: `None` or `RiccatiNewmark()` along x with eta = 2, gamma > beta: the bearing is
-      driven along the sampled motion by `respond_along_path`, Z exact between samples (the
-      force a fit of the record evaluates); any diffrax solver integrates Eq. 3 instead, an
-      adaptive one (default in the plane and for other shapes: `Tsit5` with a PID controller
-      at `rtol`, `atol`) with adaptive steps.
-    - `adjoint` (a diffrax solve): diffrax adjoint; default reverse mode
-      (`RecursiveCheckpointAdjoint`), or `diffrax.ForwardMode()` for `jax.jvp`/`jax.jacfwd` (the
-      sampled motion's scan takes either mode as it is).
-    - `throw`: raise on solver failure; with `False` the failure is in `result`.
+    - `isolator`: a `SlidingBearing` (flat sliders; vmap over a batched one to run many) or a
+      `SeriesPendulum` (single, double, triple friction pendulum).
+    - `path`: an `AbstractMotion` (sine, triangle, figure eight, `tabulated_motion`), sampled
+      at `save_times` (`duration` [s], default `motion.duration`; `samples_per_cycle`; a
+      tabulated motion at its own samples) under `normal_load` [N] (a constant or a `Signal`
+      covering `duration`), or a `SampledPath` (`sampled_path`: the samples of a record, with
+      their normal load; the motion's options are then refused by name).
 
-    A bearing with optional parts (heating, wear, pressure dependence, asymmetry, backlash),
-    and any bearing along x with the paper's shape unless a diffrax solver is given, is driven
-    along the motion sampled at the save times (refined by `steps_per_sample`), with the
-    motion's own velocity, by `respond_along_path` (Z exact between samples along x, Park along
-    the Hermite path in the plane); the diffrax solve's options (`solver`, but for
-    `RiccatiNewmark` along x, `rtol`, `atol`, `max_steps`, `adjoint`) are then refused by name.
+    The isolator's static structure picks the strategy (`path_strategy`, `PATH_STRATEGIES`):
 
-    **Returns:** a `BearingTestResult` (of a series pendulum: the path, the force, each slider's
+    - "balanced" (a `SeriesPendulum`): its sliders balanced at each sample by the structures'
+      step from rest (`series_along_path`); `heat_kernel` (rates, weights) of heated surfaces,
+      `friction_velocity` ("mean", the default, or for one surface "end") and
+      `reference_load` [N], the load its surfaces' contact pressures are given under.
+    - "sampled" (a `SlidingBearing` with optional parts, or with the paper's shape eta = 2,
+      gamma > beta, and no solver or `RiccatiNewmark` along x): F = mu(v) k N Z at the path's
+      velocity at each sample, Z exact between samples along x, Park's along the Hermite path
+      in the plane (`sliding_along_path`); a motion's samples are refined `steps_per_sample`
+      times and its own velocity taken.
+    - "integrated" (a `SlidingBearing` of another shape, or along a motion in the plane, or
+      with a diffrax `solver`, by default `Tsit5` with a PID controller at `rtol`, `atol`):
+      Eq. 3 integrated along the motion (a `SampledPath` along x: its samples, linearly
+      between them, mu at their `sample_velocity`); `max_steps`, `adjoint`
+      (default reverse mode; `diffrax.ForwardMode()` for `jax.jvp`) and `throw` as in
+      `diffrax.diffeqsolve`.
+
+    `z0` (Z at the first sample, (2,) in the plane) and `z_peak0` (the running max |Z| before
+    it; 1: no breakaway) set a sliding bearing's start (default rest). Options the chosen
+    strategy does not take are refused by name (`ValueError`).
+
+    **Returns:** a `BearingTestResult` at the samples (of a series pendulum: each slider's
     displacement and Z, and whether each sample's balance converged).
     """
-    if isinstance(bearing, SeriesPendulum):
-        options = {"steps_per_sample": (steps_per_sample, 1), "solver": (solver, None), "rtol": (rtol, 1e-8),
-                   "atol": (atol, 1e-10), "max_steps": (max_steps, 1_000_000), "adjoint": (adjoint, None),
-                   "throw": (throw, True)}
-        return _series_test(bearing, motion, normal_load, duration, samples_per_cycle, options, reference_load)
-    if reference_load is not None:
-        raise ValueError("reference_load: a sliding bearing's test reads the normal load itself; drop this option.")
-    check_bearing(bearing)
-    motion.check()
-    if duration is None:
-        duration = motion.duration
-    normal_load = _normal_load_signal(normal_load, duration)
-    times = save_times(motion, duration, samples_per_cycle)
-    along_x = not isinstance(motion, AbstractBiaxialMotion) and _riccati_admitted(bearing.hysteresis)
-    if bearing.effects or (along_x and (solver is None or isinstance(solver, RiccatiNewmark))):
-        _refuse_solve_options(bearing, motion, {"solver": (solver, None), "rtol": (rtol, 1e-8), "atol": (atol, 1e-10),
-                                                "max_steps": (max_steps, 1_000_000), "adjoint": (adjoint, None)})
-        return _along_samples(bearing, motion, normal_load, _refine(times, steps_per_sample),
-                              steps_per_sample)
-    if solver is None:  # in the plane, or another Bouc-Wen shape
-        solver = diffrax.Tsit5()
-    system = BearingTestSystem(bearing=bearing, motion=motion)
-    if isinstance(solver, RiccatiNewmark):
-        require_riccati_form(bearing.hysteresis)
-        controller = diffrax.StepTo(ts=_refine(times, steps_per_sample))
-        dt0 = None
-    elif _is_adaptive(solver):
-        controller = diffrax.PIDController(rtol=rtol, atol=atol, jump_ts=_jumps(motion, duration))
-        dt0 = float(times[1] - times[0]) / 10
-    else:
-        controller = diffrax.StepTo(ts=_refine(times, steps_per_sample))
-        dt0 = None
-    adjoint = diffrax.RecursiveCheckpointAdjoint() if adjoint is None else adjoint
-    return _solve(system, solver, controller, dt0, times, normal_load, max_steps, adjoint, throw)
+    options = {"normal_load": normal_load, "duration": duration, "samples_per_cycle": samples_per_cycle,
+               "steps_per_sample": steps_per_sample, "solver": solver, "rtol": rtol, "atol": atol,
+               "max_steps": max_steps, "adjoint": adjoint, "throw": throw, "z0": z0, "z_peak0": z_peak0,
+               "heat_kernel": heat_kernel, "friction_velocity": friction_velocity,
+               "reference_load": reference_load}
+    if not isinstance(path, AbstractMotion | SampledPath):
+        raise ValueError(f"path: give an imposed motion (an `AbstractMotion`: SineMotion, tabulated_motion, ...) "
+                         f"or the samples of a record (`sampled_path`), got {type(path).__name__}.")
+    strategy = path_strategy(isolator, path, solver)
+    _refuse_options(isolator, path, strategy, options)
+    return _STRATEGIES[strategy](isolator, path, options)
 
 
-def _series_test(bearing: SeriesPendulum, motion, normal_load, duration, samples_per_cycle, options,
-                 reference_load=None):
-    """The test of a series pendulum (`simulate_bearing_test`): its balance along the motion
-    sampled `samples_per_cycle` times a cycle (a tabulated motion at its own samples), under
-    the normal load at each sample (`respond_along_path`); `ValueError` naming the options of
-    the flat bearing's solve and a constant of the pendulum out of range."""
-    given = given_options(options)
+def _given(options, defaults) -> list[str]:
+    """The names of `defaults` given in `options` (`given_options`)."""
+    return given_options({name: (options[name], default) for name, default in defaults.items()})
+
+
+def _refuse_options(isolator, path, strategy, options) -> None:
+    """`ValueError` naming the options of `imposed_path_test` that `strategy` along `path` does
+    not take, or a motion without its normal load."""
+    if isinstance(path, SampledPath):
+        given = _given(options, MOTION_OPTIONS)
+        if given:
+            raise ValueError(f"{', '.join(given)}: a SampledPath carries its samples and their normal load "
+                             "(`sampled_path`); drop these options, which sample a motion.")
+    elif options["normal_load"] is None:
+        raise ValueError("normal_load: a test along a motion needs the normal load [N] (a constant or a Signal).")
+    if strategy == "balanced":
+        _refuse_on_series(isolator, path, options)
+        return
+    if options["reference_load"] is not None:
+        raise ValueError("reference_load: a sliding bearing's test reads the path's normal load itself "
+                         "(its pressure dependence and heat flux); drop this option.")
+    if options["heat_kernel"] is not None:
+        raise ValueError("heat_kernel: a sliding bearing's test takes the path's own kernel "
+                         "(`sampled_path`); drop this option.")
+    if options["friction_velocity"] not in (None, "end"):
+        raise ValueError(f"friction_velocity: a sliding bearing's test takes Eq. 1 at the path's velocity at "
+                         f"each sample ('end'), got {options['friction_velocity']!r}.")
+    if strategy == "sampled":
+        _refuse_solve_options(isolator, path, {name: (options[name], default)
+                                               for name, default in SOLVE_OPTIONS.items() if name != "throw"})
+    elif isinstance(path, SampledPath) and path.planar:
+        raise ValueError("path: a sliding bearing along a SampledPath in the plane is driven by Park's update, "
+                         "with the paper's Bouc-Wen shape (eta = 2, gamma > beta) and no solver; give the path "
+                         "as a motion (`tabulated_motion`) for a diffrax solve.")
+
+
+def _refuse_on_series(isolator, path, options) -> None:
+    """`ValueError` naming what a series pendulum's test does not take."""
+    given = _given(options, {"steps_per_sample": 1, **SOLVE_OPTIONS})
     if given:
-        raise ValueError(f"{', '.join(given)}: the {bearing.description} balance their sliders at each "
+        raise ValueError(f"{', '.join(given)}: the {isolator.description} balance their sliders at each "
                          "sample (the structures' solve); drop these options.")
-    check_series_pendulum(bearing)
-    motion.check()
-    duration = motion.duration if duration is None else duration
-    time = save_times(motion, duration, samples_per_cycle)
-    path = jax.vmap(motion.displacement)(time)
-    signal = _normal_load_signal(normal_load, duration)
-    load = jax.vmap(signal)(time) if isinstance(normal_load, Signal) else normal_load
-    planar = isinstance(motion, AbstractBiaxialMotion)
-    return series_along_path(bearing, sampled_path(time, path[:, 0], load, uy=path[:, 1] if planar else None,
-                                                   park_elements=1), reference_load=reference_load)
+    given = _given(options, STATE_OPTIONS)
+    if given:
+        raise ValueError(f"{', '.join(given)}: the {isolator.description} start from rest at the path's "
+                         "first sample; drop these options.")
+    if isinstance(path, SampledPath) and path.temperature_rise is not None:
+        raise ValueError(f"path.temperature_rise: the {isolator.description} heat by their own flux; "
+                         "build the path without a measured temperature rise.")
 
 
-def _refuse_solve_options(bearing, motion, options) -> None:
+def _refuse_solve_options(bearing, path, options) -> None:
     """`ValueError` naming the options of the diffrax solve given for a bearing that is driven
-    along the sampled motion instead (one with optional parts, or along x with the paper's
-    shape; Z exact between samples along x, Park along the Hermite path in the plane;
-    `respond_along_path`): they would change nothing. `RiccatiNewmark` along x names that exact
-    update and is taken."""
+    along the samples instead ("sampled": one with optional parts, or along x with the paper's
+    shape): they would change nothing. `RiccatiNewmark` along x names that exact update and is
+    taken."""
     solver = options["solver"][0]
-    if isinstance(solver, RiccatiNewmark) and not isinstance(motion, AbstractBiaxialMotion):
+    planar = path.planar if isinstance(path, SampledPath) else isinstance(path, AbstractBiaxialMotion)
+    if isinstance(solver, RiccatiNewmark) and not planar:
         options = {**options, "solver": (None, None)}
     given = given_options(options)
     if given:
         which = (f"a bearing with {', '.join(bearing.effects)}" if bearing.effects else
                  "a bearing along x with the paper's Bouc-Wen shape (eta = 2, gamma > beta)")
         raise ValueError(f"{', '.join(given)}: {which} is driven along the sampled motion, Z exact between "
-                         "samples (respond_along_path), not by a diffrax solve; drop these options "
-                         "(steps_per_sample refines the samples)" + ("" if bearing.effects else
-                                                                     ", or give a diffrax solver") + ".")
+                         "samples (imposed_path_test), not by a diffrax solve; drop these options "
+                         "(steps_per_sample refines a motion's samples)" + ("" if bearing.effects else
+                                                                            ", or give a diffrax solver") + ".")
+
+
+def _motion_samples(motion, options, check):
+    """(duration [s], normal load `Signal`, save times) of a test along `motion`, after `check`
+    of the isolator and the motion's own check."""
+    check()
+    motion.check()
+    duration = motion.duration if options["duration"] is None else options["duration"]
+    signal = _normal_load_signal(options["normal_load"], duration)
+    return duration, signal, save_times(motion, duration, options["samples_per_cycle"])
+
+
+def _balanced(isolator, path, options) -> BearingTestResult:
+    """The "balanced" strategy: `series_along_path` along the path (a motion at its save times)."""
+    if isinstance(path, AbstractMotion):
+        _, signal, time = _motion_samples(path, options, lambda: check_series_pendulum(isolator))
+        u = jax.vmap(path.displacement)(time)
+        given = options["normal_load"]
+        load = jax.vmap(signal)(time) if isinstance(given, Signal) else given
+        planar = isinstance(path, AbstractBiaxialMotion)
+        path = sampled_path(time, u[:, 0], load, uy=u[:, 1] if planar else None, park_elements=1)
+    velocity = options["friction_velocity"]
+    return series_along_path(isolator, path, heat_kernel=options["heat_kernel"],
+                             friction_velocity="mean" if velocity is None else velocity,
+                             reference_load=options["reference_load"])
+
+
+def _sampled(isolator, path, options) -> BearingTestResult:
+    """The "sampled" strategy: `sliding_along_path` along the path (a motion at its refined save
+    times, with its own velocity)."""
+    z0, z_peak0 = options["z0"], 0.0 if options["z_peak0"] is None else options["z_peak0"]
+    if isinstance(path, SampledPath):
+        return sliding_along_path(isolator, path, z0=z0, z_peak0=z_peak0)
+    _, signal, times = _motion_samples(path, options, lambda: check_bearing(isolator))
+    k = options["steps_per_sample"]
+    return _along_samples(isolator, path, signal, _refine(times, k), k, z0, z_peak0)
+
+
+def _integrated(isolator, path, options) -> BearingTestResult:
+    """The "integrated" strategy: Eq. 3 by a diffrax solver along the motion, or along a
+    `SampledPath`'s samples (`_z_along_path`)."""
+    solver = diffrax.Tsit5() if options["solver"] is None else options["solver"]
+    adjoint = diffrax.RecursiveCheckpointAdjoint() if options["adjoint"] is None else options["adjoint"]
+    if isinstance(solver, RiccatiNewmark):
+        require_riccati_form(isolator.hysteresis)
+    if isinstance(path, SampledPath):
+        return _integrated_samples(isolator, path, solver, adjoint, options)
+    duration, signal, times = _motion_samples(path, options, lambda: check_bearing(isolator))
+    refined = _refine(times, options["steps_per_sample"])
+    if _is_adaptive(solver) and not isinstance(solver, RiccatiNewmark):
+        controller = diffrax.PIDController(rtol=options["rtol"], atol=options["atol"], jump_ts=_jumps(path, duration))
+        dt0 = float(times[1] - times[0]) / 10
+    else:
+        controller, dt0 = diffrax.StepTo(ts=refined), None
+    z = _z_at_rest(path)
+    y0 = {"z": z if options["z0"] is None else jnp.broadcast_to(jnp.asarray(options["z0"], z.dtype), z.shape),
+          "z_peak": jnp.asarray(0.0 if options["z_peak0"] is None else options["z_peak0"], z.dtype)}
+    system = BearingTestSystem(bearing=isolator, motion=path)
+    return _solve(system, solver, controller, dt0, times, signal, y0, options["max_steps"], adjoint,
+                  options["throw"])
+
+
+def _integrated_samples(isolator, path, solver, adjoint, options) -> BearingTestResult:
+    """Eq. 3 integrated along the samples of a `SampledPath` along x, mu at their velocity."""
+    dtype = path.ux.dtype
+    z0 = jnp.asarray(0.0 if options["z0"] is None else options["z0"], dtype)
+    z_peak0 = jnp.asarray(0.0 if options["z_peak0"] is None else options["z_peak0"], dtype)
+    z, z_peak, result = _z_along_path(isolator, path.time, path.ux, z0, z_peak0, solver, options, adjoint)
+    mu = isolator.coefficient(path.velocity_x, 0.0, z_peak)
+    force = mu * path.normal_load * z
+    return BearingTestResult(time=path.time, fx=force, fy=jnp.zeros_like(force),
+                             z=jnp.stack([z, jnp.zeros_like(z)], axis=-1), normal_load=path.normal_load,
+                             ux=path.ux, vx=path.velocity_x, coefficient=mu, z_peak=z_peak, result=result)
+
+
+_STRATEGIES = {"balanced": _balanced, "sampled": _sampled, "integrated": _integrated}
 
 
 @eqx.filter_jit
-def _solve(system, solver, controller, dt0, times, normal_load, max_steps, adjoint, throw):
-    y0 = {"z": _z_at_rest(system.motion), "z_peak": jnp.zeros(())}
+def _solve(system, solver, controller, dt0, times, normal_load, y0, max_steps, adjoint, throw):
     solution = solve_with_controller(system, solver, controller, t0=times[0], t1=times[-1], dt0=dt0, y0=y0,
                                      save_times=times, max_steps=max_steps, adjoint=adjoint, throw=throw)
     return _result(system.bearing, system.motion, normal_load, solution)
 
 
-def _along_samples(bearing, motion, normal_load, times, steps_per_sample):
+def _along_samples(bearing, motion, normal_load, times, steps_per_sample, z0=None, z_peak0=0.0):
     u = jax.vmap(motion.displacement)(times)
     v = jax.vmap(motion.velocity)(times)
     load = jax.vmap(normal_load)(times)
@@ -233,7 +355,7 @@ def _along_samples(bearing, motion, normal_load, times, steps_per_sample):
                             velocity_y=v[:, 1])
     else:
         path = sampled_path(times, u[:, 0], load, velocity=v[:, 0])
-    r = sliding_along_path(bearing, path)
+    r = sliding_along_path(bearing, path, z0=z0, z_peak0=z_peak0)
     keep = slice(None, None, steps_per_sample)
     return BearingTestResult(
         time=times[keep], ux=u[keep, 0], uy=u[keep, 1], vx=v[keep, 0], vy=v[keep, 1],
@@ -335,73 +457,36 @@ def _result(bearing, motion, normal_load: Signal, solution) -> BearingTestResult
     )
 
 
-def force_along_path(
-    bearing: SlidingBearing,
-    time,
-    ux,
-    normal_load,
-    *,
-    z0=0.0,
-    z_peak0=0.0,
-    solver: diffrax.AbstractSolver | None = None,
-    rtol: float = 1e-8,
-    atol: float = 1e-10,
-    max_steps: int = 1_000_000,
-):
-    """Friction force [N] of a bearing driven along sampled displacements along x.
-
-    The bearing of `simulate_bearing_test`, with the velocity at each sample from the samples
-    (`sample_velocity`, second-order central differences) and the running max |Z| switching
-    Eq. 17 to Eq. 1; `time`, `ux` and `normal_load` may be traced (batches of records under
-    `vmap`, fits under `optimistix`). `z0` and `z_peak0` set the initial state for records
-    that do not start from rest.
-
-    With eta = 2 and gamma > beta (the paper's shape) this is `respond_along_path`: Z exact
-    between samples, with every optional part of the bearing (traced constants of another shape
-    are a runtime error). Any other A, beta, gamma, eta (or an explicit `solver`, e.g.
-    `diffrax.Tsit5()`) integrates Eq. 3 along the path with that diffrax solver, adaptive steps
-    at `rtol`, `atol`, stopping at every sample (a bearing without optional parts only).
-
-    **Arguments:** `bearing` (uniaxial), `time` [s] (n,), `ux` [m] (n,),
-    `normal_load` [N] scalar or (n,).
-
-    **Returns:** `(force [N], z [-], z_peak [-])`, each of shape (n,).
-    """
-    time, ux = jnp.asarray(time), jnp.asarray(ux)
-    z0 = jnp.asarray(z0, dtype=ux.dtype)
-    z_peak0 = jnp.asarray(z_peak0, dtype=ux.dtype)
-    if solver is None and _riccati_admitted(bearing.hysteresis):
-        path = sampled_path(time, ux, normal_load)
-        response = sliding_along_path(bearing, path, z0=z0, z_peak0=z_peak0)
-        return response.fx, response.z[:, 0], response.z_peak
-    if bearing.effects:
-        raise ValueError(
-            f"bearing: its optional parts ({', '.join(bearing.effects)}) are driven along a path "
-            "with the closed-form Z (eta = 2, gamma > beta, no solver given).")
-    z, z_peak = _z_along_path(bearing, time, ux, z0, z_peak0, solver, rtol, atol, max_steps)
-    mu = bearing.coefficient(sample_velocity(time, ux), 0.0, z_peak)
-    return mu * normal_load * z, z, z_peak
-
-
-def _z_along_path(bearing, time, ux, z0, z_peak0, solver, rtol, atol, max_steps):
-    """Z and its running peak at the samples, integrating Eq. 3 with a diffrax solver."""
-    solver = diffrax.Tsit5() if solver is None else solver
-    motion = TabulatedMotion(times=time, ux=ux)
-    system = BearingTestSystem(bearing=bearing, motion=motion)
+def _z_along_path(bearing, time, ux, z0, z_peak0, solver, options, adjoint):
+    """Z, its running peak at the samples and the solve's result, integrating Eq. 3 with a
+    diffrax solver along the samples (linear between them)."""
+    system = BearingTestSystem(bearing=bearing, motion=TabulatedMotion(times=time, ux=ux))
     adaptive = _is_adaptive(solver)
+    controller = (diffrax.PIDController(rtol=options["rtol"], atol=options["atol"], jump_ts=time) if adaptive
+                  else diffrax.StepTo(ts=time))
     solution = diffrax.diffeqsolve(
-        diffrax.ODETerm(system),
-        solver,
-        t0=time[0],
-        t1=time[-1],
-        dt0=(time[1] - time[0]) / 10 if adaptive else None,
-        y0={"z": z0[None], "z_peak": z_peak0},
-        saveat=diffrax.SaveAt(ts=time),
-        stepsize_controller=(
-            diffrax.PIDController(rtol=rtol, atol=atol, jump_ts=time)
-            if adaptive
-            else diffrax.StepTo(ts=time)
-        ),
-        max_steps=max_steps,
-    )
-    return solution.ys["z"][:, 0], solution.ys["z_peak"]
+        diffrax.ODETerm(system), solver, t0=time[0], t1=time[-1], dt0=(time[1] - time[0]) / 10 if adaptive else None,
+        y0={"z": z0[None], "z_peak": z_peak0}, saveat=diffrax.SaveAt(ts=time), stepsize_controller=controller,
+        max_steps=options["max_steps"], adjoint=adjoint, throw=options["throw"])
+    return solution.ys["z"][:, 0], solution.ys["z_peak"], solution.result
+
+# --------------------------------------------------------------------------- deprecated names
+
+
+def simulate_bearing_test(bearing, motion, normal_load, **options) -> BearingTestResult:
+    """Deprecated: `imposed_path_test(bearing, motion, normal_load, **options)`, which this calls."""
+    return imposed_path_test(bearing, motion, normal_load, **options)
+
+
+def respond_along_path(isolator, path: SampledPath, **options) -> BearingTestResult:
+    """Deprecated: `imposed_path_test(isolator, path, **options)`, which this calls."""
+    return imposed_path_test(isolator, path, **options)
+
+
+def force_along_path(bearing: SlidingBearing, time, ux, normal_load, *, z0=0.0, z_peak0=0.0, solver=None,
+                     rtol: float = 1e-8, atol: float = 1e-10, max_steps: int = 1_000_000):
+    """Deprecated: `imposed_path_test(bearing, sampled_path(time, ux, normal_load), ...)`, as
+    `(force [N], z [-], z_peak [-])` (n,) each along x."""
+    result = imposed_path_test(bearing, sampled_path(time, ux, normal_load), z0=z0, z_peak0=z_peak0, solver=solver,
+                               rtol=rtol, atol=atol, max_steps=max_steps)
+    return result.fx, result.z[:, 0], result.z_peak

@@ -1,11 +1,11 @@
 """Any isolator driven along a sampled displacement path: the one force model of a test record.
 
 Every consumer that needs the force of an isolator at the samples of a test (the fitters, the
-posterior, model discovery, `diagnose`, `force_along_path`) calls `respond_along_path` on a
-`SampledPath`, with the same isolator the structures run:
+posterior, model discovery, `diagnose`) calls `imposed_path_test` (`_bearing_test`) on a
+`SampledPath`, with the same isolator the structures run; its strategies here are
 
-- a `SlidingBearing` (flat sliders, the single pendulum's slider): `sliding_along_path`;
-- a `SeriesPendulum` (single, double, triple): `series_along_path`, the structures' step of
+- "sampled", a `SlidingBearing` (flat sliders, the single pendulum's slider): `sliding_along_path`;
+- "balanced", a `SeriesPendulum` (single, double, triple): `series_along_path`, the structures' step of
   the isolator (`slider_step`) with the structure replaced by the path, the sliders'
   increments adding up to the path's increment exactly (the limit G -> 0 of an actuator) and
   their forces equal to `TEST_TOLERANCE` W.
@@ -57,7 +57,6 @@ from ..elements import (
     slider_step,
 )
 from ..solver import park_path_update, park_substeps, require_riccati_form
-from ..validation import given_options
 from ._response import BearingTestResult
 
 
@@ -181,7 +180,7 @@ def _increments(path: SampledPath):
 def sliding_along_path(bearing: SlidingBearing, path: SampledPath, *, z0=None,
                        z_peak0=0.0) -> BearingTestResult:
     """Force of `bearing` at the samples of `path` (jit/vmap/grad-safe in the bearing;
-    `respond_along_path` for a `SlidingBearing`):
+    `imposed_path_test`'s "sampled" strategy):
 
         F = mu(v, theta, max|Z|) k(N, travel, Z_x, dT) N Z       (Eqs. 1, 17; k the optional
                                                                   factors, 1 without them)
@@ -251,54 +250,6 @@ def sliding_along_path(bearing: SlidingBearing, path: SampledPath, *, z0=None,
                              gap_position=gap_position)
 
 
-def respond_along_path(isolator: SlidingBearing | SeriesPendulum, path: SampledPath, *, z0=None, z_peak0=None,
-                       heat_kernel=None, friction_velocity: str | None = None,
-                       reference_load=None) -> BearingTestResult:
-    """The force of any isolator [N] at the samples of an imposed path (a `SampledPath`, along
-    x or in the plane, under the path's normal load N [N] at each sample): the one test that
-    the fitters, the posterior, model discovery and `diagnose` run. jit-, vmap- and grad-safe
-    in the isolator.
-
-    - A `SlidingBearing` (flat sliders; a single pendulum adds N u / R outside):
-      F = mu(v, theta, max|Z|) k N Z (Eqs. 1, 17; k its optional parts) with v the path's
-      velocity at each sample and Z exact between samples (`sliding_along_path`); `z0` Z at
-      the first sample (default 0; (2,) in the plane) and `z_peak0` the running max |Z|
-      before it (default 0; 1: already mobilised, no breakaway).
-    - A `SeriesPendulum` (single, double, triple): its sliders balanced at each sample by the
-      structures' step of the isolator from rest (`series_along_path`), with the same slider
-      forces and solver the structures run; `heat_kernel` (rates, weights) of heated surfaces
-      and `friction_velocity` ("mean", the default, or for one surface "end") as there;
-      `reference_load` [N]: the load its surfaces' contact pressures are given under, which
-      a varying N scales (heating, pressure dependence; a structure's W).
-
-    Options one kind does not take are refused by name (`ValueError`), as is a measured
-    temperature rise on the path of a series pendulum, whose surfaces heat by their own flux.
-
-    **Returns:** a `BearingTestResult` at the path's samples.
-    """
-    if isinstance(isolator, SeriesPendulum):
-        given = given_options({"z0": (z0, None), "z_peak0": (z_peak0, None)})
-        if given:
-            raise ValueError(f"{', '.join(given)}: the {isolator.description} start from rest at the path's "
-                             "first sample; drop these options.")
-        if path.temperature_rise is not None:
-            raise ValueError(f"path.temperature_rise: the {isolator.description} heat by their own flux; "
-                             "build the path without a measured temperature rise.")
-        return series_along_path(isolator, path, heat_kernel=heat_kernel,
-                                 friction_velocity="mean" if friction_velocity is None else friction_velocity,
-                                 reference_load=reference_load)
-    if reference_load is not None:
-        raise ValueError("reference_load: a sliding bearing's test reads the path's normal load itself "
-                         "(its pressure dependence and heat flux); drop this option.")
-    if heat_kernel is not None:
-        raise ValueError("heat_kernel: a sliding bearing's test takes the path's own kernel "
-                         "(`sampled_path`); drop this option.")
-    if friction_velocity not in (None, "end"):
-        raise ValueError(f"friction_velocity: a sliding bearing's test takes Eq. 1 at the path's velocity at "
-                         f"each sample ('end'), got {friction_velocity!r}.")
-    return sliding_along_path(isolator, path, z0=z0, z_peak0=0.0 if z_peak0 is None else z_peak0)
-
-
 # --------------------------------------------------------------------------- a series pendulum
 
 
@@ -363,8 +314,8 @@ def series_along_path(bearing: SeriesPendulum, path: SampledPath, *, heat_kernel
                       friction_velocity: str = "mean", reference_load=None) -> BearingTestResult:
     """Force of a series pendulum [N] along the imposed displacement of `path` (a
     `SampledPath`: along x, or in the plane), from rest at its first sample, under the path's
-    normal load N [N] at each sample (module docstring); `respond_along_path` for a
-    `SeriesPendulum`. jit-, vmap- and grad-safe once the bearing is checked
+    normal load N [N] at each sample (module docstring); `imposed_path_test`'s
+    "balanced" strategy. jit-, vmap- and grad-safe once the bearing is checked
     (`check_series_pendulum`). Surfaces that read their contact pressure
     (`SeriesPendulum.reads_pressure`: heating, pressure dependence) take it as given
     (`<slider>_pressure`) times N / `reference_load` [N], the load the pressures are given under
