@@ -1,5 +1,9 @@
 """Fits of the augmented model for many candidate effects at once (vmapped optimistix
-Levenberg-Marquardt)."""
+Levenberg-Marquardt).
+
+Inside the optimiser each delta_f of Eq. 1 (and its perpendicular twin) is its ratio to f_max in
+(0, 1), as in the single flat fit and the series fits (`identification.bearing_fit._ratio`), so
+that no fit ends with delta_f > f_max, a negative friction at rest f_max - delta_f."""
 
 import math
 
@@ -7,6 +11,14 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from ..bearing_fit._ratio import (
+    RATIO_BOUNDS,
+    RATIO_PAIRS,
+    deltas_of,
+    ratio_bounds,
+    result_from_ratios,
+    to_ratios,
+)
 from ..least_squares import fit_least_squares_batch
 from ._augmented import PARAMETER_EFFECT, PARAMETER_NAMES, PARAMETERS, simulate_augmented
 from ._effects import EFFECT_NAMES
@@ -41,12 +53,22 @@ def _free_mask(active) -> np.ndarray:
     )
 
 
+def _physical(params, start, free) -> dict:
+    """The augmented model's parameters of the optimiser's `params` (each delta_f as its ratio to
+    f_max): held parameters (`free` 0) at their `start`, a free delta_f the ratio times f_max."""
+    index = {name: i for i, name in enumerate(PARAMETER_NAMES)}
+    values = {name: jnp.where(free[i] > 0, params[name], start[i])
+              for i, name in enumerate(PARAMETER_NAMES) if name in params}
+    deltas = deltas_of({**values, **{k: v for k, v in params.items() if k not in index}}, RATIO_PAIRS)
+    values.update({name: jnp.where(free[index[name]] > 0, value, start[index[name]])
+                   for name, value in deltas.items()})
+    return {name: values[name] for name in PARAMETER_NAMES}
+
+
 def _residual(params, args):
     """Scaled, weighted force residual of one configuration; held parameters at their start."""
     (active, weight, start, free), (data, scale) = args
-    values = {name: jnp.where(free[i] > 0, params[name], start[i])
-              for i, name in enumerate(PARAMETER_NAMES)}
-    sim = simulate_augmented(values, data, active)
+    sim = simulate_augmented(_physical(params, start, free), data, active)
     return data.stack(weight * (sim["force"] - data.force) / scale,
                       weight * (sim["force_y"] - data.force_y) / scale)
 
@@ -57,8 +79,9 @@ def fit_batch(starts, free, actives, weights, data, scale, *, max_steps: int = 2
     Minimises 0.5 sum((w (F_model - F_meas) / scale)^2) for each configuration with
     `fit_least_squares_batch` (Levenberg-Marquardt with Marquardt's scaled damping), every
     parameter kept inside its search range (`teflon_jax.bearing.PARAMETER_BOUNDS`) by the
-    sigmoid bijection, in log x for the log-scaled ones; a parameter where `free` is 0 is held
-    at its start (its Jacobian column is zero, so the solver never moves it).
+    sigmoid bijection, in log x for the log-scaled ones, and each delta_f as its ratio to f_max
+    in (0, 1) (module docstring); a parameter where `free` is 0 is held at its start (its
+    Jacobian column is zero, so the solver never moves it).
 
     **Arguments:** `starts`, `free` (B, P) physical start values and 0/1 masks in the order of
     `PARAMETER_NAMES`; `actives` (B, E) effect masks; `weights` (B, n) sample weights (0
@@ -70,12 +93,12 @@ def fit_batch(starts, free, actives, weights, data, scale, *, max_steps: int = 2
     (B, n_r, P; zero columns for held ones), whether optimistix reported success (B,) and the
     steps it took (B,).
     """
-    starts = np.asarray(starts, float)
     free = np.asarray(free, float)
+    starts, bounds = _ratio_search(np.asarray(starts, float), free, actives)
     fits = fit_least_squares_batch(
         _residual,
-        {name: starts[:, i] for i, name in enumerate(PARAMETER_NAMES)},
-        {p.name: (p.lower, p.upper) for p in PARAMETERS},
+        _ratio_starts(starts),
+        bounds,
         args=((jnp.asarray(actives), jnp.asarray(weights), jnp.asarray(starts),
                jnp.asarray(free)), (data, jnp.asarray(scale))),
         args_batched=(True, False),
@@ -86,14 +109,49 @@ def fit_batch(starts, free, actives, weights, data, scale, *, max_steps: int = 2
         solver="levenberg_marquardt_scaled",
         converged_on="residuals",
     )
-    values = np.array([[fit.parameters[name] for name in PARAMETER_NAMES] for fit in fits])
+    values = np.array([[float(v) for v in _physical(fit.parameters, starts[b], free[b]).values()]
+                       for b, fit in enumerate(fits)])
+    jacobians = np.stack([result_from_ratios(fit, RATIO_PAIRS).jacobian for fit in fits])
     return (
         np.where(free > 0, values, starts),
         np.array([fit.cost for fit in fits]),
-        np.stack([fit.jacobian for fit in fits]),
+        jacobians * free[:, None, :],
         np.array([fit.converged for fit in fits]),
         np.array([fit.n_steps for fit in fits]),
     )
+
+
+RATIO_MARGIN = 1e-4
+"""How far a ratio's start is kept inside its bounds (0, 1), as `_rounds._inside` keeps the
+other starts: a held delta_f's ratio is never used, a free one starts where it was."""
+
+
+def _ratio_starts(starts: np.ndarray) -> dict:
+    """The optimiser's starts (B each) of physical `starts` (B, P): each delta_f as its ratio
+    to f_max (`to_ratios`), kept `RATIO_MARGIN` inside (0, 1)."""
+    inner = to_ratios({name: starts[:, i] for i, name in enumerate(PARAMETER_NAMES)}, RATIO_PAIRS)
+    lo, hi = RATIO_BOUNDS
+    ratios = {ratio for _, _, ratio in RATIO_PAIRS}
+    return {k: np.clip(v, lo + RATIO_MARGIN, hi - RATIO_MARGIN) if k in ratios else v for k, v in inner.items()}
+
+
+def _ratio_search(starts: np.ndarray, free: np.ndarray, actives) -> tuple[np.ndarray, dict]:
+    """(starts, bounds) in which the fits search: the search ranges in the optimiser's names
+    (`ratio_bounds`). Where a member holds delta_f at a known value while Eq. 1 is on and its
+    f_max is fitted, f_max is bounded below by that value instead (every member's f_max start
+    kept above it), so that f_max - delta_f stays positive there too."""
+    bounds = {p.name: (p.lower, p.upper) for p in PARAMETERS}
+    starts = starts.copy()
+    for delta, f_max, _ in RATIO_PAIRS:
+        i, j = PARAMETER_NAMES.index(delta), PARAMETER_NAMES.index(f_max)
+        on = np.asarray(actives)[:, EFFECT_NAMES.index(PARAMETER_EFFECT[i])] > 0
+        known = on & (free[:, i] == 0) & (free[:, j] > 0)
+        if known.any():
+            lower, upper = bounds[f_max]
+            bounds[f_max] = (max(lower, float(np.max(starts[known, i]))), upper)
+            floor = bounds[f_max][0] + RATIO_MARGIN * (upper - bounds[f_max][0])
+            starts[:, j] = np.where(free[:, j] > 0, np.maximum(starts[:, j], floor), starts[:, j])
+    return starts, ratio_bounds(bounds, RATIO_PAIRS)
 
 
 @jax.jit
