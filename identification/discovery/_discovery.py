@@ -17,7 +17,12 @@ The workflow an experimentalist follows with a new bearing test, made explicit:
      (1995): > 10 "very strong", 6-10 "strong", 2-6 "positive", < 2 "not worth more than a
      bare mention".
    - `holdout_gain`: 1 - CV_after / CV_before, with CV the root-mean-square prediction error
-     on the cycles left out of each fold's fit (blocked cross-validation).
+     on the cycles left out of each fold's fit (blocked cross-validation). Where CV_before is
+     at rounding level (at most `RESOLUTION` = 1e-5 of the RMS force, the fits' tolerance: a
+     noise-free record of the current model) there is nothing to gain: the gain is 0
+     (`nothing_to_gain`), `holdout_improvement` (CV_before - CV_after) / RMS force gives the
+     change against the force scale, and each SSR of delta_bic counts as at least that level,
+     so no candidate is added on rounding errors.
 4. The candidate with the largest delta_bic among those with a positive held-out gain is
    added if its delta_bic exceeds `bic_threshold` (10, "very strong"); otherwise the model is
    declared complete ("no missing effect"). How sure the *naming* is (this effect rather than

@@ -10,6 +10,8 @@ with the fits in the batch times the samples of the record (`Cost`)."""
 import time
 from typing import NamedTuple
 
+from ._result import gain_text
+
 
 class Cost(NamedTuple):
     """What one batched call costs on two CPU cores, as timed there (JAX on the CPU): `compile_s`
@@ -115,5 +117,5 @@ def candidate_lines(evid: dict, pool) -> list:
     evidence (delta_bic, the held-out gain), strongest first."""
     ranked = sorted(pool, key=lambda c: -evid[c]["delta_bic"])
     return [f"  {c}: nrmse {evid[c]['nrmse_before']:.4f} -> {evid[c]['nrmse_after']:.4f}, "
-            f"delta_bic {evid[c]['delta_bic']:.1f}, held-out gain {100 * evid[c]['holdout_gain']:.3g} %"
+            f"delta_bic {evid[c]['delta_bic']:.1f}, held-out gain {gain_text(evid[c])}"
             for c in ranked]

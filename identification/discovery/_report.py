@@ -15,6 +15,7 @@ from ._diagnostics import (
     regressors,
 )
 from ._effects import EFFECTS
+from ._result import gain_text
 
 
 def write_plots(result, directory, *, length=("mm", 1e-3)) -> dict:
@@ -207,7 +208,7 @@ def _step_lines(result, equation=lambda effect: EFFECTS[effect].equation, naming
             (
                 f"nrmse {step.nrmse_before:.4f} -> {step.nrmse_after:.4f}; "
                 f"delta_bic {e['delta_bic']:.1f} (n_eff {e['n_eff']:.0f}); "
-                f"held-out gain {100 * e['holdout_gain']:.1f} %; "
+                f"held-out gain {gain_text(e, '.1f')}; "
                 f"residual correlation with its regressor {e['residual_correlation']:+.2f}"
             ),
             "",
@@ -306,7 +307,7 @@ def _candidate_table(evidence: dict) -> list:
     ]
     for name, e in sorted(evidence.items(), key=lambda kv: -kv[1]["delta_bic"]):
         lines.append(
-            f"| {name} | {e['delta_bic']:.1f} | {e['confidence']} | {100 * e['holdout_gain']:.1f} % | "
+            f"| {name} | {e['delta_bic']:.1f} | {e['confidence']} | {gain_text(e, '.1f')} | "
             f"{e['nrmse_after']:.4f} | {e['residual_correlation']:+.2f} |"
         )
     return lines

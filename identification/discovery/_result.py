@@ -23,11 +23,22 @@ def confidence_wording(delta_bic: float) -> str:
     return "very strong"
 
 
+def gain_text(evidence: dict, digits: str = ".3g") -> str:
+    """The held-out gain of `candidate_evidence` as said and reported: a percentage (to
+    `digits`), or that there was nothing to gain (with the absolute change against the force
+    scale)."""
+    if evidence.get("nothing_to_gain"):
+        return (f"nothing to gain (held-out error at rounding level; change "
+                f"{evidence['holdout_improvement']:+.1e} of the force scale)")
+    return f"{100 * evidence['holdout_gain']:{digits}} %"
+
+
 @dataclasses.dataclass
 class DiscoveryStep:
     """One accepted effect: its name, the evidence, and the error before and after.
 
-    `evidence` holds `delta_bic`, `holdout_gain`, `n_eff`, `nrmse_before`, `nrmse_after`,
+    `evidence` holds `delta_bic`, `holdout_gain`, `holdout_improvement`, `nothing_to_gain`
+    (`_rounds.candidate_evidence`), `n_eff`, `nrmse_before`, `nrmse_after`,
     `residual_correlation`, `confidence` (that the effect is there), `runner_up`,
     `margin_over_runner_up` (its delta_bic minus the runner-up's, or minus 0 when that is
     negative) and `naming_confidence` (Kass & Raftery wording of that margin: that it is this

@@ -10,6 +10,7 @@ import numpy as np
 
 from ._augmented import PARAMETER_NAMES, PARAMETERS, AugmentedData, active_mask
 from ._batch_fit import (
+    FIT_ATOL,
     _fold_weights,
     _free_mask,
     _simulate_batch,
@@ -226,19 +227,35 @@ def held_out_rms(err_a, err_b, held_a, held_b) -> float:
     return math.sqrt((np.sum(err_a**2 * held_b) + np.sum(err_b**2 * held_a)) / np.size(err_a))
 
 
+RESOLUTION = FIT_ATOL
+"""The smallest root-mean-square force error, as a fraction of the record's force scale (its RMS
+force), that the evidence tells from rounding: the batched fits' tolerance (`FIT_ATOL`, 1e-5;
+the series pendulums' members use the same), below which a fit's steps no longer change its
+residuals. A smaller sum of squares is read as this level, and a held-out error below it leaves
+nothing to gain, so that no evidence is a ratio of two rounding errors (a noise-free record
+of the current model)."""
+
+
 def candidate_evidence(ref_sse: float, ref_cv: float, full, cv: float, k: int, scale: float) -> dict:
     """The evidence for one candidate (module docstring of `_discovery`): its residual `full`
     (n,) on the whole record and held-out error `cv` against the current model's `ref_sse`,
     `ref_cv`; `k` its fitted parameters; `scale` the RMS measured force. Keys `delta_bic`
-    (n_eff ln(SSR_before / SSR_after) - k ln(n_eff)), `holdout_gain` (1 - CV_after /
-    CV_before), `n_eff`, `nrmse_before`, `nrmse_after`, `confidence`."""
+    (n_eff ln(SSR_before / SSR_after) - k ln(n_eff), each SSR at least n (`RESOLUTION` scale)^2),
+    `holdout_gain` (1 - CV_after / CV_before; 0 where CV_before is at most `RESOLUTION` scale:
+    `nothing_to_gain`), `holdout_improvement` ((CV_before - CV_after) / scale, the absolute
+    improvement against the force scale, defined either way), `nothing_to_gain`, `n_eff`,
+    `nrmse_before`, `nrmse_after`, `confidence`."""
     n_total = np.size(full)
     sse_c = float(np.sum(np.asarray(full) ** 2))
     n_eff = effective_samples(full)
-    delta_bic = n_eff * math.log(ref_sse / max(sse_c, 1e-300)) - k * math.log(n_eff)
+    floor = n_total * (RESOLUTION * scale) ** 2
+    delta_bic = n_eff * math.log(max(ref_sse, floor) / max(sse_c, floor)) - k * math.log(n_eff)
+    nothing_to_gain = not ref_cv > RESOLUTION * scale
     return {
         "delta_bic": float(delta_bic),
-        "holdout_gain": float(1.0 - cv / ref_cv) if ref_cv > 0 else 0.0,
+        "holdout_gain": 0.0 if nothing_to_gain else float(1.0 - cv / ref_cv),
+        "holdout_improvement": float((ref_cv - cv) / scale),
+        "nothing_to_gain": nothing_to_gain,
         "n_eff": float(n_eff),
         "nrmse_before": nrmse(ref_sse, n_total, scale),
         "nrmse_after": nrmse(sse_c, n_total, scale),
