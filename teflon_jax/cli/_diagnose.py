@@ -52,6 +52,7 @@ from ._diagnose_mixture import (
     mixture_of,
     save_found_bearing,
 )
+from ._fit_outputs import isolator_writer
 from ._isolator_flags import (
     SERIES_NAMES,
     add_isolator_flags,
@@ -98,7 +99,9 @@ class Diagnosis(typing.NamedTuple):
     - `search(args, diagnosis, candidates, say) -> Found`: read the inputs and run the search;
     - `report`: the writer of `identification.discovery` for its result;
     - `saves`: (flag, attribute, what) of the file it writes what it found to;
-    - `save(args, result, mixture)`: write it there (with the `--mixture` of a bearing);
+    - `save(args, result, mixture)`: the function of no arguments that writes it there (with the
+      `--mixture` of a bearing), after every check of what it writes (`ValueError` naming the
+      flag: the command then writes nothing and exits 2);
     - `notes(result)`: lines said after the files are written;
     - `isolator_file`: whether `--isolator-file` is required (the series start file);
     - `refused`: (flag, attribute, message) of each flag it cannot take, in the order checked
@@ -187,7 +190,8 @@ def _add_isolator_flags(parser) -> None:
 def run_diagnose(args) -> int:
     """Run `diagnose` for parsed arguments; returns the exit status (0 ok, 1 a search that could
     not finish what was asked, e.g. a fitted radius that did not settle beside the effects
-    found, 2 bad input)."""
+    found; 2 bad input, or a found model the file of --save-bearing or --save-isolator cannot
+    hold, refused before any output is written)."""
     import time
 
     started = time.perf_counter()
@@ -213,6 +217,13 @@ def run_diagnose(args) -> int:
         print(f"teflon-jax diagnose: error: {error}", file=sys.stderr)
         return 2
     result = found.result
+    flag, attribute, what = diagnosis.saves
+    saved = getattr(args, attribute)
+    try:  # every check of the saved file, before the first output is written
+        write_saved = diagnosis.save(args, result, mixture) if saved is not None else None
+    except ValueError as error:
+        print(f"teflon-jax diagnose: error: {error}", file=sys.stderr)
+        return 2
     say(f"writing {args.json_path}, {args.report / 'report.md'} and its figures...")
     document = result.to_json()
     document.update(found.entries)
@@ -222,10 +233,8 @@ def run_diagnose(args) -> int:
     report = getattr(discovery, diagnosis.report)(
         result, args.report, record_name=args.record.name, length=output_units(args.units).length,
         **({} if mixture is None else {"mixture": mixture}))
-    flag, attribute, what = diagnosis.saves
-    saved = getattr(args, attribute)
-    if saved is not None:
-        diagnosis.save(args, result, mixture)
+    if write_saved is not None:
+        write_saved()
     for line in diagnosis.notes(result) + mixture_lines(mixture):
         say(line)
     say(f"{document['conclusion']}; nrmse {result.nrmse_initial:.4f} -> {result.nrmse_final:.4f}; "
@@ -385,10 +394,8 @@ def _search_series(args, diagnosis, candidates, say) -> Found:
     return Found(result, {} if args.reference_load is None else {"reference_load_N": args.reference_load})
 
 
-def _save_isolator(args, result, mixture) -> None:
-    from ..formats import write_isolator
-
-    write_isolator(args.save_isolator, result.pendulum())
+def _save_isolator(args, result, mixture):
+    return isolator_writer(args.save_isolator, result.pendulum())
 
 
 def _held_notes(result) -> list:

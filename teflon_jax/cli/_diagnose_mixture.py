@@ -70,14 +70,15 @@ def mixture_lines(mixture) -> list:
             + f"; {kept} of {len(mixture.table)} compositions kept"]
 
 
-def save_found_bearing(args, result, mixture) -> None:
-    """Write the chosen composition's bearing to `--save-bearing`, with the compositions' mixture
-    when `--mixture` made one."""
-    from ..formats import save_bearing
+def save_found_bearing(args, result, mixture):
+    """The function of no arguments that writes the chosen composition's bearing to
+    `--save-bearing`, with the compositions' mixture when `--mixture` made one (`bearing_writer`:
+    `ValueError` first when the file cannot hold it)."""
+    from ._fit_outputs import bearing_writer
 
-    save_bearing(args.save_bearing, result.bearing(), standard_errors=result.bearing_errors(),
-                 sources=[args.record], fit={"command": "diagnose", "effects": result.effects,
-                                             "nrmse_before": result.nrmse_initial,
-                                             "nrmse": result.nrmse_final,
-                                             "fit_convergence": dict(result.fit_convergence)},
-                 mixture=None if mixture is None else mixture.mixture)
+    return bearing_writer(args.save_bearing, result.bearing(), standard_errors=result.bearing_errors(),
+                          sources=[args.record], fit={"command": "diagnose", "effects": result.effects,
+                                                      "nrmse_before": result.nrmse_initial,
+                                                      "nrmse": result.nrmse_final,
+                                                      "fit_convergence": dict(result.fit_convergence)},
+                          mixture=None if mixture is None else mixture.mixture)

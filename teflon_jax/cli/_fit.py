@@ -20,6 +20,7 @@ from ._common import (
 )
 from ._fit_bayes import _unit_of as _unit_of
 from ._fit_bayes import add_bayes_file_flags, check_bayes_flags
+from ._fit_outputs import isolator_writer
 from ._isolator_flags import (
     add_isolator_flags,
     add_record_load_flags,
@@ -45,8 +46,9 @@ def add_fit_parser(subparsers) -> argparse.ArgumentParser:
         "printed say why a fit is not clean, notes on high correlations leave it clean; a "
         "converged fit that is not clean is a result with those limits, and the console names "
         "the `diagnose` command that looks for the effects the model lacks); 1 when the fit, or "
-        "with --bayes the sampler, did not converge (no result); 2 for bad input; 130 when "
-        "--bayes is stopped with Ctrl-C."))
+        "with --bayes the sampler, did not converge (no result); 2 for bad input, and for a fitted "
+        "isolator --save-isolator cannot hold (e.g. friction out of the series model's order), "
+        "refused before anything is written; 130 when --bayes is stopped with Ctrl-C."))
     parser.add_argument("records", nargs="+", metavar="RECORD",
                         help="test record files (uniaxial, or biaxial ux, uy, fx, fy: then the "
                              "constants perpendicular to the lay are fitted too)")
@@ -108,7 +110,8 @@ def add_fit_parser(subparsers) -> argparse.ArgumentParser:
 
 
 def run_fit(args) -> int:
-    """Run `teflon-jax fit`; returns the exit status (0 ok, 1 not converged, 2 bad input)."""
+    """Run `teflon-jax fit`; returns the exit status (0 ok, 1 not converged, 2 bad input or a
+    fitted isolator --save-isolator cannot hold, refused before any output is written)."""
     row = FIT_ROWS[args.isolator]
     try:
         check_bayes_flags(args, posterior=row.posterior, series=row.bayes is not None)
@@ -139,14 +142,19 @@ def run_fit(args) -> int:
     except ValueError as error:
         print(f"teflon-jax fit: error: {error}", file=sys.stderr)
         return 2
+    write_isolator = None  # the series rows alone take --save-isolator
+    if args.save_isolator is not None:
+        try:  # every check of what --save-isolator writes, before the first output
+            write_isolator = isolator_writer(args.save_isolator, fit.bearing)
+        except ValueError as error:
+            print(f"teflon-jax fit: error: {error}", file=sys.stderr)
+            return 2
     _write_json(args.json, fit.to_json_dict())
     friction = row.friction(fit)
     if friction is not None:
         _save_fitted(args, friction, records)
-    if args.save_isolator is not None:
-        from ..formats import write_isolator
-
-        write_isolator(args.save_isolator, fit.bearing)
+    if write_isolator is not None:
+        write_isolator()
     if args.plot:
         row.plot(args, fit, records)
     for line in row.report(args, fit):
