@@ -12,6 +12,12 @@ from ._pendulum_fit import refit_pendulum_radius as refit_pendulum_radius
 from ._plan import BearingFit as BearingFit
 from ._plan import RecordResidual as RecordResidual
 from ._plan import parse_free as parse_free
+from ._ratio import RATIO_BOUNDS as RATIO_BOUNDS
+from ._ratio import RATIO_PAIRS as RATIO_PAIRS
+from ._ratio import deltas_of as deltas_of
+from ._ratio import ratio_bounds as ratio_bounds
+from ._ratio import result_from_ratios as result_from_ratios
+from ._ratio import to_ratios as to_ratios
 from ._record_force import PERPENDICULAR_NAMES as PERPENDICULAR_NAMES
 from ._record_force import simulate_record_force as simulate_record_force
 from ._report import plot_fit as plot_fit

@@ -11,7 +11,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..bearing_fit._ratio import (
+from ..bearing_fit import (
     RATIO_BOUNDS,
     RATIO_PAIRS,
     deltas_of,
