@@ -4,7 +4,7 @@ A candidate model is the one bearing model (`teflon_jax.bearing.SlidingBearing`)
 optional part present and each part's constants multiplied by a 0/1 switch (`active`, in the
 order of `EFFECT_NAMES`): a part switched off sits at its neutral constants, where it gives the
 numbers of the bearing without it. So one compiled function serves every combination of
-effects (vmapped over candidates), and its force is that of `teflon_jax.respond_along_path`,
+effects (vmapped over candidates), and its force is that of `teflon_jax.imposed_path_test`,
 the function the fitter and the simulator use.
 
 Reference: Constantinou, Mokha & Reinhorn (1990), Eqs. 1, 3, 17.
@@ -34,7 +34,7 @@ from teflon_jax.bearing import (
 from teflon_jax.formats import interface_counts
 from teflon_jax.systems import (
     SampledPath,
-    respond_along_path,
+    imposed_path_test,
     sampled_path,
 )
 from teflon_jax.units import PSI
@@ -382,7 +382,7 @@ def candidate_start(active):
 def simulate_augmented(params, data: AugmentedData, active, *, conductivity=None,
                        diffusivity=None):
     """Force of a candidate model along the record (`candidate_bearing` driven by
-    `teflon_jax.respond_along_path`), times the record's interfaces in parallel.
+    `teflon_jax.imposed_path_test`), times the record's interfaces in parallel.
 
     **Returns:** dict of arrays over the samples: `force` [N] along x, `force_y` [N] (zeros
     along x only), `coefficient` mu [-], `z`, `z_y` [-], `temperature_rise` heat_scale dT [K],
@@ -390,7 +390,7 @@ def simulate_augmented(params, data: AugmentedData, active, *, conductivity=None
     """
     bearing = candidate_bearing(params, data, active, conductivity=conductivity,
                                 diffusivity=diffusivity)
-    response = respond_along_path(bearing, data.path, z_peak0=candidate_start(active))
+    response = imposed_path_test(bearing, data.path, z_peak0=candidate_start(active))
     return {
         "force": data.in_parallel * response.fx,
         "force_y": data.in_parallel * response.fy,

@@ -234,10 +234,10 @@ def _series_pendulum(args):
 def _run_series_pendulum(args) -> int:
     """`simulate-test --isolator-file`: the triple or double pendulum's loop as a test record."""
     from ..formats import test_record_from_arrays, write_test_record
-    from ..systems import simulate_bearing_test
+    from ..systems import imposed_path_test
 
     isolator, motion, normal_load = _series_pendulum(args)
-    response = simulate_bearing_test(isolator, motion, normal_load, samples_per_cycle=args.samples_per_cycle)
+    response = imposed_path_test(isolator, motion, normal_load, samples_per_cycle=args.samples_per_cycle)
     time = response.time
     displacement = response.ux if response.uy is None else np.stack([response.ux, response.uy], -1)
     failed = int(np.count_nonzero(~np.asarray(response.converged)))
@@ -263,7 +263,7 @@ def _run_series_pendulum(args) -> int:
 def run_simulate(args) -> int:
     from ..excitation import AbstractBiaxialMotion
     from ..formats import test_record_from_arrays, write_test_record
-    from ..systems import simulate_bearing_test
+    from ..systems import imposed_path_test
 
     row = TEST_ROWS[args.isolator]
     refused(args, row.refuses)
@@ -275,7 +275,7 @@ def run_simulate(args) -> int:
     radius = None if args.radius is None else float(args.radius)  # the flat slider's row refused it
     bearing, motion, normal_load, metadata = build_test(args)
     metadata = pendulum_metadata(metadata, radius, args.radius_text)
-    result = simulate_bearing_test(bearing, motion, normal_load,
+    result = imposed_path_test(bearing, motion, normal_load,
                                       samples_per_cycle=args.samples_per_cycle, throw=False)
     if not bool(result.succeeded):
         import diffrax

@@ -17,7 +17,7 @@ import numpy as np
 from ..bearing import paper_bearing
 from ..excitation import FigureEightMotion, SineMotion, intensity_measures
 from ..formats import load_record
-from ..systems import simulate_bearing_test
+from ..systems import imposed_path_test
 from ..tables import friction_table
 from ..units import INCH, KIP, PSI, STANDARD_GRAVITY
 from . import _figures as figures
@@ -66,7 +66,7 @@ def _loop_figures(out, results):
     }
     curves, stats = [], {}
     for name, (bearing, motion, load) in cases.items():
-        r = simulate_bearing_test(bearing, motion, load)
+        r = imposed_path_test(bearing, motion, load)
         u, f = np.asarray(r.ux) / INCH, np.asarray(r.fx) / np.asarray(r.normal_load)
         z = np.asarray(r.z).reshape(u.size, -1)[:, 0]
         _columns(out / f"fig3_4_{name}.csv", {"time_s": r.time, "u_in": u, "v_in_s": np.asarray(r.vx) / INCH,
@@ -107,7 +107,7 @@ def _biaxial_figures(out, results):
         cases = []
         for tag, perpendicular in (("isotropic", None), ("anisotropic", uf_t)):
             bearing = paper_bearing(uf_p, friction_perpendicular=perpendicular)
-            r = simulate_bearing_test(bearing, FigureEightMotion(amplitude * INCH, omega), 1.0)
+            r = imposed_path_test(bearing, FigureEightMotion(amplitude * INCH, omega), 1.0)
             ux, uy = np.asarray(r.ux) / INCH, np.asarray(r.uy) / INCH
             fx, fy = np.asarray(r.fx), np.asarray(r.fy)
             label = ("isotropic (parallel constants in every direction)" if perpendicular is None else
