@@ -8,7 +8,8 @@ triple friction pendulums (`TRIPLE`: inner effective radius 0.3 m, outer 2.1 m, 
 surface; the series model's three sliders solved in each step). All are timed alike
 (`--motions` motions in chunks of `--chunk` (512, the CPU's default; 65536 on a GPU), the
 rate counted after the first chunk, which compiles; alternating the isolators `--repeats`
-times); the record rate of each and each pendulum's share of the flat slider's are printed and
+times); the record rate of each (per second, and per second of the process's CPU time, which other
+processes on a shared machine disturb less) and each pendulum's share of the flat slider's are printed and
 written as JSON with the machine.
 
 With `--components 2`, `--balances newton secant` times the triple pendulum once per way of
@@ -86,12 +87,14 @@ def _isolator_keywords(name):
 
 def _rate(structure, motions, n, chunk):
     """Records per second from the end of the first chunk to the end of the last (as B3
-    counts them: each `monte_carlo` call compiles its own program in its first chunk)."""
+    counts them: each `monte_carlo` call compiles its own program in its first chunk), the
+    mean peak, and records per second of this process's CPU time over the same chunks (less
+    sensitive to other processes on a shared machine)."""
     marks = []
     result = monte_carlo(structure, motions, n, key=jax.random.key(1), chunk_size=chunk,
-                         progress=lambda done, total: marks.append((time.perf_counter(), done)))
-    (start, first), (end, last) = marks[0], marks[-1]
-    return (last - first) / (end - start), float(result.base_disp.mean())
+                         progress=lambda done, total: marks.append((time.perf_counter(), time.process_time(), done)))
+    (start, cpu_start, first), (end, cpu_end, last) = marks[0], marks[-1]
+    return (last - first) / (end - start), float(result.base_disp.mean()), (last - first) / (cpu_end - cpu_start)
 
 
 def main() -> None:
@@ -128,15 +131,18 @@ def main() -> None:
            "motions": args.motions, "components": args.components, "chunk": args.chunk, "radius_m": RADIUS, "time_step_s": TIME_STEP, "rates": {}}
     for kind in args.structures:
         rates = {names[i]: [] for i in isolators}
+        cpu_rates = {names[i]: [] for i in isolators}
         means = {}
         for _ in range(args.repeats):
             for isolator, balance in isolators:
-                rate, mean = _rate(_structure(kind, isolator, args.components, balance), motions, args.motions,
-                                   args.chunk)
+                rate, mean, cpu_rate = _rate(_structure(kind, isolator, args.components, balance), motions,
+                                             args.motions, args.chunk)
                 rates[names[isolator, balance]].append(rate)
+                cpu_rates[names[isolator, balance]].append(cpu_rate)
                 means[names[isolator, balance]] = mean
         shares = {name: max(rates[name]) / max(rates["flat"]) for name in rates if name != "flat"}
-        out["rates"][kind] = {"records_per_s": rates, "pendulum_share": shares.get("single-fp"),
+        out["rates"][kind] = {"records_per_s": rates, "records_per_cpu_s": cpu_rates,
+                              "pendulum_share": shares.get("single-fp"),
                               "triple_share": shares.get("triple-fp"), "shares": shares,
                               "mean_peak_base_disp_m": means}
         print(f"{kind}: " + "; ".join(f"{name} {', '.join(f'{r:.0f}' for r in rates[name])} records/s"
