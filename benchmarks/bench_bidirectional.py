@@ -37,8 +37,6 @@ from teflon_jax.bearing import paper_bearing
 from teflon_jax.excitation import StochasticGroundMotion, sample, uniform_signal
 from teflon_jax.structures import superstructure_matrices
 from teflon_jax.systems import (
-    bidirectional_building,
-    bidirectional_rigid_mass,
     rigid_mass,
     simulate_history,
     six_storey_building,
@@ -75,10 +73,10 @@ def _peak_function(kind, bidirectional, duration):
         gx, gy = uniform_signal(ax, RECORD_STEP), uniform_signal(ay, RECORD_STEP)
         if bidirectional:
             if kind == "rigid":
-                s = bidirectional_rigid_mass(weight=WEIGHT, bearing=bearing, ground_x=gx, ground_y=gy,
+                s = rigid_mass(components=2, weight=WEIGHT, bearing=bearing, ground_acceleration=gx, ground_y=gy,
                                              time_step=TIME_STEP, isolation_period=PERIOD, damping_ratio=0.05)
             else:
-                s = bidirectional_building(bearing=bearing, ground_x=gx, ground_y=gy, time_step=TIME_STEP,
+                s = six_storey_building(components=2, bearing=bearing, ground_acceleration=gx, ground_y=gy, time_step=TIME_STEP,
                                            isolation_period=PERIOD)
             r = simulate_history(s, duration, throw=False)
             n = s.mass.shape[0] // 2
@@ -321,10 +319,10 @@ def _peer_function(kind, duration):
     def one(ax, ay):
         gx, gy = uniform_signal(ax, RECORD_STEP), uniform_signal(ay, RECORD_STEP)
         if kind == "rigid":
-            s = bidirectional_rigid_mass(weight=WEIGHT, bearing=bearing, ground_x=gx, ground_y=gy,
+            s = rigid_mass(components=2, weight=WEIGHT, bearing=bearing, ground_acceleration=gx, ground_y=gy,
                                          time_step=TIME_STEP, isolation_period=PERIOD, damping_ratio=0.05)
         else:
-            s = bidirectional_building(bearing=bearing, ground_x=gx, ground_y=gy, time_step=TIME_STEP,
+            s = six_storey_building(components=2, bearing=bearing, ground_acceleration=gx, ground_y=gy, time_step=TIME_STEP,
                                        isolation_period=PERIOD, isolation_damping=0.05)
         r = simulate_history(s, duration, throw=False)
         total = r.total_acceleration

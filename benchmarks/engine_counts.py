@@ -16,9 +16,10 @@ bearing law is written out.
 - the history drivers (functions of `systems/` that `scan` and are named `simulate_*`,
   `*_history` or `*_histories`) and the peak drivers (functions of `systems/` and `studies/` that `scan` and are
   named after peaks or uplift);
-- the structure history functions and the imposed-path test functions `teflon_jax.systems`
-  exports (functions that return a `StructureResponse` or a `BearingTestResult`, by their
-  annotation or their docstring's **Returns:**);
+- the structure history functions, the imposed-path test functions and the structure builders
+  `teflon_jax.systems` exports (functions that return a `StructureResponse`, a
+  `BearingTestResult`, or a stepped structure, by their annotation or their docstring's
+  **Returns:**);
 - the tables keyed by isolator name (dict literals with "flat", "single-fp", "triple-fp" or
   "double-fp" as a key), and the modules whose code (docstrings aside) spells an isolator's name
   as a string of its own: the places the isolators are listed.
@@ -86,17 +87,23 @@ def _spells_a_name(text: str) -> bool:
                for n in ast.walk(tree))
 
 
-def _exported_returning(package: pathlib.Path, texts: dict, returns: str = "StructureResponse") -> int:
-    """Functions exported by `systems/__init__.py` that return `returns` (by their annotation,
-    or by their docstring's **Returns:** where it names it)."""
+STRUCTURE_TYPES = ("StructureOnSliders", "BidirectionalStructure")
+"""The stepped structures' types, whose builders `counts` counts."""
+
+
+def _exported_returning(package: pathlib.Path, texts: dict, returns=("StructureResponse",)) -> int:
+    """Functions exported by `systems/__init__.py` that return one of the types `returns` (by
+    their annotation, or by their docstring's **Returns:** where it names one)."""
     exported = set(re.findall(r"import (\w+) as \1", texts[package / "systems" / "__init__.py"]))
     found = set()
     for path in _modules(package / "systems"):
         for f in ast.walk(ast.parse(texts[path])):
             if not (isinstance(f, ast.FunctionDef) and f.name in exported):
                 continue
-            annotated = f.returns is not None and returns in ast.unparse(f.returns)
-            documented = returns in (ast.get_docstring(f) or "").partition("**Returns:**")[2]
+            annotation = "" if f.returns is None else ast.unparse(f.returns)
+            returned = (ast.get_docstring(f) or "").partition("**Returns:**")[2]
+            annotated = any(name in annotation for name in returns)
+            documented = any(name in returned for name in returns)
             if annotated or documented:
                 found.add(f.name)
     return len(found)
@@ -126,7 +133,8 @@ def counts(root: pathlib.Path) -> dict:
             _scanning(texts[p], _is_peaks) for p in systems + _modules(package / "studies")),
         "structure history functions exported by systems": _exported_returning(package, texts),
         "imposed-path test functions exported by systems": _exported_returning(package, texts,
-                                                                              "BearingTestResult"),
+                                                                              ("BearingTestResult",)),
+        "structure builders exported by systems": _exported_returning(package, texts, STRUCTURE_TYPES),
         "tables keyed by isolator name": sum(_name_tables(t) for t in texts.values()),
         "modules that list an isolator by its name": sum(_spells_a_name(t) for t in texts.values()),
         "variant modules": ", ".join(f"{p.parent.name}/{p.name}" for p in variant),

@@ -14,10 +14,9 @@ from teflon_jax.bearing import BoucWen, paper_bearing, park_rate
 from teflon_jax.excitation import uniform_signal
 from teflon_jax.solver import park_exact_update
 from teflon_jax.systems import (
-    bidirectional_building,
-    bidirectional_rigid_mass,
     rigid_mass,
     simulate_history,
+    six_storey_building,
 )
 from teflon_jax.tables import interface_parameters
 from teflon_jax.units import PSI, STANDARD_GRAVITY
@@ -67,8 +66,8 @@ def test_motion_along_a_line_at_30_degrees_is_the_uniaxial_response():
     ground = uniform_signal(record, 0.01)
     bearing = _bearing()
     kwargs = dict(weight=1e5, bearing=bearing, time_step=0.0025, isolation_period=2.5, damping_ratio=0.05)
-    plane = bidirectional_rigid_mass(
-        ground_x=uniform_signal(np.cos(angle) * record, 0.01),
+    plane = rigid_mass(components=2,
+        ground_acceleration=uniform_signal(np.cos(angle) * record, 0.01),
         ground_y=uniform_signal(np.sin(angle) * record, 0.01),
         **kwargs,
     )
@@ -109,11 +108,11 @@ def test_zero_y_record_gives_the_uniaxial_result_to_rounding(structure):
 
     if structure == "rigid":
         kwargs = dict(weight=1e5, bearing=bearing, time_step=0.0025, isolation_period=2.5, damping_ratio=0.05)
-        plane = bidirectional_rigid_mass(ground_x=uniform_signal(record, 0.01), **kwargs)
+        plane = rigid_mass(components=2, ground_acceleration=uniform_signal(record, 0.01), **kwargs)
         line = rigid_mass(ground_acceleration=uniform_signal(record, 0.01), **kwargs)
     else:
         kwargs = dict(bearing=bearing, time_step=0.0025, isolation_period=2.0)
-        plane = bidirectional_building(ground_x=uniform_signal(record, 0.01), **kwargs)
+        plane = six_storey_building(components=2, ground_acceleration=uniform_signal(record, 0.01), **kwargs)
         line = six_storey_building(ground_acceleration=uniform_signal(record, 0.01), **kwargs)
     n = line.mass.shape[0]
     errors = []
@@ -149,9 +148,9 @@ def energy_terms(system, response):
 
 def test_energy_balance_of_a_bidirectional_run():
     """Input = kinetic + strain + damping + friction work within 1 % (building, two components)."""
-    system = bidirectional_building(
+    system = six_storey_building(components=2,
         bearing=_bearing(),
-        ground_x=uniform_signal(_pulse(frequency=0.8), 0.01),
+        ground_acceleration=uniform_signal(_pulse(frequency=0.8), 0.01),
         ground_y=uniform_signal(_pulse(frequency=0.55, phase=1.0, peak=0.25), 0.01),
         time_step=0.0025,
         isolation_period=2.5,
@@ -165,10 +164,10 @@ def test_energy_balance_of_a_bidirectional_run():
 @pytest.mark.slow
 def test_fast_solver_matches_tsit5_on_a_short_pair():
     """RiccatiNewmark at 2.5 ms against Tsit5 (rtol 1e-9): peak resultant displacement within 0.5 %."""
-    system = bidirectional_rigid_mass(
+    system = rigid_mass(components=2,
         weight=1e5,
         bearing=_bearing(),
-        ground_x=uniform_signal(_pulse(frequency=0.8), 0.01),
+        ground_acceleration=uniform_signal(_pulse(frequency=0.8), 0.01),
         ground_y=uniform_signal(_pulse(frequency=0.55, phase=1.0, peak=0.25), 0.01),
         time_step=0.0025,
     )

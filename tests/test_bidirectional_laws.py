@@ -17,8 +17,6 @@ from teflon_jax.solver import coupled_newton
 from teflon_jax.studies import bidirectional_isolated_structure
 from teflon_jax.systems import (
     BidirectionalStructure,
-    bidirectional_building,
-    bidirectional_rigid_mass,
     isolated_structure,
     peak_response,
     rigid_mass,
@@ -55,11 +53,11 @@ def _line_and_plane(kind, record, **law):
         common = dict(weight=1e5, bearing=_bearing(), time_step=0.0025,
                       isolation_period=law.pop("isolation_period", 2.5), damping_ratio=0.05)
         line = rigid_mass(ground_acceleration=uniform_signal(record, 0.01), **common, **law)
-        plane = bidirectional_rigid_mass(ground_x=gx, ground_y=gy, **common, **law)
+        plane = rigid_mass(components=2, ground_acceleration=gx, ground_y=gy, **common, **law)
     else:
         common = dict(bearing=_bearing(), time_step=0.0025, isolation_period=law.pop("isolation_period", 2.0))
         line = six_storey_building(ground_acceleration=uniform_signal(record, 0.01), **common, **law)
-        plane = bidirectional_building(ground_x=gx, ground_y=gy, **common, **law)
+        plane = six_storey_building(components=2, ground_acceleration=gx, ground_y=gy, **common, **law)
     return line, plane
 
 
@@ -102,7 +100,7 @@ def test_coulomb_sliding_under_a_ramped_ground_acceleration_is_the_closed_form()
     ramp = np.minimum(np.arange(int(duration / 0.01) + 1), 1.0)
     for peak in (4.0 * mu_g, 0.8 * mu_g):
         gx, gy = _along_a_line(peak * ramp)
-        plane = bidirectional_rigid_mass(weight=1e5, bearing=paper_bearing(constant), ground_x=gx,
+        plane = rigid_mass(components=2, weight=1e5, bearing=paper_bearing(constant), ground_acceleration=gx,
                                          ground_y=gy, time_step=0.0025, friction_model="coulomb")
         response = simulate_history(plane, duration)
         q, v = np.asarray(response.displacement), np.asarray(response.velocity)

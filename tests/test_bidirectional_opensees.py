@@ -44,9 +44,9 @@ from teflon_jax.bearing import paper_bearing
 from teflon_jax.excitation import uniform_signal
 from teflon_jax.formats import read_at2
 from teflon_jax.systems import (
-    bidirectional_building,
-    bidirectional_rigid_mass,
+    rigid_mass,
     simulate_history,
+    six_storey_building,
 )
 from teflon_jax.tables import interface_parameters
 from teflon_jax.units import INCH, PSI, STANDARD_GRAVITY
@@ -86,7 +86,7 @@ def _building_against_opensees(ax, ay, dt, duration):
     params, friction = _friction()
     disp_os, shear_os, _ = bench.opensees_building_3d(ax, ay, dt, period=PERIOD, damping_ratio=ZETA,
                                                       time_step=STEP, **friction)
-    system = bidirectional_building(bearing=paper_bearing(params), ground_x=uniform_signal(ax, dt),
+    system = six_storey_building(components=2, bearing=paper_bearing(params), ground_acceleration=uniform_signal(ax, dt),
                                     ground_y=uniform_signal(ay, dt), time_step=STEP,
                                     isolation_period=PERIOD, isolation_damping=ZETA)
     return _peaks(system, duration), (disp_os, shear_os)
@@ -99,8 +99,8 @@ def test_rigid_mass_under_two_components_agrees_with_opensees_3d():
     weight = 1.0e5
     disp_os, shear_os, _ = bench.opensees_rigid_mass_3d(
         ax[0], ay[0], 0.01, weight=weight, period=PERIOD, damping_ratio=ZETA, time_step=STEP, **friction)
-    system = bidirectional_rigid_mass(
-        weight=weight, bearing=paper_bearing(params), ground_x=uniform_signal(ax[0], 0.01),
+    system = rigid_mass(components=2,
+        weight=weight, bearing=paper_bearing(params), ground_acceleration=uniform_signal(ax[0], 0.01),
         ground_y=uniform_signal(ay[0], 0.01), time_step=STEP, isolation_period=PERIOD, damping_ratio=ZETA)
     disp, shear = _peaks(system, 10.0)
     assert disp > 0.01
@@ -143,9 +143,9 @@ def test_rigid_mass_difference_from_opensees_shrinks_with_the_yield_displacement
         friction["yield_disp"] = yield_disp
         disp_os, _, _ = bench.opensees_rigid_mass_3d(
             ax[0], ay[0], 0.01, weight=1.0e5, period=PERIOD, damping_ratio=ZETA, time_step=STEP, **friction)
-        system = bidirectional_rigid_mass(
+        system = rigid_mass(components=2,
             weight=1.0e5, bearing=paper_bearing(params, yield_disp=yield_disp),
-            ground_x=uniform_signal(ax[0], 0.01), ground_y=uniform_signal(ay[0], 0.01), time_step=STEP,
+            ground_acceleration=uniform_signal(ax[0], 0.01), ground_y=uniform_signal(ay[0], 0.01), time_step=STEP,
             isolation_period=PERIOD, damping_ratio=ZETA)
         differences.append(abs(_peaks(system, 10.0)[0] / disp_os - 1))
     assert differences[1] < 0.01

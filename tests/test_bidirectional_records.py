@@ -9,9 +9,9 @@ from teflon_jax.bearing import paper_bearing
 from teflon_jax.excitation import uniform_signal
 from teflon_jax.formats import read_at2, read_two_column
 from teflon_jax.systems import (
-    bidirectional_building,
-    bidirectional_rigid_mass,
+    rigid_mass,
     simulate_history,
+    six_storey_building,
 )
 from teflon_jax.tables import interface_parameters
 from teflon_jax.units import PSI, STANDARD_GRAVITY
@@ -39,9 +39,9 @@ def structure(kind, ax, ay, dt, time_step):
     bearing = paper_bearing(params, breakaway_ratio=b)
     gx, gy = uniform_signal(ax, dt), uniform_signal(ay, dt)
     if kind == "rigid":
-        return bidirectional_rigid_mass(weight=1e5, bearing=bearing, ground_x=gx, ground_y=gy,
+        return rigid_mass(components=2, weight=1e5, bearing=bearing, ground_acceleration=gx, ground_y=gy,
                                         time_step=time_step, isolation_period=2.5, damping_ratio=0.05)
-    return bidirectional_building(bearing=bearing, ground_x=gx, ground_y=gy, time_step=time_step,
+    return six_storey_building(components=2, bearing=bearing, ground_acceleration=gx, ground_y=gy, time_step=time_step,
                                   isolation_period=2.5, isolation_damping=0.05)
 
 

@@ -11,9 +11,9 @@ import pytest
 from teflon_jax.bearing import paper_bearing
 from teflon_jax.excitation import uniform_signal
 from teflon_jax.systems import (
-    bidirectional_building,
     building_on_plan,
     simulate_history,
+    six_storey_building,
     slab_on_bearings,
     with_vertical_motion,
 )
@@ -66,7 +66,7 @@ def test_symmetric_plan_without_overturning_is_the_building_on_one_group(isolato
     """Four equal groups at the corners, the centre of mass at the plan's centre, all heights 0:
     along x alone (flat sliders with springs of T_b) and along x and y (single pendulums of
     R = g (T_b / 2 pi)^2, whose W / R is the springs' stiffness), the base and floors follow
-    `bidirectional_building` on one group of weight W to 1e-6 of the peak (both solved to
+    `six_storey_building` on one group of weight W to 1e-6 of the peak (both solved to
     rounding; measured 1.8e-13) and the slab does not turn."""
     radius = G * (PERIOD / (2 * np.pi)) ** 2
     ax, ay = uniform_signal(_pulse(0.4), DT), uniform_signal(_pulse(0.3, 0.5, 1.0), DT)
@@ -74,7 +74,7 @@ def test_symmetric_plan_without_overturning_is_the_building_on_one_group(isolato
     options = dict(isolation_period=PERIOD) if isolator == "flat" else dict(isolator="single-fp", radii=radius)
     _, plan = _symmetric(CORNERS, 16.0, 10.0, ground_x=ax, ground_y=ground_y, storey_heights=0.0, **options)
     assert plan.overturning is None
-    one = bidirectional_building(bearing=BEARING, ground_x=ax, ground_y=ground_y, time_step=STEP,
+    one = six_storey_building(components=2, bearing=BEARING, ground_acceleration=ax, ground_y=ground_y, time_step=STEP,
                                  isolation_period=PERIOD)
     q = np.asarray(simulate_history(_exact(plan), DURATION).displacement)
     expected = np.asarray(simulate_history(_exact(one), DURATION).displacement)
@@ -174,7 +174,7 @@ def test_a_strong_pulse_lifts_either_pair_and_the_base_moves_as_without_overturn
     assert np.all(np.asarray(response.friction_force)[n == 0] == 0)
     leaning = np.abs(moment[:-1]) > 0.1 * W
     assert np.all(np.sign(west[1:, 0] - east[1:, 0])[leaning] == np.sign(moment[:-1])[leaning])
-    one = bidirectional_building(bearing=BEARING, ground_x=ax, time_step=STEP, isolation_period=PERIOD)
+    one = six_storey_building(components=2, bearing=BEARING, ground_acceleration=ax, time_step=STEP, isolation_period=PERIOD)
     expected = np.asarray(simulate_history(_exact(one), DURATION).displacement)
     q = np.asarray(response.displacement)
     assert np.max(np.abs(q[:, :14] - expected)) < 1e-6 * np.max(np.abs(expected[:, 0]))

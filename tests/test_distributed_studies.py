@@ -27,7 +27,7 @@ from teflon_jax.studies import (
     suite_peaks,
     suite_peaks_distributed,
 )
-from teflon_jax.systems import bidirectional_rigid_mass, isolated_structure
+from teflon_jax.systems import isolated_structure, rigid_mass
 from teflon_jax.tables import interface_parameters
 from teflon_jax.units import PSI
 
@@ -51,7 +51,7 @@ def _build():
     """A builder that pickles (a closure over an equinox module): only the ground changes."""
     _, ax, ay = _pairs()
     params, _ = interface_parameters("UF", 1000 * PSI, "P")
-    template = bidirectional_rigid_mass(weight=1e5, bearing=paper_bearing(params), ground_x=uniform_signal(ax[0], DT),
+    template = rigid_mass(components=2, weight=1e5, bearing=paper_bearing(params), ground_acceleration=uniform_signal(ax[0], DT),
                                         ground_y=uniform_signal(ay[0], DT), time_step=DT, isolation_period=2.0)
     return lambda gx, gy: eqx.tree_at(lambda s: (s.ground_x, s.ground_y), template, (gx, gy))
 

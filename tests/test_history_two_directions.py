@@ -40,10 +40,10 @@ def _record(duration=10.0, peak=4.0):
 
 
 def _two(bearing, ax, ay, **options):
-    from teflon_jax.systems import bidirectional_rigid_mass
+    from teflon_jax.systems import rigid_mass
 
-    return bidirectional_rigid_mass(
-        weight=1e5, bearing=bearing, ground_x=tj.uniform_signal(jnp.asarray(ax), 0.01),
+    return rigid_mass(components=2,
+        weight=1e5, bearing=bearing, ground_acceleration=tj.uniform_signal(jnp.asarray(ax), 0.01),
         ground_y=tj.uniform_signal(jnp.asarray(ay), 0.01), time_step=DT,
         isolation_period=2.5, contact_pressure=PRESSURE, **options)
 
@@ -121,11 +121,11 @@ def test_each_slab_group_heats_at_its_own_pressure():
 
 
 def test_two_directions_need_the_contact_pressure_of_a_heating_bearing():
-    from teflon_jax.systems import bidirectional_rigid_mass
+    from teflon_jax.systems import rigid_mass
 
     signal = tj.uniform_signal(jnp.asarray(_record()), 0.01)
     with pytest.raises(ValueError, match="contact_pressure"):
-        bidirectional_rigid_mass(weight=1e5, bearing=_bearing(), ground_x=signal, time_step=DT)
+        rigid_mass(components=2, weight=1e5, bearing=_bearing(), ground_acceleration=signal, time_step=DT)
 
 
 @pytest.mark.slow

@@ -28,7 +28,7 @@ from teflon_jax.studies import (
     posterior_friction_bounds,
     with_friction_factors,
 )
-from teflon_jax.systems import bidirectional_rigid_mass, isolated_structure
+from teflon_jax.systems import isolated_structure, rigid_mass
 from teflon_jax.units import PSI
 
 FRICTION, _ = tj.interface_parameters("UF", 1000 * PSI, "P")
@@ -105,10 +105,10 @@ def test_a_structure_with_factors_is_the_one_built_from_the_case_bearing():
     cases = posterior_friction_bounds(FRICTION, _posterior())
     factors = {k: v for k, v in friction_factors(cases)["lower"].items() if k != "f_min"}
     ground = uniform_signal(np.zeros(50), 0.01)
-    built = dict(weight=1e5, ground_x=ground, ground_y=ground, time_step=0.005, isolation_period=2.0)
-    got = with_friction_factors(bidirectional_rigid_mass(bearing=POINT, **built), factors)
+    built = dict(weight=1e5, ground_acceleration=ground, ground_y=ground, time_step=0.005, isolation_period=2.0)
+    got = with_friction_factors(rigid_mass(components=2, bearing=POINT, **built), factors)
     case_bearing = tj.paper_bearing(cases["lower"])
-    want = bidirectional_rigid_mass(bearing=case_bearing, **built)
+    want = rigid_mass(components=2, bearing=case_bearing, **built)
     for a, b in zip(_leaves(got), _leaves(want), strict=True):
         np.testing.assert_allclose(np.asarray(a), np.asarray(b), rtol=1e-14)
     perpendicular, _ = tj.interface_parameters("UF", 1000 * PSI, "T")

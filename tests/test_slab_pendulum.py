@@ -14,8 +14,8 @@ from teflon_jax.cli import main
 from teflon_jax.excitation import uniform_signal
 from teflon_jax.structures import overturning_map
 from teflon_jax.systems import (
-    bidirectional_rigid_mass,
     peak_response,
+    rigid_mass,
     simulate_history,
     slab_on_bearings,
 )
@@ -162,7 +162,7 @@ def test_symmetric_slab_under_one_component_equals_the_rigid_mass():
     pendulum of the same R (period 2 pi sqrt(R / g)) and does not twist."""
     ax, ay = _pulse(0.35, 0.0)
     response = simulate_history(_slab(ax, ay, 4.0), DURATION)
-    mass = bidirectional_rigid_mass(weight=W, bearing=BEARING, ground_x=uniform_signal(ax, DT_RECORD),
+    mass = rigid_mass(components=2, weight=W, bearing=BEARING, ground_acceleration=uniform_signal(ax, DT_RECORD),
                                     ground_y=uniform_signal(ay, DT_RECORD), time_step=STEP,
                                     isolation_period=2 * np.pi * np.sqrt(R / G))
     reference = simulate_history(mass, DURATION)
@@ -182,7 +182,7 @@ def test_zero_height_is_todays_slab_and_the_rigid_mass():
     assert today.normal_load is None
     tiny = simulate_history(_slab(ax, ay, 1e-9), DURATION)
     assert np.max(np.abs(np.asarray(tiny.displacement) - np.asarray(today.displacement))) < 1e-12
-    mass = bidirectional_rigid_mass(weight=W, bearing=BEARING, ground_x=uniform_signal(ax, DT_RECORD),
+    mass = rigid_mass(components=2, weight=W, bearing=BEARING, ground_acceleration=uniform_signal(ax, DT_RECORD),
                                     ground_y=uniform_signal(ay, DT_RECORD), time_step=STEP,
                                     isolation_period=2 * np.pi * np.sqrt(R / G))
     reference = simulate_history(mass, DURATION)

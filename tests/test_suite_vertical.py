@@ -174,12 +174,12 @@ def _vertical_build(ax, ay, az, dt):
 
     from teflon_jax.bearing import paper_bearing
     from teflon_jax.excitation import uniform_signal
-    from teflon_jax.systems import bidirectional_rigid_mass, with_vertical_motion
+    from teflon_jax.systems import rigid_mass, with_vertical_motion
     from teflon_jax.tables import friction_table, interface_parameters
     from teflon_jax.units import PSI
 
     params, _ = interface_parameters("UF", 1000 * PSI, "P")
-    template = bidirectional_rigid_mass(weight=1e5, bearing=paper_bearing(params), ground_x=uniform_signal(ax[0], dt),
+    template = rigid_mass(components=2, weight=1e5, bearing=paper_bearing(params), ground_acceleration=uniform_signal(ax[0], dt),
                                         ground_y=uniform_signal(ay[0], dt), time_step=dt, isolation_period=2.0)
     template = with_vertical_motion(template, uniform_signal(az[0], dt), friction_table=friction_table("UF", "P", extrapolate=True),
                                     table_pressure=1000 * PSI)

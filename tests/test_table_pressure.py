@@ -21,7 +21,6 @@ from teflon_jax.bearing import FrictionParameters, paper_bearing
 from teflon_jax.excitation import uniform_signal
 from teflon_jax.formats import save_bearing
 from teflon_jax.systems import (
-    bidirectional_rigid_mass,
     isolated_structure,
     rigid_mass,
     simulate_history,
@@ -107,7 +106,7 @@ def test_two_directions_along_a_line_are_the_one_direction():
     zero = uniform_signal(jnp.zeros(801), 0.01)
     options = dict(weight=100e3, bearing=bearing, time_step=0.0025, isolation_period=3.0)
     line = dataclasses.replace(rigid_mass(ground_acceleration=horizontal, **options), newton_tolerance=0.0)
-    plane = dataclasses.replace(bidirectional_rigid_mass(ground_x=horizontal, ground_y=zero, **options),
+    plane = dataclasses.replace(rigid_mass(components=2, ground_acceleration=horizontal, ground_y=zero, **options),
                                 newton_tolerance=0.0)
     law = dict(friction_table=table, table_pressure=pressure)
     line, plane = (with_vertical_motion(s, vertical, **law) for s in (line, plane))

@@ -198,7 +198,7 @@ def test_two_directions_under_one_component_reproduce_one_direction():
     vertical record with uplift: the same response as the one-direction structure (Park's Z
     reduces to Eq. 3 along one axis), zero shear while uplifted, the same uplift time."""
     from teflon_jax.bearing import FrictionParameters
-    from teflon_jax.systems import bidirectional_rigid_mass, simulate_history
+    from teflon_jax.systems import rigid_mass, simulate_history
 
     duration = 10.0
     t = _times(duration)
@@ -208,7 +208,7 @@ def test_two_directions_under_one_component_reproduce_one_direction():
     bearing = paper_bearing(FrictionParameters(f_max=0.1, delta_f=0.06, rate_a=20.0))
     one = with_vertical_motion(rigid_mass(weight=WEIGHT, bearing=bearing, ground_acceleration=ground,
                                           time_step=0.005, radius=RADIUS), vertical, radius=RADIUS)
-    two = bidirectional_rigid_mass(weight=WEIGHT, bearing=bearing, ground_x=ground, time_step=0.005,
+    two = rigid_mass(components=2, weight=WEIGHT, bearing=bearing, ground_acceleration=ground, time_step=0.005,
                                    isolation_period=2 * np.pi * np.sqrt(RADIUS / G))
     two = with_vertical_motion(two, vertical, radius=RADIUS)
     r1, r2 = simulate_history(one, duration), simulate_history(two, duration)
@@ -247,7 +247,7 @@ def test_uplifted_bearing_neither_heats_nor_wears(directions):
     import equinox as eqx
 
     from teflon_jax.bearing import FrictionalHeating, FrictionParameters, Wear
-    from teflon_jax.systems import bidirectional_rigid_mass
+    from teflon_jax.systems import rigid_mass
     from teflon_jax.units import INCH, PSI
 
     bearing = paper_bearing(FrictionParameters(f_max=0.1, delta_f=0.06, rate_a=20.0))
@@ -260,7 +260,7 @@ def test_uplifted_bearing_neither_heats_nor_wears(directions):
     if directions == 1:
         system = rigid_mass(ground_acceleration=horizontal, **options)
     else:
-        system = bidirectional_rigid_mass(ground_x=horizontal, **options)
+        system = rigid_mass(components=2, ground_acceleration=horizontal, **options)
     loads, travel, heat = _history_run(with_vertical_motion(system, vertical), 1200)
     slid = np.diff(travel)
     uplifted = loads[1:] == 0  # steps that start uplifted (the step's flux is its start's)
@@ -305,7 +305,7 @@ def test_a_pendulum_holds_the_stiffness_its_load_scales(directions):
     import dataclasses
 
     from teflon_jax.bearing import FrictionParameters, concave_surface
-    from teflon_jax.systems import bidirectional_rigid_mass, simulate_history
+    from teflon_jax.systems import rigid_mass, simulate_history
 
     duration = 2.0
     t = _times(duration)
@@ -317,7 +317,7 @@ def test_a_pendulum_holds_the_stiffness_its_load_scales(directions):
                             radius=RADIUS)
         run = simulate_history
     else:
-        system = bidirectional_rigid_mass(weight=WEIGHT, bearing=bearing, ground_x=ground, time_step=0.005,
+        system = rigid_mass(components=2, weight=WEIGHT, bearing=bearing, ground_acceleration=ground, time_step=0.005,
                                           isolation_period=2 * np.pi * np.sqrt(RADIUS / G),
                                           surface=concave_surface(RADIUS))
         run = simulate_history

@@ -60,8 +60,8 @@ def read_structure(args, isolator) -> StructureFlags:
 
 def build_structure(args, isolator, flags: StructureFlags, ground_x, ground_y, two: bool = True):
     """The system of `args.structure` on `isolator` under the ground `Signal`s [m/s^2]: flat
-    sliders and single pendulums in both directions (`bidirectional_rigid_mass`,
-    `bidirectional_building`, `slab_on_bearings`), series pendulums in one direction, or in
+    sliders and single pendulums in both directions (`rigid_mass`,
+    `six_storey_building` with `components=2`, `slab_on_bearings`), series pendulums in one direction, or in
     two with `two` (`triple_structure`; on a slab always two). The
     friction of a bounding case (`args.friction_factor`) scales Table 1's row or each surface's."""
     if flags.plan is not None:
@@ -72,14 +72,14 @@ def build_structure(args, isolator, flags: StructureFlags, ground_x, ground_y, t
         pendulum = _scaled(args, [isolator.pendulum])[0]
         return triple_structure(args.structure, pendulum, ground_x, time_step=flags.time_step,
                                 weight=flags.weight, ground_y=ground_y if two else None)
-    from ..systems import bidirectional_building, bidirectional_rigid_mass
+    from ..systems import rigid_mass, six_storey_building
 
     bearing = bearing_of_flags(args, args.ptfe, args.pressure, "--pressure")
-    common = dict(bearing=bearing, ground_x=ground_x, ground_y=ground_y, time_step=flags.time_step,
+    common = dict(bearing=bearing, ground_acceleration=ground_x, ground_y=ground_y, components=2, time_step=flags.time_step,
                   isolation_period=flags.period, contact_pressure=flags.pressure)
     if args.structure == "rigid":
-        return bidirectional_rigid_mass(weight=flags.weight, damping_ratio=flags.damping, **common)
-    return bidirectional_building(isolation_damping=flags.damping, **common)
+        return rigid_mass(weight=flags.weight, damping_ratio=flags.damping, **common)
+    return six_storey_building(isolation_damping=flags.damping, **common)
 
 
 def _scaled(args, pendulums):

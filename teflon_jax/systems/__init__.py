@@ -18,15 +18,6 @@ from ._bearing_test import respond_along_path as respond_along_path
 from ._bearing_test import simulate_bearing_test as simulate_bearing_test
 from ._bidirectional import PLANAR_NEWTON_ITERATIONS as PLANAR_NEWTON_ITERATIONS
 from ._bidirectional import BidirectionalStructure as BidirectionalStructure
-from ._bidirectional_models import BIDIRECTIONAL_TIME_STEP as BIDIRECTIONAL_TIME_STEP
-from ._bidirectional_models import bidirectional_building as bidirectional_building
-from ._bidirectional_models import (
-    bidirectional_initial_state as bidirectional_initial_state,
-)
-from ._bidirectional_models import bidirectional_rigid_mass as bidirectional_rigid_mass
-from ._bidirectional_models import bidirectional_storey_peaks as bidirectional_storey_peaks
-from ._bidirectional_models import bidirectional_structure as bidirectional_structure
-from ._bidirectional_models import directional_storeys as directional_storeys
 from ._drivers import PEAK_REDUCERS as PEAK_REDUCERS
 from ._drivers import RESPONSE_NAMES as RESPONSE_NAMES
 from ._drivers import STEPS_PER_LOOP_PASS as STEPS_PER_LOOP_PASS
@@ -72,18 +63,23 @@ from ._response import slider_travel as slider_travel
 from ._response import storey_drift as storey_drift
 from ._response import uplift_time as uplift_time
 from ._response import uplifted as uplifted
+from ._runs import bidirectional_initial_state as bidirectional_initial_state
+from ._runs import bidirectional_storey_peaks as bidirectional_storey_peaks
+from ._runs import building_response_quantities as building_response_quantities
+from ._runs import check_storey_height as check_storey_height
+from ._runs import directional_storeys as directional_storeys
+from ._runs import step_count as step_count
+from ._runs import storey_rows as storey_rows
 from ._series import structure_on_isolator as structure_on_isolator
 from ._series import triple_structure as triple_structure
 from ._structure import FRICTION_MODELS as FRICTION_MODELS
 from ._structure import StructureOnSliders as StructureOnSliders
 from ._structure import initial_state as initial_state
+from ._structure_build import BIDIRECTIONAL_TIME_STEP as BIDIRECTIONAL_TIME_STEP
+from ._structure_build import COMPONENTS as COMPONENTS
 from ._structure_build import STRUCTURE_EFFECTS as STRUCTURE_EFFECTS
-from ._structure_build import building_response_quantities as building_response_quantities
-from ._structure_build import check_storey_height as check_storey_height
 from ._structure_build import rigid_mass as rigid_mass
 from ._structure_build import six_storey_building as six_storey_building
-from ._structure_build import step_count as step_count
-from ._structure_build import storey_rows as storey_rows
 from ._structure_build import structure_on_sliders as structure_on_sliders
 from ._vertical import LAW_REACH as LAW_REACH
 from ._vertical import TablePressure as TablePressure

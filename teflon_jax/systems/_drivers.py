@@ -18,12 +18,6 @@ from ..solver import RiccatiNewmark, require_riccati_form, solve_on_grid
 from ..structures import small_dot
 from ..validation import given_options
 from ._bidirectional import BidirectionalStructure
-from ._bidirectional_models import (
-    bidirectional_initial_state,
-    planar_records,
-    planar_run,
-    solved_planar_response,
-)
 from ._response import (
     REDUCERS,
     EngineRun,
@@ -40,16 +34,20 @@ from ._response import (
     uplift_time,
     uplifted,
 )
-from ._series import series_groups_run, series_run
-from ._structure import WRITTEN_OUT_PRODUCT, StructureOnSliders, initial_state
-from ._structure_build import (
+from ._runs import (
+    bidirectional_initial_state,
     check_duration,
     check_storey_height,
+    planar_records,
+    planar_run,
     records,
+    solved_planar_response,
     solved_structure_response,
     step_count,
     time_grid,
 )
+from ._series import series_groups_run, series_run
+from ._structure import WRITTEN_OUT_PRODUCT, StructureOnSliders, initial_state
 from ._vertical import pressure_law_loads, within_pressure_law
 
 

@@ -30,7 +30,6 @@ from ..tables import friction_table
 from ..units import PSI
 from ..validation import concrete, require_positive
 from ._bidirectional import BidirectionalStructure
-from ._bidirectional_models import bidirectional_building, bidirectional_rigid_mass
 from ._series import triple_structure
 from ._structure import NEWTON_ITERATIONS, NEWTON_TOLERANCE, StructureOnSliders
 from ._structure_build import check_structure_parts, rigid_mass, six_storey_building
@@ -280,20 +279,25 @@ class IsolatedStructure(eqx.Module):
                              "(isolated_structure: one Signal; bidirectional_isolated_structure: an (x, y) pair).")
         if self.pendulum is not None:
             return self._on_sliders_in_series(ground_acceleration, design)
-        if self.components == 2:
-            return self._in_two_components(*ground_acceleration, design)
+        two = self.components == 2
+        ground_x, ground_y = ground_acceleration if two else (ground_acceleration, None)
         bearing, period, damping = self.isolation(design)
-        common = dict(bearing=bearing, ground_acceleration=ground_acceleration, time_step=self.time_step,
-                      isolation_period=period, friction_model=self.friction_model, linear_rule=self.linear_rule,
-                      contact_pressure=self.contact_pressure(design))
+        surface = None if self.surface is None else self.designed_surface(design)
+        common = dict(bearing=bearing, ground_acceleration=ground_x, ground_y=ground_y, components=self.components,
+                      time_step=self.time_step, isolation_period=period, friction_model=self.friction_model,
+                      contact_pressure=self.contact_pressure(design),
+                      **({"surface": surface} if two else {"linear_rule": self.linear_rule}))
         if self.kind == "rigid":
             system = rigid_mass(weight=self.weight, damping_ratio=damping if period is not None else 0.0, **common)
         else:
             system = six_storey_building(isolation_damping=damping, **common)
-        if self.surface is not None:  # W / R: the part of K a vertical record's load scales
-            system = dataclasses.replace(system, pendulum_stiffness=system.bearing_load / self.designed_surface(design).radius)
-        if self.surface is not None and not self.surface.is_linear:
-            system = dataclasses.replace(system, surface=self.designed_surface(design))
+        if two:  # the planar solve: its `newton_iterations` bound it, its `newton_tolerance` (in Y) ends it
+            return dataclasses.replace(system, newton_iterations=self.newton_iterations,
+                                       newton_tolerance=self.newton_tolerance)
+        if surface is not None:  # W / R: the part of K a vertical record's load scales
+            system = dataclasses.replace(system, pendulum_stiffness=system.bearing_load / surface.radius)
+        if surface is not None and not self.surface.is_linear:
+            system = dataclasses.replace(system, surface=surface)
         settings = (self.newton_iterations, self.split_at_turn, self.newton_tolerance)
         if settings != (system.newton_iterations, system.split_at_turn, system.newton_tolerance):
             system = dataclasses.replace(system, newton_iterations=self.newton_iterations,
@@ -309,23 +313,6 @@ class IsolatedStructure(eqx.Module):
                                 time_step=self.time_step, weight=self.weight,
                                 newton_iterations=self.newton_iterations, newton_tolerance=self.newton_tolerance,
                                 ground_y=ground_acceleration[1] if two else None)
-
-    def _in_two_components(self, ground_x, ground_y, design) -> BidirectionalStructure:
-        """The same structure under (a_x, a_y) (`bidirectional_rigid_mass`, `bidirectional_building`:
-        one group with Park's biaxial Z); its `newton_iterations` bound the planar solve and its
-        `newton_tolerance` (in units of Y, as under one component) ends it."""
-        bearing, period, damping = self.isolation(design)
-        common = dict(bearing=bearing, ground_x=ground_x, ground_y=ground_y, time_step=self.time_step,
-                      isolation_period=period, contact_pressure=self.contact_pressure(design),
-                      friction_model=self.friction_model,
-                      surface=None if self.surface is None else self.designed_surface(design))
-        if self.kind == "rigid":
-            system = bidirectional_rigid_mass(weight=self.weight, damping_ratio=damping if period is not None else 0.0,
-                                              **common)
-        else:
-            system = bidirectional_building(isolation_damping=damping, **common)
-        return dataclasses.replace(system, newton_iterations=self.newton_iterations,
-                                   newton_tolerance=self.newton_tolerance)
 
 
 TRIPLE_MONTE_CARLO_TOLERANCE = 1e-7

@@ -40,7 +40,7 @@ K_b = sum_g k_g B_g^T B_g sits at the groups: springs of period T_b shared among
 (k_g = W_g / R_g), with zeta_b of the rigid-body mode as in `six_storey_building`, or double
 or triple friction pendulums, each group the series model of `_series.py` with its reference
 spring W_g / R_ref and no other spring or damper. On one group (or a symmetric plan without
-overturning) this is `bidirectional_building` (the series pendulums: `triple_structure`).
+overturning) this is `six_storey_building(components=2)` (the series pendulums: `triple_structure`).
 
 Overturning: level i (the base, floors 1-6) lies at height h_i above the sliding surface
 (h_0 = `base_height`, h_i = h_0 + the storey heights below it); the groups' normal loads follow
@@ -76,7 +76,7 @@ from ..tables import BuildingData, load_table2
 from ..units import STANDARD_GRAVITY
 from ..validation import concrete
 from ._bidirectional import BidirectionalStructure
-from ._bidirectional_models import _zero_signal, bidirectional_structure
+from ._structure_build import structure_on_sliders, zero_signal
 
 
 def slab_on_bearings(
@@ -168,9 +168,9 @@ def slab_on_bearings(
     bearings, radii = plan_isolators.bearings, plan_isolators.radii
     stiffness, damping = _isolation_stiffness(bearing_map, loads, weight, isolation_period, spring_shares, radii,
                                               isolation_damping, springs_needed=False)
-    system = bidirectional_structure(
+    system = structure_on_sliders(
         mass=jnp.array([mass, mass, inertia]), stiffness=stiffness, damping=damping, influence=influence,
-        bearing_map=bearing_map, bearing=stack_bearings(bearings), bearing_load=loads, ground_x=ground_x,
+        bearing_map=bearing_map, bearing=stack_bearings(bearings), bearing_load=loads, ground_acceleration=ground_x,
         ground_y=ground_y, time_step=time_step, contact_pressure=contact_pressures, friction_model=friction_model)
     return dataclasses.replace(system, pendulum_stiffness=None if radii is None else jnp.asarray(loads / radii),
                                **loading)
@@ -282,7 +282,7 @@ def building_on_plan(
     heights = _level_heights(building, storey_heights, base_height, n)
     mass, influence, bearing_map = _building_coordinates(level_mass, positions - centre, length_x, length_y,
                                                          rotational_inertia)
-    ground_y = _zero_signal(ground_x) if ground_y is None else ground_y
+    ground_y = zero_signal(ground_x) if ground_y is None else ground_y
     # the levels' moment sum_i h_i F_i as h_c H_h at the mass centre's height h_c (`overturning_force`)
     centre_height = _centre_height(level_mass, heights) if np.any(heights > 0) else 0.0
     loading = _overturning_loads(positions, centre, centre_height, vertical_stiffness, names,
@@ -300,10 +300,10 @@ def building_on_plan(
     refuse_springs(radii, isolation_period, spring_shares)
     isolation = _isolation_stiffness(bearing_map, loads, weight, isolation_period, spring_shares, radii,
                                      0.05 if isolation_damping is None else isolation_damping)
-    system = bidirectional_structure(
+    system = structure_on_sliders(
         mass=mass, stiffness=frame_k + isolation[0], damping=frame_c + isolation[1], influence=influence,
         bearing_map=bearing_map, bearing=stack_bearings(plan_isolators.bearings), bearing_load=loads,
-        ground_x=ground_x, ground_y=ground_y, time_step=time_step, contact_pressure=contact_pressures,
+        ground_acceleration=ground_x, ground_y=ground_y, time_step=time_step, contact_pressure=contact_pressures,
         friction_model=friction_model)
     return dataclasses.replace(system, pendulum_stiffness=None if radii is None else jnp.asarray(loads / radii),
                                **loading)

@@ -153,7 +153,7 @@ class StructureOnSliders(AbstractSteppedSystem):
             raise ValueError(f"balance: unknown {self.balance!r}; accepted: {', '.join(BALANCES)}.")
         if self.ground_y is not None and self.pendulum is None:
             raise ValueError("ground_y: a structure on flat sliders or single pendulums takes two "
-                             "components as a BidirectionalStructure (bidirectional_structure).")
+                             "components as a BidirectionalStructure (structure_on_sliders with influence and bearing_map).")
 
     @property
     def pendulum(self) -> SeriesPendulum | None:

@@ -250,7 +250,7 @@ def with_vertical_motion(system, vertical_acceleration: Signal, radius=None, pre
     A single friction pendulum's structure holds the part W / R of its stiffness that the
     normal load carries (`pendulum_stiffness`, scaled by N / W in each step; W_g / R per group
     in two components) when built with its radius or surface (`rigid_mass(radius=...)`,
-    `isolated_structure(kind, isolator=concave_surface(R))`, `bidirectional_rigid_mass(surface=...)`, the
+    `isolated_structure(kind, isolator=concave_surface(R))`, `rigid_mass(components=2, surface=...)`, the
     slab, the building on a plan); flat sliders' restoring springs keep their stiffness.
     `radius` R [m] sets W / R on a `StructureOnSliders` or `BidirectionalStructure` built
     without it (a pendulum given by its period alone); `None` keeps what the structure holds.
