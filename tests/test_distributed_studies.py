@@ -53,7 +53,7 @@ def _build():
     params, _ = interface_parameters("UF", 1000 * PSI, "P")
     template = rigid_mass(components=2, weight=1e5, bearing=paper_bearing(params), ground_acceleration=uniform_signal(ax[0], DT),
                                         ground_y=uniform_signal(ay[0], DT), time_step=DT, isolation_period=2.0)
-    return lambda gx, gy: eqx.tree_at(lambda s: (s.ground_x, s.ground_y), template, (gx, gy))
+    return lambda gx, gy: eqx.tree_at(lambda s: (s.ground_acceleration, s.ground_y), template, (gx, gy))
 
 
 def _suite(**kwargs):

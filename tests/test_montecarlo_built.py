@@ -111,7 +111,7 @@ def test_what_a_built_structure_cannot_take_is_refused_by_name():
     slab = _slab()
     with pytest.raises(ValueError, match="design: a BuiltStructure is built once"):
         monte_carlo(BuiltStructure(slab), TWO, 2, design={"isolation_period": [2.0, 3.0]})
-    with pytest.raises(ValueError, match="ground_y: the structure steps under two horizontal components"):
+    with pytest.raises(ValueError, match="ground_y: the structure steps under 2 horizontal component"):
         under_ground(slab, ZERO)
     with pytest.raises(ValueError, match="ground_z: the structure has no vertical record to replace"):
         under_ground(slab, ZERO, ZERO, ground_z=ZERO)

@@ -240,7 +240,7 @@ def test_the_slab_response_is_differentiable_in_a_surface_friction():
         friction = FrictionParameters(f_max, 0.05, 20.0)
         system = slab_on_bearings(
             length_x=LX, length_y=LY, weight=W, centre_of_mass=CENTRE, positions=CORNERS, loads=[W / 4] * 4,
-            ground_x=base.ground_x, ground_y=base.ground_y, time_step=STEP, isolator="triple-fp",
+            ground_x=base.ground_acceleration, ground_y=base.ground_y, time_step=STEP, isolator="triple-fp",
             pendulums=eqx.tree_at(lambda p: p.top_friction, TRIPLE, friction),
             height_of_centre_of_mass=3.0)
         return simulate_history(system, 2.0).displacement[-1, 0]

@@ -183,7 +183,7 @@ def _vertical_build(ax, ay, az, dt):
                                         ground_y=uniform_signal(ay[0], dt), time_step=dt, isolation_period=2.0)
     template = with_vertical_motion(template, uniform_signal(az[0], dt), friction_table=friction_table("UF", "P", extrapolate=True),
                                     table_pressure=1000 * PSI)
-    return lambda gx, gy, gz: eqx.tree_at(lambda s: (s.ground_x, s.ground_y, s.vertical_acceleration), template,
+    return lambda gx, gy, gz: eqx.tree_at(lambda s: (s.ground_acceleration, s.ground_y, s.vertical_acceleration), template,
                                           (gx, gy, gz))
 
 

@@ -228,7 +228,7 @@ def _history_run(system, n_steps):
     from teflon_jax.systems import bidirectional_initial_state, initial_state
 
     dt = system.time_step
-    two = hasattr(system, "ground_x")
+    two = hasattr(system, "bearing_map")
     y0 = bidirectional_initial_state(system) if two else initial_state(system)
 
     def body(y, k):

@@ -80,7 +80,7 @@ class BidirectionalStructure(AbstractSteppedSystem):
     **Fields:** `mass` (N,) [kg or kg m^2], `stiffness` (N, N), `damping` (N, N);
     `influence` R (N, 2) [-]; `bearing_map` B (G, 2, N); `bearing`: a `SlidingBearing` whose
     array leaves have shape (G,) (one set of constants per group); `bearing_load` W_g (G,) [N];
-    `ground_x`, `ground_y`: `Signal`s of the ground acceleration [m/s^2]; `newmark_inverse`
+    `ground_acceleration`, `ground_y`: `Signal`s of the ground acceleration along x and y [m/s^2]; `newmark_inverse`
     K_eff^-1 for `time_step` [s] (static); `newton_iterations`, `newton_tolerance` (static,
     in units of Y; 0: to rounding); for a bearing with heating or wear (`SlidingBearing.next_history`):
     `contact_pressure` (G,) [Pa] and the heat kernel's `heat_rates`, `heat_weights` (K,),
@@ -111,7 +111,7 @@ class BidirectionalStructure(AbstractSteppedSystem):
     bearing_map: jnp.ndarray
     bearing: SlidingBearing | SeriesPendulum
     bearing_load: jnp.ndarray
-    ground_x: Signal
+    ground_acceleration: Signal
     ground_y: Signal
     newmark_inverse: jnp.ndarray
     time_step: float = eqx.field(static=True)
@@ -172,7 +172,7 @@ class BidirectionalStructure(AbstractSteppedSystem):
 
     def ground(self, t):
         """(a_x, a_y) [m/s^2] at time t."""
-        return jnp.stack([self.ground_x(t), self.ground_y(t)])
+        return jnp.stack([self.ground_acceleration(t), self.ground_y(t)])
 
     def bearing_motion(self, q):
         """Sliding displacement (or velocity) (G, 2) of every group for coordinates q."""

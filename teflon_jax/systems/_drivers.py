@@ -38,12 +38,10 @@ from ._runs import (
     bidirectional_initial_state,
     check_duration,
     check_storey_height,
-    planar_records,
     planar_run,
     records,
     solved_planar_response,
     solved_structure_response,
-    step_count,
     time_grid,
 )
 from ._series import series_groups_run, series_run
@@ -286,17 +284,17 @@ def _check_loop_settings(read_every, steps_per_pass) -> None:
 
 
 def _engine_run(system, duration):
-    """(n_steps, `EngineRun`) of `system`'s engine over `duration` [s] (checked)."""
-    if isinstance(system, StructureOnSliders):
-        n_steps = check_duration(system, duration)
-        return n_steps, (series_run if _on_series(system) else _uniaxial_run)(system, n_steps)
-    if isinstance(system, BidirectionalStructure):
-        n_steps = step_count(system.time_step, duration, planar_records(system))
-        if system.pendulum is not None:
-            return n_steps, series_groups_run(system, n_steps)
-        return n_steps, planar_run(system, n_steps)
-    raise TypeError(f"system: no peak driver for a {type(system).__name__}; give a structure built by "
-                    "teflon_jax.systems (rigid mass, building or slab on its isolators).")
+    """(n_steps, `EngineRun`) of `system`'s engine over `duration` [s] (checked): its step
+    chosen by the isolator (series pendulums balance their sliders) and by the structure (one
+    isolator in one component: the scalar Newton; bearing groups: the planar step)."""
+    if not isinstance(system, (StructureOnSliders, BidirectionalStructure)):
+        raise TypeError(f"system: no peak driver for a {type(system).__name__}; give a structure built by "
+                        "teflon_jax.systems (rigid mass, building or slab on its isolators).")
+    n_steps = check_duration(system, duration)
+    one = isinstance(system, StructureOnSliders)
+    if _on_series(system):
+        return n_steps, (series_run if one else series_groups_run)(system, n_steps)
+    return n_steps, (_uniaxial_run if one else planar_run)(system, n_steps)
 
 
 def _sample(time, x, total_acceleration, ground, load, **parts):
@@ -438,10 +436,9 @@ def simulate_history(
         raise ValueError("solver: a structure on series pendulums steps only at its time_step; leave solver out.")
     _check_solver(system, solver)
     planar = isinstance(system, BidirectionalStructure)
-    n_steps, steps, save_times = time_grid(system.time_step, duration, save_every,
-                                           planar_records(system) if planar else records(system))
+    n_steps, steps, save_times = time_grid(system.time_step, duration, save_every, records(system))
     if planar:
-        y0, jumps = bidirectional_initial_state(system), jnp.concatenate([system.ground_x.times,
+        y0, jumps = bidirectional_initial_state(system), jnp.concatenate([system.ground_acceleration.times,
                                                                           system.ground_y.times])
     else:
         y0, jumps = initial_state(system), system.ground_acceleration.times

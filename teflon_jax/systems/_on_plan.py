@@ -460,7 +460,7 @@ def _on_series_groups(*, mass, influence, bearing_map, loads, pendulums, isolato
     mass = jnp.asarray(mass, float)
     return BidirectionalStructure(
         mass=mass, stiffness=stiffness, damping=jnp.asarray(damping, float), influence=jnp.asarray(influence),
-        bearing_map=jnp.asarray(bearing_map), bearing=pendulum, bearing_load=jnp.asarray(loads), ground_x=ground_x,
+        bearing_map=jnp.asarray(bearing_map), bearing=pendulum, bearing_load=jnp.asarray(loads), ground_acceleration=ground_x,
         ground_y=ground_y, newmark_inverse=jnp.zeros((count, count)), time_step=float(time_step),
         newton_iterations=int(newton_iterations), newton_tolerance=float(newton_tolerance), heat_rates=heat_rates,
         heat_weights=heat_weights, overturning=overturning, supports=supports, reference_stiffness=reference,

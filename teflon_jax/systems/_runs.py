@@ -56,15 +56,17 @@ def time_grid(time_step: float, duration: float, save_every: int, records=()):
     return n_steps, steps, steps[::save_every]
 
 
-def check_duration(system: StructureOnSliders, duration: float) -> int:
+def check_duration(system, duration: float) -> int:
     """Number of `time_step`s in `duration` [s] (rounded down), after checking that it is at
-    least one step and that the ground-acceleration record (and the vertical one) lasts that
-    long (`step_count`)."""
+    least one step and that the structure's records (x, y where it has one, vertical where it
+    has one) last that long (`step_count`)."""
     return step_count(system.time_step, duration, records(system))
 
 
-def records(system: StructureOnSliders) -> tuple:
-    """(record, what its length bounds) of the structure's records (`step_count`)."""
+def records(system) -> tuple:
+    """(record, what its length bounds) of a structure's records (`step_count`), in one or two
+    components: the x and y ground records and the vertical one (`None` where it has none; a
+    `Signal` is zero past its end, so a run longer than a record is refused by name, not padded)."""
     return ((system.ground_acceleration, "duration"), (system.ground_y, "duration (y record)"),
             (system.vertical_acceleration, "duration (vertical record)"))
 
@@ -198,14 +200,6 @@ def check_sliding_groups(system: BidirectionalStructure) -> None:
     if isinstance(system.bearing, SeriesPendulum):
         raise TypeError("system: a slab on triple or double pendulum groups starts from series_initial_state; "
                         "run it with simulate_history or peak_response.")
-
-
-def planar_records(system: BidirectionalStructure) -> tuple:
-    """(record, what its length bounds) of a two-component structure's records (`step_count`):
-    the x and y ground records and the vertical one (a `Signal` is zero past its end, so a run
-    longer than a record is refused by name, not padded)."""
-    return ((system.ground_x, "duration"), (system.ground_y, "duration (y record)"),
-            (system.vertical_acceleration, "duration (vertical record)"))
 
 
 def solved_planar_response(system: BidirectionalStructure, save_times, solution, n_steps: int) -> StructureResponse:

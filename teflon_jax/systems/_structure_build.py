@@ -339,7 +339,7 @@ def _on_groups(*, mass, stiffness, damping, influence, bearing_map, bearing, bea
         bearing_map=bearing_map,
         bearing=bearing,
         bearing_load=bearing_load,
-        ground_x=ground_x,
+        ground_acceleration=ground_x,
         ground_y=ground_y,
         newmark_inverse=jnp.linalg.inv(k_eff),
         time_step=float(time_step),

@@ -429,17 +429,12 @@ def under_ground(system, ground_x: Signal, ground_y: Signal | None = None, groun
     `Signal`s `ground_x` and, where it steps under two components, `ground_y` [m/s^2] in place
     of its own, and `ground_z` [m/s^2, up +] in place of its vertical record (where
     `with_vertical_motion` gave it one). `ValueError` naming the argument that does not fit."""
-    if hasattr(system, "ground_x"):  # a `BidirectionalStructure`: x and y
-        if ground_y is None:
-            raise ValueError("ground_y: the structure steps under two horizontal components; give its y record.")
-        system = eqx.tree_at(lambda s: (s.ground_x, s.ground_y), system, (ground_x, ground_y))
-    else:  # a `StructureOnSliders`: x, and y on series pendulums under two components
-        if (ground_y is None) != (system.ground_y is None):
-            raise ValueError("ground_y: give it exactly where the structure steps under two components "
-                             f"(it steps under {1 if system.ground_y is None else 2}).")
-        system = eqx.tree_at(lambda s: s.ground_acceleration, system, ground_x)
-        if ground_y is not None:
-            system = eqx.tree_at(lambda s: s.ground_y, system, ground_y)
+    if (ground_y is None) != (system.ground_y is None):
+        raise ValueError(f"ground_y: the structure steps under {1 if system.ground_y is None else 2} horizontal "
+                         "component(s); give its y record exactly where it steps under two.")
+    system = eqx.tree_at(lambda s: s.ground_acceleration, system, ground_x)
+    if ground_y is not None:
+        system = eqx.tree_at(lambda s: s.ground_y, system, ground_y)
     if ground_z is None:
         return system
     if system.vertical_acceleration is None:
