@@ -294,11 +294,7 @@ def test_vector_arctan_is_the_arctan_to_an_ulp():
 def _stepped_structure(case):
     """A structure of each case of the test below, whose `advance` steps it."""
     from teflon_jax.bearing import FrictionalHeating, Wear
-    from teflon_jax.systems import (
-        rigid_mass,
-        slab_on_bearings,
-        with_vertical_motion,
-    )
+    from teflon_jax.systems import slab_on_bearings, with_vertical_motion
 
     t = np.arange(0.0, 3.0 + 1e-9, 0.01)
     shaking = tj.uniform_signal(0.5 * STANDARD_GRAVITY * np.sin(2 * np.pi * t / 0.9), 0.01)
@@ -315,7 +311,8 @@ def _stepped_structure(case):
     if case == "heated, vertical":
         return with_vertical_motion(tj.rigid_mass(ground_acceleration=shaking, **options), vertical)
     if case == "heated, two components, vertical":
-        return with_vertical_motion(rigid_mass(components=2, ground_acceleration=shaking, ground_y=across, **options), vertical)
+        return with_vertical_motion(tj.rigid_mass(components=2, ground_acceleration=shaking, ground_y=across,
+                                                  **options), vertical)
     return slab_on_bearings(length_x=20.0, length_y=12.0, weight=3e5, centre_of_mass=[10.0, 6.0],
                             positions=[[2.0, 1.0], [18.0, 1.0], [18.0, 11.0], [2.0, 11.0]], loads=[75e3] * 4,
                             bearings=tj.paper_bearing(FRICTION), ground_x=shaking, ground_y=across, time_step=0.005,
