@@ -64,3 +64,30 @@ def test_diagnose_refuses_an_isolator_out_of_order_before_writing_anything(files
     assert not out.exists(), sorted(p.name for p in out.rglob("*"))
     assert code == 2, error
     assert "--save-isolator" in error and "inner <= bottom <= top" in error
+
+
+def test_fit_refuses_a_bearing_the_file_cannot_hold_before_writing_anything(tmp_path, capsys):
+    """A flat slider's fit with delta_f held above what the record's friction reaches: f_max
+    stops at its bound, delta_f, and a bearing file cannot hold delta_f = f_max (Eq. 1 at rest,
+    f_max - delta_f, must be positive). `fit --save-bearing` refuses the file by its flag before
+    the JSON, the plot or the bearing file is written; before the file was built and read back
+    first, the JSON was written and then a bearing file that `--bearing` refuses."""
+    from types import SimpleNamespace
+
+    from test_fit import _synthetic
+
+    from teflon_jax.units import INCH
+
+    record = tmp_path / "record.csv"
+    row = SimpleNamespace(f_max=0.10, delta_f=0.05, rate_a=0.6 / INCH, breakaway_ratio=None)
+    write_test_record(record, _synthetic(row, 0, noise=0.0), units="SI")
+    out = tmp_path / "out"
+    out.mkdir()
+    code = main(["fit", str(record), "--free", "f_max,rate_a,yield_disp", "--fixed", "delta_f=0.12",
+                 "--json", str(out / "fit.json"), "--plot", str(out / "fit.png"),
+                 "--save-bearing", str(out / "bearing.json")])
+    error = capsys.readouterr().err
+    assert code == 2, error
+    assert sorted(out.iterdir()) == []
+    assert "--save-bearing" in error and "delta_f: must be smaller than f_max" in error
+    assert "Nothing was written" in error

@@ -20,7 +20,7 @@ from ._common import (
 )
 from ._fit_bayes import _unit_of as _unit_of
 from ._fit_bayes import add_bayes_file_flags, check_bayes_flags
-from ._fit_outputs import isolator_writer
+from ._fit_outputs import bearing_writer, isolator_writer
 from ._isolator_flags import (
     add_isolator_flags,
     add_record_load_flags,
@@ -47,8 +47,8 @@ def add_fit_parser(subparsers) -> argparse.ArgumentParser:
         "converged fit that is not clean is a result with those limits, and the console names "
         "the `diagnose` command that looks for the effects the model lacks); 1 when the fit, or "
         "with --bayes the sampler, did not converge (no result); 2 for bad input, and for a fitted "
-        "isolator --save-isolator cannot hold (e.g. friction out of the series model's order), "
-        "refused before anything is written; 130 when --bayes is stopped with Ctrl-C."))
+        "isolator --save-isolator, or bearing --save-bearing, cannot hold (e.g. friction out of the "
+        "series model's order), refused before anything is written; 130 when --bayes is stopped with Ctrl-C."))
     parser.add_argument("records", nargs="+", metavar="RECORD",
                         help="test record files (uniaxial, or biaxial ux, uy, fx, fy: then the "
                              "constants perpendicular to the lay are fitted too)")
@@ -111,7 +111,8 @@ def add_fit_parser(subparsers) -> argparse.ArgumentParser:
 
 def run_fit(args) -> int:
     """Run `teflon-jax fit`; returns the exit status (0 ok, 1 not converged, 2 bad input or a
-    fitted isolator --save-isolator cannot hold, refused before any output is written)."""
+    fitted isolator --save-isolator or bearing --save-bearing cannot hold, refused before any
+    output is written)."""
     row = FIT_ROWS[args.isolator]
     try:
         check_bayes_flags(args, posterior=row.posterior, series=row.bayes is not None)
@@ -142,19 +143,18 @@ def run_fit(args) -> int:
     except ValueError as error:
         print(f"teflon-jax fit: error: {error}", file=sys.stderr)
         return 2
-    write_isolator = None  # the series rows alone take --save-isolator
-    if args.save_isolator is not None:
-        try:  # every check of what --save-isolator writes, before the first output
-            write_isolator = isolator_writer(args.save_isolator, fit.bearing)
-        except ValueError as error:
-            print(f"teflon-jax fit: error: {error}", file=sys.stderr)
-            return 2
-    _write_json(args.json, fit.to_json_dict())
     friction = row.friction(fit)
-    if friction is not None:
-        _save_fitted(args, friction, records)
-    if write_isolator is not None:
-        write_isolator()
+    try:  # every check of what --save-isolator and --save-bearing write, before the first output
+        write_isolator = (isolator_writer(args.save_isolator, fit.bearing)
+                          if args.save_isolator is not None else None)  # the series rows alone take it
+        write_bearing = _fitted_writer(args, friction, records) if friction is not None else None
+    except ValueError as error:
+        print(f"teflon-jax fit: error: {error}", file=sys.stderr)
+        return 2
+    _write_json(args.json, fit.to_json_dict())
+    for write in (write_bearing, write_isolator):
+        if write is not None:
+            write()
     if args.plot:
         row.plot(args, fit, records)
     for line in row.report(args, fit):
@@ -183,25 +183,33 @@ def _check_isolator_flags(args, row) -> None:
     check_output_file(args.plot, "--plot")
 
 
-def _save_fitted(args, fit, records, *, posterior=None, bayes=None, path=None,
-                 sources=None) -> None:
+def _save_fitted(args, fit, records, **entries) -> None:
     """`--save-bearing` (or `path`): the least-squares bearing with its standard errors, and
-    the draws of `posterior` (a `BearingPosterior`) with `bayes`, a summary of the run."""
+    the draws of `posterior` (a `BearingPosterior`) with `bayes`, a summary of the run
+    (`_fitted_writer`'s file, written at once)."""
+    _fitted_writer(args, fit, records, **entries)()
+
+
+def _fitted_writer(args, fit, records, *, posterior=None, bayes=None, path=None, sources=None):
+    """A function of no arguments that writes `_save_fitted`'s bearing file (nothing without
+    `--save-bearing` or `path`); `ValueError` naming --save-bearing first when the file cannot
+    hold the fitted bearing (`_fit_outputs.bearing_writer`: built and read back as
+    `load_bearing` reads it)."""
     from identification.bearing_fit import fitted_bearing, part_errors
 
-    from ..formats import interface_counts, save_bearing
+    from ..formats import interface_counts
 
     path = args.save_bearing if path is None else path
     if path is None:
-        return
+        return lambda: None
     series = interface_counts(records[0].metadata)[1]
     summary = {"command": "fit", "effects": [], "nrmse": fit.nrmse,
                "converged": bool(fit.converged), "free": list(fit.free)}
-    save_bearing(path, fitted_bearing(fit, interfaces_in_series=series),
-                 standard_errors=part_errors(fit.std_errors),
-                 sources=args.records if sources is None else sources,
-                 fit=summary if bayes is None else {**summary, "bayes": bayes},
-                 posterior=posterior)
+    return bearing_writer(path, fitted_bearing(fit, interfaces_in_series=series),
+                          standard_errors=part_errors(fit.std_errors),
+                          sources=args.records if sources is None else sources,
+                          fit=summary if bayes is None else {**summary, "bayes": bayes},
+                          posterior=posterior)
 
 
 def _check_counts(args) -> None:
