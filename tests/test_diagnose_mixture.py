@@ -44,6 +44,33 @@ def test_the_bic_is_n_eff_ln_of_the_mean_square_plus_ln_n_eff_per_constant():
         composition_bic(residuals, [2, 5], 1.0)
 
 
+def test_a_noise_free_record_of_the_baseline_weighs_no_composition_by_its_rounding():
+    """A noise-free record of Eq. 1 (the simulator on the analytic motion): the baseline and
+    the candidates that contain it (wear, asymmetry) all fit it to rounding, far below the
+    fits' tolerance `RESOLUTION`. Their BIC differ by p_c ln(n_eff) alone, so that the two
+    candidates of one constant more weigh the same and the baseline most; before the floor,
+    ln(SSR) of rounding-level sums of squares set their weights apart."""
+    from types import SimpleNamespace
+
+    from test_fit import _synthetic
+
+    from identification.discovery._rounds import RESOLUTION
+
+    row = SimpleNamespace(f_max=0.10, delta_f=0.05, rate_a=0.6 / INCH, breakaway_ratio=None)
+    result = discover_effects(_synthetic(row, 0, noise=0.0, cycles=2, fs=300.0),
+                              candidates=["breakaway", "wear", "asymmetry"])
+    mixture = discovery_mixture(result, draws=100)
+    rows = {frozenset(r["effects"]) - {"velocity_dependence"}: r for r in mixture.table}
+    base, wear, asymmetry = rows[frozenset()], rows[frozenset({"wear"})], rows[frozenset({"asymmetry"})]
+    assert max(r["nrmse"] for r in (base, wear, asymmetry)) < RESOLUTION / 2, mixture.table
+    assert base["selected"] and base["weight"] == max(r["weight"] for r in mixture.table)
+    step = math.log(mixture.effective_samples)
+    for r in (wear, asymmetry):
+        assert r["delta_bic"] == pytest.approx((r["free_parameters"] - base["free_parameters"]) * step,
+                                               rel=1e-9), mixture.table
+    assert wear["weight"] == pytest.approx(asymmetry["weight"], rel=1e-9)
+
+
 def test_the_help_names_the_mixture_flags():
     from teflon_jax.cli._main import _parser
 

@@ -5,14 +5,18 @@ every round, `DiscoveryResult.compositions`). Their Bayesian information criteri
 effective number of independent samples n_eff for all (that of the selected model's residual,
 AR(1) approximation as in the evidence of each round; Bretherton et al. 1999),
 
-    BIC_c = n_eff ln(SSR_c / n) + p_c ln(n_eff),
+    BIC_c = n_eff ln(max(SSR_c / n, RESOLUTION^2)) + p_c ln(n_eff),
 
-SSR_c the sum of squared force residuals and p_c the constants fitted, gives each composition
+SSR_c the sum of squared force residuals (relative to the record's RMS force) and p_c the
+constants fitted, gives each composition
 the weight (Schwarz 1978; Kass & Raftery 1995; Burnham & Anderson 2002, Sec. 6.4)
 
     w_c = exp(-dBIC_c / 2) / sum_j exp(-dBIC_j / 2),   dBIC_c = BIC_c - min_j BIC_j,
 
-the approximate posterior probability of composition c under equal prior odds. Compositions
+the approximate posterior probability of composition c under equal prior odds. A mean square
+below `RESOLUTION`^2 (the fits' tolerance, as in the evidence of each round) is rounding and
+read as that level, so that compositions which all fit a noise-free record to rounding differ
+by p_c ln(n_eff) alone (the fewest constants weigh most), not by their rounding. Compositions
 whose weight is below `MIN_MIXTURE_WEIGHT` are left out (named, with their weights) and the
 others' weights normalised again.
 
@@ -43,6 +47,7 @@ from ..least_squares import covariance_from_jacobian
 from ._augmented import PARAMETER_NAMES
 from ._diagnostics import effective_samples
 from ._discovery import _active_parameters
+from ._rounds import RESOLUTION
 
 MIN_MIXTURE_WEIGHT = 1e-3
 """Weight below which a composition is left out of the mixture (fewer than one motion in a
@@ -60,9 +65,11 @@ the least-squares fit, truncated to the ranges."""
 
 
 def composition_bic(residuals, free_parameters, n_eff: float) -> np.ndarray:
-    """BIC_c = n_eff ln(SSR_c / n) + p_c ln(n_eff) of each composition (module docstring).
+    """BIC_c = n_eff ln(max(SSR_c / n, RESOLUTION^2)) + p_c ln(n_eff) of each composition
+    (module docstring).
 
-    **Arguments:** `residuals` C residual vectors of one length n; `free_parameters` (C,)
+    **Arguments:** `residuals` C residual vectors of one length n, each relative to the
+    record's RMS force (`CompositionFit.residual`); `free_parameters` (C,)
     the constants each fitted, p_c; `n_eff` the effective samples (1 < n_eff <= n).
 
     **Returns:** (C,) BIC values [-]."""
@@ -71,7 +78,7 @@ def composition_bic(residuals, free_parameters, n_eff: float) -> np.ndarray:
         raise ValueError(f"n_eff: must be a finite number > 1, got {n_eff}.")
     ssr = np.array([float(np.sum(np.square(r))) for r in residuals])
     n = np.array([np.size(r) for r in residuals])
-    return n_eff * np.log(np.maximum(ssr, 1e-300) / n) + np.asarray(free_parameters) * math.log(n_eff)
+    return n_eff * np.log(np.maximum(ssr / n, RESOLUTION**2)) + np.asarray(free_parameters) * math.log(n_eff)
 
 
 def composition_weights(bic) -> np.ndarray:
@@ -109,7 +116,7 @@ class DiscoveryMixture:
         rows = [{**row, "weight_in_mixture": kept.get("+".join(row["effects"]) or "baseline")}
                 for row in self.table]
         return {"criterion": self.criterion, "formula": "w_c = exp(-dBIC_c / 2) / sum_j exp(-dBIC_j / 2)",
-                "bic": "n_eff ln(SSR_c / n) + p_c ln(n_eff)", "effective_samples": self.effective_samples,
+                "bic": "n_eff ln(max(SSR_c / n, RESOLUTION^2)) + p_c ln(n_eff)", "resolution": RESOLUTION, "effective_samples": self.effective_samples,
                 "min_weight": self.min_weight, "compositions": rows,
                 **({"why_none": self.why_none} if self.mixture is None else {})}
 
