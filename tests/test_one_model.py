@@ -306,6 +306,28 @@ def test_simulate_test_runs_a_bearing_file(tmp_path, capsys):
     assert float(record.metadata["contact_area"]) == pytest.approx(AREA / 3)
 
 
+def test_a_command_reads_its_bearing_file_once_and_warns_once(tmp_path, capsys, monkeypatch):
+    """`simulate-test --bearing FILE` with a constant its fit could not determine: the file is
+    read once (the warning comes from the same read as the bearing run), and warned of once."""
+    import pathlib
+
+    path = tj.save_bearing(tmp_path / "b.json", tj.paper_bearing(UF),
+                           standard_errors={("friction", "f_max"): 0.001, ("friction", "rate_a"): math.inf})
+    reads, read_text = [], pathlib.Path.read_text
+
+    def counted(self, *args, **kwargs):
+        if self.resolve() == path.resolve():
+            reads.append(self)
+        return read_text(self, *args, **kwargs)
+
+    monkeypatch.setattr(pathlib.Path, "read_text", counted)
+    code, err = _cli(["simulate-test", "--bearing", str(path), "--amplitude", "1in", "--frequency", "0.5Hz",
+                      "--cycles", "1", "--normal-load", "10kN", "--out", str(tmp_path / "t.csv")], capsys)
+    assert code == 0, err
+    assert err.count("friction.rate_a = ") == 1 and "was not determined by the fit" in err, err
+    assert len(reads) == 1, reads
+
+
 def test_discovery_refuses_a_normal_load_that_puts_force_over_n_out_of_range():
     """With N = 1 N every friction constant within its bounds (f_max <= 0.5) gives a force
     near zero: refused, with a load that works."""

@@ -342,8 +342,10 @@ def load_bearing(path) -> SlidingBearing:
 def unidentified_constants(path) -> list[tuple[str, float]]:
     """(`part.constant`, value [SI]) of each constant of a bearing file's `parts` whose standard
     error is null with a `standard_error_note`: the fit that wrote it could not determine it, so
-    its value is that fit's start or a guess."""
-    parts = read_json_document(path, "bearing file").get("parts")
+    its value is that fit's start or a guess. `path` may be the file's JSON object, read already
+    (`load_bearing`'s checks passed: a bad value is named there)."""
+    document = path if isinstance(path, dict) else read_json_document(path, "bearing file")
+    parts = document.get("parts")
     found = []
     for part, constants in (parts.items() if isinstance(parts, dict) else ()):
         for constant, entry in (constants.items() if isinstance(constants, dict) else ()):
