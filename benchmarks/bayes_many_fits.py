@@ -58,7 +58,7 @@ def _records(fits: int):
     load, fine, fs = 78.5 * KIP, 20, 200.0
     t_fine = np.arange(0.0, 2 / 0.6 + 1e-9, 1.0 / (fine * fs))
     u_fine = 4 * INCH * (1.0 - np.cos(2 * np.pi * 0.6 * t_fine))
-    force = np.asarray(tj.simulate_bearing_test(bearing, tj.tabulated_motion(t_fine, u_fine),
+    force = np.asarray(tj.imposed_path_test(bearing, tj.tabulated_motion(t_fine, u_fine),
                                                 load).fx)[::fine]
     t, u = t_fine[::fine], u_fine[::fine]
     scale = 0.02 * np.sqrt(np.mean(force**2))

@@ -26,7 +26,7 @@ def _records(quick: bool):
     for k, row in enumerate(tj.load_table1()):
         bearing = tj.paper_bearing(tj.FrictionParameters(row.f_max, row.delta_f, row.rate_a),
                                    breakaway_ratio=row.breakaway_ratio)
-        f = np.asarray(tj.simulate_bearing_test(bearing, tj.tabulated_motion(t, u), load).fx)
+        f = np.asarray(tj.imposed_path_test(bearing, tj.tabulated_motion(t, u), load).fx)
         f = f + 0.02 * np.sqrt(np.mean(f**2)) * np.random.default_rng(k).standard_normal(f.size)
         records.append(test_record_from_arrays(u, f, time=t, normal_load=load))
     return records

@@ -1,4 +1,4 @@
-"""The imposed-path test of a triple friction pendulum (`respond_along_path`), the model the
+"""The imposed-path test of a triple friction pendulum (`imposed_path_test`), the model the
 series fit and diagnose evaluate at every residual: its run time along one axis and in the plane,
 under a constant normal load and under one that swings +-30 % at every sample.
 
@@ -24,7 +24,7 @@ jax.config.update("jax_enable_x64", True)
 import numpy as np  # noqa: E402
 
 from teflon_jax.bearing import BoucWen, FrictionParameters, TriplePendulum  # noqa: E402
-from teflon_jax.systems import respond_along_path, sampled_path  # noqa: E402
+from teflon_jax.systems import imposed_path_test, sampled_path  # noqa: E402
 
 TRIPLE = TriplePendulum(inner_radius=0.3, bottom_radius=2.1, top_radius=2.1, inner_capacity=0.05,
                         bottom_capacity=0.4, top_capacity=0.4,
@@ -51,7 +51,7 @@ def main(argv=None):
     parser.add_argument("--repeats", type=int, default=5)
     parser.add_argument("--json", default=None)
     args = parser.parse_args(argv)
-    run = jax.jit(respond_along_path)
+    run = jax.jit(imposed_path_test)
     paths = _paths()
     for path in paths.values():  # compile each shape once
         jax.block_until_ready(run(TRIPLE, path).fx)

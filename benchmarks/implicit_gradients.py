@@ -29,9 +29,9 @@ from teflon_jax.bearing import (  # noqa: E402
 from teflon_jax.excitation import StochasticGroundMotion, sample, uniform_signal  # noqa: E402
 from teflon_jax.studies import bidirectional_isolated_structure  # noqa: E402
 from teflon_jax.systems import (  # noqa: E402
+    imposed_path_test,
     isolated_structure,
     peak_response,
-    respond_along_path,
     sampled_path,
     simulate_history,
     slab_on_bearings,
@@ -99,7 +99,7 @@ PATH = 0.2 * np.sin(2 * np.pi * T_PATH / 1.0) * np.sin(np.pi * T_PATH / 2.0)
 
 
 def path1(theta):  # imposed path, one component: top f_max, amplitude
-    r = respond_along_path(eqx.tree_at(lambda t: t.top_friction.f_max, TRIPLE, theta[0]),
+    r = imposed_path_test(eqx.tree_at(lambda t: t.top_friction.f_max, TRIPLE, theta[0]),
                            sampled_path(T_PATH, theta[1] * PATH, 1e6))
     return jnp.stack([r.fx[-1], r.fx[len(T_PATH) // 3]])
 
@@ -120,7 +120,7 @@ def biaxial(theta):  # series, two components
 
 def path2(theta):  # imposed planar path
     orbit = np.stack([PATH, 0.6 * np.roll(PATH, 40)], -1)
-    r = respond_along_path(eqx.tree_at(lambda t: t.top_friction.f_max, TRIPLE, theta[0]),
+    r = imposed_path_test(eqx.tree_at(lambda t: t.top_friction.f_max, TRIPLE, theta[0]),
                            sampled_path(T_PATH, theta[1] * orbit, 1e6, park_elements=16))
     return jnp.stack([r.fx[-1], r.fy[-1], r.fx[len(T_PATH) // 3]])
 

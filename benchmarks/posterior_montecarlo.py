@@ -124,7 +124,7 @@ def test_record(cycles):
     t = np.arange(0.0, cycles / FREQUENCY_HZ + 1e-9, 1.0 / SAMPLING_HZ)
     u = 4 * INCH * (1.0 - np.cos(2 * np.pi * FREQUENCY_HZ * t))
     load = 78.5 * KIP
-    f = np.asarray(tj.simulate_bearing_test(_truth(), tj.tabulated_motion(t, u), load).fx)
+    f = np.asarray(tj.imposed_path_test(_truth(), tj.tabulated_motion(t, u), load).fx)
     f = f + NOISE * np.sqrt(np.mean(f**2)) * np.random.default_rng(int(cycles)).standard_normal(f.size)
     return test_record_from_arrays(u, f, time=t, normal_load=load)
 

@@ -13,6 +13,12 @@ import teflon_jax as tj
 from teflon_jax.systems import rigid_mass
 from teflon_jax.units import INCH, PSI, STANDARD_GRAVITY
 
+
+def _along(bearing, time, ux, normal_load, **options):
+    """(force [N], Z [-], running max |Z|) along sampled displacements ux [m]."""
+    result = tj.imposed_path_test(bearing, tj.sampled_path(time, ux, normal_load), **options)
+    return result.fx, result.z[:, 0], result.z_peak
+
 FRICTION, _ = tj.interface_parameters("UF", 1000 * PSI, "P")
 Y = 0.005 * INCH
 SHAPES = {"eta1": dict(A=1.3, beta=0.2, gamma=0.7, eta=1.0), "eta3": dict(A=0.8, beta=-0.1, gamma=0.6, eta=3.0)}
@@ -50,7 +56,7 @@ def test_uniaxial_sine_test_matches_scipy(name):
     ultimate = (shape["A"] / (shape["beta"] + shape["gamma"])) ** (1 / shape["eta"])
     assert np.max(np.abs(sol.y[0])) == pytest.approx(ultimate, rel=1e-6)  # A != beta + gamma: |Z| != 1
     # the sampled-path form used by the fitter, on the same motion
-    _, z, _ = tj.force_along_path(bearing(shape), t, np.asarray(result.ux), 1.0, rtol=1e-10, atol=1e-12)
+    _, z, _ = _along(bearing(shape), t, np.asarray(result.ux), 1.0, rtol=1e-10, atol=1e-12)
     slope = np.diff(np.asarray(result.ux)) / np.diff(t)  # piecewise-constant velocity
 
     def along(s, z):
@@ -137,7 +143,7 @@ def test_closed_form_solver_refuses_other_shapes():
     @jax.jit
     def force(eta):
         h = tj.BoucWen(yield_disp=jnp.asarray(Y), eta=eta)
-        return tj.force_along_path(tj.SlidingBearing(friction=FRICTION, hysteresis=h), t, ux, 1.0)[0]
+        return _along(tj.SlidingBearing(friction=FRICTION, hysteresis=h), t, ux, 1.0)[0]
 
     assert bool(jnp.all(jnp.isfinite(force(2.0))))
     with pytest.raises(Exception, match="eta = 2 and gamma > beta"):
@@ -148,7 +154,7 @@ def test_eta_changes_the_force_along_a_path():
     """eta = 1 and eta = 2 give different forces (the bug: eta was ignored)."""
     t = np.linspace(0.0, 2.0, 401)
     ux = INCH * np.sin(np.pi * t)
-    forces = [np.asarray(tj.force_along_path(bearing(dict(A=1.0, beta=0.1, gamma=0.9, eta=e)), t, ux, 1.0)[0])
+    forces = [np.asarray(_along(bearing(dict(A=1.0, beta=0.1, gamma=0.9, eta=e)), t, ux, 1.0)[0])
               for e in (1.0, 2.0)]
     assert np.max(np.abs(forces[0] - forces[1])) > 1e-3 * np.max(np.abs(forces[1]))
 

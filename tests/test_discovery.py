@@ -221,8 +221,8 @@ def test_augmented_baseline_matches_core_simulator():
 
     from teflon_jax import (
         FrictionParameters,
+        imposed_path_test,
         paper_bearing,
-        simulate_bearing_test,
         tabulated_motion,
     )
 
@@ -230,7 +230,7 @@ def test_augmented_baseline_matches_core_simulator():
     fp = FrictionParameters(**{k: jnp.asarray(v) for k, v in UF_1000_P.items()})
     bearing = paper_bearing(fp, breakaway_ratio=2.5)
     motion = tabulated_motion(jnp.asarray(record.time), jnp.asarray(record.ux))
-    core = simulate_bearing_test(bearing, motion, float(record.normal_load[0]))
+    core = imposed_path_test(bearing, motion, float(record.normal_load[0]))
     data, _ = prepare_record(record)
     params = _defaults()
     params.update(UF_1000_P, yield_disp=0.005 * INCH, breakaway_ratio=2.5)

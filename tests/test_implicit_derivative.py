@@ -27,9 +27,9 @@ from teflon_jax.excitation import uniform_signal
 from teflon_jax.solver import implicit_root
 from teflon_jax.studies import bidirectional_isolated_structure
 from teflon_jax.systems import (
+    imposed_path_test,
     isolated_structure,
     peak_response,
-    respond_along_path,
     sampled_path,
     simulate_history,
     slab_on_bearings,
@@ -159,7 +159,7 @@ def test_an_imposed_paths_force_has_the_implicit_derivative(planar):
     def force(theta):
         pendulum = eqx.tree_at(lambda t: t.top_friction.f_max, TRIPLE, theta[0])
         traced = sampled_path(TIME, theta[1] * path, 1e6, park_elements=16)  # traced: elements given
-        return respond_along_path(pendulum, traced).fx[-1]
+        return imposed_path_test(pendulum, traced).fx[-1]
 
     _check_derivatives(force, [0.12, 1.0], forward=not planar)
 

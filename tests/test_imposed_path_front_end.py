@@ -19,12 +19,9 @@ from teflon_jax.bearing import (
 from teflon_jax.excitation import FigureEightMotion, SineMotion
 from teflon_jax.formats import load_isolator
 from teflon_jax.systems import (
-    force_along_path,
     imposed_path_test,
     path_strategy,
-    respond_along_path,
     sampled_path,
-    simulate_bearing_test,
 )
 
 jax.config.update("jax_enable_x64", True)
@@ -81,20 +78,6 @@ def test_a_flat_bearing_along_a_motion_starts_where_it_is_told():
     expected = imposed_path_test(FLAT, sampled_path(time, u[:, 0], W, velocity=v[:, 0]), z0=0.5, z_peak0=1.0)
     np.testing.assert_allclose(np.asarray(started.fx), np.asarray(expected.fx), rtol=1e-12, atol=1e-12 * W)
     assert np.max(np.abs(np.asarray(started.fx) - np.asarray(rest.fx))) > 1e-3 * W
-
-
-def test_the_old_names_call_the_front_end():
-    time, u, _ = _samples(MOTION, 100)
-    path = sampled_path(time, u[:, 0], W)
-    for isolator in (FLAT, DOUBLE):
-        np.testing.assert_array_equal(np.asarray(simulate_bearing_test(isolator, MOTION, W).fx),
-                                      np.asarray(imposed_path_test(isolator, MOTION, W).fx))
-        np.testing.assert_array_equal(np.asarray(respond_along_path(isolator, path).fx),
-                                      np.asarray(imposed_path_test(isolator, path).fx))
-    force, z, z_peak = force_along_path(ETA3, time, u[:, 0], W)
-    new = imposed_path_test(ETA3, path)
-    np.testing.assert_array_equal(np.asarray(force), np.asarray(new.fx))
-    np.testing.assert_array_equal(np.asarray(z), np.asarray(new.z[:, 0]))
 
 
 def test_options_the_path_or_strategy_does_not_take_are_refused_by_name():

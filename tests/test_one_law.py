@@ -5,7 +5,7 @@ Park's Eqs. 8-9 with anisotropy) a noise-free record comes from an independent p
 in numpy/scipy (`test_discovery.generate_record`: RK4 of Eq. 3 with the effects applied
 sample by sample; `_planar_record`: scipy's integration of Park's equations), and:
 
-- the simulator (`simulate_bearing_test` of the bearing with that part) reproduces it;
+- the simulator (`imposed_path_test` of the bearing with that part) reproduces it;
 - the fitter (`fit_bearing_test`, or for an optional part the fit of a chosen composition,
   `fit --effects`) recovers the law's constant from it;
 - discovery's candidate model (`simulate_augmented`) at the true constants reproduces it.
@@ -101,7 +101,7 @@ def test_simulator_follows_the_law(law):
     bearing = _bearing_of(record, settings)
     motion = tj.SineMotion(settings.get("amplitude", INCH), settings.get("frequency", 0.16), cycles=2)
     load = tj.uniform_signal(jnp.asarray(record.normal_load), float(record.time[1] - record.time[0]))
-    result = tj.simulate_bearing_test(bearing, motion, load, samples_per_cycle=400)
+    result = tj.imposed_path_test(bearing, motion, load, samples_per_cycle=400)
     assert _nrmse(result.fx, record.fx) < LAWS[law][3]
 
 
@@ -179,7 +179,7 @@ def test_simulator_follows_park_and_anisotropy():
     bearing = tj.paper_bearing(tj.FrictionParameters(**UF_1000_P),
                                friction_perpendicular=tj.FrictionParameters(**UF_1000_T))
     motion = tj.FigureEightMotion(0.5 * INCH, 1.5, cycles=1.0)
-    result = tj.simulate_bearing_test(bearing, motion, 78.5 * KIP, samples_per_cycle=200)
+    result = tj.imposed_path_test(bearing, motion, 78.5 * KIP, samples_per_cycle=200)
     assert _nrmse(np.concatenate([result.fx, result.fy]), _planar_forces(record)) < 1e-4
 
 

@@ -122,8 +122,8 @@ def test_under_a_vertical_record_the_friction_follows_the_pressure_as_in_the_bea
     velocity of the isolator) under the load of one bearing s p A, scaled to the structure's
     weight: mu (s p A / N_ref)^-e s W Z. Held at the static pressure, as before, it is not."""
     from teflon_jax.systems import (
+        imposed_path_test,
         isolated_structure,
-        respond_along_path,
         sampled_path,
         simulate_history,
         with_vertical_component,
@@ -140,7 +140,7 @@ def test_under_a_vertical_record_the_friction_follows_the_pressure_as_in_the_bea
     assert bool(response.succeeded) and s.min() > 0.3 and np.ptp(s) > 0.5
     path = sampled_path(np.asarray(response.time), np.asarray(response.displacement[:, 0]), s * pressure * AREA,
                         velocity=np.asarray(response.velocity[:, 0]))
-    test = respond_along_path(bearing, path)
+    test = imposed_path_test(bearing, path)
     friction = np.asarray(response.friction_force)
     np.testing.assert_allclose(np.asarray(test.fx) * weight / (pressure * AREA), friction, rtol=0,
                                atol=1e-9 * weight)

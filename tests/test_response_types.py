@@ -18,9 +18,9 @@ from teflon_jax.systems import (
     Peaks,
     StructureOnSliders,
     StructureResponse,
+    imposed_path_test,
     isolated_structure,
     peak_response,
-    respond_along_path,
     sampled_path,
     simulate_history,
     smooth_max,
@@ -215,11 +215,11 @@ def test_peaks_of_one_and_two_components_are_one_type_and_match_the_histories():
 def test_a_series_pendulum_test_is_a_bearing_test_result():
     t = np.arange(0.0, 2.0 + 1e-9, 0.01)
     u = 0.1 * np.sin(np.pi * t)
-    along = respond_along_path(TRIPLE, sampled_path(t, u, 1e6))
+    along = imposed_path_test(TRIPLE, sampled_path(t, u, 1e6))
     assert along.force.shape == t.shape and along.uy is None and along.slider.shape == (t.size, 3)
     np.testing.assert_array_equal(along.ux, u)
     np.testing.assert_array_equal(along.fy, 0.0)
-    orbit = respond_along_path(TRIPLE, sampled_path(t, np.stack([u, 0 * u], -1), 1e6))
+    orbit = imposed_path_test(TRIPLE, sampled_path(t, np.stack([u, 0 * u], -1), 1e6))
     assert orbit.force.shape == (t.size, 2) and orbit.slider.shape == (t.size, 3, 2)
     np.testing.assert_allclose(orbit.fx, along.fx, rtol=0, atol=1e-9 * 1e6)  # a plane orbit along x
     assert bool(along.succeeded) and bool(orbit.succeeded)

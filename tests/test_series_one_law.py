@@ -2,7 +2,7 @@
 
 The structure's isolator path (a rigid mass on a double or triple pendulum with Eq. 1 friction
 that depends on velocity, under a ground motion; one and two components) is imposed on the
-bearing test (`respond_along_path`, which `fit`, Bayes and `diagnose` run): the test's
+bearing test (`imposed_path_test`, which `fit`, Bayes and `diagnose` run): the test's
 force must be the structure's bearing force at every step. Velocity-dependent friction is
 where the law's reversal rule (f_min while Z still points back) acts; a test that took
 W (u / R + mu(|v|) Z) instead misses the structure's force by 6e-4 to 3.4e-3 of the weight
@@ -21,7 +21,7 @@ from teflon_jax.bearing import BoucWen, DoublePendulum, FrictionParameters, Trip
 from teflon_jax.excitation import StochasticGroundMotion, sample, uniform_signal
 from teflon_jax.formats import test_record_from_arrays
 from teflon_jax.systems import (
-    respond_along_path,
+    imposed_path_test,
     sampled_path,
     simulate_history,
     triple_structure,
@@ -60,7 +60,7 @@ def test_the_test_force_along_the_structures_path_is_the_structures_force(name):
     weight = float(system.bearing_load)
     path = np.asarray(response.displacement[:, 0])
     assert np.ptp(path) > 0.05 and bool(np.all(response.converged))  # the outer surfaces slide
-    test = jax.jit(respond_along_path)(pendulum, sampled_path(np.asarray(response.time), path, weight))
+    test = jax.jit(imposed_path_test)(pendulum, sampled_path(np.asarray(response.time), path, weight))
     assert bool(np.all(test.converged))
     np.testing.assert_allclose(np.asarray(test.force) / weight, np.asarray(response.bearing_force) / weight,
                                rtol=0, atol=1e-9)
@@ -74,7 +74,7 @@ def test_the_planar_test_force_along_the_structures_orbit_is_the_structures_forc
     weight = float(one.bearing_load)
     orbit = np.asarray(x[:, :, 0])
     assert bool(np.all(converged)) and np.min(np.ptp(orbit, axis=0)) > 0.03
-    test = jax.jit(respond_along_path)(TRIPLE, sampled_path(np.asarray(time), orbit, weight))
+    test = jax.jit(imposed_path_test)(TRIPLE, sampled_path(np.asarray(time), orbit, weight))
     assert bool(np.all(test.converged))
     np.testing.assert_allclose(np.asarray(test.force) / weight, np.asarray(force) / weight, rtol=0, atol=1e-9)
     np.testing.assert_allclose(np.asarray(test.slider), np.asarray(sliders), rtol=0, atol=1e-9)
@@ -90,7 +90,7 @@ def test_a_double_pendulum_fitted_from_its_test_gives_the_structures_peaks():
     weight = 1e6
     t = np.arange(0, 3 * 4.0 + 1e-9, 0.01)
     u = 0.2 * np.sin(2 * np.pi * t / 4.0) * np.minimum(t / 4.0, 1.0)
-    force = np.asarray(jax.jit(respond_along_path)(DOUBLE, sampled_path(t, u, weight)).force)
+    force = np.asarray(jax.jit(imposed_path_test)(DOUBLE, sampled_path(t, u, weight)).force)
     record = test_record_from_arrays(u, force, time=t, normal_load=weight)
     start = DoublePendulum(bottom_radius=1.2, top_radius=2.4, bottom_capacity=0.3, top_capacity=0.3,
                            bottom_friction=FrictionParameters(0.05, 0.02, 10.0),

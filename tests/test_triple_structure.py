@@ -27,9 +27,9 @@ from teflon_jax.bearing import (
 from teflon_jax.excitation import StochasticGroundMotion, sample, uniform_signal
 from teflon_jax.studies import monte_carlo
 from teflon_jax.systems import (
+    imposed_path_test,
     isolated_structure,
     peak_response,
-    respond_along_path,
     sampled_path,
     simulate_history,
 )
@@ -63,7 +63,7 @@ def loading():
     n, period = 8000, 400.0
     t = np.linspace(0, period, n + 1)
     u = 1.02 * end * np.sin(2 * np.pi * t / period)
-    response = jax.jit(respond_along_path)(bearing, sampled_path(t, u, W))
+    response = jax.jit(imposed_path_test)(bearing, sampled_path(t, u, W))
     x, force, converged = u, response.force, response.converged
     quarter = slice(0, n // 4)
     return regimes, end, np.asarray(x)[quarter], np.asarray(force)[quarter] / W, np.asarray(converged)
@@ -228,7 +228,7 @@ def test_the_inner_surfaces_take_eq1_at_half_the_sliders_speed():
     bearing = _eq1_bearing()
     speed, dt = 0.05, 1e-4
     t = np.arange(0.0, 0.4 + dt / 2, dt)
-    response = jax.jit(respond_along_path)(bearing, sampled_path(t, speed * t, W))
+    response = jax.jit(imposed_path_test)(bearing, sampled_path(t, speed * t, W))
     x, force, converged = speed * t, response.force, response.converged
     x, ratio = np.asarray(x), np.asarray(force) / W
     assert np.asarray(converged).all()

@@ -1,6 +1,6 @@
 """The sliders' balance of a friction pendulum of sliders in series over one step, in one or two
 horizontal components: what a structure on the isolator (`teflon_jax.systems`) and the
-isolator's bearing test along an imposed path (`teflon_jax.systems.respond_along_path`) step through.
+isolator's bearing test along an imposed path (`teflon_jax.systems.imposed_path_test`) step through.
 
 S sliders carry one force F and their increments d_e add up to the isolator's; slider e
 carries F_e(d_e) (`slider_forces`: Eq. 1 at the surface's mean velocity over the step, f_min

@@ -5,7 +5,7 @@ Hermite curve through the sample positions with the sample velocities as tangent
 whose velocity at the samples is the one the friction law sees); the curve is cut into short
 straight elements, each advanced in closed form with the signs of e_i Z_i held
 (`park_path_update`). Used by the bearing driven along a sampled path
-(`teflon_jax.systems.respond_along_path`).
+(`teflon_jax.systems.imposed_path_test`).
 
 Reference: Park, Wen & Ang (1986); Constantinou, Mokha & Reinhorn (1990), Eqs. 8-9.
 """

@@ -11,11 +11,8 @@ from ..elements import TRIPLE_TOLERANCE as TRIPLE_TOLERANCE
 from ..structures import LINEAR_RULES as LINEAR_RULES
 from ._bearing_test import PATH_STRATEGIES as PATH_STRATEGIES
 from ._bearing_test import BearingTestSystem as BearingTestSystem
-from ._bearing_test import force_along_path as force_along_path
 from ._bearing_test import imposed_path_test as imposed_path_test
 from ._bearing_test import path_strategy as path_strategy
-from ._bearing_test import respond_along_path as respond_along_path
-from ._bearing_test import simulate_bearing_test as simulate_bearing_test
 from ._bidirectional import PLANAR_NEWTON_ITERATIONS as PLANAR_NEWTON_ITERATIONS
 from ._bidirectional import BidirectionalStructure as BidirectionalStructure
 from ._drivers import PEAK_REDUCERS as PEAK_REDUCERS

@@ -78,7 +78,7 @@ class BearingTestSystem(AbstractSteppedSystem):
         if isinstance(self.motion, AbstractBiaxialMotion):
             raise ValueError(
                 "solver: RiccatiNewmark handles uniaxial tests; for biaxial motion use a general "
-                "diffrax solver (the default of simulate_bearing_test)."
+                "diffrax solver (the default of imposed_path_test)."
             )
         h = require_riccati_form(self.bearing.hysteresis)
         du = self.motion.displacement(t1)[0] - self.motion.displacement(t0)[0]
@@ -469,24 +469,3 @@ def _z_along_path(bearing, time, ux, z0, z_peak0, solver, options, adjoint):
         y0={"z": z0[None], "z_peak": z_peak0}, saveat=diffrax.SaveAt(ts=time), stepsize_controller=controller,
         max_steps=options["max_steps"], adjoint=adjoint, throw=options["throw"])
     return solution.ys["z"][:, 0], solution.ys["z_peak"], solution.result
-
-# --------------------------------------------------------------------------- deprecated names
-
-
-def simulate_bearing_test(bearing, motion, normal_load, **options) -> BearingTestResult:
-    """Deprecated: `imposed_path_test(bearing, motion, normal_load, **options)`, which this calls."""
-    return imposed_path_test(bearing, motion, normal_load, **options)
-
-
-def respond_along_path(isolator, path: SampledPath, **options) -> BearingTestResult:
-    """Deprecated: `imposed_path_test(isolator, path, **options)`, which this calls."""
-    return imposed_path_test(isolator, path, **options)
-
-
-def force_along_path(bearing: SlidingBearing, time, ux, normal_load, *, z0=0.0, z_peak0=0.0, solver=None,
-                     rtol: float = 1e-8, atol: float = 1e-10, max_steps: int = 1_000_000):
-    """Deprecated: `imposed_path_test(bearing, sampled_path(time, ux, normal_load), ...)`, as
-    `(force [N], z [-], z_peak [-])` (n,) each along x."""
-    result = imposed_path_test(bearing, sampled_path(time, ux, normal_load), z0=z0, z_peak0=z_peak0, solver=solver,
-                               rtol=rtol, atol=atol, max_steps=max_steps)
-    return result.fx, result.z[:, 0], result.z_peak

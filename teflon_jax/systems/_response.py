@@ -209,9 +209,9 @@ class BearingTestResult(eqx.Module):
       `slider` [m] like it;
     - `coefficient` mu [-] and `z_peak` (running max |Z|) (nt,) of one surface;
     - `temperature_rise` [K], the rise that enters the heating factor (scaled), `heat_index`
-      [K] the unscaled rise (0 without heating) and `gap_position` [m] (`respond_along_path`);
+      [K] the unscaled rise (0 without heating) and `gap_position` [m] (`imposed_path_test`);
     - `converged` (nt,): each step's balance of a series pendulum met its tolerance; `result`:
-      the `diffrax.RESULTS` of a solve (`simulate_bearing_test`); `succeeded` reads either.
+      the `diffrax.RESULTS` of a solve (`imposed_path_test`); `succeeded` reads either.
 
     Each is `None` where the test has no such part.
     """

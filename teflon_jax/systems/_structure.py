@@ -217,7 +217,7 @@ class StructureOnSliders(AbstractSteppedSystem):
     def next_history(self, heat, travel, u0, u1, v0, z_peak0, z0=0.0, load0=None):
         """Heat states and travel after a step from isolator displacement `u0` to `u1` [m]: the
         heat flux of the friction at the step's start, q = mu(v0) (1 + a z0) p |u1 - u0| /
-        (dt n), held over the step (as `respond_along_path` does between samples); with the
+        (dt n), held over the step (as `imposed_path_test` does between samples); with the
         load factor `load0`, q scales with it and an uplifted bearing (0) counts no travel."""
         mu0 = self.under_load(load0).at_history(heat, travel).bearing.coefficient(v0, 0.0, z_peak0)
         mu0 = mu0 * self.asymmetry_factor(z0)
