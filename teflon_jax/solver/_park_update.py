@@ -30,11 +30,7 @@ S(q) = sum q^n / (2n + 1)! and C(q) = sum q^n / (2n)! (sinh and cosh of sqrt(q),
 cos of sqrt(-q)), evaluated as polynomials for -pi^2/4 < q <= 1 and with tanh beyond; a
 crossing is compared with the end of the increment in tau (tau grows with x), so the inverse
 x(tau) (artanh or arctan) is needed only for the length left after a crossing. No float64
-tan, arctanh or branch evaluated twice, which on CPU costs more than the rest together. The
-slope (`park_exact_update_and_slope`) carries its two tangents (along the increment's x and y)
-as separate arrays shaped like Z, never as a trailing axis of two: under `vmap` that axis
-interleaves and XLA's CPU loops do not vectorise it (an evaluation of the three sliders' forces with
-their blocks 1.5-1.6x faster on 512 members, the same numbers to rounding; benchmarks/README.md).
+tan, arctanh or branch evaluated twice, which on CPU costs more than the rest together.
 """
 
 import math
@@ -193,30 +189,24 @@ def _tau_slope(length, k2, tau):
     return jnp.where(small, series, closed)
 
 
-def _segment_slope(h, zx, zy, ex, ey, zx_new, zy_new, parts, dz, de):
-    """Tangents of (Zx, Zy) at a stretch's end from those at its start and of the direction, its
-    length and signs held: Z = N / D with N = Z0 (1 - k2 tau^2) + 2 A e tau (1 + c tau),
-    D = 1 + k2 tau^2 + 2 c tau differentiated in Z0 and e (c = w . Z0, k2 = A w . e,
-    w_i = g_i e_i, tau through k2). `dz` ((dZx, dZy) per tangent) and `de` ((dex, dey) per
-    tangent): one pair of arrays shaped like Z per tangent, kept apart (no trailing tangent
-    axis, which under `vmap` interleaves and keeps XLA's CPU loops from vectorising)."""
-    gx, gy, c, k2, tau, length, denominator = parts
-    a = h.A
-    tau_slope = _tau_slope(length, k2, tau)
-    k2t2 = k2 * tau * tau
+def _segment_slope(h, zx, zy, ex, ey, zx_new, zy_new, parts, dzx, dzy, dex, dey):
+    """Tangents of (Zx, Zy) at a stretch's end from those at its start (`dzx`, `dzy`) and of the
+    direction (`dex`, `dey`), its length and signs held (each (..., m) for m tangents):
+    Z = N / D with N = Z0 (1 - k2 tau^2) + 2 A e tau (1 + c tau), D = 1 + k2 tau^2 + 2 c tau
+    differentiated in Z0 and e (c = w . Z0, k2 = A w . e, w_i = g_i e_i, tau through k2)."""
+    gx, gy, c, k2, tau, length, denominator = (part[..., None] for part in parts)
+    zx, zy, ex, ey, zx_new, zy_new = (a[..., None] for a in (zx, zy, ex, ey, zx_new, zy_new))
+    a = jnp.asarray(h.A)[..., None]
+    dc = gx * (dex * zx + ex * dzx) + gy * (dey * zy + ey * dzy)
+    dk2 = 2 * a * (gx * ex * dex + gy * ey * dey)
+    dtau = _tau_slope(length, k2, tau) * dk2
     grow = 1 + c * tau
-    out = []
-    for (dzx, dzy), (dex, dey) in zip(dz, de):
-        dc = gx * (dex * zx + ex * dzx) + gy * (dey * zy + ey * dzy)
-        dk2 = 2 * a * (gx * ex * dex + gy * ey * dey)
-        dtau = tau_slope * dk2
-        d_k2t2 = dk2 * tau * tau + 2 * k2 * tau * dtau
-        d_grow = 2 * (dtau * grow + tau * (dc * tau + c * dtau))  # d[2 tau (1 + c tau)]
-        d_denominator = d_k2t2 + 2 * (dc * tau + c * dtau)
-        dnx = dzx * (1 - k2t2) - zx * d_k2t2 + a * (2 * dex * tau * grow + ex * d_grow)
-        dny = dzy * (1 - k2t2) - zy * d_k2t2 + a * (2 * dey * tau * grow + ey * d_grow)
-        out.append(((dnx - zx_new * d_denominator) / denominator, (dny - zy_new * d_denominator) / denominator))
-    return out
+    d_k2t2 = dk2 * tau * tau + 2 * k2 * tau * dtau
+    d_grow = 2 * (dtau * grow + tau * (dc * tau + c * dtau))  # d[2 tau (1 + c tau)]
+    d_denominator = d_k2t2 + 2 * (dc * tau + c * dtau)
+    dnx = dzx * (1 - k2 * tau * tau) - zx * d_k2t2 + a * (2 * dex * tau * grow + ex * d_grow)
+    dny = dzy * (1 - k2 * tau * tau) - zy * d_k2t2 + a * (2 * dey * tau * grow + ey * d_grow)
+    return (dnx - zx_new * d_denominator) / denominator, (dny - zy_new * d_denominator) / denominator
 
 
 def park_exact_update_and_slope(h, z0, displacement_increment):
@@ -229,25 +219,24 @@ def park_exact_update_and_slope(h, z0, displacement_increment):
     crosses zero, so the crossings' moving carries no slope). At a zero increment, the
     one-sided slope along +x and +y (each column the end rate of a motion that way)."""
     zx, zy, ex, ey, remaining, moving, norm = _start(h, z0, displacement_increment)
-    # tangents along the increment's x and y (one pair of arrays each): Z0 is held; e turns by
-    # (I - e e^T) / |dU|
-    turn = jnp.where(moving, 1 / norm, 0.0)
-    de = (((1 - ex * ex) * turn, -(ey * ex) * turn), (-(ex * ey) * turn, (1 - ey * ey) * turn))
-    zero = jnp.zeros_like(zx)
-    dz = ((zero, zero), (zero, zero))
+    # tangents along the increment's x and y (last axis): Z0 is held; e turns by (I - e e^T) / |dU|
+    eye = jnp.eye(2, dtype=zx.dtype)
+    turn = jnp.where(moving, 1 / norm, 0.0)[..., None]
+    dex = (eye[0] - ex[..., None] * jnp.stack([ex, ey], -1)) * turn
+    dey = (eye[1] - ey[..., None] * jnp.stack([ex, ey], -1)) * turn
+    dzx = dzy = jnp.zeros(zx.shape + (2,), zx.dtype)
     for k in range(3):
         zx1, zy1, remaining, parts = _segment(h, zx, zy, ex, ey, remaining, last=k == 2)
-        dz = _segment_slope(h, zx, zy, ex, ey, zx1, zy1, parts, dz, de)
+        dzx, dzy = _segment_slope(h, zx, zy, ex, ey, zx1, zy1, parts, dzx, dzy, dex, dey)
         zx, zy = zx1, zy1
     # the length: the end's rate, along e (a zero increment: along +x and along +y apart)
-    columns = []
-    for j, ((dzx, dzy), unit) in enumerate(zip(dz, ((1.0, 0.0), (0.0, 1.0)))):
-        ux, uy = jnp.where(moving, ex, unit[0]), jnp.where(moving, ey, unit[1])  # the motion per tangent
-        gx, gy = _sign_factors(h.gamma, h.beta, zx, zy, ux, uy)
-        load = gx * ux * zx + gy * uy * zy
-        along = jnp.where(moving, (ex, ey)[j], 1.0)  # e_j, 1 at rest
-        columns.append((dzx + (h.A * ux - zx * load) / h.yield_disp * along,
-                        dzy + (h.A * uy - zy * load) / h.yield_disp * along))
-    slope = jnp.stack([jnp.stack([columns[0][0], columns[1][0]], -1), jnp.stack([columns[0][1], columns[1][1]], -1)],
-                      axis=-2)
-    return jnp.stack([zx, zy], axis=-1), slope
+    ux = jnp.where(moving[..., None], ex[..., None], eye[0])  # the motion's x part per column
+    uy = jnp.where(moving[..., None], ey[..., None], eye[1])
+    a, gamma, beta, y = (jnp.asarray(v)[..., None] for v in (h.A, h.gamma, h.beta, h.yield_disp))
+    zx, zy = zx[..., None], zy[..., None]
+    gx, gy = _sign_factors(gamma, beta, zx, zy, ux, uy)
+    load = gx * ux * zx + gy * uy * zy
+    rate_x, rate_y = (a * ux - zx * load) / y, (a * uy - zy * load) / y
+    along = jnp.where(moving[..., None], jnp.stack([ex, ey], -1), 1.0)  # e_j per column, 1 at rest
+    slope = jnp.stack([dzx + rate_x * along, dzy + rate_y * along], axis=-2)
+    return jnp.stack([zx[..., 0], zy[..., 0]], axis=-1), slope
