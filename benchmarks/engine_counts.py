@@ -11,7 +11,8 @@ bearing law is written out.
 - the hand-written implicit derivatives (`custom_jvp`);
 - the response types of `systems/` (classes whose name ends in `Response` or `Result`);
 - the stepped systems of `systems/` (classes with a `step`, `newmark_update` or `propagated_step`
-  method);
+  method: system types and the step strategies they take), and the stepped system types (classes
+  that derive from `AbstractSteppedSystem`: the structures and the bearing test's actuator);
 - the equilibrium iterations of `systems/`, `elements/` and `solver/` (`while_loop` call sites);
 - the history drivers (functions of `systems/` that `scan` and are named `simulate_*`,
   `*_history` or `*_histories`) and the peak drivers (functions of `systems/` and `studies/` that `scan` and are
@@ -46,10 +47,11 @@ def _modules(folder: pathlib.Path) -> list[pathlib.Path]:
 STEP_METHODS = {"step", "newmark_update", "propagated_step"}
 
 
-def _stepped_systems(text: str) -> int:
+def _stepped_systems(text: str, types_only: bool = False) -> int:
     classes = [n for n in ast.walk(ast.parse(text)) if isinstance(n, ast.ClassDef)]
-    return sum(1 for c in classes
-               if STEP_METHODS & {f.name for f in c.body if isinstance(f, ast.FunctionDef)})
+    typed = [any(ast.unparse(b).endswith("AbstractSteppedSystem") for b in c.bases) for c in classes]
+    stepping = [bool(STEP_METHODS & {f.name for f in c.body if isinstance(f, ast.FunctionDef)}) for c in classes]
+    return sum(typed if types_only else stepping)
 
 
 def _scanning(text: str, named) -> int:
@@ -87,7 +89,7 @@ def _spells_a_name(text: str) -> bool:
                for n in ast.walk(tree))
 
 
-STRUCTURE_TYPES = ("StructureOnSliders", "BidirectionalStructure")
+STRUCTURE_TYPES = ("StructureOnSliders", "BidirectionalStructure")  # the second on older trees
 """The stepped structures' types, whose builders `counts` counts."""
 
 
@@ -124,7 +126,8 @@ def counts(root: pathlib.Path) -> dict:
         "isolator names as string literals": sum(len(NAME_LITERAL.findall(t)) for t in texts.values()),
         "custom_jvp": sum(len(CUSTOM_JVP.findall(t)) for t in texts.values()),
         "response types in systems/": sum(len(RESPONSE_CLASS.findall(texts[p])) for p in systems),
-        "stepped systems in systems/": sum(_stepped_systems(texts[p]) for p in systems),
+        "stepped systems (classes with a step) in systems/": sum(_stepped_systems(texts[p]) for p in systems),
+        "stepped system types in systems/": sum(_stepped_systems(texts[p], True) for p in systems),
         "while_loop iterations in systems/, elements/, solver/": sum(
             texts[p].count("while_loop(") for p in _modules(package / "systems") + _modules(package / "elements")
             + _modules(package / "solver")),

@@ -4,7 +4,7 @@
 through the rigid mass and the Table 2 building on flat sliders (springs of period 2 s, 5 %
 damping) and on single pendulums (R = 1.5 m), in one and two components, by two engines, each
 as one compiled `vmap` over the batch, alternated `--repeats` times: the flat engine
-(`StructureOnSliders` / `BidirectionalStructure`, Z along the net increment, its Monte Carlo
+(`StructureOnSliders`, its scalar or planar step, Z along the net increment, its Monte Carlo
 tolerance 1e-3 Y in one component, the planar solve's 1e-5 Y in two) and the series engine on
 the one-surface isolator (`SinglePendulum` of the same bearing, law "end",
 `structure_on_isolator`, its Monte Carlo tolerance 1e-7 W, or `--series-tolerance`). It

@@ -16,7 +16,7 @@ from teflon_jax.excitation import uniform_signal
 from teflon_jax.solver import coupled_newton
 from teflon_jax.studies import bidirectional_isolated_structure
 from teflon_jax.systems import (
-    BidirectionalStructure,
+    PlanarStep,
     isolated_structure,
     peak_response,
     rigid_mass,
@@ -146,7 +146,7 @@ def test_the_coulomb_step_solves_its_convex_problem():
     p = {"flexibility": blocks, "d_linear": (jnp.asarray(v_star[:n] * dt / 2), jnp.asarray(v_star[n:] * dt / 2)),
          "d0": (jnp.zeros(n), jnp.zeros(n)), "vb0": (jnp.zeros(n), jnp.zeros(n)),
          "z0": (jnp.zeros(n), jnp.zeros(n))}
-    (fx, fy), z, converged = BidirectionalStructure._coulomb_solve(system, p)  # coulomb_disc_forces
+    (fx, fy), z, converged = PlanarStep._coulomb_solve(system, p)  # coulomb_disc_forces
     assert bool(converged)
     force = np.concatenate([fx, fy])
     capacity = np.asarray(bearing.coefficient(jnp.asarray(v_star[:n]), jnp.asarray(v_star[n:]), 1.0)) * loads

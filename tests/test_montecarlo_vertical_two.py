@@ -30,7 +30,7 @@ from teflon_jax.studies import (
     monte_carlo_motion,
 )
 from teflon_jax.systems import (
-    bidirectional_initial_state,
+    initial_state,
     isolated_structure,
     peak_response,
     simulate_history,
@@ -117,7 +117,7 @@ def test_a_zero_vertical_record_steps_bit_for_bit(isolator, kind):
         return jax.jit(step)
 
     step_plain, step_loaded = stepper(plain), stepper(loaded)
-    y = bidirectional_initial_state(plain)
+    y = initial_state(plain)
     a = plain.acceleration_at(plain.ground(0.0), y)
     for k in range(1, 201):
         t1 = k * float(plain.time_step)

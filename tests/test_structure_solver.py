@@ -323,7 +323,7 @@ def _stepped_structure(case):
                                   "heated, two components, vertical", "slab, overturning"])
 def test_riccati_newmark_on_a_structure_takes_the_engines_step(case):
     """`diffrax.diffeqsolve` with `RiccatiNewmark` steps a structure by its `advance`, the
-    engine's own step (`StructureOnSliders.step_from`, `BidirectionalStructure.newmark_update`
+    engine's own step (`StructureOnSliders.step_from`, `PlanarStep.newmark_update`
     or `overturning_step`): its states are `simulate_history`'s to rounding's order (1e-10 of
     the peak displacement; the engine's matrices and records evaluated once outside its loop
     round differently in the last bits), under one and two
@@ -332,8 +332,7 @@ def test_riccati_newmark_on_a_structure_takes_the_engines_step(case):
     system = _stepped_structure(case)
     duration = 2.0
     history = tj.simulate_history(system, duration)
-    y0 = tj.initial_state(system) if isinstance(system, tj.StructureOnSliders) else \
-        tj.systems.bidirectional_initial_state(system)
+    y0 = tj.initial_state(system)
     solution = diffrax.diffeqsolve(diffrax.ODETerm(system), tj.RiccatiNewmark(), 0.0, duration, system.time_step, y0,
                                    saveat=diffrax.SaveAt(t0=True, steps=True), max_steps=int(duration / system.time_step))
     coordinates = solution.ys["u"] if "u" in solution.ys else solution.ys["q"]

@@ -225,11 +225,10 @@ def test_two_directions_under_one_component_reproduce_one_direction():
 
 def _history_run(system, n_steps):
     """(load factors, travel, heat states) at the end of each step (`advance`) from rest."""
-    from teflon_jax.systems import bidirectional_initial_state, initial_state
+    from teflon_jax.systems import initial_state
 
     dt = system.time_step
-    two = hasattr(system, "bearing_map")
-    y0 = bidirectional_initial_state(system) if two else initial_state(system)
+    y0 = initial_state(system)
 
     def body(y, k):
         y1, _ = system.advance(k * dt, (k + 1) * dt, y, None)

@@ -46,9 +46,9 @@ def _stepped(system, duration, plan) -> Run:
 
 def _on_series_groups(system) -> bool:
     from ..bearing import SeriesPendulum
-    from ..systems import BidirectionalStructure
+    from ..systems import StructureOnSliders
 
-    return isinstance(system, BidirectionalStructure) and isinstance(system.bearing, SeriesPendulum)
+    return isinstance(system, StructureOnSliders) and system.planar and isinstance(system.bearing, SeriesPendulum)
 
 
 def simulate_run(system, duration: float, plan=None) -> Run:

@@ -2,7 +2,7 @@
 
 `bidirectional_isolated_structure` is `isolated_structure` (Table 1 friction at a pressure,
 springs and dampers of period T_b and ratio zeta_b, Eq. 17 breakaway) built for (ground_x,
-ground_y): one `IsolatedStructure` whose `components` is 2, building a `BidirectionalStructure`
+ground_y): one `IsolatedStructure` whose `components` is 2, building a planar `StructureOnSliders`
 (`rigid_mass`, `six_storey_building` with `components=2`): one group of isotropic bearings with
 Park's biaxial Z (Eqs. 8-9) and Eq. 1 at the resultant sliding speed. Its peaks are
 `systems.peak_response`'s, as for every structure. Reference: Constantinou, Mokha & Reinhorn

@@ -42,7 +42,6 @@ from ..systems import (
     PEAK_REDUCERS,
     STEPS_PER_LOOP_PASS,
     SURFACE_REDUCERS,
-    BidirectionalStructure,
     IsolatedStructure,
     StructureOnSliders,
     check_storey_height,
@@ -104,9 +103,7 @@ def probe_structure(structure, source: _Source, design):
 
 def _two_components(system) -> bool:
     """Whether `system` steps under two horizontal ground components."""
-    if isinstance(system, StructureOnSliders):
-        return system.components == 2
-    return isinstance(system, BidirectionalStructure)
+    return isinstance(system, StructureOnSliders) and system.components == 2
 
 
 def _put(array: np.ndarray, sharding):
@@ -258,7 +255,7 @@ def monte_carlo(
     - `structure`: callable `(ground_acceleration, design) -> StructureOnSliders`, e.g.
       `isolated_structure("building", ...)`; `ground_acceleration` is a uniform `Signal`. For
       two-component motions a callable `((ground_x, ground_y), design) ->
-      BidirectionalStructure`, e.g. `bidirectional_isolated_structure("rigid", ...)`; the
+      StructureOnSliders`, e.g. `bidirectional_isolated_structure("rigid", ...)`; the
       peaks are then resultants (`peak_response`) and `pga` the peak |(a_x, a_y)|.
     - `motions`: a `StochasticGroundMotion` or a `TwoComponentGroundMotion` (with `n_motions`
       and `key`; motion i's major component is then the one-component motion i), either inside a
@@ -342,7 +339,7 @@ def _plan(structure, motions, n_motions, *, key=None, duration=None, design=None
     read_every = _read_every(peak_interval, probe.time_step)
     if storey_height is not None:  # refused here, before the compile, for a rigid mass
         # x and y: 2 n coordinates, but one set of masses for a series pendulum's structure
-        per_direction = n_dof if isinstance(probe, StructureOnSliders) else n_dof // source.components
+        per_direction = n_dof // source.components if probe.planar else n_dof
         check_storey_height(per_direction, storey_height)
     runner = ChunkRunner(structure, source, duration, design_arrays, devices, chunk, disp_width,
                          shear_width, read_every, storey_height, bearings=None if draws is None else bearings)

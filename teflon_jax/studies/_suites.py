@@ -200,8 +200,8 @@ def suite_peaks(build, names, ax, ay, time_step: float, duration: float,
     """Run P record pairs through the structure `build(ground_x, ground_y)` in one vmapped call
     (or in calls of `batch_size` pairs, the last padded: one compilation).
 
-    **Arguments:** `build`: a function of two `Signal`s returning a `BidirectionalStructure` (or
-    a `StructureOnSliders` on series pendulums with `ground_y`: triple or double pendulums), of
+    **Arguments:** `build`: a function of two `Signal`s returning a `StructureOnSliders` under
+    both (planar, or on triple or double pendulums with `ground_y`), of
     three with `az` (the third the vertical component, `systems.with_vertical_motion`);
     `names` (P,); `ax`, `ay` (P, n) ground accelerations [m/s^2] (already scaled, common step);
     `az` (P, n) [m/s^2, up +] the pairs' vertical components on the same grid, or `None`

@@ -13,8 +13,6 @@ from ._bearing_test import PATH_STRATEGIES as PATH_STRATEGIES
 from ._bearing_test import BearingTestSystem as BearingTestSystem
 from ._bearing_test import imposed_path_test as imposed_path_test
 from ._bearing_test import path_strategy as path_strategy
-from ._bidirectional import PLANAR_NEWTON_ITERATIONS as PLANAR_NEWTON_ITERATIONS
-from ._bidirectional import BidirectionalStructure as BidirectionalStructure
 from ._drivers import PEAK_REDUCERS as PEAK_REDUCERS
 from ._drivers import RESPONSE_NAMES as RESPONSE_NAMES
 from ._drivers import STEPS_PER_LOOP_PASS as STEPS_PER_LOOP_PASS
@@ -40,6 +38,8 @@ from ._on_plan import building_centre_height as building_centre_height
 from ._on_plan import building_on_plan as building_on_plan
 from ._on_plan import slab_on_bearings as slab_on_bearings
 from ._on_plan import stack_pendulums as stack_pendulums
+from ._planar_step import PLANAR_NEWTON_ITERATIONS as PLANAR_NEWTON_ITERATIONS
+from ._planar_step import PlanarStep as PlanarStep
 from ._response import MONTE_CARLO_PEAKS as MONTE_CARLO_PEAKS
 from ._response import REDUCERS as REDUCERS
 from ._response import BearingTestResult as BearingTestResult
@@ -60,7 +60,6 @@ from ._response import slider_travel as slider_travel
 from ._response import storey_drift as storey_drift
 from ._response import uplift_time as uplift_time
 from ._response import uplifted as uplifted
-from ._runs import bidirectional_initial_state as bidirectional_initial_state
 from ._runs import bidirectional_storey_peaks as bidirectional_storey_peaks
 from ._runs import building_response_quantities as building_response_quantities
 from ._runs import check_storey_height as check_storey_height

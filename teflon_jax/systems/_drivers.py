@@ -17,7 +17,6 @@ import jax.numpy as jnp
 from ..solver import RiccatiNewmark, require_riccati_form, solve_on_grid
 from ..structures import small_dot
 from ..validation import given_options
-from ._bidirectional import BidirectionalStructure
 from ._response import (
     REDUCERS,
     EngineRun,
@@ -35,7 +34,6 @@ from ._response import (
     uplifted,
 )
 from ._runs import (
-    bidirectional_initial_state,
     check_duration,
     check_storey_height,
     planar_run,
@@ -52,7 +50,7 @@ from ._vertical import pressure_law_loads, within_pressure_law
 def _on_series(system) -> bool:
     """Whether `system` is a structure on series pendulums: one or two components (stepped by
     `series_run`) or a slab on their groups (`series_groups_run`)."""
-    return isinstance(system, (StructureOnSliders, BidirectionalStructure)) and system.pendulum is not None
+    return isinstance(system, StructureOnSliders) and system.pendulum is not None
 
 
 STEPS_PER_LOOP_PASS = 2
@@ -78,19 +76,19 @@ travel and each surface's temperature rise."""
 def response_layout(system) -> ResponseLayout:
     """The `ResponseLayout` of any structure `systems` builds: a `StructureOnSliders` along x
     (one component: coordinates base, floors), one on series pendulums with `ground_y` (x
-    block then y block), and a
-    `BidirectionalStructure`, which carries its own `mass` and `influence` (a rigid mass or
+    block then y block), and a planar one (`StructureOnSliders.planar`), which carries its
+    own `mass` and `influence` (a rigid mass or
     building: x block then y block; a slab on any isolator's groups: x, y, rotation; the
     building on a plan, `building_on_plan`: x block, y block, the slab's rotation). Only shapes
     are read (static under jit)."""
-    if isinstance(system, StructureOnSliders):
+    if isinstance(system, StructureOnSliders) and not system.planar:
         m = system.mass
         n = m.shape[-1]
         if system.components == 1:
             return ResponseLayout((tuple(range(n)),), m, jnp.ones((n, 1), m.dtype))
         blocks = jnp.repeat(jnp.eye(2, dtype=m.dtype), n, axis=0)  # series pendulums, x and y
         return ResponseLayout((tuple(range(n)), tuple(range(n, 2 * n))), jnp.concatenate([m, m]), blocks)
-    if isinstance(system, BidirectionalStructure):
+    if isinstance(system, StructureOnSliders):
         count = system.mass.shape[-1]
         n = count // 2  # levels: 1 for a rigid mass or a slab, the base and floors for a building
         levels = (tuple(range(n)), tuple(range(n, 2 * n)))
@@ -287,11 +285,11 @@ def _engine_run(system, duration):
     """(n_steps, `EngineRun`) of `system`'s engine over `duration` [s] (checked): its step
     chosen by the isolator (series pendulums balance their sliders) and by the structure (one
     isolator in one component: the scalar Newton; bearing groups: the planar step)."""
-    if not isinstance(system, (StructureOnSliders, BidirectionalStructure)):
+    if not isinstance(system, StructureOnSliders):
         raise TypeError(f"system: no peak driver for a {type(system).__name__}; give a structure built by "
                         "teflon_jax.systems (rigid mass, building or slab on its isolators).")
     n_steps = check_duration(system, duration)
-    one = isinstance(system, StructureOnSliders)
+    one = not system.planar
     if _on_series(system):
         return n_steps, (series_run if one else series_groups_run)(system, n_steps)
     return n_steps, (_uniaxial_run if one else planar_run)(system, n_steps)
@@ -418,7 +416,7 @@ def simulate_history(
     - `throw`: raise on an unbalanced step or solver failure; with `False` (e.g. under `vmap`)
       the outcome is in the response (`succeeded`).
     """
-    if not isinstance(system, (StructureOnSliders, BidirectionalStructure)):
+    if not isinstance(system, StructureOnSliders):
         raise TypeError(f"system: no history driver for a {type(system).__name__}; give a structure built by "
                         "teflon_jax.systems (rigid mass, building or slab on its isolators).")
     if isinstance(save_every, bool) or not isinstance(save_every, int) or save_every < 1:
@@ -435,11 +433,11 @@ def simulate_history(
     if _on_series(system):
         raise ValueError("solver: a structure on series pendulums steps only at its time_step; leave solver out.")
     _check_solver(system, solver)
-    planar = isinstance(system, BidirectionalStructure)
+    planar = system.planar
     n_steps, steps, save_times = time_grid(system.time_step, duration, save_every, records(system))
     if planar:
-        y0, jumps = bidirectional_initial_state(system), jnp.concatenate([system.ground_acceleration.times,
-                                                                          system.ground_y.times])
+        y0, jumps = initial_state(system), jnp.concatenate([system.ground_acceleration.times,
+                                                            system.ground_y.times])
     else:
         y0, jumps = initial_state(system), system.ground_acceleration.times
     solution = solve_on_grid(system, solver, steps, save_times, y0, jump_times=jumps, rtol=rtol, atol=atol,
@@ -469,8 +467,8 @@ def _check_solver(system, solver) -> None:
     """`ValueError` naming `solver` where the structure's step needs `RiccatiNewmark`: the
     slab's overturning loads (held over its fixed steps) and a hysteresis outside its form."""
     fixed = isinstance(solver, RiccatiNewmark)
-    if isinstance(system, BidirectionalStructure) and system.overturning is not None and not fixed:
+    if isinstance(system, StructureOnSliders) and system.overturning is not None and not fixed:
         raise ValueError("solver: the overturning loads are held over the fixed steps of "
                          "RiccatiNewmark; leave solver out (or give height 0).")
-    if isinstance(system, StructureOnSliders) and fixed and system.friction_model == "hysteretic":
+    if isinstance(system, StructureOnSliders) and not system.planar and fixed and system.friction_model == "hysteretic":
         require_riccati_form(system.bearing.hysteresis)

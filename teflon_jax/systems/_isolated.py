@@ -29,7 +29,6 @@ from ..structures import LINEAR_RULES
 from ..tables import friction_table
 from ..units import PSI
 from ..validation import concrete, require_positive
-from ._bidirectional import BidirectionalStructure
 from ._series import triple_structure
 from ._structure import NEWTON_ITERATIONS, NEWTON_TOLERANCE, StructureOnSliders
 from ._structure_build import check_structure_parts, rigid_mass, six_storey_building
@@ -87,8 +86,8 @@ class IsolatedStructure(eqx.Module):
     defaults below) and `ground_acceleration` a `Signal` [m/s^2] (one component) or an (x, y)
     pair of them (two, `bidirectional_isolated_structure`); with `vertical`, the pair
     (horizontal, vertical) of that and the vertical `Signal`. Flat sliders and the single
-    pendulum build a `StructureOnSliders` (one component) or a `BidirectionalStructure` (two:
-    one group of bearings with Park's biaxial Z); a triple or double pendulum (`pendulum`) a
+    pendulum build a `StructureOnSliders` (one component, or two: one group of bearings with
+    Park's biaxial Z, the planar step); a triple or double pendulum (`pendulum`) a
     `StructureOnSliders` on its sliders in series (`triple_structure`), in one or two.
 
     **Fields:**
@@ -253,7 +252,7 @@ class IsolatedStructure(eqx.Module):
                            (friction, None if b is None else jnp.asarray(b, float)),
                            is_leaf=lambda x: x is None)
 
-    def __call__(self, ground_acceleration, design: Mapping | None = None) -> StructureOnSliders | BidirectionalStructure:
+    def __call__(self, ground_acceleration, design: Mapping | None = None) -> StructureOnSliders:
         if self.vertical:
             if not (isinstance(ground_acceleration, tuple) and len(ground_acceleration) == 2):
                 raise ValueError("ground_acceleration: this structure takes (horizontal, vertical) ground motions "
@@ -272,7 +271,7 @@ class IsolatedStructure(eqx.Module):
         part = self.bearing.pressure_dependence
         return {} if part is None else {"pressure_exponent": part.exponent}
 
-    def _horizontal(self, ground_acceleration, design) -> StructureOnSliders | BidirectionalStructure:
+    def _horizontal(self, ground_acceleration, design) -> StructureOnSliders:
         """The structure under the horizontal ground motion (one `Signal` or an (x, y) pair)."""
         if isinstance(ground_acceleration, tuple) != (self.components == 2):
             raise ValueError(f"ground_acceleration: this structure takes {self.components} horizontal component(s) "

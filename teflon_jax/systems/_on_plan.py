@@ -75,7 +75,7 @@ from ..structures import (
 from ..tables import BuildingData, load_table2
 from ..units import STANDARD_GRAVITY
 from ..validation import concrete
-from ._bidirectional import BidirectionalStructure
+from ._structure import StructureOnSliders
 from ._structure_build import structure_on_sliders, zero_signal
 
 
@@ -134,9 +134,9 @@ def slab_on_bearings(
       group) balance their sliders at each step: no springs, radii or contact pressures (heated surfaces take theirs from the
       pendulums, each group's times its N_g / W_g; `_series.py`).
     - `friction_model`: "hysteretic" (Park's Z), "coulomb" or "none" for flat sliders and
-      single pendulums (`_bidirectional.py`); the series pendulums' sliders follow Park's Z.
+      single pendulums (`_planar_step.py`); the series pendulums' sliders follow Park's Z.
 
-    **Returns:** a `BidirectionalStructure` with q = (u_x [m], u_y [m], theta [rad]) for every
+    **Returns:** a planar `StructureOnSliders` with q = (u_x [m], u_y [m], theta [rad]) for every
     isolator (`simulate_history`); series pendulums as its stacked `bearing`.
     """
     positions = np.asarray(positions, dtype=float).reshape(-1, 2)
@@ -236,7 +236,7 @@ def building_on_plan(
     names=None,
     contact_pressures=None,
     friction_model: str = "hysteretic",
-) -> BidirectionalStructure:
+) -> StructureOnSliders:
     """The Table 2 building on a rigid base slab over bearing groups (module docstring).
 
     **Arguments:**
@@ -266,7 +266,7 @@ def building_on_plan(
       `contact_pressures` (G,) [Pa] for bearings with heating; `friction_model` "hysteretic",
       "coulomb" or "none".
 
-    **Returns:** a `BidirectionalStructure` with q = (x: base, floors 1-6; y: base, floors 1-6;
+    **Returns:** a planar `StructureOnSliders` with q = (x: base, floors 1-6; y: base, floors 1-6;
     theta [rad]) (`simulate_history`; a vertical record by `with_vertical_motion`).
     """
     building = load_table2() if building is None else building
@@ -440,8 +440,8 @@ def _series_step_matrix(mass, stiffness, damping, influence, time_step):
 def _on_series_groups(*, mass, influence, bearing_map, loads, pendulums, isolator, ground_x: Signal,
                       ground_y: Signal, time_step: float, frame=None, overturning=None, supports=None,
                       newton_iterations: int = TRIPLE_NEWTON_ITERATIONS,
-                      newton_tolerance: float = TRIPLE_TOLERANCE) -> BidirectionalStructure:
-    """The `BidirectionalStructure` of masses `mass` (N,) [kg, kg m^2] (ground `influence`
+                      newton_tolerance: float = TRIPLE_TOLERANCE) -> StructureOnSliders:
+    """The planar `StructureOnSliders` of masses `mass` (N,) [kg, kg m^2] (ground `influence`
     (N, 2)) on groups of series pendulums (`isolator` "triple-fp" or "double-fp", the plan
     already checked): bearing map B (G, 2, N), loads W_g (G,) [N], `pendulums`
     (`stack_pendulums`), `frame` the structure's own (K, C) (N, N) (`None`: a rigid slab), and
@@ -458,7 +458,7 @@ def _on_series_groups(*, mass, influence, bearing_map, loads, pendulums, isolato
     count = mass.shape[0]
     stiffness, damping = (reference, jnp.zeros((count, count))) if frame is None else (frame[0] + reference, frame[1])
     mass = jnp.asarray(mass, float)
-    return BidirectionalStructure(
+    return StructureOnSliders(
         mass=mass, stiffness=stiffness, damping=jnp.asarray(damping, float), influence=jnp.asarray(influence),
         bearing_map=jnp.asarray(bearing_map), bearing=pendulum, bearing_load=jnp.asarray(loads), ground_acceleration=ground_x,
         ground_y=ground_y, newmark_inverse=jnp.zeros((count, count)), time_step=float(time_step),

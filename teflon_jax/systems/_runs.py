@@ -14,7 +14,7 @@ the second from the equations of motion M (u'' + 1 a_g) + C v + K u + e0 F = 0, 
 force on the base slab (level 0); both are linear in the state (u, v) and F at each step's
 end. Storey 1 lies between the base slab and floor 1, so its drift excludes the isolators'
 displacement, which is the base peak `base_disp`. Two components: the equations of motion and
-the step are `_bidirectional.py`'s. Reference: Constantinou, Mokha & Reinhorn (1990), J.
+the step are `_planar_step.py`'s. Reference: Constantinou, Mokha & Reinhorn (1990), J.
 Struct. Eng. 116(2), Eqs. 1, 8-9, 17, Figs. 7-11, Table 2 (MODEL.md Sections 4 and 8).
 """
 
@@ -24,12 +24,10 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..bearing import SeriesPendulum
-from ..structures import initial_normal_load
 from ..units import STANDARD_GRAVITY
-from ._bidirectional import BidirectionalStructure, overturning_step
+from ._planar_step import overturning_step
 from ._response import EngineRun, StructureResponse, uplift_time
-from ._structure import StructureOnSliders
+from ._structure import StructureOnSliders, initial_state
 from ._vertical import step_load_factors
 
 
@@ -177,32 +175,7 @@ def building_response_quantities(system: StructureOnSliders, response: Structure
     }
 
 
-def bidirectional_initial_state(system: BidirectionalStructure) -> dict:
-    """At rest relative to the ground, Z = 0 in every group (and cold, unworn bearings; with
-    overturning, the groups' normal loads under the vertical record at t = 0). `TypeError` for
-    groups of series pendulums, whose state is `series_initial_state`'s."""
-    check_sliding_groups(system)
-    n, groups = system.mass.shape[0], system.bearing_load.shape[0]
-    state = {"q": jnp.zeros(n), "v": jnp.zeros(n), "z": jnp.zeros((groups, 2)),
-             "z_peak": jnp.zeros(groups)}
-    if system.history:
-        n_heat = 0 if system.heat_rates is None else system.heat_rates.shape[0]
-        state.update(heat=jnp.zeros((groups, n_heat)), travel=jnp.zeros(groups))
-    if system.overturning is not None:  # the groups' normal loads N_g [N] (`teflon_jax.structures`: `supported_loads`)
-        state["normal_load"] = initial_normal_load(system)
-    return state
-
-
-def check_sliding_groups(system: BidirectionalStructure) -> None:
-    """`TypeError` naming the structure where its groups are series pendulums (`SeriesPendulum`):
-    their slab steps from `series_initial_state` (`_series.py`), not from the state of
-    sliding groups."""
-    if isinstance(system.bearing, SeriesPendulum):
-        raise TypeError("system: a slab on triple or double pendulum groups starts from series_initial_state; "
-                        "run it with simulate_history or peak_response.")
-
-
-def solved_planar_response(system: BidirectionalStructure, save_times, solution, n_steps: int) -> StructureResponse:
+def solved_planar_response(system: StructureOnSliders, save_times, solution, n_steps: int) -> StructureResponse:
     """The `StructureResponse` (two ground components) of a structure on sliding bearing groups
     from an adaptive diffrax `solution` saved at `save_times` [s] over `n_steps` steps
     (`simulate_history`; no overturning loads, which only the fixed steps carry): at each saved
@@ -251,7 +224,7 @@ def bidirectional_storey_peaks(response, system, storey_height) -> dict:
             "level_acceleration_resultant": np.hypot(*np.moveaxis(acc, 1, 0)).max(axis=0)}
 
 
-def planar_run(system: BidirectionalStructure, n_steps) -> EngineRun:
+def planar_run(system: StructureOnSliders, n_steps) -> EngineRun:
     """Flat sliders or single pendulums under two components, each step as the history's
     (`newmark_update` under the load factor of the step's end; with a slab's overturning,
     `overturning_step`: the groups' loads from the horizontal force at the step's start and
@@ -262,7 +235,7 @@ def planar_run(system: BidirectionalStructure, n_steps) -> EngineRun:
     ground = jax.vmap(system.ground)(times)
     loads = None if system.vertical_acceleration is None else jax.vmap(system.load_factor)(times)
     overturning = system.overturning is not None
-    y0 = bidirectional_initial_state(system)
+    y0 = initial_state(system)
     load0 = system.load_at(times[0], y0) if overturning else None if loads is None else loads[0]
     a0 = system.at_load(load0).acceleration_at(ground[0], y0)
 
@@ -287,7 +260,7 @@ def planar_run(system: BidirectionalStructure, n_steps) -> EngineRun:
 
 
 def _planar_sample(loaded, time, y, acceleration, ground, load, tipped):
-    """One sample of a `BidirectionalStructure`'s run: its coordinates, total accelerations,
+    """One sample of a planar `StructureOnSliders`' run: its coordinates, total accelerations,
     the groups' bearing displacements, friction forces (under the step's normal loads), Z,
     running peak of |Z|, heated bearings' surface temperature rise (G, 1) and, with
     overturning loads, the groups' loads and whether the slab tipped on the step."""

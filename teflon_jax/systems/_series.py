@@ -35,7 +35,7 @@ take Eq. 1 at the isolator's velocity at the step's end, the flat sliders' law
 (`friction_velocity="end"`, `FRICTION_VELOCITIES`). References: Fenz & Constantinou (2006,
 2008); Park, Wen & Ang (1986).
 
-A `BidirectionalStructure` on groups of triple or double friction pendulums (`bearing` a
+A planar `StructureOnSliders` on groups of triple or double friction pendulums (`bearing` a
 `SeriesPendulum`; `series_initial_state` to `series_groups_run`), the slab (x, y, rotation) or
 the Table 2 building on a plan (x block, y block, the slab's rotation): its state, its step and
 its history.

@@ -1,6 +1,9 @@
-"""Linear structures on sliding bearings under ground acceleration: the one structure on a
-single isolator, whose step below serves flat sliders and single pendulums (a friction
-pendulum of sliders in series, `bearing` a `SeriesPendulum`, is stepped by `_series.py`).
+"""Linear structures on sliding bearings under ground acceleration: the one stepped structure of
+the library, for one or two horizontal components, one isolator or groups of them. Its step is
+chosen by its static shape: the scalar step below for one isolator in one component (flat
+sliders and single pendulums), the planar step (`_planar_step.py`) for groups of bearings
+mapped by B (G, 2, N) under two, and the series balance (`_series.py`) for a friction pendulum
+of sliders in series (`bearing` a `SeriesPendulum`), in one or two components.
 
 Equations of motion in displacements relative to the ground (degree of freedom 0 is the
 isolator, i.e. the base slab sliding on the bearings):
@@ -29,8 +32,9 @@ from ..bearing import (
 from ..elements import BALANCES, isolator_root, predicted_root
 from ..excitation import Signal
 from ..solver import AbstractSteppedSystem, require_riccati_form, structure_step_end
-from ..structures import newmark_step_matrices, small_dot
+from ..structures import SupportPlan, newmark_step_matrices, small_dot
 from ._bearing_test import running_peak_rate
+from ._planar_step import PlanarStep, planar_initial_state
 from ._vertical import (
     TablePressure,
     bearing_under_load,
@@ -61,8 +65,16 @@ NEWTON_UNROLLED = 0
 on a CPU XLA then recomputes the residual in each consumer (rigid-mass Monte Carlo 1.6-2.5x slower)."""
 
 
-class StructureOnSliders(AbstractSteppedSystem):
+class StructureOnSliders(AbstractSteppedSystem, PlanarStep):
     """A linear structure isolated on sliding bearings, as a diffrax vector field.
+
+    Without a bearing map (`planar` False) the fields and state are those below. With one
+    (`influence` R (N, 2), `bearing_map` B (G, 2, N): `structure_on_sliders`, the slab, the
+    building on a plan) the structure steps G groups under two components (`PlanarStep`):
+    coordinates q (N,), array leaves of `bearing` (G,), `bearing_load` W_g (G,), state
+    {"q", "v", "z" (G, 2), "z_peak" (G,)}; `load` the load factor of a copy at one time
+    (`at_load`), `overturning` L (G, 2) and `supports` (`SupportPlan`) the groups' loads under
+    the horizontal force, `step_matrix` the exact step of series pendulums on a plan.
 
     State: {"u": (n,) [m], "v": (n,) [m/s], "z": () [-], "z_peak": () [-]}, relative to the
     ground; index 0 is the isolator. `z_peak` is the running max |Z| that switches breakaway
@@ -147,13 +159,26 @@ class StructureOnSliders(AbstractSteppedSystem):
     friction_velocity: str = eqx.field(static=True, default="mean")
     ground_y: Signal | None = None
     balance: str = eqx.field(static=True, default="newton")
+    influence: jnp.ndarray | None = None
+    bearing_map: jnp.ndarray | None = None
+    load: jnp.ndarray | None = None
+    overturning: jnp.ndarray | None = None
+    supports: SupportPlan | None = None
+    step_matrix: jnp.ndarray | None = None
 
     def __check_init__(self):
         if self.balance not in BALANCES:
             raise ValueError(f"balance: unknown {self.balance!r}; accepted: {', '.join(BALANCES)}.")
-        if self.ground_y is not None and self.pendulum is None:
-            raise ValueError("ground_y: a structure on flat sliders or single pendulums takes two "
-                             "components as a BidirectionalStructure (structure_on_sliders with influence and bearing_map).")
+        if (self.influence is None) != (self.bearing_map is None):
+            raise ValueError("influence, bearing_map: a structure on bearing groups takes both (R (N, 2), B (G, 2, N)).")
+        if self.ground_y is not None and self.pendulum is None and not self.planar:
+            raise ValueError("ground_y: a structure on flat sliders or single pendulums takes two components "
+                             "on its bearing groups (structure_on_sliders with influence and bearing_map).")
+
+    @property
+    def planar(self) -> bool:
+        """True when stepped by groups under two components (`PlanarStep`; a bearing map)."""
+        return self.bearing_map is not None
 
     @property
     def pendulum(self) -> SeriesPendulum | None:
@@ -265,11 +290,15 @@ class StructureOnSliders(AbstractSteppedSystem):
         return mu * load, slope * load
 
     def _acceleration(self, t, y):
+        if self.planar:
+            return self._planar_acceleration(t, y)
         return self.acceleration_at(self.ground_acceleration(t), y, self.load_factor(t))
 
     def acceleration_at(self, ground, y, load=None):
         """Relative acceleration [m/s^2] of state `y` under ground acceleration `ground` [m/s^2]
-        (and the load factor N / W `load`)."""
+        (and the load factor N / W `load`); planar: `ground` (a_x, a_y), the load on the copy."""
+        if self.planar:
+            return self.planar_acceleration_at(ground, y)
         force = -self.mass * ground - self.damping @ y["v"] - self.stiffness @ y["u"]
         bearing_force = self.at_state(y).friction_force(y["v"][0], y["z"], y["z_peak"], load)
         if self.surface is not None or load is not None:
@@ -278,6 +307,8 @@ class StructureOnSliders(AbstractSteppedSystem):
         return force / self.mass
 
     def __call__(self, t, y, args):
+        if self.planar:
+            return self.planar_rates(t, y)
         dz = bouc_wen_rate(self.bearing.hysteresis, y["z"], y["v"][0])
         if self.friction_model == "coulomb":
             # Sliding branch of Eq. 2 only (Z = sign(v)): general ODE solvers cannot represent
@@ -307,7 +338,9 @@ class StructureOnSliders(AbstractSteppedSystem):
 
     def advance(self, t0, t1, y0, args):
         """`step_from` over [t0, t1], one `time_step` (checked), with the records evaluated at
-        both ends (`RiccatiNewmark`)."""
+        both ends (`RiccatiNewmark`); planar: `PlanarStep.planar_advance`."""
+        if self.planar:
+            return self.planar_advance(t0, t1, y0)
         t1 = structure_step_end(t0, t1, self.time_step)
         return self.step_from(y0, self.ground_acceleration(t0), self.ground_acceleration(t1),
                               self.load_factor(t0), self.load_factor(t1))
@@ -454,7 +487,10 @@ class StructureOnSliders(AbstractSteppedSystem):
 
 
 def initial_state(system: StructureOnSliders) -> dict:
-    """At rest, relative to the ground, with Z = 0 (and a cold, unworn bearing)."""
+    """At rest, relative to the ground, with Z = 0 (and a cold, unworn bearing); planar: every
+    group's (`planar_initial_state`)."""
+    if system.planar:
+        return planar_initial_state(system)
     n = system.mass.shape[-1]
     state = {"u": jnp.zeros(n), "v": jnp.zeros(n), "z": jnp.zeros(()), "z_peak": jnp.zeros(())}
     if system.history:

@@ -8,7 +8,7 @@ The number of horizontal components C is read from the arguments: one (the groun
 one isolator at degree of freedom 0) gives a `StructureOnSliders`, stepped by the bracketed
 scalar Newton of one slider in one direction; two (the influence R (N, 2) and the bearing map
 B (G, 2, N) of G bearing groups, or `components=2` for the paper's structures) give a
-`BidirectionalStructure`, stepped by the planar coupled Newton of Park's Z. A structure on
+planar one, stepped by the planar coupled Newton of Park's Z. A structure on
 series pendulums is built from the linear structure by `structure_on_isolator`.
 Reference for the structures: Constantinou, Mokha & Reinhorn (1990), J. Struct. Eng. 116(2),
 Figs. 7-11 and Table 2.
@@ -34,7 +34,7 @@ from ..structures import (
     rigid_mass_matrices,
 )
 from ..tables import BuildingData
-from ._bidirectional import PLANAR_NEWTON_ITERATIONS, BidirectionalStructure
+from ._planar_step import PLANAR_NEWTON_ITERATIONS
 from ._structure import (
     FRICTION_MODELS,
     NEWTON_ITERATIONS,
@@ -71,7 +71,7 @@ def structure_on_sliders(
     influence=None,
     bearing_map=None,
     ground_y: Signal | None = None,
-) -> StructureOnSliders | BidirectionalStructure:
+) -> StructureOnSliders:
     """Build a linear structure on sliding bearings under one or two ground components.
 
     M q'' + C q' + K q + sum_g B_g^T F_g = -M R a_g(t): without `influence` and `bearing_map`
@@ -97,7 +97,7 @@ def structure_on_sliders(
     [N/m], the part of K[0, 0] a vertical record's normal load scales (`with_vertical_motion`;
     in two components it is W_g / R of `surface`).
 
-    **Returns:** a `StructureOnSliders` (one component) or a `BidirectionalStructure` (two).
+    **Returns:** a `StructureOnSliders`, planar (`planar`) in two components.
     """
     if friction_model not in FRICTION_MODELS:
         raise ValueError(
@@ -153,7 +153,7 @@ def _component_count(components, ground_y, one_only: dict, two_only: dict) -> in
 def rigid_mass(*, weight, bearing: SlidingBearing | None, ground_acceleration: Signal, time_step: float,
                isolation_period=None, damping_ratio=0.0, radius=None, friction_model: str = "hysteretic",
                linear_rule: str = "newmark", contact_pressure=None, components: int | None = None,
-               ground_y: Signal | None = None, surface=None) -> StructureOnSliders | BidirectionalStructure:
+               ground_y: Signal | None = None, surface=None) -> StructureOnSliders:
     """A rigid mass W/g on sliding bearings (Figs. 7-10 of the paper; TASS-type system):
 
         m u'' + c u' + (k + W/R) u + mu(|u'|) W Z = -m a_g(t),   m = W/g,
@@ -170,8 +170,8 @@ def rigid_mass(*, weight, bearing: SlidingBearing | None, ground_acceleration: S
     (`structure_on_sliders`); in two its `surface` (`ConcaveSurface`, its period
     `isolation_period`; its restrainer and large-displacement force act in the bearings' solve).
 
-    **Returns:** a 1-degree-of-freedom `StructureOnSliders`, or a `BidirectionalStructure` with
-    q = (u_x, u_y).
+    **Returns:** a 1-degree-of-freedom `StructureOnSliders`, or a planar one with q = (u_x,
+    u_y).
     """
     _check_friction_model(friction_model)
     count = _component_count(components, ground_y, {"radius": radius is not None,
@@ -194,7 +194,7 @@ def six_storey_building(*, bearing: SlidingBearing | None, ground_acceleration: 
                         linear_rule: str = "newmark", contact_pressure=None,
                         building: BuildingData | None = None, components: int | None = None,
                         ground_y: Signal | None = None, building_y: BuildingData | None = None,
-                        isolation_period_y=None, surface=None) -> StructureOnSliders | BidirectionalStructure:
+                        isolation_period_y=None, surface=None) -> StructureOnSliders:
     """The six-storey frame of Table 2 on an isolation system (Fig. 11 of the paper): the
     linear part `building_matrices` (`isolation_period` T_b [s] > 0, `isolation_damping`
     zeta_b [-] >= 0: 0.05 for the sliding system, 0.10 for the paper's linear high-damping
@@ -210,7 +210,7 @@ def six_storey_building(*, bearing: SlidingBearing | None, ground_acceleration: 
     a friction pendulum's `surface` (as in `rigid_mass`); `linear_rule` in one only.
 
     **Returns:** a 7-degree-of-freedom `StructureOnSliders` (0 = base, 1-6 = floors), or a
-    `BidirectionalStructure` with q = (x: base, floors 1-6; y: base, floors 1-6).
+    planar one with q = (x: base, floors 1-6; y: base, floors 1-6).
     """
     _check_friction_model(friction_model)
     count = _component_count(components, ground_y, {"linear_rule": linear_rule != "newmark"},
@@ -229,7 +229,7 @@ def six_storey_building(*, bearing: SlidingBearing | None, ground_acceleration: 
 
 
 def _building_in_two(bearing, ground_x, ground_y, time_step, isolation_period, isolation_damping, building,
-                     building_y, isolation_period_y, contact_pressure, **law) -> BidirectionalStructure:
+                     building_y, isolation_period_y, contact_pressure, **law) -> StructureOnSliders:
     """`six_storey_building` in two components: the x model, and the y model when it differs."""
     x = _one_direction(six_storey_building, ground_x, time_step, isolation_period=isolation_period,
                        isolation_damping=isolation_damping, building=building)
@@ -300,7 +300,7 @@ def _on_one_isolator(*, mass, stiffness, damping, bearing, bearing_load, ground_
 
 def _on_groups(*, mass, stiffness, damping, influence, bearing_map, bearing, bearing_load, ground_x, ground_y,
                time_step, newton_iterations, contact_pressure, friction_model,
-               surface) -> BidirectionalStructure:
+               surface) -> StructureOnSliders:
     """`structure_on_sliders` in two components: K_eff^-1 for `time_step`, the bearing's constants
     and `contact_pressure` broadcast to one per group, `pendulum_stiffness` W_g / R of `surface`."""
     mass = jnp.asarray(mass, dtype=float)
@@ -331,7 +331,7 @@ def _on_groups(*, mass, stiffness, damping, influence, bearing_map, bearing, bea
     stiffness = jnp.asarray(stiffness, dtype=float).reshape(n, n)
     damping = jnp.asarray(damping, dtype=float).reshape(n, n)
     k_eff = stiffness + 2 / time_step * damping + 4 / time_step**2 * jnp.diag(mass)
-    return BidirectionalStructure(
+    return StructureOnSliders(
         mass=mass,
         stiffness=stiffness,
         damping=damping,
@@ -438,7 +438,7 @@ def _block(a, b):
 
 
 def _two_directions(x, y, bearing, ground_x, ground_y, time_step,
-                    contact_pressure=None, **law) -> BidirectionalStructure:
+                    contact_pressure=None, **law) -> StructureOnSliders:
     n = x.mass.shape[0]
     influence = np.zeros((2 * n, 2))
     influence[:n, 0] = 1.0

@@ -242,17 +242,15 @@ def with_vertical_motion(system, vertical_acceleration: Signal, radius=None, pre
     """`system` with the vertical ground acceleration `vertical_acceleration` [m/s^2, up +] on
     its isolators' normal load N = W max(1 + a_v / g, 0) (module docstring).
 
-    `system`: any stepped structure, one that has a `vertical_acceleration` field (a
-    `StructureOnSliders`, `BidirectionalStructure` — the slab on flat sliders or single
-    pendulums among them, and the slab on series pendulums —; a `StructureOnSliders` on series
-    pendulums in one or two components).
+    `system`: any stepped structure (a `StructureOnSliders`: the rigid mass, the building and
+    the slab, on any isolator, in one or two components).
 
     A single friction pendulum's structure holds the part W / R of its stiffness that the
     normal load carries (`pendulum_stiffness`, scaled by N / W in each step; W_g / R per group
     in two components) when built with its radius or surface (`rigid_mass(radius=...)`,
     `isolated_structure(kind, isolator=concave_surface(R))`, `rigid_mass(components=2, surface=...)`, the
     slab, the building on a plan); flat sliders' restoring springs keep their stiffness.
-    `radius` R [m] sets W / R on a `StructureOnSliders` or `BidirectionalStructure` built
+    `radius` R [m] sets W / R on a `StructureOnSliders` built
     without it (a pendulum given by its period alone); `None` keeps what the structure holds.
     Triple and double pendulums carry their surfaces' radii: `radius` must be `None` there.
     `pressure_exponent` e [-] (one, or one per group): the exponent of the pressure dependence
@@ -271,7 +269,7 @@ def with_vertical_motion(system, vertical_acceleration: Signal, radius=None, pre
                          f"acceleration [m/s^2], got {type(vertical_acceleration).__name__}.")
     fields = {field.name for field in dataclasses.fields(system)} if dataclasses.is_dataclass(system) else set()
     if "vertical_acceleration" not in fields:
-        raise ValueError("system: expected a stepped structure (StructureOnSliders, BidirectionalStructure, "
+        raise ValueError("system: expected a stepped structure (StructureOnSliders, "
                          f"on any isolator), got {type(system).__name__}.")
     if getattr(system, "pendulum", None) is not None:  # series pendulums: the load acts on their sliders
         _no_radius(radius)
@@ -376,7 +374,7 @@ def loaded_isolator_force(system, ub_linear, vb_linear, compliance, y0, start_fa
 
 
 def loaded_bidirectional(system, load):
-    """`system` (a `BidirectionalStructure`) under the load factor `load` = N / W [-]: its
+    """`system` (a planar `StructureOnSliders`) under the load factor `load` = N / W [-]: its
     groups' loads s W_g, with `load` kept for the pendulum's change (`pendulum_change`), and
     with `pressure_exponent` or `pressure_table` the friction at the contact pressure of s W_g
     (`pressure_factor`, `TablePressure`)."""
@@ -401,7 +399,7 @@ def loaded_heat(system, coefficient, slide):
 
 
 def loaded_solve(system, p):
-    """`BidirectionalStructure._solve_bearings` of a loaded copy with the pendulum's change of
+    """`PlanarStep._solve_bearings` of a loaded copy with the pendulum's change of
     stiffness moved into the bearings' equilibrium d = d_lin - G_b (F(d) + A d),
     A = diag((s - 1) W_g / R):
 

@@ -1,4 +1,5 @@
-"""Linear structures on groups of sliding bearings under two horizontal ground components.
+"""The planar step of a linear structure on groups of sliding bearings under two horizontal
+ground components (`StructureOnSliders` with a bearing map).
 
 Equations of motion in coordinates q (N,) relative to the ground (for example the x and y
 displacements of every floor, or the (x, y, rotation) of a rigid slab):
@@ -32,10 +33,8 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 
-from ..bearing import ConcaveSurface, SeriesPendulum, SlidingBearing, park_rate
-from ..excitation import Signal
+from ..bearing import SeriesPendulum, park_rate
 from ..solver import (
-    AbstractSteppedSystem,
     affine,
     block_matvec,
     coulomb_disc_forces,
@@ -46,16 +45,14 @@ from ..solver import (
     structure_step_end,
 )
 from ..structures import (
-    SupportPlan,
     group_factor,
+    initial_normal_load,
     overturning_force,
     small_dot,
     supported_loads,
 )
 from ._bearing_test import running_peak_rate
 from ._vertical import (
-    TablePressure,
-    load_factor_at,
     loaded_bidirectional,
     loaded_heat,
     loaded_solve,
@@ -71,75 +68,16 @@ NEWTON_TOLERANCE = 1e-5
 rounding units of the displacements, whichever is larger)."""
 
 
-class BidirectionalStructure(AbstractSteppedSystem):
-    """A linear structure on G bearing groups under two ground components (module docstring).
+class PlanarStep(eqx.Module):
+    """The step of a `StructureOnSliders` with a bearing map (G groups, two components): its
+    strategy for the equations of the module docstring, chosen by the structure's static shape
+    (`StructureOnSliders.planar`). No fields of its own: it reads the structure's.
 
     State: {"q": (N,) [m or rad], "v": (N,), "z": (G, 2) [-], "z_peak": (G,) [-]} relative to
-    the ground; `z_peak` is the largest resultant |Z| of each group so far (Eq. 17 switch).
-
-    **Fields:** `mass` (N,) [kg or kg m^2], `stiffness` (N, N), `damping` (N, N);
-    `influence` R (N, 2) [-]; `bearing_map` B (G, 2, N); `bearing`: a `SlidingBearing` whose
-    array leaves have shape (G,) (one set of constants per group); `bearing_load` W_g (G,) [N];
-    `ground_acceleration`, `ground_y`: `Signal`s of the ground acceleration along x and y [m/s^2]; `newmark_inverse`
-    K_eff^-1 for `time_step` [s] (static); `newton_iterations`, `newton_tolerance` (static,
-    in units of Y; 0: to rounding); for a bearing with heating or wear (`SlidingBearing.next_history`):
-    `contact_pressure` (G,) [Pa] and the heat kernel's `heat_rates`, `heat_weights` (K,),
-    with the state "heat" (G, K) and "travel" (G,) [m] of each group, their factor on mu
-    taken at the start of each step and held over it. `vertical_acceleration`: `Signal` of
-    a_v(t) [m/s^2, up +] or `None`: the groups' normal loads are then s W_g with
-    s = max(1 + a_v / g, 0), on the friction and on `pendulum_stiffness` W_g / R (G,) [N/m]
-    (the part of K the load carries), `_vertical.py`, and with `pressure_exponent` e (one, or
-    (G,)) the friction of bearings whose pressure dependence is folded in at the static load
-    follows s^-e (`pressure_factor`), or with `pressure_table` Table 1's ratios at the
-    pressure of s W_g (`TablePressure`); `load` is the s of a copy at one time
-    (`at_load`), one per group (G,) with `overturning` L (G, 2) [-]: the groups' loads
-    N_g = s W_g + (L H)_g under the horizontal force H of the step's start, held over the step,
-    kept in the state "normal_load" (G,) [N] and redistributed over the groups that stay down
-    while others lift with `supports` (`SupportPlan`; `teflon_jax.structures.supported_loads`).
-    `friction_model` (static): "hysteretic" (Park's Z), "coulomb" or "none"; `surface`: a
-    friction pendulum's `ConcaveSurface` whose restrainer and large-displacement force act
-    beyond its W_g / R in K, or `None`. A slab or the building on a plan on groups of triple
-    or double pendulums holds a `SeriesPendulum` (leaves (G,)) as `bearing`, the part K_ref
-    (N, N) of `stiffness` its reference springs make as `reference_stiffness`, and the exact
-    step's (free (2N, 2N), start and end (2N, N + 2) each) blocks as `step_matrix` (`_series.py`).
+    the ground; `z_peak` is the largest resultant |Z| of each group so far (Eq. 17 switch),
+    with "heat" (G, K) and "travel" (G,) [m] for a bearing with history and "normal_load" (G,)
+    [N] with overturning loads.
     """
-
-    mass: jnp.ndarray
-    stiffness: jnp.ndarray
-    damping: jnp.ndarray
-    influence: jnp.ndarray
-    bearing_map: jnp.ndarray
-    bearing: SlidingBearing | SeriesPendulum
-    bearing_load: jnp.ndarray
-    ground_acceleration: Signal
-    ground_y: Signal
-    newmark_inverse: jnp.ndarray
-    time_step: float = eqx.field(static=True)
-    newton_iterations: int = eqx.field(static=True, default=PLANAR_NEWTON_ITERATIONS)
-    newton_tolerance: float = eqx.field(static=True, default=NEWTON_TOLERANCE)
-    contact_pressure: jnp.ndarray | None = None
-    heat_rates: jnp.ndarray | None = None
-    heat_weights: jnp.ndarray | None = None
-    vertical_acceleration: Signal | None = None
-    pendulum_stiffness: jnp.ndarray | None = None
-    pressure_exponent: jnp.ndarray | None = None
-    pressure_table: TablePressure | None = None
-    load: jnp.ndarray | None = None
-    overturning: jnp.ndarray | None = None
-    supports: SupportPlan | None = None
-    friction_model: str = eqx.field(static=True, default="hysteretic")
-    surface: ConcaveSurface | None = None
-    step_matrix: jnp.ndarray | None = None
-    reference_stiffness: jnp.ndarray | None = None
-
-    @property
-    def pendulum(self) -> SeriesPendulum | None:
-        """The groups' series pendulums (leaves (G,)), `None` on sliding bearings."""
-        return self.bearing if isinstance(self.bearing, SeriesPendulum) else None
-
-    def load_factor(self, t):
-        """N(t) / W [-] at time t [s]; `None` without a vertical record."""
-        return load_factor_at(self.vertical_acceleration, t)
 
     def load_at(self, t, y):
         """The load factor at time t [s] and state `y`: s (`load_factor`), or one per group
@@ -152,27 +90,9 @@ class BidirectionalStructure(AbstractSteppedSystem):
         """This structure under the load factor `load` (itself for `None`): `loaded_bidirectional`."""
         return self if load is None else loaded_bidirectional(self, load)
 
-    @property
-    def history(self) -> bool:
-        """True when the bearing's friction depends on the history (heating, wear; Park's Z
-        only)."""
-        return self.friction_model == "hysteretic" and self.bearing.has_history
-
-    def at_state(self, y) -> "BidirectionalStructure":
-        """This structure with each group's friction at the temperature and travel of state
-        `y` (itself for a bearing without history)."""
-        if not self.history:
-            return self
-        factor = self.bearing.history_factor(y["heat"], y["travel"], self.heat_weights)
-        return eqx.tree_at(lambda s: s.bearing, self, self.bearing.scaled(factor))
-
     def bearing_forces(self, y):
         """F_g (G, 2) [N] of state `y` (`friction_forces` at its velocities and history)."""
         return self.at_state(y).friction_forces(self.bearing_motion(y["v"]), y["z"], y["z_peak"])
-
-    def ground(self, t):
-        """(a_x, a_y) [m/s^2] at time t."""
-        return jnp.stack([self.ground_acceleration(t), self.ground_y(t)])
 
     def bearing_motion(self, q):
         """Sliding displacement (or velocity) (G, 2) of every group for coordinates q."""
@@ -198,10 +118,10 @@ class BidirectionalStructure(AbstractSteppedSystem):
         """-M R a_g [N] for the ground acceleration `ground` (a_x, a_y) [m/s^2]."""
         return -self.mass * small_dot(self.influence, ground)
 
-    def _acceleration(self, t, y):
-        return self.at_load(self.load_at(t, y)).acceleration_at(self.ground(t), y)
+    def _planar_acceleration(self, t, y):
+        return self.at_load(self.load_at(t, y)).planar_acceleration_at(self.ground(t), y)
 
-    def acceleration_at(self, ground, y):
+    def planar_acceleration_at(self, ground, y):
         """Acceleration [m/s^2 or rad/s^2] of state `y` under ground acceleration `ground` (2,)."""
         forces = self.bearing_forces(y)
         if self.surface is not None:
@@ -213,7 +133,8 @@ class BidirectionalStructure(AbstractSteppedSystem):
         total = self._load(ground) - small_dot(self.damping, y["v"]) - small_dot(self.stiffness, y["q"]) - restoring
         return total / self.mass
 
-    def __call__(self, t, y, args):
+    def planar_rates(self, t, y):
+        """The vector field (`StructureOnSliders.__call__`) of the planar state."""
         velocity = self.bearing_motion(y["v"])
         dz = park_rate(self.bearing.hysteresis, y["z"], velocity)
         if self.friction_model == "coulomb":
@@ -227,7 +148,7 @@ class BidirectionalStructure(AbstractSteppedSystem):
         z_abs_rate = jnp.sum(y["z"] * dz, axis=-1) / z_abs
         rates = {
             "q": y["v"],
-            "v": self._acceleration(t, y),
+            "v": self._planar_acceleration(t, y),
             "z": dz,
             "z_peak": running_peak_rate(z_abs, y["z_peak"], z_abs_rate),
         }
@@ -242,13 +163,13 @@ class BidirectionalStructure(AbstractSteppedSystem):
             rates["normal_load"] = jnp.zeros_like(y["normal_load"])
         return rates
 
-    def advance(self, t0, t1, y0, args):
+    def planar_advance(self, t0, t1, y0):
         """One `time_step` over [t0, t1] (checked) from the state `y0`, the engine's step
         (`newmark_update` under the load factor at t1; `overturning_step` with overturning
         loads), with the acceleration at (t0, y0) from the equation of motion
         (`RiccatiNewmark`)."""
         t1 = structure_step_end(t0, t1, self.time_step)
-        a0 = self._acceleration(t0, y0)
+        a0 = self._planar_acceleration(t0, y0)
         if self.overturning is not None:
             return overturning_step(self, t0, t1, y0, a0)[:2]
         return self.at_load(self.load_factor(t1)).newmark_update(y0, a0, self.ground(t1))
@@ -283,7 +204,7 @@ class BidirectionalStructure(AbstractSteppedSystem):
         cx, cy = small_dot(self.newmark_inverse, bx.T), small_dot(self.newmark_inverse, by.T)  # (N, G)
         # Breakaway (Eq. 17) is decided by the largest |Z| reached up to the start of the step,
         # in the equilibrium solved here and in the force reported for the stored state alike
-        # (as in the uniaxial `StructureOnSliders`), so the switch acts once, at one step.
+        # (as in the scalar step of one component), so the switch acts once, at one step.
         z_peak = jnp.maximum(y0["z_peak"], jnp.sqrt(jnp.sum(y0["z"] ** 2, axis=-1)))
         # one product for the bearing motions of the three vectors (fewer small kernels)
         motion = small_dot(jnp.stack([q_linear, q0, v0]), jnp.concatenate([bx, by]).T)  # (3, 2G)
@@ -418,7 +339,7 @@ class BidirectionalStructure(AbstractSteppedSystem):
 
 
 def overturning_step(system, t0, t1, y0, a0):
-    """One step of `system` (a `BidirectionalStructure` with `overturning`) from (t0, y0) with
+    """One step of `system` (a planar `StructureOnSliders` with `overturning`) from (t0, y0) with
     acceleration a0: the groups' loads from H at t0 and the vertical record at t1, held over the
     step; the loads are kept in the state ("normal_load"). **Returns:** (state, whether the
     step balanced, whether the slab tipped on it (`supported_loads`), which is not balanced)."""
@@ -451,3 +372,28 @@ def surface_tangent(system, dx, dy):
     _, column_x = jax.jvp(force, (dx, dy), (jnp.ones_like(dx), jnp.zeros_like(dy)))
     _, column_y = jax.jvp(force, (dx, dy), (jnp.zeros_like(dx), jnp.ones_like(dy)))
     return (column_x[0], column_y[0]), (column_x[1], column_y[1])
+
+
+def planar_initial_state(system) -> dict:
+    """At rest relative to the ground, Z = 0 in every group (and cold, unworn bearings; with
+    overturning, the groups' normal loads under the vertical record at t = 0). `TypeError` for
+    groups of series pendulums, whose state is `series_initial_state`'s."""
+    check_sliding_groups(system)
+    n, groups = system.mass.shape[0], system.bearing_load.shape[0]
+    state = {"q": jnp.zeros(n), "v": jnp.zeros(n), "z": jnp.zeros((groups, 2)),
+             "z_peak": jnp.zeros(groups)}
+    if system.history:
+        n_heat = 0 if system.heat_rates is None else system.heat_rates.shape[0]
+        state.update(heat=jnp.zeros((groups, n_heat)), travel=jnp.zeros(groups))
+    if system.overturning is not None:  # the groups' normal loads N_g [N] (`teflon_jax.structures`: `supported_loads`)
+        state["normal_load"] = initial_normal_load(system)
+    return state
+
+
+def check_sliding_groups(system) -> None:
+    """`TypeError` naming the structure where its groups are series pendulums (`SeriesPendulum`):
+    their slab steps from `series_initial_state` (`_series.py`), not from the state of
+    sliding groups."""
+    if isinstance(system.bearing, SeriesPendulum):
+        raise TypeError("system: a slab on triple or double pendulum groups starts from series_initial_state; "
+                        "run it with simulate_history or peak_response.")
