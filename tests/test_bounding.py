@@ -84,6 +84,7 @@ def test_montecarlo_bounding_table_matches_the_results_file(tmp_path, capsys):
     assert means[0] < means[1] < means[2]
     assert data["governs"]["base_disp_in"]["by_mean"] == "lower"
     assert data["governs"]["base_shear_ratio"]["by_mean"] == "upper"
+    assert data["motions"]["pga_g"] == pytest.approx([0.4], rel=1e-12)  # a list, as every summary's
     # the devices and speed of a plain Monte Carlo, counted in runs: each motion under three bearings
     assert data["devices"] >= 1 and data["device_kind"]
     assert data["records_per_s"] == pytest.approx(3 * 6 / (data["wall_s"] - data["compile_s"]), rel=1e-12)

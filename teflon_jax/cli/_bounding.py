@@ -270,7 +270,7 @@ def run_bounding(args, structure, model, units) -> int:
                          "max": {k: v[case] for k, v in by_max.items()}}
                   for i, case in enumerate(BOUNDING_CASES)},
         "governs": {k: {"by_mean": by_mean[k]["governs"], "by_max": by_max[k]["governs"]} for k in peaks},
-        "motions": {"pga_g": args.pga / STANDARD_GRAVITY, "duration_s": args.duration, "seed": args.seed,
+        "motions": {"pga_g": [args.pga / STANDARD_GRAVITY], "duration_s": args.duration, "seed": args.seed,
                     "components": args.components},
         "files": files,
     }

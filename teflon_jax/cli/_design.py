@@ -378,7 +378,7 @@ def _payload(args, result, sweep, units, wall_s: float) -> dict:
         },
         "optimum_beats_grid": None if best is None else bool(result.objective <= at_limit[best] * (1 + 1e-9)),
         "bfgs_start": design_fields(result.start, units),
-        "motions": {"pga_g": args.pga / STANDARD_GRAVITY, "duration_s": args.duration, "seed": args.seed},
+        "motions": {"pga_g": [args.pga / STANDARD_GRAVITY], "duration_s": args.duration, "seed": args.seed},
         "sweep_file": None if args.out is None else str(args.out),
     }
     return payload
