@@ -6,6 +6,8 @@ samples (`_imposed_path`), or Eq. 3 integrated by diffrax (`BearingTestSystem`).
 Reference: Constantinou, Mokha & Reinhorn (1990), tests No. 62, 75, 191 and Figs. 3-6.
 """
 
+import inspect
+
 import diffrax
 import equinox as eqx
 import jax
@@ -93,13 +95,13 @@ PATH_STRATEGIES = ("balanced", "sampled", "integrated")
 "sampled", a `SlidingBearing` with Z exact between samples (`sliding_along_path`); "integrated",
 a `SlidingBearing` whose Eq. 3 a diffrax solver integrates along the path (`BearingTestSystem`)."""
 
-MOTION_OPTIONS = {"normal_load": None, "duration": None, "samples_per_cycle": 400, "steps_per_sample": 1}
-SOLVE_OPTIONS = {"solver": None, "rtol": 1e-8, "atol": 1e-10, "max_steps": 1_000_000, "adjoint": None,
-                 "throw": True}
-STATE_OPTIONS = {"z0": None, "z_peak0": None}
-SERIES_OPTIONS = {"heat_kernel": None, "friction_velocity": None, "reference_load": None}
-"""The options of `imposed_path_test` with their defaults, by what they shape: the samples of a
-motion, a diffrax solve, a sliding bearing's state at the first sample, a series pendulum's test."""
+MOTION_OPTIONS = ("normal_load", "duration", "samples_per_cycle", "steps_per_sample")
+SOLVE_OPTIONS = ("solver", "rtol", "atol", "max_steps", "adjoint", "throw")
+STATE_OPTIONS = ("z0", "z_peak0")
+SERIES_OPTIONS = ("heat_kernel", "friction_velocity", "reference_load")
+"""The options of `imposed_path_test` by what they shape: the samples of a motion, a diffrax
+solve, a sliding bearing's state at the first sample, a series pendulum's test. Their defaults
+are the signature's (`_DEFAULTS`)."""
 
 
 def path_strategy(isolator, path, solver=None) -> str:
@@ -180,11 +182,8 @@ def imposed_path_test(
     **Returns:** a `BearingTestResult` at the samples (of a series pendulum: each slider's
     displacement and Z, and whether each sample's balance converged).
     """
-    options = {"normal_load": normal_load, "duration": duration, "samples_per_cycle": samples_per_cycle,
-               "steps_per_sample": steps_per_sample, "solver": solver, "rtol": rtol, "atol": atol,
-               "max_steps": max_steps, "adjoint": adjoint, "throw": throw, "z0": z0, "z_peak0": z_peak0,
-               "heat_kernel": heat_kernel, "friction_velocity": friction_velocity,
-               "reference_load": reference_load}
+    arguments = locals()
+    options = {name: arguments[name] for name in _DEFAULTS}
     if not isinstance(path, AbstractMotion | SampledPath):
         raise ValueError(f"path: give an imposed motion (an `AbstractMotion`: SineMotion, tabulated_motion, ...) "
                          f"or the samples of a record (`sampled_path`), got {type(path).__name__}.")
@@ -193,9 +192,14 @@ def imposed_path_test(
     return _STRATEGIES[strategy](isolator, path, options)
 
 
-def _given(options, defaults) -> list[str]:
-    """The names of `defaults` given in `options` (`given_options`)."""
-    return given_options({name: (options[name], default) for name, default in defaults.items()})
+_DEFAULTS = {name: parameter.default for name, parameter in inspect.signature(imposed_path_test).parameters.items()
+             if parameter.default is not inspect.Parameter.empty}
+"""Every option of `imposed_path_test` with its default, read off its signature."""
+
+
+def _given(options, names) -> list[str]:
+    """The options `names` given in `options` other than at their defaults (`given_options`)."""
+    return given_options({name: (options[name], _DEFAULTS[name]) for name in names})
 
 
 def _refuse_options(isolator, path, strategy, options) -> None:
@@ -221,8 +225,8 @@ def _refuse_options(isolator, path, strategy, options) -> None:
         raise ValueError(f"friction_velocity: a sliding bearing's test takes Eq. 1 at the path's velocity at "
                          f"each sample ('end'), got {options['friction_velocity']!r}.")
     if strategy == "sampled":
-        _refuse_solve_options(isolator, path, {name: (options[name], default)
-                                               for name, default in SOLVE_OPTIONS.items() if name != "throw"})
+        _refuse_solve_options(isolator, path, {name: (options[name], _DEFAULTS[name])
+                                               for name in SOLVE_OPTIONS if name != "throw"})
     elif isinstance(path, SampledPath) and path.planar:
         raise ValueError("path: a sliding bearing along a SampledPath in the plane is driven by Park's update, "
                          "with the paper's Bouc-Wen shape (eta = 2, gamma > beta) and no solver; give the path "
@@ -231,7 +235,7 @@ def _refuse_options(isolator, path, strategy, options) -> None:
 
 def _refuse_on_series(isolator, path, options) -> None:
     """`ValueError` naming what a series pendulum's test does not take."""
-    given = _given(options, {"steps_per_sample": 1, **SOLVE_OPTIONS})
+    given = _given(options, ("steps_per_sample", *SOLVE_OPTIONS))
     if given:
         raise ValueError(f"{', '.join(given)}: the {isolator.description} balance their sliders at each "
                          "sample (the structures' solve); drop these options.")

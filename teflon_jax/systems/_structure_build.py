@@ -118,12 +118,10 @@ def structure_on_sliders(
         missing = "influence" if influence is None else "bearing_map"
         raise ValueError(f"{missing}: a structure in two components needs both influence R (N, 2) and "
                          "bearing_map B (G, 2, N); give both, or neither for one component.")
-    one_only = {"split_at_turn": split_at_turn is not False, "linear_rule": linear_rule != "newmark",
-                "pendulum_stiffness": pendulum_stiffness is not None}
-    given = [name for name, set_ in one_only.items() if set_]
-    if given:
-        raise ValueError(f"{', '.join(given)}: one component only; leave out for a structure in two "
-                         "components (its pendulum stiffness is W_g / R of `surface`).")
+    _refuse_other_count(2, {"split_at_turn": split_at_turn is not False, "linear_rule": linear_rule != "newmark",
+                            "pendulum_stiffness": pendulum_stiffness is not None},
+                        "a structure on bearing groups (influence and bearing_map given; its pendulum stiffness is "
+                        "W_g / R of `surface`)")
     return _on_groups(
         mass=mass, stiffness=stiffness, damping=damping, influence=influence, bearing_map=bearing_map,
         bearing=bearing, bearing_load=bearing_load, ground_x=ground_acceleration,
@@ -142,12 +140,16 @@ def _component_count(components, ground_y, one_only: dict, two_only: dict) -> in
         raise ValueError(f"components: 1 or 2 horizontal components, got {components!r}.")
     if components == 1 and ground_y is not None:
         raise ValueError("ground_y: a structure in one component takes no y record; give components=2.")
-    other = two_only if components == 1 else one_only
+    _refuse_other_count(components, two_only if components == 1 else one_only, f"components={components}")
+    return components
+
+
+def _refuse_other_count(components: int, other: dict, where: str) -> None:
+    """`ValueError` naming the options of `other` (name -> whether given) that only the other
+    number of components takes, for a structure in `components` described as `where`."""
     given = [name for name, set_ in other.items() if set_]
     if given:
-        raise ValueError(f"{', '.join(given)}: only with components={3 - components}; leave out for "
-                         f"components={components}.")
-    return components
+        raise ValueError(f"{', '.join(given)}: only with components={3 - components}; leave out for {where}.")
 
 
 def rigid_mass(*, weight, bearing: SlidingBearing | None, ground_acceleration: Signal, time_step: float,
