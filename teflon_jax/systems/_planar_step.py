@@ -73,8 +73,8 @@ class PlanarStep(eqx.Module):
     strategy for the equations of the module docstring, chosen by the structure's static shape
     (`StructureOnSliders.planar`). No fields of its own: it reads the structure's.
 
-    State: {"q": (N,) [m or rad], "v": (N,), "z": (G, 2) [-], "z_peak": (G,) [-]} relative to
-    the ground; `z_peak` is the largest resultant |Z| of each group so far (Eq. 17 switch),
+    State: {"u": (N,) [m or rad] (the coordinates q), "v": (N,), "z": (G, 2) [-], "z_peak": (G,)
+    [-]} relative to the ground, the keys of the scalar step's state; `z_peak` is the largest resultant |Z| of each group so far (Eq. 17 switch),
     with "heat" (G, K) and "travel" (G,) [m] for a bearing with history and "normal_load" (G,)
     [N] with overturning loads.
     """
@@ -125,12 +125,12 @@ class PlanarStep(eqx.Module):
         """Acceleration [m/s^2 or rad/s^2] of state `y` under ground acceleration `ground` (2,)."""
         forces = self.bearing_forces(y)
         if self.surface is not None:
-            d = self.bearing_motion(y["q"])
+            d = self.bearing_motion(y["u"])
             forces = jnp.stack(with_surface_forces(self, (forces[:, 0], forces[:, 1]), (d[:, 0], d[:, 1])), -1)
         if self.load is not None:  # the pendulum's (s - 1) W_g / R d_g
-            forces = forces + pendulum_change(self)[:, None] * self.bearing_motion(y["q"])
+            forces = forces + pendulum_change(self)[:, None] * self.bearing_motion(y["u"])
         restoring = jnp.sum(self.bearing_map * forces[..., None], axis=(0, 1))
-        total = self._load(ground) - small_dot(self.damping, y["v"]) - small_dot(self.stiffness, y["q"]) - restoring
+        total = self._load(ground) - small_dot(self.damping, y["v"]) - small_dot(self.stiffness, y["u"]) - restoring
         return total / self.mass
 
     def planar_rates(self, t, y):
@@ -147,7 +147,7 @@ class PlanarStep(eqx.Module):
         z_abs = jnp.sqrt(jnp.sum(y["z"] ** 2, axis=-1) + 1e-300)
         z_abs_rate = jnp.sum(y["z"] * dz, axis=-1) / z_abs
         rates = {
-            "q": y["v"],
+            "u": y["v"],
             "v": self._planar_acceleration(t, y),
             "z": dz,
             "z_peak": running_peak_rate(z_abs, y["z_peak"], z_abs_rate),
@@ -184,7 +184,7 @@ class PlanarStep(eqx.Module):
             return self._update(y0, a0, ground1)
         stepped = self.at_state(y0)
         y1, converged = stepped._update(y0, a0, ground1)
-        d0, d1, v0 = (self.bearing_motion(y0["q"]), self.bearing_motion(y1["q"]),
+        d0, d1, v0 = (self.bearing_motion(y0["u"]), self.bearing_motion(y1["u"]),
                       self.bearing_motion(y0["v"]))
         slide = jnp.sqrt(jnp.sum((d1 - d0) ** 2, axis=-1))
         mu0 = stepped.bearing.coefficient(v0[:, 0], v0[:, 1], y0["z_peak"])
@@ -195,7 +195,7 @@ class PlanarStep(eqx.Module):
 
     def _update(self, y0, a0, ground1):
         dt = self.time_step
-        m, q0, v0 = self.mass, y0["q"], y0["v"]
+        m, q0, v0 = self.mass, y0["u"], y0["v"]
         rhs = self._load(ground1) + m * (4 / dt**2 * q0 + 4 / dt * v0 + a0) + small_dot(self.damping, 2 / dt * q0 + v0)
         q_linear = small_dot(self.newmark_inverse, rhs)
         # Every vector over the bearings is kept as its x and y parts (G,) apart: under `vmap`
@@ -224,7 +224,7 @@ class PlanarStep(eqx.Module):
             (fx, fy), z1, converged = loaded_solve(self, p)
         q1 = q_linear - matvec(cx, fx) - matvec(cy, fy)
         v1 = 2 / dt * (q1 - q0) - v0
-        return {"q": q1, "v": v1, "z": z1, "z_peak": z_peak}, converged
+        return {"u": q1, "v": v1, "z": z1, "z_peak": z_peak}, converged
 
     def _forces_at(self, d, p):
         """Forces (x, y parts, each (G,)) [N] and Z (G, 2) for bearing displacements d = (dx, dy)
@@ -380,7 +380,7 @@ def planar_initial_state(system) -> dict:
     groups of series pendulums, whose state is `series_initial_state`'s."""
     check_sliding_groups(system)
     n, groups = system.mass.shape[0], system.bearing_load.shape[0]
-    state = {"q": jnp.zeros(n), "v": jnp.zeros(n), "z": jnp.zeros((groups, 2)),
+    state = {"u": jnp.zeros(n), "v": jnp.zeros(n), "z": jnp.zeros((groups, 2)),
              "z_peak": jnp.zeros(groups)}
     if system.history:
         n_heat = 0 if system.heat_rates is None else system.heat_rates.shape[0]

@@ -267,9 +267,9 @@ def _planar_sample(loaded, time, y, acceleration, ground, load, tipped):
     rise = None
     if loaded.bearing.heating is not None:
         rise = loaded.bearing.surface_temperature_rise(y["heat"], loaded.heat_weights)[:, None]
-    return StructureResponse(time=time, displacement=y["q"], velocity=y["v"],
+    return StructureResponse(time=time, displacement=y["u"], velocity=y["v"],
                              total_acceleration=acceleration + loaded.influence @ ground, ground=ground,
                              friction_force=loaded.bearing_forces(y), z=y["z"], z_peak=y["z_peak"],
-                             bearing_displacement=loaded.bearing_motion(y["q"]),
+                             bearing_displacement=loaded.bearing_motion(y["u"]),
                              normal_load=y.get("normal_load"), surface_temperature_rise=rise, tipped=tipped,
                              load_factor=load)

@@ -72,7 +72,7 @@ class StructureOnSliders(AbstractSteppedSystem, PlanarStep):
     (`influence` R (N, 2), `bearing_map` B (G, 2, N): `structure_on_sliders`, the slab, the
     building on a plan) the structure steps G groups under two components (`PlanarStep`):
     coordinates q (N,), array leaves of `bearing` (G,), `bearing_load` W_g (G,), state
-    {"q", "v", "z" (G, 2), "z_peak" (G,)}; `load` the load factor of a copy at one time
+    {"u" (N,), "v", "z" (G, 2), "z_peak" (G,)}; `load` the load factor of a copy at one time
     (`at_load`), `overturning` L (G, 2) and `supports` (`SupportPlan`) the groups' loads under
     the horizontal force, `step_matrix` the exact step of series pendulums on a plan.
 
