@@ -468,11 +468,12 @@ def test_a_run_warns_of_a_bearing_files_constant_that_its_fit_could_not_determin
     import argparse
 
     from teflon_jax.cli._bearing_flags import warn_unidentified
+    from teflon_jax.formats import read_bearing_file
 
     bearing = paper_bearing(FrictionParameters(0.12, 0.06, 20.0))
     path = save_bearing(tmp_path / "b.json", bearing, standard_errors={("friction", "f_max"): 0.001,
                                                                         ("friction", "rate_a"): math.inf})
-    warn_unidentified(argparse.Namespace(bearing=path, command="run"))
+    warn_unidentified(argparse.Namespace(bearing=path, command="run"), read_bearing_file(path))
     err = capsys.readouterr().err
     assert f"warning: --bearing {path}: friction.rate_a = 20 was not determined by the fit" in err
     assert "f_max" not in err

@@ -310,6 +310,7 @@ def test_factors_beside_a_posterior_without_bounds_run_and_say_why(tmp_path):
     import argparse
 
     from teflon_jax.cli._bounding import read_bounds
+    from teflon_jax.formats import read_bearing_file
 
     rng = np.random.default_rng(2)
     f_max = _value(FRICTION, "f_max") * (1 + 0.15 * rng.standard_normal(400))
@@ -323,10 +324,11 @@ def test_factors_beside_a_posterior_without_bounds_run_and_say_why(tmp_path):
         return argparse.Namespace(property_factors=factors, posterior_quantiles=quantiles,
                                   bearing=tmp_path / "wide.json", isolator="flat")
 
-    bounds = read_bounds(args("0.85,1.3"))
+    read = read_bearing_file(tmp_path / "wide.json")
+    bounds = read_bounds(args("0.85,1.3"), read)
     assert bounds.factors == (0.85, 1.3) and bounds.posterior_table() is None
     assert "f_min" in bounds.unbounded and "quantiles 0.05,0.95" in bounds.unbounded
     assert bounds.payload("wide.json")["posterior_factors"]["error"] == bounds.unbounded
     for text, quantiles in (("0.85,1.3", "0.05,0.95"), ("posterior", None)):
         with pytest.raises(ValueError, match="leaves f_min = .*, not > 0"):
-            read_bounds(args(text, quantiles))
+            read_bounds(args(text, quantiles), read)

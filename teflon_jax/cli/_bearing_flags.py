@@ -43,37 +43,11 @@ def check_output_file(path, flag: str) -> None:
         raise ValueError(f"{flag} {path}: the folder {path.parent} does not exist; create it first.")
 
 
-def _bearing_file(args):
-    """(the `SlidingBearing` of `--bearing FILE`, its unidentified constants
-    (`formats.unidentified_constants`)), or `None` when not given: the file read once per
-    command (kept on `args`, as its `ValueError` naming what is wrong with it)."""
-    path = getattr(args, "bearing", None)
-    if path is None:
-        return None
-    kept = getattr(args, "_bearing_file", None)
-    if kept is None or kept[0] != path:
-        from ..formats import bearing_from_dict, read_json_document, unidentified_constants
-
-        try:
-            document = read_json_document(path, "bearing file")
-            loaded = bearing_from_dict(document, where=str(path)), unidentified_constants(document)
-        except ValueError as error:
-            loaded = error
-        kept = args._bearing_file = (path, loaded)
-    if isinstance(kept[1], ValueError):
-        raise kept[1]
-    return kept[1]
-
-
-def warn_unidentified(args) -> None:
-    """A warning on stderr for each constant of `--bearing FILE` that the fit which wrote the
-    file could not determine (`formats.unidentified_constants`): the run takes its value, that
-    fit's start or a guess, as written."""
-    try:
-        loaded = _bearing_file(args)
-    except ValueError:  # not a bearing file: read_bearing_flag names what is wrong
-        return
-    for name, value in [] if loaded is None else loaded[1]:
+def warn_unidentified(args, read) -> None:
+    """A warning on stderr for each constant of `--bearing FILE` (`read`, its `BearingFile`) that
+    the fit which wrote the file could not determine (`formats.unidentified_constants`): the run
+    takes its value, that fit's start or a guess, as written."""
+    for name, value in read.unidentified:
         print(f"teflon-jax {args.command}: warning: --bearing {args.bearing}: {name} = {value:.6g} was not "
               "determined by the fit that wrote the file (the records did not constrain it: its standard error is "
               "null), so it is that fit's start or a guess; it is run as written (edit the file to set it).",
@@ -81,19 +55,26 @@ def warn_unidentified(args) -> None:
 
 
 def read_bearing_flag(args):
-    """The `SlidingBearing` of `--bearing FILE`, or `None` when not given. A bearing flag that
+    """The `BearingFile` of `--bearing FILE` (its bearing, posterior and mixture), or `None` when
+    not given: the file read and parsed here, once per command (the caller passes on what it
+    returns), its unidentified constants warned of (`warn_unidentified`). A bearing flag that
     differs from its default as well is refused (the file says what the bearing is), except
     `--pressure` for a bearing with heating or pressure dependence: the bearings' contact
     pressure in the structure."""
+    from ..formats import read_bearing_file
+    from ._provenance import note_bearing_file
+
+    if getattr(args, "bearing", None) is None:
+        return None
     try:
-        loaded = _bearing_file(args)
+        read = read_bearing_file(args.bearing)
     except ValueError as error:
         raise ValueError(f"--bearing {error}") from None
-    if loaded is None:
-        return None
-    bearing = loaded[0]
-    allowed = ({"pressure"} if bearing.heating is not None or bearing.pressure_dependence
-               is not None else set())
+    warn_unidentified(args, read)
+    bearing = read.bearing
+    takes_pressure = bearing.heating is not None or bearing.pressure_dependence is not None
+    note_bearing_file(args.bearing, takes_pressure)
+    allowed = {"pressure"} if takes_pressure else set()
     defaults = {name: default for name, default in getattr(args, "bearing_option_defaults", {}).items()
                 if name not in allowed}
     given = flags_given(args, defaults)
@@ -104,7 +85,7 @@ def read_bearing_flag(args):
                          + (" (--pressure is the contact pressure of a bearing with "
                             "heating or pressure dependence)." if flag == "--pressure"
                             else "."))
-    return bearing
+    return read
 
 
 def save_bearing_flag(args, bearing, *, standard_errors, sources, fit) -> None:

@@ -124,9 +124,10 @@ def _pair(text, flag, example, dimension="dimensionless") -> list[float]:
     return [parse_quantity(p, dimension, where=flag) for p in parts]
 
 
-def read_bounds(args) -> Bounds | None:
+def read_bounds(args, read) -> Bounds | None:
     """`--property-factors` and `--posterior-quantiles` read and checked (`Bounds`), or None
-    without the first; `ValueError` naming the flag as typed: a malformed, non-positive or
+    without the first, on what was read of `--bearing FILE` (`read`: its `BearingFile`, or the
+    `Isolator` read with it, each with `.bearing` and `.posterior`; the file is not read again); `ValueError` naming the flag as typed: a malformed, non-positive or
     swapped pair of factors; `posterior` without `--bearing`, with a bearing file that has no
     posterior, on a triple or double pendulum or on an anisotropic bearing; quantiles outside
     (0, 1) or not lower < upper; `--posterior-quantiles` with nothing to apply to."""
@@ -142,7 +143,7 @@ def read_bounds(args) -> Bounds | None:
             raise ValueError("--posterior-quantiles: picks the bounds of --property-factors posterior; add it.")
         return None
     wants_posterior = text.strip().lower() == POSTERIOR_WORD
-    posterior, point = _bearing_posterior(args, text, wants_posterior)
+    posterior, point = _bearing_posterior(args, read, text, wants_posterior)
     quantiles = POSTERIOR_QUANTILES
     if q_text is not None:
         if posterior is None:
@@ -176,20 +177,15 @@ def read_bounds(args) -> Bounds | None:
     return Bounds(text, factors, quantiles, posterior, point, cases, unbounded)
 
 
-def _bearing_posterior(args, text, wants_posterior) -> tuple:
-    """(the posterior of --bearing or None, the file's Eq. 1 constants or None)."""
-    from ..formats import load_bearing, load_bearing_posterior
-
+def _bearing_posterior(args, read, text, wants_posterior) -> tuple:
+    """(the posterior of --bearing or None, the file's Eq. 1 constants or None), of `read`."""
     if getattr(args, "bearing", None) is None:
         if wants_posterior:
             raise ValueError("--property-factors posterior: takes the bounds from the posterior of a bearing file; "
                              "add --bearing FILE (a file with a posterior section, e.g. from fit --bayes), or give "
                              "LOWER,UPPER factors.")
         return None, None
-    try:
-        bearing, posterior = load_bearing(args.bearing), load_bearing_posterior(args.bearing)
-    except ValueError as error:
-        raise ValueError(f"--bearing {error}") from None
+    bearing, posterior = read.bearing, read.posterior
     if not wants_posterior:
         return posterior, None if posterior is None else bearing.friction
     if posterior is None:
@@ -205,10 +201,10 @@ def _bearing_posterior(args, text, wants_posterior) -> tuple:
     return posterior, bearing.friction
 
 
-def read_property_factors(args) -> Bounds | None:
-    """`read_bounds` of `montecarlo`, and the flags the bounding cases cannot be combined
-    with refused by name."""
-    bounds = read_bounds(args)
+def read_property_factors(args, isolator) -> Bounds | None:
+    """`read_bounds` of `montecarlo` on `isolator` (`read_isolator`), and the flags the bounding
+    cases cannot be combined with refused by name."""
+    bounds = read_bounds(args, isolator)
     if bounds is None:
         return None
     for flag, used in (("--pga", len(args.pga_levels) > 1), ("--limit", bool(args.limit)),
@@ -221,9 +217,9 @@ def read_property_factors(args) -> Bounds | None:
     return bounds
 
 
-def run_bounding(args, structure, model, units) -> int:
-    """Run the three cases, write the JSON (`property_factors`, `cases`, `governs`), the results
-    file and print the tables; returns 0, or 1 when a run failed (kept out of the statistics,
+def run_bounding(args, bounds, structure, model, units) -> int:
+    """Run the three cases of `bounds` (`read_property_factors`), write the JSON (`property_factors`,
+    `cases`, `governs`), the results file and print the tables; returns 0, or 1 when a run failed (kept out of the statistics,
     flagged in the file)."""
     from ..studies import (
         BOUNDING_CASES,
@@ -241,7 +237,6 @@ def run_bounding(args, structure, model, units) -> int:
     )
     from ._normal_load import uplift_message, uplift_payload
 
-    bounds = read_property_factors(args)
     if bounds.from_posterior:
         design = friction_bounding_design(bounds.cases)
     else:

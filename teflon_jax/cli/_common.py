@@ -88,13 +88,11 @@ def add_quantity(parser, flag: str, dimension: str, default: str | None, help: s
 def read_quantities(args, command: str) -> None:
     """Replace each quantity flag's text on `args` by its SI value; keep the text as
     `args.<dest>_text`. Raises `ValueError` naming the flag and echoing the text. Reading
-    twice is harmless (the second call does nothing)."""
-    if getattr(args, "_quantities_read", False):
+    twice is harmless (the second call, which finds the texts kept, does nothing)."""
+    specs = [spec for spec in QUANTITY_FLAGS if spec.command == command and hasattr(args, spec.dest)]
+    if any(hasattr(args, spec.dest + "_text") for spec in specs):  # read already: the texts are kept
         return
-    args._quantities_read = True
-    for spec in QUANTITY_FLAGS:
-        if spec.command != command or not hasattr(args, spec.dest):
-            continue
+    for spec in specs:
         raw = getattr(args, spec.dest)
         setattr(args, spec.dest + "_text", raw)
         if raw is None:

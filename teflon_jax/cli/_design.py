@@ -308,7 +308,8 @@ def _design_bearing(args):
     """The bearing of `--bearing FILE` (or None): design varies the isolation period and the
     contact pressure, which changes a given bearing only through its heating or pressure
     dependence."""
-    bearing = read_bearing_flag(args)
+    read = read_bearing_flag(args)
+    bearing = None if read is None else read.bearing
     pressure_matters = bearing is not None and (bearing.heating is not None or bearing.pressure_dependence is not None)
     if bearing is not None and args.f_max_range_text is not None:
         if pressure_matters:

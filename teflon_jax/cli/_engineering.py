@@ -164,10 +164,12 @@ def suite_pelicun_peaks(result, ax, ay) -> dict:
     return peaks
 
 
-def check_bounding_flags(args) -> None:
-    """`--property-factors` and `--posterior-quantiles` of `montecarlo` checked before any work
+def check_bounding_flags(args, isolator):
+    """`--property-factors` and `--posterior-quantiles` of `montecarlo` on `isolator`
+    (`read_isolator`) checked before any work: their `Bounds`, or None without them
     (`read_property_factors`: `ValueError` naming the flag)."""
     from ._bounding import read_property_factors
 
     if args.property_factors is not None or args.posterior_quantiles is not None:
-        read_property_factors(args)
+        return read_property_factors(args, isolator)
+    return None

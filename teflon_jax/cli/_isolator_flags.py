@@ -101,13 +101,17 @@ class Isolator:
     """The isolator of the flags: `name` (an `ISOLATORS` entry), `radius` R [m] of a single
     friction pendulum, `pendulum` (the `TriplePendulum` or `DoublePendulum` of `file`, the
     isolator file), `bearing` (the `SlidingBearing` of `--bearing`, or None for Table 1's row of
-    --ptfe and --pressure) of flat sliders and the single pendulum, whose friction the flags give."""
+    --ptfe and --pressure) of flat sliders and the single pendulum, whose friction the flags give;
+    `posterior` (a `BearingPosterior` or `IsolatorPosterior`) and `mixture` (a `BearingMixture`),
+    the draws read with the bearing or isolator file in the same read, None where it has none."""
 
     name: str
     radius: float | None = None
     pendulum: object = None
     file: pathlib.Path | None = None
     bearing: object = None
+    posterior: object = None
+    mixture: object = None
 
     @property
     def period(self) -> float | None:
@@ -177,7 +181,7 @@ def _flat(args) -> Isolator:
     if getattr(args, "radius", None) is not None:
         raise ValueError("--radius: applies to --isolator single-fp only (flat sliders have no "
                          "radius); add --isolator single-fp or leave --radius out.")
-    return Isolator(FLAT.name, bearing=_bearing(args))
+    return Isolator(FLAT.name, **_bearing(args))
 
 
 def _single(args) -> Isolator:
@@ -187,7 +191,7 @@ def _single(args) -> Isolator:
     if getattr(args, "isolation_period_text", args.isolation_period) is not None:
         raise ValueError("--isolation-period: conflicts with --isolator single-fp, whose period is "
                          "2 pi sqrt(R / g) of --radius; leave --isolation-period out.")
-    return Isolator(SINGLE_FP.name, radius=args.radius, bearing=_bearing(args))
+    return Isolator(SINGLE_FP.name, radius=args.radius, **_bearing(args))
 
 
 def _series(args) -> Isolator:
@@ -206,29 +210,39 @@ def _series(args) -> Isolator:
         if value is not None:
             raise ValueError(f"{flag}: does not apply to --isolator {isolator}, whose friction, "
                              f"period and damping are its surfaces' in --isolator-file; leave {flag} out.")
-    return Isolator(isolator, pendulum=load_isolator_file(path, isolator), file=path)
+    read = read_isolator_file_flag(path, isolator)
+    return Isolator(isolator, pendulum=read.pendulum, file=path, posterior=read.posterior)
 
 
 _READERS = per_isolator(_flat, _single, lambda name, facts: _series)
 """How each `--isolator` is read from the flags."""
 
 
-def _bearing(args):
+def _bearing(args) -> dict:
+    """The `Isolator` fields of `--bearing FILE` (its one read, `read_bearing_flag`): its bearing,
+    posterior and mixture; none without the flag."""
     from ._bearing_flags import read_bearing_flag
 
-    return read_bearing_flag(args)
+    read = read_bearing_flag(args)
+    return {} if read is None else {"bearing": read.bearing, "posterior": read.posterior, "mixture": read.mixture}
 
 
 def load_isolator_file(path, isolator, command=None):
-    """The pendulum of the isolator file `path`; `ValueError` naming the flag, also for a file
-    of another isolator than `--isolator`'s (a start file of `command`, fit or diagnose, is
-    named as such)."""
-    from ..formats import load_isolator
+    """The pendulum of the isolator file `path` (`read_isolator_file_flag`)."""
+    return read_isolator_file_flag(path, isolator, command).pendulum
+
+
+def read_isolator_file_flag(path, isolator, command=None):
+    """The `IsolatorFile` (pendulum and posterior) of the isolator file `path`, read once;
+    `ValueError` naming the flag, also for a file of another isolator than `--isolator`'s (a
+    start file of `command`, fit or diagnose, is named as such)."""
+    from ..formats import read_isolator_file
 
     try:
-        pendulum = load_isolator(path)
+        read = read_isolator_file(path)
     except ValueError as error:
         raise ValueError(f"--isolator-file {error}") from None
+    pendulum = read.pendulum
     if pendulum.isolator != isolator:
         if command is not None:
             raise ValueError(f"--isolator-file: {path} holds a {pendulum.isolator} isolator; {command} "
@@ -236,7 +250,7 @@ def load_isolator_file(path, isolator, command=None):
                              f"--isolator {pendulum.isolator}).")
         raise ValueError(f"--isolator-file: {path} holds a {pendulum.isolator} isolator, not the "
                          f"{isolator} of --isolator; give --isolator {pendulum.isolator} or another file.")
-    return pendulum
+    return read
 
 
 def read_isolator_flag(args):

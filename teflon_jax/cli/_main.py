@@ -9,7 +9,6 @@ import re
 import sys
 import time
 
-from ._bearing_flags import warn_unidentified
 from ._common import (
     check_scheduler,
     project_version,
@@ -179,7 +178,6 @@ def main(argv=None) -> int:
     try:
         read_quantities(args, args.command)
         created = check_outputs(args, args.command)  # before any work
-        warn_unidentified(args)
         check_scheduler(args)
         set_arguments(args, output_flags(args.command))  # its input files hashed, for every result it writes
         started = math.floor(time.time()) - 1  # file times may be whole seconds

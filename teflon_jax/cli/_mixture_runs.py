@@ -32,16 +32,15 @@ class MixtureRun(typing.NamedTuple):
     counts: object
 
 
-def read_mixture_run(args, refuse_other_runs) -> MixtureRun | None:
-    """The mixture run of `--bearing FILE`, or None (no mixture in the file, or `--bearing-draws
+def read_mixture_run(args, mixture, refuse_other_runs) -> MixtureRun | None:
+    """The mixture run of `mixture`, the `BearingMixture` read with `--bearing FILE` (None where
+    the file has none), or None (no mixture in the file, or `--bearing-draws
     point`: the file's point estimate, the composition the search chose). `ValueError` naming
     the flag, before any work, for `--bearing-draws K`, several `--pga` levels or `--limit`,
     the runs `refuse_other_runs(args, words)` refuses, and a composition the structures cannot
     run (e.g. a test rig's backlash)."""
-    from ..formats import load_bearing_mixture
     from ..systems import check_structure_bearing
 
-    mixture = load_bearing_mixture(args.bearing)
     given = args.bearing_draws
     if mixture is None or given == "point" or (given is None and args.property_factors is not None):
         return None

@@ -240,8 +240,8 @@ def run_montecarlo(args) -> int:
 
     units = output_units(args.units)
     isolator = _check_flags(args)
-    check_bounding_flags(args)  # --property-factors, --posterior-quantiles: before any work
-    posterior = read_posterior_flags(args)  # the bearing file's draws, or None
+    bounds = check_bounding_flags(args, isolator)  # --property-factors, --posterior-quantiles: before any work
+    posterior = read_posterior_flags(args, isolator)  # the bearing file's draws, or None
     two = args.components == 2
     structure = _structure(args, isolator, two)  # the vertical: a load on it
     if args.time_step is not None:
@@ -254,7 +254,7 @@ def run_montecarlo(args) -> int:
     if args.property_factors is not None:
         from ._bounding import run_bounding
 
-        return run_bounding(args, structure, model, units)
+        return run_bounding(args, bounds, structure, model, units)
     if len(args.pga_levels) > 1 or args.limit or args.storeys or args.pelicun_demands is not None:
         from ._levels import run_levels
 

@@ -98,11 +98,10 @@ def pressure_law(args, isolator, plan=None) -> dict:
     import jax.numpy as jnp
 
     from ..tables import friction_table
-    from ._bearing_flags import read_bearing_flag
 
     if isolator.pendulum is not None:
         return {}
-    bearing = read_bearing_flag(args)
+    bearing = isolator.bearing  # of --bearing, as read with the isolator
     if bearing is not None:
         part = bearing.pressure_dependence
         return {} if part is None else {"pressure_exponent": part.exponent}

@@ -33,15 +33,17 @@ BAND = (5.0, 95.0)
 
 
 class PosteriorRun(typing.NamedTuple):
-    """How a Monte Carlo runs a bearing file's posterior: `posterior` (`BearingPosterior`),
-    `mode` "motion" (a draw per motion) or "nested" (K draws x N motions), `bearings` K
-    (nested) or None, `seed` of the draws' order, `path` of the file."""
+    """How a Monte Carlo runs a bearing file's posterior: `posterior` (`BearingPosterior`,
+    or an isolator file's `IsolatorPosterior`), `mode` "motion" (a draw per motion) or "nested"
+    (K draws x N motions), `bearings` K (nested) or None, `seed` of the draws' order, `path` of
+    the file, `point` its point estimate (the bearing or pendulum read with the draws)."""
 
     posterior: object
     mode: str
     bearings: int | None
     seed: int
     path: object
+    point: object
 
 
 def _draws_value(text: str):
@@ -71,15 +73,16 @@ def add_posterior_flags(parser) -> None:
                         "which they are taken (default 0)")
 
 
-def read_posterior_flags(args) -> PosteriorRun | None:
+def read_posterior_flags(args, isolator) -> PosteriorRun | None:
     """The posterior run the flags ask for (a `MixtureRun` for a file with a mixture), or `None`
-    (the point bearing, as without a posterior): `ValueError` naming the flag, before any work,
+    (the point bearing, as without a posterior), of the draws read with `isolator`'s bearing or
+    isolator file (`read_isolator`: the file is not read again): `ValueError` naming the flag, before any work,
     for --bearing-draws without a --bearing file that holds a posterior, K above its number of
     draws, --bearing-seed where no draws are taken, and the flags whose runs do not take draws
     (--storeys and the storey limits of --limit, --pelicun-demands, --scheduler,
     --property-factors given with --bearing-draws); several --pga levels and the --limit of
     base_disp and base_shear_ratio take them."""
-    run = _posterior_run(args)
+    run = _posterior_run(args, isolator)
     if run is None and args.bearing_seed is not None:
         isolator_file = getattr(args, "isolator_file", None)
         why = (f"--bearing {args.bearing} runs as its point estimate here" if args.bearing is not None else
@@ -90,13 +93,11 @@ def read_posterior_flags(args) -> PosteriorRun | None:
     return run
 
 
-def _posterior_run(args) -> PosteriorRun | None:
-    from ..formats import load_bearing_posterior, load_isolator_posterior
-
+def _posterior_run(args, isolator) -> PosteriorRun | None:
     given = args.bearing_draws
     isolator_file = getattr(args, "isolator_file", None)
     if args.bearing is None and isolator_file is not None:  # a series pendulum's draws, if its file has them
-        flag, path, load = "--isolator-file", isolator_file, load_isolator_posterior
+        flag, path, point = "--isolator-file", isolator_file, isolator.pendulum
     elif args.bearing is None:
         if given is not None:
             raise ValueError(f"--bearing-draws {given}: needs --bearing FILE, a bearing file with "
@@ -104,13 +105,10 @@ def _posterior_run(args) -> PosteriorRun | None:
                              "with them (fit --isolator double-fp|triple-fp --bayes DIR --save-isolator FILE).")
         return None
     else:
-        flag, path, load = "--bearing", args.bearing, load_bearing_posterior
-    try:
-        posterior = load(path)
-    except ValueError as error:
-        raise ValueError(f"{flag} {error}") from None
+        flag, path, point = "--bearing", args.bearing, isolator.bearing
+    posterior = isolator.posterior
     if posterior is None:
-        mixture = read_mixture_run(args, _refuse_other_runs) if flag == "--bearing" else None
+        mixture = read_mixture_run(args, isolator.mixture, _refuse_other_runs) if flag == "--bearing" else None
         if mixture is None and given not in (None, POINT):
             raise ValueError(f"--bearing-draws {given}: {flag} {path} holds no posterior "
                              "draws (no 'posterior' section); write one with fit --bayes DIR "
@@ -128,7 +126,7 @@ def _posterior_run(args) -> PosteriorRun | None:
                          f"{posterior.size} draws; ask for at most {posterior.size} bearings.")
     _refuse_other_runs(args, "--bearing-draws " + str(given or MOTION), f"{flag} {path}")
     mode = MOTION if given in (None, MOTION) else "nested"
-    return PosteriorRun(posterior, mode, None if mode == MOTION else given, bearing_seed(args), path)
+    return PosteriorRun(posterior, mode, None if mode == MOTION else given, bearing_seed(args), path, point)
 
 
 def _refuse_other_runs(args, words: str, source: str | None = None) -> None:
@@ -157,13 +155,11 @@ def posterior_arguments(run: PosteriorRun | None, n_motions: int) -> dict:
     """The keyword arguments of `monte_carlo` that run the draws of `run` with `n_motions`
     motions: the posterior's bearings stacked on the file's point bearing (the structure's own)
     and the draws each motion (`motion_draws`) or each bearing (`nested_draws`) takes."""
-    from ..formats import IsolatorPosterior, load_bearing, load_isolator
     from ..studies import motion_draws, nested_draws
 
     if run is None or run.mode == MIXTURE:  # a mixture: runner_of runs its compositions
         return {}
-    point = (load_isolator if isinstance(run.posterior, IsolatorPosterior) else load_bearing)(run.path)
-    stacked, size = run.posterior.bearings(point), run.posterior.size
+    stacked, size = run.posterior.bearings(run.point), run.posterior.size
     if run.mode == MOTION:
         return {"bearings": stacked, "bearing_draw": motion_draws(n_motions, size, seed=run.seed)}
     return {"bearings": stacked, "bearing_draw": nested_draws(run.bearings, size, seed=run.seed), "nested": True}

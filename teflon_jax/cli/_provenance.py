@@ -36,8 +36,9 @@ _COMMAND_LINE: list[str] = []
 
 _RUN: dict = {}
 """The command being run: "args" (its parsed arguments), "outputs" (the attributes of `args`
-that are output paths, with their kind: "file", "image" or "folder") and "files" (the input
-files with their hashes); empty outside a command."""
+that are output paths, with their kind: "file", "image" or "folder"), "files" (the input
+files with their hashes) and "takes_pressure" (for each bearing file the command read, whether
+its bearing takes the contact pressure: `note_bearing_file`); empty outside a command."""
 
 _NOT_SETTINGS = {"command", "command_function", "bearing_option_defaults", "json_path"}
 """Attributes of the parsed arguments that are no flag of the command."""
@@ -94,7 +95,7 @@ def set_arguments(args, outputs) -> None:
     (attribute, flag, "file" | "image" | "folder", example) (`_paths.OUTPUT_FLAGS`), with the
     SHA-256 of each input file (hashed now, before any work, as the command reads them)."""
     _RUN.clear()
-    _RUN.update(args=args, outputs={dest: kind for dest, _, kind, _ in outputs}, files=[])
+    _RUN.update(args=args, outputs={dest: kind for dest, _, kind, _ in outputs}, files=[], takes_pressure={})
     for dest, value in vars(args).items():
         if dest in _RUN["outputs"] or dest in _NOT_SETTINGS or dest.startswith("_"):
             continue
@@ -147,16 +148,18 @@ def replaced_flags(args) -> dict:
     return {_flag(name): source for name in names if hasattr(args, name)}
 
 
-def _uses_pressure(path) -> bool:
-    """Whether the bearing of the bearing file `path` takes the contact pressure (heating or
-    pressure dependence): then --pressure is run beside the file."""
-    from ..formats import load_bearing
+def note_bearing_file(path, takes_pressure: bool) -> None:
+    """Record that the running command read the bearing file `path` (`read_bearing_flag`, its one
+    read) and whether its bearing takes the contact pressure (heating or pressure dependence):
+    then --pressure is run beside the file, not replaced by it. Nothing outside a command."""
+    if "takes_pressure" in _RUN:
+        _RUN["takes_pressure"][str(path)] = bool(takes_pressure)
 
-    try:
-        bearing = load_bearing(path)
-    except (ValueError, OSError):
-        return False
-    return bearing.heating is not None or bearing.pressure_dependence is not None
+
+def _uses_pressure(path) -> bool:
+    """Whether the bearing of the bearing file `path`, as the running command read it
+    (`note_bearing_file`), takes the contact pressure; False for a file it did not read."""
+    return _RUN.get("takes_pressure", {}).get(str(path), False)
 
 
 def run_inputs() -> dict | None:

@@ -4,7 +4,6 @@ the ratio flags it reads."""
 import numpy as np
 
 from ..units import parse_quantity
-from ._bearing_flags import read_bearing_flag
 from ._common import check_table1
 
 
@@ -20,15 +19,15 @@ def fraction(text, flag):
     return value
 
 
-def bearing_of_flags(args, ptfe, pressure_text, flag):
-    """The bearing of `run`'s flags: `--bearing FILE` at the contact pressure
-    `pressure_text` (its pressure dependence folded in), or Table 1's row of `ptfe` at that
-    pressure with the anisotropy, lay and breakaway flags; `ValueError` naming `flag`."""
+def bearing_of_flags(args, from_file, ptfe, pressure_text, flag):
+    """The bearing of `run`'s flags: `from_file`, the bearing of `--bearing FILE` as read
+    (`Isolator.bearing`), at the contact pressure `pressure_text` (its pressure dependence
+    folded in), or (`from_file` None) Table 1's row of `ptfe` at that pressure with the
+    anisotropy, lay and breakaway flags; `ValueError` naming `flag`."""
     from ..bearing import paper_bearing
     from ..systems import check_structure_bearing
     from ..tables import interface_parameters
 
-    from_file = read_bearing_flag(args)
     pressure = parse_quantity(pressure_text, "pressure", where=flag)
     if from_file is not None:
         if not pressure > 0:

@@ -74,7 +74,7 @@ def build_structure(args, isolator, flags: StructureFlags, ground_x, ground_y, t
                                 weight=flags.weight, ground_y=ground_y if two else None)
     from ..systems import rigid_mass, six_storey_building
 
-    bearing = bearing_of_flags(args, args.ptfe, args.pressure, "--pressure")
+    bearing = bearing_of_flags(args, isolator.bearing, args.ptfe, args.pressure, "--pressure")
     common = dict(bearing=bearing, ground_acceleration=ground_x, ground_y=ground_y, components=2, time_step=flags.time_step,
                   isolation_period=flags.period, contact_pressure=flags.pressure)
     if args.structure == "rigid":
@@ -104,7 +104,7 @@ def _on_plan(args, isolator, flags: StructureFlags, ground_x, ground_y):
         from ..bearing import concave_surface
 
         pressures = [g["pressure"] or args.pressure for g in groups]
-        bearings = [bearing_of_flags(args, g["ptfe"] or args.ptfe, p, f"--plan: {args.plan}: {g['name']}.pressure")
+        bearings = [bearing_of_flags(args, isolator.bearing, g["ptfe"] or args.ptfe, p, f"--plan: {args.plan}: {g['name']}.pressure")
                     for g, p in zip(groups, pressures)]
         radii = options.pop("radii", None)  # single pendulums: each group's (bearing, surface)
         values = bearings if radii is None else [(b, concave_surface(r)) for b, r in zip(bearings, radii)]

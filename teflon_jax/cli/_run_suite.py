@@ -240,7 +240,7 @@ def run_suite(args, isolator) -> int:
         if args.scheduler is not None:
             raise ValueError("--pelicun-demands: the storey results are kept in this process; leave out --scheduler.")
     spectrum = read_target(args)  # target, range and limits checked before any record is read
-    bounding = read_suite_factors(args)
+    bounding = read_suite_factors(args, isolator)
     pairs = check_pairs(args, read_suite(args.suite))
     from ._run_structure import read_structure, suite_build
 

@@ -93,7 +93,7 @@ def build_test(args):
 
     from_file = read_bearing_flag(args)
     if from_file is not None:
-        return _from_bearing_file(args, from_file)
+        return _from_bearing_file(args, from_file.bearing)
     ptfe = args.ptfe.upper()
     direction = args.direction.upper()
     pressure = args.pressure

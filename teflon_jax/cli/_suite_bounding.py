@@ -29,12 +29,13 @@ def add_suite_bounding_flag(parser) -> None:
                        "cluster, all in --out FILE.nc")
 
 
-def read_suite_factors(args):
-    """The `Bounds` of `run --property-factors` (`read_bounds`), or `None`; `ValueError`
-    naming the flag, also without --suite."""
+def read_suite_factors(args, isolator=None):
+    """The `Bounds` of `run --property-factors` on `isolator` (`read_isolator`; `read_bounds`), or
+    `None`; `ValueError` naming the flag, also without --suite (then `isolator` may be None: the
+    bounds are refused before they need it)."""
     if getattr(args, "property_factors", None) is not None and args.suite is None:
         raise ValueError("--property-factors: bounds a suite's analysis; add --suite FILE.")
-    return read_bounds(args)
+    return read_bounds(args, isolator)
 
 
 def _case_factors(bounds) -> dict:

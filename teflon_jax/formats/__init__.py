@@ -3,10 +3,12 @@ JSON, the bundled-record catalogue, study results, target spectra and pelicun de
 
 from ._at2 import read_at2 as read_at2
 from ._bearing_file import BEARING_PARTS as BEARING_PARTS
+from ._bearing_file import BearingFile as BearingFile
 from ._bearing_file import bearing_from_dict as bearing_from_dict
 from ._bearing_file import load_bearing as load_bearing
 from ._bearing_file import load_bearing_mixture as load_bearing_mixture
 from ._bearing_file import load_bearing_posterior as load_bearing_posterior
+from ._bearing_file import read_bearing_file as read_bearing_file
 from ._bearing_file import unidentified_constants as unidentified_constants
 from ._bearing_mixture import MIXTURE_CRITERIA as MIXTURE_CRITERIA
 from ._bearing_mixture import BearingMixture as BearingMixture
@@ -23,9 +25,11 @@ from ._columns import read_two_column as read_two_column
 from ._damper import read_friction_damper_json as read_friction_damper_json
 from ._external import external_data_dir as external_data_dir
 from ._external import load_record as load_record
+from ._isolator_file import IsolatorFile as IsolatorFile
 from ._isolator_file import isolator_from_dict as isolator_from_dict
 from ._isolator_file import load_isolator as load_isolator
 from ._isolator_file import load_isolator_posterior as load_isolator_posterior
+from ._isolator_file import read_isolator_file as read_isolator_file
 from ._isolator_posterior import IsolatorPosterior as IsolatorPosterior
 from ._isolator_write import isolator_to_dict as isolator_to_dict
 from ._isolator_write import write_isolator as write_isolator

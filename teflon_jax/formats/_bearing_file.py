@@ -34,6 +34,7 @@ parts, each with its `effects`, `weight`, `delta_bic`, `parts`, `posterior` and 
 (`BearingMixture`; docs/formats.md).
 """
 
+import typing
 
 import jax.numpy as jnp
 
@@ -332,11 +333,31 @@ def bearing_from_dict(document: dict, *, where: str = "bearing") -> SlidingBeari
     return _read_document(document, where, read_draws=True)[0]
 
 
+class BearingFile(typing.NamedTuple):
+    """What one read of a bearing file holds (`read_bearing_file`): `bearing`, the point
+    estimate of `parts` (SI); `posterior` (`BearingPosterior`) and `mixture` (`BearingMixture`),
+    each None where the file has none; `unidentified`, `unidentified_constants` of the file."""
+
+    bearing: SlidingBearing
+    posterior: BearingPosterior | None
+    mixture: BearingMixture | None
+    unidentified: list
+
+
+def read_bearing_file(path) -> BearingFile:
+    """Read and parse the bearing file `path` once (`BearingFile`): its point bearing, posterior,
+    mixture and unidentified constants, every key checked; `ValueError` naming the file and
+    the key for anything `load_bearing`, `load_bearing_posterior` or `load_bearing_mixture`
+    refuses."""
+    document = read_json_document(path, "bearing file")
+    bearing, posterior, mixture = _read_document(document, str(path), read_draws=True)
+    return BearingFile(bearing, posterior, mixture, unidentified_constants(document))
+
+
 def load_bearing(path) -> SlidingBearing:
     """Read a bearing file (JSON, `save_bearing`) into a `SlidingBearing` (SI): the point
     estimate of `parts`, also where the file has a posterior."""
-    document = read_json_document(path, "bearing file")
-    return bearing_from_dict(document, where=str(path))
+    return read_bearing_file(path).bearing
 
 
 def unidentified_constants(path) -> list[tuple[str, float]]:
@@ -360,13 +381,11 @@ def load_bearing_posterior(path) -> BearingPosterior | None:
     file has none; with `load_bearing`'s point bearing, `posterior.bearing(point, k)` is draw
     k's bearing. `ValueError` naming the file and the key for a posterior that is not a
     valid one (`BearingPosterior`), or whose draws make an invalid bearing."""
-    document = read_json_document(path, "bearing file")
-    return _read_document(document, str(path), read_draws=True)[1]
+    return read_bearing_file(path).posterior
 
 
 def load_bearing_mixture(path) -> BearingMixture | None:
     """The `BearingMixture` of a bearing file's `mixture` object (SI), or `None` when the file has
     none (`load_bearing` reads its point estimate, `parts`: the composition the search chose).
     `ValueError` naming the file and the key for a mixture that is not a valid one."""
-    document = read_json_document(path, "bearing file")
-    return _read_document(document, str(path), read_draws=True)[2]
+    return read_bearing_file(path).mixture

@@ -45,6 +45,7 @@ friction (`_isolator_posterior.py`).
 
 import difflib
 import re
+import typing
 
 import jax.numpy as jnp
 
@@ -272,21 +273,32 @@ def _checked(bearing, check, where, keys):
     return bearing
 
 
+class IsolatorFile(typing.NamedTuple):
+    """What one read of an isolator file holds (`read_isolator_file`): `pendulum`, its
+    `TriplePendulum` or `DoublePendulum` (SI), and `posterior` (`IsolatorPosterior`), None
+    where the file has none."""
+
+    pendulum: SeriesPendulum
+    posterior: IsolatorPosterior | None
+
+
+def read_isolator_file(path) -> IsolatorFile:
+    """Read and parse the isolator file `path` once (`IsolatorFile`); `ValueError` naming the
+    file and the key for anything `load_isolator` or `load_isolator_posterior` refuses."""
+    document = read_json_document(path, "isolator file")
+    pendulum = isolator_from_dict(document, where=str(path))
+    if "posterior" not in document:
+        return IsolatorFile(pendulum, None)
+    return IsolatorFile(pendulum, isolator_posterior_from_dict(document["posterior"], pendulum, str(path)))
+
+
 def load_isolator(path) -> SeriesPendulum:
     """Read an isolator file (JSON) into a `TriplePendulum` or `DoublePendulum` (SI), as its
     "isolator" says; a `posterior` section is checked (`load_isolator_posterior`)."""
-    document = read_json_document(path, "isolator file")
-    pendulum = isolator_from_dict(document, where=str(path))
-    if "posterior" in document:
-        isolator_posterior_from_dict(document["posterior"], pendulum, str(path))
-    return pendulum
+    return read_isolator_file(path).pendulum
 
 
 def load_isolator_posterior(path) -> IsolatorPosterior | None:
     """The posterior draws an isolator file holds (`IsolatorPosterior`, its `posterior`
     section: `_isolator_posterior.py`), or `None` where it holds none."""
-    document = read_json_document(path, "isolator file")
-    pendulum = isolator_from_dict(document, where=str(path))
-    if "posterior" not in document:
-        return None
-    return isolator_posterior_from_dict(document["posterior"], pendulum, str(path))
+    return read_isolator_file(path).posterior
