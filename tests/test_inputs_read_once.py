@@ -1,7 +1,8 @@
 """Each file a command's flags name is read once: `montecarlo` and `run` parse a `--bearing` file
 (its bearing, posterior draws and unidentified constants) or an `--isolator-file` (its pendulum
 and posterior draws) in one read, and take the draws, the bounds of `--property-factors` and what
-the results say of the file from that read."""
+the results say of the file from that read; `run --suite` reads each record once, also one that
+several pairs name."""
 
 import json
 import pathlib
@@ -27,8 +28,9 @@ MONTE_CARLO = ["--no-compile-cache", "montecarlo", "--motions", "2", "--duration
 
 @pytest.fixture(scope="module")
 def files(tmp_path_factory):
-    """A bearing file with 8 posterior draws, a double pendulum's isolator file with 4, and a
-    suite of two pairs of short records."""
+    """A bearing file with 8 posterior draws, a double pendulum's isolator file with 4, a suite
+    of two pairs of short records (each record in both pairs) and that suite with one vertical
+    component under both pairs."""
     jax.config.update("jax_enable_x64", True)
     folder = tmp_path_factory.mktemp("inputs")
     friction, b = tj.interface_parameters("UF", 1000 * PSI, "P")
@@ -49,7 +51,11 @@ def files(tmp_path_factory):
     for i in range(2):
         (folder / f"x{i}.txt").write_text("time acc\n" + "\n".join(
             f"{ti:.4f} {(1 + 0.2 * i) * ai:.6e}" for ti, ai in zip(t, acceleration)) + "\n")
+    (folder / "z.txt").write_text("time acc\n" + "\n".join(
+        f"{ti:.4f} {0.3 * ai:.6e}" for ti, ai in zip(t, np.roll(acceleration, 50))) + "\n")
     (folder / "suite.csv").write_text("name,record_x,record_y,scale\np0,x0.txt,x1.txt,1\np1,x1.txt,x0.txt,1\n")
+    (folder / "suite-z.csv").write_text("name,record_x,record_y,record_z,scale\n"
+                                        "p0,x0.txt,x1.txt,z.txt,1\np1,x1.txt,x0.txt,z.txt,1\n")
     return folder
 
 
@@ -93,3 +99,31 @@ def test_each_named_file_is_parsed_once(files, tmp_path, capsys, monkeypatch, fl
     assert any(entry["path"].endswith(named) for entry in inputs["files"])
     if named == "bearing.json":  # a bearing without heating or pressure dependence replaces --pressure
         assert inputs["replaced"].get("--pressure", "").startswith("--bearing")
+
+
+@pytest.mark.parametrize("suite, extra", [("suite-z.csv", []), ("suite.csv", ["--property-factors", "0.85,1.3"])],
+                         ids=["vertical", "bounding"])
+def test_each_suite_record_is_read_once(files, tmp_path, capsys, monkeypatch, suite, extra):
+    """`run --suite` reads each record file once (the column reader counted, the real one reading
+    it), though each is named by both pairs, and runs both pairs on what it read: the pairs'
+    peaks differ as their records do (p1 is p0 with x and y swapped, the resultant the same)."""
+    from teflon_jax import formats
+
+    reads, read_two_column = {}, formats.read_two_column
+
+    def counted(path, *args, **kwargs):
+        reads[pathlib.Path(path).name] = reads.get(pathlib.Path(path).name, 0) + 1
+        return read_two_column(path, *args, **kwargs)
+
+    monkeypatch.setattr(formats, "read_two_column", counted)
+    out = tmp_path / "out.json"
+    code = main(["--no-compile-cache", "run", "--record-units", "g", "--suite", str(files / suite), *extra,
+                 "--json", str(out)])
+    assert code == 0, capsys.readouterr().err
+    named = {"x0.txt", "x1.txt"} | ({"z.txt"} if suite == "suite-z.csv" else set())
+    assert reads == dict.fromkeys(named, 1), reads
+    payload = json.loads(out.read_text())
+    pairs = payload["pairs"] if not extra else payload["cases"]["nominal"]["pairs"]
+    p0, p1 = pairs["p0"], pairs["p1"]
+    assert p0["base_disp_x_m"] == pytest.approx(p1["base_disp_y_m"], rel=1e-6)
+    assert p0["base_disp_x_m"] != pytest.approx(p0["base_disp_y_m"], rel=1e-3)

@@ -2,6 +2,7 @@
 two-column file needs it, two columns in a column file, a peak acceleration that a ground
 motion can have (after `--scale` too) and a solver step that resolves the records."""
 
+import dataclasses
 import pathlib
 import sys
 
@@ -38,10 +39,25 @@ def check_record_units(units, records) -> None:
                      "and that unit is used; --record-units is for two-column files only, so leave it out.")
 
 
-def run_records(args) -> list[tuple[str, str]]:
-    """(flag, path) of the records given on `run`'s command line."""
-    return [(flag, str(getattr(args, dest))) for dest, flag in RECORD_FLAGS
-            if getattr(args, dest, None) is not None]
+@dataclasses.dataclass(frozen=True)
+class RecordFiles:
+    """The record files of one run and the factor they are scaled by: --record-x, --record-y,
+    --record-z and --scale (`of`), or a suite pair's columns with its scale times --scale."""
+
+    x: str | None
+    y: str | None
+    z: str | None
+    scale: float
+
+    @classmethod
+    def of(cls, args) -> "RecordFiles":
+        """The records given on `run`'s command line."""
+        return cls(args.record_x, args.record_y, args.record_z, args.scale)
+
+    def named(self) -> list[tuple[str, str]]:
+        """(flag, path) of the records given."""
+        return [(flag, str(path)) for (_, flag), path in zip(RECORD_FLAGS, (self.x, self.y, self.z))
+                if path is not None]
 
 
 def check_peak(motion, flag: str, path, units) -> None:

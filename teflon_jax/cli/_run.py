@@ -20,7 +20,7 @@ from ._common import (
 from ._isolator_flags import add_isolator_flags, check_combination, read_isolator
 from ._normal_load import add_vertical_flag
 from ._paths import check_distinct_files
-from ._record_checks import check_record_units, run_records
+from ._record_checks import RecordFiles, check_record_units
 from ._run_stop import stop_entries
 from ._run_structure import STRUCTURES
 from ._run_suite import add_suite_arguments, check_suite_flags
@@ -124,7 +124,7 @@ def run_run(args) -> int:
     check_suite_flags(args)
     isolator = read_isolator(args)  # its flags and files, before the records are read
     check_combination(args, isolator)
-    check_record_units(args.record_units, run_records(args))
+    check_record_units(args.record_units, RecordFiles.of(args).named())
     if args.suite is not None:
         if args.record_x is not None or args.record_y is not None or args.record_z is not None:
             raise ValueError("--suite: give the records in the suite file, not with --record-x/--record-y/--record-z.")

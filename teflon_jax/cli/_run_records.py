@@ -7,7 +7,7 @@ import pathlib
 import numpy as np
 
 from ..units import parse_quantity
-from ._record_checks import check_peak, check_record_step, check_scaled, is_at2, run_records
+from ._record_checks import RecordFiles, check_peak, check_record_step, check_scaled, is_at2
 
 
 def read_component(path_text, units, flag):
@@ -33,16 +33,32 @@ def read_component(path_text, units, flag):
     return motion
 
 
+def read_once():
+    """`read_component` that reads each file once: a file named again (a suite's record in
+    several pairs) is the `GroundMotion` read and checked the first time."""
+    motions = {}
+
+    def read(path_text, units, flag):
+        key = pathlib.Path(path_text).resolve()
+        if key not in motions:
+            motions[key] = read_component(path_text, units, flag)
+        return motions[key]
+
+    return read
+
+
 def _resample(values, dt, new_dt):
     t = dt * np.arange(values.size)
     t_new = np.arange(0.0, t[-1] + 1e-9 * new_dt, new_dt)
     return np.interp(t_new, t, values)
 
 
-def load_components(args):
-    """(ax, ay, dt, notes): the windowed, scaled components [m/s^2] on one time grid."""
-    x = read_component(args.record_x, args.record_units, "--record-x")
-    y = None if args.record_y is None else read_component(args.record_y, args.record_units, "--record-y")
+def load_components(args, files: RecordFiles | None = None, read=read_component):
+    """(ax, ay, dt, notes): the windowed, scaled components [m/s^2] on one time grid of `files`
+    (default: --record-x, --record-y and --scale), each read by `read` (`read_component`)."""
+    files = RecordFiles.of(args) if files is None else files
+    x = read(files.x, args.record_units, "--record-x")
+    y = None if files.y is None else read(files.y, args.record_units, "--record-y")
     ax, dt = np.asarray(x.acceleration, float), float(x.time_step)
     notes = []
     if y is None:
@@ -100,24 +116,27 @@ def load_components(args):
     if abs(i0 * dt - start) > 1e-9 * dt or abs((n - 1) * dt - duration) > 1e-9 * dt:
         notes.append(f"the window is {i0 * dt:g} s to {(i0 + n - 1) * dt:g} s, --start and --duration taken to "
                      f"the nearest of the record's samples (step {dt:g} s)")
-    scale = float(args.scale)
+    scale = float(files.scale)
     if not (np.isfinite(scale) and scale > 0):
-        raise ValueError(f"--scale: must be a finite number > 0, got {args.scale:g}.")
+        raise ValueError(f"--scale: must be a finite number > 0, got {files.scale:g}.")
     ax, ay = scale * ax[i0:i0 + n], scale * ay[i0:i0 + n]
-    check_scaled(ax, ay, scale, f"{args.scale:g}")
+    check_scaled(ax, ay, scale, f"{files.scale:g}")
     check_record_step(parse_quantity(args.time_step, "time", where="--time-step"), args.time_step, dt,
-                      run_records(args))
+                      files.named())
     return ax, ay, dt, notes
 
 
-def vertical_component(args, dt, samples, where: str = "--record-z"):
-    """The windowed, scaled vertical component [m/s^2] on the horizontal components' grid
-    (`samples` values at step `dt` [s] from --start), or `None` without --record-z;
-    `ValueError` naming `where` (--record-z, or a suite pair's record_z) for a step or a length
-    that does not match (--resample: interpolated to `dt`, extended with zeros)."""
-    if args.record_z is None:
+def vertical_component(args, dt, samples, where: str = "--record-z", files: RecordFiles | None = None,
+                       read=read_component):
+    """The windowed, scaled vertical component [m/s^2] of `files` (default: --record-z and
+    --scale), read by `read` (`read_component`), on the horizontal components' grid (`samples`
+    values at step `dt` [s] from --start), or `None` without one; `ValueError` naming `where`
+    (--record-z, or a suite pair's record_z) for a step or a length that does not match
+    (--resample: interpolated to `dt`, extended with zeros)."""
+    files = RecordFiles.of(args) if files is None else files
+    if files.z is None:
         return None
-    z = read_component(args.record_z, args.record_units, where)
+    z = read(files.z, args.record_units, where)
     az, dtz = np.asarray(z.acceleration, float), float(z.time_step)
     if abs(dtz - dt) > 1e-9 * dt:
         if not args.resample:
@@ -133,5 +152,5 @@ def vertical_component(args, dt, samples, where: str = "--record-z"):
                              f"window ({i0 * dt:g} s + {(samples - 1) * dt:g} s); choose --duration within "
                              "it, or ask for --resample to extend it with zeros.")
         window = np.pad(window, (0, samples - window.size))
-    return float(args.scale) * window
+    return float(files.scale) * window
 

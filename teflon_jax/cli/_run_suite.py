@@ -6,7 +6,6 @@ table and one NetCDF.
 With `--scheduler local:N|ADDRESS` the pairs run as chunks of `--chunk-size` on a Dask cluster,
 their peaks streamed to `--out FILE.nc` (`teflon_jax.studies.suite_peaks_distributed`)."""
 
-import argparse
 import csv
 import pathlib
 import sys
@@ -17,7 +16,7 @@ from ._common import _write_json, add_cluster_flags, output_units
 from ._engineering import add_suite_pelicun_flag, suite_pelicun_peaks
 from ._normal_load import NORMAL_LOAD_NOTE, suite_normal_load
 from ._provenance import note_input_file, provenance_attributes
-from ._record_checks import RECORD_FLAGS, check_record_units
+from ._record_checks import RECORD_FLAGS, RecordFiles, check_record_units
 from ._run_stop import failed_pairs, pair_flags
 from ._spectrum import add_spectrum_flags, check_unscaled, read_target, scale_to_target
 from ._suite_bounding import add_suite_bounding_flag, read_suite_factors
@@ -155,21 +154,23 @@ def _pair_records(args, pairs):
     (`load_components`, `vertical_component`) and the shorter ones continued with zero ground
     acceleration; `ValueError` naming --suite for pairs of different time steps, and naming the
     pair for a vertical record that does not fit its pair. Where some pairs have a vertical
-    component, those without one run without it (N = W), as the notes say."""
-    from ._run_records import load_components, vertical_component
+    component, those without one run without it (N = W), as the notes say. A record in several
+    pairs is read once (`read_once`)."""
+    from ._run_records import load_components, read_once, vertical_component
 
     records, notes, verticals = [], [], []
+    read = read_once()
     for name, x, y, z, scale in pairs:
-        one = argparse.Namespace(**{**vars(args), "record_x": x, "record_y": y, "record_z": z,
-                                    "scale": scale * args.scale})
+        files = RecordFiles(x, y, z, scale * args.scale)
         try:
-            ax, ay, dt, pair_notes = load_components(one)
+            ax, ay, dt, pair_notes = load_components(args, files, read)
         except ValueError as error:  # worded for run's flags: named here by the suite's columns
             text = str(error)
             for dest, flag in RECORD_FLAGS:
                 text = text.replace(flag, dest)
             raise ValueError(f"--suite: {args.suite}, pair {name!r}: {text}") from None
-        verticals.append(vertical_component(one, dt, ax.size, f"--suite {args.suite}, pair {name}: record_z"))
+        verticals.append(vertical_component(args, dt, ax.size, f"--suite {args.suite}, pair {name}: record_z",
+                                            files, read))
         records.append((name, ax, ay, dt))
         notes += [f"{name}: {n}" for n in pair_notes]
     steps = {dt for *_, dt in records}
