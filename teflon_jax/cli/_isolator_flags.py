@@ -253,18 +253,6 @@ def read_isolator_file_flag(path, isolator, command=None):
     return read
 
 
-def read_isolator_flag(args):
-    """The `TriplePendulum` or `DoublePendulum` of `--isolator-file` (None for the other
-    isolators), the flags checked as `read_isolator` does."""
-    return read_isolator(args).pendulum
-
-
-def pendulum_period(args) -> float | None:
-    """2 pi sqrt(R / g) [s] of `--radius` for `--isolator single-fp` (None for the others), the
-    flags checked as `read_isolator` does."""
-    return read_isolator(args).period
-
-
 def check_combination(args, isolator: Isolator) -> None:
     """`ValueError` naming the flag, before any work, for what cannot run together: a plan
     under the rigid mass, the slab without one, the building on flat sliders without springs, and

@@ -19,10 +19,11 @@ def fraction(text, flag):
     return value
 
 
-def bearing_of_flags(args, from_file, ptfe, pressure_text, flag):
+def bearing_of_flags(args, from_file, ptfe, pressure_text, flag, friction_factor: float = 1.0):
     """The bearing of `run`'s flags: `from_file`, the bearing of `--bearing FILE` as read
     (`Isolator.bearing`), at the contact pressure `pressure_text` (its pressure dependence
-    folded in), or (`from_file` None) Table 1's row of `ptfe` at that pressure with the
+    folded in), or (`from_file` None) Table 1's row of `ptfe` at that pressure, its f_max and
+    delta_f times `friction_factor` (a bounding case of --property-factors), with the
     anisotropy, lay and breakaway flags; `ValueError` naming `flag`."""
     from ..bearing import paper_bearing
     from ..systems import check_structure_bearing
@@ -48,12 +49,11 @@ def bearing_of_flags(args, from_file, ptfe, pressure_text, flag):
         perpendicular = interface_parameters(ptfe.upper(), pressure, "T")[0] if args.anisotropic else None
     except ValueError as error:
         raise ValueError(f"{flag}: {error}") from None
-    factor = getattr(args, "friction_factor", 1.0)  # a bounding case (--property-factors)
-    if factor != 1.0:
+    if friction_factor != 1.0:
         from ..studies import scaled_friction
 
-        params = scaled_friction(params, factor)
-        perpendicular = None if perpendicular is None else scaled_friction(perpendicular, factor)
+        params = scaled_friction(params, friction_factor)
+        perpendicular = None if perpendicular is None else scaled_friction(perpendicular, friction_factor)
     lay_angle = None
     if args.lay_angle is not None:
         if not args.anisotropic:

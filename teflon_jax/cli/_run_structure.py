@@ -58,23 +58,24 @@ def read_structure(args, isolator) -> StructureFlags:
     return StructureFlags(time_step, weight, period, damping, pressure, plan, slab)
 
 
-def build_structure(args, isolator, flags: StructureFlags, ground_x, ground_y, two: bool = True):
+def build_structure(args, isolator, flags: StructureFlags, ground_x, ground_y, two: bool = True,
+                    friction_factor: float = 1.0):
     """The system of `args.structure` on `isolator` under the ground `Signal`s [m/s^2]: flat
     sliders and single pendulums in both directions (`rigid_mass`,
     `six_storey_building` with `components=2`, `slab_on_bearings`), series pendulums in one direction, or in
     two with `two` (`triple_structure`; on a slab always two). The
-    friction of a bounding case (`args.friction_factor`) scales Table 1's row or each surface's."""
+    `friction_factor` of a bounding case scales f_max and delta_f of Table 1's row or each surface's."""
     if flags.plan is not None:
-        return _on_plan(args, isolator, flags, ground_x, ground_y)
+        return _on_plan(args, isolator, flags, ground_x, ground_y, friction_factor)
     if isolator.pendulum is not None:
         from ..systems import triple_structure
 
-        pendulum = _scaled(args, [isolator.pendulum])[0]
+        pendulum = _scaled([isolator.pendulum], friction_factor)[0]
         return triple_structure(args.structure, pendulum, ground_x, time_step=flags.time_step,
                                 weight=flags.weight, ground_y=ground_y if two else None)
     from ..systems import rigid_mass, six_storey_building
 
-    bearing = bearing_of_flags(args, isolator.bearing, args.ptfe, args.pressure, "--pressure")
+    bearing = bearing_of_flags(args, isolator.bearing, args.ptfe, args.pressure, "--pressure", friction_factor)
     common = dict(bearing=bearing, ground_acceleration=ground_x, ground_y=ground_y, components=2, time_step=flags.time_step,
                   isolation_period=flags.period, contact_pressure=flags.pressure)
     if args.structure == "rigid":
@@ -82,29 +83,29 @@ def build_structure(args, isolator, flags: StructureFlags, ground_x, ground_y, t
     return six_storey_building(isolation_damping=flags.damping, **common)
 
 
-def _scaled(args, pendulums):
-    """`pendulums` with every surface's f_max and delta_f times `args.friction_factor` (a
-    bounding case; 1 otherwise): `SeriesPendulum.scaled_friction`."""
-    factor = getattr(args, "friction_factor", 1.0)
+def _scaled(pendulums, factor: float):
+    """`pendulums` with every surface's f_max and delta_f times `factor` (a bounding case; 1
+    otherwise): `SeriesPendulum.scaled_friction`."""
     return pendulums if factor == 1.0 else [p.scaled_friction(factor) for p in pendulums]
 
 
-def _on_plan(args, isolator, flags: StructureFlags, ground_x, ground_y):
+def _on_plan(args, isolator, flags: StructureFlags, ground_x, ground_y, friction_factor: float):
     """`slab_on_bearings` (or `building_on_plan` under --structure building) of the plan on its
     groups' isolator values: series pendulums (`flags.slab`), or each group's
     bearing at its pressure, alone (flat sliders) or on the group's surface (single pendulums),
-    with the isolation damping."""
+    with the isolation damping; f_max and delta_f times `friction_factor`."""
     from ..systems import building_on_plan, slab_on_bearings
 
     plan, groups = flags.plan, flags.plan["groups"]
     options = dict(flags.slab)
     if "pendulums" in options:
-        values = _scaled(args, options.pop("pendulums"))
+        values = _scaled(options.pop("pendulums"), friction_factor)
     else:
         from ..bearing import concave_surface
 
         pressures = [g["pressure"] or args.pressure for g in groups]
-        bearings = [bearing_of_flags(args, isolator.bearing, g["ptfe"] or args.ptfe, p, f"--plan: {args.plan}: {g['name']}.pressure")
+        bearings = [bearing_of_flags(args, isolator.bearing, g["ptfe"] or args.ptfe, p,
+                                     f"--plan: {args.plan}: {g['name']}.pressure", friction_factor)
                     for g, p in zip(groups, pressures)]
         radii = options.pop("radii", None)  # single pendulums: each group's (bearing, surface)
         values = bearings if radii is None else [(b, concave_surface(r)) for b, r in zip(bearings, radii)]
@@ -126,10 +127,11 @@ def _on_plan(args, isolator, flags: StructureFlags, ground_x, ground_y):
                             **common)
 
 
-def suite_build(args, isolator, ax0, ay0, dt, friction_factors=None, vertical=None):
+def suite_build(args, isolator, ax0, ay0, dt, friction_factors=None, vertical=None, *, friction_factor=1.0):
     """(build(ground_x, ground_y[, ground_z]) -> the structure of one pair, its degrees of
     freedom, the slab's plan or None) of `run --suite`: the
-    structure of the flags (`build_structure`, under both components) built once on the first
+    structure of the flags (`build_structure`, under both components, Table 1's or the
+    surfaces' f_max and delta_f times `friction_factor`) built once on the first
     pair (`ax0`, `ay0` [m/s^2], step `dt` [s]), its ground motion replaced by each pair's; with
     `friction_factors` ({"f_max", "delta_f", "rate_a": factor}) a `--bearing` file's Eq. 1
     constants scaled wherever the structure carries them (`studies.with_friction_factors`);
@@ -141,7 +143,8 @@ def suite_build(args, isolator, ax0, ay0, dt, friction_factors=None, vertical=No
     from ._normal_load import check_vertical_pressures, with_vertical
 
     flags = read_structure(args, isolator)
-    template = build_structure(args, isolator, flags, uniform_signal(ax0, dt), uniform_signal(ay0, dt))
+    template = build_structure(args, isolator, flags, uniform_signal(ax0, dt), uniform_signal(ay0, dt),
+                               friction_factor=friction_factor)
     if friction_factors is not None:
         from ..studies import with_friction_factors
 

@@ -49,8 +49,6 @@ def _case_results(args, bounds, isolator, names, ax, ay, dt, stem, vertical=None
     and with --out one file of all three) or on the cluster of --scheduler (a table per case,
     the peaks in --out); `vertical`: the pairs' vertical components, their pressure law and
     names (`suite_build`), or None."""
-    import argparse
-
     from ..studies import (
         BOUNDING_CASES,
         save_suite,
@@ -66,8 +64,8 @@ def _case_results(args, bounds, isolator, names, ax, ay, dt, stem, vertical=None
     builds, plan = {}, None
     for case in BOUNDING_CASES:  # the structure of each case, built once
         if args.bearing is None:  # Table 1's or an isolator file's friction times the factor
-            case_args = argparse.Namespace(**{**vars(args), "friction_factor": table[case]["f_max"]})
-            builds[case], _, plan = suite_build(case_args, isolator, ax[0], ay[0], dt, vertical=vertical)
+            builds[case], _, plan = suite_build(args, isolator, ax[0], ay[0], dt, vertical=vertical,
+                                                friction_factor=table[case]["f_max"])
         else:  # the bearing file's constants, wherever the structure carries them
             builds[case], _, plan = suite_build(args, isolator, ax[0], ay[0], dt, table[case], vertical)
     az = None if vertical is None else vertical[0]
@@ -112,7 +110,7 @@ def run_suite_bounding(args, bounds, isolator, names, ax, ay, dt, notes, scaling
     """The suite's pairs (ax, ay) (P, n) [m/s^2] (and their `vertical` components with their
     pressure law, or None) through the nominal, upper- and lower-bound
     bearings of `bounds` (`read_suite_factors`; the structure of `run`'s flags on `isolator`
-    with `friction_factor`, or a --bearing file's bearing with the case's factors), one table per case
+    with the case's f_max factor, or a --bearing file's bearing with the case's factors), one table per case
     (<stem>-<case>.csv; in this process also <stem>-<case>.nc), the NetCDF file of every case
     (--out) and the JSON with the governing cases; 1 when a pair failed in some case."""
     import pathlib
