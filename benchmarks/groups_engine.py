@@ -19,6 +19,7 @@ import jax
 jax.config.update("jax_enable_x64", True)
 
 import numpy as np  # noqa: E402
+from engine_numbers import x_record  # noqa: E402  (the plan builders' x record on either tree)
 
 from teflon_jax.bearing import BoucWen, FrictionParameters, TriplePendulum  # noqa: E402
 from teflon_jax.excitation import (  # noqa: E402
@@ -48,7 +49,7 @@ def structures(kind: str, zero):
     weight = load_table2().total_weight
     one = triple_structure(kind, TRIPLE, zero, ground_y=zero, time_step=TIME_STEP, weight=weight)
     plan = dict(length_x=2.0, length_y=2.0, centre_of_mass=[1.0, 1.0], positions=[[1.0, 1.0]], loads=[weight],
-                ground_x=zero, ground_y=zero, time_step=TIME_STEP, isolator="triple-fp", pendulums=TRIPLE)
+                **x_record(zero), ground_y=zero, time_step=TIME_STEP, isolator="triple-fp", pendulums=TRIPLE)
     if kind == "rigid":
         return one, slab_on_bearings(weight=weight, **plan)
     return one, building_on_plan(storey_heights=0.0, **plan)

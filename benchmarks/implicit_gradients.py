@@ -15,9 +15,11 @@ import time
 import jax
 
 jax.config.update("jax_enable_x64", True)
+
 import equinox as eqx  # noqa: E402
 import jax.numpy as jnp  # noqa: E402
 import numpy as np  # noqa: E402
+from engine_numbers import x_record  # noqa: E402  (the plan builders' x record on either tree)
 
 from teflon_jax.bearing import (  # noqa: E402
     BoucWen,
@@ -130,7 +132,7 @@ CORNERS = np.array([[2.0, 1.0], [18.0, 1.0], [18.0, 11.0], [2.0, 11.0]])
 
 def slab(theta):  # slab on series pendulums: top f_max, outer radii
     s = slab_on_bearings(length_x=20.0, length_y=12.0, weight=1e6, centre_of_mass=np.array([10.0, 6.0]),
-                         positions=CORNERS, loads=[0.25e6] * 4, ground_x=GX, ground_y=GY, time_step=0.005,
+                         positions=CORNERS, loads=[0.25e6] * 4, **x_record(GX), ground_y=GY, time_step=0.005,
                          isolator=TRIPLE.isolator, pendulums=with_triple(theta), height_of_centre_of_mass=3.0)
     q = simulate_history(dataclasses.replace(s, newton_tolerance=1e-13), 2.0).displacement
     return jnp.stack([q[-1, 0], q[-1, 1], q[-1, 2]])

@@ -234,7 +234,7 @@ def _planar_systems():
                                    asymmetry=DirectionAsymmetry(0.1 * g)) for g in range(3)]
     slab = slab_on_bearings(length_x=20.0, length_y=12.0, weight=3e5, centre_of_mass=[10.0, 6.0],
                             positions=[[2.0, 1.0], [18.0, 1.0], [10.0, 11.0]], loads=[1e5] * 3, bearings=sliders,
-                            ground_x=ground, ground_y=ground, time_step=0.005, isolation_period=3.0)
+                            ground_acceleration=ground, ground_y=ground, time_step=0.005, isolation_period=3.0)
     restrained = bidirectional_isolated_structure("rigid", isolator=concave_surface(
         1.0, displacement_capacity=0.04, restrainer_stiffness=50 * WEIGHT))((ground, ground))
     out = []

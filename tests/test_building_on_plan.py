@@ -72,7 +72,7 @@ def test_symmetric_plan_without_overturning_is_the_building_on_one_group(isolato
     ax, ay = uniform_signal(_pulse(0.4), DT), uniform_signal(_pulse(0.3, 0.5, 1.0), DT)
     ground_y = ay if isolator == "single-fp" else None
     options = dict(isolation_period=PERIOD) if isolator == "flat" else dict(isolator="single-fp", radii=radius)
-    _, plan = _symmetric(CORNERS, 16.0, 10.0, ground_x=ax, ground_y=ground_y, storey_heights=0.0, **options)
+    _, plan = _symmetric(CORNERS, 16.0, 10.0, ground_acceleration=ax, ground_y=ground_y, storey_heights=0.0, **options)
     assert plan.overturning is None
     one = six_storey_building(components=2, bearing=BEARING, ground_acceleration=ax, ground_y=ground_y, time_step=STEP,
                                  isolation_period=PERIOD)
@@ -100,7 +100,7 @@ def test_rigid_frame_is_the_slab_with_its_centre_of_mass_at_the_building_height(
     bearings = [paper_bearing(interface_parameters("UF", p * PSI)[0], yield_disp=1e-3) for p in (1000, 2000, 3000, 1000)]
     ax, ay = uniform_signal(_pulse(0.15), DT), uniform_signal(_pulse(0.12, 0.5, 1.0), DT)
     common = dict(length_x=lx, length_y=ly, centre_of_mass=centre, positions=positions, loads=loads,
-                  bearings=bearings, ground_x=ax, ground_y=ay, time_step=STEP, isolation_period=PERIOD,
+                  bearings=bearings, ground_acceleration=ax, ground_y=ay, time_step=STEP, isolation_period=PERIOD,
                   isolation_damping=0.05)
     base_height, storey = 0.5, 3.0
     heights = base_height + storey * np.arange(7)
@@ -132,7 +132,7 @@ def test_groups_balance_the_moment_of_the_levels_inertia_forces():
     av = uniform_signal(0.2 * G * np.sin(2 * np.pi * 1.3 * TIME), DT)
     system = building_on_plan(
         length_x=lx, length_y=ly, centre_of_mass=centre, positions=positions, loads=loads, bearings=BEARING,
-        ground_x=uniform_signal(_pulse(0.15), DT), ground_y=uniform_signal(_pulse(0.12, 0.5, 1.0), DT),
+        ground_acceleration=uniform_signal(_pulse(0.15), DT), ground_y=uniform_signal(_pulse(0.12, 0.5, 1.0), DT),
         time_step=STEP, isolation_period=PERIOD, base_height=0.5, vertical_stiffness=[1.0, 2.0, 1.0, 0.5, 3.0])
     response = simulate_history(with_vertical_motion(system, av), DURATION)
     n = np.asarray(response.normal_load)
@@ -161,7 +161,7 @@ def test_a_strong_pulse_lifts_either_pair_and_the_base_moves_as_without_overturn
     a = 9.5
     offsets = [[-a, -4.0], [0.0, -4.0], [a, -4.0], [-a, 4.0], [0.0, 4.0], [a, 4.0]]
     ax = uniform_signal(_pulse(0.4), DT)
-    _, system = _symmetric(offsets, 22.0, 10.0, ground_x=ax, isolation_period=PERIOD)
+    _, system = _symmetric(offsets, 22.0, 10.0, ground_acceleration=ax, isolation_period=PERIOD)
     response = simulate_history(_exact(system), DURATION)
     n = np.asarray(response.normal_load)
     assert np.max(np.abs(n.sum(axis=1) - W)) < 1e-9 * W
@@ -195,7 +195,7 @@ def test_inputs_refused_by_name(change, message):
     """Each wrong input is refused before any work, naming the argument as written."""
     options = dict(length_x=16.0, length_y=10.0, centre_of_mass=[8.0, 5.0], bearings=BEARING,
                    positions=np.array([8.0, 5.0]) + CORNERS, loads=[W / 4] * 4,
-                   ground_x=uniform_signal(_pulse(0.1), DT), time_step=STEP, isolation_period=PERIOD)
+                   ground_acceleration=uniform_signal(_pulse(0.1), DT), time_step=STEP, isolation_period=PERIOD)
     if change.get("isolator") == "single-fp":
         options.pop("isolation_period")
     with pytest.raises(ValueError, match=message):
@@ -206,6 +206,6 @@ def test_groups_on_one_line_without_heights_are_accepted():
     """Heights 0 need no moment balance, so groups on one line make a plan (torsion only)."""
     line = [[2.0, 5.0], [6.0, 5.0], [10.0, 5.0], [14.0, 5.0]]
     system = building_on_plan(length_x=16.0, length_y=10.0, centre_of_mass=[8.0, 5.0], bearings=BEARING,
-                              positions=line, loads=[W / 4] * 4, ground_x=uniform_signal(_pulse(0.1), DT),
+                              positions=line, loads=[W / 4] * 4, ground_acceleration=uniform_signal(_pulse(0.1), DT),
                               time_step=STEP, isolation_period=PERIOD, storey_heights=0.0)
     assert system.overturning is None and system.mass.shape == (15,)

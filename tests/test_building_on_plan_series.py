@@ -49,7 +49,7 @@ def test_symmetric_plan_without_overturning_is_the_building_on_one_pendulum(isol
     ax, ay = uniform_signal(_pulse(0.4), DT), uniform_signal(_pulse(0.3, 0.5, 1.0), DT)
     centre = np.array([8.0, 5.0])
     plan = building_on_plan(length_x=16.0, length_y=10.0, centre_of_mass=centre, positions=centre + CORNERS,
-                            loads=[W / 4] * 4, isolator=isolator, pendulums=pendulum, ground_x=ax, ground_y=ay,
+                            loads=[W / 4] * 4, isolator=isolator, pendulums=pendulum, ground_acceleration=ax, ground_y=ay,
                             time_step=STEP, storey_heights=0.0)
     assert plan.overturning is None and plan.mass.shape == (15,)
     one = triple_structure("building", pendulum, ax, ground_y=ay, time_step=STEP)
@@ -71,7 +71,7 @@ def _eccentric(pendulum, **options):
     loads = W * np.array([0.15, 0.2, 0.2, 0.15, 0.3])
     system = building_on_plan(
         length_x=lx, length_y=ly, centre_of_mass=centre, positions=positions, loads=loads,
-        isolator=pendulum.isolator, pendulums=pendulum, ground_x=uniform_signal(_pulse(0.25), DT),
+        isolator=pendulum.isolator, pendulums=pendulum, ground_acceleration=uniform_signal(_pulse(0.25), DT),
         ground_y=uniform_signal(_pulse(0.2, 0.5, 1.0), DT), time_step=STEP, vertical_stiffness=[1.0, 2.0, 1.0, 0.5, 3.0],
         **options)
     return system, positions - centre, loads
@@ -114,7 +114,7 @@ def test_rigid_frame_on_series_groups_is_the_slab_with_its_centre_of_mass_at_the
     masses = np.concatenate([[TABLE2.base_weight], np.full(6, TABLE2.floor_weight)])
     slab = slab_on_bearings(
         length_x=24.0, length_y=16.0, weight=W, centre_of_mass=[13.0, 7.5], positions=arms + [13.0, 7.5],
-        loads=loads, isolator="double-fp", pendulums=DOUBLE, ground_x=building.ground_acceleration, ground_y=building.ground_y,
+        loads=loads, isolator="double-fp", pendulums=DOUBLE, ground_acceleration=building.ground_acceleration, ground_y=building.ground_y,
         time_step=STEP, rotational_inertia=float(building.mass[14]), vertical_stiffness=[1.0, 2.0, 1.0, 0.5, 3.0],
         height_of_centre_of_mass=masses @ heights / masses.sum())
     b, s = simulate(building, DURATION), simulate(slab, DURATION)
@@ -136,7 +136,7 @@ def test_series_groups_refuse_the_one_surface_inputs_by_name(change, message):
     centre = np.array([8.0, 5.0])
     options = dict(length_x=16.0, length_y=10.0, centre_of_mass=centre, positions=centre + CORNERS,
                    loads=[W / 4] * 4, isolator="double-fp", pendulums=DOUBLE, time_step=STEP,
-                   ground_x=uniform_signal(_pulse(0.1), DT), isolation_period=2.0)
+                   ground_acceleration=uniform_signal(_pulse(0.1), DT), isolation_period=2.0)
     with pytest.raises(ValueError, match=message):
         building_on_plan(**{**options, **change})
 

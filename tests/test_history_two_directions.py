@@ -108,7 +108,7 @@ def test_each_slab_group_heats_at_its_own_pressure():
         return slab_on_bearings(
             length_x=20.0, length_y=10.0, weight=1e6, centre_of_mass=(10.0, 5.0),
             positions=[(0.0, 5.0), (20.0, 5.0)], bearings=_bearing(), loads=[5e5, 5e5],
-            ground_x=signal, ground_y=tj.uniform_signal(jnp.asarray(0.5 * ag), 0.01),
+            ground_acceleration=signal, ground_y=tj.uniform_signal(jnp.asarray(0.5 * ag), 0.01),
             time_step=DT, isolation_period=2.5, contact_pressures=pressures)
 
     mixed = simulate_history(slab([1000 * PSI, 4000 * PSI]), 7.0)

@@ -187,7 +187,7 @@ def test_the_slabs_displacement_has_the_implicit_derivative():
 
     def rotation(theta):
         slab = slab_on_bearings(length_x=20.0, length_y=12.0, weight=1e6, centre_of_mass=np.array([9.0, 6.0]),
-                                positions=corners, loads=[0.25e6] * 4, ground_x=GX, ground_y=GY, time_step=DT,
+                                positions=corners, loads=[0.25e6] * 4, ground_acceleration=GX, ground_y=GY, time_step=DT,
                                 isolator=TRIPLE.isolator, pendulums=_triple(theta), height_of_centre_of_mass=3.0)
         return simulate_history(dataclasses.replace(slab, newton_tolerance=TIGHT), 1.0).displacement[-1, 2]
 

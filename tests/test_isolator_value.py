@@ -140,7 +140,7 @@ def _plan(build, **isolator):
         size = dict(weight=1e6, loads=[2.6e5, 2.4e5, 2.4e5, 2.6e5], height_of_centre_of_mass=3.0)
     else:
         size = dict(loads=[float(load_table2().total_weight) / 4] * 4)
-    return build(length_x=20.0, length_y=12.0, centre_of_mass=(10.0, 6.0), positions=corners, ground_x=GROUND,
+    return build(length_x=20.0, length_y=12.0, centre_of_mass=(10.0, 6.0), positions=corners, ground_acceleration=GROUND,
                  ground_y=GROUND, time_step=0.005, **size, **isolator)
 
 

@@ -45,7 +45,7 @@ def _slab():
     return slab_on_bearings(
         length_x=20.0, length_y=12.0, weight=1e6, centre_of_mass=[12.0, 7.0],
         positions=[[2.0, 1.0], [18.0, 1.0], [18.0, 11.0], [2.0, 11.0]], loads=[1.5e5, 2.5e5, 3.75e5, 2.25e5],
-        ground_x=ZERO, ground_y=ZERO, time_step=0.005, isolator="single-fp", bearings=bearing, radii=2.2,
+        ground_acceleration=ZERO, ground_y=ZERO, time_step=0.005, isolator="single-fp", bearings=bearing, radii=2.2,
         height_of_centre_of_mass=3.0)
 
 

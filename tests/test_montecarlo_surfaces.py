@@ -129,7 +129,7 @@ def _slab():
     return slab_on_bearings(
         length_x=20.0, length_y=12.0, weight=1e6, centre_of_mass=[12.0, 7.0],
         positions=[[2.0, 1.0], [18.0, 1.0], [18.0, 11.0], [2.0, 11.0]], loads=loads,
-        ground_x=zero, ground_y=zero, time_step=0.005, isolator="single-fp", bearings=bearing, radii=2.2,
+        ground_acceleration=zero, ground_y=zero, time_step=0.005, isolator="single-fp", bearings=bearing, radii=2.2,
         contact_pressures=[30e6 * load / 2.5e5 for load in loads])
 
 

@@ -59,14 +59,14 @@ def _system(engine):
     if engine == "series-slab":  # four corner groups, the centre of mass 4 m above them
         return slab_on_bearings(length_x=20.0, length_y=12.0, weight=1e6, centre_of_mass=[10.0, 6.0],
                                 positions=[[2.0, 1.0], [18.0, 1.0], [18.0, 11.0], [2.0, 11.0]], loads=[2.5e5] * 4,
-                                ground_x=gx, ground_y=gy, time_step=STEP, isolator="double-fp", pendulums=DOUBLE,
+                                ground_acceleration=gx, ground_y=gy, time_step=STEP, isolator="double-fp", pendulums=DOUBLE,
                                 height_of_centre_of_mass=4.0)
     if engine == "flat-building-plan":  # Table 2's building on the plan: its groups' loads move with the
         # overturning moment of the levels' inertia forces at their own heights
         return building_on_plan(
             length_x=20.0, length_y=12.0, centre_of_mass=[10.0, 6.0],
             positions=[[2.0, 1.0], [18.0, 1.0], [18.0, 11.0], [2.0, 11.0]], loads=[672 * 4448.2216152605 / 4] * 4,
-            bearings=SLIDERS, ground_x=gx, ground_y=gy, time_step=STEP, isolation_period=2.5)
+            bearings=SLIDERS, ground_acceleration=gx, ground_y=gy, time_step=STEP, isolation_period=2.5)
     if engine == "flat-1c":
         return isolated_structure("building")(gx)
     if engine == "flat-2c":

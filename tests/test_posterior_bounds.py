@@ -132,7 +132,7 @@ def test_a_slab_with_factors_is_the_slab_on_the_case_bearings():
     def slab(bearings):
         return slab_on_bearings(length_x=20.0, length_y=12.0, weight=1e6, centre_of_mass=(10.0, 6.0),
                                 positions=[(2.0, 2.0), (18.0, 10.0)], bearings=bearings, loads=[5e5, 5e5],
-                                ground_x=ground, ground_y=ground, time_step=0.005, isolation_period=2.0)
+                                ground_acceleration=ground, ground_y=ground, time_step=0.005, isolation_period=2.0)
 
     def times(params):
         return tj.FrictionParameters(*(getattr(params, n) * factors[n] for n in CONSTANTS))

@@ -172,7 +172,7 @@ def test_the_slab_carries_the_surfaces_parts_in_two_components():
     for parts in ((None, None), (SurfaceParts(breakaway_ratio=2.0), SurfaceParts(breakaway_ratio=2.0))):
         pendulum = _double(*parts)
         slab = slab_on_bearings(length_x=20.0, length_y=12.0, weight=W, centre_of_mass=(10.0, 6.0),
-                                positions=corners, loads=[W / 4] * 4, ground_x=uniform_signal(ramp, 0.01),
+                                positions=corners, loads=[W / 4] * 4, ground_acceleration=uniform_signal(ramp, 0.01),
                                 ground_y=uniform_signal(ramp, 0.01), time_step=0.005, isolator="double-fp",
                                 pendulums=pendulum)
         response = jax.jit(simulate_history, static_argnums=1)(slab, 6.0)

@@ -41,7 +41,7 @@ def _system(centre, ax, ay):
     positions, loads = _plan(centre)
     return slab_on_bearings(
         length_x=LX, length_y=LY, weight=W, centre_of_mass=centre, positions=positions,
-        bearings=_bearings(4), loads=loads, ground_x=uniform_signal(ax, 0.01),
+        bearings=_bearings(4), loads=loads, ground_acceleration=uniform_signal(ax, 0.01),
         ground_y=uniform_signal(ay, 0.01), time_step=0.0025, isolation_period=T,
         isolation_damping=ZETA,
     )
@@ -93,7 +93,7 @@ def test_symmetric_slab_does_not_twist():
     system = slab_on_bearings(
         length_x=LX, length_y=LY, weight=W, centre_of_mass=(LX / 2, LY / 2), positions=positions,
         bearings=paper_bearing(interface_parameters("UF", 1000 * PSI)[0], yield_disp=Y),
-        loads=loads, ground_x=uniform_signal(ax, 0.01), ground_y=uniform_signal(ay, 0.01),
+        loads=loads, ground_acceleration=uniform_signal(ax, 0.01), ground_y=uniform_signal(ay, 0.01),
         time_step=0.0025, isolation_period=T, isolation_damping=ZETA,
     )
     response = simulate_history(system, 4.0)
@@ -150,5 +150,5 @@ def test_slab_isolation_settings_are_refused_by_name(settings, message):
     keywords = {"isolation_period": T, "isolation_damping": ZETA, **settings}
     with pytest.raises(ValueError, match=message):
         slab_on_bearings(length_x=LX, length_y=LY, weight=W, centre_of_mass=(LX / 2, LY / 2), positions=positions,
-                         bearings=_bearings(4), loads=loads, ground_x=ground, ground_y=ground, time_step=0.0025,
+                         bearings=_bearings(4), loads=loads, ground_acceleration=ground, ground_y=ground, time_step=0.0025,
                          **keywords)

@@ -47,7 +47,7 @@ def _pulse(peak_x, peak_y, frequency=0.7):
 def _slab(ax, ay, height, *, positions=CORNERS, radii=R, step=STEP, centre=CENTRE):
     return slab_on_bearings(
         length_x=LX, length_y=LY, weight=W, centre_of_mass=centre, positions=positions,
-        bearings=BEARING, loads=[W / 4] * 4, ground_x=uniform_signal(ax, DT_RECORD),
+        bearings=BEARING, loads=[W / 4] * 4, ground_acceleration=uniform_signal(ax, DT_RECORD),
         ground_y=uniform_signal(ay, DT_RECORD), time_step=step, isolator="single-fp",
         radii=radii, height_of_centre_of_mass=height)
 
@@ -242,7 +242,7 @@ def test_bad_pendulum_slab_inputs_are_refused_by_name():
     with pytest.raises(ValueError, match=r"vertical_stiffness: group 2 has -1"):
         overturning_map(CORNERS, CENTRE, 1.0, [1.0, -1.0, 1.0, 1.0])
     common = dict(length_x=LX, length_y=LY, weight=W, centre_of_mass=CENTRE, positions=CORNERS,
-                  bearings=BEARING, loads=[W / 4] * 4, ground_x=uniform_signal(ax, DT_RECORD),
+                  bearings=BEARING, loads=[W / 4] * 4, ground_acceleration=uniform_signal(ax, DT_RECORD),
                   ground_y=uniform_signal(ay, DT_RECORD), time_step=STEP)
     with pytest.raises(ValueError, match=r"isolation_period, spring_shares: a slab on single friction"):
         slab_on_bearings(**common, isolator="single-fp", radii=R, isolation_period=2.5)
@@ -356,7 +356,7 @@ def test_a_suite_pair_whose_balance_misses_is_not_said_to_tip():
     def build(ground_x, ground_y):
         system = slab_on_bearings(
             length_x=LX, length_y=LY, weight=W, centre_of_mass=CENTRE, positions=positions, bearings=BEARING,
-            loads=[W / 4] * 4, ground_x=ground_x, ground_y=ground_y, time_step=0.01, isolator="single-fp",
+            loads=[W / 4] * 4, ground_acceleration=ground_x, ground_y=ground_y, time_step=0.01, isolator="single-fp",
             radii=R, height_of_centre_of_mass=2.0)
         return dataclasses.replace(system, newton_iterations=1)
 

@@ -44,7 +44,7 @@ RESTRAINED = 5.0  # |H| / W beyond which the restrainers carry the force (pendul
 def _slab(height, pendulum):
     return slab_on_bearings(
         length_x=LX, length_y=LY, weight=W, centre_of_mass=CENTRE, positions=CORNERS, loads=[W / 4] * 4,
-        ground_x=uniform_signal(DRIVE, DT_RECORD), ground_y=uniform_signal(0 * DRIVE, DT_RECORD), time_step=STEP,
+        ground_acceleration=uniform_signal(DRIVE, DT_RECORD), ground_y=uniform_signal(0 * DRIVE, DT_RECORD), time_step=STEP,
         isolator=pendulum.isolator, pendulums=pendulum, height_of_centre_of_mass=height)
 
 
@@ -172,7 +172,7 @@ def test_an_eccentric_slab_driven_into_its_restrainers_in_two_components_balance
     drive_y = (0.1 + 0.35 * np.sin(2 * np.pi * 0.7 * TIME + 1.0)) * G
     system = slab_on_bearings(
         length_x=LX, length_y=LY, weight=W, centre_of_mass=CENTRE + [2.0, 1.0], positions=CORNERS,
-        loads=[W / 4] * 4, ground_x=uniform_signal(DRIVE, DT_RECORD), ground_y=uniform_signal(drive_y, DT_RECORD),
+        loads=[W / 4] * 4, ground_acceleration=uniform_signal(DRIVE, DT_RECORD), ground_y=uniform_signal(drive_y, DT_RECORD),
         time_step=STEP, isolator=TRIPLE.isolator, pendulums=TRIPLE, height_of_centre_of_mass=0.0)
     response = simulate(system, SECONDS)
     assert bool(np.all(response.converged)) and not np.asarray(response.tipped).any()

@@ -63,7 +63,7 @@ def _pulse(peak_x, peak_y, frequency=0.7):
 def _slab(ax, ay, height, pendulum=TRIPLE, positions=CORNERS):
     return slab_on_bearings(
         length_x=LX, length_y=LY, weight=W, centre_of_mass=CENTRE, positions=positions, loads=[W / 4] * 4,
-        ground_x=uniform_signal(ax, DT_RECORD), ground_y=uniform_signal(ay, DT_RECORD), time_step=STEP,
+        ground_acceleration=uniform_signal(ax, DT_RECORD), ground_y=uniform_signal(ay, DT_RECORD), time_step=STEP,
         isolator=pendulum.isolator, pendulums=pendulum, height_of_centre_of_mass=height)
 
 
@@ -213,7 +213,7 @@ def test_redistribution_by_statics_and_where_the_slab_cannot_rest():
 def test_bad_series_slab_inputs_are_refused_by_name():
     ax, ay = _pulse(0.1, 0.1)
     common = dict(length_x=LX, length_y=LY, weight=W, centre_of_mass=CENTRE, positions=CORNERS,
-                  loads=[W / 4] * 4, ground_x=uniform_signal(ax, DT_RECORD),
+                  loads=[W / 4] * 4, ground_acceleration=uniform_signal(ax, DT_RECORD),
                   ground_y=uniform_signal(ay, DT_RECORD), time_step=STEP)
     with pytest.raises(ValueError, match=r"pendulums: group 2 is a double-fp, not the triple-fp"):
         slab_on_bearings(**common, isolator="triple-fp", pendulums=[TRIPLE, DOUBLE, TRIPLE, TRIPLE])
@@ -240,7 +240,7 @@ def test_the_slab_response_is_differentiable_in_a_surface_friction():
         friction = FrictionParameters(f_max, 0.05, 20.0)
         system = slab_on_bearings(
             length_x=LX, length_y=LY, weight=W, centre_of_mass=CENTRE, positions=CORNERS, loads=[W / 4] * 4,
-            ground_x=base.ground_acceleration, ground_y=base.ground_y, time_step=STEP, isolator="triple-fp",
+            ground_acceleration=base.ground_acceleration, ground_y=base.ground_y, time_step=STEP, isolator="triple-fp",
             pendulums=eqx.tree_at(lambda p: p.top_friction, TRIPLE, friction),
             height_of_centre_of_mass=3.0)
         return simulate_history(system, 2.0).displacement[-1, 0]

@@ -136,7 +136,7 @@ def test_groups_whose_surfaces_heat_differently_are_refused_by_name():
     ax, ay = _pulse(0.1, 0.1)
     with pytest.raises(ValueError, match=r"pendulums: the groups' pendulums differ in their options"):
         slab_on_bearings(length_x=20.0, length_y=12.0, weight=W, centre_of_mass=[10.0, 6.0],
-                         positions=SQUARE, loads=[W / 4] * 4, ground_x=uniform_signal(ax, DT_RECORD),
+                         positions=SQUARE, loads=[W / 4] * 4, ground_acceleration=uniform_signal(ax, DT_RECORD),
                          ground_y=uniform_signal(ay, DT_RECORD), time_step=STEP, isolator="double-fp",
                          pendulums=[_heated(), DOUBLE, DOUBLE, DOUBLE])
 
@@ -206,7 +206,7 @@ def test_the_heated_slab_is_differentiable_in_a_surface_friction():
         pendulum = eqx.tree_at(lambda p: p.bottom_friction.f_max, _heated(), f_max)
         system = slab_on_bearings(
             length_x=20.0, length_y=12.0, weight=W, centre_of_mass=[10.0, 6.0], positions=CORNERS,
-            loads=[W / 4] * 4, ground_x=base.ground_acceleration, ground_y=base.ground_y, time_step=STEP,
+            loads=[W / 4] * 4, ground_acceleration=base.ground_acceleration, ground_y=base.ground_y, time_step=STEP,
             isolator="double-fp", pendulums=pendulum, height_of_centre_of_mass=3.0)
         return simulate_history(system, 2.0).displacement[-1, 0]
 

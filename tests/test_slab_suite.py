@@ -145,7 +145,7 @@ def _by_hand(tmp_path, factor, radius):
     ax, ay = (np.stack([r[i] for r in records]) for i in (0, 1))
     template = slab_on_bearings(
         length_x=20.0, length_y=12.0, weight=1e6, centre_of_mass=(10.0, 6.0), positions=CORNERS,
-        bearings=[paper_bearing(scaled)] * 4, loads=[STATIC] * 4, ground_x=uniform_signal(ax[0], DT),
+        bearings=[paper_bearing(scaled)] * 4, loads=[STATIC] * 4, ground_acceleration=uniform_signal(ax[0], DT),
         ground_y=uniform_signal(ay[0], DT), time_step=DT, names=NAMES, contact_pressures=[1000 * PSI] * 4,
         height_of_centre_of_mass=6.0, isolator="single-fp", radii=[radius] * 4)
     build = lambda gx, gy: eqx.tree_at(lambda s: (s.ground_acceleration, s.ground_y), template, (gx, gy))  # noqa: E731

@@ -55,7 +55,7 @@ def _bearing():
 
 def _slab(isolator, gx, gy, friction_model="hysteretic"):
     common = dict(length_x=LX, length_y=LY, weight=W, centre_of_mass=CENTRE, positions=CORNERS,
-                  loads=[W / 4] * 4, ground_x=gx, ground_y=gy, time_step=STEP, isolator=isolator)
+                  loads=[W / 4] * 4, ground_acceleration=gx, ground_y=gy, time_step=STEP, isolator=isolator)
     if isolator == "flat":
         return slab_on_bearings(bearings=_bearing(), isolation_period=PERIOD, friction_model=friction_model, **common)
     if isolator == "single-fp":

@@ -315,7 +315,7 @@ def _stepped_structure(case):
                                                   **options), vertical)
     return slab_on_bearings(length_x=20.0, length_y=12.0, weight=3e5, centre_of_mass=[10.0, 6.0],
                             positions=[[2.0, 1.0], [18.0, 1.0], [18.0, 11.0], [2.0, 11.0]], loads=[75e3] * 4,
-                            bearings=tj.paper_bearing(FRICTION), ground_x=shaking, ground_y=across, time_step=0.005,
+                            bearings=tj.paper_bearing(FRICTION), ground_acceleration=shaking, ground_y=across, time_step=0.005,
                             isolation_period=3.0, height_of_centre_of_mass=2.0)
 
 

@@ -116,7 +116,7 @@ def _on_plan(args, isolator, flags: StructureFlags, ground_x, ground_y, friction
     stiffness = [g["vertical_stiffness"] for g in groups]
     common = dict(
         length_x=plan["length_x"], length_y=plan["length_y"], centre_of_mass=plan["centre_of_mass"],
-        positions=[(g["x"], g["y"]) for g in groups], loads=[g["load"] for g in groups], ground_x=ground_x,
+        positions=[(g["x"], g["y"]) for g in groups], loads=[g["load"] for g in groups], ground_acceleration=ground_x,
         ground_y=ground_y, time_step=flags.time_step, names=[g["name"] for g in groups], isolator=values,
         vertical_stiffness=None if all(k is None for k in stiffness) else [1.0 if k is None else k
                                                                          for k in stiffness],

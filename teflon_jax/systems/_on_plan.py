@@ -88,7 +88,7 @@ def slab_on_bearings(
     positions,
     bearings=None,
     loads,
-    ground_x: Signal,
+    ground_acceleration: Signal,
     ground_y: Signal,
     time_step: float,
     isolation_period=None,
@@ -112,7 +112,7 @@ def slab_on_bearings(
     - `weight` W [N]; `centre_of_mass` (x, y) [m] in plan coordinates.
     - `positions` (G, 2) [m]; `bearings`: a sequence of G `SlidingBearing`s (or one, used for
       all groups); `loads` (G,) [N] tributary normal loads, adding up to W.
-    - `ground_x`, `ground_y`: `Signal`s [m/s^2]; `time_step` [s].
+    - `ground_acceleration`, `ground_y`: `Signal`s [m/s^2] along x and y; `time_step` [s].
     - `isolation_period` T [s] of the springs (`None`: none), `isolation_damping` zeta [-]
       (damping proportional to the springs), `spring_shares` (G,) [-] relative spring
       stiffness per group (default equal).
@@ -163,14 +163,14 @@ def slab_on_bearings(
     if series:
         return _on_series_groups(
             mass=np.array([mass, mass, inertia]), influence=influence, bearing_map=bearing_map, loads=loads,
-            pendulums=plan_isolators.pendulums, isolator=plan_isolators.name, ground_x=ground_x, ground_y=ground_y,
-            time_step=time_step, **loading)
+            pendulums=plan_isolators.pendulums, isolator=plan_isolators.name,
+            ground_acceleration=ground_acceleration, ground_y=ground_y, time_step=time_step, **loading)
     bearings, radii = plan_isolators.bearings, plan_isolators.radii
     stiffness, damping = _isolation_stiffness(bearing_map, loads, weight, isolation_period, spring_shares, radii,
                                               isolation_damping, springs_needed=False)
     system = structure_on_sliders(
         mass=jnp.array([mass, mass, inertia]), stiffness=stiffness, damping=damping, influence=influence,
-        bearing_map=bearing_map, bearing=stack_bearings(bearings), bearing_load=loads, ground_acceleration=ground_x,
+        bearing_map=bearing_map, bearing=stack_bearings(bearings), bearing_load=loads, ground_acceleration=ground_acceleration,
         ground_y=ground_y, time_step=time_step, contact_pressure=contact_pressures, friction_model=friction_model)
     return dataclasses.replace(system, pendulum_stiffness=None if radii is None else jnp.asarray(loads / radii),
                                **loading)
@@ -219,7 +219,7 @@ def building_on_plan(
     positions,
     loads,
     bearings=None,
-    ground_x: Signal,
+    ground_acceleration: Signal,
     ground_y: Signal | None = None,
     time_step: float,
     isolation_period=None,
@@ -245,7 +245,8 @@ def building_on_plan(
       `centre_of_mass` (x, y) [m]: the slab's centre of mass, over which the building stands.
     - `positions` (G, 2) [m]; `loads` (G,) [N] the groups' tributary loads, adding up to the
       building's weight W (Table 2: 672 kip); `bearings`: G `SlidingBearing`s (or one for all).
-    - `ground_x`, `ground_y`: `Signal`s [m/s^2] (`ground_y` `None`: no y motion); `time_step` [s].
+    - `ground_acceleration`, `ground_y`: `Signal`s [m/s^2] along x and y (`ground_y` `None`: no y
+      motion); `time_step` [s].
     - `isolator`: the groups' isolator value, one for all groups or one per group
       (`plan_isolator`): `SlidingBearing`s, flat sliders with springs of period
       `isolation_period` T_b [s] shared among the groups by `spring_shares` (G,) [-] (default
@@ -282,7 +283,7 @@ def building_on_plan(
     heights = _level_heights(building, storey_heights, base_height, n)
     mass, influence, bearing_map = _building_coordinates(level_mass, positions - centre, length_x, length_y,
                                                          rotational_inertia)
-    ground_y = zero_signal(ground_x) if ground_y is None else ground_y
+    ground_y = zero_signal(ground_acceleration) if ground_y is None else ground_y
     # the levels' moment sum_i h_i F_i as h_c H_h at the mass centre's height h_c (`overturning_force`)
     centre_height = _centre_height(level_mass, heights) if np.any(heights > 0) else 0.0
     loading = _overturning_loads(positions, centre, centre_height, vertical_stiffness, names,
@@ -294,8 +295,8 @@ def building_on_plan(
                            friction_model=None if friction_model == "hysteretic" else friction_model)
         return _on_series_groups(
             mass=mass, frame=(frame_k, frame_c), influence=influence, bearing_map=bearing_map, loads=loads,
-            pendulums=plan_isolators.pendulums, isolator=plan_isolators.name, ground_x=ground_x, ground_y=ground_y,
-            time_step=time_step, **loading)
+            pendulums=plan_isolators.pendulums, isolator=plan_isolators.name,
+            ground_acceleration=ground_acceleration, ground_y=ground_y, time_step=time_step, **loading)
     radii = plan_isolators.radii
     refuse_springs(radii, isolation_period, spring_shares)
     isolation = _isolation_stiffness(bearing_map, loads, weight, isolation_period, spring_shares, radii,
@@ -303,7 +304,7 @@ def building_on_plan(
     system = structure_on_sliders(
         mass=mass, stiffness=frame_k + isolation[0], damping=frame_c + isolation[1], influence=influence,
         bearing_map=bearing_map, bearing=stack_bearings(plan_isolators.bearings), bearing_load=loads,
-        ground_acceleration=ground_x, ground_y=ground_y, time_step=time_step, contact_pressure=contact_pressures,
+        ground_acceleration=ground_acceleration, ground_y=ground_y, time_step=time_step, contact_pressure=contact_pressures,
         friction_model=friction_model)
     return dataclasses.replace(system, pendulum_stiffness=None if radii is None else jnp.asarray(loads / radii),
                                **loading)
@@ -437,7 +438,7 @@ def _series_step_matrix(mass, stiffness, damping, influence, time_step):
     return jnp.concatenate(first_order_hold(a, b, time_step), axis=1)
 
 
-def _on_series_groups(*, mass, influence, bearing_map, loads, pendulums, isolator, ground_x: Signal,
+def _on_series_groups(*, mass, influence, bearing_map, loads, pendulums, isolator, ground_acceleration: Signal,
                       ground_y: Signal, time_step: float, frame=None, overturning=None, supports=None,
                       newton_iterations: int = TRIPLE_NEWTON_ITERATIONS,
                       newton_tolerance: float = TRIPLE_TOLERANCE) -> StructureOnSliders:
@@ -460,8 +461,8 @@ def _on_series_groups(*, mass, influence, bearing_map, loads, pendulums, isolato
     mass = jnp.asarray(mass, float)
     return StructureOnSliders(
         mass=mass, stiffness=stiffness, damping=jnp.asarray(damping, float), influence=jnp.asarray(influence),
-        bearing_map=jnp.asarray(bearing_map), bearing=pendulum, bearing_load=jnp.asarray(loads), ground_acceleration=ground_x,
-        ground_y=ground_y, newmark_inverse=jnp.zeros((count, count)), time_step=float(time_step),
+        bearing_map=jnp.asarray(bearing_map), bearing=pendulum, bearing_load=jnp.asarray(loads),
+        ground_acceleration=ground_acceleration, ground_y=ground_y, newmark_inverse=jnp.zeros((count, count)), time_step=float(time_step),
         newton_iterations=int(newton_iterations), newton_tolerance=float(newton_tolerance), heat_rates=heat_rates,
         heat_weights=heat_weights, overturning=overturning, supports=supports, reference_stiffness=reference,
         step_matrix=_series_step_matrix(mass, stiffness, damping, influence, time_step))

@@ -422,15 +422,16 @@ def loaded_solve(system, p):
     return (fx + a * d[:n], fy + a * d[n:]), z, converged
 
 
-def under_ground(system, ground_x: Signal, ground_y: Signal | None = None, ground_z: Signal | None = None):
+def under_ground(system, ground_acceleration: Signal, ground_y: Signal | None = None,
+                 ground_z: Signal | None = None):
     """`system` (any structure `teflon_jax.systems` builds) under other records: the ground
-    `Signal`s `ground_x` and, where it steps under two components, `ground_y` [m/s^2] in place
+    `Signal`s `ground_acceleration` (x) and, where it steps under two components, `ground_y` [m/s^2] in place
     of its own, and `ground_z` [m/s^2, up +] in place of its vertical record (where
     `with_vertical_motion` gave it one). `ValueError` naming the argument that does not fit."""
     if (ground_y is None) != (system.ground_y is None):
         raise ValueError(f"ground_y: the structure steps under {1 if system.ground_y is None else 2} horizontal "
                          "component(s); give its y record exactly where it steps under two.")
-    system = eqx.tree_at(lambda s: s.ground_acceleration, system, ground_x)
+    system = eqx.tree_at(lambda s: s.ground_acceleration, system, ground_acceleration)
     if ground_y is not None:
         system = eqx.tree_at(lambda s: s.ground_y, system, ground_y)
     if ground_z is None:
