@@ -67,7 +67,8 @@ def add_engineering_flags(parser) -> None:
                         "floor_acceleration limits and --pelicun-demands)")
     parser.add_argument("--pelicun-demands", metavar="FILE.csv", default=None,
                         help="write the peaks as demand samples in pelicun's format (PFA per level, PID "
-                        "per storey, the isolators' displacement as BRD, failed runs flagged in ERROR); "
+                        "per storey, the isolators' displacement as BRD, a double or triple pendulum's "
+                        "slider travel as BRD_<slider>, failed runs flagged in ERROR); "
                         "with several --pga levels one file per level, FILE-level1.csv, ...")
     add_bounding_flags(parser, "bounding analysis: run the nominal bearing and its lower- and upper-bound "
                        "variants (f_max and delta_f of Eq. 1 times LOWER and UPPER, e.g. 0.85,1.3; on every "
@@ -131,10 +132,13 @@ def pelicun_peaks(result, rows, components: int = 1) -> dict:
     the building's level accelerations and storey drifts (per direction with two
     `components`), or for a rigid mass under one its total acceleration |V| / m =
     base_shear_ratio g as level 0; with two components the base displacement and ground
-    acceleration are resultants, so the first goes in as non-directional and the second not."""
+    acceleration are resultants, so the first goes in as non-directional and the second not;
+    a series pendulum's sliders' travel (`slider_demands`) where the result keeps it."""
     one = components == 1
     peaks = {"base_disp": result.base_disp[rows], "failed": ~np.asarray(result.converged, bool)[rows],
              "pga": result.pga[rows] if one else None, "base_direction": 1 if one else 0}
+    if result.slider_travel is not None:
+        peaks.update(slider_demands(np.asarray(result.slider_travel)[rows], result.attrs.get("slider_names")))
     if result.storey_drift is not None:
         peaks["level_acceleration"] = result.floor_acceleration[rows]
         peaks["storey_drift"] = result.storey_drift[rows]
@@ -143,21 +147,32 @@ def pelicun_peaks(result, rows, components: int = 1) -> dict:
     return peaks
 
 
+def slider_demands(travel, names) -> dict:
+    """`slider_travel` (R, S) [m] and `slider_names` of `write_pelicun_demands` from a series
+    pendulum's peak travel per run, bearing group and slider (R, G, S): each slider's largest
+    over the groups (their isolators alike, the worst group's slider nearest its restrainer)."""
+    return {"slider_travel": np.max(np.asarray(travel, float), axis=1), "slider_names": names}
+
+
 def add_suite_pelicun_flag(parser) -> None:
     """`--pelicun-demands FILE.csv` on `teflon-jax run --suite`."""
     parser.add_argument("--pelicun-demands", metavar="FILE.csv", default=None,
                         help="with --suite: write each pair's peaks as a demand sample in pelicun's format "
                         "(PFA per level and PID per storey in x and y for the building, the ground's PFA, "
-                        "the isolators' resultant displacement as BRD-1-0, failed runs flagged in ERROR); the "
+                        "the isolators' resultant displacement as BRD-1-0, a double or triple pendulum's sliders' "
+                        "travel as BRD_<slider>-1-0, failed runs flagged in ERROR); the "
                         "building's storey results then go into the suite's NetCDF file too")
 
 
 def suite_pelicun_peaks(result, ax, ay) -> dict:
     """The keyword arguments of `write_pelicun_demands` for a `SuiteResult` of record pairs
     (ax, ay) (P, n) [m/s^2]: the ground's peak per direction, the building's storey results in
-    x and y when the suite kept them, the resultant base displacement as non-directional."""
+    x and y when the suite kept them, the resultant base displacement as non-directional, and
+    so a series pendulum's sliders' travel (`slider_demands`)."""
     peaks = {"base_disp": result.peaks["base_disp_resultant_m"], "failed": ~np.asarray(result.converged, bool),
              "pga": np.stack([np.abs(ax).max(axis=1), np.abs(ay).max(axis=1)], axis=1), "base_direction": 0}
+    if result.surfaces is not None and "slider_travel" in result.surfaces:
+        peaks.update(slider_demands(result.surfaces["slider_travel"], result.surfaces.get("slider_names")))
     if result.storeys is not None:
         peaks["level_acceleration"] = result.storeys["level_acceleration"]
         peaks["storey_drift"] = result.storeys["storey_drift"]

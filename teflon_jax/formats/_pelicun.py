@@ -13,6 +13,14 @@ then one row per realisation, the first column its index. Columns a run writes h
   type; BRD is the library's "Peak Bearing Deformation", a displacement); `1-BRD-1-0` when it
   is the peak of the resultant of two components (non-directional: pelicun multiplies a
   non-directional demand by its NonDirectionalMultipliers, which for BRD should then be 1);
+- `1-BRD_<slider>-1-1` (or `-0`, as BRD's direction): a double or triple friction pendulum's
+  peak travel of each slider on its surface, the displacement its restrainer limits, one
+  column per slider named by the isolator's slider names (`inner`, `bottom`, `top` of the
+  triple; `bottom`, `top` of the double): a subtype of BRD in pelicun's TYPE_subtype form
+  (as SA_1.0), so it loads as a displacement of its own type and a fragility reaches it by
+  the demand type "Peak Bearing Deformation|<slider>"; direction 0 when the travel is the
+  resultant of two components (then its NonDirectionalMultipliers entry, `BRD_<slider>` or
+  ALL, should be 1);
 - `1-ERROR`: 1 for a realisation whose solve failed (its peaks not trusted), else 0; pelicun
   drops those rows on loading, the file keeps them.
 
@@ -25,6 +33,7 @@ Buildings, Vol. 1, Ch. 5 (demand parameters by storey and floor).
 """
 
 import pathlib
+import re
 
 import numpy as np
 
@@ -44,6 +53,25 @@ def _column(values, name: str, rows: int) -> np.ndarray:
     return array
 
 
+def _sliders(travel, names, rows: int) -> tuple[list, np.ndarray]:
+    """(names, travel (R, S)) of the sliders' columns; `ValueError` naming the argument."""
+    array = np.asarray(travel, float)
+    if array.ndim != 2 or array.shape[0] != rows or array.shape[1] < 1:
+        raise ValueError(f"slider_travel: expected shape ({rows}, S) (one row per realisation, one column per "
+                         f"slider), got {array.shape}.")
+    names = [str(s + 1) for s in range(array.shape[1])] if names is None else [str(n) for n in names]
+    if len(names) != array.shape[1]:
+        raise ValueError(f"slider_names: expected {array.shape[1]} names (one per column of slider_travel), "
+                         f"got {len(names)}.")
+    for name in names:
+        if not re.fullmatch(r"[A-Za-z0-9.]+", name):
+            raise ValueError(f"slider_names: {name!r} is not a demand subtype pelicun keeps apart; use letters, "
+                             "digits and '.' only (no '-', '_', ',' or spaces).")
+    if len(set(names)) != len(names):
+        raise ValueError(f"slider_names: each slider needs its own name, got {', '.join(names)}.")
+    return names, array
+
+
 def _directions(values, name: str, rows: int) -> np.ndarray:
     """`values` as (R, directions, locations): (R, L) is one direction, (R, 2, L) two."""
     array = np.asarray(values, float)
@@ -56,14 +84,16 @@ def _directions(values, name: str, rows: int) -> np.ndarray:
 
 
 def pelicun_demand_table(*, base_disp, failed, pga=None, level_acceleration=None, storey_drift=None,
-                         base_direction: int = 1, acceleration_unit: str = "g",
-                         length_unit: str = "in") -> tuple[list, list, np.ndarray]:
+                         base_direction: int = 1, slider_travel=None, slider_names=None,
+                         acceleration_unit: str = "g", length_unit: str = "in") -> tuple[list, list, np.ndarray]:
     """(labels, units, values (R, C)) of a demand file (module docstring) from SI peaks.
 
     **Arguments:** `base_disp` (R,) [m]; `failed` (R,) bool; `pga` (R,) or in x and y (R, 2) [m/s^2];
     `level_acceleration` (R, S + 1) or per direction (R, 2, S + 1) [m/s^2], level 0 the base
-    slab; `storey_drift` (R, S) or (R, 2, S) [-]; `base_direction`: 1, or 0 for a resultant;
-    `acceleration_unit`, `length_unit`: names of `PELICUN_UNITS`.
+    slab; `storey_drift` (R, S) or (R, 2, S) [-]; `base_direction`: 1, or 0 for a resultant
+    (the sliders' direction too); `slider_travel` (R, S) [m]: a series pendulum's peak travel
+    of each slider (`None`: no slider columns), labelled by `slider_names` (S,) (default
+    "1", "2", ...); `acceleration_unit`, `length_unit`: names of `PELICUN_UNITS`.
     """
     for dimension, unit in (("acceleration", acceleration_unit), ("length", length_unit)):
         if unit not in PELICUN_UNITS[dimension]:
@@ -94,6 +124,11 @@ def pelicun_demand_table(*, base_disp, failed, pga=None, level_acceleration=None
         raise ValueError(f"base_direction: 1, or 0 for a resultant, got {base_direction!r}.")
     labels.append(f"1-BRD-1-{base_direction}"), units.append(length_unit)
     columns.append(_column(base_disp, "base_disp", rows) / PELICUN_UNITS["length"][length_unit])
+    if slider_travel is not None:
+        names, travel = _sliders(slider_travel, slider_names, rows)
+        for s, name in enumerate(names):
+            labels.append(f"1-BRD_{name}-1-{base_direction}"), units.append(length_unit)
+            columns.append(travel[:, s] / PELICUN_UNITS["length"][length_unit])
     labels.append("1-ERROR"), units.append("")
     columns.append(failed.astype(float))
     return labels, units, np.stack(columns, axis=1)
