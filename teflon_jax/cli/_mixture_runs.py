@@ -104,15 +104,25 @@ def runner_of(run, monte_carlo):
 
 def joined(results):
     """`MonteCarloResult`s of consecutive motions joined into one along the motions: arrays over
-    the motions concatenated, the times added, the largest memory estimate."""
+    the motions concatenated, the times added, the largest memory estimate. A surface result
+    that only some compositions have (`surface_temperature_rise`: only a heated composition's
+    surfaces warm) is 0 for the motions of the others, whose model keeps the surfaces at their
+    start temperature."""
     import numpy as np
 
     first = results[0]
     fields = {}
     for field in dataclasses.fields(first):
-        value = getattr(first, field.name)
-        if isinstance(value, np.ndarray) and value.shape[:1] == (first.n_motions,):
-            fields[field.name] = np.concatenate([getattr(r, field.name) for r in results])
+        values = [getattr(r, field.name) for r in results]
+        arrays = [(r, v) for r, v in zip(results, values) if isinstance(v, np.ndarray)]
+        if not arrays or arrays[0][1].shape[:1] != (arrays[0][0].n_motions,):
+            continue
+        if len(arrays) < len(results) and field.name != "surface_temperature_rise":
+            raise ValueError(f"the mixture's compositions give {field.name} for only some of their motions; "
+                             "run the compositions apart (--bearing-draws point).")
+        tail = arrays[0][1].shape[1:]
+        fields[field.name] = np.concatenate([v if isinstance(v, np.ndarray) else np.zeros((r.n_motions, *tail))
+                                             for r, v in zip(results, values)])
     return dataclasses.replace(first, **fields, wall_s=sum(r.wall_s for r in results),
                                compile_s=sum(r.compile_s for r in results),
                                memory_estimate_bytes=max(r.memory_estimate_bytes for r in results))
