@@ -63,10 +63,6 @@ PLANAR_NEWTON_ITERATIONS = 100
 """Most iterations per step, all kinds together (`coupled_newton`'s fixed Broyden step, its
 Broyden loop and its Newton loop; the loops run only for members still above tolerance)."""
 
-NEWTON_TOLERANCE = 1e-5
-"""Default tolerance on the bearing equilibrium per step, max |residual| <= this * Y (or 1e3
-rounding units of the displacements, whichever is larger)."""
-
 
 class PlanarStep(eqx.Module):
     """The step of a `StructureOnSliders` with a bearing map (G groups, two components): its
